@@ -1,0 +1,58 @@
+!> Run outcome codes, the per-step history of a run and its snapshots.
+module mpm_diagnostics
+   use mpm_kinds, only: dp
+   implicit none
+   private
+   public :: status_ok, status_non_finite, status_volume_ratio, status_left_grid, status_energy_growth, &
+             status_cell_crossing, status_not_run, status_name
+   public :: history_t, snapshot_t
+
+   !> Run status codes (stored in the HDF5 output; 0 means the run completed).
+   integer, parameter :: status_ok = 0
+   integer, parameter :: status_non_finite = 1     !< NaN or Infinity in the particle state
+   integer, parameter :: status_volume_ratio = 2   !< a particle's J = V/V0 became <= 0
+   integer, parameter :: status_left_grid = 3      !< a particle left the grid [0, L]
+   integer, parameter :: status_energy_growth = 4  !< total energy grew beyond the allowed factor
+   integer, parameter :: status_cell_crossing = 5  !< a particle moved more than one cell in one step
+   integer, parameter :: status_not_run = -1       !< a sweep case that has not run (yet)
+
+   !> One entry per recorded step (step 0 = initial state).
+   type :: history_t
+      integer :: recorded = 0
+      real(dp), allocatable :: time(:), ucm(:), ucm_exact(:), kinetic_energy(:), strain_energy(:)
+   end type history_t
+
+   !> Particle and grid state at one time.
+   type :: snapshot_t
+      real(dp) :: time = 0.0_dp
+      integer :: step = 0
+      real(dp), allocatable :: x(:), v(:), stress(:), volume_ratio(:)
+      real(dp), allocatable :: grid_x(:), grid_velocity(:)
+   end type snapshot_t
+
+contains
+
+   !> Short name of a status code, as written to output files and messages.
+   pure function status_name(code) result(name)
+      integer, intent(in) :: code
+      character(len=:), allocatable :: name
+      select case (code)
+      case (status_ok)
+         name = 'ok'
+      case (status_non_finite)
+         name = 'non_finite'
+      case (status_volume_ratio)
+         name = 'volume_ratio_not_positive'
+      case (status_left_grid)
+         name = 'left_grid'
+      case (status_energy_growth)
+         name = 'energy_growth'
+      case (status_cell_crossing)
+         name = 'cell_crossing'
+      case (status_not_run)
+         name = 'not_run'
+      case default
+         name = 'unknown'
+      end select
+   end function status_name
+end module mpm_diagnostics

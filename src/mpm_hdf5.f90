@@ -1,0 +1,454 @@
+!> A small HDF5 writer and reader over the HDF5 Fortran API. Every `hdferr` is checked in one
+!> place (`check`); after the first failure further calls do nothing and `finish` reports it.
+!> A file is written under `<name>.part` and renamed to `<name>` only when complete.
+!> Not thread-safe (neither is the HDF5 library): call only outside parallel regions.
+module mpm_hdf5
+   use hdf5
+   use mpm_kinds, only: dp
+   use mpm_errors, only: error_t, set_error
+   use mpm_files, only: rename_file, remove_file
+   implicit none
+   private
+   public :: h5_writer_t, h5_read_real, h5_read_int, h5_read_attribute_real, h5_read_attribute_string, h5_read_string
+
+   type :: h5_writer_t
+      integer(hid_t) :: file = -1
+      character(len=:), allocatable :: path, part_path
+      character(len=:), allocatable :: failure
+   contains
+      procedure :: create => writer_create
+      procedure :: group => writer_group
+      procedure :: write_real => writer_write_real
+      procedure :: write_real_scalar => writer_write_real_scalar
+      procedure :: write_int => writer_write_int
+      procedure :: write_int_scalar => writer_write_int_scalar
+      procedure :: write_strings => writer_write_strings
+      procedure :: write_string_scalar => writer_write_string_scalar
+      procedure :: attribute_real => writer_attribute_real
+      procedure :: attribute_int => writer_attribute_int
+      procedure :: attribute_string => writer_attribute_string
+      procedure :: finish => writer_finish
+      procedure :: abandon => writer_abandon
+      procedure, private :: check => writer_check
+      procedure, private :: ok => writer_ok
+   end type h5_writer_t
+
+contains
+
+   subroutine writer_create(self, path)
+      class(h5_writer_t), intent(inout) :: self
+      character(len=*), intent(in) :: path
+      integer :: hdferr
+      self%path = trim(path)
+      self%part_path = trim(path)//'.part'
+      call h5open_f(hdferr)
+      call self%check(hdferr, 'initialise the HDF5 library')
+      call h5eset_auto_f(0, hdferr)
+      if (.not. self%ok()) return
+      call h5fcreate_f(self%part_path, H5F_ACC_TRUNC_F, self%file, hdferr)
+      call self%check(hdferr, "create file '"//self%part_path//"'")
+   end subroutine writer_create
+
+   subroutine writer_group(self, name)
+      class(h5_writer_t), intent(inout) :: self
+      character(len=*), intent(in) :: name
+      integer(hid_t) :: group
+      integer :: hdferr
+      if (.not. self%ok()) return
+      call h5gcreate_f(self%file, name, group, hdferr)
+      call self%check(hdferr, "create group '"//name//"'")
+      if (hdferr == 0) call h5gclose_f(group, hdferr)
+   end subroutine writer_group
+
+   !> Create dataset `name` of type `type_id` and shape `dims` (rank 0: scalar); returns its id.
+   subroutine open_dataset(self, name, type_id, dims, dset, space)
+      class(h5_writer_t), intent(inout) :: self
+      character(len=*), intent(in) :: name
+      integer(hid_t), intent(in) :: type_id
+      integer(hsize_t), intent(in) :: dims(:)
+      integer(hid_t), intent(out) :: dset, space
+      integer :: hdferr
+      dset = -1
+      space = -1
+      if (.not. self%ok()) return
+      if (size(dims) == 0) then
+         call h5screate_f(H5S_SCALAR_F, space, hdferr)
+      else
+         call h5screate_simple_f(size(dims), dims, space, hdferr)
+      end if
+      call self%check(hdferr, "create dataspace for '"//name//"'")
+      if (.not. self%ok()) return
+      call h5dcreate_f(self%file, name, type_id, space, dset, hdferr)
+      call self%check(hdferr, "create dataset '"//name//"'")
+   end subroutine open_dataset
+
+   subroutine close_dataset(self, name, dset, space, hdferr_write)
+      class(h5_writer_t), intent(inout) :: self
+      character(len=*), intent(in) :: name
+      integer(hid_t), intent(in) :: dset, space
+      integer, intent(in) :: hdferr_write
+      integer :: hdferr
+      call self%check(hdferr_write, "write dataset '"//name//"'")
+      if (dset >= 0) call h5dclose_f(dset, hdferr)
+      if (space >= 0) call h5sclose_f(space, hdferr)
+   end subroutine close_dataset
+
+   subroutine writer_write_real(self, name, values)
+      class(h5_writer_t), intent(inout) :: self
+      character(len=*), intent(in) :: name
+      real(dp), intent(in) :: values(:)
+      integer(hid_t) :: dset, space
+      integer(hsize_t) :: dims(1)
+      integer :: hdferr
+      dims = size(values, kind=hsize_t)
+      call open_dataset(self, name, H5T_NATIVE_DOUBLE, dims, dset, space)
+      if (.not. self%ok()) return
+      call h5dwrite_f(dset, H5T_NATIVE_DOUBLE, values, dims, hdferr)
+      call close_dataset(self, name, dset, space, hdferr)
+   end subroutine writer_write_real
+
+   subroutine writer_write_real_scalar(self, name, value)
+      class(h5_writer_t), intent(inout) :: self
+      character(len=*), intent(in) :: name
+      real(dp), intent(in) :: value
+      integer(hid_t) :: dset, space
+      integer(hsize_t) :: dims(0)
+      integer :: hdferr
+      call open_dataset(self, name, H5T_NATIVE_DOUBLE, dims, dset, space)
+      if (.not. self%ok()) return
+      call h5dwrite_f(dset, H5T_NATIVE_DOUBLE, value, [1_hsize_t], hdferr)
+      call close_dataset(self, name, dset, space, hdferr)
+   end subroutine writer_write_real_scalar
+
+   subroutine writer_write_int(self, name, values)
+      class(h5_writer_t), intent(inout) :: self
+      character(len=*), intent(in) :: name
+      integer, intent(in) :: values(:)
+      integer(hid_t) :: dset, space
+      integer(hsize_t) :: dims(1)
+      integer :: hdferr
+      dims = size(values, kind=hsize_t)
+      call open_dataset(self, name, H5T_NATIVE_INTEGER, dims, dset, space)
+      if (.not. self%ok()) return
+      call h5dwrite_f(dset, H5T_NATIVE_INTEGER, values, dims, hdferr)
+      call close_dataset(self, name, dset, space, hdferr)
+   end subroutine writer_write_int
+
+   subroutine writer_write_int_scalar(self, name, value)
+      class(h5_writer_t), intent(inout) :: self
+      character(len=*), intent(in) :: name
+      integer, intent(in) :: value
+      integer(hid_t) :: dset, space
+      integer(hsize_t) :: dims(0)
+      integer :: hdferr
+      call open_dataset(self, name, H5T_NATIVE_INTEGER, dims, dset, space)
+      if (.not. self%ok()) return
+      call h5dwrite_f(dset, H5T_NATIVE_INTEGER, value, [1_hsize_t], hdferr)
+      call close_dataset(self, name, dset, space, hdferr)
+   end subroutine writer_write_int_scalar
+
+   !> A 1-D dataset of fixed-length strings (h5py reads them as bytes).
+   subroutine writer_write_strings(self, name, values)
+      class(h5_writer_t), intent(inout) :: self
+      character(len=*), intent(in) :: name
+      character(len=*), intent(in) :: values(:)
+      integer(hid_t) :: dset, space, string_type
+      integer(hsize_t) :: dims(1)
+      integer :: hdferr
+      if (.not. self%ok()) return
+      call string_type_of(self, len(values), string_type)
+      dims = size(values, kind=hsize_t)
+      call open_dataset(self, name, string_type, dims, dset, space)
+      if (self%ok()) then
+         call h5dwrite_f(dset, string_type, values, dims, hdferr)
+         call close_dataset(self, name, dset, space, hdferr)
+      end if
+      call h5tclose_f(string_type, hdferr)
+   end subroutine writer_write_strings
+
+   subroutine writer_write_string_scalar(self, name, value)
+      class(h5_writer_t), intent(inout) :: self
+      character(len=*), intent(in) :: name, value
+      integer(hid_t) :: dset, space, string_type
+      integer(hsize_t) :: dims(0)
+      integer :: hdferr
+      if (.not. self%ok()) return
+      call string_type_of(self, len(value), string_type)
+      call open_dataset(self, name, string_type, dims, dset, space)
+      if (self%ok()) then
+         call h5dwrite_f(dset, string_type, value, [1_hsize_t], hdferr)
+         call close_dataset(self, name, dset, space, hdferr)
+      end if
+      call h5tclose_f(string_type, hdferr)
+   end subroutine writer_write_string_scalar
+
+   subroutine string_type_of(self, length, string_type)
+      class(h5_writer_t), intent(inout) :: self
+      integer, intent(in) :: length
+      integer(hid_t), intent(out) :: string_type
+      integer :: hdferr
+      call h5tcopy_f(H5T_FORTRAN_S1, string_type, hdferr)
+      call self%check(hdferr, 'copy the string type')
+      call h5tset_size_f(string_type, int(max(length, 1), size_t), hdferr)
+      call self%check(hdferr, 'set the string length')
+   end subroutine string_type_of
+
+   !> Open object `on` (a group or dataset path, '/' for the root) and create a scalar attribute.
+   subroutine open_attribute(self, on, name, type_id, object, attr, space)
+      class(h5_writer_t), intent(inout) :: self
+      character(len=*), intent(in) :: on, name
+      integer(hid_t), intent(in) :: type_id
+      integer(hid_t), intent(out) :: object, attr, space
+      integer :: hdferr
+      object = -1
+      attr = -1
+      space = -1
+      if (.not. self%ok()) return
+      call h5oopen_f(self%file, on, object, hdferr)
+      call self%check(hdferr, "open object '"//on//"'")
+      if (.not. self%ok()) return
+      call h5screate_f(H5S_SCALAR_F, space, hdferr)
+      call self%check(hdferr, 'create a scalar dataspace')
+      if (.not. self%ok()) return
+      call h5acreate_f(object, name, type_id, space, attr, hdferr)
+      call self%check(hdferr, "create attribute '"//name//"' on '"//on//"'")
+   end subroutine open_attribute
+
+   subroutine close_attribute(self, name, object, attr, space, hdferr_write)
+      class(h5_writer_t), intent(inout) :: self
+      character(len=*), intent(in) :: name
+      integer(hid_t), intent(in) :: object, attr, space
+      integer, intent(in) :: hdferr_write
+      integer :: hdferr
+      call self%check(hdferr_write, "write attribute '"//name//"'")
+      if (attr >= 0) call h5aclose_f(attr, hdferr)
+      if (space >= 0) call h5sclose_f(space, hdferr)
+      if (object >= 0) call h5oclose_f(object, hdferr)
+   end subroutine close_attribute
+
+   subroutine writer_attribute_real(self, on, name, value)
+      class(h5_writer_t), intent(inout) :: self
+      character(len=*), intent(in) :: on, name
+      real(dp), intent(in) :: value
+      integer(hid_t) :: object, attr, space
+      integer :: hdferr
+      call open_attribute(self, on, name, H5T_NATIVE_DOUBLE, object, attr, space)
+      hdferr = 0
+      if (self%ok()) call h5awrite_f(attr, H5T_NATIVE_DOUBLE, value, [1_hsize_t], hdferr)
+      call close_attribute(self, name, object, attr, space, hdferr)
+   end subroutine writer_attribute_real
+
+   subroutine writer_attribute_int(self, on, name, value)
+      class(h5_writer_t), intent(inout) :: self
+      character(len=*), intent(in) :: on, name
+      integer, intent(in) :: value
+      integer(hid_t) :: object, attr, space
+      integer :: hdferr
+      call open_attribute(self, on, name, H5T_NATIVE_INTEGER, object, attr, space)
+      hdferr = 0
+      if (self%ok()) call h5awrite_f(attr, H5T_NATIVE_INTEGER, value, [1_hsize_t], hdferr)
+      call close_attribute(self, name, object, attr, space, hdferr)
+   end subroutine writer_attribute_int
+
+   subroutine writer_attribute_string(self, on, name, value)
+      class(h5_writer_t), intent(inout) :: self
+      character(len=*), intent(in) :: on, name, value
+      integer(hid_t) :: object, attr, space, string_type
+      integer :: hdferr
+      if (.not. self%ok()) return
+      call string_type_of(self, len(value), string_type)
+      call open_attribute(self, on, name, string_type, object, attr, space)
+      hdferr = 0
+      if (self%ok()) call h5awrite_f(attr, string_type, value, [1_hsize_t], hdferr)
+      call close_attribute(self, name, object, attr, space, hdferr)
+      call h5tclose_f(string_type, hdferr)
+   end subroutine writer_attribute_string
+
+   !> Close the file and move it to its final name; on any earlier failure remove the partial file.
+   subroutine writer_finish(self, error)
+      class(h5_writer_t), intent(inout) :: self
+      type(error_t), allocatable, intent(out) :: error
+      integer :: hdferr
+      logical :: renamed
+      if (self%file >= 0) then
+         call h5fclose_f(self%file, hdferr)
+         call self%check(hdferr, "close file '"//self%part_path//"'")
+         self%file = -1
+      end if
+      if (.not. self%ok()) then
+         call remove_file(self%part_path)
+         call set_error(error, "HDF5 output '"//self%path//"': cannot "//self%failure)
+         return
+      end if
+      call rename_file(self%part_path, self%path, renamed)
+      if (.not. renamed) then
+         call remove_file(self%part_path)
+         call set_error(error, "cannot rename '"//self%part_path//"' to '"//self%path//"'")
+      end if
+   end subroutine writer_finish
+
+   !> Close and delete the partial file (nothing appears under the final name).
+   subroutine writer_abandon(self)
+      class(h5_writer_t), intent(inout) :: self
+      integer :: hdferr
+      if (self%file >= 0) call h5fclose_f(self%file, hdferr)
+      self%file = -1
+      if (allocated(self%part_path)) call remove_file(self%part_path)
+   end subroutine writer_abandon
+
+   subroutine writer_check(self, hdferr, what)
+      class(h5_writer_t), intent(inout) :: self
+      integer, intent(in) :: hdferr
+      character(len=*), intent(in) :: what
+      if (hdferr < 0 .and. .not. allocated(self%failure)) self%failure = what
+   end subroutine writer_check
+
+   logical function writer_ok(self)
+      class(h5_writer_t), intent(in) :: self
+      writer_ok = .not. allocated(self%failure)
+   end function writer_ok
+
+   ! ---- reading (tests, merging shard files) ----
+
+   !> Open `path` read-only and dataset `name`; returns ids and the 1-D length (0 for a scalar).
+   subroutine open_for_read(path, name, file, dset, length, error)
+      character(len=*), intent(in) :: path, name
+      integer(hid_t), intent(out) :: file, dset
+      integer, intent(out) :: length
+      type(error_t), allocatable, intent(out) :: error
+      integer(hid_t) :: space
+      integer(hsize_t) :: dims(1), maxdims(1)
+      integer :: hdferr, rank
+      length = 0
+      dset = -1
+      call h5open_f(hdferr)
+      call h5eset_auto_f(0, hdferr)
+      call h5fopen_f(path, H5F_ACC_RDONLY_F, file, hdferr)
+      if (hdferr < 0) then
+         call set_error(error, "cannot open HDF5 file '"//path//"'")
+         return
+      end if
+      call h5dopen_f(file, name, dset, hdferr)
+      if (hdferr < 0) then
+         call set_error(error, "no dataset '"//name//"' in '"//path//"'")
+         call h5fclose_f(file, hdferr)
+         return
+      end if
+      call h5dget_space_f(dset, space, hdferr)
+      call h5sget_simple_extent_ndims_f(space, rank, hdferr)
+      if (rank == 1) then
+         call h5sget_simple_extent_dims_f(space, dims, maxdims, hdferr)
+         length = int(dims(1))
+      end if
+      call h5sclose_f(space, hdferr)
+   end subroutine open_for_read
+
+   subroutine close_read(file, dset)
+      integer(hid_t), intent(in) :: file, dset
+      integer :: hdferr
+      call h5dclose_f(dset, hdferr)
+      call h5fclose_f(file, hdferr)
+   end subroutine close_read
+
+   !> Read a 1-D (or scalar, as one value) real dataset.
+   subroutine h5_read_real(path, name, values, error)
+      character(len=*), intent(in) :: path, name
+      real(dp), allocatable, intent(out) :: values(:)
+      type(error_t), allocatable, intent(out) :: error
+      integer(hid_t) :: file, dset
+      integer :: length, hdferr
+      call open_for_read(path, name, file, dset, length, error)
+      if (allocated(error)) return
+      allocate (values(max(length, 1)))
+      call h5dread_f(dset, H5T_NATIVE_DOUBLE, values, [int(size(values), hsize_t)], hdferr)
+      if (hdferr < 0) call set_error(error, "cannot read '"//name//"' from '"//path//"'")
+      call close_read(file, dset)
+   end subroutine h5_read_real
+
+   !> Read a 1-D (or scalar, as one value) integer dataset.
+   subroutine h5_read_int(path, name, values, error)
+      character(len=*), intent(in) :: path, name
+      integer, allocatable, intent(out) :: values(:)
+      type(error_t), allocatable, intent(out) :: error
+      integer(hid_t) :: file, dset
+      integer :: length, hdferr
+      call open_for_read(path, name, file, dset, length, error)
+      if (allocated(error)) return
+      allocate (values(max(length, 1)))
+      call h5dread_f(dset, H5T_NATIVE_INTEGER, values, [int(size(values), hsize_t)], hdferr)
+      if (hdferr < 0) call set_error(error, "cannot read '"//name//"' from '"//path//"'")
+      call close_read(file, dset)
+   end subroutine h5_read_int
+
+   !> Read a 1-D dataset of fixed-length strings into `values` (each of length `length`).
+   subroutine h5_read_string(path, name, length, values, error)
+      character(len=*), intent(in) :: path, name
+      integer, intent(in) :: length
+      character(len=length), allocatable, intent(out) :: values(:)
+      type(error_t), allocatable, intent(out) :: error
+      integer(hid_t) :: file, dset, string_type
+      integer :: count, hdferr
+      call open_for_read(path, name, file, dset, count, error)
+      if (allocated(error)) return
+      allocate (values(max(count, 1)))
+      call h5tcopy_f(H5T_FORTRAN_S1, string_type, hdferr)
+      call h5tset_size_f(string_type, int(length, size_t), hdferr)
+      call h5dread_f(dset, string_type, values, [int(size(values), hsize_t)], hdferr)
+      if (hdferr < 0) call set_error(error, "cannot read '"//name//"' from '"//path//"'")
+      call h5tclose_f(string_type, hdferr)
+      call close_read(file, dset)
+   end subroutine h5_read_string
+
+   !> Read a real attribute `name` of object `on` ('/' for the root).
+   subroutine h5_read_attribute_real(path, on, name, value, error)
+      character(len=*), intent(in) :: path, on, name
+      real(dp), intent(out) :: value
+      type(error_t), allocatable, intent(out) :: error
+      integer(hid_t) :: file, attr
+      integer :: hdferr
+      value = 0.0_dp
+      call open_attribute_for_read(path, on, name, file, attr, error)
+      if (allocated(error)) return
+      call h5aread_f(attr, H5T_NATIVE_DOUBLE, value, [1_hsize_t], hdferr)
+      if (hdferr < 0) call set_error(error, "cannot read attribute '"//name//"' of '"//on//"' in '"//path//"'")
+      call h5aclose_f(attr, hdferr)
+      call h5fclose_f(file, hdferr)
+   end subroutine h5_read_attribute_real
+
+   !> Read a string attribute (up to `len(value)` characters).
+   subroutine h5_read_attribute_string(path, on, name, value, error)
+      character(len=*), intent(in) :: path, on, name
+      character(len=*), intent(out) :: value
+      type(error_t), allocatable, intent(out) :: error
+      integer(hid_t) :: file, attr, string_type
+      integer :: hdferr
+      value = ''
+      call open_attribute_for_read(path, on, name, file, attr, error)
+      if (allocated(error)) return
+      call h5aget_type_f(attr, string_type, hdferr)
+      call h5aread_f(attr, string_type, value, [1_hsize_t], hdferr)
+      if (hdferr < 0) call set_error(error, "cannot read attribute '"//name//"' of '"//on//"' in '"//path//"'")
+      call h5tclose_f(string_type, hdferr)
+      call h5aclose_f(attr, hdferr)
+      call h5fclose_f(file, hdferr)
+   end subroutine h5_read_attribute_string
+
+   subroutine open_attribute_for_read(path, on, name, file, attr, error)
+      character(len=*), intent(in) :: path, on, name
+      integer(hid_t), intent(out) :: file, attr
+      type(error_t), allocatable, intent(out) :: error
+      integer :: hdferr
+      call h5open_f(hdferr)
+      call h5eset_auto_f(0, hdferr)
+      call h5fopen_f(path, H5F_ACC_RDONLY_F, file, hdferr)
+      if (hdferr < 0) then
+         call set_error(error, "cannot open HDF5 file '"//path//"'")
+         return
+      end if
+      call h5aopen_by_name_f(file, on, name, attr, hdferr)
+      if (hdferr < 0) then
+         call set_error(error, "no attribute '"//name//"' on '"//on//"' in '"//path//"'")
+         call h5fclose_f(file, hdferr)
+      end if
+   end subroutine open_attribute_for_read
+end module mpm_hdf5

@@ -1,0 +1,63 @@
+!> Material points as a structure of arrays. All particles of a run share one mass and one initial
+!> volume (they fill equal sub-cells of equal elements), so those are scalars, not arrays: a run
+!> carries only what it needs (44 bytes per particle).
+module mpm_particles
+   use mpm_kinds, only: dp, i8
+   use mpm_errors, only: error_t, set_error
+   use mpm_strings, only: str
+   implicit none
+   private
+   public :: particles_t, particles_init, bytes_per_particle
+
+   !> Storage per particle: x, x0, v, stress, volume_ratio (8 bytes each) and cell (4 bytes).
+   integer, parameter :: bytes_per_particle = 5*8 + 4
+
+   type :: particles_t
+      integer :: count = 0
+      !> Mass and initial volume of every particle (kg per unit area, m^3 per unit area).
+      real(dp) :: mass = 0.0_dp
+      real(dp) :: volume0 = 0.0_dp
+      real(dp), allocatable :: x(:)            !< position (m)
+      real(dp), allocatable :: x0(:)           !< initial position X (m), for u = x - X
+      real(dp), allocatable :: v(:)            !< velocity (m/s)
+      real(dp), allocatable :: stress(:)       !< Cauchy stress (Pa)
+      real(dp), allocatable :: volume_ratio(:) !< J = V/V0
+      integer, allocatable :: cell(:)          !< element holding the particle at the start of the step
+   end type particles_t
+
+contains
+
+   !> Place `per_element` particles at the centres of equal sub-cells of each of `elements`
+   !> elements of size dx, at rest, unstressed; mass density*dx/per_element each.
+   subroutine particles_init(particles, elements, per_element, dx, density, error)
+      type(particles_t), intent(out) :: particles
+      integer, intent(in) :: elements, per_element
+      real(dp), intent(in) :: dx, density
+      type(error_t), allocatable, intent(out) :: error
+      integer :: e, k, p, stat
+      real(dp) :: sub
+      particles%count = elements*per_element
+      allocate (particles%x(particles%count), particles%x0(particles%count), particles%v(particles%count), &
+                particles%stress(particles%count), &
+                particles%volume_ratio(particles%count), particles%cell(particles%count), stat=stat)
+      if (stat /= 0) then
+         call set_error(error, "cannot allocate "//str(int(elements, i8)*per_element)//" particles ("// &
+                        str(int(elements, i8)*per_element*bytes_per_particle)//" bytes; out of memory)")
+         return
+      end if
+      sub = dx/per_element
+      particles%volume0 = sub
+      particles%mass = density*sub
+      do e = 1, elements
+         do k = 1, per_element
+            p = (e - 1)*per_element + k
+            particles%x(p) = (e - 1)*dx + (k - 0.5_dp)*sub
+            particles%cell(p) = e
+         end do
+      end do
+      particles%x0 = particles%x
+      particles%v = 0.0_dp
+      particles%stress = 0.0_dp
+      particles%volume_ratio = 1.0_dp
+   end subroutine particles_init
+end module mpm_particles

@@ -1,0 +1,243 @@
+!> One run: set up the scene, step the chosen scheme, record diagnostics, watch the guards.
+!> No file output here (see mpm_output); safe to call from several threads at once.
+module mpm_simulation
+   use, intrinsic :: ieee_arithmetic, only: ieee_is_finite
+   use omp_lib, only: omp_get_wtime
+   use mpm_kinds, only: dp
+   use mpm_errors, only: error_t
+   use mpm_strings, only: str
+   use mpm_config, only: config_t
+   use mpm_grid, only: grid_t, grid_init, assemble_nodes, nodal_velocity
+   use mpm_particles, only: particles_t, particles_init
+   use mpm_transfer, only: pass_totals_t
+   use mpm_scheme_usf, only: usf_start, usf_step
+   use mpm_scheme_usl, only: usl_start, usl_step
+   use mpm_scheme_musl, only: musl_start, musl_step
+   use mpm_scene_bar, only: bar_t, bar_init, bar_initial_velocity, bar_ucm_exact
+   use mpm_diagnostics, only: history_t, snapshot_t, status_ok, status_non_finite, status_volume_ratio, &
+                              status_left_grid, status_energy_growth, status_cell_crossing, status_name
+   implicit none
+   private
+   public :: run_result_t, run_simulation, scheme_id
+
+   integer, parameter :: scheme_usf = 1, scheme_usl = 2, scheme_musl = 3
+
+   !> What one run produced.
+   type :: run_result_t
+      integer :: status = status_ok
+      character(len=:), allocatable :: message  !< guard message when status /= ok
+      integer :: steps = 0          !< steps asked for
+      integer :: steps_done = 0     !< steps completed (= steps unless a guard tripped)
+      real(dp) :: dt = 0.0_dp
+      real(dp) :: max_error = 0.0_dp        !< max over recorded steps of |u_cm - u_cm,exact| (m)
+      real(dp) :: relative_error = 0.0_dp   !< max_error / exact u_cm amplitude
+      real(dp) :: ucm_amplitude = 0.0_dp    !< exact u_cm amplitude (m)
+      real(dp) :: run_time = 0.0_dp         !< set-up and time loop, seconds (no file output)
+      real(dp) :: initial_energy = 0.0_dp   !< kinetic + strain energy at t = 0 (J per unit area)
+      real(dp) :: final_energy = 0.0_dp
+      real(dp) :: max_energy_ratio = 0.0_dp !< largest (kinetic + strain) / initial energy reached
+      real(dp) :: min_volume_ratio = 1.0_dp !< smallest J met
+      real(dp) :: max_cell_move = 0.0_dp    !< largest particle move in one step, in cells
+      real(dp) :: min_node_mass_ratio = 0.0_dp !< smallest nodal mass / particle mass met
+      integer :: particles = 0
+      type(history_t) :: history
+      type(snapshot_t), allocatable :: snapshots(:)
+   end type run_result_t
+
+contains
+
+   !> Integer id of a scheme name (0 if unknown; the configuration is validated before).
+   pure integer function scheme_id(scheme)
+      character(len=*), intent(in) :: scheme
+      select case (trim(scheme))
+      case ('usf')
+         scheme_id = scheme_usf
+      case ('usl')
+         scheme_id = scheme_usl
+      case ('musl')
+         scheme_id = scheme_musl
+      case default
+         scheme_id = 0
+      end select
+   end function scheme_id
+
+   !> Run the validated and resolved `config`. Guard trips end the run with result%status /= 0 and
+   !> the state reached so far; `error` is set only when the run cannot be set up (memory).
+   !> `record_history` keeps one history entry per step; snapshots are taken when the configuration asks.
+   subroutine run_simulation(config, result, error, record_history)
+      type(config_t), intent(in) :: config
+      type(run_result_t), intent(out) :: result
+      type(error_t), allocatable, intent(out) :: error
+      logical, intent(in) :: record_history
+
+      type(bar_t) :: bar
+      type(grid_t) :: grid
+      type(particles_t) :: particles
+      type(pass_totals_t) :: totals
+      real(dp) :: start, ucm, exact, energy, energy_reference, t
+      integer :: n, scheme, next_snapshot
+
+      start = omp_get_wtime()
+      result%steps = config%steps
+      result%dt = config%dt
+      scheme = scheme_id(config%scheme)
+      bar = bar_init(config%length, config%youngs_modulus, config%density, config%velocity_amplitude, config%mode)
+      result%ucm_amplitude = bar%ucm_amplitude
+      call particles_init(particles, config%elements, config%particles_per_element, config%dx, config%density, error)
+      if (allocated(error)) return
+      call grid_init(grid, config%elements, config%length, particles%mass, error)
+      if (allocated(error)) return
+      call bar_initial_velocity(bar, particles)
+      result%particles = particles%count
+
+      select case (scheme)
+      case (scheme_usf)
+         call usf_start(particles, grid, totals)
+      case (scheme_usl)
+         call usl_start(particles, grid, totals)
+      case (scheme_musl)
+         call musl_start(particles, grid, totals)
+      end select
+      result%initial_energy = totals%kinetic_energy + totals%strain_energy
+      ! Zero initial energy (v0 = 0) stays exactly zero in a sound run: any growth trips the guard.
+      energy_reference = max(result%initial_energy, tiny(1.0_dp))
+      result%final_energy = result%initial_energy
+      result%max_energy_ratio = result%initial_energy/energy_reference
+      result%min_volume_ratio = totals%min_volume_ratio
+      result%min_node_mass_ratio = huge(1.0_dp)
+      ucm = 0.0_dp
+
+      if (record_history) call start_history(result%history, config%steps)
+      if (record_history) call record(result%history, 0.0_dp, ucm, 0.0_dp, totals)
+      next_snapshot = 1
+      allocate (result%snapshots(config%snapshot_count))
+      call take_snapshots(0, 0.0_dp)
+
+      do n = 1, config%steps
+         select case (scheme)
+         case (scheme_usf)
+            call usf_step(particles, grid, config%dt, config%youngs_modulus, totals)
+         case (scheme_usl)
+            call usl_step(particles, grid, config%dt, config%youngs_modulus, totals)
+         case (scheme_musl)
+            call musl_step(particles, grid, config%dt, config%youngs_modulus, totals)
+         end select
+         t = n*config%dt
+         ucm = totals%displacement/particles%count ! u_cm = sum m (x - X) / sum m, equal masses
+         exact = bar_ucm_exact(bar, t)
+         energy = totals%kinetic_energy + totals%strain_energy
+         result%max_error = max(result%max_error, abs(ucm - exact))
+         result%final_energy = energy
+         result%max_energy_ratio = max(result%max_energy_ratio, energy/energy_reference)
+         result%min_volume_ratio = min(result%min_volume_ratio, totals%min_volume_ratio)
+         result%max_cell_move = max(result%max_cell_move, totals%max_cell_move)
+         result%min_node_mass_ratio = min(result%min_node_mass_ratio, grid%min_node_mass/particles%mass)
+         if (record_history) call record(result%history, t, ucm, exact, totals)
+         call check_guards(n, t)
+         if (result%status /= status_ok) exit
+         result%steps_done = n
+         call take_snapshots(n, t)
+      end do
+
+      if (bar%ucm_amplitude /= 0.0_dp) then
+         result%relative_error = result%max_error/abs(bar%ucm_amplitude)
+      else
+         result%relative_error = result%max_error
+      end if
+      result%run_time = omp_get_wtime() - start
+
+   contains
+
+      !> Trip the first guard that applies, in order of severity, and describe the culprit.
+      subroutine check_guards(step, time)
+         integer, intent(in) :: step
+         real(dp), intent(in) :: time
+         if (.not. ieee_is_finite(energy) .or. .not. ieee_is_finite(ucm)) then
+            call trip(step, time, status_non_finite, 'non-finite value (NaN or Infinity) in the particle state', &
+                      first_non_finite(particles))
+         else if (totals%outside /= 0) then
+            call trip(step, time, status_left_grid, 'a particle left the grid [0, '//str(grid%length)//'] m', &
+                      totals%outside)
+         else if (totals%min_volume_ratio <= 0.0_dp) then
+            call trip(step, time, status_volume_ratio, 'volume ratio J = V/V0 <= 0', &
+                      minloc(particles%volume_ratio, 1))
+         else if (totals%max_cell_move > 1.0_dp) then
+            call trip(step, time, status_cell_crossing, 'a particle moved '//str(totals%max_cell_move)// &
+                      ' cells in one step (more than one cell)', totals%furthest)
+         else if (energy > config%energy_growth_limit*energy_reference) then
+            call trip(step, time, status_energy_growth, 'total energy grew to '//str(energy/energy_reference)// &
+                      ' times its initial value (limit '//str(config%energy_growth_limit)//')', &
+                      maxloc(abs(particles%v), 1))
+         end if
+      end subroutine check_guards
+
+      !> End the run with status `code`: what tripped, when, and the state of particle `p`.
+      subroutine trip(step, time, code, what, p)
+         integer, intent(in) :: step, code, p
+         real(dp), intent(in) :: time
+         character(len=*), intent(in) :: what
+         result%status = code
+         result%message = 'guard '//status_name(code)//' tripped at step '//str(step)//' of '// &
+                          str(config%steps)//' (t = '//str(time)//' s, dt = '//str(config%dt)//' s): '//what
+         if (p >= 1 .and. p <= particles%count) result%message = result%message//'; particle '//str(p)// &
+            ': x = '//str(particles%x(p))//' m, v = '//str(particles%v(p))//' m/s, stress = '// &
+            str(particles%stress(p))//' Pa, J = '//str(particles%volume_ratio(p))
+      end subroutine trip
+
+      subroutine take_snapshots(step, time)
+         integer, intent(in) :: step
+         real(dp), intent(in) :: time
+         integer :: i
+         do while (next_snapshot <= config%snapshot_count)
+            if (config%snapshot_times(next_snapshot) > time + 0.5_dp*config%dt) exit
+            if (step == 0) then
+               ! the nodal velocity of the initial mapping, p_I / m_I
+               call assemble_nodes(grid, .false.)
+               call nodal_velocity(grid)
+            end if
+            associate (s => result%snapshots(next_snapshot))
+               s%time = time
+               s%step = step
+               s%x = particles%x
+               s%v = particles%v
+               s%stress = particles%stress
+               s%volume_ratio = particles%volume_ratio
+               s%grid_x = [(i*grid%dx, i=0, grid%elements)]
+               s%grid_velocity = grid%velocity
+            end associate
+            next_snapshot = next_snapshot + 1
+         end do
+      end subroutine take_snapshots
+   end subroutine run_simulation
+
+   integer function first_non_finite(particles) result(p)
+      type(particles_t), intent(in) :: particles
+      do p = 1, particles%count
+         if (.not. (ieee_is_finite(particles%x(p)) .and. ieee_is_finite(particles%v(p)) .and. &
+                    ieee_is_finite(particles%stress(p)) .and. ieee_is_finite(particles%volume_ratio(p)))) return
+      end do
+      p = 0
+   end function first_non_finite
+
+   subroutine start_history(history, steps)
+      type(history_t), intent(out) :: history
+      integer, intent(in) :: steps
+      allocate (history%time(0:steps), history%ucm(0:steps), history%ucm_exact(0:steps), &
+                history%kinetic_energy(0:steps), history%strain_energy(0:steps))
+      history%recorded = 0
+   end subroutine start_history
+
+   subroutine record(history, t, ucm, exact, totals)
+      type(history_t), intent(inout) :: history
+      real(dp), intent(in) :: t, ucm, exact
+      type(pass_totals_t), intent(in) :: totals
+      integer :: i
+      i = history%recorded
+      history%time(i) = t
+      history%ucm(i) = ucm
+      history%ucm_exact(i) = exact
+      history%kinetic_energy(i) = totals%kinetic_energy
+      history%strain_energy(i) = totals%strain_energy
+      history%recorded = i + 1
+   end subroutine record
+end module mpm_simulation
