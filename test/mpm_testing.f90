@@ -1,0 +1,117 @@
+!> In-house test helpers: counted checks and running the mpm1d executable from a test.
+module mpm_testing
+   use mpm_kinds, only: dp
+   use mpm_strings, only: str
+   implicit none
+   private
+   public :: tester_t, app_path, run_app, read_text, scratch_dir
+
+   !> Counts checks and failures; `finish` prints "N passed, M failed" and ends with error stop 1 on failure.
+   type :: tester_t
+      character(len=:), allocatable :: name
+      integer :: passed = 0
+      integer :: failed = 0
+   contains
+      procedure :: check => tester_check
+      procedure :: check_close => tester_check_close
+      procedure :: check_contains => tester_check_contains
+      procedure :: finish => tester_finish
+   end type tester_t
+
+contains
+
+   subroutine tester_check(self, label, condition, detail)
+      class(tester_t), intent(inout) :: self
+      character(len=*), intent(in) :: label
+      logical, intent(in) :: condition
+      character(len=*), intent(in), optional :: detail
+      if (condition) then
+         self%passed = self%passed + 1
+      else
+         self%failed = self%failed + 1
+         if (present(detail)) then
+            print '(a)', 'FAIL '//label//': '//detail
+         else
+            print '(a)', 'FAIL '//label
+         end if
+      end if
+   end subroutine tester_check
+
+   !> |actual - expected| <= atol + rtol |expected|.
+   subroutine tester_check_close(self, label, actual, expected, rtol, atol)
+      class(tester_t), intent(inout) :: self
+      character(len=*), intent(in) :: label
+      real(dp), intent(in) :: actual, expected
+      real(dp), intent(in), optional :: rtol, atol
+      real(dp) :: r, a
+      r = 0.0_dp
+      a = 0.0_dp
+      if (present(rtol)) r = rtol
+      if (present(atol)) a = atol
+      call self%check(label, abs(actual - expected) <= a + r*abs(expected), &
+                      'actual '//str(actual)//', expected '//str(expected)//' (rtol '//str(r)//', atol '//str(a)//')')
+   end subroutine tester_check_close
+
+   subroutine tester_check_contains(self, label, text, part)
+      class(tester_t), intent(inout) :: self
+      character(len=*), intent(in) :: label, text, part
+      call self%check(label, index(text, part) > 0, "'"//part//"' not found in: "//text)
+   end subroutine tester_check_contains
+
+   subroutine tester_finish(self)
+      class(tester_t), intent(in) :: self
+      print '(a)', self%name//': '//str(self%passed)//' passed, '//str(self%failed)//' failed'
+      if (self%failed > 0) error stop 1
+   end subroutine tester_finish
+
+   !> Path of the mpm1d executable built with the same profile as this test
+   !> (fpm puts tests in <build>/test/ and executables in <build>/app/).
+   function app_path() result(path)
+      character(len=:), allocatable :: path
+      character(len=4096) :: self_path
+      integer :: slash
+      call get_command_argument(0, self_path)
+      slash = index(self_path, '/test/', back=.true.)
+      if (slash == 0) then
+         path = 'mpm1d'
+      else
+         path = self_path(1:slash)//'app/mpm1d'
+      end if
+   end function app_path
+
+   !> Run `mpm1d arguments` in folder `dir`; returns the exit status and standard error + output text.
+   subroutine run_app(dir, arguments, exit_status, output)
+      character(len=*), intent(in) :: dir, arguments
+      integer, intent(out) :: exit_status
+      character(len=:), allocatable, intent(out) :: output
+      integer :: cmdstat
+      call execute_command_line('cd '//dir//' && '//app_path()//' '//arguments//' > app_output.txt 2>&1', &
+                                exitstat=exit_status, cmdstat=cmdstat)
+      if (cmdstat /= 0) exit_status = -999
+      output = read_text(dir//'/app_output.txt')
+   end subroutine run_app
+
+   !> The whole content of a text file ('' when it cannot be read).
+   function read_text(path) result(text)
+      character(len=*), intent(in) :: path
+      character(len=:), allocatable :: text
+      integer :: unit, stat, size_bytes
+      text = ''
+      open (newunit=unit, file=path, access='stream', form='unformatted', status='old', action='read', iostat=stat)
+      if (stat /= 0) return
+      inquire (unit=unit, size=size_bytes)
+      if (size_bytes > 0) then
+         allocate (character(len=size_bytes) :: text)
+         read (unit, iostat=stat) text
+      end if
+      close (unit)
+   end function read_text
+
+   !> A fresh empty folder for a test's files under build/ (so tests leave the source tree clean).
+   function scratch_dir(name) result(dir)
+      character(len=*), intent(in) :: name
+      character(len=:), allocatable :: dir
+      dir = 'build/test_scratch/'//name
+      call execute_command_line('rm -rf '//dir//' && mkdir -p '//dir)
+   end function scratch_dir
+end module mpm_testing
