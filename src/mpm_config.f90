@@ -5,13 +5,17 @@ module mpm_config
    use mpm_kinds, only: dp, i8, pi
    use mpm_errors, only: error_t, set_error, append_error
    use mpm_strings, only: str, lower
+   use mpm_files, only: available_memory
+   use mpm_particles, only: bytes_per_particle
    implicit none
    private
    public :: config_t, read_config, validate_config, resolve_config, write_config_namelist, config_namelist
    public :: default_config, config_summary, known_schemes, is_known_scheme
-   public :: max_snapshots, unset, scan_groups, read_group_error, check_output_path
+   public :: max_snapshots, unset, scan_groups, read_group_error, check_output_path, group_text
    public :: step_count
 
+   character(len=*), parameter :: identifier_characters = &
+                                  'abcdefghijklmnopqrstuvwxyzABCDEFGHIJKLMNOPQRSTUVWXYZ0123456789_'
    !> Sentinel for "not given" reals; no physical input takes this value.
    real(dp), parameter :: unset = -huge(1.0_dp)
    !> Most snapshot times one run accepts.
@@ -147,7 +151,7 @@ contains
          case default
             cycle ! a group another reader handles
          end select
-         if (stat /= 0) call append_error(error, read_group_error(path, found(i), stat, msg))
+         if (stat /= 0) call append_error(error, read_group_error(path, found(i), group_names(found(i)), stat, msg))
       end do
       close (unit)
       if (allocated(error)) return
@@ -184,17 +188,102 @@ contains
       call resolve_config(config)
    end subroutine read_config
 
-   !> The message for a failed namelist read: file, group and gfortran's own explanation.
-   function read_group_error(path, group, stat, msg) result(text)
-      character(len=*), intent(in) :: path, group, msg
+   !> The message for a failed namelist read: file, group, and the variable at fault.
+   !> gfortran reports only the token it could not match ("Cannot match namelist object name X");
+   !> X followed by '=' is an unknown name, otherwise it is the tail of a bad value and the culprit
+   !> is the variable assigned just before it.
+   function read_group_error(path, group, names, stat, msg) result(text)
+      character(len=*), intent(in) :: path, group, names, msg
       integer, intent(in) :: stat
-      character(len=:), allocatable :: text
+      character(len=:), allocatable :: text, body, token, variable
+      character(len=*), parameter :: no_match = 'Cannot match namelist object name '
+      integer :: k, j, start
+      text = trim(path)//": group &"//trim(group)//": "
       if (stat < 0) then
-         text = trim(path)//": group &"//trim(group)//" is not terminated by '/' (end of file reached)"
-      else
-         text = trim(path)//": group &"//trim(group)//": "//trim(msg)
+         text = text//"not terminated by '/' (end of file reached)"
+         return
       end if
+      k = index(msg, no_match)
+      if (k == 0) then
+         ! e.g. "Integer overflow while reading item 1": name the variables the group assigns
+         text = text//trim(msg)//" (variables given: "//assigned_names(lower(group_text(path, group)))//")"
+         return
+      end if
+      token = lower(trim(msg(k + len(no_match):)))
+      body = lower(group_text(path, group))
+      k = index(body, token)
+      if (k == 0) then
+         text = text//trim(msg)
+         return
+      end if
+      if (index(adjustl(body(k + len(token):)), '=') == 1) then
+         text = text//"unknown variable '"//token//"'; allowed names: "//names
+         return
+      end if
+      j = index(body(1:k - 1), '=', back=.true.)
+      start = j - 1
+      do while (start > 1)
+         if (body(start:start) /= ' ') exit
+         start = start - 1
+      end do
+      variable = ''
+      do while (start >= 1)
+         if (scan(body(start:start), identifier_characters) == 0) exit
+         variable = body(start:start)//variable
+         start = start - 1
+      end do
+      text = text//"bad value for '"//variable//"' near '"//token// &
+             "': not of the variable's type (integers take no decimal point, text needs quotes)"
    end function read_group_error
+
+   !> The names assigned (`name =`) in a group's text, comma separated.
+   function assigned_names(body) result(names)
+      character(len=*), intent(in) :: body
+      character(len=:), allocatable :: names
+      integer :: i, start, end
+      names = ''
+      do i = 1, len(body)
+         if (body(i:i) /= '=') cycle
+         if (index(body(1:i), '/') > 0) exit ! end of the group
+         end = i - 1
+         do while (end > 1)
+            if (body(end:end) /= ' ') exit
+            end = end - 1
+         end do
+         start = end
+         do while (start > 1)
+            if (scan(body(start - 1:start - 1), identifier_characters) == 0) exit
+            start = start - 1
+         end do
+         if (len(names) > 0) names = names//', '
+         names = names//body(start:end)
+      end do
+   end function assigned_names
+
+   !> The text of group &group in file `path`, from '&group' up to the end of the file (for messages).
+   function group_text(path, group) result(text)
+      character(len=*), intent(in) :: path, group
+      character(len=:), allocatable :: text
+      character(len=4096) :: line
+      integer :: unit, stat, k
+      logical :: inside
+      text = ''
+      inside = .false.
+      open (newunit=unit, file=path, status='old', action='read', iostat=stat)
+      if (stat /= 0) return
+      do
+         read (unit, '(a)', iostat=stat) line
+         if (stat /= 0) exit
+         if (.not. inside) then
+            k = index(lower(line), '&'//trim(group))
+            if (k == 0) cycle
+            inside = .true.
+            line = line(k + len_trim(group) + 1:)
+         end if
+         text = text//' '//trim(line)
+      end do
+      close (unit)
+   end function group_text
 
    !> List the namelist groups that `path` contains, in file order. Unknown or repeated group
    !> names are errors (gfortran would silently skip a misspelled group and use defaults).
@@ -203,12 +292,18 @@ contains
       character(len=*), intent(in) :: known(:)
       character(len=16), allocatable, intent(out) :: present(:)
       type(error_t), allocatable, intent(out) :: error
-      integer :: unit, stat, first, last, line_number
+      integer :: unit, stat, line_number
+      logical :: is_folder
       character(len=4096) :: line
       character(len=512) :: msg
       character(len=:), allocatable :: name
 
       allocate (present(0))
+      inquire (file=trim(path)//'/.', exist=is_folder)
+      if (is_folder) then
+         call set_error(error, "input file '"//trim(path)//"' is a folder; allowed: a namelist file")
+         return
+      end if
       open (newunit=unit, file=path, status='old', action='read', iostat=stat, iomsg=msg)
       if (stat /= 0) then
          call set_error(error, "cannot open input file '"//trim(path)//"': "//trim(msg))
@@ -223,27 +318,48 @@ contains
             exit
          end if
          line_number = line_number + 1
-         first = verify(line, ' '//achar(9))
-         if (first == 0) cycle
-         if (line(first:first) /= '&') cycle
-         last = first
-         do while (last < len(line))
-            if (verify(line(last + 1:last + 1), 'abcdefghijklmnopqrstuvwxyzABCDEFGHIJKLMNOPQRSTUVWXYZ0123456789_') /= 0) exit
-            last = last + 1
-         end do
-         name = lower(line(first + 1:last))
-         if (len(name) == 0) cycle
-         if (name == 'end') cycle
-         if (.not. any(known == name)) then
-            call append_error(error, trim(path)//":"//str(line_number)//": unknown namelist group &"//name// &
-                              " (known groups: "//join(known)//")")
-         else if (any(present == name)) then
-            call append_error(error, trim(path)//":"//str(line_number)//": group &"//name//" is given twice")
-         else
-            present = [character(len=16) :: present, name]
-         end if
+         call groups_in_line(line)
       end do
       close (unit)
+   contains
+      !> Every '&name' of the line outside quoted strings and comments.
+      subroutine groups_in_line(text)
+         character(len=*), intent(in) :: text
+         integer :: i, last
+         character(len=1) :: quote
+         quote = ' '
+         i = 0
+         do while (i < len_trim(text))
+            i = i + 1
+            if (quote /= ' ') then
+               if (text(i:i) == quote) quote = ' '
+               cycle
+            end if
+            select case (text(i:i))
+            case ("'", '"')
+               quote = text(i:i)
+            case ('!')
+               return
+            case ('&')
+               last = i
+               do while (last < len(text))
+                  if (scan(text(last + 1:last + 1), identifier_characters) == 0) exit
+                  last = last + 1
+               end do
+               name = lower(text(i + 1:last))
+               i = last
+               if (len(name) == 0 .or. name == 'end') cycle
+               if (.not. any(known == name)) then
+                  call append_error(error, trim(path)//":"//str(line_number)//": unknown namelist group &"//name// &
+                                    " (known groups: "//join(known)//")")
+               else if (any(present == name)) then
+                  call append_error(error, trim(path)//":"//str(line_number)//": group &"//name//" is given twice")
+               else
+                  present = [character(len=16) :: present, name]
+               end if
+            end select
+         end do
+      end subroutine groups_in_line
    end subroutine scan_groups
 
    !> Check every value; append one line per problem to `error`, naming the variable and range.
@@ -308,6 +424,8 @@ contains
          if (any(config%snapshot_times(1:config%snapshot_count) > end_time*(1.0_dp + 1.0e-12_dp))) &
             call append_error(error, "output: snapshot_times must lie within the run, 0 to "//str(end_time)//" s")
       end if
+      if (allocated(error)) return
+      call check_memory(particles, config%elements, merge(step_count(end_time, dt), 0, config%history), error)
       call check_output_path(config%file, 'output: file', error)
    contains
       subroutine positive(value, name, unit)
@@ -322,6 +440,24 @@ contains
          end if
       end subroutine positive
    end subroutine validate_config
+
+   !> Refuse a run whose particles and grid would not fit in the memory available now.
+   !> `history_steps` is the number of history entries kept (0 without history).
+   subroutine check_memory(particles, elements, history_steps, error)
+      integer(i8), intent(in) :: particles
+      integer, intent(in) :: elements, history_steps
+      type(error_t), allocatable, intent(inout) :: error
+      integer(i8) :: needed, available
+      integer, parameter :: bytes_per_element = 10*8 ! grid: 5 element shares + 5 nodal arrays
+      integer, parameter :: bytes_per_history_entry = 5*8
+      needed = particles*bytes_per_particle + int(max(elements, 0), i8)*bytes_per_element + &
+               int(history_steps, i8)*bytes_per_history_entry
+      available = available_memory()
+      if (available > 0 .and. needed > available) call append_error(error, &
+         "discretisation: elements = "//str(elements)//" and particles_per_element give "//str(particles)// &
+         " particles; with "//str(history_steps)//" history steps the run needs "//str(needed/1024**2)// &
+         " MiB; allowed: at most the "//str(available/1024**2)//" MiB of memory available")
+   end subroutine check_memory
 
    !> The output file's folder must exist (the file is written there under a temporary name first).
    subroutine check_output_path(path, name, error)
@@ -348,6 +484,24 @@ contains
          run_end_time = config%periods*2.0_dp*pi/omega
       end if
    end function run_end_time
+
+   !> The variables of each group, for messages.
+   function group_names(group) result(names)
+      character(len=*), intent(in) :: group
+      character(len=:), allocatable :: names
+      select case (trim(group))
+      case ('scene')
+         names = 'kind, length, youngs_modulus, density, velocity_amplitude, mode'
+      case ('discretisation')
+         names = 'scheme, elements, particles_per_element, dt_fraction'
+      case ('run')
+         names = 'periods, end_time'
+      case ('output')
+         names = 'file, history, snapshot_times'
+      case default
+         names = '(see mpm1d --help)'
+      end select
+   end function group_names
 
    !> The smallest n with n*dt >= end_time, robust to round-off: a ratio within a few ulps of an
    !> integer counts as that integer (so 2 periods at 10% of dx/c give exactly 8*elements/0.1 steps).

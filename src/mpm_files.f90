@@ -4,7 +4,7 @@ module mpm_files
    use, intrinsic :: iso_c_binding, only: c_int, c_char, c_null_char
    implicit none
    private
-   public :: rename_file, remove_file, file_exists
+   public :: rename_file, remove_file, file_exists, available_memory
 
    interface
       integer(c_int) function c_rename(old, new) bind(C, name='rename')
@@ -37,4 +37,27 @@ contains
       character(len=*), intent(in) :: path
       inquire (file=trim(path), exist=file_exists)
    end function file_exists
+
+   !> Memory the system can give a new allocation without swapping (MemAvailable of /proc/meminfo),
+   !> in bytes; -1 when unknown.
+   function available_memory() result(bytes)
+      use mpm_kinds, only: i8
+      integer(i8) :: bytes
+      integer :: unit, stat
+      character(len=256) :: line
+      integer(i8) :: kib
+      bytes = -1
+      open (newunit=unit, file='/proc/meminfo', status='old', action='read', iostat=stat)
+      if (stat /= 0) return
+      do
+         read (unit, '(a)', iostat=stat) line
+         if (stat /= 0) exit
+         if (index(line, 'MemAvailable:') == 1) then
+            read (line(14:), *, iostat=stat) kib
+            if (stat == 0) bytes = kib*1024
+            exit
+         end if
+      end do
+      close (unit)
+   end function available_memory
 end module mpm_files

@@ -76,8 +76,30 @@ contains
          path = 'mpm1d'
       else
          path = self_path(1:slash)//'app/mpm1d'
+         if (path(1:1) /= '/') path = current_dir()//'/'//path
       end if
    end function app_path
+
+   function current_dir() result(dir)
+      use, intrinsic :: iso_c_binding, only: c_char, c_size_t, c_ptr, c_null_char
+      character(len=:), allocatable :: dir
+      interface
+         type(c_ptr) function c_getcwd(buffer, size) bind(C, name='getcwd')
+            import :: c_char, c_size_t, c_ptr
+            character(kind=c_char), intent(out) :: buffer(*)
+            integer(c_size_t), value :: size
+         end function c_getcwd
+      end interface
+      character(kind=c_char) :: buffer(4096)
+      type(c_ptr) :: ignored
+      integer :: i
+      ignored = c_getcwd(buffer, size(buffer, kind=c_size_t))
+      dir = ''
+      do i = 1, size(buffer)
+         if (buffer(i) == c_null_char) exit
+         dir = dir//buffer(i)
+      end do
+   end function current_dir
 
    !> Run `mpm1d arguments` in folder `dir`; returns the exit status and standard error + output text.
    subroutine run_app(dir, arguments, exit_status, output)
@@ -101,6 +123,7 @@ contains
       if (stat /= 0) return
       inquire (unit=unit, size=size_bytes)
       if (size_bytes > 0) then
+         deallocate (text)
          allocate (character(len=size_bytes) :: text)
          read (unit, iostat=stat) text
       end if

@@ -1,0 +1,53 @@
+#!/usr/bin/env bash
+# Install what mpm1d needs and is missing: gfortran, HDF5 (library, Fortran modules, tools),
+# fpm (from PyPI), and numpy/matplotlib/h5py for the Python interpreter the scripts use.
+# Safe to run again: it installs only what is missing. Source it to get $PYTHON and fpm on PATH:
+#   source studies/setup.sh
+# The Python used is $PYTHON if set, else Debian's /usr/bin/python3 (packages from apt);
+# any other interpreter gets numpy/matplotlib/h5py from pip.
+set -e
+_sudo=""
+if [ "$(id -u)" != 0 ] && command -v sudo >/dev/null 2>&1; then _sudo="sudo"; fi
+_apt_updated=0
+_apt_install() {
+  if [ "$_apt_updated" = 0 ]; then $_sudo apt-get update -qq; _apt_updated=1; fi
+  DEBIAN_FRONTEND=noninteractive $_sudo apt-get install -y -qq "$@" >/dev/null
+}
+
+if ! command -v gfortran >/dev/null 2>&1 || ! command -v h5dump >/dev/null 2>&1 \
+   || ! command -v pkg-config >/dev/null 2>&1 || ! pkg-config --exists hdf5 2>/dev/null; then
+  echo "setup: installing gfortran, libhdf5-dev, hdf5-tools (apt)" >&2
+  _apt_install gfortran libhdf5-dev hdf5-tools pkg-config
+fi
+
+PYTHON="${PYTHON:-/usr/bin/python3}"
+if [ ! -x "$PYTHON" ]; then
+  echo "setup: installing python3 (apt)" >&2
+  _apt_install python3
+fi
+if ! "$PYTHON" -c "import numpy, matplotlib, h5py" >/dev/null 2>&1; then
+  if [ "$PYTHON" = /usr/bin/python3 ]; then
+    echo "setup: installing python3-numpy python3-matplotlib python3-h5py (apt)" >&2
+    _apt_install python3-numpy python3-matplotlib python3-h5py
+  else
+    echo "setup: installing numpy matplotlib h5py for $PYTHON (pip)" >&2
+    "$PYTHON" -m pip install -q numpy matplotlib h5py
+  fi
+fi
+export PYTHON
+
+if ! command -v fpm >/dev/null 2>&1; then
+  echo "setup: installing fpm (pip)" >&2
+  if command -v pip >/dev/null 2>&1 && pip install -q fpm 2>/dev/null; then :
+  elif ! command -v pip >/dev/null 2>&1 && ! /usr/bin/python3 -m pip --version >/dev/null 2>&1; then
+    _apt_install python3-pip
+  fi
+  if ! command -v fpm >/dev/null 2>&1; then
+    /usr/bin/python3 -m pip install -q --user --break-system-packages fpm 2>/dev/null \
+      || /usr/bin/python3 -m pip install -q --user fpm
+    export PATH="$HOME/.local/bin:$PATH"
+  fi
+  hash -r
+fi
+command -v fpm >/dev/null 2>&1 || { echo "setup: fpm could not be installed" >&2; exit 1; }
+set +e

@@ -1,0 +1,31 @@
+#!/usr/bin/env bash
+# Run every test of mpm1d: installs what is missing, then
+#   1. fpm test (Fortran unit, physics, HDF5 and command-line tests),
+#   2. the cross-check of mpm1d against an independent NumPy implementation,
+#   3. the Python post-processing tests.
+# Usage (from anywhere): bash test/run_tests.sh
+set -euo pipefail
+cd "$(dirname "$0")/.."
+source studies/setup.sh
+set -euo pipefail
+export OMP_NUM_THREADS="${OMP_NUM_THREADS:-2}"
+failed=0
+
+echo "== fpm test"
+fpm test --profile release || failed=1
+
+echo "== cross-check against the independent reference implementation"
+"$PYTHON" test/reference/check_reference.py || failed=1
+
+if [ -f postprocess/test_postprocess.py ]; then
+  echo "== post-processing"
+  "$PYTHON" postprocess/test_postprocess.py || failed=1
+fi
+for t in studies/*/test_*.py; do
+  [ -f "$t" ] || continue
+  echo "== $t"
+  "$PYTHON" "$t" || failed=1
+done
+
+if [ "$failed" != 0 ]; then echo "SOME TESTS FAILED" >&2; exit 1; fi
+echo "all test groups passed"

@@ -1,0 +1,94 @@
+!> The vibrating bar against its exact solution: verification case, second-order convergence,
+!> energy behaviour of USF and USL over 100 periods, step count robust to round-off.
+program test_bar
+   use mpm_kinds, only: dp
+   use mpm_errors, only: error_t
+   use mpm_config, only: config_t, resolve_config
+   use mpm_simulation, only: run_result_t, run_simulation
+   use mpm_diagnostics, only: status_ok
+   use mpm_testing, only: tester_t
+   implicit none
+   type(tester_t) :: t
+   type(run_result_t) :: r
+   real(dp) :: errors(3), order, ratio_first, ratio_last
+   integer :: i
+   character(len=4), parameter :: schemes(2) = ['usf ', 'usl ']
+
+   t%name = 'test_bar'
+
+   ! Verification case of the paper (Fig. 3b): 20 elements, 1 particle, 10 % of dx/c, 2 periods.
+   do i = 1, 2
+      r = run(trim(schemes(i)), 20, 1, 0.1_dp, 2.0_dp, .true.)
+      call t%check(trim(schemes(i))//' verification case completes', r%status == status_ok)
+      call t%check(trim(schemes(i))//' 2 periods at 10% of dx/c take 8*20/0.1 = 1600 steps', r%steps == 1600)
+      call t%check_close(trim(schemes(i))//' relative error well under 2 %', r%relative_error, 0.0_dp, atol=0.015_dp)
+      call t%check(trim(schemes(i))//' error is not trivially zero', r%relative_error > 1.0e-4_dp)
+      ! u_cm(t) follows the exact sine: its peak is within 2 % of the exact amplitude
+      call t%check_close(trim(schemes(i))//' peak u_cm', maxval(r%history%ucm), r%ucm_amplitude, rtol=0.02_dp)
+      call t%check('history has one entry per step plus t = 0', r%history%recorded == 1601)
+   end do
+
+   ! Second-order convergence with element size: USL, 2 particles per element, 1 % of dx/c.
+   do i = 1, 3
+      r = run('usl', 20*2**(i - 1), 2, 0.01_dp, 2.0_dp, .false.)
+      errors(i) = r%max_error
+   end do
+   do i = 1, 2
+      order = log(errors(i)/errors(i + 1))/log(2.0_dp)
+      call t%check('USL convergence order in [1.8, 2.2]', order >= 1.8_dp .and. order <= 2.2_dp, &
+                   'measured order '//real_text(order))
+   end do
+
+   ! Energy over 100 periods at 10 % of dx/c (Bardenhagen 2002): USF shows no systematic loss,
+   ! USL dissipates. Period averages remove the oscillation within a period.
+   r = run('usf', 20, 1, 0.1_dp, 100.0_dp, .true.)
+   call period_means(r, ratio_first, ratio_last)
+   call t%check_close('USF final energy within 1 % of the initial', r%final_energy, r%initial_energy, rtol=0.01_dp)
+   call t%check_close('USF no systematic loss (period means, last/first)', ratio_last/ratio_first, 1.0_dp, atol=1.0e-4_dp)
+   r = run('usl', 20, 1, 0.1_dp, 100.0_dp, .true.)
+   call period_means(r, ratio_first, ratio_last)
+   call t%check('USL loses energy (period means, last/first < 0.997)', ratio_last/ratio_first < 0.997_dp, &
+                'ratio '//real_text(ratio_last/ratio_first))
+   call t%check('USL loss is gradual (last/first > 0.98)', ratio_last/ratio_first > 0.98_dp)
+
+   call t%finish()
+
+contains
+
+   function run(scheme, elements, ppc, fraction, periods, history) result(res)
+      character(len=*), intent(in) :: scheme
+      integer, intent(in) :: elements, ppc
+      real(dp), intent(in) :: fraction, periods
+      logical, intent(in) :: history
+      type(run_result_t) :: res
+      type(config_t) :: config
+      type(error_t), allocatable :: error
+      config%scheme = scheme
+      config%elements = elements
+      config%particles_per_element = ppc
+      config%dt_fraction = fraction
+      config%periods = periods
+      call resolve_config(config)
+      call run_simulation(config, res, error, record_history=history)
+      if (allocated(error)) error stop 'run failed to start'
+   end function run
+
+   !> Mean total energy over the first and the last period, relative to the initial energy.
+   subroutine period_means(res, first, last)
+      type(run_result_t), intent(in) :: res
+      real(dp), intent(out) :: first, last
+      integer :: n, per
+      n = res%history%recorded
+      per = (n - 1)/100
+      associate (e => res%history%kinetic_energy(0:n - 1) + res%history%strain_energy(0:n - 1))
+         first = sum(e(1:per))/per/res%initial_energy
+         last = sum(e(n - per:n - 1))/per/res%initial_energy
+      end associate
+   end subroutine period_means
+
+   function real_text(x) result(text)
+      real(dp), intent(in) :: x
+      character(len=24) :: text
+      write (text, '(g0.6)') x
+   end function real_text
+end program test_bar

@@ -1,0 +1,69 @@
+!> An HDF5 file written by the code reads back with the same values; no partial file is left.
+program test_hdf5
+   use mpm_kinds, only: dp
+   use mpm_errors, only: error_t
+   use mpm_config, only: config_t, resolve_config
+   use mpm_simulation, only: run_result_t, run_simulation
+   use mpm_output, only: write_run_file
+   use mpm_hdf5, only: h5_read_real, h5_read_int, h5_read_attribute_real, h5_read_attribute_string, h5_read_string
+   use mpm_files, only: file_exists
+   use mpm_version, only: code_version
+   use mpm_testing, only: tester_t, scratch_dir
+   implicit none
+   type(tester_t) :: t
+   type(config_t) :: config
+   type(run_result_t) :: r
+   type(error_t), allocatable :: error
+   real(dp), allocatable :: values(:)
+   integer, allocatable :: ints(:)
+   character(len=16), allocatable :: names(:)
+   character(len=64) :: text
+   real(dp) :: attribute
+   character(len=:), allocatable :: dir, path
+
+   t%name = 'test_hdf5'
+   dir = scratch_dir('hdf5')
+   path = dir//'/run.h5'
+   config%scheme = 'usf'
+   config%elements = 7
+   config%particles_per_element = 3
+   config%dt_fraction = 0.25_dp
+   config%file = path
+   config%snapshot_count = 2
+   config%snapshot_times(1:2) = [0.0_dp, 0.01_dp]
+   call resolve_config(config)
+   call run_simulation(config, r, error, record_history=.true.)
+   call t%check('run set up', .not. allocated(error))
+   call write_run_file(config, r, error)
+   call t%check('file written', .not. allocated(error))
+   call t%check('final file exists', file_exists(path))
+   call t%check('no partial file left', .not. file_exists(path//'.part'))
+
+   call h5_read_real(path, '/history/ucm', values, error)
+   call t%check('history/ucm read', .not. allocated(error))
+   call t%check('history/ucm identical', size(values) == r%history%recorded .and. &
+                all(values == r%history%ucm(0:r%history%recorded - 1)))
+   call h5_read_real(path, '/history/strain_energy', values, error)
+   call t%check('history/strain_energy identical', all(values == r%history%strain_energy(0:r%history%recorded - 1)))
+   call h5_read_real(path, '/summary/max_error', values, error)
+   call t%check('summary/max_error identical', values(1) == r%max_error)
+   call h5_read_int(path, '/summary/steps', ints, error)
+   call t%check('summary/steps identical', ints(1) == r%steps)
+   call h5_read_real(path, '/snapshots/0002/stress', values, error)
+   call t%check('snapshot stress identical', all(values == r%snapshots(2)%stress))
+   call h5_read_real(path, '/snapshots/0001/grid_velocity', values, error)
+   call t%check('initial grid velocity has one value per node', size(values) == 8)
+   call h5_read_attribute_real(path, '/config', 'dt_fraction', attribute, error)
+   call t%check('config attribute dt_fraction identical', attribute == 0.25_dp)
+   call h5_read_attribute_string(path, '/', 'code_version', text, error)
+   call t%check('code version attribute', trim(text) == code_version)
+   call h5_read_string(path, '/summary/status_name', 16, names, error)
+   call t%check('status name', trim(names(1)) == 'ok')
+
+   ! A file that cannot be created leaves nothing behind and reports the path.
+   config%file = dir//'/no/such/folder/run.h5'
+   call write_run_file(config, r, error)
+   call t%check('unwritable path reported', allocated(error))
+   if (allocated(error)) call t%check('message names the file', index(error%message, 'run.h5') > 0, error%message)
+   call t%finish()
+end program test_hdf5

@@ -1,0 +1,103 @@
+!> One step of each scheme against a hand computation.
+!> Set-up: one element of length 2 (dx = 2, nodes at 0 and 2, node 0 fixed), two particles at
+!> x = 0.5 and 1.5 (the sub-cell centres), density 3 (mass 3, volume 1 each), E = 4, dt = 0.1,
+!> velocities 1 and 2, stresses 0.5 and -1.
+!> Shape functions: particle 1 (xi = 1/4): N = (3/4, 1/4); particle 2 (xi = 3/4): N = (1/4, 3/4);
+!> dN = (-1/2, +1/2). Nodal mass m_1 = 3 (3/4 + 1/4) = 3; p_1 = 3 (1/4 * 1 + 3/4 * 2) = 5.25.
+program test_step
+   use mpm_kinds, only: dp
+   use mpm_errors, only: error_t
+   use mpm_grid, only: grid_t, grid_init
+   use mpm_particles, only: particles_t, particles_init
+   use mpm_transfer, only: pass_totals_t
+   use mpm_scheme_usf, only: usf_start, usf_step
+   use mpm_scheme_usl, only: usl_start, usl_step
+   use mpm_scheme_musl, only: musl_start, musl_step
+   use mpm_testing, only: tester_t
+   implicit none
+   type(tester_t) :: t
+   real(dp), parameter :: dt = 0.1_dp, youngs = 4.0_dp, m = 3.0_dp, dx = 2.0_dp
+   real(dp) :: f1, p1, a1, v1, de, v_expected(2), x_expected(2), s_expected(2), j_expected(2), stress(2)
+   type(grid_t) :: grid
+   type(particles_t) :: particles
+   type(pass_totals_t) :: totals
+
+   t%name = 'test_step'
+
+   ! USL: force from the current stresses: sum sigma V = 0.5 - 1 = -0.5, f_1 = -dN_1 * (-0.5) = +0.25.
+   call setup()
+   call usl_start(particles, grid, totals)
+   call usl_step(particles, grid, dt, youngs, totals)
+   f1 = 0.25_dp
+   p1 = 5.25_dp + dt*f1
+   a1 = f1/m
+   v1 = p1/m
+   v_expected = [1.0_dp + dt*0.25_dp*a1, 2.0_dp + dt*0.75_dp*a1]
+   x_expected = [0.5_dp + dt*0.25_dp*v1, 1.5_dp + dt*0.75_dp*v1]
+   de = dt*v1/dx
+   s_expected = [0.5_dp, -1.0_dp] + youngs*de
+   j_expected = 1.0_dp + de
+   call compare('usl')
+
+   ! USF: strain first from v_1 = p_1/m_1 = 1.75: d eps = 0.1 * 1.75 / 2 = 0.0875;
+   ! stresses 0.85, -0.65; J = 1.0875; sum sigma V = 0.2 * 1.0875; f_1 = -(1/2)(0.2175) = -0.10875.
+   call setup()
+   call usf_start(particles, grid, totals)
+   call usf_step(particles, grid, dt, youngs, totals)
+   de = dt*1.75_dp/dx
+   s_expected = [0.5_dp, -1.0_dp] + youngs*de
+   j_expected = 1.0_dp + de
+   f1 = -0.5_dp*sum(s_expected*j_expected*1.0_dp)
+   call t%check_close('usf hand force', f1, -0.10875_dp, rtol=1.0e-14_dp)
+   p1 = 5.25_dp + dt*f1
+   a1 = f1/m
+   v1 = p1/m
+   v_expected = [1.0_dp + dt*0.25_dp*a1, 2.0_dp + dt*0.75_dp*a1]
+   x_expected = [0.5_dp + dt*0.25_dp*v1, 1.5_dp + dt*0.75_dp*v1]
+   call compare('usf')
+
+   ! MUSL: as USL, then the new particle momentum mapped back: p_1 = 3 (1/4 v_1' + 3/4 v_2'),
+   ! and the strain from that nodal velocity.
+   call setup()
+   call musl_start(particles, grid, totals)
+   call musl_step(particles, grid, dt, youngs, totals)
+   f1 = 0.25_dp
+   p1 = 5.25_dp + dt*f1
+   a1 = f1/m
+   v1 = p1/m
+   v_expected = [1.0_dp + dt*0.25_dp*a1, 2.0_dp + dt*0.75_dp*a1]
+   x_expected = [0.5_dp + dt*0.25_dp*v1, 1.5_dp + dt*0.75_dp*v1]
+   v1 = m*(0.25_dp*v_expected(1) + 0.75_dp*v_expected(2))/m
+   de = dt*v1/dx
+   s_expected = [0.5_dp, -1.0_dp] + youngs*de
+   j_expected = 1.0_dp + de
+   call compare('musl')
+
+   call t%finish()
+
+contains
+
+   subroutine setup()
+      type(error_t), allocatable :: error
+      call particles_init(particles, 1, 2, dx, 3.0_dp, error)
+      call grid_init(grid, 1, dx, particles%mass, error)
+      particles%v = [1.0_dp, 2.0_dp]
+      particles%stress = [0.5_dp, -1.0_dp]
+      stress = particles%stress
+      call t%check('hand set-up: masses 3, volumes 1, positions 0.5 and 1.5', particles%mass == m .and. &
+                   particles%volume0 == 1.0_dp .and. all(particles%x == [0.5_dp, 1.5_dp]))
+   end subroutine setup
+
+   subroutine compare(scheme)
+      character(len=*), intent(in) :: scheme
+      integer :: p
+      character(len=1) :: c
+      do p = 1, 2
+         write (c, '(i1)') p
+         call t%check_close(scheme//' velocity '//c, particles%v(p), v_expected(p), rtol=1.0e-14_dp)
+         call t%check_close(scheme//' position '//c, particles%x(p), x_expected(p), rtol=1.0e-14_dp)
+         call t%check_close(scheme//' stress '//c, particles%stress(p), s_expected(p), rtol=1.0e-13_dp)
+         call t%check_close(scheme//' volume ratio '//c, particles%volume_ratio(p), j_expected(p), rtol=1.0e-14_dp)
+      end do
+   end subroutine compare
+end program test_step
