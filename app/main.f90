@@ -1,4 +1,5 @@
-!> mpm1d command line: `mpm1d [input.nml]`, `mpm1d --help`, `mpm1d --version`.
+!> mpm1d command line: `mpm1d [input.nml] [--shard I/N] [--threads N]`, `mpm1d merge OUT IN...`,
+!> `mpm1d --help`, `mpm1d --version`. An input file with a &sweep group runs a sweep.
 !> Parses arguments, calls the library, prints messages and sets the exit code:
 !> 0 success, 1 a guard stopped the run (its history is still written), 2 bad input or usage,
 !> 3 output could not be written.
@@ -13,6 +14,8 @@ program mpm1d_main
    use mpm_diagnostics, only: status_ok
    use mpm_version, only: code_version
    use mpm_cli_help, only: print_help
+   use mpm_sweep, only: sweep_t, read_sweep, run_sweep, has_sweep_group
+   use mpm_sweep_output, only: write_sweep_file, merge_sweep_files
    implicit none
 
    type(config_t) :: config
@@ -22,8 +25,7 @@ program mpm1d_main
    integer :: nargs
 
    nargs = command_argument_count()
-   if (nargs > 1) call fail('too many arguments; usage: mpm1d [input.nml] (see mpm1d --help)', 2)
-   if (nargs == 1) then
+   if (nargs >= 1) then
       input = argument(1)
       select case (input)
       case ('-h', '--help')
@@ -32,8 +34,16 @@ program mpm1d_main
       case ('-V', '--version')
          write (output_unit, '(a)') code_version
          stop
+      case ('merge')
+         call merge_command()
+         stop
       end select
       if (input(1:1) == '-') call fail("unknown option '"//input//"'; see mpm1d --help", 2)
+      if (has_sweep_group(input)) then
+         call sweep_command(input)
+         stop
+      end if
+      if (nargs > 1) call fail('too many arguments for a single run; usage: mpm1d [input.nml] (see mpm1d --help)', 2)
       call read_config(input, config, error)
       if (allocated(error)) call fail('invalid input:'//new_line('a')//error%message, 2)
    else
@@ -61,6 +71,103 @@ program mpm1d_main
                                              trim(config%file), 1)
 
 contains
+
+   !> `mpm1d input.nml [--shard I/N] [--threads N]` for an input with a &sweep group.
+   subroutine sweep_command(path)
+      character(len=*), intent(in) :: path
+      type(sweep_t) :: sweep
+      integer :: i, shard, shards, threads, failed
+      character(len=:), allocatable :: option, output
+      shard = 0
+      shards = 0
+      threads = -1
+      i = 2
+      do while (i <= nargs)
+         option = argument(i)
+         if (i == nargs) call fail("option '"//option//"' needs a value; see mpm1d --help", 2)
+         select case (option)
+         case ('--shard')
+            call parse_shard(argument(i + 1), shard, shards)
+         case ('--threads')
+            threads = to_int(argument(i + 1), '--threads')
+            if (threads < 0) call fail('--threads '//argument(i + 1)//' is out of range; allowed: 0 (all) or more', 2)
+         case default
+            call fail("unknown option '"//option//"'; see mpm1d --help", 2)
+         end select
+         i = i + 2
+      end do
+      call read_sweep(path, sweep, error, shard, shards, threads)
+      if (allocated(error)) call fail('invalid input:'//new_line('a')//error%message, 2)
+      output = trim(sweep%base%file)
+      if (sweep%settings%shards > 1) output = shard_file(output, sweep%settings%shard, sweep%settings%shards)
+      if (sweep%settings%shards > 1) then
+         write (output_unit, '(a)') 'mpm1d: sweep shard '//str(sweep%settings%shard)//' of '// &
+            str(sweep%settings%shards)//': '//str(size(sweep%cases))//' of '//str(sweep%total_cases)//' cases'
+      else
+         write (output_unit, '(a)') 'mpm1d: sweep of '//str(size(sweep%cases))//' cases'
+      end if
+      call run_sweep(sweep)
+      call write_sweep_file(output, sweep, error)
+      if (allocated(error)) call fail(error%message, 3)
+      failed = count(sweep%cases%status /= status_ok)
+      write (output_unit, '(a)') 'error pass '//str(sweep%error_pass_time)//' s on '//str(sweep%threads_used)// &
+         ' threads; timing pass '//str(sweep%timing_pass_time)//' s on '//str(sweep%settings%timing_threads)// &
+         ' threads (min_time '//str(sweep%settings%min_time)//' s per case)'
+      write (output_unit, '(a)') str(size(sweep%cases) - failed)//' cases completed, '//str(failed)// &
+         ' stopped by a guard (recorded in /cases/status)'
+      write (output_unit, '(a)') 'wrote '//output
+   end subroutine sweep_command
+
+   !> `mpm1d merge OUT.h5 SHARD.h5 ...`
+   subroutine merge_command()
+      character(len=1024), allocatable :: inputs(:)
+      integer :: i
+      if (nargs < 3) call fail('usage: mpm1d merge OUT.h5 SHARD1.h5 [SHARD2.h5 ...]', 2)
+      allocate (inputs(nargs - 2))
+      do i = 3, nargs
+         inputs(i - 2) = argument(i)
+      end do
+      call merge_sweep_files(argument(2), inputs, error)
+      if (allocated(error)) call fail(error%message, 2)
+      write (output_unit, '(a)') 'wrote '//argument(2)//' from '//str(size(inputs))//' shard files'
+   end subroutine merge_command
+
+   !> "I/N" -> shard I of N.
+   subroutine parse_shard(text, shard, shards)
+      character(len=*), intent(in) :: text
+      integer, intent(out) :: shard, shards
+      integer :: slash
+      slash = index(text, '/')
+      if (slash < 2) call fail("--shard "//text//" is malformed; allowed: I/N with 1 <= I <= N", 2)
+      shard = to_int(text(1:slash - 1), '--shard')
+      shards = to_int(text(slash + 1:), '--shard')
+      if (shards < 1 .or. shard < 1 .or. shard > shards) &
+         call fail("--shard "//text//" is out of range; allowed: I/N with 1 <= I <= N", 2)
+   end subroutine parse_shard
+
+   integer function to_int(text, name)
+      character(len=*), intent(in) :: text, name
+      integer :: stat
+      read (text, *, iostat=stat) to_int
+      if (stat /= 0 .or. verify(trim(text), '0123456789') /= 0) call fail(name//" '"//text// &
+         "' is not a whole number", 2)
+   end function to_int
+
+   !> out.h5 -> out_shard002of004.h5
+   function shard_file(path, shard, shards) result(name)
+      character(len=*), intent(in) :: path
+      integer, intent(in) :: shard, shards
+      character(len=:), allocatable :: name
+      character(len=32) :: suffix
+      integer :: dot
+      write (suffix, '("_shard",i3.3,"of",i3.3)') shard, shards
+      dot = index(path, '.h5', back=.true.)
+      if (dot == len(path) - 2 .and. dot > 0) then
+         name = path(1:dot - 1)//trim(suffix)//'.h5'
+      else
+         name = path//trim(suffix)
+      end if
+   end function shard_file
 
    function argument(i) result(text)
       integer, intent(in) :: i

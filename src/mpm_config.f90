@@ -128,7 +128,7 @@ contains
       snapshot_times = unset
 
       known = [character(len=16) :: 'scene', 'discretisation', 'run', 'output']
-      if (present(extra_groups)) known = [known, extra_groups]
+      if (present(extra_groups)) known = [character(len=16) :: known, extra_groups]
       call scan_groups(path, known, found, error)
       if (allocated(error)) return
 

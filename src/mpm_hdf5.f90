@@ -9,7 +9,8 @@ module mpm_hdf5
    use mpm_files, only: rename_file, remove_file
    implicit none
    private
-   public :: h5_writer_t, h5_read_real, h5_read_int, h5_read_attribute_real, h5_read_attribute_string, h5_read_string
+   public :: h5_writer_t, h5_read_real, h5_read_int, h5_read_attribute_real, h5_read_attribute_int, h5_read_attribute_string, &
+             h5_read_string, h5_exists
 
    type :: h5_writer_t
       integer(hid_t) :: file = -1
@@ -27,6 +28,7 @@ module mpm_hdf5
       procedure :: attribute_real => writer_attribute_real
       procedure :: attribute_int => writer_attribute_int
       procedure :: attribute_string => writer_attribute_string
+      procedure :: copy_from => writer_copy_from
       procedure :: finish => writer_finish
       procedure :: abandon => writer_abandon
       procedure, private :: check => writer_check
@@ -264,6 +266,22 @@ contains
       call h5tclose_f(string_type, hdferr)
    end subroutine writer_attribute_string
 
+   !> Copy object `name` (a group with all it holds, or a dataset) of file `source` to the same
+   !> path in this file.
+   subroutine writer_copy_from(self, source, name)
+      class(h5_writer_t), intent(inout) :: self
+      character(len=*), intent(in) :: source, name
+      integer(hid_t) :: file
+      integer :: hdferr
+      if (.not. self%ok()) return
+      call h5fopen_f(source, H5F_ACC_RDONLY_F, file, hdferr)
+      call self%check(hdferr, "open '"//source//"' to copy '"//name//"'")
+      if (.not. self%ok()) return
+      call h5ocopy_f(file, name, self%file, name, hdferr)
+      call self%check(hdferr, "copy '"//name//"' from '"//source//"'")
+      call h5fclose_f(file, hdferr)
+   end subroutine writer_copy_from
+
    !> Close the file and move it to its final name; on any earlier failure remove the partial file.
    subroutine writer_finish(self, error)
       class(h5_writer_t), intent(inout) :: self
@@ -414,6 +432,38 @@ contains
       call h5aclose_f(attr, hdferr)
       call h5fclose_f(file, hdferr)
    end subroutine h5_read_attribute_real
+
+   !> Read an integer attribute `name` of object `on`.
+   subroutine h5_read_attribute_int(path, on, name, value, error)
+      character(len=*), intent(in) :: path, on, name
+      integer, intent(out) :: value
+      type(error_t), allocatable, intent(out) :: error
+      integer(hid_t) :: file, attr
+      integer :: hdferr
+      value = 0
+      call open_attribute_for_read(path, on, name, file, attr, error)
+      if (allocated(error)) return
+      call h5aread_f(attr, H5T_NATIVE_INTEGER, value, [1_hsize_t], hdferr)
+      if (hdferr < 0) call set_error(error, "cannot read attribute '"//name//"' of '"//on//"' in '"//path//"'")
+      call h5aclose_f(attr, hdferr)
+      call h5fclose_f(file, hdferr)
+   end subroutine h5_read_attribute_int
+
+   !> Does `path` exist as a readable HDF5 file holding object `name`?
+   logical function h5_exists(path, name)
+      character(len=*), intent(in) :: path, name
+      integer(hid_t) :: file
+      integer :: hdferr
+      logical :: found
+      h5_exists = .false.
+      call h5open_f(hdferr)
+      call h5eset_auto_f(0, hdferr)
+      call h5fopen_f(path, H5F_ACC_RDONLY_F, file, hdferr)
+      if (hdferr < 0) return
+      call h5lexists_f(file, name, found, hdferr)
+      h5_exists = hdferr >= 0 .and. found
+      call h5fclose_f(file, hdferr)
+   end function h5_exists
 
    !> Read a string attribute (up to `len(value)` characters).
    subroutine h5_read_attribute_string(path, on, name, value, error)

@@ -1,0 +1,371 @@
+!> HDF5 output of a sweep (one flat table under /cases, layout in README.md) and the merge of
+!> shard files into the file an unsharded run gives.
+module mpm_sweep_output
+   use mpm_kinds, only: dp
+   use mpm_errors, only: error_t, set_error
+   use mpm_strings, only: str
+   use mpm_hdf5, only: h5_writer_t, h5_read_real, h5_read_int, h5_read_string, h5_read_attribute_string, &
+                       h5_read_attribute_int, h5_read_attribute_real, h5_exists
+   use mpm_output, only: write_config_attributes
+   use mpm_version, only: code_version
+   use mpm_diagnostics, only: status_name
+   use mpm_sweep, only: sweep_t, sweep_case_t
+   implicit none
+   private
+   public :: write_sweep_file, merge_sweep_files
+
+   !> Sweep-level numbers written as /sweep attributes.
+   type :: sweep_info_t
+      character(len=:), allocatable :: namelist_text
+      integer :: total_cases = 0, threads = 0, timing_threads = 0, shard = 1, shards = 1
+      real(dp) :: min_time = 0.0_dp, wall_time = 0.0_dp, error_pass_time = 0.0_dp, timing_pass_time = 0.0_dp
+   end type sweep_info_t
+
+   integer, parameter :: message_length = 1024
+
+contains
+
+   !> Write the sweep's results to `path` (via a .part file).
+   subroutine write_sweep_file(path, sweep, error)
+      character(len=*), intent(in) :: path
+      type(sweep_t), intent(in) :: sweep
+      type(error_t), allocatable, intent(out) :: error
+      type(h5_writer_t) :: h5
+      type(sweep_info_t) :: info
+      integer :: i
+      ! (component by component: gfortran 12 mis-sizes a deferred-length character in a structure constructor)
+      info%namelist_text = sweep%settings%namelist_text
+      info%total_cases = sweep%total_cases
+      info%threads = sweep%threads_used
+      info%timing_threads = sweep%settings%timing_threads
+      info%shard = sweep%settings%shard
+      info%shards = sweep%settings%shards
+      info%min_time = sweep%settings%min_time
+      info%wall_time = sweep%wall_time
+      info%error_pass_time = sweep%error_pass_time
+      info%timing_pass_time = sweep%timing_pass_time
+      call h5%create(path)
+      call h5%attribute_string('/', 'code_version', code_version)
+      call h5%attribute_string('/', 'content', 'sweep')
+      call h5%group('/config')
+      call write_config_attributes(h5, '/config', sweep%base)
+      call write_table(h5, info, sweep%cases)
+      if (sweep%settings%histories) then
+         call h5%group('/histories')
+         do i = 1, size(sweep%cases)
+            call write_history(h5, sweep%cases(i))
+         end do
+      end if
+      call h5%finish(error)
+   end subroutine write_sweep_file
+
+   subroutine write_history(h5, c)
+      type(h5_writer_t), intent(inout) :: h5
+      type(sweep_case_t), intent(in) :: c
+      character(len=:), allocatable :: group
+      integer :: n
+      n = c%history%recorded
+      if (n == 0) return
+      group = '/histories/'//history_name(c%index)
+      call h5%group(group)
+      call h5%write_real(group//'/time', c%history%time(0:n - 1))
+      call h5%write_real(group//'/ucm', c%history%ucm(0:n - 1))
+      call h5%write_real(group//'/ucm_exact', c%history%ucm_exact(0:n - 1))
+      call h5%write_real(group//'/kinetic_energy', c%history%kinetic_energy(0:n - 1))
+      call h5%write_real(group//'/strain_energy', c%history%strain_energy(0:n - 1))
+   end subroutine write_history
+
+   function history_name(index) result(name)
+      integer, intent(in) :: index
+      character(len=:), allocatable :: name
+      character(len=12) :: buffer
+      write (buffer, '(i6.6)') index
+      name = trim(buffer)
+   end function history_name
+
+   !> /sweep attributes and the /cases columns.
+   subroutine write_table(h5, info, cases)
+      type(h5_writer_t), intent(inout) :: h5
+      type(sweep_info_t), intent(in) :: info
+      type(sweep_case_t), intent(in) :: cases(:)
+      character(len=message_length), allocatable :: messages(:)
+      character(len=32), allocatable :: names(:)
+      integer :: i
+      call h5%group('/sweep')
+      call h5%attribute_string('/sweep', 'namelist', info%namelist_text)
+      call h5%attribute_int('/sweep', 'cases', info%total_cases)
+      call h5%attribute_int('/sweep', 'threads', info%threads)
+      call h5%attribute_int('/sweep', 'timing_threads', info%timing_threads)
+      call h5%attribute_real('/sweep', 'min_time', info%min_time)
+      call h5%attribute_real('/sweep', 'wall_time', info%wall_time)
+      call h5%attribute_real('/sweep', 'error_pass_time', info%error_pass_time)
+      call h5%attribute_real('/sweep', 'timing_pass_time', info%timing_pass_time)
+      call h5%attribute_int('/sweep', 'shard', info%shard)
+      call h5%attribute_int('/sweep', 'shards', info%shards)
+
+      call h5%group('/cases')
+      call h5%write_int('/cases/index', cases%index)
+      call h5%write_strings('/cases/scheme', cases%scheme)
+      call h5%write_int('/cases/elements', cases%elements)
+      call h5%write_int('/cases/particles_per_element', cases%particles_per_element)
+      call h5%write_real('/cases/dt_fraction', cases%dt_fraction)
+      call h5%write_real('/cases/youngs_modulus', cases%youngs_modulus)
+      call h5%write_real('/cases/density', cases%density)
+      call h5%write_real('/cases/velocity_amplitude', cases%velocity_amplitude)
+      call h5%write_int('/cases/mode', cases%mode)
+      call h5%write_int('/cases/particles', cases%particles)
+      call h5%write_int('/cases/steps', cases%steps)
+      call h5%write_real('/cases/dt', cases%dt)
+      call h5%write_real('/cases/max_error', cases%max_error)
+      call h5%write_real('/cases/relative_error', cases%relative_error)
+      call h5%write_real('/cases/run_time', cases%run_time)
+      call h5%write_int('/cases/repeats', cases%repeats)
+      call h5%write_int('/cases/status', cases%status)
+      allocate (names(size(cases)), messages(size(cases)))
+      do i = 1, size(cases)
+         names(i) = status_name(cases(i)%status)
+         messages(i) = ''
+         if (allocated(cases(i)%message)) messages(i) = cases(i)%message
+      end do
+      call h5%write_strings('/cases/status_name', names)
+      call h5%write_strings('/cases/message', messages)
+      call h5%write_real('/cases/max_energy_ratio', cases%max_energy_ratio)
+      call h5%write_real('/cases/final_energy_ratio', cases%final_energy_ratio)
+      call h5%write_real('/cases/min_volume_ratio', cases%min_volume_ratio)
+      call h5%write_real('/cases/max_cell_move', cases%max_cell_move)
+      call h5%write_real('/cases/min_node_mass_ratio', cases%min_node_mass_ratio)
+   end subroutine write_table
+
+   !> Join shard files (every shard 1..n of one sweep, each once) into `path`: the same table,
+   !> in the same case order, as one unsharded run; run times and pass times are the shards'.
+   subroutine merge_sweep_files(path, inputs, error)
+      character(len=*), intent(in) :: path
+      character(len=*), intent(in) :: inputs(:)
+      type(error_t), allocatable, intent(out) :: error
+      type(sweep_info_t) :: info, first
+      type(sweep_case_t), allocatable :: cases(:), part(:)
+      logical, allocatable :: seen(:)
+      integer, allocatable :: order(:)
+      type(h5_writer_t) :: h5
+      character(len=:), allocatable :: config_text, text
+      integer :: i, k
+
+      if (size(inputs) < 1) then
+         call set_error(error, 'merge: give the output file and at least one shard file')
+         return
+      end if
+      allocate (cases(0))
+      do i = 1, size(inputs)
+         call read_info(trim(inputs(i)), info, text, error)
+         if (allocated(error)) return
+         if (i == 1) then
+            first = info
+            config_text = text
+            allocate (seen(info%shards))
+            seen = .false.
+         else if (info%shards /= first%shards .or. text /= config_text .or. &
+                  without_shard(info%namelist_text) /= without_shard(first%namelist_text)) then
+            call set_error(error, "merge: '"//trim(inputs(i))//"' is not a shard of the same sweep as '"// &
+                           trim(inputs(1))//"'")
+            return
+         end if
+         if (seen(info%shard)) then
+            call set_error(error, "merge: shard "//str(info%shard)//" is given twice ('"//trim(inputs(i))//"')")
+            return
+         end if
+         seen(info%shard) = .true.
+         call read_cases(trim(inputs(i)), part, error)
+         if (allocated(error)) return
+         cases = [cases, part]
+         if (i > 1) then
+            first%wall_time = first%wall_time + info%wall_time
+            first%error_pass_time = first%error_pass_time + info%error_pass_time
+            first%timing_pass_time = first%timing_pass_time + info%timing_pass_time
+         end if
+      end do
+      if (.not. all(seen)) then
+         call set_error(error, "merge: shards missing: "//missing(seen)//" of "//str(first%shards))
+         return
+      end if
+      if (size(cases) /= first%total_cases) then
+         call set_error(error, "merge: the shards hold "//str(size(cases))//" cases, the sweep has "// &
+                        str(first%total_cases))
+         return
+      end if
+      order = sort_by_index(cases)
+      cases = cases(order)
+      first%shard = 1
+      first%shards = 1
+      first%namelist_text = without_shard(first%namelist_text)//", shard=1, shards=1 /"
+
+      call h5%create(path)
+      call h5%attribute_string('/', 'code_version', code_version)
+      call h5%attribute_string('/', 'content', 'sweep')
+      call h5%copy_from(trim(inputs(1)), '/config')
+      call write_table(h5, first, cases)
+      do i = 1, size(inputs)
+         if (.not. h5_exists(trim(inputs(i)), '/histories')) cycle
+         if (i == 1) call h5%group('/histories')
+         do k = 1, size(cases)
+            if (h5_exists(trim(inputs(i)), '/histories/'//history_name(cases(k)%index))) &
+               call h5%copy_from(trim(inputs(i)), '/histories/'//history_name(cases(k)%index))
+         end do
+      end do
+      call h5%finish(error)
+   contains
+      function missing(flags) result(list)
+         logical, intent(in) :: flags(:)
+         character(len=:), allocatable :: list
+         integer :: j
+         list = ''
+         do j = 1, size(flags)
+            if (.not. flags(j)) list = list//' '//str(j)
+         end do
+      end function missing
+   end subroutine merge_sweep_files
+
+   !> The sweep namelist text without its trailing "shard=.., shards=.. /".
+   function without_shard(text) result(base)
+      character(len=*), intent(in) :: text
+      character(len=:), allocatable :: base
+      integer :: k
+      k = index(text, ', shard=', back=.true.)
+      if (k == 0) then
+         base = text
+      else
+         base = text(1:k - 1)
+      end if
+   end function without_shard
+
+   subroutine read_info(path, info, config_text, error)
+      character(len=*), intent(in) :: path
+      type(sweep_info_t), intent(out) :: info
+      character(len=:), allocatable, intent(out) :: config_text
+      type(error_t), allocatable, intent(out) :: error
+      character(len=65536) :: buffer
+      call h5_read_attribute_string(path, '/', 'content', buffer, error)
+      if (allocated(error)) return
+      if (trim(buffer) /= 'sweep') then
+         call set_error(error, "merge: '"//path//"' is not an mpm1d sweep file (content: '"//trim(buffer)//"')")
+         return
+      end if
+      call h5_read_attribute_string(path, '/config', 'namelist', buffer, error)
+      if (allocated(error)) return
+      config_text = trim(buffer)
+      call h5_read_attribute_string(path, '/sweep', 'namelist', buffer, error)
+      if (allocated(error)) return
+      info%namelist_text = trim(buffer)
+      call h5_read_attribute_int(path, '/sweep', 'cases', info%total_cases, error)
+      if (.not. allocated(error)) call h5_read_attribute_int(path, '/sweep', 'threads', info%threads, error)
+      if (.not. allocated(error)) call h5_read_attribute_int(path, '/sweep', 'timing_threads', info%timing_threads, error)
+      if (.not. allocated(error)) call h5_read_attribute_int(path, '/sweep', 'shard', info%shard, error)
+      if (.not. allocated(error)) call h5_read_attribute_int(path, '/sweep', 'shards', info%shards, error)
+      if (.not. allocated(error)) call h5_read_attribute_real(path, '/sweep', 'min_time', info%min_time, error)
+      if (.not. allocated(error)) call h5_read_attribute_real(path, '/sweep', 'wall_time', info%wall_time, error)
+      if (.not. allocated(error)) call h5_read_attribute_real(path, '/sweep', 'error_pass_time', info%error_pass_time, error)
+      if (.not. allocated(error)) call h5_read_attribute_real(path, '/sweep', 'timing_pass_time', &
+                                                              info%timing_pass_time, error)
+      if (.not. allocated(error) .and. (info%shard < 1 .or. info%shard > info%shards)) &
+         call set_error(error, "merge: '"//path//"' has an invalid shard number")
+   end subroutine read_info
+
+   !> Read the /cases table of a sweep file back into cases.
+   subroutine read_cases(path, cases, error)
+      character(len=*), intent(in) :: path
+      type(sweep_case_t), allocatable, intent(out) :: cases(:)
+      type(error_t), allocatable, intent(out) :: error
+      integer, allocatable :: ints(:)
+      real(dp), allocatable :: reals(:)
+      character(len=8), allocatable :: schemes(:)
+      character(len=message_length), allocatable :: messages(:)
+      integer :: n, i
+      call h5_read_int(path, '/cases/index', ints, error)
+      if (allocated(error)) return
+      n = size(ints)
+      allocate (cases(n))
+      cases%index = ints
+      call h5_read_string(path, '/cases/scheme', 8, schemes, error)
+      if (allocated(error)) return
+      cases%scheme = schemes
+      call int_column('elements')
+      cases%elements = ints
+      call int_column('particles_per_element')
+      cases%particles_per_element = ints
+      call int_column('mode')
+      cases%mode = ints
+      call int_column('particles')
+      cases%particles = ints
+      call int_column('steps')
+      cases%steps = ints
+      call int_column('repeats')
+      cases%repeats = ints
+      call int_column('status')
+      cases%status = ints
+      call real_column('dt_fraction')
+      cases%dt_fraction = reals
+      call real_column('youngs_modulus')
+      cases%youngs_modulus = reals
+      call real_column('density')
+      cases%density = reals
+      call real_column('velocity_amplitude')
+      cases%velocity_amplitude = reals
+      call real_column('dt')
+      cases%dt = reals
+      call real_column('max_error')
+      cases%max_error = reals
+      call real_column('relative_error')
+      cases%relative_error = reals
+      call real_column('run_time')
+      cases%run_time = reals
+      call real_column('max_energy_ratio')
+      cases%max_energy_ratio = reals
+      call real_column('final_energy_ratio')
+      cases%final_energy_ratio = reals
+      call real_column('min_volume_ratio')
+      cases%min_volume_ratio = reals
+      call real_column('max_cell_move')
+      cases%max_cell_move = reals
+      call real_column('min_node_mass_ratio')
+      cases%min_node_mass_ratio = reals
+      if (allocated(error)) return
+      call h5_read_string(path, '/cases/message', message_length, messages, error)
+      if (allocated(error)) return
+      do i = 1, n
+         if (len_trim(messages(i)) > 0) cases(i)%message = trim(messages(i))
+      end do
+   contains
+      subroutine int_column(name)
+         character(len=*), intent(in) :: name
+         if (allocated(error)) return
+         call h5_read_int(path, '/cases/'//name, ints, error)
+         if (.not. allocated(error) .and. size(ints) /= n) call set_error(error, "merge: column '"//name// &
+                                                                          "' of '"//path//"' has the wrong length")
+         if (allocated(error)) ints = [(0, i=1, n)]
+      end subroutine int_column
+      subroutine real_column(name)
+         character(len=*), intent(in) :: name
+         if (allocated(error)) return
+         call h5_read_real(path, '/cases/'//name, reals, error)
+         if (.not. allocated(error) .and. size(reals) /= n) call set_error(error, "merge: column '"//name// &
+                                                                           "' of '"//path//"' has the wrong length")
+         if (allocated(error)) reals = [(0.0_dp, i=1, n)]
+      end subroutine real_column
+   end subroutine read_cases
+
+   function sort_by_index(cases) result(order)
+      type(sweep_case_t), intent(in) :: cases(:)
+      integer, allocatable :: order(:)
+      integer :: i, j, key
+      order = [(i, i=1, size(cases))]
+      do i = 2, size(order)
+         key = order(i)
+         j = i - 1
+         do while (j >= 1)
+            if (cases(order(j))%index <= cases(key)%index) exit
+            order(j + 1) = order(j)
+            j = j - 1
+         end do
+         order(j + 1) = key
+      end do
+   end function sort_by_index
+end module mpm_sweep_output

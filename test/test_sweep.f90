@@ -1,0 +1,126 @@
+!> Sweeps: per-case errors equal single runs of the same cases; 1 and 2 threads give identical
+!> errors; shards merged give the unsharded table; bad sweep input is refused.
+program test_sweep
+   use mpm_kinds, only: dp
+   use mpm_errors, only: error_t
+   use mpm_config, only: config_t
+   use mpm_simulation, only: run_result_t, run_simulation
+   use mpm_sweep, only: sweep_t, read_sweep, run_sweep, case_config
+   use mpm_sweep_output, only: write_sweep_file, merge_sweep_files
+   use mpm_hdf5, only: h5_read_real, h5_read_int, h5_read_string
+   use mpm_diagnostics, only: status_ok
+   use mpm_testing, only: tester_t, scratch_dir
+   implicit none
+   type(tester_t) :: t
+   type(sweep_t) :: one_thread, two_threads, shard
+   type(error_t), allocatable :: error
+   character(len=:), allocatable :: dir, input
+   integer :: i, unit
+   character(len=1024) :: shard_files(3)
+
+   t%name = 'test_sweep'
+   dir = scratch_dir('sweep')
+   input = dir//'/sweep.nml'
+   open (newunit=unit, file=input, status='replace', action='write')
+   write (unit, '(a)') "&output file='"//dir//"/sweep.h5' /", &
+      "&sweep schemes='usf','usl','musl', elements=1,3,10, particles_per_element=1,4, dt_fractions=0.05,0.3, min_time=0.0 /"
+   close (unit)
+
+   call read_sweep(input, one_thread, error, 0, 0, 1)
+   call t%check('sweep read', .not. allocated(error))
+   if (allocated(error)) print '(a)', error%message
+   call t%check('3 x 3 x 2 x 2 = 36 cases', size(one_thread%cases) == 36 .and. one_thread%total_cases == 36)
+   call run_sweep(one_thread)
+   call t%check('every case completed', all(one_thread%cases%status == status_ok))
+
+   ! Each case equals a single run of the same configuration, bit for bit.
+   do i = 1, size(one_thread%cases), 5
+      call compare_with_single_run(one_thread%cases(i)%index)
+   end do
+
+   call read_sweep(input, two_threads, error, 0, 0, 2)
+   call run_sweep(two_threads)
+   call t%check('2 threads used', two_threads%threads_used == 2)
+   call t%check('1 and 2 threads: identical errors', all(one_thread%cases%max_error == two_threads%cases%max_error))
+   call t%check('1 and 2 threads: identical steps', all(one_thread%cases%steps == two_threads%cases%steps))
+   call write_sweep_file(dir//'/whole.h5', two_threads, error)
+   call t%check('whole sweep written', .not. allocated(error))
+
+   ! Three shards, written separately and merged in a scrambled order.
+   do i = 1, 3
+      call read_sweep(input, shard, error, i, 3, 1)
+      call run_sweep(shard)
+      write (shard_files(i), '(a,i0,a)') dir//'/shard', i, '.h5'
+      call write_sweep_file(trim(shard_files(i)), shard, error)
+      call t%check('shard written', .not. allocated(error))
+   end do
+   call merge_sweep_files(dir//'/merged.h5', shard_files([3, 1, 2]), error)
+   call t%check('shards merged', .not. allocated(error))
+   if (allocated(error)) print '(a)', error%message
+   call compare_files(dir//'/whole.h5', dir//'/merged.h5')
+   call merge_sweep_files(dir//'/bad.h5', shard_files([1, 2]), error)
+   call t%check('merge refuses a missing shard', allocated(error))
+   call merge_sweep_files(dir//'/bad.h5', shard_files([1, 1, 2]), error)
+   call t%check('merge refuses a repeated shard', allocated(error))
+
+   call bad_sweep("&sweep elements=3, 0 /", 'elements(2)')
+   call bad_sweep("&sweep schemes='usf', 'fls' /", 'schemes(2)')
+   call bad_sweep("&sweep dt_fractions=0.1, NaN /", 'dt_fractions(2)')
+   call bad_sweep("&sweep shard=4, shards=3 /", 'shard')
+   call bad_sweep("&sweep elements=3, , 5 /", 'gap')
+   call bad_sweep("&sweep min_time=-1.0 /", 'min_time')
+   call bad_sweep("&sweep timing_threads=0 /", 'timing_threads')
+   call bad_sweep("&sweep particle_per_element=3 /", 'particle_per_element')
+   call t%finish()
+
+contains
+
+   subroutine compare_with_single_run(index)
+      integer, intent(in) :: index
+      type(config_t) :: config
+      type(run_result_t) :: r
+      type(error_t), allocatable :: run_error
+      config = case_config(one_thread%base, one_thread%cases(index))
+      call run_simulation(config, r, run_error, record_history=.false.)
+      call t%check('case equals single run (max error)', r%max_error == one_thread%cases(index)%max_error)
+      call t%check('case equals single run (steps)', r%steps == one_thread%cases(index)%steps)
+   end subroutine compare_with_single_run
+
+   !> Every deterministic column of the two files is identical (run times are measurements).
+   subroutine compare_files(a, b)
+      character(len=*), intent(in) :: a, b
+      character(len=*), parameter :: real_columns(*) = [character(len=20) :: 'dt_fraction', 'dt', 'max_error', &
+                                                        'relative_error', 'max_energy_ratio', 'final_energy_ratio']
+      character(len=*), parameter :: int_columns(*) = [character(len=24) :: 'index', 'elements', &
+                                                       'particles_per_element', 'steps', 'status', 'particles']
+      real(dp), allocatable :: ra(:), rb(:)
+      integer, allocatable :: ia(:), ib(:)
+      character(len=8), allocatable :: sa(:), sb(:)
+      integer :: k
+      do k = 1, size(real_columns)
+         call h5_read_real(a, '/cases/'//trim(real_columns(k)), ra, error)
+         call h5_read_real(b, '/cases/'//trim(real_columns(k)), rb, error)
+         call t%check('merged = unsharded: '//trim(real_columns(k)), size(ra) == size(rb) .and. all(ra == rb))
+      end do
+      do k = 1, size(int_columns)
+         call h5_read_int(a, '/cases/'//trim(int_columns(k)), ia, error)
+         call h5_read_int(b, '/cases/'//trim(int_columns(k)), ib, error)
+         call t%check('merged = unsharded: '//trim(int_columns(k)), size(ia) == size(ib) .and. all(ia == ib))
+      end do
+      call h5_read_string(a, '/cases/scheme', 8, sa, error)
+      call h5_read_string(b, '/cases/scheme', 8, sb, error)
+      call t%check('merged = unsharded: scheme', all(sa == sb))
+   end subroutine compare_files
+
+   subroutine bad_sweep(text, part)
+      character(len=*), intent(in) :: text, part
+      type(sweep_t) :: s
+      integer :: u
+      open (newunit=u, file=dir//'/bad.nml', status='replace', action='write')
+      write (u, '(a)') text
+      close (u)
+      call read_sweep(dir//'/bad.nml', s, error, 0, 0, -1)
+      call t%check('bad sweep refused: '//text, allocated(error))
+      if (allocated(error)) call t%check_contains('bad sweep message: '//text, error%message, part)
+   end subroutine bad_sweep
+end program test_sweep
