@@ -80,6 +80,18 @@ def problem_text(config: Mapping) -> str:
             f"v0 = {config['velocity_amplitude']:g} m/s, mode {config['mode']}, {duration}")
 
 
+def signed(value: float, unit: str = '') -> str:
+    """' + 1.2e-3 s' or ' − 1.2e-3 s': a coefficient written after another term."""
+    return f"{' −' if value < 0 else ' +'} {abs(value):.3g}{' ' + unit if unit else ''}"
+
+
+def figure_title(scheme: str, which: int, text: str) -> str:
+    """'Fig. N — text — SCHEME' with the paper's number for USF/USL."""
+    numbers = FIGURE_NUMBERS.get(scheme)
+    prefix = f'Fig. {numbers[which]} — ' if numbers else ''
+    return f'{prefix}{text} — {scheme.upper()}'
+
+
 def wavenumber(config: Mapping) -> float:
     """β_n = (2n − 1)π / (2L) of the bar's vibration mode."""
     return (2 * int(config['mode']) - 1) * np.pi / (2 * float(config['length']))
@@ -258,10 +270,9 @@ def fig3b(runs: Sequence[Run], outdir: str) -> str:
         bottom.axhline(0.0, color='0.5', linewidth=0.6)
         bottom.set_ylabel(r'$u_{cm} - u_{cm}^{exact}$ (µm)')
         bottom.set_xlabel('time t (s)')
-        bottom.text(0.01, 0.95, f"max error = {run.summary['max_error']:.3g} m "
-                    f"({100 * run.summary['relative_error']:.3g} % of amplitude), "
-                    f"status {run.summary['status_name']}",
-                    transform=bottom.transAxes, fontsize=7.5, va='top')
+        bottom.set_title(f"max error = {run.summary['max_error']:.3g} m "
+                         f"({100 * run.summary['relative_error']:.3g} % of the amplitude), "
+                         f"status {run.summary['status_name']}", fontsize=8)
         for ax in (top, bottom):
             ax.grid(alpha=0.3)
     fig.suptitle('Fig. 3b — vibrating bar, centre-of-mass displacement: MPM against exact\n'
@@ -275,7 +286,7 @@ def fig3b(runs: Sequence[Run], outdir: str) -> str:
 # --------------------------------------------------------------------------------------------
 
 def _colour_map_figure(sweep: Sweep, scheme: str, panels: Sequence[int], quantity: str,
-                       norm: LogNorm, title: str, colour_label: str, outdir: str, name: str,
+                       norm: LogNorm, which: int, title: str, colour_label: str, outdir: str, name: str,
                        annotate: Optional[str] = None) -> str:
     """One figure of colour maps of `quantity` for `scheme`, one panel per element count in
     `panels`, all on the colour scale `norm`, with a single colourbar."""
@@ -294,7 +305,8 @@ def _colour_map_figure(sweep: Sweep, scheme: str, panels: Sequence[int], quantit
         ax.set_visible(False)
     fig.colorbar(mesh, ax=axes, label=colour_label, shrink=0.9)
     _status_legend(fig, grids)
-    fig.suptitle(f'{title} — {scheme.upper()}\n{problem_text(sweep.config)}', fontsize=10)
+    fig.suptitle(f'{figure_title(scheme, which, title)}\n{problem_text(sweep.config)}',
+                 fontsize=10)
     fig.get_layout_engine().set(rect=(0, 0.025, 1, 0.975))
     return save_figure(fig, outdir, name, [sweep])
 
@@ -313,7 +325,7 @@ def error_maps(sweeps: Mapping[str, Sweep], outdir: str,
     shared = ' (colour scale shared by ' + ' and '.join(k.upper() for k in sweeps) + ')' \
         if len(sweeps) > 1 else ''
     return {scheme: _colour_map_figure(
-        sweep, scheme, panels[scheme], 'max_error', norm,
+        sweep, scheme, panels[scheme], 'max_error', norm, 0,
         'Maximum centre-of-mass displacement error', ERROR_LABEL + shared, outdir,
         f'{_figure_number(scheme, 0)}error_map_{scheme}.png')
         for scheme, sweep in sweeps.items() if panels[scheme]}
@@ -334,7 +346,7 @@ def time_maps(sweeps: Mapping[str, Sweep], outdir: str, elements: int = 3) -> Di
     norm = shared_log_norm(s.cases['run_time'][s.where(scheme=k, elements=elements) & s.ok]
                            for k, s in timed.items())
     return {scheme: _colour_map_figure(
-        sweep, scheme, [elements], 'run_time', norm,
+        sweep, scheme, [elements], 'run_time', norm, 1,
         f'Computation time per run (median over repeats), {elements} elements', TIME_LABEL,
         outdir, f'{_figure_number(scheme, 1)}time_map_{scheme}.png', annotate='.2g')
         for scheme, sweep in timed.items()}
@@ -381,22 +393,23 @@ def time_fits(sweep: Sweep, scheme: str, outdir: str, elements: int = 3,
     ax_a.plot(n, t_n, 'o', color='C0', label='measured')
     n_fine = np.linspace(n.min(), n.max(), 100)
     ax_a.plot(n_fine, line['slope'] * n_fine + line['intercept'], color='C1',
-              label=f"t = {line['slope']:.3g}·n + {line['intercept']:.3g} s\n"
+              label=f"t = {line['slope']:.3g} s·n{signed(line['intercept'], 's')}\n"
                     f"R² = {line['r2']:.4f}")
     ax_a.set_xlabel(f'{PPE_LABEL} n ({elements} elements)')
     ax_a.set_title(f'(a) time step {100 * dt_fraction:g} % of critical', fontsize=10)
     ax_b.plot(k, t_k, 'o', color='C0', label='measured')
     k_fine = np.linspace(k.min(), k.max(), 200)
     ax_b.plot(k_fine, curve['a'] / k_fine + curve['b'], color='C1',
-              label=f"t = {curve['a']:.3g}/k + {curve['b']:.3g} s\nR² = {curve['r2']:.4f}")
+              label=f"t = {curve['a']:.3g} s·%/k{signed(curve['b'], 's')}\n"
+                    f"R² = {curve['r2']:.4f}")
     ax_b.set_xlabel('time step k (% of critical)')
     ax_b.set_title(f'(b) {particles_per_element} particles per element', fontsize=10)
     for ax in (ax_a, ax_b):
         ax.set_ylabel(TIME_LABEL)
         ax.grid(alpha=0.3)
         ax.legend(fontsize=8)
-    fig.suptitle(f'Computation time, {elements} elements — {scheme.upper()}\n'
-                 f'{problem_text(sweep.config)}', fontsize=10)
+    fig.suptitle(figure_title(scheme, 2, f'Computation time, {elements} elements') + '\n'
+                 + problem_text(sweep.config), fontsize=10)
     fig.tight_layout(rect=(0, 0.03, 1, 1))
     path = save_figure(fig, outdir, f'{_figure_number(scheme, 2)}time_fits_{scheme}.png',
                        [sweep])

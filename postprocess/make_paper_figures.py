@@ -296,7 +296,7 @@ def main(argv: Optional[Sequence[str]] = None) -> int:
     summary = os.path.join(args.output, 'summary.md')
     os.makedirs(args.output, exist_ok=True)
     with open(summary, 'w', encoding='utf-8') as handle:
-        handle.write('\n'.join(report.lines))
+        handle.write('\n'.join(report.lines).rstrip() + '\n')
     for path in report.written + [summary]:
         print(path)
     for reason in report.skipped:
