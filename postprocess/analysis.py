@@ -1,0 +1,228 @@
+"""Numbers drawn from the sweeps: error statistics and checks of the paper's claims.
+
+Each claim check returns a `Claim` holding the verdict computed from the data (never assumed),
+the numbers it rests on, and the rule applied, so that the report can show all three.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass, field
+from typing import Dict, List, Mapping, Optional, Sequence
+
+import numpy as np
+
+from mpm1d_io import Sweep
+
+#: Element counts below this are left out of the convergence-rate fit of claim (d): one element
+#: cannot represent the vibration mode at all (paper, Fig. 10), which says nothing about a rate.
+CONVERGENCE_MIN_ELEMENTS = 3
+#: Claim (b) concerns meshes at least this fine, claim (c) the meshes listed.
+FINE_MESH_ELEMENTS = 10
+COARSE_MESH_ELEMENTS = (1, 3)
+
+
+@dataclass
+class Claim:
+    """One claim of the paper and whether mpm1d's numbers support it."""
+    key: str
+    statement: str
+    rule: str
+    holds: Optional[bool]            # None: the data needed is not there
+    details: List[str] = field(default_factory=list)
+
+    @property
+    def verdict(self) -> str:
+        if self.holds is None:
+            return 'not checked (data missing)'
+        return 'holds' if self.holds else 'does not hold'
+
+
+def log_slope(x: Sequence[float], y: Sequence[float]) -> float:
+    """Slope of log(y) against log(x) by least squares (NaN with fewer than two points)."""
+    x, y = np.asarray(x, float), np.asarray(y, float)
+    keep = (x > 0) & (y > 0) & np.isfinite(y)
+    if keep.sum() < 2:
+        return float('nan')
+    return float(np.polyfit(np.log(x[keep]), np.log(y[keep]), 1)[0])
+
+
+def median_by(sweep: Sweep, mask: np.ndarray, key: str, quantity: str = 'max_error'
+              ) -> Dict[float, float]:
+    """Median of `quantity` over the completed cases in `mask`, per distinct value of `key`."""
+    mask = mask & sweep.ok
+    values = sweep.cases[key][mask]
+    result = {}
+    for value in np.unique(values):
+        result[value.item()] = float(np.median(sweep.cases[quantity][mask][values == value]))
+    return result
+
+
+def error_extremes(sweep: Sweep, scheme: str) -> Dict[str, object]:
+    """Smallest and largest error of the completed cases of `scheme`, with their cases, and the
+    count of failed cases per status name."""
+    mask = sweep.where(scheme=scheme)
+    ok = mask & sweep.ok
+    result: Dict[str, object] = {'cases': int(mask.sum()), 'completed': int(ok.sum()),
+                                 'failed': {}}
+    for name in np.unique(sweep.cases['status_name'][mask & sweep.failed]):
+        result['failed'][str(name)] = int(np.sum(
+            (sweep.cases['status_name'] == name) & mask & sweep.failed))
+    if ok.any():
+        errors = np.where(ok, sweep.cases['max_error'], np.nan)
+        for label, index in (('min', int(np.nanargmin(errors))), ('max', int(np.nanargmax(errors)))):
+            result[label] = {c: sweep.cases[c][index].item() for c in
+                             ('max_error', 'relative_error', 'elements', 'particles_per_element',
+                              'dt_fraction')}
+    return result
+
+
+def verification_case(sweep: Sweep, scheme: str, elements: int = 20,
+                      particles_per_element: int = 1, dt_fraction: float = 0.1
+                      ) -> Optional[Dict[str, object]]:
+    """The sweep's case matching the verification discretisation, or None."""
+    mask = sweep.where(scheme=scheme, elements=elements,
+                       particles_per_element=particles_per_element, dt_fraction=dt_fraction)
+    if not mask.any():
+        return None
+    i = int(np.flatnonzero(mask)[0])
+    return {c: sweep.cases[c][i].item() for c in ('max_error', 'relative_error', 'status_name',
+                                                  'run_time')}
+
+
+def _step_trend(sweep: Sweep, scheme: str, elements: int) -> Dict[str, float]:
+    """How the median error (over particles per element) changes with the time step for one
+    element count: log-log slope (> 0: error falls with smaller steps) and the ratio of the
+    error at the largest step to that at the smallest."""
+    by_dt = median_by(sweep, sweep.where(scheme=scheme, elements=elements), 'dt_fraction')
+    steps = sorted(by_dt)
+    if len(steps) < 2:
+        return {'slope': float('nan'), 'ratio': float('nan'), 'smallest': float('nan'),
+                'largest': float('nan')}
+    return {'slope': log_slope(steps, [by_dt[k] for k in steps]),
+            'ratio': by_dt[steps[-1]] / by_dt[steps[0]],
+            'smallest': 100 * steps[0], 'largest': 100 * steps[-1]}
+
+
+def _elements_of(sweep: Sweep, scheme: str) -> List[int]:
+    return sorted(set(sweep.cases['elements'][sweep.where(scheme=scheme) & sweep.ok].tolist()))
+
+
+def claim_elements(sweeps: Mapping[str, Sweep]) -> Claim:
+    """(a) The error falls with more elements."""
+    claim = Claim('a', 'The error falls as the number of elements grows.',
+                  'median max error over all completed cases of each element count decreases '
+                  'strictly from each element count to the next, for every scheme', None)
+    verdicts = []
+    for scheme, sweep in sweeps.items():
+        medians = median_by(sweep, sweep.where(scheme=scheme), 'elements')
+        if len(medians) < 2:
+            continue
+        counts = sorted(medians)
+        values = [medians[c] for c in counts]
+        falls = bool(np.all(np.diff(values) < 0))
+        verdicts.append(falls)
+        rises = [f'{a}→{b}' for a, b, u, v in zip(counts, counts[1:], values, values[1:])
+                 if v >= u]
+        claim.details.append(f'{scheme.upper()}: ' + ', '.join(
+            f'{c} el. {v:.3g} m' for c, v in zip(counts, values))
+            + ('' if falls else f' (no decrease at {", ".join(rises)})'))
+    claim.holds = all(verdicts) if verdicts else None
+    return claim
+
+
+def _claim_steps(sweeps: Mapping[str, Sweep], key: str, statement: str, select, expect_fall: bool
+                 ) -> Claim:
+    """Claims (b) and (c): the trend of the error with the time step on chosen meshes."""
+    direction = 'falls' if expect_fall else 'does not fall'
+    claim = Claim(key, statement,
+                  'log-log slope of the median error (over particles per element) against the '
+                  f'time-step fraction is {"> 0" if expect_fall else "<= 0"} (i.e. the error '
+                  f'{direction} with smaller steps) for every such mesh and scheme', None)
+    verdicts = []
+    for scheme, sweep in sweeps.items():
+        for elements in [e for e in _elements_of(sweep, scheme) if select(e)]:
+            trend = _step_trend(sweep, scheme, elements)
+            if not np.isfinite(trend['slope']):
+                continue
+            falls = trend['slope'] > 0
+            verdicts.append(falls == expect_fall)
+            claim.details.append(
+                f"{scheme.upper()}, {elements} el.: slope {trend['slope']:+.3g}, median error at "
+                f"{trend['largest']:g} % / at {trend['smallest']:g} % = {trend['ratio']:.3g} "
+                f"→ error {'falls' if falls else 'does not fall'} with smaller steps")
+    claim.holds = all(verdicts) if verdicts else None
+    return claim
+
+
+def claim_fine_meshes(sweeps: Mapping[str, Sweep]) -> Claim:
+    """(b) On fine meshes (>= 10 elements) the error falls with smaller time steps."""
+    return _claim_steps(sweeps, 'b', f'On fine meshes (>= {FINE_MESH_ELEMENTS} elements) the '
+                        'error falls with smaller time steps.',
+                        lambda e: e >= FINE_MESH_ELEMENTS, expect_fall=True)
+
+
+def claim_coarse_meshes(sweeps: Mapping[str, Sweep]) -> Claim:
+    """(c) With 1 and 3 elements the error does not fall with smaller time steps."""
+    return _claim_steps(sweeps, 'c', 'With ' + ' and '.join(map(str, COARSE_MESH_ELEMENTS))
+                        + ' elements the error does not fall with smaller time steps.',
+                        lambda e: e in COARSE_MESH_ELEMENTS, expect_fall=False)
+
+
+def claim_usl_faster(sweeps: Mapping[str, Sweep]) -> Claim:
+    """(d) USL converges faster than USF."""
+    claim = Claim('d', 'USL converges to the exact solution faster than USF.',
+                  'at the finest mesh both schemes ran, the median error of USL is below that of '
+                  'USF, AND the log-log slope of median error against element count '
+                  f'(meshes >= {CONVERGENCE_MIN_ELEMENTS} elements) is steeper (more negative) '
+                  'for USL', None)
+    if 'usf' not in sweeps or 'usl' not in sweeps:
+        claim.details.append('needs both a USF and a USL sweep')
+        return claim
+    medians = {s: median_by(sweeps[s], sweeps[s].where(scheme=s), 'elements')
+               for s in ('usf', 'usl')}
+    common = sorted(set(medians['usf']) & set(medians['usl']))
+    if not common:
+        claim.details.append('the two sweeps share no element count')
+        return claim
+    finest = common[-1]
+    lower = medians['usl'][finest] < medians['usf'][finest]
+    claim.details.append(f'finest common mesh {finest} el.: median error USF '
+                         f"{medians['usf'][finest]:.3g} m, USL {medians['usl'][finest]:.3g} m")
+    slopes = {}
+    for s in ('usf', 'usl'):
+        counts = [c for c in common if c >= CONVERGENCE_MIN_ELEMENTS]
+        slopes[s] = log_slope(counts, [medians[s][c] for c in counts])
+    steeper = bool(slopes['usl'] < slopes['usf'])
+    claim.details.append(f"convergence slope d log(error)/d log(elements): USF "
+                         f"{slopes['usf']:.3g}, USL {slopes['usl']:.3g}")
+    if not all(np.isfinite(list(slopes.values()))):
+        claim.holds = None
+        claim.details.append(f'fewer than two element counts >= {CONVERGENCE_MIN_ELEMENTS}')
+        return claim
+    claim.holds = bool(lower and steeper)
+    if lower != steeper:
+        claim.details.append('the two criteria disagree: ' + (
+            'USL is more accurate at the finest mesh but its slope is not steeper' if lower else
+            'USL has the steeper slope but is not more accurate at the finest mesh'))
+    return claim
+
+
+def claim_linear_time(fits: Mapping[str, Mapping], threshold: float = 0.97) -> Claim:
+    """(e) Computation time is linear in the number of particles (R² > 0.97 in the paper)."""
+    claim = Claim('e', f'Computation time grows linearly with the particle count '
+                  f'(R² > {threshold:g} in the paper).',
+                  f'R² of the least-squares line of time against particles per element > '
+                  f'{threshold:g} for every scheme', None)
+    verdicts = []
+    for scheme, fit in fits.items():
+        r2 = fit['particles']['r2']
+        verdicts.append(r2 > threshold)
+        claim.details.append(f'{scheme.upper()}: R² = {r2:.4f}')
+    claim.holds = all(verdicts) if verdicts else None
+    return claim
+
+
+def check_claims(sweeps: Mapping[str, Sweep], fits: Mapping[str, Mapping]) -> List[Claim]:
+    """All claim checks, in the order of the report."""
+    return [claim_elements(sweeps), claim_fine_meshes(sweeps), claim_coarse_meshes(sweeps),
+            claim_usl_faster(sweeps), claim_linear_time(fits)]

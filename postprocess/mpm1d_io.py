@@ -1,0 +1,366 @@
+"""Loader for the HDF5 files written by mpm1d: one single run, or one sweep (a table of cases).
+
+Every figure and report of the post-processing reads its input through this module, so that the
+file layout (documented in the top-level README, "Output files") is known in one place only.
+
+Strings are written by Fortran as fixed-length, space-padded byte strings; they are returned here
+as stripped Python ``str`` (or numpy arrays of ``str``). Scalars come back as Python numbers and
+1-D datasets as numpy arrays.
+
+    >>> run = load_run('usf.h5')             # doctest: +SKIP
+    >>> run.scheme, run.elements, run.summary['max_error']
+    >>> sweep = load_sweep('sweep_usf.h5')   # doctest: +SKIP
+    >>> sweep.cases['max_error'][sweep.ok]
+"""
+
+from __future__ import annotations
+
+import os
+from dataclasses import dataclass, field
+from typing import Any, Dict, List, Optional, Sequence
+
+import numpy as np
+
+try:
+    import h5py
+except ImportError as exc:  # pragma: no cover - depends on the installation
+    raise ImportError("mpm1d post-processing needs h5py (Debian: apt install python3-h5py; "
+                      "use /usr/bin/python3)") from exc
+
+__all__ = ['Mpm1dFileError', 'Run', 'Snapshot', 'Sweep', 'load_run', 'load_sweep',
+           'merge_sweeps', 'STATUS_OK', 'STATUS_NOT_RUN']
+
+#: Status of a run that completed (``/summary/status``, ``/cases/status``).
+STATUS_OK = 0
+#: Status of a sweep case that has not run (e.g. it belongs to another shard).
+STATUS_NOT_RUN = -1
+
+HISTORY_DATASETS = ('time', 'ucm', 'ucm_exact', 'kinetic_energy', 'strain_energy')
+SNAPSHOT_DATASETS = ('x', 'velocity', 'stress', 'volume_ratio', 'grid_x', 'grid_velocity')
+SUMMARY_DATASETS = ('max_error', 'relative_error', 'ucm_amplitude', 'steps', 'steps_done',
+                    'particles', 'dt', 'run_time', 'status', 'status_name', 'message',
+                    'initial_energy', 'final_energy', 'max_energy_ratio', 'min_volume_ratio',
+                    'max_cell_move', 'min_node_mass_ratio')
+CASE_DATASETS = ('scheme', 'elements', 'particles_per_element', 'dt_fraction', 'youngs_modulus',
+                 'density', 'velocity_amplitude', 'mode', 'steps', 'dt', 'max_error',
+                 'relative_error', 'run_time', 'repeats', 'status', 'status_name',
+                 'max_energy_ratio', 'final_energy_ratio', 'particles')
+#: Configuration attributes the figures rely on (others are kept as they come).
+CONFIG_ATTRIBUTES = ('scheme', 'elements', 'particles_per_element', 'dt_fraction', 'length',
+                     'velocity_amplitude', 'mode')
+
+
+class Mpm1dFileError(Exception):
+    """An input file is missing, unreadable, or not the kind of mpm1d file that was expected.
+
+    The message always names the file and says what is wrong with it.
+    """
+
+    def __init__(self, path: str, problem: str):
+        self.path = str(path)
+        self.problem = problem
+        super().__init__(f"{self.path}: {problem}")
+
+
+# --------------------------------------------------------------------------------------------
+# Decoding of what h5py returns
+# --------------------------------------------------------------------------------------------
+
+def decode(value: Any) -> Any:
+    """Turn an HDF5 value into plain Python/numpy: stripped ``str`` for (arrays of) byte strings,
+    Python scalars for 0-d and 1-element values, numpy arrays otherwise."""
+    if isinstance(value, (bytes, np.bytes_)):
+        return value.decode('utf-8', errors='replace').strip(' \x00')
+    if isinstance(value, str):
+        return value.strip(' \x00')
+    if isinstance(value, np.ndarray):
+        if value.dtype.kind in ('S', 'O', 'U'):
+            texts = [decode(item) for item in value.ravel()]
+            if value.ndim == 0:
+                return texts[0]
+            return np.array(texts, dtype=str).reshape(value.shape)
+        if value.ndim == 0:
+            return value.item()
+        return value
+    if isinstance(value, np.generic):
+        return value.item()
+    return value
+
+
+def _attributes(node: 'h5py.HLObject') -> Dict[str, Any]:
+    """All attributes of an HDF5 group or dataset, decoded; 1-element arrays become scalars
+    (some writers store a scalar attribute with dimension [1])."""
+    result = {}
+    for name, value in node.attrs.items():
+        value = decode(value)
+        if isinstance(value, np.ndarray) and value.shape == (1,):
+            value = decode(value.reshape(()))
+        result[name] = value
+    return result
+
+
+def _read(path: str, h5: 'h5py.File', name: str) -> Any:
+    """Dataset `name` of the open file, decoded; a clear error if it is absent."""
+    if name not in h5:
+        raise Mpm1dFileError(path, f"missing dataset '{name}'")
+    node = h5[name]
+    if not isinstance(node, h5py.Dataset):
+        raise Mpm1dFileError(path, f"'{name}' is a group, expected a dataset")
+    return decode(node[()])
+
+
+def _open(path: str, content: str) -> 'h5py.File':
+    """Open `path` for reading and check that it is an mpm1d file whose root attribute
+    ``content`` equals `content`."""
+    path = os.fspath(path)
+    if not os.path.exists(path):
+        raise Mpm1dFileError(path, 'no such file')
+    if os.path.isdir(path):
+        raise Mpm1dFileError(path, 'is a directory, expected an HDF5 file')
+    if not h5py.is_hdf5(path):
+        raise Mpm1dFileError(path, 'not an HDF5 file')
+    try:
+        h5 = h5py.File(path, 'r')
+    except OSError as exc:
+        raise Mpm1dFileError(path, f'cannot open as HDF5 ({exc})') from exc
+    root = _attributes(h5)
+    if 'code_version' not in root or 'content' not in root:
+        h5.close()
+        raise Mpm1dFileError(path, "not an mpm1d file (no 'code_version'/'content' attributes "
+                                   "on the root group)")
+    if root['content'] != content:
+        h5.close()
+        raise Mpm1dFileError(path, f"holds a '{root['content']}' file, expected '{content}'")
+    return h5
+
+
+def _config(path: str, h5: 'h5py.File') -> Dict[str, Any]:
+    """The ``/config`` attributes, checked for those the figures use."""
+    if '/config' not in h5:
+        raise Mpm1dFileError(path, "missing group '/config'")
+    config = _attributes(h5['/config'])
+    missing = [name for name in CONFIG_ATTRIBUTES if name not in config]
+    if missing:
+        raise Mpm1dFileError(path, "missing attribute(s) of '/config': " + ', '.join(missing))
+    return config
+
+
+def _history(path: str, group: 'h5py.Group', where: str) -> Dict[str, np.ndarray]:
+    """The 1-D time series of a history group as a dict of float arrays."""
+    return {name: np.asarray(_read(path, group.file, f'{where}/{name}'), dtype=float)
+            for name in HISTORY_DATASETS}
+
+
+# --------------------------------------------------------------------------------------------
+# Single run
+# --------------------------------------------------------------------------------------------
+
+@dataclass
+class Snapshot:
+    """Particle and grid state of one run at one time (``/snapshots/NNNN``)."""
+    time: float
+    step: int
+    x: np.ndarray
+    velocity: np.ndarray
+    stress: np.ndarray
+    volume_ratio: np.ndarray
+    grid_x: np.ndarray
+    grid_velocity: np.ndarray
+
+
+@dataclass
+class Run:
+    """One mpm1d run (file written by ``mpm1d run.nml``)."""
+    path: str
+    code_version: str
+    config: Dict[str, Any]
+    summary: Dict[str, Any]
+    history: Optional[Dict[str, np.ndarray]] = None
+    snapshots: List[Snapshot] = field(default_factory=list)
+
+    @property
+    def scheme(self) -> str:
+        """Update scheme: 'usf', 'usl' or 'musl'."""
+        return str(self.config['scheme']).lower()
+
+    @property
+    def elements(self) -> int:
+        return int(self.config['elements'])
+
+    @property
+    def particles_per_element(self) -> int:
+        return int(self.config['particles_per_element'])
+
+    @property
+    def dt_fraction(self) -> float:
+        """Time step as a fraction of the critical one (0.1 = 10 %)."""
+        return float(self.config['dt_fraction'])
+
+    @property
+    def ok(self) -> bool:
+        """Whether the run completed (status 0)."""
+        return int(self.summary['status']) == STATUS_OK
+
+    def snapshot_at(self, step: int = 0) -> Optional[Snapshot]:
+        """The snapshot taken at `step` (the initial state by default), or None."""
+        for snapshot in self.snapshots:
+            if snapshot.step == step:
+                return snapshot
+        return None
+
+    def label(self) -> str:
+        """Short description: scheme and discretisation."""
+        return (f"{self.scheme.upper()}, {self.elements} el., {self.particles_per_element} ppe, "
+                f"dt = {100 * self.dt_fraction:g} % of critical")
+
+
+def load_run(path: str) -> Run:
+    """Read a single-run file. Raises `Mpm1dFileError` naming the file and the problem."""
+    h5 = _open(path, 'single run')
+    path = os.fspath(path)
+    with h5:
+        code_version = decode(h5.attrs['code_version'])
+        config = _config(path, h5)
+        summary = {name: _read(path, h5, f'/summary/{name}') for name in SUMMARY_DATASETS}
+        history = _history(path, h5, '/history') if '/history' in h5 else None
+        snapshots = []
+        if '/snapshots' in h5:
+            for name in sorted(h5['/snapshots'], key=lambda n: int(n) if n.isdigit() else n):
+                where = f'/snapshots/{name}'
+                attrs = _attributes(h5[where])
+                if 'time' not in attrs or 'step' not in attrs:
+                    raise Mpm1dFileError(path, f"'{where}' lacks its 'time'/'step' attributes")
+                arrays = {key: np.asarray(_read(path, h5, f'{where}/{key}'), dtype=float)
+                          for key in SNAPSHOT_DATASETS}
+                snapshots.append(Snapshot(time=float(attrs['time']), step=int(attrs['step']),
+                                          **arrays))
+    return Run(path=path, code_version=code_version, config=config, summary=summary,
+               history=history, snapshots=snapshots)
+
+
+# --------------------------------------------------------------------------------------------
+# Sweep
+# --------------------------------------------------------------------------------------------
+
+@dataclass
+class Sweep:
+    """A table of cases (file written by ``mpm1d sweep.nml``), or several shards merged.
+
+    ``cases`` maps each ``/cases`` dataset name to a 1-D array (one entry per case; strings as
+    arrays of ``str``). ``histories`` maps a 0-based case index to its history, where stored.
+    ``sweep`` holds the ``/sweep`` attributes of each source file (one dict per file).
+    """
+    paths: List[str]
+    code_versions: List[str]
+    config: Dict[str, Any]
+    sweep: List[Dict[str, Any]]
+    cases: Dict[str, np.ndarray]
+    histories: Dict[int, Dict[str, np.ndarray]] = field(default_factory=dict)
+
+    @property
+    def path(self) -> str:
+        """The source file(s), comma separated."""
+        return ', '.join(self.paths)
+
+    @property
+    def code_version(self) -> str:
+        """Code version(s) that wrote the source files."""
+        return ', '.join(sorted(set(self.code_versions)))
+
+    def __len__(self) -> int:
+        return len(self.cases['scheme'])
+
+    @property
+    def ok(self) -> np.ndarray:
+        """Mask of the cases that completed (status 0)."""
+        return self.cases['status'] == STATUS_OK
+
+    @property
+    def failed(self) -> np.ndarray:
+        """Mask of the cases that ran and failed (status > 0)."""
+        return self.cases['status'] > STATUS_OK
+
+    @property
+    def schemes(self) -> List[str]:
+        """Schemes present, in order of first appearance."""
+        return list(dict.fromkeys(self.cases['scheme'].tolist()))
+
+    def select(self, mask: np.ndarray) -> 'Sweep':
+        """A new Sweep holding only the cases where `mask` is true (histories follow)."""
+        mask = np.asarray(mask, dtype=bool)
+        index = np.flatnonzero(mask)
+        renumber = {int(old): new for new, old in enumerate(index)}
+        return Sweep(paths=self.paths, code_versions=self.code_versions, config=self.config,
+                     sweep=self.sweep, cases={k: v[mask] for k, v in self.cases.items()},
+                     histories={renumber[k]: h for k, h in self.histories.items()
+                                if k in renumber})
+
+    def where(self, **criteria: Any) -> np.ndarray:
+        """Mask of the cases matching every ``column=value`` (floats compared with a tolerance).
+
+        >>> sweep.where(scheme='usf', elements=20, particles_per_element=1, dt_fraction=0.1)
+        """
+        mask = np.ones(len(self), dtype=bool)
+        for column, value in criteria.items():
+            values = self.cases[column]
+            if values.dtype.kind == 'f':
+                mask &= np.isclose(values, value, rtol=1e-9, atol=0.0)
+            else:
+                mask &= values == value
+        return mask
+
+
+def load_sweep(path: str) -> Sweep:
+    """Read a sweep file. Raises `Mpm1dFileError` naming the file and the problem."""
+    h5 = _open(path, 'sweep')
+    path = os.fspath(path)
+    with h5:
+        code_version = decode(h5.attrs['code_version'])
+        config = _config(path, h5)
+        if '/sweep' not in h5:
+            raise Mpm1dFileError(path, "missing group '/sweep'")
+        sweep = _attributes(h5['/sweep'])
+        cases = {}
+        for name in CASE_DATASETS:
+            values = _read(path, h5, f'/cases/{name}')
+            cases[name] = np.atleast_1d(np.asarray(values))
+        sizes = {name: len(values) for name, values in cases.items()}
+        if len(set(sizes.values())) != 1:
+            raise Mpm1dFileError(path, 'the /cases datasets differ in length: ' +
+                                 ', '.join(f'{k}={v}' for k, v in sizes.items()))
+        cases['scheme'] = np.char.lower(cases['scheme'].astype(str))
+        cases['status_name'] = cases['status_name'].astype(str)
+        for name in ('elements', 'particles_per_element', 'mode', 'steps', 'repeats', 'status',
+                     'particles'):
+            cases[name] = cases[name].astype(int)
+        histories = {}
+        if '/histories' in h5:
+            for name in h5['/histories']:
+                if not name.isdigit():
+                    raise Mpm1dFileError(path, f"'/histories/{name}' is not a case number")
+                histories[int(name) - 1] = _history(path, h5, f'/histories/{name}')
+    return Sweep(paths=[path], code_versions=[code_version], config=config, sweep=[sweep],
+                 cases=cases, histories=histories)
+
+
+def merge_sweeps(sweeps: Sequence[Sweep]) -> Sweep:
+    """Concatenate several sweeps (e.g. the shards of one sweep) into one table.
+
+    Cases that did not run in a shard (status -1) are dropped when another shard ran them.
+    """
+    if not sweeps:
+        raise ValueError('merge_sweeps needs at least one sweep')
+    if len(sweeps) == 1:
+        return sweeps[0]
+    columns = sweeps[0].cases.keys()
+    cases = {name: np.concatenate([s.cases[name] for s in sweeps]) for name in columns}
+    histories, offset = {}, 0
+    for s in sweeps:
+        histories.update({offset + k: h for k, h in s.histories.items()})
+        offset += len(s)
+    merged = Sweep(paths=[p for s in sweeps for p in s.paths],
+                   code_versions=[v for s in sweeps for v in s.code_versions],
+                   config=sweeps[0].config, sweep=[a for s in sweeps for a in s.sweep],
+                   cases=cases, histories=histories)
+    ran = merged.cases['status'] != STATUS_NOT_RUN
+    return merged.select(ran) if ran.any() else merged
