@@ -363,8 +363,8 @@ def build_parser() -> argparse.ArgumentParser:
                    help="particles per element, e.g. '1-8' or '1,2,4' (default: 1-8)")
     p.add_argument("--elements", type=_int_list, default=[10, 20],
                    help="element counts, e.g. '10,20' (default: 10,20)")
-    p.add_argument("--out", default=os.path.join(here, "output"),
-                   help="output folder (default: studies/stability/output)")
+    p.add_argument("--out", default=os.path.join(here, "out"),
+                   help="output folder (default: studies/stability/out, git-ignored)")
     p.add_argument("--tol", type=float, default=TOL,
                    help=f"unstable when rho(A) > 1 + tol (default: {TOL:g})")
     p.add_argument("--k-max", type=float, default=3.0, help="upper end of the k scan (default: 3)")
