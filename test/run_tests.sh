@@ -21,6 +21,9 @@ if [ -f postprocess/test_postprocess.py ]; then
   echo "== post-processing"
   "$PYTHON" postprocess/test_postprocess.py || failed=1
 fi
+echo "== paper study pipeline on a small real sweep"
+bash test/test_paper_pipeline.sh || failed=1
+
 for t in studies/*/test_*.py; do
   [ -f "$t" ] || continue
   echo "== $t"
