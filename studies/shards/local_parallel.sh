@@ -1,0 +1,29 @@
+#!/usr/bin/env bash
+# Run a sweep as N shards in parallel processes on this machine, then merge them.
+# Each shard writes its own file; a failed shard can be rerun alone (same command with --shard).
+# Usage: bash studies/shards/local_parallel.sh [shards] [sweep.nml] [output folder]
+set -euo pipefail
+root="$(cd "$(dirname "$0")/../.." && pwd)"
+cd "$root"
+source studies/setup.sh
+set -euo pipefail
+shards="${1:-2}"
+input="${2:-studies/shards/sweep.nml}"
+out="$(mkdir -p "${3:-out/shards}" && cd "${3:-out/shards}" && pwd)"
+fpm build --profile release >/dev/null
+exe="$root/$(fpm run --profile release --runner echo 2>/dev/null | tail -n 1)"
+name=$(sed -n "s/.*file='\([^']*\)'.*/\1/p" "$input" | head -n 1)
+sed "s|file='$name'|file='$out/$name'|" "$input" > "$out/sweep.nml"
+pids=()
+for i in $(seq 1 "$shards"); do
+  # one thread per shard process: the shards themselves are the parallelism
+  OMP_NUM_THREADS=1 "$exe" "$out/sweep.nml" --shard "$i/$shards" --threads 1 > "$out/shard$i.log" 2>&1 &
+  pids+=($!)
+done
+status=0
+for i in "${!pids[@]}"; do
+  wait "${pids[$i]}" || { echo "shard $((i+1)) failed: see $out/shard$((i+1)).log" >&2; status=1; }
+done
+[ "$status" = 0 ] || exit 1
+base="${name%.h5}"
+"$exe" merge "$out/$name" "$out/${base}"_shard*of*.h5
