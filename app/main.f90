@@ -8,7 +8,7 @@ program mpm1d_main
    use mpm_kinds, only: dp
    use mpm_errors, only: error_t
    use mpm_strings, only: str
-   use mpm_config, only: config_t, read_config, default_config, write_config_namelist, config_summary
+   use mpm_config, only: config_t, read_config, default_config, write_config_namelist, config_summary, stability_limit
    use mpm_simulation, only: run_result_t, run_simulation
    use mpm_output, only: write_run_file
    use mpm_diagnostics, only: status_ok
@@ -52,6 +52,7 @@ program mpm1d_main
          '(see mpm1d --help for the namelist reference)'
    end if
 
+   call warn_stability(config%scheme, config%particles_per_element, config%dt_fraction, 1)
    write (output_unit, '(a)') '# configuration used:'
    call write_config_namelist(output_unit, config)
    write (output_unit, '(a)') '# '//config_summary(config)
@@ -76,7 +77,7 @@ contains
    subroutine sweep_command(path)
       character(len=*), intent(in) :: path
       type(sweep_t) :: sweep
-      integer :: i, shard, shards, threads, failed
+      integer :: i, shard, shards, threads, failed, above
       character(len=:), allocatable :: option, output
       shard = 0
       shards = 0
@@ -106,6 +107,13 @@ contains
       else
          write (output_unit, '(a)') 'mpm1d: sweep of '//str(size(sweep%cases))//' cases'
       end if
+      above = 0
+      do i = 1, size(sweep%cases)
+         if (sweep%cases(i)%dt_fraction > stability_limit(sweep%cases(i)%scheme, &
+                                                          sweep%cases(i)%particles_per_element)) above = above + 1
+      end do
+      if (above > 0) write (error_unit, '(a)') 'mpm1d: warning: '//str(above)//' cases ask for a time step '// &
+         'above their scheme''s linear stability limit (see studies/stability); guards will stop them if they grow'
       call run_sweep(sweep)
       call write_sweep_file(output, sweep, error)
       if (allocated(error)) call fail(error%message, 3)
@@ -117,6 +125,19 @@ contains
          ' stopped by a guard (recorded in /cases/status)'
       write (output_unit, '(a)') 'wrote '//output
    end subroutine sweep_command
+
+   !> Warn (standard error) when the time step is above the scheme's linear stability limit.
+   subroutine warn_stability(scheme, particles_per_element, dt_fraction, cases)
+      character(len=*), intent(in) :: scheme
+      integer, intent(in) :: particles_per_element, cases
+      real(dp), intent(in) :: dt_fraction
+      real(dp) :: limit
+      limit = stability_limit(scheme, particles_per_element)
+      if (dt_fraction > limit .and. cases > 0) write (error_unit, '(a)') 'mpm1d: warning: dt_fraction = '// &
+         str(dt_fraction)//' is above the linear stability limit of '//trim(scheme)//' with '// &
+         str(particles_per_element)//' particles per element (about '//str(nint(limit*1000)/1000.0_dp)// &
+         ' of dx/c; see studies/stability); a guard will stop the run if it grows'
+   end subroutine warn_stability
 
    !> `mpm1d merge OUT.h5 SHARD.h5 ...`
    subroutine merge_command()

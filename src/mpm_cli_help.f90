@@ -30,6 +30,15 @@ contains
          "  &output file='bar.h5', history=.true., snapshot_times=0.0, 0.01 /", &
          '      history: write u_cm(t), exact u_cm(t) and energies at every step;', &
          '      snapshot_times (s): particle and grid state at these times (none by default)', &
+         '  &guards energy_growth_limit=2.0, max_cell_move=1.0 /', &
+         '      a run stops (exit 1, history kept) on NaN/Infinity, J <= 0, a particle leaving the grid,', &
+         '      total energy above energy_growth_limit x initial, or a move of more than max_cell_move cells', &
+         '  &sweep schemes=..., elements=..., particles_per_element=..., dt_fractions=..., youngs_moduli=...,', &
+         '         densities=..., velocity_amplitudes=..., modes=..., min_time=0.02, threads=0,', &
+         '         timing_threads=1, histories=.false., shard=1, shards=1 /', &
+         '      every combination of the lists; one HDF5 table (see README.md)', &
+         '', &
+         'sweeps: mpm1d sweep.nml [--shard I/N] [--threads N];  mpm1d merge OUT.h5 SHARD.h5 ...', &
          '', &
          'exit codes: 0 done; 1 a guard stopped the run (history so far written); 2 bad input; 3 output failed.', &
          'Every problem in the input is reported with the variable and its allowed range; nothing is written then.'

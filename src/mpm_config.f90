@@ -12,7 +12,7 @@ module mpm_config
    public :: config_t, read_config, validate_config, resolve_config, write_config_namelist, config_namelist
    public :: default_config, config_summary, known_schemes, is_known_scheme
    public :: max_snapshots, unset, scan_groups, read_group_error, check_output_path, group_text
-   public :: step_count
+   public :: step_count, stability_limit
 
    character(len=*), parameter :: identifier_characters = &
                                   'abcdefghijklmnopqrstuvwxyzABCDEFGHIJKLMNOPQRSTUVWXYZ0123456789_'
@@ -49,9 +49,11 @@ module mpm_config
       logical :: history = .true.
       integer :: snapshot_count = 0
       real(dp) :: snapshot_times(max_snapshots) = 0.0_dp
-      ! guards
+      ! &guards
       !> A run fails when its total energy exceeds this factor times the initial energy.
       real(dp) :: energy_growth_limit = 2.0_dp
+      !> A run fails when a particle moves more than this many cells in one step.
+      real(dp) :: max_cell_move = 1.0_dp
       ! resolved (derived) quantities, filled by resolve_config
       real(dp) :: wave_speed = 0.0_dp
       real(dp) :: dx = 0.0_dp
@@ -104,6 +106,8 @@ contains
       namelist /discretisation/ scheme, elements, particles_per_element, dt_fraction
       namelist /run/ periods, end_time
       namelist /output/ file, history, snapshot_times
+      real(dp) :: energy_growth_limit, max_cell_move
+      namelist /guards/ energy_growth_limit, max_cell_move
 
       character(len=16), allocatable :: found(:)
       character(len=16), allocatable :: known(:)
@@ -126,8 +130,10 @@ contains
       file = config%file
       history = config%history
       snapshot_times = unset
+      energy_growth_limit = config%energy_growth_limit
+      max_cell_move = config%max_cell_move
 
-      known = [character(len=16) :: 'scene', 'discretisation', 'run', 'output']
+      known = [character(len=16) :: 'scene', 'discretisation', 'run', 'output', 'guards']
       if (present(extra_groups)) known = [character(len=16) :: known, extra_groups]
       call scan_groups(path, known, found, error)
       if (allocated(error)) return
@@ -148,6 +154,8 @@ contains
             read (unit, nml=run, iostat=stat, iomsg=msg)
          case ('output')
             read (unit, nml=output, iostat=stat, iomsg=msg)
+         case ('guards')
+            read (unit, nml=guards, iostat=stat, iomsg=msg)
          case default
             cycle ! a group another reader handles
          end select
@@ -177,6 +185,8 @@ contains
       end if
       config%file = file
       config%history = history
+      config%energy_growth_limit = energy_growth_limit
+      config%max_cell_move = max_cell_move
       config%snapshot_count = count(snapshot_times /= unset)
       if (any(snapshot_times(config%snapshot_count + 1:) /= unset)) then
          call append_error(error, "output: snapshot_times must be given as one contiguous list")
@@ -398,6 +408,12 @@ contains
       else
          call positive(config%periods, 'run: periods', '')
       end if
+      if (.not. ieee_is_finite(config%energy_growth_limit) .or. config%energy_growth_limit <= 1.0_dp) &
+         call append_error(error, "guards: energy_growth_limit = "//str(config%energy_growth_limit)// &
+                           " is out of range; allowed: finite real > 1 (factor of the initial energy)")
+      if (.not. ieee_is_finite(config%max_cell_move) .or. config%max_cell_move <= 0.0_dp) &
+         call append_error(error, "guards: max_cell_move = "//str(config%max_cell_move)// &
+                           " is out of range; allowed: finite real > 0 (cells per step)")
       if (len_trim(config%file) == 0) call append_error(error, "output: file is empty; allowed: a file name ending in .h5")
       if (config%snapshot_count > 0) then
          if (.not. all(ieee_is_finite(config%snapshot_times(1:config%snapshot_count))) .or. &
@@ -485,6 +501,25 @@ contains
       end if
    end function run_end_time
 
+   !> The time-step fraction above which `scheme` with `particles_per_element` is linearly unstable
+   !> on fine meshes (studies/stability/linear_stability.py, 20 elements; coarser meshes allow a
+   !> little more). Used to warn, not to refuse: stability studies go beyond it on purpose.
+   pure real(dp) function stability_limit(scheme, particles_per_element)
+      character(len=*), intent(in) :: scheme
+      integer, intent(in) :: particles_per_element
+      real(dp), parameter :: usl(8) = [0.7079_dp, 0.7568_dp, 0.7670_dp, 0.7706_dp, 0.7724_dp, 0.7733_dp, &
+                                       0.7739_dp, 0.7742_dp]
+      real(dp), parameter :: usf(8) = [2.0062_dp, 1.7332_dp, 1.6784_dp, 1.6601_dp, 1.6503_dp, 1.6450_dp, &
+                                       1.6418_dp, 1.6398_dp]
+      integer :: k
+      k = min(max(particles_per_element, 1), 8)
+      if (trim(scheme) == 'usl') then
+         stability_limit = usl(k)
+      else ! USF and MUSL share their linear spectrum
+         stability_limit = usf(k)
+      end if
+   end function stability_limit
+
    !> The variables of each group, for messages.
    function group_names(group) result(names)
       character(len=*), intent(in) :: group
@@ -498,6 +533,8 @@ contains
          names = 'periods, end_time'
       case ('output')
          names = 'file, history, snapshot_times'
+      case ('guards')
+         names = 'energy_growth_limit, max_cell_move'
       case default
          names = '(see mpm1d --help)'
       end select
@@ -551,7 +588,8 @@ contains
          text = text//"&run periods="//str(config%periods)//" /"//nl
       end if
       text = text//"&output file='"//trim(config%file)//"', history="//merge('T', 'F', config%history)// &
-             snapshot_list()//" /"
+             snapshot_list()//" /"//nl//"&guards energy_growth_limit="//str(config%energy_growth_limit)// &
+             ", max_cell_move="//str(config%max_cell_move)//" /"
    contains
       function snapshot_list() result(list)
          character(len=:), allocatable :: list

@@ -110,6 +110,7 @@ contains
          call h5%attribute_real(group, 'periods', config%periods)
       end if
       call h5%attribute_real(group, 'energy_growth_limit', config%energy_growth_limit)
+      call h5%attribute_real(group, 'max_cell_move', config%max_cell_move)
       call h5%attribute_real(group, 'wave_speed', config%wave_speed)
       call h5%attribute_real(group, 'dx', config%dx)
       call h5%attribute_real(group, 'dt', config%dt)

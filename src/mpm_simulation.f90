@@ -161,9 +161,9 @@ contains
          else if (totals%min_volume_ratio <= 0.0_dp) then
             call trip(step, time, status_volume_ratio, 'volume ratio J = V/V0 <= 0', &
                       minloc(particles%volume_ratio, 1))
-         else if (totals%max_cell_move > 1.0_dp) then
+         else if (totals%max_cell_move > config%max_cell_move) then
             call trip(step, time, status_cell_crossing, 'a particle moved '//str(totals%max_cell_move)// &
-                      ' cells in one step (more than one cell)', totals%furthest)
+                      ' cells in one step (limit '//str(config%max_cell_move)//')', totals%furthest)
          else if (energy > config%energy_growth_limit*energy_reference) then
             call trip(step, time, status_energy_growth, 'total energy grew to '//str(energy/energy_reference)// &
                       ' times its initial value (limit '//str(config%energy_growth_limit)//')', &

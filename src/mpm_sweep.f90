@@ -10,7 +10,7 @@ module mpm_sweep
    use mpm_errors, only: error_t, set_error, append_error
    use mpm_strings, only: str, lower
    use mpm_config, only: config_t, read_config, validate_config, resolve_config, is_known_scheme, known_schemes, &
-                         read_group_error, unset
+                         read_group_error, unset, group_text
    use mpm_simulation, only: run_result_t, run_simulation
    use mpm_diagnostics, only: history_t, status_ok, status_setup_failed, status_not_run
    use mpm_progress, only: progress_t
@@ -143,6 +143,8 @@ contains
             'timing_threads, histories, shard, shards, progress', stat, msg))
          return
       end if
+      call check_empty_lists(lower(group_text(path, 'sweep')), error)
+      if (allocated(error)) return
       if (shards_override > 0) then
          shard = shard_override
          shards = shards_override
@@ -209,6 +211,56 @@ contains
          end if
       end function list_or_default_text
    end subroutine read_sweep
+
+   !> gfortran accepts `name = /` or `name = , other = ...` and leaves the list untouched; a sweep
+   !> over an empty list is surely a mistake, so report it.
+   subroutine check_empty_lists(body, error)
+      character(len=*), intent(in) :: body
+      type(error_t), allocatable, intent(inout) :: error
+      integer :: i, j, start
+      character(len=*), parameter :: word = 'abcdefghijklmnopqrstuvwxyz0123456789_'
+      do i = 1, len_trim(body)
+         if (body(i:i) /= '=') cycle
+         ! the value: up to the next '/', or the next identifier followed by '='
+         j = i + 1
+         do while (j <= len_trim(body))
+            if (body(j:j) /= ' ' .and. body(j:j) /= ',') exit
+            j = j + 1
+         end do
+         if (j > len_trim(body)) exit
+         if (body(j:j) == '/' .or. is_name_assignment(j)) then
+            start = i - 1
+            do while (start > 1)
+               if (body(start:start) /= ' ') exit
+               start = start - 1
+            end do
+            j = start
+            do while (j > 1)
+               if (scan(body(j - 1:j - 1), word) == 0) exit
+               j = j - 1
+            end do
+            call append_error(error, "sweep: "//body(j:start)//" is an empty list; allowed: one or more values")
+         end if
+         if (index(body(i:), '/') == 0) exit
+      end do
+   contains
+      logical function is_name_assignment(k)
+         integer, intent(in) :: k
+         integer :: m
+         is_name_assignment = .false.
+         m = k
+         do while (m <= len_trim(body))
+            if (scan(body(m:m), word) == 0) exit
+            m = m + 1
+         end do
+         if (m == k) return
+         do while (m <= len_trim(body))
+            if (body(m:m) /= ' ') exit
+            m = m + 1
+         end do
+         is_name_assignment = body(m:m) == '='
+      end function is_name_assignment
+   end subroutine check_empty_lists
 
    !> Check every list value and the run settings; report all problems.
    subroutine validate_sweep(sweep, error)

@@ -5,7 +5,7 @@ program test_cli
    use mpm_errors, only: error_t
    use mpm_hdf5, only: h5_read_real, h5_read_int
    use mpm_files, only: file_exists
-   use mpm_testing, only: tester_t, run_app, scratch_dir
+   use mpm_testing, only: tester_t, run_app, scratch_dir, app_path
    implicit none
    type(tester_t) :: t
    character(len=:), allocatable :: dir
@@ -52,6 +52,11 @@ program test_cli
             'memory available')
    call bad('no finite wave speed', "&scene youngs_modulus=1.0e300, density=1.0e-300 /", 'wave speed')
    call bad('every problem reported', "&scene length=-1.0, density=-2.0 /&discretisation elements=0 /", 'elements')
+   call bad('bad energy guard', "&guards energy_growth_limit=0.5 /", 'energy_growth_limit')
+   call bad('unknown guard', "&guards energy_limit=3.0 /", 'energy_limit')
+   call bad('empty list in a sweep', "&sweep elements= /", 'empty list')
+   call bad('bad list value in a sweep', "&sweep particles_per_element=1, -4 /", 'particles_per_element(2)')
+   call bad('bad shard in a sweep', "&sweep shard=0 /", 'shard')
    call bad_file('missing input file', 'no_such_input.nml', 'cannot open')
    call bad_file('input is a folder', '.', 'input')
    print '(a,i0,a)', 'test_cli: ', cases, ' malformed inputs checked'
@@ -59,6 +64,7 @@ program test_cli
    call default_run()
    call help_and_usage()
    call guard_trip()
+   call killed_run()
    call t%finish()
 
 contains
@@ -128,6 +134,7 @@ contains
       close (unit)
       call run_app(dir, 'unstable.nml', status, output)
       call t%check('unstable run exit 1', status == 1, output)
+      call t%check_contains('warning about the stability limit', output, 'above the linear stability limit')
       call t%check_contains('guard message names the guard', output, 'guard ')
       call t%check_contains('guard message gives the particle', output, 'particle ')
       call h5_read_int(dir//'/unstable.h5', '/summary/status', code, error)
@@ -138,6 +145,19 @@ contains
       call h5_read_real(dir//'/unstable.h5', '/history/ucm', ucm, error)
       call t%check('history kept up to the trip', size(ucm) == steps(1) + 2)
    end subroutine guard_trip
+
+   !> A run killed midway leaves nothing under its final name.
+   subroutine killed_run()
+      integer :: status, unit
+      open (newunit=unit, file=dir//'/long.nml', status='replace', action='write')
+      write (unit, '(a)') "&discretisation elements=2000, particles_per_element=10, dt_fraction=0.05 /", &
+         "&run periods=200.0 /", "&output file='long.h5', history=.false. /"
+      close (unit)
+      call execute_command_line('cd '//dir//' && timeout -s KILL 1 '//app_path()//' long.nml > /dev/null 2>&1', &
+                                exitstat=status)
+      call t%check('long run was killed', status /= 0)
+      call t%check('killed run leaves no file under the final name', .not. file_exists(dir//'/long.h5'))
+   end subroutine killed_run
 
    function itoa(i) result(text)
       integer, intent(in) :: i

@@ -71,6 +71,8 @@ program test_sweep
    call bad_sweep("&sweep min_time=-1.0 /", 'min_time')
    call bad_sweep("&sweep timing_threads=0 /", 'timing_threads')
    call bad_sweep("&sweep particle_per_element=3 /", 'particle_per_element')
+   call bad_sweep("&sweep elements= /", 'elements is an empty list')
+   call bad_sweep("&sweep elements=, dt_fractions=0.1 /", 'elements is an empty list')
    call t%finish()
 
 contains
