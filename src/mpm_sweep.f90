@@ -14,6 +14,7 @@ module mpm_sweep
    use mpm_simulation, only: run_result_t, run_simulation
    use mpm_diagnostics, only: history_t, status_ok, status_setup_failed, status_not_run
    use mpm_progress, only: progress_t
+   use mpm_sort, only: sort_order, median
    implicit none
    private
    public :: sweep_config_t, sweep_case_t, sweep_t, read_sweep, sweep_cases, run_sweep, has_sweep_group, case_config
@@ -411,30 +412,36 @@ contains
       if (threads == 0) threads = omp_get_max_threads()
       sweep%threads_used = threads
       order = by_decreasing_cost(sweep%cases)
-      call error_pass(sweep, order, threads)
+      call over_cases(sweep, order, threads, timing=.false.)
       sweep%error_pass_time = omp_get_wtime() - start
       if (sweep%settings%min_time > 0.0_dp) then
-         call timing_pass(sweep, order, sweep%settings%timing_threads)
+         call over_cases(sweep, order, sweep%settings%timing_threads, timing=.true.)
          sweep%timing_pass_time = omp_get_wtime() - start - sweep%error_pass_time
       end if
       sweep%wall_time = omp_get_wtime() - start
    end subroutine run_sweep
 
-   !> Every case once; expensive cases first so the dynamic schedule ends evenly.
-   subroutine error_pass(sweep, order, threads)
+   !> Every case once, or (timing) every case repeated until min_time; expensive cases first so
+   !> the dynamic schedule ends evenly. Each case writes only its own slot.
+   subroutine over_cases(sweep, order, threads, timing)
       type(sweep_t), intent(inout) :: sweep
       integer, intent(in) :: order(:), threads
+      logical, intent(in) :: timing
       type(progress_t) :: progress
       integer :: k
-      call progress%start('error pass', size(order), sweep%settings%progress)
-      !$omp parallel do default(none) schedule(dynamic, 1) num_threads(threads) shared(sweep, order, progress)
+      call progress%start(merge('timing pass', 'error pass ', timing), size(order), sweep%settings%progress)
+      !$omp parallel do default(none) schedule(dynamic, 1) num_threads(threads) shared(sweep, order, progress, timing)
       do k = 1, size(order)
-         call run_case(sweep%base, sweep%settings%histories, sweep%cases(order(k)))
+         if (timing) then
+            call time_case(sweep%base, sweep%settings%min_time, sweep%cases(order(k)))
+         else
+            call run_case(sweep%base, sweep%settings%histories, sweep%cases(order(k)))
+         end if
          call progress%advance()
       end do
       !$omp end parallel do
       call progress%finish()
-   end subroutine error_pass
+   end subroutine over_cases
 
    !> Run one case and store its summary (and history, if asked) in its own slot.
    subroutine run_case(base, keep_history, c)
@@ -479,23 +486,10 @@ contains
       call move_alloc(from%strain_energy, to%strain_energy)
    end subroutine move_alloc_history
 
-   !> Repeat each case (set-up and time loop, no output) until min_time of measured run time is
-   !> reached (at least 3 runs) and keep the median time per run. Failed cases are not timed.
-   subroutine timing_pass(sweep, order, threads)
-      type(sweep_t), intent(inout) :: sweep
-      integer, intent(in) :: order(:), threads
-      type(progress_t) :: progress
-      integer :: k
-      call progress%start('timing pass', size(order), sweep%settings%progress)
-      !$omp parallel do default(none) schedule(dynamic, 1) num_threads(threads) shared(sweep, order, progress)
-      do k = 1, size(order)
-         call time_case(sweep%base, sweep%settings%min_time, sweep%cases(order(k)))
-         call progress%advance()
-      end do
-      !$omp end parallel do
-      call progress%finish()
-   end subroutine timing_pass
 
+
+   !> Repeat one case (set-up and time loop, no output) until min_time of measured run time is
+   !> reached (at least 3 runs) and keep the median time per run. Failed cases are not timed.
    subroutine time_case(base, min_time, c)
       type(config_t), intent(in) :: base
       real(dp), intent(in) :: min_time
@@ -524,49 +518,12 @@ contains
       c%run_time = median(times(1:n))
    end subroutine time_case
 
-   !> Median of a small array (sorted copy).
-   real(dp) function median(values)
-      real(dp), intent(in) :: values(:)
-      real(dp), allocatable :: sorted(:)
-      integer :: i, j, n
-      real(dp) :: key
-      sorted = values
-      n = size(sorted)
-      do i = 2, n
-         key = sorted(i)
-         j = i - 1
-         do while (j >= 1)
-            if (sorted(j) <= key) exit
-            sorted(j + 1) = sorted(j)
-            j = j - 1
-         end do
-         sorted(j + 1) = key
-      end do
-      if (mod(n, 2) == 1) then
-         median = sorted((n + 1)/2)
-      else
-         median = 0.5_dp*(sorted(n/2) + sorted(n/2 + 1))
-      end if
-   end function median
-
    !> Case order by decreasing estimated cost (particles x steps).
    function by_decreasing_cost(cases) result(order)
       type(sweep_case_t), intent(in) :: cases(:)
       integer, allocatable :: order(:)
-      real(dp), allocatable :: cost(:)
-      integer :: i, j, key
-      cost = [(real(cases(i)%particles, dp)*cases(i)%steps, i=1, size(cases))]
-      order = [(i, i=1, size(cases))]
-      do i = 2, size(order)
-         key = order(i)
-         j = i - 1
-         do while (j >= 1)
-            if (cost(order(j)) >= cost(key)) exit
-            order(j + 1) = order(j)
-            j = j - 1
-         end do
-         order(j + 1) = key
-      end do
+      integer :: i
+      order = sort_order([(-real(cases(i)%particles, dp)*cases(i)%steps, i=1, size(cases))])
    end function by_decreasing_cost
 
    !> The &sweep group as namelist text (stored in the output file).

@@ -10,6 +10,7 @@ module mpm_sweep_output
    use mpm_version, only: code_version
    use mpm_diagnostics, only: status_name
    use mpm_sweep, only: sweep_t, sweep_case_t
+   use mpm_sort, only: sort_order
    implicit none
    private
    public :: write_sweep_file, merge_sweep_files
@@ -192,7 +193,7 @@ contains
                         str(first%total_cases))
          return
       end if
-      order = sort_by_index(cases)
+      order = sort_order(real(cases%index, dp))
       cases = cases(order)
       first%shard = 1
       first%shards = 1
@@ -352,20 +353,5 @@ contains
       end subroutine real_column
    end subroutine read_cases
 
-   function sort_by_index(cases) result(order)
-      type(sweep_case_t), intent(in) :: cases(:)
-      integer, allocatable :: order(:)
-      integer :: i, j, key
-      order = [(i, i=1, size(cases))]
-      do i = 2, size(order)
-         key = order(i)
-         j = i - 1
-         do while (j >= 1)
-            if (cases(order(j))%index <= cases(key)%index) exit
-            order(j + 1) = order(j)
-            j = j - 1
-         end do
-         order(j + 1) = key
-      end do
-   end function sort_by_index
+
 end module mpm_sweep_output
