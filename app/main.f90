@@ -9,7 +9,7 @@ program mpm1d_main
    use mpm_errors, only: error_t
    use mpm_strings, only: str
    use mpm_config, only: config_t, read_config, default_config, write_config_namelist, config_summary, stability_limit
-   use mpm_simulation, only: run_result_t, run_simulation
+   use mpm_simulation, only: run_result_t, run_simulation, guard_message
    use mpm_output, only: write_run_file
    use mpm_diagnostics, only: status_ok
    use mpm_version, only: code_version
@@ -68,7 +68,8 @@ program mpm1d_main
       str(result%run_time)//' s, '//str(real(result%particles, dp)*result%steps_done/max(result%run_time, 1.0e-9_dp))// &
       ' particle-steps/s'
    write (output_unit, '(a)') 'wrote '//trim(config%file)
-   if (result%status /= status_ok) call fail(result%message//new_line('a')//'the history up to that step is in '// &
+   if (result%status /= status_ok) call fail(guard_message(result%status, result%trip, config)//new_line('a')// &
+                                             'the history up to that step is in '// &
                                              trim(config%file), 1)
 
 contains

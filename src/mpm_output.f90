@@ -6,8 +6,8 @@ module mpm_output
    use mpm_config, only: config_t, config_namelist, unset
    use mpm_hdf5, only: h5_writer_t
    use mpm_version, only: code_version
-   use mpm_diagnostics, only: status_name
-   use mpm_simulation, only: run_result_t
+   use mpm_diagnostics, only: status_name, status_ok
+   use mpm_simulation, only: run_result_t, guard_message
    implicit none
    private
    public :: write_run_file, write_config_attributes
@@ -50,8 +50,8 @@ contains
       call h5%write_real_scalar('/summary/run_time', result%run_time)
       call h5%write_int_scalar('/summary/status', result%status)
       call h5%write_string_scalar('/summary/status_name', status_name(result%status))
-      if (allocated(result%message)) then
-         call h5%write_string_scalar('/summary/message', result%message)
+      if (result%status /= status_ok) then
+         call h5%write_string_scalar('/summary/message', guard_message(result%status, result%trip, config))
       else
          call h5%write_string_scalar('/summary/message', 'completed')
       end if

@@ -18,14 +18,25 @@ module mpm_simulation
                               status_left_grid, status_energy_growth, status_cell_crossing, status_name
    implicit none
    private
-   public :: run_result_t, run_simulation, scheme_id
+   public :: run_result_t, run_simulation, scheme_id, guard_trip_t, guard_message
 
    integer, parameter :: scheme_usf = 1, scheme_usl = 2, scheme_musl = 3
+
+   !> What a guard saw when it stopped a run. Numbers only: the text is made by `guard_message`
+   !> outside any parallel region (gfortran's formatted internal writes are not safe to run
+   !> concurrently: messages built in sweep threads came out garbled).
+   type :: guard_trip_t
+      integer :: step = 0
+      integer :: particle = 0       !< the particle at fault (0 if none)
+      real(dp) :: time = 0.0_dp
+      real(dp) :: value = 0.0_dp    !< the quantity that tripped (energy ratio, cells moved)
+      real(dp) :: x = 0.0_dp, v = 0.0_dp, stress = 0.0_dp, volume_ratio = 0.0_dp
+   end type guard_trip_t
 
    !> What one run produced.
    type :: run_result_t
       integer :: status = status_ok
-      character(len=:), allocatable :: message  !< guard message when status /= ok
+      type(guard_trip_t) :: trip            !< when status /= ok
       integer :: steps = 0          !< steps asked for
       integer :: steps_done = 0     !< steps completed (= steps unless a guard tripped)
       real(dp) :: dt = 0.0_dp
@@ -148,40 +159,37 @@ contains
 
    contains
 
-      !> Trip the first guard that applies, in order of severity, and describe the culprit.
+      !> Trip the first guard that applies, in order of severity, and record the culprit.
       subroutine check_guards(step, time)
          integer, intent(in) :: step
          real(dp), intent(in) :: time
          if (.not. ieee_is_finite(energy) .or. .not. ieee_is_finite(ucm)) then
-            call trip(step, time, status_non_finite, 'non-finite value (NaN or Infinity) in the particle state', &
-                      first_non_finite(particles))
+            call trip(step, time, status_non_finite, energy/energy_reference, first_non_finite(particles))
          else if (totals%outside /= 0) then
-            call trip(step, time, status_left_grid, 'a particle left the grid [0, '//str(grid%length)//'] m', &
-                      totals%outside)
+            call trip(step, time, status_left_grid, 0.0_dp, totals%outside)
          else if (totals%min_volume_ratio <= 0.0_dp) then
-            call trip(step, time, status_volume_ratio, 'volume ratio J = V/V0 <= 0', &
-                      minloc(particles%volume_ratio, 1))
+            call trip(step, time, status_volume_ratio, totals%min_volume_ratio, minloc(particles%volume_ratio, 1))
          else if (totals%max_cell_move > config%max_cell_move) then
-            call trip(step, time, status_cell_crossing, 'a particle moved '//str(totals%max_cell_move)// &
-                      ' cells in one step (limit '//str(config%max_cell_move)//')', totals%furthest)
+            call trip(step, time, status_cell_crossing, totals%max_cell_move, totals%furthest)
          else if (energy > config%energy_growth_limit*energy_reference) then
-            call trip(step, time, status_energy_growth, 'total energy grew to '//str(energy/energy_reference)// &
-                      ' times its initial value (limit '//str(config%energy_growth_limit)//')', &
-                      maxloc(abs(particles%v), 1))
+            call trip(step, time, status_energy_growth, energy/energy_reference, maxloc(abs(particles%v), 1))
          end if
       end subroutine check_guards
 
-      !> End the run with status `code`: what tripped, when, and the state of particle `p`.
-      subroutine trip(step, time, code, what, p)
+      subroutine trip(step, time, code, value, p)
          integer, intent(in) :: step, code, p
-         real(dp), intent(in) :: time
-         character(len=*), intent(in) :: what
+         real(dp), intent(in) :: time, value
          result%status = code
-         result%message = 'guard '//status_name(code)//' tripped at step '//str(step)//' of '// &
-                          str(config%steps)//' (t = '//str(time)//' s, dt = '//str(config%dt)//' s): '//what
-         if (p >= 1 .and. p <= particles%count) result%message = result%message//'; particle '//str(p)// &
-            ': x = '//str(particles%x(p))//' m, v = '//str(particles%v(p))//' m/s, stress = '// &
-            str(particles%stress(p))//' Pa, J = '//str(particles%volume_ratio(p))
+         result%trip%step = step
+         result%trip%time = time
+         result%trip%value = value
+         result%trip%particle = p
+         if (p >= 1 .and. p <= particles%count) then
+            result%trip%x = particles%x(p)
+            result%trip%v = particles%v(p)
+            result%trip%stress = particles%stress(p)
+            result%trip%volume_ratio = particles%volume_ratio(p)
+         end if
       end subroutine trip
 
       subroutine take_snapshots(step, time)
@@ -209,6 +217,35 @@ contains
          end do
       end subroutine take_snapshots
    end subroutine run_simulation
+
+   !> The message of a run stopped by a guard: what tripped, when, and the particle at fault.
+   !> Call it outside parallel regions (it uses formatted internal writes).
+   function guard_message(status, trip, config) result(text)
+      integer, intent(in) :: status
+      type(guard_trip_t), intent(in) :: trip
+      type(config_t), intent(in) :: config
+      character(len=:), allocatable :: text, what
+      select case (status)
+      case (status_non_finite)
+         what = 'non-finite value (NaN or Infinity) in the particle state'
+      case (status_left_grid)
+         what = 'a particle left the grid [0, '//str(config%length)//'] m'
+      case (status_volume_ratio)
+         what = 'volume ratio J = V/V0 <= 0'
+      case (status_cell_crossing)
+         what = 'a particle moved '//str(trip%value)//' cells in one step (limit '//str(config%max_cell_move)//')'
+      case (status_energy_growth)
+         what = 'total energy grew to '//str(trip%value)//' times its initial value (limit '// &
+                str(config%energy_growth_limit)//')'
+      case default
+         text = status_name(status)
+         return
+      end select
+      text = 'guard '//status_name(status)//' tripped at step '//str(trip%step)//' of '//str(config%steps)// &
+             ' (t = '//str(trip%time)//' s, dt = '//str(config%dt)//' s): '//what
+      if (trip%particle > 0) text = text//'; particle '//str(trip%particle)//': x = '//str(trip%x)//' m, v = '// &
+                                    str(trip%v)//' m/s, stress = '//str(trip%stress)//' Pa, J = '//str(trip%volume_ratio)
+   end function guard_message
 
    integer function first_non_finite(particles) result(p)
       type(particles_t), intent(in) :: particles

@@ -11,7 +11,7 @@ module mpm_sweep
    use mpm_strings, only: str, lower
    use mpm_config, only: config_t, read_config, validate_config, resolve_config, is_known_scheme, known_schemes, &
                          read_group_error, unset, group_text
-   use mpm_simulation, only: run_result_t, run_simulation
+   use mpm_simulation, only: run_result_t, run_simulation, guard_trip_t, guard_message
    use mpm_diagnostics, only: history_t, status_ok, status_setup_failed, status_not_run
    use mpm_progress, only: progress_t
    use mpm_sort, only: sort_order, median
@@ -54,7 +54,8 @@ module mpm_sweep
       real(dp) :: dt = 0.0_dp, max_error = 0.0_dp, relative_error = 0.0_dp, run_time = 0.0_dp
       real(dp) :: max_energy_ratio = 0.0_dp, final_energy_ratio = 0.0_dp
       real(dp) :: min_volume_ratio = 0.0_dp, max_cell_move = 0.0_dp, min_node_mass_ratio = 0.0_dp
-      character(len=:), allocatable :: message
+      character(len=:), allocatable :: message !< why the case failed (made after the parallel loop)
+      type(guard_trip_t) :: trip
       type(history_t) :: history
    end type sweep_case_t
 
@@ -413,6 +414,7 @@ contains
       sweep%threads_used = threads
       order = by_decreasing_cost(sweep%cases)
       call over_cases(sweep, order, threads, timing=.false.)
+      call describe_failures(sweep)
       sweep%error_pass_time = omp_get_wtime() - start
       if (sweep%settings%min_time > 0.0_dp) then
          call over_cases(sweep, order, sweep%settings%timing_threads, timing=.true.)
@@ -443,6 +445,21 @@ contains
       call progress%finish()
    end subroutine over_cases
 
+   !> Messages of the failed cases, made here, serially (see guard_message).
+   subroutine describe_failures(sweep)
+      type(sweep_t), intent(inout) :: sweep
+      integer :: i
+      do i = 1, size(sweep%cases)
+         associate (c => sweep%cases(i))
+            if (c%status == status_setup_failed) then
+               c%message = 'the run could not be set up: not enough memory for '//str(c%particles)//' particles'
+            else if (c%status /= status_ok) then
+               c%message = guard_message(c%status, c%trip, case_config(sweep%base, c))
+            end if
+         end associate
+      end do
+   end subroutine describe_failures
+
    !> Run one case and store its summary (and history, if asked) in its own slot.
    subroutine run_case(base, keep_history, c)
       type(config_t), intent(in) :: base
@@ -456,11 +473,10 @@ contains
       call run_simulation(config, result, error, record_history=keep_history)
       if (allocated(error)) then
          c%status = status_setup_failed
-         c%message = error%message
          return
       end if
       c%status = result%status
-      if (allocated(result%message)) c%message = result%message
+      c%trip = result%trip
       c%max_error = result%max_error
       c%relative_error = result%relative_error
       c%max_energy_ratio = result%max_energy_ratio

@@ -63,6 +63,8 @@ program test_sweep
    call merge_sweep_files(dir//'/bad.h5', shard_files([1, 1, 2]), error)
    call t%check('merge refuses a repeated shard', allocated(error))
 
+   call unstable_messages()
+
    call bad_sweep("&sweep elements=3, 0 /", 'elements(2)')
    call bad_sweep("&sweep schemes='usf', 'fls' /", 'schemes(2)')
    call bad_sweep("&sweep dt_fractions=0.1, NaN /", 'dt_fractions(2)')
@@ -76,6 +78,41 @@ program test_sweep
    call t%finish()
 
 contains
+
+   !> Many cases stopped by guards at once on 2 threads: the same statuses and the same, intact
+   !> messages as on 1 thread.
+   subroutine unstable_messages()
+      type(sweep_t) :: serial, parallel
+      integer :: u, k
+      logical :: same
+      open (newunit=u, file=dir//'/unstable.nml', status='replace', action='write')
+      write (u, '(a)') "&output file='"//dir//"/unstable.h5' /", &
+         "&sweep schemes='usl','usf', elements=5,10,20, particles_per_element=1,2,3,4, "// &
+         "dt_fractions=1.0,1.5,2.2,2.4,2.6, min_time=0.0 /"
+      close (u)
+      call read_sweep(dir//'/unstable.nml', serial, error, 0, 0, 1)
+      call run_sweep(serial)
+      call read_sweep(dir//'/unstable.nml', parallel, error, 0, 0, 2)
+      call run_sweep(parallel)
+      call t%check('unstable sweep: many cases stopped', count(serial%cases%status /= status_ok) > 50)
+      call t%check('unstable sweep: same statuses on 1 and 2 threads', all(serial%cases%status == parallel%cases%status))
+      same = .true.
+      do k = 1, size(serial%cases)
+         if (serial%cases(k)%status == status_ok) cycle
+         if (serial%cases(k)%message /= parallel%cases(k)%message) same = .false.
+         if (index(parallel%cases(k)%message, ' tripped at step ') == 0 .or. &
+             index(parallel%cases(k)%message, ' of '//itoa(parallel%cases(k)%steps)//' (t = ') == 0) same = .false.
+      end do
+      call t%check('unstable sweep: intact, identical messages on 1 and 2 threads', same)
+   end subroutine unstable_messages
+
+   function itoa(i) result(text)
+      integer, intent(in) :: i
+      character(len=:), allocatable :: text
+      character(len=12) :: buffer
+      write (buffer, '(i0)') i
+      text = trim(buffer)
+   end function itoa
 
    subroutine compare_with_single_run(index)
       integer, intent(in) :: index
