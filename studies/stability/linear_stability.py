@@ -326,6 +326,36 @@ def rho_map(scheme: str, ks, ppcs, elements: int = 10, **material) -> np.ndarray
     return out
 
 
+def energy_ratios(scheme: str, k: float, ppc: int, elements: int, steps: int, mode: int = 1,
+                  **material):
+    """Linearised run of the bar from mpm1d's initial state: (max, final) energy ratio.
+
+    Iterates the linearised step (`Model.step`) for `steps` steps from v_p = sin(beta_n X_p),
+    sigma = 0, and measures the energy as mpm1d does (kinetic sum m v^2/2 plus strain
+    sum sigma^2 V0/(2E)) relative to its initial value.  This predicts what the energy_growth
+    guard sees in a linearly stable run: the particle energy is not the invariant of the
+    discrete map, so it oscillates, and for a few coarse cases close to k_crit its maximum
+    exceeds the guard's limit although rho(A) <= 1.  Amplitude-independent (linear).
+    """
+    m = Model(elements, ppc, **material)
+    beta = (2 * mode - 1) * math.pi / (2 * m.length)
+    v = np.sin(beta * m.x)
+    sigma = np.zeros_like(v)
+
+    def energy(v, sigma):
+        return 0.5 * m.mass * float(v @ v) + 0.5 * m.volume0 / m.youngs * float(sigma @ sigma)
+
+    e0 = energy(v, sigma)
+    emax = 1.0
+    for _ in range(int(steps)):
+        v, sigma = m.step(scheme, k, v, sigma)
+        e = energy(v, sigma) / e0
+        emax = max(emax, e)
+        if e > 1.0e100:                 # clearly unstable: stop before overflow
+            return math.inf, math.inf
+    return emax, e
+
+
 def spectral_radius(scheme: str, k: float, ppc: int, elements: int, **material) -> float:
     """Convenience: rho(A) of one case, from the full (unreduced) matrix."""
     A = Model(elements, ppc, **material).amplification_matrix(scheme, k)
