@@ -122,7 +122,7 @@ class Report:
 
     def footer(self, fig, sources: str) -> None:
         version = ', '.join(sorted(self.versions)) or 'unknown'
-        fig.text(0.005, 0.005, f'mpm1d {version}  |  {sources}  |  '
+        fig.text(0.005, 0.005, f'{version}  |  {sources}  |  '
                  f'{datetime.date.today().isoformat()}', fontsize=6.5, color='0.35')
 
     def save(self, fig, name: str, sources: str) -> None:
