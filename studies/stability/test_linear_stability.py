@@ -285,6 +285,18 @@ def test_cli_help_and_csv():
         assert ls.main(["--schemes", "foo", "--out", tempfile.gettempdir()]) == 2
 
 
+def test_energy_ratio_one_element_usl_is_one_plus_k_squared():
+    # USL, one element, one particle: v' = v, s' = k v after the first step from s = 0, so the
+    # particle energy grows by 1 + k^2 (in c = rho = 1 units); it reaches 2 at k = 1, below
+    # k_crit = 2/sqrt(3): the energy_growth guard (limit 2) trips on a linearly stable run.
+    for k in (0.1, 0.5, 0.9):
+        emax, _ = ls.energy_ratios("usl", k, 1, 1, 1)
+        assert abs(emax - (1 + k * k)) < 1e-12, (k, emax)
+    # a stable USF run keeps its energy bounded, an unstable one blows up
+    assert ls.energy_ratios("usf", 1.0, 1, 20, 500)[0] < 1.5
+    assert ls.energy_ratios("usl", 0.75, 1, 20, 2000)[0] > 1e3
+
+
 # ---------------------------------------------------------------------------------------------
 
 def run_all() -> int:
