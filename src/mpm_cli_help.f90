@@ -30,7 +30,7 @@ contains
          "  &output file='bar.h5', history=.true., snapshot_times=0.0, 0.01 /", &
          '      history: write u_cm(t), exact u_cm(t) and energies at every step;', &
          '      snapshot_times (s): particle and grid state at these times (none by default)', &
-         '  &guards energy_growth_limit=2.0, max_cell_move=1.0 /', &
+         '  &guards energy_growth_limit=10.0, max_cell_move=1.0 /', &
          '      a run stops (exit 1, history kept) on NaN/Infinity, J <= 0, a particle leaving the grid,', &
          '      total energy above energy_growth_limit x initial, or a move of more than max_cell_move cells', &
          '  &sweep schemes=..., elements=..., particles_per_element=..., dt_fractions=..., youngs_moduli=...,', &

@@ -51,7 +51,7 @@ module mpm_config
       real(dp) :: snapshot_times(max_snapshots) = 0.0_dp
       ! &guards
       !> A run fails when its total energy exceeds this factor times the initial energy.
-      real(dp) :: energy_growth_limit = 2.0_dp
+      real(dp) :: energy_growth_limit = 10.0_dp
       !> A run fails when a particle moves more than this many cells in one step.
       real(dp) :: max_cell_move = 1.0_dp
       ! resolved (derived) quantities, filled by resolve_config

@@ -288,7 +288,8 @@ def test_cli_help_and_csv():
 def test_energy_ratio_one_element_usl_is_one_plus_k_squared():
     # USL, one element, one particle: v' = v, s' = k v after the first step from s = 0, so the
     # particle energy grows by 1 + k^2 (in c = rho = 1 units); it reaches 2 at k = 1, below
-    # k_crit = 2/sqrt(3): the energy_growth guard (limit 2) trips on a linearly stable run.
+    # k_crit = 2/sqrt(3): an energy_growth guard with limit 2 would trip on a linearly stable run
+    # (hence the default limit of 10).
     for k in (0.1, 0.5, 0.9):
         emax, _ = ls.energy_ratios("usl", k, 1, 1, 1)
         assert abs(emax - (1 + k * k)) < 1e-12, (k, emax)
