@@ -308,7 +308,7 @@ contains
    !> starts at the first particle whose cell is at least the segment's first element (binary search).
    subroutine find_particle_ranges(seg, cell, count)
       type(segments_t), intent(inout) :: seg
-      integer, intent(in) :: cell(:)
+      integer, intent(in), contiguous :: cell(:)
       integer, intent(in) :: count
       integer :: k, lo, hi, mid
       seg%first_particle(1) = 1
@@ -454,7 +454,7 @@ contains
       end if
    contains
       subroutine permute(a)
-         real(dp), intent(inout) :: a(:)
+         real(dp), intent(inout), contiguous :: a(:)
          copy(destination) = a
          a = copy
       end subroutine permute
@@ -468,7 +468,7 @@ contains
                                 momentum_left, momentum_right, stress_volume, seg)
       integer, intent(in) :: k, c, lo, hi, shares
       real(dp), intent(in) :: a1, a2, a3, a4, a5
-      real(dp), intent(inout) :: mass_left(:), mass_right(:), momentum_left(:), momentum_right(:), stress_volume(:)
+      real(dp), intent(inout), contiguous :: mass_left(:), mass_right(:), momentum_left(:), momentum_right(:), stress_volume(:)
       type(segments_t), intent(inout) :: seg
       if (c >= lo .and. c <= hi) then
          if (iand(shares, share_mass) /= 0) then
@@ -494,7 +494,7 @@ contains
                                 first, last, lo, hi)
       integer, intent(in) :: k, shares
       type(segments_t), intent(inout) :: seg
-      real(dp), intent(inout) :: mass_left(:), mass_right(:), momentum_left(:), momentum_right(:), stress_volume(:)
+      real(dp), intent(inout), contiguous :: mass_left(:), mass_right(:), momentum_left(:), momentum_right(:), stress_volume(:)
       integer, intent(out) :: first, last, lo, hi
       first = seg%first_particle(k)
       last = seg%first_particle(k + 1) - 1
@@ -523,11 +523,11 @@ contains
                           elements, inv_dx, dt, youngs_modulus, m, volume0)
       integer, intent(in) :: k
       type(segments_t), intent(inout) :: seg
-      real(dp), intent(inout) :: x(:), v(:), stress(:), volume_ratio(:)
-      real(dp), intent(in) :: x0(:)
-      integer, intent(inout) :: cell(:)
-      real(dp), intent(in) :: acceleration(0:), velocity(0:)
-      real(dp), intent(inout) :: mass_left(:), mass_right(:), momentum_left(:), momentum_right(:), stress_volume(:)
+      real(dp), intent(inout), contiguous :: x(:), v(:), stress(:), volume_ratio(:)
+      real(dp), intent(in), contiguous :: x0(:)
+      integer, intent(inout), contiguous :: cell(:)
+      real(dp), intent(in), contiguous :: acceleration(0:), velocity(0:)
+      real(dp), intent(inout), contiguous :: mass_left(:), mass_right(:), momentum_left(:), momentum_right(:), stress_volume(:)
       integer, intent(in) :: elements
       real(dp), intent(in) :: inv_dx, dt, youngs_modulus, m, volume0
       integer, parameter :: shares = share_mass + share_momentum + share_stress
@@ -611,11 +611,11 @@ contains
                                mass_left, mass_right, momentum_left, momentum_right, elements, inv_dx, dt, m)
       integer, intent(in) :: k
       type(segments_t), intent(inout) :: seg
-      real(dp), intent(inout) :: x(:), v(:)
-      real(dp), intent(in) :: x0(:)
-      integer, intent(inout) :: cell(:)
-      real(dp), intent(in) :: acceleration(0:), velocity(0:)
-      real(dp), intent(inout) :: mass_left(:), mass_right(:), momentum_left(:), momentum_right(:)
+      real(dp), intent(inout), contiguous :: x(:), v(:)
+      real(dp), intent(in), contiguous :: x0(:)
+      integer, intent(inout), contiguous :: cell(:)
+      real(dp), intent(in), contiguous :: acceleration(0:), velocity(0:)
+      real(dp), intent(inout), contiguous :: mass_left(:), mass_right(:), momentum_left(:), momentum_right(:)
       integer, intent(in) :: elements
       real(dp), intent(in) :: inv_dx, dt, m
       integer, parameter :: shares = share_mass + share_momentum
@@ -687,10 +687,10 @@ contains
                                  inv_dx, dt, youngs_modulus, volume0)
       integer, intent(in) :: k
       type(segments_t), intent(inout) :: seg
-      real(dp), intent(inout) :: stress(:), volume_ratio(:)
-      integer, intent(in) :: cell(:)
-      real(dp), intent(in) :: velocity(0:)
-      real(dp), intent(inout) :: stress_volume(:)
+      real(dp), intent(inout), contiguous :: stress(:), volume_ratio(:)
+      integer, intent(in), contiguous :: cell(:)
+      real(dp), intent(in), contiguous :: velocity(0:)
+      real(dp), intent(inout), contiguous :: stress_volume(:)
       real(dp), intent(in) :: inv_dx, dt, youngs_modulus, volume0
       integer, parameter :: shares = share_stress
       integer :: p, e, cur, first, last, lo, hi
@@ -733,11 +733,11 @@ contains
                                  inv_dx, dt, m)
       integer, intent(in) :: k
       type(segments_t), intent(inout) :: seg
-      real(dp), intent(inout) :: x(:), v(:)
-      real(dp), intent(in) :: x0(:)
-      integer, intent(in) :: cell(:)
-      real(dp), intent(in) :: acceleration(0:), velocity(0:)
-      real(dp), intent(inout) :: momentum_left(:), momentum_right(:)
+      real(dp), intent(inout), contiguous :: x(:), v(:)
+      real(dp), intent(in), contiguous :: x0(:)
+      integer, intent(in), contiguous :: cell(:)
+      real(dp), intent(in), contiguous :: acceleration(0:), velocity(0:)
+      real(dp), intent(inout), contiguous :: momentum_left(:), momentum_right(:)
       real(dp), intent(in) :: inv_dx, dt, m
       integer, parameter :: shares = share_momentum
       integer :: p, e, cur, first, last, lo, hi, furthest
@@ -793,11 +793,11 @@ contains
                                   elements, inv_dx, dt, youngs_modulus, m, volume0)
       integer, intent(in) :: k
       type(segments_t), intent(inout) :: seg
-      real(dp), intent(in) :: x(:), v(:)
-      real(dp), intent(inout) :: stress(:), volume_ratio(:)
-      integer, intent(inout) :: cell(:)
-      real(dp), intent(in) :: velocity(0:)
-      real(dp), intent(inout) :: mass_left(:), mass_right(:), momentum_left(:), momentum_right(:), stress_volume(:)
+      real(dp), intent(in), contiguous :: x(:), v(:)
+      real(dp), intent(inout), contiguous :: stress(:), volume_ratio(:)
+      integer, intent(inout), contiguous :: cell(:)
+      real(dp), intent(in), contiguous :: velocity(0:)
+      real(dp), intent(inout), contiguous :: mass_left(:), mass_right(:), momentum_left(:), momentum_right(:), stress_volume(:)
       integer, intent(in) :: elements
       real(dp), intent(in) :: inv_dx, dt, youngs_modulus, m, volume0
       integer, parameter :: shares = share_mass + share_momentum + share_stress
