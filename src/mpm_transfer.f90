@@ -17,7 +17,9 @@
 !> elements whose size depends on the problem only (see segments_t in mpm_grid); the segments of a
 !> pass run in an OpenMP loop, unless the caller is already inside a parallel region (a sweep), where
 !> the same segments run one after the other. Every sum is therefore associated the same way whatever
-!> the number of threads: results are bit-for-bit identical with 1, 2 or more threads.
+!> the number of threads (and whichever thread runs a segment: the loop is scheduled dynamically, so
+!> that a core shared with other work does not hold the other back): results are bit-for-bit
+!> identical with 1, 2 or more threads.
 module mpm_transfer
    use omp_lib, only: omp_in_parallel
    use mpm_kinds, only: dp
@@ -151,7 +153,7 @@ contains
       logical :: parallel
       call prepare_pass(particles, grid)
       parallel = grid%segments%count > 1 .and. .not. omp_in_parallel()
-      !$omp parallel do if(parallel) default(shared) private(k) schedule(static)
+      !$omp parallel do if(parallel) default(shared) private(k) schedule(dynamic, 4)
       do k = 1, grid%segments%count
          call usf_move_segment(k, grid%segments, particles%x, particles%x0, particles%v, particles%cell, &
                                grid%acceleration, grid%velocity, grid%element_mass_left, grid%element_mass_right, &
@@ -173,7 +175,7 @@ contains
       logical :: parallel
       call prepare_pass(particles, grid)
       parallel = grid%segments%count > 1 .and. .not. omp_in_parallel()
-      !$omp parallel do if(parallel) default(shared) private(k) schedule(static)
+      !$omp parallel do if(parallel) default(shared) private(k) schedule(dynamic, 4)
       do k = 1, grid%segments%count
          call usf_stress_segment(k, grid%segments, particles%stress, particles%volume_ratio, particles%cell, &
                                  grid%velocity, grid%element_stress_volume, grid%inv_dx, dt, youngs_modulus, &
@@ -194,7 +196,7 @@ contains
       logical :: parallel
       call prepare_pass(particles, grid)
       parallel = grid%segments%count > 1 .and. .not. omp_in_parallel()
-      !$omp parallel do if(parallel) default(shared) private(k) schedule(static)
+      !$omp parallel do if(parallel) default(shared) private(k) schedule(dynamic, 4)
       do k = 1, grid%segments%count
          call usl_segment(k, grid%segments, particles%x, particles%x0, particles%v, particles%stress, &
                           particles%volume_ratio, particles%cell, grid%acceleration, grid%velocity, &
@@ -217,7 +219,7 @@ contains
       logical :: parallel
       call prepare_pass(particles, grid)
       parallel = grid%segments%count > 1 .and. .not. omp_in_parallel()
-      !$omp parallel do if(parallel) default(shared) private(k) schedule(static)
+      !$omp parallel do if(parallel) default(shared) private(k) schedule(dynamic, 4)
       do k = 1, grid%segments%count
          call musl_remap_segment(k, grid%segments, particles%x, particles%x0, particles%v, particles%cell, &
                                  grid%acceleration, grid%velocity, grid%element_momentum_left, &
@@ -238,7 +240,7 @@ contains
       logical :: parallel
       call prepare_pass(particles, grid)
       parallel = grid%segments%count > 1 .and. .not. omp_in_parallel()
-      !$omp parallel do if(parallel) default(shared) private(k) schedule(static)
+      !$omp parallel do if(parallel) default(shared) private(k) schedule(dynamic, 4)
       do k = 1, grid%segments%count
          call musl_stress_segment(k, grid%segments, particles%x, particles%v, particles%stress, &
                                   particles%volume_ratio, particles%cell, grid%velocity, &

@@ -35,16 +35,17 @@ for scheme in usf usl musl; do
 done
 
 echo "== threads inside one run" >&2
-cp "$out/throughput.csv" "$out/threads.csv.tmp"
 head -n 1 "$out/throughput.csv" > "$out/threads.csv"
 for scheme in usf usl musl; do
   for n in 1000000 10000000; do
-    for threads in 1 2; do
-      "$bench" throughput $scheme $((n / 10)) 10 $((100000000 / n)) "$REPEATS" $threads >> "$out/threads.csv"
+    # 1 and 2 threads alternately, so that both see the same load of this shared machine
+    for r in $(seq "$REPEATS"); do
+      for threads in 1 2; do
+        "$bench" throughput $scheme $((n / 10)) 10 $((100000000 / n)) 1 $threads >> "$out/threads.csv"
+      done
     done
   done
 done
-rm -f "$out/threads.csv.tmp"
 
 echo "== cost of a study (one period, USL)" >&2
 period=0.019746  # 4 L / c for the default bar (L = 25 m, c = 5064 m/s)
