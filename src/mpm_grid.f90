@@ -11,9 +11,35 @@ module mpm_grid
    implicit none
    private
    public :: grid_t, grid_init, assemble_nodes, nodal_velocity, solve_momentum, mass_tolerance
+   public :: segments_t, share_count
 
    !> Nodes lighter than this fraction of one particle's mass are treated as empty.
    real(dp), parameter :: mass_tolerance = 1.0e-12_dp
+
+   !> Number of per-element shares a particle pass accumulates (mass left/right, momentum
+   !> left/right, stress*volume): the layout of the halo buffers below.
+   integer, parameter :: share_count = 5
+
+   !> How the particle passes split one run into segments: contiguous element ranges, fixed by the
+   !> problem size only (never by the thread count), each holding a contiguous range of particles
+   !> (particles are kept sorted by element). A segment sums the shares of its own elements in particle
+   !> order; shares for the element just left or right of its range go to its halo buffers, added in a
+   !> fixed order after the pass. So every sum has the same association whatever the number of threads.
+   !> Filled by the first P2G (mpm_transfer), used by every later pass; no allocation in the time loop.
+   type :: segments_t
+      integer :: count = 0
+      !> Segment k covers elements first_element(k) .. first_element(k+1)-1.
+      integer, allocatable :: first_element(:)
+      !> ... and particles first_particle(k) .. first_particle(k+1)-1 (found at the start of a pass).
+      integer, allocatable :: first_particle(:)
+      !> Shares for element first_element(k)-1 (halo_left) and first_element(k+1) (halo_right).
+      real(dp), allocatable :: halo_left(:, :), halo_right(:, :)
+      !> Per-segment totals: displacement, kinetic and strain energy; min J; max move and its particle;
+      !> first particle outside; first and last new cell; unsorted or far-moving particles met.
+      real(dp), allocatable :: sums(:, :), min_volume_ratio(:), max_cell_move(:)
+      integer, allocatable :: furthest(:), outside(:), first_cell(:), last_cell(:)
+      logical, allocatable :: unsorted(:), far(:)
+   end type segments_t
 
    !> Grid state. Nodes are numbered 0..elements; element e spans nodes e-1 and e.
    type :: grid_t
@@ -32,6 +58,8 @@ module mpm_grid
       real(dp), allocatable :: mass(:), momentum(:), force(:), velocity(:), acceleration(:)
       !> Smallest nodal mass met by `solve_momentum` in this step (diagnostic of marginal runs).
       real(dp) :: min_node_mass = huge(1.0_dp)
+      !> Work split of the particle passes (see segments_t).
+      type(segments_t) :: segments
    end type grid_t
 
 contains

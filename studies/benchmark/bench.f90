@@ -1,0 +1,184 @@
+!> Benchmark driver for mpm1d (studies/benchmark/run.sh calls it; it prints CSV rows on standard output).
+!>   mpm1d_bench throughput SCHEME ELEMENTS PPC STEPS REPEATS THREADS
+!>       time STEPS steps of the scheme's passes (as run_simulation makes them, diagnostics included,
+!>       set-up excluded), REPEATS times from the same initial state:
+!>       scheme,elements,ppc,particles,threads,steps,repeat,seconds,particle_steps_per_s
+!>   mpm1d_bench stream N REPEATS
+!>       memory bandwidth with 1 and 2 threads over arrays of N doubles:
+!>       kernel,threads,bytes_per_element,repeat,seconds,bytes_per_s
+!>       triad  a = b + s c   (STREAM's count: 24 bytes, not counting the write-allocate read of a)
+!>       update a = a + s b   (read a, b, write a: 24 bytes really moved; the access pattern of the passes)
+!>   mpm1d_bench study SCHEME ELEMENTS PPC DT_FRACTION END_TIME REPEATS
+!>       a whole run (run_simulation, no history, no file), as a study runs it:
+!>       scheme,elements,ppc,dt_fraction,steps,particles,repeat,seconds
+program mpm1d_bench
+   use, intrinsic :: iso_fortran_env, only: output_unit, error_unit
+   use omp_lib, only: omp_get_wtime, omp_set_num_threads
+   use mpm_kinds, only: dp, i8
+   use mpm_errors, only: error_t
+   use mpm_config, only: config_t, resolve_config
+   use mpm_grid, only: grid_t, grid_init
+   use mpm_particles, only: particles_t, particles_init
+   use mpm_transfer, only: pass_totals_t
+   use mpm_scheme_usf, only: usf_start, usf_step
+   use mpm_scheme_usl, only: usl_start, usl_step
+   use mpm_scheme_musl, only: musl_start, musl_step
+   use mpm_scene_bar, only: bar_t, bar_init, bar_initial_velocity, bar_ucm_exact
+   use mpm_simulation, only: run_result_t, run_simulation
+   implicit none
+   character(len=32) :: mode
+
+   call get_command_argument(1, mode)
+   select case (trim(mode))
+   case ('throughput')
+      call throughput()
+   case ('stream')
+      call stream()
+   case ('study')
+      call study()
+   case default
+      write (error_unit, '(a)') 'usage: mpm1d_bench throughput|stream|study ... (see the source)'
+      error stop 2
+   end select
+
+contains
+
+   function arg(i) result(text)
+      integer, intent(in) :: i
+      character(len=64) :: text
+      call get_command_argument(i, text)
+   end function arg
+
+   integer function iarg(i)
+      integer, intent(in) :: i
+      character(len=64) :: text
+      text = arg(i)
+      read (text, *) iarg
+   end function iarg
+
+   real(dp) function rarg(i)
+      integer, intent(in) :: i
+      character(len=64) :: text
+      text = arg(i)
+      read (text, *) rarg
+   end function rarg
+
+   subroutine throughput()
+      type(config_t) :: config
+      type(bar_t) :: bar
+      type(grid_t) :: grid
+      type(particles_t) :: particles
+      type(pass_totals_t) :: totals
+      type(error_t), allocatable :: error
+      integer :: steps, repeats, threads, r, n
+      real(dp) :: start, seconds, ucm, worst
+      config%scheme = arg(2)
+      config%elements = iarg(3)
+      config%particles_per_element = iarg(4)
+      steps = iarg(5)
+      repeats = iarg(6)
+      threads = iarg(7)
+      call resolve_config(config)
+      call omp_set_num_threads(threads)
+      bar = bar_init(config%length, config%youngs_modulus, config%density, config%velocity_amplitude, config%mode)
+      do r = 1, repeats
+         call particles_init(particles, config%elements, config%particles_per_element, config%dx, config%density, error)
+         if (allocated(error)) error stop 'out of memory'
+         call grid_init(grid, config%elements, config%length, particles%mass, error)
+         call bar_initial_velocity(bar, particles)
+         select case (trim(config%scheme))
+         case ('usf')
+            call usf_start(particles, grid, totals)
+         case ('usl')
+            call usl_start(particles, grid, totals)
+         case ('musl')
+            call musl_start(particles, grid, totals)
+         end select
+         worst = 0
+         start = omp_get_wtime()
+         do n = 1, steps
+            select case (trim(config%scheme))
+            case ('usf')
+               call usf_step(particles, grid, config%dt, config%youngs_modulus, totals)
+            case ('usl')
+               call usl_step(particles, grid, config%dt, config%youngs_modulus, totals)
+            case ('musl')
+               call musl_step(particles, grid, config%dt, config%youngs_modulus, totals)
+            end select
+            ! the per-step diagnostics run_simulation makes
+            ucm = totals%displacement/particles%count
+            worst = max(worst, abs(ucm - bar_ucm_exact(bar, n*config%dt)))
+         end do
+         seconds = omp_get_wtime() - start
+         if (totals%outside /= 0 .or. totals%max_cell_move > 1) error stop 'benchmark run left its guards'
+         write (output_unit, '(a,",",i0,",",i0,",",i0,",",i0,",",i0,",",i0,",",es12.5,",",es12.5)') &
+            trim(config%scheme), config%elements, config%particles_per_element, particles%count, threads, steps, r, &
+            seconds, real(particles%count, dp)*steps/seconds
+         flush (output_unit)
+      end do
+   end subroutine throughput
+
+   subroutine stream()
+      integer(i8) :: n, i
+      integer :: repeats, r, threads
+      real(dp), allocatable :: a(:), b(:), c(:)
+      real(dp) :: start, seconds, s
+      n = int(iarg(2), i8)
+      repeats = iarg(3)
+      allocate (a(n), b(n), c(n))
+      call omp_set_num_threads(2)
+      !$omp parallel do schedule(static)
+      do i = 1, n
+         a(i) = 1.0_dp
+         b(i) = 2.0_dp
+         c(i) = 0.5_dp
+      end do
+      s = 1.0e-3_dp
+      do threads = 1, 2
+         call omp_set_num_threads(threads)
+         do r = 1, repeats
+            start = omp_get_wtime()
+            !$omp parallel do schedule(static)
+            do i = 1, n
+               a(i) = b(i) + s*c(i)
+            end do
+            seconds = omp_get_wtime() - start
+            write (output_unit, '(a,",",i0,",",i0,",",i0,",",es12.5,",",es12.5)') 'triad', threads, 24, r, &
+               seconds, 24.0_dp*n/seconds
+            start = omp_get_wtime()
+            !$omp parallel do schedule(static)
+            do i = 1, n
+               a(i) = a(i) + s*b(i)
+            end do
+            seconds = omp_get_wtime() - start
+            write (output_unit, '(a,",",i0,",",i0,",",i0,",",es12.5,",",es12.5)') 'update', threads, 24, r, &
+               seconds, 24.0_dp*n/seconds
+         end do
+      end do
+      if (a(n) < 0) write (output_unit, *) a(1) ! keep the loops
+   end subroutine stream
+
+   subroutine study()
+      type(config_t) :: config
+      type(run_result_t) :: result
+      type(error_t), allocatable :: error
+      integer :: repeats, r
+      config%scheme = arg(2)
+      config%elements = iarg(3)
+      config%particles_per_element = iarg(4)
+      config%dt_fraction = rarg(5)
+      config%end_time = rarg(6)
+      repeats = iarg(7)
+      config%history = .false.
+      call resolve_config(config)
+      call omp_set_num_threads(1)
+      do r = 1, repeats
+         call run_simulation(config, result, error, record_history=.false.)
+         if (allocated(error)) error stop 'run failed'
+         write (output_unit, '(a,",",i0,",",i0,",",f0.4,",",i0,",",i0,",",i0,",",es12.5)') trim(config%scheme), &
+            config%elements, config%particles_per_element, config%dt_fraction, result%steps_done, result%particles, &
+            r, result%run_time
+         flush (output_unit)
+      end do
+   end subroutine study
+end program mpm1d_bench

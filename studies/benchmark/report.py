@@ -1,0 +1,186 @@
+"""Figure and summary of studies/benchmark/run.sh: reads the CSV files of OUTDIR, writes
+OUTDIR/benchmark.png and OUTDIR/summary.md.  Usage: python report.py OUTDIR"""
+import argparse
+import csv
+import os
+import subprocess
+import sys
+
+import matplotlib
+matplotlib.use('Agg')
+import matplotlib.pyplot as plt  # noqa: E402
+import numpy as np  # noqa: E402
+
+# Bytes each particle moves to or from memory per step in the passes (mpm_transfer), 8 per real,
+# 4 for the cell, which is written back only when it changes (rare: not counted).
+#   usf : stress pass reads cell, stress, J, writes stress, J (36); move pass reads cell, x, X, v,
+#         writes x, v (44)
+#   usl : one pass reads cell, x, X, v, stress, J and writes x, v, stress, J (76)
+#   musl: remap pass reads cell, x, X, v, writes x, v (44); stress pass reads cell, x, v, stress, J,
+#         writes stress, J (52)
+BYTES = {'usf': 80, 'usl': 76, 'musl': 96}
+# The grid adds about this many bytes per element per step (assembly, momentum solve, clearing and
+# writing the element shares; the nodal arrays read by G2P), i.e. this / ppc per particle.
+GRID_BYTES_PER_ELEMENT = 200
+
+
+def read(path):
+    with open(path) as f:
+        return list(csv.DictReader(f))
+
+
+def main(argv=None):
+    ap = argparse.ArgumentParser(description=__doc__)
+    ap.add_argument('outdir')
+    args = ap.parse_args(argv)
+    d = args.outdir
+    bw = read(os.path.join(d, 'bandwidth.csv'))
+    tp = read(os.path.join(d, 'throughput.csv'))
+    th = read(os.path.join(d, 'threads.csv'))
+    st = read(os.path.join(d, 'study.csv'))
+    mem = read(os.path.join(d, 'memory.csv'))
+    flags = open(os.path.join(d, 'flags.txt')).read().strip()
+    try:
+        version = subprocess.run(['git', 'describe', '--always', '--dirty'], capture_output=True, text=True,
+                                 cwd=os.path.dirname(os.path.abspath(__file__))).stdout.strip()
+    except OSError:
+        version = 'unknown'
+
+    def bandwidth(kernel, threads):
+        v = [float(r['bytes_per_s']) for r in bw if r['kernel'] == kernel and int(r['threads']) == threads]
+        return np.median(v), min(v), max(v)
+
+    bw1 = bandwidth('update', 1)[0]
+    bw2 = bandwidth('update', 2)[0]
+    lines = [f'# mpm1d benchmark\n', f'Code version {version}. Build: {flags}'.replace('\n', '; ') + '\n',
+             'All rates are medians of the repeats; the spread is min-max. Set-up is not timed; the per-step '
+             'diagnostics are. -march=native is for local runs only, not for portable builds.\n',
+             '## Memory bandwidth (STREAM-style, arrays of 4e7 doubles)\n',
+             '| kernel | threads | GB/s median | min-max |', '|---|---|---|---|']
+    for k in ('triad', 'update'):
+        for t in (1, 2):
+            m, lo, hi = bandwidth(k, t)
+            lines.append(f'| {k} | {t} | {m/1e9:.1f} | {lo/1e9:.1f}-{hi/1e9:.1f} |')
+    lines.append('\ntriad a = b + s c is counted as STREAM does (24 B, the write-allocate read of a not counted); '
+                 'update a = a + s b really moves its 24 B and has the passes\' access pattern, so it sets the bound.\n')
+
+    lines += ['## Particle-steps per second, one thread (10 particles per element)\n',
+              '| scheme | particles | steps | rate median | min-max | bytes/particle-step | bound (update BW / bytes) '
+              '| % of bound | % of bound incl. grid |', '|---|---|---|---|---|---|---|---|---|']
+    rates = {}
+    for s in ('usf', 'usl', 'musl'):
+        for n in sorted({int(r['particles']) for r in tp}):
+            v = [float(r['particle_steps_per_s']) for r in tp if r['scheme'] == s and int(r['particles']) == n]
+            if not v:
+                continue
+            steps = [r['steps'] for r in tp if r['scheme'] == s and int(r['particles']) == n][0]
+            med = np.median(v)
+            rates[s, n] = (med, min(v), max(v))
+            bound = bw1 / BYTES[s]
+            bound_grid = bw1 / (BYTES[s] + GRID_BYTES_PER_ELEMENT / 10)
+            lines.append(f'| {s} | {n:.0e} | {steps} | {med:.3g} | {min(v):.3g}-{max(v):.3g} | {BYTES[s]} | '
+                         f'{bound:.3g} | {100*med/bound:.0f} | {100*med/bound_grid:.0f} |')
+    lines.append('\nThe bound applies when the particle arrays do not fit in the caches (1e6 particles = 44 MB and '
+                 'more; L3 is 32 MB); smaller runs are limited by the arithmetic, not by memory.\n')
+
+    lines += ['## OpenMP inside one run\n', '| scheme | particles | 1 thread | 2 threads | speed-up | '
+              '2-thread bound (2-thread update BW / bytes) |', '|---|---|---|---|---|---|']
+    speedups = {}
+    for s in ('usf', 'usl', 'musl'):
+        for n in sorted({int(r['particles']) for r in th}):
+            r1 = [float(r['particle_steps_per_s']) for r in th if r['scheme'] == s and int(r['particles']) == n
+                  and r['threads'] == '1']
+            r2 = [float(r['particle_steps_per_s']) for r in th if r['scheme'] == s and int(r['particles']) == n
+                  and r['threads'] == '2']
+            if r1 and r2:
+                speedups[s, n] = np.median(r2) / np.median(r1)
+                lines.append(f'| {s} | {n:.0e} | {np.median(r1):.3g} | {np.median(r2):.3g} | '
+                             f'{speedups[s, n]:.2f} | {bw2/BYTES[s]:.3g} |')
+    lines.append('\nResults are bit-for-bit identical with 1 and 2 threads (test/test_threads.f90): the segments '
+                 'of a run are fixed by its size, not by the thread count.\n')
+
+    # cost model: seconds = C * elements^2 * ppc / dt_fraction, C from the base case
+    base = [r for r in st if r['elements'] == '200' and r['ppc'] == '4' and abs(float(r['dt_fraction']) - 0.2) < 1e-9]
+    c0 = np.median([float(r['seconds']) for r in base]) / (200**2 * 4 / 0.2)
+    cases = sorted({(int(r['elements']), int(r['ppc']), float(r['dt_fraction'])) for r in st})
+    lines += ['## Cost of a study run (USL, one period, one thread)\n',
+              'Model: seconds = C elements^2 ppc / dt_fraction, C fitted to the 200-element, 4 ppc, 0.2 case.\n',
+              '| elements | ppc | dt_fraction | steps | seconds median | model | measured/model |', '|---|---|---|---|---|---|---|']
+    study_rows = []
+    for e, p, k in cases:
+        rows = [r for r in st if int(r['elements']) == e and int(r['ppc']) == p and abs(float(r['dt_fraction']) - k) < 1e-9]
+        sec = np.median([float(r['seconds']) for r in rows])
+        model = c0 * e * e * p / k
+        expected_steps = int(base[0]['steps']) * (e / 200) * (0.2 / k)
+        if int(rows[0]['steps']) < 0.99 * expected_steps:  # a guard stopped the run (unstable step)
+            lines.append(f'| {e} | {p} | {k} | {rows[0]["steps"]} (stopped by a guard) | {sec:.4g} | {model:.4g} | - |')
+            continue
+        study_rows.append((e, p, k, sec, model))
+        lines.append(f'| {e} | {p} | {k} | {rows[0]["steps"]} | {sec:.4g} | {model:.4g} | {sec/model:.2f} |')
+    lines.append('\nAt few particles per element the per-step grid work (proportional to elements^2 / dt_fraction, '
+                 'not to ppc) and the fixed cost of a step make the measured cost exceed the model.\n')
+
+    rss = {int(r['particles']): int(r['max_rss_kib']) for r in mem}
+    small, big = min(rss), max(rss)
+    per_particle = (rss[big] - rss[small]) * 1024 / (big - small)
+    lines += ['## Memory\n', f'Max RSS (/usr/bin/time -v) of a {big:.0e}-particle USL run (10 per element) minus that of a '
+              f'{small:.0e}-particle run, per particle: **{per_particle:.1f} bytes** (particle arrays 44 B, grid '
+              '10 arrays of 8 B per element = 8 B per particle at 10 ppc).\n']
+
+    lines += ['## Targets\n']
+    def mark(ok):
+        return 'met' if ok else 'NOT met'
+    for s in ('usf', 'usl'):
+        small_rates = [rates[s, n][0] for n in (1000, 10000, 100000) if (s, n) in rates]
+        lines.append(f'- {s}, one thread, 1e3-1e5 particles >= 2.5e8/s: {min(small_rates):.3g}-{max(small_rates):.3g} '
+                     f'-> {mark(min(small_rates) >= 2.5e8)}')
+    for s in ('usf', 'usl', 'musl'):
+        if (s, 10**7) in rates:
+            r = rates[s, 10**7][0]
+            frac = r / (bw1 / BYTES[s])
+            lines.append(f'- {s}, 1e7 particles >= 1.5e8/s and >= 80 % of the bound: {r:.3g}/s, {100*frac:.0f} % '
+                         f'-> {mark(r >= 1.5e8 and frac >= 0.8)}')
+    for (s, n), v in sorted(speedups.items()):
+        lines.append(f'- {s}, {n:.0e} particles, 2 threads speed-up >= 1.7: {v:.2f} -> {mark(v >= 1.7)}')
+    lines.append(f'- memory <= 80 B per particle: {per_particle:.1f} -> {mark(per_particle <= 80)}')
+    open(os.path.join(d, 'summary.md'), 'w').write('\n'.join(lines) + '\n')
+
+    fig, ax = plt.subplots(2, 2, figsize=(12, 9))
+    for s, mk in (('usf', 'o'), ('usl', 's'), ('musl', '^')):
+        ns = sorted(n for (ss, n) in rates if ss == s)
+        med = np.array([rates[s, n][0] for n in ns])
+        err = np.array([[rates[s, n][0] - rates[s, n][1] for n in ns], [rates[s, n][2] - rates[s, n][0] for n in ns]])
+        ax[0, 0].errorbar(ns, med, yerr=err, marker=mk, label=f'{s} ({BYTES[s]} B/particle-step)')
+        ax[0, 0].axhline(bw1 / BYTES[s], ls=':', color=ax[0, 0].lines[-1].get_color())
+    ax[0, 0].axhline(2.5e8, color='k', ls='--', lw=0.8, label='target 2.5e8')
+    ax[0, 0].set(xscale='log', xlabel='particles (10 per element)', ylabel='particle-steps / s (1 thread)',
+                 title='Throughput; dotted: bandwidth bound (1 thread)')
+    ax[0, 0].legend(fontsize=8)
+    labels = [f'{s}\n{n:.0e}' for (s, n) in sorted(speedups)]
+    ax[0, 1].bar(range(len(labels)), [speedups[k] for k in sorted(speedups)])
+    ax[0, 1].axhline(1.7, color='k', ls='--', lw=0.8, label='target 1.7')
+    ax[0, 1].axhline(bw2 / bw1, color='r', ls=':', label=f'bandwidth ratio 2/1 threads = {bw2/bw1:.2f}')
+    ax[0, 1].set_xticks(range(len(labels)), labels, fontsize=8)
+    ax[0, 1].set(ylabel='speed-up, 2 threads vs 1', title='OpenMP inside one run')
+    ax[0, 1].legend(fontsize=8)
+    sec = np.array([r[3] for r in study_rows])
+    model = np.array([r[4] for r in study_rows])
+    ax[1, 0].loglog(model, sec, 'o')
+    for e, p, k, s_, m_ in study_rows:
+        ax[1, 0].annotate(f'{e},{p},{k}', (m_, s_), fontsize=7)
+    lim = [min(model.min(), sec.min()) / 2, max(model.max(), sec.max()) * 2]
+    ax[1, 0].plot(lim, lim, 'k--', lw=0.8)
+    ax[1, 0].set(xlabel='model C elements^2 ppc / dt_fraction (s)', ylabel='measured run time (s)',
+                 title='Cost of a study run (USL, one period; labels: elements, ppc, fraction)')
+    kinds = [(k, t) for k in ('triad', 'update') for t in (1, 2)]
+    ax[1, 1].bar(range(4), [bandwidth(k, t)[0] / 1e9 for k, t in kinds])
+    ax[1, 1].set_xticks(range(4), [f'{k}\n{t} thread(s)' for k, t in kinds])
+    ax[1, 1].set(ylabel='GB/s', title=f'Memory bandwidth; memory {per_particle:.1f} B/particle')
+    fig.suptitle(f'mpm1d benchmark ({version}; {flags.splitlines()[0]})', fontsize=9)
+    fig.tight_layout()
+    fig.savefig(os.path.join(d, 'benchmark.png'), dpi=110)
+    return 0
+
+
+if __name__ == '__main__':
+    sys.exit(main())

@@ -1,0 +1,66 @@
+#!/usr/bin/env bash
+# Speed of mpm1d: particle-steps per second of each scheme for 1e2..1e7 particles (one thread),
+# memory bandwidth (STREAM-style, 1 and 2 threads) and the bound it implies, OpenMP speed-up inside
+# one run, cost of a study against elements^2 * ppc / dt_fraction, and memory per particle.
+# Writes CSV files, benchmark.png and summary.md to the output folder (default out/benchmark).
+# Usage: bash studies/benchmark/run.sh [output folder]
+# FLAGS (default -march=native) are added to fpm's release profile: -march=native is for local
+# runs only (the binary uses this machine's vector instructions), not for portable builds.
+set -euo pipefail
+root="$(cd "$(dirname "$0")/../.." && pwd)"
+cd "$root"
+source studies/setup.sh
+set -euo pipefail
+out="${1:-out/benchmark}"
+mkdir -p "$out"
+FLAGS="${FLAGS:--march=native}"
+fpm build --profile release --flag "$FLAGS" >/dev/null
+bench="$root/$(fpm run --profile release --flag "$FLAGS" --runner echo mpm1d_bench 2>/dev/null | tail -n 1)"
+REPEATS="${REPEATS:-3}"
+echo "flags: fpm --profile release --flag '$FLAGS'" > "$out/flags.txt"
+gfortran --version | head -n 1 >> "$out/flags.txt"
+lscpu | grep -E 'Model name|^CPU\(s\)|L3' >> "$out/flags.txt" || true
+
+echo "== bandwidth" >&2
+echo "kernel,threads,bytes_per_element,repeat,seconds,bytes_per_s" > "$out/bandwidth.csv"
+"$bench" stream 40000000 5 >> "$out/bandwidth.csv"
+
+echo "== one-thread throughput" >&2
+echo "scheme,elements,ppc,particles,threads,steps,repeat,seconds,particle_steps_per_s" > "$out/throughput.csv"
+for scheme in usf usl musl; do
+  for n in 100 1000 10000 100000 1000000 10000000; do
+    elements=$((n / 10)); steps=$((50000000 / n)); [ "$steps" -lt 5 ] && steps=5
+    "$bench" throughput $scheme $elements 10 $steps "$REPEATS" 1 >> "$out/throughput.csv"
+  done
+done
+
+echo "== threads inside one run" >&2
+head -n 1 "$out/throughput.csv" > "$out/threads.csv"
+for scheme in usf usl musl; do
+  for n in 1000000 10000000; do
+    # 1 and 2 threads alternately, so that both see the same load of this shared machine
+    for r in $(seq "$REPEATS"); do
+      for threads in 1 2; do
+        "$bench" throughput $scheme $((n / 10)) 10 $((100000000 / n)) 1 $threads >> "$out/threads.csv"
+      done
+    done
+  done
+done
+
+echo "== cost of a study (one period, USL)" >&2
+period=0.019746  # 4 L / c for the default bar (L = 25 m, c = 5064 m/s)
+echo "scheme,elements,ppc,dt_fraction,steps,particles,repeat,seconds" > "$out/study.csv"
+for e in 100 200 400 800; do "$bench" study usl $e 4 0.2 $period "$REPEATS" >> "$out/study.csv"; done
+for p in 1 2 8 16; do "$bench" study usl 200 $p 0.2 $period "$REPEATS" >> "$out/study.csv"; done
+for k in 0.1 0.4 0.8; do "$bench" study usl 200 4 $k $period "$REPEATS" >> "$out/study.csv"; done
+
+echo "== memory" >&2
+echo "particles,elements,max_rss_kib" > "$out/memory.csv"
+for n in 1000 10000000; do
+  rss=$( { /usr/bin/time -v "$bench" throughput usl $((n / 10)) 10 2 1 1 >/dev/null; } 2>&1 \
+         | awk -F: '/Maximum resident set size/ {gsub(/ /, "", $2); print $2}')
+  echo "$n,$((n / 10)),$rss" >> "$out/memory.csv"
+done
+
+"$PYTHON" studies/benchmark/report.py "$out"
+echo "wrote $out/summary.md and $out/benchmark.png" >&2
