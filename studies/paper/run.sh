@@ -16,7 +16,7 @@ start=$(date +%s.%N)
 
 echo "== building mpm1d"
 fpm build --profile release >/dev/null
-exe="$root/$(fpm run --profile release --runner echo 2>/dev/null | tail -n 1)"
+exe="$root/$(fpm run --profile release --target mpm1d --runner echo 2>/dev/null | tail -n 1)"
 
 echo "== Table-2 sweeps (USF, USL)"
 for scheme in usf usl; do

@@ -12,7 +12,7 @@ set -euo pipefail
 input="${1:?usage: sbatch --array=1-N slurm_array.sh sweep.nml outdir}"
 out="${2:-out/shards}"
 mkdir -p "$out"
-exe="$(fpm run --profile release --runner echo 2>/dev/null | tail -n 1)"
+exe="$(fpm run --profile release --target mpm1d --runner echo 2>/dev/null | tail -n 1)"
 name=$(sed -n "s/.*file='\([^']*\)'.*/\1/p" "$input" | head -n 1)
 sed "s|file='$name'|file='$out/$name'|" "$input" > "$out/sweep_task$SLURM_ARRAY_TASK_ID.nml"
 export OMP_NUM_THREADS="${SLURM_CPUS_PER_TASK:-1}"

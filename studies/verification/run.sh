@@ -10,7 +10,7 @@ set -euo pipefail
 out="${1:-out/verification}"
 mkdir -p "$out"
 fpm build --profile release >/dev/null
-exe="$root/$(fpm run --profile release --runner echo 2>/dev/null | tail -n 1)"
+exe="$root/$(fpm run --profile release --target mpm1d --runner echo 2>/dev/null | tail -n 1)"
 for scheme in usf usl; do
   cat > "$out/$scheme.nml" <<NML
 &discretisation scheme='$scheme', elements=20, particles_per_element=1, dt_fraction=0.1 /

@@ -27,7 +27,7 @@ def find_executable():
     if len(sys.argv) > 1:
         return os.path.abspath(sys.argv[1])
     root = os.path.dirname(os.path.dirname(os.path.dirname(os.path.abspath(__file__))))
-    out = subprocess.run(['fpm', 'run', '--profile', 'release', '--runner', 'echo'], cwd=root,
+    out = subprocess.run(['fpm', 'run', '--profile', 'release', '--target', 'mpm1d', '--runner', 'echo'], cwd=root,
                          capture_output=True, text=True, check=True).stdout.split()
     return os.path.join(root, out[-1])
 
