@@ -152,16 +152,29 @@ contains
       integer :: k
       logical :: parallel
       call prepare_pass(particles, grid)
+      ! Branch instead of an `if` clause: an inactive parallel region still costs a team set-up
+      ! (about a microsecond) per pass, which dominated small runs.
       parallel = grid%segments%count > 1 .and. .not. omp_in_parallel()
-      !$omp parallel do if(parallel) default(shared) private(k) schedule(dynamic, 4)
-      do k = 1, grid%segments%count
+      if (parallel) then
+         !$omp parallel do default(shared) private(k) schedule(dynamic, 4)
+         do k = 1, grid%segments%count
+            call segment(k)
+         end do
+         !$omp end parallel do
+      else
+         do k = 1, grid%segments%count
+            call segment(k)
+         end do
+      end if
+      call finish_pass(particles, grid, share_mass + share_momentum, .true., totals)
+   contains
+      subroutine segment(k)
+         integer, intent(in) :: k
          call usf_move_segment(k, grid%segments, particles%x, particles%x0, particles%v, particles%cell, &
                                grid%acceleration, grid%velocity, grid%element_mass_left, grid%element_mass_right, &
                                grid%element_momentum_left, grid%element_momentum_right, &
                                grid%elements, grid%inv_dx, dt, particles%mass)
-      end do
-      !$omp end parallel do
-      call finish_pass(particles, grid, share_mass + share_momentum, .true., totals)
+      end subroutine segment
    end subroutine g2p_then_p2g
 
    !> USF, first half: stress update from the nodal velocities of this step's mapping
@@ -174,15 +187,28 @@ contains
       integer :: k
       logical :: parallel
       call prepare_pass(particles, grid)
+      ! Branch instead of an `if` clause: an inactive parallel region still costs a team set-up
+      ! (about a microsecond) per pass, which dominated small runs.
       parallel = grid%segments%count > 1 .and. .not. omp_in_parallel()
-      !$omp parallel do if(parallel) default(shared) private(k) schedule(dynamic, 4)
-      do k = 1, grid%segments%count
+      if (parallel) then
+         !$omp parallel do default(shared) private(k) schedule(dynamic, 4)
+         do k = 1, grid%segments%count
+            call segment(k)
+         end do
+         !$omp end parallel do
+      else
+         do k = 1, grid%segments%count
+            call segment(k)
+         end do
+      end if
+      call finish_pass(particles, grid, share_stress, .false., totals)
+   contains
+      subroutine segment(k)
+         integer, intent(in) :: k
          call usf_stress_segment(k, grid%segments, particles%stress, particles%volume_ratio, particles%cell, &
                                  grid%velocity, grid%element_stress_volume, grid%inv_dx, dt, youngs_modulus, &
                                  particles%volume0)
-      end do
-      !$omp end parallel do
-      call finish_pass(particles, grid, share_stress, .false., totals)
+      end subroutine segment
    end subroutine stress_then_force
 
    !> USL in one pass: grid-to-particle update, stress update from the updated nodal velocities,
@@ -195,17 +221,30 @@ contains
       integer :: k
       logical :: parallel
       call prepare_pass(particles, grid)
+      ! Branch instead of an `if` clause: an inactive parallel region still costs a team set-up
+      ! (about a microsecond) per pass, which dominated small runs.
       parallel = grid%segments%count > 1 .and. .not. omp_in_parallel()
-      !$omp parallel do if(parallel) default(shared) private(k) schedule(dynamic, 4)
-      do k = 1, grid%segments%count
+      if (parallel) then
+         !$omp parallel do default(shared) private(k) schedule(dynamic, 4)
+         do k = 1, grid%segments%count
+            call segment(k)
+         end do
+         !$omp end parallel do
+      else
+         do k = 1, grid%segments%count
+            call segment(k)
+         end do
+      end if
+      call finish_pass(particles, grid, share_mass + share_momentum + share_stress, .true., totals)
+   contains
+      subroutine segment(k)
+         integer, intent(in) :: k
          call usl_segment(k, grid%segments, particles%x, particles%x0, particles%v, particles%stress, &
                           particles%volume_ratio, particles%cell, grid%acceleration, grid%velocity, &
                           grid%element_mass_left, grid%element_mass_right, grid%element_momentum_left, &
                           grid%element_momentum_right, grid%element_stress_volume, &
                           grid%elements, grid%inv_dx, dt, youngs_modulus, particles%mass, particles%volume0)
-      end do
-      !$omp end parallel do
-      call finish_pass(particles, grid, share_mass + share_momentum + share_stress, .true., totals)
+      end subroutine segment
    end subroutine g2p_stress_then_p2g
 
    !> MUSL, first pass: grid-to-particle update, and the updated particle momentum mapped back to
@@ -218,15 +257,28 @@ contains
       integer :: k
       logical :: parallel
       call prepare_pass(particles, grid)
+      ! Branch instead of an `if` clause: an inactive parallel region still costs a team set-up
+      ! (about a microsecond) per pass, which dominated small runs.
       parallel = grid%segments%count > 1 .and. .not. omp_in_parallel()
-      !$omp parallel do if(parallel) default(shared) private(k) schedule(dynamic, 4)
-      do k = 1, grid%segments%count
+      if (parallel) then
+         !$omp parallel do default(shared) private(k) schedule(dynamic, 4)
+         do k = 1, grid%segments%count
+            call segment(k)
+         end do
+         !$omp end parallel do
+      else
+         do k = 1, grid%segments%count
+            call segment(k)
+         end do
+      end if
+      call finish_pass(particles, grid, share_momentum, .false., totals)
+   contains
+      subroutine segment(k)
+         integer, intent(in) :: k
          call musl_remap_segment(k, grid%segments, particles%x, particles%x0, particles%v, particles%cell, &
                                  grid%acceleration, grid%velocity, grid%element_momentum_left, &
                                  grid%element_momentum_right, grid%inv_dx, dt, particles%mass)
-      end do
-      !$omp end parallel do
-      call finish_pass(particles, grid, share_momentum, .false., totals)
+      end subroutine segment
    end subroutine g2p_with_remap
 
    !> MUSL, second pass: stress update from the remapped nodal velocities (start-of-step cell),
@@ -239,17 +291,30 @@ contains
       integer :: k
       logical :: parallel
       call prepare_pass(particles, grid)
+      ! Branch instead of an `if` clause: an inactive parallel region still costs a team set-up
+      ! (about a microsecond) per pass, which dominated small runs.
       parallel = grid%segments%count > 1 .and. .not. omp_in_parallel()
-      !$omp parallel do if(parallel) default(shared) private(k) schedule(dynamic, 4)
-      do k = 1, grid%segments%count
+      if (parallel) then
+         !$omp parallel do default(shared) private(k) schedule(dynamic, 4)
+         do k = 1, grid%segments%count
+            call segment(k)
+         end do
+         !$omp end parallel do
+      else
+         do k = 1, grid%segments%count
+            call segment(k)
+         end do
+      end if
+      call finish_pass(particles, grid, share_mass + share_momentum + share_stress, .true., totals)
+   contains
+      subroutine segment(k)
+         integer, intent(in) :: k
          call musl_stress_segment(k, grid%segments, particles%x, particles%v, particles%stress, &
                                   particles%volume_ratio, particles%cell, grid%velocity, &
                                   grid%element_mass_left, grid%element_mass_right, grid%element_momentum_left, &
                                   grid%element_momentum_right, grid%element_stress_volume, &
                                   grid%elements, grid%inv_dx, dt, youngs_modulus, particles%mass, particles%volume0)
-      end do
-      !$omp end parallel do
-      call finish_pass(particles, grid, share_mass + share_momentum + share_stress, .true., totals)
+      end subroutine segment
    end subroutine stress_then_p2g
 
    !> Combine the totals of the two passes of one step (each pass fills different sums).
