@@ -27,6 +27,8 @@ module mpm_transfer
    use mpm_particles, only: particles_t
    implicit none
    private
+   integer, parameter :: pass_usf_move = 1, pass_usf_stress = 2, pass_usl = 3, pass_musl_remap = 4, &
+                         pass_musl_stress = 5
    public :: pass_totals_t, clear_element_shares, merge_totals
    public :: p2g, g2p_then_p2g, stress_then_force, g2p_stress_then_p2g, g2p_with_remap, stress_then_p2g
    public :: parallel_threshold, segment_particles
@@ -149,32 +151,9 @@ contains
       type(grid_t), intent(inout) :: grid
       real(dp), intent(in) :: dt
       type(pass_totals_t), intent(out) :: totals
-      integer :: k
-      logical :: parallel
       call prepare_pass(particles, grid)
-      ! Branch instead of an `if` clause: an inactive parallel region still costs a team set-up
-      ! (about a microsecond) per pass, which dominated small runs.
-      parallel = grid%segments%count > 1 .and. .not. omp_in_parallel()
-      if (parallel) then
-         !$omp parallel do default(shared) private(k) schedule(dynamic, 4)
-         do k = 1, grid%segments%count
-            call segment(k)
-         end do
-         !$omp end parallel do
-      else
-         do k = 1, grid%segments%count
-            call segment(k)
-         end do
-      end if
+      call over_segments(particles, grid, pass_usf_move, dt, 0.0_dp)
       call finish_pass(particles, grid, share_mass + share_momentum, .true., totals)
-   contains
-      subroutine segment(k)
-         integer, intent(in) :: k
-         call usf_move_segment(k, grid%segments, particles%x, particles%x0, particles%v, particles%cell, &
-                               grid%acceleration, grid%velocity, grid%element_mass_left, grid%element_mass_right, &
-                               grid%element_momentum_left, grid%element_momentum_right, &
-                               grid%elements, grid%inv_dx, dt, particles%mass)
-      end subroutine segment
    end subroutine g2p_then_p2g
 
    !> USF, first half: stress update from the nodal velocities of this step's mapping
@@ -184,31 +163,9 @@ contains
       type(grid_t), intent(inout) :: grid
       real(dp), intent(in) :: dt, youngs_modulus
       type(pass_totals_t), intent(out) :: totals
-      integer :: k
-      logical :: parallel
       call prepare_pass(particles, grid)
-      ! Branch instead of an `if` clause: an inactive parallel region still costs a team set-up
-      ! (about a microsecond) per pass, which dominated small runs.
-      parallel = grid%segments%count > 1 .and. .not. omp_in_parallel()
-      if (parallel) then
-         !$omp parallel do default(shared) private(k) schedule(dynamic, 4)
-         do k = 1, grid%segments%count
-            call segment(k)
-         end do
-         !$omp end parallel do
-      else
-         do k = 1, grid%segments%count
-            call segment(k)
-         end do
-      end if
+      call over_segments(particles, grid, pass_usf_stress, dt, youngs_modulus)
       call finish_pass(particles, grid, share_stress, .false., totals)
-   contains
-      subroutine segment(k)
-         integer, intent(in) :: k
-         call usf_stress_segment(k, grid%segments, particles%stress, particles%volume_ratio, particles%cell, &
-                                 grid%velocity, grid%element_stress_volume, grid%inv_dx, dt, youngs_modulus, &
-                                 particles%volume0)
-      end subroutine segment
    end subroutine stress_then_force
 
    !> USL in one pass: grid-to-particle update, stress update from the updated nodal velocities,
@@ -218,33 +175,9 @@ contains
       type(grid_t), intent(inout) :: grid
       real(dp), intent(in) :: dt, youngs_modulus
       type(pass_totals_t), intent(out) :: totals
-      integer :: k
-      logical :: parallel
       call prepare_pass(particles, grid)
-      ! Branch instead of an `if` clause: an inactive parallel region still costs a team set-up
-      ! (about a microsecond) per pass, which dominated small runs.
-      parallel = grid%segments%count > 1 .and. .not. omp_in_parallel()
-      if (parallel) then
-         !$omp parallel do default(shared) private(k) schedule(dynamic, 4)
-         do k = 1, grid%segments%count
-            call segment(k)
-         end do
-         !$omp end parallel do
-      else
-         do k = 1, grid%segments%count
-            call segment(k)
-         end do
-      end if
+      call over_segments(particles, grid, pass_usl, dt, youngs_modulus)
       call finish_pass(particles, grid, share_mass + share_momentum + share_stress, .true., totals)
-   contains
-      subroutine segment(k)
-         integer, intent(in) :: k
-         call usl_segment(k, grid%segments, particles%x, particles%x0, particles%v, particles%stress, &
-                          particles%volume_ratio, particles%cell, grid%acceleration, grid%velocity, &
-                          grid%element_mass_left, grid%element_mass_right, grid%element_momentum_left, &
-                          grid%element_momentum_right, grid%element_stress_volume, &
-                          grid%elements, grid%inv_dx, dt, youngs_modulus, particles%mass, particles%volume0)
-      end subroutine segment
    end subroutine g2p_stress_then_p2g
 
    !> MUSL, first pass: grid-to-particle update, and the updated particle momentum mapped back to
@@ -254,31 +187,9 @@ contains
       type(grid_t), intent(inout) :: grid
       real(dp), intent(in) :: dt
       type(pass_totals_t), intent(out) :: totals
-      integer :: k
-      logical :: parallel
       call prepare_pass(particles, grid)
-      ! Branch instead of an `if` clause: an inactive parallel region still costs a team set-up
-      ! (about a microsecond) per pass, which dominated small runs.
-      parallel = grid%segments%count > 1 .and. .not. omp_in_parallel()
-      if (parallel) then
-         !$omp parallel do default(shared) private(k) schedule(dynamic, 4)
-         do k = 1, grid%segments%count
-            call segment(k)
-         end do
-         !$omp end parallel do
-      else
-         do k = 1, grid%segments%count
-            call segment(k)
-         end do
-      end if
+      call over_segments(particles, grid, pass_musl_remap, dt, 0.0_dp)
       call finish_pass(particles, grid, share_momentum, .false., totals)
-   contains
-      subroutine segment(k)
-         integer, intent(in) :: k
-         call musl_remap_segment(k, grid%segments, particles%x, particles%x0, particles%v, particles%cell, &
-                                 grid%acceleration, grid%velocity, grid%element_momentum_left, &
-                                 grid%element_momentum_right, grid%inv_dx, dt, particles%mass)
-      end subroutine segment
    end subroutine g2p_with_remap
 
    !> MUSL, second pass: stress update from the remapped nodal velocities (start-of-step cell),
@@ -288,13 +199,22 @@ contains
       type(grid_t), intent(inout) :: grid
       real(dp), intent(in) :: dt, youngs_modulus
       type(pass_totals_t), intent(out) :: totals
-      integer :: k
-      logical :: parallel
       call prepare_pass(particles, grid)
-      ! Branch instead of an `if` clause: an inactive parallel region still costs a team set-up
-      ! (about a microsecond) per pass, which dominated small runs.
-      parallel = grid%segments%count > 1 .and. .not. omp_in_parallel()
-      if (parallel) then
+      call over_segments(particles, grid, pass_musl_stress, dt, youngs_modulus)
+      call finish_pass(particles, grid, share_mass + share_momentum + share_stress, .true., totals)
+   end subroutine stress_then_p2g
+
+   !> Run pass `kind` over every segment: on OpenMP threads when the run has several segments and
+   !> is not itself inside a parallel region (a sweep), else in this thread. A branch, not an `if`
+   !> clause: an inactive parallel region still costs a team set-up (about a microsecond) per pass,
+   !> which dominated small runs.
+   subroutine over_segments(particles, grid, kind, dt, youngs_modulus)
+      type(particles_t), intent(inout) :: particles
+      type(grid_t), intent(inout) :: grid
+      integer, intent(in) :: kind
+      real(dp), intent(in) :: dt, youngs_modulus
+      integer :: k
+      if (grid%segments%count > 1 .and. .not. omp_in_parallel()) then
          !$omp parallel do default(shared) private(k) schedule(dynamic, 4)
          do k = 1, grid%segments%count
             call segment(k)
@@ -305,17 +225,38 @@ contains
             call segment(k)
          end do
       end if
-      call finish_pass(particles, grid, share_mass + share_momentum + share_stress, .true., totals)
    contains
       subroutine segment(k)
          integer, intent(in) :: k
-         call musl_stress_segment(k, grid%segments, particles%x, particles%v, particles%stress, &
-                                  particles%volume_ratio, particles%cell, grid%velocity, &
-                                  grid%element_mass_left, grid%element_mass_right, grid%element_momentum_left, &
-                                  grid%element_momentum_right, grid%element_stress_volume, &
-                                  grid%elements, grid%inv_dx, dt, youngs_modulus, particles%mass, particles%volume0)
+         select case (kind)
+         case (pass_usf_move)
+            call usf_move_segment(k, grid%segments, particles%x, particles%x0, particles%v, particles%cell, &
+                                  grid%acceleration, grid%velocity, grid%element_mass_left, grid%element_mass_right, &
+                                  grid%element_momentum_left, grid%element_momentum_right, &
+                                  grid%elements, grid%inv_dx, dt, particles%mass)
+         case (pass_usf_stress)
+            call usf_stress_segment(k, grid%segments, particles%stress, particles%volume_ratio, particles%cell, &
+                                    grid%velocity, grid%element_stress_volume, grid%inv_dx, dt, youngs_modulus, &
+                                    particles%volume0)
+         case (pass_usl)
+            call usl_segment(k, grid%segments, particles%x, particles%x0, particles%v, particles%stress, &
+                             particles%volume_ratio, particles%cell, grid%acceleration, grid%velocity, &
+                             grid%element_mass_left, grid%element_mass_right, grid%element_momentum_left, &
+                             grid%element_momentum_right, grid%element_stress_volume, &
+                             grid%elements, grid%inv_dx, dt, youngs_modulus, particles%mass, particles%volume0)
+         case (pass_musl_remap)
+            call musl_remap_segment(k, grid%segments, particles%x, particles%x0, particles%v, particles%cell, &
+                                    grid%acceleration, grid%velocity, grid%element_momentum_left, &
+                                    grid%element_momentum_right, grid%inv_dx, dt, particles%mass)
+         case (pass_musl_stress)
+            call musl_stress_segment(k, grid%segments, particles%x, particles%v, particles%stress, &
+                                     particles%volume_ratio, particles%cell, grid%velocity, &
+                                     grid%element_mass_left, grid%element_mass_right, grid%element_momentum_left, &
+                                     grid%element_momentum_right, grid%element_stress_volume, &
+                                     grid%elements, grid%inv_dx, dt, youngs_modulus, particles%mass, particles%volume0)
+         end select
       end subroutine segment
-   end subroutine stress_then_p2g
+   end subroutine over_segments
 
    !> Combine the totals of the two passes of one step (each pass fills different sums).
    pure subroutine merge_totals(totals, other)
