@@ -373,9 +373,12 @@ contains
    end subroutine scan_groups
 
    !> Check every value; append one line per problem to `error`, naming the variable and range.
-   subroutine validate_config(config, error)
+   !> `with_system = .false.` skips the checks against the machine (memory available, output folder),
+   !> which a sweep makes once for its largest case instead of once per case.
+   subroutine validate_config(config, error, with_system)
       type(config_t), intent(in) :: config
       type(error_t), allocatable, intent(inout) :: error
+      logical, intent(in), optional :: with_system
       real(dp) :: c, dx, dt, end_time
       integer(i8) :: particles
 
@@ -441,6 +444,9 @@ contains
             call append_error(error, "output: snapshot_times must lie within the run, 0 to "//str(end_time)//" s")
       end if
       if (allocated(error)) return
+      if (present(with_system)) then
+         if (.not. with_system) return
+      end if
       call check_memory(particles, config%elements, merge(step_count(end_time, dt), 0, config%history), error)
       call check_output_path(config%file, 'output: file', error)
    contains

@@ -368,7 +368,7 @@ contains
                                velocity_amplitude=s%velocity_amplitudes(g), mode=s%modes(h))
             config = case_config(sweep%base, one)
             config%history = s%histories
-            call validate_config(config, case_error)
+            call validate_config(config, case_error, with_system=.false.)
             if (allocated(case_error)) then
                call append_error(error, "sweep case "//str(n)//" ("//trim(one%scheme)//", "//str(one%elements)// &
                                  " elements, "//str(one%particles_per_element)//" particles per element, dt_fraction "// &
@@ -389,7 +389,19 @@ contains
          end do
          end do
          end do
+         if (allocated(error) .or. mine == 0) return
+         ! The machine checks (memory, output folder) once, for the largest cases.
+         call check_system(maxloc(sweep%cases(1:mine)%particles, 1))
+         if (s%histories) call check_system(maxloc(sweep%cases(1:mine)%steps, 1))
       end associate
+   contains
+      subroutine check_system(i)
+         integer, intent(in) :: i
+         type(config_t) :: largest
+         largest = case_config(sweep%base, sweep%cases(i))
+         largest%history = sweep%settings%histories
+         call validate_config(largest, error)
+      end subroutine check_system
    end subroutine sweep_cases
 
    integer function count_lines(text)

@@ -9,6 +9,8 @@
 !> Speed (see studies/benchmark): the per-particle arithmetic (locate, shape functions, elastic
 !> update) is written out here rather than called from mpm_shape / mpm_material, because gfortran does
 !> not inline across modules without LTO; the expressions are the same, operation for operation.
+!> (A same-module helper for the cell lookup, replacing its four written-out copies, measured 19 %
+!> slower on the paper's sweep: it is not inlined into these large loops. The copies stay.)
 !> Particles stay sorted by element, so consecutive particles scatter into the same element: the
 !> element shares are summed in registers while the element does not change and written once per
 !> run of particles ("flush"), instead of a store-to-load chain through memory for every particle.

@@ -74,6 +74,8 @@ program test_sweep
    call bad_sweep("&sweep timing_threads=0 /", 'timing_threads')
    call bad_sweep("&sweep particle_per_element=3 /", 'particle_per_element')
    call bad_sweep("&sweep elements= /", 'elements is an empty list')
+   call bad_sweep("&run end_time=2.0e-4 / &sweep elements=3, 1000000000, particles_per_element=2 /", &
+                  'memory available')
    call bad_sweep("&sweep elements=, dt_fractions=0.1 /", 'elements is an empty list')
    call t%finish()
 
