@@ -6,14 +6,13 @@
 !> Notation: a particle in element e with local coordinate xi has N_left = 1 - xi on node e-1 and
 !> N_right = xi on node e; dN = -/+ 1/dx. Grid nodal arrays are indexed 0..elements.
 !>
-!> Speed (see studies/benchmark): the per-particle arithmetic (locate, shape functions, elastic
-!> update) is written out here rather than called from mpm_shape / mpm_material, because gfortran does
-!> not inline across modules without LTO; the expressions are the same, operation for operation.
-!> (A same-module helper for the cell lookup, replacing its four written-out copies, measured 19 %
-!> slower on the paper's sweep: it is not inlined into these large loops. The copies stay.)
-!> Particles stay sorted by element, so consecutive particles scatter into the same element: the
-!> element shares are summed in registers while the element does not change and written once per
-!> run of particles ("flush"), instead of a store-to-load chain through memory for every particle.
+!> Speed (see studies/benchmark): each segment kernel walks its particles in blocks of 64. The
+!> per-particle update of a block (G2P, stress update, new cell) is one branch-free loop that gfortran
+!> vectorises, with or without -march (the per-particle helpers below are elemental and inlined; the
+!> cell lookup uses integer arithmetic because a floating-point comparison would keep the loop scalar
+!> under gfortran's default trapping-math). The block's totals are summed in 8 lanes. Then the element
+!> shares are summed in particle order: particles stay sorted by element, so consecutive particles
+!> scatter into the same element and a run of them is summed in registers and written once.
 !>
 !> Threads: a large run (at least `parallel_threshold` particles) is cut into segments of whole
 !> elements whose size depends on the problem only (see segments_t in mpm_grid); the segments of a
@@ -24,7 +23,7 @@
 !> identical with 1, 2 or more threads.
 module mpm_transfer
    use omp_lib, only: omp_in_parallel
-   use mpm_kinds, only: dp
+   use mpm_kinds, only: dp, i8
    use mpm_grid, only: grid_t, segments_t, share_count
    use mpm_particles, only: particles_t
    implicit none
@@ -44,6 +43,25 @@ module mpm_transfer
 
    !> Which element shares a pass scatters (bit set).
    integer, parameter :: share_mass = 1, share_momentum = 2, share_stress = 4
+
+   !> Particles per block of a segment kernel (see "blocks" below): the block's buffers stay in L1,
+   !> and memory is streamed evenly (larger blocks were faster in cache but slower with 1e7 particles).
+   integer, parameter :: block_size = 64
+   !> Partial sums per total: one AVX-512 vector of doubles (four SSE2 vectors without -march).
+   integer, parameter :: lanes = 8
+
+   !> The run of particles in one element that a kernel is summing (element 0: none yet).
+   type :: run_t
+      integer :: cur = 0
+      real(dp) :: a(share_count) = 0.0_dp
+   end type run_t
+
+   !> The largest particle move of a segment so far, with the moves of the block where it happened.
+   type :: largest_move_t
+      real(dp) :: value = 0.0_dp
+      integer :: first = 0, count = 0
+      real(dp) :: moves(block_size)
+   end type largest_move_t
 
    !> Sums and extremes gathered during a pass over the particles.
    type :: pass_totals_t
@@ -476,8 +494,10 @@ contains
    !> (neighbour segment's element); elements further away mark the segment for add_far_movers.
    pure subroutine flush_shares(k, c, lo, hi, shares, a1, a2, a3, a4, a5, mass_left, mass_right, &
                                 momentum_left, momentum_right, stress_volume, seg)
-      integer, intent(in) :: k, c, lo, hi, shares
-      real(dp), intent(in) :: a1, a2, a3, a4, a5
+      ! by value: the caller keeps its running sums in registers (a dummy passed by reference would
+      ! make it store them to memory for every particle)
+      integer, value :: k, c, lo, hi, shares
+      real(dp), value :: a1, a2, a3, a4, a5
       real(dp), intent(inout), contiguous :: mass_left(:), mass_right(:), momentum_left(:), momentum_right(:), stress_volume(:)
       type(segments_t), intent(inout) :: seg
       if (c >= lo .and. c <= hi) then
@@ -527,6 +547,232 @@ contains
       seg%last_cell(k) = 0
    end subroutine open_segment
 
+   ! ---- blocks: the per-particle update of a block vectorised, then its element shares in order ----
+   !
+   ! Each segment kernel walks its particles in blocks of `block_size`. Phase A updates a block in
+   ! one loop with no branch (the compiler vectorises it: gathers of the nodal values, the new cell
+   ! found with integer arithmetic, see `locate`), leaving in small buffers what the rest needs. The
+   ! totals of the block are then added lane by lane (`lanes` partial sums, also vectorised), and
+   ! phase B (`accumulate_block`) sums the element shares in particle order, as a single loop would.
+   ! The association of every sum is fixed by the segment and block boundaries, never by threads.
+
+   !> New cell of a particle at s = x/dx (in elements) for a grid of `elements` elements, or 0 when
+   !> the particle is outside [0, elements] (NaN included). Integer arithmetic only: the sign bit and
+   !> the ordering of the bit patterns of non-negative doubles decide the range, so the caller's loop
+   !> has no floating-point comparison to branch on (gfortran does not vectorise a loop that has one
+   !> unless floating-point traps are declared off). s == elements (the free end) is in the last cell.
+   elemental integer function locate(s, elements, elements_bits) result(c)
+      real(dp), intent(in) :: s
+      integer, intent(in) :: elements
+      integer(i8), intent(in) :: elements_bits  !< transfer(real(elements, dp), 0_i8)
+      integer(i8) :: bits
+      bits = transfer(s, 0_i8)
+      ! 1 - (sign bit of bits | sign bit of (elements_bits - bits)): 1 inside, 0 outside
+      c = min(int(s) + 1, elements)*int(1_i8 - ishft(ior(bits, elements_bits - bits), -63))
+   end function locate
+
+   !> G2P of one particle in element e with its start-of-step shape functions: v += dt sum N a_I,
+   !> x += dt sum N v_I. Also gives the particle's local coordinate xi (before the move) and its
+   !> contributions to the totals: displacement x - X, kinetic energy, move in cells.
+   elemental subroutine g2p_particle(e, acceleration_left, acceleration_right, velocity_left, velocity_right, &
+                                     inv_dx, dt, half_m, x0, x, v, xi, displacement, kinetic, move)
+      integer, intent(in) :: e
+      real(dp), intent(in) :: acceleration_left, acceleration_right, velocity_left, velocity_right
+      real(dp), intent(in) :: inv_dx, dt, half_m, x0
+      real(dp), intent(inout) :: x, v
+      real(dp), intent(out) :: xi, displacement, kinetic, move
+      real(dp) :: dxp
+      xi = x*inv_dx - (e - 1)
+      v = v + dt*((1.0_dp - xi)*acceleration_left + xi*acceleration_right)
+      dxp = dt*((1.0_dp - xi)*velocity_left + xi*velocity_right)
+      x = x + dxp
+      displacement = x - x0
+      kinetic = half_m*v*v
+      move = abs(dxp)*inv_dx
+   end subroutine g2p_particle
+
+   !> Linear elastic stress update of one particle in the element of nodes with velocities
+   !> velocity_left, velocity_right: d eps = dt sum dN v_I, sigma += E d eps, J *= 1 + d eps.
+   !> Also gives its strain energy sigma^2 J V0 / 2E (strain_factor = V0 / 2E) and stress*volume.
+   elemental subroutine stress_particle(velocity_left, velocity_right, inv_dx, dt, youngs_modulus, strain_factor, &
+                                        volume0, stress, volume_ratio, strain_energy, stress_volume)
+      real(dp), intent(in) :: velocity_left, velocity_right, inv_dx, dt, youngs_modulus, strain_factor, volume0
+      real(dp), intent(inout) :: stress, volume_ratio
+      real(dp), intent(out) :: strain_energy, stress_volume
+      real(dp) :: dstrain
+      dstrain = dt*(velocity_right - velocity_left)*inv_dx
+      stress = stress + youngs_modulus*dstrain
+      volume_ratio = volume_ratio*(1.0_dp + dstrain)
+      strain_energy = stress*stress*volume_ratio*strain_factor
+      stress_volume = stress*volume_ratio*volume0
+   end subroutine stress_particle
+
+   !> Totals of one segment kept in `lanes` partial sums (particle i of a block adds to lane
+   !> mod(i - 1, lanes) + 1), combined in lane order at the end of the segment.
+   subroutine add_lanes(n, values, lane_sums)
+      integer, intent(in) :: n
+      real(dp), intent(in) :: values(:)
+      real(dp), intent(inout) :: lane_sums(lanes)
+      integer :: i, r
+      do i = 1, n - lanes + 1, lanes
+         lane_sums = lane_sums + values(i:i + lanes - 1)
+      end do
+      r = mod(n, lanes)
+      if (r > 0) lane_sums(1:r) = lane_sums(1:r) + values(n - r + 1:n)
+   end subroutine add_lanes
+
+   subroutine min_lanes(n, values, lane_min)
+      integer, intent(in) :: n
+      real(dp), intent(in) :: values(:)
+      real(dp), intent(inout) :: lane_min(lanes)
+      integer :: i, r
+      do i = 1, n - lanes + 1, lanes
+         lane_min = min(lane_min, values(i:i + lanes - 1))
+      end do
+      r = mod(n, lanes)
+      if (r > 0) lane_min(1:r) = min(lane_min(1:r), values(n - r + 1:n))
+   end subroutine min_lanes
+
+   !> Sum of the lanes, in lane order.
+   pure real(dp) function lane_total(lane_sums) result(total)
+      real(dp), intent(in) :: lane_sums(lanes)
+      integer :: l
+      total = 0.0_dp
+      do l = 1, lanes
+         total = total + lane_sums(l)
+      end do
+   end function lane_total
+
+   !> Largest move of a block, kept with the block's moves when it beats the segment's largest so far
+   !> (strictly: the first block keeps it, as a single loop would). The particle itself is found
+   !> once, at the end of the segment (`furthest_particle`).
+   subroutine track_largest_move(n, b0, move, largest)
+      integer, intent(in) :: n, b0
+      real(dp), intent(in) :: move(:)
+      type(largest_move_t), intent(inout) :: largest
+      real(dp) :: lane_max(lanes), block_max
+      integer :: i, r
+      lane_max = 0.0_dp
+      do i = 1, n - lanes + 1, lanes
+         lane_max = max(lane_max, move(i:i + lanes - 1))
+      end do
+      r = mod(n, lanes)
+      if (r > 0) lane_max(1:r) = max(lane_max(1:r), move(n - r + 1:n))
+      block_max = maxval(lane_max)
+      if (block_max > largest%value) then
+         largest%value = block_max
+         largest%first = b0
+         largest%count = n
+         largest%moves(1:n) = move(1:n)
+      end if
+   end subroutine track_largest_move
+
+   !> The first particle of a block found outside the grid (cell 0), unless one was found before.
+   subroutine find_outside(n, b0, cells, outside)
+      integer, intent(in) :: n, b0
+      integer, intent(in) :: cells(:)
+      integer, intent(inout) :: outside
+      integer :: i
+      if (outside /= 0) return
+      if (.not. any(cells(1:n) == 0)) return
+      do i = 1, n
+         if (cells(i) == 0) then
+            outside = b0 - 1 + i
+            return
+         end if
+      end do
+   end subroutine find_outside
+
+   !> The first particle that made the largest move (0 if none moved).
+   pure integer function furthest_particle(largest) result(p)
+      type(largest_move_t), intent(in) :: largest
+      p = 0
+      if (largest%count > 0) p = largest%first - 1 + maxloc(largest%moves(1:largest%count), 1)
+   end function furthest_particle
+
+   !> Phase B: the element shares of a block, in particle order. A run of particles in one element
+   !> is summed in registers and flushed once (flush_shares); `run` carries the open run from one
+   !> block to the next. Cells 0 (outside the grid) are skipped; the caller records them.
+   !> Shares: a1, a2 = N0 m, N1 m; a3, a4 = N0 m v, N1 m v; a5 = stress*volume.
+   subroutine accumulate_block(k, n, cells, xi, vp, sv, m, lo, hi, shares, run, mass_left, mass_right, &
+                               momentum_left, momentum_right, stress_volume, seg)
+      integer, intent(in) :: k, n, lo, hi, shares
+      integer, intent(in) :: cells(:)
+      real(dp), intent(in) :: xi(:), vp(:), sv(:), m
+      type(run_t), intent(inout) :: run
+      real(dp), intent(inout), contiguous :: mass_left(:), mass_right(:), momentum_left(:), momentum_right(:), &
+                                             stress_volume(:)
+      type(segments_t), intent(inout) :: seg
+      integer :: i, c, cur
+      real(dp) :: n0, n1, a1, a2, a3, a4, a5
+      logical :: kinematic, with_stress
+      kinematic = iand(shares, share_mass + share_momentum) /= 0
+      with_stress = iand(shares, share_stress) /= 0
+      cur = run%cur
+      a1 = run%a(1); a2 = run%a(2); a3 = run%a(3); a4 = run%a(4); a5 = run%a(5)
+      do i = 1, n
+         c = cells(i)
+         if (c /= cur) then
+            if (c == 0) cycle
+            if (cur >= lo .and. cur <= hi) then
+               ! the segment's own element (the common case), written here rather than in a call
+               if (kinematic) then
+                  if (iand(shares, share_mass) /= 0) then
+                     mass_left(cur) = mass_left(cur) + a1
+                     mass_right(cur) = mass_right(cur) + a2
+                  end if
+                  if (iand(shares, share_momentum) /= 0) then
+                     momentum_left(cur) = momentum_left(cur) + a3
+                     momentum_right(cur) = momentum_right(cur) + a4
+                  end if
+               end if
+               if (with_stress) stress_volume(cur) = stress_volume(cur) + a5
+            else if (cur /= 0) then
+               call flush_shares(k, cur, lo, hi, shares, a1, a2, a3, a4, a5, mass_left, mass_right, &
+                                 momentum_left, momentum_right, stress_volume, seg)
+            end if
+            if (c < cur) seg%unsorted(k) = .true.
+            if (cur == 0) seg%first_cell(k) = c
+            cur = c
+            a1 = 0; a2 = 0; a3 = 0; a4 = 0; a5 = 0
+         end if
+         if (kinematic) then
+            n1 = xi(i)
+            n0 = 1.0_dp - n1
+            a1 = a1 + n0*m
+            a2 = a2 + n1*m
+            a3 = a3 + n0*m*vp(i)
+            a4 = a4 + n1*m*vp(i)
+         end if
+         if (with_stress) a5 = a5 + sv(i)
+      end do
+      run%cur = cur
+      run%a = [a1, a2, a3, a4, a5]
+   end subroutine accumulate_block
+
+   !> Flush the open run and record the segment's totals.
+   subroutine close_segment(k, shares, run, sums, min_j, max_move, furthest, outside, mass_left, mass_right, &
+                            momentum_left, momentum_right, stress_volume, seg)
+      integer, intent(in) :: k, shares, furthest, outside
+      type(run_t), intent(in) :: run
+      real(dp), intent(in) :: sums(3), min_j, max_move
+      real(dp), intent(inout), contiguous :: mass_left(:), mass_right(:), momentum_left(:), momentum_right(:), &
+                                             stress_volume(:)
+      type(segments_t), intent(inout) :: seg
+      integer :: lo, hi
+      lo = seg%first_element(k)
+      hi = seg%first_element(k + 1) - 1
+      if (run%cur /= 0) call flush_shares(k, run%cur, lo, hi, shares, run%a(1), run%a(2), run%a(3), run%a(4), &
+                                          run%a(5), mass_left, mass_right, momentum_left, momentum_right, &
+                                          stress_volume, seg)
+      seg%last_cell(k) = run%cur
+      seg%sums(:, k) = sums
+      seg%min_volume_ratio(k) = min_j
+      seg%max_cell_move(k) = max_move
+      seg%furthest(k) = furthest
+      seg%outside(k) = outside
+   end subroutine close_segment
+
    !> USL: G2P, stress update from the updated nodal velocities, P2G at the new position.
    subroutine usl_segment(k, seg, x, x0, v, stress, volume_ratio, cell, acceleration, velocity, &
                           mass_left, mass_right, momentum_left, momentum_right, stress_volume, &
@@ -541,79 +787,54 @@ contains
       integer, intent(in) :: elements
       real(dp), intent(in) :: inv_dx, dt, youngs_modulus, m, volume0
       integer, parameter :: shares = share_mass + share_momentum + share_stress
-      integer :: p, e, c, cur, first, last, lo, hi, furthest, outside
-      real(dp) :: xi, n0, n1, vp, xp, dxp, s, dstrain, sp, jp, sv, move
-      real(dp) :: a1, a2, a3, a4, a5, displacement, kinetic, strain, min_j, max_move
+      integer :: p, e, c, i, n, b0, first, last, lo, hi, outside
+      integer(i8) :: elements_bits
+      real(dp) :: xi, s, half_m, strain_factor
+      type(largest_move_t) :: largest
+      real(dp) :: displacement(lanes), kinetic(lanes), strain(lanes), min_j(lanes)
+      integer :: cb(block_size)
+      real(dp) :: xib(block_size), vpb(block_size), svb(block_size), db(block_size), kb(block_size), &
+                  sb(block_size), jb(block_size), mb(block_size)
+      type(run_t) :: run
       call open_segment(k, shares, seg, mass_left, mass_right, momentum_left, momentum_right, stress_volume, &
                         first, last, lo, hi)
-      displacement = 0; kinetic = 0; strain = 0; min_j = huge(1.0_dp); max_move = 0
-      furthest = 0; outside = 0
-      cur = 0
-      a1 = 0; a2 = 0; a3 = 0; a4 = 0; a5 = 0
-      do p = first, last
-         e = cell(p)
-         ! G2P with the start-of-step shape functions
-         xi = x(p)*inv_dx - (e - 1)
-         n0 = 1.0_dp - xi
-         n1 = xi
-         vp = v(p) + dt*(n0*acceleration(e - 1) + n1*acceleration(e))
-         dxp = dt*(n0*velocity(e - 1) + n1*velocity(e))
-         xp = x(p) + dxp
-         v(p) = vp
-         x(p) = xp
-         displacement = displacement + (xp - x0(p))
-         kinetic = kinetic + 0.5_dp*m*vp*vp
-         move = abs(dxp)*inv_dx
-         if (move > max_move) then
-            max_move = move
-            furthest = p
-         end if
-         ! stress update: d eps = dt sum dN v_I over the start-of-step cell
-         dstrain = dt*(velocity(e) - velocity(e - 1))*inv_dx
-         sp = stress(p) + youngs_modulus*dstrain
-         jp = volume_ratio(p)*(1.0_dp + dstrain)
-         stress(p) = sp
-         volume_ratio(p) = jp
-         strain = strain + 0.5_dp*sp*sp*(jp*volume0)/youngs_modulus
-         min_j = min(min_j, jp)
-         ! P2G at the new position
-         s = xp*inv_dx
-         if (s >= 0.0_dp .and. s < real(elements, dp)) then
-            c = int(s) + 1
-            xi = s - (c - 1)
-         else if (s == real(elements, dp)) then
-            c = elements
-            xi = 1.0_dp
-         else
-            if (outside == 0) outside = p
-            cycle
-         end if
-         if (c /= e) cell(p) = c
-         if (c /= cur) then
-            if (cur /= 0) call flush_shares(k, cur, lo, hi, shares, a1, a2, a3, a4, a5, mass_left, mass_right, &
-                                            momentum_left, momentum_right, stress_volume, seg)
-            if (c < cur) seg%unsorted(k) = .true.
-            if (cur == 0) seg%first_cell(k) = c
-            cur = c
-            a1 = 0; a2 = 0; a3 = 0; a4 = 0; a5 = 0
-         end if
-         n0 = 1.0_dp - xi
-         n1 = xi
-         sv = sp*jp*volume0
-         a1 = a1 + n0*m
-         a2 = a2 + n1*m
-         a3 = a3 + n0*m*vp
-         a4 = a4 + n1*m*vp
-         a5 = a5 + sv
+      displacement = 0; kinetic = 0; strain = 0; min_j = huge(1.0_dp)
+      outside = 0
+      elements_bits = transfer(real(elements, dp), 0_i8)
+      half_m = 0.5_dp*m
+      strain_factor = 0.5_dp*volume0/youngs_modulus
+      do b0 = first, last, block_size
+         n = min(block_size, last - b0 + 1)
+         do i = 1, n
+            p = b0 + i - 1
+            e = cell(p)
+            ! G2P with the start-of-step shape functions
+            call g2p_particle(e, acceleration(e - 1), acceleration(e), velocity(e - 1), velocity(e), inv_dx, dt, &
+                              half_m, x0(p), x(p), v(p), xi, db(i), kb(i), mb(i))
+            ! stress update: d eps = dt sum dN v_I over the start-of-step cell
+            call stress_particle(velocity(e - 1), velocity(e), inv_dx, dt, youngs_modulus, strain_factor, volume0, &
+                                 stress(p), volume_ratio(p), sb(i), svb(i))
+            jb(i) = volume_ratio(p)
+            ! the new cell, for P2G at the new position
+            s = x(p)*inv_dx
+            c = locate(s, elements, elements_bits)
+            cell(p) = c
+            cb(i) = c
+            xib(i) = s - (c - 1)
+            vpb(i) = v(p)
+         end do
+         call add_lanes(n, db, displacement)
+         call add_lanes(n, kb, kinetic)
+         call add_lanes(n, sb, strain)
+         call min_lanes(n, jb, min_j)
+         call track_largest_move(n, b0, mb, largest)
+         call find_outside(n, b0, cb, outside)
+         call accumulate_block(k, n, cb, xib, vpb, svb, m, lo, hi, shares, run, mass_left, mass_right, &
+                               momentum_left, momentum_right, stress_volume, seg)
       end do
-      if (cur /= 0) call flush_shares(k, cur, lo, hi, shares, a1, a2, a3, a4, a5, mass_left, mass_right, &
-                                      momentum_left, momentum_right, stress_volume, seg)
-      seg%last_cell(k) = cur
-      seg%sums(:, k) = [displacement, kinetic, strain]
-      seg%min_volume_ratio(k) = min_j
-      seg%max_cell_move(k) = max_move
-      seg%furthest(k) = furthest
-      seg%outside(k) = outside
+      call close_segment(k, shares, run, [lane_total(displacement), lane_total(kinetic), lane_total(strain)], &
+                         minval(min_j), largest%value, furthest_particle(largest), outside, mass_left, mass_right, momentum_left, &
+                         momentum_right, stress_volume, seg)
    end subroutine usl_segment
 
    !> USF second half: G2P, then mass and momentum at the new position.
@@ -629,67 +850,44 @@ contains
       integer, intent(in) :: elements
       real(dp), intent(in) :: inv_dx, dt, m
       integer, parameter :: shares = share_mass + share_momentum
-      integer :: p, e, c, cur, first, last, lo, hi, furthest, outside
-      real(dp) :: xi, n0, n1, vp, xp, dxp, s, move, unused(1)
-      real(dp) :: a1, a2, a3, a4, displacement, kinetic, max_move
+      integer :: p, e, c, i, n, b0, first, last, lo, hi, outside
+      integer(i8) :: elements_bits
+      real(dp) :: xi, s, half_m, unused(1)
+      type(largest_move_t) :: largest
+      real(dp) :: displacement(lanes), kinetic(lanes)
+      integer :: cb(block_size)
+      real(dp) :: xib(block_size), vpb(block_size), db(block_size), kb(block_size), mb(block_size)
+      type(run_t) :: run
       call open_segment(k, shares, seg, mass_left, mass_right, momentum_left, momentum_right, unused, &
                         first, last, lo, hi)
-      displacement = 0; kinetic = 0; max_move = 0
-      furthest = 0; outside = 0
-      cur = 0
-      a1 = 0; a2 = 0; a3 = 0; a4 = 0
-      do p = first, last
-         e = cell(p)
-         xi = x(p)*inv_dx - (e - 1)
-         n0 = 1.0_dp - xi
-         n1 = xi
-         vp = v(p) + dt*(n0*acceleration(e - 1) + n1*acceleration(e))
-         dxp = dt*(n0*velocity(e - 1) + n1*velocity(e))
-         xp = x(p) + dxp
-         v(p) = vp
-         x(p) = xp
-         displacement = displacement + (xp - x0(p))
-         kinetic = kinetic + 0.5_dp*m*vp*vp
-         move = abs(dxp)*inv_dx
-         if (move > max_move) then
-            max_move = move
-            furthest = p
-         end if
-         s = xp*inv_dx
-         if (s >= 0.0_dp .and. s < real(elements, dp)) then
-            c = int(s) + 1
-            xi = s - (c - 1)
-         else if (s == real(elements, dp)) then
-            c = elements
-            xi = 1.0_dp
-         else
-            if (outside == 0) outside = p
-            cycle
-         end if
-         if (c /= e) cell(p) = c
-         if (c /= cur) then
-            if (cur /= 0) call flush_shares(k, cur, lo, hi, shares, a1, a2, a3, a4, 0.0_dp, mass_left, mass_right, &
-                                            momentum_left, momentum_right, unused, seg)
-            if (c < cur) seg%unsorted(k) = .true.
-            if (cur == 0) seg%first_cell(k) = c
-            cur = c
-            a1 = 0; a2 = 0; a3 = 0; a4 = 0
-         end if
-         n0 = 1.0_dp - xi
-         n1 = xi
-         a1 = a1 + n0*m
-         a2 = a2 + n1*m
-         a3 = a3 + n0*m*vp
-         a4 = a4 + n1*m*vp
+      displacement = 0; kinetic = 0
+      outside = 0
+      elements_bits = transfer(real(elements, dp), 0_i8)
+      half_m = 0.5_dp*m
+      do b0 = first, last, block_size
+         n = min(block_size, last - b0 + 1)
+         do i = 1, n
+            p = b0 + i - 1
+            e = cell(p)
+            call g2p_particle(e, acceleration(e - 1), acceleration(e), velocity(e - 1), velocity(e), inv_dx, dt, &
+                              half_m, x0(p), x(p), v(p), xi, db(i), kb(i), mb(i))
+            s = x(p)*inv_dx
+            c = locate(s, elements, elements_bits)
+            cell(p) = c
+            cb(i) = c
+            xib(i) = s - (c - 1)
+            vpb(i) = v(p)
+         end do
+         call add_lanes(n, db, displacement)
+         call add_lanes(n, kb, kinetic)
+         call track_largest_move(n, b0, mb, largest)
+         call find_outside(n, b0, cb, outside)
+         call accumulate_block(k, n, cb, xib, vpb, vpb, m, lo, hi, shares, run, mass_left, mass_right, &
+                               momentum_left, momentum_right, unused, seg)
       end do
-      if (cur /= 0) call flush_shares(k, cur, lo, hi, shares, a1, a2, a3, a4, 0.0_dp, mass_left, mass_right, &
-                                      momentum_left, momentum_right, unused, seg)
-      seg%last_cell(k) = cur
-      seg%sums(:, k) = [displacement, kinetic, 0.0_dp]
-      seg%min_volume_ratio(k) = huge(1.0_dp)
-      seg%max_cell_move(k) = max_move
-      seg%furthest(k) = furthest
-      seg%outside(k) = outside
+      call close_segment(k, shares, run, [lane_total(displacement), lane_total(kinetic), 0.0_dp], &
+                         huge(1.0_dp), largest%value, furthest_particle(largest), outside, mass_left, mass_right, momentum_left, &
+                         momentum_right, unused, seg)
    end subroutine usf_move_segment
 
    !> USF first half: stress update, then stress*volume of the (unmoved) particles per element.
@@ -703,39 +901,32 @@ contains
       real(dp), intent(inout), contiguous :: stress_volume(:)
       real(dp), intent(in) :: inv_dx, dt, youngs_modulus, volume0
       integer, parameter :: shares = share_stress
-      integer :: p, e, cur, first, last, lo, hi
-      real(dp) :: dstrain, sp, jp, a5, strain, min_j, unused(1)
+      integer :: p, e, i, n, b0, first, last, lo, hi
+      real(dp) :: strain_factor, unused(1)
+      real(dp) :: strain(lanes), min_j(lanes)
+      integer :: cb(block_size)
+      real(dp) :: svb(block_size), sb(block_size), jb(block_size)
+      type(run_t) :: run
       call open_segment(k, shares, seg, unused, unused, unused, unused, stress_volume, first, last, lo, hi)
       strain = 0; min_j = huge(1.0_dp)
-      cur = 0
-      a5 = 0
-      dstrain = 0
-      do p = first, last
-         e = cell(p)
-         if (e /= cur) then
-            if (cur /= 0) call flush_shares(k, cur, lo, hi, shares, 0.0_dp, 0.0_dp, 0.0_dp, 0.0_dp, a5, &
-                                            unused, unused, unused, unused, stress_volume, seg)
-            if (cur == 0) seg%first_cell(k) = e
-            cur = e
-            a5 = 0
-            dstrain = dt*(velocity(e) - velocity(e - 1))*inv_dx
-         end if
-         sp = stress(p) + youngs_modulus*dstrain
-         jp = volume_ratio(p)*(1.0_dp + dstrain)
-         stress(p) = sp
-         volume_ratio(p) = jp
-         strain = strain + 0.5_dp*sp*sp*(jp*volume0)/youngs_modulus
-         min_j = min(min_j, jp)
-         a5 = a5 + sp*jp*volume0
+      strain_factor = 0.5_dp*volume0/youngs_modulus
+      do b0 = first, last, block_size
+         n = min(block_size, last - b0 + 1)
+         do i = 1, n
+            p = b0 + i - 1
+            e = cell(p)
+            call stress_particle(velocity(e - 1), velocity(e), inv_dx, dt, youngs_modulus, strain_factor, volume0, &
+                                 stress(p), volume_ratio(p), sb(i), svb(i))
+            cb(i) = e
+            jb(i) = volume_ratio(p)
+         end do
+         call add_lanes(n, sb, strain)
+         call min_lanes(n, jb, min_j)
+         call accumulate_block(k, n, cb, svb, svb, svb, 0.0_dp, lo, hi, shares, run, unused, unused, unused, &
+                               unused, stress_volume, seg)
       end do
-      if (cur /= 0) call flush_shares(k, cur, lo, hi, shares, 0.0_dp, 0.0_dp, 0.0_dp, 0.0_dp, a5, &
-                                      unused, unused, unused, unused, stress_volume, seg)
-      seg%last_cell(k) = cur
-      seg%sums(:, k) = [0.0_dp, 0.0_dp, strain]
-      seg%min_volume_ratio(k) = min_j
-      seg%max_cell_move(k) = 0
-      seg%furthest(k) = 0
-      seg%outside(k) = 0
+      call close_segment(k, shares, run, [0.0_dp, 0.0_dp, lane_total(strain)], minval(min_j), 0.0_dp, 0, 0, &
+                         unused, unused, unused, unused, stress_volume, seg)
    end subroutine usf_stress_segment
 
    !> MUSL first pass: G2P, and the new momentum back to the start-of-step nodes.
@@ -750,50 +941,35 @@ contains
       real(dp), intent(inout), contiguous :: momentum_left(:), momentum_right(:)
       real(dp), intent(in) :: inv_dx, dt, m
       integer, parameter :: shares = share_momentum
-      integer :: p, e, cur, first, last, lo, hi, furthest
-      real(dp) :: xi, n0, n1, vp, xp, dxp, mv, move, unused(1)
-      real(dp) :: a3, a4, displacement, kinetic, max_move
+      integer :: p, e, i, n, b0, first, last, lo, hi
+      real(dp) :: xi, half_m, unused(1)
+      type(largest_move_t) :: largest
+      real(dp) :: displacement(lanes), kinetic(lanes)
+      integer :: cb(block_size)
+      real(dp) :: xib(block_size), vpb(block_size), db(block_size), kb(block_size), mb(block_size)
+      type(run_t) :: run
       call open_segment(k, shares, seg, unused, unused, momentum_left, momentum_right, unused, first, last, lo, hi)
-      displacement = 0; kinetic = 0; max_move = 0
-      furthest = 0
-      cur = 0
-      a3 = 0; a4 = 0
-      do p = first, last
-         e = cell(p)
-         xi = x(p)*inv_dx - (e - 1)
-         n0 = 1.0_dp - xi
-         n1 = xi
-         vp = v(p) + dt*(n0*acceleration(e - 1) + n1*acceleration(e))
-         dxp = dt*(n0*velocity(e - 1) + n1*velocity(e))
-         xp = x(p) + dxp
-         v(p) = vp
-         x(p) = xp
-         displacement = displacement + (xp - x0(p))
-         kinetic = kinetic + 0.5_dp*m*vp*vp
-         move = abs(dxp)*inv_dx
-         if (move > max_move) then
-            max_move = move
-            furthest = p
-         end if
-         if (e /= cur) then
-            if (cur /= 0) call flush_shares(k, cur, lo, hi, shares, 0.0_dp, 0.0_dp, a3, a4, 0.0_dp, &
-                                            unused, unused, momentum_left, momentum_right, unused, seg)
-            if (cur == 0) seg%first_cell(k) = e
-            cur = e
-            a3 = 0; a4 = 0
-         end if
-         mv = m*vp
-         a3 = a3 + n0*mv
-         a4 = a4 + n1*mv
+      displacement = 0; kinetic = 0
+      half_m = 0.5_dp*m
+      do b0 = first, last, block_size
+         n = min(block_size, last - b0 + 1)
+         do i = 1, n
+            p = b0 + i - 1
+            e = cell(p)
+            call g2p_particle(e, acceleration(e - 1), acceleration(e), velocity(e - 1), velocity(e), inv_dx, dt, &
+                              half_m, x0(p), x(p), v(p), xi, db(i), kb(i), mb(i))
+            cb(i) = e
+            xib(i) = xi
+            vpb(i) = v(p)
+         end do
+         call add_lanes(n, db, displacement)
+         call add_lanes(n, kb, kinetic)
+         call track_largest_move(n, b0, mb, largest)
+         call accumulate_block(k, n, cb, xib, vpb, vpb, m, lo, hi, shares, run, unused, unused, momentum_left, &
+                               momentum_right, unused, seg)
       end do
-      if (cur /= 0) call flush_shares(k, cur, lo, hi, shares, 0.0_dp, 0.0_dp, a3, a4, 0.0_dp, &
-                                      unused, unused, momentum_left, momentum_right, unused, seg)
-      seg%last_cell(k) = cur
-      seg%sums(:, k) = [displacement, kinetic, 0.0_dp]
-      seg%min_volume_ratio(k) = huge(1.0_dp)
-      seg%max_cell_move(k) = max_move
-      seg%furthest(k) = furthest
-      seg%outside(k) = 0
+      call close_segment(k, shares, run, [lane_total(displacement), lane_total(kinetic), 0.0_dp], huge(1.0_dp), &
+                         largest%value, furthest_particle(largest), 0, unused, unused, momentum_left, momentum_right, unused, seg)
    end subroutine musl_remap_segment
 
    !> MUSL second pass: stress update with the remapped nodal velocity of the start-of-step cell,
@@ -811,61 +987,41 @@ contains
       integer, intent(in) :: elements
       real(dp), intent(in) :: inv_dx, dt, youngs_modulus, m, volume0
       integer, parameter :: shares = share_mass + share_momentum + share_stress
-      integer :: p, e, c, cur, first, last, lo, hi, outside
-      real(dp) :: xi, n0, n1, vp, s, dstrain, sp, jp, sv
-      real(dp) :: a1, a2, a3, a4, a5, strain, min_j
+      integer :: p, e, c, i, n, b0, first, last, lo, hi, outside
+      integer(i8) :: elements_bits
+      real(dp) :: s, strain_factor
+      real(dp) :: strain(lanes), min_j(lanes)
+      integer :: cb(block_size)
+      real(dp) :: xib(block_size), vpb(block_size), svb(block_size), sb(block_size), jb(block_size)
+      type(run_t) :: run
       call open_segment(k, shares, seg, mass_left, mass_right, momentum_left, momentum_right, stress_volume, &
                         first, last, lo, hi)
       strain = 0; min_j = huge(1.0_dp)
       outside = 0
-      cur = 0
-      a1 = 0; a2 = 0; a3 = 0; a4 = 0; a5 = 0
-      do p = first, last
-         e = cell(p)
-         dstrain = dt*(velocity(e) - velocity(e - 1))*inv_dx
-         sp = stress(p) + youngs_modulus*dstrain
-         jp = volume_ratio(p)*(1.0_dp + dstrain)
-         stress(p) = sp
-         volume_ratio(p) = jp
-         strain = strain + 0.5_dp*sp*sp*(jp*volume0)/youngs_modulus
-         min_j = min(min_j, jp)
-         s = x(p)*inv_dx
-         if (s >= 0.0_dp .and. s < real(elements, dp)) then
-            c = int(s) + 1
-            xi = s - (c - 1)
-         else if (s == real(elements, dp)) then
-            c = elements
-            xi = 1.0_dp
-         else
-            if (outside == 0) outside = p
-            cycle
-         end if
-         if (c /= e) cell(p) = c
-         if (c /= cur) then
-            if (cur /= 0) call flush_shares(k, cur, lo, hi, shares, a1, a2, a3, a4, a5, mass_left, mass_right, &
-                                            momentum_left, momentum_right, stress_volume, seg)
-            if (c < cur) seg%unsorted(k) = .true.
-            if (cur == 0) seg%first_cell(k) = c
-            cur = c
-            a1 = 0; a2 = 0; a3 = 0; a4 = 0; a5 = 0
-         end if
-         n0 = 1.0_dp - xi
-         n1 = xi
-         vp = v(p)
-         sv = sp*jp*volume0
-         a1 = a1 + n0*m
-         a2 = a2 + n1*m
-         a3 = a3 + n0*m*vp
-         a4 = a4 + n1*m*vp
-         a5 = a5 + sv
+      elements_bits = transfer(real(elements, dp), 0_i8)
+      strain_factor = 0.5_dp*volume0/youngs_modulus
+      do b0 = first, last, block_size
+         n = min(block_size, last - b0 + 1)
+         do i = 1, n
+            p = b0 + i - 1
+            e = cell(p)
+            call stress_particle(velocity(e - 1), velocity(e), inv_dx, dt, youngs_modulus, strain_factor, volume0, &
+                                 stress(p), volume_ratio(p), sb(i), svb(i))
+            jb(i) = volume_ratio(p)
+            s = x(p)*inv_dx
+            c = locate(s, elements, elements_bits)
+            cell(p) = c
+            cb(i) = c
+            xib(i) = s - (c - 1)
+            vpb(i) = v(p)
+         end do
+         call add_lanes(n, sb, strain)
+         call min_lanes(n, jb, min_j)
+         call find_outside(n, b0, cb, outside)
+         call accumulate_block(k, n, cb, xib, vpb, svb, m, lo, hi, shares, run, mass_left, mass_right, &
+                               momentum_left, momentum_right, stress_volume, seg)
       end do
-      if (cur /= 0) call flush_shares(k, cur, lo, hi, shares, a1, a2, a3, a4, a5, mass_left, mass_right, &
-                                      momentum_left, momentum_right, stress_volume, seg)
-      seg%last_cell(k) = cur
-      seg%sums(:, k) = [0.0_dp, 0.0_dp, strain]
-      seg%min_volume_ratio(k) = min_j
-      seg%max_cell_move(k) = 0
-      seg%furthest(k) = 0
-      seg%outside(k) = outside
+      call close_segment(k, shares, run, [0.0_dp, 0.0_dp, lane_total(strain)], minval(min_j), 0.0_dp, 0, outside, &
+                         mass_left, mass_right, momentum_left, momentum_right, stress_volume, seg)
    end subroutine musl_stress_segment
 end module mpm_transfer
