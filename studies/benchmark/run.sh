@@ -47,6 +47,25 @@ for scheme in usf usl musl; do
   done
 done
 
+echo "== sweep throughput (Table-2 error pass, 1 and 2 threads)" >&2
+mpm1d="$root/$(fpm run --profile release --flag "$FLAGS" --target mpm1d --runner echo 2>/dev/null | tail -n 1)"
+cat > "$out/table2_sweep.nml" <<EOF
+&scene kind='vibrating_bar', length=25.0, youngs_modulus=200.0e9, density=7800.0, velocity_amplitude=0.1, mode=1 /
+&run periods=2.0 /
+&output file='$out/table2_sweep.h5' /
+&sweep schemes='usf', 'usl', elements=1, 3, 7, 10, 20, 50, particles_per_element=1, 2, 3, 4, 5, 6, 7, 8, 9, 10,
+       dt_fractions=0.05, 0.10, 0.15, 0.20, 0.25, 0.30, 0.35, 0.40, 0.45, 0.50, min_time=0 /
+EOF
+echo "threads,repeat,cases,seconds" > "$out/sweep.csv"
+for r in $(seq $((REPEATS + 2))); do
+  for threads in 1 2; do  # alternately, so that both see the same load of this shared machine
+    start=$EPOCHREALTIME
+    "$mpm1d" "$out/table2_sweep.nml" --threads $threads >/dev/null 2>&1
+    end=$EPOCHREALTIME
+    echo "$threads,$r,1200,$(awk -v a="$start" -v b="$end" 'BEGIN { printf "%.4f", b - a }')" >> "$out/sweep.csv"
+  done
+done
+
 echo "== cost of a study (one period, USL)" >&2
 period=0.019746  # 4 L / c for the default bar (L = 25 m, c = 5064 m/s)
 echo "scheme,elements,ppc,dt_fraction,steps,particles,repeat,seconds" > "$out/study.csv"
