@@ -1,0 +1,163 @@
+!> The blocked particle passes of mpm_transfer against a plain one-particle-at-a-time loop written
+!> here from the update formulas (mpm_shape for the cell lookup): new particle state, element
+!> shares, totals, the particle that moved furthest and the first particle outside the grid.
+!> Nodal velocities and accelerations are random (particles overtake each other and cross
+!> elements), one node in the middle moves particles by up to two elements, and the last node moves
+!> fast enough to throw particles out of the grid. Sizes:
+!> 143 particles (two full blocks of 64 and a remainder; one segment) and 200,000 particles
+!> (several segments, shares crossing segment borders into the halos).
+program test_kernels
+   use mpm_kinds, only: dp
+   use mpm_errors, only: error_t
+   use mpm_shape, only: locate
+   use mpm_grid, only: grid_t, grid_init
+   use mpm_particles, only: particles_t, particles_init
+   use mpm_transfer, only: pass_totals_t, p2g, g2p_stress_then_p2g, g2p_then_p2g, stress_then_force
+   use mpm_testing, only: tester_t
+   use mpm_strings, only: str
+   implicit none
+   type(tester_t) :: t
+   real(dp), parameter :: length = 3.0_dp, density = 2.0_dp, youngs_modulus = 5.0_dp, dt = 0.01_dp
+
+   t%name = 'test_kernels'
+   call check_pass('usl', 13, 11)
+   call check_pass('usf', 13, 11)
+   call check_pass('usl', 20000, 10)
+   call check_pass('usf', 20000, 10)
+   call t%finish()
+
+contains
+
+   subroutine check_pass(scheme, elements, per_element)
+      character(len=*), intent(in) :: scheme
+      integer, intent(in) :: elements, per_element
+      type(particles_t) :: particles
+      type(grid_t) :: grid
+      type(pass_totals_t) :: totals, stress_totals
+      type(error_t), allocatable :: error
+      real(dp), allocatable :: x(:), v(:), stress(:), jac(:), move(:), r(:)
+      real(dp), allocatable :: mass_left(:), mass_right(:), momentum_left(:), momentum_right(:), stress_volume(:)
+      real(dp) :: dx, xi, n0, n1, dxp, dstrain, m, displacement, kinetic, strain, min_j
+      integer :: p, e, c, outside, count
+      character(len=:), allocatable :: label
+
+      label = scheme//', '//str(elements*per_element)//' particles: '
+      call particles_init(particles, elements, per_element, length/elements, density, error)
+      call grid_init(grid, elements, length, particles%mass, error)
+      count = particles%count
+      dx = grid%dx
+      m = particles%mass
+      allocate (r(count))
+      call random_number(r)
+      particles%x = particles%x + (r - 0.5_dp)*0.9_dp*dx/per_element
+      call random_number(r)
+      particles%v = r - 0.5_dp
+      call random_number(r)
+      particles%stress = 3*r - 1
+      call random_number(r)
+      particles%volume_ratio = 0.8_dp + 0.4_dp*r
+      call p2g(particles, grid, .true., totals)   ! records the cells (and plans the segments)
+      ! random nodal fields: moves up to about 0.4 element; a node in the middle moves its neighbours
+      ! up to two elements (the furthest particle is inside the run), the last node throws particles out
+      call random_number(grid%velocity)
+      grid%velocity = (grid%velocity - 0.5_dp)*0.8_dp*dx/dt
+      grid%velocity(elements/2) = 2.0_dp*dx/dt
+      grid%velocity(elements) = 1.2_dp*dx/dt
+      call random_number(grid%acceleration)
+      grid%acceleration = grid%acceleration - 0.5_dp
+
+      ! the expected result, one particle at a time
+      x = particles%x
+      v = particles%v
+      stress = particles%stress
+      jac = particles%volume_ratio
+      allocate (move(count))
+      do p = 1, count
+         e = particles%cell(p)
+         xi = x(p)*grid%inv_dx - (e - 1)
+         n0 = 1 - xi
+         n1 = xi
+         dstrain = dt*(grid%velocity(e) - grid%velocity(e - 1))*grid%inv_dx
+         stress(p) = stress(p) + youngs_modulus*dstrain
+         jac(p) = jac(p)*(1 + dstrain)
+         v(p) = v(p) + dt*(n0*grid%acceleration(e - 1) + n1*grid%acceleration(e))
+         dxp = dt*(n0*grid%velocity(e - 1) + n1*grid%velocity(e))
+         x(p) = x(p) + dxp
+         move(p) = abs(dxp)*grid%inv_dx
+      end do
+      allocate (mass_left(elements), mass_right(elements), momentum_left(elements), momentum_right(elements), &
+                stress_volume(elements))
+      mass_left = 0; mass_right = 0; momentum_left = 0; momentum_right = 0; stress_volume = 0
+      outside = 0
+      do p = 1, count
+         if (scheme == 'usf') then  ! the force comes from the unmoved particles
+            stress_volume(particles%cell(p)) = stress_volume(particles%cell(p)) + stress(p)*jac(p)*particles%volume0
+         end if
+         call locate(x(p), grid%inv_dx, elements, c, xi)
+         if (c < 1 .or. c > elements) then
+            if (outside == 0) outside = p
+            cycle
+         end if
+         mass_left(c) = mass_left(c) + (1 - xi)*m
+         mass_right(c) = mass_right(c) + xi*m
+         momentum_left(c) = momentum_left(c) + (1 - xi)*m*v(p)
+         momentum_right(c) = momentum_right(c) + xi*m*v(p)
+         if (scheme == 'usl') stress_volume(c) = stress_volume(c) + stress(p)*jac(p)*particles%volume0
+      end do
+      displacement = sum(x - particles%x0)
+      kinetic = sum(0.5_dp*m*v**2)
+      strain = sum(0.5_dp*stress**2*jac*particles%volume0/youngs_modulus)
+      min_j = minval(jac)
+
+      ! the pass(es) under test
+      if (scheme == 'usl') then
+         call g2p_stress_then_p2g(particles, grid, dt, youngs_modulus, totals)
+      else
+         call stress_then_force(particles, grid, dt, youngs_modulus, stress_totals)
+         call all_close(label//'stress*volume per element (USF force)', grid%element_stress_volume, &
+                        stress_volume, 1.0e-11_dp, 1.0e-12_dp)
+         call g2p_then_p2g(particles, grid, dt, totals)
+         totals%strain_energy = stress_totals%strain_energy
+         totals%min_volume_ratio = stress_totals%min_volume_ratio
+      end if
+
+      call t%check(label//'some particles left the grid', outside > 0)
+      call t%check(label//'some particles changed element', any(particles%cell /= [((p - 1)/per_element + 1, &
+                                                                                    p=1, count)]))
+      call t%check(label//'first particle outside the grid', totals%outside == outside, &
+                   'got '//str(totals%outside)//', expected '//str(outside))
+      call t%check(label//'the furthest particle is not the last', maxloc(move, 1) < count - per_element)
+      call t%check(label//'particle that moved furthest', totals%furthest == maxloc(move, 1), &
+                   'got '//str(totals%furthest)//', expected '//str(maxloc(move, 1)))
+      call t%check_close(label//'largest move', totals%max_cell_move, maxval(move), rtol=1.0e-13_dp)
+      call all_close(label//'positions', particles%x, x, 1.0e-14_dp, 1.0e-14_dp)
+      call all_close(label//'velocities', particles%v, v, 1.0e-13_dp, 1.0e-14_dp)
+      call all_close(label//'stresses', particles%stress, stress, 1.0e-13_dp, 1.0e-13_dp)
+      call all_close(label//'volume ratios', particles%volume_ratio, jac, 1.0e-14_dp, 0.0_dp)
+      call t%check_close(label//'sum of displacements', totals%displacement, displacement, rtol=1.0e-10_dp, &
+                         atol=1.0e-12_dp*count)
+      call t%check_close(label//'kinetic energy', totals%kinetic_energy, kinetic, rtol=1.0e-12_dp)
+      call t%check_close(label//'strain energy', totals%strain_energy, strain, rtol=1.0e-12_dp)
+      call t%check_close(label//'smallest volume ratio', totals%min_volume_ratio, min_j, rtol=1.0e-14_dp)
+      ! particles outside the grid add nothing; every other one adds to the element it is now in
+      call all_close(label//'mass shares (left)', grid%element_mass_left, mass_left, 1.0e-12_dp, 0.0_dp)
+      call all_close(label//'mass shares (right)', grid%element_mass_right, mass_right, 1.0e-12_dp, 0.0_dp)
+      call all_close(label//'momentum shares (left)', grid%element_momentum_left, momentum_left, 1.0e-11_dp, 1.0e-12_dp)
+      call all_close(label//'momentum shares (right)', grid%element_momentum_right, momentum_right, 1.0e-11_dp, &
+                     1.0e-12_dp)
+      if (scheme == 'usl') call all_close(label//'stress*volume shares', grid%element_stress_volume, &
+                                          stress_volume, 1.0e-11_dp, 1.0e-12_dp)
+   end subroutine check_pass
+
+   !> Every |actual - expected| <= atol + rtol |expected|; reports the worst entry.
+   subroutine all_close(label, actual, expected, rtol, atol)
+      character(len=*), intent(in) :: label
+      real(dp), intent(in) :: actual(:), expected(:), rtol, atol
+      real(dp) :: excess(size(actual))
+      integer :: worst
+      excess = abs(actual - expected) - (atol + rtol*abs(expected))
+      worst = maxloc(excess, 1)
+      call t%check(label, size(actual) == size(expected) .and. all(excess <= 0.0_dp), 'entry '//str(worst)// &
+                   ': actual '//str(actual(worst))//', expected '//str(expected(worst)))
+   end subroutine all_close
+end program test_kernels
