@@ -556,20 +556,26 @@ contains
    ! phase B (`accumulate_block`) sums the element shares in particle order, as a single loop would.
    ! The association of every sum is fixed by the segment and block boundaries, never by threads.
 
-   !> New cell of a particle at s = x/dx (in elements) for a grid of `elements` elements, or 0 when
-   !> the particle is outside [0, elements] (NaN included). Integer arithmetic only: the sign bit and
-   !> the ordering of the bit patterns of non-negative doubles decide the range, so the caller's loop
-   !> has no floating-point comparison to branch on (gfortran does not vectorise a loop that has one
-   !> unless floating-point traps are declared off). s == elements (the free end) is in the last cell.
-   elemental integer function locate(s, elements, elements_bits) result(c)
-      real(dp), intent(in) :: s
+   !> Cell of a particle at x and its local coordinate xi in it, for a grid of `elements` elements;
+   !> cell 0 when the particle is outside [0, elements dx] (NaN included). Integer arithmetic only:
+   !> the sign bit and the ordering of the bit patterns of non-negative doubles decide the range, so
+   !> the caller's loop has no floating-point comparison to branch on (gfortran does not vectorise a
+   !> loop that has one unless floating-point traps are declared off). x = L (the free end) is in the
+   !> last cell, at xi = 1.
+   elemental subroutine locate_cell(x, inv_dx, elements, elements_bits, cell, xi)
+      real(dp), intent(in) :: x, inv_dx
       integer, intent(in) :: elements
       integer(i8), intent(in) :: elements_bits  !< transfer(real(elements, dp), 0_i8)
+      integer, intent(out) :: cell
+      real(dp), intent(out) :: xi
+      real(dp) :: s
       integer(i8) :: bits
+      s = x*inv_dx
       bits = transfer(s, 0_i8)
       ! 1 - (sign bit of bits | sign bit of (elements_bits - bits)): 1 inside, 0 outside
-      c = min(int(s) + 1, elements)*int(1_i8 - ishft(ior(bits, elements_bits - bits), -63))
-   end function locate
+      cell = min(int(s) + 1, elements)*int(1_i8 - ishft(ior(bits, elements_bits - bits), -63))
+      xi = s - (cell - 1)
+   end subroutine locate_cell
 
    !> G2P of one particle in element e with its start-of-step shape functions: v += dt sum N a_I,
    !> x += dt sum N v_I. Also gives the particle's local coordinate xi (before the move) and its
@@ -787,9 +793,9 @@ contains
       integer, intent(in) :: elements
       real(dp), intent(in) :: inv_dx, dt, youngs_modulus, m, volume0
       integer, parameter :: shares = share_mass + share_momentum + share_stress
-      integer :: p, e, c, i, n, b0, first, last, lo, hi, outside
+      integer :: p, e, i, n, b0, first, last, lo, hi, outside
       integer(i8) :: elements_bits
-      real(dp) :: xi, s, half_m, strain_factor
+      real(dp) :: xi, half_m, strain_factor
       type(largest_move_t) :: largest
       real(dp) :: displacement(lanes), kinetic(lanes), strain(lanes), min_j(lanes)
       integer :: cb(block_size)
@@ -816,11 +822,8 @@ contains
                                  stress(p), volume_ratio(p), sb(i), svb(i))
             jb(i) = volume_ratio(p)
             ! the new cell, for P2G at the new position
-            s = x(p)*inv_dx
-            c = locate(s, elements, elements_bits)
-            cell(p) = c
-            cb(i) = c
-            xib(i) = s - (c - 1)
+            call locate_cell(x(p), inv_dx, elements, elements_bits, cb(i), xib(i))
+            cell(p) = cb(i)
             vpb(i) = v(p)
          end do
          call add_lanes(n, db, displacement)
@@ -850,9 +853,9 @@ contains
       integer, intent(in) :: elements
       real(dp), intent(in) :: inv_dx, dt, m
       integer, parameter :: shares = share_mass + share_momentum
-      integer :: p, e, c, i, n, b0, first, last, lo, hi, outside
+      integer :: p, e, i, n, b0, first, last, lo, hi, outside
       integer(i8) :: elements_bits
-      real(dp) :: xi, s, half_m, unused(1)
+      real(dp) :: xi, half_m, unused(1)
       type(largest_move_t) :: largest
       real(dp) :: displacement(lanes), kinetic(lanes)
       integer :: cb(block_size)
@@ -871,11 +874,8 @@ contains
             e = cell(p)
             call g2p_particle(e, acceleration(e - 1), acceleration(e), velocity(e - 1), velocity(e), inv_dx, dt, &
                               half_m, x0(p), x(p), v(p), xi, db(i), kb(i), mb(i))
-            s = x(p)*inv_dx
-            c = locate(s, elements, elements_bits)
-            cell(p) = c
-            cb(i) = c
-            xib(i) = s - (c - 1)
+            call locate_cell(x(p), inv_dx, elements, elements_bits, cb(i), xib(i))
+            cell(p) = cb(i)
             vpb(i) = v(p)
          end do
          call add_lanes(n, db, displacement)
@@ -987,9 +987,9 @@ contains
       integer, intent(in) :: elements
       real(dp), intent(in) :: inv_dx, dt, youngs_modulus, m, volume0
       integer, parameter :: shares = share_mass + share_momentum + share_stress
-      integer :: p, e, c, i, n, b0, first, last, lo, hi, outside
+      integer :: p, e, i, n, b0, first, last, lo, hi, outside
       integer(i8) :: elements_bits
-      real(dp) :: s, strain_factor
+      real(dp) :: strain_factor
       real(dp) :: strain(lanes), min_j(lanes)
       integer :: cb(block_size)
       real(dp) :: xib(block_size), vpb(block_size), svb(block_size), sb(block_size), jb(block_size)
@@ -1008,11 +1008,8 @@ contains
             call stress_particle(velocity(e - 1), velocity(e), inv_dx, dt, youngs_modulus, strain_factor, volume0, &
                                  stress(p), volume_ratio(p), sb(i), svb(i))
             jb(i) = volume_ratio(p)
-            s = x(p)*inv_dx
-            c = locate(s, elements, elements_bits)
-            cell(p) = c
-            cb(i) = c
-            xib(i) = s - (c - 1)
+            call locate_cell(x(p), inv_dx, elements, elements_bits, cb(i), xib(i))
+            cell(p) = cb(i)
             vpb(i) = v(p)
          end do
          call add_lanes(n, sb, strain)
