@@ -105,31 +105,30 @@ contains
       type(grid_t), intent(inout) :: grid
       logical, intent(in) :: with_stress
       type(pass_totals_t), intent(out) :: totals
-      integer :: p, c, cur, elements
-      real(dp) :: s, xi, n0, n1, m, vp, sv, a1, a2, a3, a4, a5
+      integer :: p, c, cur, shares
+      integer(i8) :: elements_bits
+      real(dp) :: xi, n0, n1, m, vp, sv, a1, a2, a3, a4, a5
       logical :: sorted
       call clear_element_shares(grid, .true., with_stress)
       call plan_segments(grid, particles%count)
       m = particles%mass
-      elements = grid%elements
+      shares = share_mass + share_momentum
+      if (with_stress) shares = shares + share_stress
+      elements_bits = transfer(real(grid%elements, dp), 0_i8)
       sorted = .true.
       cur = 0
       a1 = 0; a2 = 0; a3 = 0; a4 = 0; a5 = 0
       do p = 1, particles%count
-         s = particles%x(p)*grid%inv_dx
-         if (s >= 0.0_dp .and. s < real(elements, dp)) then
-            c = int(s) + 1
-            xi = s - (c - 1)
-         else if (s == real(elements, dp)) then
-            c = elements
-            xi = 1.0_dp
-         else
+         call locate_cell(particles%x(p), grid%inv_dx, grid%elements, elements_bits, c, xi)
+         if (c == 0) then
             if (totals%outside == 0) totals%outside = p
             cycle
          end if
          particles%cell(p) = c
          if (c /= cur) then
-            if (cur /= 0) call add_shares(grid, cur, a1, a2, a3, a4, a5, with_stress)
+            if (cur /= 0) call add_own_shares(cur, shares, a1, a2, a3, a4, a5, grid%element_mass_left, &
+                                              grid%element_mass_right, grid%element_momentum_left, &
+                                              grid%element_momentum_right, grid%element_stress_volume)
             if (c < cur) sorted = .false.
             cur = c
             a1 = 0; a2 = 0; a3 = 0; a4 = 0; a5 = 0
@@ -148,20 +147,10 @@ contains
          totals%kinetic_energy = totals%kinetic_energy + 0.5_dp*m*vp**2
          totals%min_volume_ratio = min(totals%min_volume_ratio, particles%volume_ratio(p))
       end do
-      if (cur /= 0) call add_shares(grid, cur, a1, a2, a3, a4, a5, with_stress)
+      if (cur /= 0) call add_own_shares(cur, shares, a1, a2, a3, a4, a5, grid%element_mass_left, &
+                                        grid%element_mass_right, grid%element_momentum_left, &
+                                        grid%element_momentum_right, grid%element_stress_volume)
       if (.not. sorted .and. grid%segments%count > 1 .and. totals%outside == 0) call sort_by_cell(particles, grid)
-   contains
-      subroutine add_shares(grid, e, a1, a2, a3, a4, a5, with_stress)
-         type(grid_t), intent(inout) :: grid
-         integer, intent(in) :: e
-         real(dp), intent(in) :: a1, a2, a3, a4, a5
-         logical, intent(in) :: with_stress
-         grid%element_mass_left(e) = grid%element_mass_left(e) + a1
-         grid%element_mass_right(e) = grid%element_mass_right(e) + a2
-         grid%element_momentum_left(e) = grid%element_momentum_left(e) + a3
-         grid%element_momentum_right(e) = grid%element_momentum_right(e) + a4
-         if (with_stress) grid%element_stress_volume(e) = grid%element_stress_volume(e) + a5
-      end subroutine add_shares
    end subroutine p2g
 
    !> USF, second half: grid-to-particle update with the solved grid (v_p += dt sum N a_I,
@@ -490,6 +479,23 @@ contains
 
    ! ---- the segment kernels: one segment's particles, its own elements, its halo ----
 
+   !> Add the running shares a1..a5 of element `c` to its element arrays (those in `shares`).
+   pure subroutine add_own_shares(c, shares, a1, a2, a3, a4, a5, mass_left, mass_right, momentum_left, momentum_right, &
+                                  stress_volume)
+      integer, value :: c, shares
+      real(dp), value :: a1, a2, a3, a4, a5   ! by value, as in flush_shares
+      real(dp), intent(inout), contiguous :: mass_left(:), mass_right(:), momentum_left(:), momentum_right(:), stress_volume(:)
+      if (iand(shares, share_mass) /= 0) then
+         mass_left(c) = mass_left(c) + a1
+         mass_right(c) = mass_right(c) + a2
+      end if
+      if (iand(shares, share_momentum) /= 0) then
+         momentum_left(c) = momentum_left(c) + a3
+         momentum_right(c) = momentum_right(c) + a4
+      end if
+      if (iand(shares, share_stress) /= 0) stress_volume(c) = stress_volume(c) + a5
+   end subroutine add_own_shares
+
    !> Add the running shares a1..a5 of element `c` to the grid (own element) or to the halo
    !> (neighbour segment's element); elements further away mark the segment for add_far_movers.
    pure subroutine flush_shares(k, c, lo, hi, shares, a1, a2, a3, a4, a5, mass_left, mass_right, &
@@ -501,15 +507,8 @@ contains
       real(dp), intent(inout), contiguous :: mass_left(:), mass_right(:), momentum_left(:), momentum_right(:), stress_volume(:)
       type(segments_t), intent(inout) :: seg
       if (c >= lo .and. c <= hi) then
-         if (iand(shares, share_mass) /= 0) then
-            mass_left(c) = mass_left(c) + a1
-            mass_right(c) = mass_right(c) + a2
-         end if
-         if (iand(shares, share_momentum) /= 0) then
-            momentum_left(c) = momentum_left(c) + a3
-            momentum_right(c) = momentum_right(c) + a4
-         end if
-         if (iand(shares, share_stress) /= 0) stress_volume(c) = stress_volume(c) + a5
+         call add_own_shares(c, shares, a1, a2, a3, a4, a5, mass_left, mass_right, momentum_left, momentum_right, &
+                             stress_volume)
       else if (c == lo - 1) then
          seg%halo_left(:, k) = seg%halo_left(:, k) + [a1, a2, a3, a4, a5]
       else if (c == hi + 1) then
@@ -721,7 +720,9 @@ contains
          if (c /= cur) then
             if (c == 0) cycle
             if (cur >= lo .and. cur <= hi) then
-               ! the segment's own element (the common case), written here rather than in a call
+               ! the segment's own element (the common case): the adds of add_own_shares written out,
+               ! because calling it here (gfortran then inlined flush_shares as well) made the
+               ! kernels 7-9 % slower
                if (kinematic) then
                   if (iand(shares, share_mass) /= 0) then
                      mass_left(cur) = mass_left(cur) + a1
