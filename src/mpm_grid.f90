@@ -5,12 +5,14 @@
 !> the element's left and right node), then `assemble_nodes` adds the two neighbouring elements'
 !> shares in a fixed order. This keeps sums independent of how particles are split between threads.
 module mpm_grid
+   use omp_lib, only: omp_in_parallel
    use mpm_kinds, only: dp
    use mpm_errors, only: error_t, set_error
    use mpm_strings, only: str
    implicit none
    private
-   public :: grid_t, grid_init, assemble_nodes, nodal_velocity, solve_momentum, mass_tolerance
+   public :: grid_t, grid_init, assemble_nodes, assemble_and_solve, nodal_velocity, solve_momentum, mass_tolerance
+   public :: parallel_nodes
    public :: segments_t, share_count
 
    !> Nodes lighter than this fraction of one particle's mass are treated as empty.
@@ -19,6 +21,10 @@ module mpm_grid
    !> Number of per-element shares a particle pass accumulates (mass left/right, momentum
    !> left/right, stress*volume): the layout of the halo buffers below.
    integer, parameter :: share_count = 5
+
+   !> Grids of at least this many elements update their nodes on threads (see threaded_nodes), in
+   !> chunks of `node_chunk` nodes (the arrays of a chunk stay in a core's L2 cache).
+   integer, parameter :: parallel_nodes = 50000, node_chunk = 8192
 
    !> How the particle passes split one run into segments: contiguous element ranges, fixed by the
    !> problem size only (never by the thread count), each holding a contiguous range of particles
@@ -97,72 +103,206 @@ contains
       grid%acceleration = 0.0_dp
    end subroutine grid_init
 
+   !> Grids of at least this many elements update their nodes in chunks of `node_chunk` nodes on
+   !> OpenMP threads (unless already inside a parallel region: a sweep). Every node is computed by the
+   !> same expression whatever the chunk or thread, so results do not depend on the thread count.
+   logical function threaded_nodes(grid)
+      type(grid_t), intent(in) :: grid
+      threaded_nodes = grid%elements >= parallel_nodes .and. .not. omp_in_parallel()
+   end function threaded_nodes
+
    !> Nodal mass, momentum and (when `with_force`) internal force from the element shares.
    !> The fixed node 0 gets zero momentum and force.
    subroutine assemble_nodes(grid, with_force)
       type(grid_t), intent(inout) :: grid
       logical, intent(in) :: with_force
-      integer :: n, i
+      integer :: k
+      call assemble_ends(grid, with_force)
+      if (threaded_nodes(grid)) then
+         !$omp parallel do default(shared) private(k) schedule(static)
+         do k = 0, grid%elements/node_chunk
+            call assemble_interior(grid, with_force, k*node_chunk, min(grid%elements, (k + 1)*node_chunk - 1))
+         end do
+         !$omp end parallel do
+      else
+         call assemble_interior(grid, with_force, 0, grid%elements)
+      end if
+   end subroutine assemble_nodes
+
+   !> assemble_nodes(grid, .true.) then solve_momentum(grid, dt, .false.), chunk by chunk (a chunk
+   !> is solved while its nodes are still in cache): the grid half of a USL or MUSL step.
+   subroutine assemble_and_solve(grid, dt)
+      type(grid_t), intent(inout) :: grid
+      real(dp), intent(in) :: dt
+      integer :: k
+      real(dp) :: lightest
+      call assemble_ends(grid, .true.)
+      lightest = huge(1.0_dp)
+      if (threaded_nodes(grid)) then
+         !$omp parallel do default(shared) private(k) schedule(static) reduction(min:lightest)
+         do k = 0, grid%elements/node_chunk
+            call assemble_interior(grid, .true., k*node_chunk, min(grid%elements, (k + 1)*node_chunk - 1))
+            call solve_nodes(grid, dt, .false., k*node_chunk, min(grid%elements, (k + 1)*node_chunk - 1), lightest)
+         end do
+         !$omp end parallel do
+      else
+         call assemble_interior(grid, .true., 0, grid%elements)
+         call solve_nodes(grid, dt, .false., 0, grid%elements, lightest)
+      end if
+      call fix_first_node(grid, lightest)
+   end subroutine assemble_and_solve
+
+   !> The end nodes 0 and `elements` (each has one element); node 0 is fixed.
+   subroutine assemble_ends(grid, with_force)
+      type(grid_t), intent(inout) :: grid
+      logical, intent(in) :: with_force
+      integer :: n
       n = grid%elements
       grid%mass(0) = grid%element_mass_left(1)
       grid%mass(n) = grid%element_mass_right(n)
-      grid%momentum(n) = grid%element_momentum_right(n)
-      do i = 1, n - 1
-         grid%mass(i) = grid%element_mass_right(i) + grid%element_mass_left(i + 1)
-         grid%momentum(i) = grid%element_momentum_right(i) + grid%element_momentum_left(i + 1)
-      end do
       grid%momentum(0) = 0.0_dp
-      if (with_force) call assemble_force(grid)
-   end subroutine assemble_nodes
+      grid%momentum(n) = grid%element_momentum_right(n)
+      if (with_force) then
+         grid%force(0) = 0.0_dp
+         grid%force(n) = -grid%element_stress_volume(n)*grid%inv_dx
+      end if
+   end subroutine assemble_ends
+
+   !> The interior nodes among i0..i1: each sums the shares of its two elements (left element first).
+   subroutine assemble_interior(grid, with_force, i0, i1)
+      type(grid_t), intent(inout) :: grid
+      logical, intent(in) :: with_force
+      integer, intent(in) :: i0, i1
+      integer :: lo, hi
+      lo = max(i0, 1)
+      hi = min(i1, grid%elements - 1)
+      call assemble_range(lo, hi, grid%element_mass_left, grid%element_mass_right, grid%element_momentum_left, &
+                          grid%element_momentum_right, grid%mass, grid%momentum)
+      if (with_force) call force_range(lo, hi, grid%inv_dx, grid%element_stress_volume, grid%force)
+   end subroutine assemble_interior
+
+   subroutine assemble_range(lo, hi, mass_left, mass_right, momentum_left, momentum_right, mass, momentum)
+      integer, intent(in) :: lo, hi
+      real(dp), intent(in), contiguous :: mass_left(:), mass_right(:), momentum_left(:), momentum_right(:)
+      real(dp), intent(inout), contiguous :: mass(0:), momentum(0:)
+      integer :: i
+      do i = lo, hi
+         mass(i) = mass_right(i) + mass_left(i + 1)
+         momentum(i) = momentum_right(i) + momentum_left(i + 1)
+      end do
+   end subroutine assemble_range
 
    !> f_I = -sum_p dN_I(x_p) sigma_p V_p with dN = -1/dx (left node), +1/dx (right node).
-   subroutine assemble_force(grid)
-      type(grid_t), intent(inout) :: grid
-      integer :: n, i
-      n = grid%elements
-      grid%force(0) = 0.0_dp
-      grid%force(n) = -grid%element_stress_volume(n)*grid%inv_dx
-      do i = 1, n - 1
-         grid%force(i) = (grid%element_stress_volume(i + 1) - grid%element_stress_volume(i))*grid%inv_dx
+   subroutine force_range(lo, hi, inv_dx, stress_volume, force)
+      integer, intent(in) :: lo, hi
+      real(dp), intent(in) :: inv_dx
+      real(dp), intent(in), contiguous :: stress_volume(:)
+      real(dp), intent(inout), contiguous :: force(0:)
+      integer :: i
+      do i = lo, hi
+         force(i) = (stress_volume(i + 1) - stress_volume(i))*inv_dx
       end do
-   end subroutine assemble_force
+   end subroutine force_range
 
    !> v_I = p_I / m_I (zero on empty nodes and on the fixed node).
    subroutine nodal_velocity(grid)
       type(grid_t), intent(inout) :: grid
-      integer :: i
-      do i = 0, grid%elements
-         if (grid%mass(i) > grid%empty_mass) then
-            grid%velocity(i) = grid%momentum(i)/grid%mass(i)
-         else
-            grid%velocity(i) = 0.0_dp
-         end if
-      end do
+      integer :: k
+      if (threaded_nodes(grid)) then
+         !$omp parallel do default(shared) private(k) schedule(static)
+         do k = 0, grid%elements/node_chunk
+            call velocity_range(k*node_chunk, min(grid%elements, (k + 1)*node_chunk - 1), grid%empty_mass, &
+                                grid%mass, grid%momentum, grid%velocity)
+         end do
+         !$omp end parallel do
+      else
+         call velocity_range(0, grid%elements, grid%empty_mass, grid%mass, grid%momentum, grid%velocity)
+      end if
       grid%velocity(0) = 0.0_dp
    end subroutine nodal_velocity
 
+   subroutine velocity_range(lo, hi, empty_mass, mass, momentum, velocity)
+      integer, intent(in) :: lo, hi
+      real(dp), intent(in) :: empty_mass
+      real(dp), intent(in), contiguous :: mass(0:), momentum(0:)
+      real(dp), intent(inout), contiguous :: velocity(0:)
+      integer :: i
+      do i = lo, hi
+         if (mass(i) > empty_mass) then
+            velocity(i) = momentum(i)/mass(i)
+         else
+            velocity(i) = 0.0_dp
+         end if
+      end do
+   end subroutine velocity_range
+
    !> Explicit momentum update p_I += dt f_I; a_I = f_I/m_I; v_I = p_I/m_I (the updated velocity).
-   !> Requires the force from `assemble_nodes(grid, .true.)` (or `assemble_force`).
+   !> Requires the nodal mass and momentum from `assemble_nodes`, and the force from
+   !> `assemble_nodes(grid, .true.)` unless `with_force` asks to assemble it here.
    subroutine solve_momentum(grid, dt, with_force)
       type(grid_t), intent(inout) :: grid
       real(dp), intent(in) :: dt
       logical, intent(in) :: with_force
+      integer :: k
+      real(dp) :: lightest
+      if (with_force) then
+         grid%force(0) = 0.0_dp
+         grid%force(grid%elements) = -grid%element_stress_volume(grid%elements)*grid%inv_dx
+      end if
+      lightest = huge(1.0_dp)
+      if (threaded_nodes(grid)) then
+         !$omp parallel do default(shared) private(k) schedule(static) reduction(min:lightest)
+         do k = 0, grid%elements/node_chunk
+            call solve_nodes(grid, dt, with_force, k*node_chunk, min(grid%elements, (k + 1)*node_chunk - 1), lightest)
+         end do
+         !$omp end parallel do
+      else
+         call solve_nodes(grid, dt, with_force, 0, grid%elements, lightest)
+      end if
+      call fix_first_node(grid, lightest)
+   end subroutine solve_momentum
+
+   !> solve_momentum on nodes i0..i1 (the interior ones' force first, when `with_force`);
+   !> `lightest` takes the smallest nodal mass met.
+   subroutine solve_nodes(grid, dt, with_force, i0, i1, lightest)
+      type(grid_t), intent(inout) :: grid
+      real(dp), intent(in) :: dt
+      logical, intent(in) :: with_force
+      integer, intent(in) :: i0, i1
+      real(dp), intent(inout) :: lightest
+      if (with_force) call force_range(max(i0, 1), min(i1, grid%elements - 1), grid%inv_dx, &
+                                       grid%element_stress_volume, grid%force)
+      call solve_range(i0, i1, dt, grid%empty_mass, grid%mass, grid%force, grid%momentum, grid%acceleration, &
+                       grid%velocity, lightest)
+   end subroutine solve_nodes
+
+   subroutine solve_range(lo, hi, dt, empty_mass, mass, force, momentum, acceleration, velocity, lightest)
+      integer, intent(in) :: lo, hi
+      real(dp), intent(in) :: dt, empty_mass
+      real(dp), intent(in), contiguous :: mass(0:), force(0:)
+      real(dp), intent(inout), contiguous :: momentum(0:), acceleration(0:), velocity(0:)
+      real(dp), intent(inout) :: lightest
       integer :: i
-      if (with_force) call assemble_force(grid)
-      grid%min_node_mass = huge(1.0_dp)
-      do i = 0, grid%elements
-         grid%min_node_mass = min(grid%min_node_mass, grid%mass(i))
-         grid%momentum(i) = grid%momentum(i) + dt*grid%force(i)
-         if (grid%mass(i) > grid%empty_mass) then
-            grid%acceleration(i) = grid%force(i)/grid%mass(i)
-            grid%velocity(i) = grid%momentum(i)/grid%mass(i)
+      do i = lo, hi
+         lightest = min(lightest, mass(i))
+         momentum(i) = momentum(i) + dt*force(i)
+         if (mass(i) > empty_mass) then
+            acceleration(i) = force(i)/mass(i)
+            velocity(i) = momentum(i)/mass(i)
          else
-            grid%acceleration(i) = 0.0_dp
-            grid%velocity(i) = 0.0_dp
+            acceleration(i) = 0.0_dp
+            velocity(i) = 0.0_dp
          end if
       end do
+   end subroutine solve_range
+
+   !> The fixed node 0 stays at rest; records the lightest node of the step.
+   subroutine fix_first_node(grid, lightest)
+      type(grid_t), intent(inout) :: grid
+      real(dp), intent(in) :: lightest
+      grid%min_node_mass = lightest
       grid%momentum(0) = 0.0_dp
       grid%acceleration(0) = 0.0_dp
       grid%velocity(0) = 0.0_dp
-   end subroutine solve_momentum
+   end subroutine fix_first_node
 end module mpm_grid

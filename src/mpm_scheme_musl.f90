@@ -2,7 +2,7 @@
 !> to the grid (fixed node held) and the strain increment uses the nodal velocity of that remap.
 module mpm_scheme_musl
    use mpm_kinds, only: dp
-   use mpm_grid, only: grid_t, assemble_nodes, nodal_velocity, solve_momentum
+   use mpm_grid, only: grid_t, assemble_nodes, assemble_and_solve, nodal_velocity
    use mpm_particles, only: particles_t
    use mpm_transfer, only: pass_totals_t, p2g, g2p_with_remap, stress_then_p2g, merge_totals
    implicit none
@@ -26,8 +26,7 @@ contains
       real(dp), intent(in) :: dt, youngs_modulus
       type(pass_totals_t), intent(out) :: totals
       type(pass_totals_t) :: stress_totals
-      call assemble_nodes(grid, .true.)
-      call solve_momentum(grid, dt, .false.)
+      call assemble_and_solve(grid, dt)
       call g2p_with_remap(particles, grid, dt, totals)
       call assemble_nodes(grid, .false.)
       call nodal_velocity(grid)

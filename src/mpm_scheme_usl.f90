@@ -3,7 +3,7 @@
 !> strain increment from the updated nodal velocity -> stress update.
 module mpm_scheme_usl
    use mpm_kinds, only: dp
-   use mpm_grid, only: grid_t, assemble_nodes, solve_momentum
+   use mpm_grid, only: grid_t, assemble_and_solve
    use mpm_particles, only: particles_t
    use mpm_transfer, only: pass_totals_t, p2g, g2p_stress_then_p2g
    implicit none
@@ -26,8 +26,7 @@ contains
       type(grid_t), intent(inout) :: grid
       real(dp), intent(in) :: dt, youngs_modulus
       type(pass_totals_t), intent(out) :: totals
-      call assemble_nodes(grid, .true.)
-      call solve_momentum(grid, dt, .false.)
+      call assemble_and_solve(grid, dt)
       call g2p_stress_then_p2g(particles, grid, dt, youngs_modulus, totals)
    end subroutine usl_step
 end module mpm_scheme_usl

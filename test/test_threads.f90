@@ -1,13 +1,15 @@
 !> Results do not depend on the number of threads: a run large enough to be split into segments
 !> (above mpm_transfer's parallel_threshold) gives bit-for-bit the same particles, grid shares and
 !> pass totals with 1 and 2 threads, and the same again when it runs inside a parallel region
-!> (as a sweep runs it: the passes then run serially). Also: particles that overtake each other
+!> (as a sweep runs it: the passes then run serially). The grid is large enough for the node loops
+!> to run in chunks on threads too (mpm_grid's parallel_nodes), so the comparison with a run inside
+!> a parallel region (node loops in one piece) also checks the chunking. Also: particles that overtake each other
 !> across an element boundary are sorted back by element, and the grid still conserves mass.
 program test_threads
    use omp_lib, only: omp_set_num_threads
    use mpm_kinds, only: dp
    use mpm_errors, only: error_t
-   use mpm_grid, only: grid_t, grid_init, assemble_nodes
+   use mpm_grid, only: grid_t, grid_init, assemble_nodes, parallel_nodes
    use mpm_particles, only: particles_t, particles_init
    use mpm_transfer, only: pass_totals_t, parallel_threshold, g2p_stress_then_p2g
    use mpm_scheme_usf, only: usf_start, usf_step
@@ -16,7 +18,7 @@ program test_threads
    use mpm_testing, only: tester_t
    implicit none
    type(tester_t) :: t
-   integer, parameter :: elements = 20000, per_element = 10, steps = 40
+   integer, parameter :: elements = 60000, per_element = 4, steps = 40
    character(len=4), parameter :: schemes(3) = ['usf ', 'usl ', 'musl']
    type(particles_t) :: p1, p2, p3(2)
    type(grid_t) :: g1, g2, g3(2)
@@ -25,6 +27,7 @@ program test_threads
 
    t%name = 'test_threads'
    call t%check('the case is above the parallel threshold', elements*per_element >= 2*parallel_threshold)
+   call t%check('the grid is above the node-loop threshold', elements >= parallel_nodes)
    do s = 1, size(schemes)
       call omp_set_num_threads(1)
       call run(trim(schemes(s)), p1, g1, t1)
@@ -96,6 +99,9 @@ contains
                    all(ga%element_momentum_right == gb%element_momentum_right) .and. &
                    all(ga%element_stress_volume == gb%element_stress_volume) .and. &
                    all(ga%velocity == gb%velocity))
+      call t%check(label//': nodal fields identical', all(ga%mass == gb%mass) .and. &
+                   all(ga%momentum == gb%momentum) .and. all(ga%force == gb%force) .and. &
+                   all(ga%acceleration == gb%acceleration) .and. ga%min_node_mass == gb%min_node_mass)
       call t%check(label//': totals identical', ta%displacement == tb%displacement .and. &
                    ta%kinetic_energy == tb%kinetic_energy .and. ta%strain_energy == tb%strain_energy .and. &
                    ta%min_volume_ratio == tb%min_volume_ratio .and. ta%max_cell_move == tb%max_cell_move .and. &
