@@ -12,7 +12,7 @@ module mpm_grid
    implicit none
    private
    public :: grid_t, grid_init, assemble_nodes, assemble_and_solve, nodal_velocity, solve_momentum, mass_tolerance
-   public :: parallel_nodes
+   public :: parallel_nodes, node_chunk, threaded_nodes
    public :: segments_t, share_count
 
    !> Nodes lighter than this fraction of one particle's mass are treated as empty.
@@ -60,6 +60,9 @@ module mpm_grid
       real(dp), allocatable :: element_mass_left(:), element_mass_right(:)
       real(dp), allocatable :: element_momentum_left(:), element_momentum_right(:)
       real(dp), allocatable :: element_stress_volume(:)
+      !> Strain increment of each element in a step, dt (v_e - v_{e-1}) / dx (`strain_increments`):
+      !> the passes that only update the stress read one value per particle instead of two.
+      real(dp), allocatable :: element_strain(:)
       !> Nodal fields, index 0..elements.
       real(dp), allocatable :: mass(:), momentum(:), force(:), velocity(:), acceleration(:)
       !> Smallest nodal mass met by `solve_momentum` in this step (diagnostic of marginal runs).
@@ -84,7 +87,7 @@ contains
       grid%empty_mass = mass_tolerance*particle_mass
       allocate (grid%element_mass_left(elements), grid%element_mass_right(elements), &
                 grid%element_momentum_left(elements), grid%element_momentum_right(elements), &
-                grid%element_stress_volume(elements), &
+                grid%element_stress_volume(elements), grid%element_strain(elements), &
                 grid%mass(0:elements), grid%momentum(0:elements), grid%force(0:elements), &
                 grid%velocity(0:elements), grid%acceleration(0:elements), stat=stat)
       if (stat /= 0) then
@@ -96,6 +99,7 @@ contains
       grid%element_momentum_left = 0.0_dp
       grid%element_momentum_right = 0.0_dp
       grid%element_stress_volume = 0.0_dp
+      grid%element_strain = 0.0_dp
       grid%mass = 0.0_dp
       grid%momentum = 0.0_dp
       grid%force = 0.0_dp

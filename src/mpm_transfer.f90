@@ -24,7 +24,7 @@
 module mpm_transfer
    use omp_lib, only: omp_in_parallel
    use mpm_kinds, only: dp, i8
-   use mpm_grid, only: grid_t, segments_t, share_count
+   use mpm_grid, only: grid_t, segments_t, share_count, threaded_nodes, node_chunk
    use mpm_particles, only: particles_t
    implicit none
    private
@@ -172,6 +172,7 @@ contains
       real(dp), intent(in) :: dt, youngs_modulus
       type(pass_totals_t), intent(out) :: totals
       call prepare_pass(particles, grid)
+      call strain_increments(grid, dt)
       call over_segments(particles, grid, pass_usf_stress, dt, youngs_modulus)
       call finish_pass(particles, grid, share_stress, .false., totals)
    end subroutine stress_then_force
@@ -208,6 +209,7 @@ contains
       real(dp), intent(in) :: dt, youngs_modulus
       type(pass_totals_t), intent(out) :: totals
       call prepare_pass(particles, grid)
+      call strain_increments(grid, dt)
       call over_segments(particles, grid, pass_musl_stress, dt, youngs_modulus)
       call finish_pass(particles, grid, share_mass + share_momentum + share_stress, .true., totals)
    end subroutine stress_then_p2g
@@ -244,7 +246,7 @@ contains
                                   grid%elements, grid%inv_dx, dt, particles%mass)
          case (pass_usf_stress)
             call usf_stress_segment(k, grid%segments, particles%stress, particles%volume_ratio, particles%cell, &
-                                    grid%velocity, grid%element_stress_volume, grid%inv_dx, dt, youngs_modulus, &
+                                    grid%element_strain, grid%element_stress_volume, youngs_modulus, &
                                     particles%volume0)
          case (pass_usl)
             call usl_segment(k, grid%segments, particles%x, particles%x0, particles%v, particles%stress, &
@@ -258,10 +260,10 @@ contains
                                     grid%element_momentum_right, grid%inv_dx, dt, particles%mass)
          case (pass_musl_stress)
             call musl_stress_segment(k, grid%segments, particles%x, particles%v, particles%stress, &
-                                     particles%volume_ratio, particles%cell, grid%velocity, &
+                                     particles%volume_ratio, particles%cell, grid%element_strain, &
                                      grid%element_mass_left, grid%element_mass_right, grid%element_momentum_left, &
                                      grid%element_momentum_right, grid%element_stress_volume, &
-                                     grid%elements, grid%inv_dx, dt, youngs_modulus, particles%mass, particles%volume0)
+                                     grid%elements, grid%inv_dx, youngs_modulus, particles%mass, particles%volume0)
          end select
       end subroutine segment
    end subroutine over_segments
@@ -280,6 +282,38 @@ contains
       end if
       if (totals%outside == 0) totals%outside = other%outside
    end subroutine merge_totals
+
+   !> Strain increment of a linear element from its nodal velocities: d eps = dt sum dN v_I.
+   elemental real(dp) function strain_increment(velocity_left, velocity_right, dt, inv_dx) result(dstrain)
+      real(dp), intent(in) :: velocity_left, velocity_right, dt, inv_dx
+      dstrain = dt*(velocity_right - velocity_left)*inv_dx
+   end function strain_increment
+
+   !> grid%element_strain(e) = strain_increment of element e from the nodal velocities (for the passes
+   !> that update only the stress). Here, not in mpm_grid, so that the kernels inline the same function.
+   subroutine strain_increments(grid, dt)
+      type(grid_t), intent(inout) :: grid
+      real(dp), intent(in) :: dt
+      integer :: k
+      if (threaded_nodes(grid)) then
+         !$omp parallel do default(shared) private(k) schedule(static)
+         do k = 0, (grid%elements - 1)/node_chunk
+            call strain_range(1 + k*node_chunk, min(grid%elements, (k + 1)*node_chunk), dt, grid%inv_dx, &
+                              grid%velocity, grid%element_strain)
+         end do
+         !$omp end parallel do
+      else
+         call strain_range(1, grid%elements, dt, grid%inv_dx, grid%velocity, grid%element_strain)
+      end if
+   end subroutine strain_increments
+
+   subroutine strain_range(lo, hi, dt, inv_dx, velocity, strain)
+      integer, intent(in) :: lo, hi
+      real(dp), intent(in) :: dt, inv_dx
+      real(dp), intent(in), contiguous :: velocity(0:)
+      real(dp), intent(inout), contiguous :: strain(:)
+      strain(lo:hi) = strain_increment(velocity(lo - 1:hi - 1), velocity(lo:hi), dt, inv_dx)
+   end subroutine strain_range
 
    ! ---- segments: planning, particle ranges, and what follows the parallel loop ----
 
@@ -602,16 +636,14 @@ contains
       move = abs(dxp)*inv_dx
    end subroutine g2p_particle
 
-   !> Linear elastic stress update of one particle in the element of nodes with velocities
-   !> velocity_left, velocity_right: d eps = dt sum dN v_I, sigma += E d eps, J *= 1 + d eps.
-   !> Also gives its strain energy sigma^2 J V0 / 2E (strain_factor = V0 / 2E) and stress*volume.
-   elemental subroutine stress_particle(velocity_left, velocity_right, inv_dx, dt, youngs_modulus, strain_factor, &
-                                        volume0, stress, volume_ratio, strain_energy, stress_volume)
-      real(dp), intent(in) :: velocity_left, velocity_right, inv_dx, dt, youngs_modulus, strain_factor, volume0
+   !> Linear elastic stress update of one particle with strain increment dstrain (see strain_increment):
+   !> sigma += E d eps, J *= 1 + d eps. Also gives its strain energy sigma^2 J V0 / 2E
+   !> (strain_factor = V0 / 2E) and stress*volume.
+   elemental subroutine stress_particle(dstrain, youngs_modulus, strain_factor, volume0, stress, volume_ratio, &
+                                        strain_energy, stress_volume)
+      real(dp), intent(in) :: dstrain, youngs_modulus, strain_factor, volume0
       real(dp), intent(inout) :: stress, volume_ratio
       real(dp), intent(out) :: strain_energy, stress_volume
-      real(dp) :: dstrain
-      dstrain = dt*(velocity_right - velocity_left)*inv_dx
       stress = stress + youngs_modulus*dstrain
       volume_ratio = volume_ratio*(1.0_dp + dstrain)
       strain_energy = stress*stress*volume_ratio*strain_factor
@@ -727,7 +759,7 @@ contains
       kinematic = iand(shares, share_mass + share_momentum) /= 0
       with_stress = iand(shares, share_stress) /= 0
       cur = run%cur
-      na = nint(run%a(1)); a2 = run%a(2); a3 = run%a(3); a4 = run%a(4); a5 = run%a(5)
+      na = int(run%a(1)); a2 = run%a(2); a3 = run%a(3); a4 = run%a(4); a5 = run%a(5)
       do i = 1, n
          c = cells(i)
          if (c /= cur) then
@@ -831,8 +863,8 @@ contains
             call g2p_particle(e, acceleration(e - 1), acceleration(e), velocity(e - 1), velocity(e), inv_dx, dt, &
                               half_m, x0(p), x(p), v(p), xi, db(i), kb(i), mb(i))
             ! stress update: d eps = dt sum dN v_I over the start-of-step cell
-            call stress_particle(velocity(e - 1), velocity(e), inv_dx, dt, youngs_modulus, strain_factor, volume0, &
-                                 stress(p), volume_ratio(p), sb(i), svb(i))
+            call stress_particle(strain_increment(velocity(e - 1), velocity(e), dt, inv_dx), youngs_modulus, &
+                                 strain_factor, volume0, stress(p), volume_ratio(p), sb(i), svb(i))
             jb(i) = volume_ratio(p)
             ! the new cell, for P2G at the new position
             call locate_cell(x(p), inv_dx, elements, elements_bits, cb(i), xib(i))
@@ -904,15 +936,15 @@ contains
    end subroutine usf_move_segment
 
    !> USF first half: stress update, then stress*volume of the (unmoved) particles per element.
-   subroutine usf_stress_segment(k, seg, stress, volume_ratio, cell, velocity, stress_volume, &
-                                 inv_dx, dt, youngs_modulus, volume0)
+   subroutine usf_stress_segment(k, seg, stress, volume_ratio, cell, strain_increment_of, stress_volume, &
+                                 youngs_modulus, volume0)
       integer, intent(in) :: k
       type(segments_t), intent(inout) :: seg
       real(dp), intent(inout), contiguous :: stress(:), volume_ratio(:)
       integer, intent(in), contiguous :: cell(:)
-      real(dp), intent(in), contiguous :: velocity(0:)
+      real(dp), intent(in), contiguous :: strain_increment_of(:)  !< per element (grid%element_strain)
       real(dp), intent(inout), contiguous :: stress_volume(:)
-      real(dp), intent(in) :: inv_dx, dt, youngs_modulus, volume0
+      real(dp), intent(in) :: youngs_modulus, volume0
       integer, parameter :: shares = share_stress
       integer :: p, e, i, n, b0, first, last, lo, hi
       real(dp) :: strain_factor, unused(1)
@@ -928,8 +960,8 @@ contains
          do i = 1, n
             p = b0 + i - 1
             e = cell(p)
-            call stress_particle(velocity(e - 1), velocity(e), inv_dx, dt, youngs_modulus, strain_factor, volume0, &
-                                 stress(p), volume_ratio(p), sb(i), svb(i))
+            call stress_particle(strain_increment_of(e), youngs_modulus, &
+                                 strain_factor, volume0, stress(p), volume_ratio(p), sb(i), svb(i))
             cb(i) = e
             jb(i) = volume_ratio(p)
          end do
@@ -987,18 +1019,18 @@ contains
 
    !> MUSL second pass: stress update with the remapped nodal velocity of the start-of-step cell,
    !> then mass, momentum and stress*volume at the new position.
-   subroutine musl_stress_segment(k, seg, x, v, stress, volume_ratio, cell, velocity, &
+   subroutine musl_stress_segment(k, seg, x, v, stress, volume_ratio, cell, strain_increment_of, &
                                   mass_left, mass_right, momentum_left, momentum_right, stress_volume, &
-                                  elements, inv_dx, dt, youngs_modulus, m, volume0)
+                                  elements, inv_dx, youngs_modulus, m, volume0)
       integer, intent(in) :: k
       type(segments_t), intent(inout) :: seg
       real(dp), intent(in), contiguous :: x(:), v(:)
       real(dp), intent(inout), contiguous :: stress(:), volume_ratio(:)
       integer, intent(inout), contiguous :: cell(:)
-      real(dp), intent(in), contiguous :: velocity(0:)
+      real(dp), intent(in), contiguous :: strain_increment_of(:)  !< per element (grid%element_strain)
       real(dp), intent(inout), contiguous :: mass_left(:), mass_right(:), momentum_left(:), momentum_right(:), stress_volume(:)
       integer, intent(in) :: elements
-      real(dp), intent(in) :: inv_dx, dt, youngs_modulus, m, volume0
+      real(dp), intent(in) :: inv_dx, youngs_modulus, m, volume0
       integer, parameter :: shares = share_mass + share_momentum + share_stress
       integer :: p, e, i, n, b0, first, last, lo, hi, outside
       integer(i8) :: elements_bits
@@ -1018,8 +1050,8 @@ contains
          do i = 1, n
             p = b0 + i - 1
             e = cell(p)
-            call stress_particle(velocity(e - 1), velocity(e), inv_dx, dt, youngs_modulus, strain_factor, volume0, &
-                                 stress(p), volume_ratio(p), sb(i), svb(i))
+            call stress_particle(strain_increment_of(e), youngs_modulus, &
+                                 strain_factor, volume0, stress(p), volume_ratio(p), sb(i), svb(i))
             jb(i) = volume_ratio(p)
             call locate_cell(x(p), inv_dx, elements, elements_bits, cb(i), xib(i))
             cell(p) = cb(i)
