@@ -8,6 +8,9 @@
 !>       kernel,threads,bytes_per_element,repeat,seconds,bytes_per_s
 !>       triad  a = b + s c   (STREAM's count: 24 bytes, not counting the write-allocate read of a)
 !>       update a = a + s b   (read a, b, write a: 24 bytes really moved; the access pattern of the passes)
+!>       particles            the memory traffic of one USL pass with next to no arithmetic: N/4 particles,
+!>                            read x, X, v, stress, J, cell and write x, v, stress, J, cell (80 bytes), so
+!>                            the rate a pass could reach if only memory limited it (11 streams, not 3)
 !>   mpm1d_bench study SCHEME ELEMENTS PPC DT_FRACTION END_TIME REPEATS
 !>       a whole run (run_simulation, no history, no file), as a study runs it:
 !>       scheme,elements,ppc,dt_fraction,steps,particles,repeat,seconds
@@ -119,13 +122,16 @@ contains
    end subroutine throughput
 
    subroutine stream()
-      integer(i8) :: n, i
-      integer :: repeats, r, threads
+      integer(i8) :: n, np, i
+      integer :: repeats, r, threads, shift
       real(dp), allocatable :: a(:), b(:), c(:)
-      real(dp) :: start, seconds, s
+      real(dp), allocatable :: x(:), x0(:), v(:), stress(:), volume_ratio(:)
+      integer, allocatable :: cell(:)
+      real(dp) :: start, seconds, s, h
       n = int(iarg(2), i8)
       repeats = iarg(3)
-      allocate (a(n), b(n), c(n))
+      np = n/4
+      allocate (a(n), b(n), c(n), x(np), x0(np), v(np), stress(np), volume_ratio(np), cell(np))
       call omp_set_num_threads(2)
       !$omp parallel do schedule(static)
       do i = 1, n
@@ -133,7 +139,19 @@ contains
          b(i) = 2.0_dp
          c(i) = 0.5_dp
       end do
+      !$omp parallel do schedule(static)
+      do i = 1, np
+         x(i) = 1.0_dp
+         x0(i) = 1.0_dp
+         v(i) = 0.0_dp
+         stress(i) = 0.0_dp
+         volume_ratio(i) = 1.0_dp
+         cell(i) = 1
+      end do
       s = 1.0e-3_dp
+      h = 1.0e-9_dp
+      shift = 0
+      if (repeats < 0) shift = 1  ! not known at compile time: the cell store stays
       do threads = 1, 2
          call omp_set_num_threads(threads)
          do r = 1, repeats
@@ -143,20 +161,40 @@ contains
                a(i) = b(i) + s*c(i)
             end do
             seconds = omp_get_wtime() - start
-            write (output_unit, '(a,",",i0,",",i0,",",i0,",",es12.5,",",es12.5)') 'triad', threads, 24, r, &
-               seconds, 24.0_dp*n/seconds
+            call write_bandwidth('triad', threads, 24, r, seconds, n)
             start = omp_get_wtime()
             !$omp parallel do schedule(static)
             do i = 1, n
                a(i) = a(i) + s*b(i)
             end do
             seconds = omp_get_wtime() - start
-            write (output_unit, '(a,",",i0,",",i0,",",i0,",",es12.5,",",es12.5)') 'update', threads, 24, r, &
-               seconds, 24.0_dp*n/seconds
+            call write_bandwidth('update', threads, 24, r, seconds, n)
+            ! the traffic of a USL pass over np particles (see the header)
+            start = omp_get_wtime()
+            !$omp parallel do schedule(static)
+            do i = 1, np
+               x(i) = x(i) + h*v(i)
+               v(i) = v(i) + h*stress(i)
+               stress(i) = stress(i) + h*(x(i) - x0(i))
+               volume_ratio(i) = volume_ratio(i)*(1.0_dp + h*v(i))
+               cell(i) = cell(i) + shift
+            end do
+            seconds = omp_get_wtime() - start
+            call write_bandwidth('particles', threads, 80, r, seconds, np)
          end do
       end do
-      if (a(n) < 0) write (output_unit, *) a(1) ! keep the loops
+      if (a(n) < 0 .or. x(np) < 0 .or. cell(np) < 0) write (output_unit, *) a(1), x(1), cell(1) ! keep the loops
    end subroutine stream
+
+   !> One CSV row of `stream`: kernel,threads,bytes_per_element,repeat,seconds,bytes_per_s.
+   subroutine write_bandwidth(kernel, threads, bytes, repeat, seconds, n)
+      character(len=*), intent(in) :: kernel
+      integer, intent(in) :: threads, bytes, repeat
+      real(dp), intent(in) :: seconds
+      integer(i8), intent(in) :: n
+      write (output_unit, '(a,",",i0,",",i0,",",i0,",",es12.5,",",es12.5)') kernel, threads, bytes, repeat, &
+         seconds, real(bytes, dp)*n/seconds
+   end subroutine write_bandwidth
 
    subroutine study()
       type(config_t) :: config

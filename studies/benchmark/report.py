@@ -54,22 +54,31 @@ def main(argv=None):
     bw1 = bandwidth('update', 1)[0]
     bw2 = bandwidth('update', 2)[0]
     triad1 = bandwidth('triad', 1)[0]
+    has_pattern = any(r['kernel'] == 'particles' for r in bw)
+    pattern1 = bandwidth('particles', 1)[0] if has_pattern else float('nan')
+    pattern2 = bandwidth('particles', 2)[0] if has_pattern else float('nan')
     sweep = read(os.path.join(d, 'sweep.csv'))
     lines = [f'# mpm1d benchmark\n', f'Code version {version}. Build: {flags}'.replace('\n', '; ') + '\n',
              'All rates are medians of the repeats; the spread is min-max. Set-up is not timed; the per-step '
              'diagnostics are. -march=native is for local runs only, not for portable builds.\n',
              '## Memory bandwidth (STREAM-style, arrays of 4e7 doubles)\n',
              '| kernel | threads | GB/s median | min-max |', '|---|---|---|---|']
-    for k in ('triad', 'update'):
+    for k in ('triad', 'update', 'particles'):
         for t in (1, 2):
+            if k == 'particles' and not has_pattern:
+                continue
             m, lo, hi = bandwidth(k, t)
             lines.append(f'| {k} | {t} | {m/1e9:.1f} | {lo/1e9:.1f}-{hi/1e9:.1f} |')
     lines.append('\ntriad a = b + s c is counted as STREAM does (24 B, the write-allocate read of a not counted); '
-                 'update a = a + s b really moves its 24 B and has the passes\' access pattern, so it sets the bound.\n')
+                 'update a = a + s b really moves its 24 B and has the passes\' in-place access pattern, so it sets '
+                 'the (strictest) bound. particles moves the 80 B of one USL pass per particle (1e7 particles: read '
+                 'x, X, v, stress, J, cell; write x, v, stress, J, cell) with next to no arithmetic: what memory '
+                 'allows a pass with 11 streams, the traffic ceiling in the tables below.\n')
 
     lines += ['## Particle-steps per second, one thread (10 particles per element)\n',
               '| scheme | particles | steps | rate median | min-max | bytes/particle-step | bound (update BW / bytes) '
-              '| % of bound | % of bound incl. grid | % of triad bound |', '|---|---|---|---|---|---|---|---|---|---|']
+              '| % of bound | % of bound incl. grid | % of triad bound | % of traffic ceiling |',
+              '|---|---|---|---|---|---|---|---|---|---|---|']
     rates = {}
     for s in ('usf', 'usl', 'musl'):
         for n in sorted({int(r['particles']) for r in tp}):
@@ -83,12 +92,12 @@ def main(argv=None):
             bound_grid = bw1 / (BYTES[s] + GRID_BYTES_PER_ELEMENT / 10)
             lines.append(f'| {s} | {n:.0e} | {steps} | {med:.3g} | {min(v):.3g}-{max(v):.3g} | {BYTES[s]} | '
                          f'{bound:.3g} | {100*med/bound:.0f} | {100*med/bound_grid:.0f} | '
-                         f'{100*med*BYTES[s]/triad1:.0f} |')
+                         f'{100*med*BYTES[s]/triad1:.0f} | {100*med*BYTES[s]/pattern1:.0f} |')
     lines.append('\nThe bound applies when the particle arrays do not fit in the caches (1e6 particles = 44 MB and '
                  'more; L3 is 32 MB); smaller runs are limited by the arithmetic, not by memory.\n')
 
     lines += ['## OpenMP inside one run\n', '| scheme | particles | 1 thread | 2 threads | speed-up | '
-              '2-thread bound (2-thread update BW / bytes) |', '|---|---|---|---|---|---|']
+              '2-thread bound (2-thread update BW / bytes) | 2-thread traffic ceiling |', '|---|---|---|---|---|---|---|']
     speedups = {}
     for s in ('usf', 'usl', 'musl'):
         for n in sorted({int(r['particles']) for r in th}):
@@ -99,7 +108,7 @@ def main(argv=None):
             if r1 and r2:
                 speedups[s, n] = np.median(r2) / np.median(r1)
                 lines.append(f'| {s} | {n:.0e} | {np.median(r1):.3g} | {np.median(r2):.3g} | '
-                             f'{speedups[s, n]:.2f} | {bw2/BYTES[s]:.3g} |')
+                             f'{speedups[s, n]:.2f} | {bw2/BYTES[s]:.3g} | {pattern2/BYTES[s]:.3g} |')
     lines.append('\nResults are bit-for-bit identical with 1 and 2 threads (test/test_threads.f90): the segments '
                  'of a run are fixed by its size, not by the thread count.\n')
 
@@ -141,7 +150,7 @@ def main(argv=None):
     per_particle = (rss[big] - rss[small]) * 1024 / (big - small)
     lines += ['## Memory\n', f'Max RSS (/usr/bin/time -v) of a {big:.0e}-particle USL run (10 per element) minus that of a '
               f'{small:.0e}-particle run, per particle: **{per_particle:.1f} bytes** (particle arrays 44 B, grid '
-              '10 arrays of 8 B per element = 8 B per particle at 10 ppc).\n']
+              '11 arrays of 8 B per element = 8.8 B per particle at 10 ppc).\n']
 
     lines += ['## Targets\n']
     def mark(ok):
@@ -154,8 +163,9 @@ def main(argv=None):
         if (s, 10**7) in rates:
             r = rates[s, 10**7][0]
             frac = r / (bw1 / BYTES[s])
-            lines.append(f'- {s}, 1e7 particles >= 1.5e8/s and >= 80 % of the bound: {r:.3g}/s, {100*frac:.0f} % '
-                         f'-> {mark(r >= 1.5e8 and frac >= 0.8)}')
+            lines.append(f'- {s}, 1e7 particles >= 1.5e8/s: {r:.3g}/s -> {mark(r >= 1.5e8)}; >= 80 % of the bound: '
+                         f'{100*frac:.0f} % of the update bound, {100*r*BYTES[s]/triad1:.0f} % of the triad bound, '
+                         f'{100*r*BYTES[s]/pattern1:.0f} % of the traffic ceiling -> {mark(frac >= 0.8)}')
     for (s, n), v in sorted(speedups.items()):
         lines.append(f'- {s}, {n:.0e} particles, 2 threads speed-up >= 1.7: {v:.2f} -> {mark(v >= 1.7)}')
     lines.append(f'- Table-2 error pass, 2 threads over 1 >= 1.8: {sweep_speedup:.2f} -> {mark(sweep_speedup >= 1.8)}')
@@ -189,9 +199,9 @@ def main(argv=None):
     ax[1, 0].plot(lim, lim, 'k--', lw=0.8)
     ax[1, 0].set(xlabel='model C elements^2 ppc / dt_fraction (s)', ylabel='measured run time (s)',
                  title='Cost of a study run (USL, one period; labels: elements, ppc, fraction)')
-    kinds = [(k, t) for k in ('triad', 'update') for t in (1, 2)]
-    ax[1, 1].bar(range(4), [bandwidth(k, t)[0] / 1e9 for k, t in kinds])
-    ax[1, 1].set_xticks(range(4), [f'{k}\n{t} thread(s)' for k, t in kinds])
+    kinds = [(k, t) for k in ('triad', 'update', 'particles') for t in (1, 2) if k != 'particles' or has_pattern]
+    ax[1, 1].bar(range(len(kinds)), [bandwidth(k, t)[0] / 1e9 for k, t in kinds])
+    ax[1, 1].set_xticks(range(len(kinds)), [f'{k}\n{t} thread(s)' for k, t in kinds], fontsize=8)
     ax[1, 1].set(ylabel='GB/s', title=f'Memory bandwidth; memory {per_particle:.1f} B/particle')
     fig.suptitle(f'mpm1d benchmark ({version}; {flags.splitlines()[0]})', fontsize=9)
     fig.tight_layout()

@@ -1,6 +1,7 @@
 #!/usr/bin/env bash
 # Speed of mpm1d: particle-steps per second of each scheme for 1e2..1e7 particles (one thread),
-# memory bandwidth (STREAM-style, 1 and 2 threads) and the bound it implies, OpenMP speed-up inside
+# memory bandwidth (STREAM-style triad and update, and the traffic of one USL pass with no arithmetic;
+# 1 and 2 threads) and the bounds they imply, OpenMP speed-up inside
 # one run, cost of a study against elements^2 * ppc / dt_fraction, and memory per particle.
 # Writes CSV files, benchmark.png and summary.md to the output folder (default out/benchmark).
 # Usage: bash studies/benchmark/run.sh [output folder]
