@@ -343,6 +343,7 @@ contains
          seg%count = n
          seg%first_element = [(min(1 + (k - 1)*per, grid%elements + 1), k=1, n + 1)]
          seg%first_element(n + 1) = grid%elements + 1
+         seg%first_particle = 0  ! no earlier ranges to start the search from
       end associate
    end subroutine plan_segments
 
@@ -355,17 +356,49 @@ contains
    end subroutine prepare_pass
 
    !> Particle range of each segment: particles are sorted by start-of-step cell, so the range
-   !> starts at the first particle whose cell is at least the segment's first element (binary search).
+   !> starts at the first particle whose cell is at least the segment's first element. Searched
+   !> outwards from where it was at the last pass (particles move less than an element per step, so
+   !> a few probes near the old boundary, in cache), then by bisection: a plain bisection over all
+   !> particles cost a cache miss per probe, a serial 1-2 % of a two-thread step with 1e7 particles.
    subroutine find_particle_ranges(seg, cell, count)
       type(segments_t), intent(inout) :: seg
       integer, intent(in), contiguous :: cell(:)
       integer, intent(in) :: count
-      integer :: k, lo, hi, mid
+      integer :: k, lo, hi, mid, step, guess
+      logical :: known
+      known = seg%first_particle(seg%count + 1) == count + 1
       seg%first_particle(1) = 1
       seg%first_particle(seg%count + 1) = count + 1
       do k = 2, seg%count
+         ! the answer lies in [lo, hi]: lo = a particle before it (or the previous range's start),
+         ! hi = a particle at or after it (or count + 1)
          lo = seg%first_particle(k - 1)
          hi = count + 1
+         if (known) then
+            guess = min(max(seg%first_particle(k), lo), hi)
+            step = 1
+            if (guess <= count .and. cell(min(guess, count)) < seg%first_element(k)) then
+               lo = guess + 1  ! boundary is after the guess: gallop up
+               do while (lo + step - 1 <= count)
+                  if (cell(lo + step - 1) >= seg%first_element(k)) then
+                     hi = lo + step - 1
+                     exit
+                  end if
+                  lo = lo + step
+                  step = 2*step
+               end do
+            else
+               hi = guess  ! boundary is at or before the guess: gallop down
+               do while (hi - step >= lo)
+                  if (cell(hi - step) < seg%first_element(k)) then
+                     lo = hi - step + 1
+                     exit
+                  end if
+                  hi = hi - step
+                  step = 2*step
+               end do
+            end if
+         end if
          do while (lo < hi)
             mid = lo + (hi - lo)/2
             if (cell(mid) < seg%first_element(k)) then

@@ -5,7 +5,9 @@
 !> elements), one node in the middle moves particles by up to two elements, and the last node moves
 !> fast enough to throw particles out of the grid. Sizes:
 !> 143 particles (two full blocks of 64 and a remainder; one segment) and 200,000 particles
-!> (several segments, shares crossing segment borders into the halos).
+!> (several segments, shares crossing segment borders into the halos). Also: over several passes
+!> whose moves shift the particles across segment borders, every particle is updated once, by the
+!> segment that now owns it (each pass starts its range search from the last pass's ranges).
 program test_kernels
    use mpm_kinds, only: dp
    use mpm_errors, only: error_t
@@ -24,6 +26,7 @@ program test_kernels
    call check_pass('usf', 13, 11)
    call check_pass('usl', 20000, 10)
    call check_pass('usf', 20000, 10)
+   call check_moving_ranges()
    call t%finish()
 
 contains
@@ -148,6 +151,49 @@ contains
       if (scheme == 'usl') call all_close(label//'stress*volume shares', grid%element_stress_volume, &
                                           stress_volume, 1.0e-11_dp, 1.0e-12_dp)
    end subroutine check_pass
+
+   !> Six USL passes over 200,000 particles (about 25 segments) under a smooth nodal velocity that moves
+   !> them by up to 0.9 element per pass, right then left: positions against the one-at-a-time update,
+   !> and each element's mass against m times the number of particles it now holds.
+   subroutine check_moving_ranges()
+      integer, parameter :: elements = 20000, per_element = 10
+      type(particles_t) :: particles
+      type(grid_t) :: grid
+      type(pass_totals_t) :: totals
+      type(error_t), allocatable :: error
+      real(dp), allocatable :: x(:), held(:)
+      real(dp) :: xi, sign
+      integer :: pass, p, e, c, i
+      character(len=:), allocatable :: label
+      call particles_init(particles, elements, per_element, length/elements, density, error)
+      call grid_init(grid, elements, length, particles%mass, error)
+      call p2g(particles, grid, .true., totals)
+      allocate (held(elements))
+      do pass = 1, 6
+         label = 'moving ranges, pass '//str(pass)//': '
+         sign = merge(1.0_dp, -1.0_dp, pass <= 3)
+         grid%velocity = [(sign*0.9_dp*grid%dx/dt*sin(acos(-1.0_dp)*i/elements), i=0, elements)]
+         grid%acceleration = 0
+         x = particles%x
+         do p = 1, particles%count
+            e = particles%cell(p)
+            xi = x(p)*grid%inv_dx - (e - 1)
+            x(p) = x(p) + dt*((1 - xi)*grid%velocity(e - 1) + xi*grid%velocity(e))
+         end do
+         held = 0
+         do p = 1, particles%count
+            call locate(x(p), grid%inv_dx, elements, c, xi)
+            held(c) = held(c) + particles%mass
+         end do
+         call g2p_stress_then_p2g(particles, grid, dt, youngs_modulus, totals)
+         call t%check(label//'no particle left the grid', totals%outside == 0)
+         call all_close(label//'positions', particles%x, x, 1.0e-14_dp, 1.0e-14_dp)
+         call all_close(label//'element masses', grid%element_mass_left + grid%element_mass_right, held, &
+                        1.0e-12_dp, 0.0_dp)
+      end do
+      call t%check('moving ranges: particles crossed segment borders', &
+                   any(particles%cell(2:) /= particles%cell(:particles%count - 1)))
+   end subroutine check_moving_ranges
 
    !> Every |actual - expected| <= atol + rtol |expected|; reports the worst entry.
    subroutine all_close(label, actual, expected, rtol, atol)
