@@ -166,11 +166,15 @@ contains
       grid%mass(n) = grid%element_mass_right(n)
       grid%momentum(0) = 0.0_dp
       grid%momentum(n) = grid%element_momentum_right(n)
-      if (with_force) then
-         grid%force(0) = 0.0_dp
-         grid%force(n) = -grid%element_stress_volume(n)*grid%inv_dx
-      end if
+      if (with_force) call force_ends(grid)
    end subroutine assemble_ends
+
+   !> Internal force on the end nodes: none on the fixed node 0, the last element's on node `elements`.
+   subroutine force_ends(grid)
+      type(grid_t), intent(inout) :: grid
+      grid%force(0) = 0.0_dp
+      grid%force(grid%elements) = -grid%element_stress_volume(grid%elements)*grid%inv_dx
+   end subroutine force_ends
 
    !> The interior nodes among i0..i1: each sums the shares of its two elements (left element first).
    subroutine assemble_interior(grid, with_force, i0, i1)
@@ -249,10 +253,7 @@ contains
       logical, intent(in) :: with_force
       integer :: k
       real(dp) :: lightest
-      if (with_force) then
-         grid%force(0) = 0.0_dp
-         grid%force(grid%elements) = -grid%element_stress_volume(grid%elements)*grid%inv_dx
-      end if
+      if (with_force) call force_ends(grid)
       lightest = huge(1.0_dp)
       if (threaded_nodes(grid)) then
          !$omp parallel do default(shared) private(k) schedule(static) reduction(min:lightest)
