@@ -45,6 +45,9 @@ module mpm_grid
       real(dp), allocatable :: sums(:, :), min_volume_ratio(:), max_cell_move(:)
       integer, allocatable :: furthest(:), outside(:), first_cell(:), last_cell(:)
       logical, allocatable :: unsorted(:), far(:)
+      !> Whether the kernels ask for particle data ahead of use (set by plan_segments from the size of
+      !> the run; see mpm_transfer's prefetch_bytes).
+      logical :: prefetch = .false.
    end type segments_t
 
    !> Grid state. Nodes are numbered 0..elements; element e spans nodes e-1 and e.

@@ -25,7 +25,7 @@ module mpm_transfer
    use omp_lib, only: omp_in_parallel
    use mpm_kinds, only: dp, i8
    use mpm_grid, only: grid_t, segments_t, share_count, threaded_nodes, node_chunk
-   use mpm_particles, only: particles_t
+   use mpm_particles, only: particles_t, bytes_per_particle
    implicit none
    private
    integer, parameter :: pass_usf_move = 1, pass_usf_stress = 2, pass_usl = 3, pass_musl_remap = 4, &
@@ -49,6 +49,25 @@ module mpm_transfer
    integer, parameter :: block_size = 64
    !> Partial sums per total: one AVX-512 vector of doubles (four SSE2 vectors without -march).
    integer, parameter :: lanes = 8
+
+   !> Runs whose particle data exceed this many bytes (most of this machine's 32 MiB L3 cache) stream
+   !> from memory: their kernels then ask for each array's block `prefetch_ahead` particles ahead
+   !> (mpm_prefetch.c) while they sum the current block's shares, so that memory works during the
+   !> arithmetic instead of after it. One thread, 1e7 particles: USL +15-20 %. Smaller runs are in
+   !> cache, where the hints only cost (USL -5 to -10 % with 1e4-4e5 particles); 6e5 gained 15 %.
+   integer(i8), parameter :: prefetch_bytes = 24_i8*1024*1024
+   !> Two blocks ahead: further was no faster (about 200 ns of work at the one-thread rate, against
+   !> about 100 ns of memory latency).
+   integer, parameter :: prefetch_ahead = 2*block_size
+
+   interface
+      !> Prefetch hint for `bytes` bytes from the address of `first` (see mpm_prefetch.c).
+      subroutine mpm_prefetch_lines(first, bytes) bind(c, name='mpm_prefetch_lines')
+         use, intrinsic :: iso_c_binding, only: c_int
+         type(*), intent(in) :: first
+         integer(c_int), value :: bytes
+      end subroutine mpm_prefetch_lines
+   end interface
 
    !> The run of particles in one element that a kernel is summing (element 0: none yet).
    type :: run_t
@@ -344,6 +363,7 @@ contains
          seg%first_element = [(min(1 + (k - 1)*per, grid%elements + 1), k=1, n + 1)]
          seg%first_element(n + 1) = grid%elements + 1
          seg%first_particle = 0  ! no earlier ranges to start the search from
+         seg%prefetch = int(count, i8)*bytes_per_particle > prefetch_bytes
       end associate
    end subroutine plan_segments
 
@@ -619,6 +639,22 @@ contains
       seg%last_cell(k) = 0
    end subroutine open_segment
 
+   !> Prefetch hint for the block of particles starting at p of each array given (none past the last
+   !> particle; past the segment's last one it helps the next segment).
+   subroutine prefetch_block(p, cell, a1, a2, a3, a4, a5)
+      integer, intent(in) :: p
+      integer, intent(in), contiguous :: cell(:)
+      real(dp), intent(in), contiguous :: a1(:)
+      real(dp), intent(in), contiguous, optional :: a2(:), a3(:), a4(:), a5(:)
+      if (p + block_size - 1 > size(cell)) return
+      call mpm_prefetch_lines(cell(p), storage_size(cell)/8*block_size)
+      call mpm_prefetch_lines(a1(p), 8*block_size)
+      if (present(a2)) call mpm_prefetch_lines(a2(p), 8*block_size)
+      if (present(a3)) call mpm_prefetch_lines(a3(p), 8*block_size)
+      if (present(a4)) call mpm_prefetch_lines(a4(p), 8*block_size)
+      if (present(a5)) call mpm_prefetch_lines(a5(p), 8*block_size)
+   end subroutine prefetch_block
+
    ! ---- blocks: the per-particle update of a block vectorised, then its element shares in order ----
    !
    ! Each segment kernel walks its particles in blocks of `block_size`. Phase A updates a block in
@@ -889,6 +925,7 @@ contains
       strain_factor = 0.5_dp*volume0/youngs_modulus
       do b0 = first, last, block_size
          n = min(block_size, last - b0 + 1)
+         if (seg%prefetch) call prefetch_block(b0 + prefetch_ahead, cell, x, x0, v, stress, volume_ratio)
          do i = 1, n
             p = b0 + i - 1
             e = cell(p)
@@ -947,6 +984,7 @@ contains
       half_m = 0.5_dp*m
       do b0 = first, last, block_size
          n = min(block_size, last - b0 + 1)
+         if (seg%prefetch) call prefetch_block(b0 + prefetch_ahead, cell, x, x0, v)
          do i = 1, n
             p = b0 + i - 1
             e = cell(p)
@@ -990,6 +1028,7 @@ contains
       strain_factor = 0.5_dp*volume0/youngs_modulus
       do b0 = first, last, block_size
          n = min(block_size, last - b0 + 1)
+         if (seg%prefetch) call prefetch_block(b0 + prefetch_ahead, cell, stress, volume_ratio)
          do i = 1, n
             p = b0 + i - 1
             e = cell(p)
@@ -1031,6 +1070,7 @@ contains
       half_m = 0.5_dp*m
       do b0 = first, last, block_size
          n = min(block_size, last - b0 + 1)
+         if (seg%prefetch) call prefetch_block(b0 + prefetch_ahead, cell, x, x0, v)
          do i = 1, n
             p = b0 + i - 1
             e = cell(p)
@@ -1080,6 +1120,7 @@ contains
       strain_factor = 0.5_dp*volume0/youngs_modulus
       do b0 = first, last, block_size
          n = min(block_size, last - b0 + 1)
+         if (seg%prefetch) call prefetch_block(b0 + prefetch_ahead, cell, x, v, stress, volume_ratio)
          do i = 1, n
             p = b0 + i - 1
             e = cell(p)

@@ -31,9 +31,11 @@ program test_threads
    do s = 1, size(schemes)
       call omp_set_num_threads(1)
       call run(trim(schemes(s)), p1, g1, t1)
+      call t%check(trim(schemes(s))//': no prefetch hints at this size', .not. g1%segments%prefetch)
+      ! the second run also with the prefetch hints of large runs: a hint changes no result
       call omp_set_num_threads(2)
-      call run(trim(schemes(s)), p2, g2, t2)
-      call compare(trim(schemes(s))//' 1 vs 2 threads', p1, g1, t1, p2, g2, t2)
+      call run(trim(schemes(s)), p2, g2, t2, prefetch=.true.)
+      call compare(trim(schemes(s))//' 1 vs 2 threads (and prefetch hints)', p1, g1, t1, p2, g2, t2)
       ! two runs side by side in a parallel region (a sweep): serial passes, same bits
       !$omp parallel do num_threads(2) schedule(static,1)
       do i = 1, 2
@@ -45,15 +47,17 @@ program test_threads
       end do
    end do
    call overtaking()
+   call large_run_prefetches()
    call t%finish()
 
 contains
 
-   subroutine run(scheme, particles, grid, totals)
+   subroutine run(scheme, particles, grid, totals, prefetch)
       character(len=*), intent(in) :: scheme
       type(particles_t), intent(out) :: particles
       type(grid_t), intent(out) :: grid
       type(pass_totals_t), intent(out) :: totals
+      logical, intent(in), optional :: prefetch
       type(error_t), allocatable :: error
       real(dp), parameter :: length = 25.0_dp, youngs = 200.0e9_dp, density = 7800.0_dp
       real(dp) :: dt
@@ -71,6 +75,7 @@ contains
       case ('musl')
          call musl_start(particles, grid, totals)
       end select
+      if (present(prefetch)) grid%segments%prefetch = prefetch
       do n = 1, steps
          select case (scheme)
          case ('usf')
@@ -110,6 +115,19 @@ contains
       call t%check(label//': some particles changed element', any(pa%cell /= [((j - 1)/per_element + 1, &
                                                                                  j=1, pa%count)]))
    end subroutine compare
+
+   !> A run whose particle data exceed mpm_transfer's prefetch_bytes (24 MiB) uses the hints.
+   subroutine large_run_prefetches()
+      type(particles_t) :: particles
+      type(grid_t) :: grid
+      type(pass_totals_t) :: totals
+      type(error_t), allocatable :: error
+      integer, parameter :: large = 150000  ! elements; 4 per element: 600000 particles, 26.4 MB
+      call particles_init(particles, large, per_element, 25.0_dp/large, 7800.0_dp, error)
+      call grid_init(grid, large, 25.0_dp, particles%mass, error)
+      call usl_start(particles, grid, totals)
+      call t%check('600000 particles (26.4 MB): prefetch hints on', grid%segments%prefetch)
+   end subroutine large_run_prefetches
 
    !> Swap two particles across an element boundary: the pass sorts them back by element, with
    !> the same bits on 1 and 2 threads, and mass is conserved.
