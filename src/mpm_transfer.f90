@@ -655,6 +655,39 @@ contains
       if (present(a5)) call mpm_prefetch_lines(a5(p), 8*block_size)
    end subroutine prefetch_block
 
+   !> Prefetch hints for the nodal values that the next two blocks (see next_elements) will gather.
+   subroutine prefetch_nodes(first_cell, last_cell, acceleration, velocity)
+      integer, intent(in) :: first_cell, last_cell
+      real(dp), intent(in), contiguous :: acceleration(0:), velocity(0:)
+      integer :: e, count
+      call next_elements(first_cell, last_cell, ubound(velocity, 1), e, count)
+      if (count == 0) return
+      ! nodes e-1 .. e+count-1 of those elements
+      call mpm_prefetch_lines(acceleration(e - 1), 8*(count + 1))
+      call mpm_prefetch_lines(velocity(e - 1), 8*(count + 1))
+   end subroutine prefetch_nodes
+
+   !> Prefetch hint for the per-element values that the next two blocks (see next_elements) will read.
+   subroutine prefetch_elements(first_cell, last_cell, per_element)
+      integer, intent(in) :: first_cell, last_cell
+      real(dp), intent(in), contiguous :: per_element(:)
+      integer :: e, count
+      call next_elements(first_cell, last_cell, size(per_element), e, count)
+      if (count > 0) call mpm_prefetch_lines(per_element(e), 8*count)
+   end subroutine prefetch_elements
+
+   !> The elements the next two blocks will most likely read, for prefetch hints on the grid arrays:
+   !> the current block spans elements first_cell..last_cell; the next two are taken to span as many
+   !> each, from last_cell + 1 (particles are sorted by element). count = 0: none (the block is
+   !> unsorted or holds a particle outside the grid, or the span runs past the grid).
+   pure subroutine next_elements(first_cell, last_cell, elements, first, count)
+      integer, intent(in) :: first_cell, last_cell, elements
+      integer, intent(out) :: first, count
+      first = last_cell + 1
+      count = 2*(last_cell - first_cell + 1)
+      if (first_cell < 1 .or. count < 1 .or. first + count - 1 > elements) count = 0
+   end subroutine next_elements
+
    ! ---- blocks: the per-particle update of a block vectorised, then its element shares in order ----
    !
    ! Each segment kernel walks its particles in blocks of `block_size`. Phase A updates a block in
@@ -927,7 +960,10 @@ contains
       strain_factor = 0.5_dp*volume0/youngs_modulus
       do b0 = first, last, block_size
          n = min(block_size, last - b0 + 1)
-         if (seg%prefetch) call prefetch_block(b0 + prefetch_ahead, cell, x, x0, v, stress, volume_ratio)
+         if (seg%prefetch) then
+            call prefetch_block(b0 + prefetch_ahead, cell, x, x0, v, stress, volume_ratio)
+            call prefetch_nodes(cell(b0), cell(b0 + n - 1), acceleration, velocity)
+         end if
          do i = 1, n
             p = b0 + i - 1
             e = cell(p)
@@ -986,7 +1022,10 @@ contains
       half_m = 0.5_dp*m
       do b0 = first, last, block_size
          n = min(block_size, last - b0 + 1)
-         if (seg%prefetch) call prefetch_block(b0 + prefetch_ahead, cell, x, x0, v)
+         if (seg%prefetch) then
+            call prefetch_block(b0 + prefetch_ahead, cell, x, x0, v)
+            call prefetch_nodes(cell(b0), cell(b0 + n - 1), acceleration, velocity)
+         end if
          do i = 1, n
             p = b0 + i - 1
             e = cell(p)
@@ -1030,7 +1069,10 @@ contains
       strain_factor = 0.5_dp*volume0/youngs_modulus
       do b0 = first, last, block_size
          n = min(block_size, last - b0 + 1)
-         if (seg%prefetch) call prefetch_block(b0 + prefetch_ahead, cell, stress, volume_ratio)
+         if (seg%prefetch) then
+            call prefetch_block(b0 + prefetch_ahead, cell, stress, volume_ratio)
+            call prefetch_elements(cell(b0), cell(b0 + n - 1), strain_increment_of)
+         end if
          do i = 1, n
             p = b0 + i - 1
             e = cell(p)
@@ -1072,7 +1114,10 @@ contains
       half_m = 0.5_dp*m
       do b0 = first, last, block_size
          n = min(block_size, last - b0 + 1)
-         if (seg%prefetch) call prefetch_block(b0 + prefetch_ahead, cell, x, x0, v)
+         if (seg%prefetch) then
+            call prefetch_block(b0 + prefetch_ahead, cell, x, x0, v)
+            call prefetch_nodes(cell(b0), cell(b0 + n - 1), acceleration, velocity)
+         end if
          do i = 1, n
             p = b0 + i - 1
             e = cell(p)
@@ -1122,7 +1167,10 @@ contains
       strain_factor = 0.5_dp*volume0/youngs_modulus
       do b0 = first, last, block_size
          n = min(block_size, last - b0 + 1)
-         if (seg%prefetch) call prefetch_block(b0 + prefetch_ahead, cell, x, v, stress, volume_ratio)
+         if (seg%prefetch) then
+            call prefetch_block(b0 + prefetch_ahead, cell, x, v, stress, volume_ratio)
+            call prefetch_elements(cell(b0), cell(b0 + n - 1), strain_increment_of)
+         end if
          do i = 1, n
             p = b0 + i - 1
             e = cell(p)
