@@ -51,13 +51,14 @@ module mpm_transfer
    integer, parameter :: lanes = 8
 
    !> Runs whose particle data exceed this many bytes (most of this machine's 32 MiB L3 cache) stream
-   !> from memory: their kernels then ask for each array's block `prefetch_ahead` particles ahead
-   !> (mpm_prefetch.c) while they sum the current block's shares, so that memory works during the
-   !> arithmetic instead of after it. One thread, 1e7 particles: USL +15-20 %. Smaller runs are in
-   !> cache, where the hints only cost (USL -5 to -10 % with 1e4-4e5 particles); 6e5 gained 15 %.
+   !> from memory: their kernels then ask for each array's block `prefetch_ahead` particles ahead, and
+   !> for the grid values the next blocks read (mpm_prefetch.c), while they sum the current block's
+   !> shares, so that memory works during the arithmetic instead of after it. One thread, 1e7
+   !> particles: +20-30 %. Smaller runs are in cache, where the hints only cost (USL -5 to -10 % with
+   !> 1e4-4e5 particles); 6e5 particles gained 15 %.
    integer(i8), parameter :: prefetch_bytes = 24_i8*1024*1024
-   !> Two blocks ahead: further was no faster (about 200 ns of work at the one-thread rate, against
-   !> about 100 ns of memory latency).
+   !> Two blocks ahead (about 0.4 us of work at the one-thread rate): one block ahead gained nothing,
+   !> three and four blocks ahead less than two.
    integer, parameter :: prefetch_ahead = 2*block_size
 
    interface
