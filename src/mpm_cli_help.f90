@@ -25,6 +25,8 @@ contains
          "  &discretisation scheme='usl', elements=20, particles_per_element=1, dt_fraction=0.1 /", &
          "      scheme: 'usf', 'usl' or 'musl'; elements >= 1; particles_per_element >= 1;", &
          '      dt = dt_fraction * dx / c, c = sqrt(youngs_modulus/density), 0 < dt_fraction <= 10', &
+         '      margin_cells=-1: empty grid cells beyond each free end (-1: expected motion + 2 cells; >= 0)', &
+         "      kernels='auto': fused linear kernels where they apply; 'generic': the generic layered path", &
          '  &run periods=2.0 /      or  &run end_time=0.0395 /  (seconds; give one of the two)', &
          '      periods of the simulated mode, 2 pi / omega_n each; steps = smallest n with n dt >= end time', &
          "  &output file='bar.h5', history=.true., snapshot_times=0.0, 0.01 /", &

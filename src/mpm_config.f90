@@ -41,6 +41,10 @@ module mpm_config
       integer :: elements = 20
       integer :: particles_per_element = 1
       real(dp) :: dt_fraction = 0.1_dp
+      !> Empty grid cells beyond each free end of the body; -1: the scene's expected motion + 2 cells.
+      integer :: margin_cells = -1
+      !> 'auto': the fused linear kernels where they apply, else the generic path; 'generic': always generic.
+      character(len=8) :: kernels = 'auto'
       ! &run
       real(dp) :: periods = 2.0_dp
       real(dp) :: end_time = unset
@@ -98,12 +102,14 @@ contains
       character(len=32) :: scheme
       integer :: elements, particles_per_element
       real(dp) :: dt_fraction
+      integer :: margin_cells
+      character(len=32) :: kernels
       real(dp) :: periods, end_time
       character(len=1024) :: file
       logical :: history
       real(dp) :: snapshot_times(max_snapshots)
       namelist /scene/ kind, length, youngs_modulus, density, velocity_amplitude, mode
-      namelist /discretisation/ scheme, elements, particles_per_element, dt_fraction
+      namelist /discretisation/ scheme, elements, particles_per_element, dt_fraction, margin_cells, kernels
       namelist /run/ periods, end_time
       namelist /output/ file, history, snapshot_times
       real(dp) :: energy_growth_limit, max_cell_move
@@ -125,6 +131,8 @@ contains
       elements = config%elements
       particles_per_element = config%particles_per_element
       dt_fraction = config%dt_fraction
+      margin_cells = config%margin_cells
+      kernels = config%kernels
       periods = unset
       end_time = unset
       file = config%file
@@ -175,6 +183,9 @@ contains
       config%elements = elements
       config%particles_per_element = particles_per_element
       config%dt_fraction = dt_fraction
+      config%margin_cells = margin_cells
+      config%kernels = kernels
+      if (len_trim(kernels) > len(config%kernels)) config%kernels = '?'//kernels
       if (periods /= unset .and. end_time /= unset) then
          call append_error(error, "run: give either periods or end_time, not both")
       else if (end_time /= unset) then
@@ -406,6 +417,11 @@ contains
           .or. config%dt_fraction > max_dt_fraction) call append_error(error, &
          "discretisation: dt_fraction = "//str(config%dt_fraction)//" is out of range; allowed: 0 < dt_fraction <= "// &
          str(max_dt_fraction)//" (fraction of the critical step dx/c)")
+      if (config%margin_cells < -1) call append_error(error, &
+         "discretisation: margin_cells = "//str(config%margin_cells)//" is out of range; allowed: -1 (automatic: "// &
+         "the scene's expected motion + 2 cells) or integer >= 0")
+      if (trim(config%kernels) /= 'auto' .and. trim(config%kernels) /= 'generic') call append_error(error, &
+         "discretisation: kernels = '"//trim(config%kernels)//"' is unknown; allowed: 'auto', 'generic'")
       if (config%end_time /= unset) then
          call positive(config%end_time, 'run: end_time', 's')
       else
@@ -534,7 +550,7 @@ contains
       case ('scene')
          names = 'kind, length, youngs_modulus, density, velocity_amplitude, mode'
       case ('discretisation')
-         names = 'scheme, elements, particles_per_element, dt_fraction'
+         names = 'scheme, elements, particles_per_element, dt_fraction, margin_cells, kernels'
       case ('run')
          names = 'periods, end_time'
       case ('output')
@@ -587,7 +603,8 @@ contains
              ", velocity_amplitude="//str(config%velocity_amplitude)//", mode="//str(config%mode)//" /"//nl// &
              "&discretisation scheme='"//trim(config%scheme)//"', elements="//str(config%elements)// &
              ", particles_per_element="//str(config%particles_per_element)//", dt_fraction="// &
-             str(config%dt_fraction)//" /"//nl
+             str(config%dt_fraction)//", margin_cells="//str(config%margin_cells)//", kernels='"// &
+             trim(config%kernels)//"' /"//nl
       if (config%end_time /= unset) then
          text = text//"&run end_time="//str(config%end_time)//" /"//nl
       else

@@ -104,6 +104,8 @@ contains
       call h5%attribute_int(group, 'elements', config%elements)
       call h5%attribute_int(group, 'particles_per_element', config%particles_per_element)
       call h5%attribute_real(group, 'dt_fraction', config%dt_fraction)
+      call h5%attribute_int(group, 'margin_cells', config%margin_cells)
+      call h5%attribute_string(group, 'kernels', trim(config%kernels))
       if (config%end_time /= unset) then
          call h5%attribute_real(group, 'end_time', config%end_time)
       else
