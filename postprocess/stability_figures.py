@@ -438,8 +438,6 @@ def large_section(report: Report, sweep: Sweep) -> None:
     c = sweep.cases
     report.versions.update(sweep.code_versions)
     ne = int(c['elements'][0])
-    L = float(sweep.config['length'])
-    dx = L / ne
     c_wave = np.sqrt(c['youngs_modulus'] / c['density'])
     ratio = c['velocity_amplitude'] / c_wave
     ratios = sorted(set(np.round(ratio, 12).tolist()))
@@ -447,32 +445,22 @@ def large_section(report: Report, sweep: Sweep) -> None:
     report.add('## 3. Large motion', '',
                f'{len(sweep)} cases: v0/c = {", ".join(g(r) for r in ratios)}, ppc '
                f'{", ".join(map(str, ppcs))}, every scheme, {ne} elements, k = 0.1, 2 periods. '
-               'The grid spans the undeformed bar [0, L] only, so the last particle, at '
-               'L - dx/(2 ppc), leaves it when the free-end displacement amplitude v0/omega exceeds '
-               'dx/(2 ppc): predicted left_grid for v0/c > pi/(4 ne ppc) (mode 1), first at '
-               't* = asin(omega dx/(2 ppc v0))/omega. The strain amplitude is v0/c, so J <= 0 would need '
-               'v0/c >= 1, and cell_crossing needs v0 dt > dx, v0/c > 10 at k = 0.1: left_grid comes first.', '')
-    report.add('| ppc | predicted threshold v0/c | ' + ' | '.join(
+               'The grid extends beyond the free end by the end\'s exact displacement amplitude '
+               'v0/omega in cells, rounded up, plus 2 (`margin_cells`), so the free end can move out. '
+               'Below v0/c = pi/(4 ne ppc) (mode 1) the last particle, at L - dx/(2 ppc), stays in the '
+               'bar\'s last cell; above, it crosses into the empty margin cell and the node it enters '
+               'gets a tiny mass (the cell-crossing problem of linear shape functions), which USL\'s '
+               'strain update does not always survive: it stops with energy_growth, and the '
+               'lightest-node mass ratio names the cause. left_grid now means that a particle moved more '
+               'than two cells beyond the exact end amplitude: the method itself has failed (errors of '
+               'tens of per cent or more at that point). With the grid ending at L (margin_cells = 0, '
+               'the code before) every case above the threshold stopped with left_grid.', '')
+    report.add('| ppc | crossing threshold v0/c | ' + ' | '.join(
         f'v0/c = {g(r)}' for r in ratios) + ' |', '|' + '---|' * (2 + len(ratios)))
-    expected_stable = np.zeros(len(sweep), dtype=bool)
-    expected_unstable = np.zeros(len(sweep), dtype=bool)
-    time_errors = []
-    for i in range(len(sweep)):
-        ppc = c['particles_per_element'][i]
-        mode = int(c['mode'][i])
-        threshold = math.pi * (2 * mode - 1) / (4 * ne * ppc)
-        expected_stable[i] = ratio[i] < 0.9 * threshold
-        expected_unstable[i] = ratio[i] > 1.1 * threshold
-        if c['status_name'][i] == 'left_grid' and not math.isnan(c['trip_time'][i]):
-            omega = (2 * mode - 1) * math.pi / (2 * L) * c_wave[i]
-            arg = omega * dx / (2 * ppc * c['velocity_amplitude'][i])
-            if arg < 1:
-                t_star = math.asin(arg) / omega
-                # in steps, and relative to max(2 steps, 5 % of t*): close to the threshold the
-                # end displacement crosses dx/(2 ppc) near its maximum, where a small difference in
-                # amplitude (the schemes' own error) moves the crossing by several steps
-                miss = abs(c['trip_time'][i] - t_star)
-                time_errors.append((miss / c['dt'][i], miss / max(2 * c['dt'][i], 0.05 * t_star)))
+    threshold = np.array([math.pi * (2 * int(c['mode'][i]) - 1) / (4 * ne * c['particles_per_element'][i])
+                          for i in range(len(sweep))])
+    expected_stable = ratio < 0.9 * threshold
+    expected_unstable = None
     for scheme in SCHEMES:
         report.add(f'| **{scheme.upper()}** |' + ' |' * (1 + len(ratios)))
         for ppc in ppcs:
@@ -488,13 +476,14 @@ def large_section(report: Report, sweep: Sweep) -> None:
                              else trip_text(c, j))
             report.add(f'| {ppc} | {math.pi / (4 * ne * ppc):.3g} | ' + ' | '.join(cells) + ' |')
     report.add('')
-    if time_errors:
-        steps_off = [a for a, _ in time_errors]
-        scaled = [b for _, b in time_errors]
-        report.add(f'left_grid trip times against the predicted t*: within {max(steps_off):.2f} '
-                   f'steps (median {np.median(steps_off):.2f}) over {len(time_errors)} cases.', '')
-        report.check('large motion', 'left_grid trips within max(2 steps, 5 % of t*) of the predicted '
-                     'time t*', max(scaled) <= 1.0, f'worst {max(steps_off):.2f} steps')
+    energy = c['status_name'] == 'energy_growth'
+    report.check('large motion', 'every energy_growth stop met a nearly empty node (lightest node < 0.01 '
+                 'of a particle\'s mass)', bool(np.all(c['min_node_mass_ratio'][energy] < 0.01)),
+                 f'{int(energy.sum())} energy_growth stops')
+    small_motion = ratio <= 0.03  # exact end amplitude 0.03 c/omega = 0.48 m, under one cell
+    left = (c['status_name'] == 'left_grid') & small_motion
+    report.check('large motion', 'no left_grid while the exact end motion is under one cell (v0/c <= 0.03)',
+                 not left.any(), f'{int(left.sum())} such cases left the grid')
     ok = c['status'] == 0
     if ok.any():
         small = ok & (ratio <= 1.01e-4)
@@ -522,10 +511,10 @@ def large_section(report: Report, sweep: Sweep) -> None:
         ax.set_xlabel('v0 / c  (-)')
         ax.set_title(f'{scheme.upper()}, {ne} el., k = 0.1, 2 periods', fontsize=9)
         ax.grid(alpha=0.3, which='both')
-    axes[0].set_ylabel('relative error of u_cm (-); x: stopped by left_grid (error up to the trip)')
+    axes[0].set_ylabel('relative error of u_cm (-); x: stopped by a guard (error up to the stop)')
     axes[0].legend(fontsize=7)
-    fig.suptitle('Large motion: relative error against v0/c; dotted: predicted left_grid '
-                 'threshold pi/(4 ne ppc)', fontsize=9)
+    fig.suptitle('Large motion: relative error against v0/c; dotted: the last particle crosses into the '
+                 'empty margin cell above pi/(4 ne ppc)', fontsize=9)
     fig.tight_layout(rect=(0, 0.03, 1, 0.94))
     report.save(fig, 'large_motion.png', os.path.basename(sweep.path))
     report.add('![large_motion.png](large_motion.png)', '')

@@ -1,5 +1,7 @@
-!> The background mesh: a uniform 1-D grid of 2-node linear elements on [0, length], lumped
-!> mass, node 0 fixed (u = 0 at x = 0), the other end free.
+!> The background mesh: a uniform 1-D grid of 2-node linear elements over the grid domain
+!> [origin, origin + elements dx], lumped mass. The domain is the scene's: it may extend beyond the
+!> body by empty cells (a free end moves out), and the nodes held at rest (`fixed`) are the scene's
+!> boundary conditions. Empty nodes (no mass) get zero velocity and acceleration.
 !>
 !> Particle-to-grid transfers accumulate per element first (`element_*` arrays: the share of
 !> the element's left and right node), then `assemble_nodes` adds the two neighbouring elements'
@@ -52,7 +54,10 @@ module mpm_grid
 
    !> Grid state. Nodes are numbered 0..elements; element e spans nodes e-1 and e.
    type :: grid_t
+      !> Cells of the grid domain (the body's elements plus the empty margin cells).
       integer :: elements = 0
+      !> Position of node 0 (m) and length of the domain, elements * dx (m).
+      real(dp) :: origin = 0.0_dp
       real(dp) :: length = 0.0_dp
       real(dp) :: dx = 0.0_dp
       real(dp) :: inv_dx = 0.0_dp
@@ -70,24 +75,38 @@ module mpm_grid
       real(dp), allocatable :: mass(:), momentum(:), force(:), velocity(:), acceleration(:)
       !> Smallest nodal mass met by `solve_momentum` in this step (diagnostic of marginal runs).
       real(dp) :: min_node_mass = huge(1.0_dp)
+      !> Nodes held at rest (zero momentum, force, acceleration and velocity): the scene's fixed ends.
+      integer, allocatable :: fixed(:)
       !> Work split of the particle passes (see segments_t).
       type(segments_t) :: segments
    end type grid_t
 
 contains
 
-   !> Allocate a grid of `elements` elements over [0, length]; `particle_mass` sets the empty-node test.
-   subroutine grid_init(grid, elements, length, particle_mass, error)
+   !> Allocate a grid whose cells have the size of `body_elements` elements over `body_length` (dx =
+   !> body_length / body_elements, so dx and 1/dx are those of a grid that ends at the body), starting
+   !> at x = 0 and extending `margin` more empty cells to the right (default none). `fixed` lists the
+   !> nodes held at rest (default none). `particle_mass` sets the empty-node test.
+   subroutine grid_init(grid, body_elements, body_length, particle_mass, error, margin, fixed)
       type(grid_t), intent(out) :: grid
-      integer, intent(in) :: elements
-      real(dp), intent(in) :: length, particle_mass
+      integer, intent(in) :: body_elements
+      real(dp), intent(in) :: body_length, particle_mass
       type(error_t), allocatable, intent(out) :: error
-      integer :: stat
+      integer, intent(in), optional :: margin
+      integer, intent(in), optional :: fixed(:)
+      integer :: stat, elements
+      elements = body_elements
+      if (present(margin)) elements = body_elements + margin
       grid%elements = elements
-      grid%length = length
-      grid%dx = length/elements
-      grid%inv_dx = elements/length
+      grid%dx = body_length/body_elements
+      grid%inv_dx = body_elements/body_length
+      grid%length = elements*grid%dx
       grid%empty_mass = mass_tolerance*particle_mass
+      if (present(fixed)) then
+         grid%fixed = fixed
+      else
+         allocate (grid%fixed(0))
+      end if
       allocate (grid%element_mass_left(elements), grid%element_mass_right(elements), &
                 grid%element_momentum_left(elements), grid%element_momentum_right(elements), &
                 grid%element_stress_volume(elements), grid%element_strain(elements), &
@@ -134,7 +153,16 @@ contains
       else
          call assemble_interior(grid, with_force, 0, grid%elements)
       end if
+      call hold_fixed_nodes(grid, with_force)
    end subroutine assemble_nodes
+
+   !> Zero momentum (and force, when assembled) of the fixed nodes after an assembly.
+   subroutine hold_fixed_nodes(grid, with_force)
+      type(grid_t), intent(inout) :: grid
+      logical, intent(in) :: with_force
+      grid%momentum(grid%fixed) = 0.0_dp
+      if (with_force) grid%force(grid%fixed) = 0.0_dp
+   end subroutine hold_fixed_nodes
 
    !> assemble_nodes(grid, .true.) then solve_momentum(grid, dt, .false.), chunk by chunk (a chunk
    !> is solved while its nodes are still in cache): the grid half of a USL or MUSL step.
@@ -156,10 +184,10 @@ contains
          call assemble_interior(grid, .true., 0, grid%elements)
          call solve_nodes(grid, dt, .false., 0, grid%elements, lightest)
       end if
-      call fix_first_node(grid, lightest)
+      call fix_nodes(grid, lightest)
    end subroutine assemble_and_solve
 
-   !> The end nodes 0 and `elements` (each has one element); node 0 is fixed.
+   !> The end nodes 0 and `elements` of the domain (each has one element).
    subroutine assemble_ends(grid, with_force)
       type(grid_t), intent(inout) :: grid
       logical, intent(in) :: with_force
@@ -167,15 +195,16 @@ contains
       n = grid%elements
       grid%mass(0) = grid%element_mass_left(1)
       grid%mass(n) = grid%element_mass_right(n)
-      grid%momentum(0) = 0.0_dp
+      grid%momentum(0) = grid%element_momentum_left(1)
       grid%momentum(n) = grid%element_momentum_right(n)
       if (with_force) call force_ends(grid)
    end subroutine assemble_ends
 
-   !> Internal force on the end nodes: none on the fixed node 0, the last element's on node `elements`.
+   !> Internal force on the end nodes of the domain, from their one element each (dN = -1/dx on an
+   !> element's left node, +1/dx on its right node).
    subroutine force_ends(grid)
       type(grid_t), intent(inout) :: grid
-      grid%force(0) = 0.0_dp
+      grid%force(0) = grid%element_stress_volume(1)*grid%inv_dx
       grid%force(grid%elements) = -grid%element_stress_volume(grid%elements)*grid%inv_dx
    end subroutine force_ends
 
@@ -215,7 +244,7 @@ contains
       end do
    end subroutine force_range
 
-   !> v_I = p_I / m_I (zero on empty nodes and on the fixed node).
+   !> v_I = p_I / m_I (zero on empty nodes and on the fixed nodes).
    subroutine nodal_velocity(grid)
       type(grid_t), intent(inout) :: grid
       integer :: k
@@ -229,7 +258,7 @@ contains
       else
          call velocity_range(0, grid%elements, grid%empty_mass, grid%mass, grid%momentum, grid%velocity)
       end if
-      grid%velocity(0) = 0.0_dp
+      grid%velocity(grid%fixed) = 0.0_dp
    end subroutine nodal_velocity
 
    subroutine velocity_range(lo, hi, empty_mass, mass, momentum, velocity)
@@ -267,11 +296,11 @@ contains
       else
          call solve_nodes(grid, dt, with_force, 0, grid%elements, lightest)
       end if
-      call fix_first_node(grid, lightest)
+      call fix_nodes(grid, lightest)
    end subroutine solve_momentum
 
    !> solve_momentum on nodes i0..i1 (the interior ones' force first, when `with_force`);
-   !> `lightest` takes the smallest nodal mass met.
+   !> `lightest` takes the smallest positive nodal mass met (empty margin nodes have none).
    subroutine solve_nodes(grid, dt, with_force, i0, i1, lightest)
       type(grid_t), intent(inout) :: grid
       real(dp), intent(in) :: dt
@@ -292,7 +321,7 @@ contains
       real(dp), intent(inout) :: lightest
       integer :: i
       do i = lo, hi
-         lightest = min(lightest, mass(i))
+         if (mass(i) > 0.0_dp) lightest = min(lightest, mass(i))
          momentum(i) = momentum(i) + dt*force(i)
          if (mass(i) > empty_mass) then
             acceleration(i) = force(i)/mass(i)
@@ -304,13 +333,14 @@ contains
       end do
    end subroutine solve_range
 
-   !> The fixed node 0 stays at rest; records the lightest node of the step.
-   subroutine fix_first_node(grid, lightest)
+   !> The fixed nodes stay at rest; records the lightest node of the step.
+   subroutine fix_nodes(grid, lightest)
       type(grid_t), intent(inout) :: grid
       real(dp), intent(in) :: lightest
       grid%min_node_mass = lightest
-      grid%momentum(0) = 0.0_dp
-      grid%acceleration(0) = 0.0_dp
-      grid%velocity(0) = 0.0_dp
-   end subroutine fix_first_node
+      grid%momentum(grid%fixed) = 0.0_dp
+      grid%force(grid%fixed) = 0.0_dp
+      grid%acceleration(grid%fixed) = 0.0_dp
+      grid%velocity(grid%fixed) = 0.0_dp
+   end subroutine fix_nodes
 end module mpm_grid

@@ -7,7 +7,7 @@ module mpm_scene_bar
    use mpm_particles, only: particles_t
    implicit none
    private
-   public :: bar_t, bar_init, bar_initial_velocity, bar_ucm_exact, bar_velocity_exact
+   public :: bar_t, bar_init, bar_initial_velocity, bar_ucm_exact, bar_velocity_exact, bar_margin_cells, bar_fixed_nodes
 
    type :: bar_t
       real(dp) :: length = 0.0_dp
@@ -47,6 +47,28 @@ contains
       real(dp), intent(in) :: t
       bar_ucm_exact = bar%ucm_amplitude*sin(bar%omega*t)
    end function bar_ucm_exact
+
+   !> Empty grid cells beyond the free end x = L: the end's exact displacement amplitude |v0|/omega_n
+   !> (sin(beta_n L) = +-1) in cells of size dx, rounded up, plus two cells (one for the particle's
+   !> shape support, one of slack), unless `requested` >= 0 gives the number.
+   pure integer function bar_margin_cells(bar, dx, requested) result(cells)
+      type(bar_t), intent(in) :: bar
+      real(dp), intent(in) :: dx
+      integer, intent(in) :: requested
+      real(dp) :: reach
+      if (requested >= 0) then
+         cells = requested
+         return
+      end if
+      reach = abs(bar%velocity_amplitude)/bar%omega/dx
+      cells = 2 + int(min(ceiling(reach), 1000000000))
+   end function bar_margin_cells
+
+   !> The bar's boundary condition: node 0 (x = 0) is held at rest.
+   pure function bar_fixed_nodes() result(nodes)
+      integer, allocatable :: nodes(:)
+      nodes = [0]
+   end function bar_fixed_nodes
 
    !> Exact velocity field v(x, t) (eq. 13).
    elemental real(dp) function bar_velocity_exact(bar, x, t)

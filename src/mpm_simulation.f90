@@ -13,7 +13,7 @@ module mpm_simulation
    use mpm_scheme_usf, only: usf_start, usf_step
    use mpm_scheme_usl, only: usl_start, usl_step
    use mpm_scheme_musl, only: musl_start, musl_step
-   use mpm_scene_bar, only: bar_t, bar_init, bar_initial_velocity, bar_ucm_exact
+   use mpm_scene_bar, only: bar_t, bar_init, bar_initial_velocity, bar_ucm_exact, bar_margin_cells, bar_fixed_nodes
    use mpm_diagnostics, only: history_t, snapshot_t, status_ok, status_non_finite, status_volume_ratio, &
                               status_left_grid, status_energy_growth, status_cell_crossing, status_name
    implicit none
@@ -21,6 +21,8 @@ module mpm_simulation
    public :: run_result_t, run_simulation, scheme_id, guard_trip_t, guard_message
 
    integer, parameter :: scheme_usf = 1, scheme_usl = 2, scheme_musl = 3
+   !> A node lighter than this fraction of a particle's mass is "nearly empty" in guard messages.
+   real(dp), parameter :: nearly_empty = 0.01_dp
 
    !> What a guard saw when it stopped a run. Numbers only: the text is made by `guard_message`
    !> outside any parallel region (gfortran's formatted internal writes are not safe to run
@@ -31,6 +33,8 @@ module mpm_simulation
       real(dp) :: time = 0.0_dp
       real(dp) :: value = 0.0_dp    !< the quantity that tripped (energy ratio, cells moved)
       real(dp) :: x = 0.0_dp, v = 0.0_dp, stress = 0.0_dp, volume_ratio = 0.0_dp
+      real(dp) :: domain(2) = 0.0_dp  !< the grid domain [x_min, x_max] (m), for left_grid
+      real(dp) :: node_mass_ratio = 0.0_dp  !< the lightest nodal mass of the step / particle mass
    end type guard_trip_t
 
    !> What one run produced.
@@ -51,6 +55,7 @@ module mpm_simulation
       real(dp) :: max_cell_move = 0.0_dp    !< largest particle move in one step, in cells
       real(dp) :: min_node_mass_ratio = 0.0_dp !< smallest nodal mass / particle mass met
       integer :: particles = 0
+      real(dp) :: domain(2) = 0.0_dp        !< the grid domain [x_min, x_max] (m)
       type(history_t) :: history
       type(snapshot_t), allocatable :: snapshots(:)
    end type run_result_t
@@ -96,8 +101,10 @@ contains
       result%ucm_amplitude = bar%ucm_amplitude
       call particles_init(particles, config%elements, config%particles_per_element, config%dx, config%density, error)
       if (allocated(error)) return
-      call grid_init(grid, config%elements, config%length, particles%mass, error)
+      call grid_init(grid, config%elements, config%length, particles%mass, error, &
+                     margin=bar_margin_cells(bar, config%dx, config%margin_cells), fixed=bar_fixed_nodes())
       if (allocated(error)) return
+      result%domain = [grid%origin, grid%origin + grid%length]
       call bar_initial_velocity(bar, particles)
       result%particles = particles%count
 
@@ -184,6 +191,8 @@ contains
          result%trip%time = time
          result%trip%value = value
          result%trip%particle = p
+         result%trip%domain = result%domain
+         result%trip%node_mass_ratio = grid%min_node_mass/particles%mass
          if (p >= 1 .and. p <= particles%count) then
             result%trip%x = particles%x(p)
             result%trip%v = particles%v(p)
@@ -210,7 +219,7 @@ contains
                s%v = particles%v
                s%stress = particles%stress
                s%volume_ratio = particles%volume_ratio
-               s%grid_x = [(i*grid%dx, i=0, grid%elements)]
+               s%grid_x = [(grid%origin + i*grid%dx, i=0, grid%elements)]
                s%grid_velocity = grid%velocity
             end associate
             next_snapshot = next_snapshot + 1
@@ -229,7 +238,8 @@ contains
       case (status_non_finite)
          what = 'non-finite value (NaN or Infinity) in the particle state'
       case (status_left_grid)
-         what = 'a particle left the grid [0, '//str(config%length)//'] m'
+         what = 'a particle left the grid domain ['//str(trip%domain(1))//', '//str(trip%domain(2))// &
+                '] m (the body with its margin_cells; a larger margin_cells widens it)'
       case (status_volume_ratio)
          what = 'volume ratio J = V/V0 <= 0'
       case (status_cell_crossing)
@@ -237,6 +247,10 @@ contains
       case (status_energy_growth)
          what = 'total energy grew to '//str(trip%value)//' times its initial value (limit '// &
                 str(config%energy_growth_limit)//')'
+         if (trip%node_mass_ratio < nearly_empty) what = what//'; the lightest node holds '// &
+            str(trip%node_mass_ratio)//' of a particle''s mass: a particle has just entered an empty cell, and '// &
+            'that node''s velocity drives the update (the cell-crossing instability of linear shape functions, '// &
+            'strongest in USL; see README, Guards)'
       case default
          text = status_name(status)
          return

@@ -5,14 +5,14 @@ program test_bar
    use mpm_errors, only: error_t
    use mpm_config, only: config_t, resolve_config
    use mpm_simulation, only: run_result_t, run_simulation
-   use mpm_diagnostics, only: status_ok
+   use mpm_diagnostics, only: status_ok, status_left_grid, status_energy_growth, status_name
    use mpm_testing, only: tester_t
    implicit none
    type(tester_t) :: t
    type(run_result_t) :: r
    real(dp) :: errors(3), order, ratio_first, ratio_last
    integer :: i
-   character(len=4), parameter :: schemes(2) = ['usf ', 'usl ']
+   character(len=4), parameter :: schemes(2) = ['usf ', 'usl '], schemes3(3) = ['usf ', 'usl ', 'musl']
 
    t%name = 'test_bar'
 
@@ -51,15 +51,39 @@ program test_bar
                 'ratio '//real_text(ratio_last/ratio_first))
    call t%check('USL loss is gradual (last/first > 0.98)', ratio_last/ratio_first > 0.98_dp)
 
+   ! The grid domain extends beyond the free end: at v0 = 0.01 c (end amplitude v0/omega = 0.01 c/(beta c)
+   ! = 0.01*50/pi = 0.16 m, under one cell of 1.25 m: margin 1 + 2 cells) USF and MUSL run 2 periods on
+   ! 20 elements x 4 particles; USL may meet its instability at a node a particle has just entered (the
+   ! energy guard stops it and says so); with the grid ending at the bar (margin_cells = 0, as before)
+   ! every scheme stops with left_grid.
+   do i = 1, 3
+      r = run(trim(schemes3(i)), 20, 4, 0.1_dp, 2.0_dp, .false., v0=0.01_dp*sqrt(200.0e9_dp/7800.0_dp))
+      if (trim(schemes3(i)) == 'usl') then
+         call t%check('usl v0 = 0.01c, 20 x 4: completes or stops on energy growth at a nearly empty node', &
+                      r%status == status_ok .or. (r%status == status_energy_growth .and. &
+                                                  r%trip%node_mass_ratio < 0.01_dp), 'status '//status_name(r%status))
+      else
+         call t%check(trim(schemes3(i))//' v0 = 0.01c, 20 x 4, 2 periods completes', r%status == status_ok, &
+                      'status '//status_name(r%status))
+      end if
+      call t%check(trim(schemes3(i))//' v0 = 0.01c: grid domain of 20 + 3 cells', &
+                   abs(r%domain(2) - 23*25.0_dp/20) < 1.0e-12_dp .and. r%domain(1) == 0.0_dp)
+      r = run(trim(schemes3(i)), 20, 4, 0.1_dp, 2.0_dp, .false., v0=0.01_dp*sqrt(200.0e9_dp/7800.0_dp), margin=0)
+      call t%check(trim(schemes3(i))//' v0 = 0.01c with margin_cells = 0 leaves the grid', &
+                   r%status == status_left_grid .and. r%trip%domain(2) == 25.0_dp)
+   end do
+
    call t%finish()
 
 contains
 
-   function run(scheme, elements, ppc, fraction, periods, history) result(res)
+   function run(scheme, elements, ppc, fraction, periods, history, v0, margin) result(res)
       character(len=*), intent(in) :: scheme
       integer, intent(in) :: elements, ppc
       real(dp), intent(in) :: fraction, periods
       logical, intent(in) :: history
+      real(dp), intent(in), optional :: v0
+      integer, intent(in), optional :: margin
       type(run_result_t) :: res
       type(config_t) :: config
       type(error_t), allocatable :: error
@@ -68,6 +92,8 @@ contains
       config%particles_per_element = ppc
       config%dt_fraction = fraction
       config%periods = periods
+      if (present(v0)) config%velocity_amplitude = v0
+      if (present(margin)) config%margin_cells = margin
       call resolve_config(config)
       call run_simulation(config, res, error, record_history=history)
       if (allocated(error)) error stop 'run failed to start'

@@ -52,7 +52,13 @@ program test_hdf5
    call h5_read_real(path, '/snapshots/0002/stress', values, error)
    call t%check('snapshot stress identical', all(values == r%snapshots(2)%stress))
    call h5_read_real(path, '/snapshots/0001/grid_velocity', values, error)
-   call t%check('initial grid velocity has one value per node', size(values) == 8)
+   ! the grid domain: 7 elements of the bar, then the margin: the free end's amplitude v0/omega = 0.1/(pi/50 *
+   ! sqrt(200e9/7800)) = 3.1e-4 m is under one cell (25/7 m), so 1 + 2 cells; 11 nodes
+   call t%check('initial grid velocity has one value per node of the domain', size(values) == 11)
+   call h5_read_real(path, '/snapshots/0001/grid_x', values, error)
+   call t%check('grid domain ends 3 cells beyond the bar', abs(values(size(values)) - 10*25.0_dp/7) < 1.0e-12_dp)
+   call h5_read_real(path, '/snapshots/0001/grid_velocity', values, error)
+   call t%check('empty margin nodes have zero velocity', all(values(9:11) == 0.0_dp) .and. values(8) /= 0.0_dp)
    call h5_read_attribute_real(path, '/config', 'dt_fraction', attribute, error)
    call t%check('config attribute dt_fraction identical', attribute == 0.25_dp)
    call h5_read_attribute_string(path, '/', 'code_version', text, error)

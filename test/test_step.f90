@@ -80,7 +80,7 @@ contains
    subroutine setup()
       type(error_t), allocatable :: error
       call particles_init(particles, 1, 2, dx, 3.0_dp, error)
-      call grid_init(grid, 1, dx, particles%mass, error)
+      call grid_init(grid, 1, dx, particles%mass, error, fixed=[0])
       particles%v = [1.0_dp, 2.0_dp]
       particles%stress = [0.5_dp, -1.0_dp]
       stress = particles%stress

@@ -63,7 +63,7 @@ contains
       real(dp) :: dt
       integer :: n
       call particles_init(particles, elements, per_element, length/elements, density, error)
-      call grid_init(grid, elements, length, particles%mass, error)
+      call grid_init(grid, elements, length, particles%mass, error, fixed=[0])
       ! a large initial velocity (zero at both ends), so that many particles change element
       particles%v = 200.0_dp*sin(acos(-1.0_dp)*particles%x/length)
       dt = 0.2_dp*(length/elements)/sqrt(youngs/density)
@@ -124,7 +124,7 @@ contains
       type(error_t), allocatable :: error
       integer, parameter :: large = 150000  ! elements; 4 per element: 600000 particles, 26.4 MB
       call particles_init(particles, large, per_element, 25.0_dp/large, 7800.0_dp, error)
-      call grid_init(grid, large, 25.0_dp, particles%mass, error)
+      call grid_init(grid, large, 25.0_dp, particles%mass, error, fixed=[0])
       call usl_start(particles, grid, totals)
       call t%check('600000 particles (26.4 MB): prefetch hints on', grid%segments%prefetch)
    end subroutine large_run_prefetches

@@ -41,7 +41,7 @@ program test_transfer
    ! P2G conserves mass and momentum and reproduces the first moment of mass (linear shapes).
    call particles_init(particles, elements, per_element, length/elements, 2.5_dp, error)
    call t%check('particles allocated', .not. allocated(error))
-   call grid_init(grid, elements, length, particles%mass, error)
+   call grid_init(grid, elements, length, particles%mass, error, fixed=[0])
    do i = 1, particles%count
       call random_number(r)
       particles%x(i) = particles%x(i) + (r - 0.5_dp)*0.3_dp ! move them off the sub-cell centres

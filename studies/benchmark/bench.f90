@@ -26,7 +26,7 @@ program mpm1d_bench
    use mpm_scheme_usf, only: usf_start, usf_step
    use mpm_scheme_usl, only: usl_start, usl_step
    use mpm_scheme_musl, only: musl_start, musl_step
-   use mpm_scene_bar, only: bar_t, bar_init, bar_initial_velocity, bar_ucm_exact
+   use mpm_scene_bar, only: bar_t, bar_init, bar_initial_velocity, bar_ucm_exact, bar_margin_cells, bar_fixed_nodes
    use mpm_simulation, only: run_result_t, run_simulation
    implicit none
    character(len=32) :: mode
@@ -87,7 +87,8 @@ contains
       do r = 1, repeats
          call particles_init(particles, config%elements, config%particles_per_element, config%dx, config%density, error)
          if (allocated(error)) error stop 'out of memory'
-         call grid_init(grid, config%elements, config%length, particles%mass, error)
+         call grid_init(grid, config%elements, config%length, particles%mass, error, &
+                        margin=bar_margin_cells(bar, config%dx, -1), fixed=bar_fixed_nodes())
          call bar_initial_velocity(bar, particles)
          select case (trim(config%scheme))
          case ('usf')

@@ -9,7 +9,9 @@ import math
 import numpy as np
 
 
-def run(scheme, elements, ppc, dt_fraction, periods=2.0, length=25.0, E=200e9, rho=7800.0, v0=0.1, mode=1):
+def run(scheme, elements, ppc, dt_fraction, periods=2.0, length=25.0, E=200e9, rho=7800.0, v0=0.1, mode=1, margin=None):
+    """margin: empty cells beyond the free end x = L (None: the end's amplitude v0/omega in cells,
+    rounded up, plus 2, as README.md says)."""
     c = math.sqrt(E / rho)
     dx = length / elements
     dt = dt_fraction * dx / c
@@ -21,6 +23,8 @@ def run(scheme, elements, ppc, dt_fraction, periods=2.0, length=25.0, E=200e9, r
     if abs(ratio - steps) > 1e-9 * max(1.0, ratio):
         steps = math.ceil(ratio)
     amp = v0 / (omega * beta * length)
+    if margin is None:
+        margin = math.ceil(abs(v0) / omega / dx) + 2
 
     sub = dx / ppc
     X = np.array([e * dx + (k + 0.5) * sub for e in range(elements) for k in range(ppc)])
@@ -30,12 +34,12 @@ def run(scheme, elements, ppc, dt_fraction, periods=2.0, length=25.0, E=200e9, r
     v = v0 * np.sin(beta * X)
     s = np.zeros(X.size)
     J = np.ones(X.size)
-    nn = elements + 1
+    nn = elements + margin + 1
     tol = 1e-12 * m[0]
 
     def shape(xp):
         e = np.floor(xp / dx).astype(int)
-        e = np.minimum(e, elements - 1)
+        e = np.minimum(e, elements + margin - 1)
         xi = xp / dx - e
         return e, 1 - xi, xi
 
