@@ -5,17 +5,36 @@ module mpm_diagnostics
    private
    public :: status_ok, status_non_finite, status_volume_ratio, status_left_grid, status_energy_growth, &
              status_cell_crossing, status_setup_failed, status_not_run, status_name
-   public :: history_t, snapshot_t
+   public :: history_t, snapshot_t, pass_totals_t
 
    !> Run status codes (stored in the HDF5 output; 0 means the run completed).
    integer, parameter :: status_ok = 0
    integer, parameter :: status_non_finite = 1     !< NaN or Infinity in the particle state
    integer, parameter :: status_volume_ratio = 2   !< a particle's J = V/V0 became <= 0
-   integer, parameter :: status_left_grid = 3      !< a particle left the grid [0, L]
+   integer, parameter :: status_left_grid = 3      !< a particle left the grid domain
    integer, parameter :: status_energy_growth = 4  !< total energy grew beyond the allowed factor
    integer, parameter :: status_cell_crossing = 5  !< a particle moved more than one cell in one step
    integer, parameter :: status_setup_failed = 6   !< the run could not be set up (memory)
    integer, parameter :: status_not_run = -1       !< a sweep case that has not run (yet)
+
+   !> Sums and extremes gathered during a pass over the particles.
+   type :: pass_totals_t
+      !> sum_p (x_p - X_p) after the pass (fused path: equal masses, count * u_cm), or sum_p m_p (x_p - X_p)
+      !> (generic path: total mass * u_cm).
+      real(dp) :: displacement = 0.0_dp
+      !> sum_p m_p v_p^2 / 2 with the velocities after the pass (when the pass updates them).
+      real(dp) :: kinetic_energy = 0.0_dp
+      !> sum_p sigma_p^2 V_p / (2E) with the stresses after the pass (when the pass updates them).
+      real(dp) :: strain_energy = 0.0_dp
+      !> smallest volume ratio J seen (after the update, when the pass updates it).
+      real(dp) :: min_volume_ratio = huge(1.0_dp)
+      !> largest |x_new - x_old| / dx of the pass (when the pass moves particles).
+      real(dp) :: max_cell_move = 0.0_dp
+      !> the particle that moved furthest in the pass.
+      integer :: furthest = 0
+      !> first particle found outside the grid, 0 if none.
+      integer :: outside = 0
+   end type pass_totals_t
 
    !> One entry per recorded step (step 0 = initial state).
    type :: history_t

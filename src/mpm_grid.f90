@@ -86,15 +86,17 @@ contains
    !> Allocate a grid whose cells have the size of `body_elements` elements over `body_length` (dx =
    !> body_length / body_elements, so dx and 1/dx are those of a grid that ends at the body), starting
    !> at x = 0 and extending `margin` more empty cells to the right (default none). `fixed` lists the
-   !> nodes held at rest (default none). `particle_mass` sets the empty-node test.
-   subroutine grid_init(grid, body_elements, body_length, particle_mass, error, margin, fixed)
+   !> nodes held at rest (default none). `particle_mass` sets the empty-node test. The per-element
+   !> shares of the fused kernels are allocated only when `element_shares` (default true).
+   subroutine grid_init(grid, body_elements, body_length, particle_mass, error, margin, fixed, element_shares)
       type(grid_t), intent(out) :: grid
       integer, intent(in) :: body_elements
       real(dp), intent(in) :: body_length, particle_mass
       type(error_t), allocatable, intent(out) :: error
       integer, intent(in), optional :: margin
       integer, intent(in), optional :: fixed(:)
-      integer :: stat, elements
+      logical, intent(in), optional :: element_shares
+      integer :: stat, elements, share_elements
       elements = body_elements
       if (present(margin)) elements = body_elements + margin
       grid%elements = elements
@@ -107,9 +109,13 @@ contains
       else
          allocate (grid%fixed(0))
       end if
-      allocate (grid%element_mass_left(elements), grid%element_mass_right(elements), &
-                grid%element_momentum_left(elements), grid%element_momentum_right(elements), &
-                grid%element_stress_volume(elements), grid%element_strain(elements), &
+      share_elements = elements
+      if (present(element_shares)) then
+         if (.not. element_shares) share_elements = 0
+      end if
+      allocate (grid%element_mass_left(share_elements), grid%element_mass_right(share_elements), &
+                grid%element_momentum_left(share_elements), grid%element_momentum_right(share_elements), &
+                grid%element_stress_volume(share_elements), grid%element_strain(share_elements), &
                 grid%mass(0:elements), grid%momentum(0:elements), grid%force(0:elements), &
                 grid%velocity(0:elements), grid%acceleration(0:elements), stat=stat)
       if (stat /= 0) then

@@ -1,13 +1,15 @@
-!> Material points as a structure of arrays. All particles of a run share one mass and one initial
-!> volume (they fill equal sub-cells of equal elements), so those are scalars, not arrays: a run
-!> carries only what it needs (44 bytes per particle).
+!> Material points as a structure of arrays. On the fused path all particles of a run share one mass
+!> and one initial volume (they fill equal sub-cells of equal elements), so those are scalars: the bar
+!> carries only what it needs (44 bytes per particle). The generic path keeps them per particle
+!> (`mass_of`, `volume0_of`, allocated by `per_particle_data` only there: 60 bytes per particle), as
+!> bodies of several materials or particle sizes need.
 module mpm_particles
    use mpm_kinds, only: dp, i8
    use mpm_errors, only: error_t, set_error
    use mpm_strings, only: str
    implicit none
    private
-   public :: particles_t, particles_init, bytes_per_particle
+   public :: particles_t, particles_init, bytes_per_particle, per_particle_data, permute
 
    !> Storage per particle: x, x0, v, stress, volume_ratio (8 bytes each) and cell (4 bytes).
    integer, parameter :: bytes_per_particle = 5*8 + 4
@@ -23,6 +25,8 @@ module mpm_particles
       real(dp), allocatable :: stress(:)       !< Cauchy stress (Pa)
       real(dp), allocatable :: volume_ratio(:) !< J = V/V0
       integer, allocatable :: cell(:)          !< element holding the particle at the start of the step
+      real(dp), allocatable :: mass_of(:)      !< per-particle mass (generic path only)
+      real(dp), allocatable :: volume0_of(:)   !< per-particle initial volume (generic path only)
    end type particles_t
 
 contains
@@ -60,4 +64,49 @@ contains
       particles%stress = 0.0_dp
       particles%volume_ratio = 1.0_dp
    end subroutine particles_init
+
+   !> Per-particle mass and initial volume from the shared ones (the generic path reads only these).
+   subroutine per_particle_data(particles, error)
+      type(particles_t), intent(inout) :: particles
+      type(error_t), allocatable, intent(out) :: error
+      integer :: stat
+      allocate (particles%mass_of(particles%count), particles%volume0_of(particles%count), stat=stat)
+      if (stat /= 0) then
+         call set_error(error, "cannot allocate per-particle data for "//str(particles%count)//" particles (out of memory)")
+         return
+      end if
+      particles%mass_of = particles%mass
+      particles%volume0_of = particles%volume0
+   end subroutine per_particle_data
+
+   !> Reorder every particle array that is allocated: new index of particle p = destination(p).
+   !> The one place that knows the particle fields, so a sort cannot forget one.
+   subroutine permute(particles, destination)
+      type(particles_t), intent(inout) :: particles
+      integer, intent(in) :: destination(:)
+      call permute_real(particles%x)
+      call permute_real(particles%x0)
+      call permute_real(particles%v)
+      call permute_real(particles%stress)
+      call permute_real(particles%volume_ratio)
+      call permute_real(particles%mass_of)
+      call permute_real(particles%volume0_of)
+      if (allocated(particles%cell)) then
+         block
+            integer, allocatable :: copy(:)
+            allocate (copy(size(particles%cell)))
+            copy(destination) = particles%cell
+            particles%cell = copy
+         end block
+      end if
+   contains
+      subroutine permute_real(a)
+         real(dp), allocatable, intent(inout) :: a(:)
+         real(dp), allocatable :: copy(:)
+         if (.not. allocated(a)) return
+         allocate (copy(size(a)))
+         copy(destination) = a
+         call move_alloc(copy, a)
+      end subroutine permute_real
+   end subroutine permute
 end module mpm_particles

@@ -8,19 +8,20 @@ module mpm_simulation
    use mpm_strings, only: str
    use mpm_config, only: config_t
    use mpm_grid, only: grid_t, grid_init, assemble_nodes, nodal_velocity
-   use mpm_particles, only: particles_t, particles_init
-   use mpm_transfer, only: pass_totals_t
-   use mpm_scheme_usf, only: usf_start, usf_step
-   use mpm_scheme_usl, only: usl_start, usl_step
-   use mpm_scheme_musl, only: musl_start, musl_step
-   use mpm_scene_bar, only: bar_t, bar_init, bar_initial_velocity, bar_ucm_exact, bar_margin_cells, bar_fixed_nodes
-   use mpm_diagnostics, only: history_t, snapshot_t, status_ok, status_non_finite, status_volume_ratio, &
-                              status_left_grid, status_energy_growth, status_cell_crossing, status_name
+   use mpm_particles, only: particles_t, per_particle_data
+   use mpm_shape, only: shape_cache_t
+   use mpm_fused, only: fused_start, fused_step
+   use mpm_operations, only: particle_energies, locate_particles, p2g_mass_momentum, nodal_velocities
+   use mpm_schemes, only: scheme_usf, scheme_usl, scheme_musl, scheme_step
+   use mpm_scene, only: scene_t
+   use mpm_scenes, only: make_scene
+   use mpm_diagnostics, only: history_t, snapshot_t, pass_totals_t, status_ok, status_non_finite, &
+                              status_volume_ratio, status_left_grid, status_energy_growth, status_cell_crossing, &
+                              status_name
    implicit none
    private
    public :: run_result_t, run_simulation, scheme_id, guard_trip_t, guard_message
 
-   integer, parameter :: scheme_usf = 1, scheme_usl = 2, scheme_musl = 3
    !> A node lighter than this fraction of a particle's mass is "nearly empty" in guard messages.
    real(dp), parameter :: nearly_empty = 0.01_dp
 
@@ -56,6 +57,7 @@ module mpm_simulation
       real(dp) :: min_node_mass_ratio = 0.0_dp !< smallest nodal mass / particle mass met
       integer :: particles = 0
       real(dp) :: domain(2) = 0.0_dp        !< the grid domain [x_min, x_max] (m)
+      logical :: fused = .false.            !< whether the fused kernels ran (else the generic path)
       type(history_t) :: history
       type(snapshot_t), allocatable :: snapshots(:)
    end type run_result_t
@@ -86,36 +88,41 @@ contains
       type(error_t), allocatable, intent(out) :: error
       logical, intent(in) :: record_history
 
-      type(bar_t) :: bar
+      class(scene_t), allocatable :: scene
       type(grid_t) :: grid
       type(particles_t) :: particles
+      type(shape_cache_t) :: cache
       type(pass_totals_t) :: totals
-      real(dp) :: start, ucm, exact, energy, energy_reference, t
+      real(dp) :: start, ucm, exact, energy, energy_reference, t, total_mass
       integer :: n, scheme, next_snapshot
+      logical :: fused
 
       start = omp_get_wtime()
       result%steps = config%steps
       result%dt = config%dt
       scheme = scheme_id(config%scheme)
-      bar = bar_init(config%length, config%youngs_modulus, config%density, config%velocity_amplitude, config%mode)
-      result%ucm_amplitude = bar%ucm_amplitude
-      call particles_init(particles, config%elements, config%particles_per_element, config%dx, config%density, error)
+      call make_scene(config, scene, error)
+      if (allocated(error)) return
+      fused = trim(config%kernels) == 'auto' .and. scene%fused_applies()
+      result%fused = fused
+      result%ucm_amplitude = scene%ucm_amplitude()
+      call scene%place_particles(config, particles, error)
+      if (allocated(error)) return
+      if (.not. fused) call per_particle_data(particles, error)
       if (allocated(error)) return
       call grid_init(grid, config%elements, config%length, particles%mass, error, &
-                     margin=bar_margin_cells(bar, config%dx, config%margin_cells), fixed=bar_fixed_nodes())
+                     margin=scene%margin_cells(config%dx, config%margin_cells), fixed=scene%fixed_nodes(), &
+                     element_shares=fused)
       if (allocated(error)) return
       result%domain = [grid%origin, grid%origin + grid%length]
-      call bar_initial_velocity(bar, particles)
       result%particles = particles%count
 
-      select case (scheme)
-      case (scheme_usf)
-         call usf_start(particles, grid, totals)
-      case (scheme_usl)
-         call usl_start(particles, grid, totals)
-      case (scheme_musl)
-         call musl_start(particles, grid, totals)
-      end select
+      if (fused) then
+         call fused_start(scheme, particles, grid, totals)
+      else
+         call particle_energies(particles, config%youngs_modulus, totals)
+         total_mass = sum(particles%mass_of)
+      end if
       result%initial_energy = totals%kinetic_energy + totals%strain_energy
       ! Zero initial energy (v0 = 0) stays exactly zero in a sound run: any growth trips the guard.
       energy_reference = max(result%initial_energy, tiny(1.0_dp))
@@ -132,17 +139,16 @@ contains
       call take_snapshots(0, 0.0_dp)
 
       do n = 1, config%steps
-         select case (scheme)
-         case (scheme_usf)
-            call usf_step(particles, grid, config%dt, config%youngs_modulus, totals)
-         case (scheme_usl)
-            call usl_step(particles, grid, config%dt, config%youngs_modulus, totals)
-         case (scheme_musl)
-            call musl_step(particles, grid, config%dt, config%youngs_modulus, totals)
-         end select
+         t = (n - 1)*config%dt
+         if (fused) then
+            call fused_step(scheme, particles, grid, config%dt, config%youngs_modulus, totals)
+            ucm = totals%displacement/particles%count ! u_cm = sum m (x - X) / sum m, equal masses
+         else
+            call scheme_step(scheme, scene, cache, particles, grid, config%dt, config%youngs_modulus, t, totals)
+            ucm = totals%displacement/total_mass
+         end if
          t = n*config%dt
-         ucm = totals%displacement/particles%count ! u_cm = sum m (x - X) / sum m, equal masses
-         exact = bar_ucm_exact(bar, t)
+         exact = scene%ucm_exact(t)
          energy = totals%kinetic_energy + totals%strain_energy
          result%max_error = max(result%max_error, abs(ucm - exact))
          result%final_energy = energy
@@ -157,8 +163,8 @@ contains
          call take_snapshots(n, t)
       end do
 
-      if (bar%ucm_amplitude /= 0.0_dp) then
-         result%relative_error = result%max_error/abs(bar%ucm_amplitude)
+      if (result%ucm_amplitude /= 0.0_dp) then
+         result%relative_error = result%max_error/abs(result%ucm_amplitude)
       else
          result%relative_error = result%max_error
       end if
@@ -207,11 +213,7 @@ contains
          integer :: i
          do while (next_snapshot <= config%snapshot_count)
             if (config%snapshot_times(next_snapshot) > time + 0.5_dp*config%dt) exit
-            if (step == 0) then
-               ! the nodal velocity of the initial mapping, p_I / m_I
-               call assemble_nodes(grid, .false.)
-               call nodal_velocity(grid)
-            end if
+            if (step == 0) call initial_grid_velocity()
             associate (s => result%snapshots(next_snapshot))
                s%time = time
                s%step = step
@@ -225,6 +227,19 @@ contains
             next_snapshot = next_snapshot + 1
          end do
       end subroutine take_snapshots
+
+      !> The nodal velocity of the initial mapping, p_I / m_I (for the snapshot at t = 0).
+      subroutine initial_grid_velocity()
+         type(pass_totals_t) :: unused
+         if (fused) then
+            call assemble_nodes(grid, .false.)
+            call nodal_velocity(grid)
+         else
+            call locate_particles(cache, grid, particles, unused)
+            call p2g_mass_momentum(cache, particles, grid)
+            call nodal_velocities(grid)
+         end if
+      end subroutine initial_grid_velocity
    end subroutine run_simulation
 
    !> The message of a run stopped by a guard: what tripped, when, and the particle at fault.

@@ -25,7 +25,8 @@ module mpm_transfer
    use omp_lib, only: omp_in_parallel
    use mpm_kinds, only: dp, i8
    use mpm_grid, only: grid_t, segments_t, share_count, threaded_nodes, node_chunk
-   use mpm_particles, only: particles_t, bytes_per_particle
+   use mpm_particles, only: particles_t, bytes_per_particle, permute
+   use mpm_diagnostics, only: pass_totals_t
    implicit none
    private
    integer, parameter :: pass_usf_move = 1, pass_usf_stress = 2, pass_usl = 3, pass_musl_remap = 4, &
@@ -83,23 +84,6 @@ module mpm_transfer
       real(dp) :: moves(block_size)
    end type largest_move_t
 
-   !> Sums and extremes gathered during a pass over the particles.
-   type :: pass_totals_t
-      !> sum_p (x_p - X_p) after the pass: with equal particle masses, count * u_cm.
-      real(dp) :: displacement = 0.0_dp
-      !> sum_p m_p v_p^2 / 2 with the velocities after the pass (when the pass updates them).
-      real(dp) :: kinetic_energy = 0.0_dp
-      !> sum_p sigma_p^2 V_p / (2E) with the stresses after the pass (when the pass updates them).
-      real(dp) :: strain_energy = 0.0_dp
-      !> smallest volume ratio J seen (after the update, when the pass updates it).
-      real(dp) :: min_volume_ratio = huge(1.0_dp)
-      !> largest |x_new - x_old| / dx of the pass (when the pass moves particles).
-      real(dp) :: max_cell_move = 0.0_dp
-      !> the particle that moved furthest in the pass.
-      integer :: furthest = 0
-      !> first particle found outside the grid, 0 if none.
-      integer :: outside = 0
-   end type pass_totals_t
 
 contains
 
@@ -524,8 +508,7 @@ contains
       type(particles_t), intent(inout) :: particles
       type(grid_t), intent(in) :: grid
       integer, intent(inout), optional :: furthest
-      integer, allocatable :: next(:), destination(:), icopy(:)
-      real(dp), allocatable :: copy(:)
+      integer, allocatable :: next(:), destination(:)
       integer :: p, c, n
       n = particles%count
       allocate (next(grid%elements + 1), destination(n))
@@ -543,25 +526,10 @@ contains
          destination(p) = next(c)
          next(c) = next(c) + 1
       end do
-      allocate (copy(n))
-      call permute(particles%x)
-      call permute(particles%x0)
-      call permute(particles%v)
-      call permute(particles%stress)
-      call permute(particles%volume_ratio)
-      deallocate (copy)
-      allocate (icopy(n))
-      icopy(destination) = particles%cell
-      particles%cell = icopy
+      call permute(particles, destination)
       if (present(furthest)) then
          if (furthest >= 1 .and. furthest <= n) furthest = destination(furthest)
       end if
-   contains
-      subroutine permute(a)
-         real(dp), intent(inout), contiguous :: a(:)
-         copy(destination) = a
-         a = copy
-      end subroutine permute
    end subroutine sort_by_cell
 
    ! ---- the segment kernels: one segment's particles, its own elements, its halo ----

@@ -11,7 +11,7 @@
 program test_kernels
    use mpm_kinds, only: dp
    use mpm_errors, only: error_t
-   use mpm_shape, only: locate
+   use mpm_shape_linear, only: locate
    use mpm_grid, only: grid_t, grid_init
    use mpm_particles, only: particles_t, particles_init
    use mpm_transfer, only: pass_totals_t, p2g, g2p_stress_then_p2g, g2p_then_p2g, stress_then_force

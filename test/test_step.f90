@@ -1,4 +1,4 @@
-!> One step of each scheme against a hand computation.
+!> One step of each scheme against a hand computation, on the fused kernels and on the generic path.
 !> Set-up: one element of length 2 (dx = 2, nodes at 0 and 2, node 0 fixed), two particles at
 !> x = 0.5 and 1.5 (the sub-cell centres), density 3 (mass 3, volume 1 each), E = 4, dt = 0.1,
 !> velocities 1 and 2, stresses 0.5 and -1.
@@ -10,10 +10,12 @@ program test_step
    use mpm_grid, only: grid_t, grid_init
    use mpm_particles, only: particles_t, particles_init
    use mpm_transfer, only: pass_totals_t
-   use mpm_scheme_usf, only: usf_start, usf_step
-   use mpm_scheme_usl, only: usl_start, usl_step
-   use mpm_scheme_musl, only: musl_start, musl_step
+   use mpm_fused, only: fused_start, fused_step
+   use mpm_schemes, only: scheme_usf, scheme_usl, scheme_musl, scheme_step
    use mpm_testing, only: tester_t
+   use mpm_particles, only: per_particle_data
+   use mpm_shape, only: shape_cache_t
+   use mpm_scene_bar, only: bar_t, bar_init
    implicit none
    type(tester_t) :: t
    real(dp), parameter :: dt = 0.1_dp, youngs = 4.0_dp, m = 3.0_dp, dx = 2.0_dp
@@ -21,13 +23,16 @@ program test_step
    type(grid_t) :: grid
    type(particles_t) :: particles
    type(pass_totals_t) :: totals
+   type(shape_cache_t) :: cache
+   type(bar_t) :: bar
 
    t%name = 'test_step'
+   bar = bar_init(dx, youngs, 3.0_dp, 0.0_dp, 1)  ! the generic steps' scene: boundary data only, no force
 
    ! USL: force from the current stresses: sum sigma V = 0.5 - 1 = -0.5, f_1 = -dN_1 * (-0.5) = +0.25.
    call setup()
-   call usl_start(particles, grid, totals)
-   call usl_step(particles, grid, dt, youngs, totals)
+   call fused_start(scheme_usl, particles, grid, totals)
+   call fused_step(scheme_usl, particles, grid, dt, youngs, totals)
    f1 = 0.25_dp
    p1 = 5.25_dp + dt*f1
    a1 = f1/m
@@ -38,12 +43,15 @@ program test_step
    s_expected = [0.5_dp, -1.0_dp] + youngs*de
    j_expected = 1.0_dp + de
    call compare('usl')
+   call setup_generic()
+   call scheme_step(scheme_usl, bar, cache, particles, grid, dt, youngs, 0.0_dp, totals)
+   call compare('generic usl')
 
    ! USF: strain first from v_1 = p_1/m_1 = 1.75: d eps = 0.1 * 1.75 / 2 = 0.0875;
    ! stresses 0.85, -0.65; J = 1.0875; sum sigma V = 0.2 * 1.0875; f_1 = -(1/2)(0.2175) = -0.10875.
    call setup()
-   call usf_start(particles, grid, totals)
-   call usf_step(particles, grid, dt, youngs, totals)
+   call fused_start(scheme_usf, particles, grid, totals)
+   call fused_step(scheme_usf, particles, grid, dt, youngs, totals)
    de = dt*1.75_dp/dx
    s_expected = [0.5_dp, -1.0_dp] + youngs*de
    j_expected = 1.0_dp + de
@@ -55,12 +63,15 @@ program test_step
    v_expected = [1.0_dp + dt*0.25_dp*a1, 2.0_dp + dt*0.75_dp*a1]
    x_expected = [0.5_dp + dt*0.25_dp*v1, 1.5_dp + dt*0.75_dp*v1]
    call compare('usf')
+   call setup_generic()
+   call scheme_step(scheme_usf, bar, cache, particles, grid, dt, youngs, 0.0_dp, totals)
+   call compare('generic usf')
 
    ! MUSL: as USL, then the new particle momentum mapped back: p_1 = 3 (1/4 v_1' + 3/4 v_2'),
    ! and the strain from that nodal velocity.
    call setup()
-   call musl_start(particles, grid, totals)
-   call musl_step(particles, grid, dt, youngs, totals)
+   call fused_start(scheme_musl, particles, grid, totals)
+   call fused_step(scheme_musl, particles, grid, dt, youngs, totals)
    f1 = 0.25_dp
    p1 = 5.25_dp + dt*f1
    a1 = f1/m
@@ -72,6 +83,9 @@ program test_step
    s_expected = [0.5_dp, -1.0_dp] + youngs*de
    j_expected = 1.0_dp + de
    call compare('musl')
+   call setup_generic()
+   call scheme_step(scheme_musl, bar, cache, particles, grid, dt, youngs, 0.0_dp, totals)
+   call compare('generic musl')
 
    call t%finish()
 
@@ -87,6 +101,18 @@ contains
       call t%check('hand set-up: masses 3, volumes 1, positions 0.5 and 1.5', particles%mass == m .and. &
                    particles%volume0 == 1.0_dp .and. all(particles%x == [0.5_dp, 1.5_dp]))
    end subroutine setup
+
+   !> The same set-up on the generic path: per-particle masses and volumes, no element shares.
+   subroutine setup_generic()
+      type(error_t), allocatable :: error
+      call particles_init(particles, 1, 2, dx, 3.0_dp, error)
+      call per_particle_data(particles, error)
+      call grid_init(grid, 1, dx, particles%mass, error, fixed=[0], element_shares=.false.)
+      particles%v = [1.0_dp, 2.0_dp]
+      particles%stress = [0.5_dp, -1.0_dp]
+      call t%check('generic hand set-up: masses 3, volumes 1', all(particles%mass_of == m) .and. &
+                   all(particles%volume0_of == 1.0_dp))
+   end subroutine setup_generic
 
    subroutine compare(scheme)
       character(len=*), intent(in) :: scheme

@@ -12,9 +12,8 @@ program test_threads
    use mpm_grid, only: grid_t, grid_init, assemble_nodes, parallel_nodes
    use mpm_particles, only: particles_t, particles_init
    use mpm_transfer, only: pass_totals_t, parallel_threshold, g2p_stress_then_p2g
-   use mpm_scheme_usf, only: usf_start, usf_step
-   use mpm_scheme_usl, only: usl_start, usl_step
-   use mpm_scheme_musl, only: musl_start, musl_step
+   use mpm_fused, only: fused_start, fused_step
+   use mpm_schemes, only: scheme_usf, scheme_usl, scheme_musl, scheme_step
    use mpm_testing, only: tester_t
    implicit none
    type(tester_t) :: t
@@ -69,21 +68,21 @@ contains
       dt = 0.2_dp*(length/elements)/sqrt(youngs/density)
       select case (scheme)
       case ('usf')
-         call usf_start(particles, grid, totals)
+         call fused_start(scheme_usf, particles, grid, totals)
       case ('usl')
-         call usl_start(particles, grid, totals)
+         call fused_start(scheme_usl, particles, grid, totals)
       case ('musl')
-         call musl_start(particles, grid, totals)
+         call fused_start(scheme_musl, particles, grid, totals)
       end select
       if (present(prefetch)) grid%segments%prefetch = prefetch
       do n = 1, steps
          select case (scheme)
          case ('usf')
-            call usf_step(particles, grid, dt, youngs, totals)
+            call fused_step(scheme_usf, particles, grid, dt, youngs, totals)
          case ('usl')
-            call usl_step(particles, grid, dt, youngs, totals)
+            call fused_step(scheme_usl, particles, grid, dt, youngs, totals)
          case ('musl')
-            call musl_step(particles, grid, dt, youngs, totals)
+            call fused_step(scheme_musl, particles, grid, dt, youngs, totals)
          end select
       end do
    end subroutine run
@@ -125,7 +124,7 @@ contains
       integer, parameter :: large = 150000  ! elements; 4 per element: 600000 particles, 26.4 MB
       call particles_init(particles, large, per_element, 25.0_dp/large, 7800.0_dp, error)
       call grid_init(grid, large, 25.0_dp, particles%mass, error, fixed=[0])
-      call usl_start(particles, grid, totals)
+      call fused_start(scheme_usl, particles, grid, totals)
       call t%check('600000 particles (26.4 MB): prefetch hints on', grid%segments%prefetch)
    end subroutine large_run_prefetches
 

@@ -3,7 +3,7 @@
 program test_transfer
    use mpm_kinds, only: dp
    use mpm_errors, only: error_t
-   use mpm_shape, only: locate, shape_left, shape_right
+   use mpm_shape_linear, only: locate, shape_left, shape_right
    use mpm_grid, only: grid_t, grid_init, assemble_nodes
    use mpm_particles, only: particles_t, particles_init
    use mpm_transfer, only: pass_totals_t, p2g

@@ -23,10 +23,9 @@ program mpm1d_bench
    use mpm_grid, only: grid_t, grid_init
    use mpm_particles, only: particles_t, particles_init
    use mpm_transfer, only: pass_totals_t
-   use mpm_scheme_usf, only: usf_start, usf_step
-   use mpm_scheme_usl, only: usl_start, usl_step
-   use mpm_scheme_musl, only: musl_start, musl_step
-   use mpm_scene_bar, only: bar_t, bar_init, bar_initial_velocity, bar_ucm_exact, bar_margin_cells, bar_fixed_nodes
+   use mpm_fused, only: fused_start, fused_step
+   use mpm_schemes, only: scheme_usf, scheme_usl, scheme_musl, scheme_step
+   use mpm_scene_bar, only: bar_t, bar_init
    use mpm_simulation, only: run_result_t, run_simulation
    implicit none
    character(len=32) :: mode
@@ -85,33 +84,32 @@ contains
       call omp_set_num_threads(threads)
       bar = bar_init(config%length, config%youngs_modulus, config%density, config%velocity_amplitude, config%mode)
       do r = 1, repeats
-         call particles_init(particles, config%elements, config%particles_per_element, config%dx, config%density, error)
+         call bar%place_particles(config, particles, error)
          if (allocated(error)) error stop 'out of memory'
          call grid_init(grid, config%elements, config%length, particles%mass, error, &
-                        margin=bar_margin_cells(bar, config%dx, -1), fixed=bar_fixed_nodes())
-         call bar_initial_velocity(bar, particles)
+                        margin=bar%margin_cells(config%dx, -1), fixed=bar%fixed_nodes())
          select case (trim(config%scheme))
          case ('usf')
-            call usf_start(particles, grid, totals)
+            call fused_start(scheme_usf, particles, grid, totals)
          case ('usl')
-            call usl_start(particles, grid, totals)
+            call fused_start(scheme_usl, particles, grid, totals)
          case ('musl')
-            call musl_start(particles, grid, totals)
+            call fused_start(scheme_musl, particles, grid, totals)
          end select
          worst = 0
          start = omp_get_wtime()
          do n = 1, steps
             select case (trim(config%scheme))
             case ('usf')
-               call usf_step(particles, grid, config%dt, config%youngs_modulus, totals)
+               call fused_step(scheme_usf, particles, grid, config%dt, config%youngs_modulus, totals)
             case ('usl')
-               call usl_step(particles, grid, config%dt, config%youngs_modulus, totals)
+               call fused_step(scheme_usl, particles, grid, config%dt, config%youngs_modulus, totals)
             case ('musl')
-               call musl_step(particles, grid, config%dt, config%youngs_modulus, totals)
+               call fused_step(scheme_musl, particles, grid, config%dt, config%youngs_modulus, totals)
             end select
             ! the per-step diagnostics run_simulation makes
             ucm = totals%displacement/particles%count
-            worst = max(worst, abs(ucm - bar_ucm_exact(bar, n*config%dt)))
+            worst = max(worst, abs(ucm - bar%ucm_exact(n*config%dt)))
          end do
          seconds = omp_get_wtime() - start
          if (totals%outside /= 0 .or. totals%max_cell_move > 1) error stop 'benchmark run left its guards'

@@ -1,6 +1,10 @@
-!> Linear-elastic material in small strain increments: d(sigma) = E d(epsilon); the volume ratio
-!> J = V/V0 follows the same increment, J <- J (1 + d(epsilon)).
-module mpm_material
+!> The material layer: the bar's elastic law. Stress rate from the velocity gradient,
+!> sigma' = E dv/dx, applied per step as d sigma = E d eps with d eps = dt dv/dx; the volume ratio
+!> follows J <- J (1 + d eps). In the continuum (1-D: J = F, dv/dx = F'/F) this is sigma = E ln F,
+!> a hypo-elastic law that is linear elasticity at small strain (ln F = eps + O(eps^2)); the paper's
+!> exact solution is that of linear elasticity, so the two differ by relative order v0/c at finite
+!> amplitude. The stored energy reported is sigma^2 V / (2E), V = J V0 (the small-strain energy).
+module mpm_material_elastic
    use mpm_kinds, only: dp
    implicit none
    private
@@ -21,4 +25,4 @@ contains
       real(dp), intent(in) :: youngs_modulus, stress, volume
       strain_energy_density = 0.5_dp*stress*stress*volume/youngs_modulus
    end function strain_energy_density
-end module mpm_material
+end module mpm_material_elastic

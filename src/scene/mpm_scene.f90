@@ -1,0 +1,77 @@
+!> The scene layer's interface: everything problem-specific. A scene builds its bodies (particles
+!> and their initial state), says how far the grid domain extends beyond them and which nodes are
+!> held, registers the grid operations it needs (external forces: only when `external_forces` is
+!> set, so a scene without them pays nothing), gives its exact solution and says whether the fused
+!> kernels of the paper's bar apply to it. The simulation sees only this type; mpm_scenes makes one.
+module mpm_scene
+   use mpm_kinds, only: dp
+   use mpm_errors, only: error_t
+   use mpm_config, only: config_t
+   use mpm_grid, only: grid_t
+   use mpm_particles, only: particles_t
+   implicit none
+   private
+   public :: scene_t
+
+   type, abstract :: scene_t
+      !> Whether the scene adds external (body or driving) forces to the grid each step.
+      logical :: external_forces = .false.
+   contains
+      !> Particles of the bodies, in their initial state (shared mass and volume; see per_particle_data).
+      procedure(place_i), deferred :: place_particles
+      !> Empty cells beyond the free end(s), given the cell size and the namelist's request (-1: automatic).
+      procedure(margin_i), deferred :: margin_cells
+      !> Nodes held at rest (boundary conditions).
+      procedure(fixed_i), deferred :: fixed_nodes
+      !> Exact centre-of-mass displacement at time t, and its amplitude (for relative errors).
+      procedure(exact_i), deferred :: ucm_exact
+      procedure(amplitude_i), deferred :: ucm_amplitude
+      !> Whether the fused kernels (one mass, one E, linear shapes, grid from x = 0, no force) apply.
+      procedure(fused_i), deferred :: fused_applies
+      !> External nodal forces at time t, added to grid%force (called only when external_forces).
+      procedure :: add_forces
+   end type scene_t
+
+   abstract interface
+      subroutine place_i(self, config, particles, error)
+         import :: scene_t, config_t, particles_t, error_t
+         class(scene_t), intent(in) :: self
+         type(config_t), intent(in) :: config
+         type(particles_t), intent(out) :: particles
+         type(error_t), allocatable, intent(out) :: error
+      end subroutine place_i
+      pure integer function margin_i(self, dx, requested)
+         import :: scene_t, dp
+         class(scene_t), intent(in) :: self
+         real(dp), intent(in) :: dx
+         integer, intent(in) :: requested
+      end function margin_i
+      pure function fixed_i(self) result(nodes)
+         import :: scene_t
+         class(scene_t), intent(in) :: self
+         integer, allocatable :: nodes(:)
+      end function fixed_i
+      pure real(dp) function exact_i(self, t)
+         import :: scene_t, dp
+         class(scene_t), intent(in) :: self
+         real(dp), intent(in) :: t
+      end function exact_i
+      pure real(dp) function amplitude_i(self)
+         import :: scene_t, dp
+         class(scene_t), intent(in) :: self
+      end function amplitude_i
+      pure logical function fused_i(self)
+         import :: scene_t
+         class(scene_t), intent(in) :: self
+      end function fused_i
+   end interface
+
+contains
+
+   !> No external force (scenes that have some override this and set external_forces).
+   subroutine add_forces(self, grid, t)
+      class(scene_t), intent(in) :: self
+      type(grid_t), intent(inout) :: grid
+      real(dp), intent(in) :: t
+   end subroutine add_forces
+end module mpm_scene

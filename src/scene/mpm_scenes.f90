@@ -1,0 +1,25 @@
+!> The one place that knows every scene: makes the scene a configuration asks for.
+module mpm_scenes
+   use mpm_errors, only: error_t, set_error
+   use mpm_config, only: config_t
+   use mpm_scene, only: scene_t
+   use mpm_scene_bar, only: bar_init
+   implicit none
+   private
+   public :: make_scene
+
+contains
+
+   subroutine make_scene(config, scene, error)
+      type(config_t), intent(in) :: config
+      class(scene_t), allocatable, intent(out) :: scene
+      type(error_t), allocatable, intent(out) :: error
+      select case (trim(config%scene_kind))
+      case ('vibrating_bar')
+         allocate (scene, source=bar_init(config%length, config%youngs_modulus, config%density, &
+                                          config%velocity_amplitude, config%mode))
+      case default
+         call set_error(error, "scene: kind = '"//trim(config%scene_kind)//"' is unknown; allowed: 'vibrating_bar'")
+      end select
+   end subroutine make_scene
+end module mpm_scenes

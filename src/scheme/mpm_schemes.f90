@@ -1,0 +1,61 @@
+!> The scheme layer: USF, USL and MUSL as the README writes them, over the generic operations of
+!> mpm_operations (any shape function, per-particle masses, the scene's boundary conditions and forces).
+!> - USF, Update Stress First (Bardenhagen 2002): the stress from the nodal velocities of this step's
+!>   mapping, before the momentum update.
+!> - USL, Update Stress Last: the stress from the nodal velocities after the momentum update.
+!> - MUSL, Modified USL (Sulsky, Zhou and Schreyer 1995): as USL, but the updated particle momentum is
+!>   mapped back with the same shape functions and the stress uses the nodal velocity of that remap.
+module mpm_schemes
+   use mpm_kinds, only: dp
+   use mpm_grid, only: grid_t
+   use mpm_particles, only: particles_t
+   use mpm_shape, only: shape_cache_t
+   use mpm_scene, only: scene_t
+   use mpm_diagnostics, only: pass_totals_t
+   use mpm_operations, only: locate_particles, p2g_mass_momentum, p2g_internal_force, nodal_velocities, &
+                             solve_grid, g2p, update_stress
+   implicit none
+   private
+   public :: scheme_usf, scheme_usl, scheme_musl, scheme_step
+
+   integer, parameter :: scheme_usf = 1, scheme_usl = 2, scheme_musl = 3
+
+contains
+
+   !> One step of `scheme` from time t to t + dt; shape functions at the start-of-step positions.
+   subroutine scheme_step(scheme, scene, cache, particles, grid, dt, youngs_modulus, t, totals)
+      integer, intent(in) :: scheme
+      class(scene_t), intent(in) :: scene
+      type(shape_cache_t), intent(inout) :: cache
+      type(particles_t), intent(inout) :: particles
+      type(grid_t), intent(inout) :: grid
+      real(dp), intent(in) :: dt, youngs_modulus, t
+      type(pass_totals_t), intent(out) :: totals
+      call locate_particles(cache, grid, particles, totals)
+      call p2g_mass_momentum(cache, particles, grid)
+      select case (scheme)
+      case (scheme_usf)
+         call nodal_velocities(grid)
+         call update_stress(cache, particles, grid, dt, youngs_modulus, totals)
+         call momentum_update()
+         call g2p(cache, particles, grid, dt, totals)
+      case (scheme_usl)
+         call momentum_update()
+         call g2p(cache, particles, grid, dt, totals)
+         call update_stress(cache, particles, grid, dt, youngs_modulus, totals)
+      case (scheme_musl)
+         call momentum_update()
+         call g2p(cache, particles, grid, dt, totals)
+         call p2g_mass_momentum(cache, particles, grid)  ! the remap: same shapes, the new velocities
+         call nodal_velocities(grid)
+         call update_stress(cache, particles, grid, dt, youngs_modulus, totals)
+      end select
+   contains
+      !> Internal force from the current stresses, the scene's external forces, the explicit update.
+      subroutine momentum_update()
+         call p2g_internal_force(cache, particles, grid)
+         if (scene%external_forces) call scene%add_forces(grid, t)
+         call solve_grid(grid, dt)
+      end subroutine momentum_update
+   end subroutine scheme_step
+end module mpm_schemes

@@ -1,0 +1,84 @@
+!> Linear (2-node, "hat") shape functions of the uniform 1-D grid.
+!> For a particle at x in element e (1-based, spanning nodes e-1 and e) with local coordinate
+!> xi = (x - origin)/dx - (e-1) in [0, 1]: N_left = 1 - xi, N_right = xi, dN_left/dx = -1/dx,
+!> dN_right/dx = +1/dx. The gradient jumps where a particle crosses a node ("grid-crossing error").
+module mpm_shape_linear
+   use mpm_kinds, only: dp
+   implicit none
+   private
+   public :: linear_support, linear_shapes, locate, shape_left, shape_right
+
+   !> Nodes a particle touches.
+   integer, parameter :: linear_support = 2
+
+contains
+
+   !> Weights and gradients of every particle at positions `x` on a grid of `cells` cells of size
+   !> 1/inv_dx from `origin`: first(p) = its element's left node (0-based node index), weight(:, p) and
+   !> gradient(:, p) on nodes first(p) and first(p) + 1. A particle outside the domain gets first = -1
+   !> and zero weights; `outside` is the first such particle (0 if none). The far end of the domain
+   !> belongs to the last element (xi = 1).
+   pure subroutine linear_shapes(origin, inv_dx, cells, x, first, weight, gradient, outside)
+      real(dp), intent(in) :: origin, inv_dx
+      integer, intent(in) :: cells
+      real(dp), intent(in) :: x(:)
+      integer, intent(out) :: first(:)
+      real(dp), intent(out) :: weight(:, :), gradient(:, :)
+      integer, intent(out) :: outside
+      integer :: p, e
+      real(dp) :: xi
+      outside = 0
+      do p = 1, size(x)
+         call locate(x(p) - origin, inv_dx, cells, e, xi)
+         if (e < 1 .or. e > cells) then
+            if (outside == 0) outside = p
+            first(p) = -1
+            weight(:, p) = 0.0_dp
+            gradient(:, p) = 0.0_dp
+            cycle
+         end if
+         first(p) = e - 1
+         weight(1, p) = shape_left(xi)
+         weight(2, p) = shape_right(xi)
+         gradient(1, p) = -inv_dx
+         gradient(2, p) = inv_dx
+      end do
+   end subroutine linear_shapes
+
+   !> Element `cell` (1..elements) and local coordinate `xi` of position `x` (from the grid's origin).
+   !> A position outside [0, elements*dx] gives cell = 0 (left of the grid, NaN too) or elements + 1
+   !> (right). The far end x = elements*dx itself belongs to the last element (xi = 1).
+   elemental subroutine locate(x, inv_dx, elements, cell, xi)
+      real(dp), intent(in) :: x, inv_dx
+      integer, intent(in) :: elements
+      integer, intent(out) :: cell
+      real(dp), intent(out) :: xi
+      real(dp) :: s
+      s = x*inv_dx
+      if (s >= 0.0_dp .and. s < real(elements, dp)) then
+         cell = int(s) + 1
+         xi = s - (cell - 1)
+      else if (s == real(elements, dp)) then
+         cell = elements
+         xi = 1.0_dp
+      else if (s > real(elements, dp)) then
+         cell = elements + 1
+         xi = 0.0_dp
+      else
+         cell = 0
+         xi = 0.0_dp
+      end if
+   end subroutine locate
+
+   !> N of the element's left node at local coordinate xi.
+   elemental real(dp) function shape_left(xi)
+      real(dp), intent(in) :: xi
+      shape_left = 1.0_dp - xi
+   end function shape_left
+
+   !> N of the element's right node at local coordinate xi.
+   elemental real(dp) function shape_right(xi)
+      real(dp), intent(in) :: xi
+      shape_right = xi
+   end function shape_right
+end module mpm_shape_linear
