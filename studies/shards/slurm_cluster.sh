@@ -3,12 +3,14 @@
 # (studies/shards/slurm_array.sh): munged, slurmctld and slurmd started by hand on loopback, with
 # their key, configuration, state, logs and pid files in one folder. Nothing is written under
 # /etc: the daemons get the configuration by -f / command-line options and the clients by
-# SLURM_CONF. Needs root (slurmd launches the jobs); installs slurm-wlm and munge (apt) if missing.
+# SLURM_CONF. The daemons need root (slurmd starts the jobs as their users): run it as root, or as a
+# user with passwordless sudo (it then runs itself through sudo, and the jobs run as that user).
+# Installs slurm-wlm and munge (apt) if missing.
 #
 # Usage: bash studies/shards/slurm_cluster.sh up|down|status|env
 #   up      install if missing, write the configuration, start the daemons, wait until the node is
 #           idle (at most SLURM_CLUSTER_WAIT seconds, default 60); exits 0 when the cluster is up,
-#           4 when the packages cannot be installed, 5 when not root, 1 on any other failure
+#           4 when the packages cannot be installed, 5 without root or sudo, 1 on any other failure
 #           (then the daemons it started are stopped again)
 #   down    cancel the cluster's jobs, stop ONLY the daemons this script started (by the pid files
 #           in the folder, each checked to be that daemon with this folder's configuration)
@@ -26,6 +28,16 @@ socket="$dir/munge/munge.socket"
 node="$(hostname -s)"
 
 say() { echo "slurm_cluster: $*" >&2; }
+
+# the daemons run as root; a user with passwordless sudo (CI runners) gets them through sudo, while
+# the clients (sbatch, squeue) and the jobs run as that user
+if [ "$(id -u)" != 0 ] && { [ "${1:-}" = up ] || [ "${1:-}" = down ]; }; then
+  if command -v sudo >/dev/null 2>&1 && sudo -n true 2>/dev/null; then
+    exec sudo -n env SLURM_CLUSTER_DIR="$dir" SLURM_CLUSTER_PORT="$port" SLURM_CLUSTER_WAIT="$wait_s" \
+      PATH="$PATH:/usr/sbin:/sbin" bash "$root/studies/shards/slurm_cluster.sh" "$@"
+  fi
+  if [ "$1" = up ]; then say "needs root or passwordless sudo (slurmd starts the jobs as their users)"; exit 5; fi
+fi
 
 # pid of a running daemon we started, from its pid file; empty when none. The process must be
 # `name` and carry this folder's path on its command line (so a reused pid is never taken for ours).
@@ -73,6 +85,8 @@ down() {
   stop_daemon slurmd || ok=1
   stop_daemon slurmctld || ok=1
   stop_daemon munged || ok=1
+  # started through sudo: the folder goes back to the user who asked
+  if [ -n "${SUDO_UID:-}" ] && [ "$(id -u)" = 0 ]; then chown -R "$SUDO_UID:${SUDO_GID:-$SUDO_UID}" "$dir" 2>/dev/null || true; fi
   return "$ok"
 }
 
@@ -99,7 +113,11 @@ install_packages() {
 write_config() {
   local hw
   mkdir -p "$dir/munge" "$dir/run" "$dir/log" "$dir/state" "$dir/spool"
-  chmod 700 "$dir/munge" "$dir/state" "$dir/spool"
+  # daemon files belong to root (munged checks its key's owner); clients of other users need to
+  # reach the munge socket (x on its folder) and read slurm.conf
+  chown -R 0:0 "$dir/munge" "$dir/run" "$dir/log" "$dir/state" "$dir/spool"
+  chmod 711 "$dir/munge"
+  chmod 700 "$dir/state" "$dir/spool"
   if [ ! -s "$dir/munge/munge.key" ]; then
     if command -v mungekey >/dev/null 2>&1; then
       mungekey --create --keyfile="$dir/munge/munge.key"
@@ -150,7 +168,6 @@ EOF
 }
 
 up() {
-  if [ "$(id -u)" != 0 ]; then say "needs root (slurmd launches the jobs)"; return 5; fi
   mkdir -p "$dir"
   dir="$(cd "$dir" && pwd)"; conf="$dir/slurm.conf"; socket="$dir/munge/munge.socket"
   if [ ${#socket} -gt 100 ]; then say "folder path too long for a socket: set SLURM_CLUSTER_DIR"; return 1; fi
