@@ -93,11 +93,13 @@ job_state() { scontrol show job "$1" 2>/dev/null | sed -n 's/.*JobState=\([A-Z_]
 echo "-- 1. $cases cases in 8 array tasks + merge"
 runA="$scratch/run8"
 t0=$(date +%s.%N)
-bash studies/shards/slurm_submit.sh "$scratch/sweep.nml" "$runA" 8 > "$scratch/submit8.out" 2> "$scratch/submit8.err"
+bash studies/shards/slurm_submit.sh "$scratch/sweep.nml" "$runA" 8 --partition=debug --time=00:05:00 \
+  > "$scratch/submit8.out" 2> "$scratch/submit8.err"
 check "submit exits 0" "[ $? = 0 ]"
 array_job=$(sed -n 's/^array_job=//p' "$scratch/submit8.out"); merge_job=$(sed -n 's/^merge_job=//p' "$scratch/submit8.out")
 check "submit prints both job ids" "[[ '$array_job' =~ ^[0-9]+$ && '$merge_job' =~ ^[0-9]+$ ]]"
 check "merge job depends on the array job" "scontrol show job $merge_job | grep -q 'Dependency=afterok:${array_job}'"
+check "sbatch options reach both jobs" "scontrol show job $array_job | grep -q 'TimeLimit=00:05:00' && scontrol show job $merge_job | grep -q 'TimeLimit=00:05:00'"
 wait_gone "$merge_job"
 t1=$(date +%s.%N)
 submit_to_merged=$("$PYTHON" -c "print(f'{$t1 - $t0:.1f}')")

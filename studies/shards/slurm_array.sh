@@ -12,6 +12,9 @@
 #SBATCH --cpus-per-task=1
 #SBATCH --time=00:30:00
 #SBATCH --output=mpm1d-shard-%a_job%A.log
+# sbatch passes the submitting environment (loaded modules included) to the job; where a site
+# uses --export=NONE, load here what mpm1d was built with, e.g.:
+# module load gcc/12 hdf5/1.12
 set -euo pipefail
 usage="usage: sbatch --array=1-N [--cpus-per-task=K] slurm_array.sh SWEEP.nml OUTDIR N [EXE]"
 input="${1:?$usage}"

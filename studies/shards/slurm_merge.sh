@@ -12,6 +12,9 @@
 #SBATCH --job-name=mpm1d-merge
 #SBATCH --cpus-per-task=1
 #SBATCH --time=00:10:00
+# sbatch passes the submitting environment (loaded modules included) to the job; where a site
+# uses --export=NONE, load here what mpm1d was built with, e.g.:
+# module load gcc/12 hdf5/1.12
 set -euo pipefail
 out="${1:?usage: slurm_merge.sh OUTDIR [--failed|--status]}"
 mode="${2:-merge}"
