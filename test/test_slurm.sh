@@ -148,6 +148,8 @@ check "after resubmission all 4 tasks exit 0 ($(exits "$runB" 4))" "[ '$(exits "
 check "merge after resubmission exit 0" "[ \"\$(cat $runB/merge.exit 2>/dev/null)\" = 0 ]"
 check "merged after resubmission = unsharded" "same_cases $runB/sweep_test.h5 $scratch/unsharded/sweep_test.h5"
 check "slurm_merge.sh --failed empty" "[ -z \"\$(bash studies/shards/slurm_merge.sh $runB --failed)\" ]"
+bash studies/shards/slurm_submit.sh "$scratch/sweep.nml" "$runB" 4 --array="$(bash studies/shards/slurm_merge.sh "$runB" --failed)" > /dev/null 2>&1
+check "resubmitting with nothing failed submits nothing" "[ $? = 3 ] && [ \$(wc -l < $runB/jobs.txt) = 2 ]"
 echo "   resubmission to merged file: $("$PYTHON" -c "print(f'{$t1 - $t0:.1f}')") s"
 
 echo "-- 3. cluster down"

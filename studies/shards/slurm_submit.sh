@@ -22,7 +22,7 @@ shift 3
 ids=""; cpus=""; extra=()
 for a in "$@"; do
   case "$a" in
-    --array=*) ids="${a#--array=}" ;;
+    --array=*) ids="${a#--array=}"; [ -n "$ids" ] || { echo "slurm_submit: --array= is empty: nothing to submit" >&2; exit 3; } ;;
     --cpus-per-task=*) cpus="${a#--cpus-per-task=}" ;;
     *) extra+=("$a") ;;
   esac
