@@ -7,7 +7,8 @@
 #   2. the same sweep in 4 tasks of 2 CPUs, one task made to fail (its output cannot be written):
 #      the failure is in its exit file, the dependent merge is cancelled, the merge script and
 #      `mpm1d merge` both refuse the incomplete set, and resubmitting --array=<that id> completes it;
-#   3. the cluster is stopped and its daemons are gone.
+#   3. a task cancelled while it runs leaves exit 143 in its exit file;
+#   4. the cluster is stopped and its daemons are gone.
 # Skipped (exit 0, "skipped: <reason>") only where SLURM cannot be installed or started (neither
 # root nor passwordless sudo; as a sudo user the daemons run through sudo and the jobs as the user).
 # Usage: bash test/test_slurm.sh
@@ -21,9 +22,10 @@ check() { if eval "$2"; then passed=$((passed+1)); else failed=$((failed+1)); ec
 t_start=$SECONDS
 scratch="$root/build/test_scratch/slurm"
 rm -rf "$scratch"; mkdir -p "$scratch"
-# the cluster in a short private folder and on its own ports, apart from any cluster of the user
+# the cluster in a short private folder and on its own ports (below the ephemeral range), apart from
+# any cluster of the user or another run of this test
 export SLURM_CLUSTER_DIR; SLURM_CLUSTER_DIR="$(mktemp -d /tmp/mpm1d-slurm-test.XXXXXX)"
-export SLURM_CLUSTER_PORT="${SLURM_CLUSTER_PORT:-17827}"
+export SLURM_CLUSTER_PORT="${SLURM_CLUSTER_PORT:-$((20000 + ($$ % 4000) * 2))}"
 cluster="bash $root/studies/shards/slurm_cluster.sh"
 export SLURM_CONF="$SLURM_CLUSTER_DIR/slurm.conf"
 limit="${SLURM_TEST_WAIT:-240}"   # seconds to wait for one submission's merge job
@@ -152,7 +154,24 @@ bash studies/shards/slurm_submit.sh "$scratch/sweep.nml" "$runB" 4 --array="$(ba
 check "resubmitting with nothing failed submits nothing" "[ $? = 3 ] && [ \$(wc -l < $runB/jobs.txt) = 2 ]"
 echo "   resubmission to merged file: $("$PYTHON" -c "print(f'{$t1 - $t0:.1f}')") s"
 
-echo "-- 3. cluster down"
+echo "-- 3. a task cancelled while it runs leaves exit 143"
+runC="$scratch/cancel"
+cat > "$scratch/long.nml" <<'EOF2'
+&output file='long.h5' /
+&run periods=20000 /
+&sweep schemes='usl', elements=50, particles_per_element=10, dt_fractions=0.05, min_time=0 /
+EOF2
+bash studies/shards/slurm_submit.sh "$scratch/long.nml" "$runC" 1 > "$scratch/submit_long.out" 2>&1
+array_job=$(sed -n 's/^array_job=//p' "$scratch/submit_long.out"); merge_job=$(sed -n 's/^merge_job=//p' "$scratch/submit_long.out")
+t0=$SECONDS
+until [ "$(squeue -h -j "$array_job" -o %T 2>/dev/null)" = RUNNING ] || [ $((SECONDS - t0)) -gt 60 ]; do sleep 0.5; done
+sleep 1
+scancel "$array_job"
+wait_gone "$array_job"; wait_gone "$merge_job"
+check "cancelled task's exit file says 143 ($(cat "$runC/task_1.exit" 2>/dev/null))" "[ \"\$(cat $runC/task_1.exit 2>/dev/null)\" = 143 ]"
+check "its merge cancelled (state $(job_state "$merge_job"))" "[ '$(job_state "$merge_job")' = CANCELLED ] && [ ! -e $runC/long.h5 ]"
+
+echo "-- 4. cluster down"
 trap - EXIT
 $cluster down > "$scratch/cluster_down.log" 2>&1
 check "cluster down exits 0" "[ $? = 0 ]"
