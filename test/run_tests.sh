@@ -2,7 +2,8 @@
 # Run every test of mpm1d: installs what is missing, then
 #   1. fpm test (Fortran unit, physics, HDF5 and command-line tests),
 #   2. the cross-check of mpm1d against an independent NumPy implementation,
-#   3. the Python post-processing tests.
+#   3. the Python post-processing tests,
+#   4. the paper pipeline, the SLURM job array on a live single-node cluster, the study tests.
 # Usage (from anywhere): bash test/run_tests.sh
 set -euo pipefail
 cd "$(dirname "$0")/.."
@@ -23,6 +24,9 @@ if [ -f postprocess/test_postprocess.py ]; then
 fi
 echo "== paper study pipeline on a small real sweep"
 bash test/test_paper_pipeline.sh || failed=1
+
+echo "== SLURM job array on a live single-node cluster (skipped where SLURM cannot be installed)"
+bash test/test_slurm.sh || failed=1
 
 for t in studies/*/test_*.py; do
   [ -f "$t" ] || continue
