@@ -14,7 +14,7 @@ module mpm_grid
    implicit none
    private
    public :: grid_t, grid_init, assemble_nodes, assemble_and_solve, nodal_velocity, solve_momentum, mass_tolerance
-   public :: parallel_nodes, node_chunk, threaded_nodes
+   public :: parallel_nodes, node_chunk, threaded_nodes, solve_range
    public :: segments_t, share_count
 
    !> Nodes lighter than this fraction of one particle's mass are treated as empty.
@@ -319,6 +319,8 @@ contains
                        grid%velocity, lightest)
    end subroutine solve_nodes
 
+   !> The nodal update of nodes lo..hi (also the generic path's): p += dt f, a = f/m, v = p/m, empty
+   !> nodes 0; `lightest` takes the smallest positive mass met.
    subroutine solve_range(lo, hi, dt, empty_mass, mass, force, momentum, acceleration, velocity, lightest)
       integer, intent(in) :: lo, hi
       real(dp), intent(in) :: dt, empty_mass

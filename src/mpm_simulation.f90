@@ -236,7 +236,7 @@ contains
             call nodal_velocity(grid)
          else
             call locate_particles(cache, grid, particles, unused)
-            call p2g_mass_momentum(cache, particles, grid)
+            call p2g_mass_momentum(cache, particles, grid, with_force=.false.)
             call nodal_velocities(grid)
          end if
       end subroutine initial_grid_velocity

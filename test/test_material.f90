@@ -4,7 +4,7 @@
 !> with the error E n d eps^2 / 2 of ln(1 + d eps) ~ d eps - d eps^2/2. Stored energy sigma^2 V/(2E).
 program test_material
    use mpm_kinds, only: dp
-   use mpm_material_elastic, only: elastic_update, strain_energy_density
+   use mpm_material_elastic, only: elastic_update, strain_energy_density, elastic_update_all
    use mpm_testing, only: tester_t
    implicit none
    type(tester_t) :: t
@@ -30,5 +30,21 @@ program test_material
    end do
    call t%check_close('strain energy sigma^2 V / (2E)', strain_energy_density(youngs, 6.0e6_dp, 0.5_dp), &
                       (6.0e6_dp)**2*0.5_dp/(2*youngs), rtol=1.0e-15_dp)
+   ! the whole-array update (the generic path's) against the per-particle one and the energy formula
+   block
+      real(dp) :: ds(5), v0(5), s1(5), j1(5), s2(5), j2(5), energy, smallest
+      ds = [1.0e-3_dp, -2.0e-3_dp, 0.0_dp, 5.0e-4_dp, -1.0e-4_dp]
+      v0 = [1.0_dp, 2.0_dp, 0.5_dp, 1.5_dp, 3.0_dp]
+      s1 = [1.0e6_dp, -2.0e6_dp, 0.0_dp, 3.0e5_dp, 7.0e6_dp]
+      j1 = [1.0_dp, 0.99_dp, 1.01_dp, 0.98_dp, 1.02_dp]
+      s2 = s1
+      j2 = j1
+      call elastic_update(youngs, ds, s1, j1)
+      call elastic_update_all(youngs, ds, v0, s2, j2, energy, smallest)
+      call t%check('elastic_update_all = elastic_update per particle', all(s1 == s2) .and. all(j1 == j2))
+      call t%check_close('elastic_update_all energy = sum sigma^2 J V0 / (2E)', energy, &
+                         sum(strain_energy_density(youngs, s1, j1*v0)), rtol=1.0e-14_dp)
+      call t%check('elastic_update_all smallest J', smallest == minval(j1))
+   end block
    call t%finish()
 end program test_material

@@ -8,7 +8,7 @@ module mpm_material_elastic
    use mpm_kinds, only: dp
    implicit none
    private
-   public :: elastic_update, strain_energy_density
+   public :: elastic_update, strain_energy_density, elastic_update_all
 
 contains
 
@@ -19,6 +19,27 @@ contains
       stress = stress + youngs_modulus*dstrain
       volume_ratio = volume_ratio*(1.0_dp + dstrain)
    end subroutine elastic_update
+
+   !> elastic_update of every particle with its strain increment, in one loop (here, so that the
+   !> compiler sees the law: a call per particle across modules is not inlined); returns the total
+   !> strain energy sum sigma^2 J V0 / (2E) and the smallest J.
+   subroutine elastic_update_all(youngs_modulus, dstrain, volume0, stress, volume_ratio, energy, smallest)
+      real(dp), intent(in) :: youngs_modulus
+      real(dp), intent(in), contiguous :: dstrain(:), volume0(:)
+      real(dp), intent(inout), contiguous :: stress(:), volume_ratio(:)
+      real(dp), intent(out) :: energy, smallest
+      integer :: p
+      real(dp) :: half_compliance
+      half_compliance = 0.5_dp/youngs_modulus
+      energy = 0.0_dp
+      smallest = huge(1.0_dp)
+      do p = 1, size(dstrain)
+         stress(p) = stress(p) + youngs_modulus*dstrain(p)
+         volume_ratio(p) = volume_ratio(p)*(1.0_dp + dstrain(p))
+         energy = energy + stress(p)*stress(p)*volume_ratio(p)*volume0(p)*half_compliance
+         smallest = min(smallest, volume_ratio(p))
+      end do
+   end subroutine elastic_update_all
 
    !> Strain energy of a particle: sigma^2 V / (2E).
    elemental real(dp) function strain_energy_density(youngs_modulus, stress, volume)

@@ -5,14 +5,16 @@
 !>   G2P:   v_p += dt sum_I N_Ip a_I (FLIP),  x_p += dt sum_I N_Ip v_I
 !>   stress: d eps_p = dt sum_I dN_Ip v_I, then the material update (mpm_material_elastic)
 !> Each is one loop over the particles (or nodes), serial: sweeps run cases on threads, and a run's
-!> results are the same on any number of threads. The schemes (mpm_scheme_usf/usl/musl) compose them.
+!> results are the same on any number of threads. The schemes (mpm_schemes) compose them.
+!> Each public operation hands the arrays to a kernel with explicit contiguous dummies: gfortran then
+!> keeps addresses in registers (through the derived types' descriptors the loops ran about 2x slower).
 module mpm_operations
    use mpm_kinds, only: dp
-   use mpm_grid, only: grid_t
+   use mpm_grid, only: grid_t, solve_range
    use mpm_particles, only: particles_t
    use mpm_shape, only: shape_cache_t, evaluate_shapes
    use mpm_diagnostics, only: pass_totals_t
-   use mpm_material_elastic, only: elastic_update, strain_energy_density
+   use mpm_material_elastic, only: elastic_update_all, strain_energy_density
    implicit none
    private
    public :: locate_particles, p2g_mass_momentum, p2g_internal_force, nodal_velocities, solve_grid, g2p, &
@@ -31,43 +33,89 @@ contains
       if (totals%outside == 0) totals%outside = outside
    end subroutine locate_particles
 
-   !> m_I and p_I from the particles (grid fields cleared first).
-   subroutine p2g_mass_momentum(cache, particles, grid)
+   !> m_I and p_I from the particles (grid fields cleared first); with `with_force` also the internal
+   !> force f_I = -sum_p dN_Ip sigma_p V_p, V_p = J_p V0_p, in the same pass.
+   subroutine p2g_mass_momentum(cache, particles, grid, with_force)
       type(shape_cache_t), intent(in) :: cache
       type(particles_t), intent(in) :: particles
       type(grid_t), intent(inout) :: grid
-      integer :: p, k, i
-      real(dp) :: wm
+      logical, intent(in) :: with_force
       grid%mass = 0.0_dp
       grid%momentum = 0.0_dp
-      do p = 1, particles%count
-         do k = 1, cache%support
-            i = cache%first(p) + k - 1
-            if (i < 0) cycle
-            wm = cache%weight(k, p)*particles%mass_of(p)
-            grid%mass(i) = grid%mass(i) + wm
-            grid%momentum(i) = grid%momentum(i) + wm*particles%v(p)
+      if (with_force) then
+         grid%force = 0.0_dp
+         call scatter_all(cache%support, cache%first, cache%weight, cache%gradient, particles%mass_of, particles%v, &
+                          particles%stress, particles%volume_ratio, particles%volume0_of, grid%mass, grid%momentum, &
+                          grid%force)
+      else
+         call scatter_kinematic(cache%support, cache%first, cache%weight, particles%mass_of, particles%v, grid%mass, &
+                                grid%momentum)
+      end if
+   end subroutine p2g_mass_momentum
+
+   subroutine scatter_kinematic(support, first, weight, mass_of, v, mass, momentum)
+      integer, intent(in) :: support
+      integer, intent(in), contiguous :: first(:)
+      real(dp), intent(in), contiguous :: weight(:, :), mass_of(:), v(:)
+      real(dp), intent(inout), contiguous :: mass(0:), momentum(0:)
+      integer :: p, k, i
+      real(dp) :: wm
+      do p = 1, size(first)
+         do k = 1, support
+            i = first(p) + k - 1
+            wm = weight(k, p)*mass_of(p)
+            mass(i) = mass(i) + wm
+            momentum(i) = momentum(i) + wm*v(p)
          end do
       end do
-   end subroutine p2g_mass_momentum
+   end subroutine scatter_kinematic
+
+   subroutine scatter_all(support, first, weight, gradient, mass_of, v, stress, volume_ratio, volume0_of, mass, &
+                          momentum, force)
+      integer, intent(in) :: support
+      integer, intent(in), contiguous :: first(:)
+      real(dp), intent(in), contiguous :: weight(:, :), gradient(:, :), mass_of(:), v(:), stress(:), volume_ratio(:), &
+                                          volume0_of(:)
+      real(dp), intent(inout), contiguous :: mass(0:), momentum(0:), force(0:)
+      integer :: p, k, i
+      real(dp) :: wm, sv
+      do p = 1, size(first)
+         sv = stress(p)*volume_ratio(p)*volume0_of(p)
+         do k = 1, support
+            i = first(p) + k - 1
+            wm = weight(k, p)*mass_of(p)
+            mass(i) = mass(i) + wm
+            momentum(i) = momentum(i) + wm*v(p)
+            force(i) = force(i) - gradient(k, p)*sv
+         end do
+      end do
+   end subroutine scatter_all
 
    !> f_I = -sum_p dN_Ip sigma_p V_p, V_p = J_p V0_p (grid force cleared first).
    subroutine p2g_internal_force(cache, particles, grid)
       type(shape_cache_t), intent(in) :: cache
       type(particles_t), intent(in) :: particles
       type(grid_t), intent(inout) :: grid
+      grid%force = 0.0_dp
+      call scatter_force(cache%support, cache%first, cache%gradient, particles%stress, particles%volume_ratio, &
+                         particles%volume0_of, grid%force)
+   end subroutine p2g_internal_force
+
+   subroutine scatter_force(support, first, gradient, stress, volume_ratio, volume0_of, force)
+      integer, intent(in) :: support
+      integer, intent(in), contiguous :: first(:)
+      real(dp), intent(in), contiguous :: gradient(:, :), stress(:), volume_ratio(:), volume0_of(:)
+      real(dp), intent(inout), contiguous :: force(0:)
       integer :: p, k, i
       real(dp) :: sv
-      grid%force = 0.0_dp
-      do p = 1, particles%count
-         sv = particles%stress(p)*particles%volume_ratio(p)*particles%volume0_of(p)
-         do k = 1, cache%support
-            i = cache%first(p) + k - 1
-            if (i < 0) cycle
-            grid%force(i) = grid%force(i) - cache%gradient(k, p)*sv
+      do p = 1, size(first)
+         sv = stress(p)*volume_ratio(p)*volume0_of(p)
+         do k = 1, support
+            i = first(p) + k - 1
+            force(i) = force(i) - gradient(k, p)*sv
          end do
       end do
-   end subroutine p2g_internal_force
+   end subroutine scatter_force
 
    !> v_I = p_I / m_I (zero on empty nodes), fixed nodes held at rest (momentum and velocity zero).
    subroutine nodal_velocities(grid)
@@ -86,21 +134,11 @@ contains
    subroutine solve_grid(grid, dt)
       type(grid_t), intent(inout) :: grid
       real(dp), intent(in) :: dt
-      integer :: i
       grid%force(grid%fixed) = 0.0_dp
       grid%momentum(grid%fixed) = 0.0_dp
       grid%min_node_mass = huge(1.0_dp)
-      do i = 0, grid%elements
-         if (grid%mass(i) > 0.0_dp) grid%min_node_mass = min(grid%min_node_mass, grid%mass(i))
-         grid%momentum(i) = grid%momentum(i) + dt*grid%force(i)
-         if (grid%mass(i) > grid%empty_mass) then
-            grid%acceleration(i) = grid%force(i)/grid%mass(i)
-            grid%velocity(i) = grid%momentum(i)/grid%mass(i)
-         else
-            grid%acceleration(i) = 0.0_dp
-            grid%velocity(i) = 0.0_dp
-         end if
-      end do
+      call solve_range(0, grid%elements, dt, grid%empty_mass, grid%mass, grid%force, grid%momentum, grid%acceleration, &
+                       grid%velocity, grid%min_node_mass)
       grid%acceleration(grid%fixed) = 0.0_dp
       grid%velocity(grid%fixed) = 0.0_dp
    end subroutine solve_grid
@@ -113,60 +151,81 @@ contains
       type(grid_t), intent(in) :: grid
       real(dp), intent(in) :: dt
       type(pass_totals_t), intent(inout) :: totals
-      integer :: p, k, i
-      real(dp) :: a, v, move, lo, hi
-      lo = grid%origin
-      hi = grid%origin + grid%length
-      totals%displacement = 0.0_dp
-      totals%kinetic_energy = 0.0_dp
-      totals%max_cell_move = 0.0_dp
-      totals%furthest = 0
-      do p = 1, particles%count
-         a = 0.0_dp
-         v = 0.0_dp
-         do k = 1, cache%support
-            i = cache%first(p) + k - 1
-            if (i < 0) cycle
-            a = a + cache%weight(k, p)*grid%acceleration(i)
-            v = v + cache%weight(k, p)*grid%velocity(i)
-         end do
-         particles%v(p) = particles%v(p) + dt*a
-         particles%x(p) = particles%x(p) + dt*v
-         move = abs(dt*v)*grid%inv_dx
-         if (move > totals%max_cell_move) then
-            totals%max_cell_move = move
-            totals%furthest = p
-         end if
-         if (.not. (particles%x(p) >= lo .and. particles%x(p) <= hi) .and. totals%outside == 0) totals%outside = p
-         totals%displacement = totals%displacement + particles%mass_of(p)*(particles%x(p) - particles%x0(p))
-         totals%kinetic_energy = totals%kinetic_energy + 0.5_dp*particles%mass_of(p)*particles%v(p)**2
-      end do
+      call gather_move(cache%support, cache%first, cache%weight, grid%acceleration, grid%velocity, dt, grid%inv_dx, &
+                       grid%origin, grid%origin + grid%length, particles%mass_of, particles%x0, particles%x, &
+                       particles%v, totals)
    end subroutine g2p
+
+   subroutine gather_move(support, first, weight, acceleration, velocity, dt, inv_dx, lo, hi, mass_of, x0, x, v, totals)
+      integer, intent(in) :: support
+      integer, intent(in), contiguous :: first(:)
+      real(dp), intent(in), contiguous :: weight(:, :), acceleration(0:), velocity(0:), mass_of(:), x0(:)
+      real(dp), intent(in) :: dt, inv_dx, lo, hi
+      real(dp), intent(inout), contiguous :: x(:), v(:)
+      type(pass_totals_t), intent(inout) :: totals
+      integer :: p, k, i, outside, furthest
+      real(dp) :: a, vi, move, largest, displacement, kinetic
+      outside = 0
+      furthest = 0
+      largest = 0.0_dp
+      displacement = 0.0_dp
+      kinetic = 0.0_dp
+      do p = 1, size(first)
+         a = 0.0_dp
+         vi = 0.0_dp
+         do k = 1, support
+            i = first(p) + k - 1
+            a = a + weight(k, p)*acceleration(i)
+            vi = vi + weight(k, p)*velocity(i)
+         end do
+         v(p) = v(p) + dt*a
+         x(p) = x(p) + dt*vi
+         move = abs(dt*vi)*inv_dx
+         if (move > largest) then
+            largest = move
+            furthest = p
+         end if
+         if (.not. (x(p) >= lo .and. x(p) <= hi) .and. outside == 0) outside = p
+         displacement = displacement + mass_of(p)*(x(p) - x0(p))
+         kinetic = kinetic + 0.5_dp*mass_of(p)*v(p)*v(p)
+      end do
+      totals%displacement = displacement
+      totals%kinetic_energy = kinetic
+      totals%max_cell_move = largest
+      totals%furthest = furthest
+      if (totals%outside == 0) totals%outside = outside
+   end subroutine gather_move
 
    !> Strain increment d eps = dt sum_I dN_Ip v_I and the material update; totals: strain energy, min J.
    subroutine update_stress(cache, particles, grid, dt, youngs_modulus, totals)
-      type(shape_cache_t), intent(in) :: cache
+      type(shape_cache_t), intent(inout) :: cache
       type(particles_t), intent(inout) :: particles
       type(grid_t), intent(in) :: grid
       real(dp), intent(in) :: dt, youngs_modulus
       type(pass_totals_t), intent(inout) :: totals
+      if (.not. allocated(cache%work)) allocate (cache%work(particles%count))
+      call gather_strain(cache%support, cache%first, cache%gradient, grid%velocity, dt, cache%work)
+      call elastic_update_all(youngs_modulus, cache%work, particles%volume0_of, particles%stress, &
+                              particles%volume_ratio, totals%strain_energy, totals%min_volume_ratio)
+   end subroutine update_stress
+
+   subroutine gather_strain(support, first, gradient, velocity, dt, dstrain)
+      integer, intent(in) :: support
+      integer, intent(in), contiguous :: first(:)
+      real(dp), intent(in), contiguous :: gradient(:, :), velocity(0:)
+      real(dp), intent(in) :: dt
+      real(dp), intent(out), contiguous :: dstrain(:)
       integer :: p, k, i
       real(dp) :: rate
-      totals%strain_energy = 0.0_dp
-      totals%min_volume_ratio = huge(1.0_dp)
-      do p = 1, particles%count
+      do p = 1, size(first)
          rate = 0.0_dp
-         do k = 1, cache%support
-            i = cache%first(p) + k - 1
-            if (i < 0) cycle
-            rate = rate + cache%gradient(k, p)*grid%velocity(i)
+         do k = 1, support
+            i = first(p) + k - 1
+            rate = rate + gradient(k, p)*velocity(i)
          end do
-         call elastic_update(youngs_modulus, dt*rate, particles%stress(p), particles%volume_ratio(p))
-         totals%strain_energy = totals%strain_energy + strain_energy_density(youngs_modulus, particles%stress(p), &
-                                                       particles%volume_ratio(p)*particles%volume0_of(p))
-         totals%min_volume_ratio = min(totals%min_volume_ratio, particles%volume_ratio(p))
+         dstrain(p) = dt*rate
       end do
-   end subroutine update_stress
+   end subroutine gather_strain
 
    !> Kinetic and strain energy and the smallest J of the particles as they are (the initial state).
    subroutine particle_energies(particles, youngs_modulus, totals)

@@ -32,28 +32,30 @@ contains
       real(dp), intent(in) :: dt, youngs_modulus, t
       type(pass_totals_t), intent(out) :: totals
       call locate_particles(cache, grid, particles, totals)
-      call p2g_mass_momentum(cache, particles, grid)
       select case (scheme)
       case (scheme_usf)
+         call p2g_mass_momentum(cache, particles, grid, with_force=.false.)
          call nodal_velocities(grid)
          call update_stress(cache, particles, grid, dt, youngs_modulus, totals)
+         call p2g_internal_force(cache, particles, grid)
          call momentum_update()
          call g2p(cache, particles, grid, dt, totals)
       case (scheme_usl)
+         call p2g_mass_momentum(cache, particles, grid, with_force=.true.)
          call momentum_update()
          call g2p(cache, particles, grid, dt, totals)
          call update_stress(cache, particles, grid, dt, youngs_modulus, totals)
       case (scheme_musl)
+         call p2g_mass_momentum(cache, particles, grid, with_force=.true.)
          call momentum_update()
          call g2p(cache, particles, grid, dt, totals)
-         call p2g_mass_momentum(cache, particles, grid)  ! the remap: same shapes, the new velocities
+         call p2g_mass_momentum(cache, particles, grid, with_force=.false.)  ! the remap: the new velocities
          call nodal_velocities(grid)
          call update_stress(cache, particles, grid, dt, youngs_modulus, totals)
       end select
    contains
-      !> Internal force from the current stresses, the scene's external forces, the explicit update.
+      !> The scene's external forces (when it has some) and the explicit momentum update.
       subroutine momentum_update()
-         call p2g_internal_force(cache, particles, grid)
          if (scene%external_forces) call scene%add_forces(grid, t)
          call solve_grid(grid, dt)
       end subroutine momentum_update

@@ -19,6 +19,8 @@ module mpm_shape
       integer :: support = 0
       integer, allocatable :: first(:)
       real(dp), allocatable :: weight(:, :), gradient(:, :)
+      !> One value per particle of scratch space for the operations (the strain increments).
+      real(dp), allocatable :: work(:)
    end type shape_cache_t
 
 contains

@@ -15,8 +15,9 @@ contains
 
    !> Weights and gradients of every particle at positions `x` on a grid of `cells` cells of size
    !> 1/inv_dx from `origin`: first(p) = its element's left node (0-based node index), weight(:, p) and
-   !> gradient(:, p) on nodes first(p) and first(p) + 1. A particle outside the domain gets first = -1
-   !> and zero weights; `outside` is the first such particle (0 if none). The far end of the domain
+   !> gradient(:, p) on nodes first(p) and first(p) + 1. A particle outside the domain gets first = 0
+   !> and zero weights and gradients (it adds nothing, and the loops need no test); `outside` is the
+   !> first such particle (0 if none). The far end of the domain
    !> belongs to the last element (xi = 1).
    pure subroutine linear_shapes(origin, inv_dx, cells, x, first, weight, gradient, outside)
       real(dp), intent(in) :: origin, inv_dx
@@ -26,22 +27,25 @@ contains
       real(dp), intent(out) :: weight(:, :), gradient(:, :)
       integer, intent(out) :: outside
       integer :: p, e
-      real(dp) :: xi
+      real(dp) :: xi, s
       outside = 0
       do p = 1, size(x)
-         call locate(x(p) - origin, inv_dx, cells, e, xi)
-         if (e < 1 .or. e > cells) then
+         s = (x(p) - origin)*inv_dx
+         ! the lookup of `locate`, written out here so that the loop stays simple (it is not inlined)
+         if (s >= 0.0_dp .and. s <= real(cells, dp)) then
+            e = min(int(s), cells - 1)
+            xi = s - e
+            first(p) = e
+            weight(1, p) = 1.0_dp - xi
+            weight(2, p) = xi
+            gradient(1, p) = -inv_dx
+            gradient(2, p) = inv_dx
+         else
             if (outside == 0) outside = p
-            first(p) = -1
+            first(p) = 0
             weight(:, p) = 0.0_dp
             gradient(:, p) = 0.0_dp
-            cycle
          end if
-         first(p) = e - 1
-         weight(1, p) = shape_left(xi)
-         weight(2, p) = shape_right(xi)
-         gradient(1, p) = -inv_dx
-         gradient(2, p) = inv_dx
       end do
    end subroutine linear_shapes
 
