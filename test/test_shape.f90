@@ -40,7 +40,7 @@ contains
       call evaluate_shapes(cache, grid, x, outside)
       call t%check(name//'no particle inside the domain is flagged', outside == 0)
       do p = 1, n
-         associate (w => cache%weight(:, p), g => cache%gradient(:, p), i0 => cache%first(p))
+         associate (w => cache%weight(p, :), g => cache%gradient(p, :), i0 => cache%first(p))
             call t%check_close(name//'partition of unity', sum(w), 1.0_dp, atol=1.0e-14_dp)
             call t%check_close(name//'gradients sum to zero', sum(g), 0.0_dp, atol=1.0e-12_dp)
             call t%check_close(name//'sum N_I x_I = x', sum(w*node_x(i0 + 1:i0 + cache%support)), x(p), rtol=1.0e-14_dp)
@@ -69,6 +69,6 @@ contains
       type(shape_cache_t), intent(in) :: cache
       integer, intent(in) :: i
       nodal = 0.0_dp
-      if (i >= cache%first(1) .and. i < cache%first(1) + cache%support) nodal = cache%weight(i - cache%first(1) + 1, 1)
+      if (i >= cache%first(1) .and. i < cache%first(1) + cache%support) nodal = cache%weight(1, i - cache%first(1) + 1)
    end function nodal
 end program test_shape

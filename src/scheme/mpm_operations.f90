@@ -63,7 +63,7 @@ contains
       do p = 1, size(first)
          do k = 1, support
             i = first(p) + k - 1
-            wm = weight(k, p)*mass_of(p)
+            wm = weight(p, k)*mass_of(p)
             mass(i) = mass(i) + wm
             momentum(i) = momentum(i) + wm*v(p)
          end do
@@ -83,10 +83,10 @@ contains
          sv = stress(p)*volume_ratio(p)*volume0_of(p)
          do k = 1, support
             i = first(p) + k - 1
-            wm = weight(k, p)*mass_of(p)
+            wm = weight(p, k)*mass_of(p)
             mass(i) = mass(i) + wm
             momentum(i) = momentum(i) + wm*v(p)
-            force(i) = force(i) - gradient(k, p)*sv
+            force(i) = force(i) - gradient(p, k)*sv
          end do
       end do
    end subroutine scatter_all
@@ -112,7 +112,7 @@ contains
          sv = stress(p)*volume_ratio(p)*volume0_of(p)
          do k = 1, support
             i = first(p) + k - 1
-            force(i) = force(i) - gradient(k, p)*sv
+            force(i) = force(i) - gradient(p, k)*sv
          end do
       end do
    end subroutine scatter_force
@@ -146,41 +146,47 @@ contains
    !> FLIP update of velocity and position with the start-of-step shape functions; totals: sum m (x - X),
    !> kinetic energy, the largest move (cells) and its particle, the first particle outside the domain.
    subroutine g2p(cache, particles, grid, dt, totals)
-      type(shape_cache_t), intent(in) :: cache
+      type(shape_cache_t), intent(inout) :: cache
       type(particles_t), intent(inout) :: particles
       type(grid_t), intent(in) :: grid
       real(dp), intent(in) :: dt
       type(pass_totals_t), intent(inout) :: totals
+      call scratch(cache, particles%count)
       call gather_move(cache%support, cache%first, cache%weight, grid%acceleration, grid%velocity, dt, grid%inv_dx, &
                        grid%origin, grid%origin + grid%length, particles%mass_of, particles%x0, particles%x, &
-                       particles%v, totals)
+                       particles%v, cache%work, totals)
    end subroutine g2p
 
-   subroutine gather_move(support, first, weight, acceleration, velocity, dt, inv_dx, lo, hi, mass_of, x0, x, v, totals)
+   subroutine gather_move(support, first, weight, acceleration, velocity, dt, inv_dx, lo, hi, mass_of, x0, x, v, &
+                          gathered, totals)
       integer, intent(in) :: support
       integer, intent(in), contiguous :: first(:)
       real(dp), intent(in), contiguous :: weight(:, :), acceleration(0:), velocity(0:), mass_of(:), x0(:)
       real(dp), intent(in) :: dt, inv_dx, lo, hi
       real(dp), intent(inout), contiguous :: x(:), v(:)
+      real(dp), intent(inout), contiguous :: gathered(:, :)  !< scratch: sum N a, sum N v per particle
       type(pass_totals_t), intent(inout) :: totals
-      integer :: p, k, i, outside, furthest
-      real(dp) :: a, vi, move, largest, displacement, kinetic
+      integer :: p, k, outside, furthest
+      real(dp) :: move, largest, displacement, kinetic
+      ! the gathers, node by node of the support (each loop vectorises)
+      gathered(:, 1:2) = 0.0_dp
+      do k = 1, support
+         do p = 1, size(first)
+            gathered(p, 1) = gathered(p, 1) + weight(p, k)*acceleration(first(p) + k - 1)
+            gathered(p, 2) = gathered(p, 2) + weight(p, k)*velocity(first(p) + k - 1)
+         end do
+      end do
+      do p = 1, size(first)
+         v(p) = v(p) + dt*gathered(p, 1)
+         x(p) = x(p) + dt*gathered(p, 2)
+      end do
       outside = 0
       furthest = 0
       largest = 0.0_dp
       displacement = 0.0_dp
       kinetic = 0.0_dp
       do p = 1, size(first)
-         a = 0.0_dp
-         vi = 0.0_dp
-         do k = 1, support
-            i = first(p) + k - 1
-            a = a + weight(k, p)*acceleration(i)
-            vi = vi + weight(k, p)*velocity(i)
-         end do
-         v(p) = v(p) + dt*a
-         x(p) = x(p) + dt*vi
-         move = abs(dt*vi)*inv_dx
+         move = abs(dt*gathered(p, 2))*inv_dx
          if (move > largest) then
             largest = move
             furthest = p
@@ -203,9 +209,9 @@ contains
       type(grid_t), intent(in) :: grid
       real(dp), intent(in) :: dt, youngs_modulus
       type(pass_totals_t), intent(inout) :: totals
-      if (.not. allocated(cache%work)) allocate (cache%work(particles%count))
-      call gather_strain(cache%support, cache%first, cache%gradient, grid%velocity, dt, cache%work)
-      call elastic_update_all(youngs_modulus, cache%work, particles%volume0_of, particles%stress, &
+      call scratch(cache, particles%count)
+      call gather_strain(cache%support, cache%first, cache%gradient, grid%velocity, dt, cache%work(:, 1))
+      call elastic_update_all(youngs_modulus, cache%work(:, 1), particles%volume0_of, particles%stress, &
                               particles%volume_ratio, totals%strain_energy, totals%min_volume_ratio)
    end subroutine update_stress
 
@@ -215,17 +221,22 @@ contains
       real(dp), intent(in), contiguous :: gradient(:, :), velocity(0:)
       real(dp), intent(in) :: dt
       real(dp), intent(out), contiguous :: dstrain(:)
-      integer :: p, k, i
-      real(dp) :: rate
-      do p = 1, size(first)
-         rate = 0.0_dp
-         do k = 1, support
-            i = first(p) + k - 1
-            rate = rate + gradient(k, p)*velocity(i)
+      integer :: p, k
+      dstrain = 0.0_dp
+      do k = 1, support
+         do p = 1, size(first)
+            dstrain(p) = dstrain(p) + gradient(p, k)*velocity(first(p) + k - 1)
          end do
-         dstrain(p) = dt*rate
       end do
+      dstrain = dt*dstrain
    end subroutine gather_strain
+
+   !> The operations' scratch arrays, allocated on first use.
+   subroutine scratch(cache, count)
+      type(shape_cache_t), intent(inout) :: cache
+      integer, intent(in) :: count
+      if (.not. allocated(cache%work)) allocate (cache%work(count, 2))
+   end subroutine scratch
 
    !> Kinetic and strain energy and the smallest J of the particles as they are (the initial state).
    subroutine particle_energies(particles, youngs_modulus, totals)

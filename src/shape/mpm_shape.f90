@@ -13,14 +13,15 @@ module mpm_shape
    !> Shape function ids.
    integer, parameter :: shape_linear = 1
 
-   !> Weights and gradients of every particle: node first(p) + k - 1 gets weight(k, p), gradient(k, p).
+   !> Weights and gradients of every particle: node first(p) + k - 1 gets weight(p, k), gradient(p, k)
+   !> (particle index first, so that the operations' loops over particles read them contiguously).
    type :: shape_cache_t
       integer :: kind = shape_linear
       integer :: support = 0
       integer, allocatable :: first(:)
       real(dp), allocatable :: weight(:, :), gradient(:, :)
-      !> One value per particle of scratch space for the operations (the strain increments).
-      real(dp), allocatable :: work(:)
+      !> Scratch space of the operations, one value per particle each (gathered nodal values).
+      real(dp), allocatable :: work(:, :)
    end type shape_cache_t
 
 contains
@@ -56,7 +57,7 @@ contains
       integer, intent(out) :: outside
       if (.not. allocated(cache%first)) then
          cache%support = shape_support(cache%kind)
-         allocate (cache%first(size(x)), cache%weight(cache%support, size(x)), cache%gradient(cache%support, size(x)))
+         allocate (cache%first(size(x)), cache%weight(size(x), cache%support), cache%gradient(size(x), cache%support))
       end if
       select case (cache%kind)
       case (shape_linear)

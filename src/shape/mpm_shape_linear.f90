@@ -14,11 +14,11 @@ module mpm_shape_linear
 contains
 
    !> Weights and gradients of every particle at positions `x` on a grid of `cells` cells of size
-   !> 1/inv_dx from `origin`: first(p) = its element's left node (0-based node index), weight(:, p) and
-   !> gradient(:, p) on nodes first(p) and first(p) + 1. A particle outside the domain gets first = 0
-   !> and zero weights and gradients (it adds nothing, and the loops need no test); `outside` is the
-   !> first such particle (0 if none). The far end of the domain
-   !> belongs to the last element (xi = 1).
+   !> 1/inv_dx from `origin`: first(p) = its element's left node (0-based node index), weight(p, :) and
+   !> gradient(p, :) on nodes first(p) and first(p) + 1. A particle outside the domain (NaN too) gets
+   !> first = 0 and zero weights and gradients (it adds nothing, and the loops need no test);
+   !> `outside` is the first such particle (0 if none). The far end of the domain belongs to the last
+   !> element (xi = 1). The loop has no branch (merge), so that it vectorises.
    pure subroutine linear_shapes(origin, inv_dx, cells, x, first, weight, gradient, outside)
       real(dp), intent(in) :: origin, inv_dx
       integer, intent(in) :: cells
@@ -27,24 +27,24 @@ contains
       real(dp), intent(out) :: weight(:, :), gradient(:, :)
       integer, intent(out) :: outside
       integer :: p, e
-      real(dp) :: xi, s
-      outside = 0
+      real(dp) :: xi, s, inside
       do p = 1, size(x)
          s = (x(p) - origin)*inv_dx
-         ! the lookup of `locate`, written out here so that the loop stays simple (it is not inlined)
-         if (s >= 0.0_dp .and. s <= real(cells, dp)) then
-            e = min(int(s), cells - 1)
-            xi = s - e
-            first(p) = e
-            weight(1, p) = 1.0_dp - xi
-            weight(2, p) = xi
-            gradient(1, p) = -inv_dx
-            gradient(2, p) = inv_dx
-         else
-            if (outside == 0) outside = p
-            first(p) = 0
-            weight(:, p) = 0.0_dp
-            gradient(:, p) = 0.0_dp
+         inside = merge(1.0_dp, 0.0_dp, s >= 0.0_dp .and. s <= real(cells, dp))
+         s = merge(s, 0.0_dp, inside > 0.0_dp)
+         e = min(int(s), cells - 1)
+         xi = s - e
+         first(p) = e
+         weight(p, 1) = (1.0_dp - xi)*inside
+         weight(p, 2) = xi*inside
+         gradient(p, 1) = -inv_dx*inside
+         gradient(p, 2) = inv_dx*inside
+      end do
+      outside = 0
+      do p = 1, size(x)
+         if (.not. ((x(p) - origin)*inv_dx >= 0.0_dp .and. (x(p) - origin)*inv_dx <= real(cells, dp))) then
+            outside = p
+            exit
          end if
       end do
    end subroutine linear_shapes

@@ -1,7 +1,8 @@
 !> Benchmark driver for mpm1d (studies/benchmark/run.sh calls it; it prints CSV rows on standard output).
-!>   mpm1d_bench throughput SCHEME ELEMENTS PPC STEPS REPEATS THREADS
+!>   mpm1d_bench throughput SCHEME ELEMENTS PPC STEPS REPEATS THREADS [fused|generic]
 !>       time STEPS steps of the scheme's passes (as run_simulation makes them, diagnostics included,
-!>       set-up excluded), REPEATS times from the same initial state:
+!>       set-up excluded), REPEATS times from the same initial state, on the fused kernels (default)
+!>       or the generic path (mpm_schemes; one thread):
 !>       scheme,elements,ppc,particles,threads,steps,repeat,seconds,particle_steps_per_s
 !>   mpm1d_bench stream N REPEATS
 !>       memory bandwidth with 1 and 2 threads over arrays of N doubles:
@@ -21,7 +22,8 @@ program mpm1d_bench
    use mpm_errors, only: error_t
    use mpm_config, only: config_t, resolve_config
    use mpm_grid, only: grid_t, grid_init
-   use mpm_particles, only: particles_t, particles_init
+   use mpm_particles, only: particles_t, per_particle_data
+   use mpm_shape, only: shape_cache_t
    use mpm_transfer, only: pass_totals_t
    use mpm_fused, only: fused_start, fused_step
    use mpm_schemes, only: scheme_usf, scheme_usl, scheme_musl, scheme_step
@@ -72,8 +74,10 @@ contains
       type(particles_t) :: particles
       type(pass_totals_t) :: totals
       type(error_t), allocatable :: error
-      integer :: steps, repeats, threads, r, n
-      real(dp) :: start, seconds, ucm, worst
+      type(shape_cache_t) :: cache
+      integer :: steps, repeats, threads, r, n, scheme
+      real(dp) :: start, seconds, ucm, worst, total_mass
+      logical :: generic
       config%scheme = arg(2)
       config%elements = iarg(3)
       config%particles_per_element = iarg(4)
@@ -83,32 +87,38 @@ contains
       call resolve_config(config)
       call omp_set_num_threads(threads)
       bar = bar_init(config%length, config%youngs_modulus, config%density, config%velocity_amplitude, config%mode)
+      generic = trim(arg(8)) == 'generic'
+      select case (trim(config%scheme))
+      case ('usf')
+         scheme = scheme_usf
+      case ('usl')
+         scheme = scheme_usl
+      case default
+         scheme = scheme_musl
+      end select
       do r = 1, repeats
          call bar%place_particles(config, particles, error)
          if (allocated(error)) error stop 'out of memory'
+         if (generic) call per_particle_data(particles, error)
          call grid_init(grid, config%elements, config%length, particles%mass, error, &
-                        margin=bar%margin_cells(config%dx, -1), fixed=bar%fixed_nodes())
-         select case (trim(config%scheme))
-         case ('usf')
-            call fused_start(scheme_usf, particles, grid, totals)
-         case ('usl')
-            call fused_start(scheme_usl, particles, grid, totals)
-         case ('musl')
-            call fused_start(scheme_musl, particles, grid, totals)
-         end select
+                        margin=bar%margin_cells(config%dx, -1), fixed=bar%fixed_nodes(), element_shares=.not. generic)
+         if (generic) then
+            total_mass = sum(particles%mass_of)
+         else
+            call fused_start(scheme, particles, grid, totals)
+         end if
          worst = 0
          start = omp_get_wtime()
          do n = 1, steps
-            select case (trim(config%scheme))
-            case ('usf')
-               call fused_step(scheme_usf, particles, grid, config%dt, config%youngs_modulus, totals)
-            case ('usl')
-               call fused_step(scheme_usl, particles, grid, config%dt, config%youngs_modulus, totals)
-            case ('musl')
-               call fused_step(scheme_musl, particles, grid, config%dt, config%youngs_modulus, totals)
-            end select
-            ! the per-step diagnostics run_simulation makes
-            ucm = totals%displacement/particles%count
+            ! the step and the per-step diagnostics run_simulation makes
+            if (generic) then
+               call scheme_step(scheme, bar, cache, particles, grid, config%dt, config%youngs_modulus, &
+                                (n - 1)*config%dt, totals)
+               ucm = totals%displacement/total_mass
+            else
+               call fused_step(scheme, particles, grid, config%dt, config%youngs_modulus, totals)
+               ucm = totals%displacement/particles%count
+            end if
             worst = max(worst, abs(ucm - bar%ucm_exact(n*config%dt)))
          end do
          seconds = omp_get_wtime() - start

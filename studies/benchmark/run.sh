@@ -35,6 +35,18 @@ for scheme in usf usl musl; do
   done
 done
 
+echo "== generic path against the fused kernels (paired, one thread)" >&2
+echo "kernels,scheme,elements,ppc,particles,threads,steps,repeat,seconds,particle_steps_per_s" > "$out/generic.csv"
+for scheme in usf usl musl; do
+  for n in 1000 10000 100000 1000000; do
+    for r in $(seq "$REPEATS"); do
+      for kernels in fused generic; do  # alternately, so that both see the same load
+        "$bench" throughput $scheme $((n / 10)) 10 $((20000000 / n)) 1 1 $kernels | sed "s/^/$kernels,/" >> "$out/generic.csv"
+      done
+    done
+  done
+done
+
 echo "== threads inside one run" >&2
 head -n 1 "$out/throughput.csv" > "$out/threads.csv"
 for scheme in usf usl musl; do
@@ -80,6 +92,12 @@ for n in 1000 10000000; do
   rss=$( { /usr/bin/time -v "$bench" throughput usl $((n / 10)) 10 2 1 1 >/dev/null; } 2>&1 \
          | awk -F: '/Maximum resident set size/ {gsub(/ /, "", $2); print $2}')
   echo "$n,$((n / 10)),$rss" >> "$out/memory.csv"
+done
+echo "particles,elements,max_rss_kib" > "$out/memory_generic.csv"
+for n in 1000 1000000; do
+  rss=$( { /usr/bin/time -v "$bench" throughput usl $((n / 10)) 10 2 1 1 generic >/dev/null; } 2>&1 \
+         | awk -F: '/Maximum resident set size/ {gsub(/ /, "", $2); print $2}')
+  echo "$n,$((n / 10)),$rss" >> "$out/memory_generic.csv"
 done
 
 "$PYTHON" studies/benchmark/report.py "$out"
