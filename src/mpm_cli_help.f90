@@ -1,6 +1,8 @@
 !> The text of `mpm1d --help`: usage and the namelist reference.
 module mpm_cli_help
    use mpm_version, only: code_version
+   use mpm_config, only: config_t, config_parameters, config_groups, group_help
+   use mpm_registry, only: parameter_t, parameter_help
    implicit none
    private
    public :: print_help
@@ -9,6 +11,9 @@ contains
 
    subroutine print_help(unit)
       integer, intent(in) :: unit
+      type(config_t), target :: local
+      type(parameter_t), allocatable :: table(:)
+      integer :: i
       write (unit, '(a)') code_version//' - Material Point Method in one dimension', &
          '', &
          'usage:', &
@@ -17,24 +22,14 @@ contains
          '  mpm1d input.nml       run what the namelist file describes', &
          '  mpm1d --help          this text;  mpm1d --version  the code version', &
          '', &
-         'namelist groups (all optional; defaults shown):', &
-         "  &scene kind='vibrating_bar', length=25.0, youngs_modulus=200.0e9, density=7800.0,", &
-         '         velocity_amplitude=0.1, mode=1 /', &
-         '      length (m) > 0, youngs_modulus (Pa) > 0, density (kg/m^3) > 0, velocity_amplitude v0 (m/s)', &
-         '      finite, mode n >= 1: v(x,0) = v0 sin(beta_n x), beta_n = (2n-1) pi / (2 length)', &
-         "  &discretisation scheme='usl', elements=20, particles_per_element=1, dt_fraction=0.1 /", &
-         "      scheme: 'usf', 'usl' or 'musl'; elements >= 1; particles_per_element >= 1;", &
-         '      dt = dt_fraction * dx / c, c = sqrt(youngs_modulus/density), 0 < dt_fraction <= 10', &
-         '      margin_cells=-1: empty grid cells beyond each free end (-1: expected motion + 2 cells; >= 0)', &
-         "      kernels='auto': fused linear kernels where they apply; 'generic': the generic layered path", &
-         '  &run periods=2.0 /      or  &run end_time=0.0395 /  (seconds; give one of the two)', &
-         '      periods of the simulated mode, 2 pi / omega_n each; steps = smallest n with n dt >= end time', &
-         "  &output file='bar.h5', history=.true., snapshot_times=0.0, 0.01 /", &
-         '      history: write u_cm(t), exact u_cm(t) and energies at every step;', &
-         '      snapshot_times (s): particle and grid state at these times (none by default)', &
-         '  &guards energy_growth_limit=10.0, max_cell_move=1.0 /', &
-         '      a run stops (exit 1, history kept) on NaN/Infinity, J <= 0, a particle leaving the grid,', &
-         '      total energy above energy_growth_limit x initial, or a move of more than max_cell_move cells', &
+         'namelist groups (all optional; each variable with its default, what it means and what it allows):'
+      local = config_t()
+      call config_parameters(local, table)
+      do i = 1, size(config_groups)
+         write (unit, '(a)') '  &'//trim(config_groups(i))//': '//group_help(trim(config_groups(i)))
+         write (unit, '(a)', advance='no') parameter_help(table, trim(config_groups(i)))
+      end do
+      write (unit, '(a)') &
          '  &sweep schemes=..., elements=..., particles_per_element=..., dt_fractions=..., youngs_moduli=...,', &
          '         densities=..., velocity_amplitudes=..., modes=..., min_time=0.02, threads=0,', &
          '         timing_threads=1, histories=.false., shard=1, shards=1 /', &
