@@ -2,17 +2,19 @@
 module mpm_cli_help
    use mpm_version, only: code_version
    use mpm_config, only: config_t, config_parameters, config_groups, group_help
-   use mpm_registry, only: parameter_t, parameter_help
+   use mpm_registry, only: parameter_t, parameter_help, parameter_listing
+   use mpm_sweep, only: sweep_config_t, sweep_parameters
    implicit none
    private
-   public :: print_help
+   public :: print_help, print_parameters
 
 contains
 
    subroutine print_help(unit)
       integer, intent(in) :: unit
       type(config_t), target :: local
-      type(parameter_t), allocatable :: table(:)
+      type(parameter_t), allocatable :: table(:), sweep_table(:)
+      type(sweep_config_t), target :: settings
       integer :: i
       write (unit, '(a)') code_version//' - Material Point Method in one dimension', &
          '', &
@@ -21,6 +23,7 @@ contains
          '                        element, 10% of dx/c, USL, 2 periods) and write bar.h5', &
          '  mpm1d input.nml       run what the namelist file describes', &
          '  mpm1d --help          this text;  mpm1d --version  the code version', &
+         '  mpm1d --list-parameters   the parameter registry, tab-separated (what /config/parameters holds)', &
          '', &
          'namelist groups (all optional; each variable with its default, what it means and what it allows):'
       local = config_t()
@@ -29,15 +32,30 @@ contains
          write (unit, '(a)') '  &'//trim(config_groups(i))//': '//group_help(trim(config_groups(i)))
          write (unit, '(a)', advance='no') parameter_help(table, trim(config_groups(i)))
       end do
+      write (unit, '(a)') '  &sweep: every combination of the lists below (the last varies fastest); one HDF5 table '// &
+         '(see README.md)', '    lists (values of the variable named; a list left out holds its base value):'
+      do i = 1, size(table)
+         if (len_trim(table(i)%sweep_list) > 0) write (unit, '(a)') '      '//trim(table(i)%sweep_list)//' = '// &
+            trim(table(i)%group)//'.'//trim(table(i)%name)//' values'
+      end do
+      call sweep_parameters(settings, sweep_table)
+      write (unit, '(a)', advance='no') parameter_help(sweep_table, 'sweep')
       write (unit, '(a)') &
-         '  &sweep schemes=..., elements=..., particles_per_element=..., dt_fractions=..., youngs_moduli=...,', &
-         '         densities=..., velocity_amplitudes=..., modes=..., min_time=0.02, threads=0,', &
-         '         timing_threads=1, histories=.false., shard=1, shards=1 /', &
-         '      every combination of the lists; one HDF5 table (see README.md)', &
          '', &
          'sweeps: mpm1d sweep.nml [--shard I/N] [--threads N];  mpm1d merge OUT.h5 SHARD.h5 ...', &
          '', &
          'exit codes: 0 done; 1 a guard stopped the run (history so far written); 2 bad input; 3 output failed.', &
          'Every problem in the input is reported with the variable and its allowed range; nothing is written then.'
    end subroutine print_help
+
+   !> The whole registry (the run's variables, then the &sweep settings), tab-separated, one line each.
+   subroutine print_parameters(unit)
+      integer, intent(in) :: unit
+      type(config_t), target :: local
+      type(sweep_config_t), target :: settings
+      type(parameter_t), allocatable :: table(:), sweep_table(:)
+      call config_parameters(local, table)
+      call sweep_parameters(settings, sweep_table)
+      write (unit, '(a)') parameter_listing([table, sweep_table])
+   end subroutine print_parameters
 end module mpm_cli_help

@@ -12,13 +12,11 @@ module mpm_config
    implicit none
    private
    public :: config_t, read_config, validate_config, resolve_config, write_config_namelist, config_namelist
-   public :: default_config, config_summary, known_schemes, is_known_scheme
-   public :: max_snapshots, unset, read_group_error, check_output_path, group_text
+   public :: default_config, config_summary, known_schemes
+   public :: max_snapshots, unset, check_output_path
    public :: config_parameters, config_groups, group_help
    public :: step_count, stability_limit
 
-   character(len=*), parameter :: identifier_characters = &
-                                  'abcdefghijklmnopqrstuvwxyzABCDEFGHIJKLMNOPQRSTUVWXYZ0123456789_'
    !> Sentinel for "not given" reals; no physical input takes this value.
    real(dp), parameter :: unset = -huge(1.0_dp)
    !> Most snapshot times one run accepts.
@@ -82,16 +80,6 @@ contains
       config = config_t()
       call resolve_config(config)
    end function default_config
-
-   logical function is_known_scheme(scheme)
-      character(len=*), intent(in) :: scheme
-      select case (trim(scheme))
-      case ('usf', 'usl', 'musl')
-         is_known_scheme = .true.
-      case default
-         is_known_scheme = .false.
-      end select
-   end function is_known_scheme
 
    !> The registry of the run's input: one entry per namelist variable, bound to its field of
    !> `config` (which must stay in place while the table is used). Adding a variable: a field of
@@ -215,103 +203,6 @@ contains
          if (present(extra_groups)) text = ', '//join(extra_groups)
       end function extra_list
    end subroutine read_config
-
-   !> The message for a failed namelist read: file, group, and the variable at fault.
-   !> gfortran reports only the token it could not match ("Cannot match namelist object name X");
-   !> X followed by '=' is an unknown name, otherwise it is the tail of a bad value and the culprit
-   !> is the variable assigned just before it.
-   function read_group_error(path, group, names, stat, msg) result(text)
-      character(len=*), intent(in) :: path, group, names, msg
-      integer, intent(in) :: stat
-      character(len=:), allocatable :: text, body, token, variable
-      character(len=*), parameter :: no_match = 'Cannot match namelist object name '
-      integer :: k, j, start
-      text = trim(path)//": group &"//trim(group)//": "
-      if (stat < 0) then
-         text = text//"not terminated by '/' (end of file reached)"
-         return
-      end if
-      k = index(msg, no_match)
-      if (k == 0) then
-         ! e.g. "Integer overflow while reading item 1": name the variables the group assigns
-         text = text//trim(msg)//" (variables given: "//assigned_names(lower(group_text(path, group)))//")"
-         return
-      end if
-      token = lower(trim(msg(k + len(no_match):)))
-      body = lower(group_text(path, group))
-      k = index(body, token)
-      if (k == 0) then
-         text = text//trim(msg)
-         return
-      end if
-      if (index(adjustl(body(k + len(token):)), '=') == 1) then
-         text = text//"unknown variable '"//token//"'; allowed names: "//names
-         return
-      end if
-      j = index(body(1:k - 1), '=', back=.true.)
-      start = j - 1
-      do while (start > 1)
-         if (body(start:start) /= ' ') exit
-         start = start - 1
-      end do
-      variable = ''
-      do while (start >= 1)
-         if (scan(body(start:start), identifier_characters) == 0) exit
-         variable = body(start:start)//variable
-         start = start - 1
-      end do
-      text = text//"bad value for '"//variable//"' near '"//token// &
-             "': not of the variable's type (integers take no decimal point, text needs quotes)"
-   end function read_group_error
-
-   !> The names assigned (`name =`) in a group's text, comma separated.
-   function assigned_names(body) result(names)
-      character(len=*), intent(in) :: body
-      character(len=:), allocatable :: names
-      integer :: i, start, end
-      names = ''
-      do i = 1, len(body)
-         if (body(i:i) /= '=') cycle
-         if (index(body(1:i), '/') > 0) exit ! end of the group
-         end = i - 1
-         do while (end > 1)
-            if (body(end:end) /= ' ') exit
-            end = end - 1
-         end do
-         start = end
-         do while (start > 1)
-            if (scan(body(start - 1:start - 1), identifier_characters) == 0) exit
-            start = start - 1
-         end do
-         if (len(names) > 0) names = names//', '
-         names = names//body(start:end)
-      end do
-   end function assigned_names
-
-   !> The text of group &group in file `path`, from '&group' up to the end of the file (for messages).
-   function group_text(path, group) result(text)
-      character(len=*), intent(in) :: path, group
-      character(len=:), allocatable :: text
-      character(len=4096) :: line
-      integer :: unit, stat, k
-      logical :: inside
-      text = ''
-      inside = .false.
-      open (newunit=unit, file=path, status='old', action='read', iostat=stat)
-      if (stat /= 0) return
-      do
-         read (unit, '(a)', iostat=stat) line
-         if (stat /= 0) exit
-         if (.not. inside) then
-            k = index(lower(line), '&'//trim(group))
-            if (k == 0) cycle
-            inside = .true.
-            line = line(k + len_trim(group) + 1:)
-         end if
-         text = text//' '//trim(line)
-      end do
-      close (unit)
-   end function group_text
 
    !> Check every value; append one line per problem to `error`, naming the variable and range.
    !> `with_system = .false.` skips the checks against the machine (memory available, output folder),

@@ -74,6 +74,10 @@ module mpm_registry
    !> The values of one &sweep list, typed as the variable it varies.
    type :: value_list_t
       character(len=32) :: name = ''
+      !> The variable it varies: its index in the table, its /cases column and its text width.
+      integer :: entry = 0
+      character(len=32) :: column = ''
+      integer :: width = 0
       integer :: type = type_real
       real(dp), allocatable :: reals(:)
       integer, allocatable :: ints(:)
@@ -581,8 +585,9 @@ contains
       integer, target :: i
       character(len=:), allocatable, target :: t
       integer :: k, given
-      list%name = name
-      list%type = p%type
+      r = 0.0_dp
+      i = 0
+      call describe_list(list, p, name)
       given = count(.not. values%null)
       if (given == 0) then
          call append_error(error, where//"sweep: "//trim(name)//" is an empty list; allowed: one or more values")
@@ -611,8 +616,14 @@ contains
             allocate (character(len=len(p%text_value)) :: t)
             one%text_value => t
          end select
+         given = 0
+         if (allocated(error)) given = len(error%message)
          call set_parameter(one, values(k:k), where, error)
-         call check_parameter(one, error)
+         if (.not. allocated(error)) then
+            call check_parameter(one, error, where)
+         else if (len(error%message) == given) then
+            call check_parameter(one, error, where)
+         end if
          select case (p%type)
          case (type_real)
             list%reals(k) = r
@@ -630,8 +641,7 @@ contains
       type(parameter_t), intent(in) :: p
       character(len=*), intent(in) :: name
       type(value_list_t) :: list
-      list%name = name
-      list%type = p%type
+      call describe_list(list, p, name)
       allocate (list%reals(1), list%ints(1), list%texts(1))
       list%reals = 0.0_dp
       list%ints = 0
@@ -645,6 +655,16 @@ contains
          list%texts = p%text_value
       end select
    end function single_value_list
+
+   subroutine describe_list(list, p, name)
+      type(value_list_t), intent(inout) :: list
+      type(parameter_t), intent(in) :: p
+      character(len=*), intent(in) :: name
+      list%name = name
+      list%type = p%type
+      list%column = p%attribute
+      if (p%type == type_text) list%width = len(p%text_value)
+   end subroutine describe_list
 
    !> Number of values of a list.
    pure integer function list_size(list)

@@ -10,6 +10,8 @@ program test_registry
    use mpm_output, only: write_config_attributes
    use mpm_hdf5, only: h5_writer_t, h5_exists
    use mpm_testing, only: tester_t, scratch_dir, run_app
+   use mpm_sweep, only: sweep_t, read_sweep, case_config
+   use mpm_sweep_output, only: write_sweep_file
    implicit none
    type(tester_t) :: t
    character(len=:), allocatable :: dir
@@ -20,6 +22,7 @@ program test_registry
    call reader_syntax()
    call echo_reproduces()
    call messages()
+   call sweep_over_lists()
    call t%finish()
 
 contains
@@ -120,7 +123,7 @@ contains
                       '&scene length=0.1234567890123456789, youngs_modulus=3.3e-3, density=7.1e-5 /', &
                       "&discretisation scheme='musl', elements=7, dt_fraction=0.333333333333333333 /", &
                       '&run periods=1.1 /', &
-                      "&output file='"//dir//"/odd.h5', snapshot_times=0.0, 1.0e-9 /"])
+                      "&output file='odd.h5', snapshot_times=0.0, 1.0e-9 /"])
       call read_config(dir//'/odd.nml', first, error)
       call t%check('odd values read', .not. allocated(error))
       if (allocated(error)) then
@@ -173,4 +176,56 @@ contains
       call t%check_contains('text longer than the field', error%message, 'is longer than 8 characters')
       call t%check_contains('list longer than allowed', error%message, "'snapshot_times' has 65 values; allowed: up to 64")
    end subroutine messages
+
+   !> The lists of the registry's sweepable variables combine as nested loops, the last list fastest;
+   !> every sweepable variable is a /cases column; list values are checked as the variable is.
+   subroutine sweep_over_lists()
+      type(sweep_t) :: sweep
+      type(config_t) :: c
+      type(config_t), target :: defaults
+      type(parameter_t), allocatable :: table(:)
+      type(error_t), allocatable :: error
+      integer :: k, i
+      logical :: in_order
+      call write_text('sweep.nml', [character(len=100) :: "&output file='sweep.h5' /", &
+                      "&sweep modes=1, 2, 3, schemes='usf', 'MUSL',", &
+                      '       densities=7800, 1000, min_time=0 /'])
+      call read_sweep(dir//'/sweep.nml', sweep, error, 0, 0, 1)
+      call t%check('sweep over three lists read', .not. allocated(error))
+      if (allocated(error)) then
+         print '(a)', error%message
+         return
+      end if
+      call t%check('2 schemes x 2 densities x 3 modes = 12 cases', sweep%total_cases == 12 .and. size(sweep%cases) == 12)
+      in_order = .true.
+      do k = 1, 12
+         c = case_config(sweep, sweep%cases(k))
+         ! schemes is the outer loop, densities the middle, modes (the last list) the fastest
+         if (c%scheme /= merge('usf ', 'musl', k <= 6)) in_order = .false.
+         if (c%density /= merge(7800.0_dp, 1000.0_dp, mod((k - 1)/3, 2) == 0)) in_order = .false.
+         if (c%mode /= mod(k - 1, 3) + 1) in_order = .false.
+         if (c%elements /= 20 .or. c%youngs_modulus /= 200.0e9_dp) in_order = .false.
+      end do
+      call t%check('cases in loop order, the last list fastest', in_order)
+      call write_sweep_file(dir//'/sweep.h5', sweep, error) ! (the namelist's file is relative to the run's folder)
+      call t%check('sweep file written', .not. allocated(error))
+      call config_parameters(defaults, table)
+      do i = 1, size(table)
+         if (len_trim(table(i)%sweep_list) == 0) cycle
+         call t%check('/cases has the column '//trim(table(i)%attribute), &
+                      h5_exists(dir//'/sweep.h5', '/cases/'//trim(table(i)%attribute)))
+      end do
+
+      call write_text('badsweep.nml', [character(len=100) :: "&sweep modes=1, 0, schemes='usf', 'xyz',", &
+                      '       dt_fraction=0.1, densities=1.0, , 2.0, shards=0 /'])
+      call read_sweep(dir//'/badsweep.nml', sweep, error, 0, 0, 1)
+      call t%check('bad sweep refused', allocated(error))
+      if (.not. allocated(error)) return
+      call t%check_contains('list value out of range', error%message, 'sweep: modes(2) = 0 is out of range; allowed: integer >= 1')
+      call t%check_contains('list value unknown', error%message, "sweep: schemes(2) = 'xyz' is unknown")
+      call t%check_contains('misspelled list: names the lists', error%message, &
+                            "badsweep.nml:2: group &sweep: unknown variable 'dt_fraction'; allowed names: schemes,")
+      call t%check_contains('gap in a list', error%message, 'densities has a gap')
+      call t%check_contains('all at once: settings too', error%message, 'shards = 0 is out of range')
+   end subroutine sweep_over_lists
 end program test_registry
