@@ -1098,14 +1098,14 @@ contains
       text = text//' /'
    end function group_namelist
 
-   !> The table as tab-separated lines with a header: group, name, attribute, type, unit, default,
+   !> The table as tab-separated lines with a header: group, name, attribute, type, unit, value,
    !> allowed, sweep list, help. Read by the Python loader (postprocess/mpm1d_io.py).
    function parameter_listing(table) result(text)
       type(parameter_t), intent(in) :: table(:)
       character(len=:), allocatable :: text
       character(len=*), parameter :: tab = achar(9), nl = new_line('a')
       integer :: i
-      text = 'group'//tab//'name'//tab//'attribute'//tab//'type'//tab//'unit'//tab//'default'//tab//'allowed'// &
+      text = 'group'//tab//'name'//tab//'attribute'//tab//'type'//tab//'unit'//tab//'value'//tab//'allowed'// &
              tab//'sweep_list'//tab//'help'
       do i = 1, size(table)
          associate (p => table(i))
