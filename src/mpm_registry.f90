@@ -18,7 +18,7 @@ module mpm_registry
    public :: parameter_t, nml_value_t, nml_item_t
    public :: real_entry, int_entry, text_entry, logical_entry, real_list_entry
    public :: type_real, type_int, type_text, type_logical, type_real_list, type_name
-   public :: read_namelist, apply_items, set_parameter, check_parameter, allowed_text
+   public :: read_namelist, parse_namelist, apply_items, set_parameter, check_parameter, allowed_text
    public :: value_list_t, read_value_list, single_value_list, set_from_list, list_text
    public :: format_value, quoted, real_value, int_value, text_value, find_parameter, group_namelist
    public :: parameter_listing, parameter_help, short_number, entry_names
@@ -717,12 +717,10 @@ contains
       character(len=32), allocatable, intent(out) :: groups(:)
       integer, allocatable, intent(out) :: group_lines(:)
       type(error_t), allocatable, intent(out) :: error
-      character(len=:), allocatable :: text, group
-      integer, allocatable :: line_of(:)
-      integer :: pos, n, group_line, unit, stat
+      character(len=:), allocatable :: text
+      integer :: n, unit, stat
       logical :: is_folder
       character(len=512) :: msg
-      type(nml_item_t) :: item
 
       allocate (items(0), groups(0), group_lines(0))
       inquire (file=trim(path)//'/.', exist=is_folder)
@@ -745,6 +743,25 @@ contains
          call set_error(error, "cannot read input file '"//trim(path)//"': "//trim(msg))
          return
       end if
+      call parse_namelist(text, path, items, groups, group_lines, error)
+   end subroutine read_namelist
+
+   !> Parse namelist `text` (from `source`, named in messages as "source:line: ") into assignments.
+   !> Also the way for other text to reach the registry, e.g. a command-line override
+   !> `group.name=value` given as "&group name=value /".
+   subroutine parse_namelist(text, source, items, groups, group_lines, error)
+      character(len=*), intent(in) :: text, source
+      type(nml_item_t), allocatable, intent(out) :: items(:)
+      character(len=32), allocatable, intent(out) :: groups(:)
+      integer, allocatable, intent(out) :: group_lines(:)
+      type(error_t), allocatable, intent(out) :: error
+      character(len=:), allocatable :: group, path
+      integer, allocatable :: line_of(:)
+      integer :: pos, group_line
+      type(nml_item_t) :: item
+
+      path = source
+      allocate (items(0), groups(0), group_lines(0))
       allocate (line_of(len(text) + 1))
       line_of(1) = 1
       do pos = 2, len(text) + 1
@@ -1012,7 +1029,7 @@ contains
             deallocate (item%values)
          end if
       end subroutine finish_item
-   end subroutine read_namelist
+   end subroutine parse_namelist
 
    !> Apply the assignments of `group` to `table`: unknown and repeated names and values that do
    !> not convert are reported, with file and line.

@@ -122,11 +122,12 @@ contains
       integer :: i, j, k
       character(len=:), allocatable :: where
       type(config_t), target :: defaults
+      type(error_t), allocatable :: syntax_error
 
+      ! The base groups' problems (syntax included) and the &sweep group's are reported together.
       call read_config(path, study%base, error, extra_groups=['sweep'])
-      if (allocated(error)) return
-      call read_namelist(path, items, groups, group_lines, error)
-      if (allocated(error)) return
+      call read_namelist(path, items, groups, group_lines, syntax_error)
+      if (allocated(syntax_error) .and. .not. allocated(error)) error = syntax_error
       defaults = study%base
       call config_parameters(defaults, base)
       call sweep_parameters(study%settings, settings)

@@ -6,11 +6,11 @@ program test_registry
    use mpm_kinds, only: dp
    use mpm_errors, only: error_t
    use mpm_config, only: config_t, read_config, config_parameters, config_namelist
-   use mpm_registry, only: parameter_t
+   use mpm_registry, only: parameter_t, nml_item_t, parse_namelist, apply_items, check_parameter
    use mpm_output, only: write_config_attributes
    use mpm_hdf5, only: h5_writer_t, h5_exists
    use mpm_testing, only: tester_t, scratch_dir, run_app
-   use mpm_sweep, only: sweep_t, read_sweep, case_config
+   use mpm_sweep, only: sweep_t, sweep_config_t, read_sweep, case_config, sweep_parameters
    use mpm_sweep_output, only: write_sweep_file
    implicit none
    type(tester_t) :: t
@@ -23,6 +23,7 @@ program test_registry
    call echo_reproduces()
    call messages()
    call sweep_over_lists()
+   call text_through_the_registry()
    call t%finish()
 
 contains
@@ -41,7 +42,8 @@ contains
    !> exclude each other: one configuration gives each).
    subroutine every_entry_everywhere()
       type(config_t), target :: config, by_time
-      type(parameter_t), allocatable :: table(:)
+      type(parameter_t), allocatable :: table(:), sweep_table(:)
+      type(sweep_config_t), target :: settings
       character(len=:), allocatable :: help, echo
       integer :: i, status
       config = config_t()
@@ -65,6 +67,11 @@ contains
             trim(table(i)%sweep_list), help, '&sweep '//trim(table(i)%sweep_list))
       end do
       call t%check('/config carries the registry', h5_exists(dir//'/config.h5', '/config', 'parameters'))
+      call sweep_parameters(settings, sweep_table)
+      do i = 1, size(sweep_table)
+         call t%check_contains('--help names sweep.'//trim(sweep_table(i)%name), help, &
+                               '    '//trim(sweep_table(i)%name)//' = ')
+      end do
       call t%check('an unset end_time is not written', .not. h5_exists(dir//'/config.h5', '/config', &
                                                                                  'end_time'))
    end subroutine every_entry_everywhere
@@ -216,7 +223,8 @@ contains
                       h5_exists(dir//'/sweep.h5', '/cases/'//trim(table(i)%attribute)))
       end do
 
-      call write_text('badsweep.nml', [character(len=100) :: "&sweep modes=1, 0, schemes='usf', 'xyz',", &
+      call write_text('badsweep.nml', [character(len=100) :: "&scene density=-1.0 /", &
+                      "&sweep modes=1, 0, schemes='usf', 'xyz',", &
                       '       dt_fraction=0.1, densities=1.0, , 2.0, shards=0 /'])
       call read_sweep(dir//'/badsweep.nml', sweep, error, 0, 0, 1)
       call t%check('bad sweep refused', allocated(error))
@@ -224,8 +232,36 @@ contains
       call t%check_contains('list value out of range', error%message, 'sweep: modes(2) = 0 is out of range; allowed: integer >= 1')
       call t%check_contains('list value unknown', error%message, "sweep: schemes(2) = 'xyz' is unknown")
       call t%check_contains('misspelled list: names the lists', error%message, &
-                            "badsweep.nml:2: group &sweep: unknown variable 'dt_fraction'; allowed names: schemes,")
+                            "badsweep.nml:3: group &sweep: unknown variable 'dt_fraction'; allowed names: schemes,")
       call t%check_contains('gap in a list', error%message, 'densities has a gap')
       call t%check_contains('all at once: settings too', error%message, 'shards = 0 is out of range')
+      call t%check_contains('all at once: the base groups too', error%message, &
+                            'badsweep.nml:1: scene: density = -1.0 is out of range')
    end subroutine sweep_over_lists
+
+   !> Text that is not a file (as a command-line override `discretisation.elements=40` will be)
+   !> goes through the same reader, setter and checks.
+   subroutine text_through_the_registry()
+      type(config_t), target :: config
+      type(parameter_t), allocatable :: table(:)
+      type(nml_item_t), allocatable :: items(:)
+      character(len=32), allocatable :: groups(:)
+      integer, allocatable :: lines(:)
+      type(error_t), allocatable :: error
+      integer :: i
+      config = config_t()
+      call config_parameters(config, table)
+      call parse_namelist("&discretisation elements=40, scheme='MUSL' /", 'override', items, groups, lines, error)
+      call apply_items(table, items, 'discretisation', 'override', error)
+      call t%check('override applied', .not. allocated(error) .and. config%elements == 40 .and. config%scheme == 'musl')
+      call parse_namelist('&discretisation elements=0 /', 'override', items, groups, lines, error)
+      call config_parameters(config, table)
+      call apply_items(table, items, 'discretisation', 'override', error)
+      do i = 1, size(table)
+         if (table(i)%line > 0) call check_parameter(table(i), error, 'override: ')
+      end do
+      call t%check('bad override refused', allocated(error))
+      if (allocated(error)) call t%check_contains('bad override named', error%message, &
+                                                  'override: discretisation: elements = 0 is out of range')
+   end subroutine text_through_the_registry
 end program test_registry
