@@ -884,6 +884,11 @@ contains
                call finish_item()
                return
             end if
+            if (end_marker()) then ! the older terminator '&end'
+               pos = pos + 4
+               call finish_item()
+               return
+            end if
             if (text(pos:pos) == '&') then
                call append_error(error, where(pos)//"group &"//group//": not terminated by '/' before the next group")
                call finish_item()
@@ -949,6 +954,15 @@ contains
             after_value = .true.
          end do
       end subroutine read_group
+
+      !> Is '&end' (not followed by a name character) at pos?
+      logical function end_marker()
+         end_marker = .false.
+         if (pos + 3 > len(text)) return
+         if (lower(text(pos:pos + 3)) /= '&end') return
+         end_marker = .true.
+         if (pos + 4 <= len(text)) end_marker = index(identifier_characters, text(pos + 4:pos + 4)) == 0
+      end function end_marker
 
       logical function quote_at(k)
          integer, intent(in) :: k

@@ -101,7 +101,7 @@ contains
                       "&discretisation scheme='USF' elements=4 particles_per_element=3 /", &
                       '&run end_time=0.01 /', &
                       '&output file="a ""b"" it''s.h5", history=F, snapshot_times=2*0.0, 0.005 /', &
-                      '&guards max_cell_move=0.5 /'])
+                      '&guards max_cell_move=0.5', '&end'])
       call read_config(dir//'/syntax.nml', config, error)
       call t%check('syntax file read', .not. allocated(error))
       if (allocated(error)) then
@@ -118,7 +118,7 @@ contains
       call t%check('logical F', .not. config%history)
       call t%check('repeat count 2*0.0', config%snapshot_count == 3 .and. &
                    all(config%snapshot_times(1:3) == [0.0_dp, 0.0_dp, 0.005_dp]))
-      call t%check('guards read', config%max_cell_move == 0.5_dp)
+      call t%check('guards read, ended by &end', config%max_cell_move == 0.5_dp)
    end subroutine reader_syntax
 
    !> Reading the echo gives the same configuration, bit for bit.
