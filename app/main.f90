@@ -1,5 +1,5 @@
 !> mpm1d command line: `mpm1d [input.nml] [--shard I/N] [--threads N]`, `mpm1d merge OUT IN...`,
-!> `mpm1d --help`, `mpm1d --version`. An input file with a &sweep group runs a sweep.
+!> `mpm1d --help`, `mpm1d --list-parameters`, `mpm1d --version`. An input file with a &sweep group runs a sweep.
 !> Parses arguments, calls the library, prints messages and sets the exit code:
 !> 0 success, 1 a guard stopped the run (its history is still written), 2 bad input or usage,
 !> 3 output could not be written.
@@ -13,8 +13,8 @@ program mpm1d_main
    use mpm_output, only: write_run_file
    use mpm_diagnostics, only: status_ok
    use mpm_version, only: code_version
-   use mpm_cli_help, only: print_help
-   use mpm_sweep, only: sweep_t, read_sweep, run_sweep, has_sweep_group
+   use mpm_cli_help, only: print_help, print_parameters
+   use mpm_sweep, only: sweep_t, read_sweep, run_sweep, has_sweep_group, case_config
    use mpm_sweep_output, only: write_sweep_file, merge_sweep_files
    implicit none
 
@@ -30,6 +30,9 @@ program mpm1d_main
       select case (input)
       case ('-h', '--help')
          call print_help(output_unit)
+         stop
+      case ('--list-parameters')
+         call print_parameters(output_unit)
          stop
       case ('-V', '--version')
          write (output_unit, '(a)') code_version
@@ -110,8 +113,8 @@ contains
       end if
       above = 0
       do i = 1, size(sweep%cases)
-         if (sweep%cases(i)%dt_fraction > stability_limit(sweep%cases(i)%scheme, &
-                                                          sweep%cases(i)%particles_per_element)) above = above + 1
+         config = case_config(sweep, sweep%cases(i))
+         if (config%dt_fraction > stability_limit(config%scheme, config%particles_per_element)) above = above + 1
       end do
       if (above > 0) write (error_unit, '(a)') 'mpm1d: warning: '//str(above)//' cases ask for a time step '// &
          'above their scheme''s linear stability limit (see studies/stability); guards will stop them if they grow'

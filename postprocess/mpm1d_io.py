@@ -7,6 +7,11 @@ Strings are written by Fortran as fixed-length, space-padded byte strings; they 
 as stripped Python ``str`` (or numpy arrays of ``str``). Scalars come back as Python numbers and
 1-D datasets as numpy arrays.
 
+What the input parameters are is not listed here: mpm1d writes its parameter registry into every
+file (``/config`` attribute ``parameters``, the text ``mpm1d --list-parameters`` prints), and the
+loader takes from it which ``/config`` attributes a file must hold and which ``/cases`` columns
+are swept variables. Files written before the registry existed are read as they come.
+
     >>> run = load_run('usf.h5')             # doctest: +SKIP
     >>> run.scheme, run.elements, run.summary['max_error']
     >>> sweep = load_sweep('sweep_usf.h5')   # doctest: +SKIP
@@ -27,8 +32,8 @@ except ImportError as exc:  # pragma: no cover - depends on the installation
     raise ImportError("mpm1d post-processing needs h5py (Debian: apt install python3-h5py; "
                       "use /usr/bin/python3)") from exc
 
-__all__ = ['Mpm1dFileError', 'Run', 'Snapshot', 'Sweep', 'load_run', 'load_sweep',
-           'merge_sweeps', 'STATUS_OK', 'STATUS_NOT_RUN']
+__all__ = ['Mpm1dFileError', 'Parameter', 'Run', 'Snapshot', 'Sweep', 'load_run', 'load_sweep',
+           'merge_sweeps', 'parse_parameters', 'STATUS_OK', 'STATUS_NOT_RUN']
 
 #: Status of a run that completed (``/summary/status``, ``/cases/status``).
 STATUS_OK = 0
@@ -41,13 +46,50 @@ SUMMARY_DATASETS = ('max_error', 'relative_error', 'ucm_amplitude', 'steps', 'st
                     'particles', 'dt', 'run_time', 'status', 'status_name', 'message',
                     'initial_energy', 'final_energy', 'max_energy_ratio', 'min_volume_ratio',
                     'max_cell_move', 'min_node_mass_ratio')
-CASE_DATASETS = ('scheme', 'elements', 'particles_per_element', 'dt_fraction', 'youngs_modulus',
-                 'density', 'velocity_amplitude', 'mode', 'steps', 'dt', 'max_error',
-                 'relative_error', 'run_time', 'repeats', 'status', 'status_name',
-                 'max_energy_ratio', 'final_energy_ratio', 'particles')
-#: Configuration attributes the figures rely on (others are kept as they come).
-CONFIG_ATTRIBUTES = ('scheme', 'elements', 'particles_per_element', 'dt_fraction', 'length',
-                     'velocity_amplitude', 'mode')
+#: Result columns of ``/cases`` (the swept parameters' columns come from the file's registry).
+RESULT_DATASETS = ('steps', 'dt', 'max_error', 'relative_error', 'run_time', 'repeats', 'status',
+                   'status_name', 'max_energy_ratio', 'final_energy_ratio', 'particles')
+
+
+@dataclass(frozen=True)
+class Parameter:
+    """One entry of mpm1d's parameter registry (a line of ``mpm1d --list-parameters``).
+
+    ``value`` is the value in the file's run (the default in ``--list-parameters``); an empty
+    ``value`` of a real is an optional variable left unset (e.g. ``end_time`` when ``periods`` is
+    given), which has no ``/config`` attribute."""
+    group: str
+    name: str
+    attribute: str
+    type: str
+    unit: str
+    value: str
+    allowed: str
+    sweep_list: str
+    help: str
+
+    @property
+    def written(self) -> bool:
+        """Whether the run's ``/config`` holds this variable."""
+        return not (self.type == 'real' and self.value == '')
+
+
+def parse_parameters(text: str) -> List[Parameter]:
+    """The registry from its tab-separated text (header line first)."""
+    lines = [line for line in text.splitlines() if line.strip()]
+    if not lines:
+        return []
+    header = lines[0].split('\t')
+    fields = [f.name for f in Parameter.__dataclass_fields__.values()]
+    if len(header) != len(fields):
+        raise ValueError(f'unexpected parameter table header: {lines[0]!r}')
+    rows = []
+    for line in lines[1:]:
+        cells = line.split('\t')
+        if len(cells) != len(fields):
+            raise ValueError(f'malformed parameter table line: {line!r}')
+        rows.append(Parameter(*cells))
+    return rows
 
 
 class Mpm1dFileError(Exception):
@@ -135,14 +177,22 @@ def _open(path: str, content: str) -> 'h5py.File':
 
 
 def _config(path: str, h5: 'h5py.File') -> Dict[str, Any]:
-    """The ``/config`` attributes, checked for those the figures use."""
+    """The ``/config`` attributes, checked against the registry the file carries."""
     if '/config' not in h5:
         raise Mpm1dFileError(path, "missing group '/config'")
     config = _attributes(h5['/config'])
-    missing = [name for name in CONFIG_ATTRIBUTES if name not in config]
+    missing = [p.attribute for p in _parameters(path, config) if p.written and p.attribute not in config]
     if missing:
         raise Mpm1dFileError(path, "missing attribute(s) of '/config': " + ', '.join(missing))
     return config
+
+
+def _parameters(path: str, config: Dict[str, Any]) -> List[Parameter]:
+    """The registry stored in the file (empty for files written before it existed)."""
+    try:
+        return parse_parameters(str(config.get('parameters', '')))
+    except ValueError as exc:
+        raise Mpm1dFileError(path, f"unreadable '/config/parameters': {exc}") from exc
 
 
 def _history(path: str, group: 'h5py.Group', where: str) -> Dict[str, np.ndarray]:
@@ -177,6 +227,8 @@ class Run:
     summary: Dict[str, Any]
     history: Optional[Dict[str, np.ndarray]] = None
     snapshots: List[Snapshot] = field(default_factory=list)
+    #: The parameter registry stored in the file (empty for older files).
+    parameters: List[Parameter] = field(default_factory=list)
 
     @property
     def scheme(self) -> str:
@@ -235,7 +287,7 @@ def load_run(path: str) -> Run:
                 snapshots.append(Snapshot(time=float(attrs['time']), step=int(attrs['step']),
                                           **arrays))
     return Run(path=path, code_version=code_version, config=config, summary=summary,
-               history=history, snapshots=snapshots)
+               history=history, snapshots=snapshots, parameters=_parameters(path, config))
 
 
 # --------------------------------------------------------------------------------------------
@@ -247,7 +299,7 @@ class Sweep:
     """A table of cases (file written by ``mpm1d sweep.nml``), or several shards merged.
 
     ``cases`` maps each ``/cases`` dataset name to a 1-D array (one entry per case; strings as
-    arrays of ``str``). ``histories`` maps a 0-based case index to its history, where stored.
+    arrays of ``str``, integers as ``int``): the results and one column per swept variable. ``histories`` maps a 0-based case index to its history, where stored.
     ``sweep`` holds the ``/sweep`` attributes of each source file (one dict per file).
     """
     paths: List[str]
@@ -256,6 +308,13 @@ class Sweep:
     sweep: List[Dict[str, Any]]
     cases: Dict[str, np.ndarray]
     histories: Dict[int, Dict[str, np.ndarray]] = field(default_factory=dict)
+    #: The parameter registry stored in the file (empty for older files).
+    parameters: List[Parameter] = field(default_factory=list)
+
+    @property
+    def parameter_columns(self) -> List[str]:
+        """The ``/cases`` columns of the swept variables (every sweepable one of the registry)."""
+        return [p.attribute for p in self.parameters if p.sweep_list]
 
     @property
     def path(self) -> str:
@@ -293,7 +352,7 @@ class Sweep:
         return Sweep(paths=self.paths, code_versions=self.code_versions, config=self.config,
                      sweep=self.sweep, cases={k: v[mask] for k, v in self.cases.items()},
                      histories={renumber[k]: h for k, h in self.histories.items()
-                                if k in renumber})
+                                if k in renumber}, parameters=self.parameters)
 
     def where(self, **criteria: Any) -> np.ndarray:
         """Mask of the cases matching every ``column=value`` (floats compared with a tolerance).
@@ -320,19 +379,26 @@ def load_sweep(path: str) -> Sweep:
         if '/sweep' not in h5:
             raise Mpm1dFileError(path, "missing group '/sweep'")
         sweep = _attributes(h5['/sweep'])
+        if '/cases' not in h5:
+            raise Mpm1dFileError(path, "missing group '/cases'")
+        parameters = _parameters(path, config)
+        names = [p.attribute for p in parameters if p.sweep_list] + list(RESULT_DATASETS)
+        names += [name for name in h5['/cases'] if name not in names]
         cases = {}
-        for name in CASE_DATASETS:
+        for name in names:
             values = _read(path, h5, f'/cases/{name}')
             cases[name] = np.atleast_1d(np.asarray(values))
         sizes = {name: len(values) for name, values in cases.items()}
         if len(set(sizes.values())) != 1:
             raise Mpm1dFileError(path, 'the /cases datasets differ in length: ' +
                                  ', '.join(f'{k}={v}' for k, v in sizes.items()))
-        cases['scheme'] = np.char.lower(cases['scheme'].astype(str))
-        cases['status_name'] = cases['status_name'].astype(str)
-        for name in ('elements', 'particles_per_element', 'mode', 'steps', 'repeats', 'status',
-                     'particles'):
-            cases[name] = cases[name].astype(int)
+        for name, values in cases.items():
+            if values.dtype.kind in ('S', 'O', 'U'):
+                cases[name] = values.astype(str)
+            elif values.dtype.kind in ('i', 'u'):
+                cases[name] = values.astype(int)
+        if 'scheme' in cases:
+            cases['scheme'] = np.char.lower(cases['scheme'])
         histories = {}
         if '/histories' in h5:
             for name in h5['/histories']:
@@ -340,7 +406,7 @@ def load_sweep(path: str) -> Sweep:
                     raise Mpm1dFileError(path, f"'/histories/{name}' is not a case number")
                 histories[int(name) - 1] = _history(path, h5, f'/histories/{name}')
     return Sweep(paths=[path], code_versions=[code_version], config=config, sweep=[sweep],
-                 cases=cases, histories=histories)
+                 cases=cases, histories=histories, parameters=parameters)
 
 
 def merge_sweeps(sweeps: Sequence[Sweep]) -> Sweep:
@@ -361,6 +427,6 @@ def merge_sweeps(sweeps: Sequence[Sweep]) -> Sweep:
     merged = Sweep(paths=[p for s in sweeps for p in s.paths],
                    code_versions=[v for s in sweeps for v in s.code_versions],
                    config=sweeps[0].config, sweep=[a for s in sweeps for a in s.sweep],
-                   cases=cases, histories=histories)
+                   cases=cases, histories=histories, parameters=sweeps[0].parameters)
     ran = merged.cases['status'] != STATUS_NOT_RUN
     return merged.select(ran) if ran.any() else merged

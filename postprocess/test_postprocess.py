@@ -20,6 +20,7 @@ import contextlib
 import io
 import os
 import shutil
+import subprocess
 import sys
 import tempfile
 import traceback
@@ -35,7 +36,7 @@ import h5py  # noqa: E402
 import analysis  # noqa: E402
 import figures  # noqa: E402
 import make_paper_figures  # noqa: E402
-from mpm1d_io import Mpm1dFileError, load_run, load_sweep  # noqa: E402
+from mpm1d_io import Mpm1dFileError, load_run, load_sweep, parse_parameters  # noqa: E402
 
 CODE_VERSION = 'mpm1d 0.1.0'
 BAR = dict(scene_kind='vibrating_bar', length=25.0, youngs_modulus=200e9, density=7800.0,
@@ -337,6 +338,88 @@ def test_loader_decodes_strings():
     assert sweep.cases['scheme'][0] == 'usf' and sweep.cases['status_name'].dtype.kind == 'U'
     assert len(sweep) == len(ELEMENTS) * len(PPE) * len(DT_FRACTIONS)
     assert sweep.sweep[0]['wall_time'] == 123.4 and 0 in sweep.histories
+
+
+REGISTRY_HEADER = 'group\tname\tattribute\ttype\tunit\tvalue\tallowed\tsweep_list\thelp'
+
+
+def test_registry_in_the_file_drives_the_loader():
+    """The /config registry says which attributes and /cases columns a file must hold."""
+    f = files()
+    path = os.path.join(f.dir, 'with_registry.h5')
+    write_sweep(path, 'usf', elements=(3,), histories=False)
+    rows = ['scene\tlength\tlength\treal\tm\t25.0\tfinite real > 0 (m)\t\tlength',
+            'scene\tmode\tmode\tinteger\t\t1\tinteger >= 1\tmodes\tthe mode',
+            'run\tend_time\tend_time\treal\ts\t\tfinite real > 0 (s)\t\tunset: no attribute']
+    with h5py.File(path, 'a') as h5:
+        h5['config'].attrs['parameters'] = fortran_string('\n'.join([REGISTRY_HEADER] + rows))
+    sweep = load_sweep(path)
+    assert sweep.parameter_columns == ['mode'] and sweep.cases['mode'].dtype.kind == 'i'
+    assert [p.name for p in sweep.parameters] == ['length', 'mode', 'end_time']
+    with h5py.File(path, 'a') as h5:
+        del h5['cases/mode']
+    _expect_load_error(path, "'/cases/mode'")
+    with h5py.File(path, 'a') as h5:
+        h5['cases/mode'] = np.ones(len(sweep), np.int32)
+        del h5['config'].attrs['length']
+    _expect_load_error(path, "'/config': length")
+
+
+def _expect_load_error(path, part):
+    """load_sweep(path) raises Mpm1dFileError with `part` in its message."""
+    try:
+        load_sweep(path)
+    except Mpm1dFileError as exc:
+        assert part in str(exc), str(exc)
+    else:
+        raise AssertionError(f'{path}: no error naming {part}')
+
+
+def find_mpm1d():
+    """The mpm1d executable built by fpm (None when it cannot be found)."""
+    root = os.path.dirname(HERE)
+    try:
+        out = subprocess.run(['fpm', 'run', '--profile', 'release', '--target', 'mpm1d', '--runner', 'echo'],
+                             cwd=root, capture_output=True, text=True, check=True).stdout.split()
+    except (OSError, subprocess.CalledProcessError):
+        return None
+    exe = os.path.join(root, out[-1]) if out else ''
+    return exe if os.path.isfile(exe) else None
+
+
+def test_real_files_carry_the_registry_the_program_lists():
+    """A sweep file and a run file written by mpm1d hold its registry (`mpm1d --list-parameters`):
+    every variable as a /config attribute and every sweepable one as a /cases column."""
+    exe = find_mpm1d()
+    if exe is None:
+        print('     (mpm1d not built: real-file registry check skipped)')
+        return
+    listed = parse_parameters(subprocess.run([exe, '--list-parameters'], capture_output=True, text=True,
+                                             check=True).stdout)
+    assert {p.group for p in listed} >= {'scene', 'discretisation', 'run', 'output', 'guards', 'sweep'}
+    with open(os.path.join(os.path.dirname(HERE), 'README.md'), encoding='utf-8') as handle:
+        readme = handle.read()
+    undocumented = [f'{p.group}.{p.name}' for p in listed if f'| {p.group} | {p.name} |' not in readme]
+    assert not undocumented, f"README's namelist reference lacks {undocumented}"
+    f = files()
+    with open(os.path.join(f.dir, 'tiny.nml'), 'w') as handle:
+        handle.write("&run periods=0.1 /\n&output file='tiny.h5', snapshot_times=0.0 /\n"
+                     "&sweep modes=1, 2, elements=3, min_time=0 /\n")
+    with open(os.path.join(f.dir, 'one.nml'), 'w') as handle:
+        handle.write("&run end_time=1e-3 /\n&output file='one.h5' /\n")
+    for name in ('tiny.nml', 'one.nml'):
+        subprocess.run([exe, name], cwd=f.dir, capture_output=True, check=True)
+    sweep = load_sweep(os.path.join(f.dir, 'tiny.h5'))
+    run = load_run(os.path.join(f.dir, 'one.h5'))
+    key = [(p.group, p.name, p.attribute, p.type, p.sweep_list) for p in listed if p.group != 'sweep']
+    for loaded in (sweep, run):
+        assert [(p.group, p.name, p.attribute, p.type, p.sweep_list) for p in loaded.parameters] == key
+        assert all(p.attribute in loaded.config for p in loaded.parameters if p.written)
+    assert set(sweep.parameter_columns) == {p.attribute for p in listed if p.sweep_list}
+    assert all(c in sweep.cases for c in sweep.parameter_columns)
+    assert sweep.cases['mode'].tolist() == [1, 2] and sweep.cases['elements'].tolist() == [3, 3]
+    assert run.config['end_time'] == 1e-3 and 'periods' not in run.config
+    assert int(run.config['history']) == 1 and len(run.config['snapshot_times']) == 0
 
 
 def _expect_file_error(argv, name):

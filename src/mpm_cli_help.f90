@@ -1,14 +1,21 @@
 !> The text of `mpm1d --help`: usage and the namelist reference.
 module mpm_cli_help
    use mpm_version, only: code_version
+   use mpm_config, only: config_t, config_parameters, config_groups, group_help
+   use mpm_registry, only: parameter_t, parameter_help, parameter_listing
+   use mpm_sweep, only: sweep_config_t, sweep_parameters
    implicit none
    private
-   public :: print_help
+   public :: print_help, print_parameters
 
 contains
 
    subroutine print_help(unit)
       integer, intent(in) :: unit
+      type(config_t), target :: local
+      type(parameter_t), allocatable :: table(:), sweep_table(:)
+      type(sweep_config_t), target :: settings
+      integer :: i
       write (unit, '(a)') code_version//' - Material Point Method in one dimension', &
          '', &
          'usage:', &
@@ -16,33 +23,39 @@ contains
          '                        element, 10% of dx/c, USL, 2 periods) and write bar.h5', &
          '  mpm1d input.nml       run what the namelist file describes', &
          '  mpm1d --help          this text;  mpm1d --version  the code version', &
+         '  mpm1d --list-parameters   the parameter registry, tab-separated (what /config/parameters holds)', &
          '', &
-         'namelist groups (all optional; defaults shown):', &
-         "  &scene kind='vibrating_bar', length=25.0, youngs_modulus=200.0e9, density=7800.0,", &
-         '         velocity_amplitude=0.1, mode=1 /', &
-         '      length (m) > 0, youngs_modulus (Pa) > 0, density (kg/m^3) > 0, velocity_amplitude v0 (m/s)', &
-         '      finite, mode n >= 1: v(x,0) = v0 sin(beta_n x), beta_n = (2n-1) pi / (2 length)', &
-         "  &discretisation scheme='usl', elements=20, particles_per_element=1, dt_fraction=0.1 /", &
-         "      scheme: 'usf', 'usl' or 'musl'; elements >= 1; particles_per_element >= 1;", &
-         '      dt = dt_fraction * dx / c, c = sqrt(youngs_modulus/density), 0 < dt_fraction <= 10', &
-         '      margin_cells=-1: empty grid cells beyond each free end (-1: expected motion + 2 cells; >= 0)', &
-         "      kernels='auto': fused linear kernels where they apply; 'generic': the generic layered path", &
-         '  &run periods=2.0 /      or  &run end_time=0.0395 /  (seconds; give one of the two)', &
-         '      periods of the simulated mode, 2 pi / omega_n each; steps = smallest n with n dt >= end time', &
-         "  &output file='bar.h5', history=.true., snapshot_times=0.0, 0.01 /", &
-         '      history: write u_cm(t), exact u_cm(t) and energies at every step;', &
-         '      snapshot_times (s): particle and grid state at these times (none by default)', &
-         '  &guards energy_growth_limit=10.0, max_cell_move=1.0 /', &
-         '      a run stops (exit 1, history kept) on NaN/Infinity, J <= 0, a particle leaving the grid,', &
-         '      total energy above energy_growth_limit x initial, or a move of more than max_cell_move cells', &
-         '  &sweep schemes=..., elements=..., particles_per_element=..., dt_fractions=..., youngs_moduli=...,', &
-         '         densities=..., velocity_amplitudes=..., modes=..., min_time=0.02, threads=0,', &
-         '         timing_threads=1, histories=.false., shard=1, shards=1 /', &
-         '      every combination of the lists; one HDF5 table (see README.md)', &
+         'namelist groups (all optional; each variable with its default, what it means and what it allows):'
+      local = config_t()
+      call config_parameters(local, table)
+      do i = 1, size(config_groups)
+         write (unit, '(a)') '  &'//trim(config_groups(i))//': '//group_help(trim(config_groups(i)))
+         write (unit, '(a)', advance='no') parameter_help(table, trim(config_groups(i)))
+      end do
+      write (unit, '(a)') '  &sweep: every combination of the lists below (the last varies fastest); one HDF5 table '// &
+         '(see README.md)', '    lists (values of the variable named; a list left out holds its base value):'
+      do i = 1, size(table)
+         if (len_trim(table(i)%sweep_list) > 0) write (unit, '(a)') '      '//trim(table(i)%sweep_list)//' = '// &
+            trim(table(i)%group)//'.'//trim(table(i)%name)//' values'
+      end do
+      call sweep_parameters(settings, sweep_table)
+      write (unit, '(a)', advance='no') parameter_help(sweep_table, 'sweep')
+      write (unit, '(a)') &
          '', &
          'sweeps: mpm1d sweep.nml [--shard I/N] [--threads N];  mpm1d merge OUT.h5 SHARD.h5 ...', &
          '', &
          'exit codes: 0 done; 1 a guard stopped the run (history so far written); 2 bad input; 3 output failed.', &
          'Every problem in the input is reported with the variable and its allowed range; nothing is written then.'
    end subroutine print_help
+
+   !> The whole registry (the run's variables, then the &sweep settings), tab-separated, one line each.
+   subroutine print_parameters(unit)
+      integer, intent(in) :: unit
+      type(config_t), target :: local
+      type(sweep_config_t), target :: settings
+      type(parameter_t), allocatable :: table(:), sweep_table(:)
+      call config_parameters(local, table)
+      call sweep_parameters(settings, sweep_table)
+      write (unit, '(a)') parameter_listing([table, sweep_table])
+   end subroutine print_parameters
 end module mpm_cli_help

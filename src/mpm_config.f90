@@ -7,21 +7,25 @@ module mpm_config
    use mpm_strings, only: str, lower
    use mpm_files, only: available_memory
    use mpm_particles, only: bytes_per_particle
+   use mpm_registry, only: parameter_t, nml_item_t, text_entry, int_entry, real_entry, real_list_entry, &
+                           logical_entry, read_namelist, apply_items, check_parameter, find_parameter, group_namelist
    implicit none
    private
    public :: config_t, read_config, validate_config, resolve_config, write_config_namelist, config_namelist
-   public :: default_config, config_summary, known_schemes, is_known_scheme
-   public :: max_snapshots, unset, scan_groups, read_group_error, check_output_path, group_text
+   public :: default_config, config_summary, known_schemes
+   public :: max_snapshots, unset, check_output_path
+   public :: config_parameters, config_groups, group_help
    public :: step_count, stability_limit
 
-   character(len=*), parameter :: identifier_characters = &
-                                  'abcdefghijklmnopqrstuvwxyzABCDEFGHIJKLMNOPQRSTUVWXYZ0123456789_'
    !> Sentinel for "not given" reals; no physical input takes this value.
    real(dp), parameter :: unset = -huge(1.0_dp)
    !> Most snapshot times one run accepts.
    integer, parameter :: max_snapshots = 64
    !> Schemes the code implements.
    character(len=*), parameter :: known_schemes = 'usf, usl, musl'
+   !> The groups of one run's input, in the order of the echo and of --help.
+   character(len=16), parameter :: config_groups(*) = [character(len=16) :: 'scene', 'discretisation', 'run', &
+                                                        'output', 'guards']
    !> Largest number of particles or elements one run accepts (array indices are default integers).
    integer(i8), parameter :: max_count = int(huge(1), i8)
    !> Time-step fraction above which a run is refused outright (far beyond any stability limit).
@@ -77,311 +81,128 @@ contains
       call resolve_config(config)
    end function default_config
 
-   logical function is_known_scheme(scheme)
-      character(len=*), intent(in) :: scheme
-      select case (trim(scheme))
-      case ('usf', 'usl', 'musl')
-         is_known_scheme = .true.
-      case default
-         is_known_scheme = .false.
-      end select
-   end function is_known_scheme
+   !> The registry of the run's input: one entry per namelist variable, bound to its field of
+   !> `config` (which must stay in place while the table is used). Adding a variable: a field of
+   !> config_t with its default, one entry here, and the code that uses it.
+   !> The order of the sweepable entries is the order of the sweep's loops (the last varies fastest).
+   subroutine config_parameters(config, table)
+      type(config_t), intent(inout), target :: config
+      type(parameter_t), allocatable, intent(out) :: table(:)
+      table = [ &
+         text_entry('discretisation', 'scheme', config%scheme, 'update scheme: stress update first, last, or '// &
+                    'modified last (the README gives each algorithm)', words=known_schemes, sweep_list='schemes'), &
+         int_entry('discretisation', 'elements', config%elements, 'elements across the body; dx = length / elements', &
+                   at_least=1, sweep_list='elements'), &
+         int_entry('discretisation', 'particles_per_element', config%particles_per_element, &
+                   'particles per element, evenly spaced', at_least=1, sweep_list='particles_per_element'), &
+         real_entry('discretisation', 'dt_fraction', config%dt_fraction, '', 'dt = dt_fraction * dx / c, '// &
+                    'c = sqrt(youngs_modulus/density)', greater_than=0.0_dp, at_most=max_dt_fraction, &
+                    sweep_list='dt_fractions'), &
+         int_entry('discretisation', 'margin_cells', config%margin_cells, 'empty grid cells beyond each free end '// &
+                   'of the body', at_least=-1, note="-1: the scene's expected motion + 2 cells"), &
+         text_entry('discretisation', 'kernels', config%kernels, "'auto': the fused linear kernels where they "// &
+                    "apply, else the generic path; 'generic': always the generic layered path", words='auto, generic'), &
+         text_entry('scene', 'kind', config%scene_kind, 'the problem: the vibrating bar of the founding study', &
+                    words='vibrating_bar', attribute='scene_kind'), &
+         real_entry('scene', 'length', config%length, 'm', 'length of the bar', greater_than=0.0_dp), &
+         real_entry('scene', 'youngs_modulus', config%youngs_modulus, 'Pa', "Young's modulus E", &
+                    greater_than=0.0_dp, sweep_list='youngs_moduli'), &
+         real_entry('scene', 'density', config%density, 'kg/m^3', 'density rho', greater_than=0.0_dp, &
+                    sweep_list='densities'), &
+         real_entry('scene', 'velocity_amplitude', config%velocity_amplitude, 'm/s', 'v0 of the initial velocity '// &
+                    'v(x,0) = v0 sin(beta_n x), beta_n = (2n-1) pi / (2 length)', sweep_list='velocity_amplitudes'), &
+         int_entry('scene', 'mode', config%mode, 'the mode n of the initial velocity', at_least=1, sweep_list='modes'), &
+         real_entry('run', 'periods', config%periods, '', 'run length in periods 2 pi / omega_n of the mode '// &
+                    '(give periods or end_time); steps = smallest n with n dt >= end time', greater_than=0.0_dp, &
+                    optional=.true.), &
+         real_entry('run', 'end_time', config%end_time, 's', 'run length in seconds (give periods or end_time)', &
+                    greater_than=0.0_dp, optional=.true.), &
+         text_entry('output', 'file', config%file, 'the HDF5 file written (via a temporary .part file)', &
+                    attribute='output_file'), &
+         logical_entry('output', 'history', config%history, 'write u_cm(t), exact u_cm(t) and energies at every step'), &
+         real_list_entry('output', 'snapshot_times', config%snapshot_times, config%snapshot_count, 's', &
+                         'particle and grid state at these times', at_least=0.0_dp, note='within the run'), &
+         real_entry('guards', 'energy_growth_limit', config%energy_growth_limit, '', 'a run stops when its total '// &
+                    'energy exceeds this factor times the initial energy', greater_than=1.0_dp), &
+         real_entry('guards', 'max_cell_move', config%max_cell_move, 'cells', 'a run stops when a particle moves '// &
+                    'more than this many cells in one step', greater_than=0.0_dp)]
+   end subroutine config_parameters
 
-   !> Read `path`: groups &scene, &discretisation, &run, &output, all optional.
+   !> One line on each group of the run's input, for --help.
+   function group_help(group) result(text)
+      character(len=*), intent(in) :: group
+      character(len=:), allocatable :: text
+      select case (group)
+      case ('scene')
+         text = 'the problem and its material'
+      case ('discretisation')
+         text = 'grid, particles, time step and update scheme'
+      case ('run')
+         text = 'how long to run: periods or end_time, not both'
+      case ('output')
+         text = 'what is written'
+      case ('guards')
+         text = 'a run stops (exit 1, history kept) on NaN/Infinity, J <= 0, a particle leaving the grid, or:'
+      case default
+         text = ''
+      end select
+   end function group_help
+
+   !> Read `path`: groups &scene, &discretisation, &run, &output, &guards, all optional.
    !> `extra_groups` names further groups another reader handles (e.g. 'sweep'),
    !> so that they are not reported as unknown. On any problem `error` lists them all.
    subroutine read_config(path, config, error, extra_groups)
       character(len=*), intent(in) :: path
-      type(config_t), intent(out) :: config
+      type(config_t), intent(out), target :: config
       type(error_t), allocatable, intent(out) :: error
       character(len=*), intent(in), optional :: extra_groups(:)
-
-      character(len=32) :: kind
-      real(dp) :: length, youngs_modulus, density, velocity_amplitude
-      integer :: mode
-      character(len=32) :: scheme
-      integer :: elements, particles_per_element
-      real(dp) :: dt_fraction
-      integer :: margin_cells
-      character(len=32) :: kernels
-      real(dp) :: periods, end_time
-      character(len=1024) :: file
-      logical :: history
-      real(dp) :: snapshot_times(max_snapshots)
-      namelist /scene/ kind, length, youngs_modulus, density, velocity_amplitude, mode
-      namelist /discretisation/ scheme, elements, particles_per_element, dt_fraction, margin_cells, kernels
-      namelist /run/ periods, end_time
-      namelist /output/ file, history, snapshot_times
-      real(dp) :: energy_growth_limit, max_cell_move
-      namelist /guards/ energy_growth_limit, max_cell_move
-
-      character(len=16), allocatable :: found(:)
-      character(len=16), allocatable :: known(:)
-      integer :: unit, stat, i
-      character(len=512) :: msg
+      type(nml_item_t), allocatable :: items(:)
+      character(len=32), allocatable :: groups(:)
+      integer, allocatable :: group_lines(:)
+      type(parameter_t), allocatable :: table(:)
+      integer :: i, periods, end_time
 
       config = config_t()
-      kind = config%scene_kind
-      length = config%length
-      youngs_modulus = config%youngs_modulus
-      density = config%density
-      velocity_amplitude = config%velocity_amplitude
-      mode = config%mode
-      scheme = config%scheme
-      elements = config%elements
-      particles_per_element = config%particles_per_element
-      dt_fraction = config%dt_fraction
-      margin_cells = config%margin_cells
-      kernels = config%kernels
-      periods = unset
-      end_time = unset
-      file = config%file
-      history = config%history
-      snapshot_times = unset
-      energy_growth_limit = config%energy_growth_limit
-      max_cell_move = config%max_cell_move
-
-      known = [character(len=16) :: 'scene', 'discretisation', 'run', 'output', 'guards']
-      if (present(extra_groups)) known = [character(len=16) :: known, extra_groups]
-      call scan_groups(path, known, found, error)
-      if (allocated(error)) return
-
-      open (newunit=unit, file=path, status='old', action='read', iostat=stat, iomsg=msg)
-      if (stat /= 0) then
-         call set_error(error, "cannot open input file '"//trim(path)//"': "//trim(msg))
-         return
-      end if
-      do i = 1, size(found)
-         rewind (unit)
-         select case (trim(found(i)))
-         case ('scene')
-            read (unit, nml=scene, iostat=stat, iomsg=msg)
-         case ('discretisation')
-            read (unit, nml=discretisation, iostat=stat, iomsg=msg)
-         case ('run')
-            read (unit, nml=run, iostat=stat, iomsg=msg)
-         case ('output')
-            read (unit, nml=output, iostat=stat, iomsg=msg)
-         case ('guards')
-            read (unit, nml=guards, iostat=stat, iomsg=msg)
-         case default
-            cycle ! a group another reader handles
-         end select
-         if (stat /= 0) call append_error(error, read_group_error(path, found(i), group_names(found(i)), stat, msg))
+      ! problems of syntax do not stop the reading: every problem of the file is reported at once
+      call read_namelist(path, items, groups, group_lines, error)
+      do i = 1, size(groups)
+         if (any(config_groups == groups(i))) cycle
+         if (present(extra_groups)) then
+            if (any(extra_groups == groups(i))) cycle
+         end if
+         call append_error(error, trim(path)//":"//str(group_lines(i))//": unknown namelist group &"// &
+                           trim(groups(i))//" (known groups: "//join(config_groups)//extra_list()//")")
       end do
-      close (unit)
-      if (allocated(error)) return
-
-      config%scene_kind = kind
-      config%length = length
-      config%youngs_modulus = youngs_modulus
-      config%density = density
-      config%velocity_amplitude = velocity_amplitude
-      config%mode = mode
-      config%scheme = scheme
-      if (len_trim(scheme) > len(config%scheme)) config%scheme = '?'//scheme
-      config%elements = elements
-      config%particles_per_element = particles_per_element
-      config%dt_fraction = dt_fraction
-      config%margin_cells = margin_cells
-      config%kernels = kernels
-      if (len_trim(kernels) > len(config%kernels)) config%kernels = '?'//kernels
-      if (periods /= unset .and. end_time /= unset) then
-         call append_error(error, "run: give either periods or end_time, not both")
-      else if (end_time /= unset) then
-         config%end_time = end_time
+      call config_parameters(config, table)
+      do i = 1, size(config_groups)
+         call apply_items(table, items, trim(config_groups(i)), path, error)
+      end do
+      do i = 1, size(table)
+         if (table(i)%line > 0) then
+            call check_parameter(table(i), error, trim(path)//":"//str(table(i)%line)//": ")
+         else
+            call check_parameter(table(i), error)
+         end if
+      end do
+      periods = find_parameter(table, 'run', 'periods')
+      end_time = find_parameter(table, 'run', 'end_time')
+      if (table(periods)%line > 0 .and. table(end_time)%line > 0) then
+         call append_error(error, trim(path)//":"//str(table(end_time)%line)// &
+                           ": run: give either periods or end_time, not both")
+      else if (table(end_time)%line > 0) then
          config%periods = unset
-      else if (periods /= unset) then
-         config%periods = periods
       end if
-      config%file = file
-      config%history = history
-      config%energy_growth_limit = energy_growth_limit
-      config%max_cell_move = max_cell_move
-      config%snapshot_count = count(snapshot_times /= unset)
-      if (any(snapshot_times(config%snapshot_count + 1:) /= unset)) then
-         call append_error(error, "output: snapshot_times must be given as one contiguous list")
-      end if
-      config%snapshot_times = 0.0_dp
-      config%snapshot_times(1:config%snapshot_count) = snapshot_times(1:config%snapshot_count)
+      if (allocated(error)) return
       call validate_config(config, error)
       if (allocated(error)) return
       call resolve_config(config)
-   end subroutine read_config
-
-   !> The message for a failed namelist read: file, group, and the variable at fault.
-   !> gfortran reports only the token it could not match ("Cannot match namelist object name X");
-   !> X followed by '=' is an unknown name, otherwise it is the tail of a bad value and the culprit
-   !> is the variable assigned just before it.
-   function read_group_error(path, group, names, stat, msg) result(text)
-      character(len=*), intent(in) :: path, group, names, msg
-      integer, intent(in) :: stat
-      character(len=:), allocatable :: text, body, token, variable
-      character(len=*), parameter :: no_match = 'Cannot match namelist object name '
-      integer :: k, j, start
-      text = trim(path)//": group &"//trim(group)//": "
-      if (stat < 0) then
-         text = text//"not terminated by '/' (end of file reached)"
-         return
-      end if
-      k = index(msg, no_match)
-      if (k == 0) then
-         ! e.g. "Integer overflow while reading item 1": name the variables the group assigns
-         text = text//trim(msg)//" (variables given: "//assigned_names(lower(group_text(path, group)))//")"
-         return
-      end if
-      token = lower(trim(msg(k + len(no_match):)))
-      body = lower(group_text(path, group))
-      k = index(body, token)
-      if (k == 0) then
-         text = text//trim(msg)
-         return
-      end if
-      if (index(adjustl(body(k + len(token):)), '=') == 1) then
-         text = text//"unknown variable '"//token//"'; allowed names: "//names
-         return
-      end if
-      j = index(body(1:k - 1), '=', back=.true.)
-      start = j - 1
-      do while (start > 1)
-         if (body(start:start) /= ' ') exit
-         start = start - 1
-      end do
-      variable = ''
-      do while (start >= 1)
-         if (scan(body(start:start), identifier_characters) == 0) exit
-         variable = body(start:start)//variable
-         start = start - 1
-      end do
-      text = text//"bad value for '"//variable//"' near '"//token// &
-             "': not of the variable's type (integers take no decimal point, text needs quotes)"
-   end function read_group_error
-
-   !> The names assigned (`name =`) in a group's text, comma separated.
-   function assigned_names(body) result(names)
-      character(len=*), intent(in) :: body
-      character(len=:), allocatable :: names
-      integer :: i, start, end
-      names = ''
-      do i = 1, len(body)
-         if (body(i:i) /= '=') cycle
-         if (index(body(1:i), '/') > 0) exit ! end of the group
-         end = i - 1
-         do while (end > 1)
-            if (body(end:end) /= ' ') exit
-            end = end - 1
-         end do
-         start = end
-         do while (start > 1)
-            if (scan(body(start - 1:start - 1), identifier_characters) == 0) exit
-            start = start - 1
-         end do
-         if (len(names) > 0) names = names//', '
-         names = names//body(start:end)
-      end do
-   end function assigned_names
-
-   !> The text of group &group in file `path`, from '&group' up to the end of the file (for messages).
-   function group_text(path, group) result(text)
-      character(len=*), intent(in) :: path, group
-      character(len=:), allocatable :: text
-      character(len=4096) :: line
-      integer :: unit, stat, k
-      logical :: inside
-      text = ''
-      inside = .false.
-      open (newunit=unit, file=path, status='old', action='read', iostat=stat)
-      if (stat /= 0) return
-      do
-         read (unit, '(a)', iostat=stat) line
-         if (stat /= 0) exit
-         if (.not. inside) then
-            k = index(lower(line), '&'//trim(group))
-            if (k == 0) cycle
-            inside = .true.
-            line = line(k + len_trim(group) + 1:)
-         end if
-         text = text//' '//trim(line)
-      end do
-      close (unit)
-   end function group_text
-
-   !> List the namelist groups that `path` contains, in file order. Unknown or repeated group
-   !> names are errors (gfortran would silently skip a misspelled group and use defaults).
-   subroutine scan_groups(path, known, present, error)
-      character(len=*), intent(in) :: path
-      character(len=*), intent(in) :: known(:)
-      character(len=16), allocatable, intent(out) :: present(:)
-      type(error_t), allocatable, intent(out) :: error
-      integer :: unit, stat, line_number
-      logical :: is_folder
-      character(len=4096) :: line
-      character(len=512) :: msg
-      character(len=:), allocatable :: name
-
-      allocate (present(0))
-      inquire (file=trim(path)//'/.', exist=is_folder)
-      if (is_folder) then
-         call set_error(error, "input file '"//trim(path)//"' is a folder; allowed: a namelist file")
-         return
-      end if
-      open (newunit=unit, file=path, status='old', action='read', iostat=stat, iomsg=msg)
-      if (stat /= 0) then
-         call set_error(error, "cannot open input file '"//trim(path)//"': "//trim(msg))
-         return
-      end if
-      line_number = 0
-      do
-         read (unit, '(a)', iostat=stat, iomsg=msg) line
-         if (is_iostat_end(stat)) exit
-         if (stat /= 0) then
-            call append_error(error, "cannot read input file '"//trim(path)//"': "//trim(msg))
-            exit
-         end if
-         line_number = line_number + 1
-         call groups_in_line(line)
-      end do
-      close (unit)
    contains
-      !> Every '&name' of the line outside quoted strings and comments.
-      subroutine groups_in_line(text)
-         character(len=*), intent(in) :: text
-         integer :: i, last
-         character(len=1) :: quote
-         quote = ' '
-         i = 0
-         do while (i < len_trim(text))
-            i = i + 1
-            if (quote /= ' ') then
-               if (text(i:i) == quote) quote = ' '
-               cycle
-            end if
-            select case (text(i:i))
-            case ("'", '"')
-               quote = text(i:i)
-            case ('!')
-               return
-            case ('&')
-               last = i
-               do while (last < len(text))
-                  if (scan(text(last + 1:last + 1), identifier_characters) == 0) exit
-                  last = last + 1
-               end do
-               name = lower(text(i + 1:last))
-               i = last
-               if (len(name) == 0 .or. name == 'end') cycle
-               if (.not. any(known == name)) then
-                  call append_error(error, trim(path)//":"//str(line_number)//": unknown namelist group &"//name// &
-                                    " (known groups: "//join(known)//")")
-               else if (any(present == name)) then
-                  call append_error(error, trim(path)//":"//str(line_number)//": group &"//name//" is given twice")
-               else
-                  present = [character(len=16) :: present, name]
-               end if
-            end select
-         end do
-      end subroutine groups_in_line
-   end subroutine scan_groups
+      function extra_list() result(text)
+         character(len=:), allocatable :: text
+         text = ''
+         if (present(extra_groups)) text = ', '//join(extra_groups)
+      end function extra_list
+   end subroutine read_config
 
    !> Check every value; append one line per problem to `error`, naming the variable and range.
    !> `with_system = .false.` skips the checks against the machine (memory available, output folder),
@@ -392,53 +213,21 @@ contains
       logical, intent(in), optional :: with_system
       real(dp) :: c, dx, dt, end_time
       integer(i8) :: particles
+      type(config_t), target :: local
+      type(parameter_t), allocatable :: table(:)
+      integer :: i
 
-      if (trim(config%scene_kind) /= 'vibrating_bar') call append_error(error, &
-         "scene: kind = '"//trim(config%scene_kind)//"' is unknown; allowed: 'vibrating_bar'")
-      call positive(config%length, 'scene: length', 'm')
-      call positive(config%youngs_modulus, 'scene: youngs_modulus', 'Pa')
-      call positive(config%density, 'scene: density', 'kg/m^3')
-      if (.not. ieee_is_finite(config%velocity_amplitude)) call append_error(error, &
-         "scene: velocity_amplitude = "//str(config%velocity_amplitude)//" is not finite; allowed: any finite real (m/s)")
-      if (config%mode < 1) call append_error(error, &
-         "scene: mode = "//str(config%mode)//" is out of range; allowed: integer >= 1")
-      if (.not. is_known_scheme(config%scheme)) call append_error(error, &
-         "discretisation: scheme = '"//trim(config%scheme)//"' is unknown; allowed: "//known_schemes)
-      if (config%elements < 1) call append_error(error, &
-         "discretisation: elements = "//str(config%elements)//" is out of range; allowed: integer >= 1")
-      if (config%particles_per_element < 1) call append_error(error, &
-         "discretisation: particles_per_element = "//str(config%particles_per_element)// &
-         " is out of range; allowed: integer >= 1")
+      local = config
+      call config_parameters(local, table)
+      do i = 1, size(table)
+         call check_parameter(table(i), error)
+      end do
+      if (config%periods == unset .and. config%end_time == unset) call append_error(error, &
+         "run: give periods or end_time")
       particles = int(max(config%elements, 0), i8)*int(max(config%particles_per_element, 0), i8)
       if (particles > max_count) call append_error(error, &
          "discretisation: elements*particles_per_element = "//str(particles)//" is too large; allowed: <= "// &
          str(max_count))
-      if (.not. ieee_is_finite(config%dt_fraction) .or. config%dt_fraction <= 0.0_dp &
-          .or. config%dt_fraction > max_dt_fraction) call append_error(error, &
-         "discretisation: dt_fraction = "//str(config%dt_fraction)//" is out of range; allowed: 0 < dt_fraction <= "// &
-         str(max_dt_fraction)//" (fraction of the critical step dx/c)")
-      if (config%margin_cells < -1) call append_error(error, &
-         "discretisation: margin_cells = "//str(config%margin_cells)//" is out of range; allowed: -1 (automatic: "// &
-         "the scene's expected motion + 2 cells) or integer >= 0")
-      if (trim(config%kernels) /= 'auto' .and. trim(config%kernels) /= 'generic') call append_error(error, &
-         "discretisation: kernels = '"//trim(config%kernels)//"' is unknown; allowed: 'auto', 'generic'")
-      if (config%end_time /= unset) then
-         call positive(config%end_time, 'run: end_time', 's')
-      else
-         call positive(config%periods, 'run: periods', '')
-      end if
-      if (.not. ieee_is_finite(config%energy_growth_limit) .or. config%energy_growth_limit <= 1.0_dp) &
-         call append_error(error, "guards: energy_growth_limit = "//str(config%energy_growth_limit)// &
-                           " is out of range; allowed: finite real > 1 (factor of the initial energy)")
-      if (.not. ieee_is_finite(config%max_cell_move) .or. config%max_cell_move <= 0.0_dp) &
-         call append_error(error, "guards: max_cell_move = "//str(config%max_cell_move)// &
-                           " is out of range; allowed: finite real > 0 (cells per step)")
-      if (len_trim(config%file) == 0) call append_error(error, "output: file is empty; allowed: a file name ending in .h5")
-      if (config%snapshot_count > 0) then
-         if (.not. all(ieee_is_finite(config%snapshot_times(1:config%snapshot_count))) .or. &
-             any(config%snapshot_times(1:config%snapshot_count) < 0.0_dp)) call append_error(error, &
-            "output: snapshot_times must be finite and >= 0 (seconds)")
-      end if
       if (allocated(error)) return
 
       ! Consistency checks that need the resolved quantities.
@@ -465,18 +254,6 @@ contains
       end if
       call check_memory(particles, config%elements, merge(step_count(end_time, dt), 0, config%history), error)
       call check_output_path(config%file, 'output: file', error)
-   contains
-      subroutine positive(value, name, unit)
-         real(dp), intent(in) :: value
-         character(len=*), intent(in) :: name, unit
-         if (.not. ieee_is_finite(value) .or. value <= 0.0_dp) then
-            if (len(unit) > 0) then
-               call append_error(error, name//" = "//str(value)//" is out of range; allowed: finite real > 0 ("//unit//")")
-            else
-               call append_error(error, name//" = "//str(value)//" is out of range; allowed: finite real > 0")
-            end if
-         end if
-      end subroutine positive
    end subroutine validate_config
 
    !> Refuse a run whose particles and grid would not fit in the memory available now.
@@ -542,26 +319,6 @@ contains
       end if
    end function stability_limit
 
-   !> The variables of each group, for messages.
-   function group_names(group) result(names)
-      character(len=*), intent(in) :: group
-      character(len=:), allocatable :: names
-      select case (trim(group))
-      case ('scene')
-         names = 'kind, length, youngs_modulus, density, velocity_amplitude, mode'
-      case ('discretisation')
-         names = 'scheme, elements, particles_per_element, dt_fraction, margin_cells, kernels'
-      case ('run')
-         names = 'periods, end_time'
-      case ('output')
-         names = 'file, history, snapshot_times'
-      case ('guards')
-         names = 'energy_growth_limit, max_cell_move'
-      case default
-         names = '(see mpm1d --help)'
-      end select
-   end function group_names
-
    !> The smallest n with n*dt >= end_time, robust to round-off: a ratio within a few ulps of an
    !> integer counts as that integer (so 2 periods at 10% of dx/c give exactly 8*elements/0.1 steps).
    integer function step_count(end_time, dt)
@@ -597,34 +354,16 @@ contains
    function config_namelist(config) result(text)
       type(config_t), intent(in) :: config
       character(len=:), allocatable :: text
-      character(len=*), parameter :: nl = new_line('a')
-      text = "&scene kind='"//trim(config%scene_kind)//"', length="//str(config%length)// &
-             ", youngs_modulus="//str(config%youngs_modulus)//", density="//str(config%density)// &
-             ", velocity_amplitude="//str(config%velocity_amplitude)//", mode="//str(config%mode)//" /"//nl// &
-             "&discretisation scheme='"//trim(config%scheme)//"', elements="//str(config%elements)// &
-             ", particles_per_element="//str(config%particles_per_element)//", dt_fraction="// &
-             str(config%dt_fraction)//", margin_cells="//str(config%margin_cells)//", kernels='"// &
-             trim(config%kernels)//"' /"//nl
-      if (config%end_time /= unset) then
-         text = text//"&run end_time="//str(config%end_time)//" /"//nl
-      else
-         text = text//"&run periods="//str(config%periods)//" /"//nl
-      end if
-      text = text//"&output file='"//trim(config%file)//"', history="//merge('T', 'F', config%history)// &
-             snapshot_list()//" /"//nl//"&guards energy_growth_limit="//str(config%energy_growth_limit)// &
-             ", max_cell_move="//str(config%max_cell_move)//" /"
-   contains
-      function snapshot_list() result(list)
-         character(len=:), allocatable :: list
-         integer :: i
-         list = ''
-         if (config%snapshot_count == 0) return
-         list = ', snapshot_times='
-         do i = 1, config%snapshot_count
-            list = list//str(config%snapshot_times(i))
-            if (i < config%snapshot_count) list = list//','
-         end do
-      end function snapshot_list
+      type(config_t), target :: local
+      type(parameter_t), allocatable :: table(:)
+      integer :: i
+      local = config
+      call config_parameters(local, table)
+      text = ''
+      do i = 1, size(config_groups)
+         text = text//group_namelist(table, trim(config_groups(i)))
+         if (i < size(config_groups)) text = text//new_line('a')
+      end do
    end function config_namelist
 
    !> One line describing the run for progress and log messages.

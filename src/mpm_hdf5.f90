@@ -28,6 +28,7 @@ module mpm_hdf5
       procedure :: attribute_real => writer_attribute_real
       procedure :: attribute_int => writer_attribute_int
       procedure :: attribute_string => writer_attribute_string
+      procedure :: attribute_reals => writer_attribute_reals
       procedure :: copy_from => writer_copy_from
       procedure :: finish => writer_finish
       procedure :: abandon => writer_abandon
@@ -252,6 +253,34 @@ contains
       call close_attribute(self, name, object, attr, space, hdferr)
    end subroutine writer_attribute_int
 
+   !> A 1-D real attribute (zero values give an empty one).
+   subroutine writer_attribute_reals(self, on, name, values)
+      class(h5_writer_t), intent(inout) :: self
+      character(len=*), intent(in) :: on, name
+      real(dp), intent(in) :: values(:)
+      integer(hid_t) :: object, attr, space
+      integer :: hdferr
+      object = -1
+      attr = -1
+      space = -1
+      hdferr = 0
+      if (.not. self%ok()) return
+      call h5oopen_f(self%file, on, object, hdferr)
+      call self%check(hdferr, "open object '"//on//"'")
+      if (self%ok()) then
+         call h5screate_simple_f(1, [int(size(values), hsize_t)], space, hdferr)
+         call self%check(hdferr, 'create a dataspace')
+      end if
+      if (self%ok()) then
+         call h5acreate_f(object, name, H5T_NATIVE_DOUBLE, space, attr, hdferr)
+         call self%check(hdferr, "create attribute '"//name//"' on '"//on//"'")
+      end if
+      hdferr = 0
+      if (self%ok() .and. size(values) > 0) &
+         call h5awrite_f(attr, H5T_NATIVE_DOUBLE, values, [int(size(values), hsize_t)], hdferr)
+      call close_attribute(self, name, object, attr, space, hdferr)
+   end subroutine writer_attribute_reals
+
    subroutine writer_attribute_string(self, on, name, value)
       class(h5_writer_t), intent(inout) :: self
       character(len=*), intent(in) :: on, name, value
@@ -449,9 +478,10 @@ contains
       call h5fclose_f(file, hdferr)
    end subroutine h5_read_attribute_int
 
-   !> Does `path` exist as a readable HDF5 file holding object `name`?
-   logical function h5_exists(path, name)
+   !> Does `path` exist as a readable HDF5 file holding object `name` (with attribute `attribute`)?
+   logical function h5_exists(path, name, attribute)
       character(len=*), intent(in) :: path, name
+      character(len=*), intent(in), optional :: attribute
       integer(hid_t) :: file
       integer :: hdferr
       logical :: found
@@ -461,6 +491,7 @@ contains
       call h5fopen_f(path, H5F_ACC_RDONLY_F, file, hdferr)
       if (hdferr < 0) return
       call h5lexists_f(file, name, found, hdferr)
+      if (hdferr >= 0 .and. found .and. present(attribute)) call h5aexists_by_name_f(file, name, attribute, found, hdferr)
       h5_exists = hdferr >= 0 .and. found
       call h5fclose_f(file, hdferr)
    end function h5_exists

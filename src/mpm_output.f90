@@ -3,7 +3,9 @@ module mpm_output
    use mpm_kinds, only: dp
    use mpm_errors, only: error_t
    use mpm_strings, only: str
-   use mpm_config, only: config_t, config_namelist, unset
+   use mpm_config, only: config_t, config_namelist, config_parameters
+   use mpm_registry, only: parameter_t, type_real, type_int, type_logical, type_text, type_real_list, format_value, &
+                           parameter_listing
    use mpm_hdf5, only: h5_writer_t
    use mpm_version, only: code_version
    use mpm_diagnostics, only: status_name, status_ok
@@ -87,38 +89,45 @@ contains
       end function pad
    end subroutine write_run_file
 
-   !> The configuration as attributes of `group`: every namelist value, the resolved quantities
-   !> and the namelist text that reproduces the run.
+   !> The configuration as attributes of `group`: every variable of the parameter registry (under its
+   !> attribute name; logicals as 0/1, an unset optional left out), the resolved quantities, the
+   !> namelist text that reproduces the run and the registry itself ('parameters', tab-separated).
    subroutine write_config_attributes(h5, group, config)
       type(h5_writer_t), intent(inout) :: h5
       character(len=*), intent(in) :: group
       type(config_t), intent(in) :: config
+      type(config_t), target :: local
+      type(parameter_t), allocatable :: table(:)
+      integer :: i
+      local = config
+      call config_parameters(local, table)
       call h5%attribute_string(group, 'namelist', config_namelist(config))
-      call h5%attribute_string(group, 'scene_kind', trim(config%scene_kind))
-      call h5%attribute_real(group, 'length', config%length)
-      call h5%attribute_real(group, 'youngs_modulus', config%youngs_modulus)
-      call h5%attribute_real(group, 'density', config%density)
-      call h5%attribute_real(group, 'velocity_amplitude', config%velocity_amplitude)
-      call h5%attribute_int(group, 'mode', config%mode)
-      call h5%attribute_string(group, 'scheme', trim(config%scheme))
-      call h5%attribute_int(group, 'elements', config%elements)
-      call h5%attribute_int(group, 'particles_per_element', config%particles_per_element)
-      call h5%attribute_real(group, 'dt_fraction', config%dt_fraction)
-      call h5%attribute_int(group, 'margin_cells', config%margin_cells)
-      call h5%attribute_string(group, 'kernels', trim(config%kernels))
-      if (config%end_time /= unset) then
-         call h5%attribute_real(group, 'end_time', config%end_time)
-      else
-         call h5%attribute_real(group, 'periods', config%periods)
-      end if
-      call h5%attribute_real(group, 'energy_growth_limit', config%energy_growth_limit)
-      call h5%attribute_real(group, 'max_cell_move', config%max_cell_move)
+      do i = 1, size(table)
+         call write_one(table(i), trim(table(i)%attribute))
+      end do
       call h5%attribute_real(group, 'wave_speed', config%wave_speed)
       call h5%attribute_real(group, 'dx', config%dx)
       call h5%attribute_real(group, 'dt', config%dt)
       call h5%attribute_real(group, 'period', config%period)
       call h5%attribute_real(group, 'final_time', config%final_time)
       call h5%attribute_int(group, 'steps', config%steps)
-      call h5%attribute_string(group, 'output_file', trim(config%file))
+      call h5%attribute_string(group, 'parameters', parameter_listing(table))
+   contains
+      subroutine write_one(p, name)
+         type(parameter_t), intent(in) :: p
+         character(len=*), intent(in) :: name
+         select case (p%type)
+         case (type_real)
+            if (len(format_value(p)) > 0) call h5%attribute_real(group, name, p%real_value)
+         case (type_int)
+            call h5%attribute_int(group, name, p%int_value)
+         case (type_logical)
+            call h5%attribute_int(group, name, merge(1, 0, p%logical_value))
+         case (type_text)
+            call h5%attribute_string(group, name, trim(p%text_value))
+         case (type_real_list)
+            call h5%attribute_reals(group, name, p%list_value(1:p%list_count))
+         end select
+      end subroutine write_one
    end subroutine write_config_attributes
 end module mpm_output

@@ -9,7 +9,9 @@ module mpm_sweep_output
    use mpm_output, only: write_config_attributes
    use mpm_version, only: code_version
    use mpm_diagnostics, only: status_name
-   use mpm_sweep, only: sweep_t, sweep_case_t
+   use mpm_sweep, only: sweep_t, sweep_case_t, case_column
+   use mpm_config, only: config_t, config_parameters
+   use mpm_registry, only: parameter_t, value_list_t, single_value_list, type_real, type_int
    use mpm_sort, only: sort_order
    implicit none
    private
@@ -50,7 +52,7 @@ contains
       call h5%attribute_string('/', 'content', 'sweep')
       call h5%group('/config')
       call write_config_attributes(h5, '/config', sweep%base)
-      call write_table(h5, info, sweep%cases)
+      call write_table(h5, info, sweep%cases, [(case_column(sweep, i, sweep%cases), i=1, size(sweep%settings%lists))])
       if (sweep%settings%histories) then
          call h5%group('/histories')
          do i = 1, size(sweep%cases)
@@ -84,11 +86,13 @@ contains
       name = trim(buffer)
    end function history_name
 
-   !> /sweep attributes and the /cases columns.
-   subroutine write_table(h5, info, cases)
+   !> /sweep attributes and the /cases columns: the index, one column per sweepable variable of the
+   !> registry (`columns`, one value per case), then the results.
+   subroutine write_table(h5, info, cases, columns)
       type(h5_writer_t), intent(inout) :: h5
       type(sweep_info_t), intent(in) :: info
       type(sweep_case_t), intent(in) :: cases(:)
+      type(value_list_t), intent(in) :: columns(:)
       character(len=message_length), allocatable :: messages(:)
       character(len=32), allocatable :: names(:)
       integer :: i
@@ -106,14 +110,9 @@ contains
 
       call h5%group('/cases')
       call h5%write_int('/cases/index', cases%index)
-      call h5%write_strings('/cases/scheme', cases%scheme)
-      call h5%write_int('/cases/elements', cases%elements)
-      call h5%write_int('/cases/particles_per_element', cases%particles_per_element)
-      call h5%write_real('/cases/dt_fraction', cases%dt_fraction)
-      call h5%write_real('/cases/youngs_modulus', cases%youngs_modulus)
-      call h5%write_real('/cases/density', cases%density)
-      call h5%write_real('/cases/velocity_amplitude', cases%velocity_amplitude)
-      call h5%write_int('/cases/mode', cases%mode)
+      do i = 1, size(columns)
+         call write_column(columns(i))
+      end do
       call h5%write_int('/cases/particles', cases%particles)
       call h5%write_int('/cases/steps', cases%steps)
       call h5%write_real('/cases/dt', cases%dt)
@@ -135,6 +134,21 @@ contains
       call h5%write_real('/cases/min_volume_ratio', cases%min_volume_ratio)
       call h5%write_real('/cases/max_cell_move', cases%max_cell_move)
       call h5%write_real('/cases/min_node_mass_ratio', cases%min_node_mass_ratio)
+   contains
+      subroutine write_column(column)
+         type(value_list_t), intent(in) :: column
+         character(len=:), allocatable :: texts(:)
+         select case (column%type)
+         case (type_real)
+            call h5%write_real('/cases/'//trim(column%column), column%reals)
+         case (type_int)
+            call h5%write_int('/cases/'//trim(column%column), column%ints)
+         case default
+            allocate (character(len=column%width) :: texts(size(column%texts)))
+            texts(:) = column%texts
+            call h5%write_strings('/cases/'//trim(column%column), texts)
+         end select
+      end subroutine write_column
    end subroutine write_table
 
    !> Join shard files (every shard 1..n of one sweep, each once) into `path`: the same table,
@@ -145,6 +159,7 @@ contains
       type(error_t), allocatable, intent(out) :: error
       type(sweep_info_t) :: info, first
       type(sweep_case_t), allocatable :: cases(:), part(:)
+      type(value_list_t), allocatable :: columns(:), part_columns(:)
       logical, allocatable :: seen(:)
       integer, allocatable :: order(:)
       type(h5_writer_t) :: h5
@@ -156,6 +171,7 @@ contains
          return
       end if
       allocate (cases(0))
+      columns = sweep_columns()
       do i = 1, size(inputs)
          call read_info(trim(inputs(i)), info, text, error)
          if (allocated(error)) return
@@ -178,6 +194,14 @@ contains
          call read_cases(trim(inputs(i)), part, error)
          if (allocated(error)) return
          cases = [cases, part]
+         part_columns = sweep_columns()
+         call read_columns(trim(inputs(i)), size(part), part_columns, error)
+         if (allocated(error)) return
+         do k = 1, size(columns)
+            columns(k)%reals = [columns(k)%reals, part_columns(k)%reals]
+            columns(k)%ints = [columns(k)%ints, part_columns(k)%ints]
+            columns(k)%texts = [character(len=64) :: columns(k)%texts, part_columns(k)%texts]
+         end do
          if (i > 1) then
             first%wall_time = first%wall_time + info%wall_time
             first%error_pass_time = first%error_pass_time + info%error_pass_time
@@ -195,6 +219,11 @@ contains
       end if
       order = sort_order(real(cases%index, dp))
       cases = cases(order)
+      do k = 1, size(columns)
+         columns(k)%reals = columns(k)%reals(order)
+         columns(k)%ints = columns(k)%ints(order)
+         columns(k)%texts = columns(k)%texts(order)
+      end do
       first%shard = 1
       first%shards = 1
       first%namelist_text = without_shard(first%namelist_text)//", shard=1, shards=1 /"
@@ -203,7 +232,7 @@ contains
       call h5%attribute_string('/', 'code_version', code_version)
       call h5%attribute_string('/', 'content', 'sweep')
       call h5%copy_from(trim(inputs(1)), '/config')
-      call write_table(h5, first, cases)
+      call write_table(h5, first, cases, columns)
       do i = 1, size(inputs)
          if (.not. h5_exists(trim(inputs(i)), '/histories')) cycle
          if (i == 1) call h5%group('/histories')
@@ -277,7 +306,6 @@ contains
       type(error_t), allocatable, intent(out) :: error
       integer, allocatable :: ints(:)
       real(dp), allocatable :: reals(:)
-      character(len=8), allocatable :: schemes(:)
       character(len=message_length), allocatable :: messages(:)
       integer :: n, i
       call h5_read_int(path, '/cases/index', ints, error)
@@ -285,15 +313,6 @@ contains
       n = size(ints)
       allocate (cases(n))
       cases%index = ints
-      call h5_read_string(path, '/cases/scheme', 8, schemes, error)
-      if (allocated(error)) return
-      cases%scheme = schemes
-      call int_column('elements')
-      cases%elements = ints
-      call int_column('particles_per_element')
-      cases%particles_per_element = ints
-      call int_column('mode')
-      cases%mode = ints
       call int_column('particles')
       cases%particles = ints
       call int_column('steps')
@@ -302,14 +321,6 @@ contains
       cases%repeats = ints
       call int_column('status')
       cases%status = ints
-      call real_column('dt_fraction')
-      cases%dt_fraction = reals
-      call real_column('youngs_modulus')
-      cases%youngs_modulus = reals
-      call real_column('density')
-      cases%density = reals
-      call real_column('velocity_amplitude')
-      cases%velocity_amplitude = reals
       call real_column('dt')
       cases%dt = reals
       call real_column('max_error')
@@ -352,6 +363,58 @@ contains
          if (allocated(error)) reals = [(0.0_dp, i=1, n)]
       end subroutine real_column
    end subroutine read_cases
+
+   !> Empty columns for the sweepable variables of the registry: name, type and text width.
+   function sweep_columns() result(columns)
+      type(value_list_t), allocatable :: columns(:)
+      type(config_t), target :: defaults
+      type(parameter_t), allocatable :: table(:)
+      integer :: k
+      call config_parameters(defaults, table)
+      allocate (columns(0))
+      do k = 1, size(table)
+         if (len_trim(table(k)%sweep_list) == 0) cycle
+         columns = [columns, single_value_list(table(k), trim(table(k)%sweep_list))]
+      end do
+      do k = 1, size(columns)
+         deallocate (columns(k)%reals, columns(k)%ints, columns(k)%texts)
+         allocate (columns(k)%reals(0), columns(k)%ints(0), columns(k)%texts(0))
+      end do
+   end function sweep_columns
+
+   !> Read the registry's columns of /cases (`n` cases) of a sweep file; all three value arrays of a
+   !> column get `n` entries (those of other types zero or blank).
+   subroutine read_columns(path, n, columns, error)
+      character(len=*), intent(in) :: path
+      integer, intent(in) :: n
+      type(value_list_t), intent(inout) :: columns(:)
+      type(error_t), allocatable, intent(out) :: error
+      character(len=:), allocatable :: name
+      integer :: k
+      do k = 1, size(columns)
+         name = '/cases/'//trim(columns(k)%column)
+         columns(k)%reals = spread(0.0_dp, 1, n)
+         columns(k)%ints = spread(0, 1, n)
+         columns(k)%texts = spread(repeat(' ', 64), 1, n)
+         select case (columns(k)%type)
+         case (type_real)
+            call h5_read_real(path, name, columns(k)%reals, error)
+         case (type_int)
+            call h5_read_int(path, name, columns(k)%ints, error)
+         case default
+            block
+               character(len=columns(k)%width), allocatable :: texts(:)
+               call h5_read_string(path, name, columns(k)%width, texts, error)
+               if (.not. allocated(error)) columns(k)%texts = texts
+            end block
+         end select
+         if (allocated(error)) return
+         if (size(columns(k)%reals) /= n .or. size(columns(k)%ints) /= n .or. size(columns(k)%texts) /= n) then
+            call set_error(error, "merge: column '"//trim(columns(k)%column)//"' of '"//path//"' has the wrong length")
+            return
+         end if
+      end do
+   end subroutine read_columns
 
 
 end module mpm_sweep_output

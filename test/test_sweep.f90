@@ -121,7 +121,7 @@ contains
       type(config_t) :: config
       type(run_result_t) :: r
       type(error_t), allocatable :: run_error
-      config = case_config(one_thread%base, one_thread%cases(index))
+      config = case_config(one_thread, one_thread%cases(index))
       call run_simulation(config, r, run_error, record_history=.false.)
       call t%check('case equals single run (max error)', r%max_error == one_thread%cases(index)%max_error)
       call t%check('case equals single run (steps)', r%steps == one_thread%cases(index)%steps)
