@@ -10,7 +10,7 @@
 !> keeps addresses in registers (through the derived types' descriptors the loops ran about 2x slower).
 module mpm_operations
    use mpm_kinds, only: dp
-   use mpm_grid, only: grid_t, solve_range
+   use mpm_grid, only: grid_t, solve_range, zero_fixed
    use mpm_particles, only: particles_t
    use mpm_shape, only: shape_cache_t, evaluate_shapes
    use mpm_diagnostics, only: pass_totals_t
@@ -125,8 +125,8 @@ contains
       elsewhere
          grid%velocity = 0.0_dp
       end where
-      grid%momentum(grid%fixed) = 0.0_dp
-      grid%velocity(grid%fixed) = 0.0_dp
+      call zero_fixed(grid%fixed, grid%momentum)
+      call zero_fixed(grid%fixed, grid%velocity)
    end subroutine nodal_velocities
 
    !> Explicit momentum update with the assembled force: p_I += dt f_I, a_I = f_I/m_I, v_I = p_I/m_I
@@ -134,13 +134,13 @@ contains
    subroutine solve_grid(grid, dt)
       type(grid_t), intent(inout) :: grid
       real(dp), intent(in) :: dt
-      grid%force(grid%fixed) = 0.0_dp
-      grid%momentum(grid%fixed) = 0.0_dp
+      call zero_fixed(grid%fixed, grid%force)
+      call zero_fixed(grid%fixed, grid%momentum)
       grid%min_node_mass = huge(1.0_dp)
       call solve_range(0, grid%elements, dt, grid%empty_mass, grid%mass, grid%force, grid%momentum, grid%acceleration, &
                        grid%velocity, grid%min_node_mass)
-      grid%acceleration(grid%fixed) = 0.0_dp
-      grid%velocity(grid%fixed) = 0.0_dp
+      call zero_fixed(grid%fixed, grid%acceleration)
+      call zero_fixed(grid%fixed, grid%velocity)
    end subroutine solve_grid
 
    !> FLIP update of velocity and position with the start-of-step shape functions; totals: sum m (x - X),
