@@ -14,7 +14,8 @@ program test_kernels
    use mpm_shape_linear, only: locate
    use mpm_grid, only: grid_t, grid_init
    use mpm_particles, only: particles_t, particles_init
-   use mpm_transfer, only: pass_totals_t, p2g, g2p_stress_then_p2g, g2p_then_p2g, stress_then_force
+   use mpm_transfer, only: pass_totals_t, p2g, g2p_stress_then_p2g, g2p_then_p2g, stress_then_force, g2p_with_remap, &
+                           stress_then_p2g
    use mpm_testing, only: tester_t
    use mpm_strings, only: str
    implicit none
@@ -26,6 +27,8 @@ program test_kernels
    call check_pass('usf', 13, 11)
    call check_pass('usl', 20000, 10)
    call check_pass('usf', 20000, 10)
+   call check_musl(13, 11)
+   call check_musl(20000, 10)
    call check_moving_ranges()
    call t%finish()
 
@@ -152,6 +155,101 @@ contains
                                           stress_volume, 1.0e-11_dp, 1.0e-12_dp)
    end subroutine check_pass
 
+   !> MUSL's two passes against the same one-at-a-time update: the remap pass (G2P, then the new momentum
+   !> mapped back with the start-of-step shape functions: element momentum shares at the old cells, mass
+   !> shares untouched), then, with new random nodal velocities standing for the remapped ones, the stress
+   !> pass (strain from the start-of-step cell) with mass, momentum and stress*volume at the new positions.
+   subroutine check_musl(elements, per_element)
+      integer, intent(in) :: elements, per_element
+      type(particles_t) :: particles
+      type(grid_t) :: grid
+      type(pass_totals_t) :: totals
+      type(error_t), allocatable :: error
+      real(dp), allocatable :: x(:), v(:), stress(:), jac(:), r(:), xi0(:), mass_left0(:), mass_right0(:)
+      real(dp), allocatable :: mass_left(:), mass_right(:), momentum_left(:), momentum_right(:), stress_volume(:)
+      real(dp) :: xi, m, dstrain
+      integer :: p, e, c, count
+      integer, allocatable :: cell0(:)
+      character(len=:), allocatable :: label
+      label = 'musl, '//str(elements*per_element)//' particles: '
+      call particles_init(particles, elements, per_element, length/elements, density, error)
+      call grid_init(grid, elements, length, particles%mass, error)
+      count = particles%count
+      m = particles%mass
+      allocate (r(count))
+      call random_number(r)
+      particles%x = particles%x + (r - 0.5_dp)*0.9_dp*grid%dx/per_element
+      call random_number(r)
+      particles%v = r - 0.5_dp
+      call random_number(r)
+      particles%stress = 3*r - 1
+      call random_number(r)
+      particles%volume_ratio = 0.8_dp + 0.4_dp*r
+      call p2g(particles, grid, .true., totals)
+      mass_left0 = grid%element_mass_left
+      mass_right0 = grid%element_mass_right
+      call random_number(grid%velocity)
+      grid%velocity = (grid%velocity - 0.5_dp)*0.8_dp*grid%dx/dt
+      call random_number(grid%acceleration)
+      grid%acceleration = grid%acceleration - 0.5_dp
+      ! pass 1, one at a time
+      x = particles%x
+      v = particles%v
+      cell0 = particles%cell
+      allocate (xi0(count), momentum_left(elements), momentum_right(elements))
+      momentum_left = 0
+      momentum_right = 0
+      do p = 1, count
+         e = cell0(p)
+         xi0(p) = x(p)*grid%inv_dx - (e - 1)
+         v(p) = v(p) + dt*((1 - xi0(p))*grid%acceleration(e - 1) + xi0(p)*grid%acceleration(e))
+         x(p) = x(p) + dt*((1 - xi0(p))*grid%velocity(e - 1) + xi0(p)*grid%velocity(e))
+         momentum_left(e) = momentum_left(e) + (1 - xi0(p))*m*v(p)
+         momentum_right(e) = momentum_right(e) + xi0(p)*m*v(p)
+      end do
+      call g2p_with_remap(particles, grid, dt, totals)
+      call all_close(label//'remap: positions', particles%x, x, 1.0e-14_dp, 1.0e-14_dp)
+      call all_close(label//'remap: velocities', particles%v, v, 1.0e-13_dp, 1.0e-14_dp)
+      call t%check(label//'remap: cells unchanged (start-of-step shape functions)', all(particles%cell == cell0))
+      call all_close(label//'remap: momentum shares (left)', grid%element_momentum_left, momentum_left, 1.0e-11_dp, &
+                     1.0e-12_dp)
+      call all_close(label//'remap: momentum shares (right)', grid%element_momentum_right, momentum_right, 1.0e-11_dp, &
+                     1.0e-12_dp)
+      call t%check(label//'remap: mass shares untouched', all(grid%element_mass_left == mass_left0) .and. &
+                   all(grid%element_mass_right == mass_right0))
+      ! pass 2: new nodal velocities stand for the remapped ones
+      call random_number(grid%velocity)
+      grid%velocity = (grid%velocity - 0.5_dp)*0.8_dp*grid%dx/dt
+      stress = particles%stress
+      jac = particles%volume_ratio
+      allocate (mass_left(elements), mass_right(elements), stress_volume(elements))
+      mass_left = 0; mass_right = 0; momentum_left = 0; momentum_right = 0; stress_volume = 0
+      do p = 1, count
+         e = cell0(p)
+         dstrain = dt*(grid%velocity(e) - grid%velocity(e - 1))*grid%inv_dx
+         stress(p) = stress(p) + youngs_modulus*dstrain
+         jac(p) = jac(p)*(1 + dstrain)
+         call locate(x(p), grid%inv_dx, elements, c, xi)
+         if (c < 1 .or. c > elements) cycle  ! outside the grid: adds nothing (the guard stops such runs)
+         mass_left(c) = mass_left(c) + (1 - xi)*m
+         mass_right(c) = mass_right(c) + xi*m
+         momentum_left(c) = momentum_left(c) + (1 - xi)*m*v(p)
+         momentum_right(c) = momentum_right(c) + xi*m*v(p)
+         stress_volume(c) = stress_volume(c) + stress(p)*jac(p)*particles%volume0
+      end do
+      call stress_then_p2g(particles, grid, dt, youngs_modulus, totals)
+      call all_close(label//'stress pass: stresses', particles%stress, stress, 1.0e-13_dp, 1.0e-13_dp)
+      call all_close(label//'stress pass: volume ratios', particles%volume_ratio, jac, 1.0e-14_dp, 0.0_dp)
+      call all_close(label//'stress pass: mass shares (left)', grid%element_mass_left, mass_left, 1.0e-12_dp, 0.0_dp)
+      call all_close(label//'stress pass: mass shares (right)', grid%element_mass_right, mass_right, 1.0e-12_dp, 0.0_dp)
+      call all_close(label//'stress pass: momentum shares (left)', grid%element_momentum_left, momentum_left, &
+                     1.0e-11_dp, 1.0e-12_dp)
+      call all_close(label//'stress pass: stress*volume shares', grid%element_stress_volume, stress_volume, &
+                     1.0e-11_dp, 1.0e-12_dp)
+      call t%check_close(label//'stress pass: strain energy', totals%strain_energy, &
+                         sum(0.5_dp*stress**2*jac*particles%volume0/youngs_modulus), rtol=1.0e-12_dp)
+   end subroutine check_musl
+
    !> Six USL passes over 200,000 particles (about 25 segments) under a smooth nodal velocity that moves
    !> them by up to 0.9 element per pass, right then left: positions against the one-at-a-time update,
    !> and each element's mass against m times the number of particles it now holds.
@@ -162,12 +260,15 @@ contains
       type(pass_totals_t) :: totals
       type(error_t), allocatable :: error
       real(dp), allocatable :: x(:), held(:)
+      integer, allocatable :: start_cells(:)
+      logical :: crossed
       real(dp) :: xi, sign
       integer :: pass, p, e, c, i
       character(len=:), allocatable :: label
       call particles_init(particles, elements, per_element, length/elements, density, error)
       call grid_init(grid, elements, length, particles%mass, error)
       call p2g(particles, grid, .true., totals)
+      start_cells = particles%cell
       allocate (held(elements))
       do pass = 1, 6
          label = 'moving ranges, pass '//str(pass)//': '
@@ -187,13 +288,25 @@ contains
          end do
          call g2p_stress_then_p2g(particles, grid, dt, youngs_modulus, totals)
          call t%check(label//'no particle left the grid', totals%outside == 0)
+         if (pass == 3) crossed = any(segment_of(grid, particles%cell) /= segment_of(grid, start_cells))
          call all_close(label//'positions', particles%x, x, 1.0e-14_dp, 1.0e-14_dp)
          call all_close(label//'element masses', grid%element_mass_left + grid%element_mass_right, held, &
                         1.0e-12_dp, 0.0_dp)
       end do
-      call t%check('moving ranges: particles crossed segment borders', &
-                   any(particles%cell(2:) /= particles%cell(:particles%count - 1)))
+      call t%check('moving ranges: the run has several segments', grid%segments%count > 2)
+      call t%check('moving ranges: particles crossed segment borders (after the three moves right, a particle '// &
+                   'is in another segment than it started in)', crossed)
    end subroutine check_moving_ranges
+
+   !> The segment of `grid` holding each cell.
+   function segment_of(grid, cells) result(segments)
+      type(grid_t), intent(in) :: grid
+      integer, intent(in) :: cells(:)
+      integer :: segments(size(cells)), p
+      do p = 1, size(cells)
+         segments(p) = count(grid%segments%first_element(1:grid%segments%count) <= cells(p))
+      end do
+   end function segment_of
 
    !> Every |actual - expected| <= atol + rtol |expected|; reports the worst entry.
    subroutine all_close(label, actual, expected, rtol, atol)
