@@ -168,9 +168,12 @@ contains
       type(pass_totals_t), intent(inout) :: totals
       integer :: p, k, outside, furthest
       real(dp) :: move, largest, displacement, kinetic
-      ! the gathers, node by node of the support (each loop vectorises)
-      gathered(:, 1:2) = 0.0_dp
-      do k = 1, support
+      ! the gathers, node by node of the support (each loop vectorises; the first node assigns)
+      do p = 1, size(first)
+         gathered(p, 1) = weight(p, 1)*acceleration(first(p))
+         gathered(p, 2) = weight(p, 1)*velocity(first(p))
+      end do
+      do k = 2, support
          do p = 1, size(first)
             gathered(p, 1) = gathered(p, 1) + weight(p, k)*acceleration(first(p) + k - 1)
             gathered(p, 2) = gathered(p, 2) + weight(p, k)*velocity(first(p) + k - 1)
@@ -222,8 +225,10 @@ contains
       real(dp), intent(in) :: dt
       real(dp), intent(out), contiguous :: dstrain(:)
       integer :: p, k
-      dstrain = 0.0_dp
-      do k = 1, support
+      do p = 1, size(first)
+         dstrain(p) = gradient(p, 1)*velocity(first(p))
+      end do
+      do k = 2, support
          do p = 1, size(first)
             dstrain(p) = dstrain(p) + gradient(p, k)*velocity(first(p) + k - 1)
          end do

@@ -28,9 +28,11 @@ contains
       integer, intent(out) :: outside
       integer :: p, e
       real(dp) :: xi, s, inside
+      outside = huge(1)
       do p = 1, size(x)
          s = (x(p) - origin)*inv_dx
          inside = merge(1.0_dp, 0.0_dp, s >= 0.0_dp .and. s <= real(cells, dp))
+         outside = min(outside, merge(huge(1), p, inside > 0.0_dp))
          s = merge(s, 0.0_dp, inside > 0.0_dp)
          e = min(int(s), cells - 1)
          xi = s - e
@@ -40,13 +42,7 @@ contains
          gradient(p, 1) = -inv_dx*inside
          gradient(p, 2) = inv_dx*inside
       end do
-      outside = 0
-      do p = 1, size(x)
-         if (.not. ((x(p) - origin)*inv_dx >= 0.0_dp .and. (x(p) - origin)*inv_dx <= real(cells, dp))) then
-            outside = p
-            exit
-         end if
-      end do
+      if (outside == huge(1)) outside = 0
    end subroutine linear_shapes
 
    !> Element `cell` (1..elements) and local coordinate `xi` of position `x` (from the grid's origin).
