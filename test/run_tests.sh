@@ -22,6 +22,9 @@ if [ -f postprocess/test_postprocess.py ]; then
   echo "== post-processing"
   "$PYTHON" postprocess/test_postprocess.py || failed=1
 fi
+echo "== the command line: overrides, standard input, --quiet, hostile input"
+bash test/test_command_line.sh || failed=1
+
 echo "== the README's quick-start commands, as written"
 bash test/test_readme.sh || failed=1
 
