@@ -8,7 +8,7 @@ program mpm1d_main
    use, intrinsic :: iso_fortran_env, only: output_unit, error_unit
    use mpm_kinds, only: dp
    use mpm_errors, only: error_t
-   use mpm_strings, only: str
+   use mpm_strings, only: str, num, plural, readable_numbers
    use mpm_config, only: config_t, read_config_text, default_config, write_config_namelist, config_summary, stability_limit
    use mpm_simulation, only: run_result_t, run_simulation, guard_message
    use mpm_output, only: write_run_file
@@ -128,7 +128,9 @@ program mpm1d_main
    if (allocated(error)) call fail(error%message, 3)
 
    if (.not. quiet) call report_run()
-   if (result%status /= status_ok) call fail(guard_message(result%status, result%trip, config)//new_line('a')// &
+   ! the terminal gets the guard's message with readable numbers (the file keeps them in full)
+   if (result%status /= status_ok) call fail(readable_numbers(guard_message(result%status, result%trip, config), 5)// &
+                                             new_line('a')// &
                                              'the history up to that step is in '// &
                                              trim(config%file), 1)
 
@@ -136,11 +138,19 @@ contains
 
    !> What a single run reports on standard output.
    subroutine report_run()
-   write (output_unit, '(a)') 'max |u_cm - u_cm,exact| = '//str(result%max_error)//' m ('// &
-      str(100*result%relative_error)//' % of the exact amplitude '//str(result%ucm_amplitude)//' m)'
-   write (output_unit, '(a)') 'steps '//str(result%steps_done)//' of '//str(result%steps)//', run time '// &
-      str(result%run_time)//' s, '//str(real(result%particles, dp)*result%steps_done/max(result%run_time, 1.0e-9_dp))// &
-      ' particle-steps/s'
+      real(dp) :: rate
+      rate = real(result%particles, dp)*result%steps_done/max(result%run_time, 1.0e-9_dp)
+      write (output_unit, '(a)') 'max |u_cm - u_cm,exact| = '//num(result%max_error)//' m ('// &
+         num(100*result%relative_error, 3)//' % of the exact amplitude '//num(result%ucm_amplitude)//' m)'
+      if (result%status == status_ok) then
+         write (output_unit, '(a)') 'steps '//str(result%steps_done)//' of '//str(result%steps)//', run time '// &
+            num(result%run_time, 3)//' s, '//num(rate, 3)//' particle-steps/s'
+      else
+         ! the step count of the guard's message: the step that tripped it, which did not complete
+         write (output_unit, '(a)') 'stopped by a guard at step '//str(result%trip%step)//' of '//str(result%steps)// &
+            ' ('//plural(result%steps_done, 'step')//' completed), run time '//num(result%run_time, 3)//' s, '// &
+            num(rate, 3)//' particle-steps/s'
+      end if
    write (output_unit, '(a)') 'wrote '//trim(config%file)
    end subroutine report_run
 
@@ -175,26 +185,32 @@ contains
          continue
       else if (sweep%settings%shards > 1) then
          write (output_unit, '(a)') 'mpm1d: sweep shard '//str(sweep%settings%shard)//' of '// &
-            str(sweep%settings%shards)//': '//str(size(sweep%cases))//' of '//str(sweep%total_cases)//' cases'
+            str(sweep%settings%shards)//': '//str(size(sweep%cases))//' of '//plural(sweep%total_cases, 'case')
       else
-         write (output_unit, '(a)') 'mpm1d: sweep of '//str(size(sweep%cases))//' cases'
+         write (output_unit, '(a)') 'mpm1d: sweep of '//plural(size(sweep%cases), 'case')
       end if
       above = 0
       do i = 1, size(sweep%cases)
          config = case_config(sweep, sweep%cases(i))
          if (config%dt_fraction > stability_limit(config%scheme, config%particles_per_element)) above = above + 1
       end do
-      if (above > 0) write (error_unit, '(a)') 'mpm1d: warning: '//str(above)//' cases ask for a time step '// &
+      if (above > 0) write (error_unit, '(a)') 'mpm1d: warning: '//plural(above, 'case')// &
+         trim(merge(' asks', ' ask ', above == 1))//' for a time step '// &
          'above their scheme''s linear stability limit (see studies/stability); guards will stop them if they grow'
       call run_sweep(sweep)
       call write_sweep_file(output, sweep, error)
       if (allocated(error)) call fail(error%message, 3)
       failed = count(sweep%cases%status /= status_ok)
       if (quiet) return
-      write (output_unit, '(a)') 'error pass '//str(sweep%error_pass_time)//' s on '//str(sweep%threads_used)// &
-         ' threads; timing pass '//str(sweep%timing_pass_time)//' s on '//str(sweep%settings%timing_threads)// &
-         ' threads (min_time '//str(sweep%settings%min_time)//' s per case)'
-      write (output_unit, '(a)') str(size(sweep%cases) - failed)//' cases completed, '//str(failed)// &
+      if (sweep%settings%min_time > 0) then
+         write (output_unit, '(a)') 'error pass '//num(sweep%error_pass_time, 3)//' s on '// &
+            plural(sweep%threads_used, 'thread')//'; timing pass '//num(sweep%timing_pass_time, 3)//' s on '// &
+            plural(sweep%settings%timing_threads, 'thread')//' (min_time '//num(sweep%settings%min_time)//' s per case)'
+      else
+         write (output_unit, '(a)') 'error pass '//num(sweep%error_pass_time, 3)//' s on '// &
+            plural(sweep%threads_used, 'thread')//'; no timing pass (min_time = 0)'
+      end if
+      write (output_unit, '(a)') plural(size(sweep%cases) - failed, 'case')//' completed, '//str(failed)// &
          ' stopped by a guard (recorded in /cases/status)'
       write (output_unit, '(a)') 'wrote '//output
    end subroutine sweep_command
@@ -207,8 +223,8 @@ contains
       real(dp) :: limit
       limit = stability_limit(scheme, particles_per_element)
       if (dt_fraction > limit .and. cases > 0) write (error_unit, '(a)') 'mpm1d: warning: dt_fraction = '// &
-         str(dt_fraction)//' is above the linear stability limit of '//trim(scheme)//' with '// &
-         str(particles_per_element)//' particles per element (about '//str(nint(limit*1000)/1000.0_dp)// &
+         num(dt_fraction)//' is above the linear stability limit of '//trim(scheme)//' with '// &
+         plural(particles_per_element, 'particle')//' per element (about '//num(limit, 3)// &
          ' of dx/c; see studies/stability); a guard will stop the run if it grows'
    end subroutine warn_stability
 

@@ -4,7 +4,7 @@ module mpm_config
    use, intrinsic :: ieee_arithmetic, only: ieee_is_finite
    use mpm_kinds, only: dp, i8, pi
    use mpm_errors, only: error_t, set_error, append_error
-   use mpm_strings, only: str, lower
+   use mpm_strings, only: str, lower, num, plural
    use mpm_files, only: available_memory
    use mpm_particles, only: bytes_per_particle
    use mpm_registry, only: parameter_t, nml_item_t, text_entry, int_entry, real_entry, real_list_entry, &
@@ -407,9 +407,9 @@ contains
    function config_summary(config) result(text)
       type(config_t), intent(in) :: config
       character(len=:), allocatable :: text
-      text = trim(config%scheme)//", "//str(config%elements)//" elements, "//str(config%particles_per_element)// &
-             " particles per element, dt = "//str(config%dt_fraction)//" dx/c = "//str(config%dt)//" s, "// &
-             str(config%steps)//" steps"
+      text = trim(config%scheme)//", "//plural(config%elements, "element")//", "// &
+             plural(config%particles_per_element, "particle")//" per element, dt = "//num(config%dt_fraction)// &
+             " dx/c = "//num(config%dt, 3)//" s, "//plural(config%steps, "step")
    end function config_summary
 
    pure function join(words) result(text)

@@ -53,5 +53,22 @@ check "test_quiet_prints_nothing" "[ $(rc) = 0 ] && [ ! -s out.txt ] && [ -s a.h
 run s.nml --quiet
 check "test_quiet_sweep_prints_nothing" "[ $(rc) = 0 ] && [ ! -s out.txt ] && [ -s s.h5 ]"
 
+# ---- readable terminal output (the echoed namelist keeps full precision)
+run a.nml discretisation.particles_per_element=1 discretisation.dt_fraction=0.1
+check "test_summary_line_readable" "grep -q '^# usl, 10 elements, 1 particle per element, dt = 0.1 dx/c = 4.94e-05 s, 400 steps' out.txt"
+check "test_echo_keeps_full_precision" "grep -q 'dt_fraction=0.10000000000000001' out.txt"
+check "test_result_lines_readable" "grep -E '^max \|u_cm - u_cm,exact\| = [0-9.]+e-[0-9]+ m \([0-9.]+ % of the exact amplitude [0-9.e+-]+ m\)$' out.txt >/dev/null"
+check "test_no_long_numbers_outside_echo" "! grep -v '^&' out.txt | grep -E '[0-9]{8,}|E-[0-9]' >/dev/null"
+printf "&discretisation scheme='usl', dt_fraction=3.0 /\n&output file='u.h5' /\n" > u.nml
+run u.nml
+guard_step=$(sed -n 's/.*tripped at step \([0-9]*\) of \([0-9]*\).*/\1 of \2/p' err.txt)
+check "test_guard_exit_1" "[ $(rc) = 1 ]"
+check "test_same_step_count_in_summary_and_guard" "[ -n \"$guard_step\" ] && grep -q \"stopped by a guard at step $guard_step\" out.txt"
+check "test_guard_message_readable" "! grep -E '[0-9]\.[0-9]{7,}' err.txt >/dev/null"
+check "test_guard_message_full_in_file" "h5dump -d /summary/message u.h5 | grep -E '[0-9]\.[0-9]{8,}' >/dev/null"
+printf "&output file='one.h5' /\n&sweep elements=3, min_time=0 /\n" > one.nml
+run one.nml --threads 1
+check "test_sweep_plurals" "grep -q 'sweep of 1 case\$' out.txt && grep -q 'on 1 thread;' out.txt && grep -q '^1 case completed' out.txt"
+
 echo "test_command_line: $passed passed, $failed failed"
 [ "$failed" = 0 ]

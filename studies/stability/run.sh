@@ -60,7 +60,7 @@ sweep() {
   prepare "$@"
   local t0; t0=$(now)
   "$exe" "$out/$name.nml" > "$out/$name.log" 2>&1 || { echo "mpm1d failed on $name.nml:"; cat "$out/$name.log"; exit 1; }
-  grep -E 'sweep of|cases completed' "$out/$name.log" | tr '\n' ' ' | sed "s/^/   $name: /"; echo
+  grep -E 'sweep of|completed' "$out/$name.log" | tr '\n' ' ' | sed "s/^/   $name: /"; echo
   lap "$name" "$t0"
 }
 
