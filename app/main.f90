@@ -1,4 +1,5 @@
-!> mpm1d command line: `mpm1d [input.nml] [--shard I/N] [--threads N]`, `mpm1d merge OUT IN...`,
+!> mpm1d command line: `mpm1d [input.nml | -] [group.name=value ...] [--quiet] [--shard I/N] [--threads N]`,
+!> `mpm1d merge OUT IN...`,
 !> `mpm1d --help`, `mpm1d --list-parameters`, `mpm1d --version`. An input file with a &sweep group runs a sweep.
 !> Parses arguments, calls the library, prints messages and sets the exit code:
 !> 0 success, 1 a guard stopped the run (its history is still written), 2 bad input or usage,
@@ -7,27 +8,29 @@ program mpm1d_main
    use, intrinsic :: iso_fortran_env, only: output_unit, error_unit
    use mpm_kinds, only: dp
    use mpm_errors, only: error_t
-   use mpm_strings, only: str
-   use mpm_config, only: config_t, read_config, default_config, write_config_namelist, config_summary, stability_limit
+   use mpm_strings, only: str, num, plural, readable_numbers
+   use mpm_config, only: config_t, read_config_text, default_config, write_config_namelist, config_summary, stability_limit
    use mpm_simulation, only: run_result_t, run_simulation, guard_message
    use mpm_output, only: write_run_file
    use mpm_diagnostics, only: status_ok
    use mpm_version, only: code_version
    use mpm_cli_help, only: print_help, print_parameters
-   use mpm_sweep, only: sweep_t, read_sweep, run_sweep, has_sweep_group, case_config
+   use mpm_sweep, only: sweep_t, read_sweep_text, run_sweep, has_sweep_text, case_config
+   use mpm_registry, only: read_input_text
    use mpm_sweep_output, only: write_sweep_file, merge_sweep_files
    implicit none
 
    type(config_t) :: config
    type(run_result_t) :: result
    type(error_t), allocatable :: error
-   character(len=:), allocatable :: input
-   integer :: nargs
+   character(len=:), allocatable :: input, text, source, option
+   character(len=1024), allocatable :: overrides(:)
+   integer :: nargs, i, shard, shards, threads
+   logical :: quiet, is_sweep
 
    nargs = command_argument_count()
    if (nargs >= 1) then
-      input = argument(1)
-      select case (input)
+      select case (argument(1))
       case ('-h', '--help')
          call print_help(output_unit)
          stop
@@ -41,91 +44,173 @@ program mpm1d_main
          call merge_command()
          stop
       end select
-      if (input(1:1) == '-') call fail("unknown option '"//input//"'; see mpm1d --help", 2)
-      if (has_sweep_group(input)) then
-         call sweep_command(input)
-         stop
-      end if
-      if (nargs > 1) call fail('too many arguments for a single run; usage: mpm1d [input.nml] (see mpm1d --help)', 2)
-      call read_config(input, config, error)
+   end if
+
+   ! the arguments: an input file (or '-'), overrides group.name=value, options
+   allocate (overrides(0))
+   quiet = .false.
+   shard = 0
+   shards = 0
+   threads = -1
+   i = 1
+   do while (i <= nargs)
+      option = argument(i)
+      select case (option)
+      case ('-q', '--quiet')
+         quiet = .true.
+      case ('--shard', '--threads')
+         if (i == nargs) call fail("option '"//option//"' needs a value; see mpm1d --help", 2)
+         i = i + 1
+         if (option == '--shard') then
+            call parse_shard(argument(i), shard, shards)
+         else
+            threads = to_int(argument(i), '--threads')
+            if (threads < 0) call fail('--threads '//argument(i)//' is out of range; allowed: 0 (all) or more', 2)
+         end if
+      case ('-')
+         if (allocated(input)) call fail("too many input files: '"//input//"' and '-'; see mpm1d --help", 2)
+         input = option
+      case default
+         if (option(1:min(1, len(option))) == '-') call fail("unknown option '"//option//"'; see mpm1d --help", 2)
+         if (is_override(option) .and. (allocated(input) .or. .not. exists(option))) then
+            if (len(option) > len(overrides)) call fail("override '"//option(1:60)//"...' is too long; allowed: "// &
+                                                       str(len(overrides))//" characters", 2)
+            overrides = [character(len=len(overrides)) :: overrides, option]
+         else if (.not. allocated(input)) then
+            if (len(option) == 0) call fail('an empty argument is not an input file; see mpm1d --help', 2)
+            input = option
+         else
+            call fail("too many arguments: '"//option//"' after the input file '"//input// &
+                      "'; usage: mpm1d [input.nml | -] [group.name=value ...] (see mpm1d --help)", 2)
+         end if
+      end select
+      i = i + 1
+   end do
+
+   if (allocated(input)) then
+      source = input
+      if (input == '-') source = 'standard input'
+      call read_input_text(input, text, error)
       if (allocated(error)) call fail('invalid input:'//new_line('a')//error%message, 2)
    else
-      config = default_config()
-      write (output_unit, '(a)') 'mpm1d: no input file given; running the built-in verification case '// &
-         '(see mpm1d --help for the namelist reference)'
+      source = 'command line'
+      text = ''
+   end if
+   is_sweep = has_sweep_text(text) .or. any(overrides(:)(1:6) == 'sweep.')
+   if (is_sweep) then
+      call sweep_command()
+      stop
+   end if
+   if (shards > 0 .or. threads >= 0) call fail('--shard and --threads are for a sweep (an input with a &sweep '// &
+                                                'group); see mpm1d --help', 2)
+   call read_config_text(text, source, config, error, overrides=overrides)
+   if (allocated(error)) call fail('invalid input:'//new_line('a')//error%message, 2)
+   if (.not. allocated(input) .and. .not. quiet) then
+      if (size(overrides) == 0) then
+         write (output_unit, '(a)') 'mpm1d: no input file given; running the built-in verification case '// &
+            '(see mpm1d --help for the namelist reference)'
+      else
+         write (output_unit, '(a)') 'mpm1d: no input file given; running the built-in verification case '// &
+            'with the overrides given'
+      end if
    end if
 
    call warn_stability(config%scheme, config%particles_per_element, config%dt_fraction, 1)
-   write (output_unit, '(a)') '# configuration used:'
-   call write_config_namelist(output_unit, config)
-   write (output_unit, '(a)') '# '//config_summary(config)
+   if (.not. quiet) then
+      write (output_unit, '(a)') '# configuration used:'
+      call write_config_namelist(output_unit, config)
+      write (output_unit, '(a)') '# '//config_summary(config)
+   end if
 
    call run_simulation(config, result, error, record_history=config%history)
    if (allocated(error)) call fail(error%message, 3)
    call write_run_file(config, result, error)
    if (allocated(error)) call fail(error%message, 3)
 
-   write (output_unit, '(a)') 'max |u_cm - u_cm,exact| = '//str(result%max_error)//' m ('// &
-      str(100*result%relative_error)//' % of the exact amplitude '//str(result%ucm_amplitude)//' m)'
-   write (output_unit, '(a)') 'steps '//str(result%steps_done)//' of '//str(result%steps)//', run time '// &
-      str(result%run_time)//' s, '//str(real(result%particles, dp)*result%steps_done/max(result%run_time, 1.0e-9_dp))// &
-      ' particle-steps/s'
-   write (output_unit, '(a)') 'wrote '//trim(config%file)
-   if (result%status /= status_ok) call fail(guard_message(result%status, result%trip, config)//new_line('a')// &
+   if (.not. quiet) call report_run()
+   ! the terminal gets the guard's message with readable numbers (the file keeps them in full)
+   if (result%status /= status_ok) call fail(readable_numbers(guard_message(result%status, result%trip, config), 5)// &
+                                             new_line('a')// &
                                              'the history up to that step is in '// &
                                              trim(config%file), 1)
 
 contains
 
-   !> `mpm1d input.nml [--shard I/N] [--threads N]` for an input with a &sweep group.
-   subroutine sweep_command(path)
+   !> What a single run reports on standard output.
+   subroutine report_run()
+      real(dp) :: rate
+      rate = real(result%particles, dp)*result%steps_done/max(result%run_time, 1.0e-9_dp)
+      write (output_unit, '(a)') 'max |u_cm - u_cm,exact| = '//num(result%max_error)//' m ('// &
+         num(100*result%relative_error, 3)//' % of the exact amplitude '//num(result%ucm_amplitude)//' m)'
+      if (result%status == status_ok) then
+         write (output_unit, '(a)') 'steps '//str(result%steps_done)//' of '//str(result%steps)//', run time '// &
+            num(result%run_time, 3)//' s, '//num(rate, 3)//' particle-steps/s'
+      else
+         ! the step count of the guard's message: the step that tripped it, which did not complete
+         write (output_unit, '(a)') 'stopped by a guard at step '//str(result%trip%step)//' of '//str(result%steps)// &
+            ' ('//plural(result%steps_done, 'step')//' completed), run time '//num(result%run_time, 3)//' s, '// &
+            num(rate, 3)//' particle-steps/s'
+      end if
+   write (output_unit, '(a)') 'wrote '//trim(config%file)
+   end subroutine report_run
+
+   !> Is `text` an override `group.name=value`?
+   logical function is_override(text)
+      character(len=*), intent(in) :: text
+      integer :: eq, dot
+      eq = index(text, '=')
+      is_override = .false.
+      if (eq < 4) return
+      dot = index(text(1:eq - 1), '.')
+      if (dot < 2 .or. dot > eq - 2) return
+      is_override = verify(text(1:eq - 1), 'abcdefghijklmnopqrstuvwxyzABCDEFGHIJKLMNOPQRSTUVWXYZ0123456789_.') == 0
+   end function is_override
+
+   logical function exists(path)
       character(len=*), intent(in) :: path
+      inquire (file=path, exist=exists)
+   end function exists
+
+   !> `mpm1d input.nml [overrides] [--shard I/N] [--threads N] [--quiet]` for an input with a &sweep group.
+   subroutine sweep_command()
       type(sweep_t) :: sweep
-      integer :: i, shard, shards, threads, failed, above
-      character(len=:), allocatable :: option, output
-      shard = 0
-      shards = 0
-      threads = -1
-      i = 2
-      do while (i <= nargs)
-         option = argument(i)
-         if (i == nargs) call fail("option '"//option//"' needs a value; see mpm1d --help", 2)
-         select case (option)
-         case ('--shard')
-            call parse_shard(argument(i + 1), shard, shards)
-         case ('--threads')
-            threads = to_int(argument(i + 1), '--threads')
-            if (threads < 0) call fail('--threads '//argument(i + 1)//' is out of range; allowed: 0 (all) or more', 2)
-         case default
-            call fail("unknown option '"//option//"'; see mpm1d --help", 2)
-         end select
-         i = i + 2
-      end do
-      call read_sweep(path, sweep, error, shard, shards, threads)
+      integer :: i, failed, above
+      character(len=:), allocatable :: output
+      call read_sweep_text(text, source, sweep, error, shard, shards, threads, overrides)
       if (allocated(error)) call fail('invalid input:'//new_line('a')//error%message, 2)
+      if (quiet) sweep%settings%progress = .false.
       output = trim(sweep%base%file)
       if (sweep%settings%shards > 1) output = shard_file(output, sweep%settings%shard, sweep%settings%shards)
-      if (sweep%settings%shards > 1) then
+      if (quiet) then
+         continue
+      else if (sweep%settings%shards > 1) then
          write (output_unit, '(a)') 'mpm1d: sweep shard '//str(sweep%settings%shard)//' of '// &
-            str(sweep%settings%shards)//': '//str(size(sweep%cases))//' of '//str(sweep%total_cases)//' cases'
+            str(sweep%settings%shards)//': '//str(size(sweep%cases))//' of '//plural(sweep%total_cases, 'case')
       else
-         write (output_unit, '(a)') 'mpm1d: sweep of '//str(size(sweep%cases))//' cases'
+         write (output_unit, '(a)') 'mpm1d: sweep of '//plural(size(sweep%cases), 'case')
       end if
       above = 0
       do i = 1, size(sweep%cases)
          config = case_config(sweep, sweep%cases(i))
          if (config%dt_fraction > stability_limit(config%scheme, config%particles_per_element)) above = above + 1
       end do
-      if (above > 0) write (error_unit, '(a)') 'mpm1d: warning: '//str(above)//' cases ask for a time step '// &
+      if (above > 0) write (error_unit, '(a)') 'mpm1d: warning: '//plural(above, 'case')// &
+         trim(merge(' asks', ' ask ', above == 1))//' for a time step '// &
          'above their scheme''s linear stability limit (see studies/stability); guards will stop them if they grow'
       call run_sweep(sweep)
       call write_sweep_file(output, sweep, error)
       if (allocated(error)) call fail(error%message, 3)
       failed = count(sweep%cases%status /= status_ok)
-      write (output_unit, '(a)') 'error pass '//str(sweep%error_pass_time)//' s on '//str(sweep%threads_used)// &
-         ' threads; timing pass '//str(sweep%timing_pass_time)//' s on '//str(sweep%settings%timing_threads)// &
-         ' threads (min_time '//str(sweep%settings%min_time)//' s per case)'
-      write (output_unit, '(a)') str(size(sweep%cases) - failed)//' cases completed, '//str(failed)// &
+      if (quiet) return
+      if (sweep%settings%min_time > 0) then
+         write (output_unit, '(a)') 'error pass '//num(sweep%error_pass_time, 3)//' s on '// &
+            plural(sweep%threads_used, 'thread')//'; timing pass '//num(sweep%timing_pass_time, 3)//' s on '// &
+            plural(sweep%settings%timing_threads, 'thread')//' (min_time '//num(sweep%settings%min_time)//' s per case)'
+      else
+         write (output_unit, '(a)') 'error pass '//num(sweep%error_pass_time, 3)//' s on '// &
+            plural(sweep%threads_used, 'thread')//'; no timing pass (min_time = 0)'
+      end if
+      write (output_unit, '(a)') plural(size(sweep%cases) - failed, 'case')//' completed, '//str(failed)// &
          ' stopped by a guard (recorded in /cases/status)'
       write (output_unit, '(a)') 'wrote '//output
    end subroutine sweep_command
@@ -138,8 +223,8 @@ contains
       real(dp) :: limit
       limit = stability_limit(scheme, particles_per_element)
       if (dt_fraction > limit .and. cases > 0) write (error_unit, '(a)') 'mpm1d: warning: dt_fraction = '// &
-         str(dt_fraction)//' is above the linear stability limit of '//trim(scheme)//' with '// &
-         str(particles_per_element)//' particles per element (about '//str(nint(limit*1000)/1000.0_dp)// &
+         num(dt_fraction)//' is above the linear stability limit of '//trim(scheme)//' with '// &
+         plural(particles_per_element, 'particle')//' per element (about '//num(limit, 3)// &
          ' of dx/c; see studies/stability); a guard will stop the run if it grows'
    end subroutine warn_stability
 

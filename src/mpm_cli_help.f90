@@ -21,7 +21,10 @@ contains
          'usage:', &
          '  mpm1d                 run the built-in verification case (bar, 20 elements, 1 particle per', &
          '                        element, 10% of dx/c, USL, 2 periods) and write bar.h5', &
-         '  mpm1d input.nml       run what the namelist file describes', &
+         '  mpm1d input.nml       run what the namelist file describes (-: read it from standard input)', &
+         '  mpm1d input.nml group.name=value ...   the same with variables replaced, checked as in the file,', &
+         '                        e.g. discretisation.elements=40 discretisation.scheme=musl sweep.elements=10,20', &
+         '  --quiet               print nothing on standard output (warnings and errors still on standard error)', &
          '  mpm1d --help          this text;  mpm1d --version  the code version', &
          '  mpm1d --list-parameters   the parameter registry, tab-separated (what /config/parameters holds)', &
          '', &

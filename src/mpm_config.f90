@@ -4,14 +4,16 @@ module mpm_config
    use, intrinsic :: ieee_arithmetic, only: ieee_is_finite
    use mpm_kinds, only: dp, i8, pi
    use mpm_errors, only: error_t, set_error, append_error
-   use mpm_strings, only: str, lower
+   use mpm_strings, only: str, lower, num, plural
    use mpm_files, only: available_memory
    use mpm_particles, only: bytes_per_particle
    use mpm_registry, only: parameter_t, nml_item_t, text_entry, int_entry, real_entry, real_list_entry, &
-                           logical_entry, read_namelist, apply_items, check_parameter, find_parameter, group_namelist
+                           logical_entry, parse_namelist, read_input_text, add_overrides, &
+                           apply_items, check_parameter, find_parameter, group_namelist
    implicit none
    private
-   public :: config_t, read_config, validate_config, resolve_config, write_config_namelist, config_namelist
+   public :: config_t, read_config, read_config_text, input_name, validate_config, resolve_config
+   public :: write_config_namelist, config_namelist
    public :: default_config, config_summary, known_schemes
    public :: max_snapshots, unset, check_output_path
    public :: config_parameters, config_groups, group_help
@@ -148,23 +150,46 @@ contains
       end select
    end function group_help
 
-   !> Read `path`: groups &scene, &discretisation, &run, &output, &guards, all optional.
-   !> `extra_groups` names further groups another reader handles (e.g. 'sweep'),
-   !> so that they are not reported as unknown. On any problem `error` lists them all.
-   subroutine read_config(path, config, error, extra_groups)
+   !> Read `path` ('-': standard input): groups &scene, &discretisation, &run, &output, &guards, all
+   !> optional. `extra_groups` names further groups another reader handles (e.g. 'sweep'),
+   !> so that they are not reported as unknown. `overrides` are command-line assignments
+   !> `group.name=value` that replace the file's. On any problem `error` lists them all.
+   subroutine read_config(path, config, error, extra_groups, overrides)
       character(len=*), intent(in) :: path
       type(config_t), intent(out), target :: config
       type(error_t), allocatable, intent(out) :: error
-      character(len=*), intent(in), optional :: extra_groups(:)
-      type(nml_item_t), allocatable :: items(:)
+      character(len=*), intent(in), optional :: extra_groups(:), overrides(:)
+      character(len=:), allocatable :: text
+      config = config_t()
+      call read_input_text(path, text, error)
+      if (allocated(error)) return
+      call read_config_text(text, input_name(path), config, error, extra_groups, overrides)
+   end subroutine read_config
+
+   !> How messages name input `path` ('-' is standard input).
+   function input_name(path) result(name)
+      character(len=*), intent(in) :: path
+      character(len=:), allocatable :: name
+      name = trim(path)
+      if (name == '-') name = 'standard input'
+   end function input_name
+
+   !> read_config of namelist `text` read from `path` (named so in messages).
+   subroutine read_config_text(text, path, config, error, extra_groups, overrides)
+      character(len=*), intent(in) :: text, path
+      type(config_t), intent(out), target :: config
+      type(error_t), allocatable, intent(out) :: error
+      character(len=*), intent(in), optional :: extra_groups(:), overrides(:)
+      type(nml_item_t), allocatable :: items(:), kept(:)
       character(len=32), allocatable :: groups(:)
       integer, allocatable :: group_lines(:)
       type(parameter_t), allocatable :: table(:)
       integer :: i, periods, end_time
+      character(len=16), allocatable :: known(:)
 
       config = config_t()
       ! problems of syntax do not stop the reading: every problem of the file is reported at once
-      call read_namelist(path, items, groups, group_lines, error)
+      call parse_namelist(text, path, items, groups, group_lines, error)
       do i = 1, size(groups)
          if (any(config_groups == groups(i))) cycle
          if (present(extra_groups)) then
@@ -173,13 +198,26 @@ contains
          call append_error(error, trim(path)//":"//str(group_lines(i))//": unknown namelist group &"// &
                            trim(groups(i))//" (known groups: "//join(config_groups)//extra_list()//")")
       end do
+      if (present(overrides)) then
+         known = config_groups
+         if (present(extra_groups)) known = [character(len=16) :: known, extra_groups]
+         call add_overrides(items, overrides, known, error)
+         ! an override of the run length replaces the input's, whichever of the two it gives
+         if (any([(items(i)%group == 'run' .and. allocated(items(i)%origin), i=1, size(items))])) then
+            allocate (kept(0))
+            do i = 1, size(items)
+               if (items(i)%group /= 'run' .or. allocated(items(i)%origin)) kept = [kept, items(i)]
+            end do
+            call move_alloc(kept, items)
+         end if
+      end if
       call config_parameters(config, table)
       do i = 1, size(config_groups)
          call apply_items(table, items, trim(config_groups(i)), path, error)
       end do
       do i = 1, size(table)
          if (table(i)%line > 0) then
-            call check_parameter(table(i), error, trim(path)//":"//str(table(i)%line)//": ")
+            call check_parameter(table(i), error, trim(table(i)%origin)//' ')
          else
             call check_parameter(table(i), error)
          end if
@@ -187,8 +225,7 @@ contains
       periods = find_parameter(table, 'run', 'periods')
       end_time = find_parameter(table, 'run', 'end_time')
       if (table(periods)%line > 0 .and. table(end_time)%line > 0) then
-         call append_error(error, trim(path)//":"//str(table(end_time)%line)// &
-                           ": run: give either periods or end_time, not both")
+         call append_error(error, trim(table(end_time)%origin)//" run: give either periods or end_time, not both")
       else if (table(end_time)%line > 0) then
          config%periods = unset
       end if
@@ -197,12 +234,12 @@ contains
       if (allocated(error)) return
       call resolve_config(config)
    contains
-      function extra_list() result(text)
-         character(len=:), allocatable :: text
-         text = ''
-         if (present(extra_groups)) text = ', '//join(extra_groups)
+      function extra_list() result(names)
+         character(len=:), allocatable :: names
+         names = ''
+         if (present(extra_groups)) names = ', '//join(extra_groups)
       end function extra_list
-   end subroutine read_config
+   end subroutine read_config_text
 
    !> Check every value; append one line per problem to `error`, naming the variable and range.
    !> `with_system = .false.` skips the checks against the machine (memory available, output folder),
@@ -370,9 +407,9 @@ contains
    function config_summary(config) result(text)
       type(config_t), intent(in) :: config
       character(len=:), allocatable :: text
-      text = trim(config%scheme)//", "//str(config%elements)//" elements, "//str(config%particles_per_element)// &
-             " particles per element, dt = "//str(config%dt_fraction)//" dx/c = "//str(config%dt)//" s, "// &
-             str(config%steps)//" steps"
+      text = trim(config%scheme)//", "//plural(config%elements, "element")//", "// &
+             plural(config%particles_per_element, "particle")//" per element, dt = "//num(config%dt_fraction)// &
+             " dx/c = "//num(config%dt, 3)//" s, "//plural(config%steps, "step")
    end function config_summary
 
    pure function join(words) result(text)

@@ -18,7 +18,8 @@ module mpm_registry
    public :: parameter_t, nml_value_t, nml_item_t
    public :: real_entry, int_entry, text_entry, logical_entry, real_list_entry
    public :: type_real, type_int, type_text, type_logical, type_real_list, type_name
-   public :: read_namelist, parse_namelist, apply_items, set_parameter, check_parameter, allowed_text
+   public :: read_namelist, parse_namelist, read_input_text, add_overrides, item_place
+   public :: apply_items, set_parameter, check_parameter, allowed_text
    public :: value_list_t, read_value_list, single_value_list, set_from_list, list_text
    public :: format_value, quoted, real_value, int_value, text_value, find_parameter, group_namelist
    public :: parameter_listing, parameter_help, short_number, entry_names
@@ -49,6 +50,9 @@ module mpm_registry
       logical :: optional = .false.
       !> Line of the input where it was given (0 = not given).
       integer :: line = 0
+      !> Where it was given, as messages name it ("file:line: " or "command line 'group.name=value': ");
+      !> fixed length: gfortran 12 corrupts array constructors of this type with an allocatable string.
+      character(len=256) :: origin = ''
       real(dp), pointer :: real_value => null()
       integer, pointer :: int_value => null()
       logical, pointer :: logical_value => null()
@@ -68,6 +72,8 @@ module mpm_registry
    type :: nml_item_t
       character(len=:), allocatable :: group, name
       integer :: line = 0
+      !> Set for a command-line override: how messages name it ("command line '...': ").
+      character(len=:), allocatable :: origin
       type(nml_value_t), allocatable :: values(:)
    end type nml_item_t
 
@@ -718,11 +724,38 @@ contains
       integer, allocatable, intent(out) :: group_lines(:)
       type(error_t), allocatable, intent(out) :: error
       character(len=:), allocatable :: text
-      integer :: n, unit, stat
-      logical :: is_folder
-      character(len=512) :: msg
 
       allocate (items(0), groups(0), group_lines(0))
+      call read_input_text(path, text, error)
+      if (allocated(error)) return
+      call parse_namelist(text, path, items, groups, group_lines, error)
+   end subroutine read_namelist
+
+   !> The whole text of input file `path`, read once ('-': standard input, to its end).
+   subroutine read_input_text(path, text, error)
+      use, intrinsic :: iso_fortran_env, only: input_unit
+      character(len=*), intent(in) :: path
+      character(len=:), allocatable, intent(out) :: text
+      type(error_t), allocatable, intent(out) :: error
+      integer :: n, unit, stat, got
+      logical :: is_folder
+      character(len=512) :: msg
+      character(len=4096) :: chunk
+
+      text = ''
+      if (path == '-') then
+         do
+            read (input_unit, '(a)', advance='no', iostat=stat, size=got) chunk
+            if (is_iostat_end(stat)) exit
+            if (stat /= 0 .and. .not. is_iostat_eor(stat)) then
+               call set_error(error, 'cannot read the namelist from standard input')
+               return
+            end if
+            text = text//chunk(1:got)
+            if (is_iostat_eor(stat)) text = text//new_line('a')
+         end do
+         return
+      end if
       inquire (file=trim(path)//'/.', exist=is_folder)
       if (is_folder) then
          call set_error(error, "input file '"//trim(path)//"' is a folder; allowed: a namelist file")
@@ -735,6 +768,7 @@ contains
          return
       end if
       inquire (unit=unit, size=n)
+      deallocate (text)
       allocate (character(len=max(n, 0)) :: text)
       stat = 0
       if (n > 0) read (unit, iostat=stat, iomsg=msg) text
@@ -743,8 +777,128 @@ contains
          call set_error(error, "cannot read input file '"//trim(path)//"': "//trim(msg))
          return
       end if
-      call parse_namelist(text, path, items, groups, group_lines, error)
-   end subroutine read_namelist
+   end subroutine read_input_text
+
+   !> Command-line overrides `group.name=value[, value ...]`: each is read by the namelist reader as
+   !> "&group name=value /" and replaces the input's assignment of that variable (or adds one); a later
+   !> override of the same variable replaces an earlier one. Messages name the override as typed.
+   !> `known_groups`: the groups an override may name.
+   subroutine add_overrides(items, overrides, known_groups, error)
+      type(nml_item_t), allocatable, intent(inout) :: items(:)
+      character(len=*), intent(in) :: overrides(:), known_groups(:)
+      type(error_t), allocatable, intent(inout) :: error
+      type(nml_item_t), allocatable :: parsed(:), kept(:)
+      character(len=32), allocatable :: groups(:)
+      integer, allocatable :: lines(:)
+      type(error_t), allocatable :: problem
+      character(len=:), allocatable :: text, origin, group, name, known
+      integer :: i, j, n, dot, eq
+
+      known = ''
+      do i = 1, size(known_groups)
+         if (i > 1) known = known//', '
+         known = known//trim(known_groups(i))
+      end do
+      do i = 1, size(overrides)
+         text = trim(overrides(i))
+         origin = "command line '"//text//"'"
+         eq = index(text, '=')
+         dot = 0
+         if (eq > 1) dot = index(text(1:eq - 1), '.')
+         if (dot < 2 .or. dot >= eq - 1) then
+            call append_error(error, origin//": not an override; allowed: group.name=value, "// &
+                              "e.g. discretisation.elements=40")
+            cycle
+         end if
+         group = lower(text(1:dot - 1))
+         name = lower(trim(text(dot + 1:eq - 1)))
+         if (.not. any(known_groups == group)) then
+            call append_error(error, origin//": unknown namelist group '"//group//"' (known groups: "//known//")")
+            cycle
+         end if
+         call parse_namelist('&'//group//' '//name//' = '//bare_words_quoted(text(eq + 1:))//' /', origin, parsed, &
+                             groups, lines, problem)
+         if (allocated(problem)) then
+            call append_error(error, replace_all(problem%message, origin//':1: ', origin//': '))
+            deallocate (problem)
+            cycle
+         end if
+         if (size(parsed) /= 1) then
+            call append_error(error, origin//": not one assignment; allowed: group.name=value")
+            cycle
+         end if
+         parsed(1)%origin = origin//': '
+         allocate (kept(0))
+         n = 0
+         do j = 1, size(items)
+            if (items(j)%group == parsed(1)%group .and. items(j)%name == parsed(1)%name) cycle
+            kept = [kept, items(j)]
+         end do
+         items = [kept, parsed(1)]
+         deallocate (kept)
+      end do
+   end subroutine add_overrides
+
+   !> An override's value as the shell leaves it: without any quote, each comma-separated word that is
+   !> neither a number nor a logical is text and gets quotes (discretisation.scheme=musl is 'musl').
+   function bare_words_quoted(value) result(text)
+      character(len=*), intent(in) :: value
+      character(len=:), allocatable :: text, word
+      integer :: start, comma, stat
+      real(dp) :: x
+      if (scan(value, '"'//"'") > 0) then
+         text = value
+         return
+      end if
+      text = ''
+      start = 1
+      do
+         comma = index(value(start:), ',')
+         if (comma == 0) then
+            word = trim(adjustl(value(start:)))
+         else
+            word = trim(adjustl(value(start:start + comma - 2)))
+         end if
+         ! a number: digits, sign, point and exponent only (list-directed reading alone would take
+         ! '/tmp/a.h5' as an empty value), or NaN and Infinity, which the checks then refuse by name
+         stat = 1
+         if (verify(word, '0123456789+-.eEdD') == 0) read (word, *, iostat=stat) x
+         if (len(word) > 0 .and. stat /= 0 .and. .not. any(lower(word) == [character(len=9) :: 't', 'f', &
+             '.true.', '.false.', '.t.', '.f.', 'nan', 'inf', 'infinity', '+inf', '-inf', '+infinity', '-infinity'])) &
+            word = "'"//word//"'"
+         text = text//word
+         if (comma == 0) exit
+         text = text//', '
+         start = start + comma
+      end do
+   end function bare_words_quoted
+
+   !> How messages name where `item` was given: "path:line: " or its override's origin.
+   function item_place(item, path) result(place)
+      type(nml_item_t), intent(in) :: item
+      character(len=*), intent(in) :: path
+      character(len=:), allocatable :: place
+      if (allocated(item%origin)) then
+         place = item%origin
+      else
+         place = trim(path)//":"//str(item%line)//": "
+      end if
+   end function item_place
+
+   pure function replace_all(text, old, new) result(out)
+      character(len=*), intent(in) :: text, old, new
+      character(len=:), allocatable :: out
+      integer :: k, start
+      out = ''
+      start = 1
+      do
+         k = index(text(start:), old)
+         if (k == 0) exit
+         out = out//text(start:start + k - 2)//new
+         start = start + k - 1 + len(old)
+      end do
+      out = out//text(start:)
+   end function replace_all
 
    !> Parse namelist `text` (from `source`, named in messages as "source:line: ") into assignments.
    !> Also the way for other text to reach the registry, e.g. a command-line override
@@ -1056,7 +1210,7 @@ contains
       character(len=:), allocatable :: where
       do i = 1, size(items)
          if (items(i)%group /= group) cycle
-         where = trim(path)//":"//str(items(i)%line)//": "
+         where = item_place(items(i), path)
          k = find_parameter(table, group, items(i)%name)
          if (k == 0) then
             call append_error(error, where//"group &"//group//": unknown variable '"//items(i)%name// &
@@ -1069,6 +1223,7 @@ contains
             cycle
          end if
          table(k)%line = items(i)%line
+         table(k)%origin = where
          call set_parameter(table(k), items(i)%values, where, error)
       end do
    end subroutine apply_items

@@ -1,9 +1,10 @@
-!> Small text helpers for messages: numbers to strings, lower case.
+!> Small text helpers for messages: numbers to strings (exact, or with a few significant digits for
+!> a person to read), plurals, lower case.
 module mpm_strings
    use mpm_kinds, only: dp, i8
    implicit none
    private
-   public :: str, lower
+   public :: str, lower, num, plural, readable_numbers
 
    !> `str(x)`: the shortest usual text of an integer or real (g0 format).
    interface str
@@ -35,6 +36,127 @@ contains
       write (buffer, '(g0)') value
       text = trim(adjustl(buffer))
    end function str_real
+
+   !> `x` with `digits` significant digits (default 4) as a person reads it: 0.1611, 27.89, 10,
+   !> 2.47e-05, 6.07e+07 (exponent form below 0.01 and from 1e5 on); trailing zeros dropped.
+   function num(x, digits) result(text)
+      real(dp), intent(in) :: x
+      integer, intent(in), optional :: digits
+      character(len=:), allocatable :: text
+      character(len=48) :: buffer, form
+      integer :: d, decimals, e
+      d = 4
+      if (present(digits)) d = max(1, min(digits, 17))
+      if (x /= x) then
+         text = 'NaN'
+         return
+      else if (abs(x) > huge(x)) then
+         text = merge('Infinity ', '-Infinity', x > 0)
+         text = trim(text)
+         return
+      else if (x == 0) then
+         text = '0'
+         return
+      end if
+      if (abs(x) >= 0.01_dp .and. abs(x) < 1.0e5_dp) then
+         decimals = max(0, d - 1 - floor(log10(abs(x))))
+         write (form, '("(f0.",i0,")")') decimals
+         write (buffer, form) x
+         text = trim(adjustl(buffer))
+         if (index(text, '.') > 0) text = strip_zeros(text)
+         if (text(1:1) == '.') text = '0'//text
+         if (text(1:min(2, len(text))) == '-.') text = '-0'//text(2:)
+         ! rounding may reach the exponent form's range (99999.5 -> 100000): keep the digits anyway
+      else
+         write (form, '("(es",i0,".",i0,"e3)")') d + 12, d - 1
+         write (buffer, form) x
+         text = trim(adjustl(buffer))
+         e = index(text, 'E')
+         read (text(e + 1:), *) decimals
+         write (form, '(sp,i3.2)') decimals
+         text = strip_zeros(text(1:e - 1))//'e'//trim(adjustl(form))
+      end if
+   contains
+      function strip_zeros(mantissa) result(short)
+         character(len=*), intent(in) :: mantissa
+         character(len=:), allocatable :: short
+         integer :: last
+         short = mantissa
+         if (index(short, '.') == 0) return
+         last = len(short)
+         do while (short(last:last) == '0')
+            last = last - 1
+         end do
+         if (short(last:last) == '.') last = last - 1
+         short = short(1:last)
+      end function strip_zeros
+   end function num
+
+   !> "1 case", "2 cases": `n` and `word` in the singular or with an s.
+   function plural(n, word) result(text)
+      integer, intent(in) :: n
+      character(len=*), intent(in) :: word
+      character(len=:), allocatable :: text
+      text = str_int(n)//' '//word
+      if (n /= 1) text = text//'s'
+   end function plural
+
+   !> `text` with every real number in it (a numeral with a point or an exponent, as str writes
+   !> them) rewritten by num with `digits` significant digits; integers and words stay as they are.
+   !> For messages made for files (full precision) shown on a terminal.
+   function readable_numbers(text, digits) result(out)
+      character(len=*), intent(in) :: text
+      integer, intent(in), optional :: digits
+      character(len=:), allocatable :: out
+      integer :: i, j, stat
+      real(dp) :: x
+      logical :: is_real
+      out = ''
+      i = 1
+      do while (i <= len(text))
+         if (index('0123456789', text(i:i)) > 0 .and. .not. after_word(i)) then
+            j = i
+            is_real = .false.
+            do while (j <= len(text))
+               if (index('0123456789', text(j:j)) > 0) then
+                  j = j + 1
+               else if (text(j:j) == '.' .and. j < len(text)) then
+                  if (index('0123456789', text(j + 1:j + 1)) == 0) exit
+                  is_real = .true.
+                  j = j + 1
+               else if (index('eE', text(j:j)) > 0 .and. j < len(text)) then
+                  if (index('+-0123456789', text(j + 1:j + 1)) == 0) exit
+                  is_real = .true.
+                  j = j + 2
+               else
+                  exit
+               end if
+            end do
+            if (is_real) then
+               read (text(i:j - 1), *, iostat=stat) x
+               if (stat == 0) then
+                  out = out//num(x, digits)
+               else
+                  out = out//text(i:j - 1)
+               end if
+            else
+               out = out//text(i:j - 1)
+            end if
+            i = j
+         else
+            out = out//text(i:i)
+            i = i + 1
+         end if
+      end do
+   contains
+      !> Is position k inside a word (a letter, digit or underscore before it), as in 'u_cm2'?
+      logical function after_word(k)
+         integer, intent(in) :: k
+         after_word = .false.
+         if (k > 1) after_word = verify(text(k - 1:k - 1), &
+                                        'abcdefghijklmnopqrstuvwxyzABCDEFGHIJKLMNOPQRSTUVWXYZ_0123456789') == 0
+      end function after_word
+   end function readable_numbers
 
    !> ASCII lower case.
    pure function lower(text) result(low)

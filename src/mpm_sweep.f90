@@ -9,9 +9,12 @@ module mpm_sweep
    use mpm_kinds, only: dp, i8
    use mpm_errors, only: error_t, set_error, append_error
    use mpm_strings, only: str, lower
-   use mpm_config, only: config_t, read_config, validate_config, resolve_config, config_parameters
+   use mpm_config, only: config_t, read_config_text, input_name, validate_config, resolve_config, &
+                         config_parameters, &
+                         config_groups
    use mpm_registry, only: parameter_t, nml_item_t, value_list_t, real_entry, int_entry, logical_entry, &
-                           read_namelist, read_value_list, single_value_list, set_from_list, set_parameter, &
+                           parse_namelist, read_input_text, add_overrides, item_place, read_value_list, &
+                           single_value_list, set_from_list, set_parameter, &
                            check_parameter, find_parameter, entry_names, format_value, list_text, quoted, &
                            type_real, type_int
    use mpm_simulation, only: run_result_t, run_simulation, guard_trip_t, guard_message
@@ -20,7 +23,8 @@ module mpm_sweep
    use mpm_sort, only: sort_order, median
    implicit none
    private
-   public :: sweep_config_t, sweep_case_t, sweep_t, read_sweep, sweep_cases, run_sweep, has_sweep_group, case_config
+   public :: sweep_config_t, sweep_case_t, sweep_t, read_sweep, read_sweep_text, sweep_cases, run_sweep
+   public :: has_sweep_group, has_sweep_text, case_config
    public :: sweep_parameters, case_column
 
    !> The &sweep group: lists to combine and how to run them.
@@ -69,6 +73,17 @@ module mpm_sweep
 
 contains
 
+   !> Does namelist `text` contain a &sweep group?
+   logical function has_sweep_text(text)
+      character(len=*), intent(in) :: text
+      type(nml_item_t), allocatable :: items(:)
+      character(len=32), allocatable :: groups(:)
+      integer, allocatable :: lines(:)
+      type(error_t), allocatable :: error
+      call parse_namelist(text, '', items, groups, lines, error)
+      has_sweep_text = any(groups == 'sweep')
+   end function has_sweep_text
+
    !> Does the namelist file contain a &sweep group?
    logical function has_sweep_group(path)
       character(len=*), intent(in) :: path
@@ -108,13 +123,34 @@ contains
          int_entry('sweep', 'shards', settings%shards, 'the number of shards the sweep is cut into', at_least=1)]
    end subroutine sweep_parameters
 
-   !> Read the base groups and &sweep from `path`, validate everything, build this shard's cases.
-   !> `shard_override`/`shards_override` (> 0) and `threads_override` (>= 0) come from the command line.
-   subroutine read_sweep(path, study, error, shard_override, shards_override, threads_override)
+   !> Read the base groups and &sweep from `path` ('-': standard input), validate everything, build
+   !> this shard's cases. `shard_override`/`shards_override` (> 0), `threads_override` (>= 0) and
+   !> `overrides` (`group.name=value`, e.g. sweep.elements=10,20) come from the command line.
+   subroutine read_sweep(path, study, error, shard_override, shards_override, threads_override, overrides)
       character(len=*), intent(in) :: path
       type(sweep_t), intent(out), target :: study
       type(error_t), allocatable, intent(out) :: error
       integer, intent(in) :: shard_override, shards_override, threads_override
+      character(len=*), intent(in), optional :: overrides(:)
+      character(len=:), allocatable :: text
+      call read_input_text(path, text, error)
+      if (allocated(error)) return
+      if (present(overrides)) then
+         call read_sweep_text(text, input_name(path), study, error, shard_override, &
+                              shards_override, threads_override, overrides)
+      else
+         call read_sweep_text(text, input_name(path), study, error, shard_override, &
+                              shards_override, threads_override, [character(len=1) ::])
+      end if
+   end subroutine read_sweep
+
+   !> read_sweep of namelist `text` read from `path` (named so in messages).
+   subroutine read_sweep_text(text, path, study, error, shard_override, shards_override, threads_override, overrides)
+      character(len=*), intent(in) :: text, path
+      type(sweep_t), intent(out), target :: study
+      type(error_t), allocatable, intent(out) :: error
+      integer, intent(in) :: shard_override, shards_override, threads_override
+      character(len=*), intent(in) :: overrides(:)
       type(parameter_t), allocatable :: base(:), settings(:)
       type(nml_item_t), allocatable :: items(:)
       character(len=32), allocatable :: groups(:)
@@ -125,9 +161,13 @@ contains
       type(error_t), allocatable :: syntax_error
 
       ! The base groups' problems (syntax included) and the &sweep group's are reported together.
-      call read_config(path, study%base, error, extra_groups=['sweep'])
-      call read_namelist(path, items, groups, group_lines, syntax_error)
+      call read_config_text(text, path, study%base, error, extra_groups=['sweep'], overrides=overrides)
+      call parse_namelist(text, path, items, groups, group_lines, syntax_error)
       if (allocated(syntax_error) .and. .not. allocated(error)) error = syntax_error
+      if (size(overrides) > 0) then
+         call add_overrides(items, overrides, [character(len=16) :: config_groups, 'sweep'], syntax_error)
+         if (allocated(syntax_error) .and. .not. allocated(error)) error = syntax_error
+      end if
       defaults = study%base
       call config_parameters(defaults, base)
       call sweep_parameters(study%settings, settings)
@@ -141,7 +181,7 @@ contains
       lines = 0
       do i = 1, size(items)
          if (items(i)%group /= 'sweep') cycle
-         where = trim(path)//":"//str(items(i)%line)//": "
+         where = item_place(items(i), path)
          j = list_named(items(i)%name)
          if (j > 0) then
             if (lines(j) > 0) then
@@ -202,7 +242,7 @@ contains
             names = names//trim(study%settings%lists(m)%name)
          end do
       end function list_names
-   end subroutine read_sweep
+   end subroutine read_sweep_text
 
    !> Value number of list `j` in case `index` (mixed radix over the lists, the last fastest).
    pure integer function list_position(lists, j, index)

@@ -51,3 +51,17 @@ if ! command -v fpm >/dev/null 2>&1; then
 fi
 command -v fpm >/dev/null 2>&1 || { echo "setup: fpm could not be installed" >&2; exit 1; }
 set +e
+
+# Build of the study scripts (local runs): for this machine's CPU (-march=native, about twice the
+# kernels' speed) unless PORTABLE=1 (fpm's plain release profile, the build the tests and the SLURM
+# scripts use); FLAGS, if set, is passed to fpm as it is. `mpm1d_build` builds and prints the path of
+# the mpm1d executable of that build; `mpm1d_build --example mpm1d_bench` that of the benchmark.
+if [ -z "${FLAGS+x}" ]; then
+  if [ "${PORTABLE:-0}" = 1 ]; then FLAGS=""; else FLAGS="-march=native"; fi
+fi
+mpm1d_build() {
+  local target=(--target mpm1d)
+  [ "$#" -gt 0 ] && target=("$@")
+  fpm build --profile release --flag "$FLAGS" >/dev/null || return 1
+  echo "$PWD/$(fpm run --profile release --flag "$FLAGS" "${target[@]}" --runner echo 2>/dev/null | tail -n 1)"
+}

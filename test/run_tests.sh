@@ -3,7 +3,7 @@
 #   1. fpm test (Fortran unit, physics, HDF5 and command-line tests),
 #   2. the cross-check of mpm1d against an independent NumPy implementation,
 #   3. the Python post-processing tests,
-#   4. the paper pipeline, the SLURM job array on a live single-node cluster, the study tests.
+#   4. the README's quick-start commands, the paper pipeline, the SLURM job array on a live single-node cluster, the study tests.
 # Usage (from anywhere): bash test/run_tests.sh
 set -euo pipefail
 cd "$(dirname "$0")/.."
@@ -22,6 +22,12 @@ if [ -f postprocess/test_postprocess.py ]; then
   echo "== post-processing"
   "$PYTHON" postprocess/test_postprocess.py || failed=1
 fi
+echo "== the command line: overrides, standard input, --quiet, hostile input"
+bash test/test_command_line.sh || failed=1
+
+echo "== the README's quick-start commands, as written"
+bash test/test_readme.sh || failed=1
+
 echo "== paper study pipeline on a small real sweep"
 bash test/test_paper_pipeline.sh || failed=1
 

@@ -5,8 +5,9 @@
 # one run, cost of a study against elements^2 * ppc / dt_fraction, and memory per particle.
 # Writes CSV files, benchmark.png and summary.md to the output folder (default out/benchmark).
 # Usage: bash studies/benchmark/run.sh [output folder]
-# FLAGS (default -march=native) are added to fpm's release profile: -march=native is for local
-# runs only (the binary uses this machine's vector instructions), not for portable builds.
+# Built for this machine's CPU (-march=native, as every study script; studies/setup.sh): PORTABLE=1
+# for fpm's plain release profile, or FLAGS='...' for other flags. -march=native is for local runs
+# only (the binary uses this machine's vector instructions), not for portable builds.
 set -euo pipefail
 root="$(cd "$(dirname "$0")/../.." && pwd)"
 cd "$root"
@@ -14,9 +15,7 @@ source studies/setup.sh
 set -euo pipefail
 out="${1:-out/benchmark}"
 mkdir -p "$out"
-FLAGS="${FLAGS:--march=native}"
-fpm build --profile release --flag "$FLAGS" >/dev/null
-bench="$root/$(fpm run --profile release --flag "$FLAGS" --runner echo mpm1d_bench 2>/dev/null | tail -n 1)"
+bench="$(mpm1d_build --example mpm1d_bench)"
 REPEATS="${REPEATS:-3}"
 echo "flags: fpm --profile release --flag '$FLAGS'" > "$out/flags.txt"
 gfortran --version | head -n 1 >> "$out/flags.txt"
@@ -61,7 +60,7 @@ for scheme in usf usl musl; do
 done
 
 echo "== sweep throughput (Table-2 error pass, 1 and 2 threads)" >&2
-mpm1d="$root/$(fpm run --profile release --flag "$FLAGS" --target mpm1d --runner echo 2>/dev/null | tail -n 1)"
+mpm1d="$(mpm1d_build)"
 cat > "$out/table2_sweep.nml" <<EOF
 &scene kind='vibrating_bar', length=25.0, youngs_modulus=200.0e9, density=7800.0, velocity_amplitude=0.1, mode=1 /
 &run periods=2.0 /

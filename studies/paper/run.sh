@@ -15,8 +15,7 @@ out="$(mkdir -p "${1:-out/paper}" && cd "${1:-out/paper}" && pwd)"
 start=$(date +%s.%N)
 
 echo "== building mpm1d"
-fpm build --profile release >/dev/null
-exe="$root/$(fpm run --profile release --target mpm1d --runner echo 2>/dev/null | tail -n 1)"
+exe="$(mpm1d_build)"  # -march=native unless PORTABLE=1 (studies/setup.sh)
 
 echo "== Table-2 sweeps (USF, USL)"
 for scheme in usf usl; do

@@ -10,8 +10,7 @@ set -euo pipefail
 shards="${1:-2}"
 input="${2:-studies/shards/sweep.nml}"
 out="$(mkdir -p "${3:-out/shards}" && cd "${3:-out/shards}" && pwd)"
-fpm build --profile release >/dev/null
-exe="$root/$(fpm run --profile release --target mpm1d --runner echo 2>/dev/null | tail -n 1)"
+exe="$(mpm1d_build)"  # -march=native unless PORTABLE=1 (studies/setup.sh)
 name=$(sed -n "s/.*file='\([^']*\)'.*/\1/p" "$input" | head -n 1)
 sed "s|file='$name'|file='$out/$name'|" "$input" > "$out/sweep.nml"
 pids=()

@@ -24,8 +24,7 @@ lap() {  # lap LABEL START: append the seconds since START to timings.txt
 
 echo "== building mpm1d"
 t0=$(now)
-fpm build --profile release >/dev/null
-exe="$root/$(fpm run --profile release --target mpm1d --runner echo 2>/dev/null | tail -n 1)"
+exe="$(mpm1d_build)"  # -march=native unless PORTABLE=1 (studies/setup.sh)
 lap build "$t0"
 
 # prepare NAME [KEY=VALUE ...]: copy NAME.nml into $out with its output file placed in $out and,
@@ -61,7 +60,7 @@ sweep() {
   prepare "$@"
   local t0; t0=$(now)
   "$exe" "$out/$name.nml" > "$out/$name.log" 2>&1 || { echo "mpm1d failed on $name.nml:"; cat "$out/$name.log"; exit 1; }
-  grep -E 'sweep of|cases completed' "$out/$name.log" | tr '\n' ' ' | sed "s/^/   $name: /"; echo
+  grep -E 'sweep of|completed' "$out/$name.log" | tr '\n' ' ' | sed "s/^/   $name: /"; echo
   lap "$name" "$t0"
 }
 

@@ -9,8 +9,7 @@ source studies/setup.sh
 set -euo pipefail
 out="${1:-out/verification}"
 mkdir -p "$out"
-fpm build --profile release >/dev/null
-exe="$root/$(fpm run --profile release --target mpm1d --runner echo 2>/dev/null | tail -n 1)"
+exe="$(mpm1d_build)"  # -march=native unless PORTABLE=1 (studies/setup.sh)
 for scheme in usf usl; do
   cat > "$out/$scheme.nml" <<NML
 &discretisation scheme='$scheme', elements=20, particles_per_element=1, dt_fraction=0.1 /
