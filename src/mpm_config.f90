@@ -7,6 +7,7 @@ module mpm_config
    use mpm_strings, only: str, lower, num, plural
    use mpm_files, only: available_memory
    use mpm_particles, only: bytes_per_particle
+   use mpm_shape, only: known_shapes, known_transfers
    use mpm_registry, only: parameter_t, nml_item_t, text_entry, int_entry, real_entry, real_list_entry, &
                            logical_entry, parse_namelist, read_input_text, add_overrides, &
                            apply_items, check_parameter, find_parameter, group_namelist
@@ -51,6 +52,10 @@ module mpm_config
       integer :: margin_cells = -1
       !> 'auto': the fused linear kernels where they apply, else the generic path; 'generic': always generic.
       character(len=8) :: kernels = 'auto'
+      !> Shape functions (mpm_shape) and the velocity transfer of G2P, with the FLIP share of 'blend'.
+      character(len=8) :: shape = 'linear'
+      character(len=8) :: transfer = 'flip'
+      real(dp) :: flip_fraction = 0.99_dp
       ! &run
       real(dp) :: periods = 2.0_dp
       real(dp) :: end_time = unset
@@ -100,6 +105,14 @@ contains
          real_entry('discretisation', 'dt_fraction', config%dt_fraction, '', 'dt = dt_fraction * dx / c, '// &
                     'c = sqrt(youngs_modulus/density)', greater_than=0.0_dp, at_most=max_dt_fraction, &
                     sweep_list='dt_fractions'), &
+         text_entry('discretisation', 'shape', config%shape, 'shape functions: linear hat, uniform or '// &
+                    'contiguous-particle GIMP, quadratic or cubic B-splines (README, Shape functions)', &
+                    words=known_shapes, sweep_list='shapes'), &
+         text_entry('discretisation', 'transfer', config%transfer, 'velocity transfer of G2P: FLIP, PIC, their '// &
+                    'blend (flip_fraction), or affine PIC', words=known_transfers, sweep_list='transfers'), &
+         real_entry('discretisation', 'flip_fraction', config%flip_fraction, '', "FLIP share of transfer = "// &
+                    "'blend': v = f v_FLIP + (1 - f) v_PIC", at_least=0.0_dp, at_most=1.0_dp, &
+                    sweep_list='flip_fractions'), &
          int_entry('discretisation', 'margin_cells', config%margin_cells, 'empty grid cells beyond each free end '// &
                    'of the body', at_least=-1, note="-1: the scene's expected motion + 2 cells"), &
          text_entry('discretisation', 'kernels', config%kernels, "'auto': the fused linear kernels where they "// &

@@ -77,6 +77,10 @@ module mpm_grid
       real(dp) :: min_node_mass = huge(1.0_dp)
       !> Nodes held at rest (zero momentum, force, acceleration and velocity): the scene's fixed ends.
       integer, allocatable :: fixed(:)
+      !> Ghost cells left of x = 0 (shapes wider than the hat; origin = -ghost dx) and, when node
+      !> `ghost` (x = 0) is fixed, the mirror: ghost node ghost - j is node ghost + j reflected (mirror_fold).
+      integer :: ghost = 0
+      logical :: mirror = .false.
       !> Work split of the particle passes (see segments_t).
       type(segments_t) :: segments
    end type grid_t
@@ -88,7 +92,10 @@ contains
    !> at x = 0 and extending `margin` more empty cells to the right (default none). `fixed` lists the
    !> nodes held at rest (default none). `particle_mass` sets the empty-node test. The per-element
    !> shares of the fused kernels are allocated only when `element_shares` (default true).
-   subroutine grid_init(grid, body_elements, body_length, particle_mass, error, margin, fixed, element_shares)
+   !> `ghost` (default 0) more cells left of x = 0 (the origin moves to -ghost dx; `fixed` keeps
+   !> numbering the body's nodes from x = 0 and is shifted): when the node at x = 0 is fixed they are
+   !> mirror ghosts, else empty cells.
+   subroutine grid_init(grid, body_elements, body_length, particle_mass, error, margin, fixed, element_shares, ghost)
       type(grid_t), intent(out) :: grid
       integer, intent(in) :: body_elements
       real(dp), intent(in) :: body_length, particle_mass
@@ -96,19 +103,23 @@ contains
       integer, intent(in), optional :: margin
       integer, intent(in), optional :: fixed(:)
       logical, intent(in), optional :: element_shares
+      integer, intent(in), optional :: ghost
       integer :: stat, elements, share_elements
-      elements = body_elements
-      if (present(margin)) elements = body_elements + margin
+      if (present(ghost)) grid%ghost = ghost
+      elements = body_elements + grid%ghost
+      if (present(margin)) elements = elements + margin
       grid%elements = elements
       grid%dx = body_length/body_elements
       grid%inv_dx = body_elements/body_length
       grid%length = elements*grid%dx
+      grid%origin = -grid%ghost*grid%dx
       grid%empty_mass = mass_tolerance*particle_mass
       if (present(fixed)) then
-         grid%fixed = fixed
+         grid%fixed = fixed + grid%ghost
       else
          allocate (grid%fixed(0))
       end if
+      grid%mirror = grid%ghost > 0 .and. any(grid%fixed == grid%ghost)
       share_elements = elements
       if (present(element_shares)) then
          if (.not. element_shares) share_elements = 0

@@ -27,6 +27,7 @@ module mpm_particles
       integer, allocatable :: cell(:)          !< element holding the particle at the start of the step
       real(dp), allocatable :: mass_of(:)      !< per-particle mass (generic path only)
       real(dp), allocatable :: volume0_of(:)   !< per-particle initial volume (generic path only)
+      real(dp), allocatable :: velocity_gradient(:) !< dv/dx carried by APIC (transfer = 'apic' only; 1/s)
    end type particles_t
 
 contains
@@ -91,6 +92,7 @@ contains
       call permute_real(particles%volume_ratio)
       call permute_real(particles%mass_of)
       call permute_real(particles%volume0_of)
+      call permute_real(particles%velocity_gradient)
       if (allocated(particles%cell)) then
          block
             integer, allocatable :: copy(:)

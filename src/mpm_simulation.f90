@@ -4,12 +4,13 @@ module mpm_simulation
    use, intrinsic :: ieee_arithmetic, only: ieee_is_finite
    use omp_lib, only: omp_get_wtime
    use mpm_kinds, only: dp
-   use mpm_errors, only: error_t
+   use mpm_errors, only: error_t, set_error
    use mpm_strings, only: str
    use mpm_config, only: config_t
    use mpm_grid, only: grid_t, grid_init, assemble_nodes, nodal_velocity
    use mpm_particles, only: particles_t, per_particle_data
-   use mpm_shape, only: shape_cache_t
+   use mpm_shape, only: shape_cache_t, shape_id, shape_linear, shape_extra_cells, transfer_id, transfer_flip, &
+                        transfer_apic
    use mpm_fused, only: fused_start, fused_step
    use mpm_operations, only: particle_energies, locate_particles, p2g_mass_momentum, nodal_velocities
    use mpm_schemes, only: scheme_usf, scheme_usl, scheme_musl, scheme_step
@@ -94,7 +95,7 @@ contains
       type(shape_cache_t) :: cache
       type(pass_totals_t) :: totals
       real(dp) :: start, ucm, exact, energy, energy_reference, t, total_mass
-      integer :: n, scheme, next_snapshot
+      integer :: n, scheme, next_snapshot, extra, stat
       logical :: fused
 
       start = omp_get_wtime()
@@ -103,16 +104,31 @@ contains
       scheme = scheme_id(config%scheme)
       call make_scene(config, scene, error)
       if (allocated(error)) return
-      fused = trim(config%kernels) == 'auto' .and. scene%fused_applies()
+      cache%kind = shape_id(config%shape)
+      cache%transfer = transfer_id(config%transfer)
+      cache%flip_fraction = config%flip_fraction
+      fused = trim(config%kernels) == 'auto' .and. scene%fused_applies() .and. cache%kind == shape_linear .and. &
+              cache%transfer == transfer_flip
       result%fused = fused
+      ! shapes wider than the hat: one more cell beyond the free end, one ghost cell left of x = 0
+      extra = shape_extra_cells(cache%kind)
       result%ucm_amplitude = scene%ucm_amplitude()
       call scene%place_particles(config, particles, error)
       if (allocated(error)) return
       if (.not. fused) call per_particle_data(particles, error)
       if (allocated(error)) return
+      if (cache%transfer == transfer_apic) then
+         ! APIC starts from C_p = 0 (the first P2G is PIC's)
+         allocate (particles%velocity_gradient(particles%count), stat=stat)
+         if (stat /= 0) then
+            call set_error(error, 'cannot allocate the APIC velocity gradients (out of memory)')
+            return
+         end if
+         particles%velocity_gradient = 0.0_dp
+      end if
       call grid_init(grid, config%elements, config%length, particles%mass, error, &
-                     margin=scene%margin_cells(config%dx, config%margin_cells), fixed=scene%fixed_nodes(), &
-                     element_shares=fused)
+                     margin=scene%margin_cells(config%dx, config%margin_cells) + extra, fixed=scene%fixed_nodes(), &
+                     element_shares=fused, ghost=extra)
       if (allocated(error)) return
       result%domain = [grid%origin, grid%origin + grid%length]
       result%particles = particles%count

@@ -1,20 +1,21 @@
 !> Properties every shape function must have, checked for each shape on a grid with empty
 !> margin cells: partition of unity, gradients summing to zero, linear fields reproduced exactly
 !> (sum N_I x_I = x and sum dN_I x_I = 1), weights continuous as a particle crosses a node, and
-!> particles outside the domain flagged.
+!> particles outside the domain flagged, gradients the derivatives of the weights. GIMP boxes of
+!> half-length dx/4 (ugimp: 2 particles per cell) and of random half-lengths up to dx/2 (cpgimp).
 program test_shape
+   use, intrinsic :: ieee_arithmetic, only: ieee_value, ieee_quiet_nan
    use mpm_kinds, only: dp
    use mpm_errors, only: error_t
    use mpm_grid, only: grid_t, grid_init
-   use mpm_shape, only: shape_cache_t, evaluate_shapes, shape_linear, shape_name
+   use mpm_shape, only: shape_cache_t, evaluate_shapes, shape_name, all_shapes, shape_cpgimp
    use mpm_testing, only: tester_t
    implicit none
    type(tester_t) :: t
-   integer, parameter :: shapes(1) = [shape_linear]
    integer :: s
    t%name = 'test_shape'
-   do s = 1, size(shapes)
-      call properties(shapes(s))
+   do s = 1, size(all_shapes)
+      call properties(all_shapes(s))
    end do
    call t%finish()
 
@@ -25,19 +26,23 @@ contains
       type(grid_t) :: grid
       type(shape_cache_t) :: cache, left, right
       type(error_t), allocatable :: error
-      real(dp), allocatable :: x(:), node_x(:)
-      real(dp) :: h
-      integer :: p, k, outside, n
+      real(dp), allocatable :: x(:), node_x(:), half(:)
+      real(dp) :: h, d, lp
+      integer :: p, k, outside, n, i
       character(len=:), allocatable :: name
       name = shape_name(kind)//': '
       call grid_init(grid, 7, 3.5_dp, 1.0_dp, error, margin=3, element_shares=.false.)
       node_x = [(grid%origin + k*grid%dx, k=0, grid%elements)]
       n = 997
-      allocate (x(n))
+      allocate (x(n), half(n))
       call random_number(x)
-      x = grid%origin + x*grid%length
+      ! inside the grid by the widest support (2 cells), so that no particle may be flagged
+      x = grid%origin + 2*grid%dx + x*(grid%length - 4*grid%dx)
+      call random_number(half)
+      half = merge(0.5_dp*grid%dx*max(half, 1.0e-3_dp), 0.25_dp*grid%dx + 0*half, kind == shape_cpgimp)
+      lp = 0.25_dp*grid%dx
       cache%kind = kind
-      call evaluate_shapes(cache, grid, x, outside)
+      call evaluate_shapes(cache, grid, x, outside, half)
       call t%check(name//'no particle inside the domain is flagged', outside == 0)
       do p = 1, n
          associate (w => cache%weight(p, :), g => cache%gradient(p, :), i0 => cache%first(p))
@@ -52,17 +57,43 @@ contains
       h = 1.0e-9_dp*grid%dx
       left%kind = kind
       right%kind = kind
-      call evaluate_shapes(left, grid, [node_x(5) - h], outside)
-      call evaluate_shapes(right, grid, [node_x(5) + h], outside)
-      call t%check_close(name//'weight of the crossed node continuous', nodal(left, 4), nodal(right, 4), atol=1.0e-8_dp)
-      call t%check_close(name//'weight of the next node continuous', nodal(left, 5), nodal(right, 5), atol=1.0e-8_dp)
-      call t%check_close(name//'weight of the previous node continuous', nodal(left, 3), nodal(right, 3), atol=1.0e-8_dp)
+      ! (and, for GIMP, across the points where the box edge crosses a node: x_I -+ l_p)
+      do i = -1, 1
+         d = i*lp
+         call evaluate_shapes(left, grid, [node_x(5) + d - h], outside, [lp])
+         call evaluate_shapes(right, grid, [node_x(5) + d + h], outside, [lp])
+         do k = 2, 6
+            call t%check_close(name//'weight of node '//achar(48 + k)//' continuous', nodal(left, k), &
+                               nodal(right, k), atol=1.0e-8_dp)
+         end do
+      end do
+      ! gradients are the derivatives of the weights (central differences, between nodes)
+      d = 1.0e-6_dp*grid%dx
+      do p = 1, 50
+         call evaluate_shapes(left, grid, [x(p) - d], outside, [half(p)])
+         call evaluate_shapes(right, grid, [x(p) + d], outside, [half(p)])
+         do k = 0, grid%elements
+            call t%check_close(name//'gradient = dN/dx', gradient_of(cache, p, k), &
+                               (nodal(right, k) - nodal(left, k))/(2*d), atol=1.0e-6_dp*grid%inv_dx)
+         end do
+      end do
       ! outside the domain, either side (and NaN)
-      call evaluate_shapes(left, grid, [grid%origin - h], outside)
+      call evaluate_shapes(left, grid, [grid%origin - h], outside, [lp])
       call t%check(name//'left of the domain is flagged', outside == 1)
-      call evaluate_shapes(left, grid, [grid%origin + grid%length + h], outside)
+      call evaluate_shapes(left, grid, [grid%origin + grid%length + h], outside, [lp])
       call t%check(name//'right of the domain is flagged', outside == 1)
+      call evaluate_shapes(left, grid, [ieee_value(1.0_dp, ieee_quiet_nan)], outside, [lp])
+      call t%check(name//'NaN is flagged', outside == 1)
+      call t%check(name//'a flagged particle has zero weights', all(left%weight(1, :) == 0.0_dp))
    end subroutine properties
+
+   !> Gradient of node i of particle p in `cache` (0 when the particle does not touch it).
+   real(dp) function gradient_of(cache, p, i)
+      type(shape_cache_t), intent(in) :: cache
+      integer, intent(in) :: p, i
+      gradient_of = 0.0_dp
+      if (i >= cache%first(p) .and. i < cache%first(p) + cache%support) gradient_of = cache%gradient(p, i - cache%first(p) + 1)
+   end function gradient_of
 
    !> Weight of node i in a one-particle cache (0 when the particle does not touch it).
    real(dp) function nodal(cache, i)

@@ -2,7 +2,15 @@
 !> per-particle masses and volumes, the scene's boundary conditions and forces:
 !>   P2G:   m_I = sum_p N_Ip m_p,  p_I = sum_p N_Ip m_p v_p,  f_I = -sum_p dN_Ip sigma_p V_p
 !>   solve: p_I += dt f_I,  a_I = f_I/m_I,  v_I = p_I/m_I  (empty nodes: 0; fixed nodes held)
-!>   G2P:   v_p += dt sum_I N_Ip a_I (FLIP),  x_p += dt sum_I N_Ip v_I
+!>   G2P:   x_p += dt sum_I N_Ip v_I and the velocity by the cache's transfer:
+!>          FLIP  v_p += dt sum_I N_Ip a_I
+!>          PIC   v_p  = sum_I N_Ip v_I
+!>          blend v_p  = f (v_p + dt sum_I N_Ip a_I) + (1 - f) sum_I N_Ip v_I,  f = flip_fraction
+!>          APIC  v_p  = sum_I N_Ip v_I and the velocity gradient C_p (Jiang, Schroeder, Selle, Teran and
+!>                Stomakhin 2015, "The affine particle-in-cell method", ACM TOG 34(4), sec. 5.3):
+!>                C_p = sum_I v_I dN_Ip (hat, GIMP: exact for their piecewise-linear weights) or
+!>                C_p = B_p D_p^-1, B_p = sum_I N_Ip v_I (x_I - x_p), D_p = dx^2/4 (quadratic),
+!>                dx^2/3 (cubic B-splines); P2G then adds sum_p N_Ip m_p C_p (x_I - x_p) to p_I.
 !>   stress: d eps_p = dt sum_I dN_Ip v_I, then the material update (mpm_material_elastic)
 !> Each is one loop over the particles (or nodes), serial: sweeps run cases on threads, and a run's
 !> results are the same on any number of threads. The schemes (mpm_schemes) compose them.
@@ -12,13 +20,14 @@ module mpm_operations
    use mpm_kinds, only: dp
    use mpm_grid, only: grid_t, solve_range, zero_fixed
    use mpm_particles, only: particles_t
-   use mpm_shape, only: shape_cache_t, evaluate_shapes
+   use mpm_shape, only: shape_cache_t, evaluate_shapes, shape_ugimp, shape_cpgimp, shape_bspline2, shape_bspline3, &
+                        transfer_pic, transfer_blend, transfer_apic
    use mpm_diagnostics, only: pass_totals_t
    use mpm_material_elastic, only: elastic_update_all, strain_energy_density
    implicit none
    private
    public :: locate_particles, p2g_mass_momentum, p2g_internal_force, nodal_velocities, solve_grid, g2p, &
-             update_stress, particle_energies
+             update_stress, particle_energies, mirror_fold
 
 contains
 
@@ -29,7 +38,18 @@ contains
       type(particles_t), intent(in) :: particles
       type(pass_totals_t), intent(inout) :: totals
       integer :: outside
-      call evaluate_shapes(cache, grid, particles%x, outside)
+      select case (cache%kind)
+      case (shape_ugimp)  ! the box of the particle's initial length, l_p0 = V0_p / 2 (per unit area)
+         call scratch(cache, particles%count)
+         cache%work(:, 1) = 0.5_dp*particles%volume0_of
+         call evaluate_shapes(cache, grid, particles%x, outside, cache%work(:, 1))
+      case (shape_cpgimp) ! stretched with the particle, l_p = l_p0 J_p
+         call scratch(cache, particles%count)
+         cache%work(:, 1) = 0.5_dp*particles%volume0_of*particles%volume_ratio
+         call evaluate_shapes(cache, grid, particles%x, outside, cache%work(:, 1))
+      case default
+         call evaluate_shapes(cache, grid, particles%x, outside)
+      end select
       if (totals%outside == 0) totals%outside = outside
    end subroutine locate_particles
 
@@ -51,7 +71,56 @@ contains
          call scatter_kinematic(cache%support, cache%first, cache%weight, particles%mass_of, particles%v, grid%mass, &
                                 grid%momentum)
       end if
+      if (cache%transfer == transfer_apic) &
+         call scatter_affine(cache%support, cache%first, cache%weight, particles%mass_of, particles%velocity_gradient, &
+                             cache%position, grid%origin, grid%dx, grid%momentum)
+      call mirror_fold(grid, .true., with_force)
    end subroutine p2g_mass_momentum
+
+   !> APIC's affine part of the momentum: p_I += sum_p N_Ip m_p C_p (x_I - x_p), x_p at the start of the
+   !> step (it sums to zero over I, since sum_I N_Ip x_I = x_p: total momentum is unchanged).
+   subroutine scatter_affine(support, first, weight, mass_of, velocity_gradient, position, origin, dx, momentum)
+      integer, intent(in) :: support
+      integer, intent(in), contiguous :: first(:)
+      real(dp), intent(in), contiguous :: weight(:, :), mass_of(:), velocity_gradient(:), position(:)
+      real(dp), intent(in) :: origin, dx
+      real(dp), intent(inout), contiguous :: momentum(0:)
+      integer :: p, k, i
+      do p = 1, size(first)
+         do k = 1, support
+            i = first(p) + k - 1
+            momentum(i) = momentum(i) + weight(p, k)*mass_of(p)*velocity_gradient(p)*(origin + i*dx - position(p))
+         end do
+      end do
+   end subroutine scatter_affine
+
+   !> At a fixed end with ghost cells (grid%mirror), the mirror image of the body beyond it: node
+   !> c - j (c = grid%ghost, the fixed node at x = 0) is node c + j reflected. The body's image has the
+   !> velocity -v(-x) and the stress sigma(-x) of an odd displacement field, so the image of a
+   !> particle adds to node c + j what the particle adds to node c - j, with the sign of momentum and
+   !> force reversed; the ghost node then holds the reflection of its partner (m, -p, -f), and the
+   !> grid solve gives it -v, -a. This is exact where the solution is odd about the fixed end, as the
+   !> elastic bar's (u = 0 there, and u_xx = u_tt/c^2 = 0 without a body force), so the wide shapes
+   !> keep their interior accuracy at the fixed end; a body force there leaves a jump in u_xx.
+   subroutine mirror_fold(grid, with_kinematics, with_force)
+      type(grid_t), intent(inout) :: grid
+      logical, intent(in) :: with_kinematics, with_force
+      integer :: j, c
+      if (.not. grid%mirror) return
+      c = grid%ghost
+      do j = 1, c
+         if (with_kinematics) then
+            grid%mass(c + j) = grid%mass(c + j) + grid%mass(c - j)
+            grid%momentum(c + j) = grid%momentum(c + j) - grid%momentum(c - j)
+            grid%mass(c - j) = grid%mass(c + j)
+            grid%momentum(c - j) = -grid%momentum(c + j)
+         end if
+         if (with_force) then
+            grid%force(c + j) = grid%force(c + j) - grid%force(c - j)
+            grid%force(c - j) = -grid%force(c + j)
+         end if
+      end do
+   end subroutine mirror_fold
 
    subroutine scatter_kinematic(support, first, weight, mass_of, v, mass, momentum)
       integer, intent(in) :: support
@@ -99,6 +168,7 @@ contains
       grid%force = 0.0_dp
       call scatter_force(cache%support, cache%first, cache%gradient, particles%stress, particles%volume_ratio, &
                          particles%volume0_of, grid%force)
+      call mirror_fold(grid, .false., .true.)
    end subroutine p2g_internal_force
 
    subroutine scatter_force(support, first, gradient, stress, volume_ratio, volume0_of, force)
@@ -143,8 +213,9 @@ contains
       call zero_fixed(grid%fixed, grid%velocity)
    end subroutine solve_grid
 
-   !> FLIP update of velocity and position with the start-of-step shape functions; totals: sum m (x - X),
-   !> kinetic energy, the largest move (cells) and its particle, the first particle outside the domain.
+   !> Velocity (by the cache's transfer) and position update with the start-of-step shape functions;
+   !> totals: sum m (x - X), kinetic energy, the largest move (cells) and its particle, the first
+   !> particle outside the domain.
    subroutine g2p(cache, particles, grid, dt, totals)
       type(shape_cache_t), intent(inout) :: cache
       type(particles_t), intent(inout) :: particles
@@ -154,12 +225,45 @@ contains
       call scratch(cache, particles%count)
       call gather_move(cache%support, cache%first, cache%weight, grid%acceleration, grid%velocity, dt, grid%inv_dx, &
                        grid%origin, grid%origin + grid%length, particles%mass_of, particles%x0, particles%x, &
-                       particles%v, cache%work, totals)
+                       particles%v, cache%work, totals, cache%transfer, cache%flip_fraction)
+      if (cache%transfer == transfer_apic) then
+         select case (cache%kind)
+         case (shape_bspline2)
+            call gather_affine(cache%support, cache%first, cache%weight, grid%velocity, cache%position, grid%origin, &
+                               grid%dx, 4.0_dp*grid%inv_dx**2, particles%velocity_gradient)
+         case (shape_bspline3)
+            call gather_affine(cache%support, cache%first, cache%weight, grid%velocity, cache%position, grid%origin, &
+                               grid%dx, 3.0_dp*grid%inv_dx**2, particles%velocity_gradient)
+         case default
+            ! C_p = sum_I v_I dN_Ip: the strain-rate gather (where B_p D_p^-1 reduces to it, piecewise-linear weights)
+            call gather_strain(cache%support, cache%first, cache%gradient, grid%velocity, 1.0_dp, &
+                               particles%velocity_gradient)
+         end select
+      end if
    end subroutine g2p
 
-   subroutine gather_move(support, first, weight, acceleration, velocity, dt, inv_dx, lo, hi, mass_of, x0, x, v, &
-                          gathered, totals)
+   !> C_p = B_p / D_p, B_p = sum_I N_Ip v_I (x_I - x_p) (APIC, Jiang et al. 2015, eq. 10 with D_p constant).
+   subroutine gather_affine(support, first, weight, velocity, position, origin, dx, inverse_d, velocity_gradient)
       integer, intent(in) :: support
+      integer, intent(in), contiguous :: first(:)
+      real(dp), intent(in), contiguous :: weight(:, :), velocity(0:), position(:)
+      real(dp), intent(in) :: origin, dx, inverse_d
+      real(dp), intent(out), contiguous :: velocity_gradient(:)
+      integer :: p, k, i
+      velocity_gradient = 0.0_dp
+      do k = 1, support
+         do p = 1, size(first)
+            i = first(p) + k - 1
+            velocity_gradient(p) = velocity_gradient(p) + weight(p, k)*velocity(i)*(origin + i*dx - position(p))
+         end do
+      end do
+      velocity_gradient = inverse_d*velocity_gradient
+   end subroutine gather_affine
+
+   subroutine gather_move(support, first, weight, acceleration, velocity, dt, inv_dx, lo, hi, mass_of, x0, x, v, &
+                          gathered, totals, transfer, flip_fraction)
+      integer, intent(in) :: support, transfer
+      real(dp), intent(in) :: flip_fraction
       integer, intent(in), contiguous :: first(:)
       real(dp), intent(in), contiguous :: weight(:, :), acceleration(0:), velocity(0:), mass_of(:), x0(:)
       real(dp), intent(in) :: dt, inv_dx, lo, hi
@@ -179,10 +283,15 @@ contains
             gathered(p, 2) = gathered(p, 2) + weight(p, k)*velocity(first(p) + k - 1)
          end do
       end do
-      do p = 1, size(first)
-         v(p) = v(p) + dt*gathered(p, 1)
-         x(p) = x(p) + dt*gathered(p, 2)
-      end do
+      select case (transfer)
+      case (transfer_pic, transfer_apic)
+         v = gathered(:, 2)
+      case (transfer_blend)
+         v = flip_fraction*(v + dt*gathered(:, 1)) + (1.0_dp - flip_fraction)*gathered(:, 2)
+      case default ! transfer_flip
+         v = v + dt*gathered(:, 1)
+      end select
+      x = x + dt*gathered(:, 2)
       outside = 0
       furthest = 0
       largest = 0.0_dp

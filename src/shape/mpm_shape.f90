@@ -1,17 +1,38 @@
 !> The shape layer: for every particle, the nodes it touches, their weights N_I(x_p) and gradients
 !> dN_I/dx(x_p), evaluated once per step at the start-of-step positions and kept in a shape_cache_t
-!> that the generic operations (mpm_operations) read. A shape function is one module (today
-!> mpm_shape_linear) plus one case below; every shape passes the same property tests (test_shape).
+!> that the generic operations (mpm_operations) read. A shape function is one module plus one case
+!> below; every shape passes the same property tests (test_shape):
+!>   linear    the hat functions (mpm_shape_linear)
+!>   ugimp     uniform GIMP, box half-length l_p0 = dx/(2 ppc) (mpm_shape_gimp)
+!>   cpgimp    contiguous-particle GIMP, l_p = l_p0 J_p (mpm_shape_gimp)
+!>   bspline2  quadratic B-splines (mpm_shape_bspline)
+!>   bspline3  cubic B-splines (mpm_shape_bspline)
+!> Shapes wider than the hat need one grid cell beyond each end of the body (shape_extra_cells); at
+!> a fixed end that cell is a mirror ghost (mpm_grid, mirror_fold).
+!> The cache also carries the velocity transfer of G2P (flip, pic, blend, apic): the operations
+!> read both from it.
 module mpm_shape
    use mpm_kinds, only: dp
    use mpm_grid, only: grid_t
    use mpm_shape_linear, only: linear_support, linear_shapes
+   use mpm_shape_gimp, only: gimp_support, gimp_shapes
+   use mpm_shape_bspline, only: bspline2_support, bspline3_support, bspline2_shapes, bspline3_shapes
    implicit none
    private
-   public :: shape_cache_t, shape_linear, shape_support, evaluate_shapes, shape_name
+   public :: shape_cache_t, shape_linear, shape_ugimp, shape_cpgimp, shape_bspline2, shape_bspline3, all_shapes
+   public :: shape_support, evaluate_shapes, shape_name, shape_id, shape_extra_cells, known_shapes
+   public :: transfer_flip, transfer_pic, transfer_blend, transfer_apic, all_transfers, transfer_id, transfer_name
+   public :: known_transfers
 
    !> Shape function ids.
-   integer, parameter :: shape_linear = 1
+   integer, parameter :: shape_linear = 1, shape_ugimp = 2, shape_cpgimp = 3, shape_bspline2 = 4, shape_bspline3 = 5
+   integer, parameter :: all_shapes(5) = [shape_linear, shape_ugimp, shape_cpgimp, shape_bspline2, shape_bspline3]
+   character(len=*), parameter :: known_shapes = 'linear, ugimp, cpgimp, bspline2, bspline3'
+   !> Velocity transfer ids (G2P): FLIP v += dt sum N a; PIC v = sum N v; their blend; APIC
+   !> (Jiang et al. 2015: PIC plus a per-particle velocity gradient carried into the next P2G).
+   integer, parameter :: transfer_flip = 1, transfer_pic = 2, transfer_blend = 3, transfer_apic = 4
+   integer, parameter :: all_transfers(4) = [transfer_flip, transfer_pic, transfer_blend, transfer_apic]
+   character(len=*), parameter :: known_transfers = 'flip, pic, blend, apic'
 
    !> Weights and gradients of every particle: node first(p) + k - 1 gets weight(p, k), gradient(p, k)
    !> (particle index first, so that the operations' loops over particles read them contiguously).
@@ -22,6 +43,11 @@ module mpm_shape
       real(dp), allocatable :: weight(:, :), gradient(:, :)
       !> Scratch space of the operations, one value per particle each (gathered nodal values).
       real(dp), allocatable :: work(:, :)
+      !> The velocity transfer of G2P, and the FLIP share of the blend (1 = FLIP, 0 = PIC).
+      integer :: transfer = transfer_flip
+      real(dp) :: flip_fraction = 1.0_dp
+      !> Start-of-step positions (APIC only: the affine term of P2G needs x_I - x_p after G2P moved x).
+      real(dp), allocatable :: position(:)
    end type shape_cache_t
 
 contains
@@ -32,10 +58,55 @@ contains
       select case (kind)
       case (shape_linear)
          name = 'linear'
+      case (shape_ugimp)
+         name = 'ugimp'
+      case (shape_cpgimp)
+         name = 'cpgimp'
+      case (shape_bspline2)
+         name = 'bspline2'
+      case (shape_bspline3)
+         name = 'bspline3'
       case default
          name = 'unknown'
       end select
    end function shape_name
+
+   !> Id of a shape name (0 if unknown; the configuration is validated before).
+   pure integer function shape_id(name)
+      character(len=*), intent(in) :: name
+      integer :: k
+      shape_id = 0
+      do k = 1, size(all_shapes)
+         if (trim(name) == shape_name(all_shapes(k))) shape_id = all_shapes(k)
+      end do
+   end function shape_id
+
+   pure function transfer_name(kind) result(name)
+      integer, intent(in) :: kind
+      character(len=:), allocatable :: name
+      select case (kind)
+      case (transfer_flip)
+         name = 'flip'
+      case (transfer_pic)
+         name = 'pic'
+      case (transfer_blend)
+         name = 'blend'
+      case (transfer_apic)
+         name = 'apic'
+      case default
+         name = 'unknown'
+      end select
+   end function transfer_name
+
+   !> Id of a transfer name (0 if unknown).
+   pure integer function transfer_id(name)
+      character(len=*), intent(in) :: name
+      integer :: k
+      transfer_id = 0
+      do k = 1, size(all_transfers)
+         if (trim(name) == transfer_name(all_transfers(k))) transfer_id = all_transfers(k)
+      end do
+   end function transfer_id
 
    !> Nodes per particle of shape `kind`.
    pure integer function shape_support(kind)
@@ -43,18 +114,33 @@ contains
       select case (kind)
       case (shape_linear)
          shape_support = linear_support
+      case (shape_ugimp, shape_cpgimp)
+         shape_support = gimp_support
+      case (shape_bspline2)
+         shape_support = bspline2_support
+      case (shape_bspline3)
+         shape_support = bspline3_support
       case default
          shape_support = 0
       end select
    end function shape_support
 
+   !> Grid cells a shape needs beyond an end of the body besides the hat's: its support radius (1 for
+   !> the hat, 1 + l_p/dx for GIMP, 3/2 and 2 for the B-splines) rounded up, less one.
+   pure integer function shape_extra_cells(kind)
+      integer, intent(in) :: kind
+      shape_extra_cells = merge(0, 1, kind == shape_linear)
+   end function shape_extra_cells
+
    !> Fill `cache` for positions x (allocating it on first use); `outside` = first particle outside
-   !> the grid domain, 0 if none.
-   subroutine evaluate_shapes(cache, grid, x, outside)
+   !> the grid domain (its support not inside the grid), 0 if none. GIMP needs the particles' box
+   !> half-lengths `half_length`.
+   subroutine evaluate_shapes(cache, grid, x, outside, half_length)
       type(shape_cache_t), intent(inout) :: cache
       type(grid_t), intent(in) :: grid
       real(dp), intent(in) :: x(:)
       integer, intent(out) :: outside
+      real(dp), intent(in), optional :: half_length(:)
       if (.not. allocated(cache%first)) then
          cache%support = shape_support(cache%kind)
          allocate (cache%first(size(x)), cache%weight(size(x), cache%support), cache%gradient(size(x), cache%support))
@@ -62,6 +148,19 @@ contains
       select case (cache%kind)
       case (shape_linear)
          call linear_shapes(grid%origin, grid%inv_dx, grid%elements, x, cache%first, cache%weight, cache%gradient, outside)
+      case (shape_ugimp, shape_cpgimp)
+         call gimp_shapes(grid%origin, grid%inv_dx, grid%elements, x, half_length, cache%first, cache%weight, &
+                          cache%gradient, outside)
+      case (shape_bspline2)
+         call bspline2_shapes(grid%origin, grid%inv_dx, grid%elements, x, cache%first, cache%weight, cache%gradient, &
+                              outside)
+      case (shape_bspline3)
+         call bspline3_shapes(grid%origin, grid%inv_dx, grid%elements, x, cache%first, cache%weight, cache%gradient, &
+                              outside)
       end select
+      if (cache%transfer == transfer_apic) then
+         if (.not. allocated(cache%position)) allocate (cache%position(size(x)))
+         cache%position = x
+      end if
    end subroutine evaluate_shapes
 end module mpm_shape

@@ -1,9 +1,10 @@
 !> Benchmark driver for mpm1d (studies/benchmark/run.sh calls it; it prints CSV rows on standard output).
-!>   mpm1d_bench throughput SCHEME ELEMENTS PPC STEPS REPEATS THREADS [fused|generic]
+!>   mpm1d_bench throughput SCHEME ELEMENTS PPC STEPS REPEATS THREADS [fused|generic [SHAPE [TRANSFER]]]
 !>       time STEPS steps of the scheme's passes (as run_simulation makes them, diagnostics included,
 !>       set-up excluded), REPEATS times from the same initial state, on the fused kernels (default)
 !>       or the generic path (mpm_schemes; one thread):
 !>       scheme,elements,ppc,particles,threads,steps,repeat,seconds,particle_steps_per_s
+!>       (with SHAPE given, generic only: two more columns, shape,transfer; defaults linear, flip)
 !>   mpm1d_bench stream N REPEATS
 !>       memory bandwidth with 1 and 2 threads over arrays of N doubles:
 !>       kernel,threads,bytes_per_element,repeat,seconds,bytes_per_s
@@ -23,7 +24,8 @@ program mpm1d_bench
    use mpm_config, only: config_t, resolve_config
    use mpm_grid, only: grid_t, grid_init
    use mpm_particles, only: particles_t, per_particle_data
-   use mpm_shape, only: shape_cache_t
+   use mpm_shape, only: shape_cache_t, shape_id, shape_extra_cells, transfer_id, transfer_apic, shape_name, &
+                        transfer_name
    use mpm_transfer, only: pass_totals_t
    use mpm_fused, only: fused_start, fused_step
    use mpm_schemes, only: scheme_usf, scheme_usl, scheme_musl, scheme_step
@@ -75,9 +77,10 @@ contains
       type(pass_totals_t) :: totals
       type(error_t), allocatable :: error
       type(shape_cache_t) :: cache
-      integer :: steps, repeats, threads, r, n, scheme
+      integer :: steps, repeats, threads, r, n, scheme, extra
       real(dp) :: start, seconds, ucm, worst, total_mass
       logical :: generic
+      character(len=:), allocatable :: columns
       config%scheme = arg(2)
       config%elements = iarg(3)
       config%particles_per_element = iarg(4)
@@ -88,6 +91,14 @@ contains
       call omp_set_num_threads(threads)
       bar = bar_init(config%length, config%youngs_modulus, config%density, config%velocity_amplitude, config%mode)
       generic = trim(arg(8)) == 'generic'
+      columns = ''
+      if (generic .and. len_trim(arg(9)) > 0) then
+         cache%kind = shape_id(arg(9))
+         if (len_trim(arg(10)) > 0) cache%transfer = transfer_id(arg(10))
+         if (cache%kind == 0 .or. cache%transfer == 0) error stop 'unknown shape or transfer'
+         columns = ','//shape_name(cache%kind)//','//transfer_name(cache%transfer)
+      end if
+      extra = shape_extra_cells(cache%kind)
       select case (trim(config%scheme))
       case ('usf')
          scheme = scheme_usf
@@ -100,8 +111,13 @@ contains
          call bar%place_particles(config, particles, error)
          if (allocated(error)) error stop 'out of memory'
          if (generic) call per_particle_data(particles, error)
+         if (cache%transfer == transfer_apic) then
+            allocate (particles%velocity_gradient(particles%count))
+            particles%velocity_gradient = 0
+         end if
          call grid_init(grid, config%elements, config%length, particles%mass, error, &
-                        margin=bar%margin_cells(config%dx, -1), fixed=bar%fixed_nodes(), element_shares=.not. generic)
+                        margin=bar%margin_cells(config%dx, -1) + extra, fixed=bar%fixed_nodes(), &
+                        element_shares=.not. generic, ghost=extra)
          if (generic) then
             total_mass = sum(particles%mass_of)
          else
@@ -123,9 +139,9 @@ contains
          end do
          seconds = omp_get_wtime() - start
          if (totals%outside /= 0 .or. totals%max_cell_move > 1) error stop 'benchmark run left its guards'
-         write (output_unit, '(a,",",i0,",",i0,",",i0,",",i0,",",i0,",",i0,",",es12.5,",",es12.5)') &
+         write (output_unit, '(a,",",i0,",",i0,",",i0,",",i0,",",i0,",",i0,",",es12.5,",",es12.5,a)') &
             trim(config%scheme), config%elements, config%particles_per_element, particles%count, threads, steps, r, &
-            seconds, real(particles%count, dp)*steps/seconds
+            seconds, real(particles%count, dp)*steps/seconds, columns
          flush (output_unit)
       end do
    end subroutine throughput

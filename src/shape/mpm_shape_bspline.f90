@@ -1,0 +1,100 @@
+!> Quadratic and cubic B-spline shape functions on the uniform 1-D grid, centred on the nodes
+!> (Steffen, Kirby and Berzins 2008, "Analysis and reduction of quadrature errors in the material
+!> point method", IJNME 76:922-948, eqs. for S_2 and S_3; de Boor's uniform B-splines):
+!>   quadratic, r = |x - x_I|/dx:  3/4 - r^2 (r <= 1/2),  (3/2 - r)^2/2 (1/2 <= r <= 3/2), 0 beyond;
+!>   cubic:                        2/3 - r^2 + r^3/2 (r <= 1),  (2 - r)^3/6 (1 <= r <= 2), 0 beyond.
+!> Both are C^1 (quadratic) or C^2 (cubic), so the gradient no longer jumps when a particle crosses
+!> a node. Written per local coordinate t in [0, 1) of the particle in its "knot span", one
+!> polynomial per node of the support, no branch (vectorises):
+!>   quadratic: first = nint-below(s) - 1, t = s + 1/2 - (first + 1):
+!>     N = [(1-t)^2/2, 1/2 + t - t^2, t^2/2],  dN/dt = [t - 1, 1 - 2t, t]
+!>   cubic: first = floor(s) - 1, t = s - (first + 1):
+!>     N = [(1-t)^3/6, (3t^3 - 6t^2 + 4)/6, (-3t^3 + 3t^2 + 3t + 1)/6, t^3/6],
+!>     dN/dt = [-(1-t)^2/2, 3t^2/2 - 2t, -3t^2/2 + t + 1/2, t^2/2].
+!> Boundaries are the grid's business (mpm_grid: a ghost cell beyond a fixed end, mirrored), so
+!> these are the plain uniform B-splines wherever the support lies inside the grid; a particle whose
+!> support leaves the grid is flagged.
+module mpm_shape_bspline
+   use mpm_kinds, only: dp
+   implicit none
+   private
+   public :: bspline2_support, bspline3_support, bspline2_shapes, bspline3_shapes
+
+   integer, parameter :: bspline2_support = 3, bspline3_support = 4
+
+contains
+
+   !> Quadratic B-spline weights and gradients of every particle (conventions of gimp_shapes: node
+   !> first(p) + k - 1; a particle whose support is not inside the grid gets first = 0 and zero weights).
+   pure subroutine bspline2_shapes(origin, inv_dx, cells, x, first, weight, gradient, outside)
+      real(dp), intent(in) :: origin, inv_dx
+      integer, intent(in) :: cells
+      real(dp), intent(in) :: x(:)
+      integer, intent(out) :: first(:)
+      real(dp), intent(out) :: weight(:, :), gradient(:, :)
+      integer, intent(out) :: outside
+      integer :: p, i
+      real(dp) :: s, t, inside
+      do p = 1, size(x)
+         s = (x(p) - origin)*inv_dx
+         inside = merge(1.0_dp, 0.0_dp, s >= 0.5_dp .and. s <= cells - 0.5_dp)
+         s = merge(s, 0.5_dp*cells, inside > 0.0_dp)
+         i = min(int(s + 0.5_dp) - 1, cells - 2)
+         t = s + 0.5_dp - (i + 1)
+         first(p) = i
+         weight(p, 1) = 0.5_dp*(1.0_dp - t)**2*inside
+         weight(p, 2) = (0.5_dp + t - t*t)*inside
+         weight(p, 3) = 0.5_dp*t*t*inside
+         gradient(p, 1) = (t - 1.0_dp)*inv_dx*inside
+         gradient(p, 2) = (1.0_dp - 2.0_dp*t)*inv_dx*inside
+         gradient(p, 3) = t*inv_dx*inside
+      end do
+      outside = first_outside(origin, inv_dx, x, 0.5_dp, cells - 0.5_dp)
+   end subroutine bspline2_shapes
+
+   !> Cubic B-spline weights and gradients of every particle (conventions as bspline2_shapes).
+   pure subroutine bspline3_shapes(origin, inv_dx, cells, x, first, weight, gradient, outside)
+      real(dp), intent(in) :: origin, inv_dx
+      integer, intent(in) :: cells
+      real(dp), intent(in) :: x(:)
+      integer, intent(out) :: first(:)
+      real(dp), intent(out) :: weight(:, :), gradient(:, :)
+      integer, intent(out) :: outside
+      integer :: p, i
+      real(dp) :: s, t, u, inside
+      real(dp), parameter :: sixth = 1.0_dp/6.0_dp
+      do p = 1, size(x)
+         s = (x(p) - origin)*inv_dx
+         inside = merge(1.0_dp, 0.0_dp, s >= 1.0_dp .and. s <= cells - 1.0_dp)
+         s = merge(s, 0.5_dp*cells, inside > 0.0_dp)
+         i = min(int(s) - 1, cells - 3)
+         t = s - (i + 1)
+         u = 1.0_dp - t
+         first(p) = i
+         weight(p, 1) = sixth*u*u*u*inside
+         weight(p, 2) = sixth*(3.0_dp*t*t*t - 6.0_dp*t*t + 4.0_dp)*inside
+         weight(p, 3) = sixth*(-3.0_dp*t*t*t + 3.0_dp*t*t + 3.0_dp*t + 1.0_dp)*inside
+         weight(p, 4) = sixth*t*t*t*inside
+         gradient(p, 1) = -0.5_dp*u*u*inv_dx*inside
+         gradient(p, 2) = (1.5_dp*t*t - 2.0_dp*t)*inv_dx*inside
+         gradient(p, 3) = (-1.5_dp*t*t + t + 0.5_dp)*inv_dx*inside
+         gradient(p, 4) = 0.5_dp*t*t*inv_dx*inside
+      end do
+      outside = first_outside(origin, inv_dx, x, 1.0_dp, cells - 1.0_dp)
+   end subroutine bspline3_shapes
+
+   !> The first particle whose grid coordinate is not in [lo, hi] (NaN too), 0 if none.
+   pure integer function first_outside(origin, inv_dx, x, lo, hi) result(outside)
+      real(dp), intent(in) :: origin, inv_dx, x(:), lo, hi
+      integer :: p
+      real(dp) :: s
+      outside = 0
+      do p = 1, size(x)
+         s = (x(p) - origin)*inv_dx
+         if (.not. (s >= lo .and. s <= hi)) then
+            outside = p
+            return
+         end if
+      end do
+   end function first_outside
+end module mpm_shape_bspline
