@@ -62,6 +62,15 @@ program mpm1d_main
       select case (option)
       case ('-q', '--quiet')
          quiet = .true.
+      case ('--shard=':'--shard=~', '--threads=':'--threads=~')
+         ! the --option=value form
+         if (option(1:8) == '--shard=') then
+            call parse_shard(option(9:), shard, shards)
+         else
+            threads = to_int(option(11:), '--threads')
+            if (threads < 0 .or. threads > max_threads) call fail('--threads '//option(11:)// &
+               ' is out of range; allowed: 0 (all cores) to '//str(max_threads), 2)
+         end if
       case ('--shard', '--threads')
          if (i == nargs) call fail("option '"//option//"' needs a value; see mpm1d --help", 2)
          i = i + 1
@@ -240,6 +249,11 @@ contains
       if (above > 0) write (error_unit, '(a)') 'mpm1d: warning: '//plural(above, 'case')// &
          trim(merge(' asks', ' ask ', above == 1))//' for a time step '// &
          'above their scheme''s linear stability limit (see studies/stability); guards will stop them if they grow'
+      ! the timing pass's cost, said before it is spent (most batch users want the error pass alone)
+      if (sweep%settings%min_time > 0 .and. .not. quiet) write (output_unit, '(a)') 'timing pass after the '// &
+         'error pass: each case repeated until '//num(sweep%settings%min_time)//' s of run time, at least '// &
+         num(size(sweep%cases)*sweep%settings%min_time/sweep%settings%timing_threads, 3)//' s on '// &
+         plural(sweep%settings%timing_threads, 'thread')//' (sweep.min_time=0 skips it)'
       call run_sweep(sweep)
       call write_sweep_file(output, sweep, error)
       if (allocated(error)) call fail(error%message, 3)

@@ -144,6 +144,31 @@ run a.nml "discretisation.scheme='USL'"
 check "test_scheme_case_single" "[ $(rc) = 0 ]"
 run s.nml "sweep.schemes='USL','Musl'" --quiet
 check "test_scheme_case_sweep" "[ $(rc) = 0 ]"
+# ---- more hostile input (issue 16, section 3, 13 and 14: refused by the registry's reader already; kept as tests)
+printf '$discretisation elements=3 $end\n' > dollar.nml
+run dollar.nml
+check "test_dollar_group_syntax_refused" "[ $(rc) = 2 ] && grep -q 'text outside a namelist group' err.txt"
+printf "&discretisation elements=3\0 /\n" > nul.nml
+run nul.nml
+check "test_nul_byte_refused" "[ $(rc) = 2 ] && grep -q \"'elements'\" err.txt"
+head -c 200 "$exe" > elf.nml
+run elf.nml
+check "test_binary_input_refused" "[ $(rc) = 2 ] && grep -q 'elf.nml:1: text outside a namelist group' err.txt"
+printf "%5000s&discretisation elements=3 /\n&output file='col.h5' /\n" "" > col.nml
+run col.nml
+check "test_group_after_column_4096_read" "[ $(rc) = 0 ] && grep -q 'elements=3,' out.txt"
+run a.nml discretisation.elements=99999999999
+check "test_integer_overflow_names_range" "[ $(rc) = 2 ] && grep -q 'at most 2147483647' err.txt"
+run a.nml output.snapshot_times=$(seq -s, 0 0.0001 0.0064)
+check "test_65_snapshot_times_names_limit" "[ $(rc) = 2 ] && grep -q 'has 65 values; allowed: up to 64 values' err.txt"
+printf "&output file='s.h5' /\n&sweep elements=1,,3, min_time=0 /\n" > gap.nml
+run gap.nml
+check "test_sweep_gap_without_placeholder" "[ $(rc) = 2 ] && grep -q 'gap' err.txt && ! grep -q 2147483647 err.txt"
+# the --option=value forms; the timing pass's cost said up front
+run s.nml --threads=1 --shard=1/2
+check "test_option_equals_forms" "[ $(rc) = 0 ] && grep -q 'shard 1 of 2' out.txt"
+run s.nml sweep.min_time=0.001 sweep.elements=3,4
+check "test_timing_pass_cost_said_up_front" "[ $(rc) = 0 ] && grep -q 'timing pass after the error pass: each case repeated until 1e-03 s of run time, at least 2e-03 s on 1 thread (sweep.min_time=0 skips it)' out.txt"
 check "no partial files left" "! ls *.part 2>/dev/null | grep -v '^c.h5.part$' | grep -q ."
 
 echo "test_command_line: $passed passed, $failed failed"
