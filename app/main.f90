@@ -9,13 +9,15 @@ program mpm1d_main
    use mpm_kinds, only: dp
    use mpm_errors, only: error_t
    use mpm_strings, only: str, num, plural, readable_numbers
-   use mpm_config, only: config_t, read_config_text, default_config, write_config_namelist, config_summary, stability_limit
+   use mpm_config, only: config_t, read_config_text, default_config, write_config_namelist, config_summary, stability_limit, &
+                         check_output_path
    use mpm_simulation, only: run_result_t, run_simulation, guard_message
    use mpm_output, only: write_run_file
    use mpm_diagnostics, only: status_ok
    use mpm_version, only: code_version
    use mpm_cli_help, only: print_help, print_parameters
-   use mpm_sweep, only: sweep_t, read_sweep_text, run_sweep, has_sweep_text, case_config
+   use mpm_sweep, only: sweep_t, read_sweep_text, run_sweep, has_sweep_text, case_config, max_threads
+   use mpm_files, only: same_file
    use mpm_registry, only: read_input_text
    use mpm_sweep_output, only: write_sweep_file, merge_sweep_files
    implicit none
@@ -26,6 +28,8 @@ program mpm1d_main
    character(len=:), allocatable :: input, text, source, option
    character(len=1024), allocatable :: overrides(:)
    integer :: nargs, i, shard, shards, threads
+   !> Fewest elements per wavelength of the mode before a run is warned (two resolve a wave at best).
+   integer, parameter :: min_elements_per_wavelength = 2
    logical :: quiet, is_sweep
 
    nargs = command_argument_count()
@@ -58,6 +62,15 @@ program mpm1d_main
       select case (option)
       case ('-q', '--quiet')
          quiet = .true.
+      case ('--shard=':'--shard=~', '--threads=':'--threads=~')
+         ! the --option=value form
+         if (option(1:8) == '--shard=') then
+            call parse_shard(option(9:), shard, shards)
+         else
+            threads = to_int(option(11:), '--threads')
+            if (threads < 0 .or. threads > max_threads) call fail('--threads '//option(11:)// &
+               ' is out of range; allowed: 0 (all cores) to '//str(max_threads), 2)
+         end if
       case ('--shard', '--threads')
          if (i == nargs) call fail("option '"//option//"' needs a value; see mpm1d --help", 2)
          i = i + 1
@@ -65,7 +78,8 @@ program mpm1d_main
             call parse_shard(argument(i), shard, shards)
          else
             threads = to_int(argument(i), '--threads')
-            if (threads < 0) call fail('--threads '//argument(i)//' is out of range; allowed: 0 (all) or more', 2)
+            if (threads < 0 .or. threads > max_threads) call fail('--threads '//argument(i)// &
+               ' is out of range; allowed: 0 (all cores) to '//str(max_threads), 2)
          end if
       case ('-')
          if (allocated(input)) call fail("too many input files: '"//input//"' and '-'; see mpm1d --help", 2)
@@ -105,6 +119,7 @@ program mpm1d_main
                                                 'group); see mpm1d --help', 2)
    call read_config_text(text, source, config, error, overrides=overrides)
    if (allocated(error)) call fail('invalid input:'//new_line('a')//error%message, 2)
+   call refuse_input_as_output(trim(config%file))
    if (.not. allocated(input) .and. .not. quiet) then
       if (size(overrides) == 0) then
          write (output_unit, '(a)') 'mpm1d: no input file given; running the built-in verification case '// &
@@ -116,6 +131,10 @@ program mpm1d_main
    end if
 
    call warn_stability(config%scheme, config%particles_per_element, config%dt_fraction, 1)
+   if (unresolved(config)) write (error_unit, '(a)') 'mpm1d: warning: mode '//str(config%mode)//' has '// &
+      num(elements_per_wavelength(config), 3)//' elements per wavelength on '//plural(config%elements, 'element')// &
+      ' (wavelength 4 L/(2 mode - 1)); below '//str(min_elements_per_wavelength)//' the mesh cannot represent it '// &
+      'and the error says little about the method'
    if (.not. quiet) then
       write (output_unit, '(a)') '# configuration used:'
       call write_config_namelist(output_unit, config)
@@ -128,6 +147,10 @@ program mpm1d_main
    if (allocated(error)) call fail(error%message, 3)
 
    if (.not. quiet) call report_run()
+   ! u_cm is a mean of positions x_p - X_p: below a few hundred roundings of x it measures rounding
+   if (result%ucm_amplitude < 100*spacing(config%length)) write (error_unit, '(a)') 'mpm1d: warning: the exact '// &
+      'u_cm amplitude '//num(result%ucm_amplitude)//' m is below 100 times the rounding of positions near x = L ('// &
+      num(spacing(config%length), 3)//' m): the error measures rounding, not the method; raise velocity_amplitude'
    ! the terminal gets the guard's message with readable numbers (the file keeps them in full)
    if (result%status /= status_ok) call fail(readable_numbers(guard_message(result%status, result%trip, config), 5)// &
                                              new_line('a')// &
@@ -154,6 +177,26 @@ contains
    write (output_unit, '(a)') 'wrote '//trim(config%file)
    end subroutine report_run
 
+   !> Refuse an output file that is the input file (it would be overwritten).
+   subroutine refuse_input_as_output(output)
+      character(len=*), intent(in) :: output
+      if (.not. allocated(input)) return
+      if (input == '-') return
+      if (same_file(input, output)) call fail("output: file = '"//output//"' is the input file '"//input// &
+                                              "'; allowed: another file", 2)
+   end subroutine refuse_input_as_output
+
+   pure real(dp) function elements_per_wavelength(c)
+      type(config_t), intent(in) :: c
+      elements_per_wavelength = 4*real(c%elements, dp)/(2*real(c%mode, dp) - 1)
+   end function elements_per_wavelength
+
+   !> Does the mesh have fewer than min_elements_per_wavelength elements per wavelength of the mode?
+   pure logical function unresolved(c)
+      type(config_t), intent(in) :: c
+      unresolved = elements_per_wavelength(c) < min_elements_per_wavelength
+   end function unresolved
+
    !> Is `text` an override `group.name=value`?
    logical function is_override(text)
       character(len=*), intent(in) :: text
@@ -174,13 +217,17 @@ contains
    !> `mpm1d input.nml [overrides] [--shard I/N] [--threads N] [--quiet]` for an input with a &sweep group.
    subroutine sweep_command()
       type(sweep_t) :: sweep
-      integer :: i, failed, above
+      integer :: i, failed, above, coarse
       character(len=:), allocatable :: output
       call read_sweep_text(text, source, sweep, error, shard, shards, threads, overrides)
       if (allocated(error)) call fail('invalid input:'//new_line('a')//error%message, 2)
       if (quiet) sweep%settings%progress = .false.
       output = trim(sweep%base%file)
       if (sweep%settings%shards > 1) output = shard_file(output, sweep%settings%shard, sweep%settings%shards)
+      call refuse_input_as_output(output)
+      ! a shard's own file name, checked as the namelist's file is (a folder there is refused now)
+      if (output /= trim(sweep%base%file)) call check_output_path(output, 'output: file of this shard', error)
+      if (allocated(error)) call fail('invalid input:'//new_line('a')//error%message, 2)
       if (quiet) then
          continue
       else if (sweep%settings%shards > 1) then
@@ -190,13 +237,23 @@ contains
          write (output_unit, '(a)') 'mpm1d: sweep of '//plural(size(sweep%cases), 'case')
       end if
       above = 0
+      coarse = 0
       do i = 1, size(sweep%cases)
          config = case_config(sweep, sweep%cases(i))
          if (config%dt_fraction > stability_limit(config%scheme, config%particles_per_element)) above = above + 1
+         if (unresolved(config)) coarse = coarse + 1
       end do
+      if (coarse > 0) write (error_unit, '(a)') 'mpm1d: warning: '//plural(coarse, 'case')//' ha'// &
+         trim(merge('s ', 've', coarse == 1))//' fewer than '//str(min_elements_per_wavelength)//' elements per '// &
+         'wavelength of the mode (wavelength 4 L/(2 mode - 1)): the mesh cannot represent it'
       if (above > 0) write (error_unit, '(a)') 'mpm1d: warning: '//plural(above, 'case')// &
          trim(merge(' asks', ' ask ', above == 1))//' for a time step '// &
          'above their scheme''s linear stability limit (see studies/stability); guards will stop them if they grow'
+      ! the timing pass's cost, said before it is spent (most batch users want the error pass alone)
+      if (sweep%settings%min_time > 0 .and. .not. quiet) write (output_unit, '(a)') 'timing pass after the '// &
+         'error pass: each case repeated until '//num(sweep%settings%min_time)//' s of run time, at least '// &
+         num(size(sweep%cases)*sweep%settings%min_time/sweep%settings%timing_threads, 3)//' s on '// &
+         plural(sweep%settings%timing_threads, 'thread')//' (sweep.min_time=0 skips it)'
       call run_sweep(sweep)
       call write_sweep_file(output, sweep, error)
       if (allocated(error)) call fail(error%message, 3)
@@ -232,13 +289,18 @@ contains
    subroutine merge_command()
       character(len=1024), allocatable :: inputs(:)
       integer :: i
+      logical :: output_failed
       if (nargs < 3) call fail('usage: mpm1d merge OUT.h5 SHARD1.h5 [SHARD2.h5 ...]', 2)
       allocate (inputs(nargs - 2))
       do i = 3, nargs
          inputs(i - 2) = argument(i)
       end do
-      call merge_sweep_files(argument(2), inputs, error)
-      if (allocated(error)) call fail(error%message, 2)
+      do i = 1, size(inputs)
+         if (same_file(argument(2), inputs(i))) call fail("merge: the output '"//argument(2)//"' is one of the "// &
+                                                          "shard files; allowed: a new file", 2)
+      end do
+      call merge_sweep_files(argument(2), inputs, error, output_failed)
+      if (allocated(error)) call fail(error%message, merge(3, 2, output_failed))
       write (output_unit, '(a)') 'wrote '//argument(2)//' from '//str(size(inputs))//' shard files'
    end subroutine merge_command
 
@@ -268,9 +330,12 @@ contains
       character(len=*), intent(in) :: path
       integer, intent(in) :: shard, shards
       character(len=:), allocatable :: name
-      character(len=32) :: suffix
-      integer :: dot
-      write (suffix, '("_shard",i3.3,"of",i3.3)') shard, shards
+      character(len=48) :: suffix, form
+      integer :: dot, width
+      ! at least 3 digits (the names of up to 999 shards as before), as many as the shard count has
+      width = max(3, len(str(shards)))
+      write (form, '("(""_shard"",i",i0,".",i0,",""of"",i",i0,".",i0,")")') width, width, width, width
+      write (suffix, form) shard, shards
       dot = index(path, '.h5', back=.true.)
       if (dot == len(path) - 2 .and. dot > 0) then
          name = path(1:dot - 1)//trim(suffix)//'.h5'

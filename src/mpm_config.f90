@@ -5,12 +5,12 @@ module mpm_config
    use mpm_kinds, only: dp, i8, pi
    use mpm_errors, only: error_t, set_error, append_error
    use mpm_strings, only: str, lower, num, plural
-   use mpm_files, only: available_memory
+   use mpm_files, only: available_memory, path_kind, path_folder, path_other
    use mpm_particles, only: bytes_per_particle
    use mpm_shape, only: known_shapes, known_transfers
    use mpm_registry, only: parameter_t, nml_item_t, text_entry, int_entry, real_entry, real_list_entry, &
                            logical_entry, parse_namelist, read_input_text, add_overrides, &
-                           apply_items, check_parameter, find_parameter, group_namelist
+                           apply_items, check_parameter, find_parameter, group_namelist, short_number
    implicit none
    private
    public :: config_t, read_config, read_config_text, input_name, validate_config, resolve_config
@@ -31,6 +31,8 @@ module mpm_config
                                                         'output', 'guards']
    !> Largest number of particles or elements one run accepts (array indices are default integers).
    integer(i8), parameter :: max_count = int(huge(1), i8)
+   !> Largest mode: 2 mode - 1 (in beta_n) must be a default integer.
+   integer, parameter :: max_mode = (huge(1) - 1)/2
    !> Time-step fraction above which a run is refused outright (far beyond any stability limit).
    real(dp), parameter :: max_dt_fraction = 10.0_dp
 
@@ -126,7 +128,8 @@ contains
                     sweep_list='densities'), &
          real_entry('scene', 'velocity_amplitude', config%velocity_amplitude, 'm/s', 'v0 of the initial velocity '// &
                     'v(x,0) = v0 sin(beta_n x), beta_n = (2n-1) pi / (2 length)', sweep_list='velocity_amplitudes'), &
-         int_entry('scene', 'mode', config%mode, 'the mode n of the initial velocity', at_least=1, sweep_list='modes'), &
+         int_entry('scene', 'mode', config%mode, 'the mode n of the initial velocity', at_least=1, &
+                   at_most=max_mode, sweep_list='modes'), &
          real_entry('run', 'periods', config%periods, '', 'run length in periods 2 pi / omega_n of the mode '// &
                     '(give periods or end_time); steps = smallest n with n dt >= end time', greater_than=0.0_dp, &
                     optional=.true.), &
@@ -297,6 +300,10 @@ contains
       if (config%snapshot_count > 0) then
          if (any(config%snapshot_times(1:config%snapshot_count) > end_time*(1.0_dp + 1.0e-12_dp))) &
             call append_error(error, "output: snapshot_times must lie within the run, 0 to "//str(end_time)//" s")
+         associate (t => config%snapshot_times(1:config%snapshot_count))
+            if (any(t(2:) < t(:size(t) - 1))) call append_error(error, "output: snapshot_times = "// &
+               snapshot_list()//" are not in increasing order; allowed: increasing times")
+         end associate
       end if
       if (allocated(error)) return
       if (present(with_system)) then
@@ -304,6 +311,16 @@ contains
       end if
       call check_memory(particles, config%elements, merge(step_count(end_time, dt), 0, config%history), error)
       call check_output_path(config%file, 'output: file', error)
+   contains
+      function snapshot_list() result(text)
+         character(len=:), allocatable :: text
+         integer :: k
+         text = ''
+         do k = 1, config%snapshot_count
+            if (k > 1) text = text//', '
+            text = text//short_number(config%snapshot_times(k))
+         end do
+      end function snapshot_list
    end subroutine validate_config
 
    !> Refuse a run whose particles and grid would not fit in the memory available now.
@@ -336,7 +353,14 @@ contains
          if (.not. exists) call append_error(error, name//" = '"//trim(path)//"': folder '"//path(1:slash - 1)// &
                                              "' does not exist; allowed: a path in an existing folder")
       end if
-      if (slash == len_trim(path)) call append_error(error, name//" = '"//trim(path)//"' names a folder; allowed: a file name")
+      if (slash == len_trim(path)) then
+         call append_error(error, name//" = '"//trim(path)//"' names a folder; allowed: a file name")
+      else if (path_kind(path) == path_folder) then
+         call append_error(error, name//" = '"//trim(path)//"' is an existing folder; allowed: a file name")
+      else if (path_kind(path) == path_other) then
+         call append_error(error, name//" = '"//trim(path)//"' is not a regular file (a device, FIFO or socket); "// &
+                           "allowed: a new file or a regular file to replace")
+      end if
    end subroutine check_output_path
 
    real(dp) function run_end_time(config)

@@ -4,7 +4,9 @@ module mpm_files
    use, intrinsic :: iso_c_binding, only: c_int, c_char, c_null_char
    implicit none
    private
-   public :: rename_file, remove_file, file_exists, available_memory
+   public :: rename_file, remove_file, file_exists, available_memory, path_kind, same_file, process_id
+   !> What path_kind returns: nothing there, a regular file, a folder, anything else (device, FIFO, ...).
+   integer, parameter, public :: path_none = 0, path_regular = 1, path_folder = 2, path_other = 3
 
    interface
       integer(c_int) function c_rename(old, new) bind(C, name='rename')
@@ -15,6 +17,17 @@ module mpm_files
          import :: c_int, c_char
          character(kind=c_char), dimension(*), intent(in) :: path
       end function c_unlink
+      integer(c_int) function c_path_kind(path) bind(C, name='mpm_path_kind')
+         import :: c_int, c_char
+         character(kind=c_char), dimension(*), intent(in) :: path
+      end function c_path_kind
+      integer(c_int) function c_same_file(a, b) bind(C, name='mpm_same_file')
+         import :: c_int, c_char
+         character(kind=c_char), dimension(*), intent(in) :: a, b
+      end function c_same_file
+      integer(c_int) function c_getpid() bind(C, name='getpid')
+         import :: c_int
+      end function c_getpid
    end interface
 
 contains
@@ -32,6 +45,23 @@ contains
       integer(c_int) :: stat
       stat = c_unlink(trim(path)//c_null_char)
    end subroutine remove_file
+
+   !> What `path` names: path_none, path_regular, path_folder or path_other.
+   integer function path_kind(path)
+      character(len=*), intent(in) :: path
+      path_kind = c_path_kind(trim(path)//c_null_char)
+   end function path_kind
+
+   !> Do `a` and `b` both exist and name the same file (whatever the spelling of the paths)?
+   logical function same_file(a, b)
+      character(len=*), intent(in) :: a, b
+      same_file = c_same_file(trim(a)//c_null_char, trim(b)//c_null_char) == 1
+   end function same_file
+
+   !> This process's id (unique among the processes running now).
+   integer function process_id()
+      process_id = c_getpid()
+   end function process_id
 
    logical function file_exists(path)
       character(len=*), intent(in) :: path

@@ -73,7 +73,7 @@ contains
          text = trim(adjustl(buffer))
          e = index(text, 'E')
          read (text(e + 1:), *) decimals
-         write (form, '(sp,i3.2)') decimals
+         write (form, '(sp,i0.2)') decimals
          text = strip_zeros(text(1:e - 1))//'e'//trim(adjustl(form))
       end if
    contains

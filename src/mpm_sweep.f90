@@ -24,7 +24,10 @@ module mpm_sweep
    implicit none
    private
    public :: sweep_config_t, sweep_case_t, sweep_t, read_sweep, read_sweep_text, sweep_cases, run_sweep
-   public :: has_sweep_group, has_sweep_text, case_config
+   public :: has_sweep_group, has_sweep_text, case_config, max_threads
+
+   !> Most threads a sweep asks for (OpenMP runtimes fail far below 10^5 threads; no node has more cores).
+   integer, parameter :: max_threads = 4096
    public :: sweep_parameters, case_column
 
    !> The &sweep group: lists to combine and how to run them.
@@ -115,8 +118,9 @@ contains
          real_entry('sweep', 'min_time', settings%min_time, 's', 'timing pass: repeat each case until this much '// &
                     'run time is measured; 0: no timing pass', at_least=0.0_dp, at_most=3600.0_dp), &
          int_entry('sweep', 'threads', settings%threads, 'threads of the error pass', at_least=0, &
-                   note='0: OMP_NUM_THREADS or all cores'), &
-         int_entry('sweep', 'timing_threads', settings%timing_threads, 'threads of the timing pass', at_least=1), &
+                   at_most=max_threads, note='0: OMP_NUM_THREADS or all cores'), &
+         int_entry('sweep', 'timing_threads', settings%timing_threads, 'threads of the timing pass', at_least=1, &
+                   at_most=max_threads), &
          logical_entry('sweep', 'histories', settings%histories, 'keep each case''s history in the sweep file'), &
          logical_entry('sweep', 'progress', settings%progress, 'a progress line on standard error (a terminal only)'), &
          int_entry('sweep', 'shard', settings%shard, 'this process runs cases shard, shard+shards, ...', at_least=1), &
@@ -305,6 +309,12 @@ contains
       type(error_t), allocatable :: case_error
       associate (s => sweep%settings)
          sweep%total_cases = product([(s%lists(j)%size(), j=1, size(s%lists))])
+         if (s%shards > sweep%total_cases) then
+            call append_error(error, "sweep: shards = "//str(s%shards)//" is more than the sweep's "// &
+                              str(sweep%total_cases)//" cases (a shard would have none); allowed: shards <= "// &
+                              str(sweep%total_cases))
+            return
+         end if
          allocate (sweep%cases((sweep%total_cases - s%shard)/s%shards + 1))
          mine = 0
          do n = s%shard, sweep%total_cases, s%shards

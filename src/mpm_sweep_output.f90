@@ -12,7 +12,6 @@ module mpm_sweep_output
    use mpm_sweep, only: sweep_t, sweep_case_t, case_column
    use mpm_config, only: config_t, config_parameters
    use mpm_registry, only: parameter_t, value_list_t, single_value_list, type_real, type_int
-   use mpm_sort, only: sort_order
    implicit none
    private
    public :: write_sweep_file, merge_sweep_files
@@ -153,24 +152,31 @@ contains
 
    !> Join shard files (every shard 1..n of one sweep, each once) into `path`: the same table,
    !> in the same case order, as one unsharded run; run times and pass times are the shards'.
-   subroutine merge_sweep_files(path, inputs, error)
+   !> `output_failed` tells a failure to write `path` (exit 3) from a problem of the inputs (exit 2).
+   !> Shards may differ in their threads and timing settings (results do not depend on them).
+   !> Each shard's cases go straight to their place in the table (linear time in the shards).
+   subroutine merge_sweep_files(path, inputs, error, output_failed)
       character(len=*), intent(in) :: path
       character(len=*), intent(in) :: inputs(:)
       type(error_t), allocatable, intent(out) :: error
+      logical, intent(out), optional :: output_failed
       type(sweep_info_t) :: info, first
       type(sweep_case_t), allocatable :: cases(:), part(:)
       type(value_list_t), allocatable :: columns(:), part_columns(:)
       logical, allocatable :: seen(:)
-      integer, allocatable :: order(:)
       type(h5_writer_t) :: h5
       character(len=:), allocatable :: config_text, text
-      integer :: i, k
+      integer :: i, k, n, j
+      integer, allocatable :: where(:)
+      logical, allocatable :: filled(:)
+      logical :: histories
+
+      if (present(output_failed)) output_failed = .false.
 
       if (size(inputs) < 1) then
          call set_error(error, 'merge: give the output file and at least one shard file')
          return
       end if
-      allocate (cases(0))
       columns = sweep_columns()
       do i = 1, size(inputs)
          call read_info(trim(inputs(i)), info, text, error)
@@ -180,8 +186,16 @@ contains
             config_text = text
             allocate (seen(info%shards))
             seen = .false.
-         else if (info%shards /= first%shards .or. text /= config_text .or. &
-                  without_shard(info%namelist_text) /= without_shard(first%namelist_text)) then
+            n = info%total_cases
+            allocate (cases(n), filled(n))
+            filled = .false.
+            do k = 1, size(columns)
+               columns(k)%reals = spread(0.0_dp, 1, n)
+               columns(k)%ints = spread(0, 1, n)
+               columns(k)%texts = spread(repeat(' ', 64), 1, n)
+            end do
+         else if (info%shards /= first%shards .or. text /= config_text .or. info%total_cases /= n .or. &
+                  results_part(info%namelist_text) /= results_part(first%namelist_text)) then
             call set_error(error, "merge: '"//trim(inputs(i))//"' is not a shard of the same sweep as '"// &
                            trim(inputs(1))//"'")
             return
@@ -193,14 +207,26 @@ contains
          seen(info%shard) = .true.
          call read_cases(trim(inputs(i)), part, error)
          if (allocated(error)) return
-         cases = [cases, part]
+         where = part%index
+         if (any(where < 1 .or. where > n)) then
+            call set_error(error, "merge: '"//trim(inputs(i))//"' holds a case index outside 1 to "//str(n))
+            return
+         end if
+         do j = 1, size(where)
+            if (filled(where(j))) then
+               call set_error(error, "merge: case "//str(where(j))//" is in two shards ('"//trim(inputs(i))//"')")
+               return
+            end if
+            filled(where(j)) = .true.
+            cases(where(j)) = part(j)
+         end do
          part_columns = sweep_columns()
          call read_columns(trim(inputs(i)), size(part), part_columns, error)
          if (allocated(error)) return
          do k = 1, size(columns)
-            columns(k)%reals = [columns(k)%reals, part_columns(k)%reals]
-            columns(k)%ints = [columns(k)%ints, part_columns(k)%ints]
-            columns(k)%texts = [character(len=64) :: columns(k)%texts, part_columns(k)%texts]
+            columns(k)%reals(where) = part_columns(k)%reals
+            columns(k)%ints(where) = part_columns(k)%ints
+            columns(k)%texts(where) = part_columns(k)%texts
          end do
          if (i > 1) then
             first%wall_time = first%wall_time + info%wall_time
@@ -212,36 +238,38 @@ contains
          call set_error(error, "merge: shards missing: "//missing(seen)//" of "//str(first%shards))
          return
       end if
-      if (size(cases) /= first%total_cases) then
-         call set_error(error, "merge: the shards hold "//str(size(cases))//" cases, the sweep has "// &
+      if (.not. all(filled)) then
+         call set_error(error, "merge: the shards hold "//str(count(filled))//" cases, the sweep has "// &
                         str(first%total_cases))
          return
       end if
-      order = sort_order(real(cases%index, dp))
-      cases = cases(order)
-      do k = 1, size(columns)
-         columns(k)%reals = columns(k)%reals(order)
-         columns(k)%ints = columns(k)%ints(order)
-         columns(k)%texts = columns(k)%texts(order)
-      end do
       first%shard = 1
       first%shards = 1
       first%namelist_text = without_shard(first%namelist_text)//", shard=1, shards=1 /"
 
+      histories = .false.
+      do i = 1, size(inputs)
+         if (h5_exists(trim(inputs(i)), '/histories')) histories = .true.
+      end do
       call h5%create(path)
       call h5%attribute_string('/', 'code_version', code_version)
       call h5%attribute_string('/', 'content', 'sweep')
       call h5%copy_from(trim(inputs(1)), '/config')
       call write_table(h5, first, cases, columns)
-      do i = 1, size(inputs)
-         if (.not. h5_exists(trim(inputs(i)), '/histories')) cycle
-         if (i == 1) call h5%group('/histories')
-         do k = 1, size(cases)
-            if (h5_exists(trim(inputs(i)), '/histories/'//history_name(cases(k)%index))) &
-               call h5%copy_from(trim(inputs(i)), '/histories/'//history_name(cases(k)%index))
+      if (histories) then
+         call h5%group('/histories')
+         do i = 1, size(inputs)
+            ! a shard holds the histories of its own cases: shard, shard + shards, ...
+            call read_info(trim(inputs(i)), info, text, error)
+            if (allocated(error)) return
+            do k = info%shard, n, info%shards
+               if (h5_exists(trim(inputs(i)), '/histories/'//history_name(k))) &
+                  call h5%copy_from(trim(inputs(i)), '/histories/'//history_name(k))
+            end do
          end do
-      end do
+      end if
       call h5%finish(error)
+      if (present(output_failed)) output_failed = allocated(error)
    contains
       function missing(flags) result(list)
          logical, intent(in) :: flags(:)
@@ -253,6 +281,27 @@ contains
          end do
       end function missing
    end subroutine merge_sweep_files
+
+   !> The sweep namelist text without what does not change results: the shard, the threads and the
+   !> timing pass (min_time, timing_threads) and the progress line.
+   function results_part(text) result(base)
+      character(len=*), intent(in) :: text
+      character(len=:), allocatable :: base
+      character(len=16), parameter :: keys(*) = [character(len=16) :: ' min_time=', ' threads=', &
+                                                  ' timing_threads=', ' progress=']
+      integer :: k, start, comma
+      base = without_shard(text)
+      do k = 1, size(keys)
+         start = index(base, trim(keys(k)))
+         if (start == 0) cycle
+         comma = index(base(start + 1:), ',')
+         if (comma == 0) then
+            base = base(1:start - 1)
+         else
+            base = base(1:start - 1)//base(start + comma:)
+         end if
+      end do
+   end function results_part
 
    !> The sweep namelist text without its trailing "shard=.., shards=.. /".
    function without_shard(text) result(base)

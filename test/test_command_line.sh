@@ -70,5 +70,106 @@ printf "&output file='one.h5' /\n&sweep elements=3, min_time=0 /\n" > one.nml
 run one.nml --threads 1
 check "test_sweep_plurals" "grep -q 'sweep of 1 case\$' out.txt && grep -q 'on 1 thread;' out.txt && grep -q '^1 case completed' out.txt"
 
+# ---- defects found by hostile input (issue 16, section 3; numbers as there)
+# 1, 3: 1000 shards get distinct names (the count's digits) and merge in seconds into the unsharded table
+els=$(seq -s, 1 250)
+printf "&run periods=0.05 /\n&output file='m.h5', history=.false. /\n&sweep elements=$els, particles_per_element=1,2,3,4, min_time=0, progress=F /\n" > m.nml
+mkdir -p shards1000
+(cd shards1000 && for i in $(seq 1 1000); do OMP_NUM_THREADS=1 "$exe" ../m.nml output.file=m.h5 --shard "$i/1000" --threads 1 --quiet || echo "shard $i failed"; done) > shards.log 2>&1
+check "test_1000_shard_names_distinct" "[ ! -s shards.log ] && [ \$(ls shards1000/m_shard*of1000.h5 | wc -l) = 1000 ] && [ -s shards1000/m_shard1000of1000.h5 ] && [ -s shards1000/m_shard0001of1000.h5 ]"
+start=$(date +%s.%N)
+"$exe" merge merged1000.h5 shards1000/m_shard*.h5 > out.txt 2> err.txt; echo $? > rc.txt
+merge_seconds=$(awk -v a="$start" -v b="$(date +%s.%N)" 'BEGIN{printf "%.1f", b-a}')
+echo "   merge of 1000 shards: $merge_seconds s"
+check "test_merge_1000_shards_in_seconds" "[ $(rc) = 0 ] && awk -v s=$merge_seconds 'BEGIN{exit !(s < 20)}'"
+OMP_NUM_THREADS=2 "$exe" m.nml output.file=whole.h5 --quiet
+check "test_merged_1000_equals_unsharded" "h5diff whole.h5 merged1000.h5 /cases/max_error && h5diff whole.h5 merged1000.h5 /cases/index"
+# 2: more shards than cases
+run s.nml --shard 3/7
+check "test_more_shards_than_cases_refused" "[ $(rc) = 2 ] && grep -q 'shards = 7 is more than' err.txt && [ ! -e s_shard003of007.h5 ]"
+# 4: --threads caps
+run s.nml --threads 100000
+check "test_threads_option_capped" "[ $(rc) = 2 ] && grep -q -- '--threads 100000 is out of range' err.txt"
+run s.nml sweep.threads=40000
+check "test_threads_setting_capped" "[ $(rc) = 2 ] && grep -q 'threads = 40000 is out of range' err.txt"
+# 5, 6: output file = the input, a FIFO, an existing folder: refused before the run
+cp a.nml self.nml; sed -i "s/file='a.h5'/file='self.nml'/" self.nml; cp self.nml self.orig
+run self.nml
+check "test_output_is_input_refused" "[ $(rc) = 2 ] && grep -q 'is the input file' err.txt && cmp -s self.nml self.orig"
+rm -f fifo.h5; mkfifo fifo.h5
+run a.nml output.file=fifo.h5
+check "test_output_fifo_refused" "[ $(rc) = 2 ] && grep -q 'not a regular file' err.txt && [ -p fifo.h5 ]"
+mkdir -p folder.h5
+run a.nml output.file=folder.h5
+check "test_output_existing_folder_refused_up_front" "[ $(rc) = 2 ] && grep -q 'is an existing folder' err.txt && ! grep -q 'run time' out.txt"
+# 7: unsorted snapshot_times
+run a.nml output.snapshot_times=0.002,0.001
+check "test_unsorted_snapshot_times_refused" "[ $(rc) = 2 ] && grep -q 'snapshot_times = 0.002, 0.001 are not in increasing order' err.txt"
+# 8: a partial file of someone else is never touched; two runs on one output both succeed
+echo keep > c.h5.part
+run a.nml output.file=c.h5
+check "test_foreign_part_file_kept" "[ $(rc) = 0 ] && [ \"\$(cat c.h5.part)\" = keep ] && [ -s c.h5 ]"
+("$exe" a.nml output.file=same.h5 --quiet; echo $? > r1.txt) & ("$exe" a.nml output.file=same.h5 --quiet; echo $? > r2.txt) & wait
+check "test_two_runs_one_output" "[ \"\$(cat r1.txt) \$(cat r2.txt)\" = '0 0' ] && h5dump -d /summary/max_error same.h5 >/dev/null && ! ls same.h5.*part >/dev/null 2>&1"
+# 9: mode overflow names mode
+run a.nml scene.mode=1500000000
+check "test_mode_overflow_named" "[ $(rc) = 2 ] && grep -q 'mode = 1500000000 is out of range' err.txt"
+run a.nml scene.mode=2147483647
+check "test_mode_huge_named" "[ $(rc) = 2 ] && grep -q 'mode = 2147483647 is out of range' err.txt"
+# 11: displacement below the resolution of positions
+run a.nml scene.velocity_amplitude=1e-12
+check "test_displacement_below_resolution_warned" "[ $(rc) = 0 ] && grep -q 'below 100 times the rounding of positions' err.txt"
+# 12: a mode the mesh cannot resolve
+run a.nml discretisation.elements=20 scene.mode=50
+check "test_unresolved_mode_warned" "grep -q 'mode 50 has 0.808 elements per wavelength' err.txt"
+run a.nml
+check "test_resolved_mode_not_warned" "[ $(rc) = 0 ] && ! grep -q 'per wavelength' err.txt"
+# 15: merge exit 3 when its output cannot be written; its output may not be one of the shards
+"$exe" s.nml --shard 1/2 --quiet; "$exe" s.nml --shard 2/2 --quiet
+run merge no_such_folder/merged.h5 s_shard001of002.h5 s_shard002of002.h5
+check "test_merge_output_not_written_exit_3" "[ $(rc) = 3 ]"
+cp s_shard001of002.h5 keep1.h5
+run merge s_shard001of002.h5 s_shard001of002.h5 s_shard002of002.h5
+check "test_merge_output_is_a_shard_refused" "[ $(rc) = 2 ] && cmp -s keep1.h5 s_shard001of002.h5"
+# 16: shards differing only in threads and timing settings merge
+"$exe" s.nml --shard 1/2 --threads 1 sweep.min_time=0.001 sweep.timing_threads=2 --quiet
+"$exe" s.nml --shard 2/2 --threads 2 sweep.progress=F --quiet
+run merge mixed.h5 s_shard001of002.h5 s_shard002of002.h5
+check "test_merge_ignores_threads_and_timing" "[ $(rc) = 0 ] && [ -s mixed.h5 ]"
+"$exe" s.nml --shard 2/2 sweep.histories=T --quiet
+run merge mixed2.h5 s_shard001of002.h5 s_shard002of002.h5
+check "test_merge_still_refuses_other_sweeps" "[ $(rc) = 2 ] && grep -q 'not a shard of the same sweep' err.txt"
+# 17: one rule for scheme names in single runs and sweeps
+run a.nml "discretisation.scheme='USL'"
+check "test_scheme_case_single" "[ $(rc) = 0 ]"
+run s.nml "sweep.schemes='USL','Musl'" --quiet
+check "test_scheme_case_sweep" "[ $(rc) = 0 ]"
+# ---- more hostile input (issue 16, section 3, 13 and 14: refused by the registry's reader already; kept as tests)
+printf '$discretisation elements=3 $end\n' > dollar.nml
+run dollar.nml
+check "test_dollar_group_syntax_refused" "[ $(rc) = 2 ] && grep -q 'text outside a namelist group' err.txt"
+printf "&discretisation elements=3\0 /\n" > nul.nml
+run nul.nml
+check "test_nul_byte_refused" "[ $(rc) = 2 ] && grep -q \"'elements'\" err.txt"
+head -c 200 "$exe" > elf.nml
+run elf.nml
+check "test_binary_input_refused" "[ $(rc) = 2 ] && grep -q 'elf.nml:1: text outside a namelist group' err.txt"
+printf "%5000s&discretisation elements=3 /\n&output file='col.h5' /\n" "" > col.nml
+run col.nml
+check "test_group_after_column_4096_read" "[ $(rc) = 0 ] && grep -q 'elements=3,' out.txt"
+run a.nml discretisation.elements=99999999999
+check "test_integer_overflow_names_range" "[ $(rc) = 2 ] && grep -q 'at most 2147483647' err.txt"
+run a.nml output.snapshot_times=$(seq -s, 0 0.0001 0.0064)
+check "test_65_snapshot_times_names_limit" "[ $(rc) = 2 ] && grep -q 'has 65 values; allowed: up to 64 values' err.txt"
+printf "&output file='s.h5' /\n&sweep elements=1,,3, min_time=0 /\n" > gap.nml
+run gap.nml
+check "test_sweep_gap_without_placeholder" "[ $(rc) = 2 ] && grep -q 'gap' err.txt && ! grep -q 2147483647 err.txt"
+# the --option=value forms; the timing pass's cost said up front
+run s.nml --threads=1 --shard=1/2
+check "test_option_equals_forms" "[ $(rc) = 0 ] && grep -q 'shard 1 of 2' out.txt"
+run s.nml sweep.min_time=0.001 sweep.elements=3,4
+check "test_timing_pass_cost_said_up_front" "[ $(rc) = 0 ] && grep -q 'timing pass after the error pass: each case repeated until 1e-03 s of run time, at least 2e-03 s on 1 thread (sweep.min_time=0 skips it)' out.txt"
+check "no partial files left" "! ls *.part 2>/dev/null | grep -v '^c.h5.part$' | grep -q ."
+
 echo "test_command_line: $passed passed, $failed failed"
 [ "$failed" = 0 ]

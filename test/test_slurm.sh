@@ -116,13 +116,13 @@ echo "   submit to merged file: $submit_to_merged s"
 
 echo "-- 2. 4 tasks of 2 CPUs, task 2 fails, resubmitted alone"
 runB="$scratch/run4"
-mkdir -p "$runB/sweep_test_shard002of004.h5.part"   # task 2 cannot write its output: exit 3
+mkdir -p "$runB/sweep_test_shard002of004.h5"   # task 2's output is a folder: refused up front, exit 2
 bash studies/shards/slurm_submit.sh "$scratch/sweep.nml" "$runB" 4 --cpus-per-task=2 > "$scratch/submit4.out" 2>&1
 check "submit (4 x 2 CPUs) exits 0" "[ $? = 0 ]"
 array_job=$(sed -n 's/^array_job=//p' "$scratch/submit4.out"); merge_job=$(sed -n 's/^merge_job=//p' "$scratch/submit4.out")
 wait_gone "$array_job"; wait_gone "$merge_job"
-check "failed task visible in its exit file (exit files: $(exits "$runB" 4))" "[ '$(exits "$runB" 4)' = '0 3 0 0' ]"
-check "its log says why" "grep -q 'cannot create file' $runB/logs/shard_2_job$array_job.log"
+check "failed task visible in its exit file (exit files: $(exits "$runB" 4))" "[ '$(exits "$runB" 4)' = '0 2 0 0' ]"
+check "its log says why" "grep -q 'is an existing folder' $runB/logs/shard_2_job$array_job.log"
 check "slurm_merge.sh --failed lists task 2" "[ \"\$(bash studies/shards/slurm_merge.sh $runB --failed)\" = 2 ]"
 check "dependent merge cancelled, not run (state $(job_state "$merge_job"))" \
   "[ '$(job_state "$merge_job")' = CANCELLED ] && [ ! -e $runB/merge.exit ] && [ ! -e $runB/sweep_test.h5 ]"
@@ -131,13 +131,13 @@ check "shard files record 2 threads" "[ \"\$(h5dump -a /sweep/threads $runB/swee
 sbatch --parsable --wait --output="$runB/logs/merge_by_hand.log" studies/shards/slurm_merge.sh "$runB" > /dev/null 2>&1
 rc=$?
 check "merge job on the incomplete set fails (exit $rc)" "[ $rc != 0 ] && [ \"\$(cat $runB/merge.exit 2>/dev/null)\" = 1 ] && [ ! -e $runB/sweep_test.h5 ]"
-check "its log names the failed task and the resubmission" "grep -q 'task 2: exit 3' $runB/logs/merge_by_hand.log && grep -q -- '--array=2' $runB/logs/merge_by_hand.log"
+check "its log names the failed task and the resubmission" "grep -q 'task 2: exit 2' $runB/logs/merge_by_hand.log && grep -q -- '--array=2' $runB/logs/merge_by_hand.log"
 "$exe" merge "$scratch/incomplete.h5" "$runB"/sweep_test_shard00[134]of004.h5 > "$scratch/merge_incomplete.log" 2>&1
 rc=$?
 check "mpm1d merge refuses the 3 of 4 shards (exit $rc)" "[ $rc != 0 ] && grep -Eq 'shards missing: +2 of 4' $scratch/merge_incomplete.log && [ ! -e $scratch/incomplete.h5 ]"
 bash studies/shards/slurm_submit.sh "$scratch/sweep.nml" "$runB" 4 --cpus-per-task=1 --array=2 > /dev/null 2>&1
 check "resubmission with other CPUs per task refused" "[ $? = 2 ]"
-rmdir "$runB/sweep_test_shard002of004.h5.part"
+rmdir "$runB/sweep_test_shard002of004.h5"
 t0=$(date +%s.%N)
 bash studies/shards/slurm_submit.sh "$scratch/sweep.nml" "$runB" 4 --array="$(bash studies/shards/slurm_merge.sh "$runB" --failed)" \
   > "$scratch/resubmit.out" 2>&1
