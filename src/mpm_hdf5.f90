@@ -334,12 +334,22 @@ contains
          call set_error(error, "HDF5 output '"//self%path//"': cannot "//self%failure)
          return
       end if
+      call crash_hook()
       call rename_file(self%part_path, self%path, renamed)
       if (.not. renamed) then
          if (self%created) call remove_file(self%part_path)
          call set_error(error, "cannot rename '"//self%part_path//"' to '"//self%path//"'")
       end if
    end subroutine writer_finish
+
+   !> Test hook (test_cli): with MPM1D_CRASH_BEFORE_RENAME set, the process aborts between the complete
+   !> partial file and its rename, as a crash or a kill there would, so that a test can see that nothing
+   !> appears under the final name and the partial file keeps the data.
+   subroutine crash_hook()
+      integer :: length
+      call get_environment_variable('MPM1D_CRASH_BEFORE_RENAME', length=length)
+      if (length > 0) call abort()
+   end subroutine crash_hook
 
    !> Close and delete the partial file (nothing appears under the final name).
    subroutine writer_abandon(self)

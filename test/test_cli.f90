@@ -157,6 +157,17 @@ contains
                                 exitstat=status)
       call t%check('long run was killed', status /= 0)
       call t%check('killed run leaves no file under the final name', .not. file_exists(dir//'/long.h5'))
+      ! a crash between the complete partial file and its rename (the test hook aborts there)
+      open (newunit=unit, file=dir//'/crash.nml', status='replace', action='write')
+      write (unit, '(a)') "&output file='crash.h5' /"
+      close (unit)
+      call execute_command_line('cd '//dir//' && rm -f crash.h5 crash.h5.*.part && MPM1D_CRASH_BEFORE_RENAME=1 '// &
+                                app_path()//' crash.nml > /dev/null 2>&1', exitstat=status)
+      call t%check('run crashed before the rename', status /= 0)
+      call t%check('a crash before the rename leaves no file under the final name', .not. file_exists(dir//'/crash.h5'))
+      call execute_command_line('cd '//dir//' && ls crash.h5.*.part > /dev/null 2>&1', exitstat=status)
+      call t%check('... and the complete partial file is kept (nothing lost)', status == 0)
+      call execute_command_line('cd '//dir//' && rm -f crash.h5.*.part')
    end subroutine killed_run
 
    function itoa(i) result(text)
