@@ -308,12 +308,12 @@ contains
          kind = merge('finite real', 'integer    ', p%type /= type_int)
          kind = trim(kind)
          if (p%has_lower .and. p%has_upper) then
-            text = kind//' with '//short_number(p%lower)//' '//trim(merge('< ', '<=', p%lower_open))//' '// &
-                   trim(p%name)//' '//trim(merge('< ', '<=', p%upper_open))//' '//short_number(p%upper)
+            text = kind//' with '//bound(p%lower)//' '//trim(merge('< ', '<=', p%lower_open))//' '// &
+                   trim(p%name)//' '//trim(merge('< ', '<=', p%upper_open))//' '//bound(p%upper)
          else if (p%has_lower) then
-            text = kind//' '//trim(merge('> ', '>=', p%lower_open))//' '//short_number(p%lower)
+            text = kind//' '//trim(merge('> ', '>=', p%lower_open))//' '//bound(p%lower)
          else if (p%has_upper) then
-            text = kind//' '//trim(merge('< ', '<=', p%upper_open))//' '//short_number(p%upper)
+            text = kind//' '//trim(merge('< ', '<=', p%upper_open))//' '//bound(p%upper)
          else
             text = 'any '//kind
          end if
@@ -338,6 +338,17 @@ contains
       end select
       if (len_trim(p%unit) > 0) text = text//' ('//trim(p%unit)//')'
       if (len_trim(p%note) > 0) text = text//'; '//trim(p%note)
+   contains
+      !> A bound as the user would type it: integers in full, reals short.
+      function bound(x) result(b)
+         real(dp), intent(in) :: x
+         character(len=:), allocatable :: b
+         if (p%type == type_int) then
+            b = str(nint(x, i8))
+         else
+            b = short_number(x)
+         end if
+      end function bound
    end function allowed_text
 
    !> Is `x` within the range of `p`?

@@ -229,7 +229,8 @@ contains
       call read_sweep(dir//'/badsweep.nml', sweep, error, 0, 0, 1)
       call t%check('bad sweep refused', allocated(error))
       if (.not. allocated(error)) return
-      call t%check_contains('list value out of range', error%message, 'sweep: modes(2) = 0 is out of range; allowed: integer >= 1')
+      call t%check_contains('list value out of range', error%message, &
+                            'sweep: modes(2) = 0 is out of range; allowed: integer with 1 <= modes(2) <= 1073741823')
       call t%check_contains('list value unknown', error%message, "sweep: schemes(2) = 'xyz' is unknown")
       call t%check_contains('misspelled list: names the lists', error%message, &
                             "badsweep.nml:3: group &sweep: unknown variable 'dt_fraction'; allowed names: schemes,")
