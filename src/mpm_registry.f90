@@ -263,7 +263,9 @@ contains
             text = text(1:len(text) - 1)
          end do
          if (text(1:1) == '.') text = '0'//text
-         if (text(1:2) == '-.') text = '-0'//text(2:)
+         if (len(text) >= 2) then
+            if (text(1:2) == '-.') text = '-0'//text(2:)
+         end if
          return
       end if
       write (buffer, '(es22.14e3)') x
@@ -279,7 +281,9 @@ contains
       do while (text(k + 2:k + 2) == '0' .and. len(text) > k + 2)
          text = text(1:k + 1)//text(k + 3:)
       end do
-      if (text(k + 2:k + 3) == '-0') text = text(1:k + 2)//text(k + 4:)
+      if (len(text) >= k + 3) then  ! (a one-character exponent has no second character to read)
+         if (text(k + 2:k + 3) == '-0') text = text(1:k + 2)//text(k + 4:)
+      end if
    end function short_number
 
    !> A real in full precision without trailing zeros: 12.5, 1.0, 0.10000000000000001.
