@@ -8,14 +8,15 @@ module mpm_config
    use mpm_files, only: available_memory
    use mpm_particles, only: bytes_per_particle
    use mpm_registry, only: parameter_t, nml_item_t, text_entry, int_entry, real_entry, real_list_entry, &
-                           logical_entry, read_namelist, apply_items, check_parameter, find_parameter, group_namelist
+                           logical_entry, for_kinds, used_by, read_namelist, apply_items, check_parameter, &
+                           find_parameter, group_namelist
    implicit none
    private
    public :: config_t, read_config, validate_config, resolve_config, write_config_namelist, config_namelist
    public :: default_config, config_summary, known_schemes
    public :: max_snapshots, unset, check_output_path
-   public :: config_parameters, config_groups, group_help
-   public :: step_count, stability_limit
+   public :: config_parameters, config_groups, group_help, known_scenes
+   public :: step_count, stability_limit, not_used_message
 
    !> Sentinel for "not given" reals; no physical input takes this value.
    real(dp), parameter :: unset = -huge(1.0_dp)
@@ -23,6 +24,8 @@ module mpm_config
    integer, parameter :: max_snapshots = 64
    !> Schemes the code implements.
    character(len=*), parameter :: known_schemes = 'usf, usl, musl'
+   !> Scene kinds the code implements (mpm_scenes makes them).
+   character(len=*), parameter :: known_scenes = 'vibrating_bar, column, manufactured'
    !> The groups of one run's input, in the order of the echo and of --help.
    character(len=16), parameter :: config_groups(*) = [character(len=16) :: 'scene', 'discretisation', 'run', &
                                                         'output', 'guards']
@@ -40,6 +43,10 @@ module mpm_config
       real(dp) :: density = 7800.0_dp
       real(dp) :: velocity_amplitude = 0.1_dp
       integer :: mode = 1
+      !> Column: gravitational acceleration g (body force -g per unit mass, towards the fixed end x = 0).
+      real(dp) :: gravity = 9.81_dp
+      !> Manufactured solution: displacement amplitude A (m).
+      real(dp) :: amplitude = 0.025_dp
       ! &discretisation
       character(len=8) :: scheme = 'usl'
       integer :: elements = 20
@@ -102,18 +109,27 @@ contains
                    'of the body', at_least=-1, note="-1: the scene's expected motion + 2 cells"), &
          text_entry('discretisation', 'kernels', config%kernels, "'auto': the fused linear kernels where they "// &
                     "apply, else the generic path; 'generic': always the generic layered path", words='auto, generic'), &
-         text_entry('scene', 'kind', config%scene_kind, 'the problem: the vibrating bar of the founding study', &
-                    words='vibrating_bar', attribute='scene_kind'), &
+         text_entry('scene', 'kind', config%scene_kind, 'the problem: the vibrating bar of the founding study, '// &
+                    'a column under gravity, a manufactured large-strain solution (README, Scenes)', &
+                    words=known_scenes, attribute='scene_kind'), &
          real_entry('scene', 'length', config%length, 'm', 'length of the bar', greater_than=0.0_dp), &
          real_entry('scene', 'youngs_modulus', config%youngs_modulus, 'Pa', "Young's modulus E", &
                     greater_than=0.0_dp, sweep_list='youngs_moduli'), &
          real_entry('scene', 'density', config%density, 'kg/m^3', 'density rho', greater_than=0.0_dp, &
                     sweep_list='densities'), &
-         real_entry('scene', 'velocity_amplitude', config%velocity_amplitude, 'm/s', 'v0 of the initial velocity '// &
-                    'v(x,0) = v0 sin(beta_n x), beta_n = (2n-1) pi / (2 length)', sweep_list='velocity_amplitudes'), &
-         int_entry('scene', 'mode', config%mode, 'the mode n of the initial velocity', at_least=1, sweep_list='modes'), &
-         real_entry('run', 'periods', config%periods, '', 'run length in periods 2 pi / omega_n of the mode '// &
-                    '(give periods or end_time); steps = smallest n with n dt >= end time', greater_than=0.0_dp, &
+         for_kinds(real_entry('scene', 'velocity_amplitude', config%velocity_amplitude, 'm/s', 'v0 of the '// &
+                              'initial velocity v(x,0) = v0 sin(beta_n x), beta_n = (2n-1) pi / (2 length)', &
+                              sweep_list='velocity_amplitudes'), 'vibrating_bar'), &
+         for_kinds(int_entry('scene', 'mode', config%mode, 'the mode n of the initial velocity', at_least=1, &
+                             sweep_list='modes'), 'vibrating_bar'), &
+         for_kinds(real_entry('scene', 'gravity', config%gravity, 'm/s^2', 'gravitational acceleration g: body '// &
+                              'force -g per unit mass, towards the fixed end x = 0', greater_than=0.0_dp, &
+                              sweep_list='gravities'), 'column'), &
+         for_kinds(real_entry('scene', 'amplitude', config%amplitude, 'm', 'A of the manufactured displacement '// &
+                              'u(X,t) = A sin(2 pi X/length) sin(pi c t/length)', greater_than=0.0_dp, &
+                              note='2 pi A / length < 1', sweep_list='amplitudes'), 'manufactured'), &
+         real_entry('run', 'periods', config%periods, '', 'run length in periods of the scene (bar: 2 pi/omega_n; '// &
+                    'column: 4L/c; manufactured: 2L/c); steps = smallest n with n dt >= end time', greater_than=0.0_dp, &
                     optional=.true.), &
          real_entry('run', 'end_time', config%end_time, 's', 'run length in seconds (give periods or end_time)', &
                     greater_than=0.0_dp, optional=.true.), &
@@ -178,7 +194,10 @@ contains
          call apply_items(table, items, trim(config_groups(i)), path, error)
       end do
       do i = 1, size(table)
-         if (table(i)%line > 0) then
+         if (table(i)%line > 0 .and. .not. used_by(table(i), trim(config%scene_kind))) then
+            call append_error(error, trim(path)//":"//str(table(i)%line)//": "//not_used_message(table(i), &
+                                                                                            config%scene_kind))
+         else if (table(i)%line > 0) then
             call check_parameter(table(i), error, trim(path)//":"//str(table(i)%line)//": ")
          else
             call check_parameter(table(i), error)
@@ -204,6 +223,15 @@ contains
       end function extra_list
    end subroutine read_config
 
+   !> The message refusing a variable that scene kind `kind` does not use.
+   function not_used_message(p, kind) result(text)
+      type(parameter_t), intent(in) :: p
+      character(len=*), intent(in) :: kind
+      character(len=:), allocatable :: text
+      text = trim(p%group)//": '"//trim(p%name)//"' is not used by kind = '"//trim(kind)//"'; it belongs to kind "// &
+             trim(p%kinds)
+   end function not_used_message
+
    !> Check every value; append one line per problem to `error`, naming the variable and range.
    !> `with_system = .false.` skips the checks against the machine (memory available, output folder),
    !> which a sweep makes once for its largest case instead of once per case.
@@ -228,6 +256,9 @@ contains
       if (particles > max_count) call append_error(error, &
          "discretisation: elements*particles_per_element = "//str(particles)//" is too large; allowed: <= "// &
          str(max_count))
+      if (trim(config%scene_kind) == 'manufactured' .and. 2*pi*config%amplitude >= config%length) &
+         call append_error(error, "scene: kind = 'manufactured' needs 2 pi amplitude / length < 1 (F > 0 "// &
+                           "everywhere); amplitude = "//str(config%amplitude)//" m, length = "//str(config%length)//" m")
       if (allocated(error)) return
 
       ! Consistency checks that need the resolved quantities.
@@ -294,11 +325,29 @@ contains
       real(dp) :: omega
       if (config%end_time /= unset) then
          run_end_time = config%end_time
-      else
+      else if (trim(config%scene_kind) == 'vibrating_bar') then ! this association: the paper's step counts
          omega = (2*config%mode - 1)*pi/(2.0_dp*config%length)*sqrt(config%youngs_modulus/config%density)
          run_end_time = config%periods*2.0_dp*pi/omega
+      else
+         run_end_time = config%periods*scene_period(config)
       end if
    end function run_end_time
+
+   !> The period that `periods` counts: the bar's mode n, 2 pi/omega_n; the column's first mode, 4L/c;
+   !> the manufactured solution's, 2L/c (u oscillates as sin(pi c t/L)).
+   real(dp) function scene_period(config)
+      type(config_t), intent(in) :: config
+      real(dp) :: c
+      c = sqrt(config%youngs_modulus/config%density)
+      select case (trim(config%scene_kind))
+      case ('column')
+         scene_period = 4.0_dp*config%length/c
+      case ('manufactured')
+         scene_period = 2.0_dp*config%length/c
+      case default
+         scene_period = 2.0_dp*pi/((2*config%mode - 1)*pi/(2.0_dp*config%length)*c)
+      end select
+   end function scene_period
 
    !> The time-step fraction above which `scheme` with `particles_per_element` is linearly unstable
    !> on fine meshes (studies/stability/linear_stability.py, 20 elements; coarser meshes allow a
@@ -333,12 +382,10 @@ contains
    !> Fill the derived quantities of a validated configuration.
    subroutine resolve_config(config)
       type(config_t), intent(inout) :: config
-      real(dp) :: omega
       config%wave_speed = sqrt(config%youngs_modulus/config%density)
       config%dx = config%length/config%elements
       config%dt = config%dt_fraction*config%dx/config%wave_speed
-      omega = (2*config%mode - 1)*pi/(2.0_dp*config%length)*config%wave_speed
-      config%period = 2.0_dp*pi/omega
+      config%period = scene_period(config)
       config%final_time = run_end_time(config)
       config%steps = step_count(config%final_time, config%dt)
    end subroutine resolve_config
@@ -361,7 +408,7 @@ contains
       call config_parameters(local, table)
       text = ''
       do i = 1, size(config_groups)
-         text = text//group_namelist(table, trim(config_groups(i)))
+         text = text//group_namelist(table, trim(config_groups(i)), trim(config%scene_kind))
          if (i < size(config_groups)) text = text//new_line('a')
       end do
    end function config_namelist

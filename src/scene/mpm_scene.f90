@@ -9,6 +9,7 @@ module mpm_scene
    use mpm_config, only: config_t
    use mpm_grid, only: grid_t
    use mpm_particles, only: particles_t
+   use mpm_shape, only: shape_cache_t
    implicit none
    private
    public :: scene_t
@@ -28,8 +29,15 @@ module mpm_scene
       procedure(amplitude_i), deferred :: ucm_amplitude
       !> Whether the fused kernels (one mass, one E, linear shapes, grid from x = 0, no force) apply.
       procedure(fused_i), deferred :: fused_applies
-      !> External nodal forces at time t, added to grid%force (called only when external_forces).
+      !> External nodal forces at time t, added to grid%force (called only when external_forces), from the
+      !> nodal masses or, for forces that differ between particles, through the step's shape functions.
       procedure :: add_forces
+      !> The scene's error measure at time t from the particles (default: |u_cm - u_cm,exact(t)|);
+      !> the run's max_error is its largest value over the steps, relative_error that / ucm_amplitude.
+      procedure :: error_at
+      !> The energy that scales the energy guard (default: the initial kinetic + strain energy); scenes
+      !> whose forces do work override it with the largest energy the exact solution reaches.
+      procedure :: energy_reference
    end type scene_t
 
    abstract interface
@@ -69,9 +77,26 @@ module mpm_scene
 contains
 
    !> No external force (scenes that have some override this and set external_forces).
-   subroutine add_forces(self, grid, t)
+   subroutine add_forces(self, grid, t, cache, particles)
       class(scene_t), intent(in) :: self
       type(grid_t), intent(inout) :: grid
       real(dp), intent(in) :: t
+      type(shape_cache_t), intent(in) :: cache
+      type(particles_t), intent(in) :: particles
    end subroutine add_forces
+
+   !> The founding paper's measure: |u_cm - u_cm,exact(t)| (m).
+   real(dp) function error_at(self, t, particles, ucm)
+      class(scene_t), intent(in) :: self
+      real(dp), intent(in) :: t, ucm
+      type(particles_t), intent(in) :: particles
+      error_at = abs(ucm - self%ucm_exact(t))
+   end function error_at
+
+   !> The initial energy (a run starting at rest with no force keeps zero energy: any growth trips).
+   pure real(dp) function energy_reference(self, initial_energy)
+      class(scene_t), intent(in) :: self
+      real(dp), intent(in) :: initial_energy
+      energy_reference = max(initial_energy, tiny(1.0_dp))
+   end function energy_reference
 end module mpm_scene

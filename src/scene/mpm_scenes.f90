@@ -1,9 +1,10 @@
 !> The one place that knows every scene: makes the scene a configuration asks for.
 module mpm_scenes
    use mpm_errors, only: error_t, set_error
-   use mpm_config, only: config_t
+   use mpm_config, only: config_t, known_scenes
    use mpm_scene, only: scene_t
    use mpm_scene_bar, only: bar_init
+   use mpm_scene_column, only: column_init
    implicit none
    private
    public :: make_scene
@@ -18,8 +19,10 @@ contains
       case ('vibrating_bar')
          allocate (scene, source=bar_init(config%length, config%youngs_modulus, config%density, &
                                           config%velocity_amplitude, config%mode))
+      case ('column')
+         allocate (scene, source=column_init(config%length, config%youngs_modulus, config%density, config%gravity))
       case default
-         call set_error(error, "scene: kind = '"//trim(config%scene_kind)//"' is unknown; allowed: 'vibrating_bar'")
+         call set_error(error, "scene: kind = '"//trim(config%scene_kind)//"' is unknown; allowed: "//known_scenes)
       end select
    end subroutine make_scene
 end module mpm_scenes

@@ -1,0 +1,99 @@
+!> The scenes beyond the bar against their exact solutions (README, Scenes): each at one resolution,
+!> its observed convergence order, and the namelist refusing variables its kind does not use.
+program test_scenes
+   use mpm_kinds, only: dp, pi
+   use mpm_errors, only: error_t
+   use mpm_config, only: config_t, resolve_config, read_config
+   use mpm_simulation, only: run_result_t, run_simulation
+   use mpm_diagnostics, only: status_ok, status_name
+   use mpm_scene_column, only: column_series
+   use mpm_testing, only: tester_t, scratch_dir, write_lines
+   use mpm_strings, only: str
+   implicit none
+   type(tester_t) :: t
+   character(len=:), allocatable :: dir
+
+   t%name = 'test_scenes'
+   dir = scratch_dir('scenes')
+   call column()
+   call refused_variables()
+   call t%finish()
+
+contains
+
+   !> The column under gravity: the closed form of the series, the issue's done-when case (USL, linear,
+   !> 50 elements x 2, k = 0.2, 2 periods: relative u_cm error < 1 %), and first-order convergence at a
+   !> fixed Courant number (the sudden load: the error is O(dt), see README).
+   subroutine column()
+      type(run_result_t) :: r
+      real(dp) :: sum4, errors(3), order, theta
+      integer :: n, i, k
+      character(len=4), parameter :: schemes(3) = ['usf ', 'usl ', 'musl']
+      do k = 0, 6
+         theta = 1.1_dp*k
+         sum4 = 0.0_dp
+         do n = 200000, 1, -1
+            sum4 = sum4 + cos((2*n - 1)*theta)/real(2*n - 1, dp)**4
+         end do
+         call t%check_close('column series closed form at theta = '//str(theta), column_series(theta), sum4, &
+                            atol=1.0e-14_dp)
+      end do
+      r = run_column('usl', 50, 0.2_dp)
+      call t%check('column usl 50 x 2 completes', r%status == status_ok, 'status '//status_name(r%status))
+      call t%check('column usl 50 x 2, k = 0.2: relative u_cm error < 1 %', r%relative_error < 0.01_dp, &
+                   'relative error '//str(r%relative_error))
+      call t%check('column error is not trivially zero', r%relative_error > 1.0e-4_dp)
+      call t%check_close('column u_cm reaches the exact lowest point -2 g L^2/(3 c^2)', minval(r%history%ucm), &
+                         -2*r%ucm_amplitude, rtol=0.02_dp)
+      call t%check('column runs on the generic path', .not. r%fused)
+      do k = 1, 3
+         do i = 1, 3
+            r = run_column(trim(schemes(k)), 25*2**(i - 1), 0.2_dp)
+            errors(i) = r%relative_error
+         end do
+         order = log(errors(1)/errors(3))/log(4.0_dp)
+         call t%check('column '//trim(schemes(k))//' observed order in [0.8, 1.2]', order >= 0.8_dp .and. &
+                      order <= 1.2_dp, 'order '//str(order))
+      end do
+   end subroutine column
+
+   function run_column(scheme, elements, fraction) result(res)
+      character(len=*), intent(in) :: scheme
+      integer, intent(in) :: elements
+      real(dp), intent(in) :: fraction
+      type(run_result_t) :: res
+      type(config_t) :: config
+      type(error_t), allocatable :: error
+      config%scene_kind = 'column'
+      config%scheme = scheme
+      config%elements = elements
+      config%particles_per_element = 2
+      config%dt_fraction = fraction
+      config%periods = 2.0_dp
+      call resolve_config(config)
+      call run_simulation(config, res, error, record_history=.true.)
+      if (allocated(error)) error stop 'run failed to start'
+   end function run_column
+
+   !> A variable of another kind is refused with a message naming the kind; the kind's own is accepted.
+   subroutine refused_variables()
+      type(config_t) :: config
+      type(error_t), allocatable :: error
+      call write_lines(dir//'/bar_gravity.nml', ["&scene kind='vibrating_bar', gravity=9.81 /"])
+      call read_config(dir//'/bar_gravity.nml', config, error)
+      call t%check('gravity refused for the bar', allocated(error))
+      if (allocated(error)) call t%check_contains('the message names the kind', error%message, &
+                                                  "'gravity' is not used by kind = 'vibrating_bar'")
+      call write_lines(dir//'/column_v0.nml', ["&scene kind='column', velocity_amplitude=1.0, mode=2 /"])
+      call read_config(dir//'/column_v0.nml', config, error)
+      call t%check('velocity_amplitude and mode refused for the column', allocated(error))
+      if (allocated(error)) call t%check_contains('the message names the kind', error%message, &
+                                                  "'mode' is not used by kind = 'column'")
+      call write_lines(dir//'/column.nml', ["&scene kind='column', gravity=20.0 /"])
+      call read_config(dir//'/column.nml', config, error)
+      call t%check('gravity accepted for the column', .not. allocated(error))
+      call t%check_close('the column''s period is 4 L/c', config%period, 4*config%length/config%wave_speed, &
+                         rtol=1.0e-14_dp)
+   end subroutine refused_variables
+
+end program test_scenes
