@@ -65,7 +65,7 @@ program mpm1d_main
    call write_run_file(config, result, error)
    if (allocated(error)) call fail(error%message, 3)
 
-   write (output_unit, '(a)') 'max |u_cm - u_cm,exact| = '//str(result%max_error)//' m ('// &
+   write (output_unit, '(a)') 'max '//result%error_name//' = '//str(result%max_error)//' m ('// &
       str(100*result%relative_error)//' % of the exact amplitude '//str(result%ucm_amplitude)//' m)'
    write (output_unit, '(a)') 'steps '//str(result%steps_done)//' of '//str(result%steps)//', run time '// &
       str(result%run_time)//' s, '//str(real(result%particles, dp)*result%steps_done/max(result%run_time, 1.0e-9_dp))// &

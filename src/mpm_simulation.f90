@@ -48,7 +48,8 @@ module mpm_simulation
       !> max over recorded steps of the scene's error measure (the bar's: |u_cm - u_cm,exact| in m)
       real(dp) :: max_error = 0.0_dp
       real(dp) :: relative_error = 0.0_dp   !< max_error / the scene's amplitude (ucm_amplitude)
-      real(dp) :: ucm_amplitude = 0.0_dp    !< exact u_cm amplitude (m)
+      real(dp) :: ucm_amplitude = 0.0_dp    !< the scene's amplitude (m): the bar's exact u_cm amplitude
+      character(len=:), allocatable :: error_name  !< what max_error measures (the scene's error_name)
       real(dp) :: run_time = 0.0_dp         !< set-up and time loop, seconds (no file output)
       real(dp) :: initial_energy = 0.0_dp   !< kinetic + strain energy at t = 0 (J per unit area)
       real(dp) :: final_energy = 0.0_dp
@@ -107,6 +108,7 @@ contains
       fused = trim(config%kernels) == 'auto' .and. scene%fused_applies()
       result%fused = fused
       result%ucm_amplitude = scene%ucm_amplitude()
+      result%error_name = scene%error_name()
       call scene%place_particles(config, particles, error)
       if (allocated(error)) return
       if (.not. fused) call per_particle_data(particles, error)

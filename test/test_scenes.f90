@@ -16,6 +16,7 @@ program test_scenes
    t%name = 'test_scenes'
    dir = scratch_dir('scenes')
    call column()
+   call manufactured()
    call refused_variables()
    call t%finish()
 
@@ -63,17 +64,79 @@ contains
       real(dp), intent(in) :: fraction
       type(run_result_t) :: res
       type(config_t) :: config
-      type(error_t), allocatable :: error
       config%scene_kind = 'column'
       config%scheme = scheme
       config%elements = elements
       config%particles_per_element = 2
       config%dt_fraction = fraction
       config%periods = 2.0_dp
+      res = run_config(config)
+   end function run_column
+
+   !> Resolve and run `config` with its history.
+   function run_config(config) result(res)
+      type(config_t), intent(inout) :: config
+      type(run_result_t) :: res
+      type(error_t), allocatable :: error
       call resolve_config(config)
       call run_simulation(config, res, error, record_history=.true.)
       if (allocated(error)) error stop 'run failed to start'
-   end function run_column
+   end function run_config
+
+   !> The manufactured solution (L = 1 m, c = 100 m/s, 2 particles per element, k = 0.2, one period 2L/c).
+   !> At A/L = 1e-6 the discretisation error alone: USL and MUSL second order, USF first order (its
+   !> error is O(dt)); at A/L = 1e-3 linear MPM stops converging (a floor of about 2 A k relative:
+   !> while no particle crosses a cell, the cell's particles carry the force of sigma J instead of sigma).
+   subroutine manufactured()
+      type(run_result_t) :: r
+      real(dp) :: errors(3), order, floor(2)
+      integer :: i, k
+      character(len=4), parameter :: schemes(3) = ['usf ', 'usl ', 'musl']
+      real(dp), parameter :: expected(3) = [1.0_dp, 2.0_dp, 2.0_dp]
+      r = run_manufactured('usl', 50, 1.0e-6_dp)
+      call t%check('manufactured usl 50 x 2 completes', r%status == status_ok, 'status '//status_name(r%status))
+      call t%check('manufactured usl 50 x 2, A/L = 1e-6: relative RMS error < 0.2 %', r%relative_error < 2.0e-3_dp, &
+                   'relative error '//str(r%relative_error))
+      call t%check('manufactured error is not trivially zero', r%relative_error > 1.0e-4_dp)
+      call t%check('manufactured runs on the generic path', .not. r%fused)
+      call t%check('manufactured: u_cm stays zero (symmetry)', maxval(abs(r%history%ucm)) < 1.0e-9_dp*r%ucm_amplitude, &
+                   str(maxval(abs(r%history%ucm))/r%ucm_amplitude))
+      do k = 1, 3
+         do i = 1, 3
+            r = run_manufactured(trim(schemes(k)), 25*2**(i - 1), 1.0e-6_dp)
+            errors(i) = r%relative_error
+         end do
+         order = log(errors(1)/errors(3))/log(4.0_dp)
+         call t%check('manufactured '//trim(schemes(k))//' observed order '//str(expected(k))//' +- 0.2', &
+                      abs(order - expected(k)) <= 0.2_dp, 'order '//str(order))
+      end do
+      do i = 1, 2
+         r = run_manufactured('usl', 50*i, 1.0e-3_dp)
+         floor(i) = r%relative_error
+      end do
+      call t%check('manufactured A/L = 1e-3: linear MPM stalls at about 2 A k (50 and 100 elements)', &
+                   abs(floor(2)/floor(1) - 1.0_dp) < 0.05_dp .and. floor(1) > 1.0e-3_dp .and. floor(1) < 4.0e-3_dp, &
+                   'errors '//str(floor(1))//', '//str(floor(2)))
+   end subroutine manufactured
+
+   function run_manufactured(scheme, elements, amplitude) result(res)
+      character(len=*), intent(in) :: scheme
+      integer, intent(in) :: elements
+      real(dp), intent(in) :: amplitude
+      type(run_result_t) :: res
+      type(config_t) :: config
+      config%scene_kind = 'manufactured'
+      config%length = 1.0_dp
+      config%youngs_modulus = 1.0e7_dp
+      config%density = 1000.0_dp
+      config%amplitude = amplitude
+      config%scheme = scheme
+      config%elements = elements
+      config%particles_per_element = 2
+      config%dt_fraction = 0.2_dp
+      config%periods = 1.0_dp
+      res = run_config(config)
+   end function run_manufactured
 
    !> A variable of another kind is refused with a message naming the kind; the kind's own is accepted.
    subroutine refused_variables()
@@ -89,11 +152,14 @@ contains
       call t%check('velocity_amplitude and mode refused for the column', allocated(error))
       if (allocated(error)) call t%check_contains('the message names the kind', error%message, &
                                                   "'mode' is not used by kind = 'column'")
+      call write_lines(dir//'/manufactured.nml', ["&scene kind='manufactured', length=1.0, amplitude=0.2 /"])
+      call read_config(dir//'/manufactured.nml', config, error)
+      call t%check('manufactured: 2 pi A/L >= 1 refused', allocated(error))
+      if (allocated(error)) call t%check_contains('the message says why', error%message, '2 pi amplitude / length < 1')
       call write_lines(dir//'/column.nml', ["&scene kind='column', gravity=20.0 /"])
       call read_config(dir//'/column.nml', config, error)
       call t%check('gravity accepted for the column', .not. allocated(error))
       call t%check_close('the column''s period is 4 L/c', config%period, 4*config%length/config%wave_speed, &
                          rtol=1.0e-14_dp)
    end subroutine refused_variables
-
 end program test_scenes

@@ -35,6 +35,8 @@ module mpm_scene
       !> The scene's error measure at time t from the particles (default: |u_cm - u_cm,exact(t)|);
       !> the run's max_error is its largest value over the steps, relative_error that / ucm_amplitude.
       procedure :: error_at
+      !> What error_at measures, for messages.
+      procedure :: error_name
       !> The energy that scales the energy guard (default: the initial kinetic + strain energy); scenes
       !> whose forces do work override it with the largest energy the exact solution reaches.
       procedure :: energy_reference
@@ -92,6 +94,12 @@ contains
       type(particles_t), intent(in) :: particles
       error_at = abs(ucm - self%ucm_exact(t))
    end function error_at
+
+   pure function error_name(self) result(name)
+      class(scene_t), intent(in) :: self
+      character(len=:), allocatable :: name
+      name = '|u_cm - u_cm,exact|'
+   end function error_name
 
    !> The initial energy (a run starting at rest with no force keeps zero energy: any growth trips).
    pure real(dp) function energy_reference(self, initial_energy)

@@ -5,6 +5,7 @@ module mpm_scenes
    use mpm_scene, only: scene_t
    use mpm_scene_bar, only: bar_init
    use mpm_scene_column, only: column_init
+   use mpm_scene_manufactured, only: manufactured_init
    implicit none
    private
    public :: make_scene
@@ -21,6 +22,9 @@ contains
                                           config%velocity_amplitude, config%mode))
       case ('column')
          allocate (scene, source=column_init(config%length, config%youngs_modulus, config%density, config%gravity))
+      case ('manufactured')
+         allocate (scene, source=manufactured_init(config%length, config%youngs_modulus, config%density, &
+                                                   config%amplitude, config%elements))
       case default
          call set_error(error, "scene: kind = '"//trim(config%scene_kind)//"' is unknown; allowed: "//known_scenes)
       end select
