@@ -14,7 +14,7 @@ module mpm_config
    private
    public :: config_t, read_config, validate_config, resolve_config, write_config_namelist, config_namelist
    public :: default_config, config_summary, known_schemes
-   public :: max_snapshots, unset, check_output_path
+   public :: max_snapshots, max_segments, unset, check_output_path, body_length, largest_wave_speed
    public :: config_parameters, config_groups, group_help, known_scenes
    public :: step_count, stability_limit, not_used_message
 
@@ -22,10 +22,14 @@ module mpm_config
    real(dp), parameter :: unset = -huge(1.0_dp)
    !> Most snapshot times one run accepts.
    integer, parameter :: max_snapshots = 64
+   !> Most segments of a composite bar.
+   integer, parameter :: max_segments = 16
+   !> The scene kinds made of one body of one material (length, youngs_modulus, density).
+   character(len=*), parameter :: single_body = 'vibrating_bar, column, manufactured'
    !> Schemes the code implements.
    character(len=*), parameter :: known_schemes = 'usf, usl, musl'
    !> Scene kinds the code implements (mpm_scenes makes them).
-   character(len=*), parameter :: known_scenes = 'vibrating_bar, column, manufactured'
+   character(len=*), parameter :: known_scenes = 'vibrating_bar, column, manufactured, composite_bar'
    !> The groups of one run's input, in the order of the echo and of --help.
    character(len=16), parameter :: config_groups(*) = [character(len=16) :: 'scene', 'discretisation', 'run', &
                                                         'output', 'guards']
@@ -47,6 +51,12 @@ module mpm_config
       real(dp) :: gravity = 9.81_dp
       !> Manufactured solution: displacement amplitude A (m).
       real(dp) :: amplitude = 0.025_dp
+      !> Composite bar: segments left to right (length, Young's modulus, density; counts given) and the
+      !> velocity the left end is driven at.
+      real(dp) :: lengths(max_segments) = 0.0_dp, youngs_moduli(max_segments) = 0.0_dp, &
+                  densities(max_segments) = 0.0_dp
+      integer :: length_count = 0, modulus_count = 0, density_count = 0
+      real(dp) :: drive_velocity = 1.0_dp
       ! &discretisation
       character(len=8) :: scheme = 'usl'
       integer :: elements = 20
@@ -112,11 +122,24 @@ contains
          text_entry('scene', 'kind', config%scene_kind, 'the problem: the vibrating bar of the founding study, '// &
                     'a column under gravity, a manufactured large-strain solution (README, Scenes)', &
                     words=known_scenes, attribute='scene_kind'), &
-         real_entry('scene', 'length', config%length, 'm', 'length of the bar', greater_than=0.0_dp), &
-         real_entry('scene', 'youngs_modulus', config%youngs_modulus, 'Pa', "Young's modulus E", &
-                    greater_than=0.0_dp, sweep_list='youngs_moduli'), &
-         real_entry('scene', 'density', config%density, 'kg/m^3', 'density rho', greater_than=0.0_dp, &
-                    sweep_list='densities'), &
+         for_kinds(real_entry('scene', 'length', config%length, 'm', 'length of the bar', greater_than=0.0_dp), &
+                   single_body), &
+         for_kinds(real_entry('scene', 'youngs_modulus', config%youngs_modulus, 'Pa', "Young's modulus E", &
+                              greater_than=0.0_dp, sweep_list='youngs_moduli'), single_body), &
+         for_kinds(real_entry('scene', 'density', config%density, 'kg/m^3', 'density rho', greater_than=0.0_dp, &
+                              sweep_list='densities'), single_body), &
+         for_kinds(real_list_entry('scene', 'lengths', config%lengths, config%length_count, 'm', 'segment lengths, '// &
+                                   'left (driven end) to right (free end)', greater_than=0.0_dp, &
+                                   note='2 to 16 segments'), 'composite_bar'), &
+         for_kinds(real_list_entry('scene', 'youngs_moduli', config%youngs_moduli, config%modulus_count, 'Pa', &
+                                   "each segment's Young's modulus", greater_than=0.0_dp, note='one per segment'), &
+                   'composite_bar'), &
+         for_kinds(real_list_entry('scene', 'densities', config%densities, config%density_count, 'kg/m^3', &
+                                   "each segment's density", greater_than=0.0_dp, note='one per segment'), &
+                   'composite_bar'), &
+         for_kinds(real_entry('scene', 'drive_velocity', config%drive_velocity, 'm/s', 'velocity the left end '// &
+                              'is driven at from t = 0 (pushing into the bar)', greater_than=0.0_dp, &
+                              sweep_list='drive_velocities'), 'composite_bar'), &
          for_kinds(real_entry('scene', 'velocity_amplitude', config%velocity_amplitude, 'm/s', 'v0 of the '// &
                               'initial velocity v(x,0) = v0 sin(beta_n x), beta_n = (2n-1) pi / (2 length)', &
                               sweep_list='velocity_amplitudes'), 'vibrating_bar'), &
@@ -259,11 +282,17 @@ contains
       if (trim(config%scene_kind) == 'manufactured' .and. 2*pi*config%amplitude >= config%length) &
          call append_error(error, "scene: kind = 'manufactured' needs 2 pi amplitude / length < 1 (F > 0 "// &
                            "everywhere); amplitude = "//str(config%amplitude)//" m, length = "//str(config%length)//" m")
+      if (trim(config%scene_kind) == 'composite_bar') then
+         if (config%length_count < 2 .or. config%modulus_count /= config%length_count .or. &
+             config%density_count /= config%length_count) call append_error(error, "scene: kind = 'composite_bar' "// &
+            "needs 2 to "//str(max_segments)//" segments: lengths, youngs_moduli and densities with one value each "// &
+            "(given "//str(config%length_count)//", "//str(config%modulus_count)//", "//str(config%density_count)//")")
+      end if
       if (allocated(error)) return
 
       ! Consistency checks that need the resolved quantities.
-      c = sqrt(config%youngs_modulus/config%density)
-      dx = config%length/config%elements
+      c = largest_wave_speed(config)
+      dx = body_length(config)/config%elements
       dt = config%dt_fraction*dx/c
       if (.not. ieee_is_finite(c) .or. .not. ieee_is_finite(dt) .or. dt <= 0.0_dp) then
          call append_error(error, "scene: youngs_modulus/density = "//str(config%youngs_modulus/config%density)// &
@@ -333,8 +362,31 @@ contains
       end if
    end function run_end_time
 
+   !> The length of the body: the composite bar's segments together, else `length`.
+   pure real(dp) function body_length(config)
+      type(config_t), intent(in) :: config
+      if (trim(config%scene_kind) == 'composite_bar') then
+         body_length = sum(config%lengths(1:config%length_count))
+      else
+         body_length = config%length
+      end if
+   end function body_length
+
+   !> The wave speed the time step follows: the stiffest segment's of a composite bar, else sqrt(E/rho).
+   pure real(dp) function largest_wave_speed(config)
+      type(config_t), intent(in) :: config
+      integer :: n
+      if (trim(config%scene_kind) == 'composite_bar') then
+         n = config%length_count
+         largest_wave_speed = maxval(sqrt(config%youngs_moduli(1:n)/config%densities(1:n)))
+      else
+         largest_wave_speed = sqrt(config%youngs_modulus/config%density)
+      end if
+   end function largest_wave_speed
+
    !> The period that `periods` counts: the bar's mode n, 2 pi/omega_n; the column's first mode, 4L/c;
-   !> the manufactured solution's, 2L/c (u oscillates as sin(pi c t/L)).
+   !> the manufactured solution's, 2L/c (u oscillates as sin(pi c t/L)); the composite bar's: the time
+   !> a wave takes to cross all segments, sum L_i/c_i.
    real(dp) function scene_period(config)
       type(config_t), intent(in) :: config
       real(dp) :: c
@@ -344,6 +396,10 @@ contains
          scene_period = 4.0_dp*config%length/c
       case ('manufactured')
          scene_period = 2.0_dp*config%length/c
+      case ('composite_bar')
+         associate (n => config%length_count)
+            scene_period = sum(config%lengths(1:n)/sqrt(config%youngs_moduli(1:n)/config%densities(1:n)))
+         end associate
       case default
          scene_period = 2.0_dp*pi/((2*config%mode - 1)*pi/(2.0_dp*config%length)*c)
       end select
@@ -382,7 +438,8 @@ contains
    !> Fill the derived quantities of a validated configuration.
    subroutine resolve_config(config)
       type(config_t), intent(inout) :: config
-      config%wave_speed = sqrt(config%youngs_modulus/config%density)
+      if (trim(config%scene_kind) == 'composite_bar') config%length = body_length(config)
+      config%wave_speed = largest_wave_speed(config)
       config%dx = config%length/config%elements
       config%dt = config%dt_fraction*config%dx/config%wave_speed
       config%period = scene_period(config)

@@ -7,6 +7,7 @@ program test_scenes
    use mpm_simulation, only: run_result_t, run_simulation
    use mpm_diagnostics, only: status_ok, status_name
    use mpm_scene_column, only: column_series
+   use mpm_scene_composite, only: composite_t, composite_init
    use mpm_testing, only: tester_t, scratch_dir, write_lines
    use mpm_strings, only: str
    implicit none
@@ -17,6 +18,7 @@ program test_scenes
    dir = scratch_dir('scenes')
    call column()
    call manufactured()
+   call composite()
    call refused_variables()
    call t%finish()
 
@@ -138,6 +140,82 @@ contains
       res = run_config(config)
    end function run_manufactured
 
+   !> The composite bar: the characteristics solution at hand-computed points, the L1 stress error at
+   !> one resolution and falling with refinement (impedance ratio 4), stable runs at ratios 1e4 and 1e6.
+   subroutine composite()
+      type(run_result_t) :: r
+      type(config_t) :: config
+      type(composite_t) :: scene
+      type(error_t), allocatable :: error
+      real(dp) :: z1, z2, c1, errors(3), order, incident, transmitted
+      integer :: i
+      config = composite_config('usl', 100, [16.0e6_dp, 1.0e6_dp], 0.03_dp)
+      call resolve_config(config)
+      call composite_init(config, scene, error)
+      call t%check('composite scene set up', .not. allocated(error))
+      c1 = sqrt(16.0e6_dp/1000.0_dp)
+      z1 = 1000.0_dp*c1
+      z2 = 1000.0_dp*sqrt(1.0e6_dp/1000.0_dp)
+      incident = -z1*0.01_dp
+      transmitted = 2*z2/(z1 + z2)*incident
+      call t%check_close('exact: the incident front', scene%stress_exact(0.3_dp, 0.5_dp/c1), incident, rtol=1.0e-14_dp)
+      call t%check('exact: ahead of the incident front, at rest', scene%stress_exact(0.7_dp, 0.5_dp/c1) == 0.0_dp)
+      call t%check_close('exact: behind the reflection from the interface', scene%stress_exact(0.95_dp, 1.1_dp/c1), &
+                         transmitted, rtol=1.0e-14_dp)
+      call t%check_close('exact: the transmitted front', scene%stress_exact(1.001_dp, 1.1_dp/c1), transmitted, &
+                         rtol=1.0e-14_dp)
+      call t%check_close('exact: after the reflection from the driven end (+1)', scene%stress_exact(0.05_dp, 2.1_dp/c1), &
+                         incident + 2*(transmitted - incident), rtol=1.0e-14_dp)
+      r = run_config(config)
+      call t%check('composite usl 100 x 2 completes', r%status == status_ok, 'status '//status_name(r%status))
+      call t%check('composite, impedance ratio 4: relative L1 stress error < 7 %', r%relative_error < 0.07_dp .and. &
+                   r%relative_error > 0.01_dp, 'relative error '//str(r%relative_error))
+      call t%check('composite runs on the generic path', .not. r%fused)
+      do i = 1, 3
+         config = composite_config('usl', 50*2**(i - 1), [16.0e6_dp, 1.0e6_dp], 0.03_dp)
+         r = run_config(config)
+         errors(i) = r%relative_error
+      end do
+      order = log(errors(1)/errors(3))/log(4.0_dp)
+      call t%check('composite usl observed order in [0.4, 1] (step waves)', order >= 0.4_dp .and. order <= 1.0_dp, &
+                   'order '//str(order))
+      do i = 1, 2
+         config = composite_config('usl', 50*i, [1.0e10_dp, 100.0_dp], 3.0e-3_dp)
+         r = run_config(config)
+         errors(i) = r%relative_error
+         call t%check('composite, impedance ratio 1e4 runs stably ('//str(50*i)//' elements)', r%status == status_ok, &
+                      'status '//status_name(r%status))
+      end do
+      call t%check('composite, impedance ratio 1e4: the L1 error falls with refinement', errors(2) < 0.8_dp*errors(1), &
+                   'errors '//str(errors(1))//', '//str(errors(2)))
+      config = composite_config('usl', 50, [1.0e12_dp, 1.0_dp], 3.0e-4_dp)
+      r = run_config(config)
+      call t%check('composite, impedance ratio 1e6 runs stably', r%status == status_ok, 'status '//status_name(r%status))
+   end subroutine composite
+
+   !> Two segments of 1 m, density 1000 kg/m^3, moduli `moduli`, driven at 0.01 m/s, 2 particles per
+   !> element, dt = 0.2 dx/c_max.
+   function composite_config(scheme, elements, moduli, end_time) result(config)
+      character(len=*), intent(in) :: scheme
+      integer, intent(in) :: elements
+      real(dp), intent(in) :: moduli(2), end_time
+      type(config_t) :: config
+      config%scene_kind = 'composite_bar'
+      config%lengths(1:2) = 1.0_dp
+      config%length_count = 2
+      config%youngs_moduli(1:2) = moduli
+      config%modulus_count = 2
+      config%densities(1:2) = 1000.0_dp
+      config%density_count = 2
+      config%drive_velocity = 0.01_dp
+      config%scheme = scheme
+      config%elements = elements
+      config%particles_per_element = 2
+      config%dt_fraction = 0.2_dp
+      config%periods = -huge(1.0_dp)
+      config%end_time = end_time
+   end function composite_config
+
    !> A variable of another kind is refused with a message naming the kind; the kind's own is accepted.
    subroutine refused_variables()
       type(config_t) :: config
@@ -156,6 +234,18 @@ contains
       call read_config(dir//'/manufactured.nml', config, error)
       call t%check('manufactured: 2 pi A/L >= 1 refused', allocated(error))
       if (allocated(error)) call t%check_contains('the message says why', error%message, '2 pi amplitude / length < 1')
+      call write_lines(dir//'/composite.nml', ["&scene kind='composite_bar', lengths=1.0, youngs_moduli=1e6, &
+                                               &densities=1e3, length=2.0 /"])
+      call read_config(dir//'/composite.nml', config, error)
+      call t%check('composite: one segment and length refused', allocated(error))
+      if (allocated(error)) call t%check_contains('the message names the kind', error%message, &
+                                                  "'length' is not used by kind = 'composite_bar'")
+      call write_lines(dir//'/composite.nml', ["&scene kind='composite_bar', lengths=1.0, youngs_moduli=1e6, &
+                                               &densities=1e3 /"])
+      call read_config(dir//'/composite.nml', config, error)
+      call t%check('composite: one segment refused', allocated(error))
+      if (allocated(error)) call t%check_contains('the message asks for segments', error%message, &
+                                                  'needs 2 to 16 segments')
       call write_lines(dir//'/column.nml', ["&scene kind='column', gravity=20.0 /"])
       call read_config(dir//'/column.nml', config, error)
       call t%check('gravity accepted for the column', .not. allocated(error))

@@ -12,7 +12,7 @@ module mpm_scene
    use mpm_shape, only: shape_cache_t
    implicit none
    private
-   public :: scene_t
+   public :: scene_t, margin_for
 
    type, abstract :: scene_t
       !> Whether the scene adds external (body or driving) forces to the grid each step.
@@ -27,8 +27,9 @@ module mpm_scene
       !> Exact centre-of-mass displacement at time t, and its amplitude (for relative errors).
       procedure(exact_i), deferred :: ucm_exact
       procedure(amplitude_i), deferred :: ucm_amplitude
-      !> Whether the fused kernels (one mass, one E, linear shapes, grid from x = 0, no force) apply.
-      procedure(fused_i), deferred :: fused_applies
+      !> Whether the fused kernels (one mass, one E, linear shapes, grid from x = 0, no force) apply
+      !> (default: no; the bar says yes).
+      procedure :: fused_applies
       !> External nodal forces at time t, added to grid%force (called only when external_forces), from the
       !> nodal masses or, for forces that differ between particles, through the step's shape functions.
       procedure :: add_forces
@@ -70,10 +71,6 @@ module mpm_scene
          import :: scene_t, dp
          class(scene_t), intent(in) :: self
       end function amplitude_i
-      pure logical function fused_i(self)
-         import :: scene_t
-         class(scene_t), intent(in) :: self
-      end function fused_i
    end interface
 
 contains
@@ -86,6 +83,23 @@ contains
       type(shape_cache_t), intent(in) :: cache
       type(particles_t), intent(in) :: particles
    end subroutine add_forces
+
+   !> Empty cells beyond a free end that moves out by up to `reach` metres: `requested` when >= 0, else
+   !> the reach in cells of size dx, rounded up, plus two (one for a particle's shape support, one of slack).
+   pure integer function margin_for(reach, dx, requested) result(cells)
+      real(dp), intent(in) :: reach, dx
+      integer, intent(in) :: requested
+      if (requested >= 0) then
+         cells = requested
+      else
+         cells = 2 + int(min(ceiling(reach/dx), 1000000000))
+      end if
+   end function margin_for
+
+   pure logical function fused_applies(self)
+      class(scene_t), intent(in) :: self
+      fused_applies = .false.
+   end function fused_applies
 
    !> The founding paper's measure: |u_cm - u_cm,exact(t)| (m).
    real(dp) function error_at(self, t, particles, ucm)

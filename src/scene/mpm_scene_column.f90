@@ -20,7 +20,7 @@ module mpm_scene_column
    use mpm_grid, only: grid_t
    use mpm_particles, only: particles_t, particles_init
    use mpm_shape, only: shape_cache_t
-   use mpm_scene, only: scene_t
+   use mpm_scene, only: scene_t, margin_for
    implicit none
    private
    public :: column_t, column_init, column_series
@@ -33,7 +33,7 @@ module mpm_scene_column
       real(dp) :: omega = 0.0_dp      !< omega_1 = pi c/(2L) (rad/s)
       real(dp) :: amplitude = 0.0_dp  !< g L^2/(3 c^2): the u_cm swing's half range and mean offset (m)
    contains
-      procedure :: place_particles, margin_cells, fixed_nodes, ucm_exact, ucm_amplitude, fused_applies
+      procedure :: place_particles, margin_cells, fixed_nodes, ucm_exact, ucm_amplitude
       procedure :: add_forces, energy_reference
    end type column_t
 
@@ -76,11 +76,7 @@ contains
       class(column_t), intent(in) :: self
       real(dp), intent(in) :: dx
       integer, intent(in) :: requested
-      if (requested >= 0) then
-         cells = requested
-         return
-      end if
-      cells = 2 + int(min(ceiling(abs(self%gravity)*self%length**2/self%wave_speed**2/dx), 1000000000))
+      cells = margin_for(abs(self%gravity)*self%length**2/self%wave_speed**2, dx, requested)
    end function margin_cells
 
    pure function fixed_nodes(self) result(nodes)
@@ -100,11 +96,6 @@ contains
       class(column_t), intent(in) :: self
       ucm_amplitude = self%amplitude
    end function ucm_amplitude
-
-   pure logical function fused_applies(self)
-      class(column_t), intent(in) :: self
-      fused_applies = .false.
-   end function fused_applies
 
    !> Gravity: f_I += m_I (-g) on every node (the fixed node's force is cleared by the grid solve).
    subroutine add_forces(self, grid, t, cache, particles)

@@ -34,7 +34,7 @@ module mpm_scene_manufactured
       real(dp) :: omega = 0.0_dp       !< w = pi c/L (rad/s)
       integer :: elements = 0          !< the body's elements: node `elements` is the fixed right end
    contains
-      procedure :: place_particles, margin_cells, fixed_nodes, ucm_exact, ucm_amplitude, fused_applies
+      procedure :: place_particles, margin_cells, fixed_nodes, ucm_exact, ucm_amplitude
       procedure :: add_forces, error_at, error_name, energy_reference
       procedure :: displacement_exact, body_force
    end type manufactured_t
@@ -109,11 +109,6 @@ contains
       class(manufactured_t), intent(in) :: self
       ucm_amplitude = self%amplitude
    end function ucm_amplitude
-
-   pure logical function fused_applies(self)
-      class(manufactured_t), intent(in) :: self
-      fused_applies = .false.
-   end function fused_applies
 
    !> f_I += sum_p N_Ip m_p b(X_p, t).
    subroutine add_forces(self, grid, t, cache, particles)

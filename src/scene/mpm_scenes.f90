@@ -6,6 +6,7 @@ module mpm_scenes
    use mpm_scene_bar, only: bar_init
    use mpm_scene_column, only: column_init
    use mpm_scene_manufactured, only: manufactured_init
+   use mpm_scene_composite, only: composite_t, composite_init
    implicit none
    private
    public :: make_scene
@@ -25,6 +26,13 @@ contains
       case ('manufactured')
          allocate (scene, source=manufactured_init(config%length, config%youngs_modulus, config%density, &
                                                    config%amplitude, config%elements))
+      case ('composite_bar')
+         block
+            type(composite_t) :: composite
+            call composite_init(config, composite, error)
+            if (allocated(error)) return
+            allocate (scene, source=composite)
+         end block
       case default
          call set_error(error, "scene: kind = '"//trim(config%scene_kind)//"' is unknown; allowed: "//known_scenes)
       end select
