@@ -63,6 +63,12 @@ contains
       call h5%write_real_scalar('/summary/min_volume_ratio', result%min_volume_ratio)
       call h5%write_real_scalar('/summary/max_cell_move', result%max_cell_move)
       call h5%write_real_scalar('/summary/min_node_mass_ratio', result%min_node_mass_ratio)
+      call h5%write_string_scalar('/summary/error_measure', result%error_name)
+      if (allocated(result%report_names)) then
+         do i = 1, size(result%report_names)
+            call h5%write_real_scalar('/summary/'//trim(result%report_names(i)), result%report_values(i))
+         end do
+      end if
 
       if (allocated(result%snapshots)) then
          if (size(result%snapshots) > 0) call h5%group('/snapshots')
@@ -74,6 +80,8 @@ contains
             call h5%attribute_int(group, 'step', result%snapshots(i)%step)
             call h5%write_real(group//'/x', result%snapshots(i)%x)
             call h5%write_real(group//'/reference_x', result%snapshots(i)%x0)
+            if (allocated(result%snapshots(i)%youngs_modulus)) &
+               call h5%write_real(group//'/youngs_modulus', result%snapshots(i)%youngs_modulus)
             call h5%write_real(group//'/velocity', result%snapshots(i)%v)
             call h5%write_real(group//'/stress', result%snapshots(i)%stress)
             call h5%write_real(group//'/volume_ratio', result%snapshots(i)%volume_ratio)

@@ -50,6 +50,9 @@ module mpm_simulation
       real(dp) :: relative_error = 0.0_dp   !< max_error / the scene's amplitude (ucm_amplitude)
       real(dp) :: ucm_amplitude = 0.0_dp    !< the scene's amplitude (m): the bar's exact u_cm amplitude
       character(len=:), allocatable :: error_name  !< what max_error measures (the scene's error_name)
+      !> What the scene reports in /summary beyond the common quantities (names and values).
+      character(len=32), allocatable :: report_names(:)
+      real(dp), allocatable :: report_values(:)
       real(dp) :: run_time = 0.0_dp         !< set-up and time loop, seconds (no file output)
       real(dp) :: initial_energy = 0.0_dp   !< kinetic + strain energy at t = 0 (J per unit area)
       real(dp) :: final_energy = 0.0_dp
@@ -109,6 +112,7 @@ contains
       result%fused = fused
       result%ucm_amplitude = scene%ucm_amplitude()
       result%error_name = scene%error_name()
+      call scene%report(result%report_names, result%report_values)
       call scene%place_particles(config, particles, error)
       if (allocated(error)) return
       if (.not. fused) call per_particle_data(particles, error)
@@ -222,6 +226,7 @@ contains
                s%step = step
                s%x = particles%x
                s%x0 = particles%x0
+               if (allocated(particles%youngs_modulus_of)) s%youngs_modulus = particles%youngs_modulus_of
                s%v = particles%v
                s%stress = particles%stress
                s%volume_ratio = particles%volume_ratio

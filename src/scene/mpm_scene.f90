@@ -38,6 +38,8 @@ module mpm_scene
       procedure :: error_at
       !> What error_at measures, for messages.
       procedure :: error_name
+      !> Quantities the scene reports in the run's /summary beyond the common ones (default: none).
+      procedure :: report
       !> The energy that scales the energy guard (default: the initial kinetic + strain energy); scenes
       !> whose forces do work override it with the largest energy the exact solution reaches.
       procedure :: energy_reference
@@ -108,6 +110,13 @@ contains
       type(particles_t), intent(in) :: particles
       error_at = abs(ucm - self%ucm_exact(t))
    end function error_at
+
+   pure subroutine report(self, names, values)
+      class(scene_t), intent(in) :: self
+      character(len=32), allocatable, intent(out) :: names(:)
+      real(dp), allocatable, intent(out) :: values(:)
+      allocate (names(0), values(0))
+   end subroutine report
 
    pure function error_name(self) result(name)
       class(scene_t), intent(in) :: self

@@ -34,7 +34,7 @@ module mpm_scene_column
       real(dp) :: amplitude = 0.0_dp  !< g L^2/(3 c^2): the u_cm swing's half range and mean offset (m)
    contains
       procedure :: place_particles, margin_cells, fixed_nodes, ucm_exact, ucm_amplitude
-      procedure :: add_forces, energy_reference
+      procedure :: add_forces, energy_reference, report
    end type column_t
 
 contains
@@ -106,6 +106,15 @@ contains
       type(particles_t), intent(in) :: particles
       grid%force = grid%force - self%gravity*grid%mass
    end subroutine add_forces
+
+   !> The static end displacement u_s(L) = -g L^2/(2 c^2) (m), about which the free end oscillates.
+   pure subroutine report(self, names, values)
+      class(column_t), intent(in) :: self
+      character(len=32), allocatable, intent(out) :: names(:)
+      real(dp), allocatable, intent(out) :: values(:)
+      names = [character(len=32) :: 'static_end_displacement']
+      values = [-self%gravity*self%length**2/(2.0_dp*self%wave_speed**2)]
+   end subroutine report
 
    !> The largest kinetic + strain energy of the exact motion: gravity's work down to u = 2 u_s,
    !> rho g int_0^L 2|u_s| dx = 2 rho g^2 L^3/(3 c^2) (it is all strain energy there).

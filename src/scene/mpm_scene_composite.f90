@@ -33,6 +33,7 @@ module mpm_scene_composite
       real(dp), allocatable :: speed(:), impedance(:), modulus(:), density(:)
       real(dp) :: drive_velocity = 0.0_dp
       real(dp) :: dt = 0.0_dp
+      real(dp) :: dx = 0.0_dp
       real(dp) :: end_time = 0.0_dp
       real(dp) :: scale = 0.0_dp        !< Z_1 v (total length): relative_error divides by it
       !> The fronts: segment, direction (+1 right, -1 left), start time at the segment's end, stress jump.
@@ -40,7 +41,7 @@ module mpm_scene_composite
       real(dp), allocatable :: front_start(:), front_jump(:)
    contains
       procedure :: place_particles, margin_cells, fixed_nodes, ucm_exact, ucm_amplitude
-      procedure :: add_forces, error_at, error_name, energy_reference
+      procedure :: add_forces, error_at, error_name, energy_reference, report
       procedure :: stress_exact
    end type composite_t
 
@@ -66,6 +67,7 @@ contains
       end do
       scene%drive_velocity = config%drive_velocity
       scene%dt = config%dt
+      scene%dx = config%dx
       scene%end_time = config%steps*config%dt
       scene%scale = scene%impedance(1)*config%drive_velocity*scene%right(n)
       call trace_fronts(scene, error)
@@ -242,6 +244,17 @@ contains
          error_at = error_at + abs(particles%stress(p) - self%stress_exact(particles%x0(p), t))*particles%volume0_of(p)
       end do
    end function error_at
+
+   !> The largest impedance over the smallest, the softest segment's Courant number c_min dt/dx (the
+   !> stiffest's is dt_fraction) and the number of wave fronts the exact solution followed.
+   pure subroutine report(self, names, values)
+      class(composite_t), intent(in) :: self
+      character(len=32), allocatable, intent(out) :: names(:)
+      real(dp), allocatable, intent(out) :: values(:)
+      names = [character(len=32) :: 'impedance_ratio', 'softest_courant_number', 'exact_fronts']
+      values = [maxval(self%impedance)/minval(self%impedance), minval(self%speed)*self%dt/self%dx, &
+                real(size(self%front_jump), dp)]
+   end subroutine report
 
    pure function error_name(self) result(name)
       class(composite_t), intent(in) :: self

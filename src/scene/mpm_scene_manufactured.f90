@@ -35,7 +35,7 @@ module mpm_scene_manufactured
       integer :: elements = 0          !< the body's elements: node `elements` is the fixed right end
    contains
       procedure :: place_particles, margin_cells, fixed_nodes, ucm_exact, ucm_amplitude
-      procedure :: add_forces, error_at, error_name, energy_reference
+      procedure :: add_forces, error_at, error_name, energy_reference, report
       procedure :: displacement_exact, body_force
    end type manufactured_t
 
@@ -130,6 +130,15 @@ contains
       error_at = sqrt(sum(particles%mass_of*(particles%x - particles%x0 - self%displacement_exact(particles%x0, t))**2)/ &
                       sum(particles%mass_of))
    end function error_at
+
+   !> The largest strain of the exact motion, max |F - 1| = 2 pi A/L.
+   pure subroutine report(self, names, values)
+      class(manufactured_t), intent(in) :: self
+      character(len=32), allocatable, intent(out) :: names(:)
+      real(dp), allocatable, intent(out) :: values(:)
+      names = [character(len=32) :: 'max_strain']
+      values = [self%amplitude*self%wave_number]
+   end subroutine report
 
    pure function error_name(self) result(name)
       class(manufactured_t), intent(in) :: self
