@@ -8,6 +8,7 @@ program test_scenes
    use mpm_diagnostics, only: status_ok, status_name
    use mpm_scene_column, only: column_series
    use mpm_scene_composite, only: composite_t, composite_init
+   use mpm_sweep, only: sweep_t, read_sweep
    use mpm_testing, only: tester_t, scratch_dir, write_lines
    use mpm_strings, only: str
    implicit none
@@ -216,10 +217,22 @@ contains
       config%end_time = end_time
    end function composite_config
 
-   !> A variable of another kind is refused with a message naming the kind; the kind's own is accepted.
+   !> A variable of another kind is refused with a message naming the kind (also as a sweep list);
+   !> the kind's own is accepted.
    subroutine refused_variables()
       type(config_t) :: config
+      type(sweep_t) :: sweep
       type(error_t), allocatable :: error
+      call write_lines(dir//'/column_sweep.nml', ["&scene kind='column' /                        ", &
+                                                  "&output file='column_sweep.h5' /              ", &
+                                                  "&sweep modes=1, 2, gravities=9.81, 20.0 /     "])
+      call read_sweep(dir//'/column_sweep.nml', sweep, error, 0, 0, -1)
+      call t%check('a sweep list of another kind refused', allocated(error))
+      if (allocated(error)) then
+         call t%check_contains('the message names list and kind', error%message, &
+                               "list 'modes' varies scene: 'mode' is not used by kind = 'column'")
+         call t%check('the kind''s own list is accepted', index(error%message, 'gravit') == 0, error%message)
+      end if
       call write_lines(dir//'/bar_gravity.nml', ["&scene kind='vibrating_bar', gravity=9.81 /"])
       call read_config(dir//'/bar_gravity.nml', config, error)
       call t%check('gravity refused for the bar', allocated(error))
