@@ -18,4 +18,20 @@ for nml in studies/scenes/*.nml; do
   "$exe" "$out/$name.nml" > "$out/$name.log"
   files+=("$out/$name.h5")
 done
-"$PYTHON" studies/scenes/report.py "$out" "${files[@]}"
+# one run per scene with a snapshot, for the pictures of the fields against the exact solutions
+fields=()
+single() { # name, snapshot time, namelist groups
+  printf '%s\n' "$3" "&output file='$out/$1.h5', snapshot_times=$2 /" > "$out/$1.nml"
+  "$exe" "$out/$1.nml" > "$out/$1.log"
+  fields+=("$out/$1.h5")
+}
+single field_column 0.0079 "&scene kind='column', length=25.0, youngs_modulus=200.0e9, density=7800.0, gravity=9.81 /
+&discretisation scheme='usl', elements=50, particles_per_element=2, dt_fraction=0.2 /
+&run end_time=0.0079 /"
+single field_manufactured 0.005 "&scene kind='manufactured', length=1.0, youngs_modulus=1.0e7, density=1000.0, amplitude=0.05 /
+&discretisation scheme='usl', elements=50, particles_per_element=2, dt_fraction=0.2 /
+&run end_time=0.005 /"
+single field_composite 0.03 "&scene kind='composite_bar', lengths=1.0, 1.0, youngs_moduli=16.0e6, 1.0e6, densities=1000.0, 1000.0, drive_velocity=0.01 /
+&discretisation scheme='usl', elements=200, particles_per_element=2, dt_fraction=0.2 /
+&run end_time=0.03 /"
+"$PYTHON" studies/scenes/report.py "$out" "${files[@]}" --fields "${fields[@]}"
