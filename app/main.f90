@@ -65,8 +65,9 @@ program mpm1d_main
    call write_run_file(config, result, error)
    if (allocated(error)) call fail(error%message, 3)
 
-   write (output_unit, '(a)') 'max '//result%error_name//' = '//str(result%max_error)//' m ('// &
-      str(100*result%relative_error)//' % of the exact amplitude '//str(result%ucm_amplitude)//' m)'
+   write (output_unit, '(a)') 'max '//result%error_name//' = '//str(result%max_error)//' '//result%error_unit// &
+      ' ('//str(100*result%relative_error)//' % of the exact amplitude '//str(result%ucm_amplitude)//' '// &
+      result%error_unit//')'
    write (output_unit, '(a)') 'steps '//str(result%steps_done)//' of '//str(result%steps)//', run time '// &
       str(result%run_time)//' s, '//str(real(result%particles, dp)*result%steps_done/max(result%run_time, 1.0e-9_dp))// &
       ' particle-steps/s'

@@ -63,7 +63,7 @@ contains
       call h5%write_real_scalar('/summary/min_volume_ratio', result%min_volume_ratio)
       call h5%write_real_scalar('/summary/max_cell_move', result%max_cell_move)
       call h5%write_real_scalar('/summary/min_node_mass_ratio', result%min_node_mass_ratio)
-      call h5%write_string_scalar('/summary/error_measure', result%error_name)
+      call h5%write_string_scalar('/summary/error_measure', result%error_name//' ('//result%error_unit//')')
       if (allocated(result%report_names)) then
          do i = 1, size(result%report_names)
             call h5%write_real_scalar('/summary/'//trim(result%report_names(i)), result%report_values(i))

@@ -50,6 +50,7 @@ module mpm_simulation
       real(dp) :: relative_error = 0.0_dp   !< max_error / the scene's amplitude (ucm_amplitude)
       real(dp) :: ucm_amplitude = 0.0_dp    !< the scene's amplitude (m): the bar's exact u_cm amplitude
       character(len=:), allocatable :: error_name  !< what max_error measures (the scene's error_name)
+      character(len=:), allocatable :: error_unit  !< its unit (m unless the scene says otherwise)
       !> What the scene reports in /summary beyond the common quantities (names and values).
       character(len=32), allocatable :: report_names(:)
       real(dp), allocatable :: report_values(:)
@@ -112,6 +113,7 @@ contains
       result%fused = fused
       result%ucm_amplitude = scene%ucm_amplitude()
       result%error_name = scene%error_name()
+      result%error_unit = scene%error_unit()
       call scene%report(result%report_names, result%report_values)
       call scene%place_particles(config, particles, error)
       if (allocated(error)) return

@@ -172,6 +172,10 @@ contains
       call t%check('composite, impedance ratio 4: relative L1 stress error < 7 %', r%relative_error < 0.07_dp .and. &
                    r%relative_error > 0.01_dp, 'relative error '//str(r%relative_error))
       call t%check('composite runs on the generic path', .not. r%fused)
+      ! the drive's momentum input: u_cm follows the exact double integral of the end force
+      call t%check_close('composite u_cm at the end (the driven node gives the exact momentum input)', &
+                         r%history%ucm(r%history%recorded - 1), r%history%ucm_exact(r%history%recorded - 1), &
+                         rtol=1.0e-3_dp)
       do i = 1, 3
          config = composite_config('usl', 50*2**(i - 1), [16.0e6_dp, 1.0e6_dp], 0.03_dp)
          r = run_config(config)

@@ -36,8 +36,8 @@ module mpm_scene
       !> The scene's error measure at time t from the particles (default: |u_cm - u_cm,exact(t)|);
       !> the run's max_error is its largest value over the steps, relative_error that / ucm_amplitude.
       procedure :: error_at
-      !> What error_at measures, for messages.
-      procedure :: error_name
+      !> What error_at measures and its unit (default m), for messages.
+      procedure :: error_name, error_unit
       !> Quantities the scene reports in the run's /summary beyond the common ones (default: none).
       procedure :: report
       !> The energy that scales the energy guard (default: the initial kinetic + strain energy); scenes
@@ -123,6 +123,12 @@ contains
       character(len=:), allocatable :: name
       name = '|u_cm - u_cm,exact|'
    end function error_name
+
+   pure function error_unit(self) result(unit)
+      class(scene_t), intent(in) :: self
+      character(len=:), allocatable :: unit
+      unit = 'm'
+   end function error_unit
 
    !> The initial energy (a run starting at rest with no force keeps zero energy: any growth trips).
    pure real(dp) function energy_reference(self, initial_energy)
