@@ -163,8 +163,9 @@ contains
    subroutine report_run()
       real(dp) :: rate
       rate = real(result%particles, dp)*result%steps_done/max(result%run_time, 1.0e-9_dp)
-      write (output_unit, '(a)') 'max |u_cm - u_cm,exact| = '//num(result%max_error)//' m ('// &
-         num(100*result%relative_error, 3)//' % of the exact amplitude '//num(result%ucm_amplitude)//' m)'
+      write (output_unit, '(a)') 'max '//result%error_name//' = '//num(result%max_error)//' '//result%error_unit// &
+         ' ('//num(100*result%relative_error, 3)//' % of the exact amplitude '//num(result%ucm_amplitude)//' '// &
+         result%error_unit//')'
       if (result%status == status_ok) then
          write (output_unit, '(a)') 'steps '//str(result%steps_done)//' of '//str(result%steps)//', run time '// &
             num(result%run_time, 3)//' s, '//num(rate, 3)//' particle-steps/s'

@@ -9,23 +9,29 @@ module mpm_config
    use mpm_particles, only: bytes_per_particle
    use mpm_shape, only: known_shapes, known_transfers
    use mpm_registry, only: parameter_t, nml_item_t, text_entry, int_entry, real_entry, real_list_entry, &
-                           logical_entry, parse_namelist, read_input_text, add_overrides, &
+                           logical_entry, for_kinds, used_by, parse_namelist, read_input_text, add_overrides, &
                            apply_items, check_parameter, find_parameter, group_namelist, short_number
    implicit none
    private
    public :: config_t, read_config, read_config_text, input_name, validate_config, resolve_config
    public :: write_config_namelist, config_namelist
    public :: default_config, config_summary, known_schemes
-   public :: max_snapshots, unset, check_output_path
-   public :: config_parameters, config_groups, group_help
-   public :: step_count, stability_limit
+   public :: max_snapshots, max_segments, unset, check_output_path, body_length, largest_wave_speed
+   public :: config_parameters, config_groups, group_help, known_scenes
+   public :: step_count, stability_limit, not_used_message
 
    !> Sentinel for "not given" reals; no physical input takes this value.
    real(dp), parameter :: unset = -huge(1.0_dp)
    !> Most snapshot times one run accepts.
    integer, parameter :: max_snapshots = 64
+   !> Most segments of a composite bar.
+   integer, parameter :: max_segments = 16
+   !> The scene kinds made of one body of one material (length, youngs_modulus, density).
+   character(len=*), parameter :: single_body = 'vibrating_bar, column, manufactured'
    !> Schemes the code implements.
    character(len=*), parameter :: known_schemes = 'usf, usl, musl'
+   !> Scene kinds the code implements (mpm_scenes makes them).
+   character(len=*), parameter :: known_scenes = 'vibrating_bar, column, manufactured, composite_bar'
    !> The groups of one run's input, in the order of the echo and of --help.
    character(len=16), parameter :: config_groups(*) = [character(len=16) :: 'scene', 'discretisation', 'run', &
                                                         'output', 'guards']
@@ -45,6 +51,16 @@ module mpm_config
       real(dp) :: density = 7800.0_dp
       real(dp) :: velocity_amplitude = 0.1_dp
       integer :: mode = 1
+      !> Column: gravitational acceleration g (body force -g per unit mass, towards the fixed end x = 0).
+      real(dp) :: gravity = 9.81_dp
+      !> Manufactured solution: displacement amplitude A (m).
+      real(dp) :: amplitude = 0.025_dp
+      !> Composite bar: segments left to right (length, Young's modulus, density; counts given) and the
+      !> velocity the left end is driven at.
+      real(dp) :: lengths(max_segments) = 0.0_dp, youngs_moduli(max_segments) = 0.0_dp, &
+                  densities(max_segments) = 0.0_dp
+      integer :: length_count = 0, modulus_count = 0, density_count = 0
+      real(dp) :: drive_velocity = 1.0_dp
       ! &discretisation
       character(len=8) :: scheme = 'usl'
       integer :: elements = 20
@@ -119,19 +135,40 @@ contains
                    'of the body', at_least=-1, note="-1: the scene's expected motion + 2 cells"), &
          text_entry('discretisation', 'kernels', config%kernels, "'auto': the fused linear kernels where they "// &
                     "apply, else the generic path; 'generic': always the generic layered path", words='auto, generic'), &
-         text_entry('scene', 'kind', config%scene_kind, 'the problem: the vibrating bar of the founding study', &
-                    words='vibrating_bar', attribute='scene_kind'), &
-         real_entry('scene', 'length', config%length, 'm', 'length of the bar', greater_than=0.0_dp), &
-         real_entry('scene', 'youngs_modulus', config%youngs_modulus, 'Pa', "Young's modulus E", &
-                    greater_than=0.0_dp, sweep_list='youngs_moduli'), &
-         real_entry('scene', 'density', config%density, 'kg/m^3', 'density rho', greater_than=0.0_dp, &
-                    sweep_list='densities'), &
-         real_entry('scene', 'velocity_amplitude', config%velocity_amplitude, 'm/s', 'v0 of the initial velocity '// &
-                    'v(x,0) = v0 sin(beta_n x), beta_n = (2n-1) pi / (2 length)', sweep_list='velocity_amplitudes'), &
-         int_entry('scene', 'mode', config%mode, 'the mode n of the initial velocity', at_least=1, &
-                   at_most=max_mode, sweep_list='modes'), &
-         real_entry('run', 'periods', config%periods, '', 'run length in periods 2 pi / omega_n of the mode '// &
-                    '(give periods or end_time); steps = smallest n with n dt >= end time', greater_than=0.0_dp, &
+         text_entry('scene', 'kind', config%scene_kind, 'the problem: the vibrating bar of the founding study, '// &
+                    'a column under gravity, a manufactured large-strain solution (README, Scenes)', &
+                    words=known_scenes, attribute='scene_kind'), &
+         for_kinds(real_entry('scene', 'length', config%length, 'm', 'length of the bar', greater_than=0.0_dp), &
+                   single_body), &
+         for_kinds(real_entry('scene', 'youngs_modulus', config%youngs_modulus, 'Pa', "Young's modulus E", &
+                              greater_than=0.0_dp, sweep_list='youngs_moduli'), single_body), &
+         for_kinds(real_entry('scene', 'density', config%density, 'kg/m^3', 'density rho', greater_than=0.0_dp, &
+                              sweep_list='densities'), single_body), &
+         for_kinds(real_list_entry('scene', 'lengths', config%lengths, config%length_count, 'm', 'segment lengths, '// &
+                                   'left (driven end) to right (free end)', greater_than=0.0_dp, &
+                                   note='2 to 16 segments'), 'composite_bar'), &
+         for_kinds(real_list_entry('scene', 'youngs_moduli', config%youngs_moduli, config%modulus_count, 'Pa', &
+                                   "each segment's Young's modulus", greater_than=0.0_dp, note='one per segment'), &
+                   'composite_bar'), &
+         for_kinds(real_list_entry('scene', 'densities', config%densities, config%density_count, 'kg/m^3', &
+                                   "each segment's density", greater_than=0.0_dp, note='one per segment'), &
+                   'composite_bar'), &
+         for_kinds(real_entry('scene', 'drive_velocity', config%drive_velocity, 'm/s', 'velocity the left end '// &
+                              'is driven at from t = 0 (pushing into the bar)', greater_than=0.0_dp, &
+                              sweep_list='drive_velocities'), 'composite_bar'), &
+         for_kinds(real_entry('scene', 'velocity_amplitude', config%velocity_amplitude, 'm/s', 'v0 of the '// &
+                              'initial velocity v(x,0) = v0 sin(beta_n x), beta_n = (2n-1) pi / (2 length)', &
+                              sweep_list='velocity_amplitudes'), 'vibrating_bar'), &
+         for_kinds(int_entry('scene', 'mode', config%mode, 'the mode n of the initial velocity', at_least=1, &
+                             at_most=max_mode, sweep_list='modes'), 'vibrating_bar'), &
+         for_kinds(real_entry('scene', 'gravity', config%gravity, 'm/s^2', 'gravitational acceleration g: body '// &
+                              'force -g per unit mass, towards the fixed end x = 0', greater_than=0.0_dp, &
+                              sweep_list='gravities'), 'column'), &
+         for_kinds(real_entry('scene', 'amplitude', config%amplitude, 'm', 'A of the manufactured displacement '// &
+                              'u(X,t) = A sin(2 pi X/length) sin(pi c t/length)', greater_than=0.0_dp, &
+                              note='2 pi A / length < 1', sweep_list='amplitudes'), 'manufactured'), &
+         real_entry('run', 'periods', config%periods, '', 'run length in periods of the scene (bar: 2 pi/omega_n; '// &
+                    'column: 4L/c; manufactured: 2L/c); steps = smallest n with n dt >= end time', greater_than=0.0_dp, &
                     optional=.true.), &
          real_entry('run', 'end_time', config%end_time, 's', 'run length in seconds (give periods or end_time)', &
                     greater_than=0.0_dp, optional=.true.), &
@@ -232,7 +269,9 @@ contains
          call apply_items(table, items, trim(config_groups(i)), path, error)
       end do
       do i = 1, size(table)
-         if (table(i)%line > 0) then
+         if (table(i)%line > 0 .and. .not. used_by(table(i), trim(config%scene_kind))) then
+            call append_error(error, trim(table(i)%origin)//' '//not_used_message(table(i), config%scene_kind))
+         else if (table(i)%line > 0) then
             call check_parameter(table(i), error, trim(table(i)%origin)//' ')
          else
             call check_parameter(table(i), error)
@@ -256,6 +295,15 @@ contains
          if (present(extra_groups)) names = ', '//join(extra_groups)
       end function extra_list
    end subroutine read_config_text
+
+   !> The message refusing a variable that scene kind `kind` does not use.
+   function not_used_message(p, kind) result(text)
+      type(parameter_t), intent(in) :: p
+      character(len=*), intent(in) :: kind
+      character(len=:), allocatable :: text
+      text = trim(p%group)//": '"//trim(p%name)//"' is not used by kind = '"//trim(kind)//"'; it belongs to kind "// &
+             trim(p%kinds)
+   end function not_used_message
 
    !> Check every value; append one line per problem to `error`, naming the variable and range.
    !> `with_system = .false.` skips the checks against the machine (memory available, output folder),
@@ -281,11 +329,20 @@ contains
       if (particles > max_count) call append_error(error, &
          "discretisation: elements*particles_per_element = "//str(particles)//" is too large; allowed: <= "// &
          str(max_count))
+      if (trim(config%scene_kind) == 'manufactured' .and. 2*pi*config%amplitude >= config%length) &
+         call append_error(error, "scene: kind = 'manufactured' needs 2 pi amplitude / length < 1 (F > 0 "// &
+                           "everywhere); amplitude = "//str(config%amplitude)//" m, length = "//str(config%length)//" m")
+      if (trim(config%scene_kind) == 'composite_bar') then
+         if (config%length_count < 2 .or. config%modulus_count /= config%length_count .or. &
+             config%density_count /= config%length_count) call append_error(error, "scene: kind = 'composite_bar' "// &
+            "needs 2 to "//str(max_segments)//" segments: lengths, youngs_moduli and densities with one value each "// &
+            "(given "//str(config%length_count)//", "//str(config%modulus_count)//", "//str(config%density_count)//")")
+      end if
       if (allocated(error)) return
 
       ! Consistency checks that need the resolved quantities.
-      c = sqrt(config%youngs_modulus/config%density)
-      dx = config%length/config%elements
+      c = largest_wave_speed(config)
+      dx = body_length(config)/config%elements
       dt = config%dt_fraction*dx/c
       if (.not. ieee_is_finite(c) .or. .not. ieee_is_finite(dt) .or. dt <= 0.0_dp) then
          call append_error(error, "scene: youngs_modulus/density = "//str(config%youngs_modulus/config%density)// &
@@ -368,11 +425,56 @@ contains
       real(dp) :: omega
       if (config%end_time /= unset) then
          run_end_time = config%end_time
-      else
+      else if (trim(config%scene_kind) == 'vibrating_bar') then ! this association: the paper's step counts
          omega = (2*config%mode - 1)*pi/(2.0_dp*config%length)*sqrt(config%youngs_modulus/config%density)
          run_end_time = config%periods*2.0_dp*pi/omega
+      else
+         run_end_time = config%periods*scene_period(config)
       end if
    end function run_end_time
+
+   !> The length of the body: the composite bar's segments together, else `length`.
+   pure real(dp) function body_length(config)
+      type(config_t), intent(in) :: config
+      if (trim(config%scene_kind) == 'composite_bar') then
+         body_length = sum(config%lengths(1:config%length_count))
+      else
+         body_length = config%length
+      end if
+   end function body_length
+
+   !> The wave speed the time step follows: the stiffest segment's of a composite bar, else sqrt(E/rho).
+   pure real(dp) function largest_wave_speed(config)
+      type(config_t), intent(in) :: config
+      integer :: n
+      if (trim(config%scene_kind) == 'composite_bar') then
+         n = config%length_count
+         largest_wave_speed = maxval(sqrt(config%youngs_moduli(1:n)/config%densities(1:n)))
+      else
+         largest_wave_speed = sqrt(config%youngs_modulus/config%density)
+      end if
+   end function largest_wave_speed
+
+   !> The period that `periods` counts: the bar's mode n, 2 pi/omega_n; the column's first mode, 4L/c;
+   !> the manufactured solution's, 2L/c (u oscillates as sin(pi c t/L)); the composite bar's: the time
+   !> a wave takes to cross all segments, sum L_i/c_i.
+   real(dp) function scene_period(config)
+      type(config_t), intent(in) :: config
+      real(dp) :: c
+      c = sqrt(config%youngs_modulus/config%density)
+      select case (trim(config%scene_kind))
+      case ('column')
+         scene_period = 4.0_dp*config%length/c
+      case ('manufactured')
+         scene_period = 2.0_dp*config%length/c
+      case ('composite_bar')
+         associate (n => config%length_count)
+            scene_period = sum(config%lengths(1:n)/sqrt(config%youngs_moduli(1:n)/config%densities(1:n)))
+         end associate
+      case default
+         scene_period = 2.0_dp*pi/((2*config%mode - 1)*pi/(2.0_dp*config%length)*c)
+      end select
+   end function scene_period
 
    !> The time-step fraction above which `scheme` with `particles_per_element` is linearly unstable
    !> on fine meshes (studies/stability/linear_stability.py, 20 elements; coarser meshes allow a
@@ -407,12 +509,11 @@ contains
    !> Fill the derived quantities of a validated configuration.
    subroutine resolve_config(config)
       type(config_t), intent(inout) :: config
-      real(dp) :: omega
-      config%wave_speed = sqrt(config%youngs_modulus/config%density)
+      if (trim(config%scene_kind) == 'composite_bar') config%length = body_length(config)
+      config%wave_speed = largest_wave_speed(config)
       config%dx = config%length/config%elements
       config%dt = config%dt_fraction*config%dx/config%wave_speed
-      omega = (2*config%mode - 1)*pi/(2.0_dp*config%length)*config%wave_speed
-      config%period = 2.0_dp*pi/omega
+      config%period = scene_period(config)
       config%final_time = run_end_time(config)
       config%steps = step_count(config%final_time, config%dt)
    end subroutine resolve_config
@@ -435,7 +536,7 @@ contains
       call config_parameters(local, table)
       text = ''
       do i = 1, size(config_groups)
-         text = text//group_namelist(table, trim(config_groups(i)))
+         text = text//group_namelist(table, trim(config_groups(i)), trim(config%scene_kind))
          if (i < size(config_groups)) text = text//new_line('a')
       end do
    end function config_namelist

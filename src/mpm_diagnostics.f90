@@ -47,6 +47,9 @@ module mpm_diagnostics
       real(dp) :: time = 0.0_dp
       integer :: step = 0
       real(dp), allocatable :: x(:), v(:), stress(:), volume_ratio(:)
+      real(dp), allocatable :: x0(:)  !< reference (initial) positions X, for u = x - X and exact solutions
+      !> each particle's Young's modulus, where the scene has several materials (their segment or body)
+      real(dp), allocatable :: youngs_modulus(:)
       real(dp), allocatable :: grid_x(:), grid_velocity(:)
    end type snapshot_t
 

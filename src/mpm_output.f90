@@ -63,6 +63,12 @@ contains
       call h5%write_real_scalar('/summary/min_volume_ratio', result%min_volume_ratio)
       call h5%write_real_scalar('/summary/max_cell_move', result%max_cell_move)
       call h5%write_real_scalar('/summary/min_node_mass_ratio', result%min_node_mass_ratio)
+      call h5%write_string_scalar('/summary/error_measure', result%error_name//' ('//result%error_unit//')')
+      if (allocated(result%report_names)) then
+         do i = 1, size(result%report_names)
+            call h5%write_real_scalar('/summary/'//trim(result%report_names(i)), result%report_values(i))
+         end do
+      end if
 
       if (allocated(result%snapshots)) then
          if (size(result%snapshots) > 0) call h5%group('/snapshots')
@@ -73,6 +79,9 @@ contains
             call h5%attribute_real(group, 'time', result%snapshots(i)%time)
             call h5%attribute_int(group, 'step', result%snapshots(i)%step)
             call h5%write_real(group//'/x', result%snapshots(i)%x)
+            call h5%write_real(group//'/reference_x', result%snapshots(i)%x0)
+            if (allocated(result%snapshots(i)%youngs_modulus)) &
+               call h5%write_real(group//'/youngs_modulus', result%snapshots(i)%youngs_modulus)
             call h5%write_real(group//'/velocity', result%snapshots(i)%v)
             call h5%write_real(group//'/stress', result%snapshots(i)%stress)
             call h5%write_real(group//'/volume_ratio', result%snapshots(i)%volume_ratio)
@@ -89,7 +98,8 @@ contains
       end function pad
    end subroutine write_run_file
 
-   !> The configuration as attributes of `group`: every variable of the parameter registry (under its
+   !> The configuration as attributes of `group`: every variable of the parameter registry, also those
+   !> another scene kind uses (the namelist text leaves those out: it must read back) (under its
    !> attribute name; logicals as 0/1, an unset optional left out), the resolved quantities, the
    !> namelist text that reproduces the run and the registry itself ('parameters', tab-separated).
    subroutine write_config_attributes(h5, group, config)

@@ -28,6 +28,9 @@ module mpm_particles
       real(dp), allocatable :: mass_of(:)      !< per-particle mass (generic path only)
       real(dp), allocatable :: volume0_of(:)   !< per-particle initial volume (generic path only)
       real(dp), allocatable :: velocity_gradient(:) !< dv/dx carried by APIC (transfer = 'apic' only; 1/s)
+      !> per-particle Young's modulus (Pa): only scenes of several materials allocate it (composite bar);
+      !> otherwise the run's one modulus applies
+      real(dp), allocatable :: youngs_modulus_of(:)
    end type particles_t
 
 contains
@@ -66,11 +69,13 @@ contains
       particles%volume_ratio = 1.0_dp
    end subroutine particles_init
 
-   !> Per-particle mass and initial volume from the shared ones (the generic path reads only these).
+   !> Per-particle mass and initial volume from the shared ones (the generic path reads only these),
+   !> unless the scene has set them already (bodies of several materials).
    subroutine per_particle_data(particles, error)
       type(particles_t), intent(inout) :: particles
       type(error_t), allocatable, intent(out) :: error
       integer :: stat
+      if (allocated(particles%mass_of) .and. allocated(particles%volume0_of)) return
       allocate (particles%mass_of(particles%count), particles%volume0_of(particles%count), stat=stat)
       if (stat /= 0) then
          call set_error(error, "cannot allocate per-particle data for "//str(particles%count)//" particles (out of memory)")
@@ -93,6 +98,7 @@ contains
       call permute_real(particles%mass_of)
       call permute_real(particles%volume0_of)
       call permute_real(particles%velocity_gradient)
+      call permute_real(particles%youngs_modulus_of)
       if (allocated(particles%cell)) then
          block
             integer, allocatable :: copy(:)

@@ -22,7 +22,7 @@ module mpm_registry
    public :: apply_items, set_parameter, check_parameter, allowed_text
    public :: value_list_t, read_value_list, single_value_list, set_from_list, list_text
    public :: format_value, quoted, real_value, int_value, text_value, find_parameter, group_namelist
-   public :: parameter_listing, parameter_help, short_number, entry_names
+   public :: parameter_listing, parameter_help, short_number, entry_names, used_by, for_kinds
 
    integer, parameter :: type_real = 1, type_int = 2, type_text = 3, type_logical = 4, type_real_list = 5
    character(len=*), parameter :: identifier_characters = &
@@ -48,6 +48,9 @@ module mpm_registry
       character(len=32) :: sweep_list = ''
       !> May be left unset (no default: left out of the echo and of /config).
       logical :: optional = .false.
+      !> The scene kinds that use it, comma separated ('' = every kind): given for another kind it is
+      !> refused, and it is left out of that kind's echo and /config (see used_by).
+      character(len=96) :: kinds = ''
       !> Line of the input where it was given (0 = not given).
       integer :: line = 0
       !> Where it was given, as messages name it ("file:line: " or "command line 'group.name=value': ");
@@ -1282,15 +1285,36 @@ contains
       end select
    end function format_value
 
-   !> `&group name=value, ... /` for every variable of `group` that has a value.
-   function group_namelist(table, group) result(text)
+   !> Whether scene kind `kind` uses the variable `p` (its `kinds` list is empty or names `kind`).
+   pure logical function used_by(p, kind)
+      type(parameter_t), intent(in) :: p
+      character(len=*), intent(in) :: kind
+      used_by = len_trim(p%kinds) == 0 .or. index(','//remove_blanks(p%kinds)//',', ','//trim(kind)//',') > 0
+   end function used_by
+
+   !> `p` restricted to the scene kinds `kinds` (comma separated), for the table's constructors.
+   function for_kinds(p, kinds) result(q)
+      type(parameter_t), intent(in) :: p
+      character(len=*), intent(in) :: kinds
+      type(parameter_t) :: q
+      q = p
+      q%kinds = kinds
+   end function for_kinds
+
+   !> `&group name=value, ... /` for every variable of `group` that has a value (and, when `kind` is
+   !> given, that scene kind uses).
+   function group_namelist(table, group, kind) result(text)
       type(parameter_t), intent(in) :: table(:)
       character(len=*), intent(in) :: group
+      character(len=*), intent(in), optional :: kind
       character(len=:), allocatable :: text, value
       integer :: i
       text = '&'//group
       do i = 1, size(table)
          if (table(i)%group /= group) cycle
+         if (present(kind)) then
+            if (.not. used_by(table(i), kind)) cycle
+         end if
          value = format_value(table(i))
          if (len(value) == 0) cycle
          if (text /= '&'//group) text = text//','
@@ -1335,6 +1359,7 @@ contains
             text = text//'    '//trim(p%name)//' = '//value//': '//trim(p%help)//nl//'        allowed: '// &
                    allowed_text(p)
             if (len_trim(p%sweep_list) > 0) text = text//'; swept by &sweep '//trim(p%sweep_list)
+            if (len_trim(p%kinds) > 0) text = text//'; kind '//trim(p%kinds)//' only'
             text = text//nl
          end associate
       end do

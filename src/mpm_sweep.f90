@@ -10,13 +10,12 @@ module mpm_sweep
    use mpm_errors, only: error_t, set_error, append_error
    use mpm_strings, only: str, lower
    use mpm_config, only: config_t, read_config_text, input_name, validate_config, resolve_config, &
-                         config_parameters, &
-                         config_groups
+                         config_parameters, config_groups, not_used_message
    use mpm_registry, only: parameter_t, nml_item_t, value_list_t, real_entry, int_entry, logical_entry, &
                            parse_namelist, read_input_text, add_overrides, item_place, read_value_list, &
                            single_value_list, set_from_list, set_parameter, &
                            check_parameter, find_parameter, entry_names, format_value, list_text, quoted, &
-                           type_real, type_int
+                           type_real, type_int, used_by
    use mpm_simulation, only: run_result_t, run_simulation, guard_trip_t, guard_message
    use mpm_diagnostics, only: history_t, status_ok, status_setup_failed, status_not_run
    use mpm_progress, only: progress_t
@@ -195,6 +194,11 @@ contains
             end if
             lines(j) = items(i)%line
             k = study%settings%lists(j)%entry
+            if (.not. used_by(base(k), trim(study%base%scene_kind))) then
+               call append_error(error, where//"sweep: list '"//items(i)%name//"' varies "// &
+                                 not_used_message(base(k), study%base%scene_kind))
+               cycle
+            end if
             call read_value_list(base(k), items(i)%name, items(i)%values, where, study%settings%lists(j), error)
             study%settings%lists(j)%entry = k
             cycle

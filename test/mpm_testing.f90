@@ -4,7 +4,7 @@ module mpm_testing
    use mpm_strings, only: str
    implicit none
    private
-   public :: tester_t, app_path, run_app, read_text, scratch_dir
+   public :: tester_t, app_path, run_app, read_text, scratch_dir, write_lines
 
    !> Counts checks and failures; `finish` prints "N passed, M failed" and ends with error stop 1 on failure.
    type :: tester_t
@@ -129,6 +129,17 @@ contains
       end if
       close (unit)
    end function read_text
+
+   !> Write `lines` (each trimmed) to the text file `path`, replacing it.
+   subroutine write_lines(path, lines)
+      character(len=*), intent(in) :: path, lines(:)
+      integer :: unit, i
+      open (newunit=unit, file=path, status='replace', action='write')
+      do i = 1, size(lines)
+         write (unit, '(a)') trim(lines(i))
+      end do
+      close (unit)
+   end subroutine write_lines
 
    !> A fresh empty folder for a test's files under build/ (so tests leave the source tree clean).
    function scratch_dir(name) result(dir)

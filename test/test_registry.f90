@@ -39,9 +39,9 @@ contains
    end subroutine write_text
 
    !> --help, the echoed namelist and /config each name every registry entry (periods and end_time
-   !> exclude each other: one configuration gives each).
+   !> exclude each other: one configuration gives each; a scene's own variables appear with its kind).
    subroutine every_entry_everywhere()
-      type(config_t), target :: config, by_time
+      type(config_t), target :: config, by_time, manufactured, composite
       type(parameter_t), allocatable :: table(:), sweep_table(:)
       type(sweep_config_t), target :: settings
       character(len=:), allocatable :: help, echo
@@ -51,18 +51,32 @@ contains
       by_time = config
       by_time%end_time = 0.01_dp
       by_time%periods = -huge(1.0_dp)
+      by_time%scene_kind = 'column'
+      manufactured = config
+      manufactured%scene_kind = 'manufactured'
+      composite = config
+      composite%scene_kind = 'composite_bar'
+      composite%length_count = 2
+      composite%modulus_count = 2
+      composite%density_count = 2
+      composite%lengths(1:2) = 1.0_dp
+      composite%youngs_moduli(1:2) = 1.0e6_dp
+      composite%densities(1:2) = 1.0e3_dp
       call config_parameters(config, table)
       call t%check('the registry has entries', size(table) >= 19)
       call run_app(dir, '--help', status, help)
-      echo = config_namelist(config)//config_namelist(by_time)
+      echo = config_namelist(config)//config_namelist(by_time)//config_namelist(manufactured)// &
+             config_namelist(composite)
       call write_attributes(config, dir//'/config.h5')
       call write_attributes(by_time, dir//'/by_time.h5')
+      call write_attributes(manufactured, dir//'/manufactured.h5')
       do i = 1, size(table)
          call t%check_contains('--help names '//trim(table(i)%name), help, '    '//trim(table(i)%name)//' = ')
          call t%check_contains('the echo has '//trim(table(i)%name), echo, ' '//trim(table(i)%name)//'=')
          call t%check('/config has '//trim(table(i)%attribute), &
                       h5_exists(dir//'/config.h5', '/config', trim(table(i)%attribute)) .or. &
-                      h5_exists(dir//'/by_time.h5', '/config', trim(table(i)%attribute)))
+                      h5_exists(dir//'/by_time.h5', '/config', trim(table(i)%attribute)) .or. &
+                      h5_exists(dir//'/manufactured.h5', '/config', trim(table(i)%attribute)))
          if (len_trim(table(i)%sweep_list) > 0) call t%check_contains('--help names the sweep list '// &
             trim(table(i)%sweep_list), help, '&sweep '//trim(table(i)%sweep_list))
       end do

@@ -8,7 +8,7 @@ module mpm_material_elastic
    use mpm_kinds, only: dp
    implicit none
    private
-   public :: elastic_update, strain_energy_density, elastic_update_all
+   public :: elastic_update, strain_energy_density, elastic_update_all, elastic_update_each
 
 contains
 
@@ -40,6 +40,22 @@ contains
          smallest = min(smallest, volume_ratio(p))
       end do
    end subroutine elastic_update_all
+
+   !> elastic_update_all with a Young's modulus per particle (bodies of several materials).
+   subroutine elastic_update_each(youngs_modulus, dstrain, volume0, stress, volume_ratio, energy, smallest)
+      real(dp), intent(in), contiguous :: youngs_modulus(:), dstrain(:), volume0(:)
+      real(dp), intent(inout), contiguous :: stress(:), volume_ratio(:)
+      real(dp), intent(out) :: energy, smallest
+      integer :: p
+      energy = 0.0_dp
+      smallest = huge(1.0_dp)
+      do p = 1, size(dstrain)
+         stress(p) = stress(p) + youngs_modulus(p)*dstrain(p)
+         volume_ratio(p) = volume_ratio(p)*(1.0_dp + dstrain(p))
+         energy = energy + 0.5_dp*stress(p)*stress(p)*volume_ratio(p)*volume0(p)/youngs_modulus(p)
+         smallest = min(smallest, volume_ratio(p))
+      end do
+   end subroutine elastic_update_each
 
    !> Strain energy of a particle: sigma^2 V / (2E).
    elemental real(dp) function strain_energy_density(youngs_modulus, stress, volume)

@@ -9,9 +9,10 @@ module mpm_scene
    use mpm_config, only: config_t
    use mpm_grid, only: grid_t
    use mpm_particles, only: particles_t
+   use mpm_shape, only: shape_cache_t
    implicit none
    private
-   public :: scene_t
+   public :: scene_t, margin_for
 
    type, abstract :: scene_t
       !> Whether the scene adds external (body or driving) forces to the grid each step.
@@ -26,10 +27,22 @@ module mpm_scene
       !> Exact centre-of-mass displacement at time t, and its amplitude (for relative errors).
       procedure(exact_i), deferred :: ucm_exact
       procedure(amplitude_i), deferred :: ucm_amplitude
-      !> Whether the fused kernels (one mass, one E, linear shapes, grid from x = 0, no force) apply.
-      procedure(fused_i), deferred :: fused_applies
-      !> External nodal forces at time t, added to grid%force (called only when external_forces).
+      !> Whether the fused kernels (one mass, one E, linear shapes, grid from x = 0, no force) apply
+      !> (default: no; the bar says yes).
+      procedure :: fused_applies
+      !> External nodal forces at time t, added to grid%force (called only when external_forces), from the
+      !> nodal masses or, for forces that differ between particles, through the step's shape functions.
       procedure :: add_forces
+      !> The scene's error measure at time t from the particles (default: |u_cm - u_cm,exact(t)|);
+      !> the run's max_error is its largest value over the steps, relative_error that / ucm_amplitude.
+      procedure :: error_at
+      !> What error_at measures and its unit (default m), for messages.
+      procedure :: error_name, error_unit
+      !> Quantities the scene reports in the run's /summary beyond the common ones (default: none).
+      procedure :: report
+      !> The energy that scales the energy guard (default: the initial kinetic + strain energy); scenes
+      !> whose forces do work override it with the largest energy the exact solution reaches.
+      procedure :: energy_reference
    end type scene_t
 
    abstract interface
@@ -60,18 +73,67 @@ module mpm_scene
          import :: scene_t, dp
          class(scene_t), intent(in) :: self
       end function amplitude_i
-      pure logical function fused_i(self)
-         import :: scene_t
-         class(scene_t), intent(in) :: self
-      end function fused_i
    end interface
 
 contains
 
    !> No external force (scenes that have some override this and set external_forces).
-   subroutine add_forces(self, grid, t)
+   subroutine add_forces(self, grid, t, cache, particles)
       class(scene_t), intent(in) :: self
       type(grid_t), intent(inout) :: grid
       real(dp), intent(in) :: t
+      type(shape_cache_t), intent(in) :: cache
+      type(particles_t), intent(in) :: particles
    end subroutine add_forces
+
+   !> Empty cells beyond a free end that moves out by up to `reach` metres: `requested` when >= 0, else
+   !> the reach in cells of size dx, rounded up, plus two (one for a particle's shape support, one of slack).
+   pure integer function margin_for(reach, dx, requested) result(cells)
+      real(dp), intent(in) :: reach, dx
+      integer, intent(in) :: requested
+      if (requested >= 0) then
+         cells = requested
+      else
+         cells = 2 + int(min(ceiling(reach/dx), 1000000000))
+      end if
+   end function margin_for
+
+   pure logical function fused_applies(self)
+      class(scene_t), intent(in) :: self
+      fused_applies = .false.
+   end function fused_applies
+
+   !> The founding paper's measure: |u_cm - u_cm,exact(t)| (m).
+   real(dp) function error_at(self, t, particles, ucm)
+      class(scene_t), intent(in) :: self
+      real(dp), intent(in) :: t, ucm
+      type(particles_t), intent(in) :: particles
+      error_at = abs(ucm - self%ucm_exact(t))
+   end function error_at
+
+   pure subroutine report(self, names, values)
+      class(scene_t), intent(in) :: self
+      character(len=32), allocatable, intent(out) :: names(:)
+      real(dp), allocatable, intent(out) :: values(:)
+      allocate (names(0), values(0))
+   end subroutine report
+
+   pure function error_name(self) result(name)
+      class(scene_t), intent(in) :: self
+      character(len=:), allocatable :: name
+      name = '|u_cm - u_cm,exact|'
+   end function error_name
+
+   pure function error_unit(self) result(unit)
+      class(scene_t), intent(in) :: self
+      character(len=:), allocatable :: unit
+      unit = 'm'
+   end function error_unit
+
+   !> The initial energy (a run starting at rest with no force keeps zero energy: any growth trips).
+   pure real(dp) function energy_reference(self, initial_energy)
+      class(scene_t), intent(in) :: self
+      real(dp), intent(in) :: initial_energy
+      energy_reference = max(initial_energy, tiny(1.0_dp))
+   end function energy_reference
 end module mpm_scene

@@ -1,9 +1,12 @@
 !> The one place that knows every scene: makes the scene a configuration asks for.
 module mpm_scenes
    use mpm_errors, only: error_t, set_error
-   use mpm_config, only: config_t
+   use mpm_config, only: config_t, known_scenes
    use mpm_scene, only: scene_t
    use mpm_scene_bar, only: bar_init
+   use mpm_scene_column, only: column_init
+   use mpm_scene_manufactured, only: manufactured_init
+   use mpm_scene_composite, only: composite_t, composite_init
    implicit none
    private
    public :: make_scene
@@ -18,8 +21,20 @@ contains
       case ('vibrating_bar')
          allocate (scene, source=bar_init(config%length, config%youngs_modulus, config%density, &
                                           config%velocity_amplitude, config%mode))
+      case ('column')
+         allocate (scene, source=column_init(config%length, config%youngs_modulus, config%density, config%gravity))
+      case ('manufactured')
+         allocate (scene, source=manufactured_init(config%length, config%youngs_modulus, config%density, &
+                                                   config%amplitude, config%elements))
+      case ('composite_bar')
+         block
+            type(composite_t) :: composite
+            call composite_init(config, composite, error)
+            if (allocated(error)) return
+            allocate (scene, source=composite)
+         end block
       case default
-         call set_error(error, "scene: kind = '"//trim(config%scene_kind)//"' is unknown; allowed: 'vibrating_bar'")
+         call set_error(error, "scene: kind = '"//trim(config%scene_kind)//"' is unknown; allowed: "//known_scenes)
       end select
    end subroutine make_scene
 end module mpm_scenes

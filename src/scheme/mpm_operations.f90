@@ -23,7 +23,7 @@ module mpm_operations
    use mpm_shape, only: shape_cache_t, evaluate_shapes, shape_ugimp, shape_cpgimp, shape_bspline2, shape_bspline3, &
                         transfer_pic, transfer_blend, transfer_apic
    use mpm_diagnostics, only: pass_totals_t
-   use mpm_material_elastic, only: elastic_update_all, strain_energy_density
+   use mpm_material_elastic, only: elastic_update_all, elastic_update_each, strain_energy_density
    implicit none
    private
    public :: locate_particles, p2g_mass_momentum, p2g_internal_force, nodal_velocities, solve_grid, g2p, &
@@ -314,7 +314,8 @@ contains
       if (totals%outside == 0) totals%outside = outside
    end subroutine gather_move
 
-   !> Strain increment d eps = dt sum_I dN_Ip v_I and the material update; totals: strain energy, min J.
+   !> Strain increment d eps = dt sum_I dN_Ip v_I and the material update (the run's Young's modulus, or
+   !> each particle's where the scene gave one); totals: strain energy, min J.
    subroutine update_stress(cache, particles, grid, dt, youngs_modulus, totals)
       type(shape_cache_t), intent(inout) :: cache
       type(particles_t), intent(inout) :: particles
@@ -323,8 +324,14 @@ contains
       type(pass_totals_t), intent(inout) :: totals
       call scratch(cache, particles%count)
       call gather_strain(cache%support, cache%first, cache%gradient, grid%velocity, dt, cache%work(:, 1))
-      call elastic_update_all(youngs_modulus, cache%work(:, 1), particles%volume0_of, particles%stress, &
-                              particles%volume_ratio, totals%strain_energy, totals%min_volume_ratio)
+      if (allocated(particles%youngs_modulus_of)) then ! several materials (one test per step, none per particle)
+         call elastic_update_each(particles%youngs_modulus_of, cache%work(:, 1), particles%volume0_of, &
+                                  particles%stress, particles%volume_ratio, totals%strain_energy, &
+                                  totals%min_volume_ratio)
+      else
+         call elastic_update_all(youngs_modulus, cache%work(:, 1), particles%volume0_of, particles%stress, &
+                                 particles%volume_ratio, totals%strain_energy, totals%min_volume_ratio)
+      end if
    end subroutine update_stress
 
    subroutine gather_strain(support, first, gradient, velocity, dt, dstrain)
@@ -358,8 +365,13 @@ contains
       real(dp), intent(in) :: youngs_modulus
       type(pass_totals_t), intent(out) :: totals
       totals%kinetic_energy = sum(0.5_dp*particles%mass_of*particles%v**2)
-      totals%strain_energy = sum(strain_energy_density(youngs_modulus, particles%stress, &
-                                                       particles%volume_ratio*particles%volume0_of))
+      if (allocated(particles%youngs_modulus_of)) then
+         totals%strain_energy = sum(strain_energy_density(particles%youngs_modulus_of, particles%stress, &
+                                                          particles%volume_ratio*particles%volume0_of))
+      else
+         totals%strain_energy = sum(strain_energy_density(youngs_modulus, particles%stress, &
+                                                          particles%volume_ratio*particles%volume0_of))
+      end if
       totals%min_volume_ratio = minval(particles%volume_ratio)
    end subroutine particle_energies
 end module mpm_operations

@@ -56,7 +56,7 @@ contains
    contains
       !> The scene's external forces (when it has some) and the explicit momentum update.
       subroutine momentum_update()
-         if (scene%external_forces) call scene%add_forces(grid, t)
+         if (scene%external_forces) call scene%add_forces(grid, t, cache, particles)
          call solve_grid(grid, dt)
       end subroutine momentum_update
    end subroutine scheme_step

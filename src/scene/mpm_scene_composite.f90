@@ -1,0 +1,290 @@
+!> A wave through stiff-soft interfaces: a bar of segments (lengths L_i, Young's moduli E_i, densities
+!> rho_i, left to right), at rest and unstressed, its left end driven at a constant velocity v from
+!> t = 0, its right end free. Exact (linear elasticity, method of characteristics; e.g. Graff, Wave
+!> Motion in Elastic Solids, 1975, ch. 2): the solution is a superposition of step waves ("fronts")
+!> that cross one segment each at c_i = sqrt(E_i/rho_i). A right-going wave has sigma = -Z v, a
+!> left-going one sigma = +Z v (Z = rho c). The drive starts a right-going front of stress -Z_1 v; a front
+!> meeting an interface from impedance Z_a to Z_b sends on 2 Z_b/(Z_a + Z_b) times its stress jump and
+!> reflects (Z_b - Z_a)/(Z_a + Z_b) times it; it reflects with +1 at the driven end (velocity held)
+!> and -1 at the free end (stress zero). The exact stress at (X, t) is the sum of the jumps of the fronts
+!> that have passed X. Error measure: at the end time only, the L1 norm of the particle stress minus the
+!> exact stress at the particle's reference position, sum_p |sigma_p - sigma(X_p, T)| V0_p, divided by
+!> Z_1 v (total length) (relative_error). dt follows the stiffest segment (the resolved wave speed).
+!> Needs per-particle mass and Young's modulus, and the driven node 0: its force is set so that the grid
+!> solve gives it the drive velocity, f_0 = (m_0 v - p_0)/dt (the reaction force), through add_forces.
+module mpm_scene_composite
+   use mpm_kinds, only: dp
+   use mpm_errors, only: error_t, set_error
+   use mpm_strings, only: str
+   use mpm_config, only: config_t
+   use mpm_grid, only: grid_t
+   use mpm_particles, only: particles_t, particles_init
+   use mpm_shape, only: shape_cache_t
+   use mpm_scene, only: scene_t, margin_for
+   implicit none
+   private
+   public :: composite_t, composite_init
+
+   !> Most fronts the exact solution follows (a longer end time is refused).
+   integer, parameter :: max_fronts = 2000000
+
+   type, extends(scene_t) :: composite_t
+      real(dp), allocatable :: left(:), right(:)   !< segment ends (m)
+      real(dp), allocatable :: speed(:), impedance(:), modulus(:), density(:)
+      real(dp) :: drive_velocity = 0.0_dp
+      real(dp) :: dt = 0.0_dp
+      real(dp) :: dx = 0.0_dp
+      real(dp) :: end_time = 0.0_dp
+      real(dp) :: scale = 0.0_dp        !< Z_1 v (total length): relative_error divides by it
+      !> The fronts: segment, direction (+1 right, -1 left), start time at the segment's end, stress jump.
+      integer, allocatable :: front_segment(:), front_direction(:)
+      real(dp), allocatable :: front_start(:), front_jump(:)
+   contains
+      procedure :: place_particles, margin_cells, fixed_nodes, ucm_exact, ucm_amplitude
+      procedure :: add_forces, error_at, error_name, error_unit, energy_reference, report
+      procedure :: stress_exact
+   end type composite_t
+
+contains
+
+   !> The scene of a resolved configuration (its end time bounds the fronts followed).
+   subroutine composite_init(config, scene, error)
+      type(config_t), intent(in) :: config
+      type(composite_t), intent(out) :: scene
+      type(error_t), allocatable, intent(out) :: error
+      integer :: n, i
+      n = config%length_count
+      scene%external_forces = .true.
+      scene%modulus = config%youngs_moduli(1:n)
+      scene%density = config%densities(1:n)
+      scene%speed = sqrt(scene%modulus/scene%density)
+      scene%impedance = scene%density*scene%speed
+      allocate (scene%left(n), scene%right(n))
+      scene%left(1) = 0.0_dp
+      do i = 1, n
+         if (i > 1) scene%left(i) = scene%right(i - 1)
+         scene%right(i) = scene%left(i) + config%lengths(i)
+      end do
+      scene%drive_velocity = config%drive_velocity
+      scene%dt = config%dt
+      scene%dx = config%dx
+      scene%end_time = config%steps*config%dt
+      scene%scale = scene%impedance(1)*config%drive_velocity*scene%right(n)
+      call trace_fronts(scene, error)
+   end subroutine composite_init
+
+   !> Follow the fronts from the drive's first one until the end time: each front crossing its segment
+   !> before then spawns its reflection and transmission (jumps below 1e-15 of the first are dropped).
+   subroutine trace_fronts(self, error)
+      type(composite_t), intent(inout) :: self
+      type(error_t), allocatable, intent(out) :: error
+      integer :: count, k, i, d, n, next
+      real(dp) :: arrival, jump, za, zb, smallest
+      integer, allocatable :: segment(:), direction(:)
+      real(dp), allocatable :: start(:), jumps(:)
+      n = size(self%left)
+      allocate (segment(1024), direction(1024), start(1024), jumps(1024))
+      count = 1
+      segment(1) = 1
+      direction(1) = 1
+      start(1) = 0.0_dp
+      jumps(1) = -self%impedance(1)*self%drive_velocity
+      smallest = 1.0e-15_dp*abs(jumps(1))
+      k = 0
+      do while (k < count)
+         k = k + 1
+         i = segment(k)
+         d = direction(k)
+         arrival = start(k) + (self%right(i) - self%left(i))/self%speed(i)
+         if (arrival >= self%end_time) cycle
+         jump = jumps(k)
+         za = self%impedance(i)
+         next = i + d
+         if (next < 1) then          ! the driven end: velocity held, stress reflects with +1
+            call add(i, 1, arrival, jump)
+         else if (next > n) then     ! the free end: stress zero, reflects with -1
+            call add(i, -1, arrival, -jump)
+         else
+            zb = self%impedance(next)
+            call add(i, -d, arrival, (zb - za)/(za + zb)*jump)
+            call add(next, d, arrival, 2.0_dp*zb/(za + zb)*jump)
+         end if
+         if (count > max_fronts) then
+            call set_error(error, "scene: the composite bar's exact solution needs more than "//str(max_fronts)// &
+                           " wave fronts by the end time; allowed: a shorter end_time")
+            return
+         end if
+      end do
+      self%front_segment = segment(1:count)
+      self%front_direction = direction(1:count)
+      self%front_start = start(1:count)
+      self%front_jump = jumps(1:count)
+   contains
+      subroutine add(seg, dir, t0, amount)
+         integer, intent(in) :: seg, dir
+         real(dp), intent(in) :: t0, amount
+         if (abs(amount) < smallest) return
+         if (count == size(segment)) then
+            segment = [segment, segment]
+            direction = [direction, direction]
+            start = [start, start]
+            jumps = [jumps, jumps]
+         end if
+         count = count + 1
+         segment(count) = seg
+         direction(count) = dir
+         start(count) = t0
+         jumps(count) = amount
+      end subroutine add
+   end subroutine trace_fronts
+
+   !> Exact stress at reference position x0 and time t: the jumps of the fronts that have passed x0.
+   pure real(dp) function stress_exact(self, x0, t) result(stress)
+      class(composite_t), intent(in) :: self
+      real(dp), intent(in) :: x0, t
+      integer :: f, i
+      real(dp) :: reach
+      stress = 0.0_dp
+      do f = 1, size(self%front_jump)
+         i = self%front_segment(f)
+         if (x0 < self%left(i) .or. x0 >= self%right(i)) cycle
+         reach = self%speed(i)*(t - self%front_start(f))
+         if (reach <= 0.0_dp) cycle
+         if (self%front_direction(f) > 0) then
+            if (x0 - self%left(i) <= reach) stress = stress + self%front_jump(f)
+         else
+            if (self%right(i) - x0 <= reach) stress = stress + self%front_jump(f)
+         end if
+      end do
+   end function stress_exact
+
+   !> `particles_per_element` particles per element at the centres of equal sub-cells over the whole
+   !> bar, each of the segment holding its centre: its own mass and Young's modulus.
+   subroutine place_particles(self, config, particles, error)
+      class(composite_t), intent(in) :: self
+      type(config_t), intent(in) :: config
+      type(particles_t), intent(out) :: particles
+      type(error_t), allocatable, intent(out) :: error
+      integer :: p, i, stat
+      call particles_init(particles, config%elements, config%particles_per_element, config%dx, 1.0_dp, error)
+      if (allocated(error)) return
+      allocate (particles%mass_of(particles%count), particles%volume0_of(particles%count), &
+                particles%youngs_modulus_of(particles%count), stat=stat)
+      if (stat /= 0) then
+         call set_error(error, "cannot allocate per-particle data for "//str(particles%count)// &
+                        " particles (out of memory)")
+         return
+      end if
+      particles%volume0_of = particles%volume0
+      do p = 1, particles%count
+         i = segment_of(self, particles%x(p))
+         particles%mass_of(p) = self%density(i)*particles%volume0
+         particles%youngs_modulus_of(p) = self%modulus(i)
+      end do
+      particles%mass = minval(particles%mass_of) ! the scale of "empty" nodes and of guard messages
+   end subroutine place_particles
+
+   pure integer function segment_of(self, x) result(i)
+      class(composite_t), intent(in) :: self
+      real(dp), intent(in) :: x
+      do i = 1, size(self%left) - 1
+         if (x < self%right(i)) return
+      end do
+      i = size(self%left)
+   end function segment_of
+
+   !> Beyond the free end: its largest excursion, at most 4 v T (a transmitted wave's particle velocity
+   !> is at most 2 v, doubled at the free end), in cells, plus two cells as for the bar.
+   pure integer function margin_cells(self, dx, requested) result(cells)
+      class(composite_t), intent(in) :: self
+      real(dp), intent(in) :: dx
+      integer, intent(in) :: requested
+      cells = margin_for(4.0_dp*self%drive_velocity*self%end_time, dx, requested)
+   end function margin_cells
+
+   !> No node is held at rest (node 0 is driven, through add_forces).
+   pure function fixed_nodes(self) result(nodes)
+      class(composite_t), intent(in) :: self
+      integer, allocatable :: nodes(:)
+      allocate (nodes(0))
+   end function fixed_nodes
+
+   !> Exact centre-of-mass displacement (for the history): the bar's momentum grows by the drive's force
+   !> -sigma(0, t), a step function of time (each front of segment 1 adds its jump when it passes x = 0:
+   !> a right-going one at its start, a left-going one a crossing time later), so
+   !> M u_cm(t) = -sum_f jump_f (t - t_f)^2/2 over the fronts with t_f < t, M = sum rho_i L_i.
+   pure real(dp) function ucm_exact(self, t)
+      class(composite_t), intent(in) :: self
+      real(dp), intent(in) :: t
+      integer :: f
+      real(dp) :: passes
+      ucm_exact = 0.0_dp
+      do f = 1, size(self%front_jump)
+         if (self%front_segment(f) /= 1) cycle
+         passes = self%front_start(f)
+         if (self%front_direction(f) < 0) passes = passes + (self%right(1) - self%left(1))/self%speed(1)
+         if (t > passes) ucm_exact = ucm_exact - self%front_jump(f)*(t - passes)**2/2.0_dp
+      end do
+      ucm_exact = ucm_exact/sum(self%density*(self%right - self%left))
+   end function ucm_exact
+
+   !> Z_1 v (total length), the scale of the L1 stress error (Pa m).
+   pure real(dp) function ucm_amplitude(self)
+      class(composite_t), intent(in) :: self
+      ucm_amplitude = self%scale
+   end function ucm_amplitude
+
+   !> The driven node 0: the force that brings its momentum to m_0 v in this step's solve.
+   subroutine add_forces(self, grid, t, cache, particles)
+      class(composite_t), intent(in) :: self
+      type(grid_t), intent(inout) :: grid
+      real(dp), intent(in) :: t
+      type(shape_cache_t), intent(in) :: cache
+      type(particles_t), intent(in) :: particles
+      grid%force(0) = (grid%mass(0)*self%drive_velocity - grid%momentum(0))/self%dt
+   end subroutine add_forces
+
+   !> At the end time: sum_p |sigma_p - sigma(X_p, T)| V0_p (Pa m); 0 before.
+   real(dp) function error_at(self, t, particles, ucm)
+      class(composite_t), intent(in) :: self
+      real(dp), intent(in) :: t, ucm
+      type(particles_t), intent(in) :: particles
+      integer :: p
+      error_at = 0.0_dp
+      if (t < self%end_time - 0.5_dp*self%dt) return
+      do p = 1, particles%count
+         error_at = error_at + abs(particles%stress(p) - self%stress_exact(particles%x0(p), t))*particles%volume0_of(p)
+      end do
+   end function error_at
+
+   !> The largest impedance over the smallest, the softest segment's Courant number c_min dt/dx (the
+   !> stiffest's is dt_fraction) and the number of wave fronts the exact solution followed.
+   pure subroutine report(self, names, values)
+      class(composite_t), intent(in) :: self
+      character(len=32), allocatable, intent(out) :: names(:)
+      real(dp), allocatable, intent(out) :: values(:)
+      names = [character(len=32) :: 'impedance_ratio', 'softest_courant_number', 'exact_fronts']
+      values = [maxval(self%impedance)/minval(self%impedance), minval(self%speed)*self%dt/self%dx, &
+                real(size(self%front_jump), dp)]
+   end subroutine report
+
+   pure function error_name(self) result(name)
+      class(composite_t), intent(in) :: self
+      character(len=:), allocatable :: name
+      name = 'L1 stress error at the end time'
+   end function error_name
+
+   pure function error_unit(self) result(unit)
+      class(composite_t), intent(in) :: self
+      character(len=:), allocatable :: unit
+      unit = 'Pa m'
+   end function error_unit
+
+   !> The drive's work bounds the energy: |sigma| v T with |sigma| at most 2 Z_max v, twice for slack.
+   pure real(dp) function energy_reference(self, initial_energy)
+      class(composite_t), intent(in) :: self
+      real(dp), intent(in) :: initial_energy
+      energy_reference = max(initial_energy, 4.0_dp*maxval(self%impedance)*self%drive_velocity**2*self%end_time, &
+                             tiny(1.0_dp))
+   end function energy_reference
+end module mpm_scene_composite

@@ -1,0 +1,272 @@
+!> The scenes beyond the bar against their exact solutions (README, Scenes): each at one resolution,
+!> its observed convergence order, and the namelist refusing variables its kind does not use.
+program test_scenes
+   use mpm_kinds, only: dp, pi
+   use mpm_errors, only: error_t
+   use mpm_config, only: config_t, resolve_config, read_config
+   use mpm_simulation, only: run_result_t, run_simulation
+   use mpm_diagnostics, only: status_ok, status_name
+   use mpm_scene_column, only: column_series
+   use mpm_scene_composite, only: composite_t, composite_init
+   use mpm_sweep, only: sweep_t, read_sweep
+   use mpm_testing, only: tester_t, scratch_dir, write_lines
+   use mpm_strings, only: str
+   implicit none
+   type(tester_t) :: t
+   character(len=:), allocatable :: dir
+
+   t%name = 'test_scenes'
+   dir = scratch_dir('scenes')
+   call column()
+   call manufactured()
+   call composite()
+   call refused_variables()
+   call t%finish()
+
+contains
+
+   !> The column under gravity: the closed form of the series, the issue's done-when case (USL, linear,
+   !> 50 elements x 2, k = 0.2, 2 periods: relative u_cm error < 1 %), and first-order convergence at a
+   !> fixed Courant number (the sudden load: the error is O(dt), see README).
+   subroutine column()
+      type(run_result_t) :: r
+      real(dp) :: sum4, errors(3), order, theta
+      integer :: n, i, k
+      character(len=4), parameter :: schemes(3) = ['usf ', 'usl ', 'musl']
+      do k = 0, 6
+         theta = 1.1_dp*k
+         sum4 = 0.0_dp
+         do n = 200000, 1, -1
+            sum4 = sum4 + cos((2*n - 1)*theta)/real(2*n - 1, dp)**4
+         end do
+         call t%check_close('column series closed form at theta = '//str(theta), column_series(theta), sum4, &
+                            atol=1.0e-14_dp)
+      end do
+      r = run_column('usl', 50, 0.2_dp)
+      call t%check('column usl 50 x 2 completes', r%status == status_ok, 'status '//status_name(r%status))
+      call t%check('column usl 50 x 2, k = 0.2: relative u_cm error < 1 %', r%relative_error < 0.01_dp, &
+                   'relative error '//str(r%relative_error))
+      call t%check('column error is not trivially zero', r%relative_error > 1.0e-4_dp)
+      call t%check_close('column u_cm reaches the exact lowest point -2 g L^2/(3 c^2)', minval(r%history%ucm), &
+                         -2*r%ucm_amplitude, rtol=0.02_dp)
+      call t%check('column runs on the generic path', .not. r%fused)
+      do k = 1, 3
+         do i = 1, 3
+            r = run_column(trim(schemes(k)), 25*2**(i - 1), 0.2_dp)
+            errors(i) = r%relative_error
+         end do
+         order = log(errors(1)/errors(3))/log(4.0_dp)
+         call t%check('column '//trim(schemes(k))//' observed order in [0.8, 1.2]', order >= 0.8_dp .and. &
+                      order <= 1.2_dp, 'order '//str(order))
+      end do
+   end subroutine column
+
+   function run_column(scheme, elements, fraction) result(res)
+      character(len=*), intent(in) :: scheme
+      integer, intent(in) :: elements
+      real(dp), intent(in) :: fraction
+      type(run_result_t) :: res
+      type(config_t) :: config
+      config%scene_kind = 'column'
+      config%scheme = scheme
+      config%elements = elements
+      config%particles_per_element = 2
+      config%dt_fraction = fraction
+      config%periods = 2.0_dp
+      res = run_config(config)
+   end function run_column
+
+   !> Resolve and run `config` with its history.
+   function run_config(config) result(res)
+      type(config_t), intent(inout) :: config
+      type(run_result_t) :: res
+      type(error_t), allocatable :: error
+      call resolve_config(config)
+      call run_simulation(config, res, error, record_history=.true.)
+      if (allocated(error)) error stop 'run failed to start'
+   end function run_config
+
+   !> The manufactured solution (L = 1 m, c = 100 m/s, 2 particles per element, k = 0.2, one period 2L/c).
+   !> At A/L = 1e-6 the discretisation error alone: USL and MUSL second order, USF first order (its
+   !> error is O(dt)); at A/L = 1e-3 linear MPM stops converging (a floor of about 2 A k relative:
+   !> while no particle crosses a cell, the cell's particles carry the force of sigma J instead of sigma).
+   subroutine manufactured()
+      type(run_result_t) :: r
+      real(dp) :: errors(3), order, floor(2)
+      integer :: i, k
+      character(len=4), parameter :: schemes(3) = ['usf ', 'usl ', 'musl']
+      real(dp), parameter :: expected(3) = [1.0_dp, 2.0_dp, 2.0_dp]
+      r = run_manufactured('usl', 50, 1.0e-6_dp)
+      call t%check('manufactured usl 50 x 2 completes', r%status == status_ok, 'status '//status_name(r%status))
+      call t%check('manufactured usl 50 x 2, A/L = 1e-6: relative RMS error < 0.2 %', r%relative_error < 2.0e-3_dp, &
+                   'relative error '//str(r%relative_error))
+      call t%check('manufactured error is not trivially zero', r%relative_error > 1.0e-4_dp)
+      call t%check('manufactured runs on the generic path', .not. r%fused)
+      call t%check('manufactured: u_cm stays zero (symmetry)', maxval(abs(r%history%ucm)) < 1.0e-9_dp*r%ucm_amplitude, &
+                   str(maxval(abs(r%history%ucm))/r%ucm_amplitude))
+      do k = 1, 3
+         do i = 1, 3
+            r = run_manufactured(trim(schemes(k)), 25*2**(i - 1), 1.0e-6_dp)
+            errors(i) = r%relative_error
+         end do
+         order = log(errors(1)/errors(3))/log(4.0_dp)
+         call t%check('manufactured '//trim(schemes(k))//' observed order '//str(expected(k))//' +- 0.2', &
+                      abs(order - expected(k)) <= 0.2_dp, 'order '//str(order))
+      end do
+      do i = 1, 2
+         r = run_manufactured('usl', 50*i, 1.0e-3_dp)
+         floor(i) = r%relative_error
+      end do
+      call t%check('manufactured A/L = 1e-3: linear MPM stalls at about 2 A k (50 and 100 elements)', &
+                   abs(floor(2)/floor(1) - 1.0_dp) < 0.05_dp .and. floor(1) > 1.0e-3_dp .and. floor(1) < 4.0e-3_dp, &
+                   'errors '//str(floor(1))//', '//str(floor(2)))
+   end subroutine manufactured
+
+   function run_manufactured(scheme, elements, amplitude) result(res)
+      character(len=*), intent(in) :: scheme
+      integer, intent(in) :: elements
+      real(dp), intent(in) :: amplitude
+      type(run_result_t) :: res
+      type(config_t) :: config
+      config%scene_kind = 'manufactured'
+      config%length = 1.0_dp
+      config%youngs_modulus = 1.0e7_dp
+      config%density = 1000.0_dp
+      config%amplitude = amplitude
+      config%scheme = scheme
+      config%elements = elements
+      config%particles_per_element = 2
+      config%dt_fraction = 0.2_dp
+      config%periods = 1.0_dp
+      res = run_config(config)
+   end function run_manufactured
+
+   !> The composite bar: the characteristics solution at hand-computed points, the L1 stress error at
+   !> one resolution and falling with refinement (impedance ratio 4), stable runs at ratios 1e4 and 1e6.
+   subroutine composite()
+      type(run_result_t) :: r
+      type(config_t) :: config
+      type(composite_t) :: scene
+      type(error_t), allocatable :: error
+      real(dp) :: z1, z2, c1, errors(3), order, incident, transmitted
+      integer :: i
+      config = composite_config('usl', 100, [16.0e6_dp, 1.0e6_dp], 0.03_dp)
+      call resolve_config(config)
+      call composite_init(config, scene, error)
+      call t%check('composite scene set up', .not. allocated(error))
+      c1 = sqrt(16.0e6_dp/1000.0_dp)
+      z1 = 1000.0_dp*c1
+      z2 = 1000.0_dp*sqrt(1.0e6_dp/1000.0_dp)
+      incident = -z1*0.01_dp
+      transmitted = 2*z2/(z1 + z2)*incident
+      call t%check_close('exact: the incident front', scene%stress_exact(0.3_dp, 0.5_dp/c1), incident, rtol=1.0e-14_dp)
+      call t%check('exact: ahead of the incident front, at rest', scene%stress_exact(0.7_dp, 0.5_dp/c1) == 0.0_dp)
+      call t%check_close('exact: behind the reflection from the interface', scene%stress_exact(0.95_dp, 1.1_dp/c1), &
+                         transmitted, rtol=1.0e-14_dp)
+      call t%check_close('exact: the transmitted front', scene%stress_exact(1.001_dp, 1.1_dp/c1), transmitted, &
+                         rtol=1.0e-14_dp)
+      call t%check_close('exact: after the reflection from the driven end (+1)', scene%stress_exact(0.05_dp, 2.1_dp/c1), &
+                         incident + 2*(transmitted - incident), rtol=1.0e-14_dp)
+      r = run_config(config)
+      call t%check('composite usl 100 x 2 completes', r%status == status_ok, 'status '//status_name(r%status))
+      call t%check('composite, impedance ratio 4: relative L1 stress error < 7 %', r%relative_error < 0.07_dp .and. &
+                   r%relative_error > 0.01_dp, 'relative error '//str(r%relative_error))
+      call t%check('composite runs on the generic path', .not. r%fused)
+      ! the drive's momentum input: u_cm follows the exact double integral of the end force
+      call t%check_close('composite u_cm at the end (the driven node gives the exact momentum input)', &
+                         r%history%ucm(r%history%recorded - 1), r%history%ucm_exact(r%history%recorded - 1), &
+                         rtol=1.0e-3_dp)
+      do i = 1, 3
+         config = composite_config('usl', 50*2**(i - 1), [16.0e6_dp, 1.0e6_dp], 0.03_dp)
+         r = run_config(config)
+         errors(i) = r%relative_error
+      end do
+      order = log(errors(1)/errors(3))/log(4.0_dp)
+      call t%check('composite usl observed order in [0.4, 1] (step waves)', order >= 0.4_dp .and. order <= 1.0_dp, &
+                   'order '//str(order))
+      do i = 1, 2
+         config = composite_config('usl', 50*i, [1.0e10_dp, 100.0_dp], 3.0e-3_dp)
+         r = run_config(config)
+         errors(i) = r%relative_error
+         call t%check('composite, impedance ratio 1e4 runs stably ('//str(50*i)//' elements)', r%status == status_ok, &
+                      'status '//status_name(r%status))
+      end do
+      call t%check('composite, impedance ratio 1e4: the L1 error falls with refinement', errors(2) < 0.8_dp*errors(1), &
+                   'errors '//str(errors(1))//', '//str(errors(2)))
+      config = composite_config('usl', 50, [1.0e12_dp, 1.0_dp], 3.0e-4_dp)
+      r = run_config(config)
+      call t%check('composite, impedance ratio 1e6 runs stably', r%status == status_ok, 'status '//status_name(r%status))
+   end subroutine composite
+
+   !> Two segments of 1 m, density 1000 kg/m^3, moduli `moduli`, driven at 0.01 m/s, 2 particles per
+   !> element, dt = 0.2 dx/c_max.
+   function composite_config(scheme, elements, moduli, end_time) result(config)
+      character(len=*), intent(in) :: scheme
+      integer, intent(in) :: elements
+      real(dp), intent(in) :: moduli(2), end_time
+      type(config_t) :: config
+      config%scene_kind = 'composite_bar'
+      config%lengths(1:2) = 1.0_dp
+      config%length_count = 2
+      config%youngs_moduli(1:2) = moduli
+      config%modulus_count = 2
+      config%densities(1:2) = 1000.0_dp
+      config%density_count = 2
+      config%drive_velocity = 0.01_dp
+      config%scheme = scheme
+      config%elements = elements
+      config%particles_per_element = 2
+      config%dt_fraction = 0.2_dp
+      config%periods = -huge(1.0_dp)
+      config%end_time = end_time
+   end function composite_config
+
+   !> A variable of another kind is refused with a message naming the kind (also as a sweep list);
+   !> the kind's own is accepted.
+   subroutine refused_variables()
+      type(config_t) :: config
+      type(sweep_t) :: sweep
+      type(error_t), allocatable :: error
+      call write_lines(dir//'/column_sweep.nml', ["&scene kind='column' /                        ", &
+                                                  "&output file='column_sweep.h5' /              ", &
+                                                  "&sweep modes=1, 2, gravities=9.81, 20.0 /     "])
+      call read_sweep(dir//'/column_sweep.nml', sweep, error, 0, 0, -1)
+      call t%check('a sweep list of another kind refused', allocated(error))
+      if (allocated(error)) then
+         call t%check_contains('the message names list and kind', error%message, &
+                               "list 'modes' varies scene: 'mode' is not used by kind = 'column'")
+         call t%check('the kind''s own list is accepted', index(error%message, 'gravit') == 0, error%message)
+      end if
+      call write_lines(dir//'/bar_gravity.nml', ["&scene kind='vibrating_bar', gravity=9.81 /"])
+      call read_config(dir//'/bar_gravity.nml', config, error)
+      call t%check('gravity refused for the bar', allocated(error))
+      if (allocated(error)) call t%check_contains('the message names the kind', error%message, &
+                                                  "'gravity' is not used by kind = 'vibrating_bar'")
+      call write_lines(dir//'/column_v0.nml', ["&scene kind='column', velocity_amplitude=1.0, mode=2 /"])
+      call read_config(dir//'/column_v0.nml', config, error)
+      call t%check('velocity_amplitude and mode refused for the column', allocated(error))
+      if (allocated(error)) call t%check_contains('the message names the kind', error%message, &
+                                                  "'mode' is not used by kind = 'column'")
+      call write_lines(dir//'/manufactured.nml', ["&scene kind='manufactured', length=1.0, amplitude=0.2 /"])
+      call read_config(dir//'/manufactured.nml', config, error)
+      call t%check('manufactured: 2 pi A/L >= 1 refused', allocated(error))
+      if (allocated(error)) call t%check_contains('the message says why', error%message, '2 pi amplitude / length < 1')
+      call write_lines(dir//'/composite.nml', ["&scene kind='composite_bar', lengths=1.0, youngs_moduli=1e6, &
+                                               &densities=1e3, length=2.0 /"])
+      call read_config(dir//'/composite.nml', config, error)
+      call t%check('composite: one segment and length refused', allocated(error))
+      if (allocated(error)) call t%check_contains('the message names the kind', error%message, &
+                                                  "'length' is not used by kind = 'composite_bar'")
+      call write_lines(dir//'/composite.nml', ["&scene kind='composite_bar', lengths=1.0, youngs_moduli=1e6, &
+                                               &densities=1e3 /"])
+      call read_config(dir//'/composite.nml', config, error)
+      call t%check('composite: one segment refused', allocated(error))
+      if (allocated(error)) call t%check_contains('the message asks for segments', error%message, &
+                                                  'needs 2 to 16 segments')
+      call write_lines(dir//'/column.nml', ["&scene kind='column', gravity=20.0 /"])
+      call read_config(dir//'/column.nml', config, error)
+      call t%check('gravity accepted for the column', .not. allocated(error))
+      call t%check_close('the column''s period is 4 L/c', config%period, 4*config%length/config%wave_speed, &
+                         rtol=1.0e-14_dp)
+   end subroutine refused_variables
+end program test_scenes
