@@ -55,7 +55,7 @@ program mpm1d_main
          '(see mpm1d --help for the namelist reference)'
    end if
 
-   call warn_stability(config%scheme, config%particles_per_element, config%dt_fraction, 1)
+   call warn_stability(config%scheme, config%particles_per_element, config%dt_fraction, 1, config%shape)
    write (output_unit, '(a)') '# configuration used:'
    call write_config_namelist(output_unit, config)
    write (output_unit, '(a)') '# '//config_summary(config)
@@ -114,7 +114,8 @@ contains
       above = 0
       do i = 1, size(sweep%cases)
          config = case_config(sweep, sweep%cases(i))
-         if (config%dt_fraction > stability_limit(config%scheme, config%particles_per_element)) above = above + 1
+         if (config%dt_fraction > stability_limit(config%scheme, config%particles_per_element, config%shape)) &
+            above = above + 1
       end do
       if (above > 0) write (error_unit, '(a)') 'mpm1d: warning: '//str(above)//' cases ask for a time step '// &
          'above their scheme''s linear stability limit (see studies/stability); guards will stop them if they grow'
@@ -130,17 +131,20 @@ contains
       write (output_unit, '(a)') 'wrote '//output
    end subroutine sweep_command
 
-   !> Warn (standard error) when the time step is above the scheme's linear stability limit.
-   subroutine warn_stability(scheme, particles_per_element, dt_fraction, cases)
-      character(len=*), intent(in) :: scheme
+   !> Warn (standard error) when the time step is above the stability limit of the scheme and shape.
+   subroutine warn_stability(scheme, particles_per_element, dt_fraction, cases, shape)
+      character(len=*), intent(in) :: scheme, shape
       integer, intent(in) :: particles_per_element, cases
       real(dp), intent(in) :: dt_fraction
       real(dp) :: limit
-      limit = stability_limit(scheme, particles_per_element)
+      character(len=:), allocatable :: which
+      which = ''
+      if (trim(shape) /= 'linear') which = ' and '//trim(shape)//' shapes'
+      limit = stability_limit(scheme, particles_per_element, shape)
       if (dt_fraction > limit .and. cases > 0) write (error_unit, '(a)') 'mpm1d: warning: dt_fraction = '// &
          str(dt_fraction)//' is above the linear stability limit of '//trim(scheme)//' with '// &
-         str(particles_per_element)//' particles per element (about '//str(nint(limit*1000)/1000.0_dp)// &
-         ' of dx/c; see studies/stability); a guard will stop the run if it grows'
+         str(particles_per_element)//' particles per element'//which//' (about '//str(nint(limit*1000)/1000.0_dp)// &
+         ' of dx/c; see studies/stability and studies/shapes); a guard will stop the run if it grows'
    end subroutine warn_stability
 
    !> `mpm1d merge OUT.h5 SHARD.h5 ...`
