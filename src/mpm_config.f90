@@ -318,7 +318,9 @@ contains
    !> linear_stability.py, 20 elements; coarser meshes allow a little more). Other shapes: the limit
    !> measured on the bar (studies/shapes/run.sh: 20 elements, 20 periods, k in steps of 0.02 and
    !> 0.05; 1, 2, 4 particles per element, 3 takes the lower of 2 and 4, more than 4 that of 4).
-   !> GIMP in USF and MUSL measured as linear. Used to warn, not to refuse: studies go beyond it on purpose.
+   !> GIMP in USF and MUSL measured as linear. linear_stability.py --shapes predicts them within 0.02
+   !> (GIMP's USL limits for a bar stretched by 1e-6: the end box entering the margin cell makes a
+   !> nearly empty node). Used to warn, not to refuse: studies go beyond it on purpose.
    pure real(dp) function stability_limit(scheme, particles_per_element, shape)
       character(len=*), intent(in) :: scheme
       integer, intent(in) :: particles_per_element

@@ -135,8 +135,19 @@ def main(argv=None):
         lines.append('(matplotlib missing: no figure)')
 
     stab, _ = load(out / 'stability.h5')
-    lines += ['', '## Critical time-step fraction (largest stable k; 20 elements, 20 periods, v0 = 0.1 m/s, '
-              'k in steps of 0.02 up to 3.0)', '', '| scheme | shape | ppc = 1 | ppc = 2 | ppc = 4 |', '|---|---|---|---|---|']
+    predicted = {}
+    if (out / 'predicted_shapes.csv').exists():
+        with open(out / 'predicted_shapes.csv') as handle:
+            for r in csv.DictReader(handle):
+                predicted[(r['scheme'], r['shape'], int(r['particles_per_element']))] = (
+                    float(r['k_crit_rest']), float(r['k_crit_stretched']))
+    lines += ['', '## Critical time-step fraction, measured (largest stable k; 20 elements, 20 periods, '
+              'v0 = 0.1 m/s, k in steps of 0.02 up to 3.0) / predicted at rest / predicted stretched by 1e-6',
+              '', 'Predicted: spectral radius of the frozen one-step map (studies/stability/linear_stability.py '
+              '--shapes), with the shapes as mpm1d builds them (mirror ghost, margin cell). "Stretched": the '
+              'same at x (1 + 1e-6), where the end particle\'s box or support just enters the margin cell and '
+              'its node is nearly empty.', '',
+              '| scheme | shape | ppc = 1 | ppc = 2 | ppc = 4 |', '|---|---|---|---|---|']
     for scheme in SCHEMES:
         for shape in SHAPES:
             cells = []
@@ -148,27 +159,36 @@ def main(argv=None):
                 k, s = k[o], s[o]
                 bad = np.flatnonzero(s != 0)
                 if len(bad) == 0:
-                    cells.append(f'> {k[-1]:.2f}')
+                    cell = f'> {k[-1]:.2f}'
                 elif bad[0] == 0:
-                    cells.append(f'< {k[0]:.2f}')
+                    cell = f'< {k[0]:.2f}'
                 else:
-                    cells.append(f'{k[bad[0] - 1]:.2f}')
+                    cell = f'{k[bad[0] - 1]:.2f}'
+                if (scheme, shape, ppc) in predicted:
+                    cell += ' / {:.3f} / {:.3f}'.format(*predicted[(scheme, shape, ppc)])
+                cells.append(cell)
             lines.append(f'| {scheme} | {shape} | ' + ' | '.join(cells) + ' |')
 
     with open(out / 'speed.csv') as handle:
         rows = list(csv.DictReader(handle))
-    lines += ['', '## Throughput (particle-steps/s, one thread, median of 3 interleaved repeats; ratio to linear '
-              'on the fused kernels, same scheme and size, same process run)', '',
-              '| particles | scheme | shape | transfer | path | particle-steps/s | ratio to fused linear |',
-              '|---|---|---|---|---|---|---|']
-    groups = {}
+    lines += ['', '## Throughput (particle-steps/s, one thread; each generic run paired with the fused linear run '
+              'of the same scheme, size and round, run just before it; median and range of the ratios over the '
+              'rounds; on a shared machine the spread is large)', '',
+              '| particles | scheme | shape | transfer | path | particle-steps/s (median) | ratio to fused linear: '
+              'median (min-max) |', '|---|---|---|---|---|---|---|']
+    rates, ratios = {}, {}
+    fused = {(int(r['particles']), r['scheme'], r['round']): float(r['particle_steps_per_s'])
+             for r in rows if r['path'] == 'fused'}
     for r in rows:
         key = (int(r['particles']), r['scheme'], r['shape'], r['transfer'], r['path'])
-        groups.setdefault(key, []).append(float(r['particle_steps_per_s']))
-    for key in sorted(groups, key=lambda k: (k[0], SCHEMES.index(k[1]), k[4] != 'fused', SHAPES.index(k[2]), k[3])):
-        rate = np.median(groups[key])
-        base = np.median(groups[(key[0], key[1], 'linear', 'flip', 'fused')])
-        lines.append(f'| {key[0]} | {key[1]} | {key[2]} | {key[3]} | {key[4]} | {rate:.3e} | {rate / base:.2f} |')
+        rate = float(r['particle_steps_per_s'])
+        base = fused.get((key[0], key[1], r['round']), fused.get((key[0], 'usl', r['round'])))
+        rates.setdefault(key, []).append(rate)
+        ratios.setdefault(key, []).append(rate / base)
+    for key in sorted(rates, key=lambda k: (k[0], SCHEMES.index(k[1]), k[4] != 'fused', SHAPES.index(k[2]), k[3])):
+        q = ratios[key]
+        lines.append(f'| {key[0]} | {key[1]} | {key[2]} | {key[3]} | {key[4]} | {np.median(rates[key]):.3e} | '
+                     f'{np.median(q):.2f} ({min(q):.2f}-{max(q):.2f}) |')
     (out / 'summary.md').write_text('\n'.join(lines) + '\n')
     return 0
 

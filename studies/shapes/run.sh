@@ -5,11 +5,14 @@
 #      at small amplitude (v0 = 0.1 m/s, against the exact solution) and at v0 = 0.01 c (the free
 #      end crosses cells; against the finest run, since the exact solution is linear theory and
 #      the material is sigma = E ln F), with run times (timing pass, one thread);
-#   2. the critical dt fraction per scheme x shape x ppc (20 elements, 20 periods; first failing k);
+#   2. the critical dt fraction per scheme x shape x ppc (20 elements, 20 periods; first failing k),
+#      and as predicted by the amplification matrix of the frozen step (at rest and stretched);
 #   3. throughput of every shape and transfer on the generic path against linear on the fused
 #      kernels, paired in one run (mpm1d_bench throughput, one thread, interleaved repeats);
 #   then summary.md with the numbers and figures (analyze.py).
 # Usage: bash studies/shapes/run.sh [output folder]     (default: out/shapes)
+# MPM1D_QUICK=1 shrinks every list (10-40 elements, k in steps of 0.1 from 0.3, one speed round
+# at 1e4 particles), for testing the whole pipeline in seconds; the numbers are then not the study's.
 set -euo pipefail
 root="$(cd "$(dirname "$0")/../.." && pwd)"
 cd "$root"
@@ -23,6 +26,11 @@ fpm build --profile release >/dev/null
 exe="$root/$(fpm run --profile release --target mpm1d --runner echo 2>/dev/null | tail -n 1)"
 bench="$root/$(fpm run --profile release --target mpm1d_bench --runner echo 2>/dev/null | tail -n 1)"
 shapes="'linear','ugimp','cpgimp','bspline2','bspline3'"
+quick="${MPM1D_QUICK:-0}"
+elements="10,20,40,80,160,320"; ks="[0.02*i for i in range(10, 151)]"; rounds="1 2 3 4 5"; sizes="2500 25000"
+if [ "$quick" = 1 ]; then
+  elements="10,20,40"; ks="[0.1*i for i in range(3, 31)]"; rounds="1"; sizes="2500"
+fi
 
 echo "== convergence sweeps"
 large=$("$PYTHON" -c "print(0.01*(200e9/7800)**0.5)")
@@ -33,7 +41,7 @@ for amp in small large; do
 &discretisation particles_per_element=4, dt_fraction=0.25 /
 &run periods=2.0 /
 &output file='$out/convergence_$amp.h5' /
-&sweep schemes='usf','usl','musl', shapes=$shapes, elements=10,20,40,80,160,320,
+&sweep schemes='usf','usl','musl', shapes=$shapes, elements=$elements,
        histories=.true., min_time=0.02, threads=1, timing_threads=1, progress=.false. /
 NML
   "$exe" "$out/convergence_$amp.nml" > "$out/convergence_$amp.log" 2>&1 || true
@@ -41,7 +49,7 @@ NML
 done
 
 echo "== critical time-step fractions"
-fractions=$("$PYTHON" -c "print(', '.join(f'{0.02*i:.2f}' for i in range(10, 151)))")
+fractions=$("$PYTHON" -c "print(', '.join(f'{k:.2f}' for k in $ks))")
 cat > "$out/stability.nml" <<NML
 &discretisation elements=20 /
 &run periods=20.0 /
@@ -52,20 +60,24 @@ NML
 "$exe" "$out/stability.nml" > "$out/stability.log" 2>&1 || true
 tail -n 1 "$out/stability.log"
 
+echo "== predicted critical time-step fractions (studies/stability/linear_stability.py)"
+"$PYTHON" studies/stability/linear_stability.py --shapes linear,ugimp,cpgimp,bspline2,bspline3 --ppc 1,2,4 \
+  --elements 20 --dk 0.01 --out "$out" | tail -n 1
+
 echo "== throughput (particle-steps/s, one thread, interleaved)"
-echo "scheme,elements,ppc,particles,threads,steps,repeat,seconds,particle_steps_per_s,shape,transfer,path" > "$out/speed.csv"
-for repeat in 1 2 3; do
-  for size in 2500 25000; do
+echo "scheme,elements,ppc,particles,threads,steps,repeat,seconds,particle_steps_per_s,shape,transfer,path,round" > "$out/speed.csv"
+for repeat in $rounds; do
+  for size in $sizes; do
     steps=$((2000000 / size))
     for scheme in usf usl musl; do
-      "$bench" throughput $scheme $size 4 $steps 1 1 fused | sed 's/$/,linear,flip,fused/' >> "$out/speed.csv"
+      "$bench" throughput $scheme $size 4 $steps 1 1 fused | sed "s/\$/,linear,flip,fused,$repeat/" >> "$out/speed.csv"
       for shape in linear ugimp cpgimp bspline2 bspline3; do
-        "$bench" throughput $scheme $size 4 $steps 1 1 generic $shape flip | sed 's/$/,generic/' >> "$out/speed.csv"
+        "$bench" throughput $scheme $size 4 $steps 1 1 generic $shape flip | sed "s/\$/,generic,$repeat/" >> "$out/speed.csv"
       done
     done
     for shape in linear bspline2; do
       for transfer in pic blend apic; do
-        "$bench" throughput usl $size 4 $steps 1 1 generic $shape $transfer | sed 's/$/,generic/' >> "$out/speed.csv"
+        "$bench" throughput usl $size 4 $steps 1 1 generic $shape $transfer | sed "s/\$/,generic,$repeat/" >> "$out/speed.csv"
       done
     done
   done
