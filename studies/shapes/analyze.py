@@ -98,6 +98,26 @@ def main(argv=None):
         lines.append(f'| {scheme} | {shape} | {cells} | ' + ' / '.join(fmt(d) for d in measure) + ' | ' +
                      ', '.join('nan' if not np.isfinite(o) else f'{o:.2f}' for o in ords) + ' |')
 
+    for amp, title in (('small', 'v0 = 0.1 m/s'), ('large', 'v0 = 0.01 c')):
+        path = out / f'transfers_{amp}.h5'
+        if not path.exists():
+            continue
+        tr, _ = load(path)
+        els = sorted(set(tr['elements']))
+        lines += ['', f'## Transfers, USL, {title}: relative error against the exact solution per elements, '
+                  'and the observed orders (blend: flip_fraction 0.99)', '',
+                  '| shape | transfer | ' + ' | '.join(f'{e} el.' for e in els) + ' | orders |',
+                  '|---|---|' + '---|' * (len(els) + 1)]
+        for shape in SHAPES:
+            for transfer in ('flip', 'pic', 'blend', 'apic'):
+                m = (tr['shape'] == shape) & (tr['transfer'] == transfer)
+                o = np.argsort(tr['elements'][m])
+                err = tr['relative_error'][m][o]
+                ok = tr['status'][m][o] == 0
+                cells = [fmt(e) + ('' if k else ' (guard)') for e, k in zip(err, ok)]
+                lines.append(f'| {shape} | {transfer} | ' + ' | '.join(cells) + ' | ' +
+                             ', '.join(f'{x:.2f}' for x in orders(err, tr['elements'][m][o])) + ' |')
+
     # error against run time (small amplitude), Pareto front and the answer table
     t = small['run_time']
     e = small['relative_error']

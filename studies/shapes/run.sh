@@ -5,6 +5,7 @@
 #      at small amplitude (v0 = 0.1 m/s, against the exact solution) and at v0 = 0.01 c (the free
 #      end crosses cells; against the finest run, since the exact solution is linear theory and
 #      the material is sigma = E ln F), with run times (timing pass, one thread);
+#   1b. every transfer (FLIP, PIC, blend 0.99, APIC) x shape under USL, both amplitudes;
 #   2. the critical dt fraction per scheme x shape x ppc (20 elements, 20 periods; first failing k),
 #      and as predicted by the amplification matrix of the frozen step (at rest and stretched);
 #   3. throughput of every shape and transfer on the generic path against linear on the fused
@@ -27,9 +28,9 @@ exe="$root/$(fpm run --profile release --target mpm1d --runner echo 2>/dev/null 
 bench="$root/$(fpm run --profile release --target mpm1d_bench --runner echo 2>/dev/null | tail -n 1)"
 shapes="'linear','ugimp','cpgimp','bspline2','bspline3'"
 quick="${MPM1D_QUICK:-0}"
-elements="10,20,40,80,160,320"; ks="[0.02*i for i in range(10, 151)]"; rounds="1 2 3 4 5"; sizes="2500 25000"
+elements="10,20,40,80,160,320"; transfer_elements="10,20,40,80,160"; ks="[0.02*i for i in range(10, 151)]"; rounds="1 2 3 4 5"; sizes="2500 25000"
 if [ "$quick" = 1 ]; then
-  elements="10,20,40"; ks="[0.1*i for i in range(3, 31)]"; rounds="1"; sizes="2500"
+  elements="10,20,40"; transfer_elements="10,20,40"; ks="[0.1*i for i in range(3, 31)]"; rounds="1"; sizes="2500"
 fi
 
 echo "== convergence sweeps"
@@ -46,6 +47,21 @@ for amp in small large; do
 NML
   "$exe" "$out/convergence_$amp.nml" > "$out/convergence_$amp.log" 2>&1 || true
   tail -n 2 "$out/convergence_$amp.log"
+done
+
+echo "== transfers (USL, every shape)"
+for amp in small large; do
+  v0=0.1; [ "$amp" = large ] && v0=$large
+  cat > "$out/transfers_$amp.nml" <<NML
+&scene velocity_amplitude=$v0 /
+&discretisation scheme='usl', particles_per_element=4, dt_fraction=0.25, flip_fraction=0.99 /
+&run periods=2.0 /
+&output file='$out/transfers_$amp.h5' /
+&sweep shapes=$shapes, transfers='flip','pic','blend','apic', elements=$transfer_elements,
+       min_time=0, threads=1, progress=.false. /
+NML
+  "$exe" "$out/transfers_$amp.nml" > "$out/transfers_$amp.log" 2>&1 || true
+  tail -n 2 "$out/transfers_$amp.log"
 done
 
 echo "== critical time-step fractions"
