@@ -130,7 +130,7 @@ program mpm1d_main
       end if
    end if
 
-   call warn_stability(config%scheme, config%particles_per_element, config%dt_fraction, 1)
+   call warn_stability(config%scheme, config%particles_per_element, config%dt_fraction, 1, config%shape)
    if (unresolved(config)) write (error_unit, '(a)') 'mpm1d: warning: mode '//str(config%mode)//' has '// &
       num(elements_per_wavelength(config), 3)//' elements per wavelength on '//plural(config%elements, 'element')// &
       ' (wavelength 4 L/(2 mode - 1)); below '//str(min_elements_per_wavelength)//' the mesh cannot represent it '// &
@@ -241,7 +241,8 @@ contains
       coarse = 0
       do i = 1, size(sweep%cases)
          config = case_config(sweep, sweep%cases(i))
-         if (config%dt_fraction > stability_limit(config%scheme, config%particles_per_element)) above = above + 1
+         if (config%dt_fraction > stability_limit(config%scheme, config%particles_per_element, config%shape)) &
+            above = above + 1
          if (unresolved(config)) coarse = coarse + 1
       end do
       if (coarse > 0) write (error_unit, '(a)') 'mpm1d: warning: '//plural(coarse, 'case')//' ha'// &
@@ -273,17 +274,20 @@ contains
       write (output_unit, '(a)') 'wrote '//output
    end subroutine sweep_command
 
-   !> Warn (standard error) when the time step is above the scheme's linear stability limit.
-   subroutine warn_stability(scheme, particles_per_element, dt_fraction, cases)
-      character(len=*), intent(in) :: scheme
+   !> Warn (standard error) when the time step is above the stability limit of the scheme and shape.
+   subroutine warn_stability(scheme, particles_per_element, dt_fraction, cases, shape)
+      character(len=*), intent(in) :: scheme, shape
       integer, intent(in) :: particles_per_element, cases
       real(dp), intent(in) :: dt_fraction
       real(dp) :: limit
-      limit = stability_limit(scheme, particles_per_element)
+      character(len=:), allocatable :: which
+      which = ''
+      if (trim(shape) /= 'linear') which = ' and '//trim(shape)//' shapes'
+      limit = stability_limit(scheme, particles_per_element, shape)
       if (dt_fraction > limit .and. cases > 0) write (error_unit, '(a)') 'mpm1d: warning: dt_fraction = '// &
          num(dt_fraction)//' is above the linear stability limit of '//trim(scheme)//' with '// &
-         plural(particles_per_element, 'particle')//' per element (about '//num(limit, 3)// &
-         ' of dx/c; see studies/stability); a guard will stop the run if it grows'
+         plural(particles_per_element, 'particle')//' per element'//which//' (about '//num(limit, 3)// &
+         ' of dx/c; see studies/stability and studies/shapes); a guard will stop the run if it grows'
    end subroutine warn_stability
 
    !> `mpm1d merge OUT.h5 SHARD.h5 ...`

@@ -2,13 +2,14 @@
 !> margin cells: partition of unity, gradients summing to zero, linear fields reproduced exactly
 !> (sum N_I x_I = x and sum dN_I x_I = 1), weights continuous as a particle crosses a node, and
 !> particles outside the domain flagged, gradients the derivatives of the weights. GIMP boxes of
-!> half-length dx/4 (ugimp: 2 particles per cell) and of random half-lengths up to dx/2 (cpgimp).
+!> half-length dx/4 (ugimp: 2 particles per cell) and of random half-lengths up to dx/2 (cpgimp), whose
+!> weights are also checked against the box averages of the hat functions by quadrature.
 program test_shape
    use, intrinsic :: ieee_arithmetic, only: ieee_value, ieee_quiet_nan
    use mpm_kinds, only: dp
    use mpm_errors, only: error_t
    use mpm_grid, only: grid_t, grid_init
-   use mpm_shape, only: shape_cache_t, evaluate_shapes, shape_name, all_shapes, shape_cpgimp
+   use mpm_shape, only: shape_cache_t, evaluate_shapes, shape_name, all_shapes, shape_ugimp, shape_cpgimp
    use mpm_testing, only: tester_t
    implicit none
    type(tester_t) :: t
@@ -73,10 +74,19 @@ contains
          call evaluate_shapes(left, grid, [x(p) - d], outside, [half(p)])
          call evaluate_shapes(right, grid, [x(p) + d], outside, [half(p)])
          do k = 0, grid%elements
-            call t%check_close(name//'gradient = dN/dx', gradient_of(cache, p, k), &
+            call t%check_close(name//'gradient = dN/dx', at_node(cache, cache%gradient, p, k), &
                                (nodal(right, k) - nodal(left, k))/(2*d), atol=1.0e-6_dp*grid%inv_dx)
          end do
       end do
+      ! GIMP: the weights are the box averages of the hat functions (midpoint rule, 4000 points)
+      if (kind == shape_ugimp .or. kind == shape_cpgimp) then
+         do p = 1, 20
+            do k = 0, grid%elements
+               call t%check_close(name//'weight = box average of the hat', at_node(cache, cache%weight, p, k), &
+                                  box_average(node_x(k + 1), x(p), half(p), grid%dx), atol=1.0e-6_dp)
+            end do
+         end do
+      end if
       ! outside the domain, either side (and NaN)
       call evaluate_shapes(left, grid, [grid%origin - h], outside, [lp])
       call t%check(name//'left of the domain is flagged', outside == 1)
@@ -87,19 +97,33 @@ contains
       call t%check(name//'a flagged particle has zero weights', all(left%weight(1, :) == 0.0_dp))
    end subroutine properties
 
-   !> Gradient of node i of particle p in `cache` (0 when the particle does not touch it).
-   real(dp) function gradient_of(cache, p, i)
-      type(shape_cache_t), intent(in) :: cache
-      integer, intent(in) :: p, i
-      gradient_of = 0.0_dp
-      if (i >= cache%first(p) .and. i < cache%first(p) + cache%support) gradient_of = cache%gradient(p, i - cache%first(p) + 1)
-   end function gradient_of
+   !> (1/2l) int_{x-l}^{x+l} N_I, N_I the hat of the node at xi, by the midpoint rule.
+   real(dp) function box_average(xi, x, l, dx)
+      real(dp), intent(in) :: xi, x, l, dx
+      integer, parameter :: n = 4000
+      integer :: j
+      real(dp) :: y
+      box_average = 0.0_dp
+      do j = 1, n
+         y = x - l + (j - 0.5_dp)*2*l/n
+         box_average = box_average + max(0.0_dp, 1.0_dp - abs(y - xi)/dx)
+      end do
+      box_average = box_average/n
+   end function box_average
 
-   !> Weight of node i in a one-particle cache (0 when the particle does not touch it).
+   !> values(p, :) (cache%weight or cache%gradient) at node i (0 when particle p does not touch it).
+   real(dp) function at_node(cache, values, p, i)
+      type(shape_cache_t), intent(in) :: cache
+      real(dp), intent(in) :: values(:, :)
+      integer, intent(in) :: p, i
+      at_node = 0.0_dp
+      if (i >= cache%first(p) .and. i < cache%first(p) + cache%support) at_node = values(p, i - cache%first(p) + 1)
+   end function at_node
+
+   !> Weight of node i in a one-particle cache.
    real(dp) function nodal(cache, i)
       type(shape_cache_t), intent(in) :: cache
       integer, intent(in) :: i
-      nodal = 0.0_dp
-      if (i >= cache%first(1) .and. i < cache%first(1) + cache%support) nodal = cache%weight(1, i - cache%first(1) + 1)
+      nodal = at_node(cache, cache%weight, 1, i)
    end function nodal
 end program test_shape

@@ -7,7 +7,7 @@
 program test_shapes_bar
    use mpm_kinds, only: dp
    use mpm_errors, only: error_t
-   use mpm_config, only: config_t, resolve_config
+   use mpm_config, only: config_t, resolve_config, stability_limit
    use mpm_simulation, only: run_result_t, run_simulation
    use mpm_sweep, only: sweep_t, read_sweep, run_sweep
    use mpm_diagnostics, only: status_ok, status_name
@@ -27,6 +27,7 @@ program test_shapes_bar
       call convergence(shape_name(all_shapes(s)))
    end do
    call threads()
+   call warning_thresholds()
    call t%finish()
 
 contains
@@ -71,6 +72,17 @@ contains
       order = log(coarse%max_error/fine%max_error)/log(2.0_dp)
       call t%check(shape//' usl: observed order 20 -> 40 elements at least 1.8', order >= 1.8_dp, str(order))
    end subroutine convergence
+
+   !> The warning thresholds know the shapes: GIMP lowers USL's limit below 0.5 at 4 particles per
+   !> element (measured 0.47), B-splines raise it; linear keeps the predicted values.
+   subroutine warning_thresholds()
+      call t%check('usl ugimp 4 ppc warns at k = 0.5', stability_limit('usl', 4, 'ugimp') < 0.5_dp)
+      call t%check('usl linear 4 ppc: the predicted limit', abs(stability_limit('usl', 4) - 0.7706_dp) < 1.0e-12_dp .and. &
+                   stability_limit('usl', 4, 'linear') == stability_limit('usl', 4))
+      call t%check('usl bspline3 allows more than linear', stability_limit('usl', 4, 'bspline3') > stability_limit('usl', 4))
+      call t%check('musl bspline2 allows more than linear', stability_limit('musl', 2, 'bspline2') > &
+                   stability_limit('musl', 2))
+   end subroutine warning_thresholds
 
    subroutine threads()
       type(sweep_t) :: one, two

@@ -4,14 +4,18 @@
 !> on node I is the box average of the hat function N_I (their eq. 36 with chi_p = 1 on the box):
 !>    S_I(x_p) = 1/(2 l_p) int_{x_p - l_p}^{x_p + l_p} N_I(x) dx,
 !>    dS_I/dx_p = (N_I(x_p + l_p) - N_I(x_p - l_p)) / (2 l_p).
-!> With c = (x_p - x_I)/dx and l = l_p/dx, write the hat as ramps, N(c) = r(c+1) - 2 r(c) + r(c-1),
-!> r(u) = max(u, 0): the box average of a ramp differs from its value at the centre only where the
-!> box holds its kink, by q(u) = max(0, l - |u|)^2 / (4 l). So
-!>    S_I = N(c) + q(c+1) - 2 q(c) + q(c-1),
-!>    dS_I/dx_p = (N'(c) + q'(c+1) - 2 q'(c) + q'(c-1)) / dx,  q'(u) = -sign(u) max(0, l - |u|) / (2 l):
-!> exact for any l (the paper's piecewise formulas for l_p <= dx/2 follow), free of the cancellation
-!> of a difference of antiderivatives over a short box (round-off stays at ulps for any l_p), and
-!> branch-free so that the loop vectorises. uGIMP keeps l_p = l_p0 = dx/(2 ppc); cpGIMP (contiguous
+!> With l = l_p/dx <= 1/2 the box spans at most one node: in grid units s = (x_p - origin)/dx, let
+!> i = floor(s - l) (the cell of the box's left end), m = i + 1 and d = s - m in [l - 1, l). The
+!> box is split by node m into a left part, the fraction r1 = 1 - r2 of it, in cell i, and a right
+!> part, the fraction r2 = max(0, d + l)/(2 l), in cell i + 1. In each cell the hats are linear, so
+!> each part gives the hat values at its centroid: t1 = 1 + (min(d - l, 0) + min(d + l, 0))/2 (local
+!> coordinate in cell i) and t2 = (max(d - l, 0) + max(d + l, 0))/2 (in cell i + 1; the max(d - l, 0)
+!> only matters at the far end of the grid, where i is held at cells - 2 and the box lies in cell i + 1):
+!>    S_i = r1 (1 - t1),  S_m = r1 t1 + r2 (1 - t2),  S_{m+1} = r2 t2,
+!>    dS/dx = [-r1, r1 - r2, r2] / dx   (the formula above: N_i(b) - N_i(a) = -2 l r1, ...).
+!> Partition of unity holds by construction (r1 + r2 = 1), the box centroid is reproduced, and no
+!> difference of nearly equal numbers is divided by l_p (round-off stays at ulps for short boxes);
+!> branch-free, so that the loop vectorises. uGIMP keeps l_p = l_p0 = dx/(2 ppc); cpGIMP (contiguous
 !> particle GIMP, Bardenhagen and Kober 2004, sec. 3.3) stretches it with the particle, l_p = l_p0 J_p
 !> (exact in 1-D: the particle's length is its volume per unit area). The caller passes the half-lengths.
 !> l_p is capped at dx/2 so that a box spans at most two cells (3 nodes; reached only by ppc = 1
@@ -39,8 +43,8 @@ contains
       integer, intent(out) :: first(:)
       real(dp), intent(out) :: weight(:, :), gradient(:, :)
       integer, intent(out) :: outside
-      integer :: p, k, i
-      real(dp) :: s, l, inside, c, quarter
+      integer :: p, i
+      real(dp) :: s, l, inside, d, r1, r2, t1, t2
       do p = 1, size(x)
          s = (x(p) - origin)*inv_dx
          l = min(max(half_length(p)*inv_dx, 1.0e-9_dp), 0.5_dp)
@@ -48,16 +52,17 @@ contains
          s = merge(s, 0.5_dp*cells, inside > 0.0_dp)
          i = min(int(s - l), cells - 2)
          first(p) = i
-         quarter = 0.25_dp/l
-         do k = 1, gimp_support
-            c = s - (i + k - 1)
-            weight(p, k) = (max(0.0_dp, 1.0_dp - abs(c)) + quarter*(max(0.0_dp, l - abs(c + 1.0_dp))**2 &
-                            - 2.0_dp*max(0.0_dp, l - abs(c))**2 + max(0.0_dp, l - abs(c - 1.0_dp))**2))*inside
-            gradient(p, k) = (merge(-sign(1.0_dp, c), 0.0_dp, abs(c) < 1.0_dp) &
-                              - 2.0_dp*quarter*(sign(max(0.0_dp, l - abs(c + 1.0_dp)), c + 1.0_dp) &
-                                                - 2.0_dp*sign(max(0.0_dp, l - abs(c)), c) &
-                                                + sign(max(0.0_dp, l - abs(c - 1.0_dp)), c - 1.0_dp)))*inv_dx*inside
-         end do
+         d = s - (i + 1)
+         r2 = min(1.0_dp, max(0.0_dp, d + l)*(0.5_dp/l))
+         r1 = 1.0_dp - r2
+         t1 = 1.0_dp + 0.5_dp*(min(d - l, 0.0_dp) + min(d + l, 0.0_dp))
+         t2 = 0.5_dp*(max(d - l, 0.0_dp) + max(d + l, 0.0_dp))
+         weight(p, 1) = r1*(1.0_dp - t1)*inside
+         weight(p, 2) = (r1*t1 + r2*(1.0_dp - t2))*inside
+         weight(p, 3) = r2*t2*inside
+         gradient(p, 1) = -r1*inv_dx*inside
+         gradient(p, 2) = (r1 - r2)*inv_dx*inside
+         gradient(p, 3) = r2*inv_dx*inside
       end do
       outside = 0
       do p = 1, size(x)
@@ -69,5 +74,4 @@ contains
          end if
       end do
    end subroutine gimp_shapes
-
 end module mpm_shape_gimp

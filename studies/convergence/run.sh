@@ -12,9 +12,7 @@ cd "$root"
 source studies/setup.sh
 set -euo pipefail
 out="$(mkdir -p "${1:-out/convergence}" && cd "${1:-out/convergence}" && pwd)"
-FLAGS="${FLAGS:--march=native}"
-fpm build --profile release --flag "$FLAGS" >/dev/null
-exe="$root/$(fpm run --profile release --flag "$FLAGS" --target mpm1d --runner echo 2>/dev/null | tail -n 1)"
+exe="$(mpm1d_build)"  # -march=native unless PORTABLE=1 (studies/setup.sh)
 elements="100, 200, 400, 800, 1600, 3200, 6400"
 [ "${MPM1D_QUICK:-0}" = 1 ] && elements="100, 200, 400, 800"
 cat > "$out/convergence.nml" <<NML

@@ -9,8 +9,7 @@ cd "$root"
 source studies/setup.sh
 set -euo pipefail
 out="$(mkdir -p "${1:-out/scenes}" && cd "${1:-out/scenes}" && pwd)"
-fpm build --profile release >/dev/null
-exe="$root/$(fpm run --profile release --target mpm1d --runner echo 2>/dev/null | tail -n 1)"
+exe="$(mpm1d_build)"  # -march=native unless PORTABLE=1 (studies/setup.sh)
 files=()
 for nml in studies/scenes/*.nml; do
   name="$(basename "$nml" .nml)"

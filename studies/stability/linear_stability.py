@@ -60,6 +60,12 @@ class Model:
     boundary = 'bar': nodes 0..ne, node 0 fixed, node ne free (what mpm1d does).
     boundary = 'periodic': nodes 0..ne-1, node ne identified with node 0, nothing fixed
     (used only by the tests, to compare with a Fourier analysis).
+    shape = 'linear' (default), 'ugimp', 'cpgimp' (the same at J = 1), 'bspline2', 'bspline3'
+    (bar only): the wider shapes as mpm1d builds them, with a ghost node left of the fixed node
+    folded as its mirror (momentum and force rows N_1 - N_-1, mass N_1 + N_-1) and one more empty
+    cell beyond the free end. `stretch` (wide shapes only) evaluates them at x (1 + stretch): a
+    slightly stretched bar, whose end box or support just enters the margin cell and gives its
+    node a nearly empty mass (what limits GIMP's USL step; see studies/shapes).
     """
 
     elements: int
@@ -68,6 +74,8 @@ class Model:
     density: float = 1.0
     youngs: float = 1.0
     boundary: str = "bar"
+    shape: str = "linear"
+    stretch: float = 0.0
     dx: float = field(init=False)
     mass: float = field(init=False)
     volume0: float = field(init=False)
@@ -103,9 +111,29 @@ class Model:
                 self.dN[left, p] += -1.0 / self.dx
                 self.dN[right, p] += 1.0 / self.dx
         self.node_mass = self.N @ np.full(npart, self.mass)
+        if self.shape != "linear":
+            if self.boundary != "bar":
+                raise ValueError("shapes other than linear: boundary 'bar' only")
+            self._wide_shape()
         self.free = self.node_mass > MASS_TOLERANCE * self.mass
         if self.boundary == "bar":
             self.free[0] = False
+
+    def _wide_shape(self) -> None:
+        """N, dN and nodal masses of a wide shape on nodes 0..ne+1 with node -1 mirrored into 1."""
+        ne = self.elements
+        nodes = np.arange(-1, ne + 2)                       # ghost, body nodes, one margin node
+        u = (self.x[None, :] * (1.0 + self.stretch) - nodes[:, None] * self.dx) / self.dx
+        w, g = shape_values(self.shape, u, 1.0 / (2 * self.ppc))
+        g = g / self.dx
+        ghost, partner = 0, 2                                 # rows of nodes -1 and +1
+        n_odd, g_odd = w[1:].copy(), g[1:].copy()
+        n_odd[partner - 1] -= w[ghost]
+        g_odd[partner - 1] -= g[ghost]
+        n_even = w[1:].copy()
+        n_even[partner - 1] += w[ghost]
+        self.N, self.dN = n_odd, g_odd
+        self.node_mass = n_even @ np.full(self.particles, self.mass)
 
     @property
     def particles(self) -> int:
@@ -203,6 +231,32 @@ class Model:
             QR, _ = self.subspaces()
         A = self.amplification_matrix(scheme, k)
         return QR.T @ A @ QR
+
+
+def shape_values(shape: str, u: np.ndarray, half_length: float = 0.25):
+    """Weights N(u) and derivatives dN/du of a shape at u = (x_p - x_I)/dx (GIMP: box half-length
+    `half_length` cells). Written from the formulas (Bardenhagen & Kober 2004; Steffen, Kirby &
+    Berzins 2008) independently of mpm1d's Fortran, so that the two check each other."""
+    r = np.abs(u)
+    if shape == "linear":
+        return np.maximum(0.0, 1.0 - r), np.where(r < 1.0, -np.sign(u), 0.0)
+    if shape in ("ugimp", "cpgimp"):
+        def antiderivative(t):
+            c = np.clip(t, -1.0, 1.0)
+            return 0.5 + c - 0.5 * c * np.abs(c)
+        l = half_length
+        w = (antiderivative(u + l) - antiderivative(u - l)) / (2 * l)
+        d = (np.maximum(0.0, 1.0 - np.abs(u + l)) - np.maximum(0.0, 1.0 - np.abs(u - l))) / (2 * l)
+        return w, d
+    if shape == "bspline2":
+        w = np.where(r < 0.5, 0.75 - r * r, np.where(r < 1.5, 0.5 * (1.5 - r) ** 2, 0.0))
+        d = np.where(r < 0.5, -2.0 * u, np.where(r < 1.5, -np.sign(u) * (1.5 - r), 0.0))
+        return w, d
+    if shape == "bspline3":
+        w = np.where(r < 1.0, 2.0 / 3.0 - r * r + 0.5 * r ** 3, np.where(r < 2.0, (2.0 - r) ** 3 / 6.0, 0.0))
+        d = np.where(r < 1.0, -2.0 * u + 1.5 * u * r, np.where(r < 2.0, -0.5 * np.sign(u) * (2.0 - r) ** 2, 0.0))
+        return w, d
+    raise ValueError(f"unknown shape {shape!r}")
 
 
 def _range_and_null(M: np.ndarray):
@@ -400,6 +454,12 @@ def build_parser() -> argparse.ArgumentParser:
     p.add_argument("--map", action="store_true",
                    help="also write rho(A) maps over (k, ppc) as CSV and PNG (rho_map_<scheme>.*)")
     p.add_argument("--map-elements", type=int, default=10, help="elements for the maps (default: 10)")
+    p.add_argument("--shapes", default="",
+                   help="comma-separated shapes (linear, ugimp, cpgimp, bspline2, bspline3): write "
+                        "predicted_shapes.csv, k_crit per scheme x shape x ppc x elements at rest and "
+                        "stretched by --stretch, instead of the linear tables")
+    p.add_argument("--stretch", type=float, default=1.0e-6,
+                   help="uniform stretch of the second --shapes analysis (default: 1e-6)")
     p.add_argument("--scaling-check", action="store_true",
                    help="also show that rho(A) does not depend on E, rho, L")
     return p
@@ -416,6 +476,8 @@ def main(argv=None) -> int:
         print("error: need tol >= 0, k-max > 0, 0 < dk < k-max", file=sys.stderr)
         return 2
     os.makedirs(args.out, exist_ok=True)
+    if args.shapes:
+        return shapes_command(args, schemes)
 
     rows, details = [], []
     for ne in args.elements:
@@ -485,6 +547,28 @@ def main(argv=None) -> int:
                         w.writerow([ppc, f"{k:.6f}", f"{rm[i, j]:.15e}"])
             _plot_map(s, ks, ppcs, rm, args.map_elements, os.path.join(args.out, f"rho_map_{s}.png"))
             print(f"wrote {mpath} (+ .png)")
+    return 0
+
+
+def shapes_command(args, schemes) -> int:
+    """k_crit per scheme x shape x ppc x elements, at rest and stretched: predicted_shapes.csv."""
+    shapes = [s.strip() for s in args.shapes.split(",") if s.strip()]
+    path = os.path.join(args.out, "predicted_shapes.csv")
+    print(f"Predicted critical dt fraction per shape (at rest / stretched by {args.stretch:g})")
+    with open(path, "w", newline="") as fh:
+        w = csv.writer(fh)
+        w.writerow(["scheme", "shape", "particles_per_element", "elements", "k_crit_rest", "k_crit_stretched"])
+        for ne in args.elements:
+            for shape in shapes:
+                for ppc in args.ppc:
+                    rest = Analyser(ne, ppc, shape=shape)
+                    stretched = Analyser(ne, ppc, shape=shape, stretch=args.stretch) if shape != "linear" else rest
+                    for scheme in schemes:
+                        k0, _ = rest.critical_fraction(scheme, k_max=args.k_max, dk=args.dk, tol=args.tol)
+                        k1, _ = stretched.critical_fraction(scheme, k_max=args.k_max, dk=args.dk, tol=args.tol)
+                        w.writerow([scheme, shape, ppc, ne, f"{k0:.6f}", f"{k1:.6f}"])
+                        print(f"{scheme:5s} {shape:9s} ppc={ppc} ne={ne}: {k0:.4f} / {k1:.4f}")
+    print(f"wrote {path}")
     return 0
 
 

@@ -298,6 +298,34 @@ def test_energy_ratio_one_element_usl_is_one_plus_k_squared():
     assert ls.energy_ratios("usl", 0.75, 1, 20, 2000)[0] > 1e3
 
 
+def test_shape_values_partition_of_unity_and_derivatives():
+    """Every shape: weights sum to one, reproduce x, derivatives are the weights' slopes."""
+    x = 3.0 + (np.arange(97) + 0.37) * 4.0 / 97  # off the nodes and the GIMP kinks
+    nodes = np.arange(0, 11)
+    for shape in ("linear", "ugimp", "cpgimp", "bspline2", "bspline3"):
+        w, d = ls.shape_values(shape, x[None, :] - nodes[:, None], 0.25)
+        assert np.allclose(w.sum(axis=0), 1.0, atol=1e-14), shape
+        assert np.allclose((w * nodes[:, None]).sum(axis=0), x, atol=1e-13), shape
+        assert np.allclose(d.sum(axis=0), 0.0, atol=1e-13), shape
+        h = 1e-6
+        wp, _ = ls.shape_values(shape, x[None, :] + h - nodes[:, None], 0.25)
+        wm, _ = ls.shape_values(shape, x[None, :] - h - nodes[:, None], 0.25)
+        assert np.allclose((wp - wm) / (2 * h), d, atol=1e-6), shape
+
+
+def test_wide_shapes_critical_fractions():
+    """B-splines raise USL's limit above linear's; GIMP at rest (boxes inside their cells) equals
+    linear, and a stretch that lets the end box enter the margin cell lowers it below 0.5 at 4 ppc
+    (mpm1d measures 0.46, studies/shapes)."""
+    lin = ls.Analyser(20, 4).critical_fraction("usl", dk=0.01)[0]
+    b3 = ls.Analyser(20, 4, shape="bspline3").critical_fraction("usl", dk=0.01)[0]
+    g0 = ls.Analyser(20, 4, shape="ugimp").critical_fraction("usl", dk=0.01)[0]
+    g1 = ls.Analyser(20, 4, shape="ugimp", stretch=1e-6).critical_fraction("usl", dk=0.01)[0]
+    assert b3 > lin + 0.3, (b3, lin)
+    assert abs(g0 - lin) < 1e-9, (g0, lin)
+    assert 0.45 < g1 < 0.5, g1
+
+
 # ---------------------------------------------------------------------------------------------
 
 def run_all() -> int:
