@@ -74,11 +74,23 @@ contains
    !> Id of a shape name (0 if unknown; the configuration is validated before).
    pure integer function shape_id(name)
       character(len=*), intent(in) :: name
-      integer :: k
-      shape_id = 0
-      do k = 1, size(all_shapes)
-         if (trim(name) == shape_name(all_shapes(k))) shape_id = all_shapes(k)
-      end do
+      ! a select case on the text: the loop over shape_name's allocatable results that this replaces
+      ! returned 0 now and then when sweep cases ran on two threads (about one case in 10,000 took the
+      ! generic path with the wrong kind; seen with gfortran 12)
+      select case (trim(name))
+      case ('linear')
+         shape_id = shape_linear
+      case ('ugimp')
+         shape_id = shape_ugimp
+      case ('cpgimp')
+         shape_id = shape_cpgimp
+      case ('bspline2')
+         shape_id = shape_bspline2
+      case ('bspline3')
+         shape_id = shape_bspline3
+      case default
+         shape_id = 0
+      end select
    end function shape_id
 
    pure function transfer_name(kind) result(name)
@@ -101,11 +113,18 @@ contains
    !> Id of a transfer name (0 if unknown).
    pure integer function transfer_id(name)
       character(len=*), intent(in) :: name
-      integer :: k
-      transfer_id = 0
-      do k = 1, size(all_transfers)
-         if (trim(name) == transfer_name(all_transfers(k))) transfer_id = all_transfers(k)
-      end do
+      select case (trim(name))  ! (see shape_id)
+      case ('flip')
+         transfer_id = transfer_flip
+      case ('pic')
+         transfer_id = transfer_pic
+      case ('blend')
+         transfer_id = transfer_blend
+      case ('apic')
+         transfer_id = transfer_apic
+      case default
+         transfer_id = 0
+      end select
    end function transfer_id
 
    !> Nodes per particle of shape `kind`.
