@@ -404,14 +404,23 @@ contains
       integer, intent(in) :: order(:), threads
       logical, intent(in) :: timing
       type(progress_t) :: progress
+      type(config_t) :: config
       integer :: k
       call progress%start(merge('timing pass', 'error pass ', timing), size(order), sweep%settings%progress)
-      !$omp parallel do default(none) schedule(dynamic, 1) num_threads(threads) shared(sweep, order, progress, timing)
+      !$omp parallel do default(none) schedule(dynamic, 1) num_threads(threads) shared(sweep, order, progress, timing) &
+      !$omp private(config)
       do k = 1, size(order)
+         ! one thread at a time builds a case's configuration: case_config fills the parameter table (an
+         ! array constructor of a type with pointer components), and with two threads doing so at once
+         ! gfortran 12's code corrupted memory now and then (about one paper sweep in 150 ran a case on
+         ! the wrong path; test_thread_safety repeats a sweep and compares it bit for bit)
+         !$omp critical (mpm_case_config)
+         config = case_config(sweep, sweep%cases(order(k)))
+         !$omp end critical (mpm_case_config)
          if (timing) then
-            call time_case(case_config(sweep, sweep%cases(order(k))), sweep%settings%min_time, sweep%cases(order(k)))
+            call time_case(config, sweep%settings%min_time, sweep%cases(order(k)))
          else
-            call run_case(case_config(sweep, sweep%cases(order(k))), sweep%settings%histories, sweep%cases(order(k)))
+            call run_case(config, sweep%settings%histories, sweep%cases(order(k)))
          end if
          call progress%advance()
       end do

@@ -25,6 +25,9 @@ fi
 echo "== the command line: overrides, standard input, --quiet, hostile input"
 bash test/test_command_line.sh || failed=1
 
+echo "== sweeps give the same bits on 1 and 2 threads, every time"
+bash test/test_sweep_determinism.sh || failed=1
+
 echo "== the README's quick-start commands, as written"
 bash test/test_readme.sh || failed=1
 

@@ -74,9 +74,7 @@ contains
    !> Id of a shape name (0 if unknown; the configuration is validated before).
    pure integer function shape_id(name)
       character(len=*), intent(in) :: name
-      ! a select case on the text: the loop over shape_name's allocatable results that this replaces
-      ! returned 0 now and then when sweep cases ran on two threads (about one case in 10,000 took the
-      ! generic path with the wrong kind; seen with gfortran 12)
+      ! (a select case: no allocatable temporaries in a lookup that every run makes)
       select case (trim(name))
       case ('linear')
          shape_id = shape_linear
