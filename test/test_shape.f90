@@ -46,7 +46,7 @@ contains
       half = merge(0.5_dp*grid%dx*max(half, 1.0e-3_dp), 0.25_dp*grid%dx + 0*half, kind == shape_cpgimp)
       lp = 0.25_dp*grid%dx
       cache%kind = kind
-      call evaluate_shapes(cache, grid, x, outside, half)
+      call evaluate(cache, grid, x, outside, half)
       call t%check(name//'no particle inside the domain is flagged', outside == 0)
       do p = 1, n
          associate (w => cache%weight(p, :), g => cache%gradient(p, :), i0 => cache%first(p))
@@ -64,8 +64,8 @@ contains
       ! (and, for GIMP, across the points where the box edge crosses a node: x_I -+ l_p)
       do i = -1, 1
          d = i*lp
-         call evaluate_shapes(left, grid, [node_x(5) + d - h], outside, [lp])
-         call evaluate_shapes(right, grid, [node_x(5) + d + h], outside, [lp])
+         call evaluate(left, grid, [node_x(5) + d - h], outside, [lp])
+         call evaluate(right, grid, [node_x(5) + d + h], outside, [lp])
          do k = 2, 6
             call t%check_close(name//'weight of node '//achar(48 + k)//' continuous', nodal(left, k), &
                                nodal(right, k), atol=1.0e-8_dp)
@@ -74,8 +74,8 @@ contains
       ! gradients are the derivatives of the weights (central differences, between nodes)
       d = 1.0e-6_dp*grid%dx
       do p = 1, 50
-         call evaluate_shapes(left, grid, [x(p) - d], outside, [half(p)])
-         call evaluate_shapes(right, grid, [x(p) + d], outside, [half(p)])
+         call evaluate(left, grid, [x(p) - d], outside, [half(p)])
+         call evaluate(right, grid, [x(p) + d], outside, [half(p)])
          do k = 0, grid%elements
             call t%check_close(name//'gradient = dN/dx', at_node(cache, cache%gradient, p, k), &
                                (nodal(right, k) - nodal(left, k))/(2*d), atol=1.0e-6_dp*grid%inv_dx)
@@ -91,11 +91,11 @@ contains
          end do
       end if
       ! outside the domain, either side (and NaN)
-      call evaluate_shapes(left, grid, [grid%origin - h], outside, [lp])
+      call evaluate(left, grid, [grid%origin - h], outside, [lp])
       call t%check(name//'left of the domain is flagged', outside == 1)
-      call evaluate_shapes(left, grid, [grid%origin + grid%length + h], outside, [lp])
+      call evaluate(left, grid, [grid%origin + grid%length + h], outside, [lp])
       call t%check(name//'right of the domain is flagged', outside == 1)
-      call evaluate_shapes(left, grid, [ieee_value(1.0_dp, ieee_quiet_nan)], outside, [lp])
+      call evaluate(left, grid, [ieee_value(1.0_dp, ieee_quiet_nan)], outside, [lp])
       call t%check(name//'NaN is flagged', outside == 1)
       call t%check(name//'a flagged particle has zero weights', all(left%weight(1, :) == 0.0_dp))
       ! the first particle outside among many (the shape loops find it by an integer minimum), and the
@@ -105,16 +105,26 @@ contains
       many%kind = kind  ! (a cache is sized by its first use: 12 particles)
       x(7) = grid%origin + d - h
       x(10) = ieee_value(1.0_dp, ieee_quiet_nan)
-      call evaluate_shapes(many, grid, x, outside, [(lp, i=1, 12)])
+      call evaluate(many, grid, x, outside, [(lp, i=1, 12)])
       call t%check(name//'the first of two particles outside is named', outside == 7)
       x(7) = grid%origin + d + h
       x(10) = grid%origin + grid%length - d - h
-      call evaluate_shapes(many, grid, x, outside, [(lp, i=1, 12)])
+      call evaluate(many, grid, x, outside, [(lp, i=1, 12)])
       call t%check(name//'particles at the edges of the domain by 1e-9 dx are inside', outside == 0)
       x(10) = grid%origin + grid%length - d + h
-      call evaluate_shapes(many, grid, x, outside, [(lp, i=1, 12)])
+      call evaluate(many, grid, x, outside, [(lp, i=1, 12)])
       call t%check(name//'right edge of the domain + 1e-9 dx is flagged', outside == 10)
    end subroutine properties
+
+   !> evaluate_shapes with the GIMP boxes' half-lengths `half` (the other shapes ignore them).
+   subroutine evaluate(cache, grid, x, outside, half)
+      type(shape_cache_t), intent(inout) :: cache
+      type(grid_t), intent(in) :: grid
+      real(dp), intent(in) :: x(:), half(:)
+      integer, intent(out) :: outside
+      cache%half_length = half
+      call evaluate_shapes(cache, grid, x, outside)
+   end subroutine evaluate
 
    !> Grid coordinate (in cells from the origin) of the leftmost particle whose support is inside the
    !> grid: the support's half-width less one cell (GIMP with boxes of half-length dx/4).

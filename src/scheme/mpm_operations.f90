@@ -42,13 +42,13 @@ contains
       integer :: outside
       select case (cache%kind)
       case (shape_ugimp)  ! the box of the particle's initial length, l_p0 = V0_p / 2 (per unit area)
-         call scratch(cache, particles%count)
-         cache%work(:, 1) = 0.5_dp*particles%volume0_of
-         call evaluate_shapes(cache, grid, particles%x, outside, cache%work(:, 1))
+         if (.not. allocated(cache%half_length)) allocate (cache%half_length(particles%count))
+         cache%half_length = 0.5_dp*particles%volume0_of
+         call evaluate_shapes(cache, grid, particles%x, outside)
       case (shape_cpgimp) ! stretched with the particle, l_p = l_p0 J_p
-         call scratch(cache, particles%count)
-         cache%work(:, 1) = 0.5_dp*particles%volume0_of*particles%volume_ratio
-         call evaluate_shapes(cache, grid, particles%x, outside, cache%work(:, 1))
+         if (.not. allocated(cache%half_length)) allocate (cache%half_length(particles%count))
+         cache%half_length = 0.5_dp*particles%volume0_of*particles%volume_ratio
+         call evaluate_shapes(cache, grid, particles%x, outside)
       case default
          call evaluate_shapes(cache, grid, particles%x, outside)
       end select
@@ -80,94 +80,113 @@ contains
    end subroutine p2g_internal_force
 
    !> The P2G sums, m_I += N_Ip m_p and p_I += N_Ip m_p v_p (`kinematics`), f_I -= dN_Ip sigma_p V_p
-   !> (`force`), two columns of the support at a time (scatter_columns). APIC's affine momentum,
-   !> p_I += N_Ip m_p C_p (x_I - x_p) with x_p at the start of the step, is folded into the columns'
-   !> momentum per unit weight: column k has x_I - x_p = x(first(p) + k - 1) - x_p (it sums to zero
-   !> over I, since sum_I N_Ip x_I = x_p: total momentum is unchanged).
+   !> (`force`), by scatter_columns. APIC's affine momentum, p_I += N_Ip m_p C_p (x_I - x_p) with x_p
+   !> at the start of the step, is folded into each column's momentum per unit weight: column k has
+   !> x_I - x_p = x(first(p) + k - 1) - x_p (it sums to zero over I, since sum_I N_Ip x_I = x_p: total
+   !> momentum is unchanged).
    subroutine scatter(cache, particles, grid, kinematics, force)
       type(shape_cache_t), intent(inout) :: cache
       type(particles_t), intent(in) :: particles
       type(grid_t), intent(inout) :: grid
       logical, intent(in) :: kinematics, force
-      integer :: k, b, column_b
+      integer :: k
       logical :: affine
       call scratch(cache, particles%count)
       affine = kinematics .and. cache%transfer == transfer_apic
-      if (kinematics .and. .not. affine) cache%work(:, 1) = particles%mass_of*particles%v
-      if (force) cache%work(:, 2) = particles%stress*particles%volume_ratio*particles%volume0_of
-      column_b = merge(3, 1, affine)
-      do k = 1, cache%support, 2
-         b = min(k + 1, cache%support)
-         if (affine) then
-            cache%work(:, 1) = particles%mass_of*(particles%v + particles%velocity_gradient* &
-                                                  (grid%origin + (cache%first + k - 1)*grid%dx - cache%position))
-            cache%work(:, 3) = particles%mass_of*(particles%v + particles%velocity_gradient* &
-                                                  (grid%origin + (cache%first + b - 1)*grid%dx - cache%position))
-         end if
-         call scatter_columns(cache%first, k - 1, k < cache%support, cache%weight(:, k), cache%weight(:, b), &
-                              cache%gradient(:, k), cache%gradient(:, b), particles%mass_of, cache%work(:, 1), &
-                              cache%work(:, column_b), cache%work(:, 2), kinematics, force, grid%mass, grid%momentum, &
-                              grid%force)
-      end do
+      if (force) cache%work(:, 1) = particles%stress*particles%volume_ratio*particles%volume0_of
+      if (kinematics) then
+         do k = 1, merge(cache%support, 1, affine)
+            if (affine) then
+               cache%work(:, k + 1) = particles%mass_of*(particles%v + particles%velocity_gradient* &
+                                                         (grid%origin + (cache%first + k - 1)*grid%dx - cache%position))
+            else
+               cache%work(:, 2) = particles%mass_of*particles%v
+            end if
+         end do
+      end if
+      call scatter_columns(cache%support, cache%first, cache%weight, cache%gradient, particles%mass_of, &
+                           cache%work(:, 2:merge(cache%support + 1, 2, affine)), cache%work(:, 1), kinematics, force, &
+                           grid%mass, grid%momentum, grid%force)
    end subroutine scatter
 
-   !> The P2G sums of columns a and b (= a + 1, when `two`) of the support: node first(p) + offset gets
-   !> weight_a(p) m_p, momentum_a_of(p) and -gradient_a(p) (sigma V)_p, and node first(p) + offset + 1
-   !> the same with column b (the momenta per unit weight, (m v)_p, and APIC's affine part, per column). Particles next to each other in memory that share their first node (a
-   !> cell's particles, as they are placed and as they stay in 1-D) are summed in registers and added
-   !> to the grid once per run: adding each particle to the grid directly makes every add wait for the
-   !> previous particle's store to the same node (a store-to-load dependency, about half the generic
-   !> step's time before). Any order of particles gives the same sums up to rounding.
-   subroutine scatter_columns(first, offset, two, weight_a, weight_b, gradient_a, gradient_b, mass_of, &
-                              momentum_a_of, momentum_b_of, stress_volume, kinematics, force, mass, momentum, &
-                              nodal_force)
+   !> The P2G sums of every column k of the support (2, 3 or 4): node first(p) + k - 1 gets
+   !> weight(p, k) m_p, weight(p, k) momentum_of(p, k) (the momentum per unit weight, (m v)_p, with
+   !> APIC's affine part per column when momentum_of has a column per node) and
+   !> -gradient(p, k) (sigma V)_p. Particles next to each other in memory that share their first node
+   !> (a cell's particles, as they are placed and as they stay in 1-D) are summed in registers (twelve
+   !> scalars, one per node and field) and added to the grid once per run: adding each particle to the
+   !> grid directly makes every add wait for the previous particle's store to the same node (a
+   !> store-to-load dependency, about half the generic step's time before). Any order of particles
+   !> gives the same sums up to rounding.
+   subroutine scatter_columns(support, first, weight, gradient, mass_of, momentum_of, stress_volume, kinematics, &
+                              force, mass, momentum, nodal_force)
+      integer, intent(in) :: support
       integer, intent(in), contiguous :: first(:)
-      integer, intent(in) :: offset
-      logical, intent(in) :: two, kinematics, force
-      real(dp), intent(in), contiguous :: weight_a(:), weight_b(:), gradient_a(:), gradient_b(:), mass_of(:), &
-                                          momentum_a_of(:), momentum_b_of(:), stress_volume(:)
+      real(dp), intent(in), contiguous :: weight(:, :), gradient(:, :), mass_of(:), momentum_of(:, :), &
+                                          stress_volume(:)
+      logical, intent(in) :: kinematics, force
       real(dp), intent(inout), contiguous :: mass(0:), momentum(0:), nodal_force(0:)
-      integer :: p, n, run
-      logical :: run_ends
-      real(dp) :: mass_a, mass_b, momentum_a, momentum_b, force_a, force_b
+      integer :: p, n, i, m2, m3, m4
+      logical :: run_ends, three, four
+      real(dp) :: mass1, mass2, mass3, mass4, momentum1, momentum2, momentum3, momentum4, force1, force2, force3, &
+                  force4
       n = size(first)
+      three = support >= 3
+      four = support >= 4
+      ! the momentum column of each node (one column for all, or one per node)
+      m2 = min(2, size(momentum_of, 2))
+      m3 = min(3, size(momentum_of, 2))
+      m4 = min(4, size(momentum_of, 2))
       run_ends = .true.
       do p = 1, n
          if (run_ends) then ! a run starts
-            mass_a = 0.0_dp
-            mass_b = 0.0_dp
-            momentum_a = 0.0_dp
-            momentum_b = 0.0_dp
-            force_a = 0.0_dp
-            force_b = 0.0_dp
+            mass1 = 0.0_dp; mass2 = 0.0_dp; mass3 = 0.0_dp; mass4 = 0.0_dp
+            momentum1 = 0.0_dp; momentum2 = 0.0_dp; momentum3 = 0.0_dp; momentum4 = 0.0_dp
+            force1 = 0.0_dp; force2 = 0.0_dp; force3 = 0.0_dp; force4 = 0.0_dp
          end if
          if (kinematics) then
-            mass_a = mass_a + weight_a(p)*mass_of(p)
-            momentum_a = momentum_a + weight_a(p)*momentum_a_of(p)
-            if (two) then
-               mass_b = mass_b + weight_b(p)*mass_of(p)
-               momentum_b = momentum_b + weight_b(p)*momentum_b_of(p)
+            mass1 = mass1 + weight(p, 1)*mass_of(p)
+            mass2 = mass2 + weight(p, 2)*mass_of(p)
+            momentum1 = momentum1 + weight(p, 1)*momentum_of(p, 1)
+            momentum2 = momentum2 + weight(p, 2)*momentum_of(p, m2)
+            if (three) then
+               mass3 = mass3 + weight(p, 3)*mass_of(p)
+               momentum3 = momentum3 + weight(p, 3)*momentum_of(p, m3)
+            end if
+            if (four) then
+               mass4 = mass4 + weight(p, 4)*mass_of(p)
+               momentum4 = momentum4 + weight(p, 4)*momentum_of(p, m4)
             end if
          end if
          if (force) then
-            force_a = force_a - gradient_a(p)*stress_volume(p)
-            if (two) force_b = force_b - gradient_b(p)*stress_volume(p)
+            force1 = force1 - gradient(p, 1)*stress_volume(p)
+            force2 = force2 - gradient(p, 2)*stress_volume(p)
+            if (three) force3 = force3 - gradient(p, 3)*stress_volume(p)
+            if (four) force4 = force4 - gradient(p, 4)*stress_volume(p)
          end if
          run_ends = p == n
          if (.not. run_ends) run_ends = first(p + 1) /= first(p)
          if (run_ends) then ! add the run's sums to its nodes
-            run = first(p) + offset
+            i = first(p)
             if (kinematics) then
-               mass(run) = mass(run) + mass_a
-               momentum(run) = momentum(run) + momentum_a
-               if (two) then
-                  mass(run + 1) = mass(run + 1) + mass_b
-                  momentum(run + 1) = momentum(run + 1) + momentum_b
+               mass(i) = mass(i) + mass1
+               mass(i + 1) = mass(i + 1) + mass2
+               momentum(i) = momentum(i) + momentum1
+               momentum(i + 1) = momentum(i + 1) + momentum2
+               if (three) then
+                  mass(i + 2) = mass(i + 2) + mass3
+                  momentum(i + 2) = momentum(i + 2) + momentum3
+               end if
+               if (four) then
+                  mass(i + 3) = mass(i + 3) + mass4
+                  momentum(i + 3) = momentum(i + 3) + momentum4
                end if
             end if
             if (force) then
-               nodal_force(run) = nodal_force(run) + force_a
-               if (two) nodal_force(run + 1) = nodal_force(run + 1) + force_b
+               nodal_force(i) = nodal_force(i) + force1
+               nodal_force(i + 1) = nodal_force(i + 1) + force2
+               if (three) nodal_force(i + 2) = nodal_force(i + 2) + force3
+               if (four) nodal_force(i + 3) = nodal_force(i + 3) + force4
             end if
          end if
       end do
@@ -230,16 +249,22 @@ contains
    !> Velocity (by the cache's transfer) and position update with the start-of-step shape functions;
    !> totals: sum m (x - X), kinetic energy, the largest move (cells) and its particle, the first
    !> particle outside the domain.
-   subroutine g2p(cache, particles, grid, dt, totals)
+   subroutine g2p(cache, particles, grid, dt, totals, strain_rate)
       type(shape_cache_t), intent(inout) :: cache
       type(particles_t), intent(inout) :: particles
       type(grid_t), intent(in) :: grid
       real(dp), intent(in) :: dt
       type(pass_totals_t), intent(inout) :: totals
+      !> Also gather sum_I dN_Ip v_I for update_stress (USL: the same nodal velocities; saves a gather).
+      logical, intent(in), optional :: strain_rate
+      logical :: with_strain_rate
+      with_strain_rate = .false.
+      if (present(strain_rate)) with_strain_rate = strain_rate
       call scratch(cache, particles%count)
-      call gather_move(cache%support, cache%first, cache%weight, grid%acceleration, grid%velocity, dt, grid%inv_dx, &
-                       grid%origin, grid%origin + grid%length, particles%mass_of, particles%x0, particles%x, &
-                       particles%v, cache%work, totals, cache%transfer, cache%flip_fraction)
+      call gather_move(cache%support, cache%first, cache%weight, cache%gradient, grid%acceleration, grid%velocity, dt, &
+                       grid%inv_dx, grid%origin, grid%origin + grid%length, particles%mass_of, particles%x0, &
+                       particles%x, particles%v, cache%work, with_strain_rate, totals, cache%transfer, &
+                       cache%flip_fraction)
       if (cache%transfer == transfer_apic) then
          select case (cache%kind)
          case (shape_bspline2)
@@ -274,15 +299,17 @@ contains
       velocity_gradient = inverse_d*velocity_gradient
    end subroutine gather_affine
 
-   subroutine gather_move(support, first, weight, acceleration, velocity, dt, inv_dx, lo, hi, mass_of, x0, x, v, &
-                          gathered, totals, transfer_kind, flip_fraction)
+   subroutine gather_move(support, first, weight, gradient, acceleration, velocity, dt, inv_dx, lo, hi, mass_of, x0, &
+                          x, v, gathered, strain_rate, totals, transfer_kind, flip_fraction)
       integer, intent(in) :: support, transfer_kind
       real(dp), intent(in) :: flip_fraction
       integer, intent(in), contiguous :: first(:)
-      real(dp), intent(in), contiguous :: weight(:, :), acceleration(0:), velocity(0:), mass_of(:), x0(:)
+      real(dp), intent(in), contiguous :: weight(:, :), gradient(:, :), acceleration(0:), velocity(0:), mass_of(:), x0(:)
       real(dp), intent(in) :: dt, inv_dx, lo, hi
       real(dp), intent(inout), contiguous :: x(:), v(:)
-      real(dp), intent(inout), contiguous :: gathered(:, :)  !< scratch: sum N a, sum N v per particle
+      !> scratch: sum N a, sum N v per particle, and with `strain_rate` sum dN v
+      real(dp), intent(inout), contiguous :: gathered(:, :)
+      logical, intent(in) :: strain_rate
       type(pass_totals_t), intent(inout) :: totals
       integer :: p, k, b0, n, i, outside
       real(dp) :: displacement(lanes), kinetic(lanes), moved(block_size)
@@ -291,16 +318,31 @@ contains
       real(dp) :: displacement_block(block_size), kinetic_block(block_size)
       type(largest_move_t) :: largest
       ! the gathers, node by node of the support (each loop vectorises; the first node assigns)
-      do p = 1, size(first)
-         gathered(p, 1) = weight(p, 1)*acceleration(first(p))
-         gathered(p, 2) = weight(p, 1)*velocity(first(p))
-      end do
-      do k = 2, support
+      if (strain_rate) then
          do p = 1, size(first)
-            gathered(p, 1) = gathered(p, 1) + weight(p, k)*acceleration(first(p) + k - 1)
-            gathered(p, 2) = gathered(p, 2) + weight(p, k)*velocity(first(p) + k - 1)
+            gathered(p, 1) = weight(p, 1)*acceleration(first(p))
+            gathered(p, 2) = weight(p, 1)*velocity(first(p))
+            gathered(p, 3) = gradient(p, 1)*velocity(first(p))
          end do
-      end do
+         do k = 2, support
+            do p = 1, size(first)
+               gathered(p, 1) = gathered(p, 1) + weight(p, k)*acceleration(first(p) + k - 1)
+               gathered(p, 2) = gathered(p, 2) + weight(p, k)*velocity(first(p) + k - 1)
+               gathered(p, 3) = gathered(p, 3) + gradient(p, k)*velocity(first(p) + k - 1)
+            end do
+         end do
+      else
+         do p = 1, size(first)
+            gathered(p, 1) = weight(p, 1)*acceleration(first(p))
+            gathered(p, 2) = weight(p, 1)*velocity(first(p))
+         end do
+         do k = 2, support
+            do p = 1, size(first)
+               gathered(p, 1) = gathered(p, 1) + weight(p, k)*acceleration(first(p) + k - 1)
+               gathered(p, 2) = gathered(p, 2) + weight(p, k)*velocity(first(p) + k - 1)
+            end do
+         end do
+      end if
       select case (transfer_kind)
       case (transfer_pic, transfer_apic)
          v = gathered(:, 2)
@@ -339,14 +381,23 @@ contains
 
    !> Strain increment d eps = dt sum_I dN_Ip v_I and the material update (the run's Young's modulus, or
    !> each particle's where the scene gave one); totals: strain energy, min J.
-   subroutine update_stress(cache, particles, grid, dt, youngs_modulus, totals)
+   subroutine update_stress(cache, particles, grid, dt, youngs_modulus, totals, strain_rate_gathered)
       type(shape_cache_t), intent(inout) :: cache
       type(particles_t), intent(inout) :: particles
       type(grid_t), intent(in) :: grid
       real(dp), intent(in) :: dt, youngs_modulus
       type(pass_totals_t), intent(inout) :: totals
+      !> g2p gathered sum dN v with the same nodal velocities (USL)
+      logical, intent(in), optional :: strain_rate_gathered
+      logical :: gathered
+      gathered = .false.
+      if (present(strain_rate_gathered)) gathered = strain_rate_gathered
       call scratch(cache, particles%count)
-      call gather_strain(cache%support, cache%first, cache%gradient, grid%velocity, dt, cache%work(:, 1))
+      if (gathered) then
+         cache%work(:, 1) = dt*cache%work(:, 3)
+      else
+         call gather_strain(cache%support, cache%first, cache%gradient, grid%velocity, dt, cache%work(:, 1))
+      end if
       if (allocated(particles%youngs_modulus_of)) then ! several materials (one test per step, none per particle)
          call elastic_update_each(particles%youngs_modulus_of, cache%work(:, 1), particles%volume0_of, &
                                   particles%stress, particles%volume_ratio, totals%strain_energy, &
@@ -379,7 +430,8 @@ contains
    subroutine scratch(cache, count)
       type(shape_cache_t), intent(inout) :: cache
       integer, intent(in) :: count
-      if (.not. allocated(cache%work)) allocate (cache%work(count, merge(3, 2, cache%transfer == transfer_apic)))
+      if (.not. allocated(cache%work)) allocate (cache%work(count, merge(cache%support + 1, 3, &
+                                                                           cache%transfer == transfer_apic)))
    end subroutine scratch
 
    !> Kinetic and strain energy and the smallest J of the particles as they are (the initial state).
