@@ -81,38 +81,34 @@ contains
 
    !> The P2G sums, m_I += N_Ip m_p and p_I += N_Ip m_p v_p (`kinematics`), f_I -= dN_Ip sigma_p V_p
    !> (`force`), by scatter_columns. APIC's affine momentum, p_I += N_Ip m_p C_p (x_I - x_p) with x_p
-   !> at the start of the step, is folded into each column's momentum per unit weight: column k has
-   !> x_I - x_p = x(first(p) + k - 1) - x_p (it sums to zero over I, since sum_I N_Ip x_I = x_p: total
-   !> momentum is unchanged).
+   !> at the start of the step, goes into the momentum per unit weight of node k of the support:
+   !> m_p (v_p + C_p d_p) + (k - 1) m_p C_p dx, d_p = x(first(p)) - x_p (it sums to zero over I, since
+   !> sum_I N_Ip x_I = x_p: total momentum is unchanged).
    subroutine scatter(cache, particles, grid, kinematics, force)
       type(shape_cache_t), intent(inout) :: cache
       type(particles_t), intent(in) :: particles
       type(grid_t), intent(inout) :: grid
       logical, intent(in) :: kinematics, force
-      integer :: k
       logical :: affine
       call scratch(cache, particles%count)
       affine = kinematics .and. cache%transfer == transfer_apic
       if (force) cache%work(:, 1) = particles%stress*particles%volume_ratio*particles%volume0_of
-      if (kinematics) then
-         do k = 1, merge(cache%support, 1, affine)
-            if (affine) then
-               cache%work(:, k + 1) = particles%mass_of*(particles%v + particles%velocity_gradient* &
-                                                         (grid%origin + (cache%first + k - 1)*grid%dx - cache%position))
-            else
-               cache%work(:, 2) = particles%mass_of*particles%v
-            end if
-         end do
+      if (affine) then
+         cache%work(:, 2) = particles%mass_of*(particles%v + particles%velocity_gradient* &
+                                               (grid%origin + cache%first*grid%dx - cache%position))
+         cache%work(:, 3) = particles%mass_of*particles%velocity_gradient*grid%dx
+      else if (kinematics) then
+         cache%work(:, 2) = particles%mass_of*particles%v
       end if
       call scatter_columns(cache%support, cache%first, cache%weight, cache%gradient, particles%mass_of, &
-                           cache%work(:, 2:merge(cache%support + 1, 2, affine)), cache%work(:, 1), kinematics, force, &
+                           cache%work(:, 2:merge(3, 2, affine)), cache%work(:, 1), kinematics, force, &
                            grid%mass, grid%momentum, grid%force)
    end subroutine scatter
 
    !> The P2G sums of every column k of the support (2, 3 or 4): node first(p) + k - 1 gets
-   !> weight(p, k) m_p, weight(p, k) momentum_of(p, k) (the momentum per unit weight, (m v)_p, with
-   !> APIC's affine part per column when momentum_of has a column per node) and
-   !> -gradient(p, k) (sigma V)_p. Particles next to each other in memory that share their first node
+   !> weight(p, k) m_p, weight(p, k) (q_p + (k - 1) r_p) and -gradient(p, k) (sigma V)_p, with the
+   !> momentum per unit weight q = momentum_of(:, 1) ((m v)_p) and, when momentum_of has a second
+   !> column (APIC's affine part), r = momentum_of(:, 2), else 0. Particles next to each other in memory that share their first node
    !> (a cell's particles, as they are placed and as they stay in 1-D) are summed in registers (twelve
    !> scalars, one per node and field) and added to the grid once per run: adding each particle to the
    !> grid directly makes every add wait for the previous particle's store to the same node (a
@@ -126,17 +122,14 @@ contains
                                           stress_volume(:)
       logical, intent(in) :: kinematics, force
       real(dp), intent(inout), contiguous :: mass(0:), momentum(0:), nodal_force(0:)
-      integer :: p, n, i, m2, m3, m4
-      logical :: run_ends, three, four
-      real(dp) :: mass1, mass2, mass3, mass4, momentum1, momentum2, momentum3, momentum4, force1, force2, force3, &
+      integer :: p, n, i
+      logical :: run_ends, three, four, affine
+      real(dp) :: q, r, mass1, mass2, mass3, mass4, momentum1, momentum2, momentum3, momentum4, force1, force2, force3, &
                   force4
       n = size(first)
       three = support >= 3
       four = support >= 4
-      ! the momentum column of each node (one column for all, or one per node)
-      m2 = min(2, size(momentum_of, 2))
-      m3 = min(3, size(momentum_of, 2))
-      m4 = min(4, size(momentum_of, 2))
+      affine = size(momentum_of, 2) > 1
       run_ends = .true.
       do p = 1, n
          if (run_ends) then ! a run starts
@@ -145,17 +138,22 @@ contains
             force1 = 0.0_dp; force2 = 0.0_dp; force3 = 0.0_dp; force4 = 0.0_dp
          end if
          if (kinematics) then
+            q = momentum_of(p, 1)
             mass1 = mass1 + weight(p, 1)*mass_of(p)
             mass2 = mass2 + weight(p, 2)*mass_of(p)
-            momentum1 = momentum1 + weight(p, 1)*momentum_of(p, 1)
-            momentum2 = momentum2 + weight(p, 2)*momentum_of(p, m2)
-            if (three) then
-               mass3 = mass3 + weight(p, 3)*mass_of(p)
-               momentum3 = momentum3 + weight(p, 3)*momentum_of(p, m3)
-            end if
-            if (four) then
-               mass4 = mass4 + weight(p, 4)*mass_of(p)
-               momentum4 = momentum4 + weight(p, 4)*momentum_of(p, m4)
+            if (three) mass3 = mass3 + weight(p, 3)*mass_of(p)
+            if (four) mass4 = mass4 + weight(p, 4)*mass_of(p)
+            if (affine) then
+               r = momentum_of(p, 2)
+               momentum1 = momentum1 + weight(p, 1)*q
+               momentum2 = momentum2 + weight(p, 2)*(q + r)
+               if (three) momentum3 = momentum3 + weight(p, 3)*(q + 2*r)
+               if (four) momentum4 = momentum4 + weight(p, 4)*(q + 3*r)
+            else
+               momentum1 = momentum1 + weight(p, 1)*q
+               momentum2 = momentum2 + weight(p, 2)*q
+               if (three) momentum3 = momentum3 + weight(p, 3)*q
+               if (four) momentum4 = momentum4 + weight(p, 4)*q
             end if
          end if
          if (force) then
@@ -257,59 +255,42 @@ contains
       type(pass_totals_t), intent(inout) :: totals
       !> Also gather sum_I dN_Ip v_I for update_stress (USL: the same nodal velocities; saves a gather).
       logical, intent(in), optional :: strain_rate
-      logical :: with_strain_rate
+      logical :: with_strain_rate, apic, spline
       with_strain_rate = .false.
       if (present(strain_rate)) with_strain_rate = strain_rate
       call scratch(cache, particles%count)
+      apic = cache%transfer == transfer_apic
+      spline = cache%kind == shape_bspline2 .or. cache%kind == shape_bspline3
       call gather_move(cache%support, cache%first, cache%weight, cache%gradient, grid%acceleration, grid%velocity, dt, &
                        grid%inv_dx, grid%origin, grid%origin + grid%length, particles%mass_of, particles%x0, &
-                       particles%x, particles%v, cache%work, with_strain_rate, totals, cache%transfer, &
-                       cache%flip_fraction)
-      if (cache%transfer == transfer_apic) then
-         select case (cache%kind)
-         case (shape_bspline2)
-            call gather_affine(cache%support, cache%first, cache%weight, grid%velocity, cache%position, grid%origin, &
-                               grid%dx, 4.0_dp*grid%inv_dx**2, particles%velocity_gradient)
-         case (shape_bspline3)
-            call gather_affine(cache%support, cache%first, cache%weight, grid%velocity, cache%position, grid%origin, &
-                               grid%dx, 3.0_dp*grid%inv_dx**2, particles%velocity_gradient)
-         case default
-            ! C_p = sum_I v_I dN_Ip: the strain-rate gather (where B_p D_p^-1 reduces to it, piecewise-linear weights)
-            call gather_strain(cache%support, cache%first, cache%gradient, grid%velocity, 1.0_dp, &
-                               particles%velocity_gradient)
-         end select
+                       particles%x, particles%v, cache%work, with_strain_rate .or. (apic .and. .not. spline), &
+                       apic .and. spline, totals, cache%transfer, cache%flip_fraction)
+      if (apic) then
+         if (spline) then
+            ! C_p = B_p D_p^-1, B_p = sum_I N_Ip v_I (x_I - x_p) = d_p sum_I N_Ip v_I + dx sum_k (k - 1) N_k v_k,
+            ! d_p = x(first(p)) - x_p at the start of the step (|d_p| < 2 dx: no cancellation)
+            particles%velocity_gradient = merge(4.0_dp, 3.0_dp, cache%kind == shape_bspline2)*grid%inv_dx**2* &
+                                          ((grid%origin + cache%first*grid%dx - cache%position)*cache%work(:, 2) + &
+                                           grid%dx*cache%work(:, 4))
+         else
+            ! C_p = sum_I v_I dN_Ip (where B_p D_p^-1 reduces to it: piecewise-linear weights), gathered above
+            particles%velocity_gradient = cache%work(:, 3)
+         end if
       end if
    end subroutine g2p
 
-   !> C_p = B_p / D_p, B_p = sum_I N_Ip v_I (x_I - x_p) (APIC, Jiang et al. 2015, eq. 10 with D_p constant).
-   subroutine gather_affine(support, first, weight, velocity, position, origin, dx, inverse_d, velocity_gradient)
-      integer, intent(in) :: support
-      integer, intent(in), contiguous :: first(:)
-      real(dp), intent(in), contiguous :: weight(:, :), velocity(0:), position(:)
-      real(dp), intent(in) :: origin, dx, inverse_d
-      real(dp), intent(out), contiguous :: velocity_gradient(:)
-      integer :: p, k, i
-      velocity_gradient = 0.0_dp
-      do k = 1, support
-         do p = 1, size(first)
-            i = first(p) + k - 1
-            velocity_gradient(p) = velocity_gradient(p) + weight(p, k)*velocity(i)*(origin + i*dx - position(p))
-         end do
-      end do
-      velocity_gradient = inverse_d*velocity_gradient
-   end subroutine gather_affine
-
    subroutine gather_move(support, first, weight, gradient, acceleration, velocity, dt, inv_dx, lo, hi, mass_of, x0, &
-                          x, v, gathered, strain_rate, totals, transfer_kind, flip_fraction)
+                          x, v, gathered, strain_rate, moment, totals, transfer_kind, flip_fraction)
       integer, intent(in) :: support, transfer_kind
       real(dp), intent(in) :: flip_fraction
       integer, intent(in), contiguous :: first(:)
       real(dp), intent(in), contiguous :: weight(:, :), gradient(:, :), acceleration(0:), velocity(0:), mass_of(:), x0(:)
       real(dp), intent(in) :: dt, inv_dx, lo, hi
       real(dp), intent(inout), contiguous :: x(:), v(:)
-      !> scratch: sum N a, sum N v per particle, and with `strain_rate` sum dN v
+      !> scratch: sum N a, sum N v per particle, with `strain_rate` sum dN v, with `moment` (it implies
+      !> `strain_rate`) sum_k (k - 1) N_k v_k (node k of the support)
       real(dp), intent(inout), contiguous :: gathered(:, :)
-      logical, intent(in) :: strain_rate
+      logical, intent(in) :: strain_rate, moment
       type(pass_totals_t), intent(inout) :: totals
       integer :: p, k, b0, n, i, outside
       real(dp) :: displacement(lanes), kinetic(lanes), moved(block_size)
@@ -317,18 +298,21 @@ contains
       integer(i8) :: below, above
       real(dp) :: displacement_block(block_size), kinetic_block(block_size)
       type(largest_move_t) :: largest
-      ! the gathers, node by node of the support (each loop vectorises; the first node assigns)
-      if (strain_rate) then
+      ! the gathers, node by node of the support (each loop vectorises; the first node assigns), with
+      ! the extra sums or without (the plain loops: tests inside them cost 4-7 %)
+      if (strain_rate .or. moment) then
          do p = 1, size(first)
             gathered(p, 1) = weight(p, 1)*acceleration(first(p))
             gathered(p, 2) = weight(p, 1)*velocity(first(p))
             gathered(p, 3) = gradient(p, 1)*velocity(first(p))
+            if (moment) gathered(p, 4) = 0.0_dp
          end do
          do k = 2, support
             do p = 1, size(first)
                gathered(p, 1) = gathered(p, 1) + weight(p, k)*acceleration(first(p) + k - 1)
                gathered(p, 2) = gathered(p, 2) + weight(p, k)*velocity(first(p) + k - 1)
                gathered(p, 3) = gathered(p, 3) + gradient(p, k)*velocity(first(p) + k - 1)
+               if (moment) gathered(p, 4) = gathered(p, 4) + (k - 1)*weight(p, k)*velocity(first(p) + k - 1)
             end do
          end do
       else
