@@ -46,6 +46,7 @@ program test_step
    call setup_generic()
    call scheme_step(scheme_usl, bar, cache, particles, grid, dt, youngs, 0.0_dp, totals)
    call compare('generic usl')
+   call compare_totals('generic usl')
 
    ! USF: strain first from v_1 = p_1/m_1 = 1.75: d eps = 0.1 * 1.75 / 2 = 0.0875;
    ! stresses 0.85, -0.65; J = 1.0875; sum sigma V = 0.2 * 1.0875; f_1 = -(1/2)(0.2175) = -0.10875.
@@ -66,6 +67,7 @@ program test_step
    call setup_generic()
    call scheme_step(scheme_usf, bar, cache, particles, grid, dt, youngs, 0.0_dp, totals)
    call compare('generic usf')
+   call compare_totals('generic usf')
 
    ! MUSL: as USL, then the new particle momentum mapped back: p_1 = 3 (1/4 v_1' + 3/4 v_2'),
    ! and the strain from that nodal velocity.
@@ -86,6 +88,16 @@ program test_step
    call setup_generic()
    call scheme_step(scheme_musl, bar, cache, particles, grid, dt, youngs, 0.0_dp, totals)
    call compare('generic musl')
+   call compare_totals('generic musl')
+
+   ! A particle that leaves the grid in a step is named by that step: velocities 0 and 20 give
+   ! p_1 = 3 (3/4 * 20) = 45, v_1 = 15 (and a little from the force), so particle 2 moves to
+   ! 1.5 + 0.1 * 3/4 * 15 = 2.6 > 2 (past the last node) while particle 1 stays inside.
+   call setup_generic()
+   particles%v = [0.0_dp, 20.0_dp]
+   call scheme_step(scheme_usl, bar, cache, particles, grid, dt, youngs, 0.0_dp, totals)
+   call t%check('generic usl: the particle that left the grid in this step is named', totals%outside == 2)
+   call t%check('generic usl: ... and it is past the last node', particles%x(2) > dx .and. particles%x(1) < dx)
 
    call t%finish()
 
@@ -113,6 +125,21 @@ contains
       call t%check('generic hand set-up: masses 3, volumes 1', all(particles%mass_of == m) .and. &
                    all(particles%volume0_of == 1.0_dp))
    end subroutine setup_generic
+
+   !> The step's totals from the hand values: sum m (x - X), kinetic energy, the largest move in cells
+   !> and its particle (particle 2: 3/4 of the nodal velocity against 1/4), no particle outside.
+   subroutine compare_totals(scheme)
+      character(len=*), intent(in) :: scheme
+      real(dp), parameter :: x_start(2) = [0.5_dp, 1.5_dp]
+      call t%check_close(scheme//' total sum m (x - X)', totals%displacement, sum(m*(x_expected - x_start)), &
+                         rtol=1.0e-13_dp)
+      call t%check_close(scheme//' total kinetic energy', totals%kinetic_energy, sum(0.5_dp*m*v_expected**2), &
+                         rtol=1.0e-14_dp)
+      call t%check_close(scheme//' largest move in cells', totals%max_cell_move, &
+                         maxval(abs(x_expected - x_start))/dx, rtol=1.0e-13_dp)
+      call t%check(scheme//' the particle that moved furthest', totals%furthest == 2)
+      call t%check(scheme//' no particle outside', totals%outside == 0)
+   end subroutine compare_totals
 
    subroutine compare(scheme)
       character(len=*), intent(in) :: scheme

@@ -17,12 +17,14 @@
 !> Each public operation hands the arrays to a kernel with explicit contiguous dummies: gfortran then
 !> keeps addresses in registers (through the derived types' descriptors the loops ran about 2x slower).
 module mpm_operations
-   use mpm_kinds, only: dp
+   use mpm_kinds, only: dp, i8
    use mpm_grid, only: grid_t, solve_range, zero_fixed
    use mpm_particles, only: particles_t
    use mpm_shape, only: shape_cache_t, evaluate_shapes, shape_ugimp, shape_cpgimp, shape_bspline2, shape_bspline3, &
                         transfer_pic, transfer_blend, transfer_apic
    use mpm_diagnostics, only: pass_totals_t
+   use mpm_shape_range, only: infinity_bits
+   use mpm_lanes, only: block_size, lanes, largest_move_t, add_lanes, lane_total, track_largest_move, furthest_particle
    use mpm_material_elastic, only: elastic_update_all, elastic_update_each, strain_energy_density
    implicit none
    private
@@ -40,13 +42,13 @@ contains
       integer :: outside
       select case (cache%kind)
       case (shape_ugimp)  ! the box of the particle's initial length, l_p0 = V0_p / 2 (per unit area)
-         call scratch(cache, particles%count)
-         cache%work(:, 1) = 0.5_dp*particles%volume0_of
-         call evaluate_shapes(cache, grid, particles%x, outside, cache%work(:, 1))
+         if (.not. allocated(cache%half_length)) allocate (cache%half_length(particles%count))
+         cache%half_length = 0.5_dp*particles%volume0_of
+         call evaluate_shapes(cache, grid, particles%x, outside)
       case (shape_cpgimp) ! stretched with the particle, l_p = l_p0 J_p
-         call scratch(cache, particles%count)
-         cache%work(:, 1) = 0.5_dp*particles%volume0_of*particles%volume_ratio
-         call evaluate_shapes(cache, grid, particles%x, outside, cache%work(:, 1))
+         if (.not. allocated(cache%half_length)) allocate (cache%half_length(particles%count))
+         cache%half_length = 0.5_dp*particles%volume0_of*particles%volume_ratio
+         call evaluate_shapes(cache, grid, particles%x, outside)
       case default
          call evaluate_shapes(cache, grid, particles%x, outside)
       end select
@@ -56,43 +58,137 @@ contains
    !> m_I and p_I from the particles (grid fields cleared first); with `with_force` also the internal
    !> force f_I = -sum_p dN_Ip sigma_p V_p, V_p = J_p V0_p, in the same pass.
    subroutine p2g_mass_momentum(cache, particles, grid, with_force)
-      type(shape_cache_t), intent(in) :: cache
+      type(shape_cache_t), intent(inout) :: cache
       type(particles_t), intent(in) :: particles
       type(grid_t), intent(inout) :: grid
       logical, intent(in) :: with_force
       grid%mass = 0.0_dp
       grid%momentum = 0.0_dp
-      if (with_force) then
-         grid%force = 0.0_dp
-         call scatter_all(cache%support, cache%first, cache%weight, cache%gradient, particles%mass_of, particles%v, &
-                          particles%stress, particles%volume_ratio, particles%volume0_of, grid%mass, grid%momentum, &
-                          grid%force)
-      else
-         call scatter_kinematic(cache%support, cache%first, cache%weight, particles%mass_of, particles%v, grid%mass, &
-                                grid%momentum)
-      end if
-      if (cache%transfer == transfer_apic) &
-         call scatter_affine(cache%support, cache%first, cache%weight, particles%mass_of, particles%velocity_gradient, &
-                             cache%position, grid%origin, grid%dx, grid%momentum)
+      if (with_force) grid%force = 0.0_dp
+      call scatter(cache, particles, grid, .true., with_force)
       call mirror_fold(grid, .true., with_force)
    end subroutine p2g_mass_momentum
 
-   !> APIC's affine part of the momentum: p_I += sum_p N_Ip m_p C_p (x_I - x_p), x_p at the start of the
-   !> step (it sums to zero over I, since sum_I N_Ip x_I = x_p: total momentum is unchanged).
-   subroutine scatter_affine(support, first, weight, mass_of, velocity_gradient, position, origin, dx, momentum)
+   !> f_I = -sum_p dN_Ip sigma_p V_p, V_p = J_p V0_p (grid force cleared first).
+   subroutine p2g_internal_force(cache, particles, grid)
+      type(shape_cache_t), intent(inout) :: cache
+      type(particles_t), intent(in) :: particles
+      type(grid_t), intent(inout) :: grid
+      grid%force = 0.0_dp
+      call scatter(cache, particles, grid, .false., .true.)
+      call mirror_fold(grid, .false., .true.)
+   end subroutine p2g_internal_force
+
+   !> The P2G sums, m_I += N_Ip m_p and p_I += N_Ip m_p v_p (`kinematics`), f_I -= dN_Ip sigma_p V_p
+   !> (`force`), by scatter_columns. APIC's affine momentum, p_I += N_Ip m_p C_p (x_I - x_p) with x_p
+   !> at the start of the step, goes into the momentum per unit weight of node k of the support:
+   !> m_p (v_p + C_p d_p) + (k - 1) m_p C_p dx, d_p = x(first(p)) - x_p (it sums to zero over I, since
+   !> sum_I N_Ip x_I = x_p: total momentum is unchanged).
+   subroutine scatter(cache, particles, grid, kinematics, force)
+      type(shape_cache_t), intent(inout) :: cache
+      type(particles_t), intent(in) :: particles
+      type(grid_t), intent(inout) :: grid
+      logical, intent(in) :: kinematics, force
+      logical :: affine
+      call scratch(cache, particles%count)
+      affine = kinematics .and. cache%transfer == transfer_apic
+      if (force) cache%work(:, 1) = particles%stress*particles%volume_ratio*particles%volume0_of
+      if (affine) then
+         cache%work(:, 2) = particles%mass_of*(particles%v + particles%velocity_gradient* &
+                                               (grid%origin + cache%first*grid%dx - cache%position))
+         cache%work(:, 3) = particles%mass_of*particles%velocity_gradient*grid%dx
+      else if (kinematics) then
+         cache%work(:, 2) = particles%mass_of*particles%v
+      end if
+      call scatter_columns(cache%support, cache%first, cache%weight, cache%gradient, particles%mass_of, &
+                           cache%work(:, 2:merge(3, 2, affine)), cache%work(:, 1), kinematics, force, &
+                           grid%mass, grid%momentum, grid%force)
+   end subroutine scatter
+
+   !> The P2G sums of every column k of the support (2, 3 or 4): node first(p) + k - 1 gets
+   !> weight(p, k) m_p, weight(p, k) (q_p + (k - 1) r_p) and -gradient(p, k) (sigma V)_p, with the
+   !> momentum per unit weight q = momentum_of(:, 1) ((m v)_p) and, when momentum_of has a second
+   !> column (APIC's affine part), r = momentum_of(:, 2), else 0. Particles next to each other in memory that share their first node
+   !> (a cell's particles, as they are placed and as they stay in 1-D) are summed in registers (twelve
+   !> scalars, one per node and field) and added to the grid once per run: adding each particle to the
+   !> grid directly makes every add wait for the previous particle's store to the same node (a
+   !> store-to-load dependency, about half the generic step's time before). Any order of particles
+   !> gives the same sums up to rounding.
+   subroutine scatter_columns(support, first, weight, gradient, mass_of, momentum_of, stress_volume, kinematics, &
+                              force, mass, momentum, nodal_force)
       integer, intent(in) :: support
       integer, intent(in), contiguous :: first(:)
-      real(dp), intent(in), contiguous :: weight(:, :), mass_of(:), velocity_gradient(:), position(:)
-      real(dp), intent(in) :: origin, dx
-      real(dp), intent(inout), contiguous :: momentum(0:)
-      integer :: p, k, i
-      do p = 1, size(first)
-         do k = 1, support
-            i = first(p) + k - 1
-            momentum(i) = momentum(i) + weight(p, k)*mass_of(p)*velocity_gradient(p)*(origin + i*dx - position(p))
-         end do
+      real(dp), intent(in), contiguous :: weight(:, :), gradient(:, :), mass_of(:), momentum_of(:, :), &
+                                          stress_volume(:)
+      logical, intent(in) :: kinematics, force
+      real(dp), intent(inout), contiguous :: mass(0:), momentum(0:), nodal_force(0:)
+      integer :: p, n, i
+      logical :: run_ends, three, four, affine
+      real(dp) :: q, r, mass1, mass2, mass3, mass4, momentum1, momentum2, momentum3, momentum4, force1, force2, force3, &
+                  force4
+      n = size(first)
+      three = support >= 3
+      four = support >= 4
+      affine = size(momentum_of, 2) > 1
+      run_ends = .true.
+      do p = 1, n
+         if (run_ends) then ! a run starts
+            mass1 = 0.0_dp; mass2 = 0.0_dp; mass3 = 0.0_dp; mass4 = 0.0_dp
+            momentum1 = 0.0_dp; momentum2 = 0.0_dp; momentum3 = 0.0_dp; momentum4 = 0.0_dp
+            force1 = 0.0_dp; force2 = 0.0_dp; force3 = 0.0_dp; force4 = 0.0_dp
+         end if
+         if (kinematics) then
+            q = momentum_of(p, 1)
+            mass1 = mass1 + weight(p, 1)*mass_of(p)
+            mass2 = mass2 + weight(p, 2)*mass_of(p)
+            if (three) mass3 = mass3 + weight(p, 3)*mass_of(p)
+            if (four) mass4 = mass4 + weight(p, 4)*mass_of(p)
+            if (affine) then
+               r = momentum_of(p, 2)
+               momentum1 = momentum1 + weight(p, 1)*q
+               momentum2 = momentum2 + weight(p, 2)*(q + r)
+               if (three) momentum3 = momentum3 + weight(p, 3)*(q + 2*r)
+               if (four) momentum4 = momentum4 + weight(p, 4)*(q + 3*r)
+            else
+               momentum1 = momentum1 + weight(p, 1)*q
+               momentum2 = momentum2 + weight(p, 2)*q
+               if (three) momentum3 = momentum3 + weight(p, 3)*q
+               if (four) momentum4 = momentum4 + weight(p, 4)*q
+            end if
+         end if
+         if (force) then
+            force1 = force1 - gradient(p, 1)*stress_volume(p)
+            force2 = force2 - gradient(p, 2)*stress_volume(p)
+            if (three) force3 = force3 - gradient(p, 3)*stress_volume(p)
+            if (four) force4 = force4 - gradient(p, 4)*stress_volume(p)
+         end if
+         run_ends = p == n
+         if (.not. run_ends) run_ends = first(p + 1) /= first(p)
+         if (run_ends) then ! add the run's sums to its nodes
+            i = first(p)
+            if (kinematics) then
+               mass(i) = mass(i) + mass1
+               mass(i + 1) = mass(i + 1) + mass2
+               momentum(i) = momentum(i) + momentum1
+               momentum(i + 1) = momentum(i + 1) + momentum2
+               if (three) then
+                  mass(i + 2) = mass(i + 2) + mass3
+                  momentum(i + 2) = momentum(i + 2) + momentum3
+               end if
+               if (four) then
+                  mass(i + 3) = mass(i + 3) + mass4
+                  momentum(i + 3) = momentum(i + 3) + momentum4
+               end if
+            end if
+            if (force) then
+               nodal_force(i) = nodal_force(i) + force1
+               nodal_force(i + 1) = nodal_force(i + 1) + force2
+               if (three) nodal_force(i + 2) = nodal_force(i + 2) + force3
+               if (four) nodal_force(i + 3) = nodal_force(i + 3) + force4
+            end if
+         end if
       end do
-   end subroutine scatter_affine
+   end subroutine scatter_columns
 
    !> At a fixed end with ghost cells (grid%mirror), the mirror image of the body beyond it: node
    !> c - j (c = grid%ghost, the fixed node at x = 0) is node c + j reflected. The body's image has the
@@ -121,71 +217,6 @@ contains
          end if
       end do
    end subroutine mirror_fold
-
-   subroutine scatter_kinematic(support, first, weight, mass_of, v, mass, momentum)
-      integer, intent(in) :: support
-      integer, intent(in), contiguous :: first(:)
-      real(dp), intent(in), contiguous :: weight(:, :), mass_of(:), v(:)
-      real(dp), intent(inout), contiguous :: mass(0:), momentum(0:)
-      integer :: p, k, i
-      real(dp) :: wm
-      do p = 1, size(first)
-         do k = 1, support
-            i = first(p) + k - 1
-            wm = weight(p, k)*mass_of(p)
-            mass(i) = mass(i) + wm
-            momentum(i) = momentum(i) + wm*v(p)
-         end do
-      end do
-   end subroutine scatter_kinematic
-
-   subroutine scatter_all(support, first, weight, gradient, mass_of, v, stress, volume_ratio, volume0_of, mass, &
-                          momentum, force)
-      integer, intent(in) :: support
-      integer, intent(in), contiguous :: first(:)
-      real(dp), intent(in), contiguous :: weight(:, :), gradient(:, :), mass_of(:), v(:), stress(:), volume_ratio(:), &
-                                          volume0_of(:)
-      real(dp), intent(inout), contiguous :: mass(0:), momentum(0:), force(0:)
-      integer :: p, k, i
-      real(dp) :: wm, sv
-      do p = 1, size(first)
-         sv = stress(p)*volume_ratio(p)*volume0_of(p)
-         do k = 1, support
-            i = first(p) + k - 1
-            wm = weight(p, k)*mass_of(p)
-            mass(i) = mass(i) + wm
-            momentum(i) = momentum(i) + wm*v(p)
-            force(i) = force(i) - gradient(p, k)*sv
-         end do
-      end do
-   end subroutine scatter_all
-
-   !> f_I = -sum_p dN_Ip sigma_p V_p, V_p = J_p V0_p (grid force cleared first).
-   subroutine p2g_internal_force(cache, particles, grid)
-      type(shape_cache_t), intent(in) :: cache
-      type(particles_t), intent(in) :: particles
-      type(grid_t), intent(inout) :: grid
-      grid%force = 0.0_dp
-      call scatter_force(cache%support, cache%first, cache%gradient, particles%stress, particles%volume_ratio, &
-                         particles%volume0_of, grid%force)
-      call mirror_fold(grid, .false., .true.)
-   end subroutine p2g_internal_force
-
-   subroutine scatter_force(support, first, gradient, stress, volume_ratio, volume0_of, force)
-      integer, intent(in) :: support
-      integer, intent(in), contiguous :: first(:)
-      real(dp), intent(in), contiguous :: gradient(:, :), stress(:), volume_ratio(:), volume0_of(:)
-      real(dp), intent(inout), contiguous :: force(0:)
-      integer :: p, k, i
-      real(dp) :: sv
-      do p = 1, size(first)
-         sv = stress(p)*volume_ratio(p)*volume0_of(p)
-         do k = 1, support
-            i = first(p) + k - 1
-            force(i) = force(i) - gradient(p, k)*sv
-         end do
-      end do
-   end subroutine scatter_force
 
    !> v_I = p_I / m_I (zero on empty nodes), fixed nodes held at rest (momentum and velocity zero).
    subroutine nodal_velocities(grid)
@@ -216,74 +247,87 @@ contains
    !> Velocity (by the cache's transfer) and position update with the start-of-step shape functions;
    !> totals: sum m (x - X), kinetic energy, the largest move (cells) and its particle, the first
    !> particle outside the domain.
-   subroutine g2p(cache, particles, grid, dt, totals)
+   subroutine g2p(cache, particles, grid, dt, totals, strain_rate)
       type(shape_cache_t), intent(inout) :: cache
       type(particles_t), intent(inout) :: particles
       type(grid_t), intent(in) :: grid
       real(dp), intent(in) :: dt
       type(pass_totals_t), intent(inout) :: totals
+      !> Also gather sum_I dN_Ip v_I for update_stress (USL: the same nodal velocities; saves a gather).
+      logical, intent(in), optional :: strain_rate
+      logical :: with_strain_rate, apic, spline
+      with_strain_rate = .false.
+      if (present(strain_rate)) with_strain_rate = strain_rate
       call scratch(cache, particles%count)
-      call gather_move(cache%support, cache%first, cache%weight, grid%acceleration, grid%velocity, dt, grid%inv_dx, &
-                       grid%origin, grid%origin + grid%length, particles%mass_of, particles%x0, particles%x, &
-                       particles%v, cache%work, totals, cache%transfer, cache%flip_fraction)
-      if (cache%transfer == transfer_apic) then
-         select case (cache%kind)
-         case (shape_bspline2)
-            call gather_affine(cache%support, cache%first, cache%weight, grid%velocity, cache%position, grid%origin, &
-                               grid%dx, 4.0_dp*grid%inv_dx**2, particles%velocity_gradient)
-         case (shape_bspline3)
-            call gather_affine(cache%support, cache%first, cache%weight, grid%velocity, cache%position, grid%origin, &
-                               grid%dx, 3.0_dp*grid%inv_dx**2, particles%velocity_gradient)
-         case default
-            ! C_p = sum_I v_I dN_Ip: the strain-rate gather (where B_p D_p^-1 reduces to it, piecewise-linear weights)
-            call gather_strain(cache%support, cache%first, cache%gradient, grid%velocity, 1.0_dp, &
-                               particles%velocity_gradient)
-         end select
+      apic = cache%transfer == transfer_apic
+      spline = cache%kind == shape_bspline2 .or. cache%kind == shape_bspline3
+      call gather_move(cache%support, cache%first, cache%weight, cache%gradient, grid%acceleration, grid%velocity, dt, &
+                       grid%inv_dx, grid%origin, grid%origin + grid%length, particles%mass_of, particles%x0, &
+                       particles%x, particles%v, cache%work, with_strain_rate .or. (apic .and. .not. spline), &
+                       apic .and. spline, totals, cache%transfer, cache%flip_fraction)
+      if (apic) then
+         if (spline) then
+            ! C_p = B_p D_p^-1, B_p = sum_I N_Ip v_I (x_I - x_p) = d_p sum_I N_Ip v_I + dx sum_k (k - 1) N_k v_k,
+            ! d_p = x(first(p)) - x_p at the start of the step (|d_p| < 2 dx: no cancellation)
+            particles%velocity_gradient = merge(4.0_dp, 3.0_dp, cache%kind == shape_bspline2)*grid%inv_dx**2* &
+                                          ((grid%origin + cache%first*grid%dx - cache%position)*cache%work(:, 2) + &
+                                           grid%dx*cache%work(:, 4))
+         else
+            ! C_p = sum_I v_I dN_Ip (where B_p D_p^-1 reduces to it: piecewise-linear weights), gathered above
+            particles%velocity_gradient = cache%work(:, 3)
+         end if
       end if
    end subroutine g2p
 
-   !> C_p = B_p / D_p, B_p = sum_I N_Ip v_I (x_I - x_p) (APIC, Jiang et al. 2015, eq. 10 with D_p constant).
-   subroutine gather_affine(support, first, weight, velocity, position, origin, dx, inverse_d, velocity_gradient)
-      integer, intent(in) :: support
-      integer, intent(in), contiguous :: first(:)
-      real(dp), intent(in), contiguous :: weight(:, :), velocity(0:), position(:)
-      real(dp), intent(in) :: origin, dx, inverse_d
-      real(dp), intent(out), contiguous :: velocity_gradient(:)
-      integer :: p, k, i
-      velocity_gradient = 0.0_dp
-      do k = 1, support
-         do p = 1, size(first)
-            i = first(p) + k - 1
-            velocity_gradient(p) = velocity_gradient(p) + weight(p, k)*velocity(i)*(origin + i*dx - position(p))
-         end do
-      end do
-      velocity_gradient = inverse_d*velocity_gradient
-   end subroutine gather_affine
-
-   subroutine gather_move(support, first, weight, acceleration, velocity, dt, inv_dx, lo, hi, mass_of, x0, x, v, &
-                          gathered, totals, transfer, flip_fraction)
-      integer, intent(in) :: support, transfer
+   subroutine gather_move(support, first, weight, gradient, acceleration, velocity, dt, inv_dx, lo, hi, mass_of, x0, &
+                          x, v, gathered, strain_rate, moment, totals, transfer_kind, flip_fraction)
+      integer, intent(in) :: support, transfer_kind
       real(dp), intent(in) :: flip_fraction
       integer, intent(in), contiguous :: first(:)
-      real(dp), intent(in), contiguous :: weight(:, :), acceleration(0:), velocity(0:), mass_of(:), x0(:)
+      real(dp), intent(in), contiguous :: weight(:, :), gradient(:, :), acceleration(0:), velocity(0:), mass_of(:), x0(:)
       real(dp), intent(in) :: dt, inv_dx, lo, hi
       real(dp), intent(inout), contiguous :: x(:), v(:)
-      real(dp), intent(inout), contiguous :: gathered(:, :)  !< scratch: sum N a, sum N v per particle
+      !> scratch: sum N a, sum N v per particle, with `strain_rate` sum dN v, with `moment` (it implies
+      !> `strain_rate`) sum_k (k - 1) N_k v_k (node k of the support)
+      real(dp), intent(inout), contiguous :: gathered(:, :)
+      logical, intent(in) :: strain_rate, moment
       type(pass_totals_t), intent(inout) :: totals
-      integer :: p, k, outside, furthest
-      real(dp) :: move, largest, displacement, kinetic
-      ! the gathers, node by node of the support (each loop vectorises; the first node assigns)
-      do p = 1, size(first)
-         gathered(p, 1) = weight(p, 1)*acceleration(first(p))
-         gathered(p, 2) = weight(p, 1)*velocity(first(p))
-      end do
-      do k = 2, support
+      integer :: p, k, b0, n, i, outside
+      real(dp) :: displacement(lanes), kinetic(lanes), moved(block_size)
+      integer :: inside(block_size)
+      integer(i8) :: below, above
+      real(dp) :: displacement_block(block_size), kinetic_block(block_size)
+      type(largest_move_t) :: largest
+      ! the gathers, node by node of the support (each loop vectorises; the first node assigns), with
+      ! the extra sums or without (the plain loops: tests inside them cost 4-7 %)
+      if (strain_rate .or. moment) then
          do p = 1, size(first)
-            gathered(p, 1) = gathered(p, 1) + weight(p, k)*acceleration(first(p) + k - 1)
-            gathered(p, 2) = gathered(p, 2) + weight(p, k)*velocity(first(p) + k - 1)
+            gathered(p, 1) = weight(p, 1)*acceleration(first(p))
+            gathered(p, 2) = weight(p, 1)*velocity(first(p))
+            gathered(p, 3) = gradient(p, 1)*velocity(first(p))
+            if (moment) gathered(p, 4) = 0.0_dp
          end do
-      end do
-      select case (transfer)
+         do k = 2, support
+            do p = 1, size(first)
+               gathered(p, 1) = gathered(p, 1) + weight(p, k)*acceleration(first(p) + k - 1)
+               gathered(p, 2) = gathered(p, 2) + weight(p, k)*velocity(first(p) + k - 1)
+               gathered(p, 3) = gathered(p, 3) + gradient(p, k)*velocity(first(p) + k - 1)
+               if (moment) gathered(p, 4) = gathered(p, 4) + (k - 1)*weight(p, k)*velocity(first(p) + k - 1)
+            end do
+         end do
+      else
+         do p = 1, size(first)
+            gathered(p, 1) = weight(p, 1)*acceleration(first(p))
+            gathered(p, 2) = weight(p, 1)*velocity(first(p))
+         end do
+         do k = 2, support
+            do p = 1, size(first)
+               gathered(p, 1) = gathered(p, 1) + weight(p, k)*acceleration(first(p) + k - 1)
+               gathered(p, 2) = gathered(p, 2) + weight(p, k)*velocity(first(p) + k - 1)
+            end do
+         end do
+      end if
+      select case (transfer_kind)
       case (transfer_pic, transfer_apic)
          v = gathered(:, 2)
       case (transfer_blend)
@@ -291,39 +335,53 @@ contains
       case default ! transfer_flip
          v = v + dt*gathered(:, 1)
       end select
-      x = x + dt*gathered(:, 2)
+      ! the move and the totals, block by block (branch-free loops, totals in lanes: see mpm_lanes)
       outside = 0
-      furthest = 0
-      largest = 0.0_dp
       displacement = 0.0_dp
       kinetic = 0.0_dp
-      do p = 1, size(first)
-         move = abs(dt*gathered(p, 2))*inv_dx
-         if (move > largest) then
-            largest = move
-            furthest = p
-         end if
-         if (.not. (x(p) >= lo .and. x(p) <= hi) .and. outside == 0) outside = p
-         displacement = displacement + mass_of(p)*(x(p) - x0(p))
-         kinetic = kinetic + 0.5_dp*mass_of(p)*v(p)*v(p)
+      do b0 = 1, size(first), block_size
+         n = min(block_size, size(first) - b0 + 1)
+         do i = 1, n
+            p = b0 + i - 1
+            x(p) = x(p) + dt*gathered(p, 2)
+            moved(i) = abs(dt*gathered(p, 2))*inv_dx
+            below = transfer(x(p) - lo, 0_i8)  ! inside(i) = inside_range(x(p), lo, hi), written out
+            above = transfer(hi - x(p), 0_i8)
+            inside(i) = int(1_i8 - ishft(ior(ior(below, above), infinity_bits - below), -63))
+            displacement_block(i) = mass_of(p)*(x(p) - x0(p))
+            kinetic_block(i) = 0.5_dp*mass_of(p)*v(p)*v(p)
+         end do
+         call add_lanes(n, displacement_block, displacement)
+         call add_lanes(n, kinetic_block, kinetic)
+         call track_largest_move(n, b0, moved, largest)
+         if (outside == 0 .and. minval(inside(1:n)) == 0) outside = b0 - 1 + findloc(inside(1:n), 0, 1)
       end do
-      totals%displacement = displacement
-      totals%kinetic_energy = kinetic
-      totals%max_cell_move = largest
-      totals%furthest = furthest
+      totals%displacement = lane_total(displacement)
+      totals%kinetic_energy = lane_total(kinetic)
+      totals%max_cell_move = largest%value
+      totals%furthest = furthest_particle(largest)
       if (totals%outside == 0) totals%outside = outside
    end subroutine gather_move
 
    !> Strain increment d eps = dt sum_I dN_Ip v_I and the material update (the run's Young's modulus, or
    !> each particle's where the scene gave one); totals: strain energy, min J.
-   subroutine update_stress(cache, particles, grid, dt, youngs_modulus, totals)
+   subroutine update_stress(cache, particles, grid, dt, youngs_modulus, totals, strain_rate_gathered)
       type(shape_cache_t), intent(inout) :: cache
       type(particles_t), intent(inout) :: particles
       type(grid_t), intent(in) :: grid
       real(dp), intent(in) :: dt, youngs_modulus
       type(pass_totals_t), intent(inout) :: totals
+      !> g2p gathered sum dN v with the same nodal velocities (USL)
+      logical, intent(in), optional :: strain_rate_gathered
+      logical :: gathered
+      gathered = .false.
+      if (present(strain_rate_gathered)) gathered = strain_rate_gathered
       call scratch(cache, particles%count)
-      call gather_strain(cache%support, cache%first, cache%gradient, grid%velocity, dt, cache%work(:, 1))
+      if (gathered) then
+         cache%work(:, 1) = dt*cache%work(:, 3)
+      else
+         call gather_strain(cache%support, cache%first, cache%gradient, grid%velocity, dt, cache%work(:, 1))
+      end if
       if (allocated(particles%youngs_modulus_of)) then ! several materials (one test per step, none per particle)
          call elastic_update_each(particles%youngs_modulus_of, cache%work(:, 1), particles%volume0_of, &
                                   particles%stress, particles%volume_ratio, totals%strain_energy, &
@@ -356,7 +414,8 @@ contains
    subroutine scratch(cache, count)
       type(shape_cache_t), intent(inout) :: cache
       integer, intent(in) :: count
-      if (.not. allocated(cache%work)) allocate (cache%work(count, 2))
+      if (.not. allocated(cache%work)) allocate (cache%work(count, merge(cache%support + 1, 3, &
+                                                                           cache%transfer == transfer_apic)))
    end subroutine scratch
 
    !> Kinetic and strain energy and the smallest J of the particles as they are (the initial state).

@@ -46,6 +46,8 @@ module mpm_shape
       !> The velocity transfer of G2P, and the FLIP share of the blend (1 = FLIP, 0 = PIC).
       integer :: transfer = transfer_flip
       real(dp) :: flip_fraction = 1.0_dp
+      !> The particles' box half-lengths (GIMP only), set by the caller before evaluate_shapes.
+      real(dp), allocatable :: half_length(:)
       !> Start-of-step positions (APIC only: the affine term of P2G needs x_I - x_p after G2P moved x).
       real(dp), allocatable :: position(:)
    end type shape_cache_t
@@ -151,13 +153,12 @@ contains
 
    !> Fill `cache` for positions x (allocating it on first use); `outside` = first particle outside
    !> the grid domain (its support not inside the grid), 0 if none. GIMP needs the particles' box
-   !> half-lengths `half_length`.
-   subroutine evaluate_shapes(cache, grid, x, outside, half_length)
+   !> half-lengths in cache%half_length.
+   subroutine evaluate_shapes(cache, grid, x, outside)
       type(shape_cache_t), intent(inout) :: cache
       type(grid_t), intent(in) :: grid
       real(dp), intent(in) :: x(:)
       integer, intent(out) :: outside
-      real(dp), intent(in), optional :: half_length(:)
       if (.not. allocated(cache%first)) then
          cache%support = shape_support(cache%kind)
          allocate (cache%first(size(x)), cache%weight(size(x), cache%support), cache%gradient(size(x), cache%support))
@@ -166,7 +167,7 @@ contains
       case (shape_linear)
          call linear_shapes(grid%origin, grid%inv_dx, grid%elements, x, cache%first, cache%weight, cache%gradient, outside)
       case (shape_ugimp, shape_cpgimp)
-         call gimp_shapes(grid%origin, grid%inv_dx, grid%elements, x, half_length, cache%first, cache%weight, &
+         call gimp_shapes(grid%origin, grid%inv_dx, grid%elements, x, cache%half_length, cache%first, cache%weight, &
                           cache%gradient, outside)
       case (shape_bspline2)
          call bspline2_shapes(grid%origin, grid%inv_dx, grid%elements, x, cache%first, cache%weight, cache%gradient, &

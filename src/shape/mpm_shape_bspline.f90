@@ -15,7 +15,8 @@
 !> these are the plain uniform B-splines wherever the support lies inside the grid; a particle whose
 !> support leaves the grid is flagged.
 module mpm_shape_bspline
-   use mpm_kinds, only: dp
+   use mpm_kinds, only: dp, i8
+   use mpm_shape_range, only: infinity_bits
    implicit none
    private
    public :: bspline2_support, bspline3_support, bspline2_shapes, bspline3_shapes
@@ -29,16 +30,22 @@ contains
    pure subroutine bspline2_shapes(origin, inv_dx, cells, x, first, weight, gradient, outside)
       real(dp), intent(in) :: origin, inv_dx
       integer, intent(in) :: cells
-      real(dp), intent(in) :: x(:)
-      integer, intent(out) :: first(:)
-      real(dp), intent(out) :: weight(:, :), gradient(:, :)
+      real(dp), intent(in), contiguous :: x(:)
+      integer, intent(out), contiguous :: first(:)
+      real(dp), intent(out), contiguous :: weight(:, :), gradient(:, :)
       integer, intent(out) :: outside
-      integer :: p, i
+      integer :: p, i, flag
+      integer(i8) :: below, above
       real(dp) :: s, t, inside
+      outside = huge(1)
       do p = 1, size(x)
          s = (x(p) - origin)*inv_dx
-         inside = merge(1.0_dp, 0.0_dp, s >= 0.5_dp .and. s <= cells - 0.5_dp)
-         s = merge(s, 0.5_dp*cells, inside > 0.0_dp)
+         below = transfer(s - 0.5_dp, 0_i8)  ! flag = inside_range(s, 0.5_dp, cells - 0.5_dp), written out
+         above = transfer(cells - 0.5_dp - s, 0_i8)
+         flag = int(1_i8 - ishft(ior(ior(below, above), infinity_bits - below), -63))
+         inside = real(flag, dp)
+         outside = min(outside, p + (huge(1) - p)*flag)
+         s = merge(s, 0.5_dp*cells, flag == 1)
          i = min(int(s + 0.5_dp) - 1, cells - 2)
          t = s + 0.5_dp - (i + 1)
          first(p) = i
@@ -49,52 +56,62 @@ contains
          gradient(p, 2) = (1.0_dp - 2.0_dp*t)*inv_dx*inside
          gradient(p, 3) = t*inv_dx*inside
       end do
-      outside = first_outside(origin, inv_dx, x, 0.5_dp, cells - 0.5_dp)
+      if (outside == huge(1)) outside = 0
    end subroutine bspline2_shapes
 
-   !> Cubic B-spline weights and gradients of every particle (conventions as bspline2_shapes).
+   !> Cubic B-spline weights and gradients of every particle (conventions as bspline2_shapes). Two
+   !> loops, weights then gradients, each locating the particle again: in one loop the ten arrays made
+   !> gfortran give up vectorising (too many run-time alias checks), which cost 3x.
    pure subroutine bspline3_shapes(origin, inv_dx, cells, x, first, weight, gradient, outside)
       real(dp), intent(in) :: origin, inv_dx
       integer, intent(in) :: cells
-      real(dp), intent(in) :: x(:)
-      integer, intent(out) :: first(:)
-      real(dp), intent(out) :: weight(:, :), gradient(:, :)
+      real(dp), intent(in), contiguous :: x(:)
+      integer, intent(out), contiguous :: first(:)
+      real(dp), intent(out), contiguous :: weight(:, :), gradient(:, :)
       integer, intent(out) :: outside
-      integer :: p, i
-      real(dp) :: s, t, u, inside
+      integer :: p, i, flag
+      real(dp) :: t, u, inside
       real(dp), parameter :: sixth = 1.0_dp/6.0_dp
+      outside = huge(1)
       do p = 1, size(x)
-         s = (x(p) - origin)*inv_dx
-         inside = merge(1.0_dp, 0.0_dp, s >= 1.0_dp .and. s <= cells - 1.0_dp)
-         s = merge(s, 0.5_dp*cells, inside > 0.0_dp)
-         i = min(int(s) - 1, cells - 3)
-         t = s - (i + 1)
+         call bspline3_locate(x(p), origin, inv_dx, cells, i, t, flag)
+         inside = real(flag, dp)
+         outside = min(outside, p + (huge(1) - p)*flag)
          u = 1.0_dp - t
          first(p) = i
          weight(p, 1) = sixth*u*u*u*inside
          weight(p, 2) = sixth*(3.0_dp*t*t*t - 6.0_dp*t*t + 4.0_dp)*inside
          weight(p, 3) = sixth*(-3.0_dp*t*t*t + 3.0_dp*t*t + 3.0_dp*t + 1.0_dp)*inside
          weight(p, 4) = sixth*t*t*t*inside
+      end do
+      do p = 1, size(x)
+         call bspline3_locate(x(p), origin, inv_dx, cells, i, t, flag)
+         inside = real(flag, dp)
+         u = 1.0_dp - t
          gradient(p, 1) = -0.5_dp*u*u*inv_dx*inside
          gradient(p, 2) = (1.5_dp*t*t - 2.0_dp*t)*inv_dx*inside
          gradient(p, 3) = (-1.5_dp*t*t + t + 0.5_dp)*inv_dx*inside
          gradient(p, 4) = 0.5_dp*t*t*inv_dx*inside
       end do
-      outside = first_outside(origin, inv_dx, x, 1.0_dp, cells - 1.0_dp)
+      if (outside == huge(1)) outside = 0
    end subroutine bspline3_shapes
 
-   !> The first particle whose grid coordinate is not in [lo, hi] (NaN too), 0 if none.
-   pure integer function first_outside(origin, inv_dx, x, lo, hi) result(outside)
-      real(dp), intent(in) :: origin, inv_dx, x(:), lo, hi
-      integer :: p
+   !> First node i of the cubic support of a particle at x, its coordinate t in [0, 1] in the middle
+   !> cell of the support, and flag = 1 when the support is inside the grid (else 0, and a position in
+   !> the middle of the grid, so that t stays finite).
+   elemental subroutine bspline3_locate(x, origin, inv_dx, cells, i, t, flag)
+      real(dp), intent(in) :: x, origin, inv_dx
+      integer, intent(in) :: cells
+      integer, intent(out) :: i, flag
+      real(dp), intent(out) :: t
+      integer(i8) :: below, above
       real(dp) :: s
-      outside = 0
-      do p = 1, size(x)
-         s = (x(p) - origin)*inv_dx
-         if (.not. (s >= lo .and. s <= hi)) then
-            outside = p
-            return
-         end if
-      end do
-   end function first_outside
+      s = (x - origin)*inv_dx
+      below = transfer(s - 1.0_dp, 0_i8)  ! flag = inside_range(s, 1.0_dp, cells - 1.0_dp), written out
+      above = transfer(cells - 1.0_dp - s, 0_i8)
+      flag = int(1_i8 - ishft(ior(ior(below, above), infinity_bits - below), -63))
+      s = merge(s, 0.5_dp*cells, flag == 1)
+      i = min(int(s) - 1, cells - 3)
+      t = s - (i + 1)
+   end subroutine bspline3_locate
 end module mpm_shape_bspline

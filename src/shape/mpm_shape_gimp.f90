@@ -22,7 +22,8 @@
 !> stretched, or ppc = 2 at J = 2), and floored at 1e-9 dx (a collapsed particle, J -> 0, trips the
 !> J guard anyway).
 module mpm_shape_gimp
-   use mpm_kinds, only: dp
+   use mpm_kinds, only: dp, i8
+   use mpm_shape_range, only: infinity_bits
    implicit none
    private
    public :: gimp_support, gimp_shapes
@@ -39,17 +40,23 @@ contains
    pure subroutine gimp_shapes(origin, inv_dx, cells, x, half_length, first, weight, gradient, outside)
       real(dp), intent(in) :: origin, inv_dx
       integer, intent(in) :: cells
-      real(dp), intent(in) :: x(:), half_length(:)
-      integer, intent(out) :: first(:)
-      real(dp), intent(out) :: weight(:, :), gradient(:, :)
+      real(dp), intent(in), contiguous :: x(:), half_length(:)
+      integer, intent(out), contiguous :: first(:)
+      real(dp), intent(out), contiguous :: weight(:, :), gradient(:, :)
       integer, intent(out) :: outside
-      integer :: p, i
+      integer :: p, i, flag
+      integer(i8) :: below, above
       real(dp) :: s, l, inside, d, r1, r2, t1, t2
+      outside = huge(1)
       do p = 1, size(x)
          s = (x(p) - origin)*inv_dx
          l = min(max(half_length(p)*inv_dx, 1.0e-9_dp), 0.5_dp)
-         inside = merge(1.0_dp, 0.0_dp, s - l >= 0.0_dp .and. s + l <= real(cells, dp))
-         s = merge(s, 0.5_dp*cells, inside > 0.0_dp)
+         below = transfer(s - l, 0_i8)  ! flag = inside_range(s, l, real(cells, dp) - l), written out
+         above = transfer(real(cells, dp) - l - s, 0_i8)
+         flag = int(1_i8 - ishft(ior(ior(below, above), infinity_bits - below), -63))
+         inside = real(flag, dp)
+         outside = min(outside, p + (huge(1) - p)*flag)
+         s = merge(s, 0.5_dp*cells, flag == 1)
          i = min(int(s - l), cells - 2)
          first(p) = i
          d = s - (i + 1)
@@ -64,14 +71,6 @@ contains
          gradient(p, 2) = (r1 - r2)*inv_dx*inside
          gradient(p, 3) = r2*inv_dx*inside
       end do
-      outside = 0
-      do p = 1, size(x)
-         s = (x(p) - origin)*inv_dx
-         l = min(max(half_length(p)*inv_dx, 1.0e-9_dp), 0.5_dp)
-         if (.not. (s - l >= 0.0_dp .and. s + l <= real(cells, dp))) then
-            outside = p
-            exit
-         end if
-      end do
+      if (outside == huge(1)) outside = 0
    end subroutine gimp_shapes
 end module mpm_shape_gimp

@@ -3,7 +3,8 @@
 !> xi = (x - origin)/dx - (e-1) in [0, 1]: N_left = 1 - xi, N_right = xi, dN_left/dx = -1/dx,
 !> dN_right/dx = +1/dx. The gradient jumps where a particle crosses a node ("grid-crossing error").
 module mpm_shape_linear
-   use mpm_kinds, only: dp
+   use mpm_kinds, only: dp, i8
+   use mpm_shape_range, only: infinity_bits
    implicit none
    private
    public :: linear_support, linear_shapes, locate, shape_left, shape_right
@@ -18,22 +19,27 @@ contains
    !> gradient(p, :) on nodes first(p) and first(p) + 1. A particle outside the domain (NaN too) gets
    !> first = 0 and zero weights and gradients (it adds nothing, and the loops need no test);
    !> `outside` is the first such particle (0 if none). The far end of the domain belongs to the last
-   !> element (xi = 1). The loop has no branch (merge), so that it vectorises.
+   !> element (xi = 1). The loop has no branch and no floating-point comparison (inside_range), so that
+   !> it vectorises.
    pure subroutine linear_shapes(origin, inv_dx, cells, x, first, weight, gradient, outside)
       real(dp), intent(in) :: origin, inv_dx
       integer, intent(in) :: cells
-      real(dp), intent(in) :: x(:)
-      integer, intent(out) :: first(:)
-      real(dp), intent(out) :: weight(:, :), gradient(:, :)
+      real(dp), intent(in), contiguous :: x(:)
+      integer, intent(out), contiguous :: first(:)
+      real(dp), intent(out), contiguous :: weight(:, :), gradient(:, :)
       integer, intent(out) :: outside
-      integer :: p, e
+      integer :: p, e, flag
+      integer(i8) :: below, above
       real(dp) :: xi, s, inside
       outside = huge(1)
       do p = 1, size(x)
          s = (x(p) - origin)*inv_dx
-         inside = merge(1.0_dp, 0.0_dp, s >= 0.0_dp .and. s <= real(cells, dp))
-         outside = min(outside, merge(huge(1), p, inside > 0.0_dp))
-         s = merge(s, 0.0_dp, inside > 0.0_dp)
+         below = transfer(s, 0_i8)  ! flag = inside_range(s, 0.0_dp, real(cells, dp)), written out
+         above = transfer(real(cells, dp) - s, 0_i8)
+         flag = int(1_i8 - ishft(ior(ior(below, above), infinity_bits - below), -63))
+         inside = real(flag, dp)
+         outside = min(outside, p + (huge(1) - p)*flag)
+         s = merge(s, 0.0_dp, flag == 1)
          e = min(int(s), cells - 1)
          xi = s - e
          first(p) = e

@@ -27,6 +27,8 @@ module mpm_transfer
    use mpm_grid, only: grid_t, segments_t, share_count, threaded_nodes, node_chunk
    use mpm_particles, only: particles_t, bytes_per_particle, permute
    use mpm_diagnostics, only: pass_totals_t
+   use mpm_lanes, only: block_size, lanes, largest_move_t, add_lanes, min_lanes, lane_total, track_largest_move, &
+                        furthest_particle
    implicit none
    private
    integer, parameter :: pass_usf_move = 1, pass_usf_stress = 2, pass_usl = 3, pass_musl_remap = 4, &
@@ -45,11 +47,6 @@ module mpm_transfer
    !> Which element shares a pass scatters (bit set).
    integer, parameter :: share_mass = 1, share_momentum = 2, share_stress = 4
 
-   !> Particles per block of a segment kernel (see "blocks" below): the block's buffers stay in L1,
-   !> and memory is streamed evenly (larger blocks were faster in cache but slower with 1e7 particles).
-   integer, parameter :: block_size = 64
-   !> Partial sums per total: one AVX-512 vector of doubles (four SSE2 vectors without -march).
-   integer, parameter :: lanes = 8
 
    !> Runs whose particle data exceed this many bytes (most of this machine's 32 MiB L3 cache) stream
    !> from memory: their kernels then ask for each array's block `prefetch_ahead` particles ahead, and
@@ -77,12 +74,6 @@ module mpm_transfer
       real(dp) :: a(share_count) = 0.0_dp
    end type run_t
 
-   !> The largest particle move of a segment so far, with the moves of the block where it happened.
-   type :: largest_move_t
-      real(dp) :: value = 0.0_dp
-      integer :: first = 0, count = 0
-      real(dp) :: moves(block_size)
-   end type largest_move_t
 
 
 contains
@@ -721,66 +712,6 @@ contains
       stress_volume = stress*volume_ratio*volume0
    end subroutine stress_particle
 
-   !> Totals of one segment kept in `lanes` partial sums (particle i of a block adds to lane
-   !> mod(i - 1, lanes) + 1), combined in lane order at the end of the segment.
-   subroutine add_lanes(n, values, lane_sums)
-      integer, intent(in) :: n
-      real(dp), intent(in) :: values(:)
-      real(dp), intent(inout) :: lane_sums(lanes)
-      integer :: i, r
-      do i = 1, n - lanes + 1, lanes
-         lane_sums = lane_sums + values(i:i + lanes - 1)
-      end do
-      r = mod(n, lanes)
-      if (r > 0) lane_sums(1:r) = lane_sums(1:r) + values(n - r + 1:n)
-   end subroutine add_lanes
-
-   subroutine min_lanes(n, values, lane_min)
-      integer, intent(in) :: n
-      real(dp), intent(in) :: values(:)
-      real(dp), intent(inout) :: lane_min(lanes)
-      integer :: i, r
-      do i = 1, n - lanes + 1, lanes
-         lane_min = min(lane_min, values(i:i + lanes - 1))
-      end do
-      r = mod(n, lanes)
-      if (r > 0) lane_min(1:r) = min(lane_min(1:r), values(n - r + 1:n))
-   end subroutine min_lanes
-
-   !> Sum of the lanes, in lane order.
-   pure real(dp) function lane_total(lane_sums) result(total)
-      real(dp), intent(in) :: lane_sums(lanes)
-      integer :: l
-      total = 0.0_dp
-      do l = 1, lanes
-         total = total + lane_sums(l)
-      end do
-   end function lane_total
-
-   !> Largest move of a block, kept with the block's moves when it beats the segment's largest so far
-   !> (strictly: the first block keeps it, as a single loop would). The particle itself is found
-   !> once, at the end of the segment (`furthest_particle`).
-   subroutine track_largest_move(n, b0, move, largest)
-      integer, intent(in) :: n, b0
-      real(dp), intent(in) :: move(:)
-      type(largest_move_t), intent(inout) :: largest
-      real(dp) :: lane_max(lanes), block_max
-      integer :: i, r
-      lane_max = 0.0_dp
-      do i = 1, n - lanes + 1, lanes
-         lane_max = max(lane_max, move(i:i + lanes - 1))
-      end do
-      r = mod(n, lanes)
-      if (r > 0) lane_max(1:r) = max(lane_max(1:r), move(n - r + 1:n))
-      block_max = maxval(lane_max)
-      if (block_max > largest%value) then
-         largest%value = block_max
-         largest%first = b0
-         largest%count = n
-         largest%moves(1:n) = move(1:n)
-      end if
-   end subroutine track_largest_move
-
    !> The first particle of a block found outside the grid (cell 0), unless one was found before.
    subroutine find_outside(n, b0, cells, outside)
       integer, intent(in) :: n, b0
@@ -798,13 +729,6 @@ contains
          end if
       end do
    end subroutine find_outside
-
-   !> The first particle that made the largest move (0 if none moved).
-   pure integer function furthest_particle(largest) result(p)
-      type(largest_move_t), intent(in) :: largest
-      p = 0
-      if (largest%count > 0) p = largest%first - 1 + maxloc(largest%moves(1:largest%count), 1)
-   end function furthest_particle
 
    !> Phase B: the element shares of a block, in particle order. A run of particles in one element
    !> is summed in registers and flushed once (flush_shares); `run` carries the open run from one
