@@ -489,7 +489,7 @@ def error_against_time(out, small):
     lines = ['', '## Error against run time over schemes, shapes and transfers (small amplitude, one thread)', '',
              f'{int(ok.sum())} timed runs: every scheme x shape with FLIP at 10-320 elements and every scheme x shape '
              'x PIC, blend (0.99) and APIC at 10-160 elements, 4 particles per element, k = 0.25 (timing pass: each '
-             'case repeated until 0.02 s are measured, one thread). The black line is the Pareto front over all of '
+             'case repeated until 0.02 s (FLIP) or 0.01 s (the others) are measured, one thread). The black line is the Pareto front over all of '
              'them. Linear with FLIP on the bar runs on the fused kernels, every other combination on the generic '
              'path (their speed ratio: Throughput, below).', '', '![error against run time](error_vs_time.png)', '',
              '### For a target relative error, use ...', '',
@@ -893,12 +893,13 @@ def main(argv=None):
                      f'{np.median(q):.2f} ({min(q):.2f}-{max(q):.2f}) |')
     wall = out / 'wall_time.txt'
     if wall.exists():
-        fields = wall.read_text().split() + ['nan', 'nan']
+        fields = wall.read_text().split() + ['nan', 'nan', 'nan']
         lines += ['', '## Run time of the study', '',
                   f'{float(fields[0]):.0f} s for every run above (`bash studies/shapes/run.sh`, '
                   f'error passes on {os.environ.get("MPM1D_THREADS", "2")} threads, timing passes and '
-                  f'throughput on one; including the build check), on {fields[2]} cores whose load average was '
-                  f'{fields[1]} when it started (other work on a shared machine slows it and the timings).']
+                  f'throughput on one; including the build check), {fields[3]} of CPU time (user), on {fields[2]} cores whose '
+                  f'load average was {fields[1]} when it started (other work on a shared machine slows it and the '
+                  'timings).']
     (out / 'summary.md').write_text('\n'.join(lines) + '\n')
     return 0
 

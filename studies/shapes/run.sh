@@ -66,7 +66,7 @@ done
 
 echo "== transfers (every scheme x shape; timed at small amplitude)"
 for amp in small large; do
-  v0=0.1; min_time=$timing; [ "$amp" = large ] && v0=$large && min_time=0
+  v0=0.1; min_time=$(awk -v t="$timing" 'BEGIN{print t/2}'); [ "$amp" = large ] && v0=$large && min_time=0
   cat > "$out/transfers_$amp.nml" <<NML
 &scene velocity_amplitude=$v0 /
 &discretisation particles_per_element=4, dt_fraction=0.25, flip_fraction=0.99 /
@@ -219,6 +219,9 @@ done
 
 echo "== summary"
 end=$(date +%s.%N)
-awk -v a="$start" -v b="$end" -v l="$load" -v n="$(nproc)" 'BEGIN{printf "%.1f %s %s\n", b-a, l, n}' > "$out/wall_time.txt"
+{ times; } > "$out/times.txt"   # this shell's and its children's CPU time (user, system)
+cpu=$(tail -n 1 "$out/times.txt" | awk '{print $1}')   # the runs' user time
+awk -v a="$start" -v b="$end" -v l="$load" -v n="$(getconf _NPROCESSORS_ONLN)" -v c="$cpu" \
+  'BEGIN{printf "%.1f %s %s %s\n", b-a, l, n, c}' > "$out/wall_time.txt"
 "$PYTHON" studies/shapes/analyze.py "$out"
-echo "wrote $out/summary.md (seconds of runs, load average at the start, cores: $(cat "$out/wall_time.txt"))"
+echo "wrote $out/summary.md (seconds of runs, load average at the start, cores, CPU time: $(cat "$out/wall_time.txt"))"
