@@ -81,6 +81,9 @@ module mpm_grid
       !> `ghost` (x = 0) is fixed, the mirror: ghost node ghost - j is node ghost + j reflected (mirror_fold).
       integer :: ghost = 0
       logical :: mirror = .false.
+      !> The same at the body's right end x = L when it is fixed (node mirror_right; -1: none): margin
+      !> node mirror_right + j is node mirror_right - j reflected.
+      integer :: mirror_right = -1
       !> Work split of the particle passes (see segments_t).
       type(segments_t) :: segments
    end type grid_t
@@ -120,6 +123,8 @@ contains
          allocate (grid%fixed(0))
       end if
       grid%mirror = grid%ghost > 0 .and. any(grid%fixed == grid%ghost)
+      if (grid%ghost > 0 .and. any(grid%fixed == body_elements + grid%ghost) .and. &
+          elements - (body_elements + grid%ghost) >= grid%ghost) grid%mirror_right = body_elements + grid%ghost
       share_elements = elements
       if (present(element_shares)) then
          if (.not. element_shares) share_elements = 0

@@ -202,6 +202,7 @@ contains
       type(grid_t), intent(inout) :: grid
       logical, intent(in) :: with_kinematics, with_force
       integer :: j, c
+      call mirror_fold_right(grid, with_kinematics, with_force)
       if (.not. grid%mirror) return
       c = grid%ghost
       do j = 1, c
@@ -217,6 +218,30 @@ contains
          end if
       end do
    end subroutine mirror_fold
+
+   !> The mirror at a fixed right end x = L (grid%mirror_right = r, the manufactured scene's): margin
+   !> node r + j is node r - j reflected, as mirror_fold does at x = 0 (the solution is odd about a
+   !> fixed end there too). Without it the margin nodes beyond a fixed end moved freely, and the wide
+   !> shapes' particles next to it followed them (first order, and through the wall at large strain).
+   subroutine mirror_fold_right(grid, with_kinematics, with_force)
+      type(grid_t), intent(inout) :: grid
+      logical, intent(in) :: with_kinematics, with_force
+      integer :: j, r
+      r = grid%mirror_right
+      if (r < 0) return
+      do j = 1, grid%ghost
+         if (with_kinematics) then
+            grid%mass(r - j) = grid%mass(r - j) + grid%mass(r + j)
+            grid%momentum(r - j) = grid%momentum(r - j) - grid%momentum(r + j)
+            grid%mass(r + j) = grid%mass(r - j)
+            grid%momentum(r + j) = -grid%momentum(r - j)
+         end if
+         if (with_force) then
+            grid%force(r - j) = grid%force(r - j) - grid%force(r + j)
+            grid%force(r + j) = -grid%force(r - j)
+         end if
+      end do
+   end subroutine mirror_fold_right
 
    !> v_I = p_I / m_I (zero on empty nodes), fixed nodes held at rest (momentum and velocity zero).
    subroutine nodal_velocities(grid)
