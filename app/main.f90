@@ -6,6 +6,7 @@
 !> 3 output could not be written.
 program mpm1d_main
    use, intrinsic :: iso_fortran_env, only: output_unit, error_unit
+   use, intrinsic :: ieee_arithmetic, only: ieee_set_flag, ieee_all
    use mpm_kinds, only: dp
    use mpm_errors, only: error_t
    use mpm_strings, only: str, num, plural, readable_numbers
@@ -18,7 +19,7 @@ program mpm1d_main
    use mpm_cli_help, only: print_help, print_parameters
    use mpm_sweep, only: sweep_t, read_sweep_text, run_sweep, has_sweep_text, case_config, max_threads
    use mpm_files, only: same_file
-   use mpm_registry, only: read_input_text
+   use mpm_registry, only: read_input_text, parse_namelist, nml_item_t
    use mpm_sweep_output, only: write_sweep_file, merge_sweep_files
    implicit none
 
@@ -46,7 +47,7 @@ program mpm1d_main
          stop
       case ('merge')
          call merge_command()
-         stop
+         call finish()
       end select
    end if
 
@@ -85,13 +86,14 @@ program mpm1d_main
          if (allocated(input)) call fail("too many input files: '"//input//"' and '-'; see mpm1d --help", 2)
          input = option
       case default
+         if (len(option) == 0) call fail('argument '//str(i)//' is an empty argument; allowed: an input file, '// &
+                                         'an override group.name=value or an option (see mpm1d --help)', 2)
          if (option(1:min(1, len(option))) == '-') call fail("unknown option '"//option//"'; see mpm1d --help", 2)
          if (is_override(option) .and. (allocated(input) .or. .not. exists(option))) then
             if (len(option) > len(overrides)) call fail("override '"//option(1:60)//"...' is too long; allowed: "// &
                                                        str(len(overrides))//" characters", 2)
             overrides = [character(len=len(overrides)) :: overrides, option]
          else if (.not. allocated(input)) then
-            if (len(option) == 0) call fail('an empty argument is not an input file; see mpm1d --help', 2)
             input = option
          else
             call fail("too many arguments: '"//option//"' after the input file '"//input// &
@@ -106,6 +108,7 @@ program mpm1d_main
       if (input == '-') source = 'standard input'
       call read_input_text(input, text, error)
       if (allocated(error)) call fail('invalid input:'//new_line('a')//error%message, 2)
+      call refuse_without_groups()
    else
       source = 'command line'
       text = ''
@@ -113,7 +116,7 @@ program mpm1d_main
    is_sweep = has_sweep_text(text) .or. any(overrides(:)(1:6) == 'sweep.')
    if (is_sweep) then
       call sweep_command()
-      stop
+      call finish()
    end if
    if (shards > 0 .or. threads >= 0) call fail('--shard and --threads are for a sweep (an input with a &sweep '// &
                                                 'group); see mpm1d --help', 2)
@@ -156,8 +159,30 @@ program mpm1d_main
                                              new_line('a')// &
                                              'the history up to that step is in '// &
                                              trim(config%file), 1)
+   call finish()
 
 contains
+
+   !> An input with no namelist group at all (empty, blanks or comments only, and every text the reader
+   !> does not refuse line by line) is refused: the built-in case runs only without an input file.
+   subroutine refuse_without_groups()
+      type(nml_item_t), allocatable :: items(:)
+      character(len=32), allocatable :: groups(:)
+      integer, allocatable :: lines(:)
+      type(error_t), allocatable :: problem
+      call parse_namelist(text, source, items, groups, lines, problem)
+      if (allocated(problem)) return ! reported with the file's other problems by the reader
+      if (size(groups) == 0) call fail('invalid input:'//new_line('a')//source//': no namelist group (the input '// &
+         'is empty or holds only blanks and comments); allowed: &group name=value, ... / groups (see mpm1d '// &
+         '--help); run mpm1d without an input file for the built-in verification case', 2)
+   end subroutine refuse_without_groups
+
+   !> Normal end: floating-point flags a run raised on purpose (an energy sum computed again in scaled
+   !> form, subnormal intermediates of a far-scaled bar) are no news to the user: no runtime note.
+   subroutine finish()
+      call ieee_set_flag(ieee_all, .false.)
+      stop 0, quiet=.true.
+   end subroutine finish
 
    !> What a single run reports on standard output.
    subroutine report_run()
