@@ -348,7 +348,9 @@ for e in range(-200, 201, 40):
 refused('scale_column_strain_refused', C5, nml(scene="kind='column', length=1e200"), r"gravity = 9\.81.*allowed")
 refused('scale_column_sag_refused', C5, nml(scene="kind='column', length=1e-200"), r"length = 1e-200 m, gravity = 9\.81.*sag.*allowed")
 refused("scale_bar_displacement_refused", C5, nml(scene="length=1e-305"), r"velocity_amplitude = 0\.1.*allowed")
-refused('scale_v0_above_c', C5, nml(scene="velocity_amplitude=1e5"), r"velocity_amplitude = 100000.*not below the wave speed")
+refused('scale_v0_moves_too_far', C5, nml(scene="velocity_amplitude=1e12"),
+        r"velocity_amplitude = 1e12 m/s moves the free end by about 1e9 cells.*allowed")
+add('scale_v0_equal_c_runs', C5, [0, 1], r"wrote o\.h5|guard", input=nml(scene="velocity_amplitude=5063.696835418333"))
 # beyond what doubles hold: refused, naming what the user typed
 for e in [200, 300]:
     s = 10.0**e
