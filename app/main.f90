@@ -51,6 +51,7 @@ program mpm1d_main
       end select
    end if
 
+   call check_environment()
    ! the arguments: an input file (or '-'), overrides group.name=value, options
    allocate (overrides(0))
    quiet = .false.
@@ -162,6 +163,31 @@ program mpm1d_main
    call finish()
 
 contains
+
+   !> OMP_NUM_THREADS, which a sweep's threads = 0 follows: whole numbers 1 to max_threads (a list
+   !> "4,2" for nested levels); libgomp only warns about other text and crashes on 100000 threads.
+   subroutine check_environment()
+      character(len=:), allocatable :: value, item
+      integer :: length, comma, n, stat
+      call get_environment_variable('OMP_NUM_THREADS', length=length)
+      if (length == 0) return
+      allocate (character(len=length) :: value)
+      call get_environment_variable('OMP_NUM_THREADS', value)
+      value = trim(adjustl(value))
+      if (len(value) == 0) return
+      do
+         comma = index(value, ',')
+         item = trim(adjustl(value(1:merge(comma - 1, len(value), comma > 0))))
+         n = -1
+         stat = 1
+         if (len(item) > 0 .and. len(item) <= 9 .and. verify(item, '0123456789') == 0) read (item, *, iostat=stat) n
+         if (stat /= 0 .or. n < 1 .or. n > max_threads) call fail("environment: OMP_NUM_THREADS = '"//value// &
+            "' is not a thread count; allowed: whole numbers 1 to "//str(max_threads)//" (comma-separated for "// &
+            "nested levels), or leave it unset", 2)
+         if (comma == 0) exit
+         value = value(comma + 1:)
+      end do
+   end subroutine check_environment
 
    !> An input with no namelist group at all (empty, blanks or comments only, and every text the reader
    !> does not refuse line by line) is refused: the built-in case runs only without an input file.

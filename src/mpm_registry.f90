@@ -991,10 +991,12 @@ contains
       type(error_t), allocatable, intent(out) :: error
       character(len=:), allocatable :: group, path
       integer, allocatable :: line_of(:)
-      integer :: pos, group_line
+      integer :: pos, group_line, nvalues, nitems
       type(nml_item_t) :: item
 
       path = source
+      nvalues = 0
+      nitems = 0
       allocate (items(0), groups(0), group_lines(0))
       allocate (line_of(len(text) + 1))
       line_of(1) = 1
@@ -1006,7 +1008,7 @@ contains
       pos = 1
       do
          call skip_blanks_and_comments()
-         if (pos > len(text)) exit
+         if (pos > len(text) .or. too_many()) exit
          if (text(pos:pos) /= '&') then
             call append_error(error, where(pos)//"text outside a namelist group: '"//line_text(pos)// &
                               "'; allowed: &group name=value, ... / and comments after '!'")
@@ -1027,7 +1029,14 @@ contains
          group_lines = [group_lines, group_line]
          call read_group()
       end do
+      items = items(1:nitems)
    contains
+      !> Past the problems an error lists, reading stops (the rest of a binary or garbage file adds nothing).
+      logical function too_many()
+         too_many = .false.
+         if (allocated(error)) too_many = error%problems > 100
+      end function too_many
+
       function where(at) result(prefix)
          integer, intent(in) :: at
          character(len=:), allocatable :: prefix
@@ -1107,6 +1116,7 @@ contains
          after_value = .false.
          do
             call skip_blanks_and_comments()
+            if (too_many()) return
             if (pos > len(text)) then
                call append_error(error, trim(path)//":"//str(group_line)//": group &"//group// &
                                  ": not terminated by '/' (end of file reached)")
@@ -1140,6 +1150,7 @@ contains
                item%line = line_of(pos)
                item%name = lower(identifier())
                allocate (item%values(0))
+               nvalues = 0
                call skip_blanks_and_comments()
                if (text(pos:pos) == '(') then
                   call append_error(error, where(pos)//"group &"//group//": '"//item%name//"(...)': indexed "// &
@@ -1271,16 +1282,34 @@ contains
          pos = pos + max(len(token_text()), 1)
       end subroutine skip_token
 
+      !> Append `value` to the item's values (storage doubled when full: a list of 100,000 values, or a
+      !> repeat count, is read in linear time; finish_item trims it to `nvalues`).
       subroutine add_value(value)
          type(nml_value_t), intent(in) :: value
-         item%values = [item%values, value]
+         type(nml_value_t), allocatable :: grown(:)
+         if (nvalues == size(item%values)) then
+            allocate (grown(max(8, 2*nvalues)))
+            grown(1:nvalues) = item%values(1:nvalues)
+            call move_alloc(grown, item%values)
+         end if
+         nvalues = nvalues + 1
+         item%values(nvalues) = value
       end subroutine add_value
 
       subroutine finish_item()
+         type(nml_item_t), allocatable :: grown(:)
          if (allocated(item%values)) then
-            items = [items, item]
+            item%values = item%values(1:nvalues)
+            if (nitems == size(items)) then ! doubled when full, trimmed at the end
+               allocate (grown(max(8, 2*nitems)))
+               grown(1:nitems) = items(1:nitems)
+               call move_alloc(grown, items)
+            end if
+            nitems = nitems + 1
+            items(nitems) = item
             deallocate (item%values)
          end if
+         nvalues = 0
       end subroutine finish_item
    end subroutine parse_namelist
 

@@ -184,6 +184,20 @@ refused('snapshots_index_1', C3, nml(output="file='o.h5', snapshot_times(1)=0.0"
 # sweep lists have no fixed limit any more (the 256 of the issue): 257 values are read, not cut
 add('sweep_257_values', C3, 0, r"sweep of 257 cases", input=nml() + f"&sweep elements={','.join(['3'] * 257)} min_time=0 /\n")
 add('sweep_repeat_257', C3, 0, r"sweep of 257 cases", input=nml() + "&sweep elements=257*3 min_time=0 /\n")
+# large inputs are read in linear time and problems listed up to 100 (each case within its timeout)
+refused('snapshots_100000', C3, nml(output="file='o.h5', snapshot_times=" + ','.join(['0.0'] * 100000)),
+        r"has 100000 values; allowed: up to 64", timeout=10)
+refused('snapshots_repeat_100000', C3, nml(output="file='o.h5', snapshot_times=100000*0.0"), r"has 100000 values",
+        timeout=10)
+refused('unknown_names_20000', C3, '&discretisation ' + ', '.join(f'x{i}=1' for i in range(20000)) + ' /\n',
+        r"unknown variable 'x0'.*first 100 are listed", timeout=10)
+refused('groups_20000', C3, '&run periods=1 /\n' * 20000, r"group &run is given twice.*first 100 are listed",
+        timeout=10)
+refused('junk_lines_100000', C1, 'junk line\n' * 100000, r"in\.nml:1: text outside.*first 100 are listed", timeout=10)
+add('comments_200000_lines', C1, 0, r"wrote o\.h5", input='! c\n' * 200000 + nml(), timeout=10)
+add('blanks_20MB', C1, 0, r"wrote o\.h5", input=' ' * 20_000_000 + nml(), timeout=20)
+add('sweep_3000_values', C3, 0, r"sweep of 3000 cases", input=nml() + f"&sweep elements={','.join(['3'] * 3000)} "
+    "min_time=0 /\n", timeout=30)
 refused('sweep_repeat_huge', C3, nml() + "&sweep elements=99999999999*3 min_time=0 /\n", r"bad repeat count")
 for k in [1, 10, 40]:
     line = ', '.join(['elements=4', 'particles_per_element=1', 'dt_fraction=0.1', "scheme='usl'"][:4] *
@@ -281,6 +295,14 @@ refused('override_not_override', C4, nml(), r"too many arguments", args=['in.nml
 refused('override_unknown_group', C4, nml(), r"unknown namelist group 'discretization'",
         args=['in.nml', 'discretization.elements=4'])
 refused('override_bad_value', C4, nml(), r"'elements'.*('x' is text, not an integer|whole number)", args=['in.nml', 'discretisation.elements=x'])
+# the environment a sweep's threads = 0 follows (libgomp's own warning may come first: env_warning)
+for v in ['0', '-1', 'abc', '100000', '40000', '99999999999', '4097', '1,0', '2.5']:
+    for kind, extra in [('single', ''), ('sweep', '&sweep elements=3,4 min_time=0 /\n')]:
+        refused(f'omp_num_threads_{kind}_{v}', C4, nml() + extra, r"OMP_NUM_THREADS = '.*' is not a thread count; "
+                r"allowed: whole numbers 1 to 4096", env={'OMP_NUM_THREADS': v}, env_warning=True)
+for v in ['1', '2', '4,2', ' 2 ']:
+    add(f'omp_num_threads_ok_{v.replace(" ", "_").replace(",", "_")}', C4, 0, r"wrote o\.h5", input=nml() + '&sweep elements=3,4 min_time=0 /\n',
+        env={'OMP_NUM_THREADS': v}, exists=['o.h5'])
 SHARDS = nml() + '&sweep elements=3,4 min_time=0 /\n'
 MAKE_SHARDS = ('"$MPM1D" in.nml --shard=1/2 -q && "$MPM1D" in.nml --shard=2/2 -q && ')
 add('merge_output_is_shard', C4, 2, r"is one of the shard files", input=SHARDS,
