@@ -338,6 +338,9 @@ contains
       if (.not. local%periods_given .and. .not. local%end_time_given) call append_error(error, &
          "run: give periods or end_time")
       particles = int(max(config%elements, 0), i8)*int(max(config%particles_per_element, 0), i8)
+      if (int(max(config%elements, 0), i8) + max(config%margin_cells, 0) + 8 > max_count) call append_error(error, &
+         "discretisation: elements = "//str(config%elements)//" and margin_cells = "//str(config%margin_cells)// &
+         " give too many grid cells; allowed: elements + margin_cells <= "//str(max_count - 8))
       if (particles > max_count) call append_error(error, &
          "discretisation: elements*particles_per_element = "//str(particles)//" is too large; allowed: <= "// &
          str(max_count))
@@ -383,7 +386,8 @@ contains
       if (present(with_system)) then
          if (.not. with_system) return
       end if
-      call check_memory(particles, config%elements, merge(step_count(end_time, dt), 0, config%history), error)
+      call check_memory(particles, config%elements, merge(step_count(end_time, dt), 0, config%history), error, &
+                        config%margin_cells)
       call check_output_path(config%file, 'output: file', error)
    contains
       !> How the user gave the run's length: "run: end_time = 1e-3 s" or "run: periods = 2 (end time 1e-3 s)".
@@ -536,20 +540,27 @@ contains
 
    !> Refuse a run whose particles and grid would not fit in the memory available now.
    !> `history_steps` is the number of history entries kept (0 without history).
-   subroutine check_memory(particles, elements, history_steps, error)
+   !> `margin` (margin_cells as given, -1: automatic) adds its empty cells to the grid's.
+   subroutine check_memory(particles, elements, history_steps, error, margin)
       integer(i8), intent(in) :: particles
       integer, intent(in) :: elements, history_steps
       type(error_t), allocatable, intent(inout) :: error
-      integer(i8) :: needed, available
+      integer, intent(in), optional :: margin
+      integer(i8) :: needed, available, margin_cells
       integer, parameter :: bytes_per_element = 10*8 ! grid: 5 element shares + 5 nodal arrays
       integer, parameter :: bytes_per_history_entry = 5*8
-      needed = particles*bytes_per_particle + int(max(elements, 0), i8)*bytes_per_element + &
+      character(len=:), allocatable :: with_margin
+      margin_cells = 0
+      if (present(margin)) margin_cells = max(margin, 0)
+      with_margin = ''
+      if (margin_cells > 0) with_margin = " and margin_cells = "//str(margin_cells)
+      needed = particles*bytes_per_particle + (int(max(elements, 0), i8) + margin_cells)*bytes_per_element + &
                int(history_steps, i8)*bytes_per_history_entry
       available = available_memory()
       if (available > 0 .and. needed > available) call append_error(error, &
-         "discretisation: elements = "//str(elements)//" and particles_per_element give "//str(particles)// &
-         " particles; with "//str(history_steps)//" history steps the run needs "//str(needed/1024**2)// &
-         " MiB; allowed: at most the "//str(available/1024**2)//" MiB of memory available")
+         "discretisation: elements = "//str(elements)//with_margin//" and particles_per_element give "// &
+         str(particles)//" particles; with "//str(history_steps)//" history steps the run needs "// &
+         str(needed/1024**2)//" MiB; allowed: at most the "//str(available/1024**2)//" MiB of memory available")
    end subroutine check_memory
 
    !> The output file's folder must exist (the file is written there under a temporary name first).

@@ -1244,7 +1244,8 @@ contains
                end if
                if (text(pos:pos) == new_line('a')) then ! no text value spans lines: a quote is missing
                   call append_error(error, where(pos)//"group &"//group//": text for '"//item%name// &
-                                    "' has no closing quote on its line")
+                                    "' runs past the end of its line (a closing quote missing, or a line break "// &
+                                    "in the text); allowed: quoted text on one line")
                   return
                end if
                if (text(pos:pos) == quote) then

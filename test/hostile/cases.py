@@ -215,7 +215,14 @@ refused('variable_of_other_kind', C3, nml(scene='gravity=3.0'), r"'gravity' is n
 refused('twice_given', C3, nml(discretisation='elements=4, elements=5'), r"'elements' is given twice")
 refused('no_value', C3, nml(discretisation='elements='), r"'elements' has no value")
 refused('two_values', C3, nml(discretisation='elements=4, 5'), r"'elements' takes one value, 2 given")
-refused('unclosed_quote', C3, nml(discretisation="scheme='usl"), r"has no closing quote|not terminated")
+refused('unclosed_quote', C3, nml(discretisation="scheme='usl"), r"text for 'scheme' runs past the end of its line")
+refused('override_line_break', C3, nml(), r"text for 'file' runs past the end of its line",
+        args=['in.nml', 'output.file=a\nb.h5'])
+refused('margin_cells_huge', C3, nml(discretisation='elements=4, margin_cells=2000000000'),
+        r"margin_cells = 2000000000.*(allowed: elements \+ margin_cells|memory available)", timeout=10)
+refused('margin_cells_big_memory', C3, nml(discretisation='elements=4, margin_cells=1000000000'),
+        r"margin_cells = 1000000000.*memory available", timeout=10)
+add('margin_cells_given_runs', C3, 0, r"wrote o\.h5", input=nml(discretisation='elements=4, margin_cells=10'))
 # a value refused through a derived quantity names the variable the user typed
 for mode in ['1073741823', '100000000', '2000000']:
     refused(f'huge_mode_{mode}', C3, nml(scene=f'mode={mode}'), rf"mode = {mode}.*allowed: mode <=",
