@@ -36,6 +36,11 @@ program mpm1d_main
    nargs = command_argument_count()
    if (nargs >= 1) then
       select case (argument(1))
+      case ('-h', '--help', '--list-parameters', '-V', '--version')
+         if (nargs > 1) call fail("'"//argument(1)//"' takes no other arguments (given: '"//argument(2)// &
+                                  "'); see mpm1d --help", 2)
+      end select
+      select case (argument(1))
       case ('-h', '--help')
          call print_help(output_unit)
          stop
@@ -347,6 +352,10 @@ contains
       integer :: i
       logical :: output_failed
       if (nargs < 3) call fail('usage: mpm1d merge OUT.h5 SHARD1.h5 [SHARD2.h5 ...]', 2)
+      do i = 2, nargs
+         if (len(argument(i)) == 0) call fail('merge: argument '//str(i)//' is an empty argument; usage: '// &
+                                             'mpm1d merge OUT.h5 SHARD1.h5 [SHARD2.h5 ...]', 2)
+      end do
       allocate (inputs(nargs - 2))
       do i = 3, nargs
          inputs(i - 2) = argument(i)

@@ -325,6 +325,12 @@ add('merge_output_folder', C4, 3, r"m", input=SHARDS, setup='mkdir m.h5',
     shell=MAKE_SHARDS + '"$MPM1D" merge m.h5 o_shard001of002.h5 o_shard002of002.h5')
 add('merge_missing_shard', C4, 2, r"nope\.h5", input=SHARDS, shell='"$MPM1D" merge m.h5 nope.h5', absent=['m.h5'])
 add('merge_no_args', C4, 2, r"usage: mpm1d merge", args=['merge'])
+add('merge_empty_output', C4, 2, r"merge: argument 2 is an empty argument", args=['merge', '', 'a.h5'])
+add('merge_empty_shard', C4, 2, r"merge: argument 3 is an empty argument", args=['merge', 'm.h5', ''], absent=['m.h5'])
+for first in ['--help', '-h', '--version', '-V', '--list-parameters']:
+    add(f'{first.strip("-")}_with_extra', C4, 2, rf"'{first}' takes no other arguments \(given: 'in.nml'\)",
+        args=[first, 'in.nml'], input=nml(), absent=['o.h5'])
+    add(f'{first.strip("-")}_alone', C4, 0, r"mpm1d|group", args=[first])
 add('merge_not_hdf5', C4, 2, r"in\.nml", input=SHARDS, args=['merge', 'm.h5', 'in.nml'], absent=['m.h5'])
 
 # ---------------------------------------------------------------- 5: scale
