@@ -253,8 +253,12 @@ add('name_255_sweep', C4, 0, r"wrote", input=nml(output=f"file='{'s' * 252}.h5'"
     exists=['s' * 252 + '.h5'])
 refused('name_256_chars', C4, nml(output=f"file='{'n' * 253}.h5'"), r"file.*(too long|255)")
 refused('fifo_output', C4, nml(output="file='fifo.h5'"), r"not a regular file", setup='mkfifo fifo.h5', absent=[])
-refused('dev_null_output', C4, nml(output="file='/dev/null'"), r"not a regular file")
-refused('dev_full_output', C4, nml(output="file='/dev/full'"), r"not a regular file")
+# devices through a link in the case's folder: with the guard broken, a run as root replaces the link,
+# never the device itself (a first version named /dev/zero and replaced it on a broken build)
+refused('dev_null_output', C4, nml(output="file='null.h5'"), r"not a regular file", setup='ln -s /dev/null null.h5',
+        absent=[])
+refused('dev_full_output', C4, nml(output="file='full.h5'"), r"not a regular file", setup='ln -s /dev/full full.h5',
+        absent=[])
 refused('folder_output', C4, nml(output="file='sub'"), r"is an existing folder", setup='mkdir sub')
 refused('folder_slash_output', C4, nml(output="file='sub/'"), r"names a folder")
 refused('missing_folder_output', C4, nml(output="file='nowhere/o.h5'"), r"folder 'nowhere' does not exist")
@@ -452,7 +456,8 @@ for t in ['40000', '100000', '4097']:
     refused(f'i16_04_sweep_threads_{t}', 'i16.4', nml() + f"&sweep elements=3,4 min_time=0, threads={t} /\n",
             r"threads = " + t + r" is out of range")
 refused('i16_05_output_is_input', 'i16.5', nml(output="file='in.nml'"), r"is the input file", exists=['in.nml'])
-refused('i16_05_output_device', 'i16.5', nml(output="file='/dev/zero'"), r"not a regular file")
+refused('i16_05_output_device', 'i16.5', nml(output="file='zero.h5'"), r"not a regular file",
+        setup='ln -s /dev/zero zero.h5', absent=[])
 refused('i16_05_output_is_input_sweep', 'i16.5', nml(output="file='in.nml'") + SW, r"is the input file")
 refused('i16_06_output_folder', 'i16.6', nml(output="file='.'"), r"is an existing folder")
 refused('i16_06_output_folder_sweep', 'i16.6', nml(output="file='sub'") + SW, r"is an existing folder",

@@ -59,6 +59,14 @@ def relative_error(path):
         return float(f['summary/relative_error'][()])
 
 
+#: system files no case may change (a broken build run as root could replace a device named as output)
+GUARDED = ['/dev/null', '/dev/zero', '/dev/full']
+
+
+def device_state():
+    return {p: (os.stat(p).st_mode, os.stat(p).st_rdev) for p in GUARDED if os.path.exists(p)}
+
+
 def run_case(case, exe, scratch, refs):
     folder = scratch / case['name']
     shutil.rmtree(folder, ignore_errors=True)
@@ -160,6 +168,7 @@ def main():
             print(c['cls'], c['name'])
         return
     exe = args.exe or find_exe()
+    devices = device_state()
     scratch = ROOT / 'build' / 'test_scratch' / 'hostile'
     shutil.rmtree(scratch, ignore_errors=True)
     scratch.mkdir(parents=True)
@@ -174,6 +183,8 @@ def main():
                     refs[case['name']] = measured
                 if problems:
                     failures.append((case, problems))
+    if device_state() != devices:
+        failures.append(({'cls': 'suite', 'name': 'devices untouched'}, ['a system device was replaced: restore it']))
     for case, problems in failures:
         print(f"FAIL [{case['cls']}] {case['name']}: " + '; '.join(problems))
     print('hostile-input suite: cases per class (passed/failed):')
