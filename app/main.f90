@@ -6,6 +6,7 @@
 !> 3 output could not be written.
 program mpm1d_main
    use, intrinsic :: iso_fortran_env, only: output_unit, error_unit
+   use, intrinsic :: ieee_arithmetic, only: ieee_set_flag, ieee_all
    use mpm_kinds, only: dp
    use mpm_errors, only: error_t
    use mpm_strings, only: str, num, plural, readable_numbers
@@ -18,7 +19,7 @@ program mpm1d_main
    use mpm_cli_help, only: print_help, print_parameters
    use mpm_sweep, only: sweep_t, read_sweep_text, run_sweep, has_sweep_text, case_config, max_threads
    use mpm_files, only: same_file
-   use mpm_registry, only: read_input_text
+   use mpm_registry, only: read_input_text, parse_namelist, nml_item_t
    use mpm_sweep_output, only: write_sweep_file, merge_sweep_files
    implicit none
 
@@ -35,6 +36,11 @@ program mpm1d_main
    nargs = command_argument_count()
    if (nargs >= 1) then
       select case (argument(1))
+      case ('-h', '--help', '--list-parameters', '-V', '--version')
+         if (nargs > 1) call fail("'"//argument(1)//"' takes no other arguments (given: '"//argument(2)// &
+                                  "'); see mpm1d --help", 2)
+      end select
+      select case (argument(1))
       case ('-h', '--help')
          call print_help(output_unit)
          stop
@@ -46,10 +52,11 @@ program mpm1d_main
          stop
       case ('merge')
          call merge_command()
-         stop
+         call finish()
       end select
    end if
 
+   call check_environment()
    ! the arguments: an input file (or '-'), overrides group.name=value, options
    allocate (overrides(0))
    quiet = .false.
@@ -85,13 +92,14 @@ program mpm1d_main
          if (allocated(input)) call fail("too many input files: '"//input//"' and '-'; see mpm1d --help", 2)
          input = option
       case default
+         if (len(option) == 0) call fail('argument '//str(i)//' is an empty argument; allowed: an input file, '// &
+                                         'an override group.name=value or an option (see mpm1d --help)', 2)
          if (option(1:min(1, len(option))) == '-') call fail("unknown option '"//option//"'; see mpm1d --help", 2)
          if (is_override(option) .and. (allocated(input) .or. .not. exists(option))) then
             if (len(option) > len(overrides)) call fail("override '"//option(1:60)//"...' is too long; allowed: "// &
                                                        str(len(overrides))//" characters", 2)
             overrides = [character(len=len(overrides)) :: overrides, option]
          else if (.not. allocated(input)) then
-            if (len(option) == 0) call fail('an empty argument is not an input file; see mpm1d --help', 2)
             input = option
          else
             call fail("too many arguments: '"//option//"' after the input file '"//input// &
@@ -106,6 +114,7 @@ program mpm1d_main
       if (input == '-') source = 'standard input'
       call read_input_text(input, text, error)
       if (allocated(error)) call fail('invalid input:'//new_line('a')//error%message, 2)
+      call refuse_without_groups()
    else
       source = 'command line'
       text = ''
@@ -113,7 +122,7 @@ program mpm1d_main
    is_sweep = has_sweep_text(text) .or. any(overrides(:)(1:6) == 'sweep.')
    if (is_sweep) then
       call sweep_command()
-      stop
+      call finish()
    end if
    if (shards > 0 .or. threads >= 0) call fail('--shard and --threads are for a sweep (an input with a &sweep '// &
                                                 'group); see mpm1d --help', 2)
@@ -156,8 +165,55 @@ program mpm1d_main
                                              new_line('a')// &
                                              'the history up to that step is in '// &
                                              trim(config%file), 1)
+   call finish()
 
 contains
+
+   !> OMP_NUM_THREADS, which a sweep's threads = 0 follows: whole numbers 1 to max_threads (a list
+   !> "4,2" for nested levels); libgomp only warns about other text and crashes on 100000 threads.
+   subroutine check_environment()
+      character(len=:), allocatable :: value, item
+      integer :: length, comma, n, stat
+      call get_environment_variable('OMP_NUM_THREADS', length=length)
+      if (length == 0) return
+      allocate (character(len=length) :: value)
+      call get_environment_variable('OMP_NUM_THREADS', value)
+      value = trim(adjustl(value))
+      if (len(value) == 0) return
+      do
+         comma = index(value, ',')
+         item = trim(adjustl(value(1:merge(comma - 1, len(value), comma > 0))))
+         n = -1
+         stat = 1
+         if (len(item) > 0 .and. len(item) <= 9 .and. verify(item, '0123456789') == 0) read (item, *, iostat=stat) n
+         if (stat /= 0 .or. n < 1 .or. n > max_threads) call fail("environment: OMP_NUM_THREADS = '"//value// &
+            "' is not a thread count; allowed: whole numbers 1 to "//str(max_threads)//" (comma-separated for "// &
+            "nested levels), or leave it unset", 2)
+         if (comma == 0) exit
+         value = value(comma + 1:)
+      end do
+   end subroutine check_environment
+
+   !> An input with no namelist group at all (empty, blanks or comments only, and every text the reader
+   !> does not refuse line by line) is refused: the built-in case runs only without an input file.
+   subroutine refuse_without_groups()
+      type(nml_item_t), allocatable :: items(:)
+      character(len=32), allocatable :: groups(:)
+      integer, allocatable :: lines(:)
+      type(error_t), allocatable :: problem
+      call parse_namelist(text, source, items, groups, lines, problem)
+      if (allocated(problem)) return ! reported with the file's other problems by the reader
+      if (size(groups) == 0) call fail('invalid input:'//new_line('a')//source//': no namelist group (the input '// &
+         'is empty or holds only blanks and comments); allowed: &group name=value, ... / groups (see mpm1d '// &
+         '--help); run mpm1d without an input file for the built-in verification case', 2)
+   end subroutine refuse_without_groups
+
+   !> Normal end: floating-point flags a run raised on purpose (an energy sum computed again in scaled
+   !> form, subnormal intermediates of a far-scaled bar) are no news to the user: no runtime note.
+   subroutine finish()
+      call ieee_set_flag(ieee_all, .false.)
+      stop 0, quiet=.true.
+   end subroutine finish
 
    !> What a single run reports on standard output.
    subroutine report_run()
@@ -296,6 +352,10 @@ contains
       integer :: i
       logical :: output_failed
       if (nargs < 3) call fail('usage: mpm1d merge OUT.h5 SHARD1.h5 [SHARD2.h5 ...]', 2)
+      do i = 2, nargs
+         if (len(argument(i)) == 0) call fail('merge: argument '//str(i)//' is an empty argument; usage: '// &
+                                             'mpm1d merge OUT.h5 SHARD1.h5 [SHARD2.h5 ...]', 2)
+      end do
       allocate (inputs(nargs - 2))
       do i = 3, nargs
          inputs(i - 2) = argument(i)

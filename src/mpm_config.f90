@@ -1,7 +1,7 @@
 !> Namelist configuration of one run: read, validate (reporting every problem), resolve derived
 !> quantities (wave speed, element size, time step, step count) and echo.
 module mpm_config
-   use, intrinsic :: ieee_arithmetic, only: ieee_is_finite
+   use, intrinsic :: ieee_arithmetic, only: ieee_is_finite, ieee_is_normal, ieee_is_nan
    use mpm_kinds, only: dp, i8, pi
    use mpm_errors, only: error_t, set_error, append_error
    use mpm_strings, only: str, lower, num, plural
@@ -16,12 +16,10 @@ module mpm_config
    public :: config_t, read_config, read_config_text, input_name, validate_config, resolve_config
    public :: write_config_namelist, config_namelist
    public :: default_config, config_summary, known_schemes
-   public :: max_snapshots, max_segments, unset, check_output_path, body_length, largest_wave_speed
+   public :: max_snapshots, max_segments, check_output_path, body_length, largest_wave_speed
    public :: config_parameters, config_groups, group_help, known_scenes
    public :: step_count, stability_limit, not_used_message
 
-   !> Sentinel for "not given" reals; no physical input takes this value.
-   real(dp), parameter :: unset = -huge(1.0_dp)
    !> Most snapshot times one run accepts.
    integer, parameter :: max_snapshots = 64
    !> Most segments of a composite bar.
@@ -83,7 +81,12 @@ module mpm_config
       real(dp) :: flip_fraction = 0.99_dp
       ! &run
       real(dp) :: periods = 2.0_dp
-      real(dp) :: end_time = unset
+      !> NaN until set: a program that fills config_t sets end_time alone (see run_length_flags); a
+      !> user's NaN is refused by its range check, as it sets end_time_given.
+      real(dp) :: end_time = transfer(9221120237041090560_i8, 1.0_dp)
+      !> Which of the two gives the run's length: flags of their own, set when the input gives them (no
+      !> value a user can type means "not given"); end_time given makes periods_given false.
+      logical :: periods_given = .true., end_time_given = .false.
       ! &output
       character(len=1024) :: file = 'bar.h5'
       logical :: history = .true.
@@ -120,6 +123,7 @@ contains
    subroutine config_parameters(config, table)
       type(config_t), intent(inout), target :: config
       type(parameter_t), allocatable, intent(out) :: table(:)
+      call run_length_flags(config)
       table = [ &
          text_entry('discretisation', 'scheme', config%scheme, 'update scheme: stress update first, last, or '// &
                     'modified last (the README gives each algorithm)', words=known_schemes, sweep_list='schemes'), &
@@ -184,10 +188,9 @@ contains
                               note='2 pi A / length < 1', sweep_list='amplitudes'), 'manufactured'), &
          real_entry('run', 'periods', config%periods, '', 'run length in periods of the scene (bar: 2 pi/omega_n; '// &
                     'column: 4L/c; manufactured: 2L/c; impact: 2 max L/c); steps = smallest n with n dt >= end time', &
-                    greater_than=0.0_dp, &
-                    optional=.true.), &
+                    greater_than=0.0_dp, optional=.true., given=config%periods_given), &
          real_entry('run', 'end_time', config%end_time, 's', 'run length in seconds (give periods or end_time)', &
-                    greater_than=0.0_dp, optional=.true.), &
+                    greater_than=0.0_dp, optional=.true., given=config%end_time_given), &
          text_entry('output', 'file', config%file, 'the HDF5 file written (via a temporary .part file)', &
                     attribute='output_file'), &
          logical_entry('output', 'history', config%history, 'write u_cm(t), exact u_cm(t) and energies at every step'), &
@@ -198,6 +201,13 @@ contains
          real_entry('guards', 'max_cell_move', config%max_cell_move, 'cells', 'a run stops when a particle moves '// &
                     'more than this many cells in one step', greater_than=0.0_dp)]
    end subroutine config_parameters
+
+   !> A configuration filled by a program (end_time set, not read) gets the flags the reader would set.
+   subroutine run_length_flags(config)
+      type(config_t), intent(inout) :: config
+      if (.not. ieee_is_nan(config%end_time)) config%end_time_given = .true.
+      if (config%end_time_given) config%periods_given = .false.
+   end subroutine run_length_flags
 
    !> One line on each group of the run's input, for --help.
    function group_help(group) result(text)
@@ -298,7 +308,8 @@ contains
       if (table(periods)%line > 0 .and. table(end_time)%line > 0) then
          call append_error(error, trim(table(end_time)%origin)//" run: give either periods or end_time, not both")
       else if (table(end_time)%line > 0) then
-         config%periods = unset
+         config%periods_given = .false.
+         config%periods = -huge(1.0_dp) ! no value (for programs reading config_t; the flag decides)
       end if
       if (allocated(error)) return
       call validate_config(config, error)
@@ -339,9 +350,12 @@ contains
       do i = 1, size(table)
          call check_parameter(table(i), error)
       end do
-      if (config%periods == unset .and. config%end_time == unset) call append_error(error, &
+      if (.not. local%periods_given .and. .not. local%end_time_given) call append_error(error, &
          "run: give periods or end_time")
       particles = int(max(config%elements, 0), i8)*int(max(config%particles_per_element, 0), i8)
+      if (int(max(config%elements, 0), i8) + max(config%margin_cells, 0) + 8 > max_count) call append_error(error, &
+         "discretisation: elements = "//str(config%elements)//" and margin_cells = "//str(config%margin_cells)// &
+         " give too many grid cells; allowed: elements + margin_cells <= "//str(max_count - 8))
       if (particles > max_count) call append_error(error, &
          "discretisation: elements*particles_per_element = "//str(particles)//" is too large; allowed: <= "// &
          str(max_count))
@@ -357,20 +371,25 @@ contains
       if (trim(config%scene_kind) == 'impact') call check_impact(config, error)
       if (allocated(error)) return
 
-      ! Consistency checks that need the resolved quantities.
+      ! Consistency checks that need the resolved quantities; a value refused through a derived
+      ! quantity is blamed on the variables the user typed.
+      call check_representable(config, error)
+      if (allocated(error)) return
       c = largest_wave_speed(config)
       dx = body_length(config)/config%elements
       dt = config%dt_fraction*dx/c
-      if (.not. ieee_is_finite(c) .or. .not. ieee_is_finite(dt) .or. dt <= 0.0_dp) then
-         call append_error(error, "scene: youngs_modulus/density = "//str(config%youngs_modulus/config%density)// &
-                           " gives no finite positive wave speed and time step")
+      if (.not. ieee_is_normal(c) .or. .not. ieee_is_normal(dt) .or. .not. ieee_is_normal(dx) .or. dt <= 0.0_dp) then
+         call append_error(error, "scene: length = "//short_number(body_length(config))//" m on elements = "// &
+                           str(config%elements)//" with dt_fraction = "//short_number(config%dt_fraction)// &
+                           " gives dx = "//short_number(dx)//" m and dt = dt_fraction dx/c = "//short_number(dt)// &
+                           " s, which doubles cannot hold; allowed: dx and dt between 2.2e-308 and 1.8e308")
          return
       end if
       end_time = run_end_time(config)
-      if (end_time < dt) call append_error(error, "run: end time "//str(end_time)// &
-         " s is shorter than one time step dt = "//str(dt)//" s; allowed: end time >= dt")
-      if (end_time/dt > real(huge(1) - 1, dp)) call append_error(error, "run: end time / dt = "// &
-         str(end_time/dt)//" steps is too many; allowed: <= "//str(huge(1) - 1))
+      if (end_time < dt) call append_error(error, run_too_short())
+      if (end_time/dt > real(huge(1) - 1, dp)) call append_error(error, run_length()//" needs "// &
+         num(end_time/dt, 4)//" steps of dt = "//num(dt, 4)//" s; allowed: at most "//str(huge(1) - 1)// &
+         " steps (fewer periods, a larger dt_fraction or fewer elements)")
       if (config%snapshot_count > 0) then
          if (any(config%snapshot_times(1:config%snapshot_count) > end_time*(1.0_dp + 1.0e-12_dp))) &
             call append_error(error, "output: snapshot_times must lie within the run, 0 to "//str(end_time)//" s")
@@ -383,9 +402,45 @@ contains
       if (present(with_system)) then
          if (.not. with_system) return
       end if
-      call check_memory(particles, config%elements, merge(step_count(end_time, dt), 0, config%history), error)
+      call check_memory(particles, config%elements, merge(step_count(end_time, dt), 0, config%history), error, &
+                        config%margin_cells)
       call check_output_path(config%file, 'output: file', error)
    contains
+      !> How the user gave the run's length: "run: end_time = 1e-3 s" or "run: periods = 2 (end time 1e-3 s)".
+      function run_length() result(text)
+         character(len=:), allocatable :: text
+         if (local%end_time_given) then
+            text = "run: end_time = "//short_number(config%end_time)//" s"
+         else
+            text = "run: periods = "//short_number(config%periods)//" (end time "//num(end_time, 4)//" s)"
+         end if
+      end function run_length
+
+      !> The run is shorter than one step: name what was typed, and what would do.
+      function run_too_short() result(text)
+         character(len=:), allocatable :: text
+         real(dp) :: period
+         integer(i8) :: largest_mode
+         if (local%end_time_given) then
+            text = "run: end_time = "//short_number(config%end_time)//" s: the end time is shorter than one time "// &
+                   "step dt = "//num(dt, 4)//" s; allowed: end_time >= "//num(dt, 4)//" s"
+            return
+         end if
+         period = end_time/config%periods
+         if (trim(config%scene_kind) == 'vibrating_bar' .and. config%mode > 1) then
+            ! periods (2 pi/omega_n = 4 L/((2n-1) c)) >= dt  <=>  2n - 1 <= periods 4 L/(c dt)
+            largest_mode = int(min((config%periods*4*config%length/(c*dt) + 1)/2, real(huge(1), dp)), i8)
+            text = "scene: mode = "//str(config%mode)//" with periods = "//short_number(config%periods)// &
+                   " gives an end time "//num(end_time, 4)//" s, shorter than one time step dt = "// &
+                   num(dt, 4)//" s; allowed: mode <= "//str(largest_mode)//" (or run: periods >= "// &
+                   num(dt/period, 4)//")"
+         else
+            text = "run: periods = "//short_number(config%periods)//" gives an end time "//num(end_time, 4)// &
+                   " s, shorter than one time step dt = "//num(dt, 4)//" s; allowed: periods >= "// &
+                   num(dt/period, 4)
+         end if
+      end function run_too_short
+
       function snapshot_list() result(text)
          character(len=:), allocatable :: text
          integer :: k
@@ -423,22 +478,131 @@ contains
                            " and "//str(transit(2))//" s")
    end subroutine check_impact
 
+   !> Refuse a body whose material or motion doubles cannot represent, naming the variables typed: the
+   !> wave speed (E/rho), and for the vibrating bar the free end's motion in cells (the grid's margin
+   !> must hold it: at most 1e8 cells), its displacements (normal doubles), the energy rho v0^2 L/4 and
+   !> the stress amplitude sqrt(E rho) |v0| (finite doubles). |v0| >= c is allowed (studies/stability
+   !> runs v0 = c on purpose; the guards stop such a run).
+   !> Magnitudes are compared as logarithms so that the check itself cannot overflow.
+   subroutine check_representable(config, error)
+      type(config_t), intent(in) :: config
+      type(error_t), allocatable, intent(inout) :: error
+      real(dp), parameter :: top = log10(huge(1.0_dp)), bottom = log10(tiny(1.0_dp))
+      real(dp) :: log_ratio, log_c, log_v, log_cells
+      integer :: k
+      character(len=:), allocatable :: material, extra
+      extra = ''
+      if (trim(config%scene_kind) == 'composite_bar') then
+         do k = 1, config%length_count
+            log_ratio = log10(config%youngs_moduli(k)) - log10(config%densities(k))
+            if (log_ratio > top .or. log_ratio < bottom) call append_error(error, "scene: youngs_moduli("// &
+               str(k)//") = "//short_number(config%youngs_moduli(k))//" Pa and densities("//str(k)//") = "// &
+               short_number(config%densities(k))//" kg/m^3 give E/rho = 1e"//str(nint(log_ratio))// &
+               ", beyond the doubles; allowed: 2.2e-308 <= youngs_moduli/densities <= 1.8e308")
+         end do
+         return
+      end if
+      material = "youngs_modulus = "//short_number(config%youngs_modulus)//" Pa and density = "// &
+                 short_number(config%density)//" kg/m^3"
+      log_ratio = log10(config%youngs_modulus) - log10(config%density)
+      if (log_ratio > top .or. log_ratio < bottom) then
+         call append_error(error, "scene: "//material//" give no wave speed sqrt(E/rho) doubles can hold "// &
+                           "(E/rho = 1e"//str(nint(log_ratio))//"); allowed: 2.2e-308 <= youngs_modulus/density <= 1.8e308")
+         return
+      end if
+      if (trim(config%scene_kind) == 'column') then
+         ! strain at the fixed end rho g L/E = g L/c^2 (>= 1: J <= 0)
+         log_v = log10(config%gravity) + log10(config%length) - log_ratio
+         if (log_v >= 0.0_dp) then
+            call append_error(error, "scene: gravity = "//short_number(config%gravity)//" m/s^2, length = "// &
+                              short_number(config%length)//" m and "//material//" give a strain g L rho/E = 1e"// &
+                              str(nint(log_v))//" at the fixed end; allowed: gravity length density/youngs_modulus < 1")
+            return
+         end if
+         ! the column's exact solution and energies use these products as they stand
+         extra = ", gravity = "//short_number(config%gravity)//" m/s^2"
+         call within("the sag g L^2/c^2", log_v + log10(config%length))
+         call within("g L", log10(config%gravity) + log10(config%length))
+         call within("L^3", 3*log10(config%length))
+         call within("g^2", 2*log10(config%gravity))
+         call within("the energy rho g^2 L^3/c^2", log10(config%density) + 2*log10(config%gravity) + &
+                     3*log10(config%length) - log_ratio)
+         return
+      end if
+      if (trim(config%scene_kind) == 'manufactured') then
+         ! the manufactured solution's body force, energies and error measure use these products as they stand
+         extra = ", amplitude = "//short_number(config%amplitude)//" m"
+         call within("(c/L)^2", log_ratio - 2*log10(config%length))
+         call within("the body force A (c/L)^2", log10(config%amplitude) + log_ratio - 2*log10(config%length))
+         call within("the energy rho (c A)^2/L", log10(config%density) + log_ratio + 2*log10(config%amplitude) - &
+                     log10(config%length))
+         call within("the error measure's scale rho L (A/100)^2", log10(config%density) + log10(config%length) + &
+                     2*log10(config%amplitude) - 4)
+         return
+      end if
+      if (trim(config%scene_kind) /= 'vibrating_bar' .or. config%velocity_amplitude == 0.0_dp) return
+      log_c = log_ratio/2
+      log_v = log10(abs(config%velocity_amplitude))
+      ! the free end's amplitude in cells, |v0|/c 2 elements/((2 mode - 1) pi): the grid's margin holds it
+      log_cells = log_v - log_c + log10(2*real(config%elements, dp)/((2*real(config%mode, dp) - 1)*pi))
+      if (log_cells > 8 .and. config%margin_cells < 0) then
+         call append_error(error, "scene: velocity_amplitude = "//short_number(config%velocity_amplitude)// &
+                           " m/s moves the free end by about 1e"//str(nint(log_cells))//" cells (|v0|/c = 1e"// &
+                           str(nint(log_v - log_c))//" with c = sqrt(youngs_modulus/density) = "// &
+                           short_number(10.0_dp**log_c)//" m/s); allowed: an amplitude of at most 1e8 cells, "// &
+                           "|velocity_amplitude| <= "//short_number(10.0_dp**(log_c + 8 - log_cells + log_v))//" m/s")
+      else if (log_v - log_c + log10(config%length) < bottom + 1) then
+         ! the exact u_cm amplitude v0/(omega beta L) = (v0/c) L (2/((2n-1) pi))^2 must be a normal double
+         call append_error(error, "scene: velocity_amplitude = "//short_number(config%velocity_amplitude)// &
+                           " m/s, length = "//short_number(config%length)//" m and "//material//" give "// &
+                           "displacements of about (v0/c) L = 1e"//str(nint(log_v - log_c + log10(config%length)))// &
+                           " m, below the doubles (2.2e-307); allowed: a larger velocity_amplitude or length")
+      else if (log10(config%density) + 2*log_v + log10(config%length) - log10(4.0_dp) > top - 1) then
+         call append_error(error, "scene: density = "//short_number(config%density)//" kg/m^3, velocity_amplitude"// &
+                           " = "//short_number(config%velocity_amplitude)//" m/s and length = "// &
+                           short_number(config%length)//" m give an energy rho v0^2 L/4 of 1e"// &
+                           str(nint(log10(config%density) + 2*log_v + log10(config%length) - log10(4.0_dp)))// &
+                           " J/m^2, beyond the doubles; allowed: rho v0^2 L/4 < 1.8e307")
+      else if ((log10(config%youngs_modulus) + log10(config%density))/2 + log_v > top - 1) then
+         call append_error(error, "scene: "//material//" with velocity_amplitude = "// &
+                           short_number(config%velocity_amplitude)//" m/s give a stress amplitude sqrt(E rho) |v0| "// &
+                           "beyond the doubles; allowed: sqrt(youngs_modulus density) |velocity_amplitude| < 1.8e307 Pa")
+      end if
+   contains
+      !> Refuse the scene when a product its formulas form (log10 `magnitude`) leaves the doubles.
+      subroutine within(what, magnitude)
+         character(len=*), intent(in) :: what
+         real(dp), intent(in) :: magnitude
+         if (magnitude < bottom + 2 .or. magnitude > top - 2) call append_error(error, "scene: kind = '"// &
+            trim(config%scene_kind)//"' with length = "//short_number(config%length)//" m"//extra//" and "//material// &
+            ": "//what//" is about 1e"//str(nint(magnitude))//", beyond what its formulas hold in doubles; "// &
+            "allowed: 1e-306 to 1e306 (choose units nearer 1; the vibrating bar's formulas are scaled, these are not)")
+      end subroutine within
+   end subroutine check_representable
+
    !> Refuse a run whose particles and grid would not fit in the memory available now.
    !> `history_steps` is the number of history entries kept (0 without history).
-   subroutine check_memory(particles, elements, history_steps, error)
+   !> `margin` (margin_cells as given, -1: automatic) adds its empty cells to the grid's.
+   subroutine check_memory(particles, elements, history_steps, error, margin)
       integer(i8), intent(in) :: particles
       integer, intent(in) :: elements, history_steps
       type(error_t), allocatable, intent(inout) :: error
-      integer(i8) :: needed, available
+      integer, intent(in), optional :: margin
+      integer(i8) :: needed, available, margin_cells
       integer, parameter :: bytes_per_element = 10*8 ! grid: 5 element shares + 5 nodal arrays
       integer, parameter :: bytes_per_history_entry = 5*8
-      needed = particles*bytes_per_particle + int(max(elements, 0), i8)*bytes_per_element + &
+      character(len=:), allocatable :: with_margin
+      margin_cells = 0
+      if (present(margin)) margin_cells = max(margin, 0)
+      with_margin = ''
+      if (margin_cells > 0) with_margin = " and margin_cells = "//str(margin_cells)
+      needed = particles*bytes_per_particle + (int(max(elements, 0), i8) + margin_cells)*bytes_per_element + &
                int(history_steps, i8)*bytes_per_history_entry
       available = available_memory()
       if (available > 0 .and. needed > available) call append_error(error, &
-         "discretisation: elements = "//str(elements)//" and particles_per_element give "//str(particles)// &
-         " particles; with "//str(history_steps)//" history steps the run needs "//str(needed/1024**2)// &
-         " MiB; allowed: at most the "//str(available/1024**2)//" MiB of memory available")
+         "discretisation: elements = "//str(elements)//with_margin//" and particles_per_element give "// &
+         str(particles)//" particles; with "//str(history_steps)//" history steps the run needs "// &
+         str(needed/1024**2)//" MiB; allowed: at most the "//str(available/1024**2)//" MiB of memory available")
    end subroutine check_memory
 
    !> The output file's folder must exist (the file is written there under a temporary name first).
@@ -453,7 +617,10 @@ contains
          if (.not. exists) call append_error(error, name//" = '"//trim(path)//"': folder '"//path(1:slash - 1)// &
                                              "' does not exist; allowed: a path in an existing folder")
       end if
-      if (slash == len_trim(path)) then
+      if (len_trim(path) - slash > 255) then
+         call append_error(error, name//" = '"//trim(path)//"': its last part has "//str(len_trim(path) - slash)// &
+                           " characters; allowed: a file name of at most 255 characters (the file system's limit)")
+      else if (slash == len_trim(path)) then
          call append_error(error, name//" = '"//trim(path)//"' names a folder; allowed: a file name")
       else if (path_kind(path) == path_folder) then
          call append_error(error, name//" = '"//trim(path)//"' is an existing folder; allowed: a file name")
@@ -466,7 +633,7 @@ contains
    real(dp) function run_end_time(config)
       type(config_t), intent(in) :: config
       real(dp) :: omega
-      if (config%end_time /= unset) then
+      if (config%end_time_given .or. .not. ieee_is_nan(config%end_time)) then
          run_end_time = config%end_time
       else if (trim(config%scene_kind) == 'vibrating_bar') then ! this association: the paper's step counts
          omega = (2*config%mode - 1)*pi/(2.0_dp*config%length)*sqrt(config%youngs_modulus/config%density)

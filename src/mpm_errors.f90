@@ -8,7 +8,12 @@ module mpm_errors
    !> One error (possibly several problems, one per line) with a human-readable message.
    type :: error_t
       character(len=:), allocatable :: message
+      !> Problems appended so far; after max_problems the rest are counted, not listed (an input of
+      !> 20,000 wrong lines is reported at once, not in quadratic time).
+      integer :: problems = 1
    end type error_t
+
+   integer, parameter :: max_problems = 100
 
 contains
 
@@ -30,7 +35,12 @@ contains
          allocate (error)
          error%message = message
       else
-         error%message = error%message//new_line('a')//message
+         error%problems = error%problems + 1
+         if (error%problems <= max_problems) then
+            error%message = error%message//new_line('a')//message
+         else if (error%problems == max_problems + 1) then
+            error%message = error%message//new_line('a')//'(more problems follow; the first 100 are listed)'
+         end if
       end if
    end subroutine append_error
 end module mpm_errors

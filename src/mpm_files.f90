@@ -5,6 +5,7 @@ module mpm_files
    implicit none
    private
    public :: rename_file, remove_file, file_exists, available_memory, path_kind, same_file, process_id
+   public :: register_partial, forget_partial, pause_seconds
    !> What path_kind returns: nothing there, a regular file, a folder, anything else (device, FIFO, ...).
    integer, parameter, public :: path_none = 0, path_regular = 1, path_folder = 2, path_other = 3
 
@@ -28,6 +29,16 @@ module mpm_files
       integer(c_int) function c_getpid() bind(C, name='getpid')
          import :: c_int
       end function c_getpid
+      integer(c_int) function c_register_partial(path) bind(C, name='mpm_register_partial')
+         import :: c_int, c_char
+         character(kind=c_char), dimension(*), intent(in) :: path
+      end function c_register_partial
+      subroutine forget_partial() bind(C, name='mpm_forget_partial')
+      end subroutine forget_partial
+      integer(c_int) function c_sleep(seconds) bind(C, name='sleep')
+         import :: c_int
+         integer(c_int), value :: seconds
+      end function c_sleep
    end interface
 
 contains
@@ -57,6 +68,21 @@ contains
       character(len=*), intent(in) :: a, b
       same_file = c_same_file(trim(a)//c_null_char, trim(b)//c_null_char) == 1
    end function same_file
+
+   !> Remove `path` (this process's partial output file) if SIGINT, SIGTERM or SIGHUP ends the process
+   !> before forget_partial is called (see mpm_files_c.c).
+   subroutine register_partial(path)
+      character(len=*), intent(in) :: path
+      integer(c_int) :: stat
+      stat = c_register_partial(trim(path)//c_null_char)
+   end subroutine register_partial
+
+   !> Sleep `seconds` (test hooks).
+   subroutine pause_seconds(seconds)
+      integer, intent(in) :: seconds
+      integer(c_int) :: left
+      left = c_sleep(int(seconds, c_int))
+   end subroutine pause_seconds
 
    !> This process's id (unique among the processes running now).
    integer function process_id()

@@ -8,7 +8,7 @@ module mpm_hdf5
    use hdf5
    use mpm_kinds, only: dp
    use mpm_errors, only: error_t, set_error
-   use mpm_files, only: rename_file, remove_file, process_id
+   use mpm_files, only: rename_file, remove_file, process_id, register_partial, forget_partial, pause_seconds
    use mpm_strings, only: str
    implicit none
    private
@@ -48,7 +48,7 @@ contains
       character(len=*), intent(in) :: path
       integer :: hdferr
       self%path = trim(path)
-      self%part_path = trim(path)//'.'//str(process_id())//'.part'
+      self%part_path = part_name(trim(path), '.'//str(process_id())//'.part')
       self%created = .false.
       call open_library(hdferr)
       call self%check(hdferr, 'initialise the HDF5 library')
@@ -57,7 +57,24 @@ contains
       call h5fcreate_f(self%part_path, H5F_ACC_EXCL_F, self%file, hdferr)
       call self%check(hdferr, "create file '"//self%part_path//"'")
       self%created = hdferr >= 0
+      if (self%created) call register_partial(self%part_path)
    end subroutine writer_create
+
+   !> The temporary name of `path`: `path` + `suffix`, its last component shortened to the file
+   !> system's 255 characters when it would exceed them (a legal 255-character name keeps a legal
+   !> temporary name; the process id in `suffix` keeps it unique).
+   function part_name(path, suffix) result(name)
+      character(len=*), intent(in) :: path, suffix
+      character(len=:), allocatable :: name
+      integer, parameter :: name_max = 255
+      integer :: slash
+      slash = index(path, '/', back=.true.)
+      if (len(path) - slash + len(suffix) <= name_max) then
+         name = path//suffix
+      else
+         name = path(1:slash + name_max - len(suffix))//suffix
+      end if
+   end function part_name
 
    subroutine writer_group(self, name)
       class(h5_writer_t), intent(inout) :: self
@@ -331,6 +348,7 @@ contains
       end if
       if (.not. self%ok()) then
          if (self%created) call remove_file(self%part_path)
+         call forget_partial()
          call set_error(error, "HDF5 output '"//self%path//"': cannot "//self%failure)
          return
       end if
@@ -340,15 +358,27 @@ contains
          if (self%created) call remove_file(self%part_path)
          call set_error(error, "cannot rename '"//self%part_path//"' to '"//self%path//"'")
       end if
+      call forget_partial()
    end subroutine writer_finish
 
    !> Test hook (test_cli): with MPM1D_CRASH_BEFORE_RENAME set, the process aborts between the complete
    !> partial file and its rename, as a crash or a kill there would, so that a test can see that nothing
    !> appears under the final name and the partial file keeps the data.
+   !> With MPM1D_PAUSE_BEFORE_RENAME=N the process sleeps N seconds there instead, so that a test can
+   !> send a signal while the complete partial file exists (test/hostile, class 6).
    subroutine crash_hook()
-      integer :: length
+      integer :: length, seconds, stat
+      character(len=16) :: text
       call get_environment_variable('MPM1D_CRASH_BEFORE_RENAME', length=length)
-      if (length > 0) call abort()
+      if (length > 0) then
+         call forget_partial() ! a crash, not a signal: the partial file stays
+         call abort()
+      end if
+      call get_environment_variable('MPM1D_PAUSE_BEFORE_RENAME', text, length=length)
+      if (length > 0) then
+         read (text, *, iostat=stat) seconds
+         if (stat == 0) call pause_seconds(seconds)
+      end if
    end subroutine crash_hook
 
    !> Close and delete the partial file (nothing appears under the final name).
@@ -358,6 +388,7 @@ contains
       if (self%file >= 0) call h5fclose_f(self%file, hdferr)
       self%file = -1
       if (allocated(self%part_path) .and. self%created) call remove_file(self%part_path)
+      if (self%created) call forget_partial()
       self%created = .false.
    end subroutine writer_abandon
 

@@ -62,6 +62,9 @@ module mpm_registry
       character(len=:), pointer :: text_value => null()
       real(dp), pointer :: list_value(:) => null()
       integer, pointer :: list_count => null()
+      !> Set when the variable is given (input or command line): an optional variable's "given" is its own
+      !> flag, not a value a user could type.
+      logical, pointer :: given => null()
    end type parameter_t
 
    !> One value as written in the input.
@@ -118,17 +121,20 @@ contains
    end function base_entry
 
    !> A real variable; `greater_than`/`at_least` and `below`/`at_most` give its range (always finite).
+   !> `given` (with `optional`): the flag saying whether the variable has a value (set when it is given).
    function real_entry(group, name, target, unit, help, greater_than, at_least, below, at_most, attribute, &
-                       sweep_list, optional, note) result(p)
+                       sweep_list, optional, note, given) result(p)
       character(len=*), intent(in) :: group, name, unit, help
       real(dp), intent(in), target :: target
       real(dp), intent(in), optional :: greater_than, at_least, below, at_most
       character(len=*), intent(in), optional :: attribute, sweep_list, note
       logical, intent(in), optional :: optional
+      logical, intent(in), optional, target :: given
       type(parameter_t) :: p
       p = base_entry(group, name, type_real, unit, help, attribute, sweep_list, optional, note)
       call set_bounds(p, greater_than, at_least, below, at_most)
       p%real_value => target
+      if (present(given)) p%given => given
    end function real_entry
 
    !> A list of up to size(target) reals, of which `count` are given.
@@ -289,20 +295,45 @@ contains
       end if
    end function short_number
 
-   !> A real in full precision without trailing zeros: 12.5, 1.0, 0.10000000000000001.
+   !> A real in full precision without trailing zeros: 12.5, 1.0, 0.10000000000000001; with an exponent,
+   !> the fewest digits that read back as `x` (1e-310, -1.7976931348623157e308), as a user types it.
    function plain(x) result(text)
       real(dp), intent(in) :: x
       character(len=:), allocatable :: text
-      integer :: dot, e
+      integer :: dot, e, digits, stat
+      character(len=40) :: buffer, form
+      real(dp) :: back
       text = str(x)
       dot = index(text, '.')
       e = scan(text, 'eE')
+      if (e > 0 .and. ieee_is_finite(x)) then
+         do digits = 0, 17
+            write (form, '(a,i0,a)') '(es40.', digits, 'e3)'
+            write (buffer, form) x
+            read (buffer, *, iostat=stat) back
+            if (stat == 0 .and. back == x) exit
+         end do
+         buffer = adjustl(buffer)
+         e = scan(buffer, 'eE')
+         text = buffer(1:e - 1)
+         if (text(len(text):len(text)) == '.') text = text(1:len(text) - 1)
+         write (form, '(i0)') read_exponent(buffer(e + 1:))
+         text = text//'e'//trim(form)
+         return
+      end if
       if (dot == 0 .or. e > 0) return
       do while (len(text) > dot + 1)
          if (text(len(text):len(text)) /= '0') exit
          text = text(1:len(text) - 1)
       end do
    end function plain
+
+   integer function read_exponent(text)
+      character(len=*), intent(in) :: text
+      integer :: stat
+      read (text, *, iostat=stat) read_exponent
+      if (stat /= 0) read_exponent = 0
+   end function read_exponent
 
    !> What the variable accepts, in words: "finite real > 0 (m)", "integer >= 1", "'usf', 'usl'".
    function allowed_text(p) result(text)
@@ -364,6 +395,9 @@ contains
       real(dp), intent(in) :: x
       real_in_range = ieee_is_finite(x)
       if (.not. real_in_range) return
+      ! a subnormal number (0 < |x| < 2.2e-308) has lost precision already: not a value to compute with
+      real_in_range = x == 0.0_dp .or. abs(x) >= tiny(x)
+      if (.not. real_in_range) return
       if (p%has_lower) then
          if (x < p%lower .or. (p%lower_open .and. x == p%lower)) real_in_range = .false.
       end if
@@ -405,10 +439,10 @@ contains
       if (present(where)) prefix = where
       select case (p%type)
       case (type_real)
-         if (p%optional .and. p%real_value == -huge(1.0_dp)) return ! not given
-         if (.not. real_in_range(p, p%real_value)) call out_of_range(plain(p%real_value), trim(p%name))
+         if (.not. has_value(p)) return ! an optional variable not given
+         if (.not. real_in_range(p, p%real_value)) call out_of_range(plain(p%real_value), trim(p%name), p%real_value)
       case (type_int)
-         if (.not. real_in_range(p, real(p%int_value, dp))) call out_of_range(str(p%int_value), trim(p%name))
+         if (.not. real_in_range(p, real(p%int_value, dp))) call out_of_range(str(p%int_value), trim(p%name), 1.0_dp)
       case (type_text)
          if (.not. word_allowed(p, p%text_value)) then
             if (len_trim(p%words) > 0) then
@@ -422,14 +456,19 @@ contains
       case (type_real_list)
          do k = 1, p%list_count
             if (.not. real_in_range(p, p%list_value(k))) &
-               call out_of_range(plain(p%list_value(k)), trim(p%name)//'('//str(k)//')')
+               call out_of_range(plain(p%list_value(k)), trim(p%name)//'('//str(k)//')', p%list_value(k))
          end do
       end select
    contains
-      subroutine out_of_range(value, label)
+      subroutine out_of_range(value, label, x)
          character(len=*), intent(in) :: value, label
-         call append_error(error, prefix//trim(p%group)//": "//label//" = "//value//" is out of range; allowed: "// &
-                           allowed_text(p))
+         real(dp), intent(in) :: x
+         character(len=:), allocatable :: why
+         why = ''
+         if (x /= 0.0_dp .and. abs(x) < tiny(x)) why = ' (a subnormal number: below 2.2e-308, the smallest '// &
+                                                       'normal double, numbers lose precision)'
+         call append_error(error, prefix//trim(p%group)//": "//label//" = "//value//" is out of range"//why// &
+                           "; allowed: "//allowed_text(p))
       end subroutine out_of_range
    end subroutine check_parameter
 
@@ -477,6 +516,7 @@ contains
             return
          end if
       end do
+      if (associated(p%given)) p%given = .true.
       select case (p%type)
       case (type_real)
          p%real_value = real_value(values(1))
@@ -631,6 +671,7 @@ contains
          one%group = 'sweep'
          one%name = trim(name)//'('//str(k)//')'
          one%optional = .false.
+         nullify (one%given)
          select case (p%type)
          case (type_real)
             one%real_value => r
@@ -749,29 +790,21 @@ contains
       call parse_namelist(text, path, items, groups, group_lines, error)
    end subroutine read_namelist
 
-   !> The whole text of input file `path`, read once ('-': standard input, to its end).
+   !> The whole text of input file `path`, read once ('-': standard input, to its end). A FIFO or other
+   !> stream (`mpm1d <(...)`) is read once to its end as standard input is: it cannot be read twice.
    subroutine read_input_text(path, text, error)
       use, intrinsic :: iso_fortran_env, only: input_unit
+      use mpm_files, only: path_kind, path_other
       character(len=*), intent(in) :: path
       character(len=:), allocatable, intent(out) :: text
       type(error_t), allocatable, intent(out) :: error
-      integer :: n, unit, stat, got
-      logical :: is_folder
+      integer :: n, unit, stat
+      logical :: is_folder, stream
       character(len=512) :: msg
-      character(len=4096) :: chunk
 
       text = ''
       if (path == '-') then
-         do
-            read (input_unit, '(a)', advance='no', iostat=stat, size=got) chunk
-            if (is_iostat_end(stat)) exit
-            if (stat /= 0 .and. .not. is_iostat_eor(stat)) then
-               call set_error(error, 'cannot read the namelist from standard input')
-               return
-            end if
-            text = text//chunk(1:got)
-            if (is_iostat_eor(stat)) text = text//new_line('a')
-         end do
+         call read_stream(input_unit, 'standard input')
          return
       end if
       inquire (file=trim(path)//'/.', exist=is_folder)
@@ -779,10 +812,21 @@ contains
          call set_error(error, "input file '"//trim(path)//"' is a folder; allowed: a namelist file")
          return
       end if
-      open (newunit=unit, file=path, status='old', action='read', access='stream', form='unformatted', &
-            iostat=stat, iomsg=msg)
+      stream = path_kind(path) == path_other
+      if (stream) then
+         open (newunit=unit, file=path, status='old', action='read', form='formatted', access='sequential', &
+               iostat=stat, iomsg=msg)
+      else
+         open (newunit=unit, file=path, status='old', action='read', access='stream', form='unformatted', &
+               iostat=stat, iomsg=msg)
+      end if
       if (stat /= 0) then
          call set_error(error, "cannot open input file '"//trim(path)//"': "//trim(msg))
+         return
+      end if
+      if (stream) then
+         call read_stream(unit, "input file '"//trim(path)//"'")
+         close (unit)
          return
       end if
       inquire (unit=unit, size=n)
@@ -795,6 +839,24 @@ contains
          call set_error(error, "cannot read input file '"//trim(path)//"': "//trim(msg))
          return
       end if
+   contains
+      !> Read `unit` line by line to its end (each line ends in a newline in `text`).
+      subroutine read_stream(unit, name)
+         integer, intent(in) :: unit
+         character(len=*), intent(in) :: name
+         character(len=4096) :: chunk
+         integer :: got
+         do
+            read (unit, '(a)', advance='no', iostat=stat, size=got) chunk
+            if (is_iostat_end(stat)) exit
+            if (stat /= 0 .and. .not. is_iostat_eor(stat)) then
+               call set_error(error, 'cannot read the namelist from '//name)
+               return
+            end if
+            text = text//chunk(1:got)
+            if (is_iostat_eor(stat)) text = text//new_line('a')
+         end do
+      end subroutine read_stream
    end subroutine read_input_text
 
    !> Command-line overrides `group.name=value[, value ...]`: each is read by the namelist reader as
@@ -929,10 +991,12 @@ contains
       type(error_t), allocatable, intent(out) :: error
       character(len=:), allocatable :: group, path
       integer, allocatable :: line_of(:)
-      integer :: pos, group_line
+      integer :: pos, group_line, nvalues, nitems
       type(nml_item_t) :: item
 
       path = source
+      nvalues = 0
+      nitems = 0
       allocate (items(0), groups(0), group_lines(0))
       allocate (line_of(len(text) + 1))
       line_of(1) = 1
@@ -944,7 +1008,7 @@ contains
       pos = 1
       do
          call skip_blanks_and_comments()
-         if (pos > len(text)) exit
+         if (pos > len(text) .or. too_many()) exit
          if (text(pos:pos) /= '&') then
             call append_error(error, where(pos)//"text outside a namelist group: '"//line_text(pos)// &
                               "'; allowed: &group name=value, ... / and comments after '!'")
@@ -965,7 +1029,14 @@ contains
          group_lines = [group_lines, group_line]
          call read_group()
       end do
+      items = items(1:nitems)
    contains
+      !> Past the problems an error lists, reading stops (the rest of a binary or garbage file adds nothing).
+      logical function too_many()
+         too_many = .false.
+         if (allocated(error)) too_many = error%problems > 100
+      end function too_many
+
       function where(at) result(prefix)
          integer, intent(in) :: at
          character(len=:), allocatable :: prefix
@@ -1045,6 +1116,7 @@ contains
          after_value = .false.
          do
             call skip_blanks_and_comments()
+            if (too_many()) return
             if (pos > len(text)) then
                call append_error(error, trim(path)//":"//str(group_line)//": group &"//group// &
                                  ": not terminated by '/' (end of file reached)")
@@ -1078,6 +1150,7 @@ contains
                item%line = line_of(pos)
                item%name = lower(identifier())
                allocate (item%values(0))
+               nvalues = 0
                call skip_blanks_and_comments()
                if (text(pos:pos) == '(') then
                   call append_error(error, where(pos)//"group &"//group//": '"//item%name//"(...)': indexed "// &
@@ -1169,6 +1242,12 @@ contains
                                     "' has no closing quote")
                   return
                end if
+               if (text(pos:pos) == new_line('a')) then ! no text value spans lines: a quote is missing
+                  call append_error(error, where(pos)//"group &"//group//": text for '"//item%name// &
+                                    "' runs past the end of its line (a closing quote missing, or a line break "// &
+                                    "in the text); allowed: quoted text on one line")
+                  return
+               end if
                if (text(pos:pos) == quote) then
                   if (pos < len(text)) then
                      if (text(pos + 1:pos + 1) == quote) then
@@ -1204,16 +1283,34 @@ contains
          pos = pos + max(len(token_text()), 1)
       end subroutine skip_token
 
+      !> Append `value` to the item's values (storage doubled when full: a list of 100,000 values, or a
+      !> repeat count, is read in linear time; finish_item trims it to `nvalues`).
       subroutine add_value(value)
          type(nml_value_t), intent(in) :: value
-         item%values = [item%values, value]
+         type(nml_value_t), allocatable :: grown(:)
+         if (nvalues == size(item%values)) then
+            allocate (grown(max(8, 2*nvalues)))
+            grown(1:nvalues) = item%values(1:nvalues)
+            call move_alloc(grown, item%values)
+         end if
+         nvalues = nvalues + 1
+         item%values(nvalues) = value
       end subroutine add_value
 
       subroutine finish_item()
+         type(nml_item_t), allocatable :: grown(:)
          if (allocated(item%values)) then
-            items = [items, item]
+            item%values = item%values(1:nvalues)
+            if (nitems == size(items)) then ! doubled when full, trimmed at the end
+               allocate (grown(max(8, 2*nitems)))
+               grown(1:nitems) = items(1:nitems)
+               call move_alloc(grown, items)
+            end if
+            nitems = nitems + 1
+            items(nitems) = item
             deallocate (item%values)
          end if
+         nvalues = 0
       end subroutine finish_item
    end subroutine parse_namelist
 
@@ -1269,7 +1366,7 @@ contains
       select case (p%type)
       case (type_real)
          text = str(p%real_value)
-         if (p%optional .and. p%real_value == -huge(1.0_dp)) text = ''
+         if (.not. has_value(p)) text = ''
       case (type_int)
          text = str(p%int_value)
       case (type_logical)
@@ -1284,6 +1381,13 @@ contains
          end do
       end select
    end function format_value
+
+   !> Does `p` have a value? False only for an optional variable whose "given" flag is unset.
+   pure logical function has_value(p)
+      type(parameter_t), intent(in) :: p
+      has_value = .true.
+      if (p%optional .and. associated(p%given)) has_value = p%given
+   end function has_value
 
    !> Whether scene kind `kind` uses the variable `p` (its `kinds` list is empty or names `kind`).
    pure logical function used_by(p, kind)

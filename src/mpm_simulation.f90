@@ -153,6 +153,7 @@ contains
          call particle_energies(particles, config%youngs_modulus, totals)
          total_mass = sum(particles%mass_of)
       end if
+      call finite_energies(particles, config%youngs_modulus, totals)
       result%initial_energy = totals%kinetic_energy + totals%strain_energy
       ! Zero initial energy (v0 = 0) stays exactly zero in a sound run: any growth trips the guard.
       energy_reference = scene%energy_reference(result%initial_energy)
@@ -183,6 +184,7 @@ contains
          end if
          t = n*config%dt
          exact = scene%ucm_exact(t)
+         call finite_energies(particles, config%youngs_modulus, totals)
          energy = totals%kinetic_energy + totals%strain_energy
          result%max_error = max(result%max_error, scene%error_at(t, particles, ucm))
          result%final_energy = energy
@@ -212,6 +214,12 @@ contains
       else
          result%relative_error = result%max_error
       end if
+      ! a completed run never reports a non-finite number: if an exact solution or error measure overflowed
+      ! although the particle state stayed finite, the run counts as stopped by the non-finite guard
+      if (result%status == status_ok .and. .not. all(ieee_is_finite([result%max_error, result%relative_error, &
+          result%ucm_amplitude, result%initial_energy, result%final_energy, result%max_energy_ratio]))) &
+         call trip(config%steps, config%steps*config%dt, status_non_finite, result%max_energy_ratio, &
+                   first_non_finite(particles))
       result%run_time = omp_get_wtime() - start
 
    contains
@@ -298,7 +306,12 @@ contains
       character(len=:), allocatable :: text, what
       select case (status)
       case (status_non_finite)
-         what = 'non-finite value (NaN or Infinity) in the particle state'
+         if (trip%particle > 0) then
+            what = 'non-finite value (NaN or Infinity) in the particle state'
+         else
+            what = 'non-finite value (NaN or Infinity) in the exact solution, the error or the energies (the '// &
+                   'particle state is finite): the scene cannot be represented at this scale'
+         end if
       case (status_left_grid)
          what = 'a particle left the grid domain ['//str(trip%domain(1))//', '//str(trip%domain(2))// &
                 '] m (the body with its margin_cells; a larger margin_cells widens it)'
@@ -322,6 +335,35 @@ contains
       if (trip%particle > 0) text = text//'; particle '//str(trip%particle)//': x = '//str(trip%x)//' m, v = '// &
                                     str(trip%v)//' m/s, stress = '//str(trip%stress)//' Pa, J = '//str(trip%volume_ratio)
    end function guard_message
+
+   !> The kernels sum energies as m v^2 / 2 and sigma^2 J V0 / 2E, whose products overflow before the
+   !> energy does when E or v is near the largest double (E = 1e308: sigma^2 ~ 1e309 while the strain
+   !> energy is ~ 1e-2 J/m^2). When a sum is not finite but the particle state is, both are computed
+   !> again from the state in scaled form, (sqrt(m) v)^2 / 2 and (sigma sqrt(J V0 / E))^2 / 2, which
+   !> overflow only when the energy itself does. Finite sums are left as they are (same bits as before).
+   subroutine finite_energies(particles, youngs_modulus, totals)
+      type(particles_t), intent(in) :: particles
+      real(dp), intent(in) :: youngs_modulus
+      type(pass_totals_t), intent(inout) :: totals
+      real(dp) :: kinetic, strain, m, v0, e
+      integer :: p
+      if (ieee_is_finite(totals%kinetic_energy) .and. ieee_is_finite(totals%strain_energy)) return
+      if (first_non_finite(particles) /= 0) return ! the state itself: the non-finite guard trips
+      kinetic = 0.0_dp
+      strain = 0.0_dp
+      do p = 1, particles%count
+         m = particles%mass
+         v0 = particles%volume0
+         e = youngs_modulus
+         if (allocated(particles%mass_of)) m = particles%mass_of(p)
+         if (allocated(particles%volume0_of)) v0 = particles%volume0_of(p)
+         if (allocated(particles%youngs_modulus_of)) e = particles%youngs_modulus_of(p)
+         kinetic = kinetic + 0.5_dp*(sqrt(m)*particles%v(p))**2
+         strain = strain + 0.5_dp*(particles%stress(p)*sqrt(particles%volume_ratio(p)*v0/e))**2
+      end do
+      totals%kinetic_energy = kinetic
+      totals%strain_energy = strain
+   end subroutine finite_energies
 
    integer function first_non_finite(particles) result(p)
       type(particles_t), intent(in) :: particles

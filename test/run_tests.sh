@@ -25,6 +25,9 @@ fi
 echo "== the command line: overrides, standard input, --quiet, hostile input"
 bash test/test_command_line.sh || failed=1
 
+echo "== hostile input: the table-driven suite (test/hostile/cases.py)"
+"$PYTHON" test/hostile/run_hostile.py || failed=1
+
 echo "== sweeps give the same bits on 1 and 2 threads, every time"
 bash test/test_sweep_determinism.sh || failed=1
 

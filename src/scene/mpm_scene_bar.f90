@@ -4,6 +4,7 @@
 !> u_cm(t) = (1/L) int_0^L u dx = v0/(omega_n beta_n L) sin(omega_n t)  (cos(beta_n L) = 0 for every n).
 !> One body of one material, no external force: the fused kernels apply.
 module mpm_scene_bar
+   use, intrinsic :: ieee_arithmetic, only: ieee_is_normal, ieee_is_finite
    use mpm_kinds, only: dp, pi
    use mpm_errors, only: error_t
    use mpm_config, only: config_t
@@ -39,6 +40,11 @@ contains
       bar%beta = (2*mode - 1)*pi/(2.0_dp*length)
       bar%omega = bar%beta*bar%wave_speed
       bar%amplitude = velocity_amplitude/(bar%omega*bar%beta*length)
+      ! omega beta L = beta^2 c L leaves the doubles for L far from 1 (1e160: subnormal, 1e-160: overflow)
+      ! though the amplitude v0/omega / (beta L), beta L = (2n-1) pi/2, is representable: then that form
+      if (.not. (ieee_is_normal(bar%omega*bar%beta) .and. ieee_is_normal(bar%omega*bar%beta*length) .and. &
+                 ieee_is_finite(bar%amplitude))) &
+         bar%amplitude = velocity_amplitude/bar%omega/((2*mode - 1)*pi/2.0_dp)
    end function bar_init
 
    !> `particles_per_element` particles per element at the centres of equal sub-cells, unstressed,

@@ -1,0 +1,199 @@
+"""Run the hostile-input suite: every case of cases.py against the mpm1d executable.
+
+Usage (from anywhere): $PYTHON test/hostile/run_hostile.py [--exe PATH] [--only REGEX] [--list] [-j N]
+
+A case is data (see cases.py): input text (or bytes), arguments, environment, standard input, the
+expected exit code, a pattern the output must contain, files that must / must not exist afterwards and,
+for runs that must succeed, the expected relative error. Besides its own checks every case is held to
+the suite's general rules (issue 18): no partial file is left, a refusal (exit 2) speaks in mpm1d's
+words (starts 'mpm1d:', no compiler runtime text), and a run that exits 0 writes nothing non-finite.
+Cases run in parallel in their own folders under build/test_scratch/hostile/.
+"""
+import argparse
+import concurrent.futures as futures
+import glob
+import os
+import re
+import shutil
+import subprocess
+import sys
+import time
+from pathlib import Path
+
+import h5py
+import numpy as np
+
+HERE = Path(__file__).resolve().parent
+ROOT = HERE.parent.parent
+sys.path.insert(0, str(HERE))
+import cases as case_table  # noqa: E402  (the table lives next to this runner)
+
+COMPILER_WORDS = re.compile(r'Fortran runtime|At line \d+|Error termination|Backtrace|ERROR STOP|SIGSEGV|'
+                            r'Program received signal|Segmentation fault|HDF5-DIAG|floating-point exceptions are signalling')
+
+
+def find_exe():
+    out = subprocess.run(['fpm', 'run', '--profile', 'release', '--target', 'mpm1d', '--runner', 'echo'],
+                         cwd=ROOT, capture_output=True, text=True, check=True).stdout.strip().splitlines()
+    return str(ROOT / out[-1])
+
+
+def non_finite_datasets(path):
+    bad = []
+
+    def visit(name, obj):
+        if isinstance(obj, h5py.Dataset) and obj.dtype.kind == 'f':
+            if not np.all(np.isfinite(np.asarray(obj[()]))):
+                bad.append(name)
+    with h5py.File(path, 'r') as f:
+        f.visititems(visit)
+        for name, value in f.get('config', {}).attrs.items() if 'config' in f else []:
+            a = np.asarray(value)
+            if a.dtype.kind == 'f' and not np.all(np.isfinite(a)):
+                bad.append('config@' + name)
+    return bad
+
+
+def relative_error(path):
+    with h5py.File(path, 'r') as f:
+        return float(f['summary/relative_error'][()])
+
+
+#: system files no case may change (a broken build run as root could replace a device named as output)
+GUARDED = ['/dev/null', '/dev/zero', '/dev/full']
+
+
+def device_state():
+    return {p: (os.stat(p).st_mode, os.stat(p).st_rdev) for p in GUARDED if os.path.exists(p)}
+
+
+def run_case(case, exe, scratch, refs):
+    folder = scratch / case['name']
+    shutil.rmtree(folder, ignore_errors=True)
+    folder.mkdir(parents=True)
+    problems = []
+    if case.get('input') is not None:
+        data = case['input']
+        (folder / 'in.nml').write_bytes(data if isinstance(data, bytes) else data.encode())
+    for name, data in case.get('files', {}).items():
+        (folder / name).write_bytes(data if isinstance(data, bytes) else data.encode())
+    env = dict(os.environ)
+    env.update({'MPM1D': exe, 'OMP_NUM_THREADS': '1', 'LC_ALL': 'C'})
+    env.update(case.get('env', {}))
+    if case.get('setup'):
+        subprocess.run(['bash', '-c', case['setup']], cwd=folder, env=env, check=True)
+    if case.get('shell'):
+        command = ['bash', '-c', case['shell']]
+    else:
+        command = [exe] + [a.replace('{exe}', exe) for a in case.get('args', ['in.nml'])]
+    stdin = case.get('stdin')
+    start = time.time()
+    try:
+        p = subprocess.run(command, cwd=folder, env=env, capture_output=True, timeout=case.get('timeout', 60),
+                           input=(stdin.encode() if isinstance(stdin, str) else stdin) if stdin is not None else None,
+                           stdin=None if stdin is not None else subprocess.DEVNULL)
+        code, out, err = p.returncode, p.stdout.decode(errors='replace'), p.stderr.decode(errors='replace')
+    except subprocess.TimeoutExpired:
+        return case, ['timed out (hangs)'], None, time.time() - start
+    text = out + err
+    allowed = case['exit'] if isinstance(case['exit'], list) else [case['exit']]
+    if code not in allowed:
+        problems.append(f"exit {code}, expected {case['exit']}")
+    pattern = case.get('pattern')
+    if pattern and not re.search(pattern, text, re.S):
+        problems.append(f'message lacks /{pattern}/')
+    anti = case.get('not_pattern')
+    if anti and re.search(anti, text, re.S):
+        problems.append(f'message has /{anti}/')
+    if COMPILER_WORDS.search(text):
+        problems.append('compiler or library runtime text in the output')
+    # (env_warning: a library reading the environment at start-up may warn first)
+    if code == 2 and not case.get('shell') and not err.startswith('mpm1d:') and \
+            not (case.get('env_warning') and '\nmpm1d:' in err):
+        problems.append("refusal not in mpm1d's words (standard error does not start 'mpm1d:')")
+    for g in case.get('exists', []):
+        if not glob.glob(str(folder / g)):
+            problems.append(f'{g} missing')
+    for g in case.get('absent', []) + ([] if case.get('allow_part') else ['*.part', '.*.part']):
+        if glob.glob(str(folder / g)):
+            problems.append(f'{g} exists')
+    measured = None
+    if code == 0:
+        for h5 in glob.glob(str(folder / '*.h5')):
+            try:
+                bad = non_finite_datasets(h5)
+            except OSError:
+                continue
+            if bad:
+                problems.append(f'exit 0 but non-finite values in {os.path.basename(h5)}: {bad[:4]}')
+    if ('rel_error' in case or case.get('ref')) and code == 0:
+        try:
+            measured = relative_error(folder / case.get('output', 'o.h5'))
+        except (OSError, KeyError) as e:
+            problems.append(f'no relative error to read: {e}')
+    if 'rel_error' in case and measured is None and code != 0 and 0 in allowed and code in allowed:
+        pass  # an accepted refusal: no relative error to compare
+    elif 'rel_error' in case and measured is not None:
+        expected = case['rel_error']
+        if isinstance(expected, str):
+            expected = refs.get(expected[1:])
+        tol = case.get('rel_tol', 1e-6)
+        if expected is None or not abs(measured - expected) <= tol*abs(expected):
+            problems.append(f'relative error {measured!r}, expected {expected!r} (tolerance {tol:g} relative)')
+    if not problems and not case.get('keep'):
+        shutil.rmtree(folder, ignore_errors=True)
+    elif problems:
+        problems.append('stderr: ' + err.strip()[:400].replace('\n', ' | '))
+    return case, problems, measured, time.time() - start
+
+
+def main():
+    parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    parser.add_argument('--exe')
+    parser.add_argument('--only', help='run the cases whose name matches this regular expression')
+    parser.add_argument('--list', action='store_true')
+    parser.add_argument('-j', type=int, default=2)
+    args = parser.parse_args()
+    table = case_table.CASES
+    names = [c['name'] for c in table]
+    duplicates = {n for n in names if names.count(n) > 1}
+    if duplicates:
+        sys.exit(f'duplicate case names: {sorted(duplicates)}')
+    if args.only:
+        wanted = [c for c in table if re.search(args.only, c['name'])]
+        needed = {c['rel_error'][1:] for c in wanted if isinstance(c.get('rel_error'), str)}
+        table = [c for c in table if c in wanted or c['name'] in needed]
+    if args.list:
+        for c in table:
+            print(c['cls'], c['name'])
+        return
+    exe = args.exe or find_exe()
+    devices = device_state()
+    scratch = ROOT / 'build' / 'test_scratch' / 'hostile'
+    shutil.rmtree(scratch, ignore_errors=True)
+    scratch.mkdir(parents=True)
+    refs, failures, counts, start = {}, [], {}, time.time()
+    # references first (runs whose relative error others must reproduce), then everything else
+    for phase in (True, False):
+        batch = [c for c in table if bool(c.get('ref')) == phase]
+        with futures.ThreadPoolExecutor(max_workers=args.j) as pool:
+            for case, problems, measured, seconds in pool.map(lambda c: run_case(c, exe, scratch, refs), batch):
+                counts.setdefault(case['cls'], [0, 0])[0 if not problems else 1] += 1
+                if case.get('ref') and measured is not None:
+                    refs[case['name']] = measured
+                if problems:
+                    failures.append((case, problems))
+    if device_state() != devices:
+        failures.append(({'cls': 'suite', 'name': 'devices untouched'}, ['a system device was replaced: restore it']))
+    for case, problems in failures:
+        print(f"FAIL [{case['cls']}] {case['name']}: " + '; '.join(problems))
+    print('hostile-input suite: cases per class (passed/failed):')
+    for cls in sorted(counts):
+        print(f'  {cls:<28} {counts[cls][0]:4d} passed {counts[cls][1]:4d} failed')
+    total = sum(sum(v) for v in counts.values())
+    print(f'{total} cases, {len(failures)} failed, {time.time() - start:.1f} s')
+    sys.exit(1 if failures else 0)
+
+
+if __name__ == '__main__':
+    main()
