@@ -250,7 +250,7 @@ def main(argv=None):
         lo, hi = min(gm), max(gm)
         lines.append(f'Memory of the generic path, per particle (RSS difference {lo:.0e} to {hi:.0e} particles): '
                      f'**{(gm[hi] - gm[lo]) * 1024 / (hi - lo):.1f} bytes** (particle arrays 44 B + per-particle '
-                     'mass and volume 16 B + shape cache 36 B + one scratch value 8 B, and the grid).\n')
+                     'mass and volume 16 B + shape cache 36 B + three scratch values 24 B (in P2G the per-particle momentum and stress times volume, in G2P the gathered acceleration, velocity and strain rate), and the grid).\n')
 
     shape_rows = read(os.path.join(d, 'shapes.csv')) if os.path.exists(os.path.join(d, 'shapes.csv')) else []
     shape_ratio, transfer_cost = shape_table(shape_rows, lines)
