@@ -20,6 +20,7 @@ are swept variables. Files written before the registry existed are read as they 
 
 from __future__ import annotations
 
+import dataclasses
 import os
 from dataclasses import dataclass, field
 from typing import Any, Dict, List, Optional, Sequence
@@ -67,6 +68,8 @@ class Parameter:
     allowed: str
     sweep_list: str
     help: str
+    #: The sweep list's former name, still accepted ('' = none; absent in older files).
+    sweep_alias: str = ''
 
     @property
     def written(self) -> bool:
@@ -80,15 +83,17 @@ def parse_parameters(text: str) -> List[Parameter]:
     if not lines:
         return []
     header = lines[0].split('\t')
-    fields = [f.name for f in Parameter.__dataclass_fields__.values()]
-    if len(header) != len(fields):
+    fields = list(Parameter.__dataclass_fields__)
+    required = [name for name, f in Parameter.__dataclass_fields__.items()
+                if f.default is dataclasses.MISSING]
+    if len(set(header)) != len(header) or not set(required) <= set(header) or not set(header) <= set(fields):
         raise ValueError(f'unexpected parameter table header: {lines[0]!r}')
     rows = []
     for line in lines[1:]:
         cells = line.split('\t')
-        if len(cells) != len(fields):
+        if len(cells) != len(header):
             raise ValueError(f'malformed parameter table line: {line!r}')
-        rows.append(Parameter(*cells))
+        rows.append(Parameter(**dict(zip(header, cells))))
     return rows
 
 

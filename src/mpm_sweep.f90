@@ -188,8 +188,8 @@ contains
          j = list_named(items(i)%name)
          if (j > 0) then
             if (lines(j) > 0) then
-               call append_error(error, where//"sweep: '"//items(i)%name//"' is given twice (also line "// &
-                                 str(lines(j))//")")
+               call append_error(error, where//"sweep: list '"//trim(study%settings%lists(j)%name)// &
+                                 "' is given twice (as '"//items(i)%name//"', also line "//str(lines(j))//")")
                cycle
             end if
             lines(j) = items(i)%line
@@ -201,6 +201,7 @@ contains
             end if
             call read_value_list(base(k), items(i)%name, items(i)%values, where, study%settings%lists(j), error)
             study%settings%lists(j)%entry = k
+            study%settings%lists(j)%name = base(k)%sweep_list  ! the list's name, whichever name was given
             cycle
          end if
          k = find_parameter(settings, 'sweep', items(i)%name)
@@ -239,6 +240,8 @@ contains
          list_named = 0
          do m = 1, size(study%settings%lists)
             if (study%settings%lists(m)%name == name) list_named = m
+            if (len_trim(study%settings%lists(m)%alias) > 0 .and. study%settings%lists(m)%alias == name) &
+               list_named = m
          end do
       end function list_named
       function list_names() result(names)

@@ -64,6 +64,7 @@ program test_sweep
    call t%check('merge refuses a repeated shard', allocated(error))
 
    call unstable_messages()
+   call list_names()
 
    call bad_sweep("&sweep elements=3, 0 /", 'elements(2)')
    call bad_sweep("&sweep schemes='usf', 'fls' /", 'schemes(2)')
@@ -77,6 +78,8 @@ program test_sweep
    call bad_sweep("&run end_time=2.0e-4 / &sweep elements=3, 1000000000, particles_per_element=2 /", &
                   'memory available')
    call bad_sweep("&sweep elements=, dt_fractions=0.1 /", 'elements is an empty list')
+   call bad_sweep("&sweep scheme='usf', schemes='usl' /", "list 'scheme' is given twice (as 'schemes'")
+   call bad_sweep("&sweep dt_fraction=0.1, 0, elements=2 /", 'dt_fraction(2)')
    call t%finish()
 
 contains
@@ -152,6 +155,37 @@ contains
       call h5_read_string(b, '/cases/scheme', 8, sb, error)
       call t%check('merged = unsharded: scheme', all(sa == sb))
    end subroutine compare_files
+
+   !> One rule for list names: each list is named as the variable it varies; the former plural
+   !> names are aliases giving the same cases, and the echoed &sweep uses the variable's name.
+   subroutine list_names()
+      type(sweep_t) :: by_name, by_alias
+      integer :: u
+      open (newunit=u, file=dir//'/names.nml', status='replace', action='write')
+      write (u, '(a)') "&sweep scheme='usf','musl', elements=2,5, particles_per_element=1,3, dt_fraction=0.1,0.2, "// &
+         "shape='linear','bspline2', transfer='flip','pic', flip_fraction=1.0, mode=1,2, "// &
+         "velocity_amplitude=0.1, youngs_modulus=100.0, density=1.0, min_time=0.0 /"
+      close (u)
+      open (newunit=u, file=dir//'/aliases.nml', status='replace', action='write')
+      write (u, '(a)') "&sweep schemes='usf','musl', elements=2,5, particles_per_element=1,3, dt_fractions=0.1,0.2, "// &
+         "shapes='linear','bspline2', transfers='flip','pic', flip_fractions=1.0, modes=1,2, "// &
+         "velocity_amplitudes=0.1, youngs_moduli=100.0, densities=1.0, min_time=0.0 /"
+      close (u)
+      call read_sweep(dir//'/names.nml', by_name, error, 0, 0, 1)
+      call t%check('lists named as their variables are read', .not. allocated(error))
+      if (allocated(error)) print '(a)', error%message
+      call read_sweep(dir//'/aliases.nml', by_alias, error, 0, 0, 1)
+      call t%check('former list names are read', .not. allocated(error))
+      if (allocated(error)) print '(a)', error%message
+      if (.not. allocated(by_name%cases) .or. .not. allocated(by_alias%cases)) return
+      call t%check('2^7 = 128 cases by either name', size(by_name%cases) == 128 .and. size(by_alias%cases) == 128)
+      call t%check('names and aliases: the same namelist echo', &
+                   by_name%settings%namelist_text == by_alias%settings%namelist_text)
+      if (by_name%settings%namelist_text /= by_alias%settings%namelist_text) &
+         print '(a)', by_name%settings%namelist_text, by_alias%settings%namelist_text
+      call t%check_contains('the echo names each list as its variable', by_name%settings%namelist_text, &
+                            "scheme='usf', 'musl', elements=2, 5, particles_per_element=1, 3, dt_fraction=")
+   end subroutine list_names
 
    subroutine bad_sweep(text, part)
       character(len=*), intent(in) :: text, part
