@@ -27,7 +27,7 @@ module mpm_sweep
 
    !> Most threads a sweep asks for (OpenMP runtimes fail far below 10^5 threads; no node has more cores).
    integer, parameter :: max_threads = 4096
-   public :: sweep_parameters, case_column
+   public :: sweep_parameters, case_column, case_weights
 
    !> The &sweep group: lists to combine and how to run them.
    type :: sweep_config_t
@@ -390,11 +390,14 @@ contains
       if (threads == 0) threads = omp_get_max_threads()
       sweep%threads_used = threads
       order = by_decreasing_cost(sweep%cases)
-      call over_cases(sweep, order, threads, timing=.false.)
+      call over_cases(sweep, order, threads, case_weights(sweep%cases, 0.0_dp, 0.0_dp), timing=.false.)
       call describe_failures(sweep)
       sweep%error_pass_time = omp_get_wtime() - start
       if (sweep%settings%min_time > 0.0_dp) then
-         call over_cases(sweep, order, sweep%settings%timing_threads, timing=.true.)
+         ! the error pass gives the seconds per particle-step on this machine (thread-seconds / cost)
+         call over_cases(sweep, order, sweep%settings%timing_threads, case_weights(sweep%cases, &
+                         sweep%error_pass_time*threads/max(1.0_dp, sum(cost(sweep%cases))), &
+                         sweep%settings%min_time), timing=.true.)
          sweep%timing_pass_time = omp_get_wtime() - start - sweep%error_pass_time
       end if
       sweep%wall_time = omp_get_wtime() - start
@@ -402,15 +405,17 @@ contains
 
    !> Every case once, or (timing) every case repeated until min_time; expensive cases first so
    !> the dynamic schedule ends evenly. Each case writes only its own slot.
-   subroutine over_cases(sweep, order, threads, timing)
+   subroutine over_cases(sweep, order, threads, weights, timing)
       type(sweep_t), intent(inout) :: sweep
       integer, intent(in) :: order(:), threads
+      real(dp), intent(in) :: weights(:)
       logical, intent(in) :: timing
       type(progress_t) :: progress
       type(config_t) :: config
       integer :: k
-      call progress%start(merge('timing pass', 'error pass ', timing), size(order), sweep%settings%progress)
-      !$omp parallel do default(none) schedule(dynamic, 1) num_threads(threads) shared(sweep, order, progress, timing) &
+      call progress%start(merge('timing pass', 'error pass ', timing), weights(order), sweep%settings%progress)
+      !$omp parallel do default(none) schedule(dynamic, 1) num_threads(threads) &
+      !$omp shared(sweep, order, progress, timing, weights) &
       !$omp private(config)
       do k = 1, size(order)
          ! one thread at a time builds a case's configuration: case_config fills the parameter table (an
@@ -425,7 +430,7 @@ contains
          else
             call run_case(config, sweep%settings%histories, sweep%cases(order(k)))
          end if
-         call progress%advance()
+         call progress%advance(weights(order(k)))
       end do
       !$omp end parallel do
       call progress%finish()
@@ -524,9 +529,29 @@ contains
    function by_decreasing_cost(cases) result(order)
       type(sweep_case_t), intent(in) :: cases(:)
       integer, allocatable :: order(:)
-      integer :: i
-      order = sort_order([(-real(cases(i)%particles, dp)*cases(i)%steps, i=1, size(cases))])
+      order = sort_order(-cost(cases))
    end function by_decreasing_cost
+
+   !> A case's estimated cost in particle-steps (the time loop's work; set-up is negligible).
+   elemental real(dp) function cost(c)
+      type(sweep_case_t), intent(in) :: c
+      cost = real(c%particles, dp)*real(c%steps, dp)
+   end function cost
+
+   !> Expected cost of each case in a pass, for the progress estimate. Error pass (`min_time` = 0):
+   !> particles x steps. Timing pass: seconds, each completed case being repeated until `min_time`
+   !> is measured and at least 3 times, i.e. max(min_time, 3 t) with t = `seconds_per_cost` x
+   !> particles x steps (failed cases are not timed: 0).
+   pure function case_weights(cases, seconds_per_cost, min_time) result(weights)
+      type(sweep_case_t), intent(in) :: cases(:)
+      real(dp), intent(in) :: seconds_per_cost, min_time
+      real(dp), allocatable :: weights(:)
+      if (min_time <= 0.0_dp) then
+         weights = cost(cases)
+      else
+         weights = merge(max(min_time, 3.0_dp*seconds_per_cost*cost(cases)), 0.0_dp, cases%status == status_ok)
+      end if
+   end function case_weights
 
    !> The &sweep group as namelist text (stored in the output file): every list, then the run
    !> settings, ending with shard and shards (merge compares shards without them).

@@ -5,7 +5,10 @@ program test_sweep
    use mpm_errors, only: error_t
    use mpm_config, only: config_t
    use mpm_simulation, only: run_result_t, run_simulation
-   use mpm_sweep, only: sweep_t, read_sweep, run_sweep, case_config
+   use mpm_sweep, only: sweep_t, sweep_case_t, read_sweep, run_sweep, case_config, case_weights
+   use mpm_progress, only: remaining_time
+   use mpm_sort, only: sort_order
+   use omp_lib, only: omp_get_wtime
    use mpm_sweep_output, only: write_sweep_file, merge_sweep_files
    use mpm_hdf5, only: h5_read_real, h5_read_int, h5_read_string
    use mpm_diagnostics, only: status_ok
@@ -65,6 +68,7 @@ program test_sweep
 
    call unstable_messages()
    call list_names()
+   call progress_estimate()
 
    call bad_sweep("&sweep elements=3, 0 /", 'elements(2)')
    call bad_sweep("&sweep schemes='usf', 'fls' /", 'schemes(2)')
@@ -186,6 +190,64 @@ contains
       call t%check_contains('the echo names each list as its variable', by_name%settings%namelist_text, &
                             "scheme='usf', 'musl', elements=2, 5, particles_per_element=1, 3, dt_fraction=")
    end subroutine list_names
+
+   !> The progress line's estimate of the time left weighs each case by its cost. By hand: the
+   !> weights, and the estimate (elapsed x cost left / cost done). Then on a real sweep whose cases
+   !> differ ~250-fold in cost, run in the sweep's order (most expensive first): when half the cost
+   !> is done, the estimate is within a factor 2 of the time the rest really takes, where the count
+   !> of cases would say about ten times too much.
+   subroutine progress_estimate()
+      type(sweep_t) :: s
+      type(sweep_case_t) :: hand(3)
+      type(run_result_t) :: result
+      real(dp), allocatable :: weights(:), finished_at(:)
+      integer, allocatable :: order(:)
+      real(dp) :: start, done, estimate, by_count, actual
+      integer :: u, k, half
+      hand(1) = sweep_case_t(particles=10, steps=100, status=status_ok)
+      hand(2) = sweep_case_t(particles=1000, steps=400, status=status_ok)
+      hand(3) = sweep_case_t(particles=1000, steps=400, status=1)
+      weights = case_weights(hand, 0.0_dp, 0.0_dp)
+      call t%check('error pass weights = particles x steps', all(weights == [1000.0_dp, 4.0e5_dp, 4.0e5_dp]))
+      weights = case_weights(hand, 1.0e-7_dp, 0.02_dp)
+      call t%check('timing pass weights = max(min_time, 3 t), failed cases 0', &
+                   all(abs(weights - [0.02_dp, 0.12_dp, 0.0_dp]) < 1.0e-15_dp))
+      call t%check('remaining = elapsed x cost left / cost done', &
+                   abs(remaining_time(2.0_dp, 1.0_dp, 4.0_dp) - 6.0_dp) < 1.0e-15_dp .and. &
+                   remaining_time(2.0_dp, 0.0_dp, 4.0_dp) == 0.0_dp .and. remaining_time(2.0_dp, 4.0_dp, 4.0_dp) == 0.0_dp)
+
+      open (newunit=u, file=dir//'/costs.nml', status='replace', action='write')
+      write (u, '(a)') "&sweep elements=25, 50, 100, 200, 400, particles_per_element=1, 2, 4, min_time=0 /"
+      close (u)
+      call read_sweep(dir//'/costs.nml', s, error, 0, 0, 1)
+      call t%check('cost sweep read', .not. allocated(error))
+      if (allocated(error)) return
+      weights = case_weights(s%cases, 0.0_dp, 0.0_dp)
+      order = sort_order(-weights)
+      allocate (finished_at(size(order)))
+      start = omp_get_wtime()
+      do k = 1, size(order)
+         call run_simulation(case_config(s, s%cases(order(k))), result, error, record_history=.false.)
+         finished_at(k) = omp_get_wtime() - start
+      end do
+      done = 0.0_dp
+      half = 0
+      do k = 1, size(order)
+         done = done + weights(order(k))
+         if (done >= 0.5_dp*sum(weights)) then
+            half = k
+            exit
+         end if
+      end do
+      estimate = remaining_time(finished_at(half), done, sum(weights))
+      by_count = remaining_time(finished_at(half), real(half, dp), real(size(order), dp))
+      actual = finished_at(size(order)) - finished_at(half)
+      print '(a,i0,a,i0,3(a,es9.2))', 'progress estimate after ', half, ' of ', size(order), ' cases: ', estimate, &
+         ' s (by count ', by_count, ' s); really ', actual, ' s'
+      call t%check('half the cost done: the estimate is within a factor 2 of the time left', &
+                   estimate > 0.5_dp*actual .and. estimate < 2.0_dp*actual)
+      call t%check('(the case count alone would be off by more than 3)', by_count > 3.0_dp*actual)
+   end subroutine progress_estimate
 
    subroutine bad_sweep(text, part)
       character(len=*), intent(in) :: text, part
