@@ -33,6 +33,15 @@ run a.nml scene.length=-1
 check "test_override_validated" "[ $(rc) = 2 ] && grep -q \"command line 'scene.length=-1'\" err.txt && grep -q 'out of range' err.txt"
 run a.nml discretisation.elements=4x
 check "test_bad_override_value" "[ $(rc) = 2 ] && grep -q 'elements' err.txt"
+# group and variable names are case-insensitive on the command line as in the namelist (issue 16)
+run a.nml Discretisation.Elements=40 RUN.periods=0.5
+check "test_capitalised_override_as_namelist" "[ $(rc) = 0 ] && [ \"\$(attr a.h5 elements)\" = 40 ] && grep -q 'periods=0.5' out.txt"
+printf "&Discretisation Elements=40 /\n&RUN periods=0.5 /\n&output file='cap.h5', history=.false. /\n" > cap.nml
+run cap.nml
+check "test_capitalised_namelist_same" "[ $(rc) = 0 ] && [ \"\$(attr cap.h5 elements)\" = 40 ]"
+printf "&output file='caps.h5' /\n&sweep elements=1,2, min_time=0 /\n" > caps.nml
+run caps.nml Sweep.Schemes=usf,musl SWEEP.Dt_Fraction=0.1,0.2
+check "test_capitalised_sweep_override_and_alias" "[ $(rc) = 0 ] && grep -q 'sweep of 8 cases' out.txt"
 run a.nml --frob
 check "test_unknown_option" "[ $(rc) = 2 ] && grep -q frob err.txt"
 run a.nml b.nml
