@@ -3,7 +3,9 @@
 
 Run as a plain script (prints ``N passed, M failed`` and exits non-zero on failure):
 
-    /usr/bin/python3 postprocess/test_postprocess.py
+    /usr/bin/python3 postprocess/tests/test_postprocess.py
+
+or, as test/run_tests.sh does, ``python3 -m pytest postprocess``.
 
 or under pytest, which collects the ``test_*`` functions.
 
@@ -24,19 +26,18 @@ import subprocess
 import sys
 import tempfile
 import traceback
+from pathlib import Path
 
 import numpy as np
 
-HERE = os.path.dirname(os.path.abspath(__file__))
-if HERE not in sys.path:
-    sys.path.insert(0, HERE)
+import h5py
 
-import h5py  # noqa: E402
+from mpm1d_post import analysis, figures
+from mpm1d_post import paper as make_paper_figures
+from mpm1d_post.loader import Mpm1dFileError, load_run, load_sweep, parse_parameters
 
-import analysis  # noqa: E402
-import figures  # noqa: E402
-import make_paper_figures  # noqa: E402
-from mpm1d_io import Mpm1dFileError, load_run, load_sweep, parse_parameters  # noqa: E402
+#: The repository's root (this file is postprocess/tests/test_postprocess.py).
+ROOT = Path(__file__).resolve().parents[2]
 
 CODE_VERSION = 'mpm1d 0.1.0'
 BAR = dict(scene_kind='vibrating_bar', length=25.0, youngs_modulus=200e9, density=7800.0,
@@ -377,7 +378,7 @@ def _expect_load_error(path, part):
 
 def find_mpm1d():
     """The mpm1d executable built by fpm (None when it cannot be found)."""
-    root = os.path.dirname(HERE)
+    root = ROOT
     try:
         out = subprocess.run(['fpm', 'run', '--profile', 'release', '--target', 'mpm1d', '--runner', 'echo'],
                              cwd=root, capture_output=True, text=True, check=True).stdout.split()
@@ -397,7 +398,7 @@ def test_real_files_carry_the_registry_the_program_lists():
     listed = parse_parameters(subprocess.run([exe, '--list-parameters'], capture_output=True, text=True,
                                              check=True).stdout)
     assert {p.group for p in listed} >= {'scene', 'discretisation', 'run', 'output', 'guards', 'sweep'}
-    with open(os.path.join(os.path.dirname(HERE), 'README.md'), encoding='utf-8') as handle:
+    with open(ROOT / "README.md", encoding="utf-8") as handle:
         readme = handle.read()
     undocumented = [f'{p.group}.{p.name}' for p in listed if f'| {p.group} | {p.name} |' not in readme]
     assert not undocumented, f"README's namelist reference lacks {undocumented}"

@@ -1,7 +1,7 @@
 #!/usr/bin/python3
 """Make every figure of the mpm1d bar study and a summary of its key numbers.
 
-    /usr/bin/python3 make_paper_figures.py --usf sweep_usf.h5 --usl sweep_usl.h5 \\
+    mpm1d-paper-figures --usf sweep_usf.h5 --usl sweep_usl.h5 \\
         --runs runs/*.h5 -o figures/
 
 Sweeps: ``--usf`` / ``--usl`` take one sweep file each, or the shards of one sweep (merged).
@@ -24,12 +24,11 @@ import os
 import sys
 from typing import Dict, List, Optional, Sequence
 
-import analysis
-import figures
-from figures import FigureSkipped
-from mpm1d_io import Mpm1dFileError, Run, Sweep, load_run, load_sweep, merge_sweeps
+from . import analysis, figures
+from .figures import FigureSkipped
+from .loader import Mpm1dFileError, Run, Sweep, load_run, load_sweep, merge_sweeps
 
-PROGRAM = 'make_paper_figures'
+PROGRAM = 'mpm1d-paper-figures'
 
 
 def parse_args(argv: Optional[Sequence[str]]) -> argparse.Namespace:
@@ -266,7 +265,7 @@ def make_all(args: argparse.Namespace) -> Report:
 
     report.add('# mpm1d bar study — summary', '',
                f"Generated {datetime.datetime.now().isoformat(timespec='seconds')} by "
-               f'postprocess/make_paper_figures.py.', '')
+               f'mpm1d-paper-figures (mpm1d_post.paper).', '')
     if sweeps:
         _sweep_section(report, sweeps, args.verification)
     if runs:

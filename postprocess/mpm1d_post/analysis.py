@@ -11,7 +11,7 @@ from typing import Dict, List, Mapping, Optional, Sequence
 
 import numpy as np
 
-from mpm1d_io import Sweep
+from .loader import Sweep
 
 #: Element counts below this are left out of the convergence-rate fit of claim (d): one element
 #: cannot represent the vibration mode at all (paper, Fig. 10), which says nothing about a rate.

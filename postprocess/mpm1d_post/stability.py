@@ -1,14 +1,14 @@
 #!/usr/bin/python3
 """Figures and summary.md of the mpm1d numerical stability study (studies/stability/run.sh).
 
-    /usr/bin/python3 stability_figures.py OUT_DIR -o OUT_DIR \\
+    mpm1d-stability-figures OUT_DIR -o OUT_DIR     (or python3 -m mpm1d_post.stability ...) \\
         --predicted OUT_DIR/predicted/predicted_critical.csv [--timings OUT_DIR/timings.txt]
 
 Reads the files run.sh writes into OUT_DIR (map.h5, coarse.h5, scale_*.h5, large.h5,
-long100.h5, long1000.h5, modes.h5, fine_e*.h5, largest.h5) through mpm1d_io, the predicted
+long100.h5, long1000.h5, modes.h5, fine_e*.h5, largest.h5) through mpm1d_post.loader, the predicted
 critical fractions (CSV of studies/stability/linear_stability.py) and, for growth rates and
 linearised energy ratios, linear_stability.py itself. For every case class the summary states
-stable or unstable, which guard tripped and when (parsed from /cases/message), the numbers
+stable or unstable, which guard tripped and when (/cases/trip_step, trip_time), the numbers
 behind it, and the checks: every unstable case is caught by a guard with finite outputs, and no
 case expected stable trips one. A class whose file is missing is skipped with a note.
 Exit status: 0 written (checks may fail: see summary.md), 2 bad or missing input.
@@ -31,25 +31,19 @@ import numpy as np
 import matplotlib
 matplotlib.use('Agg')
 import matplotlib.pyplot as plt  # noqa: E402
-import h5py  # noqa: E402
 
-from mpm1d_io import Mpm1dFileError, Sweep, decode, load_run, load_sweep, merge_sweeps  # noqa: E402
+from . import linear_stability as ls  # noqa: E402
+from .loader import Mpm1dFileError, Sweep, load_run, load_sweep, merge_sweeps  # noqa: E402
 
-HERE = os.path.dirname(os.path.abspath(__file__))
-sys.path.insert(0, os.path.join(HERE, '..', 'studies', 'stability'))
-import linear_stability as ls  # noqa: E402
-
-PROGRAM = 'stability_figures'
+PROGRAM = 'mpm1d-stability-figures'
 SCHEMES = ('usf', 'usl', 'musl')
 C_PAPER = math.sqrt(200.0e9 / 7800.0)           # m/s, the paper's steel
 RATIO_PAPER = 0.1 / C_PAPER                     # v0/c of the paper
 ROUND_OFF_GROWTH = math.log(1.0e16)             # a mode seeded at round-off reaches O(1)
-EXTRA_COLUMNS = ('message', 'min_volume_ratio', 'max_cell_move', 'min_node_mass_ratio')
 FINITE_COLUMNS = ('max_error', 'relative_error', 'max_energy_ratio', 'final_energy_ratio',
                   'min_volume_ratio', 'max_cell_move')
 MESSAGE = re.compile(r'guard\s+(\w+)\s+tripped at step\s*(\d+)\s*of\s*(\d+)\s*\(t\s*=\s*'
                      r'([-+0-9.EeDd]+)\s*s')
-STEP_ONLY = re.compile(r'tripped at step\s*(\d+)')
 #: Finest spacing of the time-step fractions the study runs near its limits.
 K_STEP = 0.005
 
@@ -63,32 +57,23 @@ GUARD_COLOURS = {'ok': 'tab:green', 'energy_growth': 'tab:red', 'left_grid': 'ta
 # --------------------------------------------------------------------------------------------
 
 def load(path: str) -> Sweep:
-    """A sweep with the extra /cases columns and the guard messages parsed: trip_step,
-    trip_time (NaN where the case completed or the message cannot be parsed), message_ok."""
+    """A sweep as the loader returns it, with trip_step and trip_time as floats (NaN where the case
+    completed) and message_ok: whether a stopped case's message has the documented form, names
+    its guard and agrees with the trip step stored as a number (a check of the writer, which
+    assembles messages after the parallel loop)."""
     sweep = load_sweep(path)
-    with h5py.File(path, 'r') as h5:
-        for name in EXTRA_COLUMNS:
-            if f'/cases/{name}' in h5:
-                sweep.cases[name] = np.atleast_1d(np.asarray(decode(h5[f'/cases/{name}'][()])))
     n = len(sweep)
-    messages = sweep.cases.get('message', np.array([''] * n))
-    step = np.full(n, np.nan)
-    time = np.full(n, np.nan)
+    for column in ('trip_step', 'trip_time', 'message'):
+        if column not in sweep.cases:
+            raise Mpm1dFileError(path, f"missing /cases/{column} (written by mpm1d since the trip "
+                                       "columns were added; rerun the sweep)")
+    stopped = sweep.cases['status'] > 0
+    step = np.where(stopped, sweep.cases['trip_step'].astype(float), np.nan)
+    time = np.where(stopped, sweep.cases['trip_time'].astype(float), np.nan)
     parsed = np.ones(n, dtype=bool)
-    for i, text in enumerate(messages):
-        if sweep.cases['status'][i] <= 0:
-            continue
-        m = MESSAGE.search(str(text))
-        try:
-            if not (m and m.group(1) == sweep.cases['status_name'][i]):
-                raise ValueError(text)
-            step[i], time[i] = int(m.group(2)), float(m.group(4).replace('D', 'E'))
-        except ValueError:
-            parsed[i] = False
-            m = STEP_ONLY.search(str(text))
-            if m:
-                step[i] = int(m.group(1))
-                time[i] = step[i] * sweep.cases['dt'][i]
+    for i in np.flatnonzero(stopped):
+        m = MESSAGE.search(str(sweep.cases['message'][i]))
+        parsed[i] = bool(m and m.group(1) == sweep.cases['status_name'][i] and int(m.group(2)) == step[i])
     sweep.cases['trip_step'], sweep.cases['trip_time'], sweep.cases['message_ok'] = step, time, parsed
     return sweep
 
@@ -732,7 +717,7 @@ def main(argv=None) -> int:
     failed = [c for c in report.checks if not c[2]]
     head = ['# mpm1d numerical stability study', '',
             f'Code version: {", ".join(sorted(report.versions))}; written '
-            f'{datetime.datetime.now().isoformat(timespec="seconds")} by postprocess/{PROGRAM}.py from '
+            f'{datetime.datetime.now().isoformat(timespec="seconds")} by {PROGRAM} (mpm1d_post.stability) from '
             f'`{os.path.abspath(args.input)}`.', '']
     if measured:
         ppcs = sorted({p for _, p in measured})

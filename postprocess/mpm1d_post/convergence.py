@@ -8,7 +8,7 @@ discrete solution converges to a non-linear continuum solution that differs from
 relative amount of the order of the strain amplitude v0/c. The floor is reported relative to the exact
 u_cm amplitude next to v0/c.
 
-Usage: python3 postprocess/convergence_figures.py SWEEP.h5 OUTDIR [--wall-time SECONDS]
+Usage: mpm1d-convergence-figures SWEEP.h5 OUTDIR [--wall-time SECONDS]
 """
 from __future__ import annotations
 
@@ -22,7 +22,7 @@ import matplotlib
 matplotlib.use('Agg')
 import matplotlib.pyplot as plt  # noqa: E402
 
-from mpm1d_io import load_sweep  # noqa: E402
+from .loader import load_sweep  # noqa: E402
 
 
 def local_orders(elements: np.ndarray, errors: np.ndarray) -> np.ndarray:

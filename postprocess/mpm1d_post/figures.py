@@ -1,6 +1,6 @@
 """The figures of the mpm1d bar study (paper figures 3b-10, and an error-versus-time plot).
 
-One function per figure. Each takes data loaded by `mpm1d_io` and an output folder, writes PNG
+One function per figure. Each takes data loaded by `mpm1d_post.loader` and an output folder, writes PNG
 file(s) and returns the written path(s) (and, where the figure rests on a computation such as a
 fit or a Pareto front, the numbers too). Every figure names its quantities with units, the scheme
 and the parameters, and carries a footer with the code version and input files (provenance).
@@ -24,7 +24,7 @@ from matplotlib.colors import LogNorm  # noqa: E402
 from matplotlib.lines import Line2D  # noqa: E402
 import numpy as np  # noqa: E402
 
-from mpm1d_io import Run, Sweep  # noqa: E402
+from .loader import Run, Sweep  # noqa: E402
 
 DPI = 150
 #: Paper figure numbers of the per-scheme figures: (error map, time map, time fits).
