@@ -13,6 +13,7 @@ figures 4, 5, 7, 8), `shared_log_norm` (one colour scale across panels and schem
 from __future__ import annotations
 
 import os
+import textwrap
 from dataclasses import dataclass
 from typing import Dict, Iterable, List, Mapping, Optional, Sequence, Tuple, Union
 
@@ -33,7 +34,10 @@ SCHEME_MARKERS = {'usf': 'o', 'usl': 's', 'musl': '^'}
 ERROR_LABEL = r'max $|u_{cm} - u_{cm}^{exact}|$ (m)'
 TIME_LABEL = 'computation time per run (s)'
 PPE_LABEL = 'particles per element'
-DT_LABEL = 'time step (% of critical)'
+#: The sweep's time-step setting is dt_fraction = dt·c/dx, a fraction of the time a wave takes to
+#: cross an element: not the stability limit, which depends on the scheme (USL with linear shapes
+#: and 1 particle per element: about 0.71), so the axes say what it is.
+DT_LABEL = 'time step dt·c/dx (% of dx/c)'
 
 Source = Union[Run, Sweep]
 
@@ -86,10 +90,21 @@ def signed(value: float, unit: str = '') -> str:
 
 
 def figure_title(scheme: str, which: int, text: str) -> str:
-    """'Fig. N — text — SCHEME' with the paper's number for USF/USL."""
+    """'Fig. N — SCHEME — text' with the paper's number for USF/USL (the scheme early, so that it
+    is never the part a narrow figure loses)."""
     numbers = FIGURE_NUMBERS.get(scheme)
     prefix = f'Fig. {numbers[which]} — ' if numbers else ''
-    return f'{prefix}{text} — {scheme.upper()}'
+    return f'{prefix}{scheme.upper()} — {text}'
+
+
+def fitted_title(fig: plt.Figure, text: str, fontsize: float = 10) -> plt.Text:
+    """`fig.suptitle(text)`, each line wrapped at word boundaries to the figure's width, so that no
+    part of a title is cut off however narrow the figure (one-panel maps are 5 inches wide)."""
+    width_points = fig.get_figwidth() * 72.0 * 0.94
+    characters = max(20, int(width_points / (0.56 * fontsize)))  # an average glyph is ~0.5 em wide
+    lines = [wrapped for line in text.split('\n')
+             for wrapped in (textwrap.wrap(line, characters, break_on_hyphens=False) or [''])]
+    return fig.suptitle('\n'.join(lines), fontsize=fontsize)
 
 
 def wavenumber(config: Mapping) -> float:
@@ -250,7 +265,7 @@ def _figure_number(scheme: str, which: int) -> str:
 
 def fig3b(runs: Sequence[Run], outdir: str) -> str:
     """Centre-of-mass displacement against time, numerical and exact, one column per run
-    (USF and USL, 20 elements, 1 particle per element, 10 % of the critical step in the paper),
+    (USF and USL, 20 elements, 1 particle per element, dt = 0.1 dx/c in the paper),
     with the error below."""
     runs = [r for r in runs if r.history is not None]
     if not runs:
@@ -305,8 +320,7 @@ def _colour_map_figure(sweep: Sweep, scheme: str, panels: Sequence[int], quantit
         ax.set_visible(False)
     fig.colorbar(mesh, ax=axes, label=colour_label, shrink=0.9)
     _status_legend(fig, grids)
-    fig.suptitle(f'{figure_title(scheme, which, title)}\n{problem_text(sweep.config)}',
-                 fontsize=10)
+    fitted_title(fig, f'{figure_title(scheme, which, title)}\n{problem_text(sweep.config)}')
     fig.get_layout_engine().set(rect=(0, 0.025, 1, 0.975))
     return save_figure(fig, outdir, name, [sweep])
 
@@ -396,20 +410,20 @@ def time_fits(sweep: Sweep, scheme: str, outdir: str, elements: int = 3,
               label=f"t = {line['slope']:.3g} s·n{signed(line['intercept'], 's')}\n"
                     f"R² = {line['r2']:.4f}")
     ax_a.set_xlabel(f'{PPE_LABEL} n ({elements} elements)')
-    ax_a.set_title(f'(a) time step {100 * dt_fraction:g} % of critical', fontsize=10)
+    ax_a.set_title(f'(a) time step dt = {100 * dt_fraction:g} % of dx/c', fontsize=10)
     ax_b.plot(k, t_k, 'o', color='C0', label='measured')
     k_fine = np.linspace(k.min(), k.max(), 200)
     ax_b.plot(k_fine, curve['a'] / k_fine + curve['b'], color='C1',
               label=f"t = {curve['a']:.3g} s·%/k{signed(curve['b'], 's')}\n"
                     f"R² = {curve['r2']:.4f}")
-    ax_b.set_xlabel('time step k (% of critical)')
+    ax_b.set_xlabel('time step k = dt·c/dx (% of dx/c)')
     ax_b.set_title(f'(b) {particles_per_element} particles per element', fontsize=10)
     for ax in (ax_a, ax_b):
         ax.set_ylabel(TIME_LABEL)
         ax.grid(alpha=0.3)
         ax.legend(fontsize=8)
-    fig.suptitle(figure_title(scheme, 2, f'Computation time, {elements} elements') + '\n'
-                 + problem_text(sweep.config), fontsize=10)
+    fitted_title(fig, figure_title(scheme, 2, f'Computation time, {elements} elements') + '\n'
+                 + problem_text(sweep.config))
     fig.tight_layout(rect=(0, 0.03, 1, 1))
     path = save_figure(fig, outdir, f'{_figure_number(scheme, 2)}time_fits_{scheme}.png',
                        [sweep])
