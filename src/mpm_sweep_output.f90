@@ -119,6 +119,8 @@ contains
       call h5%write_real('/cases/relative_error', cases%relative_error)
       call h5%write_real('/cases/run_time', cases%run_time)
       call h5%write_int('/cases/repeats', cases%repeats)
+      call h5%write_real('/cases/run_time_spread', cases%run_time_spread)
+      call h5%write_int('/cases/timing_rounds', cases%timing_rounds)
       call h5%write_int('/cases/status', cases%status)
       allocate (names(size(cases)), messages(size(cases)))
       do i = 1, size(cases)
@@ -372,6 +374,10 @@ contains
       cases%steps = ints
       call int_column('repeats')
       cases%repeats = ints
+      call int_column('timing_rounds')
+      cases%timing_rounds = ints
+      call real_column('run_time_spread')
+      cases%run_time_spread = reals
       call int_column('status')
       cases%status = ints
       call real_column('dt')

@@ -7,7 +7,7 @@ program test_sweep
    use mpm_simulation, only: run_result_t, run_simulation
    use mpm_sweep, only: sweep_t, sweep_case_t, read_sweep, run_sweep, case_config, case_weights
    use mpm_progress, only: remaining_time
-   use mpm_sort, only: sort_order
+   use mpm_sort, only: sort_order, relative_spread
    use omp_lib, only: omp_get_wtime
    use mpm_sweep_output, only: write_sweep_file, merge_sweep_files
    use mpm_hdf5, only: h5_read_real, h5_read_int, h5_read_string
@@ -69,6 +69,7 @@ program test_sweep
    call unstable_messages()
    call list_names()
    call progress_estimate()
+   call timing_spread()
 
    call bad_sweep("&sweep elements=3, 0 /", 'elements(2)')
    call bad_sweep("&sweep schemes='usf', 'fls' /", 'schemes(2)')
@@ -248,6 +249,29 @@ contains
                    estimate > 0.5_dp*actual .and. estimate < 2.0_dp*actual)
       call t%check('(the case count alone would be off by more than 3)', by_count > 3.0_dp*actual)
    end subroutine progress_estimate
+
+   !> The timing pass keeps the spread of its repeats: interquartile range over median, by hand;
+   !> a timed case either has a spread within 0.2 or was measured in all 3 rounds.
+   subroutine timing_spread()
+      type(sweep_t) :: s
+      integer :: u
+      call t%check('spread of 1, 2, 3 (any order) = (2.5 - 1.5) / 2', &
+                   abs(relative_spread([3.0_dp, 1.0_dp, 2.0_dp]) - 0.5_dp) < 1.0e-15_dp)
+      call t%check('spread of 1, 1, 1, 10 = (3.25 - 1) / 1', &
+                   abs(relative_spread([1.0_dp, 10.0_dp, 1.0_dp, 1.0_dp]) - 2.25_dp) < 1.0e-15_dp)
+      call t%check('spread of one value = 0', relative_spread([4.0_dp]) == 0.0_dp)
+      open (newunit=u, file=dir//'/timed.nml', status='replace', action='write')
+      write (u, '(a)') "&sweep elements=3, 10, dt_fraction=0.1, 2.5, min_time=0.002 /"
+      close (u)
+      call read_sweep(dir//'/timed.nml', s, error, 0, 0, 1)
+      call run_sweep(s)
+      call t%check('timed cases: spread within 0.2 or 3 rounds measured', all( &
+                   pack(s%cases%run_time_spread <= 0.2_dp .or. s%cases%timing_rounds == 3, s%cases%status == status_ok)))
+      call t%check('timed cases: at least one round, a positive time', all(pack(s%cases%timing_rounds >= 1 .and. &
+                   s%cases%run_time > 0.0_dp, s%cases%status == status_ok)))
+      call t%check('cases stopped by a guard are not timed', all(pack(s%cases%timing_rounds == 0, &
+                   s%cases%status /= status_ok)) .and. any(s%cases%status /= status_ok))
+   end subroutine timing_spread
 
    subroutine bad_sweep(text, part)
       character(len=*), intent(in) :: text, part

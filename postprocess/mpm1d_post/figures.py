@@ -397,8 +397,9 @@ def time_fits(sweep: Sweep, scheme: str, outdir: str, elements: int = 3,
     n, t_n, k, t_k = n[order_n], t_n[order_n], k[order_k], t_k[order_k]
     line = linear_fit(n, t_n)
     curve = rational_fit(k, t_k)
+    spread = cases['run_time_spread'][row][order_n].tolist() if 'run_time_spread' in cases else None
     fits = {'particles': dict(line, elements=elements, dt_fraction=dt_fraction,
-                              x=n.tolist(), time=t_n.tolist()),
+                              x=n.tolist(), time=t_n.tolist(), spread=spread),
             'time_step': dict(curve, elements=elements,
                               particles_per_element=particles_per_element,
                               x=k.tolist(), time=t_k.tolist())}

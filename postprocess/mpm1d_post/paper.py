@@ -22,6 +22,8 @@ import argparse
 import datetime
 import os
 import sys
+
+import numpy as np
 from typing import Dict, List, Optional, Sequence
 
 from . import analysis, figures
@@ -178,7 +180,9 @@ def _fits_section(report: Report, fits: Dict[str, Dict]) -> None:
         report.add(f"| {scheme.upper()} | t = a·n + b (n particles per element) | "
                    f"a = {line['slope']:.4g} s, b = {line['intercept']:.4g} s | "
                    f"{line['r2']:.4f} | {line['elements']} el., "
-                   f"{100 * line['dt_fraction']:g} %, {len(line['x'])} points |")
+                   f"{100 * line['dt_fraction']:g} % of dx/c, {len(line['x'])} points"
+                   + (f", median spread of the repeats {np.median(line['spread']):.2g}"
+                      if line.get('spread') else '') + ' |')
         report.add(f"| {scheme.upper()} | t = a/k + b (k time step in %) | "
                    f"a = {curve['a']:.4g} s·%, b = {curve['b']:.4g} s | {curve['r2']:.4f} | "
                    f"{curve['elements']} el., {curve['particles_per_element']} ppe, "
