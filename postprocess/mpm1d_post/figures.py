@@ -12,7 +12,7 @@ figures 4, 5, 7, 8), `shared_log_norm` (one colour scale across panels and schem
 
 from __future__ import annotations
 
-import os
+from pathlib import Path
 import textwrap
 from dataclasses import dataclass
 from typing import Dict, Iterable, List, Mapping, Optional, Sequence, Tuple, Union
@@ -57,7 +57,7 @@ def provenance(sources: Iterable[Source]) -> str:
         versions += source.code_versions if isinstance(source, Sweep) else [source.code_version]
         files += source.paths if isinstance(source, Sweep) else [source.path]
     versions = list(dict.fromkeys(versions))
-    files = list(dict.fromkeys(os.path.basename(f) for f in files))
+    files = list(dict.fromkeys(Path(f).name for f in files))
     shown = ', '.join(files[:4]) + (f' (+{len(files) - 4} more)' if len(files) > 4 else '')
     return f"{' / '.join(versions)}  |  data: {shown}  |  mpm1d postprocess"
 
@@ -66,8 +66,8 @@ def save_figure(fig: plt.Figure, outdir: str, name: str, sources: Iterable[Sourc
     """Add the provenance footer, write `outdir/name` as PNG and close the figure."""
     fig.text(0.005, 0.004, provenance(sources), fontsize=6.5, color='0.35',
              ha='left', va='bottom')
-    os.makedirs(outdir, exist_ok=True)
-    path = os.path.join(outdir, name)
+    Path(outdir).mkdir(parents=True, exist_ok=True)
+    path = str(Path(outdir) / name)
     fig.savefig(path, dpi=DPI)
     plt.close(fig)
     return path

@@ -31,7 +31,7 @@ from __future__ import annotations
 import argparse
 import csv
 import math
-import os
+from pathlib import Path
 import sys
 from dataclasses import dataclass, field
 
@@ -474,7 +474,7 @@ def main(argv=None) -> int:
     if not (args.tol >= 0 and args.k_max > 0 and 0 < args.dk < args.k_max):
         print("error: need tol >= 0, k-max > 0, 0 < dk < k-max", file=sys.stderr)
         return 2
-    os.makedirs(args.out, exist_ok=True)
+    Path(args.out).mkdir(parents=True, exist_ok=True)
     if args.shapes:
         return shapes_command(args, schemes)
 
@@ -490,13 +490,13 @@ def main(argv=None) -> int:
                 rows.append((scheme, ppc, ne, kc))
                 details.append((scheme, ppc, ne, kc, island, dimk, on, defective, block_err))
 
-    path = os.path.join(args.out, "predicted_critical.csv")
+    path = Path(args.out) / "predicted_critical.csv"
     with open(path, "w", newline="") as fh:
         w = csv.writer(fh)
         w.writerow(["scheme", "particles_per_element", "elements", "k_crit"])
         for s, ppc, ne, kc in rows:
             w.writerow([s, ppc, ne, f"{kc:.10f}"])
-    dpath = os.path.join(args.out, "predicted_critical_details.csv")
+    dpath = Path(args.out) / "predicted_critical_details.csv"
     with open(dpath, "w", newline="") as fh:
         w = csv.writer(fh)
         w.writerow(["scheme", "particles_per_element", "elements", "k_crit", "restabilises",
@@ -537,14 +537,14 @@ def main(argv=None) -> int:
         ppcs = list(args.ppc)
         for s in schemes:
             rm = rho_map(s, ks, ppcs, args.map_elements)
-            mpath = os.path.join(args.out, f"rho_map_{s}.csv")
+            mpath = Path(args.out) / f"rho_map_{s}.csv"
             with open(mpath, "w", newline="") as fh:
                 w = csv.writer(fh)
                 w.writerow(["particles_per_element", "k", "rho"])
                 for i, ppc in enumerate(ppcs):
                     for j, k in enumerate(ks):
                         w.writerow([ppc, f"{k:.6f}", f"{rm[i, j]:.15e}"])
-            _plot_map(s, ks, ppcs, rm, args.map_elements, os.path.join(args.out, f"rho_map_{s}.png"))
+            _plot_map(s, ks, ppcs, rm, args.map_elements, Path(args.out) / f"rho_map_{s}.png")
             print(f"wrote {mpath} (+ .png)")
     return 0
 
@@ -552,7 +552,7 @@ def main(argv=None) -> int:
 def shapes_command(args, schemes) -> int:
     """k_crit per scheme x shape x ppc x elements, at rest and stretched: predicted_shapes.csv."""
     shapes = [s.strip() for s in args.shapes.split(",") if s.strip()]
-    path = os.path.join(args.out, "predicted_shapes.csv")
+    path = Path(args.out) / "predicted_shapes.csv"
     print(f"Predicted critical dt fraction per shape (at rest / stretched by {args.stretch:g})")
     with open(path, "w", newline="") as fh:
         w = csv.writer(fh)

@@ -20,7 +20,7 @@ from __future__ import annotations
 
 import argparse
 import datetime
-import os
+from pathlib import Path
 import sys
 
 import numpy as np
@@ -119,7 +119,7 @@ def _sweep_section(report: Report, sweeps: Dict[str, Sweep], verification) -> No
         for path, attrs, version in zip(sweep.paths, sweep.sweep, sweep.code_versions):
             def get(key, fmt='{}'):
                 return fmt.format(attrs[key]) if key in attrs else '—'
-            report.add(f"| {scheme.upper()} | {os.path.basename(path)} | {get('cases')} | "
+            report.add(f"| {scheme.upper()} | {Path(path).name} | {get('cases')} | "
                        f"{get('threads')} | {get('timing_threads')} | "
                        f"{get('shard')}/{get('shards')} | {get('wall_time', '{:.4g}')} | "
                        f"{get('error_pass_time', '{:.4g}')} | {get('timing_pass_time', '{:.4g}')}"
@@ -154,7 +154,7 @@ def _runs_section(report: Report, verification_runs: List[Run], fig10_runs: List
                    'max error (m) | relative error | status | code version |',
                    '|---|---|---|---|---|---|---|')
         for run in verification_runs:
-            report.add(f"| {os.path.basename(run.path)} | {run.scheme.upper()} | "
+            report.add(f"| {Path(run.path).name} | {run.scheme.upper()} | "
                        f"{run.elements} el., {run.particles_per_element} ppe, "
                        f"{100 * run.dt_fraction:g} % | {run.summary['max_error']:.4g} | "
                        f"{100 * run.summary['relative_error']:.3g} % | "
@@ -235,7 +235,7 @@ def make_all(args: argparse.Namespace) -> Report:
     fig10_elements = [e for e in args.fig10_elements if any(r.elements == e for r in initial)]
     fig10_runs = [r for r in initial if not fig10_elements or r.elements in fig10_elements]
     used = {id(r) for r in verification_runs + fig10_runs}
-    unused = [f'{os.path.basename(r.path)} ({r.label()}): not the verification case with a '
+    unused = [f'{Path(r.path).name} ({r.label()}): not the verification case with a '
               'history, and no step-0 snapshot for a fig. 10 element count'
               for r in runs if id(r) not in used]
 
@@ -279,7 +279,7 @@ def make_all(args: argparse.Namespace) -> Report:
     _pareto_section(report, pareto)
     if sweeps:
         _findings_section(report, analysis.check_claims(sweeps, fits))
-    report.add('## Figures', '', *[f'- {os.path.basename(p)}' for p in report.written], '')
+    report.add('## Figures', '', *[f'- {Path(p).name}' for p in report.written], '')
     if report.skipped:
         report.add('Skipped:', '', *[f'- {s}' for s in report.skipped], '')
     return report
@@ -296,8 +296,8 @@ def main(argv: Optional[Sequence[str]] = None) -> int:
     except Mpm1dFileError as exc:
         print(f'{PROGRAM}: {exc}', file=sys.stderr)
         return 2
-    summary = os.path.join(args.output, 'summary.md')
-    os.makedirs(args.output, exist_ok=True)
+    summary = Path(args.output) / 'summary.md'
+    summary.parent.mkdir(parents=True, exist_ok=True)
     with open(summary, 'w', encoding='utf-8') as handle:
         handle.write('\n'.join(report.lines).rstrip() + '\n')
     for path in report.written + [summary]:
