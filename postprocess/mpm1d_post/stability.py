@@ -19,11 +19,10 @@ from __future__ import annotations
 import argparse
 import csv
 import datetime
-import glob
 import math
-import os
 import re
 import sys
+from pathlib import Path
 from typing import Dict, List, Optional, Sequence, Tuple
 
 import numpy as np
@@ -115,7 +114,7 @@ class Report:
 
     def save(self, fig, name: str, sources: str) -> None:
         self.footer(fig, sources)
-        path = os.path.join(self.out, name)
+        path = str(Path(self.out) / name)
         fig.savefig(path, dpi=130)
         plt.close(fig)
         self.figures.append(name)
@@ -199,7 +198,7 @@ def stability_section(report: Report, sweep: Sweep, predicted, elements: int, ti
     schemes = [s for s in SCHEMES if s in set(c['scheme'].tolist())]
     periods = sweep.config.get('periods', float('nan'))
     report.add(f'## {title}', '',
-               f'`{os.path.basename(sweep.path)}`: {len(sweep)} cases, {elements} element(s), '
+               f'`{Path(sweep.path).name}`: {len(sweep)} cases, {elements} element(s), '
                f'ppc {", ".join(map(str, ppcs))}, k = c dt/dx from {c["dt_fraction"].min():g} to '
                f'{c["dt_fraction"].max():g} ({len(set(c["dt_fraction"].round(6)))} values), '
                f'{g(periods)} periods of mode 1 (E = 200 GPa, rho = 7800 kg/m^3, v0 = 0.1 m/s). '
@@ -350,7 +349,7 @@ def plot_map(report: Report, sweep: Sweep, predicted, elements: int, figname: st
                  f'(ppc, k); bar L = 25 m, E = 200 GPa, rho = 7800 kg/m^3, v0 = 0.1 m/s, '
                  f'{g(sweep.config.get("periods", float("nan")))} periods', fontsize=9)
     fig.tight_layout(rect=(0, 0.03, 1, 0.95))
-    report.save(fig, figname, os.path.basename(sweep.path))
+    report.save(fig, figname, Path(sweep.path).name)
     report.add(f'![{figname}]({figname})', '')
 
 
@@ -501,7 +500,7 @@ def large_section(report: Report, sweep: Sweep) -> None:
     fig.suptitle('Large motion: relative error against v0/c; dotted: the last particle crosses into the '
                  'empty margin cell above pi/(4 ne ppc)', fontsize=9)
     fig.tight_layout(rect=(0, 0.03, 1, 0.94))
-    report.save(fig, 'large_motion.png', os.path.basename(sweep.path))
+    report.save(fig, 'large_motion.png', Path(sweep.path).name)
     report.add('![large_motion.png](large_motion.png)', '')
     class_counts(report, 'large motion', sweep, expected_stable, expected_unstable)
 
@@ -564,7 +563,7 @@ def long_section(report: Report, sweeps: List[Sweep]) -> None:
         fig.suptitle('Long runs: energy history over 100 periods (E = 200 GPa, rho = 7800 kg/m^3, '
                      'v0 = 0.1 m/s)', fontsize=9)
         fig.tight_layout(rect=(0, 0.03, 1, 0.94))
-        report.save(fig, 'long_energy.png', os.path.basename(sweep.path))
+        report.save(fig, 'long_energy.png', Path(sweep.path).name)
         report.add('![long_energy.png](long_energy.png)', '')
 
 
@@ -608,7 +607,7 @@ def modes_section(report: Report, sweep: Sweep) -> None:
     fig.suptitle('High modes: error against resolution (E = 200 GPa, rho = 7800 kg/m^3, v0 = 0.1 m/s, '
                  '2 periods of each mode)', fontsize=9)
     fig.tight_layout(rect=(0, 0.03, 1, 0.94))
-    report.save(fig, 'modes.png', os.path.basename(sweep.path))
+    report.save(fig, 'modes.png', Path(sweep.path).name)
     report.add('![modes.png](modes.png)', '')
     class_counts(report, 'high modes', sweep, np.ones(len(sweep), dtype=bool))
 
@@ -641,7 +640,7 @@ def mesh_section(report: Report, coarse: Optional[Sweep], fines: List[Sweep], la
             c = sweep.cases
             periods = c['steps'][0] * c['dt'][0] / (4.0 * float(sweep.config['length']) /
                                                     math.sqrt(c['youngs_modulus'][0] / c['density'][0]))
-            report.add(f'`{os.path.basename(sweep.path)}`: sweep wall time '
+            report.add(f'`{Path(sweep.path).name}`: sweep wall time '
                        f'{g(sweep.sweep[0].get("wall_time"))} s on {sweep.sweep[0].get("threads")} threads; '
                        f'{c["steps"][0]} steps are {periods:.2g} periods, so the error (relative to the '
                        'full amplitude) stays tiny: these runs test that large problems run and stay '
@@ -674,14 +673,14 @@ def parse_args(argv):
 
 def main(argv=None) -> int:
     args = parse_args(argv)
-    os.makedirs(args.output, exist_ok=True)
+    Path(args.output).mkdir(parents=True, exist_ok=True)
     report = Report(args.output)
-    path = lambda name: os.path.join(args.input, name)  # noqa: E731
+    path = lambda name: str(Path(args.input) / name)  # noqa: E731
     try:
         predicted = read_predicted(args.predicted)
         sections = []
         measured = {}
-        if os.path.exists(path('map.h5')):
+        if Path(path('map.h5')).exists():
             sweep = load(path('map.h5'))
             ne = int(sweep.cases['elements'][0])
             measured = stability_section(report, sweep, predicted, ne,
@@ -690,25 +689,25 @@ def main(argv=None) -> int:
         else:
             report.add('## 1. Time-step stability map', '', 'skipped: map.h5 not found', '')
         coarse = None
-        if os.path.exists(path('coarse.h5')):
+        if Path(path('coarse.h5')).exists():
             coarse = load(path('coarse.h5'))
             stability_section(report, coarse, predicted, 1, '1b. Time-step stability on one element',
                               'map 1 el.', 'stability_map_1element.png', energy_guard=True)
-        scale_files = sorted(glob.glob(path('scale_*.h5')))
+        scale_files = sorted(str(p) for p in Path(args.input).glob('scale_*.h5'))
         if scale_files:
             scale_section(report, load_many(scale_files))
         else:
             report.add('## 2. Stiffness and scale', '', 'skipped: no scale_*.h5', '')
-        if os.path.exists(path('large.h5')):
+        if Path(path('large.h5')).exists():
             large_section(report, load(path('large.h5')))
-        longs = [load(path(n)) for n in ('long100.h5', 'long1000.h5') if os.path.exists(path(n))]
+        longs = [load(path(n)) for n in ('long100.h5', 'long1000.h5') if Path(path(n)).exists()]
         if longs:
             long_section(report, longs)
-        if os.path.exists(path('modes.h5')):
+        if Path(path('modes.h5')).exists():
             modes_section(report, load(path('modes.h5')))
-        fines = [load(p) for p in sorted(glob.glob(path('fine_e*.h5')),
-                                         key=lambda p: int(re.sub(r'\D', '', os.path.basename(p)) or 0))]
-        largest = load_run(path('largest.h5')) if os.path.exists(path('largest.h5')) else None
+        fines = [load(str(p)) for p in sorted(Path(args.input).glob('fine_e*.h5'),
+                                              key=lambda p: int(re.sub(r'\D', '', p.name) or 0))]
+        largest = load_run(path('largest.h5')) if Path(path('largest.h5')).exists() else None
         mesh_section(report, coarse, fines, largest)
     except (Mpm1dFileError, OSError, KeyError) as exc:
         print(f'{PROGRAM}: {exc}', file=sys.stderr)
@@ -718,7 +717,7 @@ def main(argv=None) -> int:
     head = ['# mpm1d numerical stability study', '',
             f'Code version: {", ".join(sorted(report.versions))}; written '
             f'{datetime.datetime.now().isoformat(timespec="seconds")} by {PROGRAM} (mpm1d_post.stability) from '
-            f'`{os.path.abspath(args.input)}`.', '']
+            f'`{Path(args.input).resolve()}`.', '']
     if measured:
         ppcs = sorted({p for _, p in measured})
         head += ['## Measured against predicted critical time-step fraction (20 elements)', '',
@@ -745,12 +744,12 @@ def main(argv=None) -> int:
                  'duplicated when cases trip on several OpenMP threads at once (the same sweep on '
                  'threads=1 gives none). status/status_name are intact; for those cases the step '
                  'is taken from what can be parsed, the time as step x dt.', '']
-    if args.timings and os.path.exists(args.timings):
+    if args.timings and Path(args.timings).exists():
         rows = [line.split() for line in open(args.timings) if line.strip()]
         head += ['## Run time of each step of run.sh (s)', '', '| step | wall time (s) |', '|---|---|']
         head += [f'| {r[0]} | {r[1]} |' for r in rows if len(r) == 2]
         head.append('')
-    with open(os.path.join(args.output, 'summary.md'), 'w') as fh:
+    with open(Path(args.output) / 'summary.md', 'w') as fh:
         fh.write('\n'.join(head + report.lines) + '\n')
     print(f'{PROGRAM}: wrote summary.md and {len(report.figures)} figures ({", ".join(report.figures)}) '
           f'to {args.output}; checks: {len(report.checks) - len(failed)} passed, {len(failed)} failed')
