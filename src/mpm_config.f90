@@ -31,7 +31,7 @@ module mpm_config
    !> Schemes the code implements.
    character(len=*), parameter :: known_schemes = 'usf, usl, musl'
    !> Scene kinds the code implements (mpm_scenes makes them).
-   character(len=*), parameter :: known_scenes = 'vibrating_bar, column, manufactured, composite_bar'
+   character(len=*), parameter :: known_scenes = 'vibrating_bar, column, manufactured, composite_bar, impact'
    !> The groups of one run's input, in the order of the echo and of --help.
    character(len=16), parameter :: config_groups(*) = [character(len=16) :: 'scene', 'discretisation', 'run', &
                                                         'output', 'guards']
@@ -61,6 +61,13 @@ module mpm_config
                   densities(max_segments) = 0.0_dp
       integer :: length_count = 0, modulus_count = 0, density_count = 0
       real(dp) :: drive_velocity = 1.0_dp
+      !> Impact: two bars (lengths, youngs_moduli, densities above, two values each), their initial
+      !> velocities, the gap between them and the contact model ('none': one shared velocity field;
+      !> 'frictionless': a field per body, mpm_contact).
+      real(dp) :: velocities(2) = 0.0_dp
+      integer :: velocity_count = 0
+      real(dp) :: gap = 0.0_dp
+      character(len=16) :: contact = 'frictionless'
       ! &discretisation
       character(len=8) :: scheme = 'usl'
       integer :: elements = 20
@@ -145,14 +152,22 @@ contains
          for_kinds(real_entry('scene', 'density', config%density, 'kg/m^3', 'density rho', greater_than=0.0_dp, &
                               sweep_list='densities'), single_body), &
          for_kinds(real_list_entry('scene', 'lengths', config%lengths, config%length_count, 'm', 'segment lengths, '// &
-                                   'left (driven end) to right (free end)', greater_than=0.0_dp, &
-                                   note='2 to 16 segments'), 'composite_bar'), &
+                                   'left (driven end) to right (free end); impact: bar 1, bar 2', greater_than=0.0_dp, &
+                                   note='2 to 16 segments; impact: 2'), 'composite_bar, impact'), &
          for_kinds(real_list_entry('scene', 'youngs_moduli', config%youngs_moduli, config%modulus_count, 'Pa', &
-                                   "each segment's Young's modulus", greater_than=0.0_dp, note='one per segment'), &
-                   'composite_bar'), &
+                                   "each segment's (bar's) Young's modulus", greater_than=0.0_dp, &
+                                   note='one per segment'), 'composite_bar, impact'), &
          for_kinds(real_list_entry('scene', 'densities', config%densities, config%density_count, 'kg/m^3', &
-                                   "each segment's density", greater_than=0.0_dp, note='one per segment'), &
-                   'composite_bar'), &
+                                   "each segment's (bar's) density", greater_than=0.0_dp, note='one per segment'), &
+                   'composite_bar, impact'), &
+         for_kinds(real_list_entry('scene', 'velocities', config%velocities, config%velocity_count, 'm/s', &
+                                   'initial velocity of bar 1 (left) and bar 2 (right)', note='two values'), 'impact'), &
+         for_kinds(real_entry('scene', 'gap', config%gap, 'm', 'distance between bar 1 (on [0, L1]) and bar 2', &
+                              at_least=0.0_dp, sweep_list='gaps'), 'impact'), &
+         for_kinds(text_entry('scene', 'contact', config%contact, "'none': one shared velocity field (the bars "// &
+                              "stick); 'frictionless': a field per bar, the centre-of-mass velocity where they "// &
+                              "approach (README, Scenes)", words='none, frictionless', sweep_list='contacts'), &
+                   'impact'), &
          for_kinds(real_entry('scene', 'drive_velocity', config%drive_velocity, 'm/s', 'velocity the left end '// &
                               'is driven at from t = 0 (pushing into the bar)', greater_than=0.0_dp, &
                               sweep_list='drive_velocities'), 'composite_bar'), &
@@ -168,7 +183,8 @@ contains
                               'u(X,t) = A sin(2 pi X/length) sin(pi c t/length)', greater_than=0.0_dp, &
                               note='2 pi A / length < 1', sweep_list='amplitudes'), 'manufactured'), &
          real_entry('run', 'periods', config%periods, '', 'run length in periods of the scene (bar: 2 pi/omega_n; '// &
-                    'column: 4L/c; manufactured: 2L/c); steps = smallest n with n dt >= end time', greater_than=0.0_dp, &
+                    'column: 4L/c; manufactured: 2L/c; impact: 2 max L/c); steps = smallest n with n dt >= end time', &
+                    greater_than=0.0_dp, &
                     optional=.true.), &
          real_entry('run', 'end_time', config%end_time, 's', 'run length in seconds (give periods or end_time)', &
                     greater_than=0.0_dp, optional=.true.), &
@@ -338,6 +354,7 @@ contains
             "needs 2 to "//str(max_segments)//" segments: lengths, youngs_moduli and densities with one value each "// &
             "(given "//str(config%length_count)//", "//str(config%modulus_count)//", "//str(config%density_count)//")")
       end if
+      if (trim(config%scene_kind) == 'impact') call check_impact(config, error)
       if (allocated(error)) return
 
       ! Consistency checks that need the resolved quantities.
@@ -379,6 +396,32 @@ contains
          end do
       end function snapshot_list
    end subroutine validate_config
+
+   !> The impact's two bars: two values of each list, and the configurations its exact solution covers
+   !> (mpm_scene_impact): equal impedances rho c, and for contact = 'none' (the bars stick) equal wave
+   !> transit times L/c.
+   subroutine check_impact(config, error)
+      type(config_t), intent(in) :: config
+      type(error_t), allocatable, intent(inout) :: error
+      real(dp) :: z(2), transit(2)
+      if (config%length_count /= 2 .or. config%modulus_count /= 2 .or. config%density_count /= 2 .or. &
+          config%velocity_count /= 2) then
+         call append_error(error, "scene: kind = 'impact' needs two bars: lengths, youngs_moduli, densities and "// &
+                           "velocities with two values each (given "//str(config%length_count)//", "// &
+                           str(config%modulus_count)//", "//str(config%density_count)//", "// &
+                           str(config%velocity_count)//")")
+         return
+      end if
+      z = sqrt(config%youngs_moduli(1:2)*config%densities(1:2))
+      transit = config%lengths(1:2)/sqrt(config%youngs_moduli(1:2)/config%densities(1:2))
+      if (abs(z(1) - z(2)) > 1.0e-9_dp*maxval(z)) call append_error(error, "scene: kind = 'impact' needs equal "// &
+         "impedances sqrt(youngs_moduli*densities) of the two bars (its exact solution covers those); given "// &
+         str(z(1))//" and "//str(z(2))//" kg/(m^2 s)")
+      if (trim(config%contact) == 'none' .and. abs(transit(1) - transit(2)) > 1.0e-9_dp*maxval(transit)) &
+         call append_error(error, "scene: kind = 'impact' with contact = 'none' needs equal wave transit times "// &
+                           "lengths/c of the two bars (the stuck bars' exact solution); given "//str(transit(1))// &
+                           " and "//str(transit(2))//" s")
+   end subroutine check_impact
 
    !> Refuse a run whose particles and grid would not fit in the memory available now.
    !> `history_steps` is the number of history entries kept (0 without history).
@@ -438,6 +481,8 @@ contains
       type(config_t), intent(in) :: config
       if (trim(config%scene_kind) == 'composite_bar') then
          body_length = sum(config%lengths(1:config%length_count))
+      else if (trim(config%scene_kind) == 'impact') then ! both bars and the gap
+         body_length = sum(config%lengths(1:2)) + config%gap
       else
          body_length = config%length
       end if
@@ -447,7 +492,7 @@ contains
    pure real(dp) function largest_wave_speed(config)
       type(config_t), intent(in) :: config
       integer :: n
-      if (trim(config%scene_kind) == 'composite_bar') then
+      if (trim(config%scene_kind) == 'composite_bar' .or. trim(config%scene_kind) == 'impact') then
          n = config%length_count
          largest_wave_speed = maxval(sqrt(config%youngs_moduli(1:n)/config%densities(1:n)))
       else
@@ -471,6 +516,8 @@ contains
          associate (n => config%length_count)
             scene_period = sum(config%lengths(1:n)/sqrt(config%youngs_moduli(1:n)/config%densities(1:n)))
          end associate
+      case ('impact') ! the longer of the bars' wave round trips 2 L/c (identical bars: the contact time)
+         scene_period = 2.0_dp*maxval(config%lengths(1:2)/sqrt(config%youngs_moduli(1:2)/config%densities(1:2)))
       case default
          scene_period = 2.0_dp*pi/((2*config%mode - 1)*pi/(2.0_dp*config%length)*c)
       end select
@@ -552,7 +599,8 @@ contains
    !> Fill the derived quantities of a validated configuration.
    subroutine resolve_config(config)
       type(config_t), intent(inout) :: config
-      if (trim(config%scene_kind) == 'composite_bar') config%length = body_length(config)
+      if (trim(config%scene_kind) == 'composite_bar' .or. trim(config%scene_kind) == 'impact') &
+         config%length = body_length(config)
       config%wave_speed = largest_wave_speed(config)
       config%dx = config%length/config%elements
       config%dt = config%dt_fraction*config%dx/config%wave_speed

@@ -50,6 +50,8 @@ module mpm_diagnostics
       real(dp), allocatable :: x0(:)  !< reference (initial) positions X, for u = x - X and exact solutions
       !> each particle's Young's modulus, where the scene has several materials (their segment or body)
       real(dp), allocatable :: youngs_modulus(:)
+      !> each particle's body, where the scene has several (impact)
+      integer, allocatable :: body(:)
       real(dp), allocatable :: grid_x(:), grid_velocity(:)
    end type snapshot_t
 

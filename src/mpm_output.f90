@@ -85,6 +85,7 @@ contains
             call h5%write_real(group//'/reference_x', result%snapshots(i)%x0)
             if (allocated(result%snapshots(i)%youngs_modulus)) &
                call h5%write_real(group//'/youngs_modulus', result%snapshots(i)%youngs_modulus)
+            if (allocated(result%snapshots(i)%body)) call h5%write_int(group//'/body', result%snapshots(i)%body)
             call h5%write_real(group//'/velocity', result%snapshots(i)%v)
             call h5%write_real(group//'/stress', result%snapshots(i)%stress)
             call h5%write_real(group//'/volume_ratio', result%snapshots(i)%volume_ratio)

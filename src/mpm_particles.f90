@@ -31,6 +31,9 @@ module mpm_particles
       !> per-particle Young's modulus (Pa): only scenes of several materials allocate it (composite bar);
       !> otherwise the run's one modulus applies
       real(dp), allocatable :: youngs_modulus_of(:)
+      !> the body each particle belongs to (1, 2, ...): only scenes of several bodies allocate it (impact),
+      !> which place each body's particles as one contiguous range
+      integer, allocatable :: body(:)
    end type particles_t
 
 contains
@@ -99,14 +102,8 @@ contains
       call permute_real(particles%volume0_of)
       call permute_real(particles%velocity_gradient)
       call permute_real(particles%youngs_modulus_of)
-      if (allocated(particles%cell)) then
-         block
-            integer, allocatable :: copy(:)
-            allocate (copy(size(particles%cell)))
-            copy(destination) = particles%cell
-            particles%cell = copy
-         end block
-      end if
+      call permute_int(particles%body)
+      call permute_int(particles%cell)
    contains
       subroutine permute_real(a)
          real(dp), allocatable, intent(inout) :: a(:)
@@ -116,5 +113,13 @@ contains
          copy(destination) = a
          call move_alloc(copy, a)
       end subroutine permute_real
+      subroutine permute_int(a)
+         integer, allocatable, intent(inout) :: a(:)
+         integer, allocatable :: copy(:)
+         if (.not. allocated(a)) return
+         allocate (copy(size(a)))
+         copy(destination) = a
+         call move_alloc(copy, a)
+      end subroutine permute_int
    end subroutine permute
 end module mpm_particles

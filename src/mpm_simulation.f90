@@ -13,7 +13,8 @@ module mpm_simulation
                         transfer_apic
    use mpm_fused, only: fused_start, fused_step
    use mpm_operations, only: particle_energies, locate_particles, p2g_mass_momentum, nodal_velocities
-   use mpm_schemes, only: scheme_usf, scheme_usl, scheme_musl, scheme_step
+   use mpm_schemes, only: scheme_usf, scheme_usl, scheme_musl, scheme_step, scheme_step_bodies
+   use mpm_contact, only: bodies_t, bodies_init
    use mpm_scene, only: scene_t
    use mpm_scenes, only: make_scene
    use mpm_diagnostics, only: history_t, snapshot_t, pass_totals_t, status_ok, status_non_finite, &
@@ -100,6 +101,8 @@ contains
       type(particles_t) :: particles
       type(shape_cache_t) :: cache
       type(pass_totals_t) :: totals
+      type(bodies_t) :: bodies
+      real(dp), allocatable :: watch(:)
       real(dp) :: start, ucm, exact, energy, energy_reference, t, total_mass
       integer :: n, scheme, next_snapshot, extra, stat
       logical :: fused
@@ -137,7 +140,9 @@ contains
       end if
       call grid_init(grid, config%elements, config%length, particles%mass, error, &
                      margin=scene%margin_cells(config%dx, config%margin_cells) + extra, fixed=scene%fixed_nodes(), &
-                     element_shares=fused, ghost=extra)
+                     element_shares=fused, ghost=extra + scene%left_margin_cells(config%dx, config%margin_cells))
+      if (allocated(error)) return
+      if (scene%body_fields) call bodies_init(bodies, grid, particles, error)
       if (allocated(error)) return
       result%domain = [grid%origin, grid%origin + grid%length]
       result%particles = particles%count
@@ -168,6 +173,10 @@ contains
          if (fused) then
             call fused_step(scheme, particles, grid, config%dt, config%youngs_modulus, totals)
             ucm = totals%displacement/particles%count ! u_cm = sum m (x - X) / sum m, equal masses
+         else if (scene%body_fields) then
+            call scheme_step_bodies(scheme, scene, cache, particles, grid, bodies, config%dt, config%youngs_modulus, &
+                                    t, totals)
+            ucm = totals%displacement/total_mass
          else
             call scheme_step(scheme, scene, cache, particles, grid, config%dt, config%youngs_modulus, t, totals)
             ucm = totals%displacement/total_mass
@@ -182,12 +191,22 @@ contains
          result%max_cell_move = max(result%max_cell_move, totals%max_cell_move)
          result%min_node_mass_ratio = min(result%min_node_mass_ratio, grid%min_node_mass/particles%mass)
          if (record_history) call record(result%history, t, ucm, exact, totals)
+         if (scene%watches) call scene%watch_step(t, particles, watch)
          call check_guards(n, t)
          if (result%status /= status_ok) exit
          result%steps_done = n
          call take_snapshots(n, t)
       end do
 
+      if (scene%watches) then
+         block
+            character(len=32), allocatable :: names(:)
+            real(dp), allocatable :: values(:)
+            call scene%watch_report(watch, particles, names, values)
+            result%report_names = [result%report_names, names]
+            result%report_values = [result%report_values, values]
+         end block
+      end if
       if (result%ucm_amplitude /= 0.0_dp) then
          result%relative_error = result%max_error/abs(result%ucm_amplitude)
       else
@@ -245,6 +264,7 @@ contains
                s%x = particles%x
                s%x0 = particles%x0
                if (allocated(particles%youngs_modulus_of)) s%youngs_modulus = particles%youngs_modulus_of
+               if (allocated(particles%body)) s%body = particles%body
                s%v = particles%v
                s%stress = particles%stress
                s%volume_ratio = particles%volume_ratio

@@ -41,7 +41,7 @@ contains
    !> --help, the echoed namelist and /config each name every registry entry (periods and end_time
    !> exclude each other: one configuration gives each; a scene's own variables appear with its kind).
    subroutine every_entry_everywhere()
-      type(config_t), target :: config, by_time, manufactured, composite
+      type(config_t), target :: config, by_time, manufactured, composite, impact
       type(parameter_t), allocatable :: table(:), sweep_table(:)
       type(sweep_config_t), target :: settings
       character(len=:), allocatable :: help, echo
@@ -62,11 +62,15 @@ contains
       composite%lengths(1:2) = 1.0_dp
       composite%youngs_moduli(1:2) = 1.0e6_dp
       composite%densities(1:2) = 1.0e3_dp
+      impact = composite
+      impact%scene_kind = 'impact'
+      impact%velocities = [1.0_dp, -1.0_dp]
+      impact%velocity_count = 2
       call config_parameters(config, table)
       call t%check('the registry has entries', size(table) >= 19)
       call run_app(dir, '--help', status, help)
       echo = config_namelist(config)//config_namelist(by_time)//config_namelist(manufactured)// &
-             config_namelist(composite)
+             config_namelist(composite)//config_namelist(impact)
       call write_attributes(config, dir//'/config.h5')
       call write_attributes(by_time, dir//'/by_time.h5')
       call write_attributes(manufactured, dir//'/manufactured.h5')

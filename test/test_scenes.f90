@@ -1,6 +1,7 @@
 !> The scenes beyond the bar against their exact solutions (README, Scenes): each at one resolution,
 !> its observed convergence order, and the namelist refusing variables its kind does not use.
 program test_scenes
+   use, intrinsic :: ieee_arithmetic, only: ieee_value, ieee_quiet_nan
    use mpm_kinds, only: dp, pi
    use mpm_errors, only: error_t
    use mpm_config, only: config_t, resolve_config, read_config
@@ -8,6 +9,7 @@ program test_scenes
    use mpm_diagnostics, only: status_ok, status_name
    use mpm_scene_column, only: column_series
    use mpm_scene_composite, only: composite_t, composite_init
+   use mpm_scene_impact, only: impact_t, impact_init
    use mpm_sweep, only: sweep_t, read_sweep
    use mpm_testing, only: tester_t, scratch_dir, write_lines
    use mpm_strings, only: str
@@ -20,6 +22,7 @@ program test_scenes
    call column()
    call manufactured()
    call composite()
+   call impact()
    call refused_variables()
    call t%finish()
 
@@ -221,6 +224,146 @@ contains
       config%end_time = end_time
    end function composite_config
 
+   !> Two bars colliding (README, Scenes): the exact solution by hand, the issue's done-when case
+   !> (identical steel bars of 1 m at +-1 m/s, 200 elements x 2: frictionless contact lasts 2L/c within 2 %
+   !> and exchanges the velocities within 2 %; contact = 'none' keeps them stuck), momentum to round-off,
+   !> the observed orders, and unequal bars with a gap on wide shapes and APIC.
+   subroutine impact()
+      type(config_t) :: config
+      type(impact_t) :: scene
+      type(run_result_t) :: r, coarse, fine
+      real(dp) :: c, l, v, order, exact_time
+      integer :: k
+      character(len=4), parameter :: schemes(3) = ['usf ', 'usl ', 'musl']
+      ! the exact u_cm,1 by hand: v t - v c t^2/(2L) to 2L/c, then -v (t - 2L/c)
+      config = impact_config('usl', 200, 'frictionless', [1.0_dp, 1.0_dp], [1.0_dp, -1.0_dp], 0.0_dp)
+      call resolve_config(config)
+      scene = impact_init(config)
+      c = sqrt(200.0e9_dp/7800.0_dp)
+      l = 1.0_dp
+      v = 1.0_dp
+      call t%check_close('impact exact u_cm,1 at L/c = v L/(2c)', scene%bar1_exact(l/c), v*l/(2*c), rtol=1.0e-12_dp)
+      call t%check_close('impact exact u_cm,1 at 3L/c = -v L/c', scene%bar1_exact(3*l/c), -v*l/c, rtol=1.0e-12_dp)
+      call t%check_close('impact exact velocity of bar 1 after 2L/c = -v', scene%bar1_velocity(2.5_dp*l/c), -v, &
+                         rtol=1.0e-12_dp)
+      ! a short bar (0.6 m, 2 m/s) onto a longer one (1 m, -0.5 m/s), same material, 5 mm apart: they meet at
+      ! 0.005/2.5 s and the short bar leaves with the long bar's velocity after 2 L1/c
+      config = impact_config('usl', 321, 'frictionless', [0.6_dp, 1.0_dp], [2.0_dp, -0.5_dp], 0.005_dp)
+      config%periods = -huge(1.0_dp)
+      config%end_time = 0.0025_dp
+      call resolve_config(config)
+      scene = impact_init(config)
+      call t%check_close('impact exact: the short bar leaves at the long bar''s velocity', &
+                         scene%bar1_velocity(0.0025_dp), -0.5_dp, rtol=1.0e-12_dp)
+      call t%check_close('impact exact: bar 1 free until they meet', scene%bar1_exact(0.001_dp), 0.002_dp, &
+                         rtol=1.0e-12_dp)
+      ! the same, run with quadratic B-splines and APIC in MUSL (supports overlapping before the bars touch)
+      config%scheme = 'musl'
+      config%shape = 'bspline2'
+      config%transfer = 'apic'
+      r = run_config(config)
+      call t%check('impact bspline2/apic completes', r%status == status_ok, 'status '//status_name(r%status))
+      call t%check('impact: momentum conserved to round-off (bspline2, apic, unequal bars)', &
+                   reported(r, 'momentum_change') < 1.0e-13_dp, 'relative change '//str(reported(r, 'momentum_change')))
+      call t%check_close('impact: contact starts when the surfaces meet, not when the supports overlap', &
+                         reported(r, 'contact_start'), 0.002_dp, rtol=0.01_dp)
+      call t%check_close('impact: contact time 2 L1/c (bspline2, apic)', reported(r, 'contact_time'), 1.2_dp/c, &
+                         rtol=0.05_dp)
+      call t%check_close('impact: the short bar leaves at -0.5 m/s', reported(r, 'final_velocity_1'), -0.5_dp, &
+                         rtol=0.05_dp)
+      call t%check_close('impact: the long bar leaves at 1 m/s', reported(r, 'final_velocity_2'), 1.0_dp, rtol=0.02_dp)
+      ! the issue's done-when case, each scheme
+      exact_time = 2*l/c
+      do k = 1, 3
+         r = run_impact(trim(schemes(k)), 200, 'frictionless', [1.0_dp, 1.0_dp], [1.0_dp, -1.0_dp], &
+                                      0.0_dp)
+         call t%check('impact '//trim(schemes(k))//' completes', r%status == status_ok, 'status '//status_name(r%status))
+         call t%check_close('impact '//trim(schemes(k))//': contact time 2L/c within 2 %', reported(r, 'contact_time'), &
+                            exact_time, rtol=0.02_dp)
+         call t%check('impact '//trim(schemes(k))//': momentum conserved to round-off', &
+                      reported(r, 'momentum_change') < 1.0e-13_dp, 'relative change '//str(reported(r, 'momentum_change')))
+         call t%check('impact '//trim(schemes(k))//': u_cm,1 within 5 % of v L/c of the exact', &
+                      r%relative_error < 0.05_dp .and. r%relative_error > 1.0e-3_dp, 'relative error '//str(r%relative_error))
+         call t%check_close('impact '//trim(schemes(k))//': the bars leave at -+1 m/s (2.5 %)', &
+                            reported(r, 'final_velocity_1') - reported(r, 'final_velocity_2'), -2.0_dp, rtol=0.025_dp)
+         if (k == 3) then
+            call t%check_close('impact musl: bar 1 leaves at -1 m/s within 2 %', reported(r, 'final_velocity_1'), &
+                               -1.0_dp, rtol=0.02_dp)
+            call t%check_close('impact musl: bar 2 leaves at +1 m/s within 2 %', reported(r, 'final_velocity_2'), &
+                               1.0_dp, rtol=0.02_dp)
+         end if
+         ! convergence: error ~ dx^0.6-0.7 (the release smeared over a few cells)
+         coarse = run_impact(trim(schemes(k)), 100, 'frictionless', [1.0_dp, 1.0_dp], &
+                                           [1.0_dp, -1.0_dp], 0.0_dp)
+         fine = run_impact(trim(schemes(k)), 400, 'frictionless', [1.0_dp, 1.0_dp], [1.0_dp, -1.0_dp], &
+                                         0.0_dp)
+         order = log(coarse%relative_error/fine%relative_error)/log(4.0_dp)
+         call t%check('impact '//trim(schemes(k))//' frictionless: observed order in [0.5, 0.9]', &
+                      order >= 0.5_dp .and. order <= 0.9_dp, 'order '//str(order))
+      end do
+      ! contact = 'none': one field, the bars stick (bar 1's momentum changes to the end), against the
+      ! stuck bars' exact solution (the interface stress alternates every 2L/c)
+      r = run_impact('usl', 200, 'none', [1.0_dp, 1.0_dp], [1.0_dp, -1.0_dp], 0.0_dp)
+      call t%check('impact none completes', r%status == status_ok, 'status '//status_name(r%status))
+      call t%check('impact none: the bars stay stuck (in contact to the end)', &
+                   reported(r, 'contact_end') > 0.999_dp*r%steps*r%dt .and. &
+                   reported(r, 'contact_time') > 0.99_dp*r%steps*r%dt, 'contact '//str(reported(r, 'contact_time')))
+      call t%check('impact none: u_cm,1 within 0.5 % of v L/c of the stuck exact', r%relative_error < 0.005_dp, &
+                   'relative error '//str(r%relative_error))
+      call t%check_close('impact none: bar 1 back at +1 m/s after 4L/c', reported(r, 'final_velocity_1'), 1.0_dp, &
+                         rtol=0.04_dp)
+      coarse = run_impact('usl', 100, 'none', [1.0_dp, 1.0_dp], [1.0_dp, -1.0_dp], 0.0_dp)
+      fine = run_impact('usl', 400, 'none', [1.0_dp, 1.0_dp], [1.0_dp, -1.0_dp], 0.0_dp)
+      order = log(coarse%relative_error/fine%relative_error)/log(4.0_dp)
+      call t%check('impact usl none: observed order in [1.0, 1.6]', order >= 1.0_dp .and. order <= 1.6_dp, &
+                   'order '//str(order))
+   end subroutine impact
+
+   !> Steel bars (E 200 GPa, 7800 kg/m^3), 2 particles per element, dt = 0.2 dx/c, 2 periods (4L/c).
+   function impact_config(scheme, elements, contact, lengths, velocities, gap) result(config)
+      character(len=*), intent(in) :: scheme, contact
+      integer, intent(in) :: elements
+      real(dp), intent(in) :: lengths(2), velocities(2), gap
+      type(config_t) :: config
+      config%scene_kind = 'impact'
+      config%lengths(1:2) = lengths
+      config%length_count = 2
+      config%youngs_moduli(1:2) = 200.0e9_dp
+      config%modulus_count = 2
+      config%densities(1:2) = 7800.0_dp
+      config%density_count = 2
+      config%velocities = velocities
+      config%velocity_count = 2
+      config%gap = gap
+      config%contact = contact
+      config%scheme = scheme
+      config%elements = elements
+      config%particles_per_element = 2
+      config%dt_fraction = 0.2_dp
+      config%periods = 2.0_dp
+   end function impact_config
+
+   function run_impact(scheme, elements, contact, lengths, velocities, gap) result(res)
+      character(len=*), intent(in) :: scheme, contact
+      integer, intent(in) :: elements
+      real(dp), intent(in) :: lengths(2), velocities(2), gap
+      type(run_result_t) :: res
+      type(config_t) :: config
+      config = impact_config(scheme, elements, contact, lengths, velocities, gap)
+      res = run_config(config)
+   end function run_impact
+
+   !> A value the run reported in /summary (NaN when it is not there).
+   real(dp) function reported(r, name)
+      type(run_result_t), intent(in) :: r
+      character(len=*), intent(in) :: name
+      integer :: i
+      reported = ieee_value(1.0_dp, ieee_quiet_nan)
+      do i = 1, size(r%report_names)
+         if (trim(r%report_names(i)) == name) reported = r%report_values(i)
+      end do
+   end function reported
+
    !> A variable of another kind is refused with a message naming the kind (also as a sweep list);
    !> the kind's own is accepted.
    subroutine refused_variables()
@@ -263,6 +406,48 @@ contains
       call t%check('composite: one segment refused', allocated(error))
       if (allocated(error)) call t%check_contains('the message asks for segments', error%message, &
                                                   'needs 2 to 16 segments')
+      call write_lines(dir//'/impact.nml', ["&scene kind='impact', lengths=1.0, 1.0, youngs_moduli=2e11, 2e11, &
+                                            &densities=7800, 7800, velocities=1, -1, length=1.0 /"])
+      call read_config(dir//'/impact.nml', config, error)
+      call t%check('impact: length refused', allocated(error))
+      if (allocated(error)) call t%check_contains('the message names the kind', error%message, &
+                                                  "'length' is not used by kind = 'impact'")
+      call write_lines(dir//'/column_gap.nml', ["&scene kind='column', gap=0.1, contact='none' /"])
+      call read_config(dir//'/column_gap.nml', config, error)
+      call t%check('gap and contact refused for the column', allocated(error))
+      if (allocated(error)) then
+         call t%check_contains('the message names gap and the kind', error%message, "'gap' is not used by kind = 'column'")
+         call t%check_contains('the message names contact and the kind', error%message, &
+                               "'contact' is not used by kind = 'column'")
+      end if
+      call write_lines(dir//'/composite_v.nml', ["&scene kind='composite_bar', lengths=1.0, 1.0, youngs_moduli=1e6, &
+                                                 &1e6, densities=1e3, 1e3, velocities=1, -1 /"])
+      call read_config(dir//'/composite_v.nml', config, error)
+      call t%check('velocities refused for the composite bar', allocated(error))
+      if (allocated(error)) call t%check_contains('the message names the kind', error%message, &
+                                                  "'velocities' is not used by kind = 'composite_bar'")
+      call write_lines(dir//'/impact3.nml', ["&scene kind='impact', lengths=1.0, 1.0, 1.0, youngs_moduli=2e11, 2e11, &
+                                             &densities=7800, 7800, velocities=1, -1 /"])
+      call read_config(dir//'/impact3.nml', config, error)
+      call t%check('impact: three lengths refused', allocated(error))
+      if (allocated(error)) call t%check_contains('the message asks for two bars', error%message, &
+                                                  "needs two bars: lengths, youngs_moduli, densities and velocities")
+      call write_lines(dir//'/impact_z.nml', ["&scene kind='impact', lengths=1.0, 1.0, youngs_moduli=2e11, 1e11, &
+                                              &densities=7800, 7800, velocities=1, -1 /"])
+      call read_config(dir//'/impact_z.nml', config, error)
+      call t%check('impact: unequal impedances refused', allocated(error))
+      if (allocated(error)) call t%check_contains('the message says why', error%message, 'needs equal impedances')
+      call write_lines(dir//'/impact_c.nml', ["&scene kind='impact', lengths=1.0, 1.0, youngs_moduli=2e11, 2e11, &
+                                              &densities=7800, 7800, velocities=1, -1, contact='sticky' /"])
+      call read_config(dir//'/impact_c.nml', config, error)
+      call t%check('impact: unknown contact refused', allocated(error))
+      if (allocated(error)) call t%check_contains('the message lists the contacts', error%message, "'frictionless'")
+      call write_lines(dir//'/impact_ok.nml', ["&scene kind='impact', lengths=1.0, 1.0, youngs_moduli=2e11, 2e11, &
+                                               &densities=7800, 7800, velocities=1, -1, gap=0.01, contact='none' /"])
+      call read_config(dir//'/impact_ok.nml', config, error)
+      call t%check('impact: its own variables accepted', .not. allocated(error))
+      if (.not. allocated(error)) call t%check_close('impact: elements span both bars and the gap', config%dx, &
+                                                     2.01_dp/config%elements, rtol=1.0e-14_dp)
       call write_lines(dir//'/column.nml', ["&scene kind='column', gravity=20.0 /"])
       call read_config(dir//'/column.nml', config, error)
       call t%check('gravity accepted for the column', .not. allocated(error))

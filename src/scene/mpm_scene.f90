@@ -17,6 +17,11 @@ module mpm_scene
    type, abstract :: scene_t
       !> Whether the scene adds external (body or driving) forces to the grid each step.
       logical :: external_forces = .false.
+      !> Whether each body has its own velocity field on the grid (frictionless contact, mpm_contact):
+      !> the scene places each body's particles as one contiguous range and sets particles%body.
+      logical :: body_fields = .false.
+      !> Whether the scene watches every step (watch_step) and reports what it saw (watch_report).
+      logical :: watches = .false.
    contains
       !> Particles of the bodies, in their initial state (shared mass and volume; see per_particle_data).
       procedure(place_i), deferred :: place_particles
@@ -43,6 +48,11 @@ module mpm_scene
       !> The energy that scales the energy guard (default: the initial kinetic + strain energy); scenes
       !> whose forces do work override it with the largest energy the exact solution reaches.
       procedure :: energy_reference
+      !> Empty cells left of x = 0 (a free left end that moves out; default none).
+      procedure :: left_margin_cells
+      !> Called after every step when `watches`: the scene keeps what it needs in `watch` (allocated by
+      !> the scene on the first call); watch_report turns it into /summary quantities at the end.
+      procedure :: watch_step, watch_report
    end type scene_t
 
    abstract interface
@@ -85,6 +95,29 @@ contains
       type(shape_cache_t), intent(in) :: cache
       type(particles_t), intent(in) :: particles
    end subroutine add_forces
+
+   pure integer function left_margin_cells(self, dx, requested) result(cells)
+      class(scene_t), intent(in) :: self
+      real(dp), intent(in) :: dx
+      integer, intent(in) :: requested
+      cells = 0
+   end function left_margin_cells
+
+   subroutine watch_step(self, t, particles, watch)
+      class(scene_t), intent(in) :: self
+      real(dp), intent(in) :: t
+      type(particles_t), intent(in) :: particles
+      real(dp), allocatable, intent(inout) :: watch(:)
+   end subroutine watch_step
+
+   subroutine watch_report(self, watch, particles, names, values)
+      class(scene_t), intent(in) :: self
+      real(dp), allocatable, intent(in) :: watch(:)
+      type(particles_t), intent(in) :: particles
+      character(len=32), allocatable, intent(out) :: names(:)
+      real(dp), allocatable, intent(out) :: values(:)
+      allocate (names(0), values(0))
+   end subroutine watch_report
 
    !> Empty cells beyond a free end that moves out by up to `reach` metres: `requested` when >= 0, else
    !> the reach in cells of size dx, rounded up, plus two (one for a particle's shape support, one of slack).

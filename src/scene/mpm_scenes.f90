@@ -7,6 +7,7 @@ module mpm_scenes
    use mpm_scene_column, only: column_init
    use mpm_scene_manufactured, only: manufactured_init
    use mpm_scene_composite, only: composite_t, composite_init
+   use mpm_scene_impact, only: impact_init
    implicit none
    private
    public :: make_scene
@@ -33,6 +34,8 @@ contains
             if (allocated(error)) return
             allocate (scene, source=composite)
          end block
+      case ('impact')
+         allocate (scene, source=impact_init(config))
       case default
          call set_error(error, "scene: kind = '"//trim(config%scene_kind)//"' is unknown; allowed: "//known_scenes)
       end select

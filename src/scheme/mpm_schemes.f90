@@ -14,9 +14,10 @@ module mpm_schemes
    use mpm_diagnostics, only: pass_totals_t
    use mpm_operations, only: locate_particles, p2g_mass_momentum, p2g_internal_force, nodal_velocities, &
                              solve_grid, g2p, update_stress
+   use mpm_contact, only: bodies_t, locate_bodies, contact_velocities, contact_momentum, combine_bodies
    implicit none
    private
-   public :: scheme_usf, scheme_usl, scheme_musl, scheme_step
+   public :: scheme_usf, scheme_usl, scheme_musl, scheme_step, scheme_step_bodies
 
    integer, parameter :: scheme_usf = 1, scheme_usl = 2, scheme_musl = 3
 
@@ -60,4 +61,49 @@ contains
          call solve_grid(grid, dt)
       end subroutine momentum_update
    end subroutine scheme_step
+
+   !> scheme_step with a velocity field per body and frictionless contact (mpm_contact): the same
+   !> operations on the stacked per-body fields, the contact correction after each nodal velocity
+   !> (USF, MUSL's remap) and after the momentum update; the run's grid then holds the bodies' sum.
+   subroutine scheme_step_bodies(scheme, scene, cache, particles, grid, bodies, dt, youngs_modulus, t, totals)
+      integer, intent(in) :: scheme
+      class(scene_t), intent(in) :: scene
+      type(shape_cache_t), intent(inout) :: cache
+      type(particles_t), intent(inout) :: particles
+      type(grid_t), intent(inout) :: grid
+      type(bodies_t), intent(inout) :: bodies
+      real(dp), intent(in) :: dt, youngs_modulus, t
+      type(pass_totals_t), intent(out) :: totals
+      call locate_bodies(cache, grid, particles, bodies, totals)
+      select case (scheme)
+      case (scheme_usf)
+         call p2g_mass_momentum(cache, particles, bodies%fields, with_force=.false.)
+         call nodal_velocities(bodies%fields)
+         call contact_velocities(bodies)
+         call update_stress(cache, particles, bodies%fields, dt, youngs_modulus, totals)
+         call p2g_internal_force(cache, particles, bodies%fields)
+         call momentum_update()
+         call g2p(cache, particles, bodies%fields, dt, totals)
+      case (scheme_usl)
+         call p2g_mass_momentum(cache, particles, bodies%fields, with_force=.true.)
+         call momentum_update()
+         call g2p(cache, particles, bodies%fields, dt, totals)
+         call update_stress(cache, particles, bodies%fields, dt, youngs_modulus, totals)
+      case (scheme_musl)
+         call p2g_mass_momentum(cache, particles, bodies%fields, with_force=.true.)
+         call momentum_update()
+         call g2p(cache, particles, bodies%fields, dt, totals)
+         call p2g_mass_momentum(cache, particles, bodies%fields, with_force=.false.)
+         call nodal_velocities(bodies%fields)
+         call contact_velocities(bodies)
+         call update_stress(cache, particles, bodies%fields, dt, youngs_modulus, totals)
+      end select
+      call combine_bodies(bodies, grid)
+   contains
+      subroutine momentum_update()
+         if (scene%external_forces) call scene%add_forces(bodies%fields, t, cache, particles)
+         call solve_grid(bodies%fields, dt)
+         call contact_momentum(bodies, dt)
+      end subroutine momentum_update
+   end subroutine scheme_step_bodies
 end module mpm_schemes

@@ -16,6 +16,10 @@
 !>   mpm1d_bench study SCHEME ELEMENTS PPC DT_FRACTION END_TIME REPEATS
 !>       a whole run (run_simulation, no history, no file), as a study runs it:
 !>       scheme,elements,ppc,dt_fraction,steps,particles,repeat,seconds
+!>   mpm1d_bench scenes ELEMENTS PPC STEPS REPEATS
+!>       "only what it needs": each scene's whole run (run_simulation, USL, linear, FLIP, dt = 0.2 dx/c,
+!>       STEPS steps, one thread, REPEATS times) and the bytes per particle of its particle arrays:
+!>       scene,path,particles,steps,bytes_per_particle,repeat,seconds,particle_steps_per_s
 program mpm1d_bench
    use, intrinsic :: iso_fortran_env, only: output_unit, error_unit
    use omp_lib, only: omp_get_wtime, omp_set_num_threads
@@ -31,6 +35,8 @@ program mpm1d_bench
    use mpm_schemes, only: scheme_usf, scheme_usl, scheme_musl, scheme_step
    use mpm_scene_bar, only: bar_t, bar_init
    use mpm_simulation, only: run_result_t, run_simulation
+   use mpm_scene, only: scene_t
+   use mpm_scenes, only: make_scene
    implicit none
    character(len=32) :: mode
 
@@ -42,6 +48,8 @@ program mpm1d_bench
       call stream()
    case ('study')
       call study()
+   case ('scenes')
+      call scenes()
    case default
       write (error_unit, '(a)') 'usage: mpm1d_bench throughput|stream|study ... (see the source)'
       error stop 2
@@ -244,4 +252,115 @@ contains
          flush (output_unit)
       end do
    end subroutine study
+
+   !> Each scene as the scenes study runs it, at one size: bytes per particle and particle-steps/s.
+   subroutine scenes()
+      type(config_t) :: config
+      integer :: elements, ppc, steps, repeats, k
+      elements = iarg(2)
+      ppc = iarg(3)
+      steps = iarg(4)
+      repeats = iarg(5)
+      call omp_set_num_threads(1)
+      do k = 1, 7
+         config = config_t()
+         config%elements = elements
+         config%particles_per_element = ppc
+         config%dt_fraction = 0.2_dp
+         config%scheme = 'usl'
+         config%history = .false.
+         select case (k)
+         case (2)
+            config%kernels = 'generic'
+         case (3)
+            config%scene_kind = 'column'
+         case (4)
+            config%scene_kind = 'manufactured'
+            config%length = 1.0_dp
+            config%youngs_modulus = 1.0e7_dp
+            config%density = 1000.0_dp
+            config%amplitude = 1.0e-6_dp
+         case (5)
+            config%scene_kind = 'composite_bar'
+            call two(config%lengths, config%length_count, 1.0_dp, 1.0_dp)
+            call two(config%youngs_moduli, config%modulus_count, 16.0e6_dp, 1.0e6_dp)
+            call two(config%densities, config%density_count, 1000.0_dp, 1000.0_dp)
+            config%drive_velocity = 0.01_dp
+         case (6, 7)
+            config%scene_kind = 'impact'
+            call two(config%lengths, config%length_count, 1.0_dp, 1.0_dp)
+            call two(config%youngs_moduli, config%modulus_count, 200.0e9_dp, 200.0e9_dp)
+            call two(config%densities, config%density_count, 7800.0_dp, 7800.0_dp)
+            call two(config%velocities, config%velocity_count, 1.0_dp, -1.0_dp)
+            config%contact = merge('frictionless', 'none        ', k == 6)
+         end select
+         call resolve_config(config)
+         config%periods = -huge(1.0_dp)
+         config%end_time = steps*config%dt
+         call resolve_config(config)
+         call scene_row(config, k, repeats)
+      end do
+   end subroutine scenes
+
+   subroutine two(list, count, a, b)
+      real(dp), intent(inout) :: list(:)
+      integer, intent(out) :: count
+      real(dp), intent(in) :: a, b
+      list(1:2) = [a, b]
+      count = 2
+   end subroutine two
+
+   !> The rows of one scene: its particles' bytes (the arrays its set-up allocates), then the runs.
+   subroutine scene_row(config, k, repeats)
+      type(config_t), intent(in) :: config
+      integer, intent(in) :: k, repeats
+      class(scene_t), allocatable :: scene
+      type(particles_t) :: particles
+      type(run_result_t) :: result
+      type(error_t), allocatable :: error
+      character(len=:), allocatable :: name, path
+      integer(i8) :: bytes
+      integer :: r
+      call make_scene(config, scene, error)
+      if (allocated(error)) error stop 'scene failed'
+      call scene%place_particles(config, particles, error)
+      if (allocated(error)) error stop 'particles failed'
+      if (k /= 1) call per_particle_data(particles, error)  ! the generic path's (the fused bar has none)
+      bytes = 0
+      bytes = bytes + real_bytes(particles%x)
+      bytes = bytes + real_bytes(particles%x0)
+      bytes = bytes + real_bytes(particles%v)
+      bytes = bytes + real_bytes(particles%stress)
+      bytes = bytes + real_bytes(particles%volume_ratio)
+      bytes = bytes + real_bytes(particles%mass_of)
+      bytes = bytes + real_bytes(particles%volume0_of)
+      bytes = bytes + real_bytes(particles%velocity_gradient)
+      bytes = bytes + real_bytes(particles%youngs_modulus_of)
+      bytes = bytes + int_bytes(particles%cell)
+      bytes = bytes + int_bytes(particles%body)
+      name = trim(config%scene_kind)
+      if (name == 'impact') name = name//'_'//trim(config%contact)
+      path = merge('fused  ', 'generic', k == 1)
+      do r = 1, repeats
+         call run_simulation(config, result, error, record_history=.false.)
+         if (allocated(error)) error stop 'run failed'
+         if (result%fused .neqv. (k == 1)) error stop 'unexpected path'
+         write (output_unit, '(a,",",a,",",i0,",",i0,",",f0.2,",",i0,",",es12.5,",",es12.5)') name, trim(path), &
+            result%particles, result%steps_done, real(bytes, dp)/particles%count, r, result%run_time, &
+            real(result%particles, dp)*result%steps_done/result%run_time
+         flush (output_unit)
+      end do
+   end subroutine scene_row
+
+   integer(i8) function real_bytes(a)
+      real(dp), allocatable, intent(in) :: a(:)
+      real_bytes = 0
+      if (allocated(a)) real_bytes = storage_size(a, i8)/8*size(a, kind=i8)
+   end function real_bytes
+
+   integer(i8) function int_bytes(a)
+      integer, allocatable, intent(in) :: a(:)
+      int_bytes = 0
+      if (allocated(a)) int_bytes = storage_size(a, i8)/8*size(a, kind=i8)
+   end function int_bytes
 end program mpm1d_bench

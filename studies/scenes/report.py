@@ -1,7 +1,10 @@
-"""Scenes study report: each scene's error against elements per scheme (figure) and the observed
-orders (summary.md), from the sweep files studies/scenes/run.sh writes.
+"""Scenes study report: each scene's error against elements and run time per scheme (figures) and the
+observed orders (summary.md), its error against dt, its stability limit next to the bar's, the impact's
+fields against time, and the benchmark's bytes per particle and speed per scene, from the files
+studies/scenes/run.sh writes.
 
-Usage: python report.py OUT_FOLDER SWEEP.h5 [SWEEP.h5 ...] [--fields RUN.h5 ...]
+Usage: python report.py OUT_FOLDER SWEEP.h5 [SWEEP.h5 ...] [--fields RUN.h5 ...] [--stability SWEEP.h5 ...]
+       [--time SWEEP.h5 ...] [--bench BENCH.csv]
 
 The field pictures compare a single run's last snapshot with exact solutions written here again from
 the formulas (an independent check of the Fortran scenes): the column's series, the manufactured
@@ -27,7 +30,8 @@ def text(value) -> str:
 def load(path: Path) -> dict:
     """The /cases columns the report needs, and the scene's description from /config."""
     with h5py.File(path, 'r') as h5:
-        cases = {name: h5['cases'][name][()] for name in ('scheme', 'elements', 'relative_error', 'status')}
+        cases = {name: h5['cases'][name][()] for name in ('scheme', 'elements', 'relative_error', 'status',
+                                                            'run_time', 'dt_fraction', 'max_energy_ratio')}
         config = dict(h5['config'].attrs)
     cases['scheme'] = np.array([text(s) for s in cases['scheme']])
     return {'path': path, 'cases': cases, 'kind': text(config['scene_kind']),
@@ -124,11 +128,219 @@ def field_figure(path: Path, out: Path) -> str:
             f'{kind}: largest |MPM - exact| / max |exact| of the field above: {deviation:.3g}.', '']
 
 
+def scene_label(path: Path) -> str:
+    """The scene a study file ran: its kind, and the impact's contact."""
+    with h5py.File(path, 'r') as h5:
+        config = dict(h5['config'].attrs)
+    kind = text(config['scene_kind'])
+    return f"{kind} ({text(config['contact'])})" if kind == 'impact' else kind
+
+
+def time_section(paths: list[Path], out: Path) -> list[str]:
+    """Error against dt_fraction at a fixed mesh, per scene and scheme, with the observed order in dt."""
+    fractions = sorted(set(load(paths[0])['cases']['dt_fraction'].tolist()), reverse=True)
+    lines = ['## Convergence in time', '',
+             'dt_fraction halved at a fixed mesh (100 elements x 2; the impact 200 x 2): the observed order '
+             'in dt = log(e_i/e_i+1)/log 2. Where the spatial error dominates, the error stops falling with dt '
+             '(order near 0): the time discretisation is then not what limits the accuracy.', '',
+             '| scene | scheme | errors at dt_fraction ' + ', '.join(f'{k:g}' for k in fractions) + ' | orders |',
+             '|---|---|---|---|']
+    fig, axes = plt.subplots(1, len(paths), figsize=(3.2 * len(paths), 3.4), squeeze=False)
+    for ax, path in zip(axes[0], paths):
+        cases = load(path)['cases']
+        label = scene_label(path)
+        for scheme in dict.fromkeys(cases['scheme']):
+            pick = cases['scheme'] == scheme
+            k, e, ok = cases['dt_fraction'][pick], cases['relative_error'][pick], cases['status'][pick]
+            sort = np.argsort(-k)
+            k, e, ok = k[sort], e[sort], ok[sort]
+            cells = [f'{e[i]:.4g}' if ok[i] == 0 else f'guard {ok[i]}' for i in range(len(k))]
+            o = [float(np.log(e[i] / e[i + 1]) / np.log(k[i] / k[i + 1])) if ok[i] == 0 and ok[i + 1] == 0
+                 else float('nan') for i in range(len(k) - 1)]
+            lines.append(f'| {label} | {scheme} | ' + ', '.join(cells) + ' | ' +
+                         ', '.join(f'{x:.2f}' for x in o) + ' |')
+            good = ok == 0
+            ax.loglog(k[good], e[good], 'o-', label=scheme)
+        ax.set_xlabel('dt / (dx/c)')
+        ax.set_ylabel('relative error')
+        ax.set_title(label, fontsize=9)
+        ax.grid(True, which='both', alpha=0.3)
+        ax.legend(fontsize=7)
+    fig.tight_layout()
+    fig.savefig(out / 'time_convergence.png', dpi=110)
+    plt.close(fig)
+    return lines + ['', '![error against dt](time_convergence.png)', '']
+
+
+def critical_fraction(k: np.ndarray, status: np.ndarray) -> tuple[float, float]:
+    """The largest dt_fraction below the first one a guard stopped, and that first one (nan if none)."""
+    sort = np.argsort(k)
+    k, status = k[sort], status[sort]
+    bad = np.nonzero(status != 0)[0]
+    if len(bad) == 0:
+        return float(k[-1]), float('nan')
+    first = bad[0]
+    return (float(k[first - 1]) if first > 0 else float('nan')), float(k[first])
+
+
+def stability_section(paths: list[Path], out: Path) -> list[str]:
+    """The stability limit of each scene per scheme (a sweep of dt_fraction), next to the bar's."""
+    limits = {}
+    fig, axes = plt.subplots(1, 3, figsize=(12, 3.8))
+    for path in paths:
+        cases = load(path)['cases']
+        label = scene_label(path)
+        for ax, scheme in zip(axes, ('usf', 'usl', 'musl')):
+            pick = cases['scheme'] == scheme
+            k, ok, ratio = cases['dt_fraction'][pick], cases['status'][pick], cases['max_energy_ratio'][pick]
+            limits[(label, scheme)] = critical_fraction(k, ok)
+            sort = np.argsort(k)
+            ax.semilogy(k[sort], np.maximum(ratio[sort], 1e-3), '.-', label=label)
+    for ax, scheme in zip(axes, ('usf', 'usl', 'musl')):
+        ax.set_xlabel('dt / (dx/c_max)')
+        ax.set_ylabel('largest energy / reference energy')
+        ax.set_title(f'{scheme}: energy against time step (guard at 10)', fontsize=9)
+        ax.grid(True, which='both', alpha=0.3)
+    axes[0].legend(fontsize=7)
+    fig.tight_layout()
+    fig.savefig(out / 'stability.png', dpi=110)
+    plt.close(fig)
+    lines = ['## Stability limit', '',
+             'Each scene and the bar at 25 elements x 2 particles, dt_fraction from 0.05 to 2.6 in steps of 0.05, '
+             'long runs (bar, column, manufactured 20 periods; composite 0.2 s, five crossing times; impact 10 '
+             'periods of 2L/c). Limit = the largest dt_fraction below the first one a guard stopped (energy growth '
+             'beyond 10x, J <= 0, ...); resolution 0.05. The code\'s table for the bar at 2 particles per element '
+             '(mpm_config, stability_limit) says 0.757 for USL and 1.733 for USF and MUSL.', '',
+             '| scene | USF limit | USL limit | MUSL limit | USL limit / bar\'s |', '|---|---|---|---|---|']
+    bar = limits.get(('vibrating_bar', 'usl'), (float('nan'),))[0]
+    for label in dict.fromkeys(key[0] for key in limits):
+        row = [limits[(label, scheme)][0] for scheme in ('usf', 'usl', 'musl')]
+        lines.append(f'| {label} | ' + ' | '.join(f'{x:.2f}' for x in row) + f' | {row[1] / bar:.2f} |')
+    return lines + ['', '![stability](stability.png)', '']
+
+
+def bench_section(path: Path) -> list[str]:
+    """Bytes per particle and the median particle-steps/s of each scene (mpm1d_bench scenes)."""
+    rows = [line.split(',') for line in path.read_text(encoding='utf-8').split('\n') if line.strip()]
+    scenes: dict[tuple[str, str], list] = {}
+    for scene, route, particles, steps, bytes_, _, seconds, rate in rows:
+        scenes.setdefault((scene, route), []).append((float(bytes_), float(rate), int(particles), int(steps)))
+    reference = np.median([r[1] for r in scenes[('vibrating_bar', 'generic')]])
+    lines = ['## Only what it needs: memory and speed per scene', '',
+             f'`mpm1d_bench scenes` (studies/benchmark/bench.f90): each scene\'s whole run (USL, linear, FLIP, '
+             f'dt = 0.2 dx/c, one thread, {rows[0][2]} particles, {rows[0][3]} steps; median of '
+             f'{len(scenes[("vibrating_bar", "generic")])} runs on a shared machine, so ratios within about 15 % '
+             'are noise) and the bytes per particle of the particle arrays its set-up allocates.', '',
+             '| scene | path | bytes per particle | particle-steps/s | speed / generic bar |', '|---|---|---|---|---|']
+    for (scene, route), values in scenes.items():
+        rate = float(np.median([v[1] for v in values]))
+        lines.append(f'| {scene} | {route} | {values[0][0]:.0f} | {rate:.3g} | {rate / reference:.2f} |')
+    return lines + ['']
+
+
+def impact_exact(t, v, length, c, stick):
+    """Identical bars at +-v, no gap: bar 1's centre-of-mass displacement and the interface stress / (rho c v).
+    Frictionless: deceleration c v/L for 2L/c, then free at -v. Stuck ('none'): the deceleration changes
+    sign every 2L/c (one free-free bar of length 2L)."""
+    period = 2 * length / c
+    a = -c * v / length
+    u = np.zeros_like(t)
+    stress = np.zeros_like(t)
+    for i, time in enumerate(t):
+        rest, w, wv, sign, phase = time, 0.0, 0.0, 1.0, 0
+        stress[i] = -1.0 if not stick and time < period else (-1.0 if int(time // period) % 2 == 0 else 1.0)
+        while rest > 0:
+            h = min(rest, period)
+            w += wv * h + sign * a * h * h / 2
+            wv += sign * a * h
+            rest -= h
+            phase += 1
+            if not stick:
+                w += wv * rest
+                break
+            sign = -sign
+        u[i] = v * time + w
+    return u, stress
+
+
+def impact_figure(paths: list[Path], out: Path) -> list[str]:
+    """Bar 1's centre of mass and the interface stress against time, and the stress along the bars at
+    t = L/(2c), for each contact, against the exact solution; and the runs' /summary reports."""
+    fig, (ucm_ax, stress_ax, profile_ax) = plt.subplots(1, 3, figsize=(13, 4))
+    lines = ['### Impact: two identical steel bars at +-1 m/s', '',
+             '| contact | contact time / (2L/c) | largest compressive stress / (rho c v) | final velocity 1 (m/s) | '
+             'final velocity 2 (m/s) | total momentum change / (sum M v) | final / initial energy | '
+             'max u_cm,1 error / (v L/c) |', '|---|---|---|---|---|---|---|---|']
+    for path in paths:
+        with h5py.File(path, 'r') as h5:
+            config = dict(h5['config'].attrs)
+            summary = {name: h5['summary'][name][()] for name in h5['summary']}
+            snaps = [h5['snapshots'][name] for name in sorted(h5['snapshots'])]
+            times = np.array([float(snap.attrs['time']) for snap in snaps])
+            body = snaps[0]['body'][()]
+            bar1 = body == 1
+            ucm = np.array([np.mean(snap['x'][()][bar1] - snap['reference_x'][()][bar1]) for snap in snaps])
+            interface = np.nonzero(bar1)[0][-1]
+            stress = np.array([snap['stress'][()][interface] for snap in snaps])
+            profile = min(range(len(snaps)), key=lambda i: abs(times[i] - 0.5 / np.sqrt(
+                np.atleast_1d(config['youngs_moduli'])[0] / np.atleast_1d(config['densities'])[0])))
+            x0_profile, stress_profile = snaps[profile]['reference_x'][()], snaps[profile]['stress'][()]
+            version = text(h5.attrs['code_version'])
+        contact = text(config['contact'])
+        length = float(np.atleast_1d(config['lengths'])[0])
+        rho = float(np.atleast_1d(config['densities'])[0])
+        c = float(np.sqrt(np.atleast_1d(config['youngs_moduli'])[0] / rho))
+        v = float(np.atleast_1d(config['velocities'])[0])
+        fine = np.linspace(0, times[-1], 400)
+        exact_u, exact_s = impact_exact(fine, v, length, c, contact == 'none')
+        scale_u, scale_s = v * length / c, rho * c * v
+        line = ucm_ax.plot(fine * c / length, exact_u / scale_u, '-', lw=1, label=f'exact, {contact}')[0]
+        ucm_ax.plot(times * c / length, ucm / scale_u, 'o', ms=3, color=line.get_color(), label=f'MPM, {contact}')
+        stress_ax.plot(fine * c / length, exact_s, '-', lw=1, color=line.get_color(), label=f'exact, {contact}')
+        stress_ax.plot(times * c / length, stress / scale_s, 'o', ms=3, color=line.get_color(),
+                       label=f'MPM, {contact}')
+        if contact == 'frictionless':
+            t_profile = times[profile]
+            exact_profile = np.where(np.abs(x0_profile - length) < c * t_profile, -1.0, 0.0)
+            profile_ax.plot(x0_profile, exact_profile, 'k-', lw=1, label='exact')
+            profile_ax.plot(x0_profile, stress_profile / scale_s, 'o', ms=2, color=line.get_color(),
+                            label=f'MPM, {contact}')
+            profile_ax.set_title(f'stress along the bars at t = {t_profile * c / length:.3f} L/c', fontsize=9)
+        lines.append(f"| {contact} | {summary['contact_time'] / (2 * length / c):.4f} | "
+                     f"{summary['max_compressive_stress'] / scale_s:.3f} | {summary['final_velocity_1']:.4f} | "
+                     f"{summary['final_velocity_2']:.4f} | {summary['momentum_change']:.2g} | "
+                     f"{summary['final_energy'] / summary['initial_energy']:.4f} | {summary['relative_error']:.4f} |")
+    ucm_ax.set_xlabel('time t c / L')
+    ucm_ax.set_ylabel('u_cm,1 / (v L/c)')
+    ucm_ax.set_title("bar 1's centre of mass", fontsize=9)
+    stress_ax.set_xlabel('time t c / L')
+    stress_ax.set_ylabel('stress / (rho c v)')
+    stress_ax.set_title("stress of bar 1's particle next to the interface", fontsize=9)
+    profile_ax.set_xlabel('reference position X (m)')
+    profile_ax.set_ylabel('stress / (rho c v)')
+    for ax in (ucm_ax, stress_ax, profile_ax):
+        ax.grid(True, alpha=0.3)
+        ax.legend(fontsize=7)
+    fig.suptitle(f"impact: steel bars 1 m + 1 m at +-{v:g} m/s, USL, {config['elements']} elements x "
+                 f"{config['particles_per_element']}, dt = {config['dt_fraction']:g} dx/c", fontsize=10)
+    fig.text(0.01, 0.01, f"{version}, {', '.join(p.name for p in paths)}", fontsize=6)
+    fig.tight_layout()
+    fig.savefig(out / 'field_impact.png', dpi=110)
+    plt.close(fig)
+    return lines + ['', 'Exact: frictionless, contact for 2L/c at stress -rho c v, then the velocities exchanged; '
+                    "'none' (stuck), the interface stress alternates -+rho c v every 2L/c. The MPM stress "
+                    'overshoots at the fronts (Gibbs oscillation of the step wave).', '',
+                    '![impact fields](field_impact.png)', '']
+
+
 def main(argv=None) -> int:
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     parser.add_argument('out', type=Path)
     parser.add_argument('sweeps', type=Path, nargs='+')
     parser.add_argument('--fields', type=Path, nargs='*', default=[])
+    parser.add_argument('--stability', type=Path, nargs='*', default=[])
+    parser.add_argument('--time', type=Path, nargs='*', default=[])
+    parser.add_argument('--bench', type=Path)
     args = parser.parse_args(argv)
     lines = ['# Scenes: observed convergence orders', '',
              'Each scene against its exact solution (README, Scenes); error = `relative_error` of each case '
@@ -137,37 +349,55 @@ def main(argv=None) -> int:
     for path in args.sweeps:
         data = load(path)
         cases = data['cases']
-        fig, ax = plt.subplots(figsize=(5.5, 4))
+        fig, (ax, cost) = plt.subplots(1, 2, figsize=(10, 4))
         lines += [f"## {data['kind']} ({path.name})", '', '```', data['namelist'], '```', '',
-                  '| scheme | elements | relative error | order from previous | status |', '|---|---|---|---|---|']
+                  '| scheme | elements | relative error | order from previous | run time (s) | status |',
+                  '|---|---|---|---|---|---|']
         for scheme in dict.fromkeys(cases['scheme']):
             pick = cases['scheme'] == scheme
             n = cases['elements'][pick]
             e = cases['relative_error'][pick]
             ok = cases['status'][pick]
+            seconds = cases['run_time'][pick]
             sort = np.argsort(n)
-            n, e, ok = n[sort], e[sort], ok[sort]
+            n, e, ok, seconds = n[sort], e[sort], ok[sort], seconds[sort]
             o = orders(n, e)
             for i in range(len(n)):
                 lines.append(f'| {scheme} | {n[i]} | {e[i]:.4g} | {"" if i == 0 else f"{o[i - 1]:.2f}"} | '
-                             f'{"ok" if ok[i] == 0 else f"guard {ok[i]}"} |')
+                             f'{seconds[i]:.3g} | {"ok" if ok[i] == 0 else f"guard {ok[i]}"} |')
             ax.loglog(n, e, 'o-', label=scheme)
+            cost.loglog(seconds, e, 'o-', label=scheme)
         lines.append('')
         ax.set_xlabel('elements across the body')
         ax.set_ylabel('relative error (scene measure)')
         ax.set_title(f"{data['kind']}: error against elements", fontsize=10)
         ax.grid(True, which='both', alpha=0.3)
         ax.legend()
+        cost.set_xlabel('run time per case (s; median of the timing pass, one thread)')
+        cost.set_ylabel('relative error (scene measure)')
+        cost.set_title(f"{data['kind']}: error against run time", fontsize=10)
+        cost.grid(True, which='both', alpha=0.3)
+        cost.legend()
         fig.text(0.01, 0.01, f"{data['version']}, {path.name}", fontsize=6)
         fig.tight_layout()
         figure = args.out / f"{path.stem}_error.png"
         fig.savefig(figure, dpi=120)
         plt.close(fig)
         lines += [f'![{data["kind"]}]({figure.name})', '']
+    if args.time:
+        lines += time_section(args.time, args.out)
+    if args.stability:
+        lines += stability_section(args.stability, args.out)
+    if args.bench:
+        lines += bench_section(args.bench)
     if args.fields:
         lines += ['## Fields against the exact solutions', '']
+        impacts = [path for path in args.fields if path.stem.startswith('field_impact')]
         for path in args.fields:
-            lines += field_figure(path, args.out)
+            if path not in impacts:
+                lines += field_figure(path, args.out)
+        if impacts:
+            lines += impact_figure(impacts, args.out)
     (args.out / 'summary.md').write_text('\n'.join(lines) + '\n', encoding='utf-8')
     print(f"wrote {args.out / 'summary.md'}")
     return 0

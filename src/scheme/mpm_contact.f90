@@ -1,0 +1,227 @@
+!> A velocity field per body and frictionless contact between two bodies (multi-velocity-field MPM:
+!> Bardenhagen, Brackbill and Sulsky 2000, "The material-point method for granular materials",
+!> CMAME 187, 529-541; Bardenhagen, Guilkey, Roessig, Brackbill, Witzel and Foster 2001, "An improved
+!> contact algorithm for the material point method and application to stress propagation in granular
+!> material", CMES 2(4), 509-522; where the correction sits in USF and MUSL as in Huang, Zhang, Ma and
+!> Liu 2011, "Contact algorithms for the material point method in impact and penetration simulation",
+!> IJNME 85, 498-517; York, Sulsky and Schreyer 2000, IJNME 48, used the same release test on one field).
+!>
+!> Each body has its own nodal mass, momentum, force, velocity and acceleration. They are stacked in
+!> one grid_t (`fields`): body b's node i is node (b - 1) nodes + i of `fields`. After the shape
+!> functions are evaluated on the run's grid, body b's particles (one contiguous range) have their
+!> first support node shifted by (b - 1) nodes (and, for APIC, their start-of-step position by as many
+!> cells, so x_I - x_p is unchanged): then every generic operation of mpm_operations (P2G, the grid
+!> solve, G2P, the stress update; any shape, any transfer) works per body on `fields` unchanged, and
+!> a scene without bodies pays nothing for them.
+!>
+!> Contact at node i: the bodies touch, both have mass at the node and they approach there,
+!> (v_1 - v_2) n_1 > 0 with n_1 the outward normal of body 1 (in 1-D +1 or -1: the direction from body
+!> 1's centre of mass to body 2's, fixed at the start since frictionless bodies in 1-D cannot pass each
+!> other). "Touch": the facing surfaces, each the end of its end particle's domain x_p +- J_p l0_p/2,
+!> are at most `touch_tolerance` dx apart at the start of the step. Without this test the bodies would
+!> collide as soon as their particles share a node (up to one cell early with linear shapes, more with
+!> wider ones): the early-contact error that Bardenhagen et al. 2001 correct with a distance test too
+!> (in several dimensions from nodal volumes; in 1-D the surfaces are known exactly). Then both take the
+!> centre-of-mass velocity v_cm = (p_1 + p_2)/(m_1 + m_2) (frictionless: in 1-D the whole velocity is
+!> normal), p_b = m_b v_cm, and the acceleration gains (v_cm - v_b)/dt, so FLIP's update sees the
+!> contact force. sum_b p_b is unchanged: contact conserves momentum exactly. Otherwise each body keeps
+!> its own velocity, so the bodies separate freely.
+module mpm_contact
+   use mpm_kinds, only: dp
+   use mpm_errors, only: error_t, set_error
+   use mpm_strings, only: str
+   use mpm_grid, only: grid_t
+   use mpm_particles, only: particles_t
+   use mpm_shape, only: shape_cache_t
+   use mpm_diagnostics, only: pass_totals_t
+   use mpm_operations, only: locate_particles
+   implicit none
+   private
+   public :: bodies_t, bodies_init, locate_bodies, contact_velocities, contact_momentum, combine_bodies
+
+   !> Largest surface gap, in cells, at which the bodies count as touching (the surface estimate from
+   !> the end particles' domains is not exact while they deform).
+   real(dp), parameter :: touch_tolerance = 1.0e-3_dp
+
+   !> The per-body fields of a run and where each body's particles are.
+   type :: bodies_t
+      integer :: count = 0
+      integer :: nodes = 0                        !< nodes of the run's grid (elements + 1)
+      integer, allocatable :: first(:), last(:)   !< body b's particles: first(b) .. last(b)
+      real(dp) :: normal = 1.0_dp                 !< outward normal of body 1 towards body 2
+      integer :: contact_nodes = 0                !< nodes corrected in the last correction
+      integer :: facing(2) = 0                    !< the end particle of each body facing the other
+      logical :: touching = .false.               !< the surfaces touch at the start of this step
+      real(dp) :: surface_gap = 0.0_dp            !< their distance then (m; < 0: overlap)
+      type(grid_t) :: fields                      !< body b's node i is (b - 1)*nodes + i
+   end type bodies_t
+
+contains
+
+   !> The per-body fields of `grid` for the particles' bodies (particles%body: 1 .. count, each body a
+   !> contiguous range). Two bodies; no mirror ghosts (no fixed end with wide shapes).
+   subroutine bodies_init(bodies, grid, particles, error)
+      type(bodies_t), intent(out) :: bodies
+      type(grid_t), intent(in) :: grid
+      type(particles_t), intent(in) :: particles
+      type(error_t), allocatable, intent(out) :: error
+      integer :: b, p, stat, total
+      real(dp) :: centre(2)
+      if (.not. allocated(particles%body)) then
+         call set_error(error, 'contact: the scene gave no body index to its particles')
+         return
+      end if
+      bodies%count = maxval(particles%body)
+      if (bodies%count /= 2 .or. minval(particles%body) /= 1) then
+         call set_error(error, 'contact: frictionless contact needs two bodies, numbered 1 and 2; the scene has '// &
+                        str(bodies%count))
+         return
+      end if
+      if (grid%mirror) then
+         call set_error(error, 'contact: per-body fields with mirror ghosts at a fixed end are not implemented')
+         return
+      end if
+      allocate (bodies%first(bodies%count), bodies%last(bodies%count))
+      bodies%first = particles%count + 1
+      bodies%last = 0
+      do p = 1, particles%count
+         b = particles%body(p)
+         bodies%first(b) = min(bodies%first(b), p)
+         bodies%last(b) = max(bodies%last(b), p)
+      end do
+      do b = 1, bodies%count
+         if (any(particles%body(bodies%first(b):bodies%last(b)) /= b)) then
+            call set_error(error, 'contact: the particles of body '//str(b)//' are not one contiguous range')
+            return
+         end if
+         centre(b) = sum(particles%mass_of(bodies%first(b):bodies%last(b))*particles%x(bodies%first(b):bodies%last(b)))
+      end do
+      bodies%normal = sign(1.0_dp, centre(2)/sum(particles%mass_of(bodies%first(2):bodies%last(2))) - &
+                           centre(1)/sum(particles%mass_of(bodies%first(1):bodies%last(1))))
+      ! the facing ends: body 1's furthest particle along the normal, body 2's furthest against it
+      if (bodies%normal > 0.0_dp) then
+         bodies%facing(1) = bodies%first(1) - 1 + maxloc(particles%x(bodies%first(1):bodies%last(1)), 1)
+         bodies%facing(2) = bodies%first(2) - 1 + minloc(particles%x(bodies%first(2):bodies%last(2)), 1)
+      else
+         bodies%facing(1) = bodies%first(1) - 1 + minloc(particles%x(bodies%first(1):bodies%last(1)), 1)
+         bodies%facing(2) = bodies%first(2) - 1 + maxloc(particles%x(bodies%first(2):bodies%last(2)), 1)
+      end if
+      bodies%nodes = grid%elements + 1
+      total = bodies%count*bodies%nodes
+      ! the run's grid (origin, dx, length: the domain a particle may not leave), its arrays stacked
+      bodies%fields%elements = total - 1
+      bodies%fields%dx = grid%dx
+      bodies%fields%inv_dx = grid%inv_dx
+      bodies%fields%length = grid%length
+      bodies%fields%origin = grid%origin
+      bodies%fields%empty_mass = grid%empty_mass
+      bodies%fields%ghost = grid%ghost
+      bodies%fields%mirror = .false.
+      bodies%fields%fixed = [(grid%fixed + (b - 1)*bodies%nodes, b=1, bodies%count)]
+      allocate (bodies%fields%mass(0:total - 1), bodies%fields%momentum(0:total - 1), bodies%fields%force(0:total - 1), &
+                bodies%fields%velocity(0:total - 1), bodies%fields%acceleration(0:total - 1), stat=stat)
+      if (stat /= 0) then
+         call set_error(error, 'cannot allocate the per-body fields of '//str(total)//' nodes (out of memory)')
+         return
+      end if
+      bodies%fields%mass = 0.0_dp
+      bodies%fields%momentum = 0.0_dp
+      bodies%fields%force = 0.0_dp
+      bodies%fields%velocity = 0.0_dp
+      bodies%fields%acceleration = 0.0_dp
+   end subroutine bodies_init
+
+   !> Shape functions on the run's grid, then each body's support moved onto its own fields; whether
+   !> the bodies touch (their facing surfaces, x_p +- J_p V0_p/2 of the end particles, in 1-D).
+   subroutine locate_bodies(cache, grid, particles, bodies, totals)
+      type(shape_cache_t), intent(inout) :: cache
+      type(grid_t), intent(in) :: grid
+      type(particles_t), intent(in) :: particles
+      type(bodies_t), intent(inout) :: bodies
+      type(pass_totals_t), intent(inout) :: totals
+      integer :: b, shift
+      call locate_particles(cache, grid, particles, totals)
+      associate (p1 => bodies%facing(1), p2 => bodies%facing(2))
+         bodies%surface_gap = bodies%normal*((particles%x(p2) - bodies%normal*0.5_dp*particles%volume_ratio(p2)* &
+                                              particles%volume0_of(p2)) - &
+                                             (particles%x(p1) + bodies%normal*0.5_dp*particles%volume_ratio(p1)* &
+                                              particles%volume0_of(p1)))
+      end associate
+      bodies%touching = bodies%surface_gap <= touch_tolerance*grid%dx
+      do b = 2, bodies%count
+         shift = (b - 1)*bodies%nodes
+         associate (r1 => bodies%first(b), r2 => bodies%last(b))
+            cache%first(r1:r2) = cache%first(r1:r2) + shift
+            if (allocated(cache%position)) cache%position(r1:r2) = cache%position(r1:r2) + shift*grid%dx
+         end associate
+      end do
+   end subroutine locate_bodies
+
+   !> After the nodal velocities (USF, MUSL's remap): approaching bodies share v_cm (momentum too).
+   subroutine contact_velocities(bodies)
+      type(bodies_t), intent(inout) :: bodies
+      call correct(bodies, 0.0_dp)
+   end subroutine contact_velocities
+
+   !> After the grid solve: approaching bodies share v_cm; the acceleration takes the contact force.
+   subroutine contact_momentum(bodies, dt)
+      type(bodies_t), intent(inout) :: bodies
+      real(dp), intent(in) :: dt
+      call correct(bodies, dt)
+   end subroutine contact_momentum
+
+   !> The correction of both: with dt > 0 also a_b += (v_cm - v_b)/dt.
+   subroutine correct(bodies, dt)
+      type(bodies_t), intent(inout) :: bodies
+      real(dp), intent(in) :: dt
+      integer :: i, j, corrected
+      real(dp) :: vcm
+      corrected = 0
+      bodies%contact_nodes = 0
+      if (.not. bodies%touching) return
+      associate (f => bodies%fields, n => bodies%nodes)
+         do i = 0, n - 1
+            j = i + n
+            if (f%mass(i) <= f%empty_mass .or. f%mass(j) <= f%empty_mass) cycle
+            if ((f%velocity(i) - f%velocity(j))*bodies%normal <= 0.0_dp) cycle ! separating or at rest
+            corrected = corrected + 1
+            vcm = (f%momentum(i) + f%momentum(j))/(f%mass(i) + f%mass(j))
+            if (dt > 0.0_dp) then
+               f%acceleration(i) = f%acceleration(i) + (vcm - f%velocity(i))/dt
+               f%acceleration(j) = f%acceleration(j) + (vcm - f%velocity(j))/dt
+            end if
+            f%velocity(i) = vcm
+            f%velocity(j) = vcm
+            f%momentum(i) = f%mass(i)*vcm
+            f%momentum(j) = f%mass(j)*vcm
+         end do
+      end associate
+      bodies%contact_nodes = corrected
+   end subroutine correct
+
+   !> The run's grid as the bodies' sum (mass, momentum, force; velocity p/m), for snapshots and the
+   !> guards' lightest node.
+   subroutine combine_bodies(bodies, grid)
+      type(bodies_t), intent(in) :: bodies
+      type(grid_t), intent(inout) :: grid
+      integer :: i, b
+      associate (f => bodies%fields, n => bodies%nodes)
+         grid%mass = f%mass(0:n - 1)
+         grid%momentum = f%momentum(0:n - 1)
+         grid%force = f%force(0:n - 1)
+         do b = 2, bodies%count
+            grid%mass = grid%mass + f%mass((b - 1)*n:b*n - 1)
+            grid%momentum = grid%momentum + f%momentum((b - 1)*n:b*n - 1)
+            grid%force = grid%force + f%force((b - 1)*n:b*n - 1)
+         end do
+         grid%min_node_mass = f%min_node_mass
+      end associate
+      do i = 0, grid%elements
+         if (grid%mass(i) > grid%empty_mass) then
+            grid%velocity(i) = grid%momentum(i)/grid%mass(i)
+         else
+            grid%velocity(i) = 0.0_dp
+         end if
+      end do
+   end subroutine combine_bodies
+end module mpm_contact
