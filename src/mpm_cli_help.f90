@@ -36,10 +36,17 @@ contains
          write (unit, '(a)', advance='no') parameter_help(table, trim(config_groups(i)))
       end do
       write (unit, '(a)') '  &sweep: every combination of the lists below (the last varies fastest); one HDF5 table '// &
-         '(see README.md)', '    lists (values of the variable named; a list left out holds its base value):'
+         '(see README.md)', '    lists, each named as the variable it varies (a list left out holds its base value;', &
+         '    the former plural names in brackets are still accepted):'
       do i = 1, size(table)
-         if (len_trim(table(i)%sweep_list) > 0) write (unit, '(a)') '      '//trim(table(i)%sweep_list)//' = '// &
-            trim(table(i)%group)//'.'//trim(table(i)%name)//' values'
+         if (len_trim(table(i)%sweep_list) == 0) cycle
+         if (len_trim(table(i)%sweep_alias) > 0) then
+            write (unit, '(a)') '      '//trim(table(i)%sweep_list)//' = '//trim(table(i)%group)//'.'// &
+               trim(table(i)%name)//' values  ('//trim(table(i)%sweep_alias)//')'
+         else
+            write (unit, '(a)') '      '//trim(table(i)%sweep_list)//' = '//trim(table(i)%group)//'.'// &
+               trim(table(i)%name)//' values'
+         end if
       end do
       call sweep_parameters(settings, sweep_table)
       write (unit, '(a)', advance='no') parameter_help(sweep_table, 'sweep')

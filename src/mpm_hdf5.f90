@@ -5,6 +5,7 @@
 !> runs writing one output at once do not destroy each other's files (the last rename wins).
 !> Not thread-safe (neither is the HDF5 library): call only outside parallel regions.
 module mpm_hdf5
+   use, intrinsic :: iso_c_binding, only: c_ptr, c_char, c_null_char, c_loc, c_f_pointer, c_associated
    use hdf5
    use mpm_kinds, only: dp
    use mpm_errors, only: error_t, set_error
@@ -12,6 +13,9 @@ module mpm_hdf5
    use mpm_strings, only: str
    implicit none
    private
+   !> H5T_VARIABLE of H5Tpublic.h, (size_t)-1: the HDF5 1.10 Fortran API does not export it.
+   integer(size_t), parameter :: variable_length = -1_size_t
+
    public :: h5_writer_t, h5_read_real, h5_read_int, h5_read_attribute_real, h5_read_attribute_int, h5_read_attribute_string, &
              h5_read_string, h5_exists
 
@@ -174,50 +178,63 @@ contains
       call close_dataset(self, name, dset, space, hdferr)
    end subroutine writer_write_int_scalar
 
-   !> A 1-D dataset of fixed-length strings (h5py reads them as bytes).
+   !> A 1-D dataset of strings, each stored trimmed as a variable-length C string (h5dump shows
+   !> "completed", not a wall of blanks; h5py reads them as bytes).
    subroutine writer_write_strings(self, name, values)
       class(h5_writer_t), intent(inout) :: self
       character(len=*), intent(in) :: name
       character(len=*), intent(in) :: values(:)
       integer(hid_t) :: dset, space, string_type
       integer(hsize_t) :: dims(1)
-      integer :: hdferr
+      character(len=len(values) + 1, kind=c_char), allocatable, target :: texts(:)
+      type(c_ptr), allocatable, target :: pointers(:)
+      integer :: hdferr, i
       if (.not. self%ok()) return
-      call string_type_of(self, len(values), string_type)
+      call string_type_of(self, string_type)
+      allocate (texts(max(size(values), 1)), pointers(max(size(values), 1)))
+      do i = 1, size(values)
+         texts(i) = trim(values(i))//c_null_char
+         pointers(i) = c_loc(texts(i))
+      end do
       dims = size(values, kind=hsize_t)
       call open_dataset(self, name, string_type, dims, dset, space)
       if (self%ok()) then
-         call h5dwrite_f(dset, string_type, values, dims, hdferr)
+         call h5dwrite_f(dset, string_type, c_loc(pointers), hdferr)
          call close_dataset(self, name, dset, space, hdferr)
       end if
       call h5tclose_f(string_type, hdferr)
    end subroutine writer_write_strings
 
+   !> A scalar string dataset, stored trimmed (variable length).
    subroutine writer_write_string_scalar(self, name, value)
       class(h5_writer_t), intent(inout) :: self
       character(len=*), intent(in) :: name, value
       integer(hid_t) :: dset, space, string_type
       integer(hsize_t) :: dims(0)
+      character(len=len_trim(value) + 1, kind=c_char), target :: text
+      type(c_ptr), target :: pointer
       integer :: hdferr
       if (.not. self%ok()) return
-      call string_type_of(self, len(value), string_type)
+      call string_type_of(self, string_type)
+      text = trim(value)//c_null_char
+      pointer = c_loc(text)
       call open_dataset(self, name, string_type, dims, dset, space)
       if (self%ok()) then
-         call h5dwrite_f(dset, string_type, value, [1_hsize_t], hdferr)
+         call h5dwrite_f(dset, string_type, c_loc(pointer), hdferr)
          call close_dataset(self, name, dset, space, hdferr)
       end if
       call h5tclose_f(string_type, hdferr)
    end subroutine writer_write_string_scalar
 
-   subroutine string_type_of(self, length, string_type)
+   !> The variable-length, null-terminated C string type (file and memory).
+   subroutine string_type_of(self, string_type)
       class(h5_writer_t), intent(inout) :: self
-      integer, intent(in) :: length
       integer(hid_t), intent(out) :: string_type
       integer :: hdferr
-      call h5tcopy_f(H5T_FORTRAN_S1, string_type, hdferr)
+      call h5tcopy_f(H5T_C_S1, string_type, hdferr)
       call self%check(hdferr, 'copy the string type')
-      call h5tset_size_f(string_type, int(max(length, 1), size_t), hdferr)
-      call self%check(hdferr, 'set the string length')
+      call h5tset_size_f(string_type, variable_length, hdferr)
+      call self%check(hdferr, 'make the string type variable-length')
    end subroutine string_type_of
 
    !> Open object `on` (a group or dataset path, '/' for the root) and create a scalar attribute.
@@ -309,12 +326,16 @@ contains
       class(h5_writer_t), intent(inout) :: self
       character(len=*), intent(in) :: on, name, value
       integer(hid_t) :: object, attr, space, string_type
+      character(len=len_trim(value) + 1, kind=c_char), target :: text
+      type(c_ptr), target :: pointer
       integer :: hdferr
       if (.not. self%ok()) return
-      call string_type_of(self, len(value), string_type)
+      call string_type_of(self, string_type)
+      text = trim(value)//c_null_char
+      pointer = c_loc(text)
       call open_attribute(self, on, name, string_type, object, attr, space)
       hdferr = 0
-      if (self%ok()) call h5awrite_f(attr, string_type, value, [1_hsize_t], hdferr)
+      if (self%ok()) call h5awrite_f(attr, string_type, c_loc(pointer), hdferr)
       call close_attribute(self, name, object, attr, space, hdferr)
       call h5tclose_f(string_type, hdferr)
    end subroutine writer_attribute_string
@@ -487,24 +508,69 @@ contains
       call close_read(file, dset)
    end subroutine h5_read_int
 
-   !> Read a 1-D dataset of fixed-length strings into `values` (each of length `length`).
+   !> Read a 1-D dataset of strings (variable-length, or fixed-length as older files hold them)
+   !> into `values`, each cut to `length` characters.
    subroutine h5_read_string(path, name, length, values, error)
       character(len=*), intent(in) :: path, name
       integer, intent(in) :: length
       character(len=length), allocatable, intent(out) :: values(:)
       type(error_t), allocatable, intent(out) :: error
-      integer(hid_t) :: file, dset, string_type
-      integer :: count, hdferr
+      integer(hid_t) :: file, dset, string_type, file_type, space
+      type(c_ptr), allocatable, target :: pointers(:)
+      type(c_ptr) :: buffer
+      logical :: variable
+      integer :: count, hdferr, i
       call open_for_read(path, name, file, dset, count, error)
       if (allocated(error)) return
       allocate (values(max(count, 1)))
-      call h5tcopy_f(H5T_FORTRAN_S1, string_type, hdferr)
-      call h5tset_size_f(string_type, int(length, size_t), hdferr)
-      call h5dread_f(dset, string_type, values, [int(size(values), hsize_t)], hdferr)
-      if (hdferr < 0) call set_error(error, "cannot read '"//name//"' from '"//path//"'")
+      values = ''
+      call h5dget_type_f(dset, file_type, hdferr)
+      call h5tis_variable_str_f(file_type, variable, hdferr)
+      call h5tclose_f(file_type, hdferr)
+      if (variable) then
+         call h5tcopy_f(H5T_C_S1, string_type, hdferr)
+         call h5tset_size_f(string_type, variable_length, hdferr)
+         allocate (pointers(size(values)))
+         buffer = c_loc(pointers)
+         call h5dread_f(dset, string_type, buffer, hdferr)
+         if (hdferr >= 0) then
+            do i = 1, size(values)
+               values(i) = c_text(pointers(i))
+            end do
+            call h5dget_space_f(dset, space, hdferr)
+            call h5dvlen_reclaim_f(string_type, space, H5P_DEFAULT_F, buffer, hdferr)
+            call h5sclose_f(space, hdferr)
+         else
+            call set_error(error, "cannot read '"//name//"' from '"//path//"'")
+         end if
+      else
+         call h5tcopy_f(H5T_FORTRAN_S1, string_type, hdferr)
+         call h5tset_size_f(string_type, int(length, size_t), hdferr)
+         call h5dread_f(dset, string_type, values, [int(size(values), hsize_t)], hdferr)
+         if (hdferr < 0) call set_error(error, "cannot read '"//name//"' from '"//path//"'")
+      end if
       call h5tclose_f(string_type, hdferr)
       call close_read(file, dset)
    end subroutine h5_read_string
+
+   !> The null-terminated C string at `pointer` ('' for a null pointer).
+   function c_text(pointer) result(text)
+      type(c_ptr), intent(in) :: pointer
+      character(len=:), allocatable :: text
+      character(kind=c_char), pointer :: chars(:)
+      integer :: n
+      if (.not. c_associated(pointer)) then
+         text = ''
+         return
+      end if
+      call c_f_pointer(pointer, chars, [huge(0)])
+      n = 0
+      do while (chars(n + 1) /= c_null_char)
+         n = n + 1
+      end do
+      allocate (character(len=n) :: text)
+      text = transfer(chars(1:n), text)
+   end function c_text
 
    !> Read a real attribute `name` of object `on` ('/' for the root).
    subroutine h5_read_attribute_real(path, on, name, value, error)
@@ -556,18 +622,34 @@ contains
       call h5fclose_f(file, hdferr)
    end function h5_exists
 
-   !> Read a string attribute (up to `len(value)` characters).
+   !> Read a string attribute (variable-length, or fixed-length as older files hold it; up to
+   !> `len(value)` characters).
    subroutine h5_read_attribute_string(path, on, name, value, error)
       character(len=*), intent(in) :: path, on, name
       character(len=*), intent(out) :: value
       type(error_t), allocatable, intent(out) :: error
-      integer(hid_t) :: file, attr, string_type
+      integer(hid_t) :: file, attr, string_type, space
+      type(c_ptr), target :: pointer(1)
+      type(c_ptr) :: buffer
+      logical :: variable
       integer :: hdferr
       value = ''
       call open_attribute_for_read(path, on, name, file, attr, error)
       if (allocated(error)) return
       call h5aget_type_f(attr, string_type, hdferr)
-      call h5aread_f(attr, string_type, value, [1_hsize_t], hdferr)
+      call h5tis_variable_str_f(string_type, variable, hdferr)
+      if (variable) then
+         buffer = c_loc(pointer)
+         call h5aread_f(attr, string_type, buffer, hdferr)
+         if (hdferr >= 0) then
+            value = c_text(pointer(1))
+            call h5aget_space_f(attr, space, hdferr)
+            call h5dvlen_reclaim_f(string_type, space, H5P_DEFAULT_F, buffer, hdferr)
+            call h5sclose_f(space, hdferr)
+         end if
+      else
+         call h5aread_f(attr, string_type, value, [1_hsize_t], hdferr)
+      end if
       if (hdferr < 0) call set_error(error, "cannot read attribute '"//name//"' of '"//on//"' in '"//path//"'")
       call h5tclose_f(string_type, hdferr)
       call h5aclose_f(attr, hdferr)

@@ -57,6 +57,9 @@ contains
       else
          call h5%write_string_scalar('/summary/message', 'completed')
       end if
+      ! when a guard stopped the run, as numbers (0 when it completed)
+      call h5%write_int_scalar('/summary/trip_step', merge(result%trip%step, 0, result%status /= status_ok))
+      call h5%write_real_scalar('/summary/trip_time', merge(result%trip%time, 0.0_dp, result%status /= status_ok))
       call h5%write_real_scalar('/summary/initial_energy', result%initial_energy)
       call h5%write_real_scalar('/summary/final_energy', result%final_energy)
       call h5%write_real_scalar('/summary/max_energy_ratio', result%max_energy_ratio)

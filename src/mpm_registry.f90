@@ -44,8 +44,11 @@ module mpm_registry
       character(len=64) :: words = ''
       !> Said after the range in messages and --help (e.g. the meaning of a special value).
       character(len=96) :: note = ''
-      !> Name of the &sweep list that varies this variable ('' = not sweepable).
+      !> Name of the &sweep list that varies this variable ('' = not sweepable). One rule: a list is
+      !> named as the variable it varies (elements, scheme, dt_fraction, ...).
       character(len=32) :: sweep_list = ''
+      !> The list's former name, still accepted in &sweep ('' = none; e.g. schemes, dt_fractions).
+      character(len=32) :: sweep_alias = ''
       !> May be left unset (no default: left out of the echo and of /config).
       logical :: optional = .false.
       !> The scene kinds that use it, comma separated ('' = every kind): given for another kind it is
@@ -86,6 +89,8 @@ module mpm_registry
    !> The values of one &sweep list, typed as the variable it varies.
    type :: value_list_t
       character(len=32) :: name = ''
+      !> Its former name, accepted in &sweep as well ('' = none).
+      character(len=32) :: alias = ''
       !> The variable it varies: its index in the table, its /cases column and its text width.
       integer :: entry = 0
       character(len=32) :: column = ''
@@ -102,6 +107,8 @@ contains
 
    ! ------------------------------------------------------------------ table entries
 
+   !> A table entry. `sweep_list` present makes the variable sweepable: its list is named `name`
+   !> (the one rule), and `sweep_list`, when it differs, is accepted as an alias (the former name).
    function base_entry(group, name, type, unit, help, attribute, sweep_list, optional, note) result(p)
       character(len=*), intent(in) :: group, name, unit, help
       integer, intent(in) :: type
@@ -115,7 +122,10 @@ contains
       p%type = type
       p%unit = unit
       p%help = help
-      if (present(sweep_list)) p%sweep_list = sweep_list
+      if (present(sweep_list)) then
+         p%sweep_list = name
+         if (sweep_list /= name) p%sweep_alias = sweep_list
+      end if
       if (present(optional)) p%optional = optional
       if (present(note)) p%note = note
    end function base_entry
@@ -726,6 +736,7 @@ contains
       type(parameter_t), intent(in) :: p
       character(len=*), intent(in) :: name
       list%name = name
+      list%alias = p%sweep_alias
       list%type = p%type
       list%column = p%attribute
       if (p%type == type_text) list%width = len(p%text_value)
@@ -1428,19 +1439,19 @@ contains
    end function group_namelist
 
    !> The table as tab-separated lines with a header: group, name, attribute, type, unit, value,
-   !> allowed, sweep list, help. Read by the Python loader (postprocess/mpm1d_io.py).
+   !> allowed, sweep list, its former name, help. Read by the Python loader (postprocess/mpm1d_io.py).
    function parameter_listing(table) result(text)
       type(parameter_t), intent(in) :: table(:)
       character(len=:), allocatable :: text
       character(len=*), parameter :: tab = achar(9), nl = new_line('a')
       integer :: i
       text = 'group'//tab//'name'//tab//'attribute'//tab//'type'//tab//'unit'//tab//'value'//tab//'allowed'// &
-             tab//'sweep_list'//tab//'help'
+             tab//'sweep_list'//tab//'sweep_alias'//tab//'help'
       do i = 1, size(table)
          associate (p => table(i))
             text = text//nl//trim(p%group)//tab//trim(p%name)//tab//trim(p%attribute)//tab//type_name(p%type)// &
                    tab//trim(p%unit)//tab//format_value(p)//tab//allowed_text(p)//tab//trim(p%sweep_list)//tab// &
-                   trim(p%help)
+                   trim(p%sweep_alias)//tab//trim(p%help)
          end associate
       end do
    end function parameter_listing
@@ -1462,7 +1473,10 @@ contains
             value = trim(value)
             text = text//'    '//trim(p%name)//' = '//value//': '//trim(p%help)//nl//'        allowed: '// &
                    allowed_text(p)
-            if (len_trim(p%sweep_list) > 0) text = text//'; swept by &sweep '//trim(p%sweep_list)
+            if (len_trim(p%sweep_list) > 0) then
+               text = text//'; swept by &sweep '//trim(p%sweep_list)
+               if (len_trim(p%sweep_alias) > 0) text = text//' (or its former name '//trim(p%sweep_alias)//')'
+            end if
             if (len_trim(p%kinds) > 0) text = text//'; kind '//trim(p%kinds)//' only'
             text = text//nl
          end associate

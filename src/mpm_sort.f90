@@ -4,7 +4,7 @@ module mpm_sort
    use mpm_kinds, only: dp
    implicit none
    private
-   public :: sort_order, median
+   public :: sort_order, median, relative_spread
 
 contains
 
@@ -59,4 +59,24 @@ contains
          median = 0.5_dp*(values(order(n/2)) + values(order(n/2 + 1)))
       end if
    end function median
+
+   !> Relative spread of a non-empty sample: its interquartile range over its median (quartiles
+   !> by linear interpolation between order statistics, as numpy's default; 0 for one value).
+   real(dp) function relative_spread(values)
+      real(dp), intent(in) :: values(:)
+      real(dp), allocatable :: sorted(:)
+      sorted = values(sort_order(values))
+      relative_spread = 0.0_dp
+      if (size(values) > 1 .and. median(values) > 0.0_dp) &
+         relative_spread = (quantile(0.75_dp) - quantile(0.25_dp))/median(values)
+   contains
+      real(dp) function quantile(q)
+         real(dp), intent(in) :: q
+         real(dp) :: position
+         integer :: below
+         position = q*(size(sorted) - 1) + 1
+         below = min(int(position), size(sorted) - 1)
+         quantile = sorted(below) + (position - below)*(sorted(below + 1) - sorted(below))
+      end function quantile
+   end function relative_spread
 end module mpm_sort

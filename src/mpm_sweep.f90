@@ -19,15 +19,21 @@ module mpm_sweep
    use mpm_simulation, only: run_result_t, run_simulation, guard_trip_t, guard_message
    use mpm_diagnostics, only: history_t, status_ok, status_setup_failed, status_not_run
    use mpm_progress, only: progress_t
-   use mpm_sort, only: sort_order, median
+   use mpm_sort, only: sort_order, median, relative_spread
    implicit none
    private
    public :: sweep_config_t, sweep_case_t, sweep_t, read_sweep, read_sweep_text, sweep_cases, run_sweep
    public :: has_sweep_group, has_sweep_text, case_config, max_threads
 
+   !> Timing pass: a round of repeats whose middle half spans more than this fraction of its median
+   !> was disturbed (another process, frequency changes) and is measured again, up to max_rounds
+   !> rounds; the round with the smallest spread is kept, and its spread stored for the reader.
+   real(dp), parameter :: noisy_spread = 0.2_dp
+   integer, parameter :: max_rounds = 3
+
    !> Most threads a sweep asks for (OpenMP runtimes fail far below 10^5 threads; no node has more cores).
    integer, parameter :: max_threads = 4096
-   public :: sweep_parameters, case_column
+   public :: sweep_parameters, case_column, case_weights
 
    !> The &sweep group: lists to combine and how to run them.
    type :: sweep_config_t
@@ -56,6 +62,10 @@ module mpm_sweep
       integer :: steps = 0, particles = 0, repeats = 0
       integer :: status = status_not_run
       real(dp) :: dt = 0.0_dp, max_error = 0.0_dp, relative_error = 0.0_dp, run_time = 0.0_dp
+      !> Timing pass: relative spread (interquartile range / median) of the kept round of repeats,
+      !> and the rounds measured (a round whose spread exceeds noisy_spread is measured again).
+      real(dp) :: run_time_spread = 0.0_dp
+      integer :: timing_rounds = 0
       real(dp) :: max_energy_ratio = 0.0_dp, final_energy_ratio = 0.0_dp
       real(dp) :: min_volume_ratio = 0.0_dp, max_cell_move = 0.0_dp, min_node_mass_ratio = 0.0_dp
       character(len=:), allocatable :: message !< why the case failed (made after the parallel loop)
@@ -188,8 +198,8 @@ contains
          j = list_named(items(i)%name)
          if (j > 0) then
             if (lines(j) > 0) then
-               call append_error(error, where//"sweep: '"//items(i)%name//"' is given twice (also line "// &
-                                 str(lines(j))//")")
+               call append_error(error, where//"sweep: list '"//trim(study%settings%lists(j)%name)// &
+                                 "' is given twice (as '"//items(i)%name//"', also line "//str(lines(j))//")")
                cycle
             end if
             lines(j) = items(i)%line
@@ -201,6 +211,7 @@ contains
             end if
             call read_value_list(base(k), items(i)%name, items(i)%values, where, study%settings%lists(j), error)
             study%settings%lists(j)%entry = k
+            study%settings%lists(j)%name = base(k)%sweep_list  ! the list's name, whichever name was given
             cycle
          end if
          k = find_parameter(settings, 'sweep', items(i)%name)
@@ -239,6 +250,8 @@ contains
          list_named = 0
          do m = 1, size(study%settings%lists)
             if (study%settings%lists(m)%name == name) list_named = m
+            if (len_trim(study%settings%lists(m)%alias) > 0 .and. study%settings%lists(m)%alias == name) &
+               list_named = m
          end do
       end function list_named
       function list_names() result(names)
@@ -387,11 +400,14 @@ contains
       if (threads == 0) threads = omp_get_max_threads()
       sweep%threads_used = threads
       order = by_decreasing_cost(sweep%cases)
-      call over_cases(sweep, order, threads, timing=.false.)
+      call over_cases(sweep, order, threads, case_weights(sweep%cases, 0.0_dp, 0.0_dp), timing=.false.)
       call describe_failures(sweep)
       sweep%error_pass_time = omp_get_wtime() - start
       if (sweep%settings%min_time > 0.0_dp) then
-         call over_cases(sweep, order, sweep%settings%timing_threads, timing=.true.)
+         ! the error pass gives the seconds per particle-step on this machine (thread-seconds / cost)
+         call over_cases(sweep, order, sweep%settings%timing_threads, case_weights(sweep%cases, &
+                         sweep%error_pass_time*threads/max(1.0_dp, sum(cost(sweep%cases))), &
+                         sweep%settings%min_time), timing=.true.)
          sweep%timing_pass_time = omp_get_wtime() - start - sweep%error_pass_time
       end if
       sweep%wall_time = omp_get_wtime() - start
@@ -399,15 +415,17 @@ contains
 
    !> Every case once, or (timing) every case repeated until min_time; expensive cases first so
    !> the dynamic schedule ends evenly. Each case writes only its own slot.
-   subroutine over_cases(sweep, order, threads, timing)
+   subroutine over_cases(sweep, order, threads, weights, timing)
       type(sweep_t), intent(inout) :: sweep
       integer, intent(in) :: order(:), threads
+      real(dp), intent(in) :: weights(:)
       logical, intent(in) :: timing
       type(progress_t) :: progress
       type(config_t) :: config
       integer :: k
-      call progress%start(merge('timing pass', 'error pass ', timing), size(order), sweep%settings%progress)
-      !$omp parallel do default(none) schedule(dynamic, 1) num_threads(threads) shared(sweep, order, progress, timing) &
+      call progress%start(merge('timing pass', 'error pass ', timing), weights(order), sweep%settings%progress)
+      !$omp parallel do default(none) schedule(dynamic, 1) num_threads(threads) &
+      !$omp shared(sweep, order, progress, timing, weights) &
       !$omp private(config)
       do k = 1, size(order)
          ! one thread at a time builds a case's configuration: case_config fills the parameter table (an
@@ -422,7 +440,7 @@ contains
          else
             call run_case(config, sweep%settings%histories, sweep%cases(order(k)))
          end if
-         call progress%advance()
+         call progress%advance(weights(order(k)))
       end do
       !$omp end parallel do
       call progress%finish()
@@ -498,32 +516,61 @@ contains
       type(run_result_t) :: result
       type(error_t), allocatable :: error
       real(dp), allocatable :: times(:)
-      real(dp) :: total
-      integer :: n
+      real(dp) :: total, spread
+      integer :: n, round
       if (c%status /= status_ok) return
       config = case
       config%history = .false.
       allocate (times(max_repeats))
-      total = 0.0_dp
-      n = 0
-      do while ((total < min_time .or. n < min_repeats) .and. n < max_repeats)
-         call run_simulation(config, result, error, record_history=.false.)
-         if (allocated(error)) return
-         n = n + 1
-         times(n) = result%run_time
-         total = total + result%run_time
+      c%run_time_spread = huge(1.0_dp)
+      do round = 1, max_rounds
+         total = 0.0_dp
+         n = 0
+         do while ((total < min_time .or. n < min_repeats) .and. n < max_repeats)
+            call run_simulation(config, result, error, record_history=.false.)
+            if (allocated(error)) return
+            n = n + 1
+            times(n) = result%run_time
+            total = total + result%run_time
+         end do
+         spread = relative_spread(times(1:n))
+         c%timing_rounds = round
+         if (spread < c%run_time_spread) then
+            c%repeats = n
+            c%run_time = median(times(1:n))
+            c%run_time_spread = spread
+         end if
+         if (spread <= noisy_spread) exit
       end do
-      c%repeats = n
-      c%run_time = median(times(1:n))
    end subroutine time_case
 
    !> Case order by decreasing estimated cost (particles x steps).
    function by_decreasing_cost(cases) result(order)
       type(sweep_case_t), intent(in) :: cases(:)
       integer, allocatable :: order(:)
-      integer :: i
-      order = sort_order([(-real(cases(i)%particles, dp)*cases(i)%steps, i=1, size(cases))])
+      order = sort_order(-cost(cases))
    end function by_decreasing_cost
+
+   !> A case's estimated cost in particle-steps (the time loop's work; set-up is negligible).
+   elemental real(dp) function cost(c)
+      type(sweep_case_t), intent(in) :: c
+      cost = real(c%particles, dp)*real(c%steps, dp)
+   end function cost
+
+   !> Expected cost of each case in a pass, for the progress estimate. Error pass (`min_time` = 0):
+   !> particles x steps. Timing pass: seconds, each completed case being repeated until `min_time`
+   !> is measured and at least 3 times, i.e. max(min_time, 3 t) with t = `seconds_per_cost` x
+   !> particles x steps (failed cases are not timed: 0).
+   pure function case_weights(cases, seconds_per_cost, min_time) result(weights)
+      type(sweep_case_t), intent(in) :: cases(:)
+      real(dp), intent(in) :: seconds_per_cost, min_time
+      real(dp), allocatable :: weights(:)
+      if (min_time <= 0.0_dp) then
+         weights = cost(cases)
+      else
+         weights = merge(max(min_time, 3.0_dp*seconds_per_cost*cost(cases)), 0.0_dp, cases%status == status_ok)
+      end if
+   end function case_weights
 
    !> The &sweep group as namelist text (stored in the output file): every list, then the run
    !> settings, ending with shard and shards (merge compares shards without them).

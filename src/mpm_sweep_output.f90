@@ -8,7 +8,7 @@ module mpm_sweep_output
                        h5_read_attribute_int, h5_read_attribute_real, h5_exists
    use mpm_output, only: write_config_attributes
    use mpm_version, only: code_version
-   use mpm_diagnostics, only: status_name
+   use mpm_diagnostics, only: status_name, status_ok
    use mpm_sweep, only: sweep_t, sweep_case_t, case_column
    use mpm_config, only: config_t, config_parameters
    use mpm_registry, only: parameter_t, value_list_t, single_value_list, type_real, type_int
@@ -119,15 +119,21 @@ contains
       call h5%write_real('/cases/relative_error', cases%relative_error)
       call h5%write_real('/cases/run_time', cases%run_time)
       call h5%write_int('/cases/repeats', cases%repeats)
+      call h5%write_real('/cases/run_time_spread', cases%run_time_spread)
+      call h5%write_int('/cases/timing_rounds', cases%timing_rounds)
       call h5%write_int('/cases/status', cases%status)
       allocate (names(size(cases)), messages(size(cases)))
       do i = 1, size(cases)
          names(i) = status_name(cases(i)%status)
          messages(i) = ''
          if (allocated(cases(i)%message)) messages(i) = cases(i)%message
+         if (cases(i)%status == status_ok) messages(i) = 'completed' ! as a single run's /summary/message
       end do
       call h5%write_strings('/cases/status_name', names)
       call h5%write_strings('/cases/message', messages)
+      ! when a guard stopped the case, as numbers (0 where it completed or did not run)
+      call h5%write_int('/cases/trip_step', cases%trip%step)
+      call h5%write_real('/cases/trip_time', cases%trip%time)
       call h5%write_real('/cases/max_energy_ratio', cases%max_energy_ratio)
       call h5%write_real('/cases/final_energy_ratio', cases%final_energy_ratio)
       call h5%write_real('/cases/min_volume_ratio', cases%min_volume_ratio)
@@ -368,6 +374,10 @@ contains
       cases%steps = ints
       call int_column('repeats')
       cases%repeats = ints
+      call int_column('timing_rounds')
+      cases%timing_rounds = ints
+      call real_column('run_time_spread')
+      cases%run_time_spread = reals
       call int_column('status')
       cases%status = ints
       call real_column('dt')
@@ -388,6 +398,10 @@ contains
       cases%max_cell_move = reals
       call real_column('min_node_mass_ratio')
       cases%min_node_mass_ratio = reals
+      call int_column('trip_step')
+      cases%trip%step = ints
+      call real_column('trip_time')
+      cases%trip%time = reals
       if (allocated(error)) return
       call h5_read_string(path, '/cases/message', message_length, messages, error)
       if (allocated(error)) return

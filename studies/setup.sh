@@ -1,10 +1,11 @@
 #!/usr/bin/env bash
 # Install what mpm1d needs and is missing: gfortran, HDF5 (library, Fortran modules, tools),
-# fpm (from PyPI), and numpy/matplotlib/h5py for the Python interpreter the scripts use.
+# fpm (from PyPI), numpy/matplotlib/h5py/pytest for the Python interpreter the scripts use, and the
+# post-processing package of this checkout (postprocess/, `pip install -e`, editable).
 # Safe to run again: it installs only what is missing. Source it to get $PYTHON and fpm on PATH:
 #   source studies/setup.sh
 # The Python used is $PYTHON if set, else Debian's /usr/bin/python3 (packages from apt);
-# any other interpreter gets numpy/matplotlib/h5py from pip.
+# any other interpreter gets numpy/matplotlib/h5py/pytest from pip.
 set -e
 _sudo=""
 if [ "$(id -u)" != 0 ] && command -v sudo >/dev/null 2>&1; then _sudo="sudo"; fi
@@ -25,16 +26,43 @@ if [ ! -x "$PYTHON" ]; then
   echo "setup: installing python3 (apt)" >&2
   _apt_install python3
 fi
-if ! "$PYTHON" -c "import numpy, matplotlib, h5py" >/dev/null 2>&1; then
+if ! "$PYTHON" -c "import numpy, matplotlib, h5py, pytest" >/dev/null 2>&1 \
+   || ! "$PYTHON" -m pip --version >/dev/null 2>&1; then
   if [ "$PYTHON" = /usr/bin/python3 ]; then
-    echo "setup: installing python3-numpy python3-matplotlib python3-h5py (apt)" >&2
-    _apt_install python3-numpy python3-matplotlib python3-h5py
+    echo "setup: installing python3-numpy python3-matplotlib python3-h5py python3-pytest python3-pip (apt)" >&2
+    _apt_install python3-numpy python3-matplotlib python3-h5py python3-pytest python3-pip python3-setuptools
   else
-    echo "setup: installing numpy matplotlib h5py for $PYTHON (pip)" >&2
-    "$PYTHON" -m pip install -q numpy matplotlib h5py
+    echo "setup: installing numpy matplotlib h5py pytest for $PYTHON (pip)" >&2
+    "$PYTHON" -m pip install -q numpy matplotlib h5py pytest
   fi
 fi
 export PYTHON
+
+# The post-processing package (postprocess/: the loader, figures, plotting commands), installed
+# editable from this checkout unless $PYTHON already imports it from here. Debian's interpreter is
+# "externally managed": pip needs --break-system-packages (as root it installs into /usr/local,
+# otherwise into ~/.local), and uses apt's setuptools (no download).
+_mpm1d_root="$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)"
+if ! "$PYTHON" - "$_mpm1d_root/postprocess" >/dev/null 2>&1 <<'PY'
+import pathlib, sys
+import mpm1d_post
+sys.exit(pathlib.Path(mpm1d_post.__file__).resolve().parents[1] != pathlib.Path(sys.argv[1]).resolve())
+PY
+then
+  echo "setup: installing the post-processing package (pip install -e postprocess)" >&2
+  _pip=("$PYTHON" -m pip install -q --no-deps)
+  if [ "$PYTHON" = /usr/bin/python3 ]; then _pip+=(--no-build-isolation); fi
+  if "$PYTHON" -c "import os, sys, sysconfig; sys.exit(not os.path.exists(os.path.join(sysconfig.get_path('stdlib'), 'EXTERNALLY-MANAGED')))"; then
+    _pip+=(--break-system-packages)
+  fi
+  "${_pip[@]}" -e "$_mpm1d_root/postprocess" >&2 \
+    || { echo "setup: the post-processing package could not be installed" >&2; return 1 2>/dev/null || exit 1; }
+fi
+# its commands (mpm1d-plot-sweep, ...): pip puts them in the interpreter's or the user's scripts folder
+for _scripts in "$("$PYTHON" -c 'import sysconfig; print(sysconfig.get_path("scripts"))')" "$HOME/.local/bin"; do
+  case ":$PATH:" in *":$_scripts:"*) ;; *) [ -d "$_scripts" ] && PATH="$PATH:$_scripts" ;; esac
+done
+export PATH
 
 if ! command -v fpm >/dev/null 2>&1; then
   echo "setup: installing fpm (pip)" >&2

@@ -2,7 +2,7 @@
 # Run every test of mpm1d: installs what is missing, then
 #   1. fpm test (Fortran unit, physics, HDF5 and command-line tests),
 #   2. the cross-check of mpm1d against an independent NumPy implementation,
-#   3. the Python post-processing tests,
+#   3. the Python post-processing tests (pytest, postprocess/tests),
 #   4. the README's quick-start commands, the paper pipeline, the SLURM job array on a live single-node cluster, the study tests.
 # Usage (from anywhere): bash test/run_tests.sh
 set -euo pipefail
@@ -18,10 +18,8 @@ fpm test --profile release || failed=1
 echo "== cross-check against the independent reference implementation"
 "$PYTHON" test/reference/check_reference.py || failed=1
 
-if [ -f postprocess/test_postprocess.py ]; then
-  echo "== post-processing"
-  "$PYTHON" postprocess/test_postprocess.py || failed=1
-fi
+echo "== post-processing package (pytest)"
+"$PYTHON" -m pytest -q -p no:cacheprovider postprocess || failed=1
 echo "== the command line: overrides, standard input, --quiet, hostile input"
 bash test/test_command_line.sh || failed=1
 

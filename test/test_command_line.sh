@@ -33,6 +33,25 @@ run a.nml scene.length=-1
 check "test_override_validated" "[ $(rc) = 2 ] && grep -q \"command line 'scene.length=-1'\" err.txt && grep -q 'out of range' err.txt"
 run a.nml discretisation.elements=4x
 check "test_bad_override_value" "[ $(rc) = 2 ] && grep -q 'elements' err.txt"
+# group and variable names are case-insensitive on the command line as in the namelist (issue 16)
+run a.nml Discretisation.Elements=40 RUN.periods=0.5
+check "test_capitalised_override_as_namelist" "[ $(rc) = 0 ] && [ \"\$(attr a.h5 elements)\" = 40 ] && grep -q 'periods=0.5' out.txt"
+printf "&Discretisation Elements=40 /\n&RUN periods=0.5 /\n&output file='cap.h5', history=.false. /\n" > cap.nml
+run cap.nml
+check "test_capitalised_namelist_same" "[ $(rc) = 0 ] && [ \"\$(attr cap.h5 elements)\" = 40 ]"
+printf "&output file='caps.h5' /\n&sweep elements=1,2, min_time=0 /\n" > caps.nml
+run caps.nml Sweep.Schemes=usf,musl SWEEP.Dt_Fraction=0.1,0.2
+check "test_capitalised_sweep_override_and_alias" "[ $(rc) = 0 ] && grep -q 'sweep of 8 cases' out.txt"
+# output strings stored trimmed (variable length: h5dump shows no walls of blanks), guard trips as
+# numbers, and a completed case says 'completed' in a sweep file as in a single-run file (issue 16)
+printf "&output file='trip.h5' /\n&sweep dt_fraction=0.1,2.5, min_time=0 /\n" > trip.nml
+run trip.nml --quiet
+check "test_sweep_strings_variable_length" "[ $(rc) = 0 ] && h5dump -d /cases/message trip.h5 | grep -q 'STRSIZE H5T_VARIABLE' && ! h5dump trip.h5 | grep -qE '[^ ]   +\"'"
+check "test_sweep_trip_step_and_time_numbers" "h5dump -d /cases/trip_step trip.h5 | grep -q '(0): 0, 7' && h5dump -d /cases/message trip.h5 | grep -q 'tripped at step 7 of 64 (t = 0.43199663627162656E-2 s' && h5dump -d /cases/trip_time trip.h5 | grep -q '(0): 0, 0.00431997'"
+run a.nml discretisation.elements=20 discretisation.dt_fraction=2.5 run.periods=2 output.file=trip1.h5 --quiet
+check "test_run_trip_step_number" "[ $(rc) = 1 ] && h5dump -d /summary/trip_step trip1.h5 | grep -q '(0): 7' && ! h5dump trip1.h5 | grep -qE '[^ ]   +\"'"
+run a.nml output.file=done1.h5 --quiet
+check "test_completed_message_same_in_run_and_sweep" "[ $(rc) = 0 ] && h5dump -d /summary/message done1.h5 | grep -q '(0): \"completed\"' && h5dump -d /cases/message trip.h5 | grep -q '(0): \"completed\",'"
 run a.nml --frob
 check "test_unknown_option" "[ $(rc) = 2 ] && grep -q frob err.txt"
 run a.nml b.nml

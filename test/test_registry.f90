@@ -243,7 +243,7 @@ contains
 
       call write_text('badsweep.nml', [character(len=100) :: "&scene density=-1.0 /", &
                       "&sweep modes=1, 0, schemes='usf', 'xyz',", &
-                      '       dt_fraction=0.1, densities=1.0, , 2.0, shards=0 /'])
+                      '       dt_fractin=0.1, densities=1.0, , 2.0, shards=0 /'])
       call read_sweep(dir//'/badsweep.nml', sweep, error, 0, 0, 1)
       call t%check('bad sweep refused', allocated(error))
       if (.not. allocated(error)) return
@@ -251,7 +251,7 @@ contains
                             'sweep: modes(2) = 0 is out of range; allowed: integer with 1 <= modes(2) <= 1073741823')
       call t%check_contains('list value unknown', error%message, "sweep: schemes(2) = 'xyz' is unknown")
       call t%check_contains('misspelled list: names the lists', error%message, &
-                            "badsweep.nml:3: group &sweep: unknown variable 'dt_fraction'; allowed names: schemes,")
+                            "badsweep.nml:3: group &sweep: unknown variable 'dt_fractin'; allowed names: scheme,")
       call t%check_contains('gap in a list', error%message, 'densities has a gap')
       call t%check_contains('all at once: settings too', error%message, 'shards = 0 is out of range')
       call t%check_contains('all at once: the base groups too', error%message, &

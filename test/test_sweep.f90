@@ -5,7 +5,10 @@ program test_sweep
    use mpm_errors, only: error_t
    use mpm_config, only: config_t
    use mpm_simulation, only: run_result_t, run_simulation
-   use mpm_sweep, only: sweep_t, read_sweep, run_sweep, case_config
+   use mpm_sweep, only: sweep_t, sweep_case_t, read_sweep, run_sweep, case_config, case_weights
+   use mpm_progress, only: remaining_time
+   use mpm_sort, only: sort_order, relative_spread
+   use omp_lib, only: omp_get_wtime
    use mpm_sweep_output, only: write_sweep_file, merge_sweep_files
    use mpm_hdf5, only: h5_read_real, h5_read_int, h5_read_string
    use mpm_diagnostics, only: status_ok
@@ -64,6 +67,9 @@ program test_sweep
    call t%check('merge refuses a repeated shard', allocated(error))
 
    call unstable_messages()
+   call list_names()
+   call progress_estimate()
+   call timing_spread()
 
    call bad_sweep("&sweep elements=3, 0 /", 'elements(2)')
    call bad_sweep("&sweep schemes='usf', 'fls' /", 'schemes(2)')
@@ -77,6 +83,8 @@ program test_sweep
    call bad_sweep("&run end_time=2.0e-4 / &sweep elements=3, 1000000000, particles_per_element=2 /", &
                   'memory available')
    call bad_sweep("&sweep elements=, dt_fractions=0.1 /", 'elements is an empty list')
+   call bad_sweep("&sweep scheme='usf', schemes='usl' /", "list 'scheme' is given twice (as 'schemes'")
+   call bad_sweep("&sweep dt_fraction=0.1, 0, elements=2 /", 'dt_fraction(2)')
    call t%finish()
 
 contains
@@ -152,6 +160,118 @@ contains
       call h5_read_string(b, '/cases/scheme', 8, sb, error)
       call t%check('merged = unsharded: scheme', all(sa == sb))
    end subroutine compare_files
+
+   !> One rule for list names: each list is named as the variable it varies; the former plural
+   !> names are aliases giving the same cases, and the echoed &sweep uses the variable's name.
+   subroutine list_names()
+      type(sweep_t) :: by_name, by_alias
+      integer :: u
+      open (newunit=u, file=dir//'/names.nml', status='replace', action='write')
+      write (u, '(a)') "&sweep scheme='usf','musl', elements=2,5, particles_per_element=1,3, dt_fraction=0.1,0.2, "// &
+         "shape='linear','bspline2', transfer='flip','pic', flip_fraction=1.0, mode=1,2, "// &
+         "velocity_amplitude=0.1, youngs_modulus=100.0, density=1.0, min_time=0.0 /"
+      close (u)
+      open (newunit=u, file=dir//'/aliases.nml', status='replace', action='write')
+      write (u, '(a)') "&sweep schemes='usf','musl', elements=2,5, particles_per_element=1,3, dt_fractions=0.1,0.2, "// &
+         "shapes='linear','bspline2', transfers='flip','pic', flip_fractions=1.0, modes=1,2, "// &
+         "velocity_amplitudes=0.1, youngs_moduli=100.0, densities=1.0, min_time=0.0 /"
+      close (u)
+      call read_sweep(dir//'/names.nml', by_name, error, 0, 0, 1)
+      call t%check('lists named as their variables are read', .not. allocated(error))
+      if (allocated(error)) print '(a)', error%message
+      call read_sweep(dir//'/aliases.nml', by_alias, error, 0, 0, 1)
+      call t%check('former list names are read', .not. allocated(error))
+      if (allocated(error)) print '(a)', error%message
+      if (.not. allocated(by_name%cases) .or. .not. allocated(by_alias%cases)) return
+      call t%check('2^7 = 128 cases by either name', size(by_name%cases) == 128 .and. size(by_alias%cases) == 128)
+      call t%check('names and aliases: the same namelist echo', &
+                   by_name%settings%namelist_text == by_alias%settings%namelist_text)
+      if (by_name%settings%namelist_text /= by_alias%settings%namelist_text) &
+         print '(a)', by_name%settings%namelist_text, by_alias%settings%namelist_text
+      call t%check_contains('the echo names each list as its variable', by_name%settings%namelist_text, &
+                            "scheme='usf', 'musl', elements=2, 5, particles_per_element=1, 3, dt_fraction=")
+   end subroutine list_names
+
+   !> The progress line's estimate of the time left weighs each case by its cost. By hand: the
+   !> weights, and the estimate (elapsed x cost left / cost done). Then on a real sweep whose cases
+   !> differ ~250-fold in cost, run in the sweep's order (most expensive first): when half the cost
+   !> is done, the estimate is within a factor 2 of the time the rest really takes, where the count
+   !> of cases would say about ten times too much.
+   subroutine progress_estimate()
+      type(sweep_t) :: s
+      type(sweep_case_t) :: hand(3)
+      type(run_result_t) :: result
+      real(dp), allocatable :: weights(:), finished_at(:)
+      integer, allocatable :: order(:)
+      real(dp) :: start, done, estimate, by_count, actual
+      integer :: u, k, half
+      hand(1) = sweep_case_t(particles=10, steps=100, status=status_ok)
+      hand(2) = sweep_case_t(particles=1000, steps=400, status=status_ok)
+      hand(3) = sweep_case_t(particles=1000, steps=400, status=1)
+      weights = case_weights(hand, 0.0_dp, 0.0_dp)
+      call t%check('error pass weights = particles x steps', all(weights == [1000.0_dp, 4.0e5_dp, 4.0e5_dp]))
+      weights = case_weights(hand, 1.0e-7_dp, 0.02_dp)
+      call t%check('timing pass weights = max(min_time, 3 t), failed cases 0', &
+                   all(abs(weights - [0.02_dp, 0.12_dp, 0.0_dp]) < 1.0e-15_dp))
+      call t%check('remaining = elapsed x cost left / cost done', &
+                   abs(remaining_time(2.0_dp, 1.0_dp, 4.0_dp) - 6.0_dp) < 1.0e-15_dp .and. &
+                   remaining_time(2.0_dp, 0.0_dp, 4.0_dp) == 0.0_dp .and. remaining_time(2.0_dp, 4.0_dp, 4.0_dp) == 0.0_dp)
+
+      open (newunit=u, file=dir//'/costs.nml', status='replace', action='write')
+      write (u, '(a)') "&sweep elements=25, 50, 100, 200, 400, particles_per_element=1, 2, 4, min_time=0 /"
+      close (u)
+      call read_sweep(dir//'/costs.nml', s, error, 0, 0, 1)
+      call t%check('cost sweep read', .not. allocated(error))
+      if (allocated(error)) return
+      weights = case_weights(s%cases, 0.0_dp, 0.0_dp)
+      order = sort_order(-weights)
+      allocate (finished_at(size(order)))
+      start = omp_get_wtime()
+      do k = 1, size(order)
+         call run_simulation(case_config(s, s%cases(order(k))), result, error, record_history=.false.)
+         finished_at(k) = omp_get_wtime() - start
+      end do
+      done = 0.0_dp
+      half = 0
+      do k = 1, size(order)
+         done = done + weights(order(k))
+         if (done >= 0.5_dp*sum(weights)) then
+            half = k
+            exit
+         end if
+      end do
+      estimate = remaining_time(finished_at(half), done, sum(weights))
+      by_count = remaining_time(finished_at(half), real(half, dp), real(size(order), dp))
+      actual = finished_at(size(order)) - finished_at(half)
+      print '(a,i0,a,i0,3(a,es9.2))', 'progress estimate after ', half, ' of ', size(order), ' cases: ', estimate, &
+         ' s (by count ', by_count, ' s); really ', actual, ' s'
+      call t%check('half the cost done: the estimate is within a factor 2 of the time left', &
+                   estimate > 0.5_dp*actual .and. estimate < 2.0_dp*actual)
+      call t%check('(the case count alone would be off by more than 3)', by_count > 3.0_dp*actual)
+   end subroutine progress_estimate
+
+   !> The timing pass keeps the spread of its repeats: interquartile range over median, by hand;
+   !> a timed case either has a spread within 0.2 or was measured in all 3 rounds.
+   subroutine timing_spread()
+      type(sweep_t) :: s
+      integer :: u
+      call t%check('spread of 1, 2, 3 (any order) = (2.5 - 1.5) / 2', &
+                   abs(relative_spread([3.0_dp, 1.0_dp, 2.0_dp]) - 0.5_dp) < 1.0e-15_dp)
+      call t%check('spread of 1, 1, 1, 10 = (3.25 - 1) / 1', &
+                   abs(relative_spread([1.0_dp, 10.0_dp, 1.0_dp, 1.0_dp]) - 2.25_dp) < 1.0e-15_dp)
+      call t%check('spread of one value = 0', relative_spread([4.0_dp]) == 0.0_dp)
+      open (newunit=u, file=dir//'/timed.nml', status='replace', action='write')
+      write (u, '(a)') "&sweep elements=3, 10, dt_fraction=0.1, 2.5, min_time=0.002 /"
+      close (u)
+      call read_sweep(dir//'/timed.nml', s, error, 0, 0, 1)
+      call run_sweep(s)
+      call t%check('timed cases: spread within 0.2 or 3 rounds measured', all( &
+                   pack(s%cases%run_time_spread <= 0.2_dp .or. s%cases%timing_rounds == 3, s%cases%status == status_ok)))
+      call t%check('timed cases: at least one round, a positive time', all(pack(s%cases%timing_rounds >= 1 .and. &
+                   s%cases%run_time > 0.0_dp, s%cases%status == status_ok)))
+      call t%check('cases stopped by a guard are not timed', all(pack(s%cases%timing_rounds == 0, &
+                   s%cases%status /= status_ok)) .and. any(s%cases%status /= status_ok))
+   end subroutine timing_spread
 
    subroutine bad_sweep(text, part)
       character(len=*), intent(in) :: text, part

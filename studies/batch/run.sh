@@ -27,17 +27,16 @@ for scheme in ${SCHEMES:-usf usl musl}; do
 done
 
 "$PYTHON" - "$out" <<'PY'
-import csv, glob, os, sys
-import h5py
-out = sys.argv[1]
-with open(os.path.join(out, 'results.csv'), 'w', newline='') as f:
+import csv, sys
+from pathlib import Path
+from mpm1d_post import load_run
+out = Path(sys.argv[1])
+with open(out / 'results.csv', 'w', newline='') as f:
     w = csv.writer(f)
     w.writerow(['scheme', 'elements', 'max_error', 'run_time', 'status'])
-    for path in sorted(glob.glob(os.path.join(out, '*_e*.h5'))):
-        with h5py.File(path, 'r') as h:
-            c, s = h['config'].attrs, h['summary']
-            w.writerow([c['scheme'].decode() if isinstance(c['scheme'], bytes) else str(c['scheme']).strip(),
-                        int(c['elements']), f"{s['max_error'][()]:.6e}", f"{s['run_time'][()]:.3e}",
-                        s['status_name'][()].decode().strip()])
-print('wrote', os.path.join(out, 'results.csv'))
+    for path in sorted(out.glob('*_e*.h5')):
+        run = load_run(path)
+        w.writerow([run.scheme, run.elements, f"{run.summary['max_error']:.6e}",
+                    f"{run.summary['run_time']:.3e}", run.summary['status_name']])
+print('wrote', out / 'results.csv')
 PY

@@ -25,5 +25,5 @@ NML
 start=$EPOCHREALTIME
 "$exe" "$out/convergence.nml" | grep -E '^(mpm1d|error pass|[0-9]+ cases|wrote)'
 end=$EPOCHREALTIME
-"$PYTHON" postprocess/convergence_figures.py "$out/convergence.h5" "$out" \
+"$PYTHON" -m mpm1d_post.convergence "$out/convergence.h5" "$out" \
   --wall-time "$(awk -v a="$start" -v b="$end" 'BEGIN { printf "%.1f", b - a }')"

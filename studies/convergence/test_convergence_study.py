@@ -14,12 +14,11 @@ import tempfile
 
 import numpy as np
 
+from mpm1d_post.convergence import floor_start, local_orders
+from mpm1d_post.loader import load_sweep
+
 HERE = os.path.dirname(os.path.abspath(__file__))
 ROOT = os.path.abspath(os.path.join(HERE, '..', '..'))
-sys.path.insert(0, os.path.join(ROOT, 'postprocess'))
-
-from mpm1d_io import load_sweep  # noqa: E402
-from convergence_figures import local_orders, floor_start  # noqa: E402
 
 results = []
 

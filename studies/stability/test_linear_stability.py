@@ -32,8 +32,7 @@ import contextlib
 
 import numpy as np
 
-sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
-import linear_stability as ls  # noqa: E402
+from mpm1d_post import linear_stability as ls  # noqa: E402
 
 SCHEMES = ls.SCHEMES
 

@@ -15,7 +15,6 @@ import tempfile
 
 HERE = os.path.dirname(os.path.abspath(__file__))
 ROOT = os.path.abspath(os.path.join(HERE, '..', '..'))
-sys.path.insert(0, os.path.join(ROOT, 'postprocess'))
 
 FIGURES = ('stability_map.png', 'stability_map_zoom.png', 'stability_map_1element.png', 'scale.png',
            'large_motion.png', 'long_energy.png', 'modes.png')
@@ -55,7 +54,7 @@ def main() -> int:
     check('code version in summary', 'Code version: mpm1d' in text)
 
     # measured critical fraction, USL ppc 1, 20 elements, against the prediction
-    from stability_figures import critical_table, load
+    from mpm1d_post.stability import critical_table, load
     sweep = load(os.path.join(out, 'map.h5'))
     measured, first, _ = critical_table(sweep, 'usl', 1, 20)
     with open(os.path.join(out, 'predicted', 'predicted_critical.csv'), newline='') as fh:

@@ -3,9 +3,12 @@
 Every figure and report of the post-processing reads its input through this module, so that the
 file layout (documented in the top-level README, "Output files") is known in one place only.
 
-Strings are written by Fortran as fixed-length, space-padded byte strings; they are returned here
-as stripped Python ``str`` (or numpy arrays of ``str``). Scalars come back as Python numbers and
-1-D datasets as numpy arrays.
+Strings are written by mpm1d as variable-length strings (older files: fixed-length, space-padded);
+they are returned here as stripped Python ``str`` (or numpy arrays of ``str``). Scalars come back as
+Python numbers and 1-D datasets as numpy arrays. Every dataset of ``/summary`` and every column of
+``/cases`` is returned, those the loader requires (listed below) and any other (a scene's own
+reports, ``trip_step`` and ``trip_time``: the step and time at which a guard stopped the run, as
+numbers, 0 where it completed).
 
 What the input parameters are is not listed here: mpm1d writes its parameter registry into every
 file (``/config`` attribute ``parameters``, the text ``mpm1d --list-parameters`` prints), and the
@@ -16,11 +19,14 @@ are swept variables. Files written before the registry existed are read as they 
     >>> run.scheme, run.elements, run.summary['max_error']
     >>> sweep = load_sweep('sweep_usf.h5')   # doctest: +SKIP
     >>> sweep.cases['max_error'][sweep.ok]
+    >>> sweep.cases['trip_step'][sweep.failed]
 """
 
 from __future__ import annotations
 
+import dataclasses
 import os
+from pathlib import Path
 from dataclasses import dataclass, field
 from typing import Any, Dict, List, Optional, Sequence
 
@@ -67,6 +73,8 @@ class Parameter:
     allowed: str
     sweep_list: str
     help: str
+    #: The sweep list's former name, still accepted ('' = none; absent in older files).
+    sweep_alias: str = ''
 
     @property
     def written(self) -> bool:
@@ -80,15 +88,17 @@ def parse_parameters(text: str) -> List[Parameter]:
     if not lines:
         return []
     header = lines[0].split('\t')
-    fields = [f.name for f in Parameter.__dataclass_fields__.values()]
-    if len(header) != len(fields):
+    fields = list(Parameter.__dataclass_fields__)
+    required = [name for name, f in Parameter.__dataclass_fields__.items()
+                if f.default is dataclasses.MISSING]
+    if len(set(header)) != len(header) or not set(required) <= set(header) or not set(header) <= set(fields):
         raise ValueError(f'unexpected parameter table header: {lines[0]!r}')
     rows = []
     for line in lines[1:]:
         cells = line.split('\t')
-        if len(cells) != len(fields):
+        if len(cells) != len(header):
             raise ValueError(f'malformed parameter table line: {line!r}')
-        rows.append(Parameter(*cells))
+        rows.append(Parameter(**dict(zip(header, cells))))
     return rows
 
 
@@ -151,14 +161,14 @@ def _read(path: str, h5: 'h5py.File', name: str) -> Any:
     return decode(node[()])
 
 
-def _open(path: str, content: str) -> 'h5py.File':
+def _open(path: 'str | os.PathLike', content: str) -> 'h5py.File':
     """Open `path` for reading and check that it is an mpm1d file whose root attribute
     ``content`` equals `content`."""
-    path = os.fspath(path)
-    if not os.path.exists(path):
+    if not Path(path).exists():
         raise Mpm1dFileError(path, 'no such file')
-    if os.path.isdir(path):
+    if Path(path).is_dir():
         raise Mpm1dFileError(path, 'is a directory, expected an HDF5 file')
+    path = os.fspath(path)
     if not h5py.is_hdf5(path):
         raise Mpm1dFileError(path, 'not an HDF5 file')
     try:
@@ -245,7 +255,8 @@ class Run:
 
     @property
     def dt_fraction(self) -> float:
-        """Time step as a fraction of the critical one (0.1 = 10 %)."""
+        """Time step as a fraction of dx/c (the time a wave takes to cross an element; not the
+        stability limit, which depends on the scheme and shape)."""
         return float(self.config['dt_fraction'])
 
     @property
@@ -263,7 +274,7 @@ class Run:
     def label(self) -> str:
         """Short description: scheme and discretisation."""
         return (f"{self.scheme.upper()}, {self.elements} el., {self.particles_per_element} ppe, "
-                f"dt = {100 * self.dt_fraction:g} % of critical")
+                f"dt = {self.dt_fraction:g} dx/c")
 
 
 def load_run(path: str) -> Run:
@@ -274,6 +285,8 @@ def load_run(path: str) -> Run:
         code_version = decode(h5.attrs['code_version'])
         config = _config(path, h5)
         summary = {name: _read(path, h5, f'/summary/{name}') for name in SUMMARY_DATASETS}
+        summary.update({name: _read(path, h5, f'/summary/{name}') for name in h5['/summary']
+                        if name not in summary})
         history = _history(path, h5, '/history') if '/history' in h5 else None
         snapshots = []
         if '/snapshots' in h5:

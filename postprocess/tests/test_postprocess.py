@@ -3,7 +3,9 @@
 
 Run as a plain script (prints ``N passed, M failed`` and exits non-zero on failure):
 
-    /usr/bin/python3 postprocess/test_postprocess.py
+    /usr/bin/python3 postprocess/tests/test_postprocess.py
+
+or, as test/run_tests.sh does, ``python3 -m pytest postprocess``.
 
 or under pytest, which collects the ``test_*`` functions.
 
@@ -24,19 +26,18 @@ import subprocess
 import sys
 import tempfile
 import traceback
+from pathlib import Path
 
 import numpy as np
 
-HERE = os.path.dirname(os.path.abspath(__file__))
-if HERE not in sys.path:
-    sys.path.insert(0, HERE)
+import h5py
 
-import h5py  # noqa: E402
+from mpm1d_post import analysis, figures
+from mpm1d_post import paper as make_paper_figures
+from mpm1d_post.loader import Mpm1dFileError, load_run, load_sweep, parse_parameters
 
-import analysis  # noqa: E402
-import figures  # noqa: E402
-import make_paper_figures  # noqa: E402
-from mpm1d_io import Mpm1dFileError, load_run, load_sweep, parse_parameters  # noqa: E402
+#: The repository's root (this file is postprocess/tests/test_postprocess.py).
+ROOT = Path(__file__).resolve().parents[2]
 
 CODE_VERSION = 'mpm1d 0.1.0'
 BAR = dict(scene_kind='vibrating_bar', length=25.0, youngs_modulus=200e9, density=7800.0,
@@ -223,20 +224,20 @@ class Files:
 
     def __init__(self):
         self.dir = tempfile.mkdtemp(prefix='mpm1d_post_')
-        self.usf = os.path.join(self.dir, 'sweep_usf.h5')
-        self.usl = os.path.join(self.dir, 'sweep_usl.h5')
+        self.usf = str(Path(self.dir) / 'sweep_usf.h5')
+        self.usl = str(Path(self.dir) / 'sweep_usl.h5')
         write_sweep(self.usf, 'usf', seed=1)
         write_sweep(self.usl, 'usl', seed=2)
         self.runs = []
         for scheme in ('usf', 'usl'):
-            path = os.path.join(self.dir, f'verify_{scheme}.h5')
+            path = str(Path(self.dir) / f'verify_{scheme}.h5')
             write_run(path, scheme, 20, 1, 0.1, snapshot=True)
             self.runs.append(path)
         for elements in (1, 3, 7, 10):
-            path = os.path.join(self.dir, f'initial_{elements}.h5')
+            path = str(Path(self.dir) / f'initial_{elements}.h5')
             write_run(path, 'usf', elements, 2, 0.1, history=False)
             self.runs.append(path)
-        self.out = os.path.join(self.dir, 'figures')
+        self.out = str(Path(self.dir) / 'figures')
 
     def cleanup(self):
         shutil.rmtree(self.dir, ignore_errors=True)
@@ -277,18 +278,18 @@ def test_main_writes_every_figure():
                                  '-o', f.out])
     assert status == 0, f'exit status {status}: {err}'
     for name in EXPECTED_FIGURES:
-        path = os.path.join(f.out, name)
-        assert os.path.isfile(path), f'{name} not written'
-        assert os.path.getsize(path) > 0, f'{name} is empty'
-    with open(os.path.join(f.out, 'fig4_error_map_usf.png'), 'rb') as handle:
+        path = str(Path(f.out) / name)
+        assert Path(path).is_file(), f'{name} not written'
+        assert Path(path).stat().st_size > 0, f'{name} is empty'
+    with open(Path(f.out) / 'fig4_error_map_usf.png', 'rb') as handle:
         assert handle.read(8) == b'\x89PNG\r\n\x1a\n', 'not a PNG'
 
 
 def test_summary_contents():
     f = files()
-    if not os.path.isfile(os.path.join(f.out, 'summary.md')):
+    if not (Path(f.out) / 'summary.md').is_file():
         run_main(['--usf', f.usf, '--usl', f.usl, '--runs', *f.runs, '-o', f.out])
-    text = open(os.path.join(f.out, 'summary.md'), encoding='utf-8').read()
+    text = open(Path(f.out) / 'summary.md', encoding='utf-8').read()
     for needle in ('## Findings', 'Pareto', 'R²', '123.4', 'Verification case',
                    'energy_growth', CODE_VERSION):
         assert needle in text, f"summary.md lacks '{needle}'"
@@ -346,7 +347,7 @@ REGISTRY_HEADER = 'group\tname\tattribute\ttype\tunit\tvalue\tallowed\tsweep_lis
 def test_registry_in_the_file_drives_the_loader():
     """The /config registry says which attributes and /cases columns a file must hold."""
     f = files()
-    path = os.path.join(f.dir, 'with_registry.h5')
+    path = str(Path(f.dir) / 'with_registry.h5')
     write_sweep(path, 'usf', elements=(3,), histories=False)
     rows = ['scene\tlength\tlength\treal\tm\t25.0\tfinite real > 0 (m)\t\tlength',
             'scene\tmode\tmode\tinteger\t\t1\tinteger >= 1\tmodes\tthe mode',
@@ -377,14 +378,14 @@ def _expect_load_error(path, part):
 
 def find_mpm1d():
     """The mpm1d executable built by fpm (None when it cannot be found)."""
-    root = os.path.dirname(HERE)
+    root = ROOT
     try:
         out = subprocess.run(['fpm', 'run', '--profile', 'release', '--target', 'mpm1d', '--runner', 'echo'],
                              cwd=root, capture_output=True, text=True, check=True).stdout.split()
     except (OSError, subprocess.CalledProcessError):
         return None
-    exe = os.path.join(root, out[-1]) if out else ''
-    return exe if os.path.isfile(exe) else None
+    exe = str(Path(root) / out[-1]) if out else ''
+    return exe if Path(exe).is_file() else None
 
 
 def test_real_files_carry_the_registry_the_program_lists():
@@ -397,20 +398,20 @@ def test_real_files_carry_the_registry_the_program_lists():
     listed = parse_parameters(subprocess.run([exe, '--list-parameters'], capture_output=True, text=True,
                                              check=True).stdout)
     assert {p.group for p in listed} >= {'scene', 'discretisation', 'run', 'output', 'guards', 'sweep'}
-    with open(os.path.join(os.path.dirname(HERE), 'README.md'), encoding='utf-8') as handle:
+    with open(ROOT / "README.md", encoding="utf-8") as handle:
         readme = handle.read()
     undocumented = [f'{p.group}.{p.name}' for p in listed if f'| {p.group} | {p.name} |' not in readme]
     assert not undocumented, f"README's namelist reference lacks {undocumented}"
     f = files()
-    with open(os.path.join(f.dir, 'tiny.nml'), 'w') as handle:
+    with open(Path(f.dir) / 'tiny.nml', 'w') as handle:
         handle.write("&run periods=0.1 /\n&output file='tiny.h5', snapshot_times=0.0 /\n"
                      "&sweep modes=1, 2, elements=3, min_time=0 /\n")
-    with open(os.path.join(f.dir, 'one.nml'), 'w') as handle:
+    with open(Path(f.dir) / 'one.nml', 'w') as handle:
         handle.write("&run end_time=1e-3 /\n&output file='one.h5' /\n")
     for name in ('tiny.nml', 'one.nml'):
         subprocess.run([exe, name], cwd=f.dir, capture_output=True, check=True)
-    sweep = load_sweep(os.path.join(f.dir, 'tiny.h5'))
-    run = load_run(os.path.join(f.dir, 'one.h5'))
+    sweep = load_sweep(str(Path(f.dir) / 'tiny.h5'))
+    run = load_run(str(Path(f.dir) / 'one.h5'))
     key = [(p.group, p.name, p.attribute, p.type, p.sweep_list) for p in listed if p.group != 'sweep']
     for loaded in (sweep, run):
         assert [(p.group, p.name, p.attribute, p.type, p.sweep_list) for p in loaded.parameters] == key
@@ -425,16 +426,16 @@ def test_real_files_carry_the_registry_the_program_lists():
 def _expect_file_error(argv, name):
     status, _, err = run_main(argv)
     assert status == 2, f'exit status {status} for {name}'
-    assert os.path.basename(name) in err, f'message does not name the file: {err!r}'
+    assert Path(name).name in err, f'message does not name the file: {err!r}'
     return err
 
 
 def test_bad_files_exit_2():
     f = files()
-    out = os.path.join(f.dir, 'bad_out')
-    missing = os.path.join(f.dir, 'missing.h5')
+    out = str(Path(f.dir) / 'bad_out')
+    missing = str(Path(f.dir) / 'missing.h5')
     _expect_file_error(['--usf', missing, '-o', out], missing)
-    text = os.path.join(f.dir, 'not_hdf5.h5')
+    text = str(Path(f.dir) / 'not_hdf5.h5')
     with open(text, 'w') as handle:
         handle.write('not HDF5\n')
     assert 'not an HDF5 file' in _expect_file_error(['--runs', text, '-o', out], text)
@@ -444,11 +445,11 @@ def test_bad_files_exit_2():
     # a USL sweep given as USF
     assert "'usl'" in _expect_file_error(['--usf', f.usl, '-o', out], f.usl)
     # an HDF5 file that is not an mpm1d file, and one missing a dataset
-    foreign = os.path.join(f.dir, 'foreign.h5')
+    foreign = str(Path(f.dir) / 'foreign.h5')
     with h5py.File(foreign, 'w') as h5:
         h5['data'] = np.arange(3)
     assert 'not an mpm1d file' in _expect_file_error(['--runs', foreign, '-o', out], foreign)
-    broken = os.path.join(f.dir, 'broken.h5')
+    broken = str(Path(f.dir) / 'broken.h5')
     write_sweep(broken, 'usf', elements=(3,), histories=False)
     with h5py.File(broken, 'a') as h5:
         del h5['cases/max_error']
@@ -471,12 +472,12 @@ def test_help_and_usage():
 def test_partial_inputs():
     """Only a USF sweep: its figures are made, the others skipped with a reason."""
     f = files()
-    out = os.path.join(f.dir, 'usf_only')
+    out = str(Path(f.dir) / 'usf_only')
     status, _, err = run_main(['--usf', f.usf, '-o', out])
     assert status == 0, err
-    assert os.path.isfile(os.path.join(out, 'fig4_error_map_usf.png'))
-    assert not os.path.exists(os.path.join(out, 'fig7_error_map_usl.png'))
-    text = open(os.path.join(out, 'summary.md'), encoding='utf-8').read()
+    assert (Path(out) / 'fig4_error_map_usf.png').is_file()
+    assert not (Path(out) / 'fig7_error_map_usl.png').exists()
+    text = open(Path(out) / 'summary.md', encoding='utf-8').read()
     assert 'not checked' in text and 'Skipped' in text
 
 

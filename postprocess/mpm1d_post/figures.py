@@ -1,6 +1,6 @@
 """The figures of the mpm1d bar study (paper figures 3b-10, and an error-versus-time plot).
 
-One function per figure. Each takes data loaded by `mpm1d_io` and an output folder, writes PNG
+One function per figure. Each takes data loaded by `mpm1d_post.loader` and an output folder, writes PNG
 file(s) and returns the written path(s) (and, where the figure rests on a computation such as a
 fit or a Pareto front, the numbers too). Every figure names its quantities with units, the scheme
 and the parameters, and carries a footer with the code version and input files (provenance).
@@ -12,7 +12,8 @@ figures 4, 5, 7, 8), `shared_log_norm` (one colour scale across panels and schem
 
 from __future__ import annotations
 
-import os
+from pathlib import Path
+import textwrap
 from dataclasses import dataclass
 from typing import Dict, Iterable, List, Mapping, Optional, Sequence, Tuple, Union
 
@@ -24,7 +25,7 @@ from matplotlib.colors import LogNorm  # noqa: E402
 from matplotlib.lines import Line2D  # noqa: E402
 import numpy as np  # noqa: E402
 
-from mpm1d_io import Run, Sweep  # noqa: E402
+from .loader import Run, Sweep  # noqa: E402
 
 DPI = 150
 #: Paper figure numbers of the per-scheme figures: (error map, time map, time fits).
@@ -33,7 +34,10 @@ SCHEME_MARKERS = {'usf': 'o', 'usl': 's', 'musl': '^'}
 ERROR_LABEL = r'max $|u_{cm} - u_{cm}^{exact}|$ (m)'
 TIME_LABEL = 'computation time per run (s)'
 PPE_LABEL = 'particles per element'
-DT_LABEL = 'time step (% of critical)'
+#: The sweep's time-step setting is dt_fraction = dt·c/dx, a fraction of the time a wave takes to
+#: cross an element: not the stability limit, which depends on the scheme (USL with linear shapes
+#: and 1 particle per element: about 0.71), so the axes say what it is.
+DT_LABEL = 'time step dt·c/dx (% of dx/c)'
 
 Source = Union[Run, Sweep]
 
@@ -53,7 +57,7 @@ def provenance(sources: Iterable[Source]) -> str:
         versions += source.code_versions if isinstance(source, Sweep) else [source.code_version]
         files += source.paths if isinstance(source, Sweep) else [source.path]
     versions = list(dict.fromkeys(versions))
-    files = list(dict.fromkeys(os.path.basename(f) for f in files))
+    files = list(dict.fromkeys(Path(f).name for f in files))
     shown = ', '.join(files[:4]) + (f' (+{len(files) - 4} more)' if len(files) > 4 else '')
     return f"{' / '.join(versions)}  |  data: {shown}  |  mpm1d postprocess"
 
@@ -62,8 +66,8 @@ def save_figure(fig: plt.Figure, outdir: str, name: str, sources: Iterable[Sourc
     """Add the provenance footer, write `outdir/name` as PNG and close the figure."""
     fig.text(0.005, 0.004, provenance(sources), fontsize=6.5, color='0.35',
              ha='left', va='bottom')
-    os.makedirs(outdir, exist_ok=True)
-    path = os.path.join(outdir, name)
+    Path(outdir).mkdir(parents=True, exist_ok=True)
+    path = str(Path(outdir) / name)
     fig.savefig(path, dpi=DPI)
     plt.close(fig)
     return path
@@ -86,10 +90,21 @@ def signed(value: float, unit: str = '') -> str:
 
 
 def figure_title(scheme: str, which: int, text: str) -> str:
-    """'Fig. N — text — SCHEME' with the paper's number for USF/USL."""
+    """'Fig. N — SCHEME — text' with the paper's number for USF/USL (the scheme early, so that it
+    is never the part a narrow figure loses)."""
     numbers = FIGURE_NUMBERS.get(scheme)
     prefix = f'Fig. {numbers[which]} — ' if numbers else ''
-    return f'{prefix}{text} — {scheme.upper()}'
+    return f'{prefix}{scheme.upper()} — {text}'
+
+
+def fitted_title(fig: plt.Figure, text: str, fontsize: float = 10) -> plt.Text:
+    """`fig.suptitle(text)`, each line wrapped at word boundaries to the figure's width, so that no
+    part of a title is cut off however narrow the figure (one-panel maps are 5 inches wide)."""
+    width_points = fig.get_figwidth() * 72.0 * 0.94
+    characters = max(20, int(width_points / (0.56 * fontsize)))  # an average glyph is ~0.5 em wide
+    lines = [wrapped for line in text.split('\n')
+             for wrapped in (textwrap.wrap(line, characters, break_on_hyphens=False) or [''])]
+    return fig.suptitle('\n'.join(lines), fontsize=fontsize)
 
 
 def wavenumber(config: Mapping) -> float:
@@ -250,7 +265,7 @@ def _figure_number(scheme: str, which: int) -> str:
 
 def fig3b(runs: Sequence[Run], outdir: str) -> str:
     """Centre-of-mass displacement against time, numerical and exact, one column per run
-    (USF and USL, 20 elements, 1 particle per element, 10 % of the critical step in the paper),
+    (USF and USL, 20 elements, 1 particle per element, dt = 0.1 dx/c in the paper),
     with the error below."""
     runs = [r for r in runs if r.history is not None]
     if not runs:
@@ -305,8 +320,7 @@ def _colour_map_figure(sweep: Sweep, scheme: str, panels: Sequence[int], quantit
         ax.set_visible(False)
     fig.colorbar(mesh, ax=axes, label=colour_label, shrink=0.9)
     _status_legend(fig, grids)
-    fig.suptitle(f'{figure_title(scheme, which, title)}\n{problem_text(sweep.config)}',
-                 fontsize=10)
+    fitted_title(fig, f'{figure_title(scheme, which, title)}\n{problem_text(sweep.config)}')
     fig.get_layout_engine().set(rect=(0, 0.025, 1, 0.975))
     return save_figure(fig, outdir, name, [sweep])
 
@@ -383,8 +397,9 @@ def time_fits(sweep: Sweep, scheme: str, outdir: str, elements: int = 3,
     n, t_n, k, t_k = n[order_n], t_n[order_n], k[order_k], t_k[order_k]
     line = linear_fit(n, t_n)
     curve = rational_fit(k, t_k)
+    spread = cases['run_time_spread'][row][order_n].tolist() if 'run_time_spread' in cases else None
     fits = {'particles': dict(line, elements=elements, dt_fraction=dt_fraction,
-                              x=n.tolist(), time=t_n.tolist()),
+                              x=n.tolist(), time=t_n.tolist(), spread=spread),
             'time_step': dict(curve, elements=elements,
                               particles_per_element=particles_per_element,
                               x=k.tolist(), time=t_k.tolist())}
@@ -396,20 +411,20 @@ def time_fits(sweep: Sweep, scheme: str, outdir: str, elements: int = 3,
               label=f"t = {line['slope']:.3g} s·n{signed(line['intercept'], 's')}\n"
                     f"R² = {line['r2']:.4f}")
     ax_a.set_xlabel(f'{PPE_LABEL} n ({elements} elements)')
-    ax_a.set_title(f'(a) time step {100 * dt_fraction:g} % of critical', fontsize=10)
+    ax_a.set_title(f'(a) time step dt = {100 * dt_fraction:g} % of dx/c', fontsize=10)
     ax_b.plot(k, t_k, 'o', color='C0', label='measured')
     k_fine = np.linspace(k.min(), k.max(), 200)
     ax_b.plot(k_fine, curve['a'] / k_fine + curve['b'], color='C1',
               label=f"t = {curve['a']:.3g} s·%/k{signed(curve['b'], 's')}\n"
                     f"R² = {curve['r2']:.4f}")
-    ax_b.set_xlabel('time step k (% of critical)')
+    ax_b.set_xlabel('time step k = dt·c/dx (% of dx/c)')
     ax_b.set_title(f'(b) {particles_per_element} particles per element', fontsize=10)
     for ax in (ax_a, ax_b):
         ax.set_ylabel(TIME_LABEL)
         ax.grid(alpha=0.3)
         ax.legend(fontsize=8)
-    fig.suptitle(figure_title(scheme, 2, f'Computation time, {elements} elements') + '\n'
-                 + problem_text(sweep.config), fontsize=10)
+    fitted_title(fig, figure_title(scheme, 2, f'Computation time, {elements} elements') + '\n'
+                 + problem_text(sweep.config))
     fig.tight_layout(rect=(0, 0.03, 1, 1))
     path = save_figure(fig, outdir, f'{_figure_number(scheme, 2)}time_fits_{scheme}.png',
                        [sweep])

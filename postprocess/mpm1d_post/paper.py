@@ -1,7 +1,7 @@
 #!/usr/bin/python3
 """Make every figure of the mpm1d bar study and a summary of its key numbers.
 
-    /usr/bin/python3 make_paper_figures.py --usf sweep_usf.h5 --usl sweep_usl.h5 \\
+    mpm1d-paper-figures --usf sweep_usf.h5 --usl sweep_usl.h5 \\
         --runs runs/*.h5 -o figures/
 
 Sweeps: ``--usf`` / ``--usl`` take one sweep file each, or the shards of one sweep (merged).
@@ -20,16 +20,17 @@ from __future__ import annotations
 
 import argparse
 import datetime
-import os
+from pathlib import Path
 import sys
+
+import numpy as np
 from typing import Dict, List, Optional, Sequence
 
-import analysis
-import figures
-from figures import FigureSkipped
-from mpm1d_io import Mpm1dFileError, Run, Sweep, load_run, load_sweep, merge_sweeps
+from . import analysis, figures
+from .figures import FigureSkipped
+from .loader import Mpm1dFileError, Run, Sweep, load_run, load_sweep, merge_sweeps
 
-PROGRAM = 'make_paper_figures'
+PROGRAM = 'mpm1d-paper-figures'
 
 
 def parse_args(argv: Optional[Sequence[str]]) -> argparse.Namespace:
@@ -118,7 +119,7 @@ def _sweep_section(report: Report, sweeps: Dict[str, Sweep], verification) -> No
         for path, attrs, version in zip(sweep.paths, sweep.sweep, sweep.code_versions):
             def get(key, fmt='{}'):
                 return fmt.format(attrs[key]) if key in attrs else '—'
-            report.add(f"| {scheme.upper()} | {os.path.basename(path)} | {get('cases')} | "
+            report.add(f"| {scheme.upper()} | {Path(path).name} | {get('cases')} | "
                        f"{get('threads')} | {get('timing_threads')} | "
                        f"{get('shard')}/{get('shards')} | {get('wall_time', '{:.4g}')} | "
                        f"{get('error_pass_time', '{:.4g}')} | {get('timing_pass_time', '{:.4g}')}"
@@ -153,7 +154,7 @@ def _runs_section(report: Report, verification_runs: List[Run], fig10_runs: List
                    'max error (m) | relative error | status | code version |',
                    '|---|---|---|---|---|---|---|')
         for run in verification_runs:
-            report.add(f"| {os.path.basename(run.path)} | {run.scheme.upper()} | "
+            report.add(f"| {Path(run.path).name} | {run.scheme.upper()} | "
                        f"{run.elements} el., {run.particles_per_element} ppe, "
                        f"{100 * run.dt_fraction:g} % | {run.summary['max_error']:.4g} | "
                        f"{100 * run.summary['relative_error']:.3g} % | "
@@ -179,7 +180,9 @@ def _fits_section(report: Report, fits: Dict[str, Dict]) -> None:
         report.add(f"| {scheme.upper()} | t = a·n + b (n particles per element) | "
                    f"a = {line['slope']:.4g} s, b = {line['intercept']:.4g} s | "
                    f"{line['r2']:.4f} | {line['elements']} el., "
-                   f"{100 * line['dt_fraction']:g} %, {len(line['x'])} points |")
+                   f"{100 * line['dt_fraction']:g} % of dx/c, {len(line['x'])} points"
+                   + (f", median spread of the repeats {np.median(line['spread']):.2g}"
+                      if line.get('spread') else '') + ' |')
         report.add(f"| {scheme.upper()} | t = a/k + b (k time step in %) | "
                    f"a = {curve['a']:.4g} s·%, b = {curve['b']:.4g} s | {curve['r2']:.4f} | "
                    f"{curve['elements']} el., {curve['particles_per_element']} ppe, "
@@ -232,7 +235,7 @@ def make_all(args: argparse.Namespace) -> Report:
     fig10_elements = [e for e in args.fig10_elements if any(r.elements == e for r in initial)]
     fig10_runs = [r for r in initial if not fig10_elements or r.elements in fig10_elements]
     used = {id(r) for r in verification_runs + fig10_runs}
-    unused = [f'{os.path.basename(r.path)} ({r.label()}): not the verification case with a '
+    unused = [f'{Path(r.path).name} ({r.label()}): not the verification case with a '
               'history, and no step-0 snapshot for a fig. 10 element count'
               for r in runs if id(r) not in used]
 
@@ -266,7 +269,7 @@ def make_all(args: argparse.Namespace) -> Report:
 
     report.add('# mpm1d bar study — summary', '',
                f"Generated {datetime.datetime.now().isoformat(timespec='seconds')} by "
-               f'postprocess/make_paper_figures.py.', '')
+               f'mpm1d-paper-figures (mpm1d_post.paper).', '')
     if sweeps:
         _sweep_section(report, sweeps, args.verification)
     if runs:
@@ -276,7 +279,7 @@ def make_all(args: argparse.Namespace) -> Report:
     _pareto_section(report, pareto)
     if sweeps:
         _findings_section(report, analysis.check_claims(sweeps, fits))
-    report.add('## Figures', '', *[f'- {os.path.basename(p)}' for p in report.written], '')
+    report.add('## Figures', '', *[f'- {Path(p).name}' for p in report.written], '')
     if report.skipped:
         report.add('Skipped:', '', *[f'- {s}' for s in report.skipped], '')
     return report
@@ -293,8 +296,8 @@ def main(argv: Optional[Sequence[str]] = None) -> int:
     except Mpm1dFileError as exc:
         print(f'{PROGRAM}: {exc}', file=sys.stderr)
         return 2
-    summary = os.path.join(args.output, 'summary.md')
-    os.makedirs(args.output, exist_ok=True)
+    summary = Path(args.output) / 'summary.md'
+    summary.parent.mkdir(parents=True, exist_ok=True)
     with open(summary, 'w', encoding='utf-8') as handle:
         handle.write('\n'.join(report.lines).rstrip() + '\n')
     for path in report.written + [summary]:

@@ -11,7 +11,7 @@ from typing import Dict, List, Mapping, Optional, Sequence
 
 import numpy as np
 
-from mpm1d_io import Sweep
+from .loader import Sweep
 
 #: Element counts below this are left out of the convergence-rate fit of claim (d): one element
 #: cannot represent the vibration mode at all (paper, Fig. 10), which says nothing about a rate.
@@ -27,12 +27,16 @@ class Claim:
     key: str
     statement: str
     rule: str
-    holds: Optional[bool]            # None: the data needed is not there
+    holds: Optional[bool]            # None: the data needed is not there, or do not decide
     details: List[str] = field(default_factory=list)
+    #: Why the data there do not support a verdict either way ('' = they do, or data missing).
+    unsupported: str = ''
 
     @property
     def verdict(self) -> str:
         if self.holds is None:
+            if self.unsupported:
+                return f'no verdict: the data do not support one ({self.unsupported})'
             return 'not checked (data missing)'
         return 'holds' if self.holds else 'does not hold'
 
@@ -212,18 +216,85 @@ def claim_usl_faster(sweeps: Mapping[str, Sweep]) -> Claim:
     return claim
 
 
+#: A verdict on a timing fit needs steady timings: the median over the fit's cases of the relative
+#: spread of their repeats (interquartile range / median, /cases/run_time_spread) at most this.
+MAX_TIMING_SPREAD = 0.2
+#: ... and at least this many points (a line through 3 points says little about linearity).
+MIN_FIT_POINTS = 4
+
+
+@dataclass
+class LineJudgement:
+    """Whether measured points lie on a line, judged so that timing noise cannot flip it."""
+    verdict: Optional[bool]     # True: linear, False: not linear, None: the data do not decide
+    r2: float                   # R² of the least-squares line through every point
+    r2_range: tuple             # (min, max) of R² with any one point left out
+    spread: float               # median relative spread of the points' repeats (NaN: not stored)
+    reason: str                 # why, in words, with the numbers
+
+
+def _r2_line(x: np.ndarray, y: np.ndarray) -> float:
+    slope, intercept = np.polyfit(x, y, 1)
+    residual = float(np.sum((y - slope * x - intercept) ** 2))
+    total = float(np.sum((y - y.mean()) ** 2))
+    return 1.0 - residual / total if total > 0 else (1.0 if residual == 0 else float('nan'))
+
+
+def judge_linear(x: Sequence[float], y: Sequence[float], spread: Optional[Sequence[float]] = None,
+                 threshold: float = 0.97) -> LineJudgement:
+    """Is y linear in x (R² of the least-squares line above `threshold`)? A verdict is stated only
+    when the data support it: the timings are steady (median spread of their repeats at most
+    MAX_TIMING_SPREAD), there are at least MIN_FIT_POINTS points, and no single point decides it
+    (R² with any one point left out stays on the same side of the threshold; a point that decides
+    is an outlier to re-time, not evidence). Otherwise the verdict is None, with the reason."""
+    x, y = np.asarray(x, float), np.asarray(y, float)
+    n = x.size
+    r2 = _r2_line(x, y) if n >= 2 else float('nan')
+    spreads = np.asarray(spread, float) if spread is not None else np.array([])
+    median_spread = float(np.median(spreads)) if spreads.size else float('nan')
+    if n < MIN_FIT_POINTS:
+        return LineJudgement(None, r2, (r2, r2), median_spread,
+                             f'{n} points; at least {MIN_FIT_POINTS} needed')
+    left_out = [_r2_line(np.delete(x, i), np.delete(y, i)) for i in range(n)]
+    low, high = float(np.nanmin(left_out)), float(np.nanmax(left_out))
+    numbers = (f'R² = {r2:.4f}, {low:.4f} to {high:.4f} with any one of the {n} points left out'
+               + (f', median spread of the repeats {median_spread:.2g}' if spreads.size else ''))
+    if spreads.size and median_spread > MAX_TIMING_SPREAD:
+        return LineJudgement(None, r2, (low, high), median_spread,
+                             f'timings too noisy (median spread of the repeats {median_spread:.2g} > '
+                             f'{MAX_TIMING_SPREAD:g}): {numbers}')
+    if low > threshold and r2 > threshold:
+        return LineJudgement(True, r2, (low, high), median_spread, numbers)
+    if high <= threshold and r2 <= threshold:
+        return LineJudgement(False, r2, (low, high), median_spread, numbers)
+    worst = int(np.nanargmax(left_out)) if r2 <= threshold else int(np.nanargmin(left_out))
+    return LineJudgement(None, r2, (low, high), median_spread,
+                         f'one point decides (x = {x[worst]:g}; re-time it): {numbers}')
+
+
 def claim_linear_time(fits: Mapping[str, Mapping], threshold: float = 0.97) -> Claim:
-    """(e) Computation time is linear in the number of particles (R² > 0.97 in the paper)."""
+    """(e) Computation time is linear in the number of particles (R² > 0.97 in the paper); stated
+    only where the timings support a verdict (judge_linear)."""
     claim = Claim('e', f'Computation time grows linearly with the particle count '
                   f'(R² > {threshold:g} in the paper).',
                   f'R² of the least-squares line of time against particles per element > '
-                  f'{threshold:g} for every scheme', None)
+                  f'{threshold:g} for every scheme, with any one point left out too; no verdict when '
+                  f'a single point decides it, with fewer than {MIN_FIT_POINTS} points, or when the '
+                  f'repeats of a case spread by more than {MAX_TIMING_SPREAD:g} of their median '
+                  f'(median over the cases)', None)
     verdicts = []
     for scheme, fit in fits.items():
-        r2 = fit['particles']['r2']
-        verdicts.append(r2 > threshold)
-        claim.details.append(f'{scheme.upper()}: R² = {r2:.4f}')
-    claim.holds = all(verdicts) if verdicts else None
+        line = fit['particles']
+        judged = judge_linear(line['x'], line['time'], line.get('spread'), threshold)
+        verdicts.append(judged.verdict)
+        word = {True: 'linear', False: 'not linear', None: 'undecided'}[judged.verdict]
+        claim.details.append(f'{scheme.upper()}: {word}; {judged.reason}')
+    if not verdicts:
+        return claim
+    if any(v is None for v in verdicts):
+        claim.unsupported = 'see the schemes marked undecided'
+        return claim
+    claim.holds = all(verdicts)
     return claim
 
 

@@ -8,12 +8,12 @@ discrete solution converges to a non-linear continuum solution that differs from
 relative amount of the order of the strain amplitude v0/c. The floor is reported relative to the exact
 u_cm amplitude next to v0/c.
 
-Usage: python3 postprocess/convergence_figures.py SWEEP.h5 OUTDIR [--wall-time SECONDS]
+Usage: mpm1d-convergence-figures SWEEP.h5 OUTDIR [--wall-time SECONDS]
 """
 from __future__ import annotations
 
 import argparse
-import os
+from pathlib import Path
 from typing import List, Optional
 
 import numpy as np
@@ -22,7 +22,7 @@ import matplotlib
 matplotlib.use('Agg')
 import matplotlib.pyplot as plt  # noqa: E402
 
-from mpm1d_io import load_sweep  # noqa: E402
+from .loader import load_sweep  # noqa: E402
 
 
 def local_orders(elements: np.ndarray, errors: np.ndarray) -> np.ndarray:
@@ -55,7 +55,7 @@ def main(argv: Optional[List[str]] = None) -> int:
     ratio = c['velocity_amplitude'] / wave
     amplitudes = sorted(set(c['velocity_amplitude'].tolist()), reverse=True)
     lines = ['# Spatial convergence of the vibrating bar to fine meshes', '',
-             f'Sweep `{os.path.basename(args.sweep)}`: {len(sweep)} cases, '
+             f'Sweep `{Path(args.sweep).name}`: {len(sweep)} cases, '
              f'{int(c["particles_per_element"][0])} particles per element, dt = '
              f'{c["dt_fraction"][0]:g} dx/c, half a period; code version {", ".join(sweep.code_versions)}; '
              f'wall time {args.wall_time:.1f} s.', '',
@@ -96,7 +96,7 @@ def main(argv: Optional[List[str]] = None) -> int:
     axes[0].set_ylabel('relative u_cm error (-); x: stopped by a guard')
     axes[0].legend(fontsize=7)
     fig.tight_layout()
-    fig.savefig(os.path.join(args.outdir, 'convergence.png'), dpi=120)
+    fig.savefig(Path(args.outdir) / 'convergence.png', dpi=120)
     lines += ['', '## Findings', '', *findings, '',
               f'A floor is where every later local order is below {FLOOR_ORDER}. '
               'Where the error stops falling, the floor grows with the amplitude: it is the difference '
@@ -105,9 +105,9 @@ def main(argv: Optional[List[str]] = None) -> int:
               'error. A convergence study of the method itself needs an exact solution of the code\'s own '
               'law (the manufactured-solution scene). An error that is the same at every amplitude and falls at '
               'a steady order is the method\'s own discretisation error.', '', '![convergence.png](convergence.png)', '']
-    with open(os.path.join(args.outdir, 'summary.md'), 'w') as f:
+    with open(Path(args.outdir) / 'summary.md', 'w') as f:
         f.write('\n'.join(lines))
-    print(f'wrote {os.path.join(args.outdir, "summary.md")} and convergence.png')
+    print(f'wrote {Path(args.outdir) / "summary.md"} and convergence.png')
     return 0
 
 

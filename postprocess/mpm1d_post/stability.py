@@ -1,14 +1,14 @@
 #!/usr/bin/python3
 """Figures and summary.md of the mpm1d numerical stability study (studies/stability/run.sh).
 
-    /usr/bin/python3 stability_figures.py OUT_DIR -o OUT_DIR \\
+    mpm1d-stability-figures OUT_DIR -o OUT_DIR     (or python3 -m mpm1d_post.stability ...) \\
         --predicted OUT_DIR/predicted/predicted_critical.csv [--timings OUT_DIR/timings.txt]
 
 Reads the files run.sh writes into OUT_DIR (map.h5, coarse.h5, scale_*.h5, large.h5,
-long100.h5, long1000.h5, modes.h5, fine_e*.h5, largest.h5) through mpm1d_io, the predicted
+long100.h5, long1000.h5, modes.h5, fine_e*.h5, largest.h5) through mpm1d_post.loader, the predicted
 critical fractions (CSV of studies/stability/linear_stability.py) and, for growth rates and
 linearised energy ratios, linear_stability.py itself. For every case class the summary states
-stable or unstable, which guard tripped and when (parsed from /cases/message), the numbers
+stable or unstable, which guard tripped and when (/cases/trip_step, trip_time), the numbers
 behind it, and the checks: every unstable case is caught by a guard with finite outputs, and no
 case expected stable trips one. A class whose file is missing is skipped with a note.
 Exit status: 0 written (checks may fail: see summary.md), 2 bad or missing input.
@@ -19,11 +19,10 @@ from __future__ import annotations
 import argparse
 import csv
 import datetime
-import glob
 import math
-import os
 import re
 import sys
+from pathlib import Path
 from typing import Dict, List, Optional, Sequence, Tuple
 
 import numpy as np
@@ -31,25 +30,19 @@ import numpy as np
 import matplotlib
 matplotlib.use('Agg')
 import matplotlib.pyplot as plt  # noqa: E402
-import h5py  # noqa: E402
 
-from mpm1d_io import Mpm1dFileError, Sweep, decode, load_run, load_sweep, merge_sweeps  # noqa: E402
+from . import linear_stability as ls  # noqa: E402
+from .loader import Mpm1dFileError, Sweep, load_run, load_sweep, merge_sweeps  # noqa: E402
 
-HERE = os.path.dirname(os.path.abspath(__file__))
-sys.path.insert(0, os.path.join(HERE, '..', 'studies', 'stability'))
-import linear_stability as ls  # noqa: E402
-
-PROGRAM = 'stability_figures'
+PROGRAM = 'mpm1d-stability-figures'
 SCHEMES = ('usf', 'usl', 'musl')
 C_PAPER = math.sqrt(200.0e9 / 7800.0)           # m/s, the paper's steel
 RATIO_PAPER = 0.1 / C_PAPER                     # v0/c of the paper
 ROUND_OFF_GROWTH = math.log(1.0e16)             # a mode seeded at round-off reaches O(1)
-EXTRA_COLUMNS = ('message', 'min_volume_ratio', 'max_cell_move', 'min_node_mass_ratio')
 FINITE_COLUMNS = ('max_error', 'relative_error', 'max_energy_ratio', 'final_energy_ratio',
                   'min_volume_ratio', 'max_cell_move')
 MESSAGE = re.compile(r'guard\s+(\w+)\s+tripped at step\s*(\d+)\s*of\s*(\d+)\s*\(t\s*=\s*'
                      r'([-+0-9.EeDd]+)\s*s')
-STEP_ONLY = re.compile(r'tripped at step\s*(\d+)')
 #: Finest spacing of the time-step fractions the study runs near its limits.
 K_STEP = 0.005
 
@@ -63,32 +56,23 @@ GUARD_COLOURS = {'ok': 'tab:green', 'energy_growth': 'tab:red', 'left_grid': 'ta
 # --------------------------------------------------------------------------------------------
 
 def load(path: str) -> Sweep:
-    """A sweep with the extra /cases columns and the guard messages parsed: trip_step,
-    trip_time (NaN where the case completed or the message cannot be parsed), message_ok."""
+    """A sweep as the loader returns it, with trip_step and trip_time as floats (NaN where the case
+    completed) and message_ok: whether a stopped case's message has the documented form, names
+    its guard and agrees with the trip step stored as a number (a check of the writer, which
+    assembles messages after the parallel loop)."""
     sweep = load_sweep(path)
-    with h5py.File(path, 'r') as h5:
-        for name in EXTRA_COLUMNS:
-            if f'/cases/{name}' in h5:
-                sweep.cases[name] = np.atleast_1d(np.asarray(decode(h5[f'/cases/{name}'][()])))
     n = len(sweep)
-    messages = sweep.cases.get('message', np.array([''] * n))
-    step = np.full(n, np.nan)
-    time = np.full(n, np.nan)
+    for column in ('trip_step', 'trip_time', 'message'):
+        if column not in sweep.cases:
+            raise Mpm1dFileError(path, f"missing /cases/{column} (written by mpm1d since the trip "
+                                       "columns were added; rerun the sweep)")
+    stopped = sweep.cases['status'] > 0
+    step = np.where(stopped, sweep.cases['trip_step'].astype(float), np.nan)
+    time = np.where(stopped, sweep.cases['trip_time'].astype(float), np.nan)
     parsed = np.ones(n, dtype=bool)
-    for i, text in enumerate(messages):
-        if sweep.cases['status'][i] <= 0:
-            continue
-        m = MESSAGE.search(str(text))
-        try:
-            if not (m and m.group(1) == sweep.cases['status_name'][i]):
-                raise ValueError(text)
-            step[i], time[i] = int(m.group(2)), float(m.group(4).replace('D', 'E'))
-        except ValueError:
-            parsed[i] = False
-            m = STEP_ONLY.search(str(text))
-            if m:
-                step[i] = int(m.group(1))
-                time[i] = step[i] * sweep.cases['dt'][i]
+    for i in np.flatnonzero(stopped):
+        m = MESSAGE.search(str(sweep.cases['message'][i]))
+        parsed[i] = bool(m and m.group(1) == sweep.cases['status_name'][i] and int(m.group(2)) == step[i])
     sweep.cases['trip_step'], sweep.cases['trip_time'], sweep.cases['message_ok'] = step, time, parsed
     return sweep
 
@@ -130,7 +114,7 @@ class Report:
 
     def save(self, fig, name: str, sources: str) -> None:
         self.footer(fig, sources)
-        path = os.path.join(self.out, name)
+        path = str(Path(self.out) / name)
         fig.savefig(path, dpi=130)
         plt.close(fig)
         self.figures.append(name)
@@ -214,7 +198,7 @@ def stability_section(report: Report, sweep: Sweep, predicted, elements: int, ti
     schemes = [s for s in SCHEMES if s in set(c['scheme'].tolist())]
     periods = sweep.config.get('periods', float('nan'))
     report.add(f'## {title}', '',
-               f'`{os.path.basename(sweep.path)}`: {len(sweep)} cases, {elements} element(s), '
+               f'`{Path(sweep.path).name}`: {len(sweep)} cases, {elements} element(s), '
                f'ppc {", ".join(map(str, ppcs))}, k = c dt/dx from {c["dt_fraction"].min():g} to '
                f'{c["dt_fraction"].max():g} ({len(set(c["dt_fraction"].round(6)))} values), '
                f'{g(periods)} periods of mode 1 (E = 200 GPa, rho = 7800 kg/m^3, v0 = 0.1 m/s). '
@@ -365,7 +349,7 @@ def plot_map(report: Report, sweep: Sweep, predicted, elements: int, figname: st
                  f'(ppc, k); bar L = 25 m, E = 200 GPa, rho = 7800 kg/m^3, v0 = 0.1 m/s, '
                  f'{g(sweep.config.get("periods", float("nan")))} periods', fontsize=9)
     fig.tight_layout(rect=(0, 0.03, 1, 0.95))
-    report.save(fig, figname, os.path.basename(sweep.path))
+    report.save(fig, figname, Path(sweep.path).name)
     report.add(f'![{figname}]({figname})', '')
 
 
@@ -516,7 +500,7 @@ def large_section(report: Report, sweep: Sweep) -> None:
     fig.suptitle('Large motion: relative error against v0/c; dotted: the last particle crosses into the '
                  'empty margin cell above pi/(4 ne ppc)', fontsize=9)
     fig.tight_layout(rect=(0, 0.03, 1, 0.94))
-    report.save(fig, 'large_motion.png', os.path.basename(sweep.path))
+    report.save(fig, 'large_motion.png', Path(sweep.path).name)
     report.add('![large_motion.png](large_motion.png)', '')
     class_counts(report, 'large motion', sweep, expected_stable, expected_unstable)
 
@@ -579,7 +563,7 @@ def long_section(report: Report, sweeps: List[Sweep]) -> None:
         fig.suptitle('Long runs: energy history over 100 periods (E = 200 GPa, rho = 7800 kg/m^3, '
                      'v0 = 0.1 m/s)', fontsize=9)
         fig.tight_layout(rect=(0, 0.03, 1, 0.94))
-        report.save(fig, 'long_energy.png', os.path.basename(sweep.path))
+        report.save(fig, 'long_energy.png', Path(sweep.path).name)
         report.add('![long_energy.png](long_energy.png)', '')
 
 
@@ -623,7 +607,7 @@ def modes_section(report: Report, sweep: Sweep) -> None:
     fig.suptitle('High modes: error against resolution (E = 200 GPa, rho = 7800 kg/m^3, v0 = 0.1 m/s, '
                  '2 periods of each mode)', fontsize=9)
     fig.tight_layout(rect=(0, 0.03, 1, 0.94))
-    report.save(fig, 'modes.png', os.path.basename(sweep.path))
+    report.save(fig, 'modes.png', Path(sweep.path).name)
     report.add('![modes.png](modes.png)', '')
     class_counts(report, 'high modes', sweep, np.ones(len(sweep), dtype=bool))
 
@@ -656,7 +640,7 @@ def mesh_section(report: Report, coarse: Optional[Sweep], fines: List[Sweep], la
             c = sweep.cases
             periods = c['steps'][0] * c['dt'][0] / (4.0 * float(sweep.config['length']) /
                                                     math.sqrt(c['youngs_modulus'][0] / c['density'][0]))
-            report.add(f'`{os.path.basename(sweep.path)}`: sweep wall time '
+            report.add(f'`{Path(sweep.path).name}`: sweep wall time '
                        f'{g(sweep.sweep[0].get("wall_time"))} s on {sweep.sweep[0].get("threads")} threads; '
                        f'{c["steps"][0]} steps are {periods:.2g} periods, so the error (relative to the '
                        'full amplitude) stays tiny: these runs test that large problems run and stay '
@@ -689,14 +673,14 @@ def parse_args(argv):
 
 def main(argv=None) -> int:
     args = parse_args(argv)
-    os.makedirs(args.output, exist_ok=True)
+    Path(args.output).mkdir(parents=True, exist_ok=True)
     report = Report(args.output)
-    path = lambda name: os.path.join(args.input, name)  # noqa: E731
+    path = lambda name: str(Path(args.input) / name)  # noqa: E731
     try:
         predicted = read_predicted(args.predicted)
         sections = []
         measured = {}
-        if os.path.exists(path('map.h5')):
+        if Path(path('map.h5')).exists():
             sweep = load(path('map.h5'))
             ne = int(sweep.cases['elements'][0])
             measured = stability_section(report, sweep, predicted, ne,
@@ -705,25 +689,25 @@ def main(argv=None) -> int:
         else:
             report.add('## 1. Time-step stability map', '', 'skipped: map.h5 not found', '')
         coarse = None
-        if os.path.exists(path('coarse.h5')):
+        if Path(path('coarse.h5')).exists():
             coarse = load(path('coarse.h5'))
             stability_section(report, coarse, predicted, 1, '1b. Time-step stability on one element',
                               'map 1 el.', 'stability_map_1element.png', energy_guard=True)
-        scale_files = sorted(glob.glob(path('scale_*.h5')))
+        scale_files = sorted(str(p) for p in Path(args.input).glob('scale_*.h5'))
         if scale_files:
             scale_section(report, load_many(scale_files))
         else:
             report.add('## 2. Stiffness and scale', '', 'skipped: no scale_*.h5', '')
-        if os.path.exists(path('large.h5')):
+        if Path(path('large.h5')).exists():
             large_section(report, load(path('large.h5')))
-        longs = [load(path(n)) for n in ('long100.h5', 'long1000.h5') if os.path.exists(path(n))]
+        longs = [load(path(n)) for n in ('long100.h5', 'long1000.h5') if Path(path(n)).exists()]
         if longs:
             long_section(report, longs)
-        if os.path.exists(path('modes.h5')):
+        if Path(path('modes.h5')).exists():
             modes_section(report, load(path('modes.h5')))
-        fines = [load(p) for p in sorted(glob.glob(path('fine_e*.h5')),
-                                         key=lambda p: int(re.sub(r'\D', '', os.path.basename(p)) or 0))]
-        largest = load_run(path('largest.h5')) if os.path.exists(path('largest.h5')) else None
+        fines = [load(str(p)) for p in sorted(Path(args.input).glob('fine_e*.h5'),
+                                              key=lambda p: int(re.sub(r'\D', '', p.name) or 0))]
+        largest = load_run(path('largest.h5')) if Path(path('largest.h5')).exists() else None
         mesh_section(report, coarse, fines, largest)
     except (Mpm1dFileError, OSError, KeyError) as exc:
         print(f'{PROGRAM}: {exc}', file=sys.stderr)
@@ -732,8 +716,8 @@ def main(argv=None) -> int:
     failed = [c for c in report.checks if not c[2]]
     head = ['# mpm1d numerical stability study', '',
             f'Code version: {", ".join(sorted(report.versions))}; written '
-            f'{datetime.datetime.now().isoformat(timespec="seconds")} by postprocess/{PROGRAM}.py from '
-            f'`{os.path.abspath(args.input)}`.', '']
+            f'{datetime.datetime.now().isoformat(timespec="seconds")} by {PROGRAM} (mpm1d_post.stability) from '
+            f'`{Path(args.input).resolve()}`.', '']
     if measured:
         ppcs = sorted({p for _, p in measured})
         head += ['## Measured against predicted critical time-step fraction (20 elements)', '',
@@ -760,12 +744,12 @@ def main(argv=None) -> int:
                  'duplicated when cases trip on several OpenMP threads at once (the same sweep on '
                  'threads=1 gives none). status/status_name are intact; for those cases the step '
                  'is taken from what can be parsed, the time as step x dt.', '']
-    if args.timings and os.path.exists(args.timings):
+    if args.timings and Path(args.timings).exists():
         rows = [line.split() for line in open(args.timings) if line.strip()]
         head += ['## Run time of each step of run.sh (s)', '', '| step | wall time (s) |', '|---|---|']
         head += [f'| {r[0]} | {r[1]} |' for r in rows if len(r) == 2]
         head.append('')
-    with open(os.path.join(args.output, 'summary.md'), 'w') as fh:
+    with open(Path(args.output) / 'summary.md', 'w') as fh:
         fh.write('\n'.join(head + report.lines) + '\n')
     print(f'{PROGRAM}: wrote summary.md and {len(report.figures)} figures ({", ".join(report.figures)}) '
           f'to {args.output}; checks: {len(report.checks) - len(failed)} passed, {len(failed)} failed')

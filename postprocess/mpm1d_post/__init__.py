@@ -1,0 +1,13 @@
+"""mpm1d post-processing: the loader of mpm1d's HDF5 files (``mpm1d_post.loader``, the one place that
+knows the file layout), figures and summaries, and the plotting commands (console scripts
+``mpm1d-plot-sweep``, ``mpm1d-paper-figures``, ``mpm1d-convergence-figures``,
+``mpm1d-stability-figures``, ``mpm1d-linear-stability``; each also ``python -m mpm1d_post.<module>``).
+
+Install: ``pip install -e postprocess`` (``studies/setup.sh`` does it for ``$PYTHON``).
+"""
+
+from .loader import (Mpm1dFileError, Parameter, Run, Snapshot, Sweep, load_run, load_sweep,
+                     merge_sweeps, parse_parameters)
+
+__all__ = ['Mpm1dFileError', 'Parameter', 'Run', 'Snapshot', 'Sweep', 'load_run', 'load_sweep',
+           'merge_sweeps', 'parse_parameters']
