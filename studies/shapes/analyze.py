@@ -5,12 +5,9 @@ import argparse
 import csv
 import os
 import pathlib
-import sys
 
 import h5py
 import numpy as np
-
-sys.path.insert(0, os.path.join(os.path.dirname(os.path.abspath(__file__)), '..', '..', 'postprocess'))
 
 SHAPES = ['linear', 'ugimp', 'cpgimp', 'bspline2', 'bspline3']
 SCHEMES = ['usf', 'usl', 'musl']
@@ -194,8 +191,8 @@ def table2_section(out):
     path = out / 'table2.h5'
     if not path.exists():
         return []
-    import figures as pf
-    from mpm1d_io import load_sweep
+    from mpm1d_post import figures as pf
+    from mpm1d_post.loader import load_sweep
     plt = plt_module()
     sweep = load_sweep(str(path))
     c = sweep.cases
@@ -469,7 +466,7 @@ def energy_section(out):
 def error_against_time(out, small):
     """Points: the FLIP convergence sweep (10-320 elements) and the other transfers' sweep (10-160),
     both timed (one thread); the Pareto front over all of them and the answer table."""
-    import figures as pf
+    from mpm1d_post import figures as pf
     cols = ('scheme', 'shape', 'transfer', 'elements', 'run_time', 'relative_error', 'status')
     pts = {k: list(small[k]) for k in cols}
     path = out / 'transfers_small.h5'

@@ -11,6 +11,7 @@ shape's, the answer table with three targets; and the Pareto front and order hel
 Plain script: last line `N passed, M failed`, exit status 1 on any failure."""
 
 import csv
+import importlib.util
 import os
 import re
 import subprocess
@@ -89,9 +90,10 @@ def main() -> int:
     check('answer table: one row per target 1e-2, 1e-3, 1e-4', [a[0] for a in answers] == ['1e-02', '1e-03', '1e-04'],
           str(answers))
     # helpers on synthetic data: the Pareto front and the observed order
-    sys.path.insert(0, HERE)
-    import analyze
-    import figures
+    spec = importlib.util.spec_from_file_location('analyze', os.path.join(HERE, 'analyze.py'))
+    analyze = importlib.util.module_from_spec(spec)
+    spec.loader.exec_module(analyze)
+    from mpm1d_post import figures
     t = np.array([1.0, 2.0, 3.0, 2.5, 0.5])
     e = np.array([1e-2, 1e-3, 1e-4, 1e-2, 5e-2])
     check('Pareto front of synthetic points', list(figures.pareto_front(t, e)) == [4, 0, 1, 2],

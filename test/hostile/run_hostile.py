@@ -13,6 +13,7 @@ import argparse
 import concurrent.futures as futures
 import glob
 import os
+import importlib.util
 import re
 import shutil
 import subprocess
@@ -25,8 +26,10 @@ import numpy as np
 
 HERE = Path(__file__).resolve().parent
 ROOT = HERE.parent.parent
-sys.path.insert(0, str(HERE))
-import cases as case_table  # noqa: E402  (the table lives next to this runner)
+# the table lives next to this runner
+_spec = importlib.util.spec_from_file_location('cases', HERE / 'cases.py')
+case_table = importlib.util.module_from_spec(_spec)
+_spec.loader.exec_module(case_table)
 
 COMPILER_WORDS = re.compile(r'Fortran runtime|At line \d+|Error termination|Backtrace|ERROR STOP|SIGSEGV|'
                             r'Program received signal|Segmentation fault|HDF5-DIAG|floating-point exceptions are signalling')
