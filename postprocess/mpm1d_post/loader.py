@@ -226,6 +226,9 @@ class Snapshot:
     volume_ratio: np.ndarray
     grid_x: np.ndarray
     grid_velocity: np.ndarray
+    #: Every other dataset of the snapshot, by name: what a scene writes besides the fields above
+    #: (``reference_x``, ``body``, ``youngs_modulus``, ...), as numpy arrays.
+    extra: Dict[str, np.ndarray] = field(default_factory=dict)
 
 
 @dataclass
@@ -297,8 +300,10 @@ def load_run(path: str) -> Run:
                     raise Mpm1dFileError(path, f"'{where}' lacks its 'time'/'step' attributes")
                 arrays = {key: np.asarray(_read(path, h5, f'{where}/{key}'), dtype=float)
                           for key in SNAPSHOT_DATASETS}
+                extra = {key: np.asarray(_read(path, h5, f'{where}/{key}')) for key in h5[where]
+                         if key not in SNAPSHOT_DATASETS}
                 snapshots.append(Snapshot(time=float(attrs['time']), step=int(attrs['step']),
-                                          **arrays))
+                                          extra=extra, **arrays))
     return Run(path=path, code_version=code_version, config=config, summary=summary,
                history=history, snapshots=snapshots, parameters=_parameters(path, config))
 

@@ -53,3 +53,22 @@ def test_single_run_and_sweep_say_the_same(mpm1d, tmp_path):
     assert stopped.summary['trip_step'] == sweep.cases['trip_step'][1]
     assert stopped.summary['trip_time'] == sweep.cases['trip_time'][1]
     assert isinstance(stopped.summary['status_name'], str) and stopped.summary['status_name'] == 'energy_growth'
+
+
+def test_a_scenes_own_snapshot_fields(mpm1d, tmp_path):
+    """Every dataset of a snapshot reaches the reader: the impact writes each particle's reference
+    position and body index besides the standard fields (at t = 0 the positions are the reference
+    positions, and the first half of the particles are bar 1's)."""
+    (tmp_path / 'impact.nml').write_text(
+        "&scene kind='impact', lengths=1.0, 1.0, youngs_moduli=200.0e9, 200.0e9, densities=7800.0, 7800.0,\n"
+        "       velocities=1.0, -1.0, gap=0.0, contact='frictionless' /\n"
+        "&discretisation elements=20, particles_per_element=2 /\n&run periods=0.5 /\n"
+        "&output file='impact.h5', snapshot_times=0.0 /\n")
+    assert _run(mpm1d, tmp_path, 'impact.nml').returncode == 0
+    run = load_run(tmp_path / 'impact.h5')
+    first = run.snapshots[0]
+    with h5py.File(tmp_path / 'impact.h5', 'r') as h5:
+        stored = set(h5[f'/snapshots/{sorted(h5["/snapshots"])[0]}'])
+    assert stored == set(first.extra) | {'x', 'velocity', 'stress', 'volume_ratio', 'grid_x', 'grid_velocity'}
+    assert np.array_equal(first.extra['reference_x'], first.x)
+    assert first.extra['body'].tolist() == [1] * 20 + [2] * 20

@@ -8,17 +8,16 @@ Plain script: last line `N passed, M failed`, exit status 1 on any failure.
 """
 
 import os
-import subprocess
 import sys
-import tempfile
 
 import numpy as np
 
 from mpm1d_post.convergence import floor_start, local_orders
 from mpm1d_post.loader import load_sweep
 
+from mpm1d_post.study_checks import Checks, run_quick
+
 HERE = os.path.dirname(os.path.abspath(__file__))
-ROOT = os.path.abspath(os.path.join(HERE, '..', '..'))
 
 results = []
 
@@ -35,9 +34,7 @@ def series(c, scheme, v0):
 
 
 def main() -> int:
-    out = tempfile.mkdtemp(prefix='mpm1d_convergence_')
-    proc = subprocess.run(['bash', os.path.join(HERE, 'run.sh'), out], cwd=ROOT,
-                          env=dict(os.environ, MPM1D_QUICK='1'), capture_output=True, text=True, timeout=600)
+    out, proc = run_quick(HERE, 'mpm1d_convergence_', timeout=600)
     check('run.sh (quick) exits 0', proc.returncode == 0, '' if proc.returncode == 0 else proc.stderr[-2000:])
     for name in ('convergence.h5', 'convergence.png', 'summary.md'):
         check(f'{name} written', os.path.isfile(os.path.join(out, name)))

@@ -15,7 +15,7 @@ from __future__ import annotations
 import argparse
 from pathlib import Path
 
-import h5py
+from mpm1d_post.loader import load_run, load_sweep
 import matplotlib
 import numpy as np
 
@@ -28,14 +28,14 @@ def text(value) -> str:
 
 
 def load(path: Path) -> dict:
-    """The /cases columns the report needs, and the scene's description from /config."""
-    with h5py.File(path, 'r') as h5:
-        cases = {name: h5['cases'][name][()] for name in ('scheme', 'elements', 'relative_error', 'status',
-                                                            'run_time', 'dt_fraction', 'max_energy_ratio')}
-        config = dict(h5['config'].attrs)
+    """The /cases columns the report needs, and the scene's description from /config (through the
+    loader of the postprocess package, the one reader of the file layout)."""
+    sweep = load_sweep(path)
+    cases = {name: sweep.cases[name] for name in ('scheme', 'elements', 'relative_error', 'status', 'run_time',
+                                                   'dt_fraction', 'max_energy_ratio')}
     cases['scheme'] = np.array([text(s) for s in cases['scheme']])
-    return {'path': path, 'cases': cases, 'kind': text(config['scene_kind']),
-            'namelist': text(config['namelist']), 'version': text(h5py.File(path, 'r').attrs['code_version'])}
+    return {'path': path, 'cases': cases, 'kind': text(sweep.config['scene_kind']),
+            'namelist': text(sweep.config['namelist']), 'version': text(sweep.code_versions[0])}
 
 
 def orders(elements: np.ndarray, errors: np.ndarray) -> list[float]:
@@ -89,12 +89,10 @@ def composite_stress(x, t, lengths, moduli, densities, v):
 
 def field_figure(path: Path, out: Path) -> str:
     """The last snapshot of a single run against the exact field; returns the summary's lines."""
-    with h5py.File(path, 'r') as h5:
-        config = dict(h5['config'].attrs)
-        snap = h5['snapshots'][sorted(h5['snapshots'])[-1]]
-        t = float(snap.attrs['time'])
-        x0, x, stress = snap['reference_x'][()], snap['x'][()], snap['stress'][()]
-        version = text(h5.attrs['code_version'])
+    run = load_run(path)
+    config, snap, version = run.config, run.snapshots[-1], text(run.code_version)
+    t = snap.time
+    x0, x, stress = snap.extra['reference_x'], snap.x, snap.stress
     kind = text(config['scene_kind'])
     fig, ax = plt.subplots(figsize=(5.5, 4))
     if kind == 'column':
@@ -130,8 +128,7 @@ def field_figure(path: Path, out: Path) -> str:
 
 def scene_label(path: Path) -> str:
     """The scene a study file ran: its kind, and the impact's contact."""
-    with h5py.File(path, 'r') as h5:
-        config = dict(h5['config'].attrs)
+    config = load_sweep(path).config
     kind = text(config['scene_kind'])
     return f"{kind} ({text(config['contact'])})" if kind == 'impact' else kind
 
@@ -272,20 +269,16 @@ def impact_figure(paths: list[Path], out: Path) -> list[str]:
              'final velocity 2 (m/s) | total momentum change / (sum M v) | final / initial energy | '
              'max u_cm,1 error / (v L/c) |', '|---|---|---|---|---|---|---|---|']
     for path in paths:
-        with h5py.File(path, 'r') as h5:
-            config = dict(h5['config'].attrs)
-            summary = {name: h5['summary'][name][()] for name in h5['summary']}
-            snaps = [h5['snapshots'][name] for name in sorted(h5['snapshots'])]
-            times = np.array([float(snap.attrs['time']) for snap in snaps])
-            body = snaps[0]['body'][()]
-            bar1 = body == 1
-            ucm = np.array([np.mean(snap['x'][()][bar1] - snap['reference_x'][()][bar1]) for snap in snaps])
-            interface = np.nonzero(bar1)[0][-1]
-            stress = np.array([snap['stress'][()][interface] for snap in snaps])
-            profile = min(range(len(snaps)), key=lambda i: abs(times[i] - 0.5 / np.sqrt(
-                np.atleast_1d(config['youngs_moduli'])[0] / np.atleast_1d(config['densities'])[0])))
-            x0_profile, stress_profile = snaps[profile]['reference_x'][()], snaps[profile]['stress'][()]
-            version = text(h5.attrs['code_version'])
+        run = load_run(path)
+        config, summary, snaps, version = run.config, run.summary, run.snapshots, text(run.code_version)
+        times = np.array([snap.time for snap in snaps])
+        bar1 = snaps[0].extra['body'] == 1
+        ucm = np.array([np.mean(snap.x[bar1] - snap.extra['reference_x'][bar1]) for snap in snaps])
+        interface = np.nonzero(bar1)[0][-1]
+        stress = np.array([snap.stress[interface] for snap in snaps])
+        profile = min(range(len(snaps)), key=lambda i: abs(times[i] - 0.5 / np.sqrt(
+            np.atleast_1d(config['youngs_moduli'])[0] / np.atleast_1d(config['densities'])[0])))
+        x0_profile, stress_profile = snaps[profile].extra['reference_x'], snaps[profile].stress
         contact = text(config['contact'])
         length = float(np.atleast_1d(config['lengths'])[0])
         rho = float(np.atleast_1d(config['densities'])[0])

@@ -6,7 +6,7 @@ import csv
 import os
 import pathlib
 
-import h5py
+from mpm1d_post.loader import load_run, load_sweep
 import numpy as np
 
 SHAPES = ['linear', 'ugimp', 'cpgimp', 'bspline2', 'bspline3']
@@ -26,17 +26,15 @@ def text(values):
 
 def load(path, fields=('ucm',)):
     """The /cases table of a sweep file (text columns as str arrays) and, where stored, each case's
-    history: {index: array} for one field, {index: {field: array}} for several."""
-    with h5py.File(path, 'r') as f:
-        cases = {k: f['cases'][k][()] for k in f['cases'].keys()}
-        for k in ('scheme', 'shape', 'transfer', 'status_name'):
-            cases[k] = text(cases[k])
-        histories = {}
-        if 'histories' in f:
-            for i in cases['index']:
-                g = f['histories'].get(f'{i:06d}')
-                if g is not None:
-                    histories[int(i)] = g[fields[0]][()] if len(fields) == 1 else {k: g[k][()] for k in fields}
+    history: {index: array} for one field, {index: {field: array}} for several (through the loader of
+    the postprocess package, the one reader of the file layout; its histories are numbered from 0,
+    the case index from 1)."""
+    sweep = load_sweep(path)
+    cases = dict(sweep.cases)
+    for k in ('scheme', 'shape', 'transfer', 'status_name'):
+        cases[k] = text(cases[k])
+    histories = {position + 1: (history[fields[0]] if len(fields) == 1 else {k: history[k] for k in fields})
+                 for position, history in sweep.histories.items()}
     return cases, histories
 
 
@@ -192,7 +190,6 @@ def table2_section(out):
     if not path.exists():
         return []
     from mpm1d_post import figures as pf
-    from mpm1d_post.loader import load_sweep
     plt = plt_module()
     sweep = load_sweep(str(path))
     c = sweep.cases
@@ -265,18 +262,13 @@ def table2_section(out):
 def read_single(path):
     """(summary, history, snapshots) of a single-run file; snapshots: list of dicts with time,
     reference_x, x, stress."""
-    with h5py.File(path, 'r') as f:
-        summary = {k: f['summary'][k][()] for k in f['summary']}
-        for k in ('status_name', 'message'):
-            summary[k] = summary[k].decode() if isinstance(summary[k], bytes) else str(summary[k])
-        history = {k: f['history'][k][()] for k in f['history']} if 'history' in f else None
-        snaps = []
-        if 'snapshots' in f:
-            for name in sorted(f['snapshots'], key=int):
-                g = f['snapshots'][name]
-                snaps.append(dict(time=float(np.ravel(g.attrs['time'])[0]),
-                                  **{k: g[k][()] for k in ('reference_x', 'x', 'stress')}))
-    return summary, history, snaps
+    run = load_run(path)
+    summary = dict(run.summary)
+    for k in ('status_name', 'message'):
+        summary[k] = str(summary[k])
+    snaps = [dict(time=snap.time, reference_x=snap.extra['reference_x'], x=snap.x, stress=snap.stress)
+             for snap in run.snapshots]
+    return summary, run.history, snaps
 
 
 def bar_exact_stress(X, t, v0):

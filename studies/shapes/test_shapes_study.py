@@ -14,27 +14,19 @@ import csv
 import importlib.util
 import os
 import re
-import subprocess
 import sys
-import tempfile
 
 import numpy as np
 
+from mpm1d_post.study_checks import Checks, run_quick
+
 HERE = os.path.dirname(os.path.abspath(__file__))
-ROOT = os.path.abspath(os.path.join(HERE, '..', '..'))
-results = []
-
-
-def check(name, ok, detail=''):
-    results.append(bool(ok))
-    print(f"{'ok  ' if ok else 'FAIL'} {name}" + (f': {detail}' if detail and not ok else ''))
+check = Checks()
+results = check.results
 
 
 def main() -> int:
-    out = tempfile.mkdtemp(prefix='mpm1d_shapes_')
-    env = dict(os.environ, MPM1D_QUICK='1')
-    proc = subprocess.run(['bash', os.path.join(HERE, 'run.sh'), out], cwd=ROOT, env=env,
-                          capture_output=True, text=True, timeout=900)
+    out, proc = run_quick(HERE, 'mpm1d_shapes_', timeout=900)
     check('run.sh (quick) exits 0', proc.returncode == 0, proc.stdout[-2000:] + proc.stderr[-2000:])
     for name in ('convergence_small.h5', 'convergence_large.h5', 'transfers_small.h5', 'transfers_large.h5',
                  'stability.h5', 'predicted_shapes.csv', 'temporal_small.h5', 'table2.h5', 'energy_small.h5',

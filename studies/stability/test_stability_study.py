@@ -9,31 +9,23 @@ predicted one. Plain script: last line `N passed, M failed`, exit status 1 on an
 import csv
 import os
 import re
-import subprocess
 import sys
-import tempfile
+
+from mpm1d_post.study_checks import Checks, run_quick
 
 HERE = os.path.dirname(os.path.abspath(__file__))
-ROOT = os.path.abspath(os.path.join(HERE, '..', '..'))
 
 FIGURES = ('stability_map.png', 'stability_map_zoom.png', 'stability_map_1element.png', 'scale.png',
            'large_motion.png', 'long_energy.png', 'modes.png')
 SWEEPS = ('map.h5', 'coarse.h5', 'large.h5', 'long100.h5', 'long1000.h5', 'modes.h5',
           'fine_e10000.h5', 'largest.h5')
 
-results = []
-
-
-def check(name, ok, detail=''):
-    results.append(bool(ok))
-    print(f"{'ok  ' if ok else 'FAIL'} {name}" + (f': {detail}' if detail and not ok else ''))
+check = Checks()
+results = check.results
 
 
 def main() -> int:
-    out = tempfile.mkdtemp(prefix='mpm1d_stability_')
-    env = dict(os.environ, MPM1D_QUICK='1')
-    proc = subprocess.run(['bash', os.path.join(HERE, 'run.sh'), out], cwd=ROOT, env=env,
-                          capture_output=True, text=True, timeout=600)
+    out, proc = run_quick(HERE, 'mpm1d_stability_', timeout=600)
     check('run.sh (quick) exits 0', proc.returncode == 0, proc.stdout[-2000:] + proc.stderr[-2000:])
     for name in SWEEPS:
         check(f'{name} written', os.path.isfile(os.path.join(out, name)))
