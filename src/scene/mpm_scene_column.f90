@@ -20,6 +20,7 @@ module mpm_scene_column
    use mpm_grid, only: grid_t
    use mpm_particles, only: particles_t, particles_init
    use mpm_shape, only: shape_cache_t
+   use mpm_particle_forces, only: p2g_particle_forces
    use mpm_scene, only: scene_t, margin_for
    implicit none
    private
@@ -104,7 +105,13 @@ contains
       real(dp), intent(in) :: t
       type(shape_cache_t), intent(in) :: cache
       type(particles_t), intent(in) :: particles
-      grid%force = grid%force - self%gravity*grid%mass
+      if (grid%mirror) then
+         ! the nodal masses hold the mirror image's too (mpm_operations, mirror_fold): the weight of
+         ! the column's own particles, sum_p N_Ip m_p (-g), which the scheme then reflects
+         call p2g_particle_forces(cache, -self%gravity*particles%mass_of, grid)
+      else
+         grid%force = grid%force - self%gravity*grid%mass  ! = sum_p N_Ip m_p (-g): partition of unity
+      end if
    end subroutine add_forces
 
    !> The static end displacement u_s(L) = -g L^2/(2 c^2) (m), about which the free end oscillates.

@@ -197,7 +197,9 @@ contains
    !> force reversed; the ghost node then holds the reflection of its partner (m, -p, -f), and the
    !> grid solve gives it -v, -a. This is exact where the solution is odd about the fixed end, as the
    !> elastic bar's (u = 0 there, and u_xx = u_tt/c^2 = 0 without a body force), so the wide shapes
-   !> keep their interior accuracy at the fixed end; a body force there leaves a jump in u_xx.
+   !> keep their interior accuracy at the fixed end. A body force is reflected the same way (the
+   !> image's is the mirror of the body's: mpm_schemes, add_external_forces); its u_xx then jumps at
+   !> the end, which the B-splines' second order survives (the column: 2.04-2.15, USF, USL, MUSL).
    subroutine mirror_fold(grid, with_kinematics, with_force)
       type(grid_t), intent(inout) :: grid
       logical, intent(in) :: with_kinematics, with_force

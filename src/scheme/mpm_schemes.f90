@@ -13,7 +13,7 @@ module mpm_schemes
    use mpm_scene, only: scene_t
    use mpm_diagnostics, only: pass_totals_t
    use mpm_operations, only: locate_particles, p2g_mass_momentum, p2g_internal_force, nodal_velocities, &
-                             solve_grid, g2p, update_stress
+                             solve_grid, g2p, update_stress, mirror_fold
    use mpm_contact, only: bodies_t, locate_bodies, contact_velocities, contact_momentum, combine_bodies
    implicit none
    private
@@ -58,10 +58,33 @@ contains
    contains
       !> The scene's external forces (when it has some) and the explicit momentum update.
       subroutine momentum_update()
-         if (scene%external_forces) call scene%add_forces(grid, t, cache, particles)
+         if (scene%external_forces) call add_external_forces(scene, cache, particles, grid, t)
          call solve_grid(grid, dt)
       end subroutine momentum_update
    end subroutine scheme_step
+
+   !> The scene's external forces added to the grid force. With mirror ghosts at a fixed end the
+   !> internal force is already reflected (mirror_fold), and the scene adds the force of the body's
+   !> own particles: that part is reflected the same way (the image's body force is the mirror of the
+   !> body's, as its displacement is), so that a ghost node holds the exact reflection of its partner.
+   !> Without it gravity landed on the ghost nodes unreflected (the column: B-splines order 1.5).
+   subroutine add_external_forces(scene, cache, particles, grid, t)
+      class(scene_t), intent(in) :: scene
+      type(shape_cache_t), intent(in) :: cache
+      type(particles_t), intent(in) :: particles
+      type(grid_t), intent(inout) :: grid
+      real(dp), intent(in) :: t
+      real(dp), allocatable :: internal(:)
+      if (.not. (grid%mirror .or. grid%mirror_right >= 0)) then
+         call scene%add_forces(grid, t, cache, particles)
+         return
+      end if
+      internal = grid%force
+      grid%force = 0.0_dp
+      call scene%add_forces(grid, t, cache, particles)
+      call mirror_fold(grid, .false., .true.)
+      grid%force = grid%force + internal
+   end subroutine add_external_forces
 
    !> scheme_step with a velocity field per body and frictionless contact (mpm_contact): the same
    !> operations on the stacked per-body fields, the contact correction after each nodal velocity

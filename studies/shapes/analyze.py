@@ -635,17 +635,17 @@ def limits_text(rows, column, col_el):
     if column and len(col_el) >= 2:
         e = lambda scheme, shape, n: column.get((scheme, shape, n), (np.nan, 0))[0]
         ratio = [e('usl', h, col_el[-1]) / e('usl', 'linear', col_el[-1]) for h in ('bspline2', 'bspline3')]
-        out.append(f"- **Body force at a mirrored end (column).** The mirror is exact only for a solution odd about the "
-                   "fixed end; gravity is not (u_xx = g/c^2 at x = 0), and the scene adds m_I (-g) to the ghost "
-                   "after the fold. At a fixed dt the B-splines under USL converge at "
+        out.append(f"- **Body force at a mirrored end (column).** Gravity is not odd about the fixed end (u_xx = "
+                   "g/c^2 at x = 0); the image's body force is the mirror of the column's (the scheme reflects the "
+                   "external force of the column's own particles onto the ghost as it does the internal force), so "
+                   "u_xx jumps at the end. At a fixed dt the B-splines converge under USL at "
                    f"{o('column', 'usl', ['bspline2', 'bspline3'])} ({col_el[0]} to {col_el[-1]} elements) with errors "
-                   f"{rng(ratio)}x linear's at {col_el[-1]} elements, while USF and MUSL keep "
-                   f"{o('column', 'usf', ['bspline2', 'bspline3'])} and {o('column', 'musl', ['bspline2', 'bspline3'])} "
-                   "(a likely reason: they take the strain rate from velocities folded without the external force, USF "
-                   "before the solve and MUSL after the remap). GIMP matches linear ("
+                   f"{rng(ratio)}x linear's at {col_el[-1]} elements, under USF and MUSL at "
+                   f"{o('column', 'usf', ['bspline2', 'bspline3'])} and {o('column', 'musl', ['bspline2', 'bspline3'])}. "
+                   "GIMP matches linear ("
                    f"{o('column', 'usl', ['ugimp', 'cpgimp'])} against {o('column', 'usl', ['linear'])}): at small "
                    "strain its boxes do not reach the ghost node. The manufactured scene's body force vanishes at "
-                   "both fixed ends (b is odd about them), so its mirror stays exact.")
+                   "both fixed ends (b is odd about them).")
     return out
 
 
