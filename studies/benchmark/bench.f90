@@ -53,8 +53,7 @@ program mpm1d_bench
    case ('scenes')
       call scenes()
    case default
-      write (error_unit, '(a)') 'usage: mpm1d_bench throughput|stream|study ... (see the source)'
-      error stop 2
+      call usage('')
    end select
 
 contains
@@ -65,18 +64,37 @@ contains
       call get_command_argument(i, text)
    end function arg
 
+   !> Print the usage (after `problem`, when given) and stop with exit status 2.
+   subroutine usage(problem)
+      character(len=*), intent(in) :: problem
+      if (len(problem) > 0) write (error_unit, '(a)') 'mpm1d_bench: '//problem
+      write (error_unit, '(a)') 'usage: mpm1d_bench throughput SCHEME ELEMENTS PPC STEPS REPEATS THREADS '// &
+         '[fused|generic [SHAPE [TRANSFER]]]', &
+         '       mpm1d_bench stream N REPEATS', &
+         '       mpm1d_bench study SCHEME ELEMENTS PPC DT_FRACTION END_TIME REPEATS', &
+         '       mpm1d_bench scenes ELEMENTS PPC STEPS REPEATS', &
+         '(studies/benchmark/bench.f90 says what each prints)'
+      stop 2, quiet=.true.
+   end subroutine usage
+
    integer function iarg(i)
       integer, intent(in) :: i
       character(len=64) :: text
+      integer :: stat
       text = arg(i)
-      read (text, *) iarg
+      read (text, *, iostat=stat) iarg
+      if (stat /= 0 .or. len_trim(text) == 0) call usage('argument '//achar(48 + i)//' of '//trim(arg(1))// &
+                                                         ' is missing or not a whole number')
    end function iarg
 
    real(dp) function rarg(i)
       integer, intent(in) :: i
       character(len=64) :: text
+      integer :: stat
       text = arg(i)
-      read (text, *) rarg
+      read (text, *, iostat=stat) rarg
+      if (stat /= 0 .or. len_trim(text) == 0) call usage('argument '//achar(48 + i)//' of '//trim(arg(1))// &
+                                                         ' is missing or not a number')
    end function rarg
 
    subroutine throughput()
