@@ -157,7 +157,7 @@ contains
    subroutine evaluate_shapes(cache, grid, x, outside)
       type(shape_cache_t), intent(inout) :: cache
       type(grid_t), intent(in) :: grid
-      real(dp), intent(in) :: x(:)
+      real(dp), intent(in), contiguous :: x(:)
       integer, intent(out) :: outside
       if (.not. allocated(cache%first)) then
          cache%support = shape_support(cache%kind)
