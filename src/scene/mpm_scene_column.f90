@@ -107,7 +107,8 @@ contains
       type(particles_t), intent(in) :: particles
       if (grid%mirror) then
          ! the nodal masses hold the mirror image's too (mpm_operations, mirror_fold): the weight of
-         ! the column's own particles, sum_p N_Ip m_p (-g), which the scheme then reflects
+         ! the column's own particles, sum_p N_Ip m_p (-g), which the scheme reflects with the
+         ! internal force
          call p2g_particle_forces(cache, -self%gravity*particles%mass_of, grid)
       else
          grid%force = grid%force - self%gravity*grid%mass  ! = sum_p N_Ip m_p (-g): partition of unity

@@ -56,7 +56,9 @@ contains
    end subroutine locate_particles
 
    !> m_I and p_I from the particles (grid fields cleared first); with `with_force` also the internal
-   !> force f_I = -sum_p dN_Ip sigma_p V_p, V_p = J_p V0_p, in the same pass.
+   !> force f_I = -sum_p dN_Ip sigma_p V_p, V_p = J_p V0_p, in the same pass. Mass and momentum are
+   !> reflected at mirrored fixed ends here; the force once the scene has added its external forces
+   !> (the scheme calls mirror_fold for it before the solve).
    subroutine p2g_mass_momentum(cache, particles, grid, with_force)
       type(shape_cache_t), intent(inout) :: cache
       type(particles_t), intent(in) :: particles
@@ -66,17 +68,17 @@ contains
       grid%momentum = 0.0_dp
       if (with_force) grid%force = 0.0_dp
       call scatter(cache, particles, grid, .true., with_force)
-      call mirror_fold(grid, .true., with_force)
+      call mirror_fold(grid, .true., .false.)
    end subroutine p2g_mass_momentum
 
-   !> f_I = -sum_p dN_Ip sigma_p V_p, V_p = J_p V0_p (grid force cleared first).
+   !> f_I = -sum_p dN_Ip sigma_p V_p, V_p = J_p V0_p (grid force cleared first; reflected at mirrored
+   !> ends by the scheme, with the external forces: see p2g_mass_momentum).
    subroutine p2g_internal_force(cache, particles, grid)
       type(shape_cache_t), intent(inout) :: cache
       type(particles_t), intent(in) :: particles
       type(grid_t), intent(inout) :: grid
       grid%force = 0.0_dp
       call scatter(cache, particles, grid, .false., .true.)
-      call mirror_fold(grid, .false., .true.)
    end subroutine p2g_internal_force
 
    !> The P2G sums, m_I += N_Ip m_p and p_I += N_Ip m_p v_p (`kinematics`), f_I -= dN_Ip sigma_p V_p
@@ -198,8 +200,9 @@ contains
    !> grid solve gives it -v, -a. This is exact where the solution is odd about the fixed end, as the
    !> elastic bar's (u = 0 there, and u_xx = u_tt/c^2 = 0 without a body force), so the wide shapes
    !> keep their interior accuracy at the fixed end. A body force is reflected the same way (the
-   !> image's is the mirror of the body's: mpm_schemes, add_external_forces); its u_xx then jumps at
-   !> the end, which the B-splines' second order survives (the column: 2.04-2.15, USF, USL, MUSL).
+   !> image's is the mirror of the body's: the scheme folds the force after the scene's external
+   !> forces); its u_xx then jumps at the end, which the B-splines' second order survives (the column:
+   !> 2.07-2.08 under USF, USL and MUSL).
    subroutine mirror_fold(grid, with_kinematics, with_force)
       type(grid_t), intent(inout) :: grid
       logical, intent(in) :: with_kinematics, with_force

@@ -56,35 +56,15 @@ contains
          call update_stress(cache, particles, grid, dt, youngs_modulus, totals)
       end select
    contains
-      !> The scene's external forces (when it has some) and the explicit momentum update.
+      !> The scene's external forces (when it has some), the force reflected at mirrored fixed ends
+      !> (internal and external together: the image's body force is the mirror of the body's, as its
+      !> displacement is), and the explicit momentum update.
       subroutine momentum_update()
-         if (scene%external_forces) call add_external_forces(scene, cache, particles, grid, t)
+         if (scene%external_forces) call scene%add_forces(grid, t, cache, particles)
+         call mirror_fold(grid, .false., .true.)
          call solve_grid(grid, dt)
       end subroutine momentum_update
    end subroutine scheme_step
-
-   !> The scene's external forces added to the grid force. With mirror ghosts at a fixed end the
-   !> internal force is already reflected (mirror_fold), and the scene adds the force of the body's
-   !> own particles: that part is reflected the same way (the image's body force is the mirror of the
-   !> body's, as its displacement is), so that a ghost node holds the exact reflection of its partner.
-   !> Without it gravity landed on the ghost nodes unreflected (the column: B-splines order 1.5).
-   subroutine add_external_forces(scene, cache, particles, grid, t)
-      class(scene_t), intent(in) :: scene
-      type(shape_cache_t), intent(in) :: cache
-      type(particles_t), intent(in) :: particles
-      type(grid_t), intent(inout) :: grid
-      real(dp), intent(in) :: t
-      real(dp), allocatable :: internal(:)
-      if (.not. (grid%mirror .or. grid%mirror_right >= 0)) then
-         call scene%add_forces(grid, t, cache, particles)
-         return
-      end if
-      internal = grid%force
-      grid%force = 0.0_dp
-      call scene%add_forces(grid, t, cache, particles)
-      call mirror_fold(grid, .false., .true.)
-      grid%force = grid%force + internal
-   end subroutine add_external_forces
 
    !> scheme_step with a velocity field per body and frictionless contact (mpm_contact): the same
    !> operations on the stacked per-body fields, the contact correction after each nodal velocity
@@ -126,6 +106,7 @@ contains
    contains
       subroutine momentum_update()
          if (scene%external_forces) call scene%add_forces(bodies%fields, t, cache, particles)
+         call mirror_fold(bodies%fields, .false., .true.)
          call solve_grid(bodies%fields, dt)
          call contact_momentum(bodies, dt)
       end subroutine momentum_update
