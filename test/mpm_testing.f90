@@ -1,10 +1,10 @@
 !> In-house test helpers: counted checks and running the mpm1d executable from a test.
 module mpm_testing
-   use mpm_kinds, only: dp
+   use mpm_kinds, only: dp, i8
    use mpm_strings, only: str
    implicit none
    private
-   public :: tester_t, app_path, run_app, read_text, scratch_dir, write_lines
+   public :: tester_t, app_path, run_app, read_text, scratch_dir, write_lines, check_include_checksum
 
    !> Counts checks and failures; `finish` prints "N passed, M failed" and ends with error stop 1 on failure.
    type :: tester_t
@@ -12,6 +12,7 @@ module mpm_testing
       integer :: passed = 0
       integer :: failed = 0
    contains
+
       procedure :: check => tester_check
       procedure :: check_close => tester_check_close
       procedure :: check_contains => tester_check_contains
@@ -19,6 +20,34 @@ module mpm_testing
    end type tester_t
 
 contains
+
+   !> The include files `paths` (separated by spaces) that the module file `source` compiles in are
+   !> the ones it was compiled from: fpm rebuilds a source when its own text changes, not when a file
+   !> it includes does (fpm issue #358), so the module names their checksum in the constant `name`
+   !> (`compiled`) and this check fails, with the value to set, until the two agree.
+   subroutine check_include_checksum(t, source, name, compiled, paths)
+      type(tester_t), intent(inout) :: t
+      character(len=*), intent(in) :: source, name, paths
+      integer(i8), intent(in) :: compiled
+      character(len=:), allocatable :: rest, text
+      integer(i8) :: checksum
+      integer :: i, cut
+      text = ''
+      rest = trim(adjustl(paths))
+      do while (len(rest) > 0)
+         cut = index(rest, ' ')
+         if (cut == 0) cut = len(rest) + 1
+         text = text//read_text(rest(:cut - 1))
+         rest = trim(adjustl(rest(cut:)))
+      end do
+      checksum = 0  ! polynomial checksum modulo the prime 2^31 - 1
+      do i = 1, len(text)
+         checksum = mod(checksum*131_i8 + ichar(text(i:i)), 2147483647_i8)
+      end do
+      call t%check(source//' was compiled from '//paths, len(text) > 0 .and. checksum == compiled, &
+                   'an include file changed: set '//name//' in '//source//' to '//str(checksum)// &
+                   ' (then fpm rebuilds it)')
+   end subroutine check_include_checksum
 
    subroutine tester_check(self, label, condition, detail)
       class(tester_t), intent(inout) :: self

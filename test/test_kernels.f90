@@ -14,9 +14,9 @@ program test_kernels
    use mpm_shape_linear, only: locate
    use mpm_grid, only: grid_t, grid_init
    use mpm_particles, only: particles_t, particles_init
-   use mpm_transfer, only: pass_totals_t, p2g, g2p_stress_then_p2g, g2p_then_p2g, stress_then_force, g2p_with_remap, &
-                           stress_then_p2g
-   use mpm_testing, only: tester_t
+   use mpm_transfer, only: pass_totals_t, p2g, fused_pass, pass_usl, pass_usf_move, pass_usf_stress, pass_musl_remap, &
+                           pass_musl_stress, kernel_source_checksum
+   use mpm_testing, only: tester_t, check_include_checksum
    use mpm_strings, only: str
    implicit none
    type(tester_t) :: t
@@ -30,9 +30,12 @@ program test_kernels
    call check_musl(13, 11)
    call check_musl(20000, 10)
    call check_moving_ranges()
+   call check_include_checksum(t, 'src/scheme/fused/mpm_transfer.f90', 'kernel_source_checksum', kernel_source_checksum, &
+                               'src/scheme/fused/mpm_segment_arguments.inc src/scheme/fused/mpm_segment_kernel.inc')
    call t%finish()
 
 contains
+
 
    subroutine check_pass(scheme, elements, per_element)
       character(len=*), intent(in) :: scheme
@@ -117,12 +120,12 @@ contains
 
       ! the pass(es) under test
       if (scheme == 'usl') then
-         call g2p_stress_then_p2g(particles, grid, dt, youngs_modulus, totals)
+         call fused_pass(pass_usl, particles, grid, dt, youngs_modulus, totals)
       else
-         call stress_then_force(particles, grid, dt, youngs_modulus, stress_totals)
+         call fused_pass(pass_usf_stress, particles, grid, dt, youngs_modulus, stress_totals)
          call all_close(label//'stress*volume per element (USF force)', grid%element_stress_volume, &
                         stress_volume, 1.0e-11_dp, 1.0e-12_dp)
-         call g2p_then_p2g(particles, grid, dt, totals)
+         call fused_pass(pass_usf_move, particles, grid, dt, 0.0_dp, totals)
          totals%strain_energy = stress_totals%strain_energy
          totals%min_volume_ratio = stress_totals%min_volume_ratio
       end if
@@ -207,7 +210,7 @@ contains
          momentum_left(e) = momentum_left(e) + (1 - xi0(p))*m*v(p)
          momentum_right(e) = momentum_right(e) + xi0(p)*m*v(p)
       end do
-      call g2p_with_remap(particles, grid, dt, totals)
+      call fused_pass(pass_musl_remap, particles, grid, dt, 0.0_dp, totals)
       call all_close(label//'remap: positions', particles%x, x, 1.0e-14_dp, 1.0e-14_dp)
       call all_close(label//'remap: velocities', particles%v, v, 1.0e-13_dp, 1.0e-14_dp)
       call t%check(label//'remap: cells unchanged (start-of-step shape functions)', all(particles%cell == cell0))
@@ -237,7 +240,7 @@ contains
          momentum_right(c) = momentum_right(c) + xi*m*v(p)
          stress_volume(c) = stress_volume(c) + stress(p)*jac(p)*particles%volume0
       end do
-      call stress_then_p2g(particles, grid, dt, youngs_modulus, totals)
+      call fused_pass(pass_musl_stress, particles, grid, dt, youngs_modulus, totals)
       call all_close(label//'stress pass: stresses', particles%stress, stress, 1.0e-13_dp, 1.0e-13_dp)
       call all_close(label//'stress pass: volume ratios', particles%volume_ratio, jac, 1.0e-14_dp, 0.0_dp)
       call all_close(label//'stress pass: mass shares (left)', grid%element_mass_left, mass_left, 1.0e-12_dp, 0.0_dp)
@@ -286,7 +289,7 @@ contains
             call locate(x(p), grid%inv_dx, elements, c, xi)
             held(c) = held(c) + particles%mass
          end do
-         call g2p_stress_then_p2g(particles, grid, dt, youngs_modulus, totals)
+         call fused_pass(pass_usl, particles, grid, dt, youngs_modulus, totals)
          call t%check(label//'no particle left the grid', totals%outside == 0)
          if (pass == 3) crossed = any(segment_of(grid, particles%cell) /= segment_of(grid, start_cells))
          call all_close(label//'positions', particles%x, x, 1.0e-14_dp, 1.0e-14_dp)

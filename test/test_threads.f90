@@ -11,7 +11,7 @@ program test_threads
    use mpm_errors, only: error_t
    use mpm_grid, only: grid_t, grid_init, assemble_nodes, parallel_nodes
    use mpm_particles, only: particles_t, particles_init
-   use mpm_transfer, only: pass_totals_t, parallel_threshold, g2p_stress_then_p2g
+   use mpm_transfer, only: pass_totals_t, parallel_threshold, fused_pass, pass_usl
    use mpm_fused, only: fused_start, fused_step
    use mpm_schemes, only: scheme_usf, scheme_usl, scheme_musl, scheme_step
    use mpm_testing, only: tester_t
@@ -150,7 +150,7 @@ contains
          pa%x(k + 1) = tmp
          ga%velocity = 0
          ga%acceleration = 0
-         call g2p_stress_then_p2g(pa, ga, 0.0_dp, 200.0e9_dp, ta)
+         call fused_pass(pass_usl, pa, ga, 0.0_dp, 200.0e9_dp, ta)
          call t%check('overtaking: particles sorted by element again', all(pa%cell(2:) >= pa%cell(:pa%count - 1)))
          call assemble_nodes(ga, .false.)
          call t%check_close('overtaking: mass conserved', sum(ga%mass), pa%mass*pa%count, rtol=1.0e-12_dp)

@@ -9,8 +9,8 @@ module mpm_fused
    use mpm_grid, only: grid_t, assemble_nodes, assemble_and_solve, nodal_velocity, solve_momentum
    use mpm_particles, only: particles_t
    use mpm_schemes, only: scheme_usf, scheme_usl, scheme_musl
-   use mpm_transfer, only: pass_totals_t, p2g, stress_then_force, g2p_then_p2g, g2p_stress_then_p2g, &
-                           g2p_with_remap, stress_then_p2g, merge_totals
+   use mpm_transfer, only: pass_totals_t, p2g, fused_pass, pass_usf_stress, pass_usf_move, pass_usl, pass_musl_remap, &
+                           pass_musl_stress, merge_totals
    implicit none
    private
    public :: fused_start, fused_step
@@ -42,19 +42,19 @@ contains
       case (scheme_usf)
          call assemble_nodes(grid, .false.)
          call nodal_velocity(grid)
-         call stress_then_force(particles, grid, dt, youngs_modulus, stress_totals)
+         call fused_pass(pass_usf_stress, particles, grid, dt, youngs_modulus, stress_totals)
          call solve_momentum(grid, dt, .true.)
-         call g2p_then_p2g(particles, grid, dt, totals)
+         call fused_pass(pass_usf_move, particles, grid, dt, youngs_modulus, totals)
          call merge_totals(totals, stress_totals)
       case (scheme_usl)
          call assemble_and_solve(grid, dt)
-         call g2p_stress_then_p2g(particles, grid, dt, youngs_modulus, totals)
+         call fused_pass(pass_usl, particles, grid, dt, youngs_modulus, totals)
       case (scheme_musl)
          call assemble_and_solve(grid, dt)
-         call g2p_with_remap(particles, grid, dt, totals)
+         call fused_pass(pass_musl_remap, particles, grid, dt, youngs_modulus, totals)
          call assemble_nodes(grid, .false.)
          call nodal_velocity(grid)
-         call stress_then_p2g(particles, grid, dt, youngs_modulus, stress_totals)
+         call fused_pass(pass_musl_stress, particles, grid, dt, youngs_modulus, stress_totals)
          call merge_totals(totals, stress_totals)
       end select
    end subroutine fused_step

@@ -31,10 +31,27 @@ module mpm_transfer
                         furthest_particle
    implicit none
    private
-   integer, parameter :: pass_usf_move = 1, pass_usf_stress = 2, pass_usl = 3, pass_musl_remap = 4, &
-                         pass_musl_stress = 5
+   !> The fused passes (fused_pass; what each does: the table in mpm_segment_kernel.inc):
+   !>   pass_usf_stress   USF, first half: stress update from the nodal velocities of this step's
+   !>                     mapping (d eps = dt sum dN v_I), then stress*volume per element (internal force)
+   !>   pass_usf_move     USF, second half: G2P with the solved grid (v_p += dt sum N a_I,
+   !>                     x_p += dt sum N v_I), then mass and momentum at the new positions
+   !>   pass_usl          USL in one pass: G2P, stress update from the updated nodal velocities, then
+   !>                     mass, momentum and stress*volume at the new positions
+   !>   pass_musl_remap   MUSL, first pass: G2P, and the new momentum mapped back with the same
+   !>                     (start-of-step) shape functions (mass shares unchanged)
+   !>   pass_musl_stress  MUSL, second pass: stress update from the remapped nodal velocities, then
+   !>                     mass, momentum and stress*volume at the new positions
+   integer, parameter, public :: pass_usf_move = 1, pass_usf_stress = 2, pass_usl = 3, pass_musl_remap = 4, &
+                                 pass_musl_stress = 5
    public :: pass_totals_t, clear_element_shares, merge_totals
-   public :: p2g, g2p_then_p2g, stress_then_force, g2p_stress_then_p2g, g2p_with_remap, stress_then_p2g
+   public :: p2g, fused_pass
+
+   !> The segment kernels are compiled from mpm_segment_arguments.inc and mpm_segment_kernel.inc,
+   !> whose changes fpm does not notice (it rebuilds a file when its own text changes: fpm issue
+   !> #358). Their checksum, here, is checked by test_kernels, which says the new value after an
+   !> edit; setting it makes fpm rebuild this file.
+   integer(i8), parameter, public :: kernel_source_checksum = 2033617887_i8
    public :: parallel_threshold, segment_particles
 
    !> Runs with fewer particles are one segment: a pass then costs a few microseconds, less than
@@ -58,6 +75,23 @@ module mpm_transfer
    !> Two blocks ahead (about 0.4 us of work at the one-thread rate): one block ahead gained nothing,
    !> three and four blocks ahead less than two.
    integer, parameter :: prefetch_ahead = 2*block_size
+
+   !> The scalars of a segment kernel: the grid's element count and 1/dx, the time step, Young's
+   !> modulus, the particles' mass and initial volume.
+   type :: pass_constants_t
+      integer :: elements
+      real(dp) :: inv_dx, dt, youngs_modulus, mass, volume0
+   end type pass_constants_t
+
+   abstract interface
+      !> A segment kernel (see segment_kernel.inc): segment k of one fused pass.
+      subroutine segment_kernel(k, seg, x, x0, v, stress, volume_ratio, cell, acceleration, velocity, &
+                                strain_increment_of, mass_left, mass_right, momentum_left, momentum_right, &
+                                stress_volume, constants)
+         import :: dp, segments_t, pass_constants_t
+         include 'mpm_segment_arguments.inc'
+      end subroutine segment_kernel
+   end interface
 
    interface
       !> Prefetch hint for `bytes` bytes from the address of `first` (see mpm_prefetch.c).
@@ -147,67 +181,37 @@ contains
       if (.not. sorted .and. grid%segments%count > 1 .and. totals%outside == 0) call sort_by_cell(particles, grid)
    end subroutine p2g
 
-   !> USF, second half: grid-to-particle update with the solved grid (v_p += dt sum N a_I,
-   !> x_p += dt sum N v_I), then mass and momentum of the moved particles to the grid for the next step.
-   subroutine g2p_then_p2g(particles, grid, dt, totals)
-      type(particles_t), intent(inout) :: particles
-      type(grid_t), intent(inout) :: grid
-      real(dp), intent(in) :: dt
-      type(pass_totals_t), intent(out) :: totals
-      call prepare_pass(particles, grid)
-      call over_segments(particles, grid, pass_usf_move, dt, 0.0_dp)
-      call finish_pass(particles, grid, share_mass + share_momentum, .true., totals)
-   end subroutine g2p_then_p2g
-
-   !> USF, first half: stress update from the nodal velocities of this step's mapping
-   !> (d eps = dt sum dN v_I), then the element shares of stress*volume for the internal force.
-   subroutine stress_then_force(particles, grid, dt, youngs_modulus, totals)
+   !> One fused pass over the particles (`pass`, one of the pass_* constants): its segments (on
+   !> threads when the run is large, see over_segments), then the halo shares and totals in a fixed
+   !> order (finish_pass). The passes that update the stress from the element's velocity difference
+   !> get it per element first (strain_increments).
+   subroutine fused_pass(pass, particles, grid, dt, youngs_modulus, totals)
+      integer, intent(in) :: pass
       type(particles_t), intent(inout) :: particles
       type(grid_t), intent(inout) :: grid
       real(dp), intent(in) :: dt, youngs_modulus
       type(pass_totals_t), intent(out) :: totals
       call prepare_pass(particles, grid)
-      call strain_increments(grid, dt)
-      call over_segments(particles, grid, pass_usf_stress, dt, youngs_modulus)
-      call finish_pass(particles, grid, share_stress, .false., totals)
-   end subroutine stress_then_force
+      if (pass == pass_usf_stress .or. pass == pass_musl_stress) call strain_increments(grid, dt)
+      call over_segments(particles, grid, pass, dt, youngs_modulus)
+      call finish_pass(particles, grid, pass_shares(pass), pass /= pass_usf_stress .and. pass /= pass_musl_remap, &
+                       totals)
+   end subroutine fused_pass
 
-   !> USL in one pass: grid-to-particle update, stress update from the updated nodal velocities,
-   !> then mass, momentum and stress*volume of the moved particles to the grid for the next step.
-   subroutine g2p_stress_then_p2g(particles, grid, dt, youngs_modulus, totals)
-      type(particles_t), intent(inout) :: particles
-      type(grid_t), intent(inout) :: grid
-      real(dp), intent(in) :: dt, youngs_modulus
-      type(pass_totals_t), intent(out) :: totals
-      call prepare_pass(particles, grid)
-      call over_segments(particles, grid, pass_usl, dt, youngs_modulus)
-      call finish_pass(particles, grid, share_mass + share_momentum + share_stress, .true., totals)
-   end subroutine g2p_stress_then_p2g
-
-   !> MUSL, first pass: grid-to-particle update, and the updated particle momentum mapped back to
-   !> the grid with the same (start-of-step) shape functions. Mass shares are unchanged.
-   subroutine g2p_with_remap(particles, grid, dt, totals)
-      type(particles_t), intent(inout) :: particles
-      type(grid_t), intent(inout) :: grid
-      real(dp), intent(in) :: dt
-      type(pass_totals_t), intent(out) :: totals
-      call prepare_pass(particles, grid)
-      call over_segments(particles, grid, pass_musl_remap, dt, 0.0_dp)
-      call finish_pass(particles, grid, share_momentum, .false., totals)
-   end subroutine g2p_with_remap
-
-   !> MUSL, second pass: stress update from the remapped nodal velocities (start-of-step cell),
-   !> then mass, momentum and stress*volume at the new positions for the next step.
-   subroutine stress_then_p2g(particles, grid, dt, youngs_modulus, totals)
-      type(particles_t), intent(inout) :: particles
-      type(grid_t), intent(inout) :: grid
-      real(dp), intent(in) :: dt, youngs_modulus
-      type(pass_totals_t), intent(out) :: totals
-      call prepare_pass(particles, grid)
-      call strain_increments(grid, dt)
-      call over_segments(particles, grid, pass_musl_stress, dt, youngs_modulus)
-      call finish_pass(particles, grid, share_mass + share_momentum + share_stress, .true., totals)
-   end subroutine stress_then_p2g
+   !> The element shares pass `pass` scatters (bit set of share_*).
+   pure integer function pass_shares(pass)
+      integer, intent(in) :: pass
+      select case (pass)
+      case (pass_usf_stress)
+         pass_shares = share_stress
+      case (pass_usf_move)
+         pass_shares = share_mass + share_momentum
+      case (pass_musl_remap)
+         pass_shares = share_momentum
+      case default
+         pass_shares = share_mass + share_momentum + share_stress
+      end select
+   end function pass_shares
 
    !> Run pass `kind` over every segment: on OpenMP threads when the run has several segments and
    !> is not itself inside a parallel region (a sweep), else in this thread. A branch, not an `if`
@@ -219,6 +223,21 @@ contains
       integer, intent(in) :: kind
       real(dp), intent(in) :: dt, youngs_modulus
       integer :: k
+      procedure(segment_kernel), pointer :: kernel
+      type(pass_constants_t) :: constants
+      constants = pass_constants_t(grid%elements, grid%inv_dx, dt, youngs_modulus, particles%mass, particles%volume0)
+      select case (kind)
+      case (pass_usf_move)
+         kernel => usf_move_segment
+      case (pass_usf_stress)
+         kernel => usf_stress_segment
+      case (pass_usl)
+         kernel => usl_segment
+      case (pass_musl_remap)
+         kernel => musl_remap_segment
+      case default
+         kernel => musl_stress_segment
+      end select
       if (grid%segments%count > 1 .and. .not. omp_in_parallel()) then
          !$omp parallel do default(shared) private(k) schedule(dynamic, 4)
          do k = 1, grid%segments%count
@@ -233,33 +252,10 @@ contains
    contains
       subroutine segment(k)
          integer, intent(in) :: k
-         select case (kind)
-         case (pass_usf_move)
-            call usf_move_segment(k, grid%segments, particles%x, particles%x0, particles%v, particles%cell, &
-                                  grid%acceleration, grid%velocity, grid%element_mass_left, grid%element_mass_right, &
-                                  grid%element_momentum_left, grid%element_momentum_right, &
-                                  grid%elements, grid%inv_dx, dt, particles%mass)
-         case (pass_usf_stress)
-            call usf_stress_segment(k, grid%segments, particles%stress, particles%volume_ratio, particles%cell, &
-                                    grid%element_strain, grid%element_stress_volume, youngs_modulus, &
-                                    particles%volume0)
-         case (pass_usl)
-            call usl_segment(k, grid%segments, particles%x, particles%x0, particles%v, particles%stress, &
-                             particles%volume_ratio, particles%cell, grid%acceleration, grid%velocity, &
-                             grid%element_mass_left, grid%element_mass_right, grid%element_momentum_left, &
-                             grid%element_momentum_right, grid%element_stress_volume, &
-                             grid%elements, grid%inv_dx, dt, youngs_modulus, particles%mass, particles%volume0)
-         case (pass_musl_remap)
-            call musl_remap_segment(k, grid%segments, particles%x, particles%x0, particles%v, particles%cell, &
-                                    grid%acceleration, grid%velocity, grid%element_momentum_left, &
-                                    grid%element_momentum_right, grid%inv_dx, dt, particles%mass)
-         case (pass_musl_stress)
-            call musl_stress_segment(k, grid%segments, particles%x, particles%v, particles%stress, &
-                                     particles%volume_ratio, particles%cell, grid%element_strain, &
-                                     grid%element_mass_left, grid%element_mass_right, grid%element_momentum_left, &
-                                     grid%element_momentum_right, grid%element_stress_volume, &
-                                     grid%elements, grid%inv_dx, youngs_modulus, particles%mass, particles%volume0)
-         end select
+         call kernel(k, grid%segments, particles%x, particles%x0, particles%v, particles%stress, particles%volume_ratio, &
+                     particles%cell, grid%acceleration, grid%velocity, grid%element_strain, grid%element_mass_left, &
+                     grid%element_mass_right, grid%element_momentum_left, grid%element_momentum_right, &
+                     grid%element_stress_volume, constants)
       end subroutine segment
    end subroutine over_segments
 
@@ -821,266 +817,42 @@ contains
       seg%outside(k) = outside
    end subroutine close_segment
 
+   ! The five segment kernels: one source (mpm_segment_kernel.inc), compiled once per pass with the
+   ! pass as a named constant (over_segments picks one).
+
    !> USL: G2P, stress update from the updated nodal velocities, P2G at the new position.
-   subroutine usl_segment(k, seg, x, x0, v, stress, volume_ratio, cell, acceleration, velocity, &
-                          mass_left, mass_right, momentum_left, momentum_right, stress_volume, &
-                          elements, inv_dx, dt, youngs_modulus, m, volume0)
-      integer, intent(in) :: k
-      type(segments_t), intent(inout) :: seg
-      real(dp), intent(inout), contiguous :: x(:), v(:), stress(:), volume_ratio(:)
-      real(dp), intent(in), contiguous :: x0(:)
-      integer, intent(inout), contiguous :: cell(:)
-      real(dp), intent(in), contiguous :: acceleration(0:), velocity(0:)
-      real(dp), intent(inout), contiguous :: mass_left(:), mass_right(:), momentum_left(:), momentum_right(:), stress_volume(:)
-      integer, intent(in) :: elements
-      real(dp), intent(in) :: inv_dx, dt, youngs_modulus, m, volume0
-      integer, parameter :: shares = share_mass + share_momentum + share_stress
-      integer :: p, e, i, n, b0, first, last, lo, hi, outside
-      integer(i8) :: elements_bits
-      real(dp) :: xi, half_m, strain_factor
-      type(largest_move_t) :: largest
-      real(dp) :: displacement(lanes), kinetic(lanes), strain(lanes), min_j(lanes)
-      integer :: cb(block_size)
-      real(dp) :: xib(block_size), vpb(block_size), svb(block_size), db(block_size), kb(block_size), &
-                  sb(block_size), jb(block_size), mb(block_size)
-      type(run_t) :: run
-      call open_segment(k, shares, seg, mass_left, mass_right, momentum_left, momentum_right, stress_volume, &
-                        first, last, lo, hi)
-      displacement = 0; kinetic = 0; strain = 0; min_j = huge(1.0_dp)
-      outside = 0
-      elements_bits = transfer(real(elements, dp), 0_i8)
-      half_m = 0.5_dp*m
-      strain_factor = 0.5_dp*volume0/youngs_modulus
-      do b0 = first, last, block_size
-         n = min(block_size, last - b0 + 1)
-         if (seg%prefetch) then
-            call prefetch_block(b0 + prefetch_ahead, cell, x, x0, v, stress, volume_ratio)
-            call prefetch_nodes(cell(b0), cell(b0 + n - 1), acceleration, velocity)
-         end if
-         do i = 1, n
-            p = b0 + i - 1
-            e = cell(p)
-            ! G2P with the start-of-step shape functions
-            call g2p_particle(e, acceleration(e - 1), acceleration(e), velocity(e - 1), velocity(e), inv_dx, dt, &
-                              half_m, x0(p), x(p), v(p), xi, db(i), kb(i), mb(i))
-            ! stress update: d eps = dt sum dN v_I over the start-of-step cell
-            call stress_particle(strain_increment(velocity(e - 1), velocity(e), dt, inv_dx), youngs_modulus, &
-                                 strain_factor, volume0, stress(p), volume_ratio(p), sb(i), svb(i))
-            jb(i) = volume_ratio(p)
-            ! the new cell, for P2G at the new position
-            call locate_cell(x(p), inv_dx, elements, elements_bits, cb(i), xib(i))
-            cell(p) = cb(i)
-            vpb(i) = v(p)
-         end do
-         call add_lanes(n, db, displacement)
-         call add_lanes(n, kb, kinetic)
-         call add_lanes(n, sb, strain)
-         call min_lanes(n, jb, min_j)
-         call track_largest_move(n, b0, mb, largest)
-         call find_outside(n, b0, cb, outside)
-         call accumulate_block(k, n, cb, xib, vpb, svb, m, lo, hi, shares, run, mass_left, mass_right, &
-                               momentum_left, momentum_right, stress_volume, seg)
-      end do
-      call close_segment(k, shares, m, run, [lane_total(displacement), lane_total(kinetic), lane_total(strain)], &
-                         minval(min_j), largest%value, furthest_particle(largest), outside, mass_left, mass_right, momentum_left, &
-                         momentum_right, stress_volume, seg)
+   subroutine usl_segment(k, seg, x, x0, v, stress, volume_ratio, cell, acceleration, velocity, strain_increment_of, &
+      mass_left, mass_right, momentum_left, momentum_right, stress_volume, constants)
+      integer, parameter :: kernel = pass_usl
+      include 'mpm_segment_kernel.inc'
    end subroutine usl_segment
 
    !> USF second half: G2P, then mass and momentum at the new position.
-   subroutine usf_move_segment(k, seg, x, x0, v, cell, acceleration, velocity, &
-                               mass_left, mass_right, momentum_left, momentum_right, elements, inv_dx, dt, m)
-      integer, intent(in) :: k
-      type(segments_t), intent(inout) :: seg
-      real(dp), intent(inout), contiguous :: x(:), v(:)
-      real(dp), intent(in), contiguous :: x0(:)
-      integer, intent(inout), contiguous :: cell(:)
-      real(dp), intent(in), contiguous :: acceleration(0:), velocity(0:)
-      real(dp), intent(inout), contiguous :: mass_left(:), mass_right(:), momentum_left(:), momentum_right(:)
-      integer, intent(in) :: elements
-      real(dp), intent(in) :: inv_dx, dt, m
-      integer, parameter :: shares = share_mass + share_momentum
-      integer :: p, e, i, n, b0, first, last, lo, hi, outside
-      integer(i8) :: elements_bits
-      real(dp) :: xi, half_m, unused(1)
-      type(largest_move_t) :: largest
-      real(dp) :: displacement(lanes), kinetic(lanes)
-      integer :: cb(block_size)
-      real(dp) :: xib(block_size), vpb(block_size), db(block_size), kb(block_size), mb(block_size)
-      type(run_t) :: run
-      call open_segment(k, shares, seg, mass_left, mass_right, momentum_left, momentum_right, unused, &
-                        first, last, lo, hi)
-      displacement = 0; kinetic = 0
-      outside = 0
-      elements_bits = transfer(real(elements, dp), 0_i8)
-      half_m = 0.5_dp*m
-      do b0 = first, last, block_size
-         n = min(block_size, last - b0 + 1)
-         if (seg%prefetch) then
-            call prefetch_block(b0 + prefetch_ahead, cell, x, x0, v)
-            call prefetch_nodes(cell(b0), cell(b0 + n - 1), acceleration, velocity)
-         end if
-         do i = 1, n
-            p = b0 + i - 1
-            e = cell(p)
-            call g2p_particle(e, acceleration(e - 1), acceleration(e), velocity(e - 1), velocity(e), inv_dx, dt, &
-                              half_m, x0(p), x(p), v(p), xi, db(i), kb(i), mb(i))
-            call locate_cell(x(p), inv_dx, elements, elements_bits, cb(i), xib(i))
-            cell(p) = cb(i)
-            vpb(i) = v(p)
-         end do
-         call add_lanes(n, db, displacement)
-         call add_lanes(n, kb, kinetic)
-         call track_largest_move(n, b0, mb, largest)
-         call find_outside(n, b0, cb, outside)
-         call accumulate_block(k, n, cb, xib, vpb, vpb, m, lo, hi, shares, run, mass_left, mass_right, &
-                               momentum_left, momentum_right, unused, seg)
-      end do
-      call close_segment(k, shares, m, run, [lane_total(displacement), lane_total(kinetic), 0.0_dp], &
-                         huge(1.0_dp), largest%value, furthest_particle(largest), outside, mass_left, mass_right, momentum_left, &
-                         momentum_right, unused, seg)
+   subroutine usf_move_segment(k, seg, x, x0, v, stress, volume_ratio, cell, acceleration, velocity, strain_increment_of, &
+      mass_left, mass_right, momentum_left, momentum_right, stress_volume, constants)
+      integer, parameter :: kernel = pass_usf_move
+      include 'mpm_segment_kernel.inc'
    end subroutine usf_move_segment
 
    !> USF first half: stress update, then stress*volume of the (unmoved) particles per element.
-   subroutine usf_stress_segment(k, seg, stress, volume_ratio, cell, strain_increment_of, stress_volume, &
-                                 youngs_modulus, volume0)
-      integer, intent(in) :: k
-      type(segments_t), intent(inout) :: seg
-      real(dp), intent(inout), contiguous :: stress(:), volume_ratio(:)
-      integer, intent(in), contiguous :: cell(:)
-      real(dp), intent(in), contiguous :: strain_increment_of(:)  !< per element (grid%element_strain)
-      real(dp), intent(inout), contiguous :: stress_volume(:)
-      real(dp), intent(in) :: youngs_modulus, volume0
-      integer, parameter :: shares = share_stress
-      integer :: p, e, i, n, b0, first, last, lo, hi
-      real(dp) :: strain_factor, unused(1)
-      real(dp) :: strain(lanes), min_j(lanes)
-      integer :: cb(block_size)
-      real(dp) :: svb(block_size), sb(block_size), jb(block_size)
-      type(run_t) :: run
-      call open_segment(k, shares, seg, unused, unused, unused, unused, stress_volume, first, last, lo, hi)
-      strain = 0; min_j = huge(1.0_dp)
-      strain_factor = 0.5_dp*volume0/youngs_modulus
-      do b0 = first, last, block_size
-         n = min(block_size, last - b0 + 1)
-         if (seg%prefetch) then
-            call prefetch_block(b0 + prefetch_ahead, cell, stress, volume_ratio)
-            call prefetch_elements(cell(b0), cell(b0 + n - 1), strain_increment_of)
-         end if
-         do i = 1, n
-            p = b0 + i - 1
-            e = cell(p)
-            call stress_particle(strain_increment_of(e), youngs_modulus, &
-                                 strain_factor, volume0, stress(p), volume_ratio(p), sb(i), svb(i))
-            cb(i) = e
-            jb(i) = volume_ratio(p)
-         end do
-         call add_lanes(n, sb, strain)
-         call min_lanes(n, jb, min_j)
-         call accumulate_block(k, n, cb, svb, svb, svb, 0.0_dp, lo, hi, shares, run, unused, unused, unused, &
-                               unused, stress_volume, seg)
-      end do
-      call close_segment(k, shares, 0.0_dp, run, [0.0_dp, 0.0_dp, lane_total(strain)], minval(min_j), 0.0_dp, 0, 0, &
-                         unused, unused, unused, unused, stress_volume, seg)
+   subroutine usf_stress_segment(k, seg, x, x0, v, stress, volume_ratio, cell, acceleration, velocity, strain_increment_of, &
+      mass_left, mass_right, momentum_left, momentum_right, stress_volume, constants)
+      integer, parameter :: kernel = pass_usf_stress
+      include 'mpm_segment_kernel.inc'
    end subroutine usf_stress_segment
 
    !> MUSL first pass: G2P, and the new momentum back to the start-of-step nodes.
-   subroutine musl_remap_segment(k, seg, x, x0, v, cell, acceleration, velocity, momentum_left, momentum_right, &
-                                 inv_dx, dt, m)
-      integer, intent(in) :: k
-      type(segments_t), intent(inout) :: seg
-      real(dp), intent(inout), contiguous :: x(:), v(:)
-      real(dp), intent(in), contiguous :: x0(:)
-      integer, intent(in), contiguous :: cell(:)
-      real(dp), intent(in), contiguous :: acceleration(0:), velocity(0:)
-      real(dp), intent(inout), contiguous :: momentum_left(:), momentum_right(:)
-      real(dp), intent(in) :: inv_dx, dt, m
-      integer, parameter :: shares = share_momentum
-      integer :: p, e, i, n, b0, first, last, lo, hi
-      real(dp) :: xi, half_m, unused(1)
-      type(largest_move_t) :: largest
-      real(dp) :: displacement(lanes), kinetic(lanes)
-      integer :: cb(block_size)
-      real(dp) :: xib(block_size), vpb(block_size), db(block_size), kb(block_size), mb(block_size)
-      type(run_t) :: run
-      call open_segment(k, shares, seg, unused, unused, momentum_left, momentum_right, unused, first, last, lo, hi)
-      displacement = 0; kinetic = 0
-      half_m = 0.5_dp*m
-      do b0 = first, last, block_size
-         n = min(block_size, last - b0 + 1)
-         if (seg%prefetch) then
-            call prefetch_block(b0 + prefetch_ahead, cell, x, x0, v)
-            call prefetch_nodes(cell(b0), cell(b0 + n - 1), acceleration, velocity)
-         end if
-         do i = 1, n
-            p = b0 + i - 1
-            e = cell(p)
-            call g2p_particle(e, acceleration(e - 1), acceleration(e), velocity(e - 1), velocity(e), inv_dx, dt, &
-                              half_m, x0(p), x(p), v(p), xi, db(i), kb(i), mb(i))
-            cb(i) = e
-            xib(i) = xi
-            vpb(i) = v(p)
-         end do
-         call add_lanes(n, db, displacement)
-         call add_lanes(n, kb, kinetic)
-         call track_largest_move(n, b0, mb, largest)
-         call accumulate_block(k, n, cb, xib, vpb, vpb, m, lo, hi, shares, run, unused, unused, momentum_left, &
-                               momentum_right, unused, seg)
-      end do
-      call close_segment(k, shares, m, run, [lane_total(displacement), lane_total(kinetic), 0.0_dp], huge(1.0_dp), &
-                         largest%value, furthest_particle(largest), 0, unused, unused, momentum_left, momentum_right, unused, seg)
+   subroutine musl_remap_segment(k, seg, x, x0, v, stress, volume_ratio, cell, acceleration, velocity, strain_increment_of, &
+      mass_left, mass_right, momentum_left, momentum_right, stress_volume, constants)
+      integer, parameter :: kernel = pass_musl_remap
+      include 'mpm_segment_kernel.inc'
    end subroutine musl_remap_segment
 
    !> MUSL second pass: stress update with the remapped nodal velocity of the start-of-step cell,
    !> then mass, momentum and stress*volume at the new position.
-   subroutine musl_stress_segment(k, seg, x, v, stress, volume_ratio, cell, strain_increment_of, &
-                                  mass_left, mass_right, momentum_left, momentum_right, stress_volume, &
-                                  elements, inv_dx, youngs_modulus, m, volume0)
-      integer, intent(in) :: k
-      type(segments_t), intent(inout) :: seg
-      real(dp), intent(in), contiguous :: x(:), v(:)
-      real(dp), intent(inout), contiguous :: stress(:), volume_ratio(:)
-      integer, intent(inout), contiguous :: cell(:)
-      real(dp), intent(in), contiguous :: strain_increment_of(:)  !< per element (grid%element_strain)
-      real(dp), intent(inout), contiguous :: mass_left(:), mass_right(:), momentum_left(:), momentum_right(:), stress_volume(:)
-      integer, intent(in) :: elements
-      real(dp), intent(in) :: inv_dx, youngs_modulus, m, volume0
-      integer, parameter :: shares = share_mass + share_momentum + share_stress
-      integer :: p, e, i, n, b0, first, last, lo, hi, outside
-      integer(i8) :: elements_bits
-      real(dp) :: strain_factor
-      real(dp) :: strain(lanes), min_j(lanes)
-      integer :: cb(block_size)
-      real(dp) :: xib(block_size), vpb(block_size), svb(block_size), sb(block_size), jb(block_size)
-      type(run_t) :: run
-      call open_segment(k, shares, seg, mass_left, mass_right, momentum_left, momentum_right, stress_volume, &
-                        first, last, lo, hi)
-      strain = 0; min_j = huge(1.0_dp)
-      outside = 0
-      elements_bits = transfer(real(elements, dp), 0_i8)
-      strain_factor = 0.5_dp*volume0/youngs_modulus
-      do b0 = first, last, block_size
-         n = min(block_size, last - b0 + 1)
-         if (seg%prefetch) then
-            call prefetch_block(b0 + prefetch_ahead, cell, x, v, stress, volume_ratio)
-            call prefetch_elements(cell(b0), cell(b0 + n - 1), strain_increment_of)
-         end if
-         do i = 1, n
-            p = b0 + i - 1
-            e = cell(p)
-            call stress_particle(strain_increment_of(e), youngs_modulus, &
-                                 strain_factor, volume0, stress(p), volume_ratio(p), sb(i), svb(i))
-            jb(i) = volume_ratio(p)
-            call locate_cell(x(p), inv_dx, elements, elements_bits, cb(i), xib(i))
-            cell(p) = cb(i)
-            vpb(i) = v(p)
-         end do
-         call add_lanes(n, sb, strain)
-         call min_lanes(n, jb, min_j)
-         call find_outside(n, b0, cb, outside)
-         call accumulate_block(k, n, cb, xib, vpb, svb, m, lo, hi, shares, run, mass_left, mass_right, &
-                               momentum_left, momentum_right, stress_volume, seg)
-      end do
-      call close_segment(k, shares, m, run, [0.0_dp, 0.0_dp, lane_total(strain)], minval(min_j), 0.0_dp, 0, outside, &
-                         mass_left, mass_right, momentum_left, momentum_right, stress_volume, seg)
+   subroutine musl_stress_segment(k, seg, x, x0, v, stress, volume_ratio, cell, acceleration, velocity, strain_increment_of, &
+      mass_left, mass_right, momentum_left, momentum_right, stress_volume, constants)
+      integer, parameter :: kernel = pass_musl_stress
+      include 'mpm_segment_kernel.inc'
    end subroutine musl_stress_segment
 end module mpm_transfer
