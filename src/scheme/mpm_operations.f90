@@ -31,6 +31,12 @@ module mpm_operations
    public :: locate_particles, p2g_mass_momentum, p2g_internal_force, nodal_velocities, solve_grid, g2p, &
              update_stress, particle_energies, mirror_fold
 
+   !> scatter_columns is compiled from mpm_scatter_variants.inc and mpm_scatter_loop.inc, whose
+   !> changes fpm does not notice (it rebuilds a file when its own text changes: fpm issue #358).
+   !> Their checksum, here, is checked by test_step, which says the new value after an edit; setting
+   !> it makes fpm rebuild this file.
+   integer(i8), parameter, public :: scatter_source_checksum = 1088853764_i8
+
 contains
 
    !> Shape functions at the start-of-step positions; totals%outside = first particle outside the domain.
@@ -110,12 +116,10 @@ contains
    !> The P2G sums of every column k of the support (2, 3 or 4): node first(p) + k - 1 gets
    !> weight(p, k) m_p, weight(p, k) (q_p + (k - 1) r_p) and -gradient(p, k) (sigma V)_p, with the
    !> momentum per unit weight q = momentum_of(:, 1) ((m v)_p) and, when momentum_of has a second
-   !> column (APIC's affine part), r = momentum_of(:, 2), else 0. Particles next to each other in memory that share their first node
-   !> (a cell's particles, as they are placed and as they stay in 1-D) are summed in registers (twelve
-   !> scalars, one per node and field) and added to the grid once per run: adding each particle to the
-   !> grid directly makes every add wait for the previous particle's store to the same node (a
-   !> store-to-load dependency, about half the generic step's time before). Any order of particles
-   !> gives the same sums up to rounding.
+   !> column (APIC's affine part), r = momentum_of(:, 2), else 0. The loop (mpm_scatter_loop.inc) is
+   !> written once and compiled for each support and each set of sums (named constants in the blocks
+   !> below and in mpm_scatter_variants.inc), so that no test of them is left inside it (the tests of
+   !> run-time flags per particle cost 10-14 % of a generic USL step).
    subroutine scatter_columns(support, first, weight, gradient, mass_of, momentum_of, stress_volume, kinematics, &
                               force, mass, momentum, nodal_force)
       integer, intent(in) :: support
@@ -124,72 +128,25 @@ contains
                                           stress_volume(:)
       logical, intent(in) :: kinematics, force
       real(dp), intent(inout), contiguous :: mass(0:), momentum(0:), nodal_force(0:)
-      integer :: p, n, i
-      logical :: run_ends, three, four, affine
-      real(dp) :: q, r, mass1, mass2, mass3, mass4, momentum1, momentum2, momentum3, momentum4, force1, force2, force3, &
-                  force4
-      n = size(first)
-      three = support >= 3
-      four = support >= 4
+      logical :: affine
       affine = size(momentum_of, 2) > 1
-      run_ends = .true.
-      do p = 1, n
-         if (run_ends) then ! a run starts
-            mass1 = 0.0_dp; mass2 = 0.0_dp; mass3 = 0.0_dp; mass4 = 0.0_dp
-            momentum1 = 0.0_dp; momentum2 = 0.0_dp; momentum3 = 0.0_dp; momentum4 = 0.0_dp
-            force1 = 0.0_dp; force2 = 0.0_dp; force3 = 0.0_dp; force4 = 0.0_dp
-         end if
-         if (kinematics) then
-            q = momentum_of(p, 1)
-            mass1 = mass1 + weight(p, 1)*mass_of(p)
-            mass2 = mass2 + weight(p, 2)*mass_of(p)
-            if (three) mass3 = mass3 + weight(p, 3)*mass_of(p)
-            if (four) mass4 = mass4 + weight(p, 4)*mass_of(p)
-            if (affine) then
-               r = momentum_of(p, 2)
-               momentum1 = momentum1 + weight(p, 1)*q
-               momentum2 = momentum2 + weight(p, 2)*(q + r)
-               if (three) momentum3 = momentum3 + weight(p, 3)*(q + 2*r)
-               if (four) momentum4 = momentum4 + weight(p, 4)*(q + 3*r)
-            else
-               momentum1 = momentum1 + weight(p, 1)*q
-               momentum2 = momentum2 + weight(p, 2)*q
-               if (three) momentum3 = momentum3 + weight(p, 3)*q
-               if (four) momentum4 = momentum4 + weight(p, 4)*q
-            end if
-         end if
-         if (force) then
-            force1 = force1 - gradient(p, 1)*stress_volume(p)
-            force2 = force2 - gradient(p, 2)*stress_volume(p)
-            if (three) force3 = force3 - gradient(p, 3)*stress_volume(p)
-            if (four) force4 = force4 - gradient(p, 4)*stress_volume(p)
-         end if
-         run_ends = p == n
-         if (.not. run_ends) run_ends = first(p + 1) /= first(p)
-         if (run_ends) then ! add the run's sums to its nodes
-            i = first(p)
-            if (kinematics) then
-               mass(i) = mass(i) + mass1
-               mass(i + 1) = mass(i + 1) + mass2
-               momentum(i) = momentum(i) + momentum1
-               momentum(i + 1) = momentum(i + 1) + momentum2
-               if (three) then
-                  mass(i + 2) = mass(i + 2) + mass3
-                  momentum(i + 2) = momentum(i + 2) + momentum3
-               end if
-               if (four) then
-                  mass(i + 3) = mass(i + 3) + mass4
-                  momentum(i + 3) = momentum(i + 3) + momentum4
-               end if
-            end if
-            if (force) then
-               nodal_force(i) = nodal_force(i) + force1
-               nodal_force(i + 1) = nodal_force(i + 1) + force2
-               if (three) nodal_force(i + 2) = nodal_force(i + 2) + force3
-               if (four) nodal_force(i + 3) = nodal_force(i + 3) + force4
-            end if
-         end if
-      end do
+      select case (support)
+      case (2)
+         block
+            integer, parameter :: columns = 2
+            include 'mpm_scatter_variants.inc'
+         end block
+      case (3)
+         block
+            integer, parameter :: columns = 3
+            include 'mpm_scatter_variants.inc'
+         end block
+      case default
+         block
+            integer, parameter :: columns = 4
+            include 'mpm_scatter_variants.inc'
+         end block
+      end select
    end subroutine scatter_columns
 
    !> At a fixed end with ghost cells (grid%mirror), the mirror image of the body beyond it: node
