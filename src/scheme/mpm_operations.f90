@@ -31,11 +31,11 @@ module mpm_operations
    public :: locate_particles, p2g_mass_momentum, p2g_internal_force, nodal_velocities, solve_grid, g2p, &
              update_stress, particle_energies, mirror_fold
 
-   !> scatter_columns is compiled from mpm_scatter_variants.inc and mpm_scatter_loop.inc, whose
-   !> changes fpm does not notice (it rebuilds a file when its own text changes: fpm issue #358).
-   !> Their checksum, here, is checked by test_step, which says the new value after an edit; setting
-   !> it makes fpm rebuild this file.
-   integer(i8), parameter, public :: scatter_source_checksum = 1088853764_i8
+   !> scatter_columns and gather_move are compiled from mpm_scatter_*.inc and mpm_gather_*.inc,
+   !> whose changes fpm does not notice (it rebuilds a file when its own text changes: fpm issue
+   !> #358). Their checksum, here, is checked by test_step, which says the new value after an edit;
+   !> setting it makes fpm rebuild this file.
+   integer(i8), parameter, public :: scatter_source_checksum = 284789149_i8
 
 contains
 
@@ -285,32 +285,30 @@ contains
       integer(i8) :: below, above
       real(dp) :: displacement_block(block_size), kinetic_block(block_size)
       type(largest_move_t) :: largest
-      ! the gathers, node by node of the support (each loop vectorises; the first node assigns), with
-      ! the extra sums or without (the plain loops: tests inside them cost 4-7 %)
-      if (strain_rate .or. moment) then
-         do p = 1, size(first)
-            gathered(p, 1) = weight(p, 1)*acceleration(first(p))
-            gathered(p, 2) = weight(p, 1)*velocity(first(p))
-            gathered(p, 3) = gradient(p, 1)*velocity(first(p))
-            if (moment) gathered(p, 4) = 0.0_dp
-         end do
+      ! the gathers: one loop over the particles for each support and each set of sums
+      ! (mpm_gather_loop.inc, compiled with named constants; it vectorises)
+      select case (support)
+      case (2)
+         block
+            integer, parameter :: columns = 2
+            include 'mpm_gather_variants.inc'
+         end block
+      case (3)
+         block
+            integer, parameter :: columns = 3
+            include 'mpm_gather_variants.inc'
+         end block
+      case default
+         block
+            integer, parameter :: columns = 4
+            include 'mpm_gather_variants.inc'
+         end block
+      end select
+      if (moment) then ! sum_k (k - 1) N_k v_k, for APIC with B-splines
+         gathered(:, 4) = 0.0_dp
          do k = 2, support
             do p = 1, size(first)
-               gathered(p, 1) = gathered(p, 1) + weight(p, k)*acceleration(first(p) + k - 1)
-               gathered(p, 2) = gathered(p, 2) + weight(p, k)*velocity(first(p) + k - 1)
-               gathered(p, 3) = gathered(p, 3) + gradient(p, k)*velocity(first(p) + k - 1)
-               if (moment) gathered(p, 4) = gathered(p, 4) + (k - 1)*weight(p, k)*velocity(first(p) + k - 1)
-            end do
-         end do
-      else
-         do p = 1, size(first)
-            gathered(p, 1) = weight(p, 1)*acceleration(first(p))
-            gathered(p, 2) = weight(p, 1)*velocity(first(p))
-         end do
-         do k = 2, support
-            do p = 1, size(first)
-               gathered(p, 1) = gathered(p, 1) + weight(p, k)*acceleration(first(p) + k - 1)
-               gathered(p, 2) = gathered(p, 2) + weight(p, k)*velocity(first(p) + k - 1)
+               gathered(p, 4) = gathered(p, 4) + (k - 1)*weight(p, k)*velocity(first(p) + k - 1)
             end do
          end do
       end if
