@@ -47,9 +47,9 @@ contains
       type(pass_totals_t), intent(inout) :: totals
       integer :: outside
       select case (cache%kind)
-      case (shape_ugimp)  ! the box of the particle's initial length, l_p0 = V0_p / 2 (per unit area)
-         if (.not. allocated(cache%half_length)) allocate (cache%half_length(particles%count))
-         cache%half_length = 0.5_dp*particles%volume0_of
+      case (shape_ugimp)  ! the box of the particle's initial length, l_p0 = V0_p / 2 (per unit area), set
+         ! once: V0 does not change, and the generic path keeps the particles' order
+         if (.not. allocated(cache%half_length)) cache%half_length = 0.5_dp*particles%volume0_of
          call evaluate_shapes(cache, grid, particles%x, outside)
       case (shape_cpgimp) ! stretched with the particle, l_p = l_p0 J_p
          if (.not. allocated(cache%half_length)) allocate (cache%half_length(particles%count))
