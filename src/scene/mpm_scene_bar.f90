@@ -9,7 +9,7 @@ module mpm_scene_bar
    use mpm_errors, only: error_t
    use mpm_config, only: config_t
    use mpm_particles, only: particles_t, particles_init
-   use mpm_scene, only: scene_t
+   use mpm_scene, only: scene_t, sine_profile
    implicit none
    private
    public :: bar_t, bar_init
@@ -56,7 +56,7 @@ contains
       type(error_t), allocatable, intent(out) :: error
       call particles_init(particles, config%elements, config%particles_per_element, config%dx, config%density, error)
       if (allocated(error)) return
-      particles%v = self%velocity_amplitude*sin(self%beta*particles%x)
+      call sine_profile(self%velocity_amplitude, self%beta, particles%x, particles%v)
    end subroutine place_particles
 
    !> Empty grid cells beyond the free end x = L: the end's exact displacement amplitude |v0|/omega_n

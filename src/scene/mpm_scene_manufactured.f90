@@ -19,7 +19,7 @@ module mpm_scene_manufactured
    use mpm_grid, only: grid_t
    use mpm_particles, only: particles_t, particles_init
    use mpm_shape, only: shape_cache_t
-   use mpm_scene, only: scene_t
+   use mpm_scene, only: scene_t, sine_profile
    use mpm_particle_forces, only: p2g_particle_forces
    implicit none
    private
@@ -81,7 +81,7 @@ contains
       type(error_t), allocatable, intent(out) :: error
       call particles_init(particles, config%elements, config%particles_per_element, config%dx, config%density, error)
       if (allocated(error)) return
-      particles%v = self%amplitude*self%omega*sin(self%wave_number*particles%x)
+      call sine_profile(self%amplitude*self%omega, self%wave_number, particles%x, particles%v)
    end subroutine place_particles
 
    !> Both ends are fixed: no free end, no margin unless asked for.
