@@ -28,6 +28,9 @@ module mpm_operations
    use mpm_material_elastic, only: elastic_update_all, elastic_update_each, strain_energy_density
    implicit none
    private
+   !> What gather_move gathers of APIC's velocity gradient (see there).
+   integer, parameter :: affine_none = 0, affine_hat = 1, affine_spline = 2
+
    public :: locate_particles, p2g_mass_momentum, p2g_internal_force, nodal_velocities, solve_grid, g2p, &
              update_stress, particle_energies, mirror_fold
 
@@ -35,7 +38,7 @@ module mpm_operations
    !> whose changes fpm does not notice (it rebuilds a file when its own text changes: fpm issue
    !> #358). Their checksum, here, is checked by test_step, which says the new value after an edit;
    !> setting it makes fpm rebuild this file.
-   integer(i8), parameter, public :: scatter_source_checksum = 284789149_i8
+   integer(i8), parameter, public :: scatter_source_checksum = 260401659_i8
 
 contains
 
@@ -101,35 +104,37 @@ contains
       call scratch(cache, particles%count)
       affine = kinematics .and. cache%transfer == transfer_apic
       if (force) cache%work(:, 1) = particles%stress*particles%volume_ratio*particles%volume0_of
-      if (affine) then
-         cache%work(:, 2) = particles%mass_of*(particles%v + particles%velocity_gradient* &
-                                               (grid%origin + cache%first*grid%dx - cache%position))
-         cache%work(:, 3) = particles%mass_of*particles%velocity_gradient*grid%dx
-      else if (kinematics) then
-         cache%work(:, 2) = particles%mass_of*particles%v
+      if (affine) then ! APIC: the momentum per unit weight q, r in the loop (see scatter_columns)
+         call scatter_columns(cache%support, cache%first, cache%weight, cache%gradient, particles%mass_of, &
+                              cache%work(:, 2:2), cache%work(:, 1), kinematics, force, grid%mass, grid%momentum, &
+                              grid%force, .true., grid%origin, grid%dx, particles%v, particles%velocity_gradient, &
+                              cache%position)
+      else
+         if (kinematics) cache%work(:, 2) = particles%mass_of*particles%v
+         call scatter_columns(cache%support, cache%first, cache%weight, cache%gradient, particles%mass_of, &
+                              cache%work(:, 2:2), cache%work(:, 1), kinematics, force, grid%mass, grid%momentum, &
+                              grid%force, .false., grid%origin, grid%dx)
       end if
-      call scatter_columns(cache%support, cache%first, cache%weight, cache%gradient, particles%mass_of, &
-                           cache%work(:, 2:merge(3, 2, affine)), cache%work(:, 1), kinematics, force, &
-                           grid%mass, grid%momentum, grid%force)
    end subroutine scatter
 
    !> The P2G sums of every column k of the support (2, 3 or 4): node first(p) + k - 1 gets
    !> weight(p, k) m_p, weight(p, k) (q_p + (k - 1) r_p) and -gradient(p, k) (sigma V)_p, with the
-   !> momentum per unit weight q = momentum_of(:, 1) ((m v)_p) and, when momentum_of has a second
-   !> column (APIC's affine part), r = momentum_of(:, 2), else 0. The loop (mpm_scatter_loop.inc) is
+   !> momentum per unit weight q = momentum_of(:, 1) ((m v)_p) and r = 0, or with `affine` (APIC)
+   !> q = m_p (v_p + C_p d_p), r = m_p C_p dx, d_p = origin + first(p) dx - position(p). The loop (mpm_scatter_loop.inc) is
    !> written once and compiled for each support and each set of sums (named constants in the blocks
    !> below and in mpm_scatter_variants.inc), so that no test of them is left inside it (the tests of
    !> run-time flags per particle cost 10-14 % of a generic USL step).
    subroutine scatter_columns(support, first, weight, gradient, mass_of, momentum_of, stress_volume, kinematics, &
-                              force, mass, momentum, nodal_force)
+                              force, mass, momentum, nodal_force, affine, origin, dx, v, velocity_gradient, position)
       integer, intent(in) :: support
       integer, intent(in), contiguous :: first(:)
       real(dp), intent(in), contiguous :: weight(:, :), gradient(:, :), mass_of(:), momentum_of(:, :), &
                                           stress_volume(:)
       logical, intent(in) :: kinematics, force
       real(dp), intent(inout), contiguous :: mass(0:), momentum(0:), nodal_force(0:)
-      logical :: affine
-      affine = size(momentum_of, 2) > 1
+      logical, intent(in) :: affine
+      real(dp), intent(in) :: origin, dx
+      real(dp), intent(in), contiguous, optional :: v(:), velocity_gradient(:), position(:)
       select case (support)
       case (2)
          block
@@ -248,36 +253,48 @@ contains
       call scratch(cache, particles%count)
       apic = cache%transfer == transfer_apic
       spline = cache%kind == shape_bspline2 .or. cache%kind == shape_bspline3
-      call gather_move(cache%support, cache%first, cache%weight, cache%gradient, grid%acceleration, grid%velocity, dt, &
-                       grid%inv_dx, grid%origin, grid%origin + grid%length, particles%mass_of, particles%x0, &
-                       particles%x, particles%v, cache%work, with_strain_rate .or. (apic .and. .not. spline), &
-                       apic .and. spline, totals, cache%transfer, cache%flip_fraction)
-      if (apic) then
-         if (spline) then
-            ! C_p = B_p D_p^-1, B_p = sum_I N_Ip v_I (x_I - x_p) = d_p sum_I N_Ip v_I + dx sum_k (k - 1) N_k v_k,
-            ! d_p = x(first(p)) - x_p at the start of the step (|d_p| < 2 dx: no cancellation)
-            particles%velocity_gradient = merge(4.0_dp, 3.0_dp, cache%kind == shape_bspline2)*grid%inv_dx**2* &
-                                          ((grid%origin + cache%first*grid%dx - cache%position)*cache%work(:, 2) + &
-                                           grid%dx*cache%work(:, 4))
-         else
-            ! C_p = sum_I v_I dN_Ip (where B_p D_p^-1 reduces to it: piecewise-linear weights), gathered above
-            particles%velocity_gradient = cache%work(:, 3)
-         end if
+      if (apic .and. spline) then
+         ! C_p = B_p D_p^-1, B_p = sum_I N_Ip v_I (x_I - x_p) = d_p sum_I N_Ip v_I + dx sum_k (k - 1) N_k v_k,
+         ! d_p = x(first(p)) - x_p at the start of the step (|d_p| < 2 dx: no cancellation); in G2P's loop
+         call gather_move(cache%support, cache%first, cache%weight, cache%gradient, grid%acceleration, grid%velocity, &
+                          dt, grid%inv_dx, grid%origin, grid%origin + grid%length, particles%mass_of, particles%x0, &
+                          particles%x, particles%v, cache%work, with_strain_rate, affine_spline, totals, &
+                          cache%transfer, cache%flip_fraction, grid%dx, &
+                          merge(4.0_dp, 3.0_dp, cache%kind == shape_bspline2)*grid%inv_dx**2, cache%position, &
+                          particles%velocity_gradient)
+      else if (apic) then
+         ! C_p = sum_I v_I dN_Ip (where B_p D_p^-1 reduces to it: piecewise-linear weights), in G2P's loop
+         call gather_move(cache%support, cache%first, cache%weight, cache%gradient, grid%acceleration, grid%velocity, &
+                          dt, grid%inv_dx, grid%origin, grid%origin + grid%length, particles%mass_of, particles%x0, &
+                          particles%x, particles%v, cache%work, .true., affine_hat, totals, cache%transfer, &
+                          cache%flip_fraction, grid%dx, 0.0_dp, cache%position, particles%velocity_gradient)
+      else
+         call gather_move(cache%support, cache%first, cache%weight, cache%gradient, grid%acceleration, grid%velocity, &
+                          dt, grid%inv_dx, grid%origin, grid%origin + grid%length, particles%mass_of, particles%x0, &
+                          particles%x, particles%v, cache%work, with_strain_rate, affine_none, totals, &
+                          cache%transfer, cache%flip_fraction, grid%dx, 0.0_dp)
       end if
    end subroutine g2p
 
    subroutine gather_move(support, first, weight, gradient, acceleration, velocity, dt, inv_dx, lo, hi, mass_of, x0, &
-                          x, v, gathered, strain_rate, moment, totals, transfer_kind, flip_fraction)
+                          x, v, gathered, strain_rate, affine, totals, transfer_kind, flip_fraction, dx, c_factor, &
+                          position, velocity_gradient)
       integer, intent(in) :: support, transfer_kind
+      !> APIC's velocity gradient C_p, gathered in the same loop: affine_none (no C), affine_hat
+      !> (C = sum dN v) or affine_spline (C = c_factor (d_p sum N v + dx sum_k (k - 1) N_k v_k),
+      !> d_p = lo + first(p) dx - position(p)), into velocity_gradient
+      integer, intent(in) :: affine
+      real(dp), intent(in) :: dx, c_factor
+      real(dp), intent(in), contiguous, optional :: position(:)
+      real(dp), intent(inout), contiguous, optional :: velocity_gradient(:)
       real(dp), intent(in) :: flip_fraction
       integer, intent(in), contiguous :: first(:)
       real(dp), intent(in), contiguous :: weight(:, :), gradient(:, :), acceleration(0:), velocity(0:), mass_of(:), x0(:)
       real(dp), intent(in) :: dt, inv_dx, lo, hi
       real(dp), intent(inout), contiguous :: x(:), v(:)
-      !> scratch: sum N a, sum N v per particle, with `strain_rate` sum dN v, with `moment` (it implies
-      !> `strain_rate`) sum_k (k - 1) N_k v_k (node k of the support)
+      !> scratch: sum N a, sum N v per particle, with `strain_rate` sum dN v
       real(dp), intent(inout), contiguous :: gathered(:, :)
-      logical, intent(in) :: strain_rate, moment
+      logical, intent(in) :: strain_rate
       type(pass_totals_t), intent(inout) :: totals
       integer :: p, k, b0, n, i, outside
       real(dp) :: displacement(lanes), kinetic(lanes), moved(block_size)
@@ -304,14 +321,6 @@ contains
             include 'mpm_gather_variants.inc'
          end block
       end select
-      if (moment) then ! sum_k (k - 1) N_k v_k, for APIC with B-splines
-         gathered(:, 4) = 0.0_dp
-         do k = 2, support
-            do p = 1, size(first)
-               gathered(p, 4) = gathered(p, 4) + (k - 1)*weight(p, k)*velocity(first(p) + k - 1)
-            end do
-         end do
-      end if
       select case (transfer_kind)
       case (transfer_pic, transfer_apic)
          v = gathered(:, 2)
@@ -399,8 +408,7 @@ contains
    subroutine scratch(cache, count)
       type(shape_cache_t), intent(inout) :: cache
       integer, intent(in) :: count
-      if (.not. allocated(cache%work)) allocate (cache%work(count, merge(cache%support + 1, 3, &
-                                                                           cache%transfer == transfer_apic)))
+      if (.not. allocated(cache%work)) allocate (cache%work(count, 3))
    end subroutine scratch
 
    !> Kinetic and strain energy and the smallest J of the particles as they are (the initial state).
