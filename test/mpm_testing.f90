@@ -4,7 +4,7 @@ module mpm_testing
    use mpm_strings, only: str
    implicit none
    private
-   public :: tester_t, app_path, run_app, read_text, scratch_dir, write_lines, check_include_checksum
+   public :: tester_t, app_path, run_app, read_text, scratch_dir, write_lines, check_include_checksum, fixed_seed
 
    !> Counts checks and failures; `finish` prints "N passed, M failed" and ends with error stop 1 on failure.
    type :: tester_t
@@ -20,6 +20,14 @@ module mpm_testing
    end type tester_t
 
 contains
+
+   !> A fixed seed for random_number (gfortran seeds it from the operating system otherwise): a test
+   !> with random inputs then checks the same inputs in every run, and a failure can be reproduced.
+   subroutine fixed_seed()
+      integer :: n, i
+      call random_seed(size=n)
+      call random_seed(put=[(104729*i + 7919, i=1, n)])
+   end subroutine fixed_seed
 
    !> The include files `paths` (separated by spaces) that the module file `source` compiles in are
    !> the ones it was compiled from: fpm rebuilds a source when its own text changes, not when a file

@@ -16,13 +16,14 @@ program test_kernels
    use mpm_particles, only: particles_t, particles_init
    use mpm_transfer, only: pass_totals_t, p2g, fused_pass, pass_usl, pass_usf_move, pass_usf_stress, pass_musl_remap, &
                            pass_musl_stress, kernel_source_checksum
-   use mpm_testing, only: tester_t, check_include_checksum
+   use mpm_testing, only: tester_t, check_include_checksum, fixed_seed
    use mpm_strings, only: str
    implicit none
    type(tester_t) :: t
    real(dp), parameter :: length = 3.0_dp, density = 2.0_dp, youngs_modulus = 5.0_dp, dt = 0.01_dp
 
    t%name = 'test_kernels'
+   call fixed_seed()
    call check_pass('usl', 13, 11)
    call check_pass('usf', 13, 11)
    call check_pass('usl', 20000, 10)

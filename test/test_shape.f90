@@ -11,12 +11,13 @@ program test_shape
    use mpm_grid, only: grid_t, grid_init
    use mpm_shape, only: shape_cache_t, evaluate_shapes, shape_name, all_shapes, shape_ugimp, shape_cpgimp, shape_bspline2, &
                         shape_bspline3
-   use mpm_testing, only: tester_t
+   use mpm_testing, only: tester_t, fixed_seed
    use mpm_shape_range, only: inside_range
    implicit none
    type(tester_t) :: t
    integer :: s
    t%name = 'test_shape'
+   call fixed_seed()
    do s = 1, size(all_shapes)
       call properties(all_shapes(s))
    end do

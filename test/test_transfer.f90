@@ -7,7 +7,7 @@ program test_transfer
    use mpm_grid, only: grid_t, grid_init, assemble_nodes
    use mpm_particles, only: particles_t, particles_init
    use mpm_transfer, only: pass_totals_t, p2g
-   use mpm_testing, only: tester_t
+   use mpm_testing, only: tester_t, fixed_seed
    implicit none
    type(tester_t) :: t
    type(grid_t) :: grid
@@ -20,6 +20,7 @@ program test_transfer
    integer, parameter :: elements = 7, per_element = 3
 
    t%name = 'test_transfer'
+   call fixed_seed()
    ! Partition of unity and linear completeness at pseudo-random points, and the located
    ! element really contains the point.
    do i = 1, 1000

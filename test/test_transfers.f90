@@ -12,11 +12,12 @@ program test_transfers
                         shape_extra_cells
    use mpm_operations, only: locate_particles, p2g_mass_momentum, solve_grid, g2p, nodal_velocities, mirror_fold
    use mpm_diagnostics, only: pass_totals_t
-   use mpm_testing, only: tester_t
+   use mpm_testing, only: tester_t, fixed_seed
    implicit none
    type(tester_t) :: t
    integer :: s, k
    t%name = 'test_transfers'
+   call fixed_seed()
    do s = 1, size(all_shapes)
       do k = 1, size(all_transfers)
          call conservation(all_shapes(s), all_transfers(k))
