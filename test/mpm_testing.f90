@@ -54,7 +54,8 @@ contains
       end do
       call t%check(source//' was compiled from '//paths, len(text) > 0 .and. checksum == compiled, &
                    'an include file changed: set '//name//' in '//source//' to '//str(checksum)// &
-                   ' (then fpm rebuilds it)')
+                   ' (then fpm rebuilds it; if this stays red, the test program is older than the '// &
+                   'library: bash test/run_tests.sh, or rm build/gfortran_*/test/*, relinks it)')
    end subroutine check_include_checksum
 
    subroutine tester_check(self, label, condition, detail)

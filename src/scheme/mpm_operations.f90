@@ -38,9 +38,15 @@ module mpm_operations
    !> whose changes fpm does not notice (it rebuilds a file when its own text changes: fpm issue
    !> #358). Their checksum, here, is checked by test_step, which says the new value after an edit;
    !> setting it makes fpm rebuild this file.
-   integer(i8), parameter, public :: scatter_source_checksum = 260401659_i8
+   integer(i8), parameter :: scatter_source_checksum = 260401659_i8
+   public :: scatter_checksum_compiled
 
 contains
+
+   !> scatter_source_checksum as compiled into this module (why a function: kernel_checksum_compiled).
+   integer(i8) function scatter_checksum_compiled()
+      scatter_checksum_compiled = scatter_source_checksum
+   end function scatter_checksum_compiled
 
    !> Shape functions at the start-of-step positions; totals%outside = first particle outside the domain.
    subroutine locate_particles(cache, grid, particles, totals)
@@ -107,34 +113,35 @@ contains
       if (affine) then ! APIC: the momentum per unit weight q, r in the loop (see scatter_columns)
          call scatter_columns(cache%support, cache%first, cache%weight, cache%gradient, particles%mass_of, &
                               cache%work(:, 2:2), cache%work(:, 1), kinematics, force, grid%mass, grid%momentum, &
-                              grid%force, .true., grid%origin, grid%dx, particles%v, particles%velocity_gradient, &
+                              grid%force, grid%origin, grid%dx, particles%v, particles%velocity_gradient, &
                               cache%position)
       else
          if (kinematics) cache%work(:, 2) = particles%mass_of*particles%v
          call scatter_columns(cache%support, cache%first, cache%weight, cache%gradient, particles%mass_of, &
                               cache%work(:, 2:2), cache%work(:, 1), kinematics, force, grid%mass, grid%momentum, &
-                              grid%force, .false., grid%origin, grid%dx)
+                              grid%force, grid%origin, grid%dx)
       end if
    end subroutine scatter
 
    !> The P2G sums of every column k of the support (2, 3 or 4): node first(p) + k - 1 gets
    !> weight(p, k) m_p, weight(p, k) (q_p + (k - 1) r_p) and -gradient(p, k) (sigma V)_p, with the
-   !> momentum per unit weight q = momentum_of(:, 1) ((m v)_p) and r = 0, or with `affine` (APIC)
-   !> q = m_p (v_p + C_p d_p), r = m_p C_p dx, d_p = origin + first(p) dx - position(p). The loop (mpm_scatter_loop.inc) is
+   !> momentum per unit weight q = momentum_of(:, 1) ((m v)_p) and r = 0, or, given v, velocity_gradient
+   !> and position (APIC), q = m_p (v_p + C_p d_p), r = m_p C_p dx, d_p = origin + first(p) dx - position(p). The loop (mpm_scatter_loop.inc) is
    !> written once and compiled for each support and each set of sums (named constants in the blocks
    !> below and in mpm_scatter_variants.inc), so that no test of them is left inside it (the tests of
    !> run-time flags per particle cost 10-14 % of a generic USL step).
    subroutine scatter_columns(support, first, weight, gradient, mass_of, momentum_of, stress_volume, kinematics, &
-                              force, mass, momentum, nodal_force, affine, origin, dx, v, velocity_gradient, position)
+                              force, mass, momentum, nodal_force, origin, dx, v, velocity_gradient, position)
       integer, intent(in) :: support
       integer, intent(in), contiguous :: first(:)
       real(dp), intent(in), contiguous :: weight(:, :), gradient(:, :), mass_of(:), momentum_of(:, :), &
                                           stress_volume(:)
       logical, intent(in) :: kinematics, force
       real(dp), intent(inout), contiguous :: mass(0:), momentum(0:), nodal_force(0:)
-      logical, intent(in) :: affine
       real(dp), intent(in) :: origin, dx
       real(dp), intent(in), contiguous, optional :: v(:), velocity_gradient(:), position(:)
+      logical :: affine
+      affine = present(velocity_gradient)
       select case (support)
       case (2)
          block
@@ -253,21 +260,17 @@ contains
       call scratch(cache, particles%count)
       apic = cache%transfer == transfer_apic
       spline = cache%kind == shape_bspline2 .or. cache%kind == shape_bspline3
-      if (apic .and. spline) then
-         ! C_p = B_p D_p^-1, B_p = sum_I N_Ip v_I (x_I - x_p) = d_p sum_I N_Ip v_I + dx sum_k (k - 1) N_k v_k,
-         ! d_p = x(first(p)) - x_p at the start of the step (|d_p| < 2 dx: no cancellation); in G2P's loop
+      if (apic) then
+         ! C_p in G2P's loop: with B-splines B_p D_p^-1, B_p = sum_I N_Ip v_I (x_I - x_p) = d_p sum_I N_Ip v_I
+         ! + dx sum_k (k - 1) N_k v_k, d_p = x(first(p)) - x_p at the start of the step (|d_p| < 2 dx: no
+         ! cancellation); with the hat and GIMP sum_I v_I dN_Ip (B_p D_p^-1 reduces to it for
+         ! piecewise-linear weights)
          call gather_move(cache%support, cache%first, cache%weight, cache%gradient, grid%acceleration, grid%velocity, &
                           dt, grid%inv_dx, grid%origin, grid%origin + grid%length, particles%mass_of, particles%x0, &
-                          particles%x, particles%v, cache%work, with_strain_rate, affine_spline, totals, &
-                          cache%transfer, cache%flip_fraction, grid%dx, &
-                          merge(4.0_dp, 3.0_dp, cache%kind == shape_bspline2)*grid%inv_dx**2, cache%position, &
-                          particles%velocity_gradient)
-      else if (apic) then
-         ! C_p = sum_I v_I dN_Ip (where B_p D_p^-1 reduces to it: piecewise-linear weights), in G2P's loop
-         call gather_move(cache%support, cache%first, cache%weight, cache%gradient, grid%acceleration, grid%velocity, &
-                          dt, grid%inv_dx, grid%origin, grid%origin + grid%length, particles%mass_of, particles%x0, &
-                          particles%x, particles%v, cache%work, .true., affine_hat, totals, cache%transfer, &
-                          cache%flip_fraction, grid%dx, 0.0_dp, cache%position, particles%velocity_gradient)
+                          particles%x, particles%v, cache%work, with_strain_rate, &
+                          merge(affine_spline, affine_hat, spline), totals, cache%transfer, cache%flip_fraction, &
+                          grid%dx, merge(4.0_dp, 3.0_dp, cache%kind == shape_bspline2)*grid%inv_dx**2, &
+                          cache%position, particles%velocity_gradient)
       else
          call gather_move(cache%support, cache%first, cache%weight, cache%gradient, grid%acceleration, grid%velocity, &
                           dt, grid%inv_dx, grid%origin, grid%origin + grid%length, particles%mass_of, particles%x0, &
@@ -281,8 +284,8 @@ contains
                           position, velocity_gradient)
       integer, intent(in) :: support, transfer_kind
       !> APIC's velocity gradient C_p, gathered in the same loop: affine_none (no C), affine_hat
-      !> (C = sum dN v) or affine_spline (C = c_factor (d_p sum N v + dx sum_k (k - 1) N_k v_k),
-      !> d_p = lo + first(p) dx - position(p)), into velocity_gradient
+      !> (C = sum dN v; it implies the strain rate) or affine_spline (C = c_factor (d_p sum N v + dx
+      !> sum_k (k - 1) N_k v_k), d_p = lo + first(p) dx - position(p)), into velocity_gradient
       integer, intent(in) :: affine
       real(dp), intent(in) :: dx, c_factor
       real(dp), intent(in), contiguous, optional :: position(:)
@@ -296,7 +299,7 @@ contains
       real(dp), intent(inout), contiguous :: gathered(:, :)
       logical, intent(in) :: strain_rate
       type(pass_totals_t), intent(inout) :: totals
-      integer :: p, k, b0, n, i, outside
+      integer :: p, b0, n, i, outside
       real(dp) :: displacement(lanes), kinetic(lanes), moved(block_size)
       integer :: inside(block_size)
       integer(i8) :: below, above
