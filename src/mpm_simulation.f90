@@ -9,10 +9,10 @@ module mpm_simulation
    use mpm_config, only: config_t
    use mpm_grid, only: grid_t, grid_init, assemble_nodes, nodal_velocity
    use mpm_particles, only: particles_t, per_particle_data
-   use mpm_shape, only: shape_cache_t, shape_id, shape_linear, shape_extra_cells, transfer_id, transfer_flip, &
-                        transfer_apic
-   use mpm_fused, only: fused_start, fused_step
-   use mpm_operations, only: particle_energies, locate_particles, p2g_mass_momentum, nodal_velocities
+   use mpm_shape, only: shape_cache_t, shape_id, shape_linear, shape_ugimp, shape_cpgimp, shape_extra_cells, &
+                        transfer_id, transfer_flip, transfer_apic
+   use mpm_fused, only: fused_start, fused_step, fused_box_t
+   use mpm_operations, only: particle_energies, locate_particles, p2g_mass_momentum, nodal_velocities, mirror_fold
    use mpm_schemes, only: scheme_usf, scheme_usl, scheme_musl, scheme_step, scheme_step_bodies
    use mpm_contact, only: bodies_t, bodies_init
    use mpm_scene, only: scene_t
@@ -102,6 +102,7 @@ contains
       type(shape_cache_t) :: cache
       type(pass_totals_t) :: totals
       type(bodies_t) :: bodies
+      type(fused_box_t) :: box
       real(dp), allocatable :: watch(:)
       real(dp) :: start, ucm, exact, energy, energy_reference, t, total_mass
       integer :: n, scheme, next_snapshot, extra, stat
@@ -116,8 +117,10 @@ contains
       cache%kind = shape_id(config%shape)
       cache%transfer = transfer_id(config%transfer)
       cache%flip_fraction = config%flip_fraction
-      fused = trim(config%kernels) == 'auto' .and. scene%fused_applies() .and. cache%kind == shape_linear .and. &
-              cache%transfer == transfer_flip
+      fused = trim(config%kernels) == 'auto' .and. scene%fused_applies() .and. cache%transfer == transfer_flip .and. &
+              any(cache%kind == [shape_linear, shape_ugimp, shape_cpgimp])
+      box%gimp = cache%kind == shape_ugimp .or. cache%kind == shape_cpgimp
+      box%stretch = cache%kind == shape_cpgimp
       result%fused = fused
       ! shapes wider than the hat: one more cell beyond the free end, one ghost cell left of x = 0
       extra = shape_extra_cells(cache%kind)
@@ -148,7 +151,7 @@ contains
       result%particles = particles%count
 
       if (fused) then
-         call fused_start(scheme, particles, grid, totals)
+         call fused_start(scheme, particles, grid, totals, box, config%youngs_modulus)
       else
          call particle_energies(particles, config%youngs_modulus, totals)
          total_mass = sum(particles%mass_of)
@@ -172,7 +175,7 @@ contains
       do n = 1, config%steps
          t = (n - 1)*config%dt
          if (fused) then
-            call fused_step(scheme, particles, grid, config%dt, config%youngs_modulus, totals)
+            call fused_step(scheme, particles, grid, config%dt, config%youngs_modulus, totals, box)
             ucm = totals%displacement/particles%count ! u_cm = sum m (x - X) / sum m, equal masses
          else if (scene%body_fields) then
             call scheme_step_bodies(scheme, scene, cache, particles, grid, bodies, config%dt, config%youngs_modulus, &
@@ -288,6 +291,7 @@ contains
          type(pass_totals_t) :: unused
          if (fused) then
             call assemble_nodes(grid, .false.)
+            call mirror_fold(grid, .true., .false.)
             call nodal_velocity(grid)
          else
             call locate_particles(cache, grid, particles, unused)

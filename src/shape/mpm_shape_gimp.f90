@@ -26,12 +26,21 @@ module mpm_shape_gimp
    use mpm_shape_range, only: infinity_bits
    implicit none
    private
-   public :: gimp_support, gimp_shapes
+   public :: gimp_support, gimp_shapes, gimp_checksum_compiled
+
+   !> The checksum of mpm_gimp_box.inc, which this module includes (fpm does not notice a change of an
+   !> included file, fpm issue #358: see kernel_source_checksum in mpm_transfer); test_shape checks it.
+   integer(i8), parameter :: gimp_source_checksum = 295088833_i8
 
    !> Nodes a particle touches (a box of at most one cell spans at most two cells).
    integer, parameter :: gimp_support = 3
 
 contains
+
+   !> gimp_source_checksum as compiled into this module (see kernel_checksum_compiled in mpm_transfer).
+   integer(i8) function gimp_checksum_compiled()
+      gimp_checksum_compiled = gimp_source_checksum
+   end function gimp_checksum_compiled
 
    !> Weights and gradients of every particle at positions `x` with box half-lengths `half_length`
    !> on a grid of `cells` cells of size 1/inv_dx from `origin`; node first(p) + k - 1 gets
@@ -45,25 +54,15 @@ contains
       real(dp), intent(out), contiguous :: weight(:, :), gradient(:, :)
       integer, intent(out) :: outside
       integer :: p, i, flag
-      integer(i8) :: below, above
-      real(dp) :: s, l, inside, d, r1, r2, t1, t2
+      real(dp) :: s, l, inside, r1, r2, t1, t2
       outside = huge(1)
       do p = 1, size(x)
          s = (x(p) - origin)*inv_dx
          l = min(max(half_length(p)*inv_dx, 1.0e-9_dp), 0.5_dp)
-         below = transfer(s - l, 0_i8)  ! flag = inside_range(s, l, real(cells, dp) - l), written out
-         above = transfer(real(cells, dp) - l - s, 0_i8)
-         flag = int(1_i8 - ishft(ior(ior(below, above), infinity_bits - below), -63))
+         call gimp_box(s, l, cells, i, r1, r2, t1, t2, flag)
          inside = real(flag, dp)
          outside = min(outside, p + (huge(1) - p)*flag)
-         s = merge(s, 0.5_dp*cells, flag == 1)
-         i = min(int(s - l), cells - 2)
          first(p) = i
-         d = s - (i + 1)
-         r2 = min(1.0_dp, max(0.0_dp, d + l)*(0.5_dp/l))
-         r1 = 1.0_dp - r2
-         t1 = 1.0_dp + 0.5_dp*(min(d - l, 0.0_dp) + min(d + l, 0.0_dp))
-         t2 = 0.5_dp*(max(d - l, 0.0_dp) + max(d + l, 0.0_dp))
          weight(p, 1) = r1*(1.0_dp - t1)*inside
          weight(p, 2) = (r1*t1 + r2*(1.0_dp - t2))*inside
          weight(p, 3) = r2*t2*inside
@@ -73,4 +72,6 @@ contains
       end do
       if (outside == huge(1)) outside = 0
    end subroutine gimp_shapes
+
+   include 'mpm_gimp_box.inc'
 end module mpm_shape_gimp

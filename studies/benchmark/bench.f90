@@ -6,7 +6,8 @@
 !>       scheme,elements,ppc,particles,threads,steps,repeat,seconds,particle_steps_per_s
 !>       (seconds: with one thread the process's CPU time, so that a core shared with other work
 !>       does not count its waiting; with more threads the wall-clock time)
-!>       (with SHAPE given, generic only: two more columns, shape,transfer; defaults linear, flip)
+!>       (with SHAPE given: two more columns, shape,transfer; defaults linear, flip; the fused kernels
+!>       take linear, ugimp and cpgimp with flip)
 !>   mpm1d_bench stream N REPEATS
 !>       memory bandwidth with 1 and 2 threads over arrays of N doubles:
 !>       kernel,threads,bytes_per_element,repeat,seconds,bytes_per_s
@@ -31,9 +32,9 @@ program mpm1d_bench
    use mpm_grid, only: grid_t, grid_init
    use mpm_particles, only: particles_t, per_particle_data
    use mpm_shape, only: shape_cache_t, shape_id, shape_extra_cells, transfer_id, transfer_apic, shape_name, &
-                        transfer_name
+                        transfer_name, shape_linear, shape_ugimp, shape_cpgimp, transfer_flip
    use mpm_transfer, only: pass_totals_t
-   use mpm_fused, only: fused_start, fused_step
+   use mpm_fused, only: fused_start, fused_step, fused_box_t
    use mpm_schemes, only: scheme_usf, scheme_usl, scheme_musl, scheme_step
    use mpm_scene_bar, only: bar_t, bar_init
    use mpm_simulation, only: run_result_t, run_simulation
@@ -105,6 +106,7 @@ contains
       type(pass_totals_t) :: totals
       type(error_t), allocatable :: error
       type(shape_cache_t) :: cache
+      type(fused_box_t) :: box
       integer :: steps, repeats, threads, r, n, scheme, extra
       real(dp) :: start, seconds, ucm, worst, total_mass
       logical :: generic
@@ -120,12 +122,17 @@ contains
       bar = bar_init(config%length, config%youngs_modulus, config%density, config%velocity_amplitude, config%mode)
       generic = trim(arg(8)) == 'generic'
       columns = ''
-      if (generic .and. len_trim(arg(9)) > 0) then
+      if (len_trim(arg(9)) > 0) then
          cache%kind = shape_id(arg(9))
          if (len_trim(arg(10)) > 0) cache%transfer = transfer_id(arg(10))
          if (cache%kind == 0 .or. cache%transfer == 0) error stop 'unknown shape or transfer'
+         if (.not. generic .and. (cache%transfer /= transfer_flip .or. &
+             .not. any(cache%kind == [shape_linear, shape_ugimp, shape_cpgimp]))) &
+            error stop 'the fused kernels take linear, ugimp or cpgimp with flip'
          columns = ','//shape_name(cache%kind)//','//transfer_name(cache%transfer)
       end if
+      box%gimp = cache%kind == shape_ugimp .or. cache%kind == shape_cpgimp
+      box%stretch = cache%kind == shape_cpgimp
       extra = shape_extra_cells(cache%kind)
       select case (trim(config%scheme))
       case ('usf')
@@ -149,7 +156,7 @@ contains
          if (generic) then
             total_mass = sum(particles%mass_of)
          else
-            call fused_start(scheme, particles, grid, totals)
+            call fused_start(scheme, particles, grid, totals, box, config%youngs_modulus)
          end if
          worst = 0
          start = clock(threads)
@@ -160,7 +167,7 @@ contains
                                 (n - 1)*config%dt, totals)
                ucm = totals%displacement/total_mass
             else
-               call fused_step(scheme, particles, grid, config%dt, config%youngs_modulus, totals)
+               call fused_step(scheme, particles, grid, config%dt, config%youngs_modulus, totals, box)
                ucm = totals%displacement/particles%count
             end if
             worst = max(worst, abs(ucm - bar%ucm_exact(n*config%dt)))

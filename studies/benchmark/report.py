@@ -25,7 +25,8 @@ BYTES = {'usf': 84, 'usl': 80, 'musl': 100}
 GRID_BYTES_PER_ELEMENT = 200
 
 
-#: Speed targets of the shapes (generic path, ratio to linear on the fused kernels, in cache).
+#: Speed targets of the shapes (ratio to linear on the fused kernels; GIMP with FLIP on its fused kernels,
+#: the path a run takes, the other shapes on the generic path).
 SHAPE_TARGETS = {'ugimp': 0.5, 'cpgimp': 0.5, 'bspline2': 0.5, 'bspline3': 0.33}
 SHAPE_ORDER = ['linear', 'ugimp', 'cpgimp', 'bspline2', 'bspline3']
 
@@ -33,45 +34,48 @@ SHAPE_ORDER = ['linear', 'ugimp', 'cpgimp', 'bspline2', 'bspline3']
 def shape_table(rows, lines):
     """Section on every shape and transfer (shapes.csv): the median rate, the median over rounds of the
     ratio to the fused linear run of the same scheme, size and round, and (USL) each transfer's cost
-    against FLIP with the same shape and round. Returns ({(scheme, shape, n): ratio to fused linear},
-    {(shape, transfer, n): cost / FLIP's})."""
+    against FLIP with the same shape, path (generic) and round. Returns ({(scheme, shape, n): (ratio to
+    fused linear, path)} for FLIP on the fastest path the shape has, {(shape, transfer, n): cost / FLIP's})."""
     if not rows:
         return {}, {}
     def rate(r):
         return float(r['particle_steps_per_s'])
-    fused = {(r['scheme'], int(r['particles']), r['round']): rate(r) for r in rows if r['path'] == 'fused'}
+    fused = {(r['scheme'], int(r['particles']), r['round']): rate(r) for r in rows
+             if r['path'] == 'fused' and r['shape'] == 'linear'}
     flip = {(r['shape'], int(r['particles']), r['round']): rate(r) for r in rows
             if r['path'] == 'generic' and r['scheme'] == 'usl' and r['transfer'] == 'flip'}
     groups = {}
     for r in rows:
-        if r['path'] == 'generic':
-            groups.setdefault((r['scheme'], r['shape'], r['transfer'], int(r['particles'])), []).append(r)
+        if not (r['path'] == 'fused' and r['shape'] == 'linear'):
+            groups.setdefault((r['scheme'], r['shape'], r['transfer'], int(r['particles']), r['path']), []).append(r)
     ratio, cost = {}, {}
-    lines += ['## Shapes and transfers (generic path)\n',
+    lines += ['## Shapes and transfers\n',
               'One thread, 4 particles per element; each round runs linear on the fused kernels, then each shape '
-              'and transfer on the generic path; ratios are medians over rounds of the paired ratios (range in '
-              'brackets). One-thread times are CPU times (a core shared with other work does not count its '
-              'waiting). Targets: GIMP and quadratic B-splines >= 0.5 x linear fused, cubic >= 0.33, a transfer '
-              '<= 1.15 x FLIP.\n',
-              '| particles | scheme | shape | transfer | particle-steps/s | / linear fused | cost / FLIP |',
-              '|---|---|---|---|---|---|---|']
+              'and transfer on the generic path, and uGIMP and cpGIMP with FLIP on their fused kernels (the path '
+              'a run takes); ratios are medians over rounds of the paired ratios (range in brackets). One-thread '
+              'times are CPU times (a core shared with other work does not count its waiting). Targets: GIMP and '
+              'quadratic B-splines >= 0.5 x linear fused, cubic >= 0.33, a transfer <= 1.15 x FLIP (both on the '
+              'generic path).\n',
+              '| particles | scheme | shape | transfer | path | particle-steps/s | / linear fused | cost / FLIP |',
+              '|---|---|---|---|---|---|---|---|']
     scheme_order = ['usf', 'usl', 'musl']
     transfer_order = ['flip', 'pic', 'blend', 'apic']
     for key in sorted(groups, key=lambda k: (k[3], scheme_order.index(k[0]), SHAPE_ORDER.index(k[1]),
-                                             transfer_order.index(k[2]))):
-        s, shape, transfer, n = key
+                                             transfer_order.index(k[2]), k[4])):
+        s, shape, transfer, n, path = key
         rs = groups[key]
         q = [rate(r) / fused[s, n, r['round']] for r in rs if (s, n, r['round']) in fused]
         cell = f'{np.median(q):.2f} ({min(q):.2f}-{max(q):.2f})' if q else '-'
-        if q and transfer == 'flip':
-            ratio[s, shape, n] = float(np.median(q))
+        if q and transfer == 'flip' and (path == 'fused' or (s, shape, n) not in ratio):
+            ratio[s, shape, n] = (float(np.median(q)), path)
         c = '-'
-        if s == 'usl' and transfer != 'flip':
+        if s == 'usl' and transfer != 'flip' and path == 'generic':
             cs = [flip[shape, n, r['round']] / rate(r) for r in rs if (shape, n, r['round']) in flip]
             if cs:
                 cost[shape, transfer, n] = float(np.median(cs))
                 c = f'{np.median(cs):.2f} ({min(cs):.2f}-{max(cs):.2f})'
-        lines.append(f'| {n:.0e} | {s} | {shape} | {transfer} | {np.median([rate(r) for r in rs]):.3g} | {cell} | {c} |')
+        lines.append(f'| {n:.0e} | {s} | {shape} | {transfer} | {path} | {np.median([rate(r) for r in rs]):.3g} | {cell} '
+                     f'| {c} |')
     lines.append('')
     return ratio, cost
 
@@ -278,9 +282,9 @@ def main(argv=None):
     for (s, n), v in sorted(gen_ratio.items()):
         if n <= 10**5:
             lines.append(f'- {s}, {n:.0e} particles (in cache), generic >= 0.5 x fused: {v:.2f} -> {mark(v >= 0.5)}')
-    for (s, shape, n), v in sorted(shape_ratio.items()):
-        if n <= 10**5 and shape in SHAPE_TARGETS:
-            lines.append(f'- {s}, {n:.0e} particles, {shape} (generic) >= {SHAPE_TARGETS[shape]} x linear (fused): '
+    for (s, shape, n), (v, path) in sorted(shape_ratio.items()):
+        if shape in SHAPE_TARGETS:
+            lines.append(f'- {s}, {n:.0e} particles, {shape} ({path}) >= {SHAPE_TARGETS[shape]} x linear (fused): '
                          f'{v:.2f} -> {mark(v >= SHAPE_TARGETS[shape])}')
     for (shape, transfer, n), v in sorted(transfer_cost.items()):
         if n <= 10**5:

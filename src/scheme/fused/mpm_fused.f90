@@ -1,5 +1,6 @@
-!> The fused specialisation of USF, USL and MUSL for the paper's bar: linear shape functions, one
-!> particle mass and volume, one material, no external force, the grid starting at x = 0. Each step
+!> The fused specialisation of USF, USL and MUSL for the paper's bar: linear or GIMP shape functions
+!> (uGIMP, cpGIMP: see mpm_transfer), FLIP, one particle mass and volume, one material, no external
+!> force. Each step
 !> is one or two fused passes over the particles (mpm_transfer), which also carry the next step's
 !> particle-to-grid transfer. The generic path (mpm_schemes over mpm_operations) is the definition;
 !> these kernels are chosen automatically where they apply (mpm_simulation) and must agree with it
@@ -7,22 +8,36 @@
 module mpm_fused
    use mpm_kinds, only: dp
    use mpm_grid, only: grid_t, assemble_nodes, assemble_and_solve, nodal_velocity, solve_momentum
+   use mpm_operations, only: mirror_fold
    use mpm_particles, only: particles_t
    use mpm_schemes, only: scheme_usf, scheme_usl, scheme_musl
    use mpm_transfer, only: pass_totals_t, p2g, fused_pass, pass_usf_stress, pass_usf_move, pass_usl, pass_musl_remap, &
-                           pass_musl_stress, merge_totals
+                           pass_musl_stress, merge_totals, fused_box_t, box_cells
    implicit none
    private
-   public :: fused_start, fused_step
+   public :: fused_start, fused_step, fused_box_t
 
 contains
 
-   !> Initial mapping: element shares of mass, momentum and (USL, MUSL) stress*volume.
-   subroutine fused_start(scheme, particles, grid, totals)
+   !> Initial mapping: element shares of mass, momentum and (USL, MUSL) stress*volume. With GIMP's
+   !> `box` (and the run's `youngs_modulus`): a USL pass of zero time step, which moves nothing and
+   !> maps the boxes where they are (x + 0, v + 0, sigma + E 0, J (1 + 0) leave every value as it is).
+   subroutine fused_start(scheme, particles, grid, totals, box, youngs_modulus)
       integer, intent(in) :: scheme
       type(particles_t), intent(inout) :: particles
       type(grid_t), intent(inout) :: grid
       type(pass_totals_t), intent(out) :: totals
+      type(fused_box_t), intent(inout), optional :: box
+      real(dp), intent(in), optional :: youngs_modulus
+      if (present(box)) then
+         if (box%gimp) then
+            if (scheme /= scheme_usl .and. .not. allocated(box%carry)) allocate (box%carry(particles%count))
+            if (.not. allocated(box%carry)) allocate (box%carry(0))
+            call box_cells(particles, grid, box)
+            call fused_pass(pass_usl, particles, grid, 0.0_dp, youngs_modulus, totals, box)
+            return
+         end if
+      end if
       call p2g(particles, grid, scheme /= scheme_usf, totals)
    end subroutine fused_start
 
@@ -31,13 +46,39 @@ contains
    !> the next mass and momentum shares. USL: momentum update -> one pass of G2P, stress update and the
    !> next P2G. MUSL: momentum update -> G2P with the new momentum mapped back -> nodal velocity ->
    !> stress update fused with the next P2G.
-   subroutine fused_step(scheme, particles, grid, dt, youngs_modulus, totals)
+   !> With GIMP's `box` (fused_start's) the nodal sums are reflected at a mirrored fixed end before
+   !> they are used (mirror_fold, as on the generic path: GIMP's grid has a ghost cell there).
+   subroutine fused_step(scheme, particles, grid, dt, youngs_modulus, totals, box)
       integer, intent(in) :: scheme
       type(particles_t), intent(inout) :: particles
       type(grid_t), intent(inout) :: grid
       real(dp), intent(in) :: dt, youngs_modulus
       type(pass_totals_t), intent(out) :: totals
+      type(fused_box_t), intent(inout), optional :: box
       type(pass_totals_t) :: stress_totals
+      logical :: wide
+      wide = .false.
+      if (present(box)) wide = box%gimp
+      if (wide) then
+         select case (scheme)
+         case (scheme_usf)
+            call kinematics()
+            call fused_pass(pass_usf_stress, particles, grid, dt, youngs_modulus, stress_totals, box)
+            call solve()
+            call fused_pass(pass_usf_move, particles, grid, dt, youngs_modulus, totals, box)
+            call merge_totals(totals, stress_totals)
+         case (scheme_usl)
+            call solve()
+            call fused_pass(pass_usl, particles, grid, dt, youngs_modulus, totals, box)
+         case (scheme_musl)
+            call solve()
+            call fused_pass(pass_musl_remap, particles, grid, dt, youngs_modulus, totals, box)
+            call kinematics()
+            call fused_pass(pass_musl_stress, particles, grid, dt, youngs_modulus, stress_totals, box)
+            call merge_totals(totals, stress_totals)
+         end select
+         return
+      end if
       select case (scheme)
       case (scheme_usf)
          call assemble_nodes(grid, .false.)
@@ -57,5 +98,18 @@ contains
          call fused_pass(pass_musl_stress, particles, grid, dt, youngs_modulus, stress_totals)
          call merge_totals(totals, stress_totals)
       end select
+   contains
+      !> Nodal mass and momentum (reflected), then the nodal velocity.
+      subroutine kinematics()
+         call assemble_nodes(grid, .false.)
+         call mirror_fold(grid, .true., .false.)
+         call nodal_velocity(grid)
+      end subroutine kinematics
+      !> Nodal mass, momentum and force (reflected), then the momentum update.
+      subroutine solve()
+         call assemble_nodes(grid, .true.)
+         call mirror_fold(grid, .true., .true.)
+         call solve_momentum(grid, dt, .false.)
+      end subroutine solve
    end subroutine fused_step
 end module mpm_fused

@@ -6,6 +6,14 @@
 !> Notation: a particle in element e with local coordinate xi has N_left = 1 - xi on node e-1 and
 !> N_right = xi on node e; dN = -/+ 1/dx. Grid nodal arrays are indexed 0..elements.
 !>
+!> GIMP (uGIMP, cpGIMP: mpm_shape_gimp) is linear MPM with each particle split in two: its box is cut
+!> by a node into a part of fraction r1 in element e and a part r2 = 1 - r1 in element e + 1, and
+!> the box average of a hat over a part is the hat at the part's centroid (the hats are linear in an
+!> element), t1 and t2 there. So S_I = r1 N_I(t1 in e) + r2 N_I(t2 in e + 1) and dS_I/dx = r1 dN_I(e)
+!> + r2 dN_I(e + 1): the GIMP kernels (`gimp`, a named constant like the pass) sum weighted element
+!> shares, r (1 - t) m, r t m, ..., r sigma V, in two runs per block (the left parts in e, the right
+!> parts in e + 1), and gather as r1 (linear in e at t1) + r2 (linear in e + 1 at t2).
+!>
 !> Speed (see studies/benchmark): each segment kernel walks its particles in blocks of 64. The
 !> per-particle update of a block (G2P, stress update, new cell) is one branch-free loop that gfortran
 !> vectorises, with or without -march (the per-particle helpers below are elemental and inlined; the
@@ -27,6 +35,7 @@ module mpm_transfer
    use mpm_grid, only: grid_t, segments_t, share_count, threaded_nodes, node_chunk
    use mpm_particles, only: particles_t, bytes_per_particle, permute
    use mpm_diagnostics, only: pass_totals_t
+   use mpm_shape_range, only: infinity_bits
    use mpm_lanes, only: block_size, lanes, largest_move_t, add_lanes, min_lanes, lane_total, track_largest_move, &
                         furthest_particle
    implicit none
@@ -45,13 +54,13 @@ module mpm_transfer
    integer, parameter, public :: pass_usf_move = 1, pass_usf_stress = 2, pass_usl = 3, pass_musl_remap = 4, &
                                  pass_musl_stress = 5
    public :: pass_totals_t, clear_element_shares, merge_totals
-   public :: p2g, fused_pass
+   public :: p2g, fused_pass, fused_box_t, box_cells
 
-   !> The segment kernels are compiled from mpm_segment_arguments.inc and mpm_segment_kernel.inc,
-   !> whose changes fpm does not notice (it rebuilds a file when its own text changes: fpm issue
-   !> #358). Their checksum, here, is checked by test_kernels, which says the new value after an
-   !> edit; setting it makes fpm rebuild this file.
-   integer(i8), parameter :: kernel_source_checksum = 70636245_i8
+   !> The segment kernels are compiled from mpm_segment_arguments.inc, mpm_segment_kernel.inc and
+   !> ../../shape/mpm_gimp_box.inc, whose changes fpm does not notice (it rebuilds a file when its own
+   !> text changes: fpm issue #358). Their checksum, here, is checked by test_kernels, which says the
+   !> new value after an edit; setting it makes fpm rebuild this file.
+   integer(i8), parameter :: kernel_source_checksum = 711810964_i8
    public :: kernel_checksum_compiled
    public :: parallel_threshold, segment_particles
 
@@ -87,18 +96,31 @@ module mpm_transfer
    !> three and four blocks ahead less than two.
    integer, parameter :: prefetch_ahead = 2*block_size
 
-   !> The scalars of a segment kernel: the grid's element count and 1/dx, the time step, Young's
-   !> modulus, the particles' mass and initial volume.
+   !> The scalars of a segment kernel: the grid's element count, origin and 1/dx, the time step,
+   !> Young's modulus, the particles' mass and initial volume, and (GIMP) the initial box half-length
+   !> V0/2 and whether the box stretches with J (cpGIMP).
    type :: pass_constants_t
       integer :: elements
-      real(dp) :: inv_dx, dt, youngs_modulus, mass, volume0
+      real(dp) :: origin, inv_dx, dt, youngs_modulus, mass, volume0, half_length0
+      logical :: stretch
    end type pass_constants_t
+
+   !> The particles' shape on the fused path: the hat (default) or GIMP's box (`gimp`; `stretch`:
+   !> cpGIMP, l_p = l_p0 J_p), and a value per particle that a pass of a GIMP step keeps for the next
+   !> (`carry`): MUSL's remap keeps the start-of-step fraction r2 of the box's right part for the
+   !> stress pass (the particle has moved since); USF's move pass keeps the new r2 for the next step's
+   !> stress pass (which then needs no box), and that pass keeps J at the start of the step in its
+   !> place for the move pass (cpGIMP's box).
+   type :: fused_box_t
+      logical :: gimp = .false., stretch = .false.
+      real(dp), allocatable :: carry(:)
+   end type fused_box_t
 
    abstract interface
       !> A segment kernel (see segment_kernel.inc): segment k of one fused pass.
       subroutine segment_kernel(k, seg, x, x0, v, stress, volume_ratio, cell, acceleration, velocity, &
                                 strain_increment_of, mass_left, mass_right, momentum_left, momentum_right, &
-                                stress_volume, constants)
+                                stress_volume, constants, carry)
          import :: dp, segments_t, pass_constants_t
          include 'mpm_segment_arguments.inc'
       end subroutine segment_kernel
@@ -117,6 +139,8 @@ module mpm_transfer
    type :: run_t
       integer :: cur = 0
       real(dp) :: a(share_count) = 0.0_dp
+      !> GIMP: the sums of the next element (see accumulate_boxes)
+      real(dp) :: b(share_count) = 0.0_dp
    end type run_t
 
 
@@ -203,44 +227,112 @@ contains
    !> threads when the run is large, see over_segments), then the halo shares and totals in a fixed
    !> order (finish_pass). The passes that update the stress from the element's velocity difference
    !> get it per element first (strain_increments).
-   subroutine fused_pass(pass, particles, grid, dt, youngs_modulus, totals)
+   subroutine fused_pass(pass, particles, grid, dt, youngs_modulus, totals, box)
       integer, intent(in) :: pass
       type(particles_t), intent(inout) :: particles
       type(grid_t), intent(inout) :: grid
       real(dp), intent(in) :: dt, youngs_modulus
       type(pass_totals_t), intent(out) :: totals
+      !> the particles' shape (absent: the hat)
+      type(fused_box_t), intent(inout), optional :: box
+      type(fused_box_t) :: hat
       call prepare_pass(particles, grid)
       ! the passes that update the stress without moving read one strain increment per element
       if (pass_stresses(pass) .and. .not. pass_moves(pass)) call strain_increments(grid, dt)
-      call over_segments(particles, grid, pass, dt, youngs_modulus)
-      call finish_pass(particles, grid, pass_shares(pass), pass_relocates(pass), totals)
+      if (present(box)) then
+         call over_segments(particles, grid, pass, dt, youngs_modulus, box)
+         call finish_pass(particles, grid, pass_shares(pass), pass_relocates(pass), totals, box)
+      else
+         allocate (hat%carry(0))
+         call over_segments(particles, grid, pass, dt, youngs_modulus, hat)
+         call finish_pass(particles, grid, pass_shares(pass), pass_relocates(pass), totals, hat)
+      end if
    end subroutine fused_pass
+
+   !> Each particle's cell for the fused GIMP kernels: the element of its box's left part (see the
+   !> module's notes; 0 outside the grid), as a relocating pass leaves it; and in box%carry (when it
+   !> has a value per particle) the fraction r2 of its right part, as USF's move pass leaves it.
+   subroutine box_cells(particles, grid, box)
+      type(particles_t), intent(inout) :: particles
+      type(grid_t), intent(in) :: grid
+      type(fused_box_t), intent(inout) :: box
+      integer :: p, i, flag
+      real(dp) :: r1, r2, t1, t2
+      do p = 1, particles%count
+         call gimp_box((particles%x(p) - grid%origin)*grid%inv_dx, &
+                       box_half_length(0.5_dp*particles%volume0, particles%volume_ratio(p), &
+                                       merge(1.0_dp, 0.0_dp, box%stretch), grid%inv_dx), &
+                       grid%elements, i, r1, r2, t1, t2, flag)
+         particles%cell(p) = (i + 1)*flag
+         if (size(box%carry) == particles%count) box%carry(p) = r2
+      end do
+   end subroutine box_cells
+
+   !> GIMP's box half-length in cells, l = V/2 / dx clamped as mpm_shape_gimp clamps it: V = V0 J
+   !> (cpGIMP; j = J) or V0.
+   elemental real(dp) function box_half_length(half_length0, j, stretch, inv_dx) result(l)
+      real(dp), intent(in) :: half_length0, j, inv_dx
+      !> 1 (cpGIMP) or 0: V0 (s J + 1 - s) is V0 J or V0 exactly, and no branch (a merge of a logical
+      !> here kept the kernels' loops from vectorising)
+      real(dp), intent(in) :: stretch
+      l = min(max(half_length0*(stretch*j + (1.0_dp - stretch))*inv_dx, 1.0e-9_dp), 0.5_dp)
+   end function box_half_length
 
    !> Run pass `kind` over every segment: on OpenMP threads when the run has several segments and
    !> is not itself inside a parallel region (a sweep), else in this thread. A branch, not an `if`
    !> clause: an inactive parallel region still costs a team set-up (about a microsecond) per pass,
    !> which dominated small runs.
-   subroutine over_segments(particles, grid, kind, dt, youngs_modulus)
+   subroutine over_segments(particles, grid, kind, dt, youngs_modulus, box)
       type(particles_t), intent(inout) :: particles
       type(grid_t), intent(inout) :: grid
       integer, intent(in) :: kind
       real(dp), intent(in) :: dt, youngs_modulus
+      type(fused_box_t), intent(inout) :: box
       integer :: k
       procedure(segment_kernel), pointer :: kernel
       type(pass_constants_t) :: constants
-      constants = pass_constants_t(grid%elements, grid%inv_dx, dt, youngs_modulus, particles%mass, particles%volume0)
-      select case (kind)
-      case (pass_usf_move)
-         kernel => usf_move_segment
-      case (pass_usf_stress)
-         kernel => usf_stress_segment
-      case (pass_usl)
-         kernel => usl_segment
-      case (pass_musl_remap)
-         kernel => musl_remap_segment
-      case default
-         kernel => musl_stress_segment
-      end select
+      constants = pass_constants_t(grid%elements, grid%origin, grid%inv_dx, dt, youngs_modulus, particles%mass, &
+                                   particles%volume0, 0.5_dp*particles%volume0, box%stretch)
+      if (box%gimp .and. box%stretch) then
+         select case (kind)
+         case (pass_usf_move)
+            kernel => cpgimp_usf_move_segment
+         case (pass_usf_stress)
+            kernel => cpgimp_usf_stress_segment
+         case (pass_usl)
+            kernel => cpgimp_usl_segment
+         case (pass_musl_remap)
+            kernel => cpgimp_musl_remap_segment
+         case default
+            kernel => cpgimp_musl_stress_segment
+         end select
+      else if (box%gimp) then
+         select case (kind)
+         case (pass_usf_move)
+            kernel => ugimp_usf_move_segment
+         case (pass_usf_stress)
+            kernel => ugimp_usf_stress_segment
+         case (pass_usl)
+            kernel => ugimp_usl_segment
+         case (pass_musl_remap)
+            kernel => ugimp_musl_remap_segment
+         case default
+            kernel => ugimp_musl_stress_segment
+         end select
+      else
+         select case (kind)
+         case (pass_usf_move)
+            kernel => usf_move_segment
+         case (pass_usf_stress)
+            kernel => usf_stress_segment
+         case (pass_usl)
+            kernel => usl_segment
+         case (pass_musl_remap)
+            kernel => musl_remap_segment
+         case default
+            kernel => musl_stress_segment
+         end select
+      end if
       if (grid%segments%count > 1 .and. .not. omp_in_parallel()) then
          !$omp parallel do default(shared) private(k) schedule(dynamic, 4)
          do k = 1, grid%segments%count
@@ -258,7 +350,7 @@ contains
          call kernel(k, grid%segments, particles%x, particles%x0, particles%v, particles%stress, particles%volume_ratio, &
                      particles%cell, grid%acceleration, grid%velocity, grid%element_strain, grid%element_mass_left, &
                      grid%element_mass_right, grid%element_momentum_left, grid%element_momentum_right, &
-                     grid%element_stress_volume, constants)
+                     grid%element_stress_volume, constants, box%carry)
       end subroutine segment
    end subroutine over_segments
 
@@ -409,12 +501,13 @@ contains
    !> After the segments of a pass: halo shares added in a fixed order, totals combined in segment
    !> order (strict comparisons keep the first particle, as a single loop would), far movers added,
    !> and the particles re-sorted by element if some overtook others.
-   subroutine finish_pass(particles, grid, shares, moved, totals)
+   subroutine finish_pass(particles, grid, shares, moved, totals, box)
       type(particles_t), intent(inout) :: particles
       type(grid_t), intent(inout) :: grid
       integer, intent(in) :: shares
       logical, intent(in) :: moved
       type(pass_totals_t), intent(inout) :: totals
+      type(fused_box_t), intent(inout) :: box
       integer :: k, e
       logical :: sorted, far
       associate (seg => grid%segments)
@@ -440,8 +533,10 @@ contains
                call add_share_set(grid, e, seg%halo_right(:, k - 1), shares)
             end if
          end do
-         if (far) call add_far_movers(particles, grid, shares)
+         if (far) call add_far_movers(particles, grid, shares, box)
          if (moved .and. .not. sorted .and. seg%count > 1 .and. totals%outside == 0) then
+            ! (box%carry needs no reordering: only the last pass of a step relocates, and the next
+            ! step's first pass writes it afresh)
             call sort_by_cell(particles, grid, totals%furthest)
          end if
       end associate
@@ -464,12 +559,13 @@ contains
 
    !> Particles that moved more than one element past their segment (the cell-crossing guard stops
    !> such a run after this step): their shares, from their new state, in particle order.
-   subroutine add_far_movers(particles, grid, shares)
+   subroutine add_far_movers(particles, grid, shares, box)
       type(particles_t), intent(inout) :: particles
       type(grid_t), intent(inout) :: grid
       integer, intent(in) :: shares
-      integer :: k, p, c, lo, hi
-      real(dp) :: xi, m, a(share_count)
+      type(fused_box_t), intent(in) :: box
+      integer :: k, p, c, lo, hi, i, flag
+      real(dp) :: xi, m, r1, r2, t1, t2
       m = particles%mass
       associate (seg => grid%segments)
          do k = 1, seg%count
@@ -478,17 +574,34 @@ contains
             hi = seg%first_element(k + 1) - 1
             do p = seg%first_particle(k), seg%first_particle(k + 1) - 1
                c = particles%cell(p)
-               if (c >= lo - 1 .and. c <= hi + 1) cycle
-               xi = particles%x(p)*grid%inv_dx - (c - 1)
-               a(1) = (1.0_dp - xi)*m
-               a(2) = xi*m
-               a(3) = (1.0_dp - xi)*m*particles%v(p)
-               a(4) = xi*m*particles%v(p)
-               a(5) = particles%stress(p)*particles%volume_ratio(p)*particles%volume0
-               call add_share_set(grid, c, a, shares)
+               if (box%gimp) then ! the box's two parts, each where the kernel could not add it
+                  call gimp_box((particles%x(p) - grid%origin)*grid%inv_dx, box_half_length(0.5_dp*particles%volume0, &
+                                particles%volume_ratio(p), merge(1.0_dp, 0.0_dp, box%stretch), grid%inv_dx), &
+                                grid%elements, i, r1, r2, t1, &
+                                t2, flag)
+                  if (c < lo - 1 .or. c > hi + 1) call add_part(c, r1, t1)
+                  if (c + 1 < lo - 1 .or. c + 1 > hi + 1) call add_part(c + 1, r2, t2)
+               else
+                  if (c >= lo - 1 .and. c <= hi + 1) cycle
+                  xi = particles%x(p)*grid%inv_dx - (c - 1)
+                  call add_part(c, 1.0_dp, xi)
+               end if
             end do
          end do
       end associate
+   contains
+      !> The shares of particle p's part of fraction r at local coordinate t in element c.
+      subroutine add_part(c, r, t)
+         integer, intent(in) :: c
+         real(dp), intent(in) :: r, t
+         real(dp) :: a(share_count)
+         a(1) = r*(1.0_dp - t)*m
+         a(2) = r*t*m
+         a(3) = r*(1.0_dp - t)*m*particles%v(p)
+         a(4) = r*t*m*particles%v(p)
+         a(5) = r*particles%stress(p)*particles%volume_ratio(p)*particles%volume0
+         call add_share_set(grid, c, a, shares)
+      end subroutine add_part
    end subroutine add_far_movers
 
    !> Stable counting sort of the particles by cell (rare: only when particles overtake each other
@@ -697,6 +810,23 @@ contains
       move = abs(dxp)*inv_dx
    end subroutine g2p_particle
 
+   !> G2P of one GIMP particle whose box has the fraction r1 at t1 in element e and r2 at t2 in element
+   !> e + 1 (nodes e - 1, e, e + 1: a0..a2, v0..v2): v += dt sum S a_I, x += dt sum S v_I; also its
+   !> contributions to the totals (see g2p_particle).
+   elemental subroutine g2p_box(r1, r2, t1, t2, a0, a1, a2, v0, v1, v2, inv_dx, dt, half_m, x0, x, v, displacement, &
+                                kinetic, move)
+      real(dp), intent(in) :: r1, r2, t1, t2, a0, a1, a2, v0, v1, v2, inv_dx, dt, half_m, x0
+      real(dp), intent(inout) :: x, v
+      real(dp), intent(out) :: displacement, kinetic, move
+      real(dp) :: dxp
+      v = v + dt*(r1*((1.0_dp - t1)*a0 + t1*a1) + r2*((1.0_dp - t2)*a1 + t2*a2))
+      dxp = dt*(r1*((1.0_dp - t1)*v0 + t1*v1) + r2*((1.0_dp - t2)*v1 + t2*v2))
+      x = x + dxp
+      displacement = x - x0
+      kinetic = half_m*v*v
+      move = abs(dxp)*inv_dx
+   end subroutine g2p_box
+
    !> Linear elastic stress update of one particle with strain increment dstrain (see strain_increment):
    !> sigma += E d eps, J *= 1 + d eps. Also gives its strain energy sigma^2 J V0 / 2E
    !> (strain_factor = V0 / 2E) and stress*volume.
@@ -796,6 +926,98 @@ contains
       run%a = [real(na, dp), a2, a3, a4, a5]
    end subroutine accumulate_block
 
+   !> Phase B of the GIMP kernels (accumulate_block for boxes): each box adds its left part to its cell
+   !> cells(i) and its right part to the next element. left(i, :) and right(i, :) hold a part's
+   !> w, w xi, w v, w xi v and w sigma V (fraction w at local coordinate xi: its mass shares are
+   !> w (1 - xi) m and w xi m, momentum the same times v, stress w sigma V; the flush forms them as
+   !> accumulate_block's). Particles are sorted by cell, so one run carries two sets of sums: `a` for
+   !> the run's element and `b` for the next one, which becomes `a` when the run moves on to it.
+   subroutine accumulate_boxes(k, n, cells, left, right, m, lo, hi, shares, run, mass_left, mass_right, &
+                               momentum_left, momentum_right, stress_volume, seg)
+      integer, intent(in) :: k, n, lo, hi, shares
+      integer, intent(in) :: cells(:)
+      real(dp), intent(in) :: left(:, :), right(:, :), m
+      type(run_t), intent(inout) :: run
+      real(dp), intent(inout), contiguous :: mass_left(:), mass_right(:), momentum_left(:), momentum_right(:), &
+                                             stress_volume(:)
+      type(segments_t), intent(inout) :: seg
+      integer :: i, c, cur
+      real(dp) :: a1, a2, a3, a4, a5, b1, b2, b3, b4, b5
+      logical :: kinematic, with_momentum, with_stress
+      kinematic = iand(shares, share_mass) /= 0
+      with_momentum = iand(shares, share_momentum) /= 0
+      with_stress = iand(shares, share_stress) /= 0
+      cur = run%cur
+      a1 = run%a(1); a2 = run%a(2); a3 = run%a(3); a4 = run%a(4); a5 = run%a(5)
+      b1 = run%b(1); b2 = run%b(2); b3 = run%b(3); b4 = run%b(4); b5 = run%b(5)
+      i = 1
+      do while (i <= n)
+         c = cells(i)
+         if (c /= cur) then
+            if (c == 0) then
+               i = i + 1
+               cycle
+            end if
+            if (cur >= lo .and. cur <= hi) then ! the segment's own element: the adds written out (see
+               if (kinematic) then              ! accumulate_block)
+                  mass_left(cur) = mass_left(cur) + m*(a1 - a2)
+                  mass_right(cur) = mass_right(cur) + m*a2
+                  if (with_momentum) then
+                     momentum_left(cur) = momentum_left(cur) + m*(a3 - a4)
+                     momentum_right(cur) = momentum_right(cur) + m*a4
+                  end if
+               else if (with_momentum) then
+                  momentum_left(cur) = momentum_left(cur) + m*(a3 - a4)
+                  momentum_right(cur) = momentum_right(cur) + m*a4
+               end if
+               if (with_stress) stress_volume(cur) = stress_volume(cur) + a5
+            else if (cur /= 0) then
+               call flush_shares(k, cur, lo, hi, shares, m, a1, a2, a3, a4, a5, mass_left, mass_right, momentum_left, &
+                                 momentum_right, stress_volume, seg)
+            end if
+            ! the next element's sums go on with the run when it moves there, else they are added now
+            if (cur /= 0 .and. c /= cur + 1) call flush_shares(k, cur + 1, lo, hi, shares, m, b1, b2, b3, b4, b5, &
+                                                              mass_left, mass_right, momentum_left, momentum_right, &
+                                                              stress_volume, seg)
+            if (c == cur + 1) then
+               a1 = b1; a2 = b2; a3 = b3; a4 = b4; a5 = b5
+            else
+               a1 = 0; a2 = 0; a3 = 0; a4 = 0; a5 = 0
+            end if
+            b1 = 0; b2 = 0; b3 = 0; b4 = 0; b5 = 0
+            if (c < cur) seg%unsorted(k) = .true.
+            if (cur == 0) seg%first_cell(k) = c
+            cur = c
+         end if
+         ! the run of particles in cell cur: sums only (a loop of its own, so that the sums stay in
+         ! registers: with the calls above in the same loop, gfortran kept them in memory)
+         do while (i <= n)
+            if (cells(i) /= cur) exit
+            ! (only the sums the pass scatters: the tests are the same for the whole loop)
+            if (kinematic .or. with_momentum) then
+               a1 = a1 + left(i, 1)
+               a2 = a2 + left(i, 2)
+               a3 = a3 + left(i, 3)
+               a4 = a4 + left(i, 4)
+            end if
+            if (with_stress) a5 = a5 + left(i, 5)
+            if (right(i, 1) /= 0.0_dp) then ! a box cut by a node (1 in ppc of them: the branch is
+               if (kinematic .or. with_momentum) then ! predicted, and the others skip the adds)
+                  b1 = b1 + right(i, 1)
+                  b2 = b2 + right(i, 2)
+                  b3 = b3 + right(i, 3)
+                  b4 = b4 + right(i, 4)
+               end if
+               if (with_stress) b5 = b5 + right(i, 5)
+            end if
+            i = i + 1
+         end do
+      end do
+      run%cur = cur
+      run%a = [a1, a2, a3, a4, a5]
+      run%b = [b1, b2, b3, b4, b5]
+   end subroutine accumulate_boxes
+
    !> Flush the open run and record the segment's totals.
    subroutine close_segment(k, shares, m, run, sums, min_j, max_move, furthest, outside, mass_left, mass_right, &
                             momentum_left, momentum_right, stress_volume, seg)
@@ -825,37 +1047,118 @@ contains
 
    !> USL: G2P, stress update from the updated nodal velocities, P2G at the new position.
    subroutine usl_segment(k, seg, x, x0, v, stress, volume_ratio, cell, acceleration, velocity, strain_increment_of, &
-      mass_left, mass_right, momentum_left, momentum_right, stress_volume, constants)
+      mass_left, mass_right, momentum_left, momentum_right, stress_volume, constants, carry)
       integer, parameter :: kernel = pass_usl
+      logical, parameter :: gimp = .false., stretch_box = .false.
       include 'mpm_segment_kernel.inc'
    end subroutine usl_segment
 
    !> USF second half: G2P, then mass and momentum at the new position.
    subroutine usf_move_segment(k, seg, x, x0, v, stress, volume_ratio, cell, acceleration, velocity, strain_increment_of, &
-      mass_left, mass_right, momentum_left, momentum_right, stress_volume, constants)
+      mass_left, mass_right, momentum_left, momentum_right, stress_volume, constants, carry)
       integer, parameter :: kernel = pass_usf_move
+      logical, parameter :: gimp = .false., stretch_box = .false.
       include 'mpm_segment_kernel.inc'
    end subroutine usf_move_segment
 
    !> USF first half: stress update, then stress*volume of the (unmoved) particles per element.
    subroutine usf_stress_segment(k, seg, x, x0, v, stress, volume_ratio, cell, acceleration, velocity, strain_increment_of, &
-      mass_left, mass_right, momentum_left, momentum_right, stress_volume, constants)
+      mass_left, mass_right, momentum_left, momentum_right, stress_volume, constants, carry)
       integer, parameter :: kernel = pass_usf_stress
+      logical, parameter :: gimp = .false., stretch_box = .false.
       include 'mpm_segment_kernel.inc'
    end subroutine usf_stress_segment
 
    !> MUSL first pass: G2P, and the new momentum back to the start-of-step nodes.
    subroutine musl_remap_segment(k, seg, x, x0, v, stress, volume_ratio, cell, acceleration, velocity, strain_increment_of, &
-      mass_left, mass_right, momentum_left, momentum_right, stress_volume, constants)
+      mass_left, mass_right, momentum_left, momentum_right, stress_volume, constants, carry)
       integer, parameter :: kernel = pass_musl_remap
+      logical, parameter :: gimp = .false., stretch_box = .false.
       include 'mpm_segment_kernel.inc'
    end subroutine musl_remap_segment
 
    !> MUSL second pass: stress update with the remapped nodal velocity of the start-of-step cell,
    !> then mass, momentum and stress*volume at the new position.
    subroutine musl_stress_segment(k, seg, x, x0, v, stress, volume_ratio, cell, acceleration, velocity, strain_increment_of, &
-      mass_left, mass_right, momentum_left, momentum_right, stress_volume, constants)
+      mass_left, mass_right, momentum_left, momentum_right, stress_volume, constants, carry)
       integer, parameter :: kernel = pass_musl_stress
+      logical, parameter :: gimp = .false., stretch_box = .false.
       include 'mpm_segment_kernel.inc'
    end subroutine musl_stress_segment
+
+   ! The same five passes for GIMP's boxes (`gimp`: see the module's notes): uGIMP's fixed boxes, then
+   ! cpGIMP's (`stretch_box`: l = l0 J; a named constant too, so that uGIMP's box and its 1/(2l) are
+   ! set once per segment).
+
+   subroutine ugimp_usl_segment(k, seg, x, x0, v, stress, volume_ratio, cell, acceleration, velocity, strain_increment_of, &
+      mass_left, mass_right, momentum_left, momentum_right, stress_volume, constants, carry)
+      integer, parameter :: kernel = pass_usl
+      logical, parameter :: gimp = .true., stretch_box = .false.
+      include 'mpm_segment_kernel.inc'
+   end subroutine ugimp_usl_segment
+
+   subroutine ugimp_usf_move_segment(k, seg, x, x0, v, stress, volume_ratio, cell, acceleration, velocity, &
+      strain_increment_of, mass_left, mass_right, momentum_left, momentum_right, stress_volume, constants, carry)
+      integer, parameter :: kernel = pass_usf_move
+      logical, parameter :: gimp = .true., stretch_box = .false.
+      include 'mpm_segment_kernel.inc'
+   end subroutine ugimp_usf_move_segment
+
+   subroutine ugimp_usf_stress_segment(k, seg, x, x0, v, stress, volume_ratio, cell, acceleration, velocity, &
+      strain_increment_of, mass_left, mass_right, momentum_left, momentum_right, stress_volume, constants, carry)
+      integer, parameter :: kernel = pass_usf_stress
+      logical, parameter :: gimp = .true., stretch_box = .false.
+      include 'mpm_segment_kernel.inc'
+   end subroutine ugimp_usf_stress_segment
+
+   subroutine ugimp_musl_remap_segment(k, seg, x, x0, v, stress, volume_ratio, cell, acceleration, velocity, &
+      strain_increment_of, mass_left, mass_right, momentum_left, momentum_right, stress_volume, constants, carry)
+      integer, parameter :: kernel = pass_musl_remap
+      logical, parameter :: gimp = .true., stretch_box = .false.
+      include 'mpm_segment_kernel.inc'
+   end subroutine ugimp_musl_remap_segment
+
+   subroutine ugimp_musl_stress_segment(k, seg, x, x0, v, stress, volume_ratio, cell, acceleration, velocity, &
+      strain_increment_of, mass_left, mass_right, momentum_left, momentum_right, stress_volume, constants, carry)
+      integer, parameter :: kernel = pass_musl_stress
+      logical, parameter :: gimp = .true., stretch_box = .false.
+      include 'mpm_segment_kernel.inc'
+   end subroutine ugimp_musl_stress_segment
+
+   subroutine cpgimp_usl_segment(k, seg, x, x0, v, stress, volume_ratio, cell, acceleration, velocity, strain_increment_of, &
+      mass_left, mass_right, momentum_left, momentum_right, stress_volume, constants, carry)
+      integer, parameter :: kernel = pass_usl
+      logical, parameter :: gimp = .true., stretch_box = .true.
+      include 'mpm_segment_kernel.inc'
+   end subroutine cpgimp_usl_segment
+
+   subroutine cpgimp_usf_move_segment(k, seg, x, x0, v, stress, volume_ratio, cell, acceleration, velocity, &
+      strain_increment_of, mass_left, mass_right, momentum_left, momentum_right, stress_volume, constants, carry)
+      integer, parameter :: kernel = pass_usf_move
+      logical, parameter :: gimp = .true., stretch_box = .true.
+      include 'mpm_segment_kernel.inc'
+   end subroutine cpgimp_usf_move_segment
+
+   subroutine cpgimp_usf_stress_segment(k, seg, x, x0, v, stress, volume_ratio, cell, acceleration, velocity, &
+      strain_increment_of, mass_left, mass_right, momentum_left, momentum_right, stress_volume, constants, carry)
+      integer, parameter :: kernel = pass_usf_stress
+      logical, parameter :: gimp = .true., stretch_box = .true.
+      include 'mpm_segment_kernel.inc'
+   end subroutine cpgimp_usf_stress_segment
+
+   subroutine cpgimp_musl_remap_segment(k, seg, x, x0, v, stress, volume_ratio, cell, acceleration, velocity, &
+      strain_increment_of, mass_left, mass_right, momentum_left, momentum_right, stress_volume, constants, carry)
+      integer, parameter :: kernel = pass_musl_remap
+      logical, parameter :: gimp = .true., stretch_box = .true.
+      include 'mpm_segment_kernel.inc'
+   end subroutine cpgimp_musl_remap_segment
+
+   subroutine cpgimp_musl_stress_segment(k, seg, x, x0, v, stress, volume_ratio, cell, acceleration, velocity, &
+      strain_increment_of, mass_left, mass_right, momentum_left, momentum_right, stress_volume, constants, carry)
+      integer, parameter :: kernel = pass_musl_stress
+      logical, parameter :: gimp = .true., stretch_box = .true.
+      include 'mpm_segment_kernel.inc'
+   end subroutine cpgimp_musl_stress_segment
+
+   include '../../shape/mpm_gimp_box.inc'
 end module mpm_transfer
