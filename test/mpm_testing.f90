@@ -2,9 +2,11 @@
 module mpm_testing
    use mpm_kinds, only: dp, i8
    use mpm_strings, only: str
+   use mpm_simulation, only: run_result_t
    implicit none
    private
    public :: tester_t, app_path, run_app, read_text, scratch_dir, write_lines, check_include_checksum, fixed_seed
+   public :: check_paths_agree
 
    !> Counts checks and failures; `finish` prints "N passed, M failed" and ends with error stop 1 on failure.
    type :: tester_t
@@ -57,6 +59,31 @@ contains
                    ' (then fpm rebuilds it; if this stays red, the test program is older than the '// &
                    'library: bash test/run_tests.sh, or rm build/gfortran_*/test/*, relinks it)')
    end subroutine check_include_checksum
+
+   !> A run on the fused kernels and the same run on the generic path (`kernels='generic'`) agree: the
+   !> paths were the ones asked for, same status and steps, u_cm histories equal to round-off and the
+   !> last kinetic energies to 1e-10. The tolerance on u_cm is 1e-12 of the exact amplitude plus two
+   !> ulps of the body length per particle: u_cm is a mean of x - X with x up to L, so one ulp of one
+   !> particle's position moves it by spacing(L)/N, which for few particles and small amplitudes is more
+   !> than 1e-12 of the amplitude.
+   subroutine check_paths_agree(t, label, fused, generic, length)
+      type(tester_t), intent(inout) :: t
+      character(len=*), intent(in) :: label
+      type(run_result_t), intent(in) :: fused, generic
+      real(dp), intent(in) :: length
+      real(dp) :: tolerance, worst
+      integer :: n
+      call t%check(label//'auto chose the fused kernels, generic the generic path', fused%fused .and. .not. generic%fused)
+      call t%check(label//'same status and steps', fused%status == generic%status .and. &
+                   fused%steps_done == generic%steps_done .and. fused%history%recorded == generic%history%recorded)
+      n = min(fused%history%recorded, generic%history%recorded)
+      tolerance = 1.0e-12_dp*abs(fused%ucm_amplitude) + 2*spacing(length)/fused%particles
+      worst = maxval(abs(fused%history%ucm(0:n - 1) - generic%history%ucm(0:n - 1)))
+      call t%check(label//'u_cm histories agree to round-off', worst <= tolerance, &
+                   'largest difference '//str(worst)//' m, tolerance '//str(tolerance)//' m')
+      call t%check_close(label//'kinetic energy histories', generic%history%kinetic_energy(n - 1), &
+                         fused%history%kinetic_energy(n - 1), rtol=1.0e-10_dp)
+   end subroutine check_paths_agree
 
    subroutine tester_check(self, label, condition, detail)
       class(tester_t), intent(inout) :: self

@@ -2,7 +2,7 @@
 !> the generic path, which is their definition:
 !> - USF, USL and MUSL, small amplitude and the issue's large-motion case (v0 = 0.01 c, 200 x 4,
 !>   k = 0.5: boxes cross nodes and the free end moves into empty cells): same status and steps,
-!>   u_cm histories equal to round-off (test_generic's tolerance) and kinetic energies to 1e-10;
+!>   u_cm histories equal to round-off and kinetic energies to 1e-10 (mpm_testing's check_paths_agree);
 !> - a run large enough to be cut into segments (their halos carry the boxes' right parts): the same
 !>   against the generic path, and bit for bit the same history on 1 and 2 threads;
 !> - a particle moved several elements away (its segment's "far mover", added after the pass from
@@ -20,7 +20,7 @@ program test_fused_gimp
    use mpm_fused, only: fused_start, fused_box_t
    use mpm_schemes, only: scheme_usl
    use mpm_strings, only: str
-   use mpm_testing, only: tester_t
+   use mpm_testing, only: tester_t, check_paths_agree
    implicit none
    type(tester_t) :: t
    character(len=4), parameter :: schemes(3) = ['usf ', 'usl ', 'musl']
@@ -47,8 +47,6 @@ contains
       type(run_result_t) :: fused, generic, two
       type(config_t) :: config
       type(error_t), allocatable :: error
-      real(dp) :: tolerance, worst
-      integer :: n
       character(len=:), allocatable :: label
       label = scheme//' '//shape//' '//str(elements)//' x '//str(ppc)//' k '//str(fraction)//' v0 '//str(v0)//': '
       config%scheme = scheme
@@ -63,16 +61,7 @@ contains
       call run_simulation(config, fused, error, record_history=.true.)
       config%kernels = 'generic'
       call run_simulation(config, generic, error, record_history=.true.)
-      call t%check(label//'auto chose the fused kernels, generic the generic path', fused%fused .and. .not. generic%fused)
-      call t%check(label//'same status and steps', fused%status == generic%status .and. &
-                   fused%steps_done == generic%steps_done .and. fused%history%recorded == generic%history%recorded)
-      n = min(fused%history%recorded, generic%history%recorded)
-      tolerance = 1.0e-12_dp*abs(fused%ucm_amplitude) + 2*spacing(config%length)/fused%particles
-      worst = maxval(abs(fused%history%ucm(0:n - 1) - generic%history%ucm(0:n - 1)))
-      call t%check(label//'u_cm histories agree to round-off', worst <= tolerance, &
-                   'largest difference '//str(worst)//' m, tolerance '//str(tolerance)//' m')
-      call t%check_close(label//'kinetic energy histories', generic%history%kinetic_energy(n - 1), &
-                         fused%history%kinetic_energy(n - 1), rtol=1.0e-10_dp)
+      call check_paths_agree(t, label, fused, generic, config%length)
       if (present(threads)) then
          call t%check(label//'the run is cut into segments', fused%particles >= parallel_threshold)
          config%kernels = 'auto'

@@ -1,16 +1,14 @@
 !> The generic path (shape cache, per-particle data, mpm_scheme_usf/usl/musl over mpm_operations)
 !> against the fused kernels of the paper's bar: same steps and status, and u_cm histories equal to
-!> round-off. The tolerance is 1e-12 of the exact amplitude plus two ulps of the bar length per
-!> particle: u_cm is a mean of x - X with x up to L, so one ulp of one particle's position moves it by
-!> spacing(L)/N, which for few particles and small amplitudes is more than 1e-12 of the amplitude
-!> (3 elements x 4 particles: spacing(25)/12 = 3e-16 m = 1.5e-12 of 2e-4 m).
+!> round-off (mpm_testing's check_paths_agree: 1e-12 of the exact amplitude plus two ulps of the bar
+!> length per particle; 3 elements x 4 particles: spacing(25)/12 = 3e-16 m = 1.5e-12 of 2e-4 m).
 program test_generic
    use mpm_kinds, only: dp
    use mpm_errors, only: error_t
    use mpm_config, only: config_t, resolve_config
    use mpm_simulation, only: run_result_t, run_simulation
    use mpm_strings, only: str
-   use mpm_testing, only: tester_t
+   use mpm_testing, only: tester_t, check_paths_agree
    use omp_lib, only: omp_set_num_threads
    implicit none
    type(tester_t) :: t
@@ -61,8 +59,6 @@ contains
       type(run_result_t) :: fused, generic
       type(config_t) :: config
       type(error_t), allocatable :: error
-      real(dp) :: tolerance, worst
-      integer :: n
       character(len=:), allocatable :: label
       label = scheme//' '//str(elements)//' x '//str(ppc)//' k '//str(fraction)//' v0 '//str(v0)//': '
       config%scheme = scheme
@@ -75,15 +71,6 @@ contains
       call run_simulation(config, fused, error, record_history=.true.)
       config%kernels = 'generic'
       call run_simulation(config, generic, error, record_history=.true.)
-      call t%check(label//'auto chose the fused kernels, generic the generic path', fused%fused .and. .not. generic%fused)
-      call t%check(label//'same status and steps', fused%status == generic%status .and. &
-                   fused%steps_done == generic%steps_done .and. fused%history%recorded == generic%history%recorded)
-      n = min(fused%history%recorded, generic%history%recorded)
-      tolerance = 1.0e-12_dp*abs(fused%ucm_amplitude) + 2*spacing(config%length)/fused%particles
-      worst = maxval(abs(fused%history%ucm(0:n - 1) - generic%history%ucm(0:n - 1)))
-      call t%check(label//'u_cm histories agree to round-off', worst <= tolerance, &
-                   'largest difference '//str(worst)//' m, tolerance '//str(tolerance)//' m')
-      call t%check_close(label//'kinetic energy histories', generic%history%kinetic_energy(n - 1), &
-                         fused%history%kinetic_energy(n - 1), rtol=1.0e-10_dp)
+      call check_paths_agree(t, label, fused, generic, config%length)
    end subroutine compare
 end program test_generic
