@@ -33,7 +33,7 @@ program test_kernels
    call check_moving_ranges()
    call check_include_checksum(t, 'src/scheme/fused/mpm_transfer.f90', 'kernel_source_checksum', kernel_checksum_compiled(), &
                                'src/scheme/fused/mpm_segment_arguments.inc src/scheme/fused/mpm_segment_kernel.inc '// &
-                               'src/shape/mpm_gimp_box.inc')
+                               'src/shape/mpm_gimp_box.inc src/shape/mpm_bspline_span.inc')
    call t%finish()
 
 contains

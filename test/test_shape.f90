@@ -14,6 +14,7 @@ program test_shape
    use mpm_testing, only: tester_t, fixed_seed, check_include_checksum
    use mpm_shape_range, only: inside_range
    use mpm_shape_gimp, only: gimp_checksum_compiled
+   use mpm_shape_bspline, only: bspline_checksum_compiled
    implicit none
    type(tester_t) :: t
    integer :: s
@@ -25,6 +26,8 @@ program test_shape
    call range_test()
    call check_include_checksum(t, 'src/shape/mpm_shape_gimp.f90', 'gimp_source_checksum', gimp_checksum_compiled(), &
                                'src/shape/mpm_gimp_box.inc')
+   call check_include_checksum(t, 'src/shape/mpm_shape_bspline.f90', 'bspline_source_checksum', &
+                               bspline_checksum_compiled(), 'src/shape/mpm_bspline_span.inc')
    call t%finish()
 
 contains

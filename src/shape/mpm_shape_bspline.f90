@@ -19,11 +19,20 @@ module mpm_shape_bspline
    use mpm_shape_range, only: infinity_bits
    implicit none
    private
-   public :: bspline2_support, bspline3_support, bspline2_shapes, bspline3_shapes
+   public :: bspline2_support, bspline3_support, bspline2_shapes, bspline3_shapes, bspline_checksum_compiled
+
+   !> The checksum of mpm_bspline_span.inc, which this module includes (fpm does not notice a change of
+   !> an included file, fpm issue #358: see kernel_source_checksum in mpm_transfer); test_shape checks it.
+   integer(i8), parameter :: bspline_source_checksum = 1895188010_i8
 
    integer, parameter :: bspline2_support = 3, bspline3_support = 4
 
 contains
+
+   !> bspline_source_checksum as compiled into this module (see kernel_checksum_compiled in mpm_transfer).
+   integer(i8) function bspline_checksum_compiled()
+      bspline_checksum_compiled = bspline_source_checksum
+   end function bspline_checksum_compiled
 
    !> Quadratic B-spline weights and gradients of every particle (conventions of gimp_shapes: node
    !> first(p) + k - 1; a particle whose support is not inside the grid gets first = 0 and zero weights).
@@ -35,19 +44,12 @@ contains
       real(dp), intent(out), contiguous :: weight(:, :), gradient(:, :)
       integer, intent(out) :: outside
       integer :: p, i, flag
-      integer(i8) :: below, above
-      real(dp) :: s, t, inside
+      real(dp) :: t, inside
       outside = huge(1)
       do p = 1, size(x)
-         s = (x(p) - origin)*inv_dx
-         below = transfer(s - 0.5_dp, 0_i8)  ! flag = inside_range(s, 0.5_dp, cells - 0.5_dp), written out
-         above = transfer(cells - 0.5_dp - s, 0_i8)
-         flag = int(1_i8 - ishft(ior(ior(below, above), infinity_bits - below), -63))
+         call bspline2_span((x(p) - origin)*inv_dx, cells, i, t, flag)
          inside = real(flag, dp)
          outside = min(outside, p + (huge(1) - p)*flag)
-         s = merge(s, 0.5_dp*cells, flag == 1)
-         i = min(int(s + 0.5_dp) - 1, cells - 2)
-         t = s + 0.5_dp - (i + 1)
          first(p) = i
          weight(p, 1) = 0.5_dp*(1.0_dp - t)**2*inside
          weight(p, 2) = (0.5_dp + t - t*t)*inside
@@ -114,4 +116,6 @@ contains
       i = min(int(s) - 1, cells - 3)
       t = s - (i + 1)
    end subroutine bspline3_locate
+
+   include 'mpm_bspline_span.inc'
 end module mpm_shape_bspline

@@ -1,5 +1,5 @@
-!> The fused specialisation of USF, USL and MUSL for the paper's bar: linear or GIMP shape functions
-!> (uGIMP, cpGIMP: see mpm_transfer), FLIP, one particle mass and volume, one material, no external
+!> The fused specialisation of USF, USL and MUSL for the paper's bar: linear, GIMP (uGIMP, cpGIMP) or
+!> quadratic B-spline shape functions (see mpm_transfer), FLIP, one particle mass and volume, one material, no external
 !> force. Each step
 !> is one or two fused passes over the particles (mpm_transfer), which also carry the next step's
 !> particle-to-grid transfer. The generic path (mpm_schemes over mpm_operations) is the definition;
@@ -19,8 +19,8 @@ module mpm_fused
 
 contains
 
-   !> Initial mapping: element shares of mass, momentum and (USL, MUSL) stress*volume. With GIMP's
-   !> `box` (and the run's `youngs_modulus`): a USL pass of zero time step, which moves nothing and
+   !> Initial mapping: element shares of mass, momentum and (USL, MUSL) stress*volume. With particles
+   !> in two parts (`box`, and the run's `youngs_modulus`): a USL pass of zero time step, which moves nothing and
    !> maps the boxes where they are (x + 0, v + 0, sigma + E 0, J (1 + 0) leave every value as it is).
    subroutine fused_start(scheme, particles, grid, totals, box, youngs_modulus)
       integer, intent(in) :: scheme
@@ -30,7 +30,7 @@ contains
       type(fused_box_t), intent(inout), optional :: box
       real(dp), intent(in), optional :: youngs_modulus
       if (present(box)) then
-         if (box%gimp) then
+         if (box%parts) then
             if (scheme /= scheme_usl .and. .not. allocated(box%carry)) allocate (box%carry(particles%count))
             if (.not. allocated(box%carry)) allocate (box%carry(0))
             call box_cells(particles, grid, box)
@@ -46,8 +46,9 @@ contains
    !> the next mass and momentum shares. USL: momentum update -> one pass of G2P, stress update and the
    !> next P2G. MUSL: momentum update -> G2P with the new momentum mapped back -> nodal velocity ->
    !> stress update fused with the next P2G.
-   !> With GIMP's `box` (fused_start's) the nodal sums are reflected at a mirrored fixed end before
-   !> they are used (mirror_fold, as on the generic path: GIMP's grid has a ghost cell there).
+   !> With particles in two parts (fused_start's `box`) the nodal sums are reflected at a mirrored fixed
+   !> end before they are used (mirror_fold, as on the generic path: the wide shapes' grid has a ghost
+   !> cell there).
    subroutine fused_step(scheme, particles, grid, dt, youngs_modulus, totals, box)
       integer, intent(in) :: scheme
       type(particles_t), intent(inout) :: particles
@@ -58,7 +59,7 @@ contains
       type(pass_totals_t) :: stress_totals
       logical :: wide
       wide = .false.
-      if (present(box)) wide = box%gimp
+      if (present(box)) wide = box%parts
       if (wide) then
          select case (scheme)
          case (scheme_usf)

@@ -11,8 +11,10 @@
 !> the box average of a hat over a part is the hat at the part's centroid (the hats are linear in an
 !> element), t1 and t2 there. So S_I = r1 N_I(t1 in e) + r2 N_I(t2 in e + 1) and dS_I/dx = r1 dN_I(e)
 !> + r2 dN_I(e + 1): the GIMP kernels (`gimp`, a named constant like the pass) sum weighted element
-!> shares, r (1 - t) m, r t m, ..., r sigma V, in two runs per block (the left parts in e, the right
-!> parts in e + 1), and gather as r1 (linear in e at t1) + r2 (linear in e + 1 at t2).
+!> shares, r (1 - t) m, r t m, ..., r sigma V (accumulate_boxes: one run carries the element's and
+!> the next element's sums), and gather as r1 (linear in e at t1) + r2 (linear in e + 1 at t2). The
+!> quadratic B-splines split the same way (spline_parts): at coordinate t in the knot span,
+!> r1 = 1 - t, r2 = t, t1 = (1 + t)/2, t2 = t/2 give their weights and gradients exactly.
 !>
 !> Speed (see studies/benchmark): each segment kernel walks its particles in blocks of 64. The
 !> per-particle update of a block (G2P, stress update, new cell) is one branch-free loop that gfortran
@@ -56,11 +58,11 @@ module mpm_transfer
    public :: pass_totals_t, clear_element_shares, merge_totals
    public :: p2g, fused_pass, fused_box_t, box_cells
 
-   !> The segment kernels are compiled from mpm_segment_arguments.inc, mpm_segment_kernel.inc and
-   !> ../../shape/mpm_gimp_box.inc, whose changes fpm does not notice (it rebuilds a file when its own
-   !> text changes: fpm issue #358). Their checksum, here, is checked by test_kernels, which says the
+   !> The segment kernels are compiled from mpm_segment_arguments.inc, mpm_segment_kernel.inc,
+   !> ../../shape/mpm_gimp_box.inc and ../../shape/mpm_bspline_span.inc, whose changes fpm does not
+   !> notice (it rebuilds a file when its own text changes: fpm issue #358). Their checksum, here, is checked by test_kernels, which says the
    !> new value after an edit; setting it makes fpm rebuild this file.
-   integer(i8), parameter :: kernel_source_checksum = 711810964_i8
+   integer(i8), parameter :: kernel_source_checksum = 2020264210_i8
    public :: kernel_checksum_compiled
    public :: parallel_threshold, segment_particles
 
@@ -105,14 +107,15 @@ module mpm_transfer
       logical :: stretch
    end type pass_constants_t
 
-   !> The particles' shape on the fused path: the hat (default) or GIMP's box (`gimp`; `stretch`:
-   !> cpGIMP, l_p = l_p0 J_p), and a value per particle that a pass of a GIMP step keeps for the next
-   !> (`carry`): MUSL's remap keeps the start-of-step fraction r2 of the box's right part for the
+   !> The particles' shape on the fused path: the hat (default) or a particle in two parts (`parts`,
+   !> see the module's notes): GIMP's box (`stretch`: cpGIMP, l_p = l_p0 J_p) or the quadratic
+   !> B-spline's split (`spline`); and a value per particle that a pass of such a step keeps for the
+   !> next (`carry`): MUSL's remap keeps the start-of-step fraction r2 of the box's right part for the
    !> stress pass (the particle has moved since); USF's move pass keeps the new r2 for the next step's
    !> stress pass (which then needs no box), and that pass keeps J at the start of the step in its
    !> place for the move pass (cpGIMP's box).
    type :: fused_box_t
-      logical :: gimp = .false., stretch = .false.
+      logical :: parts = .false., stretch = .false., spline = .false.
       real(dp), allocatable :: carry(:)
    end type fused_box_t
 
@@ -259,14 +262,46 @@ contains
       integer :: p, i, flag
       real(dp) :: r1, r2, t1, t2
       do p = 1, particles%count
-         call gimp_box((particles%x(p) - grid%origin)*grid%inv_dx, &
-                       box_half_length(0.5_dp*particles%volume0, particles%volume_ratio(p), &
-                                       merge(1.0_dp, 0.0_dp, box%stretch), grid%inv_dx), &
-                       grid%elements, i, r1, r2, t1, t2, flag)
+         call particle_parts(box, particles%x(p), particles%volume0, particles%volume_ratio(p), grid, i, r1, r2, &
+                             t1, t2, flag)
          particles%cell(p) = (i + 1)*flag
          if (size(box%carry) == particles%count) box%carry(p) = r2
       end do
    end subroutine box_cells
+
+   !> The two parts of one particle at x (initial volume volume0, J = j) for the shape of `box` (node
+   !> i, fractions r1, r2, local coordinates t1, t2, flag: see gimp_box), one particle at a time (the
+   !> kernels make the same calls in their loops).
+   subroutine particle_parts(box, x, volume0, j, grid, i, r1, r2, t1, t2, flag)
+      type(fused_box_t), intent(in) :: box
+      real(dp), intent(in) :: x, volume0, j
+      type(grid_t), intent(in) :: grid
+      integer, intent(out) :: i, flag
+      real(dp), intent(out) :: r1, r2, t1, t2
+      if (box%spline) then
+         call spline_parts((x - grid%origin)*grid%inv_dx, grid%elements, i, r1, r2, t1, t2, flag)
+      else
+         call gimp_box((x - grid%origin)*grid%inv_dx, box_half_length(0.5_dp*volume0, j, &
+                       merge(1.0_dp, 0.0_dp, box%stretch), grid%inv_dx), grid%elements, i, r1, r2, t1, t2, flag)
+      end if
+   end subroutine particle_parts
+
+   !> The quadratic B-spline of a particle as two parts (see the module's notes): in its knot span
+   !> (nodes i, i + 1, i + 2; coordinate t, bspline2_span) the gradient [t - 1, 1 - 2t, t]/dx is
+   !> (1 - t) dN(e) + t dN(e + 1), so r1 = 1 - t and r2 = t; the weights [(1-t)^2/2, 1/2 + t - t^2,
+   !> t^2/2] are then r1 [1 - t1, t1, 0] + r2 [0, 1 - t2, t2] with t1 = (1 + t)/2, t2 = t/2.
+   elemental subroutine spline_parts(s, cells, i, r1, r2, t1, t2, flag)
+      real(dp), intent(in) :: s
+      integer, intent(in) :: cells
+      integer, intent(out) :: i, flag
+      real(dp), intent(out) :: r1, r2, t1, t2
+      real(dp) :: t
+      call bspline2_span(s, cells, i, t, flag)
+      r1 = 1.0_dp - t
+      r2 = t
+      t1 = 0.5_dp*(1.0_dp + t)
+      t2 = 0.5_dp*t
+   end subroutine spline_parts
 
    !> GIMP's box half-length in cells, l = V/2 / dx clamped as mpm_shape_gimp clamps it: V = V0 J
    !> (cpGIMP; j = J) or V0.
@@ -293,7 +328,20 @@ contains
       type(pass_constants_t) :: constants
       constants = pass_constants_t(grid%elements, grid%origin, grid%inv_dx, dt, youngs_modulus, particles%mass, &
                                    particles%volume0, 0.5_dp*particles%volume0, box%stretch)
-      if (box%gimp .and. box%stretch) then
+      if (box%spline) then
+         select case (kind)
+         case (pass_usf_move)
+            kernel => bspline2_usf_move_segment
+         case (pass_usf_stress)
+            kernel => bspline2_usf_stress_segment
+         case (pass_usl)
+            kernel => bspline2_usl_segment
+         case (pass_musl_remap)
+            kernel => bspline2_musl_remap_segment
+         case default
+            kernel => bspline2_musl_stress_segment
+         end select
+      else if (box%parts .and. box%stretch) then
          select case (kind)
          case (pass_usf_move)
             kernel => cpgimp_usf_move_segment
@@ -306,7 +354,7 @@ contains
          case default
             kernel => cpgimp_musl_stress_segment
          end select
-      else if (box%gimp) then
+      else if (box%parts) then
          select case (kind)
          case (pass_usf_move)
             kernel => ugimp_usf_move_segment
@@ -574,11 +622,9 @@ contains
             hi = seg%first_element(k + 1) - 1
             do p = seg%first_particle(k), seg%first_particle(k + 1) - 1
                c = particles%cell(p)
-               if (box%gimp) then ! the box's two parts, each where the kernel could not add it
-                  call gimp_box((particles%x(p) - grid%origin)*grid%inv_dx, box_half_length(0.5_dp*particles%volume0, &
-                                particles%volume_ratio(p), merge(1.0_dp, 0.0_dp, box%stretch), grid%inv_dx), &
-                                grid%elements, i, r1, r2, t1, &
-                                t2, flag)
+               if (box%parts) then ! the particle's two parts, each where the kernel could not add it
+                  call particle_parts(box, particles%x(p), particles%volume0, particles%volume_ratio(p), grid, i, r1, &
+                                      r2, t1, t2, flag)
                   if (c < lo - 1 .or. c > hi + 1) call add_part(c, r1, t1)
                   if (c + 1 < lo - 1 .or. c + 1 > hi + 1) call add_part(c + 1, r2, t2)
                else
@@ -1049,7 +1095,7 @@ contains
    subroutine usl_segment(k, seg, x, x0, v, stress, volume_ratio, cell, acceleration, velocity, strain_increment_of, &
       mass_left, mass_right, momentum_left, momentum_right, stress_volume, constants, carry)
       integer, parameter :: kernel = pass_usl
-      logical, parameter :: gimp = .false., stretch_box = .false.
+      logical, parameter :: parts = .false., stretch_box = .false., spline = .false.
       include 'mpm_segment_kernel.inc'
    end subroutine usl_segment
 
@@ -1057,7 +1103,7 @@ contains
    subroutine usf_move_segment(k, seg, x, x0, v, stress, volume_ratio, cell, acceleration, velocity, strain_increment_of, &
       mass_left, mass_right, momentum_left, momentum_right, stress_volume, constants, carry)
       integer, parameter :: kernel = pass_usf_move
-      logical, parameter :: gimp = .false., stretch_box = .false.
+      logical, parameter :: parts = .false., stretch_box = .false., spline = .false.
       include 'mpm_segment_kernel.inc'
    end subroutine usf_move_segment
 
@@ -1065,7 +1111,7 @@ contains
    subroutine usf_stress_segment(k, seg, x, x0, v, stress, volume_ratio, cell, acceleration, velocity, strain_increment_of, &
       mass_left, mass_right, momentum_left, momentum_right, stress_volume, constants, carry)
       integer, parameter :: kernel = pass_usf_stress
-      logical, parameter :: gimp = .false., stretch_box = .false.
+      logical, parameter :: parts = .false., stretch_box = .false., spline = .false.
       include 'mpm_segment_kernel.inc'
    end subroutine usf_stress_segment
 
@@ -1073,7 +1119,7 @@ contains
    subroutine musl_remap_segment(k, seg, x, x0, v, stress, volume_ratio, cell, acceleration, velocity, strain_increment_of, &
       mass_left, mass_right, momentum_left, momentum_right, stress_volume, constants, carry)
       integer, parameter :: kernel = pass_musl_remap
-      logical, parameter :: gimp = .false., stretch_box = .false.
+      logical, parameter :: parts = .false., stretch_box = .false., spline = .false.
       include 'mpm_segment_kernel.inc'
    end subroutine musl_remap_segment
 
@@ -1082,7 +1128,7 @@ contains
    subroutine musl_stress_segment(k, seg, x, x0, v, stress, volume_ratio, cell, acceleration, velocity, strain_increment_of, &
       mass_left, mass_right, momentum_left, momentum_right, stress_volume, constants, carry)
       integer, parameter :: kernel = pass_musl_stress
-      logical, parameter :: gimp = .false., stretch_box = .false.
+      logical, parameter :: parts = .false., stretch_box = .false., spline = .false.
       include 'mpm_segment_kernel.inc'
    end subroutine musl_stress_segment
 
@@ -1093,72 +1139,110 @@ contains
    subroutine ugimp_usl_segment(k, seg, x, x0, v, stress, volume_ratio, cell, acceleration, velocity, strain_increment_of, &
       mass_left, mass_right, momentum_left, momentum_right, stress_volume, constants, carry)
       integer, parameter :: kernel = pass_usl
-      logical, parameter :: gimp = .true., stretch_box = .false.
+      logical, parameter :: parts = .true., stretch_box = .false., spline = .false.
       include 'mpm_segment_kernel.inc'
    end subroutine ugimp_usl_segment
 
    subroutine ugimp_usf_move_segment(k, seg, x, x0, v, stress, volume_ratio, cell, acceleration, velocity, &
       strain_increment_of, mass_left, mass_right, momentum_left, momentum_right, stress_volume, constants, carry)
       integer, parameter :: kernel = pass_usf_move
-      logical, parameter :: gimp = .true., stretch_box = .false.
+      logical, parameter :: parts = .true., stretch_box = .false., spline = .false.
       include 'mpm_segment_kernel.inc'
    end subroutine ugimp_usf_move_segment
 
    subroutine ugimp_usf_stress_segment(k, seg, x, x0, v, stress, volume_ratio, cell, acceleration, velocity, &
       strain_increment_of, mass_left, mass_right, momentum_left, momentum_right, stress_volume, constants, carry)
       integer, parameter :: kernel = pass_usf_stress
-      logical, parameter :: gimp = .true., stretch_box = .false.
+      logical, parameter :: parts = .true., stretch_box = .false., spline = .false.
       include 'mpm_segment_kernel.inc'
    end subroutine ugimp_usf_stress_segment
 
    subroutine ugimp_musl_remap_segment(k, seg, x, x0, v, stress, volume_ratio, cell, acceleration, velocity, &
       strain_increment_of, mass_left, mass_right, momentum_left, momentum_right, stress_volume, constants, carry)
       integer, parameter :: kernel = pass_musl_remap
-      logical, parameter :: gimp = .true., stretch_box = .false.
+      logical, parameter :: parts = .true., stretch_box = .false., spline = .false.
       include 'mpm_segment_kernel.inc'
    end subroutine ugimp_musl_remap_segment
 
    subroutine ugimp_musl_stress_segment(k, seg, x, x0, v, stress, volume_ratio, cell, acceleration, velocity, &
       strain_increment_of, mass_left, mass_right, momentum_left, momentum_right, stress_volume, constants, carry)
       integer, parameter :: kernel = pass_musl_stress
-      logical, parameter :: gimp = .true., stretch_box = .false.
+      logical, parameter :: parts = .true., stretch_box = .false., spline = .false.
       include 'mpm_segment_kernel.inc'
    end subroutine ugimp_musl_stress_segment
 
    subroutine cpgimp_usl_segment(k, seg, x, x0, v, stress, volume_ratio, cell, acceleration, velocity, strain_increment_of, &
       mass_left, mass_right, momentum_left, momentum_right, stress_volume, constants, carry)
       integer, parameter :: kernel = pass_usl
-      logical, parameter :: gimp = .true., stretch_box = .true.
+      logical, parameter :: parts = .true., stretch_box = .true., spline = .false.
       include 'mpm_segment_kernel.inc'
    end subroutine cpgimp_usl_segment
 
    subroutine cpgimp_usf_move_segment(k, seg, x, x0, v, stress, volume_ratio, cell, acceleration, velocity, &
       strain_increment_of, mass_left, mass_right, momentum_left, momentum_right, stress_volume, constants, carry)
       integer, parameter :: kernel = pass_usf_move
-      logical, parameter :: gimp = .true., stretch_box = .true.
+      logical, parameter :: parts = .true., stretch_box = .true., spline = .false.
       include 'mpm_segment_kernel.inc'
    end subroutine cpgimp_usf_move_segment
 
    subroutine cpgimp_usf_stress_segment(k, seg, x, x0, v, stress, volume_ratio, cell, acceleration, velocity, &
       strain_increment_of, mass_left, mass_right, momentum_left, momentum_right, stress_volume, constants, carry)
       integer, parameter :: kernel = pass_usf_stress
-      logical, parameter :: gimp = .true., stretch_box = .true.
+      logical, parameter :: parts = .true., stretch_box = .true., spline = .false.
       include 'mpm_segment_kernel.inc'
    end subroutine cpgimp_usf_stress_segment
 
    subroutine cpgimp_musl_remap_segment(k, seg, x, x0, v, stress, volume_ratio, cell, acceleration, velocity, &
       strain_increment_of, mass_left, mass_right, momentum_left, momentum_right, stress_volume, constants, carry)
       integer, parameter :: kernel = pass_musl_remap
-      logical, parameter :: gimp = .true., stretch_box = .true.
+      logical, parameter :: parts = .true., stretch_box = .true., spline = .false.
       include 'mpm_segment_kernel.inc'
    end subroutine cpgimp_musl_remap_segment
 
    subroutine cpgimp_musl_stress_segment(k, seg, x, x0, v, stress, volume_ratio, cell, acceleration, velocity, &
       strain_increment_of, mass_left, mass_right, momentum_left, momentum_right, stress_volume, constants, carry)
       integer, parameter :: kernel = pass_musl_stress
-      logical, parameter :: gimp = .true., stretch_box = .true.
+      logical, parameter :: parts = .true., stretch_box = .true., spline = .false.
       include 'mpm_segment_kernel.inc'
    end subroutine cpgimp_musl_stress_segment
 
+   ! And for the quadratic B-splines (`spline`: see the module's notes).
+
+   subroutine bspline2_usl_segment(k, seg, x, x0, v, stress, volume_ratio, cell, acceleration, velocity, strain_increment_of, &
+      mass_left, mass_right, momentum_left, momentum_right, stress_volume, constants, carry)
+      integer, parameter :: kernel = pass_usl
+      logical, parameter :: parts = .true., stretch_box = .false., spline = .true.
+      include 'mpm_segment_kernel.inc'
+   end subroutine bspline2_usl_segment
+
+   subroutine bspline2_usf_move_segment(k, seg, x, x0, v, stress, volume_ratio, cell, acceleration, velocity, &
+      strain_increment_of, mass_left, mass_right, momentum_left, momentum_right, stress_volume, constants, carry)
+      integer, parameter :: kernel = pass_usf_move
+      logical, parameter :: parts = .true., stretch_box = .false., spline = .true.
+      include 'mpm_segment_kernel.inc'
+   end subroutine bspline2_usf_move_segment
+
+   subroutine bspline2_usf_stress_segment(k, seg, x, x0, v, stress, volume_ratio, cell, acceleration, velocity, &
+      strain_increment_of, mass_left, mass_right, momentum_left, momentum_right, stress_volume, constants, carry)
+      integer, parameter :: kernel = pass_usf_stress
+      logical, parameter :: parts = .true., stretch_box = .false., spline = .true.
+      include 'mpm_segment_kernel.inc'
+   end subroutine bspline2_usf_stress_segment
+
+   subroutine bspline2_musl_remap_segment(k, seg, x, x0, v, stress, volume_ratio, cell, acceleration, velocity, &
+      strain_increment_of, mass_left, mass_right, momentum_left, momentum_right, stress_volume, constants, carry)
+      integer, parameter :: kernel = pass_musl_remap
+      logical, parameter :: parts = .true., stretch_box = .false., spline = .true.
+      include 'mpm_segment_kernel.inc'
+   end subroutine bspline2_musl_remap_segment
+
+   subroutine bspline2_musl_stress_segment(k, seg, x, x0, v, stress, volume_ratio, cell, acceleration, velocity, &
+      strain_increment_of, mass_left, mass_right, momentum_left, momentum_right, stress_volume, constants, carry)
+      integer, parameter :: kernel = pass_musl_stress
+      logical, parameter :: parts = .true., stretch_box = .false., spline = .true.
+      include 'mpm_segment_kernel.inc'
+   end subroutine bspline2_musl_stress_segment
+
    include '../../shape/mpm_gimp_box.inc'
+   include '../../shape/mpm_bspline_span.inc'
 end module mpm_transfer

@@ -1,14 +1,14 @@
-!> The fused GIMP kernels (uGIMP and cpGIMP with FLIP on the bar: mpm_transfer, mpm_fused) against
-!> the generic path, which is their definition:
+!> The fused kernels of the particles in two parts (uGIMP, cpGIMP and quadratic B-splines with FLIP
+!> on the bar: mpm_transfer, mpm_fused) against the generic path, which is their definition:
 !> - USF, USL and MUSL, small amplitude and the issue's large-motion case (v0 = 0.01 c, 200 x 4,
 !>   k = 0.5: boxes cross nodes and the free end moves into empty cells): same status and steps,
 !>   u_cm histories equal to round-off and kinetic energies to 1e-10 (mpm_testing's check_paths_agree);
-!> - a run large enough to be cut into segments (their halos carry the boxes' right parts): the same
+!> - a run large enough to be cut into segments (their halos carry the particles' right parts): the same
 !>   against the generic path, and bit for bit the same history on 1 and 2 threads;
 !> - a particle moved several elements away (its segment's "far mover", added after the pass from
-!>   both parts of its box): mass and momentum are conserved by the mapping (the element shares sum to
+!>   both of its parts): mass and momentum are conserved by the mapping (the element shares sum to
 !>   the particles' mass and to sum m v), and the particles are sorted again.
-program test_fused_gimp
+program test_fused_shapes
    use omp_lib, only: omp_set_num_threads
    use mpm_kinds, only: dp
    use mpm_errors, only: error_t
@@ -24,16 +24,16 @@ program test_fused_gimp
    implicit none
    type(tester_t) :: t
    character(len=4), parameter :: schemes(3) = ['usf ', 'usl ', 'musl']
-   character(len=6), parameter :: shapes(2) = ['ugimp ', 'cpgimp']
+   character(len=8), parameter :: shapes(3) = ['ugimp   ', 'cpgimp  ', 'bspline2']
    integer :: i, j
-   t%name = 'test_fused_gimp'
+   t%name = 'test_fused_shapes'
    do j = 1, size(shapes)
       do i = 1, size(schemes)
          call compare(trim(schemes(i)), trim(shapes(j)), 20, 3, 0.3_dp, 0.1_dp, 2.0_dp)
          call compare(trim(schemes(i)), trim(shapes(j)), 200, 4, 0.5_dp, 0.01_dp*sqrt(200.0e9_dp/7800.0_dp), 2.0_dp)
          call compare(trim(schemes(i)), trim(shapes(j)), 30000, 4, 0.5_dp, 50.0_dp, 0.004_dp, threads=.true.)
       end do
-      call far_mover(shapes(j) == 'cpgimp')
+      call far_mover(trim(shapes(j)))
    end do
    call t%finish()
 
@@ -75,11 +75,11 @@ contains
       end if
    end subroutine compare
 
-   !> A particle of a segmented run moved 3000.9 elements to the right: its box's two parts land outside
-   !> its segment and its halo and are added after the pass (add_far_movers); the mapping conserves
-   !> mass and momentum, and the pass sorts the particles by cell again.
-   subroutine far_mover(stretch)
-      logical, intent(in) :: stretch
+   !> A particle of a segmented run moved 3000.9 elements to the right: its two parts land outside its
+   !> segment and its halo and are added after the pass (add_far_movers); the mapping conserves mass
+   !> and momentum, and the pass sorts the particles by cell again.
+   subroutine far_mover(shape)
+      character(len=*), intent(in) :: shape
       integer, parameter :: elements = 60000, ppc = 4
       real(dp), parameter :: length = 25.0_dp, density = 7800.0_dp
       type(particles_t) :: particles
@@ -89,19 +89,20 @@ contains
       type(error_t), allocatable :: error
       integer :: p
       character(len=:), allocatable :: label
-      label = merge('cpgimp', 'ugimp ', stretch)//' far mover: '
+      label = shape//' far mover: '
       call particles_init(particles, elements, ppc, length/elements, density, error)
       particles%v = 3.0_dp*sin(particles%x)
-      if (stretch) particles%volume_ratio = 1.0_dp + 0.2_dp*sin(7*particles%x)  ! boxes of many lengths
-      box%gimp = .true.
-      box%stretch = stretch
+      if (shape == 'cpgimp') particles%volume_ratio = 1.0_dp + 0.2_dp*sin(7*particles%x)  ! boxes of many lengths
+      box%parts = .true.
+      box%stretch = shape == 'cpgimp'
+      box%spline = shape == 'bspline2'
       call grid_init(grid, elements, length, particles%mass, error, margin=20, fixed=[0], element_shares=.true., ghost=1)
       call fused_start(scheme_usl, particles, grid, totals, box, 200.0e9_dp)
       call t%check(label//'the run is cut into segments shorter than the move', grid%segments%count > 2 .and. &
                    maxval(grid%segments%first_element(2:) - grid%segments%first_element(:grid%segments%count)) < 3000)
       ! 3000.9 elements on, past its segment (about 2000 elements) and its halo: its box (dx/8 about the
       ! element's first sub-cell centre, dx/8 from its left node) then straddles a node, so that both
-      ! parts are far
+      ! parts are far (the B-spline's parts both have weight anywhere)
       p = elements*ppc/2 + 1
       particles%x(p) = particles%x(p) + 3000.9_dp*length/elements
       grid%velocity = 0.0_dp
@@ -114,4 +115,4 @@ contains
                          sum(grid%element_momentum_right), particles%mass*sum(particles%v), rtol=1.0e-11_dp)
       call t%check(label//'particles sorted by cell again', all(particles%cell(2:) >= particles%cell(:particles%count - 1)))
    end subroutine far_mover
-end program test_fused_gimp
+end program test_fused_shapes
