@@ -73,8 +73,8 @@ module mpm_config
       real(dp) :: dt_fraction = 0.1_dp
       !> Empty grid cells beyond each free end of the body; -1: the scene's expected motion + 2 cells.
       integer :: margin_cells = -1
-      !> 'auto': the fused kernels where they apply (the bar, FLIP, linear, GIMP or quadratic B-spline
-      !> shapes), else the generic path; 'generic': always generic.
+      !> 'auto': the fused kernels where they apply (the bar with FLIP, any shape), else the generic path;
+      !> 'generic': always generic.
       character(len=8) :: kernels = 'auto'
       !> Shape functions (mpm_shape) and the velocity transfer of G2P, with the FLIP share of 'blend'.
       character(len=8) :: shape = 'linear'
@@ -146,8 +146,8 @@ contains
          int_entry('discretisation', 'margin_cells', config%margin_cells, 'empty grid cells beyond each free end '// &
                    'of the body', at_least=-1, note="-1: the scene's expected motion + 2 cells"), &
          text_entry('discretisation', 'kernels', config%kernels, "'auto': the fused kernels where they apply (the "// &
-                    "bar with FLIP and linear, uGIMP, cpGIMP or quadratic B-spline shapes), else the generic path; "// &
-                    "'generic': always the generic layered path", words='auto, generic'), &
+                    "bar with FLIP, any shape), else the generic path; 'generic': always the generic layered path", &
+                    words='auto, generic'), &
          text_entry('scene', 'kind', config%scene_kind, 'the problem: the vibrating bar of the founding study, '// &
                     'a column under gravity, a manufactured large-strain solution (README, Scenes)', &
                     words=known_scenes, attribute='scene_kind'), &

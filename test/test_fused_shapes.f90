@@ -1,5 +1,6 @@
-!> The fused kernels of the particles in two parts (uGIMP, cpGIMP and quadratic B-splines with FLIP
-!> on the bar: mpm_transfer, mpm_fused) against the generic path, which is their definition:
+!> The fused kernels of the particles in parts (uGIMP, cpGIMP and quadratic B-splines in two, cubic
+!> B-splines in three, with FLIP on the bar: mpm_transfer, mpm_fused) against the generic path, which
+!> is their definition:
 !> - USF, USL and MUSL, small amplitude and the issue's large-motion case (v0 = 0.01 c, 200 x 4,
 !>   k = 0.5: boxes cross nodes and the free end moves into empty cells): same status and steps,
 !>   u_cm histories equal to round-off and kinetic energies to 1e-10 (mpm_testing's check_paths_agree);
@@ -24,7 +25,7 @@ program test_fused_shapes
    implicit none
    type(tester_t) :: t
    character(len=4), parameter :: schemes(3) = ['usf ', 'usl ', 'musl']
-   character(len=8), parameter :: shapes(3) = ['ugimp   ', 'cpgimp  ', 'bspline2']
+   character(len=8), parameter :: shapes(4) = ['ugimp   ', 'cpgimp  ', 'bspline2', 'bspline3']
    integer :: i, j
    t%name = 'test_fused_shapes'
    do j = 1, size(shapes)
@@ -95,7 +96,8 @@ contains
       if (shape == 'cpgimp') particles%volume_ratio = 1.0_dp + 0.2_dp*sin(7*particles%x)  ! boxes of many lengths
       box%parts = .true.
       box%stretch = shape == 'cpgimp'
-      box%spline = shape == 'bspline2'
+      box%spline = shape == 'bspline2' .or. shape == 'bspline3'
+      box%cubic = shape == 'bspline3'
       call grid_init(grid, elements, length, particles%mass, error, margin=20, fixed=[0], element_shares=.true., ghost=1)
       call fused_start(scheme_usl, particles, grid, totals, box, 200.0e9_dp)
       call t%check(label//'the run is cut into segments shorter than the move', grid%segments%count > 2 .and. &

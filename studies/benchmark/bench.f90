@@ -7,7 +7,7 @@
 !>       (seconds: with one thread the process's CPU time, so that a core shared with other work
 !>       does not count its waiting; with more threads the wall-clock time)
 !>       (with SHAPE given: two more columns, shape,transfer; defaults linear, flip; the fused kernels
-!>       take linear, ugimp, cpgimp and bspline2 with flip)
+!>       take every shape with flip)
 !>   mpm1d_bench stream N REPEATS
 !>       memory bandwidth with 1 and 2 threads over arrays of N doubles:
 !>       kernel,threads,bytes_per_element,repeat,seconds,bytes_per_s
@@ -32,7 +32,8 @@ program mpm1d_bench
    use mpm_grid, only: grid_t, grid_init
    use mpm_particles, only: particles_t, per_particle_data
    use mpm_shape, only: shape_cache_t, shape_id, shape_extra_cells, transfer_id, transfer_apic, shape_name, &
-                        transfer_name, shape_linear, shape_ugimp, shape_cpgimp, shape_bspline2, transfer_flip
+                        transfer_name, shape_linear, shape_ugimp, shape_cpgimp, shape_bspline2, shape_bspline3, &
+                        transfer_flip
    use mpm_transfer, only: pass_totals_t
    use mpm_fused, only: fused_start, fused_step, fused_box_t
    use mpm_schemes, only: scheme_usf, scheme_usl, scheme_musl, scheme_step
@@ -126,14 +127,13 @@ contains
          cache%kind = shape_id(arg(9))
          if (len_trim(arg(10)) > 0) cache%transfer = transfer_id(arg(10))
          if (cache%kind == 0 .or. cache%transfer == 0) error stop 'unknown shape or transfer'
-         if (.not. generic .and. (cache%transfer /= transfer_flip .or. &
-             .not. any(cache%kind == [shape_linear, shape_ugimp, shape_cpgimp, shape_bspline2]))) &
-            error stop 'the fused kernels take linear, ugimp, cpgimp or bspline2 with flip'
+         if (.not. generic .and. cache%transfer /= transfer_flip) error stop 'the fused kernels take flip only'
          columns = ','//shape_name(cache%kind)//','//transfer_name(cache%transfer)
       end if
-      box%parts = any(cache%kind == [shape_ugimp, shape_cpgimp, shape_bspline2])
+      box%parts = cache%kind /= shape_linear
       box%stretch = cache%kind == shape_cpgimp
-      box%spline = cache%kind == shape_bspline2
+      box%spline = cache%kind == shape_bspline2 .or. cache%kind == shape_bspline3
+      box%cubic = cache%kind == shape_bspline3
       extra = shape_extra_cells(cache%kind)
       select case (trim(config%scheme))
       case ('usf')

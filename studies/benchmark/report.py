@@ -25,8 +25,8 @@ BYTES = {'usf': 84, 'usl': 80, 'musl': 100}
 GRID_BYTES_PER_ELEMENT = 200
 
 
-#: Speed targets of the shapes (ratio to linear on the fused kernels; GIMP and quadratic B-splines with
-#: FLIP on their fused kernels, the path a run takes; cubic B-splines on the generic path).
+#: Speed targets of the shapes (ratio to linear on the fused kernels; every shape with FLIP on the fused
+#: kernels, the path a run takes).
 SHAPE_TARGETS = {'ugimp': 0.5, 'cpgimp': 0.5, 'bspline2': 0.5, 'bspline3': 0.33}
 SHAPE_ORDER = ['linear', 'ugimp', 'cpgimp', 'bspline2', 'bspline3']
 
@@ -51,8 +51,8 @@ def shape_table(rows, lines):
     ratio, cost = {}, {}
     lines += ['## Shapes and transfers\n',
               'One thread, 4 particles per element; each round runs linear on the fused kernels, then each shape '
-              'and transfer on the generic path, and uGIMP, cpGIMP and quadratic B-splines with FLIP on their fused '
-              'kernels (the path a run takes); ratios are medians over rounds of the paired ratios (range in brackets). One-thread '
+              'and transfer on the generic path, and every wide shape with FLIP on the fused kernels (the path a run '
+              'takes); ratios are medians over rounds of the paired ratios (range in brackets). One-thread '
               'times are CPU times (a core shared with other work does not count its waiting). Targets: GIMP and '
               'quadratic B-splines >= 0.5 x linear fused, cubic >= 0.33, a transfer <= 1.15 x FLIP (both on the '
               'generic path).\n',

@@ -1,7 +1,7 @@
 #!/usr/bin/env bash
 # Speed of mpm1d: particle-steps per second of each scheme for 1e2..1e7 particles (one thread; every
-# shape and transfer on the generic path, and GIMP and quadratic B-splines on the fused kernels, against
-# the fused linear ones),
+# shape and transfer on the generic path, and every shape with FLIP on the fused kernels, against the
+# fused linear ones),
 # memory bandwidth (STREAM-style triad and update, and the traffic of one USL pass with no arithmetic;
 # 1 and 2 threads) and the bounds they imply, OpenMP speed-up inside
 # one run, cost of a study against elements^2 * ppc / dt_fraction, and memory per particle.
@@ -50,8 +50,7 @@ done
 
 echo "== every shape and transfer against linear on the fused kernels (paired, one thread)" >&2
 # each round: the fused linear run of a scheme, then every shape (FLIP) on the generic path, then (USL) every
-# transfer of every shape, and uGIMP, cpGIMP and quadratic B-splines with FLIP on the fused kernels (the
-# path a run takes);
+# transfer of every shape, and every wide shape with FLIP on the fused kernels (the path a run takes);
 # 4 particles per element; 1e3-1e5 particles in cache and 1e7 from memory
 echo "scheme,elements,ppc,particles,threads,steps,repeat,seconds,particle_steps_per_s,shape,transfer,path,round" \
   > "$out/shapes.csv"
@@ -66,7 +65,7 @@ for n in 1000 10000 100000 10000000; do
           "$bench" throughput $scheme $((n / 4)) 4 $steps 1 1 generic $shape $transfer \
             | sed "s/\$/,generic,$r/" >> "$out/shapes.csv"
         done
-        case $shape in ugimp|cpgimp|bspline2)
+        case $shape in ugimp|cpgimp|bspline2|bspline3)
           "$bench" throughput $scheme $((n / 4)) 4 $steps 1 1 fused $shape flip | sed "s/\$/,fused,$r/" >> "$out/shapes.csv" ;;
         esac
       done

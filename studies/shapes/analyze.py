@@ -479,8 +479,8 @@ def error_against_time(out, small):
              f'{int(ok.sum())} timed runs: every scheme x shape with FLIP at 10-320 elements and every scheme x shape '
              'x PIC, blend (0.99) and APIC at 10-160 elements, 4 particles per element, k = 0.25 (timing pass: each '
              'case repeated until 0.02 s (FLIP) or 0.01 s (the others) are measured, one thread). The black line is the Pareto front over all of '
-             'them. Linear, uGIMP, cpGIMP and quadratic B-splines with FLIP on the bar run on the fused kernels, '
-             'every other combination on the generic path (their speed ratios: Throughput, below).', '', '![error against run time](error_vs_time.png)', '',
+             'them. Every shape with FLIP on the bar runs on the fused kernels, the other transfers on the generic '
+             'path (their speed ratios: Throughput, below).', '', '![error against run time](error_vs_time.png)', '',
              '### For a target relative error, use ...', '',
              '| target relative error | cheapest run reaching it (scheme shape transfer elements) | run time (s) | its error |',
              '|---|---|---|---|']

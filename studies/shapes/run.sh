@@ -8,9 +8,9 @@
 #   1b. every transfer (FLIP, PIC, blend 0.99, APIC) x shape under USL, both amplitudes;
 #   2. the critical dt fraction per scheme x shape x ppc (20 elements, 20 periods; first failing k),
 #      and as predicted by the amplification matrix of the frozen step (at rest and stretched);
-#   3. throughput of every shape and transfer on the generic path, and of uGIMP, cpGIMP and quadratic
-#      B-splines with FLIP on their fused kernels, against linear on the fused kernels, paired in one
-#      run (mpm1d_bench throughput, one thread, interleaved repeats);
+#   3. throughput of every shape and transfer on the generic path, and of every shape with FLIP on the
+#      fused kernels, against linear on the fused kernels, paired in one run (mpm1d_bench throughput,
+#      one thread, interleaved repeats);
 #   then summary.md with the numbers and figures (analyze.py).
 # Usage: bash studies/shapes/run.sh [output folder]     (default: out/shapes)
 # MPM1D_QUICK=1 shrinks every list (10-40 elements, k in steps of 0.1 from 0.3, one speed round
@@ -209,7 +209,7 @@ for repeat in $rounds; do
       for shape in linear ugimp cpgimp bspline2 bspline3; do
         "$bench" throughput $scheme $size 4 $steps 1 1 generic $shape flip | sed "s/\$/,generic,$repeat/" >> "$out/speed.csv"
       done
-      for shape in ugimp cpgimp bspline2; do
+      for shape in ugimp cpgimp bspline2 bspline3; do
         "$bench" throughput $scheme $size 4 $steps 1 1 fused $shape flip | sed "s/\$/,fused,$repeat/" >> "$out/speed.csv"
       done
     done

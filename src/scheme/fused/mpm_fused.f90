@@ -1,5 +1,5 @@
-!> The fused specialisation of USF, USL and MUSL for the paper's bar: linear, GIMP (uGIMP, cpGIMP) or
-!> quadratic B-spline shape functions (see mpm_transfer), FLIP, one particle mass and volume, one material, no external
+!> The fused specialisation of USF, USL and MUSL for the paper's bar: any shape function (linear; the
+!> wide ones as particles in parts, see mpm_transfer), FLIP, one particle mass and volume, one material, no external
 !> force. Each step
 !> is one or two fused passes over the particles (mpm_transfer), which also carry the next step's
 !> particle-to-grid transfer. The generic path (mpm_schemes over mpm_operations) is the definition;

@@ -14,7 +14,8 @@
 !> shares, r (1 - t) m, r t m, ..., r sigma V (accumulate_boxes: one run carries the element's and
 !> the next element's sums), and gather as r1 (linear in e at t1) + r2 (linear in e + 1 at t2). The
 !> quadratic B-splines split the same way (spline_parts): at coordinate t in the knot span,
-!> r1 = 1 - t, r2 = t, t1 = (1 + t)/2, t2 = t/2 give their weights and gradients exactly.
+!> r1 = 1 - t, r2 = t, t1 = (1 + t)/2, t2 = t/2 give their weights and gradients exactly; the cubic
+!> ones split in three about their middle cell (cubic_parts, accumulate_thirds).
 !>
 !> Speed (see studies/benchmark): each segment kernel walks its particles in blocks of 64. The
 !> per-particle update of a block (G2P, stress update, new cell) is one branch-free loop that gfortran
@@ -62,7 +63,7 @@ module mpm_transfer
    !> ../../shape/mpm_gimp_box.inc and ../../shape/mpm_bspline_span.inc, whose changes fpm does not
    !> notice (it rebuilds a file when its own text changes: fpm issue #358). Their checksum, here, is checked by test_kernels, which says the
    !> new value after an edit; setting it makes fpm rebuild this file.
-   integer(i8), parameter :: kernel_source_checksum = 2020264210_i8
+   integer(i8), parameter :: kernel_source_checksum = 684877131_i8
    public :: kernel_checksum_compiled
    public :: parallel_threshold, segment_particles
 
@@ -109,13 +110,14 @@ module mpm_transfer
 
    !> The particles' shape on the fused path: the hat (default) or a particle in two parts (`parts`,
    !> see the module's notes): GIMP's box (`stretch`: cpGIMP, l_p = l_p0 J_p) or the quadratic
-   !> B-spline's split (`spline`); and a value per particle that a pass of such a step keeps for the
-   !> next (`carry`): MUSL's remap keeps the start-of-step fraction r2 of the box's right part for the
+   !> B-spline's split (`spline`), or in three parts (`cubic`: the cubic B-spline's); and a value per
+   !> particle that a pass of such a step keeps for the next (`carry`, for three parts the span
+   !> coordinate t in place of r2): MUSL's remap keeps the start-of-step fraction r2 of the box's right part for the
    !> stress pass (the particle has moved since); USF's move pass keeps the new r2 for the next step's
    !> stress pass (which then needs no box), and that pass keeps J at the start of the step in its
    !> place for the move pass (cpGIMP's box).
    type :: fused_box_t
-      logical :: parts = .false., stretch = .false., spline = .false.
+      logical :: parts = .false., stretch = .false., spline = .false., cubic = .false.
       real(dp), allocatable :: carry(:)
    end type fused_box_t
 
@@ -142,8 +144,9 @@ module mpm_transfer
    type :: run_t
       integer :: cur = 0
       real(dp) :: a(share_count) = 0.0_dp
-      !> GIMP: the sums of the next element (see accumulate_boxes)
-      real(dp) :: b(share_count) = 0.0_dp
+      !> Particles in parts: the sums of the next element and (three parts) of the one before (see
+      !> accumulate_boxes, accumulate_thirds)
+      real(dp) :: b(share_count) = 0.0_dp, z(share_count) = 0.0_dp
    end type run_t
 
 
@@ -262,6 +265,12 @@ contains
       integer :: p, i, flag
       real(dp) :: r1, r2, t1, t2
       do p = 1, particles%count
+         if (box%cubic) then ! its middle cell, and its span coordinate (see cubic_parts)
+            call bspline3_locate(particles%x(p), grid%origin, grid%inv_dx, grid%elements, i, t1, flag)
+            particles%cell(p) = (i + 2)*flag
+            if (size(box%carry) == particles%count) box%carry(p) = t1
+            cycle
+         end if
          call particle_parts(box, particles%x(p), particles%volume0, particles%volume_ratio(p), grid, i, r1, r2, &
                              t1, t2, flag)
          particles%cell(p) = (i + 1)*flag
@@ -303,6 +312,44 @@ contains
       t2 = 0.5_dp*t
    end subroutine spline_parts
 
+   !> The cubic B-spline of a particle as three parts (see the module's notes): at coordinate t in the
+   !> middle cell e of its support (nodes e - 2 .. e + 1, bspline3_locate), the gradient
+   !> [-(1-t)^2/2, 3t^2/2 - 2t, -3t^2/2 + t + 1/2, t^2/2]/dx is r1 dN(e - 1) + r2 dN(e) + r3 dN(e + 1)
+   !> with r = the quadratic B-spline's weights at t, r1 = (1-t)^2/2, r2 = 1/2 + t - t^2, r3 = t^2/2;
+   !> the weights [(1-t)^3, 3t^3 - 6t^2 + 4, -3t^3 + 3t^2 + 3t + 1, t^3]/6 are then the three parts'
+   !> hats with q = r t_k (the part's fraction times its local coordinate): q1 = (1-t)^2 (2+t)/6,
+   !> q2 = (1 + 3t - 2t^3)/6, q3 = t^3/6 (so that N = [r1 - q1, q1 + r2 - q2, q2 + r3 - q3, q3]).
+   elemental subroutine cubic_parts(t, r1, r2, r3, q1, q2, q3)
+      real(dp), intent(in) :: t
+      real(dp), intent(out) :: r1, r2, r3, q1, q2, q3
+      real(dp), parameter :: sixth = 1.0_dp/6.0_dp
+      real(dp) :: u
+      u = 1.0_dp - t
+      r1 = 0.5_dp*u*u
+      r2 = 0.5_dp + t - t*t
+      r3 = 0.5_dp*t*t
+      q1 = sixth*u*u*(2.0_dp + t)
+      q2 = sixth*(1.0_dp + 3.0_dp*t - 2.0_dp*t*t*t)
+      q3 = sixth*t*t*t
+   end subroutine cubic_parts
+
+   !> G2P of one cubic B-spline particle in three parts (cubic_parts; nodes e - 2 .. e + 1: a0..a3,
+   !> v0..v3): v += dt sum N a_I, x += dt sum N v_I; also its contributions to the totals (see
+   !> g2p_particle).
+   elemental subroutine g2p_cubic(r1, r2, r3, q1, q2, q3, a0, a1, a2, a3, v0, v1, v2, v3, inv_dx, dt, half_m, x0, x, v, &
+                                  displacement, kinetic, move)
+      real(dp), intent(in) :: r1, r2, r3, q1, q2, q3, a0, a1, a2, a3, v0, v1, v2, v3, inv_dx, dt, half_m, x0
+      real(dp), intent(inout) :: x, v
+      real(dp), intent(out) :: displacement, kinetic, move
+      real(dp) :: dxp
+      v = v + dt*(((r1 - q1)*a0 + q1*a1) + ((r2 - q2)*a1 + q2*a2) + ((r3 - q3)*a2 + q3*a3))
+      dxp = dt*(((r1 - q1)*v0 + q1*v1) + ((r2 - q2)*v1 + q2*v2) + ((r3 - q3)*v2 + q3*v3))
+      x = x + dxp
+      displacement = x - x0
+      kinetic = half_m*v*v
+      move = abs(dxp)*inv_dx
+   end subroutine g2p_cubic
+
    !> GIMP's box half-length in cells, l = V/2 / dx clamped as mpm_shape_gimp clamps it: V = V0 J
    !> (cpGIMP; j = J) or V0.
    elemental real(dp) function box_half_length(half_length0, j, stretch, inv_dx) result(l)
@@ -328,7 +375,20 @@ contains
       type(pass_constants_t) :: constants
       constants = pass_constants_t(grid%elements, grid%origin, grid%inv_dx, dt, youngs_modulus, particles%mass, &
                                    particles%volume0, 0.5_dp*particles%volume0, box%stretch)
-      if (box%spline) then
+      if (box%cubic) then
+         select case (kind)
+         case (pass_usf_move)
+            kernel => bspline3_usf_move_segment
+         case (pass_usf_stress)
+            kernel => bspline3_usf_stress_segment
+         case (pass_usl)
+            kernel => bspline3_usl_segment
+         case (pass_musl_remap)
+            kernel => bspline3_musl_remap_segment
+         case default
+            kernel => bspline3_musl_stress_segment
+         end select
+      else if (box%spline) then
          select case (kind)
          case (pass_usf_move)
             kernel => bspline2_usf_move_segment
@@ -613,7 +673,7 @@ contains
       integer, intent(in) :: shares
       type(fused_box_t), intent(in) :: box
       integer :: k, p, c, lo, hi, i, flag
-      real(dp) :: xi, m, r1, r2, t1, t2
+      real(dp) :: xi, m, r1, r2, r3, t1, t2, q1, q2, q3
       m = particles%mass
       associate (seg => grid%segments)
          do k = 1, seg%count
@@ -622,11 +682,17 @@ contains
             hi = seg%first_element(k + 1) - 1
             do p = seg%first_particle(k), seg%first_particle(k + 1) - 1
                c = particles%cell(p)
-               if (box%parts) then ! the particle's two parts, each where the kernel could not add it
+               if (box%cubic) then ! the three parts about the middle cell c
+                  call bspline3_locate(particles%x(p), grid%origin, grid%inv_dx, grid%elements, i, t1, flag)
+                  call cubic_parts(t1, r1, r2, r3, q1, q2, q3)
+                  if (c - 1 < lo - 1 .or. c - 1 > hi + 1) call add_part(c - 1, r1, q1)
+                  if (c < lo - 1 .or. c > hi + 1) call add_part(c, r2, q2)
+                  if (c + 1 < lo - 1 .or. c + 1 > hi + 1) call add_part(c + 1, r3, q3)
+               else if (box%parts) then ! the particle's two parts, each where the kernel could not add it
                   call particle_parts(box, particles%x(p), particles%volume0, particles%volume_ratio(p), grid, i, r1, &
                                       r2, t1, t2, flag)
-                  if (c < lo - 1 .or. c > hi + 1) call add_part(c, r1, t1)
-                  if (c + 1 < lo - 1 .or. c + 1 > hi + 1) call add_part(c + 1, r2, t2)
+                  if (c < lo - 1 .or. c > hi + 1) call add_part(c, r1, r1*t1)
+                  if (c + 1 < lo - 1 .or. c + 1 > hi + 1) call add_part(c + 1, r2, r2*t2)
                else
                   if (c >= lo - 1 .and. c <= hi + 1) cycle
                   xi = particles%x(p)*grid%inv_dx - (c - 1)
@@ -636,15 +702,15 @@ contains
          end do
       end associate
    contains
-      !> The shares of particle p's part of fraction r at local coordinate t in element c.
-      subroutine add_part(c, r, t)
+      !> The shares of particle p's part of fraction r at local coordinate t = q/r in element c.
+      subroutine add_part(c, r, q)
          integer, intent(in) :: c
-         real(dp), intent(in) :: r, t
+         real(dp), intent(in) :: r, q
          real(dp) :: a(share_count)
-         a(1) = r*(1.0_dp - t)*m
-         a(2) = r*t*m
-         a(3) = r*(1.0_dp - t)*m*particles%v(p)
-         a(4) = r*t*m*particles%v(p)
+         a(1) = (r - q)*m
+         a(2) = q*m
+         a(3) = (r - q)*m*particles%v(p)
+         a(4) = q*m*particles%v(p)
          a(5) = r*particles%stress(p)*particles%volume_ratio(p)*particles%volume0
          call add_share_set(grid, c, a, shares)
       end subroutine add_part
@@ -1064,6 +1130,89 @@ contains
       run%b = [b1, b2, b3, b4, b5]
    end subroutine accumulate_boxes
 
+   !> Phase B of the three-part kernels (cubic B-splines; accumulate_boxes for three parts): each
+   !> particle adds left(i, :) to the element before its cell cells(i), mid(i, :) to its cell and
+   !> right(i, :) to the one after (w, w xi, w v, w xi v, w sigma V of each part; here w xi = q). The
+   !> run carries the sums of the element before (`z`), its own (`a`) and the next (`b`), shifted by
+   !> one when the run moves on by one element.
+   subroutine accumulate_thirds(k, n, cells, left, mid, right, m, lo, hi, shares, run, mass_left, mass_right, &
+                                momentum_left, momentum_right, stress_volume, seg)
+      integer, intent(in) :: k, n, lo, hi, shares
+      integer, intent(in) :: cells(:)
+      real(dp), intent(in) :: left(:, :), mid(:, :), right(:, :), m
+      type(run_t), intent(inout) :: run
+      real(dp), intent(inout), contiguous :: mass_left(:), mass_right(:), momentum_left(:), momentum_right(:), &
+                                             stress_volume(:)
+      type(segments_t), intent(inout) :: seg
+      integer :: i, c, cur
+      ! the sums as scalars, so that they stay in registers (see accumulate_boxes)
+      real(dp) :: z1, z2, z3, z4, z5, a1, a2, a3, a4, a5, b1, b2, b3, b4, b5
+      logical :: kinematic, with_stress
+      kinematic = iand(shares, share_mass + share_momentum) /= 0
+      with_stress = iand(shares, share_stress) /= 0
+      cur = run%cur
+      z1 = run%z(1); z2 = run%z(2); z3 = run%z(3); z4 = run%z(4); z5 = run%z(5)
+      a1 = run%a(1); a2 = run%a(2); a3 = run%a(3); a4 = run%a(4); a5 = run%a(5)
+      b1 = run%b(1); b2 = run%b(2); b3 = run%b(3); b4 = run%b(4); b5 = run%b(5)
+      i = 1
+      do while (i <= n)
+         c = cells(i)
+         if (c /= cur) then
+            if (c == 0) then
+               i = i + 1
+               cycle
+            end if
+            if (cur - 1 >= lo .and. cur - 1 <= hi) then ! the element before is complete (own: inline)
+               call add_own_shares(cur - 1, shares, m*(z1 - z2), m*z2, m*(z3 - z4), m*z4, z5, mass_left, mass_right, &
+                                   momentum_left, momentum_right, stress_volume)
+            else if (cur /= 0) then
+               call flush_shares(k, cur - 1, lo, hi, shares, m, z1, z2, z3, z4, z5, mass_left, mass_right, &
+                                 momentum_left, momentum_right, stress_volume, seg)
+            end if
+            if (cur /= 0) then ! the others carried on, or added now
+               if (c /= cur + 1) call flush_shares(k, cur, lo, hi, shares, m, a1, a2, a3, a4, a5, mass_left, &
+                                                   mass_right, momentum_left, momentum_right, stress_volume, seg)
+               if (c /= cur + 1 .and. c /= cur + 2) call flush_shares(k, cur + 1, lo, hi, shares, m, b1, b2, b3, b4, b5, &
+                                                                      mass_left, mass_right, momentum_left, &
+                                                                      momentum_right, stress_volume, seg)
+            end if
+            if (c == cur + 1) then
+               z1 = a1; z2 = a2; z3 = a3; z4 = a4; z5 = a5
+               a1 = b1; a2 = b2; a3 = b3; a4 = b4; a5 = b5
+            else if (c == cur + 2) then
+               z1 = b1; z2 = b2; z3 = b3; z4 = b4; z5 = b5
+               a1 = 0; a2 = 0; a3 = 0; a4 = 0; a5 = 0
+            else
+               z1 = 0; z2 = 0; z3 = 0; z4 = 0; z5 = 0
+               a1 = 0; a2 = 0; a3 = 0; a4 = 0; a5 = 0
+            end if
+            b1 = 0; b2 = 0; b3 = 0; b4 = 0; b5 = 0
+            if (c < cur) seg%unsorted(k) = .true.
+            if (cur == 0) seg%first_cell(k) = c
+            cur = c
+         end if
+         ! the run of particles in cell cur: sums only (see accumulate_boxes)
+         do while (i <= n)
+            if (cells(i) /= cur) exit
+            if (kinematic) then
+               z1 = z1 + left(i, 1); z2 = z2 + left(i, 2); z3 = z3 + left(i, 3); z4 = z4 + left(i, 4)
+               a1 = a1 + mid(i, 1); a2 = a2 + mid(i, 2); a3 = a3 + mid(i, 3); a4 = a4 + mid(i, 4)
+               b1 = b1 + right(i, 1); b2 = b2 + right(i, 2); b3 = b3 + right(i, 3); b4 = b4 + right(i, 4)
+            end if
+            if (with_stress) then
+               z5 = z5 + left(i, 5)
+               a5 = a5 + mid(i, 5)
+               b5 = b5 + right(i, 5)
+            end if
+            i = i + 1
+         end do
+      end do
+      run%cur = cur
+      run%z = [z1, z2, z3, z4, z5]
+      run%a = [a1, a2, a3, a4, a5]
+      run%b = [b1, b2, b3, b4, b5]
+   end subroutine accumulate_thirds
+
    !> Flush the open run and record the segment's totals.
    subroutine close_segment(k, shares, m, run, sums, min_j, max_move, furthest, outside, mass_left, mass_right, &
                             momentum_left, momentum_right, stress_volume, seg)
@@ -1095,7 +1244,7 @@ contains
    subroutine usl_segment(k, seg, x, x0, v, stress, volume_ratio, cell, acceleration, velocity, strain_increment_of, &
       mass_left, mass_right, momentum_left, momentum_right, stress_volume, constants, carry)
       integer, parameter :: kernel = pass_usl
-      logical, parameter :: parts = .false., stretch_box = .false., spline = .false.
+      logical, parameter :: parts = .false., stretch_box = .false., spline = .false., three = .false.
       include 'mpm_segment_kernel.inc'
    end subroutine usl_segment
 
@@ -1103,7 +1252,7 @@ contains
    subroutine usf_move_segment(k, seg, x, x0, v, stress, volume_ratio, cell, acceleration, velocity, strain_increment_of, &
       mass_left, mass_right, momentum_left, momentum_right, stress_volume, constants, carry)
       integer, parameter :: kernel = pass_usf_move
-      logical, parameter :: parts = .false., stretch_box = .false., spline = .false.
+      logical, parameter :: parts = .false., stretch_box = .false., spline = .false., three = .false.
       include 'mpm_segment_kernel.inc'
    end subroutine usf_move_segment
 
@@ -1111,7 +1260,7 @@ contains
    subroutine usf_stress_segment(k, seg, x, x0, v, stress, volume_ratio, cell, acceleration, velocity, strain_increment_of, &
       mass_left, mass_right, momentum_left, momentum_right, stress_volume, constants, carry)
       integer, parameter :: kernel = pass_usf_stress
-      logical, parameter :: parts = .false., stretch_box = .false., spline = .false.
+      logical, parameter :: parts = .false., stretch_box = .false., spline = .false., three = .false.
       include 'mpm_segment_kernel.inc'
    end subroutine usf_stress_segment
 
@@ -1119,7 +1268,7 @@ contains
    subroutine musl_remap_segment(k, seg, x, x0, v, stress, volume_ratio, cell, acceleration, velocity, strain_increment_of, &
       mass_left, mass_right, momentum_left, momentum_right, stress_volume, constants, carry)
       integer, parameter :: kernel = pass_musl_remap
-      logical, parameter :: parts = .false., stretch_box = .false., spline = .false.
+      logical, parameter :: parts = .false., stretch_box = .false., spline = .false., three = .false.
       include 'mpm_segment_kernel.inc'
    end subroutine musl_remap_segment
 
@@ -1128,7 +1277,7 @@ contains
    subroutine musl_stress_segment(k, seg, x, x0, v, stress, volume_ratio, cell, acceleration, velocity, strain_increment_of, &
       mass_left, mass_right, momentum_left, momentum_right, stress_volume, constants, carry)
       integer, parameter :: kernel = pass_musl_stress
-      logical, parameter :: parts = .false., stretch_box = .false., spline = .false.
+      logical, parameter :: parts = .false., stretch_box = .false., spline = .false., three = .false.
       include 'mpm_segment_kernel.inc'
    end subroutine musl_stress_segment
 
@@ -1139,70 +1288,70 @@ contains
    subroutine ugimp_usl_segment(k, seg, x, x0, v, stress, volume_ratio, cell, acceleration, velocity, strain_increment_of, &
       mass_left, mass_right, momentum_left, momentum_right, stress_volume, constants, carry)
       integer, parameter :: kernel = pass_usl
-      logical, parameter :: parts = .true., stretch_box = .false., spline = .false.
+      logical, parameter :: parts = .true., stretch_box = .false., spline = .false., three = .false.
       include 'mpm_segment_kernel.inc'
    end subroutine ugimp_usl_segment
 
    subroutine ugimp_usf_move_segment(k, seg, x, x0, v, stress, volume_ratio, cell, acceleration, velocity, &
       strain_increment_of, mass_left, mass_right, momentum_left, momentum_right, stress_volume, constants, carry)
       integer, parameter :: kernel = pass_usf_move
-      logical, parameter :: parts = .true., stretch_box = .false., spline = .false.
+      logical, parameter :: parts = .true., stretch_box = .false., spline = .false., three = .false.
       include 'mpm_segment_kernel.inc'
    end subroutine ugimp_usf_move_segment
 
    subroutine ugimp_usf_stress_segment(k, seg, x, x0, v, stress, volume_ratio, cell, acceleration, velocity, &
       strain_increment_of, mass_left, mass_right, momentum_left, momentum_right, stress_volume, constants, carry)
       integer, parameter :: kernel = pass_usf_stress
-      logical, parameter :: parts = .true., stretch_box = .false., spline = .false.
+      logical, parameter :: parts = .true., stretch_box = .false., spline = .false., three = .false.
       include 'mpm_segment_kernel.inc'
    end subroutine ugimp_usf_stress_segment
 
    subroutine ugimp_musl_remap_segment(k, seg, x, x0, v, stress, volume_ratio, cell, acceleration, velocity, &
       strain_increment_of, mass_left, mass_right, momentum_left, momentum_right, stress_volume, constants, carry)
       integer, parameter :: kernel = pass_musl_remap
-      logical, parameter :: parts = .true., stretch_box = .false., spline = .false.
+      logical, parameter :: parts = .true., stretch_box = .false., spline = .false., three = .false.
       include 'mpm_segment_kernel.inc'
    end subroutine ugimp_musl_remap_segment
 
    subroutine ugimp_musl_stress_segment(k, seg, x, x0, v, stress, volume_ratio, cell, acceleration, velocity, &
       strain_increment_of, mass_left, mass_right, momentum_left, momentum_right, stress_volume, constants, carry)
       integer, parameter :: kernel = pass_musl_stress
-      logical, parameter :: parts = .true., stretch_box = .false., spline = .false.
+      logical, parameter :: parts = .true., stretch_box = .false., spline = .false., three = .false.
       include 'mpm_segment_kernel.inc'
    end subroutine ugimp_musl_stress_segment
 
    subroutine cpgimp_usl_segment(k, seg, x, x0, v, stress, volume_ratio, cell, acceleration, velocity, strain_increment_of, &
       mass_left, mass_right, momentum_left, momentum_right, stress_volume, constants, carry)
       integer, parameter :: kernel = pass_usl
-      logical, parameter :: parts = .true., stretch_box = .true., spline = .false.
+      logical, parameter :: parts = .true., stretch_box = .true., spline = .false., three = .false.
       include 'mpm_segment_kernel.inc'
    end subroutine cpgimp_usl_segment
 
    subroutine cpgimp_usf_move_segment(k, seg, x, x0, v, stress, volume_ratio, cell, acceleration, velocity, &
       strain_increment_of, mass_left, mass_right, momentum_left, momentum_right, stress_volume, constants, carry)
       integer, parameter :: kernel = pass_usf_move
-      logical, parameter :: parts = .true., stretch_box = .true., spline = .false.
+      logical, parameter :: parts = .true., stretch_box = .true., spline = .false., three = .false.
       include 'mpm_segment_kernel.inc'
    end subroutine cpgimp_usf_move_segment
 
    subroutine cpgimp_usf_stress_segment(k, seg, x, x0, v, stress, volume_ratio, cell, acceleration, velocity, &
       strain_increment_of, mass_left, mass_right, momentum_left, momentum_right, stress_volume, constants, carry)
       integer, parameter :: kernel = pass_usf_stress
-      logical, parameter :: parts = .true., stretch_box = .true., spline = .false.
+      logical, parameter :: parts = .true., stretch_box = .true., spline = .false., three = .false.
       include 'mpm_segment_kernel.inc'
    end subroutine cpgimp_usf_stress_segment
 
    subroutine cpgimp_musl_remap_segment(k, seg, x, x0, v, stress, volume_ratio, cell, acceleration, velocity, &
       strain_increment_of, mass_left, mass_right, momentum_left, momentum_right, stress_volume, constants, carry)
       integer, parameter :: kernel = pass_musl_remap
-      logical, parameter :: parts = .true., stretch_box = .true., spline = .false.
+      logical, parameter :: parts = .true., stretch_box = .true., spline = .false., three = .false.
       include 'mpm_segment_kernel.inc'
    end subroutine cpgimp_musl_remap_segment
 
    subroutine cpgimp_musl_stress_segment(k, seg, x, x0, v, stress, volume_ratio, cell, acceleration, velocity, &
       strain_increment_of, mass_left, mass_right, momentum_left, momentum_right, stress_volume, constants, carry)
       integer, parameter :: kernel = pass_musl_stress
-      logical, parameter :: parts = .true., stretch_box = .true., spline = .false.
+      logical, parameter :: parts = .true., stretch_box = .true., spline = .false., three = .false.
       include 'mpm_segment_kernel.inc'
    end subroutine cpgimp_musl_stress_segment
 
@@ -1211,37 +1360,74 @@ contains
    subroutine bspline2_usl_segment(k, seg, x, x0, v, stress, volume_ratio, cell, acceleration, velocity, strain_increment_of, &
       mass_left, mass_right, momentum_left, momentum_right, stress_volume, constants, carry)
       integer, parameter :: kernel = pass_usl
-      logical, parameter :: parts = .true., stretch_box = .false., spline = .true.
+      logical, parameter :: parts = .true., stretch_box = .false., spline = .true., three = .false.
       include 'mpm_segment_kernel.inc'
    end subroutine bspline2_usl_segment
 
    subroutine bspline2_usf_move_segment(k, seg, x, x0, v, stress, volume_ratio, cell, acceleration, velocity, &
       strain_increment_of, mass_left, mass_right, momentum_left, momentum_right, stress_volume, constants, carry)
       integer, parameter :: kernel = pass_usf_move
-      logical, parameter :: parts = .true., stretch_box = .false., spline = .true.
+      logical, parameter :: parts = .true., stretch_box = .false., spline = .true., three = .false.
       include 'mpm_segment_kernel.inc'
    end subroutine bspline2_usf_move_segment
 
    subroutine bspline2_usf_stress_segment(k, seg, x, x0, v, stress, volume_ratio, cell, acceleration, velocity, &
       strain_increment_of, mass_left, mass_right, momentum_left, momentum_right, stress_volume, constants, carry)
       integer, parameter :: kernel = pass_usf_stress
-      logical, parameter :: parts = .true., stretch_box = .false., spline = .true.
+      logical, parameter :: parts = .true., stretch_box = .false., spline = .true., three = .false.
       include 'mpm_segment_kernel.inc'
    end subroutine bspline2_usf_stress_segment
 
    subroutine bspline2_musl_remap_segment(k, seg, x, x0, v, stress, volume_ratio, cell, acceleration, velocity, &
       strain_increment_of, mass_left, mass_right, momentum_left, momentum_right, stress_volume, constants, carry)
       integer, parameter :: kernel = pass_musl_remap
-      logical, parameter :: parts = .true., stretch_box = .false., spline = .true.
+      logical, parameter :: parts = .true., stretch_box = .false., spline = .true., three = .false.
       include 'mpm_segment_kernel.inc'
    end subroutine bspline2_musl_remap_segment
 
    subroutine bspline2_musl_stress_segment(k, seg, x, x0, v, stress, volume_ratio, cell, acceleration, velocity, &
       strain_increment_of, mass_left, mass_right, momentum_left, momentum_right, stress_volume, constants, carry)
       integer, parameter :: kernel = pass_musl_stress
-      logical, parameter :: parts = .true., stretch_box = .false., spline = .true.
+      logical, parameter :: parts = .true., stretch_box = .false., spline = .true., three = .false.
       include 'mpm_segment_kernel.inc'
    end subroutine bspline2_musl_stress_segment
+
+   ! And for the cubic B-splines (`three`: three parts, see cubic_parts).
+
+   subroutine bspline3_usl_segment(k, seg, x, x0, v, stress, volume_ratio, cell, acceleration, velocity, strain_increment_of, &
+      mass_left, mass_right, momentum_left, momentum_right, stress_volume, constants, carry)
+      integer, parameter :: kernel = pass_usl
+      logical, parameter :: parts = .true., stretch_box = .false., spline = .true., three = .true.
+      include 'mpm_segment_kernel.inc'
+   end subroutine bspline3_usl_segment
+
+   subroutine bspline3_usf_move_segment(k, seg, x, x0, v, stress, volume_ratio, cell, acceleration, velocity, &
+      strain_increment_of, mass_left, mass_right, momentum_left, momentum_right, stress_volume, constants, carry)
+      integer, parameter :: kernel = pass_usf_move
+      logical, parameter :: parts = .true., stretch_box = .false., spline = .true., three = .true.
+      include 'mpm_segment_kernel.inc'
+   end subroutine bspline3_usf_move_segment
+
+   subroutine bspline3_usf_stress_segment(k, seg, x, x0, v, stress, volume_ratio, cell, acceleration, velocity, &
+      strain_increment_of, mass_left, mass_right, momentum_left, momentum_right, stress_volume, constants, carry)
+      integer, parameter :: kernel = pass_usf_stress
+      logical, parameter :: parts = .true., stretch_box = .false., spline = .true., three = .true.
+      include 'mpm_segment_kernel.inc'
+   end subroutine bspline3_usf_stress_segment
+
+   subroutine bspline3_musl_remap_segment(k, seg, x, x0, v, stress, volume_ratio, cell, acceleration, velocity, &
+      strain_increment_of, mass_left, mass_right, momentum_left, momentum_right, stress_volume, constants, carry)
+      integer, parameter :: kernel = pass_musl_remap
+      logical, parameter :: parts = .true., stretch_box = .false., spline = .true., three = .true.
+      include 'mpm_segment_kernel.inc'
+   end subroutine bspline3_musl_remap_segment
+
+   subroutine bspline3_musl_stress_segment(k, seg, x, x0, v, stress, volume_ratio, cell, acceleration, velocity, &
+      strain_increment_of, mass_left, mass_right, momentum_left, momentum_right, stress_volume, constants, carry)
+      integer, parameter :: kernel = pass_musl_stress
+      logical, parameter :: parts = .true., stretch_box = .false., spline = .true., three = .true.
+      include 'mpm_segment_kernel.inc'
+   end subroutine bspline3_musl_stress_segment
 
    include '../../shape/mpm_gimp_box.inc'
    include '../../shape/mpm_bspline_span.inc'
