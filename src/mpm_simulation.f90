@@ -9,9 +9,8 @@ module mpm_simulation
    use mpm_config, only: config_t
    use mpm_grid, only: grid_t, grid_init, assemble_nodes, nodal_velocity
    use mpm_particles, only: particles_t, per_particle_data
-   use mpm_shape, only: shape_cache_t, shape_id, shape_linear, shape_ugimp, shape_cpgimp, shape_bspline2, &
-                        shape_bspline3, shape_extra_cells, transfer_id, transfer_flip, transfer_apic
-   use mpm_fused, only: fused_start, fused_step, fused_box_t
+   use mpm_shape, only: shape_cache_t, shape_id, shape_extra_cells, transfer_id, transfer_flip, transfer_apic
+   use mpm_fused, only: fused_start, fused_step, fused_box_t, fused_shape
    use mpm_operations, only: particle_energies, locate_particles, p2g_mass_momentum, nodal_velocities, mirror_fold
    use mpm_schemes, only: scheme_usf, scheme_usl, scheme_musl, scheme_step, scheme_step_bodies
    use mpm_contact, only: bodies_t, bodies_init
@@ -117,12 +116,9 @@ contains
       cache%kind = shape_id(config%shape)
       cache%transfer = transfer_id(config%transfer)
       cache%flip_fraction = config%flip_fraction
-      fused = trim(config%kernels) == 'auto' .and. scene%fused_applies() .and. cache%transfer == transfer_flip .and. &
-              any(cache%kind == [shape_linear, shape_ugimp, shape_cpgimp, shape_bspline2, shape_bspline3])
-      box%parts = cache%kind /= shape_linear
-      box%stretch = cache%kind == shape_cpgimp
-      box%spline = cache%kind == shape_bspline2 .or. cache%kind == shape_bspline3
-      box%cubic = cache%kind == shape_bspline3
+      ! (the fused kernels take every shape)
+      fused = trim(config%kernels) == 'auto' .and. scene%fused_applies() .and. cache%transfer == transfer_flip
+      box = fused_shape(cache%kind)
       result%fused = fused
       ! shapes wider than the hat: one more cell beyond the free end, one ghost cell left of x = 0
       extra = shape_extra_cells(cache%kind)

@@ -18,7 +18,8 @@ program test_fused_shapes
    use mpm_grid, only: grid_t, grid_init
    use mpm_particles, only: particles_t, particles_init
    use mpm_transfer, only: pass_totals_t, fused_pass, pass_usl, parallel_threshold
-   use mpm_fused, only: fused_start, fused_box_t
+   use mpm_fused, only: fused_start, fused_box_t, fused_shape
+   use mpm_shape, only: shape_id
    use mpm_schemes, only: scheme_usl
    use mpm_strings, only: str
    use mpm_testing, only: tester_t, check_paths_agree
@@ -94,10 +95,7 @@ contains
       call particles_init(particles, elements, ppc, length/elements, density, error)
       particles%v = 3.0_dp*sin(particles%x)
       if (shape == 'cpgimp') particles%volume_ratio = 1.0_dp + 0.2_dp*sin(7*particles%x)  ! boxes of many lengths
-      box%parts = .true.
-      box%stretch = shape == 'cpgimp'
-      box%spline = shape == 'bspline2' .or. shape == 'bspline3'
-      box%cubic = shape == 'bspline3'
+      box = fused_shape(shape_id(shape))
       call grid_init(grid, elements, length, particles%mass, error, margin=20, fixed=[0], element_shares=.true., ghost=1)
       call fused_start(scheme_usl, particles, grid, totals, box, 200.0e9_dp)
       call t%check(label//'the run is cut into segments shorter than the move', grid%segments%count > 2 .and. &

@@ -32,10 +32,9 @@ program mpm1d_bench
    use mpm_grid, only: grid_t, grid_init
    use mpm_particles, only: particles_t, per_particle_data
    use mpm_shape, only: shape_cache_t, shape_id, shape_extra_cells, transfer_id, transfer_apic, shape_name, &
-                        transfer_name, shape_linear, shape_ugimp, shape_cpgimp, shape_bspline2, shape_bspline3, &
-                        transfer_flip
+                        transfer_name, transfer_flip
    use mpm_transfer, only: pass_totals_t
-   use mpm_fused, only: fused_start, fused_step, fused_box_t
+   use mpm_fused, only: fused_start, fused_step, fused_box_t, fused_shape
    use mpm_schemes, only: scheme_usf, scheme_usl, scheme_musl, scheme_step
    use mpm_scene_bar, only: bar_t, bar_init
    use mpm_simulation, only: run_result_t, run_simulation
@@ -130,10 +129,7 @@ contains
          if (.not. generic .and. cache%transfer /= transfer_flip) error stop 'the fused kernels take flip only'
          columns = ','//shape_name(cache%kind)//','//transfer_name(cache%transfer)
       end if
-      box%parts = cache%kind /= shape_linear
-      box%stretch = cache%kind == shape_cpgimp
-      box%spline = cache%kind == shape_bspline2 .or. cache%kind == shape_bspline3
-      box%cubic = cache%kind == shape_bspline3
+      box = fused_shape(cache%kind)
       extra = shape_extra_cells(cache%kind)
       select case (trim(config%scheme))
       case ('usf')

@@ -61,9 +61,10 @@ module mpm_transfer
 
    !> The segment kernels are compiled from mpm_segment_arguments.inc, mpm_segment_kernel.inc,
    !> ../../shape/mpm_gimp_box.inc and ../../shape/mpm_bspline_span.inc, whose changes fpm does not
-   !> notice (it rebuilds a file when its own text changes: fpm issue #358). Their checksum, here, is checked by test_kernels, which says the
-   !> new value after an edit; setting it makes fpm rebuild this file.
-   integer(i8), parameter :: kernel_source_checksum = 684877131_i8
+   !> notice (it rebuilds a file when its own text changes: fpm issue #358). Their checksum, here, is
+   !> checked by test_kernels, which says the new value after an edit; setting it makes fpm rebuild
+   !> this file.
+   integer(i8), parameter :: kernel_source_checksum = 172865913_i8
    public :: kernel_checksum_compiled
    public :: parallel_threshold, segment_particles
 
@@ -1055,9 +1056,8 @@ contains
       type(segments_t), intent(inout) :: seg
       integer :: i, c, cur
       real(dp) :: a1, a2, a3, a4, a5, b1, b2, b3, b4, b5
-      logical :: kinematic, with_momentum, with_stress
-      kinematic = iand(shares, share_mass) /= 0
-      with_momentum = iand(shares, share_momentum) /= 0
+      logical :: kinematic, with_stress
+      kinematic = iand(shares, share_mass + share_momentum) /= 0
       with_stress = iand(shares, share_stress) /= 0
       cur = run%cur
       a1 = run%a(1); a2 = run%a(2); a3 = run%a(3); a4 = run%a(4); a5 = run%a(5)
@@ -1070,19 +1070,9 @@ contains
                i = i + 1
                cycle
             end if
-            if (cur >= lo .and. cur <= hi) then ! the segment's own element: the adds written out (see
-               if (kinematic) then              ! accumulate_block)
-                  mass_left(cur) = mass_left(cur) + m*(a1 - a2)
-                  mass_right(cur) = mass_right(cur) + m*a2
-                  if (with_momentum) then
-                     momentum_left(cur) = momentum_left(cur) + m*(a3 - a4)
-                     momentum_right(cur) = momentum_right(cur) + m*a4
-                  end if
-               else if (with_momentum) then
-                  momentum_left(cur) = momentum_left(cur) + m*(a3 - a4)
-                  momentum_right(cur) = momentum_right(cur) + m*a4
-               end if
-               if (with_stress) stress_volume(cur) = stress_volume(cur) + a5
+            if (cur >= lo .and. cur <= hi) then ! the segment's own element
+               call add_own_shares(cur, shares, m*(a1 - a2), m*a2, m*(a3 - a4), m*a4, a5, mass_left, mass_right, &
+                                   momentum_left, momentum_right, stress_volume)
             else if (cur /= 0) then
                call flush_shares(k, cur, lo, hi, shares, m, a1, a2, a3, a4, a5, mass_left, mass_right, momentum_left, &
                                  momentum_right, stress_volume, seg)
@@ -1106,7 +1096,7 @@ contains
          do while (i <= n)
             if (cells(i) /= cur) exit
             ! (only the sums the pass scatters: the tests are the same for the whole loop)
-            if (kinematic .or. with_momentum) then
+            if (kinematic) then
                a1 = a1 + left(i, 1)
                a2 = a2 + left(i, 2)
                a3 = a3 + left(i, 3)
@@ -1114,7 +1104,7 @@ contains
             end if
             if (with_stress) a5 = a5 + left(i, 5)
             if (right(i, 1) /= 0.0_dp) then ! a box cut by a node (1 in ppc of them: the branch is
-               if (kinematic .or. with_momentum) then ! predicted, and the others skip the adds)
+               if (kinematic) then ! predicted, and the others skip the adds)
                   b1 = b1 + right(i, 1)
                   b2 = b2 + right(i, 2)
                   b3 = b3 + right(i, 3)
