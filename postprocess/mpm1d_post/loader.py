@@ -1,7 +1,7 @@
 """Loader for the HDF5 files written by mpm1d: one single run, or one sweep (a table of cases).
 
 Every figure and report of the post-processing reads its input through this module, so that the
-file layout (documented in the top-level README, "Output files") is known in one place only.
+file layout (documented in docs/output.md) is known in one place only.
 
 Strings are written by mpm1d as variable-length strings (older files: fixed-length, space-padded);
 they are returned here as stripped Python ``str`` (or numpy arrays of ``str``). Scalars come back as

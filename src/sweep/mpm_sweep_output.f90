@@ -1,4 +1,4 @@
-!> HDF5 output of a sweep (one flat table under /cases, layout in README.md) and the merge of
+!> HDF5 output of a sweep (one flat table under /cases, layout in docs/output.md) and the merge of
 !> shard files into the file an unsharded run gives.
 module mpm_sweep_output
    use mpm_kinds, only: dp
