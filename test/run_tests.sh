@@ -57,7 +57,7 @@ group() {
   wall=$(awk -v a="$start" -v b="$(date +%s.%N)" 'BEGIN { printf "%.1f", b - a }')
   child_cpu; cpu=$(awk -v a="$cpu" -v b="$cpu_now" 'BEGIN { printf "%.1f", b - a }')
   if [ "$rc" != 0 ]; then result=FAIL; failed=1
-  elif tail -n 1 "$log" | grep -q 'skipped'; then result=skipped
+  elif tail -n 1 "$log" | grep -qE '^[A-Za-z0-9_]+: skipped'; then result=skipped  # e.g. 'test_slurm: skipped: <why>'
   else result=ok; fi
   summary+=("$(printf '%-8s %-64s %8s %8s' "$result" "$name" "$wall" "$cpu")")
 }
