@@ -29,7 +29,11 @@ block="$(grep -v -E "$tests_re" <<< "$block")"
 scratch="$(mktemp -d)"
 git ls-files -z --cached --others --exclude-standard | xargs -0 cp --parents -t "$scratch" 2>/dev/null
 ln -s "$root/build" "$scratch/build"
-ln -s "$root/.venv" "$scratch/.venv"   # the project venv (studies/setup.sh), for a block that activates it
+# the project venv (studies/setup.sh), for a block that activates it, and the post-processing package
+# it has installed (editable), so that studies/setup.sh run from the copy finds it installed from
+# here and leaves it pointing at this checkout
+ln -s "$root/.venv" "$scratch/.venv"
+rm -rf "$scratch/postprocess" && ln -s "$root/postprocess" "$scratch/postprocess"
 log="$root/build/test_scratch/readme.log"
 mkdir -p "$(dirname "$log")"
 (cd "$scratch" && bash -e -x -o pipefail -c "$block") > "$log" 2>&1
