@@ -92,7 +92,7 @@ check "test_sweep_plurals" "grep -q 'sweep of 1 case\$' out.txt && grep -q 'on 1
 # ---- defects found by hostile input (issue 16, section 3; numbers as there)
 # 1: shard file names get as many digits as the shard count (at least 3; 1000+ shards shared '***'):
 #    shards 1, 10, 100 and 1000 of 1000 (one case each) write four names of four digits
-#    (3, merge in linear time: test/test_long_shards.sh, second tier, runs and merges all 1000)
+#    (3, the merge: test/test_long_shards.sh, second tier, runs and merges all 1000)
 els=$(seq -s, 1 250)
 printf "&run periods=0.05 /\n&output file='m.h5', history=.false. /\n&sweep elements=$els, particles_per_element=1,2,3,4, min_time=0, progress=F /\n" > m.nml
 mkdir -p shards1000

@@ -2,8 +2,9 @@
 # Second tier (bash test/run_tests.sh --all): a sweep of 1000 cases run as 1000 shards of one case
 # (1000 runs of mpm1d, about half a minute), then merged (issue 16, section 3):
 #   - the 1000 shards write 1000 distinct names with the count's four digits;
-#   - `mpm1d merge` takes them in linear time: under 20 s of CPU time (user + system, independent of
-#     the machine's load; it took 2-3 s after the fix, and minutes before it: 200 shards took 114 s);
+#   - `mpm1d merge` takes them; its CPU time (user + system, which hardly depends on the machine's
+#     load) is printed, not tested (no test depends on time): about 3-4 s since the merge is linear in
+#     the shards (200 shards took 114 s when it was not);
 #   - the merged table equals the unsharded sweep's (max_error and index).
 # test/test_command_line.sh checks the names on shards 1, 10, 100 and 1000 of the same sweep.
 set -uo pipefail
@@ -32,7 +33,7 @@ times > times.txt; before=$(children_cpu)
 times > times.txt; after=$(children_cpu)
 merge_cpu=$(awk -v a="$before" -v b="$after" 'BEGIN{printf "%.1f", b-a}')
 echo "   merge of 1000 shards: $merge_cpu s of CPU time"
-check "test_merge_1000_shards_in_linear_time" "[ \$(cat rc.txt) = 0 ] && awk -v s=$merge_cpu 'BEGIN{exit !(s < 20)}'"
+check "test_merge_1000_shards" "[ \$(cat rc.txt) = 0 ]"
 OMP_NUM_THREADS=2 "$exe" m.nml output.file=whole.h5 --quiet
 check "test_merged_1000_equals_unsharded" "h5diff whole.h5 merged1000.h5 /cases/max_error && h5diff whole.h5 merged1000.h5 /cases/index"
 
