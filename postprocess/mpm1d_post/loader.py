@@ -75,6 +75,8 @@ class Parameter:
     help: str
     #: The sweep list's former name, still accepted ('' = none; absent in older files).
     sweep_alias: str = ''
+    #: The scene kinds that use it, comma separated ('' = every kind; absent in older files).
+    kinds: str = ''
 
     @property
     def written(self) -> bool:

@@ -1439,19 +1439,20 @@ contains
    end function group_namelist
 
    !> The table as tab-separated lines with a header: group, name, attribute, type, unit, value,
-   !> allowed, sweep list, its former name, help. Read by the Python loader (postprocess/mpm1d_io.py).
+   !> allowed, sweep list, its former name, help, the scene kinds that use it ('' = every kind).
+   !> Read by the Python loader (postprocess/mpm1d_post/loader.py) and the namelist reference's generator.
    function parameter_listing(table) result(text)
       type(parameter_t), intent(in) :: table(:)
       character(len=:), allocatable :: text
       character(len=*), parameter :: tab = achar(9), nl = new_line('a')
       integer :: i
       text = 'group'//tab//'name'//tab//'attribute'//tab//'type'//tab//'unit'//tab//'value'//tab//'allowed'// &
-             tab//'sweep_list'//tab//'sweep_alias'//tab//'help'
+             tab//'sweep_list'//tab//'sweep_alias'//tab//'help'//tab//'kinds'
       do i = 1, size(table)
          associate (p => table(i))
             text = text//nl//trim(p%group)//tab//trim(p%name)//tab//trim(p%attribute)//tab//type_name(p%type)// &
                    tab//trim(p%unit)//tab//format_value(p)//tab//allowed_text(p)//tab//trim(p%sweep_list)//tab// &
-                   trim(p%sweep_alias)//tab//trim(p%help)
+                   trim(p%sweep_alias)//tab//trim(p%help)//tab//trim(p%kinds)
          end associate
       end do
    end function parameter_listing
