@@ -127,7 +127,7 @@ contains
       call run_length_flags(config)
       table = [ &
          text_entry('discretisation', 'scheme', config%scheme, 'update scheme: stress update first, last, or '// &
-                    'modified last (the README gives each algorithm)', words=known_schemes, sweep_list='schemes'), &
+                    'modified last (docs/theory.md gives each algorithm)', words=known_schemes, sweep_list='schemes'), &
          int_entry('discretisation', 'elements', config%elements, 'elements across the body; dx = length / elements', &
                    at_least=1, sweep_list='elements'), &
          int_entry('discretisation', 'particles_per_element', config%particles_per_element, &
@@ -136,7 +136,7 @@ contains
                     'c = sqrt(youngs_modulus/density)', greater_than=0.0_dp, at_most=max_dt_fraction, &
                     sweep_list='dt_fractions'), &
          text_entry('discretisation', 'shape', config%shape, 'shape functions: linear hat, uniform or '// &
-                    'contiguous-particle GIMP, quadratic or cubic B-splines (README, Shape functions)', &
+                    'contiguous-particle GIMP, quadratic or cubic B-splines (docs/theory.md)', &
                     words=known_shapes, sweep_list='shapes'), &
          text_entry('discretisation', 'transfer', config%transfer, 'velocity transfer of G2P: FLIP, PIC, their '// &
                     'blend (flip_fraction), or affine PIC', words=known_transfers, sweep_list='transfers'), &
@@ -149,7 +149,8 @@ contains
                     "bar with FLIP, any shape), else the generic path; 'generic': always the generic layered path", &
                     words='auto, generic'), &
          text_entry('scene', 'kind', config%scene_kind, 'the problem: the vibrating bar of the founding study, '// &
-                    'a column under gravity, a manufactured large-strain solution (README, Scenes)', &
+                    'a column under gravity, a manufactured large-strain solution, a composite bar, two bars colliding '// &
+                    '(docs/user-guide.md, Scenes)', &
                     words=known_scenes, attribute='scene_kind'), &
          for_kinds(real_entry('scene', 'length', config%length, 'm', 'length of the bar', greater_than=0.0_dp), &
                    single_body), &
@@ -172,7 +173,7 @@ contains
                               at_least=0.0_dp, sweep_list='gaps'), 'impact'), &
          for_kinds(text_entry('scene', 'contact', config%contact, "'none': one shared velocity field (the bars "// &
                               "stick); 'frictionless': a field per bar, the centre-of-mass velocity where they "// &
-                              "approach (README, Scenes)", words='none, frictionless', sweep_list='contacts'), &
+                              "approach (docs/user-guide.md, Scenes)", words='none, frictionless', sweep_list='contacts'), &
                    'impact'), &
          for_kinds(real_entry('scene', 'drive_velocity', config%drive_velocity, 'm/s', 'velocity the left end '// &
                               'is driven at from t = 0 (pushing into the bar)', greater_than=0.0_dp, &
@@ -189,7 +190,8 @@ contains
                               'u(X,t) = A sin(2 pi X/length) sin(pi c t/length)', greater_than=0.0_dp, &
                               note='2 pi A / length < 1', sweep_list='amplitudes'), 'manufactured'), &
          real_entry('run', 'periods', config%periods, '', 'run length in periods of the scene (bar: 2 pi/omega_n; '// &
-                    'column: 4L/c; manufactured: 2L/c; impact: 2 max L/c); steps = smallest n with n dt >= end time', &
+                    'column: 4L/c; manufactured: 2L/c; composite_bar: sum L_i/c_i; impact: 2 max L/c); steps = '// &
+                    'smallest n with n dt >= end time', &
                     greater_than=0.0_dp, optional=.true., given=config%periods_given), &
          real_entry('run', 'end_time', config%end_time, 's', 'run length in seconds (give periods or end_time)', &
                     greater_than=0.0_dp, optional=.true., given=config%end_time_given), &

@@ -327,7 +327,7 @@ contains
          if (trip%node_mass_ratio < nearly_empty) what = what//'; the lightest node holds '// &
             str(trip%node_mass_ratio)//' of a particle''s mass: a particle has just entered an empty cell, and '// &
             'that node''s velocity drives the update (the cell-crossing instability of linear shape functions, '// &
-            'strongest in USL; see README, Guards)'
+            'strongest in USL; see docs/user-guide.md, Guards)'
       case default
          text = status_name(status)
          return
