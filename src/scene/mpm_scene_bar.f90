@@ -1,4 +1,5 @@
-!> The axially vibrating bar (Bardenhagen 2002; eqs. 11-14 of the founding paper): fixed at x = 0,
+!> The axially vibrating bar ([Bardenhagen 2002]; eqs. 11-14 of [Ferreira et al.], the founding paper;
+!> references: docs/theory.md): fixed at x = 0,
 !> free at x = L, u(x,0) = 0, v(x,0) = v0 sin(beta_n x), beta_n = (2n-1) pi / (2L), omega_n = beta_n c.
 !> Exact: u(x,t) = v0/omega_n sin(omega_n t) sin(beta_n x); centre of mass
 !> u_cm(t) = (1/L) int_0^L u dx = v0/(omega_n beta_n L) sin(omega_n t)  (cos(beta_n L) = 0 for every n).

@@ -6,8 +6,8 @@
 !>          FLIP  v_p += dt sum_I N_Ip a_I
 !>          PIC   v_p  = sum_I N_Ip v_I
 !>          blend v_p  = f (v_p + dt sum_I N_Ip a_I) + (1 - f) sum_I N_Ip v_I,  f = flip_fraction
-!>          APIC  v_p  = sum_I N_Ip v_I and the velocity gradient C_p (Jiang, Schroeder, Selle, Teran and
-!>                Stomakhin 2015, "The affine particle-in-cell method", ACM TOG 34(4), sec. 5.3):
+!>          APIC  v_p  = sum_I N_Ip v_I and the velocity gradient C_p ([Jiang 2015], sec. 5.3; references:
+!>                docs/theory.md):
 !>                C_p = sum_I v_I dN_Ip (hat, GIMP: exact for their piecewise-linear weights) or
 !>                C_p = B_p D_p^-1, B_p = sum_I N_Ip v_I (x_I - x_p), D_p = dx^2/4 (quadratic),
 !>                dx^2/3 (cubic B-splines); P2G then adds sum_p N_Ip m_p C_p (x_I - x_p) to p_I.

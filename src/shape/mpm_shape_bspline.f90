@@ -1,6 +1,6 @@
 !> Quadratic and cubic B-spline shape functions on the uniform 1-D grid, centred on the nodes
-!> (Steffen, Kirby and Berzins 2008, "Analysis and reduction of quadrature errors in the material
-!> point method", IJNME 76:922-948, eqs. for S_2 and S_3; de Boor's uniform B-splines):
+!> ([Steffen 2008], eqs. for S_2 and S_3; the uniform B-splines of [de Boor]; references:
+!> docs/theory.md):
 !>   quadratic, r = |x - x_I|/dx:  3/4 - r^2 (r <= 1/2),  (3/2 - r)^2/2 (1/2 <= r <= 3/2), 0 beyond;
 !>   cubic:                        2/3 - r^2 + r^3/2 (r <= 1),  (2 - r)^3/6 (1 <= r <= 2), 0 beyond.
 !> Both are C^1 (quadratic) or C^2 (cubic), so the gradient no longer jumps when a particle crosses

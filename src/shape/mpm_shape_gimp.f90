@@ -1,5 +1,5 @@
-!> Generalized Interpolation Material Point shape functions (Bardenhagen and Kober 2004, "The
-!> generalized interpolation material point method", CMES 5(6):477-495) on the uniform 1-D grid.
+!> Generalized Interpolation Material Point shape functions ([Bardenhagen & Kober 2004]; references:
+!> docs/theory.md) on the uniform 1-D grid.
 !> A particle is a box [x_p - l_p, x_p + l_p] of uniform characteristic function chi_p; its weight
 !> on node I is the box average of the hat function N_I (their eq. 36 with chi_p = 1 on the box):
 !>    S_I(x_p) = 1/(2 l_p) int_{x_p - l_p}^{x_p + l_p} N_I(x) dx,
@@ -16,7 +16,7 @@
 !> Partition of unity holds by construction (r1 + r2 = 1), the box centroid is reproduced, and no
 !> difference of nearly equal numbers is divided by l_p (round-off stays at ulps for short boxes);
 !> branch-free, so that the loop vectorises. uGIMP keeps l_p = l_p0 = dx/(2 ppc); cpGIMP (contiguous
-!> particle GIMP, Bardenhagen and Kober 2004, sec. 3.3) stretches it with the particle, l_p = l_p0 J_p
+!> particle GIMP, [Bardenhagen & Kober 2004], sec. 3.3) stretches it with the particle, l_p = l_p0 J_p
 !> (exact in 1-D: the particle's length is its volume per unit area). The caller passes the half-lengths.
 !> l_p is capped at dx/2 so that a box spans at most two cells (3 nodes; reached only by ppc = 1
 !> stretched, or ppc = 2 at J = 2), and floored at 1e-9 dx (a collapsed particle, J -> 0, trips the
