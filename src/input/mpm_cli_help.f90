@@ -36,7 +36,7 @@ contains
          write (unit, '(a)', advance='no') parameter_help(table, trim(config_groups(i)))
       end do
       write (unit, '(a)') '  &sweep: every combination of the lists below (the last varies fastest); one HDF5 table '// &
-         '(see README.md)', '    lists, each named as the variable it varies (a list left out holds its base value;', &
+         '(docs/user-guide.md, Sweeps)', '    lists, each named as the variable it varies (a list left out holds its base value;', &
          '    the former plural names in brackets are still accepted):'
       do i = 1, size(table)
          if (len_trim(table(i)%sweep_list) == 0) cycle
