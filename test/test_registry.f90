@@ -250,8 +250,9 @@ contains
       call t%check_contains('list value out of range', error%message, &
                             'sweep: modes(2) = 0 is out of range; allowed: integer with 1 <= modes(2) <= 1073741823')
       call t%check_contains('list value unknown', error%message, "sweep: schemes(2) = 'xyz' is unknown")
-      call t%check_contains('misspelled list: names the lists', error%message, &
-                            "badsweep.nml:3: group &sweep: unknown variable 'dt_fractin'; allowed names: scheme,")
+      call t%check_contains('misspelled list: the nearest name, then the lists', error%message, &
+                            "badsweep.nml:3: group &sweep: unknown variable 'dt_fractin'; did you mean 'dt_fraction'? "// &
+                            "allowed names: scheme,")
       call t%check_contains('gap in a list', error%message, 'densities has a gap')
       call t%check_contains('all at once: settings too', error%message, 'shards = 0 is out of range')
       call t%check_contains('all at once: the base groups too', error%message, &
