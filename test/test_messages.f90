@@ -261,6 +261,16 @@ contains
       call t%check('sweep: a given flip_fraction the blend cases use: accepted', len(message) == 0, message)
       message = sweep_problems(small//"&sweep transfer='flip', 'blend', flip_fraction=0.3, min_time=0 /")
       call t%check('sweep: one flip_fraction beside flip and blend: accepted', len(message) == 0, message)
+      block
+         type(sweep_t) :: sweep
+         type(error_t), allocatable :: error
+         call read_sweep_text("&discretisation elements=4, flip_fraction=0.3 / &run periods=0.25 / "// &
+                              "&sweep transfer='flip', 'blend', min_time=0 /", 'in.nml', sweep, error, 0, 0, 1, &
+                              [character(len=1) ::])
+         call t%check('sweep: base flip_fraction for the blend cases read', .not. allocated(error))
+         call t%check_contains('sweep: the base echo keeps a flip_fraction the blend cases use (base transfer '// &
+                               'flip)', echo_of(sweep%base), 'flip_fraction=0.29999999999999999')
+      end block
    end subroutine flip_fraction_only_with_blend
 
    function echo_of(config) result(text)

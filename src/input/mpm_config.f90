@@ -1201,14 +1201,23 @@ contains
    end subroutine write_config_namelist
 
    !> The configuration as namelist text (one group per line) that reproduces the run.
+   !> A variable used only with a word of another (flip_fraction with transfer = 'blend') is left out
+   !> when the other has another word, unless its value is not the default: then a sweep's transfer list
+   !> has the word (a validated single run could not have it), and the sweep's echo keeps the value.
    function config_namelist(config) result(text)
       type(config_t), intent(in) :: config
       character(len=:), allocatable :: text
-      type(config_t), target :: local
-      type(parameter_t), allocatable :: table(:)
+      type(config_t), target :: local, defaults
+      type(parameter_t), allocatable :: table(:), default_table(:)
       integer :: i
       local = config
       call config_parameters(local, table)
+      defaults = config_t()
+      call config_parameters(defaults, default_table)
+      do i = 1, size(table)
+         if (len_trim(table(i)%needs_variable) == 0) cycle
+         if (format_value(table(i)) /= format_value(default_table(i))) table(i)%needs_variable = ''
+      end do
       text = ''
       do i = 1, size(config_groups)
          text = text//group_namelist(table, trim(config_groups(i)), trim(config%scene_kind))
