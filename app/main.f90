@@ -11,110 +11,63 @@ program mpm1d_main
    use mpm_errors, only: error_t
    use mpm_strings, only: str, num, plural, readable_numbers
    use mpm_config, only: config_t, read_config_text, default_config, write_config_namelist, config_summary, stability_limit, &
-                         check_output_path
+                         check_output_path, config_warnings
    use mpm_simulation, only: run_result_t, run_simulation, guard_message
    use mpm_output, only: write_run_file
    use mpm_diagnostics, only: status_ok
    use mpm_version, only: code_version
    use mpm_cli_help, only: print_help, print_parameters
-   use mpm_sweep, only: sweep_t, read_sweep_text, run_sweep, has_sweep_text, case_config, max_threads
+   use mpm_sweep, only: sweep_t, read_sweep_text, run_sweep, has_sweep_text, case_config
    use mpm_files, only: same_file
-   use mpm_registry, only: read_input_text, parse_namelist, nml_item_t
+   use mpm_registry, only: read_input_text
+   use mpm_command_line, only: command_line_t, command_arguments, parse_command_line, check_environment, &
+                               check_has_groups, override_length
    use mpm_sweep_output, only: write_sweep_file, merge_sweep_files
    implicit none
 
    type(config_t) :: config
    type(run_result_t) :: result
    type(error_t), allocatable :: error
-   character(len=:), allocatable :: input, text, source, option
-   character(len=1024), allocatable :: overrides(:)
-   integer :: nargs, i, shard, shards, threads
+   type(command_line_t) :: command_line
+   character(len=:), allocatable :: input, text, source
+   character(len=override_length), allocatable :: overrides(:)
+   integer :: shard, shards, threads
    !> Fewest elements per wavelength of the mode before a run is warned (two resolve a wave at best).
    integer, parameter :: min_elements_per_wavelength = 2
    logical :: quiet, is_sweep
 
-   nargs = command_argument_count()
-   if (nargs >= 1) then
-      select case (argument(1))
-      case ('-h', '--help', '--list-parameters', '-V', '--version')
-         if (nargs > 1) call fail("'"//argument(1)//"' takes no other arguments (given: '"//argument(2)// &
-                                  "'); see mpm1d --help", 2)
-      end select
-      select case (argument(1))
-      case ('-h', '--help')
-         call print_help(output_unit)
-         stop
-      case ('--list-parameters')
-         call print_parameters(output_unit)
-         stop
-      case ('-V', '--version')
-         write (output_unit, '(a)') code_version
-         stop
-      case ('merge')
-         call merge_command()
-         call finish()
-      end select
-   end if
-
-   call check_environment()
-   ! the arguments: an input file (or '-'), overrides group.name=value, options
-   allocate (overrides(0))
-   quiet = .false.
-   shard = 0
-   shards = 0
-   threads = -1
-   i = 1
-   do while (i <= nargs)
-      option = argument(i)
-      select case (option)
-      case ('-q', '--quiet')
-         quiet = .true.
-      case ('--shard=':'--shard=~', '--threads=':'--threads=~')
-         ! the --option=value form
-         if (option(1:8) == '--shard=') then
-            call parse_shard(option(9:), shard, shards)
-         else
-            threads = to_int(option(11:), '--threads')
-            if (threads < 0 .or. threads > max_threads) call fail('--threads '//option(11:)// &
-               ' is out of range; allowed: 0 (all cores) to '//str(max_threads), 2)
-         end if
-      case ('--shard', '--threads')
-         if (i == nargs) call fail("option '"//option//"' needs a value; see mpm1d --help", 2)
-         i = i + 1
-         if (option == '--shard') then
-            call parse_shard(argument(i), shard, shards)
-         else
-            threads = to_int(argument(i), '--threads')
-            if (threads < 0 .or. threads > max_threads) call fail('--threads '//argument(i)// &
-               ' is out of range; allowed: 0 (all cores) to '//str(max_threads), 2)
-         end if
-      case ('-')
-         if (allocated(input)) call fail("too many input files: '"//input//"' and '-'; see mpm1d --help", 2)
-         input = option
-      case default
-         if (len(option) == 0) call fail('argument '//str(i)//' is an empty argument; allowed: an input file, '// &
-                                         'an override group.name=value or an option (see mpm1d --help)', 2)
-         if (option(1:min(1, len(option))) == '-') call fail("unknown option '"//option//"'; see mpm1d --help", 2)
-         if (is_override(option) .and. (allocated(input) .or. .not. exists(option))) then
-            if (len(option) > len(overrides)) call fail("override '"//option(1:60)//"...' is too long; allowed: "// &
-                                                       str(len(overrides))//" characters", 2)
-            overrides = [character(len=len(overrides)) :: overrides, option]
-         else if (.not. allocated(input)) then
-            input = option
-         else
-            call fail("too many arguments: '"//option//"' after the input file '"//input// &
-                      "'; usage: mpm1d [input.nml | -] [group.name=value ...] (see mpm1d --help)", 2)
-         end if
-      end select
-      i = i + 1
-   end do
+   call parse_command_line(command_arguments(), command_line, error)
+   if (allocated(error)) call fail(error%message, 2)
+   select case (command_line%action)
+   case ('help')
+      call print_help(output_unit)
+      stop
+   case ('list-parameters')
+      call print_parameters(output_unit)
+      stop
+   case ('version')
+      write (output_unit, '(a)') code_version
+      stop
+   case ('merge')
+      call merge_command()
+      call finish()
+   end select
+   call check_environment(error)
+   if (allocated(error)) call fail(error%message, 2)
+   quiet = command_line%quiet
+   shard = command_line%shard
+   shards = command_line%shards
+   threads = command_line%threads
+   overrides = command_line%overrides
+   if (command_line%has_input) input = command_line%input
 
    if (allocated(input)) then
       source = input
       if (input == '-') source = 'standard input'
       call read_input_text(input, text, error)
       if (allocated(error)) call fail('invalid input:'//new_line('a')//error%message, 2)
-      call refuse_without_groups()
+      call check_has_groups(text, source, error)
+      if (allocated(error)) call fail('invalid input:'//new_line('a')//error%message, 2)
    else
       source = 'command line'
       text = ''
@@ -140,6 +93,7 @@ program mpm1d_main
    end if
 
    call warn_stability(config%scheme, config%particles_per_element, config%dt_fraction, 1, config%shape)
+   if (len(config_warnings(config)) > 0) write (error_unit, '(a)') 'mpm1d: warning: '//config_warnings(config)
    if (unresolved(config)) write (error_unit, '(a)') 'mpm1d: warning: mode '//str(config%mode)//' has '// &
       num(elements_per_wavelength(config), 3)//' elements per wavelength on '//plural(config%elements, 'element')// &
       ' (wavelength 4 L/(2 mode - 1)); below '//str(min_elements_per_wavelength)//' the mesh cannot represent it '// &
@@ -168,45 +122,6 @@ program mpm1d_main
    call finish()
 
 contains
-
-   !> OMP_NUM_THREADS, which a sweep's threads = 0 follows: whole numbers 1 to max_threads (a list
-   !> "4,2" for nested levels); libgomp only warns about other text and crashes on 100000 threads.
-   subroutine check_environment()
-      character(len=:), allocatable :: value, item
-      integer :: length, comma, n, stat
-      call get_environment_variable('OMP_NUM_THREADS', length=length)
-      if (length == 0) return
-      allocate (character(len=length) :: value)
-      call get_environment_variable('OMP_NUM_THREADS', value)
-      value = trim(adjustl(value))
-      if (len(value) == 0) return
-      do
-         comma = index(value, ',')
-         item = trim(adjustl(value(1:merge(comma - 1, len(value), comma > 0))))
-         n = -1
-         stat = 1
-         if (len(item) > 0 .and. len(item) <= 9 .and. verify(item, '0123456789') == 0) read (item, *, iostat=stat) n
-         if (stat /= 0 .or. n < 1 .or. n > max_threads) call fail("environment: OMP_NUM_THREADS = '"//value// &
-            "' is not a thread count; allowed: whole numbers 1 to "//str(max_threads)//" (comma-separated for "// &
-            "nested levels), or leave it unset", 2)
-         if (comma == 0) exit
-         value = value(comma + 1:)
-      end do
-   end subroutine check_environment
-
-   !> An input with no namelist group at all (empty, blanks or comments only, and every text the reader
-   !> does not refuse line by line) is refused: the built-in case runs only without an input file.
-   subroutine refuse_without_groups()
-      type(nml_item_t), allocatable :: items(:)
-      character(len=32), allocatable :: groups(:)
-      integer, allocatable :: lines(:)
-      type(error_t), allocatable :: problem
-      call parse_namelist(text, source, items, groups, lines, problem)
-      if (allocated(problem)) return ! reported with the file's other problems by the reader
-      if (size(groups) == 0) call fail('invalid input:'//new_line('a')//source//': no namelist group (the input '// &
-         'is empty or holds only blanks and comments); allowed: &group name=value, ... / groups (see mpm1d '// &
-         '--help); run mpm1d without an input file for the built-in verification case', 2)
-   end subroutine refuse_without_groups
 
    !> Normal end: floating-point flags a run raised on purpose (an energy sum computed again in scaled
    !> form, subnormal intermediates of a far-scaled bar) are no news to the user: no runtime note.
@@ -254,28 +169,11 @@ contains
       unresolved = elements_per_wavelength(c) < min_elements_per_wavelength
    end function unresolved
 
-   !> Is `text` an override `group.name=value`?
-   logical function is_override(text)
-      character(len=*), intent(in) :: text
-      integer :: eq, dot
-      eq = index(text, '=')
-      is_override = .false.
-      if (eq < 4) return
-      dot = index(text(1:eq - 1), '.')
-      if (dot < 2 .or. dot > eq - 2) return
-      is_override = verify(text(1:eq - 1), 'abcdefghijklmnopqrstuvwxyzABCDEFGHIJKLMNOPQRSTUVWXYZ0123456789_.') == 0
-   end function is_override
-
-   logical function exists(path)
-      character(len=*), intent(in) :: path
-      inquire (file=path, exist=exists)
-   end function exists
-
    !> `mpm1d input.nml [overrides] [--shard I/N] [--threads N] [--quiet]` for an input with a &sweep group.
    subroutine sweep_command()
       type(sweep_t) :: sweep
-      integer :: i, failed, above, coarse
-      character(len=:), allocatable :: output
+      integer :: i, failed, above, coarse, missed
+      character(len=:), allocatable :: output, first_warning
       call read_sweep_text(text, source, sweep, error, shard, shards, threads, overrides)
       if (allocated(error)) call fail('invalid input:'//new_line('a')//error%message, 2)
       if (quiet) sweep%settings%progress = .false.
@@ -295,12 +193,18 @@ contains
       end if
       above = 0
       coarse = 0
+      missed = 0
       do i = 1, size(sweep%cases)
          config = case_config(sweep, sweep%cases(i))
+         if (len(config_warnings(config)) > 0) missed = missed + 1
+         if (missed == 1 .and. len(config_warnings(config)) > 0) first_warning = config_warnings(config)
          if (config%dt_fraction > stability_limit(config%scheme, config%particles_per_element, config%shape)) &
             above = above + 1
          if (unresolved(config)) coarse = coarse + 1
       end do
+      if (missed > 0) write (error_unit, '(a)') 'mpm1d: warning: '//plural(missed, 'case')//' of '// &
+         str(size(sweep%cases))//': '//first_warning//trim(merge(' (the first of them)', '                    ', &
+                                                               missed > 1))
       if (coarse > 0) write (error_unit, '(a)') 'mpm1d: warning: '//plural(coarse, 'case')//' ha'// &
          trim(merge('s ', 've', coarse == 1))//' fewer than '//str(min_elements_per_wavelength)//' elements per '// &
          'wavelength of the mode (wavelength 4 L/(2 mode - 1)): the mesh cannot represent it'
@@ -348,47 +252,20 @@ contains
 
    !> `mpm1d merge OUT.h5 SHARD.h5 ...`
    subroutine merge_command()
-      character(len=1024), allocatable :: inputs(:)
+      character(len=:), allocatable :: output
       integer :: i
       logical :: output_failed
-      if (nargs < 3) call fail('usage: mpm1d merge OUT.h5 SHARD1.h5 [SHARD2.h5 ...]', 2)
-      do i = 2, nargs
-         if (len(argument(i)) == 0) call fail('merge: argument '//str(i)//' is an empty argument; usage: '// &
-                                             'mpm1d merge OUT.h5 SHARD1.h5 [SHARD2.h5 ...]', 2)
-      end do
-      allocate (inputs(nargs - 2))
-      do i = 3, nargs
-         inputs(i - 2) = argument(i)
-      end do
-      do i = 1, size(inputs)
-         if (same_file(argument(2), inputs(i))) call fail("merge: the output '"//argument(2)//"' is one of the "// &
-                                                          "shard files; allowed: a new file", 2)
-      end do
-      call merge_sweep_files(argument(2), inputs, error, output_failed)
-      if (allocated(error)) call fail(error%message, merge(3, 2, output_failed))
-      write (output_unit, '(a)') 'wrote '//argument(2)//' from '//str(size(inputs))//' shard files'
+      associate (files => command_line%merge_files)
+         output = trim(files(1))
+         do i = 2, size(files)
+            if (same_file(output, trim(files(i)))) call fail("merge: the output '"//output//"' is one of the "// &
+                                                             "shard files; allowed: a new file", 2)
+         end do
+         call merge_sweep_files(output, files(2:), error, output_failed)
+         if (allocated(error)) call fail(error%message, merge(3, 2, output_failed))
+         write (output_unit, '(a)') 'wrote '//output//' from '//str(size(files) - 1)//' shard files'
+      end associate
    end subroutine merge_command
-
-   !> "I/N" -> shard I of N.
-   subroutine parse_shard(text, shard, shards)
-      character(len=*), intent(in) :: text
-      integer, intent(out) :: shard, shards
-      integer :: slash
-      slash = index(text, '/')
-      if (slash < 2) call fail("--shard "//text//" is malformed; allowed: I/N with 1 <= I <= N", 2)
-      shard = to_int(text(1:slash - 1), '--shard')
-      shards = to_int(text(slash + 1:), '--shard')
-      if (shards < 1 .or. shard < 1 .or. shard > shards) &
-         call fail("--shard "//text//" is out of range; allowed: I/N with 1 <= I <= N", 2)
-   end subroutine parse_shard
-
-   integer function to_int(text, name)
-      character(len=*), intent(in) :: text, name
-      integer :: stat
-      read (text, *, iostat=stat) to_int
-      if (stat /= 0 .or. verify(trim(text), '0123456789') /= 0) call fail(name//" '"//text// &
-         "' is not a whole number", 2)
-   end function to_int
 
    !> out.h5 -> out_shard002of004.h5
    function shard_file(path, shard, shards) result(name)
@@ -408,15 +285,6 @@ contains
          name = path//trim(suffix)
       end if
    end function shard_file
-
-   function argument(i) result(text)
-      integer, intent(in) :: i
-      character(len=:), allocatable :: text
-      integer :: length
-      call get_command_argument(i, length=length)
-      allocate (character(len=length) :: text)
-      call get_command_argument(i, text)
-   end function argument
 
    subroutine fail(message, code)
       character(len=*), intent(in) :: message

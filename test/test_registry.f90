@@ -39,7 +39,8 @@ contains
    end subroutine write_text
 
    !> --help, the echoed namelist and /config each name every registry entry (periods and end_time
-   !> exclude each other: one configuration gives each; a scene's own variables appear with its kind).
+   !> exclude each other: one configuration gives each; a scene's own variables appear with its kind,
+   !> flip_fraction with transfer = 'blend').
    subroutine every_entry_everywhere()
       type(config_t), target :: config, by_time, manufactured, composite, impact
       type(parameter_t), allocatable :: table(:), sweep_table(:)
@@ -66,6 +67,7 @@ contains
       impact%scene_kind = 'impact'
       impact%velocities = [1.0_dp, -1.0_dp]
       impact%velocity_count = 2
+      impact%transfer = 'blend' ! (flip_fraction is echoed with the blend alone)
       call config_parameters(config, table)
       call t%check('the registry has entries', size(table) >= 19)
       call run_app(dir, '--help', status, help)
@@ -250,8 +252,9 @@ contains
       call t%check_contains('list value out of range', error%message, &
                             'sweep: modes(2) = 0 is out of range; allowed: integer with 1 <= modes(2) <= 1073741823')
       call t%check_contains('list value unknown', error%message, "sweep: schemes(2) = 'xyz' is unknown")
-      call t%check_contains('misspelled list: names the lists', error%message, &
-                            "badsweep.nml:3: group &sweep: unknown variable 'dt_fractin'; allowed names: scheme,")
+      call t%check_contains('misspelled list: the nearest name, then the lists', error%message, &
+                            "badsweep.nml:3: group &sweep: unknown variable 'dt_fractin'; did you mean 'dt_fraction'? "// &
+                            "allowed names: scheme,")
       call t%check_contains('gap in a list', error%message, 'densities has a gap')
       call t%check_contains('all at once: settings too', error%message, 'shards = 0 is out of range')
       call t%check_contains('all at once: the base groups too', error%message, &

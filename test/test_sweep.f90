@@ -168,12 +168,12 @@ contains
       integer :: u
       open (newunit=u, file=dir//'/names.nml', status='replace', action='write')
       write (u, '(a)') "&sweep scheme='usf','musl', elements=2,5, particles_per_element=1,3, dt_fraction=0.1,0.2, "// &
-         "shape='linear','bspline2', transfer='flip','pic', flip_fraction=1.0, mode=1,2, "// &
+         "shape='linear','bspline2', transfer='flip','blend', flip_fraction=1.0, mode=1,2, "// &
          "velocity_amplitude=0.1, youngs_modulus=100.0, density=1.0, min_time=0.0 /"
       close (u)
       open (newunit=u, file=dir//'/aliases.nml', status='replace', action='write')
       write (u, '(a)') "&sweep schemes='usf','musl', elements=2,5, particles_per_element=1,3, dt_fractions=0.1,0.2, "// &
-         "shapes='linear','bspline2', transfers='flip','pic', flip_fractions=1.0, modes=1,2, "// &
+         "shapes='linear','bspline2', transfers='flip','blend', flip_fractions=1.0, modes=1,2, "// &
          "velocity_amplitudes=0.1, youngs_moduli=100.0, densities=1.0, min_time=0.0 /"
       close (u)
       call read_sweep(dir//'/names.nml', by_name, error, 0, 0, 1)

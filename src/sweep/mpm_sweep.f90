@@ -10,12 +10,12 @@ module mpm_sweep
    use mpm_errors, only: error_t, set_error, append_error
    use mpm_strings, only: str, lower
    use mpm_config, only: config_t, read_config_text, input_name, validate_config, resolve_config, &
-                         config_parameters, config_groups, not_used_message
+                         config_parameters, config_groups, not_used_message, known_kind
    use mpm_registry, only: parameter_t, nml_item_t, value_list_t, real_entry, int_entry, logical_entry, &
                            parse_namelist, read_input_text, add_overrides, item_place, read_value_list, &
                            single_value_list, set_from_list, set_parameter, &
                            check_parameter, find_parameter, entry_names, format_value, list_text, quoted, &
-                           type_real, type_int, used_by
+                           type_real, type_int, used_by, sweep_name_hint
    use mpm_simulation, only: run_result_t, run_simulation, guard_trip_t, guard_message
    use mpm_diagnostics, only: history_t, status_ok, status_setup_failed, status_not_run
    use mpm_progress, only: progress_t
@@ -204,7 +204,7 @@ contains
             end if
             lines(j) = items(i)%line
             k = study%settings%lists(j)%entry
-            if (.not. used_by(base(k), trim(study%base%scene_kind))) then
+            if (known_kind(study%base%scene_kind) .and. .not. used_by(base(k), trim(study%base%scene_kind))) then
                call append_error(error, where//"sweep: list '"//items(i)%name//"' varies "// &
                                  not_used_message(base(k), study%base%scene_kind))
                cycle
@@ -216,8 +216,8 @@ contains
          end if
          k = find_parameter(settings, 'sweep', items(i)%name)
          if (k == 0) then
-            call append_error(error, where//"group &sweep: unknown variable '"//items(i)%name// &
-                              "'; allowed names: "//list_names()//", "//entry_names(settings, 'sweep'))
+            call append_error(error, where//"group &sweep: unknown variable '"//items(i)%name//"'"// &
+                              sweep_name_hint(items(i)%name, list_names()//", "//entry_names(settings, 'sweep'), base))
          else if (settings(k)%line > 0) then
             call append_error(error, where//"sweep: '"//items(i)%name//"' is given twice (also line "// &
                               str(settings(k)%line)//")")

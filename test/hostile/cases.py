@@ -59,9 +59,9 @@ refused('json', C1, '{"scene": {"length": 3.0}}\n', r"in\.nml:1: text outside")
 refused('yaml', C1, 'scene:\n  length: 3.0\n', r"in\.nml:1: text outside")
 refused('toml', C1, '[scene]\nlength = 3.0\n', r"in\.nml:1: text outside")
 refused('ini_equals', C1, 'length = 3.0\n', r"in\.nml:1: text outside")
-refused('utf16_bom', C1, '\ufeff&scene length=3.0 /\n'.encode('utf-16'), r"in\.nml:1: text outside")
+refused('utf16_bom', C1, '\ufeff&scene length=3.0 /\n'.encode('utf-16'), r"in\.nml:1: the input is UTF-16 text")
 refused('utf16_le', C1, '&scene length=3.0 /\n'.encode('utf-16-le'), r"in\.nml:1:")
-refused('utf8_bom', C1, '\ufeff&scene length=3.0 /\n'.encode('utf-8'), r"in\.nml:1: text outside")
+refused('utf8_bom', C1, '\ufeff&scene length=3.0 /\n'.encode('utf-8'), r"in\.nml:1: the input starts with a UTF-8 byte-order mark")
 refused('gzip_bytes', C1, b'\x1f\x8b\x08\x00\x00\x00\x00\x00\x00\x03\xcbH\xcd\xc9\xc9\x07\x00', r"in\.nml:1: text outside")
 refused('elf_header', C1, b'\x7fELF\x02\x01\x01\x00' + bytes(range(1, 60)), r"in\.nml:1: text outside")
 refused('zip_header', C1, b'PK\x03\x04\x14\x00\x00\x00' + b'x' * 30, r"in\.nml:1: text outside")
@@ -205,7 +205,7 @@ for k in [1, 10, 40]:
     far = ' ' * (k * 100)
     refused(f'misspelled_far_{k}', C3, nml(discretisation=f"elements=4, {far}particles_per_element=1, {far}"
                                                           f"dt_fraction=0.1, {far}shceme='usl'"),
-            r"unknown variable 'shceme'; allowed names: scheme")
+            r"unknown variable 'shceme'; did you mean 'scheme'\? allowed names: scheme")
     refused(f'misspelled_after_list_{k}', C3, nml(output=f"file='o.h5', snapshot_times=0.0, 0.001,{' ' * k}"
                                                          "histroy=.false."), r"unknown variable 'histroy'")
 refused('misspelled_sweep_after_list', C3, nml() + "&sweep elements=3,4, shemes='usl' min_time=0 /\n",
@@ -491,3 +491,147 @@ add('i16_17_scheme_case_single', 'i16.17', 0, r"scheme='usl'", input=nml(discret
 add('i16_17_scheme_case_sweep', 'i16.17', 0, r"wrote", input=nml() + "&sweep schemes='USL','Musl' min_time=0 /\n")
 refused('i16_17_scheme_unknown_sweep', 'i16.17', nml() + "&sweep schemes='usl','fast' min_time=0 /\n",
         r"schemes\(2\) = 'fast' is unknown")
+
+# ---------------------------------------------------------------- issue 24: runs that miss what they are for (3),
+# messages that point at the fix (4), the input defects of section 6 (block of the 'messages' helper)
+I3, I4, I6 = 'i24.3 misses', 'i24.4 messages', 'i24.6 defects'
+# two bars of 1 m, c = sqrt(1e9/1000) = 1000 m/s (period 2 L/c = 2 ms), closing at 2 m/s
+BARS = "kind='impact', lengths=1.0, 1.0, youngs_moduli=1e9, 1e9, densities=1000, 1000, "
+add('impact_ends_before_contact_warned', I3, 0, r"mpm1d: warning: the bars do not meet before the end of the run: "
+    r"gap = 0\.01 m closing at 2 m/s first touches at t = 5e-03 s, after the end time 8e-04 s",
+    input=nml(scene=BARS + "velocities=1, -1, gap=0.01", run='end_time=0.0008'), exists=['o.h5'])
+# periods count from the first contact: 5 ms + 1 period of 2 ms = 7 ms in steps of 0.1 (2.01/4)/1000 s: 140
+add('impact_periods_from_contact', I3, 0, r"# usl, 4 elements, .* 140 steps", not_pattern=r"warning",
+    input=nml(scene=BARS + "velocities=1, -1, gap=0.01", run='periods=1'), exists=['o.h5'])
+add('impact_bars_apart_warned', I3, 0, r"warning: the bars never meet: velocities = -1, 1 m/s",
+    input=nml(scene=BARS + "velocities=-1, 1, gap=0.01", run='periods=1'))
+add('impact_sweep_misses_warned', I3, 0, r"warning: 1 case of 2: the bars do not meet before the end of the run: "
+    r"gap = 0\.01 m", input=nml(scene=BARS + "velocities=1, -1", run='end_time=0.0008') +
+    "&sweep gap=0.0, 0.01, min_time=0 /\n", exists=['o.h5'])
+refused('flip_fraction_with_flip', I3, nml(discretisation='elements=4, flip_fraction=0.5'),
+        r"in\.nml:2: discretisation: flip_fraction = 0\.5 is used only with transfer = 'blend', not with transfer = "
+        r"'flip'; allowed: flip_fraction with transfer = 'blend', or no flip_fraction")
+refused('flip_fraction_override_apic', I3, nml(discretisation="elements=4, transfer='apic'"),
+        r"command line 'discretisation\.flip_fraction=0\.3': .*not with transfer = 'apic'",
+        args=['in.nml', 'discretisation.flip_fraction=0.3'])
+add('flip_fraction_with_blend_runs', I3, 0, r"flip_fraction=0\.5", input=nml(discretisation="elements=4, "
+    "transfer='blend', flip_fraction=0.5"), exists=['o.h5'])
+add('flip_fraction_echo_left_out', I3, 0, r"transfer='pic'", not_pattern=r"flip_fraction",
+    input=nml(discretisation="elements=4, transfer='pic'"))
+refused('sweep_flip_fractions_without_blend', I3, nml() + "&sweep transfer='flip','pic', flip_fraction=0.3,0.5, "
+        "min_time=0 /\n", r"sweep: flip_fraction \(the list\) is used only with transfer = 'blend', not with the "
+        r"sweep's transfer list \('flip', 'pic'\)")
+refused('sweep_flip_fractions_beside_flip', I3, nml() + "&sweep transfer='flip','blend', flip_fraction=0.3,0.5, "
+        "min_time=0 /\n", r"has 2 values, but the sweep's transfer 'flip' does not use flip_fraction")
+add('sweep_flip_fractions_blend_alone', I3, 0, r"sweep of 3 cases", input=nml(discretisation="elements=4, "
+    "transfer='blend'") + "&sweep flip_fraction=0.0, 0.5, 1.0, min_time=0 /\n", exists=['o.h5'])
+add('sweep_flip_fraction_used_by_blend', I3, 0, r"sweep of 2 cases", input=nml(discretisation="elements=4, "
+    "flip_fraction=0.3") + "&sweep transfer='flip','blend', min_time=0 /\n", exists=['o.h5'])
+refused('sweep_flip_fraction_no_case_uses', I3, nml(discretisation="elements=4, flip_fraction=0.3") +
+        "&sweep transfer='flip','apic', min_time=0 /\n", r"flip_fraction = 0\.3 is used only with transfer = 'blend'")
+
+refused('misspelled_group_suggested', I4, nml(discretisation=None) + "&discretization elements=4 /\n",
+        r"in\.nml:\d: unknown namelist group &discretization; did you mean &discretisation\? known groups: &scene, "
+        r"&discretisation, &run, &output, &guards, &sweep")
+refused('misspelled_group_sweep_listed', I4, nml() + "&sweeps elements=3,4 /\n", r"did you mean &sweep\?")
+refused('misspelled_variable_suggested', I4, nml(discretisation='elemnts=4'),
+        r"unknown variable 'elemnts'; did you mean 'elements'\? allowed names: scheme, elements")
+refused('misspelled_keyword_suggested', I4, nml(discretisation="elements=4, scheme='usx'"),
+        r"scheme = 'usx' is unknown; did you mean 'usf' or 'usl'\?")
+refused('misspelled_kind_suggested', I4, nml(scene="kind='vibrating bar'"), r"did you mean 'vibrating_bar'\?")
+refused('variable_in_wrong_group_named', I4, nml(run='elements=40'),
+        r"in\.nml:3: group &run: unknown variable 'elements'; it belongs to &discretisation")
+refused('override_in_wrong_group_named', I4, nml(), r"command line 'run\.elements=40': group &run: unknown variable "
+        r"'elements'; it belongs to &discretisation: discretisation\.elements=40", args=['in.nml', 'run.elements=40'])
+refused('override_misspelled_group', I4, nml(), r"unknown namelist group 'discretization'; did you mean "
+        r"'discretisation'\?", args=['in.nml', 'discretization.elements=4'])
+refused('bare_override_alone', I4, None, r"argument 'elements=40' is neither a file nor an override; an override "
+        r"names its group: discretisation\.elements=40", args=['elements=40'])
+refused('bare_override_after_input', I4, nml(), r"an override names its group: discretisation\.elements=40",
+        args=['in.nml', 'elements=40'])
+refused('bare_sweep_list', I4, nml(), r"sweep\.elements=3,4 \(a sweep over these values\)",
+        args=['in.nml', 'elements=3,4'])
+refused('bare_sweep_setting', I4, nml() + SW, r"sweep\.min_time=0", args=['in.nml', 'min_time=0'])
+refused('sweep_variable_not_swept', I4, nml() + "&sweep length=1,2 /\n", r"'length' of &scene is not swept")
+refused('unknown_kind_alone', I4, nml(scene="kind='beam', gravity=3.0, gap=0.5, lengths=1.0, 1.0"),
+        r"kind = 'beam' is unknown", not_pattern=r"not used by")
+refused('unknown_kind_sweep_alone', I4, nml(scene="kind='beam'") + "&sweep gravity=1.0, 2.0, min_time=0 /\n",
+        r"kind = 'beam' is unknown", not_pattern=r"not used by")
+# the small bar ends at 0.25 periods = L/c = 25/5063.7 s = 4.937e-03 s
+refused('snapshot_after_end_readable', I4, nml(output="file='o.h5', snapshot_times=0.001, 0.5"),
+        r"in\.nml:4: output: snapshot_times\(2\) = 0\.5 s is after the end of the run at 4\.937e-03 s; allowed: "
+        r"times within the run, 0 to 4\.937e-03 s", not_pattern=r"E-0|\d{10}")
+refused('snapshots_unsorted_placed', I4, nml(output="file='o.h5', snapshot_times=0.002, 0.001"),
+        r"in\.nml:4: output: snapshot_times = 0\.002, 0\.001 are not in increasing order")
+refused('manufactured_amplitude_readable', I4, nml(scene="kind='manufactured', length=1.0, amplitude=0.2"),
+        r"amplitude = 0\.2 m, length = 1 m give 1\.257; allowed: amplitude < 0\.1592 m", not_pattern=r"\d{8}")
+for opt in [['--threads=-1'], ['--threads', '-1']]:
+    refused('threads_minus_one' + opt[0][9:], I4, nml() + SW, r"--threads -1 is out of range; allowed: 0 \(all "
+            r"cores\) to 4096", args=['in.nml'] + opt)
+refused('shard_minus_one', I4, nml() + SW, r"--shard -1/2 is out of range: I = -1 must be >= 1; allowed: I/N, whole "
+        r"numbers with 1 <= I <= N", args=['in.nml', '--shard=-1/2'])
+refused('shard_zero_count', I4, nml() + SW, r"--shard 1/0 is out of range: N = 0 must be >= 1",
+        args=['in.nml', '--shard', '1/0'])
+refused('shard_past_count', I4, nml() + SW, r"--shard 3/2 is out of range: I = 3 must be <= N = 2",
+        args=['in.nml', '--shard=3/2'])
+refused('utf8_bom_named', I4, b'\xef\xbb\xbf' + nml().encode(), r"in\.nml:1: the input starts with a UTF-8 byte-order "
+        r"mark \(bytes EF BB BF\)", not_pattern=r"text outside")
+refused('utf16_le_bom_named', I4, nml().encode('utf-16-le').join([b'\xff\xfe', b'']),
+        r"in\.nml:1: the input is UTF-16 text \(it starts with the byte-order mark FF FE\)")
+refused('utf16_be_bom_named', I4, nml().encode('utf-16-be').join([b'\xfe\xff', b'']),
+        r"in\.nml:1: the input is UTF-16 text \(it starts with the byte-order mark FE FF\)")
+refused('utf16_le_unmarked_named', I4, nml().encode('utf-16-le'), r"in\.nml:1: the input looks like UTF-16 text",
+        not_pattern=r"text outside")
+refused('nul_named', I4, nml(discretisation='elements=4\0'), r"bad value for 'elements': '4\\0' holds a NUL byte "
+        r"\(\\0, character code 0\)")
+refused('nul_binary_named', I4, b'\0\0\0\0garbage', r"text outside a namelist group: '\\0\\0\\0\\0garbage' \(NUL "
+        r"bytes: not a text file\?\)")
+# c1 = sqrt(1e300/1000) = 3.162e148 m/s, 1e147 times c2 = sqrt(1e6/1000) = 31.62 m/s
+refused('composite_youngs_1e300_named', I4, nml(scene="kind='composite_bar', lengths=1.0, 1.0, youngs_moduli=1e300, "
+        "1e6, densities=1000, 1000"), r"in\.nml:1: scene: youngs_moduli\(1\) = 1e300 Pa and densities\(1\) = 1000 "
+        r"kg/m\^3 give segment 1 a wave speed of 3\.162e\+148 m/s, 1e\+147 times segment 2's \(31\.62 m/s\)")
+# dx = (1 + 1e300 + 1)/4; each bar at least half a cell: gap <= 2 x 1 x 4 - 2 = 6 m
+refused('impact_gap_1e300_named', I4, nml(scene=BARS + "velocities=1, -1, gap=1e300"),
+        r"in\.nml:1: scene: gap = 1e300 m with lengths = 1, 1 m on elements = 4 .*allowed: .*gap <= 6 m at elements "
+        r"= 4", not_pattern=r"periods")
+add('help_kind_lists_every_scene', I4, 0, r"kind = 'vibrating_bar': the problem \(docs/user-guide\.md, Scenes\): "
+    r"'vibrating_bar' .*; 'column' .*; 'manufactured' .*; 'composite_bar' .*; 'impact' two bars colliding",
+    args=['--help'], not_pattern=r"README")
+add('help_periods_composite', I4, 0, r"periods = 2: run length in periods of the scene \(vibrating_bar: .*composite_bar: "
+    r"sum L_i/c_i.*impact: 2 max L/c, from their first contact\)", args=['--help'])
+
+refused('nul_in_output_file_name', I6, nml(output="file='out\0.h5'"),
+        r"in\.nml:4: output: bad value for 'file': 'out\\0\.h5' holds a NUL byte", absent=['out', 'out*', 'o.h5'])
+COMPOSITE = "kind='composite_bar', lengths=1.0, 1.0, youngs_moduli=16e6, 1e6, densities=1000, 1000, "
+# T = 0.25 (1/126.5 + 1/31.62) s = 9.882e-3 s; 4 v T in cells of 2/4 m must stay below 1e8: v <= 1.265e9 m/s
+for v in ['1e10', '1e100', '1e300']:
+    refused(f'composite_drive_velocity_{v}', I6, nml(scene=COMPOSITE + f"drive_velocity={v}"),
+            rf"in\.nml:1: scene: drive_velocity = {v} m/s moves the bar's free end by up to 4 v T = .*allowed: at "
+            r"most 1e8 cells, drive_velocity <= 1\.265e\+09 m/s")
+for v in ['1e4', '1e6']:
+    add(f'composite_drive_velocity_{v}_guard', I6, 1, r"guard volume_ratio_not_positive",
+        input=nml(scene=COMPOSITE + f"drive_velocity={v}"))
+# T = 0.25 x 2 L/c = 5e-4 s; 1.5 |v| T in cells of 2/4 m must stay below 1e8: |v| <= 6.667e10 m/s
+refused('impact_velocities_1e12', I6, nml(scene=BARS + "velocities=1e12, -1"),
+        r"scene: velocities = 1e12, -1 m/s move the bars' outer ends by up to .*allowed: at most 1e8 cells, "
+        r"\|velocities\| <= 6\.667e\+10 m/s")
+# every real scene variable at far values, each scene: refused by name, stopped by a guard or run; never a crash
+FAR = {'vibrating_bar': dict(kind="'vibrating_bar'"), 'column': dict(kind="'column'"),
+       'manufactured': dict(kind="'manufactured'"),
+       'composite_bar': dict(kind="'composite_bar'", lengths='1.0, 1.0', youngs_moduli='16e6, 1e6',
+                             densities='1000, 1000', drive_velocity='1.0'),
+       'impact': dict(kind="'impact'", lengths='1.0, 1.0', youngs_moduli='1e9, 1e9', densities='1000, 1000',
+                      velocities='1.0, -1.0', gap='0.01')}
+FAR_VARIABLES = {'vibrating_bar': ['length', 'youngs_modulus', 'density', 'velocity_amplitude'],
+                 'column': ['length', 'youngs_modulus', 'density', 'gravity'],
+                 'manufactured': ['length', 'youngs_modulus', 'density', 'amplitude'],
+                 'composite_bar': ['lengths', 'youngs_moduli', 'densities', 'drive_velocity'],
+                 'impact': ['lengths', 'youngs_moduli', 'densities', 'velocities', 'gap']}
+for kind, variables in FAR_VARIABLES.items():
+    for var in variables:
+        for value in ['1e10', '1e100', '1e300']:
+            values = dict(FAR[kind])
+            # a list: its first value far (the impact's second bar keeps its impedance only by chance: refused then)
+            values[var] = value + values[var][values[var].index(','):] if ',' in values.get(var, '') else value
+            add(f'far_{kind}_{var}_{value}', I6, [0, 1, 2], None,
+                input=nml(scene=', '.join(f'{k}={v}' for k, v in values.items())), timeout=60)
