@@ -132,8 +132,10 @@ program mpm1d_main
       call sweep_command()
       call finish()
    end if
-   if (shards > 0 .or. threads >= 0 .or. resume) call fail('--shard, --threads and --resume are for a sweep (an '// &
-                                                         'input with a &sweep group); see mpm1d --help', 2)
+   if (shards > 0 .or. threads >= 0) call fail('--shard and --threads are for a sweep (an input with a &sweep '// &
+                                                'group); see mpm1d --help', 2)
+   if (resume) call fail('--resume is for a sweep (an input with a &sweep group): a single run has nothing to '// &
+                         'resume; see mpm1d --help', 2)
    call read_config_text(text, source, config, error, overrides=overrides)
    if (allocated(error)) call fail('invalid input:'//new_line('a')//error%message, 2)
    call refuse_input_as_output(trim(config%file))
@@ -398,8 +400,9 @@ contains
       type(sweep_t), intent(in) :: sweep
       character(len=*), intent(in) :: output
       character(len=:), allocatable :: how, what
-      how = 'mpm1d '//source
-      if (.not. allocated(input)) how = 'mpm1d'
+      how = 'mpm1d'
+      if (allocated(input)) how = how//' '//input
+      if (size(overrides) > 0) how = how//' (the same overrides)'
       if (sweep%settings%shards > 1) how = how//' --shard '//str(sweep%settings%shard)//'/'//str(sweep%settings%shards)
       if (sweep%interrupted_timing) then
          what = ', in the timing pass ('//str(cases_timed(sweep%cases))//' of '// &

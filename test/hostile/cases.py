@@ -568,7 +568,7 @@ add('i24_resume_missing_file', C24, 2, r"resume: 'o\.h5' does not exist .*nothin
 add('i24_resume_nothing_left', C24, 0, r"nothing to resume: every case of /\S*/o\.h5 ran", input=SWEEP12,
     shell='"$MPM1D" in.nml -q || exit 3; cp -p o.h5 keep.h5; "$MPM1D" in.nml --resume; rc=$?; '
           'cmp -s o.h5 keep.h5 || exit 9; exit $rc')
-refused('i24_resume_single_run', C24, nml(), r"--resume are for a sweep", args=['in.nml', '--resume'])
+refused('i24_resume_single_run', C24, nml(), r"--resume is for a sweep", args=['in.nml', '--resume'])
 # stopped cases: no value in max_error (NaN; the suite's rule allows NaN only there), the error before
 # the stop in its own column; a single stopped run the same in /summary
 add('i24_stopped_case_no_value', C24, 0, r"2 cases completed, 2 stopped by a guard", input=nml(run="periods=2") +
