@@ -166,8 +166,8 @@ contains
          messages(i) = ''
          if (allocated(cases(i)%message)) messages(i) = cases(i)%message
          if (cases(i)%status == status_ok) messages(i) = 'completed' ! as a single run's /summary/message
-         if (cases(i)%status == status_not_run) messages(i) = 'not run (the sweep was interrupted, or this '// &
-            'case belongs to another shard): no result; mpm1d SWEEP.nml --resume runs it'
+         if (cases(i)%status == status_not_run) messages(i) = 'not run: the sweep was interrupted before this '// &
+            'case finished; no result (mpm1d SWEEP.nml --resume runs it)'
       end do
       call h5%write_strings('/cases/status_name', names)
       call h5%write_strings('/cases/message', messages)
