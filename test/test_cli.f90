@@ -4,7 +4,7 @@ program test_cli
    use mpm_kinds, only: dp
    use mpm_errors, only: error_t
    use mpm_hdf5, only: h5_read_real, h5_read_int
-   use mpm_files, only: file_exists
+   use mpm_files, only: file_exists, absolute_path
    use mpm_testing, only: tester_t, run_app, scratch_dir, app_path
    implicit none
    type(tester_t) :: t
@@ -113,7 +113,7 @@ contains
       type(error_t), allocatable :: error
       call run_app(dir, '', status, output)
       call t%check('default run exit 0', status == 0, output)
-      call t%check_contains('default run says where it wrote', output, 'wrote bar.h5')
+      call t%check_contains('default run says where it wrote (the absolute path)', output, 'wrote '//absolute_path(dir//'/bar.h5'))
       call h5_read_real(dir//'/bar.h5', '/summary/relative_error', values, error)
       call t%check('default run summary readable', .not. allocated(error))
       if (.not. allocated(error)) call t%check('default run error under 1.5 % of the amplitude', &

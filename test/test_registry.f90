@@ -6,7 +6,7 @@ program test_registry
    use mpm_kinds, only: dp
    use mpm_errors, only: error_t
    use mpm_config, only: config_t, read_config, config_parameters, config_namelist
-   use mpm_registry, only: parameter_t, nml_item_t, parse_namelist, apply_items, check_parameter
+   use mpm_registry, only: parameter_t, nml_item_t, parse_namelist, apply_items, check_parameter, used_by
    use mpm_output, only: write_config_attributes
    use mpm_hdf5, only: h5_writer_t, h5_exists
    use mpm_testing, only: tester_t, scratch_dir, run_app
@@ -239,8 +239,10 @@ contains
       call config_parameters(defaults, table)
       do i = 1, size(table)
          if (len_trim(table(i)%sweep_list) == 0) cycle
-         call t%check('/cases has the column '//trim(table(i)%attribute), &
-                      h5_exists(dir//'/sweep.h5', '/cases/'//trim(table(i)%attribute)))
+         ! the columns of the variables the scene uses, and only those (a bar sweep has no gap column)
+         call t%check('/cases has the column '//trim(table(i)%attribute)//' exactly when the bar uses it', &
+                      h5_exists(dir//'/sweep.h5', '/cases/'//trim(table(i)%attribute)) .eqv. &
+                      used_by(table(i), 'vibrating_bar'))
       end do
 
       call write_text('badsweep.nml', [character(len=100) :: "&scene density=-1.0 /", &

@@ -1,5 +1,5 @@
 !> mpm1d's command line read into what to do: `mpm1d [input.nml | -] [group.name=value ...] [--quiet]
-!> [--shard I/N] [--threads N]`, `mpm1d merge OUT SHARD...`, `mpm1d --help | --list-parameters |
+!> [--shard I/N] [--threads N] [--resume] [--dry-run]`, `mpm1d merge OUT SHARD...`, `mpm1d --help | --list-parameters |
 !> --version`; and the checks of the input that come before the namelist's (OMP_NUM_THREADS, an input
 !> without any group). Every refusal names the argument and what is allowed; an argument `name=value`
 !> without its group is told the group (`elements=40`: discretisation.elements=40).
@@ -35,6 +35,9 @@ module mpm_command_line
       logical :: has_input = .false.
       character(len=override_length), allocatable :: overrides(:)
       logical :: quiet = .false.
+      !> --resume: run only the cases the sweep's output file has as not_run; --dry-run: say what would
+      !> run (cases, output path) and run nothing.
+      logical :: resume = .false., dry_run = .false.
       !> --shard I/N (0, 0: not given) and --threads N (-1: not given).
       integer :: shard = 0, shards = 0, threads = -1
       !> merge: the output, then the shard files.
@@ -103,6 +106,10 @@ contains
       select case (option)
       case ('-q', '--quiet')
          cl%quiet = .true.
+      case ('--resume')
+         cl%resume = .true.
+      case ('--dry-run')
+         cl%dry_run = .true.
       case ('--shard=':'--shard=~')
          call read_shard(option(9:), cl, error)
       case ('--threads=':'--threads=~')
