@@ -148,7 +148,8 @@ contains
          int_entry('sweep', 'timing_threads', settings%timing_threads, 'threads of the timing pass', at_least=1, &
                    at_most=max_threads), &
          logical_entry('sweep', 'histories', settings%histories, 'keep each case''s history in the sweep file'), &
-         logical_entry('sweep', 'progress', settings%progress, 'a progress line on standard error (a terminal only)'), &
+         logical_entry('sweep', 'progress', settings%progress, 'progress on standard error: a line redrawn '// &
+                       'on a terminal, a line a minute in a log'), &
          int_entry('sweep', 'shard', settings%shard, 'this process runs cases shard, shard+shards, ...', at_least=1), &
          int_entry('sweep', 'shards', settings%shards, 'the number of shards the sweep is cut into', at_least=1)]
    end subroutine sweep_parameters

@@ -657,6 +657,12 @@ for kind, variables in FAR_VARIABLES.items():
 C24 = 'i24 trust'
 #: 12 cases (4 of them stopped by the energy guard), histories, one thread
 SWEEP12 = nml(run="periods=2") + "&sweep elements=3, 4, 5, dt_fraction=0.1, 0.5, 2.5, 0.3, min_time=0, threads=1, histories=.true. /\n"
+# a sweep's log (standard error not a terminal) gets progress lines of their own (every 60 s; the test
+# hook MPM1D_PROGRESS_LOG_SECONDS=0 asks for one per case), the last one saying every case is done
+add('i24_sweep_log_has_progress_lines', C24, 0, r'error pass: 12 / 12 cases, \S+ s elapsed', input=SWEEP12,
+    env={'MPM1D_PROGRESS_LOG_SECONDS': '0'})
+add('i24_short_sweep_log_has_no_progress_line', C24, 0, r'wrote /\S*/o\.h5', input=SWEEP12,
+    not_pattern=r'error pass: \d+ / 12')
 #: how many cases of o.h5 have status not_run
 NOT_RUN = 'h5dump -d /cases/status_name o.h5 | grep -o not_run | wc -l'
 #: the sweep pauses (test hook) after N cases, creating mpm1d_paused, until the signal comes: a known point
