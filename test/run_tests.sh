@@ -84,9 +84,7 @@ start_all=$(date +%s.%N); child_cpu; cpu_all=$cpu_now
 # them makes the build link every test against the current library (a link, no compile).
 rm -f build/gfortran_*/test/test_*
 group "build (library, mpm1d, tests, examples)" fpm build --profile release --tests
-if [ -f test/generate.sh ]; then
-  group "generated sources up to date (test/generate.sh --check)" bash test/generate.sh --check
-fi
+group "generated sources up to date (test/generate.sh --check)" bash test/generate.sh --check
 # shellcheck disable=SC2046
 group "Fortran tests (fpm test, test/test_*.f90 but test_long_*)" fpm test --profile release $(tests_in quick)
 group "cross-check against an independent NumPy implementation" "$PYTHON" test/reference/check_reference.py
@@ -114,9 +112,7 @@ if [ "$all" = 1 ]; then
     [ -f "$t" ] && group "$t" bash "$t"
   done
   group "sweeps bit-identical on 1 and 2 threads (20 sweeps)" env SWEEP_REPEATS=20 bash test/test_sweep_determinism.sh
-  if [ -f docs/build_api.sh ]; then
-    group "API documentation builds without warnings (docs/build_api.sh)" bash docs/build_api.sh
-  fi
+  group "API documentation builds without warnings (docs/build_api.sh)" bash docs/build_api.sh
   group "long cases of the study tests (pytest)" "$PYTHON" -m pytest -q -p no:cacheprovider "${long_cases[@]}"
   group "SLURM job array on a live single-node cluster" bash test/test_slurm.sh
 fi

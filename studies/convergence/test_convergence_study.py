@@ -1,4 +1,4 @@
-#!/usr/bin/python3
+#!/usr/bin/env python3
 """Pipeline test of the convergence study: runs `MPM1D_QUICK=1 bash studies/convergence/run.sh`
 (100 to 800 elements, seconds) into a temporary folder and checks the physics it reports: USL at the
 smallest amplitude converges at second order (order 2 of the mesh, within [1.8, 2.6]); USL at
