@@ -8,6 +8,7 @@ module mpm_config
    use mpm_files, only: available_memory, path_kind, path_folder, path_other
    use mpm_particles, only: bytes_per_particle
    use mpm_shape, only: known_shapes, known_transfers
+   use mpm_material, only: material_t, known_laws, law_id
    use mpm_registry, only: parameter_t, nml_item_t, text_entry, int_entry, real_entry, real_list_entry, &
                            logical_entry, for_kinds, used_by, parse_namelist, read_input_text, add_overrides, &
                            apply_items, check_parameter, find_parameter, group_namelist, short_number
@@ -19,20 +20,25 @@ module mpm_config
    public :: max_snapshots, max_segments, check_output_path, body_length, largest_wave_speed
    public :: config_parameters, config_groups, group_help, known_scenes
    public :: step_count, stability_limit, not_used_message
+   public :: material_of, plastic_wave_periods
 
    !> Most snapshot times one run accepts.
    integer, parameter :: max_snapshots = 64
    !> Most segments of a composite bar.
    integer, parameter :: max_segments = 16
    !> The scene kinds made of one body of one material (length, youngs_modulus, density).
-   character(len=*), parameter :: single_body = 'vibrating_bar, column, manufactured'
+   character(len=*), parameter :: single_body = 'vibrating_bar, column, manufactured, plastic_wave'
    !> Schemes the code implements.
    character(len=*), parameter :: known_schemes = 'usf, usl, musl'
    !> Scene kinds the code implements (mpm_scenes makes them).
-   character(len=*), parameter :: known_scenes = 'vibrating_bar, column, manufactured, composite_bar, impact'
+   character(len=*), parameter :: known_scenes = 'vibrating_bar, column, manufactured, composite_bar, impact, '// &
+                                                 'plastic_wave'
    !> The groups of one run's input, in the order of the echo and of --help.
-   character(len=16), parameter :: config_groups(*) = [character(len=16) :: 'scene', 'discretisation', 'run', &
-                                                        'output', 'guards']
+   character(len=16), parameter :: config_groups(*) = [character(len=16) :: 'scene', 'material', 'discretisation', &
+                                                        'run', 'output', 'guards']
+   !> The plastic wave's run length when neither periods nor end_time is given, in precursor transit
+   !> times L/c: its exact solution holds until the elastic precursor reaches the free end.
+   real(dp), parameter :: plastic_wave_periods = 0.8_dp
    !> Largest number of particles or elements one run accepts (array indices are default integers).
    integer(i8), parameter :: max_count = int(huge(1), i8)
    !> Largest mode: 2 mode - 1 (in beta_n) must be a default integer.
@@ -66,6 +72,13 @@ module mpm_config
       integer :: velocity_count = 0
       real(dp) :: gap = 0.0_dp
       character(len=16) :: contact = 'frictionless'
+      ! &material (mpm_material): the law and the elastoplastic law's parameters, one body's or one per
+      ! segment (composite bar) or bar (impact)
+      character(len=16) :: law = 'hencky'
+      real(dp) :: yield_stress = 250.0e6_dp
+      real(dp) :: hardening_modulus = 10.0e9_dp
+      real(dp) :: yield_stresses(max_segments) = 0.0_dp, hardening_moduli(max_segments) = 0.0_dp
+      integer :: yield_count = 0, hardening_count = 0
       ! &discretisation
       character(len=8) :: scheme = 'usl'
       integer :: elements = 20
@@ -176,7 +189,7 @@ contains
                    'impact'), &
          for_kinds(real_entry('scene', 'drive_velocity', config%drive_velocity, 'm/s', 'velocity the left end '// &
                               'is driven at from t = 0 (pushing into the bar)', greater_than=0.0_dp, &
-                              sweep_list='drive_velocities'), 'composite_bar'), &
+                              sweep_list='drive_velocities'), 'composite_bar, plastic_wave'), &
          for_kinds(real_entry('scene', 'velocity_amplitude', config%velocity_amplitude, 'm/s', 'v0 of the '// &
                               'initial velocity v(x,0) = v0 sin(beta_n x), beta_n = (2n-1) pi / (2 length)', &
                               sweep_list='velocity_amplitudes'), 'vibrating_bar'), &
@@ -188,8 +201,24 @@ contains
          for_kinds(real_entry('scene', 'amplitude', config%amplitude, 'm', 'A of the manufactured displacement '// &
                               'u(X,t) = A sin(2 pi X/length) sin(pi c t/length)', greater_than=0.0_dp, &
                               note='2 pi A / length < 1', sweep_list='amplitudes'), 'manufactured'), &
+         text_entry('material', 'law', config%law, "constitutive law: 'hencky' sigma = E ln J (sigma += E d eps), "// &
+                    "'linear' sigma = E (J - 1), 'elastoplastic' Hencky with linear isotropic hardening", &
+                    words=known_laws, sweep_list='law'), &
+         for_kinds(real_entry('material', 'yield_stress', config%yield_stress, 'Pa', 'initial yield stress '// &
+                              'sigma_y: |sigma| <= sigma_y + H alpha (law elastoplastic)', greater_than=0.0_dp, &
+                              sweep_list='yield_stress'), 'vibrating_bar, column, plastic_wave'), &
+         for_kinds(real_entry('material', 'hardening_modulus', config%hardening_modulus, 'Pa', 'linear isotropic '// &
+                              'hardening modulus H (law elastoplastic; 0: perfectly plastic)', at_least=0.0_dp, &
+                              sweep_list='hardening_modulus'), 'vibrating_bar, column, plastic_wave'), &
+         for_kinds(real_list_entry('material', 'yield_stresses', config%yield_stresses, config%yield_count, 'Pa', &
+                                   "each segment's (bar's) yield stress (law elastoplastic)", greater_than=0.0_dp, &
+                                   note='one per segment'), 'composite_bar, impact'), &
+         for_kinds(real_list_entry('material', 'hardening_moduli', config%hardening_moduli, config%hardening_count, &
+                                   'Pa', "each segment's (bar's) hardening modulus (law elastoplastic)", &
+                                   at_least=0.0_dp, note='one per segment'), 'composite_bar, impact'), &
          real_entry('run', 'periods', config%periods, '', 'run length in periods of the scene (bar: 2 pi/omega_n; '// &
-                    'column: 4L/c; manufactured: 2L/c; impact: 2 max L/c); steps = smallest n with n dt >= end time', &
+                    'column: 4L/c; manufactured: 2L/c; impact: 2 max L/c; plastic_wave: L/c, default 0.8); '// &
+                    'steps = smallest n with n dt >= end time', &
                     greater_than=0.0_dp, optional=.true., given=config%periods_given), &
          real_entry('run', 'end_time', config%end_time, 's', 'run length in seconds (give periods or end_time)', &
                     greater_than=0.0_dp, optional=.true., given=config%end_time_given), &
@@ -217,7 +246,9 @@ contains
       character(len=:), allocatable :: text
       select case (group)
       case ('scene')
-         text = 'the problem and its material'
+         text = 'the problem and its bodies'
+      case ('material')
+         text = 'the constitutive law of the bodies and its parameters'
       case ('discretisation')
          text = 'grid, particles, time step and update scheme'
       case ('run')
@@ -299,6 +330,8 @@ contains
       do i = 1, size(table)
          if (table(i)%line > 0 .and. .not. used_by(table(i), trim(config%scene_kind))) then
             call append_error(error, trim(table(i)%origin)//' '//not_used_message(table(i), config%scene_kind))
+         else if (table(i)%line > 0 .and. .not. used_by_law(table(i)%name, config%law)) then
+            call append_error(error, trim(table(i)%origin)//' '//law_message(table(i)%name, config%law))
          else if (table(i)%line > 0) then
             call check_parameter(table(i), error, trim(table(i)%origin)//' ')
          else
@@ -312,6 +345,8 @@ contains
       else if (table(end_time)%line > 0) then
          config%periods_given = .false.
          config%periods = -huge(1.0_dp) ! no value (for programs reading config_t; the flag decides)
+      else if (table(periods)%line == 0 .and. trim(config%scene_kind) == 'plastic_wave') then
+         config%periods = plastic_wave_periods
       end if
       if (allocated(error)) return
       call validate_config(config, error)
@@ -324,6 +359,45 @@ contains
          if (present(extra_groups)) names = ', '//join(extra_groups)
       end function extra_list
    end subroutine read_config_text
+
+   !> The law that uses the &material variable `name` ('' for every law): a variable of another law is
+   !> refused, as a scene variable of another kind is.
+   pure function law_of(name) result(law)
+      character(len=*), intent(in) :: name
+      character(len=:), allocatable :: law
+      select case (trim(name))
+      case ('yield_stress', 'hardening_modulus', 'yield_stresses', 'hardening_moduli')
+         law = 'elastoplastic'
+      case default
+         law = ''
+      end select
+   end function law_of
+
+   !> Whether `law` uses the variable `name` (an unknown law uses every one: its own check reports it).
+   pure logical function used_by_law(name, law)
+      character(len=*), intent(in) :: name, law
+      used_by_law = len(law_of(name)) == 0 .or. law_id(law) == 0 .or. law_of(name) == trim(law)
+   end function used_by_law
+
+   !> The message refusing a variable that law `law` does not use.
+   function law_message(name, law) result(text)
+      character(len=*), intent(in) :: name, law
+      character(len=:), allocatable :: text
+      text = "material: '"//trim(name)//"' is not used by law = '"//trim(law)//"'; it belongs to law "//law_of(name)
+   end function law_message
+
+   !> The material of a validated configuration (the one body's; scenes of several materials give the
+   !> parameters per particle).
+   pure function material_of(config) result(material)
+      type(config_t), intent(in) :: config
+      type(material_t) :: material
+      material%law = law_id(config%law)
+      material%youngs_modulus = config%youngs_modulus
+      if (trim(config%law) == 'elastoplastic') then
+         material%yield_stress = config%yield_stress
+         material%hardening_modulus = config%hardening_modulus
+      end if
+   end function material_of
 
    !> The message refusing a variable that scene kind `kind` does not use.
    function not_used_message(p, kind) result(text)
@@ -371,6 +445,7 @@ contains
             "(given "//str(config%length_count)//", "//str(config%modulus_count)//", "//str(config%density_count)//")")
       end if
       if (trim(config%scene_kind) == 'impact') call check_impact(config, error)
+      call check_material(config, error)
       if (allocated(error)) return
 
       ! Consistency checks that need the resolved quantities; a value refused through a derived
@@ -389,6 +464,10 @@ contains
       end if
       end_time = run_end_time(config)
       if (end_time < dt) call append_error(error, run_too_short())
+      if (trim(config%scene_kind) == 'plastic_wave' .and. end_time > (1.0_dp + 1.0e-12_dp)*config%length/c) &
+         call append_error(error, run_length()//" ends after the elastic precursor reaches the free end at "// &
+                           "L/c = "//num(config%length/c, 4)//" s, where the plastic wave's exact solution stops "// &
+                           "holding; allowed: periods <= 1 (end_time <= "//num(config%length/c, 4)//" s)")
       if (end_time/dt > real(huge(1) - 1, dp)) call append_error(error, run_length()//" needs "// &
          num(end_time/dt, 4)//" steps of dt = "//num(dt, 4)//" s; allowed: at most "//str(huge(1) - 1)// &
          " steps (fewer periods, a larger dt_fraction or fewer elements)")
@@ -453,6 +532,34 @@ contains
          end do
       end function snapshot_list
    end subroutine validate_config
+
+   !> The &material group against the law and the scene: a variable of another law (also set by a sweep)
+   !> is refused, an elastoplastic composite bar or impact needs yield_stresses and hardening_moduli with one
+   !> value per segment, and the manufactured solution's body force is made for an elastic law.
+   subroutine check_material(config, error)
+      type(config_t), intent(in) :: config
+      type(error_t), allocatable, intent(inout) :: error
+      type(config_t) :: defaults
+      logical :: several
+      several = trim(config%scene_kind) == 'composite_bar' .or. trim(config%scene_kind) == 'impact'
+      if (trim(config%law) /= 'elastoplastic') then
+         if (config%yield_stress /= defaults%yield_stress) call append_error(error, law_message('yield_stress', &
+                                                                                                config%law))
+         if (config%hardening_modulus /= defaults%hardening_modulus) &
+            call append_error(error, law_message('hardening_modulus', config%law))
+         if (config%yield_count > 0) call append_error(error, law_message('yield_stresses', config%law))
+         if (config%hardening_count > 0) call append_error(error, law_message('hardening_moduli', config%law))
+      else if (several .and. (config%yield_count /= config%length_count .or. &
+                              config%hardening_count /= config%length_count)) then
+         call append_error(error, "material: law = 'elastoplastic' with kind = '"//trim(config%scene_kind)// &
+                           "' needs yield_stresses and hardening_moduli with one value per segment (given "// &
+                           str(config%yield_count)//" and "//str(config%hardening_count)//" for "// &
+                           str(config%length_count)//" segments)")
+      end if
+      if (trim(config%scene_kind) == 'manufactured' .and. trim(config%law) == 'elastoplastic') &
+         call append_error(error, "material: law = 'elastoplastic' is not used by kind = 'manufactured' (its body "// &
+                           "force makes the motion exact for an elastic law); allowed: law = 'hencky' or 'linear'")
+   end subroutine check_material
 
    !> The impact's two bars: two values of each list, and the configurations its exact solution covers
    !> (mpm_scene_impact): equal impedances rho c, and for contact = 'none' (the bars stick) equal wave
@@ -685,6 +792,8 @@ contains
          associate (n => config%length_count)
             scene_period = sum(config%lengths(1:n)/sqrt(config%youngs_moduli(1:n)/config%densities(1:n)))
          end associate
+      case ('plastic_wave') ! the elastic precursor's transit time
+         scene_period = config%length/c
       case ('impact') ! the longer of the bars' wave round trips 2 L/c (identical bars: the contact time)
          scene_period = 2.0_dp*maxval(config%lengths(1:2)/sqrt(config%youngs_moduli(1:2)/config%densities(1:2)))
       case default
@@ -794,6 +903,7 @@ contains
       integer :: i
       local = config
       call config_parameters(local, table)
+      table = pack(table, [(used_by_law(table(i)%name, config%law), i=1, size(table))])
       text = ''
       do i = 1, size(config_groups)
          text = text//group_namelist(table, trim(config_groups(i)), trim(config%scene_kind))

@@ -41,7 +41,7 @@ module mpm_registry
       real(dp) :: lower = 0.0_dp, upper = 0.0_dp
       logical :: has_lower = .false., has_upper = .false., lower_open = .false., upper_open = .false.
       !> Allowed words of a text variable, comma separated ('' = any non-empty text that fits).
-      character(len=64) :: words = ''
+      character(len=96) :: words = ''
       !> Said after the range in messages and --help (e.g. the meaning of a special value).
       character(len=96) :: note = ''
       !> Name of the &sweep list that varies this variable ('' = not sweepable). One rule: a list is

@@ -6,7 +6,8 @@ module mpm_simulation
    use mpm_kinds, only: dp
    use mpm_errors, only: error_t, set_error
    use mpm_strings, only: str
-   use mpm_config, only: config_t
+   use mpm_config, only: config_t, material_of
+   use mpm_material, only: material_t, law_hencky, material_state, material_report
    use mpm_grid, only: grid_t, grid_init, assemble_nodes, nodal_velocity
    use mpm_particles, only: particles_t, per_particle_data
    use mpm_shape, only: shape_cache_t, shape_id, shape_extra_cells, transfer_id, transfer_flip, transfer_apic
@@ -102,6 +103,7 @@ contains
       type(pass_totals_t) :: totals
       type(bodies_t) :: bodies
       type(fused_box_t) :: box
+      type(material_t) :: material
       real(dp), allocatable :: watch(:)
       real(dp) :: start, ucm, exact, energy, energy_reference, t, total_mass
       integer :: n, scheme, next_snapshot, extra, stat
@@ -111,13 +113,15 @@ contains
       result%steps = config%steps
       result%dt = config%dt
       scheme = scheme_id(config%scheme)
+      material = material_of(config)
       call make_scene(config, scene, error)
       if (allocated(error)) return
       cache%kind = shape_id(config%shape)
       cache%transfer = transfer_id(config%transfer)
       cache%flip_fraction = config%flip_fraction
       ! (the fused kernels take every shape)
-      fused = trim(config%kernels) == 'auto' .and. scene%fused_applies() .and. cache%transfer == transfer_flip
+      fused = trim(config%kernels) == 'auto' .and. scene%fused_applies() .and. cache%transfer == transfer_flip .and. &
+              material%law == law_hencky
       box = fused_shape(cache%kind)
       result%fused = fused
       ! shapes wider than the hat: one more cell beyond the free end, one ghost cell left of x = 0
@@ -129,6 +133,8 @@ contains
       call scene%place_particles(config, particles, error)
       if (allocated(error)) return
       if (.not. fused) call per_particle_data(particles, error)
+      if (allocated(error)) return
+      call material_state(material, particles, error)
       if (allocated(error)) return
       if (cache%transfer == transfer_apic) then
          ! APIC starts from C_p = 0 (the first P2G is PIC's)
@@ -151,11 +157,11 @@ contains
       if (fused) then
          call fused_start(scheme, particles, grid, totals, box, config%youngs_modulus)
       else
-         call particle_energies(particles, config%youngs_modulus, totals)
+         call particle_energies(particles, material, totals)
          total_mass = sum(particles%mass_of)
       end if
       call finite_energies(particles, config%youngs_modulus, totals)
-      result%initial_energy = totals%kinetic_energy + totals%strain_energy
+      result%initial_energy = totals%kinetic_energy + totals%strain_energy + totals%plastic_work
       ! Zero initial energy (v0 = 0) stays exactly zero in a sound run: any growth trips the guard.
       energy_reference = scene%energy_reference(result%initial_energy)
       result%final_energy = result%initial_energy
@@ -164,7 +170,7 @@ contains
       result%min_node_mass_ratio = huge(1.0_dp)
       ucm = 0.0_dp
 
-      if (record_history) call start_history(result%history, config%steps)
+      if (record_history) call start_history(result%history, config%steps, allocated(particles%hardening))
       if (record_history) call record(result%history, 0.0_dp, ucm, 0.0_dp, totals)
       next_snapshot = 1
       allocate (result%snapshots(config%snapshot_count))
@@ -176,17 +182,16 @@ contains
             call fused_step(scheme, particles, grid, config%dt, config%youngs_modulus, totals, box)
             ucm = totals%displacement/particles%count ! u_cm = sum m (x - X) / sum m, equal masses
          else if (scene%body_fields) then
-            call scheme_step_bodies(scheme, scene, cache, particles, grid, bodies, config%dt, config%youngs_modulus, &
-                                    t, totals)
+            call scheme_step_bodies(scheme, scene, cache, particles, grid, bodies, config%dt, material, t, totals)
             ucm = totals%displacement/total_mass
          else
-            call scheme_step(scheme, scene, cache, particles, grid, config%dt, config%youngs_modulus, t, totals)
+            call scheme_step(scheme, scene, cache, particles, grid, config%dt, material, t, totals)
             ucm = totals%displacement/total_mass
          end if
          t = n*config%dt
          exact = scene%ucm_exact(t)
          call finite_energies(particles, config%youngs_modulus, totals)
-         energy = totals%kinetic_energy + totals%strain_energy
+         energy = totals%kinetic_energy + totals%strain_energy + totals%plastic_work ! (0 for elastic laws)
          result%max_error = max(result%max_error, scene%error_at(t, particles, ucm))
          result%final_energy = energy
          result%max_energy_ratio = max(result%max_energy_ratio, energy/energy_reference)
@@ -201,15 +206,18 @@ contains
          call take_snapshots(n, t)
       end do
 
-      if (scene%watches) then
-         block
-            character(len=32), allocatable :: names(:)
-            real(dp), allocatable :: values(:)
+      block
+         character(len=32), allocatable :: names(:)
+         real(dp), allocatable :: values(:)
+         if (scene%watches) then
             call scene%watch_report(watch, particles, names, values)
             result%report_names = [result%report_names, names]
             result%report_values = [result%report_values, values]
-         end block
-      end if
+         end if
+         call material_report(material, particles, names, values) ! (none for elastic laws)
+         result%report_names = [result%report_names, names]
+         result%report_values = [result%report_values, values]
+      end block
       if (result%ucm_amplitude /= 0.0_dp) then
          result%relative_error = result%max_error/abs(result%ucm_amplitude)
       else
@@ -274,6 +282,7 @@ contains
                s%x0 = particles%x0
                if (allocated(particles%youngs_modulus_of)) s%youngs_modulus = particles%youngs_modulus_of
                if (allocated(particles%body)) s%body = particles%body
+               if (allocated(particles%plastic_strain)) s%plastic_strain = particles%plastic_strain
                s%v = particles%v
                s%stress = particles%stress
                s%volume_ratio = particles%volume_ratio
@@ -376,11 +385,13 @@ contains
       p = 0
    end function first_non_finite
 
-   subroutine start_history(history, steps)
+   subroutine start_history(history, steps, plastic)
       type(history_t), intent(out) :: history
       integer, intent(in) :: steps
+      logical, intent(in) :: plastic  !< a body is elastoplastic: keep the plastic work too
       allocate (history%time(0:steps), history%ucm(0:steps), history%ucm_exact(0:steps), &
                 history%kinetic_energy(0:steps), history%strain_energy(0:steps))
+      if (plastic) allocate (history%plastic_work(0:steps))
       history%recorded = 0
    end subroutine start_history
 
@@ -395,6 +406,7 @@ contains
       history%ucm_exact(i) = exact
       history%kinetic_energy(i) = totals%kinetic_energy
       history%strain_energy(i) = totals%strain_energy
+      if (allocated(history%plastic_work)) history%plastic_work(i) = totals%plastic_work
       history%recorded = i + 1
    end subroutine record
 end module mpm_simulation
