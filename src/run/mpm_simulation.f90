@@ -211,12 +211,10 @@ contains
          real(dp), allocatable :: values(:)
          if (scene%watches) then
             call scene%watch_report(watch, particles, names, values)
-            result%report_names = [result%report_names, names]
-            result%report_values = [result%report_values, values]
+            call add_report(names, values)
          end if
          call material_report(material, particles, names, values) ! (none for elastic laws)
-         result%report_names = [result%report_names, names]
-         result%report_values = [result%report_values, values]
+         call add_report(names, values)
       end block
       if (result%ucm_amplitude /= 0.0_dp) then
          result%relative_error = result%max_error/abs(result%ucm_amplitude)
@@ -232,6 +230,24 @@ contains
       result%run_time = omp_get_wtime() - start
 
    contains
+
+      !> Append to the run's /summary quantities (element by element: gfortran 12 gave an array constructor
+      !> of an empty and a non-empty character array the wrong length, and corrupted the heap).
+      subroutine add_report(names, values)
+         character(len=32), intent(in) :: names(:)
+         real(dp), intent(in) :: values(:)
+         character(len=32), allocatable :: all_names(:)
+         real(dp), allocatable :: all_values(:)
+         integer :: n
+         n = size(result%report_names)
+         allocate (all_names(n + size(names)), all_values(n + size(names)))
+         all_names(1:n) = result%report_names
+         all_names(n + 1:) = names
+         all_values(1:n) = result%report_values
+         all_values(n + 1:) = values
+         call move_alloc(all_names, result%report_names)
+         call move_alloc(all_values, result%report_values)
+      end subroutine add_report
 
       !> Trip the first guard that applies, in order of severity, and record the culprit.
       subroutine check_guards(step, time)
