@@ -76,35 +76,41 @@ def describe(ne: np.ndarray, rel: np.ndarray, ratio: float) -> Tuple[str, Option
     start = floor_start(orders)
     if start is None:
         return f'keeps falling (order {np.mean(orders):.2f}; {rel[-1]:.2e} at {int(ne[-1])})', None
-    floor = float(rel[start:].min())
-    return (f'order {np.mean(orders[:max(start, 1)]):.2f} to {int(ne[start])} elements, then a floor at '
-            f'{floor:.2e} = {floor / ratio:.2f} v0/c'), floor
+    floor = float(rel[-1])
+    return (f'order {np.mean(orders[:max(start, 1)]):.2f} to {int(ne[start])} elements, then a floor: '
+            f'{floor:.2e} = {floor / ratio:.2f} v0/c at {int(ne[-1])}'), floor
 
 
-def parts(sweep: Sweep) -> Optional[Dict[str, object]]:
-    """The error histories e(t) = u_cm - u_cm,exact of the parts sweep, relative to the exact amplitude,
-    and their split: model = e(hencky, uGIMP) - e(linear law, uGIMP), method = e(linear law, linear) -
-    e(linear law, uGIMP); e(hencky, linear) = e(linear law, uGIMP) + model + method."""
+def parts(sweep: Sweep) -> Dict[float, Dict[str, object]]:
+    """Per amplitude, the error histories e(t) = u_cm - u_cm,exact of the parts sweep relative to the exact
+    amplitude, and their split: model = e(hencky, uGIMP) - e(linear law, uGIMP), method = e(linear law,
+    linear) - e(linear law, uGIMP); e(hencky, linear) = e(linear law, uGIMP) + model + method."""
     c = sweep.cases
     n = len(c['elements'])
-    e = {}
-    for i in range(n):
-        if i not in sweep.histories or c['status'][i] != 0:
-            return None
-        h = sweep.histories[i]
-        amplitude = np.max(np.abs(h['ucm_exact']))
-        e[(str(column(c, 'shape', 'linear', n)[i]), str(column(c, 'law', 'hencky', n)[i]))] = \
-            ((h['ucm'] - h['ucm_exact']) / amplitude, h['time'])
-    needed = [('linear', 'hencky'), ('linear', 'linear'), ('ugimp', 'hencky'), ('ugimp', 'linear')]
-    if any(k not in e for k in needed):
-        return None
-    time = e[('linear', 'hencky')][1]
-    err = {k: e[k][0] for k in needed}
-    model = err[('ugimp', 'hencky')] - err[('ugimp', 'linear')]
-    method = err[('linear', 'linear')] - err[('ugimp', 'linear')]
-    residual = err[('linear', 'hencky')] - (err[('ugimp', 'linear')] + model + method)
-    return {'time': time, 'errors': err, 'model': model, 'method': method, 'residual': residual,
-            'elements': int(c['elements'][0]), 'v0': float(c['velocity_amplitude'][0])}
+    shape, law = column(c, 'shape', 'linear', n), column(c, 'law', 'hencky', n)
+    found: Dict[float, Dict[str, object]] = {}
+    for v0 in sorted(set(c['velocity_amplitude'].tolist()), reverse=True):
+        e = {}
+        for i in np.flatnonzero(np.isclose(c['velocity_amplitude'], v0)):
+            if i not in sweep.histories or c['status'][i] != 0:
+                continue
+            h = sweep.histories[i]
+            e[(str(shape[i]), str(law[i]))] = (h['ucm'] - h['ucm_exact']) / np.max(np.abs(h['ucm_exact']))
+            time = h['time']
+        needed = [('linear', 'hencky'), ('linear', 'linear'), ('ugimp', 'hencky'), ('ugimp', 'linear')]
+        if any(k not in e for k in needed):
+            continue
+        model = e[('ugimp', 'hencky')] - e[('ugimp', 'linear')]
+        method = e[('linear', 'linear')] - e[('ugimp', 'linear')]
+        found[v0] = {'time': time, 'errors': e, 'model': model, 'method': method,
+                     'residual': e[('linear', 'hencky')] - (e[('ugimp', 'linear')] + model + method),
+                     'elements': int(c['elements'][0]),
+                     'ratio': v0 / float(np.sqrt(c['youngs_modulus'][0] / c['density'][0]))}
+    return found
+
+
+def signed_peak(x: np.ndarray) -> float:
+    return float(x[np.argmax(np.abs(x))])
 
 
 def main(argv: Optional[List[str]] = None) -> int:
@@ -196,35 +202,51 @@ def main(argv: Optional[List[str]] = None) -> int:
         return findings.get(('usl', shape, law, v0), ('', None))[1]
 
     wide = [s for s in shapes if s != 'linear']
-    model = [floor_of(s, 'hencky') for s in wide]
-    linear_wide = [findings.get(('usl', s, 'linear', top), ('', None)) for s in wide]
+    split = parts(load_sweep(args.parts)) if args.parts else {}
+    model = {v0: signed_peak(p['model']) / p['ratio'] for v0, p in split.items()}
+    method = {v0: signed_peak(p['method']) / p['ratio'] for v0, p in split.items()}
+    if model:
+        lines.append('- Model difference (Hencky\'s continuum against linear elasticity): hencky - linear law with uGIMP '
+                     'is ' + ', '.join(f'{m:+.3f}' for m in model.values()) + ' v0/c at v0 = '
+                     + ', '.join(f'{v:g}' for v in model) + ' m/s (the split below): proportional to the strain '
+                     'amplitude, as ln F = (F - 1) - (F - 1)^2/2 + ... makes it, and no mesh removes it.')
     if wide:
-        lines.append('- Model difference (Hencky against linear elasticity): with the wide shapes Hencky stops at '
-                     + ', '.join(f'{s} {m:.2e}' if m is not None else f'{s} no floor' for s, m in zip(wide, model))
-                     + f' (v0/c = {ratio:.2e}), and at v0 = {amplitudes[1]:g} m/s at '
-                     + ', '.join(f'{s} {floor_of(s, "hencky", amplitudes[1]):.2e}'
-                                 if floor_of(s, 'hencky', amplitudes[1]) is not None else f'{s} no floor yet'
-                                 for s in wide)
-                     + ': proportional to v0/c. With the linear law the same shapes keep falling: '
-                     + '; '.join(f'{s} {d[0]}' for s, d in zip(wide, linear_wide))
-                     + '. For the wide shapes the floor is the model difference alone, and it goes away with '
-                     'the linear law.')
+        floors = [floor_of(s, 'hencky') for s in wide]
+        lines.append('- With the wide shapes that is the whole floor: Hencky stops at '
+                     + ', '.join(f'{s} {m:.2e} ({m / ratio:.2f} v0/c)' if m is not None else f'{s} (no floor yet)'
+                                 for s, m in zip(wide, floors))
+                     + ' at v0 = ' + f'{top:g} m/s, while the linear law keeps falling: '
+                     + '; '.join(f'{s} {findings.get(("usl", s, "linear", top), ("-",))[0]}' for s in wide)
+                     + ('. With the linear law no wide shape has a floor at any amplitude.' if all(
+                         findings.get(('usl', s, 'linear', v), ('', 0.0))[1] is None for s in wide for v in amplitudes)
+                        else '. With the linear law a floor remains for: ' + ', '.join(
+                            f'{s} at v0 = {v:g}' for s in wide for v in amplitudes
+                            if findings.get(('usl', s, 'linear', v), ('', None))[1] is not None) + '.'))
     lin_floor = floor_of('linear', 'linear')
+    if method:
+        lines.append('- Method error of linear shapes: linear - uGIMP with the linear law (no model difference) is '
+                     + ', '.join(f'{m:+.3f}' for m in method.values()) + ' v0/c at the same amplitudes: also '
+                     'proportional to the strain, and it does not fall with the mesh (the linear law with linear '
+                     'shapes at v0 = ' + f'{top:g} m/s: '
+                     + (f'a floor, {lin_floor:.2e} = {lin_floor / ratio:.2f} v0/c at the finest mesh' if lin_floor is not None
+                        else 'no floor')
+                     + '). While a particle stays in its cell the hat functions\' quadrature of the cell does not change '
+                     '(its mass and internal force come from the particles it holds, sum sigma_p J_p V0_p over them), so '
+                     'the cells follow the material moving through the fixed grid only when particles cross: an error '
+                     'of the order of the strain, which a finer mesh does not reduce. The wide shapes\' weights move '
+                     'with the particles continuously.')
     hen_floor = floor_of('linear', 'hencky')
-    if lin_floor is not None:
-        lines.append(f'- Method error of linear shapes: with the linear law (no model difference) linear shapes '
-                     f'stop at {lin_floor:.2e} = {lin_floor / ratio:.2f} v0/c; at v0 = {amplitudes[1]:g} m/s '
-                     f'{findings.get(("usl", "linear", "linear", amplitudes[1]), ("-",))[0]}. This floor is the '
-                     'method\'s: while a particle stays in its cell the hat functions\' quadrature of the cell '
-                     '(mass and internal force from the particles it holds, sum sigma_p J_p V0_p) does not follow '
-                     'the material moving through the fixed grid, an error of relative order of the strain, '
-                     'v0/c, that refining the mesh does not reduce (each particle moves a smaller fraction of a '
-                     'cell, but the strain is the same). The wide shapes\' weights move continuously with the '
-                     'particles, and their error keeps falling.')
-    if hen_floor is not None:
-        lines.append(f'- Hencky with linear shapes stops at {hen_floor:.2e} = {hen_floor / ratio:.2f} v0/c, below '
-                     'either part: the model difference and the linear shapes\' method error have opposite signs '
-                     'and partly cancel (the split below).')
+    if model and method:
+        sums = [model[v] + method[v] for v in model]
+        opposite = all(model[v] * method[v] < 0 for v in model)
+        lines.append('- Hencky with linear shapes carries both' + (', of opposite signs' if opposite else '') + ': '
+                     + ', '.join(f'{x:+.3f}' for x in sums)
+                     + ' v0/c, which is why its floor'
+                     + (f' ({hen_floor:.2e} = {hen_floor / ratio:.2f} v0/c at v0 = {top:g} m/s, finest mesh)' if hen_floor else '')
+                     + ' lies below either part. So the floor is not the model difference alone (the explanation the '
+                     'study gave before): with linear shapes it is the model difference plus the method\'s own error '
+                     'of opposite sign and larger size; with the wide shapes it is the model difference, which the '
+                     'linear law removes.')
     if 'linear' in laws and 'hencky' in laws and 'usl' in schemes:
         _, rel_l, _ = series(c, 'usl', 'linear', 'linear', top)
         ne_l, rel_h, _ = series(c, 'usl', 'linear', 'hencky', top)
@@ -237,31 +259,39 @@ def main(argv: Optional[List[str]] = None) -> int:
             for m, a, b in rows_ref:
                 lines.append(f'| {m} | {a:.3e} | {REFERENCE["linear"][m]:.2e} | {b:.3e} | '
                              f'{REFERENCE["hencky"][m]:.1e} |')
-    split = parts(load_sweep(args.parts)) if args.parts else None
-    if split is not None:
-        err = split['errors']
-        t = split['time'] / split['time'][-1]
-        fig, ax = plt.subplots(figsize=(7.5, 4.3))
-        ax.plot(t, err[('linear', 'hencky')], 'k-', lw=2, label='hencky, linear shapes (the run)')
-        ax.plot(t, split['model'], 'C0-', label='model: hencky - linear law (uGIMP)')
-        ax.plot(t, split['method'], 'C3-', label='method: linear - uGIMP shapes (linear law)')
-        ax.plot(t, err[('ugimp', 'linear')], 'C2-', label='uGIMP, linear law (its own error)')
-        ax.plot(t, err[('ugimp', 'linear')] + split['model'] + split['method'], 'y:', lw=2, label='sum of the three')
-        ax.set(xlabel='t / (half a period)', ylabel='(u_cm - u_cm,exact) / exact amplitude (-)',
-               title=f'USL, {split["elements"]} elements, 2 ppc, v0 = {split["v0"]:g} m/s')
-        ax.grid(alpha=0.3)
-        ax.legend(fontsize=7)
+    if split:
+        first = split[max(split)]
+        lines += ['', f'The split, USL, {first["elements"]} elements, from the histories (`parts.h5`, `parts.png`): '
+                  'e = (u_cm - u_cm,exact)/amplitude; model = e(hencky, uGIMP) - e(linear law, uGIMP); method = '
+                  'e(linear law, linear shapes) - e(linear law, uGIMP); each at its largest |value| over the run, '
+                  'and in units of v0/c:', '',
+                  '| v0 (m/s) | v0/c | model | model/(v0/c) | method (linear shapes) | method/(v0/c) | '
+                  'uGIMP, linear law: its own max error | hencky, linear shapes: max error | largest |sum - run| |',
+                  '|---|---|---|---|---|---|---|---|---|']
+        for v0, part in split.items():
+            r = part['ratio']
+            err = part['errors']
+            lines.append(f'| {v0:g} | {r:.2e} | {signed_peak(part["model"]):+.2e} | {signed_peak(part["model"]) / r:+.3f} | '
+                         f'{signed_peak(part["method"]):+.2e} | {signed_peak(part["method"]) / r:+.3f} | '
+                         f'{np.max(np.abs(err[("ugimp", "linear")])):.2e} | '
+                         f'{np.max(np.abs(err[("linear", "hencky")])):.2e} | {np.max(np.abs(part["residual"])):.1e} |')
+        fig, axes = plt.subplots(1, len(split), figsize=(5.2 * len(split), 4.2), squeeze=False)
+        for ax, (v0, part) in zip(axes.flat, split.items()):
+            err = part['errors']
+            t = part['time'] / part['time'][-1]
+            ax.plot(t, err[('linear', 'hencky')], 'k-', lw=2, label='hencky, linear shapes (the run)')
+            ax.plot(t, part['model'], 'C0-', label='model: hencky - linear law (uGIMP)')
+            ax.plot(t, part['method'], 'C3-', label='method: linear - uGIMP (linear law)')
+            ax.plot(t, err[('ugimp', 'linear')], 'C2-', label='uGIMP, linear law: its own error')
+            ax.plot(t, err[('ugimp', 'linear')] + part['model'] + part['method'], 'y:', lw=2, label='sum of the three')
+            ax.set(xlabel='t / (half a period)', title=f'USL, {part["elements"]} el., 2 ppc, v0 = {v0:g} m/s')
+            ax.grid(alpha=0.3)
+        axes.flat[0].set_ylabel('(u_cm - u_cm,exact) / exact amplitude (-)')
+        axes.flat[0].legend(fontsize=7)
         fig.tight_layout()
         fig.savefig(outdir / 'parts.png', dpi=110)
         plt.close(fig)
-        worst = float(np.max(np.abs(err[('linear', 'hencky')])))
-        lines += ['', f'The split at {split["elements"]} elements (histories, `parts.png`): the largest '
-                  f'|error| of Hencky with linear shapes is {worst:.2e}; the model difference reaches '
-                  f'{split["model"][np.argmax(np.abs(split["model"]))]:+.2e}, the linear shapes\' method '
-                  f'error {split["method"][np.argmax(np.abs(split["method"]))]:+.2e}, uGIMP\'s own error with '
-                  f'the linear law {np.max(np.abs(err[("ugimp", "linear")])):.2e}; the three add up to the run\'s '
-                  f'error within {np.max(np.abs(split["residual"])):.1e} (relative to the amplitude).', '',
-                  '![parts.png](parts.png)']
+        lines += ['', '![parts.png](parts.png)']
     if 'usf' in schemes:
         _, a, _ = series(c, 'usf', 'linear', 'hencky', amplitudes[0])
         _, b, _ = series(c, 'usf', 'linear', 'hencky', amplitudes[-1])
@@ -274,7 +304,7 @@ def main(argv: Optional[List[str]] = None) -> int:
     lines += ['', '![convergence.png](convergence.png)', '']
     with open(outdir / 'summary.md', 'w') as f:
         f.write('\n'.join(lines))
-    print(f'wrote {outdir / "summary.md"}, convergence.png' + (', parts.png' if split is not None else ''))
+    print(f'wrote {outdir / "summary.md"}, convergence.png' + (', parts.png' if split else ''))
     return 0
 
 

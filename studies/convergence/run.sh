@@ -5,11 +5,11 @@
 # v0 = 0.1, 0.01 and 0.001 m/s:
 #   linear.nml  linear shapes, USF and USL, 100 .. 3200 elements
 #   wide.nml    uGIMP, cpGIMP, quadratic and cubic B-splines, USL, 100 .. 1600 elements
-#   parts.nml   USL, v0 = 0.1, one mesh, linear and uGIMP x both laws, with histories: the error split
-#               into the model difference (hencky - linear law, uGIMP) and the linear shapes' method
-#               error (linear - uGIMP, linear law)
+#   parts.nml   USL, one mesh, linear and uGIMP x both laws x the three amplitudes, with histories: the
+#               error split into the model difference (hencky - linear law, uGIMP) and the linear shapes'
+#               method error (linear - uGIMP, linear law)
 # Writes out/convergence/{linear,wide,parts}.h5, convergence.png, parts.png and summary.md.
-# Usage: bash studies/convergence/run.sh [output folder]   (MPM1D_QUICK=1: up to 400 elements, uGIMP
+# Usage: bash studies/convergence/run.sh [output folder]   (MPM1D_QUICK=1: up to 800 elements with linear shapes, 400 with uGIMP,
 # the only wide shape; seconds)
 set -euo pipefail
 root="$(cd "$(dirname "$0")/../.." && pwd)"
@@ -20,7 +20,7 @@ out="$(mkdir -p "${1:-out/convergence}" && cd "${1:-out/convergence}" && pwd)"
 exe="$(mpm1d_build)"  # -march=native unless PORTABLE=1 (studies/setup.sh)
 linear="100, 200, 400, 800, 1600, 3200"; wide="100, 200, 400, 800, 1600"
 shapes="'ugimp', 'cpgimp', 'bspline2', 'bspline3'"; parts=1600
-if [ "${MPM1D_QUICK:-0}" = 1 ]; then linear="100, 200, 400"; wide="100, 200, 400"; shapes="'ugimp'"; parts=400; fi
+if [ "${MPM1D_QUICK:-0}" = 1 ]; then linear="100, 200, 400, 800"; wide="100, 200, 400"; shapes="'ugimp'"; parts=400; fi
 common="&discretisation particles_per_element=2, dt_fraction=0.1 /
 &run periods=0.5 /"
 cat > "$out/linear.nml" <<NML
@@ -41,8 +41,8 @@ cat > "$out/parts.nml" <<NML
 ! The parts of the error (histories): studies/convergence/run.sh
 $common
 &output file='$out/parts.h5' /
-&sweep scheme='usl', shape='linear', 'ugimp', law='hencky', 'linear', velocity_amplitude=0.1, elements=$parts,
-       min_time=0, histories=.true. /
+&sweep scheme='usl', shape='linear', 'ugimp', law='hencky', 'linear', velocity_amplitude=0.1, 0.01, 0.001,
+       elements=$parts, min_time=0, histories=.true. /
 NML
 start=$EPOCHREALTIME
 for sweep in linear wide parts; do
