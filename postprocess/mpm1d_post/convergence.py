@@ -169,7 +169,7 @@ def main(argv: Optional[List[str]] = None) -> int:
                     lines.append(f'| {scheme} | {shape} | {law} | {v0:g} | {ratio:.1e} | {int(ne[j])} | '
                                  f'{rel[j]:.3e} | {order} | {c["status_name"][i]} |')
                 ax.loglog(ne[ok], rel[ok], 'o' + style, color=colour, ms=3.5,
-                          label=f'{law}, v0/c = {ratio:.0e}')
+                          label=f'{law} law, v0/c = {ratio:.0e}')
                 ax.loglog(ne[~ok], rel[~ok], 'x', color=colour, ms=8)
                 findings[(scheme, shape, law, v0)] = describe(ne[ok], rel[ok], ratio)
         ref = np.array([100.0, 3200.0])
