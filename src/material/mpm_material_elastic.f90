@@ -21,7 +21,7 @@ module mpm_material_elastic
    implicit none
    private
    public :: elastic_update, strain_energy_density, elastic_update_all, elastic_update_each
-   public :: linear_update, linear_stress, linear_energy_density, linear_update_all, linear_update_each
+   public :: linear_update, linear_energy_density, linear_update_all, linear_update_each
 
 contains
 
@@ -75,12 +75,6 @@ contains
       real(dp), intent(in) :: youngs_modulus, stress, volume
       strain_energy_density = 0.5_dp*stress*stress*volume/youngs_modulus
    end function strain_energy_density
-
-   !> The linear law's stress at volume ratio J: sigma = E (J - 1).
-   elemental real(dp) function linear_stress(youngs_modulus, volume_ratio)
-      real(dp), intent(in) :: youngs_modulus, volume_ratio
-      linear_stress = youngs_modulus*(volume_ratio - 1.0_dp)
-   end function linear_stress
 
    !> The linear law for one particle: J <- J (1 + d eps) and sigma <- sigma + (E + sigma) d eps, which
    !> keeps sigma = E (J - 1) (see the module) without the cancellation of J - 1.
