@@ -107,7 +107,7 @@ contains
       character(len=:), allocatable :: message
       message = problems('&discretization elements=40 /')
       call refused('misspelled group', message, 'in.nml:1: unknown namelist group &discretization; did you mean '// &
-                   '&discretisation? known groups: &scene, &discretisation, &run, &output, &guards, &sweep')
+                   '&discretisation? known groups: &scene, &material, &discretisation, &run, &output, &guards, &sweep')
       message = problems('&discretisation elemnts=40 /')
       call refused('misspelled variable', message, "in.nml:1: group &discretisation: unknown variable 'elemnts'; "// &
                    "did you mean 'elements'? allowed names: scheme, elements,")

@@ -42,7 +42,7 @@ contains
    !> exclude each other: one configuration gives each; a scene's own variables appear with its kind,
    !> flip_fraction with transfer = 'blend').
    subroutine every_entry_everywhere()
-      type(config_t), target :: config, by_time, manufactured, composite, impact
+      type(config_t), target :: config, by_time, manufactured, composite, impact, plastic, plastic_composite
       type(parameter_t), allocatable :: table(:), sweep_table(:)
       type(sweep_config_t), target :: settings
       character(len=:), allocatable :: help, echo
@@ -68,11 +68,18 @@ contains
       impact%velocities = [1.0_dp, -1.0_dp]
       impact%velocity_count = 2
       impact%transfer = 'blend' ! (flip_fraction is echoed with the blend alone)
+      plastic = config ! a law's own variables appear with that law
+      plastic%law = 'elastoplastic'
+      plastic_composite = composite
+      plastic_composite%law = 'elastoplastic'
+      plastic_composite%yield_count = 2
+      plastic_composite%hardening_count = 2
       call config_parameters(config, table)
       call t%check('the registry has entries', size(table) >= 19)
       call run_app(dir, '--help', status, help)
       echo = config_namelist(config)//config_namelist(by_time)//config_namelist(manufactured)// &
-             config_namelist(composite)//config_namelist(impact)
+             config_namelist(composite)//config_namelist(impact)//config_namelist(plastic)// &
+             config_namelist(plastic_composite)
       call write_attributes(config, dir//'/config.h5')
       call write_attributes(by_time, dir//'/by_time.h5')
       call write_attributes(manufactured, dir//'/manufactured.h5')

@@ -38,9 +38,12 @@ COMMAND = '.venv/bin/python -m mpm1d_post.namelist_doc -o docs/namelist.md'
 #: The groups in page order, each with what it is for (template text; a group the registry lists
 #: but this table lacks stops the generator, so that a new group gets its text).
 GROUPS: Dict[str, str] = {
-    'scene': "The problem and its material. `kind` chooses the scene ([Scenes](user-guide.md#scenes)); "
+    'scene': "The problem and its bodies. `kind` chooses the scene ([Scenes](user-guide.md#scenes)); "
              "a variable of another kind is refused with a message naming the kind that uses it, and "
              "is left out of the echoed namelist.",
+    'material': "The constitutive law of the bodies and its parameters ([Materials](theory.md#materials)); a "
+                "variable of a law not chosen is refused naming the law that uses it, and is left out of the "
+                "echoed namelist.",
     'discretisation': "Grid, particles, time step, update scheme, shape functions and velocity transfer "
                       "([Theory](theory.md)).",
     'run': "How long to run: `periods` or `end_time`, not both.",
@@ -55,7 +58,7 @@ GROUPS: Dict[str, str] = {
 }
 
 #: The groups of one run's input (the example namelist shows these).
-RUN_GROUPS = ('scene', 'discretisation', 'run', 'output', 'guards')
+RUN_GROUPS = ('scene', 'material', 'discretisation', 'run', 'output', 'guards')
 
 #: The scene kind of the example namelist (the default).
 EXAMPLE_KIND = 'vibrating_bar'

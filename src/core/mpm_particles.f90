@@ -34,6 +34,12 @@ module mpm_particles
       !> the body each particle belongs to (1, 2, ...): only scenes of several bodies allocate it (impact),
       !> which place each body's particles as one contiguous range
       integer, allocatable :: body(:)
+      !> the elastoplastic law's state (mpm_material_plastic), allocated only when a body is elastoplastic:
+      !> plastic strain eps_p and hardening variable alpha (the accumulated |d eps_p|)
+      real(dp), allocatable :: plastic_strain(:), hardening(:)
+      !> per-particle yield stress and hardening modulus (Pa): only elastoplastic scenes of several
+      !> materials allocate them (composite bar, impact); otherwise the run's one material applies
+      real(dp), allocatable :: yield_stress_of(:), hardening_modulus_of(:)
    end type particles_t
 
 contains
@@ -102,6 +108,10 @@ contains
       call permute_real(particles%volume0_of)
       call permute_real(particles%velocity_gradient)
       call permute_real(particles%youngs_modulus_of)
+      call permute_real(particles%plastic_strain)
+      call permute_real(particles%hardening)
+      call permute_real(particles%yield_stress_of)
+      call permute_real(particles%hardening_modulus_of)
       call permute_int(particles%body)
       call permute_int(particles%cell)
    contains

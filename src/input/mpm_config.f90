@@ -8,6 +8,7 @@ module mpm_config
    use mpm_files, only: available_memory, path_kind, path_folder, path_other
    use mpm_particles, only: bytes_per_particle
    use mpm_shape, only: known_shapes, known_transfers
+   use mpm_material, only: material_t, known_laws, law_id
    use mpm_registry, only: parameter_t, nml_item_t, text_entry, int_entry, real_entry, real_list_entry, &
                            logical_entry, for_kinds, for_value, used_by, parse_namelist, read_input_text, add_overrides, &
                            apply_items, check_parameter, find_parameter, group_namelist, short_number, item_place, &
@@ -20,6 +21,7 @@ module mpm_config
    public :: default_config, config_summary, known_schemes
    public :: max_snapshots, max_segments, check_output_path, body_length, largest_wave_speed
    public :: config_parameters, config_groups, group_help, known_scenes, scene_kind_t, scene_kinds
+   public :: material_of, plastic_wave_periods
    public :: step_count, stability_limit, not_used_message, config_warnings, contact_time, known_kind
 
    !> Most snapshot times one run accepts.
@@ -27,11 +29,12 @@ module mpm_config
    !> Most segments of a composite bar.
    integer, parameter :: max_segments = 16
    !> The scene kinds made of one body of one material (length, youngs_modulus, density).
-   character(len=*), parameter :: single_body = 'vibrating_bar, column, manufactured'
+   character(len=*), parameter :: single_body = 'vibrating_bar, column, manufactured, plastic_wave'
    !> Schemes the code implements.
    character(len=*), parameter :: known_schemes = 'usf, usl, musl'
    !> Scene kinds the code implements (mpm_scenes makes them).
-   character(len=*), parameter :: known_scenes = 'vibrating_bar, column, manufactured, composite_bar, impact'
+   character(len=*), parameter :: known_scenes = 'vibrating_bar, column, manufactured, composite_bar, impact, '// &
+                                                 'plastic_wave'
    !> A scene kind as --help and the help of `kind` and `periods` describe it: its name, what it is, and
    !> the period `periods` counts in it (scene_period). Every kind of known_scenes has one (test_registry).
    type :: scene_kind_t
@@ -45,10 +48,15 @@ module mpm_config
       scene_kind_t('manufactured', 'a manufactured solution at large strain', '2L/c'), &
       scene_kind_t('composite_bar', 'a wave through stiff-soft segments, driven at one end', &
                    'sum L_i/c_i, one crossing'), &
-      scene_kind_t('impact', 'two bars colliding', '2 max L/c, from their first contact')]
+      scene_kind_t('impact', 'two bars colliding', '2 max L/c, from their first contact'), &
+      scene_kind_t('plastic_wave', 'an elastic-plastic wave from a driven end', &
+                   "L/c (the precursor's transit; default 0.8)")]
    !> The groups of one run's input, in the order of the echo and of --help.
-   character(len=16), parameter :: config_groups(*) = [character(len=16) :: 'scene', 'discretisation', 'run', &
-                                                        'output', 'guards']
+   character(len=16), parameter :: config_groups(*) = [character(len=16) :: 'scene', 'material', 'discretisation', &
+                                                        'run', 'output', 'guards']
+   !> The plastic wave's run length when neither periods nor end_time is given, in precursor transit
+   !> times L/c: its exact solution holds until the elastic precursor reaches the free end.
+   real(dp), parameter :: plastic_wave_periods = 0.8_dp
    !> Largest number of particles or elements one run accepts (array indices are default integers).
    integer(i8), parameter :: max_count = int(huge(1), i8)
    !> Largest mode: 2 mode - 1 (in beta_n) must be a default integer.
@@ -82,6 +90,13 @@ module mpm_config
       integer :: velocity_count = 0
       real(dp) :: gap = 0.0_dp
       character(len=16) :: contact = 'frictionless'
+      ! &material (mpm_material): the law and the elastoplastic law's parameters, one body's or one per
+      ! segment (composite bar) or bar (impact)
+      character(len=16) :: law = 'hencky'
+      real(dp) :: yield_stress = 250.0e6_dp
+      real(dp) :: hardening_modulus = 10.0e9_dp
+      real(dp) :: yield_stresses(max_segments) = 0.0_dp, hardening_moduli(max_segments) = 0.0_dp
+      integer :: yield_count = 0, hardening_count = 0
       ! &discretisation
       character(len=8) :: scheme = 'usl'
       integer :: elements = 20
@@ -191,7 +206,7 @@ contains
                    'impact'), &
          for_kinds(real_entry('scene', 'drive_velocity', config%drive_velocity, 'm/s', 'velocity the left end '// &
                               'is driven at from t = 0 (pushing into the bar)', greater_than=0.0_dp, &
-                              sweep_list='drive_velocities'), 'composite_bar'), &
+                              sweep_list='drive_velocities'), 'composite_bar, plastic_wave'), &
          for_kinds(real_entry('scene', 'velocity_amplitude', config%velocity_amplitude, 'm/s', 'v0 of the '// &
                               'initial velocity v(x,0) = v0 sin(beta_n x), beta_n = (2n-1) pi / (2 length)', &
                               sweep_list='velocity_amplitudes'), 'vibrating_bar'), &
@@ -203,6 +218,22 @@ contains
          for_kinds(real_entry('scene', 'amplitude', config%amplitude, 'm', 'A of the manufactured displacement '// &
                               'u(X,t) = A sin(2 pi X/length) sin(pi c t/length)', greater_than=0.0_dp, &
                               note='2 pi A / length < 1', sweep_list='amplitudes'), 'manufactured'), &
+         text_entry('material', 'law', config%law, "constitutive law: 'hencky' sigma = E ln J (sigma += E d eps), "// &
+                    "'linear' sigma = E (J - 1), 'elastoplastic' Hencky with linear isotropic hardening", &
+                    words=known_laws, sweep_list='law'), &
+         for_kinds(for_value(real_entry('material', 'yield_stress', config%yield_stress, 'Pa', 'initial yield stress '// &
+                              'sigma_y: |sigma| <= sigma_y + H alpha (law elastoplastic)', greater_than=0.0_dp, &
+                              sweep_list='yield_stress'), 'law', 'elastoplastic'), 'vibrating_bar, column, plastic_wave'), &
+         for_kinds(for_value(real_entry('material', 'hardening_modulus', config%hardening_modulus, 'Pa', 'linear isotropic '// &
+                              'hardening modulus H (law elastoplastic; 0: perfectly plastic)', at_least=0.0_dp, &
+                              sweep_list='hardening_modulus'), 'law', 'elastoplastic'), 'vibrating_bar, column, plastic_wave'), &
+         for_kinds(for_value(real_list_entry('material', 'yield_stresses', config%yield_stresses, config%yield_count, 'Pa', &
+                                   "each segment's (bar's) yield stress (law elastoplastic)", greater_than=0.0_dp, &
+                                   note='one per segment'), 'law', 'elastoplastic'), 'composite_bar, impact'), &
+         for_kinds(for_value(real_list_entry('material', 'hardening_moduli', config%hardening_moduli, config%hardening_count, &
+                                   'Pa', "each segment's (bar's) hardening modulus (law elastoplastic)", &
+                                   at_least=0.0_dp, note='one per segment'), 'law', 'elastoplastic'), &
+                   'composite_bar, impact'), &
          real_entry('run', 'periods', config%periods, '', 'run length in periods of the scene ('// &
                     scene_list(periods=.true.)//'); steps = smallest n with n dt >= end time', &
                     greater_than=0.0_dp, optional=.true., given=config%periods_given), &
@@ -271,7 +302,9 @@ contains
       character(len=:), allocatable :: text
       select case (group)
       case ('scene')
-         text = 'the problem and its material'
+         text = 'the problem and its bodies'
+      case ('material')
+         text = 'the constitutive law of the bodies and its parameters'
       case ('discretisation')
          text = 'grid, particles, time step and update scheme'
       case ('run')
@@ -417,6 +450,8 @@ contains
       else if (table(end_time)%line > 0) then
          config%periods_given = .false.
          config%periods = -huge(1.0_dp) ! no value (for programs reading config_t; the flag decides)
+      else if (table(periods)%line == 0 .and. trim(config%scene_kind) == 'plastic_wave') then
+         config%periods = plastic_wave_periods
       end if
    end subroutine choose_run_length
 
@@ -501,6 +536,19 @@ contains
       end function sweep_item
    end subroutine check_conditions
 
+   !> The material of a validated configuration (the one body's; scenes of several materials give the
+   !> parameters per particle).
+   pure function material_of(config) result(material)
+      type(config_t), intent(in) :: config
+      type(material_t) :: material
+      material%law = law_id(config%law)
+      material%youngs_modulus = config%youngs_modulus
+      if (trim(config%law) == 'elastoplastic') then
+         material%yield_stress = config%yield_stress
+         material%hardening_modulus = config%hardening_modulus
+      end if
+   end function material_of
+
    !> The message refusing a variable that scene kind `kind` does not use.
    function not_used_message(p, kind) result(text)
       type(parameter_t), intent(in) :: p
@@ -553,6 +601,7 @@ contains
          "run: give periods or end_time")
       call check_counts(config, error)
       call check_scene(config, error, given)
+      call check_material(config, error)
       if (allocated(error)) return
       call check_representable(config, error)
       if (allocated(error)) return
@@ -680,9 +729,34 @@ contains
       if (end_time < dt) call append_error(error, run_too_short(config, end_time_given, end_time, dt, given))
       if (end_time/dt > real(huge(1) - 1, dp)) call append_error(error, too_many_steps(config, end_time_given, &
                                                                                          end_time, dt, given))
+      if (trim(config%scene_kind) == 'plastic_wave' .and. end_time > (1.0_dp + 1.0e-12_dp)*config%length/c) &
+         call append_error(error, run_length(config, end_time_given, end_time, given)//" ends after the elastic "// &
+                           "precursor reaches the free end at L/c = "//num(config%length/c, 4)//" s, where the "// &
+                           "plastic wave's exact solution stops holding; allowed: periods <= 1 (end_time <= "// &
+                           num(config%length/c, 4)//" s)")
       call check_motion(config, end_time, dx, error, given)
       call check_snapshots(config, end_time, error, given)
    end subroutine check_run
+
+   !> The &material group against the scene (a variable of another law is refused by its entry's
+   !> condition, for_value): an elastoplastic composite bar or impact needs yield_stresses and hardening_moduli with one
+   !> value per segment, and the manufactured solution's body force is made for an elastic law.
+   subroutine check_material(config, error)
+      type(config_t), intent(in) :: config
+      type(error_t), allocatable, intent(inout) :: error
+      logical :: several
+      several = trim(config%scene_kind) == 'composite_bar' .or. trim(config%scene_kind) == 'impact'
+      if (trim(config%law) == 'elastoplastic' .and. several .and. (config%yield_count /= config%length_count .or. &
+                              config%hardening_count /= config%length_count)) then
+         call append_error(error, "material: law = 'elastoplastic' with kind = '"//trim(config%scene_kind)// &
+                           "' needs yield_stresses and hardening_moduli with one value per segment (given "// &
+                           str(config%yield_count)//" and "//str(config%hardening_count)//" for "// &
+                           str(config%length_count)//" segments)")
+      end if
+      if (trim(config%scene_kind) == 'manufactured' .and. trim(config%law) == 'elastoplastic') &
+         call append_error(error, "material: law = 'elastoplastic' is not used by kind = 'manufactured' (its body "// &
+                           "force makes the motion exact for an elastic law); allowed: law = 'hencky' or 'linear'")
+   end subroutine check_material
 
    !> How the user gave the run's length: "run: end_time = 1e-3 s" or "run: periods = 2 (end time 1e-3 s)",
    !> for the impact with the time the bars meet, from which periods count.
@@ -1100,6 +1174,8 @@ contains
          associate (n => config%length_count)
             scene_period = sum(config%lengths(1:n)/sqrt(config%youngs_moduli(1:n)/config%densities(1:n)))
          end associate
+      case ('plastic_wave') ! the elastic precursor's transit time
+         scene_period = config%length/c
       case ('impact') ! the longer of the bars' wave round trips 2 L/c (identical bars: the contact time)
          scene_period = 2.0_dp*maxval(config%lengths(1:2)/sqrt(config%youngs_moduli(1:2)/config%densities(1:2)))
       case default

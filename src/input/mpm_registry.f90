@@ -38,12 +38,12 @@ module mpm_registry
       character(len=32) :: attribute = ''
       integer :: type = type_real
       character(len=16) :: unit = ''
-      character(len=320) :: help = ''
+      character(len=480) :: help = ''
       !> Range of numbers (and of each list element): bounds, whether each is present and open.
       real(dp) :: lower = 0.0_dp, upper = 0.0_dp
       logical :: has_lower = .false., has_upper = .false., lower_open = .false., upper_open = .false.
       !> Allowed words of a text variable, comma separated ('' = any non-empty text that fits).
-      character(len=64) :: words = ''
+      character(len=96) :: words = ''
       !> Said after the range in messages and --help (e.g. the meaning of a special value).
       character(len=96) :: note = ''
       !> Name of the &sweep list that varies this variable ('' = not sweepable). One rule: a list is

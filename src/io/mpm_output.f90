@@ -40,6 +40,8 @@ contains
          call h5%write_real('/history/ucm_exact', result%history%ucm_exact(0:n - 1))
          call h5%write_real('/history/kinetic_energy', result%history%kinetic_energy(0:n - 1))
          call h5%write_real('/history/strain_energy', result%history%strain_energy(0:n - 1))
+         if (allocated(result%history%plastic_work)) &
+            call h5%write_real('/history/plastic_work', result%history%plastic_work(0:n - 1))
       end if
 
       ! a run a guard stopped has no result: its max_error and relative_error are no value (NaN), the
@@ -92,6 +94,8 @@ contains
             if (allocated(result%snapshots(i)%youngs_modulus)) &
                call h5%write_real(group//'/youngs_modulus', result%snapshots(i)%youngs_modulus)
             if (allocated(result%snapshots(i)%body)) call h5%write_int(group//'/body', result%snapshots(i)%body)
+            if (allocated(result%snapshots(i)%plastic_strain)) &
+               call h5%write_real(group//'/plastic_strain', result%snapshots(i)%plastic_strain)
             call h5%write_real(group//'/velocity', result%snapshots(i)%v)
             call h5%write_real(group//'/stress', result%snapshots(i)%stress)
             call h5%write_real(group//'/volume_ratio', result%snapshots(i)%volume_ratio)

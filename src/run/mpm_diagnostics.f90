@@ -31,6 +31,8 @@ module mpm_diagnostics
       real(dp) :: kinetic_energy = 0.0_dp
       !> sum_p sigma_p^2 V_p / (2E) with the stresses after the pass (when the pass updates them).
       real(dp) :: strain_energy = 0.0_dp
+      !> plastic work done so far, sum_p (sigma_y alpha + H alpha^2/2) V0 (elastoplastic law; else 0).
+      real(dp) :: plastic_work = 0.0_dp
       !> smallest volume ratio J seen (after the update, when the pass updates it).
       real(dp) :: min_volume_ratio = huge(1.0_dp)
       !> largest |x_new - x_old| / dx of the pass (when the pass moves particles).
@@ -45,6 +47,8 @@ module mpm_diagnostics
    type :: history_t
       integer :: recorded = 0
       real(dp), allocatable :: time(:), ucm(:), ucm_exact(:), kinetic_energy(:), strain_energy(:)
+      !> the plastic work at each step: allocated only when a body is elastoplastic
+      real(dp), allocatable :: plastic_work(:)
    end type history_t
 
    !> Particle and grid state at one time.
@@ -57,6 +61,8 @@ module mpm_diagnostics
       real(dp), allocatable :: youngs_modulus(:)
       !> each particle's body, where the scene has several (impact)
       integer, allocatable :: body(:)
+      !> each particle's plastic strain, where a body is elastoplastic
+      real(dp), allocatable :: plastic_strain(:)
       real(dp), allocatable :: grid_x(:), grid_velocity(:)
    end type snapshot_t
 

@@ -6,7 +6,8 @@ module mpm_simulation
    use mpm_kinds, only: dp
    use mpm_errors, only: error_t, set_error
    use mpm_strings, only: str
-   use mpm_config, only: config_t
+   use mpm_config, only: config_t, material_of
+   use mpm_material, only: material_t, law_hencky, material_state, material_report
    use mpm_grid, only: grid_t, grid_init, assemble_nodes, nodal_velocity
    use mpm_particles, only: particles_t, per_particle_data
    use mpm_shape, only: shape_cache_t, shape_id, shape_extra_cells, transfer_id, transfer_flip, transfer_apic
@@ -80,6 +81,7 @@ module mpm_simulation
       type(pass_totals_t) :: totals
       type(bodies_t) :: bodies
       type(fused_box_t) :: box
+      type(material_t) :: material       !< the law (one body's; per particle where a scene has several)
       real(dp), allocatable :: watch(:)   !< what a watching scene keeps between steps
       integer :: scheme = 0, next_snapshot = 1
       logical :: fused = .false.          !< the fused kernels run (else the generic path)
@@ -155,7 +157,10 @@ contains
          cache%transfer = transfer_id(config%transfer)
          cache%flip_fraction = config%flip_fraction
          ! (the fused kernels take every shape)
-         run%fused = trim(config%kernels) == 'auto' .and. scene%fused_applies() .and. cache%transfer == transfer_flip
+         run%material = material_of(config)
+         ! (the fused kernels take every shape; their stress update is hencky's)
+         run%fused = trim(config%kernels) == 'auto' .and. scene%fused_applies() .and. cache%transfer == transfer_flip &
+                     .and. run%material%law == law_hencky
          run%box = fused_shape(cache%kind)
          result%fused = run%fused
          ! shapes wider than the hat: one more cell beyond the free end, one ghost cell left of x = 0
@@ -167,6 +172,8 @@ contains
          call scene%place_particles(config, particles, error)
          if (allocated(error)) return
          if (.not. run%fused) call per_particle_data(particles, error)
+         if (allocated(error)) return
+         call material_state(run%material, particles, error)
          if (allocated(error)) return
          if (cache%transfer == transfer_apic) then
             ! APIC starts from C_p = 0 (the first P2G is PIC's)
@@ -198,11 +205,11 @@ contains
       if (run%fused) then
          call fused_start(run%scheme, run%particles, run%grid, run%totals, run%box, config%youngs_modulus)
       else
-         call particle_energies(run%particles, config%youngs_modulus, run%totals)
+         call particle_energies(run%particles, run%material, run%totals)
          run%total_mass = sum(run%particles%mass_of)
       end if
       call finite_energies(run%particles, config%youngs_modulus, run%totals)
-      result%initial_energy = run%totals%kinetic_energy + run%totals%strain_energy
+      result%initial_energy = run%totals%kinetic_energy + run%totals%strain_energy + run%totals%plastic_work
       ! Zero initial energy (v0 = 0) stays exactly zero in a sound run: any growth trips the guard.
       run%energy_reference = run%scene%energy_reference(result%initial_energy)
       result%final_energy = result%initial_energy
@@ -210,7 +217,7 @@ contains
       result%min_volume_ratio = run%totals%min_volume_ratio
       result%min_node_mass_ratio = huge(1.0_dp)
       run%ucm = 0.0_dp
-      if (record_history) call start_history(result%history, config%steps)
+      if (record_history) call start_history(result%history, config%steps, allocated(run%particles%hardening))
       if (record_history) call record(result%history, 0.0_dp, run%ucm, 0.0_dp, run%totals)
       run%next_snapshot = 1
       allocate (result%snapshots(config%snapshot_count))
@@ -232,17 +239,16 @@ contains
             run%ucm = totals%displacement/particles%count ! u_cm = sum m (x - X) / sum m, equal masses
          else if (run%scene%body_fields) then
             call scheme_step_bodies(run%scheme, run%scene, run%cache, particles, grid, run%bodies, config%dt, &
-                                    config%youngs_modulus, t, totals)
+                                    run%material, t, totals)
             run%ucm = totals%displacement/run%total_mass
          else
-            call scheme_step(run%scheme, run%scene, run%cache, particles, grid, config%dt, config%youngs_modulus, t, &
-                             totals)
+            call scheme_step(run%scheme, run%scene, run%cache, particles, grid, config%dt, run%material, t, totals)
             run%ucm = totals%displacement/run%total_mass
          end if
          t = n*config%dt
          exact = run%scene%ucm_exact(t)
          call finite_energies(particles, config%youngs_modulus, totals)
-         run%energy = totals%kinetic_energy + totals%strain_energy
+         run%energy = totals%kinetic_energy + totals%strain_energy + totals%plastic_work ! (0 for elastic laws)
          result%max_error = max(result%max_error, run%scene%error_at(t, particles, run%ucm))
          result%final_energy = run%energy
          result%max_energy_ratio = max(result%max_energy_ratio, run%energy/run%energy_reference)
@@ -264,9 +270,10 @@ contains
       real(dp), allocatable :: values(:)
       if (run%scene%watches) then
          call run%scene%watch_report(run%watch, run%particles, names, values)
-         result%report_names = [result%report_names, names]
-         result%report_values = [result%report_values, values]
+         call add_report(result, names, values)
       end if
+      call material_report(run%material, run%particles, names, values) ! (none for elastic laws)
+      call add_report(result, names, values)
       if (result%ucm_amplitude /= 0.0_dp) then
          result%relative_error = result%max_error/abs(result%ucm_amplitude)
       else
@@ -344,6 +351,7 @@ contains
             s%v = particles%v
             s%stress = particles%stress
             s%volume_ratio = particles%volume_ratio
+            if (allocated(particles%plastic_strain)) s%plastic_strain = particles%plastic_strain
             s%grid_x = [(grid%origin + i*grid%dx, i=0, grid%elements)]
             s%grid_velocity = grid%velocity
          end associate
@@ -443,11 +451,13 @@ contains
       p = 0
    end function first_non_finite
 
-   subroutine start_history(history, steps)
+   subroutine start_history(history, steps, plastic)
       type(history_t), intent(out) :: history
       integer, intent(in) :: steps
+      logical, intent(in) :: plastic  !< a body is elastoplastic: keep the plastic work too
       allocate (history%time(0:steps), history%ucm(0:steps), history%ucm_exact(0:steps), &
                 history%kinetic_energy(0:steps), history%strain_energy(0:steps))
+      if (plastic) allocate (history%plastic_work(0:steps))
       history%recorded = 0
    end subroutine start_history
 
@@ -462,6 +472,26 @@ contains
       history%ucm_exact(i) = exact
       history%kinetic_energy(i) = totals%kinetic_energy
       history%strain_energy(i) = totals%strain_energy
+      if (allocated(history%plastic_work)) history%plastic_work(i) = totals%plastic_work
       history%recorded = i + 1
    end subroutine record
+
+   !> Append to the run's /summary quantities (element by element: gfortran 12 gave an array constructor
+   !> of an empty and a non-empty character array the wrong length, and corrupted the heap).
+   subroutine add_report(result, names, values)
+      type(run_result_t), intent(inout) :: result
+      character(len=32), intent(in) :: names(:)
+      real(dp), intent(in) :: values(:)
+      character(len=32), allocatable :: all_names(:)
+      real(dp), allocatable :: all_values(:)
+      integer :: n
+      n = size(result%report_names)
+      allocate (all_names(n + size(names)), all_values(n + size(names)))
+      all_names(1:n) = result%report_names
+      all_names(n + 1:) = names
+      all_values(1:n) = result%report_values
+      all_values(n + 1:) = values
+      call move_alloc(all_names, result%report_names)
+      call move_alloc(all_values, result%report_values)
+   end subroutine add_report
 end module mpm_simulation
