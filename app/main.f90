@@ -139,7 +139,9 @@ program mpm1d_main
       end if
    end if
 
-   call warn_stability(config%scheme, config%particles_per_element, config%dt_fraction, 1, config%shape)
+   ! (the implicit integrators are unconditionally stable: no limit to warn of)
+   call warn_stability(config%scheme, config%particles_per_element, config%dt_fraction, &
+                       merge(1, 0, trim(config%integrator) == 'explicit'), config%shape)
    if (unresolved(config)) write (error_unit, '(a)') 'mpm1d: warning: mode '//str(config%mode)//' has '// &
       num(elements_per_wavelength(config), 3)//' elements per wavelength on '//plural(config%elements, 'element')// &
       ' (wavelength 4 L/(2 mode - 1)); below '//str(min_elements_per_wavelength)//' the mesh cannot represent it '// &
@@ -297,8 +299,8 @@ contains
       coarse = 0
       do i = 1, size(sweep%cases)
          config = case_config(sweep, sweep%cases(i))
-         if (config%dt_fraction > stability_limit(config%scheme, config%particles_per_element, config%shape)) &
-            above = above + 1
+         if (config%dt_fraction > stability_limit(config%scheme, config%particles_per_element, config%shape) .and. &
+             trim(config%integrator) == 'explicit') above = above + 1
          if (unresolved(config)) coarse = coarse + 1
       end do
       if (coarse > 0) write (error_unit, '(a)') 'mpm1d: warning: '//plural(coarse, 'case')//' ha'// &

@@ -42,6 +42,7 @@ contains
    !> exclude each other: one configuration gives each; a scene's own variables appear with its kind).
    subroutine every_entry_everywhere()
       type(config_t), target :: config, by_time, manufactured, composite, impact, plastic, plastic_composite
+      type(config_t), target :: implicit, static
       type(parameter_t), allocatable :: table(:), sweep_table(:)
       type(sweep_config_t), target :: settings
       character(len=:), allocatable :: help, echo
@@ -72,12 +73,17 @@ contains
       plastic_composite%law = 'elastoplastic'
       plastic_composite%yield_count = 2
       plastic_composite%hardening_count = 2
+      implicit = config ! an integrator's own variables appear with that integrator
+      implicit%integrator = 'implicit'
+      static = config
+      static%integrator = 'quasi_static'
+      static%scene_kind = 'column'
       call config_parameters(config, table)
       call t%check('the registry has entries', size(table) >= 19)
       call run_app(dir, '--help', status, help)
       echo = config_namelist(config)//config_namelist(by_time)//config_namelist(manufactured)// &
              config_namelist(composite)//config_namelist(impact)//config_namelist(plastic)// &
-             config_namelist(plastic_composite)
+             config_namelist(plastic_composite)//config_namelist(implicit)//config_namelist(static)
       call write_attributes(config, dir//'/config.h5')
       call write_attributes(by_time, dir//'/by_time.h5')
       call write_attributes(manufactured, dir//'/manufactured.h5')

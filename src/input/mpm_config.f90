@@ -11,7 +11,8 @@ module mpm_config
    use mpm_material, only: material_t, known_laws, law_id
    use mpm_registry, only: parameter_t, nml_item_t, text_entry, int_entry, real_entry, real_list_entry, &
                            logical_entry, for_kinds, used_by, parse_namelist, read_input_text, add_overrides, &
-                           apply_items, check_parameter, find_parameter, group_namelist, short_number
+                           apply_items, check_parameter, find_parameter, group_namelist, short_number, &
+                           format_value
    implicit none
    private
    public :: config_t, read_config, read_config_text, input_name, validate_config, resolve_config
@@ -21,6 +22,7 @@ module mpm_config
    public :: config_parameters, config_groups, group_help, known_scenes
    public :: step_count, stability_limit, not_used_message
    public :: material_of, plastic_wave_periods
+   public :: known_integrators, max_implicit_dt_fraction
 
    !> Most snapshot times one run accepts.
    integer, parameter :: max_snapshots = 64
@@ -45,6 +47,11 @@ module mpm_config
    integer, parameter :: max_mode = (huge(1) - 1)/2
    !> Time-step fraction above which a run is refused outright (far beyond any stability limit).
    real(dp), parameter :: max_dt_fraction = 10.0_dp
+   !> ... and above which an implicit run is (unconditionally stable: the step is the user's accuracy choice).
+   real(dp), parameter :: max_implicit_dt_fraction = 1.0e4_dp
+   !> Time integrators: the explicit schemes (scheme = usf, usl, musl), Newmark's trapezoidal rule with
+   !> Newton on the grid, and equilibrium in load steps (mpm_implicit).
+   character(len=*), parameter :: known_integrators = 'explicit, implicit, quasi_static'
 
    !> Everything one run needs to know; defaults are the paper's Table 1 and its verification case.
    type :: config_t
@@ -80,6 +87,15 @@ module mpm_config
       real(dp) :: yield_stresses(max_segments) = 0.0_dp, hardening_moduli(max_segments) = 0.0_dp
       integer :: yield_count = 0, hardening_count = 0
       ! &discretisation
+      !> The time integrator (explicit: the scheme; implicit, quasi_static: mpm_implicit) and what only the
+      !> implicit ones use: the mass matrix (implicit), load increments (quasi_static), Newton's relative
+      !> residual tolerance and iteration limit, the ghost penalty on cut cells (both).
+      character(len=16) :: integrator = 'explicit'
+      character(len=16) :: mass = 'lumped'
+      integer :: load_steps = 10
+      real(dp) :: newton_tolerance = 1.0e-10_dp
+      integer :: max_newton_iterations = 25
+      real(dp) :: ghost_penalty = 0.0_dp
       character(len=8) :: scheme = 'usl'
       integer :: elements = 20
       integer :: particles_per_element = 1
@@ -141,13 +157,30 @@ contains
       table = [ &
          text_entry('discretisation', 'scheme', config%scheme, 'update scheme: stress update first, last, or '// &
                     'modified last (the README gives each algorithm)', words=known_schemes, sweep_list='schemes'), &
+         text_entry('discretisation', 'integrator', config%integrator, "time integration: 'explicit' (the "// &
+                    "scheme), 'implicit' (Newmark trapezoidal rule, Newton on the grid), 'quasi_static' "// &
+                    "(equilibrium in load_steps)", words=known_integrators, sweep_list='integrator'), &
+         text_entry('discretisation', 'mass', config%mass, "mass matrix of integrator 'implicit': 'lumped' "// &
+                    "(row sums, as the explicit schemes) or 'consistent' (sum_p m_p N_I N_J)", &
+                    words='lumped, consistent', sweep_list='mass'), &
+         int_entry('discretisation', 'load_steps', config%load_steps, "load increments of integrator "// &
+                   "'quasi_static' (equilibrium under a fraction k/load_steps of the loads)", at_least=1, &
+                   sweep_list='load_steps'), &
+         real_entry('discretisation', 'newton_tolerance', config%newton_tolerance, '', 'Newton stops at |R| <= '// &
+                    'tolerance * |forces| (the sum of the magnitudes of the terms balanced at each node)', &
+                    greater_than=0.0_dp, below=1.0_dp, sweep_list='newton_tolerance'), &
+         int_entry('discretisation', 'max_newton_iterations', config%max_newton_iterations, 'linear solves a '// &
+                   'step may take before the run stops (status newton_not_converged)', at_least=1), &
+         real_entry('discretisation', 'ghost_penalty', config%ghost_penalty, '', 'ghost penalty gamma on the '// &
+                    'cut cells at free ends (stiffness gamma E/dx on the jump of the p-th derivative); 0: off', &
+                    at_least=0.0_dp, sweep_list='ghost_penalty'), &
          int_entry('discretisation', 'elements', config%elements, 'elements across the body; dx = length / elements', &
                    at_least=1, sweep_list='elements'), &
          int_entry('discretisation', 'particles_per_element', config%particles_per_element, &
                    'particles per element, evenly spaced', at_least=1, sweep_list='particles_per_element'), &
          real_entry('discretisation', 'dt_fraction', config%dt_fraction, '', 'dt = dt_fraction * dx / c, '// &
-                    'c = sqrt(youngs_modulus/density)', greater_than=0.0_dp, at_most=max_dt_fraction, &
-                    sweep_list='dt_fractions'), &
+                    'c = sqrt(youngs_modulus/density)', greater_than=0.0_dp, at_most=dt_fraction_limit(config), &
+                    sweep_list='dt_fractions', note="integrator 'implicit': up to 1e4"), &
          text_entry('discretisation', 'shape', config%shape, 'shape functions: linear hat, uniform or '// &
                     'contiguous-particle GIMP, quadratic or cubic B-splines (README, Shape functions)', &
                     words=known_shapes, sweep_list='shapes'), &
@@ -327,11 +360,14 @@ contains
       do i = 1, size(config_groups)
          call apply_items(table, items, trim(config_groups(i)), path, error)
       end do
+      table(find_parameter(table, 'discretisation', 'dt_fraction'))%upper = dt_fraction_limit(config)
       do i = 1, size(table)
          if (table(i)%line > 0 .and. .not. used_by(table(i), trim(config%scene_kind))) then
             call append_error(error, trim(table(i)%origin)//' '//not_used_message(table(i), config%scene_kind))
          else if (table(i)%line > 0 .and. .not. used_by_law(table(i)%name, config%law)) then
             call append_error(error, trim(table(i)%origin)//' '//law_message(table(i)%name, config%law))
+         else if (table(i)%line > 0 .and. .not. used_by_integrator(table(i)%name, config%integrator)) then
+            call append_error(error, trim(table(i)%origin)//' '//integrator_message(table(i), config%integrator))
          else if (table(i)%line > 0) then
             call check_parameter(table(i), error, trim(table(i)%origin)//' ')
          else
@@ -385,6 +421,90 @@ contains
       character(len=:), allocatable :: text
       text = "material: '"//trim(name)//"' is not used by law = '"//trim(law)//"'; it belongs to law "//law_of(name)
    end function law_message
+
+   !> The integrators that use the variable `name`, comma separated ('' for every one): given with another
+   !> integrator it is refused, as a variable of another scene kind or law is, and the echo leaves it out.
+   pure function integrators_of(name) result(list)
+      character(len=*), intent(in) :: name
+      character(len=:), allocatable :: list
+      select case (trim(name))
+      case ('scheme', 'kernels')
+         list = 'explicit'
+      case ('mass')
+         list = 'implicit'
+      case ('load_steps')
+         list = 'quasi_static'
+      case ('newton_tolerance', 'max_newton_iterations', 'ghost_penalty')
+         list = 'implicit, quasi_static'
+      case ('dt_fraction', 'transfer', 'flip_fraction', 'periods', 'end_time') ! (quasi_static has no time)
+         list = 'explicit, implicit'
+      case default
+         list = ''
+      end select
+   end function integrators_of
+
+   !> Whether `integrator` uses the variable `name` (an unknown integrator uses every one: its own check
+   !> reports it).
+   pure logical function used_by_integrator(name, integrator)
+      character(len=*), intent(in) :: name, integrator
+      used_by_integrator = len(integrators_of(name)) == 0 .or. &
+                           index(', '//known_integrators//',', ', '//trim(integrator)//',') == 0 .or. &
+                           index(', '//integrators_of(name)//',', ', '//trim(integrator)//',') > 0
+   end function used_by_integrator
+
+   !> The message refusing a variable that integrator `integrator` does not use.
+   function integrator_message(p, integrator) result(text)
+      type(parameter_t), intent(in) :: p
+      character(len=*), intent(in) :: integrator
+      character(len=:), allocatable :: text
+      text = trim(p%group)//": '"//trim(p%name)//"' is not used by integrator = '"//trim(integrator)// &
+             "'; it belongs to integrator "//integrators_of(p%name)
+   end function integrator_message
+
+   !> The largest dt_fraction the integrator accepts: explicit 10 (far beyond any stability limit),
+   !> implicit 1e4 (Newmark's trapezoidal rule is unconditionally stable).
+   pure real(dp) function dt_fraction_limit(config)
+      type(config_t), intent(in) :: config
+      dt_fraction_limit = merge(max_implicit_dt_fraction, max_dt_fraction, trim(config%integrator) == 'implicit')
+   end function dt_fraction_limit
+
+   !> The integrator against the rest: a variable it does not use but a sweep set is refused (given in the
+   !> input it is refused by name already), and the scenes it cannot run. quasi_static needs static loads
+   !> and an exact static solution: the column (the other scenes' motion is driven by initial velocities,
+   !> time-dependent forces or a driven end with the other end free, which has no equilibrium but a rigid
+   !> motion). The implicit integrators take one velocity field: the impact's frictionless contact (a
+   !> velocity field per body, a non-smooth constraint) is the explicit schemes' only.
+   subroutine check_integrator(config, error)
+      type(config_t), intent(in) :: config
+      type(error_t), allocatable, intent(inout) :: error
+      type(config_t), target :: defaults, local
+      type(parameter_t), allocatable :: table(:), default_table(:)
+      integer :: i
+      if (index(', '//known_integrators//',', ', '//trim(config%integrator)//',') == 0) return
+      local = config
+      call config_parameters(local, table)
+      call config_parameters(defaults, default_table)
+      do i = 1, size(table)
+         if (used_by_integrator(table(i)%name, config%integrator)) cycle
+         if (table(i)%name == 'periods' .or. table(i)%name == 'end_time') cycle ! (flags: below)
+         if (format_value(table(i)) /= format_value(default_table(i))) &
+            call append_error(error, integrator_message(table(i), config%integrator))
+      end do
+      if (trim(config%integrator) == 'quasi_static' .and. config%end_time_given) &
+         call append_error(error, integrator_message(table(find_parameter(table, 'run', 'end_time')), &
+                                                     config%integrator))
+      if (trim(config%integrator) == 'quasi_static' .and. trim(config%scene_kind) /= 'column') &
+         call append_error(error, "discretisation: integrator = 'quasi_static' needs a scene with static loads "// &
+                           "and an exact static solution; kind = '"//trim(config%scene_kind)//"' has none "// &
+                           "(its motion comes from initial velocities, time-dependent forces or a driven end); "// &
+                           "allowed: kind = 'column'")
+      if (trim(config%integrator) /= 'explicit' .and. trim(config%scene_kind) == 'impact' .and. &
+          trim(config%contact) == 'frictionless') &
+         call append_error(error, "scene: contact = 'frictionless' is not used by integrator = '"// &
+                           trim(config%integrator)//"' (a velocity field per body, whose contact is a non-smooth "// &
+                           "constraint the Newton iteration does not take); allowed: contact = 'none', or "// &
+                           "integrator = 'explicit'")
+   end subroutine check_integrator
 
    !> The material of a validated configuration (the one body's; scenes of several materials give the
    !> parameters per particle).
@@ -446,6 +566,7 @@ contains
       end if
       if (trim(config%scene_kind) == 'impact') call check_impact(config, error)
       call check_material(config, error)
+      call check_integrator(config, error)
       if (allocated(error)) return
 
       ! Consistency checks that need the resolved quantities; a value refused through a derived
@@ -454,7 +575,7 @@ contains
       if (allocated(error)) return
       c = largest_wave_speed(config)
       dx = body_length(config)/config%elements
-      dt = config%dt_fraction*dx/c
+      dt = time_step(config, dx, c)
       if (.not. ieee_is_normal(c) .or. .not. ieee_is_normal(dt) .or. .not. ieee_is_normal(dx) .or. dt <= 0.0_dp) then
          call append_error(error, "scene: length = "//short_number(body_length(config))//" m on elements = "// &
                            str(config%elements)//" with dt_fraction = "//short_number(config%dt_fraction)// &
@@ -739,10 +860,24 @@ contains
       end if
    end subroutine check_output_path
 
+   !> The step: dt_fraction dx/c; for quasi_static the load increment 1/load_steps (its "time" is the load
+   !> factor, 0 to 1).
+   pure real(dp) function time_step(config, dx, c)
+      type(config_t), intent(in) :: config
+      real(dp), intent(in) :: dx, c
+      if (trim(config%integrator) == 'quasi_static') then
+         time_step = 1.0_dp/config%load_steps
+      else
+         time_step = config%dt_fraction*dx/c
+      end if
+   end function time_step
+
    real(dp) function run_end_time(config)
       type(config_t), intent(in) :: config
       real(dp) :: omega
-      if (config%end_time_given .or. .not. ieee_is_nan(config%end_time)) then
+      if (trim(config%integrator) == 'quasi_static') then ! the full load
+         run_end_time = 1.0_dp
+      else if (config%end_time_given .or. .not. ieee_is_nan(config%end_time)) then
          run_end_time = config%end_time
       else if (trim(config%scene_kind) == 'vibrating_bar') then ! this association: the paper's step counts
          omega = (2*config%mode - 1)*pi/(2.0_dp*config%length)*sqrt(config%youngs_modulus/config%density)
@@ -881,10 +1016,23 @@ contains
          config%length = body_length(config)
       config%wave_speed = largest_wave_speed(config)
       config%dx = config%length/config%elements
-      config%dt = config%dt_fraction*config%dx/config%wave_speed
+      config%dt = time_step(config, config%dx, config%wave_speed)
       config%period = scene_period(config)
       config%final_time = run_end_time(config)
       config%steps = step_count(config%final_time, config%dt)
+      if (trim(config%integrator) == 'quasi_static') then
+         ! the load factor runs from 0 to 1; the converged state at full load is a snapshot
+         config%period = 1.0_dp
+         associate (n => config%snapshot_count)
+            if (n == 0) then
+               n = 1
+               config%snapshot_times(1) = 1.0_dp
+            else if (config%snapshot_times(n) < 1.0_dp .and. n < max_snapshots) then
+               n = n + 1
+               config%snapshot_times(n) = 1.0_dp
+            end if
+         end associate
+      end if
    end subroutine resolve_config
 
    !> Echo the configuration as a namelist file that reproduces the run.
@@ -903,7 +1051,8 @@ contains
       integer :: i
       local = config
       call config_parameters(local, table)
-      table = pack(table, [(used_by_law(table(i)%name, config%law), i=1, size(table))])
+      table = pack(table, [(used_by_law(table(i)%name, config%law) .and. &
+                            used_by_integrator(table(i)%name, config%integrator), i=1, size(table))])
       text = ''
       do i = 1, size(config_groups)
          text = text//group_namelist(table, trim(config_groups(i)), trim(config%scene_kind))
@@ -915,7 +1064,18 @@ contains
    function config_summary(config) result(text)
       type(config_t), intent(in) :: config
       character(len=:), allocatable :: text
-      text = trim(config%scheme)//", "//plural(config%elements, "element")//", "// &
+      select case (trim(config%integrator))
+      case ('implicit')
+         text = "implicit (Newmark, "//trim(config%mass)//" mass)"
+      case ('quasi_static')
+         text = "quasi_static, "//plural(config%elements, "element")//", "// &
+                plural(config%particles_per_element, "particle")//" per element, "// &
+                plural(config%load_steps, "load step")
+         return
+      case default
+         text = trim(config%scheme)
+      end select
+      text = text//", "//plural(config%elements, "element")//", "// &
              plural(config%particles_per_element, "particle")//" per element, dt = "//num(config%dt_fraction)// &
              " dx/c = "//num(config%dt, 3)//" s, "//plural(config%steps, "step")
    end function config_summary

@@ -19,7 +19,9 @@ module mpm_simulation
    use mpm_scenes, only: make_scene
    use mpm_diagnostics, only: history_t, snapshot_t, pass_totals_t, status_ok, status_non_finite, &
                               status_volume_ratio, status_left_grid, status_energy_growth, status_cell_crossing, &
-                              status_name
+                              status_name, status_newton
+   use mpm_implicit, only: implicit_t, implicit_init, implicit_advance, implicit_report, integrator_id, &
+                           integrator_explicit
    implicit none
    private
    public :: run_result_t, run_simulation, scheme_id, guard_trip_t, guard_message
@@ -38,6 +40,8 @@ module mpm_simulation
       real(dp) :: x = 0.0_dp, v = 0.0_dp, stress = 0.0_dp, volume_ratio = 0.0_dp
       real(dp) :: domain(2) = 0.0_dp  !< the grid domain [x_min, x_max] (m), for left_grid
       real(dp) :: node_mass_ratio = 0.0_dp  !< the lightest nodal mass of the step / particle mass
+      integer :: iteration = 0      !< newton_not_converged: the linear solves made
+      integer :: node = -1          !< newton_not_converged: the node of a singular tangent (-1: none)
    end type guard_trip_t
 
    !> What one run produced.
@@ -104,15 +108,18 @@ contains
       type(bodies_t) :: bodies
       type(fused_box_t) :: box
       type(material_t) :: material
+      type(implicit_t) :: implicit  ! (its state exists only in implicit and quasi-static runs)
       real(dp), allocatable :: watch(:)
       real(dp) :: start, ucm, exact, energy, energy_reference, t, total_mass
-      integer :: n, scheme, next_snapshot, extra, stat
+      integer :: n, scheme, next_snapshot, extra, stat, integrator
       logical :: fused
 
       start = omp_get_wtime()
       result%steps = config%steps
       result%dt = config%dt
       scheme = scheme_id(config%scheme)
+      integrator = integrator_id(config%integrator)
+      if (integrator /= integrator_explicit) call implicit_init(implicit, config)
       material = material_of(config)
       call make_scene(config, scene, error)
       if (allocated(error)) return
@@ -121,7 +128,7 @@ contains
       cache%flip_fraction = config%flip_fraction
       ! (the fused kernels take every shape)
       fused = trim(config%kernels) == 'auto' .and. scene%fused_applies() .and. cache%transfer == transfer_flip .and. &
-              material%law == law_hencky
+              material%law == law_hencky .and. integrator == integrator_explicit
       box = fused_shape(cache%kind)
       result%fused = fused
       ! shapes wider than the hat: one more cell beyond the free end, one ghost cell left of x = 0
@@ -181,6 +188,9 @@ contains
          if (fused) then
             call fused_step(scheme, particles, grid, config%dt, config%youngs_modulus, totals, box)
             ucm = totals%displacement/particles%count ! u_cm = sum m (x - X) / sum m, equal masses
+         else if (integrator /= integrator_explicit) then ! Newton on the grid (mpm_implicit)
+            call implicit_advance(implicit, scene, cache, particles, grid, config%dt, material, t, totals)
+            ucm = totals%displacement/total_mass
          else if (scene%body_fields) then
             call scheme_step_bodies(scheme, scene, cache, particles, grid, bodies, config%dt, material, t, totals)
             ucm = totals%displacement/total_mass
@@ -217,6 +227,11 @@ contains
          call material_report(material, particles, names, values) ! (none for elastic laws)
          result%report_names = [result%report_names, names]
          result%report_values = [result%report_values, values]
+         if (integrator /= integrator_explicit) then
+            call implicit_report(implicit, names, values)
+            result%report_names = [character(len=32) :: result%report_names, names]
+            result%report_values = [result%report_values, values]
+         end if
       end block
       if (result%ucm_amplitude /= 0.0_dp) then
          result%relative_error = result%max_error/abs(result%ucm_amplitude)
@@ -237,7 +252,11 @@ contains
       subroutine check_guards(step, time)
          integer, intent(in) :: step
          real(dp), intent(in) :: time
-         if (.not. ieee_is_finite(energy) .or. .not. ieee_is_finite(ucm)) then
+         if (implicit%failed) then
+            call trip(step, time, status_newton, implicit%failed_residual, 0)
+            result%trip%iteration = implicit%iterations
+            result%trip%node = implicit%singular_node
+         else if (.not. ieee_is_finite(energy) .or. .not. ieee_is_finite(ucm)) then
             call trip(step, time, status_non_finite, energy/energy_reference, first_non_finite(particles))
          else if (totals%outside /= 0) then
             call trip(step, time, status_left_grid, 0.0_dp, totals%outside)
@@ -322,6 +341,15 @@ contains
          else
             what = 'non-finite value (NaN or Infinity) in the exact solution, the error or the energies (the '// &
                    'particle state is finite): the scene cannot be represented at this scale'
+         end if
+      case (status_newton)
+         if (trip%node >= 0) then
+            what = 'the tangent is singular (LAPACK dgbtrf: zero pivot at node '//str(trip%node)//') at Newton '// &
+                   'iteration '//str(trip%iteration + 1)
+         else
+            what = 'Newton''s method did not converge: relative residual '//str(trip%value)//' after '// &
+                   str(trip%iteration)//' linear solves (newton_tolerance = '//str(config%newton_tolerance)// &
+                   ', max_newton_iterations = '//str(config%max_newton_iterations)//')'
          end if
       case (status_left_grid)
          what = 'a particle left the grid domain ['//str(trip%domain(1))//', '//str(trip%domain(2))// &
