@@ -48,7 +48,7 @@ module mpm_config
    !> Time-step fraction above which a run is refused outright (far beyond any stability limit).
    real(dp), parameter :: max_dt_fraction = 10.0_dp
    !> ... and above which an implicit run is (unconditionally stable: the step is the user's accuracy choice).
-   real(dp), parameter :: max_implicit_dt_fraction = 1.0e4_dp
+   real(dp), parameter :: max_implicit_dt_fraction = 1.0e8_dp
    !> Time integrators: the explicit schemes (scheme = usf, usl, musl), Newmark's trapezoidal rule with
    !> Newton on the grid, and equilibrium in load steps (mpm_implicit).
    character(len=*), parameter :: known_integrators = 'explicit, implicit, quasi_static'
@@ -180,7 +180,7 @@ contains
                    'particles per element, evenly spaced', at_least=1, sweep_list='particles_per_element'), &
          real_entry('discretisation', 'dt_fraction', config%dt_fraction, '', 'dt = dt_fraction * dx / c, '// &
                     'c = sqrt(youngs_modulus/density)', greater_than=0.0_dp, at_most=dt_fraction_limit(config), &
-                    sweep_list='dt_fractions', note="integrator 'implicit': up to 1e4"), &
+                    sweep_list='dt_fractions', note="integrator 'implicit': up to 1e8"), &
          text_entry('discretisation', 'shape', config%shape, 'shape functions: linear hat, uniform or '// &
                     'contiguous-particle GIMP, quadratic or cubic B-splines (README, Shape functions)', &
                     words=known_shapes, sweep_list='shapes'), &
@@ -462,7 +462,7 @@ contains
    end function integrator_message
 
    !> The largest dt_fraction the integrator accepts: explicit 10 (far beyond any stability limit),
-   !> implicit 1e4 (Newmark's trapezoidal rule is unconditionally stable).
+   !> implicit 1e8 (Newmark's trapezoidal rule is unconditionally stable).
    pure real(dp) function dt_fraction_limit(config)
       type(config_t), intent(in) :: config
       dt_fraction_limit = merge(max_implicit_dt_fraction, max_dt_fraction, trim(config%integrator) == 'implicit')

@@ -43,9 +43,9 @@
 !> Newton per increment (no inertia; the scene's fixed nodes hold the body), the particles at rest.
 !> Fixed nodes and empty nodes (no mass) are held (du = 0); the mirror ghosts of a fixed end are their
 !> partner reflected (du = -du(partner)), folded into the partner's row (T^T K T, bandwidth kept); a
-!> scene's drive (mpm_scene, drive_t) holds its nodes at the drive velocity (v_{n+1} = V) and its point
-!> constraint sum_k w_k v_{n+1,k} = V is a Lagrange multiplier (a bordered system solved with two
-!> right-hand sides of the same factors).
+!> scene's drive (mpm_scene, drive_t) moves its nodes at the drive velocity over the whole step (du = V dt,
+!> v_{n+1} = V) and its point constraint sum_k w_k v_{n+1,k} = V is a Lagrange multiplier (a bordered
+!> system solved with two right-hand sides of the same factors).
 module mpm_implicit
    use, intrinsic :: ieee_arithmetic, only: ieee_is_finite
    use mpm_kinds, only: dp
@@ -69,6 +69,13 @@ module mpm_implicit
    integer, parameter :: integrator_explicit = 0, integrator_implicit = 1, integrator_quasi_static = 2
    !> Mass matrices.
    integer, parameter :: mass_lumped = 1, mass_consistent = 2
+   !> The round-off floor of the residual ("the tolerance meets the floor"): the increments du carry an
+   !> absolute round-off of eps |du| (and LU's solution one of eps |K| |du|), and so the strains
+   !> d eps = sum dN du one of eps sum |dN du|: where a stiff body moves nearly rigidly (|du|/dx far above
+   !> its strains, as the stiff segment of a composite bar does) the residual cannot fall below about
+   !> eps sum_J |K_IJ| |du_J|, which can exceed newton_tolerance times the forces. A step whose |R| is within
+   !> floor_ulps eps of that (im%roundoff) is converged at its floor (counted: newton_floor_steps).
+   real(dp), parameter :: floor_ulps = 64.0_dp
 
    !> Everything an implicit run carries (nothing of it exists in an explicit run): the options, the
    !> Newton statistics, the step's grid and particle workspace and the banded matrices.
@@ -83,6 +90,8 @@ module mpm_implicit
       integer :: solves = 0              !< linear solves over them
       integer :: most_solves = 0         !< the most of one step
       real(dp) :: min_rcond = huge(1.0_dp)  !< smallest reciprocal condition number (1-norm) met
+      integer :: floor_steps = 0         !< steps accepted at the residual's round-off floor (above tolerance)
+      real(dp) :: floor_residual = 0.0_dp   !< the largest relative residual accepted so
       ! the last step
       integer :: iterations = 0          !< its linear solves
       real(dp), allocatable :: residuals(:)  !< (0:max_iterations) its relative residual before each solve
@@ -100,9 +109,13 @@ module mpm_implicit
       ! the drive's point constraint (folded weights over the nodes) and its multiplier
       real(dp), allocatable :: weight(:)
       real(dp) :: target = 0.0_dp, multiplier = 0.0_dp
+      real(dp) :: drive_velocity = 0.0_dp  !< the velocity of the driven nodes
       logical :: constrained = .false.
       ! per particle
-      real(dp), allocatable :: x_start(:), dstrain(:), stress(:), stiffness(:), volume(:)
+      real(dp), allocatable :: x_start(:), dstrain(:), stress(:), stiffness(:), volume(:), strain_magnitude(:)
+      !> per node, the size of R's round-off from the increments' own: sum over the stiffness terms of
+      !> |K_IJ| |du_J| (times eps); the residual cannot fall below a few eps of it (floor_ulps)
+      real(dp), allocatable :: roundoff(:)
       real(dp), allocatable :: modulus(:), yield(:), hardening_modulus(:), hardening(:)
       type(banded_t) :: tangent, mass_matrix, mass_factors, mass_magnitude
       type(ghost_knots_t) :: knots
@@ -204,12 +217,14 @@ contains
          if (size(im%e) == n + 1 .and. size(im%x_start) == count) return
          deallocate (im%master, im%sign, im%prescribed, im%unknown, im%e, im%du, im%velocity, im%acceleration, &
                      im%external, im%residual, im%forces, im%work, im%reaction, im%weight, im%x_start, im%dstrain, &
+                     im%roundoff, im%strain_magnitude, &
                      im%stress, im%stiffness, im%volume, im%modulus, im%yield, im%hardening_modulus, im%hardening)
       end if
       allocate (im%master(0:n), im%sign(0:n), im%prescribed(0:n), im%unknown(0:n), im%e(0:n), im%du(0:n), &
                 im%velocity(0:n), im%acceleration(0:n), im%external(0:n), im%residual(0:n), im%forces(0:n), &
-                im%work(0:n), im%reaction(0:n), im%weight(0:n))
+                im%work(0:n), im%reaction(0:n), im%weight(0:n), im%roundoff(0:n))
       allocate (im%x_start(count), im%dstrain(count), im%stress(count), im%stiffness(count), im%volume(count), &
+                im%strain_magnitude(count), &
                 im%modulus(count), im%yield(count), im%hardening_modulus(count), im%hardening(count))
       im%reaction = 0.0_dp
    end subroutine workspace
@@ -340,8 +355,11 @@ contains
          im%master(i) = -1
          im%unknown(i) = .false.
          im%prescribed(i) = .true.
-         im%e(i) = 0.5_dp*im%dt*(driven%velocity - im%velocity(i))
+         ! the drive's velocity holds over the whole step (du = V dt: the driven end moves as V t exactly,
+         ! where the trapezoidal average of a jump from v_n to V would leave it V dt/2 behind for good)
+         im%e(i) = im%dt*(driven%velocity - im%velocity(i))
       end do
+      im%drive_velocity = driven%velocity
       im%weight = 0.0_dp
       im%target = 0.0_dp
       do k = 1, size(driven%weight)
@@ -356,7 +374,8 @@ contains
    end subroutine drive_constraint
 
    !> Newton-Raphson on e: assemble R (and, unless converged, the tangent), factor, solve, update, until
-   !> |R| <= tolerance |forces| (and the drive's constraint holds). Records the relative residuals, the
+   !> |R| <= tolerance |forces| or R is within floor_ulps eps of its round-off (floor_ulps), and the
+   !> drive's constraint holds. Records the relative residuals, the
    !> solves and the smallest reciprocal condition number; sets im%failed when max_iterations solves do
    !> not converge, the residual is not finite or the tangent is singular.
    subroutine newton_solve(im, cache, particles, grid, material)
@@ -367,7 +386,8 @@ contains
       type(material_t), intent(in) :: material
       real(dp), allocatable :: rhs(:, :)
       real(dp) :: relative, gap, correction
-      integer :: iteration, info, i
+      integer :: iteration, info
+      logical :: floor
       im%failed = .false.
       im%singular_node = -1
       im%residuals = 0.0_dp
@@ -379,11 +399,18 @@ contains
          if (im%constrained) gap = im%target - sum(im%weight*im%e)
          im%residuals(iteration) = relative
          if (.not. ieee_is_finite(relative)) exit
-         if (relative <= im%tolerance .and. abs(gap) <= im%tolerance*max(abs(im%target), tiny(1.0_dp))) then
+         ! converged: the tolerance met, or the residual within floor_ulps of its round-off (floor_ulps)
+         floor = relative <= floor_ulps*epsilon(1.0_dp)*relative_roundoff(im)
+         if ((relative <= im%tolerance .or. floor) .and. &
+             abs(gap) <= im%tolerance*max(abs(im%target), tiny(1.0_dp))) then
             im%iterations = iteration
             im%steps = im%steps + 1
             im%solves = im%solves + iteration
             im%most_solves = max(im%most_solves, iteration)
+            if (relative > im%tolerance) then
+               im%floor_steps = im%floor_steps + 1
+               im%floor_residual = max(im%floor_residual, relative)
+            end if
             return
          end if
          if (iteration == im%max_iterations) exit
@@ -409,6 +436,22 @@ contains
       im%iterations = iteration
       im%failed_residual = relative
    end subroutine newton_solve
+
+   !> |roundoff| / |forces| over the unknowns (see floor_ulps).
+   real(dp) function relative_roundoff(im) result(relative)
+      type(implicit_t), intent(in) :: im
+      real(dp) :: roundoff, scale
+      integer :: i
+      roundoff = 0.0_dp
+      scale = 0.0_dp
+      do i = 0, size(im%master) - 1
+         if (.not. im%unknown(i)) cycle
+         roundoff = roundoff + im%roundoff(i)**2
+         scale = scale + im%forces(i)**2
+      end do
+      relative = 0.0_dp
+      if (roundoff > 0.0_dp) relative = sqrt(roundoff)/sqrt(scale)
+   end function relative_roundoff
 
    !> |R| / |forces| over the unknowns (0 when nothing acts; at most 1).
    real(dp) function relative_residual(im) result(relative)
@@ -456,19 +499,27 @@ contains
       im%forces = 0.0_dp
       ! the particles' stresses over the increment and their force shares dN_Ip sigma_p V_p^n
       im%dstrain = 0.0_dp
+      im%strain_magnitude = 0.0_dp
       do k = 1, cache%support
          do p = 1, particles%count
-            im%dstrain(p) = im%dstrain(p) + cache%gradient(p, k)*im%du(cache%first(p) + k - 1)
+            share = cache%gradient(p, k)*im%du(cache%first(p) + k - 1)
+            im%dstrain(p) = im%dstrain(p) + share
+            im%strain_magnitude(p) = im%strain_magnitude(p) + abs(share)
          end do
       end do
       im%stress = law_stress(material%law, im%modulus, im%yield, im%hardening_modulus, im%dstrain, particles%stress, &
                              particles%volume_ratio, im%hardening)
+      im%stiffness = law_stiffness(material%law, im%modulus, im%yield, im%hardening_modulus, im%dstrain, &
+                                   particles%stress, particles%volume_ratio, im%hardening)
+      im%roundoff = 0.0_dp
       do p = 1, particles%count
          do k = 1, cache%support
             node = cache%first(p) + k - 1
             share = cache%gradient(p, k)*im%stress(p)*im%volume(p)
             im%residual(node) = im%residual(node) + share
             im%forces(node) = im%forces(node) + abs(share)
+            im%roundoff(node) = im%roundoff(node) + abs(cache%gradient(p, k)*im%stiffness(p)*im%volume(p))* &
+                                im%strain_magnitude(p)
          end do
       end do
       ! folded onto the unknowns (a ghost's share to its partner, reflected)
@@ -476,8 +527,10 @@ contains
          if (im%master(i) < 0 .or. im%unknown(i)) cycle
          im%residual(im%master(i)) = im%residual(im%master(i)) + im%sign(i)*im%residual(i)
          im%forces(im%master(i)) = im%forces(im%master(i)) + im%forces(i)
+         im%roundoff(im%master(i)) = im%roundoff(im%master(i)) + im%roundoff(i)
          im%residual(i) = 0.0_dp
          im%forces(i) = 0.0_dp
+         im%roundoff(i) = 0.0_dp
       end do
       ! inertia (dynamic) and external force on the rows that balance forces (the unknowns' and, their
       ! reaction, the driven nodes'), the drive's multiplier, the ghost penalty
@@ -522,8 +575,6 @@ contains
       n = grid%elements
       call banded_zero(im%tangent)
       diagonal = 2*im%tangent%bandwidth + 1  ! A(a, b) is ab(diagonal + a - b, b) (mpm_banded)
-      im%stiffness = law_stiffness(material%law, im%modulus, im%yield, im%hardening_modulus, im%dstrain, &
-                                   particles%stress, particles%volume_ratio, im%hardening)
       associate (ab => im%tangent%ab)
          do p = 1, particles%count
             do k = 1, cache%support
@@ -594,6 +645,8 @@ contains
                                               im%sign(node)*im%knots%stiffness(g)*im%knots%stencil(j)*jump
                im%forces(im%master(node)) = im%forces(im%master(node)) + &
                                             abs(im%knots%stiffness(g)*im%knots%stencil(j)*jump)
+               im%roundoff(im%master(node)) = im%roundoff(im%master(node)) + abs(im%knots%stiffness(g)* &
+                  im%knots%stencil(j))*sum(abs(im%knots%stencil*du(s:s + width - 1)))
             end do
          end associate
       end do
@@ -650,6 +703,10 @@ contains
       if (im%kind == integrator_implicit) then
          grid%velocity = im%velocity + 2.0_dp*im%e/im%dt
          grid%acceleration = 2.0_dp*im%e/im%dt**2
+         where (im%prescribed) ! driven at V over the whole step (drive_constraint)
+            grid%velocity = im%drive_velocity
+            grid%acceleration = (im%drive_velocity - im%velocity)/im%dt
+         end where
          call g2p(cache, particles, grid, im%dt, totals)
          im%reaction = merge(im%residual, 0.0_dp, im%prescribed)
          if (im%constrained) im%reaction = im%reaction + im%multiplier*im%weight
@@ -677,14 +734,17 @@ contains
                                   totals%plastic_work)
    end subroutine update_particles
 
-   !> What the integrator adds to /summary: the mean and largest number of linear solves per step, and the
-   !> smallest reciprocal condition number of the tangent met (LAPACK's 1-norm estimate, first iteration).
+   !> What the integrator adds to /summary: the mean and largest number of linear solves per step, the
+   !> smallest reciprocal condition number of the tangent met (LAPACK's 1-norm estimate, first iteration),
+   !> and the steps accepted at the residual's round-off floor with the largest residual so accepted.
    subroutine implicit_report(im, names, values)
       type(implicit_t), intent(in) :: im
       character(len=32), allocatable, intent(out) :: names(:)
       real(dp), allocatable, intent(out) :: values(:)
-      names = [character(len=32) :: 'newton_iterations', 'newton_iterations_max', 'tangent_rcond_min']
+      names = [character(len=32) :: 'newton_iterations', 'newton_iterations_max', 'tangent_rcond_min', &
+               'newton_floor_steps', 'newton_floor_residual']
       values = [real(im%solves, dp)/max(im%steps, 1), real(im%most_solves, dp), &
-                merge(im%min_rcond, 1.0_dp, im%min_rcond < huge(1.0_dp))]
+                merge(im%min_rcond, 1.0_dp, im%min_rcond < huge(1.0_dp)), real(im%floor_steps, dp), &
+                im%floor_residual]
    end subroutine implicit_report
 end module mpm_implicit
