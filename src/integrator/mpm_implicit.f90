@@ -58,7 +58,7 @@ module mpm_implicit
    use mpm_operations, only: locate_particles, p2g_mass_momentum, nodal_velocities, mirror_fold, g2p
    use mpm_material, only: material_t, law_stress, law_stiffness, update_material_finite
    use mpm_banded, only: banded_t, banded_init, banded_zero, banded_add, banded_factor, banded_solve, &
-                         banded_rcond, banded_multiply
+                         banded_rcond, banded_multiply, banded_pivot_ratio
    use mpm_ghost_penalty, only: ghost_knots_t, find_ghost_knots
    implicit none
    private
@@ -76,6 +76,8 @@ module mpm_implicit
    !> eps sum_J |K_IJ| |du_J|, which can exceed newton_tolerance times the forces. A step whose |R| is within
    !> floor_ulps eps of that (im%roundoff) is converged at its floor (counted: newton_floor_steps).
    real(dp), parameter :: floor_ulps = 64.0_dp
+   !> Halvings of a Newton step that does not reduce |R| (a backtracking line search).
+   integer, parameter :: max_halvings = 10
 
    !> Everything an implicit run carries (nothing of it exists in an explicit run): the options, the
    !> Newton statistics, the step's grid and particle workspace and the banded matrices.
@@ -90,7 +92,9 @@ module mpm_implicit
       integer :: solves = 0              !< linear solves over them
       integer :: most_solves = 0         !< the most of one step
       real(dp) :: min_rcond = huge(1.0_dp)  !< smallest reciprocal condition number (1-norm) met
+      real(dp) :: min_pivot_ratio = huge(1.0_dp)  !< smallest |U_jj|/max |U_ii| of the LU factors met
       integer :: floor_steps = 0         !< steps accepted at the residual's round-off floor (above tolerance)
+      integer :: halvings = 0            !< Newton steps halved by the line search, in all
       real(dp) :: floor_residual = 0.0_dp   !< the largest relative residual accepted so
       ! the last step
       integer :: iterations = 0          !< its linear solves
@@ -373,7 +377,8 @@ contains
       im%constrained = any(im%weight /= 0.0_dp)
    end subroutine drive_constraint
 
-   !> Newton-Raphson on e: assemble R (and, unless converged, the tangent), factor, solve, update, until
+   !> Newton-Raphson on e with a backtracking line search on |R| (max_halvings): assemble R (and, unless
+   !> converged, the tangent), factor, solve, update, until
    !> |R| <= tolerance |forces| or R is within floor_ulps eps of its round-off (floor_ulps), and the
    !> drive's constraint holds. Records the relative residuals, the
    !> solves and the smallest reciprocal condition number; sets im%failed when max_iterations solves do
@@ -385,15 +390,18 @@ contains
       type(grid_t), intent(in) :: grid
       type(material_t), intent(in) :: material
       real(dp), allocatable :: rhs(:, :)
-      real(dp) :: relative, gap, correction
-      integer :: iteration, info
-      logical :: floor
+      real(dp), allocatable :: start(:)
+      real(dp) :: relative, gap, correction, pivots, before, step, merit, stiffness, multiplier
+      integer :: iteration, info, halving
+      logical :: floor, assembled
       im%failed = .false.
       im%singular_node = -1
       im%residuals = 0.0_dp
-      allocate (rhs(0:grid%elements, merge(2, 1, im%constrained)))
+      allocate (rhs(0:grid%elements, merge(2, 1, im%constrained)), start(0:grid%elements))
+      assembled = .false.
       do iteration = 0, im%max_iterations
-         call assemble_residual(im, cache, particles, grid, material)
+         if (.not. assembled) call assemble_residual(im, cache, particles, grid, material)
+         assembled = .false.
          relative = relative_residual(im)
          gap = 0.0_dp
          if (im%constrained) gap = im%target - sum(im%weight*im%e)
@@ -415,22 +423,47 @@ contains
          end if
          if (iteration == im%max_iterations) exit
          call assemble_tangent(im, cache, particles, grid, material)
+         ! the constraint's gap in force units, for the line search's merit: the tangent's diagonal at the
+         ! constraint's nodes, weighted
+         stiffness = 0.0_dp
+         if (im%constrained) stiffness = sum(abs(im%weight)*im%tangent%ab(2*im%tangent%bandwidth + 1, :))
          call banded_factor(im%tangent, info)
          if (info > 0) then
             im%singular_node = info - 1
             exit
          end if
-         if (iteration == 0) im%min_rcond = min(im%min_rcond, banded_rcond(im%tangent))
+         ! the condition number (dgbcon: about five solves) where the smallest pivot relative to the largest
+         ! reaches a new low: the first step, and a nearly empty node's row (its pivot is what shrinks)
+         if (iteration == 0) then
+            pivots = banded_pivot_ratio(im%tangent)
+            if (pivots < im%min_pivot_ratio) im%min_rcond = min(im%min_rcond, banded_rcond(im%tangent))
+            im%min_pivot_ratio = min(im%min_pivot_ratio, pivots)
+         end if
          rhs(:, 1) = merge(-im%residual, 0.0_dp, im%unknown)
          if (im%constrained) rhs(:, 2) = im%weight
          call banded_solve(im%tangent, rhs, info)
+         correction = 0.0_dp
          if (im%constrained) then ! the bordered system: delta = y + d(lambda) z, w.delta = gap
             correction = (gap - sum(im%weight*rhs(:, 1)))/sum(im%weight*rhs(:, 2))
             rhs(:, 1) = rhs(:, 1) + correction*rhs(:, 2)
-            im%multiplier = im%multiplier + correction
          end if
-         where (im%unknown) im%e = im%e + rhs(:, 1)
-         call fill_slaves(im, im%e)
+         ! the full Newton step, halved while it does not reduce |R| (a piecewise linear law, as the
+         ! elastoplastic one, can make Newton cycle between loading and unloading at long steps)
+         start = im%e
+         multiplier = im%multiplier
+         before = hypot(residual_norm(im), stiffness*gap)
+         step = 1.0_dp
+         do halving = 0, max_halvings
+            where (im%unknown) im%e = start + step*rhs(:, 1)
+            call fill_slaves(im, im%e)
+            im%multiplier = multiplier + step*correction
+            call assemble_residual(im, cache, particles, grid, material)
+            assembled = .true.
+            merit = hypot(residual_norm(im), stiffness*(1.0_dp - step)*gap)
+            if (merit <= (1.0_dp - 1.0e-4_dp*step)*before .or. halving == max_halvings) exit
+            step = 0.5_dp*step
+         end do
+         if (halving > 0) im%halvings = im%halvings + halving
       end do
       im%failed = .true.
       im%iterations = iteration
@@ -452,6 +485,12 @@ contains
       relative = 0.0_dp
       if (roundoff > 0.0_dp) relative = sqrt(roundoff)/sqrt(scale)
    end function relative_roundoff
+
+   !> |R| over the unknowns.
+   real(dp) function residual_norm(im)
+      type(implicit_t), intent(in) :: im
+      residual_norm = norm2(merge(im%residual, 0.0_dp, im%unknown))
+   end function residual_norm
 
    !> |R| / |forces| over the unknowns (0 when nothing acts; at most 1).
    real(dp) function relative_residual(im) result(relative)
@@ -735,16 +774,18 @@ contains
    end subroutine update_particles
 
    !> What the integrator adds to /summary: the mean and largest number of linear solves per step, the
-   !> smallest reciprocal condition number of the tangent met (LAPACK's 1-norm estimate, first iteration),
+   !> smallest reciprocal condition number of the tangent met (LAPACK's 1-norm estimate, first iteration of
+   !> the steps whose smallest pivot ratio was a new low) and the smallest pivot ratio |U_jj|/max |U_ii|,
    !> and the steps accepted at the residual's round-off floor with the largest residual so accepted.
    subroutine implicit_report(im, names, values)
       type(implicit_t), intent(in) :: im
       character(len=32), allocatable, intent(out) :: names(:)
       real(dp), allocatable, intent(out) :: values(:)
       names = [character(len=32) :: 'newton_iterations', 'newton_iterations_max', 'tangent_rcond_min', &
-               'newton_floor_steps', 'newton_floor_residual']
+               'tangent_pivot_ratio_min', 'newton_floor_steps', 'newton_floor_residual', 'newton_halvings']
       values = [real(im%solves, dp)/max(im%steps, 1), real(im%most_solves, dp), &
-                merge(im%min_rcond, 1.0_dp, im%min_rcond < huge(1.0_dp)), real(im%floor_steps, dp), &
-                im%floor_residual]
+                merge(im%min_rcond, 1.0_dp, im%min_rcond < huge(1.0_dp)), &
+                merge(im%min_pivot_ratio, 1.0_dp, im%min_pivot_ratio < huge(1.0_dp)), real(im%floor_steps, dp), &
+                im%floor_residual, real(im%halvings, dp)]
    end subroutine implicit_report
 end module mpm_implicit
