@@ -423,7 +423,10 @@ contains
 
    !> The cut cell: the bar's free end crossing into an empty cell with quadratic B-splines gives a nearly
    !> empty node; the ghost penalty raises the tangent's smallest reciprocal condition number by orders of
-   !> magnitude and keeps the run's accuracy.
+   !> magnitude and keeps the run's accuracy. The quasi-static column whose top sits 0.8 cells into a span at
+   !> the second load step (one particle per cell): without the penalty the tangent is numerically singular
+   !> (rcond 1e-11) and the run blows up (its top particle thrown out of the grid); with the default penalty
+   !> it converges to 0.3 %.
    subroutine ghost_penalty_conditioning()
       type(config_t) :: config
       type(run_result_t) :: plain, penalised
@@ -433,16 +436,31 @@ contains
       config%velocity_amplitude = 30.0_dp
       config%dt_fraction = 1.0_dp
       config%periods = 0.5_dp
+      config%ghost_penalty = 0.0_dp
       plain = run(config)
-      config%ghost_penalty = 0.1_dp
+      config%ghost_penalty = -1.0_dp ! the default: 0.1 for B-splines
       penalised = run(config)
       call t%check('cut cell without the penalty: rcond below 1e-4', reported(plain, 'tangent_rcond_min') < 1.0e-4_dp, &
                    'rcond '//str(reported(plain, 'tangent_rcond_min')))
-      call t%check('ghost penalty: rcond above 1e-3', reported(penalised, 'tangent_rcond_min') > 1.0e-3_dp, &
+      call t%check('ghost penalty (default for B-splines): rcond above 1e-3', &
+                   reported(penalised, 'tangent_rcond_min') > 1.0e-3_dp, &
                    'rcond '//str(reported(penalised, 'tangent_rcond_min')))
       call t%check('ghost penalty keeps the accuracy (within 20 %)', &
                    penalised%relative_error < 1.2_dp*plain%relative_error, &
                    str(penalised%relative_error)//' against '//str(plain%relative_error))
+      config = column_config('linear', 'bspline2', 20, 2)
+      config%particles_per_element = 1
+      config%gravity = 1.6e6_dp
+      config%ghost_penalty = 0.0_dp
+      plain = run(config)
+      config%ghost_penalty = -1.0_dp
+      penalised = run(config)
+      call t%check('quasi-static cut cell without the penalty: the run fails or is off by more than 10 %', &
+                   plain%status /= status_ok .or. plain%relative_error > 0.1_dp, &
+                   status_name(plain%status)//', relative error '//str(plain%relative_error))
+      call t%check('quasi-static cut cell with the penalty: completes within 1 %', penalised%status == status_ok &
+                   .and. penalised%relative_error < 0.01_dp, status_name(penalised%status)//', relative error '// &
+                   str(penalised%relative_error))
    end subroutine ghost_penalty_conditioning
 
    function run(given) result(res)

@@ -95,7 +95,7 @@ module mpm_config
       integer :: load_steps = 10
       real(dp) :: newton_tolerance = 1.0e-10_dp
       integer :: max_newton_iterations = 25
-      real(dp) :: ghost_penalty = 0.0_dp
+      real(dp) :: ghost_penalty = -1.0_dp
       character(len=8) :: scheme = 'usl'
       integer :: elements = 20
       integer :: particles_per_element = 1
@@ -173,7 +173,8 @@ contains
                    'step may take before the run stops (status newton_not_converged)', at_least=1), &
          real_entry('discretisation', 'ghost_penalty', config%ghost_penalty, '', 'ghost penalty gamma on the '// &
                     'cut cells at free ends (stiffness gamma E/dx on the jump of the p-th derivative); 0: off', &
-                    at_least=0.0_dp, sweep_list='ghost_penalty'), &
+                    at_least=-1.0_dp, note='-1: 0.1 for GIMP and B-splines, 0 for linear', &
+                    sweep_list='ghost_penalty'), &
          int_entry('discretisation', 'elements', config%elements, 'elements across the body; dx = length / elements', &
                    at_least=1, sweep_list='elements'), &
          int_entry('discretisation', 'particles_per_element', config%particles_per_element, &

@@ -76,6 +76,11 @@ module mpm_implicit
    !> eps sum_J |K_IJ| |du_J|, which can exceed newton_tolerance times the forces. A step whose |R| is within
    !> floor_ulps eps of that (im%roundoff) is converged at its floor (counted: newton_floor_steps).
    real(dp), parameter :: floor_ulps = 64.0_dp
+   !> ghost_penalty = -1 (the default): this for the shapes whose gradient vanishes with their weight at the
+   !> edge of their support (GIMP, B-splines: a nearly empty node's row of the tangent is nearly zero; the
+   !> quasi-static column's B-spline runs blow up without it, studies/implicit), none for the hat (its
+   !> nearly empty node keeps the stiffness of dN = 1/dx: the tangent's reciprocal condition stays >= 0.2).
+   real(dp), parameter :: automatic_ghost_penalty = 0.1_dp
    !> Halvings of a Newton step that does not reduce |R| (a backtracking line search).
    integer, parameter :: max_halvings = 10
 
@@ -149,6 +154,7 @@ contains
       im%tolerance = config%newton_tolerance
       im%max_iterations = config%max_newton_iterations
       im%ghost_penalty = config%ghost_penalty
+      if (im%ghost_penalty < 0.0_dp) im%ghost_penalty = merge(0.0_dp, automatic_ghost_penalty, trim(config%shape) == 'linear')
       allocate (im%residuals(0:im%max_iterations))
    end subroutine implicit_init
 

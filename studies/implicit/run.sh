@@ -39,13 +39,13 @@ timing=0.05
 bar_elements="20,40,80,160"; temporal_elements=40; temporal_ks="8.0,4.0,2.0,1.0,0.5,0.25"; energy_periods=100.0
 explicit_ks="[0.05*i for i in range(10, 61)]"; implicit_ks="1.0,10.0,100.0,1000.0"
 ratios="1e2 1e3 1e4 1e5 1e6"; composite_elements="100 200 400"; explicit_budget=1.0e9  # particle-steps
-newton_ks="0.25 1 4 16 64"; load_steps="1 2 5 10 20 50"; penalties="0 0.001 0.01 0.1 1"; cut_scan=40
+newton_ks="0.25 1 4 16 64"; load_steps="1 2 5 10 20 50"; penalties="0 0.001 0.01 0.1 1"; cut_scan=48
 static_elements="20 40 80 160"; cost_elements=2000; cost_min_time=1.0
 if [ "$quick" = 1 ]; then
   timing=0.005; bar_elements="10,20"; temporal_elements=10; temporal_ks="4.0,2.0,1.0,0.5"; energy_periods=5.0
   explicit_ks="[0.1*i for i in range(5, 31)]"; implicit_ks="1.0,100.0"
   ratios="1e2 1e4"; composite_elements="50 100"; explicit_budget=1.0e6
-  newton_ks="1 16"; load_steps="1 5"; penalties="0 0.1"; cut_scan=6
+  newton_ks="1 16"; load_steps="1 5"; penalties="0 0.1"; cut_scan=8
   static_elements="10 20"; cost_elements=200; cost_min_time=0.05
 fi
 period=$("$PYTHON" -c "print(4*25.0/(200e9/7800)**0.5)")   # the bar's: 4 L/c
