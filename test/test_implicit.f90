@@ -41,6 +41,7 @@ program test_implicit
    call beyond_the_explicit_limit()
    call energy()
    call static_column()
+   call drives()
    call newton_guard()
    call namelist()
    call ghost_penalty_conditioning()
@@ -77,8 +78,8 @@ contains
 
    !> dR/de assembled against (R(e + h u_j) - R(e - h u_j))/(2h) for every unknown j, at e off the converged
    !> solution by a random 1 % of the step's increment, after `steps` steps: every shape on the bar (Hencky,
-   !> large strain, ghost penalty on; lumped and consistent mass) and on the quasi-static column
-   !> (elastoplastic, yielded; mirror ghosts at its fixed end).
+   !> large strain, ghost penalty on; lumped and consistent mass; and the linear law) and on the
+   !> quasi-static column (elastoplastic, yielded; mirror ghosts at its fixed end).
    subroutine tangent_against_differences()
       type(config_t) :: config
       integer :: s
@@ -94,6 +95,9 @@ contains
          call check_tangent(config, 12, 'bar hencky '//trim(shapes(s)))
          config%mass = 'consistent'
          call check_tangent(config, 12, 'bar hencky consistent mass '//trim(shapes(s)))
+         config%mass = 'lumped'
+         config%law = 'linear'
+         call check_tangent(config, 12, 'bar linear '//trim(shapes(s)))
          config = config_t()
          config%integrator = 'quasi_static'
          config%scene_kind = 'column'
@@ -353,6 +357,69 @@ contains
          config%hardening_modulus = 2.0e9_dp
       end if
    end function column_config
+
+   !> The drives: the composite bar (a soft segment driven at 0.01 m/s, a stiff one 100 times faster) at
+   !> 100 elements: implicit at dt = 0.5 dx/c_soft (50 times the explicit step) has a u_cm error within
+   !> twice explicit USL's at dt = 0.5 dx/c_stiff (the driven node moves at V over the whole step: the
+   !> trapezoidal average of the start's jump would leave it V dt/2 behind, a 7e-3 error); the elastoplastic
+   !> plastic wave (end particle driven, two fronts) within 20 % of explicit's L1 stress error, also at four
+   !> times the step, where Newton needs its line search.
+   subroutine drives()
+      type(config_t) :: config
+      type(run_result_t) :: explicit, implicit
+      real(dp) :: ucm_explicit, ucm_implicit
+      config%scene_kind = 'composite_bar'
+      config%length_count = 2
+      config%modulus_count = 2
+      config%density_count = 2
+      config%lengths(1:2) = 0.5_dp
+      config%youngs_moduli(1:2) = [1.0e8_dp, 1.0e12_dp]
+      config%densities(1:2) = 1000.0_dp
+      config%drive_velocity = 0.01_dp
+      config%law = 'linear'
+      config%elements = 100
+      config%particles_per_element = 2
+      config%end_time = 1.5_dp*0.5_dp/sqrt(1.0e8_dp/1000.0_dp)
+      config%periods_given = .false.
+      config%end_time_given = .true.
+      config%dt_fraction = 0.5_dp
+      explicit = run(config)
+      config%integrator = 'implicit'
+      config%dt_fraction = 50.0_dp
+      implicit = run(config)
+      ucm_explicit = maxval(abs(explicit%history%ucm - explicit%history%ucm_exact))/ &
+                     maxval(abs(explicit%history%ucm_exact))
+      ucm_implicit = maxval(abs(implicit%history%ucm - implicit%history%ucm_exact))/ &
+                     maxval(abs(implicit%history%ucm_exact))
+      call t%check('composite, implicit at 50x the explicit step: completes in 1 solve per step', &
+                   implicit%status == status_ok .and. reported(implicit, 'newton_iterations_max') == 1.0_dp)
+      call t%check('composite: implicit u_cm error within 2x explicit''s ('//str(ucm_implicit)//', '// &
+                   str(ucm_explicit)//')', ucm_implicit < 2*ucm_explicit, 'implicit '//str(ucm_implicit))
+      config = config_t()
+      config%scene_kind = 'plastic_wave'
+      config%length = 1.0_dp
+      config%youngs_modulus = 1.0e10_dp
+      config%density = 1000.0_dp
+      config%drive_velocity = 5.0_dp
+      config%law = 'elastoplastic'
+      config%yield_stress = 1.0e7_dp
+      config%hardening_modulus = 1.0e9_dp
+      config%elements = 100
+      config%particles_per_element = 2
+      config%periods = 0.8_dp
+      config%dt_fraction = 0.5_dp
+      explicit = run(config)
+      config%integrator = 'implicit'
+      implicit = run(config)
+      call t%check('plastic wave, implicit: L1 stress error within 20 % of explicit''s ('// &
+                   str(implicit%relative_error)//', '//str(explicit%relative_error)//')', &
+                   implicit%status == status_ok .and. implicit%relative_error < 1.2_dp*explicit%relative_error)
+      config%dt_fraction = 2.0_dp
+      implicit = run(config)
+      call t%check('plastic wave, implicit at 4x the step: completes (line search: '// &
+                   str(reported(implicit, 'newton_halvings'))//' halvings)', implicit%status == status_ok, &
+                   guard_message(implicit%status, implicit%trip, config))
+   end subroutine drives
 
    !> A step that does not converge stops the run with its own status, naming step, solves and residual.
    subroutine newton_guard()
