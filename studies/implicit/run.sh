@@ -2,20 +2,21 @@
 # Implicit and quasi-static integration against explicit, one command (about 10 minutes on 2 cores):
 #   1. the bar (law linear): u_cm error against run time, explicit USL/MUSL at stable time steps and
 #      implicit (Newmark's trapezoidal rule, lumped and consistent mass) up to 16 times the explicit limit,
-#      elements 20..160, 2 particles per element (sweeps with a timing pass, one thread);
+#      elements 20..320, 2 particles per element (sweeps with a timing pass, one thread);
 #   2. temporal order of the trapezoidal rule (self-convergence in dt on a fixed mesh) and the energy of
 #      the linear bar over 100 periods (explicit USF/USL/MUSL against implicit lumped and consistent);
 #   3. stability: the first dt fraction at which each explicit scheme fails (20 elements, 20 periods),
 #      and implicit runs up to dt_fraction 1000;
-#   4. stiff composites: a soft segment driven at its end, then a stiff one, impedance ratios 1e2..1e6
+#   4. stiff composites: a soft segment driven at its end, then a stiff one, impedance ratios 1e1..1e6
 #      (equal densities: the wave speeds differ by the same ratio): explicit at dt = 0.5 dx/c_stiff (where
 #      its step count fits the budget; beyond it the cost is extrapolated from its measured cost per
 #      particle-step) against implicit at 0.5 and 2 dx/c_soft; the u_cm error and the L1 stress error;
 #   5. Newton iterations against dt (Hencky bar at 1 % strain, elastoplastic plastic wave) and against
 #      load steps (quasi-static column, Hencky and elastoplastic);
-#   6. the cut cell: quadratic B-splines and uGIMP at one particle per cell with the bar's free end
-#      crossing into empty cells, ghost_penalty 0..1; the quasi-static column with its top swept across
-#      a span edge: the tangent's reciprocal condition number against the nearly empty node's mass;
+#   6. the cut cell: every shape at one particle per cell with the bar's free end crossing into empty
+#      cells, ghost_penalty 0..1; the quasi-static column (quadratic and cubic B-splines) with its top
+#      swept across span edges: the tangent's reciprocal condition number and the error, with and without
+#      the ghost penalty;
 #   7. the static column against its closed forms (linear, Hencky, elastoplastic), 20..160 elements;
 #   8. the cost per particle-step of an implicit step against an explicit one (4000 particles);
 #   then summary.md with the numbers and figures (analyze.py).
@@ -36,15 +37,15 @@ echo "== building"
 exe="$(mpm1d_build)"
 quick="${MPM1D_QUICK:-0}"
 timing=0.05
-bar_elements="20,40,80,160"; temporal_elements=40; temporal_ks="8.0,4.0,2.0,1.0,0.5,0.25"; energy_periods=100.0
+bar_elements="20,40,80,160,320"; temporal_elements=40; temporal_ks="8.0,4.0,2.0,1.0,0.5,0.25"; energy_periods=100.0
 explicit_ks="[0.05*i for i in range(10, 61)]"; implicit_ks="1.0,10.0,100.0,1000.0"
-ratios="1e2 1e3 1e4 1e5 1e6"; composite_elements="100 200 400"; explicit_budget=1.0e9  # particle-steps
+ratios="1e1 3e1 1e2 1e3 1e4 1e5 1e6"; composite_elements="100 200 400"; explicit_budget=1.0e9  # particle-steps
 newton_ks="0.25 1 4 16 64"; load_steps="1 2 5 10 20 50"; penalties="0 0.001 0.01 0.1 1"; cut_scan=48
 static_elements="20 40 80 160"; cost_elements=2000; cost_min_time=1.0
 if [ "$quick" = 1 ]; then
   timing=0.005; bar_elements="10,20"; temporal_elements=10; temporal_ks="4.0,2.0,1.0,0.5"; energy_periods=5.0
   explicit_ks="[0.1*i for i in range(5, 31)]"; implicit_ks="1.0,100.0"
-  ratios="1e2 1e4"; composite_elements="50 100"; explicit_budget=1.0e6
+  ratios="1e1 1e2 1e4"; composite_elements="50 100"; explicit_budget=1.0e6
   newton_ks="1 16"; load_steps="1 5"; penalties="0 0.1"; cut_scan=8
   static_elements="10 20"; cost_elements=200; cost_min_time=0.05
 fi
@@ -151,11 +152,11 @@ for shape in bspline2 ugimp linear bspline3; do
 &run periods=2.0 /"
   done
 done
-# the column's top swept across a span edge: |u(L)| = (rho g/E) L^2/2 from 0 to 2.4 cells (20 cells, 1 m) in
-# two load steps, so that the second step's tangent is formed with the top moved by 0 to 1.2 cells
+# the column's top swept across span edges: |u(L)| = (rho g/E) L^2/2 from 0 to 4.8 cells (20 cells, 1 m) in
+# two load steps, so that the second step's tangent is formed with the top moved by 0 to 2.4 cells
 for i in $(seq 1 $cut_scan); do
-  gravity=$("$PYTHON" -c "print(f'{1.2*0.05*$i/$cut_scan*2*1e10/1000:.6g}')")
-  for shape in bspline2 ugimp; do
+  gravity=$("$PYTHON" -c "print(f'{4.8*0.05*$i/$cut_scan*2*1e10/1000:.6g}')")
+  for shape in bspline2 bspline3; do
     for g in 0 0.1; do
       single "cut_column_${shape}_${g}_$i" "&scene kind='column', length=1.0, youngs_modulus=1e10, density=1000.0, gravity=$gravity /
 &material law='linear' /
