@@ -606,7 +606,7 @@ contains
          if (.not. with_system) return
       end if
       call check_memory(particles, config%elements, merge(step_count(end_time, dt), 0, config%history), error, &
-                        config%margin_cells)
+                        config%margin_cells, trim(config%integrator) /= 'explicit')
       call check_output_path(config%file, 'output: file', error)
    contains
       !> How the user gave the run's length: "run: end_time = 1e-3 s" or "run: periods = 2 (end time 1e-3 s)".
@@ -814,21 +814,31 @@ contains
    !> Refuse a run whose particles and grid would not fit in the memory available now.
    !> `history_steps` is the number of history entries kept (0 without history).
    !> `margin` (margin_cells as given, -1: automatic) adds its empty cells to the grid's.
-   subroutine check_memory(particles, elements, history_steps, error, margin)
+   subroutine check_memory(particles, elements, history_steps, error, margin, implicit)
       integer(i8), intent(in) :: particles
       integer, intent(in) :: elements, history_steps
       type(error_t), allocatable, intent(inout) :: error
       integer, intent(in), optional :: margin
+      !> the implicit integrators' workspace too (mpm_implicit: 10 doubles per particle; per node 14 arrays
+      !> and the band matrices, at most 3 x 5 + 1 doubles each for the tangent and the consistent mass)
+      logical, intent(in), optional :: implicit
       integer(i8) :: needed, available, margin_cells
-      integer, parameter :: bytes_per_element = 10*8 ! grid: 5 element shares + 5 nodal arrays
+      integer :: bytes_per_element
       integer, parameter :: bytes_per_history_entry = 5*8
       character(len=:), allocatable :: with_margin
+      bytes_per_element = 10*8 ! grid: 5 element shares + 5 nodal arrays
+      if (present(implicit)) then
+         if (implicit) bytes_per_element = bytes_per_element + (14 + 2*16)*8
+      end if
       margin_cells = 0
       if (present(margin)) margin_cells = max(margin, 0)
       with_margin = ''
       if (margin_cells > 0) with_margin = " and margin_cells = "//str(margin_cells)
       needed = particles*bytes_per_particle + (int(max(elements, 0), i8) + margin_cells)*bytes_per_element + &
                int(history_steps, i8)*bytes_per_history_entry
+      if (present(implicit)) then
+         if (implicit) needed = needed + particles*10*8
+      end if
       available = available_memory()
       if (available > 0 .and. needed > available) call append_error(error, &
          "discretisation: elements = "//str(elements)//with_margin//" and particles_per_element give "// &

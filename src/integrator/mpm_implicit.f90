@@ -476,43 +476,40 @@ contains
       im%failed_residual = relative
    end subroutine newton_solve
 
-   !> |roundoff| / |forces| over the unknowns (see floor_ulps).
-   real(dp) function relative_roundoff(im) result(relative)
+   !> |R| / |forces| over the unknowns (0 when nothing acts; at most 1).
+   real(dp) function relative_residual(im)
       type(implicit_t), intent(in) :: im
-      real(dp) :: roundoff, scale
+      relative_residual = relative_to_forces(im, im%residual)
+   end function relative_residual
+
+   !> |roundoff| / |forces| over the unknowns (see floor_ulps).
+   real(dp) function relative_roundoff(im)
+      type(implicit_t), intent(in) :: im
+      relative_roundoff = relative_to_forces(im, im%roundoff)
+   end function relative_roundoff
+
+   !> |field| / |forces|, norms over the unknowns (0 when the field is 0 there).
+   real(dp) function relative_to_forces(im, field) result(relative)
+      type(implicit_t), intent(in) :: im
+      real(dp), intent(in) :: field(0:)
+      real(dp) :: size2, scale2
       integer :: i
-      roundoff = 0.0_dp
-      scale = 0.0_dp
+      size2 = 0.0_dp
+      scale2 = 0.0_dp
       do i = 0, size(im%master) - 1
          if (.not. im%unknown(i)) cycle
-         roundoff = roundoff + im%roundoff(i)**2
-         scale = scale + im%forces(i)**2
+         size2 = size2 + field(i)**2
+         scale2 = scale2 + im%forces(i)**2
       end do
       relative = 0.0_dp
-      if (roundoff > 0.0_dp) relative = sqrt(roundoff)/sqrt(scale)
-   end function relative_roundoff
+      if (size2 > 0.0_dp) relative = sqrt(size2)/sqrt(scale2)
+   end function relative_to_forces
 
    !> |R| over the unknowns.
    real(dp) function residual_norm(im)
       type(implicit_t), intent(in) :: im
       residual_norm = norm2(merge(im%residual, 0.0_dp, im%unknown))
    end function residual_norm
-
-   !> |R| / |forces| over the unknowns (0 when nothing acts; at most 1).
-   real(dp) function relative_residual(im) result(relative)
-      type(implicit_t), intent(in) :: im
-      real(dp) :: residual, scale
-      integer :: i
-      residual = 0.0_dp
-      scale = 0.0_dp
-      do i = 0, size(im%master) - 1
-         if (.not. im%unknown(i)) cycle
-         residual = residual + im%residual(i)**2
-         scale = scale + im%forces(i)**2
-      end do
-      relative = 0.0_dp
-      if (residual > 0.0_dp) relative = sqrt(residual)/sqrt(scale)
-   end function relative_residual
 
    !> The residual R(e) on the unknowns (their rows; held nodes' rows hold their reaction), the force
    !> scale |forces| and, `with_tangent`, the tangent dR/de (assemble_tangent).
