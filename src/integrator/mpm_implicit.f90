@@ -326,7 +326,7 @@ contains
       type(shape_cache_t), intent(in) :: cache
       type(particles_t), intent(in) :: particles
       type(grid_t), intent(in) :: grid
-      integer :: p, k, l, a, b, i, info
+      integer :: p, k, l, a, b, info
       call banded_init(im%mass_matrix, grid%elements + 1, cache%support - 1)
       do p = 1, particles%count
          do k = 1, cache%support
@@ -428,7 +428,7 @@ contains
             return
          end if
          if (iteration == im%max_iterations) exit
-         call assemble_tangent(im, cache, particles, grid, material)
+         call assemble_tangent(im, cache, particles, grid)
          ! the constraint's gap in force units, for the line search's merit: the tangent's diagonal at the
          ! constraint's nodes, weighted
          stiffness = 0.0_dp
@@ -521,7 +521,7 @@ contains
       type(material_t), intent(in) :: material
       logical, intent(in) :: with_tangent
       call assemble_residual(im, cache, particles, grid, material)
-      if (with_tangent) call assemble_tangent(im, cache, particles, grid, material)
+      if (with_tangent) call assemble_tangent(im, cache, particles, grid)
    end subroutine assemble_system
 
    !> R(e) from the particles' stresses at d eps_p = sum_J dN_Jp du_J, du = dt v_n + e (kept in im%dstrain,
@@ -606,12 +606,11 @@ contains
 
    !> The tangent dR/de = 4 M/dt^2 + sum_p dN_Ip (d sigma_p/d eps) dN_Jp V_p^n + the ghost penalty, folded
    !> onto the unknowns (held nodes: hold_rows), at the strains of the last assemble_residual.
-   subroutine assemble_tangent(im, cache, particles, grid, material)
+   subroutine assemble_tangent(im, cache, particles, grid)
       type(implicit_t), intent(inout) :: im
       type(shape_cache_t), intent(in) :: cache
       type(particles_t), intent(in) :: particles
       type(grid_t), intent(in) :: grid
-      type(material_t), intent(in) :: material
       real(dp) :: share, inertia_factor
       integer :: p, k, l, a, b, i, n, node, diagonal
       n = grid%elements
