@@ -157,24 +157,6 @@ contains
       table = [ &
          text_entry('discretisation', 'scheme', config%scheme, 'update scheme: stress update first, last, or '// &
                     'modified last (the README gives each algorithm)', words=known_schemes, sweep_list='schemes'), &
-         text_entry('discretisation', 'integrator', config%integrator, "time integration: 'explicit' (the "// &
-                    "scheme), 'implicit' (Newmark trapezoidal rule, Newton on the grid), 'quasi_static' "// &
-                    "(equilibrium in load_steps)", words=known_integrators, sweep_list='integrator'), &
-         text_entry('discretisation', 'mass', config%mass, "mass matrix of integrator 'implicit': 'lumped' "// &
-                    "(row sums, as the explicit schemes) or 'consistent' (sum_p m_p N_I N_J)", &
-                    words='lumped, consistent', sweep_list='mass'), &
-         int_entry('discretisation', 'load_steps', config%load_steps, "load increments of integrator "// &
-                   "'quasi_static' (equilibrium under a fraction k/load_steps of the loads)", at_least=1, &
-                   sweep_list='load_steps'), &
-         real_entry('discretisation', 'newton_tolerance', config%newton_tolerance, '', 'Newton stops at |R| <= '// &
-                    'tolerance * |forces| (the sum of the magnitudes of the terms balanced at each node)', &
-                    greater_than=0.0_dp, below=1.0_dp, sweep_list='newton_tolerance'), &
-         int_entry('discretisation', 'max_newton_iterations', config%max_newton_iterations, 'linear solves a '// &
-                   'step may take before the run stops (status newton_not_converged)', at_least=1), &
-         real_entry('discretisation', 'ghost_penalty', config%ghost_penalty, '', 'ghost penalty gamma on the '// &
-                    'cut cells at free ends (stiffness gamma E/dx on the jump of the p-th derivative); 0: off', &
-                    at_least=-1.0_dp, note='-1: 0.1 for GIMP and B-splines, 0 for linear', &
-                    sweep_list='ghost_penalty'), &
          int_entry('discretisation', 'elements', config%elements, 'elements across the body; dx = length / elements', &
                    at_least=1, sweep_list='elements'), &
          int_entry('discretisation', 'particles_per_element', config%particles_per_element, &
@@ -195,6 +177,24 @@ contains
          text_entry('discretisation', 'kernels', config%kernels, "'auto': the fused kernels where they apply (the "// &
                     "bar with FLIP, any shape), else the generic path; 'generic': always the generic layered path", &
                     words='auto, generic'), &
+         text_entry('discretisation', 'integrator', config%integrator, "time integration: 'explicit' (the "// &
+                    "scheme), 'implicit' (Newmark trapezoidal rule, Newton on the grid), 'quasi_static' "// &
+                    "(equilibrium in load_steps)", words=known_integrators, sweep_list='integrator'), &
+         text_entry('discretisation', 'mass', config%mass, "mass matrix of integrator 'implicit': 'lumped' "// &
+                    "(row sums, as the explicit schemes) or 'consistent' (sum_p m_p N_I N_J)", &
+                    words='lumped, consistent', sweep_list='mass'), &
+         int_entry('discretisation', 'load_steps', config%load_steps, "load increments of integrator "// &
+                   "'quasi_static' (equilibrium under a fraction k/load_steps of the loads)", at_least=1, &
+                   sweep_list='load_steps'), &
+         real_entry('discretisation', 'newton_tolerance', config%newton_tolerance, '', 'Newton stops at |R| <= '// &
+                    'tolerance * |forces| (the sum of the magnitudes of the terms balanced at each node)', &
+                    greater_than=0.0_dp, below=1.0_dp, sweep_list='newton_tolerance'), &
+         int_entry('discretisation', 'max_newton_iterations', config%max_newton_iterations, 'linear solves a '// &
+                   'step may take before the run stops (status newton_not_converged)', at_least=1), &
+         real_entry('discretisation', 'ghost_penalty', config%ghost_penalty, '', 'ghost penalty gamma on the '// &
+                    'cut cells at free ends (stiffness gamma E/dx on the jump of the p-th derivative); 0: off', &
+                    at_least=-1.0_dp, note='-1: 0.1 for GIMP and B-splines, 0 for linear', &
+                    sweep_list='ghost_penalty'), &
          text_entry('scene', 'kind', config%scene_kind, 'the problem: the vibrating bar of the founding study, '// &
                     'a column under gravity, a manufactured large-strain solution (README, Scenes)', &
                     words=known_scenes, attribute='scene_kind'), &
