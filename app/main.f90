@@ -1,9 +1,10 @@
-!> mpm1d command line: `mpm1d [input.nml | -] [group.name=value ...] [--quiet] [--shard I/N] [--threads N]`,
-!> `mpm1d merge OUT IN...`,
+!> mpm1d command line: `mpm1d [input.nml | -] [group.name=value ...] [--quiet] [--shard I/N] [--threads N]
+!> [--resume] [--dry-run]`, `mpm1d merge OUT IN...`,
 !> `mpm1d --help`, `mpm1d --list-parameters`, `mpm1d --version`. An input file with a &sweep group runs a sweep.
 !> Parses arguments, calls the library, prints messages and sets the exit code:
 !> 0 success, 1 a guard stopped the run (its history is still written), 2 bad input or usage,
-!> 3 output could not be written.
+!> 3 output could not be written; a sweep interrupted by SIGINT, SIGTERM or SIGHUP (what it finished is
+!> written) 130, 143, 129 (128 + the signal's number).
 program mpm1d_main
    use, intrinsic :: iso_fortran_env, only: output_unit, error_unit
    use, intrinsic :: ieee_arithmetic, only: ieee_set_flag, ieee_all
@@ -11,110 +12,66 @@ program mpm1d_main
    use mpm_errors, only: error_t
    use mpm_strings, only: str, num, plural, readable_numbers
    use mpm_config, only: config_t, read_config_text, default_config, write_config_namelist, config_summary, stability_limit, &
-                         check_output_path
+                         check_output_path, config_warnings
    use mpm_simulation, only: run_result_t, run_simulation, guard_message
    use mpm_output, only: write_run_file
-   use mpm_diagnostics, only: status_ok
+   use mpm_diagnostics, only: status_ok, status_not_run
    use mpm_version, only: code_version
    use mpm_cli_help, only: print_help, print_parameters
-   use mpm_sweep, only: sweep_t, read_sweep_text, run_sweep, has_sweep_text, case_config, max_threads
-   use mpm_files, only: same_file
-   use mpm_registry, only: read_input_text, parse_namelist, nml_item_t
-   use mpm_sweep_output, only: write_sweep_file, merge_sweep_files
+   use mpm_sweep, only: sweep_t, read_sweep_text, run_sweep, has_sweep_text, case_config, &
+                        sweep_output_file, shard_file, shard_cases, cases_done, cases_timed, cases_to_time
+   use mpm_files, only: same_file, absolute_path, catch_interrupts
+   use mpm_registry, only: read_input_text
+   use mpm_command_line, only: command_line_t, command_arguments, parse_command_line, check_environment, &
+                               check_has_groups, override_length
+   use mpm_sweep_output, only: write_sweep_file, merge_sweep_files, resume_sweep
    implicit none
 
    type(config_t) :: config
    type(run_result_t) :: result
    type(error_t), allocatable :: error
-   character(len=:), allocatable :: input, text, source, option
-   character(len=1024), allocatable :: overrides(:)
-   integer :: nargs, i, shard, shards, threads
+   type(command_line_t) :: command_line
+   character(len=:), allocatable :: input, text, source
+   character(len=override_length), allocatable :: overrides(:)
+   integer :: shard, shards, threads
    !> Fewest elements per wavelength of the mode before a run is warned (two resolve a wave at best).
    integer, parameter :: min_elements_per_wavelength = 2
-   logical :: quiet, is_sweep
+   logical :: quiet, is_sweep, resume, dry_run
 
-   nargs = command_argument_count()
-   if (nargs >= 1) then
-      select case (argument(1))
-      case ('-h', '--help', '--list-parameters', '-V', '--version')
-         if (nargs > 1) call fail("'"//argument(1)//"' takes no other arguments (given: '"//argument(2)// &
-                                  "'); see mpm1d --help", 2)
-      end select
-      select case (argument(1))
-      case ('-h', '--help')
-         call print_help(output_unit)
-         stop
-      case ('--list-parameters')
-         call print_parameters(output_unit)
-         stop
-      case ('-V', '--version')
-         write (output_unit, '(a)') code_version
-         stop
-      case ('merge')
-         call merge_command()
-         call finish()
-      end select
-   end if
-
-   call check_environment()
-   ! the arguments: an input file (or '-'), overrides group.name=value, options
-   allocate (overrides(0))
-   quiet = .false.
-   shard = 0
-   shards = 0
-   threads = -1
-   i = 1
-   do while (i <= nargs)
-      option = argument(i)
-      select case (option)
-      case ('-q', '--quiet')
-         quiet = .true.
-      case ('--shard=':'--shard=~', '--threads=':'--threads=~')
-         ! the --option=value form
-         if (option(1:8) == '--shard=') then
-            call parse_shard(option(9:), shard, shards)
-         else
-            threads = to_int(option(11:), '--threads')
-            if (threads < 0 .or. threads > max_threads) call fail('--threads '//option(11:)// &
-               ' is out of range; allowed: 0 (all cores) to '//str(max_threads), 2)
-         end if
-      case ('--shard', '--threads')
-         if (i == nargs) call fail("option '"//option//"' needs a value; see mpm1d --help", 2)
-         i = i + 1
-         if (option == '--shard') then
-            call parse_shard(argument(i), shard, shards)
-         else
-            threads = to_int(argument(i), '--threads')
-            if (threads < 0 .or. threads > max_threads) call fail('--threads '//argument(i)// &
-               ' is out of range; allowed: 0 (all cores) to '//str(max_threads), 2)
-         end if
-      case ('-')
-         if (allocated(input)) call fail("too many input files: '"//input//"' and '-'; see mpm1d --help", 2)
-         input = option
-      case default
-         if (len(option) == 0) call fail('argument '//str(i)//' is an empty argument; allowed: an input file, '// &
-                                         'an override group.name=value or an option (see mpm1d --help)', 2)
-         if (option(1:min(1, len(option))) == '-') call fail("unknown option '"//option//"'; see mpm1d --help", 2)
-         if (is_override(option) .and. (allocated(input) .or. .not. exists(option))) then
-            if (len(option) > len(overrides)) call fail("override '"//option(1:60)//"...' is too long; allowed: "// &
-                                                       str(len(overrides))//" characters", 2)
-            overrides = [character(len=len(overrides)) :: overrides, option]
-         else if (.not. allocated(input)) then
-            input = option
-         else
-            call fail("too many arguments: '"//option//"' after the input file '"//input// &
-                      "'; usage: mpm1d [input.nml | -] [group.name=value ...] (see mpm1d --help)", 2)
-         end if
-      end select
-      i = i + 1
-   end do
+   call parse_command_line(command_arguments(), command_line, error)
+   if (allocated(error)) call fail(error%message, 2)
+   select case (command_line%action)
+   case ('help')
+      call print_help(output_unit)
+      stop
+   case ('list-parameters')
+      call print_parameters(output_unit)
+      stop
+   case ('version')
+      write (output_unit, '(a)') code_version
+      stop
+   case ('merge')
+      call merge_command()
+      call finish()
+   end select
+   call check_environment(error)
+   if (allocated(error)) call fail(error%message, 2)
+   quiet = command_line%quiet
+   shard = command_line%shard
+   shards = command_line%shards
+   threads = command_line%threads
+   resume = command_line%resume
+   dry_run = command_line%dry_run
+   overrides = command_line%overrides
+   if (command_line%has_input) input = command_line%input
 
    if (allocated(input)) then
       source = input
       if (input == '-') source = 'standard input'
       call read_input_text(input, text, error)
       if (allocated(error)) call fail('invalid input:'//new_line('a')//error%message, 2)
-      call refuse_without_groups()
+      call check_has_groups(text, source, error)
+      if (allocated(error)) call fail('invalid input:'//new_line('a')//error%message, 2)
    else
       source = 'command line'
       text = ''
@@ -126,9 +83,16 @@ program mpm1d_main
    end if
    if (shards > 0 .or. threads >= 0) call fail('--shard and --threads are for a sweep (an input with a &sweep '// &
                                                 'group); see mpm1d --help', 2)
+   if (resume) call fail('--resume is for a sweep (an input with a &sweep group): a single run has nothing to '// &
+                         'resume; see mpm1d --help', 2)
    call read_config_text(text, source, config, error, overrides=overrides)
    if (allocated(error)) call fail('invalid input:'//new_line('a')//error%message, 2)
    call refuse_input_as_output(trim(config%file))
+   if (dry_run) then
+      write (output_unit, '(a)') 'mpm1d: dry run (nothing runs): a single run', 'cases: 1', &
+         'output: '//absolute_path(trim(config%file))
+      call finish()
+   end if
    if (.not. allocated(input) .and. .not. quiet) then
       if (size(overrides) == 0) then
          write (output_unit, '(a)') 'mpm1d: no input file given; running the built-in verification case '// &
@@ -142,6 +106,7 @@ program mpm1d_main
    ! (the implicit integrators are unconditionally stable: no limit to warn of)
    call warn_stability(config%scheme, config%particles_per_element, config%dt_fraction, &
                        merge(1, 0, trim(config%integrator) == 'explicit'), config%shape)
+   if (len(config_warnings(config)) > 0) write (error_unit, '(a)') 'mpm1d: warning: '//config_warnings(config)
    if (unresolved(config)) write (error_unit, '(a)') 'mpm1d: warning: mode '//str(config%mode)//' has '// &
       num(elements_per_wavelength(config), 3)//' elements per wavelength on '//plural(config%elements, 'element')// &
       ' (wavelength 4 L/(2 mode - 1)); below '//str(min_elements_per_wavelength)//' the mesh cannot represent it '// &
@@ -166,49 +131,12 @@ program mpm1d_main
    if (result%status /= status_ok) call fail(readable_numbers(guard_message(result%status, result%trip, config), 5)// &
                                              new_line('a')// &
                                              'the history up to that step is in '// &
-                                             trim(config%file), 1)
+                                             absolute_path(trim(config%file)), 1)
    call finish()
 
 contains
 
-   !> OMP_NUM_THREADS, which a sweep's threads = 0 follows: whole numbers 1 to max_threads (a list
-   !> "4,2" for nested levels); libgomp only warns about other text and crashes on 100000 threads.
-   subroutine check_environment()
-      character(len=:), allocatable :: value, item
-      integer :: length, comma, n, stat
-      call get_environment_variable('OMP_NUM_THREADS', length=length)
-      if (length == 0) return
-      allocate (character(len=length) :: value)
-      call get_environment_variable('OMP_NUM_THREADS', value)
-      value = trim(adjustl(value))
-      if (len(value) == 0) return
-      do
-         comma = index(value, ',')
-         item = trim(adjustl(value(1:merge(comma - 1, len(value), comma > 0))))
-         n = -1
-         stat = 1
-         if (len(item) > 0 .and. len(item) <= 9 .and. verify(item, '0123456789') == 0) read (item, *, iostat=stat) n
-         if (stat /= 0 .or. n < 1 .or. n > max_threads) call fail("environment: OMP_NUM_THREADS = '"//value// &
-            "' is not a thread count; allowed: whole numbers 1 to "//str(max_threads)//" (comma-separated for "// &
-            "nested levels), or leave it unset", 2)
-         if (comma == 0) exit
-         value = value(comma + 1:)
-      end do
-   end subroutine check_environment
 
-   !> An input with no namelist group at all (empty, blanks or comments only, and every text the reader
-   !> does not refuse line by line) is refused: the built-in case runs only without an input file.
-   subroutine refuse_without_groups()
-      type(nml_item_t), allocatable :: items(:)
-      character(len=32), allocatable :: groups(:)
-      integer, allocatable :: lines(:)
-      type(error_t), allocatable :: problem
-      call parse_namelist(text, source, items, groups, lines, problem)
-      if (allocated(problem)) return ! reported with the file's other problems by the reader
-      if (size(groups) == 0) call fail('invalid input:'//new_line('a')//source//': no namelist group (the input '// &
-         'is empty or holds only blanks and comments); allowed: &group name=value, ... / groups (see mpm1d '// &
-         '--help); run mpm1d without an input file for the built-in verification case', 2)
-   end subroutine refuse_without_groups
 
    !> Normal end: floating-point flags a run raised on purpose (an energy sum computed again in scaled
    !> form, subnormal intermediates of a far-scaled bar) are no news to the user: no runtime note.
@@ -217,11 +145,15 @@ contains
       stop 0, quiet=.true.
    end subroutine finish
 
-   !> What a single run reports on standard output.
+   !> What a single run reports on standard output. A run a guard stopped has no result: the error
+   !> reached up to the stop is said as such (the file's max_error is NaN, error_before_stop holds it).
    subroutine report_run()
       real(dp) :: rate
+      character(len=:), allocatable :: what
       rate = real(result%particles, dp)*result%steps_done/max(result%run_time, 1.0e-9_dp)
-      write (output_unit, '(a)') 'max '//result%error_name//' = '//num(result%max_error)//' '//result%error_unit// &
+      what = 'max '
+      if (result%status /= status_ok) what = 'no result (stopped by a guard); before the stop: max '
+      write (output_unit, '(a)') what//result%error_name//' = '//num(result%max_error)//' '//result%error_unit// &
          ' ('//num(100*result%relative_error, 3)//' % of the exact amplitude '//num(result%ucm_amplitude)//' '// &
          result%error_unit//')'
       if (result%status == status_ok) then
@@ -233,7 +165,7 @@ contains
             ' ('//plural(result%steps_done, 'step')//' completed), run time '//num(result%run_time, 3)//' s, '// &
             num(rate, 3)//' particle-steps/s'
       end if
-   write (output_unit, '(a)') 'wrote '//trim(config%file)
+      write (output_unit, '(a)') 'wrote '//absolute_path(trim(config%file))
    end subroutine report_run
 
    !> Refuse an output file that is the input file (it would be overwritten).
@@ -256,37 +188,57 @@ contains
       unresolved = elements_per_wavelength(c) < min_elements_per_wavelength
    end function unresolved
 
-   !> Is `text` an override `group.name=value`?
-   logical function is_override(text)
-      character(len=*), intent(in) :: text
-      integer :: eq, dot
-      eq = index(text, '=')
-      is_override = .false.
-      if (eq < 4) return
-      dot = index(text(1:eq - 1), '.')
-      if (dot < 2 .or. dot > eq - 2) return
-      is_override = verify(text(1:eq - 1), 'abcdefghijklmnopqrstuvwxyzABCDEFGHIJKLMNOPQRSTUVWXYZ0123456789_.') == 0
-   end function is_override
 
-   logical function exists(path)
-      character(len=*), intent(in) :: path
-      inquire (file=path, exist=exists)
-   end function exists
 
-   !> `mpm1d input.nml [overrides] [--shard I/N] [--threads N] [--quiet]` for an input with a &sweep group.
+   !> `mpm1d input.nml [overrides] [--shard I/N] [--threads N] [--quiet] [--resume] [--dry-run]` for an input
+   !> with a &sweep group.
    subroutine sweep_command()
       type(sweep_t) :: sweep
-      integer :: i, failed, above, coarse
       character(len=:), allocatable :: output
       call read_sweep_text(text, source, sweep, error, shard, shards, threads, overrides)
       if (allocated(error)) call fail('invalid input:'//new_line('a')//error%message, 2)
       if (quiet) sweep%settings%progress = .false.
-      output = trim(sweep%base%file)
-      if (sweep%settings%shards > 1) output = shard_file(output, sweep%settings%shard, sweep%settings%shards)
+      output = sweep_output_file(sweep)
       call refuse_input_as_output(output)
       ! a shard's own file name, checked as the namelist's file is (a folder there is refused now)
       if (output /= trim(sweep%base%file)) call check_output_path(output, 'output: file of this shard', error)
       if (allocated(error)) call fail('invalid input:'//new_line('a')//error%message, 2)
+      if (dry_run) then
+         call report_dry_run(sweep)
+         call finish()
+      end if
+      if (resume) then
+         call resume_sweep(output, sweep, error)
+         if (allocated(error)) call fail(error%message, 2)
+         if (cases_done(sweep%cases) == size(sweep%cases) .and. (sweep%settings%min_time <= 0 .or. &
+             .not. any(cases_to_time(sweep%cases)))) then
+            if (.not. quiet) write (output_unit, '(a)') 'mpm1d: nothing to resume: every case of '// &
+               absolute_path(output)//' ran'//trim(merge(' and was timed', '              ', &
+               sweep%settings%min_time > 0))//'; the file is left as it is'
+            call finish()
+         end if
+      end if
+      ! from the header on, a signal stops the sweep and keeps what it finished (a script that waits for
+      ! the header before it signals finds the sweep catching)
+      call catch_interrupts()
+      call sweep_header(sweep)
+      call run_sweep(sweep, catch_signals=.true.)
+      if (resume) then
+         call write_sweep_file(output, sweep, error, previous=output)
+      else
+         call write_sweep_file(output, sweep, error)
+      end if
+      if (allocated(error)) call fail(error%message, 3)
+      if (.not. quiet) call report_sweep(sweep, output)
+      if (sweep%interrupted_by /= 0) call interrupted(sweep, output)
+   end subroutine sweep_command
+
+   !> What a sweep says before it starts (flushed: a redirected log of a killed sweep shows it), and
+   !> its warnings.
+   subroutine sweep_header(sweep)
+      type(sweep_t), intent(in) :: sweep
+      integer :: i, above, coarse, missed
+      character(len=:), allocatable :: first_warning
       if (quiet) then
          continue
       else if (sweep%settings%shards > 1) then
@@ -295,14 +247,23 @@ contains
       else
          write (output_unit, '(a)') 'mpm1d: sweep of '//plural(size(sweep%cases), 'case')
       end if
+      if (resume .and. .not. quiet) write (output_unit, '(a)') 'resumed: '//str(cases_done(sweep%cases))//' of '// &
+         plural(size(sweep%cases), 'case')//' ran before (kept); '//str(size(sweep%cases) - cases_done(sweep%cases))// &
+         ' to run'
       above = 0
       coarse = 0
+      missed = 0
       do i = 1, size(sweep%cases)
          config = case_config(sweep, sweep%cases(i))
+         if (len(config_warnings(config)) > 0) missed = missed + 1
+         if (missed == 1 .and. len(config_warnings(config)) > 0) first_warning = config_warnings(config)
          if (config%dt_fraction > stability_limit(config%scheme, config%particles_per_element, config%shape) .and. &
              trim(config%integrator) == 'explicit') above = above + 1
          if (unresolved(config)) coarse = coarse + 1
       end do
+      if (missed > 0) write (error_unit, '(a)') 'mpm1d: warning: '//plural(missed, 'case')//' of '// &
+         str(size(sweep%cases))//': '//first_warning//trim(merge(' (the first of them)', '                    ', &
+                                                               missed > 1))
       if (coarse > 0) write (error_unit, '(a)') 'mpm1d: warning: '//plural(coarse, 'case')//' ha'// &
          trim(merge('s ', 've', coarse == 1))//' fewer than '//str(min_elements_per_wavelength)//' elements per '// &
          'wavelength of the mode (wavelength 4 L/(2 mode - 1)): the mesh cannot represent it'
@@ -314,11 +275,14 @@ contains
          'error pass: each case repeated until '//num(sweep%settings%min_time)//' s of run time, at least '// &
          num(size(sweep%cases)*sweep%settings%min_time/sweep%settings%timing_threads, 3)//' s on '// &
          plural(sweep%settings%timing_threads, 'thread')//' (sweep.min_time=0 skips it)'
-      call run_sweep(sweep)
-      call write_sweep_file(output, sweep, error)
-      if (allocated(error)) call fail(error%message, 3)
-      failed = count(sweep%cases%status /= status_ok)
-      if (quiet) return
+      flush (output_unit)
+   end subroutine sweep_header
+
+   !> What a sweep reports on standard output when it has written its file.
+   subroutine report_sweep(sweep, output)
+      type(sweep_t), intent(in) :: sweep
+      character(len=*), intent(in) :: output
+      integer :: done, stopped
       if (sweep%settings%min_time > 0) then
          write (output_unit, '(a)') 'error pass '//num(sweep%error_pass_time, 3)//' s on '// &
             plural(sweep%threads_used, 'thread')//'; timing pass '//num(sweep%timing_pass_time, 3)//' s on '// &
@@ -327,10 +291,62 @@ contains
          write (output_unit, '(a)') 'error pass '//num(sweep%error_pass_time, 3)//' s on '// &
             plural(sweep%threads_used, 'thread')//'; no timing pass (min_time = 0)'
       end if
-      write (output_unit, '(a)') plural(size(sweep%cases) - failed, 'case')//' completed, '//str(failed)// &
-         ' stopped by a guard (recorded in /cases/status)'
-      write (output_unit, '(a)') 'wrote '//output
-   end subroutine sweep_command
+      done = cases_done(sweep%cases)
+      stopped = count(sweep%cases%status /= status_ok .and. sweep%cases%status /= status_not_run)
+      write (output_unit, '(a)') plural(done - stopped, 'case')//' completed, '//str(stopped)// &
+         ' stopped by a guard (recorded in /cases/status; no max_error: see error_before_stop)'
+      if (done < size(sweep%cases)) write (output_unit, '(a)') str(size(sweep%cases) - done)//' not run '// &
+         '(status not_run, no values)'
+      write (output_unit, '(a)') 'wrote '//absolute_path(output)
+      flush (output_unit)
+   end subroutine report_sweep
+
+   !> A sweep stopped by a signal: what it finished is written; say so, how to go on, and end with
+   !> 128 + the signal's number (130 SIGINT, 143 SIGTERM, 129 SIGHUP), as the signal would have.
+   subroutine interrupted(sweep, output)
+      type(sweep_t), intent(in) :: sweep
+      character(len=*), intent(in) :: output
+      character(len=:), allocatable :: how, what
+      how = 'mpm1d'
+      if (allocated(input)) how = how//' '//input
+      if (size(overrides) > 0) how = how//' (the same overrides)'
+      if (sweep%settings%shards > 1) how = how//' --shard '//str(sweep%settings%shard)//'/'//str(sweep%settings%shards)
+      if (sweep%interrupted_timing) then
+         what = ', in the timing pass ('//str(cases_timed(sweep%cases))//' of '// &
+                str(count(sweep%cases%status == status_ok))//' completed cases timed; the others'' run_time is NaN) '// &
+                'in '//absolute_path(output)//'; '//how//' --resume times them'
+      else
+         what = '; the others have status not_run (no values) in '//absolute_path(output)//'; '//how// &
+                ' --resume runs them'
+      end if
+      write (error_unit, '(a)') 'mpm1d: interrupted after '//str(cases_done(sweep%cases))//' of '// &
+         plural(size(sweep%cases), 'case')//what
+      call ieee_set_flag(ieee_all, .false.)
+      stop 128 + sweep%interrupted_by, quiet=.true.
+   end subroutine interrupted
+
+   !> `--dry-run` of a sweep: the number of cases and the absolute output path (and the shards' files
+   !> when it is sharded), nothing run. Lines `cases: N`, `output: PATH` for scripts.
+   subroutine report_dry_run(sweep)
+      type(sweep_t), intent(in) :: sweep
+      integer :: k
+      associate (s => sweep%settings)
+         if (s%shards > 1) then
+            write (output_unit, '(a)') 'mpm1d: dry run (nothing runs): a sweep of '//plural(sweep%total_cases, 'case')// &
+               ' in '//str(s%shards)//' shards (this command: shard '//str(s%shard)//')'
+         else
+            write (output_unit, '(a)') 'mpm1d: dry run (nothing runs): a sweep of '//plural(sweep%total_cases, 'case')
+         end if
+         write (output_unit, '(a)') 'cases: '//str(sweep%total_cases)
+         if (s%shards > 1) write (output_unit, '(a)') 'shards: '//str(s%shards)
+         write (output_unit, '(a)') 'output: '//absolute_path(trim(sweep%base%file))
+         if (s%shards == 1) return
+         do k = 1, s%shards
+            write (output_unit, '(a)') 'shard '//str(k)//': '//plural(shard_cases(sweep%total_cases, k, s%shards), &
+               'case')//', '//absolute_path(shard_file(trim(sweep%base%file), k, s%shards))
+         end do
+      end associate
+   end subroutine report_dry_run
 
    !> Warn (standard error) when the time step is above the stability limit of the scheme and shape.
    subroutine warn_stability(scheme, particles_per_element, dt_fraction, cases, shape)
@@ -348,77 +364,26 @@ contains
          ' of dx/c; see studies/stability and studies/shapes); a guard will stop the run if it grows'
    end subroutine warn_stability
 
+
+
+
+
    !> `mpm1d merge OUT.h5 SHARD.h5 ...`
    subroutine merge_command()
-      character(len=1024), allocatable :: inputs(:)
+      character(len=:), allocatable :: output
       integer :: i
       logical :: output_failed
-      if (nargs < 3) call fail('usage: mpm1d merge OUT.h5 SHARD1.h5 [SHARD2.h5 ...]', 2)
-      do i = 2, nargs
-         if (len(argument(i)) == 0) call fail('merge: argument '//str(i)//' is an empty argument; usage: '// &
-                                             'mpm1d merge OUT.h5 SHARD1.h5 [SHARD2.h5 ...]', 2)
-      end do
-      allocate (inputs(nargs - 2))
-      do i = 3, nargs
-         inputs(i - 2) = argument(i)
-      end do
-      do i = 1, size(inputs)
-         if (same_file(argument(2), inputs(i))) call fail("merge: the output '"//argument(2)//"' is one of the "// &
-                                                          "shard files; allowed: a new file", 2)
-      end do
-      call merge_sweep_files(argument(2), inputs, error, output_failed)
-      if (allocated(error)) call fail(error%message, merge(3, 2, output_failed))
-      write (output_unit, '(a)') 'wrote '//argument(2)//' from '//str(size(inputs))//' shard files'
+      associate (files => command_line%merge_files)
+         output = trim(files(1))
+         do i = 2, size(files)
+            if (same_file(output, trim(files(i)))) call fail("merge: the output '"//output//"' is one of the "// &
+                                                             "shard files; allowed: a new file", 2)
+         end do
+         call merge_sweep_files(output, files(2:), error, output_failed)
+         if (allocated(error)) call fail(error%message, merge(3, 2, output_failed))
+         write (output_unit, '(a)') 'wrote '//absolute_path(output)//' from '//str(size(files) - 1)//' shard files'
+      end associate
    end subroutine merge_command
-
-   !> "I/N" -> shard I of N.
-   subroutine parse_shard(text, shard, shards)
-      character(len=*), intent(in) :: text
-      integer, intent(out) :: shard, shards
-      integer :: slash
-      slash = index(text, '/')
-      if (slash < 2) call fail("--shard "//text//" is malformed; allowed: I/N with 1 <= I <= N", 2)
-      shard = to_int(text(1:slash - 1), '--shard')
-      shards = to_int(text(slash + 1:), '--shard')
-      if (shards < 1 .or. shard < 1 .or. shard > shards) &
-         call fail("--shard "//text//" is out of range; allowed: I/N with 1 <= I <= N", 2)
-   end subroutine parse_shard
-
-   integer function to_int(text, name)
-      character(len=*), intent(in) :: text, name
-      integer :: stat
-      read (text, *, iostat=stat) to_int
-      if (stat /= 0 .or. verify(trim(text), '0123456789') /= 0) call fail(name//" '"//text// &
-         "' is not a whole number", 2)
-   end function to_int
-
-   !> out.h5 -> out_shard002of004.h5
-   function shard_file(path, shard, shards) result(name)
-      character(len=*), intent(in) :: path
-      integer, intent(in) :: shard, shards
-      character(len=:), allocatable :: name
-      character(len=48) :: suffix, form
-      integer :: dot, width
-      ! at least 3 digits (the names of up to 999 shards as before), as many as the shard count has
-      width = max(3, len(str(shards)))
-      write (form, '("(""_shard"",i",i0,".",i0,",""of"",i",i0,".",i0,")")') width, width, width, width
-      write (suffix, form) shard, shards
-      dot = index(path, '.h5', back=.true.)
-      if (dot == len(path) - 2 .and. dot > 0) then
-         name = path(1:dot - 1)//trim(suffix)//'.h5'
-      else
-         name = path//trim(suffix)
-      end if
-   end function shard_file
-
-   function argument(i) result(text)
-      integer, intent(in) :: i
-      character(len=:), allocatable :: text
-      integer :: length
-      call get_command_argument(i, length=length)
-      allocate (character(len=length) :: text)
-      call get_command_argument(i, text)
-   end function argument
 
    subroutine fail(message, code)
       character(len=*), intent(in) :: message

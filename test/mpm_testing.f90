@@ -1,11 +1,11 @@
 !> In-house test helpers: counted checks and running the mpm1d executable from a test.
 module mpm_testing
-   use mpm_kinds, only: dp, i8
+   use mpm_kinds, only: dp
    use mpm_strings, only: str
    use mpm_simulation, only: run_result_t
    implicit none
    private
-   public :: tester_t, app_path, run_app, read_text, scratch_dir, write_lines, check_include_checksum, fixed_seed
+   public :: tester_t, app_path, run_app, read_text, scratch_dir, write_lines, fixed_seed
    public :: check_paths_agree
 
    !> Counts checks and failures; `finish` prints "N passed, M failed" and ends with error stop 1 on failure.
@@ -30,35 +30,6 @@ contains
       call random_seed(size=n)
       call random_seed(put=[(104729*i + 7919, i=1, n)])
    end subroutine fixed_seed
-
-   !> The include files `paths` (separated by spaces) that the module file `source` compiles in are
-   !> the ones it was compiled from: fpm rebuilds a source when its own text changes, not when a file
-   !> it includes does (fpm issue #358), so the module names their checksum in the constant `name`
-   !> (`compiled`) and this check fails, with the value to set, until the two agree.
-   subroutine check_include_checksum(t, source, name, compiled, paths)
-      type(tester_t), intent(inout) :: t
-      character(len=*), intent(in) :: source, name, paths
-      integer(i8), intent(in) :: compiled
-      character(len=:), allocatable :: rest, text
-      integer(i8) :: checksum
-      integer :: i, cut
-      text = ''
-      rest = trim(adjustl(paths))
-      do while (len(rest) > 0)
-         cut = index(rest, ' ')
-         if (cut == 0) cut = len(rest) + 1
-         text = text//read_text(rest(:cut - 1))
-         rest = trim(adjustl(rest(cut:)))
-      end do
-      checksum = 0  ! polynomial checksum modulo the prime 2^31 - 1
-      do i = 1, len(text)
-         checksum = mod(checksum*131_i8 + ichar(text(i:i)), 2147483647_i8)
-      end do
-      call t%check(source//' was compiled from '//paths, len(text) > 0 .and. checksum == compiled, &
-                   'an include file changed: set '//name//' in '//source//' to '//str(checksum)// &
-                   ' (then fpm rebuilds it; if this stays red, the test program is older than the '// &
-                   'library: bash test/run_tests.sh, or rm build/gfortran_*/test/*, relinks it)')
-   end subroutine check_include_checksum
 
    !> A run on the fused kernels and the same run on the generic path (`kernels='generic'`) agree: the
    !> paths were the ones asked for, same status and steps, u_cm histories equal to round-off and the

@@ -11,10 +11,8 @@ program test_shape
    use mpm_grid, only: grid_t, grid_init
    use mpm_shape, only: shape_cache_t, evaluate_shapes, shape_name, all_shapes, shape_ugimp, shape_cpgimp, shape_bspline2, &
                         shape_bspline3
-   use mpm_testing, only: tester_t, fixed_seed, check_include_checksum
+   use mpm_testing, only: tester_t, fixed_seed
    use mpm_shape_range, only: inside_range
-   use mpm_shape_gimp, only: gimp_checksum_compiled
-   use mpm_shape_bspline, only: bspline_checksum_compiled
    implicit none
    type(tester_t) :: t
    integer :: s
@@ -24,10 +22,6 @@ program test_shape
       call properties(all_shapes(s))
    end do
    call range_test()
-   call check_include_checksum(t, 'src/shape/mpm_shape_gimp.f90', 'gimp_source_checksum', gimp_checksum_compiled(), &
-                               'src/shape/mpm_gimp_box.inc')
-   call check_include_checksum(t, 'src/shape/mpm_shape_bspline.f90', 'bspline_source_checksum', &
-                               bspline_checksum_compiled(), 'src/shape/mpm_bspline_span.inc')
    call t%finish()
 
 contains

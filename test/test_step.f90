@@ -12,8 +12,7 @@ program test_step
    use mpm_transfer, only: pass_totals_t
    use mpm_fused, only: fused_start, fused_step
    use mpm_schemes, only: scheme_usf, scheme_usl, scheme_musl, scheme_step
-   use mpm_testing, only: tester_t, check_include_checksum
-   use mpm_operations, only: scatter_checksum_compiled
+   use mpm_testing, only: tester_t
    use mpm_particles, only: per_particle_data
    use mpm_shape, only: shape_cache_t
    use mpm_scene_bar, only: bar_t, bar_init
@@ -99,10 +98,6 @@ program test_step
    call scheme_step(scheme_usl, bar, cache, particles, grid, dt, youngs, 0.0_dp, totals)
    call t%check('generic usl: the particle that left the grid in this step is named', totals%outside == 2)
    call t%check('generic usl: ... and it is past the last node', particles%x(2) > dx .and. particles%x(1) < dx)
-
-   call check_include_checksum(t, 'src/scheme/mpm_operations.f90', 'scatter_source_checksum', scatter_checksum_compiled(), &
-                               'src/scheme/mpm_scatter_variants.inc src/scheme/mpm_scatter_loop.inc '// &
-                               'src/scheme/mpm_gather_variants.inc src/scheme/mpm_gather_loop.inc')
    call t%finish()
 
 contains

@@ -22,6 +22,7 @@ import matplotlib
 matplotlib.use('Agg')
 import matplotlib.pyplot as plt  # noqa: E402
 
+from .figures import plain_ticks  # noqa: E402
 from .loader import load_sweep  # noqa: E402
 
 
@@ -49,7 +50,7 @@ def main(argv: Optional[List[str]] = None) -> int:
     ap.add_argument('outdir')
     ap.add_argument('--wall-time', type=float, default=float('nan'))
     args = ap.parse_args(argv)
-    sweep = load_sweep(args.sweep)
+    sweep = load_sweep(args.sweep, cases='all')  # stopped cases are drawn apart, never fitted
     c = sweep.cases
     wave = np.sqrt(c['youngs_modulus'] / c['density'])
     ratio = c['velocity_amplitude'] / wave
@@ -65,20 +66,35 @@ def main(argv: Optional[List[str]] = None) -> int:
     fig, axes = plt.subplots(1, len(sweep.schemes), figsize=(5.5 * len(sweep.schemes), 4.3), sharey=True)
     axes = np.atleast_1d(axes)
     findings = []
+    stopped_drawn = False
     for ax, scheme in zip(axes, sweep.schemes):
         for colour, v0 in zip(('C0', 'C1', 'C2', 'C3'), amplitudes):
             m = (c['scheme'] == scheme) & np.isclose(c['velocity_amplitude'], v0)
-            idx = np.flatnonzero(m)[np.argsort(c['elements'][m])]
+            every = np.flatnonzero(m)[np.argsort(c['elements'][m])]
+            stopped = every[c['status'][every] != 0]
+            for i in stopped:
+                lines.append(f'| {scheme} | {v0:g} | {ratio[i]:.1e} | {int(c["elements"][i])} | no result (before '
+                             f'the stop {c["relative_error_before_stop"][i]:.3e}) | | {c["status_name"][i]} |')
+            # orders and floors from the completed cases only (a stopped case has no result)
+            idx = every[c['status'][every] == 0]
             ne = c['elements'][idx].astype(float)
             rel = c['relative_error'][idx]
-            ok = c['status'][idx] == 0
+            if idx.size == 0:
+                findings.append(f'- {scheme.upper()}, v0 = {v0:g} m/s: no case completed.')
+                continue
             orders = local_orders(ne, rel)
             for k, i in enumerate(idx):
                 order = f'{orders[k - 1]:.2f}' if k > 0 else ''
                 lines.append(f'| {scheme} | {v0:g} | {ratio[i]:.1e} | {int(ne[k])} | {rel[k]:.3e} | {order} | '
                              f'{c["status_name"][i]} |')
-            ax.loglog(ne[ok], rel[ok], 'o-', color=colour, label=f'v0 = {v0:g} m/s (v0/c = {v0 / wave[idx[0]]:.1e})')
-            ax.loglog(ne[~ok], rel[~ok], 'x', color=colour, ms=8)
+            ax.loglog(ne, rel, 'o-', color=colour, label=f'v0 = {v0:g} m/s (v0/c = {v0 / wave[idx[0]]:.1e})')
+            if stopped.size:
+                ax.loglog(c['elements'][stopped], c['relative_error_before_stop'][stopped], 'x', color='0.55', ms=8,
+                          label=None if stopped_drawn else 'stopped by a guard: error before the stop, no result')
+                stopped_drawn = True
+            if orders.size == 0:
+                findings.append(f'- {scheme.upper()}, v0/c = {v0 / wave[idx[0]]:.1e}: one completed mesh, no order.')
+                continue
             start = floor_start(orders)
             if start is None:
                 findings.append(f'- {scheme.upper()}, v0/c = {v0 / wave[idx[0]]:.1e}: the error keeps falling to '
@@ -88,12 +104,14 @@ def main(argv: Optional[List[str]] = None) -> int:
                 findings.append(f'- {scheme.upper()}, v0/c = {v0 / wave[idx[0]]:.1e}: order {np.mean(orders[:max(start, 1)]):.2f} '
                                 f'up to {int(ne[start])} elements, then a floor at relative error '
                                 f'{rel[start:].min():.2e} ({rel[start:].min() / (v0 / wave[idx[0]]):.2g} x v0/c).')
-        ref = np.array([ne[0], ne[-1]])
-        ax.loglog(ref, rel[0] * 0.5 * (ref / ref[0]) ** -2.0, 'k:', lw=1, label='order 2')
+        if idx.size > 1:
+            ref = np.array([ne[0], ne[-1]])
+            ax.loglog(ref, rel[0] * 0.5 * (ref / ref[0]) ** -2.0, 'k:', lw=1, label='order 2')
         ax.set(xlabel='elements', title=f'{scheme.upper()}, {int(c["particles_per_element"][0])} ppc, '
                f'dt = {c["dt_fraction"][0]:g} dx/c, 0.5 period')
         ax.grid(alpha=0.3, which='both')
-    axes[0].set_ylabel('relative u_cm error (-); x: stopped by a guard')
+        plain_ticks(ax, c['elements'][c['scheme'] == scheme])
+    axes[0].set_ylabel('relative u_cm error (-)')
     axes[0].legend(fontsize=7)
     fig.tight_layout()
     fig.savefig(Path(args.outdir) / 'convergence.png', dpi=120)

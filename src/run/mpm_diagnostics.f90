@@ -1,8 +1,9 @@
 !> Run outcome codes, the per-step history of a run and its snapshots.
 module mpm_diagnostics
-   use mpm_kinds, only: dp
+   use mpm_kinds, only: dp, i8
    implicit none
    private
+   public :: no_value
    public :: status_ok, status_non_finite, status_volume_ratio, status_left_grid, status_energy_growth, &
              status_cell_crossing, status_setup_failed, status_not_run, status_name, status_newton
    public :: history_t, snapshot_t, pass_totals_t
@@ -16,7 +17,11 @@ module mpm_diagnostics
    integer, parameter :: status_cell_crossing = 5  !< a particle moved more than one cell in one step
    integer, parameter :: status_setup_failed = 6   !< the run could not be set up (memory)
    integer, parameter :: status_newton = 7         !< an implicit step's Newton iteration did not converge
-   integer, parameter :: status_not_run = -1       !< a sweep case that has not run (yet)
+   integer, parameter :: status_not_run = -1       !< a sweep case that has not run (yet), or was abandoned
+
+   !> "No value": a quiet NaN (bits 7FF8000000000000), written where a result does not exist (the
+   !> error of a run a guard stopped, the time of a case not timed); the status says why.
+   real(dp), parameter :: no_value = transfer(9221120237041090560_i8, 1.0_dp)
 
    !> Sums and extremes gathered during a pass over the particles.
    type :: pass_totals_t

@@ -1,4 +1,5 @@
-!> The axially vibrating bar (Bardenhagen 2002; eqs. 11-14 of the founding paper): fixed at x = 0,
+!> The axially vibrating bar ([Bardenhagen 2002]; eqs. 11-14 of [Ferreira et al.], the founding paper;
+!> references: docs/theory.md): fixed at x = 0,
 !> free at x = L, u(x,0) = 0, v(x,0) = v0 sin(beta_n x), beta_n = (2n-1) pi / (2L), omega_n = beta_n c.
 !> Exact: u(x,t) = v0/omega_n sin(omega_n t) sin(beta_n x); centre of mass
 !> u_cm(t) = (1/L) int_0^L u dx = v0/(omega_n beta_n L) sin(omega_n t)  (cos(beta_n L) = 0 for every n).
@@ -9,7 +10,7 @@ module mpm_scene_bar
    use mpm_errors, only: error_t
    use mpm_config, only: config_t
    use mpm_particles, only: particles_t, particles_init
-   use mpm_scene, only: scene_t, sine_profile
+   use mpm_scene, only: scene_t, sine_profile, margin_for
    implicit none
    private
    public :: bar_t, bar_init
@@ -66,13 +67,7 @@ contains
       class(bar_t), intent(in) :: self
       real(dp), intent(in) :: dx
       integer, intent(in) :: requested
-      real(dp) :: reach
-      if (requested >= 0) then
-         cells = requested
-         return
-      end if
-      reach = abs(self%velocity_amplitude)/self%omega/dx
-      cells = 2 + int(min(ceiling(reach), 1000000000))
+      cells = margin_for(abs(self%velocity_amplitude)/self%omega, dx, requested)
    end function margin_cells
 
    !> The bar's boundary condition: node 0 (x = 0) is held at rest.

@@ -1,6 +1,5 @@
-!> A manufactured solution at large strain (the method of manufactured solutions for MPM: Wallstedt and
-!> Guilkey, "An evaluation of explicit time integration schemes for use with the generalized
-!> interpolation material point method", J. Comput. Phys. 227, 2008). A bar on [0, L], both ends fixed,
+!> A manufactured solution at large strain (the method of manufactured solutions for MPM:
+!> [Wallstedt & Guilkey 2008]; references: docs/theory.md). A bar on [0, L], both ends fixed,
 !> moves exactly as
 !>   u(X,t) = A sin(k X) sin(w t),  k = 2 pi/L, w = pi c/L, c^2 = E/rho0,
 !> in reference coordinates X, under the body force per unit mass that the momentum balance

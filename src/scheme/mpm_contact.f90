@@ -1,10 +1,6 @@
 !> A velocity field per body and frictionless contact between two bodies (multi-velocity-field MPM:
-!> Bardenhagen, Brackbill and Sulsky 2000, "The material-point method for granular materials",
-!> CMAME 187, 529-541; Bardenhagen, Guilkey, Roessig, Brackbill, Witzel and Foster 2001, "An improved
-!> contact algorithm for the material point method and application to stress propagation in granular
-!> material", CMES 2(4), 509-522; where the correction sits in USF and MUSL as in Huang, Zhang, Ma and
-!> Liu 2011, "Contact algorithms for the material point method in impact and penetration simulation",
-!> IJNME 85, 498-517; York, Sulsky and Schreyer 2000, IJNME 48, used the same release test on one field).
+!> [Bardenhagen 2000], [Bardenhagen 2001]; where the correction sits in USF and MUSL as in [Huang 2011];
+!> [York 2000] used the same release test on one field; references: docs/theory.md).
 !>
 !> Each body has its own nodal mass, momentum, force, velocity and acceleration. They are stacked in
 !> one grid_t (`fields`): body b's node i is node (b - 1) nodes + i of `fields`. After the shape
@@ -20,7 +16,7 @@
 !> other). "Touch": the facing surfaces, each the end of its end particle's domain x_p +- J_p l0_p/2,
 !> are at most `touch_tolerance` dx apart at the start of the step. Without this test the bodies would
 !> collide as soon as their particles share a node (up to one cell early with linear shapes, more with
-!> wider ones): the early-contact error that Bardenhagen et al. 2001 correct with a distance test too
+!> wider ones): the early-contact error that [Bardenhagen 2001] correct with a distance test too
 !> (in several dimensions from nodal volumes; in 1-D the surfaces are known exactly). Then both take the
 !> centre-of-mass velocity v_cm = (p_1 + p_2)/(m_1 + m_2) (frictionless: in 1-D the whole velocity is
 !> normal), p_b = m_b v_cm, and the acceleration gains (v_cm - v_b)/dt, so FLIP's update sees the

@@ -6,8 +6,8 @@
 !>          FLIP  v_p += dt sum_I N_Ip a_I
 !>          PIC   v_p  = sum_I N_Ip v_I
 !>          blend v_p  = f (v_p + dt sum_I N_Ip a_I) + (1 - f) sum_I N_Ip v_I,  f = flip_fraction
-!>          APIC  v_p  = sum_I N_Ip v_I and the velocity gradient C_p (Jiang, Schroeder, Selle, Teran and
-!>                Stomakhin 2015, "The affine particle-in-cell method", ACM TOG 34(4), sec. 5.3):
+!>          APIC  v_p  = sum_I N_Ip v_I and the velocity gradient C_p ([Jiang 2015], sec. 5.3; references:
+!>                docs/theory.md):
 !>                C_p = sum_I v_I dN_Ip (hat, GIMP: exact for their piecewise-linear weights) or
 !>                C_p = B_p D_p^-1, B_p = sum_I N_Ip v_I (x_I - x_p), D_p = dx^2/4 (quadratic),
 !>                dx^2/3 (cubic B-splines); P2G then adds sum_p N_Ip m_p C_p (x_I - x_p) to p_I.
@@ -26,27 +26,14 @@ module mpm_operations
    use mpm_shape_range, only: infinity_bits
    use mpm_lanes, only: block_size, lanes, largest_move_t, add_lanes, lane_total, track_largest_move, furthest_particle
    use mpm_material, only: material_t, update_material, stored_energy, plastic_work
+   use mpm_scatter_gather, only: scatter_columns, gather_columns, affine_none, affine_hat, affine_spline
    implicit none
    private
-   !> What gather_move gathers of APIC's velocity gradient (see there).
-   integer, parameter :: affine_none = 0, affine_hat = 1, affine_spline = 2
 
    public :: locate_particles, p2g_mass_momentum, p2g_internal_force, nodal_velocities, solve_grid, g2p, &
              update_stress, particle_energies, mirror_fold
 
-   !> scatter_columns and gather_move are compiled from mpm_scatter_*.inc and mpm_gather_*.inc,
-   !> whose changes fpm does not notice (it rebuilds a file when its own text changes: fpm issue
-   !> #358). Their checksum, here, is checked by test_step, which says the new value after an edit;
-   !> setting it makes fpm rebuild this file.
-   integer(i8), parameter :: scatter_source_checksum = 260401659_i8
-   public :: scatter_checksum_compiled
-
 contains
-
-   !> scatter_source_checksum as compiled into this module (why a function: kernel_checksum_compiled).
-   integer(i8) function scatter_checksum_compiled()
-      scatter_checksum_compiled = scatter_source_checksum
-   end function scatter_checksum_compiled
 
    !> Shape functions at the start-of-step positions; totals%outside = first particle outside the domain.
    subroutine locate_particles(cache, grid, particles, totals)
@@ -97,10 +84,11 @@ contains
    end subroutine p2g_internal_force
 
    !> The P2G sums, m_I += N_Ip m_p and p_I += N_Ip m_p v_p (`kinematics`), f_I -= dN_Ip sigma_p V_p
-   !> (`force`), by scatter_columns. APIC's affine momentum, p_I += N_Ip m_p C_p (x_I - x_p) with x_p
-   !> at the start of the step, goes into the momentum per unit weight of node k of the support:
-   !> m_p (v_p + C_p d_p) + (k - 1) m_p C_p dx, d_p = x(first(p)) - x_p (it sums to zero over I, since
-   !> sum_I N_Ip x_I = x_p: total momentum is unchanged).
+   !> (`force`), by scatter_columns (mpm_scatter_gather: a loop compiled per support and set of sums).
+   !> APIC's affine momentum, p_I += N_Ip m_p C_p (x_I - x_p) with x_p at the start of the step, goes
+   !> into the momentum per unit weight of node k of the support: m_p (v_p + C_p d_p) + (k - 1) m_p C_p
+   !> dx, d_p = x(first(p)) - x_p (it sums to zero over I, since sum_I N_Ip x_I = x_p: total momentum
+   !> is unchanged).
    subroutine scatter(cache, particles, grid, kinematics, force)
       type(shape_cache_t), intent(inout) :: cache
       type(particles_t), intent(in) :: particles
@@ -122,44 +110,6 @@ contains
                               grid%force, grid%origin, grid%dx)
       end if
    end subroutine scatter
-
-   !> The P2G sums of every column k of the support (2, 3 or 4): node first(p) + k - 1 gets
-   !> weight(p, k) m_p, weight(p, k) (q_p + (k - 1) r_p) and -gradient(p, k) (sigma V)_p, with the
-   !> momentum per unit weight q = momentum_of(:, 1) ((m v)_p) and r = 0, or, given v, velocity_gradient
-   !> and position (APIC), q = m_p (v_p + C_p d_p), r = m_p C_p dx, d_p = origin + first(p) dx - position(p). The loop (mpm_scatter_loop.inc) is
-   !> written once and compiled for each support and each set of sums (named constants in the blocks
-   !> below and in mpm_scatter_variants.inc), so that no test of them is left inside it (the tests of
-   !> run-time flags per particle cost 10-14 % of a generic USL step).
-   subroutine scatter_columns(support, first, weight, gradient, mass_of, momentum_of, stress_volume, kinematics, &
-                              force, mass, momentum, nodal_force, origin, dx, v, velocity_gradient, position)
-      integer, intent(in) :: support
-      integer, intent(in), contiguous :: first(:)
-      real(dp), intent(in), contiguous :: weight(:, :), gradient(:, :), mass_of(:), momentum_of(:, :), &
-                                          stress_volume(:)
-      logical, intent(in) :: kinematics, force
-      real(dp), intent(inout), contiguous :: mass(0:), momentum(0:), nodal_force(0:)
-      real(dp), intent(in) :: origin, dx
-      real(dp), intent(in), contiguous, optional :: v(:), velocity_gradient(:), position(:)
-      logical :: affine
-      affine = present(velocity_gradient)
-      select case (support)
-      case (2)
-         block
-            integer, parameter :: columns = 2
-            include 'mpm_scatter_variants.inc'
-         end block
-      case (3)
-         block
-            integer, parameter :: columns = 3
-            include 'mpm_scatter_variants.inc'
-         end block
-      case default
-         block
-            integer, parameter :: columns = 4
-            include 'mpm_scatter_variants.inc'
-         end block
-      end select
-   end subroutine scatter_columns
 
    !> At a fixed end with ghost cells (grid%mirror), the mirror image of the body beyond it: node
    !> c - j (c = grid%ghost, the fixed node at x = 0) is node c + j reflected. The body's image has the
@@ -305,25 +255,10 @@ contains
       integer(i8) :: below, above
       real(dp) :: displacement_block(block_size), kinetic_block(block_size)
       type(largest_move_t) :: largest
-      ! the gathers: one loop over the particles for each support and each set of sums
-      ! (mpm_gather_loop.inc, compiled with named constants; it vectorises)
-      select case (support)
-      case (2)
-         block
-            integer, parameter :: columns = 2
-            include 'mpm_gather_variants.inc'
-         end block
-      case (3)
-         block
-            integer, parameter :: columns = 3
-            include 'mpm_gather_variants.inc'
-         end block
-      case default
-         block
-            integer, parameter :: columns = 4
-            include 'mpm_gather_variants.inc'
-         end block
-      end select
+      ! the gathers: one loop over the particles, compiled for each support and each set of sums
+      ! (mpm_scatter_gather; it vectorises)
+      call gather_columns(support, first, weight, gradient, acceleration, velocity, gathered, strain_rate, affine, lo, dx, &
+                          c_factor, position, velocity_gradient)
       select case (transfer_kind)
       case (transfer_pic, transfer_apic)
          v = gathered(:, 2)

@@ -1,9 +1,9 @@
-!> The scheme layer: USF, USL and MUSL as the README writes them, over the generic operations of
+!> The scheme layer: USF, USL and MUSL as docs/theory.md writes them (references there), over the generic operations of
 !> mpm_operations (any shape function, per-particle masses, the scene's boundary conditions and forces).
-!> - USF, Update Stress First (Bardenhagen 2002): the stress from the nodal velocities of this step's
+!> - USF, Update Stress First ([Bardenhagen 2002]): the stress from the nodal velocities of this step's
 !>   mapping, before the momentum update.
 !> - USL, Update Stress Last: the stress from the nodal velocities after the momentum update.
-!> - MUSL, Modified USL (Sulsky, Zhou and Schreyer 1995): as USL, but the updated particle momentum is
+!> - MUSL, Modified USL ([Sulsky 1995]): as USL, but the updated particle momentum is
 !>   mapped back with the same shape functions and the stress uses the nodal velocity of that remap.
 module mpm_schemes
    use mpm_kinds, only: dp

@@ -29,7 +29,7 @@ module mpm_shape
    integer, parameter :: all_shapes(5) = [shape_linear, shape_ugimp, shape_cpgimp, shape_bspline2, shape_bspline3]
    character(len=*), parameter :: known_shapes = 'linear, ugimp, cpgimp, bspline2, bspline3'
    !> Velocity transfer ids (G2P): FLIP v += dt sum N a; PIC v = sum N v; their blend; APIC
-   !> (Jiang et al. 2015: PIC plus a per-particle velocity gradient carried into the next P2G).
+   !> ([Jiang 2015] in docs/theory.md: PIC plus a per-particle velocity gradient carried into the next P2G).
    integer, parameter :: transfer_flip = 1, transfer_pic = 2, transfer_blend = 3, transfer_apic = 4
    integer, parameter :: all_transfers(4) = [transfer_flip, transfer_pic, transfer_blend, transfer_apic]
    character(len=*), parameter :: known_transfers = 'flip, pic, blend, apic'

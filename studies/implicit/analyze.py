@@ -23,8 +23,9 @@ def text(values):
 
 
 def sweep_table(path, fields=()):
-    """The /cases columns of a sweep (text as str) and its histories {case index from 1: {field: array}}."""
-    sweep = load_sweep(path)
+    """The /cases columns of every case of a sweep, stopped ones too (text as str; the stability limits
+    are where cases stop), and its histories {case index from 1: {field: array}}."""
+    sweep = load_sweep(path, cases='all')
     cases = dict(sweep.cases)
     for k in list(cases):
         if cases[k].dtype.kind in 'SUO':
