@@ -12,6 +12,7 @@
 !>   work); a law that never yields (sigma_y = 1e30) gives the hencky update bit for bit.
 !> - tangents: d sigma/d (d eps) of every law against central finite differences of its update.
 program test_material
+   use, intrinsic :: iso_fortran_env, only: real128
    use mpm_kinds, only: dp
    use mpm_material_elastic, only: elastic_update, strain_energy_density, elastic_update_all, linear_update, &
                                    linear_update_all, linear_energy_density
@@ -96,6 +97,24 @@ contains
                          rtol=1.0e-12_dp)
       call t%check_close('linear: stored energy sigma^2 V0/(2E) = int sigma dJ V0', &
                          linear_energy_density(youngs, stress, 2.0_dp), 2.0_dp*work, rtol=1.0e-9_dp)
+      ! at small strain, after many steps: sigma against E (J - 1) with J formed in quadruple precision (the
+      ! bar at v0 = 0.001 m/s: strains of 2e-7 over 6.4e4 steps; E (J - 1) from the double J lost 3e-6)
+      block
+         real(real128) :: jq
+         real(dp) :: worst, s, j
+         s = 0.0_dp
+         j = 1.0_dp
+         jq = 1.0_real128
+         worst = 0.0_dp
+         do n = 1, 64000
+            de = 2.0e-7_dp*(sin(6.283185307179586_dp*n/16000) - sin(6.283185307179586_dp*(n - 1)/16000))
+            call linear_update(youngs, de, s, j)
+            jq = jq*(1.0_real128 + real(de, real128))
+            worst = max(worst, abs(s - real(youngs*(jq - 1.0_real128), dp)))
+         end do
+         call t%check('linear at strain 2e-7 over 64000 steps: sigma = E (J - 1) to 1e-10 of E eps', &
+                      worst < 1.0e-10_dp*youngs*2.0e-7_dp, 'worst '//real_text(worst/(youngs*2.0e-7_dp)))
+      end block
       block
          real(dp) :: ds(4), v0(4), s1(4), j1(4), s2(4), j2(4), energy, smallest
          ds = [1.0e-3_dp, -2.0e-3_dp, 0.0_dp, 5.0e-4_dp]

@@ -256,7 +256,7 @@ contains
          ! sweep has no gap column, an explicit Hencky one no newton_tolerance or yield_stress)
          call t%check('/cases has the column '//trim(table(i)%attribute)//' exactly when the bar uses it', &
                       h5_exists(dir//'/sweep.h5', '/cases/'//trim(table(i)%attribute)) .eqv. &
-                      (used_by(table(i), 'vibrating_bar') .and. used_with(table(i)%name, 'hencky', 'explicit')))
+                      (used_by(table(i), 'vibrating_bar') .and. used_with(table(i), 'hencky', 'explicit')))
       end do
 
       call write_text('badsweep.nml', [character(len=100) :: "&scene density=-1.0 /", &

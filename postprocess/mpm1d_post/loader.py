@@ -249,9 +249,10 @@ def _parameters(path: str, config: Dict[str, Any]) -> List[Parameter]:
 
 
 def _history(path: str, group: 'h5py.Group', where: str) -> Dict[str, np.ndarray]:
-    """The 1-D time series of a history group as a dict of float arrays."""
-    return {name: np.asarray(_read(path, group.file, f'{where}/{name}'), dtype=float)
-            for name in HISTORY_DATASETS}
+    """The 1-D time series of a history group as a dict of float arrays: the required ones and any other
+    (``plastic_work`` where a body is elastoplastic)."""
+    names = list(HISTORY_DATASETS) + sorted(set(group.file[where]) - set(HISTORY_DATASETS))
+    return {name: np.asarray(_read(path, group.file, f'{where}/{name}'), dtype=float) for name in names}
 
 
 # --------------------------------------------------------------------------------------------

@@ -38,11 +38,11 @@ COMMAND = '.venv/bin/python -m mpm1d_post.namelist_doc -o docs/namelist.md'
 #: The groups in page order, each with what it is for (template text; a group the registry lists
 #: but this table lacks stops the generator, so that a new group gets its text).
 GROUPS: Dict[str, str] = {
-    'scene': "The problem and its material. `kind` chooses the scene ([Scenes](user-guide.md#scenes)); "
+    'scene': "The problem and its bodies. `kind` chooses the scene ([Scenes](user-guide.md#scenes)); "
              "a variable of another kind is refused with a message naming the kind that uses it, and "
              "is left out of the echoed namelist.",
-    'material': "The constitutive law of the bodies and its parameters ([Materials](theory.md)); a "
-                "variable of another law is refused naming the law that uses it, and is left out of the "
+    'material': "The constitutive law of the bodies and its parameters ([Materials](theory.md#materials)); a "
+                "variable of a law not chosen is refused naming the law that uses it, and is left out of the "
                 "echoed namelist.",
     'discretisation': "Grid, particles, time step, update scheme, shape functions and velocity transfer "
                       "([Theory](theory.md)), and the time integrator: `integrator = 'explicit'` (the "

@@ -140,9 +140,9 @@ def test_defaults_are_shown_short_and_read_back_exactly(text, shown, literal):
 
 def test_a_group_without_template_text_is_refused():
     """A new registry group stops the generator until the template describes it."""
-    p = Parameter(group='thermal', name='conductivity', attribute='conductivity', type='real', unit='W/(m K)',
-                  value='1.0', allowed='> 0', sweep_list='', help='the conductivity')
-    with pytest.raises(ValueError, match='thermal'):
+    p = Parameter(group='contact_law', name='law', attribute='law', type='text', unit='', value="'hencky'",
+                  allowed="'hencky'", sweep_list='', help='the law')
+    with pytest.raises(ValueError, match='contact_law'):
         namelist_doc.render([p])
 
 

@@ -21,8 +21,8 @@ module mpm_config
    public :: default_config, config_summary, known_schemes
    public :: max_snapshots, max_segments, check_output_path, body_length, largest_wave_speed
    public :: config_parameters, config_groups, group_help, known_scenes, scene_kind_t, scene_kinds
-   public :: step_count, stability_limit, not_used_message, config_warnings, contact_time, known_kind
    public :: material_of, plastic_wave_periods
+   public :: step_count, stability_limit, not_used_message, config_warnings, contact_time, known_kind
    public :: known_integrators, max_implicit_dt_fraction, used_with
 
    !> Most snapshot times one run accepts.
@@ -50,7 +50,8 @@ module mpm_config
       scene_kind_t('composite_bar', 'a wave through stiff-soft segments, driven at one end', &
                    'sum L_i/c_i, one crossing'), &
       scene_kind_t('impact', 'two bars colliding', '2 max L/c, from their first contact'), &
-      scene_kind_t('plastic_wave', 'an elastoplastic wave from a driven end', 'L/c, default 0.8')]
+      scene_kind_t('plastic_wave', 'an elastic-plastic wave from a driven end', &
+                   "L/c (the precursor's transit; default 0.8)")]
    !> The groups of one run's input, in the order of the echo and of --help.
    character(len=16), parameter :: config_groups(*) = [character(len=16) :: 'scene', 'material', 'discretisation', &
                                                         'run', 'output', 'guards']
@@ -257,18 +258,19 @@ contains
          text_entry('material', 'law', config%law, "constitutive law: 'hencky' sigma = E ln J (sigma += E d eps), "// &
                     "'linear' sigma = E (J - 1), 'elastoplastic' Hencky with linear isotropic hardening", &
                     words=known_laws, sweep_list='law'), &
-         for_kinds(real_entry('material', 'yield_stress', config%yield_stress, 'Pa', 'initial yield stress '// &
+         for_kinds(for_value(real_entry('material', 'yield_stress', config%yield_stress, 'Pa', 'initial yield stress '// &
                               'sigma_y: |sigma| <= sigma_y + H alpha (law elastoplastic)', greater_than=0.0_dp, &
-                              sweep_list='yield_stress'), 'vibrating_bar, column, plastic_wave'), &
-         for_kinds(real_entry('material', 'hardening_modulus', config%hardening_modulus, 'Pa', 'linear isotropic '// &
+                              sweep_list='yield_stress'), 'law', 'elastoplastic'), 'vibrating_bar, column, plastic_wave'), &
+         for_kinds(for_value(real_entry('material', 'hardening_modulus', config%hardening_modulus, 'Pa', 'linear isotropic '// &
                               'hardening modulus H (law elastoplastic; 0: perfectly plastic)', at_least=0.0_dp, &
-                              sweep_list='hardening_modulus'), 'vibrating_bar, column, plastic_wave'), &
-         for_kinds(real_list_entry('material', 'yield_stresses', config%yield_stresses, config%yield_count, 'Pa', &
+                              sweep_list='hardening_modulus'), 'law', 'elastoplastic'), 'vibrating_bar, column, plastic_wave'), &
+         for_kinds(for_value(real_list_entry('material', 'yield_stresses', config%yield_stresses, config%yield_count, 'Pa', &
                                    "each segment's (bar's) yield stress (law elastoplastic)", greater_than=0.0_dp, &
-                                   note='one per segment'), 'composite_bar, impact'), &
-         for_kinds(real_list_entry('material', 'hardening_moduli', config%hardening_moduli, config%hardening_count, &
+                                   note='one per segment'), 'law', 'elastoplastic'), 'composite_bar, impact'), &
+         for_kinds(for_value(real_list_entry('material', 'hardening_moduli', config%hardening_moduli, config%hardening_count, &
                                    'Pa', "each segment's (bar's) hardening modulus (law elastoplastic)", &
-                                   at_least=0.0_dp, note='one per segment'), 'composite_bar, impact'), &
+                                   at_least=0.0_dp, note='one per segment'), 'law', 'elastoplastic'), &
+                   'composite_bar, impact'), &
          real_entry('run', 'periods', config%periods, '', 'run length in periods of the scene ('// &
                     scene_list(periods=.true.)//'); steps = smallest n with n dt >= end time', &
                     greater_than=0.0_dp, optional=.true., given=config%periods_given), &
@@ -457,7 +459,7 @@ contains
 
    !> Each variable's range, where it was given; a variable given for a scene kind that does not use it
    !> is refused (after an unknown kind, whose own message says what the kinds are, it is not), and so is
-   !> a variable of another law or another integrator.
+   !> a variable of another integrator (one of another law: check_conditions, for_value).
    subroutine check_given(table, config, error)
       type(parameter_t), intent(in) :: table(:)
       type(config_t), intent(in) :: config
@@ -467,8 +469,6 @@ contains
          if (table(i)%line > 0 .and. known_kind(config%scene_kind) .and. &
              .not. used_by(table(i), trim(config%scene_kind))) then
             call append_error(error, trim(table(i)%origin)//' '//not_used_message(table(i), config%scene_kind))
-         else if (table(i)%line > 0 .and. .not. used_by_law(table(i)%name, config%law)) then
-            call append_error(error, trim(table(i)%origin)//' '//law_message(table(i)%name, config%law))
          else if (table(i)%line > 0 .and. .not. used_by_integrator(table(i)%name, config%integrator)) then
             call append_error(error, trim(table(i)%origin)//' '//integrator_message(table(i), config%integrator))
          else if (table(i)%line > 0) then
@@ -578,32 +578,6 @@ contains
       end function sweep_item
    end subroutine check_conditions
 
-   !> The law that uses the &material variable `name` ('' for every law): a variable of another law is
-   !> refused, as a scene variable of another kind is.
-   pure function law_of(name) result(law)
-      character(len=*), intent(in) :: name
-      character(len=:), allocatable :: law
-      select case (trim(name))
-      case ('yield_stress', 'hardening_modulus', 'yield_stresses', 'hardening_moduli')
-         law = 'elastoplastic'
-      case default
-         law = ''
-      end select
-   end function law_of
-
-   !> Whether `law` uses the variable `name` (an unknown law uses every one: its own check reports it).
-   pure logical function used_by_law(name, law)
-      character(len=*), intent(in) :: name, law
-      used_by_law = len(law_of(name)) == 0 .or. law_id(law) == 0 .or. law_of(name) == trim(law)
-   end function used_by_law
-
-   !> The message refusing a variable that law `law` does not use.
-   function law_message(name, law) result(text)
-      character(len=*), intent(in) :: name, law
-      character(len=:), allocatable :: text
-      text = "material: '"//trim(name)//"' is not used by law = '"//trim(law)//"'; it belongs to law "//law_of(name)
-   end function law_message
-
    !> The integrators that use the variable `name`, comma separated ('' for every one): given with another
    !> integrator it is refused, as a variable of another scene kind or law is, and the echo leaves it out.
    pure function integrators_of(name) result(list)
@@ -634,11 +608,14 @@ contains
                            index(', '//integrators_of(name)//',', ', '//trim(integrator)//',') > 0
    end function used_by_integrator
 
-   !> Whether a run with `law` and `integrator` uses the variable `name` (a sweep's /cases has the columns
-   !> of the variables some of its cases use).
-   pure logical function used_with(name, law, integrator)
-      character(len=*), intent(in) :: name, law, integrator
-      used_with = used_by_law(name, law) .and. used_by_integrator(name, integrator)
+   !> Whether a run with `law` and `integrator` uses the variable of entry `p` (a sweep's /cases has the
+   !> columns of the variables some of its cases use): its integrators' (integrators_of), and of the
+   !> law's variables (for_value on law, as yield_stress) those of that law.
+   pure logical function used_with(p, law, integrator)
+      type(parameter_t), intent(in) :: p
+      character(len=*), intent(in) :: law, integrator
+      used_with = used_by_integrator(p%name, integrator)
+      if (trim(p%needs_variable) == 'law') used_with = used_with .and. trim(p%needs_word) == trim(law)
    end function used_with
 
    !> The message refusing a variable that integrator `integrator` does not use.
@@ -887,6 +864,8 @@ contains
       end if
       end_time = run_end_time(config)
       if (end_time < dt) call append_error(error, run_too_short(config, end_time_given, end_time, dt, given))
+      if (end_time/dt > real(huge(1) - 1, dp)) call append_error(error, too_many_steps(config, end_time_given, &
+                                                                                         end_time, dt, given))
       if (trim(config%scene_kind) == 'plastic_wave' .and. end_time > (1.0_dp + 1.0e-12_dp)*config%length/c) &
          call append_error(error, run_length(config, end_time_given, end_time, given)//" ends after the elastic "// &
                            "precursor reaches the free end at L/c = "//num(config%length/c, 4)//" s, where the "// &
@@ -898,23 +877,15 @@ contains
       call check_snapshots(config, end_time, error, given)
    end subroutine check_run
 
-   !> The &material group against the law and the scene: a variable of another law (also set by a sweep)
-   !> is refused, an elastoplastic composite bar or impact needs yield_stresses and hardening_moduli with one
+   !> The &material group against the scene (a variable of another law is refused by its entry's
+   !> condition, for_value): an elastoplastic composite bar or impact needs yield_stresses and hardening_moduli with one
    !> value per segment, and the manufactured solution's body force is made for an elastic law.
    subroutine check_material(config, error)
       type(config_t), intent(in) :: config
       type(error_t), allocatable, intent(inout) :: error
-      type(config_t) :: defaults
       logical :: several
       several = trim(config%scene_kind) == 'composite_bar' .or. trim(config%scene_kind) == 'impact'
-      if (trim(config%law) /= 'elastoplastic') then
-         if (config%yield_stress /= defaults%yield_stress) call append_error(error, law_message('yield_stress', &
-                                                                                                config%law))
-         if (config%hardening_modulus /= defaults%hardening_modulus) &
-            call append_error(error, law_message('hardening_modulus', config%law))
-         if (config%yield_count > 0) call append_error(error, law_message('yield_stresses', config%law))
-         if (config%hardening_count > 0) call append_error(error, law_message('hardening_moduli', config%law))
-      else if (several .and. (config%yield_count /= config%length_count .or. &
+      if (trim(config%law) == 'elastoplastic' .and. several .and. (config%yield_count /= config%length_count .or. &
                               config%hardening_count /= config%length_count)) then
          call append_error(error, "material: law = 'elastoplastic' with kind = '"//trim(config%scene_kind)// &
                            "' needs yield_stresses and hardening_moduli with one value per segment (given "// &
@@ -1492,8 +1463,7 @@ contains
          if (len_trim(table(i)%needs_variable) == 0) cycle
          if (format_value(table(i)) /= format_value(default_table(i))) table(i)%needs_variable = ''
       end do
-      table = pack(table, [(used_by_law(table(i)%name, config%law) .and. &
-                            used_by_integrator(table(i)%name, config%integrator), i=1, size(table))])
+      table = pack(table, [(used_by_integrator(table(i)%name, config%integrator), i=1, size(table))])
       text = ''
       do i = 1, size(config_groups)
          text = text//group_namelist(table, trim(config_groups(i)), trim(config%scene_kind))

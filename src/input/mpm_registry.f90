@@ -38,7 +38,7 @@ module mpm_registry
       character(len=32) :: attribute = ''
       integer :: type = type_real
       character(len=16) :: unit = ''
-      character(len=400) :: help = ''
+      character(len=480) :: help = ''
       !> Range of numbers (and of each list element): bounds, whether each is present and open.
       real(dp) :: lower = 0.0_dp, upper = 0.0_dp
       logical :: has_lower = .false., has_upper = .false., lower_open = .false., upper_open = .false.

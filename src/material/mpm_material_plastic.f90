@@ -25,16 +25,25 @@ contains
                                       plastic_strain, hardening)
       real(dp), intent(in) :: youngs_modulus, yield_stress, hardening_modulus, dstrain
       real(dp), intent(inout) :: stress, plastic_strain, hardening
-      real(dp) :: excess, increment
-      stress = stress + youngs_modulus*dstrain
-      excess = abs(stress) - (yield_stress + hardening_modulus*hardening)
-      if (excess > 0.0_dp) then
-         increment = excess/(youngs_modulus + hardening_modulus)
-         stress = stress - sign(youngs_modulus*increment, stress)
-         plastic_strain = plastic_strain + sign(increment, stress)
-         hardening = hardening + increment
-      end if
+      call return_step(youngs_modulus, yield_stress, hardening_modulus, dstrain, stress, plastic_strain, hardening)
    end subroutine radial_return
+
+   !> radial_return's body, private so that the loops here inline it (a public procedure of a library
+   !> built with -fPIC may be interposed, and gfortran then calls it per particle).
+   elemental subroutine return_step(youngs_modulus, yield_stress, hardening_modulus, dstrain, stress, &
+                                    plastic_strain, hardening)
+      real(dp), intent(in) :: youngs_modulus, yield_stress, hardening_modulus, dstrain
+      real(dp), intent(inout) :: stress, plastic_strain, hardening
+      real(dp) :: increment
+      stress = stress + youngs_modulus*dstrain
+      ! d gamma, zero in an elastic step: written without a branch, so that a loop over particles
+      ! vectorises; an elastic step then subtracts and adds zeros, which leaves the hencky bits
+      increment = max(abs(stress) - (yield_stress + hardening_modulus*hardening), 0.0_dp)/ &
+                  (youngs_modulus + hardening_modulus)
+      stress = stress - sign(youngs_modulus*increment, stress)
+      plastic_strain = plastic_strain + sign(increment, stress)
+      hardening = hardening + increment
+   end subroutine return_step
 
    !> The consistent tangent d sigma_{n+1}/d (d eps) of radial_return from the state before the step:
    !> E when the trial stress stays within the yield surface, E H/(E + H) when it returns.
@@ -51,8 +60,14 @@ contains
    !> Plastic work of a particle, (sigma_y alpha + H alpha^2/2) V0.
    elemental real(dp) function plastic_work_density(yield_stress, hardening_modulus, hardening, volume0)
       real(dp), intent(in) :: yield_stress, hardening_modulus, hardening, volume0
-      plastic_work_density = (yield_stress + 0.5_dp*hardening_modulus*hardening)*hardening*volume0
+      plastic_work_density = work_of(yield_stress, hardening_modulus, hardening, volume0)
    end function plastic_work_density
+
+   !> plastic_work_density's body, private (inlined in the loops; see return_step).
+   elemental real(dp) function work_of(yield_stress, hardening_modulus, hardening, volume0)
+      real(dp), intent(in) :: yield_stress, hardening_modulus, hardening, volume0
+      work_of = (yield_stress + 0.5_dp*hardening_modulus*hardening)*hardening*volume0
+   end function work_of
 
    !> The dissipated part of it, sigma_y alpha V0 (the rest, H alpha^2 V0/2, is stored in the hardening).
    elemental real(dp) function dissipation_density(yield_stress, hardening, volume0)
@@ -78,21 +93,21 @@ contains
       if (size(youngs_modulus) == 1) then
          half_compliance = 0.5_dp/youngs_modulus(1)
          do p = 1, size(dstrain)
-            call radial_return(youngs_modulus(1), yield_stress(1), hardening_modulus(1), dstrain(p), stress(p), &
+            call return_step(youngs_modulus(1), yield_stress(1), hardening_modulus(1), dstrain(p), stress(p), &
                                plastic_strain(p), hardening(p))
             volume_ratio(p) = volume_ratio(p)*(1.0_dp + dstrain(p))
             energy = energy + stress(p)*stress(p)*volume_ratio(p)*volume0(p)*half_compliance
             smallest = min(smallest, volume_ratio(p))
-            work = work + plastic_work_density(yield_stress(1), hardening_modulus(1), hardening(p), volume0(p))
+            work = work + work_of(yield_stress(1), hardening_modulus(1), hardening(p), volume0(p))
          end do
       else
          do p = 1, size(dstrain)
-            call radial_return(youngs_modulus(p), yield_stress(p), hardening_modulus(p), dstrain(p), &
+            call return_step(youngs_modulus(p), yield_stress(p), hardening_modulus(p), dstrain(p), &
                                stress(p), plastic_strain(p), hardening(p))
             volume_ratio(p) = volume_ratio(p)*(1.0_dp + dstrain(p))
             energy = energy + 0.5_dp*stress(p)*stress(p)*volume_ratio(p)*volume0(p)/youngs_modulus(p)
             smallest = min(smallest, volume_ratio(p))
-            work = work + plastic_work_density(yield_stress(p), hardening_modulus(p), hardening(p), volume0(p))
+            work = work + work_of(yield_stress(p), hardening_modulus(p), hardening(p), volume0(p))
          end do
       end if
    end subroutine plastic_update_all

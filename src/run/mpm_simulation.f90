@@ -165,7 +165,7 @@ contains
          cache%kind = shape_id(config%shape)
          cache%transfer = transfer_id(config%transfer)
          cache%flip_fraction = config%flip_fraction
-         ! (the fused kernels take every shape)
+         ! (the fused kernels take every shape; their stress update is hencky's, and they are explicit)
          run%fused = trim(config%kernels) == 'auto' .and. scene%fused_applies() .and. cache%transfer == transfer_flip &
                      .and. run%material%law == law_hencky .and. run%integrator == integrator_explicit
          run%box = fused_shape(cache%kind)
@@ -281,16 +281,13 @@ contains
       real(dp), allocatable :: values(:)
       if (run%scene%watches) then
          call run%scene%watch_report(run%watch, run%particles, names, values)
-         result%report_names = [character(len=32) :: result%report_names, names]
-         result%report_values = [result%report_values, values]
+         call add_report(result, names, values)
       end if
       call material_report(run%material, run%particles, names, values) ! (none for elastic laws)
-      result%report_names = [character(len=32) :: result%report_names, names]
-      result%report_values = [result%report_values, values]
+      call add_report(result, names, values)
       if (run%integrator /= integrator_explicit) then
          call implicit_report(run%implicit, names, values)
-         result%report_names = [character(len=32) :: result%report_names, names]
-         result%report_values = [result%report_values, values]
+         call add_report(result, names, values)
       end if
       if (result%ucm_amplitude /= 0.0_dp) then
          result%relative_error = result%max_error/abs(result%ucm_amplitude)
@@ -370,10 +367,10 @@ contains
             s%x0 = particles%x0
             if (allocated(particles%youngs_modulus_of)) s%youngs_modulus = particles%youngs_modulus_of
             if (allocated(particles%body)) s%body = particles%body
-            if (allocated(particles%plastic_strain)) s%plastic_strain = particles%plastic_strain
             s%v = particles%v
             s%stress = particles%stress
             s%volume_ratio = particles%volume_ratio
+            if (allocated(particles%plastic_strain)) s%plastic_strain = particles%plastic_strain
             s%grid_x = [(grid%origin + i*grid%dx, i=0, grid%elements)]
             s%grid_velocity = grid%velocity
          end associate
@@ -506,4 +503,23 @@ contains
       if (allocated(history%plastic_work)) history%plastic_work(i) = totals%plastic_work
       history%recorded = i + 1
    end subroutine record
+
+   !> Append to the run's /summary quantities (element by element: gfortran 12 gave an array constructor
+   !> of an empty and a non-empty character array the wrong length, and corrupted the heap).
+   subroutine add_report(result, names, values)
+      type(run_result_t), intent(inout) :: result
+      character(len=32), intent(in) :: names(:)
+      real(dp), intent(in) :: values(:)
+      character(len=32), allocatable :: all_names(:)
+      real(dp), allocatable :: all_values(:)
+      integer :: n
+      n = size(result%report_names)
+      allocate (all_names(n + size(names)), all_values(n + size(names)))
+      all_names(1:n) = result%report_names
+      all_names(n + 1:) = names
+      all_values(1:n) = result%report_values
+      all_values(n + 1:) = values
+      call move_alloc(all_names, result%report_names)
+      call move_alloc(all_values, result%report_values)
+   end subroutine add_report
 end module mpm_simulation

@@ -11,12 +11,15 @@
 !> end time is 0.8 L/c_e). The drive's force is the stress at X = 0, constant in time, so the momentum
 !> grows as |sigma(0)| t and u_cm(t) = |sigma(0)| t^2/(2 rho L).
 !> The drive follows the bar's end as it moves into the grid: each step the first particle (the end's,
-!> at X = l_p) is given the velocity V by a point force at its position, distributed over the nodes of
-!> its support with its shape functions N_I (the Lagrange multiplier of the constraint
-!> sum_I N_I v_I = V after the grid solve): f_I += lambda N_I, lambda = (V - sum_I N_I v*_I)/(dt sum_I N_I^2/m_I),
-!> v*_I the velocities the solve would give without it. Each node moves by at most what a node carrying
-!> the end particle alone would (m_I >= N_I m_1), so a nearly empty node is no trouble. Driving node 0
-!> alone, as the composite bar does, frees the end once it has moved past that node.
+!> at X = l_p) is given the velocity V. The nodes of its support at or behind it (x_I <= x_1: inside the
+!> driven end, where the exact velocity is V) are driven at V, f_I = (m_I V - p_I)/dt, as the composite
+!> bar drives node 0; the nodes ahead of it get a point force at its position distributed with its shape
+!> functions N_I, f_I += lambda N_I, the Lagrange multiplier of the constraint sum_I N_I v_I = V after the
+!> grid solve: lambda = (V - sum_I N_I v*_I)/(dt sum_I N_I^2/m_I) over those nodes, v*_I the velocities
+!> the solve gives them without it (and V on the nodes behind). So the end particle moves exactly at V,
+!> and the nearly empty node it leaves behind as it moves into the grid has the velocity V instead of
+!> one that the cell-crossing instability of linear shape functions would blow up. Driving node 0 alone,
+!> as the composite bar does, frees the end once it has moved past that node.
 !> Error measure: at the end time, the L1 norm of the particle stress minus the exact stress at the
 !> particle's reference position, sum_p |sigma_p - sigma(X_p, T)| V0_p (Pa m), relative to the plastic
 !> stress times L (relative_error), as the composite bar's.
@@ -148,7 +151,9 @@ contains
       ucm_amplitude = self%plastic_stress*self%length
    end function ucm_amplitude
 
-   !> The drive: the point force at the end particle that gives it the velocity V (see the module).
+   !> The drive (see the module): the nodes at or behind the end particle (x_I <= x_1, inside the driven
+   !> end) get the force that gives them the velocity V, f_I = (m_I V - p_I)/dt; the nodes ahead of it the
+   !> point force lambda N_I that makes the end particle's interpolated velocity V.
    subroutine add_forces(self, grid, t, cache, particles)
       class(plastic_wave_t), intent(in) :: self
       type(grid_t), intent(inout) :: grid
@@ -157,20 +162,27 @@ contains
       type(particles_t), intent(in) :: particles
       real(dp) :: missing, flexibility, w, multiplier
       integer :: k, i
+      logical :: behind(cache%support)
       missing = self%drive_velocity
       flexibility = 0.0_dp
       do k = 1, cache%support
          i = cache%first(1) + k - 1
          w = cache%weight(1, k)
+         behind(k) = grid%origin + i*grid%dx <= particles%x(1)
          if (grid%mass(i) <= grid%empty_mass) cycle ! the solve gives it no velocity
-         missing = missing - w*(grid%momentum(i) + self%dt*grid%force(i))/grid%mass(i)
-         flexibility = flexibility + w*w/grid%mass(i)
+         if (behind(k)) then
+            grid%force(i) = (grid%mass(i)*self%drive_velocity - grid%momentum(i))/self%dt
+            missing = missing - w*self%drive_velocity
+         else
+            missing = missing - w*(grid%momentum(i) + self%dt*grid%force(i))/grid%mass(i)
+            flexibility = flexibility + w*w/grid%mass(i)
+         end if
       end do
       if (flexibility <= 0.0_dp) return
       multiplier = missing/(self%dt*flexibility)
       do k = 1, cache%support
          i = cache%first(1) + k - 1
-         if (grid%mass(i) <= grid%empty_mass) cycle
+         if (grid%mass(i) <= grid%empty_mass .or. behind(k)) cycle
          grid%force(i) = grid%force(i) + multiplier*cache%weight(1, k)
       end do
    end subroutine add_forces

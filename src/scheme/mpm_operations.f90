@@ -25,8 +25,8 @@ module mpm_operations
    use mpm_diagnostics, only: pass_totals_t
    use mpm_shape_range, only: infinity_bits
    use mpm_lanes, only: block_size, lanes, largest_move_t, add_lanes, lane_total, track_largest_move, furthest_particle
-   use mpm_material, only: material_t, update_material, stored_energy, plastic_work
    use mpm_scatter_gather, only: scatter_columns, gather_columns, affine_none, affine_hat, affine_spline
+   use mpm_material, only: material_t, update_material, stored_energy, plastic_work
    implicit none
    private
 

@@ -106,7 +106,7 @@ contains
       do j = 1, size(sweep%settings%lists)
          associate (p => table(sweep%settings%lists(j)%entry))
             if (.not. used_by(p, trim(sweep%base%scene_kind))) cycle
-            if (.not. any([((used_with(p%name, trim(laws(a)), trim(integrators(b))), a=1, size(laws)), &
+            if (.not. any([((used_with(p, trim(laws(a)), trim(integrators(b))), a=1, size(laws)), &
                             b=1, size(integrators))])) cycle
          end associate
          columns = [columns, case_column(sweep, j, sweep%cases)]

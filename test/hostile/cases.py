@@ -547,7 +547,7 @@ refused('sweep_flip_fraction_no_case_uses', I3, nml(discretisation="elements=4, 
 
 refused('misspelled_group_suggested', I4, nml(discretisation=None) + "&discretization elements=4 /\n",
         r"in\.nml:\d: unknown namelist group &discretization; did you mean &discretisation\? known groups: &scene, "
-        r"&discretisation, &run, &output, &guards, &sweep")
+        r"&material, &discretisation, &run, &output, &guards, &sweep")
 refused('misspelled_group_sweep_listed', I4, nml() + "&sweeps elements=3,4 /\n", r"did you mean &sweep\?")
 refused('misspelled_variable_suggested', I4, nml(discretisation='elemnts=4'),
         r"unknown variable 'elemnts'; did you mean 'elements'\? allowed names: scheme, elements")
@@ -613,7 +613,7 @@ add('help_kind_lists_every_scene', I4, 0, r"kind = 'vibrating_bar': the problem 
     r"'vibrating_bar' .*; 'column' .*; 'manufactured' .*; 'composite_bar' .*; 'impact' two bars colliding",
     args=['--help'], not_pattern=r"README")
 add('help_periods_composite', I4, 0, r"periods = 2: run length in periods of the scene \(vibrating_bar: .*composite_bar: "
-    r"sum L_i/c_i.*impact: 2 max L/c, from their first contact\)", args=['--help'])
+    r"sum L_i/c_i.*impact: 2 max L/c, from their first contact[;)]", args=['--help'])
 
 refused('nul_in_output_file_name', I6, nml(output="file='out\0.h5'"),
         r"in\.nml:4: output: bad value for 'file': 'out\\0\.h5' holds a NUL byte", absent=['out', 'out*', 'o.h5'])
