@@ -1,84 +1,88 @@
 #!/usr/bin/env bash
-# Install what mpm1d needs and is missing: gfortran, HDF5 (library, Fortran modules, tools),
-# fpm (from PyPI), numpy/matplotlib/h5py/pytest for the Python interpreter the scripts use, and the
-# post-processing package of this checkout (postprocess/, `pip install -e`, editable).
-# Safe to run again: it installs only what is missing. Source it to get $PYTHON and fpm on PATH:
-#   source studies/setup.sh
-# The Python used is $PYTHON if set, else Debian's /usr/bin/python3 (packages from apt);
-# any other interpreter gets numpy/matplotlib/h5py/pytest from pip.
-set -e
-_sudo=""
-if [ "$(id -u)" != 0 ] && command -v sudo >/dev/null 2>&1; then _sudo="sudo"; fi
-_apt_updated=0
-_apt_install() {
-  if [ "$_apt_updated" = 0 ]; then $_sudo apt-get update -qq; _apt_updated=1; fi
-  DEBIAN_FRONTEND=noninteractive $_sudo apt-get install -y -qq "$@" >/dev/null
-}
-
-if ! command -v gfortran >/dev/null 2>&1 || ! command -v h5dump >/dev/null 2>&1 \
-   || ! command -v pkg-config >/dev/null 2>&1 || ! pkg-config --exists hdf5 2>/dev/null; then
-  echo "setup: installing gfortran, libhdf5-dev, hdf5-tools (apt)" >&2
-  _apt_install gfortran libhdf5-dev hdf5-tools pkg-config
-fi
-
-PYTHON="${PYTHON:-/usr/bin/python3}"
-if [ ! -x "$PYTHON" ]; then
-  echo "setup: installing python3 (apt)" >&2
-  _apt_install python3
-fi
-if ! "$PYTHON" -c "import numpy, matplotlib, h5py, pytest" >/dev/null 2>&1 \
-   || ! "$PYTHON" -m pip --version >/dev/null 2>&1; then
-  if [ "$PYTHON" = /usr/bin/python3 ]; then
-    echo "setup: installing python3-numpy python3-matplotlib python3-h5py python3-pytest python3-pip (apt)" >&2
-    _apt_install python3-numpy python3-matplotlib python3-h5py python3-pytest python3-pip python3-setuptools
-  else
-    echo "setup: installing numpy matplotlib h5py pytest for $PYTHON (pip)" >&2
-    "$PYTHON" -m pip install -q numpy matplotlib h5py pytest
-  fi
-fi
-export PYTHON
-
-# The post-processing package (postprocess/: the loader, figures, plotting commands), installed
-# editable from this checkout unless $PYTHON already imports it from here. Debian's interpreter is
-# "externally managed": pip needs --break-system-packages (as root it installs into /usr/local,
-# otherwise into ~/.local), and uses apt's setuptools (no download).
+# Set up what mpm1d needs, installing only what is missing and leaving the system's Python alone:
+#   - apt packages (the system's to have, installed when missing, never upgraded): gfortran,
+#     libhdf5-dev, hdf5-tools, pkg-config, liblapack-dev, python3-venv, python3-numpy,
+#     python3-matplotlib, python3-h5py, python3-pytest;
+#   - the project's own virtual environment .venv at the top of this checkout, made by Debian's
+#     interpreter: `/usr/bin/python3 -m venv --system-site-packages .venv` (numpy, h5py, matplotlib
+#     and pytest come from apt through it), holding fpm, fypp and ford from PyPI (versions below) and
+#     this checkout's post-processing package (postprocess/, editable: `mpm1d-plot-sweep` & co.).
+# Nothing goes into the system interpreter, pyenv or ~/.local, and no other checkout's install is
+# touched: two clones have two venvs. The `python3` on PATH (pyenv or other) is not used.
+# Run it (`bash studies/setup.sh`) or source it (`source studies/setup.sh`, as every script here
+# does) to get PYTHON=<checkout>/.venv/bin/python and <checkout>/.venv/bin first on PATH (the
+# venv's fpm), and the study scripts' build function mpm1d_build (below).
 _mpm1d_root="$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)"
-if ! "$PYTHON" - "$_mpm1d_root/postprocess" >/dev/null 2>&1 <<'PY'
+_mpm1d_venv="$_mpm1d_root/.venv"
+# the PyPI tools, pinned: fpm 0.12 is the version whose (re)linking the test runner works with
+_mpm1d_tools="fpm==0.12.0 fypp==3.3 ford==7.0.13"
+_mpm1d_apt="gfortran libhdf5-dev hdf5-tools pkg-config liblapack-dev python3-venv python3-numpy
+  python3-matplotlib python3-h5py python3-pytest"
+
+_mpm1d_setup() {
+  local missing="" p sudo=""
+  # apt: only the packages that are not installed
+  if command -v dpkg-query >/dev/null 2>&1; then
+    for p in $_mpm1d_apt; do
+      dpkg-query -W -f='${Status}' "$p" 2>/dev/null | grep -q 'install ok installed' || missing="$missing $p"
+    done
+  fi
+  if [ -n "$missing" ]; then
+    if [ "$(id -u)" != 0 ]; then
+      if command -v sudo >/dev/null 2>&1 && sudo -n true 2>/dev/null; then sudo="sudo"
+      else echo "setup: missing apt packages:$missing; install them with: sudo apt-get install$missing" >&2; return 1; fi
+    fi
+    echo "setup: installing (apt):$missing" >&2
+    $sudo apt-get update -qq && DEBIAN_FRONTEND=noninteractive $sudo apt-get install -y -qq $missing >/dev/null \
+      || { echo "setup: apt-get install$missing failed" >&2; return 1; }
+  fi
+
+  # the project's virtual environment, by Debian's interpreter, seeing apt's numpy, h5py, matplotlib, pytest
+  if [ ! -e "$_mpm1d_venv/bin/python" ]; then
+    echo "setup: making the project's virtual environment: /usr/bin/python3 -m venv --system-site-packages .venv" >&2
+    /usr/bin/python3 -m venv --system-site-packages "$_mpm1d_venv" \
+      || { echo "setup: could not make $_mpm1d_venv" >&2; return 1; }
+  fi
+  if ! "$_mpm1d_venv/bin/python" -I -c 'import numpy, h5py, matplotlib, pytest' >/dev/null 2>&1; then
+    echo "setup: $_mpm1d_venv/bin/python does not import numpy, h5py, matplotlib and pytest (apt's);" \
+         "was .venv made otherwise? Remove it and run studies/setup.sh again" >&2
+    return 1
+  fi
+
+  # fpm, fypp, ford from PyPI into the venv (the stamp names the versions installed)
+  if [ "$(cat "$_mpm1d_venv/.mpm1d-tools" 2>/dev/null)" != "$_mpm1d_tools" ] || [ ! -x "$_mpm1d_venv/bin/fpm" ] \
+     || [ ! -x "$_mpm1d_venv/bin/fypp" ] || [ ! -x "$_mpm1d_venv/bin/ford" ]; then
+    echo "setup: installing $_mpm1d_tools into .venv (pip of the venv)" >&2
+    # shellcheck disable=SC2086
+    "$_mpm1d_venv/bin/python" -m pip install -q $_mpm1d_tools >&2 \
+      || { echo "setup: pip install $_mpm1d_tools into .venv failed" >&2; return 1; }
+    echo "$_mpm1d_tools" > "$_mpm1d_venv/.mpm1d-tools"
+  fi
+
+  # this checkout's post-processing package, editable, unless the venv already imports it from here
+  if ! (cd / && "$_mpm1d_venv/bin/python" -I - "$_mpm1d_root/postprocess" >/dev/null 2>&1) <<'PY'
 import pathlib, sys
 import mpm1d_post
 sys.exit(pathlib.Path(mpm1d_post.__file__).resolve().parents[1] != pathlib.Path(sys.argv[1]).resolve())
 PY
-then
-  echo "setup: installing the post-processing package (pip install -e postprocess)" >&2
-  _pip=("$PYTHON" -m pip install -q --no-deps)
-  if [ "$PYTHON" = /usr/bin/python3 ]; then _pip+=(--no-build-isolation); fi
-  if "$PYTHON" -c "import os, sys, sysconfig; sys.exit(not os.path.exists(os.path.join(sysconfig.get_path('stdlib'), 'EXTERNALLY-MANAGED')))"; then
-    _pip+=(--break-system-packages)
+  then
+    echo "setup: installing the post-processing package into .venv (pip install -e postprocess)" >&2
+    "$_mpm1d_venv/bin/python" -m pip install -q --no-deps --no-build-isolation -e "$_mpm1d_root/postprocess" >&2 \
+      || { echo "setup: the post-processing package could not be installed into .venv" >&2; return 1; }
   fi
-  "${_pip[@]}" -e "$_mpm1d_root/postprocess" >&2 \
-    || { echo "setup: the post-processing package could not be installed" >&2; return 1 2>/dev/null || exit 1; }
-fi
-# its commands (mpm1d-plot-sweep, ...): pip puts them in the interpreter's or the user's scripts folder
-for _scripts in "$("$PYTHON" -c 'import sysconfig; print(sysconfig.get_path("scripts"))')" "$HOME/.local/bin"; do
-  case ":$PATH:" in *":$_scripts:"*) ;; *) [ -d "$_scripts" ] && PATH="$PATH:$_scripts" ;; esac
-done
-export PATH
+}
 
-if ! command -v fpm >/dev/null 2>&1; then
-  echo "setup: installing fpm (pip)" >&2
-  if command -v pip >/dev/null 2>&1 && pip install -q fpm 2>/dev/null; then :
-  elif ! command -v pip >/dev/null 2>&1 && ! /usr/bin/python3 -m pip --version >/dev/null 2>&1; then
-    _apt_install python3-pip
-  fi
-  if ! command -v fpm >/dev/null 2>&1; then
-    /usr/bin/python3 -m pip install -q --user --break-system-packages fpm 2>/dev/null \
-      || /usr/bin/python3 -m pip install -q --user fpm
-    export PATH="$HOME/.local/bin:$PATH"
-  fi
-  hash -r
+if ! _mpm1d_setup; then
+  unset -f _mpm1d_setup
+  return 1 2>/dev/null || exit 1
 fi
-command -v fpm >/dev/null 2>&1 || { echo "setup: fpm could not be installed" >&2; exit 1; }
-set +e
+unset -f _mpm1d_setup
+if [ -n "${PYTHON:-}" ] && [ "$PYTHON" != "$_mpm1d_venv/bin/python" ]; then
+  echo "setup: PYTHON=$PYTHON replaced by the project's $_mpm1d_venv/bin/python" >&2
+fi
+export PYTHON="$_mpm1d_venv/bin/python"
+export PATH="$_mpm1d_venv/bin:$PATH"
+hash -r
 
 # Build of the study scripts (local runs): for this machine's CPU (-march=native, about twice the
 # kernels' speed) unless PORTABLE=1 (fpm's plain release profile, the build the tests and the SLURM

@@ -2,11 +2,16 @@
 module mpm_testing
    use mpm_kinds, only: dp
    use mpm_strings, only: str
-   use mpm_simulation, only: run_result_t
+   use mpm_simulation, only: run_result_t, run_simulation
+   use mpm_config, only: config_t, resolve_config
+   use mpm_errors, only: error_t
+   use mpm_transfer, only: parallel_threshold
+   use omp_lib, only: omp_set_num_threads
    implicit none
    private
    public :: tester_t, app_path, run_app, read_text, scratch_dir, write_lines, fixed_seed
    public :: check_paths_agree
+   public :: check_fused_run
 
    !> Counts checks and failures; `finish` prints "N passed, M failed" and ends with error stop 1 on failure.
    type :: tester_t
@@ -55,6 +60,48 @@ contains
       call t%check_close(label//'kinetic energy histories', generic%history%kinetic_energy(n - 1), &
                          fused%history%kinetic_energy(n - 1), rtol=1.0e-10_dp)
    end subroutine check_paths_agree
+
+   !> The bar (scheme, shape, elements x ppc, dt fraction, amplitude v0, periods) run on the fused
+   !> kernels (1 thread) and on the generic path agree (check_paths_agree). With `segments`, the run
+   !> must be large enough to be cut into segments (`parallel_threshold` particles), and the fused run
+   !> on 2 threads must give the 1-thread histories of u_cm and the energies bit for bit.
+   subroutine check_fused_run(t, scheme, shape, elements, ppc, fraction, v0, periods, segments)
+      type(tester_t), intent(inout) :: t
+      character(len=*), intent(in) :: scheme, shape
+      integer, intent(in) :: elements, ppc
+      real(dp), intent(in) :: fraction, v0, periods
+      logical, intent(in), optional :: segments
+      type(run_result_t) :: fused, generic, two
+      type(config_t) :: config
+      type(error_t), allocatable :: error
+      character(len=:), allocatable :: label
+      label = scheme//' '//shape//' '//str(elements)//' x '//str(ppc)//' k '//str(fraction)//' v0 '//str(v0)//': '
+      config%scheme = scheme
+      config%shape = shape
+      config%elements = elements
+      config%particles_per_element = ppc
+      config%dt_fraction = fraction
+      config%velocity_amplitude = v0
+      config%periods = periods
+      call resolve_config(config)
+      call omp_set_num_threads(1)
+      call run_simulation(config, fused, error, record_history=.true.)
+      config%kernels = 'generic'
+      call run_simulation(config, generic, error, record_history=.true.)
+      call check_paths_agree(t, label, fused, generic, config%length)
+      if (.not. present(segments)) return
+      if (segments) then
+         call t%check(label//'the run is cut into segments', fused%particles >= parallel_threshold)
+         config%kernels = 'auto'
+         call omp_set_num_threads(2)
+         call run_simulation(config, two, error, record_history=.true.)
+         call omp_set_num_threads(1)
+         call t%check(label//'1 and 2 threads give the same u_cm and energy histories', &
+                      two%steps_done == fused%steps_done .and. all(two%history%ucm == fused%history%ucm) .and. &
+                      all(two%history%kinetic_energy == fused%history%kinetic_energy) .and. &
+                      all(two%history%strain_energy == fused%history%strain_energy))
+      end if
+   end subroutine check_fused_run
 
    subroutine tester_check(self, label, condition, detail)
       class(tester_t), intent(inout) :: self

@@ -1,52 +1,136 @@
 #!/usr/bin/env bash
-# Run every test of mpm1d: installs what is missing, then
-#   1. fpm test (Fortran unit, physics, HDF5 and command-line tests),
-#   2. the cross-check of mpm1d against an independent NumPy implementation,
-#   3. the Python post-processing tests (pytest, postprocess/tests),
-#   4. the README's quick-start commands, the paper pipeline, the SLURM job array on a live single-node cluster, the study tests.
-# Usage (from anywhere): bash test/run_tests.sh
+# The tests of mpm1d, in two tiers, after installing what is missing (studies/setup.sh: apt packages
+# and the project's .venv; nothing into the system's Python).
+#   bash test/run_tests.sh         the default tier, minutes: the build, the generated sources' check
+#                                  (test/generate.sh --check), the Fortran tests (all
+#                                  test/test_*.f90 but test_long_*), the cross-check against an
+#                                  independent NumPy implementation, the post-processing tests, the
+#                                  command line, the hostile-input suite, sweep determinism (3
+#                                  two-thread sweeps), the README's commands, the study pipelines
+#                                  and tests (but their long cases: long_cases in this script)
+#   bash test/run_tests.sh --all   the same, then the second tier: test/test_long_*.f90 (large runs
+#                                  on 1 and 2 threads), test/test_long_*.sh (1000 shards merged),
+#                                  sweep determinism with 20 two-thread sweeps (instead of 3), the
+#                                  API documentation (docs/build_api.sh: FORD, no warnings), the
+#                                  long cases of the study tests, and the SLURM job array on a live
+#                                  single-node cluster
+# Every group runs (a failure does not stop the others); the end shows each group's result, wall time
+# and CPU time (of the processes the group waited for: the SLURM daemons' and jobs' are not counted).
+# Exit status 0 only if every group passed. Logs: build/test_logs/<group>.log.
 set -euo pipefail
 cd "$(dirname "$0")/.."
+all=0
+for arg in "$@"; do
+  case "$arg" in
+    --all) all=1 ;;
+    -h|--help) sed -n '2,19p' "$0" | sed 's/^# \{0,1\}//'; exit 0 ;;
+    *) echo "run_tests.sh: unknown argument '$arg' (allowed: --all, --help)" >&2; exit 2 ;;
+  esac
+done
+# the study scripts build for this machine's CPU unless PORTABLE=1: the tests use the one release build
+if [ -z "${FLAGS+x}" ]; then export PORTABLE=1; fi
 source studies/setup.sh
 set -euo pipefail
 export OMP_NUM_THREADS="${OMP_NUM_THREADS:-2}"
+logs=build/test_logs
+mkdir -p "$logs"
+
+# CPU seconds (user + system) of the waited-for children of this shell, from the builtin `times`
+# (run in this shell, not in a $(...) subshell, whose counts start at zero); result in $cpu_now
+times_file="$logs/.times"
+child_cpu() {
+  times > "$times_file"
+  cpu_now=$(awk 'NR == 2 { t = 0; for (i = 1; i <= 2; i++) { split($i, a, "m"); t += a[1]*60 + a[2] }; printf "%.2f", t }' "$times_file")
+}
+summary=()
 failed=0
+# group NAME COMMAND...: runs COMMAND, shows and logs its output, records result, wall and CPU time
+group() {
+  local name="$1"; shift
+  local log="$logs/${name//[^A-Za-z0-9_.-]/_}.log" start cpu rc result wall
+  echo "== $name"
+  start=$(date +%s.%N); child_cpu; cpu=$cpu_now
+  set +e
+  "$@" 2>&1 | tee "$log"
+  rc=${PIPESTATUS[0]}
+  set -e
+  wall=$(awk -v a="$start" -v b="$(date +%s.%N)" 'BEGIN { printf "%.1f", b - a }')
+  child_cpu; cpu=$(awk -v a="$cpu" -v b="$cpu_now" 'BEGIN { printf "%.1f", b - a }')
+  if [ "$rc" != 0 ]; then result=FAIL; failed=1
+  elif tail -n 1 "$log" | grep -qE '^[A-Za-z0-9_]+: skipped'; then result=skipped  # e.g. 'test_slurm: skipped: <why>'
+  else result=ok; fi
+  summary+=("$(printf '%-8s %-64s %8s %8s' "$result" "$name" "$wall" "$cpu")")
+}
 
-echo "== fpm test"
-# fpm 0.12 relinks a test program only when the same `fpm test` rebuilt one of its objects: after an
-# `fpm build` that rebuilt the library, `fpm test` would run test programs linked against the old
-# one. Removing them makes it link every test against the current library (a link, no compile).
+tests_in() {  # the Fortran test programs' names: tests_in quick | long
+  local f n
+  for f in test/test_*.f90; do
+    n="$(basename "$f" .f90)"
+    case "$n" in test_long_*) [ "$1" = long ] && echo "$n" ;; *) [ "$1" = quick ] && echo "$n" ;; esac
+  done
+}
+
+# cases of the Python tests that sweep sizes (the stability analysis up to 80 elements): second tier
+long_cases=(
+  studies/stability/test_linear_stability.py::test_bar_ppc1_kcrit_matches_analytic_formula
+  studies/stability/test_linear_stability.py::test_usl_ppc1_tends_to_cfl_limit
+  studies/stability/test_linear_stability.py::test_scan_step_does_not_miss_instability
+)
+
+start_all=$(date +%s.%N); child_cpu; cpu_all=$cpu_now
+
+# fpm 0.12 relinks a test program only when the same command rebuilt one of its objects: after an
+# `fpm build` that rebuilt the library, test programs linked against the old one would run. Removing
+# them makes the build link every test against the current library (a link, no compile).
 rm -f build/gfortran_*/test/test_*
-fpm test --profile release || failed=1
-
-echo "== cross-check against the independent reference implementation"
-"$PYTHON" test/reference/check_reference.py || failed=1
-
-echo "== post-processing package (pytest)"
-"$PYTHON" -m pytest -q -p no:cacheprovider postprocess || failed=1
-echo "== the command line: overrides, standard input, --quiet, hostile input"
-bash test/test_command_line.sh || failed=1
-
-echo "== hostile input: the table-driven suite (test/hostile/cases.py)"
-"$PYTHON" test/hostile/run_hostile.py || failed=1
-
-echo "== sweeps give the same bits on 1 and 2 threads, every time"
-bash test/test_sweep_determinism.sh || failed=1
-
-echo "== the README's quick-start commands, as written"
-bash test/test_readme.sh || failed=1
-
-echo "== paper study pipeline on a small real sweep"
-bash test/test_paper_pipeline.sh || failed=1
-
-echo "== SLURM job array on a live single-node cluster (skipped where SLURM cannot be installed)"
-bash test/test_slurm.sh || failed=1
-
+# Likewise fpm 0.12 recompiles a test source (mpm_testing and the test programs) only when its own text
+# changed or the same command rebuilt a module it uses: after an `fpm build` that rebuilt the library,
+# a test object compiled against the old module files stays (a merge that changed a derived type then
+# failed: 'Mismatch in components of derived type'). Test objects older than the newest library object
+# are removed, so that they compile again (a few seconds; none when the last build included the tests).
+for dir in build/gfortran_*/mpm1d; do
+  newest="$(ls -t "$dir"/src_*.o 2>/dev/null | head -n 1 || true)"
+  [ -z "$newest" ] || find "$dir" -maxdepth 1 -name 'test_*.o*' ! -newer "$newest" -delete
+done
+group "build (library, mpm1d, tests, examples)" fpm build --profile release --tests
+group "generated sources up to date (test/generate.sh --check)" bash test/generate.sh --check
+# shellcheck disable=SC2046
+group "Fortran tests (fpm test, test/test_*.f90 but test_long_*)" fpm test --profile release $(tests_in quick)
+group "cross-check against an independent NumPy implementation" "$PYTHON" test/reference/check_reference.py
+group "post-processing package (pytest postprocess)" "$PYTHON" -m pytest -q -p no:cacheprovider postprocess
+group "the command line (test/test_command_line.sh)" bash test/test_command_line.sh
+group "hostile input (test/hostile)" "$PYTHON" test/hostile/run_hostile.py
+if [ "$all" = 0 ]; then
+  group "sweeps bit-identical on 1 and 2 threads (3 sweeps)" env SWEEP_REPEATS=3 bash test/test_sweep_determinism.sh
+fi
+group "the README's commands (test/test_readme.sh)" bash test/test_readme.sh
+group "paper study pipeline, small" bash test/test_paper_pipeline.sh
+# study tests: plain scripts, or through pytest for a file with cases in the second tier
 for t in studies/*/test_*.py; do
   [ -f "$t" ] || continue
-  echo "== $t"
-  "$PYTHON" "$t" || failed=1
+  deselect=()
+  for c in "${long_cases[@]}"; do [ "${c%%::*}" = "$t" ] && deselect+=(--deselect "$c"); done
+  if [ "${#deselect[@]}" = 0 ]; then group "$t" "$PYTHON" "$t"
+  else group "$t (but its long cases)" "$PYTHON" -m pytest -q -p no:cacheprovider "$t" "${deselect[@]}"; fi
 done
 
-if [ "$failed" != 0 ]; then echo "SOME TESTS FAILED" >&2; exit 1; fi
+if [ "$all" = 1 ]; then
+  # shellcheck disable=SC2046
+  group "long Fortran tests (fpm test, test/test_long_*.f90)" fpm test --profile release $(tests_in long)
+  for t in test/test_long_*.sh; do
+    [ -f "$t" ] && group "$t" bash "$t"
+  done
+  group "sweeps bit-identical on 1 and 2 threads (20 sweeps)" env SWEEP_REPEATS=20 bash test/test_sweep_determinism.sh
+  group "API documentation builds without warnings (docs/build_api.sh)" bash docs/build_api.sh
+  group "long cases of the study tests (pytest)" "$PYTHON" -m pytest -q -p no:cacheprovider "${long_cases[@]}"
+  group "SLURM job array on a live single-node cluster" bash test/test_slurm.sh
+fi
+
+wall=$(awk -v a="$start_all" -v b="$(date +%s.%N)" 'BEGIN { printf "%.1f", b - a }')
+child_cpu; cpu=$(awk -v a="$cpu_all" -v b="$cpu_now" 'BEGIN { printf "%.1f", b - a }')
+echo
+printf '%-8s %-64s %8s %8s\n' result "group ($([ "$all" = 1 ] && echo 'both tiers: --all' || echo 'default tier'))" "wall s" "CPU s"
+printf '%s\n' "${summary[@]}"
+printf '%-8s %-64s %8s %8s\n' "" total "$wall" "$cpu"
+if [ "$failed" != 0 ]; then echo "SOME TESTS FAILED (logs: $logs/)" >&2; exit 1; fi
 echo "all test groups passed"

@@ -90,20 +90,14 @@ run one.nml --threads 1
 check "test_sweep_plurals" "grep -q 'sweep of 1 case\$' out.txt && grep -q 'on 1 thread;' out.txt && grep -q '^1 case completed' out.txt"
 
 # ---- defects found by hostile input (issue 16, section 3; numbers as there)
-# 1, 3: 1000 shards get distinct names (the count's digits) and merge in seconds into the unsharded table
+# 1: shard file names get as many digits as the shard count (at least 3; 1000+ shards shared '***'):
+#    shards 1, 10, 100 and 1000 of 1000 (one case each) write four names of four digits
+#    (3, the merge: test/test_long_shards.sh, second tier, runs and merges all 1000)
 els=$(seq -s, 1 250)
 printf "&run periods=0.05 /\n&output file='m.h5', history=.false. /\n&sweep elements=$els, particles_per_element=1,2,3,4, min_time=0, progress=F /\n" > m.nml
 mkdir -p shards1000
-(cd shards1000 && for i in $(seq 1 1000); do OMP_NUM_THREADS=1 "$exe" ../m.nml output.file=m.h5 --shard "$i/1000" --threads 1 --quiet || echo "shard $i failed"; done) > shards.log 2>&1
-check "test_1000_shard_names_distinct" "[ ! -s shards.log ] && [ \$(ls shards1000/m_shard*of1000.h5 | wc -l) = 1000 ] && [ -s shards1000/m_shard1000of1000.h5 ] && [ -s shards1000/m_shard0001of1000.h5 ]"
-start=$(date +%s.%N)
-"$exe" merge merged1000.h5 shards1000/m_shard*.h5 > out.txt 2> err.txt; echo $? > rc.txt
-merge_seconds=$(awk -v a="$start" -v b="$(date +%s.%N)" 'BEGIN{printf "%.1f", b-a}')
-echo "   merge of 1000 shards: $merge_seconds s"
-# its time is printed, not tested: no test depends on wall-clock time (a busy machine took 37 s)
-check "test_merge_1000_shards" "[ $(rc) = 0 ]"
-OMP_NUM_THREADS=2 "$exe" m.nml output.file=whole.h5 --quiet
-check "test_merged_1000_equals_unsharded" "h5diff whole.h5 merged1000.h5 /cases/max_error && h5diff whole.h5 merged1000.h5 /cases/index"
+(cd shards1000 && for i in 1 10 100 1000; do OMP_NUM_THREADS=1 "$exe" ../m.nml output.file=m.h5 --shard "$i/1000" --threads 1 --quiet || echo "shard $i failed"; done) > shards.log 2>&1
+check "test_1000_shard_names_distinct" "[ ! -s shards.log ] && [ \$(ls shards1000/m_shard*of1000.h5 | wc -l) = 4 ] && [ -s shards1000/m_shard0001of1000.h5 ] && [ -s shards1000/m_shard0010of1000.h5 ] && [ -s shards1000/m_shard0100of1000.h5 ] && [ -s shards1000/m_shard1000of1000.h5 ]"
 # 2: more shards than cases
 run s.nml --shard 3/7
 check "test_more_shards_than_cases_refused" "[ $(rc) = 2 ] && grep -q 'shards = 7 is more than' err.txt && [ ! -e s_shard003of007.h5 ]"

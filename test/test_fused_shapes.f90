@@ -1,81 +1,47 @@
 !> The fused kernels of the particles in parts (uGIMP, cpGIMP and quadratic B-splines in two, cubic
 !> B-splines in three, with FLIP on the bar: mpm_transfer, mpm_fused) against the generic path, which
-!> is their definition:
+!> is their definition, for every scheme and shape:
 !> - USF, USL and MUSL, small amplitude and the issue's large-motion case (v0 = 0.01 c, 200 x 4,
 !>   k = 0.5: boxes cross nodes and the free end moves into empty cells): same status and steps,
 !>   u_cm histories equal to round-off and kinetic energies to 1e-10 (mpm_testing's check_paths_agree);
-!> - a run large enough to be cut into segments (their halos carry the particles' right parts): the same
-!>   against the generic path, and bit for bit the same history on 1 and 2 threads;
+!> - the smallest run that is cut into segments (`parallel_threshold` particles; their halos carry the
+!>   particles' right parts), 50 steps at v0 = 0.05 c (particles move up to 1.25 dx, across cells and
+!>   segments): the same against the generic path, and bit for bit the same history on 1 and 2
+!>   threads (120,000 particles for 960 steps: test_long_fused_segments, second tier);
 !> - a particle moved several elements away (its segment's "far mover", added after the pass from
 !>   both of its parts): mass and momentum are conserved by the mapping (the element shares sum to
 !>   the particles' mass and to sum m v), and the particles are sorted again.
 program test_fused_shapes
-   use omp_lib, only: omp_set_num_threads
    use mpm_kinds, only: dp
    use mpm_errors, only: error_t
-   use mpm_config, only: config_t, resolve_config
-   use mpm_simulation, only: run_result_t, run_simulation
    use mpm_grid, only: grid_t, grid_init
    use mpm_particles, only: particles_t, particles_init
    use mpm_transfer, only: pass_totals_t, fused_pass, pass_usl, parallel_threshold
    use mpm_fused, only: fused_start, fused_box_t, fused_shape
    use mpm_shape, only: shape_id
    use mpm_schemes, only: scheme_usl
-   use mpm_strings, only: str
-   use mpm_testing, only: tester_t, check_paths_agree
+   use mpm_testing, only: tester_t, check_fused_run
    implicit none
    type(tester_t) :: t
    character(len=4), parameter :: schemes(3) = ['usf ', 'usl ', 'musl']
    character(len=8), parameter :: shapes(4) = ['ugimp   ', 'cpgimp  ', 'bspline2', 'bspline3']
+   real(dp), parameter :: c = sqrt(200.0e9_dp/7800.0_dp)  ! the bar's wave speed
+   integer, parameter :: ppc = 4, segmented = (parallel_threshold + ppc - 1)/ppc  ! elements
    integer :: i, j
    t%name = 'test_fused_shapes'
    do j = 1, size(shapes)
       do i = 1, size(schemes)
-         call compare(trim(schemes(i)), trim(shapes(j)), 20, 3, 0.3_dp, 0.1_dp, 2.0_dp)
-         call compare(trim(schemes(i)), trim(shapes(j)), 200, 4, 0.5_dp, 0.01_dp*sqrt(200.0e9_dp/7800.0_dp), 2.0_dp)
-         call compare(trim(schemes(i)), trim(shapes(j)), 30000, 4, 0.5_dp, 50.0_dp, 0.004_dp, threads=.true.)
+         call check_fused_run(t, trim(schemes(i)), trim(shapes(j)), 20, 3, 0.3_dp, 0.1_dp, 2.0_dp)
+         call check_fused_run(t, trim(schemes(i)), trim(shapes(j)), 200, ppc, 0.5_dp, 0.01_dp*c, 2.0_dp)
+         ! 50 steps (the period is 4 L/c, dt = k L/(elements c)) in which particles move up to 1.25 dx
+         call check_fused_run(t, trim(schemes(i)), trim(shapes(j)), segmented, ppc, 0.5_dp, 0.05_dp*c, &
+                              50*0.5_dp/(4.0_dp*segmented), segments=.true.)
       end do
       call far_mover(trim(shapes(j)))
    end do
    call t%finish()
 
 contains
-
-   subroutine compare(scheme, shape, elements, ppc, fraction, v0, periods, threads)
-      character(len=*), intent(in) :: scheme, shape
-      integer, intent(in) :: elements, ppc
-      real(dp), intent(in) :: fraction, v0, periods
-      logical, intent(in), optional :: threads
-      type(run_result_t) :: fused, generic, two
-      type(config_t) :: config
-      type(error_t), allocatable :: error
-      character(len=:), allocatable :: label
-      label = scheme//' '//shape//' '//str(elements)//' x '//str(ppc)//' k '//str(fraction)//' v0 '//str(v0)//': '
-      config%scheme = scheme
-      config%shape = shape
-      config%elements = elements
-      config%particles_per_element = ppc
-      config%dt_fraction = fraction
-      config%velocity_amplitude = v0
-      config%periods = periods
-      call resolve_config(config)
-      call omp_set_num_threads(1)
-      call run_simulation(config, fused, error, record_history=.true.)
-      config%kernels = 'generic'
-      call run_simulation(config, generic, error, record_history=.true.)
-      call check_paths_agree(t, label, fused, generic, config%length)
-      if (present(threads)) then
-         call t%check(label//'the run is cut into segments', fused%particles >= parallel_threshold)
-         config%kernels = 'auto'
-         call omp_set_num_threads(2)
-         call run_simulation(config, two, error, record_history=.true.)
-         call omp_set_num_threads(1)
-         call t%check(label//'1 and 2 threads give the same u_cm and energy histories', &
-                      two%steps_done == fused%steps_done .and. all(two%history%ucm == fused%history%ucm) .and. &
-                      all(two%history%kinetic_energy == fused%history%kinetic_energy) .and. &
-                      all(two%history%strain_energy == fused%history%strain_energy))
-      end if
-   end subroutine compare
 
    !> A particle of a segmented run moved 3000.9 elements to the right: its two parts land outside its
    !> segment and its halo and are added after the pass (add_far_movers); the mapping conserves mass

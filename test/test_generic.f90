@@ -7,8 +7,7 @@ program test_generic
    use mpm_errors, only: error_t
    use mpm_config, only: config_t, resolve_config
    use mpm_simulation, only: run_result_t, run_simulation
-   use mpm_strings, only: str
-   use mpm_testing, only: tester_t, check_paths_agree
+   use mpm_testing, only: tester_t, check_fused_run
    use omp_lib, only: omp_set_num_threads
    implicit none
    type(tester_t) :: t
@@ -17,12 +16,12 @@ program test_generic
 
    t%name = 'test_generic'
    do i = 1, 3
-      call compare(trim(schemes(i)), 20, 1, 0.1_dp, 0.1_dp, 2.0_dp)
-      call compare(trim(schemes(i)), 3, 4, 0.4_dp, 0.1_dp, 2.0_dp)
-      call compare(trim(schemes(i)), 10, 7, 0.45_dp, 0.1_dp, 2.0_dp)
-      call compare(trim(schemes(i)), 50, 2, 0.25_dp, 0.1_dp, 2.0_dp)
+      call check_fused_run(t, trim(schemes(i)), 'linear', 20, 1, 0.1_dp, 0.1_dp, 2.0_dp)
+      call check_fused_run(t, trim(schemes(i)), 'linear', 3, 4, 0.4_dp, 0.1_dp, 2.0_dp)
+      call check_fused_run(t, trim(schemes(i)), 'linear', 10, 7, 0.45_dp, 0.1_dp, 2.0_dp)
+      call check_fused_run(t, trim(schemes(i)), 'linear', 50, 2, 0.25_dp, 0.1_dp, 2.0_dp)
       ! the free end crosses into the empty margin (v0/omega = 0.25 dx)
-      call compare(trim(schemes(i)), 200, 4, 0.5_dp, 10.0_dp, 0.3_dp)
+      call check_fused_run(t, trim(schemes(i)), 'linear', 200, 4, 0.5_dp, 10.0_dp, 0.3_dp)
    end do
    call threads_identical()
    call t%finish()
@@ -51,26 +50,4 @@ contains
                    all(one%history%ucm == two%history%ucm) .and. &
                    all(one%history%kinetic_energy == two%history%kinetic_energy))
    end subroutine threads_identical
-
-   subroutine compare(scheme, elements, ppc, fraction, v0, periods)
-      character(len=*), intent(in) :: scheme
-      integer, intent(in) :: elements, ppc
-      real(dp), intent(in) :: fraction, v0, periods
-      type(run_result_t) :: fused, generic
-      type(config_t) :: config
-      type(error_t), allocatable :: error
-      character(len=:), allocatable :: label
-      label = scheme//' '//str(elements)//' x '//str(ppc)//' k '//str(fraction)//' v0 '//str(v0)//': '
-      config%scheme = scheme
-      config%elements = elements
-      config%particles_per_element = ppc
-      config%dt_fraction = fraction
-      config%velocity_amplitude = v0
-      config%periods = periods
-      call resolve_config(config)
-      call run_simulation(config, fused, error, record_history=.true.)
-      config%kernels = 'generic'
-      call run_simulation(config, generic, error, record_history=.true.)
-      call check_paths_agree(t, label, fused, generic, config%length)
-   end subroutine compare
 end program test_generic

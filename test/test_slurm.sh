@@ -167,9 +167,10 @@ cat > "$scratch/long.nml" <<'EOF2'
 EOF2
 bash studies/shards/slurm_submit.sh "$scratch/long.nml" "$runC" 1 > "$scratch/submit_long.out" 2>&1
 array_job=$(sed -n 's/^array_job=//p' "$scratch/submit_long.out"); merge_job=$(sed -n 's/^merge_job=//p' "$scratch/submit_long.out")
+# cancelled once mpm1d has printed its sweep's header into the task's log (from there on it catches
+# SIGTERM and writes the case as not run): a known point, not a time (300 s: only a guard)
 t0=$SECONDS
-until [ "$(squeue -h -j "$array_job" -o %T 2>/dev/null)" = RUNNING ] || [ $((SECONDS - t0)) -gt 60 ]; do sleep 0.5; done
-sleep 1
+until grep -qs 'sweep of' "$runC/logs/shard_1_job${array_job}.log" || [ $((SECONDS - t0)) -gt 300 ]; do sleep 0.2; done
 scancel "$array_job"
 wait_gone "$array_job"; wait_gone "$merge_job"
 check "cancelled task's exit file says 143 ($(cat "$runC/task_1.exit" 2>/dev/null))" "[ \"\$(cat $runC/task_1.exit 2>/dev/null)\" = 143 ]"

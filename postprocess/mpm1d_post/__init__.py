@@ -3,7 +3,8 @@ knows the file layout), figures and summaries, and the plotting commands (consol
 ``mpm1d-plot-sweep``, ``mpm1d-paper-figures``, ``mpm1d-convergence-figures``,
 ``mpm1d-stability-figures``, ``mpm1d-linear-stability``; each also ``python -m mpm1d_post.<module>``).
 
-Install: ``pip install -e postprocess`` (``studies/setup.sh`` does it for ``$PYTHON``).
+Install: ``studies/setup.sh`` installs it, editable, into the project's venv ``.venv`` (by hand:
+``.venv/bin/python -m pip install --no-deps --no-build-isolation -e postprocess``); use ``.venv/bin/python``.
 """
 
 from .loader import (LeftOutCases, Mpm1dFileError, Parameter, Run, Snapshot, Sweep, concatenate_sweeps,

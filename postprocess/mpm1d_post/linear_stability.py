@@ -1,4 +1,4 @@
-#!/usr/bin/python3
+#!/usr/bin/env python3
 """Linear (von Neumann / matrix) stability analysis of the mpm1d time step.
 
 The one-step update of mpm1d (USF, USL, MUSL; see STABILITY_THEORY.md) is linearised about

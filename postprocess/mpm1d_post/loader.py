@@ -50,7 +50,7 @@ try:
     import h5py
 except ImportError as exc:  # pragma: no cover - depends on the installation
     raise ImportError("mpm1d post-processing needs h5py (Debian: apt install python3-h5py; "
-                      "use /usr/bin/python3)") from exc
+                      "use the project's .venv/bin/python, which studies/setup.sh makes with Debian's packages)") from exc
 
 __all__ = ['Mpm1dFileError', 'Parameter', 'Run', 'Snapshot', 'Sweep', 'load_run', 'load_sweep',
            'merge_sweeps', 'concatenate_sweeps', 'parse_parameters', 'LeftOutCases', 'STATUS_OK', 'STATUS_NOT_RUN']

@@ -1,4 +1,4 @@
-#!/usr/bin/python3
+#!/usr/bin/env python3
 """Make every figure of the mpm1d bar study and a summary of its key numbers.
 
     mpm1d-paper-figures --usf sweep_usf.h5 --usl sweep_usl.h5 \\

@@ -1,7 +1,7 @@
-#!/usr/bin/python3
+#!/usr/bin/env python3
 """Figures and summary.md of the mpm1d numerical stability study (studies/stability/run.sh).
 
-    mpm1d-stability-figures OUT_DIR -o OUT_DIR     (or python3 -m mpm1d_post.stability ...) \\
+    mpm1d-stability-figures OUT_DIR -o OUT_DIR     (or .venv/bin/python -m mpm1d_post.stability ...) \\
         --predicted OUT_DIR/predicted/predicted_critical.csv [--timings OUT_DIR/timings.txt]
 
 Reads the files run.sh writes into OUT_DIR (map.h5, coarse.h5, scale_*.h5, large.h5,

@@ -1,11 +1,11 @@
-#!/usr/bin/python3
+#!/usr/bin/env python3
 """Tests of the mpm1d post-processing, on small synthetic HDF5 files laid out as mpm1d writes them.
 
 Run as a plain script (prints ``N passed, M failed`` and exits non-zero on failure):
 
-    /usr/bin/python3 postprocess/tests/test_postprocess.py
+    .venv/bin/python postprocess/tests/test_postprocess.py
 
-or, as test/run_tests.sh does, ``python3 -m pytest postprocess``.
+or, as test/run_tests.sh does, ``.venv/bin/python -m pytest postprocess``.
 
 or under pytest, which collects the ``test_*`` functions.
 

@@ -35,8 +35,8 @@ module mpm_command_line
       logical :: has_input = .false.
       character(len=override_length), allocatable :: overrides(:)
       logical :: quiet = .false.
-      !> --resume: run only the cases the sweep's output file has as not_run; --dry-run: say what would
-      !> run (cases, output path) and run nothing.
+      !> With --resume, run only the cases the sweep's output file has as not_run; with --dry-run, say
+      !> what would run (cases, output path) and run nothing.
       logical :: resume = .false., dry_run = .false.
       !> --shard I/N (0, 0: not given) and --threads N (-1: not given).
       integer :: shard = 0, shards = 0, threads = -1

@@ -89,7 +89,7 @@ module mpm_config
                   densities(max_segments) = 0.0_dp
       integer :: length_count = 0, modulus_count = 0, density_count = 0
       real(dp) :: drive_velocity = 1.0_dp
-      !> Impact: two bars (lengths, youngs_moduli, densities above, two values each), their initial
+      !> Impact scene: two bars (lengths, youngs_moduli, densities above, two values each), their initial
       !> velocities, the gap between them and the contact model ('none': one shared velocity field;
       !> 'frictionless': a field per body, mpm_contact).
       real(dp) :: velocities(2) = 0.0_dp

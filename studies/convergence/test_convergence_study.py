@@ -1,4 +1,4 @@
-#!/usr/bin/python3
+#!/usr/bin/env python3
 """Pipeline test of the convergence study: runs `MPM1D_QUICK=1 bash studies/convergence/run.sh` (linear
 shapes 100 to 800 elements, uGIMP to 400, both elastic laws; seconds) into a temporary folder and checks the
 physics it reports:

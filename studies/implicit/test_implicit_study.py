@@ -1,4 +1,4 @@
-#!/usr/bin/python3
+#!/usr/bin/env python3
 """Pipeline test of the implicit study: runs `MPM1D_QUICK=1 bash studies/implicit/run.sh` (about a minute)
 through the real executable into a temporary folder and checks that the runs, the figures and summary.md
 are written with every section, and, from the tiny runs: the trapezoidal rule's self-convergence order

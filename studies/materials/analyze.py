@@ -408,7 +408,8 @@ def critical(c, scheme: str, shape: str) -> float:
 def stability_section(out: Path) -> List[str]:
     files = {'bar, hencky': out / 'stability_bar_hencky.h5', 'bar, elastoplastic': out / 'stability_bar_elastoplastic.h5',
              'plastic wave': out / 'stability_wave.h5'}
-    sweeps = {k: load_sweep(str(p)) for k, p in files.items() if p.exists()}
+    # every case: the critical dt fraction is where cases stop (load_sweep's default keeps the completed ones)
+    sweeps = {k: load_sweep(str(p), cases='all') for k, p in files.items() if p.exists()}
     lines = ['## Stability with plasticity', '',
              'Critical dt fraction (the first dt/(dx/c_e) at which a run stops, by a guard; 2 particles per element): '
              'the bar at v0 = 20 m/s, 20 elements, 20 periods, hencky and elastoplastic (sigma_y = 250 MPa: the '

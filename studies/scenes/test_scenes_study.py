@@ -1,4 +1,4 @@
-#!/usr/bin/python3
+#!/usr/bin/env python3
 """Pipeline test of the scenes study: runs `MPM1D_QUICK=1 bash studies/scenes/run.sh` (seconds) through
 the real executables into a temporary folder and checks that every section and figure is written, that
 the impact's frictionless contact lasts 2L/c within 2 % and exchanges the velocities within 2.5 % while

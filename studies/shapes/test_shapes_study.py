@@ -1,4 +1,4 @@
-#!/usr/bin/python3
+#!/usr/bin/env python3
 """Pipeline test of the shapes study: runs `MPM1D_QUICK=1 bash studies/shapes/run.sh` (seconds)
 through the real executables into a temporary folder and checks that the sweeps, the prediction,
 the speed table, the figures and summary.md are written with every section, that USL converges at

@@ -1,7 +1,7 @@
-#!/usr/bin/python3
+#!/usr/bin/env python3
 """Checks of linear_stability.py against independent (hand-derived) expectations.
 
-Run as a plain script (`/usr/bin/python3 test_linear_stability.py`; last line
+Run as a plain script (`.venv/bin/python studies/stability/test_linear_stability.py`; last line
 `N passed, M failed`, exit status 1 on any failure) or with pytest.
 
 Hand results used (E = rho = L = 1 so c = 1, k = dt/dx, and sigma is already the

@@ -1,4 +1,4 @@
-#!/usr/bin/python3
+#!/usr/bin/env python3
 """Pipeline test of the stability study: runs `MPM1D_QUICK=1 bash studies/stability/run.sh`
 (a few cases per class, seconds) through the real executable into a temporary folder and checks
 that the sweeps, figures and summary.md are written, that every check of the summary passes, and

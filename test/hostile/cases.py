@@ -185,20 +185,20 @@ refused('snapshots_index_1', C3, nml(output="file='o.h5', snapshot_times(1)=0.0"
 # sweep lists have no fixed limit any more (the 256 of the issue): 257 values are read, not cut
 add('sweep_257_values', C3, 0, r"sweep of 257 cases", input=nml() + f"&sweep elements={','.join(['3'] * 257)} min_time=0 /\n")
 add('sweep_repeat_257', C3, 0, r"sweep of 257 cases", input=nml() + "&sweep elements=257*3 min_time=0 /\n")
-# large inputs are read in linear time and problems listed up to 100 (each case within its timeout)
+# large inputs are read in linear time and problems listed up to 100 (each case within its budget of CPU seconds)
 refused('snapshots_100000', C3, nml(output="file='o.h5', snapshot_times=" + ','.join(['0.0'] * 100000)),
-        r"has 100000 values; allowed: up to 64", timeout=10)
+        r"has 100000 values; allowed: up to 64", cpu_seconds=10)
 refused('snapshots_repeat_100000', C3, nml(output="file='o.h5', snapshot_times=100000*0.0"), r"has 100000 values",
-        timeout=10)
+        cpu_seconds=10)
 refused('unknown_names_20000', C3, '&discretisation ' + ', '.join(f'x{i}=1' for i in range(20000)) + ' /\n',
-        r"unknown variable 'x0'.*first 100 are listed", timeout=10)
+        r"unknown variable 'x0'.*first 100 are listed", cpu_seconds=10)
 refused('groups_20000', C3, '&run periods=1 /\n' * 20000, r"group &run is given twice.*first 100 are listed",
-        timeout=10)
-refused('junk_lines_100000', C1, 'junk line\n' * 100000, r"in\.nml:1: text outside.*first 100 are listed", timeout=10)
-add('comments_200000_lines', C1, 0, r"wrote /\S*/o\.h5", input='! c\n' * 200000 + nml(), timeout=10)
-add('blanks_20MB', C1, 0, r"wrote /\S*/o\.h5", input=' ' * 20_000_000 + nml(), timeout=20)
+        cpu_seconds=10)
+refused('junk_lines_100000', C1, 'junk line\n' * 100000, r"in\.nml:1: text outside.*first 100 are listed", cpu_seconds=10)
+add('comments_200000_lines', C1, 0, r"wrote /\S*/o\.h5", input='! c\n' * 200000 + nml(), cpu_seconds=10)
+add('blanks_20MB', C1, 0, r"wrote /\S*/o\.h5", input=' ' * 20_000_000 + nml(), cpu_seconds=20)
 add('sweep_3000_values', C3, 0, r"sweep of 3000 cases", input=nml() + f"&sweep elements={','.join(['3'] * 3000)} "
-    "min_time=0 /\n", timeout=30)
+    "min_time=0 /\n", cpu_seconds=30)
 refused('sweep_repeat_huge', C3, nml() + "&sweep elements=99999999999*3 min_time=0 /\n", r"bad repeat count")
 for k in [1, 10, 40]:
     line = ', '.join(['elements=4', 'particles_per_element=1', 'dt_fraction=0.1', "scheme='usl'"][:4] *
@@ -220,9 +220,9 @@ refused('unclosed_quote', C3, nml(discretisation="scheme='usl"), r"text for 'sch
 refused('override_line_break', C3, nml(), r"text for 'file' runs past the end of its line",
         args=['in.nml', 'output.file=a\nb.h5'])
 refused('margin_cells_huge', C3, nml(discretisation='elements=4, margin_cells=2000000000'),
-        r"margin_cells = 2000000000.*(allowed: elements \+ margin_cells|memory available)", timeout=10)
+        r"margin_cells = 2000000000.*(allowed: elements \+ margin_cells|memory available)", cpu_seconds=10)
 refused('margin_cells_big_memory', C3, nml(discretisation='elements=4, margin_cells=1000000000'),
-        r"margin_cells = 1000000000.*memory available", timeout=10)
+        r"margin_cells = 1000000000.*memory available", cpu_seconds=10)
 add('margin_cells_given_runs', C3, 0, r"wrote /\S*/o\.h5", input=nml(discretisation='elements=4, margin_cells=10'))
 # a value refused through a derived quantity names the variable the user typed
 for mode in ['1073741823', '100000000', '2000000']:
@@ -267,12 +267,12 @@ refused('input_as_output', C4, nml(output="file='in.nml'"), r"is the input file"
 refused('input_as_output_spelled', C4, nml(output="file='./in.nml'"), r"is the input file")
 refused('empty_file_name', C4, nml(output="file=''"), r"file is empty")
 add('fifo_input_read_once', C4, 0, r"wrote /\S*/o\.h5", shell='"$MPM1D" <(printf "%s" "$TEXT")',
-    env={'TEXT': nml()}, exists=['o.h5'], timeout=20)
+    env={'TEXT': nml()}, exists=['o.h5'], cpu_seconds=20)
 add('fifo_input_named', C4, 0, r"wrote /\S*/o\.h5", shell='mkfifo in.fifo; (printf "%s" "$TEXT" > in.fifo &) ; '
-    '"$MPM1D" in.fifo', env={'TEXT': nml()}, exists=['o.h5'], timeout=20)
+    '"$MPM1D" in.fifo', env={'TEXT': nml()}, exists=['o.h5'], cpu_seconds=20)
 add('fifo_input_sweep', C4, 0, r"wrote /\S*/o\.h5", shell='"$MPM1D" <(printf "%s" "$TEXT")',
-    env={'TEXT': nml() + '&sweep elements=3,4 min_time=0 /\n'}, exists=['o.h5'], timeout=20)
-add('fifo_input_empty', C4, 2, r"no namelist group", shell='"$MPM1D" <(true)', timeout=20, absent=['o.h5'])
+    env={'TEXT': nml() + '&sweep elements=3,4 min_time=0 /\n'}, exists=['o.h5'], cpu_seconds=20)
+add('fifo_input_empty', C4, 2, r"no namelist group", shell='"$MPM1D" <(true)', cpu_seconds=20, absent=['o.h5'])
 add('stdin_input', C4, 0, r"wrote /\S*/o\.h5", args=['-'], stdin=nml(), exists=['o.h5'])
 add('options_before_input', C4, 0, r"^$", args=['--quiet', 'in.nml'], input=nml(), exists=['o.h5'])
 add('options_around_overrides', C4, 0, r"^$", args=['-q', 'discretisation.elements=3', 'in.nml'], input=nml(),
@@ -420,7 +420,7 @@ add('i16_10_youngs_1e308_sweep', 'i16.10', 0, r"1 case completed|2 cases complet
 C6 = '6 signals'
 SLOW = nml(discretisation='elements=4', run='periods=0.25')
 # No timing assumption (issue 24: these failed on a loaded machine): the run pauses before its rename
-# until the signal comes (600 s, the runner's timeout ends a run the signal missed), and the script
+# until the signal comes (600 s, the runner's hang guard ends a run the signal missed), and the script
 # waits for the partial file as long as the run lives.
 for sig in ['INT', 'TERM', 'HUP']:
     for n in range(2):
@@ -649,7 +649,7 @@ for kind, variables in FAR_VARIABLES.items():
             # a list: its first value far (the impact's second bar keeps its impedance only by chance: refused then)
             values[var] = value + values[var][values[var].index(','):] if ',' in values.get(var, '') else value
             add(f'far_{kind}_{var}_{value}', I6, [0, 1, 2], None,
-                input=nml(scene=', '.join(f'{k}={v}' for k, v in values.items())), timeout=60)
+                input=nml(scene=', '.join(f'{k}={v}' for k, v in values.items())), cpu_seconds=60)
 
 
 # ---------------------------------------------------------------- issue 24 (helper "trust"): stopped

@@ -9,6 +9,10 @@ the suite's general rules (issue 18): no partial file is left, a refusal (exit 2
 words (starts 'mpm1d:', no compiler runtime text), and a run that exits 0 writes no non-finite result
 (issue 24: NaN only where docs/output.md says a value does not exist, the status saying why; no Infinity).
 Cases run in parallel in their own folders under build/test_scratch/hostile/.
+
+No case depends on wall-clock time (the machine may be busy): a case's `cpu_seconds` is a budget of
+CPU time (user + system of its processes, which hardly depends on the load; a large input must be
+read in linear time), and every case gets HANG_SECONDS of wall time before it counts as hung.
 """
 import argparse
 import concurrent.futures as futures
@@ -96,6 +100,29 @@ def device_state():
     return {p: (os.stat(p).st_mode, os.stat(p).st_rdev) for p in GUARDED if os.path.exists(p)}
 
 
+#: wall seconds after which a case counts as hung (a guard only: the budgets are CPU time)
+HANG_SECONDS = 300
+
+#: runs a command (argv[2:]) and writes the CPU seconds (user + system) of it and the descendants it
+#: waited for into argv[1]; exits as the command did (by its signal if one ended it)
+CPU_WRAPPER = r"""
+import os, signal, sys
+pid = os.fork()
+if pid == 0:
+    for s in (signal.SIGPIPE, signal.SIGXFSZ, signal.SIGINT):
+        signal.signal(s, signal.SIG_DFL)
+    os.execvp(sys.argv[2], sys.argv[2:])
+signal.signal(signal.SIGINT, signal.SIG_IGN)
+_, status, usage = os.wait4(pid, 0)
+with open(sys.argv[1], 'w') as f:
+    f.write(repr(usage.ru_utime + usage.ru_stime))
+if os.WIFSIGNALED(status):
+    signal.signal(os.WTERMSIG(status), signal.SIG_DFL)
+    os.kill(os.getpid(), os.WTERMSIG(status))
+sys.exit(os.WEXITSTATUS(status))
+"""
+
+
 def run_case(case, exe, scratch, refs):
     folder = scratch / case['name']
     shutil.rmtree(folder, ignore_errors=True)
@@ -115,16 +142,25 @@ def run_case(case, exe, scratch, refs):
         command = ['bash', '-c', case['shell']]
     else:
         command = [exe] + [a.replace('{exe}', exe) for a in case.get('args', ['in.nml'])]
+    cpu_file = scratch / (case['name'] + '.cpu_seconds')
+    if 'cpu_seconds' in case:
+        command = [sys.executable, '-c', CPU_WRAPPER, str(cpu_file)] + command
     stdin = case.get('stdin')
     start = time.time()
     try:
-        p = subprocess.run(command, cwd=folder, env=env, capture_output=True, timeout=case.get('timeout', 60),
+        p = subprocess.run(command, cwd=folder, env=env, capture_output=True, timeout=HANG_SECONDS,
                            input=(stdin.encode() if isinstance(stdin, str) else stdin) if stdin is not None else None,
                            stdin=None if stdin is not None else subprocess.DEVNULL)
         code, out, err = p.returncode, p.stdout.decode(errors='replace'), p.stderr.decode(errors='replace')
     except subprocess.TimeoutExpired:
-        return case, ['timed out (hangs)'], None, time.time() - start
+        return case, [f'still running after {HANG_SECONDS} s (hangs)'], None, time.time() - start
     text = out + err
+    if 'cpu_seconds' in case:
+        cpu = float(cpu_file.read_text()) if cpu_file.exists() else float('nan')
+        if not cpu <= case['cpu_seconds']:
+            problems.append(f"{cpu:.2f} s of CPU time, allowed {case['cpu_seconds']} s")
+        if os.environ.get('HOSTILE_SHOW_CPU'):
+            print(f"cpu {case['name']}: {cpu:.3f} s (budget {case['cpu_seconds']} s)")
     allowed = case['exit'] if isinstance(case['exit'], list) else [case['exit']]
     if code not in allowed:
         problems.append(f"exit {code}, expected {case['exit']}")
