@@ -39,6 +39,8 @@ contains
             call fused_pass(pass_usl, particles, grid, 0.0_dp, youngs_modulus, totals, box)
             return
          end if
+         ! the hat's passes take it too (no carry), so that no pass allocates one
+         if (.not. allocated(box%carry)) allocate (box%carry(0))
       end if
       call p2g(particles, grid, scheme /= scheme_usf, totals)
    end subroutine fused_start
@@ -59,9 +61,13 @@ contains
       type(pass_totals_t), intent(out) :: totals
       type(fused_box_t), intent(inout), optional :: box
       type(pass_totals_t) :: stress_totals
-      logical :: wide
+      logical :: wide, with_box
       wide = .false.
-      if (present(box)) wide = box%parts
+      with_box = .false.
+      if (present(box)) then
+         wide = box%parts
+         with_box = allocated(box%carry)
+      end if
       select case (scheme)
       case (scheme_usf)
          call kinematics()
@@ -105,7 +111,7 @@ contains
       subroutine pass(kind, pass_totals)
          integer, intent(in) :: kind
          type(pass_totals_t), intent(out) :: pass_totals
-         if (wide) then
+         if (with_box) then
             call fused_pass(kind, particles, grid, dt, youngs_modulus, pass_totals, box)
          else
             call fused_pass(kind, particles, grid, dt, youngs_modulus, pass_totals)

@@ -41,8 +41,7 @@ module mpm_transfer
    use mpm_particles, only: particles_t, bytes_per_particle, permute
    use mpm_diagnostics, only: pass_totals_t
    use mpm_shape_range, only: infinity_bits
-   use mpm_lanes, only: block_size, lanes, largest_move_t, add_lanes, min_lanes, lane_total, track_largest_move, &
-                        furthest_particle
+   use mpm_lanes, only: block_size, lanes, largest_move_t
    implicit none
    private
    !> The fused passes (fused_pass; what each does: the table before the segment kernels):
@@ -1244,7 +1243,11 @@ contains
       type(largest_move_t) :: largest
       real(dp) :: displacement(lanes), kinetic(lanes), strain(lanes), min_j(lanes)
       integer :: cb(block_size)
-      real(dp) :: svb(block_size), db(block_size), kb(block_size), sb(block_size), jb(block_size), mb(block_size)
+      real(dp) :: svb(block_size), db(block_size), kb(block_size), sb(block_size), jb(block_size)
+      real(dp) :: mb(block_size, 2)  !< the moves of a block, and of the block with the largest (lanes_track_move)
+      integer :: slot
+      real(dp) :: lane_max(lanes), block_max
+      integer :: lane_i, lane_r
       type(run_t) :: run
       integer(i8) :: elements_bits
       real(dp) :: xi, xib(block_size), vpb(block_size)
@@ -1257,6 +1260,7 @@ contains
       call open_segment(k, shares, seg, mass_left, mass_right, momentum_left, momentum_right, stress_volume, first, last, &
                         lo, hi)
       displacement = 0; kinetic = 0; strain = 0; min_j = huge(1.0_dp)
+      slot = 1
       outside = 0
       elements_bits = transfer(real(elements, dp), 0_i8)
       half_m = 0.5_dp*m
@@ -1281,7 +1285,7 @@ contains
             e = cell(p)
             ! G2P with the start-of-step shape functions
             if (moves) call g2p_particle(e, acceleration(e - 1), acceleration(e), velocity(e - 1), velocity(e), inv_dx, &
-                                         dt, half_m, x0(p), x(p), v(p), xi, db(i), kb(i), mb(i))
+                                         dt, half_m, x0(p), x(p), v(p), xi, db(i), kb(i), mb(i, slot))
             if (stresses) then ! d eps = dt sum dN v_I over the start-of-step cell
                if (moves) then
                   dstrain = strain_increment(velocity(e - 1), velocity(e), dt, inv_dx)
@@ -1301,21 +1305,51 @@ contains
             end if
             if (moves .or. relocates) vpb(i) = v(p)
          end do
+         ! the block's totals (macros of mpm_lanes.fypi, expanded here)
          if (moves) then
-            call add_lanes(n, db, displacement)
-            call add_lanes(n, kb, kinetic)
-            call track_largest_move(n, b0, mb, largest)
+            do lane_i = 1, n - lanes + 1, lanes
+               displacement = displacement + db(lane_i:lane_i + lanes - 1)
+            end do
+            lane_r = mod(n, lanes)
+            if (lane_r > 0) displacement(1:lane_r) = displacement(1:lane_r) + db(n - lane_r + 1:n)
+            do lane_i = 1, n - lanes + 1, lanes
+               kinetic = kinetic + kb(lane_i:lane_i + lanes - 1)
+            end do
+            lane_r = mod(n, lanes)
+            if (lane_r > 0) kinetic(1:lane_r) = kinetic(1:lane_r) + kb(n - lane_r + 1:n)
+            lane_max = 0.0_dp
+            do lane_i = 1, n - lanes + 1, lanes
+               lane_max = max(lane_max, mb(lane_i:lane_i + lanes - 1, slot))
+            end do
+            lane_r = mod(n, lanes)
+            if (lane_r > 0) lane_max(1:lane_r) = max(lane_max(1:lane_r), mb(n - lane_r + 1:n, slot))
+            block_max = maxval(lane_max)
+            if (block_max > largest%value) then
+               largest%value = block_max
+               largest%first = b0
+               largest%count = n
+               largest%slot = slot
+               slot = 3 - slot
+            end if
          end if
          if (stresses) then
-            call add_lanes(n, sb, strain)
-            call min_lanes(n, jb, min_j)
+            do lane_i = 1, n - lanes + 1, lanes
+               strain = strain + sb(lane_i:lane_i + lanes - 1)
+            end do
+            lane_r = mod(n, lanes)
+            if (lane_r > 0) strain(1:lane_r) = strain(1:lane_r) + sb(n - lane_r + 1:n)
+            do lane_i = 1, n - lanes + 1, lanes
+               min_j = min(min_j, jb(lane_i:lane_i + lanes - 1))
+            end do
+            lane_r = mod(n, lanes)
+            if (lane_r > 0) min_j(1:lane_r) = min(min_j(1:lane_r), jb(n - lane_r + 1:n))
          end if
          if (relocates) call find_outside(n, b0, cb, outside)
          call accumulate_block(k, n, cb, xib, vpb, svb, m, lo, hi, shares, run, mass_left, mass_right, momentum_left, &
                                momentum_right, stress_volume, seg)
       end do
       call close_segment(k, shares, m, run, [lane_total(displacement), lane_total(kinetic), lane_total(strain)], &
-                         minval(min_j), largest%value, furthest_particle(largest), outside, mass_left, mass_right, &
+                         minval(min_j), largest%value, furthest_particle(largest, mb), outside, mass_left, mass_right, &
                          momentum_left, momentum_right, stress_volume, seg)
    end subroutine usf_move_segment
 
@@ -1341,7 +1375,11 @@ contains
       type(largest_move_t) :: largest
       real(dp) :: displacement(lanes), kinetic(lanes), strain(lanes), min_j(lanes)
       integer :: cb(block_size)
-      real(dp) :: svb(block_size), db(block_size), kb(block_size), sb(block_size), jb(block_size), mb(block_size)
+      real(dp) :: svb(block_size), db(block_size), kb(block_size), sb(block_size), jb(block_size)
+      real(dp) :: mb(block_size, 2)  !< the moves of a block, and of the block with the largest (lanes_track_move)
+      integer :: slot
+      real(dp) :: lane_max(lanes), block_max
+      integer :: lane_i, lane_r
       type(run_t) :: run
       integer(i8) :: elements_bits
       real(dp) :: xi, xib(block_size), vpb(block_size)
@@ -1354,6 +1392,7 @@ contains
       call open_segment(k, shares, seg, mass_left, mass_right, momentum_left, momentum_right, stress_volume, first, last, &
                         lo, hi)
       displacement = 0; kinetic = 0; strain = 0; min_j = huge(1.0_dp)
+      slot = 1
       outside = 0
       elements_bits = transfer(real(elements, dp), 0_i8)
       half_m = 0.5_dp*m
@@ -1378,7 +1417,7 @@ contains
             e = cell(p)
             ! G2P with the start-of-step shape functions
             if (moves) call g2p_particle(e, acceleration(e - 1), acceleration(e), velocity(e - 1), velocity(e), inv_dx, &
-                                         dt, half_m, x0(p), x(p), v(p), xi, db(i), kb(i), mb(i))
+                                         dt, half_m, x0(p), x(p), v(p), xi, db(i), kb(i), mb(i, slot))
             if (stresses) then ! d eps = dt sum dN v_I over the start-of-step cell
                if (moves) then
                   dstrain = strain_increment(velocity(e - 1), velocity(e), dt, inv_dx)
@@ -1398,21 +1437,51 @@ contains
             end if
             if (moves .or. relocates) vpb(i) = v(p)
          end do
+         ! the block's totals (macros of mpm_lanes.fypi, expanded here)
          if (moves) then
-            call add_lanes(n, db, displacement)
-            call add_lanes(n, kb, kinetic)
-            call track_largest_move(n, b0, mb, largest)
+            do lane_i = 1, n - lanes + 1, lanes
+               displacement = displacement + db(lane_i:lane_i + lanes - 1)
+            end do
+            lane_r = mod(n, lanes)
+            if (lane_r > 0) displacement(1:lane_r) = displacement(1:lane_r) + db(n - lane_r + 1:n)
+            do lane_i = 1, n - lanes + 1, lanes
+               kinetic = kinetic + kb(lane_i:lane_i + lanes - 1)
+            end do
+            lane_r = mod(n, lanes)
+            if (lane_r > 0) kinetic(1:lane_r) = kinetic(1:lane_r) + kb(n - lane_r + 1:n)
+            lane_max = 0.0_dp
+            do lane_i = 1, n - lanes + 1, lanes
+               lane_max = max(lane_max, mb(lane_i:lane_i + lanes - 1, slot))
+            end do
+            lane_r = mod(n, lanes)
+            if (lane_r > 0) lane_max(1:lane_r) = max(lane_max(1:lane_r), mb(n - lane_r + 1:n, slot))
+            block_max = maxval(lane_max)
+            if (block_max > largest%value) then
+               largest%value = block_max
+               largest%first = b0
+               largest%count = n
+               largest%slot = slot
+               slot = 3 - slot
+            end if
          end if
          if (stresses) then
-            call add_lanes(n, sb, strain)
-            call min_lanes(n, jb, min_j)
+            do lane_i = 1, n - lanes + 1, lanes
+               strain = strain + sb(lane_i:lane_i + lanes - 1)
+            end do
+            lane_r = mod(n, lanes)
+            if (lane_r > 0) strain(1:lane_r) = strain(1:lane_r) + sb(n - lane_r + 1:n)
+            do lane_i = 1, n - lanes + 1, lanes
+               min_j = min(min_j, jb(lane_i:lane_i + lanes - 1))
+            end do
+            lane_r = mod(n, lanes)
+            if (lane_r > 0) min_j(1:lane_r) = min(min_j(1:lane_r), jb(n - lane_r + 1:n))
          end if
          if (relocates) call find_outside(n, b0, cb, outside)
          call accumulate_block(k, n, cb, xib, vpb, svb, m, lo, hi, shares, run, mass_left, mass_right, momentum_left, &
                                momentum_right, stress_volume, seg)
       end do
       call close_segment(k, shares, m, run, [lane_total(displacement), lane_total(kinetic), lane_total(strain)], &
-                         minval(min_j), largest%value, furthest_particle(largest), outside, mass_left, mass_right, &
+                         minval(min_j), largest%value, furthest_particle(largest, mb), outside, mass_left, mass_right, &
                          momentum_left, momentum_right, stress_volume, seg)
    end subroutine usf_stress_segment
 
@@ -1438,7 +1507,11 @@ contains
       type(largest_move_t) :: largest
       real(dp) :: displacement(lanes), kinetic(lanes), strain(lanes), min_j(lanes)
       integer :: cb(block_size)
-      real(dp) :: svb(block_size), db(block_size), kb(block_size), sb(block_size), jb(block_size), mb(block_size)
+      real(dp) :: svb(block_size), db(block_size), kb(block_size), sb(block_size), jb(block_size)
+      real(dp) :: mb(block_size, 2)  !< the moves of a block, and of the block with the largest (lanes_track_move)
+      integer :: slot
+      real(dp) :: lane_max(lanes), block_max
+      integer :: lane_i, lane_r
       type(run_t) :: run
       integer(i8) :: elements_bits
       real(dp) :: xi, xib(block_size), vpb(block_size)
@@ -1451,6 +1524,7 @@ contains
       call open_segment(k, shares, seg, mass_left, mass_right, momentum_left, momentum_right, stress_volume, first, last, &
                         lo, hi)
       displacement = 0; kinetic = 0; strain = 0; min_j = huge(1.0_dp)
+      slot = 1
       outside = 0
       elements_bits = transfer(real(elements, dp), 0_i8)
       half_m = 0.5_dp*m
@@ -1475,7 +1549,7 @@ contains
             e = cell(p)
             ! G2P with the start-of-step shape functions
             if (moves) call g2p_particle(e, acceleration(e - 1), acceleration(e), velocity(e - 1), velocity(e), inv_dx, &
-                                         dt, half_m, x0(p), x(p), v(p), xi, db(i), kb(i), mb(i))
+                                         dt, half_m, x0(p), x(p), v(p), xi, db(i), kb(i), mb(i, slot))
             if (stresses) then ! d eps = dt sum dN v_I over the start-of-step cell
                if (moves) then
                   dstrain = strain_increment(velocity(e - 1), velocity(e), dt, inv_dx)
@@ -1495,21 +1569,51 @@ contains
             end if
             if (moves .or. relocates) vpb(i) = v(p)
          end do
+         ! the block's totals (macros of mpm_lanes.fypi, expanded here)
          if (moves) then
-            call add_lanes(n, db, displacement)
-            call add_lanes(n, kb, kinetic)
-            call track_largest_move(n, b0, mb, largest)
+            do lane_i = 1, n - lanes + 1, lanes
+               displacement = displacement + db(lane_i:lane_i + lanes - 1)
+            end do
+            lane_r = mod(n, lanes)
+            if (lane_r > 0) displacement(1:lane_r) = displacement(1:lane_r) + db(n - lane_r + 1:n)
+            do lane_i = 1, n - lanes + 1, lanes
+               kinetic = kinetic + kb(lane_i:lane_i + lanes - 1)
+            end do
+            lane_r = mod(n, lanes)
+            if (lane_r > 0) kinetic(1:lane_r) = kinetic(1:lane_r) + kb(n - lane_r + 1:n)
+            lane_max = 0.0_dp
+            do lane_i = 1, n - lanes + 1, lanes
+               lane_max = max(lane_max, mb(lane_i:lane_i + lanes - 1, slot))
+            end do
+            lane_r = mod(n, lanes)
+            if (lane_r > 0) lane_max(1:lane_r) = max(lane_max(1:lane_r), mb(n - lane_r + 1:n, slot))
+            block_max = maxval(lane_max)
+            if (block_max > largest%value) then
+               largest%value = block_max
+               largest%first = b0
+               largest%count = n
+               largest%slot = slot
+               slot = 3 - slot
+            end if
          end if
          if (stresses) then
-            call add_lanes(n, sb, strain)
-            call min_lanes(n, jb, min_j)
+            do lane_i = 1, n - lanes + 1, lanes
+               strain = strain + sb(lane_i:lane_i + lanes - 1)
+            end do
+            lane_r = mod(n, lanes)
+            if (lane_r > 0) strain(1:lane_r) = strain(1:lane_r) + sb(n - lane_r + 1:n)
+            do lane_i = 1, n - lanes + 1, lanes
+               min_j = min(min_j, jb(lane_i:lane_i + lanes - 1))
+            end do
+            lane_r = mod(n, lanes)
+            if (lane_r > 0) min_j(1:lane_r) = min(min_j(1:lane_r), jb(n - lane_r + 1:n))
          end if
          if (relocates) call find_outside(n, b0, cb, outside)
          call accumulate_block(k, n, cb, xib, vpb, svb, m, lo, hi, shares, run, mass_left, mass_right, momentum_left, &
                                momentum_right, stress_volume, seg)
       end do
       call close_segment(k, shares, m, run, [lane_total(displacement), lane_total(kinetic), lane_total(strain)], &
-                         minval(min_j), largest%value, furthest_particle(largest), outside, mass_left, mass_right, &
+                         minval(min_j), largest%value, furthest_particle(largest, mb), outside, mass_left, mass_right, &
                          momentum_left, momentum_right, stress_volume, seg)
    end subroutine usl_segment
 
@@ -1535,7 +1639,11 @@ contains
       type(largest_move_t) :: largest
       real(dp) :: displacement(lanes), kinetic(lanes), strain(lanes), min_j(lanes)
       integer :: cb(block_size)
-      real(dp) :: svb(block_size), db(block_size), kb(block_size), sb(block_size), jb(block_size), mb(block_size)
+      real(dp) :: svb(block_size), db(block_size), kb(block_size), sb(block_size), jb(block_size)
+      real(dp) :: mb(block_size, 2)  !< the moves of a block, and of the block with the largest (lanes_track_move)
+      integer :: slot
+      real(dp) :: lane_max(lanes), block_max
+      integer :: lane_i, lane_r
       type(run_t) :: run
       integer(i8) :: elements_bits
       real(dp) :: xi, xib(block_size), vpb(block_size)
@@ -1548,6 +1656,7 @@ contains
       call open_segment(k, shares, seg, mass_left, mass_right, momentum_left, momentum_right, stress_volume, first, last, &
                         lo, hi)
       displacement = 0; kinetic = 0; strain = 0; min_j = huge(1.0_dp)
+      slot = 1
       outside = 0
       elements_bits = transfer(real(elements, dp), 0_i8)
       half_m = 0.5_dp*m
@@ -1572,7 +1681,7 @@ contains
             e = cell(p)
             ! G2P with the start-of-step shape functions
             if (moves) call g2p_particle(e, acceleration(e - 1), acceleration(e), velocity(e - 1), velocity(e), inv_dx, &
-                                         dt, half_m, x0(p), x(p), v(p), xi, db(i), kb(i), mb(i))
+                                         dt, half_m, x0(p), x(p), v(p), xi, db(i), kb(i), mb(i, slot))
             if (stresses) then ! d eps = dt sum dN v_I over the start-of-step cell
                if (moves) then
                   dstrain = strain_increment(velocity(e - 1), velocity(e), dt, inv_dx)
@@ -1592,21 +1701,51 @@ contains
             end if
             if (moves .or. relocates) vpb(i) = v(p)
          end do
+         ! the block's totals (macros of mpm_lanes.fypi, expanded here)
          if (moves) then
-            call add_lanes(n, db, displacement)
-            call add_lanes(n, kb, kinetic)
-            call track_largest_move(n, b0, mb, largest)
+            do lane_i = 1, n - lanes + 1, lanes
+               displacement = displacement + db(lane_i:lane_i + lanes - 1)
+            end do
+            lane_r = mod(n, lanes)
+            if (lane_r > 0) displacement(1:lane_r) = displacement(1:lane_r) + db(n - lane_r + 1:n)
+            do lane_i = 1, n - lanes + 1, lanes
+               kinetic = kinetic + kb(lane_i:lane_i + lanes - 1)
+            end do
+            lane_r = mod(n, lanes)
+            if (lane_r > 0) kinetic(1:lane_r) = kinetic(1:lane_r) + kb(n - lane_r + 1:n)
+            lane_max = 0.0_dp
+            do lane_i = 1, n - lanes + 1, lanes
+               lane_max = max(lane_max, mb(lane_i:lane_i + lanes - 1, slot))
+            end do
+            lane_r = mod(n, lanes)
+            if (lane_r > 0) lane_max(1:lane_r) = max(lane_max(1:lane_r), mb(n - lane_r + 1:n, slot))
+            block_max = maxval(lane_max)
+            if (block_max > largest%value) then
+               largest%value = block_max
+               largest%first = b0
+               largest%count = n
+               largest%slot = slot
+               slot = 3 - slot
+            end if
          end if
          if (stresses) then
-            call add_lanes(n, sb, strain)
-            call min_lanes(n, jb, min_j)
+            do lane_i = 1, n - lanes + 1, lanes
+               strain = strain + sb(lane_i:lane_i + lanes - 1)
+            end do
+            lane_r = mod(n, lanes)
+            if (lane_r > 0) strain(1:lane_r) = strain(1:lane_r) + sb(n - lane_r + 1:n)
+            do lane_i = 1, n - lanes + 1, lanes
+               min_j = min(min_j, jb(lane_i:lane_i + lanes - 1))
+            end do
+            lane_r = mod(n, lanes)
+            if (lane_r > 0) min_j(1:lane_r) = min(min_j(1:lane_r), jb(n - lane_r + 1:n))
          end if
          if (relocates) call find_outside(n, b0, cb, outside)
          call accumulate_block(k, n, cb, xib, vpb, svb, m, lo, hi, shares, run, mass_left, mass_right, momentum_left, &
                                momentum_right, stress_volume, seg)
       end do
       call close_segment(k, shares, m, run, [lane_total(displacement), lane_total(kinetic), lane_total(strain)], &
-                         minval(min_j), largest%value, furthest_particle(largest), outside, mass_left, mass_right, &
+                         minval(min_j), largest%value, furthest_particle(largest, mb), outside, mass_left, mass_right, &
                          momentum_left, momentum_right, stress_volume, seg)
    end subroutine musl_remap_segment
 
@@ -1632,7 +1771,11 @@ contains
       type(largest_move_t) :: largest
       real(dp) :: displacement(lanes), kinetic(lanes), strain(lanes), min_j(lanes)
       integer :: cb(block_size)
-      real(dp) :: svb(block_size), db(block_size), kb(block_size), sb(block_size), jb(block_size), mb(block_size)
+      real(dp) :: svb(block_size), db(block_size), kb(block_size), sb(block_size), jb(block_size)
+      real(dp) :: mb(block_size, 2)  !< the moves of a block, and of the block with the largest (lanes_track_move)
+      integer :: slot
+      real(dp) :: lane_max(lanes), block_max
+      integer :: lane_i, lane_r
       type(run_t) :: run
       integer(i8) :: elements_bits
       real(dp) :: xi, xib(block_size), vpb(block_size)
@@ -1645,6 +1788,7 @@ contains
       call open_segment(k, shares, seg, mass_left, mass_right, momentum_left, momentum_right, stress_volume, first, last, &
                         lo, hi)
       displacement = 0; kinetic = 0; strain = 0; min_j = huge(1.0_dp)
+      slot = 1
       outside = 0
       elements_bits = transfer(real(elements, dp), 0_i8)
       half_m = 0.5_dp*m
@@ -1669,7 +1813,7 @@ contains
             e = cell(p)
             ! G2P with the start-of-step shape functions
             if (moves) call g2p_particle(e, acceleration(e - 1), acceleration(e), velocity(e - 1), velocity(e), inv_dx, &
-                                         dt, half_m, x0(p), x(p), v(p), xi, db(i), kb(i), mb(i))
+                                         dt, half_m, x0(p), x(p), v(p), xi, db(i), kb(i), mb(i, slot))
             if (stresses) then ! d eps = dt sum dN v_I over the start-of-step cell
                if (moves) then
                   dstrain = strain_increment(velocity(e - 1), velocity(e), dt, inv_dx)
@@ -1689,21 +1833,51 @@ contains
             end if
             if (moves .or. relocates) vpb(i) = v(p)
          end do
+         ! the block's totals (macros of mpm_lanes.fypi, expanded here)
          if (moves) then
-            call add_lanes(n, db, displacement)
-            call add_lanes(n, kb, kinetic)
-            call track_largest_move(n, b0, mb, largest)
+            do lane_i = 1, n - lanes + 1, lanes
+               displacement = displacement + db(lane_i:lane_i + lanes - 1)
+            end do
+            lane_r = mod(n, lanes)
+            if (lane_r > 0) displacement(1:lane_r) = displacement(1:lane_r) + db(n - lane_r + 1:n)
+            do lane_i = 1, n - lanes + 1, lanes
+               kinetic = kinetic + kb(lane_i:lane_i + lanes - 1)
+            end do
+            lane_r = mod(n, lanes)
+            if (lane_r > 0) kinetic(1:lane_r) = kinetic(1:lane_r) + kb(n - lane_r + 1:n)
+            lane_max = 0.0_dp
+            do lane_i = 1, n - lanes + 1, lanes
+               lane_max = max(lane_max, mb(lane_i:lane_i + lanes - 1, slot))
+            end do
+            lane_r = mod(n, lanes)
+            if (lane_r > 0) lane_max(1:lane_r) = max(lane_max(1:lane_r), mb(n - lane_r + 1:n, slot))
+            block_max = maxval(lane_max)
+            if (block_max > largest%value) then
+               largest%value = block_max
+               largest%first = b0
+               largest%count = n
+               largest%slot = slot
+               slot = 3 - slot
+            end if
          end if
          if (stresses) then
-            call add_lanes(n, sb, strain)
-            call min_lanes(n, jb, min_j)
+            do lane_i = 1, n - lanes + 1, lanes
+               strain = strain + sb(lane_i:lane_i + lanes - 1)
+            end do
+            lane_r = mod(n, lanes)
+            if (lane_r > 0) strain(1:lane_r) = strain(1:lane_r) + sb(n - lane_r + 1:n)
+            do lane_i = 1, n - lanes + 1, lanes
+               min_j = min(min_j, jb(lane_i:lane_i + lanes - 1))
+            end do
+            lane_r = mod(n, lanes)
+            if (lane_r > 0) min_j(1:lane_r) = min(min_j(1:lane_r), jb(n - lane_r + 1:n))
          end if
          if (relocates) call find_outside(n, b0, cb, outside)
          call accumulate_block(k, n, cb, xib, vpb, svb, m, lo, hi, shares, run, mass_left, mass_right, momentum_left, &
                                momentum_right, stress_volume, seg)
       end do
       call close_segment(k, shares, m, run, [lane_total(displacement), lane_total(kinetic), lane_total(strain)], &
-                         minval(min_j), largest%value, furthest_particle(largest), outside, mass_left, mass_right, &
+                         minval(min_j), largest%value, furthest_particle(largest, mb), outside, mass_left, mass_right, &
                          momentum_left, momentum_right, stress_volume, seg)
    end subroutine musl_stress_segment
 
@@ -1729,7 +1903,11 @@ contains
       type(largest_move_t) :: largest
       real(dp) :: displacement(lanes), kinetic(lanes), strain(lanes), min_j(lanes)
       integer :: cb(block_size)
-      real(dp) :: svb(block_size), db(block_size), kb(block_size), sb(block_size), jb(block_size), mb(block_size)
+      real(dp) :: svb(block_size), db(block_size), kb(block_size), sb(block_size), jb(block_size)
+      real(dp) :: mb(block_size, 2)  !< the moves of a block, and of the block with the largest (lanes_track_move)
+      integer :: slot
+      real(dp) :: lane_max(lanes), block_max
+      integer :: lane_i, lane_r
       type(run_t) :: run
       ! the parts: their fractions r and local coordinates t (three parts: the products q = r t), the
       ! sums they add (accumulate_boxes, accumulate_thirds)
@@ -1749,6 +1927,7 @@ contains
       call open_segment(k, shares, seg, mass_left, mass_right, momentum_left, momentum_right, stress_volume, first, last, &
                         lo, hi)
       displacement = 0; kinetic = 0; strain = 0; min_j = huge(1.0_dp)
+      slot = 1
       outside = 0
       half_m = 0.5_dp*m
       strain_factor = 0.0_dp
@@ -1784,7 +1963,7 @@ contains
             end if
             if (moves) call g2p_box(r1, r2, t1, t2, acceleration(e - 1), acceleration(e), acceleration(e + 1), &
                                     velocity(e - 1), velocity(e), velocity(e + 1), inv_dx, dt, half_m, x0(p), x(p), v(p), &
-                                    db(i), kb(i), mb(i))
+                                    db(i), kb(i), mb(i, slot))
             if (stresses) then ! d eps = dt sum dS v_I = r1 (element e's) + r2 (element e + 1's)
                if (moves) then
                   dstrain = r1*strain_increment(velocity(e - 1), velocity(e), dt, inv_dx) + &
@@ -1822,14 +2001,44 @@ contains
                right(i, 5) = r2*svb(i)
             end if
          end do
+         ! the block's totals (macros of mpm_lanes.fypi, expanded here)
          if (moves) then
-            call add_lanes(n, db, displacement)
-            call add_lanes(n, kb, kinetic)
-            call track_largest_move(n, b0, mb, largest)
+            do lane_i = 1, n - lanes + 1, lanes
+               displacement = displacement + db(lane_i:lane_i + lanes - 1)
+            end do
+            lane_r = mod(n, lanes)
+            if (lane_r > 0) displacement(1:lane_r) = displacement(1:lane_r) + db(n - lane_r + 1:n)
+            do lane_i = 1, n - lanes + 1, lanes
+               kinetic = kinetic + kb(lane_i:lane_i + lanes - 1)
+            end do
+            lane_r = mod(n, lanes)
+            if (lane_r > 0) kinetic(1:lane_r) = kinetic(1:lane_r) + kb(n - lane_r + 1:n)
+            lane_max = 0.0_dp
+            do lane_i = 1, n - lanes + 1, lanes
+               lane_max = max(lane_max, mb(lane_i:lane_i + lanes - 1, slot))
+            end do
+            lane_r = mod(n, lanes)
+            if (lane_r > 0) lane_max(1:lane_r) = max(lane_max(1:lane_r), mb(n - lane_r + 1:n, slot))
+            block_max = maxval(lane_max)
+            if (block_max > largest%value) then
+               largest%value = block_max
+               largest%first = b0
+               largest%count = n
+               largest%slot = slot
+               slot = 3 - slot
+            end if
          end if
          if (stresses) then
-            call add_lanes(n, sb, strain)
-            call min_lanes(n, jb, min_j)
+            do lane_i = 1, n - lanes + 1, lanes
+               strain = strain + sb(lane_i:lane_i + lanes - 1)
+            end do
+            lane_r = mod(n, lanes)
+            if (lane_r > 0) strain(1:lane_r) = strain(1:lane_r) + sb(n - lane_r + 1:n)
+            do lane_i = 1, n - lanes + 1, lanes
+               min_j = min(min_j, jb(lane_i:lane_i + lanes - 1))
+            end do
+            lane_r = mod(n, lanes)
+            if (lane_r > 0) min_j(1:lane_r) = min(min_j(1:lane_r), jb(n - lane_r + 1:n))
          end if
          if (relocates) call find_outside(n, b0, cb, outside)
          call accumulate_boxes(k, n, cb, left, right, m, lo, hi, shares, run, mass_left, mass_right, momentum_left, &
@@ -1840,7 +2049,7 @@ contains
                                           run%b(5), mass_left, mass_right, momentum_left, momentum_right, stress_volume, &
                                           seg)
       call close_segment(k, shares, m, run, [lane_total(displacement), lane_total(kinetic), lane_total(strain)], &
-                         minval(min_j), largest%value, furthest_particle(largest), outside, mass_left, mass_right, &
+                         minval(min_j), largest%value, furthest_particle(largest, mb), outside, mass_left, mass_right, &
                          momentum_left, momentum_right, stress_volume, seg)
    end subroutine ugimp_usf_move_segment
 
@@ -1866,7 +2075,11 @@ contains
       type(largest_move_t) :: largest
       real(dp) :: displacement(lanes), kinetic(lanes), strain(lanes), min_j(lanes)
       integer :: cb(block_size)
-      real(dp) :: svb(block_size), db(block_size), kb(block_size), sb(block_size), jb(block_size), mb(block_size)
+      real(dp) :: svb(block_size), db(block_size), kb(block_size), sb(block_size), jb(block_size)
+      real(dp) :: mb(block_size, 2)  !< the moves of a block, and of the block with the largest (lanes_track_move)
+      integer :: slot
+      real(dp) :: lane_max(lanes), block_max
+      integer :: lane_i, lane_r
       type(run_t) :: run
       ! the parts: their fractions r and local coordinates t (three parts: the products q = r t), the
       ! sums they add (accumulate_boxes, accumulate_thirds)
@@ -1886,6 +2099,7 @@ contains
       call open_segment(k, shares, seg, mass_left, mass_right, momentum_left, momentum_right, stress_volume, first, last, &
                         lo, hi)
       displacement = 0; kinetic = 0; strain = 0; min_j = huge(1.0_dp)
+      slot = 1
       outside = 0
       half_m = 0.5_dp*m
       strain_factor = 0.0_dp
@@ -1921,7 +2135,7 @@ contains
             end if
             if (moves) call g2p_box(r1, r2, t1, t2, acceleration(e - 1), acceleration(e), acceleration(e + 1), &
                                     velocity(e - 1), velocity(e), velocity(e + 1), inv_dx, dt, half_m, x0(p), x(p), v(p), &
-                                    db(i), kb(i), mb(i))
+                                    db(i), kb(i), mb(i, slot))
             if (stresses) then ! d eps = dt sum dS v_I = r1 (element e's) + r2 (element e + 1's)
                if (moves) then
                   dstrain = r1*strain_increment(velocity(e - 1), velocity(e), dt, inv_dx) + &
@@ -1959,14 +2173,44 @@ contains
                right(i, 5) = r2*svb(i)
             end if
          end do
+         ! the block's totals (macros of mpm_lanes.fypi, expanded here)
          if (moves) then
-            call add_lanes(n, db, displacement)
-            call add_lanes(n, kb, kinetic)
-            call track_largest_move(n, b0, mb, largest)
+            do lane_i = 1, n - lanes + 1, lanes
+               displacement = displacement + db(lane_i:lane_i + lanes - 1)
+            end do
+            lane_r = mod(n, lanes)
+            if (lane_r > 0) displacement(1:lane_r) = displacement(1:lane_r) + db(n - lane_r + 1:n)
+            do lane_i = 1, n - lanes + 1, lanes
+               kinetic = kinetic + kb(lane_i:lane_i + lanes - 1)
+            end do
+            lane_r = mod(n, lanes)
+            if (lane_r > 0) kinetic(1:lane_r) = kinetic(1:lane_r) + kb(n - lane_r + 1:n)
+            lane_max = 0.0_dp
+            do lane_i = 1, n - lanes + 1, lanes
+               lane_max = max(lane_max, mb(lane_i:lane_i + lanes - 1, slot))
+            end do
+            lane_r = mod(n, lanes)
+            if (lane_r > 0) lane_max(1:lane_r) = max(lane_max(1:lane_r), mb(n - lane_r + 1:n, slot))
+            block_max = maxval(lane_max)
+            if (block_max > largest%value) then
+               largest%value = block_max
+               largest%first = b0
+               largest%count = n
+               largest%slot = slot
+               slot = 3 - slot
+            end if
          end if
          if (stresses) then
-            call add_lanes(n, sb, strain)
-            call min_lanes(n, jb, min_j)
+            do lane_i = 1, n - lanes + 1, lanes
+               strain = strain + sb(lane_i:lane_i + lanes - 1)
+            end do
+            lane_r = mod(n, lanes)
+            if (lane_r > 0) strain(1:lane_r) = strain(1:lane_r) + sb(n - lane_r + 1:n)
+            do lane_i = 1, n - lanes + 1, lanes
+               min_j = min(min_j, jb(lane_i:lane_i + lanes - 1))
+            end do
+            lane_r = mod(n, lanes)
+            if (lane_r > 0) min_j(1:lane_r) = min(min_j(1:lane_r), jb(n - lane_r + 1:n))
          end if
          if (relocates) call find_outside(n, b0, cb, outside)
          call accumulate_boxes(k, n, cb, left, right, m, lo, hi, shares, run, mass_left, mass_right, momentum_left, &
@@ -1977,7 +2221,7 @@ contains
                                           run%b(5), mass_left, mass_right, momentum_left, momentum_right, stress_volume, &
                                           seg)
       call close_segment(k, shares, m, run, [lane_total(displacement), lane_total(kinetic), lane_total(strain)], &
-                         minval(min_j), largest%value, furthest_particle(largest), outside, mass_left, mass_right, &
+                         minval(min_j), largest%value, furthest_particle(largest, mb), outside, mass_left, mass_right, &
                          momentum_left, momentum_right, stress_volume, seg)
    end subroutine ugimp_usf_stress_segment
 
@@ -2003,7 +2247,11 @@ contains
       type(largest_move_t) :: largest
       real(dp) :: displacement(lanes), kinetic(lanes), strain(lanes), min_j(lanes)
       integer :: cb(block_size)
-      real(dp) :: svb(block_size), db(block_size), kb(block_size), sb(block_size), jb(block_size), mb(block_size)
+      real(dp) :: svb(block_size), db(block_size), kb(block_size), sb(block_size), jb(block_size)
+      real(dp) :: mb(block_size, 2)  !< the moves of a block, and of the block with the largest (lanes_track_move)
+      integer :: slot
+      real(dp) :: lane_max(lanes), block_max
+      integer :: lane_i, lane_r
       type(run_t) :: run
       ! the parts: their fractions r and local coordinates t (three parts: the products q = r t), the
       ! sums they add (accumulate_boxes, accumulate_thirds)
@@ -2023,6 +2271,7 @@ contains
       call open_segment(k, shares, seg, mass_left, mass_right, momentum_left, momentum_right, stress_volume, first, last, &
                         lo, hi)
       displacement = 0; kinetic = 0; strain = 0; min_j = huge(1.0_dp)
+      slot = 1
       outside = 0
       half_m = 0.5_dp*m
       strain_factor = 0.0_dp
@@ -2058,7 +2307,7 @@ contains
             end if
             if (moves) call g2p_box(r1, r2, t1, t2, acceleration(e - 1), acceleration(e), acceleration(e + 1), &
                                     velocity(e - 1), velocity(e), velocity(e + 1), inv_dx, dt, half_m, x0(p), x(p), v(p), &
-                                    db(i), kb(i), mb(i))
+                                    db(i), kb(i), mb(i, slot))
             if (stresses) then ! d eps = dt sum dS v_I = r1 (element e's) + r2 (element e + 1's)
                if (moves) then
                   dstrain = r1*strain_increment(velocity(e - 1), velocity(e), dt, inv_dx) + &
@@ -2096,14 +2345,44 @@ contains
                right(i, 5) = r2*svb(i)
             end if
          end do
+         ! the block's totals (macros of mpm_lanes.fypi, expanded here)
          if (moves) then
-            call add_lanes(n, db, displacement)
-            call add_lanes(n, kb, kinetic)
-            call track_largest_move(n, b0, mb, largest)
+            do lane_i = 1, n - lanes + 1, lanes
+               displacement = displacement + db(lane_i:lane_i + lanes - 1)
+            end do
+            lane_r = mod(n, lanes)
+            if (lane_r > 0) displacement(1:lane_r) = displacement(1:lane_r) + db(n - lane_r + 1:n)
+            do lane_i = 1, n - lanes + 1, lanes
+               kinetic = kinetic + kb(lane_i:lane_i + lanes - 1)
+            end do
+            lane_r = mod(n, lanes)
+            if (lane_r > 0) kinetic(1:lane_r) = kinetic(1:lane_r) + kb(n - lane_r + 1:n)
+            lane_max = 0.0_dp
+            do lane_i = 1, n - lanes + 1, lanes
+               lane_max = max(lane_max, mb(lane_i:lane_i + lanes - 1, slot))
+            end do
+            lane_r = mod(n, lanes)
+            if (lane_r > 0) lane_max(1:lane_r) = max(lane_max(1:lane_r), mb(n - lane_r + 1:n, slot))
+            block_max = maxval(lane_max)
+            if (block_max > largest%value) then
+               largest%value = block_max
+               largest%first = b0
+               largest%count = n
+               largest%slot = slot
+               slot = 3 - slot
+            end if
          end if
          if (stresses) then
-            call add_lanes(n, sb, strain)
-            call min_lanes(n, jb, min_j)
+            do lane_i = 1, n - lanes + 1, lanes
+               strain = strain + sb(lane_i:lane_i + lanes - 1)
+            end do
+            lane_r = mod(n, lanes)
+            if (lane_r > 0) strain(1:lane_r) = strain(1:lane_r) + sb(n - lane_r + 1:n)
+            do lane_i = 1, n - lanes + 1, lanes
+               min_j = min(min_j, jb(lane_i:lane_i + lanes - 1))
+            end do
+            lane_r = mod(n, lanes)
+            if (lane_r > 0) min_j(1:lane_r) = min(min_j(1:lane_r), jb(n - lane_r + 1:n))
          end if
          if (relocates) call find_outside(n, b0, cb, outside)
          call accumulate_boxes(k, n, cb, left, right, m, lo, hi, shares, run, mass_left, mass_right, momentum_left, &
@@ -2114,7 +2393,7 @@ contains
                                           run%b(5), mass_left, mass_right, momentum_left, momentum_right, stress_volume, &
                                           seg)
       call close_segment(k, shares, m, run, [lane_total(displacement), lane_total(kinetic), lane_total(strain)], &
-                         minval(min_j), largest%value, furthest_particle(largest), outside, mass_left, mass_right, &
+                         minval(min_j), largest%value, furthest_particle(largest, mb), outside, mass_left, mass_right, &
                          momentum_left, momentum_right, stress_volume, seg)
    end subroutine ugimp_usl_segment
 
@@ -2140,7 +2419,11 @@ contains
       type(largest_move_t) :: largest
       real(dp) :: displacement(lanes), kinetic(lanes), strain(lanes), min_j(lanes)
       integer :: cb(block_size)
-      real(dp) :: svb(block_size), db(block_size), kb(block_size), sb(block_size), jb(block_size), mb(block_size)
+      real(dp) :: svb(block_size), db(block_size), kb(block_size), sb(block_size), jb(block_size)
+      real(dp) :: mb(block_size, 2)  !< the moves of a block, and of the block with the largest (lanes_track_move)
+      integer :: slot
+      real(dp) :: lane_max(lanes), block_max
+      integer :: lane_i, lane_r
       type(run_t) :: run
       ! the parts: their fractions r and local coordinates t (three parts: the products q = r t), the
       ! sums they add (accumulate_boxes, accumulate_thirds)
@@ -2160,6 +2443,7 @@ contains
       call open_segment(k, shares, seg, mass_left, mass_right, momentum_left, momentum_right, stress_volume, first, last, &
                         lo, hi)
       displacement = 0; kinetic = 0; strain = 0; min_j = huge(1.0_dp)
+      slot = 1
       outside = 0
       half_m = 0.5_dp*m
       strain_factor = 0.0_dp
@@ -2195,7 +2479,7 @@ contains
             end if
             if (moves) call g2p_box(r1, r2, t1, t2, acceleration(e - 1), acceleration(e), acceleration(e + 1), &
                                     velocity(e - 1), velocity(e), velocity(e + 1), inv_dx, dt, half_m, x0(p), x(p), v(p), &
-                                    db(i), kb(i), mb(i))
+                                    db(i), kb(i), mb(i, slot))
             if (stresses) then ! d eps = dt sum dS v_I = r1 (element e's) + r2 (element e + 1's)
                if (moves) then
                   dstrain = r1*strain_increment(velocity(e - 1), velocity(e), dt, inv_dx) + &
@@ -2233,14 +2517,44 @@ contains
                right(i, 5) = r2*svb(i)
             end if
          end do
+         ! the block's totals (macros of mpm_lanes.fypi, expanded here)
          if (moves) then
-            call add_lanes(n, db, displacement)
-            call add_lanes(n, kb, kinetic)
-            call track_largest_move(n, b0, mb, largest)
+            do lane_i = 1, n - lanes + 1, lanes
+               displacement = displacement + db(lane_i:lane_i + lanes - 1)
+            end do
+            lane_r = mod(n, lanes)
+            if (lane_r > 0) displacement(1:lane_r) = displacement(1:lane_r) + db(n - lane_r + 1:n)
+            do lane_i = 1, n - lanes + 1, lanes
+               kinetic = kinetic + kb(lane_i:lane_i + lanes - 1)
+            end do
+            lane_r = mod(n, lanes)
+            if (lane_r > 0) kinetic(1:lane_r) = kinetic(1:lane_r) + kb(n - lane_r + 1:n)
+            lane_max = 0.0_dp
+            do lane_i = 1, n - lanes + 1, lanes
+               lane_max = max(lane_max, mb(lane_i:lane_i + lanes - 1, slot))
+            end do
+            lane_r = mod(n, lanes)
+            if (lane_r > 0) lane_max(1:lane_r) = max(lane_max(1:lane_r), mb(n - lane_r + 1:n, slot))
+            block_max = maxval(lane_max)
+            if (block_max > largest%value) then
+               largest%value = block_max
+               largest%first = b0
+               largest%count = n
+               largest%slot = slot
+               slot = 3 - slot
+            end if
          end if
          if (stresses) then
-            call add_lanes(n, sb, strain)
-            call min_lanes(n, jb, min_j)
+            do lane_i = 1, n - lanes + 1, lanes
+               strain = strain + sb(lane_i:lane_i + lanes - 1)
+            end do
+            lane_r = mod(n, lanes)
+            if (lane_r > 0) strain(1:lane_r) = strain(1:lane_r) + sb(n - lane_r + 1:n)
+            do lane_i = 1, n - lanes + 1, lanes
+               min_j = min(min_j, jb(lane_i:lane_i + lanes - 1))
+            end do
+            lane_r = mod(n, lanes)
+            if (lane_r > 0) min_j(1:lane_r) = min(min_j(1:lane_r), jb(n - lane_r + 1:n))
          end if
          if (relocates) call find_outside(n, b0, cb, outside)
          call accumulate_boxes(k, n, cb, left, right, m, lo, hi, shares, run, mass_left, mass_right, momentum_left, &
@@ -2251,7 +2565,7 @@ contains
                                           run%b(5), mass_left, mass_right, momentum_left, momentum_right, stress_volume, &
                                           seg)
       call close_segment(k, shares, m, run, [lane_total(displacement), lane_total(kinetic), lane_total(strain)], &
-                         minval(min_j), largest%value, furthest_particle(largest), outside, mass_left, mass_right, &
+                         minval(min_j), largest%value, furthest_particle(largest, mb), outside, mass_left, mass_right, &
                          momentum_left, momentum_right, stress_volume, seg)
    end subroutine ugimp_musl_remap_segment
 
@@ -2277,7 +2591,11 @@ contains
       type(largest_move_t) :: largest
       real(dp) :: displacement(lanes), kinetic(lanes), strain(lanes), min_j(lanes)
       integer :: cb(block_size)
-      real(dp) :: svb(block_size), db(block_size), kb(block_size), sb(block_size), jb(block_size), mb(block_size)
+      real(dp) :: svb(block_size), db(block_size), kb(block_size), sb(block_size), jb(block_size)
+      real(dp) :: mb(block_size, 2)  !< the moves of a block, and of the block with the largest (lanes_track_move)
+      integer :: slot
+      real(dp) :: lane_max(lanes), block_max
+      integer :: lane_i, lane_r
       type(run_t) :: run
       ! the parts: their fractions r and local coordinates t (three parts: the products q = r t), the
       ! sums they add (accumulate_boxes, accumulate_thirds)
@@ -2297,6 +2615,7 @@ contains
       call open_segment(k, shares, seg, mass_left, mass_right, momentum_left, momentum_right, stress_volume, first, last, &
                         lo, hi)
       displacement = 0; kinetic = 0; strain = 0; min_j = huge(1.0_dp)
+      slot = 1
       outside = 0
       half_m = 0.5_dp*m
       strain_factor = 0.0_dp
@@ -2332,7 +2651,7 @@ contains
             end if
             if (moves) call g2p_box(r1, r2, t1, t2, acceleration(e - 1), acceleration(e), acceleration(e + 1), &
                                     velocity(e - 1), velocity(e), velocity(e + 1), inv_dx, dt, half_m, x0(p), x(p), v(p), &
-                                    db(i), kb(i), mb(i))
+                                    db(i), kb(i), mb(i, slot))
             if (stresses) then ! d eps = dt sum dS v_I = r1 (element e's) + r2 (element e + 1's)
                if (moves) then
                   dstrain = r1*strain_increment(velocity(e - 1), velocity(e), dt, inv_dx) + &
@@ -2370,14 +2689,44 @@ contains
                right(i, 5) = r2*svb(i)
             end if
          end do
+         ! the block's totals (macros of mpm_lanes.fypi, expanded here)
          if (moves) then
-            call add_lanes(n, db, displacement)
-            call add_lanes(n, kb, kinetic)
-            call track_largest_move(n, b0, mb, largest)
+            do lane_i = 1, n - lanes + 1, lanes
+               displacement = displacement + db(lane_i:lane_i + lanes - 1)
+            end do
+            lane_r = mod(n, lanes)
+            if (lane_r > 0) displacement(1:lane_r) = displacement(1:lane_r) + db(n - lane_r + 1:n)
+            do lane_i = 1, n - lanes + 1, lanes
+               kinetic = kinetic + kb(lane_i:lane_i + lanes - 1)
+            end do
+            lane_r = mod(n, lanes)
+            if (lane_r > 0) kinetic(1:lane_r) = kinetic(1:lane_r) + kb(n - lane_r + 1:n)
+            lane_max = 0.0_dp
+            do lane_i = 1, n - lanes + 1, lanes
+               lane_max = max(lane_max, mb(lane_i:lane_i + lanes - 1, slot))
+            end do
+            lane_r = mod(n, lanes)
+            if (lane_r > 0) lane_max(1:lane_r) = max(lane_max(1:lane_r), mb(n - lane_r + 1:n, slot))
+            block_max = maxval(lane_max)
+            if (block_max > largest%value) then
+               largest%value = block_max
+               largest%first = b0
+               largest%count = n
+               largest%slot = slot
+               slot = 3 - slot
+            end if
          end if
          if (stresses) then
-            call add_lanes(n, sb, strain)
-            call min_lanes(n, jb, min_j)
+            do lane_i = 1, n - lanes + 1, lanes
+               strain = strain + sb(lane_i:lane_i + lanes - 1)
+            end do
+            lane_r = mod(n, lanes)
+            if (lane_r > 0) strain(1:lane_r) = strain(1:lane_r) + sb(n - lane_r + 1:n)
+            do lane_i = 1, n - lanes + 1, lanes
+               min_j = min(min_j, jb(lane_i:lane_i + lanes - 1))
+            end do
+            lane_r = mod(n, lanes)
+            if (lane_r > 0) min_j(1:lane_r) = min(min_j(1:lane_r), jb(n - lane_r + 1:n))
          end if
          if (relocates) call find_outside(n, b0, cb, outside)
          call accumulate_boxes(k, n, cb, left, right, m, lo, hi, shares, run, mass_left, mass_right, momentum_left, &
@@ -2388,7 +2737,7 @@ contains
                                           run%b(5), mass_left, mass_right, momentum_left, momentum_right, stress_volume, &
                                           seg)
       call close_segment(k, shares, m, run, [lane_total(displacement), lane_total(kinetic), lane_total(strain)], &
-                         minval(min_j), largest%value, furthest_particle(largest), outside, mass_left, mass_right, &
+                         minval(min_j), largest%value, furthest_particle(largest, mb), outside, mass_left, mass_right, &
                          momentum_left, momentum_right, stress_volume, seg)
    end subroutine ugimp_musl_stress_segment
 
@@ -2414,7 +2763,11 @@ contains
       type(largest_move_t) :: largest
       real(dp) :: displacement(lanes), kinetic(lanes), strain(lanes), min_j(lanes)
       integer :: cb(block_size)
-      real(dp) :: svb(block_size), db(block_size), kb(block_size), sb(block_size), jb(block_size), mb(block_size)
+      real(dp) :: svb(block_size), db(block_size), kb(block_size), sb(block_size), jb(block_size)
+      real(dp) :: mb(block_size, 2)  !< the moves of a block, and of the block with the largest (lanes_track_move)
+      integer :: slot
+      real(dp) :: lane_max(lanes), block_max
+      integer :: lane_i, lane_r
       type(run_t) :: run
       ! the parts: their fractions r and local coordinates t (three parts: the products q = r t), the
       ! sums they add (accumulate_boxes, accumulate_thirds)
@@ -2434,6 +2787,7 @@ contains
       call open_segment(k, shares, seg, mass_left, mass_right, momentum_left, momentum_right, stress_volume, first, last, &
                         lo, hi)
       displacement = 0; kinetic = 0; strain = 0; min_j = huge(1.0_dp)
+      slot = 1
       outside = 0
       half_m = 0.5_dp*m
       strain_factor = 0.0_dp
@@ -2475,7 +2829,7 @@ contains
             end if
             if (moves) call g2p_box(r1, r2, t1, t2, acceleration(e - 1), acceleration(e), acceleration(e + 1), &
                                     velocity(e - 1), velocity(e), velocity(e + 1), inv_dx, dt, half_m, x0(p), x(p), v(p), &
-                                    db(i), kb(i), mb(i))
+                                    db(i), kb(i), mb(i, slot))
             if (stresses) then ! d eps = dt sum dS v_I = r1 (element e's) + r2 (element e + 1's)
                if (moves) then
                   dstrain = r1*strain_increment(velocity(e - 1), velocity(e), dt, inv_dx) + &
@@ -2513,14 +2867,44 @@ contains
                right(i, 5) = r2*svb(i)
             end if
          end do
+         ! the block's totals (macros of mpm_lanes.fypi, expanded here)
          if (moves) then
-            call add_lanes(n, db, displacement)
-            call add_lanes(n, kb, kinetic)
-            call track_largest_move(n, b0, mb, largest)
+            do lane_i = 1, n - lanes + 1, lanes
+               displacement = displacement + db(lane_i:lane_i + lanes - 1)
+            end do
+            lane_r = mod(n, lanes)
+            if (lane_r > 0) displacement(1:lane_r) = displacement(1:lane_r) + db(n - lane_r + 1:n)
+            do lane_i = 1, n - lanes + 1, lanes
+               kinetic = kinetic + kb(lane_i:lane_i + lanes - 1)
+            end do
+            lane_r = mod(n, lanes)
+            if (lane_r > 0) kinetic(1:lane_r) = kinetic(1:lane_r) + kb(n - lane_r + 1:n)
+            lane_max = 0.0_dp
+            do lane_i = 1, n - lanes + 1, lanes
+               lane_max = max(lane_max, mb(lane_i:lane_i + lanes - 1, slot))
+            end do
+            lane_r = mod(n, lanes)
+            if (lane_r > 0) lane_max(1:lane_r) = max(lane_max(1:lane_r), mb(n - lane_r + 1:n, slot))
+            block_max = maxval(lane_max)
+            if (block_max > largest%value) then
+               largest%value = block_max
+               largest%first = b0
+               largest%count = n
+               largest%slot = slot
+               slot = 3 - slot
+            end if
          end if
          if (stresses) then
-            call add_lanes(n, sb, strain)
-            call min_lanes(n, jb, min_j)
+            do lane_i = 1, n - lanes + 1, lanes
+               strain = strain + sb(lane_i:lane_i + lanes - 1)
+            end do
+            lane_r = mod(n, lanes)
+            if (lane_r > 0) strain(1:lane_r) = strain(1:lane_r) + sb(n - lane_r + 1:n)
+            do lane_i = 1, n - lanes + 1, lanes
+               min_j = min(min_j, jb(lane_i:lane_i + lanes - 1))
+            end do
+            lane_r = mod(n, lanes)
+            if (lane_r > 0) min_j(1:lane_r) = min(min_j(1:lane_r), jb(n - lane_r + 1:n))
          end if
          if (relocates) call find_outside(n, b0, cb, outside)
          call accumulate_boxes(k, n, cb, left, right, m, lo, hi, shares, run, mass_left, mass_right, momentum_left, &
@@ -2531,7 +2915,7 @@ contains
                                           run%b(5), mass_left, mass_right, momentum_left, momentum_right, stress_volume, &
                                           seg)
       call close_segment(k, shares, m, run, [lane_total(displacement), lane_total(kinetic), lane_total(strain)], &
-                         minval(min_j), largest%value, furthest_particle(largest), outside, mass_left, mass_right, &
+                         minval(min_j), largest%value, furthest_particle(largest, mb), outside, mass_left, mass_right, &
                          momentum_left, momentum_right, stress_volume, seg)
    end subroutine cpgimp_usf_move_segment
 
@@ -2557,7 +2941,11 @@ contains
       type(largest_move_t) :: largest
       real(dp) :: displacement(lanes), kinetic(lanes), strain(lanes), min_j(lanes)
       integer :: cb(block_size)
-      real(dp) :: svb(block_size), db(block_size), kb(block_size), sb(block_size), jb(block_size), mb(block_size)
+      real(dp) :: svb(block_size), db(block_size), kb(block_size), sb(block_size), jb(block_size)
+      real(dp) :: mb(block_size, 2)  !< the moves of a block, and of the block with the largest (lanes_track_move)
+      integer :: slot
+      real(dp) :: lane_max(lanes), block_max
+      integer :: lane_i, lane_r
       type(run_t) :: run
       ! the parts: their fractions r and local coordinates t (three parts: the products q = r t), the
       ! sums they add (accumulate_boxes, accumulate_thirds)
@@ -2577,6 +2965,7 @@ contains
       call open_segment(k, shares, seg, mass_left, mass_right, momentum_left, momentum_right, stress_volume, first, last, &
                         lo, hi)
       displacement = 0; kinetic = 0; strain = 0; min_j = huge(1.0_dp)
+      slot = 1
       outside = 0
       half_m = 0.5_dp*m
       strain_factor = 0.0_dp
@@ -2618,7 +3007,7 @@ contains
             end if
             if (moves) call g2p_box(r1, r2, t1, t2, acceleration(e - 1), acceleration(e), acceleration(e + 1), &
                                     velocity(e - 1), velocity(e), velocity(e + 1), inv_dx, dt, half_m, x0(p), x(p), v(p), &
-                                    db(i), kb(i), mb(i))
+                                    db(i), kb(i), mb(i, slot))
             if (stresses) then ! d eps = dt sum dS v_I = r1 (element e's) + r2 (element e + 1's)
                if (moves) then
                   dstrain = r1*strain_increment(velocity(e - 1), velocity(e), dt, inv_dx) + &
@@ -2656,14 +3045,44 @@ contains
                right(i, 5) = r2*svb(i)
             end if
          end do
+         ! the block's totals (macros of mpm_lanes.fypi, expanded here)
          if (moves) then
-            call add_lanes(n, db, displacement)
-            call add_lanes(n, kb, kinetic)
-            call track_largest_move(n, b0, mb, largest)
+            do lane_i = 1, n - lanes + 1, lanes
+               displacement = displacement + db(lane_i:lane_i + lanes - 1)
+            end do
+            lane_r = mod(n, lanes)
+            if (lane_r > 0) displacement(1:lane_r) = displacement(1:lane_r) + db(n - lane_r + 1:n)
+            do lane_i = 1, n - lanes + 1, lanes
+               kinetic = kinetic + kb(lane_i:lane_i + lanes - 1)
+            end do
+            lane_r = mod(n, lanes)
+            if (lane_r > 0) kinetic(1:lane_r) = kinetic(1:lane_r) + kb(n - lane_r + 1:n)
+            lane_max = 0.0_dp
+            do lane_i = 1, n - lanes + 1, lanes
+               lane_max = max(lane_max, mb(lane_i:lane_i + lanes - 1, slot))
+            end do
+            lane_r = mod(n, lanes)
+            if (lane_r > 0) lane_max(1:lane_r) = max(lane_max(1:lane_r), mb(n - lane_r + 1:n, slot))
+            block_max = maxval(lane_max)
+            if (block_max > largest%value) then
+               largest%value = block_max
+               largest%first = b0
+               largest%count = n
+               largest%slot = slot
+               slot = 3 - slot
+            end if
          end if
          if (stresses) then
-            call add_lanes(n, sb, strain)
-            call min_lanes(n, jb, min_j)
+            do lane_i = 1, n - lanes + 1, lanes
+               strain = strain + sb(lane_i:lane_i + lanes - 1)
+            end do
+            lane_r = mod(n, lanes)
+            if (lane_r > 0) strain(1:lane_r) = strain(1:lane_r) + sb(n - lane_r + 1:n)
+            do lane_i = 1, n - lanes + 1, lanes
+               min_j = min(min_j, jb(lane_i:lane_i + lanes - 1))
+            end do
+            lane_r = mod(n, lanes)
+            if (lane_r > 0) min_j(1:lane_r) = min(min_j(1:lane_r), jb(n - lane_r + 1:n))
          end if
          if (relocates) call find_outside(n, b0, cb, outside)
          call accumulate_boxes(k, n, cb, left, right, m, lo, hi, shares, run, mass_left, mass_right, momentum_left, &
@@ -2674,7 +3093,7 @@ contains
                                           run%b(5), mass_left, mass_right, momentum_left, momentum_right, stress_volume, &
                                           seg)
       call close_segment(k, shares, m, run, [lane_total(displacement), lane_total(kinetic), lane_total(strain)], &
-                         minval(min_j), largest%value, furthest_particle(largest), outside, mass_left, mass_right, &
+                         minval(min_j), largest%value, furthest_particle(largest, mb), outside, mass_left, mass_right, &
                          momentum_left, momentum_right, stress_volume, seg)
    end subroutine cpgimp_usf_stress_segment
 
@@ -2700,7 +3119,11 @@ contains
       type(largest_move_t) :: largest
       real(dp) :: displacement(lanes), kinetic(lanes), strain(lanes), min_j(lanes)
       integer :: cb(block_size)
-      real(dp) :: svb(block_size), db(block_size), kb(block_size), sb(block_size), jb(block_size), mb(block_size)
+      real(dp) :: svb(block_size), db(block_size), kb(block_size), sb(block_size), jb(block_size)
+      real(dp) :: mb(block_size, 2)  !< the moves of a block, and of the block with the largest (lanes_track_move)
+      integer :: slot
+      real(dp) :: lane_max(lanes), block_max
+      integer :: lane_i, lane_r
       type(run_t) :: run
       ! the parts: their fractions r and local coordinates t (three parts: the products q = r t), the
       ! sums they add (accumulate_boxes, accumulate_thirds)
@@ -2720,6 +3143,7 @@ contains
       call open_segment(k, shares, seg, mass_left, mass_right, momentum_left, momentum_right, stress_volume, first, last, &
                         lo, hi)
       displacement = 0; kinetic = 0; strain = 0; min_j = huge(1.0_dp)
+      slot = 1
       outside = 0
       half_m = 0.5_dp*m
       strain_factor = 0.0_dp
@@ -2761,7 +3185,7 @@ contains
             end if
             if (moves) call g2p_box(r1, r2, t1, t2, acceleration(e - 1), acceleration(e), acceleration(e + 1), &
                                     velocity(e - 1), velocity(e), velocity(e + 1), inv_dx, dt, half_m, x0(p), x(p), v(p), &
-                                    db(i), kb(i), mb(i))
+                                    db(i), kb(i), mb(i, slot))
             if (stresses) then ! d eps = dt sum dS v_I = r1 (element e's) + r2 (element e + 1's)
                if (moves) then
                   dstrain = r1*strain_increment(velocity(e - 1), velocity(e), dt, inv_dx) + &
@@ -2799,14 +3223,44 @@ contains
                right(i, 5) = r2*svb(i)
             end if
          end do
+         ! the block's totals (macros of mpm_lanes.fypi, expanded here)
          if (moves) then
-            call add_lanes(n, db, displacement)
-            call add_lanes(n, kb, kinetic)
-            call track_largest_move(n, b0, mb, largest)
+            do lane_i = 1, n - lanes + 1, lanes
+               displacement = displacement + db(lane_i:lane_i + lanes - 1)
+            end do
+            lane_r = mod(n, lanes)
+            if (lane_r > 0) displacement(1:lane_r) = displacement(1:lane_r) + db(n - lane_r + 1:n)
+            do lane_i = 1, n - lanes + 1, lanes
+               kinetic = kinetic + kb(lane_i:lane_i + lanes - 1)
+            end do
+            lane_r = mod(n, lanes)
+            if (lane_r > 0) kinetic(1:lane_r) = kinetic(1:lane_r) + kb(n - lane_r + 1:n)
+            lane_max = 0.0_dp
+            do lane_i = 1, n - lanes + 1, lanes
+               lane_max = max(lane_max, mb(lane_i:lane_i + lanes - 1, slot))
+            end do
+            lane_r = mod(n, lanes)
+            if (lane_r > 0) lane_max(1:lane_r) = max(lane_max(1:lane_r), mb(n - lane_r + 1:n, slot))
+            block_max = maxval(lane_max)
+            if (block_max > largest%value) then
+               largest%value = block_max
+               largest%first = b0
+               largest%count = n
+               largest%slot = slot
+               slot = 3 - slot
+            end if
          end if
          if (stresses) then
-            call add_lanes(n, sb, strain)
-            call min_lanes(n, jb, min_j)
+            do lane_i = 1, n - lanes + 1, lanes
+               strain = strain + sb(lane_i:lane_i + lanes - 1)
+            end do
+            lane_r = mod(n, lanes)
+            if (lane_r > 0) strain(1:lane_r) = strain(1:lane_r) + sb(n - lane_r + 1:n)
+            do lane_i = 1, n - lanes + 1, lanes
+               min_j = min(min_j, jb(lane_i:lane_i + lanes - 1))
+            end do
+            lane_r = mod(n, lanes)
+            if (lane_r > 0) min_j(1:lane_r) = min(min_j(1:lane_r), jb(n - lane_r + 1:n))
          end if
          if (relocates) call find_outside(n, b0, cb, outside)
          call accumulate_boxes(k, n, cb, left, right, m, lo, hi, shares, run, mass_left, mass_right, momentum_left, &
@@ -2817,7 +3271,7 @@ contains
                                           run%b(5), mass_left, mass_right, momentum_left, momentum_right, stress_volume, &
                                           seg)
       call close_segment(k, shares, m, run, [lane_total(displacement), lane_total(kinetic), lane_total(strain)], &
-                         minval(min_j), largest%value, furthest_particle(largest), outside, mass_left, mass_right, &
+                         minval(min_j), largest%value, furthest_particle(largest, mb), outside, mass_left, mass_right, &
                          momentum_left, momentum_right, stress_volume, seg)
    end subroutine cpgimp_usl_segment
 
@@ -2843,7 +3297,11 @@ contains
       type(largest_move_t) :: largest
       real(dp) :: displacement(lanes), kinetic(lanes), strain(lanes), min_j(lanes)
       integer :: cb(block_size)
-      real(dp) :: svb(block_size), db(block_size), kb(block_size), sb(block_size), jb(block_size), mb(block_size)
+      real(dp) :: svb(block_size), db(block_size), kb(block_size), sb(block_size), jb(block_size)
+      real(dp) :: mb(block_size, 2)  !< the moves of a block, and of the block with the largest (lanes_track_move)
+      integer :: slot
+      real(dp) :: lane_max(lanes), block_max
+      integer :: lane_i, lane_r
       type(run_t) :: run
       ! the parts: their fractions r and local coordinates t (three parts: the products q = r t), the
       ! sums they add (accumulate_boxes, accumulate_thirds)
@@ -2863,6 +3321,7 @@ contains
       call open_segment(k, shares, seg, mass_left, mass_right, momentum_left, momentum_right, stress_volume, first, last, &
                         lo, hi)
       displacement = 0; kinetic = 0; strain = 0; min_j = huge(1.0_dp)
+      slot = 1
       outside = 0
       half_m = 0.5_dp*m
       strain_factor = 0.0_dp
@@ -2904,7 +3363,7 @@ contains
             end if
             if (moves) call g2p_box(r1, r2, t1, t2, acceleration(e - 1), acceleration(e), acceleration(e + 1), &
                                     velocity(e - 1), velocity(e), velocity(e + 1), inv_dx, dt, half_m, x0(p), x(p), v(p), &
-                                    db(i), kb(i), mb(i))
+                                    db(i), kb(i), mb(i, slot))
             if (stresses) then ! d eps = dt sum dS v_I = r1 (element e's) + r2 (element e + 1's)
                if (moves) then
                   dstrain = r1*strain_increment(velocity(e - 1), velocity(e), dt, inv_dx) + &
@@ -2942,14 +3401,44 @@ contains
                right(i, 5) = r2*svb(i)
             end if
          end do
+         ! the block's totals (macros of mpm_lanes.fypi, expanded here)
          if (moves) then
-            call add_lanes(n, db, displacement)
-            call add_lanes(n, kb, kinetic)
-            call track_largest_move(n, b0, mb, largest)
+            do lane_i = 1, n - lanes + 1, lanes
+               displacement = displacement + db(lane_i:lane_i + lanes - 1)
+            end do
+            lane_r = mod(n, lanes)
+            if (lane_r > 0) displacement(1:lane_r) = displacement(1:lane_r) + db(n - lane_r + 1:n)
+            do lane_i = 1, n - lanes + 1, lanes
+               kinetic = kinetic + kb(lane_i:lane_i + lanes - 1)
+            end do
+            lane_r = mod(n, lanes)
+            if (lane_r > 0) kinetic(1:lane_r) = kinetic(1:lane_r) + kb(n - lane_r + 1:n)
+            lane_max = 0.0_dp
+            do lane_i = 1, n - lanes + 1, lanes
+               lane_max = max(lane_max, mb(lane_i:lane_i + lanes - 1, slot))
+            end do
+            lane_r = mod(n, lanes)
+            if (lane_r > 0) lane_max(1:lane_r) = max(lane_max(1:lane_r), mb(n - lane_r + 1:n, slot))
+            block_max = maxval(lane_max)
+            if (block_max > largest%value) then
+               largest%value = block_max
+               largest%first = b0
+               largest%count = n
+               largest%slot = slot
+               slot = 3 - slot
+            end if
          end if
          if (stresses) then
-            call add_lanes(n, sb, strain)
-            call min_lanes(n, jb, min_j)
+            do lane_i = 1, n - lanes + 1, lanes
+               strain = strain + sb(lane_i:lane_i + lanes - 1)
+            end do
+            lane_r = mod(n, lanes)
+            if (lane_r > 0) strain(1:lane_r) = strain(1:lane_r) + sb(n - lane_r + 1:n)
+            do lane_i = 1, n - lanes + 1, lanes
+               min_j = min(min_j, jb(lane_i:lane_i + lanes - 1))
+            end do
+            lane_r = mod(n, lanes)
+            if (lane_r > 0) min_j(1:lane_r) = min(min_j(1:lane_r), jb(n - lane_r + 1:n))
          end if
          if (relocates) call find_outside(n, b0, cb, outside)
          call accumulate_boxes(k, n, cb, left, right, m, lo, hi, shares, run, mass_left, mass_right, momentum_left, &
@@ -2960,7 +3449,7 @@ contains
                                           run%b(5), mass_left, mass_right, momentum_left, momentum_right, stress_volume, &
                                           seg)
       call close_segment(k, shares, m, run, [lane_total(displacement), lane_total(kinetic), lane_total(strain)], &
-                         minval(min_j), largest%value, furthest_particle(largest), outside, mass_left, mass_right, &
+                         minval(min_j), largest%value, furthest_particle(largest, mb), outside, mass_left, mass_right, &
                          momentum_left, momentum_right, stress_volume, seg)
    end subroutine cpgimp_musl_remap_segment
 
@@ -2986,7 +3475,11 @@ contains
       type(largest_move_t) :: largest
       real(dp) :: displacement(lanes), kinetic(lanes), strain(lanes), min_j(lanes)
       integer :: cb(block_size)
-      real(dp) :: svb(block_size), db(block_size), kb(block_size), sb(block_size), jb(block_size), mb(block_size)
+      real(dp) :: svb(block_size), db(block_size), kb(block_size), sb(block_size), jb(block_size)
+      real(dp) :: mb(block_size, 2)  !< the moves of a block, and of the block with the largest (lanes_track_move)
+      integer :: slot
+      real(dp) :: lane_max(lanes), block_max
+      integer :: lane_i, lane_r
       type(run_t) :: run
       ! the parts: their fractions r and local coordinates t (three parts: the products q = r t), the
       ! sums they add (accumulate_boxes, accumulate_thirds)
@@ -3006,6 +3499,7 @@ contains
       call open_segment(k, shares, seg, mass_left, mass_right, momentum_left, momentum_right, stress_volume, first, last, &
                         lo, hi)
       displacement = 0; kinetic = 0; strain = 0; min_j = huge(1.0_dp)
+      slot = 1
       outside = 0
       half_m = 0.5_dp*m
       strain_factor = 0.0_dp
@@ -3047,7 +3541,7 @@ contains
             end if
             if (moves) call g2p_box(r1, r2, t1, t2, acceleration(e - 1), acceleration(e), acceleration(e + 1), &
                                     velocity(e - 1), velocity(e), velocity(e + 1), inv_dx, dt, half_m, x0(p), x(p), v(p), &
-                                    db(i), kb(i), mb(i))
+                                    db(i), kb(i), mb(i, slot))
             if (stresses) then ! d eps = dt sum dS v_I = r1 (element e's) + r2 (element e + 1's)
                if (moves) then
                   dstrain = r1*strain_increment(velocity(e - 1), velocity(e), dt, inv_dx) + &
@@ -3085,14 +3579,44 @@ contains
                right(i, 5) = r2*svb(i)
             end if
          end do
+         ! the block's totals (macros of mpm_lanes.fypi, expanded here)
          if (moves) then
-            call add_lanes(n, db, displacement)
-            call add_lanes(n, kb, kinetic)
-            call track_largest_move(n, b0, mb, largest)
+            do lane_i = 1, n - lanes + 1, lanes
+               displacement = displacement + db(lane_i:lane_i + lanes - 1)
+            end do
+            lane_r = mod(n, lanes)
+            if (lane_r > 0) displacement(1:lane_r) = displacement(1:lane_r) + db(n - lane_r + 1:n)
+            do lane_i = 1, n - lanes + 1, lanes
+               kinetic = kinetic + kb(lane_i:lane_i + lanes - 1)
+            end do
+            lane_r = mod(n, lanes)
+            if (lane_r > 0) kinetic(1:lane_r) = kinetic(1:lane_r) + kb(n - lane_r + 1:n)
+            lane_max = 0.0_dp
+            do lane_i = 1, n - lanes + 1, lanes
+               lane_max = max(lane_max, mb(lane_i:lane_i + lanes - 1, slot))
+            end do
+            lane_r = mod(n, lanes)
+            if (lane_r > 0) lane_max(1:lane_r) = max(lane_max(1:lane_r), mb(n - lane_r + 1:n, slot))
+            block_max = maxval(lane_max)
+            if (block_max > largest%value) then
+               largest%value = block_max
+               largest%first = b0
+               largest%count = n
+               largest%slot = slot
+               slot = 3 - slot
+            end if
          end if
          if (stresses) then
-            call add_lanes(n, sb, strain)
-            call min_lanes(n, jb, min_j)
+            do lane_i = 1, n - lanes + 1, lanes
+               strain = strain + sb(lane_i:lane_i + lanes - 1)
+            end do
+            lane_r = mod(n, lanes)
+            if (lane_r > 0) strain(1:lane_r) = strain(1:lane_r) + sb(n - lane_r + 1:n)
+            do lane_i = 1, n - lanes + 1, lanes
+               min_j = min(min_j, jb(lane_i:lane_i + lanes - 1))
+            end do
+            lane_r = mod(n, lanes)
+            if (lane_r > 0) min_j(1:lane_r) = min(min_j(1:lane_r), jb(n - lane_r + 1:n))
          end if
          if (relocates) call find_outside(n, b0, cb, outside)
          call accumulate_boxes(k, n, cb, left, right, m, lo, hi, shares, run, mass_left, mass_right, momentum_left, &
@@ -3103,7 +3627,7 @@ contains
                                           run%b(5), mass_left, mass_right, momentum_left, momentum_right, stress_volume, &
                                           seg)
       call close_segment(k, shares, m, run, [lane_total(displacement), lane_total(kinetic), lane_total(strain)], &
-                         minval(min_j), largest%value, furthest_particle(largest), outside, mass_left, mass_right, &
+                         minval(min_j), largest%value, furthest_particle(largest, mb), outside, mass_left, mass_right, &
                          momentum_left, momentum_right, stress_volume, seg)
    end subroutine cpgimp_musl_stress_segment
 
@@ -3129,7 +3653,11 @@ contains
       type(largest_move_t) :: largest
       real(dp) :: displacement(lanes), kinetic(lanes), strain(lanes), min_j(lanes)
       integer :: cb(block_size)
-      real(dp) :: svb(block_size), db(block_size), kb(block_size), sb(block_size), jb(block_size), mb(block_size)
+      real(dp) :: svb(block_size), db(block_size), kb(block_size), sb(block_size), jb(block_size)
+      real(dp) :: mb(block_size, 2)  !< the moves of a block, and of the block with the largest (lanes_track_move)
+      integer :: slot
+      real(dp) :: lane_max(lanes), block_max
+      integer :: lane_i, lane_r
       type(run_t) :: run
       ! the parts: their fractions r and local coordinates t (three parts: the products q = r t), the
       ! sums they add (accumulate_boxes, accumulate_thirds)
@@ -3146,6 +3674,7 @@ contains
       call open_segment(k, shares, seg, mass_left, mass_right, momentum_left, momentum_right, stress_volume, first, last, &
                         lo, hi)
       displacement = 0; kinetic = 0; strain = 0; min_j = huge(1.0_dp)
+      slot = 1
       outside = 0
       half_m = 0.5_dp*m
       strain_factor = 0.0_dp
@@ -3180,7 +3709,7 @@ contains
             end if
             if (moves) call g2p_box(r1, r2, t1, t2, acceleration(e - 1), acceleration(e), acceleration(e + 1), &
                                     velocity(e - 1), velocity(e), velocity(e + 1), inv_dx, dt, half_m, x0(p), x(p), v(p), &
-                                    db(i), kb(i), mb(i))
+                                    db(i), kb(i), mb(i, slot))
             if (stresses) then ! d eps = dt sum dS v_I = r1 (element e's) + r2 (element e + 1's)
                if (moves) then
                   dstrain = r1*strain_increment(velocity(e - 1), velocity(e), dt, inv_dx) + &
@@ -3217,14 +3746,44 @@ contains
                right(i, 5) = r2*svb(i)
             end if
          end do
+         ! the block's totals (macros of mpm_lanes.fypi, expanded here)
          if (moves) then
-            call add_lanes(n, db, displacement)
-            call add_lanes(n, kb, kinetic)
-            call track_largest_move(n, b0, mb, largest)
+            do lane_i = 1, n - lanes + 1, lanes
+               displacement = displacement + db(lane_i:lane_i + lanes - 1)
+            end do
+            lane_r = mod(n, lanes)
+            if (lane_r > 0) displacement(1:lane_r) = displacement(1:lane_r) + db(n - lane_r + 1:n)
+            do lane_i = 1, n - lanes + 1, lanes
+               kinetic = kinetic + kb(lane_i:lane_i + lanes - 1)
+            end do
+            lane_r = mod(n, lanes)
+            if (lane_r > 0) kinetic(1:lane_r) = kinetic(1:lane_r) + kb(n - lane_r + 1:n)
+            lane_max = 0.0_dp
+            do lane_i = 1, n - lanes + 1, lanes
+               lane_max = max(lane_max, mb(lane_i:lane_i + lanes - 1, slot))
+            end do
+            lane_r = mod(n, lanes)
+            if (lane_r > 0) lane_max(1:lane_r) = max(lane_max(1:lane_r), mb(n - lane_r + 1:n, slot))
+            block_max = maxval(lane_max)
+            if (block_max > largest%value) then
+               largest%value = block_max
+               largest%first = b0
+               largest%count = n
+               largest%slot = slot
+               slot = 3 - slot
+            end if
          end if
          if (stresses) then
-            call add_lanes(n, sb, strain)
-            call min_lanes(n, jb, min_j)
+            do lane_i = 1, n - lanes + 1, lanes
+               strain = strain + sb(lane_i:lane_i + lanes - 1)
+            end do
+            lane_r = mod(n, lanes)
+            if (lane_r > 0) strain(1:lane_r) = strain(1:lane_r) + sb(n - lane_r + 1:n)
+            do lane_i = 1, n - lanes + 1, lanes
+               min_j = min(min_j, jb(lane_i:lane_i + lanes - 1))
+            end do
+            lane_r = mod(n, lanes)
+            if (lane_r > 0) min_j(1:lane_r) = min(min_j(1:lane_r), jb(n - lane_r + 1:n))
          end if
          if (relocates) call find_outside(n, b0, cb, outside)
          call accumulate_boxes(k, n, cb, left, right, m, lo, hi, shares, run, mass_left, mass_right, momentum_left, &
@@ -3235,7 +3794,7 @@ contains
                                           run%b(5), mass_left, mass_right, momentum_left, momentum_right, stress_volume, &
                                           seg)
       call close_segment(k, shares, m, run, [lane_total(displacement), lane_total(kinetic), lane_total(strain)], &
-                         minval(min_j), largest%value, furthest_particle(largest), outside, mass_left, mass_right, &
+                         minval(min_j), largest%value, furthest_particle(largest, mb), outside, mass_left, mass_right, &
                          momentum_left, momentum_right, stress_volume, seg)
    end subroutine bspline2_usf_move_segment
 
@@ -3261,7 +3820,11 @@ contains
       type(largest_move_t) :: largest
       real(dp) :: displacement(lanes), kinetic(lanes), strain(lanes), min_j(lanes)
       integer :: cb(block_size)
-      real(dp) :: svb(block_size), db(block_size), kb(block_size), sb(block_size), jb(block_size), mb(block_size)
+      real(dp) :: svb(block_size), db(block_size), kb(block_size), sb(block_size), jb(block_size)
+      real(dp) :: mb(block_size, 2)  !< the moves of a block, and of the block with the largest (lanes_track_move)
+      integer :: slot
+      real(dp) :: lane_max(lanes), block_max
+      integer :: lane_i, lane_r
       type(run_t) :: run
       ! the parts: their fractions r and local coordinates t (three parts: the products q = r t), the
       ! sums they add (accumulate_boxes, accumulate_thirds)
@@ -3278,6 +3841,7 @@ contains
       call open_segment(k, shares, seg, mass_left, mass_right, momentum_left, momentum_right, stress_volume, first, last, &
                         lo, hi)
       displacement = 0; kinetic = 0; strain = 0; min_j = huge(1.0_dp)
+      slot = 1
       outside = 0
       half_m = 0.5_dp*m
       strain_factor = 0.0_dp
@@ -3312,7 +3876,7 @@ contains
             end if
             if (moves) call g2p_box(r1, r2, t1, t2, acceleration(e - 1), acceleration(e), acceleration(e + 1), &
                                     velocity(e - 1), velocity(e), velocity(e + 1), inv_dx, dt, half_m, x0(p), x(p), v(p), &
-                                    db(i), kb(i), mb(i))
+                                    db(i), kb(i), mb(i, slot))
             if (stresses) then ! d eps = dt sum dS v_I = r1 (element e's) + r2 (element e + 1's)
                if (moves) then
                   dstrain = r1*strain_increment(velocity(e - 1), velocity(e), dt, inv_dx) + &
@@ -3349,14 +3913,44 @@ contains
                right(i, 5) = r2*svb(i)
             end if
          end do
+         ! the block's totals (macros of mpm_lanes.fypi, expanded here)
          if (moves) then
-            call add_lanes(n, db, displacement)
-            call add_lanes(n, kb, kinetic)
-            call track_largest_move(n, b0, mb, largest)
+            do lane_i = 1, n - lanes + 1, lanes
+               displacement = displacement + db(lane_i:lane_i + lanes - 1)
+            end do
+            lane_r = mod(n, lanes)
+            if (lane_r > 0) displacement(1:lane_r) = displacement(1:lane_r) + db(n - lane_r + 1:n)
+            do lane_i = 1, n - lanes + 1, lanes
+               kinetic = kinetic + kb(lane_i:lane_i + lanes - 1)
+            end do
+            lane_r = mod(n, lanes)
+            if (lane_r > 0) kinetic(1:lane_r) = kinetic(1:lane_r) + kb(n - lane_r + 1:n)
+            lane_max = 0.0_dp
+            do lane_i = 1, n - lanes + 1, lanes
+               lane_max = max(lane_max, mb(lane_i:lane_i + lanes - 1, slot))
+            end do
+            lane_r = mod(n, lanes)
+            if (lane_r > 0) lane_max(1:lane_r) = max(lane_max(1:lane_r), mb(n - lane_r + 1:n, slot))
+            block_max = maxval(lane_max)
+            if (block_max > largest%value) then
+               largest%value = block_max
+               largest%first = b0
+               largest%count = n
+               largest%slot = slot
+               slot = 3 - slot
+            end if
          end if
          if (stresses) then
-            call add_lanes(n, sb, strain)
-            call min_lanes(n, jb, min_j)
+            do lane_i = 1, n - lanes + 1, lanes
+               strain = strain + sb(lane_i:lane_i + lanes - 1)
+            end do
+            lane_r = mod(n, lanes)
+            if (lane_r > 0) strain(1:lane_r) = strain(1:lane_r) + sb(n - lane_r + 1:n)
+            do lane_i = 1, n - lanes + 1, lanes
+               min_j = min(min_j, jb(lane_i:lane_i + lanes - 1))
+            end do
+            lane_r = mod(n, lanes)
+            if (lane_r > 0) min_j(1:lane_r) = min(min_j(1:lane_r), jb(n - lane_r + 1:n))
          end if
          if (relocates) call find_outside(n, b0, cb, outside)
          call accumulate_boxes(k, n, cb, left, right, m, lo, hi, shares, run, mass_left, mass_right, momentum_left, &
@@ -3367,7 +3961,7 @@ contains
                                           run%b(5), mass_left, mass_right, momentum_left, momentum_right, stress_volume, &
                                           seg)
       call close_segment(k, shares, m, run, [lane_total(displacement), lane_total(kinetic), lane_total(strain)], &
-                         minval(min_j), largest%value, furthest_particle(largest), outside, mass_left, mass_right, &
+                         minval(min_j), largest%value, furthest_particle(largest, mb), outside, mass_left, mass_right, &
                          momentum_left, momentum_right, stress_volume, seg)
    end subroutine bspline2_usf_stress_segment
 
@@ -3393,7 +3987,11 @@ contains
       type(largest_move_t) :: largest
       real(dp) :: displacement(lanes), kinetic(lanes), strain(lanes), min_j(lanes)
       integer :: cb(block_size)
-      real(dp) :: svb(block_size), db(block_size), kb(block_size), sb(block_size), jb(block_size), mb(block_size)
+      real(dp) :: svb(block_size), db(block_size), kb(block_size), sb(block_size), jb(block_size)
+      real(dp) :: mb(block_size, 2)  !< the moves of a block, and of the block with the largest (lanes_track_move)
+      integer :: slot
+      real(dp) :: lane_max(lanes), block_max
+      integer :: lane_i, lane_r
       type(run_t) :: run
       ! the parts: their fractions r and local coordinates t (three parts: the products q = r t), the
       ! sums they add (accumulate_boxes, accumulate_thirds)
@@ -3410,6 +4008,7 @@ contains
       call open_segment(k, shares, seg, mass_left, mass_right, momentum_left, momentum_right, stress_volume, first, last, &
                         lo, hi)
       displacement = 0; kinetic = 0; strain = 0; min_j = huge(1.0_dp)
+      slot = 1
       outside = 0
       half_m = 0.5_dp*m
       strain_factor = 0.0_dp
@@ -3444,7 +4043,7 @@ contains
             end if
             if (moves) call g2p_box(r1, r2, t1, t2, acceleration(e - 1), acceleration(e), acceleration(e + 1), &
                                     velocity(e - 1), velocity(e), velocity(e + 1), inv_dx, dt, half_m, x0(p), x(p), v(p), &
-                                    db(i), kb(i), mb(i))
+                                    db(i), kb(i), mb(i, slot))
             if (stresses) then ! d eps = dt sum dS v_I = r1 (element e's) + r2 (element e + 1's)
                if (moves) then
                   dstrain = r1*strain_increment(velocity(e - 1), velocity(e), dt, inv_dx) + &
@@ -3481,14 +4080,44 @@ contains
                right(i, 5) = r2*svb(i)
             end if
          end do
+         ! the block's totals (macros of mpm_lanes.fypi, expanded here)
          if (moves) then
-            call add_lanes(n, db, displacement)
-            call add_lanes(n, kb, kinetic)
-            call track_largest_move(n, b0, mb, largest)
+            do lane_i = 1, n - lanes + 1, lanes
+               displacement = displacement + db(lane_i:lane_i + lanes - 1)
+            end do
+            lane_r = mod(n, lanes)
+            if (lane_r > 0) displacement(1:lane_r) = displacement(1:lane_r) + db(n - lane_r + 1:n)
+            do lane_i = 1, n - lanes + 1, lanes
+               kinetic = kinetic + kb(lane_i:lane_i + lanes - 1)
+            end do
+            lane_r = mod(n, lanes)
+            if (lane_r > 0) kinetic(1:lane_r) = kinetic(1:lane_r) + kb(n - lane_r + 1:n)
+            lane_max = 0.0_dp
+            do lane_i = 1, n - lanes + 1, lanes
+               lane_max = max(lane_max, mb(lane_i:lane_i + lanes - 1, slot))
+            end do
+            lane_r = mod(n, lanes)
+            if (lane_r > 0) lane_max(1:lane_r) = max(lane_max(1:lane_r), mb(n - lane_r + 1:n, slot))
+            block_max = maxval(lane_max)
+            if (block_max > largest%value) then
+               largest%value = block_max
+               largest%first = b0
+               largest%count = n
+               largest%slot = slot
+               slot = 3 - slot
+            end if
          end if
          if (stresses) then
-            call add_lanes(n, sb, strain)
-            call min_lanes(n, jb, min_j)
+            do lane_i = 1, n - lanes + 1, lanes
+               strain = strain + sb(lane_i:lane_i + lanes - 1)
+            end do
+            lane_r = mod(n, lanes)
+            if (lane_r > 0) strain(1:lane_r) = strain(1:lane_r) + sb(n - lane_r + 1:n)
+            do lane_i = 1, n - lanes + 1, lanes
+               min_j = min(min_j, jb(lane_i:lane_i + lanes - 1))
+            end do
+            lane_r = mod(n, lanes)
+            if (lane_r > 0) min_j(1:lane_r) = min(min_j(1:lane_r), jb(n - lane_r + 1:n))
          end if
          if (relocates) call find_outside(n, b0, cb, outside)
          call accumulate_boxes(k, n, cb, left, right, m, lo, hi, shares, run, mass_left, mass_right, momentum_left, &
@@ -3499,7 +4128,7 @@ contains
                                           run%b(5), mass_left, mass_right, momentum_left, momentum_right, stress_volume, &
                                           seg)
       call close_segment(k, shares, m, run, [lane_total(displacement), lane_total(kinetic), lane_total(strain)], &
-                         minval(min_j), largest%value, furthest_particle(largest), outside, mass_left, mass_right, &
+                         minval(min_j), largest%value, furthest_particle(largest, mb), outside, mass_left, mass_right, &
                          momentum_left, momentum_right, stress_volume, seg)
    end subroutine bspline2_usl_segment
 
@@ -3525,7 +4154,11 @@ contains
       type(largest_move_t) :: largest
       real(dp) :: displacement(lanes), kinetic(lanes), strain(lanes), min_j(lanes)
       integer :: cb(block_size)
-      real(dp) :: svb(block_size), db(block_size), kb(block_size), sb(block_size), jb(block_size), mb(block_size)
+      real(dp) :: svb(block_size), db(block_size), kb(block_size), sb(block_size), jb(block_size)
+      real(dp) :: mb(block_size, 2)  !< the moves of a block, and of the block with the largest (lanes_track_move)
+      integer :: slot
+      real(dp) :: lane_max(lanes), block_max
+      integer :: lane_i, lane_r
       type(run_t) :: run
       ! the parts: their fractions r and local coordinates t (three parts: the products q = r t), the
       ! sums they add (accumulate_boxes, accumulate_thirds)
@@ -3542,6 +4175,7 @@ contains
       call open_segment(k, shares, seg, mass_left, mass_right, momentum_left, momentum_right, stress_volume, first, last, &
                         lo, hi)
       displacement = 0; kinetic = 0; strain = 0; min_j = huge(1.0_dp)
+      slot = 1
       outside = 0
       half_m = 0.5_dp*m
       strain_factor = 0.0_dp
@@ -3576,7 +4210,7 @@ contains
             end if
             if (moves) call g2p_box(r1, r2, t1, t2, acceleration(e - 1), acceleration(e), acceleration(e + 1), &
                                     velocity(e - 1), velocity(e), velocity(e + 1), inv_dx, dt, half_m, x0(p), x(p), v(p), &
-                                    db(i), kb(i), mb(i))
+                                    db(i), kb(i), mb(i, slot))
             if (stresses) then ! d eps = dt sum dS v_I = r1 (element e's) + r2 (element e + 1's)
                if (moves) then
                   dstrain = r1*strain_increment(velocity(e - 1), velocity(e), dt, inv_dx) + &
@@ -3613,14 +4247,44 @@ contains
                right(i, 5) = r2*svb(i)
             end if
          end do
+         ! the block's totals (macros of mpm_lanes.fypi, expanded here)
          if (moves) then
-            call add_lanes(n, db, displacement)
-            call add_lanes(n, kb, kinetic)
-            call track_largest_move(n, b0, mb, largest)
+            do lane_i = 1, n - lanes + 1, lanes
+               displacement = displacement + db(lane_i:lane_i + lanes - 1)
+            end do
+            lane_r = mod(n, lanes)
+            if (lane_r > 0) displacement(1:lane_r) = displacement(1:lane_r) + db(n - lane_r + 1:n)
+            do lane_i = 1, n - lanes + 1, lanes
+               kinetic = kinetic + kb(lane_i:lane_i + lanes - 1)
+            end do
+            lane_r = mod(n, lanes)
+            if (lane_r > 0) kinetic(1:lane_r) = kinetic(1:lane_r) + kb(n - lane_r + 1:n)
+            lane_max = 0.0_dp
+            do lane_i = 1, n - lanes + 1, lanes
+               lane_max = max(lane_max, mb(lane_i:lane_i + lanes - 1, slot))
+            end do
+            lane_r = mod(n, lanes)
+            if (lane_r > 0) lane_max(1:lane_r) = max(lane_max(1:lane_r), mb(n - lane_r + 1:n, slot))
+            block_max = maxval(lane_max)
+            if (block_max > largest%value) then
+               largest%value = block_max
+               largest%first = b0
+               largest%count = n
+               largest%slot = slot
+               slot = 3 - slot
+            end if
          end if
          if (stresses) then
-            call add_lanes(n, sb, strain)
-            call min_lanes(n, jb, min_j)
+            do lane_i = 1, n - lanes + 1, lanes
+               strain = strain + sb(lane_i:lane_i + lanes - 1)
+            end do
+            lane_r = mod(n, lanes)
+            if (lane_r > 0) strain(1:lane_r) = strain(1:lane_r) + sb(n - lane_r + 1:n)
+            do lane_i = 1, n - lanes + 1, lanes
+               min_j = min(min_j, jb(lane_i:lane_i + lanes - 1))
+            end do
+            lane_r = mod(n, lanes)
+            if (lane_r > 0) min_j(1:lane_r) = min(min_j(1:lane_r), jb(n - lane_r + 1:n))
          end if
          if (relocates) call find_outside(n, b0, cb, outside)
          call accumulate_boxes(k, n, cb, left, right, m, lo, hi, shares, run, mass_left, mass_right, momentum_left, &
@@ -3631,7 +4295,7 @@ contains
                                           run%b(5), mass_left, mass_right, momentum_left, momentum_right, stress_volume, &
                                           seg)
       call close_segment(k, shares, m, run, [lane_total(displacement), lane_total(kinetic), lane_total(strain)], &
-                         minval(min_j), largest%value, furthest_particle(largest), outside, mass_left, mass_right, &
+                         minval(min_j), largest%value, furthest_particle(largest, mb), outside, mass_left, mass_right, &
                          momentum_left, momentum_right, stress_volume, seg)
    end subroutine bspline2_musl_remap_segment
 
@@ -3657,7 +4321,11 @@ contains
       type(largest_move_t) :: largest
       real(dp) :: displacement(lanes), kinetic(lanes), strain(lanes), min_j(lanes)
       integer :: cb(block_size)
-      real(dp) :: svb(block_size), db(block_size), kb(block_size), sb(block_size), jb(block_size), mb(block_size)
+      real(dp) :: svb(block_size), db(block_size), kb(block_size), sb(block_size), jb(block_size)
+      real(dp) :: mb(block_size, 2)  !< the moves of a block, and of the block with the largest (lanes_track_move)
+      integer :: slot
+      real(dp) :: lane_max(lanes), block_max
+      integer :: lane_i, lane_r
       type(run_t) :: run
       ! the parts: their fractions r and local coordinates t (three parts: the products q = r t), the
       ! sums they add (accumulate_boxes, accumulate_thirds)
@@ -3674,6 +4342,7 @@ contains
       call open_segment(k, shares, seg, mass_left, mass_right, momentum_left, momentum_right, stress_volume, first, last, &
                         lo, hi)
       displacement = 0; kinetic = 0; strain = 0; min_j = huge(1.0_dp)
+      slot = 1
       outside = 0
       half_m = 0.5_dp*m
       strain_factor = 0.0_dp
@@ -3708,7 +4377,7 @@ contains
             end if
             if (moves) call g2p_box(r1, r2, t1, t2, acceleration(e - 1), acceleration(e), acceleration(e + 1), &
                                     velocity(e - 1), velocity(e), velocity(e + 1), inv_dx, dt, half_m, x0(p), x(p), v(p), &
-                                    db(i), kb(i), mb(i))
+                                    db(i), kb(i), mb(i, slot))
             if (stresses) then ! d eps = dt sum dS v_I = r1 (element e's) + r2 (element e + 1's)
                if (moves) then
                   dstrain = r1*strain_increment(velocity(e - 1), velocity(e), dt, inv_dx) + &
@@ -3745,14 +4414,44 @@ contains
                right(i, 5) = r2*svb(i)
             end if
          end do
+         ! the block's totals (macros of mpm_lanes.fypi, expanded here)
          if (moves) then
-            call add_lanes(n, db, displacement)
-            call add_lanes(n, kb, kinetic)
-            call track_largest_move(n, b0, mb, largest)
+            do lane_i = 1, n - lanes + 1, lanes
+               displacement = displacement + db(lane_i:lane_i + lanes - 1)
+            end do
+            lane_r = mod(n, lanes)
+            if (lane_r > 0) displacement(1:lane_r) = displacement(1:lane_r) + db(n - lane_r + 1:n)
+            do lane_i = 1, n - lanes + 1, lanes
+               kinetic = kinetic + kb(lane_i:lane_i + lanes - 1)
+            end do
+            lane_r = mod(n, lanes)
+            if (lane_r > 0) kinetic(1:lane_r) = kinetic(1:lane_r) + kb(n - lane_r + 1:n)
+            lane_max = 0.0_dp
+            do lane_i = 1, n - lanes + 1, lanes
+               lane_max = max(lane_max, mb(lane_i:lane_i + lanes - 1, slot))
+            end do
+            lane_r = mod(n, lanes)
+            if (lane_r > 0) lane_max(1:lane_r) = max(lane_max(1:lane_r), mb(n - lane_r + 1:n, slot))
+            block_max = maxval(lane_max)
+            if (block_max > largest%value) then
+               largest%value = block_max
+               largest%first = b0
+               largest%count = n
+               largest%slot = slot
+               slot = 3 - slot
+            end if
          end if
          if (stresses) then
-            call add_lanes(n, sb, strain)
-            call min_lanes(n, jb, min_j)
+            do lane_i = 1, n - lanes + 1, lanes
+               strain = strain + sb(lane_i:lane_i + lanes - 1)
+            end do
+            lane_r = mod(n, lanes)
+            if (lane_r > 0) strain(1:lane_r) = strain(1:lane_r) + sb(n - lane_r + 1:n)
+            do lane_i = 1, n - lanes + 1, lanes
+               min_j = min(min_j, jb(lane_i:lane_i + lanes - 1))
+            end do
+            lane_r = mod(n, lanes)
+            if (lane_r > 0) min_j(1:lane_r) = min(min_j(1:lane_r), jb(n - lane_r + 1:n))
          end if
          if (relocates) call find_outside(n, b0, cb, outside)
          call accumulate_boxes(k, n, cb, left, right, m, lo, hi, shares, run, mass_left, mass_right, momentum_left, &
@@ -3763,7 +4462,7 @@ contains
                                           run%b(5), mass_left, mass_right, momentum_left, momentum_right, stress_volume, &
                                           seg)
       call close_segment(k, shares, m, run, [lane_total(displacement), lane_total(kinetic), lane_total(strain)], &
-                         minval(min_j), largest%value, furthest_particle(largest), outside, mass_left, mass_right, &
+                         minval(min_j), largest%value, furthest_particle(largest, mb), outside, mass_left, mass_right, &
                          momentum_left, momentum_right, stress_volume, seg)
    end subroutine bspline2_musl_stress_segment
 
@@ -3789,7 +4488,11 @@ contains
       type(largest_move_t) :: largest
       real(dp) :: displacement(lanes), kinetic(lanes), strain(lanes), min_j(lanes)
       integer :: cb(block_size)
-      real(dp) :: svb(block_size), db(block_size), kb(block_size), sb(block_size), jb(block_size), mb(block_size)
+      real(dp) :: svb(block_size), db(block_size), kb(block_size), sb(block_size), jb(block_size)
+      real(dp) :: mb(block_size, 2)  !< the moves of a block, and of the block with the largest (lanes_track_move)
+      integer :: slot
+      real(dp) :: lane_max(lanes), block_max
+      integer :: lane_i, lane_r
       type(run_t) :: run
       ! the parts: their fractions r and local coordinates t (three parts: the products q = r t), the
       ! sums they add (accumulate_boxes, accumulate_thirds)
@@ -3806,6 +4509,7 @@ contains
       call open_segment(k, shares, seg, mass_left, mass_right, momentum_left, momentum_right, stress_volume, first, last, &
                         lo, hi)
       displacement = 0; kinetic = 0; strain = 0; min_j = huge(1.0_dp)
+      slot = 1
       outside = 0
       half_m = 0.5_dp*m
       strain_factor = 0.0_dp
@@ -3840,7 +4544,7 @@ contains
             call cubic_parts(tq, r1, r2, r3, q1, q2, q3)
             if (moves) call g2p_cubic(r1, r2, r3, q1, q2, q3, acceleration(e - 2), acceleration(e - 1), acceleration(e), &
                                       acceleration(e + 1), velocity(e - 2), velocity(e - 1), velocity(e), velocity(e + 1), &
-                                      inv_dx, dt, half_m, x0(p), x(p), v(p), db(i), kb(i), mb(i))
+                                      inv_dx, dt, half_m, x0(p), x(p), v(p), db(i), kb(i), mb(i, slot))
             if (stresses) then
                if (moves) then
                   dstrain = r1*strain_increment(velocity(e - 2), velocity(e - 1), dt, inv_dx) + &
@@ -3882,14 +4586,44 @@ contains
                right(i, 5) = r3*svb(i)
             end if
          end do
+         ! the block's totals (macros of mpm_lanes.fypi, expanded here)
          if (moves) then
-            call add_lanes(n, db, displacement)
-            call add_lanes(n, kb, kinetic)
-            call track_largest_move(n, b0, mb, largest)
+            do lane_i = 1, n - lanes + 1, lanes
+               displacement = displacement + db(lane_i:lane_i + lanes - 1)
+            end do
+            lane_r = mod(n, lanes)
+            if (lane_r > 0) displacement(1:lane_r) = displacement(1:lane_r) + db(n - lane_r + 1:n)
+            do lane_i = 1, n - lanes + 1, lanes
+               kinetic = kinetic + kb(lane_i:lane_i + lanes - 1)
+            end do
+            lane_r = mod(n, lanes)
+            if (lane_r > 0) kinetic(1:lane_r) = kinetic(1:lane_r) + kb(n - lane_r + 1:n)
+            lane_max = 0.0_dp
+            do lane_i = 1, n - lanes + 1, lanes
+               lane_max = max(lane_max, mb(lane_i:lane_i + lanes - 1, slot))
+            end do
+            lane_r = mod(n, lanes)
+            if (lane_r > 0) lane_max(1:lane_r) = max(lane_max(1:lane_r), mb(n - lane_r + 1:n, slot))
+            block_max = maxval(lane_max)
+            if (block_max > largest%value) then
+               largest%value = block_max
+               largest%first = b0
+               largest%count = n
+               largest%slot = slot
+               slot = 3 - slot
+            end if
          end if
          if (stresses) then
-            call add_lanes(n, sb, strain)
-            call min_lanes(n, jb, min_j)
+            do lane_i = 1, n - lanes + 1, lanes
+               strain = strain + sb(lane_i:lane_i + lanes - 1)
+            end do
+            lane_r = mod(n, lanes)
+            if (lane_r > 0) strain(1:lane_r) = strain(1:lane_r) + sb(n - lane_r + 1:n)
+            do lane_i = 1, n - lanes + 1, lanes
+               min_j = min(min_j, jb(lane_i:lane_i + lanes - 1))
+            end do
+            lane_r = mod(n, lanes)
+            if (lane_r > 0) min_j(1:lane_r) = min(min_j(1:lane_r), jb(n - lane_r + 1:n))
          end if
          if (relocates) call find_outside(n, b0, cb, outside)
          call accumulate_thirds(k, n, cb, left, mid, right, m, lo, hi, shares, run, mass_left, mass_right, momentum_left, &
@@ -3903,7 +4637,7 @@ contains
                                           run%z(5), mass_left, mass_right, momentum_left, momentum_right, stress_volume, &
                                           seg)
       call close_segment(k, shares, m, run, [lane_total(displacement), lane_total(kinetic), lane_total(strain)], &
-                         minval(min_j), largest%value, furthest_particle(largest), outside, mass_left, mass_right, &
+                         minval(min_j), largest%value, furthest_particle(largest, mb), outside, mass_left, mass_right, &
                          momentum_left, momentum_right, stress_volume, seg)
    end subroutine bspline3_usf_move_segment
 
@@ -3929,7 +4663,11 @@ contains
       type(largest_move_t) :: largest
       real(dp) :: displacement(lanes), kinetic(lanes), strain(lanes), min_j(lanes)
       integer :: cb(block_size)
-      real(dp) :: svb(block_size), db(block_size), kb(block_size), sb(block_size), jb(block_size), mb(block_size)
+      real(dp) :: svb(block_size), db(block_size), kb(block_size), sb(block_size), jb(block_size)
+      real(dp) :: mb(block_size, 2)  !< the moves of a block, and of the block with the largest (lanes_track_move)
+      integer :: slot
+      real(dp) :: lane_max(lanes), block_max
+      integer :: lane_i, lane_r
       type(run_t) :: run
       ! the parts: their fractions r and local coordinates t (three parts: the products q = r t), the
       ! sums they add (accumulate_boxes, accumulate_thirds)
@@ -3946,6 +4684,7 @@ contains
       call open_segment(k, shares, seg, mass_left, mass_right, momentum_left, momentum_right, stress_volume, first, last, &
                         lo, hi)
       displacement = 0; kinetic = 0; strain = 0; min_j = huge(1.0_dp)
+      slot = 1
       outside = 0
       half_m = 0.5_dp*m
       strain_factor = 0.0_dp
@@ -3980,7 +4719,7 @@ contains
             call cubic_parts(tq, r1, r2, r3, q1, q2, q3)
             if (moves) call g2p_cubic(r1, r2, r3, q1, q2, q3, acceleration(e - 2), acceleration(e - 1), acceleration(e), &
                                       acceleration(e + 1), velocity(e - 2), velocity(e - 1), velocity(e), velocity(e + 1), &
-                                      inv_dx, dt, half_m, x0(p), x(p), v(p), db(i), kb(i), mb(i))
+                                      inv_dx, dt, half_m, x0(p), x(p), v(p), db(i), kb(i), mb(i, slot))
             if (stresses) then
                if (moves) then
                   dstrain = r1*strain_increment(velocity(e - 2), velocity(e - 1), dt, inv_dx) + &
@@ -4022,14 +4761,44 @@ contains
                right(i, 5) = r3*svb(i)
             end if
          end do
+         ! the block's totals (macros of mpm_lanes.fypi, expanded here)
          if (moves) then
-            call add_lanes(n, db, displacement)
-            call add_lanes(n, kb, kinetic)
-            call track_largest_move(n, b0, mb, largest)
+            do lane_i = 1, n - lanes + 1, lanes
+               displacement = displacement + db(lane_i:lane_i + lanes - 1)
+            end do
+            lane_r = mod(n, lanes)
+            if (lane_r > 0) displacement(1:lane_r) = displacement(1:lane_r) + db(n - lane_r + 1:n)
+            do lane_i = 1, n - lanes + 1, lanes
+               kinetic = kinetic + kb(lane_i:lane_i + lanes - 1)
+            end do
+            lane_r = mod(n, lanes)
+            if (lane_r > 0) kinetic(1:lane_r) = kinetic(1:lane_r) + kb(n - lane_r + 1:n)
+            lane_max = 0.0_dp
+            do lane_i = 1, n - lanes + 1, lanes
+               lane_max = max(lane_max, mb(lane_i:lane_i + lanes - 1, slot))
+            end do
+            lane_r = mod(n, lanes)
+            if (lane_r > 0) lane_max(1:lane_r) = max(lane_max(1:lane_r), mb(n - lane_r + 1:n, slot))
+            block_max = maxval(lane_max)
+            if (block_max > largest%value) then
+               largest%value = block_max
+               largest%first = b0
+               largest%count = n
+               largest%slot = slot
+               slot = 3 - slot
+            end if
          end if
          if (stresses) then
-            call add_lanes(n, sb, strain)
-            call min_lanes(n, jb, min_j)
+            do lane_i = 1, n - lanes + 1, lanes
+               strain = strain + sb(lane_i:lane_i + lanes - 1)
+            end do
+            lane_r = mod(n, lanes)
+            if (lane_r > 0) strain(1:lane_r) = strain(1:lane_r) + sb(n - lane_r + 1:n)
+            do lane_i = 1, n - lanes + 1, lanes
+               min_j = min(min_j, jb(lane_i:lane_i + lanes - 1))
+            end do
+            lane_r = mod(n, lanes)
+            if (lane_r > 0) min_j(1:lane_r) = min(min_j(1:lane_r), jb(n - lane_r + 1:n))
          end if
          if (relocates) call find_outside(n, b0, cb, outside)
          call accumulate_thirds(k, n, cb, left, mid, right, m, lo, hi, shares, run, mass_left, mass_right, momentum_left, &
@@ -4043,7 +4812,7 @@ contains
                                           run%z(5), mass_left, mass_right, momentum_left, momentum_right, stress_volume, &
                                           seg)
       call close_segment(k, shares, m, run, [lane_total(displacement), lane_total(kinetic), lane_total(strain)], &
-                         minval(min_j), largest%value, furthest_particle(largest), outside, mass_left, mass_right, &
+                         minval(min_j), largest%value, furthest_particle(largest, mb), outside, mass_left, mass_right, &
                          momentum_left, momentum_right, stress_volume, seg)
    end subroutine bspline3_usf_stress_segment
 
@@ -4069,7 +4838,11 @@ contains
       type(largest_move_t) :: largest
       real(dp) :: displacement(lanes), kinetic(lanes), strain(lanes), min_j(lanes)
       integer :: cb(block_size)
-      real(dp) :: svb(block_size), db(block_size), kb(block_size), sb(block_size), jb(block_size), mb(block_size)
+      real(dp) :: svb(block_size), db(block_size), kb(block_size), sb(block_size), jb(block_size)
+      real(dp) :: mb(block_size, 2)  !< the moves of a block, and of the block with the largest (lanes_track_move)
+      integer :: slot
+      real(dp) :: lane_max(lanes), block_max
+      integer :: lane_i, lane_r
       type(run_t) :: run
       ! the parts: their fractions r and local coordinates t (three parts: the products q = r t), the
       ! sums they add (accumulate_boxes, accumulate_thirds)
@@ -4086,6 +4859,7 @@ contains
       call open_segment(k, shares, seg, mass_left, mass_right, momentum_left, momentum_right, stress_volume, first, last, &
                         lo, hi)
       displacement = 0; kinetic = 0; strain = 0; min_j = huge(1.0_dp)
+      slot = 1
       outside = 0
       half_m = 0.5_dp*m
       strain_factor = 0.0_dp
@@ -4120,7 +4894,7 @@ contains
             call cubic_parts(tq, r1, r2, r3, q1, q2, q3)
             if (moves) call g2p_cubic(r1, r2, r3, q1, q2, q3, acceleration(e - 2), acceleration(e - 1), acceleration(e), &
                                       acceleration(e + 1), velocity(e - 2), velocity(e - 1), velocity(e), velocity(e + 1), &
-                                      inv_dx, dt, half_m, x0(p), x(p), v(p), db(i), kb(i), mb(i))
+                                      inv_dx, dt, half_m, x0(p), x(p), v(p), db(i), kb(i), mb(i, slot))
             if (stresses) then
                if (moves) then
                   dstrain = r1*strain_increment(velocity(e - 2), velocity(e - 1), dt, inv_dx) + &
@@ -4162,14 +4936,44 @@ contains
                right(i, 5) = r3*svb(i)
             end if
          end do
+         ! the block's totals (macros of mpm_lanes.fypi, expanded here)
          if (moves) then
-            call add_lanes(n, db, displacement)
-            call add_lanes(n, kb, kinetic)
-            call track_largest_move(n, b0, mb, largest)
+            do lane_i = 1, n - lanes + 1, lanes
+               displacement = displacement + db(lane_i:lane_i + lanes - 1)
+            end do
+            lane_r = mod(n, lanes)
+            if (lane_r > 0) displacement(1:lane_r) = displacement(1:lane_r) + db(n - lane_r + 1:n)
+            do lane_i = 1, n - lanes + 1, lanes
+               kinetic = kinetic + kb(lane_i:lane_i + lanes - 1)
+            end do
+            lane_r = mod(n, lanes)
+            if (lane_r > 0) kinetic(1:lane_r) = kinetic(1:lane_r) + kb(n - lane_r + 1:n)
+            lane_max = 0.0_dp
+            do lane_i = 1, n - lanes + 1, lanes
+               lane_max = max(lane_max, mb(lane_i:lane_i + lanes - 1, slot))
+            end do
+            lane_r = mod(n, lanes)
+            if (lane_r > 0) lane_max(1:lane_r) = max(lane_max(1:lane_r), mb(n - lane_r + 1:n, slot))
+            block_max = maxval(lane_max)
+            if (block_max > largest%value) then
+               largest%value = block_max
+               largest%first = b0
+               largest%count = n
+               largest%slot = slot
+               slot = 3 - slot
+            end if
          end if
          if (stresses) then
-            call add_lanes(n, sb, strain)
-            call min_lanes(n, jb, min_j)
+            do lane_i = 1, n - lanes + 1, lanes
+               strain = strain + sb(lane_i:lane_i + lanes - 1)
+            end do
+            lane_r = mod(n, lanes)
+            if (lane_r > 0) strain(1:lane_r) = strain(1:lane_r) + sb(n - lane_r + 1:n)
+            do lane_i = 1, n - lanes + 1, lanes
+               min_j = min(min_j, jb(lane_i:lane_i + lanes - 1))
+            end do
+            lane_r = mod(n, lanes)
+            if (lane_r > 0) min_j(1:lane_r) = min(min_j(1:lane_r), jb(n - lane_r + 1:n))
          end if
          if (relocates) call find_outside(n, b0, cb, outside)
          call accumulate_thirds(k, n, cb, left, mid, right, m, lo, hi, shares, run, mass_left, mass_right, momentum_left, &
@@ -4183,7 +4987,7 @@ contains
                                           run%z(5), mass_left, mass_right, momentum_left, momentum_right, stress_volume, &
                                           seg)
       call close_segment(k, shares, m, run, [lane_total(displacement), lane_total(kinetic), lane_total(strain)], &
-                         minval(min_j), largest%value, furthest_particle(largest), outside, mass_left, mass_right, &
+                         minval(min_j), largest%value, furthest_particle(largest, mb), outside, mass_left, mass_right, &
                          momentum_left, momentum_right, stress_volume, seg)
    end subroutine bspline3_usl_segment
 
@@ -4209,7 +5013,11 @@ contains
       type(largest_move_t) :: largest
       real(dp) :: displacement(lanes), kinetic(lanes), strain(lanes), min_j(lanes)
       integer :: cb(block_size)
-      real(dp) :: svb(block_size), db(block_size), kb(block_size), sb(block_size), jb(block_size), mb(block_size)
+      real(dp) :: svb(block_size), db(block_size), kb(block_size), sb(block_size), jb(block_size)
+      real(dp) :: mb(block_size, 2)  !< the moves of a block, and of the block with the largest (lanes_track_move)
+      integer :: slot
+      real(dp) :: lane_max(lanes), block_max
+      integer :: lane_i, lane_r
       type(run_t) :: run
       ! the parts: their fractions r and local coordinates t (three parts: the products q = r t), the
       ! sums they add (accumulate_boxes, accumulate_thirds)
@@ -4226,6 +5034,7 @@ contains
       call open_segment(k, shares, seg, mass_left, mass_right, momentum_left, momentum_right, stress_volume, first, last, &
                         lo, hi)
       displacement = 0; kinetic = 0; strain = 0; min_j = huge(1.0_dp)
+      slot = 1
       outside = 0
       half_m = 0.5_dp*m
       strain_factor = 0.0_dp
@@ -4260,7 +5069,7 @@ contains
             call cubic_parts(tq, r1, r2, r3, q1, q2, q3)
             if (moves) call g2p_cubic(r1, r2, r3, q1, q2, q3, acceleration(e - 2), acceleration(e - 1), acceleration(e), &
                                       acceleration(e + 1), velocity(e - 2), velocity(e - 1), velocity(e), velocity(e + 1), &
-                                      inv_dx, dt, half_m, x0(p), x(p), v(p), db(i), kb(i), mb(i))
+                                      inv_dx, dt, half_m, x0(p), x(p), v(p), db(i), kb(i), mb(i, slot))
             if (stresses) then
                if (moves) then
                   dstrain = r1*strain_increment(velocity(e - 2), velocity(e - 1), dt, inv_dx) + &
@@ -4302,14 +5111,44 @@ contains
                right(i, 5) = r3*svb(i)
             end if
          end do
+         ! the block's totals (macros of mpm_lanes.fypi, expanded here)
          if (moves) then
-            call add_lanes(n, db, displacement)
-            call add_lanes(n, kb, kinetic)
-            call track_largest_move(n, b0, mb, largest)
+            do lane_i = 1, n - lanes + 1, lanes
+               displacement = displacement + db(lane_i:lane_i + lanes - 1)
+            end do
+            lane_r = mod(n, lanes)
+            if (lane_r > 0) displacement(1:lane_r) = displacement(1:lane_r) + db(n - lane_r + 1:n)
+            do lane_i = 1, n - lanes + 1, lanes
+               kinetic = kinetic + kb(lane_i:lane_i + lanes - 1)
+            end do
+            lane_r = mod(n, lanes)
+            if (lane_r > 0) kinetic(1:lane_r) = kinetic(1:lane_r) + kb(n - lane_r + 1:n)
+            lane_max = 0.0_dp
+            do lane_i = 1, n - lanes + 1, lanes
+               lane_max = max(lane_max, mb(lane_i:lane_i + lanes - 1, slot))
+            end do
+            lane_r = mod(n, lanes)
+            if (lane_r > 0) lane_max(1:lane_r) = max(lane_max(1:lane_r), mb(n - lane_r + 1:n, slot))
+            block_max = maxval(lane_max)
+            if (block_max > largest%value) then
+               largest%value = block_max
+               largest%first = b0
+               largest%count = n
+               largest%slot = slot
+               slot = 3 - slot
+            end if
          end if
          if (stresses) then
-            call add_lanes(n, sb, strain)
-            call min_lanes(n, jb, min_j)
+            do lane_i = 1, n - lanes + 1, lanes
+               strain = strain + sb(lane_i:lane_i + lanes - 1)
+            end do
+            lane_r = mod(n, lanes)
+            if (lane_r > 0) strain(1:lane_r) = strain(1:lane_r) + sb(n - lane_r + 1:n)
+            do lane_i = 1, n - lanes + 1, lanes
+               min_j = min(min_j, jb(lane_i:lane_i + lanes - 1))
+            end do
+            lane_r = mod(n, lanes)
+            if (lane_r > 0) min_j(1:lane_r) = min(min_j(1:lane_r), jb(n - lane_r + 1:n))
          end if
          if (relocates) call find_outside(n, b0, cb, outside)
          call accumulate_thirds(k, n, cb, left, mid, right, m, lo, hi, shares, run, mass_left, mass_right, momentum_left, &
@@ -4323,7 +5162,7 @@ contains
                                           run%z(5), mass_left, mass_right, momentum_left, momentum_right, stress_volume, &
                                           seg)
       call close_segment(k, shares, m, run, [lane_total(displacement), lane_total(kinetic), lane_total(strain)], &
-                         minval(min_j), largest%value, furthest_particle(largest), outside, mass_left, mass_right, &
+                         minval(min_j), largest%value, furthest_particle(largest, mb), outside, mass_left, mass_right, &
                          momentum_left, momentum_right, stress_volume, seg)
    end subroutine bspline3_musl_remap_segment
 
@@ -4349,7 +5188,11 @@ contains
       type(largest_move_t) :: largest
       real(dp) :: displacement(lanes), kinetic(lanes), strain(lanes), min_j(lanes)
       integer :: cb(block_size)
-      real(dp) :: svb(block_size), db(block_size), kb(block_size), sb(block_size), jb(block_size), mb(block_size)
+      real(dp) :: svb(block_size), db(block_size), kb(block_size), sb(block_size), jb(block_size)
+      real(dp) :: mb(block_size, 2)  !< the moves of a block, and of the block with the largest (lanes_track_move)
+      integer :: slot
+      real(dp) :: lane_max(lanes), block_max
+      integer :: lane_i, lane_r
       type(run_t) :: run
       ! the parts: their fractions r and local coordinates t (three parts: the products q = r t), the
       ! sums they add (accumulate_boxes, accumulate_thirds)
@@ -4366,6 +5209,7 @@ contains
       call open_segment(k, shares, seg, mass_left, mass_right, momentum_left, momentum_right, stress_volume, first, last, &
                         lo, hi)
       displacement = 0; kinetic = 0; strain = 0; min_j = huge(1.0_dp)
+      slot = 1
       outside = 0
       half_m = 0.5_dp*m
       strain_factor = 0.0_dp
@@ -4400,7 +5244,7 @@ contains
             call cubic_parts(tq, r1, r2, r3, q1, q2, q3)
             if (moves) call g2p_cubic(r1, r2, r3, q1, q2, q3, acceleration(e - 2), acceleration(e - 1), acceleration(e), &
                                       acceleration(e + 1), velocity(e - 2), velocity(e - 1), velocity(e), velocity(e + 1), &
-                                      inv_dx, dt, half_m, x0(p), x(p), v(p), db(i), kb(i), mb(i))
+                                      inv_dx, dt, half_m, x0(p), x(p), v(p), db(i), kb(i), mb(i, slot))
             if (stresses) then
                if (moves) then
                   dstrain = r1*strain_increment(velocity(e - 2), velocity(e - 1), dt, inv_dx) + &
@@ -4442,14 +5286,44 @@ contains
                right(i, 5) = r3*svb(i)
             end if
          end do
+         ! the block's totals (macros of mpm_lanes.fypi, expanded here)
          if (moves) then
-            call add_lanes(n, db, displacement)
-            call add_lanes(n, kb, kinetic)
-            call track_largest_move(n, b0, mb, largest)
+            do lane_i = 1, n - lanes + 1, lanes
+               displacement = displacement + db(lane_i:lane_i + lanes - 1)
+            end do
+            lane_r = mod(n, lanes)
+            if (lane_r > 0) displacement(1:lane_r) = displacement(1:lane_r) + db(n - lane_r + 1:n)
+            do lane_i = 1, n - lanes + 1, lanes
+               kinetic = kinetic + kb(lane_i:lane_i + lanes - 1)
+            end do
+            lane_r = mod(n, lanes)
+            if (lane_r > 0) kinetic(1:lane_r) = kinetic(1:lane_r) + kb(n - lane_r + 1:n)
+            lane_max = 0.0_dp
+            do lane_i = 1, n - lanes + 1, lanes
+               lane_max = max(lane_max, mb(lane_i:lane_i + lanes - 1, slot))
+            end do
+            lane_r = mod(n, lanes)
+            if (lane_r > 0) lane_max(1:lane_r) = max(lane_max(1:lane_r), mb(n - lane_r + 1:n, slot))
+            block_max = maxval(lane_max)
+            if (block_max > largest%value) then
+               largest%value = block_max
+               largest%first = b0
+               largest%count = n
+               largest%slot = slot
+               slot = 3 - slot
+            end if
          end if
          if (stresses) then
-            call add_lanes(n, sb, strain)
-            call min_lanes(n, jb, min_j)
+            do lane_i = 1, n - lanes + 1, lanes
+               strain = strain + sb(lane_i:lane_i + lanes - 1)
+            end do
+            lane_r = mod(n, lanes)
+            if (lane_r > 0) strain(1:lane_r) = strain(1:lane_r) + sb(n - lane_r + 1:n)
+            do lane_i = 1, n - lanes + 1, lanes
+               min_j = min(min_j, jb(lane_i:lane_i + lanes - 1))
+            end do
+            lane_r = mod(n, lanes)
+            if (lane_r > 0) min_j(1:lane_r) = min(min_j(1:lane_r), jb(n - lane_r + 1:n))
          end if
          if (relocates) call find_outside(n, b0, cb, outside)
          call accumulate_thirds(k, n, cb, left, mid, right, m, lo, hi, shares, run, mass_left, mass_right, momentum_left, &
@@ -4463,7 +5337,7 @@ contains
                                           run%z(5), mass_left, mass_right, momentum_left, momentum_right, stress_volume, &
                                           seg)
       call close_segment(k, shares, m, run, [lane_total(displacement), lane_total(kinetic), lane_total(strain)], &
-                         minval(min_j), largest%value, furthest_particle(largest), outside, mass_left, mass_right, &
+                         minval(min_j), largest%value, furthest_particle(largest, mb), outside, mass_left, mass_right, &
                          momentum_left, momentum_right, stress_volume, seg)
    end subroutine bspline3_musl_stress_segment
 
@@ -4536,4 +5410,29 @@ contains
       i = min(int(s) - 1, cells - 3)
       t = s - (i + 1)
    end subroutine bspline3_locate
+
+   ! The block totals in lanes that are not expanded in place: src/scheme/mpm_lanes.fypi, as mpm_lanes'
+   !> Sum of the lanes, in lane order.
+   pure real(dp) function lane_total(lane_sums) result(total)
+      real(dp), intent(in) :: lane_sums(lanes)
+      integer :: l
+      total = 0.0_dp
+      do l = 1, lanes
+         total = total + lane_sums(l)
+      end do
+   end function lane_total
+
+   !> The first particle that made the largest move (0 if none moved), from the block buffer `moves`
+   !> that track_largest_move kept.
+   pure integer function furthest_particle(largest, moves) result(p)
+      type(largest_move_t), intent(in) :: largest
+      real(dp), intent(in) :: moves(:, :)
+      integer :: i
+      p = 0
+      if (largest%count == 0) return
+      do i = 1, largest%count - 1
+         if (moves(i, largest%slot) == largest%value) exit
+      end do
+      p = largest%first - 1 + i
+   end function furthest_particle
 end module mpm_transfer
