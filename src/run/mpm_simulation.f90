@@ -10,7 +10,7 @@ module mpm_simulation
    use mpm_grid, only: grid_t, grid_init, assemble_nodes, nodal_velocity
    use mpm_particles, only: particles_t, per_particle_data
    use mpm_shape, only: shape_cache_t, shape_id, shape_extra_cells, transfer_id, transfer_flip, transfer_apic
-   use mpm_fused, only: fused_start, fused_step, fused_box_t, fused_shape
+   use mpm_fused, only: fused_start, fused_step, fused_box_t, fused_choose, fused_mass, fused_grid_velocity
    use mpm_operations, only: particle_energies, locate_particles, p2g_mass_momentum, nodal_velocities, mirror_fold
    use mpm_schemes, only: scheme_usf, scheme_usl, scheme_musl, scheme_step, scheme_step_bodies
    use mpm_contact, only: bodies_t, bodies_init
@@ -116,10 +116,6 @@ contains
       cache%kind = shape_id(config%shape)
       cache%transfer = transfer_id(config%transfer)
       cache%flip_fraction = config%flip_fraction
-      ! (the fused kernels take every shape)
-      fused = trim(config%kernels) == 'auto' .and. scene%fused_applies() .and. cache%transfer == transfer_flip
-      box = fused_shape(cache%kind)
-      result%fused = fused
       ! shapes wider than the hat: one more cell beyond the free end, one ghost cell left of x = 0
       extra = shape_extra_cells(cache%kind)
       result%ucm_amplitude = scene%ucm_amplitude()
@@ -128,6 +124,10 @@ contains
       call scene%report(result%report_names, result%report_values)
       call scene%place_particles(config, particles, error)
       if (allocated(error)) return
+      ! the fused kernels, where they take the scene, shape, transfer and what the particles carry
+      box = fused_choose(cache%kind, cache%transfer, config%flip_fraction, scene, particles)
+      fused = trim(config%kernels) == 'auto' .and. box%variant >= 0
+      result%fused = fused
       if (.not. fused) call per_particle_data(particles, error)
       if (allocated(error)) return
       if (cache%transfer == transfer_apic) then
@@ -143,13 +143,14 @@ contains
                      margin=scene%margin_cells(config%dx, config%margin_cells) + extra, fixed=scene%fixed_nodes(), &
                      element_shares=fused, ghost=extra + scene%left_margin_cells(config%dx, config%margin_cells))
       if (allocated(error)) return
-      if (scene%body_fields) call bodies_init(bodies, grid, particles, error)
+      if (scene%body_fields) call bodies_init(bodies, grid, particles, error, element_shares=fused)
       if (allocated(error)) return
       result%domain = [grid%origin, grid%origin + grid%length]
       result%particles = particles%count
 
       if (fused) then
-         call fused_start(scheme, particles, grid, totals, box, config%youngs_modulus)
+         call fused_start(scheme, particles, grid, totals, box, config%youngs_modulus, scene, bodies)
+         total_mass = fused_mass(particles, box) ! (the particle count where all have the one mass)
       else
          call particle_energies(particles, config%youngs_modulus, totals)
          total_mass = sum(particles%mass_of)
@@ -173,8 +174,8 @@ contains
       do n = 1, config%steps
          t = (n - 1)*config%dt
          if (fused) then
-            call fused_step(scheme, particles, grid, config%dt, config%youngs_modulus, totals, box)
-            ucm = totals%displacement/particles%count ! u_cm = sum m (x - X) / sum m, equal masses
+            call fused_step(scheme, particles, grid, config%dt, config%youngs_modulus, totals, box, scene, t, bodies)
+            ucm = totals%displacement/total_mass ! u_cm = sum m (x - X) / sum m (equal masses: sum (x - X) / N)
          else if (scene%body_fields) then
             call scheme_step_bodies(scheme, scene, cache, particles, grid, bodies, config%dt, config%youngs_modulus, &
                                     t, totals)
@@ -288,9 +289,7 @@ contains
       subroutine initial_grid_velocity()
          type(pass_totals_t) :: unused
          if (fused) then
-            call assemble_nodes(grid, .false.)
-            call mirror_fold(grid, .true., .false.)
-            call nodal_velocity(grid)
+            call fused_grid_velocity(grid, box, bodies)
          else
             call locate_particles(cache, grid, particles, unused)
             call p2g_mass_momentum(cache, particles, grid, with_force=.false.)

@@ -55,10 +55,16 @@ module mpm_transfer
    !>                     (start-of-step) shape functions (mass shares unchanged)
    !>   pass_musl_stress  MUSL, second pass: stress update from the remapped nodal velocities, then
    !>                     mass, momentum and stress*volume at the new positions
+   !>   pass_map          the initial mapping of mass and momentum at the particles' positions (the
+   !>                     variants' kernels; the bar's is p2g), pass_map_stress with stress*volume too
    integer, parameter, public :: pass_usf_move = 1, pass_usf_stress = 2, pass_usl = 3, pass_musl_remap = 4, &
-                                 pass_musl_stress = 5
+                                 pass_musl_stress = 5, pass_map = 6, pass_map_stress = 7
+   !> The kernel families (fused_box_t%variant): the bar's (FLIP, one mass, volume and modulus; every
+   !> shape) and the hat's variants (see the kernels' table below).
+   integer, parameter, public :: variant_bar = 0, variant_pic = 1, variant_blend = 2, variant_apic = 3, &
+                                 variant_material = 4, variant_forced = 5, variant_bodies = 6
    public :: pass_totals_t, clear_element_shares, merge_totals
-   public :: p2g, fused_pass, fused_box_t, box_cells
+   public :: p2g, fused_pass, fused_box_t, box_cells, locate_all
 
    public :: parallel_threshold, segment_particles
 
@@ -70,17 +76,23 @@ module mpm_transfer
    integer, parameter :: segment_particles = 8192
 
    !> Which element shares a pass scatters (bit set).
-   integer, parameter :: share_mass = 1, share_momentum = 2, share_stress = 4
+   integer, parameter :: share_mass = 1, share_momentum = 2, share_stress = 4, share_force = 8
+   !> Sums a run of the bar's kernels carries per element (count, sum xi, sum v, sum xi v, sum sigma V).
+   integer, parameter :: run_sums = 5
 
    !> What each pass does, by pass id (the one place that says it: the segment kernel compiles from
    !> these, fused_pass finishes by them): G2P, stress update, a new cell for each particle, the
    !> element shares it scatters.
-   logical, parameter :: pass_moves(5) = [.true., .false., .true., .true., .false.]
-   logical, parameter :: pass_stresses(5) = [.false., .true., .true., .false., .true.]
-   logical, parameter :: pass_relocates(5) = [.true., .false., .true., .false., .true.]
-   integer, parameter :: pass_shares(5) = [share_mass + share_momentum, share_stress, &
+   !> (The external forces of the variant `forced` go with the stress: pass_force_shares.)
+   logical, parameter :: pass_moves(7) = [.true., .false., .true., .true., .false., .false., .false.]
+   logical, parameter :: pass_stresses(7) = [.false., .true., .true., .false., .true., .false., .false.]
+   logical, parameter :: pass_relocates(7) = [.true., .false., .true., .false., .true., .true., .true.]
+   integer, parameter :: pass_shares(7) = [share_mass + share_momentum, share_stress, &
                                            share_mass + share_momentum + share_stress, share_momentum, &
+                                           share_mass + share_momentum + share_stress, share_mass + share_momentum, &
                                            share_mass + share_momentum + share_stress]
+   !> The shares of pass `kind` when the particles carry external forces: the stress's and the forces'.
+   integer, parameter :: pass_force_shares(7) = pass_shares + merge(share_force, 0, iand(pass_shares, share_stress) /= 0)
 
 
    !> Runs whose particle data exceed this many bytes (most of this machine's 32 MiB L3 cache) stream
@@ -96,11 +108,15 @@ module mpm_transfer
 
    !> The scalars of a segment kernel: the grid's element count, origin and 1/dx, the time step,
    !> Young's modulus, the particles' mass and initial volume, and (GIMP) the initial box half-length
-   !> V0/2 and whether the box stretches with J (cpGIMP).
+   !> V0/2 and whether the box stretches with J (cpGIMP); the blend's FLIP fraction, dx (APIC); for
+   !> bodies on stacked fields the segment's body: its elements (one body's field; `elements` is then
+   !> the body's), mass, volume and modulus, and its cells' offset in the stacked numbering.
    type :: pass_constants_t
       integer :: elements
       real(dp) :: origin, inv_dx, dt, youngs_modulus, mass, volume0, half_length0
       logical :: stretch
+      real(dp) :: flip_fraction = 1.0_dp, dx = 0.0_dp
+      integer :: offset = 0
    end type pass_constants_t
 
    !> The particles' shape on the fused path: the hat (default) or a particle in two parts (`parts`,
@@ -111,9 +127,19 @@ module mpm_transfer
    !> stress pass (the particle has moved since); USF's move pass keeps the new r2 for the next step's
    !> stress pass (which then needs no box), and that pass keeps J at the start of the step in its
    !> place for the move pass (cpGIMP's box).
+   !> Beyond the shape, the kernel family (`variant`, one of variant_*: the bar's, or a variant of the
+   !> hat's: PIC, the blend (its FLIP fraction), APIC, per-particle masses and moduli, per-particle
+   !> external forces (`forces`, N per unit area, set before each pass that maps them), bodies on stacked
+   !> fields (their particles first .. last, mass, volume and modulus, and the first stacked element of each)).
    type :: fused_box_t
       logical :: parts = .false., stretch = .false., spline = .false., cubic = .false.
       real(dp), allocatable :: carry(:)
+      integer :: variant = variant_bar
+      real(dp) :: flip_fraction = 1.0_dp
+      real(dp), allocatable :: forces(:)
+      integer, allocatable :: body_first(:), body_last(:), body_element(:)
+      real(dp), allocatable :: body_mass(:), body_volume0(:), body_modulus(:)
+      integer :: body_cells = 0  !< the cells of one body's field
    end type fused_box_t
 
    interface
@@ -128,10 +154,12 @@ module mpm_transfer
    !> The run of particles in one element that a kernel is summing (element 0: none yet).
    type :: run_t
       integer :: cur = 0
-      real(dp) :: a(share_count) = 0.0_dp
+      real(dp) :: a(run_sums) = 0.0_dp
       !> Particles in parts: the sums of the next element and (three parts) of the one before (see
       !> accumulate_boxes, accumulate_thirds)
-      real(dp) :: b(share_count) = 0.0_dp, z(share_count) = 0.0_dp
+      real(dp) :: b(run_sums) = 0.0_dp, z(run_sums) = 0.0_dp
+      !> The variants' run of whole shares (accumulate_shares)
+      real(dp) :: s(share_count) = 0.0_dp
    end type run_t
 
 
@@ -207,6 +235,39 @@ contains
       if (.not. sorted .and. grid%segments%count > 1 .and. totals%outside == 0) call sort_by_cell(particles, grid)
    end subroutine p2g
 
+   !> The first step of the variants' initial mapping (the hat's; mpm_fused's fused_start maps them then
+   !> by pass_map or pass_map_stress): each particle's cell (in its body's field for bodies on stacked
+   !> fields), the segments (cut where a body's field begins), and the particles sorted by cell when they
+   !> are not (unless one is outside the grid: the run stops at its first step).
+   subroutine locate_all(particles, grid, box)
+      type(particles_t), intent(inout) :: particles
+      type(grid_t), intent(inout) :: grid
+      type(fused_box_t), intent(in) :: box
+      integer :: p, b
+      real(dp) :: xi
+      b = 1
+      do p = 1, particles%count
+         if (allocated(box%body_element)) then
+            do while (p > box%body_last(b) .and. b < size(box%body_last))
+               b = b + 1
+            end do
+            call locate_body_cell(particles%x(p), grid%origin, grid%inv_dx, box%body_cells, &
+                                  transfer(real(box%body_cells, dp), 0_i8), box%body_element(b) - 1, particles%cell(p), xi)
+         else
+            call locate_cell(particles%x(p), grid%inv_dx, grid%elements, transfer(real(grid%elements, dp), 0_i8), &
+                             particles%cell(p), xi)
+         end if
+      end do
+      if (allocated(box%body_element)) then
+         call plan_segments(grid, particles%count, box%body_element)
+      else
+         call plan_segments(grid, particles%count)
+      end if
+      if (particles%count < 2) return
+      if (any(particles%cell(2:) < particles%cell(:particles%count - 1)) .and. all(particles%cell > 0)) &
+         call sort_by_cell(particles, grid)
+   end subroutine locate_all
+
    !> One fused pass over the particles (`pass`, one of the pass_* constants): its segments (on
    !> threads when the run is large, see over_segments), then the halo shares and totals in a fixed
    !> order (finish_pass). The passes that update the stress from the element's velocity difference
@@ -225,7 +286,11 @@ contains
       if (pass_stresses(pass) .and. .not. pass_moves(pass)) call strain_increments(grid, dt)
       if (present(box)) then
          call over_segments(particles, grid, pass, dt, youngs_modulus, box)
-         call finish_pass(particles, grid, pass_shares(pass), pass_relocates(pass), totals, box)
+         if (box%variant == variant_forced) then
+            call finish_pass(particles, grid, pass_force_shares(pass), pass_relocates(pass), totals, box)
+         else
+            call finish_pass(particles, grid, pass_shares(pass), pass_relocates(pass), totals, box)
+         end if
       else
          allocate (hat%carry(0))
          call over_segments(particles, grid, pass, dt, youngs_modulus, hat)
@@ -349,12 +414,118 @@ contains
       real(dp), intent(in) :: dt, youngs_modulus
       type(fused_box_t), intent(inout) :: box
       integer :: k
+      logical :: threaded
       procedure(usl_segment), pointer :: kernel
       type(pass_constants_t) :: constants
       constants = pass_constants_t(grid%elements, grid%origin, grid%inv_dx, dt, youngs_modulus, particles%mass, &
-                                   particles%volume0, 0.5_dp*particles%volume0, box%stretch)
+                                   particles%volume0, 0.5_dp*particles%volume0, box%stretch, box%flip_fraction, grid%dx, 0)
       ! the kernel of the particles' shape and the pass (every kernel has usl_segment's interface)
-      if (box%cubic) then
+      if (box%variant /= variant_bar) then ! a variant of the hat's
+         select case (box%variant)
+         case (variant_pic)
+            select case (kind)
+            case (pass_usf_move)
+               kernel => pic_usf_move_segment
+            case (pass_usf_stress)
+               kernel => pic_usf_stress_segment
+            case (pass_usl)
+               kernel => pic_usl_segment
+            case (pass_musl_remap)
+               kernel => pic_musl_remap_segment
+            case (pass_musl_stress)
+               kernel => pic_musl_stress_segment
+            case (pass_map)
+               kernel => pic_map_segment
+            case default
+               kernel => pic_map_stress_segment
+            end select
+         case (variant_blend)
+            select case (kind)
+            case (pass_usf_move)
+               kernel => blend_usf_move_segment
+            case (pass_usf_stress)
+               kernel => blend_usf_stress_segment
+            case (pass_usl)
+               kernel => blend_usl_segment
+            case (pass_musl_remap)
+               kernel => blend_musl_remap_segment
+            case (pass_musl_stress)
+               kernel => blend_musl_stress_segment
+            case (pass_map)
+               kernel => blend_map_segment
+            case default
+               kernel => blend_map_stress_segment
+            end select
+         case (variant_apic)
+            select case (kind)
+            case (pass_usf_move)
+               kernel => apic_usf_move_segment
+            case (pass_usf_stress)
+               kernel => apic_usf_stress_segment
+            case (pass_usl)
+               kernel => apic_usl_segment
+            case (pass_musl_remap)
+               kernel => apic_musl_remap_segment
+            case (pass_musl_stress)
+               kernel => apic_musl_stress_segment
+            case (pass_map)
+               kernel => apic_map_segment
+            case default
+               kernel => apic_map_stress_segment
+            end select
+         case (variant_material)
+            select case (kind)
+            case (pass_usf_move)
+               kernel => material_usf_move_segment
+            case (pass_usf_stress)
+               kernel => material_usf_stress_segment
+            case (pass_usl)
+               kernel => material_usl_segment
+            case (pass_musl_remap)
+               kernel => material_musl_remap_segment
+            case (pass_musl_stress)
+               kernel => material_musl_stress_segment
+            case (pass_map)
+               kernel => material_map_segment
+            case default
+               kernel => material_map_stress_segment
+            end select
+         case (variant_forced)
+            select case (kind)
+            case (pass_usf_move)
+               kernel => forced_usf_move_segment
+            case (pass_usf_stress)
+               kernel => forced_usf_stress_segment
+            case (pass_usl)
+               kernel => forced_usl_segment
+            case (pass_musl_remap)
+               kernel => forced_musl_remap_segment
+            case (pass_musl_stress)
+               kernel => forced_musl_stress_segment
+            case (pass_map)
+               kernel => forced_map_segment
+            case default
+               kernel => forced_map_stress_segment
+            end select
+         case default
+            select case (kind)
+            case (pass_usf_move)
+               kernel => bodies_usf_move_segment
+            case (pass_usf_stress)
+               kernel => bodies_usf_stress_segment
+            case (pass_usl)
+               kernel => bodies_usl_segment
+            case (pass_musl_remap)
+               kernel => bodies_musl_remap_segment
+            case (pass_musl_stress)
+               kernel => bodies_musl_stress_segment
+            case (pass_map)
+               kernel => bodies_map_segment
+            case default
+               kernel => bodies_map_stress_segment
+            end select
+         end select
+      else if (box%cubic) then
          select case (kind)
          case (pass_usf_move)
             kernel => bspline3_usf_move_segment
@@ -420,7 +591,11 @@ contains
             kernel => musl_stress_segment
          end select
       end if
-      if (grid%segments%count > 1 .and. .not. omp_in_parallel()) then
+      ! threads for a large run only (a run of bodies has a segment per body however small it is), and not
+      ! inside a parallel region (a sweep); omp_in_parallel, a library call, only then
+      threaded = .false.
+      if (grid%segments%count > 1 .and. particles%count >= parallel_threshold) threaded = .not. omp_in_parallel()
+      if (threaded) then
          !$omp parallel do default(shared) private(k) schedule(dynamic, 4)
          do k = 1, grid%segments%count
             call segment(k)
@@ -432,12 +607,30 @@ contains
          end do
       end if
    contains
+      !> Segment k's kernel (the per-particle arrays a run does not have are passed unallocated: absent).
       subroutine segment(k)
          integer, intent(in) :: k
+         type(pass_constants_t) :: body_constants
+         integer :: b
+         if (allocated(box%body_element)) then ! bodies on stacked fields: the segment's body's
+            b = body_of_element(box, grid%segments%first_element(k))
+            body_constants = constants
+            body_constants%elements = box%body_cells
+            body_constants%mass = box%body_mass(b)
+            body_constants%volume0 = box%body_volume0(b)
+            body_constants%youngs_modulus = box%body_modulus(b)
+            body_constants%offset = box%body_element(b) - 1
+            call kernel(k, grid%segments, particles%x, particles%x0, particles%v, particles%stress, &
+                        particles%volume_ratio, particles%cell, grid%acceleration, grid%velocity, grid%element_strain, &
+                        grid%element_mass_left, grid%element_mass_right, grid%element_momentum_left, &
+                        grid%element_momentum_right, grid%element_stress_volume, body_constants, box%carry)
+            return
+         end if
          call kernel(k, grid%segments, particles%x, particles%x0, particles%v, particles%stress, particles%volume_ratio, &
                      particles%cell, grid%acceleration, grid%velocity, grid%element_strain, grid%element_mass_left, &
                      grid%element_mass_right, grid%element_momentum_left, grid%element_momentum_right, &
-                     grid%element_stress_volume, constants, box%carry)
+                     grid%element_stress_volume, constants, box%carry, particles%mass_of, particles%youngs_modulus_of, &
+                     box%forces, particles%velocity_gradient, grid%element_force_left, grid%element_force_right)
       end subroutine segment
    end subroutine over_segments
 
@@ -492,16 +685,29 @@ contains
 
    !> Cut the run into segments of whole elements, about `segment_particles` particles each
    !> (one segment below `parallel_threshold`). Allocates only when the plan changes size.
-   subroutine plan_segments(grid, count)
+   !> With `breaks` (bodies on stacked fields: the first element of each body's field), each body's
+   !> elements are cut so, and no segment holds two bodies' elements.
+   subroutine plan_segments(grid, count, breaks)
       type(grid_t), intent(inout) :: grid
       integer, intent(in) :: count
-      integer :: per, n, k
+      integer, intent(in), optional :: breaks(:)
+      integer :: per, n, k, b, e
+      integer, allocatable :: starts(:)
       if (count < parallel_threshold .or. grid%elements < 2) then
          per = grid%elements
       else
          per = max(1, nint(real(segment_particles, dp)*grid%elements/count))
       end if
-      n = (grid%elements + per - 1)/per
+      if (present(breaks)) then ! each body's range [breaks(b), breaks(b + 1) - 1] in segments of per elements
+         allocate (starts(0))
+         do b = 1, size(breaks)
+            e = merge(breaks(b + 1), grid%elements + 1, b < size(breaks))
+            starts = [starts, (k, k=breaks(b), e - 1, per)]
+         end do
+         n = size(starts)
+      else
+         n = (grid%elements + per - 1)/per
+      end if
       associate (seg => grid%segments)
          if (seg%count /= n .or. .not. allocated(seg%first_element)) then
             if (allocated(seg%first_element)) deallocate (seg%first_element, seg%first_particle, seg%halo_left, &
@@ -514,7 +720,11 @@ contains
                       seg%last_cell(n), seg%unsorted(n), seg%far(n))
          end if
          seg%count = n
-         seg%first_element = [(min(1 + (k - 1)*per, grid%elements + 1), k=1, n + 1)]
+         if (present(breaks)) then
+            seg%first_element = [starts, grid%elements + 1]
+         else
+            seg%first_element = [(min(1 + (k - 1)*per, grid%elements + 1), k=1, n + 1)]
+         end if
          seg%first_element(n + 1) = grid%elements + 1
          seg%first_particle = 0  ! no earlier ranges to start the search from
          seg%prefetch = int(count, i8)*bytes_per_particle > prefetch_bytes
@@ -642,6 +852,10 @@ contains
          grid%element_momentum_right(e) = grid%element_momentum_right(e) + a(4)
       end if
       if (iand(shares, share_stress) /= 0) grid%element_stress_volume(e) = grid%element_stress_volume(e) + a(5)
+      if (iand(shares, share_force) /= 0) then
+         grid%element_force_left(e) = grid%element_force_left(e) + a(6)
+         grid%element_force_right(e) = grid%element_force_right(e) + a(7)
+      end if
    end subroutine add_share_set
 
    !> Particles that moved more than one element past their segment (the cell-crossing guard stops
@@ -651,9 +865,13 @@ contains
       type(grid_t), intent(inout) :: grid
       integer, intent(in) :: shares
       type(fused_box_t), intent(in) :: box
-      integer :: k, p, c, lo, hi, i, flag
+      integer :: k, p, c, lo, hi, i, flag, b
       real(dp) :: xi, m, r1, r2, r3, t1, t2, q1, q2, q3
       m = particles%mass
+      if (box%variant /= variant_bar) then
+         call add_far_variants()
+         return
+      end if
       associate (seg => grid%segments)
          do k = 1, seg%count
             if (.not. seg%far(k)) cycle
@@ -691,9 +909,68 @@ contains
          a(3) = (r - q)*m*particles%v(p)
          a(4) = q*m*particles%v(p)
          a(5) = r*particles%stress(p)*particles%volume_ratio(p)*particles%volume0
+         a(6:7) = 0.0_dp
          call add_share_set(grid, c, a, shares)
       end subroutine add_part
+      !> The far movers of the hat's variants: their whole shares as the variant's kernels form them.
+      subroutine add_far_variants()
+         real(dp) :: a(share_count), mp, volume0, w, cq, origin
+         integer :: offset
+         associate (seg => grid%segments)
+            do k = 1, seg%count
+               if (.not. seg%far(k)) cycle
+               lo = seg%first_element(k)
+               hi = seg%first_element(k + 1) - 1
+               do p = seg%first_particle(k), seg%first_particle(k + 1) - 1
+                  c = particles%cell(p)
+                  if (c >= lo - 1 .and. c <= hi + 1) cycle
+                  mp = m
+                  volume0 = particles%volume0
+                  offset = 0
+                  origin = 0.0_dp
+                  if (box%variant == variant_material) mp = particles%mass_of(p)
+                  if (allocated(box%body_element)) then
+                     b = body_of_element(box, c)
+                     mp = box%body_mass(b)
+                     volume0 = box%body_volume0(b)
+                     offset = box%body_element(b) - 1
+                     origin = grid%origin
+                  end if
+                  xi = (particles%x(p) - origin)*grid%inv_dx - (c - offset - 1)
+                  a = 0.0_dp
+                  a(2) = mp*xi
+                  a(1) = mp - a(2)
+                  if (box%variant == variant_apic) then
+                     cq = particles%velocity_gradient(p)
+                     w = particles%v(p) - cq*xi*grid%dx
+                     a(3) = a(1)*w
+                     a(4) = a(2)*(w + cq*grid%dx)
+                  else
+                     a(3) = a(1)*particles%v(p)
+                     a(4) = a(2)*particles%v(p)
+                  end if
+                  a(5) = particles%stress(p)*particles%volume_ratio(p)*volume0
+                  if (box%variant == variant_forced) then
+                     a(7) = box%forces(p)*xi
+                     a(6) = box%forces(p) - a(7)
+                  end if
+                  call add_share_set(grid, c, a, shares)
+               end do
+            end do
+         end associate
+      end subroutine add_far_variants
    end subroutine add_far_movers
+
+   !> The body whose stacked field holds element e (bodies on stacked fields).
+   pure integer function body_of_element(box, e) result(b)
+      type(fused_box_t), intent(in) :: box
+      integer, intent(in) :: e
+      b = 1
+      do while (b < size(box%body_element))
+         if (e < box%body_element(b + 1)) exit
+         b = b + 1
+      end do
+   end function body_of_element
 
    !> Stable counting sort of the particles by cell (rare: only when particles overtake each other
    !> across an element boundary, which the bar never does). Allocates its work arrays here.
@@ -766,9 +1043,9 @@ contains
          call add_own_shares(c, shares, s1, s2, s3, s4, a5, mass_left, mass_right, momentum_left, momentum_right, &
                              stress_volume)
       else if (c == lo - 1) then
-         seg%halo_left(:, k) = seg%halo_left(:, k) + [s1, s2, s3, s4, a5]
+         seg%halo_left(1:run_sums, k) = seg%halo_left(1:run_sums, k) + [s1, s2, s3, s4, a5]
       else if (c == hi + 1) then
-         seg%halo_right(:, k) = seg%halo_right(:, k) + [s1, s2, s3, s4, a5]
+         seg%halo_right(1:run_sums, k) = seg%halo_right(1:run_sums, k) + [s1, s2, s3, s4, a5]
       else
          seg%far(k) = .true.
       end if
@@ -776,11 +1053,13 @@ contains
 
    !> Segment bookkeeping at the start of a kernel: clear its own elements' shares and its halo.
    pure subroutine open_segment(k, shares, seg, mass_left, mass_right, momentum_left, momentum_right, stress_volume, &
-                                first, last, lo, hi)
+                                first, last, lo, hi, force_left, force_right)
       integer, intent(in) :: k, shares
       type(segments_t), intent(inout) :: seg
       real(dp), intent(inout), contiguous :: mass_left(:), mass_right(:), momentum_left(:), momentum_right(:), stress_volume(:)
       integer, intent(out) :: first, last, lo, hi
+      !> the element shares of external forces (when the pass scatters them)
+      real(dp), intent(inout), contiguous, optional :: force_left(:), force_right(:)
       first = seg%first_particle(k)
       last = seg%first_particle(k + 1) - 1
       lo = seg%first_element(k)
@@ -794,6 +1073,10 @@ contains
          momentum_right(lo:hi) = 0.0_dp
       end if
       if (iand(shares, share_stress) /= 0) stress_volume(lo:hi) = 0.0_dp
+      if (iand(shares, share_force) /= 0) then
+         force_left(lo:hi) = 0.0_dp
+         force_right(lo:hi) = 0.0_dp
+      end if
       seg%halo_left(:, k) = 0.0_dp
       seg%halo_right(:, k) = 0.0_dp
       seg%far(k) = .false.
@@ -880,6 +1163,26 @@ contains
       cell = min(int(s) + 1, elements)*int(1_i8 - ishft(ior(bits, elements_bits - bits), -63))
       xi = s - (cell - 1)
    end subroutine locate_cell
+
+   !> locate_cell in one body's field of a stacked grid (the variant `bodies`) from a grid origin anywhere:
+   !> the body's own cell and local coordinate from (x - origin)/dx, the cell then offset by `offset` into
+   !> the stacked numbering (0 outside the body's field).
+   elemental subroutine locate_body_cell(x, origin, inv_dx, elements, elements_bits, offset, cell, xi)
+      real(dp), intent(in) :: x, origin, inv_dx
+      integer, intent(in) :: elements, offset
+      integer(i8), intent(in) :: elements_bits  !< transfer(real(elements, dp), 0_i8)
+      integer, intent(out) :: cell
+      real(dp), intent(out) :: xi
+      real(dp) :: s
+      integer(i8) :: bits
+      integer :: inside, local
+      s = (x - origin)*inv_dx
+      bits = transfer(s, 0_i8)
+      inside = int(1_i8 - ishft(ior(bits, elements_bits - bits), -63))
+      local = min(int(s) + 1, elements)*inside
+      cell = local + offset*inside
+      xi = s - (local - 1)
+   end subroutine locate_body_cell
 
    !> G2P of one particle in element e with its start-of-step shape functions: v += dt sum N a_I,
    !> x += dt sum N v_I. Also gives the particle's local coordinate xi (before the move) and its
@@ -1014,7 +1317,7 @@ contains
          if (with_stress) a5 = a5 + sv(i)
       end do
       run%cur = cur
-      run%a = [real(na, dp), a2, a3, a4, a5]
+      run%a(1:run_sums) = [real(na, dp), a2, a3, a4, a5]
    end subroutine accumulate_block
 
    !> Phase B of the GIMP kernels (accumulate_block for boxes): each box adds its left part to its cell
@@ -1181,6 +1484,101 @@ contains
       run%b = [b1, b2, b3, b4, b5]
    end subroutine accumulate_thirds
 
+   !> Phase B of the hat's variants whose shares are not the bar's (APIC's affine momentum, per-particle
+   !> masses, per-particle forces): each particle's whole shares were formed in phase A, sh(i, :) = mass,
+   !> momentum at the left and right node, stress*volume, external force at the left and right node
+   !> (those of the pass's `shares`); a run of particles in one element sums them in particle order (in
+   !> registers) and adds them once (flush_sums). Cells 0 are skipped, as in accumulate_block.
+   subroutine accumulate_shares(k, n, cells, sh, lo, hi, shares, run, mass_left, mass_right, momentum_left, &
+                                momentum_right, stress_volume, seg, force_left, force_right)
+      integer, intent(in) :: k, n, lo, hi, shares
+      integer, intent(in) :: cells(:)
+      real(dp), intent(in) :: sh(:, :)
+      type(run_t), intent(inout) :: run
+      real(dp), intent(inout), contiguous :: mass_left(:), mass_right(:), momentum_left(:), momentum_right(:), &
+                                             stress_volume(:)
+      type(segments_t), intent(inout) :: seg
+      real(dp), intent(inout), contiguous, optional :: force_left(:), force_right(:)
+      integer :: i, c, cur
+      real(dp) :: a1, a2, a3, a4, a5, a6, a7
+      logical :: with_mass, with_momentum, with_stress, with_force
+      with_mass = iand(shares, share_mass) /= 0
+      with_momentum = iand(shares, share_momentum) /= 0
+      with_stress = iand(shares, share_stress) /= 0
+      with_force = iand(shares, share_force) /= 0
+      cur = run%cur
+      a1 = run%s(1); a2 = run%s(2); a3 = run%s(3); a4 = run%s(4); a5 = run%s(5); a6 = run%s(6); a7 = run%s(7)
+      i = 1
+      do while (i <= n)
+         c = cells(i)
+         if (c /= cur) then
+            if (c == 0) then
+               i = i + 1
+               cycle
+            end if
+            if (cur /= 0) call flush_sums(k, cur, lo, hi, shares, [a1, a2, a3, a4, a5, a6, a7], mass_left, mass_right, &
+                                          momentum_left, momentum_right, stress_volume, seg, force_left, force_right)
+            if (c < cur) seg%unsorted(k) = .true.
+            if (cur == 0) seg%first_cell(k) = c
+            cur = c
+            a1 = 0; a2 = 0; a3 = 0; a4 = 0; a5 = 0; a6 = 0; a7 = 0
+         end if
+         ! the run of particles in cell cur: sums only (a loop of its own: see accumulate_boxes)
+         do while (i <= n)
+            if (cells(i) /= cur) exit
+            if (with_mass) then
+               a1 = a1 + sh(i, 1)
+               a2 = a2 + sh(i, 2)
+            end if
+            if (with_momentum) then
+               a3 = a3 + sh(i, 3)
+               a4 = a4 + sh(i, 4)
+            end if
+            if (with_stress) a5 = a5 + sh(i, 5)
+            if (with_force) then
+               a6 = a6 + sh(i, 6)
+               a7 = a7 + sh(i, 7)
+            end if
+            i = i + 1
+         end do
+      end do
+      run%cur = cur
+      run%s = [a1, a2, a3, a4, a5, a6, a7]
+   end subroutine accumulate_shares
+
+   !> Add the whole shares a(:) of a run of particles in element c (accumulate_shares) to the grid (own
+   !> element) or to the halo (a neighbour segment's element); further away: the segment's far movers.
+   subroutine flush_sums(k, c, lo, hi, shares, a, mass_left, mass_right, momentum_left, momentum_right, &
+                         stress_volume, seg, force_left, force_right)
+      integer, intent(in) :: k, c, lo, hi, shares
+      real(dp), intent(in) :: a(share_count)
+      real(dp), intent(inout), contiguous :: mass_left(:), mass_right(:), momentum_left(:), momentum_right(:), &
+                                             stress_volume(:)
+      type(segments_t), intent(inout) :: seg
+      real(dp), intent(inout), contiguous, optional :: force_left(:), force_right(:)
+      if (c >= lo .and. c <= hi) then
+         if (iand(shares, share_mass) /= 0) then
+            mass_left(c) = mass_left(c) + a(1)
+            mass_right(c) = mass_right(c) + a(2)
+         end if
+         if (iand(shares, share_momentum) /= 0) then
+            momentum_left(c) = momentum_left(c) + a(3)
+            momentum_right(c) = momentum_right(c) + a(4)
+         end if
+         if (iand(shares, share_stress) /= 0) stress_volume(c) = stress_volume(c) + a(5)
+         if (iand(shares, share_force) /= 0) then
+            force_left(c) = force_left(c) + a(6)
+            force_right(c) = force_right(c) + a(7)
+         end if
+      else if (c == lo - 1) then
+         seg%halo_left(:, k) = seg%halo_left(:, k) + a
+      else if (c == hi + 1) then
+         seg%halo_right(:, k) = seg%halo_right(:, k) + a
+      else
+         seg%far(k) = .true.
+      end if
+   end subroutine flush_sums
+
    !> Flush the open run and record the segment's totals.
    subroutine close_segment(k, shares, m, run, sums, min_j, max_move, furthest, outside, mass_left, mass_right, &
                             momentum_left, momentum_right, stress_volume, seg)
@@ -1224,7 +1622,8 @@ contains
    !> USF, second half: G2P, then mass and momentum at the new position (the hat)
    subroutine usf_move_segment(k, seg, x, x0, v, stress, volume_ratio, cell, acceleration, velocity, &
                                strain_increment_of, mass_left, mass_right, momentum_left, momentum_right, &
-                               stress_volume, constants, carry)
+                               stress_volume, constants, carry, mass_of, modulus_of, forces, gradient, force_left, &
+                               force_right)
       integer, parameter :: kernel = pass_usf_move
       logical, parameter :: moves = pass_moves(kernel), stresses = pass_stresses(kernel), relocates = pass_relocates(kernel)
       integer, parameter :: shares = pass_shares(kernel)
@@ -1238,6 +1637,11 @@ contains
       real(dp), intent(inout), contiguous :: mass_left(:), mass_right(:), momentum_left(:), momentum_right(:), stress_volume(:)
       type(pass_constants_t), intent(in) :: constants
       real(dp), intent(inout), contiguous :: carry(:)  !< particles in parts: what a pass keeps for the next (fused_box_t)
+      !> the variants' per-particle data (absent when the run has none): masses and Young's moduli
+      !> (`material`), external forces (`forced`), APIC's velocity gradients C_p, and the element shares of
+      !> the forces
+      real(dp), intent(in), contiguous, optional :: mass_of(:), modulus_of(:), forces(:)
+      real(dp), intent(inout), contiguous, optional :: gradient(:), force_left(:), force_right(:)
       integer :: p, e, i, n, b0, first, last, lo, hi, outside, ahead, elements
       real(dp) :: half_m, strain_factor, dstrain, inv_dx, dt, youngs_modulus, m, volume0
       type(largest_move_t) :: largest
@@ -1356,7 +1760,8 @@ contains
    !> USF, first half: stress update, then stress*volume of the unmoved particles (the hat)
    subroutine usf_stress_segment(k, seg, x, x0, v, stress, volume_ratio, cell, acceleration, velocity, &
                                  strain_increment_of, mass_left, mass_right, momentum_left, momentum_right, &
-                                 stress_volume, constants, carry)
+                                 stress_volume, constants, carry, mass_of, modulus_of, forces, gradient, force_left, &
+                                 force_right)
       integer, parameter :: kernel = pass_usf_stress
       logical, parameter :: moves = pass_moves(kernel), stresses = pass_stresses(kernel), relocates = pass_relocates(kernel)
       integer, parameter :: shares = pass_shares(kernel)
@@ -1370,6 +1775,11 @@ contains
       real(dp), intent(inout), contiguous :: mass_left(:), mass_right(:), momentum_left(:), momentum_right(:), stress_volume(:)
       type(pass_constants_t), intent(in) :: constants
       real(dp), intent(inout), contiguous :: carry(:)  !< particles in parts: what a pass keeps for the next (fused_box_t)
+      !> the variants' per-particle data (absent when the run has none): masses and Young's moduli
+      !> (`material`), external forces (`forced`), APIC's velocity gradients C_p, and the element shares of
+      !> the forces
+      real(dp), intent(in), contiguous, optional :: mass_of(:), modulus_of(:), forces(:)
+      real(dp), intent(inout), contiguous, optional :: gradient(:), force_left(:), force_right(:)
       integer :: p, e, i, n, b0, first, last, lo, hi, outside, ahead, elements
       real(dp) :: half_m, strain_factor, dstrain, inv_dx, dt, youngs_modulus, m, volume0
       type(largest_move_t) :: largest
@@ -1488,7 +1898,8 @@ contains
    !> USL: G2P, stress update from the updated nodal velocities, P2G at the new position (the hat)
    subroutine usl_segment(k, seg, x, x0, v, stress, volume_ratio, cell, acceleration, velocity, &
                           strain_increment_of, mass_left, mass_right, momentum_left, momentum_right, &
-                          stress_volume, constants, carry)
+                          stress_volume, constants, carry, mass_of, modulus_of, forces, gradient, force_left, &
+                          force_right)
       integer, parameter :: kernel = pass_usl
       logical, parameter :: moves = pass_moves(kernel), stresses = pass_stresses(kernel), relocates = pass_relocates(kernel)
       integer, parameter :: shares = pass_shares(kernel)
@@ -1502,6 +1913,11 @@ contains
       real(dp), intent(inout), contiguous :: mass_left(:), mass_right(:), momentum_left(:), momentum_right(:), stress_volume(:)
       type(pass_constants_t), intent(in) :: constants
       real(dp), intent(inout), contiguous :: carry(:)  !< particles in parts: what a pass keeps for the next (fused_box_t)
+      !> the variants' per-particle data (absent when the run has none): masses and Young's moduli
+      !> (`material`), external forces (`forced`), APIC's velocity gradients C_p, and the element shares of
+      !> the forces
+      real(dp), intent(in), contiguous, optional :: mass_of(:), modulus_of(:), forces(:)
+      real(dp), intent(inout), contiguous, optional :: gradient(:), force_left(:), force_right(:)
       integer :: p, e, i, n, b0, first, last, lo, hi, outside, ahead, elements
       real(dp) :: half_m, strain_factor, dstrain, inv_dx, dt, youngs_modulus, m, volume0
       type(largest_move_t) :: largest
@@ -1620,7 +2036,8 @@ contains
    !> MUSL, first pass: G2P, and the new momentum back to the start-of-step nodes (the hat)
    subroutine musl_remap_segment(k, seg, x, x0, v, stress, volume_ratio, cell, acceleration, velocity, &
                                  strain_increment_of, mass_left, mass_right, momentum_left, momentum_right, &
-                                 stress_volume, constants, carry)
+                                 stress_volume, constants, carry, mass_of, modulus_of, forces, gradient, force_left, &
+                                 force_right)
       integer, parameter :: kernel = pass_musl_remap
       logical, parameter :: moves = pass_moves(kernel), stresses = pass_stresses(kernel), relocates = pass_relocates(kernel)
       integer, parameter :: shares = pass_shares(kernel)
@@ -1634,6 +2051,11 @@ contains
       real(dp), intent(inout), contiguous :: mass_left(:), mass_right(:), momentum_left(:), momentum_right(:), stress_volume(:)
       type(pass_constants_t), intent(in) :: constants
       real(dp), intent(inout), contiguous :: carry(:)  !< particles in parts: what a pass keeps for the next (fused_box_t)
+      !> the variants' per-particle data (absent when the run has none): masses and Young's moduli
+      !> (`material`), external forces (`forced`), APIC's velocity gradients C_p, and the element shares of
+      !> the forces
+      real(dp), intent(in), contiguous, optional :: mass_of(:), modulus_of(:), forces(:)
+      real(dp), intent(inout), contiguous, optional :: gradient(:), force_left(:), force_right(:)
       integer :: p, e, i, n, b0, first, last, lo, hi, outside, ahead, elements
       real(dp) :: half_m, strain_factor, dstrain, inv_dx, dt, youngs_modulus, m, volume0
       type(largest_move_t) :: largest
@@ -1752,7 +2174,8 @@ contains
    !> MUSL, second pass: stress update from the remapped velocities, P2G at the new position (the hat)
    subroutine musl_stress_segment(k, seg, x, x0, v, stress, volume_ratio, cell, acceleration, velocity, &
                                   strain_increment_of, mass_left, mass_right, momentum_left, momentum_right, &
-                                  stress_volume, constants, carry)
+                                  stress_volume, constants, carry, mass_of, modulus_of, forces, gradient, force_left, &
+                                  force_right)
       integer, parameter :: kernel = pass_musl_stress
       logical, parameter :: moves = pass_moves(kernel), stresses = pass_stresses(kernel), relocates = pass_relocates(kernel)
       integer, parameter :: shares = pass_shares(kernel)
@@ -1766,6 +2189,11 @@ contains
       real(dp), intent(inout), contiguous :: mass_left(:), mass_right(:), momentum_left(:), momentum_right(:), stress_volume(:)
       type(pass_constants_t), intent(in) :: constants
       real(dp), intent(inout), contiguous :: carry(:)  !< particles in parts: what a pass keeps for the next (fused_box_t)
+      !> the variants' per-particle data (absent when the run has none): masses and Young's moduli
+      !> (`material`), external forces (`forced`), APIC's velocity gradients C_p, and the element shares of
+      !> the forces
+      real(dp), intent(in), contiguous, optional :: mass_of(:), modulus_of(:), forces(:)
+      real(dp), intent(inout), contiguous, optional :: gradient(:), force_left(:), force_right(:)
       integer :: p, e, i, n, b0, first, last, lo, hi, outside, ahead, elements
       real(dp) :: half_m, strain_factor, dstrain, inv_dx, dt, youngs_modulus, m, volume0
       type(largest_move_t) :: largest
@@ -1884,7 +2312,8 @@ contains
    !> USF, second half: G2P, then mass and momentum at the new position (uGIMP)
    subroutine ugimp_usf_move_segment(k, seg, x, x0, v, stress, volume_ratio, cell, acceleration, velocity, &
                                      strain_increment_of, mass_left, mass_right, momentum_left, momentum_right, &
-                                     stress_volume, constants, carry)
+                                     stress_volume, constants, carry, mass_of, modulus_of, forces, gradient, force_left, &
+                                     force_right)
       integer, parameter :: kernel = pass_usf_move
       logical, parameter :: moves = pass_moves(kernel), stresses = pass_stresses(kernel), relocates = pass_relocates(kernel)
       integer, parameter :: shares = pass_shares(kernel)
@@ -1898,6 +2327,11 @@ contains
       real(dp), intent(inout), contiguous :: mass_left(:), mass_right(:), momentum_left(:), momentum_right(:), stress_volume(:)
       type(pass_constants_t), intent(in) :: constants
       real(dp), intent(inout), contiguous :: carry(:)  !< particles in parts: what a pass keeps for the next (fused_box_t)
+      !> the variants' per-particle data (absent when the run has none): masses and Young's moduli
+      !> (`material`), external forces (`forced`), APIC's velocity gradients C_p, and the element shares of
+      !> the forces
+      real(dp), intent(in), contiguous, optional :: mass_of(:), modulus_of(:), forces(:)
+      real(dp), intent(inout), contiguous, optional :: gradient(:), force_left(:), force_right(:)
       integer :: p, e, i, n, b0, first, last, lo, hi, outside, ahead, elements
       real(dp) :: half_m, strain_factor, dstrain, inv_dx, dt, youngs_modulus, m, volume0
       type(largest_move_t) :: largest
@@ -1912,7 +2346,7 @@ contains
       ! the parts: their fractions r and local coordinates t (three parts: the products q = r t), the
       ! sums they add (accumulate_boxes, accumulate_thirds)
       integer :: node, flag
-      real(dp) :: origin, r1, r2, left(block_size, share_count), right(block_size, share_count)
+      real(dp) :: origin, r1, r2, left(block_size, run_sums), right(block_size, run_sums)
       real(dp) :: t1, t2
       real(dp) :: half_length0, l, fixed_l, jstart
       origin = constants%origin
@@ -2056,7 +2490,8 @@ contains
    !> USF, first half: stress update, then stress*volume of the unmoved particles (uGIMP)
    subroutine ugimp_usf_stress_segment(k, seg, x, x0, v, stress, volume_ratio, cell, acceleration, velocity, &
                                        strain_increment_of, mass_left, mass_right, momentum_left, momentum_right, &
-                                       stress_volume, constants, carry)
+                                       stress_volume, constants, carry, mass_of, modulus_of, forces, gradient, force_left, &
+                                       force_right)
       integer, parameter :: kernel = pass_usf_stress
       logical, parameter :: moves = pass_moves(kernel), stresses = pass_stresses(kernel), relocates = pass_relocates(kernel)
       integer, parameter :: shares = pass_shares(kernel)
@@ -2070,6 +2505,11 @@ contains
       real(dp), intent(inout), contiguous :: mass_left(:), mass_right(:), momentum_left(:), momentum_right(:), stress_volume(:)
       type(pass_constants_t), intent(in) :: constants
       real(dp), intent(inout), contiguous :: carry(:)  !< particles in parts: what a pass keeps for the next (fused_box_t)
+      !> the variants' per-particle data (absent when the run has none): masses and Young's moduli
+      !> (`material`), external forces (`forced`), APIC's velocity gradients C_p, and the element shares of
+      !> the forces
+      real(dp), intent(in), contiguous, optional :: mass_of(:), modulus_of(:), forces(:)
+      real(dp), intent(inout), contiguous, optional :: gradient(:), force_left(:), force_right(:)
       integer :: p, e, i, n, b0, first, last, lo, hi, outside, ahead, elements
       real(dp) :: half_m, strain_factor, dstrain, inv_dx, dt, youngs_modulus, m, volume0
       type(largest_move_t) :: largest
@@ -2084,7 +2524,7 @@ contains
       ! the parts: their fractions r and local coordinates t (three parts: the products q = r t), the
       ! sums they add (accumulate_boxes, accumulate_thirds)
       integer :: node, flag
-      real(dp) :: origin, r1, r2, left(block_size, share_count), right(block_size, share_count)
+      real(dp) :: origin, r1, r2, left(block_size, run_sums), right(block_size, run_sums)
       real(dp) :: t1, t2
       real(dp) :: half_length0, l, fixed_l, jstart
       origin = constants%origin
@@ -2228,7 +2668,8 @@ contains
    !> USL: G2P, stress update from the updated nodal velocities, P2G at the new position (uGIMP)
    subroutine ugimp_usl_segment(k, seg, x, x0, v, stress, volume_ratio, cell, acceleration, velocity, &
                                 strain_increment_of, mass_left, mass_right, momentum_left, momentum_right, &
-                                stress_volume, constants, carry)
+                                stress_volume, constants, carry, mass_of, modulus_of, forces, gradient, force_left, &
+                                force_right)
       integer, parameter :: kernel = pass_usl
       logical, parameter :: moves = pass_moves(kernel), stresses = pass_stresses(kernel), relocates = pass_relocates(kernel)
       integer, parameter :: shares = pass_shares(kernel)
@@ -2242,6 +2683,11 @@ contains
       real(dp), intent(inout), contiguous :: mass_left(:), mass_right(:), momentum_left(:), momentum_right(:), stress_volume(:)
       type(pass_constants_t), intent(in) :: constants
       real(dp), intent(inout), contiguous :: carry(:)  !< particles in parts: what a pass keeps for the next (fused_box_t)
+      !> the variants' per-particle data (absent when the run has none): masses and Young's moduli
+      !> (`material`), external forces (`forced`), APIC's velocity gradients C_p, and the element shares of
+      !> the forces
+      real(dp), intent(in), contiguous, optional :: mass_of(:), modulus_of(:), forces(:)
+      real(dp), intent(inout), contiguous, optional :: gradient(:), force_left(:), force_right(:)
       integer :: p, e, i, n, b0, first, last, lo, hi, outside, ahead, elements
       real(dp) :: half_m, strain_factor, dstrain, inv_dx, dt, youngs_modulus, m, volume0
       type(largest_move_t) :: largest
@@ -2256,7 +2702,7 @@ contains
       ! the parts: their fractions r and local coordinates t (three parts: the products q = r t), the
       ! sums they add (accumulate_boxes, accumulate_thirds)
       integer :: node, flag
-      real(dp) :: origin, r1, r2, left(block_size, share_count), right(block_size, share_count)
+      real(dp) :: origin, r1, r2, left(block_size, run_sums), right(block_size, run_sums)
       real(dp) :: t1, t2
       real(dp) :: half_length0, l, fixed_l, jstart
       origin = constants%origin
@@ -2400,7 +2846,8 @@ contains
    !> MUSL, first pass: G2P, and the new momentum back to the start-of-step nodes (uGIMP)
    subroutine ugimp_musl_remap_segment(k, seg, x, x0, v, stress, volume_ratio, cell, acceleration, velocity, &
                                        strain_increment_of, mass_left, mass_right, momentum_left, momentum_right, &
-                                       stress_volume, constants, carry)
+                                       stress_volume, constants, carry, mass_of, modulus_of, forces, gradient, force_left, &
+                                       force_right)
       integer, parameter :: kernel = pass_musl_remap
       logical, parameter :: moves = pass_moves(kernel), stresses = pass_stresses(kernel), relocates = pass_relocates(kernel)
       integer, parameter :: shares = pass_shares(kernel)
@@ -2414,6 +2861,11 @@ contains
       real(dp), intent(inout), contiguous :: mass_left(:), mass_right(:), momentum_left(:), momentum_right(:), stress_volume(:)
       type(pass_constants_t), intent(in) :: constants
       real(dp), intent(inout), contiguous :: carry(:)  !< particles in parts: what a pass keeps for the next (fused_box_t)
+      !> the variants' per-particle data (absent when the run has none): masses and Young's moduli
+      !> (`material`), external forces (`forced`), APIC's velocity gradients C_p, and the element shares of
+      !> the forces
+      real(dp), intent(in), contiguous, optional :: mass_of(:), modulus_of(:), forces(:)
+      real(dp), intent(inout), contiguous, optional :: gradient(:), force_left(:), force_right(:)
       integer :: p, e, i, n, b0, first, last, lo, hi, outside, ahead, elements
       real(dp) :: half_m, strain_factor, dstrain, inv_dx, dt, youngs_modulus, m, volume0
       type(largest_move_t) :: largest
@@ -2428,7 +2880,7 @@ contains
       ! the parts: their fractions r and local coordinates t (three parts: the products q = r t), the
       ! sums they add (accumulate_boxes, accumulate_thirds)
       integer :: node, flag
-      real(dp) :: origin, r1, r2, left(block_size, share_count), right(block_size, share_count)
+      real(dp) :: origin, r1, r2, left(block_size, run_sums), right(block_size, run_sums)
       real(dp) :: t1, t2
       real(dp) :: half_length0, l, fixed_l, jstart
       origin = constants%origin
@@ -2572,7 +3024,8 @@ contains
    !> MUSL, second pass: stress update from the remapped velocities, P2G at the new position (uGIMP)
    subroutine ugimp_musl_stress_segment(k, seg, x, x0, v, stress, volume_ratio, cell, acceleration, velocity, &
                                         strain_increment_of, mass_left, mass_right, momentum_left, momentum_right, &
-                                        stress_volume, constants, carry)
+                                        stress_volume, constants, carry, mass_of, modulus_of, forces, gradient, force_left, &
+                                        force_right)
       integer, parameter :: kernel = pass_musl_stress
       logical, parameter :: moves = pass_moves(kernel), stresses = pass_stresses(kernel), relocates = pass_relocates(kernel)
       integer, parameter :: shares = pass_shares(kernel)
@@ -2586,6 +3039,11 @@ contains
       real(dp), intent(inout), contiguous :: mass_left(:), mass_right(:), momentum_left(:), momentum_right(:), stress_volume(:)
       type(pass_constants_t), intent(in) :: constants
       real(dp), intent(inout), contiguous :: carry(:)  !< particles in parts: what a pass keeps for the next (fused_box_t)
+      !> the variants' per-particle data (absent when the run has none): masses and Young's moduli
+      !> (`material`), external forces (`forced`), APIC's velocity gradients C_p, and the element shares of
+      !> the forces
+      real(dp), intent(in), contiguous, optional :: mass_of(:), modulus_of(:), forces(:)
+      real(dp), intent(inout), contiguous, optional :: gradient(:), force_left(:), force_right(:)
       integer :: p, e, i, n, b0, first, last, lo, hi, outside, ahead, elements
       real(dp) :: half_m, strain_factor, dstrain, inv_dx, dt, youngs_modulus, m, volume0
       type(largest_move_t) :: largest
@@ -2600,7 +3058,7 @@ contains
       ! the parts: their fractions r and local coordinates t (three parts: the products q = r t), the
       ! sums they add (accumulate_boxes, accumulate_thirds)
       integer :: node, flag
-      real(dp) :: origin, r1, r2, left(block_size, share_count), right(block_size, share_count)
+      real(dp) :: origin, r1, r2, left(block_size, run_sums), right(block_size, run_sums)
       real(dp) :: t1, t2
       real(dp) :: half_length0, l, fixed_l, jstart
       origin = constants%origin
@@ -2744,7 +3202,8 @@ contains
    !> USF, second half: G2P, then mass and momentum at the new position (cpGIMP)
    subroutine cpgimp_usf_move_segment(k, seg, x, x0, v, stress, volume_ratio, cell, acceleration, velocity, &
                                       strain_increment_of, mass_left, mass_right, momentum_left, momentum_right, &
-                                      stress_volume, constants, carry)
+                                      stress_volume, constants, carry, mass_of, modulus_of, forces, gradient, force_left, &
+                                      force_right)
       integer, parameter :: kernel = pass_usf_move
       logical, parameter :: moves = pass_moves(kernel), stresses = pass_stresses(kernel), relocates = pass_relocates(kernel)
       integer, parameter :: shares = pass_shares(kernel)
@@ -2758,6 +3217,11 @@ contains
       real(dp), intent(inout), contiguous :: mass_left(:), mass_right(:), momentum_left(:), momentum_right(:), stress_volume(:)
       type(pass_constants_t), intent(in) :: constants
       real(dp), intent(inout), contiguous :: carry(:)  !< particles in parts: what a pass keeps for the next (fused_box_t)
+      !> the variants' per-particle data (absent when the run has none): masses and Young's moduli
+      !> (`material`), external forces (`forced`), APIC's velocity gradients C_p, and the element shares of
+      !> the forces
+      real(dp), intent(in), contiguous, optional :: mass_of(:), modulus_of(:), forces(:)
+      real(dp), intent(inout), contiguous, optional :: gradient(:), force_left(:), force_right(:)
       integer :: p, e, i, n, b0, first, last, lo, hi, outside, ahead, elements
       real(dp) :: half_m, strain_factor, dstrain, inv_dx, dt, youngs_modulus, m, volume0
       type(largest_move_t) :: largest
@@ -2772,7 +3236,7 @@ contains
       ! the parts: their fractions r and local coordinates t (three parts: the products q = r t), the
       ! sums they add (accumulate_boxes, accumulate_thirds)
       integer :: node, flag
-      real(dp) :: origin, r1, r2, left(block_size, share_count), right(block_size, share_count)
+      real(dp) :: origin, r1, r2, left(block_size, run_sums), right(block_size, run_sums)
       real(dp) :: t1, t2
       real(dp) :: half_length0, l, fixed_l, jstart
       origin = constants%origin
@@ -2922,7 +3386,8 @@ contains
    !> USF, first half: stress update, then stress*volume of the unmoved particles (cpGIMP)
    subroutine cpgimp_usf_stress_segment(k, seg, x, x0, v, stress, volume_ratio, cell, acceleration, velocity, &
                                         strain_increment_of, mass_left, mass_right, momentum_left, momentum_right, &
-                                        stress_volume, constants, carry)
+                                        stress_volume, constants, carry, mass_of, modulus_of, forces, gradient, force_left, &
+                                        force_right)
       integer, parameter :: kernel = pass_usf_stress
       logical, parameter :: moves = pass_moves(kernel), stresses = pass_stresses(kernel), relocates = pass_relocates(kernel)
       integer, parameter :: shares = pass_shares(kernel)
@@ -2936,6 +3401,11 @@ contains
       real(dp), intent(inout), contiguous :: mass_left(:), mass_right(:), momentum_left(:), momentum_right(:), stress_volume(:)
       type(pass_constants_t), intent(in) :: constants
       real(dp), intent(inout), contiguous :: carry(:)  !< particles in parts: what a pass keeps for the next (fused_box_t)
+      !> the variants' per-particle data (absent when the run has none): masses and Young's moduli
+      !> (`material`), external forces (`forced`), APIC's velocity gradients C_p, and the element shares of
+      !> the forces
+      real(dp), intent(in), contiguous, optional :: mass_of(:), modulus_of(:), forces(:)
+      real(dp), intent(inout), contiguous, optional :: gradient(:), force_left(:), force_right(:)
       integer :: p, e, i, n, b0, first, last, lo, hi, outside, ahead, elements
       real(dp) :: half_m, strain_factor, dstrain, inv_dx, dt, youngs_modulus, m, volume0
       type(largest_move_t) :: largest
@@ -2950,7 +3420,7 @@ contains
       ! the parts: their fractions r and local coordinates t (three parts: the products q = r t), the
       ! sums they add (accumulate_boxes, accumulate_thirds)
       integer :: node, flag
-      real(dp) :: origin, r1, r2, left(block_size, share_count), right(block_size, share_count)
+      real(dp) :: origin, r1, r2, left(block_size, run_sums), right(block_size, run_sums)
       real(dp) :: t1, t2
       real(dp) :: half_length0, l, fixed_l, jstart
       origin = constants%origin
@@ -3100,7 +3570,8 @@ contains
    !> USL: G2P, stress update from the updated nodal velocities, P2G at the new position (cpGIMP)
    subroutine cpgimp_usl_segment(k, seg, x, x0, v, stress, volume_ratio, cell, acceleration, velocity, &
                                  strain_increment_of, mass_left, mass_right, momentum_left, momentum_right, &
-                                 stress_volume, constants, carry)
+                                 stress_volume, constants, carry, mass_of, modulus_of, forces, gradient, force_left, &
+                                 force_right)
       integer, parameter :: kernel = pass_usl
       logical, parameter :: moves = pass_moves(kernel), stresses = pass_stresses(kernel), relocates = pass_relocates(kernel)
       integer, parameter :: shares = pass_shares(kernel)
@@ -3114,6 +3585,11 @@ contains
       real(dp), intent(inout), contiguous :: mass_left(:), mass_right(:), momentum_left(:), momentum_right(:), stress_volume(:)
       type(pass_constants_t), intent(in) :: constants
       real(dp), intent(inout), contiguous :: carry(:)  !< particles in parts: what a pass keeps for the next (fused_box_t)
+      !> the variants' per-particle data (absent when the run has none): masses and Young's moduli
+      !> (`material`), external forces (`forced`), APIC's velocity gradients C_p, and the element shares of
+      !> the forces
+      real(dp), intent(in), contiguous, optional :: mass_of(:), modulus_of(:), forces(:)
+      real(dp), intent(inout), contiguous, optional :: gradient(:), force_left(:), force_right(:)
       integer :: p, e, i, n, b0, first, last, lo, hi, outside, ahead, elements
       real(dp) :: half_m, strain_factor, dstrain, inv_dx, dt, youngs_modulus, m, volume0
       type(largest_move_t) :: largest
@@ -3128,7 +3604,7 @@ contains
       ! the parts: their fractions r and local coordinates t (three parts: the products q = r t), the
       ! sums they add (accumulate_boxes, accumulate_thirds)
       integer :: node, flag
-      real(dp) :: origin, r1, r2, left(block_size, share_count), right(block_size, share_count)
+      real(dp) :: origin, r1, r2, left(block_size, run_sums), right(block_size, run_sums)
       real(dp) :: t1, t2
       real(dp) :: half_length0, l, fixed_l, jstart
       origin = constants%origin
@@ -3278,7 +3754,8 @@ contains
    !> MUSL, first pass: G2P, and the new momentum back to the start-of-step nodes (cpGIMP)
    subroutine cpgimp_musl_remap_segment(k, seg, x, x0, v, stress, volume_ratio, cell, acceleration, velocity, &
                                         strain_increment_of, mass_left, mass_right, momentum_left, momentum_right, &
-                                        stress_volume, constants, carry)
+                                        stress_volume, constants, carry, mass_of, modulus_of, forces, gradient, force_left, &
+                                        force_right)
       integer, parameter :: kernel = pass_musl_remap
       logical, parameter :: moves = pass_moves(kernel), stresses = pass_stresses(kernel), relocates = pass_relocates(kernel)
       integer, parameter :: shares = pass_shares(kernel)
@@ -3292,6 +3769,11 @@ contains
       real(dp), intent(inout), contiguous :: mass_left(:), mass_right(:), momentum_left(:), momentum_right(:), stress_volume(:)
       type(pass_constants_t), intent(in) :: constants
       real(dp), intent(inout), contiguous :: carry(:)  !< particles in parts: what a pass keeps for the next (fused_box_t)
+      !> the variants' per-particle data (absent when the run has none): masses and Young's moduli
+      !> (`material`), external forces (`forced`), APIC's velocity gradients C_p, and the element shares of
+      !> the forces
+      real(dp), intent(in), contiguous, optional :: mass_of(:), modulus_of(:), forces(:)
+      real(dp), intent(inout), contiguous, optional :: gradient(:), force_left(:), force_right(:)
       integer :: p, e, i, n, b0, first, last, lo, hi, outside, ahead, elements
       real(dp) :: half_m, strain_factor, dstrain, inv_dx, dt, youngs_modulus, m, volume0
       type(largest_move_t) :: largest
@@ -3306,7 +3788,7 @@ contains
       ! the parts: their fractions r and local coordinates t (three parts: the products q = r t), the
       ! sums they add (accumulate_boxes, accumulate_thirds)
       integer :: node, flag
-      real(dp) :: origin, r1, r2, left(block_size, share_count), right(block_size, share_count)
+      real(dp) :: origin, r1, r2, left(block_size, run_sums), right(block_size, run_sums)
       real(dp) :: t1, t2
       real(dp) :: half_length0, l, fixed_l, jstart
       origin = constants%origin
@@ -3456,7 +3938,8 @@ contains
    !> MUSL, second pass: stress update from the remapped velocities, P2G at the new position (cpGIMP)
    subroutine cpgimp_musl_stress_segment(k, seg, x, x0, v, stress, volume_ratio, cell, acceleration, velocity, &
                                          strain_increment_of, mass_left, mass_right, momentum_left, momentum_right, &
-                                         stress_volume, constants, carry)
+                                         stress_volume, constants, carry, mass_of, modulus_of, forces, gradient, force_left, &
+                                         force_right)
       integer, parameter :: kernel = pass_musl_stress
       logical, parameter :: moves = pass_moves(kernel), stresses = pass_stresses(kernel), relocates = pass_relocates(kernel)
       integer, parameter :: shares = pass_shares(kernel)
@@ -3470,6 +3953,11 @@ contains
       real(dp), intent(inout), contiguous :: mass_left(:), mass_right(:), momentum_left(:), momentum_right(:), stress_volume(:)
       type(pass_constants_t), intent(in) :: constants
       real(dp), intent(inout), contiguous :: carry(:)  !< particles in parts: what a pass keeps for the next (fused_box_t)
+      !> the variants' per-particle data (absent when the run has none): masses and Young's moduli
+      !> (`material`), external forces (`forced`), APIC's velocity gradients C_p, and the element shares of
+      !> the forces
+      real(dp), intent(in), contiguous, optional :: mass_of(:), modulus_of(:), forces(:)
+      real(dp), intent(inout), contiguous, optional :: gradient(:), force_left(:), force_right(:)
       integer :: p, e, i, n, b0, first, last, lo, hi, outside, ahead, elements
       real(dp) :: half_m, strain_factor, dstrain, inv_dx, dt, youngs_modulus, m, volume0
       type(largest_move_t) :: largest
@@ -3484,7 +3972,7 @@ contains
       ! the parts: their fractions r and local coordinates t (three parts: the products q = r t), the
       ! sums they add (accumulate_boxes, accumulate_thirds)
       integer :: node, flag
-      real(dp) :: origin, r1, r2, left(block_size, share_count), right(block_size, share_count)
+      real(dp) :: origin, r1, r2, left(block_size, run_sums), right(block_size, run_sums)
       real(dp) :: t1, t2
       real(dp) :: half_length0, l, fixed_l, jstart
       origin = constants%origin
@@ -3634,7 +4122,8 @@ contains
    !> USF, second half: G2P, then mass and momentum at the new position (quadratic B-splines)
    subroutine bspline2_usf_move_segment(k, seg, x, x0, v, stress, volume_ratio, cell, acceleration, velocity, &
                                         strain_increment_of, mass_left, mass_right, momentum_left, momentum_right, &
-                                        stress_volume, constants, carry)
+                                        stress_volume, constants, carry, mass_of, modulus_of, forces, gradient, force_left, &
+                                        force_right)
       integer, parameter :: kernel = pass_usf_move
       logical, parameter :: moves = pass_moves(kernel), stresses = pass_stresses(kernel), relocates = pass_relocates(kernel)
       integer, parameter :: shares = pass_shares(kernel)
@@ -3648,6 +4137,11 @@ contains
       real(dp), intent(inout), contiguous :: mass_left(:), mass_right(:), momentum_left(:), momentum_right(:), stress_volume(:)
       type(pass_constants_t), intent(in) :: constants
       real(dp), intent(inout), contiguous :: carry(:)  !< particles in parts: what a pass keeps for the next (fused_box_t)
+      !> the variants' per-particle data (absent when the run has none): masses and Young's moduli
+      !> (`material`), external forces (`forced`), APIC's velocity gradients C_p, and the element shares of
+      !> the forces
+      real(dp), intent(in), contiguous, optional :: mass_of(:), modulus_of(:), forces(:)
+      real(dp), intent(inout), contiguous, optional :: gradient(:), force_left(:), force_right(:)
       integer :: p, e, i, n, b0, first, last, lo, hi, outside, ahead, elements
       real(dp) :: half_m, strain_factor, dstrain, inv_dx, dt, youngs_modulus, m, volume0
       type(largest_move_t) :: largest
@@ -3662,7 +4156,7 @@ contains
       ! the parts: their fractions r and local coordinates t (three parts: the products q = r t), the
       ! sums they add (accumulate_boxes, accumulate_thirds)
       integer :: node, flag
-      real(dp) :: origin, r1, r2, left(block_size, share_count), right(block_size, share_count)
+      real(dp) :: origin, r1, r2, left(block_size, run_sums), right(block_size, run_sums)
       real(dp) :: t1, t2
       origin = constants%origin
       elements = constants%elements
@@ -3801,7 +4295,8 @@ contains
    !> USF, first half: stress update, then stress*volume of the unmoved particles (quadratic B-splines)
    subroutine bspline2_usf_stress_segment(k, seg, x, x0, v, stress, volume_ratio, cell, acceleration, velocity, &
                                           strain_increment_of, mass_left, mass_right, momentum_left, momentum_right, &
-                                          stress_volume, constants, carry)
+                                          stress_volume, constants, carry, mass_of, modulus_of, forces, gradient, force_left, &
+                                          force_right)
       integer, parameter :: kernel = pass_usf_stress
       logical, parameter :: moves = pass_moves(kernel), stresses = pass_stresses(kernel), relocates = pass_relocates(kernel)
       integer, parameter :: shares = pass_shares(kernel)
@@ -3815,6 +4310,11 @@ contains
       real(dp), intent(inout), contiguous :: mass_left(:), mass_right(:), momentum_left(:), momentum_right(:), stress_volume(:)
       type(pass_constants_t), intent(in) :: constants
       real(dp), intent(inout), contiguous :: carry(:)  !< particles in parts: what a pass keeps for the next (fused_box_t)
+      !> the variants' per-particle data (absent when the run has none): masses and Young's moduli
+      !> (`material`), external forces (`forced`), APIC's velocity gradients C_p, and the element shares of
+      !> the forces
+      real(dp), intent(in), contiguous, optional :: mass_of(:), modulus_of(:), forces(:)
+      real(dp), intent(inout), contiguous, optional :: gradient(:), force_left(:), force_right(:)
       integer :: p, e, i, n, b0, first, last, lo, hi, outside, ahead, elements
       real(dp) :: half_m, strain_factor, dstrain, inv_dx, dt, youngs_modulus, m, volume0
       type(largest_move_t) :: largest
@@ -3829,7 +4329,7 @@ contains
       ! the parts: their fractions r and local coordinates t (three parts: the products q = r t), the
       ! sums they add (accumulate_boxes, accumulate_thirds)
       integer :: node, flag
-      real(dp) :: origin, r1, r2, left(block_size, share_count), right(block_size, share_count)
+      real(dp) :: origin, r1, r2, left(block_size, run_sums), right(block_size, run_sums)
       real(dp) :: t1, t2
       origin = constants%origin
       elements = constants%elements
@@ -3968,7 +4468,8 @@ contains
    !> USL: G2P, stress update from the updated nodal velocities, P2G at the new position (quadratic B-splines)
    subroutine bspline2_usl_segment(k, seg, x, x0, v, stress, volume_ratio, cell, acceleration, velocity, &
                                    strain_increment_of, mass_left, mass_right, momentum_left, momentum_right, &
-                                   stress_volume, constants, carry)
+                                   stress_volume, constants, carry, mass_of, modulus_of, forces, gradient, force_left, &
+                                   force_right)
       integer, parameter :: kernel = pass_usl
       logical, parameter :: moves = pass_moves(kernel), stresses = pass_stresses(kernel), relocates = pass_relocates(kernel)
       integer, parameter :: shares = pass_shares(kernel)
@@ -3982,6 +4483,11 @@ contains
       real(dp), intent(inout), contiguous :: mass_left(:), mass_right(:), momentum_left(:), momentum_right(:), stress_volume(:)
       type(pass_constants_t), intent(in) :: constants
       real(dp), intent(inout), contiguous :: carry(:)  !< particles in parts: what a pass keeps for the next (fused_box_t)
+      !> the variants' per-particle data (absent when the run has none): masses and Young's moduli
+      !> (`material`), external forces (`forced`), APIC's velocity gradients C_p, and the element shares of
+      !> the forces
+      real(dp), intent(in), contiguous, optional :: mass_of(:), modulus_of(:), forces(:)
+      real(dp), intent(inout), contiguous, optional :: gradient(:), force_left(:), force_right(:)
       integer :: p, e, i, n, b0, first, last, lo, hi, outside, ahead, elements
       real(dp) :: half_m, strain_factor, dstrain, inv_dx, dt, youngs_modulus, m, volume0
       type(largest_move_t) :: largest
@@ -3996,7 +4502,7 @@ contains
       ! the parts: their fractions r and local coordinates t (three parts: the products q = r t), the
       ! sums they add (accumulate_boxes, accumulate_thirds)
       integer :: node, flag
-      real(dp) :: origin, r1, r2, left(block_size, share_count), right(block_size, share_count)
+      real(dp) :: origin, r1, r2, left(block_size, run_sums), right(block_size, run_sums)
       real(dp) :: t1, t2
       origin = constants%origin
       elements = constants%elements
@@ -4135,7 +4641,8 @@ contains
    !> MUSL, first pass: G2P, and the new momentum back to the start-of-step nodes (quadratic B-splines)
    subroutine bspline2_musl_remap_segment(k, seg, x, x0, v, stress, volume_ratio, cell, acceleration, velocity, &
                                           strain_increment_of, mass_left, mass_right, momentum_left, momentum_right, &
-                                          stress_volume, constants, carry)
+                                          stress_volume, constants, carry, mass_of, modulus_of, forces, gradient, force_left, &
+                                          force_right)
       integer, parameter :: kernel = pass_musl_remap
       logical, parameter :: moves = pass_moves(kernel), stresses = pass_stresses(kernel), relocates = pass_relocates(kernel)
       integer, parameter :: shares = pass_shares(kernel)
@@ -4149,6 +4656,11 @@ contains
       real(dp), intent(inout), contiguous :: mass_left(:), mass_right(:), momentum_left(:), momentum_right(:), stress_volume(:)
       type(pass_constants_t), intent(in) :: constants
       real(dp), intent(inout), contiguous :: carry(:)  !< particles in parts: what a pass keeps for the next (fused_box_t)
+      !> the variants' per-particle data (absent when the run has none): masses and Young's moduli
+      !> (`material`), external forces (`forced`), APIC's velocity gradients C_p, and the element shares of
+      !> the forces
+      real(dp), intent(in), contiguous, optional :: mass_of(:), modulus_of(:), forces(:)
+      real(dp), intent(inout), contiguous, optional :: gradient(:), force_left(:), force_right(:)
       integer :: p, e, i, n, b0, first, last, lo, hi, outside, ahead, elements
       real(dp) :: half_m, strain_factor, dstrain, inv_dx, dt, youngs_modulus, m, volume0
       type(largest_move_t) :: largest
@@ -4163,7 +4675,7 @@ contains
       ! the parts: their fractions r and local coordinates t (three parts: the products q = r t), the
       ! sums they add (accumulate_boxes, accumulate_thirds)
       integer :: node, flag
-      real(dp) :: origin, r1, r2, left(block_size, share_count), right(block_size, share_count)
+      real(dp) :: origin, r1, r2, left(block_size, run_sums), right(block_size, run_sums)
       real(dp) :: t1, t2
       origin = constants%origin
       elements = constants%elements
@@ -4302,7 +4814,8 @@ contains
    !> MUSL, second pass: stress update from the remapped velocities, P2G at the new position (quadratic B-splines)
    subroutine bspline2_musl_stress_segment(k, seg, x, x0, v, stress, volume_ratio, cell, acceleration, velocity, &
                                            strain_increment_of, mass_left, mass_right, momentum_left, momentum_right, &
-                                           stress_volume, constants, carry)
+                                           stress_volume, constants, carry, mass_of, modulus_of, forces, gradient, force_left, &
+                                           force_right)
       integer, parameter :: kernel = pass_musl_stress
       logical, parameter :: moves = pass_moves(kernel), stresses = pass_stresses(kernel), relocates = pass_relocates(kernel)
       integer, parameter :: shares = pass_shares(kernel)
@@ -4316,6 +4829,11 @@ contains
       real(dp), intent(inout), contiguous :: mass_left(:), mass_right(:), momentum_left(:), momentum_right(:), stress_volume(:)
       type(pass_constants_t), intent(in) :: constants
       real(dp), intent(inout), contiguous :: carry(:)  !< particles in parts: what a pass keeps for the next (fused_box_t)
+      !> the variants' per-particle data (absent when the run has none): masses and Young's moduli
+      !> (`material`), external forces (`forced`), APIC's velocity gradients C_p, and the element shares of
+      !> the forces
+      real(dp), intent(in), contiguous, optional :: mass_of(:), modulus_of(:), forces(:)
+      real(dp), intent(inout), contiguous, optional :: gradient(:), force_left(:), force_right(:)
       integer :: p, e, i, n, b0, first, last, lo, hi, outside, ahead, elements
       real(dp) :: half_m, strain_factor, dstrain, inv_dx, dt, youngs_modulus, m, volume0
       type(largest_move_t) :: largest
@@ -4330,7 +4848,7 @@ contains
       ! the parts: their fractions r and local coordinates t (three parts: the products q = r t), the
       ! sums they add (accumulate_boxes, accumulate_thirds)
       integer :: node, flag
-      real(dp) :: origin, r1, r2, left(block_size, share_count), right(block_size, share_count)
+      real(dp) :: origin, r1, r2, left(block_size, run_sums), right(block_size, run_sums)
       real(dp) :: t1, t2
       origin = constants%origin
       elements = constants%elements
@@ -4469,7 +4987,8 @@ contains
    !> USF, second half: G2P, then mass and momentum at the new position (cubic B-splines)
    subroutine bspline3_usf_move_segment(k, seg, x, x0, v, stress, volume_ratio, cell, acceleration, velocity, &
                                         strain_increment_of, mass_left, mass_right, momentum_left, momentum_right, &
-                                        stress_volume, constants, carry)
+                                        stress_volume, constants, carry, mass_of, modulus_of, forces, gradient, force_left, &
+                                        force_right)
       integer, parameter :: kernel = pass_usf_move
       logical, parameter :: moves = pass_moves(kernel), stresses = pass_stresses(kernel), relocates = pass_relocates(kernel)
       integer, parameter :: shares = pass_shares(kernel)
@@ -4483,6 +5002,11 @@ contains
       real(dp), intent(inout), contiguous :: mass_left(:), mass_right(:), momentum_left(:), momentum_right(:), stress_volume(:)
       type(pass_constants_t), intent(in) :: constants
       real(dp), intent(inout), contiguous :: carry(:)  !< particles in parts: what a pass keeps for the next (fused_box_t)
+      !> the variants' per-particle data (absent when the run has none): masses and Young's moduli
+      !> (`material`), external forces (`forced`), APIC's velocity gradients C_p, and the element shares of
+      !> the forces
+      real(dp), intent(in), contiguous, optional :: mass_of(:), modulus_of(:), forces(:)
+      real(dp), intent(inout), contiguous, optional :: gradient(:), force_left(:), force_right(:)
       integer :: p, e, i, n, b0, first, last, lo, hi, outside, ahead, elements
       real(dp) :: half_m, strain_factor, dstrain, inv_dx, dt, youngs_modulus, m, volume0
       type(largest_move_t) :: largest
@@ -4497,8 +5021,8 @@ contains
       ! the parts: their fractions r and local coordinates t (three parts: the products q = r t), the
       ! sums they add (accumulate_boxes, accumulate_thirds)
       integer :: node, flag
-      real(dp) :: origin, r1, r2, left(block_size, share_count), right(block_size, share_count)
-      real(dp) :: r3, q1, q2, q3, tq, mid(block_size, share_count)
+      real(dp) :: origin, r1, r2, left(block_size, run_sums), right(block_size, run_sums)
+      real(dp) :: r3, q1, q2, q3, tq, mid(block_size, run_sums)
       origin = constants%origin
       elements = constants%elements
       inv_dx = constants%inv_dx
@@ -4644,7 +5168,8 @@ contains
    !> USF, first half: stress update, then stress*volume of the unmoved particles (cubic B-splines)
    subroutine bspline3_usf_stress_segment(k, seg, x, x0, v, stress, volume_ratio, cell, acceleration, velocity, &
                                           strain_increment_of, mass_left, mass_right, momentum_left, momentum_right, &
-                                          stress_volume, constants, carry)
+                                          stress_volume, constants, carry, mass_of, modulus_of, forces, gradient, force_left, &
+                                          force_right)
       integer, parameter :: kernel = pass_usf_stress
       logical, parameter :: moves = pass_moves(kernel), stresses = pass_stresses(kernel), relocates = pass_relocates(kernel)
       integer, parameter :: shares = pass_shares(kernel)
@@ -4658,6 +5183,11 @@ contains
       real(dp), intent(inout), contiguous :: mass_left(:), mass_right(:), momentum_left(:), momentum_right(:), stress_volume(:)
       type(pass_constants_t), intent(in) :: constants
       real(dp), intent(inout), contiguous :: carry(:)  !< particles in parts: what a pass keeps for the next (fused_box_t)
+      !> the variants' per-particle data (absent when the run has none): masses and Young's moduli
+      !> (`material`), external forces (`forced`), APIC's velocity gradients C_p, and the element shares of
+      !> the forces
+      real(dp), intent(in), contiguous, optional :: mass_of(:), modulus_of(:), forces(:)
+      real(dp), intent(inout), contiguous, optional :: gradient(:), force_left(:), force_right(:)
       integer :: p, e, i, n, b0, first, last, lo, hi, outside, ahead, elements
       real(dp) :: half_m, strain_factor, dstrain, inv_dx, dt, youngs_modulus, m, volume0
       type(largest_move_t) :: largest
@@ -4672,8 +5202,8 @@ contains
       ! the parts: their fractions r and local coordinates t (three parts: the products q = r t), the
       ! sums they add (accumulate_boxes, accumulate_thirds)
       integer :: node, flag
-      real(dp) :: origin, r1, r2, left(block_size, share_count), right(block_size, share_count)
-      real(dp) :: r3, q1, q2, q3, tq, mid(block_size, share_count)
+      real(dp) :: origin, r1, r2, left(block_size, run_sums), right(block_size, run_sums)
+      real(dp) :: r3, q1, q2, q3, tq, mid(block_size, run_sums)
       origin = constants%origin
       elements = constants%elements
       inv_dx = constants%inv_dx
@@ -4819,7 +5349,8 @@ contains
    !> USL: G2P, stress update from the updated nodal velocities, P2G at the new position (cubic B-splines)
    subroutine bspline3_usl_segment(k, seg, x, x0, v, stress, volume_ratio, cell, acceleration, velocity, &
                                    strain_increment_of, mass_left, mass_right, momentum_left, momentum_right, &
-                                   stress_volume, constants, carry)
+                                   stress_volume, constants, carry, mass_of, modulus_of, forces, gradient, force_left, &
+                                   force_right)
       integer, parameter :: kernel = pass_usl
       logical, parameter :: moves = pass_moves(kernel), stresses = pass_stresses(kernel), relocates = pass_relocates(kernel)
       integer, parameter :: shares = pass_shares(kernel)
@@ -4833,6 +5364,11 @@ contains
       real(dp), intent(inout), contiguous :: mass_left(:), mass_right(:), momentum_left(:), momentum_right(:), stress_volume(:)
       type(pass_constants_t), intent(in) :: constants
       real(dp), intent(inout), contiguous :: carry(:)  !< particles in parts: what a pass keeps for the next (fused_box_t)
+      !> the variants' per-particle data (absent when the run has none): masses and Young's moduli
+      !> (`material`), external forces (`forced`), APIC's velocity gradients C_p, and the element shares of
+      !> the forces
+      real(dp), intent(in), contiguous, optional :: mass_of(:), modulus_of(:), forces(:)
+      real(dp), intent(inout), contiguous, optional :: gradient(:), force_left(:), force_right(:)
       integer :: p, e, i, n, b0, first, last, lo, hi, outside, ahead, elements
       real(dp) :: half_m, strain_factor, dstrain, inv_dx, dt, youngs_modulus, m, volume0
       type(largest_move_t) :: largest
@@ -4847,8 +5383,8 @@ contains
       ! the parts: their fractions r and local coordinates t (three parts: the products q = r t), the
       ! sums they add (accumulate_boxes, accumulate_thirds)
       integer :: node, flag
-      real(dp) :: origin, r1, r2, left(block_size, share_count), right(block_size, share_count)
-      real(dp) :: r3, q1, q2, q3, tq, mid(block_size, share_count)
+      real(dp) :: origin, r1, r2, left(block_size, run_sums), right(block_size, run_sums)
+      real(dp) :: r3, q1, q2, q3, tq, mid(block_size, run_sums)
       origin = constants%origin
       elements = constants%elements
       inv_dx = constants%inv_dx
@@ -4994,7 +5530,8 @@ contains
    !> MUSL, first pass: G2P, and the new momentum back to the start-of-step nodes (cubic B-splines)
    subroutine bspline3_musl_remap_segment(k, seg, x, x0, v, stress, volume_ratio, cell, acceleration, velocity, &
                                           strain_increment_of, mass_left, mass_right, momentum_left, momentum_right, &
-                                          stress_volume, constants, carry)
+                                          stress_volume, constants, carry, mass_of, modulus_of, forces, gradient, force_left, &
+                                          force_right)
       integer, parameter :: kernel = pass_musl_remap
       logical, parameter :: moves = pass_moves(kernel), stresses = pass_stresses(kernel), relocates = pass_relocates(kernel)
       integer, parameter :: shares = pass_shares(kernel)
@@ -5008,6 +5545,11 @@ contains
       real(dp), intent(inout), contiguous :: mass_left(:), mass_right(:), momentum_left(:), momentum_right(:), stress_volume(:)
       type(pass_constants_t), intent(in) :: constants
       real(dp), intent(inout), contiguous :: carry(:)  !< particles in parts: what a pass keeps for the next (fused_box_t)
+      !> the variants' per-particle data (absent when the run has none): masses and Young's moduli
+      !> (`material`), external forces (`forced`), APIC's velocity gradients C_p, and the element shares of
+      !> the forces
+      real(dp), intent(in), contiguous, optional :: mass_of(:), modulus_of(:), forces(:)
+      real(dp), intent(inout), contiguous, optional :: gradient(:), force_left(:), force_right(:)
       integer :: p, e, i, n, b0, first, last, lo, hi, outside, ahead, elements
       real(dp) :: half_m, strain_factor, dstrain, inv_dx, dt, youngs_modulus, m, volume0
       type(largest_move_t) :: largest
@@ -5022,8 +5564,8 @@ contains
       ! the parts: their fractions r and local coordinates t (three parts: the products q = r t), the
       ! sums they add (accumulate_boxes, accumulate_thirds)
       integer :: node, flag
-      real(dp) :: origin, r1, r2, left(block_size, share_count), right(block_size, share_count)
-      real(dp) :: r3, q1, q2, q3, tq, mid(block_size, share_count)
+      real(dp) :: origin, r1, r2, left(block_size, run_sums), right(block_size, run_sums)
+      real(dp) :: r3, q1, q2, q3, tq, mid(block_size, run_sums)
       origin = constants%origin
       elements = constants%elements
       inv_dx = constants%inv_dx
@@ -5169,7 +5711,8 @@ contains
    !> MUSL, second pass: stress update from the remapped velocities, P2G at the new position (cubic B-splines)
    subroutine bspline3_musl_stress_segment(k, seg, x, x0, v, stress, volume_ratio, cell, acceleration, velocity, &
                                            strain_increment_of, mass_left, mass_right, momentum_left, momentum_right, &
-                                           stress_volume, constants, carry)
+                                           stress_volume, constants, carry, mass_of, modulus_of, forces, gradient, force_left, &
+                                           force_right)
       integer, parameter :: kernel = pass_musl_stress
       logical, parameter :: moves = pass_moves(kernel), stresses = pass_stresses(kernel), relocates = pass_relocates(kernel)
       integer, parameter :: shares = pass_shares(kernel)
@@ -5183,6 +5726,11 @@ contains
       real(dp), intent(inout), contiguous :: mass_left(:), mass_right(:), momentum_left(:), momentum_right(:), stress_volume(:)
       type(pass_constants_t), intent(in) :: constants
       real(dp), intent(inout), contiguous :: carry(:)  !< particles in parts: what a pass keeps for the next (fused_box_t)
+      !> the variants' per-particle data (absent when the run has none): masses and Young's moduli
+      !> (`material`), external forces (`forced`), APIC's velocity gradients C_p, and the element shares of
+      !> the forces
+      real(dp), intent(in), contiguous, optional :: mass_of(:), modulus_of(:), forces(:)
+      real(dp), intent(inout), contiguous, optional :: gradient(:), force_left(:), force_right(:)
       integer :: p, e, i, n, b0, first, last, lo, hi, outside, ahead, elements
       real(dp) :: half_m, strain_factor, dstrain, inv_dx, dt, youngs_modulus, m, volume0
       type(largest_move_t) :: largest
@@ -5197,8 +5745,8 @@ contains
       ! the parts: their fractions r and local coordinates t (three parts: the products q = r t), the
       ! sums they add (accumulate_boxes, accumulate_thirds)
       integer :: node, flag
-      real(dp) :: origin, r1, r2, left(block_size, share_count), right(block_size, share_count)
-      real(dp) :: r3, q1, q2, q3, tq, mid(block_size, share_count)
+      real(dp) :: origin, r1, r2, left(block_size, run_sums), right(block_size, run_sums)
+      real(dp) :: r3, q1, q2, q3, tq, mid(block_size, run_sums)
       origin = constants%origin
       elements = constants%elements
       inv_dx = constants%inv_dx
@@ -5340,6 +5888,6859 @@ contains
                          minval(min_j), largest%value, furthest_particle(largest, mb), outside, mass_left, mass_right, &
                          momentum_left, momentum_right, stress_volume, seg)
    end subroutine bspline3_musl_stress_segment
+
+   !> USF, second half: G2P, then mass and momentum at the new position (the hat, PIC)
+   subroutine pic_usf_move_segment(k, seg, x, x0, v, stress, volume_ratio, cell, acceleration, velocity, &
+                                   strain_increment_of, mass_left, mass_right, momentum_left, momentum_right, &
+                                   stress_volume, constants, carry, mass_of, modulus_of, forces, gradient, force_left, &
+                                   force_right)
+      integer, parameter :: kernel = pass_usf_move
+      logical, parameter :: moves = pass_moves(kernel), stresses = pass_stresses(kernel), relocates = pass_relocates(kernel)
+      integer, parameter :: shares = pass_shares(kernel)
+      integer, intent(in) :: k
+      type(segments_t), intent(inout) :: seg
+      real(dp), intent(inout), contiguous :: x(:), v(:), stress(:), volume_ratio(:)
+      real(dp), intent(in), contiguous :: x0(:)
+      integer, intent(inout), contiguous :: cell(:)
+      real(dp), intent(in), contiguous :: acceleration(0:), velocity(0:)
+      real(dp), intent(in), contiguous :: strain_increment_of(:)  !< per element (grid%element_strain)
+      real(dp), intent(inout), contiguous :: mass_left(:), mass_right(:), momentum_left(:), momentum_right(:), stress_volume(:)
+      type(pass_constants_t), intent(in) :: constants
+      real(dp), intent(inout), contiguous :: carry(:)  !< particles in parts: what a pass keeps for the next (fused_box_t)
+      !> the variants' per-particle data (absent when the run has none): masses and Young's moduli
+      !> (`material`), external forces (`forced`), APIC's velocity gradients C_p, and the element shares of
+      !> the forces
+      real(dp), intent(in), contiguous, optional :: mass_of(:), modulus_of(:), forces(:)
+      real(dp), intent(inout), contiguous, optional :: gradient(:), force_left(:), force_right(:)
+      integer :: p, e, i, n, b0, first, last, lo, hi, outside, ahead, elements
+      real(dp) :: half_m, strain_factor, dstrain, inv_dx, dt, youngs_modulus, m, volume0
+      type(largest_move_t) :: largest
+      real(dp) :: displacement(lanes), kinetic(lanes), strain(lanes), min_j(lanes)
+      integer :: cb(block_size)
+      real(dp) :: svb(block_size), db(block_size), kb(block_size), sb(block_size), jb(block_size)
+      real(dp) :: mb(block_size, 2)  !< the moves of a block, and of the block with the largest (lanes_track_move)
+      integer :: slot
+      real(dp) :: lane_max(lanes), block_max
+      integer :: lane_i, lane_r
+      type(run_t) :: run
+      integer(i8) :: elements_bits
+      real(dp) :: xi, xib(block_size), vpb(block_size)
+      ! the variant's: G2P's grid velocity and move, the segment's body (cells offset), each particle's
+      ! shares (accumulate_shares)
+      real(dp) :: vgrid, dxp
+      elements = constants%elements
+      inv_dx = constants%inv_dx
+      dt = constants%dt
+      youngs_modulus = constants%youngs_modulus
+      m = constants%mass
+      volume0 = constants%volume0
+      call open_segment(k, shares, seg, mass_left, mass_right, momentum_left, momentum_right, stress_volume, first, last, &
+                        lo, hi)
+      displacement = 0; kinetic = 0; strain = 0; min_j = huge(1.0_dp)
+      slot = 1
+      outside = 0
+      elements_bits = transfer(real(elements, dp), 0_i8)
+      half_m = 0.5_dp*m
+      strain_factor = 0.0_dp
+      if (stresses) strain_factor = 0.5_dp*volume0/youngs_modulus
+      do b0 = first, last, block_size
+         n = min(block_size, last - b0 + 1)
+         if (seg%prefetch) then  ! the arrays the pass reads, and the grid values of the next blocks
+            ahead = b0 + prefetch_ahead
+            if (kernel == pass_usl) call prefetch_block(ahead, cell, x, x0, v, stress, volume_ratio)
+            if (kernel == pass_usf_move .or. kernel == pass_musl_remap) call prefetch_block(ahead, cell, x, x0, v)
+            if (kernel == pass_usf_stress) call prefetch_block(ahead, cell, stress, volume_ratio)
+            if (kernel == pass_musl_stress) call prefetch_block(ahead, cell, x, v, stress, volume_ratio)
+            if (moves) then
+               call prefetch_nodes(cell(b0), cell(b0 + n - 1), acceleration, velocity)
+            else
+               call prefetch_elements(cell(b0), cell(b0 + n - 1), strain_increment_of)
+            end if
+         end if
+         do i = 1, n
+            p = b0 + i - 1
+            e = cell(p)
+            ! G2P with the start-of-step shape functions (PIC)
+            if (moves) then
+               xi = x(p)*inv_dx - (e - 1)
+               vgrid = (1.0_dp - xi)*velocity(e - 1) + xi*velocity(e)
+               v(p) = vgrid
+               dxp = dt*vgrid
+               x(p) = x(p) + dxp
+               db(i) = x(p) - x0(p)
+               kb(i) = half_m*v(p)*v(p)
+               mb(i, slot) = abs(dxp)*inv_dx
+            end if
+            if (stresses) then ! d eps = dt sum dN v_I over the start-of-step cell
+               if (moves) then
+                  dstrain = strain_increment(velocity(e - 1), velocity(e), dt, inv_dx)
+               else
+                  dstrain = strain_increment_of(e)
+               end if
+               call stress_particle(dstrain, youngs_modulus, strain_factor, volume0, stress(p), volume_ratio(p), sb(i), &
+                                    svb(i))
+               jb(i) = volume_ratio(p)
+            else if (iand(shares, share_stress) /= 0) then ! (an initial mapping: the stress as it is)
+               svb(i) = stress(p)*volume_ratio(p)*volume0
+            end if
+            if (relocates) then ! the new cell, for P2G at the new position
+               call locate_cell(x(p), inv_dx, elements, elements_bits, cb(i), xib(i))
+               cell(p) = cb(i)
+            else                ! the shares go to the start-of-step cell
+               cb(i) = e
+               if (moves) xib(i) = xi
+            end if
+            if (moves .or. relocates) vpb(i) = v(p)
+         end do
+         ! the block's totals (macros of mpm_lanes.fypi, expanded here)
+         if (moves) then
+            do lane_i = 1, n - lanes + 1, lanes
+               displacement = displacement + db(lane_i:lane_i + lanes - 1)
+            end do
+            lane_r = mod(n, lanes)
+            if (lane_r > 0) displacement(1:lane_r) = displacement(1:lane_r) + db(n - lane_r + 1:n)
+            do lane_i = 1, n - lanes + 1, lanes
+               kinetic = kinetic + kb(lane_i:lane_i + lanes - 1)
+            end do
+            lane_r = mod(n, lanes)
+            if (lane_r > 0) kinetic(1:lane_r) = kinetic(1:lane_r) + kb(n - lane_r + 1:n)
+            lane_max = 0.0_dp
+            do lane_i = 1, n - lanes + 1, lanes
+               lane_max = max(lane_max, mb(lane_i:lane_i + lanes - 1, slot))
+            end do
+            lane_r = mod(n, lanes)
+            if (lane_r > 0) lane_max(1:lane_r) = max(lane_max(1:lane_r), mb(n - lane_r + 1:n, slot))
+            block_max = maxval(lane_max)
+            if (block_max > largest%value) then
+               largest%value = block_max
+               largest%first = b0
+               largest%count = n
+               largest%slot = slot
+               slot = 3 - slot
+            end if
+         end if
+         if (stresses) then
+            do lane_i = 1, n - lanes + 1, lanes
+               strain = strain + sb(lane_i:lane_i + lanes - 1)
+            end do
+            lane_r = mod(n, lanes)
+            if (lane_r > 0) strain(1:lane_r) = strain(1:lane_r) + sb(n - lane_r + 1:n)
+            do lane_i = 1, n - lanes + 1, lanes
+               min_j = min(min_j, jb(lane_i:lane_i + lanes - 1))
+            end do
+            lane_r = mod(n, lanes)
+            if (lane_r > 0) min_j(1:lane_r) = min(min_j(1:lane_r), jb(n - lane_r + 1:n))
+         end if
+         if (relocates) call find_outside(n, b0, cb, outside)
+         call accumulate_block(k, n, cb, xib, vpb, svb, m, lo, hi, shares, run, mass_left, mass_right, momentum_left, &
+                               momentum_right, stress_volume, seg)
+      end do
+      call close_segment(k, shares, m, run, [lane_total(displacement), lane_total(kinetic), lane_total(strain)], &
+                         minval(min_j), largest%value, furthest_particle(largest, mb), outside, mass_left, mass_right, &
+                         momentum_left, momentum_right, stress_volume, seg)
+   end subroutine pic_usf_move_segment
+
+   !> USF, first half: stress update, then stress*volume of the unmoved particles (the hat, PIC)
+   subroutine pic_usf_stress_segment(k, seg, x, x0, v, stress, volume_ratio, cell, acceleration, velocity, &
+                                     strain_increment_of, mass_left, mass_right, momentum_left, momentum_right, &
+                                     stress_volume, constants, carry, mass_of, modulus_of, forces, gradient, force_left, &
+                                     force_right)
+      integer, parameter :: kernel = pass_usf_stress
+      logical, parameter :: moves = pass_moves(kernel), stresses = pass_stresses(kernel), relocates = pass_relocates(kernel)
+      integer, parameter :: shares = pass_shares(kernel)
+      integer, intent(in) :: k
+      type(segments_t), intent(inout) :: seg
+      real(dp), intent(inout), contiguous :: x(:), v(:), stress(:), volume_ratio(:)
+      real(dp), intent(in), contiguous :: x0(:)
+      integer, intent(inout), contiguous :: cell(:)
+      real(dp), intent(in), contiguous :: acceleration(0:), velocity(0:)
+      real(dp), intent(in), contiguous :: strain_increment_of(:)  !< per element (grid%element_strain)
+      real(dp), intent(inout), contiguous :: mass_left(:), mass_right(:), momentum_left(:), momentum_right(:), stress_volume(:)
+      type(pass_constants_t), intent(in) :: constants
+      real(dp), intent(inout), contiguous :: carry(:)  !< particles in parts: what a pass keeps for the next (fused_box_t)
+      !> the variants' per-particle data (absent when the run has none): masses and Young's moduli
+      !> (`material`), external forces (`forced`), APIC's velocity gradients C_p, and the element shares of
+      !> the forces
+      real(dp), intent(in), contiguous, optional :: mass_of(:), modulus_of(:), forces(:)
+      real(dp), intent(inout), contiguous, optional :: gradient(:), force_left(:), force_right(:)
+      integer :: p, e, i, n, b0, first, last, lo, hi, outside, ahead, elements
+      real(dp) :: half_m, strain_factor, dstrain, inv_dx, dt, youngs_modulus, m, volume0
+      type(largest_move_t) :: largest
+      real(dp) :: displacement(lanes), kinetic(lanes), strain(lanes), min_j(lanes)
+      integer :: cb(block_size)
+      real(dp) :: svb(block_size), db(block_size), kb(block_size), sb(block_size), jb(block_size)
+      real(dp) :: mb(block_size, 2)  !< the moves of a block, and of the block with the largest (lanes_track_move)
+      integer :: slot
+      real(dp) :: lane_max(lanes), block_max
+      integer :: lane_i, lane_r
+      type(run_t) :: run
+      integer(i8) :: elements_bits
+      real(dp) :: xi, xib(block_size), vpb(block_size)
+      ! the variant's: G2P's grid velocity and move, the segment's body (cells offset), each particle's
+      ! shares (accumulate_shares)
+      real(dp) :: vgrid, dxp
+      elements = constants%elements
+      inv_dx = constants%inv_dx
+      dt = constants%dt
+      youngs_modulus = constants%youngs_modulus
+      m = constants%mass
+      volume0 = constants%volume0
+      call open_segment(k, shares, seg, mass_left, mass_right, momentum_left, momentum_right, stress_volume, first, last, &
+                        lo, hi)
+      displacement = 0; kinetic = 0; strain = 0; min_j = huge(1.0_dp)
+      slot = 1
+      outside = 0
+      elements_bits = transfer(real(elements, dp), 0_i8)
+      half_m = 0.5_dp*m
+      strain_factor = 0.0_dp
+      if (stresses) strain_factor = 0.5_dp*volume0/youngs_modulus
+      do b0 = first, last, block_size
+         n = min(block_size, last - b0 + 1)
+         if (seg%prefetch) then  ! the arrays the pass reads, and the grid values of the next blocks
+            ahead = b0 + prefetch_ahead
+            if (kernel == pass_usl) call prefetch_block(ahead, cell, x, x0, v, stress, volume_ratio)
+            if (kernel == pass_usf_move .or. kernel == pass_musl_remap) call prefetch_block(ahead, cell, x, x0, v)
+            if (kernel == pass_usf_stress) call prefetch_block(ahead, cell, stress, volume_ratio)
+            if (kernel == pass_musl_stress) call prefetch_block(ahead, cell, x, v, stress, volume_ratio)
+            if (moves) then
+               call prefetch_nodes(cell(b0), cell(b0 + n - 1), acceleration, velocity)
+            else
+               call prefetch_elements(cell(b0), cell(b0 + n - 1), strain_increment_of)
+            end if
+         end if
+         do i = 1, n
+            p = b0 + i - 1
+            e = cell(p)
+            ! G2P with the start-of-step shape functions (PIC)
+            if (moves) then
+               xi = x(p)*inv_dx - (e - 1)
+               vgrid = (1.0_dp - xi)*velocity(e - 1) + xi*velocity(e)
+               v(p) = vgrid
+               dxp = dt*vgrid
+               x(p) = x(p) + dxp
+               db(i) = x(p) - x0(p)
+               kb(i) = half_m*v(p)*v(p)
+               mb(i, slot) = abs(dxp)*inv_dx
+            end if
+            if (stresses) then ! d eps = dt sum dN v_I over the start-of-step cell
+               if (moves) then
+                  dstrain = strain_increment(velocity(e - 1), velocity(e), dt, inv_dx)
+               else
+                  dstrain = strain_increment_of(e)
+               end if
+               call stress_particle(dstrain, youngs_modulus, strain_factor, volume0, stress(p), volume_ratio(p), sb(i), &
+                                    svb(i))
+               jb(i) = volume_ratio(p)
+            else if (iand(shares, share_stress) /= 0) then ! (an initial mapping: the stress as it is)
+               svb(i) = stress(p)*volume_ratio(p)*volume0
+            end if
+            if (relocates) then ! the new cell, for P2G at the new position
+               call locate_cell(x(p), inv_dx, elements, elements_bits, cb(i), xib(i))
+               cell(p) = cb(i)
+            else                ! the shares go to the start-of-step cell
+               cb(i) = e
+               if (moves) xib(i) = xi
+            end if
+            if (moves .or. relocates) vpb(i) = v(p)
+         end do
+         ! the block's totals (macros of mpm_lanes.fypi, expanded here)
+         if (moves) then
+            do lane_i = 1, n - lanes + 1, lanes
+               displacement = displacement + db(lane_i:lane_i + lanes - 1)
+            end do
+            lane_r = mod(n, lanes)
+            if (lane_r > 0) displacement(1:lane_r) = displacement(1:lane_r) + db(n - lane_r + 1:n)
+            do lane_i = 1, n - lanes + 1, lanes
+               kinetic = kinetic + kb(lane_i:lane_i + lanes - 1)
+            end do
+            lane_r = mod(n, lanes)
+            if (lane_r > 0) kinetic(1:lane_r) = kinetic(1:lane_r) + kb(n - lane_r + 1:n)
+            lane_max = 0.0_dp
+            do lane_i = 1, n - lanes + 1, lanes
+               lane_max = max(lane_max, mb(lane_i:lane_i + lanes - 1, slot))
+            end do
+            lane_r = mod(n, lanes)
+            if (lane_r > 0) lane_max(1:lane_r) = max(lane_max(1:lane_r), mb(n - lane_r + 1:n, slot))
+            block_max = maxval(lane_max)
+            if (block_max > largest%value) then
+               largest%value = block_max
+               largest%first = b0
+               largest%count = n
+               largest%slot = slot
+               slot = 3 - slot
+            end if
+         end if
+         if (stresses) then
+            do lane_i = 1, n - lanes + 1, lanes
+               strain = strain + sb(lane_i:lane_i + lanes - 1)
+            end do
+            lane_r = mod(n, lanes)
+            if (lane_r > 0) strain(1:lane_r) = strain(1:lane_r) + sb(n - lane_r + 1:n)
+            do lane_i = 1, n - lanes + 1, lanes
+               min_j = min(min_j, jb(lane_i:lane_i + lanes - 1))
+            end do
+            lane_r = mod(n, lanes)
+            if (lane_r > 0) min_j(1:lane_r) = min(min_j(1:lane_r), jb(n - lane_r + 1:n))
+         end if
+         if (relocates) call find_outside(n, b0, cb, outside)
+         call accumulate_block(k, n, cb, xib, vpb, svb, m, lo, hi, shares, run, mass_left, mass_right, momentum_left, &
+                               momentum_right, stress_volume, seg)
+      end do
+      call close_segment(k, shares, m, run, [lane_total(displacement), lane_total(kinetic), lane_total(strain)], &
+                         minval(min_j), largest%value, furthest_particle(largest, mb), outside, mass_left, mass_right, &
+                         momentum_left, momentum_right, stress_volume, seg)
+   end subroutine pic_usf_stress_segment
+
+   !> USL: G2P, stress update from the updated nodal velocities, P2G at the new position (the hat, PIC)
+   subroutine pic_usl_segment(k, seg, x, x0, v, stress, volume_ratio, cell, acceleration, velocity, &
+                              strain_increment_of, mass_left, mass_right, momentum_left, momentum_right, &
+                              stress_volume, constants, carry, mass_of, modulus_of, forces, gradient, force_left, &
+                              force_right)
+      integer, parameter :: kernel = pass_usl
+      logical, parameter :: moves = pass_moves(kernel), stresses = pass_stresses(kernel), relocates = pass_relocates(kernel)
+      integer, parameter :: shares = pass_shares(kernel)
+      integer, intent(in) :: k
+      type(segments_t), intent(inout) :: seg
+      real(dp), intent(inout), contiguous :: x(:), v(:), stress(:), volume_ratio(:)
+      real(dp), intent(in), contiguous :: x0(:)
+      integer, intent(inout), contiguous :: cell(:)
+      real(dp), intent(in), contiguous :: acceleration(0:), velocity(0:)
+      real(dp), intent(in), contiguous :: strain_increment_of(:)  !< per element (grid%element_strain)
+      real(dp), intent(inout), contiguous :: mass_left(:), mass_right(:), momentum_left(:), momentum_right(:), stress_volume(:)
+      type(pass_constants_t), intent(in) :: constants
+      real(dp), intent(inout), contiguous :: carry(:)  !< particles in parts: what a pass keeps for the next (fused_box_t)
+      !> the variants' per-particle data (absent when the run has none): masses and Young's moduli
+      !> (`material`), external forces (`forced`), APIC's velocity gradients C_p, and the element shares of
+      !> the forces
+      real(dp), intent(in), contiguous, optional :: mass_of(:), modulus_of(:), forces(:)
+      real(dp), intent(inout), contiguous, optional :: gradient(:), force_left(:), force_right(:)
+      integer :: p, e, i, n, b0, first, last, lo, hi, outside, ahead, elements
+      real(dp) :: half_m, strain_factor, dstrain, inv_dx, dt, youngs_modulus, m, volume0
+      type(largest_move_t) :: largest
+      real(dp) :: displacement(lanes), kinetic(lanes), strain(lanes), min_j(lanes)
+      integer :: cb(block_size)
+      real(dp) :: svb(block_size), db(block_size), kb(block_size), sb(block_size), jb(block_size)
+      real(dp) :: mb(block_size, 2)  !< the moves of a block, and of the block with the largest (lanes_track_move)
+      integer :: slot
+      real(dp) :: lane_max(lanes), block_max
+      integer :: lane_i, lane_r
+      type(run_t) :: run
+      integer(i8) :: elements_bits
+      real(dp) :: xi, xib(block_size), vpb(block_size)
+      ! the variant's: G2P's grid velocity and move, the segment's body (cells offset), each particle's
+      ! shares (accumulate_shares)
+      real(dp) :: vgrid, dxp
+      elements = constants%elements
+      inv_dx = constants%inv_dx
+      dt = constants%dt
+      youngs_modulus = constants%youngs_modulus
+      m = constants%mass
+      volume0 = constants%volume0
+      call open_segment(k, shares, seg, mass_left, mass_right, momentum_left, momentum_right, stress_volume, first, last, &
+                        lo, hi)
+      displacement = 0; kinetic = 0; strain = 0; min_j = huge(1.0_dp)
+      slot = 1
+      outside = 0
+      elements_bits = transfer(real(elements, dp), 0_i8)
+      half_m = 0.5_dp*m
+      strain_factor = 0.0_dp
+      if (stresses) strain_factor = 0.5_dp*volume0/youngs_modulus
+      do b0 = first, last, block_size
+         n = min(block_size, last - b0 + 1)
+         if (seg%prefetch) then  ! the arrays the pass reads, and the grid values of the next blocks
+            ahead = b0 + prefetch_ahead
+            if (kernel == pass_usl) call prefetch_block(ahead, cell, x, x0, v, stress, volume_ratio)
+            if (kernel == pass_usf_move .or. kernel == pass_musl_remap) call prefetch_block(ahead, cell, x, x0, v)
+            if (kernel == pass_usf_stress) call prefetch_block(ahead, cell, stress, volume_ratio)
+            if (kernel == pass_musl_stress) call prefetch_block(ahead, cell, x, v, stress, volume_ratio)
+            if (moves) then
+               call prefetch_nodes(cell(b0), cell(b0 + n - 1), acceleration, velocity)
+            else
+               call prefetch_elements(cell(b0), cell(b0 + n - 1), strain_increment_of)
+            end if
+         end if
+         do i = 1, n
+            p = b0 + i - 1
+            e = cell(p)
+            ! G2P with the start-of-step shape functions (PIC)
+            if (moves) then
+               xi = x(p)*inv_dx - (e - 1)
+               vgrid = (1.0_dp - xi)*velocity(e - 1) + xi*velocity(e)
+               v(p) = vgrid
+               dxp = dt*vgrid
+               x(p) = x(p) + dxp
+               db(i) = x(p) - x0(p)
+               kb(i) = half_m*v(p)*v(p)
+               mb(i, slot) = abs(dxp)*inv_dx
+            end if
+            if (stresses) then ! d eps = dt sum dN v_I over the start-of-step cell
+               if (moves) then
+                  dstrain = strain_increment(velocity(e - 1), velocity(e), dt, inv_dx)
+               else
+                  dstrain = strain_increment_of(e)
+               end if
+               call stress_particle(dstrain, youngs_modulus, strain_factor, volume0, stress(p), volume_ratio(p), sb(i), &
+                                    svb(i))
+               jb(i) = volume_ratio(p)
+            else if (iand(shares, share_stress) /= 0) then ! (an initial mapping: the stress as it is)
+               svb(i) = stress(p)*volume_ratio(p)*volume0
+            end if
+            if (relocates) then ! the new cell, for P2G at the new position
+               call locate_cell(x(p), inv_dx, elements, elements_bits, cb(i), xib(i))
+               cell(p) = cb(i)
+            else                ! the shares go to the start-of-step cell
+               cb(i) = e
+               if (moves) xib(i) = xi
+            end if
+            if (moves .or. relocates) vpb(i) = v(p)
+         end do
+         ! the block's totals (macros of mpm_lanes.fypi, expanded here)
+         if (moves) then
+            do lane_i = 1, n - lanes + 1, lanes
+               displacement = displacement + db(lane_i:lane_i + lanes - 1)
+            end do
+            lane_r = mod(n, lanes)
+            if (lane_r > 0) displacement(1:lane_r) = displacement(1:lane_r) + db(n - lane_r + 1:n)
+            do lane_i = 1, n - lanes + 1, lanes
+               kinetic = kinetic + kb(lane_i:lane_i + lanes - 1)
+            end do
+            lane_r = mod(n, lanes)
+            if (lane_r > 0) kinetic(1:lane_r) = kinetic(1:lane_r) + kb(n - lane_r + 1:n)
+            lane_max = 0.0_dp
+            do lane_i = 1, n - lanes + 1, lanes
+               lane_max = max(lane_max, mb(lane_i:lane_i + lanes - 1, slot))
+            end do
+            lane_r = mod(n, lanes)
+            if (lane_r > 0) lane_max(1:lane_r) = max(lane_max(1:lane_r), mb(n - lane_r + 1:n, slot))
+            block_max = maxval(lane_max)
+            if (block_max > largest%value) then
+               largest%value = block_max
+               largest%first = b0
+               largest%count = n
+               largest%slot = slot
+               slot = 3 - slot
+            end if
+         end if
+         if (stresses) then
+            do lane_i = 1, n - lanes + 1, lanes
+               strain = strain + sb(lane_i:lane_i + lanes - 1)
+            end do
+            lane_r = mod(n, lanes)
+            if (lane_r > 0) strain(1:lane_r) = strain(1:lane_r) + sb(n - lane_r + 1:n)
+            do lane_i = 1, n - lanes + 1, lanes
+               min_j = min(min_j, jb(lane_i:lane_i + lanes - 1))
+            end do
+            lane_r = mod(n, lanes)
+            if (lane_r > 0) min_j(1:lane_r) = min(min_j(1:lane_r), jb(n - lane_r + 1:n))
+         end if
+         if (relocates) call find_outside(n, b0, cb, outside)
+         call accumulate_block(k, n, cb, xib, vpb, svb, m, lo, hi, shares, run, mass_left, mass_right, momentum_left, &
+                               momentum_right, stress_volume, seg)
+      end do
+      call close_segment(k, shares, m, run, [lane_total(displacement), lane_total(kinetic), lane_total(strain)], &
+                         minval(min_j), largest%value, furthest_particle(largest, mb), outside, mass_left, mass_right, &
+                         momentum_left, momentum_right, stress_volume, seg)
+   end subroutine pic_usl_segment
+
+   !> MUSL, first pass: G2P, and the new momentum back to the start-of-step nodes (the hat, PIC)
+   subroutine pic_musl_remap_segment(k, seg, x, x0, v, stress, volume_ratio, cell, acceleration, velocity, &
+                                     strain_increment_of, mass_left, mass_right, momentum_left, momentum_right, &
+                                     stress_volume, constants, carry, mass_of, modulus_of, forces, gradient, force_left, &
+                                     force_right)
+      integer, parameter :: kernel = pass_musl_remap
+      logical, parameter :: moves = pass_moves(kernel), stresses = pass_stresses(kernel), relocates = pass_relocates(kernel)
+      integer, parameter :: shares = pass_shares(kernel)
+      integer, intent(in) :: k
+      type(segments_t), intent(inout) :: seg
+      real(dp), intent(inout), contiguous :: x(:), v(:), stress(:), volume_ratio(:)
+      real(dp), intent(in), contiguous :: x0(:)
+      integer, intent(inout), contiguous :: cell(:)
+      real(dp), intent(in), contiguous :: acceleration(0:), velocity(0:)
+      real(dp), intent(in), contiguous :: strain_increment_of(:)  !< per element (grid%element_strain)
+      real(dp), intent(inout), contiguous :: mass_left(:), mass_right(:), momentum_left(:), momentum_right(:), stress_volume(:)
+      type(pass_constants_t), intent(in) :: constants
+      real(dp), intent(inout), contiguous :: carry(:)  !< particles in parts: what a pass keeps for the next (fused_box_t)
+      !> the variants' per-particle data (absent when the run has none): masses and Young's moduli
+      !> (`material`), external forces (`forced`), APIC's velocity gradients C_p, and the element shares of
+      !> the forces
+      real(dp), intent(in), contiguous, optional :: mass_of(:), modulus_of(:), forces(:)
+      real(dp), intent(inout), contiguous, optional :: gradient(:), force_left(:), force_right(:)
+      integer :: p, e, i, n, b0, first, last, lo, hi, outside, ahead, elements
+      real(dp) :: half_m, strain_factor, dstrain, inv_dx, dt, youngs_modulus, m, volume0
+      type(largest_move_t) :: largest
+      real(dp) :: displacement(lanes), kinetic(lanes), strain(lanes), min_j(lanes)
+      integer :: cb(block_size)
+      real(dp) :: svb(block_size), db(block_size), kb(block_size), sb(block_size), jb(block_size)
+      real(dp) :: mb(block_size, 2)  !< the moves of a block, and of the block with the largest (lanes_track_move)
+      integer :: slot
+      real(dp) :: lane_max(lanes), block_max
+      integer :: lane_i, lane_r
+      type(run_t) :: run
+      integer(i8) :: elements_bits
+      real(dp) :: xi, xib(block_size), vpb(block_size)
+      ! the variant's: G2P's grid velocity and move, the segment's body (cells offset), each particle's
+      ! shares (accumulate_shares)
+      real(dp) :: vgrid, dxp
+      elements = constants%elements
+      inv_dx = constants%inv_dx
+      dt = constants%dt
+      youngs_modulus = constants%youngs_modulus
+      m = constants%mass
+      volume0 = constants%volume0
+      call open_segment(k, shares, seg, mass_left, mass_right, momentum_left, momentum_right, stress_volume, first, last, &
+                        lo, hi)
+      displacement = 0; kinetic = 0; strain = 0; min_j = huge(1.0_dp)
+      slot = 1
+      outside = 0
+      elements_bits = transfer(real(elements, dp), 0_i8)
+      half_m = 0.5_dp*m
+      strain_factor = 0.0_dp
+      if (stresses) strain_factor = 0.5_dp*volume0/youngs_modulus
+      do b0 = first, last, block_size
+         n = min(block_size, last - b0 + 1)
+         if (seg%prefetch) then  ! the arrays the pass reads, and the grid values of the next blocks
+            ahead = b0 + prefetch_ahead
+            if (kernel == pass_usl) call prefetch_block(ahead, cell, x, x0, v, stress, volume_ratio)
+            if (kernel == pass_usf_move .or. kernel == pass_musl_remap) call prefetch_block(ahead, cell, x, x0, v)
+            if (kernel == pass_usf_stress) call prefetch_block(ahead, cell, stress, volume_ratio)
+            if (kernel == pass_musl_stress) call prefetch_block(ahead, cell, x, v, stress, volume_ratio)
+            if (moves) then
+               call prefetch_nodes(cell(b0), cell(b0 + n - 1), acceleration, velocity)
+            else
+               call prefetch_elements(cell(b0), cell(b0 + n - 1), strain_increment_of)
+            end if
+         end if
+         do i = 1, n
+            p = b0 + i - 1
+            e = cell(p)
+            ! G2P with the start-of-step shape functions (PIC)
+            if (moves) then
+               xi = x(p)*inv_dx - (e - 1)
+               vgrid = (1.0_dp - xi)*velocity(e - 1) + xi*velocity(e)
+               v(p) = vgrid
+               dxp = dt*vgrid
+               x(p) = x(p) + dxp
+               db(i) = x(p) - x0(p)
+               kb(i) = half_m*v(p)*v(p)
+               mb(i, slot) = abs(dxp)*inv_dx
+            end if
+            if (stresses) then ! d eps = dt sum dN v_I over the start-of-step cell
+               if (moves) then
+                  dstrain = strain_increment(velocity(e - 1), velocity(e), dt, inv_dx)
+               else
+                  dstrain = strain_increment_of(e)
+               end if
+               call stress_particle(dstrain, youngs_modulus, strain_factor, volume0, stress(p), volume_ratio(p), sb(i), &
+                                    svb(i))
+               jb(i) = volume_ratio(p)
+            else if (iand(shares, share_stress) /= 0) then ! (an initial mapping: the stress as it is)
+               svb(i) = stress(p)*volume_ratio(p)*volume0
+            end if
+            if (relocates) then ! the new cell, for P2G at the new position
+               call locate_cell(x(p), inv_dx, elements, elements_bits, cb(i), xib(i))
+               cell(p) = cb(i)
+            else                ! the shares go to the start-of-step cell
+               cb(i) = e
+               if (moves) xib(i) = xi
+            end if
+            if (moves .or. relocates) vpb(i) = v(p)
+         end do
+         ! the block's totals (macros of mpm_lanes.fypi, expanded here)
+         if (moves) then
+            do lane_i = 1, n - lanes + 1, lanes
+               displacement = displacement + db(lane_i:lane_i + lanes - 1)
+            end do
+            lane_r = mod(n, lanes)
+            if (lane_r > 0) displacement(1:lane_r) = displacement(1:lane_r) + db(n - lane_r + 1:n)
+            do lane_i = 1, n - lanes + 1, lanes
+               kinetic = kinetic + kb(lane_i:lane_i + lanes - 1)
+            end do
+            lane_r = mod(n, lanes)
+            if (lane_r > 0) kinetic(1:lane_r) = kinetic(1:lane_r) + kb(n - lane_r + 1:n)
+            lane_max = 0.0_dp
+            do lane_i = 1, n - lanes + 1, lanes
+               lane_max = max(lane_max, mb(lane_i:lane_i + lanes - 1, slot))
+            end do
+            lane_r = mod(n, lanes)
+            if (lane_r > 0) lane_max(1:lane_r) = max(lane_max(1:lane_r), mb(n - lane_r + 1:n, slot))
+            block_max = maxval(lane_max)
+            if (block_max > largest%value) then
+               largest%value = block_max
+               largest%first = b0
+               largest%count = n
+               largest%slot = slot
+               slot = 3 - slot
+            end if
+         end if
+         if (stresses) then
+            do lane_i = 1, n - lanes + 1, lanes
+               strain = strain + sb(lane_i:lane_i + lanes - 1)
+            end do
+            lane_r = mod(n, lanes)
+            if (lane_r > 0) strain(1:lane_r) = strain(1:lane_r) + sb(n - lane_r + 1:n)
+            do lane_i = 1, n - lanes + 1, lanes
+               min_j = min(min_j, jb(lane_i:lane_i + lanes - 1))
+            end do
+            lane_r = mod(n, lanes)
+            if (lane_r > 0) min_j(1:lane_r) = min(min_j(1:lane_r), jb(n - lane_r + 1:n))
+         end if
+         if (relocates) call find_outside(n, b0, cb, outside)
+         call accumulate_block(k, n, cb, xib, vpb, svb, m, lo, hi, shares, run, mass_left, mass_right, momentum_left, &
+                               momentum_right, stress_volume, seg)
+      end do
+      call close_segment(k, shares, m, run, [lane_total(displacement), lane_total(kinetic), lane_total(strain)], &
+                         minval(min_j), largest%value, furthest_particle(largest, mb), outside, mass_left, mass_right, &
+                         momentum_left, momentum_right, stress_volume, seg)
+   end subroutine pic_musl_remap_segment
+
+   !> MUSL, second pass: stress update from the remapped velocities, P2G at the new position (the hat, PIC)
+   subroutine pic_musl_stress_segment(k, seg, x, x0, v, stress, volume_ratio, cell, acceleration, velocity, &
+                                      strain_increment_of, mass_left, mass_right, momentum_left, momentum_right, &
+                                      stress_volume, constants, carry, mass_of, modulus_of, forces, gradient, force_left, &
+                                      force_right)
+      integer, parameter :: kernel = pass_musl_stress
+      logical, parameter :: moves = pass_moves(kernel), stresses = pass_stresses(kernel), relocates = pass_relocates(kernel)
+      integer, parameter :: shares = pass_shares(kernel)
+      integer, intent(in) :: k
+      type(segments_t), intent(inout) :: seg
+      real(dp), intent(inout), contiguous :: x(:), v(:), stress(:), volume_ratio(:)
+      real(dp), intent(in), contiguous :: x0(:)
+      integer, intent(inout), contiguous :: cell(:)
+      real(dp), intent(in), contiguous :: acceleration(0:), velocity(0:)
+      real(dp), intent(in), contiguous :: strain_increment_of(:)  !< per element (grid%element_strain)
+      real(dp), intent(inout), contiguous :: mass_left(:), mass_right(:), momentum_left(:), momentum_right(:), stress_volume(:)
+      type(pass_constants_t), intent(in) :: constants
+      real(dp), intent(inout), contiguous :: carry(:)  !< particles in parts: what a pass keeps for the next (fused_box_t)
+      !> the variants' per-particle data (absent when the run has none): masses and Young's moduli
+      !> (`material`), external forces (`forced`), APIC's velocity gradients C_p, and the element shares of
+      !> the forces
+      real(dp), intent(in), contiguous, optional :: mass_of(:), modulus_of(:), forces(:)
+      real(dp), intent(inout), contiguous, optional :: gradient(:), force_left(:), force_right(:)
+      integer :: p, e, i, n, b0, first, last, lo, hi, outside, ahead, elements
+      real(dp) :: half_m, strain_factor, dstrain, inv_dx, dt, youngs_modulus, m, volume0
+      type(largest_move_t) :: largest
+      real(dp) :: displacement(lanes), kinetic(lanes), strain(lanes), min_j(lanes)
+      integer :: cb(block_size)
+      real(dp) :: svb(block_size), db(block_size), kb(block_size), sb(block_size), jb(block_size)
+      real(dp) :: mb(block_size, 2)  !< the moves of a block, and of the block with the largest (lanes_track_move)
+      integer :: slot
+      real(dp) :: lane_max(lanes), block_max
+      integer :: lane_i, lane_r
+      type(run_t) :: run
+      integer(i8) :: elements_bits
+      real(dp) :: xi, xib(block_size), vpb(block_size)
+      ! the variant's: G2P's grid velocity and move, the segment's body (cells offset), each particle's
+      ! shares (accumulate_shares)
+      real(dp) :: vgrid, dxp
+      elements = constants%elements
+      inv_dx = constants%inv_dx
+      dt = constants%dt
+      youngs_modulus = constants%youngs_modulus
+      m = constants%mass
+      volume0 = constants%volume0
+      call open_segment(k, shares, seg, mass_left, mass_right, momentum_left, momentum_right, stress_volume, first, last, &
+                        lo, hi)
+      displacement = 0; kinetic = 0; strain = 0; min_j = huge(1.0_dp)
+      slot = 1
+      outside = 0
+      elements_bits = transfer(real(elements, dp), 0_i8)
+      half_m = 0.5_dp*m
+      strain_factor = 0.0_dp
+      if (stresses) strain_factor = 0.5_dp*volume0/youngs_modulus
+      do b0 = first, last, block_size
+         n = min(block_size, last - b0 + 1)
+         if (seg%prefetch) then  ! the arrays the pass reads, and the grid values of the next blocks
+            ahead = b0 + prefetch_ahead
+            if (kernel == pass_usl) call prefetch_block(ahead, cell, x, x0, v, stress, volume_ratio)
+            if (kernel == pass_usf_move .or. kernel == pass_musl_remap) call prefetch_block(ahead, cell, x, x0, v)
+            if (kernel == pass_usf_stress) call prefetch_block(ahead, cell, stress, volume_ratio)
+            if (kernel == pass_musl_stress) call prefetch_block(ahead, cell, x, v, stress, volume_ratio)
+            if (moves) then
+               call prefetch_nodes(cell(b0), cell(b0 + n - 1), acceleration, velocity)
+            else
+               call prefetch_elements(cell(b0), cell(b0 + n - 1), strain_increment_of)
+            end if
+         end if
+         do i = 1, n
+            p = b0 + i - 1
+            e = cell(p)
+            ! G2P with the start-of-step shape functions (PIC)
+            if (moves) then
+               xi = x(p)*inv_dx - (e - 1)
+               vgrid = (1.0_dp - xi)*velocity(e - 1) + xi*velocity(e)
+               v(p) = vgrid
+               dxp = dt*vgrid
+               x(p) = x(p) + dxp
+               db(i) = x(p) - x0(p)
+               kb(i) = half_m*v(p)*v(p)
+               mb(i, slot) = abs(dxp)*inv_dx
+            end if
+            if (stresses) then ! d eps = dt sum dN v_I over the start-of-step cell
+               if (moves) then
+                  dstrain = strain_increment(velocity(e - 1), velocity(e), dt, inv_dx)
+               else
+                  dstrain = strain_increment_of(e)
+               end if
+               call stress_particle(dstrain, youngs_modulus, strain_factor, volume0, stress(p), volume_ratio(p), sb(i), &
+                                    svb(i))
+               jb(i) = volume_ratio(p)
+            else if (iand(shares, share_stress) /= 0) then ! (an initial mapping: the stress as it is)
+               svb(i) = stress(p)*volume_ratio(p)*volume0
+            end if
+            if (relocates) then ! the new cell, for P2G at the new position
+               call locate_cell(x(p), inv_dx, elements, elements_bits, cb(i), xib(i))
+               cell(p) = cb(i)
+            else                ! the shares go to the start-of-step cell
+               cb(i) = e
+               if (moves) xib(i) = xi
+            end if
+            if (moves .or. relocates) vpb(i) = v(p)
+         end do
+         ! the block's totals (macros of mpm_lanes.fypi, expanded here)
+         if (moves) then
+            do lane_i = 1, n - lanes + 1, lanes
+               displacement = displacement + db(lane_i:lane_i + lanes - 1)
+            end do
+            lane_r = mod(n, lanes)
+            if (lane_r > 0) displacement(1:lane_r) = displacement(1:lane_r) + db(n - lane_r + 1:n)
+            do lane_i = 1, n - lanes + 1, lanes
+               kinetic = kinetic + kb(lane_i:lane_i + lanes - 1)
+            end do
+            lane_r = mod(n, lanes)
+            if (lane_r > 0) kinetic(1:lane_r) = kinetic(1:lane_r) + kb(n - lane_r + 1:n)
+            lane_max = 0.0_dp
+            do lane_i = 1, n - lanes + 1, lanes
+               lane_max = max(lane_max, mb(lane_i:lane_i + lanes - 1, slot))
+            end do
+            lane_r = mod(n, lanes)
+            if (lane_r > 0) lane_max(1:lane_r) = max(lane_max(1:lane_r), mb(n - lane_r + 1:n, slot))
+            block_max = maxval(lane_max)
+            if (block_max > largest%value) then
+               largest%value = block_max
+               largest%first = b0
+               largest%count = n
+               largest%slot = slot
+               slot = 3 - slot
+            end if
+         end if
+         if (stresses) then
+            do lane_i = 1, n - lanes + 1, lanes
+               strain = strain + sb(lane_i:lane_i + lanes - 1)
+            end do
+            lane_r = mod(n, lanes)
+            if (lane_r > 0) strain(1:lane_r) = strain(1:lane_r) + sb(n - lane_r + 1:n)
+            do lane_i = 1, n - lanes + 1, lanes
+               min_j = min(min_j, jb(lane_i:lane_i + lanes - 1))
+            end do
+            lane_r = mod(n, lanes)
+            if (lane_r > 0) min_j(1:lane_r) = min(min_j(1:lane_r), jb(n - lane_r + 1:n))
+         end if
+         if (relocates) call find_outside(n, b0, cb, outside)
+         call accumulate_block(k, n, cb, xib, vpb, svb, m, lo, hi, shares, run, mass_left, mass_right, momentum_left, &
+                               momentum_right, stress_volume, seg)
+      end do
+      call close_segment(k, shares, m, run, [lane_total(displacement), lane_total(kinetic), lane_total(strain)], &
+                         minval(min_j), largest%value, furthest_particle(largest, mb), outside, mass_left, mass_right, &
+                         momentum_left, momentum_right, stress_volume, seg)
+   end subroutine pic_musl_stress_segment
+
+   !> initial mapping: mass and momentum (the hat, PIC)
+   subroutine pic_map_segment(k, seg, x, x0, v, stress, volume_ratio, cell, acceleration, velocity, &
+                              strain_increment_of, mass_left, mass_right, momentum_left, momentum_right, &
+                              stress_volume, constants, carry, mass_of, modulus_of, forces, gradient, force_left, &
+                              force_right)
+      integer, parameter :: kernel = pass_map
+      logical, parameter :: moves = pass_moves(kernel), stresses = pass_stresses(kernel), relocates = pass_relocates(kernel)
+      integer, parameter :: shares = pass_shares(kernel)
+      integer, intent(in) :: k
+      type(segments_t), intent(inout) :: seg
+      real(dp), intent(inout), contiguous :: x(:), v(:), stress(:), volume_ratio(:)
+      real(dp), intent(in), contiguous :: x0(:)
+      integer, intent(inout), contiguous :: cell(:)
+      real(dp), intent(in), contiguous :: acceleration(0:), velocity(0:)
+      real(dp), intent(in), contiguous :: strain_increment_of(:)  !< per element (grid%element_strain)
+      real(dp), intent(inout), contiguous :: mass_left(:), mass_right(:), momentum_left(:), momentum_right(:), stress_volume(:)
+      type(pass_constants_t), intent(in) :: constants
+      real(dp), intent(inout), contiguous :: carry(:)  !< particles in parts: what a pass keeps for the next (fused_box_t)
+      !> the variants' per-particle data (absent when the run has none): masses and Young's moduli
+      !> (`material`), external forces (`forced`), APIC's velocity gradients C_p, and the element shares of
+      !> the forces
+      real(dp), intent(in), contiguous, optional :: mass_of(:), modulus_of(:), forces(:)
+      real(dp), intent(inout), contiguous, optional :: gradient(:), force_left(:), force_right(:)
+      integer :: p, e, i, n, b0, first, last, lo, hi, outside, ahead, elements
+      real(dp) :: half_m, strain_factor, dstrain, inv_dx, dt, youngs_modulus, m, volume0
+      type(largest_move_t) :: largest
+      real(dp) :: displacement(lanes), kinetic(lanes), strain(lanes), min_j(lanes)
+      integer :: cb(block_size)
+      real(dp) :: svb(block_size), db(block_size), kb(block_size), sb(block_size), jb(block_size)
+      real(dp) :: mb(block_size, 2)  !< the moves of a block, and of the block with the largest (lanes_track_move)
+      integer :: slot
+      real(dp) :: lane_max(lanes), block_max
+      integer :: lane_i, lane_r
+      type(run_t) :: run
+      integer(i8) :: elements_bits
+      real(dp) :: xi, xib(block_size), vpb(block_size)
+      ! the variant's: G2P's grid velocity and move, the segment's body (cells offset), each particle's
+      ! shares (accumulate_shares)
+      real(dp) :: vgrid, dxp
+      elements = constants%elements
+      inv_dx = constants%inv_dx
+      dt = constants%dt
+      youngs_modulus = constants%youngs_modulus
+      m = constants%mass
+      volume0 = constants%volume0
+      call open_segment(k, shares, seg, mass_left, mass_right, momentum_left, momentum_right, stress_volume, first, last, &
+                        lo, hi)
+      displacement = 0; kinetic = 0; strain = 0; min_j = huge(1.0_dp)
+      slot = 1
+      outside = 0
+      elements_bits = transfer(real(elements, dp), 0_i8)
+      half_m = 0.5_dp*m
+      strain_factor = 0.0_dp
+      if (stresses) strain_factor = 0.5_dp*volume0/youngs_modulus
+      do b0 = first, last, block_size
+         n = min(block_size, last - b0 + 1)
+         if (seg%prefetch) then  ! the arrays the pass reads, and the grid values of the next blocks
+            ahead = b0 + prefetch_ahead
+            if (kernel == pass_usl) call prefetch_block(ahead, cell, x, x0, v, stress, volume_ratio)
+            if (kernel == pass_usf_move .or. kernel == pass_musl_remap) call prefetch_block(ahead, cell, x, x0, v)
+            if (kernel == pass_usf_stress) call prefetch_block(ahead, cell, stress, volume_ratio)
+            if (kernel == pass_musl_stress) call prefetch_block(ahead, cell, x, v, stress, volume_ratio)
+            if (moves) then
+               call prefetch_nodes(cell(b0), cell(b0 + n - 1), acceleration, velocity)
+            else
+               call prefetch_elements(cell(b0), cell(b0 + n - 1), strain_increment_of)
+            end if
+         end if
+         do i = 1, n
+            p = b0 + i - 1
+            e = cell(p)
+            ! G2P with the start-of-step shape functions (PIC)
+            if (moves) then
+               xi = x(p)*inv_dx - (e - 1)
+               vgrid = (1.0_dp - xi)*velocity(e - 1) + xi*velocity(e)
+               v(p) = vgrid
+               dxp = dt*vgrid
+               x(p) = x(p) + dxp
+               db(i) = x(p) - x0(p)
+               kb(i) = half_m*v(p)*v(p)
+               mb(i, slot) = abs(dxp)*inv_dx
+            end if
+            if (stresses) then ! d eps = dt sum dN v_I over the start-of-step cell
+               if (moves) then
+                  dstrain = strain_increment(velocity(e - 1), velocity(e), dt, inv_dx)
+               else
+                  dstrain = strain_increment_of(e)
+               end if
+               call stress_particle(dstrain, youngs_modulus, strain_factor, volume0, stress(p), volume_ratio(p), sb(i), &
+                                    svb(i))
+               jb(i) = volume_ratio(p)
+            else if (iand(shares, share_stress) /= 0) then ! (an initial mapping: the stress as it is)
+               svb(i) = stress(p)*volume_ratio(p)*volume0
+            end if
+            if (relocates) then ! the new cell, for P2G at the new position
+               call locate_cell(x(p), inv_dx, elements, elements_bits, cb(i), xib(i))
+               cell(p) = cb(i)
+            else                ! the shares go to the start-of-step cell
+               cb(i) = e
+               if (moves) xib(i) = xi
+            end if
+            if (moves .or. relocates) vpb(i) = v(p)
+         end do
+         ! the block's totals (macros of mpm_lanes.fypi, expanded here)
+         if (moves) then
+            do lane_i = 1, n - lanes + 1, lanes
+               displacement = displacement + db(lane_i:lane_i + lanes - 1)
+            end do
+            lane_r = mod(n, lanes)
+            if (lane_r > 0) displacement(1:lane_r) = displacement(1:lane_r) + db(n - lane_r + 1:n)
+            do lane_i = 1, n - lanes + 1, lanes
+               kinetic = kinetic + kb(lane_i:lane_i + lanes - 1)
+            end do
+            lane_r = mod(n, lanes)
+            if (lane_r > 0) kinetic(1:lane_r) = kinetic(1:lane_r) + kb(n - lane_r + 1:n)
+            lane_max = 0.0_dp
+            do lane_i = 1, n - lanes + 1, lanes
+               lane_max = max(lane_max, mb(lane_i:lane_i + lanes - 1, slot))
+            end do
+            lane_r = mod(n, lanes)
+            if (lane_r > 0) lane_max(1:lane_r) = max(lane_max(1:lane_r), mb(n - lane_r + 1:n, slot))
+            block_max = maxval(lane_max)
+            if (block_max > largest%value) then
+               largest%value = block_max
+               largest%first = b0
+               largest%count = n
+               largest%slot = slot
+               slot = 3 - slot
+            end if
+         end if
+         if (stresses) then
+            do lane_i = 1, n - lanes + 1, lanes
+               strain = strain + sb(lane_i:lane_i + lanes - 1)
+            end do
+            lane_r = mod(n, lanes)
+            if (lane_r > 0) strain(1:lane_r) = strain(1:lane_r) + sb(n - lane_r + 1:n)
+            do lane_i = 1, n - lanes + 1, lanes
+               min_j = min(min_j, jb(lane_i:lane_i + lanes - 1))
+            end do
+            lane_r = mod(n, lanes)
+            if (lane_r > 0) min_j(1:lane_r) = min(min_j(1:lane_r), jb(n - lane_r + 1:n))
+         end if
+         if (relocates) call find_outside(n, b0, cb, outside)
+         call accumulate_block(k, n, cb, xib, vpb, svb, m, lo, hi, shares, run, mass_left, mass_right, momentum_left, &
+                               momentum_right, stress_volume, seg)
+      end do
+      call close_segment(k, shares, m, run, [lane_total(displacement), lane_total(kinetic), lane_total(strain)], &
+                         minval(min_j), largest%value, furthest_particle(largest, mb), outside, mass_left, mass_right, &
+                         momentum_left, momentum_right, stress_volume, seg)
+   end subroutine pic_map_segment
+
+   !> initial mapping: mass, momentum and stress*volume (and forces) (the hat, PIC)
+   subroutine pic_map_stress_segment(k, seg, x, x0, v, stress, volume_ratio, cell, acceleration, velocity, &
+                                     strain_increment_of, mass_left, mass_right, momentum_left, momentum_right, &
+                                     stress_volume, constants, carry, mass_of, modulus_of, forces, gradient, force_left, &
+                                     force_right)
+      integer, parameter :: kernel = pass_map_stress
+      logical, parameter :: moves = pass_moves(kernel), stresses = pass_stresses(kernel), relocates = pass_relocates(kernel)
+      integer, parameter :: shares = pass_shares(kernel)
+      integer, intent(in) :: k
+      type(segments_t), intent(inout) :: seg
+      real(dp), intent(inout), contiguous :: x(:), v(:), stress(:), volume_ratio(:)
+      real(dp), intent(in), contiguous :: x0(:)
+      integer, intent(inout), contiguous :: cell(:)
+      real(dp), intent(in), contiguous :: acceleration(0:), velocity(0:)
+      real(dp), intent(in), contiguous :: strain_increment_of(:)  !< per element (grid%element_strain)
+      real(dp), intent(inout), contiguous :: mass_left(:), mass_right(:), momentum_left(:), momentum_right(:), stress_volume(:)
+      type(pass_constants_t), intent(in) :: constants
+      real(dp), intent(inout), contiguous :: carry(:)  !< particles in parts: what a pass keeps for the next (fused_box_t)
+      !> the variants' per-particle data (absent when the run has none): masses and Young's moduli
+      !> (`material`), external forces (`forced`), APIC's velocity gradients C_p, and the element shares of
+      !> the forces
+      real(dp), intent(in), contiguous, optional :: mass_of(:), modulus_of(:), forces(:)
+      real(dp), intent(inout), contiguous, optional :: gradient(:), force_left(:), force_right(:)
+      integer :: p, e, i, n, b0, first, last, lo, hi, outside, ahead, elements
+      real(dp) :: half_m, strain_factor, dstrain, inv_dx, dt, youngs_modulus, m, volume0
+      type(largest_move_t) :: largest
+      real(dp) :: displacement(lanes), kinetic(lanes), strain(lanes), min_j(lanes)
+      integer :: cb(block_size)
+      real(dp) :: svb(block_size), db(block_size), kb(block_size), sb(block_size), jb(block_size)
+      real(dp) :: mb(block_size, 2)  !< the moves of a block, and of the block with the largest (lanes_track_move)
+      integer :: slot
+      real(dp) :: lane_max(lanes), block_max
+      integer :: lane_i, lane_r
+      type(run_t) :: run
+      integer(i8) :: elements_bits
+      real(dp) :: xi, xib(block_size), vpb(block_size)
+      ! the variant's: G2P's grid velocity and move, the segment's body (cells offset), each particle's
+      ! shares (accumulate_shares)
+      real(dp) :: vgrid, dxp
+      elements = constants%elements
+      inv_dx = constants%inv_dx
+      dt = constants%dt
+      youngs_modulus = constants%youngs_modulus
+      m = constants%mass
+      volume0 = constants%volume0
+      call open_segment(k, shares, seg, mass_left, mass_right, momentum_left, momentum_right, stress_volume, first, last, &
+                        lo, hi)
+      displacement = 0; kinetic = 0; strain = 0; min_j = huge(1.0_dp)
+      slot = 1
+      outside = 0
+      elements_bits = transfer(real(elements, dp), 0_i8)
+      half_m = 0.5_dp*m
+      strain_factor = 0.0_dp
+      if (stresses) strain_factor = 0.5_dp*volume0/youngs_modulus
+      do b0 = first, last, block_size
+         n = min(block_size, last - b0 + 1)
+         if (seg%prefetch) then  ! the arrays the pass reads, and the grid values of the next blocks
+            ahead = b0 + prefetch_ahead
+            if (kernel == pass_usl) call prefetch_block(ahead, cell, x, x0, v, stress, volume_ratio)
+            if (kernel == pass_usf_move .or. kernel == pass_musl_remap) call prefetch_block(ahead, cell, x, x0, v)
+            if (kernel == pass_usf_stress) call prefetch_block(ahead, cell, stress, volume_ratio)
+            if (kernel == pass_musl_stress) call prefetch_block(ahead, cell, x, v, stress, volume_ratio)
+            if (moves) then
+               call prefetch_nodes(cell(b0), cell(b0 + n - 1), acceleration, velocity)
+            else
+               call prefetch_elements(cell(b0), cell(b0 + n - 1), strain_increment_of)
+            end if
+         end if
+         do i = 1, n
+            p = b0 + i - 1
+            e = cell(p)
+            ! G2P with the start-of-step shape functions (PIC)
+            if (moves) then
+               xi = x(p)*inv_dx - (e - 1)
+               vgrid = (1.0_dp - xi)*velocity(e - 1) + xi*velocity(e)
+               v(p) = vgrid
+               dxp = dt*vgrid
+               x(p) = x(p) + dxp
+               db(i) = x(p) - x0(p)
+               kb(i) = half_m*v(p)*v(p)
+               mb(i, slot) = abs(dxp)*inv_dx
+            end if
+            if (stresses) then ! d eps = dt sum dN v_I over the start-of-step cell
+               if (moves) then
+                  dstrain = strain_increment(velocity(e - 1), velocity(e), dt, inv_dx)
+               else
+                  dstrain = strain_increment_of(e)
+               end if
+               call stress_particle(dstrain, youngs_modulus, strain_factor, volume0, stress(p), volume_ratio(p), sb(i), &
+                                    svb(i))
+               jb(i) = volume_ratio(p)
+            else if (iand(shares, share_stress) /= 0) then ! (an initial mapping: the stress as it is)
+               svb(i) = stress(p)*volume_ratio(p)*volume0
+            end if
+            if (relocates) then ! the new cell, for P2G at the new position
+               call locate_cell(x(p), inv_dx, elements, elements_bits, cb(i), xib(i))
+               cell(p) = cb(i)
+            else                ! the shares go to the start-of-step cell
+               cb(i) = e
+               if (moves) xib(i) = xi
+            end if
+            if (moves .or. relocates) vpb(i) = v(p)
+         end do
+         ! the block's totals (macros of mpm_lanes.fypi, expanded here)
+         if (moves) then
+            do lane_i = 1, n - lanes + 1, lanes
+               displacement = displacement + db(lane_i:lane_i + lanes - 1)
+            end do
+            lane_r = mod(n, lanes)
+            if (lane_r > 0) displacement(1:lane_r) = displacement(1:lane_r) + db(n - lane_r + 1:n)
+            do lane_i = 1, n - lanes + 1, lanes
+               kinetic = kinetic + kb(lane_i:lane_i + lanes - 1)
+            end do
+            lane_r = mod(n, lanes)
+            if (lane_r > 0) kinetic(1:lane_r) = kinetic(1:lane_r) + kb(n - lane_r + 1:n)
+            lane_max = 0.0_dp
+            do lane_i = 1, n - lanes + 1, lanes
+               lane_max = max(lane_max, mb(lane_i:lane_i + lanes - 1, slot))
+            end do
+            lane_r = mod(n, lanes)
+            if (lane_r > 0) lane_max(1:lane_r) = max(lane_max(1:lane_r), mb(n - lane_r + 1:n, slot))
+            block_max = maxval(lane_max)
+            if (block_max > largest%value) then
+               largest%value = block_max
+               largest%first = b0
+               largest%count = n
+               largest%slot = slot
+               slot = 3 - slot
+            end if
+         end if
+         if (stresses) then
+            do lane_i = 1, n - lanes + 1, lanes
+               strain = strain + sb(lane_i:lane_i + lanes - 1)
+            end do
+            lane_r = mod(n, lanes)
+            if (lane_r > 0) strain(1:lane_r) = strain(1:lane_r) + sb(n - lane_r + 1:n)
+            do lane_i = 1, n - lanes + 1, lanes
+               min_j = min(min_j, jb(lane_i:lane_i + lanes - 1))
+            end do
+            lane_r = mod(n, lanes)
+            if (lane_r > 0) min_j(1:lane_r) = min(min_j(1:lane_r), jb(n - lane_r + 1:n))
+         end if
+         if (relocates) call find_outside(n, b0, cb, outside)
+         call accumulate_block(k, n, cb, xib, vpb, svb, m, lo, hi, shares, run, mass_left, mass_right, momentum_left, &
+                               momentum_right, stress_volume, seg)
+      end do
+      call close_segment(k, shares, m, run, [lane_total(displacement), lane_total(kinetic), lane_total(strain)], &
+                         minval(min_j), largest%value, furthest_particle(largest, mb), outside, mass_left, mass_right, &
+                         momentum_left, momentum_right, stress_volume, seg)
+   end subroutine pic_map_stress_segment
+
+   !> USF, second half: G2P, then mass and momentum at the new position (the hat, the PIC/FLIP blend)
+   subroutine blend_usf_move_segment(k, seg, x, x0, v, stress, volume_ratio, cell, acceleration, velocity, &
+                                     strain_increment_of, mass_left, mass_right, momentum_left, momentum_right, &
+                                     stress_volume, constants, carry, mass_of, modulus_of, forces, gradient, force_left, &
+                                     force_right)
+      integer, parameter :: kernel = pass_usf_move
+      logical, parameter :: moves = pass_moves(kernel), stresses = pass_stresses(kernel), relocates = pass_relocates(kernel)
+      integer, parameter :: shares = pass_shares(kernel)
+      integer, intent(in) :: k
+      type(segments_t), intent(inout) :: seg
+      real(dp), intent(inout), contiguous :: x(:), v(:), stress(:), volume_ratio(:)
+      real(dp), intent(in), contiguous :: x0(:)
+      integer, intent(inout), contiguous :: cell(:)
+      real(dp), intent(in), contiguous :: acceleration(0:), velocity(0:)
+      real(dp), intent(in), contiguous :: strain_increment_of(:)  !< per element (grid%element_strain)
+      real(dp), intent(inout), contiguous :: mass_left(:), mass_right(:), momentum_left(:), momentum_right(:), stress_volume(:)
+      type(pass_constants_t), intent(in) :: constants
+      real(dp), intent(inout), contiguous :: carry(:)  !< particles in parts: what a pass keeps for the next (fused_box_t)
+      !> the variants' per-particle data (absent when the run has none): masses and Young's moduli
+      !> (`material`), external forces (`forced`), APIC's velocity gradients C_p, and the element shares of
+      !> the forces
+      real(dp), intent(in), contiguous, optional :: mass_of(:), modulus_of(:), forces(:)
+      real(dp), intent(inout), contiguous, optional :: gradient(:), force_left(:), force_right(:)
+      integer :: p, e, i, n, b0, first, last, lo, hi, outside, ahead, elements
+      real(dp) :: half_m, strain_factor, dstrain, inv_dx, dt, youngs_modulus, m, volume0
+      type(largest_move_t) :: largest
+      real(dp) :: displacement(lanes), kinetic(lanes), strain(lanes), min_j(lanes)
+      integer :: cb(block_size)
+      real(dp) :: svb(block_size), db(block_size), kb(block_size), sb(block_size), jb(block_size)
+      real(dp) :: mb(block_size, 2)  !< the moves of a block, and of the block with the largest (lanes_track_move)
+      integer :: slot
+      real(dp) :: lane_max(lanes), block_max
+      integer :: lane_i, lane_r
+      type(run_t) :: run
+      integer(i8) :: elements_bits
+      real(dp) :: xi, xib(block_size), vpb(block_size)
+      ! the variant's: G2P's grid velocity and move, the segment's body (cells offset), each particle's
+      ! shares (accumulate_shares)
+      real(dp) :: vgrid, dxp
+      real(dp) :: flip_fraction
+      flip_fraction = constants%flip_fraction
+      elements = constants%elements
+      inv_dx = constants%inv_dx
+      dt = constants%dt
+      youngs_modulus = constants%youngs_modulus
+      m = constants%mass
+      volume0 = constants%volume0
+      call open_segment(k, shares, seg, mass_left, mass_right, momentum_left, momentum_right, stress_volume, first, last, &
+                        lo, hi)
+      displacement = 0; kinetic = 0; strain = 0; min_j = huge(1.0_dp)
+      slot = 1
+      outside = 0
+      elements_bits = transfer(real(elements, dp), 0_i8)
+      half_m = 0.5_dp*m
+      strain_factor = 0.0_dp
+      if (stresses) strain_factor = 0.5_dp*volume0/youngs_modulus
+      do b0 = first, last, block_size
+         n = min(block_size, last - b0 + 1)
+         if (seg%prefetch) then  ! the arrays the pass reads, and the grid values of the next blocks
+            ahead = b0 + prefetch_ahead
+            if (kernel == pass_usl) call prefetch_block(ahead, cell, x, x0, v, stress, volume_ratio)
+            if (kernel == pass_usf_move .or. kernel == pass_musl_remap) call prefetch_block(ahead, cell, x, x0, v)
+            if (kernel == pass_usf_stress) call prefetch_block(ahead, cell, stress, volume_ratio)
+            if (kernel == pass_musl_stress) call prefetch_block(ahead, cell, x, v, stress, volume_ratio)
+            if (moves) then
+               call prefetch_nodes(cell(b0), cell(b0 + n - 1), acceleration, velocity)
+            else
+               call prefetch_elements(cell(b0), cell(b0 + n - 1), strain_increment_of)
+            end if
+         end if
+         do i = 1, n
+            p = b0 + i - 1
+            e = cell(p)
+            ! G2P with the start-of-step shape functions (the PIC/FLIP blend)
+            if (moves) then
+               xi = x(p)*inv_dx - (e - 1)
+               vgrid = (1.0_dp - xi)*velocity(e - 1) + xi*velocity(e)
+               v(p) = flip_fraction*(v(p) + dt*((1.0_dp - xi)*acceleration(e - 1) + xi*acceleration(e))) + &
+                      (1.0_dp - flip_fraction)*vgrid
+               dxp = dt*vgrid
+               x(p) = x(p) + dxp
+               db(i) = x(p) - x0(p)
+               kb(i) = half_m*v(p)*v(p)
+               mb(i, slot) = abs(dxp)*inv_dx
+            end if
+            if (stresses) then ! d eps = dt sum dN v_I over the start-of-step cell
+               if (moves) then
+                  dstrain = strain_increment(velocity(e - 1), velocity(e), dt, inv_dx)
+               else
+                  dstrain = strain_increment_of(e)
+               end if
+               call stress_particle(dstrain, youngs_modulus, strain_factor, volume0, stress(p), volume_ratio(p), sb(i), &
+                                    svb(i))
+               jb(i) = volume_ratio(p)
+            else if (iand(shares, share_stress) /= 0) then ! (an initial mapping: the stress as it is)
+               svb(i) = stress(p)*volume_ratio(p)*volume0
+            end if
+            if (relocates) then ! the new cell, for P2G at the new position
+               call locate_cell(x(p), inv_dx, elements, elements_bits, cb(i), xib(i))
+               cell(p) = cb(i)
+            else                ! the shares go to the start-of-step cell
+               cb(i) = e
+               if (moves) xib(i) = xi
+            end if
+            if (moves .or. relocates) vpb(i) = v(p)
+         end do
+         ! the block's totals (macros of mpm_lanes.fypi, expanded here)
+         if (moves) then
+            do lane_i = 1, n - lanes + 1, lanes
+               displacement = displacement + db(lane_i:lane_i + lanes - 1)
+            end do
+            lane_r = mod(n, lanes)
+            if (lane_r > 0) displacement(1:lane_r) = displacement(1:lane_r) + db(n - lane_r + 1:n)
+            do lane_i = 1, n - lanes + 1, lanes
+               kinetic = kinetic + kb(lane_i:lane_i + lanes - 1)
+            end do
+            lane_r = mod(n, lanes)
+            if (lane_r > 0) kinetic(1:lane_r) = kinetic(1:lane_r) + kb(n - lane_r + 1:n)
+            lane_max = 0.0_dp
+            do lane_i = 1, n - lanes + 1, lanes
+               lane_max = max(lane_max, mb(lane_i:lane_i + lanes - 1, slot))
+            end do
+            lane_r = mod(n, lanes)
+            if (lane_r > 0) lane_max(1:lane_r) = max(lane_max(1:lane_r), mb(n - lane_r + 1:n, slot))
+            block_max = maxval(lane_max)
+            if (block_max > largest%value) then
+               largest%value = block_max
+               largest%first = b0
+               largest%count = n
+               largest%slot = slot
+               slot = 3 - slot
+            end if
+         end if
+         if (stresses) then
+            do lane_i = 1, n - lanes + 1, lanes
+               strain = strain + sb(lane_i:lane_i + lanes - 1)
+            end do
+            lane_r = mod(n, lanes)
+            if (lane_r > 0) strain(1:lane_r) = strain(1:lane_r) + sb(n - lane_r + 1:n)
+            do lane_i = 1, n - lanes + 1, lanes
+               min_j = min(min_j, jb(lane_i:lane_i + lanes - 1))
+            end do
+            lane_r = mod(n, lanes)
+            if (lane_r > 0) min_j(1:lane_r) = min(min_j(1:lane_r), jb(n - lane_r + 1:n))
+         end if
+         if (relocates) call find_outside(n, b0, cb, outside)
+         call accumulate_block(k, n, cb, xib, vpb, svb, m, lo, hi, shares, run, mass_left, mass_right, momentum_left, &
+                               momentum_right, stress_volume, seg)
+      end do
+      call close_segment(k, shares, m, run, [lane_total(displacement), lane_total(kinetic), lane_total(strain)], &
+                         minval(min_j), largest%value, furthest_particle(largest, mb), outside, mass_left, mass_right, &
+                         momentum_left, momentum_right, stress_volume, seg)
+   end subroutine blend_usf_move_segment
+
+   !> USF, first half: stress update, then stress*volume of the unmoved particles (the hat, the PIC/FLIP blend)
+   subroutine blend_usf_stress_segment(k, seg, x, x0, v, stress, volume_ratio, cell, acceleration, velocity, &
+                                       strain_increment_of, mass_left, mass_right, momentum_left, momentum_right, &
+                                       stress_volume, constants, carry, mass_of, modulus_of, forces, gradient, force_left, &
+                                       force_right)
+      integer, parameter :: kernel = pass_usf_stress
+      logical, parameter :: moves = pass_moves(kernel), stresses = pass_stresses(kernel), relocates = pass_relocates(kernel)
+      integer, parameter :: shares = pass_shares(kernel)
+      integer, intent(in) :: k
+      type(segments_t), intent(inout) :: seg
+      real(dp), intent(inout), contiguous :: x(:), v(:), stress(:), volume_ratio(:)
+      real(dp), intent(in), contiguous :: x0(:)
+      integer, intent(inout), contiguous :: cell(:)
+      real(dp), intent(in), contiguous :: acceleration(0:), velocity(0:)
+      real(dp), intent(in), contiguous :: strain_increment_of(:)  !< per element (grid%element_strain)
+      real(dp), intent(inout), contiguous :: mass_left(:), mass_right(:), momentum_left(:), momentum_right(:), stress_volume(:)
+      type(pass_constants_t), intent(in) :: constants
+      real(dp), intent(inout), contiguous :: carry(:)  !< particles in parts: what a pass keeps for the next (fused_box_t)
+      !> the variants' per-particle data (absent when the run has none): masses and Young's moduli
+      !> (`material`), external forces (`forced`), APIC's velocity gradients C_p, and the element shares of
+      !> the forces
+      real(dp), intent(in), contiguous, optional :: mass_of(:), modulus_of(:), forces(:)
+      real(dp), intent(inout), contiguous, optional :: gradient(:), force_left(:), force_right(:)
+      integer :: p, e, i, n, b0, first, last, lo, hi, outside, ahead, elements
+      real(dp) :: half_m, strain_factor, dstrain, inv_dx, dt, youngs_modulus, m, volume0
+      type(largest_move_t) :: largest
+      real(dp) :: displacement(lanes), kinetic(lanes), strain(lanes), min_j(lanes)
+      integer :: cb(block_size)
+      real(dp) :: svb(block_size), db(block_size), kb(block_size), sb(block_size), jb(block_size)
+      real(dp) :: mb(block_size, 2)  !< the moves of a block, and of the block with the largest (lanes_track_move)
+      integer :: slot
+      real(dp) :: lane_max(lanes), block_max
+      integer :: lane_i, lane_r
+      type(run_t) :: run
+      integer(i8) :: elements_bits
+      real(dp) :: xi, xib(block_size), vpb(block_size)
+      ! the variant's: G2P's grid velocity and move, the segment's body (cells offset), each particle's
+      ! shares (accumulate_shares)
+      real(dp) :: vgrid, dxp
+      real(dp) :: flip_fraction
+      flip_fraction = constants%flip_fraction
+      elements = constants%elements
+      inv_dx = constants%inv_dx
+      dt = constants%dt
+      youngs_modulus = constants%youngs_modulus
+      m = constants%mass
+      volume0 = constants%volume0
+      call open_segment(k, shares, seg, mass_left, mass_right, momentum_left, momentum_right, stress_volume, first, last, &
+                        lo, hi)
+      displacement = 0; kinetic = 0; strain = 0; min_j = huge(1.0_dp)
+      slot = 1
+      outside = 0
+      elements_bits = transfer(real(elements, dp), 0_i8)
+      half_m = 0.5_dp*m
+      strain_factor = 0.0_dp
+      if (stresses) strain_factor = 0.5_dp*volume0/youngs_modulus
+      do b0 = first, last, block_size
+         n = min(block_size, last - b0 + 1)
+         if (seg%prefetch) then  ! the arrays the pass reads, and the grid values of the next blocks
+            ahead = b0 + prefetch_ahead
+            if (kernel == pass_usl) call prefetch_block(ahead, cell, x, x0, v, stress, volume_ratio)
+            if (kernel == pass_usf_move .or. kernel == pass_musl_remap) call prefetch_block(ahead, cell, x, x0, v)
+            if (kernel == pass_usf_stress) call prefetch_block(ahead, cell, stress, volume_ratio)
+            if (kernel == pass_musl_stress) call prefetch_block(ahead, cell, x, v, stress, volume_ratio)
+            if (moves) then
+               call prefetch_nodes(cell(b0), cell(b0 + n - 1), acceleration, velocity)
+            else
+               call prefetch_elements(cell(b0), cell(b0 + n - 1), strain_increment_of)
+            end if
+         end if
+         do i = 1, n
+            p = b0 + i - 1
+            e = cell(p)
+            ! G2P with the start-of-step shape functions (the PIC/FLIP blend)
+            if (moves) then
+               xi = x(p)*inv_dx - (e - 1)
+               vgrid = (1.0_dp - xi)*velocity(e - 1) + xi*velocity(e)
+               v(p) = flip_fraction*(v(p) + dt*((1.0_dp - xi)*acceleration(e - 1) + xi*acceleration(e))) + &
+                      (1.0_dp - flip_fraction)*vgrid
+               dxp = dt*vgrid
+               x(p) = x(p) + dxp
+               db(i) = x(p) - x0(p)
+               kb(i) = half_m*v(p)*v(p)
+               mb(i, slot) = abs(dxp)*inv_dx
+            end if
+            if (stresses) then ! d eps = dt sum dN v_I over the start-of-step cell
+               if (moves) then
+                  dstrain = strain_increment(velocity(e - 1), velocity(e), dt, inv_dx)
+               else
+                  dstrain = strain_increment_of(e)
+               end if
+               call stress_particle(dstrain, youngs_modulus, strain_factor, volume0, stress(p), volume_ratio(p), sb(i), &
+                                    svb(i))
+               jb(i) = volume_ratio(p)
+            else if (iand(shares, share_stress) /= 0) then ! (an initial mapping: the stress as it is)
+               svb(i) = stress(p)*volume_ratio(p)*volume0
+            end if
+            if (relocates) then ! the new cell, for P2G at the new position
+               call locate_cell(x(p), inv_dx, elements, elements_bits, cb(i), xib(i))
+               cell(p) = cb(i)
+            else                ! the shares go to the start-of-step cell
+               cb(i) = e
+               if (moves) xib(i) = xi
+            end if
+            if (moves .or. relocates) vpb(i) = v(p)
+         end do
+         ! the block's totals (macros of mpm_lanes.fypi, expanded here)
+         if (moves) then
+            do lane_i = 1, n - lanes + 1, lanes
+               displacement = displacement + db(lane_i:lane_i + lanes - 1)
+            end do
+            lane_r = mod(n, lanes)
+            if (lane_r > 0) displacement(1:lane_r) = displacement(1:lane_r) + db(n - lane_r + 1:n)
+            do lane_i = 1, n - lanes + 1, lanes
+               kinetic = kinetic + kb(lane_i:lane_i + lanes - 1)
+            end do
+            lane_r = mod(n, lanes)
+            if (lane_r > 0) kinetic(1:lane_r) = kinetic(1:lane_r) + kb(n - lane_r + 1:n)
+            lane_max = 0.0_dp
+            do lane_i = 1, n - lanes + 1, lanes
+               lane_max = max(lane_max, mb(lane_i:lane_i + lanes - 1, slot))
+            end do
+            lane_r = mod(n, lanes)
+            if (lane_r > 0) lane_max(1:lane_r) = max(lane_max(1:lane_r), mb(n - lane_r + 1:n, slot))
+            block_max = maxval(lane_max)
+            if (block_max > largest%value) then
+               largest%value = block_max
+               largest%first = b0
+               largest%count = n
+               largest%slot = slot
+               slot = 3 - slot
+            end if
+         end if
+         if (stresses) then
+            do lane_i = 1, n - lanes + 1, lanes
+               strain = strain + sb(lane_i:lane_i + lanes - 1)
+            end do
+            lane_r = mod(n, lanes)
+            if (lane_r > 0) strain(1:lane_r) = strain(1:lane_r) + sb(n - lane_r + 1:n)
+            do lane_i = 1, n - lanes + 1, lanes
+               min_j = min(min_j, jb(lane_i:lane_i + lanes - 1))
+            end do
+            lane_r = mod(n, lanes)
+            if (lane_r > 0) min_j(1:lane_r) = min(min_j(1:lane_r), jb(n - lane_r + 1:n))
+         end if
+         if (relocates) call find_outside(n, b0, cb, outside)
+         call accumulate_block(k, n, cb, xib, vpb, svb, m, lo, hi, shares, run, mass_left, mass_right, momentum_left, &
+                               momentum_right, stress_volume, seg)
+      end do
+      call close_segment(k, shares, m, run, [lane_total(displacement), lane_total(kinetic), lane_total(strain)], &
+                         minval(min_j), largest%value, furthest_particle(largest, mb), outside, mass_left, mass_right, &
+                         momentum_left, momentum_right, stress_volume, seg)
+   end subroutine blend_usf_stress_segment
+
+   !> USL: G2P, stress update from the updated nodal velocities, P2G at the new position (the hat, the PIC/FLIP blend)
+   subroutine blend_usl_segment(k, seg, x, x0, v, stress, volume_ratio, cell, acceleration, velocity, &
+                                strain_increment_of, mass_left, mass_right, momentum_left, momentum_right, &
+                                stress_volume, constants, carry, mass_of, modulus_of, forces, gradient, force_left, &
+                                force_right)
+      integer, parameter :: kernel = pass_usl
+      logical, parameter :: moves = pass_moves(kernel), stresses = pass_stresses(kernel), relocates = pass_relocates(kernel)
+      integer, parameter :: shares = pass_shares(kernel)
+      integer, intent(in) :: k
+      type(segments_t), intent(inout) :: seg
+      real(dp), intent(inout), contiguous :: x(:), v(:), stress(:), volume_ratio(:)
+      real(dp), intent(in), contiguous :: x0(:)
+      integer, intent(inout), contiguous :: cell(:)
+      real(dp), intent(in), contiguous :: acceleration(0:), velocity(0:)
+      real(dp), intent(in), contiguous :: strain_increment_of(:)  !< per element (grid%element_strain)
+      real(dp), intent(inout), contiguous :: mass_left(:), mass_right(:), momentum_left(:), momentum_right(:), stress_volume(:)
+      type(pass_constants_t), intent(in) :: constants
+      real(dp), intent(inout), contiguous :: carry(:)  !< particles in parts: what a pass keeps for the next (fused_box_t)
+      !> the variants' per-particle data (absent when the run has none): masses and Young's moduli
+      !> (`material`), external forces (`forced`), APIC's velocity gradients C_p, and the element shares of
+      !> the forces
+      real(dp), intent(in), contiguous, optional :: mass_of(:), modulus_of(:), forces(:)
+      real(dp), intent(inout), contiguous, optional :: gradient(:), force_left(:), force_right(:)
+      integer :: p, e, i, n, b0, first, last, lo, hi, outside, ahead, elements
+      real(dp) :: half_m, strain_factor, dstrain, inv_dx, dt, youngs_modulus, m, volume0
+      type(largest_move_t) :: largest
+      real(dp) :: displacement(lanes), kinetic(lanes), strain(lanes), min_j(lanes)
+      integer :: cb(block_size)
+      real(dp) :: svb(block_size), db(block_size), kb(block_size), sb(block_size), jb(block_size)
+      real(dp) :: mb(block_size, 2)  !< the moves of a block, and of the block with the largest (lanes_track_move)
+      integer :: slot
+      real(dp) :: lane_max(lanes), block_max
+      integer :: lane_i, lane_r
+      type(run_t) :: run
+      integer(i8) :: elements_bits
+      real(dp) :: xi, xib(block_size), vpb(block_size)
+      ! the variant's: G2P's grid velocity and move, the segment's body (cells offset), each particle's
+      ! shares (accumulate_shares)
+      real(dp) :: vgrid, dxp
+      real(dp) :: flip_fraction
+      flip_fraction = constants%flip_fraction
+      elements = constants%elements
+      inv_dx = constants%inv_dx
+      dt = constants%dt
+      youngs_modulus = constants%youngs_modulus
+      m = constants%mass
+      volume0 = constants%volume0
+      call open_segment(k, shares, seg, mass_left, mass_right, momentum_left, momentum_right, stress_volume, first, last, &
+                        lo, hi)
+      displacement = 0; kinetic = 0; strain = 0; min_j = huge(1.0_dp)
+      slot = 1
+      outside = 0
+      elements_bits = transfer(real(elements, dp), 0_i8)
+      half_m = 0.5_dp*m
+      strain_factor = 0.0_dp
+      if (stresses) strain_factor = 0.5_dp*volume0/youngs_modulus
+      do b0 = first, last, block_size
+         n = min(block_size, last - b0 + 1)
+         if (seg%prefetch) then  ! the arrays the pass reads, and the grid values of the next blocks
+            ahead = b0 + prefetch_ahead
+            if (kernel == pass_usl) call prefetch_block(ahead, cell, x, x0, v, stress, volume_ratio)
+            if (kernel == pass_usf_move .or. kernel == pass_musl_remap) call prefetch_block(ahead, cell, x, x0, v)
+            if (kernel == pass_usf_stress) call prefetch_block(ahead, cell, stress, volume_ratio)
+            if (kernel == pass_musl_stress) call prefetch_block(ahead, cell, x, v, stress, volume_ratio)
+            if (moves) then
+               call prefetch_nodes(cell(b0), cell(b0 + n - 1), acceleration, velocity)
+            else
+               call prefetch_elements(cell(b0), cell(b0 + n - 1), strain_increment_of)
+            end if
+         end if
+         do i = 1, n
+            p = b0 + i - 1
+            e = cell(p)
+            ! G2P with the start-of-step shape functions (the PIC/FLIP blend)
+            if (moves) then
+               xi = x(p)*inv_dx - (e - 1)
+               vgrid = (1.0_dp - xi)*velocity(e - 1) + xi*velocity(e)
+               v(p) = flip_fraction*(v(p) + dt*((1.0_dp - xi)*acceleration(e - 1) + xi*acceleration(e))) + &
+                      (1.0_dp - flip_fraction)*vgrid
+               dxp = dt*vgrid
+               x(p) = x(p) + dxp
+               db(i) = x(p) - x0(p)
+               kb(i) = half_m*v(p)*v(p)
+               mb(i, slot) = abs(dxp)*inv_dx
+            end if
+            if (stresses) then ! d eps = dt sum dN v_I over the start-of-step cell
+               if (moves) then
+                  dstrain = strain_increment(velocity(e - 1), velocity(e), dt, inv_dx)
+               else
+                  dstrain = strain_increment_of(e)
+               end if
+               call stress_particle(dstrain, youngs_modulus, strain_factor, volume0, stress(p), volume_ratio(p), sb(i), &
+                                    svb(i))
+               jb(i) = volume_ratio(p)
+            else if (iand(shares, share_stress) /= 0) then ! (an initial mapping: the stress as it is)
+               svb(i) = stress(p)*volume_ratio(p)*volume0
+            end if
+            if (relocates) then ! the new cell, for P2G at the new position
+               call locate_cell(x(p), inv_dx, elements, elements_bits, cb(i), xib(i))
+               cell(p) = cb(i)
+            else                ! the shares go to the start-of-step cell
+               cb(i) = e
+               if (moves) xib(i) = xi
+            end if
+            if (moves .or. relocates) vpb(i) = v(p)
+         end do
+         ! the block's totals (macros of mpm_lanes.fypi, expanded here)
+         if (moves) then
+            do lane_i = 1, n - lanes + 1, lanes
+               displacement = displacement + db(lane_i:lane_i + lanes - 1)
+            end do
+            lane_r = mod(n, lanes)
+            if (lane_r > 0) displacement(1:lane_r) = displacement(1:lane_r) + db(n - lane_r + 1:n)
+            do lane_i = 1, n - lanes + 1, lanes
+               kinetic = kinetic + kb(lane_i:lane_i + lanes - 1)
+            end do
+            lane_r = mod(n, lanes)
+            if (lane_r > 0) kinetic(1:lane_r) = kinetic(1:lane_r) + kb(n - lane_r + 1:n)
+            lane_max = 0.0_dp
+            do lane_i = 1, n - lanes + 1, lanes
+               lane_max = max(lane_max, mb(lane_i:lane_i + lanes - 1, slot))
+            end do
+            lane_r = mod(n, lanes)
+            if (lane_r > 0) lane_max(1:lane_r) = max(lane_max(1:lane_r), mb(n - lane_r + 1:n, slot))
+            block_max = maxval(lane_max)
+            if (block_max > largest%value) then
+               largest%value = block_max
+               largest%first = b0
+               largest%count = n
+               largest%slot = slot
+               slot = 3 - slot
+            end if
+         end if
+         if (stresses) then
+            do lane_i = 1, n - lanes + 1, lanes
+               strain = strain + sb(lane_i:lane_i + lanes - 1)
+            end do
+            lane_r = mod(n, lanes)
+            if (lane_r > 0) strain(1:lane_r) = strain(1:lane_r) + sb(n - lane_r + 1:n)
+            do lane_i = 1, n - lanes + 1, lanes
+               min_j = min(min_j, jb(lane_i:lane_i + lanes - 1))
+            end do
+            lane_r = mod(n, lanes)
+            if (lane_r > 0) min_j(1:lane_r) = min(min_j(1:lane_r), jb(n - lane_r + 1:n))
+         end if
+         if (relocates) call find_outside(n, b0, cb, outside)
+         call accumulate_block(k, n, cb, xib, vpb, svb, m, lo, hi, shares, run, mass_left, mass_right, momentum_left, &
+                               momentum_right, stress_volume, seg)
+      end do
+      call close_segment(k, shares, m, run, [lane_total(displacement), lane_total(kinetic), lane_total(strain)], &
+                         minval(min_j), largest%value, furthest_particle(largest, mb), outside, mass_left, mass_right, &
+                         momentum_left, momentum_right, stress_volume, seg)
+   end subroutine blend_usl_segment
+
+   !> MUSL, first pass: G2P, and the new momentum back to the start-of-step nodes (the hat, the PIC/FLIP blend)
+   subroutine blend_musl_remap_segment(k, seg, x, x0, v, stress, volume_ratio, cell, acceleration, velocity, &
+                                       strain_increment_of, mass_left, mass_right, momentum_left, momentum_right, &
+                                       stress_volume, constants, carry, mass_of, modulus_of, forces, gradient, force_left, &
+                                       force_right)
+      integer, parameter :: kernel = pass_musl_remap
+      logical, parameter :: moves = pass_moves(kernel), stresses = pass_stresses(kernel), relocates = pass_relocates(kernel)
+      integer, parameter :: shares = pass_shares(kernel)
+      integer, intent(in) :: k
+      type(segments_t), intent(inout) :: seg
+      real(dp), intent(inout), contiguous :: x(:), v(:), stress(:), volume_ratio(:)
+      real(dp), intent(in), contiguous :: x0(:)
+      integer, intent(inout), contiguous :: cell(:)
+      real(dp), intent(in), contiguous :: acceleration(0:), velocity(0:)
+      real(dp), intent(in), contiguous :: strain_increment_of(:)  !< per element (grid%element_strain)
+      real(dp), intent(inout), contiguous :: mass_left(:), mass_right(:), momentum_left(:), momentum_right(:), stress_volume(:)
+      type(pass_constants_t), intent(in) :: constants
+      real(dp), intent(inout), contiguous :: carry(:)  !< particles in parts: what a pass keeps for the next (fused_box_t)
+      !> the variants' per-particle data (absent when the run has none): masses and Young's moduli
+      !> (`material`), external forces (`forced`), APIC's velocity gradients C_p, and the element shares of
+      !> the forces
+      real(dp), intent(in), contiguous, optional :: mass_of(:), modulus_of(:), forces(:)
+      real(dp), intent(inout), contiguous, optional :: gradient(:), force_left(:), force_right(:)
+      integer :: p, e, i, n, b0, first, last, lo, hi, outside, ahead, elements
+      real(dp) :: half_m, strain_factor, dstrain, inv_dx, dt, youngs_modulus, m, volume0
+      type(largest_move_t) :: largest
+      real(dp) :: displacement(lanes), kinetic(lanes), strain(lanes), min_j(lanes)
+      integer :: cb(block_size)
+      real(dp) :: svb(block_size), db(block_size), kb(block_size), sb(block_size), jb(block_size)
+      real(dp) :: mb(block_size, 2)  !< the moves of a block, and of the block with the largest (lanes_track_move)
+      integer :: slot
+      real(dp) :: lane_max(lanes), block_max
+      integer :: lane_i, lane_r
+      type(run_t) :: run
+      integer(i8) :: elements_bits
+      real(dp) :: xi, xib(block_size), vpb(block_size)
+      ! the variant's: G2P's grid velocity and move, the segment's body (cells offset), each particle's
+      ! shares (accumulate_shares)
+      real(dp) :: vgrid, dxp
+      real(dp) :: flip_fraction
+      flip_fraction = constants%flip_fraction
+      elements = constants%elements
+      inv_dx = constants%inv_dx
+      dt = constants%dt
+      youngs_modulus = constants%youngs_modulus
+      m = constants%mass
+      volume0 = constants%volume0
+      call open_segment(k, shares, seg, mass_left, mass_right, momentum_left, momentum_right, stress_volume, first, last, &
+                        lo, hi)
+      displacement = 0; kinetic = 0; strain = 0; min_j = huge(1.0_dp)
+      slot = 1
+      outside = 0
+      elements_bits = transfer(real(elements, dp), 0_i8)
+      half_m = 0.5_dp*m
+      strain_factor = 0.0_dp
+      if (stresses) strain_factor = 0.5_dp*volume0/youngs_modulus
+      do b0 = first, last, block_size
+         n = min(block_size, last - b0 + 1)
+         if (seg%prefetch) then  ! the arrays the pass reads, and the grid values of the next blocks
+            ahead = b0 + prefetch_ahead
+            if (kernel == pass_usl) call prefetch_block(ahead, cell, x, x0, v, stress, volume_ratio)
+            if (kernel == pass_usf_move .or. kernel == pass_musl_remap) call prefetch_block(ahead, cell, x, x0, v)
+            if (kernel == pass_usf_stress) call prefetch_block(ahead, cell, stress, volume_ratio)
+            if (kernel == pass_musl_stress) call prefetch_block(ahead, cell, x, v, stress, volume_ratio)
+            if (moves) then
+               call prefetch_nodes(cell(b0), cell(b0 + n - 1), acceleration, velocity)
+            else
+               call prefetch_elements(cell(b0), cell(b0 + n - 1), strain_increment_of)
+            end if
+         end if
+         do i = 1, n
+            p = b0 + i - 1
+            e = cell(p)
+            ! G2P with the start-of-step shape functions (the PIC/FLIP blend)
+            if (moves) then
+               xi = x(p)*inv_dx - (e - 1)
+               vgrid = (1.0_dp - xi)*velocity(e - 1) + xi*velocity(e)
+               v(p) = flip_fraction*(v(p) + dt*((1.0_dp - xi)*acceleration(e - 1) + xi*acceleration(e))) + &
+                      (1.0_dp - flip_fraction)*vgrid
+               dxp = dt*vgrid
+               x(p) = x(p) + dxp
+               db(i) = x(p) - x0(p)
+               kb(i) = half_m*v(p)*v(p)
+               mb(i, slot) = abs(dxp)*inv_dx
+            end if
+            if (stresses) then ! d eps = dt sum dN v_I over the start-of-step cell
+               if (moves) then
+                  dstrain = strain_increment(velocity(e - 1), velocity(e), dt, inv_dx)
+               else
+                  dstrain = strain_increment_of(e)
+               end if
+               call stress_particle(dstrain, youngs_modulus, strain_factor, volume0, stress(p), volume_ratio(p), sb(i), &
+                                    svb(i))
+               jb(i) = volume_ratio(p)
+            else if (iand(shares, share_stress) /= 0) then ! (an initial mapping: the stress as it is)
+               svb(i) = stress(p)*volume_ratio(p)*volume0
+            end if
+            if (relocates) then ! the new cell, for P2G at the new position
+               call locate_cell(x(p), inv_dx, elements, elements_bits, cb(i), xib(i))
+               cell(p) = cb(i)
+            else                ! the shares go to the start-of-step cell
+               cb(i) = e
+               if (moves) xib(i) = xi
+            end if
+            if (moves .or. relocates) vpb(i) = v(p)
+         end do
+         ! the block's totals (macros of mpm_lanes.fypi, expanded here)
+         if (moves) then
+            do lane_i = 1, n - lanes + 1, lanes
+               displacement = displacement + db(lane_i:lane_i + lanes - 1)
+            end do
+            lane_r = mod(n, lanes)
+            if (lane_r > 0) displacement(1:lane_r) = displacement(1:lane_r) + db(n - lane_r + 1:n)
+            do lane_i = 1, n - lanes + 1, lanes
+               kinetic = kinetic + kb(lane_i:lane_i + lanes - 1)
+            end do
+            lane_r = mod(n, lanes)
+            if (lane_r > 0) kinetic(1:lane_r) = kinetic(1:lane_r) + kb(n - lane_r + 1:n)
+            lane_max = 0.0_dp
+            do lane_i = 1, n - lanes + 1, lanes
+               lane_max = max(lane_max, mb(lane_i:lane_i + lanes - 1, slot))
+            end do
+            lane_r = mod(n, lanes)
+            if (lane_r > 0) lane_max(1:lane_r) = max(lane_max(1:lane_r), mb(n - lane_r + 1:n, slot))
+            block_max = maxval(lane_max)
+            if (block_max > largest%value) then
+               largest%value = block_max
+               largest%first = b0
+               largest%count = n
+               largest%slot = slot
+               slot = 3 - slot
+            end if
+         end if
+         if (stresses) then
+            do lane_i = 1, n - lanes + 1, lanes
+               strain = strain + sb(lane_i:lane_i + lanes - 1)
+            end do
+            lane_r = mod(n, lanes)
+            if (lane_r > 0) strain(1:lane_r) = strain(1:lane_r) + sb(n - lane_r + 1:n)
+            do lane_i = 1, n - lanes + 1, lanes
+               min_j = min(min_j, jb(lane_i:lane_i + lanes - 1))
+            end do
+            lane_r = mod(n, lanes)
+            if (lane_r > 0) min_j(1:lane_r) = min(min_j(1:lane_r), jb(n - lane_r + 1:n))
+         end if
+         if (relocates) call find_outside(n, b0, cb, outside)
+         call accumulate_block(k, n, cb, xib, vpb, svb, m, lo, hi, shares, run, mass_left, mass_right, momentum_left, &
+                               momentum_right, stress_volume, seg)
+      end do
+      call close_segment(k, shares, m, run, [lane_total(displacement), lane_total(kinetic), lane_total(strain)], &
+                         minval(min_j), largest%value, furthest_particle(largest, mb), outside, mass_left, mass_right, &
+                         momentum_left, momentum_right, stress_volume, seg)
+   end subroutine blend_musl_remap_segment
+
+   !> MUSL, second pass: stress update from the remapped velocities, P2G at the new position (the hat, the PIC/FLIP blend)
+   subroutine blend_musl_stress_segment(k, seg, x, x0, v, stress, volume_ratio, cell, acceleration, velocity, &
+                                        strain_increment_of, mass_left, mass_right, momentum_left, momentum_right, &
+                                        stress_volume, constants, carry, mass_of, modulus_of, forces, gradient, force_left, &
+                                        force_right)
+      integer, parameter :: kernel = pass_musl_stress
+      logical, parameter :: moves = pass_moves(kernel), stresses = pass_stresses(kernel), relocates = pass_relocates(kernel)
+      integer, parameter :: shares = pass_shares(kernel)
+      integer, intent(in) :: k
+      type(segments_t), intent(inout) :: seg
+      real(dp), intent(inout), contiguous :: x(:), v(:), stress(:), volume_ratio(:)
+      real(dp), intent(in), contiguous :: x0(:)
+      integer, intent(inout), contiguous :: cell(:)
+      real(dp), intent(in), contiguous :: acceleration(0:), velocity(0:)
+      real(dp), intent(in), contiguous :: strain_increment_of(:)  !< per element (grid%element_strain)
+      real(dp), intent(inout), contiguous :: mass_left(:), mass_right(:), momentum_left(:), momentum_right(:), stress_volume(:)
+      type(pass_constants_t), intent(in) :: constants
+      real(dp), intent(inout), contiguous :: carry(:)  !< particles in parts: what a pass keeps for the next (fused_box_t)
+      !> the variants' per-particle data (absent when the run has none): masses and Young's moduli
+      !> (`material`), external forces (`forced`), APIC's velocity gradients C_p, and the element shares of
+      !> the forces
+      real(dp), intent(in), contiguous, optional :: mass_of(:), modulus_of(:), forces(:)
+      real(dp), intent(inout), contiguous, optional :: gradient(:), force_left(:), force_right(:)
+      integer :: p, e, i, n, b0, first, last, lo, hi, outside, ahead, elements
+      real(dp) :: half_m, strain_factor, dstrain, inv_dx, dt, youngs_modulus, m, volume0
+      type(largest_move_t) :: largest
+      real(dp) :: displacement(lanes), kinetic(lanes), strain(lanes), min_j(lanes)
+      integer :: cb(block_size)
+      real(dp) :: svb(block_size), db(block_size), kb(block_size), sb(block_size), jb(block_size)
+      real(dp) :: mb(block_size, 2)  !< the moves of a block, and of the block with the largest (lanes_track_move)
+      integer :: slot
+      real(dp) :: lane_max(lanes), block_max
+      integer :: lane_i, lane_r
+      type(run_t) :: run
+      integer(i8) :: elements_bits
+      real(dp) :: xi, xib(block_size), vpb(block_size)
+      ! the variant's: G2P's grid velocity and move, the segment's body (cells offset), each particle's
+      ! shares (accumulate_shares)
+      real(dp) :: vgrid, dxp
+      real(dp) :: flip_fraction
+      flip_fraction = constants%flip_fraction
+      elements = constants%elements
+      inv_dx = constants%inv_dx
+      dt = constants%dt
+      youngs_modulus = constants%youngs_modulus
+      m = constants%mass
+      volume0 = constants%volume0
+      call open_segment(k, shares, seg, mass_left, mass_right, momentum_left, momentum_right, stress_volume, first, last, &
+                        lo, hi)
+      displacement = 0; kinetic = 0; strain = 0; min_j = huge(1.0_dp)
+      slot = 1
+      outside = 0
+      elements_bits = transfer(real(elements, dp), 0_i8)
+      half_m = 0.5_dp*m
+      strain_factor = 0.0_dp
+      if (stresses) strain_factor = 0.5_dp*volume0/youngs_modulus
+      do b0 = first, last, block_size
+         n = min(block_size, last - b0 + 1)
+         if (seg%prefetch) then  ! the arrays the pass reads, and the grid values of the next blocks
+            ahead = b0 + prefetch_ahead
+            if (kernel == pass_usl) call prefetch_block(ahead, cell, x, x0, v, stress, volume_ratio)
+            if (kernel == pass_usf_move .or. kernel == pass_musl_remap) call prefetch_block(ahead, cell, x, x0, v)
+            if (kernel == pass_usf_stress) call prefetch_block(ahead, cell, stress, volume_ratio)
+            if (kernel == pass_musl_stress) call prefetch_block(ahead, cell, x, v, stress, volume_ratio)
+            if (moves) then
+               call prefetch_nodes(cell(b0), cell(b0 + n - 1), acceleration, velocity)
+            else
+               call prefetch_elements(cell(b0), cell(b0 + n - 1), strain_increment_of)
+            end if
+         end if
+         do i = 1, n
+            p = b0 + i - 1
+            e = cell(p)
+            ! G2P with the start-of-step shape functions (the PIC/FLIP blend)
+            if (moves) then
+               xi = x(p)*inv_dx - (e - 1)
+               vgrid = (1.0_dp - xi)*velocity(e - 1) + xi*velocity(e)
+               v(p) = flip_fraction*(v(p) + dt*((1.0_dp - xi)*acceleration(e - 1) + xi*acceleration(e))) + &
+                      (1.0_dp - flip_fraction)*vgrid
+               dxp = dt*vgrid
+               x(p) = x(p) + dxp
+               db(i) = x(p) - x0(p)
+               kb(i) = half_m*v(p)*v(p)
+               mb(i, slot) = abs(dxp)*inv_dx
+            end if
+            if (stresses) then ! d eps = dt sum dN v_I over the start-of-step cell
+               if (moves) then
+                  dstrain = strain_increment(velocity(e - 1), velocity(e), dt, inv_dx)
+               else
+                  dstrain = strain_increment_of(e)
+               end if
+               call stress_particle(dstrain, youngs_modulus, strain_factor, volume0, stress(p), volume_ratio(p), sb(i), &
+                                    svb(i))
+               jb(i) = volume_ratio(p)
+            else if (iand(shares, share_stress) /= 0) then ! (an initial mapping: the stress as it is)
+               svb(i) = stress(p)*volume_ratio(p)*volume0
+            end if
+            if (relocates) then ! the new cell, for P2G at the new position
+               call locate_cell(x(p), inv_dx, elements, elements_bits, cb(i), xib(i))
+               cell(p) = cb(i)
+            else                ! the shares go to the start-of-step cell
+               cb(i) = e
+               if (moves) xib(i) = xi
+            end if
+            if (moves .or. relocates) vpb(i) = v(p)
+         end do
+         ! the block's totals (macros of mpm_lanes.fypi, expanded here)
+         if (moves) then
+            do lane_i = 1, n - lanes + 1, lanes
+               displacement = displacement + db(lane_i:lane_i + lanes - 1)
+            end do
+            lane_r = mod(n, lanes)
+            if (lane_r > 0) displacement(1:lane_r) = displacement(1:lane_r) + db(n - lane_r + 1:n)
+            do lane_i = 1, n - lanes + 1, lanes
+               kinetic = kinetic + kb(lane_i:lane_i + lanes - 1)
+            end do
+            lane_r = mod(n, lanes)
+            if (lane_r > 0) kinetic(1:lane_r) = kinetic(1:lane_r) + kb(n - lane_r + 1:n)
+            lane_max = 0.0_dp
+            do lane_i = 1, n - lanes + 1, lanes
+               lane_max = max(lane_max, mb(lane_i:lane_i + lanes - 1, slot))
+            end do
+            lane_r = mod(n, lanes)
+            if (lane_r > 0) lane_max(1:lane_r) = max(lane_max(1:lane_r), mb(n - lane_r + 1:n, slot))
+            block_max = maxval(lane_max)
+            if (block_max > largest%value) then
+               largest%value = block_max
+               largest%first = b0
+               largest%count = n
+               largest%slot = slot
+               slot = 3 - slot
+            end if
+         end if
+         if (stresses) then
+            do lane_i = 1, n - lanes + 1, lanes
+               strain = strain + sb(lane_i:lane_i + lanes - 1)
+            end do
+            lane_r = mod(n, lanes)
+            if (lane_r > 0) strain(1:lane_r) = strain(1:lane_r) + sb(n - lane_r + 1:n)
+            do lane_i = 1, n - lanes + 1, lanes
+               min_j = min(min_j, jb(lane_i:lane_i + lanes - 1))
+            end do
+            lane_r = mod(n, lanes)
+            if (lane_r > 0) min_j(1:lane_r) = min(min_j(1:lane_r), jb(n - lane_r + 1:n))
+         end if
+         if (relocates) call find_outside(n, b0, cb, outside)
+         call accumulate_block(k, n, cb, xib, vpb, svb, m, lo, hi, shares, run, mass_left, mass_right, momentum_left, &
+                               momentum_right, stress_volume, seg)
+      end do
+      call close_segment(k, shares, m, run, [lane_total(displacement), lane_total(kinetic), lane_total(strain)], &
+                         minval(min_j), largest%value, furthest_particle(largest, mb), outside, mass_left, mass_right, &
+                         momentum_left, momentum_right, stress_volume, seg)
+   end subroutine blend_musl_stress_segment
+
+   !> initial mapping: mass and momentum (the hat, the PIC/FLIP blend)
+   subroutine blend_map_segment(k, seg, x, x0, v, stress, volume_ratio, cell, acceleration, velocity, &
+                                strain_increment_of, mass_left, mass_right, momentum_left, momentum_right, &
+                                stress_volume, constants, carry, mass_of, modulus_of, forces, gradient, force_left, &
+                                force_right)
+      integer, parameter :: kernel = pass_map
+      logical, parameter :: moves = pass_moves(kernel), stresses = pass_stresses(kernel), relocates = pass_relocates(kernel)
+      integer, parameter :: shares = pass_shares(kernel)
+      integer, intent(in) :: k
+      type(segments_t), intent(inout) :: seg
+      real(dp), intent(inout), contiguous :: x(:), v(:), stress(:), volume_ratio(:)
+      real(dp), intent(in), contiguous :: x0(:)
+      integer, intent(inout), contiguous :: cell(:)
+      real(dp), intent(in), contiguous :: acceleration(0:), velocity(0:)
+      real(dp), intent(in), contiguous :: strain_increment_of(:)  !< per element (grid%element_strain)
+      real(dp), intent(inout), contiguous :: mass_left(:), mass_right(:), momentum_left(:), momentum_right(:), stress_volume(:)
+      type(pass_constants_t), intent(in) :: constants
+      real(dp), intent(inout), contiguous :: carry(:)  !< particles in parts: what a pass keeps for the next (fused_box_t)
+      !> the variants' per-particle data (absent when the run has none): masses and Young's moduli
+      !> (`material`), external forces (`forced`), APIC's velocity gradients C_p, and the element shares of
+      !> the forces
+      real(dp), intent(in), contiguous, optional :: mass_of(:), modulus_of(:), forces(:)
+      real(dp), intent(inout), contiguous, optional :: gradient(:), force_left(:), force_right(:)
+      integer :: p, e, i, n, b0, first, last, lo, hi, outside, ahead, elements
+      real(dp) :: half_m, strain_factor, dstrain, inv_dx, dt, youngs_modulus, m, volume0
+      type(largest_move_t) :: largest
+      real(dp) :: displacement(lanes), kinetic(lanes), strain(lanes), min_j(lanes)
+      integer :: cb(block_size)
+      real(dp) :: svb(block_size), db(block_size), kb(block_size), sb(block_size), jb(block_size)
+      real(dp) :: mb(block_size, 2)  !< the moves of a block, and of the block with the largest (lanes_track_move)
+      integer :: slot
+      real(dp) :: lane_max(lanes), block_max
+      integer :: lane_i, lane_r
+      type(run_t) :: run
+      integer(i8) :: elements_bits
+      real(dp) :: xi, xib(block_size), vpb(block_size)
+      ! the variant's: G2P's grid velocity and move, the segment's body (cells offset), each particle's
+      ! shares (accumulate_shares)
+      real(dp) :: vgrid, dxp
+      real(dp) :: flip_fraction
+      flip_fraction = constants%flip_fraction
+      elements = constants%elements
+      inv_dx = constants%inv_dx
+      dt = constants%dt
+      youngs_modulus = constants%youngs_modulus
+      m = constants%mass
+      volume0 = constants%volume0
+      call open_segment(k, shares, seg, mass_left, mass_right, momentum_left, momentum_right, stress_volume, first, last, &
+                        lo, hi)
+      displacement = 0; kinetic = 0; strain = 0; min_j = huge(1.0_dp)
+      slot = 1
+      outside = 0
+      elements_bits = transfer(real(elements, dp), 0_i8)
+      half_m = 0.5_dp*m
+      strain_factor = 0.0_dp
+      if (stresses) strain_factor = 0.5_dp*volume0/youngs_modulus
+      do b0 = first, last, block_size
+         n = min(block_size, last - b0 + 1)
+         if (seg%prefetch) then  ! the arrays the pass reads, and the grid values of the next blocks
+            ahead = b0 + prefetch_ahead
+            if (kernel == pass_usl) call prefetch_block(ahead, cell, x, x0, v, stress, volume_ratio)
+            if (kernel == pass_usf_move .or. kernel == pass_musl_remap) call prefetch_block(ahead, cell, x, x0, v)
+            if (kernel == pass_usf_stress) call prefetch_block(ahead, cell, stress, volume_ratio)
+            if (kernel == pass_musl_stress) call prefetch_block(ahead, cell, x, v, stress, volume_ratio)
+            if (moves) then
+               call prefetch_nodes(cell(b0), cell(b0 + n - 1), acceleration, velocity)
+            else
+               call prefetch_elements(cell(b0), cell(b0 + n - 1), strain_increment_of)
+            end if
+         end if
+         do i = 1, n
+            p = b0 + i - 1
+            e = cell(p)
+            ! G2P with the start-of-step shape functions (the PIC/FLIP blend)
+            if (moves) then
+               xi = x(p)*inv_dx - (e - 1)
+               vgrid = (1.0_dp - xi)*velocity(e - 1) + xi*velocity(e)
+               v(p) = flip_fraction*(v(p) + dt*((1.0_dp - xi)*acceleration(e - 1) + xi*acceleration(e))) + &
+                      (1.0_dp - flip_fraction)*vgrid
+               dxp = dt*vgrid
+               x(p) = x(p) + dxp
+               db(i) = x(p) - x0(p)
+               kb(i) = half_m*v(p)*v(p)
+               mb(i, slot) = abs(dxp)*inv_dx
+            end if
+            if (stresses) then ! d eps = dt sum dN v_I over the start-of-step cell
+               if (moves) then
+                  dstrain = strain_increment(velocity(e - 1), velocity(e), dt, inv_dx)
+               else
+                  dstrain = strain_increment_of(e)
+               end if
+               call stress_particle(dstrain, youngs_modulus, strain_factor, volume0, stress(p), volume_ratio(p), sb(i), &
+                                    svb(i))
+               jb(i) = volume_ratio(p)
+            else if (iand(shares, share_stress) /= 0) then ! (an initial mapping: the stress as it is)
+               svb(i) = stress(p)*volume_ratio(p)*volume0
+            end if
+            if (relocates) then ! the new cell, for P2G at the new position
+               call locate_cell(x(p), inv_dx, elements, elements_bits, cb(i), xib(i))
+               cell(p) = cb(i)
+            else                ! the shares go to the start-of-step cell
+               cb(i) = e
+               if (moves) xib(i) = xi
+            end if
+            if (moves .or. relocates) vpb(i) = v(p)
+         end do
+         ! the block's totals (macros of mpm_lanes.fypi, expanded here)
+         if (moves) then
+            do lane_i = 1, n - lanes + 1, lanes
+               displacement = displacement + db(lane_i:lane_i + lanes - 1)
+            end do
+            lane_r = mod(n, lanes)
+            if (lane_r > 0) displacement(1:lane_r) = displacement(1:lane_r) + db(n - lane_r + 1:n)
+            do lane_i = 1, n - lanes + 1, lanes
+               kinetic = kinetic + kb(lane_i:lane_i + lanes - 1)
+            end do
+            lane_r = mod(n, lanes)
+            if (lane_r > 0) kinetic(1:lane_r) = kinetic(1:lane_r) + kb(n - lane_r + 1:n)
+            lane_max = 0.0_dp
+            do lane_i = 1, n - lanes + 1, lanes
+               lane_max = max(lane_max, mb(lane_i:lane_i + lanes - 1, slot))
+            end do
+            lane_r = mod(n, lanes)
+            if (lane_r > 0) lane_max(1:lane_r) = max(lane_max(1:lane_r), mb(n - lane_r + 1:n, slot))
+            block_max = maxval(lane_max)
+            if (block_max > largest%value) then
+               largest%value = block_max
+               largest%first = b0
+               largest%count = n
+               largest%slot = slot
+               slot = 3 - slot
+            end if
+         end if
+         if (stresses) then
+            do lane_i = 1, n - lanes + 1, lanes
+               strain = strain + sb(lane_i:lane_i + lanes - 1)
+            end do
+            lane_r = mod(n, lanes)
+            if (lane_r > 0) strain(1:lane_r) = strain(1:lane_r) + sb(n - lane_r + 1:n)
+            do lane_i = 1, n - lanes + 1, lanes
+               min_j = min(min_j, jb(lane_i:lane_i + lanes - 1))
+            end do
+            lane_r = mod(n, lanes)
+            if (lane_r > 0) min_j(1:lane_r) = min(min_j(1:lane_r), jb(n - lane_r + 1:n))
+         end if
+         if (relocates) call find_outside(n, b0, cb, outside)
+         call accumulate_block(k, n, cb, xib, vpb, svb, m, lo, hi, shares, run, mass_left, mass_right, momentum_left, &
+                               momentum_right, stress_volume, seg)
+      end do
+      call close_segment(k, shares, m, run, [lane_total(displacement), lane_total(kinetic), lane_total(strain)], &
+                         minval(min_j), largest%value, furthest_particle(largest, mb), outside, mass_left, mass_right, &
+                         momentum_left, momentum_right, stress_volume, seg)
+   end subroutine blend_map_segment
+
+   !> initial mapping: mass, momentum and stress*volume (and forces) (the hat, the PIC/FLIP blend)
+   subroutine blend_map_stress_segment(k, seg, x, x0, v, stress, volume_ratio, cell, acceleration, velocity, &
+                                       strain_increment_of, mass_left, mass_right, momentum_left, momentum_right, &
+                                       stress_volume, constants, carry, mass_of, modulus_of, forces, gradient, force_left, &
+                                       force_right)
+      integer, parameter :: kernel = pass_map_stress
+      logical, parameter :: moves = pass_moves(kernel), stresses = pass_stresses(kernel), relocates = pass_relocates(kernel)
+      integer, parameter :: shares = pass_shares(kernel)
+      integer, intent(in) :: k
+      type(segments_t), intent(inout) :: seg
+      real(dp), intent(inout), contiguous :: x(:), v(:), stress(:), volume_ratio(:)
+      real(dp), intent(in), contiguous :: x0(:)
+      integer, intent(inout), contiguous :: cell(:)
+      real(dp), intent(in), contiguous :: acceleration(0:), velocity(0:)
+      real(dp), intent(in), contiguous :: strain_increment_of(:)  !< per element (grid%element_strain)
+      real(dp), intent(inout), contiguous :: mass_left(:), mass_right(:), momentum_left(:), momentum_right(:), stress_volume(:)
+      type(pass_constants_t), intent(in) :: constants
+      real(dp), intent(inout), contiguous :: carry(:)  !< particles in parts: what a pass keeps for the next (fused_box_t)
+      !> the variants' per-particle data (absent when the run has none): masses and Young's moduli
+      !> (`material`), external forces (`forced`), APIC's velocity gradients C_p, and the element shares of
+      !> the forces
+      real(dp), intent(in), contiguous, optional :: mass_of(:), modulus_of(:), forces(:)
+      real(dp), intent(inout), contiguous, optional :: gradient(:), force_left(:), force_right(:)
+      integer :: p, e, i, n, b0, first, last, lo, hi, outside, ahead, elements
+      real(dp) :: half_m, strain_factor, dstrain, inv_dx, dt, youngs_modulus, m, volume0
+      type(largest_move_t) :: largest
+      real(dp) :: displacement(lanes), kinetic(lanes), strain(lanes), min_j(lanes)
+      integer :: cb(block_size)
+      real(dp) :: svb(block_size), db(block_size), kb(block_size), sb(block_size), jb(block_size)
+      real(dp) :: mb(block_size, 2)  !< the moves of a block, and of the block with the largest (lanes_track_move)
+      integer :: slot
+      real(dp) :: lane_max(lanes), block_max
+      integer :: lane_i, lane_r
+      type(run_t) :: run
+      integer(i8) :: elements_bits
+      real(dp) :: xi, xib(block_size), vpb(block_size)
+      ! the variant's: G2P's grid velocity and move, the segment's body (cells offset), each particle's
+      ! shares (accumulate_shares)
+      real(dp) :: vgrid, dxp
+      real(dp) :: flip_fraction
+      flip_fraction = constants%flip_fraction
+      elements = constants%elements
+      inv_dx = constants%inv_dx
+      dt = constants%dt
+      youngs_modulus = constants%youngs_modulus
+      m = constants%mass
+      volume0 = constants%volume0
+      call open_segment(k, shares, seg, mass_left, mass_right, momentum_left, momentum_right, stress_volume, first, last, &
+                        lo, hi)
+      displacement = 0; kinetic = 0; strain = 0; min_j = huge(1.0_dp)
+      slot = 1
+      outside = 0
+      elements_bits = transfer(real(elements, dp), 0_i8)
+      half_m = 0.5_dp*m
+      strain_factor = 0.0_dp
+      if (stresses) strain_factor = 0.5_dp*volume0/youngs_modulus
+      do b0 = first, last, block_size
+         n = min(block_size, last - b0 + 1)
+         if (seg%prefetch) then  ! the arrays the pass reads, and the grid values of the next blocks
+            ahead = b0 + prefetch_ahead
+            if (kernel == pass_usl) call prefetch_block(ahead, cell, x, x0, v, stress, volume_ratio)
+            if (kernel == pass_usf_move .or. kernel == pass_musl_remap) call prefetch_block(ahead, cell, x, x0, v)
+            if (kernel == pass_usf_stress) call prefetch_block(ahead, cell, stress, volume_ratio)
+            if (kernel == pass_musl_stress) call prefetch_block(ahead, cell, x, v, stress, volume_ratio)
+            if (moves) then
+               call prefetch_nodes(cell(b0), cell(b0 + n - 1), acceleration, velocity)
+            else
+               call prefetch_elements(cell(b0), cell(b0 + n - 1), strain_increment_of)
+            end if
+         end if
+         do i = 1, n
+            p = b0 + i - 1
+            e = cell(p)
+            ! G2P with the start-of-step shape functions (the PIC/FLIP blend)
+            if (moves) then
+               xi = x(p)*inv_dx - (e - 1)
+               vgrid = (1.0_dp - xi)*velocity(e - 1) + xi*velocity(e)
+               v(p) = flip_fraction*(v(p) + dt*((1.0_dp - xi)*acceleration(e - 1) + xi*acceleration(e))) + &
+                      (1.0_dp - flip_fraction)*vgrid
+               dxp = dt*vgrid
+               x(p) = x(p) + dxp
+               db(i) = x(p) - x0(p)
+               kb(i) = half_m*v(p)*v(p)
+               mb(i, slot) = abs(dxp)*inv_dx
+            end if
+            if (stresses) then ! d eps = dt sum dN v_I over the start-of-step cell
+               if (moves) then
+                  dstrain = strain_increment(velocity(e - 1), velocity(e), dt, inv_dx)
+               else
+                  dstrain = strain_increment_of(e)
+               end if
+               call stress_particle(dstrain, youngs_modulus, strain_factor, volume0, stress(p), volume_ratio(p), sb(i), &
+                                    svb(i))
+               jb(i) = volume_ratio(p)
+            else if (iand(shares, share_stress) /= 0) then ! (an initial mapping: the stress as it is)
+               svb(i) = stress(p)*volume_ratio(p)*volume0
+            end if
+            if (relocates) then ! the new cell, for P2G at the new position
+               call locate_cell(x(p), inv_dx, elements, elements_bits, cb(i), xib(i))
+               cell(p) = cb(i)
+            else                ! the shares go to the start-of-step cell
+               cb(i) = e
+               if (moves) xib(i) = xi
+            end if
+            if (moves .or. relocates) vpb(i) = v(p)
+         end do
+         ! the block's totals (macros of mpm_lanes.fypi, expanded here)
+         if (moves) then
+            do lane_i = 1, n - lanes + 1, lanes
+               displacement = displacement + db(lane_i:lane_i + lanes - 1)
+            end do
+            lane_r = mod(n, lanes)
+            if (lane_r > 0) displacement(1:lane_r) = displacement(1:lane_r) + db(n - lane_r + 1:n)
+            do lane_i = 1, n - lanes + 1, lanes
+               kinetic = kinetic + kb(lane_i:lane_i + lanes - 1)
+            end do
+            lane_r = mod(n, lanes)
+            if (lane_r > 0) kinetic(1:lane_r) = kinetic(1:lane_r) + kb(n - lane_r + 1:n)
+            lane_max = 0.0_dp
+            do lane_i = 1, n - lanes + 1, lanes
+               lane_max = max(lane_max, mb(lane_i:lane_i + lanes - 1, slot))
+            end do
+            lane_r = mod(n, lanes)
+            if (lane_r > 0) lane_max(1:lane_r) = max(lane_max(1:lane_r), mb(n - lane_r + 1:n, slot))
+            block_max = maxval(lane_max)
+            if (block_max > largest%value) then
+               largest%value = block_max
+               largest%first = b0
+               largest%count = n
+               largest%slot = slot
+               slot = 3 - slot
+            end if
+         end if
+         if (stresses) then
+            do lane_i = 1, n - lanes + 1, lanes
+               strain = strain + sb(lane_i:lane_i + lanes - 1)
+            end do
+            lane_r = mod(n, lanes)
+            if (lane_r > 0) strain(1:lane_r) = strain(1:lane_r) + sb(n - lane_r + 1:n)
+            do lane_i = 1, n - lanes + 1, lanes
+               min_j = min(min_j, jb(lane_i:lane_i + lanes - 1))
+            end do
+            lane_r = mod(n, lanes)
+            if (lane_r > 0) min_j(1:lane_r) = min(min_j(1:lane_r), jb(n - lane_r + 1:n))
+         end if
+         if (relocates) call find_outside(n, b0, cb, outside)
+         call accumulate_block(k, n, cb, xib, vpb, svb, m, lo, hi, shares, run, mass_left, mass_right, momentum_left, &
+                               momentum_right, stress_volume, seg)
+      end do
+      call close_segment(k, shares, m, run, [lane_total(displacement), lane_total(kinetic), lane_total(strain)], &
+                         minval(min_j), largest%value, furthest_particle(largest, mb), outside, mass_left, mass_right, &
+                         momentum_left, momentum_right, stress_volume, seg)
+   end subroutine blend_map_stress_segment
+
+   !> USF, second half: G2P, then mass and momentum at the new position (the hat, APIC)
+   subroutine apic_usf_move_segment(k, seg, x, x0, v, stress, volume_ratio, cell, acceleration, velocity, &
+                                    strain_increment_of, mass_left, mass_right, momentum_left, momentum_right, &
+                                    stress_volume, constants, carry, mass_of, modulus_of, forces, gradient, force_left, &
+                                    force_right)
+      integer, parameter :: kernel = pass_usf_move
+      logical, parameter :: moves = pass_moves(kernel), stresses = pass_stresses(kernel), relocates = pass_relocates(kernel)
+      integer, parameter :: shares = pass_shares(kernel)
+      integer, intent(in) :: k
+      type(segments_t), intent(inout) :: seg
+      real(dp), intent(inout), contiguous :: x(:), v(:), stress(:), volume_ratio(:)
+      real(dp), intent(in), contiguous :: x0(:)
+      integer, intent(inout), contiguous :: cell(:)
+      real(dp), intent(in), contiguous :: acceleration(0:), velocity(0:)
+      real(dp), intent(in), contiguous :: strain_increment_of(:)  !< per element (grid%element_strain)
+      real(dp), intent(inout), contiguous :: mass_left(:), mass_right(:), momentum_left(:), momentum_right(:), stress_volume(:)
+      type(pass_constants_t), intent(in) :: constants
+      real(dp), intent(inout), contiguous :: carry(:)  !< particles in parts: what a pass keeps for the next (fused_box_t)
+      !> the variants' per-particle data (absent when the run has none): masses and Young's moduli
+      !> (`material`), external forces (`forced`), APIC's velocity gradients C_p, and the element shares of
+      !> the forces
+      real(dp), intent(in), contiguous, optional :: mass_of(:), modulus_of(:), forces(:)
+      real(dp), intent(inout), contiguous, optional :: gradient(:), force_left(:), force_right(:)
+      integer :: p, e, i, n, b0, first, last, lo, hi, outside, ahead, elements
+      real(dp) :: half_m, strain_factor, dstrain, inv_dx, dt, youngs_modulus, m, volume0
+      type(largest_move_t) :: largest
+      real(dp) :: displacement(lanes), kinetic(lanes), strain(lanes), min_j(lanes)
+      integer :: cb(block_size)
+      real(dp) :: svb(block_size), db(block_size), kb(block_size), sb(block_size), jb(block_size)
+      real(dp) :: mb(block_size, 2)  !< the moves of a block, and of the block with the largest (lanes_track_move)
+      integer :: slot
+      real(dp) :: lane_max(lanes), block_max
+      integer :: lane_i, lane_r
+      type(run_t) :: run
+      integer(i8) :: elements_bits
+      real(dp) :: xi, xib(block_size), vpb(block_size)
+      ! the variant's: G2P's grid velocity and move, the segment's body (cells offset), each particle's
+      ! shares (accumulate_shares)
+      real(dp) :: vgrid, dxp
+      real(dp) :: dx, cp, cq, w
+      real(dp) :: mp, sh(block_size, share_count)
+      dx = constants%dx
+      elements = constants%elements
+      inv_dx = constants%inv_dx
+      dt = constants%dt
+      youngs_modulus = constants%youngs_modulus
+      m = constants%mass
+      volume0 = constants%volume0
+      call open_segment(k, shares, seg, mass_left, mass_right, momentum_left, momentum_right, stress_volume, first, last, &
+                        lo, hi)
+      displacement = 0; kinetic = 0; strain = 0; min_j = huge(1.0_dp)
+      slot = 1
+      outside = 0
+      elements_bits = transfer(real(elements, dp), 0_i8)
+      half_m = 0.5_dp*m
+      strain_factor = 0.0_dp
+      if (stresses) strain_factor = 0.5_dp*volume0/youngs_modulus
+      do b0 = first, last, block_size
+         n = min(block_size, last - b0 + 1)
+         if (seg%prefetch) then  ! the arrays the pass reads, and the grid values of the next blocks
+            ahead = b0 + prefetch_ahead
+            if (kernel == pass_usl) call prefetch_block(ahead, cell, x, x0, v, stress, volume_ratio)
+            if (kernel == pass_usf_move .or. kernel == pass_musl_remap) call prefetch_block(ahead, cell, x, x0, v)
+            if (kernel == pass_usf_stress) call prefetch_block(ahead, cell, stress, volume_ratio)
+            if (kernel == pass_musl_stress) call prefetch_block(ahead, cell, x, v, stress, volume_ratio)
+            if (moves) then
+               call prefetch_nodes(cell(b0), cell(b0 + n - 1), acceleration, velocity)
+            else
+               call prefetch_elements(cell(b0), cell(b0 + n - 1), strain_increment_of)
+            end if
+         end if
+         do i = 1, n
+            p = b0 + i - 1
+            e = cell(p)
+            ! G2P with the start-of-step shape functions (APIC)
+            if (moves) then
+               xi = x(p)*inv_dx - (e - 1)
+               vgrid = (1.0_dp - xi)*velocity(e - 1) + xi*velocity(e)
+               v(p) = vgrid
+               cp = (velocity(e) - velocity(e - 1))*inv_dx  ! C_p = sum_I v_I dN_Ip (the hat's gradients)
+               gradient(p) = cp
+               dxp = dt*vgrid
+               x(p) = x(p) + dxp
+               db(i) = x(p) - x0(p)
+               kb(i) = half_m*v(p)*v(p)
+               mb(i, slot) = abs(dxp)*inv_dx
+            end if
+            if (stresses) then ! d eps = dt sum dN v_I over the start-of-step cell
+               if (moves) then
+                  dstrain = strain_increment(velocity(e - 1), velocity(e), dt, inv_dx)
+               else
+                  dstrain = strain_increment_of(e)
+               end if
+               call stress_particle(dstrain, youngs_modulus, strain_factor, volume0, stress(p), volume_ratio(p), sb(i), &
+                                    svb(i))
+               jb(i) = volume_ratio(p)
+            else if (iand(shares, share_stress) /= 0) then ! (an initial mapping: the stress as it is)
+               svb(i) = stress(p)*volume_ratio(p)*volume0
+            end if
+            if (relocates) then ! the new cell, for P2G at the new position
+               call locate_cell(x(p), inv_dx, elements, elements_bits, cb(i), xib(i))
+               cell(p) = cb(i)
+            else                ! the shares go to the start-of-step cell
+               cb(i) = e
+               if (moves) xib(i) = xi
+            end if
+            ! the particle's whole element shares (accumulate_shares sums them): mass, momentum (APIC's
+            ! with its affine part), stress*volume, external force, at the left and right node
+            mp = m
+            if (iand(shares, share_mass + share_momentum) /= 0) then
+               sh(i, 2) = mp*xib(i)
+               sh(i, 1) = mp - sh(i, 2)
+            end if
+            if (iand(shares, share_momentum) /= 0) then
+               ! node I gets N_I m_p (v_p + C_p (x_I - x_p)), x_I - x_p = -xi dx (left), (1 - xi) dx (right)
+               ! ([Jiang 2015]; C_p of this pass's G2P, or kept by the pass that made it)
+               if (moves) then
+                  cq = cp
+               else
+                  cq = gradient(p)
+               end if
+               w = v(p) - cq*xib(i)*dx
+               sh(i, 3) = sh(i, 1)*w
+               sh(i, 4) = sh(i, 2)*(w + cq*dx)
+            end if
+            if (iand(shares, share_stress) /= 0) sh(i, 5) = svb(i)
+         end do
+         ! the block's totals (macros of mpm_lanes.fypi, expanded here)
+         if (moves) then
+            do lane_i = 1, n - lanes + 1, lanes
+               displacement = displacement + db(lane_i:lane_i + lanes - 1)
+            end do
+            lane_r = mod(n, lanes)
+            if (lane_r > 0) displacement(1:lane_r) = displacement(1:lane_r) + db(n - lane_r + 1:n)
+            do lane_i = 1, n - lanes + 1, lanes
+               kinetic = kinetic + kb(lane_i:lane_i + lanes - 1)
+            end do
+            lane_r = mod(n, lanes)
+            if (lane_r > 0) kinetic(1:lane_r) = kinetic(1:lane_r) + kb(n - lane_r + 1:n)
+            lane_max = 0.0_dp
+            do lane_i = 1, n - lanes + 1, lanes
+               lane_max = max(lane_max, mb(lane_i:lane_i + lanes - 1, slot))
+            end do
+            lane_r = mod(n, lanes)
+            if (lane_r > 0) lane_max(1:lane_r) = max(lane_max(1:lane_r), mb(n - lane_r + 1:n, slot))
+            block_max = maxval(lane_max)
+            if (block_max > largest%value) then
+               largest%value = block_max
+               largest%first = b0
+               largest%count = n
+               largest%slot = slot
+               slot = 3 - slot
+            end if
+         end if
+         if (stresses) then
+            do lane_i = 1, n - lanes + 1, lanes
+               strain = strain + sb(lane_i:lane_i + lanes - 1)
+            end do
+            lane_r = mod(n, lanes)
+            if (lane_r > 0) strain(1:lane_r) = strain(1:lane_r) + sb(n - lane_r + 1:n)
+            do lane_i = 1, n - lanes + 1, lanes
+               min_j = min(min_j, jb(lane_i:lane_i + lanes - 1))
+            end do
+            lane_r = mod(n, lanes)
+            if (lane_r > 0) min_j(1:lane_r) = min(min_j(1:lane_r), jb(n - lane_r + 1:n))
+         end if
+         if (relocates) call find_outside(n, b0, cb, outside)
+         call accumulate_shares(k, n, cb, sh, lo, hi, shares, run, mass_left, mass_right, momentum_left, momentum_right, &
+                                stress_volume, seg, force_left, force_right)
+      end do
+      ! the open run's whole shares
+      if (run%cur /= 0) call flush_sums(k, run%cur, lo, hi, shares, run%s, mass_left, mass_right, momentum_left, &
+                                        momentum_right, stress_volume, seg, force_left, force_right)
+      run%a = 0.0_dp  ! (close_segment flushes the bar's sums: none here)
+      call close_segment(k, shares, m, run, [lane_total(displacement), lane_total(kinetic), lane_total(strain)], &
+                         minval(min_j), largest%value, furthest_particle(largest, mb), outside, mass_left, mass_right, &
+                         momentum_left, momentum_right, stress_volume, seg)
+   end subroutine apic_usf_move_segment
+
+   !> USF, first half: stress update, then stress*volume of the unmoved particles (the hat, APIC)
+   subroutine apic_usf_stress_segment(k, seg, x, x0, v, stress, volume_ratio, cell, acceleration, velocity, &
+                                      strain_increment_of, mass_left, mass_right, momentum_left, momentum_right, &
+                                      stress_volume, constants, carry, mass_of, modulus_of, forces, gradient, force_left, &
+                                      force_right)
+      integer, parameter :: kernel = pass_usf_stress
+      logical, parameter :: moves = pass_moves(kernel), stresses = pass_stresses(kernel), relocates = pass_relocates(kernel)
+      integer, parameter :: shares = pass_shares(kernel)
+      integer, intent(in) :: k
+      type(segments_t), intent(inout) :: seg
+      real(dp), intent(inout), contiguous :: x(:), v(:), stress(:), volume_ratio(:)
+      real(dp), intent(in), contiguous :: x0(:)
+      integer, intent(inout), contiguous :: cell(:)
+      real(dp), intent(in), contiguous :: acceleration(0:), velocity(0:)
+      real(dp), intent(in), contiguous :: strain_increment_of(:)  !< per element (grid%element_strain)
+      real(dp), intent(inout), contiguous :: mass_left(:), mass_right(:), momentum_left(:), momentum_right(:), stress_volume(:)
+      type(pass_constants_t), intent(in) :: constants
+      real(dp), intent(inout), contiguous :: carry(:)  !< particles in parts: what a pass keeps for the next (fused_box_t)
+      !> the variants' per-particle data (absent when the run has none): masses and Young's moduli
+      !> (`material`), external forces (`forced`), APIC's velocity gradients C_p, and the element shares of
+      !> the forces
+      real(dp), intent(in), contiguous, optional :: mass_of(:), modulus_of(:), forces(:)
+      real(dp), intent(inout), contiguous, optional :: gradient(:), force_left(:), force_right(:)
+      integer :: p, e, i, n, b0, first, last, lo, hi, outside, ahead, elements
+      real(dp) :: half_m, strain_factor, dstrain, inv_dx, dt, youngs_modulus, m, volume0
+      type(largest_move_t) :: largest
+      real(dp) :: displacement(lanes), kinetic(lanes), strain(lanes), min_j(lanes)
+      integer :: cb(block_size)
+      real(dp) :: svb(block_size), db(block_size), kb(block_size), sb(block_size), jb(block_size)
+      real(dp) :: mb(block_size, 2)  !< the moves of a block, and of the block with the largest (lanes_track_move)
+      integer :: slot
+      real(dp) :: lane_max(lanes), block_max
+      integer :: lane_i, lane_r
+      type(run_t) :: run
+      integer(i8) :: elements_bits
+      real(dp) :: xi, xib(block_size), vpb(block_size)
+      ! the variant's: G2P's grid velocity and move, the segment's body (cells offset), each particle's
+      ! shares (accumulate_shares)
+      real(dp) :: vgrid, dxp
+      real(dp) :: dx, cp, cq, w
+      real(dp) :: mp, sh(block_size, share_count)
+      dx = constants%dx
+      elements = constants%elements
+      inv_dx = constants%inv_dx
+      dt = constants%dt
+      youngs_modulus = constants%youngs_modulus
+      m = constants%mass
+      volume0 = constants%volume0
+      call open_segment(k, shares, seg, mass_left, mass_right, momentum_left, momentum_right, stress_volume, first, last, &
+                        lo, hi)
+      displacement = 0; kinetic = 0; strain = 0; min_j = huge(1.0_dp)
+      slot = 1
+      outside = 0
+      elements_bits = transfer(real(elements, dp), 0_i8)
+      half_m = 0.5_dp*m
+      strain_factor = 0.0_dp
+      if (stresses) strain_factor = 0.5_dp*volume0/youngs_modulus
+      do b0 = first, last, block_size
+         n = min(block_size, last - b0 + 1)
+         if (seg%prefetch) then  ! the arrays the pass reads, and the grid values of the next blocks
+            ahead = b0 + prefetch_ahead
+            if (kernel == pass_usl) call prefetch_block(ahead, cell, x, x0, v, stress, volume_ratio)
+            if (kernel == pass_usf_move .or. kernel == pass_musl_remap) call prefetch_block(ahead, cell, x, x0, v)
+            if (kernel == pass_usf_stress) call prefetch_block(ahead, cell, stress, volume_ratio)
+            if (kernel == pass_musl_stress) call prefetch_block(ahead, cell, x, v, stress, volume_ratio)
+            if (moves) then
+               call prefetch_nodes(cell(b0), cell(b0 + n - 1), acceleration, velocity)
+            else
+               call prefetch_elements(cell(b0), cell(b0 + n - 1), strain_increment_of)
+            end if
+         end if
+         do i = 1, n
+            p = b0 + i - 1
+            e = cell(p)
+            ! G2P with the start-of-step shape functions (APIC)
+            if (moves) then
+               xi = x(p)*inv_dx - (e - 1)
+               vgrid = (1.0_dp - xi)*velocity(e - 1) + xi*velocity(e)
+               v(p) = vgrid
+               cp = (velocity(e) - velocity(e - 1))*inv_dx  ! C_p = sum_I v_I dN_Ip (the hat's gradients)
+               gradient(p) = cp
+               dxp = dt*vgrid
+               x(p) = x(p) + dxp
+               db(i) = x(p) - x0(p)
+               kb(i) = half_m*v(p)*v(p)
+               mb(i, slot) = abs(dxp)*inv_dx
+            end if
+            if (stresses) then ! d eps = dt sum dN v_I over the start-of-step cell
+               if (moves) then
+                  dstrain = strain_increment(velocity(e - 1), velocity(e), dt, inv_dx)
+               else
+                  dstrain = strain_increment_of(e)
+               end if
+               call stress_particle(dstrain, youngs_modulus, strain_factor, volume0, stress(p), volume_ratio(p), sb(i), &
+                                    svb(i))
+               jb(i) = volume_ratio(p)
+            else if (iand(shares, share_stress) /= 0) then ! (an initial mapping: the stress as it is)
+               svb(i) = stress(p)*volume_ratio(p)*volume0
+            end if
+            if (relocates) then ! the new cell, for P2G at the new position
+               call locate_cell(x(p), inv_dx, elements, elements_bits, cb(i), xib(i))
+               cell(p) = cb(i)
+            else                ! the shares go to the start-of-step cell
+               cb(i) = e
+               if (moves) xib(i) = xi
+            end if
+            ! the particle's whole element shares (accumulate_shares sums them): mass, momentum (APIC's
+            ! with its affine part), stress*volume, external force, at the left and right node
+            mp = m
+            if (iand(shares, share_mass + share_momentum) /= 0) then
+               sh(i, 2) = mp*xib(i)
+               sh(i, 1) = mp - sh(i, 2)
+            end if
+            if (iand(shares, share_momentum) /= 0) then
+               ! node I gets N_I m_p (v_p + C_p (x_I - x_p)), x_I - x_p = -xi dx (left), (1 - xi) dx (right)
+               ! ([Jiang 2015]; C_p of this pass's G2P, or kept by the pass that made it)
+               if (moves) then
+                  cq = cp
+               else
+                  cq = gradient(p)
+               end if
+               w = v(p) - cq*xib(i)*dx
+               sh(i, 3) = sh(i, 1)*w
+               sh(i, 4) = sh(i, 2)*(w + cq*dx)
+            end if
+            if (iand(shares, share_stress) /= 0) sh(i, 5) = svb(i)
+         end do
+         ! the block's totals (macros of mpm_lanes.fypi, expanded here)
+         if (moves) then
+            do lane_i = 1, n - lanes + 1, lanes
+               displacement = displacement + db(lane_i:lane_i + lanes - 1)
+            end do
+            lane_r = mod(n, lanes)
+            if (lane_r > 0) displacement(1:lane_r) = displacement(1:lane_r) + db(n - lane_r + 1:n)
+            do lane_i = 1, n - lanes + 1, lanes
+               kinetic = kinetic + kb(lane_i:lane_i + lanes - 1)
+            end do
+            lane_r = mod(n, lanes)
+            if (lane_r > 0) kinetic(1:lane_r) = kinetic(1:lane_r) + kb(n - lane_r + 1:n)
+            lane_max = 0.0_dp
+            do lane_i = 1, n - lanes + 1, lanes
+               lane_max = max(lane_max, mb(lane_i:lane_i + lanes - 1, slot))
+            end do
+            lane_r = mod(n, lanes)
+            if (lane_r > 0) lane_max(1:lane_r) = max(lane_max(1:lane_r), mb(n - lane_r + 1:n, slot))
+            block_max = maxval(lane_max)
+            if (block_max > largest%value) then
+               largest%value = block_max
+               largest%first = b0
+               largest%count = n
+               largest%slot = slot
+               slot = 3 - slot
+            end if
+         end if
+         if (stresses) then
+            do lane_i = 1, n - lanes + 1, lanes
+               strain = strain + sb(lane_i:lane_i + lanes - 1)
+            end do
+            lane_r = mod(n, lanes)
+            if (lane_r > 0) strain(1:lane_r) = strain(1:lane_r) + sb(n - lane_r + 1:n)
+            do lane_i = 1, n - lanes + 1, lanes
+               min_j = min(min_j, jb(lane_i:lane_i + lanes - 1))
+            end do
+            lane_r = mod(n, lanes)
+            if (lane_r > 0) min_j(1:lane_r) = min(min_j(1:lane_r), jb(n - lane_r + 1:n))
+         end if
+         if (relocates) call find_outside(n, b0, cb, outside)
+         call accumulate_shares(k, n, cb, sh, lo, hi, shares, run, mass_left, mass_right, momentum_left, momentum_right, &
+                                stress_volume, seg, force_left, force_right)
+      end do
+      ! the open run's whole shares
+      if (run%cur /= 0) call flush_sums(k, run%cur, lo, hi, shares, run%s, mass_left, mass_right, momentum_left, &
+                                        momentum_right, stress_volume, seg, force_left, force_right)
+      run%a = 0.0_dp  ! (close_segment flushes the bar's sums: none here)
+      call close_segment(k, shares, m, run, [lane_total(displacement), lane_total(kinetic), lane_total(strain)], &
+                         minval(min_j), largest%value, furthest_particle(largest, mb), outside, mass_left, mass_right, &
+                         momentum_left, momentum_right, stress_volume, seg)
+   end subroutine apic_usf_stress_segment
+
+   !> USL: G2P, stress update from the updated nodal velocities, P2G at the new position (the hat, APIC)
+   subroutine apic_usl_segment(k, seg, x, x0, v, stress, volume_ratio, cell, acceleration, velocity, &
+                               strain_increment_of, mass_left, mass_right, momentum_left, momentum_right, &
+                               stress_volume, constants, carry, mass_of, modulus_of, forces, gradient, force_left, &
+                               force_right)
+      integer, parameter :: kernel = pass_usl
+      logical, parameter :: moves = pass_moves(kernel), stresses = pass_stresses(kernel), relocates = pass_relocates(kernel)
+      integer, parameter :: shares = pass_shares(kernel)
+      integer, intent(in) :: k
+      type(segments_t), intent(inout) :: seg
+      real(dp), intent(inout), contiguous :: x(:), v(:), stress(:), volume_ratio(:)
+      real(dp), intent(in), contiguous :: x0(:)
+      integer, intent(inout), contiguous :: cell(:)
+      real(dp), intent(in), contiguous :: acceleration(0:), velocity(0:)
+      real(dp), intent(in), contiguous :: strain_increment_of(:)  !< per element (grid%element_strain)
+      real(dp), intent(inout), contiguous :: mass_left(:), mass_right(:), momentum_left(:), momentum_right(:), stress_volume(:)
+      type(pass_constants_t), intent(in) :: constants
+      real(dp), intent(inout), contiguous :: carry(:)  !< particles in parts: what a pass keeps for the next (fused_box_t)
+      !> the variants' per-particle data (absent when the run has none): masses and Young's moduli
+      !> (`material`), external forces (`forced`), APIC's velocity gradients C_p, and the element shares of
+      !> the forces
+      real(dp), intent(in), contiguous, optional :: mass_of(:), modulus_of(:), forces(:)
+      real(dp), intent(inout), contiguous, optional :: gradient(:), force_left(:), force_right(:)
+      integer :: p, e, i, n, b0, first, last, lo, hi, outside, ahead, elements
+      real(dp) :: half_m, strain_factor, dstrain, inv_dx, dt, youngs_modulus, m, volume0
+      type(largest_move_t) :: largest
+      real(dp) :: displacement(lanes), kinetic(lanes), strain(lanes), min_j(lanes)
+      integer :: cb(block_size)
+      real(dp) :: svb(block_size), db(block_size), kb(block_size), sb(block_size), jb(block_size)
+      real(dp) :: mb(block_size, 2)  !< the moves of a block, and of the block with the largest (lanes_track_move)
+      integer :: slot
+      real(dp) :: lane_max(lanes), block_max
+      integer :: lane_i, lane_r
+      type(run_t) :: run
+      integer(i8) :: elements_bits
+      real(dp) :: xi, xib(block_size), vpb(block_size)
+      ! the variant's: G2P's grid velocity and move, the segment's body (cells offset), each particle's
+      ! shares (accumulate_shares)
+      real(dp) :: vgrid, dxp
+      real(dp) :: dx, cp, cq, w
+      real(dp) :: mp, sh(block_size, share_count)
+      dx = constants%dx
+      elements = constants%elements
+      inv_dx = constants%inv_dx
+      dt = constants%dt
+      youngs_modulus = constants%youngs_modulus
+      m = constants%mass
+      volume0 = constants%volume0
+      call open_segment(k, shares, seg, mass_left, mass_right, momentum_left, momentum_right, stress_volume, first, last, &
+                        lo, hi)
+      displacement = 0; kinetic = 0; strain = 0; min_j = huge(1.0_dp)
+      slot = 1
+      outside = 0
+      elements_bits = transfer(real(elements, dp), 0_i8)
+      half_m = 0.5_dp*m
+      strain_factor = 0.0_dp
+      if (stresses) strain_factor = 0.5_dp*volume0/youngs_modulus
+      do b0 = first, last, block_size
+         n = min(block_size, last - b0 + 1)
+         if (seg%prefetch) then  ! the arrays the pass reads, and the grid values of the next blocks
+            ahead = b0 + prefetch_ahead
+            if (kernel == pass_usl) call prefetch_block(ahead, cell, x, x0, v, stress, volume_ratio)
+            if (kernel == pass_usf_move .or. kernel == pass_musl_remap) call prefetch_block(ahead, cell, x, x0, v)
+            if (kernel == pass_usf_stress) call prefetch_block(ahead, cell, stress, volume_ratio)
+            if (kernel == pass_musl_stress) call prefetch_block(ahead, cell, x, v, stress, volume_ratio)
+            if (moves) then
+               call prefetch_nodes(cell(b0), cell(b0 + n - 1), acceleration, velocity)
+            else
+               call prefetch_elements(cell(b0), cell(b0 + n - 1), strain_increment_of)
+            end if
+         end if
+         do i = 1, n
+            p = b0 + i - 1
+            e = cell(p)
+            ! G2P with the start-of-step shape functions (APIC)
+            if (moves) then
+               xi = x(p)*inv_dx - (e - 1)
+               vgrid = (1.0_dp - xi)*velocity(e - 1) + xi*velocity(e)
+               v(p) = vgrid
+               cp = (velocity(e) - velocity(e - 1))*inv_dx  ! C_p = sum_I v_I dN_Ip (the hat's gradients)
+               gradient(p) = cp
+               dxp = dt*vgrid
+               x(p) = x(p) + dxp
+               db(i) = x(p) - x0(p)
+               kb(i) = half_m*v(p)*v(p)
+               mb(i, slot) = abs(dxp)*inv_dx
+            end if
+            if (stresses) then ! d eps = dt sum dN v_I over the start-of-step cell
+               if (moves) then
+                  dstrain = strain_increment(velocity(e - 1), velocity(e), dt, inv_dx)
+               else
+                  dstrain = strain_increment_of(e)
+               end if
+               call stress_particle(dstrain, youngs_modulus, strain_factor, volume0, stress(p), volume_ratio(p), sb(i), &
+                                    svb(i))
+               jb(i) = volume_ratio(p)
+            else if (iand(shares, share_stress) /= 0) then ! (an initial mapping: the stress as it is)
+               svb(i) = stress(p)*volume_ratio(p)*volume0
+            end if
+            if (relocates) then ! the new cell, for P2G at the new position
+               call locate_cell(x(p), inv_dx, elements, elements_bits, cb(i), xib(i))
+               cell(p) = cb(i)
+            else                ! the shares go to the start-of-step cell
+               cb(i) = e
+               if (moves) xib(i) = xi
+            end if
+            ! the particle's whole element shares (accumulate_shares sums them): mass, momentum (APIC's
+            ! with its affine part), stress*volume, external force, at the left and right node
+            mp = m
+            if (iand(shares, share_mass + share_momentum) /= 0) then
+               sh(i, 2) = mp*xib(i)
+               sh(i, 1) = mp - sh(i, 2)
+            end if
+            if (iand(shares, share_momentum) /= 0) then
+               ! node I gets N_I m_p (v_p + C_p (x_I - x_p)), x_I - x_p = -xi dx (left), (1 - xi) dx (right)
+               ! ([Jiang 2015]; C_p of this pass's G2P, or kept by the pass that made it)
+               if (moves) then
+                  cq = cp
+               else
+                  cq = gradient(p)
+               end if
+               w = v(p) - cq*xib(i)*dx
+               sh(i, 3) = sh(i, 1)*w
+               sh(i, 4) = sh(i, 2)*(w + cq*dx)
+            end if
+            if (iand(shares, share_stress) /= 0) sh(i, 5) = svb(i)
+         end do
+         ! the block's totals (macros of mpm_lanes.fypi, expanded here)
+         if (moves) then
+            do lane_i = 1, n - lanes + 1, lanes
+               displacement = displacement + db(lane_i:lane_i + lanes - 1)
+            end do
+            lane_r = mod(n, lanes)
+            if (lane_r > 0) displacement(1:lane_r) = displacement(1:lane_r) + db(n - lane_r + 1:n)
+            do lane_i = 1, n - lanes + 1, lanes
+               kinetic = kinetic + kb(lane_i:lane_i + lanes - 1)
+            end do
+            lane_r = mod(n, lanes)
+            if (lane_r > 0) kinetic(1:lane_r) = kinetic(1:lane_r) + kb(n - lane_r + 1:n)
+            lane_max = 0.0_dp
+            do lane_i = 1, n - lanes + 1, lanes
+               lane_max = max(lane_max, mb(lane_i:lane_i + lanes - 1, slot))
+            end do
+            lane_r = mod(n, lanes)
+            if (lane_r > 0) lane_max(1:lane_r) = max(lane_max(1:lane_r), mb(n - lane_r + 1:n, slot))
+            block_max = maxval(lane_max)
+            if (block_max > largest%value) then
+               largest%value = block_max
+               largest%first = b0
+               largest%count = n
+               largest%slot = slot
+               slot = 3 - slot
+            end if
+         end if
+         if (stresses) then
+            do lane_i = 1, n - lanes + 1, lanes
+               strain = strain + sb(lane_i:lane_i + lanes - 1)
+            end do
+            lane_r = mod(n, lanes)
+            if (lane_r > 0) strain(1:lane_r) = strain(1:lane_r) + sb(n - lane_r + 1:n)
+            do lane_i = 1, n - lanes + 1, lanes
+               min_j = min(min_j, jb(lane_i:lane_i + lanes - 1))
+            end do
+            lane_r = mod(n, lanes)
+            if (lane_r > 0) min_j(1:lane_r) = min(min_j(1:lane_r), jb(n - lane_r + 1:n))
+         end if
+         if (relocates) call find_outside(n, b0, cb, outside)
+         call accumulate_shares(k, n, cb, sh, lo, hi, shares, run, mass_left, mass_right, momentum_left, momentum_right, &
+                                stress_volume, seg, force_left, force_right)
+      end do
+      ! the open run's whole shares
+      if (run%cur /= 0) call flush_sums(k, run%cur, lo, hi, shares, run%s, mass_left, mass_right, momentum_left, &
+                                        momentum_right, stress_volume, seg, force_left, force_right)
+      run%a = 0.0_dp  ! (close_segment flushes the bar's sums: none here)
+      call close_segment(k, shares, m, run, [lane_total(displacement), lane_total(kinetic), lane_total(strain)], &
+                         minval(min_j), largest%value, furthest_particle(largest, mb), outside, mass_left, mass_right, &
+                         momentum_left, momentum_right, stress_volume, seg)
+   end subroutine apic_usl_segment
+
+   !> MUSL, first pass: G2P, and the new momentum back to the start-of-step nodes (the hat, APIC)
+   subroutine apic_musl_remap_segment(k, seg, x, x0, v, stress, volume_ratio, cell, acceleration, velocity, &
+                                      strain_increment_of, mass_left, mass_right, momentum_left, momentum_right, &
+                                      stress_volume, constants, carry, mass_of, modulus_of, forces, gradient, force_left, &
+                                      force_right)
+      integer, parameter :: kernel = pass_musl_remap
+      logical, parameter :: moves = pass_moves(kernel), stresses = pass_stresses(kernel), relocates = pass_relocates(kernel)
+      integer, parameter :: shares = pass_shares(kernel)
+      integer, intent(in) :: k
+      type(segments_t), intent(inout) :: seg
+      real(dp), intent(inout), contiguous :: x(:), v(:), stress(:), volume_ratio(:)
+      real(dp), intent(in), contiguous :: x0(:)
+      integer, intent(inout), contiguous :: cell(:)
+      real(dp), intent(in), contiguous :: acceleration(0:), velocity(0:)
+      real(dp), intent(in), contiguous :: strain_increment_of(:)  !< per element (grid%element_strain)
+      real(dp), intent(inout), contiguous :: mass_left(:), mass_right(:), momentum_left(:), momentum_right(:), stress_volume(:)
+      type(pass_constants_t), intent(in) :: constants
+      real(dp), intent(inout), contiguous :: carry(:)  !< particles in parts: what a pass keeps for the next (fused_box_t)
+      !> the variants' per-particle data (absent when the run has none): masses and Young's moduli
+      !> (`material`), external forces (`forced`), APIC's velocity gradients C_p, and the element shares of
+      !> the forces
+      real(dp), intent(in), contiguous, optional :: mass_of(:), modulus_of(:), forces(:)
+      real(dp), intent(inout), contiguous, optional :: gradient(:), force_left(:), force_right(:)
+      integer :: p, e, i, n, b0, first, last, lo, hi, outside, ahead, elements
+      real(dp) :: half_m, strain_factor, dstrain, inv_dx, dt, youngs_modulus, m, volume0
+      type(largest_move_t) :: largest
+      real(dp) :: displacement(lanes), kinetic(lanes), strain(lanes), min_j(lanes)
+      integer :: cb(block_size)
+      real(dp) :: svb(block_size), db(block_size), kb(block_size), sb(block_size), jb(block_size)
+      real(dp) :: mb(block_size, 2)  !< the moves of a block, and of the block with the largest (lanes_track_move)
+      integer :: slot
+      real(dp) :: lane_max(lanes), block_max
+      integer :: lane_i, lane_r
+      type(run_t) :: run
+      integer(i8) :: elements_bits
+      real(dp) :: xi, xib(block_size), vpb(block_size)
+      ! the variant's: G2P's grid velocity and move, the segment's body (cells offset), each particle's
+      ! shares (accumulate_shares)
+      real(dp) :: vgrid, dxp
+      real(dp) :: dx, cp, cq, w
+      real(dp) :: mp, sh(block_size, share_count)
+      dx = constants%dx
+      elements = constants%elements
+      inv_dx = constants%inv_dx
+      dt = constants%dt
+      youngs_modulus = constants%youngs_modulus
+      m = constants%mass
+      volume0 = constants%volume0
+      call open_segment(k, shares, seg, mass_left, mass_right, momentum_left, momentum_right, stress_volume, first, last, &
+                        lo, hi)
+      displacement = 0; kinetic = 0; strain = 0; min_j = huge(1.0_dp)
+      slot = 1
+      outside = 0
+      elements_bits = transfer(real(elements, dp), 0_i8)
+      half_m = 0.5_dp*m
+      strain_factor = 0.0_dp
+      if (stresses) strain_factor = 0.5_dp*volume0/youngs_modulus
+      do b0 = first, last, block_size
+         n = min(block_size, last - b0 + 1)
+         if (seg%prefetch) then  ! the arrays the pass reads, and the grid values of the next blocks
+            ahead = b0 + prefetch_ahead
+            if (kernel == pass_usl) call prefetch_block(ahead, cell, x, x0, v, stress, volume_ratio)
+            if (kernel == pass_usf_move .or. kernel == pass_musl_remap) call prefetch_block(ahead, cell, x, x0, v)
+            if (kernel == pass_usf_stress) call prefetch_block(ahead, cell, stress, volume_ratio)
+            if (kernel == pass_musl_stress) call prefetch_block(ahead, cell, x, v, stress, volume_ratio)
+            if (moves) then
+               call prefetch_nodes(cell(b0), cell(b0 + n - 1), acceleration, velocity)
+            else
+               call prefetch_elements(cell(b0), cell(b0 + n - 1), strain_increment_of)
+            end if
+         end if
+         do i = 1, n
+            p = b0 + i - 1
+            e = cell(p)
+            ! G2P with the start-of-step shape functions (APIC)
+            if (moves) then
+               xi = x(p)*inv_dx - (e - 1)
+               vgrid = (1.0_dp - xi)*velocity(e - 1) + xi*velocity(e)
+               v(p) = vgrid
+               cp = (velocity(e) - velocity(e - 1))*inv_dx  ! C_p = sum_I v_I dN_Ip (the hat's gradients)
+               gradient(p) = cp
+               dxp = dt*vgrid
+               x(p) = x(p) + dxp
+               db(i) = x(p) - x0(p)
+               kb(i) = half_m*v(p)*v(p)
+               mb(i, slot) = abs(dxp)*inv_dx
+            end if
+            if (stresses) then ! d eps = dt sum dN v_I over the start-of-step cell
+               if (moves) then
+                  dstrain = strain_increment(velocity(e - 1), velocity(e), dt, inv_dx)
+               else
+                  dstrain = strain_increment_of(e)
+               end if
+               call stress_particle(dstrain, youngs_modulus, strain_factor, volume0, stress(p), volume_ratio(p), sb(i), &
+                                    svb(i))
+               jb(i) = volume_ratio(p)
+            else if (iand(shares, share_stress) /= 0) then ! (an initial mapping: the stress as it is)
+               svb(i) = stress(p)*volume_ratio(p)*volume0
+            end if
+            if (relocates) then ! the new cell, for P2G at the new position
+               call locate_cell(x(p), inv_dx, elements, elements_bits, cb(i), xib(i))
+               cell(p) = cb(i)
+            else                ! the shares go to the start-of-step cell
+               cb(i) = e
+               if (moves) xib(i) = xi
+            end if
+            ! the particle's whole element shares (accumulate_shares sums them): mass, momentum (APIC's
+            ! with its affine part), stress*volume, external force, at the left and right node
+            mp = m
+            if (iand(shares, share_mass + share_momentum) /= 0) then
+               sh(i, 2) = mp*xib(i)
+               sh(i, 1) = mp - sh(i, 2)
+            end if
+            if (iand(shares, share_momentum) /= 0) then
+               ! node I gets N_I m_p (v_p + C_p (x_I - x_p)), x_I - x_p = -xi dx (left), (1 - xi) dx (right)
+               ! ([Jiang 2015]; C_p of this pass's G2P, or kept by the pass that made it)
+               if (moves) then
+                  cq = cp
+               else
+                  cq = gradient(p)
+               end if
+               w = v(p) - cq*xib(i)*dx
+               sh(i, 3) = sh(i, 1)*w
+               sh(i, 4) = sh(i, 2)*(w + cq*dx)
+            end if
+            if (iand(shares, share_stress) /= 0) sh(i, 5) = svb(i)
+         end do
+         ! the block's totals (macros of mpm_lanes.fypi, expanded here)
+         if (moves) then
+            do lane_i = 1, n - lanes + 1, lanes
+               displacement = displacement + db(lane_i:lane_i + lanes - 1)
+            end do
+            lane_r = mod(n, lanes)
+            if (lane_r > 0) displacement(1:lane_r) = displacement(1:lane_r) + db(n - lane_r + 1:n)
+            do lane_i = 1, n - lanes + 1, lanes
+               kinetic = kinetic + kb(lane_i:lane_i + lanes - 1)
+            end do
+            lane_r = mod(n, lanes)
+            if (lane_r > 0) kinetic(1:lane_r) = kinetic(1:lane_r) + kb(n - lane_r + 1:n)
+            lane_max = 0.0_dp
+            do lane_i = 1, n - lanes + 1, lanes
+               lane_max = max(lane_max, mb(lane_i:lane_i + lanes - 1, slot))
+            end do
+            lane_r = mod(n, lanes)
+            if (lane_r > 0) lane_max(1:lane_r) = max(lane_max(1:lane_r), mb(n - lane_r + 1:n, slot))
+            block_max = maxval(lane_max)
+            if (block_max > largest%value) then
+               largest%value = block_max
+               largest%first = b0
+               largest%count = n
+               largest%slot = slot
+               slot = 3 - slot
+            end if
+         end if
+         if (stresses) then
+            do lane_i = 1, n - lanes + 1, lanes
+               strain = strain + sb(lane_i:lane_i + lanes - 1)
+            end do
+            lane_r = mod(n, lanes)
+            if (lane_r > 0) strain(1:lane_r) = strain(1:lane_r) + sb(n - lane_r + 1:n)
+            do lane_i = 1, n - lanes + 1, lanes
+               min_j = min(min_j, jb(lane_i:lane_i + lanes - 1))
+            end do
+            lane_r = mod(n, lanes)
+            if (lane_r > 0) min_j(1:lane_r) = min(min_j(1:lane_r), jb(n - lane_r + 1:n))
+         end if
+         if (relocates) call find_outside(n, b0, cb, outside)
+         call accumulate_shares(k, n, cb, sh, lo, hi, shares, run, mass_left, mass_right, momentum_left, momentum_right, &
+                                stress_volume, seg, force_left, force_right)
+      end do
+      ! the open run's whole shares
+      if (run%cur /= 0) call flush_sums(k, run%cur, lo, hi, shares, run%s, mass_left, mass_right, momentum_left, &
+                                        momentum_right, stress_volume, seg, force_left, force_right)
+      run%a = 0.0_dp  ! (close_segment flushes the bar's sums: none here)
+      call close_segment(k, shares, m, run, [lane_total(displacement), lane_total(kinetic), lane_total(strain)], &
+                         minval(min_j), largest%value, furthest_particle(largest, mb), outside, mass_left, mass_right, &
+                         momentum_left, momentum_right, stress_volume, seg)
+   end subroutine apic_musl_remap_segment
+
+   !> MUSL, second pass: stress update from the remapped velocities, P2G at the new position (the hat, APIC)
+   subroutine apic_musl_stress_segment(k, seg, x, x0, v, stress, volume_ratio, cell, acceleration, velocity, &
+                                       strain_increment_of, mass_left, mass_right, momentum_left, momentum_right, &
+                                       stress_volume, constants, carry, mass_of, modulus_of, forces, gradient, force_left, &
+                                       force_right)
+      integer, parameter :: kernel = pass_musl_stress
+      logical, parameter :: moves = pass_moves(kernel), stresses = pass_stresses(kernel), relocates = pass_relocates(kernel)
+      integer, parameter :: shares = pass_shares(kernel)
+      integer, intent(in) :: k
+      type(segments_t), intent(inout) :: seg
+      real(dp), intent(inout), contiguous :: x(:), v(:), stress(:), volume_ratio(:)
+      real(dp), intent(in), contiguous :: x0(:)
+      integer, intent(inout), contiguous :: cell(:)
+      real(dp), intent(in), contiguous :: acceleration(0:), velocity(0:)
+      real(dp), intent(in), contiguous :: strain_increment_of(:)  !< per element (grid%element_strain)
+      real(dp), intent(inout), contiguous :: mass_left(:), mass_right(:), momentum_left(:), momentum_right(:), stress_volume(:)
+      type(pass_constants_t), intent(in) :: constants
+      real(dp), intent(inout), contiguous :: carry(:)  !< particles in parts: what a pass keeps for the next (fused_box_t)
+      !> the variants' per-particle data (absent when the run has none): masses and Young's moduli
+      !> (`material`), external forces (`forced`), APIC's velocity gradients C_p, and the element shares of
+      !> the forces
+      real(dp), intent(in), contiguous, optional :: mass_of(:), modulus_of(:), forces(:)
+      real(dp), intent(inout), contiguous, optional :: gradient(:), force_left(:), force_right(:)
+      integer :: p, e, i, n, b0, first, last, lo, hi, outside, ahead, elements
+      real(dp) :: half_m, strain_factor, dstrain, inv_dx, dt, youngs_modulus, m, volume0
+      type(largest_move_t) :: largest
+      real(dp) :: displacement(lanes), kinetic(lanes), strain(lanes), min_j(lanes)
+      integer :: cb(block_size)
+      real(dp) :: svb(block_size), db(block_size), kb(block_size), sb(block_size), jb(block_size)
+      real(dp) :: mb(block_size, 2)  !< the moves of a block, and of the block with the largest (lanes_track_move)
+      integer :: slot
+      real(dp) :: lane_max(lanes), block_max
+      integer :: lane_i, lane_r
+      type(run_t) :: run
+      integer(i8) :: elements_bits
+      real(dp) :: xi, xib(block_size), vpb(block_size)
+      ! the variant's: G2P's grid velocity and move, the segment's body (cells offset), each particle's
+      ! shares (accumulate_shares)
+      real(dp) :: vgrid, dxp
+      real(dp) :: dx, cp, cq, w
+      real(dp) :: mp, sh(block_size, share_count)
+      dx = constants%dx
+      elements = constants%elements
+      inv_dx = constants%inv_dx
+      dt = constants%dt
+      youngs_modulus = constants%youngs_modulus
+      m = constants%mass
+      volume0 = constants%volume0
+      call open_segment(k, shares, seg, mass_left, mass_right, momentum_left, momentum_right, stress_volume, first, last, &
+                        lo, hi)
+      displacement = 0; kinetic = 0; strain = 0; min_j = huge(1.0_dp)
+      slot = 1
+      outside = 0
+      elements_bits = transfer(real(elements, dp), 0_i8)
+      half_m = 0.5_dp*m
+      strain_factor = 0.0_dp
+      if (stresses) strain_factor = 0.5_dp*volume0/youngs_modulus
+      do b0 = first, last, block_size
+         n = min(block_size, last - b0 + 1)
+         if (seg%prefetch) then  ! the arrays the pass reads, and the grid values of the next blocks
+            ahead = b0 + prefetch_ahead
+            if (kernel == pass_usl) call prefetch_block(ahead, cell, x, x0, v, stress, volume_ratio)
+            if (kernel == pass_usf_move .or. kernel == pass_musl_remap) call prefetch_block(ahead, cell, x, x0, v)
+            if (kernel == pass_usf_stress) call prefetch_block(ahead, cell, stress, volume_ratio)
+            if (kernel == pass_musl_stress) call prefetch_block(ahead, cell, x, v, stress, volume_ratio)
+            if (moves) then
+               call prefetch_nodes(cell(b0), cell(b0 + n - 1), acceleration, velocity)
+            else
+               call prefetch_elements(cell(b0), cell(b0 + n - 1), strain_increment_of)
+            end if
+         end if
+         do i = 1, n
+            p = b0 + i - 1
+            e = cell(p)
+            ! G2P with the start-of-step shape functions (APIC)
+            if (moves) then
+               xi = x(p)*inv_dx - (e - 1)
+               vgrid = (1.0_dp - xi)*velocity(e - 1) + xi*velocity(e)
+               v(p) = vgrid
+               cp = (velocity(e) - velocity(e - 1))*inv_dx  ! C_p = sum_I v_I dN_Ip (the hat's gradients)
+               gradient(p) = cp
+               dxp = dt*vgrid
+               x(p) = x(p) + dxp
+               db(i) = x(p) - x0(p)
+               kb(i) = half_m*v(p)*v(p)
+               mb(i, slot) = abs(dxp)*inv_dx
+            end if
+            if (stresses) then ! d eps = dt sum dN v_I over the start-of-step cell
+               if (moves) then
+                  dstrain = strain_increment(velocity(e - 1), velocity(e), dt, inv_dx)
+               else
+                  dstrain = strain_increment_of(e)
+               end if
+               call stress_particle(dstrain, youngs_modulus, strain_factor, volume0, stress(p), volume_ratio(p), sb(i), &
+                                    svb(i))
+               jb(i) = volume_ratio(p)
+            else if (iand(shares, share_stress) /= 0) then ! (an initial mapping: the stress as it is)
+               svb(i) = stress(p)*volume_ratio(p)*volume0
+            end if
+            if (relocates) then ! the new cell, for P2G at the new position
+               call locate_cell(x(p), inv_dx, elements, elements_bits, cb(i), xib(i))
+               cell(p) = cb(i)
+            else                ! the shares go to the start-of-step cell
+               cb(i) = e
+               if (moves) xib(i) = xi
+            end if
+            ! the particle's whole element shares (accumulate_shares sums them): mass, momentum (APIC's
+            ! with its affine part), stress*volume, external force, at the left and right node
+            mp = m
+            if (iand(shares, share_mass + share_momentum) /= 0) then
+               sh(i, 2) = mp*xib(i)
+               sh(i, 1) = mp - sh(i, 2)
+            end if
+            if (iand(shares, share_momentum) /= 0) then
+               ! node I gets N_I m_p (v_p + C_p (x_I - x_p)), x_I - x_p = -xi dx (left), (1 - xi) dx (right)
+               ! ([Jiang 2015]; C_p of this pass's G2P, or kept by the pass that made it)
+               if (moves) then
+                  cq = cp
+               else
+                  cq = gradient(p)
+               end if
+               w = v(p) - cq*xib(i)*dx
+               sh(i, 3) = sh(i, 1)*w
+               sh(i, 4) = sh(i, 2)*(w + cq*dx)
+            end if
+            if (iand(shares, share_stress) /= 0) sh(i, 5) = svb(i)
+         end do
+         ! the block's totals (macros of mpm_lanes.fypi, expanded here)
+         if (moves) then
+            do lane_i = 1, n - lanes + 1, lanes
+               displacement = displacement + db(lane_i:lane_i + lanes - 1)
+            end do
+            lane_r = mod(n, lanes)
+            if (lane_r > 0) displacement(1:lane_r) = displacement(1:lane_r) + db(n - lane_r + 1:n)
+            do lane_i = 1, n - lanes + 1, lanes
+               kinetic = kinetic + kb(lane_i:lane_i + lanes - 1)
+            end do
+            lane_r = mod(n, lanes)
+            if (lane_r > 0) kinetic(1:lane_r) = kinetic(1:lane_r) + kb(n - lane_r + 1:n)
+            lane_max = 0.0_dp
+            do lane_i = 1, n - lanes + 1, lanes
+               lane_max = max(lane_max, mb(lane_i:lane_i + lanes - 1, slot))
+            end do
+            lane_r = mod(n, lanes)
+            if (lane_r > 0) lane_max(1:lane_r) = max(lane_max(1:lane_r), mb(n - lane_r + 1:n, slot))
+            block_max = maxval(lane_max)
+            if (block_max > largest%value) then
+               largest%value = block_max
+               largest%first = b0
+               largest%count = n
+               largest%slot = slot
+               slot = 3 - slot
+            end if
+         end if
+         if (stresses) then
+            do lane_i = 1, n - lanes + 1, lanes
+               strain = strain + sb(lane_i:lane_i + lanes - 1)
+            end do
+            lane_r = mod(n, lanes)
+            if (lane_r > 0) strain(1:lane_r) = strain(1:lane_r) + sb(n - lane_r + 1:n)
+            do lane_i = 1, n - lanes + 1, lanes
+               min_j = min(min_j, jb(lane_i:lane_i + lanes - 1))
+            end do
+            lane_r = mod(n, lanes)
+            if (lane_r > 0) min_j(1:lane_r) = min(min_j(1:lane_r), jb(n - lane_r + 1:n))
+         end if
+         if (relocates) call find_outside(n, b0, cb, outside)
+         call accumulate_shares(k, n, cb, sh, lo, hi, shares, run, mass_left, mass_right, momentum_left, momentum_right, &
+                                stress_volume, seg, force_left, force_right)
+      end do
+      ! the open run's whole shares
+      if (run%cur /= 0) call flush_sums(k, run%cur, lo, hi, shares, run%s, mass_left, mass_right, momentum_left, &
+                                        momentum_right, stress_volume, seg, force_left, force_right)
+      run%a = 0.0_dp  ! (close_segment flushes the bar's sums: none here)
+      call close_segment(k, shares, m, run, [lane_total(displacement), lane_total(kinetic), lane_total(strain)], &
+                         minval(min_j), largest%value, furthest_particle(largest, mb), outside, mass_left, mass_right, &
+                         momentum_left, momentum_right, stress_volume, seg)
+   end subroutine apic_musl_stress_segment
+
+   !> initial mapping: mass and momentum (the hat, APIC)
+   subroutine apic_map_segment(k, seg, x, x0, v, stress, volume_ratio, cell, acceleration, velocity, &
+                               strain_increment_of, mass_left, mass_right, momentum_left, momentum_right, &
+                               stress_volume, constants, carry, mass_of, modulus_of, forces, gradient, force_left, &
+                               force_right)
+      integer, parameter :: kernel = pass_map
+      logical, parameter :: moves = pass_moves(kernel), stresses = pass_stresses(kernel), relocates = pass_relocates(kernel)
+      integer, parameter :: shares = pass_shares(kernel)
+      integer, intent(in) :: k
+      type(segments_t), intent(inout) :: seg
+      real(dp), intent(inout), contiguous :: x(:), v(:), stress(:), volume_ratio(:)
+      real(dp), intent(in), contiguous :: x0(:)
+      integer, intent(inout), contiguous :: cell(:)
+      real(dp), intent(in), contiguous :: acceleration(0:), velocity(0:)
+      real(dp), intent(in), contiguous :: strain_increment_of(:)  !< per element (grid%element_strain)
+      real(dp), intent(inout), contiguous :: mass_left(:), mass_right(:), momentum_left(:), momentum_right(:), stress_volume(:)
+      type(pass_constants_t), intent(in) :: constants
+      real(dp), intent(inout), contiguous :: carry(:)  !< particles in parts: what a pass keeps for the next (fused_box_t)
+      !> the variants' per-particle data (absent when the run has none): masses and Young's moduli
+      !> (`material`), external forces (`forced`), APIC's velocity gradients C_p, and the element shares of
+      !> the forces
+      real(dp), intent(in), contiguous, optional :: mass_of(:), modulus_of(:), forces(:)
+      real(dp), intent(inout), contiguous, optional :: gradient(:), force_left(:), force_right(:)
+      integer :: p, e, i, n, b0, first, last, lo, hi, outside, ahead, elements
+      real(dp) :: half_m, strain_factor, dstrain, inv_dx, dt, youngs_modulus, m, volume0
+      type(largest_move_t) :: largest
+      real(dp) :: displacement(lanes), kinetic(lanes), strain(lanes), min_j(lanes)
+      integer :: cb(block_size)
+      real(dp) :: svb(block_size), db(block_size), kb(block_size), sb(block_size), jb(block_size)
+      real(dp) :: mb(block_size, 2)  !< the moves of a block, and of the block with the largest (lanes_track_move)
+      integer :: slot
+      real(dp) :: lane_max(lanes), block_max
+      integer :: lane_i, lane_r
+      type(run_t) :: run
+      integer(i8) :: elements_bits
+      real(dp) :: xi, xib(block_size), vpb(block_size)
+      ! the variant's: G2P's grid velocity and move, the segment's body (cells offset), each particle's
+      ! shares (accumulate_shares)
+      real(dp) :: vgrid, dxp
+      real(dp) :: dx, cp, cq, w
+      real(dp) :: mp, sh(block_size, share_count)
+      dx = constants%dx
+      elements = constants%elements
+      inv_dx = constants%inv_dx
+      dt = constants%dt
+      youngs_modulus = constants%youngs_modulus
+      m = constants%mass
+      volume0 = constants%volume0
+      call open_segment(k, shares, seg, mass_left, mass_right, momentum_left, momentum_right, stress_volume, first, last, &
+                        lo, hi)
+      displacement = 0; kinetic = 0; strain = 0; min_j = huge(1.0_dp)
+      slot = 1
+      outside = 0
+      elements_bits = transfer(real(elements, dp), 0_i8)
+      half_m = 0.5_dp*m
+      strain_factor = 0.0_dp
+      if (stresses) strain_factor = 0.5_dp*volume0/youngs_modulus
+      do b0 = first, last, block_size
+         n = min(block_size, last - b0 + 1)
+         if (seg%prefetch) then  ! the arrays the pass reads, and the grid values of the next blocks
+            ahead = b0 + prefetch_ahead
+            if (kernel == pass_usl) call prefetch_block(ahead, cell, x, x0, v, stress, volume_ratio)
+            if (kernel == pass_usf_move .or. kernel == pass_musl_remap) call prefetch_block(ahead, cell, x, x0, v)
+            if (kernel == pass_usf_stress) call prefetch_block(ahead, cell, stress, volume_ratio)
+            if (kernel == pass_musl_stress) call prefetch_block(ahead, cell, x, v, stress, volume_ratio)
+            if (moves) then
+               call prefetch_nodes(cell(b0), cell(b0 + n - 1), acceleration, velocity)
+            else
+               call prefetch_elements(cell(b0), cell(b0 + n - 1), strain_increment_of)
+            end if
+         end if
+         do i = 1, n
+            p = b0 + i - 1
+            e = cell(p)
+            ! G2P with the start-of-step shape functions (APIC)
+            if (moves) then
+               xi = x(p)*inv_dx - (e - 1)
+               vgrid = (1.0_dp - xi)*velocity(e - 1) + xi*velocity(e)
+               v(p) = vgrid
+               cp = (velocity(e) - velocity(e - 1))*inv_dx  ! C_p = sum_I v_I dN_Ip (the hat's gradients)
+               gradient(p) = cp
+               dxp = dt*vgrid
+               x(p) = x(p) + dxp
+               db(i) = x(p) - x0(p)
+               kb(i) = half_m*v(p)*v(p)
+               mb(i, slot) = abs(dxp)*inv_dx
+            end if
+            if (stresses) then ! d eps = dt sum dN v_I over the start-of-step cell
+               if (moves) then
+                  dstrain = strain_increment(velocity(e - 1), velocity(e), dt, inv_dx)
+               else
+                  dstrain = strain_increment_of(e)
+               end if
+               call stress_particle(dstrain, youngs_modulus, strain_factor, volume0, stress(p), volume_ratio(p), sb(i), &
+                                    svb(i))
+               jb(i) = volume_ratio(p)
+            else if (iand(shares, share_stress) /= 0) then ! (an initial mapping: the stress as it is)
+               svb(i) = stress(p)*volume_ratio(p)*volume0
+            end if
+            if (relocates) then ! the new cell, for P2G at the new position
+               call locate_cell(x(p), inv_dx, elements, elements_bits, cb(i), xib(i))
+               cell(p) = cb(i)
+            else                ! the shares go to the start-of-step cell
+               cb(i) = e
+               if (moves) xib(i) = xi
+            end if
+            ! the particle's whole element shares (accumulate_shares sums them): mass, momentum (APIC's
+            ! with its affine part), stress*volume, external force, at the left and right node
+            mp = m
+            if (iand(shares, share_mass + share_momentum) /= 0) then
+               sh(i, 2) = mp*xib(i)
+               sh(i, 1) = mp - sh(i, 2)
+            end if
+            if (iand(shares, share_momentum) /= 0) then
+               ! node I gets N_I m_p (v_p + C_p (x_I - x_p)), x_I - x_p = -xi dx (left), (1 - xi) dx (right)
+               ! ([Jiang 2015]; C_p of this pass's G2P, or kept by the pass that made it)
+               if (moves) then
+                  cq = cp
+               else
+                  cq = gradient(p)
+               end if
+               w = v(p) - cq*xib(i)*dx
+               sh(i, 3) = sh(i, 1)*w
+               sh(i, 4) = sh(i, 2)*(w + cq*dx)
+            end if
+            if (iand(shares, share_stress) /= 0) sh(i, 5) = svb(i)
+         end do
+         ! the block's totals (macros of mpm_lanes.fypi, expanded here)
+         if (moves) then
+            do lane_i = 1, n - lanes + 1, lanes
+               displacement = displacement + db(lane_i:lane_i + lanes - 1)
+            end do
+            lane_r = mod(n, lanes)
+            if (lane_r > 0) displacement(1:lane_r) = displacement(1:lane_r) + db(n - lane_r + 1:n)
+            do lane_i = 1, n - lanes + 1, lanes
+               kinetic = kinetic + kb(lane_i:lane_i + lanes - 1)
+            end do
+            lane_r = mod(n, lanes)
+            if (lane_r > 0) kinetic(1:lane_r) = kinetic(1:lane_r) + kb(n - lane_r + 1:n)
+            lane_max = 0.0_dp
+            do lane_i = 1, n - lanes + 1, lanes
+               lane_max = max(lane_max, mb(lane_i:lane_i + lanes - 1, slot))
+            end do
+            lane_r = mod(n, lanes)
+            if (lane_r > 0) lane_max(1:lane_r) = max(lane_max(1:lane_r), mb(n - lane_r + 1:n, slot))
+            block_max = maxval(lane_max)
+            if (block_max > largest%value) then
+               largest%value = block_max
+               largest%first = b0
+               largest%count = n
+               largest%slot = slot
+               slot = 3 - slot
+            end if
+         end if
+         if (stresses) then
+            do lane_i = 1, n - lanes + 1, lanes
+               strain = strain + sb(lane_i:lane_i + lanes - 1)
+            end do
+            lane_r = mod(n, lanes)
+            if (lane_r > 0) strain(1:lane_r) = strain(1:lane_r) + sb(n - lane_r + 1:n)
+            do lane_i = 1, n - lanes + 1, lanes
+               min_j = min(min_j, jb(lane_i:lane_i + lanes - 1))
+            end do
+            lane_r = mod(n, lanes)
+            if (lane_r > 0) min_j(1:lane_r) = min(min_j(1:lane_r), jb(n - lane_r + 1:n))
+         end if
+         if (relocates) call find_outside(n, b0, cb, outside)
+         call accumulate_shares(k, n, cb, sh, lo, hi, shares, run, mass_left, mass_right, momentum_left, momentum_right, &
+                                stress_volume, seg, force_left, force_right)
+      end do
+      ! the open run's whole shares
+      if (run%cur /= 0) call flush_sums(k, run%cur, lo, hi, shares, run%s, mass_left, mass_right, momentum_left, &
+                                        momentum_right, stress_volume, seg, force_left, force_right)
+      run%a = 0.0_dp  ! (close_segment flushes the bar's sums: none here)
+      call close_segment(k, shares, m, run, [lane_total(displacement), lane_total(kinetic), lane_total(strain)], &
+                         minval(min_j), largest%value, furthest_particle(largest, mb), outside, mass_left, mass_right, &
+                         momentum_left, momentum_right, stress_volume, seg)
+   end subroutine apic_map_segment
+
+   !> initial mapping: mass, momentum and stress*volume (and forces) (the hat, APIC)
+   subroutine apic_map_stress_segment(k, seg, x, x0, v, stress, volume_ratio, cell, acceleration, velocity, &
+                                      strain_increment_of, mass_left, mass_right, momentum_left, momentum_right, &
+                                      stress_volume, constants, carry, mass_of, modulus_of, forces, gradient, force_left, &
+                                      force_right)
+      integer, parameter :: kernel = pass_map_stress
+      logical, parameter :: moves = pass_moves(kernel), stresses = pass_stresses(kernel), relocates = pass_relocates(kernel)
+      integer, parameter :: shares = pass_shares(kernel)
+      integer, intent(in) :: k
+      type(segments_t), intent(inout) :: seg
+      real(dp), intent(inout), contiguous :: x(:), v(:), stress(:), volume_ratio(:)
+      real(dp), intent(in), contiguous :: x0(:)
+      integer, intent(inout), contiguous :: cell(:)
+      real(dp), intent(in), contiguous :: acceleration(0:), velocity(0:)
+      real(dp), intent(in), contiguous :: strain_increment_of(:)  !< per element (grid%element_strain)
+      real(dp), intent(inout), contiguous :: mass_left(:), mass_right(:), momentum_left(:), momentum_right(:), stress_volume(:)
+      type(pass_constants_t), intent(in) :: constants
+      real(dp), intent(inout), contiguous :: carry(:)  !< particles in parts: what a pass keeps for the next (fused_box_t)
+      !> the variants' per-particle data (absent when the run has none): masses and Young's moduli
+      !> (`material`), external forces (`forced`), APIC's velocity gradients C_p, and the element shares of
+      !> the forces
+      real(dp), intent(in), contiguous, optional :: mass_of(:), modulus_of(:), forces(:)
+      real(dp), intent(inout), contiguous, optional :: gradient(:), force_left(:), force_right(:)
+      integer :: p, e, i, n, b0, first, last, lo, hi, outside, ahead, elements
+      real(dp) :: half_m, strain_factor, dstrain, inv_dx, dt, youngs_modulus, m, volume0
+      type(largest_move_t) :: largest
+      real(dp) :: displacement(lanes), kinetic(lanes), strain(lanes), min_j(lanes)
+      integer :: cb(block_size)
+      real(dp) :: svb(block_size), db(block_size), kb(block_size), sb(block_size), jb(block_size)
+      real(dp) :: mb(block_size, 2)  !< the moves of a block, and of the block with the largest (lanes_track_move)
+      integer :: slot
+      real(dp) :: lane_max(lanes), block_max
+      integer :: lane_i, lane_r
+      type(run_t) :: run
+      integer(i8) :: elements_bits
+      real(dp) :: xi, xib(block_size), vpb(block_size)
+      ! the variant's: G2P's grid velocity and move, the segment's body (cells offset), each particle's
+      ! shares (accumulate_shares)
+      real(dp) :: vgrid, dxp
+      real(dp) :: dx, cp, cq, w
+      real(dp) :: mp, sh(block_size, share_count)
+      dx = constants%dx
+      elements = constants%elements
+      inv_dx = constants%inv_dx
+      dt = constants%dt
+      youngs_modulus = constants%youngs_modulus
+      m = constants%mass
+      volume0 = constants%volume0
+      call open_segment(k, shares, seg, mass_left, mass_right, momentum_left, momentum_right, stress_volume, first, last, &
+                        lo, hi)
+      displacement = 0; kinetic = 0; strain = 0; min_j = huge(1.0_dp)
+      slot = 1
+      outside = 0
+      elements_bits = transfer(real(elements, dp), 0_i8)
+      half_m = 0.5_dp*m
+      strain_factor = 0.0_dp
+      if (stresses) strain_factor = 0.5_dp*volume0/youngs_modulus
+      do b0 = first, last, block_size
+         n = min(block_size, last - b0 + 1)
+         if (seg%prefetch) then  ! the arrays the pass reads, and the grid values of the next blocks
+            ahead = b0 + prefetch_ahead
+            if (kernel == pass_usl) call prefetch_block(ahead, cell, x, x0, v, stress, volume_ratio)
+            if (kernel == pass_usf_move .or. kernel == pass_musl_remap) call prefetch_block(ahead, cell, x, x0, v)
+            if (kernel == pass_usf_stress) call prefetch_block(ahead, cell, stress, volume_ratio)
+            if (kernel == pass_musl_stress) call prefetch_block(ahead, cell, x, v, stress, volume_ratio)
+            if (moves) then
+               call prefetch_nodes(cell(b0), cell(b0 + n - 1), acceleration, velocity)
+            else
+               call prefetch_elements(cell(b0), cell(b0 + n - 1), strain_increment_of)
+            end if
+         end if
+         do i = 1, n
+            p = b0 + i - 1
+            e = cell(p)
+            ! G2P with the start-of-step shape functions (APIC)
+            if (moves) then
+               xi = x(p)*inv_dx - (e - 1)
+               vgrid = (1.0_dp - xi)*velocity(e - 1) + xi*velocity(e)
+               v(p) = vgrid
+               cp = (velocity(e) - velocity(e - 1))*inv_dx  ! C_p = sum_I v_I dN_Ip (the hat's gradients)
+               gradient(p) = cp
+               dxp = dt*vgrid
+               x(p) = x(p) + dxp
+               db(i) = x(p) - x0(p)
+               kb(i) = half_m*v(p)*v(p)
+               mb(i, slot) = abs(dxp)*inv_dx
+            end if
+            if (stresses) then ! d eps = dt sum dN v_I over the start-of-step cell
+               if (moves) then
+                  dstrain = strain_increment(velocity(e - 1), velocity(e), dt, inv_dx)
+               else
+                  dstrain = strain_increment_of(e)
+               end if
+               call stress_particle(dstrain, youngs_modulus, strain_factor, volume0, stress(p), volume_ratio(p), sb(i), &
+                                    svb(i))
+               jb(i) = volume_ratio(p)
+            else if (iand(shares, share_stress) /= 0) then ! (an initial mapping: the stress as it is)
+               svb(i) = stress(p)*volume_ratio(p)*volume0
+            end if
+            if (relocates) then ! the new cell, for P2G at the new position
+               call locate_cell(x(p), inv_dx, elements, elements_bits, cb(i), xib(i))
+               cell(p) = cb(i)
+            else                ! the shares go to the start-of-step cell
+               cb(i) = e
+               if (moves) xib(i) = xi
+            end if
+            ! the particle's whole element shares (accumulate_shares sums them): mass, momentum (APIC's
+            ! with its affine part), stress*volume, external force, at the left and right node
+            mp = m
+            if (iand(shares, share_mass + share_momentum) /= 0) then
+               sh(i, 2) = mp*xib(i)
+               sh(i, 1) = mp - sh(i, 2)
+            end if
+            if (iand(shares, share_momentum) /= 0) then
+               ! node I gets N_I m_p (v_p + C_p (x_I - x_p)), x_I - x_p = -xi dx (left), (1 - xi) dx (right)
+               ! ([Jiang 2015]; C_p of this pass's G2P, or kept by the pass that made it)
+               if (moves) then
+                  cq = cp
+               else
+                  cq = gradient(p)
+               end if
+               w = v(p) - cq*xib(i)*dx
+               sh(i, 3) = sh(i, 1)*w
+               sh(i, 4) = sh(i, 2)*(w + cq*dx)
+            end if
+            if (iand(shares, share_stress) /= 0) sh(i, 5) = svb(i)
+         end do
+         ! the block's totals (macros of mpm_lanes.fypi, expanded here)
+         if (moves) then
+            do lane_i = 1, n - lanes + 1, lanes
+               displacement = displacement + db(lane_i:lane_i + lanes - 1)
+            end do
+            lane_r = mod(n, lanes)
+            if (lane_r > 0) displacement(1:lane_r) = displacement(1:lane_r) + db(n - lane_r + 1:n)
+            do lane_i = 1, n - lanes + 1, lanes
+               kinetic = kinetic + kb(lane_i:lane_i + lanes - 1)
+            end do
+            lane_r = mod(n, lanes)
+            if (lane_r > 0) kinetic(1:lane_r) = kinetic(1:lane_r) + kb(n - lane_r + 1:n)
+            lane_max = 0.0_dp
+            do lane_i = 1, n - lanes + 1, lanes
+               lane_max = max(lane_max, mb(lane_i:lane_i + lanes - 1, slot))
+            end do
+            lane_r = mod(n, lanes)
+            if (lane_r > 0) lane_max(1:lane_r) = max(lane_max(1:lane_r), mb(n - lane_r + 1:n, slot))
+            block_max = maxval(lane_max)
+            if (block_max > largest%value) then
+               largest%value = block_max
+               largest%first = b0
+               largest%count = n
+               largest%slot = slot
+               slot = 3 - slot
+            end if
+         end if
+         if (stresses) then
+            do lane_i = 1, n - lanes + 1, lanes
+               strain = strain + sb(lane_i:lane_i + lanes - 1)
+            end do
+            lane_r = mod(n, lanes)
+            if (lane_r > 0) strain(1:lane_r) = strain(1:lane_r) + sb(n - lane_r + 1:n)
+            do lane_i = 1, n - lanes + 1, lanes
+               min_j = min(min_j, jb(lane_i:lane_i + lanes - 1))
+            end do
+            lane_r = mod(n, lanes)
+            if (lane_r > 0) min_j(1:lane_r) = min(min_j(1:lane_r), jb(n - lane_r + 1:n))
+         end if
+         if (relocates) call find_outside(n, b0, cb, outside)
+         call accumulate_shares(k, n, cb, sh, lo, hi, shares, run, mass_left, mass_right, momentum_left, momentum_right, &
+                                stress_volume, seg, force_left, force_right)
+      end do
+      ! the open run's whole shares
+      if (run%cur /= 0) call flush_sums(k, run%cur, lo, hi, shares, run%s, mass_left, mass_right, momentum_left, &
+                                        momentum_right, stress_volume, seg, force_left, force_right)
+      run%a = 0.0_dp  ! (close_segment flushes the bar's sums: none here)
+      call close_segment(k, shares, m, run, [lane_total(displacement), lane_total(kinetic), lane_total(strain)], &
+                         minval(min_j), largest%value, furthest_particle(largest, mb), outside, mass_left, mass_right, &
+                         momentum_left, momentum_right, stress_volume, seg)
+   end subroutine apic_map_stress_segment
+
+   !> USF, second half: G2P, then mass and momentum at the new position (the hat, per-particle masses and moduli)
+   subroutine material_usf_move_segment(k, seg, x, x0, v, stress, volume_ratio, cell, acceleration, velocity, &
+                                        strain_increment_of, mass_left, mass_right, momentum_left, momentum_right, &
+                                        stress_volume, constants, carry, mass_of, modulus_of, forces, gradient, force_left, &
+                                        force_right)
+      integer, parameter :: kernel = pass_usf_move
+      logical, parameter :: moves = pass_moves(kernel), stresses = pass_stresses(kernel), relocates = pass_relocates(kernel)
+      integer, parameter :: shares = pass_shares(kernel)
+      integer, intent(in) :: k
+      type(segments_t), intent(inout) :: seg
+      real(dp), intent(inout), contiguous :: x(:), v(:), stress(:), volume_ratio(:)
+      real(dp), intent(in), contiguous :: x0(:)
+      integer, intent(inout), contiguous :: cell(:)
+      real(dp), intent(in), contiguous :: acceleration(0:), velocity(0:)
+      real(dp), intent(in), contiguous :: strain_increment_of(:)  !< per element (grid%element_strain)
+      real(dp), intent(inout), contiguous :: mass_left(:), mass_right(:), momentum_left(:), momentum_right(:), stress_volume(:)
+      type(pass_constants_t), intent(in) :: constants
+      real(dp), intent(inout), contiguous :: carry(:)  !< particles in parts: what a pass keeps for the next (fused_box_t)
+      !> the variants' per-particle data (absent when the run has none): masses and Young's moduli
+      !> (`material`), external forces (`forced`), APIC's velocity gradients C_p, and the element shares of
+      !> the forces
+      real(dp), intent(in), contiguous, optional :: mass_of(:), modulus_of(:), forces(:)
+      real(dp), intent(inout), contiguous, optional :: gradient(:), force_left(:), force_right(:)
+      integer :: p, e, i, n, b0, first, last, lo, hi, outside, ahead, elements
+      real(dp) :: half_m, strain_factor, dstrain, inv_dx, dt, youngs_modulus, m, volume0
+      type(largest_move_t) :: largest
+      real(dp) :: displacement(lanes), kinetic(lanes), strain(lanes), min_j(lanes)
+      integer :: cb(block_size)
+      real(dp) :: svb(block_size), db(block_size), kb(block_size), sb(block_size), jb(block_size)
+      real(dp) :: mb(block_size, 2)  !< the moves of a block, and of the block with the largest (lanes_track_move)
+      integer :: slot
+      real(dp) :: lane_max(lanes), block_max
+      integer :: lane_i, lane_r
+      type(run_t) :: run
+      integer(i8) :: elements_bits
+      real(dp) :: xi, xib(block_size), vpb(block_size)
+      ! the variant's: G2P's grid velocity and move, the segment's body (cells offset), each particle's
+      ! shares (accumulate_shares)
+      real(dp) :: vgrid, dxp
+      real(dp) :: mp, sh(block_size, share_count)
+      elements = constants%elements
+      inv_dx = constants%inv_dx
+      dt = constants%dt
+      youngs_modulus = constants%youngs_modulus
+      m = constants%mass
+      volume0 = constants%volume0
+      call open_segment(k, shares, seg, mass_left, mass_right, momentum_left, momentum_right, stress_volume, first, last, &
+                        lo, hi)
+      displacement = 0; kinetic = 0; strain = 0; min_j = huge(1.0_dp)
+      slot = 1
+      outside = 0
+      elements_bits = transfer(real(elements, dp), 0_i8)
+      half_m = 0.5_dp*m
+      strain_factor = 0.0_dp
+      if (stresses) strain_factor = 0.5_dp*volume0/youngs_modulus
+      do b0 = first, last, block_size
+         n = min(block_size, last - b0 + 1)
+         if (seg%prefetch) then  ! the arrays the pass reads, and the grid values of the next blocks
+            ahead = b0 + prefetch_ahead
+            if (kernel == pass_usl) call prefetch_block(ahead, cell, x, x0, v, stress, volume_ratio)
+            if (kernel == pass_usf_move .or. kernel == pass_musl_remap) call prefetch_block(ahead, cell, x, x0, v)
+            if (kernel == pass_usf_stress) call prefetch_block(ahead, cell, stress, volume_ratio)
+            if (kernel == pass_musl_stress) call prefetch_block(ahead, cell, x, v, stress, volume_ratio)
+            if (moves) then
+               call prefetch_nodes(cell(b0), cell(b0 + n - 1), acceleration, velocity)
+            else
+               call prefetch_elements(cell(b0), cell(b0 + n - 1), strain_increment_of)
+            end if
+         end if
+         do i = 1, n
+            p = b0 + i - 1
+            e = cell(p)
+            ! G2P with the start-of-step shape functions (per-particle masses and moduli)
+            if (moves) then
+               xi = x(p)*inv_dx - (e - 1)
+               vgrid = (1.0_dp - xi)*velocity(e - 1) + xi*velocity(e)
+               v(p) = v(p) + dt*((1.0_dp - xi)*acceleration(e - 1) + xi*acceleration(e))
+               dxp = dt*vgrid
+               x(p) = x(p) + dxp
+               db(i) = mass_of(p)*(x(p) - x0(p))
+               kb(i) = 0.5_dp*mass_of(p)*v(p)*v(p)
+               mb(i, slot) = abs(dxp)*inv_dx
+            end if
+            if (stresses) then ! d eps = dt sum dN v_I over the start-of-step cell
+               if (moves) then
+                  dstrain = strain_increment(velocity(e - 1), velocity(e), dt, inv_dx)
+               else
+                  dstrain = strain_increment_of(e)
+               end if
+               call stress_particle(dstrain, modulus_of(p), 0.5_dp*volume0/modulus_of(p), volume0, stress(p), &
+                                    volume_ratio(p), sb(i), svb(i))
+               jb(i) = volume_ratio(p)
+            else if (iand(shares, share_stress) /= 0) then ! (an initial mapping: the stress as it is)
+               svb(i) = stress(p)*volume_ratio(p)*volume0
+            end if
+            if (relocates) then ! the new cell, for P2G at the new position
+               call locate_cell(x(p), inv_dx, elements, elements_bits, cb(i), xib(i))
+               cell(p) = cb(i)
+            else                ! the shares go to the start-of-step cell
+               cb(i) = e
+               if (moves) xib(i) = xi
+            end if
+            ! the particle's whole element shares (accumulate_shares sums them): mass, momentum (APIC's
+            ! with its affine part), stress*volume, external force, at the left and right node
+            mp = mass_of(p)
+            if (iand(shares, share_mass + share_momentum) /= 0) then
+               sh(i, 2) = mp*xib(i)
+               sh(i, 1) = mp - sh(i, 2)
+            end if
+            if (iand(shares, share_momentum) /= 0) then
+               sh(i, 3) = sh(i, 1)*v(p)
+               sh(i, 4) = sh(i, 2)*v(p)
+            end if
+            if (iand(shares, share_stress) /= 0) sh(i, 5) = svb(i)
+         end do
+         ! the block's totals (macros of mpm_lanes.fypi, expanded here)
+         if (moves) then
+            do lane_i = 1, n - lanes + 1, lanes
+               displacement = displacement + db(lane_i:lane_i + lanes - 1)
+            end do
+            lane_r = mod(n, lanes)
+            if (lane_r > 0) displacement(1:lane_r) = displacement(1:lane_r) + db(n - lane_r + 1:n)
+            do lane_i = 1, n - lanes + 1, lanes
+               kinetic = kinetic + kb(lane_i:lane_i + lanes - 1)
+            end do
+            lane_r = mod(n, lanes)
+            if (lane_r > 0) kinetic(1:lane_r) = kinetic(1:lane_r) + kb(n - lane_r + 1:n)
+            lane_max = 0.0_dp
+            do lane_i = 1, n - lanes + 1, lanes
+               lane_max = max(lane_max, mb(lane_i:lane_i + lanes - 1, slot))
+            end do
+            lane_r = mod(n, lanes)
+            if (lane_r > 0) lane_max(1:lane_r) = max(lane_max(1:lane_r), mb(n - lane_r + 1:n, slot))
+            block_max = maxval(lane_max)
+            if (block_max > largest%value) then
+               largest%value = block_max
+               largest%first = b0
+               largest%count = n
+               largest%slot = slot
+               slot = 3 - slot
+            end if
+         end if
+         if (stresses) then
+            do lane_i = 1, n - lanes + 1, lanes
+               strain = strain + sb(lane_i:lane_i + lanes - 1)
+            end do
+            lane_r = mod(n, lanes)
+            if (lane_r > 0) strain(1:lane_r) = strain(1:lane_r) + sb(n - lane_r + 1:n)
+            do lane_i = 1, n - lanes + 1, lanes
+               min_j = min(min_j, jb(lane_i:lane_i + lanes - 1))
+            end do
+            lane_r = mod(n, lanes)
+            if (lane_r > 0) min_j(1:lane_r) = min(min_j(1:lane_r), jb(n - lane_r + 1:n))
+         end if
+         if (relocates) call find_outside(n, b0, cb, outside)
+         call accumulate_shares(k, n, cb, sh, lo, hi, shares, run, mass_left, mass_right, momentum_left, momentum_right, &
+                                stress_volume, seg, force_left, force_right)
+      end do
+      ! the open run's whole shares
+      if (run%cur /= 0) call flush_sums(k, run%cur, lo, hi, shares, run%s, mass_left, mass_right, momentum_left, &
+                                        momentum_right, stress_volume, seg, force_left, force_right)
+      run%a = 0.0_dp  ! (close_segment flushes the bar's sums: none here)
+      call close_segment(k, shares, m, run, [lane_total(displacement), lane_total(kinetic), lane_total(strain)], &
+                         minval(min_j), largest%value, furthest_particle(largest, mb), outside, mass_left, mass_right, &
+                         momentum_left, momentum_right, stress_volume, seg)
+   end subroutine material_usf_move_segment
+
+   !> USF, first half: stress update, then stress*volume of the unmoved particles (the hat, per-particle masses and moduli)
+   subroutine material_usf_stress_segment(k, seg, x, x0, v, stress, volume_ratio, cell, acceleration, velocity, &
+                                          strain_increment_of, mass_left, mass_right, momentum_left, momentum_right, &
+                                          stress_volume, constants, carry, mass_of, modulus_of, forces, gradient, force_left, &
+                                          force_right)
+      integer, parameter :: kernel = pass_usf_stress
+      logical, parameter :: moves = pass_moves(kernel), stresses = pass_stresses(kernel), relocates = pass_relocates(kernel)
+      integer, parameter :: shares = pass_shares(kernel)
+      integer, intent(in) :: k
+      type(segments_t), intent(inout) :: seg
+      real(dp), intent(inout), contiguous :: x(:), v(:), stress(:), volume_ratio(:)
+      real(dp), intent(in), contiguous :: x0(:)
+      integer, intent(inout), contiguous :: cell(:)
+      real(dp), intent(in), contiguous :: acceleration(0:), velocity(0:)
+      real(dp), intent(in), contiguous :: strain_increment_of(:)  !< per element (grid%element_strain)
+      real(dp), intent(inout), contiguous :: mass_left(:), mass_right(:), momentum_left(:), momentum_right(:), stress_volume(:)
+      type(pass_constants_t), intent(in) :: constants
+      real(dp), intent(inout), contiguous :: carry(:)  !< particles in parts: what a pass keeps for the next (fused_box_t)
+      !> the variants' per-particle data (absent when the run has none): masses and Young's moduli
+      !> (`material`), external forces (`forced`), APIC's velocity gradients C_p, and the element shares of
+      !> the forces
+      real(dp), intent(in), contiguous, optional :: mass_of(:), modulus_of(:), forces(:)
+      real(dp), intent(inout), contiguous, optional :: gradient(:), force_left(:), force_right(:)
+      integer :: p, e, i, n, b0, first, last, lo, hi, outside, ahead, elements
+      real(dp) :: half_m, strain_factor, dstrain, inv_dx, dt, youngs_modulus, m, volume0
+      type(largest_move_t) :: largest
+      real(dp) :: displacement(lanes), kinetic(lanes), strain(lanes), min_j(lanes)
+      integer :: cb(block_size)
+      real(dp) :: svb(block_size), db(block_size), kb(block_size), sb(block_size), jb(block_size)
+      real(dp) :: mb(block_size, 2)  !< the moves of a block, and of the block with the largest (lanes_track_move)
+      integer :: slot
+      real(dp) :: lane_max(lanes), block_max
+      integer :: lane_i, lane_r
+      type(run_t) :: run
+      integer(i8) :: elements_bits
+      real(dp) :: xi, xib(block_size), vpb(block_size)
+      ! the variant's: G2P's grid velocity and move, the segment's body (cells offset), each particle's
+      ! shares (accumulate_shares)
+      real(dp) :: vgrid, dxp
+      real(dp) :: mp, sh(block_size, share_count)
+      elements = constants%elements
+      inv_dx = constants%inv_dx
+      dt = constants%dt
+      youngs_modulus = constants%youngs_modulus
+      m = constants%mass
+      volume0 = constants%volume0
+      call open_segment(k, shares, seg, mass_left, mass_right, momentum_left, momentum_right, stress_volume, first, last, &
+                        lo, hi)
+      displacement = 0; kinetic = 0; strain = 0; min_j = huge(1.0_dp)
+      slot = 1
+      outside = 0
+      elements_bits = transfer(real(elements, dp), 0_i8)
+      half_m = 0.5_dp*m
+      strain_factor = 0.0_dp
+      if (stresses) strain_factor = 0.5_dp*volume0/youngs_modulus
+      do b0 = first, last, block_size
+         n = min(block_size, last - b0 + 1)
+         if (seg%prefetch) then  ! the arrays the pass reads, and the grid values of the next blocks
+            ahead = b0 + prefetch_ahead
+            if (kernel == pass_usl) call prefetch_block(ahead, cell, x, x0, v, stress, volume_ratio)
+            if (kernel == pass_usf_move .or. kernel == pass_musl_remap) call prefetch_block(ahead, cell, x, x0, v)
+            if (kernel == pass_usf_stress) call prefetch_block(ahead, cell, stress, volume_ratio)
+            if (kernel == pass_musl_stress) call prefetch_block(ahead, cell, x, v, stress, volume_ratio)
+            if (moves) then
+               call prefetch_nodes(cell(b0), cell(b0 + n - 1), acceleration, velocity)
+            else
+               call prefetch_elements(cell(b0), cell(b0 + n - 1), strain_increment_of)
+            end if
+         end if
+         do i = 1, n
+            p = b0 + i - 1
+            e = cell(p)
+            ! G2P with the start-of-step shape functions (per-particle masses and moduli)
+            if (moves) then
+               xi = x(p)*inv_dx - (e - 1)
+               vgrid = (1.0_dp - xi)*velocity(e - 1) + xi*velocity(e)
+               v(p) = v(p) + dt*((1.0_dp - xi)*acceleration(e - 1) + xi*acceleration(e))
+               dxp = dt*vgrid
+               x(p) = x(p) + dxp
+               db(i) = mass_of(p)*(x(p) - x0(p))
+               kb(i) = 0.5_dp*mass_of(p)*v(p)*v(p)
+               mb(i, slot) = abs(dxp)*inv_dx
+            end if
+            if (stresses) then ! d eps = dt sum dN v_I over the start-of-step cell
+               if (moves) then
+                  dstrain = strain_increment(velocity(e - 1), velocity(e), dt, inv_dx)
+               else
+                  dstrain = strain_increment_of(e)
+               end if
+               call stress_particle(dstrain, modulus_of(p), 0.5_dp*volume0/modulus_of(p), volume0, stress(p), &
+                                    volume_ratio(p), sb(i), svb(i))
+               jb(i) = volume_ratio(p)
+            else if (iand(shares, share_stress) /= 0) then ! (an initial mapping: the stress as it is)
+               svb(i) = stress(p)*volume_ratio(p)*volume0
+            end if
+            if (relocates) then ! the new cell, for P2G at the new position
+               call locate_cell(x(p), inv_dx, elements, elements_bits, cb(i), xib(i))
+               cell(p) = cb(i)
+            else                ! the shares go to the start-of-step cell
+               cb(i) = e
+               if (moves) xib(i) = xi
+            end if
+            ! the particle's whole element shares (accumulate_shares sums them): mass, momentum (APIC's
+            ! with its affine part), stress*volume, external force, at the left and right node
+            mp = mass_of(p)
+            if (iand(shares, share_mass + share_momentum) /= 0) then
+               sh(i, 2) = mp*xib(i)
+               sh(i, 1) = mp - sh(i, 2)
+            end if
+            if (iand(shares, share_momentum) /= 0) then
+               sh(i, 3) = sh(i, 1)*v(p)
+               sh(i, 4) = sh(i, 2)*v(p)
+            end if
+            if (iand(shares, share_stress) /= 0) sh(i, 5) = svb(i)
+         end do
+         ! the block's totals (macros of mpm_lanes.fypi, expanded here)
+         if (moves) then
+            do lane_i = 1, n - lanes + 1, lanes
+               displacement = displacement + db(lane_i:lane_i + lanes - 1)
+            end do
+            lane_r = mod(n, lanes)
+            if (lane_r > 0) displacement(1:lane_r) = displacement(1:lane_r) + db(n - lane_r + 1:n)
+            do lane_i = 1, n - lanes + 1, lanes
+               kinetic = kinetic + kb(lane_i:lane_i + lanes - 1)
+            end do
+            lane_r = mod(n, lanes)
+            if (lane_r > 0) kinetic(1:lane_r) = kinetic(1:lane_r) + kb(n - lane_r + 1:n)
+            lane_max = 0.0_dp
+            do lane_i = 1, n - lanes + 1, lanes
+               lane_max = max(lane_max, mb(lane_i:lane_i + lanes - 1, slot))
+            end do
+            lane_r = mod(n, lanes)
+            if (lane_r > 0) lane_max(1:lane_r) = max(lane_max(1:lane_r), mb(n - lane_r + 1:n, slot))
+            block_max = maxval(lane_max)
+            if (block_max > largest%value) then
+               largest%value = block_max
+               largest%first = b0
+               largest%count = n
+               largest%slot = slot
+               slot = 3 - slot
+            end if
+         end if
+         if (stresses) then
+            do lane_i = 1, n - lanes + 1, lanes
+               strain = strain + sb(lane_i:lane_i + lanes - 1)
+            end do
+            lane_r = mod(n, lanes)
+            if (lane_r > 0) strain(1:lane_r) = strain(1:lane_r) + sb(n - lane_r + 1:n)
+            do lane_i = 1, n - lanes + 1, lanes
+               min_j = min(min_j, jb(lane_i:lane_i + lanes - 1))
+            end do
+            lane_r = mod(n, lanes)
+            if (lane_r > 0) min_j(1:lane_r) = min(min_j(1:lane_r), jb(n - lane_r + 1:n))
+         end if
+         if (relocates) call find_outside(n, b0, cb, outside)
+         call accumulate_shares(k, n, cb, sh, lo, hi, shares, run, mass_left, mass_right, momentum_left, momentum_right, &
+                                stress_volume, seg, force_left, force_right)
+      end do
+      ! the open run's whole shares
+      if (run%cur /= 0) call flush_sums(k, run%cur, lo, hi, shares, run%s, mass_left, mass_right, momentum_left, &
+                                        momentum_right, stress_volume, seg, force_left, force_right)
+      run%a = 0.0_dp  ! (close_segment flushes the bar's sums: none here)
+      call close_segment(k, shares, m, run, [lane_total(displacement), lane_total(kinetic), lane_total(strain)], &
+                         minval(min_j), largest%value, furthest_particle(largest, mb), outside, mass_left, mass_right, &
+                         momentum_left, momentum_right, stress_volume, seg)
+   end subroutine material_usf_stress_segment
+
+   !> USL: G2P, stress update from the updated nodal velocities, P2G at the new position (the hat, per-particle masses and moduli)
+   subroutine material_usl_segment(k, seg, x, x0, v, stress, volume_ratio, cell, acceleration, velocity, &
+                                   strain_increment_of, mass_left, mass_right, momentum_left, momentum_right, &
+                                   stress_volume, constants, carry, mass_of, modulus_of, forces, gradient, force_left, &
+                                   force_right)
+      integer, parameter :: kernel = pass_usl
+      logical, parameter :: moves = pass_moves(kernel), stresses = pass_stresses(kernel), relocates = pass_relocates(kernel)
+      integer, parameter :: shares = pass_shares(kernel)
+      integer, intent(in) :: k
+      type(segments_t), intent(inout) :: seg
+      real(dp), intent(inout), contiguous :: x(:), v(:), stress(:), volume_ratio(:)
+      real(dp), intent(in), contiguous :: x0(:)
+      integer, intent(inout), contiguous :: cell(:)
+      real(dp), intent(in), contiguous :: acceleration(0:), velocity(0:)
+      real(dp), intent(in), contiguous :: strain_increment_of(:)  !< per element (grid%element_strain)
+      real(dp), intent(inout), contiguous :: mass_left(:), mass_right(:), momentum_left(:), momentum_right(:), stress_volume(:)
+      type(pass_constants_t), intent(in) :: constants
+      real(dp), intent(inout), contiguous :: carry(:)  !< particles in parts: what a pass keeps for the next (fused_box_t)
+      !> the variants' per-particle data (absent when the run has none): masses and Young's moduli
+      !> (`material`), external forces (`forced`), APIC's velocity gradients C_p, and the element shares of
+      !> the forces
+      real(dp), intent(in), contiguous, optional :: mass_of(:), modulus_of(:), forces(:)
+      real(dp), intent(inout), contiguous, optional :: gradient(:), force_left(:), force_right(:)
+      integer :: p, e, i, n, b0, first, last, lo, hi, outside, ahead, elements
+      real(dp) :: half_m, strain_factor, dstrain, inv_dx, dt, youngs_modulus, m, volume0
+      type(largest_move_t) :: largest
+      real(dp) :: displacement(lanes), kinetic(lanes), strain(lanes), min_j(lanes)
+      integer :: cb(block_size)
+      real(dp) :: svb(block_size), db(block_size), kb(block_size), sb(block_size), jb(block_size)
+      real(dp) :: mb(block_size, 2)  !< the moves of a block, and of the block with the largest (lanes_track_move)
+      integer :: slot
+      real(dp) :: lane_max(lanes), block_max
+      integer :: lane_i, lane_r
+      type(run_t) :: run
+      integer(i8) :: elements_bits
+      real(dp) :: xi, xib(block_size), vpb(block_size)
+      ! the variant's: G2P's grid velocity and move, the segment's body (cells offset), each particle's
+      ! shares (accumulate_shares)
+      real(dp) :: vgrid, dxp
+      real(dp) :: mp, sh(block_size, share_count)
+      elements = constants%elements
+      inv_dx = constants%inv_dx
+      dt = constants%dt
+      youngs_modulus = constants%youngs_modulus
+      m = constants%mass
+      volume0 = constants%volume0
+      call open_segment(k, shares, seg, mass_left, mass_right, momentum_left, momentum_right, stress_volume, first, last, &
+                        lo, hi)
+      displacement = 0; kinetic = 0; strain = 0; min_j = huge(1.0_dp)
+      slot = 1
+      outside = 0
+      elements_bits = transfer(real(elements, dp), 0_i8)
+      half_m = 0.5_dp*m
+      strain_factor = 0.0_dp
+      if (stresses) strain_factor = 0.5_dp*volume0/youngs_modulus
+      do b0 = first, last, block_size
+         n = min(block_size, last - b0 + 1)
+         if (seg%prefetch) then  ! the arrays the pass reads, and the grid values of the next blocks
+            ahead = b0 + prefetch_ahead
+            if (kernel == pass_usl) call prefetch_block(ahead, cell, x, x0, v, stress, volume_ratio)
+            if (kernel == pass_usf_move .or. kernel == pass_musl_remap) call prefetch_block(ahead, cell, x, x0, v)
+            if (kernel == pass_usf_stress) call prefetch_block(ahead, cell, stress, volume_ratio)
+            if (kernel == pass_musl_stress) call prefetch_block(ahead, cell, x, v, stress, volume_ratio)
+            if (moves) then
+               call prefetch_nodes(cell(b0), cell(b0 + n - 1), acceleration, velocity)
+            else
+               call prefetch_elements(cell(b0), cell(b0 + n - 1), strain_increment_of)
+            end if
+         end if
+         do i = 1, n
+            p = b0 + i - 1
+            e = cell(p)
+            ! G2P with the start-of-step shape functions (per-particle masses and moduli)
+            if (moves) then
+               xi = x(p)*inv_dx - (e - 1)
+               vgrid = (1.0_dp - xi)*velocity(e - 1) + xi*velocity(e)
+               v(p) = v(p) + dt*((1.0_dp - xi)*acceleration(e - 1) + xi*acceleration(e))
+               dxp = dt*vgrid
+               x(p) = x(p) + dxp
+               db(i) = mass_of(p)*(x(p) - x0(p))
+               kb(i) = 0.5_dp*mass_of(p)*v(p)*v(p)
+               mb(i, slot) = abs(dxp)*inv_dx
+            end if
+            if (stresses) then ! d eps = dt sum dN v_I over the start-of-step cell
+               if (moves) then
+                  dstrain = strain_increment(velocity(e - 1), velocity(e), dt, inv_dx)
+               else
+                  dstrain = strain_increment_of(e)
+               end if
+               call stress_particle(dstrain, modulus_of(p), 0.5_dp*volume0/modulus_of(p), volume0, stress(p), &
+                                    volume_ratio(p), sb(i), svb(i))
+               jb(i) = volume_ratio(p)
+            else if (iand(shares, share_stress) /= 0) then ! (an initial mapping: the stress as it is)
+               svb(i) = stress(p)*volume_ratio(p)*volume0
+            end if
+            if (relocates) then ! the new cell, for P2G at the new position
+               call locate_cell(x(p), inv_dx, elements, elements_bits, cb(i), xib(i))
+               cell(p) = cb(i)
+            else                ! the shares go to the start-of-step cell
+               cb(i) = e
+               if (moves) xib(i) = xi
+            end if
+            ! the particle's whole element shares (accumulate_shares sums them): mass, momentum (APIC's
+            ! with its affine part), stress*volume, external force, at the left and right node
+            mp = mass_of(p)
+            if (iand(shares, share_mass + share_momentum) /= 0) then
+               sh(i, 2) = mp*xib(i)
+               sh(i, 1) = mp - sh(i, 2)
+            end if
+            if (iand(shares, share_momentum) /= 0) then
+               sh(i, 3) = sh(i, 1)*v(p)
+               sh(i, 4) = sh(i, 2)*v(p)
+            end if
+            if (iand(shares, share_stress) /= 0) sh(i, 5) = svb(i)
+         end do
+         ! the block's totals (macros of mpm_lanes.fypi, expanded here)
+         if (moves) then
+            do lane_i = 1, n - lanes + 1, lanes
+               displacement = displacement + db(lane_i:lane_i + lanes - 1)
+            end do
+            lane_r = mod(n, lanes)
+            if (lane_r > 0) displacement(1:lane_r) = displacement(1:lane_r) + db(n - lane_r + 1:n)
+            do lane_i = 1, n - lanes + 1, lanes
+               kinetic = kinetic + kb(lane_i:lane_i + lanes - 1)
+            end do
+            lane_r = mod(n, lanes)
+            if (lane_r > 0) kinetic(1:lane_r) = kinetic(1:lane_r) + kb(n - lane_r + 1:n)
+            lane_max = 0.0_dp
+            do lane_i = 1, n - lanes + 1, lanes
+               lane_max = max(lane_max, mb(lane_i:lane_i + lanes - 1, slot))
+            end do
+            lane_r = mod(n, lanes)
+            if (lane_r > 0) lane_max(1:lane_r) = max(lane_max(1:lane_r), mb(n - lane_r + 1:n, slot))
+            block_max = maxval(lane_max)
+            if (block_max > largest%value) then
+               largest%value = block_max
+               largest%first = b0
+               largest%count = n
+               largest%slot = slot
+               slot = 3 - slot
+            end if
+         end if
+         if (stresses) then
+            do lane_i = 1, n - lanes + 1, lanes
+               strain = strain + sb(lane_i:lane_i + lanes - 1)
+            end do
+            lane_r = mod(n, lanes)
+            if (lane_r > 0) strain(1:lane_r) = strain(1:lane_r) + sb(n - lane_r + 1:n)
+            do lane_i = 1, n - lanes + 1, lanes
+               min_j = min(min_j, jb(lane_i:lane_i + lanes - 1))
+            end do
+            lane_r = mod(n, lanes)
+            if (lane_r > 0) min_j(1:lane_r) = min(min_j(1:lane_r), jb(n - lane_r + 1:n))
+         end if
+         if (relocates) call find_outside(n, b0, cb, outside)
+         call accumulate_shares(k, n, cb, sh, lo, hi, shares, run, mass_left, mass_right, momentum_left, momentum_right, &
+                                stress_volume, seg, force_left, force_right)
+      end do
+      ! the open run's whole shares
+      if (run%cur /= 0) call flush_sums(k, run%cur, lo, hi, shares, run%s, mass_left, mass_right, momentum_left, &
+                                        momentum_right, stress_volume, seg, force_left, force_right)
+      run%a = 0.0_dp  ! (close_segment flushes the bar's sums: none here)
+      call close_segment(k, shares, m, run, [lane_total(displacement), lane_total(kinetic), lane_total(strain)], &
+                         minval(min_j), largest%value, furthest_particle(largest, mb), outside, mass_left, mass_right, &
+                         momentum_left, momentum_right, stress_volume, seg)
+   end subroutine material_usl_segment
+
+   !> MUSL, first pass: G2P, and the new momentum back to the start-of-step nodes (the hat, per-particle masses and moduli)
+   subroutine material_musl_remap_segment(k, seg, x, x0, v, stress, volume_ratio, cell, acceleration, velocity, &
+                                          strain_increment_of, mass_left, mass_right, momentum_left, momentum_right, &
+                                          stress_volume, constants, carry, mass_of, modulus_of, forces, gradient, force_left, &
+                                          force_right)
+      integer, parameter :: kernel = pass_musl_remap
+      logical, parameter :: moves = pass_moves(kernel), stresses = pass_stresses(kernel), relocates = pass_relocates(kernel)
+      integer, parameter :: shares = pass_shares(kernel)
+      integer, intent(in) :: k
+      type(segments_t), intent(inout) :: seg
+      real(dp), intent(inout), contiguous :: x(:), v(:), stress(:), volume_ratio(:)
+      real(dp), intent(in), contiguous :: x0(:)
+      integer, intent(inout), contiguous :: cell(:)
+      real(dp), intent(in), contiguous :: acceleration(0:), velocity(0:)
+      real(dp), intent(in), contiguous :: strain_increment_of(:)  !< per element (grid%element_strain)
+      real(dp), intent(inout), contiguous :: mass_left(:), mass_right(:), momentum_left(:), momentum_right(:), stress_volume(:)
+      type(pass_constants_t), intent(in) :: constants
+      real(dp), intent(inout), contiguous :: carry(:)  !< particles in parts: what a pass keeps for the next (fused_box_t)
+      !> the variants' per-particle data (absent when the run has none): masses and Young's moduli
+      !> (`material`), external forces (`forced`), APIC's velocity gradients C_p, and the element shares of
+      !> the forces
+      real(dp), intent(in), contiguous, optional :: mass_of(:), modulus_of(:), forces(:)
+      real(dp), intent(inout), contiguous, optional :: gradient(:), force_left(:), force_right(:)
+      integer :: p, e, i, n, b0, first, last, lo, hi, outside, ahead, elements
+      real(dp) :: half_m, strain_factor, dstrain, inv_dx, dt, youngs_modulus, m, volume0
+      type(largest_move_t) :: largest
+      real(dp) :: displacement(lanes), kinetic(lanes), strain(lanes), min_j(lanes)
+      integer :: cb(block_size)
+      real(dp) :: svb(block_size), db(block_size), kb(block_size), sb(block_size), jb(block_size)
+      real(dp) :: mb(block_size, 2)  !< the moves of a block, and of the block with the largest (lanes_track_move)
+      integer :: slot
+      real(dp) :: lane_max(lanes), block_max
+      integer :: lane_i, lane_r
+      type(run_t) :: run
+      integer(i8) :: elements_bits
+      real(dp) :: xi, xib(block_size), vpb(block_size)
+      ! the variant's: G2P's grid velocity and move, the segment's body (cells offset), each particle's
+      ! shares (accumulate_shares)
+      real(dp) :: vgrid, dxp
+      real(dp) :: mp, sh(block_size, share_count)
+      elements = constants%elements
+      inv_dx = constants%inv_dx
+      dt = constants%dt
+      youngs_modulus = constants%youngs_modulus
+      m = constants%mass
+      volume0 = constants%volume0
+      call open_segment(k, shares, seg, mass_left, mass_right, momentum_left, momentum_right, stress_volume, first, last, &
+                        lo, hi)
+      displacement = 0; kinetic = 0; strain = 0; min_j = huge(1.0_dp)
+      slot = 1
+      outside = 0
+      elements_bits = transfer(real(elements, dp), 0_i8)
+      half_m = 0.5_dp*m
+      strain_factor = 0.0_dp
+      if (stresses) strain_factor = 0.5_dp*volume0/youngs_modulus
+      do b0 = first, last, block_size
+         n = min(block_size, last - b0 + 1)
+         if (seg%prefetch) then  ! the arrays the pass reads, and the grid values of the next blocks
+            ahead = b0 + prefetch_ahead
+            if (kernel == pass_usl) call prefetch_block(ahead, cell, x, x0, v, stress, volume_ratio)
+            if (kernel == pass_usf_move .or. kernel == pass_musl_remap) call prefetch_block(ahead, cell, x, x0, v)
+            if (kernel == pass_usf_stress) call prefetch_block(ahead, cell, stress, volume_ratio)
+            if (kernel == pass_musl_stress) call prefetch_block(ahead, cell, x, v, stress, volume_ratio)
+            if (moves) then
+               call prefetch_nodes(cell(b0), cell(b0 + n - 1), acceleration, velocity)
+            else
+               call prefetch_elements(cell(b0), cell(b0 + n - 1), strain_increment_of)
+            end if
+         end if
+         do i = 1, n
+            p = b0 + i - 1
+            e = cell(p)
+            ! G2P with the start-of-step shape functions (per-particle masses and moduli)
+            if (moves) then
+               xi = x(p)*inv_dx - (e - 1)
+               vgrid = (1.0_dp - xi)*velocity(e - 1) + xi*velocity(e)
+               v(p) = v(p) + dt*((1.0_dp - xi)*acceleration(e - 1) + xi*acceleration(e))
+               dxp = dt*vgrid
+               x(p) = x(p) + dxp
+               db(i) = mass_of(p)*(x(p) - x0(p))
+               kb(i) = 0.5_dp*mass_of(p)*v(p)*v(p)
+               mb(i, slot) = abs(dxp)*inv_dx
+            end if
+            if (stresses) then ! d eps = dt sum dN v_I over the start-of-step cell
+               if (moves) then
+                  dstrain = strain_increment(velocity(e - 1), velocity(e), dt, inv_dx)
+               else
+                  dstrain = strain_increment_of(e)
+               end if
+               call stress_particle(dstrain, modulus_of(p), 0.5_dp*volume0/modulus_of(p), volume0, stress(p), &
+                                    volume_ratio(p), sb(i), svb(i))
+               jb(i) = volume_ratio(p)
+            else if (iand(shares, share_stress) /= 0) then ! (an initial mapping: the stress as it is)
+               svb(i) = stress(p)*volume_ratio(p)*volume0
+            end if
+            if (relocates) then ! the new cell, for P2G at the new position
+               call locate_cell(x(p), inv_dx, elements, elements_bits, cb(i), xib(i))
+               cell(p) = cb(i)
+            else                ! the shares go to the start-of-step cell
+               cb(i) = e
+               if (moves) xib(i) = xi
+            end if
+            ! the particle's whole element shares (accumulate_shares sums them): mass, momentum (APIC's
+            ! with its affine part), stress*volume, external force, at the left and right node
+            mp = mass_of(p)
+            if (iand(shares, share_mass + share_momentum) /= 0) then
+               sh(i, 2) = mp*xib(i)
+               sh(i, 1) = mp - sh(i, 2)
+            end if
+            if (iand(shares, share_momentum) /= 0) then
+               sh(i, 3) = sh(i, 1)*v(p)
+               sh(i, 4) = sh(i, 2)*v(p)
+            end if
+            if (iand(shares, share_stress) /= 0) sh(i, 5) = svb(i)
+         end do
+         ! the block's totals (macros of mpm_lanes.fypi, expanded here)
+         if (moves) then
+            do lane_i = 1, n - lanes + 1, lanes
+               displacement = displacement + db(lane_i:lane_i + lanes - 1)
+            end do
+            lane_r = mod(n, lanes)
+            if (lane_r > 0) displacement(1:lane_r) = displacement(1:lane_r) + db(n - lane_r + 1:n)
+            do lane_i = 1, n - lanes + 1, lanes
+               kinetic = kinetic + kb(lane_i:lane_i + lanes - 1)
+            end do
+            lane_r = mod(n, lanes)
+            if (lane_r > 0) kinetic(1:lane_r) = kinetic(1:lane_r) + kb(n - lane_r + 1:n)
+            lane_max = 0.0_dp
+            do lane_i = 1, n - lanes + 1, lanes
+               lane_max = max(lane_max, mb(lane_i:lane_i + lanes - 1, slot))
+            end do
+            lane_r = mod(n, lanes)
+            if (lane_r > 0) lane_max(1:lane_r) = max(lane_max(1:lane_r), mb(n - lane_r + 1:n, slot))
+            block_max = maxval(lane_max)
+            if (block_max > largest%value) then
+               largest%value = block_max
+               largest%first = b0
+               largest%count = n
+               largest%slot = slot
+               slot = 3 - slot
+            end if
+         end if
+         if (stresses) then
+            do lane_i = 1, n - lanes + 1, lanes
+               strain = strain + sb(lane_i:lane_i + lanes - 1)
+            end do
+            lane_r = mod(n, lanes)
+            if (lane_r > 0) strain(1:lane_r) = strain(1:lane_r) + sb(n - lane_r + 1:n)
+            do lane_i = 1, n - lanes + 1, lanes
+               min_j = min(min_j, jb(lane_i:lane_i + lanes - 1))
+            end do
+            lane_r = mod(n, lanes)
+            if (lane_r > 0) min_j(1:lane_r) = min(min_j(1:lane_r), jb(n - lane_r + 1:n))
+         end if
+         if (relocates) call find_outside(n, b0, cb, outside)
+         call accumulate_shares(k, n, cb, sh, lo, hi, shares, run, mass_left, mass_right, momentum_left, momentum_right, &
+                                stress_volume, seg, force_left, force_right)
+      end do
+      ! the open run's whole shares
+      if (run%cur /= 0) call flush_sums(k, run%cur, lo, hi, shares, run%s, mass_left, mass_right, momentum_left, &
+                                        momentum_right, stress_volume, seg, force_left, force_right)
+      run%a = 0.0_dp  ! (close_segment flushes the bar's sums: none here)
+      call close_segment(k, shares, m, run, [lane_total(displacement), lane_total(kinetic), lane_total(strain)], &
+                         minval(min_j), largest%value, furthest_particle(largest, mb), outside, mass_left, mass_right, &
+                         momentum_left, momentum_right, stress_volume, seg)
+   end subroutine material_musl_remap_segment
+
+   !> MUSL, second pass: stress update from the remapped velocities, P2G at the new position (the hat, per-particle masses and moduli)
+   subroutine material_musl_stress_segment(k, seg, x, x0, v, stress, volume_ratio, cell, acceleration, velocity, &
+                                           strain_increment_of, mass_left, mass_right, momentum_left, momentum_right, &
+                                           stress_volume, constants, carry, mass_of, modulus_of, forces, gradient, force_left, &
+                                           force_right)
+      integer, parameter :: kernel = pass_musl_stress
+      logical, parameter :: moves = pass_moves(kernel), stresses = pass_stresses(kernel), relocates = pass_relocates(kernel)
+      integer, parameter :: shares = pass_shares(kernel)
+      integer, intent(in) :: k
+      type(segments_t), intent(inout) :: seg
+      real(dp), intent(inout), contiguous :: x(:), v(:), stress(:), volume_ratio(:)
+      real(dp), intent(in), contiguous :: x0(:)
+      integer, intent(inout), contiguous :: cell(:)
+      real(dp), intent(in), contiguous :: acceleration(0:), velocity(0:)
+      real(dp), intent(in), contiguous :: strain_increment_of(:)  !< per element (grid%element_strain)
+      real(dp), intent(inout), contiguous :: mass_left(:), mass_right(:), momentum_left(:), momentum_right(:), stress_volume(:)
+      type(pass_constants_t), intent(in) :: constants
+      real(dp), intent(inout), contiguous :: carry(:)  !< particles in parts: what a pass keeps for the next (fused_box_t)
+      !> the variants' per-particle data (absent when the run has none): masses and Young's moduli
+      !> (`material`), external forces (`forced`), APIC's velocity gradients C_p, and the element shares of
+      !> the forces
+      real(dp), intent(in), contiguous, optional :: mass_of(:), modulus_of(:), forces(:)
+      real(dp), intent(inout), contiguous, optional :: gradient(:), force_left(:), force_right(:)
+      integer :: p, e, i, n, b0, first, last, lo, hi, outside, ahead, elements
+      real(dp) :: half_m, strain_factor, dstrain, inv_dx, dt, youngs_modulus, m, volume0
+      type(largest_move_t) :: largest
+      real(dp) :: displacement(lanes), kinetic(lanes), strain(lanes), min_j(lanes)
+      integer :: cb(block_size)
+      real(dp) :: svb(block_size), db(block_size), kb(block_size), sb(block_size), jb(block_size)
+      real(dp) :: mb(block_size, 2)  !< the moves of a block, and of the block with the largest (lanes_track_move)
+      integer :: slot
+      real(dp) :: lane_max(lanes), block_max
+      integer :: lane_i, lane_r
+      type(run_t) :: run
+      integer(i8) :: elements_bits
+      real(dp) :: xi, xib(block_size), vpb(block_size)
+      ! the variant's: G2P's grid velocity and move, the segment's body (cells offset), each particle's
+      ! shares (accumulate_shares)
+      real(dp) :: vgrid, dxp
+      real(dp) :: mp, sh(block_size, share_count)
+      elements = constants%elements
+      inv_dx = constants%inv_dx
+      dt = constants%dt
+      youngs_modulus = constants%youngs_modulus
+      m = constants%mass
+      volume0 = constants%volume0
+      call open_segment(k, shares, seg, mass_left, mass_right, momentum_left, momentum_right, stress_volume, first, last, &
+                        lo, hi)
+      displacement = 0; kinetic = 0; strain = 0; min_j = huge(1.0_dp)
+      slot = 1
+      outside = 0
+      elements_bits = transfer(real(elements, dp), 0_i8)
+      half_m = 0.5_dp*m
+      strain_factor = 0.0_dp
+      if (stresses) strain_factor = 0.5_dp*volume0/youngs_modulus
+      do b0 = first, last, block_size
+         n = min(block_size, last - b0 + 1)
+         if (seg%prefetch) then  ! the arrays the pass reads, and the grid values of the next blocks
+            ahead = b0 + prefetch_ahead
+            if (kernel == pass_usl) call prefetch_block(ahead, cell, x, x0, v, stress, volume_ratio)
+            if (kernel == pass_usf_move .or. kernel == pass_musl_remap) call prefetch_block(ahead, cell, x, x0, v)
+            if (kernel == pass_usf_stress) call prefetch_block(ahead, cell, stress, volume_ratio)
+            if (kernel == pass_musl_stress) call prefetch_block(ahead, cell, x, v, stress, volume_ratio)
+            if (moves) then
+               call prefetch_nodes(cell(b0), cell(b0 + n - 1), acceleration, velocity)
+            else
+               call prefetch_elements(cell(b0), cell(b0 + n - 1), strain_increment_of)
+            end if
+         end if
+         do i = 1, n
+            p = b0 + i - 1
+            e = cell(p)
+            ! G2P with the start-of-step shape functions (per-particle masses and moduli)
+            if (moves) then
+               xi = x(p)*inv_dx - (e - 1)
+               vgrid = (1.0_dp - xi)*velocity(e - 1) + xi*velocity(e)
+               v(p) = v(p) + dt*((1.0_dp - xi)*acceleration(e - 1) + xi*acceleration(e))
+               dxp = dt*vgrid
+               x(p) = x(p) + dxp
+               db(i) = mass_of(p)*(x(p) - x0(p))
+               kb(i) = 0.5_dp*mass_of(p)*v(p)*v(p)
+               mb(i, slot) = abs(dxp)*inv_dx
+            end if
+            if (stresses) then ! d eps = dt sum dN v_I over the start-of-step cell
+               if (moves) then
+                  dstrain = strain_increment(velocity(e - 1), velocity(e), dt, inv_dx)
+               else
+                  dstrain = strain_increment_of(e)
+               end if
+               call stress_particle(dstrain, modulus_of(p), 0.5_dp*volume0/modulus_of(p), volume0, stress(p), &
+                                    volume_ratio(p), sb(i), svb(i))
+               jb(i) = volume_ratio(p)
+            else if (iand(shares, share_stress) /= 0) then ! (an initial mapping: the stress as it is)
+               svb(i) = stress(p)*volume_ratio(p)*volume0
+            end if
+            if (relocates) then ! the new cell, for P2G at the new position
+               call locate_cell(x(p), inv_dx, elements, elements_bits, cb(i), xib(i))
+               cell(p) = cb(i)
+            else                ! the shares go to the start-of-step cell
+               cb(i) = e
+               if (moves) xib(i) = xi
+            end if
+            ! the particle's whole element shares (accumulate_shares sums them): mass, momentum (APIC's
+            ! with its affine part), stress*volume, external force, at the left and right node
+            mp = mass_of(p)
+            if (iand(shares, share_mass + share_momentum) /= 0) then
+               sh(i, 2) = mp*xib(i)
+               sh(i, 1) = mp - sh(i, 2)
+            end if
+            if (iand(shares, share_momentum) /= 0) then
+               sh(i, 3) = sh(i, 1)*v(p)
+               sh(i, 4) = sh(i, 2)*v(p)
+            end if
+            if (iand(shares, share_stress) /= 0) sh(i, 5) = svb(i)
+         end do
+         ! the block's totals (macros of mpm_lanes.fypi, expanded here)
+         if (moves) then
+            do lane_i = 1, n - lanes + 1, lanes
+               displacement = displacement + db(lane_i:lane_i + lanes - 1)
+            end do
+            lane_r = mod(n, lanes)
+            if (lane_r > 0) displacement(1:lane_r) = displacement(1:lane_r) + db(n - lane_r + 1:n)
+            do lane_i = 1, n - lanes + 1, lanes
+               kinetic = kinetic + kb(lane_i:lane_i + lanes - 1)
+            end do
+            lane_r = mod(n, lanes)
+            if (lane_r > 0) kinetic(1:lane_r) = kinetic(1:lane_r) + kb(n - lane_r + 1:n)
+            lane_max = 0.0_dp
+            do lane_i = 1, n - lanes + 1, lanes
+               lane_max = max(lane_max, mb(lane_i:lane_i + lanes - 1, slot))
+            end do
+            lane_r = mod(n, lanes)
+            if (lane_r > 0) lane_max(1:lane_r) = max(lane_max(1:lane_r), mb(n - lane_r + 1:n, slot))
+            block_max = maxval(lane_max)
+            if (block_max > largest%value) then
+               largest%value = block_max
+               largest%first = b0
+               largest%count = n
+               largest%slot = slot
+               slot = 3 - slot
+            end if
+         end if
+         if (stresses) then
+            do lane_i = 1, n - lanes + 1, lanes
+               strain = strain + sb(lane_i:lane_i + lanes - 1)
+            end do
+            lane_r = mod(n, lanes)
+            if (lane_r > 0) strain(1:lane_r) = strain(1:lane_r) + sb(n - lane_r + 1:n)
+            do lane_i = 1, n - lanes + 1, lanes
+               min_j = min(min_j, jb(lane_i:lane_i + lanes - 1))
+            end do
+            lane_r = mod(n, lanes)
+            if (lane_r > 0) min_j(1:lane_r) = min(min_j(1:lane_r), jb(n - lane_r + 1:n))
+         end if
+         if (relocates) call find_outside(n, b0, cb, outside)
+         call accumulate_shares(k, n, cb, sh, lo, hi, shares, run, mass_left, mass_right, momentum_left, momentum_right, &
+                                stress_volume, seg, force_left, force_right)
+      end do
+      ! the open run's whole shares
+      if (run%cur /= 0) call flush_sums(k, run%cur, lo, hi, shares, run%s, mass_left, mass_right, momentum_left, &
+                                        momentum_right, stress_volume, seg, force_left, force_right)
+      run%a = 0.0_dp  ! (close_segment flushes the bar's sums: none here)
+      call close_segment(k, shares, m, run, [lane_total(displacement), lane_total(kinetic), lane_total(strain)], &
+                         minval(min_j), largest%value, furthest_particle(largest, mb), outside, mass_left, mass_right, &
+                         momentum_left, momentum_right, stress_volume, seg)
+   end subroutine material_musl_stress_segment
+
+   !> initial mapping: mass and momentum (the hat, per-particle masses and moduli)
+   subroutine material_map_segment(k, seg, x, x0, v, stress, volume_ratio, cell, acceleration, velocity, &
+                                   strain_increment_of, mass_left, mass_right, momentum_left, momentum_right, &
+                                   stress_volume, constants, carry, mass_of, modulus_of, forces, gradient, force_left, &
+                                   force_right)
+      integer, parameter :: kernel = pass_map
+      logical, parameter :: moves = pass_moves(kernel), stresses = pass_stresses(kernel), relocates = pass_relocates(kernel)
+      integer, parameter :: shares = pass_shares(kernel)
+      integer, intent(in) :: k
+      type(segments_t), intent(inout) :: seg
+      real(dp), intent(inout), contiguous :: x(:), v(:), stress(:), volume_ratio(:)
+      real(dp), intent(in), contiguous :: x0(:)
+      integer, intent(inout), contiguous :: cell(:)
+      real(dp), intent(in), contiguous :: acceleration(0:), velocity(0:)
+      real(dp), intent(in), contiguous :: strain_increment_of(:)  !< per element (grid%element_strain)
+      real(dp), intent(inout), contiguous :: mass_left(:), mass_right(:), momentum_left(:), momentum_right(:), stress_volume(:)
+      type(pass_constants_t), intent(in) :: constants
+      real(dp), intent(inout), contiguous :: carry(:)  !< particles in parts: what a pass keeps for the next (fused_box_t)
+      !> the variants' per-particle data (absent when the run has none): masses and Young's moduli
+      !> (`material`), external forces (`forced`), APIC's velocity gradients C_p, and the element shares of
+      !> the forces
+      real(dp), intent(in), contiguous, optional :: mass_of(:), modulus_of(:), forces(:)
+      real(dp), intent(inout), contiguous, optional :: gradient(:), force_left(:), force_right(:)
+      integer :: p, e, i, n, b0, first, last, lo, hi, outside, ahead, elements
+      real(dp) :: half_m, strain_factor, dstrain, inv_dx, dt, youngs_modulus, m, volume0
+      type(largest_move_t) :: largest
+      real(dp) :: displacement(lanes), kinetic(lanes), strain(lanes), min_j(lanes)
+      integer :: cb(block_size)
+      real(dp) :: svb(block_size), db(block_size), kb(block_size), sb(block_size), jb(block_size)
+      real(dp) :: mb(block_size, 2)  !< the moves of a block, and of the block with the largest (lanes_track_move)
+      integer :: slot
+      real(dp) :: lane_max(lanes), block_max
+      integer :: lane_i, lane_r
+      type(run_t) :: run
+      integer(i8) :: elements_bits
+      real(dp) :: xi, xib(block_size), vpb(block_size)
+      ! the variant's: G2P's grid velocity and move, the segment's body (cells offset), each particle's
+      ! shares (accumulate_shares)
+      real(dp) :: vgrid, dxp
+      real(dp) :: mp, sh(block_size, share_count)
+      elements = constants%elements
+      inv_dx = constants%inv_dx
+      dt = constants%dt
+      youngs_modulus = constants%youngs_modulus
+      m = constants%mass
+      volume0 = constants%volume0
+      call open_segment(k, shares, seg, mass_left, mass_right, momentum_left, momentum_right, stress_volume, first, last, &
+                        lo, hi)
+      displacement = 0; kinetic = 0; strain = 0; min_j = huge(1.0_dp)
+      slot = 1
+      outside = 0
+      elements_bits = transfer(real(elements, dp), 0_i8)
+      half_m = 0.5_dp*m
+      strain_factor = 0.0_dp
+      if (stresses) strain_factor = 0.5_dp*volume0/youngs_modulus
+      do b0 = first, last, block_size
+         n = min(block_size, last - b0 + 1)
+         if (seg%prefetch) then  ! the arrays the pass reads, and the grid values of the next blocks
+            ahead = b0 + prefetch_ahead
+            if (kernel == pass_usl) call prefetch_block(ahead, cell, x, x0, v, stress, volume_ratio)
+            if (kernel == pass_usf_move .or. kernel == pass_musl_remap) call prefetch_block(ahead, cell, x, x0, v)
+            if (kernel == pass_usf_stress) call prefetch_block(ahead, cell, stress, volume_ratio)
+            if (kernel == pass_musl_stress) call prefetch_block(ahead, cell, x, v, stress, volume_ratio)
+            if (moves) then
+               call prefetch_nodes(cell(b0), cell(b0 + n - 1), acceleration, velocity)
+            else
+               call prefetch_elements(cell(b0), cell(b0 + n - 1), strain_increment_of)
+            end if
+         end if
+         do i = 1, n
+            p = b0 + i - 1
+            e = cell(p)
+            ! G2P with the start-of-step shape functions (per-particle masses and moduli)
+            if (moves) then
+               xi = x(p)*inv_dx - (e - 1)
+               vgrid = (1.0_dp - xi)*velocity(e - 1) + xi*velocity(e)
+               v(p) = v(p) + dt*((1.0_dp - xi)*acceleration(e - 1) + xi*acceleration(e))
+               dxp = dt*vgrid
+               x(p) = x(p) + dxp
+               db(i) = mass_of(p)*(x(p) - x0(p))
+               kb(i) = 0.5_dp*mass_of(p)*v(p)*v(p)
+               mb(i, slot) = abs(dxp)*inv_dx
+            end if
+            if (stresses) then ! d eps = dt sum dN v_I over the start-of-step cell
+               if (moves) then
+                  dstrain = strain_increment(velocity(e - 1), velocity(e), dt, inv_dx)
+               else
+                  dstrain = strain_increment_of(e)
+               end if
+               call stress_particle(dstrain, modulus_of(p), 0.5_dp*volume0/modulus_of(p), volume0, stress(p), &
+                                    volume_ratio(p), sb(i), svb(i))
+               jb(i) = volume_ratio(p)
+            else if (iand(shares, share_stress) /= 0) then ! (an initial mapping: the stress as it is)
+               svb(i) = stress(p)*volume_ratio(p)*volume0
+            end if
+            if (relocates) then ! the new cell, for P2G at the new position
+               call locate_cell(x(p), inv_dx, elements, elements_bits, cb(i), xib(i))
+               cell(p) = cb(i)
+            else                ! the shares go to the start-of-step cell
+               cb(i) = e
+               if (moves) xib(i) = xi
+            end if
+            ! the particle's whole element shares (accumulate_shares sums them): mass, momentum (APIC's
+            ! with its affine part), stress*volume, external force, at the left and right node
+            mp = mass_of(p)
+            if (iand(shares, share_mass + share_momentum) /= 0) then
+               sh(i, 2) = mp*xib(i)
+               sh(i, 1) = mp - sh(i, 2)
+            end if
+            if (iand(shares, share_momentum) /= 0) then
+               sh(i, 3) = sh(i, 1)*v(p)
+               sh(i, 4) = sh(i, 2)*v(p)
+            end if
+            if (iand(shares, share_stress) /= 0) sh(i, 5) = svb(i)
+         end do
+         ! the block's totals (macros of mpm_lanes.fypi, expanded here)
+         if (moves) then
+            do lane_i = 1, n - lanes + 1, lanes
+               displacement = displacement + db(lane_i:lane_i + lanes - 1)
+            end do
+            lane_r = mod(n, lanes)
+            if (lane_r > 0) displacement(1:lane_r) = displacement(1:lane_r) + db(n - lane_r + 1:n)
+            do lane_i = 1, n - lanes + 1, lanes
+               kinetic = kinetic + kb(lane_i:lane_i + lanes - 1)
+            end do
+            lane_r = mod(n, lanes)
+            if (lane_r > 0) kinetic(1:lane_r) = kinetic(1:lane_r) + kb(n - lane_r + 1:n)
+            lane_max = 0.0_dp
+            do lane_i = 1, n - lanes + 1, lanes
+               lane_max = max(lane_max, mb(lane_i:lane_i + lanes - 1, slot))
+            end do
+            lane_r = mod(n, lanes)
+            if (lane_r > 0) lane_max(1:lane_r) = max(lane_max(1:lane_r), mb(n - lane_r + 1:n, slot))
+            block_max = maxval(lane_max)
+            if (block_max > largest%value) then
+               largest%value = block_max
+               largest%first = b0
+               largest%count = n
+               largest%slot = slot
+               slot = 3 - slot
+            end if
+         end if
+         if (stresses) then
+            do lane_i = 1, n - lanes + 1, lanes
+               strain = strain + sb(lane_i:lane_i + lanes - 1)
+            end do
+            lane_r = mod(n, lanes)
+            if (lane_r > 0) strain(1:lane_r) = strain(1:lane_r) + sb(n - lane_r + 1:n)
+            do lane_i = 1, n - lanes + 1, lanes
+               min_j = min(min_j, jb(lane_i:lane_i + lanes - 1))
+            end do
+            lane_r = mod(n, lanes)
+            if (lane_r > 0) min_j(1:lane_r) = min(min_j(1:lane_r), jb(n - lane_r + 1:n))
+         end if
+         if (relocates) call find_outside(n, b0, cb, outside)
+         call accumulate_shares(k, n, cb, sh, lo, hi, shares, run, mass_left, mass_right, momentum_left, momentum_right, &
+                                stress_volume, seg, force_left, force_right)
+      end do
+      ! the open run's whole shares
+      if (run%cur /= 0) call flush_sums(k, run%cur, lo, hi, shares, run%s, mass_left, mass_right, momentum_left, &
+                                        momentum_right, stress_volume, seg, force_left, force_right)
+      run%a = 0.0_dp  ! (close_segment flushes the bar's sums: none here)
+      call close_segment(k, shares, m, run, [lane_total(displacement), lane_total(kinetic), lane_total(strain)], &
+                         minval(min_j), largest%value, furthest_particle(largest, mb), outside, mass_left, mass_right, &
+                         momentum_left, momentum_right, stress_volume, seg)
+   end subroutine material_map_segment
+
+   !> initial mapping: mass, momentum and stress*volume (and forces) (the hat, per-particle masses and moduli)
+   subroutine material_map_stress_segment(k, seg, x, x0, v, stress, volume_ratio, cell, acceleration, velocity, &
+                                          strain_increment_of, mass_left, mass_right, momentum_left, momentum_right, &
+                                          stress_volume, constants, carry, mass_of, modulus_of, forces, gradient, force_left, &
+                                          force_right)
+      integer, parameter :: kernel = pass_map_stress
+      logical, parameter :: moves = pass_moves(kernel), stresses = pass_stresses(kernel), relocates = pass_relocates(kernel)
+      integer, parameter :: shares = pass_shares(kernel)
+      integer, intent(in) :: k
+      type(segments_t), intent(inout) :: seg
+      real(dp), intent(inout), contiguous :: x(:), v(:), stress(:), volume_ratio(:)
+      real(dp), intent(in), contiguous :: x0(:)
+      integer, intent(inout), contiguous :: cell(:)
+      real(dp), intent(in), contiguous :: acceleration(0:), velocity(0:)
+      real(dp), intent(in), contiguous :: strain_increment_of(:)  !< per element (grid%element_strain)
+      real(dp), intent(inout), contiguous :: mass_left(:), mass_right(:), momentum_left(:), momentum_right(:), stress_volume(:)
+      type(pass_constants_t), intent(in) :: constants
+      real(dp), intent(inout), contiguous :: carry(:)  !< particles in parts: what a pass keeps for the next (fused_box_t)
+      !> the variants' per-particle data (absent when the run has none): masses and Young's moduli
+      !> (`material`), external forces (`forced`), APIC's velocity gradients C_p, and the element shares of
+      !> the forces
+      real(dp), intent(in), contiguous, optional :: mass_of(:), modulus_of(:), forces(:)
+      real(dp), intent(inout), contiguous, optional :: gradient(:), force_left(:), force_right(:)
+      integer :: p, e, i, n, b0, first, last, lo, hi, outside, ahead, elements
+      real(dp) :: half_m, strain_factor, dstrain, inv_dx, dt, youngs_modulus, m, volume0
+      type(largest_move_t) :: largest
+      real(dp) :: displacement(lanes), kinetic(lanes), strain(lanes), min_j(lanes)
+      integer :: cb(block_size)
+      real(dp) :: svb(block_size), db(block_size), kb(block_size), sb(block_size), jb(block_size)
+      real(dp) :: mb(block_size, 2)  !< the moves of a block, and of the block with the largest (lanes_track_move)
+      integer :: slot
+      real(dp) :: lane_max(lanes), block_max
+      integer :: lane_i, lane_r
+      type(run_t) :: run
+      integer(i8) :: elements_bits
+      real(dp) :: xi, xib(block_size), vpb(block_size)
+      ! the variant's: G2P's grid velocity and move, the segment's body (cells offset), each particle's
+      ! shares (accumulate_shares)
+      real(dp) :: vgrid, dxp
+      real(dp) :: mp, sh(block_size, share_count)
+      elements = constants%elements
+      inv_dx = constants%inv_dx
+      dt = constants%dt
+      youngs_modulus = constants%youngs_modulus
+      m = constants%mass
+      volume0 = constants%volume0
+      call open_segment(k, shares, seg, mass_left, mass_right, momentum_left, momentum_right, stress_volume, first, last, &
+                        lo, hi)
+      displacement = 0; kinetic = 0; strain = 0; min_j = huge(1.0_dp)
+      slot = 1
+      outside = 0
+      elements_bits = transfer(real(elements, dp), 0_i8)
+      half_m = 0.5_dp*m
+      strain_factor = 0.0_dp
+      if (stresses) strain_factor = 0.5_dp*volume0/youngs_modulus
+      do b0 = first, last, block_size
+         n = min(block_size, last - b0 + 1)
+         if (seg%prefetch) then  ! the arrays the pass reads, and the grid values of the next blocks
+            ahead = b0 + prefetch_ahead
+            if (kernel == pass_usl) call prefetch_block(ahead, cell, x, x0, v, stress, volume_ratio)
+            if (kernel == pass_usf_move .or. kernel == pass_musl_remap) call prefetch_block(ahead, cell, x, x0, v)
+            if (kernel == pass_usf_stress) call prefetch_block(ahead, cell, stress, volume_ratio)
+            if (kernel == pass_musl_stress) call prefetch_block(ahead, cell, x, v, stress, volume_ratio)
+            if (moves) then
+               call prefetch_nodes(cell(b0), cell(b0 + n - 1), acceleration, velocity)
+            else
+               call prefetch_elements(cell(b0), cell(b0 + n - 1), strain_increment_of)
+            end if
+         end if
+         do i = 1, n
+            p = b0 + i - 1
+            e = cell(p)
+            ! G2P with the start-of-step shape functions (per-particle masses and moduli)
+            if (moves) then
+               xi = x(p)*inv_dx - (e - 1)
+               vgrid = (1.0_dp - xi)*velocity(e - 1) + xi*velocity(e)
+               v(p) = v(p) + dt*((1.0_dp - xi)*acceleration(e - 1) + xi*acceleration(e))
+               dxp = dt*vgrid
+               x(p) = x(p) + dxp
+               db(i) = mass_of(p)*(x(p) - x0(p))
+               kb(i) = 0.5_dp*mass_of(p)*v(p)*v(p)
+               mb(i, slot) = abs(dxp)*inv_dx
+            end if
+            if (stresses) then ! d eps = dt sum dN v_I over the start-of-step cell
+               if (moves) then
+                  dstrain = strain_increment(velocity(e - 1), velocity(e), dt, inv_dx)
+               else
+                  dstrain = strain_increment_of(e)
+               end if
+               call stress_particle(dstrain, modulus_of(p), 0.5_dp*volume0/modulus_of(p), volume0, stress(p), &
+                                    volume_ratio(p), sb(i), svb(i))
+               jb(i) = volume_ratio(p)
+            else if (iand(shares, share_stress) /= 0) then ! (an initial mapping: the stress as it is)
+               svb(i) = stress(p)*volume_ratio(p)*volume0
+            end if
+            if (relocates) then ! the new cell, for P2G at the new position
+               call locate_cell(x(p), inv_dx, elements, elements_bits, cb(i), xib(i))
+               cell(p) = cb(i)
+            else                ! the shares go to the start-of-step cell
+               cb(i) = e
+               if (moves) xib(i) = xi
+            end if
+            ! the particle's whole element shares (accumulate_shares sums them): mass, momentum (APIC's
+            ! with its affine part), stress*volume, external force, at the left and right node
+            mp = mass_of(p)
+            if (iand(shares, share_mass + share_momentum) /= 0) then
+               sh(i, 2) = mp*xib(i)
+               sh(i, 1) = mp - sh(i, 2)
+            end if
+            if (iand(shares, share_momentum) /= 0) then
+               sh(i, 3) = sh(i, 1)*v(p)
+               sh(i, 4) = sh(i, 2)*v(p)
+            end if
+            if (iand(shares, share_stress) /= 0) sh(i, 5) = svb(i)
+         end do
+         ! the block's totals (macros of mpm_lanes.fypi, expanded here)
+         if (moves) then
+            do lane_i = 1, n - lanes + 1, lanes
+               displacement = displacement + db(lane_i:lane_i + lanes - 1)
+            end do
+            lane_r = mod(n, lanes)
+            if (lane_r > 0) displacement(1:lane_r) = displacement(1:lane_r) + db(n - lane_r + 1:n)
+            do lane_i = 1, n - lanes + 1, lanes
+               kinetic = kinetic + kb(lane_i:lane_i + lanes - 1)
+            end do
+            lane_r = mod(n, lanes)
+            if (lane_r > 0) kinetic(1:lane_r) = kinetic(1:lane_r) + kb(n - lane_r + 1:n)
+            lane_max = 0.0_dp
+            do lane_i = 1, n - lanes + 1, lanes
+               lane_max = max(lane_max, mb(lane_i:lane_i + lanes - 1, slot))
+            end do
+            lane_r = mod(n, lanes)
+            if (lane_r > 0) lane_max(1:lane_r) = max(lane_max(1:lane_r), mb(n - lane_r + 1:n, slot))
+            block_max = maxval(lane_max)
+            if (block_max > largest%value) then
+               largest%value = block_max
+               largest%first = b0
+               largest%count = n
+               largest%slot = slot
+               slot = 3 - slot
+            end if
+         end if
+         if (stresses) then
+            do lane_i = 1, n - lanes + 1, lanes
+               strain = strain + sb(lane_i:lane_i + lanes - 1)
+            end do
+            lane_r = mod(n, lanes)
+            if (lane_r > 0) strain(1:lane_r) = strain(1:lane_r) + sb(n - lane_r + 1:n)
+            do lane_i = 1, n - lanes + 1, lanes
+               min_j = min(min_j, jb(lane_i:lane_i + lanes - 1))
+            end do
+            lane_r = mod(n, lanes)
+            if (lane_r > 0) min_j(1:lane_r) = min(min_j(1:lane_r), jb(n - lane_r + 1:n))
+         end if
+         if (relocates) call find_outside(n, b0, cb, outside)
+         call accumulate_shares(k, n, cb, sh, lo, hi, shares, run, mass_left, mass_right, momentum_left, momentum_right, &
+                                stress_volume, seg, force_left, force_right)
+      end do
+      ! the open run's whole shares
+      if (run%cur /= 0) call flush_sums(k, run%cur, lo, hi, shares, run%s, mass_left, mass_right, momentum_left, &
+                                        momentum_right, stress_volume, seg, force_left, force_right)
+      run%a = 0.0_dp  ! (close_segment flushes the bar's sums: none here)
+      call close_segment(k, shares, m, run, [lane_total(displacement), lane_total(kinetic), lane_total(strain)], &
+                         minval(min_j), largest%value, furthest_particle(largest, mb), outside, mass_left, mass_right, &
+                         momentum_left, momentum_right, stress_volume, seg)
+   end subroutine material_map_stress_segment
+
+   !> USF, second half: G2P, then mass and momentum at the new position (the hat, per-particle forces)
+   subroutine forced_usf_move_segment(k, seg, x, x0, v, stress, volume_ratio, cell, acceleration, velocity, &
+                                      strain_increment_of, mass_left, mass_right, momentum_left, momentum_right, &
+                                      stress_volume, constants, carry, mass_of, modulus_of, forces, gradient, force_left, &
+                                      force_right)
+      integer, parameter :: kernel = pass_usf_move
+      logical, parameter :: moves = pass_moves(kernel), stresses = pass_stresses(kernel), relocates = pass_relocates(kernel)
+      integer, parameter :: shares = pass_force_shares(kernel)
+      integer, intent(in) :: k
+      type(segments_t), intent(inout) :: seg
+      real(dp), intent(inout), contiguous :: x(:), v(:), stress(:), volume_ratio(:)
+      real(dp), intent(in), contiguous :: x0(:)
+      integer, intent(inout), contiguous :: cell(:)
+      real(dp), intent(in), contiguous :: acceleration(0:), velocity(0:)
+      real(dp), intent(in), contiguous :: strain_increment_of(:)  !< per element (grid%element_strain)
+      real(dp), intent(inout), contiguous :: mass_left(:), mass_right(:), momentum_left(:), momentum_right(:), stress_volume(:)
+      type(pass_constants_t), intent(in) :: constants
+      real(dp), intent(inout), contiguous :: carry(:)  !< particles in parts: what a pass keeps for the next (fused_box_t)
+      !> the variants' per-particle data (absent when the run has none): masses and Young's moduli
+      !> (`material`), external forces (`forced`), APIC's velocity gradients C_p, and the element shares of
+      !> the forces
+      real(dp), intent(in), contiguous, optional :: mass_of(:), modulus_of(:), forces(:)
+      real(dp), intent(inout), contiguous, optional :: gradient(:), force_left(:), force_right(:)
+      integer :: p, e, i, n, b0, first, last, lo, hi, outside, ahead, elements
+      real(dp) :: half_m, strain_factor, dstrain, inv_dx, dt, youngs_modulus, m, volume0
+      type(largest_move_t) :: largest
+      real(dp) :: displacement(lanes), kinetic(lanes), strain(lanes), min_j(lanes)
+      integer :: cb(block_size)
+      real(dp) :: svb(block_size), db(block_size), kb(block_size), sb(block_size), jb(block_size)
+      real(dp) :: mb(block_size, 2)  !< the moves of a block, and of the block with the largest (lanes_track_move)
+      integer :: slot
+      real(dp) :: lane_max(lanes), block_max
+      integer :: lane_i, lane_r
+      type(run_t) :: run
+      integer(i8) :: elements_bits
+      real(dp) :: xi, xib(block_size), vpb(block_size)
+      ! the variant's: G2P's grid velocity and move, the segment's body (cells offset), each particle's
+      ! shares (accumulate_shares)
+      real(dp) :: vgrid, dxp
+      real(dp) :: mp, sh(block_size, share_count)
+      elements = constants%elements
+      inv_dx = constants%inv_dx
+      dt = constants%dt
+      youngs_modulus = constants%youngs_modulus
+      m = constants%mass
+      volume0 = constants%volume0
+      call open_segment(k, shares, seg, mass_left, mass_right, momentum_left, momentum_right, stress_volume, first, last, &
+                        lo, hi, force_left, force_right)
+      displacement = 0; kinetic = 0; strain = 0; min_j = huge(1.0_dp)
+      slot = 1
+      outside = 0
+      elements_bits = transfer(real(elements, dp), 0_i8)
+      half_m = 0.5_dp*m
+      strain_factor = 0.0_dp
+      if (stresses) strain_factor = 0.5_dp*volume0/youngs_modulus
+      do b0 = first, last, block_size
+         n = min(block_size, last - b0 + 1)
+         if (seg%prefetch) then  ! the arrays the pass reads, and the grid values of the next blocks
+            ahead = b0 + prefetch_ahead
+            if (kernel == pass_usl) call prefetch_block(ahead, cell, x, x0, v, stress, volume_ratio)
+            if (kernel == pass_usf_move .or. kernel == pass_musl_remap) call prefetch_block(ahead, cell, x, x0, v)
+            if (kernel == pass_usf_stress) call prefetch_block(ahead, cell, stress, volume_ratio)
+            if (kernel == pass_musl_stress) call prefetch_block(ahead, cell, x, v, stress, volume_ratio)
+            if (moves) then
+               call prefetch_nodes(cell(b0), cell(b0 + n - 1), acceleration, velocity)
+            else
+               call prefetch_elements(cell(b0), cell(b0 + n - 1), strain_increment_of)
+            end if
+         end if
+         do i = 1, n
+            p = b0 + i - 1
+            e = cell(p)
+            ! G2P with the start-of-step shape functions (per-particle forces)
+            if (moves) then
+               xi = x(p)*inv_dx - (e - 1)
+               vgrid = (1.0_dp - xi)*velocity(e - 1) + xi*velocity(e)
+               v(p) = v(p) + dt*((1.0_dp - xi)*acceleration(e - 1) + xi*acceleration(e))
+               dxp = dt*vgrid
+               x(p) = x(p) + dxp
+               db(i) = x(p) - x0(p)
+               kb(i) = half_m*v(p)*v(p)
+               mb(i, slot) = abs(dxp)*inv_dx
+            end if
+            if (stresses) then ! d eps = dt sum dN v_I over the start-of-step cell
+               if (moves) then
+                  dstrain = strain_increment(velocity(e - 1), velocity(e), dt, inv_dx)
+               else
+                  dstrain = strain_increment_of(e)
+               end if
+               call stress_particle(dstrain, youngs_modulus, strain_factor, volume0, stress(p), volume_ratio(p), sb(i), &
+                                    svb(i))
+               jb(i) = volume_ratio(p)
+            else if (iand(shares, share_stress) /= 0) then ! (an initial mapping: the stress as it is)
+               svb(i) = stress(p)*volume_ratio(p)*volume0
+            end if
+            if (relocates) then ! the new cell, for P2G at the new position
+               call locate_cell(x(p), inv_dx, elements, elements_bits, cb(i), xib(i))
+               cell(p) = cb(i)
+            else                ! the shares go to the start-of-step cell
+               cb(i) = e
+               if (moves) xib(i) = xi
+               if (.not. moves) xib(i) = x(p)*inv_dx - (e - 1)  ! (USF's stress pass maps the forces)
+            end if
+            ! the particle's whole element shares (accumulate_shares sums them): mass, momentum (APIC's
+            ! with its affine part), stress*volume, external force, at the left and right node
+            mp = m
+            if (iand(shares, share_mass + share_momentum) /= 0) then
+               sh(i, 2) = mp*xib(i)
+               sh(i, 1) = mp - sh(i, 2)
+            end if
+            if (iand(shares, share_momentum) /= 0) then
+               sh(i, 3) = sh(i, 1)*v(p)
+               sh(i, 4) = sh(i, 2)*v(p)
+            end if
+            if (iand(shares, share_stress) /= 0) sh(i, 5) = svb(i)
+            if (iand(shares, share_force) /= 0) then
+               sh(i, 7) = forces(p)*xib(i)
+               sh(i, 6) = forces(p) - sh(i, 7)
+            end if
+         end do
+         ! the block's totals (macros of mpm_lanes.fypi, expanded here)
+         if (moves) then
+            do lane_i = 1, n - lanes + 1, lanes
+               displacement = displacement + db(lane_i:lane_i + lanes - 1)
+            end do
+            lane_r = mod(n, lanes)
+            if (lane_r > 0) displacement(1:lane_r) = displacement(1:lane_r) + db(n - lane_r + 1:n)
+            do lane_i = 1, n - lanes + 1, lanes
+               kinetic = kinetic + kb(lane_i:lane_i + lanes - 1)
+            end do
+            lane_r = mod(n, lanes)
+            if (lane_r > 0) kinetic(1:lane_r) = kinetic(1:lane_r) + kb(n - lane_r + 1:n)
+            lane_max = 0.0_dp
+            do lane_i = 1, n - lanes + 1, lanes
+               lane_max = max(lane_max, mb(lane_i:lane_i + lanes - 1, slot))
+            end do
+            lane_r = mod(n, lanes)
+            if (lane_r > 0) lane_max(1:lane_r) = max(lane_max(1:lane_r), mb(n - lane_r + 1:n, slot))
+            block_max = maxval(lane_max)
+            if (block_max > largest%value) then
+               largest%value = block_max
+               largest%first = b0
+               largest%count = n
+               largest%slot = slot
+               slot = 3 - slot
+            end if
+         end if
+         if (stresses) then
+            do lane_i = 1, n - lanes + 1, lanes
+               strain = strain + sb(lane_i:lane_i + lanes - 1)
+            end do
+            lane_r = mod(n, lanes)
+            if (lane_r > 0) strain(1:lane_r) = strain(1:lane_r) + sb(n - lane_r + 1:n)
+            do lane_i = 1, n - lanes + 1, lanes
+               min_j = min(min_j, jb(lane_i:lane_i + lanes - 1))
+            end do
+            lane_r = mod(n, lanes)
+            if (lane_r > 0) min_j(1:lane_r) = min(min_j(1:lane_r), jb(n - lane_r + 1:n))
+         end if
+         if (relocates) call find_outside(n, b0, cb, outside)
+         call accumulate_shares(k, n, cb, sh, lo, hi, shares, run, mass_left, mass_right, momentum_left, momentum_right, &
+                                stress_volume, seg, force_left, force_right)
+      end do
+      ! the open run's whole shares
+      if (run%cur /= 0) call flush_sums(k, run%cur, lo, hi, shares, run%s, mass_left, mass_right, momentum_left, &
+                                        momentum_right, stress_volume, seg, force_left, force_right)
+      run%a = 0.0_dp  ! (close_segment flushes the bar's sums: none here)
+      call close_segment(k, shares, m, run, [lane_total(displacement), lane_total(kinetic), lane_total(strain)], &
+                         minval(min_j), largest%value, furthest_particle(largest, mb), outside, mass_left, mass_right, &
+                         momentum_left, momentum_right, stress_volume, seg)
+   end subroutine forced_usf_move_segment
+
+   !> USF, first half: stress update, then stress*volume of the unmoved particles (the hat, per-particle forces)
+   subroutine forced_usf_stress_segment(k, seg, x, x0, v, stress, volume_ratio, cell, acceleration, velocity, &
+                                        strain_increment_of, mass_left, mass_right, momentum_left, momentum_right, &
+                                        stress_volume, constants, carry, mass_of, modulus_of, forces, gradient, force_left, &
+                                        force_right)
+      integer, parameter :: kernel = pass_usf_stress
+      logical, parameter :: moves = pass_moves(kernel), stresses = pass_stresses(kernel), relocates = pass_relocates(kernel)
+      integer, parameter :: shares = pass_force_shares(kernel)
+      integer, intent(in) :: k
+      type(segments_t), intent(inout) :: seg
+      real(dp), intent(inout), contiguous :: x(:), v(:), stress(:), volume_ratio(:)
+      real(dp), intent(in), contiguous :: x0(:)
+      integer, intent(inout), contiguous :: cell(:)
+      real(dp), intent(in), contiguous :: acceleration(0:), velocity(0:)
+      real(dp), intent(in), contiguous :: strain_increment_of(:)  !< per element (grid%element_strain)
+      real(dp), intent(inout), contiguous :: mass_left(:), mass_right(:), momentum_left(:), momentum_right(:), stress_volume(:)
+      type(pass_constants_t), intent(in) :: constants
+      real(dp), intent(inout), contiguous :: carry(:)  !< particles in parts: what a pass keeps for the next (fused_box_t)
+      !> the variants' per-particle data (absent when the run has none): masses and Young's moduli
+      !> (`material`), external forces (`forced`), APIC's velocity gradients C_p, and the element shares of
+      !> the forces
+      real(dp), intent(in), contiguous, optional :: mass_of(:), modulus_of(:), forces(:)
+      real(dp), intent(inout), contiguous, optional :: gradient(:), force_left(:), force_right(:)
+      integer :: p, e, i, n, b0, first, last, lo, hi, outside, ahead, elements
+      real(dp) :: half_m, strain_factor, dstrain, inv_dx, dt, youngs_modulus, m, volume0
+      type(largest_move_t) :: largest
+      real(dp) :: displacement(lanes), kinetic(lanes), strain(lanes), min_j(lanes)
+      integer :: cb(block_size)
+      real(dp) :: svb(block_size), db(block_size), kb(block_size), sb(block_size), jb(block_size)
+      real(dp) :: mb(block_size, 2)  !< the moves of a block, and of the block with the largest (lanes_track_move)
+      integer :: slot
+      real(dp) :: lane_max(lanes), block_max
+      integer :: lane_i, lane_r
+      type(run_t) :: run
+      integer(i8) :: elements_bits
+      real(dp) :: xi, xib(block_size), vpb(block_size)
+      ! the variant's: G2P's grid velocity and move, the segment's body (cells offset), each particle's
+      ! shares (accumulate_shares)
+      real(dp) :: vgrid, dxp
+      real(dp) :: mp, sh(block_size, share_count)
+      elements = constants%elements
+      inv_dx = constants%inv_dx
+      dt = constants%dt
+      youngs_modulus = constants%youngs_modulus
+      m = constants%mass
+      volume0 = constants%volume0
+      call open_segment(k, shares, seg, mass_left, mass_right, momentum_left, momentum_right, stress_volume, first, last, &
+                        lo, hi, force_left, force_right)
+      displacement = 0; kinetic = 0; strain = 0; min_j = huge(1.0_dp)
+      slot = 1
+      outside = 0
+      elements_bits = transfer(real(elements, dp), 0_i8)
+      half_m = 0.5_dp*m
+      strain_factor = 0.0_dp
+      if (stresses) strain_factor = 0.5_dp*volume0/youngs_modulus
+      do b0 = first, last, block_size
+         n = min(block_size, last - b0 + 1)
+         if (seg%prefetch) then  ! the arrays the pass reads, and the grid values of the next blocks
+            ahead = b0 + prefetch_ahead
+            if (kernel == pass_usl) call prefetch_block(ahead, cell, x, x0, v, stress, volume_ratio)
+            if (kernel == pass_usf_move .or. kernel == pass_musl_remap) call prefetch_block(ahead, cell, x, x0, v)
+            if (kernel == pass_usf_stress) call prefetch_block(ahead, cell, stress, volume_ratio)
+            if (kernel == pass_musl_stress) call prefetch_block(ahead, cell, x, v, stress, volume_ratio)
+            if (moves) then
+               call prefetch_nodes(cell(b0), cell(b0 + n - 1), acceleration, velocity)
+            else
+               call prefetch_elements(cell(b0), cell(b0 + n - 1), strain_increment_of)
+            end if
+         end if
+         do i = 1, n
+            p = b0 + i - 1
+            e = cell(p)
+            ! G2P with the start-of-step shape functions (per-particle forces)
+            if (moves) then
+               xi = x(p)*inv_dx - (e - 1)
+               vgrid = (1.0_dp - xi)*velocity(e - 1) + xi*velocity(e)
+               v(p) = v(p) + dt*((1.0_dp - xi)*acceleration(e - 1) + xi*acceleration(e))
+               dxp = dt*vgrid
+               x(p) = x(p) + dxp
+               db(i) = x(p) - x0(p)
+               kb(i) = half_m*v(p)*v(p)
+               mb(i, slot) = abs(dxp)*inv_dx
+            end if
+            if (stresses) then ! d eps = dt sum dN v_I over the start-of-step cell
+               if (moves) then
+                  dstrain = strain_increment(velocity(e - 1), velocity(e), dt, inv_dx)
+               else
+                  dstrain = strain_increment_of(e)
+               end if
+               call stress_particle(dstrain, youngs_modulus, strain_factor, volume0, stress(p), volume_ratio(p), sb(i), &
+                                    svb(i))
+               jb(i) = volume_ratio(p)
+            else if (iand(shares, share_stress) /= 0) then ! (an initial mapping: the stress as it is)
+               svb(i) = stress(p)*volume_ratio(p)*volume0
+            end if
+            if (relocates) then ! the new cell, for P2G at the new position
+               call locate_cell(x(p), inv_dx, elements, elements_bits, cb(i), xib(i))
+               cell(p) = cb(i)
+            else                ! the shares go to the start-of-step cell
+               cb(i) = e
+               if (moves) xib(i) = xi
+               if (.not. moves) xib(i) = x(p)*inv_dx - (e - 1)  ! (USF's stress pass maps the forces)
+            end if
+            ! the particle's whole element shares (accumulate_shares sums them): mass, momentum (APIC's
+            ! with its affine part), stress*volume, external force, at the left and right node
+            mp = m
+            if (iand(shares, share_mass + share_momentum) /= 0) then
+               sh(i, 2) = mp*xib(i)
+               sh(i, 1) = mp - sh(i, 2)
+            end if
+            if (iand(shares, share_momentum) /= 0) then
+               sh(i, 3) = sh(i, 1)*v(p)
+               sh(i, 4) = sh(i, 2)*v(p)
+            end if
+            if (iand(shares, share_stress) /= 0) sh(i, 5) = svb(i)
+            if (iand(shares, share_force) /= 0) then
+               sh(i, 7) = forces(p)*xib(i)
+               sh(i, 6) = forces(p) - sh(i, 7)
+            end if
+         end do
+         ! the block's totals (macros of mpm_lanes.fypi, expanded here)
+         if (moves) then
+            do lane_i = 1, n - lanes + 1, lanes
+               displacement = displacement + db(lane_i:lane_i + lanes - 1)
+            end do
+            lane_r = mod(n, lanes)
+            if (lane_r > 0) displacement(1:lane_r) = displacement(1:lane_r) + db(n - lane_r + 1:n)
+            do lane_i = 1, n - lanes + 1, lanes
+               kinetic = kinetic + kb(lane_i:lane_i + lanes - 1)
+            end do
+            lane_r = mod(n, lanes)
+            if (lane_r > 0) kinetic(1:lane_r) = kinetic(1:lane_r) + kb(n - lane_r + 1:n)
+            lane_max = 0.0_dp
+            do lane_i = 1, n - lanes + 1, lanes
+               lane_max = max(lane_max, mb(lane_i:lane_i + lanes - 1, slot))
+            end do
+            lane_r = mod(n, lanes)
+            if (lane_r > 0) lane_max(1:lane_r) = max(lane_max(1:lane_r), mb(n - lane_r + 1:n, slot))
+            block_max = maxval(lane_max)
+            if (block_max > largest%value) then
+               largest%value = block_max
+               largest%first = b0
+               largest%count = n
+               largest%slot = slot
+               slot = 3 - slot
+            end if
+         end if
+         if (stresses) then
+            do lane_i = 1, n - lanes + 1, lanes
+               strain = strain + sb(lane_i:lane_i + lanes - 1)
+            end do
+            lane_r = mod(n, lanes)
+            if (lane_r > 0) strain(1:lane_r) = strain(1:lane_r) + sb(n - lane_r + 1:n)
+            do lane_i = 1, n - lanes + 1, lanes
+               min_j = min(min_j, jb(lane_i:lane_i + lanes - 1))
+            end do
+            lane_r = mod(n, lanes)
+            if (lane_r > 0) min_j(1:lane_r) = min(min_j(1:lane_r), jb(n - lane_r + 1:n))
+         end if
+         if (relocates) call find_outside(n, b0, cb, outside)
+         call accumulate_shares(k, n, cb, sh, lo, hi, shares, run, mass_left, mass_right, momentum_left, momentum_right, &
+                                stress_volume, seg, force_left, force_right)
+      end do
+      ! the open run's whole shares
+      if (run%cur /= 0) call flush_sums(k, run%cur, lo, hi, shares, run%s, mass_left, mass_right, momentum_left, &
+                                        momentum_right, stress_volume, seg, force_left, force_right)
+      run%a = 0.0_dp  ! (close_segment flushes the bar's sums: none here)
+      call close_segment(k, shares, m, run, [lane_total(displacement), lane_total(kinetic), lane_total(strain)], &
+                         minval(min_j), largest%value, furthest_particle(largest, mb), outside, mass_left, mass_right, &
+                         momentum_left, momentum_right, stress_volume, seg)
+   end subroutine forced_usf_stress_segment
+
+   !> USL: G2P, stress update from the updated nodal velocities, P2G at the new position (the hat, per-particle forces)
+   subroutine forced_usl_segment(k, seg, x, x0, v, stress, volume_ratio, cell, acceleration, velocity, &
+                                 strain_increment_of, mass_left, mass_right, momentum_left, momentum_right, &
+                                 stress_volume, constants, carry, mass_of, modulus_of, forces, gradient, force_left, &
+                                 force_right)
+      integer, parameter :: kernel = pass_usl
+      logical, parameter :: moves = pass_moves(kernel), stresses = pass_stresses(kernel), relocates = pass_relocates(kernel)
+      integer, parameter :: shares = pass_force_shares(kernel)
+      integer, intent(in) :: k
+      type(segments_t), intent(inout) :: seg
+      real(dp), intent(inout), contiguous :: x(:), v(:), stress(:), volume_ratio(:)
+      real(dp), intent(in), contiguous :: x0(:)
+      integer, intent(inout), contiguous :: cell(:)
+      real(dp), intent(in), contiguous :: acceleration(0:), velocity(0:)
+      real(dp), intent(in), contiguous :: strain_increment_of(:)  !< per element (grid%element_strain)
+      real(dp), intent(inout), contiguous :: mass_left(:), mass_right(:), momentum_left(:), momentum_right(:), stress_volume(:)
+      type(pass_constants_t), intent(in) :: constants
+      real(dp), intent(inout), contiguous :: carry(:)  !< particles in parts: what a pass keeps for the next (fused_box_t)
+      !> the variants' per-particle data (absent when the run has none): masses and Young's moduli
+      !> (`material`), external forces (`forced`), APIC's velocity gradients C_p, and the element shares of
+      !> the forces
+      real(dp), intent(in), contiguous, optional :: mass_of(:), modulus_of(:), forces(:)
+      real(dp), intent(inout), contiguous, optional :: gradient(:), force_left(:), force_right(:)
+      integer :: p, e, i, n, b0, first, last, lo, hi, outside, ahead, elements
+      real(dp) :: half_m, strain_factor, dstrain, inv_dx, dt, youngs_modulus, m, volume0
+      type(largest_move_t) :: largest
+      real(dp) :: displacement(lanes), kinetic(lanes), strain(lanes), min_j(lanes)
+      integer :: cb(block_size)
+      real(dp) :: svb(block_size), db(block_size), kb(block_size), sb(block_size), jb(block_size)
+      real(dp) :: mb(block_size, 2)  !< the moves of a block, and of the block with the largest (lanes_track_move)
+      integer :: slot
+      real(dp) :: lane_max(lanes), block_max
+      integer :: lane_i, lane_r
+      type(run_t) :: run
+      integer(i8) :: elements_bits
+      real(dp) :: xi, xib(block_size), vpb(block_size)
+      ! the variant's: G2P's grid velocity and move, the segment's body (cells offset), each particle's
+      ! shares (accumulate_shares)
+      real(dp) :: vgrid, dxp
+      real(dp) :: mp, sh(block_size, share_count)
+      elements = constants%elements
+      inv_dx = constants%inv_dx
+      dt = constants%dt
+      youngs_modulus = constants%youngs_modulus
+      m = constants%mass
+      volume0 = constants%volume0
+      call open_segment(k, shares, seg, mass_left, mass_right, momentum_left, momentum_right, stress_volume, first, last, &
+                        lo, hi, force_left, force_right)
+      displacement = 0; kinetic = 0; strain = 0; min_j = huge(1.0_dp)
+      slot = 1
+      outside = 0
+      elements_bits = transfer(real(elements, dp), 0_i8)
+      half_m = 0.5_dp*m
+      strain_factor = 0.0_dp
+      if (stresses) strain_factor = 0.5_dp*volume0/youngs_modulus
+      do b0 = first, last, block_size
+         n = min(block_size, last - b0 + 1)
+         if (seg%prefetch) then  ! the arrays the pass reads, and the grid values of the next blocks
+            ahead = b0 + prefetch_ahead
+            if (kernel == pass_usl) call prefetch_block(ahead, cell, x, x0, v, stress, volume_ratio)
+            if (kernel == pass_usf_move .or. kernel == pass_musl_remap) call prefetch_block(ahead, cell, x, x0, v)
+            if (kernel == pass_usf_stress) call prefetch_block(ahead, cell, stress, volume_ratio)
+            if (kernel == pass_musl_stress) call prefetch_block(ahead, cell, x, v, stress, volume_ratio)
+            if (moves) then
+               call prefetch_nodes(cell(b0), cell(b0 + n - 1), acceleration, velocity)
+            else
+               call prefetch_elements(cell(b0), cell(b0 + n - 1), strain_increment_of)
+            end if
+         end if
+         do i = 1, n
+            p = b0 + i - 1
+            e = cell(p)
+            ! G2P with the start-of-step shape functions (per-particle forces)
+            if (moves) then
+               xi = x(p)*inv_dx - (e - 1)
+               vgrid = (1.0_dp - xi)*velocity(e - 1) + xi*velocity(e)
+               v(p) = v(p) + dt*((1.0_dp - xi)*acceleration(e - 1) + xi*acceleration(e))
+               dxp = dt*vgrid
+               x(p) = x(p) + dxp
+               db(i) = x(p) - x0(p)
+               kb(i) = half_m*v(p)*v(p)
+               mb(i, slot) = abs(dxp)*inv_dx
+            end if
+            if (stresses) then ! d eps = dt sum dN v_I over the start-of-step cell
+               if (moves) then
+                  dstrain = strain_increment(velocity(e - 1), velocity(e), dt, inv_dx)
+               else
+                  dstrain = strain_increment_of(e)
+               end if
+               call stress_particle(dstrain, youngs_modulus, strain_factor, volume0, stress(p), volume_ratio(p), sb(i), &
+                                    svb(i))
+               jb(i) = volume_ratio(p)
+            else if (iand(shares, share_stress) /= 0) then ! (an initial mapping: the stress as it is)
+               svb(i) = stress(p)*volume_ratio(p)*volume0
+            end if
+            if (relocates) then ! the new cell, for P2G at the new position
+               call locate_cell(x(p), inv_dx, elements, elements_bits, cb(i), xib(i))
+               cell(p) = cb(i)
+            else                ! the shares go to the start-of-step cell
+               cb(i) = e
+               if (moves) xib(i) = xi
+               if (.not. moves) xib(i) = x(p)*inv_dx - (e - 1)  ! (USF's stress pass maps the forces)
+            end if
+            ! the particle's whole element shares (accumulate_shares sums them): mass, momentum (APIC's
+            ! with its affine part), stress*volume, external force, at the left and right node
+            mp = m
+            if (iand(shares, share_mass + share_momentum) /= 0) then
+               sh(i, 2) = mp*xib(i)
+               sh(i, 1) = mp - sh(i, 2)
+            end if
+            if (iand(shares, share_momentum) /= 0) then
+               sh(i, 3) = sh(i, 1)*v(p)
+               sh(i, 4) = sh(i, 2)*v(p)
+            end if
+            if (iand(shares, share_stress) /= 0) sh(i, 5) = svb(i)
+            if (iand(shares, share_force) /= 0) then
+               sh(i, 7) = forces(p)*xib(i)
+               sh(i, 6) = forces(p) - sh(i, 7)
+            end if
+         end do
+         ! the block's totals (macros of mpm_lanes.fypi, expanded here)
+         if (moves) then
+            do lane_i = 1, n - lanes + 1, lanes
+               displacement = displacement + db(lane_i:lane_i + lanes - 1)
+            end do
+            lane_r = mod(n, lanes)
+            if (lane_r > 0) displacement(1:lane_r) = displacement(1:lane_r) + db(n - lane_r + 1:n)
+            do lane_i = 1, n - lanes + 1, lanes
+               kinetic = kinetic + kb(lane_i:lane_i + lanes - 1)
+            end do
+            lane_r = mod(n, lanes)
+            if (lane_r > 0) kinetic(1:lane_r) = kinetic(1:lane_r) + kb(n - lane_r + 1:n)
+            lane_max = 0.0_dp
+            do lane_i = 1, n - lanes + 1, lanes
+               lane_max = max(lane_max, mb(lane_i:lane_i + lanes - 1, slot))
+            end do
+            lane_r = mod(n, lanes)
+            if (lane_r > 0) lane_max(1:lane_r) = max(lane_max(1:lane_r), mb(n - lane_r + 1:n, slot))
+            block_max = maxval(lane_max)
+            if (block_max > largest%value) then
+               largest%value = block_max
+               largest%first = b0
+               largest%count = n
+               largest%slot = slot
+               slot = 3 - slot
+            end if
+         end if
+         if (stresses) then
+            do lane_i = 1, n - lanes + 1, lanes
+               strain = strain + sb(lane_i:lane_i + lanes - 1)
+            end do
+            lane_r = mod(n, lanes)
+            if (lane_r > 0) strain(1:lane_r) = strain(1:lane_r) + sb(n - lane_r + 1:n)
+            do lane_i = 1, n - lanes + 1, lanes
+               min_j = min(min_j, jb(lane_i:lane_i + lanes - 1))
+            end do
+            lane_r = mod(n, lanes)
+            if (lane_r > 0) min_j(1:lane_r) = min(min_j(1:lane_r), jb(n - lane_r + 1:n))
+         end if
+         if (relocates) call find_outside(n, b0, cb, outside)
+         call accumulate_shares(k, n, cb, sh, lo, hi, shares, run, mass_left, mass_right, momentum_left, momentum_right, &
+                                stress_volume, seg, force_left, force_right)
+      end do
+      ! the open run's whole shares
+      if (run%cur /= 0) call flush_sums(k, run%cur, lo, hi, shares, run%s, mass_left, mass_right, momentum_left, &
+                                        momentum_right, stress_volume, seg, force_left, force_right)
+      run%a = 0.0_dp  ! (close_segment flushes the bar's sums: none here)
+      call close_segment(k, shares, m, run, [lane_total(displacement), lane_total(kinetic), lane_total(strain)], &
+                         minval(min_j), largest%value, furthest_particle(largest, mb), outside, mass_left, mass_right, &
+                         momentum_left, momentum_right, stress_volume, seg)
+   end subroutine forced_usl_segment
+
+   !> MUSL, first pass: G2P, and the new momentum back to the start-of-step nodes (the hat, per-particle forces)
+   subroutine forced_musl_remap_segment(k, seg, x, x0, v, stress, volume_ratio, cell, acceleration, velocity, &
+                                        strain_increment_of, mass_left, mass_right, momentum_left, momentum_right, &
+                                        stress_volume, constants, carry, mass_of, modulus_of, forces, gradient, force_left, &
+                                        force_right)
+      integer, parameter :: kernel = pass_musl_remap
+      logical, parameter :: moves = pass_moves(kernel), stresses = pass_stresses(kernel), relocates = pass_relocates(kernel)
+      integer, parameter :: shares = pass_force_shares(kernel)
+      integer, intent(in) :: k
+      type(segments_t), intent(inout) :: seg
+      real(dp), intent(inout), contiguous :: x(:), v(:), stress(:), volume_ratio(:)
+      real(dp), intent(in), contiguous :: x0(:)
+      integer, intent(inout), contiguous :: cell(:)
+      real(dp), intent(in), contiguous :: acceleration(0:), velocity(0:)
+      real(dp), intent(in), contiguous :: strain_increment_of(:)  !< per element (grid%element_strain)
+      real(dp), intent(inout), contiguous :: mass_left(:), mass_right(:), momentum_left(:), momentum_right(:), stress_volume(:)
+      type(pass_constants_t), intent(in) :: constants
+      real(dp), intent(inout), contiguous :: carry(:)  !< particles in parts: what a pass keeps for the next (fused_box_t)
+      !> the variants' per-particle data (absent when the run has none): masses and Young's moduli
+      !> (`material`), external forces (`forced`), APIC's velocity gradients C_p, and the element shares of
+      !> the forces
+      real(dp), intent(in), contiguous, optional :: mass_of(:), modulus_of(:), forces(:)
+      real(dp), intent(inout), contiguous, optional :: gradient(:), force_left(:), force_right(:)
+      integer :: p, e, i, n, b0, first, last, lo, hi, outside, ahead, elements
+      real(dp) :: half_m, strain_factor, dstrain, inv_dx, dt, youngs_modulus, m, volume0
+      type(largest_move_t) :: largest
+      real(dp) :: displacement(lanes), kinetic(lanes), strain(lanes), min_j(lanes)
+      integer :: cb(block_size)
+      real(dp) :: svb(block_size), db(block_size), kb(block_size), sb(block_size), jb(block_size)
+      real(dp) :: mb(block_size, 2)  !< the moves of a block, and of the block with the largest (lanes_track_move)
+      integer :: slot
+      real(dp) :: lane_max(lanes), block_max
+      integer :: lane_i, lane_r
+      type(run_t) :: run
+      integer(i8) :: elements_bits
+      real(dp) :: xi, xib(block_size), vpb(block_size)
+      ! the variant's: G2P's grid velocity and move, the segment's body (cells offset), each particle's
+      ! shares (accumulate_shares)
+      real(dp) :: vgrid, dxp
+      real(dp) :: mp, sh(block_size, share_count)
+      elements = constants%elements
+      inv_dx = constants%inv_dx
+      dt = constants%dt
+      youngs_modulus = constants%youngs_modulus
+      m = constants%mass
+      volume0 = constants%volume0
+      call open_segment(k, shares, seg, mass_left, mass_right, momentum_left, momentum_right, stress_volume, first, last, &
+                        lo, hi, force_left, force_right)
+      displacement = 0; kinetic = 0; strain = 0; min_j = huge(1.0_dp)
+      slot = 1
+      outside = 0
+      elements_bits = transfer(real(elements, dp), 0_i8)
+      half_m = 0.5_dp*m
+      strain_factor = 0.0_dp
+      if (stresses) strain_factor = 0.5_dp*volume0/youngs_modulus
+      do b0 = first, last, block_size
+         n = min(block_size, last - b0 + 1)
+         if (seg%prefetch) then  ! the arrays the pass reads, and the grid values of the next blocks
+            ahead = b0 + prefetch_ahead
+            if (kernel == pass_usl) call prefetch_block(ahead, cell, x, x0, v, stress, volume_ratio)
+            if (kernel == pass_usf_move .or. kernel == pass_musl_remap) call prefetch_block(ahead, cell, x, x0, v)
+            if (kernel == pass_usf_stress) call prefetch_block(ahead, cell, stress, volume_ratio)
+            if (kernel == pass_musl_stress) call prefetch_block(ahead, cell, x, v, stress, volume_ratio)
+            if (moves) then
+               call prefetch_nodes(cell(b0), cell(b0 + n - 1), acceleration, velocity)
+            else
+               call prefetch_elements(cell(b0), cell(b0 + n - 1), strain_increment_of)
+            end if
+         end if
+         do i = 1, n
+            p = b0 + i - 1
+            e = cell(p)
+            ! G2P with the start-of-step shape functions (per-particle forces)
+            if (moves) then
+               xi = x(p)*inv_dx - (e - 1)
+               vgrid = (1.0_dp - xi)*velocity(e - 1) + xi*velocity(e)
+               v(p) = v(p) + dt*((1.0_dp - xi)*acceleration(e - 1) + xi*acceleration(e))
+               dxp = dt*vgrid
+               x(p) = x(p) + dxp
+               db(i) = x(p) - x0(p)
+               kb(i) = half_m*v(p)*v(p)
+               mb(i, slot) = abs(dxp)*inv_dx
+            end if
+            if (stresses) then ! d eps = dt sum dN v_I over the start-of-step cell
+               if (moves) then
+                  dstrain = strain_increment(velocity(e - 1), velocity(e), dt, inv_dx)
+               else
+                  dstrain = strain_increment_of(e)
+               end if
+               call stress_particle(dstrain, youngs_modulus, strain_factor, volume0, stress(p), volume_ratio(p), sb(i), &
+                                    svb(i))
+               jb(i) = volume_ratio(p)
+            else if (iand(shares, share_stress) /= 0) then ! (an initial mapping: the stress as it is)
+               svb(i) = stress(p)*volume_ratio(p)*volume0
+            end if
+            if (relocates) then ! the new cell, for P2G at the new position
+               call locate_cell(x(p), inv_dx, elements, elements_bits, cb(i), xib(i))
+               cell(p) = cb(i)
+            else                ! the shares go to the start-of-step cell
+               cb(i) = e
+               if (moves) xib(i) = xi
+               if (.not. moves) xib(i) = x(p)*inv_dx - (e - 1)  ! (USF's stress pass maps the forces)
+            end if
+            ! the particle's whole element shares (accumulate_shares sums them): mass, momentum (APIC's
+            ! with its affine part), stress*volume, external force, at the left and right node
+            mp = m
+            if (iand(shares, share_mass + share_momentum) /= 0) then
+               sh(i, 2) = mp*xib(i)
+               sh(i, 1) = mp - sh(i, 2)
+            end if
+            if (iand(shares, share_momentum) /= 0) then
+               sh(i, 3) = sh(i, 1)*v(p)
+               sh(i, 4) = sh(i, 2)*v(p)
+            end if
+            if (iand(shares, share_stress) /= 0) sh(i, 5) = svb(i)
+            if (iand(shares, share_force) /= 0) then
+               sh(i, 7) = forces(p)*xib(i)
+               sh(i, 6) = forces(p) - sh(i, 7)
+            end if
+         end do
+         ! the block's totals (macros of mpm_lanes.fypi, expanded here)
+         if (moves) then
+            do lane_i = 1, n - lanes + 1, lanes
+               displacement = displacement + db(lane_i:lane_i + lanes - 1)
+            end do
+            lane_r = mod(n, lanes)
+            if (lane_r > 0) displacement(1:lane_r) = displacement(1:lane_r) + db(n - lane_r + 1:n)
+            do lane_i = 1, n - lanes + 1, lanes
+               kinetic = kinetic + kb(lane_i:lane_i + lanes - 1)
+            end do
+            lane_r = mod(n, lanes)
+            if (lane_r > 0) kinetic(1:lane_r) = kinetic(1:lane_r) + kb(n - lane_r + 1:n)
+            lane_max = 0.0_dp
+            do lane_i = 1, n - lanes + 1, lanes
+               lane_max = max(lane_max, mb(lane_i:lane_i + lanes - 1, slot))
+            end do
+            lane_r = mod(n, lanes)
+            if (lane_r > 0) lane_max(1:lane_r) = max(lane_max(1:lane_r), mb(n - lane_r + 1:n, slot))
+            block_max = maxval(lane_max)
+            if (block_max > largest%value) then
+               largest%value = block_max
+               largest%first = b0
+               largest%count = n
+               largest%slot = slot
+               slot = 3 - slot
+            end if
+         end if
+         if (stresses) then
+            do lane_i = 1, n - lanes + 1, lanes
+               strain = strain + sb(lane_i:lane_i + lanes - 1)
+            end do
+            lane_r = mod(n, lanes)
+            if (lane_r > 0) strain(1:lane_r) = strain(1:lane_r) + sb(n - lane_r + 1:n)
+            do lane_i = 1, n - lanes + 1, lanes
+               min_j = min(min_j, jb(lane_i:lane_i + lanes - 1))
+            end do
+            lane_r = mod(n, lanes)
+            if (lane_r > 0) min_j(1:lane_r) = min(min_j(1:lane_r), jb(n - lane_r + 1:n))
+         end if
+         if (relocates) call find_outside(n, b0, cb, outside)
+         call accumulate_shares(k, n, cb, sh, lo, hi, shares, run, mass_left, mass_right, momentum_left, momentum_right, &
+                                stress_volume, seg, force_left, force_right)
+      end do
+      ! the open run's whole shares
+      if (run%cur /= 0) call flush_sums(k, run%cur, lo, hi, shares, run%s, mass_left, mass_right, momentum_left, &
+                                        momentum_right, stress_volume, seg, force_left, force_right)
+      run%a = 0.0_dp  ! (close_segment flushes the bar's sums: none here)
+      call close_segment(k, shares, m, run, [lane_total(displacement), lane_total(kinetic), lane_total(strain)], &
+                         minval(min_j), largest%value, furthest_particle(largest, mb), outside, mass_left, mass_right, &
+                         momentum_left, momentum_right, stress_volume, seg)
+   end subroutine forced_musl_remap_segment
+
+   !> MUSL, second pass: stress update from the remapped velocities, P2G at the new position (the hat, per-particle forces)
+   subroutine forced_musl_stress_segment(k, seg, x, x0, v, stress, volume_ratio, cell, acceleration, velocity, &
+                                         strain_increment_of, mass_left, mass_right, momentum_left, momentum_right, &
+                                         stress_volume, constants, carry, mass_of, modulus_of, forces, gradient, force_left, &
+                                         force_right)
+      integer, parameter :: kernel = pass_musl_stress
+      logical, parameter :: moves = pass_moves(kernel), stresses = pass_stresses(kernel), relocates = pass_relocates(kernel)
+      integer, parameter :: shares = pass_force_shares(kernel)
+      integer, intent(in) :: k
+      type(segments_t), intent(inout) :: seg
+      real(dp), intent(inout), contiguous :: x(:), v(:), stress(:), volume_ratio(:)
+      real(dp), intent(in), contiguous :: x0(:)
+      integer, intent(inout), contiguous :: cell(:)
+      real(dp), intent(in), contiguous :: acceleration(0:), velocity(0:)
+      real(dp), intent(in), contiguous :: strain_increment_of(:)  !< per element (grid%element_strain)
+      real(dp), intent(inout), contiguous :: mass_left(:), mass_right(:), momentum_left(:), momentum_right(:), stress_volume(:)
+      type(pass_constants_t), intent(in) :: constants
+      real(dp), intent(inout), contiguous :: carry(:)  !< particles in parts: what a pass keeps for the next (fused_box_t)
+      !> the variants' per-particle data (absent when the run has none): masses and Young's moduli
+      !> (`material`), external forces (`forced`), APIC's velocity gradients C_p, and the element shares of
+      !> the forces
+      real(dp), intent(in), contiguous, optional :: mass_of(:), modulus_of(:), forces(:)
+      real(dp), intent(inout), contiguous, optional :: gradient(:), force_left(:), force_right(:)
+      integer :: p, e, i, n, b0, first, last, lo, hi, outside, ahead, elements
+      real(dp) :: half_m, strain_factor, dstrain, inv_dx, dt, youngs_modulus, m, volume0
+      type(largest_move_t) :: largest
+      real(dp) :: displacement(lanes), kinetic(lanes), strain(lanes), min_j(lanes)
+      integer :: cb(block_size)
+      real(dp) :: svb(block_size), db(block_size), kb(block_size), sb(block_size), jb(block_size)
+      real(dp) :: mb(block_size, 2)  !< the moves of a block, and of the block with the largest (lanes_track_move)
+      integer :: slot
+      real(dp) :: lane_max(lanes), block_max
+      integer :: lane_i, lane_r
+      type(run_t) :: run
+      integer(i8) :: elements_bits
+      real(dp) :: xi, xib(block_size), vpb(block_size)
+      ! the variant's: G2P's grid velocity and move, the segment's body (cells offset), each particle's
+      ! shares (accumulate_shares)
+      real(dp) :: vgrid, dxp
+      real(dp) :: mp, sh(block_size, share_count)
+      elements = constants%elements
+      inv_dx = constants%inv_dx
+      dt = constants%dt
+      youngs_modulus = constants%youngs_modulus
+      m = constants%mass
+      volume0 = constants%volume0
+      call open_segment(k, shares, seg, mass_left, mass_right, momentum_left, momentum_right, stress_volume, first, last, &
+                        lo, hi, force_left, force_right)
+      displacement = 0; kinetic = 0; strain = 0; min_j = huge(1.0_dp)
+      slot = 1
+      outside = 0
+      elements_bits = transfer(real(elements, dp), 0_i8)
+      half_m = 0.5_dp*m
+      strain_factor = 0.0_dp
+      if (stresses) strain_factor = 0.5_dp*volume0/youngs_modulus
+      do b0 = first, last, block_size
+         n = min(block_size, last - b0 + 1)
+         if (seg%prefetch) then  ! the arrays the pass reads, and the grid values of the next blocks
+            ahead = b0 + prefetch_ahead
+            if (kernel == pass_usl) call prefetch_block(ahead, cell, x, x0, v, stress, volume_ratio)
+            if (kernel == pass_usf_move .or. kernel == pass_musl_remap) call prefetch_block(ahead, cell, x, x0, v)
+            if (kernel == pass_usf_stress) call prefetch_block(ahead, cell, stress, volume_ratio)
+            if (kernel == pass_musl_stress) call prefetch_block(ahead, cell, x, v, stress, volume_ratio)
+            if (moves) then
+               call prefetch_nodes(cell(b0), cell(b0 + n - 1), acceleration, velocity)
+            else
+               call prefetch_elements(cell(b0), cell(b0 + n - 1), strain_increment_of)
+            end if
+         end if
+         do i = 1, n
+            p = b0 + i - 1
+            e = cell(p)
+            ! G2P with the start-of-step shape functions (per-particle forces)
+            if (moves) then
+               xi = x(p)*inv_dx - (e - 1)
+               vgrid = (1.0_dp - xi)*velocity(e - 1) + xi*velocity(e)
+               v(p) = v(p) + dt*((1.0_dp - xi)*acceleration(e - 1) + xi*acceleration(e))
+               dxp = dt*vgrid
+               x(p) = x(p) + dxp
+               db(i) = x(p) - x0(p)
+               kb(i) = half_m*v(p)*v(p)
+               mb(i, slot) = abs(dxp)*inv_dx
+            end if
+            if (stresses) then ! d eps = dt sum dN v_I over the start-of-step cell
+               if (moves) then
+                  dstrain = strain_increment(velocity(e - 1), velocity(e), dt, inv_dx)
+               else
+                  dstrain = strain_increment_of(e)
+               end if
+               call stress_particle(dstrain, youngs_modulus, strain_factor, volume0, stress(p), volume_ratio(p), sb(i), &
+                                    svb(i))
+               jb(i) = volume_ratio(p)
+            else if (iand(shares, share_stress) /= 0) then ! (an initial mapping: the stress as it is)
+               svb(i) = stress(p)*volume_ratio(p)*volume0
+            end if
+            if (relocates) then ! the new cell, for P2G at the new position
+               call locate_cell(x(p), inv_dx, elements, elements_bits, cb(i), xib(i))
+               cell(p) = cb(i)
+            else                ! the shares go to the start-of-step cell
+               cb(i) = e
+               if (moves) xib(i) = xi
+               if (.not. moves) xib(i) = x(p)*inv_dx - (e - 1)  ! (USF's stress pass maps the forces)
+            end if
+            ! the particle's whole element shares (accumulate_shares sums them): mass, momentum (APIC's
+            ! with its affine part), stress*volume, external force, at the left and right node
+            mp = m
+            if (iand(shares, share_mass + share_momentum) /= 0) then
+               sh(i, 2) = mp*xib(i)
+               sh(i, 1) = mp - sh(i, 2)
+            end if
+            if (iand(shares, share_momentum) /= 0) then
+               sh(i, 3) = sh(i, 1)*v(p)
+               sh(i, 4) = sh(i, 2)*v(p)
+            end if
+            if (iand(shares, share_stress) /= 0) sh(i, 5) = svb(i)
+            if (iand(shares, share_force) /= 0) then
+               sh(i, 7) = forces(p)*xib(i)
+               sh(i, 6) = forces(p) - sh(i, 7)
+            end if
+         end do
+         ! the block's totals (macros of mpm_lanes.fypi, expanded here)
+         if (moves) then
+            do lane_i = 1, n - lanes + 1, lanes
+               displacement = displacement + db(lane_i:lane_i + lanes - 1)
+            end do
+            lane_r = mod(n, lanes)
+            if (lane_r > 0) displacement(1:lane_r) = displacement(1:lane_r) + db(n - lane_r + 1:n)
+            do lane_i = 1, n - lanes + 1, lanes
+               kinetic = kinetic + kb(lane_i:lane_i + lanes - 1)
+            end do
+            lane_r = mod(n, lanes)
+            if (lane_r > 0) kinetic(1:lane_r) = kinetic(1:lane_r) + kb(n - lane_r + 1:n)
+            lane_max = 0.0_dp
+            do lane_i = 1, n - lanes + 1, lanes
+               lane_max = max(lane_max, mb(lane_i:lane_i + lanes - 1, slot))
+            end do
+            lane_r = mod(n, lanes)
+            if (lane_r > 0) lane_max(1:lane_r) = max(lane_max(1:lane_r), mb(n - lane_r + 1:n, slot))
+            block_max = maxval(lane_max)
+            if (block_max > largest%value) then
+               largest%value = block_max
+               largest%first = b0
+               largest%count = n
+               largest%slot = slot
+               slot = 3 - slot
+            end if
+         end if
+         if (stresses) then
+            do lane_i = 1, n - lanes + 1, lanes
+               strain = strain + sb(lane_i:lane_i + lanes - 1)
+            end do
+            lane_r = mod(n, lanes)
+            if (lane_r > 0) strain(1:lane_r) = strain(1:lane_r) + sb(n - lane_r + 1:n)
+            do lane_i = 1, n - lanes + 1, lanes
+               min_j = min(min_j, jb(lane_i:lane_i + lanes - 1))
+            end do
+            lane_r = mod(n, lanes)
+            if (lane_r > 0) min_j(1:lane_r) = min(min_j(1:lane_r), jb(n - lane_r + 1:n))
+         end if
+         if (relocates) call find_outside(n, b0, cb, outside)
+         call accumulate_shares(k, n, cb, sh, lo, hi, shares, run, mass_left, mass_right, momentum_left, momentum_right, &
+                                stress_volume, seg, force_left, force_right)
+      end do
+      ! the open run's whole shares
+      if (run%cur /= 0) call flush_sums(k, run%cur, lo, hi, shares, run%s, mass_left, mass_right, momentum_left, &
+                                        momentum_right, stress_volume, seg, force_left, force_right)
+      run%a = 0.0_dp  ! (close_segment flushes the bar's sums: none here)
+      call close_segment(k, shares, m, run, [lane_total(displacement), lane_total(kinetic), lane_total(strain)], &
+                         minval(min_j), largest%value, furthest_particle(largest, mb), outside, mass_left, mass_right, &
+                         momentum_left, momentum_right, stress_volume, seg)
+   end subroutine forced_musl_stress_segment
+
+   !> initial mapping: mass and momentum (the hat, per-particle forces)
+   subroutine forced_map_segment(k, seg, x, x0, v, stress, volume_ratio, cell, acceleration, velocity, &
+                                 strain_increment_of, mass_left, mass_right, momentum_left, momentum_right, &
+                                 stress_volume, constants, carry, mass_of, modulus_of, forces, gradient, force_left, &
+                                 force_right)
+      integer, parameter :: kernel = pass_map
+      logical, parameter :: moves = pass_moves(kernel), stresses = pass_stresses(kernel), relocates = pass_relocates(kernel)
+      integer, parameter :: shares = pass_force_shares(kernel)
+      integer, intent(in) :: k
+      type(segments_t), intent(inout) :: seg
+      real(dp), intent(inout), contiguous :: x(:), v(:), stress(:), volume_ratio(:)
+      real(dp), intent(in), contiguous :: x0(:)
+      integer, intent(inout), contiguous :: cell(:)
+      real(dp), intent(in), contiguous :: acceleration(0:), velocity(0:)
+      real(dp), intent(in), contiguous :: strain_increment_of(:)  !< per element (grid%element_strain)
+      real(dp), intent(inout), contiguous :: mass_left(:), mass_right(:), momentum_left(:), momentum_right(:), stress_volume(:)
+      type(pass_constants_t), intent(in) :: constants
+      real(dp), intent(inout), contiguous :: carry(:)  !< particles in parts: what a pass keeps for the next (fused_box_t)
+      !> the variants' per-particle data (absent when the run has none): masses and Young's moduli
+      !> (`material`), external forces (`forced`), APIC's velocity gradients C_p, and the element shares of
+      !> the forces
+      real(dp), intent(in), contiguous, optional :: mass_of(:), modulus_of(:), forces(:)
+      real(dp), intent(inout), contiguous, optional :: gradient(:), force_left(:), force_right(:)
+      integer :: p, e, i, n, b0, first, last, lo, hi, outside, ahead, elements
+      real(dp) :: half_m, strain_factor, dstrain, inv_dx, dt, youngs_modulus, m, volume0
+      type(largest_move_t) :: largest
+      real(dp) :: displacement(lanes), kinetic(lanes), strain(lanes), min_j(lanes)
+      integer :: cb(block_size)
+      real(dp) :: svb(block_size), db(block_size), kb(block_size), sb(block_size), jb(block_size)
+      real(dp) :: mb(block_size, 2)  !< the moves of a block, and of the block with the largest (lanes_track_move)
+      integer :: slot
+      real(dp) :: lane_max(lanes), block_max
+      integer :: lane_i, lane_r
+      type(run_t) :: run
+      integer(i8) :: elements_bits
+      real(dp) :: xi, xib(block_size), vpb(block_size)
+      ! the variant's: G2P's grid velocity and move, the segment's body (cells offset), each particle's
+      ! shares (accumulate_shares)
+      real(dp) :: vgrid, dxp
+      real(dp) :: mp, sh(block_size, share_count)
+      elements = constants%elements
+      inv_dx = constants%inv_dx
+      dt = constants%dt
+      youngs_modulus = constants%youngs_modulus
+      m = constants%mass
+      volume0 = constants%volume0
+      call open_segment(k, shares, seg, mass_left, mass_right, momentum_left, momentum_right, stress_volume, first, last, &
+                        lo, hi, force_left, force_right)
+      displacement = 0; kinetic = 0; strain = 0; min_j = huge(1.0_dp)
+      slot = 1
+      outside = 0
+      elements_bits = transfer(real(elements, dp), 0_i8)
+      half_m = 0.5_dp*m
+      strain_factor = 0.0_dp
+      if (stresses) strain_factor = 0.5_dp*volume0/youngs_modulus
+      do b0 = first, last, block_size
+         n = min(block_size, last - b0 + 1)
+         if (seg%prefetch) then  ! the arrays the pass reads, and the grid values of the next blocks
+            ahead = b0 + prefetch_ahead
+            if (kernel == pass_usl) call prefetch_block(ahead, cell, x, x0, v, stress, volume_ratio)
+            if (kernel == pass_usf_move .or. kernel == pass_musl_remap) call prefetch_block(ahead, cell, x, x0, v)
+            if (kernel == pass_usf_stress) call prefetch_block(ahead, cell, stress, volume_ratio)
+            if (kernel == pass_musl_stress) call prefetch_block(ahead, cell, x, v, stress, volume_ratio)
+            if (moves) then
+               call prefetch_nodes(cell(b0), cell(b0 + n - 1), acceleration, velocity)
+            else
+               call prefetch_elements(cell(b0), cell(b0 + n - 1), strain_increment_of)
+            end if
+         end if
+         do i = 1, n
+            p = b0 + i - 1
+            e = cell(p)
+            ! G2P with the start-of-step shape functions (per-particle forces)
+            if (moves) then
+               xi = x(p)*inv_dx - (e - 1)
+               vgrid = (1.0_dp - xi)*velocity(e - 1) + xi*velocity(e)
+               v(p) = v(p) + dt*((1.0_dp - xi)*acceleration(e - 1) + xi*acceleration(e))
+               dxp = dt*vgrid
+               x(p) = x(p) + dxp
+               db(i) = x(p) - x0(p)
+               kb(i) = half_m*v(p)*v(p)
+               mb(i, slot) = abs(dxp)*inv_dx
+            end if
+            if (stresses) then ! d eps = dt sum dN v_I over the start-of-step cell
+               if (moves) then
+                  dstrain = strain_increment(velocity(e - 1), velocity(e), dt, inv_dx)
+               else
+                  dstrain = strain_increment_of(e)
+               end if
+               call stress_particle(dstrain, youngs_modulus, strain_factor, volume0, stress(p), volume_ratio(p), sb(i), &
+                                    svb(i))
+               jb(i) = volume_ratio(p)
+            else if (iand(shares, share_stress) /= 0) then ! (an initial mapping: the stress as it is)
+               svb(i) = stress(p)*volume_ratio(p)*volume0
+            end if
+            if (relocates) then ! the new cell, for P2G at the new position
+               call locate_cell(x(p), inv_dx, elements, elements_bits, cb(i), xib(i))
+               cell(p) = cb(i)
+            else                ! the shares go to the start-of-step cell
+               cb(i) = e
+               if (moves) xib(i) = xi
+               if (.not. moves) xib(i) = x(p)*inv_dx - (e - 1)  ! (USF's stress pass maps the forces)
+            end if
+            ! the particle's whole element shares (accumulate_shares sums them): mass, momentum (APIC's
+            ! with its affine part), stress*volume, external force, at the left and right node
+            mp = m
+            if (iand(shares, share_mass + share_momentum) /= 0) then
+               sh(i, 2) = mp*xib(i)
+               sh(i, 1) = mp - sh(i, 2)
+            end if
+            if (iand(shares, share_momentum) /= 0) then
+               sh(i, 3) = sh(i, 1)*v(p)
+               sh(i, 4) = sh(i, 2)*v(p)
+            end if
+            if (iand(shares, share_stress) /= 0) sh(i, 5) = svb(i)
+            if (iand(shares, share_force) /= 0) then
+               sh(i, 7) = forces(p)*xib(i)
+               sh(i, 6) = forces(p) - sh(i, 7)
+            end if
+         end do
+         ! the block's totals (macros of mpm_lanes.fypi, expanded here)
+         if (moves) then
+            do lane_i = 1, n - lanes + 1, lanes
+               displacement = displacement + db(lane_i:lane_i + lanes - 1)
+            end do
+            lane_r = mod(n, lanes)
+            if (lane_r > 0) displacement(1:lane_r) = displacement(1:lane_r) + db(n - lane_r + 1:n)
+            do lane_i = 1, n - lanes + 1, lanes
+               kinetic = kinetic + kb(lane_i:lane_i + lanes - 1)
+            end do
+            lane_r = mod(n, lanes)
+            if (lane_r > 0) kinetic(1:lane_r) = kinetic(1:lane_r) + kb(n - lane_r + 1:n)
+            lane_max = 0.0_dp
+            do lane_i = 1, n - lanes + 1, lanes
+               lane_max = max(lane_max, mb(lane_i:lane_i + lanes - 1, slot))
+            end do
+            lane_r = mod(n, lanes)
+            if (lane_r > 0) lane_max(1:lane_r) = max(lane_max(1:lane_r), mb(n - lane_r + 1:n, slot))
+            block_max = maxval(lane_max)
+            if (block_max > largest%value) then
+               largest%value = block_max
+               largest%first = b0
+               largest%count = n
+               largest%slot = slot
+               slot = 3 - slot
+            end if
+         end if
+         if (stresses) then
+            do lane_i = 1, n - lanes + 1, lanes
+               strain = strain + sb(lane_i:lane_i + lanes - 1)
+            end do
+            lane_r = mod(n, lanes)
+            if (lane_r > 0) strain(1:lane_r) = strain(1:lane_r) + sb(n - lane_r + 1:n)
+            do lane_i = 1, n - lanes + 1, lanes
+               min_j = min(min_j, jb(lane_i:lane_i + lanes - 1))
+            end do
+            lane_r = mod(n, lanes)
+            if (lane_r > 0) min_j(1:lane_r) = min(min_j(1:lane_r), jb(n - lane_r + 1:n))
+         end if
+         if (relocates) call find_outside(n, b0, cb, outside)
+         call accumulate_shares(k, n, cb, sh, lo, hi, shares, run, mass_left, mass_right, momentum_left, momentum_right, &
+                                stress_volume, seg, force_left, force_right)
+      end do
+      ! the open run's whole shares
+      if (run%cur /= 0) call flush_sums(k, run%cur, lo, hi, shares, run%s, mass_left, mass_right, momentum_left, &
+                                        momentum_right, stress_volume, seg, force_left, force_right)
+      run%a = 0.0_dp  ! (close_segment flushes the bar's sums: none here)
+      call close_segment(k, shares, m, run, [lane_total(displacement), lane_total(kinetic), lane_total(strain)], &
+                         minval(min_j), largest%value, furthest_particle(largest, mb), outside, mass_left, mass_right, &
+                         momentum_left, momentum_right, stress_volume, seg)
+   end subroutine forced_map_segment
+
+   !> initial mapping: mass, momentum and stress*volume (and forces) (the hat, per-particle forces)
+   subroutine forced_map_stress_segment(k, seg, x, x0, v, stress, volume_ratio, cell, acceleration, velocity, &
+                                        strain_increment_of, mass_left, mass_right, momentum_left, momentum_right, &
+                                        stress_volume, constants, carry, mass_of, modulus_of, forces, gradient, force_left, &
+                                        force_right)
+      integer, parameter :: kernel = pass_map_stress
+      logical, parameter :: moves = pass_moves(kernel), stresses = pass_stresses(kernel), relocates = pass_relocates(kernel)
+      integer, parameter :: shares = pass_force_shares(kernel)
+      integer, intent(in) :: k
+      type(segments_t), intent(inout) :: seg
+      real(dp), intent(inout), contiguous :: x(:), v(:), stress(:), volume_ratio(:)
+      real(dp), intent(in), contiguous :: x0(:)
+      integer, intent(inout), contiguous :: cell(:)
+      real(dp), intent(in), contiguous :: acceleration(0:), velocity(0:)
+      real(dp), intent(in), contiguous :: strain_increment_of(:)  !< per element (grid%element_strain)
+      real(dp), intent(inout), contiguous :: mass_left(:), mass_right(:), momentum_left(:), momentum_right(:), stress_volume(:)
+      type(pass_constants_t), intent(in) :: constants
+      real(dp), intent(inout), contiguous :: carry(:)  !< particles in parts: what a pass keeps for the next (fused_box_t)
+      !> the variants' per-particle data (absent when the run has none): masses and Young's moduli
+      !> (`material`), external forces (`forced`), APIC's velocity gradients C_p, and the element shares of
+      !> the forces
+      real(dp), intent(in), contiguous, optional :: mass_of(:), modulus_of(:), forces(:)
+      real(dp), intent(inout), contiguous, optional :: gradient(:), force_left(:), force_right(:)
+      integer :: p, e, i, n, b0, first, last, lo, hi, outside, ahead, elements
+      real(dp) :: half_m, strain_factor, dstrain, inv_dx, dt, youngs_modulus, m, volume0
+      type(largest_move_t) :: largest
+      real(dp) :: displacement(lanes), kinetic(lanes), strain(lanes), min_j(lanes)
+      integer :: cb(block_size)
+      real(dp) :: svb(block_size), db(block_size), kb(block_size), sb(block_size), jb(block_size)
+      real(dp) :: mb(block_size, 2)  !< the moves of a block, and of the block with the largest (lanes_track_move)
+      integer :: slot
+      real(dp) :: lane_max(lanes), block_max
+      integer :: lane_i, lane_r
+      type(run_t) :: run
+      integer(i8) :: elements_bits
+      real(dp) :: xi, xib(block_size), vpb(block_size)
+      ! the variant's: G2P's grid velocity and move, the segment's body (cells offset), each particle's
+      ! shares (accumulate_shares)
+      real(dp) :: vgrid, dxp
+      real(dp) :: mp, sh(block_size, share_count)
+      elements = constants%elements
+      inv_dx = constants%inv_dx
+      dt = constants%dt
+      youngs_modulus = constants%youngs_modulus
+      m = constants%mass
+      volume0 = constants%volume0
+      call open_segment(k, shares, seg, mass_left, mass_right, momentum_left, momentum_right, stress_volume, first, last, &
+                        lo, hi, force_left, force_right)
+      displacement = 0; kinetic = 0; strain = 0; min_j = huge(1.0_dp)
+      slot = 1
+      outside = 0
+      elements_bits = transfer(real(elements, dp), 0_i8)
+      half_m = 0.5_dp*m
+      strain_factor = 0.0_dp
+      if (stresses) strain_factor = 0.5_dp*volume0/youngs_modulus
+      do b0 = first, last, block_size
+         n = min(block_size, last - b0 + 1)
+         if (seg%prefetch) then  ! the arrays the pass reads, and the grid values of the next blocks
+            ahead = b0 + prefetch_ahead
+            if (kernel == pass_usl) call prefetch_block(ahead, cell, x, x0, v, stress, volume_ratio)
+            if (kernel == pass_usf_move .or. kernel == pass_musl_remap) call prefetch_block(ahead, cell, x, x0, v)
+            if (kernel == pass_usf_stress) call prefetch_block(ahead, cell, stress, volume_ratio)
+            if (kernel == pass_musl_stress) call prefetch_block(ahead, cell, x, v, stress, volume_ratio)
+            if (moves) then
+               call prefetch_nodes(cell(b0), cell(b0 + n - 1), acceleration, velocity)
+            else
+               call prefetch_elements(cell(b0), cell(b0 + n - 1), strain_increment_of)
+            end if
+         end if
+         do i = 1, n
+            p = b0 + i - 1
+            e = cell(p)
+            ! G2P with the start-of-step shape functions (per-particle forces)
+            if (moves) then
+               xi = x(p)*inv_dx - (e - 1)
+               vgrid = (1.0_dp - xi)*velocity(e - 1) + xi*velocity(e)
+               v(p) = v(p) + dt*((1.0_dp - xi)*acceleration(e - 1) + xi*acceleration(e))
+               dxp = dt*vgrid
+               x(p) = x(p) + dxp
+               db(i) = x(p) - x0(p)
+               kb(i) = half_m*v(p)*v(p)
+               mb(i, slot) = abs(dxp)*inv_dx
+            end if
+            if (stresses) then ! d eps = dt sum dN v_I over the start-of-step cell
+               if (moves) then
+                  dstrain = strain_increment(velocity(e - 1), velocity(e), dt, inv_dx)
+               else
+                  dstrain = strain_increment_of(e)
+               end if
+               call stress_particle(dstrain, youngs_modulus, strain_factor, volume0, stress(p), volume_ratio(p), sb(i), &
+                                    svb(i))
+               jb(i) = volume_ratio(p)
+            else if (iand(shares, share_stress) /= 0) then ! (an initial mapping: the stress as it is)
+               svb(i) = stress(p)*volume_ratio(p)*volume0
+            end if
+            if (relocates) then ! the new cell, for P2G at the new position
+               call locate_cell(x(p), inv_dx, elements, elements_bits, cb(i), xib(i))
+               cell(p) = cb(i)
+            else                ! the shares go to the start-of-step cell
+               cb(i) = e
+               if (moves) xib(i) = xi
+               if (.not. moves) xib(i) = x(p)*inv_dx - (e - 1)  ! (USF's stress pass maps the forces)
+            end if
+            ! the particle's whole element shares (accumulate_shares sums them): mass, momentum (APIC's
+            ! with its affine part), stress*volume, external force, at the left and right node
+            mp = m
+            if (iand(shares, share_mass + share_momentum) /= 0) then
+               sh(i, 2) = mp*xib(i)
+               sh(i, 1) = mp - sh(i, 2)
+            end if
+            if (iand(shares, share_momentum) /= 0) then
+               sh(i, 3) = sh(i, 1)*v(p)
+               sh(i, 4) = sh(i, 2)*v(p)
+            end if
+            if (iand(shares, share_stress) /= 0) sh(i, 5) = svb(i)
+            if (iand(shares, share_force) /= 0) then
+               sh(i, 7) = forces(p)*xib(i)
+               sh(i, 6) = forces(p) - sh(i, 7)
+            end if
+         end do
+         ! the block's totals (macros of mpm_lanes.fypi, expanded here)
+         if (moves) then
+            do lane_i = 1, n - lanes + 1, lanes
+               displacement = displacement + db(lane_i:lane_i + lanes - 1)
+            end do
+            lane_r = mod(n, lanes)
+            if (lane_r > 0) displacement(1:lane_r) = displacement(1:lane_r) + db(n - lane_r + 1:n)
+            do lane_i = 1, n - lanes + 1, lanes
+               kinetic = kinetic + kb(lane_i:lane_i + lanes - 1)
+            end do
+            lane_r = mod(n, lanes)
+            if (lane_r > 0) kinetic(1:lane_r) = kinetic(1:lane_r) + kb(n - lane_r + 1:n)
+            lane_max = 0.0_dp
+            do lane_i = 1, n - lanes + 1, lanes
+               lane_max = max(lane_max, mb(lane_i:lane_i + lanes - 1, slot))
+            end do
+            lane_r = mod(n, lanes)
+            if (lane_r > 0) lane_max(1:lane_r) = max(lane_max(1:lane_r), mb(n - lane_r + 1:n, slot))
+            block_max = maxval(lane_max)
+            if (block_max > largest%value) then
+               largest%value = block_max
+               largest%first = b0
+               largest%count = n
+               largest%slot = slot
+               slot = 3 - slot
+            end if
+         end if
+         if (stresses) then
+            do lane_i = 1, n - lanes + 1, lanes
+               strain = strain + sb(lane_i:lane_i + lanes - 1)
+            end do
+            lane_r = mod(n, lanes)
+            if (lane_r > 0) strain(1:lane_r) = strain(1:lane_r) + sb(n - lane_r + 1:n)
+            do lane_i = 1, n - lanes + 1, lanes
+               min_j = min(min_j, jb(lane_i:lane_i + lanes - 1))
+            end do
+            lane_r = mod(n, lanes)
+            if (lane_r > 0) min_j(1:lane_r) = min(min_j(1:lane_r), jb(n - lane_r + 1:n))
+         end if
+         if (relocates) call find_outside(n, b0, cb, outside)
+         call accumulate_shares(k, n, cb, sh, lo, hi, shares, run, mass_left, mass_right, momentum_left, momentum_right, &
+                                stress_volume, seg, force_left, force_right)
+      end do
+      ! the open run's whole shares
+      if (run%cur /= 0) call flush_sums(k, run%cur, lo, hi, shares, run%s, mass_left, mass_right, momentum_left, &
+                                        momentum_right, stress_volume, seg, force_left, force_right)
+      run%a = 0.0_dp  ! (close_segment flushes the bar's sums: none here)
+      call close_segment(k, shares, m, run, [lane_total(displacement), lane_total(kinetic), lane_total(strain)], &
+                         minval(min_j), largest%value, furthest_particle(largest, mb), outside, mass_left, mass_right, &
+                         momentum_left, momentum_right, stress_volume, seg)
+   end subroutine forced_map_stress_segment
+
+   !> USF, second half: G2P, then mass and momentum at the new position (the hat, bodies on stacked fields)
+   subroutine bodies_usf_move_segment(k, seg, x, x0, v, stress, volume_ratio, cell, acceleration, velocity, &
+                                      strain_increment_of, mass_left, mass_right, momentum_left, momentum_right, &
+                                      stress_volume, constants, carry, mass_of, modulus_of, forces, gradient, force_left, &
+                                      force_right)
+      integer, parameter :: kernel = pass_usf_move
+      logical, parameter :: moves = pass_moves(kernel), stresses = pass_stresses(kernel), relocates = pass_relocates(kernel)
+      integer, parameter :: shares = pass_shares(kernel)
+      integer, intent(in) :: k
+      type(segments_t), intent(inout) :: seg
+      real(dp), intent(inout), contiguous :: x(:), v(:), stress(:), volume_ratio(:)
+      real(dp), intent(in), contiguous :: x0(:)
+      integer, intent(inout), contiguous :: cell(:)
+      real(dp), intent(in), contiguous :: acceleration(0:), velocity(0:)
+      real(dp), intent(in), contiguous :: strain_increment_of(:)  !< per element (grid%element_strain)
+      real(dp), intent(inout), contiguous :: mass_left(:), mass_right(:), momentum_left(:), momentum_right(:), stress_volume(:)
+      type(pass_constants_t), intent(in) :: constants
+      real(dp), intent(inout), contiguous :: carry(:)  !< particles in parts: what a pass keeps for the next (fused_box_t)
+      !> the variants' per-particle data (absent when the run has none): masses and Young's moduli
+      !> (`material`), external forces (`forced`), APIC's velocity gradients C_p, and the element shares of
+      !> the forces
+      real(dp), intent(in), contiguous, optional :: mass_of(:), modulus_of(:), forces(:)
+      real(dp), intent(inout), contiguous, optional :: gradient(:), force_left(:), force_right(:)
+      integer :: p, e, i, n, b0, first, last, lo, hi, outside, ahead, elements
+      real(dp) :: half_m, strain_factor, dstrain, inv_dx, dt, youngs_modulus, m, volume0
+      type(largest_move_t) :: largest
+      real(dp) :: displacement(lanes), kinetic(lanes), strain(lanes), min_j(lanes)
+      integer :: cb(block_size)
+      real(dp) :: svb(block_size), db(block_size), kb(block_size), sb(block_size), jb(block_size)
+      real(dp) :: mb(block_size, 2)  !< the moves of a block, and of the block with the largest (lanes_track_move)
+      integer :: slot
+      real(dp) :: lane_max(lanes), block_max
+      integer :: lane_i, lane_r
+      type(run_t) :: run
+      integer(i8) :: elements_bits
+      real(dp) :: xi, xib(block_size), vpb(block_size)
+      ! the variant's: G2P's grid velocity and move, the segment's body (cells offset), each particle's
+      ! shares (accumulate_shares)
+      real(dp) :: vgrid, dxp
+      real(dp) :: origin
+      integer :: offset
+      origin = constants%origin
+      offset = constants%offset
+      elements = constants%elements
+      inv_dx = constants%inv_dx
+      dt = constants%dt
+      youngs_modulus = constants%youngs_modulus
+      m = constants%mass
+      volume0 = constants%volume0
+      call open_segment(k, shares, seg, mass_left, mass_right, momentum_left, momentum_right, stress_volume, first, last, &
+                        lo, hi)
+      displacement = 0; kinetic = 0; strain = 0; min_j = huge(1.0_dp)
+      slot = 1
+      outside = 0
+      elements_bits = transfer(real(elements, dp), 0_i8)
+      half_m = 0.5_dp*m
+      strain_factor = 0.0_dp
+      if (stresses) strain_factor = 0.5_dp*volume0/youngs_modulus
+      do b0 = first, last, block_size
+         n = min(block_size, last - b0 + 1)
+         if (seg%prefetch) then  ! the arrays the pass reads, and the grid values of the next blocks
+            ahead = b0 + prefetch_ahead
+            if (kernel == pass_usl) call prefetch_block(ahead, cell, x, x0, v, stress, volume_ratio)
+            if (kernel == pass_usf_move .or. kernel == pass_musl_remap) call prefetch_block(ahead, cell, x, x0, v)
+            if (kernel == pass_usf_stress) call prefetch_block(ahead, cell, stress, volume_ratio)
+            if (kernel == pass_musl_stress) call prefetch_block(ahead, cell, x, v, stress, volume_ratio)
+            if (moves) then
+               call prefetch_nodes(cell(b0), cell(b0 + n - 1), acceleration, velocity)
+            else
+               call prefetch_elements(cell(b0), cell(b0 + n - 1), strain_increment_of)
+            end if
+         end if
+         do i = 1, n
+            p = b0 + i - 1
+            e = cell(p)
+            ! G2P with the start-of-step shape functions (bodies on stacked fields)
+            if (moves) then
+               xi = (x(p) - origin)*inv_dx - (e - offset - 1)  ! (e: the cell in the stacked fields)
+               vgrid = (1.0_dp - xi)*velocity(e - 1) + xi*velocity(e)
+               v(p) = v(p) + dt*((1.0_dp - xi)*acceleration(e - 1) + xi*acceleration(e))
+               dxp = dt*vgrid
+               x(p) = x(p) + dxp
+               db(i) = x(p) - x0(p)
+               kb(i) = half_m*v(p)*v(p)
+               mb(i, slot) = abs(dxp)*inv_dx
+            end if
+            if (stresses) then ! d eps = dt sum dN v_I over the start-of-step cell
+               if (moves) then
+                  dstrain = strain_increment(velocity(e - 1), velocity(e), dt, inv_dx)
+               else
+                  dstrain = strain_increment_of(e)
+               end if
+               call stress_particle(dstrain, youngs_modulus, strain_factor, volume0, stress(p), volume_ratio(p), sb(i), &
+                                    svb(i))
+               jb(i) = volume_ratio(p)
+            else if (iand(shares, share_stress) /= 0) then ! (an initial mapping: the stress as it is)
+               svb(i) = stress(p)*volume_ratio(p)*volume0
+            end if
+            if (relocates) then ! the new cell, for P2G at the new position
+               call locate_body_cell(x(p), origin, inv_dx, elements, elements_bits, offset, cb(i), xib(i))
+               cell(p) = cb(i)
+            else                ! the shares go to the start-of-step cell
+               cb(i) = e
+               if (moves) xib(i) = xi
+            end if
+            if (moves .or. relocates) vpb(i) = v(p)
+         end do
+         ! the block's totals (macros of mpm_lanes.fypi, expanded here)
+         if (moves) then
+            do lane_i = 1, n - lanes + 1, lanes
+               displacement = displacement + db(lane_i:lane_i + lanes - 1)
+            end do
+            lane_r = mod(n, lanes)
+            if (lane_r > 0) displacement(1:lane_r) = displacement(1:lane_r) + db(n - lane_r + 1:n)
+            do lane_i = 1, n - lanes + 1, lanes
+               kinetic = kinetic + kb(lane_i:lane_i + lanes - 1)
+            end do
+            lane_r = mod(n, lanes)
+            if (lane_r > 0) kinetic(1:lane_r) = kinetic(1:lane_r) + kb(n - lane_r + 1:n)
+            lane_max = 0.0_dp
+            do lane_i = 1, n - lanes + 1, lanes
+               lane_max = max(lane_max, mb(lane_i:lane_i + lanes - 1, slot))
+            end do
+            lane_r = mod(n, lanes)
+            if (lane_r > 0) lane_max(1:lane_r) = max(lane_max(1:lane_r), mb(n - lane_r + 1:n, slot))
+            block_max = maxval(lane_max)
+            if (block_max > largest%value) then
+               largest%value = block_max
+               largest%first = b0
+               largest%count = n
+               largest%slot = slot
+               slot = 3 - slot
+            end if
+         end if
+         if (stresses) then
+            do lane_i = 1, n - lanes + 1, lanes
+               strain = strain + sb(lane_i:lane_i + lanes - 1)
+            end do
+            lane_r = mod(n, lanes)
+            if (lane_r > 0) strain(1:lane_r) = strain(1:lane_r) + sb(n - lane_r + 1:n)
+            do lane_i = 1, n - lanes + 1, lanes
+               min_j = min(min_j, jb(lane_i:lane_i + lanes - 1))
+            end do
+            lane_r = mod(n, lanes)
+            if (lane_r > 0) min_j(1:lane_r) = min(min_j(1:lane_r), jb(n - lane_r + 1:n))
+         end if
+         if (relocates) call find_outside(n, b0, cb, outside)
+         call accumulate_block(k, n, cb, xib, vpb, svb, m, lo, hi, shares, run, mass_left, mass_right, momentum_left, &
+                               momentum_right, stress_volume, seg)
+      end do
+      ! (the body's mass times its sum of x - X: the bodies' masses differ)
+      call close_segment(k, shares, m, run, [m*lane_total(displacement), lane_total(kinetic), lane_total(strain)], &
+                         minval(min_j), largest%value, furthest_particle(largest, mb), outside, mass_left, mass_right, &
+                         momentum_left, momentum_right, stress_volume, seg)
+   end subroutine bodies_usf_move_segment
+
+   !> USF, first half: stress update, then stress*volume of the unmoved particles (the hat, bodies on stacked fields)
+   subroutine bodies_usf_stress_segment(k, seg, x, x0, v, stress, volume_ratio, cell, acceleration, velocity, &
+                                        strain_increment_of, mass_left, mass_right, momentum_left, momentum_right, &
+                                        stress_volume, constants, carry, mass_of, modulus_of, forces, gradient, force_left, &
+                                        force_right)
+      integer, parameter :: kernel = pass_usf_stress
+      logical, parameter :: moves = pass_moves(kernel), stresses = pass_stresses(kernel), relocates = pass_relocates(kernel)
+      integer, parameter :: shares = pass_shares(kernel)
+      integer, intent(in) :: k
+      type(segments_t), intent(inout) :: seg
+      real(dp), intent(inout), contiguous :: x(:), v(:), stress(:), volume_ratio(:)
+      real(dp), intent(in), contiguous :: x0(:)
+      integer, intent(inout), contiguous :: cell(:)
+      real(dp), intent(in), contiguous :: acceleration(0:), velocity(0:)
+      real(dp), intent(in), contiguous :: strain_increment_of(:)  !< per element (grid%element_strain)
+      real(dp), intent(inout), contiguous :: mass_left(:), mass_right(:), momentum_left(:), momentum_right(:), stress_volume(:)
+      type(pass_constants_t), intent(in) :: constants
+      real(dp), intent(inout), contiguous :: carry(:)  !< particles in parts: what a pass keeps for the next (fused_box_t)
+      !> the variants' per-particle data (absent when the run has none): masses and Young's moduli
+      !> (`material`), external forces (`forced`), APIC's velocity gradients C_p, and the element shares of
+      !> the forces
+      real(dp), intent(in), contiguous, optional :: mass_of(:), modulus_of(:), forces(:)
+      real(dp), intent(inout), contiguous, optional :: gradient(:), force_left(:), force_right(:)
+      integer :: p, e, i, n, b0, first, last, lo, hi, outside, ahead, elements
+      real(dp) :: half_m, strain_factor, dstrain, inv_dx, dt, youngs_modulus, m, volume0
+      type(largest_move_t) :: largest
+      real(dp) :: displacement(lanes), kinetic(lanes), strain(lanes), min_j(lanes)
+      integer :: cb(block_size)
+      real(dp) :: svb(block_size), db(block_size), kb(block_size), sb(block_size), jb(block_size)
+      real(dp) :: mb(block_size, 2)  !< the moves of a block, and of the block with the largest (lanes_track_move)
+      integer :: slot
+      real(dp) :: lane_max(lanes), block_max
+      integer :: lane_i, lane_r
+      type(run_t) :: run
+      integer(i8) :: elements_bits
+      real(dp) :: xi, xib(block_size), vpb(block_size)
+      ! the variant's: G2P's grid velocity and move, the segment's body (cells offset), each particle's
+      ! shares (accumulate_shares)
+      real(dp) :: vgrid, dxp
+      real(dp) :: origin
+      integer :: offset
+      origin = constants%origin
+      offset = constants%offset
+      elements = constants%elements
+      inv_dx = constants%inv_dx
+      dt = constants%dt
+      youngs_modulus = constants%youngs_modulus
+      m = constants%mass
+      volume0 = constants%volume0
+      call open_segment(k, shares, seg, mass_left, mass_right, momentum_left, momentum_right, stress_volume, first, last, &
+                        lo, hi)
+      displacement = 0; kinetic = 0; strain = 0; min_j = huge(1.0_dp)
+      slot = 1
+      outside = 0
+      elements_bits = transfer(real(elements, dp), 0_i8)
+      half_m = 0.5_dp*m
+      strain_factor = 0.0_dp
+      if (stresses) strain_factor = 0.5_dp*volume0/youngs_modulus
+      do b0 = first, last, block_size
+         n = min(block_size, last - b0 + 1)
+         if (seg%prefetch) then  ! the arrays the pass reads, and the grid values of the next blocks
+            ahead = b0 + prefetch_ahead
+            if (kernel == pass_usl) call prefetch_block(ahead, cell, x, x0, v, stress, volume_ratio)
+            if (kernel == pass_usf_move .or. kernel == pass_musl_remap) call prefetch_block(ahead, cell, x, x0, v)
+            if (kernel == pass_usf_stress) call prefetch_block(ahead, cell, stress, volume_ratio)
+            if (kernel == pass_musl_stress) call prefetch_block(ahead, cell, x, v, stress, volume_ratio)
+            if (moves) then
+               call prefetch_nodes(cell(b0), cell(b0 + n - 1), acceleration, velocity)
+            else
+               call prefetch_elements(cell(b0), cell(b0 + n - 1), strain_increment_of)
+            end if
+         end if
+         do i = 1, n
+            p = b0 + i - 1
+            e = cell(p)
+            ! G2P with the start-of-step shape functions (bodies on stacked fields)
+            if (moves) then
+               xi = (x(p) - origin)*inv_dx - (e - offset - 1)  ! (e: the cell in the stacked fields)
+               vgrid = (1.0_dp - xi)*velocity(e - 1) + xi*velocity(e)
+               v(p) = v(p) + dt*((1.0_dp - xi)*acceleration(e - 1) + xi*acceleration(e))
+               dxp = dt*vgrid
+               x(p) = x(p) + dxp
+               db(i) = x(p) - x0(p)
+               kb(i) = half_m*v(p)*v(p)
+               mb(i, slot) = abs(dxp)*inv_dx
+            end if
+            if (stresses) then ! d eps = dt sum dN v_I over the start-of-step cell
+               if (moves) then
+                  dstrain = strain_increment(velocity(e - 1), velocity(e), dt, inv_dx)
+               else
+                  dstrain = strain_increment_of(e)
+               end if
+               call stress_particle(dstrain, youngs_modulus, strain_factor, volume0, stress(p), volume_ratio(p), sb(i), &
+                                    svb(i))
+               jb(i) = volume_ratio(p)
+            else if (iand(shares, share_stress) /= 0) then ! (an initial mapping: the stress as it is)
+               svb(i) = stress(p)*volume_ratio(p)*volume0
+            end if
+            if (relocates) then ! the new cell, for P2G at the new position
+               call locate_body_cell(x(p), origin, inv_dx, elements, elements_bits, offset, cb(i), xib(i))
+               cell(p) = cb(i)
+            else                ! the shares go to the start-of-step cell
+               cb(i) = e
+               if (moves) xib(i) = xi
+            end if
+            if (moves .or. relocates) vpb(i) = v(p)
+         end do
+         ! the block's totals (macros of mpm_lanes.fypi, expanded here)
+         if (moves) then
+            do lane_i = 1, n - lanes + 1, lanes
+               displacement = displacement + db(lane_i:lane_i + lanes - 1)
+            end do
+            lane_r = mod(n, lanes)
+            if (lane_r > 0) displacement(1:lane_r) = displacement(1:lane_r) + db(n - lane_r + 1:n)
+            do lane_i = 1, n - lanes + 1, lanes
+               kinetic = kinetic + kb(lane_i:lane_i + lanes - 1)
+            end do
+            lane_r = mod(n, lanes)
+            if (lane_r > 0) kinetic(1:lane_r) = kinetic(1:lane_r) + kb(n - lane_r + 1:n)
+            lane_max = 0.0_dp
+            do lane_i = 1, n - lanes + 1, lanes
+               lane_max = max(lane_max, mb(lane_i:lane_i + lanes - 1, slot))
+            end do
+            lane_r = mod(n, lanes)
+            if (lane_r > 0) lane_max(1:lane_r) = max(lane_max(1:lane_r), mb(n - lane_r + 1:n, slot))
+            block_max = maxval(lane_max)
+            if (block_max > largest%value) then
+               largest%value = block_max
+               largest%first = b0
+               largest%count = n
+               largest%slot = slot
+               slot = 3 - slot
+            end if
+         end if
+         if (stresses) then
+            do lane_i = 1, n - lanes + 1, lanes
+               strain = strain + sb(lane_i:lane_i + lanes - 1)
+            end do
+            lane_r = mod(n, lanes)
+            if (lane_r > 0) strain(1:lane_r) = strain(1:lane_r) + sb(n - lane_r + 1:n)
+            do lane_i = 1, n - lanes + 1, lanes
+               min_j = min(min_j, jb(lane_i:lane_i + lanes - 1))
+            end do
+            lane_r = mod(n, lanes)
+            if (lane_r > 0) min_j(1:lane_r) = min(min_j(1:lane_r), jb(n - lane_r + 1:n))
+         end if
+         if (relocates) call find_outside(n, b0, cb, outside)
+         call accumulate_block(k, n, cb, xib, vpb, svb, m, lo, hi, shares, run, mass_left, mass_right, momentum_left, &
+                               momentum_right, stress_volume, seg)
+      end do
+      ! (the body's mass times its sum of x - X: the bodies' masses differ)
+      call close_segment(k, shares, m, run, [m*lane_total(displacement), lane_total(kinetic), lane_total(strain)], &
+                         minval(min_j), largest%value, furthest_particle(largest, mb), outside, mass_left, mass_right, &
+                         momentum_left, momentum_right, stress_volume, seg)
+   end subroutine bodies_usf_stress_segment
+
+   !> USL: G2P, stress update from the updated nodal velocities, P2G at the new position (the hat, bodies on stacked fields)
+   subroutine bodies_usl_segment(k, seg, x, x0, v, stress, volume_ratio, cell, acceleration, velocity, &
+                                 strain_increment_of, mass_left, mass_right, momentum_left, momentum_right, &
+                                 stress_volume, constants, carry, mass_of, modulus_of, forces, gradient, force_left, &
+                                 force_right)
+      integer, parameter :: kernel = pass_usl
+      logical, parameter :: moves = pass_moves(kernel), stresses = pass_stresses(kernel), relocates = pass_relocates(kernel)
+      integer, parameter :: shares = pass_shares(kernel)
+      integer, intent(in) :: k
+      type(segments_t), intent(inout) :: seg
+      real(dp), intent(inout), contiguous :: x(:), v(:), stress(:), volume_ratio(:)
+      real(dp), intent(in), contiguous :: x0(:)
+      integer, intent(inout), contiguous :: cell(:)
+      real(dp), intent(in), contiguous :: acceleration(0:), velocity(0:)
+      real(dp), intent(in), contiguous :: strain_increment_of(:)  !< per element (grid%element_strain)
+      real(dp), intent(inout), contiguous :: mass_left(:), mass_right(:), momentum_left(:), momentum_right(:), stress_volume(:)
+      type(pass_constants_t), intent(in) :: constants
+      real(dp), intent(inout), contiguous :: carry(:)  !< particles in parts: what a pass keeps for the next (fused_box_t)
+      !> the variants' per-particle data (absent when the run has none): masses and Young's moduli
+      !> (`material`), external forces (`forced`), APIC's velocity gradients C_p, and the element shares of
+      !> the forces
+      real(dp), intent(in), contiguous, optional :: mass_of(:), modulus_of(:), forces(:)
+      real(dp), intent(inout), contiguous, optional :: gradient(:), force_left(:), force_right(:)
+      integer :: p, e, i, n, b0, first, last, lo, hi, outside, ahead, elements
+      real(dp) :: half_m, strain_factor, dstrain, inv_dx, dt, youngs_modulus, m, volume0
+      type(largest_move_t) :: largest
+      real(dp) :: displacement(lanes), kinetic(lanes), strain(lanes), min_j(lanes)
+      integer :: cb(block_size)
+      real(dp) :: svb(block_size), db(block_size), kb(block_size), sb(block_size), jb(block_size)
+      real(dp) :: mb(block_size, 2)  !< the moves of a block, and of the block with the largest (lanes_track_move)
+      integer :: slot
+      real(dp) :: lane_max(lanes), block_max
+      integer :: lane_i, lane_r
+      type(run_t) :: run
+      integer(i8) :: elements_bits
+      real(dp) :: xi, xib(block_size), vpb(block_size)
+      ! the variant's: G2P's grid velocity and move, the segment's body (cells offset), each particle's
+      ! shares (accumulate_shares)
+      real(dp) :: vgrid, dxp
+      real(dp) :: origin
+      integer :: offset
+      origin = constants%origin
+      offset = constants%offset
+      elements = constants%elements
+      inv_dx = constants%inv_dx
+      dt = constants%dt
+      youngs_modulus = constants%youngs_modulus
+      m = constants%mass
+      volume0 = constants%volume0
+      call open_segment(k, shares, seg, mass_left, mass_right, momentum_left, momentum_right, stress_volume, first, last, &
+                        lo, hi)
+      displacement = 0; kinetic = 0; strain = 0; min_j = huge(1.0_dp)
+      slot = 1
+      outside = 0
+      elements_bits = transfer(real(elements, dp), 0_i8)
+      half_m = 0.5_dp*m
+      strain_factor = 0.0_dp
+      if (stresses) strain_factor = 0.5_dp*volume0/youngs_modulus
+      do b0 = first, last, block_size
+         n = min(block_size, last - b0 + 1)
+         if (seg%prefetch) then  ! the arrays the pass reads, and the grid values of the next blocks
+            ahead = b0 + prefetch_ahead
+            if (kernel == pass_usl) call prefetch_block(ahead, cell, x, x0, v, stress, volume_ratio)
+            if (kernel == pass_usf_move .or. kernel == pass_musl_remap) call prefetch_block(ahead, cell, x, x0, v)
+            if (kernel == pass_usf_stress) call prefetch_block(ahead, cell, stress, volume_ratio)
+            if (kernel == pass_musl_stress) call prefetch_block(ahead, cell, x, v, stress, volume_ratio)
+            if (moves) then
+               call prefetch_nodes(cell(b0), cell(b0 + n - 1), acceleration, velocity)
+            else
+               call prefetch_elements(cell(b0), cell(b0 + n - 1), strain_increment_of)
+            end if
+         end if
+         do i = 1, n
+            p = b0 + i - 1
+            e = cell(p)
+            ! G2P with the start-of-step shape functions (bodies on stacked fields)
+            if (moves) then
+               xi = (x(p) - origin)*inv_dx - (e - offset - 1)  ! (e: the cell in the stacked fields)
+               vgrid = (1.0_dp - xi)*velocity(e - 1) + xi*velocity(e)
+               v(p) = v(p) + dt*((1.0_dp - xi)*acceleration(e - 1) + xi*acceleration(e))
+               dxp = dt*vgrid
+               x(p) = x(p) + dxp
+               db(i) = x(p) - x0(p)
+               kb(i) = half_m*v(p)*v(p)
+               mb(i, slot) = abs(dxp)*inv_dx
+            end if
+            if (stresses) then ! d eps = dt sum dN v_I over the start-of-step cell
+               if (moves) then
+                  dstrain = strain_increment(velocity(e - 1), velocity(e), dt, inv_dx)
+               else
+                  dstrain = strain_increment_of(e)
+               end if
+               call stress_particle(dstrain, youngs_modulus, strain_factor, volume0, stress(p), volume_ratio(p), sb(i), &
+                                    svb(i))
+               jb(i) = volume_ratio(p)
+            else if (iand(shares, share_stress) /= 0) then ! (an initial mapping: the stress as it is)
+               svb(i) = stress(p)*volume_ratio(p)*volume0
+            end if
+            if (relocates) then ! the new cell, for P2G at the new position
+               call locate_body_cell(x(p), origin, inv_dx, elements, elements_bits, offset, cb(i), xib(i))
+               cell(p) = cb(i)
+            else                ! the shares go to the start-of-step cell
+               cb(i) = e
+               if (moves) xib(i) = xi
+            end if
+            if (moves .or. relocates) vpb(i) = v(p)
+         end do
+         ! the block's totals (macros of mpm_lanes.fypi, expanded here)
+         if (moves) then
+            do lane_i = 1, n - lanes + 1, lanes
+               displacement = displacement + db(lane_i:lane_i + lanes - 1)
+            end do
+            lane_r = mod(n, lanes)
+            if (lane_r > 0) displacement(1:lane_r) = displacement(1:lane_r) + db(n - lane_r + 1:n)
+            do lane_i = 1, n - lanes + 1, lanes
+               kinetic = kinetic + kb(lane_i:lane_i + lanes - 1)
+            end do
+            lane_r = mod(n, lanes)
+            if (lane_r > 0) kinetic(1:lane_r) = kinetic(1:lane_r) + kb(n - lane_r + 1:n)
+            lane_max = 0.0_dp
+            do lane_i = 1, n - lanes + 1, lanes
+               lane_max = max(lane_max, mb(lane_i:lane_i + lanes - 1, slot))
+            end do
+            lane_r = mod(n, lanes)
+            if (lane_r > 0) lane_max(1:lane_r) = max(lane_max(1:lane_r), mb(n - lane_r + 1:n, slot))
+            block_max = maxval(lane_max)
+            if (block_max > largest%value) then
+               largest%value = block_max
+               largest%first = b0
+               largest%count = n
+               largest%slot = slot
+               slot = 3 - slot
+            end if
+         end if
+         if (stresses) then
+            do lane_i = 1, n - lanes + 1, lanes
+               strain = strain + sb(lane_i:lane_i + lanes - 1)
+            end do
+            lane_r = mod(n, lanes)
+            if (lane_r > 0) strain(1:lane_r) = strain(1:lane_r) + sb(n - lane_r + 1:n)
+            do lane_i = 1, n - lanes + 1, lanes
+               min_j = min(min_j, jb(lane_i:lane_i + lanes - 1))
+            end do
+            lane_r = mod(n, lanes)
+            if (lane_r > 0) min_j(1:lane_r) = min(min_j(1:lane_r), jb(n - lane_r + 1:n))
+         end if
+         if (relocates) call find_outside(n, b0, cb, outside)
+         call accumulate_block(k, n, cb, xib, vpb, svb, m, lo, hi, shares, run, mass_left, mass_right, momentum_left, &
+                               momentum_right, stress_volume, seg)
+      end do
+      ! (the body's mass times its sum of x - X: the bodies' masses differ)
+      call close_segment(k, shares, m, run, [m*lane_total(displacement), lane_total(kinetic), lane_total(strain)], &
+                         minval(min_j), largest%value, furthest_particle(largest, mb), outside, mass_left, mass_right, &
+                         momentum_left, momentum_right, stress_volume, seg)
+   end subroutine bodies_usl_segment
+
+   !> MUSL, first pass: G2P, and the new momentum back to the start-of-step nodes (the hat, bodies on stacked fields)
+   subroutine bodies_musl_remap_segment(k, seg, x, x0, v, stress, volume_ratio, cell, acceleration, velocity, &
+                                        strain_increment_of, mass_left, mass_right, momentum_left, momentum_right, &
+                                        stress_volume, constants, carry, mass_of, modulus_of, forces, gradient, force_left, &
+                                        force_right)
+      integer, parameter :: kernel = pass_musl_remap
+      logical, parameter :: moves = pass_moves(kernel), stresses = pass_stresses(kernel), relocates = pass_relocates(kernel)
+      integer, parameter :: shares = pass_shares(kernel)
+      integer, intent(in) :: k
+      type(segments_t), intent(inout) :: seg
+      real(dp), intent(inout), contiguous :: x(:), v(:), stress(:), volume_ratio(:)
+      real(dp), intent(in), contiguous :: x0(:)
+      integer, intent(inout), contiguous :: cell(:)
+      real(dp), intent(in), contiguous :: acceleration(0:), velocity(0:)
+      real(dp), intent(in), contiguous :: strain_increment_of(:)  !< per element (grid%element_strain)
+      real(dp), intent(inout), contiguous :: mass_left(:), mass_right(:), momentum_left(:), momentum_right(:), stress_volume(:)
+      type(pass_constants_t), intent(in) :: constants
+      real(dp), intent(inout), contiguous :: carry(:)  !< particles in parts: what a pass keeps for the next (fused_box_t)
+      !> the variants' per-particle data (absent when the run has none): masses and Young's moduli
+      !> (`material`), external forces (`forced`), APIC's velocity gradients C_p, and the element shares of
+      !> the forces
+      real(dp), intent(in), contiguous, optional :: mass_of(:), modulus_of(:), forces(:)
+      real(dp), intent(inout), contiguous, optional :: gradient(:), force_left(:), force_right(:)
+      integer :: p, e, i, n, b0, first, last, lo, hi, outside, ahead, elements
+      real(dp) :: half_m, strain_factor, dstrain, inv_dx, dt, youngs_modulus, m, volume0
+      type(largest_move_t) :: largest
+      real(dp) :: displacement(lanes), kinetic(lanes), strain(lanes), min_j(lanes)
+      integer :: cb(block_size)
+      real(dp) :: svb(block_size), db(block_size), kb(block_size), sb(block_size), jb(block_size)
+      real(dp) :: mb(block_size, 2)  !< the moves of a block, and of the block with the largest (lanes_track_move)
+      integer :: slot
+      real(dp) :: lane_max(lanes), block_max
+      integer :: lane_i, lane_r
+      type(run_t) :: run
+      integer(i8) :: elements_bits
+      real(dp) :: xi, xib(block_size), vpb(block_size)
+      ! the variant's: G2P's grid velocity and move, the segment's body (cells offset), each particle's
+      ! shares (accumulate_shares)
+      real(dp) :: vgrid, dxp
+      real(dp) :: origin
+      integer :: offset
+      origin = constants%origin
+      offset = constants%offset
+      elements = constants%elements
+      inv_dx = constants%inv_dx
+      dt = constants%dt
+      youngs_modulus = constants%youngs_modulus
+      m = constants%mass
+      volume0 = constants%volume0
+      call open_segment(k, shares, seg, mass_left, mass_right, momentum_left, momentum_right, stress_volume, first, last, &
+                        lo, hi)
+      displacement = 0; kinetic = 0; strain = 0; min_j = huge(1.0_dp)
+      slot = 1
+      outside = 0
+      elements_bits = transfer(real(elements, dp), 0_i8)
+      half_m = 0.5_dp*m
+      strain_factor = 0.0_dp
+      if (stresses) strain_factor = 0.5_dp*volume0/youngs_modulus
+      do b0 = first, last, block_size
+         n = min(block_size, last - b0 + 1)
+         if (seg%prefetch) then  ! the arrays the pass reads, and the grid values of the next blocks
+            ahead = b0 + prefetch_ahead
+            if (kernel == pass_usl) call prefetch_block(ahead, cell, x, x0, v, stress, volume_ratio)
+            if (kernel == pass_usf_move .or. kernel == pass_musl_remap) call prefetch_block(ahead, cell, x, x0, v)
+            if (kernel == pass_usf_stress) call prefetch_block(ahead, cell, stress, volume_ratio)
+            if (kernel == pass_musl_stress) call prefetch_block(ahead, cell, x, v, stress, volume_ratio)
+            if (moves) then
+               call prefetch_nodes(cell(b0), cell(b0 + n - 1), acceleration, velocity)
+            else
+               call prefetch_elements(cell(b0), cell(b0 + n - 1), strain_increment_of)
+            end if
+         end if
+         do i = 1, n
+            p = b0 + i - 1
+            e = cell(p)
+            ! G2P with the start-of-step shape functions (bodies on stacked fields)
+            if (moves) then
+               xi = (x(p) - origin)*inv_dx - (e - offset - 1)  ! (e: the cell in the stacked fields)
+               vgrid = (1.0_dp - xi)*velocity(e - 1) + xi*velocity(e)
+               v(p) = v(p) + dt*((1.0_dp - xi)*acceleration(e - 1) + xi*acceleration(e))
+               dxp = dt*vgrid
+               x(p) = x(p) + dxp
+               db(i) = x(p) - x0(p)
+               kb(i) = half_m*v(p)*v(p)
+               mb(i, slot) = abs(dxp)*inv_dx
+            end if
+            if (stresses) then ! d eps = dt sum dN v_I over the start-of-step cell
+               if (moves) then
+                  dstrain = strain_increment(velocity(e - 1), velocity(e), dt, inv_dx)
+               else
+                  dstrain = strain_increment_of(e)
+               end if
+               call stress_particle(dstrain, youngs_modulus, strain_factor, volume0, stress(p), volume_ratio(p), sb(i), &
+                                    svb(i))
+               jb(i) = volume_ratio(p)
+            else if (iand(shares, share_stress) /= 0) then ! (an initial mapping: the stress as it is)
+               svb(i) = stress(p)*volume_ratio(p)*volume0
+            end if
+            if (relocates) then ! the new cell, for P2G at the new position
+               call locate_body_cell(x(p), origin, inv_dx, elements, elements_bits, offset, cb(i), xib(i))
+               cell(p) = cb(i)
+            else                ! the shares go to the start-of-step cell
+               cb(i) = e
+               if (moves) xib(i) = xi
+            end if
+            if (moves .or. relocates) vpb(i) = v(p)
+         end do
+         ! the block's totals (macros of mpm_lanes.fypi, expanded here)
+         if (moves) then
+            do lane_i = 1, n - lanes + 1, lanes
+               displacement = displacement + db(lane_i:lane_i + lanes - 1)
+            end do
+            lane_r = mod(n, lanes)
+            if (lane_r > 0) displacement(1:lane_r) = displacement(1:lane_r) + db(n - lane_r + 1:n)
+            do lane_i = 1, n - lanes + 1, lanes
+               kinetic = kinetic + kb(lane_i:lane_i + lanes - 1)
+            end do
+            lane_r = mod(n, lanes)
+            if (lane_r > 0) kinetic(1:lane_r) = kinetic(1:lane_r) + kb(n - lane_r + 1:n)
+            lane_max = 0.0_dp
+            do lane_i = 1, n - lanes + 1, lanes
+               lane_max = max(lane_max, mb(lane_i:lane_i + lanes - 1, slot))
+            end do
+            lane_r = mod(n, lanes)
+            if (lane_r > 0) lane_max(1:lane_r) = max(lane_max(1:lane_r), mb(n - lane_r + 1:n, slot))
+            block_max = maxval(lane_max)
+            if (block_max > largest%value) then
+               largest%value = block_max
+               largest%first = b0
+               largest%count = n
+               largest%slot = slot
+               slot = 3 - slot
+            end if
+         end if
+         if (stresses) then
+            do lane_i = 1, n - lanes + 1, lanes
+               strain = strain + sb(lane_i:lane_i + lanes - 1)
+            end do
+            lane_r = mod(n, lanes)
+            if (lane_r > 0) strain(1:lane_r) = strain(1:lane_r) + sb(n - lane_r + 1:n)
+            do lane_i = 1, n - lanes + 1, lanes
+               min_j = min(min_j, jb(lane_i:lane_i + lanes - 1))
+            end do
+            lane_r = mod(n, lanes)
+            if (lane_r > 0) min_j(1:lane_r) = min(min_j(1:lane_r), jb(n - lane_r + 1:n))
+         end if
+         if (relocates) call find_outside(n, b0, cb, outside)
+         call accumulate_block(k, n, cb, xib, vpb, svb, m, lo, hi, shares, run, mass_left, mass_right, momentum_left, &
+                               momentum_right, stress_volume, seg)
+      end do
+      ! (the body's mass times its sum of x - X: the bodies' masses differ)
+      call close_segment(k, shares, m, run, [m*lane_total(displacement), lane_total(kinetic), lane_total(strain)], &
+                         minval(min_j), largest%value, furthest_particle(largest, mb), outside, mass_left, mass_right, &
+                         momentum_left, momentum_right, stress_volume, seg)
+   end subroutine bodies_musl_remap_segment
+
+   !> MUSL, second pass: stress update from the remapped velocities, P2G at the new position (the hat, bodies on stacked fields)
+   subroutine bodies_musl_stress_segment(k, seg, x, x0, v, stress, volume_ratio, cell, acceleration, velocity, &
+                                         strain_increment_of, mass_left, mass_right, momentum_left, momentum_right, &
+                                         stress_volume, constants, carry, mass_of, modulus_of, forces, gradient, force_left, &
+                                         force_right)
+      integer, parameter :: kernel = pass_musl_stress
+      logical, parameter :: moves = pass_moves(kernel), stresses = pass_stresses(kernel), relocates = pass_relocates(kernel)
+      integer, parameter :: shares = pass_shares(kernel)
+      integer, intent(in) :: k
+      type(segments_t), intent(inout) :: seg
+      real(dp), intent(inout), contiguous :: x(:), v(:), stress(:), volume_ratio(:)
+      real(dp), intent(in), contiguous :: x0(:)
+      integer, intent(inout), contiguous :: cell(:)
+      real(dp), intent(in), contiguous :: acceleration(0:), velocity(0:)
+      real(dp), intent(in), contiguous :: strain_increment_of(:)  !< per element (grid%element_strain)
+      real(dp), intent(inout), contiguous :: mass_left(:), mass_right(:), momentum_left(:), momentum_right(:), stress_volume(:)
+      type(pass_constants_t), intent(in) :: constants
+      real(dp), intent(inout), contiguous :: carry(:)  !< particles in parts: what a pass keeps for the next (fused_box_t)
+      !> the variants' per-particle data (absent when the run has none): masses and Young's moduli
+      !> (`material`), external forces (`forced`), APIC's velocity gradients C_p, and the element shares of
+      !> the forces
+      real(dp), intent(in), contiguous, optional :: mass_of(:), modulus_of(:), forces(:)
+      real(dp), intent(inout), contiguous, optional :: gradient(:), force_left(:), force_right(:)
+      integer :: p, e, i, n, b0, first, last, lo, hi, outside, ahead, elements
+      real(dp) :: half_m, strain_factor, dstrain, inv_dx, dt, youngs_modulus, m, volume0
+      type(largest_move_t) :: largest
+      real(dp) :: displacement(lanes), kinetic(lanes), strain(lanes), min_j(lanes)
+      integer :: cb(block_size)
+      real(dp) :: svb(block_size), db(block_size), kb(block_size), sb(block_size), jb(block_size)
+      real(dp) :: mb(block_size, 2)  !< the moves of a block, and of the block with the largest (lanes_track_move)
+      integer :: slot
+      real(dp) :: lane_max(lanes), block_max
+      integer :: lane_i, lane_r
+      type(run_t) :: run
+      integer(i8) :: elements_bits
+      real(dp) :: xi, xib(block_size), vpb(block_size)
+      ! the variant's: G2P's grid velocity and move, the segment's body (cells offset), each particle's
+      ! shares (accumulate_shares)
+      real(dp) :: vgrid, dxp
+      real(dp) :: origin
+      integer :: offset
+      origin = constants%origin
+      offset = constants%offset
+      elements = constants%elements
+      inv_dx = constants%inv_dx
+      dt = constants%dt
+      youngs_modulus = constants%youngs_modulus
+      m = constants%mass
+      volume0 = constants%volume0
+      call open_segment(k, shares, seg, mass_left, mass_right, momentum_left, momentum_right, stress_volume, first, last, &
+                        lo, hi)
+      displacement = 0; kinetic = 0; strain = 0; min_j = huge(1.0_dp)
+      slot = 1
+      outside = 0
+      elements_bits = transfer(real(elements, dp), 0_i8)
+      half_m = 0.5_dp*m
+      strain_factor = 0.0_dp
+      if (stresses) strain_factor = 0.5_dp*volume0/youngs_modulus
+      do b0 = first, last, block_size
+         n = min(block_size, last - b0 + 1)
+         if (seg%prefetch) then  ! the arrays the pass reads, and the grid values of the next blocks
+            ahead = b0 + prefetch_ahead
+            if (kernel == pass_usl) call prefetch_block(ahead, cell, x, x0, v, stress, volume_ratio)
+            if (kernel == pass_usf_move .or. kernel == pass_musl_remap) call prefetch_block(ahead, cell, x, x0, v)
+            if (kernel == pass_usf_stress) call prefetch_block(ahead, cell, stress, volume_ratio)
+            if (kernel == pass_musl_stress) call prefetch_block(ahead, cell, x, v, stress, volume_ratio)
+            if (moves) then
+               call prefetch_nodes(cell(b0), cell(b0 + n - 1), acceleration, velocity)
+            else
+               call prefetch_elements(cell(b0), cell(b0 + n - 1), strain_increment_of)
+            end if
+         end if
+         do i = 1, n
+            p = b0 + i - 1
+            e = cell(p)
+            ! G2P with the start-of-step shape functions (bodies on stacked fields)
+            if (moves) then
+               xi = (x(p) - origin)*inv_dx - (e - offset - 1)  ! (e: the cell in the stacked fields)
+               vgrid = (1.0_dp - xi)*velocity(e - 1) + xi*velocity(e)
+               v(p) = v(p) + dt*((1.0_dp - xi)*acceleration(e - 1) + xi*acceleration(e))
+               dxp = dt*vgrid
+               x(p) = x(p) + dxp
+               db(i) = x(p) - x0(p)
+               kb(i) = half_m*v(p)*v(p)
+               mb(i, slot) = abs(dxp)*inv_dx
+            end if
+            if (stresses) then ! d eps = dt sum dN v_I over the start-of-step cell
+               if (moves) then
+                  dstrain = strain_increment(velocity(e - 1), velocity(e), dt, inv_dx)
+               else
+                  dstrain = strain_increment_of(e)
+               end if
+               call stress_particle(dstrain, youngs_modulus, strain_factor, volume0, stress(p), volume_ratio(p), sb(i), &
+                                    svb(i))
+               jb(i) = volume_ratio(p)
+            else if (iand(shares, share_stress) /= 0) then ! (an initial mapping: the stress as it is)
+               svb(i) = stress(p)*volume_ratio(p)*volume0
+            end if
+            if (relocates) then ! the new cell, for P2G at the new position
+               call locate_body_cell(x(p), origin, inv_dx, elements, elements_bits, offset, cb(i), xib(i))
+               cell(p) = cb(i)
+            else                ! the shares go to the start-of-step cell
+               cb(i) = e
+               if (moves) xib(i) = xi
+            end if
+            if (moves .or. relocates) vpb(i) = v(p)
+         end do
+         ! the block's totals (macros of mpm_lanes.fypi, expanded here)
+         if (moves) then
+            do lane_i = 1, n - lanes + 1, lanes
+               displacement = displacement + db(lane_i:lane_i + lanes - 1)
+            end do
+            lane_r = mod(n, lanes)
+            if (lane_r > 0) displacement(1:lane_r) = displacement(1:lane_r) + db(n - lane_r + 1:n)
+            do lane_i = 1, n - lanes + 1, lanes
+               kinetic = kinetic + kb(lane_i:lane_i + lanes - 1)
+            end do
+            lane_r = mod(n, lanes)
+            if (lane_r > 0) kinetic(1:lane_r) = kinetic(1:lane_r) + kb(n - lane_r + 1:n)
+            lane_max = 0.0_dp
+            do lane_i = 1, n - lanes + 1, lanes
+               lane_max = max(lane_max, mb(lane_i:lane_i + lanes - 1, slot))
+            end do
+            lane_r = mod(n, lanes)
+            if (lane_r > 0) lane_max(1:lane_r) = max(lane_max(1:lane_r), mb(n - lane_r + 1:n, slot))
+            block_max = maxval(lane_max)
+            if (block_max > largest%value) then
+               largest%value = block_max
+               largest%first = b0
+               largest%count = n
+               largest%slot = slot
+               slot = 3 - slot
+            end if
+         end if
+         if (stresses) then
+            do lane_i = 1, n - lanes + 1, lanes
+               strain = strain + sb(lane_i:lane_i + lanes - 1)
+            end do
+            lane_r = mod(n, lanes)
+            if (lane_r > 0) strain(1:lane_r) = strain(1:lane_r) + sb(n - lane_r + 1:n)
+            do lane_i = 1, n - lanes + 1, lanes
+               min_j = min(min_j, jb(lane_i:lane_i + lanes - 1))
+            end do
+            lane_r = mod(n, lanes)
+            if (lane_r > 0) min_j(1:lane_r) = min(min_j(1:lane_r), jb(n - lane_r + 1:n))
+         end if
+         if (relocates) call find_outside(n, b0, cb, outside)
+         call accumulate_block(k, n, cb, xib, vpb, svb, m, lo, hi, shares, run, mass_left, mass_right, momentum_left, &
+                               momentum_right, stress_volume, seg)
+      end do
+      ! (the body's mass times its sum of x - X: the bodies' masses differ)
+      call close_segment(k, shares, m, run, [m*lane_total(displacement), lane_total(kinetic), lane_total(strain)], &
+                         minval(min_j), largest%value, furthest_particle(largest, mb), outside, mass_left, mass_right, &
+                         momentum_left, momentum_right, stress_volume, seg)
+   end subroutine bodies_musl_stress_segment
+
+   !> initial mapping: mass and momentum (the hat, bodies on stacked fields)
+   subroutine bodies_map_segment(k, seg, x, x0, v, stress, volume_ratio, cell, acceleration, velocity, &
+                                 strain_increment_of, mass_left, mass_right, momentum_left, momentum_right, &
+                                 stress_volume, constants, carry, mass_of, modulus_of, forces, gradient, force_left, &
+                                 force_right)
+      integer, parameter :: kernel = pass_map
+      logical, parameter :: moves = pass_moves(kernel), stresses = pass_stresses(kernel), relocates = pass_relocates(kernel)
+      integer, parameter :: shares = pass_shares(kernel)
+      integer, intent(in) :: k
+      type(segments_t), intent(inout) :: seg
+      real(dp), intent(inout), contiguous :: x(:), v(:), stress(:), volume_ratio(:)
+      real(dp), intent(in), contiguous :: x0(:)
+      integer, intent(inout), contiguous :: cell(:)
+      real(dp), intent(in), contiguous :: acceleration(0:), velocity(0:)
+      real(dp), intent(in), contiguous :: strain_increment_of(:)  !< per element (grid%element_strain)
+      real(dp), intent(inout), contiguous :: mass_left(:), mass_right(:), momentum_left(:), momentum_right(:), stress_volume(:)
+      type(pass_constants_t), intent(in) :: constants
+      real(dp), intent(inout), contiguous :: carry(:)  !< particles in parts: what a pass keeps for the next (fused_box_t)
+      !> the variants' per-particle data (absent when the run has none): masses and Young's moduli
+      !> (`material`), external forces (`forced`), APIC's velocity gradients C_p, and the element shares of
+      !> the forces
+      real(dp), intent(in), contiguous, optional :: mass_of(:), modulus_of(:), forces(:)
+      real(dp), intent(inout), contiguous, optional :: gradient(:), force_left(:), force_right(:)
+      integer :: p, e, i, n, b0, first, last, lo, hi, outside, ahead, elements
+      real(dp) :: half_m, strain_factor, dstrain, inv_dx, dt, youngs_modulus, m, volume0
+      type(largest_move_t) :: largest
+      real(dp) :: displacement(lanes), kinetic(lanes), strain(lanes), min_j(lanes)
+      integer :: cb(block_size)
+      real(dp) :: svb(block_size), db(block_size), kb(block_size), sb(block_size), jb(block_size)
+      real(dp) :: mb(block_size, 2)  !< the moves of a block, and of the block with the largest (lanes_track_move)
+      integer :: slot
+      real(dp) :: lane_max(lanes), block_max
+      integer :: lane_i, lane_r
+      type(run_t) :: run
+      integer(i8) :: elements_bits
+      real(dp) :: xi, xib(block_size), vpb(block_size)
+      ! the variant's: G2P's grid velocity and move, the segment's body (cells offset), each particle's
+      ! shares (accumulate_shares)
+      real(dp) :: vgrid, dxp
+      real(dp) :: origin
+      integer :: offset
+      origin = constants%origin
+      offset = constants%offset
+      elements = constants%elements
+      inv_dx = constants%inv_dx
+      dt = constants%dt
+      youngs_modulus = constants%youngs_modulus
+      m = constants%mass
+      volume0 = constants%volume0
+      call open_segment(k, shares, seg, mass_left, mass_right, momentum_left, momentum_right, stress_volume, first, last, &
+                        lo, hi)
+      displacement = 0; kinetic = 0; strain = 0; min_j = huge(1.0_dp)
+      slot = 1
+      outside = 0
+      elements_bits = transfer(real(elements, dp), 0_i8)
+      half_m = 0.5_dp*m
+      strain_factor = 0.0_dp
+      if (stresses) strain_factor = 0.5_dp*volume0/youngs_modulus
+      do b0 = first, last, block_size
+         n = min(block_size, last - b0 + 1)
+         if (seg%prefetch) then  ! the arrays the pass reads, and the grid values of the next blocks
+            ahead = b0 + prefetch_ahead
+            if (kernel == pass_usl) call prefetch_block(ahead, cell, x, x0, v, stress, volume_ratio)
+            if (kernel == pass_usf_move .or. kernel == pass_musl_remap) call prefetch_block(ahead, cell, x, x0, v)
+            if (kernel == pass_usf_stress) call prefetch_block(ahead, cell, stress, volume_ratio)
+            if (kernel == pass_musl_stress) call prefetch_block(ahead, cell, x, v, stress, volume_ratio)
+            if (moves) then
+               call prefetch_nodes(cell(b0), cell(b0 + n - 1), acceleration, velocity)
+            else
+               call prefetch_elements(cell(b0), cell(b0 + n - 1), strain_increment_of)
+            end if
+         end if
+         do i = 1, n
+            p = b0 + i - 1
+            e = cell(p)
+            ! G2P with the start-of-step shape functions (bodies on stacked fields)
+            if (moves) then
+               xi = (x(p) - origin)*inv_dx - (e - offset - 1)  ! (e: the cell in the stacked fields)
+               vgrid = (1.0_dp - xi)*velocity(e - 1) + xi*velocity(e)
+               v(p) = v(p) + dt*((1.0_dp - xi)*acceleration(e - 1) + xi*acceleration(e))
+               dxp = dt*vgrid
+               x(p) = x(p) + dxp
+               db(i) = x(p) - x0(p)
+               kb(i) = half_m*v(p)*v(p)
+               mb(i, slot) = abs(dxp)*inv_dx
+            end if
+            if (stresses) then ! d eps = dt sum dN v_I over the start-of-step cell
+               if (moves) then
+                  dstrain = strain_increment(velocity(e - 1), velocity(e), dt, inv_dx)
+               else
+                  dstrain = strain_increment_of(e)
+               end if
+               call stress_particle(dstrain, youngs_modulus, strain_factor, volume0, stress(p), volume_ratio(p), sb(i), &
+                                    svb(i))
+               jb(i) = volume_ratio(p)
+            else if (iand(shares, share_stress) /= 0) then ! (an initial mapping: the stress as it is)
+               svb(i) = stress(p)*volume_ratio(p)*volume0
+            end if
+            if (relocates) then ! the new cell, for P2G at the new position
+               call locate_body_cell(x(p), origin, inv_dx, elements, elements_bits, offset, cb(i), xib(i))
+               cell(p) = cb(i)
+            else                ! the shares go to the start-of-step cell
+               cb(i) = e
+               if (moves) xib(i) = xi
+            end if
+            if (moves .or. relocates) vpb(i) = v(p)
+         end do
+         ! the block's totals (macros of mpm_lanes.fypi, expanded here)
+         if (moves) then
+            do lane_i = 1, n - lanes + 1, lanes
+               displacement = displacement + db(lane_i:lane_i + lanes - 1)
+            end do
+            lane_r = mod(n, lanes)
+            if (lane_r > 0) displacement(1:lane_r) = displacement(1:lane_r) + db(n - lane_r + 1:n)
+            do lane_i = 1, n - lanes + 1, lanes
+               kinetic = kinetic + kb(lane_i:lane_i + lanes - 1)
+            end do
+            lane_r = mod(n, lanes)
+            if (lane_r > 0) kinetic(1:lane_r) = kinetic(1:lane_r) + kb(n - lane_r + 1:n)
+            lane_max = 0.0_dp
+            do lane_i = 1, n - lanes + 1, lanes
+               lane_max = max(lane_max, mb(lane_i:lane_i + lanes - 1, slot))
+            end do
+            lane_r = mod(n, lanes)
+            if (lane_r > 0) lane_max(1:lane_r) = max(lane_max(1:lane_r), mb(n - lane_r + 1:n, slot))
+            block_max = maxval(lane_max)
+            if (block_max > largest%value) then
+               largest%value = block_max
+               largest%first = b0
+               largest%count = n
+               largest%slot = slot
+               slot = 3 - slot
+            end if
+         end if
+         if (stresses) then
+            do lane_i = 1, n - lanes + 1, lanes
+               strain = strain + sb(lane_i:lane_i + lanes - 1)
+            end do
+            lane_r = mod(n, lanes)
+            if (lane_r > 0) strain(1:lane_r) = strain(1:lane_r) + sb(n - lane_r + 1:n)
+            do lane_i = 1, n - lanes + 1, lanes
+               min_j = min(min_j, jb(lane_i:lane_i + lanes - 1))
+            end do
+            lane_r = mod(n, lanes)
+            if (lane_r > 0) min_j(1:lane_r) = min(min_j(1:lane_r), jb(n - lane_r + 1:n))
+         end if
+         if (relocates) call find_outside(n, b0, cb, outside)
+         call accumulate_block(k, n, cb, xib, vpb, svb, m, lo, hi, shares, run, mass_left, mass_right, momentum_left, &
+                               momentum_right, stress_volume, seg)
+      end do
+      ! (the body's mass times its sum of x - X: the bodies' masses differ)
+      call close_segment(k, shares, m, run, [m*lane_total(displacement), lane_total(kinetic), lane_total(strain)], &
+                         minval(min_j), largest%value, furthest_particle(largest, mb), outside, mass_left, mass_right, &
+                         momentum_left, momentum_right, stress_volume, seg)
+   end subroutine bodies_map_segment
+
+   !> initial mapping: mass, momentum and stress*volume (and forces) (the hat, bodies on stacked fields)
+   subroutine bodies_map_stress_segment(k, seg, x, x0, v, stress, volume_ratio, cell, acceleration, velocity, &
+                                        strain_increment_of, mass_left, mass_right, momentum_left, momentum_right, &
+                                        stress_volume, constants, carry, mass_of, modulus_of, forces, gradient, force_left, &
+                                        force_right)
+      integer, parameter :: kernel = pass_map_stress
+      logical, parameter :: moves = pass_moves(kernel), stresses = pass_stresses(kernel), relocates = pass_relocates(kernel)
+      integer, parameter :: shares = pass_shares(kernel)
+      integer, intent(in) :: k
+      type(segments_t), intent(inout) :: seg
+      real(dp), intent(inout), contiguous :: x(:), v(:), stress(:), volume_ratio(:)
+      real(dp), intent(in), contiguous :: x0(:)
+      integer, intent(inout), contiguous :: cell(:)
+      real(dp), intent(in), contiguous :: acceleration(0:), velocity(0:)
+      real(dp), intent(in), contiguous :: strain_increment_of(:)  !< per element (grid%element_strain)
+      real(dp), intent(inout), contiguous :: mass_left(:), mass_right(:), momentum_left(:), momentum_right(:), stress_volume(:)
+      type(pass_constants_t), intent(in) :: constants
+      real(dp), intent(inout), contiguous :: carry(:)  !< particles in parts: what a pass keeps for the next (fused_box_t)
+      !> the variants' per-particle data (absent when the run has none): masses and Young's moduli
+      !> (`material`), external forces (`forced`), APIC's velocity gradients C_p, and the element shares of
+      !> the forces
+      real(dp), intent(in), contiguous, optional :: mass_of(:), modulus_of(:), forces(:)
+      real(dp), intent(inout), contiguous, optional :: gradient(:), force_left(:), force_right(:)
+      integer :: p, e, i, n, b0, first, last, lo, hi, outside, ahead, elements
+      real(dp) :: half_m, strain_factor, dstrain, inv_dx, dt, youngs_modulus, m, volume0
+      type(largest_move_t) :: largest
+      real(dp) :: displacement(lanes), kinetic(lanes), strain(lanes), min_j(lanes)
+      integer :: cb(block_size)
+      real(dp) :: svb(block_size), db(block_size), kb(block_size), sb(block_size), jb(block_size)
+      real(dp) :: mb(block_size, 2)  !< the moves of a block, and of the block with the largest (lanes_track_move)
+      integer :: slot
+      real(dp) :: lane_max(lanes), block_max
+      integer :: lane_i, lane_r
+      type(run_t) :: run
+      integer(i8) :: elements_bits
+      real(dp) :: xi, xib(block_size), vpb(block_size)
+      ! the variant's: G2P's grid velocity and move, the segment's body (cells offset), each particle's
+      ! shares (accumulate_shares)
+      real(dp) :: vgrid, dxp
+      real(dp) :: origin
+      integer :: offset
+      origin = constants%origin
+      offset = constants%offset
+      elements = constants%elements
+      inv_dx = constants%inv_dx
+      dt = constants%dt
+      youngs_modulus = constants%youngs_modulus
+      m = constants%mass
+      volume0 = constants%volume0
+      call open_segment(k, shares, seg, mass_left, mass_right, momentum_left, momentum_right, stress_volume, first, last, &
+                        lo, hi)
+      displacement = 0; kinetic = 0; strain = 0; min_j = huge(1.0_dp)
+      slot = 1
+      outside = 0
+      elements_bits = transfer(real(elements, dp), 0_i8)
+      half_m = 0.5_dp*m
+      strain_factor = 0.0_dp
+      if (stresses) strain_factor = 0.5_dp*volume0/youngs_modulus
+      do b0 = first, last, block_size
+         n = min(block_size, last - b0 + 1)
+         if (seg%prefetch) then  ! the arrays the pass reads, and the grid values of the next blocks
+            ahead = b0 + prefetch_ahead
+            if (kernel == pass_usl) call prefetch_block(ahead, cell, x, x0, v, stress, volume_ratio)
+            if (kernel == pass_usf_move .or. kernel == pass_musl_remap) call prefetch_block(ahead, cell, x, x0, v)
+            if (kernel == pass_usf_stress) call prefetch_block(ahead, cell, stress, volume_ratio)
+            if (kernel == pass_musl_stress) call prefetch_block(ahead, cell, x, v, stress, volume_ratio)
+            if (moves) then
+               call prefetch_nodes(cell(b0), cell(b0 + n - 1), acceleration, velocity)
+            else
+               call prefetch_elements(cell(b0), cell(b0 + n - 1), strain_increment_of)
+            end if
+         end if
+         do i = 1, n
+            p = b0 + i - 1
+            e = cell(p)
+            ! G2P with the start-of-step shape functions (bodies on stacked fields)
+            if (moves) then
+               xi = (x(p) - origin)*inv_dx - (e - offset - 1)  ! (e: the cell in the stacked fields)
+               vgrid = (1.0_dp - xi)*velocity(e - 1) + xi*velocity(e)
+               v(p) = v(p) + dt*((1.0_dp - xi)*acceleration(e - 1) + xi*acceleration(e))
+               dxp = dt*vgrid
+               x(p) = x(p) + dxp
+               db(i) = x(p) - x0(p)
+               kb(i) = half_m*v(p)*v(p)
+               mb(i, slot) = abs(dxp)*inv_dx
+            end if
+            if (stresses) then ! d eps = dt sum dN v_I over the start-of-step cell
+               if (moves) then
+                  dstrain = strain_increment(velocity(e - 1), velocity(e), dt, inv_dx)
+               else
+                  dstrain = strain_increment_of(e)
+               end if
+               call stress_particle(dstrain, youngs_modulus, strain_factor, volume0, stress(p), volume_ratio(p), sb(i), &
+                                    svb(i))
+               jb(i) = volume_ratio(p)
+            else if (iand(shares, share_stress) /= 0) then ! (an initial mapping: the stress as it is)
+               svb(i) = stress(p)*volume_ratio(p)*volume0
+            end if
+            if (relocates) then ! the new cell, for P2G at the new position
+               call locate_body_cell(x(p), origin, inv_dx, elements, elements_bits, offset, cb(i), xib(i))
+               cell(p) = cb(i)
+            else                ! the shares go to the start-of-step cell
+               cb(i) = e
+               if (moves) xib(i) = xi
+            end if
+            if (moves .or. relocates) vpb(i) = v(p)
+         end do
+         ! the block's totals (macros of mpm_lanes.fypi, expanded here)
+         if (moves) then
+            do lane_i = 1, n - lanes + 1, lanes
+               displacement = displacement + db(lane_i:lane_i + lanes - 1)
+            end do
+            lane_r = mod(n, lanes)
+            if (lane_r > 0) displacement(1:lane_r) = displacement(1:lane_r) + db(n - lane_r + 1:n)
+            do lane_i = 1, n - lanes + 1, lanes
+               kinetic = kinetic + kb(lane_i:lane_i + lanes - 1)
+            end do
+            lane_r = mod(n, lanes)
+            if (lane_r > 0) kinetic(1:lane_r) = kinetic(1:lane_r) + kb(n - lane_r + 1:n)
+            lane_max = 0.0_dp
+            do lane_i = 1, n - lanes + 1, lanes
+               lane_max = max(lane_max, mb(lane_i:lane_i + lanes - 1, slot))
+            end do
+            lane_r = mod(n, lanes)
+            if (lane_r > 0) lane_max(1:lane_r) = max(lane_max(1:lane_r), mb(n - lane_r + 1:n, slot))
+            block_max = maxval(lane_max)
+            if (block_max > largest%value) then
+               largest%value = block_max
+               largest%first = b0
+               largest%count = n
+               largest%slot = slot
+               slot = 3 - slot
+            end if
+         end if
+         if (stresses) then
+            do lane_i = 1, n - lanes + 1, lanes
+               strain = strain + sb(lane_i:lane_i + lanes - 1)
+            end do
+            lane_r = mod(n, lanes)
+            if (lane_r > 0) strain(1:lane_r) = strain(1:lane_r) + sb(n - lane_r + 1:n)
+            do lane_i = 1, n - lanes + 1, lanes
+               min_j = min(min_j, jb(lane_i:lane_i + lanes - 1))
+            end do
+            lane_r = mod(n, lanes)
+            if (lane_r > 0) min_j(1:lane_r) = min(min_j(1:lane_r), jb(n - lane_r + 1:n))
+         end if
+         if (relocates) call find_outside(n, b0, cb, outside)
+         call accumulate_block(k, n, cb, xib, vpb, svb, m, lo, hi, shares, run, mass_left, mass_right, momentum_left, &
+                               momentum_right, stress_volume, seg)
+      end do
+      ! (the body's mass times its sum of x - X: the bodies' masses differ)
+      call close_segment(k, shares, m, run, [m*lane_total(displacement), lane_total(kinetic), lane_total(strain)], &
+                         minval(min_j), largest%value, furthest_particle(largest, mb), outside, mass_left, mass_right, &
+                         momentum_left, momentum_right, stress_volume, seg)
+   end subroutine bodies_map_stress_segment
 
    ! The GIMP box and the B-splines' knot spans: src/shape/mpm_gimp_box.fypi and mpm_bspline_span.fypi,
    ! the same source as mpm_shape_gimp's and mpm_shape_bspline's, so that the kernels inline the same
