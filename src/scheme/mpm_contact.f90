@@ -229,28 +229,41 @@ contains
    end subroutine contact_correct
 
    !> The run's grid as the bodies' sum (mass, momentum, force; velocity p/m), for snapshots and the
-   !> guards' lightest node.
+   !> guards' lightest node. One loop over the nodes (the sums body by body, in body order).
    subroutine combine_bodies(bodies, grid)
       type(bodies_t), intent(in) :: bodies
       type(grid_t), intent(inout) :: grid
+      grid%min_node_mass = bodies%fields%min_node_mass
+      call sum_fields(bodies%count, bodies%nodes, bodies%fields%mass, bodies%fields%momentum, bodies%fields%force, &
+                      grid%empty_mass, grid%mass, grid%momentum, grid%force, grid%velocity)
+   end subroutine combine_bodies
+
+   !> The bodies' stacked fields (count bodies of n nodes each) summed node by node, body 1 first, and the
+   !> velocity p/m where the mass exceeds empty_mass (zero elsewhere).
+   subroutine sum_fields(count, n, mass, momentum, force, empty_mass, total_mass, total_momentum, total_force, velocity)
+      integer, intent(in) :: count, n
+      real(dp), intent(in), contiguous :: mass(0:), momentum(0:), force(0:)
+      real(dp), intent(in) :: empty_mass
+      real(dp), intent(out), contiguous :: total_mass(0:), total_momentum(0:), total_force(0:), velocity(0:)
       integer :: i, b
-      associate (f => bodies%fields, n => bodies%nodes)
-         grid%mass = f%mass(0:n - 1)
-         grid%momentum = f%momentum(0:n - 1)
-         grid%force = f%force(0:n - 1)
-         do b = 2, bodies%count
-            grid%mass = grid%mass + f%mass((b - 1)*n:b*n - 1)
-            grid%momentum = grid%momentum + f%momentum((b - 1)*n:b*n - 1)
-            grid%force = grid%force + f%force((b - 1)*n:b*n - 1)
+      real(dp) :: m, p, f
+      do i = 0, n - 1
+         m = mass(i)
+         p = momentum(i)
+         f = force(i)
+         do b = 2, count
+            m = m + mass((b - 1)*n + i)
+            p = p + momentum((b - 1)*n + i)
+            f = f + force((b - 1)*n + i)
          end do
-         grid%min_node_mass = f%min_node_mass
-      end associate
-      do i = 0, grid%elements
-         if (grid%mass(i) > grid%empty_mass) then
-            grid%velocity(i) = grid%momentum(i)/grid%mass(i)
+         total_mass(i) = m
+         total_momentum(i) = p
+         total_force(i) = f
+         if (m > empty_mass) then
+            velocity(i) = p/m
          else
-            grid%velocity(i) = 0.0_dp
+            velocity(i) = 0.0_dp
          end if
       end do
-   end subroutine combine_bodies
+   end subroutine sum_fields
 end module mpm_contact
