@@ -93,7 +93,7 @@ def spread(q):
     return f'{np.median(q):.2f} ({min(q):.2f}-{max(q):.2f})'
 
 
-def ratio_table(rows, lines, targets):
+def ratio_table(rows, lines, targets, counts=()):
     """Section on every scene and transfer against the fused bar (ratios.csv): per size and run the median
     rate, the median over rounds of the paired ratio to the fused bar's whole run, the bytes per particle
     the run holds; the bar's kernel alone (its steps, no set-up) beside them. Appends to `targets`."""
@@ -125,6 +125,15 @@ def ratio_table(rows, lines, targets):
         if target and q:
             targets.append((f'{run}, {n:.0e} particles, >= {target} x the fused bar (whole runs)', float(np.median(q)),
                             float(np.median(q)) >= target))
+    ir = {r['run']: float(r['instructions']) for r in counts if r['instructions']}
+    if 'bar' in ir:
+        lines += ['\nInstructions of each whole run at 1e4 particles (valgrind --tool=callgrind, the same runs; '
+                  'repeatable on a busy machine, unlike the times above; valgrind counts a `rep stos` of memset by '
+                  'its iterations, so clearing arrays weighs more here than in time):\n',
+                  '| run | instructions | fused bar / run |', '|---|---|---|']
+        for run in RUN_ORDER:
+            if run in ir:
+                lines.append(f'| {run} | {ir[run]:.4g} | {ir["bar"] / ir[run]:.3f} |')
     lines.append('\nThe kernel row is the bar\'s steps alone: a whole run also places the particles, builds the grid '
                  'and evaluates the exact solution, and each step adds its diagnostics; at 1e4 particles and 200 steps '
                  'that fixed work is a visible part of the run, so a run\'s rate is below the kernel\'s.\n')
@@ -191,7 +200,7 @@ def main(argv=None):
         flags = open(os.path.join(d, 'flags.txt')).read().strip() if os.path.exists(os.path.join(d, 'flags.txt')) else ''
         lines = ['# mpm1d benchmark (some parts)\n', f'Code version {version}. Build: {flags}'.replace('\n', '; ') + '\n']
         targets = []
-        ratio_table(optional(d, 'ratios.csv'), lines, targets)
+        ratio_table(optional(d, 'ratios.csv'), lines, targets, optional(d, 'ratios_callgrind.csv'))
         table2_table(optional(d, 'table2.csv'), optional(d, 'table2_callgrind.csv'), lines, targets)
         lines += ['## Targets\n'] + [f'- {t}: {v:.3f} -> {"met" if ok else "NOT met"}' for t, v, ok in targets]
         open(os.path.join(d, 'summary.md'), 'w').write('\n'.join(lines) + '\n')
@@ -360,7 +369,7 @@ def main(argv=None):
     shape_rows = read(os.path.join(d, 'shapes.csv')) if os.path.exists(os.path.join(d, 'shapes.csv')) else []
     shape_ratio, transfer_cost = shape_table(shape_rows, lines)
     run_targets = []
-    ratio_table(optional(d, 'ratios.csv'), lines, run_targets)
+    ratio_table(optional(d, 'ratios.csv'), lines, run_targets, optional(d, 'ratios_callgrind.csv'))
     table2_table(optional(d, 'table2.csv'), optional(d, 'table2_callgrind.csv'), lines, run_targets)
 
     lines += ['## Targets\n']

@@ -8,7 +8,7 @@
 # Every scene and transfer against the fused bar (whole runs, set-up included, 1e4 and 1e6 particles),
 # and the Table-2 error pass paired against an older build (OLD_MPM1D=path: wall-time medians of
 # alternate runs, 1 and 2 threads; with CALLGRIND=1 also valgrind's instruction counts, which a busy
-# machine does not change).
+# machine does not change; for the scenes' whole runs at 1e4 particles too).
 # Writes CSV files, benchmark.png and summary.md to the output folder (default out/benchmark).
 # Usage: bash studies/benchmark/run.sh [output folder]
 #   PARTS='...' runs only some parts (default: all of bandwidth throughput generic shapes threads
@@ -159,6 +159,17 @@ echo "size,round,scheme,run,path,particles,steps,bytes_per_particle,seconds,part
 for n in 10000 1000000; do
   "$bench" ratios $n 2 200 "$REPEATS" usl | sed "s/^/$n,/" >> "$out/ratios.csv"
 done
+if [ "${CALLGRIND:-0}" = 1 ] && command -v valgrind >/dev/null 2>&1; then
+  # the instructions of each whole run at 1e4 particles (callgrind_annotate's inclusive count of timed_run)
+  echo "run,instructions" > "$out/ratios_callgrind.csv"
+  for run in bar bar_generic bar_pic bar_blend bar_apic column composite_bar manufactured impact_frictionless \
+             impact_none; do
+    valgrind --tool=callgrind --callgrind-out-file="$out/callgrind_ratios_$run.out" "$bench" ratios 10000 2 200 1 usl \
+      $run > /dev/null 2>&1
+    echo "$run,$(callgrind_annotate --inclusive=yes "$out/callgrind_ratios_$run.out" | awk '/timed_run/ {gsub(/,/, "", $1); print $1; exit}')" \
+      >> "$out/ratios_callgrind.csv"
+  done
+fi
 fi
 
 if want table2; then
