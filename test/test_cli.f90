@@ -4,7 +4,7 @@ program test_cli
    use mpm_kinds, only: dp
    use mpm_errors, only: error_t
    use mpm_hdf5, only: h5_read_real, h5_read_int
-   use mpm_files, only: file_exists
+   use mpm_files, only: file_exists, absolute_path
    use mpm_testing, only: tester_t, run_app, scratch_dir, app_path
    implicit none
    type(tester_t) :: t
@@ -57,6 +57,17 @@ program test_cli
    call bad('empty list in a sweep', "&sweep elements= /", 'empty list')
    call bad('bad list value in a sweep', "&sweep particles_per_element=1, -4 /", 'particles_per_element(2)')
    call bad('bad shard in a sweep', "&sweep shard=0 /", 'shard')
+   ! issue 24: a NUL byte in the output name (it wrote a file 'out'), a drive the grid's margin cannot
+   ! hold (it crashed), flip_fraction without transfer = 'blend' (silently unused), an impact gap
+   ! refused through periods, a misspelled group without a suggestion
+   call bad('NUL byte in the output file name', "&output file='out"//achar(0)//".h5' /", "'out\0.h5' holds a NUL byte")
+   call t%check('NUL byte in the output file name: no file out', .not. file_exists(dir//'/out'))
+   call bad('composite drive_velocity 1e10', "&scene kind='composite_bar', lengths=1.0, 1.0, youngs_moduli=16e6, "// &
+            "1e6, densities=1000, 1000, drive_velocity=1e10 /", 'allowed: at most 1e8 cells, drive_velocity <=')
+   call bad('flip_fraction with FLIP', "&discretisation flip_fraction=0.5 /", "not with transfer = 'flip'")
+   call bad('impact gap 1e300', "&scene kind='impact', lengths=1.0, 1.0, youngs_moduli=1e9, 1e9, densities=1000, "// &
+            "1000, velocities=1, -1, gap=1e300 /", 'scene: gap = 1e300 m')
+   call bad('misspelled group suggested', "&discretization elements=3 /", 'did you mean &discretisation?')
    call bad_file('missing input file', 'no_such_input.nml', 'cannot open')
    call bad_file('input is a folder', '.', 'input')
    print '(a,i0,a)', 'test_cli: ', cases, ' malformed inputs checked'
@@ -102,7 +113,7 @@ contains
       type(error_t), allocatable :: error
       call run_app(dir, '', status, output)
       call t%check('default run exit 0', status == 0, output)
-      call t%check_contains('default run says where it wrote', output, 'wrote bar.h5')
+      call t%check_contains('default run says where it wrote (the absolute path)', output, 'wrote '//absolute_path(dir//'/bar.h5'))
       call h5_read_real(dir//'/bar.h5', '/summary/relative_error', values, error)
       call t%check('default run summary readable', .not. allocated(error))
       if (.not. allocated(error)) call t%check('default run error under 1.5 % of the amplitude', &

@@ -11,7 +11,8 @@
 !> each with USF, USL and MUSL: the path asked for, same status and steps, u_cm histories equal to
 !> round-off and the last kinetic energies to 1e-10 (mpm_testing's check_paths_agree, its u_cm
 !> tolerance taken from the largest |u_cm| of the generic run where the scene's amplitude is not a
-!> displacement), and the scene's error measure to 1e-9 relative. Small runs: seconds.
+!> displacement), and the scene's error measure to 1e-9 relative; with law = 'linear' the same scenes
+!> run on the generic path (the fused kernels update the stress by hencky's law only). Small runs: seconds.
 program test_fused_scenes
    use mpm_kinds, only: dp
    use mpm_errors, only: error_t
@@ -65,6 +66,8 @@ program test_fused_scenes
       config%dt_fraction = 0.3_dp
       config%periods = 0.5_dp
       call compare('composite', config, by_largest=.true.)
+      config%law = 'linear'  ! (the fused kernels' stress update is hencky's)
+      call on_generic_path('composite, law linear', config)
       config = config_t()
       config%scene_kind = 'manufactured'
       config%scheme = trim(schemes(i))
@@ -77,6 +80,8 @@ program test_fused_scenes
       config%dt_fraction = 0.2_dp
       config%periods = 1.0_dp
       call compare('manufactured', config)
+      config%law = 'linear'
+      call on_generic_path('manufactured, law linear', config)
       config = config_t()
       config%scene_kind = 'impact'
       config%scheme = trim(schemes(i))
@@ -134,4 +139,20 @@ contains
                          atol=1.0e-14_dp*abs(generic%ucm_amplitude))
       call t%check(label//'status ok', fused%status == 0, 'status '//str(fused%status))
    end subroutine compare
+
+   !> `config` with kernels='auto' runs on the generic path, and completes.
+   subroutine on_generic_path(what, config)
+      character(len=*), intent(in) :: what
+      type(config_t), intent(in) :: config
+      type(config_t) :: auto
+      type(run_result_t) :: result
+      type(error_t), allocatable :: error
+      auto = config
+      auto%kernels = 'auto'
+      call resolve_config(auto)
+      call run_simulation(auto, result, error, record_history=.false.)
+      if (allocated(error)) error stop 'run failed to start'
+      call t%check(trim(config%scheme)//' '//what//': on the generic path', .not. result%fused)
+      call t%check(trim(config%scheme)//' '//what//': status ok', result%status == 0, 'status '//str(result%status))
+   end subroutine on_generic_path
 end program test_fused_scenes

@@ -6,7 +6,7 @@ program test_registry
    use mpm_kinds, only: dp
    use mpm_errors, only: error_t
    use mpm_config, only: config_t, read_config, config_parameters, config_namelist
-   use mpm_registry, only: parameter_t, nml_item_t, parse_namelist, apply_items, check_parameter
+   use mpm_registry, only: parameter_t, nml_item_t, parse_namelist, apply_items, check_parameter, used_by
    use mpm_output, only: write_config_attributes
    use mpm_hdf5, only: h5_writer_t, h5_exists
    use mpm_testing, only: tester_t, scratch_dir, run_app
@@ -39,9 +39,10 @@ contains
    end subroutine write_text
 
    !> --help, the echoed namelist and /config each name every registry entry (periods and end_time
-   !> exclude each other: one configuration gives each; a scene's own variables appear with its kind).
+   !> exclude each other: one configuration gives each; a scene's own variables appear with its kind,
+   !> flip_fraction with transfer = 'blend').
    subroutine every_entry_everywhere()
-      type(config_t), target :: config, by_time, manufactured, composite, impact
+      type(config_t), target :: config, by_time, manufactured, composite, impact, plastic, plastic_composite
       type(parameter_t), allocatable :: table(:), sweep_table(:)
       type(sweep_config_t), target :: settings
       character(len=:), allocatable :: help, echo
@@ -66,11 +67,19 @@ contains
       impact%scene_kind = 'impact'
       impact%velocities = [1.0_dp, -1.0_dp]
       impact%velocity_count = 2
+      impact%transfer = 'blend' ! (flip_fraction is echoed with the blend alone)
+      plastic = config ! a law's own variables appear with that law
+      plastic%law = 'elastoplastic'
+      plastic_composite = composite
+      plastic_composite%law = 'elastoplastic'
+      plastic_composite%yield_count = 2
+      plastic_composite%hardening_count = 2
       call config_parameters(config, table)
       call t%check('the registry has entries', size(table) >= 19)
       call run_app(dir, '--help', status, help)
       echo = config_namelist(config)//config_namelist(by_time)//config_namelist(manufactured)// &
-             config_namelist(composite)//config_namelist(impact)
+             config_namelist(composite)//config_namelist(impact)//config_namelist(plastic)// &
+             config_namelist(plastic_composite)
       call write_attributes(config, dir//'/config.h5')
       call write_attributes(by_time, dir//'/by_time.h5')
       call write_attributes(manufactured, dir//'/manufactured.h5')
@@ -237,8 +246,10 @@ contains
       call config_parameters(defaults, table)
       do i = 1, size(table)
          if (len_trim(table(i)%sweep_list) == 0) cycle
-         call t%check('/cases has the column '//trim(table(i)%attribute), &
-                      h5_exists(dir//'/sweep.h5', '/cases/'//trim(table(i)%attribute)))
+         ! the columns of the variables the scene uses, and only those (a bar sweep has no gap column)
+         call t%check('/cases has the column '//trim(table(i)%attribute)//' exactly when the bar uses it', &
+                      h5_exists(dir//'/sweep.h5', '/cases/'//trim(table(i)%attribute)) .eqv. &
+                      used_by(table(i), 'vibrating_bar'))
       end do
 
       call write_text('badsweep.nml', [character(len=100) :: "&scene density=-1.0 /", &
@@ -250,8 +261,9 @@ contains
       call t%check_contains('list value out of range', error%message, &
                             'sweep: modes(2) = 0 is out of range; allowed: integer with 1 <= modes(2) <= 1073741823')
       call t%check_contains('list value unknown', error%message, "sweep: schemes(2) = 'xyz' is unknown")
-      call t%check_contains('misspelled list: names the lists', error%message, &
-                            "badsweep.nml:3: group &sweep: unknown variable 'dt_fractin'; allowed names: scheme,")
+      call t%check_contains('misspelled list: the nearest name, then the lists', error%message, &
+                            "badsweep.nml:3: group &sweep: unknown variable 'dt_fractin'; did you mean 'dt_fraction'? "// &
+                            "allowed names: scheme,")
       call t%check_contains('gap in a list', error%message, 'densities has a gap')
       call t%check_contains('all at once: settings too', error%message, 'shards = 0 is out of range')
       call t%check_contains('all at once: the base groups too', error%message, &

@@ -7,8 +7,12 @@
 #   2. the same sweep in 4 tasks of 2 CPUs, one task made to fail (its output cannot be written):
 #      the failure is in its exit file, the dependent merge is cancelled, the merge script and
 #      `mpm1d merge` both refuse the incomplete set, and resubmitting --array=<that id> completes it;
-#   3. a task cancelled while it runs leaves exit 143 in its exit file;
-#   4. the cluster is stopped and its daemons are gone.
+#   3. a task cancelled while it runs leaves exit 143 in its exit file and its file with the case
+#      not run (status not_run: the sweep wrote what it finished);
+#   4. slurm_submit.sh asks mpm1d (--dry-run) for the case count and the output file: N greater than
+#      the cases is refused before anything is queued; a namelist with file = "x y.h5" (double
+#      quotes, a space) runs and merges into OUTDIR/x y.h5;
+#   5. the cluster is stopped and its daemons are gone.
 # Skipped (exit 0, "skipped: <reason>") only where SLURM cannot be installed or started (neither
 # root nor passwordless sudo; as a sudo user the daemons run through sudo and the jobs as the user).
 # Usage: bash test/test_slurm.sh
@@ -169,9 +173,25 @@ sleep 1
 scancel "$array_job"
 wait_gone "$array_job"; wait_gone "$merge_job"
 check "cancelled task's exit file says 143 ($(cat "$runC/task_1.exit" 2>/dev/null))" "[ \"\$(cat $runC/task_1.exit 2>/dev/null)\" = 143 ]"
-check "its merge cancelled (state $(job_state "$merge_job"))" "[ '$(job_state "$merge_job")' = CANCELLED ] && [ ! -e $runC/long.h5 ]"
+check "its merge cancelled (state $(job_state "$merge_job"))" "[ '$(job_state "$merge_job")' = CANCELLED ] && [ ! -e $runC/merge.exit ]"
+check "the cancelled sweep wrote its file: the case not run" \
+  "h5dump -d /cases/status_name $runC/long.h5 2>/dev/null | grep -q '(0): \"not_run\"'"
 
-echo "-- 4. cluster down"
+echo "-- 4. the case count and the output file from mpm1d --dry-run"
+runD="$scratch/toomany"
+printf '&output file = "x y.h5" /\n&sweep elements=3, 4, 5, min_time=0 /\n' > "$scratch/quoted.nml"
+bash studies/shards/slurm_submit.sh "$scratch/quoted.nml" "$runD" 4 > "$scratch/submit_toomany.out" 2>&1
+rc=$?
+check "N = 4 shards of 3 cases refused before submitting (exit $rc)" \
+  "[ $rc = 2 ] && grep -q \"shards = 4 is more than the sweep's 3 cases\" $scratch/submit_toomany.out && [ ! -e $runD/jobs.txt ]"
+runE="$scratch/quoted"
+bash studies/shards/slurm_submit.sh "$scratch/quoted.nml" "$runE" 3 > "$scratch/submit_quoted.out" 2>&1
+check "file = \"x y.h5\" submits (exit $?)" "[ -n \"\$(sed -n 's/^merge_job=//p' $scratch/submit_quoted.out)\" ]"
+wait_gone "$(sed -n 's/^merge_job=//p' "$scratch/submit_quoted.out")"
+check "3 tasks and the merge exit 0, into OUTDIR/x y.h5 ($(exits "$runE" 3))" \
+  "[ '$(exits "$runE" 3)' = '0 0 0' ] && [ \"\$(cat $runE/merge.exit 2>/dev/null)\" = 0 ] && [ -s '$runE/x y.h5' ]"
+
+echo "-- 5. cluster down"
 trap - EXIT
 $cluster down > "$scratch/cluster_down.log" 2>&1
 check "cluster down exits 0" "[ $? = 0 ]"

@@ -6,8 +6,8 @@ knows the file layout), figures and summaries, and the plotting commands (consol
 Install: ``pip install -e postprocess`` (``studies/setup.sh`` does it for ``$PYTHON``).
 """
 
-from .loader import (Mpm1dFileError, Parameter, Run, Snapshot, Sweep, load_run, load_sweep,
-                     merge_sweeps, parse_parameters)
+from .loader import (LeftOutCases, Mpm1dFileError, Parameter, Run, Snapshot, Sweep, concatenate_sweeps,
+                     load_run, load_sweep, merge_sweeps, parse_parameters)
 
-__all__ = ['Mpm1dFileError', 'Parameter', 'Run', 'Snapshot', 'Sweep', 'load_run', 'load_sweep',
-           'merge_sweeps', 'parse_parameters']
+__all__ = ['LeftOutCases', 'Mpm1dFileError', 'Parameter', 'Run', 'Snapshot', 'Sweep', 'load_run', 'load_sweep',
+           'merge_sweeps', 'concatenate_sweeps', 'parse_parameters']

@@ -1,5 +1,8 @@
 """Numbers drawn from the sweeps: error statistics and checks of the paper's claims.
 
+Every statistic uses the completed cases only (a case a guard stopped has no result: NaN max_error);
+the sweeps may hold every case (``load_sweep(path, cases='all')``), the masks select.
+
 Each claim check returns a `Claim` holding the verdict computed from the data (never assumed),
 the numbers it rests on, and the rule applied, so that the report can show all three.
 """

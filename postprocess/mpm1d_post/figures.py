@@ -7,17 +7,24 @@ and the parameters, and carries a footer with the code version and input files (
 
 Shared pieces: `save_figure` (footer and PNG), `case_grid` + `draw_colour_map` (the colour maps of
 figures 4, 5, 7, 8), `shared_log_norm` (one colour scale across panels and schemes), the fits
-`linear_fit` / `rational_fit`, and `pareto_front`.
+`linear_fit` / `rational_fit`, `pareto_front`, `scene_text` (a scene's own parameters with units) and
+`plain_ticks`.
+
+The sweeps given to the figures hold every case (``load_sweep(path, cases='all')``): fits, fronts and
+colour scales use the completed cases only; a case a guard stopped has no result and is drawn apart
+(a red 'x' in the maps), a case not run is hatched.
 """
 
 from __future__ import annotations
 
 from pathlib import Path
+import re
 import textwrap
 from dataclasses import dataclass
 from typing import Dict, Iterable, List, Mapping, Optional, Sequence, Tuple, Union
 
 import matplotlib
+import matplotlib.ticker
 
 matplotlib.use('Agg')
 import matplotlib.pyplot as plt  # noqa: E402  (the backend must be chosen first)
@@ -73,15 +80,63 @@ def save_figure(fig: plt.Figure, outdir: str, name: str, sources: Iterable[Sourc
     return path
 
 
+def duration_text(config: Mapping) -> str:
+    """'t_end = 0.01 s', '1 period', '2.5 periods': how long the run is."""
+    if 'end_time' in config:
+        return f"t_end = {config['end_time']:g} s"
+    periods = float(config.get('periods', float('nan')))
+    return f"{periods:g} period{'' if periods == 1 else 's'}"
+
+
 def problem_text(config: Mapping) -> str:
     """One line with the physical parameters of the bar problem."""
-    if 'end_time' in config:
-        duration = f"t_end = {config['end_time']:g} s"
-    else:
-        duration = f"{config.get('periods', float('nan')):g} periods"
     return (f"E = {config.get('youngs_modulus', float('nan')) / 1e9:g} GPa, "
             f"ρ = {config.get('density', float('nan')):g} kg/m³, L = {config['length']:g} m, "
-            f"v0 = {config['velocity_amplitude']:g} m/s, mode {config['mode']}, {duration}")
+            f"v0 = {config['velocity_amplitude']:g} m/s, mode {config['mode']}, {duration_text(config)}")
+
+
+def _namelist_group(namelist: str, group: str) -> List[str]:
+    """The variable names given in `group` of namelist text (the /config 'namelist' attribute, which
+    holds the variables the run's scene uses and leaves out those of other scenes)."""
+    text = re.sub(r"'[^']*'|\"[^\"]*\"", "''", namelist)  # no '/' or '=' inside quoted text
+    found = re.search(r'&' + group + r'\b(.*?)/', text, re.S | re.I)
+    return [name.lower() for name in re.findall(r'([A-Za-z_]\w*)\s*=', found.group(1))] if found else []
+
+
+def _with_unit(name: str, value, unit: str) -> str:
+    if isinstance(value, np.ndarray) and value.ndim > 0:
+        text = ', '.join(f'{v:g}' for v in value.ravel())
+    elif isinstance(value, (int, float, np.integer, np.floating)):
+        text = f'{value:g}'
+    else:
+        text = str(value)
+    unit = unit.strip()
+    return f'{name} = {text}' + (f' {unit}' if unit and unit != '-' else '')
+
+
+def scene_text(source: Source, swept: Sequence[str] = ()) -> str:
+    """The scene's kind and its own parameters with units (those its namelist's &scene group gives,
+    not another scene's), the swept ones left out, and the run's duration: 'manufactured: length =
+    1 m, youngs_modulus = 1e+07 Pa, density = 1000 kg/m^3, amplitude = 0.001 m, 1 period'."""
+    config = source.config
+    kind = str(config.get('scene_kind', 'vibrating_bar'))
+    units = {p.attribute: p.unit for p in source.parameters if p.group == 'scene'}
+    names = _namelist_group(str(config.get('namelist', '')), 'scene')
+    if not names:  # files without the namelist text: the bar's parameters
+        names = ['length', 'youngs_modulus', 'density', 'velocity_amplitude', 'mode']
+    shown = [_with_unit(n, config[n], units.get(n, '')) for n in names
+             if n not in ('kind', 'scene_kind') and n not in swept and n in config]
+    return f"{kind.replace('_', ' ')}: " + ', '.join(shown + [duration_text(config)])
+
+
+def plain_ticks(ax: plt.Axes, values: Iterable[float], axis: str = 'x') -> None:
+    """Ticks at `values` written as plain numbers (element counts: 10, 20, 40, not 10^1 and a
+    bare 2×10^1) on a logarithmic axis."""
+    values = sorted(set(float(v) for v in values))
+    target = ax.xaxis if axis == 'x' else ax.yaxis
+    target.set_major_locator(matplotlib.ticker.FixedLocator(values))
+    target.set_major_formatter(matplotlib.ticker.FixedFormatter([f'{v:g}' for v in values]))
+    target.set_minor_locator(matplotlib.ticker.NullLocator())
 
 
 def signed(value: float, unit: str = '') -> str:
@@ -97,13 +152,40 @@ def figure_title(scheme: str, which: int, text: str) -> str:
     return f'{prefix}{scheme.upper()} — {text}'
 
 
+def wrap_phrases(line: str, characters: int) -> List[str]:
+    """`line` cut into lines of at most `characters`, between phrases (at ' — ', ', ', '; ') where it
+    can, within a phrase only when the phrase alone is longer than a line."""
+    phrases, rest = [], line
+    while rest:
+        cuts = [(rest.find(sep), sep) for sep in (' — ', ', ', '; ') if rest.find(sep) >= 0]
+        if not cuts:
+            phrases.append(rest)
+            break
+        at, sep = min(cuts)
+        phrases.append(rest[:at + len(sep.rstrip())])
+        rest = rest[at + len(sep):]
+    lines, current = [], ''
+    for phrase in phrases:
+        candidate = f'{current} {phrase}' if current else phrase
+        if len(candidate) <= characters or not current:
+            current = candidate
+        else:
+            lines.append(current)
+            current = phrase
+        if len(current) > characters:  # a phrase longer than a line: at word boundaries
+            parts = textwrap.wrap(current, characters, break_on_hyphens=False)
+            lines += parts[:-1]
+            current = parts[-1]
+    return lines + [current] if current else lines or ['']
+
+
 def fitted_title(fig: plt.Figure, text: str, fontsize: float = 10) -> plt.Text:
-    """`fig.suptitle(text)`, each line wrapped at word boundaries to the figure's width, so that no
-    part of a title is cut off however narrow the figure (one-panel maps are 5 inches wide)."""
+    """`fig.suptitle(text)`, each line wrapped to the figure's width between phrases (never in the
+    middle of 'median over repeats'), so that no part of a title is cut off however narrow the
+    figure (one-panel maps are 5 inches wide)."""
     width_points = fig.get_figwidth() * 72.0 * 0.94
     characters = max(20, int(width_points / (0.56 * fontsize)))  # an average glyph is ~0.5 em wide
-    lines = [wrapped for line in text.split('\n')
-             for wrapped in (textwrap.wrap(line, characters, break_on_hyphens=False) or [''])]
+    lines = [wrapped for line in text.split('\n') for wrapped in wrap_phrases(line, characters)]
     return fig.suptitle('\n'.join(lines), fontsize=fontsize)
 
 
@@ -180,8 +262,8 @@ class CaseGrid:
     particles_per_element: np.ndarray
     dt_percent: np.ndarray
     values: np.ndarray      # shape (rows, columns), NaN where no completed case
-    failed: np.ndarray      # shape (rows, columns), True where the case failed
-    missing: np.ndarray     # shape (rows, columns), True where no case ran
+    failed: np.ndarray      # shape (rows, columns), True where a guard stopped the case (no result)
+    missing: np.ndarray     # shape (rows, columns), True where no case ran (none, or not run)
 
 
 def case_grid(sweep: Sweep, mask: np.ndarray, quantity: str) -> CaseGrid:
@@ -206,8 +288,8 @@ def case_grid(sweep: Sweep, mask: np.ndarray, quantity: str) -> CaseGrid:
 
 def draw_colour_map(ax: plt.Axes, grid: CaseGrid, norm: LogNorm, cmap: str = 'viridis',
                     annotate: Optional[str] = None):
-    """Draw `grid` as cells on `ax` with the colour scale `norm`; failed cases get a red 'x',
-    cases without data are hatched. `annotate` is a format for the value written in each cell.
+    """Draw `grid` as cells on `ax` with the colour scale `norm`; cases a guard stopped (no result)
+    get a red 'x' on grey, cases without data are hatched. `annotate` is a format for the value written in each cell.
     Returns the mappable (for a colourbar)."""
     rows, cols = grid.values.shape
     colours = plt.get_cmap(cmap).copy()
@@ -239,10 +321,10 @@ def _status_legend(fig: plt.Figure, grids: Sequence[CaseGrid]) -> None:
     handles = []
     if any(g.failed.any() for g in grids):
         handles.append(Line2D([], [], marker='x', color='red', linestyle='none',
-                              markeredgewidth=1.8, label='failed (status ≠ 0)'))
+                              markeredgewidth=1.8, label='stopped by a guard: no result'))
     if any(g.missing.any() for g in grids):
         handles.append(plt.Rectangle((0, 0), 1, 1, fill=False, hatch='//', edgecolor='0.6',
-                                     label='no data'))
+                                     label='no data (not run)'))
     if handles:
         fig.legend(handles=handles, loc='upper right', fontsize=8, frameon=False)
 
@@ -285,9 +367,13 @@ def fig3b(runs: Sequence[Run], outdir: str) -> str:
         bottom.axhline(0.0, color='0.5', linewidth=0.6)
         bottom.set_ylabel(r'$u_{cm} - u_{cm}^{exact}$ (µm)')
         bottom.set_xlabel('time t (s)')
-        bottom.set_title(f"max error = {run.summary['max_error']:.3g} m "
-                         f"({100 * run.summary['relative_error']:.3g} % of the amplitude), "
-                         f"status {run.summary['status_name']}", fontsize=8)
+        if run.ok:
+            bottom.set_title(f"max error = {run.summary['max_error']:.3g} m "
+                             f"({100 * run.summary['relative_error']:.3g} % of the amplitude), "
+                             f"status {run.summary['status_name']}", fontsize=8)
+        else:
+            bottom.set_title(f"no result: stopped by a guard ({run.summary['status_name']}); error before "
+                             f"the stop {run.summary.get('error_before_stop', float('nan')):.3g} m", fontsize=8)
         for ax in (top, bottom):
             ax.grid(alpha=0.3)
     fig.suptitle('Fig. 3b — vibrating bar, centre-of-mass displacement: MPM against exact\n'
@@ -473,6 +559,7 @@ def fig10(runs: Sequence[Run], outdir: str,
                      f'max |v_grid − v_exact| = {100 * deviation[count]:.1f} % of v0',
                      fontsize=9)
         ax.set_xlabel('position x (m)')
+        ax.set_xlim(0.0, length)  # the bar (the grid's empty margin cells beyond it show nothing)
         ax.grid(alpha=0.3)
     for ax in axes[:, 0]:
         ax.set_ylabel('initial velocity v (m/s)')
@@ -502,9 +589,11 @@ def error_vs_time(sweeps: Mapping[str, Sweep], outdir: str) -> Tuple[str, List[D
                'max_error')
     table = {c: [] for c in columns}
     sources = []
+    stopped = 0
     for scheme, sweep in sweeps.items():
         mask = sweep.where(scheme=scheme) & sweep.ok & (sweep.cases['run_time'] > 0) \
             & (sweep.cases['max_error'] > 0)
+        stopped += int((sweep.where(scheme=scheme) & ~sweep.ok).sum())
         if mask.any():
             sources.append(sweep)
         for c in columns:
@@ -539,6 +628,10 @@ def error_vs_time(sweeps: Mapping[str, Sweep], outdir: str) -> Tuple[str, List[D
                        label=s.upper()) for s in dict.fromkeys(table['scheme'].tolist())]
     handles.append(Line2D([], [], color='black', marker='o', markerfacecolor='none',
                           label=f'Pareto front ({front.size} cases)'))
+    if stopped:
+        handles.append(Line2D([], [], marker='x', color='0.55', linestyle='none',
+                              label=f"{stopped} case{'s' if stopped != 1 else ''} stopped by a guard or not run: "
+                                    "no result, not shown"))
     ax.legend(handles=handles, fontsize=8, loc='best')
     ax.set_title('Accuracy against cost, every case of the sweep(s)\n'
                  + problem_text(sources[0].config), fontsize=10)

@@ -15,17 +15,31 @@ file (``/config`` attribute ``parameters``, the text ``mpm1d --list-parameters``
 loader takes from it which ``/config`` attributes a file must hold and which ``/cases`` columns
 are swept variables. Files written before the registry existed are read as they come.
 
+A result that does not exist is NaN ("no value"), and the status says why: the ``max_error`` and
+``relative_error`` of a run a guard stopped (the error reached up to the stop is in
+``error_before_stop`` and ``relative_error_before_stop``), every result of a sweep case not run
+(status ``not_run``, an interrupted sweep), the ``run_time`` of a case not timed (``repeats`` 0).
+Files written before these columns existed are read the same way (a stopped case's ``max_error``
+moved to ``error_before_stop``, the ``run_time`` 0 of a case not timed made NaN).
+
+``load_sweep`` returns the completed cases by default, the ones an analysis may use (so that
+``np.argmin(sweep.cases['max_error'])`` picks a result, never a stopped case's error), and warns
+how many it left out; ``load_sweep(path, cases='all')`` returns every case, for figures that show
+the stopped ones apart (``sweep.stopped``, ``sweep.not_run``).
+
     >>> run = load_run('usf.h5')             # doctest: +SKIP
     >>> run.scheme, run.elements, run.summary['max_error']
     >>> sweep = load_sweep('sweep_usf.h5')   # doctest: +SKIP
-    >>> sweep.cases['max_error'][sweep.ok]
-    >>> sweep.cases['trip_step'][sweep.failed]
+    >>> sweep.cases['max_error'][np.argmin(sweep.cases['max_error'])]
+    >>> every = load_sweep('sweep_usf.h5', cases='all')   # doctest: +SKIP
+    >>> every.cases['trip_step'][every.stopped]
 """
 
 from __future__ import annotations
 
 import dataclasses
 import os
+import warnings
 from pathlib import Path
 from dataclasses import dataclass, field
 from typing import Any, Dict, List, Optional, Sequence
@@ -39,12 +53,16 @@ except ImportError as exc:  # pragma: no cover - depends on the installation
                       "use /usr/bin/python3)") from exc
 
 __all__ = ['Mpm1dFileError', 'Parameter', 'Run', 'Snapshot', 'Sweep', 'load_run', 'load_sweep',
-           'merge_sweeps', 'parse_parameters', 'STATUS_OK', 'STATUS_NOT_RUN']
+           'merge_sweeps', 'concatenate_sweeps', 'parse_parameters', 'LeftOutCases', 'STATUS_OK', 'STATUS_NOT_RUN']
 
 #: Status of a run that completed (``/summary/status``, ``/cases/status``).
 STATUS_OK = 0
-#: Status of a sweep case that has not run (e.g. it belongs to another shard).
+#: Status of a sweep case that has not run (the sweep was interrupted before it; ``--resume`` runs it).
 STATUS_NOT_RUN = -1
+
+
+class LeftOutCases(UserWarning):
+    """``load_sweep`` left cases out of the table it returns (those that did not complete)."""
 
 HISTORY_DATASETS = ('time', 'ucm', 'ucm_exact', 'kinetic_energy', 'strain_energy')
 SNAPSHOT_DATASETS = ('x', 'velocity', 'stress', 'volume_ratio', 'grid_x', 'grid_velocity')
@@ -55,6 +73,29 @@ SUMMARY_DATASETS = ('max_error', 'relative_error', 'ucm_amplitude', 'steps', 'st
 #: Result columns of ``/cases`` (the swept parameters' columns come from the file's registry).
 RESULT_DATASETS = ('steps', 'dt', 'max_error', 'relative_error', 'run_time', 'repeats', 'status',
                    'status_name', 'max_energy_ratio', 'final_energy_ratio', 'particles')
+#: The error reached up to a guard's stop, where a stopped run's (NaN) max_error / relative_error went.
+BEFORE_STOP = {'max_error': 'error_before_stop', 'relative_error': 'relative_error_before_stop'}
+
+
+def _no_values(table: Dict[str, Any], status: Any, repeats: Any = None) -> None:
+    """Files written before stopped runs had no result: a stopped run's max_error / relative_error
+    move to their *_before_stop columns (NaN left behind), a run time not measured (repeats 0)
+    becomes NaN. Files that have the columns are left as they are."""
+    stopped = np.asarray(status) != STATUS_OK
+    for name, moved in BEFORE_STOP.items():
+        if moved in table or name not in table:
+            continue
+        values = np.asarray(table[name], dtype=float)
+        table[moved] = np.where(stopped, values, np.nan)
+        table[name] = np.where(stopped, np.nan, values)
+        if np.ndim(values) == 0:
+            table[moved], table[name] = float(table[moved]), float(table[name])
+    if repeats is not None and 'run_time' in table:
+        untimed = (np.asarray(repeats) == 0) & (np.asarray(table['run_time'], dtype=float) == 0)
+        if untimed.any():
+            for name in ('run_time', 'run_time_spread'):
+                if name in table:
+                    table[name] = np.where(untimed, np.nan, np.asarray(table[name], dtype=float))
 
 
 @dataclass(frozen=True)
@@ -208,9 +249,10 @@ def _parameters(path: str, config: Dict[str, Any]) -> List[Parameter]:
 
 
 def _history(path: str, group: 'h5py.Group', where: str) -> Dict[str, np.ndarray]:
-    """The 1-D time series of a history group as a dict of float arrays."""
-    return {name: np.asarray(_read(path, group.file, f'{where}/{name}'), dtype=float)
-            for name in HISTORY_DATASETS}
+    """The 1-D time series of a history group as a dict of float arrays: the required ones and any other
+    (``plastic_work`` where a body is elastoplastic)."""
+    names = list(HISTORY_DATASETS) + sorted(set(group.file[where]) - set(HISTORY_DATASETS))
+    return {name: np.asarray(_read(path, group.file, f'{where}/{name}'), dtype=float) for name in names}
 
 
 # --------------------------------------------------------------------------------------------
@@ -266,7 +308,7 @@ class Run:
 
     @property
     def ok(self) -> bool:
-        """Whether the run completed (status 0)."""
+        """Whether the run completed (status 0): only then are max_error and relative_error results."""
         return int(self.summary['status']) == STATUS_OK
 
     def snapshot_at(self, step: int = 0) -> Optional[Snapshot]:
@@ -292,6 +334,7 @@ def load_run(path: str) -> Run:
         summary = {name: _read(path, h5, f'/summary/{name}') for name in SUMMARY_DATASETS}
         summary.update({name: _read(path, h5, f'/summary/{name}') for name in h5['/summary']
                         if name not in summary})
+        _no_values(summary, summary['status'])
         history = _history(path, h5, '/history') if '/history' in h5 else None
         snapshots = []
         if '/snapshots' in h5:
@@ -319,8 +362,11 @@ class Sweep:
     """A table of cases (file written by ``mpm1d sweep.nml``), or several shards merged.
 
     ``cases`` maps each ``/cases`` dataset name to a 1-D array (one entry per case; strings as
-    arrays of ``str``, integers as ``int``): the results and one column per swept variable. ``histories`` maps a 0-based case index to its history, where stored.
+    arrays of ``str``, integers as ``int``): the results and one column per swept variable of the
+    scene. ``histories`` maps a 0-based case index to its history, where stored.
     ``sweep`` holds the ``/sweep`` attributes of each source file (one dict per file).
+    ``left_out`` counts the cases of the files not in ``cases`` (``load_sweep``'s default keeps the
+    completed ones), per status name.
     """
     paths: List[str]
     code_versions: List[str]
@@ -330,11 +376,13 @@ class Sweep:
     histories: Dict[int, Dict[str, np.ndarray]] = field(default_factory=dict)
     #: The parameter registry stored in the file (empty for older files).
     parameters: List[Parameter] = field(default_factory=list)
+    #: Cases of the source files left out of ``cases``, per status name (empty: none).
+    left_out: Dict[str, int] = field(default_factory=dict)
 
     @property
     def parameter_columns(self) -> List[str]:
-        """The ``/cases`` columns of the swept variables (every sweepable one of the registry)."""
-        return [p.attribute for p in self.parameters if p.sweep_list]
+        """The ``/cases`` columns of the swept variables (those of the scene's variables the file has)."""
+        return [p.attribute for p in self.parameters if p.sweep_list and p.attribute in self.cases]
 
     @property
     def path(self) -> str:
@@ -356,8 +404,28 @@ class Sweep:
 
     @property
     def failed(self) -> np.ndarray:
-        """Mask of the cases that ran and failed (status > 0)."""
+        """Mask of the cases that ran and were stopped by a guard (status > 0); same as ``stopped``."""
         return self.cases['status'] > STATUS_OK
+
+    @property
+    def stopped(self) -> np.ndarray:
+        """Mask of the cases a guard stopped (status > 0): no max_error (NaN); the error reached
+        up to the stop is in ``error_before_stop``."""
+        return self.cases['status'] > STATUS_OK
+
+    @property
+    def not_run(self) -> np.ndarray:
+        """Mask of the cases not run (status -1: the sweep was interrupted before them)."""
+        return self.cases['status'] == STATUS_NOT_RUN
+
+    def completed(self) -> 'Sweep':
+        """The completed cases alone (what ``load_sweep`` returns by default)."""
+        kept = self.select(self.ok)
+        left_out = dict(self.left_out)
+        for name in self.cases['status_name'][~self.ok].tolist():
+            left_out[str(name)] = left_out.get(str(name), 0) + 1
+        kept.left_out = left_out
+        return kept
 
     @property
     def schemes(self) -> List[str]:
@@ -372,7 +440,7 @@ class Sweep:
         return Sweep(paths=self.paths, code_versions=self.code_versions, config=self.config,
                      sweep=self.sweep, cases={k: v[mask] for k, v in self.cases.items()},
                      histories={renumber[k]: h for k, h in self.histories.items()
-                                if k in renumber}, parameters=self.parameters)
+                                if k in renumber}, parameters=self.parameters, left_out=dict(self.left_out))
 
     def where(self, **criteria: Any) -> np.ndarray:
         """Mask of the cases matching every ``column=value`` (floats compared with a tolerance).
@@ -389,8 +457,29 @@ class Sweep:
         return mask
 
 
-def load_sweep(path: str) -> Sweep:
-    """Read a sweep file. Raises `Mpm1dFileError` naming the file and the problem."""
+def load_sweep(path: 'str | os.PathLike', cases: str = 'completed') -> Sweep:
+    """Read a sweep file. Raises `Mpm1dFileError` naming the file and the problem.
+
+    ``cases='completed'`` (the default): the completed cases only (status 0), the ones whose errors
+    and times are results; the others are counted in ``left_out`` and a `LeftOutCases` warning says
+    how many were left out and how to get them. ``cases='all'``: every case (stopped ones have NaN
+    ``max_error``; draw them apart, never as data points of a fit)."""
+    if cases not in ('completed', 'all'):
+        raise ValueError(f"load_sweep: cases={cases!r}; allowed: 'completed' or 'all'")
+    every = _load_sweep_file(path)
+    if cases == 'all':
+        return every
+    kept = every.completed()
+    if kept.left_out:
+        counts = ', '.join(f'{name} {n}' for name, n in sorted(kept.left_out.items()))
+        warnings.warn(f"{every.path}: left out {sum(kept.left_out.values())} of {len(every)} cases that did not "
+                      f"complete ({counts}): analyses use completed cases; load_sweep(path, cases='all') "
+                      "returns every case", LeftOutCases, stacklevel=2)
+    return kept
+
+
+def _load_sweep_file(path: 'str | os.PathLike') -> Sweep:
+    """Every case of a sweep file."""
     h5 = _open(path, 'sweep')
     path = os.fspath(path)
     with h5:
@@ -402,7 +491,9 @@ def load_sweep(path: str) -> Sweep:
         if '/cases' not in h5:
             raise Mpm1dFileError(path, "missing group '/cases'")
         parameters = _parameters(path, config)
-        names = [p.attribute for p in parameters if p.sweep_list] + list(RESULT_DATASETS)
+        # the columns of the swept variables the file has (a scene's own), then the results
+        names = [p.attribute for p in parameters if p.sweep_list and p.attribute in h5['/cases']]
+        names += list(RESULT_DATASETS)
         names += [name for name in h5['/cases'] if name not in names]
         cases = {}
         for name in names:
@@ -419,6 +510,7 @@ def load_sweep(path: str) -> Sweep:
                 cases[name] = values.astype(int)
         if 'scheme' in cases:
             cases['scheme'] = np.char.lower(cases['scheme'])
+        _no_values(cases, cases['status'], cases['repeats'])
         histories = {}
         if '/histories' in h5:
             for name in h5['/histories']:
@@ -429,24 +521,69 @@ def load_sweep(path: str) -> Sweep:
                  cases=cases, histories=histories, parameters=parameters)
 
 
-def merge_sweeps(sweeps: Sequence[Sweep]) -> Sweep:
-    """Concatenate several sweeps (e.g. the shards of one sweep) into one table.
+#: Parts of the &sweep text that do not change results (merge compares shards without them).
+_RUN_SETTINGS = ('shard', 'shards', 'min_time', 'threads', 'timing_threads', 'progress')
 
-    Cases that did not run in a shard (status -1) are dropped when another shard ran them.
-    """
+
+def _sweep_identity(sweep: Sweep, index: int = 0) -> tuple:
+    """What shards of one sweep share: the base configuration's namelist, the &sweep lists and
+    settings that change results, the case count and the shard count (as mpm1d merge compares)."""
+    text = str(sweep.sweep[index].get('namelist', ''))
+    kept = [item.strip() for item in text.replace('/', ',').split(',')
+            if item.strip() and item.strip().split('=')[0].strip() not in _RUN_SETTINGS]
+    return (str(sweep.config.get('namelist', '')), tuple(kept), sweep.sweep[index].get('cases'),
+            sweep.sweep[index].get('shards'))
+
+
+def merge_sweeps(sweeps: Sequence[Sweep]) -> Sweep:
+    """Concatenate the shards of one sweep into one table (as ``mpm1d merge`` does, in any order).
+
+    Raises ValueError when the sweeps are not shards of the same sweep (another namelist, other
+    lists, another shard count: their cases must not be mixed, e.g. in one fit), or when a shard or
+    a case is given twice. `concatenate_sweeps` joins tables of different sweeps on purpose."""
     if not sweeps:
         raise ValueError('merge_sweeps needs at least one sweep')
     if len(sweeps) == 1:
         return sweeps[0]
+    first = _sweep_identity(sweeps[0])
+    shards_seen: Dict[Any, str] = {}
+    for s in sweeps:
+        for i, path in enumerate(s.paths):
+            if _sweep_identity(s, i) != first:
+                raise ValueError(f"'{path}' is not a shard of the same sweep as '{sweeps[0].paths[0]}' "
+                                 "(another configuration, other &sweep lists or another shard count)")
+            shard = s.sweep[i].get('shard')
+            if shard in shards_seen and s.sweep[i].get('shards', 1) != 1:
+                raise ValueError(f"shard {shard} is given twice ('{shards_seen[shard]}' and '{path}')")
+            shards_seen[shard] = path
+    merged = concatenate_sweeps(sweeps)
+    if 'index' in merged.cases and np.unique(merged.cases['index']).size != merged.cases['index'].size:
+        raise ValueError('the sweeps hold the same case twice (a shard given twice?)')
+    return merged
+
+
+def concatenate_sweeps(sweeps: Sequence[Sweep]) -> Sweep:
+    """One table of the cases of several sweeps, which may be different sweeps (a study that puts
+    runs of several namelists side by side); the columns are those of the first. The configuration
+    is the first sweep's: use its columns, not ``config``, for what differs."""
+    if not sweeps:
+        raise ValueError('concatenate_sweeps needs at least one sweep')
+    if len(sweeps) == 1:
+        return sweeps[0]
     columns = sweeps[0].cases.keys()
+    missing = [(s.path, c) for s in sweeps for c in columns if c not in s.cases]
+    if missing:
+        raise ValueError(f"'{missing[0][0]}' has no column '{missing[0][1]}' (another scene's sweep?)")
     cases = {name: np.concatenate([s.cases[name] for s in sweeps]) for name in columns}
     histories, offset = {}, 0
     for s in sweeps:
         histories.update({offset + k: h for k, h in s.histories.items()})
         offset += len(s)
-    merged = Sweep(paths=[p for s in sweeps for p in s.paths],
-                   code_versions=[v for s in sweeps for v in s.code_versions],
-                   config=sweeps[0].config, sweep=[a for s in sweeps for a in s.sweep],
-                   cases=cases, histories=histories, parameters=sweeps[0].parameters)
-    ran = merged.cases['status'] != STATUS_NOT_RUN
-    return merged.select(ran) if ran.any() else merged
+    left_out: Dict[str, int] = {}
+    for s in sweeps:
+        for name, n in s.left_out.items():
+            left_out[name] = left_out.get(name, 0) + n
+    return Sweep(paths=[p for s in sweeps for p in s.paths],
+                 code_versions=[v for s in sweeps for v in s.code_versions],
+                 config=sweeps[0].config, sweep=[a for s in sweeps for a in s.sweep],
+                 cases=cases, histories=histories, parameters=sweeps[0].parameters, left_out=left_out)

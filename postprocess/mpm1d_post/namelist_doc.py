@@ -21,9 +21,11 @@ from __future__ import annotations
 import argparse
 import difflib
 import os
+import re
 import shutil
 import subprocess
 import sys
+import tempfile
 from pathlib import Path
 from typing import Dict, List, Optional, Sequence
 
@@ -36,9 +38,12 @@ COMMAND = '.venv/bin/python -m mpm1d_post.namelist_doc -o docs/namelist.md'
 #: The groups in page order, each with what it is for (template text; a group the registry lists
 #: but this table lacks stops the generator, so that a new group gets its text).
 GROUPS: Dict[str, str] = {
-    'scene': "The problem and its material. `kind` chooses the scene ([Scenes](user-guide.md#scenes)); "
+    'scene': "The problem and its bodies. `kind` chooses the scene ([Scenes](user-guide.md#scenes)); "
              "a variable of another kind is refused with a message naming the kind that uses it, and "
              "is left out of the echoed namelist.",
+    'material': "The constitutive law of the bodies and its parameters ([Materials](theory.md#materials)); a "
+                "variable of a law not chosen is refused naming the law that uses it, and is left out of the "
+                "echoed namelist.",
     'discretisation': "Grid, particles, time step, update scheme, shape functions and velocity transfer "
                       "([Theory](theory.md)).",
     'run': "How long to run: `periods` or `end_time`, not both.",
@@ -53,7 +58,7 @@ GROUPS: Dict[str, str] = {
 }
 
 #: The groups of one run's input (the example namelist shows these).
-RUN_GROUPS = ('scene', 'discretisation', 'run', 'output', 'guards')
+RUN_GROUPS = ('scene', 'material', 'discretisation', 'run', 'output', 'guards')
 
 #: The scene kind of the example namelist (the default).
 EXAMPLE_KIND = 'vibrating_bar'
@@ -206,12 +211,17 @@ def uses(p: Parameter, kind: str) -> bool:
     return not p.kinds or kind in [k.strip() for k in p.kinds.split(',')]
 
 
-def example_namelist(parameters: Sequence[Parameter], kind: str = EXAMPLE_KIND) -> str:
-    """Every run group with every variable that has a default and that scene kind `kind` uses."""
+def example_namelist(parameters: Sequence[Parameter], kind: str = EXAMPLE_KIND,
+                     used: Optional[set] = None) -> str:
+    """Every run group with every variable that has a default and that scene kind `kind` uses; with
+    `used` (group.name of the variables the built-in case's echo names), only those: a variable
+    that another one's value rules out (flip_fraction without transfer = 'blend') is left out, as
+    mpm1d's own echo leaves it out."""
     lines = []
     for group in RUN_GROUPS:
         assignments = [f'{p.name}={namelist_value(p)}' for p in parameters
-                       if p.group == group and namelist_value(p) and uses(p, kind)]
+                       if p.group == group and namelist_value(p) and uses(p, kind)
+                       and (used is None or f'{p.group}.{p.name}' in used)]
         lines += wrap_group(group, assignments)
     return '\n'.join(lines)
 
@@ -221,15 +231,15 @@ def anchor(group: str) -> str:
     return group
 
 
-def render(parameters: Sequence[Parameter], command: str = COMMAND) -> str:
-    """The whole page from the registry's entries."""
+def render(parameters: Sequence[Parameter], command: str = COMMAND, used: Optional[set] = None) -> str:
+    """The whole page from the registry's entries (`used`: see example_namelist)."""
     unknown = sorted({p.group for p in parameters} - set(GROUPS))
     if unknown:
         raise ValueError(f'the registry lists groups the template does not describe: {", ".join(unknown)} '
                          f'(add them to GROUPS in {__name__})')
     present = [g for g in GROUPS if any(p.group == g for p in parameters)]
     contents = ' · '.join(f'[&{g}](#{anchor(g)})' for g in present)
-    page = HEADER.format(example=example_namelist(parameters), command=command, contents=contents)
+    page = HEADER.format(example=example_namelist(parameters, used=used), command=command, contents=contents)
     for group in present:
         page += f'\n## &{group}\n\n{GROUPS[group]}\n\n'
         page += '\n'.join(group_table([p for p in parameters if p.group == group])) + '\n'
@@ -261,6 +271,24 @@ def registry_from_program(exe: str) -> List[Parameter]:
     return parse_parameters(out.stdout)
 
 
+def used_by_built_in_case(exe: str) -> set:
+    """group.name of every variable in the echo of the built-in case (`mpm1d` with no input, run in
+    a scratch folder): the variables the default configuration uses."""
+    exe = str(Path(exe).resolve()) if os.sep in exe else (shutil.which(exe) or exe)
+    with tempfile.TemporaryDirectory() as scratch:
+        out = subprocess.run([exe], cwd=scratch, capture_output=True, text=True, check=True)
+    used, echo = set(), False
+    for line in out.stdout.splitlines():
+        if line.startswith('# configuration used'):
+            echo = True
+        elif echo and line.startswith('&'):
+            group = line[1:].split(None, 1)[0].lower()
+            used |= {f'{group}.{name.lower()}' for name in re.findall(r'(\w+)\s*=', line)}
+        elif echo:
+            break
+    return used
+
+
 def difference(old: str, new: str, name: str = 'docs/namelist.md', limit: int = 40) -> str:
     """The first `limit` lines of a unified diff from `old` to `new` ('' when equal)."""
     lines = list(difflib.unified_diff(old.splitlines(), new.splitlines(), f'{name} (committed)',
@@ -281,8 +309,9 @@ def build_parser() -> argparse.ArgumentParser:
 def main(argv: Optional[Sequence[str]] = None) -> int:
     args = build_parser().parse_args(argv)
     try:
-        parameters = registry_from_program(args.mpm1d or find_mpm1d())
-        page = render(parameters)
+        exe = args.mpm1d or find_mpm1d()
+        parameters = registry_from_program(exe)
+        page = render(parameters, used=used_by_built_in_case(exe))
     except (OSError, subprocess.CalledProcessError, ValueError) as exc:
         print(f'{PROGRAM}: cannot read the registry: {exc}', file=sys.stderr)
         return 2

@@ -71,7 +71,7 @@ def load_scheme_sweep(paths: Sequence[str], scheme: str) -> Sweep:
     """Load and merge the sweep file(s) given for `scheme`, checking that they hold only it."""
     shards = []
     for path in paths:
-        sweep = load_sweep(path)
+        sweep = load_sweep(path, cases='all')  # the figures show the stopped cases apart
         others = sorted(set(sweep.schemes) - {scheme})
         if others:
             raise Mpm1dFileError(path, f"given with --{scheme} but holds cases of scheme(s) "
@@ -139,9 +139,13 @@ def _sweep_section(report: Report, sweeps: Dict[str, Sweep], verification) -> No
                f'{100 * dt_fraction:g} %)', '')
     for scheme, sweep in sweeps.items():
         case = analysis.verification_case(sweep, scheme, elements, ppe, dt_fraction)
-        report.add(f'- {scheme.upper()}: ' + (
-            f"max error {case['max_error']:.4g} m ({100 * case['relative_error']:.3g} % of the "
-            f"amplitude), status {case['status_name']}" if case else 'not in the sweep'))
+        if not case:
+            report.add(f'- {scheme.upper()}: not in the sweep')
+        elif case['status_name'] == 'ok':
+            report.add(f"- {scheme.upper()}: max error {case['max_error']:.4g} m ({100 * case['relative_error']:.3g} % "
+                       f"of the amplitude), status {case['status_name']}")
+        else:
+            report.add(f"- {scheme.upper()}: no result (status {case['status_name']})")
     report.add('')
 
 
@@ -154,10 +158,11 @@ def _runs_section(report: Report, verification_runs: List[Run], fig10_runs: List
                    'max error (m) | relative error | status | code version |',
                    '|---|---|---|---|---|---|---|')
         for run in verification_runs:
+            numbers = (f"{run.summary['max_error']:.4g} | {100 * run.summary['relative_error']:.3g} %" if run.ok
+                       else '— (no result) | —')
             report.add(f"| {Path(run.path).name} | {run.scheme.upper()} | "
                        f"{run.elements} el., {run.particles_per_element} ppe, "
-                       f"{100 * run.dt_fraction:g} % | {run.summary['max_error']:.4g} | "
-                       f"{100 * run.summary['relative_error']:.3g} % | "
+                       f"{100 * run.dt_fraction:g} % | {numbers} | "
                        f"{run.summary['status_name']} | {run.code_version} |")
         report.add('')
     if deviation:

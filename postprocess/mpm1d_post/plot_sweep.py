@@ -7,11 +7,15 @@ Works for any set of schemes (USF, USL, MUSL), shapes, transfers and scenes. A *
 cases that differ only in `elements`: one per combination of the other swept variables (scheme,
 shape, transfer, particles per element, dt_fraction, ...); `--at name=value` keeps only the cases
 with that value. Each series' order of convergence is the least-squares slope of log(error)
-against log(elements), over its completed cases (the order p in error ∝ elements^-p).
+against log(elements), over its completed cases (the order p in error ∝ elements^-p); a series with
+fewer than two meshes has no order. A case a guard stopped has no result: it is drawn apart (a grey
+'x' at the error it reached before the stop), never fitted, and kept off the Pareto front and maps'
+colour scale. Several files must be the shards of one sweep (as `mpm1d merge` requires).
 
 Writes into OUTDIR: `error_vs_elements.png`, `error_vs_time.png` (when the sweep has timings),
 `error_map_<scheme>_<shape>_<transfer>.png` (one per group, one panel per element count), and
-`orders.csv` (series, points, order, error at the finest mesh). Exit status 0 written, 2 bad input.
+`orders.csv` (series, points, order, error at the finest mesh; empty where there is none). Exit status
+0 written, 2 bad input (also: files of two different sweeps, -o naming an existing file).
 """
 
 from __future__ import annotations
@@ -79,15 +83,8 @@ def label_of(key: Tuple) -> str:
 
 
 def scene_text(sweep: Sweep) -> str:
-    """One line naming the scene and its swept-free parameters (any scene kind)."""
-    config = sweep.config
-    kind = config.get('scene_kind', 'vibrating_bar')
-    if kind == 'vibrating_bar' and 'velocity_amplitude' in config:
-        return f'vibrating bar: {figures.problem_text(config)}'
-    shown = [f'{k} = {config[k]:g}' for k in ('length', 'youngs_modulus', 'density', 'gravity',
-                                             'amplitude', 'drive_velocity')
-             if isinstance(config.get(k), (int, float))]
-    return f"{kind}: {', '.join(shown)}"
+    """One line naming the scene and its own parameters with units (those the sweep does not vary)."""
+    return figures.scene_text(sweep, swept=varied_columns(sweep))
 
 
 def error_vs_elements(sweep: Sweep, outdir: Path) -> Tuple[Path, List[Dict]]:
@@ -110,14 +107,22 @@ def error_vs_elements(sweep: Sweep, outdir: Path) -> Tuple[Path, List[Dict]]:
         x, y = sweep.cases['elements'][ok][order_by], sweep.cases['max_error'][ok][order_by]
         p = convergence_order(x, y)
         group = tuple(kv for kv in key if kv[0] in GROUP_COLUMNS)
+        fitted = f': order {p:.2f}' if np.isfinite(p) else f' ({x.size} mesh: no order)' if x.size == 1 \
+            else ': no order'
         ax.loglog(x, y, marker=markers[number % len(markers)], color=colours[group], linewidth=1.1,
-                  markersize=4.5, label=f'{label_of(key)}: order {p:.2f}' if drawn < MAX_LEGEND_SERIES else None)
+                  markersize=4.5, label=f'{label_of(key)}{fitted}' if drawn < MAX_LEGEND_SERIES else None)
         drawn += 1
         rows.append({'series': label_of(key), 'points': int(x.size), 'order': p,
                      'finest_elements': int(x[-1]), 'finest_error': float(y[-1])})
     if drawn == 0:
         plt.close(fig)
         raise FigureSkipped('no completed case with a positive error')
+    stopped = sweep.stopped & (np.nan_to_num(sweep.cases.get('error_before_stop', np.zeros(len(sweep)))) > 0)
+    if stopped.any():
+        ax.loglog(sweep.cases['elements'][stopped], sweep.cases['error_before_stop'][stopped], 'x', color='0.55',
+                  markersize=6, label=f'stopped by a guard ({int(stopped.sum())}): error before the stop, no result, '
+                                      'not fitted')
+    figures.plain_ticks(ax, sweep.cases['elements'][sweep.ok | stopped])
     ax.set_xlabel('elements')
     ax.set_ylabel(ERROR_LABEL)
     ax.grid(alpha=0.3, which='both')
@@ -136,6 +141,7 @@ def error_vs_time(sweep: Sweep, outdir: Path) -> Path:
     timed = sweep.ok & (sweep.cases['run_time'] > 0) & (sweep.cases['max_error'] > 0)
     if not timed.any():
         raise FigureSkipped('no timed cases (the sweep ran without its timing pass: min_time = 0)')
+    untimed = int((~sweep.ok).sum())
     fig, ax = plt.subplots(figsize=(8.5, 5.8))
     groups: Dict[Tuple, np.ndarray] = {}
     for key, mask in series_of(sweep).items():
@@ -150,6 +156,9 @@ def error_vs_time(sweep: Sweep, outdir: Path) -> Path:
     front = figures.pareto_front(times, errors)
     ax.step(times[front], errors[front], where='post', color='black', linewidth=1.2,
             label='Pareto front (nothing both faster and more accurate)')
+    if untimed:
+        ax.plot([], [], 'x', color='0.55', label=f"{untimed} case{'s' if untimed != 1 else ''} stopped by a guard or "
+                                                   "not run: no result, not shown")
     ax.set_xscale('log')
     ax.set_yscale('log')
     ax.set_xlabel(figures.TIME_LABEL)
@@ -240,8 +249,14 @@ def build_parser() -> argparse.ArgumentParser:
 
 def main(argv: Optional[Sequence[str]] = None) -> int:
     args = build_parser().parse_args(argv)
+    outdir = Path(args.outdir)
+    if outdir.exists() and not outdir.is_dir():
+        print(f"{PROGRAM}: -o {args.outdir}: is an existing file, not a folder; allowed: a folder (created "
+              "when missing) for the figures", file=sys.stderr)
+        return 2
     try:
-        sweep = merge_sweeps([load_sweep(path) for path in args.sweeps])
+        # every case: the stopped ones are drawn apart, never fitted
+        sweep = merge_sweeps([load_sweep(path, cases='all') for path in args.sweeps])
         sweep = select(sweep, _parse_at(args.at))
     except Mpm1dFileError as exc:
         print(f'{PROGRAM}: {exc}', file=sys.stderr)
@@ -249,8 +264,11 @@ def main(argv: Optional[Sequence[str]] = None) -> int:
     except (ValueError, argparse.ArgumentTypeError) as exc:
         print(f'{PROGRAM}: {exc}', file=sys.stderr)
         return 2
-    outdir = Path(args.outdir)
-    outdir.mkdir(parents=True, exist_ok=True)
+    try:
+        outdir.mkdir(parents=True, exist_ok=True)
+    except OSError as exc:
+        print(f'{PROGRAM}: -o {args.outdir}: cannot make the folder ({exc.strerror})', file=sys.stderr)
+        return 2
     written: List[Path] = []
     rows: List[Dict] = []
     for make in (lambda: error_vs_elements(sweep, outdir), lambda: error_vs_time(sweep, outdir),
@@ -271,10 +289,16 @@ def main(argv: Optional[Sequence[str]] = None) -> int:
         writer = csv.DictWriter(handle, ['series', 'points', 'order', 'finest_elements', 'finest_error'])
         writer.writeheader()
         for row in rows:
-            writer.writerow({k: (f'{v:.4g}' if isinstance(v, float) else v) for k, v in row.items()})
+            # (no order, no error: an empty cell, not 'nan')
+            writer.writerow({k: ((f'{v:.4g}' if np.isfinite(v) else '') if isinstance(v, float) else v)
+                             for k, v in row.items()})
     written.append(outdir / 'orders.csv')
     for row in rows:
-        print(f"{row['series']}: order {row['order']:.2f} over {row['points']} meshes")
+        if np.isfinite(row['order']):
+            print(f"{row['series']}: order {row['order']:.2f} over {row['points']} meshes")
+        else:
+            print(f"{row['series']}: no order ({row['points']} mesh{'' if row['points'] == 1 else 'es'} "
+                  "with a result; an order needs two)")
     print(f'{PROGRAM}: wrote ' + ', '.join(p.name for p in written) + f' in {outdir}')
     return 0
 

@@ -32,7 +32,8 @@ matplotlib.use('Agg')
 import matplotlib.pyplot as plt  # noqa: E402
 
 from . import linear_stability as ls  # noqa: E402
-from .loader import Mpm1dFileError, Sweep, load_run, load_sweep, merge_sweeps  # noqa: E402
+from .figures import duration_text  # noqa: E402
+from .loader import Mpm1dFileError, Sweep, concatenate_sweeps, load_run, load_sweep  # noqa: E402
 
 PROGRAM = 'mpm1d-stability-figures'
 SCHEMES = ('usf', 'usl', 'musl')
@@ -41,6 +42,8 @@ RATIO_PAPER = 0.1 / C_PAPER                     # v0/c of the paper
 ROUND_OFF_GROWTH = math.log(1.0e16)             # a mode seeded at round-off reaches O(1)
 FINITE_COLUMNS = ('max_error', 'relative_error', 'max_energy_ratio', 'final_energy_ratio',
                   'min_volume_ratio', 'max_cell_move')
+#: A stopped case has no result (NaN max_error, relative_error): its error up to the stop instead.
+STOPPED_FINITE = {'max_error': 'error_before_stop', 'relative_error': 'relative_error_before_stop'}
 MESSAGE = re.compile(r'guard\s+(\w+)\s+tripped at step\s*(\d+)\s*of\s*(\d+)\s*\(t\s*=\s*'
                      r'([-+0-9.EeDd]+)\s*s')
 #: Finest spacing of the time-step fractions the study runs near its limits.
@@ -60,7 +63,7 @@ def load(path: str) -> Sweep:
     completed) and message_ok: whether a stopped case's message has the documented form, names
     its guard and agrees with the trip step stored as a number (a check of the writer, which
     assembles messages after the parallel loop)."""
-    sweep = load_sweep(path)
+    sweep = load_sweep(path, cases='all')  # the study is about the stopped cases too
     n = len(sweep)
     for column in ('trip_step', 'trip_time', 'message'):
         if column not in sweep.cases:
@@ -78,7 +81,8 @@ def load(path: str) -> Sweep:
 
 
 def load_many(paths: Sequence[str]) -> Sweep:
-    return merge_sweeps([load(p) for p in paths])
+    """The cases of several sweeps side by side (different namelists on purpose: the scale ladder)."""
+    return concatenate_sweeps([load(p) for p in paths])
 
 
 def read_predicted(path: str) -> Dict[Tuple[str, int, int], float]:
@@ -150,10 +154,14 @@ def class_counts(report: Report, name: str, sweep: Sweep, expected_stable: np.nd
     finite = np.ones(n, dtype=bool)
     for col in FINITE_COLUMNS:
         if col in c:
-            finite &= np.isfinite(np.asarray(c[col], dtype=float))
+            values = np.asarray(c[col], dtype=float)
+            if col in STOPPED_FINITE and STOPPED_FINITE[col] in c:  # no result: the error before the stop
+                values = np.where(tripped, np.asarray(c[STOPPED_FINITE[col]], dtype=float), values)
+            finite &= np.isfinite(values)
     bad_stable = expected_stable & tripped
     garbled = int((~c['message_ok'] & tripped).sum())
-    report.check(name, 'all outputs finite (max_error, relative_error, energy ratios, J, cell move)',
+    report.check(name, 'all outputs finite (max_error, relative_error, energy ratios, J, cell move; a stopped '
+                 'case\'s error before the stop)',
                  finite.all(), f'{int((~finite).sum())} of {n} cases with a non-finite value')
     report.check(name, 'no case expected stable trips a guard', not bad_stable.any(),
                  f'{int(bad_stable.sum())} of {int(expected_stable.sum())} expected-stable cases tripped')
@@ -201,7 +209,7 @@ def stability_section(report: Report, sweep: Sweep, predicted, elements: int, ti
                f'`{Path(sweep.path).name}`: {len(sweep)} cases, {elements} element(s), '
                f'ppc {", ".join(map(str, ppcs))}, k = c dt/dx from {c["dt_fraction"].min():g} to '
                f'{c["dt_fraction"].max():g} ({len(set(c["dt_fraction"].round(6)))} values), '
-               f'{g(periods)} periods of mode 1 (E = 200 GPa, rho = 7800 kg/m^3, v0 = 0.1 m/s). '
+               f'{duration_text(sweep.config)} of mode 1 (E = 200 GPa, rho = 7800 kg/m^3, v0 = 0.1 m/s). '
                'Measured k_crit = the largest k below the first k that trips a guard; predicted '
                f'k_crit = linear_stability.py ({elements} element(s)). rho(A) is the predicted '
                'amplification per step at the first failing k, and "steps to 1e16" = ln(1e16)/ln rho '
@@ -347,7 +355,7 @@ def plot_map(report: Report, sweep: Sweep, predicted, elements: int, figname: st
     axes[0][0].legend(fontsize=7, loc='lower left' if not zoom else 'best')
     fig.suptitle(f'Stability map{" (zoom on the limit)" if zoom else ""}: guard status over '
                  f'(ppc, k); bar L = 25 m, E = 200 GPa, rho = 7800 kg/m^3, v0 = 0.1 m/s, '
-                 f'{g(sweep.config.get("periods", float("nan")))} periods', fontsize=9)
+                 f'{duration_text(sweep.config)}', fontsize=9)
     fig.tight_layout(rect=(0, 0.03, 1, 0.95))
     report.save(fig, figname, Path(sweep.path).name)
     report.add(f'![{figname}]({figname})', '')
@@ -389,7 +397,8 @@ def scale_section(report: Report, sweep: Sweep) -> None:
         steps = sorted(set(c['steps'][m].tolist()))
         report.add(f'| {scheme.upper()} | {int(m.sum())} | {int((m & (c["status"] == 0)).sum())} | '
                    f'{", ".join(map(str, steps))} | {r0:.15g} | {dev[j]:.2e} | '
-                   f'({g(E[j])}, {g(rho[j])}) | {g(c["max_error"][m].min())} .. {g(c["max_error"][m].max())} |')
+                   f'({g(E[j])}, {g(rho[j])}) | {g(np.nanmin(c["max_error"][m]))} .. '
+                   f'{g(np.nanmax(c["max_error"][m]))} |')
         report.check('scale', f'{scheme.upper()}: same steps as the paper case in every case', len(steps) == 1,
                      f'steps {steps}')
         report.check('scale', f'{scheme.upper()}: relative_error equals the paper case to 1e-9',
@@ -489,13 +498,15 @@ def large_section(report: Report, sweep: Sweep) -> None:
             s = (c['scheme'] == scheme) & (c['particles_per_element'] == ppc)
             o = np.argsort(ratio[s])
             r, e, st = ratio[s][o], c['relative_error'][s][o], c['status'][s][o]
+            before = c['relative_error_before_stop'][s][o]
             ax.loglog(r[st == 0], e[st == 0], 'o-', color=colour, ms=4, label=f'ppc {ppc}')
-            ax.loglog(r[st > 0], e[st > 0], 'x', color=colour, ms=6)
+            ax.loglog(r[st > 0], before[st > 0], 'x', color=colour, ms=6)  # no result: never joined to the line
             ax.axvline(math.pi / (4 * ne * ppc), color=colour, ls=':', lw=1)
         ax.set_xlabel('v0 / c  (-)')
         ax.set_title(f'{scheme.upper()}, {ne} el., k = 0.1, 2 periods', fontsize=9)
         ax.grid(alpha=0.3, which='both')
-    axes[0].set_ylabel('relative error of u_cm (-); x: stopped by a guard (error up to the stop)')
+    axes[0].set_ylabel('relative error of u_cm (-)')
+    axes[0].plot([], [], 'x', color='0.4', label='stopped by a guard: no result\n(error before the stop)')
     axes[0].legend(fontsize=7)
     fig.suptitle('Large motion: relative error against v0/c; dotted: the last particle crosses into the '
                  'empty margin cell above pi/(4 ne ppc)', fontsize=9)
@@ -525,7 +536,7 @@ def long_section(report: Report, sweeps: List[Sweep]) -> None:
             report.add(f'| {g(periods)} | {c["scheme"][i].upper()} | {c["particles_per_element"][i]} | '
                        f'{c["dt_fraction"][i]:g} | {c["steps"][i]} | {trip_text(c, i)} | '
                        f'{c["final_energy_ratio"][i]:.6f} | {c["max_energy_ratio"][i]:.6f} | '
-                       f'{c["relative_error"][i]:.3g} |')
+                       f'{g(c["relative_error"][i])} |')
         cons = np.isin(c['scheme'], ['usf', 'musl'])
         drift = np.abs(c['final_energy_ratio'][cons] - 1.0)
         report.check(f'long {g(periods)}', 'USF/MUSL conserve energy: |final ratio - 1| < 0.1 and '
@@ -623,7 +634,7 @@ def mesh_section(report: Report, coarse: Optional[Sweep], fines: List[Sweep], la
         m = np.isclose(c['dt_fraction'], 0.1)
         report.add('One element, k = 0.1, 50 periods (from the one-element map above): relative error '
                    + ', '.join(f'{c["scheme"][i].upper()} ppc {c["particles_per_element"][i]}: '
-                               f'{c["relative_error"][i]:.3g} ({trip_text(c, i)})' for i in np.flatnonzero(m)) + '.', '')
+                               f'{g(c["relative_error"][i])} ({trip_text(c, i)})' for i in np.flatnonzero(m)) + '.', '')
     if fines:
         report.add('| elements | particles | scheme | ppc | steps | status | relative error | max error (m) |',
                    '|' + '---|' * 8)
@@ -633,7 +644,7 @@ def mesh_section(report: Report, coarse: Optional[Sweep], fines: List[Sweep], la
             for i in range(len(sweep)):
                 report.add(f'| {c["elements"][i]} | {c["particles"][i]} | {c["scheme"][i].upper()} | '
                            f'{c["particles_per_element"][i]} | {c["steps"][i]} | {trip_text(c, i)} | '
-                           f'{c["relative_error"][i]:.3g} | {c["max_error"][i]:.3g} |')
+                           f'{g(c["relative_error"][i])} | {g(c["max_error"][i])} |')
             class_counts(report, f'fine {int(c["elements"][0])} el.', sweep, np.ones(len(sweep), dtype=bool))
         report.add('')
         for sweep in fines:

@@ -15,7 +15,7 @@ def sweeps(tmp_path):
     result = {}
     for scheme in ('usf', 'usl'):
         write_sweep(str(tmp_path / f'{scheme}.h5'), scheme)
-        result[scheme] = load_sweep(tmp_path / f'{scheme}.h5')
+        result[scheme] = load_sweep(tmp_path / f'{scheme}.h5', cases='all')
     return result
 
 
@@ -63,3 +63,42 @@ def test_time_step_axes_say_fraction_of_dx_over_c(sweeps, drawn, tmp_path):
     labels = [text for figure in drawn for text, _ in figure['texts']]
     assert not [t for t in labels if 'critical' in t], 'a label still calls dt_fraction "critical"'
     assert any('dx/c' in t for t in labels)
+
+
+def test_titles_break_between_phrases(sweeps, drawn, tmp_path):
+    """Fig. 5's one-panel title broke 'median over repeats' across two lines: lines now end between
+    phrases (a phrase is cut only when it alone is longer than a line)."""
+    figures.time_maps(sweeps, str(tmp_path))
+    title = next(f['texts'][0][0] for f in drawn if f['name'] == 'fig5_time_map_usf.png')
+    assert any('Computation time per run (median over repeats)' in line for line in title.split('\n')), title
+    # every line the wrapping cut ends between phrases: 'mode 1,' / '2 periods', never 'mode 1, 2' / 'periods'
+    lines = title.split('\n')
+    assert [line for line in lines[:-1] if not line.endswith((',', '—', ';', 'elements'))] == [], title
+    assert '2 periods' in lines[-1], title
+    assert figures.wrap_phrases('Fig. 5 — USF — Computation time per run (median over repeats), 3 elements', 50) == \
+        ['Fig. 5 — USF —', 'Computation time per run (median over repeats),', '3 elements']
+    assert figures.duration_text({'periods': 1.0}) == '1 period' and figures.duration_text({'periods': 2.5}) == \
+        '2.5 periods'
+
+
+def test_fig10_spans_the_bar(mpm1d, tmp_path):
+    """The grid's empty margin cells beyond the free end are not part of the bar: the x-axis is [0, L]."""
+    import subprocess
+    from mpm1d_post import load_run
+    (tmp_path / 'b.nml').write_text("&discretisation elements=3, particles_per_element=2 /\n&run periods=0.1 /\n"
+                                    "&output file='b.h5', snapshot_times=0.0 /\n")
+    assert subprocess.run([str(mpm1d), 'b.nml', '-q'], cwd=tmp_path).returncode == 0
+    run = load_run(tmp_path / 'b.h5')
+    assert run.snapshot_at(0).grid_x.max() > run.config['length']  # the grid reaches past the bar
+    limits = []
+    original = figures.save_figure
+
+    def keep(fig, outdir, name, sources):
+        limits.append(fig.axes[0].get_xlim())
+        return original(fig, outdir, name, sources)
+    figures.save_figure = keep
+    try:
+        figures.fig10([run], str(tmp_path))
+    finally:
+        figures.save_figure = original
+    assert limits == [(0.0, run.config['length'])]

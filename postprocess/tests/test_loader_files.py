@@ -22,7 +22,7 @@ def _run(mpm1d, folder, *args):
 def test_every_column_and_the_trip_as_numbers(mpm1d, tmp_path):
     (tmp_path / 'sweep.nml').write_text(SWEEP)
     assert _run(mpm1d, tmp_path, 'sweep.nml').returncode == 0
-    sweep = load_sweep(tmp_path / 'sweep.h5')
+    sweep = load_sweep(tmp_path / 'sweep.h5', cases='all')
     with h5py.File(tmp_path / 'sweep.h5', 'r') as h5:
         stored = set(h5['/cases'])
     assert stored <= set(sweep.cases), f'columns the loader drops: {stored - set(sweep.cases)}'
@@ -44,13 +44,16 @@ def test_single_run_and_sweep_say_the_same(mpm1d, tmp_path):
                 'output.file=ok.h5').returncode == 0
     assert _run(mpm1d, tmp_path, 'discretisation.dt_fraction=2.5', 'run.periods=2',
                 'output.file=stopped.h5').returncode == 1
-    sweep = load_sweep(tmp_path / 'sweep.h5')
+    sweep = load_sweep(tmp_path / 'sweep.h5', cases='all')
     ok, stopped = load_run(tmp_path / 'ok.h5'), load_run(tmp_path / 'stopped.h5')
     with h5py.File(tmp_path / 'ok.h5', 'r') as h5:
         assert set(h5['/summary']) <= set(ok.summary)
     assert ok.summary['message'] == sweep.cases['message'][0] == 'completed'
     assert ok.summary['max_error'] == sweep.cases['max_error'][0]
     assert stopped.summary['trip_step'] == sweep.cases['trip_step'][1]
+    # no result from the stopped run, in either file; the same error before the stop
+    assert np.isnan(stopped.summary['max_error']) and np.isnan(sweep.cases['max_error'][1])
+    assert stopped.summary['error_before_stop'] == sweep.cases['error_before_stop'][1] > 0
     assert stopped.summary['trip_time'] == sweep.cases['trip_time'][1]
     assert isinstance(stopped.summary['status_name'], str) and stopped.summary['status_name'] == 'energy_growth'
 

@@ -38,6 +38,12 @@ module mpm_particles
       !> manufactured solution's A sin kX and A k cos kX: its force and exact displacement are then
       !> products, with no sine per particle and step), one column each; only scenes that use them
       real(dp), allocatable :: scene_factors(:, :)
+      !> the elastoplastic law's state (mpm_material_plastic), allocated only when a body is elastoplastic:
+      !> plastic strain eps_p and hardening variable alpha (the accumulated |d eps_p|)
+      real(dp), allocatable :: plastic_strain(:), hardening(:)
+      !> per-particle yield stress and hardening modulus (Pa): only elastoplastic scenes of several
+      !> materials allocate them (composite bar, impact); otherwise the run's one material applies
+      real(dp), allocatable :: yield_stress_of(:), hardening_modulus_of(:)
    end type particles_t
 
 contains
@@ -106,6 +112,10 @@ contains
       call permute_real(particles%volume0_of)
       call permute_real(particles%velocity_gradient)
       call permute_real(particles%youngs_modulus_of)
+      call permute_real(particles%plastic_strain)
+      call permute_real(particles%hardening)
+      call permute_real(particles%yield_stress_of)
+      call permute_real(particles%hardening_modulus_of)
       call permute_int(particles%body)
       call permute_int(particles%cell)
       if (allocated(particles%scene_factors)) then

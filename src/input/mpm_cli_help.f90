@@ -25,6 +25,7 @@ contains
          '  mpm1d input.nml group.name=value ...   the same with variables replaced, checked as in the file,', &
          '                        e.g. discretisation.elements=40 discretisation.scheme=musl sweep.elements=10,20', &
          '  --quiet               print nothing on standard output (warnings and errors still on standard error)', &
+         '  --dry-run             check everything, run nothing: the number of cases and the absolute output path', &
          '  mpm1d --help          this text;  mpm1d --version  the code version', &
          '  mpm1d --list-parameters   the parameter registry, tab-separated (what /config/parameters holds)', &
          '', &
@@ -52,9 +53,12 @@ contains
       write (unit, '(a)', advance='no') parameter_help(sweep_table, 'sweep')
       write (unit, '(a)') &
          '', &
-         'sweeps: mpm1d sweep.nml [--shard I/N] [--threads N];  mpm1d merge OUT.h5 SHARD.h5 ...', &
+         'sweeps: mpm1d sweep.nml [--shard I/N] [--threads N] [--resume];  mpm1d merge OUT.h5 SHARD.h5 ...', &
+         '  SIGINT, SIGTERM or SIGHUP stop a sweep: it writes the cases it finished (the others not_run);', &
+         '  --resume runs the cases left in that file (the same input) and writes it again', &
          '', &
-         'exit codes: 0 done; 1 a guard stopped the run (history so far written); 2 bad input; 3 output failed.', &
+         'exit codes: 0 done; 1 a guard stopped the run (history so far written); 2 bad input; 3 output failed;', &
+         '  a sweep interrupted by SIGINT, SIGTERM, SIGHUP (what it finished written): 130, 143, 129.', &
          'Every problem in the input is reported with the variable and its allowed range; nothing is written then.'
    end subroutine print_help
 

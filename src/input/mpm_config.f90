@@ -8,31 +8,55 @@ module mpm_config
    use mpm_files, only: available_memory, path_kind, path_folder, path_other
    use mpm_particles, only: bytes_per_particle
    use mpm_shape, only: known_shapes, known_transfers
+   use mpm_material, only: material_t, known_laws, law_id
    use mpm_registry, only: parameter_t, nml_item_t, text_entry, int_entry, real_entry, real_list_entry, &
-                           logical_entry, for_kinds, used_by, parse_namelist, read_input_text, add_overrides, &
-                           apply_items, check_parameter, find_parameter, group_namelist, short_number
+                           logical_entry, for_kinds, for_value, used_by, parse_namelist, read_input_text, add_overrides, &
+                           apply_items, check_parameter, find_parameter, group_namelist, short_number, item_place, &
+                           format_value, type_real
+   use mpm_suggest, only: did_you_mean, printable
    implicit none
    private
    public :: config_t, read_config, read_config_text, input_name, validate_config, resolve_config
    public :: write_config_namelist, config_namelist
    public :: default_config, config_summary, known_schemes
    public :: max_snapshots, max_segments, check_output_path, body_length, largest_wave_speed
-   public :: config_parameters, config_groups, group_help, known_scenes
-   public :: step_count, stability_limit, not_used_message
+   public :: config_parameters, config_groups, group_help, known_scenes, scene_kind_t, scene_kinds
+   public :: material_of, plastic_wave_periods
+   public :: step_count, stability_limit, not_used_message, config_warnings, contact_time, known_kind
 
    !> Most snapshot times one run accepts.
    integer, parameter :: max_snapshots = 64
    !> Most segments of a composite bar.
    integer, parameter :: max_segments = 16
    !> The scene kinds made of one body of one material (length, youngs_modulus, density).
-   character(len=*), parameter :: single_body = 'vibrating_bar, column, manufactured'
+   character(len=*), parameter :: single_body = 'vibrating_bar, column, manufactured, plastic_wave'
    !> Schemes the code implements.
    character(len=*), parameter :: known_schemes = 'usf, usl, musl'
    !> Scene kinds the code implements (mpm_scenes makes them).
-   character(len=*), parameter :: known_scenes = 'vibrating_bar, column, manufactured, composite_bar, impact'
+   character(len=*), parameter :: known_scenes = 'vibrating_bar, column, manufactured, composite_bar, impact, '// &
+                                                 'plastic_wave'
+   !> A scene kind as --help and the help of `kind` and `periods` describe it: its name, what it is, and
+   !> the period `periods` counts in it (scene_period). Every kind of known_scenes has one (test_registry).
+   type :: scene_kind_t
+      character(len=16) :: name = ''
+      character(len=64) :: what = ''
+      character(len=48) :: period = ''
+   end type scene_kind_t
+   type(scene_kind_t), parameter :: scene_kinds(*) = [ &
+      scene_kind_t('vibrating_bar', 'the vibrating bar of the founding study', '2 pi/omega_n (its mode n)'), &
+      scene_kind_t('column', 'a column under its own weight, suddenly loaded', '4L/c'), &
+      scene_kind_t('manufactured', 'a manufactured solution at large strain', '2L/c'), &
+      scene_kind_t('composite_bar', 'a wave through stiff-soft segments, driven at one end', &
+                   'sum L_i/c_i, one crossing'), &
+      scene_kind_t('impact', 'two bars colliding', '2 max L/c, from their first contact'), &
+      scene_kind_t('plastic_wave', 'an elastic-plastic wave from a driven end', &
+                   "L/c (the precursor's transit; default 0.8)")]
    !> The groups of one run's input, in the order of the echo and of --help.
-   character(len=16), parameter :: config_groups(*) = [character(len=16) :: 'scene', 'discretisation', 'run', &
-                                                        'output', 'guards']
+   character(len=16), parameter :: config_groups(*) = [character(len=16) :: 'scene', 'material', 'discretisation', &
+                                                        'run', 'output', 'guards']
+   !> The plastic wave's run length when neither periods nor end_time is given, in precursor transit
+   !> times L/c: its exact solution holds until the elastic precursor reaches the free end.
+   real(dp), parameter :: plastic_wave_periods = 0.8_dp
    !> Largest number of particles or elements one run accepts (array indices are default integers).
    integer(i8), parameter :: max_count = int(huge(1), i8)
    !> Largest mode: 2 mode - 1 (in beta_n) must be a default integer.
@@ -59,13 +83,20 @@ module mpm_config
                   densities(max_segments) = 0.0_dp
       integer :: length_count = 0, modulus_count = 0, density_count = 0
       real(dp) :: drive_velocity = 1.0_dp
-      !> Impact scene: two bars (lengths, youngs_moduli, densities above, two values each), their initial
+      !> Impact: two bars (lengths, youngs_moduli, densities above, two values each), their initial
       !> velocities, the gap between them and the contact model ('none': one shared velocity field;
       !> 'frictionless': a field per body, mpm_contact).
       real(dp) :: velocities(2) = 0.0_dp
       integer :: velocity_count = 0
       real(dp) :: gap = 0.0_dp
       character(len=16) :: contact = 'frictionless'
+      ! &material (mpm_material): the law and the elastoplastic law's parameters, one body's or one per
+      ! segment (composite bar) or bar (impact)
+      character(len=16) :: law = 'hencky'
+      real(dp) :: yield_stress = 250.0e6_dp
+      real(dp) :: hardening_modulus = 10.0e9_dp
+      real(dp) :: yield_stresses(max_segments) = 0.0_dp, hardening_moduli(max_segments) = 0.0_dp
+      integer :: yield_count = 0, hardening_count = 0
       ! &discretisation
       character(len=8) :: scheme = 'usl'
       integer :: elements = 20
@@ -127,7 +158,7 @@ contains
       call run_length_flags(config)
       table = [ &
          text_entry('discretisation', 'scheme', config%scheme, 'update scheme: stress update first, last, or '// &
-                    'modified last (docs/theory.md gives each algorithm)', words=known_schemes, sweep_list='schemes'), &
+                    'modified last (docs/theory.md, Algorithm)', words=known_schemes, sweep_list='schemes'), &
          int_entry('discretisation', 'elements', config%elements, 'elements across the body; dx = length / elements', &
                    at_least=1, sweep_list='elements'), &
          int_entry('discretisation', 'particles_per_element', config%particles_per_element, &
@@ -136,22 +167,20 @@ contains
                     'c = sqrt(youngs_modulus/density)', greater_than=0.0_dp, at_most=max_dt_fraction, &
                     sweep_list='dt_fractions'), &
          text_entry('discretisation', 'shape', config%shape, 'shape functions: linear hat, uniform or '// &
-                    'contiguous-particle GIMP, quadratic or cubic B-splines (docs/theory.md)', &
+                    'contiguous-particle GIMP, quadratic or cubic B-splines (docs/theory.md, Shape functions)', &
                     words=known_shapes, sweep_list='shapes'), &
          text_entry('discretisation', 'transfer', config%transfer, 'velocity transfer of G2P: FLIP, PIC, their '// &
                     'blend (flip_fraction), or affine PIC', words=known_transfers, sweep_list='transfers'), &
-         real_entry('discretisation', 'flip_fraction', config%flip_fraction, '', "FLIP share of transfer = "// &
-                    "'blend': v = f v_FLIP + (1 - f) v_PIC", at_least=0.0_dp, at_most=1.0_dp, &
-                    sweep_list='flip_fractions'), &
+         for_value(real_entry('discretisation', 'flip_fraction', config%flip_fraction, '', "FLIP share of "// &
+                              "transfer = 'blend': v = f v_FLIP + (1 - f) v_PIC", at_least=0.0_dp, at_most=1.0_dp, &
+                              sweep_list='flip_fractions'), 'transfer', 'blend'), &
          int_entry('discretisation', 'margin_cells', config%margin_cells, 'empty grid cells beyond each free end '// &
                    'of the body', at_least=-1, note="-1: the scene's expected motion + 2 cells"), &
          text_entry('discretisation', 'kernels', config%kernels, "'auto': the fused kernels where they apply (the "// &
                     "bar with FLIP, any shape), else the generic path; 'generic': always the generic layered path", &
                     words='auto, generic'), &
-         text_entry('scene', 'kind', config%scene_kind, 'the problem: the vibrating bar of the founding study, '// &
-                    'a column under gravity, a manufactured large-strain solution, a composite bar, two bars colliding '// &
-                    '(docs/user-guide.md, Scenes)', &
-                    words=known_scenes, attribute='scene_kind'), &
+         text_entry('scene', 'kind', config%scene_kind, 'the problem (docs/user-guide.md, Scenes): '// &
+                    scene_list(periods=.false.), words=known_scenes, attribute='scene_kind'), &
          for_kinds(real_entry('scene', 'length', config%length, 'm', 'length of the bar', greater_than=0.0_dp), &
                    single_body), &
          for_kinds(real_entry('scene', 'youngs_modulus', config%youngs_modulus, 'Pa', "Young's modulus E", &
@@ -173,11 +202,11 @@ contains
                               at_least=0.0_dp, sweep_list='gaps'), 'impact'), &
          for_kinds(text_entry('scene', 'contact', config%contact, "'none': one shared velocity field (the bars "// &
                               "stick); 'frictionless': a field per bar, the centre-of-mass velocity where they "// &
-                              "approach (docs/user-guide.md, Scenes)", words='none, frictionless', sweep_list='contacts'), &
+                              "approach (docs/user-guide.md, impact)", words='none, frictionless', sweep_list='contacts'), &
                    'impact'), &
          for_kinds(real_entry('scene', 'drive_velocity', config%drive_velocity, 'm/s', 'velocity the left end '// &
                               'is driven at from t = 0 (pushing into the bar)', greater_than=0.0_dp, &
-                              sweep_list='drive_velocities'), 'composite_bar'), &
+                              sweep_list='drive_velocities'), 'composite_bar, plastic_wave'), &
          for_kinds(real_entry('scene', 'velocity_amplitude', config%velocity_amplitude, 'm/s', 'v0 of the '// &
                               'initial velocity v(x,0) = v0 sin(beta_n x), beta_n = (2n-1) pi / (2 length)', &
                               sweep_list='velocity_amplitudes'), 'vibrating_bar'), &
@@ -189,9 +218,24 @@ contains
          for_kinds(real_entry('scene', 'amplitude', config%amplitude, 'm', 'A of the manufactured displacement '// &
                               'u(X,t) = A sin(2 pi X/length) sin(pi c t/length)', greater_than=0.0_dp, &
                               note='2 pi A / length < 1', sweep_list='amplitudes'), 'manufactured'), &
-         real_entry('run', 'periods', config%periods, '', 'run length in periods of the scene (bar: 2 pi/omega_n; '// &
-                    'column: 4L/c; manufactured: 2L/c; composite_bar: sum L_i/c_i; impact: 2 max L/c); steps = '// &
-                    'smallest n with n dt >= end time', &
+         text_entry('material', 'law', config%law, "constitutive law: 'hencky' sigma = E ln J (sigma += E d eps), "// &
+                    "'linear' sigma = E (J - 1), 'elastoplastic' Hencky with linear isotropic hardening", &
+                    words=known_laws, sweep_list='law'), &
+         for_kinds(for_value(real_entry('material', 'yield_stress', config%yield_stress, 'Pa', 'initial yield stress '// &
+                              'sigma_y: |sigma| <= sigma_y + H alpha (law elastoplastic)', greater_than=0.0_dp, &
+                              sweep_list='yield_stress'), 'law', 'elastoplastic'), 'vibrating_bar, column, plastic_wave'), &
+         for_kinds(for_value(real_entry('material', 'hardening_modulus', config%hardening_modulus, 'Pa', 'linear isotropic '// &
+                              'hardening modulus H (law elastoplastic; 0: perfectly plastic)', at_least=0.0_dp, &
+                              sweep_list='hardening_modulus'), 'law', 'elastoplastic'), 'vibrating_bar, column, plastic_wave'), &
+         for_kinds(for_value(real_list_entry('material', 'yield_stresses', config%yield_stresses, config%yield_count, 'Pa', &
+                                   "each segment's (bar's) yield stress (law elastoplastic)", greater_than=0.0_dp, &
+                                   note='one per segment'), 'law', 'elastoplastic'), 'composite_bar, impact'), &
+         for_kinds(for_value(real_list_entry('material', 'hardening_moduli', config%hardening_moduli, config%hardening_count, &
+                                   'Pa', "each segment's (bar's) hardening modulus (law elastoplastic)", &
+                                   at_least=0.0_dp, note='one per segment'), 'law', 'elastoplastic'), &
+                   'composite_bar, impact'), &
+         real_entry('run', 'periods', config%periods, '', 'run length in periods of the scene ('// &
+                    scene_list(periods=.true.)//'); steps = smallest n with n dt >= end time', &
                     greater_than=0.0_dp, optional=.true., given=config%periods_given), &
          real_entry('run', 'end_time', config%end_time, 's', 'run length in seconds (give periods or end_time)', &
                     greater_than=0.0_dp, optional=.true., given=config%end_time_given), &
@@ -206,6 +250,45 @@ contains
                     'more than this many cells in one step', greater_than=0.0_dp)]
    end subroutine config_parameters
 
+   !> The scene kinds, for the help of `kind` ("'vibrating_bar' the vibrating bar ...; ...") or, with
+   !> `periods`, of `periods` ("vibrating_bar: 2 pi/omega_n ...; ...").
+   function scene_list(periods) result(text)
+      logical, intent(in) :: periods
+      character(len=:), allocatable :: text
+      integer :: k
+      text = ''
+      do k = 1, size(scene_kinds)
+         if (k > 1) text = text//'; '
+         if (periods) then
+            text = text//trim(scene_kinds(k)%name)//': '//trim(scene_kinds(k)%period)
+         else
+            text = text//"'"//trim(scene_kinds(k)%name)//"' "//trim(scene_kinds(k)%what)
+         end if
+      end do
+   end function scene_list
+
+   !> Warnings about a valid, resolved configuration (one line each, '' when none): a run that misses
+   !> what it is for. An impact whose bars do not meet before the run ends (end_time given) or never
+   !> meet: its error measures free flight, which any scheme follows to round-off.
+   function config_warnings(config) result(text)
+      type(config_t), intent(in) :: config
+      character(len=:), allocatable :: text
+      real(dp) :: meet
+      text = ''
+      if (trim(config%scene_kind) /= 'impact') return
+      meet = contact_time(config)
+      if (config%velocities(1) <= config%velocities(2)) then
+         text = "the bars never meet: velocities = "//short_number(config%velocities(1))//", "// &
+                short_number(config%velocities(2))//" m/s (bar 1, on the left, is not faster than bar 2); the error "// &
+                "measures free flight, not an impact"
+      else if (meet >= config%final_time) then
+         text = "the bars do not meet before the end of the run: gap = "//short_number(config%gap)//" m closing at "// &
+                num(config%velocities(1) - config%velocities(2), 4)//" m/s first touches at t = "//num(meet, 4)// &
+                " s, after the end time "//num(config%final_time, 4)//" s; the error measures free flight, not "// &
+                "the impact (periods count from the first contact; or give a longer end_time)"
+      end if
+   end function config_warnings
+
    !> A configuration filled by a program (end_time set, not read) gets the flags the reader would set.
    subroutine run_length_flags(config)
       type(config_t), intent(inout) :: config
@@ -219,7 +302,9 @@ contains
       character(len=:), allocatable :: text
       select case (group)
       case ('scene')
-         text = 'the problem and its material'
+         text = 'the problem and its bodies'
+      case ('material')
+         text = 'the constitutive law of the bodies and its parameters'
       case ('discretisation')
          text = 'grid, particles, time step and update scheme'
       case ('run')
@@ -257,56 +342,107 @@ contains
       if (name == '-') name = 'standard input'
    end function input_name
 
-   !> read_config of namelist `text` read from `path` (named so in messages).
+   !> read_config of namelist `text` read from `path` (named so in messages): the text read into
+   !> assignments, the overrides put in, the assignments applied to the registry and checked where
+   !> they were given, then the configuration validated as a whole and resolved.
    subroutine read_config_text(text, path, config, error, extra_groups, overrides)
       character(len=*), intent(in) :: text, path
       type(config_t), intent(out), target :: config
       type(error_t), allocatable, intent(out) :: error
       character(len=*), intent(in), optional :: extra_groups(:), overrides(:)
-      type(nml_item_t), allocatable :: items(:), kept(:)
+      type(nml_item_t), allocatable :: items(:)
       character(len=32), allocatable :: groups(:)
       integer, allocatable :: group_lines(:)
       type(parameter_t), allocatable :: table(:)
-      integer :: i, periods, end_time
       character(len=16), allocatable :: known(:)
+      integer :: i
 
       config = config_t()
+      known = config_groups
+      if (present(extra_groups)) known = [character(len=16) :: known, extra_groups]
       ! problems of syntax do not stop the reading: every problem of the file is reported at once
       call parse_namelist(text, path, items, groups, group_lines, error)
-      do i = 1, size(groups)
-         if (any(config_groups == groups(i))) cycle
-         if (present(extra_groups)) then
-            if (any(extra_groups == groups(i))) cycle
-         end if
-         call append_error(error, trim(path)//":"//str(group_lines(i))//": unknown namelist group &"// &
-                           trim(groups(i))//" (known groups: "//join(config_groups)//extra_list()//")")
-      end do
-      if (present(overrides)) then
-         known = config_groups
-         if (present(extra_groups)) known = [character(len=16) :: known, extra_groups]
-         call add_overrides(items, overrides, known, error)
-         ! an override of the run length replaces the input's, whichever of the two it gives
-         if (any([(items(i)%group == 'run' .and. allocated(items(i)%origin), i=1, size(items))])) then
-            allocate (kept(0))
-            do i = 1, size(items)
-               if (items(i)%group /= 'run' .or. allocated(items(i)%origin)) kept = [kept, items(i)]
-            end do
-            call move_alloc(kept, items)
-         end if
-      end if
+      call refuse_unknown_groups(groups, group_lines, known, path, error)
+      if (present(overrides)) call put_overrides(items, overrides, known, error)
       call config_parameters(config, table)
       do i = 1, size(config_groups)
          call apply_items(table, items, trim(config_groups(i)), path, error)
       end do
+      call check_given(table, config%scene_kind, error)
+      call choose_run_length(table, config, error)
+      call check_conditions(table, items, path, error)
+      if (allocated(error)) return
+      call validate_config(config, error, given=table)
+      if (allocated(error)) return
+      call resolve_config(config)
+   end subroutine read_config_text
+
+   !> A group that is neither the run's nor one of `known`: named with the known group nearest to it.
+   !> The list of known groups has &sweep too (an input with it is a sweep).
+   subroutine refuse_unknown_groups(groups, lines, known, path, error)
+      character(len=*), intent(in) :: groups(:), known(:), path
+      integer, intent(in) :: lines(:)
+      type(error_t), allocatable, intent(inout) :: error
+      character(len=16), allocatable :: all(:)
+      character(len=:), allocatable :: names, hint
+      integer :: i
+      all = known
+      if (.not. any(all == 'sweep')) all = [character(len=16) :: all, 'sweep']
+      names = join(all, ', ')
+      do i = 1, size(groups)
+         if (any(known == groups(i))) cycle
+         hint = did_you_mean(trim(groups(i)), names, '&')
+         if (len(hint) == 0) hint = ';'
+         call append_error(error, trim(path)//":"//str(lines(i))//": unknown namelist group &"// &
+                           printable(trim(groups(i)))//hint//" known groups: "//join(all, ', ', '&'))
+      end do
+   end subroutine refuse_unknown_groups
+
+   !> Put the command-line overrides into `items`; an override of the run length (periods or end_time)
+   !> replaces the input's, whichever of the two it gives.
+   subroutine put_overrides(items, overrides, known, error)
+      type(nml_item_t), allocatable, intent(inout) :: items(:)
+      character(len=*), intent(in) :: overrides(:), known(:)
+      type(error_t), allocatable, intent(inout) :: error
+      type(nml_item_t), allocatable :: kept(:)
+      character(len=16), allocatable :: all(:)
+      integer :: i
+      all = known
+      if (.not. any(all == 'sweep')) all = [character(len=16) :: all, 'sweep']
+      call add_overrides(items, overrides, all, error)
+      if (any([(items(i)%group == 'run' .and. allocated(items(i)%origin), i=1, size(items))])) then
+         allocate (kept(0))
+         do i = 1, size(items)
+            if (items(i)%group /= 'run' .or. allocated(items(i)%origin)) kept = [kept, items(i)]
+         end do
+         call move_alloc(kept, items)
+      end if
+   end subroutine put_overrides
+
+   !> Each variable's range, where it was given; a variable given for a scene kind that does not use it
+   !> is refused (after an unknown kind, whose own message says what the kinds are, it is not).
+   subroutine check_given(table, kind, error)
+      type(parameter_t), intent(in) :: table(:)
+      character(len=*), intent(in) :: kind
+      type(error_t), allocatable, intent(inout) :: error
+      integer :: i
       do i = 1, size(table)
-         if (table(i)%line > 0 .and. .not. used_by(table(i), trim(config%scene_kind))) then
-            call append_error(error, trim(table(i)%origin)//' '//not_used_message(table(i), config%scene_kind))
+         if (table(i)%line > 0 .and. known_kind(kind) .and. .not. used_by(table(i), trim(kind))) then
+            call append_error(error, trim(table(i)%origin)//' '//not_used_message(table(i), kind))
          else if (table(i)%line > 0) then
             call check_parameter(table(i), error, trim(table(i)%origin)//' ')
          else
             call check_parameter(table(i), error)
          end if
       end do
+   end subroutine check_given
+
+   !> The run's length is given by periods or by end_time, not both.
+   subroutine choose_run_length(table, config, error)
+      type(parameter_t), intent(in) :: table(:)
+      type(config_t), intent(inout) :: config
+      type(error_t), allocatable, intent(inout) :: error
+      integer :: periods, end_time
       periods = find_parameter(table, 'run', 'periods')
       end_time = find_parameter(table, 'run', 'end_time')
       if (table(periods)%line > 0 .and. table(end_time)%line > 0) then
@@ -314,18 +450,104 @@ contains
       else if (table(end_time)%line > 0) then
          config%periods_given = .false.
          config%periods = -huge(1.0_dp) ! no value (for programs reading config_t; the flag decides)
+      else if (table(periods)%line == 0 .and. trim(config%scene_kind) == 'plastic_wave') then
+         config%periods = plastic_wave_periods
       end if
-      if (allocated(error)) return
-      call validate_config(config, error)
-      if (allocated(error)) return
-      call resolve_config(config)
+   end subroutine choose_run_length
+
+   !> A variable used only with one word of another (for_value; flip_fraction, the FLIP share of
+   !> transfer = 'blend') given (in its group or as a &sweep list) where no value of the other, in the
+   !> run or the sweep's list of it, is that word is refused naming both, as a scene variable given to
+   !> another kind is. A sweep list of several values beside other words of the other's list is refused
+   !> too: each of their cases would run once per value, alike (for flip_fraction: 1 is FLIP and 0 PIC,
+   !> so transfer = 'blend' alone covers them).
+   subroutine check_conditions(table, items, path, error)
+      type(parameter_t), intent(in) :: table(:)
+      type(nml_item_t), intent(in) :: items(:)
+      character(len=*), intent(in) :: path
+      type(error_t), allocatable, intent(inout) :: error
+      integer :: k
+      do k = 1, size(table)
+         if (len_trim(table(k)%needs_variable) > 0) call check_condition(k)
+      end do
    contains
-      function extra_list() result(names)
-         character(len=:), allocatable :: names
-         names = ''
-         if (present(extra_groups)) names = ', '//join(extra_groups)
-      end function extra_list
-   end subroutine read_config_text
+      subroutine check_condition(k)
+         integer, intent(in) :: k
+         character(len=64), allocatable :: words(:)
+         character(len=:), allocatable :: where, others, named, word, need
+         integer :: other, other_list, own_list, i
+         other = find_parameter(table, table(k)%group, trim(table(k)%needs_variable))
+         own_list = sweep_item(table(k))
+         other_list = sweep_item(table(other))
+         if (table(k)%line == 0 .and. own_list == 0) return
+         need = trim(table(k)%needs_word)
+         ! the words the run or the sweep's cases use (words the variable does not take are refused elsewhere)
+         allocate (words(0))
+         if (other_list > 0) then
+            do i = 1, size(items(other_list)%values)
+               word = lower(trim(adjustl(items(other_list)%values(i)%text)))
+               if (in_list(word, trim(table(other)%words))) words = [character(len=64) :: words, word]
+            end do
+         else
+            words = [character(len=64) :: table(other)%text_value]
+         end if
+         if (size(words) == 0) return
+         others = ''
+         do i = 1, size(words)
+            if (trim(words(i)) == need .or. index(others, "'"//trim(words(i))//"'") > 0) cycle
+            if (len(others) > 0) others = others//", "
+            others = others//"'"//trim(words(i))//"'"
+         end do
+         if (own_list > 0) then
+            where = item_place(items(own_list), path)//"sweep: "//trim(table(k)%name)//" (the list)"
+         else
+            where = trim(table(k)%origin)//" "//trim(table(k)%group)//": "//trim(table(k)%name)//" = "
+            if (table(k)%type == type_real) then
+               where = where//short_number(table(k)%real_value)
+            else
+               where = where//format_value(table(k))
+            end if
+         end if
+         named = trim(table(other)%name)//" = "//others
+         if (other_list > 0) named = "the sweep's "//trim(table(other)%name)//" list ("//others//")"
+         if (.not. any(words == need)) then
+            call append_error(error, where//" is used only with "//trim(table(other)%name)//" = '"//need// &
+                              "', not with "//named//"; allowed: "//trim(table(k)%name)//" with "// &
+                              trim(table(other)%name)//" = '"//need//"', or no "//trim(table(k)%name))
+         else if (own_list > 0 .and. len(others) > 0) then
+            if (size(items(own_list)%values) > 1) call append_error(error, where//" has "// &
+               str(size(items(own_list)%values))//" values, but the sweep's "//trim(table(other)%name)//" "// &
+               others//" does not use "//trim(table(k)%name)//": each of its cases would run once per value, "// &
+               "alike; allowed: a "//trim(table(k)%name)//" list with "//trim(table(other)%name)//" = '"//need// &
+               "' alone, or the other "//trim(table(other)%name)//" values in a sweep of their own")
+         end if
+      end subroutine check_condition
+
+      !> The &sweep assignment of the list that varies `p` (its name or its former name), 0 if none.
+      integer function sweep_item(p)
+         type(parameter_t), intent(in) :: p
+         integer :: i
+         sweep_item = 0
+         do i = 1, size(items)
+            if (items(i)%group /= 'sweep' .or. len_trim(p%sweep_list) == 0) cycle
+            if (items(i)%name == trim(p%sweep_list) .or. (len_trim(p%sweep_alias) > 0 .and. &
+                                                          items(i)%name == trim(p%sweep_alias))) sweep_item = i
+         end do
+      end function sweep_item
+   end subroutine check_conditions
+
+   !> The material of a validated configuration (the one body's; scenes of several materials give the
+   !> parameters per particle).
+   pure function material_of(config) result(material)
+      type(config_t), intent(in) :: config
+      type(material_t) :: material
+      material%law = law_id(config%law)
+      material%youngs_modulus = config%youngs_modulus
+      if (trim(config%law) == 'elastoplastic') then
+         material%yield_stress = config%yield_stress
+         material%hardening_modulus = config%hardening_modulus
+      end if
+   end function material_of
 
    !> The message refusing a variable that scene kind `kind` does not use.
    function not_used_message(p, kind) result(text)
@@ -336,15 +558,36 @@ contains
              trim(p%kinds)
    end function not_used_message
 
-   !> Check every value; append one line per problem to `error`, naming the variable and range.
+   !> Is `kind` a scene kind the code implements?
+   pure logical function known_kind(kind)
+      character(len=*), intent(in) :: kind
+      known_kind = in_list(trim(kind), known_scenes)
+   end function known_kind
+
+   !> Is `word` one of the comma-separated `list`?
+   pure logical function in_list(word, list)
+      character(len=*), intent(in) :: word, list
+      integer :: first, comma
+      in_list = .false.
+      first = 1
+      do while (first <= len(list))
+         comma = index(list(first:), ',')
+         if (comma == 0) comma = len(list) - first + 2
+         if (trim(adjustl(list(first:first + comma - 2))) == word .and. len(word) > 0) in_list = .true.
+         first = first + comma
+      end do
+   end function in_list
+
+   !> Check every value; append one line per problem to `error`, naming the variable and range, with
+   !> the file and line where it was given when `given` (the table the input was read into) says.
+   !> A value refused through a quantity derived from it is blamed on the variables the user typed.
    !> `with_system = .false.` skips the checks against the machine (memory available, output folder),
    !> which a sweep makes once for its largest case instead of once per case.
-   subroutine validate_config(config, error, with_system)
+   subroutine validate_config(config, error, with_system, given)
       type(config_t), intent(in) :: config
       type(error_t), allocatable, intent(inout) :: error
       logical, intent(in), optional :: with_system
-      real(dp) :: c, dx, dt, end_time
-      integer(i8) :: particles
+      type(parameter_t), intent(in), optional :: given(:)
       type(config_t), target :: local
       type(parameter_t), allocatable :: table(:)
       integer :: i
@@ -356,6 +599,41 @@ contains
       end do
       if (.not. local%periods_given .and. .not. local%end_time_given) call append_error(error, &
          "run: give periods or end_time")
+      call check_counts(config, error)
+      call check_scene(config, error, given)
+      call check_material(config, error)
+      if (allocated(error)) return
+      call check_representable(config, error)
+      if (allocated(error)) return
+      call check_run(config, local%end_time_given, error, given)
+      if (allocated(error)) return
+      if (present(with_system)) then
+         if (.not. with_system) return
+      end if
+      call check_memory(int(config%elements, i8)*config%particles_per_element, config%elements, &
+                        merge(step_count(run_end_time(config), time_step(config)), 0, config%history), error, &
+                        config%margin_cells, automatic_margin(config))
+      call check_output_path(config%file, 'output: file', error)
+   end subroutine validate_config
+
+   !> Where variable `name` of `group` was given ("file:line: "), '' when `given` does not say.
+   function place(given, group, name) result(prefix)
+      type(parameter_t), intent(in), optional :: given(:)
+      character(len=*), intent(in) :: group, name
+      character(len=:), allocatable :: prefix
+      integer :: k
+      prefix = ''
+      if (.not. present(given)) return
+      k = find_parameter(given, group, name)
+      if (k == 0) return
+      if (given(k)%line > 0) prefix = trim(given(k)%origin)//' '
+   end function place
+
+   !> Grid cells and particles within the integers of the arrays.
+   subroutine check_counts(config, error)
+      type(config_t), intent(in) :: config
+      type(error_t), allocatable, intent(inout) :: error
+      integer(i8) :: particles
       particles = int(max(config%elements, 0), i8)*int(max(config%particles_per_element, 0), i8)
       if (int(max(config%elements, 0), i8) + max(config%margin_cells, 0) + 8 > max_count) call append_error(error, &
          "discretisation: elements = "//str(config%elements)//" and margin_cells = "//str(config%margin_cells)// &
@@ -363,25 +641,83 @@ contains
       if (particles > max_count) call append_error(error, &
          "discretisation: elements*particles_per_element = "//str(particles)//" is too large; allowed: <= "// &
          str(max_count))
-      if (trim(config%scene_kind) == 'manufactured' .and. 2*pi*config%amplitude >= config%length) &
-         call append_error(error, "scene: kind = 'manufactured' needs 2 pi amplitude / length < 1 (F > 0 "// &
-                           "everywhere); amplitude = "//str(config%amplitude)//" m, length = "//str(config%length)//" m")
-      if (trim(config%scene_kind) == 'composite_bar') then
-         if (config%length_count < 2 .or. config%modulus_count /= config%length_count .or. &
-             config%density_count /= config%length_count) call append_error(error, "scene: kind = 'composite_bar' "// &
-            "needs 2 to "//str(max_segments)//" segments: lengths, youngs_moduli and densities with one value each "// &
-            "(given "//str(config%length_count)//", "//str(config%modulus_count)//", "//str(config%density_count)//")")
-      end if
-      if (trim(config%scene_kind) == 'impact') call check_impact(config, error)
-      if (allocated(error)) return
+   end subroutine check_counts
 
-      ! Consistency checks that need the resolved quantities; a value refused through a derived
-      ! quantity is blamed on the variables the user typed.
-      call check_representable(config, error)
-      if (allocated(error)) return
+   !> What a scene needs of its variables together (each variable's range is checked on its own).
+   subroutine check_scene(config, error, given)
+      type(config_t), intent(in) :: config
+      type(error_t), allocatable, intent(inout) :: error
+      type(parameter_t), intent(in), optional :: given(:)
+      select case (trim(config%scene_kind))
+      case ('manufactured')
+         if (2*pi*config%amplitude >= config%length) call append_error(error, place(given, 'scene', 'amplitude')// &
+            "scene: kind = 'manufactured' needs 2 pi amplitude / length < 1 (F > 0 everywhere); amplitude = "// &
+            short_number(config%amplitude)//" m, length = "//short_number(config%length)//" m give "// &
+            num(2*pi*config%amplitude/config%length, 4)//"; allowed: amplitude < "//num(config%length/(2*pi), 4)//" m")
+      case ('composite_bar')
+         if (config%length_count < 2 .or. config%modulus_count /= config%length_count .or. &
+             config%density_count /= config%length_count) call append_error(error, place(given, 'scene', 'lengths')// &
+            "scene: kind = 'composite_bar' needs 2 to "//str(max_segments)//" segments: lengths, youngs_moduli and "// &
+            "densities with one value each (given "//str(config%length_count)//", "//str(config%modulus_count)// &
+            ", "//str(config%density_count)//")")
+      case ('impact')
+         call check_impact(config, error, given)
+      end select
+   end subroutine check_scene
+
+   !> The impact's two bars: two values of each list, the configurations its exact solution covers
+   !> (mpm_scene_impact): equal impedances rho c, and for contact = 'none' (the bars stick) equal wave
+   !> transit times L/c; and a grid that resolves both bars: `elements` spans both bars and the gap, and
+   !> a bar shorter than half a cell would get a cell of its own it does not fill.
+   subroutine check_impact(config, error, given)
+      type(config_t), intent(in) :: config
+      type(error_t), allocatable, intent(inout) :: error
+      type(parameter_t), intent(in), optional :: given(:)
+      real(dp) :: z(2), transit(2), dx, shortest
+      integer :: b
+      if (config%length_count /= 2 .or. config%modulus_count /= 2 .or. config%density_count /= 2 .or. &
+          config%velocity_count /= 2) then
+         call append_error(error, place(given, 'scene', 'lengths')//"scene: kind = 'impact' needs two bars: "// &
+                           "lengths, youngs_moduli, densities and velocities with two values each (given "// &
+                           str(config%length_count)//", "//str(config%modulus_count)//", "// &
+                           str(config%density_count)//", "//str(config%velocity_count)//")")
+         return
+      end if
+      z = sqrt(config%youngs_moduli(1:2)*config%densities(1:2))
+      transit = config%lengths(1:2)/sqrt(config%youngs_moduli(1:2)/config%densities(1:2))
+      if (abs(z(1) - z(2)) > 1.0e-9_dp*maxval(z)) call append_error(error, place(given, 'scene', 'youngs_moduli')// &
+         "scene: kind = 'impact' needs equal impedances sqrt(youngs_moduli*densities) of the two bars (its exact "// &
+         "solution covers those); given "//num(z(1), 6)//" and "//num(z(2), 6)//" kg/(m^2 s)")
+      if (trim(config%contact) == 'none' .and. abs(transit(1) - transit(2)) > 1.0e-9_dp*maxval(transit)) &
+         call append_error(error, place(given, 'scene', 'contact')//"scene: kind = 'impact' with contact = 'none' "// &
+                           "needs equal wave transit times lengths/c of the two bars (the stuck bars' exact "// &
+                           "solution); given "//num(transit(1), 6)//" and "//num(transit(2), 6)//" s")
+      dx = body_length(config)/config%elements
+      shortest = minval(config%lengths(1:2))
+      b = minloc(config%lengths(1:2), 1)
+      if (shortest < 0.5_dp*dx) then
+         call append_error(error, place(given, 'scene', 'gap')//"scene: gap = "//short_number(config%gap)// &
+                           " m with lengths = "//short_number(config%lengths(1))//", "// &
+                           short_number(config%lengths(2))//" m on elements = "//str(config%elements)//" gives "// &
+                           "cells of dx = (lengths(1) + gap + lengths(2))/elements = "//num(dx, 4)//" m, more than "// &
+                           "twice bar "//str(b)//"'s length: the grid cannot resolve it; allowed: dx <= 2 "// &
+                           "lengths("//str(b)//"), that is gap <= "//num(max(0.0_dp, 2*shortest*config%elements - &
+                           sum(config%lengths(1:2))), 4)//" m at elements = "//str(config%elements)// &
+                           " (or elements >= "//num(body_length(config)/(2*shortest), 4)//")")
+      end if
+   end subroutine check_impact
+
+   !> The time step and the run's length: dx and dt doubles can hold, at least one step and at most
+   !> huge(1) - 1 of them, a motion of the free ends the grid's margin can hold, snapshots within the run.
+   subroutine check_run(config, end_time_given, error, given)
+      type(config_t), intent(in) :: config
+      logical, intent(in) :: end_time_given
+      type(error_t), allocatable, intent(inout) :: error
+      type(parameter_t), intent(in), optional :: given(:)
+      real(dp) :: c, dx, dt, end_time
       c = largest_wave_speed(config)
       dx = body_length(config)/config%elements
-      dt = config%dt_fraction*dx/c
+      dt = time_step(config)
       if (.not. ieee_is_normal(c) .or. .not. ieee_is_normal(dt) .or. .not. ieee_is_normal(dx) .or. dt <= 0.0_dp) then
          call append_error(error, "scene: length = "//short_number(body_length(config))//" m on elements = "// &
                            str(config%elements)//" with dt_fraction = "//short_number(config%dt_fraction)// &
@@ -390,97 +726,185 @@ contains
          return
       end if
       end_time = run_end_time(config)
-      if (end_time < dt) call append_error(error, run_too_short())
-      if (end_time/dt > real(huge(1) - 1, dp)) call append_error(error, run_length()//" needs "// &
-         num(end_time/dt, 4)//" steps of dt = "//num(dt, 4)//" s; allowed: at most "//str(huge(1) - 1)// &
-         " steps (fewer periods, a larger dt_fraction or fewer elements)")
-      if (config%snapshot_count > 0) then
-         if (any(config%snapshot_times(1:config%snapshot_count) > end_time*(1.0_dp + 1.0e-12_dp))) &
-            call append_error(error, "output: snapshot_times must lie within the run, 0 to "//str(end_time)//" s")
-         associate (t => config%snapshot_times(1:config%snapshot_count))
-            if (any(t(2:) < t(:size(t) - 1))) call append_error(error, "output: snapshot_times = "// &
-               snapshot_list()//" are not in increasing order; allowed: increasing times")
-         end associate
-      end if
-      if (allocated(error)) return
-      if (present(with_system)) then
-         if (.not. with_system) return
-      end if
-      call check_memory(particles, config%elements, merge(step_count(end_time, dt), 0, config%history), error, &
-                        config%margin_cells)
-      call check_output_path(config%file, 'output: file', error)
-   contains
-      !> How the user gave the run's length: "run: end_time = 1e-3 s" or "run: periods = 2 (end time 1e-3 s)".
-      function run_length() result(text)
-         character(len=:), allocatable :: text
-         if (local%end_time_given) then
-            text = "run: end_time = "//short_number(config%end_time)//" s"
-         else
-            text = "run: periods = "//short_number(config%periods)//" (end time "//num(end_time, 4)//" s)"
-         end if
-      end function run_length
+      if (end_time < dt) call append_error(error, run_too_short(config, end_time_given, end_time, dt, given))
+      if (end_time/dt > real(huge(1) - 1, dp)) call append_error(error, too_many_steps(config, end_time_given, &
+                                                                                         end_time, dt, given))
+      if (trim(config%scene_kind) == 'plastic_wave' .and. end_time > (1.0_dp + 1.0e-12_dp)*config%length/c) &
+         call append_error(error, run_length(config, end_time_given, end_time, given)//" ends after the elastic "// &
+                           "precursor reaches the free end at L/c = "//num(config%length/c, 4)//" s, where the "// &
+                           "plastic wave's exact solution stops holding; allowed: periods <= 1 (end_time <= "// &
+                           num(config%length/c, 4)//" s)")
+      call check_motion(config, end_time, dx, error, given)
+      call check_snapshots(config, end_time, error, given)
+   end subroutine check_run
 
-      !> The run is shorter than one step: name what was typed, and what would do.
-      function run_too_short() result(text)
-         character(len=:), allocatable :: text
-         real(dp) :: period
-         integer(i8) :: largest_mode
-         if (local%end_time_given) then
-            text = "run: end_time = "//short_number(config%end_time)//" s: the end time is shorter than one time "// &
-                   "step dt = "//num(dt, 4)//" s; allowed: end_time >= "//num(dt, 4)//" s"
-            return
-         end if
-         period = end_time/config%periods
-         if (trim(config%scene_kind) == 'vibrating_bar' .and. config%mode > 1) then
-            ! periods (2 pi/omega_n = 4 L/((2n-1) c)) >= dt  <=>  2n - 1 <= periods 4 L/(c dt)
-            largest_mode = int(min((config%periods*4*config%length/(c*dt) + 1)/2, real(huge(1), dp)), i8)
-            text = "scene: mode = "//str(config%mode)//" with periods = "//short_number(config%periods)// &
-                   " gives an end time "//num(end_time, 4)//" s, shorter than one time step dt = "// &
-                   num(dt, 4)//" s; allowed: mode <= "//str(largest_mode)//" (or run: periods >= "// &
-                   num(dt/period, 4)//")"
-         else
-            text = "run: periods = "//short_number(config%periods)//" gives an end time "//num(end_time, 4)// &
-                   " s, shorter than one time step dt = "//num(dt, 4)//" s; allowed: periods >= "// &
-                   num(dt/period, 4)
-         end if
-      end function run_too_short
-
-      function snapshot_list() result(text)
-         character(len=:), allocatable :: text
-         integer :: k
-         text = ''
-         do k = 1, config%snapshot_count
-            if (k > 1) text = text//', '
-            text = text//short_number(config%snapshot_times(k))
-         end do
-      end function snapshot_list
-   end subroutine validate_config
-
-   !> The impact's two bars: two values of each list, and the configurations its exact solution covers
-   !> (mpm_scene_impact): equal impedances rho c, and for contact = 'none' (the bars stick) equal wave
-   !> transit times L/c.
-   subroutine check_impact(config, error)
+   !> The &material group against the scene (a variable of another law is refused by its entry's
+   !> condition, for_value): an elastoplastic composite bar or impact needs yield_stresses and hardening_moduli with one
+   !> value per segment, and the manufactured solution's body force is made for an elastic law.
+   subroutine check_material(config, error)
       type(config_t), intent(in) :: config
       type(error_t), allocatable, intent(inout) :: error
-      real(dp) :: z(2), transit(2)
-      if (config%length_count /= 2 .or. config%modulus_count /= 2 .or. config%density_count /= 2 .or. &
-          config%velocity_count /= 2) then
-         call append_error(error, "scene: kind = 'impact' needs two bars: lengths, youngs_moduli, densities and "// &
-                           "velocities with two values each (given "//str(config%length_count)//", "// &
-                           str(config%modulus_count)//", "//str(config%density_count)//", "// &
-                           str(config%velocity_count)//")")
+      logical :: several
+      several = trim(config%scene_kind) == 'composite_bar' .or. trim(config%scene_kind) == 'impact'
+      if (trim(config%law) == 'elastoplastic' .and. several .and. (config%yield_count /= config%length_count .or. &
+                              config%hardening_count /= config%length_count)) then
+         call append_error(error, "material: law = 'elastoplastic' with kind = '"//trim(config%scene_kind)// &
+                           "' needs yield_stresses and hardening_moduli with one value per segment (given "// &
+                           str(config%yield_count)//" and "//str(config%hardening_count)//" for "// &
+                           str(config%length_count)//" segments)")
+      end if
+      if (trim(config%scene_kind) == 'manufactured' .and. trim(config%law) == 'elastoplastic') &
+         call append_error(error, "material: law = 'elastoplastic' is not used by kind = 'manufactured' (its body "// &
+                           "force makes the motion exact for an elastic law); allowed: law = 'hencky' or 'linear'")
+   end subroutine check_material
+
+   !> How the user gave the run's length: "run: end_time = 1e-3 s" or "run: periods = 2 (end time 1e-3 s)",
+   !> for the impact with the time the bars meet, from which periods count.
+   function run_length(config, end_time_given, end_time, given) result(text)
+      type(config_t), intent(in) :: config
+      logical, intent(in) :: end_time_given
+      real(dp), intent(in) :: end_time
+      type(parameter_t), intent(in), optional :: given(:)
+      character(len=:), allocatable :: text
+      if (end_time_given) then
+         text = place(given, 'run', 'end_time')//"run: end_time = "//short_number(config%end_time)//" s"
+      else if (contact_time(config) > 0.0_dp) then
+         text = place(given, 'run', 'periods')//"run: periods = "//short_number(config%periods)//" (end time "// &
+                num(end_time, 4)//" s: the bars meet at t = gap/(velocities(1) - velocities(2)) = "// &
+                num(contact_time(config), 4)//" s with gap = "//short_number(config%gap)//" m, and periods count "// &
+                "from then)"
+      else
+         text = place(given, 'run', 'periods')//"run: periods = "//short_number(config%periods)//" (end time "// &
+                num(end_time, 4)//" s)"
+      end if
+   end function run_length
+
+   !> The run is shorter than one step: name what was typed, and what would do.
+   function run_too_short(config, end_time_given, end_time, dt, given) result(text)
+      type(config_t), intent(in) :: config
+      logical, intent(in) :: end_time_given
+      real(dp), intent(in) :: end_time, dt
+      type(parameter_t), intent(in), optional :: given(:)
+      character(len=:), allocatable :: text
+      real(dp) :: period
+      integer(i8) :: largest_mode
+      if (end_time_given) then
+         text = place(given, 'run', 'end_time')//"run: end_time = "//short_number(config%end_time)//" s: the end "// &
+                "time is shorter than one time step dt = "//num(dt, 4)//" s; allowed: end_time >= "//num(dt, 4)//" s"
          return
       end if
-      z = sqrt(config%youngs_moduli(1:2)*config%densities(1:2))
-      transit = config%lengths(1:2)/sqrt(config%youngs_moduli(1:2)/config%densities(1:2))
-      if (abs(z(1) - z(2)) > 1.0e-9_dp*maxval(z)) call append_error(error, "scene: kind = 'impact' needs equal "// &
-         "impedances sqrt(youngs_moduli*densities) of the two bars (its exact solution covers those); given "// &
-         str(z(1))//" and "//str(z(2))//" kg/(m^2 s)")
-      if (trim(config%contact) == 'none' .and. abs(transit(1) - transit(2)) > 1.0e-9_dp*maxval(transit)) &
-         call append_error(error, "scene: kind = 'impact' with contact = 'none' needs equal wave transit times "// &
-                           "lengths/c of the two bars (the stuck bars' exact solution); given "//str(transit(1))// &
-                           " and "//str(transit(2))//" s")
-   end subroutine check_impact
+      period = end_time/config%periods
+      if (trim(config%scene_kind) == 'vibrating_bar' .and. config%mode > 1) then
+         ! periods (2 pi/omega_n = 4 L/((2n-1) c)) >= dt  <=>  2n - 1 <= periods 4 L/(c dt)
+         largest_mode = int(min((config%periods*4*config%length/(largest_wave_speed(config)*dt) + 1)/2, &
+                                real(huge(1), dp)), i8)
+         text = place(given, 'scene', 'mode')//"scene: mode = "//str(config%mode)//" with periods = "// &
+                short_number(config%periods)//" gives an end time "//num(end_time, 4)//" s, shorter than one "// &
+                "time step dt = "//num(dt, 4)//" s; allowed: mode <= "//str(largest_mode)//" (or run: periods >= "// &
+                num(dt/period, 4)//")"
+      else
+         text = place(given, 'run', 'periods')//"run: periods = "//short_number(config%periods)//" gives an end "// &
+                "time "//num(end_time, 4)//" s, shorter than one time step dt = "//num(dt, 4)//" s; allowed: "// &
+                "periods >= "//num(dt/period, 4)
+      end if
+   end function run_too_short
+
+   !> The run needs more steps than the integers hold: name what was typed. In a body of several
+   !> materials the step follows the fastest wave and the period the slower ones: a large contrast of
+   !> wave speeds is named with the values that give it.
+   function too_many_steps(config, end_time_given, end_time, dt, given) result(text)
+      type(config_t), intent(in) :: config
+      logical, intent(in) :: end_time_given
+      real(dp), intent(in) :: end_time, dt
+      type(parameter_t), intent(in), optional :: given(:)
+      character(len=:), allocatable :: text, advice, part
+      real(dp), allocatable :: c(:)
+      integer :: fast, slow
+      text = run_length(config, end_time_given, end_time, given)//" needs "//num(end_time/dt, 4)// &
+             " steps of dt = "//num(dt, 4)//" s"
+      advice = "fewer periods, a larger dt_fraction or fewer elements"
+      if (end_time_given) advice = "a shorter end_time, a larger dt_fraction or fewer elements"
+      if (contact_time(config) > 0.0_dp .and. .not. end_time_given) advice = "a smaller gap or a faster approach, "//advice
+      if (trim(config%scene_kind) == 'composite_bar' .or. trim(config%scene_kind) == 'impact') then
+         c = sqrt(config%youngs_moduli(1:config%length_count)/config%densities(1:config%length_count))
+         fast = maxloc(c, 1)
+         slow = minloc(c, 1)
+         if (c(fast) > 100*c(slow) .and. .not. end_time_given) then
+            part = merge('segment', 'bar    ', trim(config%scene_kind) == 'composite_bar')
+            text = place(given, 'scene', 'youngs_moduli')//"scene: youngs_moduli("//str(fast)//") = "// &
+                   short_number(config%youngs_moduli(fast))//" Pa and densities("//str(fast)//") = "// &
+                   short_number(config%densities(fast))//" kg/m^3 give "//trim(part)//" "//str(fast)//" a wave "// &
+                   "speed of "//num(c(fast), 4)//" m/s, "//num(c(fast)/c(slow), 3)//" times "//trim(part)//" "// &
+                   str(slow)//"'s ("//num(c(slow), 4)//" m/s): dt follows the fastest wave, the period the "// &
+                   "slower ones, so "//text
+            advice = "wave speeds sqrt(youngs_moduli/densities) closer together, "//advice
+         end if
+      end if
+      text = text//"; allowed: at most "//str(huge(1) - 1)//" steps ("//advice//")"
+   end function too_many_steps
+
+   !> A free end's motion over the run must fit the grid's automatic margin (margin_cells = -1): at most
+   !> 1e8 cells, as for the vibrating bar (check_representable). The composite bar's driven end and the
+   !> impact's bars are named here (their motion grows with the run's length).
+   subroutine check_motion(config, end_time, dx, error, given)
+      type(config_t), intent(in) :: config
+      real(dp), intent(in) :: end_time, dx
+      type(error_t), allocatable, intent(inout) :: error
+      type(parameter_t), intent(in), optional :: given(:)
+      real(dp), parameter :: most_cells = 1.0e8_dp
+      real(dp) :: cells
+      if (config%margin_cells >= 0) return
+      cells = free_end_reach(config, end_time)/dx
+      if (.not. (cells > most_cells)) return
+      select case (trim(config%scene_kind))
+      case ('composite_bar')
+         call append_error(error, place(given, 'scene', 'drive_velocity')//"scene: drive_velocity = "// &
+                           short_number(config%drive_velocity)//" m/s moves the bar's free end by up to 4 v T = "// &
+                           num(free_end_reach(config, end_time), 4)//" m over the run (T = "//num(end_time, 4)// &
+                           " s), about "//num(cells, 3)//" cells of dx = "//num(dx, 4)//" m for the grid's margin"// &
+                           " to hold; allowed: at most 1e8 cells, drive_velocity <= "// &
+                           num(config%drive_velocity*most_cells/cells, 4)//" m/s")
+      case ('impact')
+         call append_error(error, place(given, 'scene', 'velocities')//"scene: velocities = "// &
+                           short_number(config%velocities(1))//", "//short_number(config%velocities(2))// &
+                           " m/s move the bars' outer ends by up to 1.5 max |v| T = "// &
+                           num(free_end_reach(config, end_time), 4)//" m over the run (T = "//num(end_time, 4)// &
+                           " s), about "//num(cells, 3)//" cells of dx = "//num(dx, 4)//" m for the grid's margins"// &
+                           " to hold; allowed: at most 1e8 cells, |velocities| <= "// &
+                           num(maxval(abs(config%velocities))*most_cells/cells, 4)//" m/s")
+      end select
+   end subroutine check_motion
+
+   !> Snapshot times within the run and in increasing order.
+   subroutine check_snapshots(config, end_time, error, given)
+      type(config_t), intent(in) :: config
+      real(dp), intent(in) :: end_time
+      type(error_t), allocatable, intent(inout) :: error
+      type(parameter_t), intent(in), optional :: given(:)
+      integer :: k
+      if (config%snapshot_count == 0) return
+      associate (t => config%snapshot_times(1:config%snapshot_count))
+         do k = 1, size(t)
+            if (t(k) <= end_time*(1.0_dp + 1.0e-12_dp)) cycle
+            call append_error(error, place(given, 'output', 'snapshot_times')//"output: snapshot_times("//str(k)// &
+                              ") = "//short_number(t(k))//" s is after the end of the run at "//num(end_time, 4)// &
+                              " s; allowed: times within the run, 0 to "//num(end_time, 4)//" s")
+            exit
+         end do
+         if (any(t(2:) < t(:size(t) - 1))) call append_error(error, place(given, 'output', 'snapshot_times')// &
+            "output: snapshot_times = "//snapshot_list()//" are not in increasing order; allowed: increasing times")
+      end associate
+   contains
+      function snapshot_list() result(text)
+         character(len=:), allocatable :: text
+         integer :: i
+         text = ''
+         do i = 1, config%snapshot_count
+            if (i > 1) text = text//', '
+            text = text//short_number(config%snapshot_times(i))
+         end do
+      end function snapshot_list
+   end subroutine check_snapshots
 
    !> Refuse a body whose material or motion doubles cannot represent, naming the variables typed: the
    !> wave speed (E/rho), and for the vibrating bar the free end's motion in cells (the grid's margin
@@ -587,11 +1011,13 @@ contains
    !> Refuse a run whose particles and grid would not fit in the memory available now.
    !> `history_steps` is the number of history entries kept (0 without history).
    !> `margin` (margin_cells as given, -1: automatic) adds its empty cells to the grid's.
-   subroutine check_memory(particles, elements, history_steps, error, margin)
+   subroutine check_memory(particles, elements, history_steps, error, margin, automatic)
       integer(i8), intent(in) :: particles
       integer, intent(in) :: elements, history_steps
       type(error_t), allocatable, intent(inout) :: error
       integer, intent(in), optional :: margin
+      !> The cells of the scene's own margin when margin_cells = -1 (automatic_margin).
+      integer(i8), intent(in), optional :: automatic
       integer(i8) :: needed, available, margin_cells
       integer, parameter :: bytes_per_element = 10*8 ! grid: 5 element shares + 5 nodal arrays
       integer, parameter :: bytes_per_history_entry = 5*8
@@ -600,6 +1026,12 @@ contains
       if (present(margin)) margin_cells = max(margin, 0)
       with_margin = ''
       if (margin_cells > 0) with_margin = " and margin_cells = "//str(margin_cells)
+      if (present(automatic) .and. margin_cells == 0) then
+         if (present(margin)) then
+            if (margin < 0) margin_cells = automatic
+         end if
+         if (margin_cells > 1000) with_margin = " with the scene's automatic margin of "//str(margin_cells)//" cells"
+      end if
       needed = particles*bytes_per_particle + (int(max(elements, 0), i8) + margin_cells)*bytes_per_element + &
                int(history_steps, i8)*bytes_per_history_entry
       available = available_memory()
@@ -643,9 +1075,64 @@ contains
          omega = (2*config%mode - 1)*pi/(2.0_dp*config%length)*sqrt(config%youngs_modulus/config%density)
          run_end_time = config%periods*2.0_dp*pi/omega
       else
-         run_end_time = config%periods*scene_period(config)
+         ! the impact's periods count from the bars' first contact (0 when they meet at once or never)
+         run_end_time = contact_time(config) + config%periods*scene_period(config)
       end if
    end function run_end_time
+
+   !> When the impact's bars first touch: gap/(v1 - v2) when bar 1 is faster toward bar 2, else 0 (they
+   !> touch at once or never); 0 for the other scenes.
+   pure real(dp) function contact_time(config)
+      type(config_t), intent(in) :: config
+      contact_time = 0.0_dp
+      if (trim(config%scene_kind) /= 'impact' .or. config%velocity_count /= 2) return
+      if (config%velocities(1) > config%velocities(2)) &
+         contact_time = config%gap/(config%velocities(1) - config%velocities(2))
+   end function contact_time
+
+   !> The time step of a validated configuration: dt = dt_fraction dx/c, c the fastest wave speed.
+   pure real(dp) function time_step(config)
+      type(config_t), intent(in) :: config
+      time_step = config%dt_fraction*(body_length(config)/config%elements)/largest_wave_speed(config)
+   end function time_step
+
+   !> How far a free end can move out over a run of `end_time` (m): the scene's automatic grid margin
+   !> holds it (mpm_scene_*: margin_cells). The bar: the end's amplitude |v0|/omega_n; the column: its
+   !> sag g L^2/c^2; the composite bar: 4 v T (a transmitted wave's particle velocity is at most 2 v,
+   !> doubled at the free end); the impact: 1.5 max |v_b| T on either side; the manufactured solution
+   !> has no free end.
+   pure real(dp) function free_end_reach(config, end_time) result(reach)
+      type(config_t), intent(in) :: config
+      real(dp), intent(in) :: end_time
+      real(dp) :: c
+      c = largest_wave_speed(config)
+      select case (trim(config%scene_kind))
+      case ('vibrating_bar')
+         reach = abs(config%velocity_amplitude)/((2*real(config%mode, dp) - 1)*pi/(2.0_dp*config%length)*c)
+      case ('column')
+         reach = config%gravity*config%length**2/c**2
+      case ('composite_bar')
+         reach = 4.0_dp*config%drive_velocity*end_time
+      case ('impact')
+         reach = 1.5_dp*maxval(abs(config%velocities(1:2)))*end_time
+      case default
+         reach = 0.0_dp
+      end select
+   end function free_end_reach
+
+   !> The empty cells the scene's grid gets beyond its free ends when margin_cells = -1: its reach in
+   !> cells plus 2 on each free end (the impact has two), as mpm_scene's margin_for counts them.
+   integer(i8) function automatic_margin(config)
+      type(config_t), intent(in) :: config
+      real(dp) :: cells
+      automatic_margin = 0
+      if (config%margin_cells >= 0) return
+      cells = free_end_reach(config, run_end_time(config))/(body_length(config)/config%elements)
+      if (.not. (cells <= 1.0e9_dp)) cells = 1.0e9_dp
+      automatic_margin = 2 + ceiling(cells, i8)
+      if (trim(config%scene_kind) == 'impact') automatic_margin = 2*automatic_margin
+      if (trim(config%scene_kind) == 'manufactured') automatic_margin = 0
+   end function automatic_margin
 
    !> The length of the body: the composite bar's segments together, else `length`.
    pure real(dp) function body_length(config)
@@ -687,6 +1174,8 @@ contains
          associate (n => config%length_count)
             scene_period = sum(config%lengths(1:n)/sqrt(config%youngs_moduli(1:n)/config%densities(1:n)))
          end associate
+      case ('plastic_wave') ! the elastic precursor's transit time
+         scene_period = config%length/c
       case ('impact') ! the longer of the bars' wave round trips 2 L/c (identical bars: the contact time)
          scene_period = 2.0_dp*maxval(config%lengths(1:2)/sqrt(config%youngs_moduli(1:2)/config%densities(1:2)))
       case default
@@ -788,14 +1277,23 @@ contains
    end subroutine write_config_namelist
 
    !> The configuration as namelist text (one group per line) that reproduces the run.
+   !> A variable used only with a word of another (flip_fraction with transfer = 'blend') is left out
+   !> when the other has another word, unless its value is not the default: then a sweep's transfer list
+   !> has the word (a validated single run could not have it), and the sweep's echo keeps the value.
    function config_namelist(config) result(text)
       type(config_t), intent(in) :: config
       character(len=:), allocatable :: text
-      type(config_t), target :: local
-      type(parameter_t), allocatable :: table(:)
+      type(config_t), target :: local, defaults
+      type(parameter_t), allocatable :: table(:), default_table(:)
       integer :: i
       local = config
       call config_parameters(local, table)
+      defaults = config_t()
+      call config_parameters(defaults, default_table)
+      do i = 1, size(table)
+         if (len_trim(table(i)%needs_variable) == 0) cycle
+         if (format_value(table(i)) /= format_value(default_table(i))) table(i)%needs_variable = ''
+      end do
       text = ''
       do i = 1, size(config_groups)
          text = text//group_namelist(table, trim(config_groups(i)), trim(config%scene_kind))
@@ -812,14 +1310,17 @@ contains
              " dx/c = "//num(config%dt, 3)//" s, "//plural(config%steps, "step")
    end function config_summary
 
-   pure function join(words) result(text)
-      character(len=*), intent(in) :: words(:)
+   !> `words` joined by `separator`, each after `before` ('&scene, &run').
+   pure function join(words, separator, before) result(text)
+      character(len=*), intent(in) :: words(:), separator
+      character(len=*), intent(in), optional :: before
       character(len=:), allocatable :: text
       integer :: i
       text = ''
       do i = 1, size(words)
-         text = text//'&'//trim(words(i))
-         if (i < size(words)) text = text//', '
+         if (present(before)) text = text//before
+         text = text//trim(words(i))
+         if (i < size(words)) text = text//separator
       end do
    end function join
 end module mpm_config

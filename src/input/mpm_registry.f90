@@ -1,10 +1,10 @@
 !> The parameter registry: one table entry per input variable (group, name, type, allowed range,
 !> unit, help line, sweep list name, /config attribute name) bound by pointer to the field it fills,
-!> and everything that works from such a table: a namelist reader of its own (line numbers,
-!> quoted strings, logicals, repeat counts, comments, multi-line groups), setting a variable from
-!> the text of its values (the same path will serve command-line overrides `group.name=value`),
-!> range checks that name group, variable, value and range, and the text of the echo, of --help
-!> and of the machine-readable listing the Python loader reads.
+!> and everything that works from such a table: setting a variable from the text of its values as
+!> the namelist reader (mpm_namelist) read them, from a file or a command-line override
+!> `group.name=value`; range checks that name group, variable, value and range (and the known name
+!> nearest to a misspelled one); the text of the echo, of --help and of the machine-readable
+!> listing the Python loader reads. The reader's types and procedures are public here too.
 !>
 !> A table is built on one instance of the type it describes (`config_parameters` in mpm_config,
 !> `sweep_parameters` in mpm_sweep) and lives only as long as that instance stays in place.
@@ -13,6 +13,9 @@ module mpm_registry
    use mpm_kinds, only: dp, i8
    use mpm_errors, only: error_t, set_error, append_error
    use mpm_strings, only: str, lower
+   use mpm_namelist, only: nml_value_t, nml_item_t, read_namelist, parse_namelist, read_input_text, add_overrides, &
+                           item_place
+   use mpm_suggest, only: did_you_mean, nearest_words, printable
    implicit none
    private
    public :: parameter_t, nml_value_t, nml_item_t
@@ -22,11 +25,10 @@ module mpm_registry
    public :: apply_items, set_parameter, check_parameter, allowed_text
    public :: value_list_t, read_value_list, single_value_list, set_from_list, list_text
    public :: format_value, quoted, real_value, int_value, text_value, find_parameter, group_namelist
-   public :: parameter_listing, parameter_help, short_number, entry_names, used_by, for_kinds
+   public :: parameter_listing, parameter_help, short_number, entry_names, used_by, for_kinds, sweep_name_hint
+   public :: for_value, applies
 
    integer, parameter :: type_real = 1, type_int = 2, type_text = 3, type_logical = 4, type_real_list = 5
-   character(len=*), parameter :: identifier_characters = &
-                                  'abcdefghijklmnopqrstuvwxyzABCDEFGHIJKLMNOPQRSTUVWXYZ0123456789_'
 
    !> One input variable: what it is, what it may be, and where its value lives.
    type :: parameter_t
@@ -36,12 +38,12 @@ module mpm_registry
       character(len=32) :: attribute = ''
       integer :: type = type_real
       character(len=16) :: unit = ''
-      character(len=160) :: help = ''
+      character(len=480) :: help = ''
       !> Range of numbers (and of each list element): bounds, whether each is present and open.
       real(dp) :: lower = 0.0_dp, upper = 0.0_dp
       logical :: has_lower = .false., has_upper = .false., lower_open = .false., upper_open = .false.
       !> Allowed words of a text variable, comma separated ('' = any non-empty text that fits).
-      character(len=64) :: words = ''
+      character(len=96) :: words = ''
       !> Said after the range in messages and --help (e.g. the meaning of a special value).
       character(len=96) :: note = ''
       !> Name of the &sweep list that varies this variable ('' = not sweepable). One rule: a list is
@@ -54,6 +56,10 @@ module mpm_registry
       !> The scene kinds that use it, comma separated ('' = every kind): given for another kind it is
       !> refused, and it is left out of that kind's echo and /config (see used_by).
       character(len=96) :: kinds = ''
+      !> Used only when text variable `needs_variable` of the same table is `needs_word` ('' = always):
+      !> given otherwise it is refused, and it is left out of the echo (see for_value, applies).
+      character(len=32) :: needs_variable = ''
+      character(len=16) :: needs_word = ''
       !> Line of the input where it was given (0 = not given).
       integer :: line = 0
       !> Where it was given, as messages name it ("file:line: " or "command line 'group.name=value': ");
@@ -69,22 +75,6 @@ module mpm_registry
       !> flag, not a value a user could type.
       logical, pointer :: given => null()
    end type parameter_t
-
-   !> One value as written in the input.
-   type :: nml_value_t
-      character(len=:), allocatable :: text
-      logical :: quoted = .false.
-      logical :: null = .false.
-   end type nml_value_t
-
-   !> One assignment `name = value, value, ...` of group `group` at line `line`.
-   type :: nml_item_t
-      character(len=:), allocatable :: group, name
-      integer :: line = 0
-      !> Set for a command-line override: how messages name it ("command line '...': ").
-      character(len=:), allocatable :: origin
-      type(nml_value_t), allocatable :: values(:)
-   end type nml_item_t
 
    !> The values of one &sweep list, typed as the variable it varies.
    type :: value_list_t
@@ -443,7 +433,7 @@ contains
       type(parameter_t), intent(in) :: p
       type(error_t), allocatable, intent(inout) :: error
       character(len=*), intent(in), optional :: where
-      character(len=:), allocatable :: prefix
+      character(len=:), allocatable :: prefix, hint
       integer :: k
       prefix = ''
       if (present(where)) prefix = where
@@ -456,8 +446,10 @@ contains
       case (type_text)
          if (.not. word_allowed(p, p%text_value)) then
             if (len_trim(p%words) > 0) then
-               call append_error(error, prefix//trim(p%group)//": "//trim(p%name)//" = "//quoted(trim(p%text_value))// &
-                                 " is unknown; allowed: "//allowed_text(p))
+               hint = did_you_mean(trim(p%text_value), trim(p%words), "'", "'")
+               if (len(hint) == 0) hint = ';'
+               call append_error(error, prefix//trim(p%group)//": "//trim(p%name)//" = "// &
+                                 quoted(printable(trim(p%text_value)))//" is unknown"//hint//" allowed: "//allowed_text(p))
             else
                call append_error(error, prefix//trim(p%group)//": "//trim(p%name)//" is empty; allowed: "// &
                                  allowed_text(p))
@@ -554,16 +546,21 @@ contains
       integer(i8) :: big
       integer :: stat
       problem = ''
+      if (index(value%text, achar(0)) > 0) then ! (a file name would end there)
+         problem = quoted(printable(value%text))//' holds a NUL byte (\0, character code 0), where a program '// &
+                   'reading it would see the text end'
+         return
+      end if
       if (p%type == type_text) then
          if (.not. value%quoted) then
-            problem = value%text//' is not quoted text'
+            problem = printable(value%text)//' is not quoted text'
          else if (len(value%text) > len(p%text_value)) then
-            problem = quoted(value%text)//' is longer than '//str(len(p%text_value))//' characters'
+            problem = quoted(printable(value%text))//' is longer than '//str(len(p%text_value))//' characters'
          end if
          return
       end if
       if (value%quoted) then
-         problem = quoted(value%text)//' is text, not '//article(type_name(p%type))
+         problem = quoted(printable(value%text))//' is text, not '//article(type_name(p%type))
          return
       end if
       word = lower(value%text)
@@ -572,29 +569,29 @@ contains
          select case (word)
          case ('t', 'f', '.t.', '.f.', '.true.', '.false.', 'true', 'false', '.t', '.f')
          case default
-            problem = value%text//' is not a logical'
+            problem = printable(value%text)//' is not a logical'
          end select
       case (type_int)
          if (verify(word(1:1), '+-0123456789') /= 0 .or. verify(word(2:), '0123456789') /= 0 .or. &
              verify(word, '+-') == 0) then
-            problem = value%text//' is not a whole number'
+            problem = printable(value%text)//' is not a whole number'
          else
             read (word, *, iostat=stat) big
             if (stat /= 0 .or. len(word) > 19 .or. abs(big) > huge(1)) &
-               problem = value%text//' is beyond the integers of this program (at most '//str(huge(1))//')'
+               problem = printable(value%text)//' is beyond the integers of this program (at most '//str(huge(1))//')'
          end if
       case default ! real
          select case (word)
          case ('nan', 'inf', '+inf', '-inf', 'infinity', '+infinity', '-infinity')
          case default
             if (verify(word, '+-0123456789.ed') /= 0 .or. scan(word, '0123456789') == 0) then
-               problem = value%text//' is not a real number'
+               problem = printable(value%text)//' is not a real number'
             else
                block
                   real(dp) :: x
                   read (word, *, iostat=stat) x
                end block
-               if (stat /= 0) problem = value%text//' is not a real number'
+               if (stat /= 0) problem = printable(value%text)//' is not a real number'
             end if
          end select
       end select
@@ -783,548 +780,6 @@ contains
       end do
    end function list_text
 
-   ! ------------------------------------------------------------------ the namelist reader
-
-   !> Read every group of `path` into assignments. Refused: text outside a group, a group without
-   !> its closing '/', a value without a name. `groups` receives the group names in file order.
-   subroutine read_namelist(path, items, groups, group_lines, error)
-      character(len=*), intent(in) :: path
-      type(nml_item_t), allocatable, intent(out) :: items(:)
-      character(len=32), allocatable, intent(out) :: groups(:)
-      integer, allocatable, intent(out) :: group_lines(:)
-      type(error_t), allocatable, intent(out) :: error
-      character(len=:), allocatable :: text
-
-      allocate (items(0), groups(0), group_lines(0))
-      call read_input_text(path, text, error)
-      if (allocated(error)) return
-      call parse_namelist(text, path, items, groups, group_lines, error)
-   end subroutine read_namelist
-
-   !> The whole text of input file `path`, read once ('-': standard input, to its end). A FIFO or other
-   !> stream (`mpm1d <(...)`) is read once to its end as standard input is: it cannot be read twice.
-   subroutine read_input_text(path, text, error)
-      use, intrinsic :: iso_fortran_env, only: input_unit
-      use mpm_files, only: path_kind, path_other
-      character(len=*), intent(in) :: path
-      character(len=:), allocatable, intent(out) :: text
-      type(error_t), allocatable, intent(out) :: error
-      integer :: n, unit, stat
-      logical :: is_folder, stream
-      character(len=512) :: msg
-
-      text = ''
-      if (path == '-') then
-         call read_stream(input_unit, 'standard input')
-         return
-      end if
-      inquire (file=trim(path)//'/.', exist=is_folder)
-      if (is_folder) then
-         call set_error(error, "input file '"//trim(path)//"' is a folder; allowed: a namelist file")
-         return
-      end if
-      stream = path_kind(path) == path_other
-      if (stream) then
-         open (newunit=unit, file=path, status='old', action='read', form='formatted', access='sequential', &
-               iostat=stat, iomsg=msg)
-      else
-         open (newunit=unit, file=path, status='old', action='read', access='stream', form='unformatted', &
-               iostat=stat, iomsg=msg)
-      end if
-      if (stat /= 0) then
-         call set_error(error, "cannot open input file '"//trim(path)//"': "//trim(msg))
-         return
-      end if
-      if (stream) then
-         call read_stream(unit, "input file '"//trim(path)//"'")
-         close (unit)
-         return
-      end if
-      inquire (unit=unit, size=n)
-      deallocate (text)
-      allocate (character(len=max(n, 0)) :: text)
-      stat = 0
-      if (n > 0) read (unit, iostat=stat, iomsg=msg) text
-      close (unit)
-      if (stat /= 0) then
-         call set_error(error, "cannot read input file '"//trim(path)//"': "//trim(msg))
-         return
-      end if
-   contains
-      !> Read `unit` line by line to its end (each line ends in a newline in `text`).
-      subroutine read_stream(unit, name)
-         integer, intent(in) :: unit
-         character(len=*), intent(in) :: name
-         character(len=4096) :: chunk
-         integer :: got
-         do
-            read (unit, '(a)', advance='no', iostat=stat, size=got) chunk
-            if (is_iostat_end(stat)) exit
-            if (stat /= 0 .and. .not. is_iostat_eor(stat)) then
-               call set_error(error, 'cannot read the namelist from '//name)
-               return
-            end if
-            text = text//chunk(1:got)
-            if (is_iostat_eor(stat)) text = text//new_line('a')
-         end do
-      end subroutine read_stream
-   end subroutine read_input_text
-
-   !> Command-line overrides `group.name=value[, value ...]`: each is read by the namelist reader as
-   !> "&group name=value /" and replaces the input's assignment of that variable (or adds one); a later
-   !> override of the same variable replaces an earlier one. Messages name the override as typed.
-   !> `known_groups`: the groups an override may name.
-   subroutine add_overrides(items, overrides, known_groups, error)
-      type(nml_item_t), allocatable, intent(inout) :: items(:)
-      character(len=*), intent(in) :: overrides(:), known_groups(:)
-      type(error_t), allocatable, intent(inout) :: error
-      type(nml_item_t), allocatable :: parsed(:), kept(:)
-      character(len=32), allocatable :: groups(:)
-      integer, allocatable :: lines(:)
-      type(error_t), allocatable :: problem
-      character(len=:), allocatable :: text, origin, group, name, known
-      integer :: i, j, n, dot, eq
-
-      known = ''
-      do i = 1, size(known_groups)
-         if (i > 1) known = known//', '
-         known = known//trim(known_groups(i))
-      end do
-      do i = 1, size(overrides)
-         text = trim(overrides(i))
-         origin = "command line '"//text//"'"
-         eq = index(text, '=')
-         dot = 0
-         if (eq > 1) dot = index(text(1:eq - 1), '.')
-         if (dot < 2 .or. dot >= eq - 1) then
-            call append_error(error, origin//": not an override; allowed: group.name=value, "// &
-                              "e.g. discretisation.elements=40")
-            cycle
-         end if
-         group = lower(text(1:dot - 1))
-         name = lower(trim(text(dot + 1:eq - 1)))
-         if (.not. any(known_groups == group)) then
-            call append_error(error, origin//": unknown namelist group '"//group//"' (known groups: "//known//")")
-            cycle
-         end if
-         call parse_namelist('&'//group//' '//name//' = '//bare_words_quoted(text(eq + 1:))//' /', origin, parsed, &
-                             groups, lines, problem)
-         if (allocated(problem)) then
-            call append_error(error, replace_all(problem%message, origin//':1: ', origin//': '))
-            deallocate (problem)
-            cycle
-         end if
-         if (size(parsed) /= 1) then
-            call append_error(error, origin//": not one assignment; allowed: group.name=value")
-            cycle
-         end if
-         parsed(1)%origin = origin//': '
-         allocate (kept(0))
-         n = 0
-         do j = 1, size(items)
-            if (items(j)%group == parsed(1)%group .and. items(j)%name == parsed(1)%name) cycle
-            kept = [kept, items(j)]
-         end do
-         items = [kept, parsed(1)]
-         deallocate (kept)
-      end do
-   end subroutine add_overrides
-
-   !> An override's value as the shell leaves it: without any quote, each comma-separated word that is
-   !> neither a number nor a logical is text and gets quotes (discretisation.scheme=musl is 'musl').
-   function bare_words_quoted(value) result(text)
-      character(len=*), intent(in) :: value
-      character(len=:), allocatable :: text, word
-      integer :: start, comma, stat
-      real(dp) :: x
-      if (scan(value, '"'//"'") > 0) then
-         text = value
-         return
-      end if
-      text = ''
-      start = 1
-      do
-         comma = index(value(start:), ',')
-         if (comma == 0) then
-            word = trim(adjustl(value(start:)))
-         else
-            word = trim(adjustl(value(start:start + comma - 2)))
-         end if
-         ! a number: digits, sign, point and exponent only (list-directed reading alone would take
-         ! '/tmp/a.h5' as an empty value), or NaN and Infinity, which the checks then refuse by name
-         stat = 1
-         if (verify(word, '0123456789+-.eEdD') == 0) read (word, *, iostat=stat) x
-         if (len(word) > 0 .and. stat /= 0 .and. .not. any(lower(word) == [character(len=9) :: 't', 'f', &
-             '.true.', '.false.', '.t.', '.f.', 'nan', 'inf', 'infinity', '+inf', '-inf', '+infinity', '-infinity'])) &
-            word = "'"//word//"'"
-         text = text//word
-         if (comma == 0) exit
-         text = text//', '
-         start = start + comma
-      end do
-   end function bare_words_quoted
-
-   !> How messages name where `item` was given: "path:line: " or its override's origin.
-   function item_place(item, path) result(place)
-      type(nml_item_t), intent(in) :: item
-      character(len=*), intent(in) :: path
-      character(len=:), allocatable :: place
-      if (allocated(item%origin)) then
-         place = item%origin
-      else
-         place = trim(path)//":"//str(item%line)//": "
-      end if
-   end function item_place
-
-   pure function replace_all(text, old, new) result(out)
-      character(len=*), intent(in) :: text, old, new
-      character(len=:), allocatable :: out
-      integer :: k, start
-      out = ''
-      start = 1
-      do
-         k = index(text(start:), old)
-         if (k == 0) exit
-         out = out//text(start:start + k - 2)//new
-         start = start + k - 1 + len(old)
-      end do
-      out = out//text(start:)
-   end function replace_all
-
-   !> Parse namelist `text` (from `source`, named in messages as "source:line: ") into assignments.
-   !> Also the way for other text to reach the registry, e.g. a command-line override
-   !> `group.name=value` given as "&group name=value /".
-   subroutine parse_namelist(text, source, items, groups, group_lines, error)
-      character(len=*), intent(in) :: text, source
-      type(nml_item_t), allocatable, intent(out) :: items(:)
-      character(len=32), allocatable, intent(out) :: groups(:)
-      integer, allocatable, intent(out) :: group_lines(:)
-      type(error_t), allocatable, intent(out) :: error
-      character(len=:), allocatable :: group, path
-      integer, allocatable :: line_of(:)
-      integer :: pos, group_line, nvalues, nitems
-      type(nml_item_t) :: item
-
-      path = source
-      nvalues = 0
-      nitems = 0
-      allocate (items(0), groups(0), group_lines(0))
-      allocate (line_of(len(text) + 1))
-      line_of(1) = 1
-      do pos = 2, len(text) + 1
-         line_of(pos) = line_of(pos - 1)
-         if (text(pos - 1:pos - 1) == new_line('a')) line_of(pos) = line_of(pos) + 1
-      end do
-
-      pos = 1
-      do
-         call skip_blanks_and_comments()
-         if (pos > len(text) .or. too_many()) exit
-         if (text(pos:pos) /= '&') then
-            call append_error(error, where(pos)//"text outside a namelist group: '"//line_text(pos)// &
-                              "'; allowed: &group name=value, ... / and comments after '!'")
-            call skip_line()
-            cycle
-         end if
-         group_line = line_of(pos)
-         pos = pos + 1
-         group = lower(identifier())
-         if (len(group) == 0) then
-            call append_error(error, where(pos)//"'&' without a group name")
-            call skip_line()
-            cycle
-         end if
-         if (any(groups == group)) call append_error(error, trim(path)//":"//str(group_line)//": group &"// &
-                                                       group//" is given twice")
-         groups = [character(len=32) :: groups, group]
-         group_lines = [group_lines, group_line]
-         call read_group()
-      end do
-      items = items(1:nitems)
-   contains
-      !> Past the problems an error lists, reading stops (the rest of a binary or garbage file adds nothing).
-      logical function too_many()
-         too_many = .false.
-         if (allocated(error)) too_many = error%problems > 100
-      end function too_many
-
-      function where(at) result(prefix)
-         integer, intent(in) :: at
-         character(len=:), allocatable :: prefix
-         prefix = trim(path)//":"//str(line_of(min(at, size(line_of))))//": "
-      end function where
-
-      function line_text(at) result(line)
-         integer, intent(in) :: at
-         character(len=:), allocatable :: line
-         integer :: last
-         last = index(text(at:), new_line('a'))
-         if (last == 0) then
-            line = trim(text(at:min(len(text), at + 60)))
-         else
-            line = trim(text(at:min(at + last - 2, at + 60)))
-         end if
-      end function line_text
-
-      subroutine skip_line()
-         do while (pos <= len(text))
-            if (text(pos:pos) == new_line('a')) exit
-            pos = pos + 1
-         end do
-      end subroutine skip_line
-
-      logical function blank(c)
-         character(len=1), intent(in) :: c
-         blank = c == ' ' .or. c == achar(9) .or. c == new_line('a') .or. c == achar(13)
-      end function blank
-
-      subroutine skip_blanks_and_comments()
-         do while (pos <= len(text))
-            if (text(pos:pos) == '!') then
-               call skip_line()
-            else if (blank(text(pos:pos))) then
-               pos = pos + 1
-            else
-               exit
-            end if
-         end do
-      end subroutine skip_blanks_and_comments
-
-      function identifier() result(name)
-         character(len=:), allocatable :: name
-         integer :: start
-         start = pos
-         do while (pos <= len(text))
-            if (index(identifier_characters, text(pos:pos)) == 0) exit
-            pos = pos + 1
-         end do
-         name = text(start:pos - 1)
-      end function identifier
-
-      !> Is an identifier followed by '=' at `pos`? (the start of the next assignment)
-      logical function assignment_ahead()
-         integer :: k
-         assignment_ahead = .false.
-         k = pos
-         if (index('abcdefghijklmnopqrstuvwxyzABCDEFGHIJKLMNOPQRSTUVWXYZ', text(k:k)) == 0) return
-         do while (k <= len(text))
-            if (index(identifier_characters, text(k:k)) == 0) exit
-            k = k + 1
-         end do
-         do while (k <= len(text))
-            if (.not. blank(text(k:k))) exit
-            k = k + 1
-         end do
-         if (k > len(text)) return
-         assignment_ahead = text(k:k) == '=' .or. text(k:k) == '('
-      end function assignment_ahead
-
-      subroutine read_group()
-         logical :: have_item, after_value
-         type(nml_value_t) :: value
-         integer :: repeat, stat, star
-         have_item = .false.
-         after_value = .false.
-         do
-            call skip_blanks_and_comments()
-            if (too_many()) return
-            if (pos > len(text)) then
-               call append_error(error, trim(path)//":"//str(group_line)//": group &"//group// &
-                                 ": not terminated by '/' (end of file reached)")
-               call finish_item()
-               return
-            end if
-            if (text(pos:pos) == '/') then
-               pos = pos + 1
-               call finish_item()
-               return
-            end if
-            if (end_marker()) then ! the older terminator '&end'
-               pos = pos + 4
-               call finish_item()
-               return
-            end if
-            if (text(pos:pos) == '&') then
-               call append_error(error, where(pos)//"group &"//group//": not terminated by '/' before the next group")
-               call finish_item()
-               return
-            end if
-            if (text(pos:pos) == ',') then
-               if (.not. after_value .and. have_item) call add_value(nml_value_t(text='', null=.true.))
-               after_value = .false.
-               pos = pos + 1
-               cycle
-            end if
-            if (assignment_ahead()) then
-               call finish_item()
-               item%group = group
-               item%line = line_of(pos)
-               item%name = lower(identifier())
-               allocate (item%values(0))
-               nvalues = 0
-               call skip_blanks_and_comments()
-               if (text(pos:pos) == '(') then
-                  call append_error(error, where(pos)//"group &"//group//": '"//item%name//"(...)': indexed "// &
-                                    "assignment is not supported; give the whole list")
-                  do while (pos <= len(text))
-                     if (text(pos:pos) == '=') exit
-                     pos = pos + 1
-                  end do
-               end if
-               pos = pos + 1 ! the '='
-               have_item = .true.
-               after_value = .false.
-               cycle
-            end if
-            if (.not. have_item) then
-               call append_error(error, where(pos)//"group &"//group//": value '"//token_text()// &
-                                 "' without a name; allowed: name = value")
-               call skip_token()
-               cycle
-            end if
-            ! a value, maybe with a repeat count r*
-            repeat = 1
-            star = 0
-            if (.not. quote_at(pos)) star = repeat_star()
-            if (star > 0) then
-               read (text(pos:star - 1), *, iostat=stat) repeat
-               if (stat /= 0 .or. repeat < 1 .or. repeat > 100000) then
-                  call append_error(error, where(pos)//"group &"//group//": bad repeat count '"// &
-                                    text(pos:star - 1)//"' for '"//item%name//"'")
-                  repeat = 1
-               end if
-               pos = star + 1
-               if (pos > len(text)) then
-                  value = nml_value_t(text='', null=.true.)
-               else if (blank(text(pos:pos)) .or. text(pos:pos) == ',' .or. text(pos:pos) == '/') then
-                  value = nml_value_t(text='', null=.true.)
-               else
-                  value = next_value()
-               end if
-            else
-               value = next_value()
-            end if
-            do stat = 1, repeat
-               call add_value(value)
-            end do
-            after_value = .true.
-         end do
-      end subroutine read_group
-
-      !> Is '&end' (not followed by a name character) at pos?
-      logical function end_marker()
-         end_marker = .false.
-         if (pos + 3 > len(text)) return
-         if (lower(text(pos:pos + 3)) /= '&end') return
-         end_marker = .true.
-         if (pos + 4 <= len(text)) end_marker = index(identifier_characters, text(pos + 4:pos + 4)) == 0
-      end function end_marker
-
-      logical function quote_at(k)
-         integer, intent(in) :: k
-         quote_at = text(k:k) == "'" .or. text(k:k) == '"'
-      end function quote_at
-
-      !> Position of the '*' of a repeat count `digits*` at pos, 0 if none.
-      integer function repeat_star()
-         integer :: k
-         repeat_star = 0
-         k = pos
-         do while (k <= len(text))
-            if (index('0123456789', text(k:k)) == 0) exit
-            k = k + 1
-         end do
-         if (k > pos .and. k <= len(text)) then
-            if (text(k:k) == '*') repeat_star = k
-         end if
-      end function repeat_star
-
-      function next_value() result(value)
-         type(nml_value_t) :: value
-         character(len=1) :: quote
-         if (quote_at(pos)) then
-            quote = text(pos:pos)
-            value%quoted = .true.
-            value%text = ''
-            pos = pos + 1
-            do
-               if (pos > len(text)) then
-                  call append_error(error, where(pos)//"group &"//group//": text for '"//item%name// &
-                                    "' has no closing quote")
-                  return
-               end if
-               if (text(pos:pos) == new_line('a')) then ! no text value spans lines: a quote is missing
-                  call append_error(error, where(pos)//"group &"//group//": text for '"//item%name// &
-                                    "' runs past the end of its line (a closing quote missing, or a line break "// &
-                                    "in the text); allowed: quoted text on one line")
-                  return
-               end if
-               if (text(pos:pos) == quote) then
-                  if (pos < len(text)) then
-                     if (text(pos + 1:pos + 1) == quote) then
-                        value%text = value%text//quote
-                        pos = pos + 2
-                        cycle
-                     end if
-                  end if
-                  pos = pos + 1
-                  exit
-               end if
-               value%text = value%text//text(pos:pos)
-               pos = pos + 1
-            end do
-         else
-            value%text = token_text()
-            call skip_token()
-         end if
-      end function next_value
-
-      function token_text() result(token)
-         character(len=:), allocatable :: token
-         integer :: k
-         k = pos
-         do while (k <= len(text))
-            if (blank(text(k:k)) .or. index(',/!&', text(k:k)) > 0) exit
-            k = k + 1
-         end do
-         token = text(pos:k - 1)
-      end function token_text
-
-      subroutine skip_token()
-         pos = pos + max(len(token_text()), 1)
-      end subroutine skip_token
-
-      !> Append `value` to the item's values (storage doubled when full: a list of 100,000 values, or a
-      !> repeat count, is read in linear time; finish_item trims it to `nvalues`).
-      subroutine add_value(value)
-         type(nml_value_t), intent(in) :: value
-         type(nml_value_t), allocatable :: grown(:)
-         if (nvalues == size(item%values)) then
-            allocate (grown(max(8, 2*nvalues)))
-            grown(1:nvalues) = item%values(1:nvalues)
-            call move_alloc(grown, item%values)
-         end if
-         nvalues = nvalues + 1
-         item%values(nvalues) = value
-      end subroutine add_value
-
-      subroutine finish_item()
-         type(nml_item_t), allocatable :: grown(:)
-         if (allocated(item%values)) then
-            item%values = item%values(1:nvalues)
-            if (nitems == size(items)) then ! doubled when full, trimmed at the end
-               allocate (grown(max(8, 2*nitems)))
-               grown(1:nitems) = items(1:nitems)
-               call move_alloc(grown, items)
-            end if
-            nitems = nitems + 1
-            items(nitems) = item
-            deallocate (item%values)
-         end if
-         nvalues = 0
-      end subroutine finish_item
-   end subroutine parse_namelist
-
    !> Apply the assignments of `group` to `table`: unknown and repeated names and values that do
    !> not convert are reported, with file and line.
    subroutine apply_items(table, items, group, path, error)
@@ -1339,8 +794,8 @@ contains
          where = item_place(items(i), path)
          k = find_parameter(table, group, items(i)%name)
          if (k == 0) then
-            call append_error(error, where//"group &"//group//": unknown variable '"//items(i)%name// &
-                              "'; allowed names: "//entry_names(table, group))
+            call append_error(error, where//"group &"//group//": unknown variable '"//printable(items(i)%name)// &
+                              "'"//unknown_variable_hint(table, items(i), group, where))
             cycle
          end if
          if (table(k)%line > 0) then
@@ -1353,6 +808,70 @@ contains
          call set_parameter(table(k), items(i)%values, where, error)
       end do
    end subroutine apply_items
+
+   !> What follows "unknown variable 'name'" of the &sweep group, whose names are `names` (its lists
+   !> and settings, comma separated): a variable of the run's `table` that is not swept is named as
+   !> such, else the names near it; then the names.
+   function sweep_name_hint(name, names, table) result(text)
+      character(len=*), intent(in) :: name, names
+      type(parameter_t), intent(in) :: table(:)
+      character(len=:), allocatable :: text
+      integer :: k
+      do k = 1, size(table)
+         if (table(k)%name /= name) cycle
+         text = "; '"//name//"' of &"//trim(table(k)%group)//" is not swept (no &sweep list varies it); "// &
+                "allowed names: "//names
+         return
+      end do
+      text = did_you_mean(name, names, "'", "'")
+      if (len(text) == 0) text = ';'
+      text = text//" allowed names: "//names
+   end function sweep_name_hint
+
+   !> What follows "unknown variable 'name'" of `group`: the group it belongs to when another group has
+   !> it (an override is shown as it should be typed), or the names of `group` near it; then the names
+   !> `group` has.
+   function unknown_variable_hint(table, item, group, where) result(text)
+      type(parameter_t), intent(in) :: table(:)
+      type(nml_item_t), intent(in) :: item
+      character(len=*), intent(in) :: group, where
+      character(len=:), allocatable :: text, names, others, near
+      integer :: k, eq
+      text = ''
+      names = entry_names(table, group)
+      do k = 1, size(table)
+         if (table(k)%group == group .or. table(k)%name /= item%name) cycle
+         text = "; it belongs to &"//trim(table(k)%group)
+         if (allocated(item%origin)) then ! as the override should have been typed
+            eq = index(where, '=')
+            if (eq > 0) text = text//": "//trim(table(k)%group)//"."//trim(table(k)%name)//where(eq:len(where) - 3)
+         end if
+         text = text//" (allowed names in &"//group//": "//names//")"
+         return
+      end do
+      near = did_you_mean(item%name, names, "'", "'")
+      if (len(near) == 0) then
+         others = ''
+         do k = 1, size(table)
+            if (table(k)%group == group) cycle
+            if (len(others) > 0) others = others//', '
+            others = others//trim(table(k)%name)
+         end do
+         near = nearest_words(item%name, others)
+         if (index(near, ',') > 0) near = near(1:index(near, ',') - 1)
+         do k = 1, size(table)
+            if (len(near) == 0) exit
+            if (table(k)%group == group .or. table(k)%name /= near) cycle
+            near = "; did you mean '"//near//"' of &"//trim(table(k)%group)//"?"
+            exit
+         end do
+      end if
+      if (len(near) > 0) then
+         text = near//" allowed names: "//names
+      else
+         text = "; allowed names: "//names
+      end if
+   end function unknown_variable_hint
 
    ! ------------------------------------------------------------------ text made from the table
 
@@ -1416,8 +935,32 @@ contains
       q%kinds = kinds
    end function for_kinds
 
-   !> `&group name=value, ... /` for every variable of `group` that has a value (and, when `kind` is
-   !> given, that scene kind uses).
+   !> `p` used only when text variable `variable` of its table is `word` (flip_fraction: transfer = 'blend').
+   function for_value(p, variable, word) result(q)
+      type(parameter_t), intent(in) :: p
+      character(len=*), intent(in) :: variable, word
+      type(parameter_t) :: q
+      q = p
+      q%needs_variable = variable
+      q%needs_word = word
+   end function for_value
+
+   !> Does entry `k` of `table` apply: has it no condition, or does the variable it needs have its word?
+   logical function applies(table, k)
+      type(parameter_t), intent(in) :: table(:)
+      integer, intent(in) :: k
+      integer :: i
+      applies = .true.
+      if (len_trim(table(k)%needs_variable) == 0) return
+      do i = 1, size(table)
+         if (table(i)%name /= table(k)%needs_variable .or. table(i)%type /= type_text) cycle
+         applies = trim(table(i)%text_value) == trim(table(k)%needs_word)
+         return
+      end do
+   end function applies
+
+   !> `&group name=value, ... /` for every variable of `group` that has a value and applies (and, when
+   !> `kind` is given, that scene kind uses).
    function group_namelist(table, group, kind) result(text)
       type(parameter_t), intent(in) :: table(:)
       character(len=*), intent(in) :: group
@@ -1430,6 +973,7 @@ contains
          if (present(kind)) then
             if (.not. used_by(table(i), kind)) cycle
          end if
+         if (.not. applies(table, i)) cycle
          value = format_value(table(i))
          if (len(value) == 0) cycle
          if (text /= '&'//group) text = text//','
@@ -1479,6 +1023,8 @@ contains
                if (len_trim(p%sweep_alias) > 0) text = text//' (or its former name '//trim(p%sweep_alias)//')'
             end if
             if (len_trim(p%kinds) > 0) text = text//'; kind '//trim(p%kinds)//' only'
+            if (len_trim(p%needs_variable) > 0) text = text//'; '//trim(p%needs_variable)//" = '"// &
+                                                       trim(p%needs_word)//"' only"
             text = text//nl
          end associate
       end do

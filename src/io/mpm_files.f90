@@ -1,11 +1,14 @@
 !> File-system helpers through the C library: atomic rename and removal, used so that a run
-!> never leaves a partial file under its final name.
+!> never leaves a partial file under its final name; absolute paths; and the signals SIGINT, SIGTERM
+!> and SIGHUP, which end a run (removing its partial file) or, caught by a sweep, stop it so that it
+!> writes what it finished (mpm_files_c.c).
 module mpm_files
    use, intrinsic :: iso_c_binding, only: c_int, c_char, c_null_char
    implicit none
    private
    public :: rename_file, remove_file, file_exists, available_memory, path_kind, same_file, process_id
-   public :: register_partial, forget_partial, pause_seconds
+   public :: register_partial, forget_partial, pause_seconds, absolute_path
+   public :: catch_interrupts, release_interrupts, interrupt_signal, wait_for_signal
    !> What path_kind returns: nothing there, a regular file, a folder, anything else (device, FIFO, ...).
    integer, parameter, public :: path_none = 0, path_regular = 1, path_folder = 2, path_other = 3
 
@@ -39,6 +42,27 @@ module mpm_files
          import :: c_int
          integer(c_int), value :: seconds
       end function c_sleep
+      integer(c_int) function c_absolute_path(path, out, size) bind(C, name='mpm_absolute_path')
+         import :: c_int, c_char
+         character(kind=c_char), dimension(*), intent(in) :: path
+         character(kind=c_char), dimension(*), intent(out) :: out
+         integer(c_int), value :: size
+      end function c_absolute_path
+      !> From now on the first SIGINT, SIGTERM or SIGHUP is only recorded (interrupt_signal); a
+      !> second one ends the process at once, removing the partial file (see mpm_files_c.c).
+      subroutine catch_interrupts() bind(C, name='mpm_catch_interrupts')
+      end subroutine catch_interrupts
+      !> Back to the default: SIGINT, SIGTERM or SIGHUP ends the process (removing the partial file).
+      subroutine release_interrupts() bind(C, name='mpm_release_interrupts')
+      end subroutine release_interrupts
+      integer(c_int) function c_interrupt_signal() bind(C, name='mpm_interrupt_signal')
+         import :: c_int
+      end function c_interrupt_signal
+      subroutine c_wait_for_signal(seconds, marker) bind(C, name='mpm_wait_for_signal')
+         import :: c_int, c_char
+         integer(c_int), value :: seconds
+         character(kind=c_char), dimension(*), intent(in) :: marker
+      end subroutine c_wait_for_signal
    end interface
 
 contains
@@ -70,7 +94,7 @@ contains
    end function same_file
 
    !> Remove `path` (this process's partial output file) if SIGINT, SIGTERM or SIGHUP ends the process
-   !> before forget_partial is called (see mpm_files_c.c).
+   !> before forget_partial is called (see mpm_files_c.c). Register before creating the file.
    subroutine register_partial(path)
       character(len=*), intent(in) :: path
       integer(c_int) :: stat
@@ -83,6 +107,35 @@ contains
       integer(c_int) :: left
       left = c_sleep(int(seconds, c_int))
    end subroutine pause_seconds
+
+   !> The signal recorded since catch_interrupts (2 SIGINT, 15 SIGTERM, 1 SIGHUP), 0 if none. Cheap
+   !> (reads one flag): a run's time loop asks once per step.
+   integer function interrupt_signal()
+      interrupt_signal = c_interrupt_signal()
+   end function interrupt_signal
+
+   !> Test hooks: create the empty file `marker` (a test waits for it), then sleep until catch_interrupts'
+   !> signal arrives, at most `seconds`.
+   subroutine wait_for_signal(seconds, marker)
+      integer, intent(in) :: seconds
+      character(len=*), intent(in) :: marker
+      call c_wait_for_signal(int(seconds, c_int), marker//c_null_char)
+   end subroutine wait_for_signal
+
+   !> The absolute path of `path` (symbolic links and '..' resolved); for a file not there yet, its
+   !> folder's absolute path and its name. `path` itself when that cannot be found.
+   function absolute_path(path) result(absolute)
+      character(len=*), intent(in) :: path
+      character(len=:), allocatable :: absolute
+      character(kind=c_char, len=8192) :: buffer
+      integer :: n
+      n = c_absolute_path(trim(path)//c_null_char, buffer, int(len(buffer), c_int))
+      if (n < 0) then
+         absolute = trim(path)
+      else
+         absolute = buffer(1:n)
+      end if
+   end function absolute_path
 
    !> This process's id (unique among the processes running now).
    integer function process_id()

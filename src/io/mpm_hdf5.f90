@@ -9,7 +9,8 @@ module mpm_hdf5
    use hdf5
    use mpm_kinds, only: dp
    use mpm_errors, only: error_t, set_error
-   use mpm_files, only: rename_file, remove_file, process_id, register_partial, forget_partial, pause_seconds
+   use mpm_files, only: rename_file, remove_file, process_id, register_partial, forget_partial, pause_seconds, &
+                        path_kind, path_none
    use mpm_strings, only: str
    implicit none
    private
@@ -51,6 +52,7 @@ contains
       class(h5_writer_t), intent(inout) :: self
       character(len=*), intent(in) :: path
       integer :: hdferr
+      logical :: registered
       self%path = trim(path)
       self%part_path = part_name(trim(path), '.'//str(process_id())//'.part')
       self%created = .false.
@@ -58,10 +60,16 @@ contains
       call self%check(hdferr, 'initialise the HDF5 library')
       call h5eset_auto_f(0, hdferr)
       if (.not. self%ok()) return
+      ! register the clean-up first, then create: a signal between the two finds nothing to remove (the
+      ! other order left the file behind). A file of that name already there (a dead process's with
+      ! the same id) is not registered: the exclusive create fails and it is left alone.
+      registered = path_kind(self%part_path) == path_none
+      if (registered) call register_partial(self%part_path)
       call h5fcreate_f(self%part_path, H5F_ACC_EXCL_F, self%file, hdferr)
       call self%check(hdferr, "create file '"//self%part_path//"'")
       self%created = hdferr >= 0
-      if (self%created) call register_partial(self%part_path)
+      if (registered .and. .not. self%created) call forget_partial()
+      call test_pause('MPM1D_PAUSE_AFTER_CREATE')
    end subroutine writer_create
 
    !> The temporary name of `path`: `path` + `suffix`, its last component shortened to the file
@@ -388,19 +396,27 @@ contains
    !> With MPM1D_PAUSE_BEFORE_RENAME=N the process sleeps N seconds there instead, so that a test can
    !> send a signal while the complete partial file exists (test/hostile, class 6).
    subroutine crash_hook()
-      integer :: length, seconds, stat
-      character(len=16) :: text
+      integer :: length
       call get_environment_variable('MPM1D_CRASH_BEFORE_RENAME', length=length)
       if (length > 0) then
          call forget_partial() ! a crash, not a signal: the partial file stays
          call abort()
       end if
-      call get_environment_variable('MPM1D_PAUSE_BEFORE_RENAME', text, length=length)
-      if (length > 0) then
-         read (text, *, iostat=stat) seconds
-         if (stat == 0) call pause_seconds(seconds)
-      end if
+      call test_pause('MPM1D_PAUSE_BEFORE_RENAME')
    end subroutine crash_hook
+
+   !> Test hook: with the environment variable `name` = N the process sleeps N seconds here, so that a
+   !> test can send a signal at this point (MPM1D_PAUSE_AFTER_CREATE: the partial file just created, the
+   !> window in which a signal once left it behind; MPM1D_PAUSE_BEFORE_RENAME: the file complete).
+   subroutine test_pause(name)
+      character(len=*), intent(in) :: name
+      integer :: length, seconds, stat
+      character(len=16) :: text
+      call get_environment_variable(name, text, length=length)
+      if (length == 0) return
+      read (text, *, iostat=stat) seconds
+      if (stat == 0) call pause_seconds(seconds)
+   end subroutine test_pause
 
    !> Close and delete the partial file (nothing appears under the final name).
    subroutine writer_abandon(self)

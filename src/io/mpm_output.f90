@@ -8,7 +8,7 @@ module mpm_output
                            parameter_listing
    use mpm_hdf5, only: h5_writer_t
    use mpm_version, only: code_version
-   use mpm_diagnostics, only: status_name, status_ok
+   use mpm_diagnostics, only: status_name, status_ok, no_value
    use mpm_simulation, only: run_result_t, guard_message
    implicit none
    private
@@ -24,6 +24,7 @@ contains
       type(h5_writer_t) :: h5
       integer :: i, n
       character(len=:), allocatable :: group
+      logical :: stopped
 
       call h5%create(trim(config%file))
       call h5%attribute_string('/', 'code_version', code_version)
@@ -39,11 +40,18 @@ contains
          call h5%write_real('/history/ucm_exact', result%history%ucm_exact(0:n - 1))
          call h5%write_real('/history/kinetic_energy', result%history%kinetic_energy(0:n - 1))
          call h5%write_real('/history/strain_energy', result%history%strain_energy(0:n - 1))
+         if (allocated(result%history%plastic_work)) &
+            call h5%write_real('/history/plastic_work', result%history%plastic_work(0:n - 1))
       end if
 
+      ! a run a guard stopped has no result: its max_error and relative_error are no value (NaN), the
+      ! error reached up to the stop has its own datasets (no value for a completed run)
       call h5%group('/summary')
-      call h5%write_real_scalar('/summary/max_error', result%max_error)
-      call h5%write_real_scalar('/summary/relative_error', result%relative_error)
+      stopped = result%status /= status_ok
+      call h5%write_real_scalar('/summary/max_error', merge(no_value, result%max_error, stopped))
+      call h5%write_real_scalar('/summary/relative_error', merge(no_value, result%relative_error, stopped))
+      call h5%write_real_scalar('/summary/error_before_stop', merge(result%max_error, no_value, stopped))
+      call h5%write_real_scalar('/summary/relative_error_before_stop', merge(result%relative_error, no_value, stopped))
       call h5%write_real_scalar('/summary/ucm_amplitude', result%ucm_amplitude)
       call h5%write_int_scalar('/summary/steps', result%steps)
       call h5%write_int_scalar('/summary/steps_done', result%steps_done)
@@ -86,6 +94,8 @@ contains
             if (allocated(result%snapshots(i)%youngs_modulus)) &
                call h5%write_real(group//'/youngs_modulus', result%snapshots(i)%youngs_modulus)
             if (allocated(result%snapshots(i)%body)) call h5%write_int(group//'/body', result%snapshots(i)%body)
+            if (allocated(result%snapshots(i)%plastic_strain)) &
+               call h5%write_real(group//'/plastic_strain', result%snapshots(i)%plastic_strain)
             call h5%write_real(group//'/velocity', result%snapshots(i)%v)
             call h5%write_real(group//'/stress', result%snapshots(i)%stress)
             call h5%write_real(group//'/volume_ratio', result%snapshots(i)%volume_ratio)

@@ -1,8 +1,9 @@
 !> Run outcome codes, the per-step history of a run and its snapshots.
 module mpm_diagnostics
-   use mpm_kinds, only: dp
+   use mpm_kinds, only: dp, i8
    implicit none
    private
+   public :: no_value
    public :: status_ok, status_non_finite, status_volume_ratio, status_left_grid, status_energy_growth, &
              status_cell_crossing, status_setup_failed, status_not_run, status_name
    public :: history_t, snapshot_t, pass_totals_t
@@ -15,7 +16,11 @@ module mpm_diagnostics
    integer, parameter :: status_energy_growth = 4  !< total energy grew beyond the allowed factor
    integer, parameter :: status_cell_crossing = 5  !< a particle moved more than one cell in one step
    integer, parameter :: status_setup_failed = 6   !< the run could not be set up (memory)
-   integer, parameter :: status_not_run = -1       !< a sweep case that has not run (yet)
+   integer, parameter :: status_not_run = -1       !< a sweep case that has not run (yet), or was abandoned
+
+   !> "No value": a quiet NaN (bits 7FF8000000000000), written where a result does not exist (the
+   !> error of a run a guard stopped, the time of a case not timed); the status says why.
+   real(dp), parameter :: no_value = transfer(9221120237041090560_i8, 1.0_dp)
 
    !> Sums and extremes gathered during a pass over the particles.
    type :: pass_totals_t
@@ -26,6 +31,8 @@ module mpm_diagnostics
       real(dp) :: kinetic_energy = 0.0_dp
       !> sum_p sigma_p^2 V_p / (2E) with the stresses after the pass (when the pass updates them).
       real(dp) :: strain_energy = 0.0_dp
+      !> plastic work done so far, sum_p (sigma_y alpha + H alpha^2/2) V0 (elastoplastic law; else 0).
+      real(dp) :: plastic_work = 0.0_dp
       !> smallest volume ratio J seen (after the update, when the pass updates it).
       real(dp) :: min_volume_ratio = huge(1.0_dp)
       !> largest |x_new - x_old| / dx of the pass (when the pass moves particles).
@@ -40,6 +47,8 @@ module mpm_diagnostics
    type :: history_t
       integer :: recorded = 0
       real(dp), allocatable :: time(:), ucm(:), ucm_exact(:), kinetic_energy(:), strain_energy(:)
+      !> the plastic work at each step: allocated only when a body is elastoplastic
+      real(dp), allocatable :: plastic_work(:)
    end type history_t
 
    !> Particle and grid state at one time.
@@ -52,6 +61,8 @@ module mpm_diagnostics
       real(dp), allocatable :: youngs_modulus(:)
       !> each particle's body, where the scene has several (impact)
       integer, allocatable :: body(:)
+      !> each particle's plastic strain, where a body is elastoplastic
+      real(dp), allocatable :: plastic_strain(:)
       real(dp), allocatable :: grid_x(:), grid_velocity(:)
    end type snapshot_t
 

@@ -6,19 +6,21 @@ module mpm_simulation
    use mpm_kinds, only: dp
    use mpm_errors, only: error_t, set_error
    use mpm_strings, only: str
-   use mpm_config, only: config_t
-   use mpm_grid, only: grid_t, grid_init, assemble_nodes, nodal_velocity
+   use mpm_config, only: config_t, material_of
+   use mpm_material, only: material_t, law_hencky, material_state, material_report
+   use mpm_grid, only: grid_t, grid_init
    use mpm_particles, only: particles_t, per_particle_data
-   use mpm_shape, only: shape_cache_t, shape_id, shape_extra_cells, transfer_id, transfer_flip, transfer_apic
+   use mpm_shape, only: shape_cache_t, shape_id, shape_extra_cells, transfer_id, transfer_apic
    use mpm_fused, only: fused_start, fused_step, fused_box_t, fused_choose, fused_mass, fused_grid_velocity
-   use mpm_operations, only: particle_energies, locate_particles, p2g_mass_momentum, nodal_velocities, mirror_fold
+   use mpm_operations, only: particle_energies, locate_particles, p2g_mass_momentum, nodal_velocities
    use mpm_schemes, only: scheme_usf, scheme_usl, scheme_musl, scheme_step, scheme_step_bodies
    use mpm_contact, only: bodies_t, bodies_init
    use mpm_scene, only: scene_t
    use mpm_scenes, only: make_scene
    use mpm_diagnostics, only: history_t, snapshot_t, pass_totals_t, status_ok, status_non_finite, &
                               status_volume_ratio, status_left_grid, status_energy_growth, status_cell_crossing, &
-                              status_name
+                              status_name, status_not_run
+   use mpm_files, only: interrupt_signal
    implicit none
    private
    public :: run_result_t, run_simulation, scheme_id, guard_trip_t, guard_message
@@ -69,6 +71,24 @@ module mpm_simulation
       type(snapshot_t), allocatable :: snapshots(:)
    end type run_result_t
 
+   !> Everything one run steps: the scene, its particles and grid, the path taken, and the running
+   !> quantities the guards and the result read.
+   type :: run_state_t
+      class(scene_t), allocatable :: scene
+      type(grid_t) :: grid
+      type(particles_t) :: particles
+      type(shape_cache_t) :: cache
+      type(pass_totals_t) :: totals
+      type(bodies_t) :: bodies
+      type(fused_box_t) :: box
+      type(material_t) :: material       !< the law (one body's; per particle where a scene has several)
+      real(dp), allocatable :: watch(:)   !< what a watching scene keeps between steps
+      integer :: scheme = 0, next_snapshot = 1
+      logical :: fused = .false.          !< the fused kernels run (else the generic path)
+      real(dp) :: total_mass = 0.0_dp, energy_reference = 0.0_dp
+      real(dp) :: ucm = 0.0_dp, energy = 0.0_dp  !< u_cm and the total energy after the last step
+   end type run_state_t
+
 contains
 
    !> Integer id of a scheme name (0 if unknown; the configuration is validated before).
@@ -89,128 +109,173 @@ contains
    !> Run the validated and resolved `config`. Guard trips end the run with result%status /= 0 and
    !> the state reached so far; `error` is set only when the run cannot be set up (memory).
    !> `record_history` keeps one history entry per step; snapshots are taken when the configuration asks.
+   !> A signal caught by a sweep (mpm_files, catch_interrupts) ends the run at its next step with
+   !> status_not_run: the run was abandoned, its numbers are no result.
    subroutine run_simulation(config, result, error, record_history)
       type(config_t), intent(in) :: config
       type(run_result_t), intent(out) :: result
       type(error_t), allocatable, intent(out) :: error
       logical, intent(in) :: record_history
-
-      class(scene_t), allocatable :: scene
-      type(grid_t) :: grid
-      type(particles_t) :: particles
-      type(shape_cache_t) :: cache
-      type(pass_totals_t) :: totals
-      type(bodies_t) :: bodies
-      type(fused_box_t) :: box
-      real(dp), allocatable :: watch(:)
-      real(dp) :: start, ucm, exact, energy, energy_reference, t, total_mass
-      integer :: n, scheme, next_snapshot, extra, stat
-      logical :: fused
+      type(run_state_t) :: run
+      real(dp) :: start
+      integer :: n
 
       start = omp_get_wtime()
+      call set_up(config, run, result, error)
+      if (allocated(error)) return
+      call first_state(config, run, result, record_history)
+      do n = 1, config%steps
+         call advance(config, run, result, n, record_history)
+         call check_guards(config, run, result, n, n*config%dt)
+         if (result%status /= status_ok) exit
+         result%steps_done = n
+         call take_snapshots(config, run, result, n, n*config%dt)
+         if (interrupt_signal() /= 0) then
+            result%status = status_not_run
+            exit
+         end if
+      end do
+      call finish(config, run, result)
+      result%run_time = omp_get_wtime() - start
+   end subroutine run_simulation
+
+   !> The scene, its particles and grid, the path (fused kernels or generic) and what the result
+   !> reports before the first step.
+   subroutine set_up(config, run, result, error)
+      type(config_t), intent(in) :: config
+      type(run_state_t), intent(inout) :: run
+      type(run_result_t), intent(inout) :: result
+      type(error_t), allocatable, intent(out) :: error
+      integer :: extra, stat
       result%steps = config%steps
       result%dt = config%dt
-      scheme = scheme_id(config%scheme)
-      call make_scene(config, scene, error)
+      run%scheme = scheme_id(config%scheme)
+      call make_scene(config, run%scene, error)
       if (allocated(error)) return
-      cache%kind = shape_id(config%shape)
-      cache%transfer = transfer_id(config%transfer)
-      cache%flip_fraction = config%flip_fraction
-      ! shapes wider than the hat: one more cell beyond the free end, one ghost cell left of x = 0
-      extra = shape_extra_cells(cache%kind)
-      result%ucm_amplitude = scene%ucm_amplitude()
-      result%error_name = scene%error_name()
-      result%error_unit = scene%error_unit()
-      call scene%report(result%report_names, result%report_values)
-      call scene%place_particles(config, particles, error)
-      if (allocated(error)) return
-      ! the fused kernels, where they take the scene, shape, transfer and what the particles carry
-      box = fused_choose(cache%kind, cache%transfer, config%flip_fraction, scene, particles)
-      fused = trim(config%kernels) == 'auto' .and. box%variant >= 0
-      result%fused = fused
-      if (.not. fused) call per_particle_data(particles, error)
-      if (allocated(error)) return
-      if (cache%transfer == transfer_apic) then
-         ! APIC starts from C_p = 0 (the first P2G is PIC's)
-         allocate (particles%velocity_gradient(particles%count), stat=stat)
-         if (stat /= 0) then
-            call set_error(error, 'cannot allocate the APIC velocity gradients (out of memory)')
-            return
+      associate (scene => run%scene, cache => run%cache, particles => run%particles)
+         cache%kind = shape_id(config%shape)
+         cache%transfer = transfer_id(config%transfer)
+         cache%flip_fraction = config%flip_fraction
+         run%material = material_of(config)
+         ! shapes wider than the hat: one more cell beyond the free end, one ghost cell left of x = 0
+         extra = shape_extra_cells(cache%kind)
+         result%ucm_amplitude = scene%ucm_amplitude()
+         result%error_name = scene%error_name()
+         result%error_unit = scene%error_unit()
+         call scene%report(result%report_names, result%report_values)
+         call scene%place_particles(config, particles, error)
+         if (allocated(error)) return
+         ! the fused kernels, where they take the scene, shape, transfer and what the particles carry;
+         ! their stress update is hencky's
+         run%box = fused_choose(cache%kind, cache%transfer, config%flip_fraction, scene, particles)
+         run%fused = trim(config%kernels) == 'auto' .and. run%box%variant >= 0 .and. run%material%law == law_hencky
+         result%fused = run%fused
+         if (.not. run%fused) call per_particle_data(particles, error)
+         if (allocated(error)) return
+         call material_state(run%material, particles, error)
+         if (allocated(error)) return
+         if (cache%transfer == transfer_apic) then
+            ! APIC starts from C_p = 0 (the first P2G is PIC's)
+            allocate (particles%velocity_gradient(particles%count), stat=stat)
+            if (stat /= 0) then
+               call set_error(error, 'cannot allocate the APIC velocity gradients (out of memory)')
+               return
+            end if
+            particles%velocity_gradient = 0.0_dp
          end if
-         particles%velocity_gradient = 0.0_dp
-      end if
-      call grid_init(grid, config%elements, config%length, particles%mass, error, &
-                     margin=scene%margin_cells(config%dx, config%margin_cells) + extra, fixed=scene%fixed_nodes(), &
-                     element_shares=fused, ghost=extra + scene%left_margin_cells(config%dx, config%margin_cells))
-      if (allocated(error)) return
-      if (scene%body_fields) call bodies_init(bodies, grid, particles, error, element_shares=fused)
-      if (allocated(error)) return
-      result%domain = [grid%origin, grid%origin + grid%length]
-      result%particles = particles%count
+         call grid_init(run%grid, config%elements, config%length, particles%mass, error, &
+                        margin=scene%margin_cells(config%dx, config%margin_cells) + extra, fixed=scene%fixed_nodes(), &
+                        element_shares=run%fused, ghost=extra + scene%left_margin_cells(config%dx, config%margin_cells))
+         if (allocated(error)) return
+         if (scene%body_fields) call bodies_init(run%bodies, run%grid, particles, error, element_shares=run%fused)
+         if (allocated(error)) return
+         result%domain = [run%grid%origin, run%grid%origin + run%grid%length]
+         result%particles = particles%count
+      end associate
+   end subroutine set_up
 
-      if (fused) then
-         call fused_start(scheme, particles, grid, totals, box, config%youngs_modulus, scene, bodies)
-         total_mass = fused_mass(particles, box) ! (the particle count where all have the one mass)
+   !> The state at t = 0: the first mapping, the energies the guards compare with, the first history
+   !> entry and the snapshots at t = 0.
+   subroutine first_state(config, run, result, record_history)
+      type(config_t), intent(in) :: config
+      type(run_state_t), intent(inout) :: run
+      type(run_result_t), intent(inout) :: result
+      logical, intent(in) :: record_history
+      if (run%fused) then
+         call fused_start(run%scheme, run%particles, run%grid, run%totals, run%box, config%youngs_modulus, run%scene, &
+                          run%bodies)
+         run%total_mass = fused_mass(run%particles, run%box) ! (the particle count where all have the one mass)
       else
-         call particle_energies(particles, config%youngs_modulus, totals)
-         total_mass = sum(particles%mass_of)
+         call particle_energies(run%particles, run%material, run%totals)
+         run%total_mass = sum(run%particles%mass_of)
       end if
-      call finite_energies(particles, config%youngs_modulus, totals)
-      result%initial_energy = totals%kinetic_energy + totals%strain_energy
+      call finite_energies(run%particles, config%youngs_modulus, run%totals)
+      result%initial_energy = run%totals%kinetic_energy + run%totals%strain_energy + run%totals%plastic_work
       ! Zero initial energy (v0 = 0) stays exactly zero in a sound run: any growth trips the guard.
-      energy_reference = scene%energy_reference(result%initial_energy)
+      run%energy_reference = run%scene%energy_reference(result%initial_energy)
       result%final_energy = result%initial_energy
-      result%max_energy_ratio = result%initial_energy/energy_reference
-      result%min_volume_ratio = totals%min_volume_ratio
+      result%max_energy_ratio = result%initial_energy/run%energy_reference
+      result%min_volume_ratio = run%totals%min_volume_ratio
       result%min_node_mass_ratio = huge(1.0_dp)
-      ucm = 0.0_dp
-
-      if (record_history) call start_history(result%history, config%steps)
-      if (record_history) call record(result%history, 0.0_dp, ucm, 0.0_dp, totals)
-      next_snapshot = 1
+      run%ucm = 0.0_dp
+      if (record_history) call start_history(result%history, config%steps, allocated(run%particles%hardening))
+      if (record_history) call record(result%history, 0.0_dp, run%ucm, 0.0_dp, run%totals)
+      run%next_snapshot = 1
       allocate (result%snapshots(config%snapshot_count))
-      call take_snapshots(0, 0.0_dp)
+      call take_snapshots(config, run, result, 0, 0.0_dp)
+   end subroutine first_state
 
-      do n = 1, config%steps
+   !> Step `n`: the scheme's update from t = (n - 1) dt to n dt, then what the run records of it.
+   subroutine advance(config, run, result, n, record_history)
+      type(config_t), intent(in) :: config
+      type(run_state_t), intent(inout) :: run
+      type(run_result_t), intent(inout) :: result
+      integer, intent(in) :: n
+      logical, intent(in) :: record_history
+      real(dp) :: t, exact
+      associate (particles => run%particles, grid => run%grid, totals => run%totals)
          t = (n - 1)*config%dt
-         if (fused) then
-            call fused_step(scheme, particles, grid, config%dt, config%youngs_modulus, totals, box, scene, t, bodies)
-            ucm = totals%displacement/total_mass ! u_cm = sum m (x - X) / sum m (equal masses: sum (x - X) / N)
-         else if (scene%body_fields) then
-            call scheme_step_bodies(scheme, scene, cache, particles, grid, bodies, config%dt, config%youngs_modulus, &
-                                    t, totals)
-            ucm = totals%displacement/total_mass
+         if (run%fused) then
+            call fused_step(run%scheme, particles, grid, config%dt, config%youngs_modulus, totals, run%box, run%scene, t, &
+                            run%bodies)
+            run%ucm = totals%displacement/run%total_mass ! u_cm = sum m (x - X) / sum m (equal masses: sum (x - X) / N)
+         else if (run%scene%body_fields) then
+            call scheme_step_bodies(run%scheme, run%scene, run%cache, particles, grid, run%bodies, config%dt, &
+                                    run%material, t, totals)
+            run%ucm = totals%displacement/run%total_mass
          else
-            call scheme_step(scheme, scene, cache, particles, grid, config%dt, config%youngs_modulus, t, totals)
-            ucm = totals%displacement/total_mass
+            call scheme_step(run%scheme, run%scene, run%cache, particles, grid, config%dt, run%material, t, totals)
+            run%ucm = totals%displacement/run%total_mass
          end if
          t = n*config%dt
-         if (record_history) exact = scene%ucm_exact(t)  ! (error_at evaluates it too: once a step without history)
+         if (record_history) exact = run%scene%ucm_exact(t)  ! (error_at evaluates it too: once a step without history)
          call finite_energies(particles, config%youngs_modulus, totals)
-         energy = totals%kinetic_energy + totals%strain_energy
-         result%max_error = max(result%max_error, scene%error_at(t, particles, ucm))
-         result%final_energy = energy
-         result%max_energy_ratio = max(result%max_energy_ratio, energy/energy_reference)
+         run%energy = totals%kinetic_energy + totals%strain_energy + totals%plastic_work ! (0 for elastic laws)
+         result%max_error = max(result%max_error, run%scene%error_at(t, particles, run%ucm))
+         result%final_energy = run%energy
+         result%max_energy_ratio = max(result%max_energy_ratio, run%energy/run%energy_reference)
          result%min_volume_ratio = min(result%min_volume_ratio, totals%min_volume_ratio)
          result%max_cell_move = max(result%max_cell_move, totals%max_cell_move)
          result%min_node_mass_ratio = min(result%min_node_mass_ratio, grid%min_node_mass/particles%mass)
-         if (record_history) call record(result%history, t, ucm, exact, totals)
-         if (scene%watches) call scene%watch_step(t, particles, watch)
-         call check_guards(n, t)
-         if (result%status /= status_ok) exit
-         result%steps_done = n
-         call take_snapshots(n, t)
-      end do
+         if (record_history) call record(result%history, t, run%ucm, exact, totals)
+         if (run%scene%watches) call run%scene%watch_step(t, particles, run%watch)
+      end associate
+   end subroutine advance
 
-      if (scene%watches) then
-         block
-            character(len=32), allocatable :: names(:)
-            real(dp), allocatable :: values(:)
-            call scene%watch_report(watch, particles, names, values)
-            result%report_names = [result%report_names, names]
-            result%report_values = [result%report_values, values]
-         end block
+   !> After the last step: what the scene watched, the relative error, and the rule that a completed
+   !> run reports no non-finite number.
+   subroutine finish(config, run, result)
+      type(config_t), intent(in) :: config
+      type(run_state_t), intent(inout) :: run
+      type(run_result_t), intent(inout) :: result
+      character(len=32), allocatable :: names(:)
+      real(dp), allocatable :: values(:)
+      if (run%scene%watches) then
+         call run%scene%watch_report(run%watch, run%particles, names, values)
+         call add_report(result, names, values)
       end if
+      call material_report(run%material, run%particles, names, values) ! (none for elastic laws)
+      call add_report(result, names, values)
       if (result%ucm_amplitude /= 0.0_dp) then
          result%relative_error = result%max_error/abs(result%ucm_amplitude)
       else
@@ -220,83 +285,94 @@ contains
       ! although the particle state stayed finite, the run counts as stopped by the non-finite guard
       if (result%status == status_ok .and. .not. all(ieee_is_finite([result%max_error, result%relative_error, &
           result%ucm_amplitude, result%initial_energy, result%final_energy, result%max_energy_ratio]))) &
-         call trip(config%steps, config%steps*config%dt, status_non_finite, result%max_energy_ratio, &
-                   first_non_finite(particles))
-      result%run_time = omp_get_wtime() - start
+         call trip(run, result, config%steps, config%steps*config%dt, status_non_finite, result%max_energy_ratio, &
+                   first_non_finite(run%particles))
+   end subroutine finish
 
-   contains
-
-      !> Trip the first guard that applies, in order of severity, and record the culprit.
-      subroutine check_guards(step, time)
-         integer, intent(in) :: step
-         real(dp), intent(in) :: time
-         if (.not. ieee_is_finite(energy) .or. .not. ieee_is_finite(ucm)) then
-            call trip(step, time, status_non_finite, energy/energy_reference, first_non_finite(particles))
+   !> Trip the first guard that applies, in order of severity, and record the culprit.
+   subroutine check_guards(config, run, result, step, time)
+      type(config_t), intent(in) :: config
+      type(run_state_t), intent(in) :: run
+      type(run_result_t), intent(inout) :: result
+      integer, intent(in) :: step
+      real(dp), intent(in) :: time
+      associate (energy => run%energy, totals => run%totals, particles => run%particles, &
+                 reference => run%energy_reference)
+         if (.not. ieee_is_finite(energy) .or. .not. ieee_is_finite(run%ucm)) then
+            call trip(run, result, step, time, status_non_finite, energy/reference, first_non_finite(particles))
          else if (totals%outside /= 0) then
-            call trip(step, time, status_left_grid, 0.0_dp, totals%outside)
+            call trip(run, result, step, time, status_left_grid, 0.0_dp, totals%outside)
          else if (totals%min_volume_ratio <= 0.0_dp) then
-            call trip(step, time, status_volume_ratio, totals%min_volume_ratio, minloc(particles%volume_ratio, 1))
+            call trip(run, result, step, time, status_volume_ratio, totals%min_volume_ratio, &
+                      minloc(particles%volume_ratio, 1))
          else if (totals%max_cell_move > config%max_cell_move) then
-            call trip(step, time, status_cell_crossing, totals%max_cell_move, totals%furthest)
-         else if (energy > config%energy_growth_limit*energy_reference) then
-            call trip(step, time, status_energy_growth, energy/energy_reference, maxloc(abs(particles%v), 1))
+            call trip(run, result, step, time, status_cell_crossing, totals%max_cell_move, totals%furthest)
+         else if (energy > config%energy_growth_limit*reference) then
+            call trip(run, result, step, time, status_energy_growth, energy/reference, maxloc(abs(particles%v), 1))
          end if
-      end subroutine check_guards
+      end associate
+   end subroutine check_guards
 
-      subroutine trip(step, time, code, value, p)
-         integer, intent(in) :: step, code, p
-         real(dp), intent(in) :: time, value
-         result%status = code
-         result%trip%step = step
-         result%trip%time = time
-         result%trip%value = value
-         result%trip%particle = p
-         result%trip%domain = result%domain
-         result%trip%node_mass_ratio = grid%min_node_mass/particles%mass
-         if (p >= 1 .and. p <= particles%count) then
-            result%trip%x = particles%x(p)
-            result%trip%v = particles%v(p)
-            result%trip%stress = particles%stress(p)
-            result%trip%volume_ratio = particles%volume_ratio(p)
-         end if
-      end subroutine trip
+   subroutine trip(run, result, step, time, code, value, p)
+      type(run_state_t), intent(in) :: run
+      type(run_result_t), intent(inout) :: result
+      integer, intent(in) :: step, code, p
+      real(dp), intent(in) :: time, value
+      result%status = code
+      result%trip%step = step
+      result%trip%time = time
+      result%trip%value = value
+      result%trip%particle = p
+      result%trip%domain = result%domain
+      result%trip%node_mass_ratio = run%grid%min_node_mass/run%particles%mass
+      if (p >= 1 .and. p <= run%particles%count) then
+         result%trip%x = run%particles%x(p)
+         result%trip%v = run%particles%v(p)
+         result%trip%stress = run%particles%stress(p)
+         result%trip%volume_ratio = run%particles%volume_ratio(p)
+      end if
+   end subroutine trip
 
-      subroutine take_snapshots(step, time)
-         integer, intent(in) :: step
-         real(dp), intent(in) :: time
-         integer :: i
-         do while (next_snapshot <= config%snapshot_count)
-            if (config%snapshot_times(next_snapshot) > time + 0.5_dp*config%dt) exit
-            if (step == 0) call initial_grid_velocity()
-            associate (s => result%snapshots(next_snapshot))
-               s%time = time
-               s%step = step
-               s%x = particles%x
-               s%x0 = particles%x0
-               if (allocated(particles%youngs_modulus_of)) s%youngs_modulus = particles%youngs_modulus_of
-               if (allocated(particles%body)) s%body = particles%body
-               s%v = particles%v
-               s%stress = particles%stress
-               s%volume_ratio = particles%volume_ratio
-               s%grid_x = [(grid%origin + i*grid%dx, i=0, grid%elements)]
-               s%grid_velocity = grid%velocity
-            end associate
-            next_snapshot = next_snapshot + 1
-         end do
-      end subroutine take_snapshots
+   subroutine take_snapshots(config, run, result, step, time)
+      type(config_t), intent(in) :: config
+      type(run_state_t), intent(inout) :: run
+      type(run_result_t), intent(inout) :: result
+      integer, intent(in) :: step
+      real(dp), intent(in) :: time
+      integer :: i
+      do while (run%next_snapshot <= config%snapshot_count)
+         if (config%snapshot_times(run%next_snapshot) > time + 0.5_dp*config%dt) exit
+         if (step == 0) call initial_grid_velocity(run)
+         associate (s => result%snapshots(run%next_snapshot), particles => run%particles, grid => run%grid)
+            s%time = time
+            s%step = step
+            s%x = particles%x
+            s%x0 = particles%x0
+            if (allocated(particles%youngs_modulus_of)) s%youngs_modulus = particles%youngs_modulus_of
+            if (allocated(particles%body)) s%body = particles%body
+            s%v = particles%v
+            s%stress = particles%stress
+            s%volume_ratio = particles%volume_ratio
+            if (allocated(particles%plastic_strain)) s%plastic_strain = particles%plastic_strain
+            s%grid_x = [(grid%origin + i*grid%dx, i=0, grid%elements)]
+            s%grid_velocity = grid%velocity
+         end associate
+         run%next_snapshot = run%next_snapshot + 1
+      end do
+   end subroutine take_snapshots
 
-      !> The nodal velocity of the initial mapping, p_I / m_I (for the snapshot at t = 0).
-      subroutine initial_grid_velocity()
-         type(pass_totals_t) :: unused
-         if (fused) then
-            call fused_grid_velocity(grid, box, bodies)
-         else
-            call locate_particles(cache, grid, particles, unused)
-            call p2g_mass_momentum(cache, particles, grid, with_force=.false.)
-            call nodal_velocities(grid)
-         end if
-      end subroutine initial_grid_velocity
-   end subroutine run_simulation
+   !> The nodal velocity of the initial mapping, p_I / m_I (for the snapshot at t = 0).
+   subroutine initial_grid_velocity(run)
+      type(run_state_t), intent(inout) :: run
+      type(pass_totals_t) :: unused
+      if (run%fused) then
+         call fused_grid_velocity(run%grid, run%box, run%bodies)
+      else
+         call locate_particles(run%cache, run%grid, run%particles, unused)
+         call p2g_mass_momentum(run%cache, run%particles, run%grid, with_force=.false.)
+         call nodal_velocities(run%grid)
+      end if
+   end subroutine initial_grid_velocity
 
    !> The message of a run stopped by a guard: what tripped, when, and the particle at fault.
    !> Call it outside parallel regions (it uses formatted internal writes).
@@ -375,11 +451,13 @@ contains
       p = 0
    end function first_non_finite
 
-   subroutine start_history(history, steps)
+   subroutine start_history(history, steps, plastic)
       type(history_t), intent(out) :: history
       integer, intent(in) :: steps
+      logical, intent(in) :: plastic  !< a body is elastoplastic: keep the plastic work too
       allocate (history%time(0:steps), history%ucm(0:steps), history%ucm_exact(0:steps), &
                 history%kinetic_energy(0:steps), history%strain_energy(0:steps))
+      if (plastic) allocate (history%plastic_work(0:steps))
       history%recorded = 0
    end subroutine start_history
 
@@ -394,6 +472,26 @@ contains
       history%ucm_exact(i) = exact
       history%kinetic_energy(i) = totals%kinetic_energy
       history%strain_energy(i) = totals%strain_energy
+      if (allocated(history%plastic_work)) history%plastic_work(i) = totals%plastic_work
       history%recorded = i + 1
    end subroutine record
+
+   !> Append to the run's /summary quantities (element by element: gfortran 12 gave an array constructor
+   !> of an empty and a non-empty character array the wrong length, and corrupted the heap).
+   subroutine add_report(result, names, values)
+      type(run_result_t), intent(inout) :: result
+      character(len=32), intent(in) :: names(:)
+      real(dp), intent(in) :: values(:)
+      character(len=32), allocatable :: all_names(:)
+      real(dp), allocatable :: all_values(:)
+      integer :: n
+      n = size(result%report_names)
+      allocate (all_names(n + size(names)), all_values(n + size(names)))
+      all_names(1:n) = result%report_names
+      all_names(n + 1:) = names
+      all_values(1:n) = result%report_values
+      all_values(n + 1:) = values
+      call move_alloc(all_names, result%report_names)
+      call move_alloc(all_values, result%report_values)
+   end subroutine add_report
 end module mpm_simulation

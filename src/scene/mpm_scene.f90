@@ -161,14 +161,20 @@ contains
    end subroutine watch_report
 
    !> Empty cells beyond a free end that moves out by up to `reach` metres: `requested` when >= 0, else
-   !> the reach in cells of size dx, rounded up, plus two (one for a particle's shape support, one of slack).
+   !> the reach in cells of size dx, rounded up, plus two (one for a particle's shape support, one of slack),
+   !> at most 1e9 + 2 (the validation refuses a motion of more than 1e8 cells). The reach is capped before
+   !> it is rounded to an integer: ceiling(reach/dx) of 1e10 cells or more, or of NaN, is no integer
+   !> (it gave a negative margin, and a run that wrote outside its grid).
    pure integer function margin_for(reach, dx, requested) result(cells)
       real(dp), intent(in) :: reach, dx
       integer, intent(in) :: requested
+      integer, parameter :: most = 1000000000
       if (requested >= 0) then
          cells = requested
+      else if (reach/dx <= real(most, dp)) then
+         cells = 2 + ceiling(reach/dx)
       else
-         cells = 2 + int(min(ceiling(reach/dx), 1000000000))
+         cells = 2 + most
       end if
    end function margin_for
 

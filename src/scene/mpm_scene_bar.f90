@@ -10,7 +10,7 @@ module mpm_scene_bar
    use mpm_errors, only: error_t
    use mpm_config, only: config_t
    use mpm_particles, only: particles_t, particles_init
-   use mpm_scene, only: scene_t, sine_profile
+   use mpm_scene, only: scene_t, sine_profile, margin_for
    implicit none
    private
    public :: bar_t, bar_init
@@ -67,13 +67,7 @@ contains
       class(bar_t), intent(in) :: self
       real(dp), intent(in) :: dx
       integer, intent(in) :: requested
-      real(dp) :: reach
-      if (requested >= 0) then
-         cells = requested
-         return
-      end if
-      reach = abs(self%velocity_amplitude)/self%omega/dx
-      cells = 2 + int(min(ceiling(reach), 1000000000))
+      cells = margin_for(abs(self%velocity_amplitude)/self%omega, dx, requested)
    end function margin_cells
 
    !> The bar's boundary condition: node 0 (x = 0) is held at rest.

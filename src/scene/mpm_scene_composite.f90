@@ -31,6 +31,8 @@ module mpm_scene_composite
    type, extends(scene_t) :: composite_t
       real(dp), allocatable :: left(:), right(:)   !< segment ends (m)
       real(dp), allocatable :: speed(:), impedance(:), modulus(:), density(:)
+      !> each segment's yield stress and hardening modulus (law elastoplastic only; mpm_material)
+      real(dp), allocatable :: yield_stress(:), hardening_modulus(:)
       real(dp) :: drive_velocity = 0.0_dp
       real(dp) :: dt = 0.0_dp
       real(dp) :: dx = 0.0_dp
@@ -57,6 +59,10 @@ contains
       scene%external_forces = .true.
       scene%modulus = config%youngs_moduli(1:n)
       scene%density = config%densities(1:n)
+      if (trim(config%law) == 'elastoplastic') then
+         scene%yield_stress = config%yield_stresses(1:n)
+         scene%hardening_modulus = config%hardening_moduli(1:n)
+      end if
       scene%speed = sqrt(scene%modulus/scene%density)
       scene%impedance = scene%density*scene%speed
       allocate (scene%left(n), scene%right(n))
@@ -159,7 +165,8 @@ contains
    end function stress_exact
 
    !> `particles_per_element` particles per element at the centres of equal sub-cells over the whole
-   !> bar, each of the segment holding its centre: its own mass and Young's modulus.
+   !> bar, each of the segment holding its centre: its own mass and Young's modulus (and with law
+   !> elastoplastic its yield stress and hardening modulus).
    subroutine place_particles(self, config, particles, error)
       class(composite_t), intent(in) :: self
       type(config_t), intent(in) :: config
@@ -176,10 +183,21 @@ contains
          return
       end if
       particles%volume0_of = particles%volume0
+      if (allocated(self%yield_stress)) allocate (particles%yield_stress_of(particles%count), &
+                                                  particles%hardening_modulus_of(particles%count), stat=stat)
+      if (stat /= 0) then
+         call set_error(error, "cannot allocate the plastic parameters of "//str(particles%count)// &
+                        " particles (out of memory)")
+         return
+      end if
       do p = 1, particles%count
          i = segment_of(self, particles%x(p))
          particles%mass_of(p) = self%density(i)*particles%volume0
          particles%youngs_modulus_of(p) = self%modulus(i)
+         if (allocated(self%yield_stress)) then
+            particles%yield_stress_of(p) = self%yield_stress(i)
+            particles%hardening_modulus_of(p) = self%hardening_modulus(i)
+         end if
       end do
       particles%mass = minval(particles%mass_of) ! the scale of "empty" nodes and of guard messages
    end subroutine place_particles

@@ -35,6 +35,9 @@ module mpm_scene_impact
 
    type, extends(scene_t) :: impact_t
       real(dp) :: length(2) = 0.0_dp, modulus(2) = 0.0_dp, density(2) = 0.0_dp, speed(2) = 0.0_dp
+      !> each bar's yield stress and hardening modulus (law elastoplastic only; mpm_material)
+      logical :: plastic = .false.
+      real(dp) :: yield_stress(2) = 0.0_dp, hardening_modulus(2) = 0.0_dp
       real(dp) :: velocity(2) = 0.0_dp
       real(dp) :: gap = 0.0_dp
       real(dp) :: mass(2) = 0.0_dp        !< rho_b L_b (kg per unit area)
@@ -61,6 +64,11 @@ contains
       scene%length = config%lengths(1:2)
       scene%modulus = config%youngs_moduli(1:2)
       scene%density = config%densities(1:2)
+      scene%plastic = trim(config%law) == 'elastoplastic'
+      if (scene%plastic) then
+         scene%yield_stress = config%yield_stresses(1:2)
+         scene%hardening_modulus = config%hardening_moduli(1:2)
+      end if
       scene%speed = sqrt(scene%modulus/scene%density)
       scene%velocity = config%velocities(1:2)
       scene%gap = config%gap
@@ -136,6 +144,8 @@ contains
       if (allocated(error)) return
       allocate (particles%mass_of(particles%count), particles%volume0_of(particles%count), &
                 particles%youngs_modulus_of(particles%count), particles%body(particles%count), stat=stat)
+      if (stat == 0 .and. self%plastic) allocate (particles%yield_stress_of(particles%count), &
+                                                  particles%hardening_modulus_of(particles%count), stat=stat)
       if (stat /= 0) then
          call set_error(error, "cannot allocate per-particle data for "//str(particles%count)// &
                         " particles (out of memory)")
@@ -153,6 +163,10 @@ contains
             particles%volume0_of(p) = sub
             particles%mass_of(p) = self%density(b)*sub
             particles%youngs_modulus_of(p) = self%modulus(b)
+            if (self%plastic) then
+               particles%yield_stress_of(p) = self%yield_stress(b)
+               particles%hardening_modulus_of(p) = self%hardening_modulus(b)
+            end if
             particles%v(p) = self%velocity(b)
             particles%body(p) = b
          end do

@@ -7,6 +7,8 @@
 !> the Cauchy stress sigma = E ln F (mpm_material_elastic), F = 1 + du/dX, so
 !>   b(X,t) = d2u/dt2 - c^2 d(ln F)/dX = -A w^2 sin(kX) s + c^2 A k^2 sin(kX) s/F,  s = sin(w t),
 !>   F = 1 + A k cos(kX) s  (> 0 everywhere when 2 pi A/L < 1: the namelist checks it).
+!> With law = 'linear' (sigma = E (J - 1), so dP/dX = E u_XX) the body force is that law's,
+!>   b(X,t) = d2u/dt2 - c^2 u_XX = -A w^2 sin(kX) s + c^2 A k^2 sin(kX) s.
 !> Initial state: u = 0, unstressed, v(X,0) = A w sin(kX). Each particle gets the force m_p b(X_p, t)
 !> at its reference position and the step's start time, mapped to the grid with the step's shape
 !> functions (mpm_particle_forces on the generic path; the fused kernels map it in their passes).
@@ -39,6 +41,8 @@ module mpm_scene_manufactured
       real(dp) :: wave_number = 0.0_dp !< k = 2 pi/L (1/m)
       real(dp) :: omega = 0.0_dp       !< w = pi c/L (rad/s)
       integer :: elements = 0          !< the body's elements: node `elements` is the fixed right end
+      !> the law is 'linear' (sigma = E (J - 1)): the body force of that law instead of E ln F's
+      logical :: linear_law = .false.
    contains
       procedure :: place_particles, margin_cells, fixed_nodes, ucm_exact, ucm_amplitude
       procedure :: add_forces, error_at, error_name, energy_reference, report, fused_applies, particle_forces
@@ -50,10 +54,13 @@ module mpm_scene_manufactured
 
 contains
 
-   pure function manufactured_init(length, youngs_modulus, density, amplitude, elements) result(scene)
+   pure function manufactured_init(length, youngs_modulus, density, amplitude, elements, law) result(scene)
       real(dp), intent(in) :: length, youngs_modulus, density, amplitude
       integer, intent(in) :: elements
+      !> the law's name (default 'hencky')
+      character(len=*), intent(in), optional :: law
       type(manufactured_t) :: scene
+      if (present(law)) scene%linear_law = trim(law) == 'linear'
       scene%external_forces = .true.
       scene%has_particle_forces = .true.
       scene%length = length
@@ -72,7 +79,7 @@ contains
       displacement_exact = self%amplitude*sin(self%wave_number*x0)*sin(self%omega*t)
    end function displacement_exact
 
-   !> b(X, t) = d2u/dt2 - c^2 d(ln F)/dX (see the module's comment).
+   !> b(X, t) = d2u/dt2 - c^2 d(ln F)/dX, or d2u/dt2 - c^2 u_XX for the linear law (see the module's comment).
    elemental real(dp) function body_force(self, x0, t)
       class(manufactured_t), intent(in) :: self
       real(dp), intent(in) :: x0, t
@@ -80,6 +87,7 @@ contains
       s = sin(self%omega*t)
       sine = sin(self%wave_number*x0)
       f = 1.0_dp + self%amplitude*self%wave_number*cos(self%wave_number*x0)*s
+      if (self%linear_law) f = 1.0_dp
       body_force = self%amplitude*sine*s*(-self%omega**2 + self%wave_speed**2*self%wave_number**2/f)
    end function body_force
 
@@ -151,8 +159,9 @@ contains
       call p2g_particle_forces(cache, forces, grid)
    end subroutine add_forces
 
-   !> m_p b(X_p, t) from the particles' factors (the module's comment): one sine per call. The mass is the
-   !> particle's own (mass_of) where it has one, else the run's one mass (the fused kernels').
+   !> m_p b(X_p, t) from the particles' factors (the module's comment): one sine per call; the linear law's
+   !> b without F. The mass is the particle's own (mass_of) where it has one, else the run's one mass
+   !> (the fused kernels').
    subroutine particle_forces(self, t, particles, forces)
       class(manufactured_t), intent(in) :: self
       real(dp), intent(in) :: t
@@ -163,7 +172,13 @@ contains
       inertia = -self%omega**2
       stiffness = self%wave_speed**2*self%wave_number**2
       associate (sine => particles%scene_factors(:, factor_sine), cosine => particles%scene_factors(:, factor_cosine))
-         if (allocated(particles%mass_of)) then
+         if (self%linear_law) then ! (F = 1 in body_force: c^2 k^2 / 1 is c^2 k^2, the same bits)
+            if (allocated(particles%mass_of)) then
+               forces = particles%mass_of*(sine*s*(inertia + stiffness))
+            else
+               forces = particles%mass*(sine*s*(inertia + stiffness))
+            end if
+         else if (allocated(particles%mass_of)) then
             forces = particles%mass_of*(sine*s*(inertia + stiffness/(1.0_dp + cosine*s)))
          else
             forces = particles%mass*(sine*s*(inertia + stiffness/(1.0_dp + cosine*s)))

@@ -8,6 +8,7 @@ module mpm_scenes
    use mpm_scene_manufactured, only: manufactured_init
    use mpm_scene_composite, only: composite_t, composite_init
    use mpm_scene_impact, only: impact_init
+   use mpm_scene_plastic_wave, only: plastic_wave_init
    implicit none
    private
    public :: make_scene
@@ -26,7 +27,7 @@ contains
          allocate (scene, source=column_init(config%length, config%youngs_modulus, config%density, config%gravity))
       case ('manufactured')
          allocate (scene, source=manufactured_init(config%length, config%youngs_modulus, config%density, &
-                                                   config%amplitude, config%elements))
+                                                   config%amplitude, config%elements, config%law))
       case ('composite_bar')
          block
             type(composite_t) :: composite
@@ -36,6 +37,8 @@ contains
          end block
       case ('impact')
          allocate (scene, source=impact_init(config))
+      case ('plastic_wave')
+         allocate (scene, source=plastic_wave_init(config))
       case default
          call set_error(error, "scene: kind = '"//trim(config%scene_kind)//"' is unknown; allowed: "//known_scenes)
       end select

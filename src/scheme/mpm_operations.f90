@@ -11,7 +11,7 @@
 !>                C_p = sum_I v_I dN_Ip (hat, GIMP: exact for their piecewise-linear weights) or
 !>                C_p = B_p D_p^-1, B_p = sum_I N_Ip v_I (x_I - x_p), D_p = dx^2/4 (quadratic),
 !>                dx^2/3 (cubic B-splines); P2G then adds sum_p N_Ip m_p C_p (x_I - x_p) to p_I.
-!>   stress: d eps_p = dt sum_I dN_Ip v_I, then the material update (mpm_material_elastic)
+!>   stress: d eps_p = dt sum_I dN_Ip v_I, then the material's update (mpm_material: the run's law)
 !> Each is one loop over the particles (or nodes), serial: sweeps run cases on threads, and a run's
 !> results are the same on any number of threads. The schemes (mpm_schemes) compose them.
 !> Each public operation hands the arrays to a kernel with explicit contiguous dummies: gfortran then
@@ -25,8 +25,8 @@ module mpm_operations
    use mpm_diagnostics, only: pass_totals_t
    use mpm_shape_range, only: infinity_bits
    use mpm_lanes, only: block_size, lanes, largest_move_t, add_lanes, lane_total, track_largest_move, furthest_particle
-   use mpm_material_elastic, only: elastic_update_all, elastic_update_each, strain_energy_density
    use mpm_scatter_gather, only: scatter_columns, gather_columns, affine_none, affine_hat, affine_spline
+   use mpm_material, only: material_t, update_material, stored_energy, plastic_work
    implicit none
    private
 
@@ -296,13 +296,14 @@ contains
       if (totals%outside == 0) totals%outside = outside
    end subroutine gather_move
 
-   !> Strain increment d eps = dt sum_I dN_Ip v_I and the material update (the run's Young's modulus, or
-   !> each particle's where the scene gave one); totals: strain energy, min J.
-   subroutine update_stress(cache, particles, grid, dt, youngs_modulus, totals, strain_rate_gathered)
+   !> Strain increment d eps = dt sum_I dN_Ip v_I and the material's update (its law, with the run's
+   !> parameters or each particle's where the scene gave them); totals: strain energy, min J, plastic work.
+   subroutine update_stress(cache, particles, grid, dt, material, totals, strain_rate_gathered)
       type(shape_cache_t), intent(inout) :: cache
       type(particles_t), intent(inout) :: particles
       type(grid_t), intent(in) :: grid
-      real(dp), intent(in) :: dt, youngs_modulus
+      real(dp), intent(in) :: dt
+      type(material_t), intent(in) :: material
       type(pass_totals_t), intent(inout) :: totals
       !> g2p gathered sum dN v with the same nodal velocities (USL)
       logical, intent(in), optional :: strain_rate_gathered
@@ -315,14 +316,8 @@ contains
       else
          call gather_strain(cache%support, cache%first, cache%gradient, grid%velocity, dt, cache%work(:, 1))
       end if
-      if (allocated(particles%youngs_modulus_of)) then ! several materials (one test per step, none per particle)
-         call elastic_update_each(particles%youngs_modulus_of, cache%work(:, 1), particles%volume0_of, &
-                                  particles%stress, particles%volume_ratio, totals%strain_energy, &
-                                  totals%min_volume_ratio)
-      else
-         call elastic_update_all(youngs_modulus, cache%work(:, 1), particles%volume0_of, particles%stress, &
-                                 particles%volume_ratio, totals%strain_energy, totals%min_volume_ratio)
-      end if
+      call update_material(material, cache%work(:, 1), particles, totals%strain_energy, totals%min_volume_ratio, &
+                           totals%plastic_work)
    end subroutine update_stress
 
    subroutine gather_strain(support, first, gradient, velocity, dt, dstrain)
@@ -350,19 +345,15 @@ contains
       if (.not. allocated(cache%work)) allocate (cache%work(count, 3))
    end subroutine scratch
 
-   !> Kinetic and strain energy and the smallest J of the particles as they are (the initial state).
-   subroutine particle_energies(particles, youngs_modulus, totals)
+   !> Kinetic and stored energy, plastic work and the smallest J of the particles as they are (the initial
+   !> state).
+   subroutine particle_energies(particles, material, totals)
       type(particles_t), intent(in) :: particles
-      real(dp), intent(in) :: youngs_modulus
+      type(material_t), intent(in) :: material
       type(pass_totals_t), intent(out) :: totals
       totals%kinetic_energy = sum(0.5_dp*particles%mass_of*particles%v**2)
-      if (allocated(particles%youngs_modulus_of)) then
-         totals%strain_energy = sum(strain_energy_density(particles%youngs_modulus_of, particles%stress, &
-                                                          particles%volume_ratio*particles%volume0_of))
-      else
-         totals%strain_energy = sum(strain_energy_density(youngs_modulus, particles%stress, &
-                                                          particles%volume_ratio*particles%volume0_of))
-      end if
+      totals%strain_energy = stored_energy(material, particles)
+      totals%plastic_work = plastic_work(material, particles)
       totals%min_volume_ratio = minval(particles%volume_ratio)
    end subroutine particle_energies
 end module mpm_operations

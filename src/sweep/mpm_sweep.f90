@@ -3,6 +3,9 @@
 !> schedule). Each case writes only its own slot, so results do not depend on the thread count.
 !> An error pass runs every case once; an optional timing pass repeats each case until a minimum
 !> measured time is reached and keeps the median time per run.
+!> A signal (SIGINT, SIGTERM, SIGHUP) caught during the passes stops the sweep: no case starts any more,
+!> the running ones are abandoned at their next step (status not_run again, no value), and the
+!> caller writes what was finished; a later run resumes the cases still not run (or not timed).
 module mpm_sweep
    use, intrinsic :: ieee_arithmetic, only: ieee_is_finite
    use omp_lib, only: omp_get_wtime, omp_get_max_threads
@@ -10,20 +13,22 @@ module mpm_sweep
    use mpm_errors, only: error_t, set_error, append_error
    use mpm_strings, only: str, lower
    use mpm_config, only: config_t, read_config_text, input_name, validate_config, resolve_config, &
-                         config_parameters, config_groups, not_used_message
+                         config_parameters, config_groups, not_used_message, known_kind
    use mpm_registry, only: parameter_t, nml_item_t, value_list_t, real_entry, int_entry, logical_entry, &
                            parse_namelist, read_input_text, add_overrides, item_place, read_value_list, &
                            single_value_list, set_from_list, set_parameter, &
                            check_parameter, find_parameter, entry_names, format_value, list_text, quoted, &
-                           type_real, type_int, used_by
+                           type_real, type_int, used_by, sweep_name_hint
    use mpm_simulation, only: run_result_t, run_simulation, guard_trip_t, guard_message
-   use mpm_diagnostics, only: history_t, status_ok, status_setup_failed, status_not_run
+   use mpm_diagnostics, only: history_t, status_ok, status_setup_failed, status_not_run, no_value
+   use mpm_files, only: catch_interrupts, release_interrupts, interrupt_signal, wait_for_signal
    use mpm_progress, only: progress_t
    use mpm_sort, only: sort_order, median, relative_spread
    implicit none
    private
    public :: sweep_config_t, sweep_case_t, sweep_t, read_sweep, read_sweep_text, sweep_cases, run_sweep
-   public :: has_sweep_group, has_sweep_text, case_config, max_threads
+   public :: has_sweep_group, has_sweep_text, case_config, max_threads, shard_file, sweep_output_file
+   public :: cases_done, cases_timed, cases_to_time, case_cost, shard_cases
 
    !> Timing pass: a round of repeats whose middle half spans more than this fraction of its median
    !> was disturbed (another process, frequency changes) and is measured again, up to max_rounds
@@ -55,22 +60,30 @@ module mpm_sweep
       character(len=:), allocatable :: namelist_text
    end type sweep_config_t
 
-   !> One case of the sweep and what it produced.
+   !> One case of the sweep and what it produced. A result that does not exist is no_value (NaN):
+   !> every result of a case not run; max_error and relative_error of a case a guard stopped (the
+   !> error reached up to the stop is in error_before_stop and relative_error_before_stop, no value
+   !> for a completed case); the run time of a case not timed (repeats = 0).
    type :: sweep_case_t
       !> Position in the full (unsharded) table, 1-based; it gives the value of every list.
       integer :: index = 0
-      integer :: steps = 0, particles = 0, repeats = 0
+      integer :: steps = 0, particles = 0
+      !> Runs timed for run_time (0: not timed: no timing pass, stopped by a guard, or interrupted).
+      integer :: repeats = 0
       integer :: status = status_not_run
-      real(dp) :: dt = 0.0_dp, max_error = 0.0_dp, relative_error = 0.0_dp, run_time = 0.0_dp
+      real(dp) :: dt = 0.0_dp, max_error = no_value, relative_error = no_value, run_time = no_value
+      real(dp) :: error_before_stop = no_value, relative_error_before_stop = no_value
       !> Timing pass: relative spread (interquartile range / median) of the kept round of repeats,
       !> and the rounds measured (a round whose spread exceeds noisy_spread is measured again).
-      real(dp) :: run_time_spread = 0.0_dp
+      real(dp) :: run_time_spread = no_value
       integer :: timing_rounds = 0
-      real(dp) :: max_energy_ratio = 0.0_dp, final_energy_ratio = 0.0_dp
-      real(dp) :: min_volume_ratio = 0.0_dp, max_cell_move = 0.0_dp, min_node_mass_ratio = 0.0_dp
+      real(dp) :: max_energy_ratio = no_value, final_energy_ratio = no_value
+      real(dp) :: min_volume_ratio = no_value, max_cell_move = no_value, min_node_mass_ratio = no_value
       character(len=:), allocatable :: message !< why the case failed (made after the parallel loop)
       type(guard_trip_t) :: trip
       type(history_t) :: history
+      !> Read back from the file a resumed sweep continues (its history is copied from there).
+      logical :: from_file = .false.
    end type sweep_case_t
 
    !> A sweep: the base configuration, the &sweep group, this shard's cases and the timings.
@@ -81,6 +94,10 @@ module mpm_sweep
       integer :: total_cases = 0
       integer :: threads_used = 0
       real(dp) :: error_pass_time = 0.0_dp, timing_pass_time = 0.0_dp, wall_time = 0.0_dp
+      !> The signal that interrupted the sweep (2 SIGINT, 15 SIGTERM, 1 SIGHUP), 0 if none; and in
+      !> which pass (the timing pass: every case ran, some are not timed).
+      integer :: interrupted_by = 0
+      logical :: interrupted_timing = .false.
    end type sweep_t
 
 contains
@@ -131,7 +148,8 @@ contains
          int_entry('sweep', 'timing_threads', settings%timing_threads, 'threads of the timing pass', at_least=1, &
                    at_most=max_threads), &
          logical_entry('sweep', 'histories', settings%histories, 'keep each case''s history in the sweep file'), &
-         logical_entry('sweep', 'progress', settings%progress, 'a progress line on standard error (a terminal only)'), &
+         logical_entry('sweep', 'progress', settings%progress, 'progress on standard error: a line redrawn '// &
+                       'on a terminal, a line a minute in a log'), &
          int_entry('sweep', 'shard', settings%shard, 'this process runs cases shard, shard+shards, ...', at_least=1), &
          int_entry('sweep', 'shards', settings%shards, 'the number of shards the sweep is cut into', at_least=1)]
    end subroutine sweep_parameters
@@ -204,7 +222,7 @@ contains
             end if
             lines(j) = items(i)%line
             k = study%settings%lists(j)%entry
-            if (.not. used_by(base(k), trim(study%base%scene_kind))) then
+            if (known_kind(study%base%scene_kind) .and. .not. used_by(base(k), trim(study%base%scene_kind))) then
                call append_error(error, where//"sweep: list '"//items(i)%name//"' varies "// &
                                  not_used_message(base(k), study%base%scene_kind))
                cycle
@@ -216,8 +234,8 @@ contains
          end if
          k = find_parameter(settings, 'sweep', items(i)%name)
          if (k == 0) then
-            call append_error(error, where//"group &sweep: unknown variable '"//items(i)%name// &
-                              "'; allowed names: "//list_names()//", "//entry_names(settings, 'sweep'))
+            call append_error(error, where//"group &sweep: unknown variable '"//items(i)%name//"'"// &
+                              sweep_name_hint(items(i)%name, list_names()//", "//entry_names(settings, 'sweep'), base))
          else if (settings(k)%line > 0) then
             call append_error(error, where//"sweep: '"//items(i)%name//"' is given twice (also line "// &
                               str(settings(k)%line)//")")
@@ -332,7 +350,7 @@ contains
                               str(sweep%total_cases))
             return
          end if
-         allocate (sweep%cases((sweep%total_cases - s%shard)/s%shards + 1))
+         allocate (sweep%cases(shard_cases(sweep%total_cases, s%shard, s%shards)))
          mine = 0
          do n = s%shard, sweep%total_cases, s%shards
             one = sweep_case_t(index=n)
@@ -388,46 +406,83 @@ contains
       end do
    end function count_lines
 
-   !> Run the error pass (every case once, in parallel) and, when min_time > 0, the timing pass.
-   subroutine run_sweep(sweep)
+   !> Run the error pass (every case not run yet, in parallel) and, when min_time > 0, the timing pass
+   !> (every completed case not timed yet). A sweep read afresh runs every case; one continued from
+   !> its file (resume) only what is left. With `catch_signals`, SIGINT, SIGTERM and SIGHUP stop the
+   !> passes (sweep%interrupted_by) instead of ending the process.
+   !> Test hook: MPM1D_PAUSE_AFTER_CASES=N makes the thread that finishes the N-th case (counted over
+   !> both passes, in the order they finish; threads = 1 for a known set) create the file mpm1d_paused
+   !> in the working folder and wait there for a signal (at most 600 s), so that a test signals a sweep
+   !> at a known point.
+   subroutine run_sweep(sweep, catch_signals)
       type(sweep_t), intent(inout) :: sweep
+      logical, intent(in), optional :: catch_signals
       integer, allocatable :: order(:)
-      integer :: threads
-      real(dp) :: start
+      integer :: threads, pause_after
+      real(dp) :: start, seconds_per_cost, error_pass
+      logical :: catching
 
+      catching = .false.
+      if (present(catch_signals)) catching = catch_signals
+      if (catching) call catch_interrupts()
+      pause_after = pause_hook()
       start = omp_get_wtime()
       threads = sweep%settings%threads
       if (threads == 0) threads = omp_get_max_threads()
       sweep%threads_used = threads
       order = by_decreasing_cost(sweep%cases)
-      call over_cases(sweep, order, threads, case_weights(sweep%cases, 0.0_dp, 0.0_dp), timing=.false.)
+      order = pack(order, sweep%cases(order)%status == status_not_run)
+      call over_cases(sweep, order, threads, case_weights(sweep%cases, 0.0_dp, 0.0_dp), .false., pause_after)
       call describe_failures(sweep)
-      sweep%error_pass_time = omp_get_wtime() - start
-      if (sweep%settings%min_time > 0.0_dp) then
+      error_pass = omp_get_wtime() - start
+      ! (added: a resumed sweep's file brings the time of its earlier passes)
+      sweep%error_pass_time = sweep%error_pass_time + error_pass
+      sweep%interrupted_by = interrupt_signal()
+      if (sweep%settings%min_time > 0.0_dp .and. sweep%interrupted_by == 0) then
          ! the error pass gives the seconds per particle-step on this machine (thread-seconds / cost)
-         call over_cases(sweep, order, sweep%settings%timing_threads, case_weights(sweep%cases, &
-                         sweep%error_pass_time*threads/max(1.0_dp, sum(cost(sweep%cases))), &
-                         sweep%settings%min_time), timing=.true.)
-         sweep%timing_pass_time = omp_get_wtime() - start - sweep%error_pass_time
+         seconds_per_cost = error_pass*threads/max(1.0_dp, sum(case_cost(sweep%cases(order))))
+         pause_after = pause_after - size(order)
+         order = by_decreasing_cost(sweep%cases)
+         order = pack(order, cases_to_time(sweep%cases(order)))
+         call over_cases(sweep, order, sweep%settings%timing_threads, case_weights(sweep%cases, seconds_per_cost, &
+                         sweep%settings%min_time), .true., pause_after)
+         sweep%timing_pass_time = sweep%timing_pass_time + (omp_get_wtime() - start - error_pass)
+         sweep%interrupted_by = interrupt_signal()
+         sweep%interrupted_timing = sweep%interrupted_by /= 0
       end if
-      sweep%wall_time = omp_get_wtime() - start
+      sweep%wall_time = sweep%wall_time + (omp_get_wtime() - start)
+      if (catching) call release_interrupts()
    end subroutine run_sweep
 
-   !> Every case once, or (timing) every case repeated until min_time; expensive cases first so
-   !> the dynamic schedule ends evenly. Each case writes only its own slot.
-   subroutine over_cases(sweep, order, threads, weights, timing)
+   !> MPM1D_PAUSE_AFTER_CASES as a number (0 when unset or not a number).
+   integer function pause_hook()
+      character(len=16) :: text
+      integer :: length, stat
+      pause_hook = 0
+      call get_environment_variable('MPM1D_PAUSE_AFTER_CASES', text, length=length)
+      if (length == 0) return
+      read (text, *, iostat=stat) pause_hook
+      if (stat /= 0) pause_hook = 0
+   end function pause_hook
+
+   !> The cases at positions `order` (expensive first, so that the dynamic schedule ends evenly):
+   !> each once, or (timing) each repeated until min_time. Each case writes only its own slot. Once a
+   !> signal is caught no case starts; running ones stop at their next step and stay not run.
+   subroutine over_cases(sweep, order, threads, weights, timing, pause_after)
       type(sweep_t), intent(inout) :: sweep
-      integer, intent(in) :: order(:), threads
+      integer, intent(in) :: order(:), threads, pause_after
       real(dp), intent(in) :: weights(:)
       logical, intent(in) :: timing
       type(progress_t) :: progress
       type(config_t) :: config
-      integer :: k
+      integer :: k, finished, mine
+      finished = 0
       call progress%start(merge('timing pass', 'error pass ', timing), weights(order), sweep%settings%progress)
       !$omp parallel do default(none) schedule(dynamic, 1) num_threads(threads) &
-      !$omp shared(sweep, order, progress, timing, weights) &
-      !$omp private(config)
+      !$omp shared(sweep, order, progress, timing, weights, pause_after, finished) &
+      !$omp private(config, k, mine)
       do k = 1, size(order)
+         if (interrupt_signal() /= 0) cycle
          ! one thread at a time builds a case's configuration: case_config fills the parameter table (an
          ! array constructor of a type with pointer components), and with two threads doing so at once
          ! gfortran 12's code corrupted memory now and then (about one paper sweep in 150 ran a case on
@@ -440,11 +495,37 @@ contains
          else
             call run_case(config, sweep%settings%histories, sweep%cases(order(k)))
          end if
+         if (interrupt_signal() /= 0) cycle
          call progress%advance(weights(order(k)))
+         if (pause_after > 0) then
+            !$omp atomic capture
+            finished = finished + 1
+            mine = finished
+            !$omp end atomic
+            if (mine == pause_after) call wait_for_signal(600, 'mpm1d_paused')
+         end if
       end do
       !$omp end parallel do
       call progress%finish()
    end subroutine over_cases
+
+   !> The cases done: run to their end or stopped by a guard (not the ones not run).
+   pure integer function cases_done(cases)
+      type(sweep_case_t), intent(in) :: cases(:)
+      cases_done = count(cases%status /= status_not_run)
+   end function cases_done
+
+   !> The cases timed (repeats > 0).
+   pure integer function cases_timed(cases)
+      type(sweep_case_t), intent(in) :: cases(:)
+      cases_timed = count(cases%repeats > 0)
+   end function cases_timed
+
+   !> Which cases the timing pass measures: those completed and not timed yet.
+   elemental logical function cases_to_time(c)
+      type(sweep_case_t), intent(in) :: c
+      cases_to_time = c%status == status_ok .and. c%repeats == 0
+   end function cases_to_time
 
    !> Messages of the failed cases, made here, serially (see guard_message).
    subroutine describe_failures(sweep)
@@ -452,9 +533,10 @@ contains
       integer :: i
       do i = 1, size(sweep%cases)
          associate (c => sweep%cases(i))
+            if (allocated(c%message)) cycle ! read back from the file a resumed sweep continues
             if (c%status == status_setup_failed) then
                c%message = 'the run could not be set up: not enough memory for '//str(c%particles)//' particles'
-            else if (c%status /= status_ok) then
+            else if (c%status /= status_ok .and. c%status /= status_not_run) then
                c%message = guard_message(c%status, c%trip, case_config(sweep, c))
             end if
          end associate
@@ -476,10 +558,16 @@ contains
          c%status = status_setup_failed
          return
       end if
+      if (result%status == status_not_run) return ! abandoned (a signal): no result
       c%status = result%status
       c%trip = result%trip
-      c%max_error = result%max_error
-      c%relative_error = result%relative_error
+      if (result%status == status_ok) then
+         c%max_error = result%max_error
+         c%relative_error = result%relative_error
+      else
+         c%error_before_stop = result%max_error
+         c%relative_error_before_stop = result%relative_error
+      end if
       c%max_energy_ratio = result%max_energy_ratio
       if (result%initial_energy > 0.0_dp) then
          c%final_energy_ratio = result%final_energy/result%initial_energy
@@ -506,7 +594,8 @@ contains
 
 
    !> Repeat one case (set-up and time loop, no output) until min_time of measured run time is
-   !> reached (at least 3 runs) and keep the median time per run. Failed cases are not timed.
+   !> reached (at least 3 runs) and keep the median time per run. Failed cases are not timed; a case
+   !> interrupted (a signal) keeps no time (repeats 0, run_time no value).
    subroutine time_case(case, min_time, c)
       type(config_t), intent(in) :: case
       real(dp), intent(in) :: min_time
@@ -516,46 +605,55 @@ contains
       type(run_result_t) :: result
       type(error_t), allocatable :: error
       real(dp), allocatable :: times(:)
-      real(dp) :: total, spread
-      integer :: n, round
+      real(dp) :: total, spread, best_spread, best_time
+      integer :: n, round, rounds, best_repeats
       if (c%status /= status_ok) return
       config = case
       config%history = .false.
       allocate (times(max_repeats))
-      c%run_time_spread = huge(1.0_dp)
+      best_spread = huge(1.0_dp)
+      best_repeats = 0
+      best_time = no_value
+      rounds = 0
       do round = 1, max_rounds
          total = 0.0_dp
          n = 0
          do while ((total < min_time .or. n < min_repeats) .and. n < max_repeats)
             call run_simulation(config, result, error, record_history=.false.)
             if (allocated(error)) return
+            if (result%status == status_not_run) return ! interrupted: no time
             n = n + 1
             times(n) = result%run_time
             total = total + result%run_time
          end do
          spread = relative_spread(times(1:n))
-         c%timing_rounds = round
-         if (spread < c%run_time_spread) then
-            c%repeats = n
-            c%run_time = median(times(1:n))
-            c%run_time_spread = spread
+         rounds = round
+         if (spread < best_spread) then
+            best_repeats = n
+            best_time = median(times(1:n))
+            best_spread = spread
          end if
          if (spread <= noisy_spread) exit
       end do
+      if (best_repeats == 0) return ! (no round with a spread: times of zero)
+      c%timing_rounds = rounds
+      c%repeats = best_repeats
+      c%run_time = best_time
+      c%run_time_spread = best_spread
    end subroutine time_case
 
    !> Case order by decreasing estimated cost (particles x steps).
    function by_decreasing_cost(cases) result(order)
       type(sweep_case_t), intent(in) :: cases(:)
       integer, allocatable :: order(:)
-      order = sort_order(-cost(cases))
+      order = sort_order(-case_cost(cases))
    end function by_decreasing_cost
 
    !> A case's estimated cost in particle-steps (the time loop's work; set-up is negligible).
-   elemental real(dp) function cost(c)
+   elemental real(dp) function case_cost(c)
       type(sweep_case_t), intent(in) :: c
-      cost = real(c%particles, dp)*real(c%steps, dp)
-   end function cost
+      case_cost = real(c%particles, dp)*real(c%steps, dp)
+   end function case_cost
 
    !> Expected cost of each case in a pass, for the progress estimate. Error pass (`min_time` = 0):
    !> particles x steps. Timing pass: seconds, each completed case being repeated until `min_time`
@@ -566,11 +664,44 @@ contains
       real(dp), intent(in) :: seconds_per_cost, min_time
       real(dp), allocatable :: weights(:)
       if (min_time <= 0.0_dp) then
-         weights = cost(cases)
+         weights = case_cost(cases)
       else
-         weights = merge(max(min_time, 3.0_dp*seconds_per_cost*cost(cases)), 0.0_dp, cases%status == status_ok)
+         weights = merge(max(min_time, 3.0_dp*seconds_per_cost*case_cost(cases)), 0.0_dp, cases%status == status_ok)
       end if
    end function case_weights
+
+   !> The cases of shard `shard` of `shards` of a sweep of `total` cases (cases shard, shard + shards, ...).
+   pure integer function shard_cases(total, shard, shards)
+      integer, intent(in) :: total, shard, shards
+      shard_cases = (total - shard)/shards + 1
+   end function shard_cases
+
+   !> The file this process writes: the namelist's `file`, or its shard's name when the sweep is sharded.
+   function sweep_output_file(sweep) result(path)
+      type(sweep_t), intent(in) :: sweep
+      character(len=:), allocatable :: path
+      path = trim(sweep%base%file)
+      if (sweep%settings%shards > 1) path = shard_file(path, sweep%settings%shard, sweep%settings%shards)
+   end function sweep_output_file
+
+   !> The file of shard `shard` of `shards`: out.h5 -> out_shard002of004.h5 (at least 3 digits, as many
+   !> as the shard count has).
+   function shard_file(path, shard, shards) result(name)
+      character(len=*), intent(in) :: path
+      integer, intent(in) :: shard, shards
+      character(len=:), allocatable :: name
+      character(len=48) :: suffix, form
+      integer :: dot, width
+      width = max(3, len(str(shards)))
+      write (form, '("(""_shard"",i",i0,".",i0,",""of"",i",i0,".",i0,")")') width, width, width, width
+      write (suffix, form) shard, shards
+      dot = index(path, '.h5', back=.true.)
+      if (dot == len(path) - 2 .and. dot > 0) then
+         name = path(1:dot - 1)//trim(suffix)//'.h5'
+      else
+         name = path//trim(suffix)
+      end if
+   end function shard_file
 
    !> The &sweep group as namelist text (stored in the output file): every list, then the run
    !> settings, ending with shard and shards (merge compares shards without them).

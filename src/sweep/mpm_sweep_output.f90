@@ -1,20 +1,22 @@
-!> HDF5 output of a sweep (one flat table under /cases, layout in docs/output.md) and the merge of
-!> shard files into the file an unsharded run gives.
+!> HDF5 output of a sweep (one flat table under /cases, layout in docs/output.md), the merge of
+!> shard files into the file an unsharded run gives, and the reading back of a sweep's own file to
+!> resume it.
 module mpm_sweep_output
    use mpm_kinds, only: dp
    use mpm_errors, only: error_t, set_error
    use mpm_strings, only: str
    use mpm_hdf5, only: h5_writer_t, h5_read_real, h5_read_int, h5_read_string, h5_read_attribute_string, &
                        h5_read_attribute_int, h5_read_attribute_real, h5_exists
+   use mpm_files, only: path_kind, path_regular, path_other
    use mpm_output, only: write_config_attributes
    use mpm_version, only: code_version
-   use mpm_diagnostics, only: status_name, status_ok
+   use mpm_diagnostics, only: status_name, status_ok, status_not_run
    use mpm_sweep, only: sweep_t, sweep_case_t, case_column
-   use mpm_config, only: config_t, config_parameters
-   use mpm_registry, only: parameter_t, value_list_t, single_value_list, type_real, type_int
+   use mpm_config, only: config_t, config_parameters, config_namelist
+   use mpm_registry, only: parameter_t, value_list_t, single_value_list, type_real, type_int, used_by
    implicit none
    private
-   public :: write_sweep_file, merge_sweep_files
+   public :: write_sweep_file, merge_sweep_files, resume_sweep
 
    !> Sweep-level numbers written as /sweep attributes.
    type :: sweep_info_t
@@ -23,17 +25,29 @@ module mpm_sweep_output
       real(dp) :: min_time = 0.0_dp, wall_time = 0.0_dp, error_pass_time = 0.0_dp, timing_pass_time = 0.0_dp
    end type sweep_info_t
 
+   !> A merge under way: the table the shards fill, and what the first shard says of the sweep.
+   type :: merge_table_t
+      type(sweep_info_t) :: info
+      character(len=:), allocatable :: config_text
+      type(sweep_case_t), allocatable :: cases(:)
+      type(value_list_t), allocatable :: columns(:)
+      logical, allocatable :: seen(:), filled(:)
+   end type merge_table_t
+
    integer, parameter :: message_length = 1024
 
 contains
 
-   !> Write the sweep's results to `path` (via a .part file).
-   subroutine write_sweep_file(path, sweep, error)
+   !> Write the sweep's results to `path` (via a .part file). The histories of cases read back from
+   !> an earlier file (a resumed sweep) are copied from `previous`.
+   subroutine write_sweep_file(path, sweep, error, previous)
       character(len=*), intent(in) :: path
       type(sweep_t), intent(in) :: sweep
       type(error_t), allocatable, intent(out) :: error
+      character(len=*), intent(in), optional :: previous
       type(h5_writer_t) :: h5
       type(sweep_info_t) :: info
+      character(len=:), allocatable :: name
       integer :: i
       ! (component by component: gfortran 12 mis-sizes a deferred-length character in a structure constructor)
       info%namelist_text = sweep%settings%namelist_text
@@ -51,15 +65,37 @@ contains
       call h5%attribute_string('/', 'content', 'sweep')
       call h5%group('/config')
       call write_config_attributes(h5, '/config', sweep%base)
-      call write_table(h5, info, sweep%cases, [(case_column(sweep, i, sweep%cases), i=1, size(sweep%settings%lists))])
+      call write_table(h5, info, sweep%cases, scene_columns(sweep))
       if (sweep%settings%histories) then
          call h5%group('/histories')
          do i = 1, size(sweep%cases)
-            call write_history(h5, sweep%cases(i))
+            if (sweep%cases(i)%from_file .and. present(previous)) then
+               name = '/histories/'//history_name(sweep%cases(i)%index)
+               if (h5_exists(previous, name)) call h5%copy_from(previous, name)
+            else
+               call write_history(h5, sweep%cases(i))
+            end if
          end do
       end if
       call h5%finish(error)
    end subroutine write_sweep_file
+
+   !> The /cases columns of the swept variables the sweep's scene uses (a vibrating bar's sweep has
+   !> no gap or gravity column), one value per case.
+   function scene_columns(sweep) result(columns)
+      type(sweep_t), intent(in) :: sweep
+      type(value_list_t), allocatable :: columns(:)
+      type(config_t), target :: local
+      type(parameter_t), allocatable :: table(:)
+      integer :: j
+      local = sweep%base
+      call config_parameters(local, table)
+      allocate (columns(0))
+      do j = 1, size(sweep%settings%lists)
+         if (.not. used_by(table(sweep%settings%lists(j)%entry), trim(sweep%base%scene_kind))) cycle
+         columns = [columns, case_column(sweep, j, sweep%cases)]
+      end do
+   end function scene_columns
 
    subroutine write_history(h5, c)
       type(h5_writer_t), intent(inout) :: h5
@@ -85,8 +121,8 @@ contains
       name = trim(buffer)
    end function history_name
 
-   !> /sweep attributes and the /cases columns: the index, one column per sweepable variable of the
-   !> registry (`columns`, one value per case), then the results.
+   !> /sweep attributes and the /cases columns: the index, one column per swept variable of the
+   !> scene (`columns`, one value per case), then the results.
    subroutine write_table(h5, info, cases, columns)
       type(h5_writer_t), intent(inout) :: h5
       type(sweep_info_t), intent(in) :: info
@@ -117,6 +153,8 @@ contains
       call h5%write_real('/cases/dt', cases%dt)
       call h5%write_real('/cases/max_error', cases%max_error)
       call h5%write_real('/cases/relative_error', cases%relative_error)
+      call h5%write_real('/cases/error_before_stop', cases%error_before_stop)
+      call h5%write_real('/cases/relative_error_before_stop', cases%relative_error_before_stop)
       call h5%write_real('/cases/run_time', cases%run_time)
       call h5%write_int('/cases/repeats', cases%repeats)
       call h5%write_real('/cases/run_time_spread', cases%run_time_spread)
@@ -128,6 +166,8 @@ contains
          messages(i) = ''
          if (allocated(cases(i)%message)) messages(i) = cases(i)%message
          if (cases(i)%status == status_ok) messages(i) = 'completed' ! as a single run's /summary/message
+         if (cases(i)%status == status_not_run) messages(i) = 'not run: the sweep was interrupted before this '// &
+            'case finished; no result (mpm1d SWEEP.nml --resume runs it)'
       end do
       call h5%write_strings('/cases/status_name', names)
       call h5%write_strings('/cases/message', messages)
@@ -156,6 +196,61 @@ contains
       end subroutine write_column
    end subroutine write_table
 
+   !> Read back the file `path` this sweep (the same input, the same shard) wrote before, to continue
+   !> it: its cases that ran take their results from there (and keep them), the others stay not run.
+   !> A file of another sweep is refused, naming the file and what differs.
+   subroutine resume_sweep(path, sweep, error)
+      character(len=*), intent(in) :: path
+      type(sweep_t), intent(inout) :: sweep
+      type(error_t), allocatable, intent(out) :: error
+      type(sweep_info_t) :: info
+      type(sweep_case_t), allocatable :: cases(:)
+      character(len=:), allocatable :: config_text
+      integer :: i
+      if (path_kind(path) /= path_regular) then
+         call set_error(error, "resume: '"//path//"' does not exist (or is not a file): nothing to resume; "// &
+                        "run the sweep without --resume")
+         return
+      end if
+      call read_info(path, 'resume', info, config_text, error)
+      if (allocated(error)) return
+      if (config_text /= config_namelist(sweep%base)) then
+         call refuse('its configuration (/config) differs from this input''s')
+      else if (results_part(info%namelist_text) /= results_part(sweep%settings%namelist_text)) then
+         call refuse('its &sweep group differs from this input''s')
+      else if (info%total_cases /= sweep%total_cases) then
+         call refuse('it has '//str(info%total_cases)//' cases, this sweep '//str(sweep%total_cases))
+      else if (info%shard /= sweep%settings%shard .or. info%shards /= sweep%settings%shards) then
+         call refuse('it is shard '//str(info%shard)//' of '//str(info%shards)//', this run shard '// &
+                     str(sweep%settings%shard)//' of '//str(sweep%settings%shards))
+      end if
+      if (allocated(error)) return
+      call read_cases(path, 'resume', cases, error)
+      if (allocated(error)) return
+      if (size(cases) /= size(sweep%cases)) then
+         call refuse('it holds '//str(size(cases))//' cases, this shard has '//str(size(sweep%cases)))
+         return
+      end if
+      if (any(cases%index /= sweep%cases%index)) then
+         call refuse('its cases are not this shard''s')
+         return
+      end if
+      do i = 1, size(cases)
+         if (cases(i)%status == status_not_run) cycle
+         cases(i)%from_file = .true.
+         sweep%cases(i) = cases(i)
+      end do
+      sweep%wall_time = info%wall_time
+      sweep%error_pass_time = info%error_pass_time
+      sweep%timing_pass_time = info%timing_pass_time
+   contains
+      subroutine refuse(what)
+         character(len=*), intent(in) :: what
+         call set_error(error, "resume: '"//path//"' holds another sweep: "//what//"; allowed: the file this "// &
+                        "sweep (the same input and overrides) wrote, or run without --resume to start afresh")
+      end subroutine refuse
+   end subroutine resume_sweep
+
    !> Join shard files (every shard 1..n of one sweep, each once) into `path`: the same table,
    !> in the same case order, as one unsharded run; run times and pass times are the shards'.
    !> `output_failed` tells a failure to write `path` (exit 3) from a problem of the inputs (exit 2).
@@ -166,93 +261,143 @@ contains
       character(len=*), intent(in) :: inputs(:)
       type(error_t), allocatable, intent(out) :: error
       logical, intent(out), optional :: output_failed
-      type(sweep_info_t) :: info, first
-      type(sweep_case_t), allocatable :: cases(:), part(:)
-      type(value_list_t), allocatable :: columns(:), part_columns(:)
-      logical, allocatable :: seen(:)
-      type(h5_writer_t) :: h5
-      character(len=:), allocatable :: config_text, text
-      integer :: i, k, n, j
-      integer, allocatable :: where(:)
-      logical, allocatable :: filled(:)
-      logical :: histories
-
+      type(merge_table_t) :: table
+      integer :: i
       if (present(output_failed)) output_failed = .false.
-
       if (size(inputs) < 1) then
          call set_error(error, 'merge: give the output file and at least one shard file')
          return
       end if
-      columns = sweep_columns()
+      ! as a single run refuses it: writing would replace a named pipe or device with a regular file
+      if (path_kind(path) == path_other) then
+         call set_error(error, "merge: output file '"//trim(path)//"' is not a regular file (a device, FIFO or "// &
+                        "socket); allowed: a new file or a regular file to replace")
+         return
+      end if
       do i = 1, size(inputs)
-         call read_info(trim(inputs(i)), info, text, error)
+         call add_shard(table, trim(inputs(i)), trim(inputs(1)), error)
          if (allocated(error)) return
-         if (i == 1) then
-            first = info
-            config_text = text
-            allocate (seen(info%shards))
-            seen = .false.
-            n = info%total_cases
-            allocate (cases(n), filled(n))
-            filled = .false.
-            do k = 1, size(columns)
-               columns(k)%reals = spread(0.0_dp, 1, n)
-               columns(k)%ints = spread(0, 1, n)
-               columns(k)%texts = spread(repeat(' ', 64), 1, n)
-            end do
-         else if (info%shards /= first%shards .or. text /= config_text .or. info%total_cases /= n .or. &
-                  results_part(info%namelist_text) /= results_part(first%namelist_text)) then
-            call set_error(error, "merge: '"//trim(inputs(i))//"' is not a shard of the same sweep as '"// &
-                           trim(inputs(1))//"'")
-            return
-         end if
-         if (seen(info%shard)) then
-            call set_error(error, "merge: shard "//str(info%shard)//" is given twice ('"//trim(inputs(i))//"')")
-            return
-         end if
-         seen(info%shard) = .true.
-         call read_cases(trim(inputs(i)), part, error)
-         if (allocated(error)) return
-         where = part%index
-         if (any(where < 1 .or. where > n)) then
-            call set_error(error, "merge: '"//trim(inputs(i))//"' holds a case index outside 1 to "//str(n))
-            return
-         end if
-         do j = 1, size(where)
-            if (filled(where(j))) then
-               call set_error(error, "merge: case "//str(where(j))//" is in two shards ('"//trim(inputs(i))//"')")
-               return
-            end if
-            filled(where(j)) = .true.
-            cases(where(j)) = part(j)
-         end do
-         part_columns = sweep_columns()
-         call read_columns(trim(inputs(i)), size(part), part_columns, error)
-         if (allocated(error)) return
-         do k = 1, size(columns)
-            columns(k)%reals(where) = part_columns(k)%reals
-            columns(k)%ints(where) = part_columns(k)%ints
-            columns(k)%texts(where) = part_columns(k)%texts
-         end do
-         if (i > 1) then
-            first%wall_time = first%wall_time + info%wall_time
-            first%error_pass_time = first%error_pass_time + info%error_pass_time
-            first%timing_pass_time = first%timing_pass_time + info%timing_pass_time
-         end if
       end do
-      if (.not. all(seen)) then
-         call set_error(error, "merge: shards missing: "//missing(seen)//" of "//str(first%shards))
-         return
-      end if
-      if (.not. all(filled)) then
-         call set_error(error, "merge: the shards hold "//str(count(filled))//" cases, the sweep has "// &
-                        str(first%total_cases))
-         return
-      end if
-      first%shard = 1
-      first%shards = 1
-      first%namelist_text = without_shard(first%namelist_text)//", shard=1, shards=1 /"
+      call check_complete(table, error)
+      if (allocated(error)) return
+      call write_merged(path, inputs, table, error)
+      if (present(output_failed)) output_failed = allocated(error)
+   end subroutine merge_sweep_files
 
+   !> Read one shard into the table: the first one sets up the table, each other must be a
+   !> shard of the same sweep, not seen before, whose cases go to places not yet filled.
+   subroutine add_shard(table, input, first, error)
+      type(merge_table_t), intent(inout) :: table
+      character(len=*), intent(in) :: input, first
+      type(error_t), allocatable, intent(out) :: error
+      type(sweep_info_t) :: info
+      type(sweep_case_t), allocatable :: part(:)
+      type(value_list_t), allocatable :: part_columns(:)
+      character(len=:), allocatable :: text
+      integer, allocatable :: where(:)
+      integer :: j, k
+      call read_info(input, 'merge', info, text, error)
+      if (allocated(error)) return
+      if (.not. allocated(table%seen)) then
+         call start_table(table, info, text, input)
+      else if (info%shards /= table%info%shards .or. text /= table%config_text .or. &
+               info%total_cases /= table%info%total_cases .or. &
+               results_part(info%namelist_text) /= results_part(table%info%namelist_text)) then
+         call set_error(error, "merge: '"//input//"' is not a shard of the same sweep as '"//first//"'")
+         return
+      else
+         table%info%wall_time = table%info%wall_time + info%wall_time
+         table%info%error_pass_time = table%info%error_pass_time + info%error_pass_time
+         table%info%timing_pass_time = table%info%timing_pass_time + info%timing_pass_time
+      end if
+      if (table%seen(info%shard)) then
+         call set_error(error, "merge: shard "//str(info%shard)//" is given twice ('"//input//"')")
+         return
+      end if
+      table%seen(info%shard) = .true.
+      call read_cases(input, 'merge', part, error)
+      if (allocated(error)) return
+      where = part%index
+      if (any(where < 1 .or. where > size(table%cases))) then
+         call set_error(error, "merge: '"//input//"' holds a case index outside 1 to "//str(size(table%cases)))
+         return
+      end if
+      do j = 1, size(where)
+         if (table%filled(where(j))) then
+            call set_error(error, "merge: case "//str(where(j))//" is in two shards ('"//input//"')")
+            return
+         end if
+         table%filled(where(j)) = .true.
+         table%cases(where(j)) = part(j)
+      end do
+      part_columns = table%columns
+      call read_columns(input, size(part), part_columns, error)
+      if (allocated(error)) return
+      do k = 1, size(table%columns)
+         table%columns(k)%reals(where) = part_columns(k)%reals
+         table%columns(k)%ints(where) = part_columns(k)%ints
+         table%columns(k)%texts(where) = part_columns(k)%texts
+      end do
+   end subroutine add_shard
+
+   !> The empty table of the sweep the first shard belongs to: its cases, and the columns of the
+   !> swept variables that shard carries (those of its scene).
+   subroutine start_table(table, info, config_text, input)
+      type(merge_table_t), intent(inout) :: table
+      type(sweep_info_t), intent(in) :: info
+      character(len=*), intent(in) :: config_text, input
+      type(value_list_t), allocatable :: all(:)
+      integer :: k, n
+      table%info = info
+      table%config_text = config_text
+      n = info%total_cases
+      allocate (table%seen(info%shards), table%cases(n), table%filled(n))
+      table%seen = .false.
+      table%filled = .false.
+      all = sweep_columns()
+      allocate (table%columns(0))
+      do k = 1, size(all)
+         if (h5_exists(input, '/cases/'//trim(all(k)%column))) table%columns = [table%columns, all(k)]
+      end do
+      do k = 1, size(table%columns)
+         table%columns(k)%reals = spread(0.0_dp, 1, n)
+         table%columns(k)%ints = spread(0, 1, n)
+         table%columns(k)%texts = spread(repeat(' ', 64), 1, n)
+      end do
+   end subroutine start_table
+
+   !> Every shard given and every case filled.
+   subroutine check_complete(table, error)
+      type(merge_table_t), intent(in) :: table
+      type(error_t), allocatable, intent(out) :: error
+      character(len=:), allocatable :: list
+      integer :: j
+      if (.not. all(table%seen)) then
+         list = ''
+         do j = 1, size(table%seen)
+            if (.not. table%seen(j)) list = list//' '//str(j)
+         end do
+         call set_error(error, "merge: shards missing: "//list//" of "//str(table%info%shards))
+      else if (.not. all(table%filled)) then
+         call set_error(error, "merge: the shards hold "//str(count(table%filled))//" cases, the sweep has "// &
+                        str(table%info%total_cases))
+      end if
+   end subroutine check_complete
+
+   !> Write the merged table as an unsharded sweep (shard 1 of 1), with the shards' histories.
+   subroutine write_merged(path, inputs, table, error)
+      character(len=*), intent(in) :: path
+      character(len=*), intent(in) :: inputs(:)
+      type(merge_table_t), intent(inout) :: table
+      type(error_t), allocatable, intent(out) :: error
+      type(sweep_info_t) :: info
+      type(h5_writer_t) :: h5
+      character(len=:), allocatable :: text
+      logical :: histories
+      integer :: i, k
+      table%info%shard = 1
+      table%info%shards = 1
+      table%info%namelist_text = without_shard(table%info%namelist_text)//", shard=1, shards=1 /"
       histories = .false.
       do i = 1, size(inputs)
          if (h5_exists(trim(inputs(i)), '/histories')) histories = .true.
@@ -261,32 +406,21 @@ contains
       call h5%attribute_string('/', 'code_version', code_version)
       call h5%attribute_string('/', 'content', 'sweep')
       call h5%copy_from(trim(inputs(1)), '/config')
-      call write_table(h5, first, cases, columns)
+      call write_table(h5, table%info, table%cases, table%columns)
       if (histories) then
          call h5%group('/histories')
          do i = 1, size(inputs)
             ! a shard holds the histories of its own cases: shard, shard + shards, ...
-            call read_info(trim(inputs(i)), info, text, error)
+            call read_info(trim(inputs(i)), 'merge', info, text, error)
             if (allocated(error)) return
-            do k = info%shard, n, info%shards
+            do k = info%shard, size(table%cases), info%shards
                if (h5_exists(trim(inputs(i)), '/histories/'//history_name(k))) &
                   call h5%copy_from(trim(inputs(i)), '/histories/'//history_name(k))
             end do
          end do
       end if
       call h5%finish(error)
-      if (present(output_failed)) output_failed = allocated(error)
-   contains
-      function missing(flags) result(list)
-         logical, intent(in) :: flags(:)
-         character(len=:), allocatable :: list
-         integer :: j
-         list = ''
-         do j = 1, size(flags)
-            if (.not. flags(j)) list = list//' '//str(j)
-         end do
-      end function missing
-   end subroutine merge_sweep_files
+   end subroutine write_merged
 
    !> The sweep namelist text without what does not change results: the shard, the threads and the
    !> timing pass (min_time, timing_threads) and the progress line.
@@ -322,8 +456,10 @@ contains
       end if
    end function without_shard
 
-   subroutine read_info(path, info, config_text, error)
-      character(len=*), intent(in) :: path
+   !> The /sweep attributes and /config namelist of sweep file `path`; `role` ('merge', 'resume')
+   !> starts the messages.
+   subroutine read_info(path, role, info, config_text, error)
+      character(len=*), intent(in) :: path, role
       type(sweep_info_t), intent(out) :: info
       character(len=:), allocatable, intent(out) :: config_text
       type(error_t), allocatable, intent(out) :: error
@@ -331,7 +467,7 @@ contains
       call h5_read_attribute_string(path, '/', 'content', buffer, error)
       if (allocated(error)) return
       if (trim(buffer) /= 'sweep') then
-         call set_error(error, "merge: '"//path//"' is not an mpm1d sweep file (content: '"//trim(buffer)//"')")
+         call set_error(error, role//": '"//path//"' is not an mpm1d sweep file (content: '"//trim(buffer)//"')")
          return
       end if
       call h5_read_attribute_string(path, '/config', 'namelist', buffer, error)
@@ -351,12 +487,12 @@ contains
       if (.not. allocated(error)) call h5_read_attribute_real(path, '/sweep', 'timing_pass_time', &
                                                               info%timing_pass_time, error)
       if (.not. allocated(error) .and. (info%shard < 1 .or. info%shard > info%shards)) &
-         call set_error(error, "merge: '"//path//"' has an invalid shard number")
+         call set_error(error, role//": '"//path//"' has an invalid shard number")
    end subroutine read_info
 
-   !> Read the /cases table of a sweep file back into cases.
-   subroutine read_cases(path, cases, error)
-      character(len=*), intent(in) :: path
+   !> Read the /cases table of a sweep file back into cases (`role` starts the messages).
+   subroutine read_cases(path, role, cases, error)
+      character(len=*), intent(in) :: path, role
       type(sweep_case_t), allocatable, intent(out) :: cases(:)
       type(error_t), allocatable, intent(out) :: error
       integer, allocatable :: ints(:)
@@ -386,6 +522,10 @@ contains
       cases%max_error = reals
       call real_column('relative_error')
       cases%relative_error = reals
+      call real_column('error_before_stop')
+      cases%error_before_stop = reals
+      call real_column('relative_error_before_stop')
+      cases%relative_error_before_stop = reals
       call real_column('run_time')
       cases%run_time = reals
       call real_column('max_energy_ratio')
@@ -413,7 +553,7 @@ contains
          character(len=*), intent(in) :: name
          if (allocated(error)) return
          call h5_read_int(path, '/cases/'//name, ints, error)
-         if (.not. allocated(error) .and. size(ints) /= n) call set_error(error, "merge: column '"//name// &
+         if (.not. allocated(error) .and. size(ints) /= n) call set_error(error, role//": column '"//name// &
                                                                           "' of '"//path//"' has the wrong length")
          if (allocated(error)) ints = [(0, i=1, n)]
       end subroutine int_column
@@ -421,7 +561,7 @@ contains
          character(len=*), intent(in) :: name
          if (allocated(error)) return
          call h5_read_real(path, '/cases/'//name, reals, error)
-         if (.not. allocated(error) .and. size(reals) /= n) call set_error(error, "merge: column '"//name// &
+         if (.not. allocated(error) .and. size(reals) /= n) call set_error(error, role//": column '"//name// &
                                                                            "' of '"//path//"' has the wrong length")
          if (allocated(error)) reals = [(0.0_dp, i=1, n)]
       end subroutine real_column

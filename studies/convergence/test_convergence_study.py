@@ -1,9 +1,15 @@
 #!/usr/bin/python3
-"""Pipeline test of the convergence study: runs `MPM1D_QUICK=1 bash studies/convergence/run.sh`
-(100 to 800 elements, seconds) into a temporary folder and checks the physics it reports: USL at the
-smallest amplitude converges at second order (order 2 of the mesh, within [1.8, 2.6]); USL at
-v0 = 0.1 m/s stops falling from 400 elements on at a floor of the order of v0/c (between 0.05 and 0.5
-of it: the model difference, not a discretisation error); USF's error is the same at every amplitude.
+"""Pipeline test of the convergence study: runs `MPM1D_QUICK=1 bash studies/convergence/run.sh` (linear
+shapes 100 to 800 elements, uGIMP to 400, both elastic laws; seconds) into a temporary folder and checks the
+physics it reports:
+- hencky, linear shapes: second order at the smallest amplitude; at v0 = 0.1 m/s a floor from 400
+  elements on of the order of v0/c (0.05 to 0.5 of it); USF's error the same at every amplitude and law;
+- the linear law (sigma = E (J - 1): the exact solution is exact) with uGIMP keeps second order at
+  v0 = 0.1 m/s, where Hencky with uGIMP is already more than twice its error (the model difference);
+  with linear shapes the linear law stops on a floor (the method's);
+- the split from the histories: the model difference (hencky - linear law, uGIMP) is the same multiple of
+  v0/c at the three amplitudes (within 2 %), the linear shapes' method error (linear - uGIMP, linear law)
+  has the other sign and is larger, and the parts add up to the run's error to round-off.
 Plain script: last line `N passed, M failed`, exit status 1 on any failure.
 """
 
@@ -12,54 +18,65 @@ import sys
 
 import numpy as np
 
-from mpm1d_post.convergence import floor_start, local_orders
-from mpm1d_post.loader import load_sweep
+from mpm1d_post.convergence import floor_start, local_orders, parts, series, signed_peak
+from mpm1d_post.loader import concatenate_sweeps, load_sweep
 
 from mpm1d_post.study_checks import Checks, run_quick
 
 HERE = os.path.dirname(os.path.abspath(__file__))
 
-results = []
-
-
-def check(name, ok, detail=''):
-    results.append(bool(ok))
-    print(f"{'ok  ' if ok else 'FAIL'} {name}" + (f': {detail}' if detail else ''))
-
-
-def series(c, scheme, v0):
-    m = (c['scheme'] == scheme) & np.isclose(c['velocity_amplitude'], v0)
-    idx = np.flatnonzero(m)[np.argsort(c['elements'][m])]
-    return c['elements'][idx].astype(float), c['relative_error'][idx], idx
-
 
 def main() -> int:
-    out, proc = run_quick(HERE, 'mpm1d_convergence_', timeout=600)
+    check = Checks()
+    out, proc = run_quick(HERE, 'mpm1d_convergence_', timeout=900)
     check('run.sh (quick) exits 0', proc.returncode == 0, '' if proc.returncode == 0 else proc.stderr[-2000:])
-    for name in ('convergence.h5', 'convergence.png', 'summary.md'):
+    for name in ('linear.h5', 'wide.h5', 'parts.h5', 'convergence.png', 'parts.png', 'summary.md'):
         check(f'{name} written', os.path.isfile(os.path.join(out, name)))
     if proc.returncode != 0:
-        print(f'{sum(results)} passed, {len(results) - sum(results)} failed')
+        print(f'{sum(check.results)} passed, {len(check.results) - sum(check.results)} failed')
         return 1
-    c = load_sweep(os.path.join(out, 'convergence.h5')).cases
+    sweep = concatenate_sweeps([load_sweep(os.path.join(out, f), cases='all') for f in ('linear.h5', 'wide.h5')])
+    c = sweep.cases
     check('every case completed', bool(np.all(c['status'] == 0)))
-    ne, rel, _ = series(c, 'usl', 0.001)
+    c_ = np.sqrt(c['youngs_modulus'][0] / c['density'][0])
+
+    ne, rel, _ = series(c, 'usl', 'linear', 'hencky', 0.001)
     order = float(np.mean(local_orders(ne, rel)))
-    check('USL, v0 = 0.001 m/s: second order', 1.8 <= order <= 2.6, f'mean order {order:.2f}')
-    ne, rel, idx = series(c, 'usl', 0.1)
+    check('hencky, linear shapes, v0 = 0.001 m/s: second order', 1.8 <= order <= 2.6, f'mean order {order:.2f}')
+    ne, rel, _ = series(c, 'usl', 'linear', 'hencky', 0.1)
     start = floor_start(local_orders(ne, rel))
-    check('USL, v0 = 0.1 m/s: a floor from 400 elements on', start is not None and ne[start] <= 400,
+    check('hencky, linear shapes, v0 = 0.1 m/s: a floor from 400 elements on', start is not None and ne[start] <= 400,
           f'floor from {ne[start] if start is not None else None}')
-    ratio = 0.1 / np.sqrt(c['youngs_modulus'][idx[0]] / c['density'][idx[0]])
     floor = float(rel[start:].min()) if start is not None else float('nan')
-    check('USL, v0 = 0.1 m/s: the floor is of the order of v0/c', 0.05 <= floor / ratio <= 0.5,
-          f'floor {floor:.3g} = {floor / ratio:.3g} v0/c')
-    _, a, _ = series(c, 'usf', 0.1)
-    _, b, _ = series(c, 'usf', 0.001)
-    check('USF: the same error at every amplitude (its own discretisation error)',
-          bool(np.all(np.abs(a / b - 1) < 0.1)), f'largest ratio {np.max(a / b):.3f}')
-    print(f'{sum(results)} passed, {len(results) - sum(results)} failed')
-    return 0 if all(results) else 1
+    check('... of the order of v0/c', 0.05 <= floor / (0.1 / c_) <= 0.5, f'floor {floor:.3g} = {floor / (0.1 / c_):.3g} v0/c')
+    for law in ('hencky', 'linear'):
+        _, a, _ = series(c, 'usf', 'linear', law, 0.1)
+        _, b, _ = series(c, 'usf', 'linear', law, 0.001)
+        check(f'USF, {law}: the same error at every amplitude (its own discretisation error)',
+              len(a) == len(b) > 0 and bool(np.all(np.abs(a / b - 1) < 0.1)), f'ratios {a / b}')
+
+    ne, lin, _ = series(c, 'usl', 'ugimp', 'linear', 0.1)
+    _, hen, _ = series(c, 'usl', 'ugimp', 'hencky', 0.1)
+    order = float(local_orders(ne, lin)[-1])
+    check('linear law, uGIMP, v0 = 0.1 m/s: second order to the finest mesh', 1.8 <= order <= 2.3, f'order {order:.2f}')
+    check('... where Hencky with uGIMP has more than twice its error', hen[-1] > 2 * lin[-1], f'{hen[-1]:.3g} vs {lin[-1]:.3g}')
+    ne, rel, _ = series(c, 'usl', 'linear', 'linear', 0.1)
+    check('linear law, linear shapes, v0 = 0.1 m/s: a floor (order below 0.5 at the last pair)',
+          float(local_orders(ne, rel)[-1]) < 0.5, f'orders {local_orders(ne, rel)}')
+
+    split = parts(load_sweep(os.path.join(out, 'parts.h5')))
+    check('the split has the three amplitudes', len(split) == 3, f'{sorted(split)}')
+    if split:
+        model = np.array([signed_peak(p['model']) / p['ratio'] for p in split.values()])
+        method = np.array([signed_peak(p['method']) / p['ratio'] for p in split.values()])
+        check('model difference: the same multiple of v0/c at every amplitude (2 %)',
+              bool(np.all(np.abs(model / model[0] - 1) < 0.02)) and abs(model[0]) > 0.1, f'{model}')
+        check('method error of linear shapes: the other sign and larger (v0 = 0.1 and 0.01)',
+              bool(np.all(model[:2] * method[:2] < 0) and np.all(np.abs(method[:2]) > np.abs(model[:2]))), f'{method}')
+        worst = max(float(np.max(np.abs(p['residual']))) for p in split.values())
+        check('the parts add up to the run\'s error (round-off)', worst < 1e-8, f'{worst:.2e}')
+    print(f'{sum(check.results)} passed, {len(check.results) - sum(check.results)} failed')
+    return 0 if all(check.results) else 1
 
 
 if __name__ == '__main__':

@@ -15,6 +15,7 @@ from __future__ import annotations
 import argparse
 from pathlib import Path
 
+from mpm1d_post.figures import plain_ticks
 from mpm1d_post.loader import load_run, load_sweep
 import matplotlib
 import numpy as np
@@ -30,16 +31,18 @@ def text(value) -> str:
 def load(path: Path) -> dict:
     """The /cases columns the report needs, and the scene's description from /config (through the
     loader of the postprocess package, the one reader of the file layout)."""
-    sweep = load_sweep(path)
+    sweep = load_sweep(path, cases='all')  # every case: the stopped ones are shown apart, never fitted
     cases = {name: sweep.cases[name] for name in ('scheme', 'elements', 'relative_error', 'status', 'run_time',
-                                                   'dt_fraction', 'max_energy_ratio')}
+                                                   'dt_fraction', 'max_energy_ratio', 'relative_error_before_stop',
+                                                   'status_name')}
     cases['scheme'] = np.array([text(s) for s in cases['scheme']])
     return {'path': path, 'cases': cases, 'kind': text(sweep.config['scene_kind']),
             'namelist': text(sweep.config['namelist']), 'version': text(sweep.code_versions[0])}
 
 
 def orders(elements: np.ndarray, errors: np.ndarray) -> list[float]:
-    """Observed order between consecutive resolutions: log(e_i/e_{i+1}) / log(n_{i+1}/n_i)."""
+    """Observed order between consecutive resolutions: log(e_i/e_{i+1}) / log(n_{i+1}/n_i) (NaN next to a
+    case without a result)."""
     return [float(np.log(errors[i] / errors[i + 1]) / np.log(elements[i + 1] / elements[i]))
             for i in range(len(errors) - 1)]
 
@@ -128,7 +131,7 @@ def field_figure(path: Path, out: Path) -> str:
 
 def scene_label(path: Path) -> str:
     """The scene a study file ran: its kind, and the impact's contact."""
-    config = load_sweep(path).config
+    config = load_sweep(path, cases='all').config
     kind = text(config['scene_kind'])
     return f"{kind} ({text(config['contact'])})" if kind == 'impact' else kind
 
@@ -346,21 +349,33 @@ def main(argv=None) -> int:
         lines += [f"## {data['kind']} ({path.name})", '', '```', data['namelist'], '```', '',
                   '| scheme | elements | relative error | order from previous | run time (s) | status |',
                   '|---|---|---|---|---|---|']
+        stopped_shown = False
         for scheme in dict.fromkeys(cases['scheme']):
             pick = cases['scheme'] == scheme
             n = cases['elements'][pick]
             e = cases['relative_error'][pick]
             ok = cases['status'][pick]
             seconds = cases['run_time'][pick]
+            before, name = cases['relative_error_before_stop'][pick], cases['status_name'][pick]
             sort = np.argsort(n)
-            n, e, ok, seconds = n[sort], e[sort], ok[sort], seconds[sort]
+            n, e, ok, seconds, before, name = n[sort], e[sort], ok[sort], seconds[sort], before[sort], name[sort]
             o = orders(n, e)
             for i in range(len(n)):
-                lines.append(f'| {scheme} | {n[i]} | {e[i]:.4g} | {"" if i == 0 else f"{o[i - 1]:.2f}"} | '
-                             f'{seconds[i]:.3g} | {"ok" if ok[i] == 0 else f"guard {ok[i]}"} |')
-            ax.loglog(n, e, 'o-', label=scheme)
-            cost.loglog(seconds, e, 'o-', label=scheme)
+                if ok[i] == 0:
+                    lines.append(f'| {scheme} | {n[i]} | {e[i]:.4g} | {"" if i == 0 else f"{o[i - 1]:.2f}"} | '
+                                 f'{seconds[i]:.3g} | ok |')
+                else:
+                    lines.append(f'| {scheme} | {n[i]} | no result ({before[i]:.4g} before the stop) | | | '
+                                 f'guard: {name[i]} |')
+            done = ok == 0
+            line = ax.loglog(n[done], e[done], 'o-', label=scheme)[0]
+            cost.loglog(seconds[done], e[done], 'o-', label=scheme, color=line.get_color())
+            if not done.all():
+                ax.loglog(n[~done], before[~done], 'x', color='0.55', ms=7,
+                          label=None if stopped_shown else 'stopped by a guard: error before the stop, no result')
+                stopped_shown = True
         lines.append('')
+        plain_ticks(ax, cases['elements'])
         ax.set_xlabel('elements across the body')
         ax.set_ylabel('relative error (scene measure)')
         ax.set_title(f"{data['kind']}: error against elements", fontsize=10)

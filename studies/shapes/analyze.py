@@ -29,13 +29,27 @@ def load(path, fields=('ucm',)):
     history: {index: array} for one field, {index: {field: array}} for several (through the loader of
     the postprocess package, the one reader of the file layout; its histories are numbered from 0,
     the case index from 1)."""
-    sweep = load_sweep(path)
+    sweep = load_sweep(path, cases='all')  # every case: the tables mark the stopped ones, fits skip them
     cases = dict(sweep.cases)
     for k in ('scheme', 'shape', 'transfer', 'status_name'):
         cases[k] = text(cases[k])
     histories = {position + 1: (history[fields[0]] if len(fields) == 1 else {k: history[k] for k in fields})
                  for position, history in sweep.histories.items()}
     return cases, histories
+
+
+def amplitude_of(cases, mask):
+    """The exact amplitude the relative errors of the cases in `mask` divide by: max_error /
+    relative_error of a completed case, or the same ratio of the errors before a stop."""
+    ratios = np.concatenate([cases['max_error'][mask] / cases['relative_error'][mask],
+                             cases['error_before_stop'][mask] / cases['relative_error_before_stop'][mask]])
+    ratios = ratios[np.isfinite(ratios)]
+    return float(np.median(ratios)) if ratios.size else np.nan
+
+
+def result_cell(error, ok):
+    """A table cell: the error of a completed case, 'guard' for one a guard stopped (no result)."""
+    return fmt(error) if ok else 'guard'
 
 
 def orders(errors, elements):
@@ -52,7 +66,7 @@ def convergence_table(cases, histories, against_finest):
             err = cases['relative_error'][m][o]
             ok = cases['status'][m][o] == 0
             idx = cases['index'][m][o]
-            amplitude = cases['max_error'][m][o][0] / err[0]
+            amplitude = amplitude_of(cases, m)
             if against_finest:
                 # successive differences max_t |u_h - u_h/2| (the fine history at every other step)
                 diff = []
@@ -130,7 +144,7 @@ def temporal_rows(cases, histories):
                 idx = cases['index'][m][o]
                 err = cases['relative_error'][m][o]
                 ok = cases['status'][m][o] == 0
-                amplitude = cases['max_error'][m][o][0] / err[0] if err[0] > 0 else np.nan
+                amplitude = amplitude_of(cases, m)
                 d = np.array([paired_difference(histories.get(int(a)), histories.get(int(b))) / amplitude
                               if oa and ob else np.nan
                               for a, b, oa, ob in zip(idx[:-1], idx[1:], ok[:-1], ok[1:])])
@@ -163,8 +177,7 @@ def temporal_section(out):
                   ' | orders | error at k = ' + f'{ks[-1]:g} |', '|---|---|---|' + '---|' * (len(ks) + 1)]
         for r in rows:
             lines.append(f"| {r['scheme']} | {r['shape']} | {r['transfer']} | " + ' | '.join(fmt(x) for x in r['d']) +
-                         ' | ' + ', '.join(fo(x) for x in r['orders']) + ' | ' + fmt(r['err'][-1]) +
-                         ('' if r['ok'][-1] else ' (guard)') + ' |')
+                         ' | ' + ', '.join(fo(x) for x in r['orders']) + ' | ' + result_cell(r["err"][-1], r["ok"][-1]) + ' |')
         # a compact reading of the table: the last observed order per scheme and transfer (range over shapes)
         lines += ['', f'Last observed temporal order (k = {ks[-3]:g} -> {ks[-2]:g} against {ks[-2]:g} -> {ks[-1]:g}), '
                   'range over the five shapes:', '', '| scheme | ' + ' | '.join(sorted({r['transfer'] for r in rows},
@@ -191,7 +204,7 @@ def table2_section(out):
         return []
     from mpm1d_post import figures as pf
     plt = plt_module()
-    sweep = load_sweep(str(path))
+    sweep = load_sweep(str(path), cases='all')  # the maps mark the stopped cases
     c = sweep.cases
     lines = ['', '## The founding paper\'s Table-2 sweep for every shape (error maps as its Figs. 4 and 7)', '',
              'Vibrating bar, v0 = 0.1 m/s, 2 periods, FLIP; every combination of elements ' +
@@ -475,10 +488,13 @@ def error_against_time(out, small):
                       zip(pts['scheme'], pts['shape'], pts['transfer'], pts['elements'])])
     idx = np.flatnonzero(ok)
     front = idx[pf.pareto_front(t[ok], e[ok])]
+    stopped = int((pts['status'] != 0).sum())
     lines = ['', '## Error against run time over schemes, shapes and transfers (small amplitude, one thread)', '',
              f'{int(ok.sum())} timed runs: every scheme x shape with FLIP at 10-320 elements and every scheme x shape '
              'x PIC, blend (0.99) and APIC at 10-160 elements, 4 particles per element, k = 0.25 (timing pass: each '
-             'case repeated until 0.02 s (FLIP) or 0.01 s (the others) are measured, one thread). The black line is the Pareto front over all of '
+             'case repeated until 0.02 s (FLIP) or 0.01 s (the others) are measured, one thread); '
+             f'{stopped} runs stopped by a guard have no result and are not shown. The black line in each panel is '
+             'that scheme\'s Pareto front; the table below gives the front over all of '
              'them. Every shape with FLIP on the bar runs on the fused kernels, the other transfers on the generic '
              'path (their speed ratios: Throughput, below).', '', '![error against run time](error_vs_time.png)', '',
              '### For a target relative error, use ...', '',
@@ -505,7 +521,8 @@ def error_against_time(out, small):
             else:
                 cells.append('not reached')
         lines.append(f'| {target:.0e} | ' + ' | '.join(cells) + ' |')
-    lines += ['', 'Pareto front (fastest first):', '', '| run | run time (s) | relative error |', '|---|---|---|']
+    lines += ['', 'Pareto front over every scheme (fastest first):', '', '| run | run time (s) | relative error |',
+              '|---|---|---|']
     lines += [f'| {label[i]} | {t[i]:.2e} | {e[i]:.2e} |' for i in front]
     try:
         plt = plt_module()
@@ -520,18 +537,25 @@ def error_against_time(out, small):
                     o = np.argsort(t[m])
                     ax.loglog(t[m][o], e[m][o], marker=TRANSFER_MARKERS[transfer], color=SHAPE_COLOURS[shape],
                               ms=4, lw=0.7, alpha=0.85)
-            ax.loglog(t[front], e[front], 'k-', lw=1.6, zorder=5)
+            mine = np.flatnonzero(ok & (pts['scheme'] == scheme))  # this panel's scheme's front
+            if mine.size:
+                own = mine[pf.pareto_front(t[mine], e[mine])]
+                ax.loglog(t[own], e[own], 'k-', lw=1.6, zorder=5)
             ax.set_title(f'{scheme.upper()}, 4 ppc, k = 0.25, v0 = 0.1 m/s')
             ax.set_xlabel('run time (s, one thread)')
             ax.grid(True, which='both', alpha=0.3)
         axes[0].set_ylabel('relative error of u_cm (max over time / amplitude)')
         handles = [Line2D([], [], color=SHAPE_COLOURS[s], lw=2, label=s) for s in SHAPES]
         handles += [Line2D([], [], color='0.3', marker=TRANSFER_MARKERS[k], ls='none', label=k) for k in TRANSFERS]
-        handles += [Line2D([], [], color='k', lw=1.6, label='Pareto front (all schemes)')]
-        axes[2].legend(handles=handles, fontsize=8, loc='lower left')
+        handles += [Line2D([], [], color='k', lw=1.6, label="Pareto front of\nthe panel's scheme")]
+        if stopped:
+            handles += [Line2D([], [], color='0.55', marker='x', ls='none',
+                               label=f'{stopped} runs stopped by a guard: no result, not shown')]
+        # beside the panels, not over the data
+        fig.legend(handles=handles, fontsize=8, loc='center left', bbox_to_anchor=(0.865, 0.5), frameon=False)
         fig.suptitle('Vibrating bar: error against run time per scheme, shape (colour) and transfer (marker), '
                      '10-320 elements')
-        fig.tight_layout()
+        fig.tight_layout(rect=(0, 0, 0.865, 1))
         fig.savefig(out / 'error_vs_time.png', dpi=110)
         plt.close(fig)
     except ImportError:
@@ -716,7 +740,7 @@ def orders_section(out, small, large):
                     m = (man['scheme'] == scheme) & (man['shape'] == shape) & np.isclose(man['amplitude'], a)
                     o = np.argsort(man['elements'][m])
                     err, st, nm = man['relative_error'][m][o], man['status'][m][o], man['status_name'][m][o]
-                    cells = [fmt(x) + ('' if s == 0 else f' ({n})') for x, s, n in zip(err, st, nm)]
+                    cells = [fmt(x) if s == 0 else f'guard ({n})' for x, s, n in zip(err, st, nm)]
                     ords = [order_between(by_elements(man, m), els[i], els[i + 1]) for i in range(len(els) - 1)]
                     lines.append(f'| {scheme} | {shape} | ' + ' | '.join(cells) + ' | ' +
                                  ', '.join(fo(x) for x in ords) + ' |')
@@ -781,8 +805,8 @@ def main(argv=None):
               '| scheme | shape | ' + ' | '.join(f'{e} el.' for e in sorted(set(small['elements']))) +
               ' | observed orders (successive) |', '|---|---|' + '---|' * (len(set(small['elements'])) + 1)]
     for scheme, shape, el, err, ok, measure, used, ords in convergence_table(small, {}, False):
-        cells = [fmt(e) + ('' if k else ' (guard)') for e, k in zip(err, ok)]
-        lines.append(f'| {scheme} | {shape} | ' + ' | '.join(cells) + ' | ' + ', '.join(f'{o:.2f}' for o in ords) + ' |')
+        cells = [result_cell(e, k) for e, k in zip(err, ok)]
+        lines.append(f'| {scheme} | {shape} | ' + ' | '.join(cells) + ' | ' + ', '.join(fo(o) for o in ords) + ' |')
 
     large, hist = load(out / 'convergence_large.h5')
     lines += ['', f'## Large motion, v0 = 0.01 c (the free end moves +-{0.01 * BAR_C / BAR_OMEGA:.2f} m: '
@@ -794,7 +818,7 @@ def main(argv=None):
               ' el. | d(E), E = ' + ' / '.join(str(e) for e in sorted(set(large['elements']))[:-1]) +
               ' | orders of d |', '|---|---|---|---|---|']
     for scheme, shape, el, err, ok, measure, used, ords in convergence_table(large, hist, True):
-        cells = ' / '.join(fmt(e) + ('' if k else ' (guard)') for e, k in zip(err, ok))
+        cells = ' / '.join(result_cell(e, k) for e, k in zip(err, ok))
         lines.append(f'| {scheme} | {shape} | {cells} | ' + ' / '.join(fmt(d) for d in measure) + ' | ' +
                      ', '.join('nan' if not np.isfinite(o) else f'{o:.2f}' for o in ords) + ' |')
 
@@ -814,9 +838,9 @@ def main(argv=None):
                 o = np.argsort(tr['elements'][m])
                 err = tr['relative_error'][m][o]
                 ok = tr['status'][m][o] == 0
-                cells = [fmt(e) + ('' if k else ' (guard)') for e, k in zip(err, ok)]
+                cells = [result_cell(e, k) for e, k in zip(err, ok)]
                 lines.append(f'| {shape} | {transfer} | ' + ' | '.join(cells) + ' | ' +
-                             ', '.join(f'{x:.2f}' for x in orders(err, tr['elements'][m][o])) + ' |')
+                             ', '.join(fo(x) for x in orders(err, tr['elements'][m][o])) + ' |')
 
     lines += error_against_time(out, small)
     lines += temporal_section(out)

@@ -7,7 +7,10 @@
 # Task i runs shard i of N on SLURM_CPUS_PER_TASK threads (OMP_NUM_THREADS is set to the same)
 # and writes OUTDIR/<name>_shardIIIofNNN.h5 and OUTDIR/task_<i>.exit (its exit code, written also
 # when the shard fails or is cancelled), so failed tasks are visible without sacct and can be
-# resubmitted alone: slurm_submit.sh ... --array=<ids>, or sbatch --array=<ids> as above.
+# resubmitted alone: slurm_submit.sh ... --array=<ids>, or sbatch --array=<ids> as above. The output
+# file's name is the namelist's (mpm1d --dry-run says it, whatever the namelist's quoting), in OUTDIR.
+# A task stopped by its time limit (SIGTERM) writes the cases it finished (exit 143); run again, it
+# continues them (mpm1d --resume) instead of starting over.
 #SBATCH --job-name=mpm1d-sweep
 #SBATCH --cpus-per-task=1
 #SBATCH --time=00:30:00
@@ -51,14 +54,21 @@ fi
 [ -x "$exe" ] || { echo "slurm_array: executable '$exe' not found" >&2; exit 2; }
 [ "$id" -ge 1 ] && [ "$id" -le "$shards" ] || { echo "slurm_array: task $id outside 1..$shards" >&2; exit 2; }
 
-# the output file of the sweep, in OUTDIR
-name=$(sed -n "s/.*file='\([^']*\)'.*/\1/p" "$input" | head -n 1)
-[ -n "$name" ] || { echo "slurm_array: no file='...' in $input" >&2; exit 2; }
-mkdir -p "$out/tasks"
-sed "s|file='$name'|file='$out/$(basename "$name")'|" "$input" > "$out/tasks/task_$id.nml"
-
 threads="${SLURM_CPUS_PER_TASK:-1}"
 export OMP_NUM_THREADS="$threads"
 echo "slurm_array: task $id of $shards, job ${SLURM_ARRAY_JOB_ID:-?}_$id on $(hostname -s), $threads cpus," \
   "OMP_NUM_THREADS=$OMP_NUM_THREADS, $exe"
-"$exe" "$out/tasks/task_$id.nml" --shard "$id/$shards" --threads "$threads"
+
+# the output file of the sweep, in OUTDIR: its name as mpm1d reads it from the namelist, and this shard's
+dry="$("$exe" "$input" --dry-run --shard "$id/$shards")" || exit 2
+name="$(basename "$(sed -n 's/^output: //p' <<<"$dry")")"
+[ -n "$name" ] || { echo "slurm_array: no output file from $exe $input --dry-run" >&2; exit 2; }
+output="output.file=$out/$name"
+dry="$("$exe" "$input" "$output" --dry-run --shard "$id/$shards")" || exit 2
+shard_file="$(sed -n "s/^shard $id: [0-9]* cases*, //p" <<<"$dry")"
+resume=()
+if [ -f "$shard_file" ]; then  # an earlier try of this task wrote part of it (a time limit): go on from there
+  resume=(--resume)
+  echo "slurm_array: continuing $shard_file (--resume)"
+fi
+"$exe" "$input" "$output" --shard "$id/$shards" --threads "$threads" "${resume[@]}"

@@ -8,7 +8,11 @@
 # executable, copies the executable and the namelist into OUTDIR (every task and every
 # resubmission then runs the same binary on the same sweep) and records N, the executable and
 # the CPUs per task in OUTDIR/submit.env. Other options (partition, account, time, qos...) go to
-# both sbatch calls.
+# both sbatch calls. The sweep's case count and output file come from mpm1d itself
+# (`mpm1d SWEEP.nml --dry-run --shard 1/N`, any namelist syntax: file = "x y.h5" too), and N greater
+# than the case count is refused before anything is submitted.
+# A task stopped by its time limit (SIGTERM) writes the cases it finished; resubmitted, it continues
+# them (--resume) instead of starting over.
 # Resubmit failed tasks only (the exit files tell which; the ids as slurm_merge.sh --failed prints):
 #   bash studies/shards/slurm_submit.sh SWEEP.nml OUTDIR N --array=$(bash studies/shards/slurm_merge.sh OUTDIR --failed)
 # The merge job of a resubmission merges every shard in OUTDIR, old and new.
@@ -31,14 +35,12 @@ fail() { echo "slurm_submit: $*" >&2; exit 2; }
 [[ "$shards" =~ ^[0-9]+$ ]] && [ "$shards" -ge 1 ] && [ "$shards" -le 999 ] || fail "N must be 1..999 (got '$shards')"
 [ -f "$input" ] || fail "no namelist '$input'"
 command -v sbatch >/dev/null 2>&1 || fail "sbatch not found (no SLURM here?)"
-name=$(sed -n "s/.*file='\([^']*\)'.*/\1/p" "$input" | head -n 1)
-[ -n "$name" ] || fail "no file='...' in $input"
-name="$(basename "$name")"
 mkdir -p "$outarg/logs"
 out="$(cd "$outarg" && pwd)"
 
-# the namelist with its output in OUTDIR; a different sweep already in OUTDIR is refused
-nml="$(sed "s|file='[^']*'|file='$out/$name'|" "$input")"
+# the namelist as given (the tasks write into OUTDIR: slurm_array.sh overrides output.file); a
+# different sweep already in OUTDIR is refused
+nml="$(cat "$input")"
 if [ -f "$out/submit.env" ]; then
   # shellcheck disable=SC1091
   source "$out/submit.env"
@@ -50,6 +52,7 @@ if [ -f "$out/submit.env" ]; then
   fi
   cpus="$CPUS_PER_TASK"; exe="$EXE"
   [ -x "$exe" ] || fail "executable $exe is gone"
+  name="$NAME"
 else
   cpus="${cpus:-1}"
   [[ "$cpus" =~ ^[0-9]+$ ]] && [ "$cpus" -ge 1 ] || fail "--cpus-per-task must be >= 1"
@@ -60,6 +63,14 @@ else
     src="$root/$(cd "$root" && fpm run --profile release --target mpm1d --runner echo 2>/dev/null | tail -n 1)"
   fi
   [ -x "$src" ] || fail "executable '$src' not found"
+  # ask mpm1d: the number of cases and the output file (it refuses N > cases, and any bad input)
+  dry="$("$src" "$input" --dry-run --shard "1/$shards" 2>&1)" || fail "mpm1d refuses the sweep of $input in $shards shards:
+$dry"
+  cases="$(sed -n 's/^cases: //p' <<<"$dry")"; output="$(sed -n 's/^output: //p' <<<"$dry")"
+  [[ "$cases" =~ ^[0-9]+$ ]] && [ -n "$output" ] || fail "no case count or output file from '$src $input --dry-run':
+$dry"
+  [ "$shards" -le "$cases" ] || fail "N = $shards shards for a sweep of $cases cases: a task would have none"
+  name="$(basename "$output")"
   exe="$out/mpm1d"
   cp "$src" "$exe.tmp.$$" && mv -f "$exe.tmp.$$" "$exe"
   printf '%s\n' "$nml" > "$out/sweep.nml"

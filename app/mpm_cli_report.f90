@@ -1,0 +1,246 @@
+!> What the mpm1d command prints: a run's and a sweep's report, their warnings, the dry run, the
+!> message of an interrupted sweep, and the end of the program (exit codes). Part of the executable
+!> (app/), as the library (src/) prints nothing: it returns errors and results.
+module mpm_cli_report
+   use, intrinsic :: iso_fortran_env, only: output_unit, error_unit
+   use, intrinsic :: ieee_arithmetic, only: ieee_set_flag, ieee_all
+   use mpm_kinds, only: dp
+   use mpm_strings, only: str, num, plural, readable_numbers
+   use mpm_config, only: config_t, config_warnings, stability_limit, write_config_namelist, config_summary
+   use mpm_simulation, only: run_result_t, guard_message
+   use mpm_diagnostics, only: status_ok, status_not_run
+   use mpm_sweep, only: sweep_t, case_config, shard_file, shard_cases, cases_done, cases_timed
+   use mpm_files, only: absolute_path
+   implicit none
+   private
+   public :: fail, finish, warn_run, report_config, report_run, warn_rounding, stop_for_guard, sweep_header, &
+             report_sweep, interrupted, report_dry_run
+
+   !> Fewest elements per wavelength of the mode before a run is warned (two resolve a wave at best).
+   integer, parameter :: min_elements_per_wavelength = 2
+
+contains
+
+   !> End with an error: the message on standard error, prefixed 'mpm1d: ', and the exit code.
+   subroutine fail(message, code)
+      character(len=*), intent(in) :: message
+      integer, intent(in) :: code
+      write (error_unit, '(a)') 'mpm1d: '//message
+      stop code, quiet=.true.
+   end subroutine fail
+
+   !> Normal end: floating-point flags a run raised on purpose (an energy sum computed again in scaled
+   !> form, subnormal intermediates of a far-scaled bar) are no news to the user: no runtime note.
+   subroutine finish()
+      call ieee_set_flag(ieee_all, .false.)
+      stop 0, quiet=.true.
+   end subroutine finish
+
+   !> A single run's warnings before it starts (standard error): a time step above the stability
+   !> limit, the scene's own warnings, a mesh too coarse for the mode.
+   subroutine warn_run(config)
+      type(config_t), intent(in) :: config
+      call warn_stability(config%scheme, config%particles_per_element, config%dt_fraction, config%shape)
+      if (len(config_warnings(config)) > 0) write (error_unit, '(a)') 'mpm1d: warning: '//config_warnings(config)
+      if (unresolved(config)) write (error_unit, '(a)') 'mpm1d: warning: mode '//str(config%mode)//' has '// &
+         num(elements_per_wavelength(config), 3)//' elements per wavelength on '//plural(config%elements, 'element')// &
+         ' (wavelength 4 L/(2 mode - 1)); below '//str(min_elements_per_wavelength)//' the mesh cannot represent '// &
+         'it and the error says little about the method'
+   end subroutine warn_run
+
+   !> The configuration a single run uses, as a namelist, and its one-line summary.
+   subroutine report_config(config)
+      type(config_t), intent(in) :: config
+      write (output_unit, '(a)') '# configuration used:'
+      call write_config_namelist(output_unit, config)
+      write (output_unit, '(a)') '# '//config_summary(config)
+   end subroutine report_config
+
+   !> What a single run reports on standard output. A run a guard stopped has no result: the error
+   !> reached up to the stop is said as such (the file's max_error is NaN, error_before_stop holds it).
+   subroutine report_run(config, result)
+      type(config_t), intent(in) :: config
+      type(run_result_t), intent(in) :: result
+      real(dp) :: rate
+      character(len=:), allocatable :: what
+      rate = real(result%particles, dp)*result%steps_done/max(result%run_time, 1.0e-9_dp)
+      what = 'max '
+      if (result%status /= status_ok) what = 'no result (stopped by a guard); before the stop: max '
+      write (output_unit, '(a)') what//result%error_name//' = '//num(result%max_error)//' '//result%error_unit// &
+         ' ('//num(100*result%relative_error, 3)//' % of the exact amplitude '//num(result%ucm_amplitude)//' '// &
+         result%error_unit//')'
+      if (result%status == status_ok) then
+         write (output_unit, '(a)') 'steps '//str(result%steps_done)//' of '//str(result%steps)//', run time '// &
+            num(result%run_time, 3)//' s, '//num(rate, 3)//' particle-steps/s'
+      else
+         ! the step count of the guard's message: the step that tripped it, which did not complete
+         write (output_unit, '(a)') 'stopped by a guard at step '//str(result%trip%step)//' of '//str(result%steps)// &
+            ' ('//plural(result%steps_done, 'step')//' completed), run time '//num(result%run_time, 3)//' s, '// &
+            num(rate, 3)//' particle-steps/s'
+      end if
+      write (output_unit, '(a)') 'wrote '//absolute_path(trim(config%file))
+   end subroutine report_run
+
+   !> u_cm is a mean of positions x_p - X_p: below a few hundred roundings of x it measures rounding.
+   subroutine warn_rounding(config, result)
+      type(config_t), intent(in) :: config
+      type(run_result_t), intent(in) :: result
+      if (result%ucm_amplitude < 100*spacing(config%length)) write (error_unit, '(a)') 'mpm1d: warning: the '// &
+         'exact u_cm amplitude '//num(result%ucm_amplitude)//' m is below 100 times the rounding of positions '// &
+         'near x = L ('//num(spacing(config%length), 3)//' m): the error measures rounding, not the method; '// &
+         'raise velocity_amplitude'
+   end subroutine warn_rounding
+
+   !> A run a guard stopped ends with exit code 1: the guard's message with readable numbers (the file
+   !> keeps them in full) and where the history up to the stop is.
+   subroutine stop_for_guard(config, result)
+      type(config_t), intent(in) :: config
+      type(run_result_t), intent(in) :: result
+      if (result%status == status_ok) return
+      call fail(readable_numbers(guard_message(result%status, result%trip, config), 5)//new_line('a')// &
+                'the history up to that step is in '//absolute_path(trim(config%file)), 1)
+   end subroutine stop_for_guard
+
+   pure real(dp) function elements_per_wavelength(c)
+      type(config_t), intent(in) :: c
+      elements_per_wavelength = 4*real(c%elements, dp)/(2*real(c%mode, dp) - 1)
+   end function elements_per_wavelength
+
+   !> Does the mesh have fewer than min_elements_per_wavelength elements per wavelength of the mode?
+   pure logical function unresolved(c)
+      type(config_t), intent(in) :: c
+      unresolved = elements_per_wavelength(c) < min_elements_per_wavelength
+   end function unresolved
+
+   !> Warn (standard error) when the time step is above the stability limit of the scheme and shape.
+   subroutine warn_stability(scheme, particles_per_element, dt_fraction, shape)
+      character(len=*), intent(in) :: scheme, shape
+      integer, intent(in) :: particles_per_element
+      real(dp), intent(in) :: dt_fraction
+      real(dp) :: limit
+      character(len=:), allocatable :: which
+      which = ''
+      if (trim(shape) /= 'linear') which = ' and '//trim(shape)//' shapes'
+      limit = stability_limit(scheme, particles_per_element, shape)
+      if (dt_fraction > limit) write (error_unit, '(a)') 'mpm1d: warning: dt_fraction = '// &
+         num(dt_fraction)//' is above the linear stability limit of '//trim(scheme)//' with '// &
+         plural(particles_per_element, 'particle')//' per element'//which//' (about '//num(limit, 3)// &
+         ' of dx/c; see studies/stability and studies/shapes); a guard will stop the run if it grows'
+   end subroutine warn_stability
+
+   !> What a sweep says before it starts (flushed: a redirected log of a killed sweep shows it), and
+   !> its warnings.
+   subroutine sweep_header(sweep, quiet, resume)
+      type(sweep_t), intent(in) :: sweep
+      logical, intent(in) :: quiet, resume
+      type(config_t) :: config
+      integer :: i, above, coarse, missed
+      character(len=:), allocatable :: first_warning
+      if (quiet) then
+         continue
+      else if (sweep%settings%shards > 1) then
+         write (output_unit, '(a)') 'mpm1d: sweep shard '//str(sweep%settings%shard)//' of '// &
+            str(sweep%settings%shards)//': '//str(size(sweep%cases))//' of '//plural(sweep%total_cases, 'case')
+      else
+         write (output_unit, '(a)') 'mpm1d: sweep of '//plural(size(sweep%cases), 'case')
+      end if
+      if (resume .and. .not. quiet) write (output_unit, '(a)') 'resumed: '//str(cases_done(sweep%cases))//' of '// &
+         plural(size(sweep%cases), 'case')//' ran before (kept); '//str(size(sweep%cases) - cases_done(sweep%cases))// &
+         ' to run'
+      above = 0
+      coarse = 0
+      missed = 0
+      do i = 1, size(sweep%cases)
+         config = case_config(sweep, sweep%cases(i))
+         if (len(config_warnings(config)) > 0) missed = missed + 1
+         if (missed == 1 .and. len(config_warnings(config)) > 0) first_warning = config_warnings(config)
+         if (config%dt_fraction > stability_limit(config%scheme, config%particles_per_element, config%shape)) &
+            above = above + 1
+         if (unresolved(config)) coarse = coarse + 1
+      end do
+      if (missed > 0) write (error_unit, '(a)') 'mpm1d: warning: '//plural(missed, 'case')//' of '// &
+         str(size(sweep%cases))//': '//first_warning//trim(merge(' (the first of them)', '                    ', &
+                                                               missed > 1))
+      if (coarse > 0) write (error_unit, '(a)') 'mpm1d: warning: '//plural(coarse, 'case')//' ha'// &
+         trim(merge('s ', 've', coarse == 1))//' fewer than '//str(min_elements_per_wavelength)//' elements per '// &
+         'wavelength of the mode (wavelength 4 L/(2 mode - 1)): the mesh cannot represent it'
+      if (above > 0) write (error_unit, '(a)') 'mpm1d: warning: '//plural(above, 'case')// &
+         trim(merge(' asks', ' ask ', above == 1))//' for a time step '// &
+         'above their scheme''s linear stability limit (see studies/stability); guards will stop them if they grow'
+      ! the timing pass's cost, said before it is spent (most batch users want the error pass alone)
+      if (sweep%settings%min_time > 0 .and. .not. quiet) write (output_unit, '(a)') 'timing pass after the '// &
+         'error pass: each case repeated until '//num(sweep%settings%min_time)//' s of run time, at least '// &
+         num(size(sweep%cases)*sweep%settings%min_time/sweep%settings%timing_threads, 3)//' s on '// &
+         plural(sweep%settings%timing_threads, 'thread')//' (sweep.min_time=0 skips it)'
+      flush (output_unit)
+   end subroutine sweep_header
+
+   !> What a sweep reports on standard output when it has written its file.
+   subroutine report_sweep(sweep, output)
+      type(sweep_t), intent(in) :: sweep
+      character(len=*), intent(in) :: output
+      integer :: done, stopped
+      if (sweep%settings%min_time > 0) then
+         write (output_unit, '(a)') 'error pass '//num(sweep%error_pass_time, 3)//' s on '// &
+            plural(sweep%threads_used, 'thread')//'; timing pass '//num(sweep%timing_pass_time, 3)//' s on '// &
+            plural(sweep%settings%timing_threads, 'thread')//' (min_time '//num(sweep%settings%min_time)//' s per case)'
+      else
+         write (output_unit, '(a)') 'error pass '//num(sweep%error_pass_time, 3)//' s on '// &
+            plural(sweep%threads_used, 'thread')//'; no timing pass (min_time = 0)'
+      end if
+      done = cases_done(sweep%cases)
+      stopped = count(sweep%cases%status /= status_ok .and. sweep%cases%status /= status_not_run)
+      write (output_unit, '(a)') plural(done - stopped, 'case')//' completed, '//str(stopped)// &
+         ' stopped by a guard (recorded in /cases/status; no max_error: see error_before_stop)'
+      if (done < size(sweep%cases)) write (output_unit, '(a)') str(size(sweep%cases) - done)//' not run '// &
+         '(status not_run, no values)'
+      write (output_unit, '(a)') 'wrote '//absolute_path(output)
+      flush (output_unit)
+   end subroutine report_sweep
+
+   !> A sweep stopped by a signal: what it finished is written; say so, how to go on (`command`: the
+   !> command that resumes it, without --resume), and end with 128 + the signal's number (130 SIGINT,
+   !> 143 SIGTERM, 129 SIGHUP), as the signal would have.
+   subroutine interrupted(sweep, output, command)
+      type(sweep_t), intent(in) :: sweep
+      character(len=*), intent(in) :: output, command
+      character(len=:), allocatable :: how, what
+      how = command
+      if (sweep%settings%shards > 1) how = how//' --shard '//str(sweep%settings%shard)//'/'//str(sweep%settings%shards)
+      if (sweep%interrupted_timing) then
+         what = ', in the timing pass ('//str(cases_timed(sweep%cases))//' of '// &
+                str(count(sweep%cases%status == status_ok))//' completed cases timed; the others'' run_time is NaN) '// &
+                'in '//absolute_path(output)//'; '//how//' --resume times them'
+      else
+         what = '; the others have status not_run (no values) in '//absolute_path(output)//'; '//how// &
+                ' --resume runs them'
+      end if
+      write (error_unit, '(a)') 'mpm1d: interrupted after '//str(cases_done(sweep%cases))//' of '// &
+         plural(size(sweep%cases), 'case')//what
+      call ieee_set_flag(ieee_all, .false.)
+      stop 128 + sweep%interrupted_by, quiet=.true.
+   end subroutine interrupted
+
+   !> `--dry-run` of a sweep: the number of cases and the absolute output path (and the shards' files
+   !> when it is sharded), nothing run. Lines `cases: N`, `output: PATH` for scripts.
+   subroutine report_dry_run(sweep)
+      type(sweep_t), intent(in) :: sweep
+      integer :: k
+      associate (s => sweep%settings)
+         if (s%shards > 1) then
+            write (output_unit, '(a)') 'mpm1d: dry run (nothing runs): a sweep of '//plural(sweep%total_cases, 'case')// &
+               ' in '//str(s%shards)//' shards (this command: shard '//str(s%shard)//')'
+         else
+            write (output_unit, '(a)') 'mpm1d: dry run (nothing runs): a sweep of '//plural(sweep%total_cases, 'case')
+         end if
+         write (output_unit, '(a)') 'cases: '//str(sweep%total_cases)
+         if (s%shards > 1) write (output_unit, '(a)') 'shards: '//str(s%shards)
+         write (output_unit, '(a)') 'output: '//absolute_path(trim(sweep%base%file))
+         if (s%shards == 1) return
+         do k = 1, s%shards
+            write (output_unit, '(a)') 'shard '//str(k)//': '//plural(shard_cases(sweep%total_cases, k, s%shards), &
+               'case')//', '//absolute_path(shard_file(trim(sweep%base%file), k, s%shards))
+         end do
+      end associate
+   end subroutine report_dry_run
+end module mpm_cli_report

@@ -1,0 +1,220 @@
+!> The material layer: the law a body follows (`&material law=`), where each law lives, and what the
+!> rest of the code asks of a law: the stress update of a step, the tangent modulus d sigma/d eps,
+!> the stored and dissipated energy, and the per-particle state it needs.
+!>   hencky         sigma = E ln J, integrated in rate form sigma += E d eps (mpm_material_elastic)
+!>   linear         sigma = E (J - 1) (mpm_material_elastic)
+!>   elastoplastic  Hencky elasticity with linear isotropic hardening, radial return on the hencky trial
+!>                  update (Simo and Hughes 1998; mpm_material_plastic)
+!> Only the elastoplastic law carries state of its own (plastic strain and hardening variable per
+!> particle, allocated by material_state); hencky and linear runs carry, compute and write nothing new.
+!> The per-particle kernels are elemental (elastic_update, linear_update, radial_return), so that a
+!> fused stress pass can call the law of one particle; the whole-array updates here serve the generic path.
+module mpm_material
+   use mpm_kinds, only: dp
+   use mpm_errors, only: error_t, set_error
+   use mpm_strings, only: str
+   use mpm_particles, only: particles_t
+   use mpm_material_elastic, only: elastic_update_all, elastic_update_each, strain_energy_density, &
+                                   linear_update_all, linear_update_each, linear_energy_density
+   use mpm_material_plastic, only: plastic_update_all, plastic_tangent, plastic_work_density, dissipation_density
+   implicit none
+   private
+   public :: material_t, law_hencky, law_linear, law_elastoplastic, known_laws, law_id, law_name
+   public :: update_material, stored_energy, plastic_work, dissipated_energy, material_state, law_tangent
+   public :: material_report
+
+   !> Law ids.
+   integer, parameter :: law_hencky = 1, law_linear = 2, law_elastoplastic = 3
+   !> The laws' names, as `&material law=` takes them.
+   character(len=*), parameter :: known_laws = 'hencky, linear, elastoplastic'
+
+   !> A body's material: its law and parameters. Scenes of several materials give the parameters per
+   !> particle instead (particles%youngs_modulus_of, yield_stress_of, hardening_modulus_of).
+   type :: material_t
+      integer :: law = law_hencky
+      real(dp) :: youngs_modulus = 0.0_dp      !< E (Pa)
+      real(dp) :: yield_stress = huge(1.0_dp)  !< sigma_y (Pa), elastoplastic only
+      real(dp) :: hardening_modulus = 0.0_dp   !< H (Pa), elastoplastic only
+   end type material_t
+
+contains
+
+   !> Id of a law name (0 if unknown; the configuration is validated before).
+   pure integer function law_id(name)
+      character(len=*), intent(in) :: name
+      select case (trim(name))
+      case ('hencky')
+         law_id = law_hencky
+      case ('linear')
+         law_id = law_linear
+      case ('elastoplastic')
+         law_id = law_elastoplastic
+      case default
+         law_id = 0
+      end select
+   end function law_id
+
+   pure function law_name(law) result(name)
+      integer, intent(in) :: law
+      character(len=:), allocatable :: name
+      select case (law)
+      case (law_hencky)
+         name = 'hencky'
+      case (law_linear)
+         name = 'linear'
+      case (law_elastoplastic)
+         name = 'elastoplastic'
+      case default
+         name = 'unknown'
+      end select
+   end function law_name
+
+   !> The per-particle state the law needs, in its initial value: for the elastoplastic law the plastic
+   !> strain and hardening variable (zero), and, in scenes of several materials that did not set them,
+   !> each particle's yield stress and hardening modulus from `material`. Nothing for the elastic laws.
+   subroutine material_state(material, particles, error)
+      type(material_t), intent(in) :: material
+      type(particles_t), intent(inout) :: particles
+      type(error_t), allocatable, intent(out) :: error
+      integer :: stat
+      if (material%law /= law_elastoplastic) return
+      allocate (particles%plastic_strain(particles%count), particles%hardening(particles%count), source=0.0_dp, &
+                stat=stat)
+      if (stat == 0 .and. allocated(particles%youngs_modulus_of) .and. .not. allocated(particles%yield_stress_of)) &
+         allocate (particles%yield_stress_of(particles%count), source=material%yield_stress, stat=stat)
+      if (stat == 0 .and. allocated(particles%youngs_modulus_of) .and. &
+          .not. allocated(particles%hardening_modulus_of)) &
+         allocate (particles%hardening_modulus_of(particles%count), source=material%hardening_modulus, stat=stat)
+      if (stat /= 0) call set_error(error, "cannot allocate the plastic state of "//str(particles%count)// &
+                                    " particles (out of memory)")
+   end subroutine material_state
+
+   !> The law's update of every particle by its strain increment `dstrain`: stress, J and the law's state;
+   !> `energy` = the stored energy after the update, `smallest` = the smallest J, `work` = the plastic
+   !> work (0 for the elastic laws). Young's modulus per particle where the scene gave one.
+   subroutine update_material(material, dstrain, particles, energy, smallest, work)
+      type(material_t), intent(in) :: material
+      real(dp), intent(in), contiguous :: dstrain(:)
+      type(particles_t), intent(inout) :: particles
+      real(dp), intent(out) :: energy, smallest, work
+      work = 0.0_dp
+      associate (p => particles)
+         select case (material%law)
+         case (law_linear)
+            if (allocated(p%youngs_modulus_of)) then
+               call linear_update_each(p%youngs_modulus_of, dstrain, p%volume0_of, p%stress, p%volume_ratio, energy, &
+                                       smallest)
+            else
+               call linear_update_all(material%youngs_modulus, dstrain, p%volume0_of, p%stress, p%volume_ratio, &
+                                      energy, smallest)
+            end if
+         case (law_elastoplastic)
+            if (allocated(p%youngs_modulus_of)) then
+               call plastic_update_all(p%youngs_modulus_of, p%yield_stress_of, p%hardening_modulus_of, dstrain, &
+                                       p%volume0_of, p%stress, p%volume_ratio, p%plastic_strain, p%hardening, energy, &
+                                       smallest, work)
+            else
+               call plastic_update_all([material%youngs_modulus], [material%yield_stress], &
+                                       [material%hardening_modulus], dstrain, p%volume0_of, p%stress, p%volume_ratio, &
+                                       p%plastic_strain, p%hardening, energy, smallest, work)
+            end if
+         case default ! hencky (several materials: one test per step, none per particle)
+            if (allocated(p%youngs_modulus_of)) then
+               call elastic_update_each(p%youngs_modulus_of, dstrain, p%volume0_of, p%stress, p%volume_ratio, energy, &
+                                        smallest)
+            else
+               call elastic_update_all(material%youngs_modulus, dstrain, p%volume0_of, p%stress, p%volume_ratio, &
+                                       energy, smallest)
+            end if
+         end select
+      end associate
+   end subroutine update_material
+
+   !> The stored (elastic) energy of the particles as they are: sigma^2 V/(2E) (hencky, elastoplastic),
+   !> sigma^2 V0/(2E) (linear: its exact stored energy). Needs per-particle volumes (generic path).
+   real(dp) function stored_energy(material, particles) result(energy)
+      type(material_t), intent(in) :: material
+      type(particles_t), intent(in) :: particles
+      associate (p => particles)
+         if (material%law == law_linear) then
+            if (allocated(p%youngs_modulus_of)) then
+               energy = sum(linear_energy_density(p%youngs_modulus_of, p%stress, p%volume0_of))
+            else
+               energy = sum(linear_energy_density(material%youngs_modulus, p%stress, p%volume0_of))
+            end if
+         else if (allocated(p%youngs_modulus_of)) then
+            energy = sum(strain_energy_density(p%youngs_modulus_of, p%stress, p%volume_ratio*p%volume0_of))
+         else
+            energy = sum(strain_energy_density(material%youngs_modulus, p%stress, p%volume_ratio*p%volume0_of))
+         end if
+      end associate
+   end function stored_energy
+
+   !> The plastic work done on the particles so far, sum (sigma_y alpha + H alpha^2/2) V0 (0 unless
+   !> the law is elastoplastic).
+   real(dp) function plastic_work(material, particles) result(work)
+      type(material_t), intent(in) :: material
+      type(particles_t), intent(in) :: particles
+      work = 0.0_dp
+      if (material%law /= law_elastoplastic .or. .not. allocated(particles%hardening)) return
+      if (allocated(particles%yield_stress_of)) then
+         work = sum(plastic_work_density(particles%yield_stress_of, particles%hardening_modulus_of, &
+                                         particles%hardening, particles%volume0_of))
+      else
+         work = sum(plastic_work_density(material%yield_stress, material%hardening_modulus, particles%hardening, &
+                                         particles%volume0_of))
+      end if
+   end function plastic_work
+
+   !> The energy dissipated so far, sum sigma_y alpha V0 (the plastic work less what the hardening stores).
+   real(dp) function dissipated_energy(material, particles) result(energy)
+      type(material_t), intent(in) :: material
+      type(particles_t), intent(in) :: particles
+      energy = 0.0_dp
+      if (material%law /= law_elastoplastic .or. .not. allocated(particles%hardening)) return
+      if (allocated(particles%yield_stress_of)) then
+         energy = sum(dissipation_density(particles%yield_stress_of, particles%hardening, particles%volume0_of))
+      else
+         energy = sum(dissipation_density(material%yield_stress, particles%hardening, particles%volume0_of))
+      end if
+   end function dissipated_energy
+
+   !> The tangent modulus d sigma_{n+1}/d (d eps) of a step of `law` from the state before it (stress,
+   !> J, hardening variable) by the increment `dstrain`: hencky E; linear E J (sigma = E (J (1 + d eps) - 1));
+   !> elastoplastic the consistent tangent, E or E H/(E + H) (mpm_material_plastic).
+   elemental real(dp) function law_tangent(law, youngs_modulus, yield_stress, hardening_modulus, dstrain, stress, &
+                                           volume_ratio, hardening) result(tangent)
+      integer, intent(in) :: law
+      real(dp), intent(in) :: youngs_modulus, yield_stress, hardening_modulus, dstrain, stress, volume_ratio, hardening
+      select case (law)
+      case (law_linear)
+         tangent = youngs_modulus*volume_ratio
+      case (law_elastoplastic)
+         tangent = plastic_tangent(youngs_modulus, yield_stress, hardening_modulus, dstrain, stress, hardening)
+      case default
+         tangent = youngs_modulus
+      end select
+   end function law_tangent
+
+   !> What the law adds to a run's /summary (the elastoplastic law only): the plastic work, the energy
+   !> dissipated and the energy stored in the hardening (J per unit area), the largest plastic strain
+   !> and hardening variable, and the fraction of the particles that yielded.
+   subroutine material_report(material, particles, names, values)
+      type(material_t), intent(in) :: material
+      type(particles_t), intent(in) :: particles
+      character(len=32), allocatable, intent(out) :: names(:)
+      real(dp), allocatable, intent(out) :: values(:)
+      real(dp) :: work, dissipated
+      if (material%law /= law_elastoplastic .or. .not. allocated(particles%hardening)) then
+         allocate (names(0), values(0))
+         return
+      end if
+      work = plastic_work(material, particles)
+      dissipated = dissipated_energy(material, particles)
+      names = [character(len=32) :: 'plastic_work', 'dissipated_energy', 'hardening_energy', 'max_plastic_strain', &
+               'max_hardening', 'yielded_fraction']
+      values = [work, dissipated, work - dissipated, max(maxval(abs(particles%plastic_strain)), 0.0_dp), &
+                max(maxval(particles%hardening), 0.0_dp), &
+                real(count(particles%hardening > 0.0_dp), dp)/max(particles%count, 1)]
+   end subroutine material_report
+end module mpm_material

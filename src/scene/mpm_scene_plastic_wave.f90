@@ -1,0 +1,268 @@
+!> A plastic wave: a bar on [0, L] at rest and stress-free, its left end driven into it at a constant
+!> velocity V from t = 0, its right end free. Exact solution of small-strain theory (Kolsky, Stress Waves in
+!> Solids, Clarendon 1953, ch. 7; Wang, Foundations of Stress Waves, Elsevier 2007, doi:10.1016/
+!> B978-0-08-044494-9.X5000-4, ch. 3) for the elastoplastic law (Young's modulus E, yield stress sigma_y,
+!> linear hardening H; c_e = sqrt(E/rho), E_t = E H/(E + H), c_p = sqrt(E_t/rho)), in reference
+!> coordinates X, compression negative:
+!>   - an elastic precursor at c_e carrying |sigma| = sigma_y and the particle velocity v1 = sigma_y/(rho c_e);
+!>   - behind it a plastic front at c_p, behind which v = V and |sigma| = sigma_y + rho c_p (V - v1);
+!>   - for V <= v1 (or an elastic law) a single elastic wave at c_e with |sigma| = rho c_e V, v = V.
+!> It holds until the precursor reaches the free end (t = L/c_e; longer runs are refused, and the default
+!> end time is 0.8 L/c_e). The drive's force is the stress at X = 0, constant in time, so the momentum
+!> grows as |sigma(0)| t and u_cm(t) = |sigma(0)| t^2/(2 rho L).
+!> The drive follows the bar's end as it moves into the grid: each step the first particle (the end's,
+!> at X = l_p) is given the velocity V. The nodes of its support at or behind it (x_I <= x_1: inside the
+!> driven end, where the exact velocity is V) are driven at V, f_I = (m_I V - p_I)/dt, as the composite
+!> bar drives node 0; the nodes ahead of it get a point force at its position distributed with its shape
+!> functions N_I, f_I += lambda N_I, the Lagrange multiplier of the constraint sum_I N_I v_I = V after the
+!> grid solve: lambda = (V - sum_I N_I v*_I)/(dt sum_I N_I^2/m_I) over those nodes, v*_I the velocities
+!> the solve gives them without it (and V on the nodes behind). So the end particle moves exactly at V,
+!> and the nearly empty node it leaves behind as it moves into the grid has the velocity V instead of
+!> one that the cell-crossing instability of linear shape functions would blow up. Driving node 0 alone,
+!> as the composite bar does, frees the end once it has moved past that node.
+!> Error measure: at the end time, the L1 norm of the particle stress minus the exact stress at the
+!> particle's reference position, sum_p |sigma_p - sigma(X_p, T)| V0_p (Pa m), relative to the plastic
+!> stress times L (relative_error), as the composite bar's.
+module mpm_scene_plastic_wave
+   use mpm_kinds, only: dp
+   use mpm_errors, only: error_t
+   use mpm_config, only: config_t, material_of
+   use mpm_grid, only: grid_t
+   use mpm_particles, only: particles_t, particles_init
+   use mpm_shape, only: shape_cache_t
+   use mpm_material, only: material_t, law_elastoplastic, stored_energy, plastic_work
+   use mpm_scene, only: scene_t, margin_for
+   implicit none
+   private
+   public :: plastic_wave_t, plastic_wave_init
+
+   type, extends(scene_t) :: plastic_wave_t
+      real(dp) :: length = 0.0_dp, density = 0.0_dp
+      real(dp) :: drive_velocity = 0.0_dp        !< V (m/s)
+      real(dp) :: elastic_speed = 0.0_dp         !< c_e (m/s)
+      real(dp) :: plastic_speed = 0.0_dp         !< c_p (m/s); 0 when nothing yields
+      real(dp) :: tangent_modulus = 0.0_dp       !< E_t = E H/(E + H) (Pa)
+      real(dp) :: precursor_stress = 0.0_dp      !< |sigma| behind the precursor: sigma_y, or rho c_e V (Pa)
+      real(dp) :: precursor_velocity = 0.0_dp    !< v behind the precursor: v1, or V (m/s)
+      real(dp) :: plastic_stress = 0.0_dp        !< |sigma| behind the plastic front (the precursor's if none)
+      logical :: yields = .false.                !< elastoplastic and V > v1: two fronts
+      real(dp) :: dt = 0.0_dp, end_time = 0.0_dp
+      type(material_t) :: material               !< for the energies of the balance
+   contains
+      procedure :: place_particles, margin_cells, fixed_nodes, ucm_exact, ucm_amplitude
+      procedure :: add_forces, error_at, error_name, error_unit, energy_reference, report, watch_report
+      procedure :: stress_exact, velocity_exact
+   end type plastic_wave_t
+
+contains
+
+   !> The scene of a validated and resolved configuration.
+   pure function plastic_wave_init(config) result(scene)
+      type(config_t), intent(in) :: config
+      type(plastic_wave_t) :: scene
+      real(dp) :: v1
+      scene%external_forces = .true.
+      scene%watches = .true.  ! (nothing per step; watch_report measures the fronts at the end)
+      scene%length = config%length
+      scene%density = config%density
+      scene%drive_velocity = config%drive_velocity
+      scene%elastic_speed = sqrt(config%youngs_modulus/config%density)
+      scene%dt = config%dt
+      scene%end_time = config%steps*config%dt
+      scene%material = material_of(config)
+      scene%precursor_stress = config%density*scene%elastic_speed*config%drive_velocity
+      scene%precursor_velocity = config%drive_velocity
+      scene%plastic_stress = scene%precursor_stress
+      if (scene%material%law == law_elastoplastic) then
+         v1 = config%yield_stress/(config%density*scene%elastic_speed)
+         scene%tangent_modulus = config%youngs_modulus*config%hardening_modulus/ &
+                                 (config%youngs_modulus + config%hardening_modulus)
+         scene%yields = config%drive_velocity > v1
+         if (scene%yields) then
+            scene%plastic_speed = sqrt(scene%tangent_modulus/config%density)
+            scene%precursor_stress = config%yield_stress
+            scene%precursor_velocity = v1
+            scene%plastic_stress = config%yield_stress + config%density*scene%plastic_speed*(config%drive_velocity - v1)
+         end if
+      end if
+   end function plastic_wave_init
+
+   !> Exact stress at reference position x0 and time t (Pa; compression negative).
+   elemental real(dp) function stress_exact(self, x0, t)
+      class(plastic_wave_t), intent(in) :: self
+      real(dp), intent(in) :: x0, t
+      if (x0 < self%plastic_speed*t) then
+         stress_exact = -self%plastic_stress
+      else if (x0 < self%elastic_speed*t) then
+         stress_exact = -self%precursor_stress
+      else
+         stress_exact = 0.0_dp
+      end if
+   end function stress_exact
+
+   !> Exact velocity at reference position x0 and time t (m/s).
+   elemental real(dp) function velocity_exact(self, x0, t)
+      class(plastic_wave_t), intent(in) :: self
+      real(dp), intent(in) :: x0, t
+      if (x0 < self%plastic_speed*t) then
+         velocity_exact = self%drive_velocity
+      else if (x0 < self%elastic_speed*t) then
+         velocity_exact = self%precursor_velocity
+      else
+         velocity_exact = 0.0_dp
+      end if
+   end function velocity_exact
+
+   !> As the bar's particles, at rest and unstressed (particle 1 is the driven end's).
+   subroutine place_particles(self, config, particles, error)
+      class(plastic_wave_t), intent(in) :: self
+      type(config_t), intent(in) :: config
+      type(particles_t), intent(out) :: particles
+      type(error_t), allocatable, intent(out) :: error
+      call particles_init(particles, config%elements, config%particles_per_element, config%dx, config%density, error)
+   end subroutine place_particles
+
+   !> The free end stays at rest until the precursor reaches it (after the run): two cells as for the bar.
+   pure integer function margin_cells(self, dx, requested) result(cells)
+      class(plastic_wave_t), intent(in) :: self
+      real(dp), intent(in) :: dx
+      integer, intent(in) :: requested
+      cells = margin_for(0.0_dp, dx, requested)
+   end function margin_cells
+
+   !> No node is held (the drive acts through add_forces).
+   pure function fixed_nodes(self) result(nodes)
+      class(plastic_wave_t), intent(in) :: self
+      integer, allocatable :: nodes(:)
+      allocate (nodes(0))
+   end function fixed_nodes
+
+   !> u_cm(t) = |sigma(0)| t^2/(2 rho L): the drive's force is constant.
+   pure real(dp) function ucm_exact(self, t)
+      class(plastic_wave_t), intent(in) :: self
+      real(dp), intent(in) :: t
+      ucm_exact = self%plastic_stress*t**2/(2.0_dp*self%density*self%length)
+   end function ucm_exact
+
+   !> The plastic stress times L (Pa m), the scale of the L1 stress error.
+   pure real(dp) function ucm_amplitude(self)
+      class(plastic_wave_t), intent(in) :: self
+      ucm_amplitude = self%plastic_stress*self%length
+   end function ucm_amplitude
+
+   !> The drive (see the module): the nodes at or behind the end particle (x_I <= x_1, inside the driven
+   !> end) get the force that gives them the velocity V, f_I = (m_I V - p_I)/dt; the nodes ahead of it the
+   !> point force lambda N_I that makes the end particle's interpolated velocity V.
+   subroutine add_forces(self, grid, t, cache, particles)
+      class(plastic_wave_t), intent(in) :: self
+      type(grid_t), intent(inout) :: grid
+      real(dp), intent(in) :: t
+      type(shape_cache_t), intent(in) :: cache
+      type(particles_t), intent(in) :: particles
+      real(dp) :: missing, flexibility, w, multiplier
+      integer :: k, i
+      logical :: behind(cache%support)
+      missing = self%drive_velocity
+      flexibility = 0.0_dp
+      do k = 1, cache%support
+         i = cache%first(1) + k - 1
+         w = cache%weight(1, k)
+         behind(k) = grid%origin + i*grid%dx <= particles%x(1)
+         if (grid%mass(i) <= grid%empty_mass) cycle ! the solve gives it no velocity
+         if (behind(k)) then
+            grid%force(i) = (grid%mass(i)*self%drive_velocity - grid%momentum(i))/self%dt
+            missing = missing - w*self%drive_velocity
+         else
+            missing = missing - w*(grid%momentum(i) + self%dt*grid%force(i))/grid%mass(i)
+            flexibility = flexibility + w*w/grid%mass(i)
+         end if
+      end do
+      if (flexibility <= 0.0_dp) return
+      multiplier = missing/(self%dt*flexibility)
+      do k = 1, cache%support
+         i = cache%first(1) + k - 1
+         if (grid%mass(i) <= grid%empty_mass .or. behind(k)) cycle
+         grid%force(i) = grid%force(i) + multiplier*cache%weight(1, k)
+      end do
+   end subroutine add_forces
+
+   !> At the end time: sum_p |sigma_p - sigma(X_p, T)| V0_p (Pa m); 0 before.
+   real(dp) function error_at(self, t, particles, ucm)
+      class(plastic_wave_t), intent(in) :: self
+      real(dp), intent(in) :: t, ucm
+      type(particles_t), intent(in) :: particles
+      error_at = 0.0_dp
+      if (t < self%end_time - 0.5_dp*self%dt) return
+      error_at = sum(abs(particles%stress - self%stress_exact(particles%x0, t))*particles%volume0_of)
+   end function error_at
+
+   pure function error_name(self) result(name)
+      class(plastic_wave_t), intent(in) :: self
+      character(len=:), allocatable :: name
+      name = 'L1 stress error at the end time'
+   end function error_name
+
+   pure function error_unit(self) result(unit)
+      class(plastic_wave_t), intent(in) :: self
+      character(len=:), allocatable :: unit
+      unit = 'Pa m'
+   end function error_unit
+
+   !> The drive's work |sigma(0)| V T bounds every energy of the bar; twice that for slack.
+   pure real(dp) function energy_reference(self, initial_energy)
+      class(plastic_wave_t), intent(in) :: self
+      real(dp), intent(in) :: initial_energy
+      energy_reference = max(initial_energy, 2.0_dp*self%plastic_stress*self%drive_velocity*self%end_time, &
+                             tiny(1.0_dp))
+   end function energy_reference
+
+   !> The exact fronts: wave speeds, the stress and velocity behind each (compressive stresses as
+   !> magnitudes), their positions at the end time, and whether the bar yields (1) or carries one
+   !> elastic wave (0).
+   pure subroutine report(self, names, values)
+      class(plastic_wave_t), intent(in) :: self
+      character(len=32), allocatable, intent(out) :: names(:)
+      real(dp), allocatable, intent(out) :: values(:)
+      names = [character(len=32) :: 'elastic_wave_speed', 'plastic_wave_speed', 'tangent_modulus', &
+               'precursor_stress', 'precursor_velocity', 'plastic_stress', 'precursor_front', 'plastic_front', 'yields']
+      values = [self%elastic_speed, self%plastic_speed, self%tangent_modulus, self%precursor_stress, &
+                self%precursor_velocity, self%plastic_stress, self%elastic_speed*self%end_time, &
+                self%plastic_speed*self%end_time, merge(1.0_dp, 0.0_dp, self%yields)]
+   end subroutine report
+
+   !> What the run made of the fronts, at the end time T: each front's position (the largest X_p whose
+   !> |sigma_p| reaches half of the front's jump: the precursor's, from 0; the plastic front's, from the
+   !> precursor's stress), the mean |sigma_p| over the middle half of the plastic zone [0, c_p T] and of
+   !> the elastic zone [c_p T, c_e T], and the energy balance: the drive's work W = V P (its force is
+   !> the bar's momentum change, at the constant velocity V) and (kinetic + stored + plastic work - W)/W.
+   subroutine watch_report(self, watch, particles, names, values)
+      class(plastic_wave_t), intent(in) :: self
+      real(dp), allocatable, intent(in) :: watch(:)
+      type(particles_t), intent(in) :: particles
+      character(len=32), allocatable, intent(out) :: names(:)
+      real(dp), allocatable, intent(out) :: values(:)
+      real(dp), allocatable :: magnitude(:)
+      real(dp) :: work, balance, precursor, plastic, front_e, front_p
+      magnitude = -particles%stress
+      front_e = self%elastic_speed*self%end_time
+      front_p = self%plastic_speed*self%end_time
+      precursor = maxval(particles%x0, mask=magnitude >= 0.5_dp*self%precursor_stress, dim=1)
+      plastic = maxval(particles%x0, mask=magnitude >= 0.5_dp*(self%precursor_stress + self%plastic_stress), dim=1)
+      work = self%drive_velocity*sum(particles%mass_of*particles%v)
+      balance = (sum(0.5_dp*particles%mass_of*particles%v**2) + stored_energy(self%material, particles) + &
+                 plastic_work(self%material, particles) - work)/work
+      names = [character(len=32) :: 'measured_precursor_front', 'measured_plastic_front', 'measured_plastic_stress', &
+               'measured_precursor_stress', 'drive_work', 'energy_balance']
+      values = [max(precursor, 0.0_dp), merge(max(plastic, 0.0_dp), 0.0_dp, self%yields), &
+                zone_mean(0.25_dp*front_p, 0.75_dp*front_p), &
+                zone_mean(front_p + 0.25_dp*(front_e - front_p), front_p + 0.75_dp*(front_e - front_p)), work, balance]
+   contains
+      !> Mean |sigma_p| of the particles with X_p in [a, b] (0 if none).
+      real(dp) function zone_mean(a, b)
+         real(dp), intent(in) :: a, b
+         logical, allocatable :: inside(:)
+         inside = particles%x0 >= a .and. particles%x0 <= b
+         zone_mean = sum(magnitude, mask=inside)/max(count(inside), 1)
+      end function zone_mean
+   end subroutine watch_report
+end module mpm_scene_plastic_wave
