@@ -40,7 +40,9 @@ contains
    !> limit, the scene's own warnings, a mesh too coarse for the mode.
    subroutine warn_run(config)
       type(config_t), intent(in) :: config
-      call warn_stability(config%scheme, config%particles_per_element, config%dt_fraction, config%shape)
+      ! (the implicit integrators are unconditionally stable: no limit to warn of)
+      if (trim(config%integrator) == 'explicit') &
+         call warn_stability(config%scheme, config%particles_per_element, config%dt_fraction, config%shape)
       if (len(config_warnings(config)) > 0) write (error_unit, '(a)') 'mpm1d: warning: '//config_warnings(config)
       if (unresolved(config)) write (error_unit, '(a)') 'mpm1d: warning: mode '//str(config%mode)//' has '// &
          num(elements_per_wavelength(config), 3)//' elements per wavelength on '//plural(config%elements, 'element')// &
@@ -154,8 +156,8 @@ contains
          config = case_config(sweep, sweep%cases(i))
          if (len(config_warnings(config)) > 0) missed = missed + 1
          if (missed == 1 .and. len(config_warnings(config)) > 0) first_warning = config_warnings(config)
-         if (config%dt_fraction > stability_limit(config%scheme, config%particles_per_element, config%shape)) &
-            above = above + 1
+         if (config%dt_fraction > stability_limit(config%scheme, config%particles_per_element, config%shape) .and. &
+             trim(config%integrator) == 'explicit') above = above + 1
          if (unresolved(config)) coarse = coarse + 1
       end do
       if (missed > 0) write (error_unit, '(a)') 'mpm1d: warning: '//plural(missed, 'case')//' of '// &

@@ -24,6 +24,7 @@ program test_sweep_results
    call stopped_cases_have_no_value()
    call resume_equals_uninterrupted()
    call scene_columns_only()
+   call integrator_columns()
    call t%finish()
 
 contains
@@ -188,6 +189,9 @@ contains
       character(len=*), parameter :: impact_columns(*) = [character(len=20) :: 'gap', 'contact', 'elements', 'scheme']
       character(len=*), parameter :: bar_columns(*) = [character(len=20) :: 'gravity', 'mode', 'velocity_amplitude', &
                                                        'amplitude', 'drive_velocity']
+      character(len=*), parameter :: implicit_columns(*) = [character(len=20) :: 'mass', 'newton_tolerance', &
+                                                            'load_steps', 'ghost_penalty', 'yield_stress', &
+                                                            'hardening_modulus']
       integer :: i, k
       call write_input(dir//'/impact.nml', "&scene kind='impact', lengths=1.0, 1.0, youngs_moduli=200.0e9, "// &
                        "200.0e9, densities=7800.0, 7800.0, velocities=1.0, -1.0, gap=0.0 / &discretisation "// &
@@ -220,7 +224,42 @@ contains
                       .not. h5_exists(trim(files(1)), '/cases/'//trim(bar_columns(k))) .and. &
                       .not. h5_exists(dir//'/impact.h5', '/cases/'//trim(bar_columns(k))))
       end do
+      do k = 1, size(implicit_columns)
+         call t%check('explicit hencky sweep: no /cases/'//trim(implicit_columns(k))//' (another integrator''s '// &
+                      'or law''s variable)', .not. h5_exists(trim(files(1)), '/cases/'//trim(implicit_columns(k))) &
+                      .and. .not. h5_exists(dir//'/impact.h5', '/cases/'//trim(implicit_columns(k))))
+      end do
    end subroutine scene_columns_only
+
+   !> A sweep over the integrators has the columns of the variables its implicit cases use (mass,
+   !> newton_tolerance, ghost_penalty), not quasi_static's load_steps or the elastoplastic law's.
+   subroutine integrator_columns()
+      type(sweep_t) :: s
+      character(len=*), parameter :: used(*) = [character(len=20) :: 'integrator', 'mass', 'newton_tolerance', &
+                                                'ghost_penalty', 'law']
+      character(len=*), parameter :: unused(*) = [character(len=20) :: 'load_steps', 'yield_stress', &
+                                                  'hardening_modulus']
+      integer :: k
+      call write_input(dir//'/integrators.nml', "&discretisation elements=8 / &run periods=0.25 / &output file='"// &
+                       dir//"/integrators.h5' /", "&sweep integrator='explicit','implicit', min_time=0 /")
+      call read_sweep(dir//'/integrators.nml', s, error, 0, 0, 1)
+      call t%check('integrator sweep read', .not. allocated(error))
+      if (allocated(error)) then
+         print '(a)', error%message
+         return
+      end if
+      call run_sweep(s)
+      call write_sweep_file(dir//'/integrators.h5', s, error)
+      call t%check('integrator sweep written', .not. allocated(error))
+      do k = 1, size(used)
+         call t%check('integrator sweep: /cases/'//trim(used(k)), h5_exists(dir//'/integrators.h5', &
+                                                                           '/cases/'//trim(used(k))))
+      end do
+      do k = 1, size(unused)
+         call t%check('integrator sweep: no /cases/'//trim(unused(k)), .not. h5_exists(dir//'/integrators.h5', &
+                                                                                    '/cases/'//trim(unused(k))))
+      end do
+   end subroutine integrator_columns
    !> A namelist file of two lines.
    subroutine write_input(path, first, second)
       character(len=*), intent(in) :: path, first, second

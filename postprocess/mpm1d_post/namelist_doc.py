@@ -45,7 +45,10 @@ GROUPS: Dict[str, str] = {
                 "variable of a law not chosen is refused naming the law that uses it, and is left out of the "
                 "echoed namelist.",
     'discretisation': "Grid, particles, time step, update scheme, shape functions and velocity transfer "
-                      "([Theory](theory.md)).",
+                      "([Theory](theory.md)), and the time integrator: `integrator = 'explicit'` (the "
+                      "scheme), `'implicit'` or `'quasi_static'` ([Implicit and quasi-static integration]"
+                      "(theory.md#implicit-and-quasi-static-integration-discretisation-integrator)); a "
+                      "variable of another integrator is refused naming the integrators that use it.",
     'run': "How long to run: `periods` or `end_time`, not both.",
     'output': "What is written ([Output files](output.md)). Paths are used as given: a relative path "
               "is relative to the folder mpm1d runs in, not to the namelist's folder.",

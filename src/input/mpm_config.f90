@@ -23,6 +23,7 @@ module mpm_config
    public :: config_parameters, config_groups, group_help, known_scenes, scene_kind_t, scene_kinds
    public :: material_of, plastic_wave_periods
    public :: step_count, stability_limit, not_used_message, config_warnings, contact_time, known_kind
+   public :: known_integrators, max_implicit_dt_fraction, used_with
 
    !> Most snapshot times one run accepts.
    integer, parameter :: max_snapshots = 64
@@ -63,6 +64,11 @@ module mpm_config
    integer, parameter :: max_mode = (huge(1) - 1)/2
    !> Time-step fraction above which a run is refused outright (far beyond any stability limit).
    real(dp), parameter :: max_dt_fraction = 10.0_dp
+   !> ... and above which an implicit run is (unconditionally stable: the step is the user's accuracy choice).
+   real(dp), parameter :: max_implicit_dt_fraction = 1.0e8_dp
+   !> Time integrators: the explicit schemes (scheme = usf, usl, musl), Newmark's trapezoidal rule with
+   !> Newton on the grid, and equilibrium in load steps (mpm_implicit).
+   character(len=*), parameter :: known_integrators = 'explicit, implicit, quasi_static'
 
    !> Everything one run needs to know; defaults are the paper's Table 1 and its verification case.
    type :: config_t
@@ -98,6 +104,15 @@ module mpm_config
       real(dp) :: yield_stresses(max_segments) = 0.0_dp, hardening_moduli(max_segments) = 0.0_dp
       integer :: yield_count = 0, hardening_count = 0
       ! &discretisation
+      !> The time integrator (explicit: the scheme; implicit, quasi_static: mpm_implicit) and what only the
+      !> implicit ones use: the mass matrix (implicit), load increments (quasi_static), Newton's relative
+      !> residual tolerance and iteration limit, the ghost penalty on cut cells (both).
+      character(len=16) :: integrator = 'explicit'
+      character(len=16) :: mass = 'lumped'
+      integer :: load_steps = 10
+      real(dp) :: newton_tolerance = 1.0e-10_dp
+      integer :: max_newton_iterations = 25
+      real(dp) :: ghost_penalty = -1.0_dp
       character(len=8) :: scheme = 'usl'
       integer :: elements = 20
       integer :: particles_per_element = 1
@@ -159,14 +174,15 @@ contains
       call run_length_flags(config)
       table = [ &
          text_entry('discretisation', 'scheme', config%scheme, 'update scheme: stress update first, last, or '// &
-                    'modified last (docs/theory.md, Algorithm)', words=known_schemes, sweep_list='schemes'), &
+                    'modified last (docs/theory.md, Algorithm); integrator ''explicit''', words=known_schemes, &
+                    sweep_list='schemes'), &
          int_entry('discretisation', 'elements', config%elements, 'elements across the body; dx = length / elements', &
                    at_least=1, sweep_list='elements'), &
          int_entry('discretisation', 'particles_per_element', config%particles_per_element, &
                    'particles per element, evenly spaced', at_least=1, sweep_list='particles_per_element'), &
          real_entry('discretisation', 'dt_fraction', config%dt_fraction, '', 'dt = dt_fraction * dx / c, '// &
-                    'c = sqrt(youngs_modulus/density)', greater_than=0.0_dp, at_most=max_dt_fraction, &
-                    sweep_list='dt_fractions'), &
+                    'c = sqrt(youngs_modulus/density)', greater_than=0.0_dp, at_most=dt_fraction_limit(config), &
+                    sweep_list='dt_fractions', note="integrator 'implicit': up to 1e8"), &
          text_entry('discretisation', 'shape', config%shape, 'shape functions: linear hat, uniform or '// &
                     'contiguous-particle GIMP, quadratic or cubic B-splines (docs/theory.md, Shape functions)', &
                     words=known_shapes, sweep_list='shapes'), &
@@ -182,6 +198,27 @@ contains
                     "linear shape), "// &
                     "else the generic path; 'generic': always the generic layered path", &
                     words='auto, generic'), &
+         text_entry('discretisation', 'integrator', config%integrator, "time integration: 'explicit' (the "// &
+                    "scheme), 'implicit' (Newmark trapezoidal rule, Newton on the grid), 'quasi_static' "// &
+                    "(equilibrium in load_steps)", words=known_integrators, sweep_list='integrator'), &
+         text_entry('discretisation', 'mass', config%mass, "mass matrix of integrator 'implicit': 'lumped' "// &
+                    "(row sums, as the explicit schemes) or 'consistent' (sum_p m_p N_I N_J)", &
+                    words='lumped, consistent', sweep_list='mass'), &
+         int_entry('discretisation', 'load_steps', config%load_steps, "load increments of integrator "// &
+                   "'quasi_static' (equilibrium under a fraction k/load_steps of the loads)", at_least=1, &
+                   sweep_list='load_steps'), &
+         real_entry('discretisation', 'newton_tolerance', config%newton_tolerance, '', 'Newton stops at |R| <= '// &
+                    'tolerance * |forces| (the sum of the magnitudes of the terms balanced at each node); '// &
+                    "integrators 'implicit', 'quasi_static'", &
+                    greater_than=0.0_dp, below=1.0_dp, sweep_list='newton_tolerance'), &
+         int_entry('discretisation', 'max_newton_iterations', config%max_newton_iterations, 'linear solves a '// &
+                   "step may take before the run stops (status newton_not_converged); integrators 'implicit', "// &
+                   "'quasi_static'", at_least=1), &
+         real_entry('discretisation', 'ghost_penalty', config%ghost_penalty, '', 'ghost penalty gamma on the '// &
+                    'cut cells at free ends (stiffness gamma E/dx on the jump of the p-th derivative); 0: off; '// &
+                    "integrators 'implicit', 'quasi_static'", &
+                    at_least=-1.0_dp, note='-1: 0.1 for GIMP and B-splines, 0 for linear', &
+                    sweep_list='ghost_penalty'), &
          text_entry('scene', 'kind', config%scene_kind, 'the problem (docs/user-guide.md, Scenes): '// &
                     scene_list(periods=.false.), words=known_scenes, attribute='scene_kind'), &
          for_kinds(real_entry('scene', 'length', config%length, 'm', 'length of the bar', greater_than=0.0_dp), &
@@ -371,7 +408,8 @@ contains
       do i = 1, size(config_groups)
          call apply_items(table, items, trim(config_groups(i)), path, error)
       end do
-      call check_given(table, config%scene_kind, error)
+      table(find_parameter(table, 'discretisation', 'dt_fraction'))%upper = dt_fraction_limit(config)
+      call check_given(table, config, error)
       call choose_run_length(table, config, error)
       call check_conditions(table, items, path, error)
       if (allocated(error)) return
@@ -423,15 +461,19 @@ contains
    end subroutine put_overrides
 
    !> Each variable's range, where it was given; a variable given for a scene kind that does not use it
-   !> is refused (after an unknown kind, whose own message says what the kinds are, it is not).
-   subroutine check_given(table, kind, error)
+   !> is refused (after an unknown kind, whose own message says what the kinds are, it is not), and so is
+   !> a variable of another integrator (one of another law: check_conditions, for_value).
+   subroutine check_given(table, config, error)
       type(parameter_t), intent(in) :: table(:)
-      character(len=*), intent(in) :: kind
+      type(config_t), intent(in) :: config
       type(error_t), allocatable, intent(inout) :: error
       integer :: i
       do i = 1, size(table)
-         if (table(i)%line > 0 .and. known_kind(kind) .and. .not. used_by(table(i), trim(kind))) then
-            call append_error(error, trim(table(i)%origin)//' '//not_used_message(table(i), kind))
+         if (table(i)%line > 0 .and. known_kind(config%scene_kind) .and. &
+             .not. used_by(table(i), trim(config%scene_kind))) then
+            call append_error(error, trim(table(i)%origin)//' '//not_used_message(table(i), config%scene_kind))
+         else if (table(i)%line > 0 .and. .not. used_by_integrator(table(i)%name, config%integrator)) then
+            call append_error(error, trim(table(i)%origin)//' '//integrator_message(table(i), config%integrator))
          else if (table(i)%line > 0) then
             call check_parameter(table(i), error, trim(table(i)%origin)//' ')
          else
@@ -539,6 +581,100 @@ contains
       end function sweep_item
    end subroutine check_conditions
 
+   !> The integrators that use the variable `name`, comma separated ('' for every one): given with another
+   !> integrator it is refused, as a variable of another scene kind or law is, and the echo leaves it out.
+   pure function integrators_of(name) result(list)
+      character(len=*), intent(in) :: name
+      character(len=:), allocatable :: list
+      select case (trim(name))
+      case ('scheme', 'kernels')
+         list = 'explicit'
+      case ('mass')
+         list = 'implicit'
+      case ('load_steps')
+         list = 'quasi_static'
+      case ('newton_tolerance', 'max_newton_iterations', 'ghost_penalty')
+         list = 'implicit, quasi_static'
+      case ('dt_fraction', 'transfer', 'flip_fraction', 'periods', 'end_time') ! (quasi_static has no time)
+         list = 'explicit, implicit'
+      case default
+         list = ''
+      end select
+   end function integrators_of
+
+   !> Whether `integrator` uses the variable `name` (an unknown integrator uses every one: its own check
+   !> reports it).
+   pure logical function used_by_integrator(name, integrator)
+      character(len=*), intent(in) :: name, integrator
+      used_by_integrator = len(integrators_of(name)) == 0 .or. &
+                           index(', '//known_integrators//',', ', '//trim(integrator)//',') == 0 .or. &
+                           index(', '//integrators_of(name)//',', ', '//trim(integrator)//',') > 0
+   end function used_by_integrator
+
+   !> Whether a run with `law` and `integrator` uses the variable of entry `p` (a sweep's /cases has the
+   !> columns of the variables some of its cases use): its integrators' (integrators_of), and of the
+   !> law's variables (for_value on law, as yield_stress) those of that law.
+   pure logical function used_with(p, law, integrator)
+      type(parameter_t), intent(in) :: p
+      character(len=*), intent(in) :: law, integrator
+      used_with = used_by_integrator(p%name, integrator)
+      if (trim(p%needs_variable) == 'law') used_with = used_with .and. trim(p%needs_word) == trim(law)
+   end function used_with
+
+   !> The message refusing a variable that integrator `integrator` does not use.
+   function integrator_message(p, integrator) result(text)
+      type(parameter_t), intent(in) :: p
+      character(len=*), intent(in) :: integrator
+      character(len=:), allocatable :: text
+      text = trim(p%group)//": '"//trim(p%name)//"' is not used by integrator = '"//trim(integrator)// &
+             "'; it belongs to integrator "//integrators_of(p%name)
+   end function integrator_message
+
+   !> The largest dt_fraction the integrator accepts: explicit 10 (far beyond any stability limit),
+   !> implicit 1e8 (Newmark's trapezoidal rule is unconditionally stable).
+   pure real(dp) function dt_fraction_limit(config)
+      type(config_t), intent(in) :: config
+      dt_fraction_limit = merge(max_implicit_dt_fraction, max_dt_fraction, trim(config%integrator) == 'implicit')
+   end function dt_fraction_limit
+
+   !> The integrator against the rest: a variable it does not use but a sweep set is refused (given in the
+   !> input it is refused by name already), and the scenes it cannot run. quasi_static needs static loads
+   !> and an exact static solution: the column (the other scenes' motion is driven by initial velocities,
+   !> time-dependent forces or a driven end with the other end free, which has no equilibrium but a rigid
+   !> motion). The implicit integrators take one velocity field: the impact's frictionless contact (a
+   !> velocity field per body, a non-smooth constraint) is the explicit schemes' only.
+   subroutine check_integrator(config, error)
+      type(config_t), intent(in) :: config
+      type(error_t), allocatable, intent(inout) :: error
+      type(config_t), target :: defaults, local
+      type(parameter_t), allocatable :: table(:), default_table(:)
+      integer :: i
+      if (index(', '//known_integrators//',', ', '//trim(config%integrator)//',') == 0) return
+      local = config
+      call config_parameters(local, table)
+      call config_parameters(defaults, default_table)
+      do i = 1, size(table)
+         if (used_by_integrator(table(i)%name, config%integrator)) cycle
+         if (table(i)%name == 'periods' .or. table(i)%name == 'end_time') cycle ! (flags: below)
+         if (format_value(table(i)) /= format_value(default_table(i))) &
+            call append_error(error, integrator_message(table(i), config%integrator))
+      end do
+      if (trim(config%integrator) == 'quasi_static' .and. config%end_time_given) &
+         call append_error(error, integrator_message(table(find_parameter(table, 'run', 'end_time')), &
+                                                     config%integrator))
+      if (trim(config%integrator) == 'quasi_static' .and. trim(config%scene_kind) /= 'column') &
+         call append_error(error, "discretisation: integrator = 'quasi_static' needs a scene with static loads "// &
+                           "and an exact static solution; kind = '"//trim(config%scene_kind)//"' has none "// &
+                           "(its motion comes from initial velocities, time-dependent forces or a driven end); "// &
+                           "allowed: kind = 'column'")
+      if (trim(config%integrator) /= 'explicit' .and. trim(config%scene_kind) == 'impact' .and. &
+          trim(config%contact) == 'frictionless') &
+         call append_error(error, "scene: contact = 'frictionless' is not used by integrator = '"// &
+                           trim(config%integrator)//"' (a velocity field per body, whose contact is a non-smooth "// &
+                           "constraint the Newton iteration does not take); allowed: contact = 'none', or "// &
+                           "integrator = 'explicit'")
+   end subroutine check_integrator
+
    !> The material of a validated configuration (the one body's; scenes of several materials give the
    !> parameters per particle).
    pure function material_of(config) result(material)
@@ -605,6 +741,7 @@ contains
       call check_counts(config, error)
       call check_scene(config, error, given)
       call check_material(config, error)
+      call check_integrator(config, error)
       if (allocated(error)) return
       call check_representable(config, error)
       if (allocated(error)) return
@@ -615,7 +752,7 @@ contains
       end if
       call check_memory(int(config%elements, i8)*config%particles_per_element, config%elements, &
                         merge(step_count(run_end_time(config), time_step(config)), 0, config%history), error, &
-                        config%margin_cells, automatic_margin(config))
+                        config%margin_cells, automatic_margin(config), trim(config%integrator) /= 'explicit')
       call check_output_path(config%file, 'output: file', error)
    end subroutine validate_config
 
@@ -737,6 +874,8 @@ contains
                            "precursor reaches the free end at L/c = "//num(config%length/c, 4)//" s, where the "// &
                            "plastic wave's exact solution stops holding; allowed: periods <= 1 (end_time <= "// &
                            num(config%length/c, 4)//" s)")
+      if (end_time/dt > real(huge(1) - 1, dp)) call append_error(error, too_many_steps(config, end_time_given, &
+                                                                                         end_time, dt, given))
       call check_motion(config, end_time, dx, error, given)
       call check_snapshots(config, end_time, error, given)
    end subroutine check_run
@@ -1014,17 +1153,24 @@ contains
    !> Refuse a run whose particles and grid would not fit in the memory available now.
    !> `history_steps` is the number of history entries kept (0 without history).
    !> `margin` (margin_cells as given, -1: automatic) adds its empty cells to the grid's.
-   subroutine check_memory(particles, elements, history_steps, error, margin, automatic)
+   subroutine check_memory(particles, elements, history_steps, error, margin, automatic, implicit)
       integer(i8), intent(in) :: particles
       integer, intent(in) :: elements, history_steps
       type(error_t), allocatable, intent(inout) :: error
       integer, intent(in), optional :: margin
       !> The cells of the scene's own margin when margin_cells = -1 (automatic_margin).
       integer(i8), intent(in), optional :: automatic
+      !> the implicit integrators' workspace too (mpm_implicit: 10 doubles per particle; per node 14 arrays
+      !> and the band matrices, at most 3 x 5 + 1 doubles each for the tangent and the consistent mass)
+      logical, intent(in), optional :: implicit
       integer(i8) :: needed, available, margin_cells
-      integer, parameter :: bytes_per_element = 10*8 ! grid: 5 element shares + 5 nodal arrays
+      integer :: bytes_per_element
       integer, parameter :: bytes_per_history_entry = 5*8
       character(len=:), allocatable :: with_margin
+      bytes_per_element = 10*8 ! grid: 5 element shares + 5 nodal arrays
+      if (present(implicit)) then
+         if (implicit) bytes_per_element = bytes_per_element + (14 + 2*16)*8
+      end if
       margin_cells = 0
       if (present(margin)) margin_cells = max(margin, 0)
       with_margin = ''
@@ -1037,6 +1183,9 @@ contains
       end if
       needed = particles*bytes_per_particle + (int(max(elements, 0), i8) + margin_cells)*bytes_per_element + &
                int(history_steps, i8)*bytes_per_history_entry
+      if (present(implicit)) then
+         if (implicit) needed = needed + particles*10*8
+      end if
       available = available_memory()
       if (available > 0 .and. needed > available) call append_error(error, &
          "discretisation: elements = "//str(elements)//with_margin//" and particles_per_element give "// &
@@ -1072,7 +1221,9 @@ contains
    real(dp) function run_end_time(config)
       type(config_t), intent(in) :: config
       real(dp) :: omega
-      if (config%end_time_given .or. .not. ieee_is_nan(config%end_time)) then
+      if (trim(config%integrator) == 'quasi_static') then ! the full load
+         run_end_time = 1.0_dp
+      else if (config%end_time_given .or. .not. ieee_is_nan(config%end_time)) then
          run_end_time = config%end_time
       else if (trim(config%scene_kind) == 'vibrating_bar') then ! this association: the paper's step counts
          omega = (2*config%mode - 1)*pi/(2.0_dp*config%length)*sqrt(config%youngs_modulus/config%density)
@@ -1093,10 +1244,15 @@ contains
          contact_time = config%gap/(config%velocities(1) - config%velocities(2))
    end function contact_time
 
-   !> The time step of a validated configuration: dt = dt_fraction dx/c, c the fastest wave speed.
+   !> The time step of a validated configuration: dt = dt_fraction dx/c, c the fastest wave speed; for
+   !> integrator quasi_static the load increment 1/load_steps (its "time" is the load factor, 0 to 1).
    pure real(dp) function time_step(config)
       type(config_t), intent(in) :: config
-      time_step = config%dt_fraction*(body_length(config)/config%elements)/largest_wave_speed(config)
+      if (trim(config%integrator) == 'quasi_static') then
+         time_step = 1.0_dp/config%load_steps
+      else
+         time_step = config%dt_fraction*(body_length(config)/config%elements)/largest_wave_speed(config)
+      end if
    end function time_step
 
    !> How far a free end can move out over a run of `end_time` (m): the scene's automatic grid margin
@@ -1266,10 +1422,23 @@ contains
          config%length = body_length(config)
       config%wave_speed = largest_wave_speed(config)
       config%dx = config%length/config%elements
-      config%dt = config%dt_fraction*config%dx/config%wave_speed
+      config%dt = time_step(config)
       config%period = scene_period(config)
       config%final_time = run_end_time(config)
       config%steps = step_count(config%final_time, config%dt)
+      if (trim(config%integrator) == 'quasi_static') then
+         ! the load factor runs from 0 to 1; the converged state at full load is a snapshot
+         config%period = 1.0_dp
+         associate (n => config%snapshot_count)
+            if (n == 0) then
+               n = 1
+               config%snapshot_times(1) = 1.0_dp
+            else if (config%snapshot_times(n) < 1.0_dp .and. n < max_snapshots) then
+               n = n + 1
+               config%snapshot_times(n) = 1.0_dp
+            end if
+         end associate
+      end if
    end subroutine resolve_config
 
    !> Echo the configuration as a namelist file that reproduces the run.
@@ -1297,6 +1466,7 @@ contains
          if (len_trim(table(i)%needs_variable) == 0) cycle
          if (format_value(table(i)) /= format_value(default_table(i))) table(i)%needs_variable = ''
       end do
+      table = pack(table, [(used_by_integrator(table(i)%name, config%integrator), i=1, size(table))])
       text = ''
       do i = 1, size(config_groups)
          text = text//group_namelist(table, trim(config_groups(i)), trim(config%scene_kind))
@@ -1308,7 +1478,18 @@ contains
    function config_summary(config) result(text)
       type(config_t), intent(in) :: config
       character(len=:), allocatable :: text
-      text = trim(config%scheme)//", "//plural(config%elements, "element")//", "// &
+      select case (trim(config%integrator))
+      case ('implicit')
+         text = "implicit (Newmark, "//trim(config%mass)//" mass)"
+      case ('quasi_static')
+         text = "quasi_static, "//plural(config%elements, "element")//", "// &
+                plural(config%particles_per_element, "particle")//" per element, "// &
+                plural(config%load_steps, "load step")
+         return
+      case default
+         text = trim(config%scheme)
+      end select
+      text = text//", "//plural(config%elements, "element")//", "// &
              plural(config%particles_per_element, "particle")//" per element, dt = "//num(config%dt_fraction)// &
              " dx/c = "//num(config%dt, 3)//" s, "//plural(config%steps, "step")
    end function config_summary

@@ -16,12 +16,14 @@ module mpm_material
    use mpm_particles, only: particles_t
    use mpm_material_elastic, only: elastic_update_all, elastic_update_each, strain_energy_density, &
                                    linear_update_all, linear_update_each, linear_energy_density
-   use mpm_material_plastic, only: plastic_update_all, plastic_tangent, plastic_work_density, dissipation_density
+   use mpm_material_plastic, only: plastic_update_all, plastic_tangent, plastic_work_density, dissipation_density, &
+                                   radial_return
    implicit none
    private
    public :: material_t, law_hencky, law_linear, law_elastoplastic, known_laws, law_id, law_name
    public :: update_material, stored_energy, plastic_work, dissipated_energy, material_state, law_tangent
    public :: material_report
+   public :: law_stress, law_stiffness, update_material_finite, log_one_plus
 
    !> Law ids.
    integer, parameter :: law_hencky = 1, law_linear = 2, law_elastoplastic = 3
@@ -195,6 +197,84 @@ contains
          tangent = youngs_modulus
       end select
    end function law_tangent
+
+   !> The finite strain increments of the implicit integrators (mpm_implicit), whose steps are far longer
+   !> than the explicit ones. A step moves a particle's neighbourhood by d eps = F_step - 1 (J_{n+1} =
+   !> J_n (1 + d eps) exactly), and the law is integrated exactly over it: hencky (and the elastic part of
+   !> elastoplastic) by the logarithmic increment ln(1 + d eps), so that sigma = E ln J at any step size
+   !> (the explicit update sigma += E d eps is its first-order form: d eps^2/2 apart per step, nothing at
+   !> the explicit step, first order in dt at implicit ones); linear as sigma_n + E J_n d eps, which is
+   !> E (J_{n+1} - 1) written as an increment, so that its round-off is eps |sigma| and not the E eps of
+   !> J - 1 formed from a J stored near 1 (which stops a tight Newton tolerance at small strain).
+   !> law_stress is the stress a step reaches from the state before it, without changing the state (the
+   !> residual of a Newton iteration), law_stiffness its derivative d sigma_{n+1}/d (d eps) (the tangent:
+   !> law_tangent of the logarithmic increment times d ln(1 + d eps)/d (d eps) = 1/(1 + d eps)).
+   elemental real(dp) function law_stress(law, youngs_modulus, yield_stress, hardening_modulus, dstrain, stress, &
+                                          volume_ratio, hardening) result(updated)
+      integer, intent(in) :: law
+      real(dp), intent(in) :: youngs_modulus, yield_stress, hardening_modulus, dstrain, stress, volume_ratio, hardening
+      real(dp) :: plastic_strain, alpha
+      select case (law)
+      case (law_linear)
+         updated = stress + youngs_modulus*volume_ratio*dstrain
+      case (law_elastoplastic)
+         updated = stress
+         plastic_strain = 0.0_dp
+         alpha = hardening
+         call radial_return(youngs_modulus, yield_stress, hardening_modulus, log_one_plus(dstrain), updated, &
+                            plastic_strain, alpha)
+      case default
+         updated = stress + youngs_modulus*log_one_plus(dstrain)
+      end select
+   end function law_stress
+
+   !> d law_stress/d (d eps) (see law_stress).
+   elemental real(dp) function law_stiffness(law, youngs_modulus, yield_stress, hardening_modulus, dstrain, stress, &
+                                             volume_ratio, hardening) result(stiffness)
+      integer, intent(in) :: law
+      real(dp), intent(in) :: youngs_modulus, yield_stress, hardening_modulus, dstrain, stress, volume_ratio, hardening
+      if (law == law_linear) then
+         stiffness = law_tangent(law, youngs_modulus, yield_stress, hardening_modulus, dstrain, stress, volume_ratio, &
+                                 hardening)
+      else
+         stiffness = law_tangent(law, youngs_modulus, yield_stress, hardening_modulus, log_one_plus(dstrain), stress, &
+                                 volume_ratio, hardening)/(1.0_dp + dstrain)
+      end if
+   end function law_stiffness
+
+   !> The state update of a finite increment (see law_stress): the law's own update (update_material) by
+   !> the logarithmic increment for hencky and elastoplastic, then J_{n+1} = J_n (1 + d eps) and the stored
+   !> energy and smallest J of that J; the linear law's update as it is (its stress is E (J - 1)).
+   subroutine update_material_finite(material, dstrain, particles, energy, smallest, work)
+      type(material_t), intent(in) :: material
+      real(dp), intent(in), contiguous :: dstrain(:)
+      type(particles_t), intent(inout) :: particles
+      real(dp), intent(out) :: energy, smallest, work
+      real(dp), allocatable :: volume_ratio(:)
+      if (material%law == law_linear) then
+         call update_material(material, dstrain, particles, energy, smallest, work)
+         return
+      end if
+      volume_ratio = particles%volume_ratio*(1.0_dp + dstrain)
+      call update_material(material, log_one_plus(dstrain), particles, energy, smallest, work)
+      particles%volume_ratio = volume_ratio
+      energy = stored_energy(material, particles)
+      smallest = minval(volume_ratio)
+   end subroutine update_material_finite
+
+   !> ln(1 + x) to a few ulps also for |x| near eps (where log(1 + x) loses the digits of x): Goldberg,
+   !> "What every computer scientist should know about floating-point arithmetic", ACM Computing Surveys
+   !> 23(1), 1991, doi:10.1145/103162.103163, theorem 4.
+   elemental real(dp) function log_one_plus(x) result(y)
+      real(dp), intent(in) :: x
+      real(dp) :: u
+      u = 1.0_dp + x
+      if (u == 1.0_dp) then
+         y = x
+      else
+         y = log(u)*x/(u - 1.0_dp)
+      end if
+   end function log_one_plus
 
    !> What the law adds to a run's /summary (the elastoplastic law only): the plastic work, the energy
    !> dissipated and the energy stored in the hardening (J per unit area), the largest plastic strain

@@ -19,8 +19,10 @@ module mpm_simulation
    use mpm_scenes, only: make_scene
    use mpm_diagnostics, only: history_t, snapshot_t, pass_totals_t, status_ok, status_non_finite, &
                               status_volume_ratio, status_left_grid, status_energy_growth, status_cell_crossing, &
-                              status_name, status_not_run
+                              status_name, status_not_run, status_newton
    use mpm_files, only: interrupt_signal
+   use mpm_implicit, only: implicit_t, implicit_init, implicit_advance, implicit_report, integrator_id, &
+                           integrator_explicit
    implicit none
    private
    public :: run_result_t, run_simulation, scheme_id, guard_trip_t, guard_message
@@ -39,6 +41,8 @@ module mpm_simulation
       real(dp) :: x = 0.0_dp, v = 0.0_dp, stress = 0.0_dp, volume_ratio = 0.0_dp
       real(dp) :: domain(2) = 0.0_dp  !< the grid domain [x_min, x_max] (m), for left_grid
       real(dp) :: node_mass_ratio = 0.0_dp  !< the lightest nodal mass of the step / particle mass
+      integer :: iteration = 0      !< newton_not_converged: the linear solves made
+      integer :: node = -1          !< newton_not_converged: the node of a singular tangent (-1: none)
    end type guard_trip_t
 
    !> What one run produced.
@@ -81,9 +85,11 @@ module mpm_simulation
       type(pass_totals_t) :: totals
       type(bodies_t) :: bodies
       type(fused_box_t) :: box
-      type(material_t) :: material       !< the law (one body's; per particle where a scene has several)
+      type(material_t) :: material        !< the law and its parameters (mpm_material)
+      type(implicit_t) :: implicit        !< the implicit integrators' state (allocated only in their runs)
       real(dp), allocatable :: watch(:)   !< what a watching scene keeps between steps
       integer :: scheme = 0, next_snapshot = 1
+      integer :: integrator = 0           !< integrator_explicit, or mpm_implicit's ids
       logical :: fused = .false.          !< the fused kernels run (else the generic path)
       real(dp) :: total_mass = 0.0_dp, energy_reference = 0.0_dp
       real(dp) :: ucm = 0.0_dp, energy = 0.0_dp  !< u_cm and the total energy after the last step
@@ -150,13 +156,15 @@ contains
       result%steps = config%steps
       result%dt = config%dt
       run%scheme = scheme_id(config%scheme)
+      run%integrator = integrator_id(config%integrator)
+      if (run%integrator /= integrator_explicit) call implicit_init(run%implicit, config)
+      run%material = material_of(config)
       call make_scene(config, run%scene, error)
       if (allocated(error)) return
       associate (scene => run%scene, cache => run%cache, particles => run%particles)
          cache%kind = shape_id(config%shape)
          cache%transfer = transfer_id(config%transfer)
          cache%flip_fraction = config%flip_fraction
-         run%material = material_of(config)
          ! shapes wider than the hat: one more cell beyond the free end, one ghost cell left of x = 0
          extra = shape_extra_cells(cache%kind)
          result%ucm_amplitude = scene%ucm_amplitude()
@@ -166,9 +174,10 @@ contains
          call scene%place_particles(config, particles, error)
          if (allocated(error)) return
          ! the fused kernels, where they take the scene, shape, transfer and what the particles carry;
-         ! their stress update is hencky's
+         ! their stress update is hencky's, and they are explicit
          run%box = fused_choose(cache%kind, cache%transfer, config%flip_fraction, scene, particles)
-         run%fused = trim(config%kernels) == 'auto' .and. run%box%variant >= 0 .and. run%material%law == law_hencky
+         run%fused = trim(config%kernels) == 'auto' .and. run%box%variant >= 0 .and. run%material%law == law_hencky &
+                     .and. run%integrator == integrator_explicit
          result%fused = run%fused
          if (.not. run%fused) call per_particle_data(particles, error)
          if (allocated(error)) return
@@ -239,6 +248,10 @@ contains
             call fused_step(run%scheme, particles, grid, config%dt, config%youngs_modulus, totals, run%box, run%scene, t, &
                             run%bodies)
             run%ucm = totals%displacement/run%total_mass ! u_cm = sum m (x - X) / sum m (equal masses: sum (x - X) / N)
+         else if (run%integrator /= integrator_explicit) then ! Newton on the grid (mpm_implicit)
+            call implicit_advance(run%implicit, run%scene, run%cache, particles, grid, config%dt, run%material, t, &
+                                  totals)
+            run%ucm = totals%displacement/run%total_mass
          else if (run%scene%body_fields) then
             call scheme_step_bodies(run%scheme, run%scene, run%cache, particles, grid, run%bodies, config%dt, &
                                     run%material, t, totals)
@@ -276,6 +289,10 @@ contains
       end if
       call material_report(run%material, run%particles, names, values) ! (none for elastic laws)
       call add_report(result, names, values)
+      if (run%integrator /= integrator_explicit) then
+         call implicit_report(run%implicit, names, values)
+         call add_report(result, names, values)
+      end if
       if (result%ucm_amplitude /= 0.0_dp) then
          result%relative_error = result%max_error/abs(result%ucm_amplitude)
       else
@@ -298,7 +315,11 @@ contains
       real(dp), intent(in) :: time
       associate (energy => run%energy, totals => run%totals, particles => run%particles, &
                  reference => run%energy_reference)
-         if (.not. ieee_is_finite(energy) .or. .not. ieee_is_finite(run%ucm)) then
+         if (run%implicit%failed) then
+            call trip(run, result, step, time, status_newton, run%implicit%failed_residual, 0)
+            result%trip%iteration = run%implicit%iterations
+            result%trip%node = run%implicit%singular_node
+         else if (.not. ieee_is_finite(energy) .or. .not. ieee_is_finite(run%ucm)) then
             call trip(run, result, step, time, status_non_finite, energy/reference, first_non_finite(particles))
          else if (totals%outside /= 0) then
             call trip(run, result, step, time, status_left_grid, 0.0_dp, totals%outside)
@@ -388,6 +409,15 @@ contains
          else
             what = 'non-finite value (NaN or Infinity) in the exact solution, the error or the energies (the '// &
                    'particle state is finite): the scene cannot be represented at this scale'
+         end if
+      case (status_newton)
+         if (trip%node >= 0) then
+            what = 'the tangent is singular (LAPACK dgbtrf: zero pivot at node '//str(trip%node)//') at Newton '// &
+                   'iteration '//str(trip%iteration + 1)
+         else
+            what = 'Newton''s method did not converge: relative residual '//str(trip%value)//' after '// &
+                   str(trip%iteration)//' linear solves (newton_tolerance = '//str(config%newton_tolerance)// &
+                   ', max_newton_iterations = '//str(config%max_newton_iterations)//')'
          end if
       case (status_left_grid)
          what = 'a particle left the grid domain ['//str(trip%domain(1))//', '//str(trip%domain(2))// &

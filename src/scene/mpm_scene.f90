@@ -12,7 +12,17 @@ module mpm_scene
    use mpm_shape, only: shape_cache_t
    implicit none
    private
-   public :: scene_t, margin_for, sine_profile
+   public :: scene_t, margin_for, sine_profile, drive_t
+
+   !> A scene's drive in the form the implicit integrators take it (mpm_implicit): nodes held at the
+   !> velocity `velocity`, and a point whose interpolated velocity is prescribed,
+   !> sum_k weight(k) v(first + k - 1) = velocity (no point when weight has size 0).
+   type :: drive_t
+      integer, allocatable :: nodes(:)
+      integer :: first = 0
+      real(dp), allocatable :: weight(:)
+      real(dp) :: velocity = 0.0_dp
+   end type drive_t
 
    type, abstract :: scene_t
       !> Whether the scene adds external (body or driving) forces to the grid each step.
@@ -25,6 +35,9 @@ module mpm_scene
       !> Whether its external forces differ between particles and are given per particle by
       !> particle_forces (the fused kernels map them; the generic path's add_forces uses the same values).
       logical :: has_particle_forces = .false.
+      !> Whether the scene drives its body at a prescribed velocity: its add_forces is then the explicit
+      !> schemes' drive, and the implicit integrators take `drive` instead.
+      logical :: drives = .false.
    contains
       !> Particles of the bodies, in their initial state (shared mass and volume; see per_particle_data).
       procedure(place_i), deferred :: place_particles
@@ -62,6 +75,8 @@ module mpm_scene
       !> Called after every step when `watches`: the scene keeps what it needs in `watch` (allocated by
       !> the scene on the first call); watch_report turns it into /summary quantities at the end.
       procedure :: watch_step, watch_report
+      !> The drive as the implicit integrators take it (when `drives`), at the start of a step.
+      procedure :: drive
    end type scene_t
 
    abstract interface
@@ -136,6 +151,15 @@ contains
       real(dp), intent(out), contiguous :: forces(:)
       forces = 0.0_dp
    end subroutine particle_forces
+   !> No drive (scenes that drive their body override this and set `drives`).
+   subroutine drive(self, grid, cache, particles, driven)
+      class(scene_t), intent(in) :: self
+      type(grid_t), intent(in) :: grid
+      type(shape_cache_t), intent(in) :: cache
+      type(particles_t), intent(in) :: particles
+      type(drive_t), intent(out) :: driven
+      allocate (driven%nodes(0), driven%weight(0))
+   end subroutine drive
 
    pure integer function left_margin_cells(self, dx, requested) result(cells)
       class(scene_t), intent(in) :: self

@@ -13,7 +13,23 @@
 !> S(2 pi - th) = S(th). So u_cm swings between 0 and -2 g L^2/(3 c^2): its amplitude is g L^2/(3 c^2).
 !> The sum to round-off and the closed form agree (test_scenes). Needs the external force on the grid:
 !> f_I += m_I (-g) (the lumped mass carries sum_p N_Ip m_p (-g) exactly, since sum_I N_Ip = 1).
+!>
+!> Static (integrator = 'quasi_static', mpm_implicit): equilibrium under the fraction lambda of the
+!> weight (g -> lambda g), at any strain and for each law. In 1-D with unit area the first Piola-Kirchhoff
+!> stress is the Cauchy stress, so dsigma/dX = rho0 g with sigma(L) = 0 (the free end) gives
+!> sigma(X) = -rho0 g (L - X) whatever the law (the column is statically determinate), and the law gives
+!> J(X) = dx/dX, x(X) = int_0^X J:
+!>   linear         J = 1 + sigma/E: u_s(X) = -(rho0 g/E)(L X - X^2/2), exact at any strain;
+!>   hencky         J = exp(sigma/E) = exp(-a (L - X)), a = rho0 g/E:  x(X) = (exp(-a (L - X)) - exp(-a L))/a;
+!>   elastoplastic  loaded monotonically from rest, ln J = sigma/E + eps_p with eps_p = -(|sigma| - sigma_y)/H
+!>                  where |sigma| > sigma_y, i.e. below X_y = L - sigma_y/(rho0 g): there
+!>                  ln J = -k (L - X) + sigma_y/H, k = rho0 g (1/E + 1/H), and
+!>                  x(X) = exp(sigma_y/H) (exp(-k (L - X)) - exp(-k L))/k; above X_y the hencky form from
+!>                  x(X_y). Perfectly plastic (H = 0) with |sigma| > sigma_y somewhere: no equilibrium (NaN).
+!> Its error measure is then max_p |x_p - X_p - u_s(X_p)| at each load step (m), relative to |u_s(L)| at
+!> full load, and u_cm,exact the mean (1/L) int_0^L u_s dX (Gauss-Legendre, to round-off).
 module mpm_scene_column
+   use, intrinsic :: ieee_arithmetic, only: ieee_value, ieee_quiet_nan
    use mpm_kinds, only: dp, pi
    use mpm_errors, only: error_t
    use mpm_config, only: config_t
@@ -21,6 +37,7 @@ module mpm_scene_column
    use mpm_particles, only: particles_t, particles_init
    use mpm_shape, only: shape_cache_t
    use mpm_particle_forces, only: p2g_particle_forces
+   use mpm_material, only: material_t, law_linear, law_elastoplastic
    use mpm_scene, only: scene_t, margin_for
    implicit none
    private
@@ -33,16 +50,26 @@ module mpm_scene_column
       real(dp) :: wave_speed = 0.0_dp
       real(dp) :: omega = 0.0_dp      !< omega_1 = pi c/(2L) (rad/s)
       real(dp) :: amplitude = 0.0_dp  !< g L^2/(3 c^2): the u_cm swing's half range and mean offset (m)
+      !> the static problem (integrator quasi_static: "time" is the load factor) and the law it is solved with
+      logical :: static = .false.
+      type(material_t) :: material
    contains
       procedure :: place_particles, margin_cells, fixed_nodes, ucm_exact, ucm_amplitude
-      procedure :: add_forces, energy_reference, report, fused_applies, grid_loads
+      procedure :: add_forces, energy_reference, report, error_at, error_name, fused_applies, grid_loads
+      procedure :: static_displacement
    end type column_t
 
 contains
 
-   pure function column_init(length, youngs_modulus, density, gravity) result(column)
+   pure function column_init(length, youngs_modulus, density, gravity, static, material) result(column)
       real(dp), intent(in) :: length, youngs_modulus, density, gravity
+      !> the static problem (quasi_static) of the column of `material` (default: the dynamic one)
+      logical, intent(in), optional :: static
+      type(material_t), intent(in), optional :: material
       type(column_t) :: column
+      if (present(static)) column%static = static
+      column%material%youngs_modulus = youngs_modulus
+      if (present(material)) column%material = material
       column%external_forces = .true.
       column%length = length
       column%gravity = gravity
@@ -89,14 +116,146 @@ contains
    pure real(dp) function ucm_exact(self, t)
       class(column_t), intent(in) :: self
       real(dp), intent(in) :: t
+      if (self%static) then
+         ucm_exact = static_mean(self, t)
+         return
+      end if
       ucm_exact = -self%amplitude + 32.0_dp*self%gravity*self%length**2/(pi**4*self%wave_speed**2)* &
                   column_series(self%omega*t)
    end function ucm_exact
 
    pure real(dp) function ucm_amplitude(self)
       class(column_t), intent(in) :: self
-      ucm_amplitude = self%amplitude
+      if (self%static) then
+         ucm_amplitude = abs(self%static_displacement(self%length, 1.0_dp))
+      else
+         ucm_amplitude = self%amplitude
+      end if
    end function ucm_amplitude
+
+   !> The static displacement u_s(X) = x(X) - X under the fraction `load` of the weight (see the module),
+   !> written as integrals of J - 1 so that a small strain keeps its digits (stretch_integral).
+   elemental real(dp) function static_displacement(self, x0, load) result(u)
+      class(column_t), intent(in) :: self
+      real(dp), intent(in) :: x0, load
+      real(dp) :: weight, a, k, x_yield, softening
+      weight = self%density*load*self%gravity   ! rho0 g: the stress gradient
+      a = weight/self%material%youngs_modulus
+      x_yield = -1.0_dp
+      if (self%material%law == law_elastoplastic) x_yield = self%length - self%material%yield_stress/weight
+      if (self%material%law == law_linear) then
+         u = -a*(self%length*x0 - 0.5_dp*x0**2)
+      else if (x_yield <= 0.0_dp) then ! hencky, or elastoplastic nowhere yielded: ln J = -a (L - X)
+         u = stretch_integral(-a*self%length, a, x0)
+      else if (self%material%hardening_modulus <= 0.0_dp) then
+         u = ieee_value(1.0_dp, ieee_quiet_nan)  ! perfectly plastic and yielded: no equilibrium
+      else ! ln J = sigma_y/H - k (L - X) below X_y, -a (L - X) above
+         softening = self%material%yield_stress/self%material%hardening_modulus
+         k = weight*(1.0_dp/self%material%youngs_modulus + 1.0_dp/self%material%hardening_modulus)
+         if (x0 <= x_yield) then
+            u = stretch_integral(softening - k*self%length, k, x0)
+         else
+            u = stretch_integral(softening - k*self%length, k, x_yield) + &
+                stretch_integral(-a*(self%length - x_yield), a, x0 - x_yield)
+         end if
+      end if
+   end function static_displacement
+
+   !> int_0^w (J(s) - 1) ds for J(s) = exp(log_start + rate s): exp(log_start) (exp(rate w) - 1 - rate w)/rate
+   !> + (exp(log_start) - 1) w, free of cancellation for small strains.
+   elemental real(dp) function stretch_integral(log_start, rate, w) result(integral)
+      real(dp), intent(in) :: log_start, rate, w
+      if (rate == 0.0_dp) then ! (no load)
+         integral = exp_minus_one(log_start)*w
+      else
+         integral = exp(log_start)*exp_minus_linear(rate*w)/rate + exp_minus_one(log_start)*w
+      end if
+   end function stretch_integral
+
+   !> exp(z) - 1 to a few ulps (Kahan's form: exp(z) - 1 scaled by z/ln(exp(z)); see Goldberg 1991, in
+   !> mpm_material's log_one_plus).
+   elemental real(dp) function exp_minus_one(z) result(y)
+      real(dp), intent(in) :: z
+      real(dp) :: e
+      e = exp(z)
+      if (e == 1.0_dp) then
+         y = z
+      else if (e - 1.0_dp == -1.0_dp) then
+         y = -1.0_dp
+      else
+         y = (e - 1.0_dp)*z/log(e)
+      end if
+   end function exp_minus_one
+
+   !> exp(z) - 1 - z: its Taylor series for |z| < 1/2 (terms to z^20, below eps z^2), else directly.
+   elemental real(dp) function exp_minus_linear(z) result(y)
+      real(dp), intent(in) :: z
+      real(dp) :: term
+      integer :: n
+      if (abs(z) >= 0.5_dp) then
+         y = exp_minus_one(z) - z
+         return
+      end if
+      term = z
+      y = 0.0_dp
+      do n = 2, 20
+         term = term*z/n
+         y = y + term
+      end do
+   end function exp_minus_linear
+
+   !> (1/L) int_0^L u_s dX under the fraction `load` of the weight, by 4-point Gauss-Legendre on 64 panels
+   !> on each side of the yield depth (u_s is smooth on each side: to round-off).
+   pure real(dp) function static_mean(self, load) result(mean)
+      class(column_t), intent(in) :: self
+      real(dp), intent(in) :: load
+      real(dp), parameter :: nodes(4) = [-0.8611363115940526_dp, -0.3399810435848563_dp, 0.3399810435848563_dp, &
+                                         0.8611363115940526_dp], &
+                             weights(4) = [0.3478548451374538_dp, 0.6521451548625461_dp, 0.6521451548625461_dp, &
+                                           0.3478548451374538_dp]
+      integer, parameter :: panels = 64
+      real(dp) :: split, a, b, h
+      integer :: side, i
+      split = 0.0_dp
+      mean = 0.0_dp
+      if (load <= 0.0_dp) return
+      if (self%material%law == law_elastoplastic) &
+         split = min(max(self%length - self%material%yield_stress/(self%density*load*self%gravity), 0.0_dp), &
+                     self%length)
+      mean = 0.0_dp
+      do side = 1, 2
+         a = merge(0.0_dp, split, side == 1)
+         b = merge(split, self%length, side == 1)
+         h = (b - a)/panels
+         if (h <= 0.0_dp) cycle
+         do i = 0, panels - 1
+            mean = mean + 0.5_dp*h*sum(weights*self%static_displacement(a + h*(i + 0.5_dp + 0.5_dp*nodes), load))
+         end do
+      end do
+      mean = mean/self%length
+   end function static_mean
+
+   !> Static: max_p |x_p - X_p - u_s(X_p)| under the load factor t (m); else the common |u_cm - u_cm,exact|.
+   real(dp) function error_at(self, t, particles, ucm)
+      class(column_t), intent(in) :: self
+      real(dp), intent(in) :: t, ucm
+      type(particles_t), intent(in) :: particles
+      if (self%static) then
+         error_at = maxval(abs(particles%x - particles%x0 - self%static_displacement(particles%x0, t)))
+      else
+         error_at = abs(ucm - self%ucm_exact(t))
+      end if
+   end function error_at
+
+   pure function error_name(self) result(name)
+      class(column_t), intent(in) :: self
+      character(len=:), allocatable :: name
+      if (self%static) then
+         name = 'max_p |x_p - X_p - u_static(X_p)|'
+      else
+         name = '|u_cm - u_cm,exact|'
+      end if
+   end function error_name
 
    !> Gravity: f_I += m_I (-g) on every node (the fixed node's force is cleared by the grid solve).
    subroutine add_forces(self, grid, t, cache, particles)
@@ -129,13 +288,18 @@ contains
       loads%acceleration = -self%gravity
    end function grid_loads
 
-   !> The static end displacement u_s(L) = -g L^2/(2 c^2) (m), about which the free end oscillates.
+   !> The static end displacement u_s(L) = -g L^2/(2 c^2) (m), about which the free end oscillates (static:
+   !> the law's u_s(L) at full load).
    pure subroutine report(self, names, values)
       class(column_t), intent(in) :: self
       character(len=32), allocatable, intent(out) :: names(:)
       real(dp), allocatable, intent(out) :: values(:)
       names = [character(len=32) :: 'static_end_displacement']
-      values = [-self%gravity*self%length**2/(2.0_dp*self%wave_speed**2)]
+      if (self%static) then
+         values = [self%static_displacement(self%length, 1.0_dp)]
+      else
+         values = [-self%gravity*self%length**2/(2.0_dp*self%wave_speed**2)]
+      end if
    end subroutine report
 
    !> The largest kinetic + strain energy of the exact motion: gravity's work down to u = 2 u_s,

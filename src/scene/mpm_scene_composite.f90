@@ -20,7 +20,7 @@ module mpm_scene_composite
    use mpm_grid, only: grid_t, grid_loads_t
    use mpm_particles, only: particles_t, particles_init
    use mpm_shape, only: shape_cache_t
-   use mpm_scene, only: scene_t, margin_for
+   use mpm_scene, only: scene_t, margin_for, drive_t
    implicit none
    private
    public :: composite_t, composite_init
@@ -44,7 +44,7 @@ module mpm_scene_composite
    contains
       procedure :: place_particles, margin_cells, fixed_nodes, ucm_exact, ucm_amplitude
       procedure :: add_forces, error_at, error_name, error_unit, energy_reference, report, fused_applies, grid_loads
-      procedure :: stress_exact
+      procedure :: stress_exact, drive
    end type composite_t
 
 contains
@@ -57,6 +57,7 @@ contains
       integer :: n, i
       n = config%length_count
       scene%external_forces = .true.
+      scene%drives = .true.
       scene%modulus = config%youngs_moduli(1:n)
       scene%density = config%densities(1:n)
       if (trim(config%law) == 'elastoplastic') then
@@ -277,6 +278,18 @@ contains
       loads%drive_velocity = self%drive_velocity
       loads%drive_dt = self%dt
    end function grid_loads
+
+   !> The drive for the implicit integrators: node 0 held at the drive velocity (as add_forces holds it).
+   subroutine drive(self, grid, cache, particles, driven)
+      class(composite_t), intent(in) :: self
+      type(grid_t), intent(in) :: grid
+      type(shape_cache_t), intent(in) :: cache
+      type(particles_t), intent(in) :: particles
+      type(drive_t), intent(out) :: driven
+      driven%nodes = [0]
+      allocate (driven%weight(0))
+      driven%velocity = self%drive_velocity
+   end subroutine drive
 
    !> At the end time: sum_p |sigma_p - sigma(X_p, T)| V0_p (Pa m); 0 before.
    real(dp) function error_at(self, t, particles, ucm)

@@ -31,7 +31,7 @@ module mpm_scene_plastic_wave
    use mpm_particles, only: particles_t, particles_init
    use mpm_shape, only: shape_cache_t
    use mpm_material, only: material_t, law_elastoplastic, stored_energy, plastic_work
-   use mpm_scene, only: scene_t, margin_for
+   use mpm_scene, only: scene_t, margin_for, drive_t
    implicit none
    private
    public :: plastic_wave_t, plastic_wave_init
@@ -51,7 +51,7 @@ module mpm_scene_plastic_wave
    contains
       procedure :: place_particles, margin_cells, fixed_nodes, ucm_exact, ucm_amplitude
       procedure :: add_forces, error_at, error_name, error_unit, energy_reference, report, watch_report
-      procedure :: stress_exact, velocity_exact
+      procedure :: stress_exact, velocity_exact, drive
    end type plastic_wave_t
 
 contains
@@ -62,6 +62,7 @@ contains
       type(plastic_wave_t) :: scene
       real(dp) :: v1
       scene%external_forces = .true.
+      scene%drives = .true.
       scene%watches = .true.  ! (nothing per step; watch_report measures the fronts at the end)
       scene%length = config%length
       scene%density = config%density
@@ -185,6 +186,25 @@ contains
          grid%force(i) = grid%force(i) + multiplier*cache%weight(1, k)
       end do
    end subroutine add_forces
+
+   !> The drive for the implicit integrators: the end particle (particle 1) moves at V. The nodes of its
+   !> support at or behind it (x_I <= x_1: inside the driven end, where the exact velocity is V) are held
+   !> at V, and the nodes ahead of it carry the constraint sum_I N_I v_I = V of the end particle's
+   !> interpolated velocity (with the nodes behind at V, the same constraint over all its nodes).
+   subroutine drive(self, grid, cache, particles, driven)
+      class(plastic_wave_t), intent(in) :: self
+      type(grid_t), intent(in) :: grid
+      type(shape_cache_t), intent(in) :: cache
+      type(particles_t), intent(in) :: particles
+      type(drive_t), intent(out) :: driven
+      integer :: k
+      logical :: behind(cache%support)
+      behind = [(grid%origin + (cache%first(1) + k - 1)*grid%dx <= particles%x(1), k=1, cache%support)]
+      driven%nodes = pack([(cache%first(1) + k - 1, k=1, cache%support)], behind)
+      driven%first = cache%first(1)
+      driven%weight = merge(0.0_dp, cache%weight(1, :), behind)
+      driven%velocity = self%drive_velocity
+   end subroutine drive
 
    !> At the end time: sum_p |sigma_p - sigma(X_p, T)| V0_p (Pa m); 0 before.
    real(dp) function error_at(self, t, particles, ucm)

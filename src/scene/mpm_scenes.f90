@@ -1,7 +1,7 @@
 !> The one place that knows every scene: makes the scene a configuration asks for.
 module mpm_scenes
    use mpm_errors, only: error_t, set_error
-   use mpm_config, only: config_t, known_scenes
+   use mpm_config, only: config_t, known_scenes, material_of
    use mpm_scene, only: scene_t
    use mpm_scene_bar, only: bar_init
    use mpm_scene_column, only: column_init
@@ -24,7 +24,9 @@ contains
          allocate (scene, source=bar_init(config%length, config%youngs_modulus, config%density, &
                                           config%velocity_amplitude, config%mode))
       case ('column')
-         allocate (scene, source=column_init(config%length, config%youngs_modulus, config%density, config%gravity))
+         allocate (scene, source=column_init(config%length, config%youngs_modulus, config%density, config%gravity, &
+                                             static=trim(config%integrator) == 'quasi_static', &
+                                             material=material_of(config)))
       case ('manufactured')
          allocate (scene, source=manufactured_init(config%length, config%youngs_modulus, config%density, &
                                                    config%amplitude, config%elements, config%law))

@@ -12,7 +12,7 @@ module mpm_sweep_output
    use mpm_version, only: code_version
    use mpm_diagnostics, only: status_name, status_ok, status_not_run
    use mpm_sweep, only: sweep_t, sweep_case_t, case_column
-   use mpm_config, only: config_t, config_parameters, config_namelist
+   use mpm_config, only: config_t, config_parameters, config_namelist, used_with
    use mpm_registry, only: parameter_t, value_list_t, single_value_list, type_real, type_int, used_by
    implicit none
    private
@@ -81,18 +81,34 @@ contains
    end subroutine write_sweep_file
 
    !> The /cases columns of the swept variables the sweep's scene uses (a vibrating bar's sweep has
-   !> no gap or gravity column), one value per case.
+   !> no gap or gravity column) and some of its laws and integrators use (an explicit sweep has no
+   !> newton_tolerance column, a Hencky sweep no yield_stress), one value per case. The laws and
+   !> integrators are the base's and those of the sweep's law and integrator lists, the same for every
+   !> shard of the sweep.
    function scene_columns(sweep) result(columns)
       type(sweep_t), intent(in) :: sweep
       type(value_list_t), allocatable :: columns(:)
       type(config_t), target :: local
       type(parameter_t), allocatable :: table(:)
-      integer :: j
+      character(len=64), allocatable :: laws(:), integrators(:)
+      integer :: j, a, b
       local = sweep%base
       call config_parameters(local, table)
+      laws = [character(len=64) :: sweep%base%law]
+      integrators = [character(len=64) :: sweep%base%integrator]
+      do j = 1, size(sweep%settings%lists)
+         associate (list => sweep%settings%lists(j))
+            if (table(list%entry)%name == 'law') laws = [laws, list%texts]
+            if (table(list%entry)%name == 'integrator') integrators = [integrators, list%texts]
+         end associate
+      end do
       allocate (columns(0))
       do j = 1, size(sweep%settings%lists)
-         if (.not. used_by(table(sweep%settings%lists(j)%entry), trim(sweep%base%scene_kind))) cycle
+         associate (p => table(sweep%settings%lists(j)%entry))
+            if (.not. used_by(p, trim(sweep%base%scene_kind))) cycle
+            if (.not. any([((used_with(p, trim(laws(a)), trim(integrators(b))), a=1, size(laws)), &
+                            b=1, size(integrators))])) cycle
+         end associate
          columns = [columns, case_column(sweep, j, sweep%cases)]
       end do
    end function scene_columns

@@ -1,0 +1,793 @@
+!> The implicit integrators (`&discretisation integrator = 'implicit' | 'quasi_static'`): the step is
+!> solved on the grid by Newton-Raphson on the nodal displacement increments, with the consistent tangent
+!> factored by LAPACK's banded LU (mpm_banded), and the particles are updated from the converged grid
+!> solution. After Guilkey and Weiss, "Implicit time integration for the material point method:
+!> quantitative and algorithmic comparisons with the finite element method", Int. J. Numer. Methods Eng.
+!> 57, 2003, doi:10.1002/nme.729; Sulsky and Kaul, "Implicit dynamics in the material-point method",
+!> Comput. Methods Appl. Mech. Eng. 193, 2004, doi:10.1016/j.cma.2003.12.011; Charlton, Coombs and
+!> Augarde, "iGIMP: an implicit generalised interpolation material point method for large
+!> deformations", Comput. Struct. 190, 2017, doi:10.1016/j.compstruc.2017.05.004; Coombs and Augarde,
+!> "AMPLE: a material point learning environment", Adv. Eng. Softw. 139, 2020,
+!> doi:10.1016/j.advengsoft.2019.102748 (docs/theory.md, Implicit and quasi-static integration).
+!>
+!> A step from t_n to t_{n+1} = t_n + dt, the grid being the step's reference configuration (updated
+!> Lagrangian: it moves with the body during the step and is reset after it):
+!>   P2G     lumped mass m_I, momentum p_I (the explicit schemes' P2G), v_I = p_I/m_I, and the
+!>           acceleration that balances the state at t_n, m_I a_I = f_ext(t_n) - f_int(sigma_n) (+ the
+!>           drive's reaction of the last step: the grid is fixed in space, its nodes keep their identity);
+!>   unknown the increment du_I, written du = dt v + e (e the part due to acceleration, carried as the
+!>           unknown so that the inertia 4 m e/dt^2 is formed without the cancellation of du - dt v);
+!>   Newmark trapezoidal rule (beta = 1/4, gamma = 1/2; Newmark 1959): a_{n+1} = 4 e/dt^2 - a_n,
+!>           v_{n+1} = v_n + 2 e/dt; unconditionally stable, second order, and it conserves the energy of
+!>           a linear system exactly;
+!>   balance R(e) = M a_{n+1} + f_int(du) - f_ext(t_{n+1}) = 0 with f_int,I = sum_p dN_Ip sigma_p(d eps_p) V_p^n,
+!>           d eps_p = sum_J dN_Jp du_J, the shape functions and volumes of the step's start: in 1-D with
+!>           unit area the first Piola-Kirchhoff stress relative to that configuration is the Cauchy
+!>           stress, so this is the current configuration's internal force exactly (the grid moving with
+!>           the body); the stress is the law's over the finite increment (mpm_material, law_stress);
+!>   tangent K = 4 M/dt^2 + sum_p dN_I (d sigma/d eps) dN_J V_p^n: the consistent tangent, whose
+!>           spatial form is the material part (F d sigma/dF - sigma) plus the geometric part sigma,
+!>           both times dN/dx dN/dx dv in the current configuration (F = 1 + d eps); banded with the
+!>           shape's support - 1 sub- and super-diagonals;
+!>   Newton  K delta = -R, e += delta, until |R| <= newton_tolerance |forces|, |forces| the norm of the
+!>           node-wise sums of the magnitudes of the terms balanced (inertia, every particle's force
+!>           share, external force, penalty): the scale of the round-off in R, so the tolerance is
+!>           reachable down to a few eps;
+!>   G2P     v_p by the run's transfer from v_{n+1} (FLIP: v_p += sum N (v_{n+1} - v_n)), x_p += sum_I N_Ip
+!>           du_I, and the law's state update by d eps_p (update_material_finite).
+!> Mass: lumped by default (the row sums, the explicit schemes' P2G unchanged, a diagonal that needs no
+!> solve for v_n and a_n, and no coupling to the nearly empty nodes at a body's edge, whose consistent-mass
+!> rows are nearly zero); `mass = 'consistent'` uses M_IJ = sum_p m_p N_Ip N_Jp (same band), with
+!> M v_n = p and M a_n = f solved.
+!> Quasi-static: equilibrium f_int(du) = lambda_k f_ext under the load factor lambda_k = k/load_steps,
+!> Newton per increment (no inertia; the scene's fixed nodes hold the body), the particles at rest.
+!> Fixed nodes and empty nodes (no mass) are held (du = 0); the mirror ghosts of a fixed end are their
+!> partner reflected (du = -du(partner)), folded into the partner's row (T^T K T, bandwidth kept); a
+!> scene's drive (mpm_scene, drive_t) moves its nodes at the drive velocity over the whole step (du = V dt,
+!> v_{n+1} = V) and its point constraint sum_k w_k v_{n+1,k} = V is a Lagrange multiplier (a bordered
+!> system solved with two right-hand sides of the same factors).
+module mpm_implicit
+   use, intrinsic :: ieee_arithmetic, only: ieee_is_finite
+   use mpm_kinds, only: dp
+   use mpm_config, only: config_t
+   use mpm_grid, only: grid_t
+   use mpm_particles, only: particles_t
+   use mpm_shape, only: shape_cache_t
+   use mpm_scene, only: scene_t, drive_t
+   use mpm_diagnostics, only: pass_totals_t
+   use mpm_operations, only: locate_particles, p2g_mass_momentum, nodal_velocities, mirror_fold, g2p
+   use mpm_material, only: material_t, law_stress, law_stiffness, update_material_finite
+   use mpm_banded, only: banded_t, banded_init, banded_zero, banded_add, banded_factor, banded_solve, &
+                         banded_rcond, banded_multiply, banded_pivot_ratio
+   use mpm_ghost_penalty, only: ghost_knots_t, find_ghost_knots
+   implicit none
+   private
+   public :: implicit_t, integrator_explicit, integrator_implicit, integrator_quasi_static, integrator_id
+   public :: implicit_init, implicit_advance, implicit_report, prepare_step, assemble_system, newton_solve
+
+   !> Integrator ids.
+   integer, parameter :: integrator_explicit = 0, integrator_implicit = 1, integrator_quasi_static = 2
+   !> Mass matrices.
+   integer, parameter :: mass_lumped = 1, mass_consistent = 2
+   !> The round-off floor of the residual ("the tolerance meets the floor"): the increments du carry an
+   !> absolute round-off of eps |du| (and LU's solution one of eps |K| |du|), and so the strains
+   !> d eps = sum dN du one of eps sum |dN du|: where a stiff body moves nearly rigidly (|du|/dx far above
+   !> its strains, as the stiff segment of a composite bar does) the residual cannot fall below about
+   !> eps sum_J |K_IJ| |du_J|, which can exceed newton_tolerance times the forces. A step whose |R| is within
+   !> floor_ulps eps of that (im%roundoff) is converged at its floor (counted: newton_floor_steps).
+   real(dp), parameter :: floor_ulps = 64.0_dp
+   !> ghost_penalty = -1 (the default): this for the shapes whose gradient vanishes with their weight at the
+   !> edge of their support (GIMP, B-splines: a nearly empty node's row of the tangent is nearly zero; the
+   !> quasi-static column's B-spline runs blow up without it, studies/implicit), none for the hat (its
+   !> nearly empty node keeps the stiffness of dN = 1/dx: the tangent's reciprocal condition stays >= 0.2).
+   real(dp), parameter :: automatic_ghost_penalty = 0.1_dp
+   !> Halvings of a Newton step that does not reduce |R| (a backtracking line search).
+   integer, parameter :: max_halvings = 10
+
+   !> Everything an implicit run carries (nothing of it exists in an explicit run): the options, the
+   !> Newton statistics, the step's grid and particle workspace and the banded matrices.
+   type :: implicit_t
+      integer :: kind = integrator_implicit
+      integer :: mass = mass_lumped
+      real(dp) :: tolerance = 1.0e-10_dp
+      integer :: max_iterations = 25
+      real(dp) :: ghost_penalty = 0.0_dp
+      ! statistics over the run
+      integer :: steps = 0               !< steps solved
+      integer :: solves = 0              !< linear solves over them
+      integer :: most_solves = 0         !< the most of one step
+      real(dp) :: min_rcond = huge(1.0_dp)  !< smallest reciprocal condition number (1-norm) met
+      real(dp) :: min_pivot_ratio = huge(1.0_dp)  !< smallest |U_jj|/max |U_ii| of the LU factors met
+      integer :: floor_steps = 0         !< steps accepted at the residual's round-off floor (above tolerance)
+      integer :: halvings = 0            !< Newton steps halved by the line search, in all
+      real(dp) :: floor_residual = 0.0_dp   !< the largest relative residual accepted so
+      ! the last step
+      integer :: iterations = 0          !< its linear solves
+      real(dp), allocatable :: residuals(:)  !< (0:max_iterations) its relative residual before each solve
+      logical :: failed = .false.        !< it did not converge (the run stops: status_newton)
+      real(dp) :: failed_residual = 0.0_dp
+      integer :: singular_node = -1      !< >= 0: the tangent was singular there (LAPACK's zero pivot)
+      ! the step's data on the nodes 0..elements
+      real(dp) :: dt = 0.0_dp
+      integer, allocatable :: master(:)  !< the node whose unknown a node takes (itself if free; -1 held)
+      real(dp), allocatable :: sign(:)   !< +1, or -1 for a mirror ghost
+      logical, allocatable :: prescribed(:)  !< held at a drive velocity (e fixed)
+      logical, allocatable :: unknown(:)     !< master(i) == i: the node has an unknown of its own
+      real(dp), allocatable :: e(:), du(:), velocity(:), acceleration(:), external(:), residual(:), forces(:)
+      real(dp), allocatable :: work(:), reaction(:)
+      ! the drive's point constraint (folded weights over the nodes) and its multiplier
+      real(dp), allocatable :: weight(:)
+      real(dp) :: target = 0.0_dp, multiplier = 0.0_dp
+      real(dp) :: drive_velocity = 0.0_dp  !< the velocity of the driven nodes
+      logical :: constrained = .false.
+      ! per particle
+      real(dp), allocatable :: x_start(:), dstrain(:), stress(:), stiffness(:), volume(:), strain_magnitude(:)
+      !> per node, the size of R's round-off from the increments' own: sum over the stiffness terms of
+      !> |K_IJ| |du_J| (times eps); the residual cannot fall below a few eps of it (floor_ulps)
+      real(dp), allocatable :: roundoff(:)
+      real(dp), allocatable :: modulus(:), yield(:), hardening_modulus(:), hardening(:)
+      type(banded_t) :: tangent, mass_matrix, mass_factors, mass_magnitude
+      type(ghost_knots_t) :: knots
+   end type implicit_t
+
+contains
+
+   !> Integer id of an integrator name (explicit for anything else; the configuration is validated).
+   pure integer function integrator_id(name)
+      character(len=*), intent(in) :: name
+      select case (trim(name))
+      case ('implicit')
+         integrator_id = integrator_implicit
+      case ('quasi_static')
+         integrator_id = integrator_quasi_static
+      case default
+         integrator_id = integrator_explicit
+      end select
+   end function integrator_id
+
+   !> The integrator's options from the configuration.
+   subroutine implicit_init(im, config)
+      type(implicit_t), intent(out) :: im
+      type(config_t), intent(in) :: config
+      im%kind = integrator_id(config%integrator)
+      im%mass = merge(mass_consistent, mass_lumped, trim(config%mass) == 'consistent')
+      im%tolerance = config%newton_tolerance
+      im%max_iterations = config%max_newton_iterations
+      im%ghost_penalty = config%ghost_penalty
+      if (im%ghost_penalty < 0.0_dp) im%ghost_penalty = merge(0.0_dp, automatic_ghost_penalty, trim(config%shape) == 'linear')
+      allocate (im%residuals(0:im%max_iterations))
+   end subroutine implicit_init
+
+   !> One step from t to t + dt (implicit) or one load increment to the load factor t + dt (quasi-static):
+   !> the step's grid data, Newton, and the particles' update; on failure (im%failed) the particles keep
+   !> their state and the run stops.
+   subroutine implicit_advance(im, scene, cache, particles, grid, dt, material, t, totals)
+      type(implicit_t), intent(inout) :: im
+      class(scene_t), intent(in) :: scene
+      type(shape_cache_t), intent(inout) :: cache
+      type(particles_t), intent(inout) :: particles
+      type(grid_t), intent(inout) :: grid
+      real(dp), intent(in) :: dt, t
+      type(material_t), intent(in) :: material
+      type(pass_totals_t), intent(out) :: totals
+      call prepare_step(im, scene, cache, particles, grid, dt, material, t, totals)
+      if (totals%outside /= 0) return ! the left_grid guard stops the run
+      call newton_solve(im, cache, particles, grid, material)
+      if (im%failed) return
+      call update_particles(im, cache, particles, grid, material, totals)
+   end subroutine implicit_advance
+
+   !> Everything before Newton: shape functions at the start-of-step positions, P2G, the nodes' roles,
+   !> v_n and a_n, f_ext at the step's end, the drive and the ghost knots; e = 0 (du = dt v_n, or 0
+   !> quasi-statically).
+   subroutine prepare_step(im, scene, cache, particles, grid, dt, material, t, totals)
+      type(implicit_t), intent(inout) :: im
+      class(scene_t), intent(in) :: scene
+      type(shape_cache_t), intent(inout) :: cache
+      type(particles_t), intent(in) :: particles
+      type(grid_t), intent(inout) :: grid
+      real(dp), intent(in) :: dt, t
+      type(material_t), intent(in) :: material
+      type(pass_totals_t), intent(out) :: totals
+      logical :: dynamic
+      dynamic = im%kind == integrator_implicit
+      im%dt = dt
+      call locate_particles(cache, grid, particles, totals)
+      if (totals%outside /= 0) return
+      ! m, p and (dynamic) f_int(sigma_n)
+      call p2g_mass_momentum(cache, particles, grid, with_force=dynamic)
+      call workspace(im, grid%elements, particles%count)
+      grid%min_node_mass = minval(grid%mass, mask=grid%mass > 0.0_dp)
+      call node_roles(im, grid)
+      call particle_data(im, particles, material)
+      im%e = 0.0_dp
+      im%velocity = 0.0_dp
+      im%acceleration = 0.0_dp
+      im%multiplier = 0.0_dp
+      im%constrained = .false.
+      if (dynamic) call start_kinematics(im, scene, cache, particles, grid, t)
+      ! the external force at the step's end (quasi-statically the load factor t + dt of the loads)
+      grid%force = 0.0_dp
+      if (scene%external_forces .and. .not. scene%drives) call scene%add_forces(grid, t + dt, cache, particles)
+      call mirror_fold(grid, .false., .true.)
+      im%external = grid%force
+      if (.not. dynamic) im%external = (t + dt)*im%external
+      if (scene%drives .and. dynamic) call drive_constraint(im, scene, cache, particles, grid)
+      im%knots%count = 0
+      if (im%ghost_penalty > 0.0_dp) call find_ghost_knots(cache, grid, particles%x, im%volume, im%modulus, &
+                                                           im%ghost_penalty, im%knots)
+      call banded_init(im%tangent, grid%elements + 1, cache%support - 1 + merge(1, 0, im%ghost_penalty > 0.0_dp))
+   end subroutine prepare_step
+
+   !> The step's arrays, allocated on the first step (or when the grid or particle count changes).
+   subroutine workspace(im, n, count)
+      type(implicit_t), intent(inout) :: im
+      integer, intent(in) :: n, count
+      if (allocated(im%e)) then
+         if (size(im%e) == n + 1 .and. size(im%x_start) == count) return
+         deallocate (im%master, im%sign, im%prescribed, im%unknown, im%e, im%du, im%velocity, im%acceleration, &
+                     im%external, im%residual, im%forces, im%work, im%reaction, im%weight, im%x_start, im%dstrain, &
+                     im%roundoff, im%strain_magnitude, &
+                     im%stress, im%stiffness, im%volume, im%modulus, im%yield, im%hardening_modulus, im%hardening)
+      end if
+      allocate (im%master(0:n), im%sign(0:n), im%prescribed(0:n), im%unknown(0:n), im%e(0:n), im%du(0:n), &
+                im%velocity(0:n), im%acceleration(0:n), im%external(0:n), im%residual(0:n), im%forces(0:n), &
+                im%work(0:n), im%reaction(0:n), im%weight(0:n), im%roundoff(0:n))
+      allocate (im%x_start(count), im%dstrain(count), im%stress(count), im%stiffness(count), im%volume(count), &
+                im%strain_magnitude(count), &
+                im%modulus(count), im%yield(count), im%hardening_modulus(count), im%hardening(count))
+      im%reaction = 0.0_dp
+   end subroutine workspace
+
+   !> Which unknown each node takes: free nodes with mass their own, mirror ghosts their partner's with
+   !> the sign -1 (mpm_operations, mirror_fold), fixed and empty nodes none (-1).
+   subroutine node_roles(im, grid)
+      type(implicit_t), intent(inout) :: im
+      type(grid_t), intent(in) :: grid
+      integer :: i, j, k
+      do i = 0, grid%elements
+         im%master(i) = merge(i, -1, grid%mass(i) > grid%empty_mass)
+      end do
+      im%sign = 1.0_dp
+      im%prescribed = .false.
+      do k = 1, size(grid%fixed)
+         im%master(grid%fixed(k)) = -1
+      end do
+      if (grid%mirror) then
+         do j = 1, grid%ghost
+            i = grid%ghost - j
+            im%master(i) = merge(grid%ghost + j, -1, im%master(grid%ghost + j) >= 0)
+            im%sign(i) = -1.0_dp
+         end do
+      end if
+      if (grid%mirror_right >= 0) then
+         do j = 1, grid%ghost
+            i = grid%mirror_right + j
+            im%master(i) = merge(grid%mirror_right - j, -1, im%master(grid%mirror_right - j) >= 0)
+            im%sign(i) = -1.0_dp
+         end do
+      end if
+      im%unknown = im%master == [(i, i=0, grid%elements)]
+   end subroutine node_roles
+
+   !> Each particle's material parameters and the law's state at the step's start, and its volume V_p^n.
+   subroutine particle_data(im, particles, material)
+      type(implicit_t), intent(inout) :: im
+      type(particles_t), intent(in) :: particles
+      type(material_t), intent(in) :: material
+      im%modulus = material%youngs_modulus
+      if (allocated(particles%youngs_modulus_of)) im%modulus = particles%youngs_modulus_of
+      im%yield = material%yield_stress
+      if (allocated(particles%yield_stress_of)) im%yield = particles%yield_stress_of
+      im%hardening_modulus = material%hardening_modulus
+      if (allocated(particles%hardening_modulus_of)) im%hardening_modulus = particles%hardening_modulus_of
+      im%hardening = 0.0_dp
+      if (allocated(particles%hardening)) im%hardening = particles%hardening
+      im%volume = particles%volume_ratio*particles%volume0_of
+      im%x_start = particles%x
+   end subroutine particle_data
+
+   !> v_n and a_n (lumped: p/m and f/m; consistent: M v = p, M a = f solved), f = f_ext(t_n) - f_int(sigma_n)
+   !> + the drive's reaction at t_n (grid%force holds f_int(sigma_n) from P2G).
+   subroutine start_kinematics(im, scene, cache, particles, grid, t)
+      type(implicit_t), intent(inout) :: im
+      class(scene_t), intent(in) :: scene
+      type(shape_cache_t), intent(inout) :: cache
+      type(particles_t), intent(in) :: particles
+      type(grid_t), intent(inout) :: grid
+      real(dp), intent(in) :: t
+      real(dp), allocatable :: rhs(:, :)
+      integer :: info
+      if (scene%external_forces .and. .not. scene%drives) call scene%add_forces(grid, t, cache, particles)
+      call mirror_fold(grid, .false., .true.)
+      grid%force = grid%force + im%reaction
+      call nodal_velocities(grid)
+      if (im%mass == mass_lumped) then
+         where (im%unknown)
+            im%velocity = grid%velocity
+            im%acceleration = grid%force/grid%mass
+         end where
+      else
+         call consistent_mass(im, cache, particles, grid)
+         allocate (rhs(0:grid%elements, 2))
+         rhs(:, 1) = merge(grid%momentum, 0.0_dp, im%unknown)
+         rhs(:, 2) = merge(grid%force, 0.0_dp, im%unknown)
+         call banded_solve(im%mass_factors, rhs, info)
+         im%velocity = rhs(:, 1)
+         im%acceleration = rhs(:, 2)
+      end if
+      call fill_slaves(im, im%velocity)
+      call fill_slaves(im, im%acceleration)
+   end subroutine start_kinematics
+
+   !> M_IJ = sum_p m_p N_Ip N_Jp folded onto the unknowns (identity rows for the held nodes), and its factors.
+   subroutine consistent_mass(im, cache, particles, grid)
+      type(implicit_t), intent(inout) :: im
+      type(shape_cache_t), intent(in) :: cache
+      type(particles_t), intent(in) :: particles
+      type(grid_t), intent(in) :: grid
+      integer :: p, k, l, a, b, info
+      call banded_init(im%mass_matrix, grid%elements + 1, cache%support - 1)
+      do p = 1, particles%count
+         do k = 1, cache%support
+            a = im%master(cache%first(p) + k - 1)
+            if (a < 0) cycle
+            do l = 1, cache%support
+               b = im%master(cache%first(p) + l - 1)
+               if (b < 0) cycle
+               call banded_add(im%mass_matrix, a + 1, b + 1, im%sign(cache%first(p) + k - 1)* &
+                               im%sign(cache%first(p) + l - 1)*particles%mass_of(p)*cache%weight(p, k)*cache%weight(p, l))
+            end do
+         end do
+      end do
+      call hold_rows(im%mass_matrix, im%unknown)
+      im%mass_factors = im%mass_matrix
+      im%mass_magnitude = im%mass_matrix
+      im%mass_magnitude%ab = abs(im%mass_matrix%ab)
+      call banded_factor(im%mass_factors, info)
+   end subroutine consistent_mass
+
+   !> The scene's drive: its nodes held at the drive velocity (e = dt (V - v_n)/2, so v_{n+1} = V) and its
+   !> point constraint sum_k w_k v_{n+1,k} = V, i.e. sum_k w_k e_k = dt (V - sum_k w_k v_n,k)/2, over the
+   !> unknowns (weights folded, held nodes' share moved to the target).
+   subroutine drive_constraint(im, scene, cache, particles, grid)
+      type(implicit_t), intent(inout) :: im
+      class(scene_t), intent(in) :: scene
+      type(shape_cache_t), intent(in) :: cache
+      type(particles_t), intent(in) :: particles
+      type(grid_t), intent(in) :: grid
+      type(drive_t) :: driven
+      integer :: k, i
+      call scene%drive(grid, cache, particles, driven)
+      do k = 1, size(driven%nodes)
+         i = driven%nodes(k)
+         if (im%master(i) /= i) cycle ! (empty or held already)
+         im%master(i) = -1
+         im%unknown(i) = .false.
+         im%prescribed(i) = .true.
+         ! the drive's velocity holds over the whole step (du = V dt: the driven end moves as V t exactly,
+         ! where the trapezoidal average of a jump from v_n to V would leave it V dt/2 behind for good)
+         im%e(i) = im%dt*(driven%velocity - im%velocity(i))
+      end do
+      im%drive_velocity = driven%velocity
+      im%weight = 0.0_dp
+      im%target = 0.0_dp
+      do k = 1, size(driven%weight)
+         i = driven%first + k - 1
+         if (driven%weight(k) == 0.0_dp) cycle
+         if (im%master(i) >= 0) then
+            im%weight(im%master(i)) = im%weight(im%master(i)) + im%sign(i)*driven%weight(k)
+            im%target = im%target + 0.5_dp*im%dt*driven%weight(k)*(driven%velocity - im%velocity(i))
+         end if
+      end do
+      im%constrained = any(im%weight /= 0.0_dp)
+   end subroutine drive_constraint
+
+   !> Newton-Raphson on e with a backtracking line search on |R| (max_halvings): assemble R (and, unless
+   !> converged, the tangent), factor, solve, update, until
+   !> |R| <= tolerance |forces| or R is within floor_ulps eps of its round-off (floor_ulps), and the
+   !> drive's constraint holds. Records the relative residuals, the
+   !> solves and the smallest reciprocal condition number; sets im%failed when max_iterations solves do
+   !> not converge, the residual is not finite or the tangent is singular.
+   subroutine newton_solve(im, cache, particles, grid, material)
+      type(implicit_t), intent(inout) :: im
+      type(shape_cache_t), intent(in) :: cache
+      type(particles_t), intent(in) :: particles
+      type(grid_t), intent(in) :: grid
+      type(material_t), intent(in) :: material
+      real(dp), allocatable :: rhs(:, :)
+      real(dp), allocatable :: start(:)
+      real(dp) :: relative, gap, correction, pivots, before, step, merit, stiffness, multiplier
+      integer :: iteration, info, halving
+      logical :: floor, assembled
+      im%failed = .false.
+      im%singular_node = -1
+      im%residuals = 0.0_dp
+      allocate (rhs(0:grid%elements, merge(2, 1, im%constrained)), start(0:grid%elements))
+      assembled = .false.
+      do iteration = 0, im%max_iterations
+         if (.not. assembled) call assemble_residual(im, cache, particles, grid, material)
+         assembled = .false.
+         relative = relative_residual(im)
+         gap = 0.0_dp
+         if (im%constrained) gap = im%target - sum(im%weight*im%e)
+         im%residuals(iteration) = relative
+         if (.not. ieee_is_finite(relative)) exit
+         ! converged: the tolerance met, or the residual within floor_ulps of its round-off (floor_ulps)
+         floor = relative <= floor_ulps*epsilon(1.0_dp)*relative_roundoff(im)
+         if ((relative <= im%tolerance .or. floor) .and. &
+             abs(gap) <= im%tolerance*max(abs(im%target), tiny(1.0_dp))) then
+            im%iterations = iteration
+            im%steps = im%steps + 1
+            im%solves = im%solves + iteration
+            im%most_solves = max(im%most_solves, iteration)
+            if (relative > im%tolerance) then
+               im%floor_steps = im%floor_steps + 1
+               im%floor_residual = max(im%floor_residual, relative)
+            end if
+            return
+         end if
+         if (iteration == im%max_iterations) exit
+         call assemble_tangent(im, cache, particles, grid)
+         ! the constraint's gap in force units, for the line search's merit: the tangent's diagonal at the
+         ! constraint's nodes, weighted
+         stiffness = 0.0_dp
+         if (im%constrained) stiffness = sum(abs(im%weight)*im%tangent%ab(2*im%tangent%bandwidth + 1, :))
+         call banded_factor(im%tangent, info)
+         if (info > 0) then
+            im%singular_node = info - 1
+            exit
+         end if
+         ! the condition number (dgbcon: about five solves) where the smallest pivot relative to the largest
+         ! reaches a new low: the first step, and a nearly empty node's row (its pivot is what shrinks)
+         if (iteration == 0) then
+            pivots = banded_pivot_ratio(im%tangent)
+            if (pivots < im%min_pivot_ratio) im%min_rcond = min(im%min_rcond, banded_rcond(im%tangent))
+            im%min_pivot_ratio = min(im%min_pivot_ratio, pivots)
+         end if
+         rhs(:, 1) = merge(-im%residual, 0.0_dp, im%unknown)
+         if (im%constrained) rhs(:, 2) = im%weight
+         call banded_solve(im%tangent, rhs, info)
+         correction = 0.0_dp
+         if (im%constrained) then ! the bordered system: delta = y + d(lambda) z, w.delta = gap
+            correction = (gap - sum(im%weight*rhs(:, 1)))/sum(im%weight*rhs(:, 2))
+            rhs(:, 1) = rhs(:, 1) + correction*rhs(:, 2)
+         end if
+         ! the full Newton step, halved while it does not reduce |R| (a piecewise linear law, as the
+         ! elastoplastic one, can make Newton cycle between loading and unloading at long steps)
+         start = im%e
+         multiplier = im%multiplier
+         before = hypot(residual_norm(im), stiffness*gap)
+         step = 1.0_dp
+         do halving = 0, max_halvings
+            where (im%unknown) im%e = start + step*rhs(:, 1)
+            call fill_slaves(im, im%e)
+            im%multiplier = multiplier + step*correction
+            call assemble_residual(im, cache, particles, grid, material)
+            assembled = .true.
+            merit = hypot(residual_norm(im), stiffness*(1.0_dp - step)*gap)
+            if (merit <= (1.0_dp - 1.0e-4_dp*step)*before .or. halving == max_halvings) exit
+            step = 0.5_dp*step
+         end do
+         if (halving > 0) im%halvings = im%halvings + halving
+      end do
+      im%failed = .true.
+      im%iterations = iteration
+      im%failed_residual = relative
+   end subroutine newton_solve
+
+   !> |R| / |forces| over the unknowns (0 when nothing acts; at most 1).
+   real(dp) function relative_residual(im)
+      type(implicit_t), intent(in) :: im
+      relative_residual = relative_to_forces(im, im%residual)
+   end function relative_residual
+
+   !> |roundoff| / |forces| over the unknowns (see floor_ulps).
+   real(dp) function relative_roundoff(im)
+      type(implicit_t), intent(in) :: im
+      relative_roundoff = relative_to_forces(im, im%roundoff)
+   end function relative_roundoff
+
+   !> |field| / |forces|, norms over the unknowns (0 when the field is 0 there).
+   real(dp) function relative_to_forces(im, field) result(relative)
+      type(implicit_t), intent(in) :: im
+      real(dp), intent(in) :: field(0:)
+      real(dp) :: size2, scale2
+      integer :: i
+      size2 = 0.0_dp
+      scale2 = 0.0_dp
+      do i = 0, size(im%master) - 1
+         if (.not. im%unknown(i)) cycle
+         size2 = size2 + field(i)**2
+         scale2 = scale2 + im%forces(i)**2
+      end do
+      relative = 0.0_dp
+      if (size2 > 0.0_dp) relative = sqrt(size2)/sqrt(scale2)
+   end function relative_to_forces
+
+   !> |R| over the unknowns.
+   real(dp) function residual_norm(im)
+      type(implicit_t), intent(in) :: im
+      residual_norm = norm2(merge(im%residual, 0.0_dp, im%unknown))
+   end function residual_norm
+
+   !> The residual R(e) on the unknowns (their rows; held nodes' rows hold their reaction), the force
+   !> scale |forces| and, `with_tangent`, the tangent dR/de (assemble_tangent).
+   subroutine assemble_system(im, cache, particles, grid, material, with_tangent)
+      type(implicit_t), intent(inout) :: im
+      type(shape_cache_t), intent(in) :: cache
+      type(particles_t), intent(in) :: particles
+      type(grid_t), intent(in) :: grid
+      type(material_t), intent(in) :: material
+      logical, intent(in) :: with_tangent
+      call assemble_residual(im, cache, particles, grid, material)
+      if (with_tangent) call assemble_tangent(im, cache, particles, grid)
+   end subroutine assemble_system
+
+   !> R(e) from the particles' stresses at d eps_p = sum_J dN_Jp du_J, du = dt v_n + e (kept in im%dstrain,
+   !> im%stress for the tangent and the update), and the force scale.
+   subroutine assemble_residual(im, cache, particles, grid, material)
+      type(implicit_t), intent(inout) :: im
+      type(shape_cache_t), intent(in) :: cache
+      type(particles_t), intent(in) :: particles
+      type(grid_t), intent(in) :: grid
+      type(material_t), intent(in) :: material
+      real(dp) :: share, inertia_factor
+      integer :: p, k, node, i, n
+      n = grid%elements
+      call fill_slaves(im, im%e)
+      im%du = im%dt*im%velocity + im%e
+      im%residual = 0.0_dp
+      im%forces = 0.0_dp
+      ! the particles' stresses over the increment and their force shares dN_Ip sigma_p V_p^n
+      im%dstrain = 0.0_dp
+      im%strain_magnitude = 0.0_dp
+      do k = 1, cache%support
+         do p = 1, particles%count
+            share = cache%gradient(p, k)*im%du(cache%first(p) + k - 1)
+            im%dstrain(p) = im%dstrain(p) + share
+            im%strain_magnitude(p) = im%strain_magnitude(p) + abs(share)
+         end do
+      end do
+      im%stress = law_stress(material%law, im%modulus, im%yield, im%hardening_modulus, im%dstrain, particles%stress, &
+                             particles%volume_ratio, im%hardening)
+      im%stiffness = law_stiffness(material%law, im%modulus, im%yield, im%hardening_modulus, im%dstrain, &
+                                   particles%stress, particles%volume_ratio, im%hardening)
+      im%roundoff = 0.0_dp
+      do p = 1, particles%count
+         do k = 1, cache%support
+            node = cache%first(p) + k - 1
+            share = cache%gradient(p, k)*im%stress(p)*im%volume(p)
+            im%residual(node) = im%residual(node) + share
+            im%forces(node) = im%forces(node) + abs(share)
+            im%roundoff(node) = im%roundoff(node) + abs(cache%gradient(p, k)*im%stiffness(p)*im%volume(p))* &
+                                im%strain_magnitude(p)
+         end do
+      end do
+      ! folded onto the unknowns (a ghost's share to its partner, reflected)
+      do i = 0, n
+         if (im%master(i) < 0 .or. im%unknown(i)) cycle
+         im%residual(im%master(i)) = im%residual(im%master(i)) + im%sign(i)*im%residual(i)
+         im%forces(im%master(i)) = im%forces(im%master(i)) + im%forces(i)
+         im%roundoff(im%master(i)) = im%roundoff(im%master(i)) + im%roundoff(i)
+         im%residual(i) = 0.0_dp
+         im%forces(i) = 0.0_dp
+         im%roundoff(i) = 0.0_dp
+      end do
+      ! inertia (dynamic) and external force on the rows that balance forces (the unknowns' and, their
+      ! reaction, the driven nodes'), the drive's multiplier, the ghost penalty
+      if (im%kind == integrator_implicit) then
+         inertia_factor = 4.0_dp/im%dt**2
+         if (im%mass == mass_lumped) then
+            im%work = grid%mass*(inertia_factor*im%e - im%acceleration)
+            im%forces = im%forces + grid%mass*(inertia_factor*abs(im%e) + abs(im%acceleration))
+         else
+            im%work = banded_multiply(im%mass_matrix, in_mass(inertia_factor*im%e - im%acceleration))
+            im%forces = im%forces + banded_multiply(im%mass_magnitude, in_mass(inertia_factor*abs(im%e) + &
+                                                                                abs(im%acceleration)))
+         end if
+         where (im%unknown .or. im%prescribed) im%residual = im%residual + im%work
+      end if
+      where (im%unknown .or. im%prescribed)
+         im%residual = im%residual - im%external
+         im%forces = im%forces + abs(im%external)
+      end where
+      if (im%constrained) im%residual = im%residual - im%multiplier*im%weight
+      call ghost_forces(im, im%du)
+   contains
+      !> The vector with the entries of the nodes outside the consistent mass matrix zero (held nodes;
+      !> driven nodes are in it: it was formed before the drive held them).
+      pure function in_mass(v) result(w)
+         real(dp), intent(in) :: v(0:)
+         real(dp) :: w(0:size(v) - 1)
+         w = merge(v, 0.0_dp, im%unknown .or. im%prescribed)
+      end function in_mass
+   end subroutine assemble_residual
+
+   !> The tangent dR/de = 4 M/dt^2 + sum_p dN_Ip (d sigma_p/d eps) dN_Jp V_p^n + the ghost penalty, folded
+   !> onto the unknowns (held nodes: hold_rows), at the strains of the last assemble_residual.
+   subroutine assemble_tangent(im, cache, particles, grid)
+      type(implicit_t), intent(inout) :: im
+      type(shape_cache_t), intent(in) :: cache
+      type(particles_t), intent(in) :: particles
+      type(grid_t), intent(in) :: grid
+      real(dp) :: share, inertia_factor
+      integer :: p, k, l, a, b, i, n, node, diagonal
+      n = grid%elements
+      call banded_zero(im%tangent)
+      diagonal = 2*im%tangent%bandwidth + 1  ! A(a, b) is ab(diagonal + a - b, b) (mpm_banded)
+      associate (ab => im%tangent%ab)
+         do p = 1, particles%count
+            do k = 1, cache%support
+               node = cache%first(p) + k - 1
+               a = im%master(node)
+               if (a < 0) cycle
+               share = im%sign(node)*cache%gradient(p, k)*im%stiffness(p)*im%volume(p)
+               do l = 1, cache%support
+                  b = im%master(cache%first(p) + l - 1)
+                  if (b < 0) cycle
+                  ab(diagonal + a - b, b + 1) = ab(diagonal + a - b, b + 1) + &
+                                                share*im%sign(cache%first(p) + l - 1)*cache%gradient(p, l)
+               end do
+            end do
+         end do
+         if (im%kind == integrator_implicit) then
+            inertia_factor = 4.0_dp/im%dt**2
+            do i = 0, n
+               if (.not. im%unknown(i)) cycle
+               if (im%mass == mass_lumped) then
+                  ab(diagonal, i + 1) = ab(diagonal, i + 1) + inertia_factor*grid%mass(i)
+               else
+                  do k = max(0, i - im%mass_matrix%bandwidth), min(n, i + im%mass_matrix%bandwidth)
+                     if (.not. im%unknown(k)) cycle
+                     ab(diagonal + i - k, k + 1) = ab(diagonal + i - k, k + 1) + inertia_factor* &
+                        im%mass_matrix%ab(2*im%mass_matrix%bandwidth + 1 + i - k, k + 1)
+                  end do
+               end if
+            end do
+         end if
+      end associate
+      call ghost_tangent(im)
+      call hold_rows(im%tangent, im%unknown)
+   end subroutine assemble_tangent
+
+   !> The rows of the nodes without an unknown of their own (held, or a mirror ghost) get the diagonal
+   !> entry of the unknowns' largest, and nothing else (their right-hand side is zero): the matrix stays
+   !> nonsingular and its condition number is that of the unknowns' block, not of a scale mismatch.
+   subroutine hold_rows(a, unknown)
+      type(banded_t), intent(inout) :: a
+      logical, intent(in) :: unknown(0:)
+      real(dp) :: diagonal
+      integer :: i
+      diagonal = 0.0_dp
+      do i = 0, size(unknown) - 1
+         if (unknown(i)) diagonal = max(diagonal, abs(a%ab(2*a%bandwidth + 1, i + 1)))
+      end do
+      if (diagonal == 0.0_dp) diagonal = 1.0_dp
+      do i = 0, size(unknown) - 1
+         if (.not. unknown(i)) a%ab(2*a%bandwidth + 1, i + 1) = a%ab(2*a%bandwidth + 1, i + 1) + diagonal
+      end do
+   end subroutine hold_rows
+
+   !> The ghost penalty's forces K_g du on the unknowns (du: the step's increment), folded as the rest.
+   subroutine ghost_forces(im, du)
+      type(implicit_t), intent(inout) :: im
+      real(dp), intent(in) :: du(0:)
+      integer :: g, j, node, width
+      real(dp) :: jump
+      width = size(im%knots%stencil)
+      do g = 1, im%knots%count
+         associate (s => im%knots%start(g))
+            jump = sum(im%knots%stencil*du(s:s + width - 1))
+            do j = 1, width
+               node = s + j - 1
+               if (im%master(node) < 0) cycle
+               im%residual(im%master(node)) = im%residual(im%master(node)) + &
+                                              im%sign(node)*im%knots%stiffness(g)*im%knots%stencil(j)*jump
+               im%forces(im%master(node)) = im%forces(im%master(node)) + &
+                                            abs(im%knots%stiffness(g)*im%knots%stencil(j)*jump)
+               im%roundoff(im%master(node)) = im%roundoff(im%master(node)) + abs(im%knots%stiffness(g)* &
+                  im%knots%stencil(j))*sum(abs(im%knots%stencil*du(s:s + width - 1)))
+            end do
+         end associate
+      end do
+   end subroutine ghost_forces
+
+   !> The ghost penalty's stiffness (gamma E/dx) d d^T, folded onto the unknowns.
+   subroutine ghost_tangent(im)
+      type(implicit_t), intent(inout) :: im
+      integer :: g, j, k, a, b, width
+      width = size(im%knots%stencil)
+      do g = 1, im%knots%count
+         associate (s => im%knots%start(g))
+            do j = 1, width
+               a = im%master(s + j - 1)
+               if (a < 0) cycle
+               do k = 1, width
+                  b = im%master(s + k - 1)
+                  if (b < 0) cycle
+                  call banded_add(im%tangent, a + 1, b + 1, im%sign(s + j - 1)*im%sign(s + k - 1)* &
+                                  im%knots%stiffness(g)*im%knots%stencil(j)*im%knots%stencil(k))
+               end do
+            end do
+         end associate
+      end do
+   end subroutine ghost_tangent
+
+   !> A ghost takes its partner's value reflected; held nodes that are not driven keep 0.
+   subroutine fill_slaves(im, field)
+      type(implicit_t), intent(in) :: im
+      real(dp), intent(inout) :: field(0:)
+      integer :: i
+      do i = 0, size(im%master) - 1
+         if (im%master(i) >= 0 .and. im%master(i) /= i) then
+            field(i) = im%sign(i)*field(im%master(i))
+         else if (im%master(i) < 0 .and. .not. im%prescribed(i)) then
+            field(i) = 0.0_dp
+         end if
+      end do
+   end subroutine fill_slaves
+
+   !> The particles from the converged grid solution: v_{n+1} by the run's transfer (mpm_operations, g2p,
+   !> with grid velocity v_{n+1} and acceleration (v_{n+1} - v_n)/dt), x_p = x_p^n + sum_I N_Ip du_I, the
+   !> law's state by d eps_p; the drive's reaction kept for the next step's a_n; the totals of the step.
+   subroutine update_particles(im, cache, particles, grid, material, totals)
+      type(implicit_t), intent(inout) :: im
+      type(shape_cache_t), intent(inout) :: cache
+      type(particles_t), intent(inout) :: particles
+      type(grid_t), intent(inout) :: grid
+      type(material_t), intent(in) :: material
+      type(pass_totals_t), intent(inout) :: totals
+      real(dp) :: move, lo, hi
+      integer :: p, outside
+      outside = totals%outside
+      if (im%kind == integrator_implicit) then
+         grid%velocity = im%velocity + 2.0_dp*im%e/im%dt
+         grid%acceleration = 2.0_dp*im%e/im%dt**2
+         where (im%prescribed) ! driven at V over the whole step (drive_constraint)
+            grid%velocity = im%drive_velocity
+            grid%acceleration = (im%drive_velocity - im%velocity)/im%dt
+         end where
+         call g2p(cache, particles, grid, im%dt, totals)
+         im%reaction = merge(im%residual, 0.0_dp, im%prescribed)
+         if (im%constrained) im%reaction = im%reaction + im%multiplier*im%weight
+      else
+         grid%velocity = 0.0_dp
+         totals%kinetic_energy = 0.0_dp
+      end if
+      totals%outside = outside
+      totals%displacement = 0.0_dp
+      totals%max_cell_move = 0.0_dp
+      totals%furthest = 0
+      lo = grid%origin
+      hi = grid%origin + grid%length
+      do p = 1, particles%count
+         move = sum(cache%weight(p, :)*im%du(cache%first(p):cache%first(p) + cache%support - 1))
+         particles%x(p) = im%x_start(p) + move
+         totals%displacement = totals%displacement + particles%mass_of(p)*(particles%x(p) - particles%x0(p))
+         if (abs(move)*grid%inv_dx > totals%max_cell_move) then
+            totals%max_cell_move = abs(move)*grid%inv_dx
+            totals%furthest = p
+         end if
+         if (totals%outside == 0 .and. .not. (particles%x(p) >= lo .and. particles%x(p) <= hi)) totals%outside = p
+      end do
+      call update_material_finite(material, im%dstrain, particles, totals%strain_energy, totals%min_volume_ratio, &
+                                  totals%plastic_work)
+   end subroutine update_particles
+
+   !> What the integrator adds to /summary: the mean and largest number of linear solves per step, the
+   !> smallest reciprocal condition number of the tangent met (LAPACK's 1-norm estimate, first iteration of
+   !> the steps whose smallest pivot ratio was a new low) and the smallest pivot ratio |U_jj|/max |U_ii|,
+   !> and the steps accepted at the residual's round-off floor with the largest residual so accepted.
+   subroutine implicit_report(im, names, values)
+      type(implicit_t), intent(in) :: im
+      character(len=32), allocatable, intent(out) :: names(:)
+      real(dp), allocatable, intent(out) :: values(:)
+      names = [character(len=32) :: 'newton_iterations', 'newton_iterations_max', 'tangent_rcond_min', &
+               'tangent_pivot_ratio_min', 'newton_floor_steps', 'newton_floor_residual', 'newton_halvings']
+      values = [real(im%solves, dp)/max(im%steps, 1), real(im%most_solves, dp), &
+                merge(im%min_rcond, 1.0_dp, im%min_rcond < huge(1.0_dp)), &
+                merge(im%min_pivot_ratio, 1.0_dp, im%min_pivot_ratio < huge(1.0_dp)), real(im%floor_steps, dp), &
+                im%floor_residual, real(im%halvings, dp)]
+   end subroutine implicit_report
+end module mpm_implicit
