@@ -34,6 +34,10 @@ module mpm_particles
       !> the body each particle belongs to (1, 2, ...): only scenes of several bodies allocate it (impact),
       !> which place each body's particles as one contiguous range
       integer, allocatable :: body(:)
+      !> per-particle constants a scene computes once from the particles' reference positions (the
+      !> manufactured solution's A sin kX and A k cos kX: its force and exact displacement are then
+      !> products, with no sine per particle and step), one column each; only scenes that use them
+      real(dp), allocatable :: scene_factors(:, :)
       !> the elastoplastic law's state (mpm_material_plastic), allocated only when a body is elastoplastic:
       !> plastic strain eps_p and hardening variable alpha (the accumulated |d eps_p|)
       real(dp), allocatable :: plastic_strain(:), hardening(:)
@@ -114,6 +118,14 @@ contains
       call permute_real(particles%hardening_modulus_of)
       call permute_int(particles%body)
       call permute_int(particles%cell)
+      if (allocated(particles%scene_factors)) then
+         block
+            real(dp), allocatable :: copy(:, :)
+            allocate (copy(size(particles%scene_factors, 1), size(particles%scene_factors, 2)))
+            copy(destination, :) = particles%scene_factors
+            call move_alloc(copy, particles%scene_factors)
+         end block
+      end if
    contains
       subroutine permute_real(a)
          real(dp), allocatable, intent(inout) :: a(:)

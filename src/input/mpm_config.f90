@@ -119,7 +119,8 @@ module mpm_config
       real(dp) :: dt_fraction = 0.1_dp
       !> Empty grid cells beyond each free end of the body; -1: the scene's expected motion + 2 cells.
       integer :: margin_cells = -1
-      !> 'auto': the fused kernels where they apply (the bar with FLIP, any shape), else the generic path;
+      !> 'auto': the fused kernels where they apply (law hencky: the bar and the column with FLIP and any
+      !> shape, every scene and transfer with the linear shape; mpm_fused's fused_choose), else the generic path;
       !> 'generic': always generic.
       character(len=8) :: kernels = 'auto'
       !> Shape functions (mpm_shape) and the velocity transfer of G2P, with the FLIP share of 'blend'.
@@ -192,8 +193,10 @@ contains
                               sweep_list='flip_fractions'), 'transfer', 'blend'), &
          int_entry('discretisation', 'margin_cells', config%margin_cells, 'empty grid cells beyond each free end '// &
                    'of the body', at_least=-1, note="-1: the scene's expected motion + 2 cells"), &
-         text_entry('discretisation', 'kernels', config%kernels, "'auto': the fused kernels where they apply (the "// &
-                    "bar with FLIP, any shape), else the generic path; 'generic': always the generic layered path", &
+         text_entry('discretisation', 'kernels', config%kernels, "'auto': the fused kernels where they apply (law "// &
+                    "hencky: the bar and the column with FLIP and any shape, every scene and transfer with the "// &
+                    "linear shape), "// &
+                    "else the generic path; 'generic': always the generic layered path", &
                     words='auto, generic'), &
          text_entry('discretisation', 'integrator', config%integrator, "time integration: 'explicit' (the "// &
                     "scheme), 'implicit' (Newmark trapezoidal rule, Newton on the grid), 'quasi_static' "// &

@@ -8,11 +8,11 @@ module mpm_simulation
    use mpm_strings, only: str
    use mpm_config, only: config_t, material_of
    use mpm_material, only: material_t, law_hencky, material_state, material_report
-   use mpm_grid, only: grid_t, grid_init, assemble_nodes, nodal_velocity
+   use mpm_grid, only: grid_t, grid_init
    use mpm_particles, only: particles_t, per_particle_data
-   use mpm_shape, only: shape_cache_t, shape_id, shape_extra_cells, transfer_id, transfer_flip, transfer_apic
-   use mpm_fused, only: fused_start, fused_step, fused_box_t, fused_shape
-   use mpm_operations, only: particle_energies, locate_particles, p2g_mass_momentum, nodal_velocities, mirror_fold
+   use mpm_shape, only: shape_cache_t, shape_id, shape_extra_cells, transfer_id, transfer_apic
+   use mpm_fused, only: fused_start, fused_step, fused_box_t, fused_choose, fused_mass, fused_grid_velocity
+   use mpm_operations, only: particle_energies, locate_particles, p2g_mass_momentum, nodal_velocities
    use mpm_schemes, only: scheme_usf, scheme_usl, scheme_musl, scheme_step, scheme_step_bodies
    use mpm_contact, only: bodies_t, bodies_init
    use mpm_scene, only: scene_t
@@ -165,11 +165,6 @@ contains
          cache%kind = shape_id(config%shape)
          cache%transfer = transfer_id(config%transfer)
          cache%flip_fraction = config%flip_fraction
-         ! (the fused kernels take every shape; their stress update is hencky's, and they are explicit)
-         run%fused = trim(config%kernels) == 'auto' .and. scene%fused_applies() .and. cache%transfer == transfer_flip &
-                     .and. run%material%law == law_hencky .and. run%integrator == integrator_explicit
-         run%box = fused_shape(cache%kind)
-         result%fused = run%fused
          ! shapes wider than the hat: one more cell beyond the free end, one ghost cell left of x = 0
          extra = shape_extra_cells(cache%kind)
          result%ucm_amplitude = scene%ucm_amplitude()
@@ -178,6 +173,12 @@ contains
          call scene%report(result%report_names, result%report_values)
          call scene%place_particles(config, particles, error)
          if (allocated(error)) return
+         ! the fused kernels, where they take the scene, shape, transfer and what the particles carry;
+         ! their stress update is hencky's, and they are explicit
+         run%box = fused_choose(cache%kind, cache%transfer, config%flip_fraction, scene, particles)
+         run%fused = trim(config%kernels) == 'auto' .and. run%box%variant >= 0 .and. run%material%law == law_hencky &
+                     .and. run%integrator == integrator_explicit
+         result%fused = run%fused
          if (.not. run%fused) call per_particle_data(particles, error)
          if (allocated(error)) return
          call material_state(run%material, particles, error)
@@ -195,7 +196,7 @@ contains
                         margin=scene%margin_cells(config%dx, config%margin_cells) + extra, fixed=scene%fixed_nodes(), &
                         element_shares=run%fused, ghost=extra + scene%left_margin_cells(config%dx, config%margin_cells))
          if (allocated(error)) return
-         if (scene%body_fields) call bodies_init(run%bodies, run%grid, particles, error)
+         if (scene%body_fields) call bodies_init(run%bodies, run%grid, particles, error, element_shares=run%fused)
          if (allocated(error)) return
          result%domain = [run%grid%origin, run%grid%origin + run%grid%length]
          result%particles = particles%count
@@ -210,7 +211,9 @@ contains
       type(run_result_t), intent(inout) :: result
       logical, intent(in) :: record_history
       if (run%fused) then
-         call fused_start(run%scheme, run%particles, run%grid, run%totals, run%box, config%youngs_modulus)
+         call fused_start(run%scheme, run%particles, run%grid, run%totals, run%box, config%youngs_modulus, run%scene, &
+                          run%bodies)
+         run%total_mass = fused_mass(run%particles, run%box) ! (the particle count where all have the one mass)
       else
          call particle_energies(run%particles, run%material, run%totals)
          run%total_mass = sum(run%particles%mass_of)
@@ -242,8 +245,9 @@ contains
       associate (particles => run%particles, grid => run%grid, totals => run%totals)
          t = (n - 1)*config%dt
          if (run%fused) then
-            call fused_step(run%scheme, particles, grid, config%dt, config%youngs_modulus, totals, run%box)
-            run%ucm = totals%displacement/particles%count ! u_cm = sum m (x - X) / sum m, equal masses
+            call fused_step(run%scheme, particles, grid, config%dt, config%youngs_modulus, totals, run%box, run%scene, t, &
+                            run%bodies)
+            run%ucm = totals%displacement/run%total_mass ! u_cm = sum m (x - X) / sum m (equal masses: sum (x - X) / N)
          else if (run%integrator /= integrator_explicit) then ! Newton on the grid (mpm_implicit)
             call implicit_advance(run%implicit, run%scene, run%cache, particles, grid, config%dt, run%material, t, &
                                   totals)
@@ -257,7 +261,7 @@ contains
             run%ucm = totals%displacement/run%total_mass
          end if
          t = n*config%dt
-         exact = run%scene%ucm_exact(t)
+         if (record_history) exact = run%scene%ucm_exact(t)  ! (error_at evaluates it too: once a step without history)
          call finite_energies(particles, config%youngs_modulus, totals)
          run%energy = totals%kinetic_energy + totals%strain_energy + totals%plastic_work ! (0 for elastic laws)
          result%max_error = max(result%max_error, run%scene%error_at(t, particles, run%ucm))
@@ -383,9 +387,7 @@ contains
       type(run_state_t), intent(inout) :: run
       type(pass_totals_t) :: unused
       if (run%fused) then
-         call assemble_nodes(run%grid, .false.)
-         call mirror_fold(run%grid, .true., .false.)
-         call nodal_velocity(run%grid)
+         call fused_grid_velocity(run%grid, run%box, run%bodies)
       else
          call locate_particles(run%cache, run%grid, run%particles, unused)
          call p2g_mass_momentum(run%cache, run%particles, run%grid, with_force=.false.)

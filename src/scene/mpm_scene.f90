@@ -7,7 +7,7 @@ module mpm_scene
    use mpm_kinds, only: dp
    use mpm_errors, only: error_t
    use mpm_config, only: config_t
-   use mpm_grid, only: grid_t
+   use mpm_grid, only: grid_t, grid_loads_t
    use mpm_particles, only: particles_t
    use mpm_shape, only: shape_cache_t
    implicit none
@@ -32,6 +32,9 @@ module mpm_scene
       logical :: body_fields = .false.
       !> Whether the scene watches every step (watch_step) and reports what it saw (watch_report).
       logical :: watches = .false.
+      !> Whether its external forces differ between particles and are given per particle by
+      !> particle_forces (the fused kernels map them; the generic path's add_forces uses the same values).
+      logical :: has_particle_forces = .false.
       !> Whether the scene drives its body at a prescribed velocity: its add_forces is then the explicit
       !> schemes' drive, and the implicit integrators take `drive` instead.
       logical :: drives = .false.
@@ -45,9 +48,15 @@ module mpm_scene
       !> Exact centre-of-mass displacement at time t, and its amplitude (for relative errors).
       procedure(exact_i), deferred :: ucm_exact
       procedure(amplitude_i), deferred :: ucm_amplitude
-      !> Whether the fused kernels (one mass, one E, linear shapes, grid from x = 0, no force) apply
-      !> (default: no; the bar says yes).
+      !> Whether the fused kernels may take the scene (default: no; the bar, column, composite bar,
+      !> manufactured solution and impact say yes: mpm_fused's fused_choose then decides by the shape,
+      !> the transfer and what the particles carry).
       procedure :: fused_applies
+      !> The scene's external forces that are grid operations (a uniform body acceleration, a driven
+      !> node: mpm_grid's grid_loads_t), for the fused kernels' path (default: none).
+      procedure :: grid_loads
+      !> External forces per particle at time t (N per unit area; called only when has_particle_forces).
+      procedure :: particle_forces
       !> External nodal forces at time t, added to grid%force (called only when external_forces), from the
       !> nodal masses or, for forces that differ between particles, through the step's shape functions.
       procedure :: add_forces
@@ -128,6 +137,20 @@ contains
       type(particles_t), intent(in) :: particles
    end subroutine add_forces
 
+   !> No grid loads.
+   pure function grid_loads(self) result(loads)
+      class(scene_t), intent(in) :: self
+      type(grid_loads_t) :: loads
+   end function grid_loads
+
+   !> No per-particle force (scenes that have some override this and set has_particle_forces).
+   subroutine particle_forces(self, t, particles, forces)
+      class(scene_t), intent(in) :: self
+      real(dp), intent(in) :: t
+      type(particles_t), intent(in) :: particles
+      real(dp), intent(out), contiguous :: forces(:)
+      forces = 0.0_dp
+   end subroutine particle_forces
    !> No drive (scenes that drive their body override this and set `drives`).
    subroutine drive(self, grid, cache, particles, driven)
       class(scene_t), intent(in) :: self

@@ -33,7 +33,7 @@ module mpm_scene_column
    use mpm_kinds, only: dp, pi
    use mpm_errors, only: error_t
    use mpm_config, only: config_t
-   use mpm_grid, only: grid_t
+   use mpm_grid, only: grid_t, grid_loads_t
    use mpm_particles, only: particles_t, particles_init
    use mpm_shape, only: shape_cache_t
    use mpm_particle_forces, only: p2g_particle_forces
@@ -55,7 +55,7 @@ module mpm_scene_column
       type(material_t) :: material
    contains
       procedure :: place_particles, margin_cells, fixed_nodes, ucm_exact, ucm_amplitude
-      procedure :: add_forces, energy_reference, report, error_at, error_name
+      procedure :: add_forces, energy_reference, report, error_at, error_name, fused_applies, grid_loads
       procedure :: static_displacement
    end type column_t
 
@@ -273,6 +273,20 @@ contains
          grid%force = grid%force - self%gravity*grid%mass  ! = sum_p N_Ip m_p (-g): partition of unity
       end if
    end subroutine add_forces
+
+   !> The fused kernels take the column: its weight is a grid load (grid_loads).
+   pure logical function fused_applies(self)
+      class(column_t), intent(in) :: self
+      fused_applies = .true.
+   end function fused_applies
+
+   !> Gravity as a uniform body acceleration -g: f_I += m_I (-g) where the fused kernels assemble the
+   !> nodal force, before a mirror's fold (the nodal masses are then the column's own), as add_forces.
+   pure function grid_loads(self) result(loads)
+      class(column_t), intent(in) :: self
+      type(grid_loads_t) :: loads
+      loads%acceleration = -self%gravity
+   end function grid_loads
 
    !> The static end displacement u_s(L) = -g L^2/(2 c^2) (m), about which the free end oscillates (static:
    !> the law's u_s(L) at full load).

@@ -17,7 +17,7 @@ module mpm_scene_composite
    use mpm_errors, only: error_t, set_error
    use mpm_strings, only: str
    use mpm_config, only: config_t
-   use mpm_grid, only: grid_t
+   use mpm_grid, only: grid_t, grid_loads_t
    use mpm_particles, only: particles_t, particles_init
    use mpm_shape, only: shape_cache_t
    use mpm_scene, only: scene_t, margin_for, drive_t
@@ -43,7 +43,7 @@ module mpm_scene_composite
       real(dp), allocatable :: front_start(:), front_jump(:)
    contains
       procedure :: place_particles, margin_cells, fixed_nodes, ucm_exact, ucm_amplitude
-      procedure :: add_forces, error_at, error_name, error_unit, energy_reference, report
+      procedure :: add_forces, error_at, error_name, error_unit, energy_reference, report, fused_applies, grid_loads
       procedure :: stress_exact, drive
    end type composite_t
 
@@ -262,6 +262,22 @@ contains
       type(particles_t), intent(in) :: particles
       grid%force(0) = (grid%mass(0)*self%drive_velocity - grid%momentum(0))/self%dt
    end subroutine add_forces
+
+   !> The fused kernels take the composite bar (per-particle masses and moduli; the drive is a grid load).
+   pure logical function fused_applies(self)
+      class(composite_t), intent(in) :: self
+      fused_applies = .true.
+   end function fused_applies
+
+   !> The driven node 0 as a grid load: its force set to (m_0 v - p_0)/dt where the fused kernels
+   !> assemble the nodal force (the same expression as add_forces).
+   pure function grid_loads(self) result(loads)
+      class(composite_t), intent(in) :: self
+      type(grid_loads_t) :: loads
+      loads%driven_node = 0
+      loads%drive_velocity = self%drive_velocity
+      loads%drive_dt = self%dt
+   end function grid_loads
 
    !> The drive for the implicit integrators: node 0 held at the drive velocity (as add_forces holds it).
    subroutine drive(self, grid, cache, particles, driven)

@@ -48,7 +48,7 @@ module mpm_scene_impact
       logical :: stick = .false.          !< contact = 'none': the phases alternate for ever
    contains
       procedure :: place_particles, margin_cells, left_margin_cells, fixed_nodes, ucm_exact, ucm_amplitude
-      procedure :: error_at, error_name, report, watch_step, watch_report
+      procedure :: error_at, error_name, report, watch_step, watch_report, fused_applies
       procedure :: bar1_exact, bar1_velocity
    end type impact_t
 
@@ -221,6 +221,13 @@ contains
       if (v == 0.0_dp) v = 1.0_dp
       ucm_amplitude = v*self%length(1)/self%speed(1)
    end function ucm_amplitude
+
+   !> The fused kernels take the impact (each bar one mass, volume and modulus; frictionless contact on
+   !> stacked fields).
+   pure logical function fused_applies(self)
+      class(impact_t), intent(in) :: self
+      fused_applies = .true.
+   end function fused_applies
 
    !> |u_cm,1 - u_cm,1 exact| (m), bar 1's centre of mass from its particles.
    real(dp) function error_at(self, t, particles, ucm)

@@ -11,11 +11,18 @@
 !>   b(X,t) = d2u/dt2 - c^2 u_XX = -A w^2 sin(kX) s + c^2 A k^2 sin(kX) s.
 !> Initial state: u = 0, unstressed, v(X,0) = A w sin(kX). Each particle gets the force m_p b(X_p, t)
 !> at its reference position and the step's start time, mapped to the grid with the step's shape
-!> functions (mpm_particle_forces). Error measure: the mass-weighted RMS over the particles of
-!> x_p - X_p - u(X_p, t) (m); relative_error divides it by A. u_cm is exactly zero (ucm_exact = 0).
+!> functions (mpm_particle_forces on the generic path; the fused kernels map it in their passes).
+!> Error measure: the mass-weighted RMS over the particles of x_p - X_p - u(X_p, t) (m); relative_error
+!> divides it by A. u_cm is exactly zero (ucm_exact = 0).
+!> b and u are separable in X and t: each particle keeps A sin(kX_p) and A k cos(kX_p), computed once
+!> when it is placed (particles%scene_factors), and a step evaluates sin(w t) once, so that
+!>   b_p(t) = (A sin(kX_p) s)(-w^2 + c^2 k^2/(1 + (A k cos(kX_p)) s)),  u(X_p, t) = (A sin(kX_p)) s,
+!> the same operations in the same order as from the sines of each particle and step (the same bits),
+!> with one division per particle and step and no sine or cosine.
 module mpm_scene_manufactured
    use mpm_kinds, only: dp, pi
-   use mpm_errors, only: error_t
+   use mpm_errors, only: error_t, set_error
+   use mpm_strings, only: str
    use mpm_config, only: config_t
    use mpm_grid, only: grid_t
    use mpm_particles, only: particles_t, particles_init
@@ -38,9 +45,12 @@ module mpm_scene_manufactured
       logical :: linear_law = .false.
    contains
       procedure :: place_particles, margin_cells, fixed_nodes, ucm_exact, ucm_amplitude
-      procedure :: add_forces, error_at, error_name, energy_reference, report
+      procedure :: add_forces, error_at, error_name, energy_reference, report, fused_applies, particle_forces
       procedure :: displacement_exact, body_force
    end type manufactured_t
+
+   !> The columns of particles%scene_factors: A sin(k X_p), A k cos(k X_p).
+   integer, parameter :: factor_sine = 1, factor_cosine = 2
 
 contains
 
@@ -52,6 +62,7 @@ contains
       type(manufactured_t) :: scene
       if (present(law)) scene%linear_law = trim(law) == 'linear'
       scene%external_forces = .true.
+      scene%has_particle_forces = .true.
       scene%length = length
       scene%amplitude = amplitude
       scene%density = density
@@ -80,15 +91,33 @@ contains
       body_force = self%amplitude*sine*s*(-self%omega**2 + self%wave_speed**2*self%wave_number**2/f)
    end function body_force
 
-   !> As the bar's particles, with the exact initial velocity A w sin(k X).
+   !> As the bar's particles, with the exact initial velocity A w sin(k X), and each particle's factors
+   !> A sin(k X_p), A k cos(k X_p) (see the module's comment): one scalar sine and cosine per particle
+   !> (as sine_profile, not vectorised, so that every run starts from the same bits).
    subroutine place_particles(self, config, particles, error)
       class(manufactured_t), intent(in) :: self
       type(config_t), intent(in) :: config
       type(particles_t), intent(out) :: particles
       type(error_t), allocatable, intent(out) :: error
+      real(dp) :: amplitude_k
+      integer :: p, stat
       call particles_init(particles, config%elements, config%particles_per_element, config%dx, config%density, error)
       if (allocated(error)) return
-      call sine_profile(self%amplitude*self%omega, self%wave_number, particles%x, particles%v)
+      allocate (particles%scene_factors(particles%count, 2), stat=stat)
+      if (stat /= 0) then
+         call set_error(error, 'cannot allocate the manufactured solution''s factors of '//str(particles%count)// &
+                        ' particles (out of memory)')
+         return
+      end if
+      ! sin(k X_p) once: the initial velocity (A w) sin(k X_p), as sine_profile makes it, and A sin(k X_p)
+      call sine_profile(1.0_dp, self%wave_number, particles%x0, particles%scene_factors(:, factor_sine))
+      particles%v = (self%amplitude*self%omega)*particles%scene_factors(:, factor_sine)
+      particles%scene_factors(:, factor_sine) = self%amplitude*particles%scene_factors(:, factor_sine)
+      amplitude_k = self%amplitude*self%wave_number
+      !GCC$ novector
+      do p = 1, particles%count
+         particles%scene_factors(p, factor_cosine) = amplitude_k*cos(self%wave_number*particles%x0(p))
+      end do
    end subroutine place_particles
 
    !> Both ends are fixed: no free end, no margin unless asked for.
@@ -117,7 +146,7 @@ contains
       ucm_amplitude = self%amplitude
    end function ucm_amplitude
 
-   !> f_I += sum_p N_Ip m_p b(X_p, t).
+   !> f_I += sum_p N_Ip m_p b(X_p, t) (particle_forces; the scratch array is allocated here: the generic path).
    subroutine add_forces(self, grid, t, cache, particles)
       class(manufactured_t), intent(in) :: self
       type(grid_t), intent(inout) :: grid
@@ -125,18 +154,60 @@ contains
       type(shape_cache_t), intent(in) :: cache
       type(particles_t), intent(in) :: particles
       real(dp), allocatable :: forces(:)
-      forces = particles%mass_of*self%body_force(particles%x0, t)
+      allocate (forces(particles%count))
+      call self%particle_forces(t, particles, forces)
       call p2g_particle_forces(cache, forces, grid)
    end subroutine add_forces
 
-   !> sqrt(sum_p m_p (x_p - X_p - u(X_p, t))^2 / sum_p m_p) (m).
+   !> m_p b(X_p, t) from the particles' factors (the module's comment): one sine per call; the linear law's
+   !> b without F. The mass is the particle's own (mass_of) where it has one, else the run's one mass
+   !> (the fused kernels').
+   subroutine particle_forces(self, t, particles, forces)
+      class(manufactured_t), intent(in) :: self
+      real(dp), intent(in) :: t
+      type(particles_t), intent(in) :: particles
+      real(dp), intent(out), contiguous :: forces(:)
+      real(dp) :: s, inertia, stiffness
+      s = sin(self%omega*t)
+      inertia = -self%omega**2
+      stiffness = self%wave_speed**2*self%wave_number**2
+      associate (sine => particles%scene_factors(:, factor_sine), cosine => particles%scene_factors(:, factor_cosine))
+         if (self%linear_law) then ! (F = 1 in body_force: c^2 k^2 / 1 is c^2 k^2, the same bits)
+            if (allocated(particles%mass_of)) then
+               forces = particles%mass_of*(sine*s*(inertia + stiffness))
+            else
+               forces = particles%mass*(sine*s*(inertia + stiffness))
+            end if
+         else if (allocated(particles%mass_of)) then
+            forces = particles%mass_of*(sine*s*(inertia + stiffness/(1.0_dp + cosine*s)))
+         else
+            forces = particles%mass*(sine*s*(inertia + stiffness/(1.0_dp + cosine*s)))
+         end if
+      end associate
+   end subroutine particle_forces
+
+   !> sqrt(sum_p m_p (x_p - X_p - u(X_p, t))^2 / sum_p m_p) (m), u(X_p, t) = (A sin(k X_p)) sin(w t); the
+   !> particles' own masses where they have them, else the run's one mass.
    real(dp) function error_at(self, t, particles, ucm)
       class(manufactured_t), intent(in) :: self
       real(dp), intent(in) :: t, ucm
       type(particles_t), intent(in) :: particles
-      error_at = sqrt(sum(particles%mass_of*(particles%x - particles%x0 - self%displacement_exact(particles%x0, t))**2)/ &
-                      sum(particles%mass_of))
+      real(dp) :: s
+      s = sin(self%omega*t)
+      associate (sine => particles%scene_factors(:, factor_sine))
+         if (allocated(particles%mass_of)) then
+            error_at = sqrt(sum(particles%mass_of*(particles%x - particles%x0 - sine*s)**2)/sum(particles%mass_of))
+         else
+            error_at = sqrt(sum((particles%x - particles%x0 - sine*s)**2)/particles%count)
+         end if
+      end associate
    end function error_at
+
+   !> The fused kernels take it: one mass, one modulus, the forces mapped in their passes.
+   pure logical function fused_applies(self)
+      class(manufactured_t), intent(in) :: self
+      fused_applies = .true.
+   end function fused_applies
 
    !> The largest strain of the exact motion, max |F - 1| = 2 pi A/L.
    pure subroutine report(self, names, values)

@@ -33,7 +33,8 @@ module mpm_contact
    use mpm_operations, only: locate_particles
    implicit none
    private
-   public :: bodies_t, bodies_init, locate_bodies, contact_velocities, contact_momentum, combine_bodies
+   public :: bodies_t, bodies_init, locate_bodies, contact_velocities, contact_momentum, combine_bodies, touch_test, &
+             contact_correct
 
    !> Largest surface gap, in cells, at which the bodies count as touching (the surface estimate from
    !> the end particles' domains is not exact while they deform).
@@ -56,12 +57,14 @@ contains
 
    !> The per-body fields of `grid` for the particles' bodies (particles%body: 1 .. count, each body a
    !> contiguous range). Two bodies; no mirror ghosts (no fixed end with wide shapes).
-   subroutine bodies_init(bodies, grid, particles, error)
+   !> With `element_shares` the fields also get the fused kernels' per-element shares.
+   subroutine bodies_init(bodies, grid, particles, error, element_shares)
       type(bodies_t), intent(out) :: bodies
       type(grid_t), intent(in) :: grid
       type(particles_t), intent(in) :: particles
       type(error_t), allocatable, intent(out) :: error
-      integer :: b, p, stat, total
+      logical, intent(in), optional :: element_shares
+      integer :: b, p, stat, total, shares
       real(dp) :: centre(2)
       if (.not. allocated(particles%body)) then
          call set_error(error, 'contact: the scene gave no body index to its particles')
@@ -114,8 +117,15 @@ contains
       bodies%fields%ghost = grid%ghost
       bodies%fields%mirror = .false.
       bodies%fields%fixed = [(grid%fixed + (b - 1)*bodies%nodes, b=1, bodies%count)]
+      shares = 0
+      if (present(element_shares)) then
+         if (element_shares) shares = total - 1
+      end if
       allocate (bodies%fields%mass(0:total - 1), bodies%fields%momentum(0:total - 1), bodies%fields%force(0:total - 1), &
-                bodies%fields%velocity(0:total - 1), bodies%fields%acceleration(0:total - 1), stat=stat)
+                bodies%fields%velocity(0:total - 1), bodies%fields%acceleration(0:total - 1), &
+                bodies%fields%element_mass_left(shares), bodies%fields%element_mass_right(shares), &
+                bodies%fields%element_momentum_left(shares), bodies%fields%element_momentum_right(shares), &
+                bodies%fields%element_stress_volume(shares), bodies%fields%element_strain(shares), stat=stat)
       if (stat /= 0) then
          call set_error(error, 'cannot allocate the per-body fields of '//str(total)//' nodes (out of memory)')
          return
@@ -125,6 +135,12 @@ contains
       bodies%fields%force = 0.0_dp
       bodies%fields%velocity = 0.0_dp
       bodies%fields%acceleration = 0.0_dp
+      bodies%fields%element_mass_left = 0.0_dp
+      bodies%fields%element_mass_right = 0.0_dp
+      bodies%fields%element_momentum_left = 0.0_dp
+      bodies%fields%element_momentum_right = 0.0_dp
+      bodies%fields%element_stress_volume = 0.0_dp
+      bodies%fields%element_strain = 0.0_dp
    end subroutine bodies_init
 
    !> Shape functions on the run's grid, then each body's support moved onto its own fields; whether
@@ -137,13 +153,7 @@ contains
       type(pass_totals_t), intent(inout) :: totals
       integer :: b, shift
       call locate_particles(cache, grid, particles, totals)
-      associate (p1 => bodies%facing(1), p2 => bodies%facing(2))
-         bodies%surface_gap = bodies%normal*((particles%x(p2) - bodies%normal*0.5_dp*particles%volume_ratio(p2)* &
-                                              particles%volume0_of(p2)) - &
-                                             (particles%x(p1) + bodies%normal*0.5_dp*particles%volume_ratio(p1)* &
-                                              particles%volume0_of(p1)))
-      end associate
-      bodies%touching = bodies%surface_gap <= touch_tolerance*grid%dx
+      call touch_test(bodies, particles, grid%dx)
       do b = 2, bodies%count
          shift = (b - 1)*bodies%nodes
          associate (r1 => bodies%first(b), r2 => bodies%last(b))
@@ -152,6 +162,21 @@ contains
          end associate
       end do
    end subroutine locate_bodies
+
+   !> Whether the bodies touch at the start of the step: their facing surfaces, x_p +- J_p V0_p/2 of the
+   !> end particles (in 1-D), at most touch_tolerance cells of size dx apart.
+   subroutine touch_test(bodies, particles, dx)
+      type(bodies_t), intent(inout) :: bodies
+      type(particles_t), intent(in) :: particles
+      real(dp), intent(in) :: dx
+      associate (p1 => bodies%facing(1), p2 => bodies%facing(2))
+         bodies%surface_gap = bodies%normal*((particles%x(p2) - bodies%normal*0.5_dp*particles%volume_ratio(p2)* &
+                                              particles%volume0_of(p2)) - &
+                                             (particles%x(p1) + bodies%normal*0.5_dp*particles%volume_ratio(p1)* &
+                                              particles%volume0_of(p1)))
+      end associate
+      bodies%touching = bodies%surface_gap <= touch_tolerance*dx
+   end subroutine touch_test
 
    !> After the nodal velocities (USF, MUSL's remap): approaching bodies share v_cm (momentum too).
    subroutine contact_velocities(bodies)
@@ -170,54 +195,75 @@ contains
    subroutine correct(bodies, dt)
       type(bodies_t), intent(inout) :: bodies
       real(dp), intent(in) :: dt
-      integer :: i, j, corrected
-      real(dp) :: vcm
-      corrected = 0
-      bodies%contact_nodes = 0
-      if (.not. bodies%touching) return
-      associate (f => bodies%fields, n => bodies%nodes)
-         do i = 0, n - 1
-            j = i + n
-            if (f%mass(i) <= f%empty_mass .or. f%mass(j) <= f%empty_mass) cycle
-            if ((f%velocity(i) - f%velocity(j))*bodies%normal <= 0.0_dp) cycle ! separating or at rest
-            corrected = corrected + 1
-            vcm = (f%momentum(i) + f%momentum(j))/(f%mass(i) + f%mass(j))
-            if (dt > 0.0_dp) then
-               f%acceleration(i) = f%acceleration(i) + (vcm - f%velocity(i))/dt
-               f%acceleration(j) = f%acceleration(j) + (vcm - f%velocity(j))/dt
-            end if
-            f%velocity(i) = vcm
-            f%velocity(j) = vcm
-            f%momentum(i) = f%mass(i)*vcm
-            f%momentum(j) = f%mass(j)*vcm
-         end do
-      end associate
-      bodies%contact_nodes = corrected
+      call contact_correct(bodies%fields, bodies%nodes, bodies%normal, bodies%touching, dt, bodies%contact_nodes)
    end subroutine correct
 
+   !> The correction on the stacked fields `f` of two bodies of `n` nodes each (normal, touching: see
+   !> bodies_t; `corrected`: the nodes corrected), for a caller that holds the fields apart from bodies_t's
+   !> other components (the fused kernels' step).
+   subroutine contact_correct(f, n, normal, touching, dt, corrected)
+      type(grid_t), intent(inout) :: f
+      integer, intent(in) :: n
+      real(dp), intent(in) :: normal, dt
+      logical, intent(in) :: touching
+      integer, intent(out) :: corrected
+      integer :: i, j
+      real(dp) :: vcm
+      corrected = 0
+      if (.not. touching) return
+      do i = 0, n - 1
+         j = i + n
+         if (f%mass(i) <= f%empty_mass .or. f%mass(j) <= f%empty_mass) cycle
+         if ((f%velocity(i) - f%velocity(j))*normal <= 0.0_dp) cycle ! separating or at rest
+         corrected = corrected + 1
+         vcm = (f%momentum(i) + f%momentum(j))/(f%mass(i) + f%mass(j))
+         if (dt > 0.0_dp) then
+            f%acceleration(i) = f%acceleration(i) + (vcm - f%velocity(i))/dt
+            f%acceleration(j) = f%acceleration(j) + (vcm - f%velocity(j))/dt
+         end if
+         f%velocity(i) = vcm
+         f%velocity(j) = vcm
+         f%momentum(i) = f%mass(i)*vcm
+         f%momentum(j) = f%mass(j)*vcm
+      end do
+   end subroutine contact_correct
+
    !> The run's grid as the bodies' sum (mass, momentum, force; velocity p/m), for snapshots and the
-   !> guards' lightest node.
+   !> guards' lightest node. One loop over the nodes (the sums body by body, in body order).
    subroutine combine_bodies(bodies, grid)
       type(bodies_t), intent(in) :: bodies
       type(grid_t), intent(inout) :: grid
+      grid%min_node_mass = bodies%fields%min_node_mass
+      call sum_fields(bodies%count, bodies%nodes, bodies%fields%mass, bodies%fields%momentum, bodies%fields%force, &
+                      grid%empty_mass, grid%mass, grid%momentum, grid%force, grid%velocity)
+   end subroutine combine_bodies
+
+   !> The bodies' stacked fields (count bodies of n nodes each) summed node by node, body 1 first, and the
+   !> velocity p/m where the mass exceeds empty_mass (zero elsewhere).
+   subroutine sum_fields(count, n, mass, momentum, force, empty_mass, total_mass, total_momentum, total_force, velocity)
+      integer, intent(in) :: count, n
+      real(dp), intent(in), contiguous :: mass(0:), momentum(0:), force(0:)
+      real(dp), intent(in) :: empty_mass
+      real(dp), intent(out), contiguous :: total_mass(0:), total_momentum(0:), total_force(0:), velocity(0:)
       integer :: i, b
-      associate (f => bodies%fields, n => bodies%nodes)
-         grid%mass = f%mass(0:n - 1)
-         grid%momentum = f%momentum(0:n - 1)
-         grid%force = f%force(0:n - 1)
-         do b = 2, bodies%count
-            grid%mass = grid%mass + f%mass((b - 1)*n:b*n - 1)
-            grid%momentum = grid%momentum + f%momentum((b - 1)*n:b*n - 1)
-            grid%force = grid%force + f%force((b - 1)*n:b*n - 1)
+      real(dp) :: m, p, f
+      do i = 0, n - 1
+         m = mass(i)
+         p = momentum(i)
+         f = force(i)
+         do b = 2, count
+            m = m + mass((b - 1)*n + i)
+            p = p + momentum((b - 1)*n + i)
+            f = f + force((b - 1)*n + i)
          end do
-         grid%min_node_mass = f%min_node_mass
-      end associate
-      do i = 0, grid%elements
-         if (grid%mass(i) > grid%empty_mass) then
-            grid%velocity(i) = grid%momentum(i)/grid%mass(i)
+         total_mass(i) = m
+         total_momentum(i) = p
+         total_force(i) = f
+         if (m > empty_mass) then
+            velocity(i) = p/m
          else
-            grid%velocity(i) = 0.0_dp
+            velocity(i) = 0.0_dp
          end if
       end do
-   end subroutine combine_bodies
+   end subroutine sum_fields
 end module mpm_contact

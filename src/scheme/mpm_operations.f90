@@ -249,8 +249,8 @@ contains
       real(dp), intent(inout), contiguous :: gathered(:, :)
       logical, intent(in) :: strain_rate
       type(pass_totals_t), intent(inout) :: totals
-      integer :: p, b0, n, i, outside
-      real(dp) :: displacement(lanes), kinetic(lanes), moved(block_size)
+      integer :: p, b0, n, i, outside, slot
+      real(dp) :: displacement(lanes), kinetic(lanes), moved(block_size, 2)
       integer :: inside(block_size)
       integer(i8) :: below, above
       real(dp) :: displacement_block(block_size), kinetic_block(block_size)
@@ -269,6 +269,7 @@ contains
       end select
       ! the move and the totals, block by block (branch-free loops, totals in lanes: see mpm_lanes)
       outside = 0
+      slot = 1
       displacement = 0.0_dp
       kinetic = 0.0_dp
       do b0 = 1, size(first), block_size
@@ -276,7 +277,7 @@ contains
          do i = 1, n
             p = b0 + i - 1
             x(p) = x(p) + dt*gathered(p, 2)
-            moved(i) = abs(dt*gathered(p, 2))*inv_dx
+            moved(i, slot) = abs(dt*gathered(p, 2))*inv_dx
             below = transfer(x(p) - lo, 0_i8)  ! inside(i) = inside_range(x(p), lo, hi), written out
             above = transfer(hi - x(p), 0_i8)
             inside(i) = int(1_i8 - ishft(ior(ior(below, above), infinity_bits - below), -63))
@@ -285,13 +286,13 @@ contains
          end do
          call add_lanes(n, displacement_block, displacement)
          call add_lanes(n, kinetic_block, kinetic)
-         call track_largest_move(n, b0, moved, largest)
+         call track_largest_move(n, b0, moved, slot, largest)
          if (outside == 0 .and. minval(inside(1:n)) == 0) outside = b0 - 1 + findloc(inside(1:n), 0, 1)
       end do
       totals%displacement = lane_total(displacement)
       totals%kinetic_energy = lane_total(kinetic)
       totals%max_cell_move = largest%value
-      totals%furthest = furthest_particle(largest)
+      totals%furthest = furthest_particle(largest, moved)
       if (totals%outside == 0) totals%outside = outside
    end subroutine gather_move
 

@@ -21,8 +21,17 @@
 !>       scheme,elements,ppc,dt_fraction,steps,particles,repeat,seconds
 !>   mpm1d_bench scenes ELEMENTS PPC STEPS REPEATS
 !>       "only what it needs": each scene's whole run (run_simulation, USL, linear, FLIP, dt = 0.2 dx/c,
-!>       STEPS steps, one thread, REPEATS times) and the bytes per particle of its particle arrays:
+!>       STEPS steps, one thread, REPEATS times) and the bytes per particle its run holds (run_bytes):
 !>       scene,path,particles,steps,bytes_per_particle,repeat,seconds,particle_steps_per_s
+!>   mpm1d_bench ratios PARTICLES PPC STEPS REPEATS SCHEME [RUN]
+!>       every scene and transfer against the fused bar (the issue-28 table): REPEATS rounds, each the
+!>       bar's whole run first, then the bar on the generic path, with PIC, the blend (FLIP fraction 0.95)
+!>       and APIC, the column, the composite bar, the manufactured solution, the impact (frictionless and
+!>       stuck), each a whole run as a user starts one (run_simulation: set-up included, no history, no
+!>       file; linear shapes, dt = 0.2 dx/c, STEPS steps, about PARTICLES particles, PPC per element), then
+!>       the bar's kernel (its steps alone, as `throughput` times them); one thread, CPU time:
+!>       round,scheme,run,path,particles,steps,bytes_per_particle,seconds,particle_steps_per_s
+!>       (with RUN, one of the runs' names, only that run: for instruction counts under valgrind)
 program mpm1d_bench
    use, intrinsic :: iso_fortran_env, only: output_unit, error_unit
    use omp_lib, only: omp_get_wtime, omp_set_num_threads
@@ -30,11 +39,11 @@ program mpm1d_bench
    use mpm_errors, only: error_t
    use mpm_config, only: config_t, resolve_config
    use mpm_grid, only: grid_t, grid_init
-   use mpm_particles, only: particles_t, per_particle_data
+   use mpm_particles, only: particles_t, per_particle_data, bytes_per_particle
    use mpm_shape, only: shape_cache_t, shape_id, shape_extra_cells, transfer_id, transfer_apic, shape_name, &
-                        transfer_name, transfer_flip
+                        transfer_name, transfer_flip, shape_support, shape_ugimp, shape_cpgimp
    use mpm_transfer, only: pass_totals_t
-   use mpm_fused, only: fused_start, fused_step, fused_box_t, fused_shape
+   use mpm_fused, only: fused_start, fused_step, fused_box_t, fused_shape, fused_choose
    use mpm_schemes, only: scheme_usf, scheme_usl, scheme_musl, scheme_step
    use mpm_scene_bar, only: bar_t, bar_init
    use mpm_simulation, only: run_result_t, run_simulation
@@ -53,6 +62,8 @@ program mpm1d_bench
       call study()
    case ('scenes')
       call scenes()
+   case ('ratios')
+      call ratios()
    case default
       call usage('')
    end select
@@ -74,6 +85,7 @@ contains
          '       mpm1d_bench stream N REPEATS', &
          '       mpm1d_bench study SCHEME ELEMENTS PPC DT_FRACTION END_TIME REPEATS', &
          '       mpm1d_bench scenes ELEMENTS PPC STEPS REPEATS', &
+         '       mpm1d_bench ratios PARTICLES PPC STEPS REPEATS SCHEME [RUN]', &
          '(studies/benchmark/bench.f90 says what each prints)'
       stop 2, quiet=.true.
    end subroutine usage
@@ -280,51 +292,146 @@ contains
    !> Each scene as the scenes study runs it, at one size: bytes per particle and particle-steps/s.
    subroutine scenes()
       type(config_t) :: config
-      integer :: elements, ppc, steps, repeats, k
+      integer :: elements, ppc, steps, repeats, k, r
+      character(len=32), parameter :: kinds(7) = [character(len=32) :: 'bar', 'bar_generic', 'column', 'manufactured', &
+                                                  'composite_bar', 'impact_frictionless', 'impact_none']
+      type(run_result_t) :: result
+      real(dp) :: seconds
       elements = iarg(2)
       ppc = iarg(3)
       steps = iarg(4)
       repeats = iarg(5)
       call omp_set_num_threads(1)
-      do k = 1, 7
-         config = config_t()
-         config%elements = elements
-         config%particles_per_element = ppc
-         config%dt_fraction = 0.2_dp
-         config%scheme = 'usl'
-         config%history = .false.
-         select case (k)
-         case (2)
-            config%kernels = 'generic'
-         case (3)
-            config%scene_kind = 'column'
-         case (4)
-            config%scene_kind = 'manufactured'
-            config%length = 1.0_dp
-            config%youngs_modulus = 1.0e7_dp
-            config%density = 1000.0_dp
-            config%amplitude = 1.0e-6_dp
-         case (5)
-            config%scene_kind = 'composite_bar'
-            call two(config%lengths, config%length_count, 1.0_dp, 1.0_dp)
-            call two(config%youngs_moduli, config%modulus_count, 16.0e6_dp, 1.0e6_dp)
-            call two(config%densities, config%density_count, 1000.0_dp, 1000.0_dp)
-            config%drive_velocity = 0.01_dp
-         case (6, 7)
-            config%scene_kind = 'impact'
-            call two(config%lengths, config%length_count, 1.0_dp, 1.0_dp)
-            call two(config%youngs_moduli, config%modulus_count, 200.0e9_dp, 200.0e9_dp)
-            call two(config%densities, config%density_count, 7800.0_dp, 7800.0_dp)
-            call two(config%velocities, config%velocity_count, 1.0_dp, -1.0_dp)
-            config%contact = merge('frictionless', 'none        ', k == 6)
-         end select
-         call resolve_config(config)
-         config%periods = -huge(1.0_dp)
-         config%end_time = steps*config%dt
-         call resolve_config(config)
-         call scene_row(config, k, repeats)
+      do k = 1, size(kinds)
+         config = run_config(kinds(k), elements, ppc, steps, 'usl')
+         do r = 1, repeats
+            call timed_run(config, result, seconds)
+            write (output_unit, '(a,",",a,",",i0,",",i0,",",f0.2,",",i0,",",es12.5,",",es12.5)') &
+               scene_name(config), trim(merge('fused  ', 'generic', result%fused)), result%particles, result%steps_done, &
+               run_bytes(config), r, seconds, real(result%particles, dp)*result%steps_done/seconds
+            flush (output_unit)
+         end do
       end do
    end subroutine scenes
+
+   !> Every scene and transfer against the fused bar, paired in rounds (see the program's header).
+   subroutine ratios()
+      character(len=32), parameter :: kinds(10) = [character(len=32) :: 'bar', 'bar_generic', 'bar_pic', 'bar_blend', &
+                                                   'bar_apic', 'column', 'composite_bar', 'manufactured', &
+                                                   'impact_frictionless', 'impact_none']
+      type(config_t) :: configs(size(kinds))
+      type(run_result_t) :: result
+      integer :: particles, ppc, steps, repeats, k, r
+      real(dp) :: seconds, bytes(size(kinds))
+      character(len=:), allocatable :: scheme
+      particles = iarg(2)
+      ppc = iarg(3)
+      steps = iarg(4)
+      repeats = iarg(5)
+      scheme = trim(arg(6))
+      if (scheme /= 'usf' .and. scheme /= 'usl' .and. scheme /= 'musl') call usage('SCHEME is usf, usl or musl')
+      call omp_set_num_threads(1)
+      do k = 1, size(kinds)
+         configs(k) = run_config(kinds(k), max(1, particles/ppc), ppc, steps, scheme)
+         bytes(k) = run_bytes(configs(k))
+      end do
+      do r = 1, repeats
+         do k = 1, size(kinds)
+            if (len_trim(arg(7)) > 0 .and. trim(arg(7)) /= trim(kinds(k))) cycle
+            call timed_run(configs(k), result, seconds)
+            call ratio_row(r, scheme, trim(kinds(k)), trim(merge('fused  ', 'generic', result%fused)), result%particles, &
+                           result%steps_done, bytes(k), seconds)
+         end do
+         if (len_trim(arg(7)) == 0 .or. trim(arg(7)) == 'bar_kernel') call kernel_row(r, scheme, configs(1))
+      end do
+   end subroutine ratios
+
+   !> A row of `ratios`.
+   subroutine ratio_row(round, scheme, run, path, count, done, per_particle, time)
+      integer, intent(in) :: round, count, done
+      character(len=*), intent(in) :: scheme, run, path
+      real(dp), intent(in) :: per_particle, time
+      write (output_unit, '(i0,",",a,",",a,",",a,",",i0,",",i0,",",f0.2,",",es12.5,",",es12.5)') round, scheme, run, &
+         path, count, done, per_particle, time, real(count, dp)*done/time
+      flush (output_unit)
+   end subroutine ratio_row
+   !> The bar's steps alone (fused kernels, diagnostics as run_simulation makes them; no set-up).
+   subroutine kernel_row(round, scheme, config)
+      integer, intent(in) :: round
+      character(len=*), intent(in) :: scheme
+      type(config_t), intent(in) :: config
+      type(bar_t) :: bar
+      type(grid_t) :: grid
+      type(particles_t) :: particles
+      type(pass_totals_t) :: totals
+      type(fused_box_t) :: box
+      type(error_t), allocatable :: error
+      real(dp) :: start, worst
+      integer :: n, id
+      bar = bar_init(config%length, config%youngs_modulus, config%density, config%velocity_amplitude, config%mode)
+      call bar%place_particles(config, particles, error)
+      if (allocated(error)) error stop 'out of memory'
+      call grid_init(grid, config%elements, config%length, particles%mass, error, margin=bar%margin_cells(config%dx, -1), &
+                     fixed=bar%fixed_nodes())
+      id = merge(scheme_usf, merge(scheme_usl, scheme_musl, scheme == 'usl'), scheme == 'usf')
+      box = fused_shape(shape_id('linear'))
+      call fused_start(id, particles, grid, totals, box, config%youngs_modulus)
+      worst = 0
+      start = clock(1)
+      do n = 1, config%steps
+         call fused_step(id, particles, grid, config%dt, config%youngs_modulus, totals, box)
+         worst = max(worst, abs(totals%displacement/particles%count - bar%ucm_exact(n*config%dt)))
+      end do
+      call ratio_row(round, scheme, 'bar_kernel', 'fused', particles%count, config%steps, &
+                     real(bytes_per_particle, dp), clock(1) - start)
+      if (worst < 0) write (output_unit, *) worst  ! (keeps the error evaluation)
+   end subroutine kernel_row
+
+   !> The configuration of one run of `ratios` and `scenes`: `kind` (bar, bar_generic, bar_pic, bar_blend,
+   !> bar_apic, column, manufactured, composite_bar, impact_frictionless, impact_none) with `elements` elements
+   !> (the impact: its two bars of length 1 together), ppc particles per element, dt = 0.2 dx/c, `steps` steps.
+   function run_config(kind, elements, ppc, steps, scheme) result(config)
+      character(len=*), intent(in) :: kind, scheme
+      integer, intent(in) :: elements, ppc, steps
+      type(config_t) :: config
+      config%elements = elements
+      config%particles_per_element = ppc
+      config%dt_fraction = 0.2_dp
+      config%scheme = scheme
+      config%history = .false.
+      select case (trim(kind))
+      case ('bar_generic')
+         config%kernels = 'generic'
+      case ('bar_pic', 'bar_blend', 'bar_apic')
+         config%transfer = kind(5:)
+         config%flip_fraction = 0.95_dp
+      case ('column')
+         config%scene_kind = 'column'
+      case ('manufactured')
+         config%scene_kind = 'manufactured'
+         config%length = 1.0_dp
+         config%youngs_modulus = 1.0e7_dp
+         config%density = 1000.0_dp
+         config%amplitude = 1.0e-6_dp
+      case ('composite_bar')
+         config%scene_kind = 'composite_bar'
+         call two(config%lengths, config%length_count, 1.0_dp, 1.0_dp)
+         call two(config%youngs_moduli, config%modulus_count, 16.0e6_dp, 1.0e6_dp)
+         call two(config%densities, config%density_count, 1000.0_dp, 1000.0_dp)
+         config%drive_velocity = 0.01_dp
+      case ('impact_frictionless', 'impact_none')
+         config%scene_kind = 'impact'
+         call two(config%lengths, config%length_count, 1.0_dp, 1.0_dp)
+         call two(config%youngs_moduli, config%modulus_count, 200.0e9_dp, 200.0e9_dp)
+         call two(config%densities, config%density_count, 7800.0_dp, 7800.0_dp)
+         call two(config%velocities, config%velocity_count, 1.0_dp, -1.0_dp)
+         config%contact = kind(8:)
+      end select
+      call resolve_config(config)
+      config%periods = -huge(1.0_dp)
+      config%end_time = steps*config%dt
+      call resolve_config(config)
+   end function run_config
 
    subroutine two(list, count, a, b)
       real(dp), intent(inout) :: list(:)
@@ -334,22 +441,49 @@ contains
       count = 2
    end subroutine two
 
-   !> The rows of one scene: its particles' bytes (the arrays its set-up allocates), then the runs.
-   subroutine scene_row(config, k, repeats)
+   pure function scene_name(config) result(name)
       type(config_t), intent(in) :: config
-      integer, intent(in) :: k, repeats
+      character(len=:), allocatable :: name
+      name = trim(config%scene_kind)
+      if (name == 'impact') name = name//'_'//trim(config%contact)
+   end function scene_name
+
+   !> One whole run (run_simulation, no history) and its CPU time (one thread).
+   subroutine timed_run(config, result, seconds)
+      type(config_t), intent(in) :: config
+      type(run_result_t), intent(out) :: result
+      real(dp), intent(out) :: seconds
+      type(error_t), allocatable :: error
+      real(dp) :: start
+      start = clock(1)
+      call run_simulation(config, result, error, record_history=.false.)
+      seconds = clock(1) - start
+      if (allocated(error)) error stop 'run failed'
+      if (result%status /= 0) error stop 'benchmark run stopped by a guard'
+   end subroutine timed_run
+
+   !> The bytes per particle a run of `config` holds: its particle arrays (those the scene allocates and,
+   !> on the generic path, per-particle mass and volume), the fused path's per-particle forces, APIC's
+   !> velocity gradients, and the generic path's shape cache (first node, weights and gradients of the
+   !> support, three columns of scratch, APIC's start positions, GIMP's half-lengths).
+   real(dp) function run_bytes(config) result(per_particle)
+      type(config_t), intent(in) :: config
       class(scene_t), allocatable :: scene
       type(particles_t) :: particles
-      type(run_result_t) :: result
+      type(fused_box_t) :: box
       type(error_t), allocatable :: error
-      character(len=:), allocatable :: name, path
       integer(i8) :: bytes
-      integer :: r
+      integer :: kind, transfer
+      logical :: fused
       call make_scene(config, scene, error)
       if (allocated(error)) error stop 'scene failed'
       call scene%place_particles(config, particles, error)
       if (allocated(error)) error stop 'particles failed'
-      if (k /= 1) call per_particle_data(particles, error)  ! the generic path's (the fused bar has none)
+      kind = shape_id(config%shape)
+      transfer = transfer_id(config%transfer)
+      box = fused_choose(kind, transfer, config%flip_fraction, scene, particles)
+      fused = trim(config%kernels) == 'auto' .and. box%variant >= 0
+      if (.not. fused) call per_particle_data(particles, error)
       bytes = 0
       bytes = bytes + real_bytes(particles%x)
       bytes = bytes + real_bytes(particles%x0)
@@ -358,23 +492,21 @@ contains
       bytes = bytes + real_bytes(particles%volume_ratio)
       bytes = bytes + real_bytes(particles%mass_of)
       bytes = bytes + real_bytes(particles%volume0_of)
-      bytes = bytes + real_bytes(particles%velocity_gradient)
       bytes = bytes + real_bytes(particles%youngs_modulus_of)
       bytes = bytes + int_bytes(particles%cell)
       bytes = bytes + int_bytes(particles%body)
-      name = trim(config%scene_kind)
-      if (name == 'impact') name = name//'_'//trim(config%contact)
-      path = merge('fused  ', 'generic', k == 1)
-      do r = 1, repeats
-         call run_simulation(config, result, error, record_history=.false.)
-         if (allocated(error)) error stop 'run failed'
-         if (result%fused .neqv. (k == 1)) error stop 'unexpected path'
-         write (output_unit, '(a,",",a,",",i0,",",i0,",",f0.2,",",i0,",",es12.5,",",es12.5)') name, trim(path), &
-            result%particles, result%steps_done, real(bytes, dp)/particles%count, r, result%run_time, &
-            real(result%particles, dp)*result%steps_done/result%run_time
-         flush (output_unit)
-      end do
-   end subroutine scene_row
+      if (allocated(particles%scene_factors)) bytes = bytes + storage_size(particles%scene_factors, i8)/8* &
+                                                      size(particles%scene_factors, kind=i8)
+      if (transfer == transfer_apic) bytes = bytes + 8_i8*particles%count
+      if (fused) then
+         if (scene%has_particle_forces) bytes = bytes + 8_i8*particles%count
+      else
+         bytes = bytes + (4_i8 + 16_i8*shape_support(kind) + 24_i8)*particles%count
+         if (transfer == transfer_apic) bytes = bytes + 8_i8*particles%count
+         if (kind == shape_ugimp .or. kind == shape_cpgimp) bytes = bytes + 8_i8*particles%count
+      end if
+      per_particle = real(bytes, dp)/particles%count
+   end function run_bytes
 
    integer(i8) function real_bytes(a)
       real(dp), allocatable, intent(in) :: a(:)

@@ -5,8 +5,14 @@
 # memory bandwidth (STREAM-style triad and update, and the traffic of one USL pass with no arithmetic;
 # 1 and 2 threads) and the bounds they imply, OpenMP speed-up inside
 # one run, cost of a study against elements^2 * ppc / dt_fraction, and memory per particle.
+# Every scene and transfer against the fused bar (whole runs, set-up included, 1e4 and 1e6 particles),
+# and the Table-2 error pass paired against an older build (OLD_MPM1D=path: wall-time medians of
+# alternate runs, 1 and 2 threads; with CALLGRIND=1 also valgrind's instruction counts, which a busy
+# machine does not change; for the scenes' whole runs at 1e4 particles too).
 # Writes CSV files, benchmark.png and summary.md to the output folder (default out/benchmark).
 # Usage: bash studies/benchmark/run.sh [output folder]
+#   PARTS='...' runs only some parts (default: all of bandwidth throughput generic shapes threads
+#   sweep study memory ratios table2); REPEATS (default 3) rounds of each paired measurement.
 # Built for this machine's CPU (-march=native, as every study script; studies/setup.sh): PORTABLE=1
 # for fpm's plain release profile, or FLAGS='...' for other flags. -march=native is for local runs
 # only (the binary uses this machine's vector instructions), not for portable builds.
@@ -19,14 +25,20 @@ out="${1:-out/benchmark}"
 mkdir -p "$out"
 bench="$(mpm1d_build --example mpm1d_bench)"
 REPEATS="${REPEATS:-3}"
+PARTS="${PARTS:-bandwidth throughput generic shapes threads sweep study memory ratios table2}"
+want() { [[ " $PARTS " == *" $1 "* ]]; }
+mpm1d="$(mpm1d_build)"
 echo "flags: fpm --profile release --flag '$FLAGS'" > "$out/flags.txt"
 gfortran --version | head -n 1 >> "$out/flags.txt"
 lscpu | grep -E 'Model name|^CPU\(s\)|L3' >> "$out/flags.txt" || true
 
+if want bandwidth; then
 echo "== bandwidth" >&2
 echo "kernel,threads,bytes_per_element,repeat,seconds,bytes_per_s" > "$out/bandwidth.csv"
 "$bench" stream 40000000 5 >> "$out/bandwidth.csv"
+fi
 
+if want throughput; then
 echo "== one-thread throughput" >&2
 echo "scheme,elements,ppc,particles,threads,steps,repeat,seconds,particle_steps_per_s" > "$out/throughput.csv"
 for scheme in usf usl musl; do
@@ -35,7 +47,9 @@ for scheme in usf usl musl; do
     "$bench" throughput $scheme $elements 10 $steps "$REPEATS" 1 >> "$out/throughput.csv"
   done
 done
+fi
 
+if want generic; then
 echo "== generic path against the fused kernels (paired, one thread)" >&2
 echo "kernels,scheme,elements,ppc,particles,threads,steps,repeat,seconds,particle_steps_per_s" > "$out/generic.csv"
 for scheme in usf usl musl; do
@@ -47,7 +61,9 @@ for scheme in usf usl musl; do
     done
   done
 done
+fi
 
+if want shapes; then
 echo "== every shape and transfer against linear on the fused kernels (paired, one thread)" >&2
 # each round: the fused linear run of a scheme, then every shape (FLIP) on the generic path, then (USL) every
 # transfer of every shape, and every wide shape with FLIP on the fused kernels (the path a run takes);
@@ -72,7 +88,9 @@ for n in 1000 10000 100000 10000000; do
     done
   done
 done
+fi
 
+if want threads; then
 echo "== threads inside one run" >&2
 head -n 1 "$out/throughput.csv" > "$out/threads.csv"
 for scheme in usf usl musl; do
@@ -85,9 +103,10 @@ for scheme in usf usl musl; do
     done
   done
 done
+fi
 
+if want sweep; then
 echo "== sweep throughput (Table-2 error pass, 1 and 2 threads)" >&2
-mpm1d="$(mpm1d_build)"
 cat > "$out/table2_sweep.nml" <<EOF
 &scene kind='vibrating_bar', length=25.0, youngs_modulus=200.0e9, density=7800.0, velocity_amplitude=0.1, mode=1 /
 &run periods=2.0 /
@@ -104,14 +123,18 @@ for r in $(seq $((REPEATS + 2))); do
     echo "$threads,$r,1200,$(awk -v a="$start" -v b="$end" 'BEGIN { printf "%.4f", b - a }')" >> "$out/sweep.csv"
   done
 done
+fi
 
+if want study; then
 echo "== cost of a study (one period, USL)" >&2
 period=0.019746  # 4 L / c for the default bar (L = 25 m, c = 5064 m/s)
 echo "scheme,elements,ppc,dt_fraction,steps,particles,repeat,seconds" > "$out/study.csv"
 for e in 100 200 400 800; do "$bench" study usl $e 4 0.2 $period "$REPEATS" >> "$out/study.csv"; done
 for p in 1 2 8 16; do "$bench" study usl 200 $p 0.2 $period "$REPEATS" >> "$out/study.csv"; done
 for k in 0.1 0.4 0.8; do "$bench" study usl 200 4 $k $period "$REPEATS" >> "$out/study.csv"; done
+fi
 
+if want memory; then
 echo "== memory" >&2
 echo "particles,elements,max_rss_kib" > "$out/memory.csv"
 for n in 1000 10000000; do
@@ -125,6 +148,74 @@ for n in 1000 1000000; do
          | awk -F: '/Maximum resident set size/ {gsub(/ /, "", $2); print $2}')
   echo "$n,$((n / 10)),$rss" >> "$out/memory_generic.csv"
 done
+fi
+
+if want ratios; then
+echo "== every scene and transfer against the fused bar (whole runs, paired in rounds, one thread)" >&2
+# USL, 2 particles per element, 200 steps, set-up included (run_simulation, as a user starts a run);
+# each round: the fused bar, the bar on the generic path, PIC, blend, APIC, the column, the composite
+# bar, the manufactured solution, the impact (frictionless, stuck), then the bar's kernel alone
+echo "size,round,scheme,run,path,particles,steps,bytes_per_particle,seconds,particle_steps_per_s" > "$out/ratios.csv"
+for n in 10000 1000000; do
+  "$bench" ratios $n 2 200 "$REPEATS" usl | sed "s/^/$n,/" >> "$out/ratios.csv"
+done
+if [ "${CALLGRIND:-0}" = 1 ] && command -v valgrind >/dev/null 2>&1; then
+  # the instructions of each whole run at 1e4 particles (callgrind_annotate's inclusive count of timed_run)
+  echo "run,instructions" > "$out/ratios_callgrind.csv"
+  for run in bar bar_generic bar_pic bar_blend bar_apic column composite_bar manufactured impact_frictionless \
+             impact_none; do
+    valgrind --tool=callgrind --callgrind-out-file="$out/callgrind_ratios_$run.out" "$bench" ratios 10000 2 200 1 usl \
+      $run > /dev/null 2>&1
+    echo "$run,$(callgrind_annotate --inclusive=yes "$out/callgrind_ratios_$run.out" | awk '/timed_run/ {gsub(/,/, "", $1); print $1; exit}')" \
+      >> "$out/ratios_callgrind.csv"
+  done
+fi
+fi
+
+if want table2; then
+echo "== Table-2 error pass against an older build (OLD_MPM1D), 1 and 2 threads" >&2
+# the paper's Table-2 sweeps (USF and USL apart, 600 cases each, no timing pass), this build and
+# $OLD_MPM1D alternately; whole process wall time. CALLGRIND=1: instruction counts, one thread.
+echo "binary,scheme,threads,repeat,seconds" > "$out/table2.csv"
+t2() { # scheme threads file
+  cat <<EOF
+&scene kind='vibrating_bar', length=25.0, youngs_modulus=200.0e9, density=7800.0, velocity_amplitude=0.1, mode=1 /
+&run periods=2.0 /
+&output file='$3' /
+&sweep schemes='$1', elements=1, 3, 7, 10, 20, 50, particles_per_element=1, 2, 3, 4, 5, 6, 7, 8, 9, 10,
+       dt_fractions=0.05, 0.10, 0.15, 0.20, 0.25, 0.30, 0.35, 0.40, 0.45, 0.50, min_time=0, threads=$2,
+       progress=.false. /
+EOF
+}
+binaries="new"; [ -n "${OLD_MPM1D:-}" ] && binaries="new old"
+for r in $(seq $((REPEATS + 2))); do
+  for scheme in usf usl; do
+    for threads in 1 2; do
+      for b in $binaries; do  # alternately, so that both see the same load of this shared machine
+        exe="$mpm1d"; [ "$b" = old ] && exe="$OLD_MPM1D"
+        t2 $scheme $threads "$out/t2_$b.h5" > "$out/t2_$b.nml"
+        start=$EPOCHREALTIME
+        "$exe" "$out/t2_$b.nml" >/dev/null 2>&1
+        end=$EPOCHREALTIME
+        echo "$b,$scheme,$threads,$r,$(awk -v a="$start" -v b="$end" 'BEGIN { printf "%.4f", b - a }')" >> "$out/table2.csv"
+      done
+    done
+  done
+done
+if [ "${CALLGRIND:-0}" = 1 ] && command -v valgrind >/dev/null 2>&1; then
+  echo "binary,scheme,instructions" > "$out/table2_callgrind.csv"
+  for scheme in usf usl; do
+    for b in $binaries; do
+      exe="$mpm1d"; [ "$b" = old ] && exe="$OLD_MPM1D"
+      t2 $scheme 1 "$out/t2_$b.h5" > "$out/t2_$b.nml"
+      valgrind --tool=callgrind --callgrind-out-file="$out/callgrind_${b}_$scheme.out" "$exe" "$out/t2_$b.nml" \
+        > "$out/callgrind_${b}_$scheme.log" 2>&1
+      echo "$b,$scheme,$(awk '/Collected/ {gsub(/,/, "", $4); print $4}' "$out/callgrind_${b}_$scheme.log")" \
+        >> "$out/table2_callgrind.csv"
+    done
+  done
+fi
+fi
 
 "$PYTHON" studies/benchmark/report.py "$out"
 echo "wrote $out/summary.md and $out/benchmark.png" >&2

@@ -1,37 +1,146 @@
-!> The fused specialisation of USF, USL and MUSL for the paper's bar: any shape function (linear; the
-!> wide ones as particles in parts, see mpm_transfer), FLIP, one particle mass and volume, one
-!> material, no external force. Each step is one or two fused passes over the particles
-!> (mpm_transfer), which also carry the next step's
+!> The fused specialisation of USF, USL and MUSL: the paper's bar with any shape function (linear; the
+!> wide ones as particles in parts, see mpm_transfer) and FLIP, one particle mass, volume and modulus,
+!> and, with the hat, its variants: PIC, the blend and APIC; per-particle masses and moduli (a composite
+!> bar); per-particle external forces (a manufactured solution); bodies on stacked fields with
+!> frictionless contact, or a grid origin left of x = 0 (an impact). The scene's grid loads (a body
+!> acceleration, a driven node) are applied where the nodal force is assembled (mpm_grid). Each step is
+!> one or two fused passes over the particles (mpm_transfer), which also carry the next step's
 !> particle-to-grid transfer. The generic path (mpm_schemes over mpm_operations) is the definition;
-!> these kernels are chosen automatically where they apply (mpm_simulation) and must agree with it
-!> to round-off (test_generic).
+!> these kernels are chosen automatically where they apply (fused_choose, from mpm_simulation) and must
+!> agree with it to round-off (test_generic, test_fused_shapes, test_fused_scenes).
 module mpm_fused
    use mpm_kinds, only: dp
-   use mpm_grid, only: grid_t, assemble_nodes, assemble_and_solve, nodal_velocity, solve_momentum
+   use mpm_grid, only: grid_t, assemble_nodes, assemble_and_solve, nodal_velocity, solve_momentum, element_forces
    use mpm_operations, only: mirror_fold
    use mpm_particles, only: particles_t
-   use mpm_shape, only: shape_linear, shape_cpgimp, shape_bspline2, shape_bspline3
+   use mpm_shape, only: shape_linear, shape_cpgimp, shape_bspline2, shape_bspline3, transfer_flip, transfer_pic, &
+                        transfer_blend, transfer_apic
    use mpm_schemes, only: scheme_usf, scheme_usl, scheme_musl
+   use mpm_scene, only: scene_t
+   use mpm_contact, only: bodies_t, touch_test, contact_correct, combine_bodies
    use mpm_transfer, only: pass_totals_t, p2g, fused_pass, pass_usf_stress, pass_usf_move, pass_usl, pass_musl_remap, &
-                           pass_musl_stress, merge_totals, fused_box_t, box_cells
+                           pass_musl_stress, pass_map, pass_map_stress, merge_totals, fused_box_t, box_cells, &
+                           locate_all, variant_bar, variant_pic, variant_blend, variant_apic, variant_material, &
+                           variant_forced, variant_bodies
    implicit none
    private
-   public :: fused_start, fused_step, fused_box_t, fused_shape
+   public :: fused_start, fused_step, fused_box_t, fused_shape, fused_choose, fused_mass, fused_grid_velocity
 
 contains
+
+   !> Whether the fused kernels take a run of shape `kind` (mpm_shape's ids), transfer `transfer` (its
+   !> FLIP fraction for the blend) of `scene` with its placed `particles`, and if so `box`, the kernels'
+   !> description of it (fused_box_t: the shape, and the variant of the hat's kernels). They take:
+   !> - the bar and a scene whose forces are grid loads (the column), every shape with FLIP, the hat with
+   !>   PIC, the blend and APIC: particles of one mass and volume (no per-particle arrays);
+   !> - with the hat and FLIP: per-particle masses and moduli of one volume (the composite bar), per-
+   !>   particle forces (the manufactured solution), bodies each of one mass, volume and modulus, on
+   !>   stacked fields or in one field (the impact).
+   !> Anything else runs on the generic path.
+   function fused_choose(kind, transfer, flip_fraction, scene, particles) result(box)
+      integer, intent(in) :: kind, transfer
+      real(dp), intent(in) :: flip_fraction
+      class(scene_t), intent(in) :: scene
+      type(particles_t), intent(in) :: particles
+      type(fused_box_t) :: box
+      logical :: hat_flip, per_particle
+      box = fused_shape(kind)
+      box%variant = -1  ! (none: the generic path)
+      box%flip_fraction = flip_fraction
+      if (.not. scene%fused_applies()) return
+      hat_flip = kind == shape_linear .and. transfer == transfer_flip
+      per_particle = allocated(particles%mass_of) .or. allocated(particles%volume0_of) .or. &
+                     allocated(particles%youngs_modulus_of)
+      if (allocated(particles%body)) then ! bodies, each of one mass, volume and modulus
+         ! (on stacked fields each its own; in one field, as one body: the same for all)
+         if (hat_flip .and. bodies_uniform(particles, .not. scene%body_fields)) box%variant = variant_bodies
+      else if (scene%has_particle_forces) then
+         if (hat_flip .and. .not. per_particle) box%variant = variant_forced
+      else if (per_particle) then ! several materials of one particle volume
+         if (hat_flip .and. allocated(particles%mass_of) .and. allocated(particles%youngs_modulus_of)) then
+            if (.not. allocated(particles%volume0_of)) then
+               box%variant = variant_material
+            else if (all(particles%volume0_of == particles%volume0)) then
+               box%variant = variant_material
+            end if
+         end if
+      else
+         select case (transfer)
+         case (transfer_flip)
+            box%variant = variant_bar
+         case (transfer_pic)
+            if (kind == shape_linear) box%variant = variant_pic
+         case (transfer_blend)
+            if (kind == shape_linear) box%variant = variant_blend
+         case (transfer_apic)
+            if (kind == shape_linear) box%variant = variant_apic
+         end select
+      end if
+   end function fused_choose
+
+   !> Each body (a contiguous range of particles%body) has one mass, volume and modulus (`together`: all
+   !> bodies the same).
+   pure logical function bodies_uniform(particles, together) result(uniform)
+      type(particles_t), intent(in) :: particles
+      logical, intent(in) :: together
+      integer :: p
+      uniform = allocated(particles%mass_of) .and. allocated(particles%volume0_of) .and. &
+                allocated(particles%youngs_modulus_of)
+      if (.not. uniform) return
+      do p = 2, particles%count
+         if (particles%body(p) /= particles%body(p - 1) .and. .not. together) cycle
+         if (particles%mass_of(p) /= particles%mass_of(p - 1) .or. particles%volume0_of(p) /= particles%volume0_of(p - 1) &
+             .or. particles%youngs_modulus_of(p) /= particles%youngs_modulus_of(p - 1)) then
+            uniform = .false.
+            return
+         end if
+      end do
+   end function bodies_uniform
+
+   !> What the fused kernels' totals%displacement is divided by for u_cm: the particle count where every
+   !> particle has the run's one mass (the kernels sum x - X), else the total mass (they sum m (x - X)).
+   pure real(dp) function fused_mass(particles, box) result(mass)
+      type(particles_t), intent(in) :: particles
+      type(fused_box_t), intent(in) :: box
+      if (box%variant == variant_material .or. box%variant == variant_bodies) then
+         if (allocated(particles%mass_of)) then
+            mass = sum(particles%mass_of)
+            return
+         end if
+      end if
+      mass = particles%count
+   end function fused_mass
 
    !> Initial mapping: element shares of mass, momentum and (USL, MUSL) stress*volume. With particles
    !> in parts (`box`, and the run's `youngs_modulus`): a USL pass of zero time step, which moves
    !> nothing and maps the parts where they are (x + 0, v + 0, sigma + E 0, J (1 + 0) leave every value
-   !> as it is).
-   subroutine fused_start(scheme, particles, grid, totals, box, youngs_modulus)
+   !> as it is). The hat's variants: each particle's cell, then the mapping passes pass_map(_stress)
+   !> (with the scene's forces at t = 0; bodies: on the stacked fields of `bodies`, whose element shares
+   !> are made here) and the energies of the particles as they are. The scene's grid loads are set here.
+   subroutine fused_start(scheme, particles, grid, totals, box, youngs_modulus, scene, bodies)
       integer, intent(in) :: scheme
       type(particles_t), intent(inout) :: particles
       type(grid_t), intent(inout) :: grid
       type(pass_totals_t), intent(out) :: totals
       type(fused_box_t), intent(inout), optional :: box
       real(dp), intent(in), optional :: youngs_modulus
+      class(scene_t), intent(in), optional :: scene
+      type(bodies_t), intent(inout), optional :: bodies
+      if (present(scene)) grid%loads = scene%grid_loads()
       if (present(box)) then
+         if (box%variant /= variant_bar) then
+            if (box%variant == variant_bodies) then
+               call start_bodies(box, particles, grid, bodies)
+               if (size(box%body_element) > 1) then
+                  call start_variant(bodies%fields)
+               else
+                  call start_variant(grid)
+               end if
+            else
+               call start_variant(grid)
+            end if
+            return
+         end if
          if (box%parts) then
             if (scheme /= scheme_usl .and. .not. allocated(box%carry)) allocate (box%carry(particles%count))
             if (.not. allocated(box%carry)) allocate (box%carry(0))
@@ -39,79 +148,214 @@ contains
             call fused_pass(pass_usl, particles, grid, 0.0_dp, youngs_modulus, totals, box)
             return
          end if
+         ! the hat's passes take it too (no carry), so that no pass allocates one
+         if (.not. allocated(box%carry)) allocate (box%carry(0))
       end if
       call p2g(particles, grid, scheme /= scheme_usf, totals)
+   contains
+      subroutine start_variant(fields)
+         type(grid_t), intent(inout) :: fields
+         type(pass_totals_t) :: map_totals
+         if (.not. allocated(box%carry)) allocate (box%carry(0))
+         if (box%variant == variant_forced) then
+            allocate (box%forces(particles%count))
+            call element_forces(fields)
+         end if
+         call locate_all(particles, fields, box)
+         if (box%variant == variant_forced) call scene%particle_forces(0.0_dp, particles, box%forces)
+         call fused_pass(merge(pass_map, pass_map_stress, scheme == scheme_usf), particles, fields, 0.0_dp, &
+                         youngs_modulus, map_totals, box)
+         call initial_energies(particles, youngs_modulus, totals)
+         totals%outside = map_totals%outside
+      end subroutine start_variant
    end subroutine fused_start
 
-   !> One step; on entry the element shares hold this step's P2G, on exit the next step's.
+   !> The bodies' description for the kernels (variant_bodies): each body's particles, mass, volume and
+   !> modulus, and where its field begins in the stacked fields of `bodies` (allocated with element
+   !> shares by bodies_init); without stacked fields (bodies%count = 0: one velocity field) all the
+   !> particles as one body on the run's grid.
+   subroutine start_bodies(box, particles, grid, bodies)
+      type(fused_box_t), intent(inout) :: box
+      type(particles_t), intent(in) :: particles
+      type(grid_t), intent(in) :: grid
+      type(bodies_t), intent(inout) :: bodies
+      integer :: b
+      if (bodies%count == 0) then
+         box%body_first = [1]
+         box%body_last = [particles%count]
+         box%body_mass = [particles%mass_of(1)]
+         box%body_volume0 = [particles%volume0_of(1)]
+         box%body_modulus = [particles%youngs_modulus_of(1)]
+         box%body_element = [1]
+         box%body_cells = grid%elements
+         return
+      end if
+      associate (n => bodies%count)
+         box%body_first = bodies%first
+         box%body_last = bodies%last
+         box%body_mass = particles%mass_of(bodies%first)
+         box%body_volume0 = particles%volume0_of(bodies%first)
+         box%body_modulus = particles%youngs_modulus_of(bodies%first)
+         box%body_element = [((b - 1)*bodies%nodes + 1, b=1, n)]
+         box%body_cells = bodies%nodes - 1
+      end associate
+   end subroutine start_bodies
+
+   !> Kinetic and strain energy and the smallest J of the particles as they are (the variants' start).
+   subroutine initial_energies(particles, youngs_modulus, totals)
+      type(particles_t), intent(in) :: particles
+      real(dp), intent(in) :: youngs_modulus
+      type(pass_totals_t), intent(inout) :: totals
+      integer :: p
+      real(dp) :: m, e, volume0
+      totals%kinetic_energy = 0.0_dp
+      totals%strain_energy = 0.0_dp
+      m = particles%mass
+      e = youngs_modulus
+      volume0 = particles%volume0
+      do p = 1, particles%count
+         if (allocated(particles%mass_of)) m = particles%mass_of(p)
+         if (allocated(particles%youngs_modulus_of)) e = particles%youngs_modulus_of(p)
+         if (allocated(particles%volume0_of)) volume0 = particles%volume0_of(p)
+         totals%kinetic_energy = totals%kinetic_energy + 0.5_dp*m*particles%v(p)**2
+         totals%strain_energy = totals%strain_energy + 0.5_dp*particles%stress(p)**2*particles%volume_ratio(p)*volume0/e
+      end do
+      totals%min_volume_ratio = minval(particles%volume_ratio)
+   end subroutine initial_energies
+
+   !> One step from time t (the scene's per-particle forces are evaluated at the start of the step they
+   !> are mapped for); on entry the element shares hold this step's P2G, on exit the next step's.
    !> USF: nodal velocity -> stress update and its internal force -> momentum update -> G2P fused with
    !> the next mass and momentum shares. USL: momentum update -> one pass of G2P, stress update and the
    !> next P2G. MUSL: momentum update -> G2P with the new momentum mapped back -> nodal velocity ->
    !> stress update fused with the next P2G.
    !> With particles in parts (fused_start's `box`) the nodal sums are reflected at a mirrored fixed
    !> end before they are used (mirror_fold, as on the generic path: the wide shapes' grid has a ghost
-   !> cell there).
-   subroutine fused_step(scheme, particles, grid, dt, youngs_modulus, totals, box)
+   !> cell there). Bodies on stacked fields (`bodies`): the passes on its fields, the contact correction
+   !> after each nodal velocity and momentum update (as scheme_step_bodies), the run's grid their sum.
+   subroutine fused_step(scheme, particles, grid, dt, youngs_modulus, totals, box, scene, t, bodies)
       integer, intent(in) :: scheme
       type(particles_t), intent(inout) :: particles
       type(grid_t), intent(inout) :: grid
       real(dp), intent(in) :: dt, youngs_modulus
       type(pass_totals_t), intent(out) :: totals
       type(fused_box_t), intent(inout), optional :: box
+      class(scene_t), intent(in), optional :: scene
+      real(dp), intent(in), optional :: t
+      type(bodies_t), intent(inout), optional :: bodies
       type(pass_totals_t) :: stress_totals
-      logical :: wide
+      logical :: wide, with_box, forced, stacked
       wide = .false.
-      if (present(box)) wide = box%parts
-      select case (scheme)
-      case (scheme_usf)
-         call kinematics()
-         call pass(pass_usf_stress, stress_totals)
-         if (wide) then
-            call solve()
-         else ! the force assembled in the solve (mass and momentum are assembled already)
-            call solve_momentum(grid, dt, .true.)
-         end if
-         call pass(pass_usf_move, totals)
-         call merge_totals(totals, stress_totals)
-      case (scheme_usl)
-         call solve()
-         call pass(pass_usl, totals)
-      case (scheme_musl)
-         call solve()
-         call pass(pass_musl_remap, totals)
-         call kinematics()
-         call pass(pass_musl_stress, stress_totals)
-         call merge_totals(totals, stress_totals)
-      end select
+      with_box = .false.
+      forced = .false.
+      stacked = .false.
+      if (present(box)) then
+         wide = box%parts
+         with_box = allocated(box%carry)
+         forced = box%variant == variant_forced
+         if (box%variant == variant_bodies) stacked = size(box%body_element) > 1
+      end if
+      if (stacked) then
+         call touch_test(bodies, particles, grid%dx)
+         call step_on(bodies%fields)
+         call combine_bodies(bodies, grid)
+      else
+         call step_on(grid)
+      end if
    contains
-      !> Nodal mass and momentum (reflected at a mirrored end: wide shapes), then the nodal velocity.
-      subroutine kinematics()
-         call assemble_nodes(grid, .false.)
-         if (wide) call mirror_fold(grid, .true., .false.)
-         call nodal_velocity(grid)
+      !> The step on the nodal fields g (the run's grid, or the bodies' stacked fields).
+      subroutine step_on(g)
+         type(grid_t), intent(inout) :: g
+         select case (scheme)
+         case (scheme_usf)
+            call kinematics(g)
+            if (forced) call forces_at(t)
+            call pass(g, pass_usf_stress, stress_totals)
+            if (wide) then
+               call solve(g)
+            else ! the force assembled in the solve (mass and momentum are assembled already)
+               call solve_momentum(g, dt, .true.)
+               call contact(g, dt)
+            end if
+            call pass(g, pass_usf_move, totals)
+            call merge_totals(totals, stress_totals)
+         case (scheme_usl)
+            call solve(g)
+            if (forced) call forces_at(t + dt)
+            call pass(g, pass_usl, totals)
+         case (scheme_musl)
+            call solve(g)
+            call pass(g, pass_musl_remap, totals)
+            call kinematics(g)
+            if (forced) call forces_at(t + dt)
+            call pass(g, pass_musl_stress, stress_totals)
+            call merge_totals(totals, stress_totals)
+         end select
+      end subroutine step_on
+      !> Nodal mass and momentum (reflected at a mirrored end: wide shapes), then the nodal velocity
+      !> (and the contact correction of bodies).
+      subroutine kinematics(g)
+         type(grid_t), intent(inout) :: g
+         call assemble_nodes(g, .false.)
+         if (wide) call mirror_fold(g, .true., .false.)
+         call nodal_velocity(g)
+         call contact(g, 0.0_dp)
       end subroutine kinematics
-      !> Nodal mass, momentum and force (reflected: wide shapes), then the momentum update; the hat's
-      !> grid has no ghost, and assembles and solves chunk by chunk.
-      subroutine solve()
+      !> Nodal mass, momentum and force (reflected: wide shapes), then the momentum update (and the
+      !> contact correction of bodies); the hat's grid has no ghost, and assembles and solves chunk by chunk.
+      subroutine solve(g)
+         type(grid_t), intent(inout) :: g
          if (wide) then
-            call assemble_nodes(grid, .true.)
-            call mirror_fold(grid, .true., .true.)
-            call solve_momentum(grid, dt, .false.)
+            call assemble_nodes(g, .true.)
+            call mirror_fold(g, .true., .true.)
+            call solve_momentum(g, dt, .false.)
          else
-            call assemble_and_solve(grid, dt)
+            call assemble_and_solve(g, dt)
          end if
+         call contact(g, dt)
       end subroutine solve
-      !> One fused pass, with the particles' parts when they have some.
-      subroutine pass(kind, pass_totals)
+      !> Bodies on stacked fields: approaching bodies share their centre-of-mass velocity (mpm_contact).
+      subroutine contact(g, step)
+         type(grid_t), intent(inout) :: g
+         real(dp), intent(in) :: step
+         if (stacked) call contact_correct(g, bodies%nodes, bodies%normal, bodies%touching, step, bodies%contact_nodes)
+      end subroutine contact
+      !> The scene's per-particle forces at time `at` (the variant `forced`).
+      subroutine forces_at(at)
+         real(dp), intent(in) :: at
+         if (forced) call scene%particle_forces(at, particles, box%forces)
+      end subroutine forces_at
+      !> One fused pass, with the particles' parts (or variant) when they have some.
+      subroutine pass(g, kind, pass_totals)
+         type(grid_t), intent(inout) :: g
          integer, intent(in) :: kind
          type(pass_totals_t), intent(out) :: pass_totals
-         if (wide) then
-            call fused_pass(kind, particles, grid, dt, youngs_modulus, pass_totals, box)
+         if (with_box) then
+            call fused_pass(kind, particles, g, dt, youngs_modulus, pass_totals, box)
          else
-            call fused_pass(kind, particles, grid, dt, youngs_modulus, pass_totals)
+            call fused_pass(kind, particles, g, dt, youngs_modulus, pass_totals)
          end if
       end subroutine pass
    end subroutine fused_step
+
+   !> The nodal velocity p_I / m_I of the mapping the element shares hold (the run's grid; bodies on
+   !> stacked fields: each body's, then their sum on the run's grid), reflected at a mirrored end.
+   subroutine fused_grid_velocity(grid, box, bodies)
+      type(grid_t), intent(inout) :: grid
+      type(fused_box_t), intent(in) :: box
+      type(bodies_t), intent(inout) :: bodies
+      if (box%variant == variant_bodies) then
+         if (size(box%body_element) > 1) then
+            call assemble_nodes(bodies%fields, .false.)
+            call nodal_velocity(bodies%fields)
+            call combine_bodies(bodies, grid)
+            return
+         end if
+      end if
+      call assemble_nodes(grid, .false.)
+      call mirror_fold(grid, .true., .false.)
+      call nodal_velocity(grid)
+   end subroutine fused_grid_velocity
 
    !> The fused kernels' description of shape `kind` (mpm_shape's ids): the hat, or a particle in parts
    !> (GIMP's box, fixed or stretched; the B-splines, in two parts or, cubic, three).

@@ -41,8 +41,7 @@ module mpm_transfer
    use mpm_particles, only: particles_t, bytes_per_particle, permute
    use mpm_diagnostics, only: pass_totals_t
    use mpm_shape_range, only: infinity_bits
-   use mpm_lanes, only: block_size, lanes, largest_move_t, add_lanes, min_lanes, lane_total, track_largest_move, &
-                        furthest_particle
+   use mpm_lanes, only: block_size, lanes, largest_move_t
    implicit none
    private
    !> The fused passes (fused_pass; what each does: the table before the segment kernels):
@@ -56,10 +55,16 @@ module mpm_transfer
    !>                     (start-of-step) shape functions (mass shares unchanged)
    !>   pass_musl_stress  MUSL, second pass: stress update from the remapped nodal velocities, then
    !>                     mass, momentum and stress*volume at the new positions
+   !>   pass_map          the initial mapping of mass and momentum at the particles' positions (the
+   !>                     variants' kernels; the bar's is p2g), pass_map_stress with stress*volume too
    integer, parameter, public :: pass_usf_move = 1, pass_usf_stress = 2, pass_usl = 3, pass_musl_remap = 4, &
-                                 pass_musl_stress = 5
+                                 pass_musl_stress = 5, pass_map = 6, pass_map_stress = 7
+   !> The kernel families (fused_box_t%variant): the bar's (FLIP, one mass, volume and modulus; every
+   !> shape) and the hat's variants (see the kernels' table below).
+   integer, parameter, public :: variant_bar = 0, variant_pic = 1, variant_blend = 2, variant_apic = 3, &
+                                 variant_material = 4, variant_forced = 5, variant_bodies = 6
    public :: pass_totals_t, clear_element_shares, merge_totals
-   public :: p2g, fused_pass, fused_box_t, box_cells
+   public :: p2g, fused_pass, fused_box_t, box_cells, locate_all
 
    public :: parallel_threshold, segment_particles
 
@@ -71,17 +76,23 @@ module mpm_transfer
    integer, parameter :: segment_particles = 8192
 
    !> Which element shares a pass scatters (bit set).
-   integer, parameter :: share_mass = 1, share_momentum = 2, share_stress = 4
+   integer, parameter :: share_mass = 1, share_momentum = 2, share_stress = 4, share_force = 8
+   !> Sums a run of the bar's kernels carries per element (count, sum xi, sum v, sum xi v, sum sigma V).
+   integer, parameter :: run_sums = 5
 
    !> What each pass does, by pass id (the one place that says it: the segment kernel compiles from
    !> these, fused_pass finishes by them): G2P, stress update, a new cell for each particle, the
    !> element shares it scatters.
-   logical, parameter :: pass_moves(5) = [.true., .false., .true., .true., .false.]
-   logical, parameter :: pass_stresses(5) = [.false., .true., .true., .false., .true.]
-   logical, parameter :: pass_relocates(5) = [.true., .false., .true., .false., .true.]
-   integer, parameter :: pass_shares(5) = [share_mass + share_momentum, share_stress, &
+   !> (The external forces of the variant `forced` go with the stress: pass_force_shares.)
+   logical, parameter :: pass_moves(7) = [.true., .false., .true., .true., .false., .false., .false.]
+   logical, parameter :: pass_stresses(7) = [.false., .true., .true., .false., .true., .false., .false.]
+   logical, parameter :: pass_relocates(7) = [.true., .false., .true., .false., .true., .true., .true.]
+   integer, parameter :: pass_shares(7) = [share_mass + share_momentum, share_stress, &
                                            share_mass + share_momentum + share_stress, share_momentum, &
+                                           share_mass + share_momentum + share_stress, share_mass + share_momentum, &
                                            share_mass + share_momentum + share_stress]
+   !> The shares of pass `kind` when the particles carry external forces: the stress's and the forces'.
+   integer, parameter :: pass_force_shares(7) = pass_shares + merge(share_force, 0, iand(pass_shares, share_stress) /= 0)
 
 
    !> Runs whose particle data exceed this many bytes (most of this machine's 32 MiB L3 cache) stream
@@ -97,11 +108,15 @@ module mpm_transfer
 
    !> The scalars of a segment kernel: the grid's element count, origin and 1/dx, the time step,
    !> Young's modulus, the particles' mass and initial volume, and (GIMP) the initial box half-length
-   !> V0/2 and whether the box stretches with J (cpGIMP).
+   !> V0/2 and whether the box stretches with J (cpGIMP); the blend's FLIP fraction, dx (APIC); for
+   !> bodies on stacked fields the segment's body: its elements (one body's field; `elements` is then
+   !> the body's), mass, volume and modulus, and its cells' offset in the stacked numbering.
    type :: pass_constants_t
       integer :: elements
       real(dp) :: origin, inv_dx, dt, youngs_modulus, mass, volume0, half_length0
       logical :: stretch
+      real(dp) :: flip_fraction = 1.0_dp, dx = 0.0_dp
+      integer :: offset = 0
    end type pass_constants_t
 
    !> The particles' shape on the fused path: the hat (default) or a particle in two parts (`parts`,
@@ -112,9 +127,19 @@ module mpm_transfer
    !> stress pass (the particle has moved since); USF's move pass keeps the new r2 for the next step's
    !> stress pass (which then needs no box), and that pass keeps J at the start of the step in its
    !> place for the move pass (cpGIMP's box).
+   !> Beyond the shape, the kernel family (`variant`, one of variant_*: the bar's, or a variant of the
+   !> hat's: PIC, the blend (its FLIP fraction), APIC, per-particle masses and moduli, per-particle
+   !> external forces (`forces`, N per unit area, set before each pass that maps them), bodies on stacked
+   !> fields (their particles first .. last, mass, volume and modulus, and the first stacked element of each)).
    type :: fused_box_t
       logical :: parts = .false., stretch = .false., spline = .false., cubic = .false.
       real(dp), allocatable :: carry(:)
+      integer :: variant = variant_bar
+      real(dp) :: flip_fraction = 1.0_dp
+      real(dp), allocatable :: forces(:)
+      integer, allocatable :: body_first(:), body_last(:), body_element(:)
+      real(dp), allocatable :: body_mass(:), body_volume0(:), body_modulus(:)
+      integer :: body_cells = 0  !< the cells of one body's field
    end type fused_box_t
 
    interface
@@ -129,10 +154,12 @@ module mpm_transfer
    !> The run of particles in one element that a kernel is summing (element 0: none yet).
    type :: run_t
       integer :: cur = 0
-      real(dp) :: a(share_count) = 0.0_dp
+      real(dp) :: a(run_sums) = 0.0_dp
       !> Particles in parts: the sums of the next element and (three parts) of the one before (see
       !> accumulate_boxes, accumulate_thirds)
-      real(dp) :: b(share_count) = 0.0_dp, z(share_count) = 0.0_dp
+      real(dp) :: b(run_sums) = 0.0_dp, z(run_sums) = 0.0_dp
+      !> The variants' run of whole shares (accumulate_shares)
+      real(dp) :: s(share_count) = 0.0_dp
    end type run_t
 
 
@@ -208,6 +235,39 @@ contains
       if (.not. sorted .and. grid%segments%count > 1 .and. totals%outside == 0) call sort_by_cell(particles, grid)
    end subroutine p2g
 
+   !> The first step of the variants' initial mapping (the hat's; mpm_fused's fused_start maps them then
+   !> by pass_map or pass_map_stress): each particle's cell (in its body's field for bodies on stacked
+   !> fields), the segments (cut where a body's field begins), and the particles sorted by cell when they
+   !> are not (unless one is outside the grid: the run stops at its first step).
+   subroutine locate_all(particles, grid, box)
+      type(particles_t), intent(inout) :: particles
+      type(grid_t), intent(inout) :: grid
+      type(fused_box_t), intent(in) :: box
+      integer :: p, b
+      real(dp) :: xi
+      b = 1
+      do p = 1, particles%count
+         if (allocated(box%body_element)) then
+            do while (p > box%body_last(b) .and. b < size(box%body_last))
+               b = b + 1
+            end do
+            call locate_body_cell(particles%x(p), grid%origin, grid%inv_dx, box%body_cells, &
+                                  transfer(real(box%body_cells, dp), 0_i8), box%body_element(b) - 1, particles%cell(p), xi)
+         else
+            call locate_cell(particles%x(p), grid%inv_dx, grid%elements, transfer(real(grid%elements, dp), 0_i8), &
+                             particles%cell(p), xi)
+         end if
+      end do
+      if (allocated(box%body_element)) then
+         call plan_segments(grid, particles%count, box%body_element)
+      else
+         call plan_segments(grid, particles%count)
+      end if
+      if (particles%count < 2) return
+      if (any(particles%cell(2:) < particles%cell(:particles%count - 1)) .and. all(particles%cell > 0)) &
+         call sort_by_cell(particles, grid)
+   end subroutine locate_all
+
    !> One fused pass over the particles (`pass`, one of the pass_* constants): its segments (on
    !> threads when the run is large, see over_segments), then the halo shares and totals in a fixed
    !> order (finish_pass). The passes that update the stress from the element's velocity difference
@@ -226,7 +286,11 @@ contains
       if (pass_stresses(pass) .and. .not. pass_moves(pass)) call strain_increments(grid, dt)
       if (present(box)) then
          call over_segments(particles, grid, pass, dt, youngs_modulus, box)
-         call finish_pass(particles, grid, pass_shares(pass), pass_relocates(pass), totals, box)
+         if (box%variant == variant_forced) then
+            call finish_pass(particles, grid, pass_force_shares(pass), pass_relocates(pass), totals, box)
+         else
+            call finish_pass(particles, grid, pass_shares(pass), pass_relocates(pass), totals, box)
+         end if
       else
          allocate (hat%carry(0))
          call over_segments(particles, grid, pass, dt, youngs_modulus, hat)
@@ -350,12 +414,118 @@ contains
       real(dp), intent(in) :: dt, youngs_modulus
       type(fused_box_t), intent(inout) :: box
       integer :: k
+      logical :: threaded
       procedure(usl_segment), pointer :: kernel
       type(pass_constants_t) :: constants
       constants = pass_constants_t(grid%elements, grid%origin, grid%inv_dx, dt, youngs_modulus, particles%mass, &
-                                   particles%volume0, 0.5_dp*particles%volume0, box%stretch)
+                                   particles%volume0, 0.5_dp*particles%volume0, box%stretch, box%flip_fraction, grid%dx, 0)
       ! the kernel of the particles' shape and the pass (every kernel has usl_segment's interface)
-      if (box%cubic) then
+      if (box%variant /= variant_bar) then ! a variant of the hat's
+         select case (box%variant)
+         case (variant_pic)
+            select case (kind)
+            case (pass_usf_move)
+               kernel => pic_usf_move_segment
+            case (pass_usf_stress)
+               kernel => pic_usf_stress_segment
+            case (pass_usl)
+               kernel => pic_usl_segment
+            case (pass_musl_remap)
+               kernel => pic_musl_remap_segment
+            case (pass_musl_stress)
+               kernel => pic_musl_stress_segment
+            case (pass_map)
+               kernel => pic_map_segment
+            case default
+               kernel => pic_map_stress_segment
+            end select
+         case (variant_blend)
+            select case (kind)
+            case (pass_usf_move)
+               kernel => blend_usf_move_segment
+            case (pass_usf_stress)
+               kernel => blend_usf_stress_segment
+            case (pass_usl)
+               kernel => blend_usl_segment
+            case (pass_musl_remap)
+               kernel => blend_musl_remap_segment
+            case (pass_musl_stress)
+               kernel => blend_musl_stress_segment
+            case (pass_map)
+               kernel => blend_map_segment
+            case default
+               kernel => blend_map_stress_segment
+            end select
+         case (variant_apic)
+            select case (kind)
+            case (pass_usf_move)
+               kernel => apic_usf_move_segment
+            case (pass_usf_stress)
+               kernel => apic_usf_stress_segment
+            case (pass_usl)
+               kernel => apic_usl_segment
+            case (pass_musl_remap)
+               kernel => apic_musl_remap_segment
+            case (pass_musl_stress)
+               kernel => apic_musl_stress_segment
+            case (pass_map)
+               kernel => apic_map_segment
+            case default
+               kernel => apic_map_stress_segment
+            end select
+         case (variant_material)
+            select case (kind)
+            case (pass_usf_move)
+               kernel => material_usf_move_segment
+            case (pass_usf_stress)
+               kernel => material_usf_stress_segment
+            case (pass_usl)
+               kernel => material_usl_segment
+            case (pass_musl_remap)
+               kernel => material_musl_remap_segment
+            case (pass_musl_stress)
+               kernel => material_musl_stress_segment
+            case (pass_map)
+               kernel => material_map_segment
+            case default
+               kernel => material_map_stress_segment
+            end select
+         case (variant_forced)
+            select case (kind)
+            case (pass_usf_move)
+               kernel => forced_usf_move_segment
+            case (pass_usf_stress)
+               kernel => forced_usf_stress_segment
+            case (pass_usl)
+               kernel => forced_usl_segment
+            case (pass_musl_remap)
+               kernel => forced_musl_remap_segment
+            case (pass_musl_stress)
+               kernel => forced_musl_stress_segment
+            case (pass_map)
+               kernel => forced_map_segment
+            case default
+               kernel => forced_map_stress_segment
+            end select
+         case default
+            select case (kind)
+            case (pass_usf_move)
+               kernel => bodies_usf_move_segment
+            case (pass_usf_stress)
+               kernel => bodies_usf_stress_segment
+            case (pass_usl)
+               kernel => bodies_usl_segment
+            case (pass_musl_remap)
+               kernel => bodies_musl_remap_segment
+            case (pass_musl_stress)
+               kernel => bodies_musl_stress_segment
+            case (pass_map)
+               kernel => bodies_map_segment
+            case default
+               kernel => bodies_map_stress_segment
+            end select
+         end select
+      else if (box%cubic) then
          select case (kind)
          case (pass_usf_move)
             kernel => bspline3_usf_move_segment
@@ -421,7 +591,11 @@ contains
             kernel => musl_stress_segment
          end select
       end if
-      if (grid%segments%count > 1 .and. .not. omp_in_parallel()) then
+      ! threads for a large run only (a run of bodies has a segment per body however small it is), and not
+      ! inside a parallel region (a sweep); omp_in_parallel, a library call, only then
+      threaded = .false.
+      if (grid%segments%count > 1 .and. particles%count >= parallel_threshold) threaded = .not. omp_in_parallel()
+      if (threaded) then
          !$omp parallel do default(shared) private(k) schedule(dynamic, 4)
          do k = 1, grid%segments%count
             call segment(k)
@@ -433,12 +607,30 @@ contains
          end do
       end if
    contains
+      !> Segment k's kernel (the per-particle arrays a run does not have are passed unallocated: absent).
       subroutine segment(k)
          integer, intent(in) :: k
+         type(pass_constants_t) :: body_constants
+         integer :: b
+         if (allocated(box%body_element)) then ! bodies on stacked fields: the segment's body's
+            b = body_of_element(box, grid%segments%first_element(k))
+            body_constants = constants
+            body_constants%elements = box%body_cells
+            body_constants%mass = box%body_mass(b)
+            body_constants%volume0 = box%body_volume0(b)
+            body_constants%youngs_modulus = box%body_modulus(b)
+            body_constants%offset = box%body_element(b) - 1
+            call kernel(k, grid%segments, particles%x, particles%x0, particles%v, particles%stress, &
+                        particles%volume_ratio, particles%cell, grid%acceleration, grid%velocity, grid%element_strain, &
+                        grid%element_mass_left, grid%element_mass_right, grid%element_momentum_left, &
+                        grid%element_momentum_right, grid%element_stress_volume, body_constants, box%carry)
+            return
+         end if
          call kernel(k, grid%segments, particles%x, particles%x0, particles%v, particles%stress, particles%volume_ratio, &
                      particles%cell, grid%acceleration, grid%velocity, grid%element_strain, grid%element_mass_left, &
                      grid%element_mass_right, grid%element_momentum_left, grid%element_momentum_right, &
-                     grid%element_stress_volume, constants, box%carry)
+                     grid%element_stress_volume, constants, box%carry, particles%mass_of, particles%youngs_modulus_of, &
+                     box%forces, particles%velocity_gradient, grid%element_force_left, grid%element_force_right)
       end subroutine segment
    end subroutine over_segments
 
@@ -493,16 +685,29 @@ contains
 
    !> Cut the run into segments of whole elements, about `segment_particles` particles each
    !> (one segment below `parallel_threshold`). Allocates only when the plan changes size.
-   subroutine plan_segments(grid, count)
+   !> With `breaks` (bodies on stacked fields: the first element of each body's field), each body's
+   !> elements are cut so, and no segment holds two bodies' elements.
+   subroutine plan_segments(grid, count, breaks)
       type(grid_t), intent(inout) :: grid
       integer, intent(in) :: count
-      integer :: per, n, k
+      integer, intent(in), optional :: breaks(:)
+      integer :: per, n, k, b, e
+      integer, allocatable :: starts(:)
       if (count < parallel_threshold .or. grid%elements < 2) then
          per = grid%elements
       else
          per = max(1, nint(real(segment_particles, dp)*grid%elements/count))
       end if
-      n = (grid%elements + per - 1)/per
+      if (present(breaks)) then ! each body's range [breaks(b), breaks(b + 1) - 1] in segments of per elements
+         allocate (starts(0))
+         do b = 1, size(breaks)
+            e = merge(breaks(b + 1), grid%elements + 1, b < size(breaks))
+            starts = [starts, (k, k=breaks(b), e - 1, per)]
+         end do
+         n = size(starts)
+      else
+         n = (grid%elements + per - 1)/per
+      end if
       associate (seg => grid%segments)
          if (seg%count /= n .or. .not. allocated(seg%first_element)) then
             if (allocated(seg%first_element)) deallocate (seg%first_element, seg%first_particle, seg%halo_left, &
@@ -515,7 +720,11 @@ contains
                       seg%last_cell(n), seg%unsorted(n), seg%far(n))
          end if
          seg%count = n
-         seg%first_element = [(min(1 + (k - 1)*per, grid%elements + 1), k=1, n + 1)]
+         if (present(breaks)) then
+            seg%first_element = [starts, grid%elements + 1]
+         else
+            seg%first_element = [(min(1 + (k - 1)*per, grid%elements + 1), k=1, n + 1)]
+         end if
          seg%first_element(n + 1) = grid%elements + 1
          seg%first_particle = 0  ! no earlier ranges to start the search from
          seg%prefetch = int(count, i8)*bytes_per_particle > prefetch_bytes
@@ -643,6 +852,10 @@ contains
          grid%element_momentum_right(e) = grid%element_momentum_right(e) + a(4)
       end if
       if (iand(shares, share_stress) /= 0) grid%element_stress_volume(e) = grid%element_stress_volume(e) + a(5)
+      if (iand(shares, share_force) /= 0) then
+         grid%element_force_left(e) = grid%element_force_left(e) + a(6)
+         grid%element_force_right(e) = grid%element_force_right(e) + a(7)
+      end if
    end subroutine add_share_set
 
    !> Particles that moved more than one element past their segment (the cell-crossing guard stops
@@ -652,9 +865,13 @@ contains
       type(grid_t), intent(inout) :: grid
       integer, intent(in) :: shares
       type(fused_box_t), intent(in) :: box
-      integer :: k, p, c, lo, hi, i, flag
+      integer :: k, p, c, lo, hi, i, flag, b
       real(dp) :: xi, m, r1, r2, r3, t1, t2, q1, q2, q3
       m = particles%mass
+      if (box%variant /= variant_bar) then
+         call add_far_variants()
+         return
+      end if
       associate (seg => grid%segments)
          do k = 1, seg%count
             if (.not. seg%far(k)) cycle
@@ -692,9 +909,68 @@ contains
          a(3) = (r - q)*m*particles%v(p)
          a(4) = q*m*particles%v(p)
          a(5) = r*particles%stress(p)*particles%volume_ratio(p)*particles%volume0
+         a(6:7) = 0.0_dp
          call add_share_set(grid, c, a, shares)
       end subroutine add_part
+      !> The far movers of the hat's variants: their whole shares as the variant's kernels form them.
+      subroutine add_far_variants()
+         real(dp) :: a(share_count), mp, volume0, w, cq, origin
+         integer :: offset
+         associate (seg => grid%segments)
+            do k = 1, seg%count
+               if (.not. seg%far(k)) cycle
+               lo = seg%first_element(k)
+               hi = seg%first_element(k + 1) - 1
+               do p = seg%first_particle(k), seg%first_particle(k + 1) - 1
+                  c = particles%cell(p)
+                  if (c >= lo - 1 .and. c <= hi + 1) cycle
+                  mp = m
+                  volume0 = particles%volume0
+                  offset = 0
+                  origin = 0.0_dp
+                  if (box%variant == variant_material) mp = particles%mass_of(p)
+                  if (allocated(box%body_element)) then
+                     b = body_of_element(box, c)
+                     mp = box%body_mass(b)
+                     volume0 = box%body_volume0(b)
+                     offset = box%body_element(b) - 1
+                     origin = grid%origin
+                  end if
+                  xi = (particles%x(p) - origin)*grid%inv_dx - (c - offset - 1)
+                  a = 0.0_dp
+                  a(2) = mp*xi
+                  a(1) = mp - a(2)
+                  if (box%variant == variant_apic) then
+                     cq = particles%velocity_gradient(p)
+                     w = particles%v(p) - cq*xi*grid%dx
+                     a(3) = a(1)*w
+                     a(4) = a(2)*(w + cq*grid%dx)
+                  else
+                     a(3) = a(1)*particles%v(p)
+                     a(4) = a(2)*particles%v(p)
+                  end if
+                  a(5) = particles%stress(p)*particles%volume_ratio(p)*volume0
+                  if (box%variant == variant_forced) then
+                     a(7) = box%forces(p)*xi
+                     a(6) = box%forces(p) - a(7)
+                  end if
+                  call add_share_set(grid, c, a, shares)
+               end do
+            end do
+         end associate
+      end subroutine add_far_variants
    end subroutine add_far_movers
+
+   !> The body whose stacked field holds element e (bodies on stacked fields).
+   pure integer function body_of_element(box, e) result(b)
+      type(fused_box_t), intent(in) :: box
+      integer, intent(in) :: e
+      b = 1
+      do while (b < size(box%body_element))
+         if (e < box%body_element(b + 1)) exit
+         b = b + 1
+      end do
+   end function body_of_element
 
    !> Stable counting sort of the particles by cell (rare: only when particles overtake each other
    !> across an element boundary, which the bar never does). Allocates its work arrays here.
@@ -767,9 +1043,9 @@ contains
          call add_own_shares(c, shares, s1, s2, s3, s4, a5, mass_left, mass_right, momentum_left, momentum_right, &
                              stress_volume)
       else if (c == lo - 1) then
-         seg%halo_left(:, k) = seg%halo_left(:, k) + [s1, s2, s3, s4, a5]
+         seg%halo_left(1:run_sums, k) = seg%halo_left(1:run_sums, k) + [s1, s2, s3, s4, a5]
       else if (c == hi + 1) then
-         seg%halo_right(:, k) = seg%halo_right(:, k) + [s1, s2, s3, s4, a5]
+         seg%halo_right(1:run_sums, k) = seg%halo_right(1:run_sums, k) + [s1, s2, s3, s4, a5]
       else
          seg%far(k) = .true.
       end if
@@ -777,11 +1053,13 @@ contains
 
    !> Segment bookkeeping at the start of a kernel: clear its own elements' shares and its halo.
    pure subroutine open_segment(k, shares, seg, mass_left, mass_right, momentum_left, momentum_right, stress_volume, &
-                                first, last, lo, hi)
+                                first, last, lo, hi, force_left, force_right)
       integer, intent(in) :: k, shares
       type(segments_t), intent(inout) :: seg
       real(dp), intent(inout), contiguous :: mass_left(:), mass_right(:), momentum_left(:), momentum_right(:), stress_volume(:)
       integer, intent(out) :: first, last, lo, hi
+      !> the element shares of external forces (when the pass scatters them)
+      real(dp), intent(inout), contiguous, optional :: force_left(:), force_right(:)
       first = seg%first_particle(k)
       last = seg%first_particle(k + 1) - 1
       lo = seg%first_element(k)
@@ -795,6 +1073,10 @@ contains
          momentum_right(lo:hi) = 0.0_dp
       end if
       if (iand(shares, share_stress) /= 0) stress_volume(lo:hi) = 0.0_dp
+      if (iand(shares, share_force) /= 0) then
+         force_left(lo:hi) = 0.0_dp
+         force_right(lo:hi) = 0.0_dp
+      end if
       seg%halo_left(:, k) = 0.0_dp
       seg%halo_right(:, k) = 0.0_dp
       seg%far(k) = .false.
@@ -881,6 +1163,26 @@ contains
       cell = min(int(s) + 1, elements)*int(1_i8 - ishft(ior(bits, elements_bits - bits), -63))
       xi = s - (cell - 1)
    end subroutine locate_cell
+
+   !> locate_cell in one body's field of a stacked grid (the variant `bodies`) from a grid origin anywhere:
+   !> the body's own cell and local coordinate from (x - origin)/dx, the cell then offset by `offset` into
+   !> the stacked numbering (0 outside the body's field).
+   elemental subroutine locate_body_cell(x, origin, inv_dx, elements, elements_bits, offset, cell, xi)
+      real(dp), intent(in) :: x, origin, inv_dx
+      integer, intent(in) :: elements, offset
+      integer(i8), intent(in) :: elements_bits  !< transfer(real(elements, dp), 0_i8)
+      integer, intent(out) :: cell
+      real(dp), intent(out) :: xi
+      real(dp) :: s
+      integer(i8) :: bits
+      integer :: inside, local
+      s = (x - origin)*inv_dx
+      bits = transfer(s, 0_i8)
+      inside = int(1_i8 - ishft(ior(bits, elements_bits - bits), -63))
+      local = min(int(s) + 1, elements)*inside
+      cell = local + offset*inside
+      xi = s - (local - 1)
+   end subroutine locate_body_cell
 
    !> G2P of one particle in element e with its start-of-step shape functions: v += dt sum N a_I,
    !> x += dt sum N v_I. Also gives the particle's local coordinate xi (before the move) and its
@@ -1015,7 +1317,7 @@ contains
          if (with_stress) a5 = a5 + sv(i)
       end do
       run%cur = cur
-      run%a = [real(na, dp), a2, a3, a4, a5]
+      run%a(1:run_sums) = [real(na, dp), a2, a3, a4, a5]
    end subroutine accumulate_block
 
    !> Phase B of the GIMP kernels (accumulate_block for boxes): each box adds its left part to its cell
@@ -1182,6 +1484,120 @@ contains
       run%b = [b1, b2, b3, b4, b5]
    end subroutine accumulate_thirds
 
+   !> Phase B of the hat's variants whose shares are not the bar's (APIC's affine momentum, per-particle
+   !> masses, per-particle forces): each particle's whole shares were formed in phase A, sh(i, :) = mass,
+   !> momentum at the left and right node, stress*volume, external force at the left and right node
+   !> (those of the pass's `shares`); a run of particles in one element sums them in particle order (in
+   !> registers) and adds them once (flush_sums). Cells 0 are skipped, as in accumulate_block.
+   subroutine accumulate_shares(k, n, cells, sh, lo, hi, shares, run, mass_left, mass_right, momentum_left, &
+                                momentum_right, stress_volume, seg, force_left, force_right)
+      integer, intent(in) :: k, n, lo, hi, shares
+      integer, intent(in) :: cells(:)
+      real(dp), intent(in) :: sh(:, :)
+      type(run_t), intent(inout) :: run
+      real(dp), intent(inout), contiguous :: mass_left(:), mass_right(:), momentum_left(:), momentum_right(:), &
+                                             stress_volume(:)
+      type(segments_t), intent(inout) :: seg
+      real(dp), intent(inout), contiguous, optional :: force_left(:), force_right(:)
+      integer :: i, c, cur
+      real(dp) :: a1, a2, a3, a4, a5, a6, a7
+      logical :: with_mass, with_momentum, with_stress, with_force
+      with_mass = iand(shares, share_mass) /= 0
+      with_momentum = iand(shares, share_momentum) /= 0
+      with_stress = iand(shares, share_stress) /= 0
+      with_force = iand(shares, share_force) /= 0
+      cur = run%cur
+      a1 = run%s(1); a2 = run%s(2); a3 = run%s(3); a4 = run%s(4); a5 = run%s(5); a6 = run%s(6); a7 = run%s(7)
+      i = 1
+      do while (i <= n)
+         c = cells(i)
+         if (c /= cur) then
+            if (c == 0) then
+               i = i + 1
+               cycle
+            end if
+            if (cur >= lo .and. cur <= hi) then
+               ! the segment's own element (the common case): flush_sums' adds written out, so that no
+               ! array of the seven sums is stored and passed per element (13 % of a manufactured-solution
+               ! step's instructions went to that call)
+               if (with_mass) then
+                  mass_left(cur) = mass_left(cur) + a1
+                  mass_right(cur) = mass_right(cur) + a2
+               end if
+               if (with_momentum) then
+                  momentum_left(cur) = momentum_left(cur) + a3
+                  momentum_right(cur) = momentum_right(cur) + a4
+               end if
+               if (with_stress) stress_volume(cur) = stress_volume(cur) + a5
+               if (with_force) then
+                  force_left(cur) = force_left(cur) + a6
+                  force_right(cur) = force_right(cur) + a7
+               end if
+            else if (cur /= 0) then
+               call flush_sums(k, cur, lo, hi, shares, [a1, a2, a3, a4, a5, a6, a7], mass_left, mass_right, &
+                               momentum_left, momentum_right, stress_volume, seg, force_left, force_right)
+            end if
+            if (c < cur) seg%unsorted(k) = .true.
+            if (cur == 0) seg%first_cell(k) = c
+            cur = c
+            a1 = 0; a2 = 0; a3 = 0; a4 = 0; a5 = 0; a6 = 0; a7 = 0
+         end if
+         ! the run of particles in cell cur: sums only (a loop of its own: see accumulate_boxes)
+         do while (i <= n)
+            if (cells(i) /= cur) exit
+            if (with_mass) then
+               a1 = a1 + sh(i, 1)
+               a2 = a2 + sh(i, 2)
+            end if
+            if (with_momentum) then
+               a3 = a3 + sh(i, 3)
+               a4 = a4 + sh(i, 4)
+            end if
+            if (with_stress) a5 = a5 + sh(i, 5)
+            if (with_force) then
+               a6 = a6 + sh(i, 6)
+               a7 = a7 + sh(i, 7)
+            end if
+            i = i + 1
+         end do
+      end do
+      run%cur = cur
+      run%s = [a1, a2, a3, a4, a5, a6, a7]
+   end subroutine accumulate_shares
+
+   !> Add the whole shares a(:) of a run of particles in element c (accumulate_shares) to the grid (own
+   !> element) or to the halo (a neighbour segment's element); further away: the segment's far movers.
+   subroutine flush_sums(k, c, lo, hi, shares, a, mass_left, mass_right, momentum_left, momentum_right, &
+                         stress_volume, seg, force_left, force_right)
+      integer, intent(in) :: k, c, lo, hi, shares
+      real(dp), intent(in) :: a(share_count)
+      real(dp), intent(inout), contiguous :: mass_left(:), mass_right(:), momentum_left(:), momentum_right(:), &
+                                             stress_volume(:)
+      type(segments_t), intent(inout) :: seg
+      real(dp), intent(inout), contiguous, optional :: force_left(:), force_right(:)
+      if (c >= lo .and. c <= hi) then
+         if (iand(shares, share_mass) /= 0) then
+            mass_left(c) = mass_left(c) + a(1)
+            mass_right(c) = mass_right(c) + a(2)
+         end if
+         if (iand(shares, share_momentum) /= 0) then
+            momentum_left(c) = momentum_left(c) + a(3)
+            momentum_right(c) = momentum_right(c) + a(4)
+         end if
+         if (iand(shares, share_stress) /= 0) stress_volume(c) = stress_volume(c) + a(5)
+         if (iand(shares, share_force) /= 0) then
+            force_left(c) = force_left(c) + a(6)
+            force_right(c) = force_right(c) + a(7)
+         end if
+      else if (c == lo - 1) then
+         seg%halo_left(:, k) = seg%halo_left(:, k) + a
+      else if (c == hi + 1) then
+         seg%halo_right(:, k) = seg%halo_right(:, k) + a
+      else
+         seg%far(k) = .true.
+      end if
+   end subroutine flush_sums
+
    !> Flush the open run and record the segment's totals.
    subroutine close_segment(k, shares, m, run, sums, min_j, max_move, furthest, outside, mass_left, mass_right, &
                             momentum_left, momentum_right, stress_volume, seg)
@@ -1225,7 +1641,8 @@ contains
    !> USF, second half: G2P, then mass and momentum at the new position (the hat)
    subroutine usf_move_segment(k, seg, x, x0, v, stress, volume_ratio, cell, acceleration, velocity, &
                                strain_increment_of, mass_left, mass_right, momentum_left, momentum_right, &
-                               stress_volume, constants, carry)
+                               stress_volume, constants, carry, mass_of, modulus_of, forces, gradient, force_left, &
+                               force_right)
       integer, parameter :: kernel = pass_usf_move
       logical, parameter :: moves = pass_moves(kernel), stresses = pass_stresses(kernel), relocates = pass_relocates(kernel)
       integer, parameter :: shares = pass_shares(kernel)
@@ -1239,12 +1656,21 @@ contains
       real(dp), intent(inout), contiguous :: mass_left(:), mass_right(:), momentum_left(:), momentum_right(:), stress_volume(:)
       type(pass_constants_t), intent(in) :: constants
       real(dp), intent(inout), contiguous :: carry(:)  !< particles in parts: what a pass keeps for the next (fused_box_t)
+      !> the variants' per-particle data (absent when the run has none): masses and Young's moduli
+      !> (`material`), external forces (`forced`), APIC's velocity gradients C_p, and the element shares of
+      !> the forces
+      real(dp), intent(in), contiguous, optional :: mass_of(:), modulus_of(:), forces(:)
+      real(dp), intent(inout), contiguous, optional :: gradient(:), force_left(:), force_right(:)
       integer :: p, e, i, n, b0, first, last, lo, hi, outside, ahead, elements
       real(dp) :: half_m, strain_factor, dstrain, inv_dx, dt, youngs_modulus, m, volume0
       type(largest_move_t) :: largest
       real(dp) :: displacement(lanes), kinetic(lanes), strain(lanes), min_j(lanes)
       integer :: cb(block_size)
-      real(dp) :: svb(block_size), db(block_size), kb(block_size), sb(block_size), jb(block_size), mb(block_size)
+      real(dp) :: svb(block_size), db(block_size), kb(block_size), sb(block_size), jb(block_size)
+      real(dp) :: mb(block_size, 2)  !< the moves of a block, and of the block with the largest (lanes_track_move)
+      integer :: slot
+      real(dp) :: lane_max(lanes), block_max
+      integer :: lane_i, lane_r
       type(run_t) :: run
       integer(i8) :: elements_bits
       real(dp) :: xi, xib(block_size), vpb(block_size)
@@ -1257,6 +1683,7 @@ contains
       call open_segment(k, shares, seg, mass_left, mass_right, momentum_left, momentum_right, stress_volume, first, last, &
                         lo, hi)
       displacement = 0; kinetic = 0; strain = 0; min_j = huge(1.0_dp)
+      slot = 1
       outside = 0
       elements_bits = transfer(real(elements, dp), 0_i8)
       half_m = 0.5_dp*m
@@ -1281,7 +1708,7 @@ contains
             e = cell(p)
             ! G2P with the start-of-step shape functions
             if (moves) call g2p_particle(e, acceleration(e - 1), acceleration(e), velocity(e - 1), velocity(e), inv_dx, &
-                                         dt, half_m, x0(p), x(p), v(p), xi, db(i), kb(i), mb(i))
+                                         dt, half_m, x0(p), x(p), v(p), xi, db(i), kb(i), mb(i, slot))
             if (stresses) then ! d eps = dt sum dN v_I over the start-of-step cell
                if (moves) then
                   dstrain = strain_increment(velocity(e - 1), velocity(e), dt, inv_dx)
@@ -1301,28 +1728,59 @@ contains
             end if
             if (moves .or. relocates) vpb(i) = v(p)
          end do
+         ! the block's totals (macros of mpm_lanes.fypi, expanded here)
          if (moves) then
-            call add_lanes(n, db, displacement)
-            call add_lanes(n, kb, kinetic)
-            call track_largest_move(n, b0, mb, largest)
+            do lane_i = 1, n - lanes + 1, lanes
+               displacement = displacement + db(lane_i:lane_i + lanes - 1)
+            end do
+            lane_r = mod(n, lanes)
+            if (lane_r > 0) displacement(1:lane_r) = displacement(1:lane_r) + db(n - lane_r + 1:n)
+            do lane_i = 1, n - lanes + 1, lanes
+               kinetic = kinetic + kb(lane_i:lane_i + lanes - 1)
+            end do
+            lane_r = mod(n, lanes)
+            if (lane_r > 0) kinetic(1:lane_r) = kinetic(1:lane_r) + kb(n - lane_r + 1:n)
+            lane_max = 0.0_dp
+            do lane_i = 1, n - lanes + 1, lanes
+               lane_max = max(lane_max, mb(lane_i:lane_i + lanes - 1, slot))
+            end do
+            lane_r = mod(n, lanes)
+            if (lane_r > 0) lane_max(1:lane_r) = max(lane_max(1:lane_r), mb(n - lane_r + 1:n, slot))
+            block_max = maxval(lane_max)
+            if (block_max > largest%value) then
+               largest%value = block_max
+               largest%first = b0
+               largest%count = n
+               largest%slot = slot
+               slot = 3 - slot
+            end if
          end if
          if (stresses) then
-            call add_lanes(n, sb, strain)
-            call min_lanes(n, jb, min_j)
+            do lane_i = 1, n - lanes + 1, lanes
+               strain = strain + sb(lane_i:lane_i + lanes - 1)
+            end do
+            lane_r = mod(n, lanes)
+            if (lane_r > 0) strain(1:lane_r) = strain(1:lane_r) + sb(n - lane_r + 1:n)
+            do lane_i = 1, n - lanes + 1, lanes
+               min_j = min(min_j, jb(lane_i:lane_i + lanes - 1))
+            end do
+            lane_r = mod(n, lanes)
+            if (lane_r > 0) min_j(1:lane_r) = min(min_j(1:lane_r), jb(n - lane_r + 1:n))
          end if
          if (relocates) call find_outside(n, b0, cb, outside)
          call accumulate_block(k, n, cb, xib, vpb, svb, m, lo, hi, shares, run, mass_left, mass_right, momentum_left, &
                                momentum_right, stress_volume, seg)
       end do
       call close_segment(k, shares, m, run, [lane_total(displacement), lane_total(kinetic), lane_total(strain)], &
-                         minval(min_j), largest%value, furthest_particle(largest), outside, mass_left, mass_right, &
+                         minval(min_j), largest%value, furthest_particle(largest, mb), outside, mass_left, mass_right, &
                          momentum_left, momentum_right, stress_volume, seg)
    end subroutine usf_move_segment
 
    !> USF, first half: stress update, then stress*volume of the unmoved particles (the hat)
    subroutine usf_stress_segment(k, seg, x, x0, v, stress, volume_ratio, cell, acceleration, velocity, &
                                  strain_increment_of, mass_left, mass_right, momentum_left, momentum_right, &
-                                 stress_volume, constants, carry)
+                                 stress_volume, constants, carry, mass_of, modulus_of, forces, gradient, force_left, &
+                                 force_right)
       integer, parameter :: kernel = pass_usf_stress
       logical, parameter :: moves = pass_moves(kernel), stresses = pass_stresses(kernel), relocates = pass_relocates(kernel)
       integer, parameter :: shares = pass_shares(kernel)
@@ -1336,12 +1794,21 @@ contains
       real(dp), intent(inout), contiguous :: mass_left(:), mass_right(:), momentum_left(:), momentum_right(:), stress_volume(:)
       type(pass_constants_t), intent(in) :: constants
       real(dp), intent(inout), contiguous :: carry(:)  !< particles in parts: what a pass keeps for the next (fused_box_t)
+      !> the variants' per-particle data (absent when the run has none): masses and Young's moduli
+      !> (`material`), external forces (`forced`), APIC's velocity gradients C_p, and the element shares of
+      !> the forces
+      real(dp), intent(in), contiguous, optional :: mass_of(:), modulus_of(:), forces(:)
+      real(dp), intent(inout), contiguous, optional :: gradient(:), force_left(:), force_right(:)
       integer :: p, e, i, n, b0, first, last, lo, hi, outside, ahead, elements
       real(dp) :: half_m, strain_factor, dstrain, inv_dx, dt, youngs_modulus, m, volume0
       type(largest_move_t) :: largest
       real(dp) :: displacement(lanes), kinetic(lanes), strain(lanes), min_j(lanes)
       integer :: cb(block_size)
-      real(dp) :: svb(block_size), db(block_size), kb(block_size), sb(block_size), jb(block_size), mb(block_size)
+      real(dp) :: svb(block_size), db(block_size), kb(block_size), sb(block_size), jb(block_size)
+      real(dp) :: mb(block_size, 2)  !< the moves of a block, and of the block with the largest (lanes_track_move)
+      integer :: slot
+      real(dp) :: lane_max(lanes), block_max
+      integer :: lane_i, lane_r
       type(run_t) :: run
       integer(i8) :: elements_bits
       real(dp) :: xi, xib(block_size), vpb(block_size)
@@ -1354,6 +1821,7 @@ contains
       call open_segment(k, shares, seg, mass_left, mass_right, momentum_left, momentum_right, stress_volume, first, last, &
                         lo, hi)
       displacement = 0; kinetic = 0; strain = 0; min_j = huge(1.0_dp)
+      slot = 1
       outside = 0
       elements_bits = transfer(real(elements, dp), 0_i8)
       half_m = 0.5_dp*m
@@ -1378,7 +1846,7 @@ contains
             e = cell(p)
             ! G2P with the start-of-step shape functions
             if (moves) call g2p_particle(e, acceleration(e - 1), acceleration(e), velocity(e - 1), velocity(e), inv_dx, &
-                                         dt, half_m, x0(p), x(p), v(p), xi, db(i), kb(i), mb(i))
+                                         dt, half_m, x0(p), x(p), v(p), xi, db(i), kb(i), mb(i, slot))
             if (stresses) then ! d eps = dt sum dN v_I over the start-of-step cell
                if (moves) then
                   dstrain = strain_increment(velocity(e - 1), velocity(e), dt, inv_dx)
@@ -1398,28 +1866,59 @@ contains
             end if
             if (moves .or. relocates) vpb(i) = v(p)
          end do
+         ! the block's totals (macros of mpm_lanes.fypi, expanded here)
          if (moves) then
-            call add_lanes(n, db, displacement)
-            call add_lanes(n, kb, kinetic)
-            call track_largest_move(n, b0, mb, largest)
+            do lane_i = 1, n - lanes + 1, lanes
+               displacement = displacement + db(lane_i:lane_i + lanes - 1)
+            end do
+            lane_r = mod(n, lanes)
+            if (lane_r > 0) displacement(1:lane_r) = displacement(1:lane_r) + db(n - lane_r + 1:n)
+            do lane_i = 1, n - lanes + 1, lanes
+               kinetic = kinetic + kb(lane_i:lane_i + lanes - 1)
+            end do
+            lane_r = mod(n, lanes)
+            if (lane_r > 0) kinetic(1:lane_r) = kinetic(1:lane_r) + kb(n - lane_r + 1:n)
+            lane_max = 0.0_dp
+            do lane_i = 1, n - lanes + 1, lanes
+               lane_max = max(lane_max, mb(lane_i:lane_i + lanes - 1, slot))
+            end do
+            lane_r = mod(n, lanes)
+            if (lane_r > 0) lane_max(1:lane_r) = max(lane_max(1:lane_r), mb(n - lane_r + 1:n, slot))
+            block_max = maxval(lane_max)
+            if (block_max > largest%value) then
+               largest%value = block_max
+               largest%first = b0
+               largest%count = n
+               largest%slot = slot
+               slot = 3 - slot
+            end if
          end if
          if (stresses) then
-            call add_lanes(n, sb, strain)
-            call min_lanes(n, jb, min_j)
+            do lane_i = 1, n - lanes + 1, lanes
+               strain = strain + sb(lane_i:lane_i + lanes - 1)
+            end do
+            lane_r = mod(n, lanes)
+            if (lane_r > 0) strain(1:lane_r) = strain(1:lane_r) + sb(n - lane_r + 1:n)
+            do lane_i = 1, n - lanes + 1, lanes
+               min_j = min(min_j, jb(lane_i:lane_i + lanes - 1))
+            end do
+            lane_r = mod(n, lanes)
+            if (lane_r > 0) min_j(1:lane_r) = min(min_j(1:lane_r), jb(n - lane_r + 1:n))
          end if
          if (relocates) call find_outside(n, b0, cb, outside)
          call accumulate_block(k, n, cb, xib, vpb, svb, m, lo, hi, shares, run, mass_left, mass_right, momentum_left, &
                                momentum_right, stress_volume, seg)
       end do
       call close_segment(k, shares, m, run, [lane_total(displacement), lane_total(kinetic), lane_total(strain)], &
-                         minval(min_j), largest%value, furthest_particle(largest), outside, mass_left, mass_right, &
+                         minval(min_j), largest%value, furthest_particle(largest, mb), outside, mass_left, mass_right, &
                          momentum_left, momentum_right, stress_volume, seg)
    end subroutine usf_stress_segment
 
    !> USL: G2P, stress update from the updated nodal velocities, P2G at the new position (the hat)
    subroutine usl_segment(k, seg, x, x0, v, stress, volume_ratio, cell, acceleration, velocity, &
                           strain_increment_of, mass_left, mass_right, momentum_left, momentum_right, &
-                          stress_volume, constants, carry)
+                          stress_volume, constants, carry, mass_of, modulus_of, forces, gradient, force_left, &
+                          force_right)
       integer, parameter :: kernel = pass_usl
       logical, parameter :: moves = pass_moves(kernel), stresses = pass_stresses(kernel), relocates = pass_relocates(kernel)
       integer, parameter :: shares = pass_shares(kernel)
@@ -1433,12 +1932,21 @@ contains
       real(dp), intent(inout), contiguous :: mass_left(:), mass_right(:), momentum_left(:), momentum_right(:), stress_volume(:)
       type(pass_constants_t), intent(in) :: constants
       real(dp), intent(inout), contiguous :: carry(:)  !< particles in parts: what a pass keeps for the next (fused_box_t)
+      !> the variants' per-particle data (absent when the run has none): masses and Young's moduli
+      !> (`material`), external forces (`forced`), APIC's velocity gradients C_p, and the element shares of
+      !> the forces
+      real(dp), intent(in), contiguous, optional :: mass_of(:), modulus_of(:), forces(:)
+      real(dp), intent(inout), contiguous, optional :: gradient(:), force_left(:), force_right(:)
       integer :: p, e, i, n, b0, first, last, lo, hi, outside, ahead, elements
       real(dp) :: half_m, strain_factor, dstrain, inv_dx, dt, youngs_modulus, m, volume0
       type(largest_move_t) :: largest
       real(dp) :: displacement(lanes), kinetic(lanes), strain(lanes), min_j(lanes)
       integer :: cb(block_size)
-      real(dp) :: svb(block_size), db(block_size), kb(block_size), sb(block_size), jb(block_size), mb(block_size)
+      real(dp) :: svb(block_size), db(block_size), kb(block_size), sb(block_size), jb(block_size)
+      real(dp) :: mb(block_size, 2)  !< the moves of a block, and of the block with the largest (lanes_track_move)
+      integer :: slot
+      real(dp) :: lane_max(lanes), block_max
+      integer :: lane_i, lane_r
       type(run_t) :: run
       integer(i8) :: elements_bits
       real(dp) :: xi, xib(block_size), vpb(block_size)
@@ -1451,6 +1959,7 @@ contains
       call open_segment(k, shares, seg, mass_left, mass_right, momentum_left, momentum_right, stress_volume, first, last, &
                         lo, hi)
       displacement = 0; kinetic = 0; strain = 0; min_j = huge(1.0_dp)
+      slot = 1
       outside = 0
       elements_bits = transfer(real(elements, dp), 0_i8)
       half_m = 0.5_dp*m
@@ -1475,7 +1984,7 @@ contains
             e = cell(p)
             ! G2P with the start-of-step shape functions
             if (moves) call g2p_particle(e, acceleration(e - 1), acceleration(e), velocity(e - 1), velocity(e), inv_dx, &
-                                         dt, half_m, x0(p), x(p), v(p), xi, db(i), kb(i), mb(i))
+                                         dt, half_m, x0(p), x(p), v(p), xi, db(i), kb(i), mb(i, slot))
             if (stresses) then ! d eps = dt sum dN v_I over the start-of-step cell
                if (moves) then
                   dstrain = strain_increment(velocity(e - 1), velocity(e), dt, inv_dx)
@@ -1495,28 +2004,59 @@ contains
             end if
             if (moves .or. relocates) vpb(i) = v(p)
          end do
+         ! the block's totals (macros of mpm_lanes.fypi, expanded here)
          if (moves) then
-            call add_lanes(n, db, displacement)
-            call add_lanes(n, kb, kinetic)
-            call track_largest_move(n, b0, mb, largest)
+            do lane_i = 1, n - lanes + 1, lanes
+               displacement = displacement + db(lane_i:lane_i + lanes - 1)
+            end do
+            lane_r = mod(n, lanes)
+            if (lane_r > 0) displacement(1:lane_r) = displacement(1:lane_r) + db(n - lane_r + 1:n)
+            do lane_i = 1, n - lanes + 1, lanes
+               kinetic = kinetic + kb(lane_i:lane_i + lanes - 1)
+            end do
+            lane_r = mod(n, lanes)
+            if (lane_r > 0) kinetic(1:lane_r) = kinetic(1:lane_r) + kb(n - lane_r + 1:n)
+            lane_max = 0.0_dp
+            do lane_i = 1, n - lanes + 1, lanes
+               lane_max = max(lane_max, mb(lane_i:lane_i + lanes - 1, slot))
+            end do
+            lane_r = mod(n, lanes)
+            if (lane_r > 0) lane_max(1:lane_r) = max(lane_max(1:lane_r), mb(n - lane_r + 1:n, slot))
+            block_max = maxval(lane_max)
+            if (block_max > largest%value) then
+               largest%value = block_max
+               largest%first = b0
+               largest%count = n
+               largest%slot = slot
+               slot = 3 - slot
+            end if
          end if
          if (stresses) then
-            call add_lanes(n, sb, strain)
-            call min_lanes(n, jb, min_j)
+            do lane_i = 1, n - lanes + 1, lanes
+               strain = strain + sb(lane_i:lane_i + lanes - 1)
+            end do
+            lane_r = mod(n, lanes)
+            if (lane_r > 0) strain(1:lane_r) = strain(1:lane_r) + sb(n - lane_r + 1:n)
+            do lane_i = 1, n - lanes + 1, lanes
+               min_j = min(min_j, jb(lane_i:lane_i + lanes - 1))
+            end do
+            lane_r = mod(n, lanes)
+            if (lane_r > 0) min_j(1:lane_r) = min(min_j(1:lane_r), jb(n - lane_r + 1:n))
          end if
          if (relocates) call find_outside(n, b0, cb, outside)
          call accumulate_block(k, n, cb, xib, vpb, svb, m, lo, hi, shares, run, mass_left, mass_right, momentum_left, &
                                momentum_right, stress_volume, seg)
       end do
       call close_segment(k, shares, m, run, [lane_total(displacement), lane_total(kinetic), lane_total(strain)], &
-                         minval(min_j), largest%value, furthest_particle(largest), outside, mass_left, mass_right, &
+                         minval(min_j), largest%value, furthest_particle(largest, mb), outside, mass_left, mass_right, &
                          momentum_left, momentum_right, stress_volume, seg)
    end subroutine usl_segment
 
    !> MUSL, first pass: G2P, and the new momentum back to the start-of-step nodes (the hat)
    subroutine musl_remap_segment(k, seg, x, x0, v, stress, volume_ratio, cell, acceleration, velocity, &
                                  strain_increment_of, mass_left, mass_right, momentum_left, momentum_right, &
-                                 stress_volume, constants, carry)
+                                 stress_volume, constants, carry, mass_of, modulus_of, forces, gradient, force_left, &
+                                 force_right)
       integer, parameter :: kernel = pass_musl_remap
       logical, parameter :: moves = pass_moves(kernel), stresses = pass_stresses(kernel), relocates = pass_relocates(kernel)
       integer, parameter :: shares = pass_shares(kernel)
@@ -1530,12 +2070,21 @@ contains
       real(dp), intent(inout), contiguous :: mass_left(:), mass_right(:), momentum_left(:), momentum_right(:), stress_volume(:)
       type(pass_constants_t), intent(in) :: constants
       real(dp), intent(inout), contiguous :: carry(:)  !< particles in parts: what a pass keeps for the next (fused_box_t)
+      !> the variants' per-particle data (absent when the run has none): masses and Young's moduli
+      !> (`material`), external forces (`forced`), APIC's velocity gradients C_p, and the element shares of
+      !> the forces
+      real(dp), intent(in), contiguous, optional :: mass_of(:), modulus_of(:), forces(:)
+      real(dp), intent(inout), contiguous, optional :: gradient(:), force_left(:), force_right(:)
       integer :: p, e, i, n, b0, first, last, lo, hi, outside, ahead, elements
       real(dp) :: half_m, strain_factor, dstrain, inv_dx, dt, youngs_modulus, m, volume0
       type(largest_move_t) :: largest
       real(dp) :: displacement(lanes), kinetic(lanes), strain(lanes), min_j(lanes)
       integer :: cb(block_size)
-      real(dp) :: svb(block_size), db(block_size), kb(block_size), sb(block_size), jb(block_size), mb(block_size)
+      real(dp) :: svb(block_size), db(block_size), kb(block_size), sb(block_size), jb(block_size)
+      real(dp) :: mb(block_size, 2)  !< the moves of a block, and of the block with the largest (lanes_track_move)
+      integer :: slot
+      real(dp) :: lane_max(lanes), block_max
+      integer :: lane_i, lane_r
       type(run_t) :: run
       integer(i8) :: elements_bits
       real(dp) :: xi, xib(block_size), vpb(block_size)
@@ -1548,6 +2097,7 @@ contains
       call open_segment(k, shares, seg, mass_left, mass_right, momentum_left, momentum_right, stress_volume, first, last, &
                         lo, hi)
       displacement = 0; kinetic = 0; strain = 0; min_j = huge(1.0_dp)
+      slot = 1
       outside = 0
       elements_bits = transfer(real(elements, dp), 0_i8)
       half_m = 0.5_dp*m
@@ -1572,7 +2122,7 @@ contains
             e = cell(p)
             ! G2P with the start-of-step shape functions
             if (moves) call g2p_particle(e, acceleration(e - 1), acceleration(e), velocity(e - 1), velocity(e), inv_dx, &
-                                         dt, half_m, x0(p), x(p), v(p), xi, db(i), kb(i), mb(i))
+                                         dt, half_m, x0(p), x(p), v(p), xi, db(i), kb(i), mb(i, slot))
             if (stresses) then ! d eps = dt sum dN v_I over the start-of-step cell
                if (moves) then
                   dstrain = strain_increment(velocity(e - 1), velocity(e), dt, inv_dx)
@@ -1592,28 +2142,59 @@ contains
             end if
             if (moves .or. relocates) vpb(i) = v(p)
          end do
+         ! the block's totals (macros of mpm_lanes.fypi, expanded here)
          if (moves) then
-            call add_lanes(n, db, displacement)
-            call add_lanes(n, kb, kinetic)
-            call track_largest_move(n, b0, mb, largest)
+            do lane_i = 1, n - lanes + 1, lanes
+               displacement = displacement + db(lane_i:lane_i + lanes - 1)
+            end do
+            lane_r = mod(n, lanes)
+            if (lane_r > 0) displacement(1:lane_r) = displacement(1:lane_r) + db(n - lane_r + 1:n)
+            do lane_i = 1, n - lanes + 1, lanes
+               kinetic = kinetic + kb(lane_i:lane_i + lanes - 1)
+            end do
+            lane_r = mod(n, lanes)
+            if (lane_r > 0) kinetic(1:lane_r) = kinetic(1:lane_r) + kb(n - lane_r + 1:n)
+            lane_max = 0.0_dp
+            do lane_i = 1, n - lanes + 1, lanes
+               lane_max = max(lane_max, mb(lane_i:lane_i + lanes - 1, slot))
+            end do
+            lane_r = mod(n, lanes)
+            if (lane_r > 0) lane_max(1:lane_r) = max(lane_max(1:lane_r), mb(n - lane_r + 1:n, slot))
+            block_max = maxval(lane_max)
+            if (block_max > largest%value) then
+               largest%value = block_max
+               largest%first = b0
+               largest%count = n
+               largest%slot = slot
+               slot = 3 - slot
+            end if
          end if
          if (stresses) then
-            call add_lanes(n, sb, strain)
-            call min_lanes(n, jb, min_j)
+            do lane_i = 1, n - lanes + 1, lanes
+               strain = strain + sb(lane_i:lane_i + lanes - 1)
+            end do
+            lane_r = mod(n, lanes)
+            if (lane_r > 0) strain(1:lane_r) = strain(1:lane_r) + sb(n - lane_r + 1:n)
+            do lane_i = 1, n - lanes + 1, lanes
+               min_j = min(min_j, jb(lane_i:lane_i + lanes - 1))
+            end do
+            lane_r = mod(n, lanes)
+            if (lane_r > 0) min_j(1:lane_r) = min(min_j(1:lane_r), jb(n - lane_r + 1:n))
          end if
          if (relocates) call find_outside(n, b0, cb, outside)
          call accumulate_block(k, n, cb, xib, vpb, svb, m, lo, hi, shares, run, mass_left, mass_right, momentum_left, &
                                momentum_right, stress_volume, seg)
       end do
       call close_segment(k, shares, m, run, [lane_total(displacement), lane_total(kinetic), lane_total(strain)], &
-                         minval(min_j), largest%value, furthest_particle(largest), outside, mass_left, mass_right, &
+                         minval(min_j), largest%value, furthest_particle(largest, mb), outside, mass_left, mass_right, &
                          momentum_left, momentum_right, stress_volume, seg)
    end subroutine musl_remap_segment
 
    !> MUSL, second pass: stress update from the remapped velocities, P2G at the new position (the hat)
    subroutine musl_stress_segment(k, seg, x, x0, v, stress, volume_ratio, cell, acceleration, velocity, &
                                   strain_increment_of, mass_left, mass_right, momentum_left, momentum_right, &
-                                  stress_volume, constants, carry)
+                                  stress_volume, constants, carry, mass_of, modulus_of, forces, gradient, force_left, &
+                                  force_right)
       integer, parameter :: kernel = pass_musl_stress
       logical, parameter :: moves = pass_moves(kernel), stresses = pass_stresses(kernel), relocates = pass_relocates(kernel)
       integer, parameter :: shares = pass_shares(kernel)
@@ -1627,12 +2208,21 @@ contains
       real(dp), intent(inout), contiguous :: mass_left(:), mass_right(:), momentum_left(:), momentum_right(:), stress_volume(:)
       type(pass_constants_t), intent(in) :: constants
       real(dp), intent(inout), contiguous :: carry(:)  !< particles in parts: what a pass keeps for the next (fused_box_t)
+      !> the variants' per-particle data (absent when the run has none): masses and Young's moduli
+      !> (`material`), external forces (`forced`), APIC's velocity gradients C_p, and the element shares of
+      !> the forces
+      real(dp), intent(in), contiguous, optional :: mass_of(:), modulus_of(:), forces(:)
+      real(dp), intent(inout), contiguous, optional :: gradient(:), force_left(:), force_right(:)
       integer :: p, e, i, n, b0, first, last, lo, hi, outside, ahead, elements
       real(dp) :: half_m, strain_factor, dstrain, inv_dx, dt, youngs_modulus, m, volume0
       type(largest_move_t) :: largest
       real(dp) :: displacement(lanes), kinetic(lanes), strain(lanes), min_j(lanes)
       integer :: cb(block_size)
-      real(dp) :: svb(block_size), db(block_size), kb(block_size), sb(block_size), jb(block_size), mb(block_size)
+      real(dp) :: svb(block_size), db(block_size), kb(block_size), sb(block_size), jb(block_size)
+      real(dp) :: mb(block_size, 2)  !< the moves of a block, and of the block with the largest (lanes_track_move)
+      integer :: slot
+      real(dp) :: lane_max(lanes), block_max
+      integer :: lane_i, lane_r
       type(run_t) :: run
       integer(i8) :: elements_bits
       real(dp) :: xi, xib(block_size), vpb(block_size)
@@ -1645,6 +2235,7 @@ contains
       call open_segment(k, shares, seg, mass_left, mass_right, momentum_left, momentum_right, stress_volume, first, last, &
                         lo, hi)
       displacement = 0; kinetic = 0; strain = 0; min_j = huge(1.0_dp)
+      slot = 1
       outside = 0
       elements_bits = transfer(real(elements, dp), 0_i8)
       half_m = 0.5_dp*m
@@ -1669,7 +2260,7 @@ contains
             e = cell(p)
             ! G2P with the start-of-step shape functions
             if (moves) call g2p_particle(e, acceleration(e - 1), acceleration(e), velocity(e - 1), velocity(e), inv_dx, &
-                                         dt, half_m, x0(p), x(p), v(p), xi, db(i), kb(i), mb(i))
+                                         dt, half_m, x0(p), x(p), v(p), xi, db(i), kb(i), mb(i, slot))
             if (stresses) then ! d eps = dt sum dN v_I over the start-of-step cell
                if (moves) then
                   dstrain = strain_increment(velocity(e - 1), velocity(e), dt, inv_dx)
@@ -1689,28 +2280,59 @@ contains
             end if
             if (moves .or. relocates) vpb(i) = v(p)
          end do
+         ! the block's totals (macros of mpm_lanes.fypi, expanded here)
          if (moves) then
-            call add_lanes(n, db, displacement)
-            call add_lanes(n, kb, kinetic)
-            call track_largest_move(n, b0, mb, largest)
+            do lane_i = 1, n - lanes + 1, lanes
+               displacement = displacement + db(lane_i:lane_i + lanes - 1)
+            end do
+            lane_r = mod(n, lanes)
+            if (lane_r > 0) displacement(1:lane_r) = displacement(1:lane_r) + db(n - lane_r + 1:n)
+            do lane_i = 1, n - lanes + 1, lanes
+               kinetic = kinetic + kb(lane_i:lane_i + lanes - 1)
+            end do
+            lane_r = mod(n, lanes)
+            if (lane_r > 0) kinetic(1:lane_r) = kinetic(1:lane_r) + kb(n - lane_r + 1:n)
+            lane_max = 0.0_dp
+            do lane_i = 1, n - lanes + 1, lanes
+               lane_max = max(lane_max, mb(lane_i:lane_i + lanes - 1, slot))
+            end do
+            lane_r = mod(n, lanes)
+            if (lane_r > 0) lane_max(1:lane_r) = max(lane_max(1:lane_r), mb(n - lane_r + 1:n, slot))
+            block_max = maxval(lane_max)
+            if (block_max > largest%value) then
+               largest%value = block_max
+               largest%first = b0
+               largest%count = n
+               largest%slot = slot
+               slot = 3 - slot
+            end if
          end if
          if (stresses) then
-            call add_lanes(n, sb, strain)
-            call min_lanes(n, jb, min_j)
+            do lane_i = 1, n - lanes + 1, lanes
+               strain = strain + sb(lane_i:lane_i + lanes - 1)
+            end do
+            lane_r = mod(n, lanes)
+            if (lane_r > 0) strain(1:lane_r) = strain(1:lane_r) + sb(n - lane_r + 1:n)
+            do lane_i = 1, n - lanes + 1, lanes
+               min_j = min(min_j, jb(lane_i:lane_i + lanes - 1))
+            end do
+            lane_r = mod(n, lanes)
+            if (lane_r > 0) min_j(1:lane_r) = min(min_j(1:lane_r), jb(n - lane_r + 1:n))
          end if
          if (relocates) call find_outside(n, b0, cb, outside)
          call accumulate_block(k, n, cb, xib, vpb, svb, m, lo, hi, shares, run, mass_left, mass_right, momentum_left, &
                                momentum_right, stress_volume, seg)
       end do
       call close_segment(k, shares, m, run, [lane_total(displacement), lane_total(kinetic), lane_total(strain)], &
-                         minval(min_j), largest%value, furthest_particle(largest), outside, mass_left, mass_right, &
+                         minval(min_j), largest%value, furthest_particle(largest, mb), outside, mass_left, mass_right, &
                          momentum_left, momentum_right, stress_volume, seg)
    end subroutine musl_stress_segment
 
    !> USF, second half: G2P, then mass and momentum at the new position (uGIMP)
    subroutine ugimp_usf_move_segment(k, seg, x, x0, v, stress, volume_ratio, cell, acceleration, velocity, &
                                      strain_increment_of, mass_left, mass_right, momentum_left, momentum_right, &
-                                     stress_volume, constants, carry)
+                                     stress_volume, constants, carry, mass_of, modulus_of, forces, gradient, force_left, &
+                                     force_right)
       integer, parameter :: kernel = pass_usf_move
       logical, parameter :: moves = pass_moves(kernel), stresses = pass_stresses(kernel), relocates = pass_relocates(kernel)
       integer, parameter :: shares = pass_shares(kernel)
@@ -1724,17 +2346,26 @@ contains
       real(dp), intent(inout), contiguous :: mass_left(:), mass_right(:), momentum_left(:), momentum_right(:), stress_volume(:)
       type(pass_constants_t), intent(in) :: constants
       real(dp), intent(inout), contiguous :: carry(:)  !< particles in parts: what a pass keeps for the next (fused_box_t)
+      !> the variants' per-particle data (absent when the run has none): masses and Young's moduli
+      !> (`material`), external forces (`forced`), APIC's velocity gradients C_p, and the element shares of
+      !> the forces
+      real(dp), intent(in), contiguous, optional :: mass_of(:), modulus_of(:), forces(:)
+      real(dp), intent(inout), contiguous, optional :: gradient(:), force_left(:), force_right(:)
       integer :: p, e, i, n, b0, first, last, lo, hi, outside, ahead, elements
       real(dp) :: half_m, strain_factor, dstrain, inv_dx, dt, youngs_modulus, m, volume0
       type(largest_move_t) :: largest
       real(dp) :: displacement(lanes), kinetic(lanes), strain(lanes), min_j(lanes)
       integer :: cb(block_size)
-      real(dp) :: svb(block_size), db(block_size), kb(block_size), sb(block_size), jb(block_size), mb(block_size)
+      real(dp) :: svb(block_size), db(block_size), kb(block_size), sb(block_size), jb(block_size)
+      real(dp) :: mb(block_size, 2)  !< the moves of a block, and of the block with the largest (lanes_track_move)
+      integer :: slot
+      real(dp) :: lane_max(lanes), block_max
+      integer :: lane_i, lane_r
       type(run_t) :: run
       ! the parts: their fractions r and local coordinates t (three parts: the products q = r t), the
       ! sums they add (accumulate_boxes, accumulate_thirds)
       integer :: node, flag
-      real(dp) :: origin, r1, r2, left(block_size, share_count), right(block_size, share_count)
+      real(dp) :: origin, r1, r2, left(block_size, run_sums), right(block_size, run_sums)
       real(dp) :: t1, t2
       real(dp) :: half_length0, l, fixed_l, jstart
       origin = constants%origin
@@ -1749,6 +2380,7 @@ contains
       call open_segment(k, shares, seg, mass_left, mass_right, momentum_left, momentum_right, stress_volume, first, last, &
                         lo, hi)
       displacement = 0; kinetic = 0; strain = 0; min_j = huge(1.0_dp)
+      slot = 1
       outside = 0
       half_m = 0.5_dp*m
       strain_factor = 0.0_dp
@@ -1784,7 +2416,7 @@ contains
             end if
             if (moves) call g2p_box(r1, r2, t1, t2, acceleration(e - 1), acceleration(e), acceleration(e + 1), &
                                     velocity(e - 1), velocity(e), velocity(e + 1), inv_dx, dt, half_m, x0(p), x(p), v(p), &
-                                    db(i), kb(i), mb(i))
+                                    db(i), kb(i), mb(i, slot))
             if (stresses) then ! d eps = dt sum dS v_I = r1 (element e's) + r2 (element e + 1's)
                if (moves) then
                   dstrain = r1*strain_increment(velocity(e - 1), velocity(e), dt, inv_dx) + &
@@ -1822,14 +2454,44 @@ contains
                right(i, 5) = r2*svb(i)
             end if
          end do
+         ! the block's totals (macros of mpm_lanes.fypi, expanded here)
          if (moves) then
-            call add_lanes(n, db, displacement)
-            call add_lanes(n, kb, kinetic)
-            call track_largest_move(n, b0, mb, largest)
+            do lane_i = 1, n - lanes + 1, lanes
+               displacement = displacement + db(lane_i:lane_i + lanes - 1)
+            end do
+            lane_r = mod(n, lanes)
+            if (lane_r > 0) displacement(1:lane_r) = displacement(1:lane_r) + db(n - lane_r + 1:n)
+            do lane_i = 1, n - lanes + 1, lanes
+               kinetic = kinetic + kb(lane_i:lane_i + lanes - 1)
+            end do
+            lane_r = mod(n, lanes)
+            if (lane_r > 0) kinetic(1:lane_r) = kinetic(1:lane_r) + kb(n - lane_r + 1:n)
+            lane_max = 0.0_dp
+            do lane_i = 1, n - lanes + 1, lanes
+               lane_max = max(lane_max, mb(lane_i:lane_i + lanes - 1, slot))
+            end do
+            lane_r = mod(n, lanes)
+            if (lane_r > 0) lane_max(1:lane_r) = max(lane_max(1:lane_r), mb(n - lane_r + 1:n, slot))
+            block_max = maxval(lane_max)
+            if (block_max > largest%value) then
+               largest%value = block_max
+               largest%first = b0
+               largest%count = n
+               largest%slot = slot
+               slot = 3 - slot
+            end if
          end if
          if (stresses) then
-            call add_lanes(n, sb, strain)
-            call min_lanes(n, jb, min_j)
+            do lane_i = 1, n - lanes + 1, lanes
+               strain = strain + sb(lane_i:lane_i + lanes - 1)
+            end do
+            lane_r = mod(n, lanes)
+            if (lane_r > 0) strain(1:lane_r) = strain(1:lane_r) + sb(n - lane_r + 1:n)
+            do lane_i = 1, n - lanes + 1, lanes
+               min_j = min(min_j, jb(lane_i:lane_i + lanes - 1))
+            end do
+            lane_r = mod(n, lanes)
+            if (lane_r > 0) min_j(1:lane_r) = min(min_j(1:lane_r), jb(n - lane_r + 1:n))
          end if
          if (relocates) call find_outside(n, b0, cb, outside)
          call accumulate_boxes(k, n, cb, left, right, m, lo, hi, shares, run, mass_left, mass_right, momentum_left, &
@@ -1840,14 +2502,15 @@ contains
                                           run%b(5), mass_left, mass_right, momentum_left, momentum_right, stress_volume, &
                                           seg)
       call close_segment(k, shares, m, run, [lane_total(displacement), lane_total(kinetic), lane_total(strain)], &
-                         minval(min_j), largest%value, furthest_particle(largest), outside, mass_left, mass_right, &
+                         minval(min_j), largest%value, furthest_particle(largest, mb), outside, mass_left, mass_right, &
                          momentum_left, momentum_right, stress_volume, seg)
    end subroutine ugimp_usf_move_segment
 
    !> USF, first half: stress update, then stress*volume of the unmoved particles (uGIMP)
    subroutine ugimp_usf_stress_segment(k, seg, x, x0, v, stress, volume_ratio, cell, acceleration, velocity, &
                                        strain_increment_of, mass_left, mass_right, momentum_left, momentum_right, &
-                                       stress_volume, constants, carry)
+                                       stress_volume, constants, carry, mass_of, modulus_of, forces, gradient, force_left, &
+                                       force_right)
       integer, parameter :: kernel = pass_usf_stress
       logical, parameter :: moves = pass_moves(kernel), stresses = pass_stresses(kernel), relocates = pass_relocates(kernel)
       integer, parameter :: shares = pass_shares(kernel)
@@ -1861,17 +2524,26 @@ contains
       real(dp), intent(inout), contiguous :: mass_left(:), mass_right(:), momentum_left(:), momentum_right(:), stress_volume(:)
       type(pass_constants_t), intent(in) :: constants
       real(dp), intent(inout), contiguous :: carry(:)  !< particles in parts: what a pass keeps for the next (fused_box_t)
+      !> the variants' per-particle data (absent when the run has none): masses and Young's moduli
+      !> (`material`), external forces (`forced`), APIC's velocity gradients C_p, and the element shares of
+      !> the forces
+      real(dp), intent(in), contiguous, optional :: mass_of(:), modulus_of(:), forces(:)
+      real(dp), intent(inout), contiguous, optional :: gradient(:), force_left(:), force_right(:)
       integer :: p, e, i, n, b0, first, last, lo, hi, outside, ahead, elements
       real(dp) :: half_m, strain_factor, dstrain, inv_dx, dt, youngs_modulus, m, volume0
       type(largest_move_t) :: largest
       real(dp) :: displacement(lanes), kinetic(lanes), strain(lanes), min_j(lanes)
       integer :: cb(block_size)
-      real(dp) :: svb(block_size), db(block_size), kb(block_size), sb(block_size), jb(block_size), mb(block_size)
+      real(dp) :: svb(block_size), db(block_size), kb(block_size), sb(block_size), jb(block_size)
+      real(dp) :: mb(block_size, 2)  !< the moves of a block, and of the block with the largest (lanes_track_move)
+      integer :: slot
+      real(dp) :: lane_max(lanes), block_max
+      integer :: lane_i, lane_r
       type(run_t) :: run
       ! the parts: their fractions r and local coordinates t (three parts: the products q = r t), the
       ! sums they add (accumulate_boxes, accumulate_thirds)
       integer :: node, flag
-      real(dp) :: origin, r1, r2, left(block_size, share_count), right(block_size, share_count)
+      real(dp) :: origin, r1, r2, left(block_size, run_sums), right(block_size, run_sums)
       real(dp) :: t1, t2
       real(dp) :: half_length0, l, fixed_l, jstart
       origin = constants%origin
@@ -1886,6 +2558,7 @@ contains
       call open_segment(k, shares, seg, mass_left, mass_right, momentum_left, momentum_right, stress_volume, first, last, &
                         lo, hi)
       displacement = 0; kinetic = 0; strain = 0; min_j = huge(1.0_dp)
+      slot = 1
       outside = 0
       half_m = 0.5_dp*m
       strain_factor = 0.0_dp
@@ -1921,7 +2594,7 @@ contains
             end if
             if (moves) call g2p_box(r1, r2, t1, t2, acceleration(e - 1), acceleration(e), acceleration(e + 1), &
                                     velocity(e - 1), velocity(e), velocity(e + 1), inv_dx, dt, half_m, x0(p), x(p), v(p), &
-                                    db(i), kb(i), mb(i))
+                                    db(i), kb(i), mb(i, slot))
             if (stresses) then ! d eps = dt sum dS v_I = r1 (element e's) + r2 (element e + 1's)
                if (moves) then
                   dstrain = r1*strain_increment(velocity(e - 1), velocity(e), dt, inv_dx) + &
@@ -1959,14 +2632,44 @@ contains
                right(i, 5) = r2*svb(i)
             end if
          end do
+         ! the block's totals (macros of mpm_lanes.fypi, expanded here)
          if (moves) then
-            call add_lanes(n, db, displacement)
-            call add_lanes(n, kb, kinetic)
-            call track_largest_move(n, b0, mb, largest)
+            do lane_i = 1, n - lanes + 1, lanes
+               displacement = displacement + db(lane_i:lane_i + lanes - 1)
+            end do
+            lane_r = mod(n, lanes)
+            if (lane_r > 0) displacement(1:lane_r) = displacement(1:lane_r) + db(n - lane_r + 1:n)
+            do lane_i = 1, n - lanes + 1, lanes
+               kinetic = kinetic + kb(lane_i:lane_i + lanes - 1)
+            end do
+            lane_r = mod(n, lanes)
+            if (lane_r > 0) kinetic(1:lane_r) = kinetic(1:lane_r) + kb(n - lane_r + 1:n)
+            lane_max = 0.0_dp
+            do lane_i = 1, n - lanes + 1, lanes
+               lane_max = max(lane_max, mb(lane_i:lane_i + lanes - 1, slot))
+            end do
+            lane_r = mod(n, lanes)
+            if (lane_r > 0) lane_max(1:lane_r) = max(lane_max(1:lane_r), mb(n - lane_r + 1:n, slot))
+            block_max = maxval(lane_max)
+            if (block_max > largest%value) then
+               largest%value = block_max
+               largest%first = b0
+               largest%count = n
+               largest%slot = slot
+               slot = 3 - slot
+            end if
          end if
          if (stresses) then
-            call add_lanes(n, sb, strain)
-            call min_lanes(n, jb, min_j)
+            do lane_i = 1, n - lanes + 1, lanes
+               strain = strain + sb(lane_i:lane_i + lanes - 1)
+            end do
+            lane_r = mod(n, lanes)
+            if (lane_r > 0) strain(1:lane_r) = strain(1:lane_r) + sb(n - lane_r + 1:n)
+            do lane_i = 1, n - lanes + 1, lanes
+               min_j = min(min_j, jb(lane_i:lane_i + lanes - 1))
+            end do
+            lane_r = mod(n, lanes)
+            if (lane_r > 0) min_j(1:lane_r) = min(min_j(1:lane_r), jb(n - lane_r + 1:n))
          end if
          if (relocates) call find_outside(n, b0, cb, outside)
          call accumulate_boxes(k, n, cb, left, right, m, lo, hi, shares, run, mass_left, mass_right, momentum_left, &
@@ -1977,14 +2680,15 @@ contains
                                           run%b(5), mass_left, mass_right, momentum_left, momentum_right, stress_volume, &
                                           seg)
       call close_segment(k, shares, m, run, [lane_total(displacement), lane_total(kinetic), lane_total(strain)], &
-                         minval(min_j), largest%value, furthest_particle(largest), outside, mass_left, mass_right, &
+                         minval(min_j), largest%value, furthest_particle(largest, mb), outside, mass_left, mass_right, &
                          momentum_left, momentum_right, stress_volume, seg)
    end subroutine ugimp_usf_stress_segment
 
    !> USL: G2P, stress update from the updated nodal velocities, P2G at the new position (uGIMP)
    subroutine ugimp_usl_segment(k, seg, x, x0, v, stress, volume_ratio, cell, acceleration, velocity, &
                                 strain_increment_of, mass_left, mass_right, momentum_left, momentum_right, &
-                                stress_volume, constants, carry)
+                                stress_volume, constants, carry, mass_of, modulus_of, forces, gradient, force_left, &
+                                force_right)
       integer, parameter :: kernel = pass_usl
       logical, parameter :: moves = pass_moves(kernel), stresses = pass_stresses(kernel), relocates = pass_relocates(kernel)
       integer, parameter :: shares = pass_shares(kernel)
@@ -1998,17 +2702,26 @@ contains
       real(dp), intent(inout), contiguous :: mass_left(:), mass_right(:), momentum_left(:), momentum_right(:), stress_volume(:)
       type(pass_constants_t), intent(in) :: constants
       real(dp), intent(inout), contiguous :: carry(:)  !< particles in parts: what a pass keeps for the next (fused_box_t)
+      !> the variants' per-particle data (absent when the run has none): masses and Young's moduli
+      !> (`material`), external forces (`forced`), APIC's velocity gradients C_p, and the element shares of
+      !> the forces
+      real(dp), intent(in), contiguous, optional :: mass_of(:), modulus_of(:), forces(:)
+      real(dp), intent(inout), contiguous, optional :: gradient(:), force_left(:), force_right(:)
       integer :: p, e, i, n, b0, first, last, lo, hi, outside, ahead, elements
       real(dp) :: half_m, strain_factor, dstrain, inv_dx, dt, youngs_modulus, m, volume0
       type(largest_move_t) :: largest
       real(dp) :: displacement(lanes), kinetic(lanes), strain(lanes), min_j(lanes)
       integer :: cb(block_size)
-      real(dp) :: svb(block_size), db(block_size), kb(block_size), sb(block_size), jb(block_size), mb(block_size)
+      real(dp) :: svb(block_size), db(block_size), kb(block_size), sb(block_size), jb(block_size)
+      real(dp) :: mb(block_size, 2)  !< the moves of a block, and of the block with the largest (lanes_track_move)
+      integer :: slot
+      real(dp) :: lane_max(lanes), block_max
+      integer :: lane_i, lane_r
       type(run_t) :: run
       ! the parts: their fractions r and local coordinates t (three parts: the products q = r t), the
       ! sums they add (accumulate_boxes, accumulate_thirds)
       integer :: node, flag
-      real(dp) :: origin, r1, r2, left(block_size, share_count), right(block_size, share_count)
+      real(dp) :: origin, r1, r2, left(block_size, run_sums), right(block_size, run_sums)
       real(dp) :: t1, t2
       real(dp) :: half_length0, l, fixed_l, jstart
       origin = constants%origin
@@ -2023,6 +2736,7 @@ contains
       call open_segment(k, shares, seg, mass_left, mass_right, momentum_left, momentum_right, stress_volume, first, last, &
                         lo, hi)
       displacement = 0; kinetic = 0; strain = 0; min_j = huge(1.0_dp)
+      slot = 1
       outside = 0
       half_m = 0.5_dp*m
       strain_factor = 0.0_dp
@@ -2058,7 +2772,7 @@ contains
             end if
             if (moves) call g2p_box(r1, r2, t1, t2, acceleration(e - 1), acceleration(e), acceleration(e + 1), &
                                     velocity(e - 1), velocity(e), velocity(e + 1), inv_dx, dt, half_m, x0(p), x(p), v(p), &
-                                    db(i), kb(i), mb(i))
+                                    db(i), kb(i), mb(i, slot))
             if (stresses) then ! d eps = dt sum dS v_I = r1 (element e's) + r2 (element e + 1's)
                if (moves) then
                   dstrain = r1*strain_increment(velocity(e - 1), velocity(e), dt, inv_dx) + &
@@ -2096,14 +2810,44 @@ contains
                right(i, 5) = r2*svb(i)
             end if
          end do
+         ! the block's totals (macros of mpm_lanes.fypi, expanded here)
          if (moves) then
-            call add_lanes(n, db, displacement)
-            call add_lanes(n, kb, kinetic)
-            call track_largest_move(n, b0, mb, largest)
+            do lane_i = 1, n - lanes + 1, lanes
+               displacement = displacement + db(lane_i:lane_i + lanes - 1)
+            end do
+            lane_r = mod(n, lanes)
+            if (lane_r > 0) displacement(1:lane_r) = displacement(1:lane_r) + db(n - lane_r + 1:n)
+            do lane_i = 1, n - lanes + 1, lanes
+               kinetic = kinetic + kb(lane_i:lane_i + lanes - 1)
+            end do
+            lane_r = mod(n, lanes)
+            if (lane_r > 0) kinetic(1:lane_r) = kinetic(1:lane_r) + kb(n - lane_r + 1:n)
+            lane_max = 0.0_dp
+            do lane_i = 1, n - lanes + 1, lanes
+               lane_max = max(lane_max, mb(lane_i:lane_i + lanes - 1, slot))
+            end do
+            lane_r = mod(n, lanes)
+            if (lane_r > 0) lane_max(1:lane_r) = max(lane_max(1:lane_r), mb(n - lane_r + 1:n, slot))
+            block_max = maxval(lane_max)
+            if (block_max > largest%value) then
+               largest%value = block_max
+               largest%first = b0
+               largest%count = n
+               largest%slot = slot
+               slot = 3 - slot
+            end if
          end if
          if (stresses) then
-            call add_lanes(n, sb, strain)
-            call min_lanes(n, jb, min_j)
+            do lane_i = 1, n - lanes + 1, lanes
+               strain = strain + sb(lane_i:lane_i + lanes - 1)
+            end do
+            lane_r = mod(n, lanes)
+            if (lane_r > 0) strain(1:lane_r) = strain(1:lane_r) + sb(n - lane_r + 1:n)
+            do lane_i = 1, n - lanes + 1, lanes
+               min_j = min(min_j, jb(lane_i:lane_i + lanes - 1))
+            end do
+            lane_r = mod(n, lanes)
+            if (lane_r > 0) min_j(1:lane_r) = min(min_j(1:lane_r), jb(n - lane_r + 1:n))
          end if
          if (relocates) call find_outside(n, b0, cb, outside)
          call accumulate_boxes(k, n, cb, left, right, m, lo, hi, shares, run, mass_left, mass_right, momentum_left, &
@@ -2114,14 +2858,15 @@ contains
                                           run%b(5), mass_left, mass_right, momentum_left, momentum_right, stress_volume, &
                                           seg)
       call close_segment(k, shares, m, run, [lane_total(displacement), lane_total(kinetic), lane_total(strain)], &
-                         minval(min_j), largest%value, furthest_particle(largest), outside, mass_left, mass_right, &
+                         minval(min_j), largest%value, furthest_particle(largest, mb), outside, mass_left, mass_right, &
                          momentum_left, momentum_right, stress_volume, seg)
    end subroutine ugimp_usl_segment
 
    !> MUSL, first pass: G2P, and the new momentum back to the start-of-step nodes (uGIMP)
    subroutine ugimp_musl_remap_segment(k, seg, x, x0, v, stress, volume_ratio, cell, acceleration, velocity, &
                                        strain_increment_of, mass_left, mass_right, momentum_left, momentum_right, &
-                                       stress_volume, constants, carry)
+                                       stress_volume, constants, carry, mass_of, modulus_of, forces, gradient, force_left, &
+                                       force_right)
       integer, parameter :: kernel = pass_musl_remap
       logical, parameter :: moves = pass_moves(kernel), stresses = pass_stresses(kernel), relocates = pass_relocates(kernel)
       integer, parameter :: shares = pass_shares(kernel)
@@ -2135,17 +2880,26 @@ contains
       real(dp), intent(inout), contiguous :: mass_left(:), mass_right(:), momentum_left(:), momentum_right(:), stress_volume(:)
       type(pass_constants_t), intent(in) :: constants
       real(dp), intent(inout), contiguous :: carry(:)  !< particles in parts: what a pass keeps for the next (fused_box_t)
+      !> the variants' per-particle data (absent when the run has none): masses and Young's moduli
+      !> (`material`), external forces (`forced`), APIC's velocity gradients C_p, and the element shares of
+      !> the forces
+      real(dp), intent(in), contiguous, optional :: mass_of(:), modulus_of(:), forces(:)
+      real(dp), intent(inout), contiguous, optional :: gradient(:), force_left(:), force_right(:)
       integer :: p, e, i, n, b0, first, last, lo, hi, outside, ahead, elements
       real(dp) :: half_m, strain_factor, dstrain, inv_dx, dt, youngs_modulus, m, volume0
       type(largest_move_t) :: largest
       real(dp) :: displacement(lanes), kinetic(lanes), strain(lanes), min_j(lanes)
       integer :: cb(block_size)
-      real(dp) :: svb(block_size), db(block_size), kb(block_size), sb(block_size), jb(block_size), mb(block_size)
+      real(dp) :: svb(block_size), db(block_size), kb(block_size), sb(block_size), jb(block_size)
+      real(dp) :: mb(block_size, 2)  !< the moves of a block, and of the block with the largest (lanes_track_move)
+      integer :: slot
+      real(dp) :: lane_max(lanes), block_max
+      integer :: lane_i, lane_r
       type(run_t) :: run
       ! the parts: their fractions r and local coordinates t (three parts: the products q = r t), the
       ! sums they add (accumulate_boxes, accumulate_thirds)
       integer :: node, flag
-      real(dp) :: origin, r1, r2, left(block_size, share_count), right(block_size, share_count)
+      real(dp) :: origin, r1, r2, left(block_size, run_sums), right(block_size, run_sums)
       real(dp) :: t1, t2
       real(dp) :: half_length0, l, fixed_l, jstart
       origin = constants%origin
@@ -2160,6 +2914,7 @@ contains
       call open_segment(k, shares, seg, mass_left, mass_right, momentum_left, momentum_right, stress_volume, first, last, &
                         lo, hi)
       displacement = 0; kinetic = 0; strain = 0; min_j = huge(1.0_dp)
+      slot = 1
       outside = 0
       half_m = 0.5_dp*m
       strain_factor = 0.0_dp
@@ -2195,7 +2950,7 @@ contains
             end if
             if (moves) call g2p_box(r1, r2, t1, t2, acceleration(e - 1), acceleration(e), acceleration(e + 1), &
                                     velocity(e - 1), velocity(e), velocity(e + 1), inv_dx, dt, half_m, x0(p), x(p), v(p), &
-                                    db(i), kb(i), mb(i))
+                                    db(i), kb(i), mb(i, slot))
             if (stresses) then ! d eps = dt sum dS v_I = r1 (element e's) + r2 (element e + 1's)
                if (moves) then
                   dstrain = r1*strain_increment(velocity(e - 1), velocity(e), dt, inv_dx) + &
@@ -2233,14 +2988,44 @@ contains
                right(i, 5) = r2*svb(i)
             end if
          end do
+         ! the block's totals (macros of mpm_lanes.fypi, expanded here)
          if (moves) then
-            call add_lanes(n, db, displacement)
-            call add_lanes(n, kb, kinetic)
-            call track_largest_move(n, b0, mb, largest)
+            do lane_i = 1, n - lanes + 1, lanes
+               displacement = displacement + db(lane_i:lane_i + lanes - 1)
+            end do
+            lane_r = mod(n, lanes)
+            if (lane_r > 0) displacement(1:lane_r) = displacement(1:lane_r) + db(n - lane_r + 1:n)
+            do lane_i = 1, n - lanes + 1, lanes
+               kinetic = kinetic + kb(lane_i:lane_i + lanes - 1)
+            end do
+            lane_r = mod(n, lanes)
+            if (lane_r > 0) kinetic(1:lane_r) = kinetic(1:lane_r) + kb(n - lane_r + 1:n)
+            lane_max = 0.0_dp
+            do lane_i = 1, n - lanes + 1, lanes
+               lane_max = max(lane_max, mb(lane_i:lane_i + lanes - 1, slot))
+            end do
+            lane_r = mod(n, lanes)
+            if (lane_r > 0) lane_max(1:lane_r) = max(lane_max(1:lane_r), mb(n - lane_r + 1:n, slot))
+            block_max = maxval(lane_max)
+            if (block_max > largest%value) then
+               largest%value = block_max
+               largest%first = b0
+               largest%count = n
+               largest%slot = slot
+               slot = 3 - slot
+            end if
          end if
          if (stresses) then
-            call add_lanes(n, sb, strain)
-            call min_lanes(n, jb, min_j)
+            do lane_i = 1, n - lanes + 1, lanes
+               strain = strain + sb(lane_i:lane_i + lanes - 1)
+            end do
+            lane_r = mod(n, lanes)
+            if (lane_r > 0) strain(1:lane_r) = strain(1:lane_r) + sb(n - lane_r + 1:n)
+            do lane_i = 1, n - lanes + 1, lanes
+               min_j = min(min_j, jb(lane_i:lane_i + lanes - 1))
+            end do
+            lane_r = mod(n, lanes)
+            if (lane_r > 0) min_j(1:lane_r) = min(min_j(1:lane_r), jb(n - lane_r + 1:n))
          end if
          if (relocates) call find_outside(n, b0, cb, outside)
          call accumulate_boxes(k, n, cb, left, right, m, lo, hi, shares, run, mass_left, mass_right, momentum_left, &
@@ -2251,14 +3036,15 @@ contains
                                           run%b(5), mass_left, mass_right, momentum_left, momentum_right, stress_volume, &
                                           seg)
       call close_segment(k, shares, m, run, [lane_total(displacement), lane_total(kinetic), lane_total(strain)], &
-                         minval(min_j), largest%value, furthest_particle(largest), outside, mass_left, mass_right, &
+                         minval(min_j), largest%value, furthest_particle(largest, mb), outside, mass_left, mass_right, &
                          momentum_left, momentum_right, stress_volume, seg)
    end subroutine ugimp_musl_remap_segment
 
    !> MUSL, second pass: stress update from the remapped velocities, P2G at the new position (uGIMP)
    subroutine ugimp_musl_stress_segment(k, seg, x, x0, v, stress, volume_ratio, cell, acceleration, velocity, &
                                         strain_increment_of, mass_left, mass_right, momentum_left, momentum_right, &
-                                        stress_volume, constants, carry)
+                                        stress_volume, constants, carry, mass_of, modulus_of, forces, gradient, force_left, &
+                                        force_right)
       integer, parameter :: kernel = pass_musl_stress
       logical, parameter :: moves = pass_moves(kernel), stresses = pass_stresses(kernel), relocates = pass_relocates(kernel)
       integer, parameter :: shares = pass_shares(kernel)
@@ -2272,17 +3058,26 @@ contains
       real(dp), intent(inout), contiguous :: mass_left(:), mass_right(:), momentum_left(:), momentum_right(:), stress_volume(:)
       type(pass_constants_t), intent(in) :: constants
       real(dp), intent(inout), contiguous :: carry(:)  !< particles in parts: what a pass keeps for the next (fused_box_t)
+      !> the variants' per-particle data (absent when the run has none): masses and Young's moduli
+      !> (`material`), external forces (`forced`), APIC's velocity gradients C_p, and the element shares of
+      !> the forces
+      real(dp), intent(in), contiguous, optional :: mass_of(:), modulus_of(:), forces(:)
+      real(dp), intent(inout), contiguous, optional :: gradient(:), force_left(:), force_right(:)
       integer :: p, e, i, n, b0, first, last, lo, hi, outside, ahead, elements
       real(dp) :: half_m, strain_factor, dstrain, inv_dx, dt, youngs_modulus, m, volume0
       type(largest_move_t) :: largest
       real(dp) :: displacement(lanes), kinetic(lanes), strain(lanes), min_j(lanes)
       integer :: cb(block_size)
-      real(dp) :: svb(block_size), db(block_size), kb(block_size), sb(block_size), jb(block_size), mb(block_size)
+      real(dp) :: svb(block_size), db(block_size), kb(block_size), sb(block_size), jb(block_size)
+      real(dp) :: mb(block_size, 2)  !< the moves of a block, and of the block with the largest (lanes_track_move)
+      integer :: slot
+      real(dp) :: lane_max(lanes), block_max
+      integer :: lane_i, lane_r
       type(run_t) :: run
       ! the parts: their fractions r and local coordinates t (three parts: the products q = r t), the
       ! sums they add (accumulate_boxes, accumulate_thirds)
       integer :: node, flag
-      real(dp) :: origin, r1, r2, left(block_size, share_count), right(block_size, share_count)
+      real(dp) :: origin, r1, r2, left(block_size, run_sums), right(block_size, run_sums)
       real(dp) :: t1, t2
       real(dp) :: half_length0, l, fixed_l, jstart
       origin = constants%origin
@@ -2297,6 +3092,7 @@ contains
       call open_segment(k, shares, seg, mass_left, mass_right, momentum_left, momentum_right, stress_volume, first, last, &
                         lo, hi)
       displacement = 0; kinetic = 0; strain = 0; min_j = huge(1.0_dp)
+      slot = 1
       outside = 0
       half_m = 0.5_dp*m
       strain_factor = 0.0_dp
@@ -2332,7 +3128,7 @@ contains
             end if
             if (moves) call g2p_box(r1, r2, t1, t2, acceleration(e - 1), acceleration(e), acceleration(e + 1), &
                                     velocity(e - 1), velocity(e), velocity(e + 1), inv_dx, dt, half_m, x0(p), x(p), v(p), &
-                                    db(i), kb(i), mb(i))
+                                    db(i), kb(i), mb(i, slot))
             if (stresses) then ! d eps = dt sum dS v_I = r1 (element e's) + r2 (element e + 1's)
                if (moves) then
                   dstrain = r1*strain_increment(velocity(e - 1), velocity(e), dt, inv_dx) + &
@@ -2370,14 +3166,44 @@ contains
                right(i, 5) = r2*svb(i)
             end if
          end do
+         ! the block's totals (macros of mpm_lanes.fypi, expanded here)
          if (moves) then
-            call add_lanes(n, db, displacement)
-            call add_lanes(n, kb, kinetic)
-            call track_largest_move(n, b0, mb, largest)
+            do lane_i = 1, n - lanes + 1, lanes
+               displacement = displacement + db(lane_i:lane_i + lanes - 1)
+            end do
+            lane_r = mod(n, lanes)
+            if (lane_r > 0) displacement(1:lane_r) = displacement(1:lane_r) + db(n - lane_r + 1:n)
+            do lane_i = 1, n - lanes + 1, lanes
+               kinetic = kinetic + kb(lane_i:lane_i + lanes - 1)
+            end do
+            lane_r = mod(n, lanes)
+            if (lane_r > 0) kinetic(1:lane_r) = kinetic(1:lane_r) + kb(n - lane_r + 1:n)
+            lane_max = 0.0_dp
+            do lane_i = 1, n - lanes + 1, lanes
+               lane_max = max(lane_max, mb(lane_i:lane_i + lanes - 1, slot))
+            end do
+            lane_r = mod(n, lanes)
+            if (lane_r > 0) lane_max(1:lane_r) = max(lane_max(1:lane_r), mb(n - lane_r + 1:n, slot))
+            block_max = maxval(lane_max)
+            if (block_max > largest%value) then
+               largest%value = block_max
+               largest%first = b0
+               largest%count = n
+               largest%slot = slot
+               slot = 3 - slot
+            end if
          end if
          if (stresses) then
-            call add_lanes(n, sb, strain)
-            call min_lanes(n, jb, min_j)
+            do lane_i = 1, n - lanes + 1, lanes
+               strain = strain + sb(lane_i:lane_i + lanes - 1)
+            end do
+            lane_r = mod(n, lanes)
+            if (lane_r > 0) strain(1:lane_r) = strain(1:lane_r) + sb(n - lane_r + 1:n)
+            do lane_i = 1, n - lanes + 1, lanes
+               min_j = min(min_j, jb(lane_i:lane_i + lanes - 1))
+            end do
+            lane_r = mod(n, lanes)
+            if (lane_r > 0) min_j(1:lane_r) = min(min_j(1:lane_r), jb(n - lane_r + 1:n))
          end if
          if (relocates) call find_outside(n, b0, cb, outside)
          call accumulate_boxes(k, n, cb, left, right, m, lo, hi, shares, run, mass_left, mass_right, momentum_left, &
@@ -2388,14 +3214,15 @@ contains
                                           run%b(5), mass_left, mass_right, momentum_left, momentum_right, stress_volume, &
                                           seg)
       call close_segment(k, shares, m, run, [lane_total(displacement), lane_total(kinetic), lane_total(strain)], &
-                         minval(min_j), largest%value, furthest_particle(largest), outside, mass_left, mass_right, &
+                         minval(min_j), largest%value, furthest_particle(largest, mb), outside, mass_left, mass_right, &
                          momentum_left, momentum_right, stress_volume, seg)
    end subroutine ugimp_musl_stress_segment
 
    !> USF, second half: G2P, then mass and momentum at the new position (cpGIMP)
    subroutine cpgimp_usf_move_segment(k, seg, x, x0, v, stress, volume_ratio, cell, acceleration, velocity, &
                                       strain_increment_of, mass_left, mass_right, momentum_left, momentum_right, &
-                                      stress_volume, constants, carry)
+                                      stress_volume, constants, carry, mass_of, modulus_of, forces, gradient, force_left, &
+                                      force_right)
       integer, parameter :: kernel = pass_usf_move
       logical, parameter :: moves = pass_moves(kernel), stresses = pass_stresses(kernel), relocates = pass_relocates(kernel)
       integer, parameter :: shares = pass_shares(kernel)
@@ -2409,17 +3236,26 @@ contains
       real(dp), intent(inout), contiguous :: mass_left(:), mass_right(:), momentum_left(:), momentum_right(:), stress_volume(:)
       type(pass_constants_t), intent(in) :: constants
       real(dp), intent(inout), contiguous :: carry(:)  !< particles in parts: what a pass keeps for the next (fused_box_t)
+      !> the variants' per-particle data (absent when the run has none): masses and Young's moduli
+      !> (`material`), external forces (`forced`), APIC's velocity gradients C_p, and the element shares of
+      !> the forces
+      real(dp), intent(in), contiguous, optional :: mass_of(:), modulus_of(:), forces(:)
+      real(dp), intent(inout), contiguous, optional :: gradient(:), force_left(:), force_right(:)
       integer :: p, e, i, n, b0, first, last, lo, hi, outside, ahead, elements
       real(dp) :: half_m, strain_factor, dstrain, inv_dx, dt, youngs_modulus, m, volume0
       type(largest_move_t) :: largest
       real(dp) :: displacement(lanes), kinetic(lanes), strain(lanes), min_j(lanes)
       integer :: cb(block_size)
-      real(dp) :: svb(block_size), db(block_size), kb(block_size), sb(block_size), jb(block_size), mb(block_size)
+      real(dp) :: svb(block_size), db(block_size), kb(block_size), sb(block_size), jb(block_size)
+      real(dp) :: mb(block_size, 2)  !< the moves of a block, and of the block with the largest (lanes_track_move)
+      integer :: slot
+      real(dp) :: lane_max(lanes), block_max
+      integer :: lane_i, lane_r
       type(run_t) :: run
       ! the parts: their fractions r and local coordinates t (three parts: the products q = r t), the
       ! sums they add (accumulate_boxes, accumulate_thirds)
       integer :: node, flag
-      real(dp) :: origin, r1, r2, left(block_size, share_count), right(block_size, share_count)
+      real(dp) :: origin, r1, r2, left(block_size, run_sums), right(block_size, run_sums)
       real(dp) :: t1, t2
       real(dp) :: half_length0, l, fixed_l, jstart
       origin = constants%origin
@@ -2434,6 +3270,7 @@ contains
       call open_segment(k, shares, seg, mass_left, mass_right, momentum_left, momentum_right, stress_volume, first, last, &
                         lo, hi)
       displacement = 0; kinetic = 0; strain = 0; min_j = huge(1.0_dp)
+      slot = 1
       outside = 0
       half_m = 0.5_dp*m
       strain_factor = 0.0_dp
@@ -2475,7 +3312,7 @@ contains
             end if
             if (moves) call g2p_box(r1, r2, t1, t2, acceleration(e - 1), acceleration(e), acceleration(e + 1), &
                                     velocity(e - 1), velocity(e), velocity(e + 1), inv_dx, dt, half_m, x0(p), x(p), v(p), &
-                                    db(i), kb(i), mb(i))
+                                    db(i), kb(i), mb(i, slot))
             if (stresses) then ! d eps = dt sum dS v_I = r1 (element e's) + r2 (element e + 1's)
                if (moves) then
                   dstrain = r1*strain_increment(velocity(e - 1), velocity(e), dt, inv_dx) + &
@@ -2513,14 +3350,44 @@ contains
                right(i, 5) = r2*svb(i)
             end if
          end do
+         ! the block's totals (macros of mpm_lanes.fypi, expanded here)
          if (moves) then
-            call add_lanes(n, db, displacement)
-            call add_lanes(n, kb, kinetic)
-            call track_largest_move(n, b0, mb, largest)
+            do lane_i = 1, n - lanes + 1, lanes
+               displacement = displacement + db(lane_i:lane_i + lanes - 1)
+            end do
+            lane_r = mod(n, lanes)
+            if (lane_r > 0) displacement(1:lane_r) = displacement(1:lane_r) + db(n - lane_r + 1:n)
+            do lane_i = 1, n - lanes + 1, lanes
+               kinetic = kinetic + kb(lane_i:lane_i + lanes - 1)
+            end do
+            lane_r = mod(n, lanes)
+            if (lane_r > 0) kinetic(1:lane_r) = kinetic(1:lane_r) + kb(n - lane_r + 1:n)
+            lane_max = 0.0_dp
+            do lane_i = 1, n - lanes + 1, lanes
+               lane_max = max(lane_max, mb(lane_i:lane_i + lanes - 1, slot))
+            end do
+            lane_r = mod(n, lanes)
+            if (lane_r > 0) lane_max(1:lane_r) = max(lane_max(1:lane_r), mb(n - lane_r + 1:n, slot))
+            block_max = maxval(lane_max)
+            if (block_max > largest%value) then
+               largest%value = block_max
+               largest%first = b0
+               largest%count = n
+               largest%slot = slot
+               slot = 3 - slot
+            end if
          end if
          if (stresses) then
-            call add_lanes(n, sb, strain)
-            call min_lanes(n, jb, min_j)
+            do lane_i = 1, n - lanes + 1, lanes
+               strain = strain + sb(lane_i:lane_i + lanes - 1)
+            end do
+            lane_r = mod(n, lanes)
+            if (lane_r > 0) strain(1:lane_r) = strain(1:lane_r) + sb(n - lane_r + 1:n)
+            do lane_i = 1, n - lanes + 1, lanes
+               min_j = min(min_j, jb(lane_i:lane_i + lanes - 1))
+            end do
+            lane_r = mod(n, lanes)
+            if (lane_r > 0) min_j(1:lane_r) = min(min_j(1:lane_r), jb(n - lane_r + 1:n))
          end if
          if (relocates) call find_outside(n, b0, cb, outside)
          call accumulate_boxes(k, n, cb, left, right, m, lo, hi, shares, run, mass_left, mass_right, momentum_left, &
@@ -2531,14 +3398,15 @@ contains
                                           run%b(5), mass_left, mass_right, momentum_left, momentum_right, stress_volume, &
                                           seg)
       call close_segment(k, shares, m, run, [lane_total(displacement), lane_total(kinetic), lane_total(strain)], &
-                         minval(min_j), largest%value, furthest_particle(largest), outside, mass_left, mass_right, &
+                         minval(min_j), largest%value, furthest_particle(largest, mb), outside, mass_left, mass_right, &
                          momentum_left, momentum_right, stress_volume, seg)
    end subroutine cpgimp_usf_move_segment
 
    !> USF, first half: stress update, then stress*volume of the unmoved particles (cpGIMP)
    subroutine cpgimp_usf_stress_segment(k, seg, x, x0, v, stress, volume_ratio, cell, acceleration, velocity, &
                                         strain_increment_of, mass_left, mass_right, momentum_left, momentum_right, &
-                                        stress_volume, constants, carry)
+                                        stress_volume, constants, carry, mass_of, modulus_of, forces, gradient, force_left, &
+                                        force_right)
       integer, parameter :: kernel = pass_usf_stress
       logical, parameter :: moves = pass_moves(kernel), stresses = pass_stresses(kernel), relocates = pass_relocates(kernel)
       integer, parameter :: shares = pass_shares(kernel)
@@ -2552,17 +3420,26 @@ contains
       real(dp), intent(inout), contiguous :: mass_left(:), mass_right(:), momentum_left(:), momentum_right(:), stress_volume(:)
       type(pass_constants_t), intent(in) :: constants
       real(dp), intent(inout), contiguous :: carry(:)  !< particles in parts: what a pass keeps for the next (fused_box_t)
+      !> the variants' per-particle data (absent when the run has none): masses and Young's moduli
+      !> (`material`), external forces (`forced`), APIC's velocity gradients C_p, and the element shares of
+      !> the forces
+      real(dp), intent(in), contiguous, optional :: mass_of(:), modulus_of(:), forces(:)
+      real(dp), intent(inout), contiguous, optional :: gradient(:), force_left(:), force_right(:)
       integer :: p, e, i, n, b0, first, last, lo, hi, outside, ahead, elements
       real(dp) :: half_m, strain_factor, dstrain, inv_dx, dt, youngs_modulus, m, volume0
       type(largest_move_t) :: largest
       real(dp) :: displacement(lanes), kinetic(lanes), strain(lanes), min_j(lanes)
       integer :: cb(block_size)
-      real(dp) :: svb(block_size), db(block_size), kb(block_size), sb(block_size), jb(block_size), mb(block_size)
+      real(dp) :: svb(block_size), db(block_size), kb(block_size), sb(block_size), jb(block_size)
+      real(dp) :: mb(block_size, 2)  !< the moves of a block, and of the block with the largest (lanes_track_move)
+      integer :: slot
+      real(dp) :: lane_max(lanes), block_max
+      integer :: lane_i, lane_r
       type(run_t) :: run
       ! the parts: their fractions r and local coordinates t (three parts: the products q = r t), the
       ! sums they add (accumulate_boxes, accumulate_thirds)
       integer :: node, flag
-      real(dp) :: origin, r1, r2, left(block_size, share_count), right(block_size, share_count)
+      real(dp) :: origin, r1, r2, left(block_size, run_sums), right(block_size, run_sums)
       real(dp) :: t1, t2
       real(dp) :: half_length0, l, fixed_l, jstart
       origin = constants%origin
@@ -2577,6 +3454,7 @@ contains
       call open_segment(k, shares, seg, mass_left, mass_right, momentum_left, momentum_right, stress_volume, first, last, &
                         lo, hi)
       displacement = 0; kinetic = 0; strain = 0; min_j = huge(1.0_dp)
+      slot = 1
       outside = 0
       half_m = 0.5_dp*m
       strain_factor = 0.0_dp
@@ -2618,7 +3496,7 @@ contains
             end if
             if (moves) call g2p_box(r1, r2, t1, t2, acceleration(e - 1), acceleration(e), acceleration(e + 1), &
                                     velocity(e - 1), velocity(e), velocity(e + 1), inv_dx, dt, half_m, x0(p), x(p), v(p), &
-                                    db(i), kb(i), mb(i))
+                                    db(i), kb(i), mb(i, slot))
             if (stresses) then ! d eps = dt sum dS v_I = r1 (element e's) + r2 (element e + 1's)
                if (moves) then
                   dstrain = r1*strain_increment(velocity(e - 1), velocity(e), dt, inv_dx) + &
@@ -2656,14 +3534,44 @@ contains
                right(i, 5) = r2*svb(i)
             end if
          end do
+         ! the block's totals (macros of mpm_lanes.fypi, expanded here)
          if (moves) then
-            call add_lanes(n, db, displacement)
-            call add_lanes(n, kb, kinetic)
-            call track_largest_move(n, b0, mb, largest)
+            do lane_i = 1, n - lanes + 1, lanes
+               displacement = displacement + db(lane_i:lane_i + lanes - 1)
+            end do
+            lane_r = mod(n, lanes)
+            if (lane_r > 0) displacement(1:lane_r) = displacement(1:lane_r) + db(n - lane_r + 1:n)
+            do lane_i = 1, n - lanes + 1, lanes
+               kinetic = kinetic + kb(lane_i:lane_i + lanes - 1)
+            end do
+            lane_r = mod(n, lanes)
+            if (lane_r > 0) kinetic(1:lane_r) = kinetic(1:lane_r) + kb(n - lane_r + 1:n)
+            lane_max = 0.0_dp
+            do lane_i = 1, n - lanes + 1, lanes
+               lane_max = max(lane_max, mb(lane_i:lane_i + lanes - 1, slot))
+            end do
+            lane_r = mod(n, lanes)
+            if (lane_r > 0) lane_max(1:lane_r) = max(lane_max(1:lane_r), mb(n - lane_r + 1:n, slot))
+            block_max = maxval(lane_max)
+            if (block_max > largest%value) then
+               largest%value = block_max
+               largest%first = b0
+               largest%count = n
+               largest%slot = slot
+               slot = 3 - slot
+            end if
          end if
          if (stresses) then
-            call add_lanes(n, sb, strain)
-            call min_lanes(n, jb, min_j)
+            do lane_i = 1, n - lanes + 1, lanes
+               strain = strain + sb(lane_i:lane_i + lanes - 1)
+            end do
+            lane_r = mod(n, lanes)
+            if (lane_r > 0) strain(1:lane_r) = strain(1:lane_r) + sb(n - lane_r + 1:n)
+            do lane_i = 1, n - lanes + 1, lanes
+               min_j = min(min_j, jb(lane_i:lane_i + lanes - 1))
+            end do
+            lane_r = mod(n, lanes)
+            if (lane_r > 0) min_j(1:lane_r) = min(min_j(1:lane_r), jb(n - lane_r + 1:n))
          end if
          if (relocates) call find_outside(n, b0, cb, outside)
          call accumulate_boxes(k, n, cb, left, right, m, lo, hi, shares, run, mass_left, mass_right, momentum_left, &
@@ -2674,14 +3582,15 @@ contains
                                           run%b(5), mass_left, mass_right, momentum_left, momentum_right, stress_volume, &
                                           seg)
       call close_segment(k, shares, m, run, [lane_total(displacement), lane_total(kinetic), lane_total(strain)], &
-                         minval(min_j), largest%value, furthest_particle(largest), outside, mass_left, mass_right, &
+                         minval(min_j), largest%value, furthest_particle(largest, mb), outside, mass_left, mass_right, &
                          momentum_left, momentum_right, stress_volume, seg)
    end subroutine cpgimp_usf_stress_segment
 
    !> USL: G2P, stress update from the updated nodal velocities, P2G at the new position (cpGIMP)
    subroutine cpgimp_usl_segment(k, seg, x, x0, v, stress, volume_ratio, cell, acceleration, velocity, &
                                  strain_increment_of, mass_left, mass_right, momentum_left, momentum_right, &
-                                 stress_volume, constants, carry)
+                                 stress_volume, constants, carry, mass_of, modulus_of, forces, gradient, force_left, &
+                                 force_right)
       integer, parameter :: kernel = pass_usl
       logical, parameter :: moves = pass_moves(kernel), stresses = pass_stresses(kernel), relocates = pass_relocates(kernel)
       integer, parameter :: shares = pass_shares(kernel)
@@ -2695,17 +3604,26 @@ contains
       real(dp), intent(inout), contiguous :: mass_left(:), mass_right(:), momentum_left(:), momentum_right(:), stress_volume(:)
       type(pass_constants_t), intent(in) :: constants
       real(dp), intent(inout), contiguous :: carry(:)  !< particles in parts: what a pass keeps for the next (fused_box_t)
+      !> the variants' per-particle data (absent when the run has none): masses and Young's moduli
+      !> (`material`), external forces (`forced`), APIC's velocity gradients C_p, and the element shares of
+      !> the forces
+      real(dp), intent(in), contiguous, optional :: mass_of(:), modulus_of(:), forces(:)
+      real(dp), intent(inout), contiguous, optional :: gradient(:), force_left(:), force_right(:)
       integer :: p, e, i, n, b0, first, last, lo, hi, outside, ahead, elements
       real(dp) :: half_m, strain_factor, dstrain, inv_dx, dt, youngs_modulus, m, volume0
       type(largest_move_t) :: largest
       real(dp) :: displacement(lanes), kinetic(lanes), strain(lanes), min_j(lanes)
       integer :: cb(block_size)
-      real(dp) :: svb(block_size), db(block_size), kb(block_size), sb(block_size), jb(block_size), mb(block_size)
+      real(dp) :: svb(block_size), db(block_size), kb(block_size), sb(block_size), jb(block_size)
+      real(dp) :: mb(block_size, 2)  !< the moves of a block, and of the block with the largest (lanes_track_move)
+      integer :: slot
+      real(dp) :: lane_max(lanes), block_max
+      integer :: lane_i, lane_r
       type(run_t) :: run
       ! the parts: their fractions r and local coordinates t (three parts: the products q = r t), the
       ! sums they add (accumulate_boxes, accumulate_thirds)
       integer :: node, flag
-      real(dp) :: origin, r1, r2, left(block_size, share_count), right(block_size, share_count)
+      real(dp) :: origin, r1, r2, left(block_size, run_sums), right(block_size, run_sums)
       real(dp) :: t1, t2
       real(dp) :: half_length0, l, fixed_l, jstart
       origin = constants%origin
@@ -2720,6 +3638,7 @@ contains
       call open_segment(k, shares, seg, mass_left, mass_right, momentum_left, momentum_right, stress_volume, first, last, &
                         lo, hi)
       displacement = 0; kinetic = 0; strain = 0; min_j = huge(1.0_dp)
+      slot = 1
       outside = 0
       half_m = 0.5_dp*m
       strain_factor = 0.0_dp
@@ -2761,7 +3680,7 @@ contains
             end if
             if (moves) call g2p_box(r1, r2, t1, t2, acceleration(e - 1), acceleration(e), acceleration(e + 1), &
                                     velocity(e - 1), velocity(e), velocity(e + 1), inv_dx, dt, half_m, x0(p), x(p), v(p), &
-                                    db(i), kb(i), mb(i))
+                                    db(i), kb(i), mb(i, slot))
             if (stresses) then ! d eps = dt sum dS v_I = r1 (element e's) + r2 (element e + 1's)
                if (moves) then
                   dstrain = r1*strain_increment(velocity(e - 1), velocity(e), dt, inv_dx) + &
@@ -2799,14 +3718,44 @@ contains
                right(i, 5) = r2*svb(i)
             end if
          end do
+         ! the block's totals (macros of mpm_lanes.fypi, expanded here)
          if (moves) then
-            call add_lanes(n, db, displacement)
-            call add_lanes(n, kb, kinetic)
-            call track_largest_move(n, b0, mb, largest)
+            do lane_i = 1, n - lanes + 1, lanes
+               displacement = displacement + db(lane_i:lane_i + lanes - 1)
+            end do
+            lane_r = mod(n, lanes)
+            if (lane_r > 0) displacement(1:lane_r) = displacement(1:lane_r) + db(n - lane_r + 1:n)
+            do lane_i = 1, n - lanes + 1, lanes
+               kinetic = kinetic + kb(lane_i:lane_i + lanes - 1)
+            end do
+            lane_r = mod(n, lanes)
+            if (lane_r > 0) kinetic(1:lane_r) = kinetic(1:lane_r) + kb(n - lane_r + 1:n)
+            lane_max = 0.0_dp
+            do lane_i = 1, n - lanes + 1, lanes
+               lane_max = max(lane_max, mb(lane_i:lane_i + lanes - 1, slot))
+            end do
+            lane_r = mod(n, lanes)
+            if (lane_r > 0) lane_max(1:lane_r) = max(lane_max(1:lane_r), mb(n - lane_r + 1:n, slot))
+            block_max = maxval(lane_max)
+            if (block_max > largest%value) then
+               largest%value = block_max
+               largest%first = b0
+               largest%count = n
+               largest%slot = slot
+               slot = 3 - slot
+            end if
          end if
          if (stresses) then
-            call add_lanes(n, sb, strain)
-            call min_lanes(n, jb, min_j)
+            do lane_i = 1, n - lanes + 1, lanes
+               strain = strain + sb(lane_i:lane_i + lanes - 1)
+            end do
+            lane_r = mod(n, lanes)
+            if (lane_r > 0) strain(1:lane_r) = strain(1:lane_r) + sb(n - lane_r + 1:n)
+            do lane_i = 1, n - lanes + 1, lanes
+               min_j = min(min_j, jb(lane_i:lane_i + lanes - 1))
+            end do
+            lane_r = mod(n, lanes)
+            if (lane_r > 0) min_j(1:lane_r) = min(min_j(1:lane_r), jb(n - lane_r + 1:n))
          end if
          if (relocates) call find_outside(n, b0, cb, outside)
          call accumulate_boxes(k, n, cb, left, right, m, lo, hi, shares, run, mass_left, mass_right, momentum_left, &
@@ -2817,14 +3766,15 @@ contains
                                           run%b(5), mass_left, mass_right, momentum_left, momentum_right, stress_volume, &
                                           seg)
       call close_segment(k, shares, m, run, [lane_total(displacement), lane_total(kinetic), lane_total(strain)], &
-                         minval(min_j), largest%value, furthest_particle(largest), outside, mass_left, mass_right, &
+                         minval(min_j), largest%value, furthest_particle(largest, mb), outside, mass_left, mass_right, &
                          momentum_left, momentum_right, stress_volume, seg)
    end subroutine cpgimp_usl_segment
 
    !> MUSL, first pass: G2P, and the new momentum back to the start-of-step nodes (cpGIMP)
    subroutine cpgimp_musl_remap_segment(k, seg, x, x0, v, stress, volume_ratio, cell, acceleration, velocity, &
                                         strain_increment_of, mass_left, mass_right, momentum_left, momentum_right, &
-                                        stress_volume, constants, carry)
+                                        stress_volume, constants, carry, mass_of, modulus_of, forces, gradient, force_left, &
+                                        force_right)
       integer, parameter :: kernel = pass_musl_remap
       logical, parameter :: moves = pass_moves(kernel), stresses = pass_stresses(kernel), relocates = pass_relocates(kernel)
       integer, parameter :: shares = pass_shares(kernel)
@@ -2838,17 +3788,26 @@ contains
       real(dp), intent(inout), contiguous :: mass_left(:), mass_right(:), momentum_left(:), momentum_right(:), stress_volume(:)
       type(pass_constants_t), intent(in) :: constants
       real(dp), intent(inout), contiguous :: carry(:)  !< particles in parts: what a pass keeps for the next (fused_box_t)
+      !> the variants' per-particle data (absent when the run has none): masses and Young's moduli
+      !> (`material`), external forces (`forced`), APIC's velocity gradients C_p, and the element shares of
+      !> the forces
+      real(dp), intent(in), contiguous, optional :: mass_of(:), modulus_of(:), forces(:)
+      real(dp), intent(inout), contiguous, optional :: gradient(:), force_left(:), force_right(:)
       integer :: p, e, i, n, b0, first, last, lo, hi, outside, ahead, elements
       real(dp) :: half_m, strain_factor, dstrain, inv_dx, dt, youngs_modulus, m, volume0
       type(largest_move_t) :: largest
       real(dp) :: displacement(lanes), kinetic(lanes), strain(lanes), min_j(lanes)
       integer :: cb(block_size)
-      real(dp) :: svb(block_size), db(block_size), kb(block_size), sb(block_size), jb(block_size), mb(block_size)
+      real(dp) :: svb(block_size), db(block_size), kb(block_size), sb(block_size), jb(block_size)
+      real(dp) :: mb(block_size, 2)  !< the moves of a block, and of the block with the largest (lanes_track_move)
+      integer :: slot
+      real(dp) :: lane_max(lanes), block_max
+      integer :: lane_i, lane_r
       type(run_t) :: run
       ! the parts: their fractions r and local coordinates t (three parts: the products q = r t), the
       ! sums they add (accumulate_boxes, accumulate_thirds)
       integer :: node, flag
-      real(dp) :: origin, r1, r2, left(block_size, share_count), right(block_size, share_count)
+      real(dp) :: origin, r1, r2, left(block_size, run_sums), right(block_size, run_sums)
       real(dp) :: t1, t2
       real(dp) :: half_length0, l, fixed_l, jstart
       origin = constants%origin
@@ -2863,6 +3822,7 @@ contains
       call open_segment(k, shares, seg, mass_left, mass_right, momentum_left, momentum_right, stress_volume, first, last, &
                         lo, hi)
       displacement = 0; kinetic = 0; strain = 0; min_j = huge(1.0_dp)
+      slot = 1
       outside = 0
       half_m = 0.5_dp*m
       strain_factor = 0.0_dp
@@ -2904,7 +3864,7 @@ contains
             end if
             if (moves) call g2p_box(r1, r2, t1, t2, acceleration(e - 1), acceleration(e), acceleration(e + 1), &
                                     velocity(e - 1), velocity(e), velocity(e + 1), inv_dx, dt, half_m, x0(p), x(p), v(p), &
-                                    db(i), kb(i), mb(i))
+                                    db(i), kb(i), mb(i, slot))
             if (stresses) then ! d eps = dt sum dS v_I = r1 (element e's) + r2 (element e + 1's)
                if (moves) then
                   dstrain = r1*strain_increment(velocity(e - 1), velocity(e), dt, inv_dx) + &
@@ -2942,14 +3902,44 @@ contains
                right(i, 5) = r2*svb(i)
             end if
          end do
+         ! the block's totals (macros of mpm_lanes.fypi, expanded here)
          if (moves) then
-            call add_lanes(n, db, displacement)
-            call add_lanes(n, kb, kinetic)
-            call track_largest_move(n, b0, mb, largest)
+            do lane_i = 1, n - lanes + 1, lanes
+               displacement = displacement + db(lane_i:lane_i + lanes - 1)
+            end do
+            lane_r = mod(n, lanes)
+            if (lane_r > 0) displacement(1:lane_r) = displacement(1:lane_r) + db(n - lane_r + 1:n)
+            do lane_i = 1, n - lanes + 1, lanes
+               kinetic = kinetic + kb(lane_i:lane_i + lanes - 1)
+            end do
+            lane_r = mod(n, lanes)
+            if (lane_r > 0) kinetic(1:lane_r) = kinetic(1:lane_r) + kb(n - lane_r + 1:n)
+            lane_max = 0.0_dp
+            do lane_i = 1, n - lanes + 1, lanes
+               lane_max = max(lane_max, mb(lane_i:lane_i + lanes - 1, slot))
+            end do
+            lane_r = mod(n, lanes)
+            if (lane_r > 0) lane_max(1:lane_r) = max(lane_max(1:lane_r), mb(n - lane_r + 1:n, slot))
+            block_max = maxval(lane_max)
+            if (block_max > largest%value) then
+               largest%value = block_max
+               largest%first = b0
+               largest%count = n
+               largest%slot = slot
+               slot = 3 - slot
+            end if
          end if
          if (stresses) then
-            call add_lanes(n, sb, strain)
-            call min_lanes(n, jb, min_j)
+            do lane_i = 1, n - lanes + 1, lanes
+               strain = strain + sb(lane_i:lane_i + lanes - 1)
+            end do
+            lane_r = mod(n, lanes)
+            if (lane_r > 0) strain(1:lane_r) = strain(1:lane_r) + sb(n - lane_r + 1:n)
+            do lane_i = 1, n - lanes + 1, lanes
+               min_j = min(min_j, jb(lane_i:lane_i + lanes - 1))
+            end do
+            lane_r = mod(n, lanes)
+            if (lane_r > 0) min_j(1:lane_r) = min(min_j(1:lane_r), jb(n - lane_r + 1:n))
          end if
          if (relocates) call find_outside(n, b0, cb, outside)
          call accumulate_boxes(k, n, cb, left, right, m, lo, hi, shares, run, mass_left, mass_right, momentum_left, &
@@ -2960,14 +3950,15 @@ contains
                                           run%b(5), mass_left, mass_right, momentum_left, momentum_right, stress_volume, &
                                           seg)
       call close_segment(k, shares, m, run, [lane_total(displacement), lane_total(kinetic), lane_total(strain)], &
-                         minval(min_j), largest%value, furthest_particle(largest), outside, mass_left, mass_right, &
+                         minval(min_j), largest%value, furthest_particle(largest, mb), outside, mass_left, mass_right, &
                          momentum_left, momentum_right, stress_volume, seg)
    end subroutine cpgimp_musl_remap_segment
 
    !> MUSL, second pass: stress update from the remapped velocities, P2G at the new position (cpGIMP)
    subroutine cpgimp_musl_stress_segment(k, seg, x, x0, v, stress, volume_ratio, cell, acceleration, velocity, &
                                          strain_increment_of, mass_left, mass_right, momentum_left, momentum_right, &
-                                         stress_volume, constants, carry)
+                                         stress_volume, constants, carry, mass_of, modulus_of, forces, gradient, force_left, &
+                                         force_right)
       integer, parameter :: kernel = pass_musl_stress
       logical, parameter :: moves = pass_moves(kernel), stresses = pass_stresses(kernel), relocates = pass_relocates(kernel)
       integer, parameter :: shares = pass_shares(kernel)
@@ -2981,17 +3972,26 @@ contains
       real(dp), intent(inout), contiguous :: mass_left(:), mass_right(:), momentum_left(:), momentum_right(:), stress_volume(:)
       type(pass_constants_t), intent(in) :: constants
       real(dp), intent(inout), contiguous :: carry(:)  !< particles in parts: what a pass keeps for the next (fused_box_t)
+      !> the variants' per-particle data (absent when the run has none): masses and Young's moduli
+      !> (`material`), external forces (`forced`), APIC's velocity gradients C_p, and the element shares of
+      !> the forces
+      real(dp), intent(in), contiguous, optional :: mass_of(:), modulus_of(:), forces(:)
+      real(dp), intent(inout), contiguous, optional :: gradient(:), force_left(:), force_right(:)
       integer :: p, e, i, n, b0, first, last, lo, hi, outside, ahead, elements
       real(dp) :: half_m, strain_factor, dstrain, inv_dx, dt, youngs_modulus, m, volume0
       type(largest_move_t) :: largest
       real(dp) :: displacement(lanes), kinetic(lanes), strain(lanes), min_j(lanes)
       integer :: cb(block_size)
-      real(dp) :: svb(block_size), db(block_size), kb(block_size), sb(block_size), jb(block_size), mb(block_size)
+      real(dp) :: svb(block_size), db(block_size), kb(block_size), sb(block_size), jb(block_size)
+      real(dp) :: mb(block_size, 2)  !< the moves of a block, and of the block with the largest (lanes_track_move)
+      integer :: slot
+      real(dp) :: lane_max(lanes), block_max
+      integer :: lane_i, lane_r
       type(run_t) :: run
       ! the parts: their fractions r and local coordinates t (three parts: the products q = r t), the
       ! sums they add (accumulate_boxes, accumulate_thirds)
       integer :: node, flag
-      real(dp) :: origin, r1, r2, left(block_size, share_count), right(block_size, share_count)
+      real(dp) :: origin, r1, r2, left(block_size, run_sums), right(block_size, run_sums)
       real(dp) :: t1, t2
       real(dp) :: half_length0, l, fixed_l, jstart
       origin = constants%origin
@@ -3006,6 +4006,7 @@ contains
       call open_segment(k, shares, seg, mass_left, mass_right, momentum_left, momentum_right, stress_volume, first, last, &
                         lo, hi)
       displacement = 0; kinetic = 0; strain = 0; min_j = huge(1.0_dp)
+      slot = 1
       outside = 0
       half_m = 0.5_dp*m
       strain_factor = 0.0_dp
@@ -3047,7 +4048,7 @@ contains
             end if
             if (moves) call g2p_box(r1, r2, t1, t2, acceleration(e - 1), acceleration(e), acceleration(e + 1), &
                                     velocity(e - 1), velocity(e), velocity(e + 1), inv_dx, dt, half_m, x0(p), x(p), v(p), &
-                                    db(i), kb(i), mb(i))
+                                    db(i), kb(i), mb(i, slot))
             if (stresses) then ! d eps = dt sum dS v_I = r1 (element e's) + r2 (element e + 1's)
                if (moves) then
                   dstrain = r1*strain_increment(velocity(e - 1), velocity(e), dt, inv_dx) + &
@@ -3085,14 +4086,44 @@ contains
                right(i, 5) = r2*svb(i)
             end if
          end do
+         ! the block's totals (macros of mpm_lanes.fypi, expanded here)
          if (moves) then
-            call add_lanes(n, db, displacement)
-            call add_lanes(n, kb, kinetic)
-            call track_largest_move(n, b0, mb, largest)
+            do lane_i = 1, n - lanes + 1, lanes
+               displacement = displacement + db(lane_i:lane_i + lanes - 1)
+            end do
+            lane_r = mod(n, lanes)
+            if (lane_r > 0) displacement(1:lane_r) = displacement(1:lane_r) + db(n - lane_r + 1:n)
+            do lane_i = 1, n - lanes + 1, lanes
+               kinetic = kinetic + kb(lane_i:lane_i + lanes - 1)
+            end do
+            lane_r = mod(n, lanes)
+            if (lane_r > 0) kinetic(1:lane_r) = kinetic(1:lane_r) + kb(n - lane_r + 1:n)
+            lane_max = 0.0_dp
+            do lane_i = 1, n - lanes + 1, lanes
+               lane_max = max(lane_max, mb(lane_i:lane_i + lanes - 1, slot))
+            end do
+            lane_r = mod(n, lanes)
+            if (lane_r > 0) lane_max(1:lane_r) = max(lane_max(1:lane_r), mb(n - lane_r + 1:n, slot))
+            block_max = maxval(lane_max)
+            if (block_max > largest%value) then
+               largest%value = block_max
+               largest%first = b0
+               largest%count = n
+               largest%slot = slot
+               slot = 3 - slot
+            end if
          end if
          if (stresses) then
-            call add_lanes(n, sb, strain)
-            call min_lanes(n, jb, min_j)
+            do lane_i = 1, n - lanes + 1, lanes
+               strain = strain + sb(lane_i:lane_i + lanes - 1)
+            end do
+            lane_r = mod(n, lanes)
+            if (lane_r > 0) strain(1:lane_r) = strain(1:lane_r) + sb(n - lane_r + 1:n)
+            do lane_i = 1, n - lanes + 1, lanes
+               min_j = min(min_j, jb(lane_i:lane_i + lanes - 1))
+            end do
+            lane_r = mod(n, lanes)
+            if (lane_r > 0) min_j(1:lane_r) = min(min_j(1:lane_r), jb(n - lane_r + 1:n))
          end if
          if (relocates) call find_outside(n, b0, cb, outside)
          call accumulate_boxes(k, n, cb, left, right, m, lo, hi, shares, run, mass_left, mass_right, momentum_left, &
@@ -3103,14 +4134,15 @@ contains
                                           run%b(5), mass_left, mass_right, momentum_left, momentum_right, stress_volume, &
                                           seg)
       call close_segment(k, shares, m, run, [lane_total(displacement), lane_total(kinetic), lane_total(strain)], &
-                         minval(min_j), largest%value, furthest_particle(largest), outside, mass_left, mass_right, &
+                         minval(min_j), largest%value, furthest_particle(largest, mb), outside, mass_left, mass_right, &
                          momentum_left, momentum_right, stress_volume, seg)
    end subroutine cpgimp_musl_stress_segment
 
    !> USF, second half: G2P, then mass and momentum at the new position (quadratic B-splines)
    subroutine bspline2_usf_move_segment(k, seg, x, x0, v, stress, volume_ratio, cell, acceleration, velocity, &
                                         strain_increment_of, mass_left, mass_right, momentum_left, momentum_right, &
-                                        stress_volume, constants, carry)
+                                        stress_volume, constants, carry, mass_of, modulus_of, forces, gradient, force_left, &
+                                        force_right)
       integer, parameter :: kernel = pass_usf_move
       logical, parameter :: moves = pass_moves(kernel), stresses = pass_stresses(kernel), relocates = pass_relocates(kernel)
       integer, parameter :: shares = pass_shares(kernel)
@@ -3124,17 +4156,26 @@ contains
       real(dp), intent(inout), contiguous :: mass_left(:), mass_right(:), momentum_left(:), momentum_right(:), stress_volume(:)
       type(pass_constants_t), intent(in) :: constants
       real(dp), intent(inout), contiguous :: carry(:)  !< particles in parts: what a pass keeps for the next (fused_box_t)
+      !> the variants' per-particle data (absent when the run has none): masses and Young's moduli
+      !> (`material`), external forces (`forced`), APIC's velocity gradients C_p, and the element shares of
+      !> the forces
+      real(dp), intent(in), contiguous, optional :: mass_of(:), modulus_of(:), forces(:)
+      real(dp), intent(inout), contiguous, optional :: gradient(:), force_left(:), force_right(:)
       integer :: p, e, i, n, b0, first, last, lo, hi, outside, ahead, elements
       real(dp) :: half_m, strain_factor, dstrain, inv_dx, dt, youngs_modulus, m, volume0
       type(largest_move_t) :: largest
       real(dp) :: displacement(lanes), kinetic(lanes), strain(lanes), min_j(lanes)
       integer :: cb(block_size)
-      real(dp) :: svb(block_size), db(block_size), kb(block_size), sb(block_size), jb(block_size), mb(block_size)
+      real(dp) :: svb(block_size), db(block_size), kb(block_size), sb(block_size), jb(block_size)
+      real(dp) :: mb(block_size, 2)  !< the moves of a block, and of the block with the largest (lanes_track_move)
+      integer :: slot
+      real(dp) :: lane_max(lanes), block_max
+      integer :: lane_i, lane_r
       type(run_t) :: run
       ! the parts: their fractions r and local coordinates t (three parts: the products q = r t), the
       ! sums they add (accumulate_boxes, accumulate_thirds)
       integer :: node, flag
-      real(dp) :: origin, r1, r2, left(block_size, share_count), right(block_size, share_count)
+      real(dp) :: origin, r1, r2, left(block_size, run_sums), right(block_size, run_sums)
       real(dp) :: t1, t2
       origin = constants%origin
       elements = constants%elements
@@ -3146,6 +4187,7 @@ contains
       call open_segment(k, shares, seg, mass_left, mass_right, momentum_left, momentum_right, stress_volume, first, last, &
                         lo, hi)
       displacement = 0; kinetic = 0; strain = 0; min_j = huge(1.0_dp)
+      slot = 1
       outside = 0
       half_m = 0.5_dp*m
       strain_factor = 0.0_dp
@@ -3180,7 +4222,7 @@ contains
             end if
             if (moves) call g2p_box(r1, r2, t1, t2, acceleration(e - 1), acceleration(e), acceleration(e + 1), &
                                     velocity(e - 1), velocity(e), velocity(e + 1), inv_dx, dt, half_m, x0(p), x(p), v(p), &
-                                    db(i), kb(i), mb(i))
+                                    db(i), kb(i), mb(i, slot))
             if (stresses) then ! d eps = dt sum dS v_I = r1 (element e's) + r2 (element e + 1's)
                if (moves) then
                   dstrain = r1*strain_increment(velocity(e - 1), velocity(e), dt, inv_dx) + &
@@ -3217,14 +4259,44 @@ contains
                right(i, 5) = r2*svb(i)
             end if
          end do
+         ! the block's totals (macros of mpm_lanes.fypi, expanded here)
          if (moves) then
-            call add_lanes(n, db, displacement)
-            call add_lanes(n, kb, kinetic)
-            call track_largest_move(n, b0, mb, largest)
+            do lane_i = 1, n - lanes + 1, lanes
+               displacement = displacement + db(lane_i:lane_i + lanes - 1)
+            end do
+            lane_r = mod(n, lanes)
+            if (lane_r > 0) displacement(1:lane_r) = displacement(1:lane_r) + db(n - lane_r + 1:n)
+            do lane_i = 1, n - lanes + 1, lanes
+               kinetic = kinetic + kb(lane_i:lane_i + lanes - 1)
+            end do
+            lane_r = mod(n, lanes)
+            if (lane_r > 0) kinetic(1:lane_r) = kinetic(1:lane_r) + kb(n - lane_r + 1:n)
+            lane_max = 0.0_dp
+            do lane_i = 1, n - lanes + 1, lanes
+               lane_max = max(lane_max, mb(lane_i:lane_i + lanes - 1, slot))
+            end do
+            lane_r = mod(n, lanes)
+            if (lane_r > 0) lane_max(1:lane_r) = max(lane_max(1:lane_r), mb(n - lane_r + 1:n, slot))
+            block_max = maxval(lane_max)
+            if (block_max > largest%value) then
+               largest%value = block_max
+               largest%first = b0
+               largest%count = n
+               largest%slot = slot
+               slot = 3 - slot
+            end if
          end if
          if (stresses) then
-            call add_lanes(n, sb, strain)
-            call min_lanes(n, jb, min_j)
+            do lane_i = 1, n - lanes + 1, lanes
+               strain = strain + sb(lane_i:lane_i + lanes - 1)
+            end do
+            lane_r = mod(n, lanes)
+            if (lane_r > 0) strain(1:lane_r) = strain(1:lane_r) + sb(n - lane_r + 1:n)
+            do lane_i = 1, n - lanes + 1, lanes
+               min_j = min(min_j, jb(lane_i:lane_i + lanes - 1))
+            end do
+            lane_r = mod(n, lanes)
+            if (lane_r > 0) min_j(1:lane_r) = min(min_j(1:lane_r), jb(n - lane_r + 1:n))
          end if
          if (relocates) call find_outside(n, b0, cb, outside)
          call accumulate_boxes(k, n, cb, left, right, m, lo, hi, shares, run, mass_left, mass_right, momentum_left, &
@@ -3235,14 +4307,15 @@ contains
                                           run%b(5), mass_left, mass_right, momentum_left, momentum_right, stress_volume, &
                                           seg)
       call close_segment(k, shares, m, run, [lane_total(displacement), lane_total(kinetic), lane_total(strain)], &
-                         minval(min_j), largest%value, furthest_particle(largest), outside, mass_left, mass_right, &
+                         minval(min_j), largest%value, furthest_particle(largest, mb), outside, mass_left, mass_right, &
                          momentum_left, momentum_right, stress_volume, seg)
    end subroutine bspline2_usf_move_segment
 
    !> USF, first half: stress update, then stress*volume of the unmoved particles (quadratic B-splines)
    subroutine bspline2_usf_stress_segment(k, seg, x, x0, v, stress, volume_ratio, cell, acceleration, velocity, &
                                           strain_increment_of, mass_left, mass_right, momentum_left, momentum_right, &
-                                          stress_volume, constants, carry)
+                                          stress_volume, constants, carry, mass_of, modulus_of, forces, gradient, force_left, &
+                                          force_right)
       integer, parameter :: kernel = pass_usf_stress
       logical, parameter :: moves = pass_moves(kernel), stresses = pass_stresses(kernel), relocates = pass_relocates(kernel)
       integer, parameter :: shares = pass_shares(kernel)
@@ -3256,17 +4329,26 @@ contains
       real(dp), intent(inout), contiguous :: mass_left(:), mass_right(:), momentum_left(:), momentum_right(:), stress_volume(:)
       type(pass_constants_t), intent(in) :: constants
       real(dp), intent(inout), contiguous :: carry(:)  !< particles in parts: what a pass keeps for the next (fused_box_t)
+      !> the variants' per-particle data (absent when the run has none): masses and Young's moduli
+      !> (`material`), external forces (`forced`), APIC's velocity gradients C_p, and the element shares of
+      !> the forces
+      real(dp), intent(in), contiguous, optional :: mass_of(:), modulus_of(:), forces(:)
+      real(dp), intent(inout), contiguous, optional :: gradient(:), force_left(:), force_right(:)
       integer :: p, e, i, n, b0, first, last, lo, hi, outside, ahead, elements
       real(dp) :: half_m, strain_factor, dstrain, inv_dx, dt, youngs_modulus, m, volume0
       type(largest_move_t) :: largest
       real(dp) :: displacement(lanes), kinetic(lanes), strain(lanes), min_j(lanes)
       integer :: cb(block_size)
-      real(dp) :: svb(block_size), db(block_size), kb(block_size), sb(block_size), jb(block_size), mb(block_size)
+      real(dp) :: svb(block_size), db(block_size), kb(block_size), sb(block_size), jb(block_size)
+      real(dp) :: mb(block_size, 2)  !< the moves of a block, and of the block with the largest (lanes_track_move)
+      integer :: slot
+      real(dp) :: lane_max(lanes), block_max
+      integer :: lane_i, lane_r
       type(run_t) :: run
       ! the parts: their fractions r and local coordinates t (three parts: the products q = r t), the
       ! sums they add (accumulate_boxes, accumulate_thirds)
       integer :: node, flag
-      real(dp) :: origin, r1, r2, left(block_size, share_count), right(block_size, share_count)
+      real(dp) :: origin, r1, r2, left(block_size, run_sums), right(block_size, run_sums)
       real(dp) :: t1, t2
       origin = constants%origin
       elements = constants%elements
@@ -3278,6 +4360,7 @@ contains
       call open_segment(k, shares, seg, mass_left, mass_right, momentum_left, momentum_right, stress_volume, first, last, &
                         lo, hi)
       displacement = 0; kinetic = 0; strain = 0; min_j = huge(1.0_dp)
+      slot = 1
       outside = 0
       half_m = 0.5_dp*m
       strain_factor = 0.0_dp
@@ -3312,7 +4395,7 @@ contains
             end if
             if (moves) call g2p_box(r1, r2, t1, t2, acceleration(e - 1), acceleration(e), acceleration(e + 1), &
                                     velocity(e - 1), velocity(e), velocity(e + 1), inv_dx, dt, half_m, x0(p), x(p), v(p), &
-                                    db(i), kb(i), mb(i))
+                                    db(i), kb(i), mb(i, slot))
             if (stresses) then ! d eps = dt sum dS v_I = r1 (element e's) + r2 (element e + 1's)
                if (moves) then
                   dstrain = r1*strain_increment(velocity(e - 1), velocity(e), dt, inv_dx) + &
@@ -3349,14 +4432,44 @@ contains
                right(i, 5) = r2*svb(i)
             end if
          end do
+         ! the block's totals (macros of mpm_lanes.fypi, expanded here)
          if (moves) then
-            call add_lanes(n, db, displacement)
-            call add_lanes(n, kb, kinetic)
-            call track_largest_move(n, b0, mb, largest)
+            do lane_i = 1, n - lanes + 1, lanes
+               displacement = displacement + db(lane_i:lane_i + lanes - 1)
+            end do
+            lane_r = mod(n, lanes)
+            if (lane_r > 0) displacement(1:lane_r) = displacement(1:lane_r) + db(n - lane_r + 1:n)
+            do lane_i = 1, n - lanes + 1, lanes
+               kinetic = kinetic + kb(lane_i:lane_i + lanes - 1)
+            end do
+            lane_r = mod(n, lanes)
+            if (lane_r > 0) kinetic(1:lane_r) = kinetic(1:lane_r) + kb(n - lane_r + 1:n)
+            lane_max = 0.0_dp
+            do lane_i = 1, n - lanes + 1, lanes
+               lane_max = max(lane_max, mb(lane_i:lane_i + lanes - 1, slot))
+            end do
+            lane_r = mod(n, lanes)
+            if (lane_r > 0) lane_max(1:lane_r) = max(lane_max(1:lane_r), mb(n - lane_r + 1:n, slot))
+            block_max = maxval(lane_max)
+            if (block_max > largest%value) then
+               largest%value = block_max
+               largest%first = b0
+               largest%count = n
+               largest%slot = slot
+               slot = 3 - slot
+            end if
          end if
          if (stresses) then
-            call add_lanes(n, sb, strain)
-            call min_lanes(n, jb, min_j)
+            do lane_i = 1, n - lanes + 1, lanes
+               strain = strain + sb(lane_i:lane_i + lanes - 1)
+            end do
+            lane_r = mod(n, lanes)
+            if (lane_r > 0) strain(1:lane_r) = strain(1:lane_r) + sb(n - lane_r + 1:n)
+            do lane_i = 1, n - lanes + 1, lanes
+               min_j = min(min_j, jb(lane_i:lane_i + lanes - 1))
+            end do
+            lane_r = mod(n, lanes)
+            if (lane_r > 0) min_j(1:lane_r) = min(min_j(1:lane_r), jb(n - lane_r + 1:n))
          end if
          if (relocates) call find_outside(n, b0, cb, outside)
          call accumulate_boxes(k, n, cb, left, right, m, lo, hi, shares, run, mass_left, mass_right, momentum_left, &
@@ -3367,14 +4480,15 @@ contains
                                           run%b(5), mass_left, mass_right, momentum_left, momentum_right, stress_volume, &
                                           seg)
       call close_segment(k, shares, m, run, [lane_total(displacement), lane_total(kinetic), lane_total(strain)], &
-                         minval(min_j), largest%value, furthest_particle(largest), outside, mass_left, mass_right, &
+                         minval(min_j), largest%value, furthest_particle(largest, mb), outside, mass_left, mass_right, &
                          momentum_left, momentum_right, stress_volume, seg)
    end subroutine bspline2_usf_stress_segment
 
    !> USL: G2P, stress update from the updated nodal velocities, P2G at the new position (quadratic B-splines)
    subroutine bspline2_usl_segment(k, seg, x, x0, v, stress, volume_ratio, cell, acceleration, velocity, &
                                    strain_increment_of, mass_left, mass_right, momentum_left, momentum_right, &
-                                   stress_volume, constants, carry)
+                                   stress_volume, constants, carry, mass_of, modulus_of, forces, gradient, force_left, &
+                                   force_right)
       integer, parameter :: kernel = pass_usl
       logical, parameter :: moves = pass_moves(kernel), stresses = pass_stresses(kernel), relocates = pass_relocates(kernel)
       integer, parameter :: shares = pass_shares(kernel)
@@ -3388,17 +4502,26 @@ contains
       real(dp), intent(inout), contiguous :: mass_left(:), mass_right(:), momentum_left(:), momentum_right(:), stress_volume(:)
       type(pass_constants_t), intent(in) :: constants
       real(dp), intent(inout), contiguous :: carry(:)  !< particles in parts: what a pass keeps for the next (fused_box_t)
+      !> the variants' per-particle data (absent when the run has none): masses and Young's moduli
+      !> (`material`), external forces (`forced`), APIC's velocity gradients C_p, and the element shares of
+      !> the forces
+      real(dp), intent(in), contiguous, optional :: mass_of(:), modulus_of(:), forces(:)
+      real(dp), intent(inout), contiguous, optional :: gradient(:), force_left(:), force_right(:)
       integer :: p, e, i, n, b0, first, last, lo, hi, outside, ahead, elements
       real(dp) :: half_m, strain_factor, dstrain, inv_dx, dt, youngs_modulus, m, volume0
       type(largest_move_t) :: largest
       real(dp) :: displacement(lanes), kinetic(lanes), strain(lanes), min_j(lanes)
       integer :: cb(block_size)
-      real(dp) :: svb(block_size), db(block_size), kb(block_size), sb(block_size), jb(block_size), mb(block_size)
+      real(dp) :: svb(block_size), db(block_size), kb(block_size), sb(block_size), jb(block_size)
+      real(dp) :: mb(block_size, 2)  !< the moves of a block, and of the block with the largest (lanes_track_move)
+      integer :: slot
+      real(dp) :: lane_max(lanes), block_max
+      integer :: lane_i, lane_r
       type(run_t) :: run
       ! the parts: their fractions r and local coordinates t (three parts: the products q = r t), the
       ! sums they add (accumulate_boxes, accumulate_thirds)
       integer :: node, flag
-      real(dp) :: origin, r1, r2, left(block_size, share_count), right(block_size, share_count)
+      real(dp) :: origin, r1, r2, left(block_size, run_sums), right(block_size, run_sums)
       real(dp) :: t1, t2
       origin = constants%origin
       elements = constants%elements
@@ -3410,6 +4533,7 @@ contains
       call open_segment(k, shares, seg, mass_left, mass_right, momentum_left, momentum_right, stress_volume, first, last, &
                         lo, hi)
       displacement = 0; kinetic = 0; strain = 0; min_j = huge(1.0_dp)
+      slot = 1
       outside = 0
       half_m = 0.5_dp*m
       strain_factor = 0.0_dp
@@ -3444,7 +4568,7 @@ contains
             end if
             if (moves) call g2p_box(r1, r2, t1, t2, acceleration(e - 1), acceleration(e), acceleration(e + 1), &
                                     velocity(e - 1), velocity(e), velocity(e + 1), inv_dx, dt, half_m, x0(p), x(p), v(p), &
-                                    db(i), kb(i), mb(i))
+                                    db(i), kb(i), mb(i, slot))
             if (stresses) then ! d eps = dt sum dS v_I = r1 (element e's) + r2 (element e + 1's)
                if (moves) then
                   dstrain = r1*strain_increment(velocity(e - 1), velocity(e), dt, inv_dx) + &
@@ -3481,14 +4605,44 @@ contains
                right(i, 5) = r2*svb(i)
             end if
          end do
+         ! the block's totals (macros of mpm_lanes.fypi, expanded here)
          if (moves) then
-            call add_lanes(n, db, displacement)
-            call add_lanes(n, kb, kinetic)
-            call track_largest_move(n, b0, mb, largest)
+            do lane_i = 1, n - lanes + 1, lanes
+               displacement = displacement + db(lane_i:lane_i + lanes - 1)
+            end do
+            lane_r = mod(n, lanes)
+            if (lane_r > 0) displacement(1:lane_r) = displacement(1:lane_r) + db(n - lane_r + 1:n)
+            do lane_i = 1, n - lanes + 1, lanes
+               kinetic = kinetic + kb(lane_i:lane_i + lanes - 1)
+            end do
+            lane_r = mod(n, lanes)
+            if (lane_r > 0) kinetic(1:lane_r) = kinetic(1:lane_r) + kb(n - lane_r + 1:n)
+            lane_max = 0.0_dp
+            do lane_i = 1, n - lanes + 1, lanes
+               lane_max = max(lane_max, mb(lane_i:lane_i + lanes - 1, slot))
+            end do
+            lane_r = mod(n, lanes)
+            if (lane_r > 0) lane_max(1:lane_r) = max(lane_max(1:lane_r), mb(n - lane_r + 1:n, slot))
+            block_max = maxval(lane_max)
+            if (block_max > largest%value) then
+               largest%value = block_max
+               largest%first = b0
+               largest%count = n
+               largest%slot = slot
+               slot = 3 - slot
+            end if
          end if
          if (stresses) then
-            call add_lanes(n, sb, strain)
-            call min_lanes(n, jb, min_j)
+            do lane_i = 1, n - lanes + 1, lanes
+               strain = strain + sb(lane_i:lane_i + lanes - 1)
+            end do
+            lane_r = mod(n, lanes)
+            if (lane_r > 0) strain(1:lane_r) = strain(1:lane_r) + sb(n - lane_r + 1:n)
+            do lane_i = 1, n - lanes + 1, lanes
+               min_j = min(min_j, jb(lane_i:lane_i + lanes - 1))
+            end do
+            lane_r = mod(n, lanes)
+            if (lane_r > 0) min_j(1:lane_r) = min(min_j(1:lane_r), jb(n - lane_r + 1:n))
          end if
          if (relocates) call find_outside(n, b0, cb, outside)
          call accumulate_boxes(k, n, cb, left, right, m, lo, hi, shares, run, mass_left, mass_right, momentum_left, &
@@ -3499,14 +4653,15 @@ contains
                                           run%b(5), mass_left, mass_right, momentum_left, momentum_right, stress_volume, &
                                           seg)
       call close_segment(k, shares, m, run, [lane_total(displacement), lane_total(kinetic), lane_total(strain)], &
-                         minval(min_j), largest%value, furthest_particle(largest), outside, mass_left, mass_right, &
+                         minval(min_j), largest%value, furthest_particle(largest, mb), outside, mass_left, mass_right, &
                          momentum_left, momentum_right, stress_volume, seg)
    end subroutine bspline2_usl_segment
 
    !> MUSL, first pass: G2P, and the new momentum back to the start-of-step nodes (quadratic B-splines)
    subroutine bspline2_musl_remap_segment(k, seg, x, x0, v, stress, volume_ratio, cell, acceleration, velocity, &
                                           strain_increment_of, mass_left, mass_right, momentum_left, momentum_right, &
-                                          stress_volume, constants, carry)
+                                          stress_volume, constants, carry, mass_of, modulus_of, forces, gradient, force_left, &
+                                          force_right)
       integer, parameter :: kernel = pass_musl_remap
       logical, parameter :: moves = pass_moves(kernel), stresses = pass_stresses(kernel), relocates = pass_relocates(kernel)
       integer, parameter :: shares = pass_shares(kernel)
@@ -3520,17 +4675,26 @@ contains
       real(dp), intent(inout), contiguous :: mass_left(:), mass_right(:), momentum_left(:), momentum_right(:), stress_volume(:)
       type(pass_constants_t), intent(in) :: constants
       real(dp), intent(inout), contiguous :: carry(:)  !< particles in parts: what a pass keeps for the next (fused_box_t)
+      !> the variants' per-particle data (absent when the run has none): masses and Young's moduli
+      !> (`material`), external forces (`forced`), APIC's velocity gradients C_p, and the element shares of
+      !> the forces
+      real(dp), intent(in), contiguous, optional :: mass_of(:), modulus_of(:), forces(:)
+      real(dp), intent(inout), contiguous, optional :: gradient(:), force_left(:), force_right(:)
       integer :: p, e, i, n, b0, first, last, lo, hi, outside, ahead, elements
       real(dp) :: half_m, strain_factor, dstrain, inv_dx, dt, youngs_modulus, m, volume0
       type(largest_move_t) :: largest
       real(dp) :: displacement(lanes), kinetic(lanes), strain(lanes), min_j(lanes)
       integer :: cb(block_size)
-      real(dp) :: svb(block_size), db(block_size), kb(block_size), sb(block_size), jb(block_size), mb(block_size)
+      real(dp) :: svb(block_size), db(block_size), kb(block_size), sb(block_size), jb(block_size)
+      real(dp) :: mb(block_size, 2)  !< the moves of a block, and of the block with the largest (lanes_track_move)
+      integer :: slot
+      real(dp) :: lane_max(lanes), block_max
+      integer :: lane_i, lane_r
       type(run_t) :: run
       ! the parts: their fractions r and local coordinates t (three parts: the products q = r t), the
       ! sums they add (accumulate_boxes, accumulate_thirds)
       integer :: node, flag
-      real(dp) :: origin, r1, r2, left(block_size, share_count), right(block_size, share_count)
+      real(dp) :: origin, r1, r2, left(block_size, run_sums), right(block_size, run_sums)
       real(dp) :: t1, t2
       origin = constants%origin
       elements = constants%elements
@@ -3542,6 +4706,7 @@ contains
       call open_segment(k, shares, seg, mass_left, mass_right, momentum_left, momentum_right, stress_volume, first, last, &
                         lo, hi)
       displacement = 0; kinetic = 0; strain = 0; min_j = huge(1.0_dp)
+      slot = 1
       outside = 0
       half_m = 0.5_dp*m
       strain_factor = 0.0_dp
@@ -3576,7 +4741,7 @@ contains
             end if
             if (moves) call g2p_box(r1, r2, t1, t2, acceleration(e - 1), acceleration(e), acceleration(e + 1), &
                                     velocity(e - 1), velocity(e), velocity(e + 1), inv_dx, dt, half_m, x0(p), x(p), v(p), &
-                                    db(i), kb(i), mb(i))
+                                    db(i), kb(i), mb(i, slot))
             if (stresses) then ! d eps = dt sum dS v_I = r1 (element e's) + r2 (element e + 1's)
                if (moves) then
                   dstrain = r1*strain_increment(velocity(e - 1), velocity(e), dt, inv_dx) + &
@@ -3613,14 +4778,44 @@ contains
                right(i, 5) = r2*svb(i)
             end if
          end do
+         ! the block's totals (macros of mpm_lanes.fypi, expanded here)
          if (moves) then
-            call add_lanes(n, db, displacement)
-            call add_lanes(n, kb, kinetic)
-            call track_largest_move(n, b0, mb, largest)
+            do lane_i = 1, n - lanes + 1, lanes
+               displacement = displacement + db(lane_i:lane_i + lanes - 1)
+            end do
+            lane_r = mod(n, lanes)
+            if (lane_r > 0) displacement(1:lane_r) = displacement(1:lane_r) + db(n - lane_r + 1:n)
+            do lane_i = 1, n - lanes + 1, lanes
+               kinetic = kinetic + kb(lane_i:lane_i + lanes - 1)
+            end do
+            lane_r = mod(n, lanes)
+            if (lane_r > 0) kinetic(1:lane_r) = kinetic(1:lane_r) + kb(n - lane_r + 1:n)
+            lane_max = 0.0_dp
+            do lane_i = 1, n - lanes + 1, lanes
+               lane_max = max(lane_max, mb(lane_i:lane_i + lanes - 1, slot))
+            end do
+            lane_r = mod(n, lanes)
+            if (lane_r > 0) lane_max(1:lane_r) = max(lane_max(1:lane_r), mb(n - lane_r + 1:n, slot))
+            block_max = maxval(lane_max)
+            if (block_max > largest%value) then
+               largest%value = block_max
+               largest%first = b0
+               largest%count = n
+               largest%slot = slot
+               slot = 3 - slot
+            end if
          end if
          if (stresses) then
-            call add_lanes(n, sb, strain)
-            call min_lanes(n, jb, min_j)
+            do lane_i = 1, n - lanes + 1, lanes
+               strain = strain + sb(lane_i:lane_i + lanes - 1)
+            end do
+            lane_r = mod(n, lanes)
+            if (lane_r > 0) strain(1:lane_r) = strain(1:lane_r) + sb(n - lane_r + 1:n)
+            do lane_i = 1, n - lanes + 1, lanes
+               min_j = min(min_j, jb(lane_i:lane_i + lanes - 1))
+            end do
+            lane_r = mod(n, lanes)
+            if (lane_r > 0) min_j(1:lane_r) = min(min_j(1:lane_r), jb(n - lane_r + 1:n))
          end if
          if (relocates) call find_outside(n, b0, cb, outside)
          call accumulate_boxes(k, n, cb, left, right, m, lo, hi, shares, run, mass_left, mass_right, momentum_left, &
@@ -3631,14 +4826,15 @@ contains
                                           run%b(5), mass_left, mass_right, momentum_left, momentum_right, stress_volume, &
                                           seg)
       call close_segment(k, shares, m, run, [lane_total(displacement), lane_total(kinetic), lane_total(strain)], &
-                         minval(min_j), largest%value, furthest_particle(largest), outside, mass_left, mass_right, &
+                         minval(min_j), largest%value, furthest_particle(largest, mb), outside, mass_left, mass_right, &
                          momentum_left, momentum_right, stress_volume, seg)
    end subroutine bspline2_musl_remap_segment
 
    !> MUSL, second pass: stress update from the remapped velocities, P2G at the new position (quadratic B-splines)
    subroutine bspline2_musl_stress_segment(k, seg, x, x0, v, stress, volume_ratio, cell, acceleration, velocity, &
                                            strain_increment_of, mass_left, mass_right, momentum_left, momentum_right, &
-                                           stress_volume, constants, carry)
+                                           stress_volume, constants, carry, mass_of, modulus_of, forces, gradient, force_left, &
+                                           force_right)
       integer, parameter :: kernel = pass_musl_stress
       logical, parameter :: moves = pass_moves(kernel), stresses = pass_stresses(kernel), relocates = pass_relocates(kernel)
       integer, parameter :: shares = pass_shares(kernel)
@@ -3652,17 +4848,26 @@ contains
       real(dp), intent(inout), contiguous :: mass_left(:), mass_right(:), momentum_left(:), momentum_right(:), stress_volume(:)
       type(pass_constants_t), intent(in) :: constants
       real(dp), intent(inout), contiguous :: carry(:)  !< particles in parts: what a pass keeps for the next (fused_box_t)
+      !> the variants' per-particle data (absent when the run has none): masses and Young's moduli
+      !> (`material`), external forces (`forced`), APIC's velocity gradients C_p, and the element shares of
+      !> the forces
+      real(dp), intent(in), contiguous, optional :: mass_of(:), modulus_of(:), forces(:)
+      real(dp), intent(inout), contiguous, optional :: gradient(:), force_left(:), force_right(:)
       integer :: p, e, i, n, b0, first, last, lo, hi, outside, ahead, elements
       real(dp) :: half_m, strain_factor, dstrain, inv_dx, dt, youngs_modulus, m, volume0
       type(largest_move_t) :: largest
       real(dp) :: displacement(lanes), kinetic(lanes), strain(lanes), min_j(lanes)
       integer :: cb(block_size)
-      real(dp) :: svb(block_size), db(block_size), kb(block_size), sb(block_size), jb(block_size), mb(block_size)
+      real(dp) :: svb(block_size), db(block_size), kb(block_size), sb(block_size), jb(block_size)
+      real(dp) :: mb(block_size, 2)  !< the moves of a block, and of the block with the largest (lanes_track_move)
+      integer :: slot
+      real(dp) :: lane_max(lanes), block_max
+      integer :: lane_i, lane_r
       type(run_t) :: run
       ! the parts: their fractions r and local coordinates t (three parts: the products q = r t), the
       ! sums they add (accumulate_boxes, accumulate_thirds)
       integer :: node, flag
-      real(dp) :: origin, r1, r2, left(block_size, share_count), right(block_size, share_count)
+      real(dp) :: origin, r1, r2, left(block_size, run_sums), right(block_size, run_sums)
       real(dp) :: t1, t2
       origin = constants%origin
       elements = constants%elements
@@ -3674,6 +4879,7 @@ contains
       call open_segment(k, shares, seg, mass_left, mass_right, momentum_left, momentum_right, stress_volume, first, last, &
                         lo, hi)
       displacement = 0; kinetic = 0; strain = 0; min_j = huge(1.0_dp)
+      slot = 1
       outside = 0
       half_m = 0.5_dp*m
       strain_factor = 0.0_dp
@@ -3708,7 +4914,7 @@ contains
             end if
             if (moves) call g2p_box(r1, r2, t1, t2, acceleration(e - 1), acceleration(e), acceleration(e + 1), &
                                     velocity(e - 1), velocity(e), velocity(e + 1), inv_dx, dt, half_m, x0(p), x(p), v(p), &
-                                    db(i), kb(i), mb(i))
+                                    db(i), kb(i), mb(i, slot))
             if (stresses) then ! d eps = dt sum dS v_I = r1 (element e's) + r2 (element e + 1's)
                if (moves) then
                   dstrain = r1*strain_increment(velocity(e - 1), velocity(e), dt, inv_dx) + &
@@ -3745,14 +4951,44 @@ contains
                right(i, 5) = r2*svb(i)
             end if
          end do
+         ! the block's totals (macros of mpm_lanes.fypi, expanded here)
          if (moves) then
-            call add_lanes(n, db, displacement)
-            call add_lanes(n, kb, kinetic)
-            call track_largest_move(n, b0, mb, largest)
+            do lane_i = 1, n - lanes + 1, lanes
+               displacement = displacement + db(lane_i:lane_i + lanes - 1)
+            end do
+            lane_r = mod(n, lanes)
+            if (lane_r > 0) displacement(1:lane_r) = displacement(1:lane_r) + db(n - lane_r + 1:n)
+            do lane_i = 1, n - lanes + 1, lanes
+               kinetic = kinetic + kb(lane_i:lane_i + lanes - 1)
+            end do
+            lane_r = mod(n, lanes)
+            if (lane_r > 0) kinetic(1:lane_r) = kinetic(1:lane_r) + kb(n - lane_r + 1:n)
+            lane_max = 0.0_dp
+            do lane_i = 1, n - lanes + 1, lanes
+               lane_max = max(lane_max, mb(lane_i:lane_i + lanes - 1, slot))
+            end do
+            lane_r = mod(n, lanes)
+            if (lane_r > 0) lane_max(1:lane_r) = max(lane_max(1:lane_r), mb(n - lane_r + 1:n, slot))
+            block_max = maxval(lane_max)
+            if (block_max > largest%value) then
+               largest%value = block_max
+               largest%first = b0
+               largest%count = n
+               largest%slot = slot
+               slot = 3 - slot
+            end if
          end if
          if (stresses) then
-            call add_lanes(n, sb, strain)
-            call min_lanes(n, jb, min_j)
+            do lane_i = 1, n - lanes + 1, lanes
+               strain = strain + sb(lane_i:lane_i + lanes - 1)
+            end do
+            lane_r = mod(n, lanes)
+            if (lane_r > 0) strain(1:lane_r) = strain(1:lane_r) + sb(n - lane_r + 1:n)
+            do lane_i = 1, n - lanes + 1, lanes
+               min_j = min(min_j, jb(lane_i:lane_i + lanes - 1))
+            end do
+            lane_r = mod(n, lanes)
+            if (lane_r > 0) min_j(1:lane_r) = min(min_j(1:lane_r), jb(n - lane_r + 1:n))
          end if
          if (relocates) call find_outside(n, b0, cb, outside)
          call accumulate_boxes(k, n, cb, left, right, m, lo, hi, shares, run, mass_left, mass_right, momentum_left, &
@@ -3763,14 +4999,15 @@ contains
                                           run%b(5), mass_left, mass_right, momentum_left, momentum_right, stress_volume, &
                                           seg)
       call close_segment(k, shares, m, run, [lane_total(displacement), lane_total(kinetic), lane_total(strain)], &
-                         minval(min_j), largest%value, furthest_particle(largest), outside, mass_left, mass_right, &
+                         minval(min_j), largest%value, furthest_particle(largest, mb), outside, mass_left, mass_right, &
                          momentum_left, momentum_right, stress_volume, seg)
    end subroutine bspline2_musl_stress_segment
 
    !> USF, second half: G2P, then mass and momentum at the new position (cubic B-splines)
    subroutine bspline3_usf_move_segment(k, seg, x, x0, v, stress, volume_ratio, cell, acceleration, velocity, &
                                         strain_increment_of, mass_left, mass_right, momentum_left, momentum_right, &
-                                        stress_volume, constants, carry)
+                                        stress_volume, constants, carry, mass_of, modulus_of, forces, gradient, force_left, &
+                                        force_right)
       integer, parameter :: kernel = pass_usf_move
       logical, parameter :: moves = pass_moves(kernel), stresses = pass_stresses(kernel), relocates = pass_relocates(kernel)
       integer, parameter :: shares = pass_shares(kernel)
@@ -3784,18 +5021,27 @@ contains
       real(dp), intent(inout), contiguous :: mass_left(:), mass_right(:), momentum_left(:), momentum_right(:), stress_volume(:)
       type(pass_constants_t), intent(in) :: constants
       real(dp), intent(inout), contiguous :: carry(:)  !< particles in parts: what a pass keeps for the next (fused_box_t)
+      !> the variants' per-particle data (absent when the run has none): masses and Young's moduli
+      !> (`material`), external forces (`forced`), APIC's velocity gradients C_p, and the element shares of
+      !> the forces
+      real(dp), intent(in), contiguous, optional :: mass_of(:), modulus_of(:), forces(:)
+      real(dp), intent(inout), contiguous, optional :: gradient(:), force_left(:), force_right(:)
       integer :: p, e, i, n, b0, first, last, lo, hi, outside, ahead, elements
       real(dp) :: half_m, strain_factor, dstrain, inv_dx, dt, youngs_modulus, m, volume0
       type(largest_move_t) :: largest
       real(dp) :: displacement(lanes), kinetic(lanes), strain(lanes), min_j(lanes)
       integer :: cb(block_size)
-      real(dp) :: svb(block_size), db(block_size), kb(block_size), sb(block_size), jb(block_size), mb(block_size)
+      real(dp) :: svb(block_size), db(block_size), kb(block_size), sb(block_size), jb(block_size)
+      real(dp) :: mb(block_size, 2)  !< the moves of a block, and of the block with the largest (lanes_track_move)
+      integer :: slot
+      real(dp) :: lane_max(lanes), block_max
+      integer :: lane_i, lane_r
       type(run_t) :: run
       ! the parts: their fractions r and local coordinates t (three parts: the products q = r t), the
       ! sums they add (accumulate_boxes, accumulate_thirds)
       integer :: node, flag
-      real(dp) :: origin, r1, r2, left(block_size, share_count), right(block_size, share_count)
-      real(dp) :: r3, q1, q2, q3, tq, mid(block_size, share_count)
+      real(dp) :: origin, r1, r2, left(block_size, run_sums), right(block_size, run_sums)
+      real(dp) :: r3, q1, q2, q3, tq, mid(block_size, run_sums)
       origin = constants%origin
       elements = constants%elements
       inv_dx = constants%inv_dx
@@ -3806,6 +5052,7 @@ contains
       call open_segment(k, shares, seg, mass_left, mass_right, momentum_left, momentum_right, stress_volume, first, last, &
                         lo, hi)
       displacement = 0; kinetic = 0; strain = 0; min_j = huge(1.0_dp)
+      slot = 1
       outside = 0
       half_m = 0.5_dp*m
       strain_factor = 0.0_dp
@@ -3840,7 +5087,7 @@ contains
             call cubic_parts(tq, r1, r2, r3, q1, q2, q3)
             if (moves) call g2p_cubic(r1, r2, r3, q1, q2, q3, acceleration(e - 2), acceleration(e - 1), acceleration(e), &
                                       acceleration(e + 1), velocity(e - 2), velocity(e - 1), velocity(e), velocity(e + 1), &
-                                      inv_dx, dt, half_m, x0(p), x(p), v(p), db(i), kb(i), mb(i))
+                                      inv_dx, dt, half_m, x0(p), x(p), v(p), db(i), kb(i), mb(i, slot))
             if (stresses) then
                if (moves) then
                   dstrain = r1*strain_increment(velocity(e - 2), velocity(e - 1), dt, inv_dx) + &
@@ -3882,14 +5129,44 @@ contains
                right(i, 5) = r3*svb(i)
             end if
          end do
+         ! the block's totals (macros of mpm_lanes.fypi, expanded here)
          if (moves) then
-            call add_lanes(n, db, displacement)
-            call add_lanes(n, kb, kinetic)
-            call track_largest_move(n, b0, mb, largest)
+            do lane_i = 1, n - lanes + 1, lanes
+               displacement = displacement + db(lane_i:lane_i + lanes - 1)
+            end do
+            lane_r = mod(n, lanes)
+            if (lane_r > 0) displacement(1:lane_r) = displacement(1:lane_r) + db(n - lane_r + 1:n)
+            do lane_i = 1, n - lanes + 1, lanes
+               kinetic = kinetic + kb(lane_i:lane_i + lanes - 1)
+            end do
+            lane_r = mod(n, lanes)
+            if (lane_r > 0) kinetic(1:lane_r) = kinetic(1:lane_r) + kb(n - lane_r + 1:n)
+            lane_max = 0.0_dp
+            do lane_i = 1, n - lanes + 1, lanes
+               lane_max = max(lane_max, mb(lane_i:lane_i + lanes - 1, slot))
+            end do
+            lane_r = mod(n, lanes)
+            if (lane_r > 0) lane_max(1:lane_r) = max(lane_max(1:lane_r), mb(n - lane_r + 1:n, slot))
+            block_max = maxval(lane_max)
+            if (block_max > largest%value) then
+               largest%value = block_max
+               largest%first = b0
+               largest%count = n
+               largest%slot = slot
+               slot = 3 - slot
+            end if
          end if
          if (stresses) then
-            call add_lanes(n, sb, strain)
-            call min_lanes(n, jb, min_j)
+            do lane_i = 1, n - lanes + 1, lanes
+               strain = strain + sb(lane_i:lane_i + lanes - 1)
+            end do
+            lane_r = mod(n, lanes)
+            if (lane_r > 0) strain(1:lane_r) = strain(1:lane_r) + sb(n - lane_r + 1:n)
+            do lane_i = 1, n - lanes + 1, lanes
+               min_j = min(min_j, jb(lane_i:lane_i + lanes - 1))
+            end do
+            lane_r = mod(n, lanes)
+            if (lane_r > 0) min_j(1:lane_r) = min(min_j(1:lane_r), jb(n - lane_r + 1:n))
          end if
          if (relocates) call find_outside(n, b0, cb, outside)
          call accumulate_thirds(k, n, cb, left, mid, right, m, lo, hi, shares, run, mass_left, mass_right, momentum_left, &
@@ -3903,14 +5180,15 @@ contains
                                           run%z(5), mass_left, mass_right, momentum_left, momentum_right, stress_volume, &
                                           seg)
       call close_segment(k, shares, m, run, [lane_total(displacement), lane_total(kinetic), lane_total(strain)], &
-                         minval(min_j), largest%value, furthest_particle(largest), outside, mass_left, mass_right, &
+                         minval(min_j), largest%value, furthest_particle(largest, mb), outside, mass_left, mass_right, &
                          momentum_left, momentum_right, stress_volume, seg)
    end subroutine bspline3_usf_move_segment
 
    !> USF, first half: stress update, then stress*volume of the unmoved particles (cubic B-splines)
    subroutine bspline3_usf_stress_segment(k, seg, x, x0, v, stress, volume_ratio, cell, acceleration, velocity, &
                                           strain_increment_of, mass_left, mass_right, momentum_left, momentum_right, &
-                                          stress_volume, constants, carry)
+                                          stress_volume, constants, carry, mass_of, modulus_of, forces, gradient, force_left, &
+                                          force_right)
       integer, parameter :: kernel = pass_usf_stress
       logical, parameter :: moves = pass_moves(kernel), stresses = pass_stresses(kernel), relocates = pass_relocates(kernel)
       integer, parameter :: shares = pass_shares(kernel)
@@ -3924,18 +5202,27 @@ contains
       real(dp), intent(inout), contiguous :: mass_left(:), mass_right(:), momentum_left(:), momentum_right(:), stress_volume(:)
       type(pass_constants_t), intent(in) :: constants
       real(dp), intent(inout), contiguous :: carry(:)  !< particles in parts: what a pass keeps for the next (fused_box_t)
+      !> the variants' per-particle data (absent when the run has none): masses and Young's moduli
+      !> (`material`), external forces (`forced`), APIC's velocity gradients C_p, and the element shares of
+      !> the forces
+      real(dp), intent(in), contiguous, optional :: mass_of(:), modulus_of(:), forces(:)
+      real(dp), intent(inout), contiguous, optional :: gradient(:), force_left(:), force_right(:)
       integer :: p, e, i, n, b0, first, last, lo, hi, outside, ahead, elements
       real(dp) :: half_m, strain_factor, dstrain, inv_dx, dt, youngs_modulus, m, volume0
       type(largest_move_t) :: largest
       real(dp) :: displacement(lanes), kinetic(lanes), strain(lanes), min_j(lanes)
       integer :: cb(block_size)
-      real(dp) :: svb(block_size), db(block_size), kb(block_size), sb(block_size), jb(block_size), mb(block_size)
+      real(dp) :: svb(block_size), db(block_size), kb(block_size), sb(block_size), jb(block_size)
+      real(dp) :: mb(block_size, 2)  !< the moves of a block, and of the block with the largest (lanes_track_move)
+      integer :: slot
+      real(dp) :: lane_max(lanes), block_max
+      integer :: lane_i, lane_r
       type(run_t) :: run
       ! the parts: their fractions r and local coordinates t (three parts: the products q = r t), the
       ! sums they add (accumulate_boxes, accumulate_thirds)
       integer :: node, flag
-      real(dp) :: origin, r1, r2, left(block_size, share_count), right(block_size, share_count)
-      real(dp) :: r3, q1, q2, q3, tq, mid(block_size, share_count)
+      real(dp) :: origin, r1, r2, left(block_size, run_sums), right(block_size, run_sums)
+      real(dp) :: r3, q1, q2, q3, tq, mid(block_size, run_sums)
       origin = constants%origin
       elements = constants%elements
       inv_dx = constants%inv_dx
@@ -3946,6 +5233,7 @@ contains
       call open_segment(k, shares, seg, mass_left, mass_right, momentum_left, momentum_right, stress_volume, first, last, &
                         lo, hi)
       displacement = 0; kinetic = 0; strain = 0; min_j = huge(1.0_dp)
+      slot = 1
       outside = 0
       half_m = 0.5_dp*m
       strain_factor = 0.0_dp
@@ -3980,7 +5268,7 @@ contains
             call cubic_parts(tq, r1, r2, r3, q1, q2, q3)
             if (moves) call g2p_cubic(r1, r2, r3, q1, q2, q3, acceleration(e - 2), acceleration(e - 1), acceleration(e), &
                                       acceleration(e + 1), velocity(e - 2), velocity(e - 1), velocity(e), velocity(e + 1), &
-                                      inv_dx, dt, half_m, x0(p), x(p), v(p), db(i), kb(i), mb(i))
+                                      inv_dx, dt, half_m, x0(p), x(p), v(p), db(i), kb(i), mb(i, slot))
             if (stresses) then
                if (moves) then
                   dstrain = r1*strain_increment(velocity(e - 2), velocity(e - 1), dt, inv_dx) + &
@@ -4022,14 +5310,44 @@ contains
                right(i, 5) = r3*svb(i)
             end if
          end do
+         ! the block's totals (macros of mpm_lanes.fypi, expanded here)
          if (moves) then
-            call add_lanes(n, db, displacement)
-            call add_lanes(n, kb, kinetic)
-            call track_largest_move(n, b0, mb, largest)
+            do lane_i = 1, n - lanes + 1, lanes
+               displacement = displacement + db(lane_i:lane_i + lanes - 1)
+            end do
+            lane_r = mod(n, lanes)
+            if (lane_r > 0) displacement(1:lane_r) = displacement(1:lane_r) + db(n - lane_r + 1:n)
+            do lane_i = 1, n - lanes + 1, lanes
+               kinetic = kinetic + kb(lane_i:lane_i + lanes - 1)
+            end do
+            lane_r = mod(n, lanes)
+            if (lane_r > 0) kinetic(1:lane_r) = kinetic(1:lane_r) + kb(n - lane_r + 1:n)
+            lane_max = 0.0_dp
+            do lane_i = 1, n - lanes + 1, lanes
+               lane_max = max(lane_max, mb(lane_i:lane_i + lanes - 1, slot))
+            end do
+            lane_r = mod(n, lanes)
+            if (lane_r > 0) lane_max(1:lane_r) = max(lane_max(1:lane_r), mb(n - lane_r + 1:n, slot))
+            block_max = maxval(lane_max)
+            if (block_max > largest%value) then
+               largest%value = block_max
+               largest%first = b0
+               largest%count = n
+               largest%slot = slot
+               slot = 3 - slot
+            end if
          end if
          if (stresses) then
-            call add_lanes(n, sb, strain)
-            call min_lanes(n, jb, min_j)
+            do lane_i = 1, n - lanes + 1, lanes
+               strain = strain + sb(lane_i:lane_i + lanes - 1)
+            end do
+            lane_r = mod(n, lanes)
+            if (lane_r > 0) strain(1:lane_r) = strain(1:lane_r) + sb(n - lane_r + 1:n)
+            do lane_i = 1, n - lanes + 1, lanes
+               min_j = min(min_j, jb(lane_i:lane_i + lanes - 1))
+            end do
+            lane_r = mod(n, lanes)
+            if (lane_r > 0) min_j(1:lane_r) = min(min_j(1:lane_r), jb(n - lane_r + 1:n))
          end if
          if (relocates) call find_outside(n, b0, cb, outside)
          call accumulate_thirds(k, n, cb, left, mid, right, m, lo, hi, shares, run, mass_left, mass_right, momentum_left, &
@@ -4043,14 +5361,15 @@ contains
                                           run%z(5), mass_left, mass_right, momentum_left, momentum_right, stress_volume, &
                                           seg)
       call close_segment(k, shares, m, run, [lane_total(displacement), lane_total(kinetic), lane_total(strain)], &
-                         minval(min_j), largest%value, furthest_particle(largest), outside, mass_left, mass_right, &
+                         minval(min_j), largest%value, furthest_particle(largest, mb), outside, mass_left, mass_right, &
                          momentum_left, momentum_right, stress_volume, seg)
    end subroutine bspline3_usf_stress_segment
 
    !> USL: G2P, stress update from the updated nodal velocities, P2G at the new position (cubic B-splines)
    subroutine bspline3_usl_segment(k, seg, x, x0, v, stress, volume_ratio, cell, acceleration, velocity, &
                                    strain_increment_of, mass_left, mass_right, momentum_left, momentum_right, &
-                                   stress_volume, constants, carry)
+                                   stress_volume, constants, carry, mass_of, modulus_of, forces, gradient, force_left, &
+                                   force_right)
       integer, parameter :: kernel = pass_usl
       logical, parameter :: moves = pass_moves(kernel), stresses = pass_stresses(kernel), relocates = pass_relocates(kernel)
       integer, parameter :: shares = pass_shares(kernel)
@@ -4064,18 +5383,27 @@ contains
       real(dp), intent(inout), contiguous :: mass_left(:), mass_right(:), momentum_left(:), momentum_right(:), stress_volume(:)
       type(pass_constants_t), intent(in) :: constants
       real(dp), intent(inout), contiguous :: carry(:)  !< particles in parts: what a pass keeps for the next (fused_box_t)
+      !> the variants' per-particle data (absent when the run has none): masses and Young's moduli
+      !> (`material`), external forces (`forced`), APIC's velocity gradients C_p, and the element shares of
+      !> the forces
+      real(dp), intent(in), contiguous, optional :: mass_of(:), modulus_of(:), forces(:)
+      real(dp), intent(inout), contiguous, optional :: gradient(:), force_left(:), force_right(:)
       integer :: p, e, i, n, b0, first, last, lo, hi, outside, ahead, elements
       real(dp) :: half_m, strain_factor, dstrain, inv_dx, dt, youngs_modulus, m, volume0
       type(largest_move_t) :: largest
       real(dp) :: displacement(lanes), kinetic(lanes), strain(lanes), min_j(lanes)
       integer :: cb(block_size)
-      real(dp) :: svb(block_size), db(block_size), kb(block_size), sb(block_size), jb(block_size), mb(block_size)
+      real(dp) :: svb(block_size), db(block_size), kb(block_size), sb(block_size), jb(block_size)
+      real(dp) :: mb(block_size, 2)  !< the moves of a block, and of the block with the largest (lanes_track_move)
+      integer :: slot
+      real(dp) :: lane_max(lanes), block_max
+      integer :: lane_i, lane_r
       type(run_t) :: run
       ! the parts: their fractions r and local coordinates t (three parts: the products q = r t), the
       ! sums they add (accumulate_boxes, accumulate_thirds)
       integer :: node, flag
-      real(dp) :: origin, r1, r2, left(block_size, share_count), right(block_size, share_count)
-      real(dp) :: r3, q1, q2, q3, tq, mid(block_size, share_count)
+      real(dp) :: origin, r1, r2, left(block_size, run_sums), right(block_size, run_sums)
+      real(dp) :: r3, q1, q2, q3, tq, mid(block_size, run_sums)
       origin = constants%origin
       elements = constants%elements
       inv_dx = constants%inv_dx
@@ -4086,6 +5414,7 @@ contains
       call open_segment(k, shares, seg, mass_left, mass_right, momentum_left, momentum_right, stress_volume, first, last, &
                         lo, hi)
       displacement = 0; kinetic = 0; strain = 0; min_j = huge(1.0_dp)
+      slot = 1
       outside = 0
       half_m = 0.5_dp*m
       strain_factor = 0.0_dp
@@ -4120,7 +5449,7 @@ contains
             call cubic_parts(tq, r1, r2, r3, q1, q2, q3)
             if (moves) call g2p_cubic(r1, r2, r3, q1, q2, q3, acceleration(e - 2), acceleration(e - 1), acceleration(e), &
                                       acceleration(e + 1), velocity(e - 2), velocity(e - 1), velocity(e), velocity(e + 1), &
-                                      inv_dx, dt, half_m, x0(p), x(p), v(p), db(i), kb(i), mb(i))
+                                      inv_dx, dt, half_m, x0(p), x(p), v(p), db(i), kb(i), mb(i, slot))
             if (stresses) then
                if (moves) then
                   dstrain = r1*strain_increment(velocity(e - 2), velocity(e - 1), dt, inv_dx) + &
@@ -4162,14 +5491,44 @@ contains
                right(i, 5) = r3*svb(i)
             end if
          end do
+         ! the block's totals (macros of mpm_lanes.fypi, expanded here)
          if (moves) then
-            call add_lanes(n, db, displacement)
-            call add_lanes(n, kb, kinetic)
-            call track_largest_move(n, b0, mb, largest)
+            do lane_i = 1, n - lanes + 1, lanes
+               displacement = displacement + db(lane_i:lane_i + lanes - 1)
+            end do
+            lane_r = mod(n, lanes)
+            if (lane_r > 0) displacement(1:lane_r) = displacement(1:lane_r) + db(n - lane_r + 1:n)
+            do lane_i = 1, n - lanes + 1, lanes
+               kinetic = kinetic + kb(lane_i:lane_i + lanes - 1)
+            end do
+            lane_r = mod(n, lanes)
+            if (lane_r > 0) kinetic(1:lane_r) = kinetic(1:lane_r) + kb(n - lane_r + 1:n)
+            lane_max = 0.0_dp
+            do lane_i = 1, n - lanes + 1, lanes
+               lane_max = max(lane_max, mb(lane_i:lane_i + lanes - 1, slot))
+            end do
+            lane_r = mod(n, lanes)
+            if (lane_r > 0) lane_max(1:lane_r) = max(lane_max(1:lane_r), mb(n - lane_r + 1:n, slot))
+            block_max = maxval(lane_max)
+            if (block_max > largest%value) then
+               largest%value = block_max
+               largest%first = b0
+               largest%count = n
+               largest%slot = slot
+               slot = 3 - slot
+            end if
          end if
          if (stresses) then
-            call add_lanes(n, sb, strain)
-            call min_lanes(n, jb, min_j)
+            do lane_i = 1, n - lanes + 1, lanes
+               strain = strain + sb(lane_i:lane_i + lanes - 1)
+            end do
+            lane_r = mod(n, lanes)
+            if (lane_r > 0) strain(1:lane_r) = strain(1:lane_r) + sb(n - lane_r + 1:n)
+            do lane_i = 1, n - lanes + 1, lanes
+               min_j = min(min_j, jb(lane_i:lane_i + lanes - 1))
+            end do
+            lane_r = mod(n, lanes)
+            if (lane_r > 0) min_j(1:lane_r) = min(min_j(1:lane_r), jb(n - lane_r + 1:n))
          end if
          if (relocates) call find_outside(n, b0, cb, outside)
          call accumulate_thirds(k, n, cb, left, mid, right, m, lo, hi, shares, run, mass_left, mass_right, momentum_left, &
@@ -4183,14 +5542,15 @@ contains
                                           run%z(5), mass_left, mass_right, momentum_left, momentum_right, stress_volume, &
                                           seg)
       call close_segment(k, shares, m, run, [lane_total(displacement), lane_total(kinetic), lane_total(strain)], &
-                         minval(min_j), largest%value, furthest_particle(largest), outside, mass_left, mass_right, &
+                         minval(min_j), largest%value, furthest_particle(largest, mb), outside, mass_left, mass_right, &
                          momentum_left, momentum_right, stress_volume, seg)
    end subroutine bspline3_usl_segment
 
    !> MUSL, first pass: G2P, and the new momentum back to the start-of-step nodes (cubic B-splines)
    subroutine bspline3_musl_remap_segment(k, seg, x, x0, v, stress, volume_ratio, cell, acceleration, velocity, &
                                           strain_increment_of, mass_left, mass_right, momentum_left, momentum_right, &
-                                          stress_volume, constants, carry)
+                                          stress_volume, constants, carry, mass_of, modulus_of, forces, gradient, force_left, &
+                                          force_right)
       integer, parameter :: kernel = pass_musl_remap
       logical, parameter :: moves = pass_moves(kernel), stresses = pass_stresses(kernel), relocates = pass_relocates(kernel)
       integer, parameter :: shares = pass_shares(kernel)
@@ -4204,18 +5564,27 @@ contains
       real(dp), intent(inout), contiguous :: mass_left(:), mass_right(:), momentum_left(:), momentum_right(:), stress_volume(:)
       type(pass_constants_t), intent(in) :: constants
       real(dp), intent(inout), contiguous :: carry(:)  !< particles in parts: what a pass keeps for the next (fused_box_t)
+      !> the variants' per-particle data (absent when the run has none): masses and Young's moduli
+      !> (`material`), external forces (`forced`), APIC's velocity gradients C_p, and the element shares of
+      !> the forces
+      real(dp), intent(in), contiguous, optional :: mass_of(:), modulus_of(:), forces(:)
+      real(dp), intent(inout), contiguous, optional :: gradient(:), force_left(:), force_right(:)
       integer :: p, e, i, n, b0, first, last, lo, hi, outside, ahead, elements
       real(dp) :: half_m, strain_factor, dstrain, inv_dx, dt, youngs_modulus, m, volume0
       type(largest_move_t) :: largest
       real(dp) :: displacement(lanes), kinetic(lanes), strain(lanes), min_j(lanes)
       integer :: cb(block_size)
-      real(dp) :: svb(block_size), db(block_size), kb(block_size), sb(block_size), jb(block_size), mb(block_size)
+      real(dp) :: svb(block_size), db(block_size), kb(block_size), sb(block_size), jb(block_size)
+      real(dp) :: mb(block_size, 2)  !< the moves of a block, and of the block with the largest (lanes_track_move)
+      integer :: slot
+      real(dp) :: lane_max(lanes), block_max
+      integer :: lane_i, lane_r
       type(run_t) :: run
       ! the parts: their fractions r and local coordinates t (three parts: the products q = r t), the
       ! sums they add (accumulate_boxes, accumulate_thirds)
       integer :: node, flag
-      real(dp) :: origin, r1, r2, left(block_size, share_count), right(block_size, share_count)
-      real(dp) :: r3, q1, q2, q3, tq, mid(block_size, share_count)
+      real(dp) :: origin, r1, r2, left(block_size, run_sums), right(block_size, run_sums)
+      real(dp) :: r3, q1, q2, q3, tq, mid(block_size, run_sums)
       origin = constants%origin
       elements = constants%elements
       inv_dx = constants%inv_dx
@@ -4226,6 +5595,7 @@ contains
       call open_segment(k, shares, seg, mass_left, mass_right, momentum_left, momentum_right, stress_volume, first, last, &
                         lo, hi)
       displacement = 0; kinetic = 0; strain = 0; min_j = huge(1.0_dp)
+      slot = 1
       outside = 0
       half_m = 0.5_dp*m
       strain_factor = 0.0_dp
@@ -4260,7 +5630,7 @@ contains
             call cubic_parts(tq, r1, r2, r3, q1, q2, q3)
             if (moves) call g2p_cubic(r1, r2, r3, q1, q2, q3, acceleration(e - 2), acceleration(e - 1), acceleration(e), &
                                       acceleration(e + 1), velocity(e - 2), velocity(e - 1), velocity(e), velocity(e + 1), &
-                                      inv_dx, dt, half_m, x0(p), x(p), v(p), db(i), kb(i), mb(i))
+                                      inv_dx, dt, half_m, x0(p), x(p), v(p), db(i), kb(i), mb(i, slot))
             if (stresses) then
                if (moves) then
                   dstrain = r1*strain_increment(velocity(e - 2), velocity(e - 1), dt, inv_dx) + &
@@ -4302,14 +5672,44 @@ contains
                right(i, 5) = r3*svb(i)
             end if
          end do
+         ! the block's totals (macros of mpm_lanes.fypi, expanded here)
          if (moves) then
-            call add_lanes(n, db, displacement)
-            call add_lanes(n, kb, kinetic)
-            call track_largest_move(n, b0, mb, largest)
+            do lane_i = 1, n - lanes + 1, lanes
+               displacement = displacement + db(lane_i:lane_i + lanes - 1)
+            end do
+            lane_r = mod(n, lanes)
+            if (lane_r > 0) displacement(1:lane_r) = displacement(1:lane_r) + db(n - lane_r + 1:n)
+            do lane_i = 1, n - lanes + 1, lanes
+               kinetic = kinetic + kb(lane_i:lane_i + lanes - 1)
+            end do
+            lane_r = mod(n, lanes)
+            if (lane_r > 0) kinetic(1:lane_r) = kinetic(1:lane_r) + kb(n - lane_r + 1:n)
+            lane_max = 0.0_dp
+            do lane_i = 1, n - lanes + 1, lanes
+               lane_max = max(lane_max, mb(lane_i:lane_i + lanes - 1, slot))
+            end do
+            lane_r = mod(n, lanes)
+            if (lane_r > 0) lane_max(1:lane_r) = max(lane_max(1:lane_r), mb(n - lane_r + 1:n, slot))
+            block_max = maxval(lane_max)
+            if (block_max > largest%value) then
+               largest%value = block_max
+               largest%first = b0
+               largest%count = n
+               largest%slot = slot
+               slot = 3 - slot
+            end if
          end if
          if (stresses) then
-            call add_lanes(n, sb, strain)
-            call min_lanes(n, jb, min_j)
+            do lane_i = 1, n - lanes + 1, lanes
+               strain = strain + sb(lane_i:lane_i + lanes - 1)
+            end do
+            lane_r = mod(n, lanes)
+            if (lane_r > 0) strain(1:lane_r) = strain(1:lane_r) + sb(n - lane_r + 1:n)
+            do lane_i = 1, n - lanes + 1, lanes
+               min_j = min(min_j, jb(lane_i:lane_i + lanes - 1))
+            end do
+            lane_r = mod(n, lanes)
+            if (lane_r > 0) min_j(1:lane_r) = min(min_j(1:lane_r), jb(n - lane_r + 1:n))
          end if
          if (relocates) call find_outside(n, b0, cb, outside)
          call accumulate_thirds(k, n, cb, left, mid, right, m, lo, hi, shares, run, mass_left, mass_right, momentum_left, &
@@ -4323,14 +5723,15 @@ contains
                                           run%z(5), mass_left, mass_right, momentum_left, momentum_right, stress_volume, &
                                           seg)
       call close_segment(k, shares, m, run, [lane_total(displacement), lane_total(kinetic), lane_total(strain)], &
-                         minval(min_j), largest%value, furthest_particle(largest), outside, mass_left, mass_right, &
+                         minval(min_j), largest%value, furthest_particle(largest, mb), outside, mass_left, mass_right, &
                          momentum_left, momentum_right, stress_volume, seg)
    end subroutine bspline3_musl_remap_segment
 
    !> MUSL, second pass: stress update from the remapped velocities, P2G at the new position (cubic B-splines)
    subroutine bspline3_musl_stress_segment(k, seg, x, x0, v, stress, volume_ratio, cell, acceleration, velocity, &
                                            strain_increment_of, mass_left, mass_right, momentum_left, momentum_right, &
-                                           stress_volume, constants, carry)
+                                           stress_volume, constants, carry, mass_of, modulus_of, forces, gradient, force_left, &
+                                           force_right)
       integer, parameter :: kernel = pass_musl_stress
       logical, parameter :: moves = pass_moves(kernel), stresses = pass_stresses(kernel), relocates = pass_relocates(kernel)
       integer, parameter :: shares = pass_shares(kernel)
@@ -4344,18 +5745,27 @@ contains
       real(dp), intent(inout), contiguous :: mass_left(:), mass_right(:), momentum_left(:), momentum_right(:), stress_volume(:)
       type(pass_constants_t), intent(in) :: constants
       real(dp), intent(inout), contiguous :: carry(:)  !< particles in parts: what a pass keeps for the next (fused_box_t)
+      !> the variants' per-particle data (absent when the run has none): masses and Young's moduli
+      !> (`material`), external forces (`forced`), APIC's velocity gradients C_p, and the element shares of
+      !> the forces
+      real(dp), intent(in), contiguous, optional :: mass_of(:), modulus_of(:), forces(:)
+      real(dp), intent(inout), contiguous, optional :: gradient(:), force_left(:), force_right(:)
       integer :: p, e, i, n, b0, first, last, lo, hi, outside, ahead, elements
       real(dp) :: half_m, strain_factor, dstrain, inv_dx, dt, youngs_modulus, m, volume0
       type(largest_move_t) :: largest
       real(dp) :: displacement(lanes), kinetic(lanes), strain(lanes), min_j(lanes)
       integer :: cb(block_size)
-      real(dp) :: svb(block_size), db(block_size), kb(block_size), sb(block_size), jb(block_size), mb(block_size)
+      real(dp) :: svb(block_size), db(block_size), kb(block_size), sb(block_size), jb(block_size)
+      real(dp) :: mb(block_size, 2)  !< the moves of a block, and of the block with the largest (lanes_track_move)
+      integer :: slot
+      real(dp) :: lane_max(lanes), block_max
+      integer :: lane_i, lane_r
       type(run_t) :: run
       ! the parts: their fractions r and local coordinates t (three parts: the products q = r t), the
       ! sums they add (accumulate_boxes, accumulate_thirds)
       integer :: node, flag
-      real(dp) :: origin, r1, r2, left(block_size, share_count), right(block_size, share_count)
-      real(dp) :: r3, q1, q2, q3, tq, mid(block_size, share_count)
+      real(dp) :: origin, r1, r2, left(block_size, run_sums), right(block_size, run_sums)
+      real(dp) :: r3, q1, q2, q3, tq, mid(block_size, run_sums)
       origin = constants%origin
       elements = constants%elements
       inv_dx = constants%inv_dx
@@ -4366,6 +5776,7 @@ contains
       call open_segment(k, shares, seg, mass_left, mass_right, momentum_left, momentum_right, stress_volume, first, last, &
                         lo, hi)
       displacement = 0; kinetic = 0; strain = 0; min_j = huge(1.0_dp)
+      slot = 1
       outside = 0
       half_m = 0.5_dp*m
       strain_factor = 0.0_dp
@@ -4400,7 +5811,7 @@ contains
             call cubic_parts(tq, r1, r2, r3, q1, q2, q3)
             if (moves) call g2p_cubic(r1, r2, r3, q1, q2, q3, acceleration(e - 2), acceleration(e - 1), acceleration(e), &
                                       acceleration(e + 1), velocity(e - 2), velocity(e - 1), velocity(e), velocity(e + 1), &
-                                      inv_dx, dt, half_m, x0(p), x(p), v(p), db(i), kb(i), mb(i))
+                                      inv_dx, dt, half_m, x0(p), x(p), v(p), db(i), kb(i), mb(i, slot))
             if (stresses) then
                if (moves) then
                   dstrain = r1*strain_increment(velocity(e - 2), velocity(e - 1), dt, inv_dx) + &
@@ -4442,14 +5853,44 @@ contains
                right(i, 5) = r3*svb(i)
             end if
          end do
+         ! the block's totals (macros of mpm_lanes.fypi, expanded here)
          if (moves) then
-            call add_lanes(n, db, displacement)
-            call add_lanes(n, kb, kinetic)
-            call track_largest_move(n, b0, mb, largest)
+            do lane_i = 1, n - lanes + 1, lanes
+               displacement = displacement + db(lane_i:lane_i + lanes - 1)
+            end do
+            lane_r = mod(n, lanes)
+            if (lane_r > 0) displacement(1:lane_r) = displacement(1:lane_r) + db(n - lane_r + 1:n)
+            do lane_i = 1, n - lanes + 1, lanes
+               kinetic = kinetic + kb(lane_i:lane_i + lanes - 1)
+            end do
+            lane_r = mod(n, lanes)
+            if (lane_r > 0) kinetic(1:lane_r) = kinetic(1:lane_r) + kb(n - lane_r + 1:n)
+            lane_max = 0.0_dp
+            do lane_i = 1, n - lanes + 1, lanes
+               lane_max = max(lane_max, mb(lane_i:lane_i + lanes - 1, slot))
+            end do
+            lane_r = mod(n, lanes)
+            if (lane_r > 0) lane_max(1:lane_r) = max(lane_max(1:lane_r), mb(n - lane_r + 1:n, slot))
+            block_max = maxval(lane_max)
+            if (block_max > largest%value) then
+               largest%value = block_max
+               largest%first = b0
+               largest%count = n
+               largest%slot = slot
+               slot = 3 - slot
+            end if
          end if
          if (stresses) then
-            call add_lanes(n, sb, strain)
-            call min_lanes(n, jb, min_j)
+            do lane_i = 1, n - lanes + 1, lanes
+               strain = strain + sb(lane_i:lane_i + lanes - 1)
+            end do
+            lane_r = mod(n, lanes)
+            if (lane_r > 0) strain(1:lane_r) = strain(1:lane_r) + sb(n - lane_r + 1:n)
+            do lane_i = 1, n - lanes + 1, lanes
+               min_j = min(min_j, jb(lane_i:lane_i + lanes - 1))
+            end do
+            lane_r = mod(n, lanes)
+            if (lane_r > 0) min_j(1:lane_r) = min(min_j(1:lane_r), jb(n - lane_r + 1:n))
          end if
          if (relocates) call find_outside(n, b0, cb, outside)
          call accumulate_thirds(k, n, cb, left, mid, right, m, lo, hi, shares, run, mass_left, mass_right, momentum_left, &
@@ -4463,9 +5904,6862 @@ contains
                                           run%z(5), mass_left, mass_right, momentum_left, momentum_right, stress_volume, &
                                           seg)
       call close_segment(k, shares, m, run, [lane_total(displacement), lane_total(kinetic), lane_total(strain)], &
-                         minval(min_j), largest%value, furthest_particle(largest), outside, mass_left, mass_right, &
+                         minval(min_j), largest%value, furthest_particle(largest, mb), outside, mass_left, mass_right, &
                          momentum_left, momentum_right, stress_volume, seg)
    end subroutine bspline3_musl_stress_segment
+
+   !> USF, second half: G2P, then mass and momentum at the new position (the hat, PIC)
+   subroutine pic_usf_move_segment(k, seg, x, x0, v, stress, volume_ratio, cell, acceleration, velocity, &
+                                   strain_increment_of, mass_left, mass_right, momentum_left, momentum_right, &
+                                   stress_volume, constants, carry, mass_of, modulus_of, forces, gradient, force_left, &
+                                   force_right)
+      integer, parameter :: kernel = pass_usf_move
+      logical, parameter :: moves = pass_moves(kernel), stresses = pass_stresses(kernel), relocates = pass_relocates(kernel)
+      integer, parameter :: shares = pass_shares(kernel)
+      integer, intent(in) :: k
+      type(segments_t), intent(inout) :: seg
+      real(dp), intent(inout), contiguous :: x(:), v(:), stress(:), volume_ratio(:)
+      real(dp), intent(in), contiguous :: x0(:)
+      integer, intent(inout), contiguous :: cell(:)
+      real(dp), intent(in), contiguous :: acceleration(0:), velocity(0:)
+      real(dp), intent(in), contiguous :: strain_increment_of(:)  !< per element (grid%element_strain)
+      real(dp), intent(inout), contiguous :: mass_left(:), mass_right(:), momentum_left(:), momentum_right(:), stress_volume(:)
+      type(pass_constants_t), intent(in) :: constants
+      real(dp), intent(inout), contiguous :: carry(:)  !< particles in parts: what a pass keeps for the next (fused_box_t)
+      !> the variants' per-particle data (absent when the run has none): masses and Young's moduli
+      !> (`material`), external forces (`forced`), APIC's velocity gradients C_p, and the element shares of
+      !> the forces
+      real(dp), intent(in), contiguous, optional :: mass_of(:), modulus_of(:), forces(:)
+      real(dp), intent(inout), contiguous, optional :: gradient(:), force_left(:), force_right(:)
+      integer :: p, e, i, n, b0, first, last, lo, hi, outside, ahead, elements
+      real(dp) :: half_m, strain_factor, dstrain, inv_dx, dt, youngs_modulus, m, volume0
+      type(largest_move_t) :: largest
+      real(dp) :: displacement(lanes), kinetic(lanes), strain(lanes), min_j(lanes)
+      integer :: cb(block_size)
+      real(dp) :: svb(block_size), db(block_size), kb(block_size), sb(block_size), jb(block_size)
+      real(dp) :: mb(block_size, 2)  !< the moves of a block, and of the block with the largest (lanes_track_move)
+      integer :: slot
+      real(dp) :: lane_max(lanes), block_max
+      integer :: lane_i, lane_r
+      type(run_t) :: run
+      integer(i8) :: elements_bits
+      real(dp) :: xi, xib(block_size), vpb(block_size)
+      ! the variant's: G2P's grid velocity and move, the segment's body (cells offset), each particle's
+      ! shares (accumulate_shares)
+      real(dp) :: vgrid, dxp
+      elements = constants%elements
+      inv_dx = constants%inv_dx
+      dt = constants%dt
+      youngs_modulus = constants%youngs_modulus
+      m = constants%mass
+      volume0 = constants%volume0
+      call open_segment(k, shares, seg, mass_left, mass_right, momentum_left, momentum_right, stress_volume, first, last, &
+                        lo, hi)
+      displacement = 0; kinetic = 0; strain = 0; min_j = huge(1.0_dp)
+      slot = 1
+      outside = 0
+      elements_bits = transfer(real(elements, dp), 0_i8)
+      half_m = 0.5_dp*m
+      strain_factor = 0.0_dp
+      if (stresses) strain_factor = 0.5_dp*volume0/youngs_modulus
+      do b0 = first, last, block_size
+         n = min(block_size, last - b0 + 1)
+         if (seg%prefetch) then  ! the arrays the pass reads, and the grid values of the next blocks
+            ahead = b0 + prefetch_ahead
+            if (kernel == pass_usl) call prefetch_block(ahead, cell, x, x0, v, stress, volume_ratio)
+            if (kernel == pass_usf_move .or. kernel == pass_musl_remap) call prefetch_block(ahead, cell, x, x0, v)
+            if (kernel == pass_usf_stress) call prefetch_block(ahead, cell, stress, volume_ratio)
+            if (kernel == pass_musl_stress) call prefetch_block(ahead, cell, x, v, stress, volume_ratio)
+            if (moves) then
+               call prefetch_nodes(cell(b0), cell(b0 + n - 1), acceleration, velocity)
+            else
+               call prefetch_elements(cell(b0), cell(b0 + n - 1), strain_increment_of)
+            end if
+         end if
+         do i = 1, n
+            p = b0 + i - 1
+            e = cell(p)
+            ! G2P with the start-of-step shape functions (PIC)
+            if (moves) then
+               xi = x(p)*inv_dx - (e - 1)
+               vgrid = (1.0_dp - xi)*velocity(e - 1) + xi*velocity(e)
+               v(p) = vgrid
+               dxp = dt*vgrid
+               x(p) = x(p) + dxp
+               db(i) = x(p) - x0(p)
+               kb(i) = half_m*v(p)*v(p)
+               mb(i, slot) = abs(dxp)*inv_dx
+            end if
+            if (stresses) then ! d eps = dt sum dN v_I over the start-of-step cell
+               if (moves) then
+                  dstrain = strain_increment(velocity(e - 1), velocity(e), dt, inv_dx)
+               else
+                  dstrain = strain_increment_of(e)
+               end if
+               call stress_particle(dstrain, youngs_modulus, strain_factor, volume0, stress(p), volume_ratio(p), sb(i), &
+                                    svb(i))
+               jb(i) = volume_ratio(p)
+            else if (iand(shares, share_stress) /= 0) then ! (an initial mapping: the stress as it is)
+               svb(i) = stress(p)*volume_ratio(p)*volume0
+            end if
+            if (relocates) then ! the new cell, for P2G at the new position
+               call locate_cell(x(p), inv_dx, elements, elements_bits, cb(i), xib(i))
+               cell(p) = cb(i)
+            else                ! the shares go to the start-of-step cell
+               cb(i) = e
+               if (moves) xib(i) = xi
+            end if
+            if (moves .or. relocates) vpb(i) = v(p)
+         end do
+         ! the block's totals (macros of mpm_lanes.fypi, expanded here)
+         if (moves) then
+            do lane_i = 1, n - lanes + 1, lanes
+               displacement = displacement + db(lane_i:lane_i + lanes - 1)
+            end do
+            lane_r = mod(n, lanes)
+            if (lane_r > 0) displacement(1:lane_r) = displacement(1:lane_r) + db(n - lane_r + 1:n)
+            do lane_i = 1, n - lanes + 1, lanes
+               kinetic = kinetic + kb(lane_i:lane_i + lanes - 1)
+            end do
+            lane_r = mod(n, lanes)
+            if (lane_r > 0) kinetic(1:lane_r) = kinetic(1:lane_r) + kb(n - lane_r + 1:n)
+            lane_max = 0.0_dp
+            do lane_i = 1, n - lanes + 1, lanes
+               lane_max = max(lane_max, mb(lane_i:lane_i + lanes - 1, slot))
+            end do
+            lane_r = mod(n, lanes)
+            if (lane_r > 0) lane_max(1:lane_r) = max(lane_max(1:lane_r), mb(n - lane_r + 1:n, slot))
+            block_max = maxval(lane_max)
+            if (block_max > largest%value) then
+               largest%value = block_max
+               largest%first = b0
+               largest%count = n
+               largest%slot = slot
+               slot = 3 - slot
+            end if
+         end if
+         if (stresses) then
+            do lane_i = 1, n - lanes + 1, lanes
+               strain = strain + sb(lane_i:lane_i + lanes - 1)
+            end do
+            lane_r = mod(n, lanes)
+            if (lane_r > 0) strain(1:lane_r) = strain(1:lane_r) + sb(n - lane_r + 1:n)
+            do lane_i = 1, n - lanes + 1, lanes
+               min_j = min(min_j, jb(lane_i:lane_i + lanes - 1))
+            end do
+            lane_r = mod(n, lanes)
+            if (lane_r > 0) min_j(1:lane_r) = min(min_j(1:lane_r), jb(n - lane_r + 1:n))
+         end if
+         if (relocates) call find_outside(n, b0, cb, outside)
+         call accumulate_block(k, n, cb, xib, vpb, svb, m, lo, hi, shares, run, mass_left, mass_right, momentum_left, &
+                               momentum_right, stress_volume, seg)
+      end do
+      call close_segment(k, shares, m, run, [lane_total(displacement), lane_total(kinetic), lane_total(strain)], &
+                         minval(min_j), largest%value, furthest_particle(largest, mb), outside, mass_left, mass_right, &
+                         momentum_left, momentum_right, stress_volume, seg)
+   end subroutine pic_usf_move_segment
+
+   !> USF, first half: stress update, then stress*volume of the unmoved particles (the hat, PIC)
+   subroutine pic_usf_stress_segment(k, seg, x, x0, v, stress, volume_ratio, cell, acceleration, velocity, &
+                                     strain_increment_of, mass_left, mass_right, momentum_left, momentum_right, &
+                                     stress_volume, constants, carry, mass_of, modulus_of, forces, gradient, force_left, &
+                                     force_right)
+      integer, parameter :: kernel = pass_usf_stress
+      logical, parameter :: moves = pass_moves(kernel), stresses = pass_stresses(kernel), relocates = pass_relocates(kernel)
+      integer, parameter :: shares = pass_shares(kernel)
+      integer, intent(in) :: k
+      type(segments_t), intent(inout) :: seg
+      real(dp), intent(inout), contiguous :: x(:), v(:), stress(:), volume_ratio(:)
+      real(dp), intent(in), contiguous :: x0(:)
+      integer, intent(inout), contiguous :: cell(:)
+      real(dp), intent(in), contiguous :: acceleration(0:), velocity(0:)
+      real(dp), intent(in), contiguous :: strain_increment_of(:)  !< per element (grid%element_strain)
+      real(dp), intent(inout), contiguous :: mass_left(:), mass_right(:), momentum_left(:), momentum_right(:), stress_volume(:)
+      type(pass_constants_t), intent(in) :: constants
+      real(dp), intent(inout), contiguous :: carry(:)  !< particles in parts: what a pass keeps for the next (fused_box_t)
+      !> the variants' per-particle data (absent when the run has none): masses and Young's moduli
+      !> (`material`), external forces (`forced`), APIC's velocity gradients C_p, and the element shares of
+      !> the forces
+      real(dp), intent(in), contiguous, optional :: mass_of(:), modulus_of(:), forces(:)
+      real(dp), intent(inout), contiguous, optional :: gradient(:), force_left(:), force_right(:)
+      integer :: p, e, i, n, b0, first, last, lo, hi, outside, ahead, elements
+      real(dp) :: half_m, strain_factor, dstrain, inv_dx, dt, youngs_modulus, m, volume0
+      type(largest_move_t) :: largest
+      real(dp) :: displacement(lanes), kinetic(lanes), strain(lanes), min_j(lanes)
+      integer :: cb(block_size)
+      real(dp) :: svb(block_size), db(block_size), kb(block_size), sb(block_size), jb(block_size)
+      real(dp) :: mb(block_size, 2)  !< the moves of a block, and of the block with the largest (lanes_track_move)
+      integer :: slot
+      real(dp) :: lane_max(lanes), block_max
+      integer :: lane_i, lane_r
+      type(run_t) :: run
+      integer(i8) :: elements_bits
+      real(dp) :: xi, xib(block_size), vpb(block_size)
+      ! the variant's: G2P's grid velocity and move, the segment's body (cells offset), each particle's
+      ! shares (accumulate_shares)
+      real(dp) :: vgrid, dxp
+      elements = constants%elements
+      inv_dx = constants%inv_dx
+      dt = constants%dt
+      youngs_modulus = constants%youngs_modulus
+      m = constants%mass
+      volume0 = constants%volume0
+      call open_segment(k, shares, seg, mass_left, mass_right, momentum_left, momentum_right, stress_volume, first, last, &
+                        lo, hi)
+      displacement = 0; kinetic = 0; strain = 0; min_j = huge(1.0_dp)
+      slot = 1
+      outside = 0
+      elements_bits = transfer(real(elements, dp), 0_i8)
+      half_m = 0.5_dp*m
+      strain_factor = 0.0_dp
+      if (stresses) strain_factor = 0.5_dp*volume0/youngs_modulus
+      do b0 = first, last, block_size
+         n = min(block_size, last - b0 + 1)
+         if (seg%prefetch) then  ! the arrays the pass reads, and the grid values of the next blocks
+            ahead = b0 + prefetch_ahead
+            if (kernel == pass_usl) call prefetch_block(ahead, cell, x, x0, v, stress, volume_ratio)
+            if (kernel == pass_usf_move .or. kernel == pass_musl_remap) call prefetch_block(ahead, cell, x, x0, v)
+            if (kernel == pass_usf_stress) call prefetch_block(ahead, cell, stress, volume_ratio)
+            if (kernel == pass_musl_stress) call prefetch_block(ahead, cell, x, v, stress, volume_ratio)
+            if (moves) then
+               call prefetch_nodes(cell(b0), cell(b0 + n - 1), acceleration, velocity)
+            else
+               call prefetch_elements(cell(b0), cell(b0 + n - 1), strain_increment_of)
+            end if
+         end if
+         do i = 1, n
+            p = b0 + i - 1
+            e = cell(p)
+            ! G2P with the start-of-step shape functions (PIC)
+            if (moves) then
+               xi = x(p)*inv_dx - (e - 1)
+               vgrid = (1.0_dp - xi)*velocity(e - 1) + xi*velocity(e)
+               v(p) = vgrid
+               dxp = dt*vgrid
+               x(p) = x(p) + dxp
+               db(i) = x(p) - x0(p)
+               kb(i) = half_m*v(p)*v(p)
+               mb(i, slot) = abs(dxp)*inv_dx
+            end if
+            if (stresses) then ! d eps = dt sum dN v_I over the start-of-step cell
+               if (moves) then
+                  dstrain = strain_increment(velocity(e - 1), velocity(e), dt, inv_dx)
+               else
+                  dstrain = strain_increment_of(e)
+               end if
+               call stress_particle(dstrain, youngs_modulus, strain_factor, volume0, stress(p), volume_ratio(p), sb(i), &
+                                    svb(i))
+               jb(i) = volume_ratio(p)
+            else if (iand(shares, share_stress) /= 0) then ! (an initial mapping: the stress as it is)
+               svb(i) = stress(p)*volume_ratio(p)*volume0
+            end if
+            if (relocates) then ! the new cell, for P2G at the new position
+               call locate_cell(x(p), inv_dx, elements, elements_bits, cb(i), xib(i))
+               cell(p) = cb(i)
+            else                ! the shares go to the start-of-step cell
+               cb(i) = e
+               if (moves) xib(i) = xi
+            end if
+            if (moves .or. relocates) vpb(i) = v(p)
+         end do
+         ! the block's totals (macros of mpm_lanes.fypi, expanded here)
+         if (moves) then
+            do lane_i = 1, n - lanes + 1, lanes
+               displacement = displacement + db(lane_i:lane_i + lanes - 1)
+            end do
+            lane_r = mod(n, lanes)
+            if (lane_r > 0) displacement(1:lane_r) = displacement(1:lane_r) + db(n - lane_r + 1:n)
+            do lane_i = 1, n - lanes + 1, lanes
+               kinetic = kinetic + kb(lane_i:lane_i + lanes - 1)
+            end do
+            lane_r = mod(n, lanes)
+            if (lane_r > 0) kinetic(1:lane_r) = kinetic(1:lane_r) + kb(n - lane_r + 1:n)
+            lane_max = 0.0_dp
+            do lane_i = 1, n - lanes + 1, lanes
+               lane_max = max(lane_max, mb(lane_i:lane_i + lanes - 1, slot))
+            end do
+            lane_r = mod(n, lanes)
+            if (lane_r > 0) lane_max(1:lane_r) = max(lane_max(1:lane_r), mb(n - lane_r + 1:n, slot))
+            block_max = maxval(lane_max)
+            if (block_max > largest%value) then
+               largest%value = block_max
+               largest%first = b0
+               largest%count = n
+               largest%slot = slot
+               slot = 3 - slot
+            end if
+         end if
+         if (stresses) then
+            do lane_i = 1, n - lanes + 1, lanes
+               strain = strain + sb(lane_i:lane_i + lanes - 1)
+            end do
+            lane_r = mod(n, lanes)
+            if (lane_r > 0) strain(1:lane_r) = strain(1:lane_r) + sb(n - lane_r + 1:n)
+            do lane_i = 1, n - lanes + 1, lanes
+               min_j = min(min_j, jb(lane_i:lane_i + lanes - 1))
+            end do
+            lane_r = mod(n, lanes)
+            if (lane_r > 0) min_j(1:lane_r) = min(min_j(1:lane_r), jb(n - lane_r + 1:n))
+         end if
+         if (relocates) call find_outside(n, b0, cb, outside)
+         call accumulate_block(k, n, cb, xib, vpb, svb, m, lo, hi, shares, run, mass_left, mass_right, momentum_left, &
+                               momentum_right, stress_volume, seg)
+      end do
+      call close_segment(k, shares, m, run, [lane_total(displacement), lane_total(kinetic), lane_total(strain)], &
+                         minval(min_j), largest%value, furthest_particle(largest, mb), outside, mass_left, mass_right, &
+                         momentum_left, momentum_right, stress_volume, seg)
+   end subroutine pic_usf_stress_segment
+
+   !> USL: G2P, stress update from the updated nodal velocities, P2G at the new position (the hat, PIC)
+   subroutine pic_usl_segment(k, seg, x, x0, v, stress, volume_ratio, cell, acceleration, velocity, &
+                              strain_increment_of, mass_left, mass_right, momentum_left, momentum_right, &
+                              stress_volume, constants, carry, mass_of, modulus_of, forces, gradient, force_left, &
+                              force_right)
+      integer, parameter :: kernel = pass_usl
+      logical, parameter :: moves = pass_moves(kernel), stresses = pass_stresses(kernel), relocates = pass_relocates(kernel)
+      integer, parameter :: shares = pass_shares(kernel)
+      integer, intent(in) :: k
+      type(segments_t), intent(inout) :: seg
+      real(dp), intent(inout), contiguous :: x(:), v(:), stress(:), volume_ratio(:)
+      real(dp), intent(in), contiguous :: x0(:)
+      integer, intent(inout), contiguous :: cell(:)
+      real(dp), intent(in), contiguous :: acceleration(0:), velocity(0:)
+      real(dp), intent(in), contiguous :: strain_increment_of(:)  !< per element (grid%element_strain)
+      real(dp), intent(inout), contiguous :: mass_left(:), mass_right(:), momentum_left(:), momentum_right(:), stress_volume(:)
+      type(pass_constants_t), intent(in) :: constants
+      real(dp), intent(inout), contiguous :: carry(:)  !< particles in parts: what a pass keeps for the next (fused_box_t)
+      !> the variants' per-particle data (absent when the run has none): masses and Young's moduli
+      !> (`material`), external forces (`forced`), APIC's velocity gradients C_p, and the element shares of
+      !> the forces
+      real(dp), intent(in), contiguous, optional :: mass_of(:), modulus_of(:), forces(:)
+      real(dp), intent(inout), contiguous, optional :: gradient(:), force_left(:), force_right(:)
+      integer :: p, e, i, n, b0, first, last, lo, hi, outside, ahead, elements
+      real(dp) :: half_m, strain_factor, dstrain, inv_dx, dt, youngs_modulus, m, volume0
+      type(largest_move_t) :: largest
+      real(dp) :: displacement(lanes), kinetic(lanes), strain(lanes), min_j(lanes)
+      integer :: cb(block_size)
+      real(dp) :: svb(block_size), db(block_size), kb(block_size), sb(block_size), jb(block_size)
+      real(dp) :: mb(block_size, 2)  !< the moves of a block, and of the block with the largest (lanes_track_move)
+      integer :: slot
+      real(dp) :: lane_max(lanes), block_max
+      integer :: lane_i, lane_r
+      type(run_t) :: run
+      integer(i8) :: elements_bits
+      real(dp) :: xi, xib(block_size), vpb(block_size)
+      ! the variant's: G2P's grid velocity and move, the segment's body (cells offset), each particle's
+      ! shares (accumulate_shares)
+      real(dp) :: vgrid, dxp
+      elements = constants%elements
+      inv_dx = constants%inv_dx
+      dt = constants%dt
+      youngs_modulus = constants%youngs_modulus
+      m = constants%mass
+      volume0 = constants%volume0
+      call open_segment(k, shares, seg, mass_left, mass_right, momentum_left, momentum_right, stress_volume, first, last, &
+                        lo, hi)
+      displacement = 0; kinetic = 0; strain = 0; min_j = huge(1.0_dp)
+      slot = 1
+      outside = 0
+      elements_bits = transfer(real(elements, dp), 0_i8)
+      half_m = 0.5_dp*m
+      strain_factor = 0.0_dp
+      if (stresses) strain_factor = 0.5_dp*volume0/youngs_modulus
+      do b0 = first, last, block_size
+         n = min(block_size, last - b0 + 1)
+         if (seg%prefetch) then  ! the arrays the pass reads, and the grid values of the next blocks
+            ahead = b0 + prefetch_ahead
+            if (kernel == pass_usl) call prefetch_block(ahead, cell, x, x0, v, stress, volume_ratio)
+            if (kernel == pass_usf_move .or. kernel == pass_musl_remap) call prefetch_block(ahead, cell, x, x0, v)
+            if (kernel == pass_usf_stress) call prefetch_block(ahead, cell, stress, volume_ratio)
+            if (kernel == pass_musl_stress) call prefetch_block(ahead, cell, x, v, stress, volume_ratio)
+            if (moves) then
+               call prefetch_nodes(cell(b0), cell(b0 + n - 1), acceleration, velocity)
+            else
+               call prefetch_elements(cell(b0), cell(b0 + n - 1), strain_increment_of)
+            end if
+         end if
+         do i = 1, n
+            p = b0 + i - 1
+            e = cell(p)
+            ! G2P with the start-of-step shape functions (PIC)
+            if (moves) then
+               xi = x(p)*inv_dx - (e - 1)
+               vgrid = (1.0_dp - xi)*velocity(e - 1) + xi*velocity(e)
+               v(p) = vgrid
+               dxp = dt*vgrid
+               x(p) = x(p) + dxp
+               db(i) = x(p) - x0(p)
+               kb(i) = half_m*v(p)*v(p)
+               mb(i, slot) = abs(dxp)*inv_dx
+            end if
+            if (stresses) then ! d eps = dt sum dN v_I over the start-of-step cell
+               if (moves) then
+                  dstrain = strain_increment(velocity(e - 1), velocity(e), dt, inv_dx)
+               else
+                  dstrain = strain_increment_of(e)
+               end if
+               call stress_particle(dstrain, youngs_modulus, strain_factor, volume0, stress(p), volume_ratio(p), sb(i), &
+                                    svb(i))
+               jb(i) = volume_ratio(p)
+            else if (iand(shares, share_stress) /= 0) then ! (an initial mapping: the stress as it is)
+               svb(i) = stress(p)*volume_ratio(p)*volume0
+            end if
+            if (relocates) then ! the new cell, for P2G at the new position
+               call locate_cell(x(p), inv_dx, elements, elements_bits, cb(i), xib(i))
+               cell(p) = cb(i)
+            else                ! the shares go to the start-of-step cell
+               cb(i) = e
+               if (moves) xib(i) = xi
+            end if
+            if (moves .or. relocates) vpb(i) = v(p)
+         end do
+         ! the block's totals (macros of mpm_lanes.fypi, expanded here)
+         if (moves) then
+            do lane_i = 1, n - lanes + 1, lanes
+               displacement = displacement + db(lane_i:lane_i + lanes - 1)
+            end do
+            lane_r = mod(n, lanes)
+            if (lane_r > 0) displacement(1:lane_r) = displacement(1:lane_r) + db(n - lane_r + 1:n)
+            do lane_i = 1, n - lanes + 1, lanes
+               kinetic = kinetic + kb(lane_i:lane_i + lanes - 1)
+            end do
+            lane_r = mod(n, lanes)
+            if (lane_r > 0) kinetic(1:lane_r) = kinetic(1:lane_r) + kb(n - lane_r + 1:n)
+            lane_max = 0.0_dp
+            do lane_i = 1, n - lanes + 1, lanes
+               lane_max = max(lane_max, mb(lane_i:lane_i + lanes - 1, slot))
+            end do
+            lane_r = mod(n, lanes)
+            if (lane_r > 0) lane_max(1:lane_r) = max(lane_max(1:lane_r), mb(n - lane_r + 1:n, slot))
+            block_max = maxval(lane_max)
+            if (block_max > largest%value) then
+               largest%value = block_max
+               largest%first = b0
+               largest%count = n
+               largest%slot = slot
+               slot = 3 - slot
+            end if
+         end if
+         if (stresses) then
+            do lane_i = 1, n - lanes + 1, lanes
+               strain = strain + sb(lane_i:lane_i + lanes - 1)
+            end do
+            lane_r = mod(n, lanes)
+            if (lane_r > 0) strain(1:lane_r) = strain(1:lane_r) + sb(n - lane_r + 1:n)
+            do lane_i = 1, n - lanes + 1, lanes
+               min_j = min(min_j, jb(lane_i:lane_i + lanes - 1))
+            end do
+            lane_r = mod(n, lanes)
+            if (lane_r > 0) min_j(1:lane_r) = min(min_j(1:lane_r), jb(n - lane_r + 1:n))
+         end if
+         if (relocates) call find_outside(n, b0, cb, outside)
+         call accumulate_block(k, n, cb, xib, vpb, svb, m, lo, hi, shares, run, mass_left, mass_right, momentum_left, &
+                               momentum_right, stress_volume, seg)
+      end do
+      call close_segment(k, shares, m, run, [lane_total(displacement), lane_total(kinetic), lane_total(strain)], &
+                         minval(min_j), largest%value, furthest_particle(largest, mb), outside, mass_left, mass_right, &
+                         momentum_left, momentum_right, stress_volume, seg)
+   end subroutine pic_usl_segment
+
+   !> MUSL, first pass: G2P, and the new momentum back to the start-of-step nodes (the hat, PIC)
+   subroutine pic_musl_remap_segment(k, seg, x, x0, v, stress, volume_ratio, cell, acceleration, velocity, &
+                                     strain_increment_of, mass_left, mass_right, momentum_left, momentum_right, &
+                                     stress_volume, constants, carry, mass_of, modulus_of, forces, gradient, force_left, &
+                                     force_right)
+      integer, parameter :: kernel = pass_musl_remap
+      logical, parameter :: moves = pass_moves(kernel), stresses = pass_stresses(kernel), relocates = pass_relocates(kernel)
+      integer, parameter :: shares = pass_shares(kernel)
+      integer, intent(in) :: k
+      type(segments_t), intent(inout) :: seg
+      real(dp), intent(inout), contiguous :: x(:), v(:), stress(:), volume_ratio(:)
+      real(dp), intent(in), contiguous :: x0(:)
+      integer, intent(inout), contiguous :: cell(:)
+      real(dp), intent(in), contiguous :: acceleration(0:), velocity(0:)
+      real(dp), intent(in), contiguous :: strain_increment_of(:)  !< per element (grid%element_strain)
+      real(dp), intent(inout), contiguous :: mass_left(:), mass_right(:), momentum_left(:), momentum_right(:), stress_volume(:)
+      type(pass_constants_t), intent(in) :: constants
+      real(dp), intent(inout), contiguous :: carry(:)  !< particles in parts: what a pass keeps for the next (fused_box_t)
+      !> the variants' per-particle data (absent when the run has none): masses and Young's moduli
+      !> (`material`), external forces (`forced`), APIC's velocity gradients C_p, and the element shares of
+      !> the forces
+      real(dp), intent(in), contiguous, optional :: mass_of(:), modulus_of(:), forces(:)
+      real(dp), intent(inout), contiguous, optional :: gradient(:), force_left(:), force_right(:)
+      integer :: p, e, i, n, b0, first, last, lo, hi, outside, ahead, elements
+      real(dp) :: half_m, strain_factor, dstrain, inv_dx, dt, youngs_modulus, m, volume0
+      type(largest_move_t) :: largest
+      real(dp) :: displacement(lanes), kinetic(lanes), strain(lanes), min_j(lanes)
+      integer :: cb(block_size)
+      real(dp) :: svb(block_size), db(block_size), kb(block_size), sb(block_size), jb(block_size)
+      real(dp) :: mb(block_size, 2)  !< the moves of a block, and of the block with the largest (lanes_track_move)
+      integer :: slot
+      real(dp) :: lane_max(lanes), block_max
+      integer :: lane_i, lane_r
+      type(run_t) :: run
+      integer(i8) :: elements_bits
+      real(dp) :: xi, xib(block_size), vpb(block_size)
+      ! the variant's: G2P's grid velocity and move, the segment's body (cells offset), each particle's
+      ! shares (accumulate_shares)
+      real(dp) :: vgrid, dxp
+      elements = constants%elements
+      inv_dx = constants%inv_dx
+      dt = constants%dt
+      youngs_modulus = constants%youngs_modulus
+      m = constants%mass
+      volume0 = constants%volume0
+      call open_segment(k, shares, seg, mass_left, mass_right, momentum_left, momentum_right, stress_volume, first, last, &
+                        lo, hi)
+      displacement = 0; kinetic = 0; strain = 0; min_j = huge(1.0_dp)
+      slot = 1
+      outside = 0
+      elements_bits = transfer(real(elements, dp), 0_i8)
+      half_m = 0.5_dp*m
+      strain_factor = 0.0_dp
+      if (stresses) strain_factor = 0.5_dp*volume0/youngs_modulus
+      do b0 = first, last, block_size
+         n = min(block_size, last - b0 + 1)
+         if (seg%prefetch) then  ! the arrays the pass reads, and the grid values of the next blocks
+            ahead = b0 + prefetch_ahead
+            if (kernel == pass_usl) call prefetch_block(ahead, cell, x, x0, v, stress, volume_ratio)
+            if (kernel == pass_usf_move .or. kernel == pass_musl_remap) call prefetch_block(ahead, cell, x, x0, v)
+            if (kernel == pass_usf_stress) call prefetch_block(ahead, cell, stress, volume_ratio)
+            if (kernel == pass_musl_stress) call prefetch_block(ahead, cell, x, v, stress, volume_ratio)
+            if (moves) then
+               call prefetch_nodes(cell(b0), cell(b0 + n - 1), acceleration, velocity)
+            else
+               call prefetch_elements(cell(b0), cell(b0 + n - 1), strain_increment_of)
+            end if
+         end if
+         do i = 1, n
+            p = b0 + i - 1
+            e = cell(p)
+            ! G2P with the start-of-step shape functions (PIC)
+            if (moves) then
+               xi = x(p)*inv_dx - (e - 1)
+               vgrid = (1.0_dp - xi)*velocity(e - 1) + xi*velocity(e)
+               v(p) = vgrid
+               dxp = dt*vgrid
+               x(p) = x(p) + dxp
+               db(i) = x(p) - x0(p)
+               kb(i) = half_m*v(p)*v(p)
+               mb(i, slot) = abs(dxp)*inv_dx
+            end if
+            if (stresses) then ! d eps = dt sum dN v_I over the start-of-step cell
+               if (moves) then
+                  dstrain = strain_increment(velocity(e - 1), velocity(e), dt, inv_dx)
+               else
+                  dstrain = strain_increment_of(e)
+               end if
+               call stress_particle(dstrain, youngs_modulus, strain_factor, volume0, stress(p), volume_ratio(p), sb(i), &
+                                    svb(i))
+               jb(i) = volume_ratio(p)
+            else if (iand(shares, share_stress) /= 0) then ! (an initial mapping: the stress as it is)
+               svb(i) = stress(p)*volume_ratio(p)*volume0
+            end if
+            if (relocates) then ! the new cell, for P2G at the new position
+               call locate_cell(x(p), inv_dx, elements, elements_bits, cb(i), xib(i))
+               cell(p) = cb(i)
+            else                ! the shares go to the start-of-step cell
+               cb(i) = e
+               if (moves) xib(i) = xi
+            end if
+            if (moves .or. relocates) vpb(i) = v(p)
+         end do
+         ! the block's totals (macros of mpm_lanes.fypi, expanded here)
+         if (moves) then
+            do lane_i = 1, n - lanes + 1, lanes
+               displacement = displacement + db(lane_i:lane_i + lanes - 1)
+            end do
+            lane_r = mod(n, lanes)
+            if (lane_r > 0) displacement(1:lane_r) = displacement(1:lane_r) + db(n - lane_r + 1:n)
+            do lane_i = 1, n - lanes + 1, lanes
+               kinetic = kinetic + kb(lane_i:lane_i + lanes - 1)
+            end do
+            lane_r = mod(n, lanes)
+            if (lane_r > 0) kinetic(1:lane_r) = kinetic(1:lane_r) + kb(n - lane_r + 1:n)
+            lane_max = 0.0_dp
+            do lane_i = 1, n - lanes + 1, lanes
+               lane_max = max(lane_max, mb(lane_i:lane_i + lanes - 1, slot))
+            end do
+            lane_r = mod(n, lanes)
+            if (lane_r > 0) lane_max(1:lane_r) = max(lane_max(1:lane_r), mb(n - lane_r + 1:n, slot))
+            block_max = maxval(lane_max)
+            if (block_max > largest%value) then
+               largest%value = block_max
+               largest%first = b0
+               largest%count = n
+               largest%slot = slot
+               slot = 3 - slot
+            end if
+         end if
+         if (stresses) then
+            do lane_i = 1, n - lanes + 1, lanes
+               strain = strain + sb(lane_i:lane_i + lanes - 1)
+            end do
+            lane_r = mod(n, lanes)
+            if (lane_r > 0) strain(1:lane_r) = strain(1:lane_r) + sb(n - lane_r + 1:n)
+            do lane_i = 1, n - lanes + 1, lanes
+               min_j = min(min_j, jb(lane_i:lane_i + lanes - 1))
+            end do
+            lane_r = mod(n, lanes)
+            if (lane_r > 0) min_j(1:lane_r) = min(min_j(1:lane_r), jb(n - lane_r + 1:n))
+         end if
+         if (relocates) call find_outside(n, b0, cb, outside)
+         call accumulate_block(k, n, cb, xib, vpb, svb, m, lo, hi, shares, run, mass_left, mass_right, momentum_left, &
+                               momentum_right, stress_volume, seg)
+      end do
+      call close_segment(k, shares, m, run, [lane_total(displacement), lane_total(kinetic), lane_total(strain)], &
+                         minval(min_j), largest%value, furthest_particle(largest, mb), outside, mass_left, mass_right, &
+                         momentum_left, momentum_right, stress_volume, seg)
+   end subroutine pic_musl_remap_segment
+
+   !> MUSL, second pass: stress update from the remapped velocities, P2G at the new position (the hat, PIC)
+   subroutine pic_musl_stress_segment(k, seg, x, x0, v, stress, volume_ratio, cell, acceleration, velocity, &
+                                      strain_increment_of, mass_left, mass_right, momentum_left, momentum_right, &
+                                      stress_volume, constants, carry, mass_of, modulus_of, forces, gradient, force_left, &
+                                      force_right)
+      integer, parameter :: kernel = pass_musl_stress
+      logical, parameter :: moves = pass_moves(kernel), stresses = pass_stresses(kernel), relocates = pass_relocates(kernel)
+      integer, parameter :: shares = pass_shares(kernel)
+      integer, intent(in) :: k
+      type(segments_t), intent(inout) :: seg
+      real(dp), intent(inout), contiguous :: x(:), v(:), stress(:), volume_ratio(:)
+      real(dp), intent(in), contiguous :: x0(:)
+      integer, intent(inout), contiguous :: cell(:)
+      real(dp), intent(in), contiguous :: acceleration(0:), velocity(0:)
+      real(dp), intent(in), contiguous :: strain_increment_of(:)  !< per element (grid%element_strain)
+      real(dp), intent(inout), contiguous :: mass_left(:), mass_right(:), momentum_left(:), momentum_right(:), stress_volume(:)
+      type(pass_constants_t), intent(in) :: constants
+      real(dp), intent(inout), contiguous :: carry(:)  !< particles in parts: what a pass keeps for the next (fused_box_t)
+      !> the variants' per-particle data (absent when the run has none): masses and Young's moduli
+      !> (`material`), external forces (`forced`), APIC's velocity gradients C_p, and the element shares of
+      !> the forces
+      real(dp), intent(in), contiguous, optional :: mass_of(:), modulus_of(:), forces(:)
+      real(dp), intent(inout), contiguous, optional :: gradient(:), force_left(:), force_right(:)
+      integer :: p, e, i, n, b0, first, last, lo, hi, outside, ahead, elements
+      real(dp) :: half_m, strain_factor, dstrain, inv_dx, dt, youngs_modulus, m, volume0
+      type(largest_move_t) :: largest
+      real(dp) :: displacement(lanes), kinetic(lanes), strain(lanes), min_j(lanes)
+      integer :: cb(block_size)
+      real(dp) :: svb(block_size), db(block_size), kb(block_size), sb(block_size), jb(block_size)
+      real(dp) :: mb(block_size, 2)  !< the moves of a block, and of the block with the largest (lanes_track_move)
+      integer :: slot
+      real(dp) :: lane_max(lanes), block_max
+      integer :: lane_i, lane_r
+      type(run_t) :: run
+      integer(i8) :: elements_bits
+      real(dp) :: xi, xib(block_size), vpb(block_size)
+      ! the variant's: G2P's grid velocity and move, the segment's body (cells offset), each particle's
+      ! shares (accumulate_shares)
+      real(dp) :: vgrid, dxp
+      elements = constants%elements
+      inv_dx = constants%inv_dx
+      dt = constants%dt
+      youngs_modulus = constants%youngs_modulus
+      m = constants%mass
+      volume0 = constants%volume0
+      call open_segment(k, shares, seg, mass_left, mass_right, momentum_left, momentum_right, stress_volume, first, last, &
+                        lo, hi)
+      displacement = 0; kinetic = 0; strain = 0; min_j = huge(1.0_dp)
+      slot = 1
+      outside = 0
+      elements_bits = transfer(real(elements, dp), 0_i8)
+      half_m = 0.5_dp*m
+      strain_factor = 0.0_dp
+      if (stresses) strain_factor = 0.5_dp*volume0/youngs_modulus
+      do b0 = first, last, block_size
+         n = min(block_size, last - b0 + 1)
+         if (seg%prefetch) then  ! the arrays the pass reads, and the grid values of the next blocks
+            ahead = b0 + prefetch_ahead
+            if (kernel == pass_usl) call prefetch_block(ahead, cell, x, x0, v, stress, volume_ratio)
+            if (kernel == pass_usf_move .or. kernel == pass_musl_remap) call prefetch_block(ahead, cell, x, x0, v)
+            if (kernel == pass_usf_stress) call prefetch_block(ahead, cell, stress, volume_ratio)
+            if (kernel == pass_musl_stress) call prefetch_block(ahead, cell, x, v, stress, volume_ratio)
+            if (moves) then
+               call prefetch_nodes(cell(b0), cell(b0 + n - 1), acceleration, velocity)
+            else
+               call prefetch_elements(cell(b0), cell(b0 + n - 1), strain_increment_of)
+            end if
+         end if
+         do i = 1, n
+            p = b0 + i - 1
+            e = cell(p)
+            ! G2P with the start-of-step shape functions (PIC)
+            if (moves) then
+               xi = x(p)*inv_dx - (e - 1)
+               vgrid = (1.0_dp - xi)*velocity(e - 1) + xi*velocity(e)
+               v(p) = vgrid
+               dxp = dt*vgrid
+               x(p) = x(p) + dxp
+               db(i) = x(p) - x0(p)
+               kb(i) = half_m*v(p)*v(p)
+               mb(i, slot) = abs(dxp)*inv_dx
+            end if
+            if (stresses) then ! d eps = dt sum dN v_I over the start-of-step cell
+               if (moves) then
+                  dstrain = strain_increment(velocity(e - 1), velocity(e), dt, inv_dx)
+               else
+                  dstrain = strain_increment_of(e)
+               end if
+               call stress_particle(dstrain, youngs_modulus, strain_factor, volume0, stress(p), volume_ratio(p), sb(i), &
+                                    svb(i))
+               jb(i) = volume_ratio(p)
+            else if (iand(shares, share_stress) /= 0) then ! (an initial mapping: the stress as it is)
+               svb(i) = stress(p)*volume_ratio(p)*volume0
+            end if
+            if (relocates) then ! the new cell, for P2G at the new position
+               call locate_cell(x(p), inv_dx, elements, elements_bits, cb(i), xib(i))
+               cell(p) = cb(i)
+            else                ! the shares go to the start-of-step cell
+               cb(i) = e
+               if (moves) xib(i) = xi
+            end if
+            if (moves .or. relocates) vpb(i) = v(p)
+         end do
+         ! the block's totals (macros of mpm_lanes.fypi, expanded here)
+         if (moves) then
+            do lane_i = 1, n - lanes + 1, lanes
+               displacement = displacement + db(lane_i:lane_i + lanes - 1)
+            end do
+            lane_r = mod(n, lanes)
+            if (lane_r > 0) displacement(1:lane_r) = displacement(1:lane_r) + db(n - lane_r + 1:n)
+            do lane_i = 1, n - lanes + 1, lanes
+               kinetic = kinetic + kb(lane_i:lane_i + lanes - 1)
+            end do
+            lane_r = mod(n, lanes)
+            if (lane_r > 0) kinetic(1:lane_r) = kinetic(1:lane_r) + kb(n - lane_r + 1:n)
+            lane_max = 0.0_dp
+            do lane_i = 1, n - lanes + 1, lanes
+               lane_max = max(lane_max, mb(lane_i:lane_i + lanes - 1, slot))
+            end do
+            lane_r = mod(n, lanes)
+            if (lane_r > 0) lane_max(1:lane_r) = max(lane_max(1:lane_r), mb(n - lane_r + 1:n, slot))
+            block_max = maxval(lane_max)
+            if (block_max > largest%value) then
+               largest%value = block_max
+               largest%first = b0
+               largest%count = n
+               largest%slot = slot
+               slot = 3 - slot
+            end if
+         end if
+         if (stresses) then
+            do lane_i = 1, n - lanes + 1, lanes
+               strain = strain + sb(lane_i:lane_i + lanes - 1)
+            end do
+            lane_r = mod(n, lanes)
+            if (lane_r > 0) strain(1:lane_r) = strain(1:lane_r) + sb(n - lane_r + 1:n)
+            do lane_i = 1, n - lanes + 1, lanes
+               min_j = min(min_j, jb(lane_i:lane_i + lanes - 1))
+            end do
+            lane_r = mod(n, lanes)
+            if (lane_r > 0) min_j(1:lane_r) = min(min_j(1:lane_r), jb(n - lane_r + 1:n))
+         end if
+         if (relocates) call find_outside(n, b0, cb, outside)
+         call accumulate_block(k, n, cb, xib, vpb, svb, m, lo, hi, shares, run, mass_left, mass_right, momentum_left, &
+                               momentum_right, stress_volume, seg)
+      end do
+      call close_segment(k, shares, m, run, [lane_total(displacement), lane_total(kinetic), lane_total(strain)], &
+                         minval(min_j), largest%value, furthest_particle(largest, mb), outside, mass_left, mass_right, &
+                         momentum_left, momentum_right, stress_volume, seg)
+   end subroutine pic_musl_stress_segment
+
+   !> initial mapping: mass and momentum (the hat, PIC)
+   subroutine pic_map_segment(k, seg, x, x0, v, stress, volume_ratio, cell, acceleration, velocity, &
+                              strain_increment_of, mass_left, mass_right, momentum_left, momentum_right, &
+                              stress_volume, constants, carry, mass_of, modulus_of, forces, gradient, force_left, &
+                              force_right)
+      integer, parameter :: kernel = pass_map
+      logical, parameter :: moves = pass_moves(kernel), stresses = pass_stresses(kernel), relocates = pass_relocates(kernel)
+      integer, parameter :: shares = pass_shares(kernel)
+      integer, intent(in) :: k
+      type(segments_t), intent(inout) :: seg
+      real(dp), intent(inout), contiguous :: x(:), v(:), stress(:), volume_ratio(:)
+      real(dp), intent(in), contiguous :: x0(:)
+      integer, intent(inout), contiguous :: cell(:)
+      real(dp), intent(in), contiguous :: acceleration(0:), velocity(0:)
+      real(dp), intent(in), contiguous :: strain_increment_of(:)  !< per element (grid%element_strain)
+      real(dp), intent(inout), contiguous :: mass_left(:), mass_right(:), momentum_left(:), momentum_right(:), stress_volume(:)
+      type(pass_constants_t), intent(in) :: constants
+      real(dp), intent(inout), contiguous :: carry(:)  !< particles in parts: what a pass keeps for the next (fused_box_t)
+      !> the variants' per-particle data (absent when the run has none): masses and Young's moduli
+      !> (`material`), external forces (`forced`), APIC's velocity gradients C_p, and the element shares of
+      !> the forces
+      real(dp), intent(in), contiguous, optional :: mass_of(:), modulus_of(:), forces(:)
+      real(dp), intent(inout), contiguous, optional :: gradient(:), force_left(:), force_right(:)
+      integer :: p, e, i, n, b0, first, last, lo, hi, outside, ahead, elements
+      real(dp) :: half_m, strain_factor, dstrain, inv_dx, dt, youngs_modulus, m, volume0
+      type(largest_move_t) :: largest
+      real(dp) :: displacement(lanes), kinetic(lanes), strain(lanes), min_j(lanes)
+      integer :: cb(block_size)
+      real(dp) :: svb(block_size), db(block_size), kb(block_size), sb(block_size), jb(block_size)
+      real(dp) :: mb(block_size, 2)  !< the moves of a block, and of the block with the largest (lanes_track_move)
+      integer :: slot
+      real(dp) :: lane_max(lanes), block_max
+      integer :: lane_i, lane_r
+      type(run_t) :: run
+      integer(i8) :: elements_bits
+      real(dp) :: xi, xib(block_size), vpb(block_size)
+      ! the variant's: G2P's grid velocity and move, the segment's body (cells offset), each particle's
+      ! shares (accumulate_shares)
+      real(dp) :: vgrid, dxp
+      elements = constants%elements
+      inv_dx = constants%inv_dx
+      dt = constants%dt
+      youngs_modulus = constants%youngs_modulus
+      m = constants%mass
+      volume0 = constants%volume0
+      call open_segment(k, shares, seg, mass_left, mass_right, momentum_left, momentum_right, stress_volume, first, last, &
+                        lo, hi)
+      displacement = 0; kinetic = 0; strain = 0; min_j = huge(1.0_dp)
+      slot = 1
+      outside = 0
+      elements_bits = transfer(real(elements, dp), 0_i8)
+      half_m = 0.5_dp*m
+      strain_factor = 0.0_dp
+      if (stresses) strain_factor = 0.5_dp*volume0/youngs_modulus
+      do b0 = first, last, block_size
+         n = min(block_size, last - b0 + 1)
+         if (seg%prefetch) then  ! the arrays the pass reads, and the grid values of the next blocks
+            ahead = b0 + prefetch_ahead
+            if (kernel == pass_usl) call prefetch_block(ahead, cell, x, x0, v, stress, volume_ratio)
+            if (kernel == pass_usf_move .or. kernel == pass_musl_remap) call prefetch_block(ahead, cell, x, x0, v)
+            if (kernel == pass_usf_stress) call prefetch_block(ahead, cell, stress, volume_ratio)
+            if (kernel == pass_musl_stress) call prefetch_block(ahead, cell, x, v, stress, volume_ratio)
+            if (moves) then
+               call prefetch_nodes(cell(b0), cell(b0 + n - 1), acceleration, velocity)
+            else
+               call prefetch_elements(cell(b0), cell(b0 + n - 1), strain_increment_of)
+            end if
+         end if
+         do i = 1, n
+            p = b0 + i - 1
+            e = cell(p)
+            ! G2P with the start-of-step shape functions (PIC)
+            if (moves) then
+               xi = x(p)*inv_dx - (e - 1)
+               vgrid = (1.0_dp - xi)*velocity(e - 1) + xi*velocity(e)
+               v(p) = vgrid
+               dxp = dt*vgrid
+               x(p) = x(p) + dxp
+               db(i) = x(p) - x0(p)
+               kb(i) = half_m*v(p)*v(p)
+               mb(i, slot) = abs(dxp)*inv_dx
+            end if
+            if (stresses) then ! d eps = dt sum dN v_I over the start-of-step cell
+               if (moves) then
+                  dstrain = strain_increment(velocity(e - 1), velocity(e), dt, inv_dx)
+               else
+                  dstrain = strain_increment_of(e)
+               end if
+               call stress_particle(dstrain, youngs_modulus, strain_factor, volume0, stress(p), volume_ratio(p), sb(i), &
+                                    svb(i))
+               jb(i) = volume_ratio(p)
+            else if (iand(shares, share_stress) /= 0) then ! (an initial mapping: the stress as it is)
+               svb(i) = stress(p)*volume_ratio(p)*volume0
+            end if
+            if (relocates) then ! the new cell, for P2G at the new position
+               call locate_cell(x(p), inv_dx, elements, elements_bits, cb(i), xib(i))
+               cell(p) = cb(i)
+            else                ! the shares go to the start-of-step cell
+               cb(i) = e
+               if (moves) xib(i) = xi
+            end if
+            if (moves .or. relocates) vpb(i) = v(p)
+         end do
+         ! the block's totals (macros of mpm_lanes.fypi, expanded here)
+         if (moves) then
+            do lane_i = 1, n - lanes + 1, lanes
+               displacement = displacement + db(lane_i:lane_i + lanes - 1)
+            end do
+            lane_r = mod(n, lanes)
+            if (lane_r > 0) displacement(1:lane_r) = displacement(1:lane_r) + db(n - lane_r + 1:n)
+            do lane_i = 1, n - lanes + 1, lanes
+               kinetic = kinetic + kb(lane_i:lane_i + lanes - 1)
+            end do
+            lane_r = mod(n, lanes)
+            if (lane_r > 0) kinetic(1:lane_r) = kinetic(1:lane_r) + kb(n - lane_r + 1:n)
+            lane_max = 0.0_dp
+            do lane_i = 1, n - lanes + 1, lanes
+               lane_max = max(lane_max, mb(lane_i:lane_i + lanes - 1, slot))
+            end do
+            lane_r = mod(n, lanes)
+            if (lane_r > 0) lane_max(1:lane_r) = max(lane_max(1:lane_r), mb(n - lane_r + 1:n, slot))
+            block_max = maxval(lane_max)
+            if (block_max > largest%value) then
+               largest%value = block_max
+               largest%first = b0
+               largest%count = n
+               largest%slot = slot
+               slot = 3 - slot
+            end if
+         end if
+         if (stresses) then
+            do lane_i = 1, n - lanes + 1, lanes
+               strain = strain + sb(lane_i:lane_i + lanes - 1)
+            end do
+            lane_r = mod(n, lanes)
+            if (lane_r > 0) strain(1:lane_r) = strain(1:lane_r) + sb(n - lane_r + 1:n)
+            do lane_i = 1, n - lanes + 1, lanes
+               min_j = min(min_j, jb(lane_i:lane_i + lanes - 1))
+            end do
+            lane_r = mod(n, lanes)
+            if (lane_r > 0) min_j(1:lane_r) = min(min_j(1:lane_r), jb(n - lane_r + 1:n))
+         end if
+         if (relocates) call find_outside(n, b0, cb, outside)
+         call accumulate_block(k, n, cb, xib, vpb, svb, m, lo, hi, shares, run, mass_left, mass_right, momentum_left, &
+                               momentum_right, stress_volume, seg)
+      end do
+      call close_segment(k, shares, m, run, [lane_total(displacement), lane_total(kinetic), lane_total(strain)], &
+                         minval(min_j), largest%value, furthest_particle(largest, mb), outside, mass_left, mass_right, &
+                         momentum_left, momentum_right, stress_volume, seg)
+   end subroutine pic_map_segment
+
+   !> initial mapping: mass, momentum and stress*volume (and forces) (the hat, PIC)
+   subroutine pic_map_stress_segment(k, seg, x, x0, v, stress, volume_ratio, cell, acceleration, velocity, &
+                                     strain_increment_of, mass_left, mass_right, momentum_left, momentum_right, &
+                                     stress_volume, constants, carry, mass_of, modulus_of, forces, gradient, force_left, &
+                                     force_right)
+      integer, parameter :: kernel = pass_map_stress
+      logical, parameter :: moves = pass_moves(kernel), stresses = pass_stresses(kernel), relocates = pass_relocates(kernel)
+      integer, parameter :: shares = pass_shares(kernel)
+      integer, intent(in) :: k
+      type(segments_t), intent(inout) :: seg
+      real(dp), intent(inout), contiguous :: x(:), v(:), stress(:), volume_ratio(:)
+      real(dp), intent(in), contiguous :: x0(:)
+      integer, intent(inout), contiguous :: cell(:)
+      real(dp), intent(in), contiguous :: acceleration(0:), velocity(0:)
+      real(dp), intent(in), contiguous :: strain_increment_of(:)  !< per element (grid%element_strain)
+      real(dp), intent(inout), contiguous :: mass_left(:), mass_right(:), momentum_left(:), momentum_right(:), stress_volume(:)
+      type(pass_constants_t), intent(in) :: constants
+      real(dp), intent(inout), contiguous :: carry(:)  !< particles in parts: what a pass keeps for the next (fused_box_t)
+      !> the variants' per-particle data (absent when the run has none): masses and Young's moduli
+      !> (`material`), external forces (`forced`), APIC's velocity gradients C_p, and the element shares of
+      !> the forces
+      real(dp), intent(in), contiguous, optional :: mass_of(:), modulus_of(:), forces(:)
+      real(dp), intent(inout), contiguous, optional :: gradient(:), force_left(:), force_right(:)
+      integer :: p, e, i, n, b0, first, last, lo, hi, outside, ahead, elements
+      real(dp) :: half_m, strain_factor, dstrain, inv_dx, dt, youngs_modulus, m, volume0
+      type(largest_move_t) :: largest
+      real(dp) :: displacement(lanes), kinetic(lanes), strain(lanes), min_j(lanes)
+      integer :: cb(block_size)
+      real(dp) :: svb(block_size), db(block_size), kb(block_size), sb(block_size), jb(block_size)
+      real(dp) :: mb(block_size, 2)  !< the moves of a block, and of the block with the largest (lanes_track_move)
+      integer :: slot
+      real(dp) :: lane_max(lanes), block_max
+      integer :: lane_i, lane_r
+      type(run_t) :: run
+      integer(i8) :: elements_bits
+      real(dp) :: xi, xib(block_size), vpb(block_size)
+      ! the variant's: G2P's grid velocity and move, the segment's body (cells offset), each particle's
+      ! shares (accumulate_shares)
+      real(dp) :: vgrid, dxp
+      elements = constants%elements
+      inv_dx = constants%inv_dx
+      dt = constants%dt
+      youngs_modulus = constants%youngs_modulus
+      m = constants%mass
+      volume0 = constants%volume0
+      call open_segment(k, shares, seg, mass_left, mass_right, momentum_left, momentum_right, stress_volume, first, last, &
+                        lo, hi)
+      displacement = 0; kinetic = 0; strain = 0; min_j = huge(1.0_dp)
+      slot = 1
+      outside = 0
+      elements_bits = transfer(real(elements, dp), 0_i8)
+      half_m = 0.5_dp*m
+      strain_factor = 0.0_dp
+      if (stresses) strain_factor = 0.5_dp*volume0/youngs_modulus
+      do b0 = first, last, block_size
+         n = min(block_size, last - b0 + 1)
+         if (seg%prefetch) then  ! the arrays the pass reads, and the grid values of the next blocks
+            ahead = b0 + prefetch_ahead
+            if (kernel == pass_usl) call prefetch_block(ahead, cell, x, x0, v, stress, volume_ratio)
+            if (kernel == pass_usf_move .or. kernel == pass_musl_remap) call prefetch_block(ahead, cell, x, x0, v)
+            if (kernel == pass_usf_stress) call prefetch_block(ahead, cell, stress, volume_ratio)
+            if (kernel == pass_musl_stress) call prefetch_block(ahead, cell, x, v, stress, volume_ratio)
+            if (moves) then
+               call prefetch_nodes(cell(b0), cell(b0 + n - 1), acceleration, velocity)
+            else
+               call prefetch_elements(cell(b0), cell(b0 + n - 1), strain_increment_of)
+            end if
+         end if
+         do i = 1, n
+            p = b0 + i - 1
+            e = cell(p)
+            ! G2P with the start-of-step shape functions (PIC)
+            if (moves) then
+               xi = x(p)*inv_dx - (e - 1)
+               vgrid = (1.0_dp - xi)*velocity(e - 1) + xi*velocity(e)
+               v(p) = vgrid
+               dxp = dt*vgrid
+               x(p) = x(p) + dxp
+               db(i) = x(p) - x0(p)
+               kb(i) = half_m*v(p)*v(p)
+               mb(i, slot) = abs(dxp)*inv_dx
+            end if
+            if (stresses) then ! d eps = dt sum dN v_I over the start-of-step cell
+               if (moves) then
+                  dstrain = strain_increment(velocity(e - 1), velocity(e), dt, inv_dx)
+               else
+                  dstrain = strain_increment_of(e)
+               end if
+               call stress_particle(dstrain, youngs_modulus, strain_factor, volume0, stress(p), volume_ratio(p), sb(i), &
+                                    svb(i))
+               jb(i) = volume_ratio(p)
+            else if (iand(shares, share_stress) /= 0) then ! (an initial mapping: the stress as it is)
+               svb(i) = stress(p)*volume_ratio(p)*volume0
+            end if
+            if (relocates) then ! the new cell, for P2G at the new position
+               call locate_cell(x(p), inv_dx, elements, elements_bits, cb(i), xib(i))
+               cell(p) = cb(i)
+            else                ! the shares go to the start-of-step cell
+               cb(i) = e
+               if (moves) xib(i) = xi
+            end if
+            if (moves .or. relocates) vpb(i) = v(p)
+         end do
+         ! the block's totals (macros of mpm_lanes.fypi, expanded here)
+         if (moves) then
+            do lane_i = 1, n - lanes + 1, lanes
+               displacement = displacement + db(lane_i:lane_i + lanes - 1)
+            end do
+            lane_r = mod(n, lanes)
+            if (lane_r > 0) displacement(1:lane_r) = displacement(1:lane_r) + db(n - lane_r + 1:n)
+            do lane_i = 1, n - lanes + 1, lanes
+               kinetic = kinetic + kb(lane_i:lane_i + lanes - 1)
+            end do
+            lane_r = mod(n, lanes)
+            if (lane_r > 0) kinetic(1:lane_r) = kinetic(1:lane_r) + kb(n - lane_r + 1:n)
+            lane_max = 0.0_dp
+            do lane_i = 1, n - lanes + 1, lanes
+               lane_max = max(lane_max, mb(lane_i:lane_i + lanes - 1, slot))
+            end do
+            lane_r = mod(n, lanes)
+            if (lane_r > 0) lane_max(1:lane_r) = max(lane_max(1:lane_r), mb(n - lane_r + 1:n, slot))
+            block_max = maxval(lane_max)
+            if (block_max > largest%value) then
+               largest%value = block_max
+               largest%first = b0
+               largest%count = n
+               largest%slot = slot
+               slot = 3 - slot
+            end if
+         end if
+         if (stresses) then
+            do lane_i = 1, n - lanes + 1, lanes
+               strain = strain + sb(lane_i:lane_i + lanes - 1)
+            end do
+            lane_r = mod(n, lanes)
+            if (lane_r > 0) strain(1:lane_r) = strain(1:lane_r) + sb(n - lane_r + 1:n)
+            do lane_i = 1, n - lanes + 1, lanes
+               min_j = min(min_j, jb(lane_i:lane_i + lanes - 1))
+            end do
+            lane_r = mod(n, lanes)
+            if (lane_r > 0) min_j(1:lane_r) = min(min_j(1:lane_r), jb(n - lane_r + 1:n))
+         end if
+         if (relocates) call find_outside(n, b0, cb, outside)
+         call accumulate_block(k, n, cb, xib, vpb, svb, m, lo, hi, shares, run, mass_left, mass_right, momentum_left, &
+                               momentum_right, stress_volume, seg)
+      end do
+      call close_segment(k, shares, m, run, [lane_total(displacement), lane_total(kinetic), lane_total(strain)], &
+                         minval(min_j), largest%value, furthest_particle(largest, mb), outside, mass_left, mass_right, &
+                         momentum_left, momentum_right, stress_volume, seg)
+   end subroutine pic_map_stress_segment
+
+   !> USF, second half: G2P, then mass and momentum at the new position (the hat, the PIC/FLIP blend)
+   subroutine blend_usf_move_segment(k, seg, x, x0, v, stress, volume_ratio, cell, acceleration, velocity, &
+                                     strain_increment_of, mass_left, mass_right, momentum_left, momentum_right, &
+                                     stress_volume, constants, carry, mass_of, modulus_of, forces, gradient, force_left, &
+                                     force_right)
+      integer, parameter :: kernel = pass_usf_move
+      logical, parameter :: moves = pass_moves(kernel), stresses = pass_stresses(kernel), relocates = pass_relocates(kernel)
+      integer, parameter :: shares = pass_shares(kernel)
+      integer, intent(in) :: k
+      type(segments_t), intent(inout) :: seg
+      real(dp), intent(inout), contiguous :: x(:), v(:), stress(:), volume_ratio(:)
+      real(dp), intent(in), contiguous :: x0(:)
+      integer, intent(inout), contiguous :: cell(:)
+      real(dp), intent(in), contiguous :: acceleration(0:), velocity(0:)
+      real(dp), intent(in), contiguous :: strain_increment_of(:)  !< per element (grid%element_strain)
+      real(dp), intent(inout), contiguous :: mass_left(:), mass_right(:), momentum_left(:), momentum_right(:), stress_volume(:)
+      type(pass_constants_t), intent(in) :: constants
+      real(dp), intent(inout), contiguous :: carry(:)  !< particles in parts: what a pass keeps for the next (fused_box_t)
+      !> the variants' per-particle data (absent when the run has none): masses and Young's moduli
+      !> (`material`), external forces (`forced`), APIC's velocity gradients C_p, and the element shares of
+      !> the forces
+      real(dp), intent(in), contiguous, optional :: mass_of(:), modulus_of(:), forces(:)
+      real(dp), intent(inout), contiguous, optional :: gradient(:), force_left(:), force_right(:)
+      integer :: p, e, i, n, b0, first, last, lo, hi, outside, ahead, elements
+      real(dp) :: half_m, strain_factor, dstrain, inv_dx, dt, youngs_modulus, m, volume0
+      type(largest_move_t) :: largest
+      real(dp) :: displacement(lanes), kinetic(lanes), strain(lanes), min_j(lanes)
+      integer :: cb(block_size)
+      real(dp) :: svb(block_size), db(block_size), kb(block_size), sb(block_size), jb(block_size)
+      real(dp) :: mb(block_size, 2)  !< the moves of a block, and of the block with the largest (lanes_track_move)
+      integer :: slot
+      real(dp) :: lane_max(lanes), block_max
+      integer :: lane_i, lane_r
+      type(run_t) :: run
+      integer(i8) :: elements_bits
+      real(dp) :: xi, xib(block_size), vpb(block_size)
+      ! the variant's: G2P's grid velocity and move, the segment's body (cells offset), each particle's
+      ! shares (accumulate_shares)
+      real(dp) :: vgrid, dxp
+      real(dp) :: flip_fraction
+      flip_fraction = constants%flip_fraction
+      elements = constants%elements
+      inv_dx = constants%inv_dx
+      dt = constants%dt
+      youngs_modulus = constants%youngs_modulus
+      m = constants%mass
+      volume0 = constants%volume0
+      call open_segment(k, shares, seg, mass_left, mass_right, momentum_left, momentum_right, stress_volume, first, last, &
+                        lo, hi)
+      displacement = 0; kinetic = 0; strain = 0; min_j = huge(1.0_dp)
+      slot = 1
+      outside = 0
+      elements_bits = transfer(real(elements, dp), 0_i8)
+      half_m = 0.5_dp*m
+      strain_factor = 0.0_dp
+      if (stresses) strain_factor = 0.5_dp*volume0/youngs_modulus
+      do b0 = first, last, block_size
+         n = min(block_size, last - b0 + 1)
+         if (seg%prefetch) then  ! the arrays the pass reads, and the grid values of the next blocks
+            ahead = b0 + prefetch_ahead
+            if (kernel == pass_usl) call prefetch_block(ahead, cell, x, x0, v, stress, volume_ratio)
+            if (kernel == pass_usf_move .or. kernel == pass_musl_remap) call prefetch_block(ahead, cell, x, x0, v)
+            if (kernel == pass_usf_stress) call prefetch_block(ahead, cell, stress, volume_ratio)
+            if (kernel == pass_musl_stress) call prefetch_block(ahead, cell, x, v, stress, volume_ratio)
+            if (moves) then
+               call prefetch_nodes(cell(b0), cell(b0 + n - 1), acceleration, velocity)
+            else
+               call prefetch_elements(cell(b0), cell(b0 + n - 1), strain_increment_of)
+            end if
+         end if
+         do i = 1, n
+            p = b0 + i - 1
+            e = cell(p)
+            ! G2P with the start-of-step shape functions (the PIC/FLIP blend)
+            if (moves) then
+               xi = x(p)*inv_dx - (e - 1)
+               vgrid = (1.0_dp - xi)*velocity(e - 1) + xi*velocity(e)
+               v(p) = flip_fraction*(v(p) + dt*((1.0_dp - xi)*acceleration(e - 1) + xi*acceleration(e))) + &
+                      (1.0_dp - flip_fraction)*vgrid
+               dxp = dt*vgrid
+               x(p) = x(p) + dxp
+               db(i) = x(p) - x0(p)
+               kb(i) = half_m*v(p)*v(p)
+               mb(i, slot) = abs(dxp)*inv_dx
+            end if
+            if (stresses) then ! d eps = dt sum dN v_I over the start-of-step cell
+               if (moves) then
+                  dstrain = strain_increment(velocity(e - 1), velocity(e), dt, inv_dx)
+               else
+                  dstrain = strain_increment_of(e)
+               end if
+               call stress_particle(dstrain, youngs_modulus, strain_factor, volume0, stress(p), volume_ratio(p), sb(i), &
+                                    svb(i))
+               jb(i) = volume_ratio(p)
+            else if (iand(shares, share_stress) /= 0) then ! (an initial mapping: the stress as it is)
+               svb(i) = stress(p)*volume_ratio(p)*volume0
+            end if
+            if (relocates) then ! the new cell, for P2G at the new position
+               call locate_cell(x(p), inv_dx, elements, elements_bits, cb(i), xib(i))
+               cell(p) = cb(i)
+            else                ! the shares go to the start-of-step cell
+               cb(i) = e
+               if (moves) xib(i) = xi
+            end if
+            if (moves .or. relocates) vpb(i) = v(p)
+         end do
+         ! the block's totals (macros of mpm_lanes.fypi, expanded here)
+         if (moves) then
+            do lane_i = 1, n - lanes + 1, lanes
+               displacement = displacement + db(lane_i:lane_i + lanes - 1)
+            end do
+            lane_r = mod(n, lanes)
+            if (lane_r > 0) displacement(1:lane_r) = displacement(1:lane_r) + db(n - lane_r + 1:n)
+            do lane_i = 1, n - lanes + 1, lanes
+               kinetic = kinetic + kb(lane_i:lane_i + lanes - 1)
+            end do
+            lane_r = mod(n, lanes)
+            if (lane_r > 0) kinetic(1:lane_r) = kinetic(1:lane_r) + kb(n - lane_r + 1:n)
+            lane_max = 0.0_dp
+            do lane_i = 1, n - lanes + 1, lanes
+               lane_max = max(lane_max, mb(lane_i:lane_i + lanes - 1, slot))
+            end do
+            lane_r = mod(n, lanes)
+            if (lane_r > 0) lane_max(1:lane_r) = max(lane_max(1:lane_r), mb(n - lane_r + 1:n, slot))
+            block_max = maxval(lane_max)
+            if (block_max > largest%value) then
+               largest%value = block_max
+               largest%first = b0
+               largest%count = n
+               largest%slot = slot
+               slot = 3 - slot
+            end if
+         end if
+         if (stresses) then
+            do lane_i = 1, n - lanes + 1, lanes
+               strain = strain + sb(lane_i:lane_i + lanes - 1)
+            end do
+            lane_r = mod(n, lanes)
+            if (lane_r > 0) strain(1:lane_r) = strain(1:lane_r) + sb(n - lane_r + 1:n)
+            do lane_i = 1, n - lanes + 1, lanes
+               min_j = min(min_j, jb(lane_i:lane_i + lanes - 1))
+            end do
+            lane_r = mod(n, lanes)
+            if (lane_r > 0) min_j(1:lane_r) = min(min_j(1:lane_r), jb(n - lane_r + 1:n))
+         end if
+         if (relocates) call find_outside(n, b0, cb, outside)
+         call accumulate_block(k, n, cb, xib, vpb, svb, m, lo, hi, shares, run, mass_left, mass_right, momentum_left, &
+                               momentum_right, stress_volume, seg)
+      end do
+      call close_segment(k, shares, m, run, [lane_total(displacement), lane_total(kinetic), lane_total(strain)], &
+                         minval(min_j), largest%value, furthest_particle(largest, mb), outside, mass_left, mass_right, &
+                         momentum_left, momentum_right, stress_volume, seg)
+   end subroutine blend_usf_move_segment
+
+   !> USF, first half: stress update, then stress*volume of the unmoved particles (the hat, the PIC/FLIP blend)
+   subroutine blend_usf_stress_segment(k, seg, x, x0, v, stress, volume_ratio, cell, acceleration, velocity, &
+                                       strain_increment_of, mass_left, mass_right, momentum_left, momentum_right, &
+                                       stress_volume, constants, carry, mass_of, modulus_of, forces, gradient, force_left, &
+                                       force_right)
+      integer, parameter :: kernel = pass_usf_stress
+      logical, parameter :: moves = pass_moves(kernel), stresses = pass_stresses(kernel), relocates = pass_relocates(kernel)
+      integer, parameter :: shares = pass_shares(kernel)
+      integer, intent(in) :: k
+      type(segments_t), intent(inout) :: seg
+      real(dp), intent(inout), contiguous :: x(:), v(:), stress(:), volume_ratio(:)
+      real(dp), intent(in), contiguous :: x0(:)
+      integer, intent(inout), contiguous :: cell(:)
+      real(dp), intent(in), contiguous :: acceleration(0:), velocity(0:)
+      real(dp), intent(in), contiguous :: strain_increment_of(:)  !< per element (grid%element_strain)
+      real(dp), intent(inout), contiguous :: mass_left(:), mass_right(:), momentum_left(:), momentum_right(:), stress_volume(:)
+      type(pass_constants_t), intent(in) :: constants
+      real(dp), intent(inout), contiguous :: carry(:)  !< particles in parts: what a pass keeps for the next (fused_box_t)
+      !> the variants' per-particle data (absent when the run has none): masses and Young's moduli
+      !> (`material`), external forces (`forced`), APIC's velocity gradients C_p, and the element shares of
+      !> the forces
+      real(dp), intent(in), contiguous, optional :: mass_of(:), modulus_of(:), forces(:)
+      real(dp), intent(inout), contiguous, optional :: gradient(:), force_left(:), force_right(:)
+      integer :: p, e, i, n, b0, first, last, lo, hi, outside, ahead, elements
+      real(dp) :: half_m, strain_factor, dstrain, inv_dx, dt, youngs_modulus, m, volume0
+      type(largest_move_t) :: largest
+      real(dp) :: displacement(lanes), kinetic(lanes), strain(lanes), min_j(lanes)
+      integer :: cb(block_size)
+      real(dp) :: svb(block_size), db(block_size), kb(block_size), sb(block_size), jb(block_size)
+      real(dp) :: mb(block_size, 2)  !< the moves of a block, and of the block with the largest (lanes_track_move)
+      integer :: slot
+      real(dp) :: lane_max(lanes), block_max
+      integer :: lane_i, lane_r
+      type(run_t) :: run
+      integer(i8) :: elements_bits
+      real(dp) :: xi, xib(block_size), vpb(block_size)
+      ! the variant's: G2P's grid velocity and move, the segment's body (cells offset), each particle's
+      ! shares (accumulate_shares)
+      real(dp) :: vgrid, dxp
+      real(dp) :: flip_fraction
+      flip_fraction = constants%flip_fraction
+      elements = constants%elements
+      inv_dx = constants%inv_dx
+      dt = constants%dt
+      youngs_modulus = constants%youngs_modulus
+      m = constants%mass
+      volume0 = constants%volume0
+      call open_segment(k, shares, seg, mass_left, mass_right, momentum_left, momentum_right, stress_volume, first, last, &
+                        lo, hi)
+      displacement = 0; kinetic = 0; strain = 0; min_j = huge(1.0_dp)
+      slot = 1
+      outside = 0
+      elements_bits = transfer(real(elements, dp), 0_i8)
+      half_m = 0.5_dp*m
+      strain_factor = 0.0_dp
+      if (stresses) strain_factor = 0.5_dp*volume0/youngs_modulus
+      do b0 = first, last, block_size
+         n = min(block_size, last - b0 + 1)
+         if (seg%prefetch) then  ! the arrays the pass reads, and the grid values of the next blocks
+            ahead = b0 + prefetch_ahead
+            if (kernel == pass_usl) call prefetch_block(ahead, cell, x, x0, v, stress, volume_ratio)
+            if (kernel == pass_usf_move .or. kernel == pass_musl_remap) call prefetch_block(ahead, cell, x, x0, v)
+            if (kernel == pass_usf_stress) call prefetch_block(ahead, cell, stress, volume_ratio)
+            if (kernel == pass_musl_stress) call prefetch_block(ahead, cell, x, v, stress, volume_ratio)
+            if (moves) then
+               call prefetch_nodes(cell(b0), cell(b0 + n - 1), acceleration, velocity)
+            else
+               call prefetch_elements(cell(b0), cell(b0 + n - 1), strain_increment_of)
+            end if
+         end if
+         do i = 1, n
+            p = b0 + i - 1
+            e = cell(p)
+            ! G2P with the start-of-step shape functions (the PIC/FLIP blend)
+            if (moves) then
+               xi = x(p)*inv_dx - (e - 1)
+               vgrid = (1.0_dp - xi)*velocity(e - 1) + xi*velocity(e)
+               v(p) = flip_fraction*(v(p) + dt*((1.0_dp - xi)*acceleration(e - 1) + xi*acceleration(e))) + &
+                      (1.0_dp - flip_fraction)*vgrid
+               dxp = dt*vgrid
+               x(p) = x(p) + dxp
+               db(i) = x(p) - x0(p)
+               kb(i) = half_m*v(p)*v(p)
+               mb(i, slot) = abs(dxp)*inv_dx
+            end if
+            if (stresses) then ! d eps = dt sum dN v_I over the start-of-step cell
+               if (moves) then
+                  dstrain = strain_increment(velocity(e - 1), velocity(e), dt, inv_dx)
+               else
+                  dstrain = strain_increment_of(e)
+               end if
+               call stress_particle(dstrain, youngs_modulus, strain_factor, volume0, stress(p), volume_ratio(p), sb(i), &
+                                    svb(i))
+               jb(i) = volume_ratio(p)
+            else if (iand(shares, share_stress) /= 0) then ! (an initial mapping: the stress as it is)
+               svb(i) = stress(p)*volume_ratio(p)*volume0
+            end if
+            if (relocates) then ! the new cell, for P2G at the new position
+               call locate_cell(x(p), inv_dx, elements, elements_bits, cb(i), xib(i))
+               cell(p) = cb(i)
+            else                ! the shares go to the start-of-step cell
+               cb(i) = e
+               if (moves) xib(i) = xi
+            end if
+            if (moves .or. relocates) vpb(i) = v(p)
+         end do
+         ! the block's totals (macros of mpm_lanes.fypi, expanded here)
+         if (moves) then
+            do lane_i = 1, n - lanes + 1, lanes
+               displacement = displacement + db(lane_i:lane_i + lanes - 1)
+            end do
+            lane_r = mod(n, lanes)
+            if (lane_r > 0) displacement(1:lane_r) = displacement(1:lane_r) + db(n - lane_r + 1:n)
+            do lane_i = 1, n - lanes + 1, lanes
+               kinetic = kinetic + kb(lane_i:lane_i + lanes - 1)
+            end do
+            lane_r = mod(n, lanes)
+            if (lane_r > 0) kinetic(1:lane_r) = kinetic(1:lane_r) + kb(n - lane_r + 1:n)
+            lane_max = 0.0_dp
+            do lane_i = 1, n - lanes + 1, lanes
+               lane_max = max(lane_max, mb(lane_i:lane_i + lanes - 1, slot))
+            end do
+            lane_r = mod(n, lanes)
+            if (lane_r > 0) lane_max(1:lane_r) = max(lane_max(1:lane_r), mb(n - lane_r + 1:n, slot))
+            block_max = maxval(lane_max)
+            if (block_max > largest%value) then
+               largest%value = block_max
+               largest%first = b0
+               largest%count = n
+               largest%slot = slot
+               slot = 3 - slot
+            end if
+         end if
+         if (stresses) then
+            do lane_i = 1, n - lanes + 1, lanes
+               strain = strain + sb(lane_i:lane_i + lanes - 1)
+            end do
+            lane_r = mod(n, lanes)
+            if (lane_r > 0) strain(1:lane_r) = strain(1:lane_r) + sb(n - lane_r + 1:n)
+            do lane_i = 1, n - lanes + 1, lanes
+               min_j = min(min_j, jb(lane_i:lane_i + lanes - 1))
+            end do
+            lane_r = mod(n, lanes)
+            if (lane_r > 0) min_j(1:lane_r) = min(min_j(1:lane_r), jb(n - lane_r + 1:n))
+         end if
+         if (relocates) call find_outside(n, b0, cb, outside)
+         call accumulate_block(k, n, cb, xib, vpb, svb, m, lo, hi, shares, run, mass_left, mass_right, momentum_left, &
+                               momentum_right, stress_volume, seg)
+      end do
+      call close_segment(k, shares, m, run, [lane_total(displacement), lane_total(kinetic), lane_total(strain)], &
+                         minval(min_j), largest%value, furthest_particle(largest, mb), outside, mass_left, mass_right, &
+                         momentum_left, momentum_right, stress_volume, seg)
+   end subroutine blend_usf_stress_segment
+
+   !> USL: G2P, stress update from the updated nodal velocities, P2G at the new position (the hat, the PIC/FLIP blend)
+   subroutine blend_usl_segment(k, seg, x, x0, v, stress, volume_ratio, cell, acceleration, velocity, &
+                                strain_increment_of, mass_left, mass_right, momentum_left, momentum_right, &
+                                stress_volume, constants, carry, mass_of, modulus_of, forces, gradient, force_left, &
+                                force_right)
+      integer, parameter :: kernel = pass_usl
+      logical, parameter :: moves = pass_moves(kernel), stresses = pass_stresses(kernel), relocates = pass_relocates(kernel)
+      integer, parameter :: shares = pass_shares(kernel)
+      integer, intent(in) :: k
+      type(segments_t), intent(inout) :: seg
+      real(dp), intent(inout), contiguous :: x(:), v(:), stress(:), volume_ratio(:)
+      real(dp), intent(in), contiguous :: x0(:)
+      integer, intent(inout), contiguous :: cell(:)
+      real(dp), intent(in), contiguous :: acceleration(0:), velocity(0:)
+      real(dp), intent(in), contiguous :: strain_increment_of(:)  !< per element (grid%element_strain)
+      real(dp), intent(inout), contiguous :: mass_left(:), mass_right(:), momentum_left(:), momentum_right(:), stress_volume(:)
+      type(pass_constants_t), intent(in) :: constants
+      real(dp), intent(inout), contiguous :: carry(:)  !< particles in parts: what a pass keeps for the next (fused_box_t)
+      !> the variants' per-particle data (absent when the run has none): masses and Young's moduli
+      !> (`material`), external forces (`forced`), APIC's velocity gradients C_p, and the element shares of
+      !> the forces
+      real(dp), intent(in), contiguous, optional :: mass_of(:), modulus_of(:), forces(:)
+      real(dp), intent(inout), contiguous, optional :: gradient(:), force_left(:), force_right(:)
+      integer :: p, e, i, n, b0, first, last, lo, hi, outside, ahead, elements
+      real(dp) :: half_m, strain_factor, dstrain, inv_dx, dt, youngs_modulus, m, volume0
+      type(largest_move_t) :: largest
+      real(dp) :: displacement(lanes), kinetic(lanes), strain(lanes), min_j(lanes)
+      integer :: cb(block_size)
+      real(dp) :: svb(block_size), db(block_size), kb(block_size), sb(block_size), jb(block_size)
+      real(dp) :: mb(block_size, 2)  !< the moves of a block, and of the block with the largest (lanes_track_move)
+      integer :: slot
+      real(dp) :: lane_max(lanes), block_max
+      integer :: lane_i, lane_r
+      type(run_t) :: run
+      integer(i8) :: elements_bits
+      real(dp) :: xi, xib(block_size), vpb(block_size)
+      ! the variant's: G2P's grid velocity and move, the segment's body (cells offset), each particle's
+      ! shares (accumulate_shares)
+      real(dp) :: vgrid, dxp
+      real(dp) :: flip_fraction
+      flip_fraction = constants%flip_fraction
+      elements = constants%elements
+      inv_dx = constants%inv_dx
+      dt = constants%dt
+      youngs_modulus = constants%youngs_modulus
+      m = constants%mass
+      volume0 = constants%volume0
+      call open_segment(k, shares, seg, mass_left, mass_right, momentum_left, momentum_right, stress_volume, first, last, &
+                        lo, hi)
+      displacement = 0; kinetic = 0; strain = 0; min_j = huge(1.0_dp)
+      slot = 1
+      outside = 0
+      elements_bits = transfer(real(elements, dp), 0_i8)
+      half_m = 0.5_dp*m
+      strain_factor = 0.0_dp
+      if (stresses) strain_factor = 0.5_dp*volume0/youngs_modulus
+      do b0 = first, last, block_size
+         n = min(block_size, last - b0 + 1)
+         if (seg%prefetch) then  ! the arrays the pass reads, and the grid values of the next blocks
+            ahead = b0 + prefetch_ahead
+            if (kernel == pass_usl) call prefetch_block(ahead, cell, x, x0, v, stress, volume_ratio)
+            if (kernel == pass_usf_move .or. kernel == pass_musl_remap) call prefetch_block(ahead, cell, x, x0, v)
+            if (kernel == pass_usf_stress) call prefetch_block(ahead, cell, stress, volume_ratio)
+            if (kernel == pass_musl_stress) call prefetch_block(ahead, cell, x, v, stress, volume_ratio)
+            if (moves) then
+               call prefetch_nodes(cell(b0), cell(b0 + n - 1), acceleration, velocity)
+            else
+               call prefetch_elements(cell(b0), cell(b0 + n - 1), strain_increment_of)
+            end if
+         end if
+         do i = 1, n
+            p = b0 + i - 1
+            e = cell(p)
+            ! G2P with the start-of-step shape functions (the PIC/FLIP blend)
+            if (moves) then
+               xi = x(p)*inv_dx - (e - 1)
+               vgrid = (1.0_dp - xi)*velocity(e - 1) + xi*velocity(e)
+               v(p) = flip_fraction*(v(p) + dt*((1.0_dp - xi)*acceleration(e - 1) + xi*acceleration(e))) + &
+                      (1.0_dp - flip_fraction)*vgrid
+               dxp = dt*vgrid
+               x(p) = x(p) + dxp
+               db(i) = x(p) - x0(p)
+               kb(i) = half_m*v(p)*v(p)
+               mb(i, slot) = abs(dxp)*inv_dx
+            end if
+            if (stresses) then ! d eps = dt sum dN v_I over the start-of-step cell
+               if (moves) then
+                  dstrain = strain_increment(velocity(e - 1), velocity(e), dt, inv_dx)
+               else
+                  dstrain = strain_increment_of(e)
+               end if
+               call stress_particle(dstrain, youngs_modulus, strain_factor, volume0, stress(p), volume_ratio(p), sb(i), &
+                                    svb(i))
+               jb(i) = volume_ratio(p)
+            else if (iand(shares, share_stress) /= 0) then ! (an initial mapping: the stress as it is)
+               svb(i) = stress(p)*volume_ratio(p)*volume0
+            end if
+            if (relocates) then ! the new cell, for P2G at the new position
+               call locate_cell(x(p), inv_dx, elements, elements_bits, cb(i), xib(i))
+               cell(p) = cb(i)
+            else                ! the shares go to the start-of-step cell
+               cb(i) = e
+               if (moves) xib(i) = xi
+            end if
+            if (moves .or. relocates) vpb(i) = v(p)
+         end do
+         ! the block's totals (macros of mpm_lanes.fypi, expanded here)
+         if (moves) then
+            do lane_i = 1, n - lanes + 1, lanes
+               displacement = displacement + db(lane_i:lane_i + lanes - 1)
+            end do
+            lane_r = mod(n, lanes)
+            if (lane_r > 0) displacement(1:lane_r) = displacement(1:lane_r) + db(n - lane_r + 1:n)
+            do lane_i = 1, n - lanes + 1, lanes
+               kinetic = kinetic + kb(lane_i:lane_i + lanes - 1)
+            end do
+            lane_r = mod(n, lanes)
+            if (lane_r > 0) kinetic(1:lane_r) = kinetic(1:lane_r) + kb(n - lane_r + 1:n)
+            lane_max = 0.0_dp
+            do lane_i = 1, n - lanes + 1, lanes
+               lane_max = max(lane_max, mb(lane_i:lane_i + lanes - 1, slot))
+            end do
+            lane_r = mod(n, lanes)
+            if (lane_r > 0) lane_max(1:lane_r) = max(lane_max(1:lane_r), mb(n - lane_r + 1:n, slot))
+            block_max = maxval(lane_max)
+            if (block_max > largest%value) then
+               largest%value = block_max
+               largest%first = b0
+               largest%count = n
+               largest%slot = slot
+               slot = 3 - slot
+            end if
+         end if
+         if (stresses) then
+            do lane_i = 1, n - lanes + 1, lanes
+               strain = strain + sb(lane_i:lane_i + lanes - 1)
+            end do
+            lane_r = mod(n, lanes)
+            if (lane_r > 0) strain(1:lane_r) = strain(1:lane_r) + sb(n - lane_r + 1:n)
+            do lane_i = 1, n - lanes + 1, lanes
+               min_j = min(min_j, jb(lane_i:lane_i + lanes - 1))
+            end do
+            lane_r = mod(n, lanes)
+            if (lane_r > 0) min_j(1:lane_r) = min(min_j(1:lane_r), jb(n - lane_r + 1:n))
+         end if
+         if (relocates) call find_outside(n, b0, cb, outside)
+         call accumulate_block(k, n, cb, xib, vpb, svb, m, lo, hi, shares, run, mass_left, mass_right, momentum_left, &
+                               momentum_right, stress_volume, seg)
+      end do
+      call close_segment(k, shares, m, run, [lane_total(displacement), lane_total(kinetic), lane_total(strain)], &
+                         minval(min_j), largest%value, furthest_particle(largest, mb), outside, mass_left, mass_right, &
+                         momentum_left, momentum_right, stress_volume, seg)
+   end subroutine blend_usl_segment
+
+   !> MUSL, first pass: G2P, and the new momentum back to the start-of-step nodes (the hat, the PIC/FLIP blend)
+   subroutine blend_musl_remap_segment(k, seg, x, x0, v, stress, volume_ratio, cell, acceleration, velocity, &
+                                       strain_increment_of, mass_left, mass_right, momentum_left, momentum_right, &
+                                       stress_volume, constants, carry, mass_of, modulus_of, forces, gradient, force_left, &
+                                       force_right)
+      integer, parameter :: kernel = pass_musl_remap
+      logical, parameter :: moves = pass_moves(kernel), stresses = pass_stresses(kernel), relocates = pass_relocates(kernel)
+      integer, parameter :: shares = pass_shares(kernel)
+      integer, intent(in) :: k
+      type(segments_t), intent(inout) :: seg
+      real(dp), intent(inout), contiguous :: x(:), v(:), stress(:), volume_ratio(:)
+      real(dp), intent(in), contiguous :: x0(:)
+      integer, intent(inout), contiguous :: cell(:)
+      real(dp), intent(in), contiguous :: acceleration(0:), velocity(0:)
+      real(dp), intent(in), contiguous :: strain_increment_of(:)  !< per element (grid%element_strain)
+      real(dp), intent(inout), contiguous :: mass_left(:), mass_right(:), momentum_left(:), momentum_right(:), stress_volume(:)
+      type(pass_constants_t), intent(in) :: constants
+      real(dp), intent(inout), contiguous :: carry(:)  !< particles in parts: what a pass keeps for the next (fused_box_t)
+      !> the variants' per-particle data (absent when the run has none): masses and Young's moduli
+      !> (`material`), external forces (`forced`), APIC's velocity gradients C_p, and the element shares of
+      !> the forces
+      real(dp), intent(in), contiguous, optional :: mass_of(:), modulus_of(:), forces(:)
+      real(dp), intent(inout), contiguous, optional :: gradient(:), force_left(:), force_right(:)
+      integer :: p, e, i, n, b0, first, last, lo, hi, outside, ahead, elements
+      real(dp) :: half_m, strain_factor, dstrain, inv_dx, dt, youngs_modulus, m, volume0
+      type(largest_move_t) :: largest
+      real(dp) :: displacement(lanes), kinetic(lanes), strain(lanes), min_j(lanes)
+      integer :: cb(block_size)
+      real(dp) :: svb(block_size), db(block_size), kb(block_size), sb(block_size), jb(block_size)
+      real(dp) :: mb(block_size, 2)  !< the moves of a block, and of the block with the largest (lanes_track_move)
+      integer :: slot
+      real(dp) :: lane_max(lanes), block_max
+      integer :: lane_i, lane_r
+      type(run_t) :: run
+      integer(i8) :: elements_bits
+      real(dp) :: xi, xib(block_size), vpb(block_size)
+      ! the variant's: G2P's grid velocity and move, the segment's body (cells offset), each particle's
+      ! shares (accumulate_shares)
+      real(dp) :: vgrid, dxp
+      real(dp) :: flip_fraction
+      flip_fraction = constants%flip_fraction
+      elements = constants%elements
+      inv_dx = constants%inv_dx
+      dt = constants%dt
+      youngs_modulus = constants%youngs_modulus
+      m = constants%mass
+      volume0 = constants%volume0
+      call open_segment(k, shares, seg, mass_left, mass_right, momentum_left, momentum_right, stress_volume, first, last, &
+                        lo, hi)
+      displacement = 0; kinetic = 0; strain = 0; min_j = huge(1.0_dp)
+      slot = 1
+      outside = 0
+      elements_bits = transfer(real(elements, dp), 0_i8)
+      half_m = 0.5_dp*m
+      strain_factor = 0.0_dp
+      if (stresses) strain_factor = 0.5_dp*volume0/youngs_modulus
+      do b0 = first, last, block_size
+         n = min(block_size, last - b0 + 1)
+         if (seg%prefetch) then  ! the arrays the pass reads, and the grid values of the next blocks
+            ahead = b0 + prefetch_ahead
+            if (kernel == pass_usl) call prefetch_block(ahead, cell, x, x0, v, stress, volume_ratio)
+            if (kernel == pass_usf_move .or. kernel == pass_musl_remap) call prefetch_block(ahead, cell, x, x0, v)
+            if (kernel == pass_usf_stress) call prefetch_block(ahead, cell, stress, volume_ratio)
+            if (kernel == pass_musl_stress) call prefetch_block(ahead, cell, x, v, stress, volume_ratio)
+            if (moves) then
+               call prefetch_nodes(cell(b0), cell(b0 + n - 1), acceleration, velocity)
+            else
+               call prefetch_elements(cell(b0), cell(b0 + n - 1), strain_increment_of)
+            end if
+         end if
+         do i = 1, n
+            p = b0 + i - 1
+            e = cell(p)
+            ! G2P with the start-of-step shape functions (the PIC/FLIP blend)
+            if (moves) then
+               xi = x(p)*inv_dx - (e - 1)
+               vgrid = (1.0_dp - xi)*velocity(e - 1) + xi*velocity(e)
+               v(p) = flip_fraction*(v(p) + dt*((1.0_dp - xi)*acceleration(e - 1) + xi*acceleration(e))) + &
+                      (1.0_dp - flip_fraction)*vgrid
+               dxp = dt*vgrid
+               x(p) = x(p) + dxp
+               db(i) = x(p) - x0(p)
+               kb(i) = half_m*v(p)*v(p)
+               mb(i, slot) = abs(dxp)*inv_dx
+            end if
+            if (stresses) then ! d eps = dt sum dN v_I over the start-of-step cell
+               if (moves) then
+                  dstrain = strain_increment(velocity(e - 1), velocity(e), dt, inv_dx)
+               else
+                  dstrain = strain_increment_of(e)
+               end if
+               call stress_particle(dstrain, youngs_modulus, strain_factor, volume0, stress(p), volume_ratio(p), sb(i), &
+                                    svb(i))
+               jb(i) = volume_ratio(p)
+            else if (iand(shares, share_stress) /= 0) then ! (an initial mapping: the stress as it is)
+               svb(i) = stress(p)*volume_ratio(p)*volume0
+            end if
+            if (relocates) then ! the new cell, for P2G at the new position
+               call locate_cell(x(p), inv_dx, elements, elements_bits, cb(i), xib(i))
+               cell(p) = cb(i)
+            else                ! the shares go to the start-of-step cell
+               cb(i) = e
+               if (moves) xib(i) = xi
+            end if
+            if (moves .or. relocates) vpb(i) = v(p)
+         end do
+         ! the block's totals (macros of mpm_lanes.fypi, expanded here)
+         if (moves) then
+            do lane_i = 1, n - lanes + 1, lanes
+               displacement = displacement + db(lane_i:lane_i + lanes - 1)
+            end do
+            lane_r = mod(n, lanes)
+            if (lane_r > 0) displacement(1:lane_r) = displacement(1:lane_r) + db(n - lane_r + 1:n)
+            do lane_i = 1, n - lanes + 1, lanes
+               kinetic = kinetic + kb(lane_i:lane_i + lanes - 1)
+            end do
+            lane_r = mod(n, lanes)
+            if (lane_r > 0) kinetic(1:lane_r) = kinetic(1:lane_r) + kb(n - lane_r + 1:n)
+            lane_max = 0.0_dp
+            do lane_i = 1, n - lanes + 1, lanes
+               lane_max = max(lane_max, mb(lane_i:lane_i + lanes - 1, slot))
+            end do
+            lane_r = mod(n, lanes)
+            if (lane_r > 0) lane_max(1:lane_r) = max(lane_max(1:lane_r), mb(n - lane_r + 1:n, slot))
+            block_max = maxval(lane_max)
+            if (block_max > largest%value) then
+               largest%value = block_max
+               largest%first = b0
+               largest%count = n
+               largest%slot = slot
+               slot = 3 - slot
+            end if
+         end if
+         if (stresses) then
+            do lane_i = 1, n - lanes + 1, lanes
+               strain = strain + sb(lane_i:lane_i + lanes - 1)
+            end do
+            lane_r = mod(n, lanes)
+            if (lane_r > 0) strain(1:lane_r) = strain(1:lane_r) + sb(n - lane_r + 1:n)
+            do lane_i = 1, n - lanes + 1, lanes
+               min_j = min(min_j, jb(lane_i:lane_i + lanes - 1))
+            end do
+            lane_r = mod(n, lanes)
+            if (lane_r > 0) min_j(1:lane_r) = min(min_j(1:lane_r), jb(n - lane_r + 1:n))
+         end if
+         if (relocates) call find_outside(n, b0, cb, outside)
+         call accumulate_block(k, n, cb, xib, vpb, svb, m, lo, hi, shares, run, mass_left, mass_right, momentum_left, &
+                               momentum_right, stress_volume, seg)
+      end do
+      call close_segment(k, shares, m, run, [lane_total(displacement), lane_total(kinetic), lane_total(strain)], &
+                         minval(min_j), largest%value, furthest_particle(largest, mb), outside, mass_left, mass_right, &
+                         momentum_left, momentum_right, stress_volume, seg)
+   end subroutine blend_musl_remap_segment
+
+   !> MUSL, second pass: stress update from the remapped velocities, P2G at the new position (the hat, the PIC/FLIP blend)
+   subroutine blend_musl_stress_segment(k, seg, x, x0, v, stress, volume_ratio, cell, acceleration, velocity, &
+                                        strain_increment_of, mass_left, mass_right, momentum_left, momentum_right, &
+                                        stress_volume, constants, carry, mass_of, modulus_of, forces, gradient, force_left, &
+                                        force_right)
+      integer, parameter :: kernel = pass_musl_stress
+      logical, parameter :: moves = pass_moves(kernel), stresses = pass_stresses(kernel), relocates = pass_relocates(kernel)
+      integer, parameter :: shares = pass_shares(kernel)
+      integer, intent(in) :: k
+      type(segments_t), intent(inout) :: seg
+      real(dp), intent(inout), contiguous :: x(:), v(:), stress(:), volume_ratio(:)
+      real(dp), intent(in), contiguous :: x0(:)
+      integer, intent(inout), contiguous :: cell(:)
+      real(dp), intent(in), contiguous :: acceleration(0:), velocity(0:)
+      real(dp), intent(in), contiguous :: strain_increment_of(:)  !< per element (grid%element_strain)
+      real(dp), intent(inout), contiguous :: mass_left(:), mass_right(:), momentum_left(:), momentum_right(:), stress_volume(:)
+      type(pass_constants_t), intent(in) :: constants
+      real(dp), intent(inout), contiguous :: carry(:)  !< particles in parts: what a pass keeps for the next (fused_box_t)
+      !> the variants' per-particle data (absent when the run has none): masses and Young's moduli
+      !> (`material`), external forces (`forced`), APIC's velocity gradients C_p, and the element shares of
+      !> the forces
+      real(dp), intent(in), contiguous, optional :: mass_of(:), modulus_of(:), forces(:)
+      real(dp), intent(inout), contiguous, optional :: gradient(:), force_left(:), force_right(:)
+      integer :: p, e, i, n, b0, first, last, lo, hi, outside, ahead, elements
+      real(dp) :: half_m, strain_factor, dstrain, inv_dx, dt, youngs_modulus, m, volume0
+      type(largest_move_t) :: largest
+      real(dp) :: displacement(lanes), kinetic(lanes), strain(lanes), min_j(lanes)
+      integer :: cb(block_size)
+      real(dp) :: svb(block_size), db(block_size), kb(block_size), sb(block_size), jb(block_size)
+      real(dp) :: mb(block_size, 2)  !< the moves of a block, and of the block with the largest (lanes_track_move)
+      integer :: slot
+      real(dp) :: lane_max(lanes), block_max
+      integer :: lane_i, lane_r
+      type(run_t) :: run
+      integer(i8) :: elements_bits
+      real(dp) :: xi, xib(block_size), vpb(block_size)
+      ! the variant's: G2P's grid velocity and move, the segment's body (cells offset), each particle's
+      ! shares (accumulate_shares)
+      real(dp) :: vgrid, dxp
+      real(dp) :: flip_fraction
+      flip_fraction = constants%flip_fraction
+      elements = constants%elements
+      inv_dx = constants%inv_dx
+      dt = constants%dt
+      youngs_modulus = constants%youngs_modulus
+      m = constants%mass
+      volume0 = constants%volume0
+      call open_segment(k, shares, seg, mass_left, mass_right, momentum_left, momentum_right, stress_volume, first, last, &
+                        lo, hi)
+      displacement = 0; kinetic = 0; strain = 0; min_j = huge(1.0_dp)
+      slot = 1
+      outside = 0
+      elements_bits = transfer(real(elements, dp), 0_i8)
+      half_m = 0.5_dp*m
+      strain_factor = 0.0_dp
+      if (stresses) strain_factor = 0.5_dp*volume0/youngs_modulus
+      do b0 = first, last, block_size
+         n = min(block_size, last - b0 + 1)
+         if (seg%prefetch) then  ! the arrays the pass reads, and the grid values of the next blocks
+            ahead = b0 + prefetch_ahead
+            if (kernel == pass_usl) call prefetch_block(ahead, cell, x, x0, v, stress, volume_ratio)
+            if (kernel == pass_usf_move .or. kernel == pass_musl_remap) call prefetch_block(ahead, cell, x, x0, v)
+            if (kernel == pass_usf_stress) call prefetch_block(ahead, cell, stress, volume_ratio)
+            if (kernel == pass_musl_stress) call prefetch_block(ahead, cell, x, v, stress, volume_ratio)
+            if (moves) then
+               call prefetch_nodes(cell(b0), cell(b0 + n - 1), acceleration, velocity)
+            else
+               call prefetch_elements(cell(b0), cell(b0 + n - 1), strain_increment_of)
+            end if
+         end if
+         do i = 1, n
+            p = b0 + i - 1
+            e = cell(p)
+            ! G2P with the start-of-step shape functions (the PIC/FLIP blend)
+            if (moves) then
+               xi = x(p)*inv_dx - (e - 1)
+               vgrid = (1.0_dp - xi)*velocity(e - 1) + xi*velocity(e)
+               v(p) = flip_fraction*(v(p) + dt*((1.0_dp - xi)*acceleration(e - 1) + xi*acceleration(e))) + &
+                      (1.0_dp - flip_fraction)*vgrid
+               dxp = dt*vgrid
+               x(p) = x(p) + dxp
+               db(i) = x(p) - x0(p)
+               kb(i) = half_m*v(p)*v(p)
+               mb(i, slot) = abs(dxp)*inv_dx
+            end if
+            if (stresses) then ! d eps = dt sum dN v_I over the start-of-step cell
+               if (moves) then
+                  dstrain = strain_increment(velocity(e - 1), velocity(e), dt, inv_dx)
+               else
+                  dstrain = strain_increment_of(e)
+               end if
+               call stress_particle(dstrain, youngs_modulus, strain_factor, volume0, stress(p), volume_ratio(p), sb(i), &
+                                    svb(i))
+               jb(i) = volume_ratio(p)
+            else if (iand(shares, share_stress) /= 0) then ! (an initial mapping: the stress as it is)
+               svb(i) = stress(p)*volume_ratio(p)*volume0
+            end if
+            if (relocates) then ! the new cell, for P2G at the new position
+               call locate_cell(x(p), inv_dx, elements, elements_bits, cb(i), xib(i))
+               cell(p) = cb(i)
+            else                ! the shares go to the start-of-step cell
+               cb(i) = e
+               if (moves) xib(i) = xi
+            end if
+            if (moves .or. relocates) vpb(i) = v(p)
+         end do
+         ! the block's totals (macros of mpm_lanes.fypi, expanded here)
+         if (moves) then
+            do lane_i = 1, n - lanes + 1, lanes
+               displacement = displacement + db(lane_i:lane_i + lanes - 1)
+            end do
+            lane_r = mod(n, lanes)
+            if (lane_r > 0) displacement(1:lane_r) = displacement(1:lane_r) + db(n - lane_r + 1:n)
+            do lane_i = 1, n - lanes + 1, lanes
+               kinetic = kinetic + kb(lane_i:lane_i + lanes - 1)
+            end do
+            lane_r = mod(n, lanes)
+            if (lane_r > 0) kinetic(1:lane_r) = kinetic(1:lane_r) + kb(n - lane_r + 1:n)
+            lane_max = 0.0_dp
+            do lane_i = 1, n - lanes + 1, lanes
+               lane_max = max(lane_max, mb(lane_i:lane_i + lanes - 1, slot))
+            end do
+            lane_r = mod(n, lanes)
+            if (lane_r > 0) lane_max(1:lane_r) = max(lane_max(1:lane_r), mb(n - lane_r + 1:n, slot))
+            block_max = maxval(lane_max)
+            if (block_max > largest%value) then
+               largest%value = block_max
+               largest%first = b0
+               largest%count = n
+               largest%slot = slot
+               slot = 3 - slot
+            end if
+         end if
+         if (stresses) then
+            do lane_i = 1, n - lanes + 1, lanes
+               strain = strain + sb(lane_i:lane_i + lanes - 1)
+            end do
+            lane_r = mod(n, lanes)
+            if (lane_r > 0) strain(1:lane_r) = strain(1:lane_r) + sb(n - lane_r + 1:n)
+            do lane_i = 1, n - lanes + 1, lanes
+               min_j = min(min_j, jb(lane_i:lane_i + lanes - 1))
+            end do
+            lane_r = mod(n, lanes)
+            if (lane_r > 0) min_j(1:lane_r) = min(min_j(1:lane_r), jb(n - lane_r + 1:n))
+         end if
+         if (relocates) call find_outside(n, b0, cb, outside)
+         call accumulate_block(k, n, cb, xib, vpb, svb, m, lo, hi, shares, run, mass_left, mass_right, momentum_left, &
+                               momentum_right, stress_volume, seg)
+      end do
+      call close_segment(k, shares, m, run, [lane_total(displacement), lane_total(kinetic), lane_total(strain)], &
+                         minval(min_j), largest%value, furthest_particle(largest, mb), outside, mass_left, mass_right, &
+                         momentum_left, momentum_right, stress_volume, seg)
+   end subroutine blend_musl_stress_segment
+
+   !> initial mapping: mass and momentum (the hat, the PIC/FLIP blend)
+   subroutine blend_map_segment(k, seg, x, x0, v, stress, volume_ratio, cell, acceleration, velocity, &
+                                strain_increment_of, mass_left, mass_right, momentum_left, momentum_right, &
+                                stress_volume, constants, carry, mass_of, modulus_of, forces, gradient, force_left, &
+                                force_right)
+      integer, parameter :: kernel = pass_map
+      logical, parameter :: moves = pass_moves(kernel), stresses = pass_stresses(kernel), relocates = pass_relocates(kernel)
+      integer, parameter :: shares = pass_shares(kernel)
+      integer, intent(in) :: k
+      type(segments_t), intent(inout) :: seg
+      real(dp), intent(inout), contiguous :: x(:), v(:), stress(:), volume_ratio(:)
+      real(dp), intent(in), contiguous :: x0(:)
+      integer, intent(inout), contiguous :: cell(:)
+      real(dp), intent(in), contiguous :: acceleration(0:), velocity(0:)
+      real(dp), intent(in), contiguous :: strain_increment_of(:)  !< per element (grid%element_strain)
+      real(dp), intent(inout), contiguous :: mass_left(:), mass_right(:), momentum_left(:), momentum_right(:), stress_volume(:)
+      type(pass_constants_t), intent(in) :: constants
+      real(dp), intent(inout), contiguous :: carry(:)  !< particles in parts: what a pass keeps for the next (fused_box_t)
+      !> the variants' per-particle data (absent when the run has none): masses and Young's moduli
+      !> (`material`), external forces (`forced`), APIC's velocity gradients C_p, and the element shares of
+      !> the forces
+      real(dp), intent(in), contiguous, optional :: mass_of(:), modulus_of(:), forces(:)
+      real(dp), intent(inout), contiguous, optional :: gradient(:), force_left(:), force_right(:)
+      integer :: p, e, i, n, b0, first, last, lo, hi, outside, ahead, elements
+      real(dp) :: half_m, strain_factor, dstrain, inv_dx, dt, youngs_modulus, m, volume0
+      type(largest_move_t) :: largest
+      real(dp) :: displacement(lanes), kinetic(lanes), strain(lanes), min_j(lanes)
+      integer :: cb(block_size)
+      real(dp) :: svb(block_size), db(block_size), kb(block_size), sb(block_size), jb(block_size)
+      real(dp) :: mb(block_size, 2)  !< the moves of a block, and of the block with the largest (lanes_track_move)
+      integer :: slot
+      real(dp) :: lane_max(lanes), block_max
+      integer :: lane_i, lane_r
+      type(run_t) :: run
+      integer(i8) :: elements_bits
+      real(dp) :: xi, xib(block_size), vpb(block_size)
+      ! the variant's: G2P's grid velocity and move, the segment's body (cells offset), each particle's
+      ! shares (accumulate_shares)
+      real(dp) :: vgrid, dxp
+      real(dp) :: flip_fraction
+      flip_fraction = constants%flip_fraction
+      elements = constants%elements
+      inv_dx = constants%inv_dx
+      dt = constants%dt
+      youngs_modulus = constants%youngs_modulus
+      m = constants%mass
+      volume0 = constants%volume0
+      call open_segment(k, shares, seg, mass_left, mass_right, momentum_left, momentum_right, stress_volume, first, last, &
+                        lo, hi)
+      displacement = 0; kinetic = 0; strain = 0; min_j = huge(1.0_dp)
+      slot = 1
+      outside = 0
+      elements_bits = transfer(real(elements, dp), 0_i8)
+      half_m = 0.5_dp*m
+      strain_factor = 0.0_dp
+      if (stresses) strain_factor = 0.5_dp*volume0/youngs_modulus
+      do b0 = first, last, block_size
+         n = min(block_size, last - b0 + 1)
+         if (seg%prefetch) then  ! the arrays the pass reads, and the grid values of the next blocks
+            ahead = b0 + prefetch_ahead
+            if (kernel == pass_usl) call prefetch_block(ahead, cell, x, x0, v, stress, volume_ratio)
+            if (kernel == pass_usf_move .or. kernel == pass_musl_remap) call prefetch_block(ahead, cell, x, x0, v)
+            if (kernel == pass_usf_stress) call prefetch_block(ahead, cell, stress, volume_ratio)
+            if (kernel == pass_musl_stress) call prefetch_block(ahead, cell, x, v, stress, volume_ratio)
+            if (moves) then
+               call prefetch_nodes(cell(b0), cell(b0 + n - 1), acceleration, velocity)
+            else
+               call prefetch_elements(cell(b0), cell(b0 + n - 1), strain_increment_of)
+            end if
+         end if
+         do i = 1, n
+            p = b0 + i - 1
+            e = cell(p)
+            ! G2P with the start-of-step shape functions (the PIC/FLIP blend)
+            if (moves) then
+               xi = x(p)*inv_dx - (e - 1)
+               vgrid = (1.0_dp - xi)*velocity(e - 1) + xi*velocity(e)
+               v(p) = flip_fraction*(v(p) + dt*((1.0_dp - xi)*acceleration(e - 1) + xi*acceleration(e))) + &
+                      (1.0_dp - flip_fraction)*vgrid
+               dxp = dt*vgrid
+               x(p) = x(p) + dxp
+               db(i) = x(p) - x0(p)
+               kb(i) = half_m*v(p)*v(p)
+               mb(i, slot) = abs(dxp)*inv_dx
+            end if
+            if (stresses) then ! d eps = dt sum dN v_I over the start-of-step cell
+               if (moves) then
+                  dstrain = strain_increment(velocity(e - 1), velocity(e), dt, inv_dx)
+               else
+                  dstrain = strain_increment_of(e)
+               end if
+               call stress_particle(dstrain, youngs_modulus, strain_factor, volume0, stress(p), volume_ratio(p), sb(i), &
+                                    svb(i))
+               jb(i) = volume_ratio(p)
+            else if (iand(shares, share_stress) /= 0) then ! (an initial mapping: the stress as it is)
+               svb(i) = stress(p)*volume_ratio(p)*volume0
+            end if
+            if (relocates) then ! the new cell, for P2G at the new position
+               call locate_cell(x(p), inv_dx, elements, elements_bits, cb(i), xib(i))
+               cell(p) = cb(i)
+            else                ! the shares go to the start-of-step cell
+               cb(i) = e
+               if (moves) xib(i) = xi
+            end if
+            if (moves .or. relocates) vpb(i) = v(p)
+         end do
+         ! the block's totals (macros of mpm_lanes.fypi, expanded here)
+         if (moves) then
+            do lane_i = 1, n - lanes + 1, lanes
+               displacement = displacement + db(lane_i:lane_i + lanes - 1)
+            end do
+            lane_r = mod(n, lanes)
+            if (lane_r > 0) displacement(1:lane_r) = displacement(1:lane_r) + db(n - lane_r + 1:n)
+            do lane_i = 1, n - lanes + 1, lanes
+               kinetic = kinetic + kb(lane_i:lane_i + lanes - 1)
+            end do
+            lane_r = mod(n, lanes)
+            if (lane_r > 0) kinetic(1:lane_r) = kinetic(1:lane_r) + kb(n - lane_r + 1:n)
+            lane_max = 0.0_dp
+            do lane_i = 1, n - lanes + 1, lanes
+               lane_max = max(lane_max, mb(lane_i:lane_i + lanes - 1, slot))
+            end do
+            lane_r = mod(n, lanes)
+            if (lane_r > 0) lane_max(1:lane_r) = max(lane_max(1:lane_r), mb(n - lane_r + 1:n, slot))
+            block_max = maxval(lane_max)
+            if (block_max > largest%value) then
+               largest%value = block_max
+               largest%first = b0
+               largest%count = n
+               largest%slot = slot
+               slot = 3 - slot
+            end if
+         end if
+         if (stresses) then
+            do lane_i = 1, n - lanes + 1, lanes
+               strain = strain + sb(lane_i:lane_i + lanes - 1)
+            end do
+            lane_r = mod(n, lanes)
+            if (lane_r > 0) strain(1:lane_r) = strain(1:lane_r) + sb(n - lane_r + 1:n)
+            do lane_i = 1, n - lanes + 1, lanes
+               min_j = min(min_j, jb(lane_i:lane_i + lanes - 1))
+            end do
+            lane_r = mod(n, lanes)
+            if (lane_r > 0) min_j(1:lane_r) = min(min_j(1:lane_r), jb(n - lane_r + 1:n))
+         end if
+         if (relocates) call find_outside(n, b0, cb, outside)
+         call accumulate_block(k, n, cb, xib, vpb, svb, m, lo, hi, shares, run, mass_left, mass_right, momentum_left, &
+                               momentum_right, stress_volume, seg)
+      end do
+      call close_segment(k, shares, m, run, [lane_total(displacement), lane_total(kinetic), lane_total(strain)], &
+                         minval(min_j), largest%value, furthest_particle(largest, mb), outside, mass_left, mass_right, &
+                         momentum_left, momentum_right, stress_volume, seg)
+   end subroutine blend_map_segment
+
+   !> initial mapping: mass, momentum and stress*volume (and forces) (the hat, the PIC/FLIP blend)
+   subroutine blend_map_stress_segment(k, seg, x, x0, v, stress, volume_ratio, cell, acceleration, velocity, &
+                                       strain_increment_of, mass_left, mass_right, momentum_left, momentum_right, &
+                                       stress_volume, constants, carry, mass_of, modulus_of, forces, gradient, force_left, &
+                                       force_right)
+      integer, parameter :: kernel = pass_map_stress
+      logical, parameter :: moves = pass_moves(kernel), stresses = pass_stresses(kernel), relocates = pass_relocates(kernel)
+      integer, parameter :: shares = pass_shares(kernel)
+      integer, intent(in) :: k
+      type(segments_t), intent(inout) :: seg
+      real(dp), intent(inout), contiguous :: x(:), v(:), stress(:), volume_ratio(:)
+      real(dp), intent(in), contiguous :: x0(:)
+      integer, intent(inout), contiguous :: cell(:)
+      real(dp), intent(in), contiguous :: acceleration(0:), velocity(0:)
+      real(dp), intent(in), contiguous :: strain_increment_of(:)  !< per element (grid%element_strain)
+      real(dp), intent(inout), contiguous :: mass_left(:), mass_right(:), momentum_left(:), momentum_right(:), stress_volume(:)
+      type(pass_constants_t), intent(in) :: constants
+      real(dp), intent(inout), contiguous :: carry(:)  !< particles in parts: what a pass keeps for the next (fused_box_t)
+      !> the variants' per-particle data (absent when the run has none): masses and Young's moduli
+      !> (`material`), external forces (`forced`), APIC's velocity gradients C_p, and the element shares of
+      !> the forces
+      real(dp), intent(in), contiguous, optional :: mass_of(:), modulus_of(:), forces(:)
+      real(dp), intent(inout), contiguous, optional :: gradient(:), force_left(:), force_right(:)
+      integer :: p, e, i, n, b0, first, last, lo, hi, outside, ahead, elements
+      real(dp) :: half_m, strain_factor, dstrain, inv_dx, dt, youngs_modulus, m, volume0
+      type(largest_move_t) :: largest
+      real(dp) :: displacement(lanes), kinetic(lanes), strain(lanes), min_j(lanes)
+      integer :: cb(block_size)
+      real(dp) :: svb(block_size), db(block_size), kb(block_size), sb(block_size), jb(block_size)
+      real(dp) :: mb(block_size, 2)  !< the moves of a block, and of the block with the largest (lanes_track_move)
+      integer :: slot
+      real(dp) :: lane_max(lanes), block_max
+      integer :: lane_i, lane_r
+      type(run_t) :: run
+      integer(i8) :: elements_bits
+      real(dp) :: xi, xib(block_size), vpb(block_size)
+      ! the variant's: G2P's grid velocity and move, the segment's body (cells offset), each particle's
+      ! shares (accumulate_shares)
+      real(dp) :: vgrid, dxp
+      real(dp) :: flip_fraction
+      flip_fraction = constants%flip_fraction
+      elements = constants%elements
+      inv_dx = constants%inv_dx
+      dt = constants%dt
+      youngs_modulus = constants%youngs_modulus
+      m = constants%mass
+      volume0 = constants%volume0
+      call open_segment(k, shares, seg, mass_left, mass_right, momentum_left, momentum_right, stress_volume, first, last, &
+                        lo, hi)
+      displacement = 0; kinetic = 0; strain = 0; min_j = huge(1.0_dp)
+      slot = 1
+      outside = 0
+      elements_bits = transfer(real(elements, dp), 0_i8)
+      half_m = 0.5_dp*m
+      strain_factor = 0.0_dp
+      if (stresses) strain_factor = 0.5_dp*volume0/youngs_modulus
+      do b0 = first, last, block_size
+         n = min(block_size, last - b0 + 1)
+         if (seg%prefetch) then  ! the arrays the pass reads, and the grid values of the next blocks
+            ahead = b0 + prefetch_ahead
+            if (kernel == pass_usl) call prefetch_block(ahead, cell, x, x0, v, stress, volume_ratio)
+            if (kernel == pass_usf_move .or. kernel == pass_musl_remap) call prefetch_block(ahead, cell, x, x0, v)
+            if (kernel == pass_usf_stress) call prefetch_block(ahead, cell, stress, volume_ratio)
+            if (kernel == pass_musl_stress) call prefetch_block(ahead, cell, x, v, stress, volume_ratio)
+            if (moves) then
+               call prefetch_nodes(cell(b0), cell(b0 + n - 1), acceleration, velocity)
+            else
+               call prefetch_elements(cell(b0), cell(b0 + n - 1), strain_increment_of)
+            end if
+         end if
+         do i = 1, n
+            p = b0 + i - 1
+            e = cell(p)
+            ! G2P with the start-of-step shape functions (the PIC/FLIP blend)
+            if (moves) then
+               xi = x(p)*inv_dx - (e - 1)
+               vgrid = (1.0_dp - xi)*velocity(e - 1) + xi*velocity(e)
+               v(p) = flip_fraction*(v(p) + dt*((1.0_dp - xi)*acceleration(e - 1) + xi*acceleration(e))) + &
+                      (1.0_dp - flip_fraction)*vgrid
+               dxp = dt*vgrid
+               x(p) = x(p) + dxp
+               db(i) = x(p) - x0(p)
+               kb(i) = half_m*v(p)*v(p)
+               mb(i, slot) = abs(dxp)*inv_dx
+            end if
+            if (stresses) then ! d eps = dt sum dN v_I over the start-of-step cell
+               if (moves) then
+                  dstrain = strain_increment(velocity(e - 1), velocity(e), dt, inv_dx)
+               else
+                  dstrain = strain_increment_of(e)
+               end if
+               call stress_particle(dstrain, youngs_modulus, strain_factor, volume0, stress(p), volume_ratio(p), sb(i), &
+                                    svb(i))
+               jb(i) = volume_ratio(p)
+            else if (iand(shares, share_stress) /= 0) then ! (an initial mapping: the stress as it is)
+               svb(i) = stress(p)*volume_ratio(p)*volume0
+            end if
+            if (relocates) then ! the new cell, for P2G at the new position
+               call locate_cell(x(p), inv_dx, elements, elements_bits, cb(i), xib(i))
+               cell(p) = cb(i)
+            else                ! the shares go to the start-of-step cell
+               cb(i) = e
+               if (moves) xib(i) = xi
+            end if
+            if (moves .or. relocates) vpb(i) = v(p)
+         end do
+         ! the block's totals (macros of mpm_lanes.fypi, expanded here)
+         if (moves) then
+            do lane_i = 1, n - lanes + 1, lanes
+               displacement = displacement + db(lane_i:lane_i + lanes - 1)
+            end do
+            lane_r = mod(n, lanes)
+            if (lane_r > 0) displacement(1:lane_r) = displacement(1:lane_r) + db(n - lane_r + 1:n)
+            do lane_i = 1, n - lanes + 1, lanes
+               kinetic = kinetic + kb(lane_i:lane_i + lanes - 1)
+            end do
+            lane_r = mod(n, lanes)
+            if (lane_r > 0) kinetic(1:lane_r) = kinetic(1:lane_r) + kb(n - lane_r + 1:n)
+            lane_max = 0.0_dp
+            do lane_i = 1, n - lanes + 1, lanes
+               lane_max = max(lane_max, mb(lane_i:lane_i + lanes - 1, slot))
+            end do
+            lane_r = mod(n, lanes)
+            if (lane_r > 0) lane_max(1:lane_r) = max(lane_max(1:lane_r), mb(n - lane_r + 1:n, slot))
+            block_max = maxval(lane_max)
+            if (block_max > largest%value) then
+               largest%value = block_max
+               largest%first = b0
+               largest%count = n
+               largest%slot = slot
+               slot = 3 - slot
+            end if
+         end if
+         if (stresses) then
+            do lane_i = 1, n - lanes + 1, lanes
+               strain = strain + sb(lane_i:lane_i + lanes - 1)
+            end do
+            lane_r = mod(n, lanes)
+            if (lane_r > 0) strain(1:lane_r) = strain(1:lane_r) + sb(n - lane_r + 1:n)
+            do lane_i = 1, n - lanes + 1, lanes
+               min_j = min(min_j, jb(lane_i:lane_i + lanes - 1))
+            end do
+            lane_r = mod(n, lanes)
+            if (lane_r > 0) min_j(1:lane_r) = min(min_j(1:lane_r), jb(n - lane_r + 1:n))
+         end if
+         if (relocates) call find_outside(n, b0, cb, outside)
+         call accumulate_block(k, n, cb, xib, vpb, svb, m, lo, hi, shares, run, mass_left, mass_right, momentum_left, &
+                               momentum_right, stress_volume, seg)
+      end do
+      call close_segment(k, shares, m, run, [lane_total(displacement), lane_total(kinetic), lane_total(strain)], &
+                         minval(min_j), largest%value, furthest_particle(largest, mb), outside, mass_left, mass_right, &
+                         momentum_left, momentum_right, stress_volume, seg)
+   end subroutine blend_map_stress_segment
+
+   !> USF, second half: G2P, then mass and momentum at the new position (the hat, APIC)
+   subroutine apic_usf_move_segment(k, seg, x, x0, v, stress, volume_ratio, cell, acceleration, velocity, &
+                                    strain_increment_of, mass_left, mass_right, momentum_left, momentum_right, &
+                                    stress_volume, constants, carry, mass_of, modulus_of, forces, gradient, force_left, &
+                                    force_right)
+      integer, parameter :: kernel = pass_usf_move
+      logical, parameter :: moves = pass_moves(kernel), stresses = pass_stresses(kernel), relocates = pass_relocates(kernel)
+      integer, parameter :: shares = pass_shares(kernel)
+      integer, intent(in) :: k
+      type(segments_t), intent(inout) :: seg
+      real(dp), intent(inout), contiguous :: x(:), v(:), stress(:), volume_ratio(:)
+      real(dp), intent(in), contiguous :: x0(:)
+      integer, intent(inout), contiguous :: cell(:)
+      real(dp), intent(in), contiguous :: acceleration(0:), velocity(0:)
+      real(dp), intent(in), contiguous :: strain_increment_of(:)  !< per element (grid%element_strain)
+      real(dp), intent(inout), contiguous :: mass_left(:), mass_right(:), momentum_left(:), momentum_right(:), stress_volume(:)
+      type(pass_constants_t), intent(in) :: constants
+      real(dp), intent(inout), contiguous :: carry(:)  !< particles in parts: what a pass keeps for the next (fused_box_t)
+      !> the variants' per-particle data (absent when the run has none): masses and Young's moduli
+      !> (`material`), external forces (`forced`), APIC's velocity gradients C_p, and the element shares of
+      !> the forces
+      real(dp), intent(in), contiguous, optional :: mass_of(:), modulus_of(:), forces(:)
+      real(dp), intent(inout), contiguous, optional :: gradient(:), force_left(:), force_right(:)
+      integer :: p, e, i, n, b0, first, last, lo, hi, outside, ahead, elements
+      real(dp) :: half_m, strain_factor, dstrain, inv_dx, dt, youngs_modulus, m, volume0
+      type(largest_move_t) :: largest
+      real(dp) :: displacement(lanes), kinetic(lanes), strain(lanes), min_j(lanes)
+      integer :: cb(block_size)
+      real(dp) :: svb(block_size), db(block_size), kb(block_size), sb(block_size), jb(block_size)
+      real(dp) :: mb(block_size, 2)  !< the moves of a block, and of the block with the largest (lanes_track_move)
+      integer :: slot
+      real(dp) :: lane_max(lanes), block_max
+      integer :: lane_i, lane_r
+      type(run_t) :: run
+      integer(i8) :: elements_bits
+      real(dp) :: xi, xib(block_size), vpb(block_size)
+      ! the variant's: G2P's grid velocity and move, the segment's body (cells offset), each particle's
+      ! shares (accumulate_shares)
+      real(dp) :: vgrid, dxp
+      real(dp) :: dx, cp, cq, w
+      real(dp) :: mp, sh(block_size, share_count)
+      dx = constants%dx
+      elements = constants%elements
+      inv_dx = constants%inv_dx
+      dt = constants%dt
+      youngs_modulus = constants%youngs_modulus
+      m = constants%mass
+      volume0 = constants%volume0
+      call open_segment(k, shares, seg, mass_left, mass_right, momentum_left, momentum_right, stress_volume, first, last, &
+                        lo, hi)
+      displacement = 0; kinetic = 0; strain = 0; min_j = huge(1.0_dp)
+      slot = 1
+      outside = 0
+      elements_bits = transfer(real(elements, dp), 0_i8)
+      half_m = 0.5_dp*m
+      strain_factor = 0.0_dp
+      if (stresses) strain_factor = 0.5_dp*volume0/youngs_modulus
+      do b0 = first, last, block_size
+         n = min(block_size, last - b0 + 1)
+         if (seg%prefetch) then  ! the arrays the pass reads, and the grid values of the next blocks
+            ahead = b0 + prefetch_ahead
+            if (kernel == pass_usl) call prefetch_block(ahead, cell, x, x0, v, stress, volume_ratio)
+            if (kernel == pass_usf_move .or. kernel == pass_musl_remap) call prefetch_block(ahead, cell, x, x0, v)
+            if (kernel == pass_usf_stress) call prefetch_block(ahead, cell, stress, volume_ratio)
+            if (kernel == pass_musl_stress) call prefetch_block(ahead, cell, x, v, stress, volume_ratio)
+            if (moves) then
+               call prefetch_nodes(cell(b0), cell(b0 + n - 1), acceleration, velocity)
+            else
+               call prefetch_elements(cell(b0), cell(b0 + n - 1), strain_increment_of)
+            end if
+         end if
+         do i = 1, n
+            p = b0 + i - 1
+            e = cell(p)
+            ! G2P with the start-of-step shape functions (APIC)
+            if (moves) then
+               xi = x(p)*inv_dx - (e - 1)
+               vgrid = (1.0_dp - xi)*velocity(e - 1) + xi*velocity(e)
+               v(p) = vgrid
+               cp = (velocity(e) - velocity(e - 1))*inv_dx  ! C_p = sum_I v_I dN_Ip (the hat's gradients)
+               gradient(p) = cp
+               dxp = dt*vgrid
+               x(p) = x(p) + dxp
+               db(i) = x(p) - x0(p)
+               kb(i) = half_m*v(p)*v(p)
+               mb(i, slot) = abs(dxp)*inv_dx
+            end if
+            if (stresses) then ! d eps = dt sum dN v_I over the start-of-step cell
+               if (moves) then
+                  dstrain = strain_increment(velocity(e - 1), velocity(e), dt, inv_dx)
+               else
+                  dstrain = strain_increment_of(e)
+               end if
+               call stress_particle(dstrain, youngs_modulus, strain_factor, volume0, stress(p), volume_ratio(p), sb(i), &
+                                    svb(i))
+               jb(i) = volume_ratio(p)
+            else if (iand(shares, share_stress) /= 0) then ! (an initial mapping: the stress as it is)
+               svb(i) = stress(p)*volume_ratio(p)*volume0
+            end if
+            if (relocates) then ! the new cell, for P2G at the new position
+               call locate_cell(x(p), inv_dx, elements, elements_bits, cb(i), xib(i))
+               cell(p) = cb(i)
+            else                ! the shares go to the start-of-step cell
+               cb(i) = e
+               if (moves) xib(i) = xi
+            end if
+            ! the particle's whole element shares (accumulate_shares sums them): mass, momentum (APIC's
+            ! with its affine part), stress*volume, external force, at the left and right node
+            mp = m
+            if (iand(shares, share_mass + share_momentum) /= 0) then
+               sh(i, 2) = mp*xib(i)
+               sh(i, 1) = mp - sh(i, 2)
+            end if
+            if (iand(shares, share_momentum) /= 0) then
+               ! node I gets N_I m_p (v_p + C_p (x_I - x_p)), x_I - x_p = -xi dx (left), (1 - xi) dx (right)
+               ! ([Jiang 2015]; C_p of this pass's G2P, or kept by the pass that made it)
+               if (moves) then
+                  cq = cp
+               else
+                  cq = gradient(p)
+               end if
+               w = v(p) - cq*xib(i)*dx
+               sh(i, 3) = sh(i, 1)*w
+               sh(i, 4) = sh(i, 2)*(w + cq*dx)
+            end if
+            if (iand(shares, share_stress) /= 0) sh(i, 5) = svb(i)
+         end do
+         ! the block's totals (macros of mpm_lanes.fypi, expanded here)
+         if (moves) then
+            do lane_i = 1, n - lanes + 1, lanes
+               displacement = displacement + db(lane_i:lane_i + lanes - 1)
+            end do
+            lane_r = mod(n, lanes)
+            if (lane_r > 0) displacement(1:lane_r) = displacement(1:lane_r) + db(n - lane_r + 1:n)
+            do lane_i = 1, n - lanes + 1, lanes
+               kinetic = kinetic + kb(lane_i:lane_i + lanes - 1)
+            end do
+            lane_r = mod(n, lanes)
+            if (lane_r > 0) kinetic(1:lane_r) = kinetic(1:lane_r) + kb(n - lane_r + 1:n)
+            lane_max = 0.0_dp
+            do lane_i = 1, n - lanes + 1, lanes
+               lane_max = max(lane_max, mb(lane_i:lane_i + lanes - 1, slot))
+            end do
+            lane_r = mod(n, lanes)
+            if (lane_r > 0) lane_max(1:lane_r) = max(lane_max(1:lane_r), mb(n - lane_r + 1:n, slot))
+            block_max = maxval(lane_max)
+            if (block_max > largest%value) then
+               largest%value = block_max
+               largest%first = b0
+               largest%count = n
+               largest%slot = slot
+               slot = 3 - slot
+            end if
+         end if
+         if (stresses) then
+            do lane_i = 1, n - lanes + 1, lanes
+               strain = strain + sb(lane_i:lane_i + lanes - 1)
+            end do
+            lane_r = mod(n, lanes)
+            if (lane_r > 0) strain(1:lane_r) = strain(1:lane_r) + sb(n - lane_r + 1:n)
+            do lane_i = 1, n - lanes + 1, lanes
+               min_j = min(min_j, jb(lane_i:lane_i + lanes - 1))
+            end do
+            lane_r = mod(n, lanes)
+            if (lane_r > 0) min_j(1:lane_r) = min(min_j(1:lane_r), jb(n - lane_r + 1:n))
+         end if
+         if (relocates) call find_outside(n, b0, cb, outside)
+         call accumulate_shares(k, n, cb, sh, lo, hi, shares, run, mass_left, mass_right, momentum_left, momentum_right, &
+                                stress_volume, seg, force_left, force_right)
+      end do
+      ! the open run's whole shares
+      if (run%cur /= 0) call flush_sums(k, run%cur, lo, hi, shares, run%s, mass_left, mass_right, momentum_left, &
+                                        momentum_right, stress_volume, seg, force_left, force_right)
+      run%a = 0.0_dp  ! (close_segment flushes the bar's sums: none here)
+      call close_segment(k, shares, m, run, [lane_total(displacement), lane_total(kinetic), lane_total(strain)], &
+                         minval(min_j), largest%value, furthest_particle(largest, mb), outside, mass_left, mass_right, &
+                         momentum_left, momentum_right, stress_volume, seg)
+   end subroutine apic_usf_move_segment
+
+   !> USF, first half: stress update, then stress*volume of the unmoved particles (the hat, APIC)
+   subroutine apic_usf_stress_segment(k, seg, x, x0, v, stress, volume_ratio, cell, acceleration, velocity, &
+                                      strain_increment_of, mass_left, mass_right, momentum_left, momentum_right, &
+                                      stress_volume, constants, carry, mass_of, modulus_of, forces, gradient, force_left, &
+                                      force_right)
+      integer, parameter :: kernel = pass_usf_stress
+      logical, parameter :: moves = pass_moves(kernel), stresses = pass_stresses(kernel), relocates = pass_relocates(kernel)
+      integer, parameter :: shares = pass_shares(kernel)
+      integer, intent(in) :: k
+      type(segments_t), intent(inout) :: seg
+      real(dp), intent(inout), contiguous :: x(:), v(:), stress(:), volume_ratio(:)
+      real(dp), intent(in), contiguous :: x0(:)
+      integer, intent(inout), contiguous :: cell(:)
+      real(dp), intent(in), contiguous :: acceleration(0:), velocity(0:)
+      real(dp), intent(in), contiguous :: strain_increment_of(:)  !< per element (grid%element_strain)
+      real(dp), intent(inout), contiguous :: mass_left(:), mass_right(:), momentum_left(:), momentum_right(:), stress_volume(:)
+      type(pass_constants_t), intent(in) :: constants
+      real(dp), intent(inout), contiguous :: carry(:)  !< particles in parts: what a pass keeps for the next (fused_box_t)
+      !> the variants' per-particle data (absent when the run has none): masses and Young's moduli
+      !> (`material`), external forces (`forced`), APIC's velocity gradients C_p, and the element shares of
+      !> the forces
+      real(dp), intent(in), contiguous, optional :: mass_of(:), modulus_of(:), forces(:)
+      real(dp), intent(inout), contiguous, optional :: gradient(:), force_left(:), force_right(:)
+      integer :: p, e, i, n, b0, first, last, lo, hi, outside, ahead, elements
+      real(dp) :: half_m, strain_factor, dstrain, inv_dx, dt, youngs_modulus, m, volume0
+      type(largest_move_t) :: largest
+      real(dp) :: displacement(lanes), kinetic(lanes), strain(lanes), min_j(lanes)
+      integer :: cb(block_size)
+      real(dp) :: svb(block_size), db(block_size), kb(block_size), sb(block_size), jb(block_size)
+      real(dp) :: mb(block_size, 2)  !< the moves of a block, and of the block with the largest (lanes_track_move)
+      integer :: slot
+      real(dp) :: lane_max(lanes), block_max
+      integer :: lane_i, lane_r
+      type(run_t) :: run
+      integer(i8) :: elements_bits
+      real(dp) :: xi, xib(block_size), vpb(block_size)
+      ! the variant's: G2P's grid velocity and move, the segment's body (cells offset), each particle's
+      ! shares (accumulate_shares)
+      real(dp) :: vgrid, dxp
+      real(dp) :: dx, cp, cq, w
+      real(dp) :: mp, sh(block_size, share_count)
+      dx = constants%dx
+      elements = constants%elements
+      inv_dx = constants%inv_dx
+      dt = constants%dt
+      youngs_modulus = constants%youngs_modulus
+      m = constants%mass
+      volume0 = constants%volume0
+      call open_segment(k, shares, seg, mass_left, mass_right, momentum_left, momentum_right, stress_volume, first, last, &
+                        lo, hi)
+      displacement = 0; kinetic = 0; strain = 0; min_j = huge(1.0_dp)
+      slot = 1
+      outside = 0
+      elements_bits = transfer(real(elements, dp), 0_i8)
+      half_m = 0.5_dp*m
+      strain_factor = 0.0_dp
+      if (stresses) strain_factor = 0.5_dp*volume0/youngs_modulus
+      do b0 = first, last, block_size
+         n = min(block_size, last - b0 + 1)
+         if (seg%prefetch) then  ! the arrays the pass reads, and the grid values of the next blocks
+            ahead = b0 + prefetch_ahead
+            if (kernel == pass_usl) call prefetch_block(ahead, cell, x, x0, v, stress, volume_ratio)
+            if (kernel == pass_usf_move .or. kernel == pass_musl_remap) call prefetch_block(ahead, cell, x, x0, v)
+            if (kernel == pass_usf_stress) call prefetch_block(ahead, cell, stress, volume_ratio)
+            if (kernel == pass_musl_stress) call prefetch_block(ahead, cell, x, v, stress, volume_ratio)
+            if (moves) then
+               call prefetch_nodes(cell(b0), cell(b0 + n - 1), acceleration, velocity)
+            else
+               call prefetch_elements(cell(b0), cell(b0 + n - 1), strain_increment_of)
+            end if
+         end if
+         do i = 1, n
+            p = b0 + i - 1
+            e = cell(p)
+            ! G2P with the start-of-step shape functions (APIC)
+            if (moves) then
+               xi = x(p)*inv_dx - (e - 1)
+               vgrid = (1.0_dp - xi)*velocity(e - 1) + xi*velocity(e)
+               v(p) = vgrid
+               cp = (velocity(e) - velocity(e - 1))*inv_dx  ! C_p = sum_I v_I dN_Ip (the hat's gradients)
+               gradient(p) = cp
+               dxp = dt*vgrid
+               x(p) = x(p) + dxp
+               db(i) = x(p) - x0(p)
+               kb(i) = half_m*v(p)*v(p)
+               mb(i, slot) = abs(dxp)*inv_dx
+            end if
+            if (stresses) then ! d eps = dt sum dN v_I over the start-of-step cell
+               if (moves) then
+                  dstrain = strain_increment(velocity(e - 1), velocity(e), dt, inv_dx)
+               else
+                  dstrain = strain_increment_of(e)
+               end if
+               call stress_particle(dstrain, youngs_modulus, strain_factor, volume0, stress(p), volume_ratio(p), sb(i), &
+                                    svb(i))
+               jb(i) = volume_ratio(p)
+            else if (iand(shares, share_stress) /= 0) then ! (an initial mapping: the stress as it is)
+               svb(i) = stress(p)*volume_ratio(p)*volume0
+            end if
+            if (relocates) then ! the new cell, for P2G at the new position
+               call locate_cell(x(p), inv_dx, elements, elements_bits, cb(i), xib(i))
+               cell(p) = cb(i)
+            else                ! the shares go to the start-of-step cell
+               cb(i) = e
+               if (moves) xib(i) = xi
+            end if
+            ! the particle's whole element shares (accumulate_shares sums them): mass, momentum (APIC's
+            ! with its affine part), stress*volume, external force, at the left and right node
+            mp = m
+            if (iand(shares, share_mass + share_momentum) /= 0) then
+               sh(i, 2) = mp*xib(i)
+               sh(i, 1) = mp - sh(i, 2)
+            end if
+            if (iand(shares, share_momentum) /= 0) then
+               ! node I gets N_I m_p (v_p + C_p (x_I - x_p)), x_I - x_p = -xi dx (left), (1 - xi) dx (right)
+               ! ([Jiang 2015]; C_p of this pass's G2P, or kept by the pass that made it)
+               if (moves) then
+                  cq = cp
+               else
+                  cq = gradient(p)
+               end if
+               w = v(p) - cq*xib(i)*dx
+               sh(i, 3) = sh(i, 1)*w
+               sh(i, 4) = sh(i, 2)*(w + cq*dx)
+            end if
+            if (iand(shares, share_stress) /= 0) sh(i, 5) = svb(i)
+         end do
+         ! the block's totals (macros of mpm_lanes.fypi, expanded here)
+         if (moves) then
+            do lane_i = 1, n - lanes + 1, lanes
+               displacement = displacement + db(lane_i:lane_i + lanes - 1)
+            end do
+            lane_r = mod(n, lanes)
+            if (lane_r > 0) displacement(1:lane_r) = displacement(1:lane_r) + db(n - lane_r + 1:n)
+            do lane_i = 1, n - lanes + 1, lanes
+               kinetic = kinetic + kb(lane_i:lane_i + lanes - 1)
+            end do
+            lane_r = mod(n, lanes)
+            if (lane_r > 0) kinetic(1:lane_r) = kinetic(1:lane_r) + kb(n - lane_r + 1:n)
+            lane_max = 0.0_dp
+            do lane_i = 1, n - lanes + 1, lanes
+               lane_max = max(lane_max, mb(lane_i:lane_i + lanes - 1, slot))
+            end do
+            lane_r = mod(n, lanes)
+            if (lane_r > 0) lane_max(1:lane_r) = max(lane_max(1:lane_r), mb(n - lane_r + 1:n, slot))
+            block_max = maxval(lane_max)
+            if (block_max > largest%value) then
+               largest%value = block_max
+               largest%first = b0
+               largest%count = n
+               largest%slot = slot
+               slot = 3 - slot
+            end if
+         end if
+         if (stresses) then
+            do lane_i = 1, n - lanes + 1, lanes
+               strain = strain + sb(lane_i:lane_i + lanes - 1)
+            end do
+            lane_r = mod(n, lanes)
+            if (lane_r > 0) strain(1:lane_r) = strain(1:lane_r) + sb(n - lane_r + 1:n)
+            do lane_i = 1, n - lanes + 1, lanes
+               min_j = min(min_j, jb(lane_i:lane_i + lanes - 1))
+            end do
+            lane_r = mod(n, lanes)
+            if (lane_r > 0) min_j(1:lane_r) = min(min_j(1:lane_r), jb(n - lane_r + 1:n))
+         end if
+         if (relocates) call find_outside(n, b0, cb, outside)
+         call accumulate_shares(k, n, cb, sh, lo, hi, shares, run, mass_left, mass_right, momentum_left, momentum_right, &
+                                stress_volume, seg, force_left, force_right)
+      end do
+      ! the open run's whole shares
+      if (run%cur /= 0) call flush_sums(k, run%cur, lo, hi, shares, run%s, mass_left, mass_right, momentum_left, &
+                                        momentum_right, stress_volume, seg, force_left, force_right)
+      run%a = 0.0_dp  ! (close_segment flushes the bar's sums: none here)
+      call close_segment(k, shares, m, run, [lane_total(displacement), lane_total(kinetic), lane_total(strain)], &
+                         minval(min_j), largest%value, furthest_particle(largest, mb), outside, mass_left, mass_right, &
+                         momentum_left, momentum_right, stress_volume, seg)
+   end subroutine apic_usf_stress_segment
+
+   !> USL: G2P, stress update from the updated nodal velocities, P2G at the new position (the hat, APIC)
+   subroutine apic_usl_segment(k, seg, x, x0, v, stress, volume_ratio, cell, acceleration, velocity, &
+                               strain_increment_of, mass_left, mass_right, momentum_left, momentum_right, &
+                               stress_volume, constants, carry, mass_of, modulus_of, forces, gradient, force_left, &
+                               force_right)
+      integer, parameter :: kernel = pass_usl
+      logical, parameter :: moves = pass_moves(kernel), stresses = pass_stresses(kernel), relocates = pass_relocates(kernel)
+      integer, parameter :: shares = pass_shares(kernel)
+      integer, intent(in) :: k
+      type(segments_t), intent(inout) :: seg
+      real(dp), intent(inout), contiguous :: x(:), v(:), stress(:), volume_ratio(:)
+      real(dp), intent(in), contiguous :: x0(:)
+      integer, intent(inout), contiguous :: cell(:)
+      real(dp), intent(in), contiguous :: acceleration(0:), velocity(0:)
+      real(dp), intent(in), contiguous :: strain_increment_of(:)  !< per element (grid%element_strain)
+      real(dp), intent(inout), contiguous :: mass_left(:), mass_right(:), momentum_left(:), momentum_right(:), stress_volume(:)
+      type(pass_constants_t), intent(in) :: constants
+      real(dp), intent(inout), contiguous :: carry(:)  !< particles in parts: what a pass keeps for the next (fused_box_t)
+      !> the variants' per-particle data (absent when the run has none): masses and Young's moduli
+      !> (`material`), external forces (`forced`), APIC's velocity gradients C_p, and the element shares of
+      !> the forces
+      real(dp), intent(in), contiguous, optional :: mass_of(:), modulus_of(:), forces(:)
+      real(dp), intent(inout), contiguous, optional :: gradient(:), force_left(:), force_right(:)
+      integer :: p, e, i, n, b0, first, last, lo, hi, outside, ahead, elements
+      real(dp) :: half_m, strain_factor, dstrain, inv_dx, dt, youngs_modulus, m, volume0
+      type(largest_move_t) :: largest
+      real(dp) :: displacement(lanes), kinetic(lanes), strain(lanes), min_j(lanes)
+      integer :: cb(block_size)
+      real(dp) :: svb(block_size), db(block_size), kb(block_size), sb(block_size), jb(block_size)
+      real(dp) :: mb(block_size, 2)  !< the moves of a block, and of the block with the largest (lanes_track_move)
+      integer :: slot
+      real(dp) :: lane_max(lanes), block_max
+      integer :: lane_i, lane_r
+      type(run_t) :: run
+      integer(i8) :: elements_bits
+      real(dp) :: xi, xib(block_size), vpb(block_size)
+      ! the variant's: G2P's grid velocity and move, the segment's body (cells offset), each particle's
+      ! shares (accumulate_shares)
+      real(dp) :: vgrid, dxp
+      real(dp) :: dx, cp, cq, w
+      real(dp) :: mp, sh(block_size, share_count)
+      dx = constants%dx
+      elements = constants%elements
+      inv_dx = constants%inv_dx
+      dt = constants%dt
+      youngs_modulus = constants%youngs_modulus
+      m = constants%mass
+      volume0 = constants%volume0
+      call open_segment(k, shares, seg, mass_left, mass_right, momentum_left, momentum_right, stress_volume, first, last, &
+                        lo, hi)
+      displacement = 0; kinetic = 0; strain = 0; min_j = huge(1.0_dp)
+      slot = 1
+      outside = 0
+      elements_bits = transfer(real(elements, dp), 0_i8)
+      half_m = 0.5_dp*m
+      strain_factor = 0.0_dp
+      if (stresses) strain_factor = 0.5_dp*volume0/youngs_modulus
+      do b0 = first, last, block_size
+         n = min(block_size, last - b0 + 1)
+         if (seg%prefetch) then  ! the arrays the pass reads, and the grid values of the next blocks
+            ahead = b0 + prefetch_ahead
+            if (kernel == pass_usl) call prefetch_block(ahead, cell, x, x0, v, stress, volume_ratio)
+            if (kernel == pass_usf_move .or. kernel == pass_musl_remap) call prefetch_block(ahead, cell, x, x0, v)
+            if (kernel == pass_usf_stress) call prefetch_block(ahead, cell, stress, volume_ratio)
+            if (kernel == pass_musl_stress) call prefetch_block(ahead, cell, x, v, stress, volume_ratio)
+            if (moves) then
+               call prefetch_nodes(cell(b0), cell(b0 + n - 1), acceleration, velocity)
+            else
+               call prefetch_elements(cell(b0), cell(b0 + n - 1), strain_increment_of)
+            end if
+         end if
+         do i = 1, n
+            p = b0 + i - 1
+            e = cell(p)
+            ! G2P with the start-of-step shape functions (APIC)
+            if (moves) then
+               xi = x(p)*inv_dx - (e - 1)
+               vgrid = (1.0_dp - xi)*velocity(e - 1) + xi*velocity(e)
+               v(p) = vgrid
+               cp = (velocity(e) - velocity(e - 1))*inv_dx  ! C_p = sum_I v_I dN_Ip (the hat's gradients)
+               gradient(p) = cp
+               dxp = dt*vgrid
+               x(p) = x(p) + dxp
+               db(i) = x(p) - x0(p)
+               kb(i) = half_m*v(p)*v(p)
+               mb(i, slot) = abs(dxp)*inv_dx
+            end if
+            if (stresses) then ! d eps = dt sum dN v_I over the start-of-step cell
+               if (moves) then
+                  dstrain = strain_increment(velocity(e - 1), velocity(e), dt, inv_dx)
+               else
+                  dstrain = strain_increment_of(e)
+               end if
+               call stress_particle(dstrain, youngs_modulus, strain_factor, volume0, stress(p), volume_ratio(p), sb(i), &
+                                    svb(i))
+               jb(i) = volume_ratio(p)
+            else if (iand(shares, share_stress) /= 0) then ! (an initial mapping: the stress as it is)
+               svb(i) = stress(p)*volume_ratio(p)*volume0
+            end if
+            if (relocates) then ! the new cell, for P2G at the new position
+               call locate_cell(x(p), inv_dx, elements, elements_bits, cb(i), xib(i))
+               cell(p) = cb(i)
+            else                ! the shares go to the start-of-step cell
+               cb(i) = e
+               if (moves) xib(i) = xi
+            end if
+            ! the particle's whole element shares (accumulate_shares sums them): mass, momentum (APIC's
+            ! with its affine part), stress*volume, external force, at the left and right node
+            mp = m
+            if (iand(shares, share_mass + share_momentum) /= 0) then
+               sh(i, 2) = mp*xib(i)
+               sh(i, 1) = mp - sh(i, 2)
+            end if
+            if (iand(shares, share_momentum) /= 0) then
+               ! node I gets N_I m_p (v_p + C_p (x_I - x_p)), x_I - x_p = -xi dx (left), (1 - xi) dx (right)
+               ! ([Jiang 2015]; C_p of this pass's G2P, or kept by the pass that made it)
+               if (moves) then
+                  cq = cp
+               else
+                  cq = gradient(p)
+               end if
+               w = v(p) - cq*xib(i)*dx
+               sh(i, 3) = sh(i, 1)*w
+               sh(i, 4) = sh(i, 2)*(w + cq*dx)
+            end if
+            if (iand(shares, share_stress) /= 0) sh(i, 5) = svb(i)
+         end do
+         ! the block's totals (macros of mpm_lanes.fypi, expanded here)
+         if (moves) then
+            do lane_i = 1, n - lanes + 1, lanes
+               displacement = displacement + db(lane_i:lane_i + lanes - 1)
+            end do
+            lane_r = mod(n, lanes)
+            if (lane_r > 0) displacement(1:lane_r) = displacement(1:lane_r) + db(n - lane_r + 1:n)
+            do lane_i = 1, n - lanes + 1, lanes
+               kinetic = kinetic + kb(lane_i:lane_i + lanes - 1)
+            end do
+            lane_r = mod(n, lanes)
+            if (lane_r > 0) kinetic(1:lane_r) = kinetic(1:lane_r) + kb(n - lane_r + 1:n)
+            lane_max = 0.0_dp
+            do lane_i = 1, n - lanes + 1, lanes
+               lane_max = max(lane_max, mb(lane_i:lane_i + lanes - 1, slot))
+            end do
+            lane_r = mod(n, lanes)
+            if (lane_r > 0) lane_max(1:lane_r) = max(lane_max(1:lane_r), mb(n - lane_r + 1:n, slot))
+            block_max = maxval(lane_max)
+            if (block_max > largest%value) then
+               largest%value = block_max
+               largest%first = b0
+               largest%count = n
+               largest%slot = slot
+               slot = 3 - slot
+            end if
+         end if
+         if (stresses) then
+            do lane_i = 1, n - lanes + 1, lanes
+               strain = strain + sb(lane_i:lane_i + lanes - 1)
+            end do
+            lane_r = mod(n, lanes)
+            if (lane_r > 0) strain(1:lane_r) = strain(1:lane_r) + sb(n - lane_r + 1:n)
+            do lane_i = 1, n - lanes + 1, lanes
+               min_j = min(min_j, jb(lane_i:lane_i + lanes - 1))
+            end do
+            lane_r = mod(n, lanes)
+            if (lane_r > 0) min_j(1:lane_r) = min(min_j(1:lane_r), jb(n - lane_r + 1:n))
+         end if
+         if (relocates) call find_outside(n, b0, cb, outside)
+         call accumulate_shares(k, n, cb, sh, lo, hi, shares, run, mass_left, mass_right, momentum_left, momentum_right, &
+                                stress_volume, seg, force_left, force_right)
+      end do
+      ! the open run's whole shares
+      if (run%cur /= 0) call flush_sums(k, run%cur, lo, hi, shares, run%s, mass_left, mass_right, momentum_left, &
+                                        momentum_right, stress_volume, seg, force_left, force_right)
+      run%a = 0.0_dp  ! (close_segment flushes the bar's sums: none here)
+      call close_segment(k, shares, m, run, [lane_total(displacement), lane_total(kinetic), lane_total(strain)], &
+                         minval(min_j), largest%value, furthest_particle(largest, mb), outside, mass_left, mass_right, &
+                         momentum_left, momentum_right, stress_volume, seg)
+   end subroutine apic_usl_segment
+
+   !> MUSL, first pass: G2P, and the new momentum back to the start-of-step nodes (the hat, APIC)
+   subroutine apic_musl_remap_segment(k, seg, x, x0, v, stress, volume_ratio, cell, acceleration, velocity, &
+                                      strain_increment_of, mass_left, mass_right, momentum_left, momentum_right, &
+                                      stress_volume, constants, carry, mass_of, modulus_of, forces, gradient, force_left, &
+                                      force_right)
+      integer, parameter :: kernel = pass_musl_remap
+      logical, parameter :: moves = pass_moves(kernel), stresses = pass_stresses(kernel), relocates = pass_relocates(kernel)
+      integer, parameter :: shares = pass_shares(kernel)
+      integer, intent(in) :: k
+      type(segments_t), intent(inout) :: seg
+      real(dp), intent(inout), contiguous :: x(:), v(:), stress(:), volume_ratio(:)
+      real(dp), intent(in), contiguous :: x0(:)
+      integer, intent(inout), contiguous :: cell(:)
+      real(dp), intent(in), contiguous :: acceleration(0:), velocity(0:)
+      real(dp), intent(in), contiguous :: strain_increment_of(:)  !< per element (grid%element_strain)
+      real(dp), intent(inout), contiguous :: mass_left(:), mass_right(:), momentum_left(:), momentum_right(:), stress_volume(:)
+      type(pass_constants_t), intent(in) :: constants
+      real(dp), intent(inout), contiguous :: carry(:)  !< particles in parts: what a pass keeps for the next (fused_box_t)
+      !> the variants' per-particle data (absent when the run has none): masses and Young's moduli
+      !> (`material`), external forces (`forced`), APIC's velocity gradients C_p, and the element shares of
+      !> the forces
+      real(dp), intent(in), contiguous, optional :: mass_of(:), modulus_of(:), forces(:)
+      real(dp), intent(inout), contiguous, optional :: gradient(:), force_left(:), force_right(:)
+      integer :: p, e, i, n, b0, first, last, lo, hi, outside, ahead, elements
+      real(dp) :: half_m, strain_factor, dstrain, inv_dx, dt, youngs_modulus, m, volume0
+      type(largest_move_t) :: largest
+      real(dp) :: displacement(lanes), kinetic(lanes), strain(lanes), min_j(lanes)
+      integer :: cb(block_size)
+      real(dp) :: svb(block_size), db(block_size), kb(block_size), sb(block_size), jb(block_size)
+      real(dp) :: mb(block_size, 2)  !< the moves of a block, and of the block with the largest (lanes_track_move)
+      integer :: slot
+      real(dp) :: lane_max(lanes), block_max
+      integer :: lane_i, lane_r
+      type(run_t) :: run
+      integer(i8) :: elements_bits
+      real(dp) :: xi, xib(block_size), vpb(block_size)
+      ! the variant's: G2P's grid velocity and move, the segment's body (cells offset), each particle's
+      ! shares (accumulate_shares)
+      real(dp) :: vgrid, dxp
+      real(dp) :: dx, cp, cq, w
+      real(dp) :: mp, sh(block_size, share_count)
+      dx = constants%dx
+      elements = constants%elements
+      inv_dx = constants%inv_dx
+      dt = constants%dt
+      youngs_modulus = constants%youngs_modulus
+      m = constants%mass
+      volume0 = constants%volume0
+      call open_segment(k, shares, seg, mass_left, mass_right, momentum_left, momentum_right, stress_volume, first, last, &
+                        lo, hi)
+      displacement = 0; kinetic = 0; strain = 0; min_j = huge(1.0_dp)
+      slot = 1
+      outside = 0
+      elements_bits = transfer(real(elements, dp), 0_i8)
+      half_m = 0.5_dp*m
+      strain_factor = 0.0_dp
+      if (stresses) strain_factor = 0.5_dp*volume0/youngs_modulus
+      do b0 = first, last, block_size
+         n = min(block_size, last - b0 + 1)
+         if (seg%prefetch) then  ! the arrays the pass reads, and the grid values of the next blocks
+            ahead = b0 + prefetch_ahead
+            if (kernel == pass_usl) call prefetch_block(ahead, cell, x, x0, v, stress, volume_ratio)
+            if (kernel == pass_usf_move .or. kernel == pass_musl_remap) call prefetch_block(ahead, cell, x, x0, v)
+            if (kernel == pass_usf_stress) call prefetch_block(ahead, cell, stress, volume_ratio)
+            if (kernel == pass_musl_stress) call prefetch_block(ahead, cell, x, v, stress, volume_ratio)
+            if (moves) then
+               call prefetch_nodes(cell(b0), cell(b0 + n - 1), acceleration, velocity)
+            else
+               call prefetch_elements(cell(b0), cell(b0 + n - 1), strain_increment_of)
+            end if
+         end if
+         do i = 1, n
+            p = b0 + i - 1
+            e = cell(p)
+            ! G2P with the start-of-step shape functions (APIC)
+            if (moves) then
+               xi = x(p)*inv_dx - (e - 1)
+               vgrid = (1.0_dp - xi)*velocity(e - 1) + xi*velocity(e)
+               v(p) = vgrid
+               cp = (velocity(e) - velocity(e - 1))*inv_dx  ! C_p = sum_I v_I dN_Ip (the hat's gradients)
+               gradient(p) = cp
+               dxp = dt*vgrid
+               x(p) = x(p) + dxp
+               db(i) = x(p) - x0(p)
+               kb(i) = half_m*v(p)*v(p)
+               mb(i, slot) = abs(dxp)*inv_dx
+            end if
+            if (stresses) then ! d eps = dt sum dN v_I over the start-of-step cell
+               if (moves) then
+                  dstrain = strain_increment(velocity(e - 1), velocity(e), dt, inv_dx)
+               else
+                  dstrain = strain_increment_of(e)
+               end if
+               call stress_particle(dstrain, youngs_modulus, strain_factor, volume0, stress(p), volume_ratio(p), sb(i), &
+                                    svb(i))
+               jb(i) = volume_ratio(p)
+            else if (iand(shares, share_stress) /= 0) then ! (an initial mapping: the stress as it is)
+               svb(i) = stress(p)*volume_ratio(p)*volume0
+            end if
+            if (relocates) then ! the new cell, for P2G at the new position
+               call locate_cell(x(p), inv_dx, elements, elements_bits, cb(i), xib(i))
+               cell(p) = cb(i)
+            else                ! the shares go to the start-of-step cell
+               cb(i) = e
+               if (moves) xib(i) = xi
+            end if
+            ! the particle's whole element shares (accumulate_shares sums them): mass, momentum (APIC's
+            ! with its affine part), stress*volume, external force, at the left and right node
+            mp = m
+            if (iand(shares, share_mass + share_momentum) /= 0) then
+               sh(i, 2) = mp*xib(i)
+               sh(i, 1) = mp - sh(i, 2)
+            end if
+            if (iand(shares, share_momentum) /= 0) then
+               ! node I gets N_I m_p (v_p + C_p (x_I - x_p)), x_I - x_p = -xi dx (left), (1 - xi) dx (right)
+               ! ([Jiang 2015]; C_p of this pass's G2P, or kept by the pass that made it)
+               if (moves) then
+                  cq = cp
+               else
+                  cq = gradient(p)
+               end if
+               w = v(p) - cq*xib(i)*dx
+               sh(i, 3) = sh(i, 1)*w
+               sh(i, 4) = sh(i, 2)*(w + cq*dx)
+            end if
+            if (iand(shares, share_stress) /= 0) sh(i, 5) = svb(i)
+         end do
+         ! the block's totals (macros of mpm_lanes.fypi, expanded here)
+         if (moves) then
+            do lane_i = 1, n - lanes + 1, lanes
+               displacement = displacement + db(lane_i:lane_i + lanes - 1)
+            end do
+            lane_r = mod(n, lanes)
+            if (lane_r > 0) displacement(1:lane_r) = displacement(1:lane_r) + db(n - lane_r + 1:n)
+            do lane_i = 1, n - lanes + 1, lanes
+               kinetic = kinetic + kb(lane_i:lane_i + lanes - 1)
+            end do
+            lane_r = mod(n, lanes)
+            if (lane_r > 0) kinetic(1:lane_r) = kinetic(1:lane_r) + kb(n - lane_r + 1:n)
+            lane_max = 0.0_dp
+            do lane_i = 1, n - lanes + 1, lanes
+               lane_max = max(lane_max, mb(lane_i:lane_i + lanes - 1, slot))
+            end do
+            lane_r = mod(n, lanes)
+            if (lane_r > 0) lane_max(1:lane_r) = max(lane_max(1:lane_r), mb(n - lane_r + 1:n, slot))
+            block_max = maxval(lane_max)
+            if (block_max > largest%value) then
+               largest%value = block_max
+               largest%first = b0
+               largest%count = n
+               largest%slot = slot
+               slot = 3 - slot
+            end if
+         end if
+         if (stresses) then
+            do lane_i = 1, n - lanes + 1, lanes
+               strain = strain + sb(lane_i:lane_i + lanes - 1)
+            end do
+            lane_r = mod(n, lanes)
+            if (lane_r > 0) strain(1:lane_r) = strain(1:lane_r) + sb(n - lane_r + 1:n)
+            do lane_i = 1, n - lanes + 1, lanes
+               min_j = min(min_j, jb(lane_i:lane_i + lanes - 1))
+            end do
+            lane_r = mod(n, lanes)
+            if (lane_r > 0) min_j(1:lane_r) = min(min_j(1:lane_r), jb(n - lane_r + 1:n))
+         end if
+         if (relocates) call find_outside(n, b0, cb, outside)
+         call accumulate_shares(k, n, cb, sh, lo, hi, shares, run, mass_left, mass_right, momentum_left, momentum_right, &
+                                stress_volume, seg, force_left, force_right)
+      end do
+      ! the open run's whole shares
+      if (run%cur /= 0) call flush_sums(k, run%cur, lo, hi, shares, run%s, mass_left, mass_right, momentum_left, &
+                                        momentum_right, stress_volume, seg, force_left, force_right)
+      run%a = 0.0_dp  ! (close_segment flushes the bar's sums: none here)
+      call close_segment(k, shares, m, run, [lane_total(displacement), lane_total(kinetic), lane_total(strain)], &
+                         minval(min_j), largest%value, furthest_particle(largest, mb), outside, mass_left, mass_right, &
+                         momentum_left, momentum_right, stress_volume, seg)
+   end subroutine apic_musl_remap_segment
+
+   !> MUSL, second pass: stress update from the remapped velocities, P2G at the new position (the hat, APIC)
+   subroutine apic_musl_stress_segment(k, seg, x, x0, v, stress, volume_ratio, cell, acceleration, velocity, &
+                                       strain_increment_of, mass_left, mass_right, momentum_left, momentum_right, &
+                                       stress_volume, constants, carry, mass_of, modulus_of, forces, gradient, force_left, &
+                                       force_right)
+      integer, parameter :: kernel = pass_musl_stress
+      logical, parameter :: moves = pass_moves(kernel), stresses = pass_stresses(kernel), relocates = pass_relocates(kernel)
+      integer, parameter :: shares = pass_shares(kernel)
+      integer, intent(in) :: k
+      type(segments_t), intent(inout) :: seg
+      real(dp), intent(inout), contiguous :: x(:), v(:), stress(:), volume_ratio(:)
+      real(dp), intent(in), contiguous :: x0(:)
+      integer, intent(inout), contiguous :: cell(:)
+      real(dp), intent(in), contiguous :: acceleration(0:), velocity(0:)
+      real(dp), intent(in), contiguous :: strain_increment_of(:)  !< per element (grid%element_strain)
+      real(dp), intent(inout), contiguous :: mass_left(:), mass_right(:), momentum_left(:), momentum_right(:), stress_volume(:)
+      type(pass_constants_t), intent(in) :: constants
+      real(dp), intent(inout), contiguous :: carry(:)  !< particles in parts: what a pass keeps for the next (fused_box_t)
+      !> the variants' per-particle data (absent when the run has none): masses and Young's moduli
+      !> (`material`), external forces (`forced`), APIC's velocity gradients C_p, and the element shares of
+      !> the forces
+      real(dp), intent(in), contiguous, optional :: mass_of(:), modulus_of(:), forces(:)
+      real(dp), intent(inout), contiguous, optional :: gradient(:), force_left(:), force_right(:)
+      integer :: p, e, i, n, b0, first, last, lo, hi, outside, ahead, elements
+      real(dp) :: half_m, strain_factor, dstrain, inv_dx, dt, youngs_modulus, m, volume0
+      type(largest_move_t) :: largest
+      real(dp) :: displacement(lanes), kinetic(lanes), strain(lanes), min_j(lanes)
+      integer :: cb(block_size)
+      real(dp) :: svb(block_size), db(block_size), kb(block_size), sb(block_size), jb(block_size)
+      real(dp) :: mb(block_size, 2)  !< the moves of a block, and of the block with the largest (lanes_track_move)
+      integer :: slot
+      real(dp) :: lane_max(lanes), block_max
+      integer :: lane_i, lane_r
+      type(run_t) :: run
+      integer(i8) :: elements_bits
+      real(dp) :: xi, xib(block_size), vpb(block_size)
+      ! the variant's: G2P's grid velocity and move, the segment's body (cells offset), each particle's
+      ! shares (accumulate_shares)
+      real(dp) :: vgrid, dxp
+      real(dp) :: dx, cp, cq, w
+      real(dp) :: mp, sh(block_size, share_count)
+      dx = constants%dx
+      elements = constants%elements
+      inv_dx = constants%inv_dx
+      dt = constants%dt
+      youngs_modulus = constants%youngs_modulus
+      m = constants%mass
+      volume0 = constants%volume0
+      call open_segment(k, shares, seg, mass_left, mass_right, momentum_left, momentum_right, stress_volume, first, last, &
+                        lo, hi)
+      displacement = 0; kinetic = 0; strain = 0; min_j = huge(1.0_dp)
+      slot = 1
+      outside = 0
+      elements_bits = transfer(real(elements, dp), 0_i8)
+      half_m = 0.5_dp*m
+      strain_factor = 0.0_dp
+      if (stresses) strain_factor = 0.5_dp*volume0/youngs_modulus
+      do b0 = first, last, block_size
+         n = min(block_size, last - b0 + 1)
+         if (seg%prefetch) then  ! the arrays the pass reads, and the grid values of the next blocks
+            ahead = b0 + prefetch_ahead
+            if (kernel == pass_usl) call prefetch_block(ahead, cell, x, x0, v, stress, volume_ratio)
+            if (kernel == pass_usf_move .or. kernel == pass_musl_remap) call prefetch_block(ahead, cell, x, x0, v)
+            if (kernel == pass_usf_stress) call prefetch_block(ahead, cell, stress, volume_ratio)
+            if (kernel == pass_musl_stress) call prefetch_block(ahead, cell, x, v, stress, volume_ratio)
+            if (moves) then
+               call prefetch_nodes(cell(b0), cell(b0 + n - 1), acceleration, velocity)
+            else
+               call prefetch_elements(cell(b0), cell(b0 + n - 1), strain_increment_of)
+            end if
+         end if
+         do i = 1, n
+            p = b0 + i - 1
+            e = cell(p)
+            ! G2P with the start-of-step shape functions (APIC)
+            if (moves) then
+               xi = x(p)*inv_dx - (e - 1)
+               vgrid = (1.0_dp - xi)*velocity(e - 1) + xi*velocity(e)
+               v(p) = vgrid
+               cp = (velocity(e) - velocity(e - 1))*inv_dx  ! C_p = sum_I v_I dN_Ip (the hat's gradients)
+               gradient(p) = cp
+               dxp = dt*vgrid
+               x(p) = x(p) + dxp
+               db(i) = x(p) - x0(p)
+               kb(i) = half_m*v(p)*v(p)
+               mb(i, slot) = abs(dxp)*inv_dx
+            end if
+            if (stresses) then ! d eps = dt sum dN v_I over the start-of-step cell
+               if (moves) then
+                  dstrain = strain_increment(velocity(e - 1), velocity(e), dt, inv_dx)
+               else
+                  dstrain = strain_increment_of(e)
+               end if
+               call stress_particle(dstrain, youngs_modulus, strain_factor, volume0, stress(p), volume_ratio(p), sb(i), &
+                                    svb(i))
+               jb(i) = volume_ratio(p)
+            else if (iand(shares, share_stress) /= 0) then ! (an initial mapping: the stress as it is)
+               svb(i) = stress(p)*volume_ratio(p)*volume0
+            end if
+            if (relocates) then ! the new cell, for P2G at the new position
+               call locate_cell(x(p), inv_dx, elements, elements_bits, cb(i), xib(i))
+               cell(p) = cb(i)
+            else                ! the shares go to the start-of-step cell
+               cb(i) = e
+               if (moves) xib(i) = xi
+            end if
+            ! the particle's whole element shares (accumulate_shares sums them): mass, momentum (APIC's
+            ! with its affine part), stress*volume, external force, at the left and right node
+            mp = m
+            if (iand(shares, share_mass + share_momentum) /= 0) then
+               sh(i, 2) = mp*xib(i)
+               sh(i, 1) = mp - sh(i, 2)
+            end if
+            if (iand(shares, share_momentum) /= 0) then
+               ! node I gets N_I m_p (v_p + C_p (x_I - x_p)), x_I - x_p = -xi dx (left), (1 - xi) dx (right)
+               ! ([Jiang 2015]; C_p of this pass's G2P, or kept by the pass that made it)
+               if (moves) then
+                  cq = cp
+               else
+                  cq = gradient(p)
+               end if
+               w = v(p) - cq*xib(i)*dx
+               sh(i, 3) = sh(i, 1)*w
+               sh(i, 4) = sh(i, 2)*(w + cq*dx)
+            end if
+            if (iand(shares, share_stress) /= 0) sh(i, 5) = svb(i)
+         end do
+         ! the block's totals (macros of mpm_lanes.fypi, expanded here)
+         if (moves) then
+            do lane_i = 1, n - lanes + 1, lanes
+               displacement = displacement + db(lane_i:lane_i + lanes - 1)
+            end do
+            lane_r = mod(n, lanes)
+            if (lane_r > 0) displacement(1:lane_r) = displacement(1:lane_r) + db(n - lane_r + 1:n)
+            do lane_i = 1, n - lanes + 1, lanes
+               kinetic = kinetic + kb(lane_i:lane_i + lanes - 1)
+            end do
+            lane_r = mod(n, lanes)
+            if (lane_r > 0) kinetic(1:lane_r) = kinetic(1:lane_r) + kb(n - lane_r + 1:n)
+            lane_max = 0.0_dp
+            do lane_i = 1, n - lanes + 1, lanes
+               lane_max = max(lane_max, mb(lane_i:lane_i + lanes - 1, slot))
+            end do
+            lane_r = mod(n, lanes)
+            if (lane_r > 0) lane_max(1:lane_r) = max(lane_max(1:lane_r), mb(n - lane_r + 1:n, slot))
+            block_max = maxval(lane_max)
+            if (block_max > largest%value) then
+               largest%value = block_max
+               largest%first = b0
+               largest%count = n
+               largest%slot = slot
+               slot = 3 - slot
+            end if
+         end if
+         if (stresses) then
+            do lane_i = 1, n - lanes + 1, lanes
+               strain = strain + sb(lane_i:lane_i + lanes - 1)
+            end do
+            lane_r = mod(n, lanes)
+            if (lane_r > 0) strain(1:lane_r) = strain(1:lane_r) + sb(n - lane_r + 1:n)
+            do lane_i = 1, n - lanes + 1, lanes
+               min_j = min(min_j, jb(lane_i:lane_i + lanes - 1))
+            end do
+            lane_r = mod(n, lanes)
+            if (lane_r > 0) min_j(1:lane_r) = min(min_j(1:lane_r), jb(n - lane_r + 1:n))
+         end if
+         if (relocates) call find_outside(n, b0, cb, outside)
+         call accumulate_shares(k, n, cb, sh, lo, hi, shares, run, mass_left, mass_right, momentum_left, momentum_right, &
+                                stress_volume, seg, force_left, force_right)
+      end do
+      ! the open run's whole shares
+      if (run%cur /= 0) call flush_sums(k, run%cur, lo, hi, shares, run%s, mass_left, mass_right, momentum_left, &
+                                        momentum_right, stress_volume, seg, force_left, force_right)
+      run%a = 0.0_dp  ! (close_segment flushes the bar's sums: none here)
+      call close_segment(k, shares, m, run, [lane_total(displacement), lane_total(kinetic), lane_total(strain)], &
+                         minval(min_j), largest%value, furthest_particle(largest, mb), outside, mass_left, mass_right, &
+                         momentum_left, momentum_right, stress_volume, seg)
+   end subroutine apic_musl_stress_segment
+
+   !> initial mapping: mass and momentum (the hat, APIC)
+   subroutine apic_map_segment(k, seg, x, x0, v, stress, volume_ratio, cell, acceleration, velocity, &
+                               strain_increment_of, mass_left, mass_right, momentum_left, momentum_right, &
+                               stress_volume, constants, carry, mass_of, modulus_of, forces, gradient, force_left, &
+                               force_right)
+      integer, parameter :: kernel = pass_map
+      logical, parameter :: moves = pass_moves(kernel), stresses = pass_stresses(kernel), relocates = pass_relocates(kernel)
+      integer, parameter :: shares = pass_shares(kernel)
+      integer, intent(in) :: k
+      type(segments_t), intent(inout) :: seg
+      real(dp), intent(inout), contiguous :: x(:), v(:), stress(:), volume_ratio(:)
+      real(dp), intent(in), contiguous :: x0(:)
+      integer, intent(inout), contiguous :: cell(:)
+      real(dp), intent(in), contiguous :: acceleration(0:), velocity(0:)
+      real(dp), intent(in), contiguous :: strain_increment_of(:)  !< per element (grid%element_strain)
+      real(dp), intent(inout), contiguous :: mass_left(:), mass_right(:), momentum_left(:), momentum_right(:), stress_volume(:)
+      type(pass_constants_t), intent(in) :: constants
+      real(dp), intent(inout), contiguous :: carry(:)  !< particles in parts: what a pass keeps for the next (fused_box_t)
+      !> the variants' per-particle data (absent when the run has none): masses and Young's moduli
+      !> (`material`), external forces (`forced`), APIC's velocity gradients C_p, and the element shares of
+      !> the forces
+      real(dp), intent(in), contiguous, optional :: mass_of(:), modulus_of(:), forces(:)
+      real(dp), intent(inout), contiguous, optional :: gradient(:), force_left(:), force_right(:)
+      integer :: p, e, i, n, b0, first, last, lo, hi, outside, ahead, elements
+      real(dp) :: half_m, strain_factor, dstrain, inv_dx, dt, youngs_modulus, m, volume0
+      type(largest_move_t) :: largest
+      real(dp) :: displacement(lanes), kinetic(lanes), strain(lanes), min_j(lanes)
+      integer :: cb(block_size)
+      real(dp) :: svb(block_size), db(block_size), kb(block_size), sb(block_size), jb(block_size)
+      real(dp) :: mb(block_size, 2)  !< the moves of a block, and of the block with the largest (lanes_track_move)
+      integer :: slot
+      real(dp) :: lane_max(lanes), block_max
+      integer :: lane_i, lane_r
+      type(run_t) :: run
+      integer(i8) :: elements_bits
+      real(dp) :: xi, xib(block_size), vpb(block_size)
+      ! the variant's: G2P's grid velocity and move, the segment's body (cells offset), each particle's
+      ! shares (accumulate_shares)
+      real(dp) :: vgrid, dxp
+      real(dp) :: dx, cp, cq, w
+      real(dp) :: mp, sh(block_size, share_count)
+      dx = constants%dx
+      elements = constants%elements
+      inv_dx = constants%inv_dx
+      dt = constants%dt
+      youngs_modulus = constants%youngs_modulus
+      m = constants%mass
+      volume0 = constants%volume0
+      call open_segment(k, shares, seg, mass_left, mass_right, momentum_left, momentum_right, stress_volume, first, last, &
+                        lo, hi)
+      displacement = 0; kinetic = 0; strain = 0; min_j = huge(1.0_dp)
+      slot = 1
+      outside = 0
+      elements_bits = transfer(real(elements, dp), 0_i8)
+      half_m = 0.5_dp*m
+      strain_factor = 0.0_dp
+      if (stresses) strain_factor = 0.5_dp*volume0/youngs_modulus
+      do b0 = first, last, block_size
+         n = min(block_size, last - b0 + 1)
+         if (seg%prefetch) then  ! the arrays the pass reads, and the grid values of the next blocks
+            ahead = b0 + prefetch_ahead
+            if (kernel == pass_usl) call prefetch_block(ahead, cell, x, x0, v, stress, volume_ratio)
+            if (kernel == pass_usf_move .or. kernel == pass_musl_remap) call prefetch_block(ahead, cell, x, x0, v)
+            if (kernel == pass_usf_stress) call prefetch_block(ahead, cell, stress, volume_ratio)
+            if (kernel == pass_musl_stress) call prefetch_block(ahead, cell, x, v, stress, volume_ratio)
+            if (moves) then
+               call prefetch_nodes(cell(b0), cell(b0 + n - 1), acceleration, velocity)
+            else
+               call prefetch_elements(cell(b0), cell(b0 + n - 1), strain_increment_of)
+            end if
+         end if
+         do i = 1, n
+            p = b0 + i - 1
+            e = cell(p)
+            ! G2P with the start-of-step shape functions (APIC)
+            if (moves) then
+               xi = x(p)*inv_dx - (e - 1)
+               vgrid = (1.0_dp - xi)*velocity(e - 1) + xi*velocity(e)
+               v(p) = vgrid
+               cp = (velocity(e) - velocity(e - 1))*inv_dx  ! C_p = sum_I v_I dN_Ip (the hat's gradients)
+               gradient(p) = cp
+               dxp = dt*vgrid
+               x(p) = x(p) + dxp
+               db(i) = x(p) - x0(p)
+               kb(i) = half_m*v(p)*v(p)
+               mb(i, slot) = abs(dxp)*inv_dx
+            end if
+            if (stresses) then ! d eps = dt sum dN v_I over the start-of-step cell
+               if (moves) then
+                  dstrain = strain_increment(velocity(e - 1), velocity(e), dt, inv_dx)
+               else
+                  dstrain = strain_increment_of(e)
+               end if
+               call stress_particle(dstrain, youngs_modulus, strain_factor, volume0, stress(p), volume_ratio(p), sb(i), &
+                                    svb(i))
+               jb(i) = volume_ratio(p)
+            else if (iand(shares, share_stress) /= 0) then ! (an initial mapping: the stress as it is)
+               svb(i) = stress(p)*volume_ratio(p)*volume0
+            end if
+            if (relocates) then ! the new cell, for P2G at the new position
+               call locate_cell(x(p), inv_dx, elements, elements_bits, cb(i), xib(i))
+               cell(p) = cb(i)
+            else                ! the shares go to the start-of-step cell
+               cb(i) = e
+               if (moves) xib(i) = xi
+            end if
+            ! the particle's whole element shares (accumulate_shares sums them): mass, momentum (APIC's
+            ! with its affine part), stress*volume, external force, at the left and right node
+            mp = m
+            if (iand(shares, share_mass + share_momentum) /= 0) then
+               sh(i, 2) = mp*xib(i)
+               sh(i, 1) = mp - sh(i, 2)
+            end if
+            if (iand(shares, share_momentum) /= 0) then
+               ! node I gets N_I m_p (v_p + C_p (x_I - x_p)), x_I - x_p = -xi dx (left), (1 - xi) dx (right)
+               ! ([Jiang 2015]; C_p of this pass's G2P, or kept by the pass that made it)
+               if (moves) then
+                  cq = cp
+               else
+                  cq = gradient(p)
+               end if
+               w = v(p) - cq*xib(i)*dx
+               sh(i, 3) = sh(i, 1)*w
+               sh(i, 4) = sh(i, 2)*(w + cq*dx)
+            end if
+            if (iand(shares, share_stress) /= 0) sh(i, 5) = svb(i)
+         end do
+         ! the block's totals (macros of mpm_lanes.fypi, expanded here)
+         if (moves) then
+            do lane_i = 1, n - lanes + 1, lanes
+               displacement = displacement + db(lane_i:lane_i + lanes - 1)
+            end do
+            lane_r = mod(n, lanes)
+            if (lane_r > 0) displacement(1:lane_r) = displacement(1:lane_r) + db(n - lane_r + 1:n)
+            do lane_i = 1, n - lanes + 1, lanes
+               kinetic = kinetic + kb(lane_i:lane_i + lanes - 1)
+            end do
+            lane_r = mod(n, lanes)
+            if (lane_r > 0) kinetic(1:lane_r) = kinetic(1:lane_r) + kb(n - lane_r + 1:n)
+            lane_max = 0.0_dp
+            do lane_i = 1, n - lanes + 1, lanes
+               lane_max = max(lane_max, mb(lane_i:lane_i + lanes - 1, slot))
+            end do
+            lane_r = mod(n, lanes)
+            if (lane_r > 0) lane_max(1:lane_r) = max(lane_max(1:lane_r), mb(n - lane_r + 1:n, slot))
+            block_max = maxval(lane_max)
+            if (block_max > largest%value) then
+               largest%value = block_max
+               largest%first = b0
+               largest%count = n
+               largest%slot = slot
+               slot = 3 - slot
+            end if
+         end if
+         if (stresses) then
+            do lane_i = 1, n - lanes + 1, lanes
+               strain = strain + sb(lane_i:lane_i + lanes - 1)
+            end do
+            lane_r = mod(n, lanes)
+            if (lane_r > 0) strain(1:lane_r) = strain(1:lane_r) + sb(n - lane_r + 1:n)
+            do lane_i = 1, n - lanes + 1, lanes
+               min_j = min(min_j, jb(lane_i:lane_i + lanes - 1))
+            end do
+            lane_r = mod(n, lanes)
+            if (lane_r > 0) min_j(1:lane_r) = min(min_j(1:lane_r), jb(n - lane_r + 1:n))
+         end if
+         if (relocates) call find_outside(n, b0, cb, outside)
+         call accumulate_shares(k, n, cb, sh, lo, hi, shares, run, mass_left, mass_right, momentum_left, momentum_right, &
+                                stress_volume, seg, force_left, force_right)
+      end do
+      ! the open run's whole shares
+      if (run%cur /= 0) call flush_sums(k, run%cur, lo, hi, shares, run%s, mass_left, mass_right, momentum_left, &
+                                        momentum_right, stress_volume, seg, force_left, force_right)
+      run%a = 0.0_dp  ! (close_segment flushes the bar's sums: none here)
+      call close_segment(k, shares, m, run, [lane_total(displacement), lane_total(kinetic), lane_total(strain)], &
+                         minval(min_j), largest%value, furthest_particle(largest, mb), outside, mass_left, mass_right, &
+                         momentum_left, momentum_right, stress_volume, seg)
+   end subroutine apic_map_segment
+
+   !> initial mapping: mass, momentum and stress*volume (and forces) (the hat, APIC)
+   subroutine apic_map_stress_segment(k, seg, x, x0, v, stress, volume_ratio, cell, acceleration, velocity, &
+                                      strain_increment_of, mass_left, mass_right, momentum_left, momentum_right, &
+                                      stress_volume, constants, carry, mass_of, modulus_of, forces, gradient, force_left, &
+                                      force_right)
+      integer, parameter :: kernel = pass_map_stress
+      logical, parameter :: moves = pass_moves(kernel), stresses = pass_stresses(kernel), relocates = pass_relocates(kernel)
+      integer, parameter :: shares = pass_shares(kernel)
+      integer, intent(in) :: k
+      type(segments_t), intent(inout) :: seg
+      real(dp), intent(inout), contiguous :: x(:), v(:), stress(:), volume_ratio(:)
+      real(dp), intent(in), contiguous :: x0(:)
+      integer, intent(inout), contiguous :: cell(:)
+      real(dp), intent(in), contiguous :: acceleration(0:), velocity(0:)
+      real(dp), intent(in), contiguous :: strain_increment_of(:)  !< per element (grid%element_strain)
+      real(dp), intent(inout), contiguous :: mass_left(:), mass_right(:), momentum_left(:), momentum_right(:), stress_volume(:)
+      type(pass_constants_t), intent(in) :: constants
+      real(dp), intent(inout), contiguous :: carry(:)  !< particles in parts: what a pass keeps for the next (fused_box_t)
+      !> the variants' per-particle data (absent when the run has none): masses and Young's moduli
+      !> (`material`), external forces (`forced`), APIC's velocity gradients C_p, and the element shares of
+      !> the forces
+      real(dp), intent(in), contiguous, optional :: mass_of(:), modulus_of(:), forces(:)
+      real(dp), intent(inout), contiguous, optional :: gradient(:), force_left(:), force_right(:)
+      integer :: p, e, i, n, b0, first, last, lo, hi, outside, ahead, elements
+      real(dp) :: half_m, strain_factor, dstrain, inv_dx, dt, youngs_modulus, m, volume0
+      type(largest_move_t) :: largest
+      real(dp) :: displacement(lanes), kinetic(lanes), strain(lanes), min_j(lanes)
+      integer :: cb(block_size)
+      real(dp) :: svb(block_size), db(block_size), kb(block_size), sb(block_size), jb(block_size)
+      real(dp) :: mb(block_size, 2)  !< the moves of a block, and of the block with the largest (lanes_track_move)
+      integer :: slot
+      real(dp) :: lane_max(lanes), block_max
+      integer :: lane_i, lane_r
+      type(run_t) :: run
+      integer(i8) :: elements_bits
+      real(dp) :: xi, xib(block_size), vpb(block_size)
+      ! the variant's: G2P's grid velocity and move, the segment's body (cells offset), each particle's
+      ! shares (accumulate_shares)
+      real(dp) :: vgrid, dxp
+      real(dp) :: dx, cp, cq, w
+      real(dp) :: mp, sh(block_size, share_count)
+      dx = constants%dx
+      elements = constants%elements
+      inv_dx = constants%inv_dx
+      dt = constants%dt
+      youngs_modulus = constants%youngs_modulus
+      m = constants%mass
+      volume0 = constants%volume0
+      call open_segment(k, shares, seg, mass_left, mass_right, momentum_left, momentum_right, stress_volume, first, last, &
+                        lo, hi)
+      displacement = 0; kinetic = 0; strain = 0; min_j = huge(1.0_dp)
+      slot = 1
+      outside = 0
+      elements_bits = transfer(real(elements, dp), 0_i8)
+      half_m = 0.5_dp*m
+      strain_factor = 0.0_dp
+      if (stresses) strain_factor = 0.5_dp*volume0/youngs_modulus
+      do b0 = first, last, block_size
+         n = min(block_size, last - b0 + 1)
+         if (seg%prefetch) then  ! the arrays the pass reads, and the grid values of the next blocks
+            ahead = b0 + prefetch_ahead
+            if (kernel == pass_usl) call prefetch_block(ahead, cell, x, x0, v, stress, volume_ratio)
+            if (kernel == pass_usf_move .or. kernel == pass_musl_remap) call prefetch_block(ahead, cell, x, x0, v)
+            if (kernel == pass_usf_stress) call prefetch_block(ahead, cell, stress, volume_ratio)
+            if (kernel == pass_musl_stress) call prefetch_block(ahead, cell, x, v, stress, volume_ratio)
+            if (moves) then
+               call prefetch_nodes(cell(b0), cell(b0 + n - 1), acceleration, velocity)
+            else
+               call prefetch_elements(cell(b0), cell(b0 + n - 1), strain_increment_of)
+            end if
+         end if
+         do i = 1, n
+            p = b0 + i - 1
+            e = cell(p)
+            ! G2P with the start-of-step shape functions (APIC)
+            if (moves) then
+               xi = x(p)*inv_dx - (e - 1)
+               vgrid = (1.0_dp - xi)*velocity(e - 1) + xi*velocity(e)
+               v(p) = vgrid
+               cp = (velocity(e) - velocity(e - 1))*inv_dx  ! C_p = sum_I v_I dN_Ip (the hat's gradients)
+               gradient(p) = cp
+               dxp = dt*vgrid
+               x(p) = x(p) + dxp
+               db(i) = x(p) - x0(p)
+               kb(i) = half_m*v(p)*v(p)
+               mb(i, slot) = abs(dxp)*inv_dx
+            end if
+            if (stresses) then ! d eps = dt sum dN v_I over the start-of-step cell
+               if (moves) then
+                  dstrain = strain_increment(velocity(e - 1), velocity(e), dt, inv_dx)
+               else
+                  dstrain = strain_increment_of(e)
+               end if
+               call stress_particle(dstrain, youngs_modulus, strain_factor, volume0, stress(p), volume_ratio(p), sb(i), &
+                                    svb(i))
+               jb(i) = volume_ratio(p)
+            else if (iand(shares, share_stress) /= 0) then ! (an initial mapping: the stress as it is)
+               svb(i) = stress(p)*volume_ratio(p)*volume0
+            end if
+            if (relocates) then ! the new cell, for P2G at the new position
+               call locate_cell(x(p), inv_dx, elements, elements_bits, cb(i), xib(i))
+               cell(p) = cb(i)
+            else                ! the shares go to the start-of-step cell
+               cb(i) = e
+               if (moves) xib(i) = xi
+            end if
+            ! the particle's whole element shares (accumulate_shares sums them): mass, momentum (APIC's
+            ! with its affine part), stress*volume, external force, at the left and right node
+            mp = m
+            if (iand(shares, share_mass + share_momentum) /= 0) then
+               sh(i, 2) = mp*xib(i)
+               sh(i, 1) = mp - sh(i, 2)
+            end if
+            if (iand(shares, share_momentum) /= 0) then
+               ! node I gets N_I m_p (v_p + C_p (x_I - x_p)), x_I - x_p = -xi dx (left), (1 - xi) dx (right)
+               ! ([Jiang 2015]; C_p of this pass's G2P, or kept by the pass that made it)
+               if (moves) then
+                  cq = cp
+               else
+                  cq = gradient(p)
+               end if
+               w = v(p) - cq*xib(i)*dx
+               sh(i, 3) = sh(i, 1)*w
+               sh(i, 4) = sh(i, 2)*(w + cq*dx)
+            end if
+            if (iand(shares, share_stress) /= 0) sh(i, 5) = svb(i)
+         end do
+         ! the block's totals (macros of mpm_lanes.fypi, expanded here)
+         if (moves) then
+            do lane_i = 1, n - lanes + 1, lanes
+               displacement = displacement + db(lane_i:lane_i + lanes - 1)
+            end do
+            lane_r = mod(n, lanes)
+            if (lane_r > 0) displacement(1:lane_r) = displacement(1:lane_r) + db(n - lane_r + 1:n)
+            do lane_i = 1, n - lanes + 1, lanes
+               kinetic = kinetic + kb(lane_i:lane_i + lanes - 1)
+            end do
+            lane_r = mod(n, lanes)
+            if (lane_r > 0) kinetic(1:lane_r) = kinetic(1:lane_r) + kb(n - lane_r + 1:n)
+            lane_max = 0.0_dp
+            do lane_i = 1, n - lanes + 1, lanes
+               lane_max = max(lane_max, mb(lane_i:lane_i + lanes - 1, slot))
+            end do
+            lane_r = mod(n, lanes)
+            if (lane_r > 0) lane_max(1:lane_r) = max(lane_max(1:lane_r), mb(n - lane_r + 1:n, slot))
+            block_max = maxval(lane_max)
+            if (block_max > largest%value) then
+               largest%value = block_max
+               largest%first = b0
+               largest%count = n
+               largest%slot = slot
+               slot = 3 - slot
+            end if
+         end if
+         if (stresses) then
+            do lane_i = 1, n - lanes + 1, lanes
+               strain = strain + sb(lane_i:lane_i + lanes - 1)
+            end do
+            lane_r = mod(n, lanes)
+            if (lane_r > 0) strain(1:lane_r) = strain(1:lane_r) + sb(n - lane_r + 1:n)
+            do lane_i = 1, n - lanes + 1, lanes
+               min_j = min(min_j, jb(lane_i:lane_i + lanes - 1))
+            end do
+            lane_r = mod(n, lanes)
+            if (lane_r > 0) min_j(1:lane_r) = min(min_j(1:lane_r), jb(n - lane_r + 1:n))
+         end if
+         if (relocates) call find_outside(n, b0, cb, outside)
+         call accumulate_shares(k, n, cb, sh, lo, hi, shares, run, mass_left, mass_right, momentum_left, momentum_right, &
+                                stress_volume, seg, force_left, force_right)
+      end do
+      ! the open run's whole shares
+      if (run%cur /= 0) call flush_sums(k, run%cur, lo, hi, shares, run%s, mass_left, mass_right, momentum_left, &
+                                        momentum_right, stress_volume, seg, force_left, force_right)
+      run%a = 0.0_dp  ! (close_segment flushes the bar's sums: none here)
+      call close_segment(k, shares, m, run, [lane_total(displacement), lane_total(kinetic), lane_total(strain)], &
+                         minval(min_j), largest%value, furthest_particle(largest, mb), outside, mass_left, mass_right, &
+                         momentum_left, momentum_right, stress_volume, seg)
+   end subroutine apic_map_stress_segment
+
+   !> USF, second half: G2P, then mass and momentum at the new position (the hat, per-particle masses and moduli)
+   subroutine material_usf_move_segment(k, seg, x, x0, v, stress, volume_ratio, cell, acceleration, velocity, &
+                                        strain_increment_of, mass_left, mass_right, momentum_left, momentum_right, &
+                                        stress_volume, constants, carry, mass_of, modulus_of, forces, gradient, force_left, &
+                                        force_right)
+      integer, parameter :: kernel = pass_usf_move
+      logical, parameter :: moves = pass_moves(kernel), stresses = pass_stresses(kernel), relocates = pass_relocates(kernel)
+      integer, parameter :: shares = pass_shares(kernel)
+      integer, intent(in) :: k
+      type(segments_t), intent(inout) :: seg
+      real(dp), intent(inout), contiguous :: x(:), v(:), stress(:), volume_ratio(:)
+      real(dp), intent(in), contiguous :: x0(:)
+      integer, intent(inout), contiguous :: cell(:)
+      real(dp), intent(in), contiguous :: acceleration(0:), velocity(0:)
+      real(dp), intent(in), contiguous :: strain_increment_of(:)  !< per element (grid%element_strain)
+      real(dp), intent(inout), contiguous :: mass_left(:), mass_right(:), momentum_left(:), momentum_right(:), stress_volume(:)
+      type(pass_constants_t), intent(in) :: constants
+      real(dp), intent(inout), contiguous :: carry(:)  !< particles in parts: what a pass keeps for the next (fused_box_t)
+      !> the variants' per-particle data (absent when the run has none): masses and Young's moduli
+      !> (`material`), external forces (`forced`), APIC's velocity gradients C_p, and the element shares of
+      !> the forces
+      real(dp), intent(in), contiguous, optional :: mass_of(:), modulus_of(:), forces(:)
+      real(dp), intent(inout), contiguous, optional :: gradient(:), force_left(:), force_right(:)
+      integer :: p, e, i, n, b0, first, last, lo, hi, outside, ahead, elements
+      real(dp) :: half_m, strain_factor, dstrain, inv_dx, dt, youngs_modulus, m, volume0
+      type(largest_move_t) :: largest
+      real(dp) :: displacement(lanes), kinetic(lanes), strain(lanes), min_j(lanes)
+      integer :: cb(block_size)
+      real(dp) :: svb(block_size), db(block_size), kb(block_size), sb(block_size), jb(block_size)
+      real(dp) :: mb(block_size, 2)  !< the moves of a block, and of the block with the largest (lanes_track_move)
+      integer :: slot
+      real(dp) :: lane_max(lanes), block_max
+      integer :: lane_i, lane_r
+      type(run_t) :: run
+      integer(i8) :: elements_bits
+      real(dp) :: xi, xib(block_size), vpb(block_size)
+      ! the variant's: G2P's grid velocity and move, the segment's body (cells offset), each particle's
+      ! shares (accumulate_shares)
+      real(dp) :: vgrid, dxp
+      real(dp) :: mp, sh(block_size, share_count)
+      elements = constants%elements
+      inv_dx = constants%inv_dx
+      dt = constants%dt
+      youngs_modulus = constants%youngs_modulus
+      m = constants%mass
+      volume0 = constants%volume0
+      call open_segment(k, shares, seg, mass_left, mass_right, momentum_left, momentum_right, stress_volume, first, last, &
+                        lo, hi)
+      displacement = 0; kinetic = 0; strain = 0; min_j = huge(1.0_dp)
+      slot = 1
+      outside = 0
+      elements_bits = transfer(real(elements, dp), 0_i8)
+      half_m = 0.5_dp*m
+      strain_factor = 0.0_dp
+      if (stresses) strain_factor = 0.5_dp*volume0/youngs_modulus
+      do b0 = first, last, block_size
+         n = min(block_size, last - b0 + 1)
+         if (seg%prefetch) then  ! the arrays the pass reads, and the grid values of the next blocks
+            ahead = b0 + prefetch_ahead
+            if (kernel == pass_usl) call prefetch_block(ahead, cell, x, x0, v, stress, volume_ratio)
+            if (kernel == pass_usf_move .or. kernel == pass_musl_remap) call prefetch_block(ahead, cell, x, x0, v)
+            if (kernel == pass_usf_stress) call prefetch_block(ahead, cell, stress, volume_ratio)
+            if (kernel == pass_musl_stress) call prefetch_block(ahead, cell, x, v, stress, volume_ratio)
+            if (moves) then
+               call prefetch_nodes(cell(b0), cell(b0 + n - 1), acceleration, velocity)
+            else
+               call prefetch_elements(cell(b0), cell(b0 + n - 1), strain_increment_of)
+            end if
+         end if
+         do i = 1, n
+            p = b0 + i - 1
+            e = cell(p)
+            ! G2P with the start-of-step shape functions (per-particle masses and moduli)
+            if (moves) then
+               xi = x(p)*inv_dx - (e - 1)
+               vgrid = (1.0_dp - xi)*velocity(e - 1) + xi*velocity(e)
+               v(p) = v(p) + dt*((1.0_dp - xi)*acceleration(e - 1) + xi*acceleration(e))
+               dxp = dt*vgrid
+               x(p) = x(p) + dxp
+               db(i) = mass_of(p)*(x(p) - x0(p))
+               kb(i) = 0.5_dp*mass_of(p)*v(p)*v(p)
+               mb(i, slot) = abs(dxp)*inv_dx
+            end if
+            if (stresses) then ! d eps = dt sum dN v_I over the start-of-step cell
+               if (moves) then
+                  dstrain = strain_increment(velocity(e - 1), velocity(e), dt, inv_dx)
+               else
+                  dstrain = strain_increment_of(e)
+               end if
+               call stress_particle(dstrain, modulus_of(p), 0.5_dp*volume0/modulus_of(p), volume0, stress(p), &
+                                    volume_ratio(p), sb(i), svb(i))
+               jb(i) = volume_ratio(p)
+            else if (iand(shares, share_stress) /= 0) then ! (an initial mapping: the stress as it is)
+               svb(i) = stress(p)*volume_ratio(p)*volume0
+            end if
+            if (relocates) then ! the new cell, for P2G at the new position
+               call locate_cell(x(p), inv_dx, elements, elements_bits, cb(i), xib(i))
+               cell(p) = cb(i)
+            else                ! the shares go to the start-of-step cell
+               cb(i) = e
+               if (moves) xib(i) = xi
+            end if
+            ! the particle's whole element shares (accumulate_shares sums them): mass, momentum (APIC's
+            ! with its affine part), stress*volume, external force, at the left and right node
+            mp = mass_of(p)
+            if (iand(shares, share_mass + share_momentum) /= 0) then
+               sh(i, 2) = mp*xib(i)
+               sh(i, 1) = mp - sh(i, 2)
+            end if
+            if (iand(shares, share_momentum) /= 0) then
+               sh(i, 3) = sh(i, 1)*v(p)
+               sh(i, 4) = sh(i, 2)*v(p)
+            end if
+            if (iand(shares, share_stress) /= 0) sh(i, 5) = svb(i)
+         end do
+         ! the block's totals (macros of mpm_lanes.fypi, expanded here)
+         if (moves) then
+            do lane_i = 1, n - lanes + 1, lanes
+               displacement = displacement + db(lane_i:lane_i + lanes - 1)
+            end do
+            lane_r = mod(n, lanes)
+            if (lane_r > 0) displacement(1:lane_r) = displacement(1:lane_r) + db(n - lane_r + 1:n)
+            do lane_i = 1, n - lanes + 1, lanes
+               kinetic = kinetic + kb(lane_i:lane_i + lanes - 1)
+            end do
+            lane_r = mod(n, lanes)
+            if (lane_r > 0) kinetic(1:lane_r) = kinetic(1:lane_r) + kb(n - lane_r + 1:n)
+            lane_max = 0.0_dp
+            do lane_i = 1, n - lanes + 1, lanes
+               lane_max = max(lane_max, mb(lane_i:lane_i + lanes - 1, slot))
+            end do
+            lane_r = mod(n, lanes)
+            if (lane_r > 0) lane_max(1:lane_r) = max(lane_max(1:lane_r), mb(n - lane_r + 1:n, slot))
+            block_max = maxval(lane_max)
+            if (block_max > largest%value) then
+               largest%value = block_max
+               largest%first = b0
+               largest%count = n
+               largest%slot = slot
+               slot = 3 - slot
+            end if
+         end if
+         if (stresses) then
+            do lane_i = 1, n - lanes + 1, lanes
+               strain = strain + sb(lane_i:lane_i + lanes - 1)
+            end do
+            lane_r = mod(n, lanes)
+            if (lane_r > 0) strain(1:lane_r) = strain(1:lane_r) + sb(n - lane_r + 1:n)
+            do lane_i = 1, n - lanes + 1, lanes
+               min_j = min(min_j, jb(lane_i:lane_i + lanes - 1))
+            end do
+            lane_r = mod(n, lanes)
+            if (lane_r > 0) min_j(1:lane_r) = min(min_j(1:lane_r), jb(n - lane_r + 1:n))
+         end if
+         if (relocates) call find_outside(n, b0, cb, outside)
+         call accumulate_shares(k, n, cb, sh, lo, hi, shares, run, mass_left, mass_right, momentum_left, momentum_right, &
+                                stress_volume, seg, force_left, force_right)
+      end do
+      ! the open run's whole shares
+      if (run%cur /= 0) call flush_sums(k, run%cur, lo, hi, shares, run%s, mass_left, mass_right, momentum_left, &
+                                        momentum_right, stress_volume, seg, force_left, force_right)
+      run%a = 0.0_dp  ! (close_segment flushes the bar's sums: none here)
+      call close_segment(k, shares, m, run, [lane_total(displacement), lane_total(kinetic), lane_total(strain)], &
+                         minval(min_j), largest%value, furthest_particle(largest, mb), outside, mass_left, mass_right, &
+                         momentum_left, momentum_right, stress_volume, seg)
+   end subroutine material_usf_move_segment
+
+   !> USF, first half: stress update, then stress*volume of the unmoved particles (the hat, per-particle masses and moduli)
+   subroutine material_usf_stress_segment(k, seg, x, x0, v, stress, volume_ratio, cell, acceleration, velocity, &
+                                          strain_increment_of, mass_left, mass_right, momentum_left, momentum_right, &
+                                          stress_volume, constants, carry, mass_of, modulus_of, forces, gradient, force_left, &
+                                          force_right)
+      integer, parameter :: kernel = pass_usf_stress
+      logical, parameter :: moves = pass_moves(kernel), stresses = pass_stresses(kernel), relocates = pass_relocates(kernel)
+      integer, parameter :: shares = pass_shares(kernel)
+      integer, intent(in) :: k
+      type(segments_t), intent(inout) :: seg
+      real(dp), intent(inout), contiguous :: x(:), v(:), stress(:), volume_ratio(:)
+      real(dp), intent(in), contiguous :: x0(:)
+      integer, intent(inout), contiguous :: cell(:)
+      real(dp), intent(in), contiguous :: acceleration(0:), velocity(0:)
+      real(dp), intent(in), contiguous :: strain_increment_of(:)  !< per element (grid%element_strain)
+      real(dp), intent(inout), contiguous :: mass_left(:), mass_right(:), momentum_left(:), momentum_right(:), stress_volume(:)
+      type(pass_constants_t), intent(in) :: constants
+      real(dp), intent(inout), contiguous :: carry(:)  !< particles in parts: what a pass keeps for the next (fused_box_t)
+      !> the variants' per-particle data (absent when the run has none): masses and Young's moduli
+      !> (`material`), external forces (`forced`), APIC's velocity gradients C_p, and the element shares of
+      !> the forces
+      real(dp), intent(in), contiguous, optional :: mass_of(:), modulus_of(:), forces(:)
+      real(dp), intent(inout), contiguous, optional :: gradient(:), force_left(:), force_right(:)
+      integer :: p, e, i, n, b0, first, last, lo, hi, outside, ahead, elements
+      real(dp) :: half_m, strain_factor, dstrain, inv_dx, dt, youngs_modulus, m, volume0
+      type(largest_move_t) :: largest
+      real(dp) :: displacement(lanes), kinetic(lanes), strain(lanes), min_j(lanes)
+      integer :: cb(block_size)
+      real(dp) :: svb(block_size), db(block_size), kb(block_size), sb(block_size), jb(block_size)
+      real(dp) :: mb(block_size, 2)  !< the moves of a block, and of the block with the largest (lanes_track_move)
+      integer :: slot
+      real(dp) :: lane_max(lanes), block_max
+      integer :: lane_i, lane_r
+      type(run_t) :: run
+      integer(i8) :: elements_bits
+      real(dp) :: xi, xib(block_size), vpb(block_size)
+      ! the variant's: G2P's grid velocity and move, the segment's body (cells offset), each particle's
+      ! shares (accumulate_shares)
+      real(dp) :: vgrid, dxp
+      real(dp) :: mp, sh(block_size, share_count)
+      elements = constants%elements
+      inv_dx = constants%inv_dx
+      dt = constants%dt
+      youngs_modulus = constants%youngs_modulus
+      m = constants%mass
+      volume0 = constants%volume0
+      call open_segment(k, shares, seg, mass_left, mass_right, momentum_left, momentum_right, stress_volume, first, last, &
+                        lo, hi)
+      displacement = 0; kinetic = 0; strain = 0; min_j = huge(1.0_dp)
+      slot = 1
+      outside = 0
+      elements_bits = transfer(real(elements, dp), 0_i8)
+      half_m = 0.5_dp*m
+      strain_factor = 0.0_dp
+      if (stresses) strain_factor = 0.5_dp*volume0/youngs_modulus
+      do b0 = first, last, block_size
+         n = min(block_size, last - b0 + 1)
+         if (seg%prefetch) then  ! the arrays the pass reads, and the grid values of the next blocks
+            ahead = b0 + prefetch_ahead
+            if (kernel == pass_usl) call prefetch_block(ahead, cell, x, x0, v, stress, volume_ratio)
+            if (kernel == pass_usf_move .or. kernel == pass_musl_remap) call prefetch_block(ahead, cell, x, x0, v)
+            if (kernel == pass_usf_stress) call prefetch_block(ahead, cell, stress, volume_ratio)
+            if (kernel == pass_musl_stress) call prefetch_block(ahead, cell, x, v, stress, volume_ratio)
+            if (moves) then
+               call prefetch_nodes(cell(b0), cell(b0 + n - 1), acceleration, velocity)
+            else
+               call prefetch_elements(cell(b0), cell(b0 + n - 1), strain_increment_of)
+            end if
+         end if
+         do i = 1, n
+            p = b0 + i - 1
+            e = cell(p)
+            ! G2P with the start-of-step shape functions (per-particle masses and moduli)
+            if (moves) then
+               xi = x(p)*inv_dx - (e - 1)
+               vgrid = (1.0_dp - xi)*velocity(e - 1) + xi*velocity(e)
+               v(p) = v(p) + dt*((1.0_dp - xi)*acceleration(e - 1) + xi*acceleration(e))
+               dxp = dt*vgrid
+               x(p) = x(p) + dxp
+               db(i) = mass_of(p)*(x(p) - x0(p))
+               kb(i) = 0.5_dp*mass_of(p)*v(p)*v(p)
+               mb(i, slot) = abs(dxp)*inv_dx
+            end if
+            if (stresses) then ! d eps = dt sum dN v_I over the start-of-step cell
+               if (moves) then
+                  dstrain = strain_increment(velocity(e - 1), velocity(e), dt, inv_dx)
+               else
+                  dstrain = strain_increment_of(e)
+               end if
+               call stress_particle(dstrain, modulus_of(p), 0.5_dp*volume0/modulus_of(p), volume0, stress(p), &
+                                    volume_ratio(p), sb(i), svb(i))
+               jb(i) = volume_ratio(p)
+            else if (iand(shares, share_stress) /= 0) then ! (an initial mapping: the stress as it is)
+               svb(i) = stress(p)*volume_ratio(p)*volume0
+            end if
+            if (relocates) then ! the new cell, for P2G at the new position
+               call locate_cell(x(p), inv_dx, elements, elements_bits, cb(i), xib(i))
+               cell(p) = cb(i)
+            else                ! the shares go to the start-of-step cell
+               cb(i) = e
+               if (moves) xib(i) = xi
+            end if
+            ! the particle's whole element shares (accumulate_shares sums them): mass, momentum (APIC's
+            ! with its affine part), stress*volume, external force, at the left and right node
+            mp = mass_of(p)
+            if (iand(shares, share_mass + share_momentum) /= 0) then
+               sh(i, 2) = mp*xib(i)
+               sh(i, 1) = mp - sh(i, 2)
+            end if
+            if (iand(shares, share_momentum) /= 0) then
+               sh(i, 3) = sh(i, 1)*v(p)
+               sh(i, 4) = sh(i, 2)*v(p)
+            end if
+            if (iand(shares, share_stress) /= 0) sh(i, 5) = svb(i)
+         end do
+         ! the block's totals (macros of mpm_lanes.fypi, expanded here)
+         if (moves) then
+            do lane_i = 1, n - lanes + 1, lanes
+               displacement = displacement + db(lane_i:lane_i + lanes - 1)
+            end do
+            lane_r = mod(n, lanes)
+            if (lane_r > 0) displacement(1:lane_r) = displacement(1:lane_r) + db(n - lane_r + 1:n)
+            do lane_i = 1, n - lanes + 1, lanes
+               kinetic = kinetic + kb(lane_i:lane_i + lanes - 1)
+            end do
+            lane_r = mod(n, lanes)
+            if (lane_r > 0) kinetic(1:lane_r) = kinetic(1:lane_r) + kb(n - lane_r + 1:n)
+            lane_max = 0.0_dp
+            do lane_i = 1, n - lanes + 1, lanes
+               lane_max = max(lane_max, mb(lane_i:lane_i + lanes - 1, slot))
+            end do
+            lane_r = mod(n, lanes)
+            if (lane_r > 0) lane_max(1:lane_r) = max(lane_max(1:lane_r), mb(n - lane_r + 1:n, slot))
+            block_max = maxval(lane_max)
+            if (block_max > largest%value) then
+               largest%value = block_max
+               largest%first = b0
+               largest%count = n
+               largest%slot = slot
+               slot = 3 - slot
+            end if
+         end if
+         if (stresses) then
+            do lane_i = 1, n - lanes + 1, lanes
+               strain = strain + sb(lane_i:lane_i + lanes - 1)
+            end do
+            lane_r = mod(n, lanes)
+            if (lane_r > 0) strain(1:lane_r) = strain(1:lane_r) + sb(n - lane_r + 1:n)
+            do lane_i = 1, n - lanes + 1, lanes
+               min_j = min(min_j, jb(lane_i:lane_i + lanes - 1))
+            end do
+            lane_r = mod(n, lanes)
+            if (lane_r > 0) min_j(1:lane_r) = min(min_j(1:lane_r), jb(n - lane_r + 1:n))
+         end if
+         if (relocates) call find_outside(n, b0, cb, outside)
+         call accumulate_shares(k, n, cb, sh, lo, hi, shares, run, mass_left, mass_right, momentum_left, momentum_right, &
+                                stress_volume, seg, force_left, force_right)
+      end do
+      ! the open run's whole shares
+      if (run%cur /= 0) call flush_sums(k, run%cur, lo, hi, shares, run%s, mass_left, mass_right, momentum_left, &
+                                        momentum_right, stress_volume, seg, force_left, force_right)
+      run%a = 0.0_dp  ! (close_segment flushes the bar's sums: none here)
+      call close_segment(k, shares, m, run, [lane_total(displacement), lane_total(kinetic), lane_total(strain)], &
+                         minval(min_j), largest%value, furthest_particle(largest, mb), outside, mass_left, mass_right, &
+                         momentum_left, momentum_right, stress_volume, seg)
+   end subroutine material_usf_stress_segment
+
+   !> USL: G2P, stress update from the updated nodal velocities, P2G at the new position (the hat, per-particle masses and moduli)
+   subroutine material_usl_segment(k, seg, x, x0, v, stress, volume_ratio, cell, acceleration, velocity, &
+                                   strain_increment_of, mass_left, mass_right, momentum_left, momentum_right, &
+                                   stress_volume, constants, carry, mass_of, modulus_of, forces, gradient, force_left, &
+                                   force_right)
+      integer, parameter :: kernel = pass_usl
+      logical, parameter :: moves = pass_moves(kernel), stresses = pass_stresses(kernel), relocates = pass_relocates(kernel)
+      integer, parameter :: shares = pass_shares(kernel)
+      integer, intent(in) :: k
+      type(segments_t), intent(inout) :: seg
+      real(dp), intent(inout), contiguous :: x(:), v(:), stress(:), volume_ratio(:)
+      real(dp), intent(in), contiguous :: x0(:)
+      integer, intent(inout), contiguous :: cell(:)
+      real(dp), intent(in), contiguous :: acceleration(0:), velocity(0:)
+      real(dp), intent(in), contiguous :: strain_increment_of(:)  !< per element (grid%element_strain)
+      real(dp), intent(inout), contiguous :: mass_left(:), mass_right(:), momentum_left(:), momentum_right(:), stress_volume(:)
+      type(pass_constants_t), intent(in) :: constants
+      real(dp), intent(inout), contiguous :: carry(:)  !< particles in parts: what a pass keeps for the next (fused_box_t)
+      !> the variants' per-particle data (absent when the run has none): masses and Young's moduli
+      !> (`material`), external forces (`forced`), APIC's velocity gradients C_p, and the element shares of
+      !> the forces
+      real(dp), intent(in), contiguous, optional :: mass_of(:), modulus_of(:), forces(:)
+      real(dp), intent(inout), contiguous, optional :: gradient(:), force_left(:), force_right(:)
+      integer :: p, e, i, n, b0, first, last, lo, hi, outside, ahead, elements
+      real(dp) :: half_m, strain_factor, dstrain, inv_dx, dt, youngs_modulus, m, volume0
+      type(largest_move_t) :: largest
+      real(dp) :: displacement(lanes), kinetic(lanes), strain(lanes), min_j(lanes)
+      integer :: cb(block_size)
+      real(dp) :: svb(block_size), db(block_size), kb(block_size), sb(block_size), jb(block_size)
+      real(dp) :: mb(block_size, 2)  !< the moves of a block, and of the block with the largest (lanes_track_move)
+      integer :: slot
+      real(dp) :: lane_max(lanes), block_max
+      integer :: lane_i, lane_r
+      type(run_t) :: run
+      integer(i8) :: elements_bits
+      real(dp) :: xi, xib(block_size), vpb(block_size)
+      ! the variant's: G2P's grid velocity and move, the segment's body (cells offset), each particle's
+      ! shares (accumulate_shares)
+      real(dp) :: vgrid, dxp
+      real(dp) :: mp, sh(block_size, share_count)
+      elements = constants%elements
+      inv_dx = constants%inv_dx
+      dt = constants%dt
+      youngs_modulus = constants%youngs_modulus
+      m = constants%mass
+      volume0 = constants%volume0
+      call open_segment(k, shares, seg, mass_left, mass_right, momentum_left, momentum_right, stress_volume, first, last, &
+                        lo, hi)
+      displacement = 0; kinetic = 0; strain = 0; min_j = huge(1.0_dp)
+      slot = 1
+      outside = 0
+      elements_bits = transfer(real(elements, dp), 0_i8)
+      half_m = 0.5_dp*m
+      strain_factor = 0.0_dp
+      if (stresses) strain_factor = 0.5_dp*volume0/youngs_modulus
+      do b0 = first, last, block_size
+         n = min(block_size, last - b0 + 1)
+         if (seg%prefetch) then  ! the arrays the pass reads, and the grid values of the next blocks
+            ahead = b0 + prefetch_ahead
+            if (kernel == pass_usl) call prefetch_block(ahead, cell, x, x0, v, stress, volume_ratio)
+            if (kernel == pass_usf_move .or. kernel == pass_musl_remap) call prefetch_block(ahead, cell, x, x0, v)
+            if (kernel == pass_usf_stress) call prefetch_block(ahead, cell, stress, volume_ratio)
+            if (kernel == pass_musl_stress) call prefetch_block(ahead, cell, x, v, stress, volume_ratio)
+            if (moves) then
+               call prefetch_nodes(cell(b0), cell(b0 + n - 1), acceleration, velocity)
+            else
+               call prefetch_elements(cell(b0), cell(b0 + n - 1), strain_increment_of)
+            end if
+         end if
+         do i = 1, n
+            p = b0 + i - 1
+            e = cell(p)
+            ! G2P with the start-of-step shape functions (per-particle masses and moduli)
+            if (moves) then
+               xi = x(p)*inv_dx - (e - 1)
+               vgrid = (1.0_dp - xi)*velocity(e - 1) + xi*velocity(e)
+               v(p) = v(p) + dt*((1.0_dp - xi)*acceleration(e - 1) + xi*acceleration(e))
+               dxp = dt*vgrid
+               x(p) = x(p) + dxp
+               db(i) = mass_of(p)*(x(p) - x0(p))
+               kb(i) = 0.5_dp*mass_of(p)*v(p)*v(p)
+               mb(i, slot) = abs(dxp)*inv_dx
+            end if
+            if (stresses) then ! d eps = dt sum dN v_I over the start-of-step cell
+               if (moves) then
+                  dstrain = strain_increment(velocity(e - 1), velocity(e), dt, inv_dx)
+               else
+                  dstrain = strain_increment_of(e)
+               end if
+               call stress_particle(dstrain, modulus_of(p), 0.5_dp*volume0/modulus_of(p), volume0, stress(p), &
+                                    volume_ratio(p), sb(i), svb(i))
+               jb(i) = volume_ratio(p)
+            else if (iand(shares, share_stress) /= 0) then ! (an initial mapping: the stress as it is)
+               svb(i) = stress(p)*volume_ratio(p)*volume0
+            end if
+            if (relocates) then ! the new cell, for P2G at the new position
+               call locate_cell(x(p), inv_dx, elements, elements_bits, cb(i), xib(i))
+               cell(p) = cb(i)
+            else                ! the shares go to the start-of-step cell
+               cb(i) = e
+               if (moves) xib(i) = xi
+            end if
+            ! the particle's whole element shares (accumulate_shares sums them): mass, momentum (APIC's
+            ! with its affine part), stress*volume, external force, at the left and right node
+            mp = mass_of(p)
+            if (iand(shares, share_mass + share_momentum) /= 0) then
+               sh(i, 2) = mp*xib(i)
+               sh(i, 1) = mp - sh(i, 2)
+            end if
+            if (iand(shares, share_momentum) /= 0) then
+               sh(i, 3) = sh(i, 1)*v(p)
+               sh(i, 4) = sh(i, 2)*v(p)
+            end if
+            if (iand(shares, share_stress) /= 0) sh(i, 5) = svb(i)
+         end do
+         ! the block's totals (macros of mpm_lanes.fypi, expanded here)
+         if (moves) then
+            do lane_i = 1, n - lanes + 1, lanes
+               displacement = displacement + db(lane_i:lane_i + lanes - 1)
+            end do
+            lane_r = mod(n, lanes)
+            if (lane_r > 0) displacement(1:lane_r) = displacement(1:lane_r) + db(n - lane_r + 1:n)
+            do lane_i = 1, n - lanes + 1, lanes
+               kinetic = kinetic + kb(lane_i:lane_i + lanes - 1)
+            end do
+            lane_r = mod(n, lanes)
+            if (lane_r > 0) kinetic(1:lane_r) = kinetic(1:lane_r) + kb(n - lane_r + 1:n)
+            lane_max = 0.0_dp
+            do lane_i = 1, n - lanes + 1, lanes
+               lane_max = max(lane_max, mb(lane_i:lane_i + lanes - 1, slot))
+            end do
+            lane_r = mod(n, lanes)
+            if (lane_r > 0) lane_max(1:lane_r) = max(lane_max(1:lane_r), mb(n - lane_r + 1:n, slot))
+            block_max = maxval(lane_max)
+            if (block_max > largest%value) then
+               largest%value = block_max
+               largest%first = b0
+               largest%count = n
+               largest%slot = slot
+               slot = 3 - slot
+            end if
+         end if
+         if (stresses) then
+            do lane_i = 1, n - lanes + 1, lanes
+               strain = strain + sb(lane_i:lane_i + lanes - 1)
+            end do
+            lane_r = mod(n, lanes)
+            if (lane_r > 0) strain(1:lane_r) = strain(1:lane_r) + sb(n - lane_r + 1:n)
+            do lane_i = 1, n - lanes + 1, lanes
+               min_j = min(min_j, jb(lane_i:lane_i + lanes - 1))
+            end do
+            lane_r = mod(n, lanes)
+            if (lane_r > 0) min_j(1:lane_r) = min(min_j(1:lane_r), jb(n - lane_r + 1:n))
+         end if
+         if (relocates) call find_outside(n, b0, cb, outside)
+         call accumulate_shares(k, n, cb, sh, lo, hi, shares, run, mass_left, mass_right, momentum_left, momentum_right, &
+                                stress_volume, seg, force_left, force_right)
+      end do
+      ! the open run's whole shares
+      if (run%cur /= 0) call flush_sums(k, run%cur, lo, hi, shares, run%s, mass_left, mass_right, momentum_left, &
+                                        momentum_right, stress_volume, seg, force_left, force_right)
+      run%a = 0.0_dp  ! (close_segment flushes the bar's sums: none here)
+      call close_segment(k, shares, m, run, [lane_total(displacement), lane_total(kinetic), lane_total(strain)], &
+                         minval(min_j), largest%value, furthest_particle(largest, mb), outside, mass_left, mass_right, &
+                         momentum_left, momentum_right, stress_volume, seg)
+   end subroutine material_usl_segment
+
+   !> MUSL, first pass: G2P, and the new momentum back to the start-of-step nodes (the hat, per-particle masses and moduli)
+   subroutine material_musl_remap_segment(k, seg, x, x0, v, stress, volume_ratio, cell, acceleration, velocity, &
+                                          strain_increment_of, mass_left, mass_right, momentum_left, momentum_right, &
+                                          stress_volume, constants, carry, mass_of, modulus_of, forces, gradient, force_left, &
+                                          force_right)
+      integer, parameter :: kernel = pass_musl_remap
+      logical, parameter :: moves = pass_moves(kernel), stresses = pass_stresses(kernel), relocates = pass_relocates(kernel)
+      integer, parameter :: shares = pass_shares(kernel)
+      integer, intent(in) :: k
+      type(segments_t), intent(inout) :: seg
+      real(dp), intent(inout), contiguous :: x(:), v(:), stress(:), volume_ratio(:)
+      real(dp), intent(in), contiguous :: x0(:)
+      integer, intent(inout), contiguous :: cell(:)
+      real(dp), intent(in), contiguous :: acceleration(0:), velocity(0:)
+      real(dp), intent(in), contiguous :: strain_increment_of(:)  !< per element (grid%element_strain)
+      real(dp), intent(inout), contiguous :: mass_left(:), mass_right(:), momentum_left(:), momentum_right(:), stress_volume(:)
+      type(pass_constants_t), intent(in) :: constants
+      real(dp), intent(inout), contiguous :: carry(:)  !< particles in parts: what a pass keeps for the next (fused_box_t)
+      !> the variants' per-particle data (absent when the run has none): masses and Young's moduli
+      !> (`material`), external forces (`forced`), APIC's velocity gradients C_p, and the element shares of
+      !> the forces
+      real(dp), intent(in), contiguous, optional :: mass_of(:), modulus_of(:), forces(:)
+      real(dp), intent(inout), contiguous, optional :: gradient(:), force_left(:), force_right(:)
+      integer :: p, e, i, n, b0, first, last, lo, hi, outside, ahead, elements
+      real(dp) :: half_m, strain_factor, dstrain, inv_dx, dt, youngs_modulus, m, volume0
+      type(largest_move_t) :: largest
+      real(dp) :: displacement(lanes), kinetic(lanes), strain(lanes), min_j(lanes)
+      integer :: cb(block_size)
+      real(dp) :: svb(block_size), db(block_size), kb(block_size), sb(block_size), jb(block_size)
+      real(dp) :: mb(block_size, 2)  !< the moves of a block, and of the block with the largest (lanes_track_move)
+      integer :: slot
+      real(dp) :: lane_max(lanes), block_max
+      integer :: lane_i, lane_r
+      type(run_t) :: run
+      integer(i8) :: elements_bits
+      real(dp) :: xi, xib(block_size), vpb(block_size)
+      ! the variant's: G2P's grid velocity and move, the segment's body (cells offset), each particle's
+      ! shares (accumulate_shares)
+      real(dp) :: vgrid, dxp
+      real(dp) :: mp, sh(block_size, share_count)
+      elements = constants%elements
+      inv_dx = constants%inv_dx
+      dt = constants%dt
+      youngs_modulus = constants%youngs_modulus
+      m = constants%mass
+      volume0 = constants%volume0
+      call open_segment(k, shares, seg, mass_left, mass_right, momentum_left, momentum_right, stress_volume, first, last, &
+                        lo, hi)
+      displacement = 0; kinetic = 0; strain = 0; min_j = huge(1.0_dp)
+      slot = 1
+      outside = 0
+      elements_bits = transfer(real(elements, dp), 0_i8)
+      half_m = 0.5_dp*m
+      strain_factor = 0.0_dp
+      if (stresses) strain_factor = 0.5_dp*volume0/youngs_modulus
+      do b0 = first, last, block_size
+         n = min(block_size, last - b0 + 1)
+         if (seg%prefetch) then  ! the arrays the pass reads, and the grid values of the next blocks
+            ahead = b0 + prefetch_ahead
+            if (kernel == pass_usl) call prefetch_block(ahead, cell, x, x0, v, stress, volume_ratio)
+            if (kernel == pass_usf_move .or. kernel == pass_musl_remap) call prefetch_block(ahead, cell, x, x0, v)
+            if (kernel == pass_usf_stress) call prefetch_block(ahead, cell, stress, volume_ratio)
+            if (kernel == pass_musl_stress) call prefetch_block(ahead, cell, x, v, stress, volume_ratio)
+            if (moves) then
+               call prefetch_nodes(cell(b0), cell(b0 + n - 1), acceleration, velocity)
+            else
+               call prefetch_elements(cell(b0), cell(b0 + n - 1), strain_increment_of)
+            end if
+         end if
+         do i = 1, n
+            p = b0 + i - 1
+            e = cell(p)
+            ! G2P with the start-of-step shape functions (per-particle masses and moduli)
+            if (moves) then
+               xi = x(p)*inv_dx - (e - 1)
+               vgrid = (1.0_dp - xi)*velocity(e - 1) + xi*velocity(e)
+               v(p) = v(p) + dt*((1.0_dp - xi)*acceleration(e - 1) + xi*acceleration(e))
+               dxp = dt*vgrid
+               x(p) = x(p) + dxp
+               db(i) = mass_of(p)*(x(p) - x0(p))
+               kb(i) = 0.5_dp*mass_of(p)*v(p)*v(p)
+               mb(i, slot) = abs(dxp)*inv_dx
+            end if
+            if (stresses) then ! d eps = dt sum dN v_I over the start-of-step cell
+               if (moves) then
+                  dstrain = strain_increment(velocity(e - 1), velocity(e), dt, inv_dx)
+               else
+                  dstrain = strain_increment_of(e)
+               end if
+               call stress_particle(dstrain, modulus_of(p), 0.5_dp*volume0/modulus_of(p), volume0, stress(p), &
+                                    volume_ratio(p), sb(i), svb(i))
+               jb(i) = volume_ratio(p)
+            else if (iand(shares, share_stress) /= 0) then ! (an initial mapping: the stress as it is)
+               svb(i) = stress(p)*volume_ratio(p)*volume0
+            end if
+            if (relocates) then ! the new cell, for P2G at the new position
+               call locate_cell(x(p), inv_dx, elements, elements_bits, cb(i), xib(i))
+               cell(p) = cb(i)
+            else                ! the shares go to the start-of-step cell
+               cb(i) = e
+               if (moves) xib(i) = xi
+            end if
+            ! the particle's whole element shares (accumulate_shares sums them): mass, momentum (APIC's
+            ! with its affine part), stress*volume, external force, at the left and right node
+            mp = mass_of(p)
+            if (iand(shares, share_mass + share_momentum) /= 0) then
+               sh(i, 2) = mp*xib(i)
+               sh(i, 1) = mp - sh(i, 2)
+            end if
+            if (iand(shares, share_momentum) /= 0) then
+               sh(i, 3) = sh(i, 1)*v(p)
+               sh(i, 4) = sh(i, 2)*v(p)
+            end if
+            if (iand(shares, share_stress) /= 0) sh(i, 5) = svb(i)
+         end do
+         ! the block's totals (macros of mpm_lanes.fypi, expanded here)
+         if (moves) then
+            do lane_i = 1, n - lanes + 1, lanes
+               displacement = displacement + db(lane_i:lane_i + lanes - 1)
+            end do
+            lane_r = mod(n, lanes)
+            if (lane_r > 0) displacement(1:lane_r) = displacement(1:lane_r) + db(n - lane_r + 1:n)
+            do lane_i = 1, n - lanes + 1, lanes
+               kinetic = kinetic + kb(lane_i:lane_i + lanes - 1)
+            end do
+            lane_r = mod(n, lanes)
+            if (lane_r > 0) kinetic(1:lane_r) = kinetic(1:lane_r) + kb(n - lane_r + 1:n)
+            lane_max = 0.0_dp
+            do lane_i = 1, n - lanes + 1, lanes
+               lane_max = max(lane_max, mb(lane_i:lane_i + lanes - 1, slot))
+            end do
+            lane_r = mod(n, lanes)
+            if (lane_r > 0) lane_max(1:lane_r) = max(lane_max(1:lane_r), mb(n - lane_r + 1:n, slot))
+            block_max = maxval(lane_max)
+            if (block_max > largest%value) then
+               largest%value = block_max
+               largest%first = b0
+               largest%count = n
+               largest%slot = slot
+               slot = 3 - slot
+            end if
+         end if
+         if (stresses) then
+            do lane_i = 1, n - lanes + 1, lanes
+               strain = strain + sb(lane_i:lane_i + lanes - 1)
+            end do
+            lane_r = mod(n, lanes)
+            if (lane_r > 0) strain(1:lane_r) = strain(1:lane_r) + sb(n - lane_r + 1:n)
+            do lane_i = 1, n - lanes + 1, lanes
+               min_j = min(min_j, jb(lane_i:lane_i + lanes - 1))
+            end do
+            lane_r = mod(n, lanes)
+            if (lane_r > 0) min_j(1:lane_r) = min(min_j(1:lane_r), jb(n - lane_r + 1:n))
+         end if
+         if (relocates) call find_outside(n, b0, cb, outside)
+         call accumulate_shares(k, n, cb, sh, lo, hi, shares, run, mass_left, mass_right, momentum_left, momentum_right, &
+                                stress_volume, seg, force_left, force_right)
+      end do
+      ! the open run's whole shares
+      if (run%cur /= 0) call flush_sums(k, run%cur, lo, hi, shares, run%s, mass_left, mass_right, momentum_left, &
+                                        momentum_right, stress_volume, seg, force_left, force_right)
+      run%a = 0.0_dp  ! (close_segment flushes the bar's sums: none here)
+      call close_segment(k, shares, m, run, [lane_total(displacement), lane_total(kinetic), lane_total(strain)], &
+                         minval(min_j), largest%value, furthest_particle(largest, mb), outside, mass_left, mass_right, &
+                         momentum_left, momentum_right, stress_volume, seg)
+   end subroutine material_musl_remap_segment
+
+   !> MUSL, second pass: stress update from the remapped velocities, P2G at the new position (the hat, per-particle masses and moduli)
+   subroutine material_musl_stress_segment(k, seg, x, x0, v, stress, volume_ratio, cell, acceleration, velocity, &
+                                           strain_increment_of, mass_left, mass_right, momentum_left, momentum_right, &
+                                           stress_volume, constants, carry, mass_of, modulus_of, forces, gradient, force_left, &
+                                           force_right)
+      integer, parameter :: kernel = pass_musl_stress
+      logical, parameter :: moves = pass_moves(kernel), stresses = pass_stresses(kernel), relocates = pass_relocates(kernel)
+      integer, parameter :: shares = pass_shares(kernel)
+      integer, intent(in) :: k
+      type(segments_t), intent(inout) :: seg
+      real(dp), intent(inout), contiguous :: x(:), v(:), stress(:), volume_ratio(:)
+      real(dp), intent(in), contiguous :: x0(:)
+      integer, intent(inout), contiguous :: cell(:)
+      real(dp), intent(in), contiguous :: acceleration(0:), velocity(0:)
+      real(dp), intent(in), contiguous :: strain_increment_of(:)  !< per element (grid%element_strain)
+      real(dp), intent(inout), contiguous :: mass_left(:), mass_right(:), momentum_left(:), momentum_right(:), stress_volume(:)
+      type(pass_constants_t), intent(in) :: constants
+      real(dp), intent(inout), contiguous :: carry(:)  !< particles in parts: what a pass keeps for the next (fused_box_t)
+      !> the variants' per-particle data (absent when the run has none): masses and Young's moduli
+      !> (`material`), external forces (`forced`), APIC's velocity gradients C_p, and the element shares of
+      !> the forces
+      real(dp), intent(in), contiguous, optional :: mass_of(:), modulus_of(:), forces(:)
+      real(dp), intent(inout), contiguous, optional :: gradient(:), force_left(:), force_right(:)
+      integer :: p, e, i, n, b0, first, last, lo, hi, outside, ahead, elements
+      real(dp) :: half_m, strain_factor, dstrain, inv_dx, dt, youngs_modulus, m, volume0
+      type(largest_move_t) :: largest
+      real(dp) :: displacement(lanes), kinetic(lanes), strain(lanes), min_j(lanes)
+      integer :: cb(block_size)
+      real(dp) :: svb(block_size), db(block_size), kb(block_size), sb(block_size), jb(block_size)
+      real(dp) :: mb(block_size, 2)  !< the moves of a block, and of the block with the largest (lanes_track_move)
+      integer :: slot
+      real(dp) :: lane_max(lanes), block_max
+      integer :: lane_i, lane_r
+      type(run_t) :: run
+      integer(i8) :: elements_bits
+      real(dp) :: xi, xib(block_size), vpb(block_size)
+      ! the variant's: G2P's grid velocity and move, the segment's body (cells offset), each particle's
+      ! shares (accumulate_shares)
+      real(dp) :: vgrid, dxp
+      real(dp) :: mp, sh(block_size, share_count)
+      elements = constants%elements
+      inv_dx = constants%inv_dx
+      dt = constants%dt
+      youngs_modulus = constants%youngs_modulus
+      m = constants%mass
+      volume0 = constants%volume0
+      call open_segment(k, shares, seg, mass_left, mass_right, momentum_left, momentum_right, stress_volume, first, last, &
+                        lo, hi)
+      displacement = 0; kinetic = 0; strain = 0; min_j = huge(1.0_dp)
+      slot = 1
+      outside = 0
+      elements_bits = transfer(real(elements, dp), 0_i8)
+      half_m = 0.5_dp*m
+      strain_factor = 0.0_dp
+      if (stresses) strain_factor = 0.5_dp*volume0/youngs_modulus
+      do b0 = first, last, block_size
+         n = min(block_size, last - b0 + 1)
+         if (seg%prefetch) then  ! the arrays the pass reads, and the grid values of the next blocks
+            ahead = b0 + prefetch_ahead
+            if (kernel == pass_usl) call prefetch_block(ahead, cell, x, x0, v, stress, volume_ratio)
+            if (kernel == pass_usf_move .or. kernel == pass_musl_remap) call prefetch_block(ahead, cell, x, x0, v)
+            if (kernel == pass_usf_stress) call prefetch_block(ahead, cell, stress, volume_ratio)
+            if (kernel == pass_musl_stress) call prefetch_block(ahead, cell, x, v, stress, volume_ratio)
+            if (moves) then
+               call prefetch_nodes(cell(b0), cell(b0 + n - 1), acceleration, velocity)
+            else
+               call prefetch_elements(cell(b0), cell(b0 + n - 1), strain_increment_of)
+            end if
+         end if
+         do i = 1, n
+            p = b0 + i - 1
+            e = cell(p)
+            ! G2P with the start-of-step shape functions (per-particle masses and moduli)
+            if (moves) then
+               xi = x(p)*inv_dx - (e - 1)
+               vgrid = (1.0_dp - xi)*velocity(e - 1) + xi*velocity(e)
+               v(p) = v(p) + dt*((1.0_dp - xi)*acceleration(e - 1) + xi*acceleration(e))
+               dxp = dt*vgrid
+               x(p) = x(p) + dxp
+               db(i) = mass_of(p)*(x(p) - x0(p))
+               kb(i) = 0.5_dp*mass_of(p)*v(p)*v(p)
+               mb(i, slot) = abs(dxp)*inv_dx
+            end if
+            if (stresses) then ! d eps = dt sum dN v_I over the start-of-step cell
+               if (moves) then
+                  dstrain = strain_increment(velocity(e - 1), velocity(e), dt, inv_dx)
+               else
+                  dstrain = strain_increment_of(e)
+               end if
+               call stress_particle(dstrain, modulus_of(p), 0.5_dp*volume0/modulus_of(p), volume0, stress(p), &
+                                    volume_ratio(p), sb(i), svb(i))
+               jb(i) = volume_ratio(p)
+            else if (iand(shares, share_stress) /= 0) then ! (an initial mapping: the stress as it is)
+               svb(i) = stress(p)*volume_ratio(p)*volume0
+            end if
+            if (relocates) then ! the new cell, for P2G at the new position
+               call locate_cell(x(p), inv_dx, elements, elements_bits, cb(i), xib(i))
+               cell(p) = cb(i)
+            else                ! the shares go to the start-of-step cell
+               cb(i) = e
+               if (moves) xib(i) = xi
+            end if
+            ! the particle's whole element shares (accumulate_shares sums them): mass, momentum (APIC's
+            ! with its affine part), stress*volume, external force, at the left and right node
+            mp = mass_of(p)
+            if (iand(shares, share_mass + share_momentum) /= 0) then
+               sh(i, 2) = mp*xib(i)
+               sh(i, 1) = mp - sh(i, 2)
+            end if
+            if (iand(shares, share_momentum) /= 0) then
+               sh(i, 3) = sh(i, 1)*v(p)
+               sh(i, 4) = sh(i, 2)*v(p)
+            end if
+            if (iand(shares, share_stress) /= 0) sh(i, 5) = svb(i)
+         end do
+         ! the block's totals (macros of mpm_lanes.fypi, expanded here)
+         if (moves) then
+            do lane_i = 1, n - lanes + 1, lanes
+               displacement = displacement + db(lane_i:lane_i + lanes - 1)
+            end do
+            lane_r = mod(n, lanes)
+            if (lane_r > 0) displacement(1:lane_r) = displacement(1:lane_r) + db(n - lane_r + 1:n)
+            do lane_i = 1, n - lanes + 1, lanes
+               kinetic = kinetic + kb(lane_i:lane_i + lanes - 1)
+            end do
+            lane_r = mod(n, lanes)
+            if (lane_r > 0) kinetic(1:lane_r) = kinetic(1:lane_r) + kb(n - lane_r + 1:n)
+            lane_max = 0.0_dp
+            do lane_i = 1, n - lanes + 1, lanes
+               lane_max = max(lane_max, mb(lane_i:lane_i + lanes - 1, slot))
+            end do
+            lane_r = mod(n, lanes)
+            if (lane_r > 0) lane_max(1:lane_r) = max(lane_max(1:lane_r), mb(n - lane_r + 1:n, slot))
+            block_max = maxval(lane_max)
+            if (block_max > largest%value) then
+               largest%value = block_max
+               largest%first = b0
+               largest%count = n
+               largest%slot = slot
+               slot = 3 - slot
+            end if
+         end if
+         if (stresses) then
+            do lane_i = 1, n - lanes + 1, lanes
+               strain = strain + sb(lane_i:lane_i + lanes - 1)
+            end do
+            lane_r = mod(n, lanes)
+            if (lane_r > 0) strain(1:lane_r) = strain(1:lane_r) + sb(n - lane_r + 1:n)
+            do lane_i = 1, n - lanes + 1, lanes
+               min_j = min(min_j, jb(lane_i:lane_i + lanes - 1))
+            end do
+            lane_r = mod(n, lanes)
+            if (lane_r > 0) min_j(1:lane_r) = min(min_j(1:lane_r), jb(n - lane_r + 1:n))
+         end if
+         if (relocates) call find_outside(n, b0, cb, outside)
+         call accumulate_shares(k, n, cb, sh, lo, hi, shares, run, mass_left, mass_right, momentum_left, momentum_right, &
+                                stress_volume, seg, force_left, force_right)
+      end do
+      ! the open run's whole shares
+      if (run%cur /= 0) call flush_sums(k, run%cur, lo, hi, shares, run%s, mass_left, mass_right, momentum_left, &
+                                        momentum_right, stress_volume, seg, force_left, force_right)
+      run%a = 0.0_dp  ! (close_segment flushes the bar's sums: none here)
+      call close_segment(k, shares, m, run, [lane_total(displacement), lane_total(kinetic), lane_total(strain)], &
+                         minval(min_j), largest%value, furthest_particle(largest, mb), outside, mass_left, mass_right, &
+                         momentum_left, momentum_right, stress_volume, seg)
+   end subroutine material_musl_stress_segment
+
+   !> initial mapping: mass and momentum (the hat, per-particle masses and moduli)
+   subroutine material_map_segment(k, seg, x, x0, v, stress, volume_ratio, cell, acceleration, velocity, &
+                                   strain_increment_of, mass_left, mass_right, momentum_left, momentum_right, &
+                                   stress_volume, constants, carry, mass_of, modulus_of, forces, gradient, force_left, &
+                                   force_right)
+      integer, parameter :: kernel = pass_map
+      logical, parameter :: moves = pass_moves(kernel), stresses = pass_stresses(kernel), relocates = pass_relocates(kernel)
+      integer, parameter :: shares = pass_shares(kernel)
+      integer, intent(in) :: k
+      type(segments_t), intent(inout) :: seg
+      real(dp), intent(inout), contiguous :: x(:), v(:), stress(:), volume_ratio(:)
+      real(dp), intent(in), contiguous :: x0(:)
+      integer, intent(inout), contiguous :: cell(:)
+      real(dp), intent(in), contiguous :: acceleration(0:), velocity(0:)
+      real(dp), intent(in), contiguous :: strain_increment_of(:)  !< per element (grid%element_strain)
+      real(dp), intent(inout), contiguous :: mass_left(:), mass_right(:), momentum_left(:), momentum_right(:), stress_volume(:)
+      type(pass_constants_t), intent(in) :: constants
+      real(dp), intent(inout), contiguous :: carry(:)  !< particles in parts: what a pass keeps for the next (fused_box_t)
+      !> the variants' per-particle data (absent when the run has none): masses and Young's moduli
+      !> (`material`), external forces (`forced`), APIC's velocity gradients C_p, and the element shares of
+      !> the forces
+      real(dp), intent(in), contiguous, optional :: mass_of(:), modulus_of(:), forces(:)
+      real(dp), intent(inout), contiguous, optional :: gradient(:), force_left(:), force_right(:)
+      integer :: p, e, i, n, b0, first, last, lo, hi, outside, ahead, elements
+      real(dp) :: half_m, strain_factor, dstrain, inv_dx, dt, youngs_modulus, m, volume0
+      type(largest_move_t) :: largest
+      real(dp) :: displacement(lanes), kinetic(lanes), strain(lanes), min_j(lanes)
+      integer :: cb(block_size)
+      real(dp) :: svb(block_size), db(block_size), kb(block_size), sb(block_size), jb(block_size)
+      real(dp) :: mb(block_size, 2)  !< the moves of a block, and of the block with the largest (lanes_track_move)
+      integer :: slot
+      real(dp) :: lane_max(lanes), block_max
+      integer :: lane_i, lane_r
+      type(run_t) :: run
+      integer(i8) :: elements_bits
+      real(dp) :: xi, xib(block_size), vpb(block_size)
+      ! the variant's: G2P's grid velocity and move, the segment's body (cells offset), each particle's
+      ! shares (accumulate_shares)
+      real(dp) :: vgrid, dxp
+      real(dp) :: mp, sh(block_size, share_count)
+      elements = constants%elements
+      inv_dx = constants%inv_dx
+      dt = constants%dt
+      youngs_modulus = constants%youngs_modulus
+      m = constants%mass
+      volume0 = constants%volume0
+      call open_segment(k, shares, seg, mass_left, mass_right, momentum_left, momentum_right, stress_volume, first, last, &
+                        lo, hi)
+      displacement = 0; kinetic = 0; strain = 0; min_j = huge(1.0_dp)
+      slot = 1
+      outside = 0
+      elements_bits = transfer(real(elements, dp), 0_i8)
+      half_m = 0.5_dp*m
+      strain_factor = 0.0_dp
+      if (stresses) strain_factor = 0.5_dp*volume0/youngs_modulus
+      do b0 = first, last, block_size
+         n = min(block_size, last - b0 + 1)
+         if (seg%prefetch) then  ! the arrays the pass reads, and the grid values of the next blocks
+            ahead = b0 + prefetch_ahead
+            if (kernel == pass_usl) call prefetch_block(ahead, cell, x, x0, v, stress, volume_ratio)
+            if (kernel == pass_usf_move .or. kernel == pass_musl_remap) call prefetch_block(ahead, cell, x, x0, v)
+            if (kernel == pass_usf_stress) call prefetch_block(ahead, cell, stress, volume_ratio)
+            if (kernel == pass_musl_stress) call prefetch_block(ahead, cell, x, v, stress, volume_ratio)
+            if (moves) then
+               call prefetch_nodes(cell(b0), cell(b0 + n - 1), acceleration, velocity)
+            else
+               call prefetch_elements(cell(b0), cell(b0 + n - 1), strain_increment_of)
+            end if
+         end if
+         do i = 1, n
+            p = b0 + i - 1
+            e = cell(p)
+            ! G2P with the start-of-step shape functions (per-particle masses and moduli)
+            if (moves) then
+               xi = x(p)*inv_dx - (e - 1)
+               vgrid = (1.0_dp - xi)*velocity(e - 1) + xi*velocity(e)
+               v(p) = v(p) + dt*((1.0_dp - xi)*acceleration(e - 1) + xi*acceleration(e))
+               dxp = dt*vgrid
+               x(p) = x(p) + dxp
+               db(i) = mass_of(p)*(x(p) - x0(p))
+               kb(i) = 0.5_dp*mass_of(p)*v(p)*v(p)
+               mb(i, slot) = abs(dxp)*inv_dx
+            end if
+            if (stresses) then ! d eps = dt sum dN v_I over the start-of-step cell
+               if (moves) then
+                  dstrain = strain_increment(velocity(e - 1), velocity(e), dt, inv_dx)
+               else
+                  dstrain = strain_increment_of(e)
+               end if
+               call stress_particle(dstrain, modulus_of(p), 0.5_dp*volume0/modulus_of(p), volume0, stress(p), &
+                                    volume_ratio(p), sb(i), svb(i))
+               jb(i) = volume_ratio(p)
+            else if (iand(shares, share_stress) /= 0) then ! (an initial mapping: the stress as it is)
+               svb(i) = stress(p)*volume_ratio(p)*volume0
+            end if
+            if (relocates) then ! the new cell, for P2G at the new position
+               call locate_cell(x(p), inv_dx, elements, elements_bits, cb(i), xib(i))
+               cell(p) = cb(i)
+            else                ! the shares go to the start-of-step cell
+               cb(i) = e
+               if (moves) xib(i) = xi
+            end if
+            ! the particle's whole element shares (accumulate_shares sums them): mass, momentum (APIC's
+            ! with its affine part), stress*volume, external force, at the left and right node
+            mp = mass_of(p)
+            if (iand(shares, share_mass + share_momentum) /= 0) then
+               sh(i, 2) = mp*xib(i)
+               sh(i, 1) = mp - sh(i, 2)
+            end if
+            if (iand(shares, share_momentum) /= 0) then
+               sh(i, 3) = sh(i, 1)*v(p)
+               sh(i, 4) = sh(i, 2)*v(p)
+            end if
+            if (iand(shares, share_stress) /= 0) sh(i, 5) = svb(i)
+         end do
+         ! the block's totals (macros of mpm_lanes.fypi, expanded here)
+         if (moves) then
+            do lane_i = 1, n - lanes + 1, lanes
+               displacement = displacement + db(lane_i:lane_i + lanes - 1)
+            end do
+            lane_r = mod(n, lanes)
+            if (lane_r > 0) displacement(1:lane_r) = displacement(1:lane_r) + db(n - lane_r + 1:n)
+            do lane_i = 1, n - lanes + 1, lanes
+               kinetic = kinetic + kb(lane_i:lane_i + lanes - 1)
+            end do
+            lane_r = mod(n, lanes)
+            if (lane_r > 0) kinetic(1:lane_r) = kinetic(1:lane_r) + kb(n - lane_r + 1:n)
+            lane_max = 0.0_dp
+            do lane_i = 1, n - lanes + 1, lanes
+               lane_max = max(lane_max, mb(lane_i:lane_i + lanes - 1, slot))
+            end do
+            lane_r = mod(n, lanes)
+            if (lane_r > 0) lane_max(1:lane_r) = max(lane_max(1:lane_r), mb(n - lane_r + 1:n, slot))
+            block_max = maxval(lane_max)
+            if (block_max > largest%value) then
+               largest%value = block_max
+               largest%first = b0
+               largest%count = n
+               largest%slot = slot
+               slot = 3 - slot
+            end if
+         end if
+         if (stresses) then
+            do lane_i = 1, n - lanes + 1, lanes
+               strain = strain + sb(lane_i:lane_i + lanes - 1)
+            end do
+            lane_r = mod(n, lanes)
+            if (lane_r > 0) strain(1:lane_r) = strain(1:lane_r) + sb(n - lane_r + 1:n)
+            do lane_i = 1, n - lanes + 1, lanes
+               min_j = min(min_j, jb(lane_i:lane_i + lanes - 1))
+            end do
+            lane_r = mod(n, lanes)
+            if (lane_r > 0) min_j(1:lane_r) = min(min_j(1:lane_r), jb(n - lane_r + 1:n))
+         end if
+         if (relocates) call find_outside(n, b0, cb, outside)
+         call accumulate_shares(k, n, cb, sh, lo, hi, shares, run, mass_left, mass_right, momentum_left, momentum_right, &
+                                stress_volume, seg, force_left, force_right)
+      end do
+      ! the open run's whole shares
+      if (run%cur /= 0) call flush_sums(k, run%cur, lo, hi, shares, run%s, mass_left, mass_right, momentum_left, &
+                                        momentum_right, stress_volume, seg, force_left, force_right)
+      run%a = 0.0_dp  ! (close_segment flushes the bar's sums: none here)
+      call close_segment(k, shares, m, run, [lane_total(displacement), lane_total(kinetic), lane_total(strain)], &
+                         minval(min_j), largest%value, furthest_particle(largest, mb), outside, mass_left, mass_right, &
+                         momentum_left, momentum_right, stress_volume, seg)
+   end subroutine material_map_segment
+
+   !> initial mapping: mass, momentum and stress*volume (and forces) (the hat, per-particle masses and moduli)
+   subroutine material_map_stress_segment(k, seg, x, x0, v, stress, volume_ratio, cell, acceleration, velocity, &
+                                          strain_increment_of, mass_left, mass_right, momentum_left, momentum_right, &
+                                          stress_volume, constants, carry, mass_of, modulus_of, forces, gradient, force_left, &
+                                          force_right)
+      integer, parameter :: kernel = pass_map_stress
+      logical, parameter :: moves = pass_moves(kernel), stresses = pass_stresses(kernel), relocates = pass_relocates(kernel)
+      integer, parameter :: shares = pass_shares(kernel)
+      integer, intent(in) :: k
+      type(segments_t), intent(inout) :: seg
+      real(dp), intent(inout), contiguous :: x(:), v(:), stress(:), volume_ratio(:)
+      real(dp), intent(in), contiguous :: x0(:)
+      integer, intent(inout), contiguous :: cell(:)
+      real(dp), intent(in), contiguous :: acceleration(0:), velocity(0:)
+      real(dp), intent(in), contiguous :: strain_increment_of(:)  !< per element (grid%element_strain)
+      real(dp), intent(inout), contiguous :: mass_left(:), mass_right(:), momentum_left(:), momentum_right(:), stress_volume(:)
+      type(pass_constants_t), intent(in) :: constants
+      real(dp), intent(inout), contiguous :: carry(:)  !< particles in parts: what a pass keeps for the next (fused_box_t)
+      !> the variants' per-particle data (absent when the run has none): masses and Young's moduli
+      !> (`material`), external forces (`forced`), APIC's velocity gradients C_p, and the element shares of
+      !> the forces
+      real(dp), intent(in), contiguous, optional :: mass_of(:), modulus_of(:), forces(:)
+      real(dp), intent(inout), contiguous, optional :: gradient(:), force_left(:), force_right(:)
+      integer :: p, e, i, n, b0, first, last, lo, hi, outside, ahead, elements
+      real(dp) :: half_m, strain_factor, dstrain, inv_dx, dt, youngs_modulus, m, volume0
+      type(largest_move_t) :: largest
+      real(dp) :: displacement(lanes), kinetic(lanes), strain(lanes), min_j(lanes)
+      integer :: cb(block_size)
+      real(dp) :: svb(block_size), db(block_size), kb(block_size), sb(block_size), jb(block_size)
+      real(dp) :: mb(block_size, 2)  !< the moves of a block, and of the block with the largest (lanes_track_move)
+      integer :: slot
+      real(dp) :: lane_max(lanes), block_max
+      integer :: lane_i, lane_r
+      type(run_t) :: run
+      integer(i8) :: elements_bits
+      real(dp) :: xi, xib(block_size), vpb(block_size)
+      ! the variant's: G2P's grid velocity and move, the segment's body (cells offset), each particle's
+      ! shares (accumulate_shares)
+      real(dp) :: vgrid, dxp
+      real(dp) :: mp, sh(block_size, share_count)
+      elements = constants%elements
+      inv_dx = constants%inv_dx
+      dt = constants%dt
+      youngs_modulus = constants%youngs_modulus
+      m = constants%mass
+      volume0 = constants%volume0
+      call open_segment(k, shares, seg, mass_left, mass_right, momentum_left, momentum_right, stress_volume, first, last, &
+                        lo, hi)
+      displacement = 0; kinetic = 0; strain = 0; min_j = huge(1.0_dp)
+      slot = 1
+      outside = 0
+      elements_bits = transfer(real(elements, dp), 0_i8)
+      half_m = 0.5_dp*m
+      strain_factor = 0.0_dp
+      if (stresses) strain_factor = 0.5_dp*volume0/youngs_modulus
+      do b0 = first, last, block_size
+         n = min(block_size, last - b0 + 1)
+         if (seg%prefetch) then  ! the arrays the pass reads, and the grid values of the next blocks
+            ahead = b0 + prefetch_ahead
+            if (kernel == pass_usl) call prefetch_block(ahead, cell, x, x0, v, stress, volume_ratio)
+            if (kernel == pass_usf_move .or. kernel == pass_musl_remap) call prefetch_block(ahead, cell, x, x0, v)
+            if (kernel == pass_usf_stress) call prefetch_block(ahead, cell, stress, volume_ratio)
+            if (kernel == pass_musl_stress) call prefetch_block(ahead, cell, x, v, stress, volume_ratio)
+            if (moves) then
+               call prefetch_nodes(cell(b0), cell(b0 + n - 1), acceleration, velocity)
+            else
+               call prefetch_elements(cell(b0), cell(b0 + n - 1), strain_increment_of)
+            end if
+         end if
+         do i = 1, n
+            p = b0 + i - 1
+            e = cell(p)
+            ! G2P with the start-of-step shape functions (per-particle masses and moduli)
+            if (moves) then
+               xi = x(p)*inv_dx - (e - 1)
+               vgrid = (1.0_dp - xi)*velocity(e - 1) + xi*velocity(e)
+               v(p) = v(p) + dt*((1.0_dp - xi)*acceleration(e - 1) + xi*acceleration(e))
+               dxp = dt*vgrid
+               x(p) = x(p) + dxp
+               db(i) = mass_of(p)*(x(p) - x0(p))
+               kb(i) = 0.5_dp*mass_of(p)*v(p)*v(p)
+               mb(i, slot) = abs(dxp)*inv_dx
+            end if
+            if (stresses) then ! d eps = dt sum dN v_I over the start-of-step cell
+               if (moves) then
+                  dstrain = strain_increment(velocity(e - 1), velocity(e), dt, inv_dx)
+               else
+                  dstrain = strain_increment_of(e)
+               end if
+               call stress_particle(dstrain, modulus_of(p), 0.5_dp*volume0/modulus_of(p), volume0, stress(p), &
+                                    volume_ratio(p), sb(i), svb(i))
+               jb(i) = volume_ratio(p)
+            else if (iand(shares, share_stress) /= 0) then ! (an initial mapping: the stress as it is)
+               svb(i) = stress(p)*volume_ratio(p)*volume0
+            end if
+            if (relocates) then ! the new cell, for P2G at the new position
+               call locate_cell(x(p), inv_dx, elements, elements_bits, cb(i), xib(i))
+               cell(p) = cb(i)
+            else                ! the shares go to the start-of-step cell
+               cb(i) = e
+               if (moves) xib(i) = xi
+            end if
+            ! the particle's whole element shares (accumulate_shares sums them): mass, momentum (APIC's
+            ! with its affine part), stress*volume, external force, at the left and right node
+            mp = mass_of(p)
+            if (iand(shares, share_mass + share_momentum) /= 0) then
+               sh(i, 2) = mp*xib(i)
+               sh(i, 1) = mp - sh(i, 2)
+            end if
+            if (iand(shares, share_momentum) /= 0) then
+               sh(i, 3) = sh(i, 1)*v(p)
+               sh(i, 4) = sh(i, 2)*v(p)
+            end if
+            if (iand(shares, share_stress) /= 0) sh(i, 5) = svb(i)
+         end do
+         ! the block's totals (macros of mpm_lanes.fypi, expanded here)
+         if (moves) then
+            do lane_i = 1, n - lanes + 1, lanes
+               displacement = displacement + db(lane_i:lane_i + lanes - 1)
+            end do
+            lane_r = mod(n, lanes)
+            if (lane_r > 0) displacement(1:lane_r) = displacement(1:lane_r) + db(n - lane_r + 1:n)
+            do lane_i = 1, n - lanes + 1, lanes
+               kinetic = kinetic + kb(lane_i:lane_i + lanes - 1)
+            end do
+            lane_r = mod(n, lanes)
+            if (lane_r > 0) kinetic(1:lane_r) = kinetic(1:lane_r) + kb(n - lane_r + 1:n)
+            lane_max = 0.0_dp
+            do lane_i = 1, n - lanes + 1, lanes
+               lane_max = max(lane_max, mb(lane_i:lane_i + lanes - 1, slot))
+            end do
+            lane_r = mod(n, lanes)
+            if (lane_r > 0) lane_max(1:lane_r) = max(lane_max(1:lane_r), mb(n - lane_r + 1:n, slot))
+            block_max = maxval(lane_max)
+            if (block_max > largest%value) then
+               largest%value = block_max
+               largest%first = b0
+               largest%count = n
+               largest%slot = slot
+               slot = 3 - slot
+            end if
+         end if
+         if (stresses) then
+            do lane_i = 1, n - lanes + 1, lanes
+               strain = strain + sb(lane_i:lane_i + lanes - 1)
+            end do
+            lane_r = mod(n, lanes)
+            if (lane_r > 0) strain(1:lane_r) = strain(1:lane_r) + sb(n - lane_r + 1:n)
+            do lane_i = 1, n - lanes + 1, lanes
+               min_j = min(min_j, jb(lane_i:lane_i + lanes - 1))
+            end do
+            lane_r = mod(n, lanes)
+            if (lane_r > 0) min_j(1:lane_r) = min(min_j(1:lane_r), jb(n - lane_r + 1:n))
+         end if
+         if (relocates) call find_outside(n, b0, cb, outside)
+         call accumulate_shares(k, n, cb, sh, lo, hi, shares, run, mass_left, mass_right, momentum_left, momentum_right, &
+                                stress_volume, seg, force_left, force_right)
+      end do
+      ! the open run's whole shares
+      if (run%cur /= 0) call flush_sums(k, run%cur, lo, hi, shares, run%s, mass_left, mass_right, momentum_left, &
+                                        momentum_right, stress_volume, seg, force_left, force_right)
+      run%a = 0.0_dp  ! (close_segment flushes the bar's sums: none here)
+      call close_segment(k, shares, m, run, [lane_total(displacement), lane_total(kinetic), lane_total(strain)], &
+                         minval(min_j), largest%value, furthest_particle(largest, mb), outside, mass_left, mass_right, &
+                         momentum_left, momentum_right, stress_volume, seg)
+   end subroutine material_map_stress_segment
+
+   !> USF, second half: G2P, then mass and momentum at the new position (the hat, per-particle forces)
+   subroutine forced_usf_move_segment(k, seg, x, x0, v, stress, volume_ratio, cell, acceleration, velocity, &
+                                      strain_increment_of, mass_left, mass_right, momentum_left, momentum_right, &
+                                      stress_volume, constants, carry, mass_of, modulus_of, forces, gradient, force_left, &
+                                      force_right)
+      integer, parameter :: kernel = pass_usf_move
+      logical, parameter :: moves = pass_moves(kernel), stresses = pass_stresses(kernel), relocates = pass_relocates(kernel)
+      integer, parameter :: shares = pass_force_shares(kernel)
+      integer, intent(in) :: k
+      type(segments_t), intent(inout) :: seg
+      real(dp), intent(inout), contiguous :: x(:), v(:), stress(:), volume_ratio(:)
+      real(dp), intent(in), contiguous :: x0(:)
+      integer, intent(inout), contiguous :: cell(:)
+      real(dp), intent(in), contiguous :: acceleration(0:), velocity(0:)
+      real(dp), intent(in), contiguous :: strain_increment_of(:)  !< per element (grid%element_strain)
+      real(dp), intent(inout), contiguous :: mass_left(:), mass_right(:), momentum_left(:), momentum_right(:), stress_volume(:)
+      type(pass_constants_t), intent(in) :: constants
+      real(dp), intent(inout), contiguous :: carry(:)  !< particles in parts: what a pass keeps for the next (fused_box_t)
+      !> the variants' per-particle data (absent when the run has none): masses and Young's moduli
+      !> (`material`), external forces (`forced`), APIC's velocity gradients C_p, and the element shares of
+      !> the forces
+      real(dp), intent(in), contiguous, optional :: mass_of(:), modulus_of(:), forces(:)
+      real(dp), intent(inout), contiguous, optional :: gradient(:), force_left(:), force_right(:)
+      integer :: p, e, i, n, b0, first, last, lo, hi, outside, ahead, elements
+      real(dp) :: half_m, strain_factor, dstrain, inv_dx, dt, youngs_modulus, m, volume0
+      type(largest_move_t) :: largest
+      real(dp) :: displacement(lanes), kinetic(lanes), strain(lanes), min_j(lanes)
+      integer :: cb(block_size)
+      real(dp) :: svb(block_size), db(block_size), kb(block_size), sb(block_size), jb(block_size)
+      real(dp) :: mb(block_size, 2)  !< the moves of a block, and of the block with the largest (lanes_track_move)
+      integer :: slot
+      real(dp) :: lane_max(lanes), block_max
+      integer :: lane_i, lane_r
+      type(run_t) :: run
+      integer(i8) :: elements_bits
+      real(dp) :: xi, xib(block_size), vpb(block_size)
+      ! the variant's: G2P's grid velocity and move, the segment's body (cells offset), each particle's
+      ! shares (accumulate_shares)
+      real(dp) :: vgrid, dxp
+      real(dp) :: mp, sh(block_size, share_count)
+      elements = constants%elements
+      inv_dx = constants%inv_dx
+      dt = constants%dt
+      youngs_modulus = constants%youngs_modulus
+      m = constants%mass
+      volume0 = constants%volume0
+      call open_segment(k, shares, seg, mass_left, mass_right, momentum_left, momentum_right, stress_volume, first, last, &
+                        lo, hi, force_left, force_right)
+      displacement = 0; kinetic = 0; strain = 0; min_j = huge(1.0_dp)
+      slot = 1
+      outside = 0
+      elements_bits = transfer(real(elements, dp), 0_i8)
+      half_m = 0.5_dp*m
+      strain_factor = 0.0_dp
+      if (stresses) strain_factor = 0.5_dp*volume0/youngs_modulus
+      do b0 = first, last, block_size
+         n = min(block_size, last - b0 + 1)
+         if (seg%prefetch) then  ! the arrays the pass reads, and the grid values of the next blocks
+            ahead = b0 + prefetch_ahead
+            if (kernel == pass_usl) call prefetch_block(ahead, cell, x, x0, v, stress, volume_ratio)
+            if (kernel == pass_usf_move .or. kernel == pass_musl_remap) call prefetch_block(ahead, cell, x, x0, v)
+            if (kernel == pass_usf_stress) call prefetch_block(ahead, cell, stress, volume_ratio)
+            if (kernel == pass_musl_stress) call prefetch_block(ahead, cell, x, v, stress, volume_ratio)
+            if (moves) then
+               call prefetch_nodes(cell(b0), cell(b0 + n - 1), acceleration, velocity)
+            else
+               call prefetch_elements(cell(b0), cell(b0 + n - 1), strain_increment_of)
+            end if
+         end if
+         do i = 1, n
+            p = b0 + i - 1
+            e = cell(p)
+            ! G2P with the start-of-step shape functions (per-particle forces)
+            if (moves) then
+               xi = x(p)*inv_dx - (e - 1)
+               vgrid = (1.0_dp - xi)*velocity(e - 1) + xi*velocity(e)
+               v(p) = v(p) + dt*((1.0_dp - xi)*acceleration(e - 1) + xi*acceleration(e))
+               dxp = dt*vgrid
+               x(p) = x(p) + dxp
+               db(i) = x(p) - x0(p)
+               kb(i) = half_m*v(p)*v(p)
+               mb(i, slot) = abs(dxp)*inv_dx
+            end if
+            if (stresses) then ! d eps = dt sum dN v_I over the start-of-step cell
+               if (moves) then
+                  dstrain = strain_increment(velocity(e - 1), velocity(e), dt, inv_dx)
+               else
+                  dstrain = strain_increment_of(e)
+               end if
+               call stress_particle(dstrain, youngs_modulus, strain_factor, volume0, stress(p), volume_ratio(p), sb(i), &
+                                    svb(i))
+               jb(i) = volume_ratio(p)
+            else if (iand(shares, share_stress) /= 0) then ! (an initial mapping: the stress as it is)
+               svb(i) = stress(p)*volume_ratio(p)*volume0
+            end if
+            if (relocates) then ! the new cell, for P2G at the new position
+               call locate_cell(x(p), inv_dx, elements, elements_bits, cb(i), xib(i))
+               cell(p) = cb(i)
+            else                ! the shares go to the start-of-step cell
+               cb(i) = e
+               if (moves) xib(i) = xi
+               if (.not. moves) xib(i) = x(p)*inv_dx - (e - 1)  ! (USF's stress pass maps the forces)
+            end if
+            ! the particle's whole element shares (accumulate_shares sums them): mass, momentum (APIC's
+            ! with its affine part), stress*volume, external force, at the left and right node
+            mp = m
+            if (iand(shares, share_mass + share_momentum) /= 0) then
+               sh(i, 2) = mp*xib(i)
+               sh(i, 1) = mp - sh(i, 2)
+            end if
+            if (iand(shares, share_momentum) /= 0) then
+               sh(i, 3) = sh(i, 1)*v(p)
+               sh(i, 4) = sh(i, 2)*v(p)
+            end if
+            if (iand(shares, share_stress) /= 0) sh(i, 5) = svb(i)
+            if (iand(shares, share_force) /= 0) then
+               sh(i, 7) = forces(p)*xib(i)
+               sh(i, 6) = forces(p) - sh(i, 7)
+            end if
+         end do
+         ! the block's totals (macros of mpm_lanes.fypi, expanded here)
+         if (moves) then
+            do lane_i = 1, n - lanes + 1, lanes
+               displacement = displacement + db(lane_i:lane_i + lanes - 1)
+            end do
+            lane_r = mod(n, lanes)
+            if (lane_r > 0) displacement(1:lane_r) = displacement(1:lane_r) + db(n - lane_r + 1:n)
+            do lane_i = 1, n - lanes + 1, lanes
+               kinetic = kinetic + kb(lane_i:lane_i + lanes - 1)
+            end do
+            lane_r = mod(n, lanes)
+            if (lane_r > 0) kinetic(1:lane_r) = kinetic(1:lane_r) + kb(n - lane_r + 1:n)
+            lane_max = 0.0_dp
+            do lane_i = 1, n - lanes + 1, lanes
+               lane_max = max(lane_max, mb(lane_i:lane_i + lanes - 1, slot))
+            end do
+            lane_r = mod(n, lanes)
+            if (lane_r > 0) lane_max(1:lane_r) = max(lane_max(1:lane_r), mb(n - lane_r + 1:n, slot))
+            block_max = maxval(lane_max)
+            if (block_max > largest%value) then
+               largest%value = block_max
+               largest%first = b0
+               largest%count = n
+               largest%slot = slot
+               slot = 3 - slot
+            end if
+         end if
+         if (stresses) then
+            do lane_i = 1, n - lanes + 1, lanes
+               strain = strain + sb(lane_i:lane_i + lanes - 1)
+            end do
+            lane_r = mod(n, lanes)
+            if (lane_r > 0) strain(1:lane_r) = strain(1:lane_r) + sb(n - lane_r + 1:n)
+            do lane_i = 1, n - lanes + 1, lanes
+               min_j = min(min_j, jb(lane_i:lane_i + lanes - 1))
+            end do
+            lane_r = mod(n, lanes)
+            if (lane_r > 0) min_j(1:lane_r) = min(min_j(1:lane_r), jb(n - lane_r + 1:n))
+         end if
+         if (relocates) call find_outside(n, b0, cb, outside)
+         call accumulate_shares(k, n, cb, sh, lo, hi, shares, run, mass_left, mass_right, momentum_left, momentum_right, &
+                                stress_volume, seg, force_left, force_right)
+      end do
+      ! the open run's whole shares
+      if (run%cur /= 0) call flush_sums(k, run%cur, lo, hi, shares, run%s, mass_left, mass_right, momentum_left, &
+                                        momentum_right, stress_volume, seg, force_left, force_right)
+      run%a = 0.0_dp  ! (close_segment flushes the bar's sums: none here)
+      call close_segment(k, shares, m, run, [lane_total(displacement), lane_total(kinetic), lane_total(strain)], &
+                         minval(min_j), largest%value, furthest_particle(largest, mb), outside, mass_left, mass_right, &
+                         momentum_left, momentum_right, stress_volume, seg)
+   end subroutine forced_usf_move_segment
+
+   !> USF, first half: stress update, then stress*volume of the unmoved particles (the hat, per-particle forces)
+   subroutine forced_usf_stress_segment(k, seg, x, x0, v, stress, volume_ratio, cell, acceleration, velocity, &
+                                        strain_increment_of, mass_left, mass_right, momentum_left, momentum_right, &
+                                        stress_volume, constants, carry, mass_of, modulus_of, forces, gradient, force_left, &
+                                        force_right)
+      integer, parameter :: kernel = pass_usf_stress
+      logical, parameter :: moves = pass_moves(kernel), stresses = pass_stresses(kernel), relocates = pass_relocates(kernel)
+      integer, parameter :: shares = pass_force_shares(kernel)
+      integer, intent(in) :: k
+      type(segments_t), intent(inout) :: seg
+      real(dp), intent(inout), contiguous :: x(:), v(:), stress(:), volume_ratio(:)
+      real(dp), intent(in), contiguous :: x0(:)
+      integer, intent(inout), contiguous :: cell(:)
+      real(dp), intent(in), contiguous :: acceleration(0:), velocity(0:)
+      real(dp), intent(in), contiguous :: strain_increment_of(:)  !< per element (grid%element_strain)
+      real(dp), intent(inout), contiguous :: mass_left(:), mass_right(:), momentum_left(:), momentum_right(:), stress_volume(:)
+      type(pass_constants_t), intent(in) :: constants
+      real(dp), intent(inout), contiguous :: carry(:)  !< particles in parts: what a pass keeps for the next (fused_box_t)
+      !> the variants' per-particle data (absent when the run has none): masses and Young's moduli
+      !> (`material`), external forces (`forced`), APIC's velocity gradients C_p, and the element shares of
+      !> the forces
+      real(dp), intent(in), contiguous, optional :: mass_of(:), modulus_of(:), forces(:)
+      real(dp), intent(inout), contiguous, optional :: gradient(:), force_left(:), force_right(:)
+      integer :: p, e, i, n, b0, first, last, lo, hi, outside, ahead, elements
+      real(dp) :: half_m, strain_factor, dstrain, inv_dx, dt, youngs_modulus, m, volume0
+      type(largest_move_t) :: largest
+      real(dp) :: displacement(lanes), kinetic(lanes), strain(lanes), min_j(lanes)
+      integer :: cb(block_size)
+      real(dp) :: svb(block_size), db(block_size), kb(block_size), sb(block_size), jb(block_size)
+      real(dp) :: mb(block_size, 2)  !< the moves of a block, and of the block with the largest (lanes_track_move)
+      integer :: slot
+      real(dp) :: lane_max(lanes), block_max
+      integer :: lane_i, lane_r
+      type(run_t) :: run
+      integer(i8) :: elements_bits
+      real(dp) :: xi, xib(block_size), vpb(block_size)
+      ! the variant's: G2P's grid velocity and move, the segment's body (cells offset), each particle's
+      ! shares (accumulate_shares)
+      real(dp) :: vgrid, dxp
+      real(dp) :: mp, sh(block_size, share_count)
+      elements = constants%elements
+      inv_dx = constants%inv_dx
+      dt = constants%dt
+      youngs_modulus = constants%youngs_modulus
+      m = constants%mass
+      volume0 = constants%volume0
+      call open_segment(k, shares, seg, mass_left, mass_right, momentum_left, momentum_right, stress_volume, first, last, &
+                        lo, hi, force_left, force_right)
+      displacement = 0; kinetic = 0; strain = 0; min_j = huge(1.0_dp)
+      slot = 1
+      outside = 0
+      elements_bits = transfer(real(elements, dp), 0_i8)
+      half_m = 0.5_dp*m
+      strain_factor = 0.0_dp
+      if (stresses) strain_factor = 0.5_dp*volume0/youngs_modulus
+      do b0 = first, last, block_size
+         n = min(block_size, last - b0 + 1)
+         if (seg%prefetch) then  ! the arrays the pass reads, and the grid values of the next blocks
+            ahead = b0 + prefetch_ahead
+            if (kernel == pass_usl) call prefetch_block(ahead, cell, x, x0, v, stress, volume_ratio)
+            if (kernel == pass_usf_move .or. kernel == pass_musl_remap) call prefetch_block(ahead, cell, x, x0, v)
+            if (kernel == pass_usf_stress) call prefetch_block(ahead, cell, stress, volume_ratio)
+            if (kernel == pass_musl_stress) call prefetch_block(ahead, cell, x, v, stress, volume_ratio)
+            if (moves) then
+               call prefetch_nodes(cell(b0), cell(b0 + n - 1), acceleration, velocity)
+            else
+               call prefetch_elements(cell(b0), cell(b0 + n - 1), strain_increment_of)
+            end if
+         end if
+         do i = 1, n
+            p = b0 + i - 1
+            e = cell(p)
+            ! G2P with the start-of-step shape functions (per-particle forces)
+            if (moves) then
+               xi = x(p)*inv_dx - (e - 1)
+               vgrid = (1.0_dp - xi)*velocity(e - 1) + xi*velocity(e)
+               v(p) = v(p) + dt*((1.0_dp - xi)*acceleration(e - 1) + xi*acceleration(e))
+               dxp = dt*vgrid
+               x(p) = x(p) + dxp
+               db(i) = x(p) - x0(p)
+               kb(i) = half_m*v(p)*v(p)
+               mb(i, slot) = abs(dxp)*inv_dx
+            end if
+            if (stresses) then ! d eps = dt sum dN v_I over the start-of-step cell
+               if (moves) then
+                  dstrain = strain_increment(velocity(e - 1), velocity(e), dt, inv_dx)
+               else
+                  dstrain = strain_increment_of(e)
+               end if
+               call stress_particle(dstrain, youngs_modulus, strain_factor, volume0, stress(p), volume_ratio(p), sb(i), &
+                                    svb(i))
+               jb(i) = volume_ratio(p)
+            else if (iand(shares, share_stress) /= 0) then ! (an initial mapping: the stress as it is)
+               svb(i) = stress(p)*volume_ratio(p)*volume0
+            end if
+            if (relocates) then ! the new cell, for P2G at the new position
+               call locate_cell(x(p), inv_dx, elements, elements_bits, cb(i), xib(i))
+               cell(p) = cb(i)
+            else                ! the shares go to the start-of-step cell
+               cb(i) = e
+               if (moves) xib(i) = xi
+               if (.not. moves) xib(i) = x(p)*inv_dx - (e - 1)  ! (USF's stress pass maps the forces)
+            end if
+            ! the particle's whole element shares (accumulate_shares sums them): mass, momentum (APIC's
+            ! with its affine part), stress*volume, external force, at the left and right node
+            mp = m
+            if (iand(shares, share_mass + share_momentum) /= 0) then
+               sh(i, 2) = mp*xib(i)
+               sh(i, 1) = mp - sh(i, 2)
+            end if
+            if (iand(shares, share_momentum) /= 0) then
+               sh(i, 3) = sh(i, 1)*v(p)
+               sh(i, 4) = sh(i, 2)*v(p)
+            end if
+            if (iand(shares, share_stress) /= 0) sh(i, 5) = svb(i)
+            if (iand(shares, share_force) /= 0) then
+               sh(i, 7) = forces(p)*xib(i)
+               sh(i, 6) = forces(p) - sh(i, 7)
+            end if
+         end do
+         ! the block's totals (macros of mpm_lanes.fypi, expanded here)
+         if (moves) then
+            do lane_i = 1, n - lanes + 1, lanes
+               displacement = displacement + db(lane_i:lane_i + lanes - 1)
+            end do
+            lane_r = mod(n, lanes)
+            if (lane_r > 0) displacement(1:lane_r) = displacement(1:lane_r) + db(n - lane_r + 1:n)
+            do lane_i = 1, n - lanes + 1, lanes
+               kinetic = kinetic + kb(lane_i:lane_i + lanes - 1)
+            end do
+            lane_r = mod(n, lanes)
+            if (lane_r > 0) kinetic(1:lane_r) = kinetic(1:lane_r) + kb(n - lane_r + 1:n)
+            lane_max = 0.0_dp
+            do lane_i = 1, n - lanes + 1, lanes
+               lane_max = max(lane_max, mb(lane_i:lane_i + lanes - 1, slot))
+            end do
+            lane_r = mod(n, lanes)
+            if (lane_r > 0) lane_max(1:lane_r) = max(lane_max(1:lane_r), mb(n - lane_r + 1:n, slot))
+            block_max = maxval(lane_max)
+            if (block_max > largest%value) then
+               largest%value = block_max
+               largest%first = b0
+               largest%count = n
+               largest%slot = slot
+               slot = 3 - slot
+            end if
+         end if
+         if (stresses) then
+            do lane_i = 1, n - lanes + 1, lanes
+               strain = strain + sb(lane_i:lane_i + lanes - 1)
+            end do
+            lane_r = mod(n, lanes)
+            if (lane_r > 0) strain(1:lane_r) = strain(1:lane_r) + sb(n - lane_r + 1:n)
+            do lane_i = 1, n - lanes + 1, lanes
+               min_j = min(min_j, jb(lane_i:lane_i + lanes - 1))
+            end do
+            lane_r = mod(n, lanes)
+            if (lane_r > 0) min_j(1:lane_r) = min(min_j(1:lane_r), jb(n - lane_r + 1:n))
+         end if
+         if (relocates) call find_outside(n, b0, cb, outside)
+         call accumulate_shares(k, n, cb, sh, lo, hi, shares, run, mass_left, mass_right, momentum_left, momentum_right, &
+                                stress_volume, seg, force_left, force_right)
+      end do
+      ! the open run's whole shares
+      if (run%cur /= 0) call flush_sums(k, run%cur, lo, hi, shares, run%s, mass_left, mass_right, momentum_left, &
+                                        momentum_right, stress_volume, seg, force_left, force_right)
+      run%a = 0.0_dp  ! (close_segment flushes the bar's sums: none here)
+      call close_segment(k, shares, m, run, [lane_total(displacement), lane_total(kinetic), lane_total(strain)], &
+                         minval(min_j), largest%value, furthest_particle(largest, mb), outside, mass_left, mass_right, &
+                         momentum_left, momentum_right, stress_volume, seg)
+   end subroutine forced_usf_stress_segment
+
+   !> USL: G2P, stress update from the updated nodal velocities, P2G at the new position (the hat, per-particle forces)
+   subroutine forced_usl_segment(k, seg, x, x0, v, stress, volume_ratio, cell, acceleration, velocity, &
+                                 strain_increment_of, mass_left, mass_right, momentum_left, momentum_right, &
+                                 stress_volume, constants, carry, mass_of, modulus_of, forces, gradient, force_left, &
+                                 force_right)
+      integer, parameter :: kernel = pass_usl
+      logical, parameter :: moves = pass_moves(kernel), stresses = pass_stresses(kernel), relocates = pass_relocates(kernel)
+      integer, parameter :: shares = pass_force_shares(kernel)
+      integer, intent(in) :: k
+      type(segments_t), intent(inout) :: seg
+      real(dp), intent(inout), contiguous :: x(:), v(:), stress(:), volume_ratio(:)
+      real(dp), intent(in), contiguous :: x0(:)
+      integer, intent(inout), contiguous :: cell(:)
+      real(dp), intent(in), contiguous :: acceleration(0:), velocity(0:)
+      real(dp), intent(in), contiguous :: strain_increment_of(:)  !< per element (grid%element_strain)
+      real(dp), intent(inout), contiguous :: mass_left(:), mass_right(:), momentum_left(:), momentum_right(:), stress_volume(:)
+      type(pass_constants_t), intent(in) :: constants
+      real(dp), intent(inout), contiguous :: carry(:)  !< particles in parts: what a pass keeps for the next (fused_box_t)
+      !> the variants' per-particle data (absent when the run has none): masses and Young's moduli
+      !> (`material`), external forces (`forced`), APIC's velocity gradients C_p, and the element shares of
+      !> the forces
+      real(dp), intent(in), contiguous, optional :: mass_of(:), modulus_of(:), forces(:)
+      real(dp), intent(inout), contiguous, optional :: gradient(:), force_left(:), force_right(:)
+      integer :: p, e, i, n, b0, first, last, lo, hi, outside, ahead, elements
+      real(dp) :: half_m, strain_factor, dstrain, inv_dx, dt, youngs_modulus, m, volume0
+      type(largest_move_t) :: largest
+      real(dp) :: displacement(lanes), kinetic(lanes), strain(lanes), min_j(lanes)
+      integer :: cb(block_size)
+      real(dp) :: svb(block_size), db(block_size), kb(block_size), sb(block_size), jb(block_size)
+      real(dp) :: mb(block_size, 2)  !< the moves of a block, and of the block with the largest (lanes_track_move)
+      integer :: slot
+      real(dp) :: lane_max(lanes), block_max
+      integer :: lane_i, lane_r
+      type(run_t) :: run
+      integer(i8) :: elements_bits
+      real(dp) :: xi, xib(block_size), vpb(block_size)
+      ! the variant's: G2P's grid velocity and move, the segment's body (cells offset), each particle's
+      ! shares (accumulate_shares)
+      real(dp) :: vgrid, dxp
+      real(dp) :: mp, sh(block_size, share_count)
+      elements = constants%elements
+      inv_dx = constants%inv_dx
+      dt = constants%dt
+      youngs_modulus = constants%youngs_modulus
+      m = constants%mass
+      volume0 = constants%volume0
+      call open_segment(k, shares, seg, mass_left, mass_right, momentum_left, momentum_right, stress_volume, first, last, &
+                        lo, hi, force_left, force_right)
+      displacement = 0; kinetic = 0; strain = 0; min_j = huge(1.0_dp)
+      slot = 1
+      outside = 0
+      elements_bits = transfer(real(elements, dp), 0_i8)
+      half_m = 0.5_dp*m
+      strain_factor = 0.0_dp
+      if (stresses) strain_factor = 0.5_dp*volume0/youngs_modulus
+      do b0 = first, last, block_size
+         n = min(block_size, last - b0 + 1)
+         if (seg%prefetch) then  ! the arrays the pass reads, and the grid values of the next blocks
+            ahead = b0 + prefetch_ahead
+            if (kernel == pass_usl) call prefetch_block(ahead, cell, x, x0, v, stress, volume_ratio)
+            if (kernel == pass_usf_move .or. kernel == pass_musl_remap) call prefetch_block(ahead, cell, x, x0, v)
+            if (kernel == pass_usf_stress) call prefetch_block(ahead, cell, stress, volume_ratio)
+            if (kernel == pass_musl_stress) call prefetch_block(ahead, cell, x, v, stress, volume_ratio)
+            if (moves) then
+               call prefetch_nodes(cell(b0), cell(b0 + n - 1), acceleration, velocity)
+            else
+               call prefetch_elements(cell(b0), cell(b0 + n - 1), strain_increment_of)
+            end if
+         end if
+         do i = 1, n
+            p = b0 + i - 1
+            e = cell(p)
+            ! G2P with the start-of-step shape functions (per-particle forces)
+            if (moves) then
+               xi = x(p)*inv_dx - (e - 1)
+               vgrid = (1.0_dp - xi)*velocity(e - 1) + xi*velocity(e)
+               v(p) = v(p) + dt*((1.0_dp - xi)*acceleration(e - 1) + xi*acceleration(e))
+               dxp = dt*vgrid
+               x(p) = x(p) + dxp
+               db(i) = x(p) - x0(p)
+               kb(i) = half_m*v(p)*v(p)
+               mb(i, slot) = abs(dxp)*inv_dx
+            end if
+            if (stresses) then ! d eps = dt sum dN v_I over the start-of-step cell
+               if (moves) then
+                  dstrain = strain_increment(velocity(e - 1), velocity(e), dt, inv_dx)
+               else
+                  dstrain = strain_increment_of(e)
+               end if
+               call stress_particle(dstrain, youngs_modulus, strain_factor, volume0, stress(p), volume_ratio(p), sb(i), &
+                                    svb(i))
+               jb(i) = volume_ratio(p)
+            else if (iand(shares, share_stress) /= 0) then ! (an initial mapping: the stress as it is)
+               svb(i) = stress(p)*volume_ratio(p)*volume0
+            end if
+            if (relocates) then ! the new cell, for P2G at the new position
+               call locate_cell(x(p), inv_dx, elements, elements_bits, cb(i), xib(i))
+               cell(p) = cb(i)
+            else                ! the shares go to the start-of-step cell
+               cb(i) = e
+               if (moves) xib(i) = xi
+               if (.not. moves) xib(i) = x(p)*inv_dx - (e - 1)  ! (USF's stress pass maps the forces)
+            end if
+            ! the particle's whole element shares (accumulate_shares sums them): mass, momentum (APIC's
+            ! with its affine part), stress*volume, external force, at the left and right node
+            mp = m
+            if (iand(shares, share_mass + share_momentum) /= 0) then
+               sh(i, 2) = mp*xib(i)
+               sh(i, 1) = mp - sh(i, 2)
+            end if
+            if (iand(shares, share_momentum) /= 0) then
+               sh(i, 3) = sh(i, 1)*v(p)
+               sh(i, 4) = sh(i, 2)*v(p)
+            end if
+            if (iand(shares, share_stress) /= 0) sh(i, 5) = svb(i)
+            if (iand(shares, share_force) /= 0) then
+               sh(i, 7) = forces(p)*xib(i)
+               sh(i, 6) = forces(p) - sh(i, 7)
+            end if
+         end do
+         ! the block's totals (macros of mpm_lanes.fypi, expanded here)
+         if (moves) then
+            do lane_i = 1, n - lanes + 1, lanes
+               displacement = displacement + db(lane_i:lane_i + lanes - 1)
+            end do
+            lane_r = mod(n, lanes)
+            if (lane_r > 0) displacement(1:lane_r) = displacement(1:lane_r) + db(n - lane_r + 1:n)
+            do lane_i = 1, n - lanes + 1, lanes
+               kinetic = kinetic + kb(lane_i:lane_i + lanes - 1)
+            end do
+            lane_r = mod(n, lanes)
+            if (lane_r > 0) kinetic(1:lane_r) = kinetic(1:lane_r) + kb(n - lane_r + 1:n)
+            lane_max = 0.0_dp
+            do lane_i = 1, n - lanes + 1, lanes
+               lane_max = max(lane_max, mb(lane_i:lane_i + lanes - 1, slot))
+            end do
+            lane_r = mod(n, lanes)
+            if (lane_r > 0) lane_max(1:lane_r) = max(lane_max(1:lane_r), mb(n - lane_r + 1:n, slot))
+            block_max = maxval(lane_max)
+            if (block_max > largest%value) then
+               largest%value = block_max
+               largest%first = b0
+               largest%count = n
+               largest%slot = slot
+               slot = 3 - slot
+            end if
+         end if
+         if (stresses) then
+            do lane_i = 1, n - lanes + 1, lanes
+               strain = strain + sb(lane_i:lane_i + lanes - 1)
+            end do
+            lane_r = mod(n, lanes)
+            if (lane_r > 0) strain(1:lane_r) = strain(1:lane_r) + sb(n - lane_r + 1:n)
+            do lane_i = 1, n - lanes + 1, lanes
+               min_j = min(min_j, jb(lane_i:lane_i + lanes - 1))
+            end do
+            lane_r = mod(n, lanes)
+            if (lane_r > 0) min_j(1:lane_r) = min(min_j(1:lane_r), jb(n - lane_r + 1:n))
+         end if
+         if (relocates) call find_outside(n, b0, cb, outside)
+         call accumulate_shares(k, n, cb, sh, lo, hi, shares, run, mass_left, mass_right, momentum_left, momentum_right, &
+                                stress_volume, seg, force_left, force_right)
+      end do
+      ! the open run's whole shares
+      if (run%cur /= 0) call flush_sums(k, run%cur, lo, hi, shares, run%s, mass_left, mass_right, momentum_left, &
+                                        momentum_right, stress_volume, seg, force_left, force_right)
+      run%a = 0.0_dp  ! (close_segment flushes the bar's sums: none here)
+      call close_segment(k, shares, m, run, [lane_total(displacement), lane_total(kinetic), lane_total(strain)], &
+                         minval(min_j), largest%value, furthest_particle(largest, mb), outside, mass_left, mass_right, &
+                         momentum_left, momentum_right, stress_volume, seg)
+   end subroutine forced_usl_segment
+
+   !> MUSL, first pass: G2P, and the new momentum back to the start-of-step nodes (the hat, per-particle forces)
+   subroutine forced_musl_remap_segment(k, seg, x, x0, v, stress, volume_ratio, cell, acceleration, velocity, &
+                                        strain_increment_of, mass_left, mass_right, momentum_left, momentum_right, &
+                                        stress_volume, constants, carry, mass_of, modulus_of, forces, gradient, force_left, &
+                                        force_right)
+      integer, parameter :: kernel = pass_musl_remap
+      logical, parameter :: moves = pass_moves(kernel), stresses = pass_stresses(kernel), relocates = pass_relocates(kernel)
+      integer, parameter :: shares = pass_force_shares(kernel)
+      integer, intent(in) :: k
+      type(segments_t), intent(inout) :: seg
+      real(dp), intent(inout), contiguous :: x(:), v(:), stress(:), volume_ratio(:)
+      real(dp), intent(in), contiguous :: x0(:)
+      integer, intent(inout), contiguous :: cell(:)
+      real(dp), intent(in), contiguous :: acceleration(0:), velocity(0:)
+      real(dp), intent(in), contiguous :: strain_increment_of(:)  !< per element (grid%element_strain)
+      real(dp), intent(inout), contiguous :: mass_left(:), mass_right(:), momentum_left(:), momentum_right(:), stress_volume(:)
+      type(pass_constants_t), intent(in) :: constants
+      real(dp), intent(inout), contiguous :: carry(:)  !< particles in parts: what a pass keeps for the next (fused_box_t)
+      !> the variants' per-particle data (absent when the run has none): masses and Young's moduli
+      !> (`material`), external forces (`forced`), APIC's velocity gradients C_p, and the element shares of
+      !> the forces
+      real(dp), intent(in), contiguous, optional :: mass_of(:), modulus_of(:), forces(:)
+      real(dp), intent(inout), contiguous, optional :: gradient(:), force_left(:), force_right(:)
+      integer :: p, e, i, n, b0, first, last, lo, hi, outside, ahead, elements
+      real(dp) :: half_m, strain_factor, dstrain, inv_dx, dt, youngs_modulus, m, volume0
+      type(largest_move_t) :: largest
+      real(dp) :: displacement(lanes), kinetic(lanes), strain(lanes), min_j(lanes)
+      integer :: cb(block_size)
+      real(dp) :: svb(block_size), db(block_size), kb(block_size), sb(block_size), jb(block_size)
+      real(dp) :: mb(block_size, 2)  !< the moves of a block, and of the block with the largest (lanes_track_move)
+      integer :: slot
+      real(dp) :: lane_max(lanes), block_max
+      integer :: lane_i, lane_r
+      type(run_t) :: run
+      integer(i8) :: elements_bits
+      real(dp) :: xi, xib(block_size), vpb(block_size)
+      ! the variant's: G2P's grid velocity and move, the segment's body (cells offset), each particle's
+      ! shares (accumulate_shares)
+      real(dp) :: vgrid, dxp
+      real(dp) :: mp, sh(block_size, share_count)
+      elements = constants%elements
+      inv_dx = constants%inv_dx
+      dt = constants%dt
+      youngs_modulus = constants%youngs_modulus
+      m = constants%mass
+      volume0 = constants%volume0
+      call open_segment(k, shares, seg, mass_left, mass_right, momentum_left, momentum_right, stress_volume, first, last, &
+                        lo, hi, force_left, force_right)
+      displacement = 0; kinetic = 0; strain = 0; min_j = huge(1.0_dp)
+      slot = 1
+      outside = 0
+      elements_bits = transfer(real(elements, dp), 0_i8)
+      half_m = 0.5_dp*m
+      strain_factor = 0.0_dp
+      if (stresses) strain_factor = 0.5_dp*volume0/youngs_modulus
+      do b0 = first, last, block_size
+         n = min(block_size, last - b0 + 1)
+         if (seg%prefetch) then  ! the arrays the pass reads, and the grid values of the next blocks
+            ahead = b0 + prefetch_ahead
+            if (kernel == pass_usl) call prefetch_block(ahead, cell, x, x0, v, stress, volume_ratio)
+            if (kernel == pass_usf_move .or. kernel == pass_musl_remap) call prefetch_block(ahead, cell, x, x0, v)
+            if (kernel == pass_usf_stress) call prefetch_block(ahead, cell, stress, volume_ratio)
+            if (kernel == pass_musl_stress) call prefetch_block(ahead, cell, x, v, stress, volume_ratio)
+            if (moves) then
+               call prefetch_nodes(cell(b0), cell(b0 + n - 1), acceleration, velocity)
+            else
+               call prefetch_elements(cell(b0), cell(b0 + n - 1), strain_increment_of)
+            end if
+         end if
+         do i = 1, n
+            p = b0 + i - 1
+            e = cell(p)
+            ! G2P with the start-of-step shape functions (per-particle forces)
+            if (moves) then
+               xi = x(p)*inv_dx - (e - 1)
+               vgrid = (1.0_dp - xi)*velocity(e - 1) + xi*velocity(e)
+               v(p) = v(p) + dt*((1.0_dp - xi)*acceleration(e - 1) + xi*acceleration(e))
+               dxp = dt*vgrid
+               x(p) = x(p) + dxp
+               db(i) = x(p) - x0(p)
+               kb(i) = half_m*v(p)*v(p)
+               mb(i, slot) = abs(dxp)*inv_dx
+            end if
+            if (stresses) then ! d eps = dt sum dN v_I over the start-of-step cell
+               if (moves) then
+                  dstrain = strain_increment(velocity(e - 1), velocity(e), dt, inv_dx)
+               else
+                  dstrain = strain_increment_of(e)
+               end if
+               call stress_particle(dstrain, youngs_modulus, strain_factor, volume0, stress(p), volume_ratio(p), sb(i), &
+                                    svb(i))
+               jb(i) = volume_ratio(p)
+            else if (iand(shares, share_stress) /= 0) then ! (an initial mapping: the stress as it is)
+               svb(i) = stress(p)*volume_ratio(p)*volume0
+            end if
+            if (relocates) then ! the new cell, for P2G at the new position
+               call locate_cell(x(p), inv_dx, elements, elements_bits, cb(i), xib(i))
+               cell(p) = cb(i)
+            else                ! the shares go to the start-of-step cell
+               cb(i) = e
+               if (moves) xib(i) = xi
+               if (.not. moves) xib(i) = x(p)*inv_dx - (e - 1)  ! (USF's stress pass maps the forces)
+            end if
+            ! the particle's whole element shares (accumulate_shares sums them): mass, momentum (APIC's
+            ! with its affine part), stress*volume, external force, at the left and right node
+            mp = m
+            if (iand(shares, share_mass + share_momentum) /= 0) then
+               sh(i, 2) = mp*xib(i)
+               sh(i, 1) = mp - sh(i, 2)
+            end if
+            if (iand(shares, share_momentum) /= 0) then
+               sh(i, 3) = sh(i, 1)*v(p)
+               sh(i, 4) = sh(i, 2)*v(p)
+            end if
+            if (iand(shares, share_stress) /= 0) sh(i, 5) = svb(i)
+            if (iand(shares, share_force) /= 0) then
+               sh(i, 7) = forces(p)*xib(i)
+               sh(i, 6) = forces(p) - sh(i, 7)
+            end if
+         end do
+         ! the block's totals (macros of mpm_lanes.fypi, expanded here)
+         if (moves) then
+            do lane_i = 1, n - lanes + 1, lanes
+               displacement = displacement + db(lane_i:lane_i + lanes - 1)
+            end do
+            lane_r = mod(n, lanes)
+            if (lane_r > 0) displacement(1:lane_r) = displacement(1:lane_r) + db(n - lane_r + 1:n)
+            do lane_i = 1, n - lanes + 1, lanes
+               kinetic = kinetic + kb(lane_i:lane_i + lanes - 1)
+            end do
+            lane_r = mod(n, lanes)
+            if (lane_r > 0) kinetic(1:lane_r) = kinetic(1:lane_r) + kb(n - lane_r + 1:n)
+            lane_max = 0.0_dp
+            do lane_i = 1, n - lanes + 1, lanes
+               lane_max = max(lane_max, mb(lane_i:lane_i + lanes - 1, slot))
+            end do
+            lane_r = mod(n, lanes)
+            if (lane_r > 0) lane_max(1:lane_r) = max(lane_max(1:lane_r), mb(n - lane_r + 1:n, slot))
+            block_max = maxval(lane_max)
+            if (block_max > largest%value) then
+               largest%value = block_max
+               largest%first = b0
+               largest%count = n
+               largest%slot = slot
+               slot = 3 - slot
+            end if
+         end if
+         if (stresses) then
+            do lane_i = 1, n - lanes + 1, lanes
+               strain = strain + sb(lane_i:lane_i + lanes - 1)
+            end do
+            lane_r = mod(n, lanes)
+            if (lane_r > 0) strain(1:lane_r) = strain(1:lane_r) + sb(n - lane_r + 1:n)
+            do lane_i = 1, n - lanes + 1, lanes
+               min_j = min(min_j, jb(lane_i:lane_i + lanes - 1))
+            end do
+            lane_r = mod(n, lanes)
+            if (lane_r > 0) min_j(1:lane_r) = min(min_j(1:lane_r), jb(n - lane_r + 1:n))
+         end if
+         if (relocates) call find_outside(n, b0, cb, outside)
+         call accumulate_shares(k, n, cb, sh, lo, hi, shares, run, mass_left, mass_right, momentum_left, momentum_right, &
+                                stress_volume, seg, force_left, force_right)
+      end do
+      ! the open run's whole shares
+      if (run%cur /= 0) call flush_sums(k, run%cur, lo, hi, shares, run%s, mass_left, mass_right, momentum_left, &
+                                        momentum_right, stress_volume, seg, force_left, force_right)
+      run%a = 0.0_dp  ! (close_segment flushes the bar's sums: none here)
+      call close_segment(k, shares, m, run, [lane_total(displacement), lane_total(kinetic), lane_total(strain)], &
+                         minval(min_j), largest%value, furthest_particle(largest, mb), outside, mass_left, mass_right, &
+                         momentum_left, momentum_right, stress_volume, seg)
+   end subroutine forced_musl_remap_segment
+
+   !> MUSL, second pass: stress update from the remapped velocities, P2G at the new position (the hat, per-particle forces)
+   subroutine forced_musl_stress_segment(k, seg, x, x0, v, stress, volume_ratio, cell, acceleration, velocity, &
+                                         strain_increment_of, mass_left, mass_right, momentum_left, momentum_right, &
+                                         stress_volume, constants, carry, mass_of, modulus_of, forces, gradient, force_left, &
+                                         force_right)
+      integer, parameter :: kernel = pass_musl_stress
+      logical, parameter :: moves = pass_moves(kernel), stresses = pass_stresses(kernel), relocates = pass_relocates(kernel)
+      integer, parameter :: shares = pass_force_shares(kernel)
+      integer, intent(in) :: k
+      type(segments_t), intent(inout) :: seg
+      real(dp), intent(inout), contiguous :: x(:), v(:), stress(:), volume_ratio(:)
+      real(dp), intent(in), contiguous :: x0(:)
+      integer, intent(inout), contiguous :: cell(:)
+      real(dp), intent(in), contiguous :: acceleration(0:), velocity(0:)
+      real(dp), intent(in), contiguous :: strain_increment_of(:)  !< per element (grid%element_strain)
+      real(dp), intent(inout), contiguous :: mass_left(:), mass_right(:), momentum_left(:), momentum_right(:), stress_volume(:)
+      type(pass_constants_t), intent(in) :: constants
+      real(dp), intent(inout), contiguous :: carry(:)  !< particles in parts: what a pass keeps for the next (fused_box_t)
+      !> the variants' per-particle data (absent when the run has none): masses and Young's moduli
+      !> (`material`), external forces (`forced`), APIC's velocity gradients C_p, and the element shares of
+      !> the forces
+      real(dp), intent(in), contiguous, optional :: mass_of(:), modulus_of(:), forces(:)
+      real(dp), intent(inout), contiguous, optional :: gradient(:), force_left(:), force_right(:)
+      integer :: p, e, i, n, b0, first, last, lo, hi, outside, ahead, elements
+      real(dp) :: half_m, strain_factor, dstrain, inv_dx, dt, youngs_modulus, m, volume0
+      type(largest_move_t) :: largest
+      real(dp) :: displacement(lanes), kinetic(lanes), strain(lanes), min_j(lanes)
+      integer :: cb(block_size)
+      real(dp) :: svb(block_size), db(block_size), kb(block_size), sb(block_size), jb(block_size)
+      real(dp) :: mb(block_size, 2)  !< the moves of a block, and of the block with the largest (lanes_track_move)
+      integer :: slot
+      real(dp) :: lane_max(lanes), block_max
+      integer :: lane_i, lane_r
+      type(run_t) :: run
+      integer(i8) :: elements_bits
+      real(dp) :: xi, xib(block_size), vpb(block_size)
+      ! the variant's: G2P's grid velocity and move, the segment's body (cells offset), each particle's
+      ! shares (accumulate_shares)
+      real(dp) :: vgrid, dxp
+      real(dp) :: mp, sh(block_size, share_count)
+      elements = constants%elements
+      inv_dx = constants%inv_dx
+      dt = constants%dt
+      youngs_modulus = constants%youngs_modulus
+      m = constants%mass
+      volume0 = constants%volume0
+      call open_segment(k, shares, seg, mass_left, mass_right, momentum_left, momentum_right, stress_volume, first, last, &
+                        lo, hi, force_left, force_right)
+      displacement = 0; kinetic = 0; strain = 0; min_j = huge(1.0_dp)
+      slot = 1
+      outside = 0
+      elements_bits = transfer(real(elements, dp), 0_i8)
+      half_m = 0.5_dp*m
+      strain_factor = 0.0_dp
+      if (stresses) strain_factor = 0.5_dp*volume0/youngs_modulus
+      do b0 = first, last, block_size
+         n = min(block_size, last - b0 + 1)
+         if (seg%prefetch) then  ! the arrays the pass reads, and the grid values of the next blocks
+            ahead = b0 + prefetch_ahead
+            if (kernel == pass_usl) call prefetch_block(ahead, cell, x, x0, v, stress, volume_ratio)
+            if (kernel == pass_usf_move .or. kernel == pass_musl_remap) call prefetch_block(ahead, cell, x, x0, v)
+            if (kernel == pass_usf_stress) call prefetch_block(ahead, cell, stress, volume_ratio)
+            if (kernel == pass_musl_stress) call prefetch_block(ahead, cell, x, v, stress, volume_ratio)
+            if (moves) then
+               call prefetch_nodes(cell(b0), cell(b0 + n - 1), acceleration, velocity)
+            else
+               call prefetch_elements(cell(b0), cell(b0 + n - 1), strain_increment_of)
+            end if
+         end if
+         do i = 1, n
+            p = b0 + i - 1
+            e = cell(p)
+            ! G2P with the start-of-step shape functions (per-particle forces)
+            if (moves) then
+               xi = x(p)*inv_dx - (e - 1)
+               vgrid = (1.0_dp - xi)*velocity(e - 1) + xi*velocity(e)
+               v(p) = v(p) + dt*((1.0_dp - xi)*acceleration(e - 1) + xi*acceleration(e))
+               dxp = dt*vgrid
+               x(p) = x(p) + dxp
+               db(i) = x(p) - x0(p)
+               kb(i) = half_m*v(p)*v(p)
+               mb(i, slot) = abs(dxp)*inv_dx
+            end if
+            if (stresses) then ! d eps = dt sum dN v_I over the start-of-step cell
+               if (moves) then
+                  dstrain = strain_increment(velocity(e - 1), velocity(e), dt, inv_dx)
+               else
+                  dstrain = strain_increment_of(e)
+               end if
+               call stress_particle(dstrain, youngs_modulus, strain_factor, volume0, stress(p), volume_ratio(p), sb(i), &
+                                    svb(i))
+               jb(i) = volume_ratio(p)
+            else if (iand(shares, share_stress) /= 0) then ! (an initial mapping: the stress as it is)
+               svb(i) = stress(p)*volume_ratio(p)*volume0
+            end if
+            if (relocates) then ! the new cell, for P2G at the new position
+               call locate_cell(x(p), inv_dx, elements, elements_bits, cb(i), xib(i))
+               cell(p) = cb(i)
+            else                ! the shares go to the start-of-step cell
+               cb(i) = e
+               if (moves) xib(i) = xi
+               if (.not. moves) xib(i) = x(p)*inv_dx - (e - 1)  ! (USF's stress pass maps the forces)
+            end if
+            ! the particle's whole element shares (accumulate_shares sums them): mass, momentum (APIC's
+            ! with its affine part), stress*volume, external force, at the left and right node
+            mp = m
+            if (iand(shares, share_mass + share_momentum) /= 0) then
+               sh(i, 2) = mp*xib(i)
+               sh(i, 1) = mp - sh(i, 2)
+            end if
+            if (iand(shares, share_momentum) /= 0) then
+               sh(i, 3) = sh(i, 1)*v(p)
+               sh(i, 4) = sh(i, 2)*v(p)
+            end if
+            if (iand(shares, share_stress) /= 0) sh(i, 5) = svb(i)
+            if (iand(shares, share_force) /= 0) then
+               sh(i, 7) = forces(p)*xib(i)
+               sh(i, 6) = forces(p) - sh(i, 7)
+            end if
+         end do
+         ! the block's totals (macros of mpm_lanes.fypi, expanded here)
+         if (moves) then
+            do lane_i = 1, n - lanes + 1, lanes
+               displacement = displacement + db(lane_i:lane_i + lanes - 1)
+            end do
+            lane_r = mod(n, lanes)
+            if (lane_r > 0) displacement(1:lane_r) = displacement(1:lane_r) + db(n - lane_r + 1:n)
+            do lane_i = 1, n - lanes + 1, lanes
+               kinetic = kinetic + kb(lane_i:lane_i + lanes - 1)
+            end do
+            lane_r = mod(n, lanes)
+            if (lane_r > 0) kinetic(1:lane_r) = kinetic(1:lane_r) + kb(n - lane_r + 1:n)
+            lane_max = 0.0_dp
+            do lane_i = 1, n - lanes + 1, lanes
+               lane_max = max(lane_max, mb(lane_i:lane_i + lanes - 1, slot))
+            end do
+            lane_r = mod(n, lanes)
+            if (lane_r > 0) lane_max(1:lane_r) = max(lane_max(1:lane_r), mb(n - lane_r + 1:n, slot))
+            block_max = maxval(lane_max)
+            if (block_max > largest%value) then
+               largest%value = block_max
+               largest%first = b0
+               largest%count = n
+               largest%slot = slot
+               slot = 3 - slot
+            end if
+         end if
+         if (stresses) then
+            do lane_i = 1, n - lanes + 1, lanes
+               strain = strain + sb(lane_i:lane_i + lanes - 1)
+            end do
+            lane_r = mod(n, lanes)
+            if (lane_r > 0) strain(1:lane_r) = strain(1:lane_r) + sb(n - lane_r + 1:n)
+            do lane_i = 1, n - lanes + 1, lanes
+               min_j = min(min_j, jb(lane_i:lane_i + lanes - 1))
+            end do
+            lane_r = mod(n, lanes)
+            if (lane_r > 0) min_j(1:lane_r) = min(min_j(1:lane_r), jb(n - lane_r + 1:n))
+         end if
+         if (relocates) call find_outside(n, b0, cb, outside)
+         call accumulate_shares(k, n, cb, sh, lo, hi, shares, run, mass_left, mass_right, momentum_left, momentum_right, &
+                                stress_volume, seg, force_left, force_right)
+      end do
+      ! the open run's whole shares
+      if (run%cur /= 0) call flush_sums(k, run%cur, lo, hi, shares, run%s, mass_left, mass_right, momentum_left, &
+                                        momentum_right, stress_volume, seg, force_left, force_right)
+      run%a = 0.0_dp  ! (close_segment flushes the bar's sums: none here)
+      call close_segment(k, shares, m, run, [lane_total(displacement), lane_total(kinetic), lane_total(strain)], &
+                         minval(min_j), largest%value, furthest_particle(largest, mb), outside, mass_left, mass_right, &
+                         momentum_left, momentum_right, stress_volume, seg)
+   end subroutine forced_musl_stress_segment
+
+   !> initial mapping: mass and momentum (the hat, per-particle forces)
+   subroutine forced_map_segment(k, seg, x, x0, v, stress, volume_ratio, cell, acceleration, velocity, &
+                                 strain_increment_of, mass_left, mass_right, momentum_left, momentum_right, &
+                                 stress_volume, constants, carry, mass_of, modulus_of, forces, gradient, force_left, &
+                                 force_right)
+      integer, parameter :: kernel = pass_map
+      logical, parameter :: moves = pass_moves(kernel), stresses = pass_stresses(kernel), relocates = pass_relocates(kernel)
+      integer, parameter :: shares = pass_force_shares(kernel)
+      integer, intent(in) :: k
+      type(segments_t), intent(inout) :: seg
+      real(dp), intent(inout), contiguous :: x(:), v(:), stress(:), volume_ratio(:)
+      real(dp), intent(in), contiguous :: x0(:)
+      integer, intent(inout), contiguous :: cell(:)
+      real(dp), intent(in), contiguous :: acceleration(0:), velocity(0:)
+      real(dp), intent(in), contiguous :: strain_increment_of(:)  !< per element (grid%element_strain)
+      real(dp), intent(inout), contiguous :: mass_left(:), mass_right(:), momentum_left(:), momentum_right(:), stress_volume(:)
+      type(pass_constants_t), intent(in) :: constants
+      real(dp), intent(inout), contiguous :: carry(:)  !< particles in parts: what a pass keeps for the next (fused_box_t)
+      !> the variants' per-particle data (absent when the run has none): masses and Young's moduli
+      !> (`material`), external forces (`forced`), APIC's velocity gradients C_p, and the element shares of
+      !> the forces
+      real(dp), intent(in), contiguous, optional :: mass_of(:), modulus_of(:), forces(:)
+      real(dp), intent(inout), contiguous, optional :: gradient(:), force_left(:), force_right(:)
+      integer :: p, e, i, n, b0, first, last, lo, hi, outside, ahead, elements
+      real(dp) :: half_m, strain_factor, dstrain, inv_dx, dt, youngs_modulus, m, volume0
+      type(largest_move_t) :: largest
+      real(dp) :: displacement(lanes), kinetic(lanes), strain(lanes), min_j(lanes)
+      integer :: cb(block_size)
+      real(dp) :: svb(block_size), db(block_size), kb(block_size), sb(block_size), jb(block_size)
+      real(dp) :: mb(block_size, 2)  !< the moves of a block, and of the block with the largest (lanes_track_move)
+      integer :: slot
+      real(dp) :: lane_max(lanes), block_max
+      integer :: lane_i, lane_r
+      type(run_t) :: run
+      integer(i8) :: elements_bits
+      real(dp) :: xi, xib(block_size), vpb(block_size)
+      ! the variant's: G2P's grid velocity and move, the segment's body (cells offset), each particle's
+      ! shares (accumulate_shares)
+      real(dp) :: vgrid, dxp
+      real(dp) :: mp, sh(block_size, share_count)
+      elements = constants%elements
+      inv_dx = constants%inv_dx
+      dt = constants%dt
+      youngs_modulus = constants%youngs_modulus
+      m = constants%mass
+      volume0 = constants%volume0
+      call open_segment(k, shares, seg, mass_left, mass_right, momentum_left, momentum_right, stress_volume, first, last, &
+                        lo, hi, force_left, force_right)
+      displacement = 0; kinetic = 0; strain = 0; min_j = huge(1.0_dp)
+      slot = 1
+      outside = 0
+      elements_bits = transfer(real(elements, dp), 0_i8)
+      half_m = 0.5_dp*m
+      strain_factor = 0.0_dp
+      if (stresses) strain_factor = 0.5_dp*volume0/youngs_modulus
+      do b0 = first, last, block_size
+         n = min(block_size, last - b0 + 1)
+         if (seg%prefetch) then  ! the arrays the pass reads, and the grid values of the next blocks
+            ahead = b0 + prefetch_ahead
+            if (kernel == pass_usl) call prefetch_block(ahead, cell, x, x0, v, stress, volume_ratio)
+            if (kernel == pass_usf_move .or. kernel == pass_musl_remap) call prefetch_block(ahead, cell, x, x0, v)
+            if (kernel == pass_usf_stress) call prefetch_block(ahead, cell, stress, volume_ratio)
+            if (kernel == pass_musl_stress) call prefetch_block(ahead, cell, x, v, stress, volume_ratio)
+            if (moves) then
+               call prefetch_nodes(cell(b0), cell(b0 + n - 1), acceleration, velocity)
+            else
+               call prefetch_elements(cell(b0), cell(b0 + n - 1), strain_increment_of)
+            end if
+         end if
+         do i = 1, n
+            p = b0 + i - 1
+            e = cell(p)
+            ! G2P with the start-of-step shape functions (per-particle forces)
+            if (moves) then
+               xi = x(p)*inv_dx - (e - 1)
+               vgrid = (1.0_dp - xi)*velocity(e - 1) + xi*velocity(e)
+               v(p) = v(p) + dt*((1.0_dp - xi)*acceleration(e - 1) + xi*acceleration(e))
+               dxp = dt*vgrid
+               x(p) = x(p) + dxp
+               db(i) = x(p) - x0(p)
+               kb(i) = half_m*v(p)*v(p)
+               mb(i, slot) = abs(dxp)*inv_dx
+            end if
+            if (stresses) then ! d eps = dt sum dN v_I over the start-of-step cell
+               if (moves) then
+                  dstrain = strain_increment(velocity(e - 1), velocity(e), dt, inv_dx)
+               else
+                  dstrain = strain_increment_of(e)
+               end if
+               call stress_particle(dstrain, youngs_modulus, strain_factor, volume0, stress(p), volume_ratio(p), sb(i), &
+                                    svb(i))
+               jb(i) = volume_ratio(p)
+            else if (iand(shares, share_stress) /= 0) then ! (an initial mapping: the stress as it is)
+               svb(i) = stress(p)*volume_ratio(p)*volume0
+            end if
+            if (relocates) then ! the new cell, for P2G at the new position
+               call locate_cell(x(p), inv_dx, elements, elements_bits, cb(i), xib(i))
+               cell(p) = cb(i)
+            else                ! the shares go to the start-of-step cell
+               cb(i) = e
+               if (moves) xib(i) = xi
+               if (.not. moves) xib(i) = x(p)*inv_dx - (e - 1)  ! (USF's stress pass maps the forces)
+            end if
+            ! the particle's whole element shares (accumulate_shares sums them): mass, momentum (APIC's
+            ! with its affine part), stress*volume, external force, at the left and right node
+            mp = m
+            if (iand(shares, share_mass + share_momentum) /= 0) then
+               sh(i, 2) = mp*xib(i)
+               sh(i, 1) = mp - sh(i, 2)
+            end if
+            if (iand(shares, share_momentum) /= 0) then
+               sh(i, 3) = sh(i, 1)*v(p)
+               sh(i, 4) = sh(i, 2)*v(p)
+            end if
+            if (iand(shares, share_stress) /= 0) sh(i, 5) = svb(i)
+            if (iand(shares, share_force) /= 0) then
+               sh(i, 7) = forces(p)*xib(i)
+               sh(i, 6) = forces(p) - sh(i, 7)
+            end if
+         end do
+         ! the block's totals (macros of mpm_lanes.fypi, expanded here)
+         if (moves) then
+            do lane_i = 1, n - lanes + 1, lanes
+               displacement = displacement + db(lane_i:lane_i + lanes - 1)
+            end do
+            lane_r = mod(n, lanes)
+            if (lane_r > 0) displacement(1:lane_r) = displacement(1:lane_r) + db(n - lane_r + 1:n)
+            do lane_i = 1, n - lanes + 1, lanes
+               kinetic = kinetic + kb(lane_i:lane_i + lanes - 1)
+            end do
+            lane_r = mod(n, lanes)
+            if (lane_r > 0) kinetic(1:lane_r) = kinetic(1:lane_r) + kb(n - lane_r + 1:n)
+            lane_max = 0.0_dp
+            do lane_i = 1, n - lanes + 1, lanes
+               lane_max = max(lane_max, mb(lane_i:lane_i + lanes - 1, slot))
+            end do
+            lane_r = mod(n, lanes)
+            if (lane_r > 0) lane_max(1:lane_r) = max(lane_max(1:lane_r), mb(n - lane_r + 1:n, slot))
+            block_max = maxval(lane_max)
+            if (block_max > largest%value) then
+               largest%value = block_max
+               largest%first = b0
+               largest%count = n
+               largest%slot = slot
+               slot = 3 - slot
+            end if
+         end if
+         if (stresses) then
+            do lane_i = 1, n - lanes + 1, lanes
+               strain = strain + sb(lane_i:lane_i + lanes - 1)
+            end do
+            lane_r = mod(n, lanes)
+            if (lane_r > 0) strain(1:lane_r) = strain(1:lane_r) + sb(n - lane_r + 1:n)
+            do lane_i = 1, n - lanes + 1, lanes
+               min_j = min(min_j, jb(lane_i:lane_i + lanes - 1))
+            end do
+            lane_r = mod(n, lanes)
+            if (lane_r > 0) min_j(1:lane_r) = min(min_j(1:lane_r), jb(n - lane_r + 1:n))
+         end if
+         if (relocates) call find_outside(n, b0, cb, outside)
+         call accumulate_shares(k, n, cb, sh, lo, hi, shares, run, mass_left, mass_right, momentum_left, momentum_right, &
+                                stress_volume, seg, force_left, force_right)
+      end do
+      ! the open run's whole shares
+      if (run%cur /= 0) call flush_sums(k, run%cur, lo, hi, shares, run%s, mass_left, mass_right, momentum_left, &
+                                        momentum_right, stress_volume, seg, force_left, force_right)
+      run%a = 0.0_dp  ! (close_segment flushes the bar's sums: none here)
+      call close_segment(k, shares, m, run, [lane_total(displacement), lane_total(kinetic), lane_total(strain)], &
+                         minval(min_j), largest%value, furthest_particle(largest, mb), outside, mass_left, mass_right, &
+                         momentum_left, momentum_right, stress_volume, seg)
+   end subroutine forced_map_segment
+
+   !> initial mapping: mass, momentum and stress*volume (and forces) (the hat, per-particle forces)
+   subroutine forced_map_stress_segment(k, seg, x, x0, v, stress, volume_ratio, cell, acceleration, velocity, &
+                                        strain_increment_of, mass_left, mass_right, momentum_left, momentum_right, &
+                                        stress_volume, constants, carry, mass_of, modulus_of, forces, gradient, force_left, &
+                                        force_right)
+      integer, parameter :: kernel = pass_map_stress
+      logical, parameter :: moves = pass_moves(kernel), stresses = pass_stresses(kernel), relocates = pass_relocates(kernel)
+      integer, parameter :: shares = pass_force_shares(kernel)
+      integer, intent(in) :: k
+      type(segments_t), intent(inout) :: seg
+      real(dp), intent(inout), contiguous :: x(:), v(:), stress(:), volume_ratio(:)
+      real(dp), intent(in), contiguous :: x0(:)
+      integer, intent(inout), contiguous :: cell(:)
+      real(dp), intent(in), contiguous :: acceleration(0:), velocity(0:)
+      real(dp), intent(in), contiguous :: strain_increment_of(:)  !< per element (grid%element_strain)
+      real(dp), intent(inout), contiguous :: mass_left(:), mass_right(:), momentum_left(:), momentum_right(:), stress_volume(:)
+      type(pass_constants_t), intent(in) :: constants
+      real(dp), intent(inout), contiguous :: carry(:)  !< particles in parts: what a pass keeps for the next (fused_box_t)
+      !> the variants' per-particle data (absent when the run has none): masses and Young's moduli
+      !> (`material`), external forces (`forced`), APIC's velocity gradients C_p, and the element shares of
+      !> the forces
+      real(dp), intent(in), contiguous, optional :: mass_of(:), modulus_of(:), forces(:)
+      real(dp), intent(inout), contiguous, optional :: gradient(:), force_left(:), force_right(:)
+      integer :: p, e, i, n, b0, first, last, lo, hi, outside, ahead, elements
+      real(dp) :: half_m, strain_factor, dstrain, inv_dx, dt, youngs_modulus, m, volume0
+      type(largest_move_t) :: largest
+      real(dp) :: displacement(lanes), kinetic(lanes), strain(lanes), min_j(lanes)
+      integer :: cb(block_size)
+      real(dp) :: svb(block_size), db(block_size), kb(block_size), sb(block_size), jb(block_size)
+      real(dp) :: mb(block_size, 2)  !< the moves of a block, and of the block with the largest (lanes_track_move)
+      integer :: slot
+      real(dp) :: lane_max(lanes), block_max
+      integer :: lane_i, lane_r
+      type(run_t) :: run
+      integer(i8) :: elements_bits
+      real(dp) :: xi, xib(block_size), vpb(block_size)
+      ! the variant's: G2P's grid velocity and move, the segment's body (cells offset), each particle's
+      ! shares (accumulate_shares)
+      real(dp) :: vgrid, dxp
+      real(dp) :: mp, sh(block_size, share_count)
+      elements = constants%elements
+      inv_dx = constants%inv_dx
+      dt = constants%dt
+      youngs_modulus = constants%youngs_modulus
+      m = constants%mass
+      volume0 = constants%volume0
+      call open_segment(k, shares, seg, mass_left, mass_right, momentum_left, momentum_right, stress_volume, first, last, &
+                        lo, hi, force_left, force_right)
+      displacement = 0; kinetic = 0; strain = 0; min_j = huge(1.0_dp)
+      slot = 1
+      outside = 0
+      elements_bits = transfer(real(elements, dp), 0_i8)
+      half_m = 0.5_dp*m
+      strain_factor = 0.0_dp
+      if (stresses) strain_factor = 0.5_dp*volume0/youngs_modulus
+      do b0 = first, last, block_size
+         n = min(block_size, last - b0 + 1)
+         if (seg%prefetch) then  ! the arrays the pass reads, and the grid values of the next blocks
+            ahead = b0 + prefetch_ahead
+            if (kernel == pass_usl) call prefetch_block(ahead, cell, x, x0, v, stress, volume_ratio)
+            if (kernel == pass_usf_move .or. kernel == pass_musl_remap) call prefetch_block(ahead, cell, x, x0, v)
+            if (kernel == pass_usf_stress) call prefetch_block(ahead, cell, stress, volume_ratio)
+            if (kernel == pass_musl_stress) call prefetch_block(ahead, cell, x, v, stress, volume_ratio)
+            if (moves) then
+               call prefetch_nodes(cell(b0), cell(b0 + n - 1), acceleration, velocity)
+            else
+               call prefetch_elements(cell(b0), cell(b0 + n - 1), strain_increment_of)
+            end if
+         end if
+         do i = 1, n
+            p = b0 + i - 1
+            e = cell(p)
+            ! G2P with the start-of-step shape functions (per-particle forces)
+            if (moves) then
+               xi = x(p)*inv_dx - (e - 1)
+               vgrid = (1.0_dp - xi)*velocity(e - 1) + xi*velocity(e)
+               v(p) = v(p) + dt*((1.0_dp - xi)*acceleration(e - 1) + xi*acceleration(e))
+               dxp = dt*vgrid
+               x(p) = x(p) + dxp
+               db(i) = x(p) - x0(p)
+               kb(i) = half_m*v(p)*v(p)
+               mb(i, slot) = abs(dxp)*inv_dx
+            end if
+            if (stresses) then ! d eps = dt sum dN v_I over the start-of-step cell
+               if (moves) then
+                  dstrain = strain_increment(velocity(e - 1), velocity(e), dt, inv_dx)
+               else
+                  dstrain = strain_increment_of(e)
+               end if
+               call stress_particle(dstrain, youngs_modulus, strain_factor, volume0, stress(p), volume_ratio(p), sb(i), &
+                                    svb(i))
+               jb(i) = volume_ratio(p)
+            else if (iand(shares, share_stress) /= 0) then ! (an initial mapping: the stress as it is)
+               svb(i) = stress(p)*volume_ratio(p)*volume0
+            end if
+            if (relocates) then ! the new cell, for P2G at the new position
+               call locate_cell(x(p), inv_dx, elements, elements_bits, cb(i), xib(i))
+               cell(p) = cb(i)
+            else                ! the shares go to the start-of-step cell
+               cb(i) = e
+               if (moves) xib(i) = xi
+               if (.not. moves) xib(i) = x(p)*inv_dx - (e - 1)  ! (USF's stress pass maps the forces)
+            end if
+            ! the particle's whole element shares (accumulate_shares sums them): mass, momentum (APIC's
+            ! with its affine part), stress*volume, external force, at the left and right node
+            mp = m
+            if (iand(shares, share_mass + share_momentum) /= 0) then
+               sh(i, 2) = mp*xib(i)
+               sh(i, 1) = mp - sh(i, 2)
+            end if
+            if (iand(shares, share_momentum) /= 0) then
+               sh(i, 3) = sh(i, 1)*v(p)
+               sh(i, 4) = sh(i, 2)*v(p)
+            end if
+            if (iand(shares, share_stress) /= 0) sh(i, 5) = svb(i)
+            if (iand(shares, share_force) /= 0) then
+               sh(i, 7) = forces(p)*xib(i)
+               sh(i, 6) = forces(p) - sh(i, 7)
+            end if
+         end do
+         ! the block's totals (macros of mpm_lanes.fypi, expanded here)
+         if (moves) then
+            do lane_i = 1, n - lanes + 1, lanes
+               displacement = displacement + db(lane_i:lane_i + lanes - 1)
+            end do
+            lane_r = mod(n, lanes)
+            if (lane_r > 0) displacement(1:lane_r) = displacement(1:lane_r) + db(n - lane_r + 1:n)
+            do lane_i = 1, n - lanes + 1, lanes
+               kinetic = kinetic + kb(lane_i:lane_i + lanes - 1)
+            end do
+            lane_r = mod(n, lanes)
+            if (lane_r > 0) kinetic(1:lane_r) = kinetic(1:lane_r) + kb(n - lane_r + 1:n)
+            lane_max = 0.0_dp
+            do lane_i = 1, n - lanes + 1, lanes
+               lane_max = max(lane_max, mb(lane_i:lane_i + lanes - 1, slot))
+            end do
+            lane_r = mod(n, lanes)
+            if (lane_r > 0) lane_max(1:lane_r) = max(lane_max(1:lane_r), mb(n - lane_r + 1:n, slot))
+            block_max = maxval(lane_max)
+            if (block_max > largest%value) then
+               largest%value = block_max
+               largest%first = b0
+               largest%count = n
+               largest%slot = slot
+               slot = 3 - slot
+            end if
+         end if
+         if (stresses) then
+            do lane_i = 1, n - lanes + 1, lanes
+               strain = strain + sb(lane_i:lane_i + lanes - 1)
+            end do
+            lane_r = mod(n, lanes)
+            if (lane_r > 0) strain(1:lane_r) = strain(1:lane_r) + sb(n - lane_r + 1:n)
+            do lane_i = 1, n - lanes + 1, lanes
+               min_j = min(min_j, jb(lane_i:lane_i + lanes - 1))
+            end do
+            lane_r = mod(n, lanes)
+            if (lane_r > 0) min_j(1:lane_r) = min(min_j(1:lane_r), jb(n - lane_r + 1:n))
+         end if
+         if (relocates) call find_outside(n, b0, cb, outside)
+         call accumulate_shares(k, n, cb, sh, lo, hi, shares, run, mass_left, mass_right, momentum_left, momentum_right, &
+                                stress_volume, seg, force_left, force_right)
+      end do
+      ! the open run's whole shares
+      if (run%cur /= 0) call flush_sums(k, run%cur, lo, hi, shares, run%s, mass_left, mass_right, momentum_left, &
+                                        momentum_right, stress_volume, seg, force_left, force_right)
+      run%a = 0.0_dp  ! (close_segment flushes the bar's sums: none here)
+      call close_segment(k, shares, m, run, [lane_total(displacement), lane_total(kinetic), lane_total(strain)], &
+                         minval(min_j), largest%value, furthest_particle(largest, mb), outside, mass_left, mass_right, &
+                         momentum_left, momentum_right, stress_volume, seg)
+   end subroutine forced_map_stress_segment
+
+   !> USF, second half: G2P, then mass and momentum at the new position (the hat, bodies on stacked fields)
+   subroutine bodies_usf_move_segment(k, seg, x, x0, v, stress, volume_ratio, cell, acceleration, velocity, &
+                                      strain_increment_of, mass_left, mass_right, momentum_left, momentum_right, &
+                                      stress_volume, constants, carry, mass_of, modulus_of, forces, gradient, force_left, &
+                                      force_right)
+      integer, parameter :: kernel = pass_usf_move
+      logical, parameter :: moves = pass_moves(kernel), stresses = pass_stresses(kernel), relocates = pass_relocates(kernel)
+      integer, parameter :: shares = pass_shares(kernel)
+      integer, intent(in) :: k
+      type(segments_t), intent(inout) :: seg
+      real(dp), intent(inout), contiguous :: x(:), v(:), stress(:), volume_ratio(:)
+      real(dp), intent(in), contiguous :: x0(:)
+      integer, intent(inout), contiguous :: cell(:)
+      real(dp), intent(in), contiguous :: acceleration(0:), velocity(0:)
+      real(dp), intent(in), contiguous :: strain_increment_of(:)  !< per element (grid%element_strain)
+      real(dp), intent(inout), contiguous :: mass_left(:), mass_right(:), momentum_left(:), momentum_right(:), stress_volume(:)
+      type(pass_constants_t), intent(in) :: constants
+      real(dp), intent(inout), contiguous :: carry(:)  !< particles in parts: what a pass keeps for the next (fused_box_t)
+      !> the variants' per-particle data (absent when the run has none): masses and Young's moduli
+      !> (`material`), external forces (`forced`), APIC's velocity gradients C_p, and the element shares of
+      !> the forces
+      real(dp), intent(in), contiguous, optional :: mass_of(:), modulus_of(:), forces(:)
+      real(dp), intent(inout), contiguous, optional :: gradient(:), force_left(:), force_right(:)
+      integer :: p, e, i, n, b0, first, last, lo, hi, outside, ahead, elements
+      real(dp) :: half_m, strain_factor, dstrain, inv_dx, dt, youngs_modulus, m, volume0
+      type(largest_move_t) :: largest
+      real(dp) :: displacement(lanes), kinetic(lanes), strain(lanes), min_j(lanes)
+      integer :: cb(block_size)
+      real(dp) :: svb(block_size), db(block_size), kb(block_size), sb(block_size), jb(block_size)
+      real(dp) :: mb(block_size, 2)  !< the moves of a block, and of the block with the largest (lanes_track_move)
+      integer :: slot
+      real(dp) :: lane_max(lanes), block_max
+      integer :: lane_i, lane_r
+      type(run_t) :: run
+      integer(i8) :: elements_bits
+      real(dp) :: xi, xib(block_size), vpb(block_size)
+      ! the variant's: G2P's grid velocity and move, the segment's body (cells offset), each particle's
+      ! shares (accumulate_shares)
+      real(dp) :: vgrid, dxp
+      real(dp) :: origin
+      integer :: offset
+      origin = constants%origin
+      offset = constants%offset
+      elements = constants%elements
+      inv_dx = constants%inv_dx
+      dt = constants%dt
+      youngs_modulus = constants%youngs_modulus
+      m = constants%mass
+      volume0 = constants%volume0
+      call open_segment(k, shares, seg, mass_left, mass_right, momentum_left, momentum_right, stress_volume, first, last, &
+                        lo, hi)
+      displacement = 0; kinetic = 0; strain = 0; min_j = huge(1.0_dp)
+      slot = 1
+      outside = 0
+      elements_bits = transfer(real(elements, dp), 0_i8)
+      half_m = 0.5_dp*m
+      strain_factor = 0.0_dp
+      if (stresses) strain_factor = 0.5_dp*volume0/youngs_modulus
+      do b0 = first, last, block_size
+         n = min(block_size, last - b0 + 1)
+         if (seg%prefetch) then  ! the arrays the pass reads, and the grid values of the next blocks
+            ahead = b0 + prefetch_ahead
+            if (kernel == pass_usl) call prefetch_block(ahead, cell, x, x0, v, stress, volume_ratio)
+            if (kernel == pass_usf_move .or. kernel == pass_musl_remap) call prefetch_block(ahead, cell, x, x0, v)
+            if (kernel == pass_usf_stress) call prefetch_block(ahead, cell, stress, volume_ratio)
+            if (kernel == pass_musl_stress) call prefetch_block(ahead, cell, x, v, stress, volume_ratio)
+            if (moves) then
+               call prefetch_nodes(cell(b0), cell(b0 + n - 1), acceleration, velocity)
+            else
+               call prefetch_elements(cell(b0), cell(b0 + n - 1), strain_increment_of)
+            end if
+         end if
+         do i = 1, n
+            p = b0 + i - 1
+            e = cell(p)
+            ! G2P with the start-of-step shape functions (bodies on stacked fields)
+            if (moves) then
+               xi = (x(p) - origin)*inv_dx - (e - offset - 1)  ! (e: the cell in the stacked fields)
+               vgrid = (1.0_dp - xi)*velocity(e - 1) + xi*velocity(e)
+               v(p) = v(p) + dt*((1.0_dp - xi)*acceleration(e - 1) + xi*acceleration(e))
+               dxp = dt*vgrid
+               x(p) = x(p) + dxp
+               db(i) = x(p) - x0(p)
+               kb(i) = half_m*v(p)*v(p)
+               mb(i, slot) = abs(dxp)*inv_dx
+            end if
+            if (stresses) then ! d eps = dt sum dN v_I over the start-of-step cell
+               if (moves) then
+                  dstrain = strain_increment(velocity(e - 1), velocity(e), dt, inv_dx)
+               else
+                  dstrain = strain_increment_of(e)
+               end if
+               call stress_particle(dstrain, youngs_modulus, strain_factor, volume0, stress(p), volume_ratio(p), sb(i), &
+                                    svb(i))
+               jb(i) = volume_ratio(p)
+            else if (iand(shares, share_stress) /= 0) then ! (an initial mapping: the stress as it is)
+               svb(i) = stress(p)*volume_ratio(p)*volume0
+            end if
+            if (relocates) then ! the new cell, for P2G at the new position
+               call locate_body_cell(x(p), origin, inv_dx, elements, elements_bits, offset, cb(i), xib(i))
+               cell(p) = cb(i)
+            else                ! the shares go to the start-of-step cell
+               cb(i) = e
+               if (moves) xib(i) = xi
+            end if
+            if (moves .or. relocates) vpb(i) = v(p)
+         end do
+         ! the block's totals (macros of mpm_lanes.fypi, expanded here)
+         if (moves) then
+            do lane_i = 1, n - lanes + 1, lanes
+               displacement = displacement + db(lane_i:lane_i + lanes - 1)
+            end do
+            lane_r = mod(n, lanes)
+            if (lane_r > 0) displacement(1:lane_r) = displacement(1:lane_r) + db(n - lane_r + 1:n)
+            do lane_i = 1, n - lanes + 1, lanes
+               kinetic = kinetic + kb(lane_i:lane_i + lanes - 1)
+            end do
+            lane_r = mod(n, lanes)
+            if (lane_r > 0) kinetic(1:lane_r) = kinetic(1:lane_r) + kb(n - lane_r + 1:n)
+            lane_max = 0.0_dp
+            do lane_i = 1, n - lanes + 1, lanes
+               lane_max = max(lane_max, mb(lane_i:lane_i + lanes - 1, slot))
+            end do
+            lane_r = mod(n, lanes)
+            if (lane_r > 0) lane_max(1:lane_r) = max(lane_max(1:lane_r), mb(n - lane_r + 1:n, slot))
+            block_max = maxval(lane_max)
+            if (block_max > largest%value) then
+               largest%value = block_max
+               largest%first = b0
+               largest%count = n
+               largest%slot = slot
+               slot = 3 - slot
+            end if
+         end if
+         if (stresses) then
+            do lane_i = 1, n - lanes + 1, lanes
+               strain = strain + sb(lane_i:lane_i + lanes - 1)
+            end do
+            lane_r = mod(n, lanes)
+            if (lane_r > 0) strain(1:lane_r) = strain(1:lane_r) + sb(n - lane_r + 1:n)
+            do lane_i = 1, n - lanes + 1, lanes
+               min_j = min(min_j, jb(lane_i:lane_i + lanes - 1))
+            end do
+            lane_r = mod(n, lanes)
+            if (lane_r > 0) min_j(1:lane_r) = min(min_j(1:lane_r), jb(n - lane_r + 1:n))
+         end if
+         if (relocates) call find_outside(n, b0, cb, outside)
+         call accumulate_block(k, n, cb, xib, vpb, svb, m, lo, hi, shares, run, mass_left, mass_right, momentum_left, &
+                               momentum_right, stress_volume, seg)
+      end do
+      ! (the body's mass times its sum of x - X: the bodies' masses differ)
+      call close_segment(k, shares, m, run, [m*lane_total(displacement), lane_total(kinetic), lane_total(strain)], &
+                         minval(min_j), largest%value, furthest_particle(largest, mb), outside, mass_left, mass_right, &
+                         momentum_left, momentum_right, stress_volume, seg)
+   end subroutine bodies_usf_move_segment
+
+   !> USF, first half: stress update, then stress*volume of the unmoved particles (the hat, bodies on stacked fields)
+   subroutine bodies_usf_stress_segment(k, seg, x, x0, v, stress, volume_ratio, cell, acceleration, velocity, &
+                                        strain_increment_of, mass_left, mass_right, momentum_left, momentum_right, &
+                                        stress_volume, constants, carry, mass_of, modulus_of, forces, gradient, force_left, &
+                                        force_right)
+      integer, parameter :: kernel = pass_usf_stress
+      logical, parameter :: moves = pass_moves(kernel), stresses = pass_stresses(kernel), relocates = pass_relocates(kernel)
+      integer, parameter :: shares = pass_shares(kernel)
+      integer, intent(in) :: k
+      type(segments_t), intent(inout) :: seg
+      real(dp), intent(inout), contiguous :: x(:), v(:), stress(:), volume_ratio(:)
+      real(dp), intent(in), contiguous :: x0(:)
+      integer, intent(inout), contiguous :: cell(:)
+      real(dp), intent(in), contiguous :: acceleration(0:), velocity(0:)
+      real(dp), intent(in), contiguous :: strain_increment_of(:)  !< per element (grid%element_strain)
+      real(dp), intent(inout), contiguous :: mass_left(:), mass_right(:), momentum_left(:), momentum_right(:), stress_volume(:)
+      type(pass_constants_t), intent(in) :: constants
+      real(dp), intent(inout), contiguous :: carry(:)  !< particles in parts: what a pass keeps for the next (fused_box_t)
+      !> the variants' per-particle data (absent when the run has none): masses and Young's moduli
+      !> (`material`), external forces (`forced`), APIC's velocity gradients C_p, and the element shares of
+      !> the forces
+      real(dp), intent(in), contiguous, optional :: mass_of(:), modulus_of(:), forces(:)
+      real(dp), intent(inout), contiguous, optional :: gradient(:), force_left(:), force_right(:)
+      integer :: p, e, i, n, b0, first, last, lo, hi, outside, ahead, elements
+      real(dp) :: half_m, strain_factor, dstrain, inv_dx, dt, youngs_modulus, m, volume0
+      type(largest_move_t) :: largest
+      real(dp) :: displacement(lanes), kinetic(lanes), strain(lanes), min_j(lanes)
+      integer :: cb(block_size)
+      real(dp) :: svb(block_size), db(block_size), kb(block_size), sb(block_size), jb(block_size)
+      real(dp) :: mb(block_size, 2)  !< the moves of a block, and of the block with the largest (lanes_track_move)
+      integer :: slot
+      real(dp) :: lane_max(lanes), block_max
+      integer :: lane_i, lane_r
+      type(run_t) :: run
+      integer(i8) :: elements_bits
+      real(dp) :: xi, xib(block_size), vpb(block_size)
+      ! the variant's: G2P's grid velocity and move, the segment's body (cells offset), each particle's
+      ! shares (accumulate_shares)
+      real(dp) :: vgrid, dxp
+      real(dp) :: origin
+      integer :: offset
+      origin = constants%origin
+      offset = constants%offset
+      elements = constants%elements
+      inv_dx = constants%inv_dx
+      dt = constants%dt
+      youngs_modulus = constants%youngs_modulus
+      m = constants%mass
+      volume0 = constants%volume0
+      call open_segment(k, shares, seg, mass_left, mass_right, momentum_left, momentum_right, stress_volume, first, last, &
+                        lo, hi)
+      displacement = 0; kinetic = 0; strain = 0; min_j = huge(1.0_dp)
+      slot = 1
+      outside = 0
+      elements_bits = transfer(real(elements, dp), 0_i8)
+      half_m = 0.5_dp*m
+      strain_factor = 0.0_dp
+      if (stresses) strain_factor = 0.5_dp*volume0/youngs_modulus
+      do b0 = first, last, block_size
+         n = min(block_size, last - b0 + 1)
+         if (seg%prefetch) then  ! the arrays the pass reads, and the grid values of the next blocks
+            ahead = b0 + prefetch_ahead
+            if (kernel == pass_usl) call prefetch_block(ahead, cell, x, x0, v, stress, volume_ratio)
+            if (kernel == pass_usf_move .or. kernel == pass_musl_remap) call prefetch_block(ahead, cell, x, x0, v)
+            if (kernel == pass_usf_stress) call prefetch_block(ahead, cell, stress, volume_ratio)
+            if (kernel == pass_musl_stress) call prefetch_block(ahead, cell, x, v, stress, volume_ratio)
+            if (moves) then
+               call prefetch_nodes(cell(b0), cell(b0 + n - 1), acceleration, velocity)
+            else
+               call prefetch_elements(cell(b0), cell(b0 + n - 1), strain_increment_of)
+            end if
+         end if
+         do i = 1, n
+            p = b0 + i - 1
+            e = cell(p)
+            ! G2P with the start-of-step shape functions (bodies on stacked fields)
+            if (moves) then
+               xi = (x(p) - origin)*inv_dx - (e - offset - 1)  ! (e: the cell in the stacked fields)
+               vgrid = (1.0_dp - xi)*velocity(e - 1) + xi*velocity(e)
+               v(p) = v(p) + dt*((1.0_dp - xi)*acceleration(e - 1) + xi*acceleration(e))
+               dxp = dt*vgrid
+               x(p) = x(p) + dxp
+               db(i) = x(p) - x0(p)
+               kb(i) = half_m*v(p)*v(p)
+               mb(i, slot) = abs(dxp)*inv_dx
+            end if
+            if (stresses) then ! d eps = dt sum dN v_I over the start-of-step cell
+               if (moves) then
+                  dstrain = strain_increment(velocity(e - 1), velocity(e), dt, inv_dx)
+               else
+                  dstrain = strain_increment_of(e)
+               end if
+               call stress_particle(dstrain, youngs_modulus, strain_factor, volume0, stress(p), volume_ratio(p), sb(i), &
+                                    svb(i))
+               jb(i) = volume_ratio(p)
+            else if (iand(shares, share_stress) /= 0) then ! (an initial mapping: the stress as it is)
+               svb(i) = stress(p)*volume_ratio(p)*volume0
+            end if
+            if (relocates) then ! the new cell, for P2G at the new position
+               call locate_body_cell(x(p), origin, inv_dx, elements, elements_bits, offset, cb(i), xib(i))
+               cell(p) = cb(i)
+            else                ! the shares go to the start-of-step cell
+               cb(i) = e
+               if (moves) xib(i) = xi
+            end if
+            if (moves .or. relocates) vpb(i) = v(p)
+         end do
+         ! the block's totals (macros of mpm_lanes.fypi, expanded here)
+         if (moves) then
+            do lane_i = 1, n - lanes + 1, lanes
+               displacement = displacement + db(lane_i:lane_i + lanes - 1)
+            end do
+            lane_r = mod(n, lanes)
+            if (lane_r > 0) displacement(1:lane_r) = displacement(1:lane_r) + db(n - lane_r + 1:n)
+            do lane_i = 1, n - lanes + 1, lanes
+               kinetic = kinetic + kb(lane_i:lane_i + lanes - 1)
+            end do
+            lane_r = mod(n, lanes)
+            if (lane_r > 0) kinetic(1:lane_r) = kinetic(1:lane_r) + kb(n - lane_r + 1:n)
+            lane_max = 0.0_dp
+            do lane_i = 1, n - lanes + 1, lanes
+               lane_max = max(lane_max, mb(lane_i:lane_i + lanes - 1, slot))
+            end do
+            lane_r = mod(n, lanes)
+            if (lane_r > 0) lane_max(1:lane_r) = max(lane_max(1:lane_r), mb(n - lane_r + 1:n, slot))
+            block_max = maxval(lane_max)
+            if (block_max > largest%value) then
+               largest%value = block_max
+               largest%first = b0
+               largest%count = n
+               largest%slot = slot
+               slot = 3 - slot
+            end if
+         end if
+         if (stresses) then
+            do lane_i = 1, n - lanes + 1, lanes
+               strain = strain + sb(lane_i:lane_i + lanes - 1)
+            end do
+            lane_r = mod(n, lanes)
+            if (lane_r > 0) strain(1:lane_r) = strain(1:lane_r) + sb(n - lane_r + 1:n)
+            do lane_i = 1, n - lanes + 1, lanes
+               min_j = min(min_j, jb(lane_i:lane_i + lanes - 1))
+            end do
+            lane_r = mod(n, lanes)
+            if (lane_r > 0) min_j(1:lane_r) = min(min_j(1:lane_r), jb(n - lane_r + 1:n))
+         end if
+         if (relocates) call find_outside(n, b0, cb, outside)
+         call accumulate_block(k, n, cb, xib, vpb, svb, m, lo, hi, shares, run, mass_left, mass_right, momentum_left, &
+                               momentum_right, stress_volume, seg)
+      end do
+      ! (the body's mass times its sum of x - X: the bodies' masses differ)
+      call close_segment(k, shares, m, run, [m*lane_total(displacement), lane_total(kinetic), lane_total(strain)], &
+                         minval(min_j), largest%value, furthest_particle(largest, mb), outside, mass_left, mass_right, &
+                         momentum_left, momentum_right, stress_volume, seg)
+   end subroutine bodies_usf_stress_segment
+
+   !> USL: G2P, stress update from the updated nodal velocities, P2G at the new position (the hat, bodies on stacked fields)
+   subroutine bodies_usl_segment(k, seg, x, x0, v, stress, volume_ratio, cell, acceleration, velocity, &
+                                 strain_increment_of, mass_left, mass_right, momentum_left, momentum_right, &
+                                 stress_volume, constants, carry, mass_of, modulus_of, forces, gradient, force_left, &
+                                 force_right)
+      integer, parameter :: kernel = pass_usl
+      logical, parameter :: moves = pass_moves(kernel), stresses = pass_stresses(kernel), relocates = pass_relocates(kernel)
+      integer, parameter :: shares = pass_shares(kernel)
+      integer, intent(in) :: k
+      type(segments_t), intent(inout) :: seg
+      real(dp), intent(inout), contiguous :: x(:), v(:), stress(:), volume_ratio(:)
+      real(dp), intent(in), contiguous :: x0(:)
+      integer, intent(inout), contiguous :: cell(:)
+      real(dp), intent(in), contiguous :: acceleration(0:), velocity(0:)
+      real(dp), intent(in), contiguous :: strain_increment_of(:)  !< per element (grid%element_strain)
+      real(dp), intent(inout), contiguous :: mass_left(:), mass_right(:), momentum_left(:), momentum_right(:), stress_volume(:)
+      type(pass_constants_t), intent(in) :: constants
+      real(dp), intent(inout), contiguous :: carry(:)  !< particles in parts: what a pass keeps for the next (fused_box_t)
+      !> the variants' per-particle data (absent when the run has none): masses and Young's moduli
+      !> (`material`), external forces (`forced`), APIC's velocity gradients C_p, and the element shares of
+      !> the forces
+      real(dp), intent(in), contiguous, optional :: mass_of(:), modulus_of(:), forces(:)
+      real(dp), intent(inout), contiguous, optional :: gradient(:), force_left(:), force_right(:)
+      integer :: p, e, i, n, b0, first, last, lo, hi, outside, ahead, elements
+      real(dp) :: half_m, strain_factor, dstrain, inv_dx, dt, youngs_modulus, m, volume0
+      type(largest_move_t) :: largest
+      real(dp) :: displacement(lanes), kinetic(lanes), strain(lanes), min_j(lanes)
+      integer :: cb(block_size)
+      real(dp) :: svb(block_size), db(block_size), kb(block_size), sb(block_size), jb(block_size)
+      real(dp) :: mb(block_size, 2)  !< the moves of a block, and of the block with the largest (lanes_track_move)
+      integer :: slot
+      real(dp) :: lane_max(lanes), block_max
+      integer :: lane_i, lane_r
+      type(run_t) :: run
+      integer(i8) :: elements_bits
+      real(dp) :: xi, xib(block_size), vpb(block_size)
+      ! the variant's: G2P's grid velocity and move, the segment's body (cells offset), each particle's
+      ! shares (accumulate_shares)
+      real(dp) :: vgrid, dxp
+      real(dp) :: origin
+      integer :: offset
+      origin = constants%origin
+      offset = constants%offset
+      elements = constants%elements
+      inv_dx = constants%inv_dx
+      dt = constants%dt
+      youngs_modulus = constants%youngs_modulus
+      m = constants%mass
+      volume0 = constants%volume0
+      call open_segment(k, shares, seg, mass_left, mass_right, momentum_left, momentum_right, stress_volume, first, last, &
+                        lo, hi)
+      displacement = 0; kinetic = 0; strain = 0; min_j = huge(1.0_dp)
+      slot = 1
+      outside = 0
+      elements_bits = transfer(real(elements, dp), 0_i8)
+      half_m = 0.5_dp*m
+      strain_factor = 0.0_dp
+      if (stresses) strain_factor = 0.5_dp*volume0/youngs_modulus
+      do b0 = first, last, block_size
+         n = min(block_size, last - b0 + 1)
+         if (seg%prefetch) then  ! the arrays the pass reads, and the grid values of the next blocks
+            ahead = b0 + prefetch_ahead
+            if (kernel == pass_usl) call prefetch_block(ahead, cell, x, x0, v, stress, volume_ratio)
+            if (kernel == pass_usf_move .or. kernel == pass_musl_remap) call prefetch_block(ahead, cell, x, x0, v)
+            if (kernel == pass_usf_stress) call prefetch_block(ahead, cell, stress, volume_ratio)
+            if (kernel == pass_musl_stress) call prefetch_block(ahead, cell, x, v, stress, volume_ratio)
+            if (moves) then
+               call prefetch_nodes(cell(b0), cell(b0 + n - 1), acceleration, velocity)
+            else
+               call prefetch_elements(cell(b0), cell(b0 + n - 1), strain_increment_of)
+            end if
+         end if
+         do i = 1, n
+            p = b0 + i - 1
+            e = cell(p)
+            ! G2P with the start-of-step shape functions (bodies on stacked fields)
+            if (moves) then
+               xi = (x(p) - origin)*inv_dx - (e - offset - 1)  ! (e: the cell in the stacked fields)
+               vgrid = (1.0_dp - xi)*velocity(e - 1) + xi*velocity(e)
+               v(p) = v(p) + dt*((1.0_dp - xi)*acceleration(e - 1) + xi*acceleration(e))
+               dxp = dt*vgrid
+               x(p) = x(p) + dxp
+               db(i) = x(p) - x0(p)
+               kb(i) = half_m*v(p)*v(p)
+               mb(i, slot) = abs(dxp)*inv_dx
+            end if
+            if (stresses) then ! d eps = dt sum dN v_I over the start-of-step cell
+               if (moves) then
+                  dstrain = strain_increment(velocity(e - 1), velocity(e), dt, inv_dx)
+               else
+                  dstrain = strain_increment_of(e)
+               end if
+               call stress_particle(dstrain, youngs_modulus, strain_factor, volume0, stress(p), volume_ratio(p), sb(i), &
+                                    svb(i))
+               jb(i) = volume_ratio(p)
+            else if (iand(shares, share_stress) /= 0) then ! (an initial mapping: the stress as it is)
+               svb(i) = stress(p)*volume_ratio(p)*volume0
+            end if
+            if (relocates) then ! the new cell, for P2G at the new position
+               call locate_body_cell(x(p), origin, inv_dx, elements, elements_bits, offset, cb(i), xib(i))
+               cell(p) = cb(i)
+            else                ! the shares go to the start-of-step cell
+               cb(i) = e
+               if (moves) xib(i) = xi
+            end if
+            if (moves .or. relocates) vpb(i) = v(p)
+         end do
+         ! the block's totals (macros of mpm_lanes.fypi, expanded here)
+         if (moves) then
+            do lane_i = 1, n - lanes + 1, lanes
+               displacement = displacement + db(lane_i:lane_i + lanes - 1)
+            end do
+            lane_r = mod(n, lanes)
+            if (lane_r > 0) displacement(1:lane_r) = displacement(1:lane_r) + db(n - lane_r + 1:n)
+            do lane_i = 1, n - lanes + 1, lanes
+               kinetic = kinetic + kb(lane_i:lane_i + lanes - 1)
+            end do
+            lane_r = mod(n, lanes)
+            if (lane_r > 0) kinetic(1:lane_r) = kinetic(1:lane_r) + kb(n - lane_r + 1:n)
+            lane_max = 0.0_dp
+            do lane_i = 1, n - lanes + 1, lanes
+               lane_max = max(lane_max, mb(lane_i:lane_i + lanes - 1, slot))
+            end do
+            lane_r = mod(n, lanes)
+            if (lane_r > 0) lane_max(1:lane_r) = max(lane_max(1:lane_r), mb(n - lane_r + 1:n, slot))
+            block_max = maxval(lane_max)
+            if (block_max > largest%value) then
+               largest%value = block_max
+               largest%first = b0
+               largest%count = n
+               largest%slot = slot
+               slot = 3 - slot
+            end if
+         end if
+         if (stresses) then
+            do lane_i = 1, n - lanes + 1, lanes
+               strain = strain + sb(lane_i:lane_i + lanes - 1)
+            end do
+            lane_r = mod(n, lanes)
+            if (lane_r > 0) strain(1:lane_r) = strain(1:lane_r) + sb(n - lane_r + 1:n)
+            do lane_i = 1, n - lanes + 1, lanes
+               min_j = min(min_j, jb(lane_i:lane_i + lanes - 1))
+            end do
+            lane_r = mod(n, lanes)
+            if (lane_r > 0) min_j(1:lane_r) = min(min_j(1:lane_r), jb(n - lane_r + 1:n))
+         end if
+         if (relocates) call find_outside(n, b0, cb, outside)
+         call accumulate_block(k, n, cb, xib, vpb, svb, m, lo, hi, shares, run, mass_left, mass_right, momentum_left, &
+                               momentum_right, stress_volume, seg)
+      end do
+      ! (the body's mass times its sum of x - X: the bodies' masses differ)
+      call close_segment(k, shares, m, run, [m*lane_total(displacement), lane_total(kinetic), lane_total(strain)], &
+                         minval(min_j), largest%value, furthest_particle(largest, mb), outside, mass_left, mass_right, &
+                         momentum_left, momentum_right, stress_volume, seg)
+   end subroutine bodies_usl_segment
+
+   !> MUSL, first pass: G2P, and the new momentum back to the start-of-step nodes (the hat, bodies on stacked fields)
+   subroutine bodies_musl_remap_segment(k, seg, x, x0, v, stress, volume_ratio, cell, acceleration, velocity, &
+                                        strain_increment_of, mass_left, mass_right, momentum_left, momentum_right, &
+                                        stress_volume, constants, carry, mass_of, modulus_of, forces, gradient, force_left, &
+                                        force_right)
+      integer, parameter :: kernel = pass_musl_remap
+      logical, parameter :: moves = pass_moves(kernel), stresses = pass_stresses(kernel), relocates = pass_relocates(kernel)
+      integer, parameter :: shares = pass_shares(kernel)
+      integer, intent(in) :: k
+      type(segments_t), intent(inout) :: seg
+      real(dp), intent(inout), contiguous :: x(:), v(:), stress(:), volume_ratio(:)
+      real(dp), intent(in), contiguous :: x0(:)
+      integer, intent(inout), contiguous :: cell(:)
+      real(dp), intent(in), contiguous :: acceleration(0:), velocity(0:)
+      real(dp), intent(in), contiguous :: strain_increment_of(:)  !< per element (grid%element_strain)
+      real(dp), intent(inout), contiguous :: mass_left(:), mass_right(:), momentum_left(:), momentum_right(:), stress_volume(:)
+      type(pass_constants_t), intent(in) :: constants
+      real(dp), intent(inout), contiguous :: carry(:)  !< particles in parts: what a pass keeps for the next (fused_box_t)
+      !> the variants' per-particle data (absent when the run has none): masses and Young's moduli
+      !> (`material`), external forces (`forced`), APIC's velocity gradients C_p, and the element shares of
+      !> the forces
+      real(dp), intent(in), contiguous, optional :: mass_of(:), modulus_of(:), forces(:)
+      real(dp), intent(inout), contiguous, optional :: gradient(:), force_left(:), force_right(:)
+      integer :: p, e, i, n, b0, first, last, lo, hi, outside, ahead, elements
+      real(dp) :: half_m, strain_factor, dstrain, inv_dx, dt, youngs_modulus, m, volume0
+      type(largest_move_t) :: largest
+      real(dp) :: displacement(lanes), kinetic(lanes), strain(lanes), min_j(lanes)
+      integer :: cb(block_size)
+      real(dp) :: svb(block_size), db(block_size), kb(block_size), sb(block_size), jb(block_size)
+      real(dp) :: mb(block_size, 2)  !< the moves of a block, and of the block with the largest (lanes_track_move)
+      integer :: slot
+      real(dp) :: lane_max(lanes), block_max
+      integer :: lane_i, lane_r
+      type(run_t) :: run
+      integer(i8) :: elements_bits
+      real(dp) :: xi, xib(block_size), vpb(block_size)
+      ! the variant's: G2P's grid velocity and move, the segment's body (cells offset), each particle's
+      ! shares (accumulate_shares)
+      real(dp) :: vgrid, dxp
+      real(dp) :: origin
+      integer :: offset
+      origin = constants%origin
+      offset = constants%offset
+      elements = constants%elements
+      inv_dx = constants%inv_dx
+      dt = constants%dt
+      youngs_modulus = constants%youngs_modulus
+      m = constants%mass
+      volume0 = constants%volume0
+      call open_segment(k, shares, seg, mass_left, mass_right, momentum_left, momentum_right, stress_volume, first, last, &
+                        lo, hi)
+      displacement = 0; kinetic = 0; strain = 0; min_j = huge(1.0_dp)
+      slot = 1
+      outside = 0
+      elements_bits = transfer(real(elements, dp), 0_i8)
+      half_m = 0.5_dp*m
+      strain_factor = 0.0_dp
+      if (stresses) strain_factor = 0.5_dp*volume0/youngs_modulus
+      do b0 = first, last, block_size
+         n = min(block_size, last - b0 + 1)
+         if (seg%prefetch) then  ! the arrays the pass reads, and the grid values of the next blocks
+            ahead = b0 + prefetch_ahead
+            if (kernel == pass_usl) call prefetch_block(ahead, cell, x, x0, v, stress, volume_ratio)
+            if (kernel == pass_usf_move .or. kernel == pass_musl_remap) call prefetch_block(ahead, cell, x, x0, v)
+            if (kernel == pass_usf_stress) call prefetch_block(ahead, cell, stress, volume_ratio)
+            if (kernel == pass_musl_stress) call prefetch_block(ahead, cell, x, v, stress, volume_ratio)
+            if (moves) then
+               call prefetch_nodes(cell(b0), cell(b0 + n - 1), acceleration, velocity)
+            else
+               call prefetch_elements(cell(b0), cell(b0 + n - 1), strain_increment_of)
+            end if
+         end if
+         do i = 1, n
+            p = b0 + i - 1
+            e = cell(p)
+            ! G2P with the start-of-step shape functions (bodies on stacked fields)
+            if (moves) then
+               xi = (x(p) - origin)*inv_dx - (e - offset - 1)  ! (e: the cell in the stacked fields)
+               vgrid = (1.0_dp - xi)*velocity(e - 1) + xi*velocity(e)
+               v(p) = v(p) + dt*((1.0_dp - xi)*acceleration(e - 1) + xi*acceleration(e))
+               dxp = dt*vgrid
+               x(p) = x(p) + dxp
+               db(i) = x(p) - x0(p)
+               kb(i) = half_m*v(p)*v(p)
+               mb(i, slot) = abs(dxp)*inv_dx
+            end if
+            if (stresses) then ! d eps = dt sum dN v_I over the start-of-step cell
+               if (moves) then
+                  dstrain = strain_increment(velocity(e - 1), velocity(e), dt, inv_dx)
+               else
+                  dstrain = strain_increment_of(e)
+               end if
+               call stress_particle(dstrain, youngs_modulus, strain_factor, volume0, stress(p), volume_ratio(p), sb(i), &
+                                    svb(i))
+               jb(i) = volume_ratio(p)
+            else if (iand(shares, share_stress) /= 0) then ! (an initial mapping: the stress as it is)
+               svb(i) = stress(p)*volume_ratio(p)*volume0
+            end if
+            if (relocates) then ! the new cell, for P2G at the new position
+               call locate_body_cell(x(p), origin, inv_dx, elements, elements_bits, offset, cb(i), xib(i))
+               cell(p) = cb(i)
+            else                ! the shares go to the start-of-step cell
+               cb(i) = e
+               if (moves) xib(i) = xi
+            end if
+            if (moves .or. relocates) vpb(i) = v(p)
+         end do
+         ! the block's totals (macros of mpm_lanes.fypi, expanded here)
+         if (moves) then
+            do lane_i = 1, n - lanes + 1, lanes
+               displacement = displacement + db(lane_i:lane_i + lanes - 1)
+            end do
+            lane_r = mod(n, lanes)
+            if (lane_r > 0) displacement(1:lane_r) = displacement(1:lane_r) + db(n - lane_r + 1:n)
+            do lane_i = 1, n - lanes + 1, lanes
+               kinetic = kinetic + kb(lane_i:lane_i + lanes - 1)
+            end do
+            lane_r = mod(n, lanes)
+            if (lane_r > 0) kinetic(1:lane_r) = kinetic(1:lane_r) + kb(n - lane_r + 1:n)
+            lane_max = 0.0_dp
+            do lane_i = 1, n - lanes + 1, lanes
+               lane_max = max(lane_max, mb(lane_i:lane_i + lanes - 1, slot))
+            end do
+            lane_r = mod(n, lanes)
+            if (lane_r > 0) lane_max(1:lane_r) = max(lane_max(1:lane_r), mb(n - lane_r + 1:n, slot))
+            block_max = maxval(lane_max)
+            if (block_max > largest%value) then
+               largest%value = block_max
+               largest%first = b0
+               largest%count = n
+               largest%slot = slot
+               slot = 3 - slot
+            end if
+         end if
+         if (stresses) then
+            do lane_i = 1, n - lanes + 1, lanes
+               strain = strain + sb(lane_i:lane_i + lanes - 1)
+            end do
+            lane_r = mod(n, lanes)
+            if (lane_r > 0) strain(1:lane_r) = strain(1:lane_r) + sb(n - lane_r + 1:n)
+            do lane_i = 1, n - lanes + 1, lanes
+               min_j = min(min_j, jb(lane_i:lane_i + lanes - 1))
+            end do
+            lane_r = mod(n, lanes)
+            if (lane_r > 0) min_j(1:lane_r) = min(min_j(1:lane_r), jb(n - lane_r + 1:n))
+         end if
+         if (relocates) call find_outside(n, b0, cb, outside)
+         call accumulate_block(k, n, cb, xib, vpb, svb, m, lo, hi, shares, run, mass_left, mass_right, momentum_left, &
+                               momentum_right, stress_volume, seg)
+      end do
+      ! (the body's mass times its sum of x - X: the bodies' masses differ)
+      call close_segment(k, shares, m, run, [m*lane_total(displacement), lane_total(kinetic), lane_total(strain)], &
+                         minval(min_j), largest%value, furthest_particle(largest, mb), outside, mass_left, mass_right, &
+                         momentum_left, momentum_right, stress_volume, seg)
+   end subroutine bodies_musl_remap_segment
+
+   !> MUSL, second pass: stress update from the remapped velocities, P2G at the new position (the hat, bodies on stacked fields)
+   subroutine bodies_musl_stress_segment(k, seg, x, x0, v, stress, volume_ratio, cell, acceleration, velocity, &
+                                         strain_increment_of, mass_left, mass_right, momentum_left, momentum_right, &
+                                         stress_volume, constants, carry, mass_of, modulus_of, forces, gradient, force_left, &
+                                         force_right)
+      integer, parameter :: kernel = pass_musl_stress
+      logical, parameter :: moves = pass_moves(kernel), stresses = pass_stresses(kernel), relocates = pass_relocates(kernel)
+      integer, parameter :: shares = pass_shares(kernel)
+      integer, intent(in) :: k
+      type(segments_t), intent(inout) :: seg
+      real(dp), intent(inout), contiguous :: x(:), v(:), stress(:), volume_ratio(:)
+      real(dp), intent(in), contiguous :: x0(:)
+      integer, intent(inout), contiguous :: cell(:)
+      real(dp), intent(in), contiguous :: acceleration(0:), velocity(0:)
+      real(dp), intent(in), contiguous :: strain_increment_of(:)  !< per element (grid%element_strain)
+      real(dp), intent(inout), contiguous :: mass_left(:), mass_right(:), momentum_left(:), momentum_right(:), stress_volume(:)
+      type(pass_constants_t), intent(in) :: constants
+      real(dp), intent(inout), contiguous :: carry(:)  !< particles in parts: what a pass keeps for the next (fused_box_t)
+      !> the variants' per-particle data (absent when the run has none): masses and Young's moduli
+      !> (`material`), external forces (`forced`), APIC's velocity gradients C_p, and the element shares of
+      !> the forces
+      real(dp), intent(in), contiguous, optional :: mass_of(:), modulus_of(:), forces(:)
+      real(dp), intent(inout), contiguous, optional :: gradient(:), force_left(:), force_right(:)
+      integer :: p, e, i, n, b0, first, last, lo, hi, outside, ahead, elements
+      real(dp) :: half_m, strain_factor, dstrain, inv_dx, dt, youngs_modulus, m, volume0
+      type(largest_move_t) :: largest
+      real(dp) :: displacement(lanes), kinetic(lanes), strain(lanes), min_j(lanes)
+      integer :: cb(block_size)
+      real(dp) :: svb(block_size), db(block_size), kb(block_size), sb(block_size), jb(block_size)
+      real(dp) :: mb(block_size, 2)  !< the moves of a block, and of the block with the largest (lanes_track_move)
+      integer :: slot
+      real(dp) :: lane_max(lanes), block_max
+      integer :: lane_i, lane_r
+      type(run_t) :: run
+      integer(i8) :: elements_bits
+      real(dp) :: xi, xib(block_size), vpb(block_size)
+      ! the variant's: G2P's grid velocity and move, the segment's body (cells offset), each particle's
+      ! shares (accumulate_shares)
+      real(dp) :: vgrid, dxp
+      real(dp) :: origin
+      integer :: offset
+      origin = constants%origin
+      offset = constants%offset
+      elements = constants%elements
+      inv_dx = constants%inv_dx
+      dt = constants%dt
+      youngs_modulus = constants%youngs_modulus
+      m = constants%mass
+      volume0 = constants%volume0
+      call open_segment(k, shares, seg, mass_left, mass_right, momentum_left, momentum_right, stress_volume, first, last, &
+                        lo, hi)
+      displacement = 0; kinetic = 0; strain = 0; min_j = huge(1.0_dp)
+      slot = 1
+      outside = 0
+      elements_bits = transfer(real(elements, dp), 0_i8)
+      half_m = 0.5_dp*m
+      strain_factor = 0.0_dp
+      if (stresses) strain_factor = 0.5_dp*volume0/youngs_modulus
+      do b0 = first, last, block_size
+         n = min(block_size, last - b0 + 1)
+         if (seg%prefetch) then  ! the arrays the pass reads, and the grid values of the next blocks
+            ahead = b0 + prefetch_ahead
+            if (kernel == pass_usl) call prefetch_block(ahead, cell, x, x0, v, stress, volume_ratio)
+            if (kernel == pass_usf_move .or. kernel == pass_musl_remap) call prefetch_block(ahead, cell, x, x0, v)
+            if (kernel == pass_usf_stress) call prefetch_block(ahead, cell, stress, volume_ratio)
+            if (kernel == pass_musl_stress) call prefetch_block(ahead, cell, x, v, stress, volume_ratio)
+            if (moves) then
+               call prefetch_nodes(cell(b0), cell(b0 + n - 1), acceleration, velocity)
+            else
+               call prefetch_elements(cell(b0), cell(b0 + n - 1), strain_increment_of)
+            end if
+         end if
+         do i = 1, n
+            p = b0 + i - 1
+            e = cell(p)
+            ! G2P with the start-of-step shape functions (bodies on stacked fields)
+            if (moves) then
+               xi = (x(p) - origin)*inv_dx - (e - offset - 1)  ! (e: the cell in the stacked fields)
+               vgrid = (1.0_dp - xi)*velocity(e - 1) + xi*velocity(e)
+               v(p) = v(p) + dt*((1.0_dp - xi)*acceleration(e - 1) + xi*acceleration(e))
+               dxp = dt*vgrid
+               x(p) = x(p) + dxp
+               db(i) = x(p) - x0(p)
+               kb(i) = half_m*v(p)*v(p)
+               mb(i, slot) = abs(dxp)*inv_dx
+            end if
+            if (stresses) then ! d eps = dt sum dN v_I over the start-of-step cell
+               if (moves) then
+                  dstrain = strain_increment(velocity(e - 1), velocity(e), dt, inv_dx)
+               else
+                  dstrain = strain_increment_of(e)
+               end if
+               call stress_particle(dstrain, youngs_modulus, strain_factor, volume0, stress(p), volume_ratio(p), sb(i), &
+                                    svb(i))
+               jb(i) = volume_ratio(p)
+            else if (iand(shares, share_stress) /= 0) then ! (an initial mapping: the stress as it is)
+               svb(i) = stress(p)*volume_ratio(p)*volume0
+            end if
+            if (relocates) then ! the new cell, for P2G at the new position
+               call locate_body_cell(x(p), origin, inv_dx, elements, elements_bits, offset, cb(i), xib(i))
+               cell(p) = cb(i)
+            else                ! the shares go to the start-of-step cell
+               cb(i) = e
+               if (moves) xib(i) = xi
+            end if
+            if (moves .or. relocates) vpb(i) = v(p)
+         end do
+         ! the block's totals (macros of mpm_lanes.fypi, expanded here)
+         if (moves) then
+            do lane_i = 1, n - lanes + 1, lanes
+               displacement = displacement + db(lane_i:lane_i + lanes - 1)
+            end do
+            lane_r = mod(n, lanes)
+            if (lane_r > 0) displacement(1:lane_r) = displacement(1:lane_r) + db(n - lane_r + 1:n)
+            do lane_i = 1, n - lanes + 1, lanes
+               kinetic = kinetic + kb(lane_i:lane_i + lanes - 1)
+            end do
+            lane_r = mod(n, lanes)
+            if (lane_r > 0) kinetic(1:lane_r) = kinetic(1:lane_r) + kb(n - lane_r + 1:n)
+            lane_max = 0.0_dp
+            do lane_i = 1, n - lanes + 1, lanes
+               lane_max = max(lane_max, mb(lane_i:lane_i + lanes - 1, slot))
+            end do
+            lane_r = mod(n, lanes)
+            if (lane_r > 0) lane_max(1:lane_r) = max(lane_max(1:lane_r), mb(n - lane_r + 1:n, slot))
+            block_max = maxval(lane_max)
+            if (block_max > largest%value) then
+               largest%value = block_max
+               largest%first = b0
+               largest%count = n
+               largest%slot = slot
+               slot = 3 - slot
+            end if
+         end if
+         if (stresses) then
+            do lane_i = 1, n - lanes + 1, lanes
+               strain = strain + sb(lane_i:lane_i + lanes - 1)
+            end do
+            lane_r = mod(n, lanes)
+            if (lane_r > 0) strain(1:lane_r) = strain(1:lane_r) + sb(n - lane_r + 1:n)
+            do lane_i = 1, n - lanes + 1, lanes
+               min_j = min(min_j, jb(lane_i:lane_i + lanes - 1))
+            end do
+            lane_r = mod(n, lanes)
+            if (lane_r > 0) min_j(1:lane_r) = min(min_j(1:lane_r), jb(n - lane_r + 1:n))
+         end if
+         if (relocates) call find_outside(n, b0, cb, outside)
+         call accumulate_block(k, n, cb, xib, vpb, svb, m, lo, hi, shares, run, mass_left, mass_right, momentum_left, &
+                               momentum_right, stress_volume, seg)
+      end do
+      ! (the body's mass times its sum of x - X: the bodies' masses differ)
+      call close_segment(k, shares, m, run, [m*lane_total(displacement), lane_total(kinetic), lane_total(strain)], &
+                         minval(min_j), largest%value, furthest_particle(largest, mb), outside, mass_left, mass_right, &
+                         momentum_left, momentum_right, stress_volume, seg)
+   end subroutine bodies_musl_stress_segment
+
+   !> initial mapping: mass and momentum (the hat, bodies on stacked fields)
+   subroutine bodies_map_segment(k, seg, x, x0, v, stress, volume_ratio, cell, acceleration, velocity, &
+                                 strain_increment_of, mass_left, mass_right, momentum_left, momentum_right, &
+                                 stress_volume, constants, carry, mass_of, modulus_of, forces, gradient, force_left, &
+                                 force_right)
+      integer, parameter :: kernel = pass_map
+      logical, parameter :: moves = pass_moves(kernel), stresses = pass_stresses(kernel), relocates = pass_relocates(kernel)
+      integer, parameter :: shares = pass_shares(kernel)
+      integer, intent(in) :: k
+      type(segments_t), intent(inout) :: seg
+      real(dp), intent(inout), contiguous :: x(:), v(:), stress(:), volume_ratio(:)
+      real(dp), intent(in), contiguous :: x0(:)
+      integer, intent(inout), contiguous :: cell(:)
+      real(dp), intent(in), contiguous :: acceleration(0:), velocity(0:)
+      real(dp), intent(in), contiguous :: strain_increment_of(:)  !< per element (grid%element_strain)
+      real(dp), intent(inout), contiguous :: mass_left(:), mass_right(:), momentum_left(:), momentum_right(:), stress_volume(:)
+      type(pass_constants_t), intent(in) :: constants
+      real(dp), intent(inout), contiguous :: carry(:)  !< particles in parts: what a pass keeps for the next (fused_box_t)
+      !> the variants' per-particle data (absent when the run has none): masses and Young's moduli
+      !> (`material`), external forces (`forced`), APIC's velocity gradients C_p, and the element shares of
+      !> the forces
+      real(dp), intent(in), contiguous, optional :: mass_of(:), modulus_of(:), forces(:)
+      real(dp), intent(inout), contiguous, optional :: gradient(:), force_left(:), force_right(:)
+      integer :: p, e, i, n, b0, first, last, lo, hi, outside, ahead, elements
+      real(dp) :: half_m, strain_factor, dstrain, inv_dx, dt, youngs_modulus, m, volume0
+      type(largest_move_t) :: largest
+      real(dp) :: displacement(lanes), kinetic(lanes), strain(lanes), min_j(lanes)
+      integer :: cb(block_size)
+      real(dp) :: svb(block_size), db(block_size), kb(block_size), sb(block_size), jb(block_size)
+      real(dp) :: mb(block_size, 2)  !< the moves of a block, and of the block with the largest (lanes_track_move)
+      integer :: slot
+      real(dp) :: lane_max(lanes), block_max
+      integer :: lane_i, lane_r
+      type(run_t) :: run
+      integer(i8) :: elements_bits
+      real(dp) :: xi, xib(block_size), vpb(block_size)
+      ! the variant's: G2P's grid velocity and move, the segment's body (cells offset), each particle's
+      ! shares (accumulate_shares)
+      real(dp) :: vgrid, dxp
+      real(dp) :: origin
+      integer :: offset
+      origin = constants%origin
+      offset = constants%offset
+      elements = constants%elements
+      inv_dx = constants%inv_dx
+      dt = constants%dt
+      youngs_modulus = constants%youngs_modulus
+      m = constants%mass
+      volume0 = constants%volume0
+      call open_segment(k, shares, seg, mass_left, mass_right, momentum_left, momentum_right, stress_volume, first, last, &
+                        lo, hi)
+      displacement = 0; kinetic = 0; strain = 0; min_j = huge(1.0_dp)
+      slot = 1
+      outside = 0
+      elements_bits = transfer(real(elements, dp), 0_i8)
+      half_m = 0.5_dp*m
+      strain_factor = 0.0_dp
+      if (stresses) strain_factor = 0.5_dp*volume0/youngs_modulus
+      do b0 = first, last, block_size
+         n = min(block_size, last - b0 + 1)
+         if (seg%prefetch) then  ! the arrays the pass reads, and the grid values of the next blocks
+            ahead = b0 + prefetch_ahead
+            if (kernel == pass_usl) call prefetch_block(ahead, cell, x, x0, v, stress, volume_ratio)
+            if (kernel == pass_usf_move .or. kernel == pass_musl_remap) call prefetch_block(ahead, cell, x, x0, v)
+            if (kernel == pass_usf_stress) call prefetch_block(ahead, cell, stress, volume_ratio)
+            if (kernel == pass_musl_stress) call prefetch_block(ahead, cell, x, v, stress, volume_ratio)
+            if (moves) then
+               call prefetch_nodes(cell(b0), cell(b0 + n - 1), acceleration, velocity)
+            else
+               call prefetch_elements(cell(b0), cell(b0 + n - 1), strain_increment_of)
+            end if
+         end if
+         do i = 1, n
+            p = b0 + i - 1
+            e = cell(p)
+            ! G2P with the start-of-step shape functions (bodies on stacked fields)
+            if (moves) then
+               xi = (x(p) - origin)*inv_dx - (e - offset - 1)  ! (e: the cell in the stacked fields)
+               vgrid = (1.0_dp - xi)*velocity(e - 1) + xi*velocity(e)
+               v(p) = v(p) + dt*((1.0_dp - xi)*acceleration(e - 1) + xi*acceleration(e))
+               dxp = dt*vgrid
+               x(p) = x(p) + dxp
+               db(i) = x(p) - x0(p)
+               kb(i) = half_m*v(p)*v(p)
+               mb(i, slot) = abs(dxp)*inv_dx
+            end if
+            if (stresses) then ! d eps = dt sum dN v_I over the start-of-step cell
+               if (moves) then
+                  dstrain = strain_increment(velocity(e - 1), velocity(e), dt, inv_dx)
+               else
+                  dstrain = strain_increment_of(e)
+               end if
+               call stress_particle(dstrain, youngs_modulus, strain_factor, volume0, stress(p), volume_ratio(p), sb(i), &
+                                    svb(i))
+               jb(i) = volume_ratio(p)
+            else if (iand(shares, share_stress) /= 0) then ! (an initial mapping: the stress as it is)
+               svb(i) = stress(p)*volume_ratio(p)*volume0
+            end if
+            if (relocates) then ! the new cell, for P2G at the new position
+               call locate_body_cell(x(p), origin, inv_dx, elements, elements_bits, offset, cb(i), xib(i))
+               cell(p) = cb(i)
+            else                ! the shares go to the start-of-step cell
+               cb(i) = e
+               if (moves) xib(i) = xi
+            end if
+            if (moves .or. relocates) vpb(i) = v(p)
+         end do
+         ! the block's totals (macros of mpm_lanes.fypi, expanded here)
+         if (moves) then
+            do lane_i = 1, n - lanes + 1, lanes
+               displacement = displacement + db(lane_i:lane_i + lanes - 1)
+            end do
+            lane_r = mod(n, lanes)
+            if (lane_r > 0) displacement(1:lane_r) = displacement(1:lane_r) + db(n - lane_r + 1:n)
+            do lane_i = 1, n - lanes + 1, lanes
+               kinetic = kinetic + kb(lane_i:lane_i + lanes - 1)
+            end do
+            lane_r = mod(n, lanes)
+            if (lane_r > 0) kinetic(1:lane_r) = kinetic(1:lane_r) + kb(n - lane_r + 1:n)
+            lane_max = 0.0_dp
+            do lane_i = 1, n - lanes + 1, lanes
+               lane_max = max(lane_max, mb(lane_i:lane_i + lanes - 1, slot))
+            end do
+            lane_r = mod(n, lanes)
+            if (lane_r > 0) lane_max(1:lane_r) = max(lane_max(1:lane_r), mb(n - lane_r + 1:n, slot))
+            block_max = maxval(lane_max)
+            if (block_max > largest%value) then
+               largest%value = block_max
+               largest%first = b0
+               largest%count = n
+               largest%slot = slot
+               slot = 3 - slot
+            end if
+         end if
+         if (stresses) then
+            do lane_i = 1, n - lanes + 1, lanes
+               strain = strain + sb(lane_i:lane_i + lanes - 1)
+            end do
+            lane_r = mod(n, lanes)
+            if (lane_r > 0) strain(1:lane_r) = strain(1:lane_r) + sb(n - lane_r + 1:n)
+            do lane_i = 1, n - lanes + 1, lanes
+               min_j = min(min_j, jb(lane_i:lane_i + lanes - 1))
+            end do
+            lane_r = mod(n, lanes)
+            if (lane_r > 0) min_j(1:lane_r) = min(min_j(1:lane_r), jb(n - lane_r + 1:n))
+         end if
+         if (relocates) call find_outside(n, b0, cb, outside)
+         call accumulate_block(k, n, cb, xib, vpb, svb, m, lo, hi, shares, run, mass_left, mass_right, momentum_left, &
+                               momentum_right, stress_volume, seg)
+      end do
+      ! (the body's mass times its sum of x - X: the bodies' masses differ)
+      call close_segment(k, shares, m, run, [m*lane_total(displacement), lane_total(kinetic), lane_total(strain)], &
+                         minval(min_j), largest%value, furthest_particle(largest, mb), outside, mass_left, mass_right, &
+                         momentum_left, momentum_right, stress_volume, seg)
+   end subroutine bodies_map_segment
+
+   !> initial mapping: mass, momentum and stress*volume (and forces) (the hat, bodies on stacked fields)
+   subroutine bodies_map_stress_segment(k, seg, x, x0, v, stress, volume_ratio, cell, acceleration, velocity, &
+                                        strain_increment_of, mass_left, mass_right, momentum_left, momentum_right, &
+                                        stress_volume, constants, carry, mass_of, modulus_of, forces, gradient, force_left, &
+                                        force_right)
+      integer, parameter :: kernel = pass_map_stress
+      logical, parameter :: moves = pass_moves(kernel), stresses = pass_stresses(kernel), relocates = pass_relocates(kernel)
+      integer, parameter :: shares = pass_shares(kernel)
+      integer, intent(in) :: k
+      type(segments_t), intent(inout) :: seg
+      real(dp), intent(inout), contiguous :: x(:), v(:), stress(:), volume_ratio(:)
+      real(dp), intent(in), contiguous :: x0(:)
+      integer, intent(inout), contiguous :: cell(:)
+      real(dp), intent(in), contiguous :: acceleration(0:), velocity(0:)
+      real(dp), intent(in), contiguous :: strain_increment_of(:)  !< per element (grid%element_strain)
+      real(dp), intent(inout), contiguous :: mass_left(:), mass_right(:), momentum_left(:), momentum_right(:), stress_volume(:)
+      type(pass_constants_t), intent(in) :: constants
+      real(dp), intent(inout), contiguous :: carry(:)  !< particles in parts: what a pass keeps for the next (fused_box_t)
+      !> the variants' per-particle data (absent when the run has none): masses and Young's moduli
+      !> (`material`), external forces (`forced`), APIC's velocity gradients C_p, and the element shares of
+      !> the forces
+      real(dp), intent(in), contiguous, optional :: mass_of(:), modulus_of(:), forces(:)
+      real(dp), intent(inout), contiguous, optional :: gradient(:), force_left(:), force_right(:)
+      integer :: p, e, i, n, b0, first, last, lo, hi, outside, ahead, elements
+      real(dp) :: half_m, strain_factor, dstrain, inv_dx, dt, youngs_modulus, m, volume0
+      type(largest_move_t) :: largest
+      real(dp) :: displacement(lanes), kinetic(lanes), strain(lanes), min_j(lanes)
+      integer :: cb(block_size)
+      real(dp) :: svb(block_size), db(block_size), kb(block_size), sb(block_size), jb(block_size)
+      real(dp) :: mb(block_size, 2)  !< the moves of a block, and of the block with the largest (lanes_track_move)
+      integer :: slot
+      real(dp) :: lane_max(lanes), block_max
+      integer :: lane_i, lane_r
+      type(run_t) :: run
+      integer(i8) :: elements_bits
+      real(dp) :: xi, xib(block_size), vpb(block_size)
+      ! the variant's: G2P's grid velocity and move, the segment's body (cells offset), each particle's
+      ! shares (accumulate_shares)
+      real(dp) :: vgrid, dxp
+      real(dp) :: origin
+      integer :: offset
+      origin = constants%origin
+      offset = constants%offset
+      elements = constants%elements
+      inv_dx = constants%inv_dx
+      dt = constants%dt
+      youngs_modulus = constants%youngs_modulus
+      m = constants%mass
+      volume0 = constants%volume0
+      call open_segment(k, shares, seg, mass_left, mass_right, momentum_left, momentum_right, stress_volume, first, last, &
+                        lo, hi)
+      displacement = 0; kinetic = 0; strain = 0; min_j = huge(1.0_dp)
+      slot = 1
+      outside = 0
+      elements_bits = transfer(real(elements, dp), 0_i8)
+      half_m = 0.5_dp*m
+      strain_factor = 0.0_dp
+      if (stresses) strain_factor = 0.5_dp*volume0/youngs_modulus
+      do b0 = first, last, block_size
+         n = min(block_size, last - b0 + 1)
+         if (seg%prefetch) then  ! the arrays the pass reads, and the grid values of the next blocks
+            ahead = b0 + prefetch_ahead
+            if (kernel == pass_usl) call prefetch_block(ahead, cell, x, x0, v, stress, volume_ratio)
+            if (kernel == pass_usf_move .or. kernel == pass_musl_remap) call prefetch_block(ahead, cell, x, x0, v)
+            if (kernel == pass_usf_stress) call prefetch_block(ahead, cell, stress, volume_ratio)
+            if (kernel == pass_musl_stress) call prefetch_block(ahead, cell, x, v, stress, volume_ratio)
+            if (moves) then
+               call prefetch_nodes(cell(b0), cell(b0 + n - 1), acceleration, velocity)
+            else
+               call prefetch_elements(cell(b0), cell(b0 + n - 1), strain_increment_of)
+            end if
+         end if
+         do i = 1, n
+            p = b0 + i - 1
+            e = cell(p)
+            ! G2P with the start-of-step shape functions (bodies on stacked fields)
+            if (moves) then
+               xi = (x(p) - origin)*inv_dx - (e - offset - 1)  ! (e: the cell in the stacked fields)
+               vgrid = (1.0_dp - xi)*velocity(e - 1) + xi*velocity(e)
+               v(p) = v(p) + dt*((1.0_dp - xi)*acceleration(e - 1) + xi*acceleration(e))
+               dxp = dt*vgrid
+               x(p) = x(p) + dxp
+               db(i) = x(p) - x0(p)
+               kb(i) = half_m*v(p)*v(p)
+               mb(i, slot) = abs(dxp)*inv_dx
+            end if
+            if (stresses) then ! d eps = dt sum dN v_I over the start-of-step cell
+               if (moves) then
+                  dstrain = strain_increment(velocity(e - 1), velocity(e), dt, inv_dx)
+               else
+                  dstrain = strain_increment_of(e)
+               end if
+               call stress_particle(dstrain, youngs_modulus, strain_factor, volume0, stress(p), volume_ratio(p), sb(i), &
+                                    svb(i))
+               jb(i) = volume_ratio(p)
+            else if (iand(shares, share_stress) /= 0) then ! (an initial mapping: the stress as it is)
+               svb(i) = stress(p)*volume_ratio(p)*volume0
+            end if
+            if (relocates) then ! the new cell, for P2G at the new position
+               call locate_body_cell(x(p), origin, inv_dx, elements, elements_bits, offset, cb(i), xib(i))
+               cell(p) = cb(i)
+            else                ! the shares go to the start-of-step cell
+               cb(i) = e
+               if (moves) xib(i) = xi
+            end if
+            if (moves .or. relocates) vpb(i) = v(p)
+         end do
+         ! the block's totals (macros of mpm_lanes.fypi, expanded here)
+         if (moves) then
+            do lane_i = 1, n - lanes + 1, lanes
+               displacement = displacement + db(lane_i:lane_i + lanes - 1)
+            end do
+            lane_r = mod(n, lanes)
+            if (lane_r > 0) displacement(1:lane_r) = displacement(1:lane_r) + db(n - lane_r + 1:n)
+            do lane_i = 1, n - lanes + 1, lanes
+               kinetic = kinetic + kb(lane_i:lane_i + lanes - 1)
+            end do
+            lane_r = mod(n, lanes)
+            if (lane_r > 0) kinetic(1:lane_r) = kinetic(1:lane_r) + kb(n - lane_r + 1:n)
+            lane_max = 0.0_dp
+            do lane_i = 1, n - lanes + 1, lanes
+               lane_max = max(lane_max, mb(lane_i:lane_i + lanes - 1, slot))
+            end do
+            lane_r = mod(n, lanes)
+            if (lane_r > 0) lane_max(1:lane_r) = max(lane_max(1:lane_r), mb(n - lane_r + 1:n, slot))
+            block_max = maxval(lane_max)
+            if (block_max > largest%value) then
+               largest%value = block_max
+               largest%first = b0
+               largest%count = n
+               largest%slot = slot
+               slot = 3 - slot
+            end if
+         end if
+         if (stresses) then
+            do lane_i = 1, n - lanes + 1, lanes
+               strain = strain + sb(lane_i:lane_i + lanes - 1)
+            end do
+            lane_r = mod(n, lanes)
+            if (lane_r > 0) strain(1:lane_r) = strain(1:lane_r) + sb(n - lane_r + 1:n)
+            do lane_i = 1, n - lanes + 1, lanes
+               min_j = min(min_j, jb(lane_i:lane_i + lanes - 1))
+            end do
+            lane_r = mod(n, lanes)
+            if (lane_r > 0) min_j(1:lane_r) = min(min_j(1:lane_r), jb(n - lane_r + 1:n))
+         end if
+         if (relocates) call find_outside(n, b0, cb, outside)
+         call accumulate_block(k, n, cb, xib, vpb, svb, m, lo, hi, shares, run, mass_left, mass_right, momentum_left, &
+                               momentum_right, stress_volume, seg)
+      end do
+      ! (the body's mass times its sum of x - X: the bodies' masses differ)
+      call close_segment(k, shares, m, run, [m*lane_total(displacement), lane_total(kinetic), lane_total(strain)], &
+                         minval(min_j), largest%value, furthest_particle(largest, mb), outside, mass_left, mass_right, &
+                         momentum_left, momentum_right, stress_volume, seg)
+   end subroutine bodies_map_stress_segment
 
    ! The GIMP box and the B-splines' knot spans: src/shape/mpm_gimp_box.fypi and mpm_bspline_span.fypi,
    ! the same source as mpm_shape_gimp's and mpm_shape_bspline's, so that the kernels inline the same
@@ -4536,4 +12830,29 @@ contains
       i = min(int(s) - 1, cells - 3)
       t = s - (i + 1)
    end subroutine bspline3_locate
+
+   ! The block totals in lanes that are not expanded in place: src/scheme/mpm_lanes.fypi, as mpm_lanes'
+   !> Sum of the lanes, in lane order.
+   pure real(dp) function lane_total(lane_sums) result(total)
+      real(dp), intent(in) :: lane_sums(lanes)
+      integer :: l
+      total = 0.0_dp
+      do l = 1, lanes
+         total = total + lane_sums(l)
+      end do
+   end function lane_total
+
+   !> The first particle that made the largest move (0 if none moved), from the block buffer `moves`
+   !> that track_largest_move kept.
+   pure integer function furthest_particle(largest, moves) result(p)
+      type(largest_move_t), intent(in) :: largest
+      real(dp), intent(in) :: moves(:, :)
+      integer :: i
+      p = 0
+      if (largest%count == 0) return
+      do i = 1, largest%count - 1
+         if (moves(i, largest%slot) == largest%value) exit
+      end do
+      p = largest%first - 1 + i
+   end function furthest_particle
 end module mpm_transfer

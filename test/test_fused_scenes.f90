@@ -1,0 +1,158 @@
+!> The fused kernels' variants (mpm_fused's fused_choose: the bar's kernels with a scene's grid loads, and
+!> the hat's variants) against the generic path, which is their definition, run by run with
+!> `kernels='generic'` as the only difference:
+!> - the bar with PIC, the PIC/FLIP blend and APIC (variants pic, blend, apic);
+!> - the column (its weight a grid load on the bar's kernels; linear, and quadratic B-splines, whose
+!>   load is reflected at the mirrored fixed end);
+!> - the composite bar (per-particle masses and moduli; the driven end a grid load);
+!> - the manufactured solution (per-particle forces mapped in the passes);
+!> - the impact, frictionless (bodies on stacked fields, the contact correction between passes) and
+!>   stuck (one field, a grid origin left of x = 0);
+!> each with USF, USL and MUSL: the path asked for, same status and steps, u_cm histories equal to
+!> round-off and the last kinetic energies to 1e-10 (mpm_testing's check_paths_agree, its u_cm
+!> tolerance taken from the largest |u_cm| of the generic run where the scene's amplitude is not a
+!> displacement), and the scene's error measure to 1e-9 relative; with law = 'linear' the same scenes
+!> run on the generic path (the fused kernels update the stress by hencky's law only). Small runs: seconds.
+program test_fused_scenes
+   use mpm_kinds, only: dp
+   use mpm_errors, only: error_t
+   use mpm_config, only: config_t, resolve_config
+   use mpm_simulation, only: run_result_t, run_simulation
+   use mpm_strings, only: str
+   use mpm_testing, only: tester_t, check_paths_agree
+   implicit none
+   type(tester_t) :: t
+   character(len=4), parameter :: schemes(3) = ['usf ', 'usl ', 'musl']
+   character(len=5), parameter :: transfers(3) = ['pic  ', 'blend', 'apic ']
+   type(config_t) :: config
+   integer :: i, j
+
+   t%name = 'test_fused_scenes'
+   do i = 1, size(schemes)
+      do j = 1, size(transfers)
+         config = config_t()
+         config%scheme = trim(schemes(i))
+         config%transfer = trim(transfers(j))
+         config%flip_fraction = 0.75_dp
+         config%elements = 30
+         config%particles_per_element = 3
+         config%dt_fraction = 0.3_dp
+         config%velocity_amplitude = 5.0_dp
+         config%periods = 1.0_dp
+         call compare('bar '//trim(transfers(j)), config)
+      end do
+      config = config_t()
+      config%scene_kind = 'column'
+      config%scheme = trim(schemes(i))
+      config%elements = 40
+      config%particles_per_element = 2
+      config%dt_fraction = 0.3_dp
+      config%periods = 1.0_dp
+      call compare('column', config)
+      config%shape = 'bspline2'
+      call compare('column bspline2', config)
+      config = config_t()
+      config%scene_kind = 'composite_bar'
+      config%scheme = trim(schemes(i))
+      config%lengths(1:2) = [1.0_dp, 1.0_dp]
+      config%length_count = 2
+      config%youngs_moduli(1:2) = [16.0e6_dp, 1.0e6_dp]
+      config%modulus_count = 2
+      config%densities(1:2) = [1000.0_dp, 1000.0_dp]
+      config%density_count = 2
+      config%drive_velocity = 0.01_dp
+      config%elements = 45  ! (the interface inside an element: particles of both materials share it)
+      config%particles_per_element = 3
+      config%dt_fraction = 0.3_dp
+      config%periods = 0.5_dp
+      call compare('composite', config, by_largest=.true.)
+      config%law = 'linear'  ! (the fused kernels' stress update is hencky's)
+      call on_generic_path('composite, law linear', config)
+      config = config_t()
+      config%scene_kind = 'manufactured'
+      config%scheme = trim(schemes(i))
+      config%length = 1.0_dp
+      config%youngs_modulus = 1.0e7_dp
+      config%density = 1000.0_dp
+      config%amplitude = 1.0e-3_dp
+      config%elements = 30
+      config%particles_per_element = 2
+      config%dt_fraction = 0.2_dp
+      config%periods = 1.0_dp
+      call compare('manufactured', config)
+      config%law = 'linear'
+      call on_generic_path('manufactured, law linear', config)
+      config = config_t()
+      config%scene_kind = 'impact'
+      config%scheme = trim(schemes(i))
+      config%lengths(1:2) = [1.0_dp, 0.7_dp]
+      config%length_count = 2
+      config%youngs_moduli(1:2) = [200.0e9_dp, 50.0e9_dp]
+      config%modulus_count = 2
+      config%densities(1:2) = [7800.0_dp, 31200.0_dp]  ! (equal impedances, as the scene requires)
+      config%density_count = 2
+      config%velocities(1:2) = [1.0_dp, -1.0_dp]
+      config%velocity_count = 2
+      config%gap = 0.0_dp  ! (in contact from the start)
+      config%elements = 40
+      config%particles_per_element = 2
+      config%dt_fraction = 0.2_dp
+      config%periods = 1.0_dp
+      config%contact = 'frictionless'
+      call compare('impact frictionless', config, by_largest=.true.)
+      config%youngs_moduli(1:2) = [200.0e9_dp, 200.0e9_dp]
+      config%densities(1:2) = [7800.0_dp, 7800.0_dp]
+      config%lengths(1:2) = [1.0_dp, 1.0_dp]
+      config%contact = 'none'
+      call compare('impact stuck', config, by_largest=.true.)
+   end do
+   call t%finish()
+
+contains
+
+   !> `config` on the fused kernels (kernels='auto') and on the generic path agree (see the program's
+   !> comment); `by_largest`: the u_cm tolerance from the generic run's largest |u_cm|.
+   subroutine compare(what, config, by_largest)
+      character(len=*), intent(in) :: what
+      type(config_t), intent(in) :: config
+      logical, intent(in), optional :: by_largest
+      type(config_t) :: auto, generic_config
+      type(run_result_t) :: fused, generic
+      type(error_t), allocatable :: error
+      character(len=:), allocatable :: label
+      label = trim(config%scheme)//' '//what//': '
+      auto = config
+      auto%kernels = 'auto'
+      call resolve_config(auto)
+      call run_simulation(auto, fused, error, record_history=.true.)
+      if (allocated(error)) error stop 'fused run failed to start'
+      generic_config = config
+      generic_config%kernels = 'generic'
+      call resolve_config(generic_config)
+      call run_simulation(generic_config, generic, error, record_history=.true.)
+      if (allocated(error)) error stop 'generic run failed to start'
+      if (present(by_largest)) then
+         if (by_largest) fused%ucm_amplitude = maxval(abs(generic%history%ucm(0:generic%history%recorded - 1)))
+      end if
+      call check_paths_agree(t, label, fused, generic, maxval(abs(fused%domain)))
+      call t%check_close(label//'error measure', fused%max_error, generic%max_error, rtol=1.0e-9_dp, &
+                         atol=1.0e-14_dp*abs(generic%ucm_amplitude))
+      call t%check(label//'status ok', fused%status == 0, 'status '//str(fused%status))
+   end subroutine compare
+
+   !> `config` with kernels='auto' runs on the generic path, and completes.
+   subroutine on_generic_path(what, config)
+      character(len=*), intent(in) :: what
+      type(config_t), intent(in) :: config
+      type(config_t) :: auto
+      type(run_result_t) :: result
+      type(error_t), allocatable :: error
+      auto = config
+      auto%kernels = 'auto'
+      call resolve_config(auto)
+      call run_simulation(auto, result, error, record_history=.false.)
+      if (allocated(error)) error stop 'run failed to start'
+      call t%check(trim(config%scheme)//' '//what//': on the generic path', .not. result%fused)
+      call t%check(trim(config%scheme)//' '//what//': status ok', result%status == 0, 'status '//str(result%status))
+   end subroutine on_generic_path
+end program test_fused_scenes
