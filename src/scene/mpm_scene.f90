@@ -137,10 +137,13 @@ contains
       type(particles_t), intent(in) :: particles
    end subroutine add_forces
 
-   !> No grid loads.
+   !> No grid loads. Every field is set here (and in the scenes' versions): the default initialisation
+   !> of a function result was not applied in a -march=native build of gfortran 12 (the benchmark's
+   !> bar read driven_node = 0 and drive_dt = 0, dividing by zero).
    pure function grid_loads(self) result(loads)
       class(scene_t), intent(in) :: self
       type(grid_loads_t) :: loads
+      loads = grid_loads_t(acceleration=0.0_dp, driven_node=-1, drive_velocity=0.0_dp, drive_dt=1.0_dp)
    end function grid_loads
 
    !> No per-particle force (scenes that have some override this and set has_particle_forces).

@@ -285,7 +285,7 @@ contains
    pure function grid_loads(self) result(loads)
       class(column_t), intent(in) :: self
       type(grid_loads_t) :: loads
-      loads%acceleration = -self%gravity
+      loads = grid_loads_t(acceleration=-self%gravity, driven_node=-1, drive_velocity=0.0_dp, drive_dt=1.0_dp)
    end function grid_loads
 
    !> The static end displacement u_s(L) = -g L^2/(2 c^2) (m), about which the free end oscillates (static:

@@ -274,9 +274,7 @@ contains
    pure function grid_loads(self) result(loads)
       class(composite_t), intent(in) :: self
       type(grid_loads_t) :: loads
-      loads%driven_node = 0
-      loads%drive_velocity = self%drive_velocity
-      loads%drive_dt = self%dt
+      loads = grid_loads_t(acceleration=0.0_dp, driven_node=0, drive_velocity=self%drive_velocity, drive_dt=self%dt)
    end function grid_loads
 
    !> The drive for the implicit integrators: node 0 held at the drive velocity (as add_forces holds it).
