@@ -23,7 +23,7 @@ module mpm_config
    public :: config_parameters, config_groups, group_help, known_scenes, scene_kind_t, scene_kinds
    public :: material_of, plastic_wave_periods
    public :: step_count, stability_limit, not_used_message, config_warnings, contact_time, known_kind
-   public :: known_integrators, max_implicit_dt_fraction, used_with
+   public :: known_integrators, max_implicit_dt_fraction, used_with, run_length_flags
 
    !> Most snapshot times one run accepts.
    integer, parameter :: max_snapshots = 64
@@ -119,7 +119,7 @@ module mpm_config
       real(dp) :: dt_fraction = 0.1_dp
       !> Empty grid cells beyond each free end of the body; -1: the scene's expected motion + 2 cells.
       integer :: margin_cells = -1
-      !> 'auto': the fused kernels where they apply (law hencky: the bar and the column with FLIP and any
+      !> 'auto': the fused kernels where they apply (laws hencky and linear: the bar and the column with FLIP and any
       !> shape, every scene and transfer with the linear shape; mpm_fused's fused_choose), else the generic path;
       !> 'generic': always generic.
       character(len=8) :: kernels = 'auto'
@@ -193,9 +193,9 @@ contains
                               sweep_list='flip_fractions'), 'transfer', 'blend'), &
          int_entry('discretisation', 'margin_cells', config%margin_cells, 'empty grid cells beyond each free end '// &
                    'of the body', at_least=-1, note="-1: the scene's expected motion + 2 cells"), &
-         text_entry('discretisation', 'kernels', config%kernels, "'auto': the fused kernels where they apply (law "// &
-                    "hencky: the bar and the column with FLIP and any shape, every scene and transfer with the "// &
-                    "linear shape), "// &
+         text_entry('discretisation', 'kernels', config%kernels, "'auto': the fused kernels where they apply (laws "// &
+                    "hencky and linear, explicit: the bar and the column with FLIP and any shape, every scene and "// &
+                    "transfer with the linear shape), "// &
                     "else the generic path; 'generic': always the generic layered path", &
                     words='auto, generic'), &
          text_entry('discretisation', 'integrator', config%integrator, "time integration: 'explicit' (the "// &
