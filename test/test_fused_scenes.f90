@@ -11,8 +11,10 @@
 !> each with USF, USL and MUSL: the path asked for, same status and steps, u_cm histories equal to
 !> round-off and the last kinetic energies to 1e-10 (mpm_testing's check_paths_agree, its u_cm
 !> tolerance taken from the largest |u_cm| of the generic run where the scene's amplitude is not a
-!> displacement), and the scene's error measure to 1e-9 relative; with law = 'linear' the same scenes
-!> run on the generic path (the fused kernels update the stress by hencky's law only). Small runs: seconds.
+!> displacement), and the scene's error measure to 1e-9 relative; with law = 'linear' the same
+!> comparison (the fused kernels' stress update takes hencky's law and the linear one) for the bar with
+!> every shape, the composite and the manufactured solution; law = 'elastoplastic' runs on the generic
+!> path. Small runs: seconds.
 program test_fused_scenes
    use mpm_kinds, only: dp
    use mpm_errors, only: error_t
@@ -24,6 +26,7 @@ program test_fused_scenes
    type(tester_t) :: t
    character(len=4), parameter :: schemes(3) = ['usf ', 'usl ', 'musl']
    character(len=5), parameter :: transfers(3) = ['pic  ', 'blend', 'apic ']
+   character(len=8), parameter :: shapes(5) = [character(len=8) :: 'linear', 'ugimp', 'cpgimp', 'bspline2', 'bspline3']
    type(config_t) :: config
    integer :: i, j
 
@@ -66,8 +69,14 @@ program test_fused_scenes
       config%dt_fraction = 0.3_dp
       config%periods = 0.5_dp
       call compare('composite', config, by_largest=.true.)
-      config%law = 'linear'  ! (the fused kernels' stress update is hencky's)
-      call on_generic_path('composite, law linear', config)
+      config%law = 'linear'
+      call compare('composite, law linear', config, by_largest=.true.)
+      config%law = 'elastoplastic'  ! (the fused kernels' stress update is elastic)
+      config%yield_stresses(1:2) = [1.0e4_dp, 1.0e4_dp]
+      config%yield_count = 2
+      config%hardening_moduli(1:2) = [0.0_dp, 0.0_dp]
+      config%hardening_count = 2
+      call on_generic_path('composite, law elastoplastic', config)
       config = config_t()
       config%scene_kind = 'manufactured'
       config%scheme = trim(schemes(i))
@@ -81,7 +90,19 @@ program test_fused_scenes
       config%periods = 1.0_dp
       call compare('manufactured', config)
       config%law = 'linear'
-      call on_generic_path('manufactured, law linear', config)
+      call compare('manufactured, law linear', config)
+      do j = 1, size(shapes)
+         config = config_t()
+         config%scheme = trim(schemes(i))
+         config%shape = trim(shapes(j))
+         config%law = 'linear'
+         config%elements = 24
+         config%particles_per_element = 2
+         config%dt_fraction = 0.2_dp
+         config%velocity_amplitude = 5.0_dp
+         config%periods = 1.0_dp
+         call compare('bar '//trim(shapes(j))//', law linear', config)
+      end do
       config = config_t()
       config%scene_kind = 'impact'
       config%scheme = trim(schemes(i))

@@ -7,7 +7,7 @@ module mpm_simulation
    use mpm_errors, only: error_t, set_error
    use mpm_strings, only: str
    use mpm_config, only: config_t, material_of
-   use mpm_material, only: material_t, law_hencky, material_state, material_report
+   use mpm_material, only: material_t, law_hencky, law_linear, material_state, material_report
    use mpm_grid, only: grid_t, grid_init
    use mpm_particles, only: particles_t, per_particle_data
    use mpm_shape, only: shape_cache_t, shape_id, shape_extra_cells, transfer_id, transfer_apic
@@ -174,10 +174,12 @@ contains
          call scene%place_particles(config, particles, error)
          if (allocated(error)) return
          ! the fused kernels, where they take the scene, shape, transfer and what the particles carry;
-         ! their stress update is hencky's, and they are explicit
+         ! their stress update is hencky's or the linear law's, and they are explicit
          run%box = fused_choose(cache%kind, cache%transfer, config%flip_fraction, scene, particles)
-         run%fused = trim(config%kernels) == 'auto' .and. run%box%variant >= 0 .and. run%material%law == law_hencky &
-                     .and. run%integrator == integrator_explicit
+         run%box%linear = run%material%law == law_linear
+         run%fused = trim(config%kernels) == 'auto' .and. run%box%variant >= 0 .and. &
+                     (run%material%law == law_hencky .or. run%material%law == law_linear) .and. &
+                     run%integrator == integrator_explicit
          result%fused = run%fused
          if (.not. run%fused) call per_particle_data(particles, error)
          if (allocated(error)) return

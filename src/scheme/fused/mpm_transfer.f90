@@ -117,6 +117,8 @@ module mpm_transfer
       logical :: stretch
       real(dp) :: flip_fraction = 1.0_dp, dx = 0.0_dp
       integer :: offset = 0
+      !> The stress update's law: hencky (sigma += E d eps) or, when set, linear (sigma = E (J - 1)).
+      logical :: linear = .false.
    end type pass_constants_t
 
    !> The particles' shape on the fused path: the hat (default) or a particle in two parts (`parts`,
@@ -140,6 +142,8 @@ module mpm_transfer
       integer, allocatable :: body_first(:), body_last(:), body_element(:)
       real(dp), allocatable :: body_mass(:), body_volume0(:), body_modulus(:)
       integer :: body_cells = 0  !< the cells of one body's field
+      !> The law of the stress update: hencky (default) or linear (see stress_particle).
+      logical :: linear = .false.
    end type fused_box_t
 
    interface
@@ -418,7 +422,8 @@ contains
       procedure(usl_segment), pointer :: kernel
       type(pass_constants_t) :: constants
       constants = pass_constants_t(grid%elements, grid%origin, grid%inv_dx, dt, youngs_modulus, particles%mass, &
-                                   particles%volume0, 0.5_dp*particles%volume0, box%stretch, box%flip_fraction, grid%dx, 0)
+                                   particles%volume0, 0.5_dp*particles%volume0, box%stretch, box%flip_fraction, grid%dx, 0, &
+                                   box%linear)
       ! the kernel of the particles' shape and the pass (every kernel has usl_segment's interface)
       if (box%variant /= variant_bar) then ! a variant of the hat's
          select case (box%variant)
@@ -1221,17 +1226,21 @@ contains
       move = abs(dxp)*inv_dx
    end subroutine g2p_box
 
-   !> Linear elastic stress update of one particle with strain increment dstrain (see strain_increment):
-   !> sigma += E d eps, J *= 1 + d eps. Also gives its strain energy sigma^2 J V0 / 2E
-   !> (strain_factor = V0 / 2E) and stress*volume.
-   elemental subroutine stress_particle(dstrain, youngs_modulus, strain_factor, volume0, stress, volume_ratio, &
-                                        strain_energy, stress_volume)
-      real(dp), intent(in) :: dstrain, youngs_modulus, strain_factor, volume0
+   !> Elastic stress update of one particle with strain increment dstrain (see strain_increment):
+   !> hencky (`linear` = 0), sigma += E d eps, or the linear law sigma = E (J - 1) (`linear` = 1) as
+   !> sigma += (E + sigma) d eps (mpm_material_elastic: the same update, without forming J - 1);
+   !> J *= 1 + d eps. Also gives its strain energy, sigma^2 J V0 / 2E (hencky) or sigma^2 V0 / 2E
+   !> (linear), with strain_factor = V0 / 2E, and stress*volume. The law enters as exact zeros and ones
+   !> (E + 0 sigma = E, J (1 - 0) + 0 = J), so that hencky's results are those of its update alone, bit
+   !> for bit, and the loop has no branch.
+   elemental subroutine stress_particle(dstrain, youngs_modulus, strain_factor, volume0, linear, stress, &
+                                        volume_ratio, strain_energy, stress_volume)
+      real(dp), intent(in) :: dstrain, youngs_modulus, strain_factor, volume0, linear
       real(dp), intent(inout) :: stress, volume_ratio
       real(dp), intent(out) :: strain_energy, stress_volume
-      stress = stress + youngs_modulus*dstrain
+      stress = stress + (youngs_modulus + linear*stress)*dstrain
       volume_ratio = volume_ratio*(1.0_dp + dstrain)
-      strain_energy = stress*stress*volume_ratio*strain_factor
+      strain_energy = stress*stress*(volume_ratio*(1.0_dp - linear) + linear)*strain_factor
       stress_volume = stress*volume_ratio*volume0
    end subroutine stress_particle
 
@@ -1663,6 +1672,7 @@ contains
       real(dp), intent(inout), contiguous, optional :: gradient(:), force_left(:), force_right(:)
       integer :: p, e, i, n, b0, first, last, lo, hi, outside, ahead, elements
       real(dp) :: half_m, strain_factor, dstrain, inv_dx, dt, youngs_modulus, m, volume0
+      real(dp) :: linear
       type(largest_move_t) :: largest
       real(dp) :: displacement(lanes), kinetic(lanes), strain(lanes), min_j(lanes)
       integer :: cb(block_size)
@@ -1678,6 +1688,7 @@ contains
       inv_dx = constants%inv_dx
       dt = constants%dt
       youngs_modulus = constants%youngs_modulus
+      linear = merge(1.0_dp, 0.0_dp, constants%linear)
       m = constants%mass
       volume0 = constants%volume0
       call open_segment(k, shares, seg, mass_left, mass_right, momentum_left, momentum_right, stress_volume, first, last, &
@@ -1715,8 +1726,8 @@ contains
                else
                   dstrain = strain_increment_of(e)
                end if
-               call stress_particle(dstrain, youngs_modulus, strain_factor, volume0, stress(p), volume_ratio(p), sb(i), &
-                                    svb(i))
+               call stress_particle(dstrain, youngs_modulus, strain_factor, volume0, linear, stress(p), volume_ratio(p), &
+                                    sb(i), svb(i))
                jb(i) = volume_ratio(p)
             end if
             if (relocates) then ! the new cell, for P2G at the new position
@@ -1801,6 +1812,7 @@ contains
       real(dp), intent(inout), contiguous, optional :: gradient(:), force_left(:), force_right(:)
       integer :: p, e, i, n, b0, first, last, lo, hi, outside, ahead, elements
       real(dp) :: half_m, strain_factor, dstrain, inv_dx, dt, youngs_modulus, m, volume0
+      real(dp) :: linear
       type(largest_move_t) :: largest
       real(dp) :: displacement(lanes), kinetic(lanes), strain(lanes), min_j(lanes)
       integer :: cb(block_size)
@@ -1816,6 +1828,7 @@ contains
       inv_dx = constants%inv_dx
       dt = constants%dt
       youngs_modulus = constants%youngs_modulus
+      linear = merge(1.0_dp, 0.0_dp, constants%linear)
       m = constants%mass
       volume0 = constants%volume0
       call open_segment(k, shares, seg, mass_left, mass_right, momentum_left, momentum_right, stress_volume, first, last, &
@@ -1853,8 +1866,8 @@ contains
                else
                   dstrain = strain_increment_of(e)
                end if
-               call stress_particle(dstrain, youngs_modulus, strain_factor, volume0, stress(p), volume_ratio(p), sb(i), &
-                                    svb(i))
+               call stress_particle(dstrain, youngs_modulus, strain_factor, volume0, linear, stress(p), volume_ratio(p), &
+                                    sb(i), svb(i))
                jb(i) = volume_ratio(p)
             end if
             if (relocates) then ! the new cell, for P2G at the new position
@@ -1939,6 +1952,7 @@ contains
       real(dp), intent(inout), contiguous, optional :: gradient(:), force_left(:), force_right(:)
       integer :: p, e, i, n, b0, first, last, lo, hi, outside, ahead, elements
       real(dp) :: half_m, strain_factor, dstrain, inv_dx, dt, youngs_modulus, m, volume0
+      real(dp) :: linear
       type(largest_move_t) :: largest
       real(dp) :: displacement(lanes), kinetic(lanes), strain(lanes), min_j(lanes)
       integer :: cb(block_size)
@@ -1954,6 +1968,7 @@ contains
       inv_dx = constants%inv_dx
       dt = constants%dt
       youngs_modulus = constants%youngs_modulus
+      linear = merge(1.0_dp, 0.0_dp, constants%linear)
       m = constants%mass
       volume0 = constants%volume0
       call open_segment(k, shares, seg, mass_left, mass_right, momentum_left, momentum_right, stress_volume, first, last, &
@@ -1991,8 +2006,8 @@ contains
                else
                   dstrain = strain_increment_of(e)
                end if
-               call stress_particle(dstrain, youngs_modulus, strain_factor, volume0, stress(p), volume_ratio(p), sb(i), &
-                                    svb(i))
+               call stress_particle(dstrain, youngs_modulus, strain_factor, volume0, linear, stress(p), volume_ratio(p), &
+                                    sb(i), svb(i))
                jb(i) = volume_ratio(p)
             end if
             if (relocates) then ! the new cell, for P2G at the new position
@@ -2077,6 +2092,7 @@ contains
       real(dp), intent(inout), contiguous, optional :: gradient(:), force_left(:), force_right(:)
       integer :: p, e, i, n, b0, first, last, lo, hi, outside, ahead, elements
       real(dp) :: half_m, strain_factor, dstrain, inv_dx, dt, youngs_modulus, m, volume0
+      real(dp) :: linear
       type(largest_move_t) :: largest
       real(dp) :: displacement(lanes), kinetic(lanes), strain(lanes), min_j(lanes)
       integer :: cb(block_size)
@@ -2092,6 +2108,7 @@ contains
       inv_dx = constants%inv_dx
       dt = constants%dt
       youngs_modulus = constants%youngs_modulus
+      linear = merge(1.0_dp, 0.0_dp, constants%linear)
       m = constants%mass
       volume0 = constants%volume0
       call open_segment(k, shares, seg, mass_left, mass_right, momentum_left, momentum_right, stress_volume, first, last, &
@@ -2129,8 +2146,8 @@ contains
                else
                   dstrain = strain_increment_of(e)
                end if
-               call stress_particle(dstrain, youngs_modulus, strain_factor, volume0, stress(p), volume_ratio(p), sb(i), &
-                                    svb(i))
+               call stress_particle(dstrain, youngs_modulus, strain_factor, volume0, linear, stress(p), volume_ratio(p), &
+                                    sb(i), svb(i))
                jb(i) = volume_ratio(p)
             end if
             if (relocates) then ! the new cell, for P2G at the new position
@@ -2215,6 +2232,7 @@ contains
       real(dp), intent(inout), contiguous, optional :: gradient(:), force_left(:), force_right(:)
       integer :: p, e, i, n, b0, first, last, lo, hi, outside, ahead, elements
       real(dp) :: half_m, strain_factor, dstrain, inv_dx, dt, youngs_modulus, m, volume0
+      real(dp) :: linear
       type(largest_move_t) :: largest
       real(dp) :: displacement(lanes), kinetic(lanes), strain(lanes), min_j(lanes)
       integer :: cb(block_size)
@@ -2230,6 +2248,7 @@ contains
       inv_dx = constants%inv_dx
       dt = constants%dt
       youngs_modulus = constants%youngs_modulus
+      linear = merge(1.0_dp, 0.0_dp, constants%linear)
       m = constants%mass
       volume0 = constants%volume0
       call open_segment(k, shares, seg, mass_left, mass_right, momentum_left, momentum_right, stress_volume, first, last, &
@@ -2267,8 +2286,8 @@ contains
                else
                   dstrain = strain_increment_of(e)
                end if
-               call stress_particle(dstrain, youngs_modulus, strain_factor, volume0, stress(p), volume_ratio(p), sb(i), &
-                                    svb(i))
+               call stress_particle(dstrain, youngs_modulus, strain_factor, volume0, linear, stress(p), volume_ratio(p), &
+                                    sb(i), svb(i))
                jb(i) = volume_ratio(p)
             end if
             if (relocates) then ! the new cell, for P2G at the new position
@@ -2353,6 +2372,7 @@ contains
       real(dp), intent(inout), contiguous, optional :: gradient(:), force_left(:), force_right(:)
       integer :: p, e, i, n, b0, first, last, lo, hi, outside, ahead, elements
       real(dp) :: half_m, strain_factor, dstrain, inv_dx, dt, youngs_modulus, m, volume0
+      real(dp) :: linear
       type(largest_move_t) :: largest
       real(dp) :: displacement(lanes), kinetic(lanes), strain(lanes), min_j(lanes)
       integer :: cb(block_size)
@@ -2375,6 +2395,7 @@ contains
       inv_dx = constants%inv_dx
       dt = constants%dt
       youngs_modulus = constants%youngs_modulus
+      linear = merge(1.0_dp, 0.0_dp, constants%linear)
       m = constants%mass
       volume0 = constants%volume0
       call open_segment(k, shares, seg, mass_left, mass_right, momentum_left, momentum_right, stress_volume, first, last, &
@@ -2424,8 +2445,8 @@ contains
                else
                   dstrain = r1*strain_increment_of(e) + r2*strain_increment_of(e + 1)
                end if
-               call stress_particle(dstrain, youngs_modulus, strain_factor, volume0, stress(p), volume_ratio(p), sb(i), &
-                                    svb(i))
+               call stress_particle(dstrain, youngs_modulus, strain_factor, volume0, linear, stress(p), volume_ratio(p), &
+                                    sb(i), svb(i))
                jb(i) = volume_ratio(p)
             end if
             if (relocates) then ! the parts at the new position
@@ -2531,6 +2552,7 @@ contains
       real(dp), intent(inout), contiguous, optional :: gradient(:), force_left(:), force_right(:)
       integer :: p, e, i, n, b0, first, last, lo, hi, outside, ahead, elements
       real(dp) :: half_m, strain_factor, dstrain, inv_dx, dt, youngs_modulus, m, volume0
+      real(dp) :: linear
       type(largest_move_t) :: largest
       real(dp) :: displacement(lanes), kinetic(lanes), strain(lanes), min_j(lanes)
       integer :: cb(block_size)
@@ -2553,6 +2575,7 @@ contains
       inv_dx = constants%inv_dx
       dt = constants%dt
       youngs_modulus = constants%youngs_modulus
+      linear = merge(1.0_dp, 0.0_dp, constants%linear)
       m = constants%mass
       volume0 = constants%volume0
       call open_segment(k, shares, seg, mass_left, mass_right, momentum_left, momentum_right, stress_volume, first, last, &
@@ -2602,8 +2625,8 @@ contains
                else
                   dstrain = r1*strain_increment_of(e) + r2*strain_increment_of(e + 1)
                end if
-               call stress_particle(dstrain, youngs_modulus, strain_factor, volume0, stress(p), volume_ratio(p), sb(i), &
-                                    svb(i))
+               call stress_particle(dstrain, youngs_modulus, strain_factor, volume0, linear, stress(p), volume_ratio(p), &
+                                    sb(i), svb(i))
                jb(i) = volume_ratio(p)
             end if
             if (relocates) then ! the parts at the new position
@@ -2709,6 +2732,7 @@ contains
       real(dp), intent(inout), contiguous, optional :: gradient(:), force_left(:), force_right(:)
       integer :: p, e, i, n, b0, first, last, lo, hi, outside, ahead, elements
       real(dp) :: half_m, strain_factor, dstrain, inv_dx, dt, youngs_modulus, m, volume0
+      real(dp) :: linear
       type(largest_move_t) :: largest
       real(dp) :: displacement(lanes), kinetic(lanes), strain(lanes), min_j(lanes)
       integer :: cb(block_size)
@@ -2731,6 +2755,7 @@ contains
       inv_dx = constants%inv_dx
       dt = constants%dt
       youngs_modulus = constants%youngs_modulus
+      linear = merge(1.0_dp, 0.0_dp, constants%linear)
       m = constants%mass
       volume0 = constants%volume0
       call open_segment(k, shares, seg, mass_left, mass_right, momentum_left, momentum_right, stress_volume, first, last, &
@@ -2780,8 +2805,8 @@ contains
                else
                   dstrain = r1*strain_increment_of(e) + r2*strain_increment_of(e + 1)
                end if
-               call stress_particle(dstrain, youngs_modulus, strain_factor, volume0, stress(p), volume_ratio(p), sb(i), &
-                                    svb(i))
+               call stress_particle(dstrain, youngs_modulus, strain_factor, volume0, linear, stress(p), volume_ratio(p), &
+                                    sb(i), svb(i))
                jb(i) = volume_ratio(p)
             end if
             if (relocates) then ! the parts at the new position
@@ -2887,6 +2912,7 @@ contains
       real(dp), intent(inout), contiguous, optional :: gradient(:), force_left(:), force_right(:)
       integer :: p, e, i, n, b0, first, last, lo, hi, outside, ahead, elements
       real(dp) :: half_m, strain_factor, dstrain, inv_dx, dt, youngs_modulus, m, volume0
+      real(dp) :: linear
       type(largest_move_t) :: largest
       real(dp) :: displacement(lanes), kinetic(lanes), strain(lanes), min_j(lanes)
       integer :: cb(block_size)
@@ -2909,6 +2935,7 @@ contains
       inv_dx = constants%inv_dx
       dt = constants%dt
       youngs_modulus = constants%youngs_modulus
+      linear = merge(1.0_dp, 0.0_dp, constants%linear)
       m = constants%mass
       volume0 = constants%volume0
       call open_segment(k, shares, seg, mass_left, mass_right, momentum_left, momentum_right, stress_volume, first, last, &
@@ -2958,8 +2985,8 @@ contains
                else
                   dstrain = r1*strain_increment_of(e) + r2*strain_increment_of(e + 1)
                end if
-               call stress_particle(dstrain, youngs_modulus, strain_factor, volume0, stress(p), volume_ratio(p), sb(i), &
-                                    svb(i))
+               call stress_particle(dstrain, youngs_modulus, strain_factor, volume0, linear, stress(p), volume_ratio(p), &
+                                    sb(i), svb(i))
                jb(i) = volume_ratio(p)
             end if
             if (relocates) then ! the parts at the new position
@@ -3065,6 +3092,7 @@ contains
       real(dp), intent(inout), contiguous, optional :: gradient(:), force_left(:), force_right(:)
       integer :: p, e, i, n, b0, first, last, lo, hi, outside, ahead, elements
       real(dp) :: half_m, strain_factor, dstrain, inv_dx, dt, youngs_modulus, m, volume0
+      real(dp) :: linear
       type(largest_move_t) :: largest
       real(dp) :: displacement(lanes), kinetic(lanes), strain(lanes), min_j(lanes)
       integer :: cb(block_size)
@@ -3087,6 +3115,7 @@ contains
       inv_dx = constants%inv_dx
       dt = constants%dt
       youngs_modulus = constants%youngs_modulus
+      linear = merge(1.0_dp, 0.0_dp, constants%linear)
       m = constants%mass
       volume0 = constants%volume0
       call open_segment(k, shares, seg, mass_left, mass_right, momentum_left, momentum_right, stress_volume, first, last, &
@@ -3136,8 +3165,8 @@ contains
                else
                   dstrain = r1*strain_increment_of(e) + r2*strain_increment_of(e + 1)
                end if
-               call stress_particle(dstrain, youngs_modulus, strain_factor, volume0, stress(p), volume_ratio(p), sb(i), &
-                                    svb(i))
+               call stress_particle(dstrain, youngs_modulus, strain_factor, volume0, linear, stress(p), volume_ratio(p), &
+                                    sb(i), svb(i))
                jb(i) = volume_ratio(p)
             end if
             if (relocates) then ! the parts at the new position
@@ -3243,6 +3272,7 @@ contains
       real(dp), intent(inout), contiguous, optional :: gradient(:), force_left(:), force_right(:)
       integer :: p, e, i, n, b0, first, last, lo, hi, outside, ahead, elements
       real(dp) :: half_m, strain_factor, dstrain, inv_dx, dt, youngs_modulus, m, volume0
+      real(dp) :: linear
       type(largest_move_t) :: largest
       real(dp) :: displacement(lanes), kinetic(lanes), strain(lanes), min_j(lanes)
       integer :: cb(block_size)
@@ -3265,6 +3295,7 @@ contains
       inv_dx = constants%inv_dx
       dt = constants%dt
       youngs_modulus = constants%youngs_modulus
+      linear = merge(1.0_dp, 0.0_dp, constants%linear)
       m = constants%mass
       volume0 = constants%volume0
       call open_segment(k, shares, seg, mass_left, mass_right, momentum_left, momentum_right, stress_volume, first, last, &
@@ -3320,8 +3351,8 @@ contains
                else
                   dstrain = r1*strain_increment_of(e) + r2*strain_increment_of(e + 1)
                end if
-               call stress_particle(dstrain, youngs_modulus, strain_factor, volume0, stress(p), volume_ratio(p), sb(i), &
-                                    svb(i))
+               call stress_particle(dstrain, youngs_modulus, strain_factor, volume0, linear, stress(p), volume_ratio(p), &
+                                    sb(i), svb(i))
                jb(i) = volume_ratio(p)
             end if
             if (relocates) then ! the parts at the new position (with the new J)
@@ -3427,6 +3458,7 @@ contains
       real(dp), intent(inout), contiguous, optional :: gradient(:), force_left(:), force_right(:)
       integer :: p, e, i, n, b0, first, last, lo, hi, outside, ahead, elements
       real(dp) :: half_m, strain_factor, dstrain, inv_dx, dt, youngs_modulus, m, volume0
+      real(dp) :: linear
       type(largest_move_t) :: largest
       real(dp) :: displacement(lanes), kinetic(lanes), strain(lanes), min_j(lanes)
       integer :: cb(block_size)
@@ -3449,6 +3481,7 @@ contains
       inv_dx = constants%inv_dx
       dt = constants%dt
       youngs_modulus = constants%youngs_modulus
+      linear = merge(1.0_dp, 0.0_dp, constants%linear)
       m = constants%mass
       volume0 = constants%volume0
       call open_segment(k, shares, seg, mass_left, mass_right, momentum_left, momentum_right, stress_volume, first, last, &
@@ -3504,8 +3537,8 @@ contains
                else
                   dstrain = r1*strain_increment_of(e) + r2*strain_increment_of(e + 1)
                end if
-               call stress_particle(dstrain, youngs_modulus, strain_factor, volume0, stress(p), volume_ratio(p), sb(i), &
-                                    svb(i))
+               call stress_particle(dstrain, youngs_modulus, strain_factor, volume0, linear, stress(p), volume_ratio(p), &
+                                    sb(i), svb(i))
                jb(i) = volume_ratio(p)
             end if
             if (relocates) then ! the parts at the new position (with the new J)
@@ -3611,6 +3644,7 @@ contains
       real(dp), intent(inout), contiguous, optional :: gradient(:), force_left(:), force_right(:)
       integer :: p, e, i, n, b0, first, last, lo, hi, outside, ahead, elements
       real(dp) :: half_m, strain_factor, dstrain, inv_dx, dt, youngs_modulus, m, volume0
+      real(dp) :: linear
       type(largest_move_t) :: largest
       real(dp) :: displacement(lanes), kinetic(lanes), strain(lanes), min_j(lanes)
       integer :: cb(block_size)
@@ -3633,6 +3667,7 @@ contains
       inv_dx = constants%inv_dx
       dt = constants%dt
       youngs_modulus = constants%youngs_modulus
+      linear = merge(1.0_dp, 0.0_dp, constants%linear)
       m = constants%mass
       volume0 = constants%volume0
       call open_segment(k, shares, seg, mass_left, mass_right, momentum_left, momentum_right, stress_volume, first, last, &
@@ -3688,8 +3723,8 @@ contains
                else
                   dstrain = r1*strain_increment_of(e) + r2*strain_increment_of(e + 1)
                end if
-               call stress_particle(dstrain, youngs_modulus, strain_factor, volume0, stress(p), volume_ratio(p), sb(i), &
-                                    svb(i))
+               call stress_particle(dstrain, youngs_modulus, strain_factor, volume0, linear, stress(p), volume_ratio(p), &
+                                    sb(i), svb(i))
                jb(i) = volume_ratio(p)
             end if
             if (relocates) then ! the parts at the new position (with the new J)
@@ -3795,6 +3830,7 @@ contains
       real(dp), intent(inout), contiguous, optional :: gradient(:), force_left(:), force_right(:)
       integer :: p, e, i, n, b0, first, last, lo, hi, outside, ahead, elements
       real(dp) :: half_m, strain_factor, dstrain, inv_dx, dt, youngs_modulus, m, volume0
+      real(dp) :: linear
       type(largest_move_t) :: largest
       real(dp) :: displacement(lanes), kinetic(lanes), strain(lanes), min_j(lanes)
       integer :: cb(block_size)
@@ -3817,6 +3853,7 @@ contains
       inv_dx = constants%inv_dx
       dt = constants%dt
       youngs_modulus = constants%youngs_modulus
+      linear = merge(1.0_dp, 0.0_dp, constants%linear)
       m = constants%mass
       volume0 = constants%volume0
       call open_segment(k, shares, seg, mass_left, mass_right, momentum_left, momentum_right, stress_volume, first, last, &
@@ -3872,8 +3909,8 @@ contains
                else
                   dstrain = r1*strain_increment_of(e) + r2*strain_increment_of(e + 1)
                end if
-               call stress_particle(dstrain, youngs_modulus, strain_factor, volume0, stress(p), volume_ratio(p), sb(i), &
-                                    svb(i))
+               call stress_particle(dstrain, youngs_modulus, strain_factor, volume0, linear, stress(p), volume_ratio(p), &
+                                    sb(i), svb(i))
                jb(i) = volume_ratio(p)
             end if
             if (relocates) then ! the parts at the new position (with the new J)
@@ -3979,6 +4016,7 @@ contains
       real(dp), intent(inout), contiguous, optional :: gradient(:), force_left(:), force_right(:)
       integer :: p, e, i, n, b0, first, last, lo, hi, outside, ahead, elements
       real(dp) :: half_m, strain_factor, dstrain, inv_dx, dt, youngs_modulus, m, volume0
+      real(dp) :: linear
       type(largest_move_t) :: largest
       real(dp) :: displacement(lanes), kinetic(lanes), strain(lanes), min_j(lanes)
       integer :: cb(block_size)
@@ -4001,6 +4039,7 @@ contains
       inv_dx = constants%inv_dx
       dt = constants%dt
       youngs_modulus = constants%youngs_modulus
+      linear = merge(1.0_dp, 0.0_dp, constants%linear)
       m = constants%mass
       volume0 = constants%volume0
       call open_segment(k, shares, seg, mass_left, mass_right, momentum_left, momentum_right, stress_volume, first, last, &
@@ -4056,8 +4095,8 @@ contains
                else
                   dstrain = r1*strain_increment_of(e) + r2*strain_increment_of(e + 1)
                end if
-               call stress_particle(dstrain, youngs_modulus, strain_factor, volume0, stress(p), volume_ratio(p), sb(i), &
-                                    svb(i))
+               call stress_particle(dstrain, youngs_modulus, strain_factor, volume0, linear, stress(p), volume_ratio(p), &
+                                    sb(i), svb(i))
                jb(i) = volume_ratio(p)
             end if
             if (relocates) then ! the parts at the new position (with the new J)
@@ -4163,6 +4202,7 @@ contains
       real(dp), intent(inout), contiguous, optional :: gradient(:), force_left(:), force_right(:)
       integer :: p, e, i, n, b0, first, last, lo, hi, outside, ahead, elements
       real(dp) :: half_m, strain_factor, dstrain, inv_dx, dt, youngs_modulus, m, volume0
+      real(dp) :: linear
       type(largest_move_t) :: largest
       real(dp) :: displacement(lanes), kinetic(lanes), strain(lanes), min_j(lanes)
       integer :: cb(block_size)
@@ -4182,6 +4222,7 @@ contains
       inv_dx = constants%inv_dx
       dt = constants%dt
       youngs_modulus = constants%youngs_modulus
+      linear = merge(1.0_dp, 0.0_dp, constants%linear)
       m = constants%mass
       volume0 = constants%volume0
       call open_segment(k, shares, seg, mass_left, mass_right, momentum_left, momentum_right, stress_volume, first, last, &
@@ -4230,8 +4271,8 @@ contains
                else
                   dstrain = r1*strain_increment_of(e) + r2*strain_increment_of(e + 1)
                end if
-               call stress_particle(dstrain, youngs_modulus, strain_factor, volume0, stress(p), volume_ratio(p), sb(i), &
-                                    svb(i))
+               call stress_particle(dstrain, youngs_modulus, strain_factor, volume0, linear, stress(p), volume_ratio(p), &
+                                    sb(i), svb(i))
                jb(i) = volume_ratio(p)
             end if
             if (relocates) then ! the parts at the new position
@@ -4336,6 +4377,7 @@ contains
       real(dp), intent(inout), contiguous, optional :: gradient(:), force_left(:), force_right(:)
       integer :: p, e, i, n, b0, first, last, lo, hi, outside, ahead, elements
       real(dp) :: half_m, strain_factor, dstrain, inv_dx, dt, youngs_modulus, m, volume0
+      real(dp) :: linear
       type(largest_move_t) :: largest
       real(dp) :: displacement(lanes), kinetic(lanes), strain(lanes), min_j(lanes)
       integer :: cb(block_size)
@@ -4355,6 +4397,7 @@ contains
       inv_dx = constants%inv_dx
       dt = constants%dt
       youngs_modulus = constants%youngs_modulus
+      linear = merge(1.0_dp, 0.0_dp, constants%linear)
       m = constants%mass
       volume0 = constants%volume0
       call open_segment(k, shares, seg, mass_left, mass_right, momentum_left, momentum_right, stress_volume, first, last, &
@@ -4403,8 +4446,8 @@ contains
                else
                   dstrain = r1*strain_increment_of(e) + r2*strain_increment_of(e + 1)
                end if
-               call stress_particle(dstrain, youngs_modulus, strain_factor, volume0, stress(p), volume_ratio(p), sb(i), &
-                                    svb(i))
+               call stress_particle(dstrain, youngs_modulus, strain_factor, volume0, linear, stress(p), volume_ratio(p), &
+                                    sb(i), svb(i))
                jb(i) = volume_ratio(p)
             end if
             if (relocates) then ! the parts at the new position
@@ -4509,6 +4552,7 @@ contains
       real(dp), intent(inout), contiguous, optional :: gradient(:), force_left(:), force_right(:)
       integer :: p, e, i, n, b0, first, last, lo, hi, outside, ahead, elements
       real(dp) :: half_m, strain_factor, dstrain, inv_dx, dt, youngs_modulus, m, volume0
+      real(dp) :: linear
       type(largest_move_t) :: largest
       real(dp) :: displacement(lanes), kinetic(lanes), strain(lanes), min_j(lanes)
       integer :: cb(block_size)
@@ -4528,6 +4572,7 @@ contains
       inv_dx = constants%inv_dx
       dt = constants%dt
       youngs_modulus = constants%youngs_modulus
+      linear = merge(1.0_dp, 0.0_dp, constants%linear)
       m = constants%mass
       volume0 = constants%volume0
       call open_segment(k, shares, seg, mass_left, mass_right, momentum_left, momentum_right, stress_volume, first, last, &
@@ -4576,8 +4621,8 @@ contains
                else
                   dstrain = r1*strain_increment_of(e) + r2*strain_increment_of(e + 1)
                end if
-               call stress_particle(dstrain, youngs_modulus, strain_factor, volume0, stress(p), volume_ratio(p), sb(i), &
-                                    svb(i))
+               call stress_particle(dstrain, youngs_modulus, strain_factor, volume0, linear, stress(p), volume_ratio(p), &
+                                    sb(i), svb(i))
                jb(i) = volume_ratio(p)
             end if
             if (relocates) then ! the parts at the new position
@@ -4682,6 +4727,7 @@ contains
       real(dp), intent(inout), contiguous, optional :: gradient(:), force_left(:), force_right(:)
       integer :: p, e, i, n, b0, first, last, lo, hi, outside, ahead, elements
       real(dp) :: half_m, strain_factor, dstrain, inv_dx, dt, youngs_modulus, m, volume0
+      real(dp) :: linear
       type(largest_move_t) :: largest
       real(dp) :: displacement(lanes), kinetic(lanes), strain(lanes), min_j(lanes)
       integer :: cb(block_size)
@@ -4701,6 +4747,7 @@ contains
       inv_dx = constants%inv_dx
       dt = constants%dt
       youngs_modulus = constants%youngs_modulus
+      linear = merge(1.0_dp, 0.0_dp, constants%linear)
       m = constants%mass
       volume0 = constants%volume0
       call open_segment(k, shares, seg, mass_left, mass_right, momentum_left, momentum_right, stress_volume, first, last, &
@@ -4749,8 +4796,8 @@ contains
                else
                   dstrain = r1*strain_increment_of(e) + r2*strain_increment_of(e + 1)
                end if
-               call stress_particle(dstrain, youngs_modulus, strain_factor, volume0, stress(p), volume_ratio(p), sb(i), &
-                                    svb(i))
+               call stress_particle(dstrain, youngs_modulus, strain_factor, volume0, linear, stress(p), volume_ratio(p), &
+                                    sb(i), svb(i))
                jb(i) = volume_ratio(p)
             end if
             if (relocates) then ! the parts at the new position
@@ -4855,6 +4902,7 @@ contains
       real(dp), intent(inout), contiguous, optional :: gradient(:), force_left(:), force_right(:)
       integer :: p, e, i, n, b0, first, last, lo, hi, outside, ahead, elements
       real(dp) :: half_m, strain_factor, dstrain, inv_dx, dt, youngs_modulus, m, volume0
+      real(dp) :: linear
       type(largest_move_t) :: largest
       real(dp) :: displacement(lanes), kinetic(lanes), strain(lanes), min_j(lanes)
       integer :: cb(block_size)
@@ -4874,6 +4922,7 @@ contains
       inv_dx = constants%inv_dx
       dt = constants%dt
       youngs_modulus = constants%youngs_modulus
+      linear = merge(1.0_dp, 0.0_dp, constants%linear)
       m = constants%mass
       volume0 = constants%volume0
       call open_segment(k, shares, seg, mass_left, mass_right, momentum_left, momentum_right, stress_volume, first, last, &
@@ -4922,8 +4971,8 @@ contains
                else
                   dstrain = r1*strain_increment_of(e) + r2*strain_increment_of(e + 1)
                end if
-               call stress_particle(dstrain, youngs_modulus, strain_factor, volume0, stress(p), volume_ratio(p), sb(i), &
-                                    svb(i))
+               call stress_particle(dstrain, youngs_modulus, strain_factor, volume0, linear, stress(p), volume_ratio(p), &
+                                    sb(i), svb(i))
                jb(i) = volume_ratio(p)
             end if
             if (relocates) then ! the parts at the new position
@@ -5028,6 +5077,7 @@ contains
       real(dp), intent(inout), contiguous, optional :: gradient(:), force_left(:), force_right(:)
       integer :: p, e, i, n, b0, first, last, lo, hi, outside, ahead, elements
       real(dp) :: half_m, strain_factor, dstrain, inv_dx, dt, youngs_modulus, m, volume0
+      real(dp) :: linear
       type(largest_move_t) :: largest
       real(dp) :: displacement(lanes), kinetic(lanes), strain(lanes), min_j(lanes)
       integer :: cb(block_size)
@@ -5047,6 +5097,7 @@ contains
       inv_dx = constants%inv_dx
       dt = constants%dt
       youngs_modulus = constants%youngs_modulus
+      linear = merge(1.0_dp, 0.0_dp, constants%linear)
       m = constants%mass
       volume0 = constants%volume0
       call open_segment(k, shares, seg, mass_left, mass_right, momentum_left, momentum_right, stress_volume, first, last, &
@@ -5096,8 +5147,8 @@ contains
                else
                   dstrain = r1*strain_increment_of(e - 1) + r2*strain_increment_of(e) + r3*strain_increment_of(e + 1)
                end if
-               call stress_particle(dstrain, youngs_modulus, strain_factor, volume0, stress(p), volume_ratio(p), sb(i), &
-                                    svb(i))
+               call stress_particle(dstrain, youngs_modulus, strain_factor, volume0, linear, stress(p), volume_ratio(p), &
+                                    sb(i), svb(i))
                jb(i) = volume_ratio(p)
             end if
             if (relocates) then ! the spline at the new position
@@ -5209,6 +5260,7 @@ contains
       real(dp), intent(inout), contiguous, optional :: gradient(:), force_left(:), force_right(:)
       integer :: p, e, i, n, b0, first, last, lo, hi, outside, ahead, elements
       real(dp) :: half_m, strain_factor, dstrain, inv_dx, dt, youngs_modulus, m, volume0
+      real(dp) :: linear
       type(largest_move_t) :: largest
       real(dp) :: displacement(lanes), kinetic(lanes), strain(lanes), min_j(lanes)
       integer :: cb(block_size)
@@ -5228,6 +5280,7 @@ contains
       inv_dx = constants%inv_dx
       dt = constants%dt
       youngs_modulus = constants%youngs_modulus
+      linear = merge(1.0_dp, 0.0_dp, constants%linear)
       m = constants%mass
       volume0 = constants%volume0
       call open_segment(k, shares, seg, mass_left, mass_right, momentum_left, momentum_right, stress_volume, first, last, &
@@ -5277,8 +5330,8 @@ contains
                else
                   dstrain = r1*strain_increment_of(e - 1) + r2*strain_increment_of(e) + r3*strain_increment_of(e + 1)
                end if
-               call stress_particle(dstrain, youngs_modulus, strain_factor, volume0, stress(p), volume_ratio(p), sb(i), &
-                                    svb(i))
+               call stress_particle(dstrain, youngs_modulus, strain_factor, volume0, linear, stress(p), volume_ratio(p), &
+                                    sb(i), svb(i))
                jb(i) = volume_ratio(p)
             end if
             if (relocates) then ! the spline at the new position
@@ -5390,6 +5443,7 @@ contains
       real(dp), intent(inout), contiguous, optional :: gradient(:), force_left(:), force_right(:)
       integer :: p, e, i, n, b0, first, last, lo, hi, outside, ahead, elements
       real(dp) :: half_m, strain_factor, dstrain, inv_dx, dt, youngs_modulus, m, volume0
+      real(dp) :: linear
       type(largest_move_t) :: largest
       real(dp) :: displacement(lanes), kinetic(lanes), strain(lanes), min_j(lanes)
       integer :: cb(block_size)
@@ -5409,6 +5463,7 @@ contains
       inv_dx = constants%inv_dx
       dt = constants%dt
       youngs_modulus = constants%youngs_modulus
+      linear = merge(1.0_dp, 0.0_dp, constants%linear)
       m = constants%mass
       volume0 = constants%volume0
       call open_segment(k, shares, seg, mass_left, mass_right, momentum_left, momentum_right, stress_volume, first, last, &
@@ -5458,8 +5513,8 @@ contains
                else
                   dstrain = r1*strain_increment_of(e - 1) + r2*strain_increment_of(e) + r3*strain_increment_of(e + 1)
                end if
-               call stress_particle(dstrain, youngs_modulus, strain_factor, volume0, stress(p), volume_ratio(p), sb(i), &
-                                    svb(i))
+               call stress_particle(dstrain, youngs_modulus, strain_factor, volume0, linear, stress(p), volume_ratio(p), &
+                                    sb(i), svb(i))
                jb(i) = volume_ratio(p)
             end if
             if (relocates) then ! the spline at the new position
@@ -5571,6 +5626,7 @@ contains
       real(dp), intent(inout), contiguous, optional :: gradient(:), force_left(:), force_right(:)
       integer :: p, e, i, n, b0, first, last, lo, hi, outside, ahead, elements
       real(dp) :: half_m, strain_factor, dstrain, inv_dx, dt, youngs_modulus, m, volume0
+      real(dp) :: linear
       type(largest_move_t) :: largest
       real(dp) :: displacement(lanes), kinetic(lanes), strain(lanes), min_j(lanes)
       integer :: cb(block_size)
@@ -5590,6 +5646,7 @@ contains
       inv_dx = constants%inv_dx
       dt = constants%dt
       youngs_modulus = constants%youngs_modulus
+      linear = merge(1.0_dp, 0.0_dp, constants%linear)
       m = constants%mass
       volume0 = constants%volume0
       call open_segment(k, shares, seg, mass_left, mass_right, momentum_left, momentum_right, stress_volume, first, last, &
@@ -5639,8 +5696,8 @@ contains
                else
                   dstrain = r1*strain_increment_of(e - 1) + r2*strain_increment_of(e) + r3*strain_increment_of(e + 1)
                end if
-               call stress_particle(dstrain, youngs_modulus, strain_factor, volume0, stress(p), volume_ratio(p), sb(i), &
-                                    svb(i))
+               call stress_particle(dstrain, youngs_modulus, strain_factor, volume0, linear, stress(p), volume_ratio(p), &
+                                    sb(i), svb(i))
                jb(i) = volume_ratio(p)
             end if
             if (relocates) then ! the spline at the new position
@@ -5752,6 +5809,7 @@ contains
       real(dp), intent(inout), contiguous, optional :: gradient(:), force_left(:), force_right(:)
       integer :: p, e, i, n, b0, first, last, lo, hi, outside, ahead, elements
       real(dp) :: half_m, strain_factor, dstrain, inv_dx, dt, youngs_modulus, m, volume0
+      real(dp) :: linear
       type(largest_move_t) :: largest
       real(dp) :: displacement(lanes), kinetic(lanes), strain(lanes), min_j(lanes)
       integer :: cb(block_size)
@@ -5771,6 +5829,7 @@ contains
       inv_dx = constants%inv_dx
       dt = constants%dt
       youngs_modulus = constants%youngs_modulus
+      linear = merge(1.0_dp, 0.0_dp, constants%linear)
       m = constants%mass
       volume0 = constants%volume0
       call open_segment(k, shares, seg, mass_left, mass_right, momentum_left, momentum_right, stress_volume, first, last, &
@@ -5820,8 +5879,8 @@ contains
                else
                   dstrain = r1*strain_increment_of(e - 1) + r2*strain_increment_of(e) + r3*strain_increment_of(e + 1)
                end if
-               call stress_particle(dstrain, youngs_modulus, strain_factor, volume0, stress(p), volume_ratio(p), sb(i), &
-                                    svb(i))
+               call stress_particle(dstrain, youngs_modulus, strain_factor, volume0, linear, stress(p), volume_ratio(p), &
+                                    sb(i), svb(i))
                jb(i) = volume_ratio(p)
             end if
             if (relocates) then ! the spline at the new position
@@ -5933,6 +5992,7 @@ contains
       real(dp), intent(inout), contiguous, optional :: gradient(:), force_left(:), force_right(:)
       integer :: p, e, i, n, b0, first, last, lo, hi, outside, ahead, elements
       real(dp) :: half_m, strain_factor, dstrain, inv_dx, dt, youngs_modulus, m, volume0
+      real(dp) :: linear
       type(largest_move_t) :: largest
       real(dp) :: displacement(lanes), kinetic(lanes), strain(lanes), min_j(lanes)
       integer :: cb(block_size)
@@ -5951,6 +6011,7 @@ contains
       inv_dx = constants%inv_dx
       dt = constants%dt
       youngs_modulus = constants%youngs_modulus
+      linear = merge(1.0_dp, 0.0_dp, constants%linear)
       m = constants%mass
       volume0 = constants%volume0
       call open_segment(k, shares, seg, mass_left, mass_right, momentum_left, momentum_right, stress_volume, first, last, &
@@ -5996,8 +6057,8 @@ contains
                else
                   dstrain = strain_increment_of(e)
                end if
-               call stress_particle(dstrain, youngs_modulus, strain_factor, volume0, stress(p), volume_ratio(p), sb(i), &
-                                    svb(i))
+               call stress_particle(dstrain, youngs_modulus, strain_factor, volume0, linear, stress(p), volume_ratio(p), &
+                                    sb(i), svb(i))
                jb(i) = volume_ratio(p)
             else if (iand(shares, share_stress) /= 0) then ! (an initial mapping: the stress as it is)
                svb(i) = stress(p)*volume_ratio(p)*volume0
@@ -6084,6 +6145,7 @@ contains
       real(dp), intent(inout), contiguous, optional :: gradient(:), force_left(:), force_right(:)
       integer :: p, e, i, n, b0, first, last, lo, hi, outside, ahead, elements
       real(dp) :: half_m, strain_factor, dstrain, inv_dx, dt, youngs_modulus, m, volume0
+      real(dp) :: linear
       type(largest_move_t) :: largest
       real(dp) :: displacement(lanes), kinetic(lanes), strain(lanes), min_j(lanes)
       integer :: cb(block_size)
@@ -6102,6 +6164,7 @@ contains
       inv_dx = constants%inv_dx
       dt = constants%dt
       youngs_modulus = constants%youngs_modulus
+      linear = merge(1.0_dp, 0.0_dp, constants%linear)
       m = constants%mass
       volume0 = constants%volume0
       call open_segment(k, shares, seg, mass_left, mass_right, momentum_left, momentum_right, stress_volume, first, last, &
@@ -6147,8 +6210,8 @@ contains
                else
                   dstrain = strain_increment_of(e)
                end if
-               call stress_particle(dstrain, youngs_modulus, strain_factor, volume0, stress(p), volume_ratio(p), sb(i), &
-                                    svb(i))
+               call stress_particle(dstrain, youngs_modulus, strain_factor, volume0, linear, stress(p), volume_ratio(p), &
+                                    sb(i), svb(i))
                jb(i) = volume_ratio(p)
             else if (iand(shares, share_stress) /= 0) then ! (an initial mapping: the stress as it is)
                svb(i) = stress(p)*volume_ratio(p)*volume0
@@ -6235,6 +6298,7 @@ contains
       real(dp), intent(inout), contiguous, optional :: gradient(:), force_left(:), force_right(:)
       integer :: p, e, i, n, b0, first, last, lo, hi, outside, ahead, elements
       real(dp) :: half_m, strain_factor, dstrain, inv_dx, dt, youngs_modulus, m, volume0
+      real(dp) :: linear
       type(largest_move_t) :: largest
       real(dp) :: displacement(lanes), kinetic(lanes), strain(lanes), min_j(lanes)
       integer :: cb(block_size)
@@ -6253,6 +6317,7 @@ contains
       inv_dx = constants%inv_dx
       dt = constants%dt
       youngs_modulus = constants%youngs_modulus
+      linear = merge(1.0_dp, 0.0_dp, constants%linear)
       m = constants%mass
       volume0 = constants%volume0
       call open_segment(k, shares, seg, mass_left, mass_right, momentum_left, momentum_right, stress_volume, first, last, &
@@ -6298,8 +6363,8 @@ contains
                else
                   dstrain = strain_increment_of(e)
                end if
-               call stress_particle(dstrain, youngs_modulus, strain_factor, volume0, stress(p), volume_ratio(p), sb(i), &
-                                    svb(i))
+               call stress_particle(dstrain, youngs_modulus, strain_factor, volume0, linear, stress(p), volume_ratio(p), &
+                                    sb(i), svb(i))
                jb(i) = volume_ratio(p)
             else if (iand(shares, share_stress) /= 0) then ! (an initial mapping: the stress as it is)
                svb(i) = stress(p)*volume_ratio(p)*volume0
@@ -6386,6 +6451,7 @@ contains
       real(dp), intent(inout), contiguous, optional :: gradient(:), force_left(:), force_right(:)
       integer :: p, e, i, n, b0, first, last, lo, hi, outside, ahead, elements
       real(dp) :: half_m, strain_factor, dstrain, inv_dx, dt, youngs_modulus, m, volume0
+      real(dp) :: linear
       type(largest_move_t) :: largest
       real(dp) :: displacement(lanes), kinetic(lanes), strain(lanes), min_j(lanes)
       integer :: cb(block_size)
@@ -6404,6 +6470,7 @@ contains
       inv_dx = constants%inv_dx
       dt = constants%dt
       youngs_modulus = constants%youngs_modulus
+      linear = merge(1.0_dp, 0.0_dp, constants%linear)
       m = constants%mass
       volume0 = constants%volume0
       call open_segment(k, shares, seg, mass_left, mass_right, momentum_left, momentum_right, stress_volume, first, last, &
@@ -6449,8 +6516,8 @@ contains
                else
                   dstrain = strain_increment_of(e)
                end if
-               call stress_particle(dstrain, youngs_modulus, strain_factor, volume0, stress(p), volume_ratio(p), sb(i), &
-                                    svb(i))
+               call stress_particle(dstrain, youngs_modulus, strain_factor, volume0, linear, stress(p), volume_ratio(p), &
+                                    sb(i), svb(i))
                jb(i) = volume_ratio(p)
             else if (iand(shares, share_stress) /= 0) then ! (an initial mapping: the stress as it is)
                svb(i) = stress(p)*volume_ratio(p)*volume0
@@ -6537,6 +6604,7 @@ contains
       real(dp), intent(inout), contiguous, optional :: gradient(:), force_left(:), force_right(:)
       integer :: p, e, i, n, b0, first, last, lo, hi, outside, ahead, elements
       real(dp) :: half_m, strain_factor, dstrain, inv_dx, dt, youngs_modulus, m, volume0
+      real(dp) :: linear
       type(largest_move_t) :: largest
       real(dp) :: displacement(lanes), kinetic(lanes), strain(lanes), min_j(lanes)
       integer :: cb(block_size)
@@ -6555,6 +6623,7 @@ contains
       inv_dx = constants%inv_dx
       dt = constants%dt
       youngs_modulus = constants%youngs_modulus
+      linear = merge(1.0_dp, 0.0_dp, constants%linear)
       m = constants%mass
       volume0 = constants%volume0
       call open_segment(k, shares, seg, mass_left, mass_right, momentum_left, momentum_right, stress_volume, first, last, &
@@ -6600,8 +6669,8 @@ contains
                else
                   dstrain = strain_increment_of(e)
                end if
-               call stress_particle(dstrain, youngs_modulus, strain_factor, volume0, stress(p), volume_ratio(p), sb(i), &
-                                    svb(i))
+               call stress_particle(dstrain, youngs_modulus, strain_factor, volume0, linear, stress(p), volume_ratio(p), &
+                                    sb(i), svb(i))
                jb(i) = volume_ratio(p)
             else if (iand(shares, share_stress) /= 0) then ! (an initial mapping: the stress as it is)
                svb(i) = stress(p)*volume_ratio(p)*volume0
@@ -6688,6 +6757,7 @@ contains
       real(dp), intent(inout), contiguous, optional :: gradient(:), force_left(:), force_right(:)
       integer :: p, e, i, n, b0, first, last, lo, hi, outside, ahead, elements
       real(dp) :: half_m, strain_factor, dstrain, inv_dx, dt, youngs_modulus, m, volume0
+      real(dp) :: linear
       type(largest_move_t) :: largest
       real(dp) :: displacement(lanes), kinetic(lanes), strain(lanes), min_j(lanes)
       integer :: cb(block_size)
@@ -6706,6 +6776,7 @@ contains
       inv_dx = constants%inv_dx
       dt = constants%dt
       youngs_modulus = constants%youngs_modulus
+      linear = merge(1.0_dp, 0.0_dp, constants%linear)
       m = constants%mass
       volume0 = constants%volume0
       call open_segment(k, shares, seg, mass_left, mass_right, momentum_left, momentum_right, stress_volume, first, last, &
@@ -6751,8 +6822,8 @@ contains
                else
                   dstrain = strain_increment_of(e)
                end if
-               call stress_particle(dstrain, youngs_modulus, strain_factor, volume0, stress(p), volume_ratio(p), sb(i), &
-                                    svb(i))
+               call stress_particle(dstrain, youngs_modulus, strain_factor, volume0, linear, stress(p), volume_ratio(p), &
+                                    sb(i), svb(i))
                jb(i) = volume_ratio(p)
             else if (iand(shares, share_stress) /= 0) then ! (an initial mapping: the stress as it is)
                svb(i) = stress(p)*volume_ratio(p)*volume0
@@ -6839,6 +6910,7 @@ contains
       real(dp), intent(inout), contiguous, optional :: gradient(:), force_left(:), force_right(:)
       integer :: p, e, i, n, b0, first, last, lo, hi, outside, ahead, elements
       real(dp) :: half_m, strain_factor, dstrain, inv_dx, dt, youngs_modulus, m, volume0
+      real(dp) :: linear
       type(largest_move_t) :: largest
       real(dp) :: displacement(lanes), kinetic(lanes), strain(lanes), min_j(lanes)
       integer :: cb(block_size)
@@ -6857,6 +6929,7 @@ contains
       inv_dx = constants%inv_dx
       dt = constants%dt
       youngs_modulus = constants%youngs_modulus
+      linear = merge(1.0_dp, 0.0_dp, constants%linear)
       m = constants%mass
       volume0 = constants%volume0
       call open_segment(k, shares, seg, mass_left, mass_right, momentum_left, momentum_right, stress_volume, first, last, &
@@ -6902,8 +6975,8 @@ contains
                else
                   dstrain = strain_increment_of(e)
                end if
-               call stress_particle(dstrain, youngs_modulus, strain_factor, volume0, stress(p), volume_ratio(p), sb(i), &
-                                    svb(i))
+               call stress_particle(dstrain, youngs_modulus, strain_factor, volume0, linear, stress(p), volume_ratio(p), &
+                                    sb(i), svb(i))
                jb(i) = volume_ratio(p)
             else if (iand(shares, share_stress) /= 0) then ! (an initial mapping: the stress as it is)
                svb(i) = stress(p)*volume_ratio(p)*volume0
@@ -6990,6 +7063,7 @@ contains
       real(dp), intent(inout), contiguous, optional :: gradient(:), force_left(:), force_right(:)
       integer :: p, e, i, n, b0, first, last, lo, hi, outside, ahead, elements
       real(dp) :: half_m, strain_factor, dstrain, inv_dx, dt, youngs_modulus, m, volume0
+      real(dp) :: linear
       type(largest_move_t) :: largest
       real(dp) :: displacement(lanes), kinetic(lanes), strain(lanes), min_j(lanes)
       integer :: cb(block_size)
@@ -7010,6 +7084,7 @@ contains
       inv_dx = constants%inv_dx
       dt = constants%dt
       youngs_modulus = constants%youngs_modulus
+      linear = merge(1.0_dp, 0.0_dp, constants%linear)
       m = constants%mass
       volume0 = constants%volume0
       call open_segment(k, shares, seg, mass_left, mass_right, momentum_left, momentum_right, stress_volume, first, last, &
@@ -7056,8 +7131,8 @@ contains
                else
                   dstrain = strain_increment_of(e)
                end if
-               call stress_particle(dstrain, youngs_modulus, strain_factor, volume0, stress(p), volume_ratio(p), sb(i), &
-                                    svb(i))
+               call stress_particle(dstrain, youngs_modulus, strain_factor, volume0, linear, stress(p), volume_ratio(p), &
+                                    sb(i), svb(i))
                jb(i) = volume_ratio(p)
             else if (iand(shares, share_stress) /= 0) then ! (an initial mapping: the stress as it is)
                svb(i) = stress(p)*volume_ratio(p)*volume0
@@ -7144,6 +7219,7 @@ contains
       real(dp), intent(inout), contiguous, optional :: gradient(:), force_left(:), force_right(:)
       integer :: p, e, i, n, b0, first, last, lo, hi, outside, ahead, elements
       real(dp) :: half_m, strain_factor, dstrain, inv_dx, dt, youngs_modulus, m, volume0
+      real(dp) :: linear
       type(largest_move_t) :: largest
       real(dp) :: displacement(lanes), kinetic(lanes), strain(lanes), min_j(lanes)
       integer :: cb(block_size)
@@ -7164,6 +7240,7 @@ contains
       inv_dx = constants%inv_dx
       dt = constants%dt
       youngs_modulus = constants%youngs_modulus
+      linear = merge(1.0_dp, 0.0_dp, constants%linear)
       m = constants%mass
       volume0 = constants%volume0
       call open_segment(k, shares, seg, mass_left, mass_right, momentum_left, momentum_right, stress_volume, first, last, &
@@ -7210,8 +7287,8 @@ contains
                else
                   dstrain = strain_increment_of(e)
                end if
-               call stress_particle(dstrain, youngs_modulus, strain_factor, volume0, stress(p), volume_ratio(p), sb(i), &
-                                    svb(i))
+               call stress_particle(dstrain, youngs_modulus, strain_factor, volume0, linear, stress(p), volume_ratio(p), &
+                                    sb(i), svb(i))
                jb(i) = volume_ratio(p)
             else if (iand(shares, share_stress) /= 0) then ! (an initial mapping: the stress as it is)
                svb(i) = stress(p)*volume_ratio(p)*volume0
@@ -7298,6 +7375,7 @@ contains
       real(dp), intent(inout), contiguous, optional :: gradient(:), force_left(:), force_right(:)
       integer :: p, e, i, n, b0, first, last, lo, hi, outside, ahead, elements
       real(dp) :: half_m, strain_factor, dstrain, inv_dx, dt, youngs_modulus, m, volume0
+      real(dp) :: linear
       type(largest_move_t) :: largest
       real(dp) :: displacement(lanes), kinetic(lanes), strain(lanes), min_j(lanes)
       integer :: cb(block_size)
@@ -7318,6 +7396,7 @@ contains
       inv_dx = constants%inv_dx
       dt = constants%dt
       youngs_modulus = constants%youngs_modulus
+      linear = merge(1.0_dp, 0.0_dp, constants%linear)
       m = constants%mass
       volume0 = constants%volume0
       call open_segment(k, shares, seg, mass_left, mass_right, momentum_left, momentum_right, stress_volume, first, last, &
@@ -7364,8 +7443,8 @@ contains
                else
                   dstrain = strain_increment_of(e)
                end if
-               call stress_particle(dstrain, youngs_modulus, strain_factor, volume0, stress(p), volume_ratio(p), sb(i), &
-                                    svb(i))
+               call stress_particle(dstrain, youngs_modulus, strain_factor, volume0, linear, stress(p), volume_ratio(p), &
+                                    sb(i), svb(i))
                jb(i) = volume_ratio(p)
             else if (iand(shares, share_stress) /= 0) then ! (an initial mapping: the stress as it is)
                svb(i) = stress(p)*volume_ratio(p)*volume0
@@ -7452,6 +7531,7 @@ contains
       real(dp), intent(inout), contiguous, optional :: gradient(:), force_left(:), force_right(:)
       integer :: p, e, i, n, b0, first, last, lo, hi, outside, ahead, elements
       real(dp) :: half_m, strain_factor, dstrain, inv_dx, dt, youngs_modulus, m, volume0
+      real(dp) :: linear
       type(largest_move_t) :: largest
       real(dp) :: displacement(lanes), kinetic(lanes), strain(lanes), min_j(lanes)
       integer :: cb(block_size)
@@ -7472,6 +7552,7 @@ contains
       inv_dx = constants%inv_dx
       dt = constants%dt
       youngs_modulus = constants%youngs_modulus
+      linear = merge(1.0_dp, 0.0_dp, constants%linear)
       m = constants%mass
       volume0 = constants%volume0
       call open_segment(k, shares, seg, mass_left, mass_right, momentum_left, momentum_right, stress_volume, first, last, &
@@ -7518,8 +7599,8 @@ contains
                else
                   dstrain = strain_increment_of(e)
                end if
-               call stress_particle(dstrain, youngs_modulus, strain_factor, volume0, stress(p), volume_ratio(p), sb(i), &
-                                    svb(i))
+               call stress_particle(dstrain, youngs_modulus, strain_factor, volume0, linear, stress(p), volume_ratio(p), &
+                                    sb(i), svb(i))
                jb(i) = volume_ratio(p)
             else if (iand(shares, share_stress) /= 0) then ! (an initial mapping: the stress as it is)
                svb(i) = stress(p)*volume_ratio(p)*volume0
@@ -7606,6 +7687,7 @@ contains
       real(dp), intent(inout), contiguous, optional :: gradient(:), force_left(:), force_right(:)
       integer :: p, e, i, n, b0, first, last, lo, hi, outside, ahead, elements
       real(dp) :: half_m, strain_factor, dstrain, inv_dx, dt, youngs_modulus, m, volume0
+      real(dp) :: linear
       type(largest_move_t) :: largest
       real(dp) :: displacement(lanes), kinetic(lanes), strain(lanes), min_j(lanes)
       integer :: cb(block_size)
@@ -7626,6 +7708,7 @@ contains
       inv_dx = constants%inv_dx
       dt = constants%dt
       youngs_modulus = constants%youngs_modulus
+      linear = merge(1.0_dp, 0.0_dp, constants%linear)
       m = constants%mass
       volume0 = constants%volume0
       call open_segment(k, shares, seg, mass_left, mass_right, momentum_left, momentum_right, stress_volume, first, last, &
@@ -7672,8 +7755,8 @@ contains
                else
                   dstrain = strain_increment_of(e)
                end if
-               call stress_particle(dstrain, youngs_modulus, strain_factor, volume0, stress(p), volume_ratio(p), sb(i), &
-                                    svb(i))
+               call stress_particle(dstrain, youngs_modulus, strain_factor, volume0, linear, stress(p), volume_ratio(p), &
+                                    sb(i), svb(i))
                jb(i) = volume_ratio(p)
             else if (iand(shares, share_stress) /= 0) then ! (an initial mapping: the stress as it is)
                svb(i) = stress(p)*volume_ratio(p)*volume0
@@ -7760,6 +7843,7 @@ contains
       real(dp), intent(inout), contiguous, optional :: gradient(:), force_left(:), force_right(:)
       integer :: p, e, i, n, b0, first, last, lo, hi, outside, ahead, elements
       real(dp) :: half_m, strain_factor, dstrain, inv_dx, dt, youngs_modulus, m, volume0
+      real(dp) :: linear
       type(largest_move_t) :: largest
       real(dp) :: displacement(lanes), kinetic(lanes), strain(lanes), min_j(lanes)
       integer :: cb(block_size)
@@ -7780,6 +7864,7 @@ contains
       inv_dx = constants%inv_dx
       dt = constants%dt
       youngs_modulus = constants%youngs_modulus
+      linear = merge(1.0_dp, 0.0_dp, constants%linear)
       m = constants%mass
       volume0 = constants%volume0
       call open_segment(k, shares, seg, mass_left, mass_right, momentum_left, momentum_right, stress_volume, first, last, &
@@ -7826,8 +7911,8 @@ contains
                else
                   dstrain = strain_increment_of(e)
                end if
-               call stress_particle(dstrain, youngs_modulus, strain_factor, volume0, stress(p), volume_ratio(p), sb(i), &
-                                    svb(i))
+               call stress_particle(dstrain, youngs_modulus, strain_factor, volume0, linear, stress(p), volume_ratio(p), &
+                                    sb(i), svb(i))
                jb(i) = volume_ratio(p)
             else if (iand(shares, share_stress) /= 0) then ! (an initial mapping: the stress as it is)
                svb(i) = stress(p)*volume_ratio(p)*volume0
@@ -7914,6 +7999,7 @@ contains
       real(dp), intent(inout), contiguous, optional :: gradient(:), force_left(:), force_right(:)
       integer :: p, e, i, n, b0, first, last, lo, hi, outside, ahead, elements
       real(dp) :: half_m, strain_factor, dstrain, inv_dx, dt, youngs_modulus, m, volume0
+      real(dp) :: linear
       type(largest_move_t) :: largest
       real(dp) :: displacement(lanes), kinetic(lanes), strain(lanes), min_j(lanes)
       integer :: cb(block_size)
@@ -7934,6 +8020,7 @@ contains
       inv_dx = constants%inv_dx
       dt = constants%dt
       youngs_modulus = constants%youngs_modulus
+      linear = merge(1.0_dp, 0.0_dp, constants%linear)
       m = constants%mass
       volume0 = constants%volume0
       call open_segment(k, shares, seg, mass_left, mass_right, momentum_left, momentum_right, stress_volume, first, last, &
@@ -7980,8 +8067,8 @@ contains
                else
                   dstrain = strain_increment_of(e)
                end if
-               call stress_particle(dstrain, youngs_modulus, strain_factor, volume0, stress(p), volume_ratio(p), sb(i), &
-                                    svb(i))
+               call stress_particle(dstrain, youngs_modulus, strain_factor, volume0, linear, stress(p), volume_ratio(p), &
+                                    sb(i), svb(i))
                jb(i) = volume_ratio(p)
             else if (iand(shares, share_stress) /= 0) then ! (an initial mapping: the stress as it is)
                svb(i) = stress(p)*volume_ratio(p)*volume0
@@ -8068,6 +8155,7 @@ contains
       real(dp), intent(inout), contiguous, optional :: gradient(:), force_left(:), force_right(:)
       integer :: p, e, i, n, b0, first, last, lo, hi, outside, ahead, elements
       real(dp) :: half_m, strain_factor, dstrain, inv_dx, dt, youngs_modulus, m, volume0
+      real(dp) :: linear
       type(largest_move_t) :: largest
       real(dp) :: displacement(lanes), kinetic(lanes), strain(lanes), min_j(lanes)
       integer :: cb(block_size)
@@ -8089,6 +8177,7 @@ contains
       inv_dx = constants%inv_dx
       dt = constants%dt
       youngs_modulus = constants%youngs_modulus
+      linear = merge(1.0_dp, 0.0_dp, constants%linear)
       m = constants%mass
       volume0 = constants%volume0
       call open_segment(k, shares, seg, mass_left, mass_right, momentum_left, momentum_right, stress_volume, first, last, &
@@ -8136,8 +8225,8 @@ contains
                else
                   dstrain = strain_increment_of(e)
                end if
-               call stress_particle(dstrain, youngs_modulus, strain_factor, volume0, stress(p), volume_ratio(p), sb(i), &
-                                    svb(i))
+               call stress_particle(dstrain, youngs_modulus, strain_factor, volume0, linear, stress(p), volume_ratio(p), &
+                                    sb(i), svb(i))
                jb(i) = volume_ratio(p)
             else if (iand(shares, share_stress) /= 0) then ! (an initial mapping: the stress as it is)
                svb(i) = stress(p)*volume_ratio(p)*volume0
@@ -8247,6 +8336,7 @@ contains
       real(dp), intent(inout), contiguous, optional :: gradient(:), force_left(:), force_right(:)
       integer :: p, e, i, n, b0, first, last, lo, hi, outside, ahead, elements
       real(dp) :: half_m, strain_factor, dstrain, inv_dx, dt, youngs_modulus, m, volume0
+      real(dp) :: linear
       type(largest_move_t) :: largest
       real(dp) :: displacement(lanes), kinetic(lanes), strain(lanes), min_j(lanes)
       integer :: cb(block_size)
@@ -8268,6 +8358,7 @@ contains
       inv_dx = constants%inv_dx
       dt = constants%dt
       youngs_modulus = constants%youngs_modulus
+      linear = merge(1.0_dp, 0.0_dp, constants%linear)
       m = constants%mass
       volume0 = constants%volume0
       call open_segment(k, shares, seg, mass_left, mass_right, momentum_left, momentum_right, stress_volume, first, last, &
@@ -8315,8 +8406,8 @@ contains
                else
                   dstrain = strain_increment_of(e)
                end if
-               call stress_particle(dstrain, youngs_modulus, strain_factor, volume0, stress(p), volume_ratio(p), sb(i), &
-                                    svb(i))
+               call stress_particle(dstrain, youngs_modulus, strain_factor, volume0, linear, stress(p), volume_ratio(p), &
+                                    sb(i), svb(i))
                jb(i) = volume_ratio(p)
             else if (iand(shares, share_stress) /= 0) then ! (an initial mapping: the stress as it is)
                svb(i) = stress(p)*volume_ratio(p)*volume0
@@ -8426,6 +8517,7 @@ contains
       real(dp), intent(inout), contiguous, optional :: gradient(:), force_left(:), force_right(:)
       integer :: p, e, i, n, b0, first, last, lo, hi, outside, ahead, elements
       real(dp) :: half_m, strain_factor, dstrain, inv_dx, dt, youngs_modulus, m, volume0
+      real(dp) :: linear
       type(largest_move_t) :: largest
       real(dp) :: displacement(lanes), kinetic(lanes), strain(lanes), min_j(lanes)
       integer :: cb(block_size)
@@ -8447,6 +8539,7 @@ contains
       inv_dx = constants%inv_dx
       dt = constants%dt
       youngs_modulus = constants%youngs_modulus
+      linear = merge(1.0_dp, 0.0_dp, constants%linear)
       m = constants%mass
       volume0 = constants%volume0
       call open_segment(k, shares, seg, mass_left, mass_right, momentum_left, momentum_right, stress_volume, first, last, &
@@ -8494,8 +8587,8 @@ contains
                else
                   dstrain = strain_increment_of(e)
                end if
-               call stress_particle(dstrain, youngs_modulus, strain_factor, volume0, stress(p), volume_ratio(p), sb(i), &
-                                    svb(i))
+               call stress_particle(dstrain, youngs_modulus, strain_factor, volume0, linear, stress(p), volume_ratio(p), &
+                                    sb(i), svb(i))
                jb(i) = volume_ratio(p)
             else if (iand(shares, share_stress) /= 0) then ! (an initial mapping: the stress as it is)
                svb(i) = stress(p)*volume_ratio(p)*volume0
@@ -8605,6 +8698,7 @@ contains
       real(dp), intent(inout), contiguous, optional :: gradient(:), force_left(:), force_right(:)
       integer :: p, e, i, n, b0, first, last, lo, hi, outside, ahead, elements
       real(dp) :: half_m, strain_factor, dstrain, inv_dx, dt, youngs_modulus, m, volume0
+      real(dp) :: linear
       type(largest_move_t) :: largest
       real(dp) :: displacement(lanes), kinetic(lanes), strain(lanes), min_j(lanes)
       integer :: cb(block_size)
@@ -8626,6 +8720,7 @@ contains
       inv_dx = constants%inv_dx
       dt = constants%dt
       youngs_modulus = constants%youngs_modulus
+      linear = merge(1.0_dp, 0.0_dp, constants%linear)
       m = constants%mass
       volume0 = constants%volume0
       call open_segment(k, shares, seg, mass_left, mass_right, momentum_left, momentum_right, stress_volume, first, last, &
@@ -8673,8 +8768,8 @@ contains
                else
                   dstrain = strain_increment_of(e)
                end if
-               call stress_particle(dstrain, youngs_modulus, strain_factor, volume0, stress(p), volume_ratio(p), sb(i), &
-                                    svb(i))
+               call stress_particle(dstrain, youngs_modulus, strain_factor, volume0, linear, stress(p), volume_ratio(p), &
+                                    sb(i), svb(i))
                jb(i) = volume_ratio(p)
             else if (iand(shares, share_stress) /= 0) then ! (an initial mapping: the stress as it is)
                svb(i) = stress(p)*volume_ratio(p)*volume0
@@ -8784,6 +8879,7 @@ contains
       real(dp), intent(inout), contiguous, optional :: gradient(:), force_left(:), force_right(:)
       integer :: p, e, i, n, b0, first, last, lo, hi, outside, ahead, elements
       real(dp) :: half_m, strain_factor, dstrain, inv_dx, dt, youngs_modulus, m, volume0
+      real(dp) :: linear
       type(largest_move_t) :: largest
       real(dp) :: displacement(lanes), kinetic(lanes), strain(lanes), min_j(lanes)
       integer :: cb(block_size)
@@ -8805,6 +8901,7 @@ contains
       inv_dx = constants%inv_dx
       dt = constants%dt
       youngs_modulus = constants%youngs_modulus
+      linear = merge(1.0_dp, 0.0_dp, constants%linear)
       m = constants%mass
       volume0 = constants%volume0
       call open_segment(k, shares, seg, mass_left, mass_right, momentum_left, momentum_right, stress_volume, first, last, &
@@ -8852,8 +8949,8 @@ contains
                else
                   dstrain = strain_increment_of(e)
                end if
-               call stress_particle(dstrain, youngs_modulus, strain_factor, volume0, stress(p), volume_ratio(p), sb(i), &
-                                    svb(i))
+               call stress_particle(dstrain, youngs_modulus, strain_factor, volume0, linear, stress(p), volume_ratio(p), &
+                                    sb(i), svb(i))
                jb(i) = volume_ratio(p)
             else if (iand(shares, share_stress) /= 0) then ! (an initial mapping: the stress as it is)
                svb(i) = stress(p)*volume_ratio(p)*volume0
@@ -8963,6 +9060,7 @@ contains
       real(dp), intent(inout), contiguous, optional :: gradient(:), force_left(:), force_right(:)
       integer :: p, e, i, n, b0, first, last, lo, hi, outside, ahead, elements
       real(dp) :: half_m, strain_factor, dstrain, inv_dx, dt, youngs_modulus, m, volume0
+      real(dp) :: linear
       type(largest_move_t) :: largest
       real(dp) :: displacement(lanes), kinetic(lanes), strain(lanes), min_j(lanes)
       integer :: cb(block_size)
@@ -8984,6 +9082,7 @@ contains
       inv_dx = constants%inv_dx
       dt = constants%dt
       youngs_modulus = constants%youngs_modulus
+      linear = merge(1.0_dp, 0.0_dp, constants%linear)
       m = constants%mass
       volume0 = constants%volume0
       call open_segment(k, shares, seg, mass_left, mass_right, momentum_left, momentum_right, stress_volume, first, last, &
@@ -9031,8 +9130,8 @@ contains
                else
                   dstrain = strain_increment_of(e)
                end if
-               call stress_particle(dstrain, youngs_modulus, strain_factor, volume0, stress(p), volume_ratio(p), sb(i), &
-                                    svb(i))
+               call stress_particle(dstrain, youngs_modulus, strain_factor, volume0, linear, stress(p), volume_ratio(p), &
+                                    sb(i), svb(i))
                jb(i) = volume_ratio(p)
             else if (iand(shares, share_stress) /= 0) then ! (an initial mapping: the stress as it is)
                svb(i) = stress(p)*volume_ratio(p)*volume0
@@ -9142,6 +9241,7 @@ contains
       real(dp), intent(inout), contiguous, optional :: gradient(:), force_left(:), force_right(:)
       integer :: p, e, i, n, b0, first, last, lo, hi, outside, ahead, elements
       real(dp) :: half_m, strain_factor, dstrain, inv_dx, dt, youngs_modulus, m, volume0
+      real(dp) :: linear
       type(largest_move_t) :: largest
       real(dp) :: displacement(lanes), kinetic(lanes), strain(lanes), min_j(lanes)
       integer :: cb(block_size)
@@ -9163,6 +9263,7 @@ contains
       inv_dx = constants%inv_dx
       dt = constants%dt
       youngs_modulus = constants%youngs_modulus
+      linear = merge(1.0_dp, 0.0_dp, constants%linear)
       m = constants%mass
       volume0 = constants%volume0
       call open_segment(k, shares, seg, mass_left, mass_right, momentum_left, momentum_right, stress_volume, first, last, &
@@ -9210,8 +9311,8 @@ contains
                else
                   dstrain = strain_increment_of(e)
                end if
-               call stress_particle(dstrain, youngs_modulus, strain_factor, volume0, stress(p), volume_ratio(p), sb(i), &
-                                    svb(i))
+               call stress_particle(dstrain, youngs_modulus, strain_factor, volume0, linear, stress(p), volume_ratio(p), &
+                                    sb(i), svb(i))
                jb(i) = volume_ratio(p)
             else if (iand(shares, share_stress) /= 0) then ! (an initial mapping: the stress as it is)
                svb(i) = stress(p)*volume_ratio(p)*volume0
@@ -9321,6 +9422,7 @@ contains
       real(dp), intent(inout), contiguous, optional :: gradient(:), force_left(:), force_right(:)
       integer :: p, e, i, n, b0, first, last, lo, hi, outside, ahead, elements
       real(dp) :: half_m, strain_factor, dstrain, inv_dx, dt, youngs_modulus, m, volume0
+      real(dp) :: linear
       type(largest_move_t) :: largest
       real(dp) :: displacement(lanes), kinetic(lanes), strain(lanes), min_j(lanes)
       integer :: cb(block_size)
@@ -9340,6 +9442,7 @@ contains
       inv_dx = constants%inv_dx
       dt = constants%dt
       youngs_modulus = constants%youngs_modulus
+      linear = merge(1.0_dp, 0.0_dp, constants%linear)
       m = constants%mass
       volume0 = constants%volume0
       call open_segment(k, shares, seg, mass_left, mass_right, momentum_left, momentum_right, stress_volume, first, last, &
@@ -9385,7 +9488,7 @@ contains
                else
                   dstrain = strain_increment_of(e)
                end if
-               call stress_particle(dstrain, modulus_of(p), 0.5_dp*volume0/modulus_of(p), volume0, stress(p), &
+               call stress_particle(dstrain, modulus_of(p), 0.5_dp*volume0/modulus_of(p), volume0, linear, stress(p), &
                                     volume_ratio(p), sb(i), svb(i))
                jb(i) = volume_ratio(p)
             else if (iand(shares, share_stress) /= 0) then ! (an initial mapping: the stress as it is)
@@ -9488,6 +9591,7 @@ contains
       real(dp), intent(inout), contiguous, optional :: gradient(:), force_left(:), force_right(:)
       integer :: p, e, i, n, b0, first, last, lo, hi, outside, ahead, elements
       real(dp) :: half_m, strain_factor, dstrain, inv_dx, dt, youngs_modulus, m, volume0
+      real(dp) :: linear
       type(largest_move_t) :: largest
       real(dp) :: displacement(lanes), kinetic(lanes), strain(lanes), min_j(lanes)
       integer :: cb(block_size)
@@ -9507,6 +9611,7 @@ contains
       inv_dx = constants%inv_dx
       dt = constants%dt
       youngs_modulus = constants%youngs_modulus
+      linear = merge(1.0_dp, 0.0_dp, constants%linear)
       m = constants%mass
       volume0 = constants%volume0
       call open_segment(k, shares, seg, mass_left, mass_right, momentum_left, momentum_right, stress_volume, first, last, &
@@ -9552,7 +9657,7 @@ contains
                else
                   dstrain = strain_increment_of(e)
                end if
-               call stress_particle(dstrain, modulus_of(p), 0.5_dp*volume0/modulus_of(p), volume0, stress(p), &
+               call stress_particle(dstrain, modulus_of(p), 0.5_dp*volume0/modulus_of(p), volume0, linear, stress(p), &
                                     volume_ratio(p), sb(i), svb(i))
                jb(i) = volume_ratio(p)
             else if (iand(shares, share_stress) /= 0) then ! (an initial mapping: the stress as it is)
@@ -9655,6 +9760,7 @@ contains
       real(dp), intent(inout), contiguous, optional :: gradient(:), force_left(:), force_right(:)
       integer :: p, e, i, n, b0, first, last, lo, hi, outside, ahead, elements
       real(dp) :: half_m, strain_factor, dstrain, inv_dx, dt, youngs_modulus, m, volume0
+      real(dp) :: linear
       type(largest_move_t) :: largest
       real(dp) :: displacement(lanes), kinetic(lanes), strain(lanes), min_j(lanes)
       integer :: cb(block_size)
@@ -9674,6 +9780,7 @@ contains
       inv_dx = constants%inv_dx
       dt = constants%dt
       youngs_modulus = constants%youngs_modulus
+      linear = merge(1.0_dp, 0.0_dp, constants%linear)
       m = constants%mass
       volume0 = constants%volume0
       call open_segment(k, shares, seg, mass_left, mass_right, momentum_left, momentum_right, stress_volume, first, last, &
@@ -9719,7 +9826,7 @@ contains
                else
                   dstrain = strain_increment_of(e)
                end if
-               call stress_particle(dstrain, modulus_of(p), 0.5_dp*volume0/modulus_of(p), volume0, stress(p), &
+               call stress_particle(dstrain, modulus_of(p), 0.5_dp*volume0/modulus_of(p), volume0, linear, stress(p), &
                                     volume_ratio(p), sb(i), svb(i))
                jb(i) = volume_ratio(p)
             else if (iand(shares, share_stress) /= 0) then ! (an initial mapping: the stress as it is)
@@ -9822,6 +9929,7 @@ contains
       real(dp), intent(inout), contiguous, optional :: gradient(:), force_left(:), force_right(:)
       integer :: p, e, i, n, b0, first, last, lo, hi, outside, ahead, elements
       real(dp) :: half_m, strain_factor, dstrain, inv_dx, dt, youngs_modulus, m, volume0
+      real(dp) :: linear
       type(largest_move_t) :: largest
       real(dp) :: displacement(lanes), kinetic(lanes), strain(lanes), min_j(lanes)
       integer :: cb(block_size)
@@ -9841,6 +9949,7 @@ contains
       inv_dx = constants%inv_dx
       dt = constants%dt
       youngs_modulus = constants%youngs_modulus
+      linear = merge(1.0_dp, 0.0_dp, constants%linear)
       m = constants%mass
       volume0 = constants%volume0
       call open_segment(k, shares, seg, mass_left, mass_right, momentum_left, momentum_right, stress_volume, first, last, &
@@ -9886,7 +9995,7 @@ contains
                else
                   dstrain = strain_increment_of(e)
                end if
-               call stress_particle(dstrain, modulus_of(p), 0.5_dp*volume0/modulus_of(p), volume0, stress(p), &
+               call stress_particle(dstrain, modulus_of(p), 0.5_dp*volume0/modulus_of(p), volume0, linear, stress(p), &
                                     volume_ratio(p), sb(i), svb(i))
                jb(i) = volume_ratio(p)
             else if (iand(shares, share_stress) /= 0) then ! (an initial mapping: the stress as it is)
@@ -9989,6 +10098,7 @@ contains
       real(dp), intent(inout), contiguous, optional :: gradient(:), force_left(:), force_right(:)
       integer :: p, e, i, n, b0, first, last, lo, hi, outside, ahead, elements
       real(dp) :: half_m, strain_factor, dstrain, inv_dx, dt, youngs_modulus, m, volume0
+      real(dp) :: linear
       type(largest_move_t) :: largest
       real(dp) :: displacement(lanes), kinetic(lanes), strain(lanes), min_j(lanes)
       integer :: cb(block_size)
@@ -10008,6 +10118,7 @@ contains
       inv_dx = constants%inv_dx
       dt = constants%dt
       youngs_modulus = constants%youngs_modulus
+      linear = merge(1.0_dp, 0.0_dp, constants%linear)
       m = constants%mass
       volume0 = constants%volume0
       call open_segment(k, shares, seg, mass_left, mass_right, momentum_left, momentum_right, stress_volume, first, last, &
@@ -10053,7 +10164,7 @@ contains
                else
                   dstrain = strain_increment_of(e)
                end if
-               call stress_particle(dstrain, modulus_of(p), 0.5_dp*volume0/modulus_of(p), volume0, stress(p), &
+               call stress_particle(dstrain, modulus_of(p), 0.5_dp*volume0/modulus_of(p), volume0, linear, stress(p), &
                                     volume_ratio(p), sb(i), svb(i))
                jb(i) = volume_ratio(p)
             else if (iand(shares, share_stress) /= 0) then ! (an initial mapping: the stress as it is)
@@ -10156,6 +10267,7 @@ contains
       real(dp), intent(inout), contiguous, optional :: gradient(:), force_left(:), force_right(:)
       integer :: p, e, i, n, b0, first, last, lo, hi, outside, ahead, elements
       real(dp) :: half_m, strain_factor, dstrain, inv_dx, dt, youngs_modulus, m, volume0
+      real(dp) :: linear
       type(largest_move_t) :: largest
       real(dp) :: displacement(lanes), kinetic(lanes), strain(lanes), min_j(lanes)
       integer :: cb(block_size)
@@ -10175,6 +10287,7 @@ contains
       inv_dx = constants%inv_dx
       dt = constants%dt
       youngs_modulus = constants%youngs_modulus
+      linear = merge(1.0_dp, 0.0_dp, constants%linear)
       m = constants%mass
       volume0 = constants%volume0
       call open_segment(k, shares, seg, mass_left, mass_right, momentum_left, momentum_right, stress_volume, first, last, &
@@ -10220,7 +10333,7 @@ contains
                else
                   dstrain = strain_increment_of(e)
                end if
-               call stress_particle(dstrain, modulus_of(p), 0.5_dp*volume0/modulus_of(p), volume0, stress(p), &
+               call stress_particle(dstrain, modulus_of(p), 0.5_dp*volume0/modulus_of(p), volume0, linear, stress(p), &
                                     volume_ratio(p), sb(i), svb(i))
                jb(i) = volume_ratio(p)
             else if (iand(shares, share_stress) /= 0) then ! (an initial mapping: the stress as it is)
@@ -10323,6 +10436,7 @@ contains
       real(dp), intent(inout), contiguous, optional :: gradient(:), force_left(:), force_right(:)
       integer :: p, e, i, n, b0, first, last, lo, hi, outside, ahead, elements
       real(dp) :: half_m, strain_factor, dstrain, inv_dx, dt, youngs_modulus, m, volume0
+      real(dp) :: linear
       type(largest_move_t) :: largest
       real(dp) :: displacement(lanes), kinetic(lanes), strain(lanes), min_j(lanes)
       integer :: cb(block_size)
@@ -10342,6 +10456,7 @@ contains
       inv_dx = constants%inv_dx
       dt = constants%dt
       youngs_modulus = constants%youngs_modulus
+      linear = merge(1.0_dp, 0.0_dp, constants%linear)
       m = constants%mass
       volume0 = constants%volume0
       call open_segment(k, shares, seg, mass_left, mass_right, momentum_left, momentum_right, stress_volume, first, last, &
@@ -10387,7 +10502,7 @@ contains
                else
                   dstrain = strain_increment_of(e)
                end if
-               call stress_particle(dstrain, modulus_of(p), 0.5_dp*volume0/modulus_of(p), volume0, stress(p), &
+               call stress_particle(dstrain, modulus_of(p), 0.5_dp*volume0/modulus_of(p), volume0, linear, stress(p), &
                                     volume_ratio(p), sb(i), svb(i))
                jb(i) = volume_ratio(p)
             else if (iand(shares, share_stress) /= 0) then ! (an initial mapping: the stress as it is)
@@ -10490,6 +10605,7 @@ contains
       real(dp), intent(inout), contiguous, optional :: gradient(:), force_left(:), force_right(:)
       integer :: p, e, i, n, b0, first, last, lo, hi, outside, ahead, elements
       real(dp) :: half_m, strain_factor, dstrain, inv_dx, dt, youngs_modulus, m, volume0
+      real(dp) :: linear
       type(largest_move_t) :: largest
       real(dp) :: displacement(lanes), kinetic(lanes), strain(lanes), min_j(lanes)
       integer :: cb(block_size)
@@ -10509,6 +10625,7 @@ contains
       inv_dx = constants%inv_dx
       dt = constants%dt
       youngs_modulus = constants%youngs_modulus
+      linear = merge(1.0_dp, 0.0_dp, constants%linear)
       m = constants%mass
       volume0 = constants%volume0
       call open_segment(k, shares, seg, mass_left, mass_right, momentum_left, momentum_right, stress_volume, first, last, &
@@ -10554,8 +10671,8 @@ contains
                else
                   dstrain = strain_increment_of(e)
                end if
-               call stress_particle(dstrain, youngs_modulus, strain_factor, volume0, stress(p), volume_ratio(p), sb(i), &
-                                    svb(i))
+               call stress_particle(dstrain, youngs_modulus, strain_factor, volume0, linear, stress(p), volume_ratio(p), &
+                                    sb(i), svb(i))
                jb(i) = volume_ratio(p)
             else if (iand(shares, share_stress) /= 0) then ! (an initial mapping: the stress as it is)
                svb(i) = stress(p)*volume_ratio(p)*volume0
@@ -10662,6 +10779,7 @@ contains
       real(dp), intent(inout), contiguous, optional :: gradient(:), force_left(:), force_right(:)
       integer :: p, e, i, n, b0, first, last, lo, hi, outside, ahead, elements
       real(dp) :: half_m, strain_factor, dstrain, inv_dx, dt, youngs_modulus, m, volume0
+      real(dp) :: linear
       type(largest_move_t) :: largest
       real(dp) :: displacement(lanes), kinetic(lanes), strain(lanes), min_j(lanes)
       integer :: cb(block_size)
@@ -10681,6 +10799,7 @@ contains
       inv_dx = constants%inv_dx
       dt = constants%dt
       youngs_modulus = constants%youngs_modulus
+      linear = merge(1.0_dp, 0.0_dp, constants%linear)
       m = constants%mass
       volume0 = constants%volume0
       call open_segment(k, shares, seg, mass_left, mass_right, momentum_left, momentum_right, stress_volume, first, last, &
@@ -10726,8 +10845,8 @@ contains
                else
                   dstrain = strain_increment_of(e)
                end if
-               call stress_particle(dstrain, youngs_modulus, strain_factor, volume0, stress(p), volume_ratio(p), sb(i), &
-                                    svb(i))
+               call stress_particle(dstrain, youngs_modulus, strain_factor, volume0, linear, stress(p), volume_ratio(p), &
+                                    sb(i), svb(i))
                jb(i) = volume_ratio(p)
             else if (iand(shares, share_stress) /= 0) then ! (an initial mapping: the stress as it is)
                svb(i) = stress(p)*volume_ratio(p)*volume0
@@ -10834,6 +10953,7 @@ contains
       real(dp), intent(inout), contiguous, optional :: gradient(:), force_left(:), force_right(:)
       integer :: p, e, i, n, b0, first, last, lo, hi, outside, ahead, elements
       real(dp) :: half_m, strain_factor, dstrain, inv_dx, dt, youngs_modulus, m, volume0
+      real(dp) :: linear
       type(largest_move_t) :: largest
       real(dp) :: displacement(lanes), kinetic(lanes), strain(lanes), min_j(lanes)
       integer :: cb(block_size)
@@ -10853,6 +10973,7 @@ contains
       inv_dx = constants%inv_dx
       dt = constants%dt
       youngs_modulus = constants%youngs_modulus
+      linear = merge(1.0_dp, 0.0_dp, constants%linear)
       m = constants%mass
       volume0 = constants%volume0
       call open_segment(k, shares, seg, mass_left, mass_right, momentum_left, momentum_right, stress_volume, first, last, &
@@ -10898,8 +11019,8 @@ contains
                else
                   dstrain = strain_increment_of(e)
                end if
-               call stress_particle(dstrain, youngs_modulus, strain_factor, volume0, stress(p), volume_ratio(p), sb(i), &
-                                    svb(i))
+               call stress_particle(dstrain, youngs_modulus, strain_factor, volume0, linear, stress(p), volume_ratio(p), &
+                                    sb(i), svb(i))
                jb(i) = volume_ratio(p)
             else if (iand(shares, share_stress) /= 0) then ! (an initial mapping: the stress as it is)
                svb(i) = stress(p)*volume_ratio(p)*volume0
@@ -11006,6 +11127,7 @@ contains
       real(dp), intent(inout), contiguous, optional :: gradient(:), force_left(:), force_right(:)
       integer :: p, e, i, n, b0, first, last, lo, hi, outside, ahead, elements
       real(dp) :: half_m, strain_factor, dstrain, inv_dx, dt, youngs_modulus, m, volume0
+      real(dp) :: linear
       type(largest_move_t) :: largest
       real(dp) :: displacement(lanes), kinetic(lanes), strain(lanes), min_j(lanes)
       integer :: cb(block_size)
@@ -11025,6 +11147,7 @@ contains
       inv_dx = constants%inv_dx
       dt = constants%dt
       youngs_modulus = constants%youngs_modulus
+      linear = merge(1.0_dp, 0.0_dp, constants%linear)
       m = constants%mass
       volume0 = constants%volume0
       call open_segment(k, shares, seg, mass_left, mass_right, momentum_left, momentum_right, stress_volume, first, last, &
@@ -11070,8 +11193,8 @@ contains
                else
                   dstrain = strain_increment_of(e)
                end if
-               call stress_particle(dstrain, youngs_modulus, strain_factor, volume0, stress(p), volume_ratio(p), sb(i), &
-                                    svb(i))
+               call stress_particle(dstrain, youngs_modulus, strain_factor, volume0, linear, stress(p), volume_ratio(p), &
+                                    sb(i), svb(i))
                jb(i) = volume_ratio(p)
             else if (iand(shares, share_stress) /= 0) then ! (an initial mapping: the stress as it is)
                svb(i) = stress(p)*volume_ratio(p)*volume0
@@ -11178,6 +11301,7 @@ contains
       real(dp), intent(inout), contiguous, optional :: gradient(:), force_left(:), force_right(:)
       integer :: p, e, i, n, b0, first, last, lo, hi, outside, ahead, elements
       real(dp) :: half_m, strain_factor, dstrain, inv_dx, dt, youngs_modulus, m, volume0
+      real(dp) :: linear
       type(largest_move_t) :: largest
       real(dp) :: displacement(lanes), kinetic(lanes), strain(lanes), min_j(lanes)
       integer :: cb(block_size)
@@ -11197,6 +11321,7 @@ contains
       inv_dx = constants%inv_dx
       dt = constants%dt
       youngs_modulus = constants%youngs_modulus
+      linear = merge(1.0_dp, 0.0_dp, constants%linear)
       m = constants%mass
       volume0 = constants%volume0
       call open_segment(k, shares, seg, mass_left, mass_right, momentum_left, momentum_right, stress_volume, first, last, &
@@ -11242,8 +11367,8 @@ contains
                else
                   dstrain = strain_increment_of(e)
                end if
-               call stress_particle(dstrain, youngs_modulus, strain_factor, volume0, stress(p), volume_ratio(p), sb(i), &
-                                    svb(i))
+               call stress_particle(dstrain, youngs_modulus, strain_factor, volume0, linear, stress(p), volume_ratio(p), &
+                                    sb(i), svb(i))
                jb(i) = volume_ratio(p)
             else if (iand(shares, share_stress) /= 0) then ! (an initial mapping: the stress as it is)
                svb(i) = stress(p)*volume_ratio(p)*volume0
@@ -11350,6 +11475,7 @@ contains
       real(dp), intent(inout), contiguous, optional :: gradient(:), force_left(:), force_right(:)
       integer :: p, e, i, n, b0, first, last, lo, hi, outside, ahead, elements
       real(dp) :: half_m, strain_factor, dstrain, inv_dx, dt, youngs_modulus, m, volume0
+      real(dp) :: linear
       type(largest_move_t) :: largest
       real(dp) :: displacement(lanes), kinetic(lanes), strain(lanes), min_j(lanes)
       integer :: cb(block_size)
@@ -11369,6 +11495,7 @@ contains
       inv_dx = constants%inv_dx
       dt = constants%dt
       youngs_modulus = constants%youngs_modulus
+      linear = merge(1.0_dp, 0.0_dp, constants%linear)
       m = constants%mass
       volume0 = constants%volume0
       call open_segment(k, shares, seg, mass_left, mass_right, momentum_left, momentum_right, stress_volume, first, last, &
@@ -11414,8 +11541,8 @@ contains
                else
                   dstrain = strain_increment_of(e)
                end if
-               call stress_particle(dstrain, youngs_modulus, strain_factor, volume0, stress(p), volume_ratio(p), sb(i), &
-                                    svb(i))
+               call stress_particle(dstrain, youngs_modulus, strain_factor, volume0, linear, stress(p), volume_ratio(p), &
+                                    sb(i), svb(i))
                jb(i) = volume_ratio(p)
             else if (iand(shares, share_stress) /= 0) then ! (an initial mapping: the stress as it is)
                svb(i) = stress(p)*volume_ratio(p)*volume0
@@ -11522,6 +11649,7 @@ contains
       real(dp), intent(inout), contiguous, optional :: gradient(:), force_left(:), force_right(:)
       integer :: p, e, i, n, b0, first, last, lo, hi, outside, ahead, elements
       real(dp) :: half_m, strain_factor, dstrain, inv_dx, dt, youngs_modulus, m, volume0
+      real(dp) :: linear
       type(largest_move_t) :: largest
       real(dp) :: displacement(lanes), kinetic(lanes), strain(lanes), min_j(lanes)
       integer :: cb(block_size)
@@ -11541,6 +11669,7 @@ contains
       inv_dx = constants%inv_dx
       dt = constants%dt
       youngs_modulus = constants%youngs_modulus
+      linear = merge(1.0_dp, 0.0_dp, constants%linear)
       m = constants%mass
       volume0 = constants%volume0
       call open_segment(k, shares, seg, mass_left, mass_right, momentum_left, momentum_right, stress_volume, first, last, &
@@ -11586,8 +11715,8 @@ contains
                else
                   dstrain = strain_increment_of(e)
                end if
-               call stress_particle(dstrain, youngs_modulus, strain_factor, volume0, stress(p), volume_ratio(p), sb(i), &
-                                    svb(i))
+               call stress_particle(dstrain, youngs_modulus, strain_factor, volume0, linear, stress(p), volume_ratio(p), &
+                                    sb(i), svb(i))
                jb(i) = volume_ratio(p)
             else if (iand(shares, share_stress) /= 0) then ! (an initial mapping: the stress as it is)
                svb(i) = stress(p)*volume_ratio(p)*volume0
@@ -11694,6 +11823,7 @@ contains
       real(dp), intent(inout), contiguous, optional :: gradient(:), force_left(:), force_right(:)
       integer :: p, e, i, n, b0, first, last, lo, hi, outside, ahead, elements
       real(dp) :: half_m, strain_factor, dstrain, inv_dx, dt, youngs_modulus, m, volume0
+      real(dp) :: linear
       type(largest_move_t) :: largest
       real(dp) :: displacement(lanes), kinetic(lanes), strain(lanes), min_j(lanes)
       integer :: cb(block_size)
@@ -11716,6 +11846,7 @@ contains
       inv_dx = constants%inv_dx
       dt = constants%dt
       youngs_modulus = constants%youngs_modulus
+      linear = merge(1.0_dp, 0.0_dp, constants%linear)
       m = constants%mass
       volume0 = constants%volume0
       call open_segment(k, shares, seg, mass_left, mass_right, momentum_left, momentum_right, stress_volume, first, last, &
@@ -11761,8 +11892,8 @@ contains
                else
                   dstrain = strain_increment_of(e)
                end if
-               call stress_particle(dstrain, youngs_modulus, strain_factor, volume0, stress(p), volume_ratio(p), sb(i), &
-                                    svb(i))
+               call stress_particle(dstrain, youngs_modulus, strain_factor, volume0, linear, stress(p), volume_ratio(p), &
+                                    sb(i), svb(i))
                jb(i) = volume_ratio(p)
             else if (iand(shares, share_stress) /= 0) then ! (an initial mapping: the stress as it is)
                svb(i) = stress(p)*volume_ratio(p)*volume0
@@ -11850,6 +11981,7 @@ contains
       real(dp), intent(inout), contiguous, optional :: gradient(:), force_left(:), force_right(:)
       integer :: p, e, i, n, b0, first, last, lo, hi, outside, ahead, elements
       real(dp) :: half_m, strain_factor, dstrain, inv_dx, dt, youngs_modulus, m, volume0
+      real(dp) :: linear
       type(largest_move_t) :: largest
       real(dp) :: displacement(lanes), kinetic(lanes), strain(lanes), min_j(lanes)
       integer :: cb(block_size)
@@ -11872,6 +12004,7 @@ contains
       inv_dx = constants%inv_dx
       dt = constants%dt
       youngs_modulus = constants%youngs_modulus
+      linear = merge(1.0_dp, 0.0_dp, constants%linear)
       m = constants%mass
       volume0 = constants%volume0
       call open_segment(k, shares, seg, mass_left, mass_right, momentum_left, momentum_right, stress_volume, first, last, &
@@ -11917,8 +12050,8 @@ contains
                else
                   dstrain = strain_increment_of(e)
                end if
-               call stress_particle(dstrain, youngs_modulus, strain_factor, volume0, stress(p), volume_ratio(p), sb(i), &
-                                    svb(i))
+               call stress_particle(dstrain, youngs_modulus, strain_factor, volume0, linear, stress(p), volume_ratio(p), &
+                                    sb(i), svb(i))
                jb(i) = volume_ratio(p)
             else if (iand(shares, share_stress) /= 0) then ! (an initial mapping: the stress as it is)
                svb(i) = stress(p)*volume_ratio(p)*volume0
@@ -12006,6 +12139,7 @@ contains
       real(dp), intent(inout), contiguous, optional :: gradient(:), force_left(:), force_right(:)
       integer :: p, e, i, n, b0, first, last, lo, hi, outside, ahead, elements
       real(dp) :: half_m, strain_factor, dstrain, inv_dx, dt, youngs_modulus, m, volume0
+      real(dp) :: linear
       type(largest_move_t) :: largest
       real(dp) :: displacement(lanes), kinetic(lanes), strain(lanes), min_j(lanes)
       integer :: cb(block_size)
@@ -12028,6 +12162,7 @@ contains
       inv_dx = constants%inv_dx
       dt = constants%dt
       youngs_modulus = constants%youngs_modulus
+      linear = merge(1.0_dp, 0.0_dp, constants%linear)
       m = constants%mass
       volume0 = constants%volume0
       call open_segment(k, shares, seg, mass_left, mass_right, momentum_left, momentum_right, stress_volume, first, last, &
@@ -12073,8 +12208,8 @@ contains
                else
                   dstrain = strain_increment_of(e)
                end if
-               call stress_particle(dstrain, youngs_modulus, strain_factor, volume0, stress(p), volume_ratio(p), sb(i), &
-                                    svb(i))
+               call stress_particle(dstrain, youngs_modulus, strain_factor, volume0, linear, stress(p), volume_ratio(p), &
+                                    sb(i), svb(i))
                jb(i) = volume_ratio(p)
             else if (iand(shares, share_stress) /= 0) then ! (an initial mapping: the stress as it is)
                svb(i) = stress(p)*volume_ratio(p)*volume0
@@ -12162,6 +12297,7 @@ contains
       real(dp), intent(inout), contiguous, optional :: gradient(:), force_left(:), force_right(:)
       integer :: p, e, i, n, b0, first, last, lo, hi, outside, ahead, elements
       real(dp) :: half_m, strain_factor, dstrain, inv_dx, dt, youngs_modulus, m, volume0
+      real(dp) :: linear
       type(largest_move_t) :: largest
       real(dp) :: displacement(lanes), kinetic(lanes), strain(lanes), min_j(lanes)
       integer :: cb(block_size)
@@ -12184,6 +12320,7 @@ contains
       inv_dx = constants%inv_dx
       dt = constants%dt
       youngs_modulus = constants%youngs_modulus
+      linear = merge(1.0_dp, 0.0_dp, constants%linear)
       m = constants%mass
       volume0 = constants%volume0
       call open_segment(k, shares, seg, mass_left, mass_right, momentum_left, momentum_right, stress_volume, first, last, &
@@ -12229,8 +12366,8 @@ contains
                else
                   dstrain = strain_increment_of(e)
                end if
-               call stress_particle(dstrain, youngs_modulus, strain_factor, volume0, stress(p), volume_ratio(p), sb(i), &
-                                    svb(i))
+               call stress_particle(dstrain, youngs_modulus, strain_factor, volume0, linear, stress(p), volume_ratio(p), &
+                                    sb(i), svb(i))
                jb(i) = volume_ratio(p)
             else if (iand(shares, share_stress) /= 0) then ! (an initial mapping: the stress as it is)
                svb(i) = stress(p)*volume_ratio(p)*volume0
@@ -12318,6 +12455,7 @@ contains
       real(dp), intent(inout), contiguous, optional :: gradient(:), force_left(:), force_right(:)
       integer :: p, e, i, n, b0, first, last, lo, hi, outside, ahead, elements
       real(dp) :: half_m, strain_factor, dstrain, inv_dx, dt, youngs_modulus, m, volume0
+      real(dp) :: linear
       type(largest_move_t) :: largest
       real(dp) :: displacement(lanes), kinetic(lanes), strain(lanes), min_j(lanes)
       integer :: cb(block_size)
@@ -12340,6 +12478,7 @@ contains
       inv_dx = constants%inv_dx
       dt = constants%dt
       youngs_modulus = constants%youngs_modulus
+      linear = merge(1.0_dp, 0.0_dp, constants%linear)
       m = constants%mass
       volume0 = constants%volume0
       call open_segment(k, shares, seg, mass_left, mass_right, momentum_left, momentum_right, stress_volume, first, last, &
@@ -12385,8 +12524,8 @@ contains
                else
                   dstrain = strain_increment_of(e)
                end if
-               call stress_particle(dstrain, youngs_modulus, strain_factor, volume0, stress(p), volume_ratio(p), sb(i), &
-                                    svb(i))
+               call stress_particle(dstrain, youngs_modulus, strain_factor, volume0, linear, stress(p), volume_ratio(p), &
+                                    sb(i), svb(i))
                jb(i) = volume_ratio(p)
             else if (iand(shares, share_stress) /= 0) then ! (an initial mapping: the stress as it is)
                svb(i) = stress(p)*volume_ratio(p)*volume0
@@ -12474,6 +12613,7 @@ contains
       real(dp), intent(inout), contiguous, optional :: gradient(:), force_left(:), force_right(:)
       integer :: p, e, i, n, b0, first, last, lo, hi, outside, ahead, elements
       real(dp) :: half_m, strain_factor, dstrain, inv_dx, dt, youngs_modulus, m, volume0
+      real(dp) :: linear
       type(largest_move_t) :: largest
       real(dp) :: displacement(lanes), kinetic(lanes), strain(lanes), min_j(lanes)
       integer :: cb(block_size)
@@ -12496,6 +12636,7 @@ contains
       inv_dx = constants%inv_dx
       dt = constants%dt
       youngs_modulus = constants%youngs_modulus
+      linear = merge(1.0_dp, 0.0_dp, constants%linear)
       m = constants%mass
       volume0 = constants%volume0
       call open_segment(k, shares, seg, mass_left, mass_right, momentum_left, momentum_right, stress_volume, first, last, &
@@ -12541,8 +12682,8 @@ contains
                else
                   dstrain = strain_increment_of(e)
                end if
-               call stress_particle(dstrain, youngs_modulus, strain_factor, volume0, stress(p), volume_ratio(p), sb(i), &
-                                    svb(i))
+               call stress_particle(dstrain, youngs_modulus, strain_factor, volume0, linear, stress(p), volume_ratio(p), &
+                                    sb(i), svb(i))
                jb(i) = volume_ratio(p)
             else if (iand(shares, share_stress) /= 0) then ! (an initial mapping: the stress as it is)
                svb(i) = stress(p)*volume_ratio(p)*volume0
@@ -12630,6 +12771,7 @@ contains
       real(dp), intent(inout), contiguous, optional :: gradient(:), force_left(:), force_right(:)
       integer :: p, e, i, n, b0, first, last, lo, hi, outside, ahead, elements
       real(dp) :: half_m, strain_factor, dstrain, inv_dx, dt, youngs_modulus, m, volume0
+      real(dp) :: linear
       type(largest_move_t) :: largest
       real(dp) :: displacement(lanes), kinetic(lanes), strain(lanes), min_j(lanes)
       integer :: cb(block_size)
@@ -12652,6 +12794,7 @@ contains
       inv_dx = constants%inv_dx
       dt = constants%dt
       youngs_modulus = constants%youngs_modulus
+      linear = merge(1.0_dp, 0.0_dp, constants%linear)
       m = constants%mass
       volume0 = constants%volume0
       call open_segment(k, shares, seg, mass_left, mass_right, momentum_left, momentum_right, stress_volume, first, last, &
@@ -12697,8 +12840,8 @@ contains
                else
                   dstrain = strain_increment_of(e)
                end if
-               call stress_particle(dstrain, youngs_modulus, strain_factor, volume0, stress(p), volume_ratio(p), sb(i), &
-                                    svb(i))
+               call stress_particle(dstrain, youngs_modulus, strain_factor, volume0, linear, stress(p), volume_ratio(p), &
+                                    sb(i), svb(i))
                jb(i) = volume_ratio(p)
             else if (iand(shares, share_stress) /= 0) then ! (an initial mapping: the stress as it is)
                svb(i) = stress(p)*volume_ratio(p)*volume0
