@@ -12,7 +12,7 @@ module mpm_config
    use mpm_registry, only: parameter_t, nml_item_t, text_entry, int_entry, real_entry, real_list_entry, &
                            logical_entry, for_kinds, for_value, used_by, parse_namelist, read_input_text, add_overrides, &
                            apply_items, check_parameter, find_parameter, group_namelist, short_number, item_place, &
-                           format_value, type_real
+                           format_value, same_value, type_real
    use mpm_suggest, only: did_you_mean, printable
    implicit none
    private
@@ -604,11 +604,16 @@ contains
 
    !> Whether `integrator` uses the variable `name` (an unknown integrator uses every one: its own check
    !> reports it).
+   !> (The list once, and the common case, a variable of every integrator, without building the others:
+   !> called for every variable of every case of a sweep.)
    pure logical function used_by_integrator(name, integrator)
       character(len=*), intent(in) :: name, integrator
-      used_by_integrator = len(integrators_of(name)) == 0 .or. &
-                           index(', '//known_integrators//',', ', '//trim(integrator)//',') == 0 .or. &
-                           index(', '//integrators_of(name)//',', ', '//trim(integrator)//',') > 0
+      character(len=:), allocatable :: list
+      list = integrators_of(name)
+      used_by_integrator = .true.
+      if (len(list) == 0) return
+      if (index(', '//known_integrators//',', ', '//trim(integrator)//',') == 0) return
+      used_by_integrator = index(', '//list//',', ', '//trim(integrator)//',') > 0
    end function used_by_integrator
 
    !> Whether a run with `law` and `integrator` uses the variable of entry `p` (a sweep's /cases has the
@@ -681,6 +686,7 @@ contains
          do i = 1, size(table)
             if (used_by_integrator(table(i)%name, config%integrator)) cycle
             if (table(i)%name == 'periods' .or. table(i)%name == 'end_time') cycle ! (flags: below)
+            if (same_value(table(i), defaults(i))) cycle
             if (format_value(table(i)) /= format_value(defaults(i))) &
                call append_error(error, integrator_message(table(i), config%integrator))
          end do
