@@ -27,6 +27,7 @@ program test_messages
    call derived_quantities_blame_what_was_typed()
    call encodings()
    call flip_fraction_only_with_blend()
+   call sweep_values_of_another_integrator()
    call impact_run_length()
    call margins_cannot_overflow()
    call help_made_from_the_registry()
@@ -272,6 +273,19 @@ contains
                                'flip)', echo_of(sweep%base), 'flip_fraction=0.29999999999999999')
       end block
    end subroutine flip_fraction_only_with_blend
+
+   !> A sweep's list of a variable its integrator does not use is refused at the cases whose value is not
+   !> the default (the default is what a run of that integrator holds anyway).
+   subroutine sweep_values_of_another_integrator()
+      character(len=:), allocatable :: message
+      message = sweep_problems("&scene kind='column' / &discretisation integrator='quasi_static' / "// &
+                               "&sweep dt_fractions=0.1, 0.2, min_time=0 /")
+      call refused('sweep: a dt_fraction other than the default, with quasi_static', message, "sweep case 2 "// &
+                   "(dt_fraction=0.20000000000000001): discretisation: 'dt_fraction' is not used by integrator = "// &
+                   "'quasi_static'; it belongs to integrator explicit, implicit")
+      call t%check('sweep: the default dt_fraction, with quasi_static: not refused', &
+                   index(message, 'sweep case 1 ') == 0, message)
+   end subroutine sweep_values_of_another_integrator
 
    function echo_of(config) result(text)
       use mpm_config, only: config_namelist

@@ -90,9 +90,10 @@ module mpm_sweep
    !> What makes a case's configuration: a configuration and the parameter table pointing into it,
    !> built once per sweep (the table is an array of about 60 entries of 1.4 kB with their help texts:
    !> built per case, four times per case, it cost the paper's Table-2 sweep 3 % of its instructions).
+   !> With the table of the defaults (config_t()), which validating a case compares with.
    type :: case_builder_t
-      type(config_t) :: config
-      type(parameter_t), allocatable :: table(:)
+      type(config_t) :: config, defaults
+      type(parameter_t), allocatable :: table(:), default_table(:)
    end type case_builder_t
 
    !> A sweep: the base configuration, the &sweep group, this shard's cases and the timings.
@@ -384,13 +385,15 @@ contains
             allocate (sweep%builder)
             sweep%builder%config = sweep%base
             call config_parameters(sweep%builder%config, sweep%builder%table)
+            call config_parameters(sweep%builder%defaults, sweep%builder%default_table)
          end if
          mine = 0
          do n = s%shard, sweep%total_cases, s%shards
             one = sweep_case_t(index=n)
             config = case_config(sweep, one)
             config%history = s%histories
-            call validate_config(config, case_error, with_system=.false.)
+            call validate_config(config, case_error, with_system=.false., &
+                                 default_table=sweep%builder%default_table)
             if (allocated(case_error)) then
                call append_error(error, "sweep case "//str(n)//" ("//case_values(n)//"): "//case_error%message)
                deallocate (case_error)

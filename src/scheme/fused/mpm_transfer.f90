@@ -1082,8 +1082,9 @@ contains
          force_left(lo:hi) = 0.0_dp
          force_right(lo:hi) = 0.0_dp
       end if
-      seg%halo_left(:, k) = 0.0_dp
-      seg%halo_right(:, k) = 0.0_dp
+      ! (rows 1:share_count, a constant: stores in place; (:, k) called memset twice per segment and pass)
+      seg%halo_left(1:share_count, k) = 0.0_dp
+      seg%halo_right(1:share_count, k) = 0.0_dp
       seg%far(k) = .false.
       seg%unsorted(k) = .false.
       seg%first_cell(k) = 0
