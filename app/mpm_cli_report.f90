@@ -40,9 +40,7 @@ contains
    !> limit, the scene's own warnings, a mesh too coarse for the mode.
    subroutine warn_run(config)
       type(config_t), intent(in) :: config
-      ! (the implicit integrators are unconditionally stable: no limit to warn of)
-      if (trim(config%integrator) == 'explicit') &
-         call warn_stability(config%scheme, config%particles_per_element, config%dt_fraction, config%shape)
+      call warn_stability(config)
       if (len(config_warnings(config)) > 0) write (error_unit, '(a)') 'mpm1d: warning: '//config_warnings(config)
       if (unresolved(config)) write (error_unit, '(a)') 'mpm1d: warning: mode '//str(config%mode)//' has '// &
          num(elements_per_wavelength(config), 3)//' elements per wavelength on '//plural(config%elements, 'element')// &
@@ -114,19 +112,26 @@ contains
       unresolved = elements_per_wavelength(c) < min_elements_per_wavelength
    end function unresolved
 
+   !> Is the time step above the linear stability limit of the explicit scheme and shape? (The implicit
+   !> integrators are unconditionally stable: no limit.)
+   logical function above_stability_limit(config)
+      type(config_t), intent(in) :: config
+      above_stability_limit = trim(config%integrator) == 'explicit' .and. &
+                              config%dt_fraction > stability_limit(config%scheme, config%particles_per_element, &
+                                                                   config%shape)
+   end function above_stability_limit
+
    !> Warn (standard error) when the time step is above the stability limit of the scheme and shape.
-   subroutine warn_stability(scheme, particles_per_element, dt_fraction, shape)
-      character(len=*), intent(in) :: scheme, shape
-      integer, intent(in) :: particles_per_element
-      real(dp), intent(in) :: dt_fraction
-      real(dp) :: limit
+   subroutine warn_stability(config)
+      type(config_t), intent(in) :: config
       character(len=:), allocatable :: which
+      if (.not. above_stability_limit(config)) return
       which = ''
-      if (trim(shape) /= 'linear') which = ' and '//trim(shape)//' shapes'
-      limit = stability_limit(scheme, particles_per_element, shape)
-      if (dt_fraction > limit) write (error_unit, '(a)') 'mpm1d: warning: dt_fraction = '// &
-         num(dt_fraction)//' is above the linear stability limit of '//trim(scheme)//' with '// &
-         plural(particles_per_element, 'particle')//' per element'//which//' (about '//num(limit, 3)// &
+      if (trim(config%shape) /= 'linear') which = ' and '//trim(config%shape)//' shapes'
+      write (error_unit, '(a)') 'mpm1d: warning: dt_fraction = '//num(config%dt_fraction)//' is above the '// &
+         'linear stability limit of '//trim(config%scheme)//' with '//plural(config%particles_per_element, &
+         'particle')//' per element'//which//' (about '// &
+         num(stability_limit(config%scheme, config%particles_per_element, config%shape), 3)// &
          ' of dx/c; see studies/stability and studies/shapes); a guard will stop the run if it grows'
    end subroutine warn_stability
 
@@ -156,8 +161,7 @@ contains
          config = case_config(sweep, sweep%cases(i))
          if (len(config_warnings(config)) > 0) missed = missed + 1
          if (missed == 1 .and. len(config_warnings(config)) > 0) first_warning = config_warnings(config)
-         if (config%dt_fraction > stability_limit(config%scheme, config%particles_per_element, config%shape) .and. &
-             trim(config%integrator) == 'explicit') above = above + 1
+         if (above_stability_limit(config)) above = above + 1
          if (unresolved(config)) coarse = coarse + 1
       end do
       if (missed > 0) write (error_unit, '(a)') 'mpm1d: warning: '//plural(missed, 'case')//' of '// &
