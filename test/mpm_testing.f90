@@ -11,7 +11,7 @@ module mpm_testing
    private
    public :: tester_t, app_path, run_app, read_text, scratch_dir, write_lines, fixed_seed
    public :: check_paths_agree
-   public :: check_fused_run
+   public :: check_fused_run, run_resolved
 
    !> Counts checks and failures; `finish` prints "N passed, M failed" and ends with error stop 1 on failure.
    type :: tester_t
@@ -60,6 +60,19 @@ contains
       call t%check_close(label//'kinetic energy histories', generic%history%kinetic_energy(n - 1), &
                          fused%history%kinetic_energy(n - 1), rtol=1.0e-10_dp)
    end subroutine check_paths_agree
+
+   !> `given`, resolved (its derived quantities from the variables set), run with its history; a run
+   !> that cannot start ends the test program (error stop naming the run's error).
+   function run_resolved(given) result(res)
+      type(config_t), intent(in) :: given
+      type(run_result_t) :: res
+      type(config_t) :: config
+      type(error_t), allocatable :: error
+      config = given
+      call resolve_config(config)
+      call run_simulation(config, res, error, record_history=.true.)
+      if (allocated(error)) error stop 'run_resolved: the run failed to start'
+   end function run_resolved
 
    !> The bar (scheme, shape, elements x ppc, dt fraction, amplitude v0, periods) run on the fused
    !> kernels (1 thread) and on the generic path agree (check_paths_agree). With `segments`, the run

@@ -18,7 +18,7 @@ program test_implicit
    use mpm_errors, only: error_t
    use mpm_strings, only: str
    use mpm_config, only: config_t, resolve_config, read_config_text, config_namelist, material_of
-   use mpm_simulation, only: run_result_t, run_simulation, guard_message
+   use mpm_simulation, only: run_result_t, guard_message
    use mpm_diagnostics, only: status_ok, status_newton, status_name, pass_totals_t
    use mpm_scene, only: scene_t
    use mpm_scenes, only: make_scene
@@ -27,7 +27,7 @@ program test_implicit
    use mpm_shape, only: shape_cache_t, shape_id, shape_extra_cells, transfer_id
    use mpm_material, only: material_t, material_state
    use mpm_implicit, only: implicit_t, implicit_init, implicit_advance, prepare_step, assemble_system, newton_solve
-   use mpm_testing, only: tester_t, fixed_seed
+   use mpm_testing, only: tester_t, fixed_seed, run_resolved
    implicit none
    type(tester_t) :: t
    character(len=8), parameter :: shapes(5) = [character(len=8) :: 'linear', 'ugimp', 'cpgimp', 'bspline2', 'bspline3']
@@ -184,7 +184,7 @@ contains
       config%max_newton_iterations = 4
       config%velocity_amplitude = 1.0e-8_dp*sqrt(config%youngs_modulus/config%density)
       config%periods = 1.0_dp
-      r = run(config)
+      r = run_resolved(config)
       call t%check('linear law, strain 1e-8, tolerance 1e-12: completes', r%status == status_ok, &
                    guard_message(r%status, r%trip, config))
       call t%check_close('linear law: one linear solve per step', reported(r, 'newton_iterations'), 1.0_dp, &
@@ -242,7 +242,7 @@ contains
          config%elements = 20
          config%dt_fraction = 2.0_dp/2**(k - 1)
          config%periods = 0.5_dp
-         r(k) = run(config)
+         r(k) = run_resolved(config)
       end do
       do k = 1, 3
          difference(k) = maxval(abs(r(k)%history%ucm - r(k + 1)%history%ucm(0::2)))
@@ -260,7 +260,7 @@ contains
       config%elements = 20
       config%dt_fraction = 0.25_dp/8
       config%periods = 0.5_dp
-      reference = run(config)
+      reference = run_resolved(config)
       order = maxval(abs(r(4)%history%ucm - reference%history%ucm(0::8)))
       call t%check('trapezoidal rule tends to the explicit limit (difference '//str(order)//' m, below the '// &
                    'last self-convergence difference '//str(difference(3))//' m)', order < difference(3))
@@ -281,7 +281,7 @@ contains
          config%elements = 40
          config%dt_fraction = fraction
          config%periods = 4.0_dp
-         r = run(config)
+         r = run_resolved(config)
          call t%check('dt_fraction '//str(fraction)//' completes', r%status == status_ok .and. &
                       r%steps_done == r%steps, status_name(r%status))
          call t%check('dt_fraction '//str(fraction)//': energy never grows', r%max_energy_ratio <= 1.0_dp + 1.0e-12_dp, &
@@ -305,12 +305,12 @@ contains
       config%elements = 20
       config%dt_fraction = 2.0_dp
       config%periods = 20.0_dp
-      r = run(config)
+      r = run_resolved(config)
       drift = maxval(abs(r%history%kinetic_energy + r%history%strain_energy - r%initial_energy))/r%initial_energy
       call t%check('consistent mass: energy conserved to 1e-9 over 20 periods', drift < 1.0e-9_dp, &
                    'largest drift '//str(drift))
       config%mass = 'lumped'
-      r = run(config)
+      r = run_resolved(config)
       drift = (r%final_energy - r%initial_energy)/r%initial_energy
       call t%check('lumped mass: energy never grows', r%max_energy_ratio <= 1.0_dp + 1.0e-12_dp, &
                    'max energy ratio '//str(r%max_energy_ratio))
@@ -328,7 +328,7 @@ contains
       config = column_config('linear', 'linear', 10, 1)
       config%particles_per_element = 1
       config%gravity = 3.0e4_dp
-      r = run(config)
+      r = run_resolved(config)
       a = config%density*config%gravity/config%youngs_modulus
       call t%check_close('static column, linear law, hat, 1 ppc: error = (rho g/E) dx^2/8', r%max_error, &
                          a*(config%length/config%elements)**2/8, rtol=1.0e-9_dp)
@@ -338,8 +338,8 @@ contains
       ! 30 % strain, cpGIMP, 10 load steps: second order for each law, over two doublings (20 -> 80
       ! elements; one doubling is erratic: the errors move by up to 2x as the particles' domains cross nodes)
       do k = 1, size(laws)
-         coarse = run(column_config(trim(laws(k)), 'cpgimp', 20, 10))
-         fine = run(column_config(trim(laws(k)), 'cpgimp', 80, 10))
+         coarse = run_resolved(column_config(trim(laws(k)), 'cpgimp', 20, 10))
+         fine = run_resolved(column_config(trim(laws(k)), 'cpgimp', 80, 10))
          order = log(coarse%max_error/fine%max_error)/log(4.0_dp)
          call t%check('static column '//trim(laws(k))//', cpgimp, 30 % strain: completes', &
                       coarse%status == status_ok .and. fine%status == status_ok)
@@ -396,10 +396,10 @@ contains
       config%periods_given = .false.
       config%end_time_given = .true.
       config%dt_fraction = 0.5_dp
-      explicit = run(config)
+      explicit = run_resolved(config)
       config%integrator = 'implicit'
       config%dt_fraction = 50.0_dp
-      implicit = run(config)
+      implicit = run_resolved(config)
       ucm_explicit = maxval(abs(explicit%history%ucm - explicit%history%ucm_exact))/ &
                      maxval(abs(explicit%history%ucm_exact))
       ucm_implicit = maxval(abs(implicit%history%ucm - implicit%history%ucm_exact))/ &
@@ -421,15 +421,15 @@ contains
       config%particles_per_element = 2
       config%periods = 0.8_dp
       config%dt_fraction = 0.5_dp
-      explicit = run(config)
+      explicit = run_resolved(config)
       config%integrator = 'implicit'
-      implicit = run(config)
+      implicit = run_resolved(config)
       call t%check('plastic wave, implicit: L1 stress error within 20 % of explicit''s ('// &
                    str(implicit%relative_error)//', '//str(explicit%relative_error)//')', &
                    implicit%status == status_ok .and. implicit%relative_error < 1.2_dp*explicit%relative_error)
       config%dt_fraction = 16.0_dp
       call resolve_config(config)
-      implicit = run(config)
+      implicit = run_resolved(config)
       call t%check('plastic wave, implicit at 32x the step: completes (line search: '// &
                    str(reported(implicit, 'newton_halvings'))//' halvings)', implicit%status == status_ok, &
                    guard_message(implicit%status, implicit%trip, config))
@@ -443,7 +443,7 @@ contains
       config = column_config('hencky', 'linear', 10, 2)
       config%max_newton_iterations = 1
       call resolve_config(config)
-      r = run(config)
+      r = run_resolved(config)
       message = guard_message(r%status, r%trip, config)
       call t%check('one solve for the nonlinear column: status newton_not_converged', r%status == status_newton, &
                    status_name(r%status))
@@ -518,9 +518,9 @@ contains
       config%dt_fraction = 1.0_dp
       config%periods = 0.5_dp
       config%ghost_penalty = 0.0_dp
-      plain = run(config)
+      plain = run_resolved(config)
       config%ghost_penalty = -1.0_dp ! the default: 0.1 for B-splines
-      penalised = run(config)
+      penalised = run_resolved(config)
       call t%check('cut cell without the penalty: rcond below 1e-4', reported(plain, 'tangent_rcond_min') < 1.0e-4_dp, &
                    'rcond '//str(reported(plain, 'tangent_rcond_min')))
       call t%check('ghost penalty (default for B-splines): rcond above 1e-3', &
@@ -533,9 +533,9 @@ contains
       config%particles_per_element = 1
       config%gravity = 1.6e6_dp
       config%ghost_penalty = 0.0_dp
-      plain = run(config)
+      plain = run_resolved(config)
       config%ghost_penalty = -1.0_dp
-      penalised = run(config)
+      penalised = run_resolved(config)
       call t%check('quasi-static cut cell without the penalty: the run fails or is off by more than 10 %', &
                    plain%status /= status_ok .or. plain%relative_error > 0.1_dp, &
                    status_name(plain%status)//', relative error '//str(plain%relative_error))
@@ -544,16 +544,6 @@ contains
                    str(penalised%relative_error))
    end subroutine ghost_penalty_conditioning
 
-   function run(given) result(res)
-      type(config_t), intent(in) :: given
-      type(run_result_t) :: res
-      type(config_t) :: config
-      type(error_t), allocatable :: error
-      config = given
-      call resolve_config(config)
-      call run_simulation(config, res, error, record_history=.true.)
-      if (allocated(error)) error stop 'test_implicit: run failed to start'
-   end function run
 
    real(dp) function reported(r, name)
       type(run_result_t), intent(in) :: r

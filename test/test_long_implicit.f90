@@ -6,12 +6,11 @@
 !> for every shape (to 1e-8; the lumped mass never gains).
 program test_long_implicit
    use mpm_kinds, only: dp
-   use mpm_errors, only: error_t
    use mpm_strings, only: str
    use mpm_config, only: config_t, resolve_config
-   use mpm_simulation, only: run_result_t, run_simulation, guard_message
+   use mpm_simulation, only: run_result_t, guard_message
    use mpm_diagnostics, only: status_ok, status_name
-   use mpm_testing, only: tester_t
+   use mpm_testing, only: tester_t, run_resolved
    implicit none
    type(tester_t) :: t
    character(len=8), parameter :: shapes(5) = [character(len=8) :: 'linear', 'ugimp', 'cpgimp', 'bspline2', 'bspline3']
@@ -92,7 +91,7 @@ contains
       label = scene//' '//shape//': '
       config = scene_config(scene, shape)
       config%dt_fraction = 0.2_dp
-      explicit = run(config)
+      explicit = run_resolved(config)
       call t%check(label//'explicit completes', explicit%status == status_ok, status_name(explicit%status))
       do i = 1, 2
          fraction = merge(0.2_dp, 0.8_dp, i == 1)
@@ -100,7 +99,7 @@ contains
          config%integrator = 'implicit'
          config%dt_fraction = fraction
          call resolve_config(config)
-         implicit = run(config)
+         implicit = run_resolved(config)
          call t%check(label//'implicit at dt_fraction '//str(fraction)//' completes', implicit%status == status_ok, &
                       guard_message(implicit%status, implicit%trip, config))
          call t%check(label//'implicit at dt_fraction '//str(fraction)//': error '//str(implicit%relative_error)// &
@@ -139,7 +138,7 @@ contains
             config%hardening_modulus = 2.0e9_dp
          end if
          call resolve_config(config)
-         r = run(config)
+         r = run_resolved(config)
          call t%check('static column '//trim(laws(i))//' '//shape//': within 1 % ('//str(r%relative_error)//')', &
                       r%status == status_ok .and. r%relative_error < 0.01_dp, guard_message(r%status, r%trip, config))
       end do
@@ -161,24 +160,14 @@ contains
       config%periods = 100.0_dp
       config%ghost_penalty = 0.0_dp
       config%mass = 'consistent'
-      r = run(config)
+      r = run_resolved(config)
       drift = maxval(abs(r%history%kinetic_energy + r%history%strain_energy - r%initial_energy))/r%initial_energy
       call t%check('consistent mass, '//shape//': energy over 100 periods within 1e-8 ('//str(drift)//')', &
                    r%status == status_ok .and. drift < 1.0e-8_dp)
       config%mass = 'lumped'
-      r = run(config)
+      r = run_resolved(config)
       call t%check('lumped mass, '//shape//': energy never grows over 100 periods', r%status == status_ok .and. &
                    r%max_energy_ratio <= 1.0_dp + 1.0e-12_dp, 'max energy ratio '//str(r%max_energy_ratio))
    end subroutine energy_over_100_periods
 
-   function run(given) result(res)
-      type(config_t), intent(in) :: given
-      type(run_result_t) :: res
-      type(config_t) :: config
-      type(error_t), allocatable :: error
-      config = given
-      call resolve_config(config)
-      call run_simulation(config, res, error, record_history=.true.)
-      if (allocated(error)) error stop 'test_long_implicit: run failed to start'
-   end function run
 end program test_long_implicit
