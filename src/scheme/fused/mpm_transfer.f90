@@ -706,7 +706,8 @@ contains
       if (present(breaks)) then ! each body's range [breaks(b), breaks(b + 1) - 1] in segments of per elements
          allocate (starts(0))
          do b = 1, size(breaks)
-            e = merge(breaks(b + 1), grid%elements + 1, b < size(breaks))
+            e = grid%elements + 1 ! (not merge: it would read breaks(b + 1) past the last body)
+            if (b < size(breaks)) e = breaks(b + 1)
             starts = [starts, (k, k=breaks(b), e - 1, per)]
          end do
          n = size(starts)
