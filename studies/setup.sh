@@ -1,7 +1,7 @@
 #!/usr/bin/env bash
 # Set up what mpm1d needs, installing only what is missing and leaving the system's Python alone:
 #   - apt packages (the system's to have, installed when missing, never upgraded): gfortran,
-#     libhdf5-dev, hdf5-tools, pkg-config, liblapack-dev, python3-venv, python3-numpy,
+#     libhdf5-dev, hdf5-tools, pkg-config, python3-venv, python3-numpy,
 #     python3-matplotlib, python3-h5py, python3-pytest;
 #   - the project's own virtual environment .venv at the top of this checkout, made by Debian's
 #     interpreter: `/usr/bin/python3 -m venv --system-site-packages .venv` (numpy, h5py, matplotlib
@@ -16,7 +16,7 @@ _mpm1d_root="$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)"
 _mpm1d_venv="$_mpm1d_root/.venv"
 # the PyPI tools, pinned: fpm 0.12 is the version whose (re)linking the test runner works with
 _mpm1d_tools="fpm==0.12.0 fypp==3.3 ford==7.0.13"
-_mpm1d_apt="gfortran libhdf5-dev hdf5-tools pkg-config liblapack-dev python3-venv python3-numpy
+_mpm1d_apt="gfortran libhdf5-dev hdf5-tools pkg-config python3-venv python3-numpy
   python3-matplotlib python3-h5py python3-pytest"
 
 _mpm1d_setup() {

@@ -1,6 +1,6 @@
 !> The implicit integrators (`&discretisation integrator = 'implicit' | 'quasi_static'`): the step is
 !> solved on the grid by Newton-Raphson on the nodal displacement increments, with the consistent tangent
-!> factored by LAPACK's banded LU (mpm_banded), and the particles are updated from the converged grid
+!> factored by a banded LU (mpm_banded), and the particles are updated from the converged grid
 !> solution. After Guilkey and Weiss, "Implicit time integration for the material point method:
 !> quantitative and algorithmic comparisons with the finite element method", Int. J. Numer. Methods Eng.
 !> 57, 2003, doi:10.1002/nme.729; Sulsky and Kaul, "Implicit dynamics in the material-point method",
@@ -106,7 +106,7 @@ module mpm_implicit
       real(dp), allocatable :: residuals(:)  !< (0:max_iterations) its relative residual before each solve
       logical :: failed = .false.        !< it did not converge (the run stops: status_newton)
       real(dp) :: failed_residual = 0.0_dp
-      integer :: singular_node = -1      !< >= 0: the tangent was singular there (LAPACK's zero pivot)
+      integer :: singular_node = -1      !< >= 0: the tangent was singular there (an exactly zero pivot)
       ! the step's data on the nodes 0..elements
       real(dp) :: dt = 0.0_dp
       integer, allocatable :: master(:)  !< the node whose unknown a node takes (itself if free; -1 held)
@@ -438,7 +438,7 @@ contains
             im%singular_node = info - 1
             exit
          end if
-         ! the condition number (dgbcon: about five solves) where the smallest pivot relative to the largest
+         ! the condition number (banded_rcond: about ten solves) where the smallest pivot relative to the largest
          ! reaches a new low: the first step, and a nearly empty node's row (its pivot is what shrinks)
          if (iteration == 0) then
             pivots = banded_pivot_ratio(im%tangent)
@@ -776,7 +776,7 @@ contains
    end subroutine update_particles
 
    !> What the integrator adds to /summary: the mean and largest number of linear solves per step, the
-   !> smallest reciprocal condition number of the tangent met (LAPACK's 1-norm estimate, first iteration of
+   !> smallest reciprocal condition number of the tangent met (mpm_banded's 1-norm estimate, first iteration of
    !> the steps whose smallest pivot ratio was a new low) and the smallest pivot ratio |U_jj|/max |U_ii|,
    !> and the steps accepted at the residual's round-off floor with the largest residual so accepted.
    subroutine implicit_report(im, names, values)
