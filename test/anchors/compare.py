@@ -88,7 +88,8 @@ def main(argv: list[str] | None = None) -> int:
         # A stopped case's error moved to its own column (error_before_stop; max_error is NaN).
         for group in ("cases", "summary"):
             rows = stopped_rows(b, group)
-            if rows is not None and f"{group}/error_before_stop" in b and f"{group}/max_error" in a:
+            if (rows is not None and f"{group}/error_before_stop" in b and f"{group}/max_error" in a
+                    and f"{group}/error_before_stop" not in a):  # (old from before that column)
                 for col, moved in (("max_error", "error_before_stop"), ("relative_error", "relative_error_before_stop")):
                     if f"{group}/{moved}" not in b or f"{group}/{col}" not in a:
                         continue
