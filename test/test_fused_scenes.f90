@@ -14,7 +14,9 @@
 !> displacement), and the scene's error measure to 1e-9 relative; with law = 'linear' the same
 !> comparison (the fused kernels' stress update takes hencky's law and the linear one) for the bar with
 !> every shape, the composite and the manufactured solution; law = 'elastoplastic' runs on the generic
-!> path. Small runs: seconds.
+!> path. The frictionless impact also takes snapshots after contact: their nodal velocities (the run's
+!> grid, the bodies' fields summed only when a snapshot reads it) equal the generic path's to round-off.
+!> Small runs: seconds.
 program test_fused_scenes
    use mpm_kinds, only: dp
    use mpm_errors, only: error_t
@@ -120,7 +122,7 @@ program test_fused_scenes
       config%dt_fraction = 0.2_dp
       config%periods = 1.0_dp
       config%contact = 'frictionless'
-      call compare('impact frictionless', config, by_largest=.true.)
+      call compare('impact frictionless', config, by_largest=.true., snapshots=.true.)
       config%youngs_moduli(1:2) = [200.0e9_dp, 200.0e9_dp]
       config%densities(1:2) = [7800.0_dp, 7800.0_dp]
       config%lengths(1:2) = [1.0_dp, 1.0_dp]
@@ -133,21 +135,29 @@ contains
 
    !> `config` on the fused kernels (kernels='auto') and on the generic path agree (see the program's
    !> comment); `by_largest`: the u_cm tolerance from the generic run's largest |u_cm|.
-   subroutine compare(what, config, by_largest)
+   subroutine compare(what, config, by_largest, snapshots)
       character(len=*), intent(in) :: what
       type(config_t), intent(in) :: config
-      logical, intent(in), optional :: by_largest
-      type(config_t) :: auto, generic_config
+      logical, intent(in), optional :: by_largest, snapshots
+      type(config_t) :: auto, generic_config, given
       type(run_result_t) :: fused, generic
       type(error_t), allocatable :: error
       character(len=:), allocatable :: label
+      integer :: k
+      real(dp) :: largest
       label = trim(config%scheme)//' '//what//': '
-      auto = config
+      given = config
+      if (present(snapshots)) then ! at 0.4 and 0.8 of the run (the bodies in contact, then apart)
+         call resolve_config(given)
+         given%snapshot_count = 2
+         given%snapshot_times(1:2) = [0.4_dp, 0.8_dp]*given%steps*given%dt
+      end if
+      auto = given
       auto%kernels = 'auto'
       call resolve_config(auto)
       call run_simulation(auto, fused, error, record_history=.true.)
       if (allocated(error)) error stop 'fused run failed to start'
-      generic_config = config
+      generic_config = given
       generic_config%kernels = 'generic'
       call resolve_config(generic_config)
       call run_simulation(generic_config, generic, error, record_history=.true.)
@@ -159,6 +169,16 @@ contains
       call t%check_close(label//'error measure', fused%max_error, generic%max_error, rtol=1.0e-9_dp, &
                          atol=1.0e-14_dp*abs(generic%ucm_amplitude))
       call t%check(label//'status ok', fused%status == 0, 'status '//str(fused%status))
+      if (present(snapshots)) then
+         call t%check(label//'two snapshots', size(fused%snapshots) == 2 .and. size(generic%snapshots) == 2)
+         do k = 1, min(2, size(fused%snapshots), size(generic%snapshots))
+            largest = maxval(abs(generic%snapshots(k)%grid_velocity))
+            call t%check(label//'snapshot '//str(k)//' moving grid', largest > 0.1_dp, 'largest |v_I| '//str(largest))
+            call t%check_close(label//'snapshot '//str(k)//' grid velocity = generic', &
+                               maxval(abs(fused%snapshots(k)%grid_velocity - generic%snapshots(k)%grid_velocity)), 0.0_dp, &
+                               atol=1.0e-9_dp*largest)
+         end do
+      end if
    end subroutine compare
 
    !> `config` with kernels='auto' runs on the generic path, and completes.

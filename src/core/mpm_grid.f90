@@ -59,6 +59,12 @@ module mpm_grid
       real(dp), allocatable :: sums(:, :), min_volume_ratio(:), max_cell_move(:)
       integer, allocatable :: furthest(:), outside(:), first_cell(:), last_cell(:)
       logical, allocatable :: unsorted(:), far(:)
+      !> Bodies on stacked fields (clear_written): each segment clears, of each kind of share (mass,
+      !> momentum, stress, force: the second index), only the elements written(1, :, k) .. written(2, :, k)
+      !> that its last pass of that kind wrote (every other element of its range is zero), not its whole
+      !> range: a body's field spans the whole domain but its particles reach only the cells they fill.
+      logical :: clear_written = .false.
+      integer, allocatable :: written(:, :, :)
       !> Whether the kernels ask for particle data ahead of use (set by plan_segments from the size of
       !> the run; see mpm_transfer's prefetch_bytes).
       logical :: prefetch = .false.

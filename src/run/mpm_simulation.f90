@@ -11,7 +11,7 @@ module mpm_simulation
    use mpm_grid, only: grid_t, grid_init
    use mpm_particles, only: particles_t, per_particle_data
    use mpm_shape, only: shape_cache_t, shape_id, shape_extra_cells, transfer_id, transfer_apic
-   use mpm_fused, only: fused_start, fused_step, fused_box_t, fused_choose, fused_mass, fused_grid_velocity
+   use mpm_fused, only: fused_start, fused_step, fused_box_t, fused_choose, fused_mass, fused_grid_velocity, fused_grid_sum
    use mpm_operations, only: particle_energies, locate_particles, p2g_mass_momentum, nodal_velocities
    use mpm_schemes, only: scheme_usf, scheme_usl, scheme_musl, scheme_step, scheme_step_bodies
    use mpm_contact, only: bodies_t, bodies_init
@@ -365,7 +365,11 @@ contains
       integer :: i
       do while (run%next_snapshot <= config%snapshot_count)
          if (config%snapshot_times(run%next_snapshot) > time + 0.5_dp*config%dt) exit
-         if (step == 0) call initial_grid_velocity(run)
+         if (step == 0) then
+            call initial_grid_velocity(run)
+         else if (run%fused) then
+            call fused_grid_sum(run%grid, run%box, run%bodies) ! (bodies on stacked fields: summed when read)
+         end if
          associate (s => result%snapshots(run%next_snapshot), particles => run%particles, grid => run%grid)
             s%time = time
             s%step = step

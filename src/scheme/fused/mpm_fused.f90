@@ -24,7 +24,8 @@ module mpm_fused
                            variant_forced, variant_bodies
    implicit none
    private
-   public :: fused_start, fused_step, fused_box_t, fused_shape, fused_choose, fused_mass, fused_grid_velocity
+   public :: fused_start, fused_step, fused_box_t, fused_shape, fused_choose, fused_mass, fused_grid_velocity, &
+             fused_grid_sum
 
 contains
 
@@ -232,7 +233,8 @@ contains
    !> With particles in parts (fused_start's `box`) the nodal sums are reflected at a mirrored fixed
    !> end before they are used (mirror_fold, as on the generic path: the wide shapes' grid has a ghost
    !> cell there). Bodies on stacked fields (`bodies`): the passes on its fields, the contact correction
-   !> after each nodal velocity and momentum update (as scheme_step_bodies), the run's grid their sum.
+   !> after each nodal velocity and momentum update (as scheme_step_bodies); the run's grid becomes their sum
+   !> when it is read (fused_grid_sum), its lightest node each step.
    subroutine fused_step(scheme, particles, grid, dt, youngs_modulus, totals, box, scene, t, bodies)
       integer, intent(in) :: scheme
       type(particles_t), intent(inout) :: particles
@@ -258,7 +260,9 @@ contains
       if (stacked) then
          call touch_test(bodies, particles, grid%dx)
          call step_on(bodies%fields)
-         call combine_bodies(bodies, grid)
+         ! the run's grid as the bodies' sum only when it is read (fused_grid_sum: a snapshot); the guards
+         ! read the lightest node only
+         grid%min_node_mass = bodies%fields%min_node_mass
       else
          call step_on(grid)
       end if
@@ -337,6 +341,16 @@ contains
          end if
       end subroutine pass
    end subroutine fused_step
+
+   !> After a step of bodies on stacked fields: the run's grid as their sum (mass, momentum, force, velocity;
+   !> fused_step leaves it as it was, for nothing but a snapshot reads it). Nothing for other runs.
+   subroutine fused_grid_sum(grid, box, bodies)
+      type(grid_t), intent(inout) :: grid
+      type(fused_box_t), intent(in) :: box
+      type(bodies_t), intent(in) :: bodies
+      if (box%variant /= variant_bodies) return
+      if (size(box%body_element) > 1) call combine_bodies(bodies, grid)
+   end subroutine fused_grid_sum
 
    !> The nodal velocity p_I / m_I of the mapping the element shares hold (the run's grid; bodies on
    !> stacked fields: each body's, then their sum on the run's grid), reflected at a mirrored end.

@@ -77,6 +77,8 @@ module mpm_transfer
 
    !> Which element shares a pass scatters (bit set).
    integer, parameter :: share_mass = 1, share_momentum = 2, share_stress = 4, share_force = 8
+   !> The kinds of share, in the order of segments_t%written's second index (its bit: 2**(kind - 1)).
+   integer, parameter :: share_kinds = 4
    !> Sums a run of the bar's kernels carries per element (count, sum xi, sum v, sum xi v, sum sigma V).
    integer, parameter :: run_sums = 5
 
@@ -719,11 +721,12 @@ contains
             if (allocated(seg%first_element)) deallocate (seg%first_element, seg%first_particle, seg%halo_left, &
                                                           seg%halo_right, seg%sums, seg%min_volume_ratio, &
                                                           seg%max_cell_move, seg%furthest, seg%outside, &
-                                                          seg%first_cell, seg%last_cell, seg%unsorted, seg%far)
+                                                          seg%first_cell, seg%last_cell, seg%unsorted, seg%far, &
+                                                          seg%written)
             allocate (seg%first_element(n + 1), seg%first_particle(n + 1), seg%halo_left(share_count, n), &
                       seg%halo_right(share_count, n), seg%sums(3, n), seg%min_volume_ratio(n), &
                       seg%max_cell_move(n), seg%furthest(n), seg%outside(n), seg%first_cell(n), &
-                      seg%last_cell(n), seg%unsorted(n), seg%far(n))
+                      seg%last_cell(n), seg%unsorted(n), seg%far(n), seg%written(2, share_kinds, n))
          end if
          seg%count = n
          if (present(breaks)) then
@@ -733,6 +736,11 @@ contains
          end if
          seg%first_element(n + 1) = grid%elements + 1
          seg%first_particle = 0  ! no earlier ranges to start the search from
+         ! bodies on stacked fields clear what their passes wrote; until a pass has, their whole range
+         seg%clear_written = present(breaks)
+         do k = 1, n
+            call written_whole(seg, k, share_mass + share_momentum + share_stress + share_force)
+         end do
          seg%prefetch = int(count, i8)*bytes_per_particle > prefetch_bytes
       end associate
    end subroutine plan_segments
@@ -834,9 +842,20 @@ contains
                e = seg%first_element(k)
                call add_share_set(grid, e - 1, seg%halo_left(:, k), shares)
                call add_share_set(grid, e, seg%halo_right(:, k - 1), shares)
+               if (seg%clear_written) then ! (a body's halo across the next body's field holds zeros)
+                  if (any(seg%halo_left(:, k) /= 0.0_dp)) call written_also(seg, k - 1, shares, e - 1)
+                  if (any(seg%halo_right(:, k - 1) /= 0.0_dp)) call written_also(seg, k, shares, e)
+               end if
             end if
          end do
-         if (far) call add_far_movers(particles, grid, shares, box)
+         if (far) then ! (far movers' shares may land in any segment's elements)
+            call add_far_movers(particles, grid, shares, box)
+            if (seg%clear_written) then
+               do k = 1, seg%count
+                  call written_whole(seg, k, shares)
+               end do
+            end if
+         end if
          if (moved .and. .not. sorted .and. seg%count > 1 .and. totals%outside == 0) then
             ! (box%carry needs no reordering: only the last pass of a step relocates, and the next
             ! step's first pass writes it afresh)
@@ -1066,22 +1085,29 @@ contains
       integer, intent(out) :: first, last, lo, hi
       !> the element shares of external forces (when the pass scatters them)
       real(dp), intent(inout), contiguous, optional :: force_left(:), force_right(:)
+      integer :: c0, c1
       first = seg%first_particle(k)
       last = seg%first_particle(k + 1) - 1
       lo = seg%first_element(k)
       hi = seg%first_element(k + 1) - 1
       if (iand(shares, share_mass) /= 0) then
-         mass_left(lo:hi) = 0.0_dp
-         mass_right(lo:hi) = 0.0_dp
+         call to_clear(seg, k, 1, lo, hi, c0, c1)
+         mass_left(c0:c1) = 0.0_dp
+         mass_right(c0:c1) = 0.0_dp
       end if
       if (iand(shares, share_momentum) /= 0) then
-         momentum_left(lo:hi) = 0.0_dp
-         momentum_right(lo:hi) = 0.0_dp
+         call to_clear(seg, k, 2, lo, hi, c0, c1)
+         momentum_left(c0:c1) = 0.0_dp
+         momentum_right(c0:c1) = 0.0_dp
       end if
-      if (iand(shares, share_stress) /= 0) stress_volume(lo:hi) = 0.0_dp
+      if (iand(shares, share_stress) /= 0) then
+         call to_clear(seg, k, 3, lo, hi, c0, c1)
+         stress_volume(c0:c1) = 0.0_dp
+      end if
       if (iand(shares, share_force) /= 0) then
-         force_left(lo:hi) = 0.0_dp
-         force_right(lo:hi) = 0.0_dp
+         call to_clear(seg, k, 4, lo, hi, c0, c1)
+         force_left(c0:c1) = 0.0_dp
+         force_right(c0:c1) = 0.0_dp
       end if
       ! (rows 1:share_count, a constant: stores in place; (:, k) called memset twice per segment and pass)
       seg%halo_left(1:share_count, k) = 0.0_dp
@@ -1091,6 +1117,48 @@ contains
       seg%first_cell(k) = 0
       seg%last_cell(k) = 0
    end subroutine open_segment
+
+   !> The elements c0..c1 of segment k (elements lo..hi) whose shares of one kind a pass clears: all of
+   !> them, or (clear_written) those the last pass of that kind wrote.
+   pure subroutine to_clear(seg, k, kind, lo, hi, c0, c1)
+      type(segments_t), intent(in) :: seg
+      integer, intent(in) :: k, kind, lo, hi
+      integer, intent(out) :: c0, c1
+      c0 = lo
+      c1 = hi
+      if (seg%clear_written) then
+         c0 = max(lo, seg%written(1, kind, k))
+         c1 = min(hi, seg%written(2, kind, k))
+      end if
+   end subroutine to_clear
+
+   !> Segment k's passes of the kinds of share in `shares` wrote elements e0..e1 (or, e0 > e1, none).
+   pure subroutine set_written(seg, k, shares, e0, e1)
+      type(segments_t), intent(inout) :: seg
+      integer, intent(in) :: k, shares, e0, e1
+      integer :: kind
+      do kind = 1, share_kinds
+         if (btest(shares, kind - 1)) seg%written(:, kind, k) = [e0, e1]
+      end do
+   end subroutine set_written
+
+   !> ... wrote anywhere in its range (what cannot be told cell by cell: the first pass, far movers).
+   pure subroutine written_whole(seg, k, shares)
+      type(segments_t), intent(inout) :: seg
+      integer, intent(in) :: k, shares
+      call set_written(seg, k, shares, seg%first_element(k), seg%first_element(k + 1) - 1)
+   end subroutine written_whole
+
+   !> ... wrote element e too (a halo share added after the pass).
+   pure subroutine written_also(seg, k, shares, e)
+      type(segments_t), intent(inout) :: seg
+      integer, intent(in) :: k, shares, e
+      integer :: kind
+      do kind = 1, share_kinds
+         if (btest(shares, kind - 1)) seg%written(:, kind, k) = [min(seg%written(1, kind, k), e), &
+                                                                  max(seg%written(2, kind, k), e)]
+      end do
+   end subroutine written_also
 
    !> Prefetch hint for the block of particles starting at p of each array given (none past the last
    !> particle; past the segment's last one it helps the next segment).
@@ -1626,6 +1694,15 @@ contains
                                           run%a(5), mass_left, mass_right, momentum_left, momentum_right, &
                                           stress_volume, seg)
       seg%last_cell(k) = run%cur
+      if (seg%clear_written) then ! the cells written: from the first run's to the last's, when sorted
+         if (seg%unsorted(k) .or. seg%far(k) .or. (seg%first_cell(k) == 0 .neqv. run%cur == 0)) then
+            call written_whole(seg, k, shares)
+         else if (run%cur == 0) then
+            call set_written(seg, k, shares, hi + 1, hi) ! no particle: nothing written
+         else
+            call set_written(seg, k, shares, max(lo, seg%first_cell(k)), min(hi, run%cur))
+         end if
+      end if
       seg%sums(:, k) = sums
       seg%min_volume_ratio(k) = min_j
       seg%max_cell_move(k) = max_move
