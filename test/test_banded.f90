@@ -5,7 +5,8 @@
 !> - random band matrices (bandwidths 1-3, sizes 1-40) with diagonals 1e-6 of the off-diagonals, so that rows must be
 !>   interchanged: the solution against a dense Gaussian elimination with partial pivoting written out
 !>   here, and the residual |A x - r| at round-off; the condition estimate against the exact reciprocal
-!>   condition number from the dense inverse: never below it, and within a factor 10 of it;
+!>   condition number from the dense inverse: never below it, and within a factor 10 of it; the
+!>   product A x against the dense one;
 !> - a matrix with an exactly zero column gives info = that column and rcond 0.
 program test_banded
    use mpm_kinds, only: dp
@@ -69,8 +70,9 @@ contains
       integer :: b, m, n, i, j, info, swaps, worst_case
       type(banded_t) :: a
       real(dp), allocatable :: dense(:, :), x(:), rhs(:, :), reference(:), inverse(:, :)
-      real(dp) :: worst_error, worst_residual, exact, ratio, lowest, highest
+      real(dp) :: worst_error, worst_residual, exact, ratio, lowest, highest, worst_product
       swaps = 0
+      worst_product = 0.0_dp
       worst_error = 0.0_dp
       worst_residual = 0.0_dp
       lowest = huge(1.0_dp)
@@ -93,6 +95,7 @@ contains
                x(i) = uniform()
             end do
             rhs(:, 1) = matmul(dense, x)
+            worst_product = max(worst_product, maxval(abs(banded_multiply(a, x) - rhs(:, 1))))
             reference = dense_solve(dense, rhs(:, 1))
             call banded_factor(a, info)
             call t%check('random b='//str(b)//' n='//str(n)//': factored', info == 0, 'info '//str(info))
@@ -114,6 +117,7 @@ contains
             deallocate (dense, x, rhs, reference, inverse)
          end do
       end do
+      call t%check_close('random: banded_multiply = the dense product', worst_product, 0.0_dp, atol=1.0e-14_dp)
       call t%check('random: rows were interchanged (the pivoting is exercised)', swaps > 10, str(swaps)//' interchanges')
       call t%check_close('random: solution = dense elimination', worst_error, 0.0_dp, atol=1.0e-10_dp)
       call t%check_close('random: residual |A x - r| at round-off', worst_residual, 0.0_dp, atol=1.0e-14_dp)
