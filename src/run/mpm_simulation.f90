@@ -418,7 +418,7 @@ contains
          end if
       case (status_newton)
          if (trip%node >= 0) then
-            what = 'the tangent is singular (LAPACK dgbtrf: zero pivot at node '//str(trip%node)//') at Newton '// &
+            what = 'the tangent is singular (its LU factorisation: a zero pivot at node '//str(trip%node)//') at Newton '// &
                    'iteration '//str(trip%iteration + 1)
          else
             what = 'Newton''s method did not converge: relative residual '//str(trip%value)//' after '// &

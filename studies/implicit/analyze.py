@@ -416,7 +416,8 @@ def cut_section(out, lines):
     lines += ['## 6. The cut cell', '', 'The bar (v0 = 30 m/s, 40 elements, one particle per cell, dt = dx/c, 2 '
               'periods, Hencky): its free end crosses into empty cells, and the node it reaches first carries a '
               'tiny mass (and for the wide shapes a tiny stiffness). Smallest reciprocal condition number of the '
-              'tangent (LAPACK dgbcon, 1-norm, first iteration of each step), Newton solves, the lightest node met, '
+              'tangent (1-norm, the Hager-Higham estimate of mpm_banded, the algorithm of LAPACK dgbcon; first '
+              'iteration of each step), Newton solves, the lightest node met, '
               'and the error:', '', '| shape | ghost_penalty | status | min rcond | lightest node / particle mass | '
               'Newton mean | max | relative error | max energy ratio |', '|---|---|---|---|---|---|---|---|---|']
     bar = {}
