@@ -214,18 +214,12 @@ contains
       type(banded_t), intent(in) :: a
       real(dp), intent(inout) :: x(:)
       logical, intent(in) :: transposed
-      integer :: j, b, d, below, above, l
-      real(dp) :: t
+      integer :: j, b, d, below, above
       b = a%bandwidth
       d = 2*b + 1
       if (b == 1 .and. .not. transposed) then ! (the loops below written out: the same operations)
          do j = 1, a%n - 1
-            l = a%pivots(j)
-            if (l /= j) then
-               t = x(l)
-               x(l) = x(j)
-               x(j) = t
-            end if
+            call interchange(x, j, a%pivots(j))
             x(j + 1) = x(j + 1) - a%ab(4, j)*x(j)
          end do
          do j = a%n, 1, -1
@@ -236,12 +230,7 @@ contains
       else if (.not. transposed) then
          do j = 1, a%n - 1 ! L y = P x
             below = min(b, a%n - j)
-            l = a%pivots(j)
-            if (l /= j) then
-               t = x(l)
-               x(l) = x(j)
-               x(j) = t
-            end if
+            call interchange(x, j, a%pivots(j))
             x(j + 1:j + below) = x(j + 1:j + below) - a%ab(d + 1:d + below, j)*x(j)
          end do
          do j = a%n, 1, -1 ! U x = y
@@ -257,15 +246,21 @@ contains
          do j = a%n - 1, 1, -1 ! L^T P x = y
             below = min(b, a%n - j)
             x(j) = x(j) - sum(a%ab(d + 1:d + below, j)*x(j + 1:j + below))
-            l = a%pivots(j)
-            if (l /= j) then
-               t = x(l)
-               x(l) = x(j)
-               x(j) = t
-            end if
+            call interchange(x, j, a%pivots(j))
          end do
       end if
    end subroutine solve_one
+
+   !> x(i) and x(l) exchanged (nothing when l = i).
+   pure subroutine interchange(x, i, l)
+      real(dp), intent(inout) :: x(:)
+      integer, intent(in) :: i, l
+      real(dp) :: t
+      if (l == i) return
+      t = x(l)
+      x(l) = x(i)
+      x(i) = t
+   end subroutine interchange
 
    !> The smallest diagonal entry of the LU factors' U relative to the largest, min |U_jj|/max |U_ii|: free
    !> after banded_factor, and the row of a nearly empty node is where it shrinks.
