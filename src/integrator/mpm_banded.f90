@@ -8,7 +8,7 @@
 !> Matrix Computations, 4th ed., 2013, alg. 4.3.1 with sec. 3.4); the reciprocal condition number is
 !> Hager's 1-norm estimate of ||A^-1||_1 as refined by Higham (W. W. Hager, SIAM J. Sci. Stat. Comput.
 !> 5 (1984) 311-316; N. J. Higham, ACM TOMS 14 (1988) 381-396, alg. 4.1). The code is our own: the
-!> matrices are small (one row per node) and narrow (b <= 3), and linking a BLAS for them cost every
+!> matrices are small (one row per node) and narrow (b <= 4), and linking a BLAS for them cost every
 !> run of mpm1d (OpenBLAS starts a thread pool when it is loaded). Rows and columns are numbered 1..n
 !> here (the grid's nodes 0..elements are row node + 1).
 module mpm_banded
