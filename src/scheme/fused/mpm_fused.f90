@@ -132,7 +132,7 @@ contains
          if (box%variant /= variant_bar) then
             if (box%variant == variant_bodies) then
                call start_bodies(box, particles, grid, bodies)
-               if (size(box%body_element) > 1) then
+               if (on_stacked_fields(box)) then
                   call start_variant(bodies%fields)
                else
                   call start_variant(grid)
@@ -255,7 +255,7 @@ contains
          wide = box%parts
          with_box = allocated(box%carry)
          forced = box%variant == variant_forced
-         if (box%variant == variant_bodies) stacked = size(box%body_element) > 1
+         stacked = on_stacked_fields(box)
       end if
       if (stacked) then
          call touch_test(bodies, particles, grid%dx)
@@ -348,9 +348,16 @@ contains
       type(grid_t), intent(inout) :: grid
       type(fused_box_t), intent(in) :: box
       type(bodies_t), intent(in) :: bodies
-      if (box%variant /= variant_bodies) return
-      if (size(box%body_element) > 1) call combine_bodies(bodies, grid)
+      if (on_stacked_fields(box)) call combine_bodies(bodies, grid)
    end subroutine fused_grid_sum
+
+   !> Whether the run's bodies are on stacked fields (a velocity field each; the variant `bodies` with
+   !> more than one body's field), once start_bodies has described them.
+   pure logical function on_stacked_fields(box)
+      type(fused_box_t), intent(in) :: box
+      on_stacked_fields = .false.
+      if (box%variant == variant_bodies) on_stacked_fields = size(box%body_element) > 1
+   end function on_stacked_fields
 
    !> The nodal velocity p_I / m_I of the mapping the element shares hold (the run's grid; bodies on
    !> stacked fields: each body's, then their sum on the run's grid), reflected at a mirrored end.
@@ -358,13 +365,11 @@ contains
       type(grid_t), intent(inout) :: grid
       type(fused_box_t), intent(in) :: box
       type(bodies_t), intent(inout) :: bodies
-      if (box%variant == variant_bodies) then
-         if (size(box%body_element) > 1) then
-            call assemble_nodes(bodies%fields, .false.)
-            call nodal_velocity(bodies%fields)
-            call combine_bodies(bodies, grid)
-            return
-         end if
+      if (on_stacked_fields(box)) then
+         call assemble_nodes(bodies%fields, .false.)
+         call nodal_velocity(bodies%fields)
+         call combine_bodies(bodies, grid)
+         return
       end if
       call assemble_nodes(grid, .false.)
       call mirror_fold(grid, .true., .false.)
