@@ -144,7 +144,7 @@ module mpm_transfer
       integer, allocatable :: body_first(:), body_last(:), body_element(:)
       real(dp), allocatable :: body_mass(:), body_volume0(:), body_modulus(:)
       integer :: body_cells = 0  !< the cells of one body's field
-      !> The law of the stress update: hencky (default) or linear (see stress_particle).
+      !> The law of the stress update: hencky (default) or linear (stress_hencky, stress_linear).
       logical :: linear = .false.
    end type fused_box_t
 
@@ -1296,23 +1296,34 @@ contains
       move = abs(dxp)*inv_dx
    end subroutine g2p_box
 
-   !> Elastic stress update of one particle with strain increment dstrain (see strain_increment):
-   !> hencky (`linear` = 0), sigma += E d eps, or the linear law sigma = E (J - 1) (`linear` = 1) as
-   !> sigma += (E + sigma) d eps (mpm_material_elastic: the same update, without forming J - 1);
-   !> J *= 1 + d eps. Also gives its strain energy, sigma^2 J V0 / 2E (hencky) or sigma^2 V0 / 2E
-   !> (linear), with strain_factor = V0 / 2E, and stress*volume. The law enters as exact zeros and ones
-   !> (E + 0 sigma = E, J (1 - 0) + 0 = J), so that hencky's results are those of its update alone, bit
-   !> for bit, and the loop has no branch.
-   elemental subroutine stress_particle(dstrain, youngs_modulus, strain_factor, volume0, linear, stress, &
-                                        volume_ratio, strain_energy, stress_volume)
-      real(dp), intent(in) :: dstrain, youngs_modulus, strain_factor, volume0, linear
+   !> Elastic stress update of one particle with strain increment dstrain (see strain_increment), law
+   !> hencky: sigma += E d eps; J *= 1 + d eps. Also gives its strain energy sigma^2 J V0 / 2E (with
+   !> strain_factor = V0 / 2E) and stress*volume.
+   elemental subroutine stress_hencky(dstrain, youngs_modulus, strain_factor, volume0, stress, volume_ratio, &
+                                      strain_energy, stress_volume)
+      real(dp), intent(in) :: dstrain, youngs_modulus, strain_factor, volume0
       real(dp), intent(inout) :: stress, volume_ratio
       real(dp), intent(out) :: strain_energy, stress_volume
-      stress = stress + (youngs_modulus + linear*stress)*dstrain
+      stress = stress + youngs_modulus*dstrain
       volume_ratio = volume_ratio*(1.0_dp + dstrain)
-      strain_energy = stress*stress*(volume_ratio*(1.0_dp - linear) + linear)*strain_factor
+      strain_energy = stress*stress*volume_ratio*strain_factor
       stress_volume = stress*volume_ratio*volume0
-   end subroutine stress_particle
+   end subroutine stress_hencky
+
+   !> stress_hencky for the linear law sigma = E (J - 1), updated as sigma += (E + sigma) d eps
+   !> (mpm_material_elastic: the same update, without forming J - 1); its strain energy is sigma^2 V0 / 2E.
+   !> The kernels run a loop per law (the law is known for a whole run), so that hencky's loop has none of
+   !> the linear law's arithmetic.
+   elemental subroutine stress_linear(dstrain, youngs_modulus, strain_factor, volume0, stress, volume_ratio, &
+                                      strain_energy, stress_volume)
+      real(dp), intent(in) :: dstrain, youngs_modulus, strain_factor, volume0
+      real(dp), intent(inout) :: stress, volume_ratio
+      real(dp), intent(out) :: strain_energy, stress_volume
+      stress = stress + (youngs_modulus + stress)*dstrain
+      volume_ratio = volume_ratio*(1.0_dp + dstrain)
+      strain_energy = stress*stress*strain_factor
+      stress_volume = stress*volume_ratio*volume0
+   end subroutine stress_linear
 
    !> The first particle of a block found outside the grid (cell 0), unless one was found before.
    subroutine find_outside(n, b0, cells, outside)
@@ -1751,7 +1762,7 @@ contains
       real(dp), intent(inout), contiguous, optional :: gradient(:), force_left(:), force_right(:)
       integer :: p, e, i, n, b0, first, last, lo, hi, outside, ahead, elements
       real(dp) :: half_m, strain_factor, dstrain, inv_dx, dt, youngs_modulus, m, volume0
-      real(dp) :: linear
+      logical :: linear
       type(largest_move_t) :: largest
       real(dp) :: displacement(lanes), kinetic(lanes), strain(lanes), min_j(lanes)
       integer :: cb(block_size)
@@ -1767,7 +1778,7 @@ contains
       inv_dx = constants%inv_dx
       dt = constants%dt
       youngs_modulus = constants%youngs_modulus
-      linear = merge(1.0_dp, 0.0_dp, constants%linear)
+      linear = constants%linear
       m = constants%mass
       volume0 = constants%volume0
       call open_segment(k, shares, seg, mass_left, mass_right, momentum_left, momentum_right, stress_volume, first, last, &
@@ -1805,8 +1816,7 @@ contains
                else
                   dstrain = strain_increment_of(e)
                end if
-               call stress_particle(dstrain, youngs_modulus, strain_factor, volume0, linear, stress(p), volume_ratio(p), &
-                                    sb(i), svb(i))
+               call stress_hencky(dstrain, youngs_modulus, strain_factor, volume0, stress(p), volume_ratio(p), sb(i), svb(i))
                jb(i) = volume_ratio(p)
             end if
             if (relocates) then ! the new cell, for P2G at the new position
@@ -1891,7 +1901,7 @@ contains
       real(dp), intent(inout), contiguous, optional :: gradient(:), force_left(:), force_right(:)
       integer :: p, e, i, n, b0, first, last, lo, hi, outside, ahead, elements
       real(dp) :: half_m, strain_factor, dstrain, inv_dx, dt, youngs_modulus, m, volume0
-      real(dp) :: linear
+      logical :: linear
       type(largest_move_t) :: largest
       real(dp) :: displacement(lanes), kinetic(lanes), strain(lanes), min_j(lanes)
       integer :: cb(block_size)
@@ -1907,7 +1917,7 @@ contains
       inv_dx = constants%inv_dx
       dt = constants%dt
       youngs_modulus = constants%youngs_modulus
-      linear = merge(1.0_dp, 0.0_dp, constants%linear)
+      linear = constants%linear
       m = constants%mass
       volume0 = constants%volume0
       call open_segment(k, shares, seg, mass_left, mass_right, momentum_left, momentum_right, stress_volume, first, last, &
@@ -1933,6 +1943,7 @@ contains
                call prefetch_elements(cell(b0), cell(b0 + n - 1), strain_increment_of)
             end if
          end if
+         if (linear) then
          do i = 1, n
             p = b0 + i - 1
             e = cell(p)
@@ -1945,8 +1956,7 @@ contains
                else
                   dstrain = strain_increment_of(e)
                end if
-               call stress_particle(dstrain, youngs_modulus, strain_factor, volume0, linear, stress(p), volume_ratio(p), &
-                                    sb(i), svb(i))
+               call stress_linear(dstrain, youngs_modulus, strain_factor, volume0, stress(p), volume_ratio(p), sb(i), svb(i))
                jb(i) = volume_ratio(p)
             end if
             if (relocates) then ! the new cell, for P2G at the new position
@@ -1958,6 +1968,32 @@ contains
             end if
             if (moves .or. relocates) vpb(i) = v(p)
          end do
+         else
+         do i = 1, n
+            p = b0 + i - 1
+            e = cell(p)
+            ! G2P with the start-of-step shape functions
+            if (moves) call g2p_particle(e, acceleration(e - 1), acceleration(e), velocity(e - 1), velocity(e), inv_dx, &
+                                         dt, half_m, x0(p), x(p), v(p), xi, db(i), kb(i), mb(i, slot))
+            if (stresses) then ! d eps = dt sum dN v_I over the start-of-step cell
+               if (moves) then
+                  dstrain = strain_increment(velocity(e - 1), velocity(e), dt, inv_dx)
+               else
+                  dstrain = strain_increment_of(e)
+               end if
+               call stress_hencky(dstrain, youngs_modulus, strain_factor, volume0, stress(p), volume_ratio(p), sb(i), svb(i))
+               jb(i) = volume_ratio(p)
+            end if
+            if (relocates) then ! the new cell, for P2G at the new position
+               call locate_cell(x(p), inv_dx, elements, elements_bits, cb(i), xib(i))
+               cell(p) = cb(i)
+            else                ! the shares go to the start-of-step cell
+               cb(i) = e
+               if (moves) xib(i) = xi
+            end if
+            if (moves .or. relocates) vpb(i) = v(p)
+         end do
+         end if
          ! the block's totals (macros of mpm_lanes.fypi, expanded here)
          if (moves) then
             do lane_i = 1, n - lanes + 1, lanes
@@ -2031,7 +2067,7 @@ contains
       real(dp), intent(inout), contiguous, optional :: gradient(:), force_left(:), force_right(:)
       integer :: p, e, i, n, b0, first, last, lo, hi, outside, ahead, elements
       real(dp) :: half_m, strain_factor, dstrain, inv_dx, dt, youngs_modulus, m, volume0
-      real(dp) :: linear
+      logical :: linear
       type(largest_move_t) :: largest
       real(dp) :: displacement(lanes), kinetic(lanes), strain(lanes), min_j(lanes)
       integer :: cb(block_size)
@@ -2047,7 +2083,7 @@ contains
       inv_dx = constants%inv_dx
       dt = constants%dt
       youngs_modulus = constants%youngs_modulus
-      linear = merge(1.0_dp, 0.0_dp, constants%linear)
+      linear = constants%linear
       m = constants%mass
       volume0 = constants%volume0
       call open_segment(k, shares, seg, mass_left, mass_right, momentum_left, momentum_right, stress_volume, first, last, &
@@ -2073,6 +2109,7 @@ contains
                call prefetch_elements(cell(b0), cell(b0 + n - 1), strain_increment_of)
             end if
          end if
+         if (linear) then
          do i = 1, n
             p = b0 + i - 1
             e = cell(p)
@@ -2085,8 +2122,7 @@ contains
                else
                   dstrain = strain_increment_of(e)
                end if
-               call stress_particle(dstrain, youngs_modulus, strain_factor, volume0, linear, stress(p), volume_ratio(p), &
-                                    sb(i), svb(i))
+               call stress_linear(dstrain, youngs_modulus, strain_factor, volume0, stress(p), volume_ratio(p), sb(i), svb(i))
                jb(i) = volume_ratio(p)
             end if
             if (relocates) then ! the new cell, for P2G at the new position
@@ -2098,6 +2134,32 @@ contains
             end if
             if (moves .or. relocates) vpb(i) = v(p)
          end do
+         else
+         do i = 1, n
+            p = b0 + i - 1
+            e = cell(p)
+            ! G2P with the start-of-step shape functions
+            if (moves) call g2p_particle(e, acceleration(e - 1), acceleration(e), velocity(e - 1), velocity(e), inv_dx, &
+                                         dt, half_m, x0(p), x(p), v(p), xi, db(i), kb(i), mb(i, slot))
+            if (stresses) then ! d eps = dt sum dN v_I over the start-of-step cell
+               if (moves) then
+                  dstrain = strain_increment(velocity(e - 1), velocity(e), dt, inv_dx)
+               else
+                  dstrain = strain_increment_of(e)
+               end if
+               call stress_hencky(dstrain, youngs_modulus, strain_factor, volume0, stress(p), volume_ratio(p), sb(i), svb(i))
+               jb(i) = volume_ratio(p)
+            end if
+            if (relocates) then ! the new cell, for P2G at the new position
+               call locate_cell(x(p), inv_dx, elements, elements_bits, cb(i), xib(i))
+               cell(p) = cb(i)
+            else                ! the shares go to the start-of-step cell
+               cb(i) = e
+               if (moves) xib(i) = xi
+            end if
+            if (moves .or. relocates) vpb(i) = v(p)
+         end do
+         end if
          ! the block's totals (macros of mpm_lanes.fypi, expanded here)
          if (moves) then
             do lane_i = 1, n - lanes + 1, lanes
@@ -2171,7 +2233,7 @@ contains
       real(dp), intent(inout), contiguous, optional :: gradient(:), force_left(:), force_right(:)
       integer :: p, e, i, n, b0, first, last, lo, hi, outside, ahead, elements
       real(dp) :: half_m, strain_factor, dstrain, inv_dx, dt, youngs_modulus, m, volume0
-      real(dp) :: linear
+      logical :: linear
       type(largest_move_t) :: largest
       real(dp) :: displacement(lanes), kinetic(lanes), strain(lanes), min_j(lanes)
       integer :: cb(block_size)
@@ -2187,7 +2249,7 @@ contains
       inv_dx = constants%inv_dx
       dt = constants%dt
       youngs_modulus = constants%youngs_modulus
-      linear = merge(1.0_dp, 0.0_dp, constants%linear)
+      linear = constants%linear
       m = constants%mass
       volume0 = constants%volume0
       call open_segment(k, shares, seg, mass_left, mass_right, momentum_left, momentum_right, stress_volume, first, last, &
@@ -2225,8 +2287,7 @@ contains
                else
                   dstrain = strain_increment_of(e)
                end if
-               call stress_particle(dstrain, youngs_modulus, strain_factor, volume0, linear, stress(p), volume_ratio(p), &
-                                    sb(i), svb(i))
+               call stress_hencky(dstrain, youngs_modulus, strain_factor, volume0, stress(p), volume_ratio(p), sb(i), svb(i))
                jb(i) = volume_ratio(p)
             end if
             if (relocates) then ! the new cell, for P2G at the new position
@@ -2311,7 +2372,7 @@ contains
       real(dp), intent(inout), contiguous, optional :: gradient(:), force_left(:), force_right(:)
       integer :: p, e, i, n, b0, first, last, lo, hi, outside, ahead, elements
       real(dp) :: half_m, strain_factor, dstrain, inv_dx, dt, youngs_modulus, m, volume0
-      real(dp) :: linear
+      logical :: linear
       type(largest_move_t) :: largest
       real(dp) :: displacement(lanes), kinetic(lanes), strain(lanes), min_j(lanes)
       integer :: cb(block_size)
@@ -2327,7 +2388,7 @@ contains
       inv_dx = constants%inv_dx
       dt = constants%dt
       youngs_modulus = constants%youngs_modulus
-      linear = merge(1.0_dp, 0.0_dp, constants%linear)
+      linear = constants%linear
       m = constants%mass
       volume0 = constants%volume0
       call open_segment(k, shares, seg, mass_left, mass_right, momentum_left, momentum_right, stress_volume, first, last, &
@@ -2353,6 +2414,7 @@ contains
                call prefetch_elements(cell(b0), cell(b0 + n - 1), strain_increment_of)
             end if
          end if
+         if (linear) then
          do i = 1, n
             p = b0 + i - 1
             e = cell(p)
@@ -2365,8 +2427,7 @@ contains
                else
                   dstrain = strain_increment_of(e)
                end if
-               call stress_particle(dstrain, youngs_modulus, strain_factor, volume0, linear, stress(p), volume_ratio(p), &
-                                    sb(i), svb(i))
+               call stress_linear(dstrain, youngs_modulus, strain_factor, volume0, stress(p), volume_ratio(p), sb(i), svb(i))
                jb(i) = volume_ratio(p)
             end if
             if (relocates) then ! the new cell, for P2G at the new position
@@ -2378,6 +2439,32 @@ contains
             end if
             if (moves .or. relocates) vpb(i) = v(p)
          end do
+         else
+         do i = 1, n
+            p = b0 + i - 1
+            e = cell(p)
+            ! G2P with the start-of-step shape functions
+            if (moves) call g2p_particle(e, acceleration(e - 1), acceleration(e), velocity(e - 1), velocity(e), inv_dx, &
+                                         dt, half_m, x0(p), x(p), v(p), xi, db(i), kb(i), mb(i, slot))
+            if (stresses) then ! d eps = dt sum dN v_I over the start-of-step cell
+               if (moves) then
+                  dstrain = strain_increment(velocity(e - 1), velocity(e), dt, inv_dx)
+               else
+                  dstrain = strain_increment_of(e)
+               end if
+               call stress_hencky(dstrain, youngs_modulus, strain_factor, volume0, stress(p), volume_ratio(p), sb(i), svb(i))
+               jb(i) = volume_ratio(p)
+            end if
+            if (relocates) then ! the new cell, for P2G at the new position
+               call locate_cell(x(p), inv_dx, elements, elements_bits, cb(i), xib(i))
+               cell(p) = cb(i)
+            else                ! the shares go to the start-of-step cell
+               cb(i) = e
+               if (moves) xib(i) = xi
+            end if
+            if (moves .or. relocates) vpb(i) = v(p)
+         end do
+         end if
          ! the block's totals (macros of mpm_lanes.fypi, expanded here)
          if (moves) then
             do lane_i = 1, n - lanes + 1, lanes
@@ -2451,7 +2538,7 @@ contains
       real(dp), intent(inout), contiguous, optional :: gradient(:), force_left(:), force_right(:)
       integer :: p, e, i, n, b0, first, last, lo, hi, outside, ahead, elements
       real(dp) :: half_m, strain_factor, dstrain, inv_dx, dt, youngs_modulus, m, volume0
-      real(dp) :: linear
+      logical :: linear
       type(largest_move_t) :: largest
       real(dp) :: displacement(lanes), kinetic(lanes), strain(lanes), min_j(lanes)
       integer :: cb(block_size)
@@ -2474,7 +2561,7 @@ contains
       inv_dx = constants%inv_dx
       dt = constants%dt
       youngs_modulus = constants%youngs_modulus
-      linear = merge(1.0_dp, 0.0_dp, constants%linear)
+      linear = constants%linear
       m = constants%mass
       volume0 = constants%volume0
       call open_segment(k, shares, seg, mass_left, mass_right, momentum_left, momentum_right, stress_volume, first, last, &
@@ -2524,8 +2611,7 @@ contains
                else
                   dstrain = r1*strain_increment_of(e) + r2*strain_increment_of(e + 1)
                end if
-               call stress_particle(dstrain, youngs_modulus, strain_factor, volume0, linear, stress(p), volume_ratio(p), &
-                                    sb(i), svb(i))
+               call stress_hencky(dstrain, youngs_modulus, strain_factor, volume0, stress(p), volume_ratio(p), sb(i), svb(i))
                jb(i) = volume_ratio(p)
             end if
             if (relocates) then ! the parts at the new position
@@ -2631,7 +2717,7 @@ contains
       real(dp), intent(inout), contiguous, optional :: gradient(:), force_left(:), force_right(:)
       integer :: p, e, i, n, b0, first, last, lo, hi, outside, ahead, elements
       real(dp) :: half_m, strain_factor, dstrain, inv_dx, dt, youngs_modulus, m, volume0
-      real(dp) :: linear
+      logical :: linear
       type(largest_move_t) :: largest
       real(dp) :: displacement(lanes), kinetic(lanes), strain(lanes), min_j(lanes)
       integer :: cb(block_size)
@@ -2654,7 +2740,7 @@ contains
       inv_dx = constants%inv_dx
       dt = constants%dt
       youngs_modulus = constants%youngs_modulus
-      linear = merge(1.0_dp, 0.0_dp, constants%linear)
+      linear = constants%linear
       m = constants%mass
       volume0 = constants%volume0
       call open_segment(k, shares, seg, mass_left, mass_right, momentum_left, momentum_right, stress_volume, first, last, &
@@ -2679,6 +2765,7 @@ contains
                call prefetch_elements(cell(b0), cell(b0 + n - 1), strain_increment_of)
             end if
          end if
+         if (linear) then
          do i = 1, n
             p = b0 + i - 1
             e = cell(p)
@@ -2704,8 +2791,7 @@ contains
                else
                   dstrain = r1*strain_increment_of(e) + r2*strain_increment_of(e + 1)
                end if
-               call stress_particle(dstrain, youngs_modulus, strain_factor, volume0, linear, stress(p), volume_ratio(p), &
-                                    sb(i), svb(i))
+               call stress_linear(dstrain, youngs_modulus, strain_factor, volume0, stress(p), volume_ratio(p), sb(i), svb(i))
                jb(i) = volume_ratio(p)
             end if
             if (relocates) then ! the parts at the new position
@@ -2734,6 +2820,62 @@ contains
                right(i, 5) = r2*svb(i)
             end if
          end do
+         else
+         do i = 1, n
+            p = b0 + i - 1
+            e = cell(p)
+            ! the parts at the start of the step from x;
+            ! the stress passes need only the cell and the fraction r2, kept by the pass before (MUSL's
+            ! remap: the particle has moved since; USF's move pass of the step before, as it relocated it)
+            if (kernel == pass_musl_stress .or. kernel == pass_usf_stress) then
+               r2 = carry(p)
+               r1 = 1.0_dp - r2
+            else
+               l = fixed_l
+               call gimp_box((x(p) - origin)*inv_dx, l, elements, node, r1, r2, t1, t2, flag)
+               e = node + 1
+               if (kernel == pass_musl_remap) carry(p) = r2
+            end if
+            if (moves) call g2p_box(r1, r2, t1, t2, acceleration(e - 1), acceleration(e), acceleration(e + 1), &
+                                    velocity(e - 1), velocity(e), velocity(e + 1), inv_dx, dt, half_m, x0(p), x(p), v(p), &
+                                    db(i), kb(i), mb(i, slot))
+            if (stresses) then ! d eps = dt sum dS v_I = r1 (element e's) + r2 (element e + 1's)
+               if (moves) then
+                  dstrain = r1*strain_increment(velocity(e - 1), velocity(e), dt, inv_dx) + &
+                            r2*strain_increment(velocity(e), velocity(e + 1), dt, inv_dx)
+               else
+                  dstrain = r1*strain_increment_of(e) + r2*strain_increment_of(e + 1)
+               end if
+               call stress_hencky(dstrain, youngs_modulus, strain_factor, volume0, stress(p), volume_ratio(p), sb(i), svb(i))
+               jb(i) = volume_ratio(p)
+            end if
+            if (relocates) then ! the parts at the new position
+               l = fixed_l
+               call gimp_box((x(p) - origin)*inv_dx, l, elements, node, r1, r2, t1, t2, flag)
+               cb(i) = (node + 1)*flag
+               cell(p) = cb(i)
+               if (kernel == pass_usf_move) carry(p) = r2
+            else
+               cb(i) = e
+            end if
+            ! the sums of the parts the pass scatters (accumulate_boxes); right(i, 1) = r2 tells it which
+            ! particles have a right part
+            left(i, 1) = r1
+            right(i, 1) = r2
+            if (iand(shares, share_mass + share_momentum) /= 0) then
+               left(i, 2) = r1*t1
+               left(i, 3) = r1*v(p)
+               left(i, 4) = r1*t1*v(p)
+               right(i, 2) = r2*t2
+               right(i, 3) = r2*v(p)
+               right(i, 4) = r2*t2*v(p)
+            end if
+            if (iand(shares, share_stress) /= 0) then
+               left(i, 5) = r1*svb(i)
+               right(i, 5) = r2*svb(i)
+            end if
+         end do
+         end if
          ! the block's totals (macros of mpm_lanes.fypi, expanded here)
          if (moves) then
             do lane_i = 1, n - lanes + 1, lanes
@@ -2811,7 +2953,7 @@ contains
       real(dp), intent(inout), contiguous, optional :: gradient(:), force_left(:), force_right(:)
       integer :: p, e, i, n, b0, first, last, lo, hi, outside, ahead, elements
       real(dp) :: half_m, strain_factor, dstrain, inv_dx, dt, youngs_modulus, m, volume0
-      real(dp) :: linear
+      logical :: linear
       type(largest_move_t) :: largest
       real(dp) :: displacement(lanes), kinetic(lanes), strain(lanes), min_j(lanes)
       integer :: cb(block_size)
@@ -2834,7 +2976,7 @@ contains
       inv_dx = constants%inv_dx
       dt = constants%dt
       youngs_modulus = constants%youngs_modulus
-      linear = merge(1.0_dp, 0.0_dp, constants%linear)
+      linear = constants%linear
       m = constants%mass
       volume0 = constants%volume0
       call open_segment(k, shares, seg, mass_left, mass_right, momentum_left, momentum_right, stress_volume, first, last, &
@@ -2859,6 +3001,7 @@ contains
                call prefetch_elements(cell(b0), cell(b0 + n - 1), strain_increment_of)
             end if
          end if
+         if (linear) then
          do i = 1, n
             p = b0 + i - 1
             e = cell(p)
@@ -2884,8 +3027,7 @@ contains
                else
                   dstrain = r1*strain_increment_of(e) + r2*strain_increment_of(e + 1)
                end if
-               call stress_particle(dstrain, youngs_modulus, strain_factor, volume0, linear, stress(p), volume_ratio(p), &
-                                    sb(i), svb(i))
+               call stress_linear(dstrain, youngs_modulus, strain_factor, volume0, stress(p), volume_ratio(p), sb(i), svb(i))
                jb(i) = volume_ratio(p)
             end if
             if (relocates) then ! the parts at the new position
@@ -2914,6 +3056,62 @@ contains
                right(i, 5) = r2*svb(i)
             end if
          end do
+         else
+         do i = 1, n
+            p = b0 + i - 1
+            e = cell(p)
+            ! the parts at the start of the step from x;
+            ! the stress passes need only the cell and the fraction r2, kept by the pass before (MUSL's
+            ! remap: the particle has moved since; USF's move pass of the step before, as it relocated it)
+            if (kernel == pass_musl_stress .or. kernel == pass_usf_stress) then
+               r2 = carry(p)
+               r1 = 1.0_dp - r2
+            else
+               l = fixed_l
+               call gimp_box((x(p) - origin)*inv_dx, l, elements, node, r1, r2, t1, t2, flag)
+               e = node + 1
+               if (kernel == pass_musl_remap) carry(p) = r2
+            end if
+            if (moves) call g2p_box(r1, r2, t1, t2, acceleration(e - 1), acceleration(e), acceleration(e + 1), &
+                                    velocity(e - 1), velocity(e), velocity(e + 1), inv_dx, dt, half_m, x0(p), x(p), v(p), &
+                                    db(i), kb(i), mb(i, slot))
+            if (stresses) then ! d eps = dt sum dS v_I = r1 (element e's) + r2 (element e + 1's)
+               if (moves) then
+                  dstrain = r1*strain_increment(velocity(e - 1), velocity(e), dt, inv_dx) + &
+                            r2*strain_increment(velocity(e), velocity(e + 1), dt, inv_dx)
+               else
+                  dstrain = r1*strain_increment_of(e) + r2*strain_increment_of(e + 1)
+               end if
+               call stress_hencky(dstrain, youngs_modulus, strain_factor, volume0, stress(p), volume_ratio(p), sb(i), svb(i))
+               jb(i) = volume_ratio(p)
+            end if
+            if (relocates) then ! the parts at the new position
+               l = fixed_l
+               call gimp_box((x(p) - origin)*inv_dx, l, elements, node, r1, r2, t1, t2, flag)
+               cb(i) = (node + 1)*flag
+               cell(p) = cb(i)
+               if (kernel == pass_usf_move) carry(p) = r2
+            else
+               cb(i) = e
+            end if
+            ! the sums of the parts the pass scatters (accumulate_boxes); right(i, 1) = r2 tells it which
+            ! particles have a right part
+            left(i, 1) = r1
+            right(i, 1) = r2
+            if (iand(shares, share_mass + share_momentum) /= 0) then
+               left(i, 2) = r1*t1
+               left(i, 3) = r1*v(p)
+               left(i, 4) = r1*t1*v(p)
+               right(i, 2) = r2*t2
+               right(i, 3) = r2*v(p)
+               right(i, 4) = r2*t2*v(p)
+            end if
+            if (iand(shares, share_stress) /= 0) then
+               left(i, 5) = r1*svb(i)
+               right(i, 5) = r2*svb(i)
+            end if
+         end do
+         end if
          ! the block's totals (macros of mpm_lanes.fypi, expanded here)
          if (moves) then
             do lane_i = 1, n - lanes + 1, lanes
@@ -2991,7 +3189,7 @@ contains
       real(dp), intent(inout), contiguous, optional :: gradient(:), force_left(:), force_right(:)
       integer :: p, e, i, n, b0, first, last, lo, hi, outside, ahead, elements
       real(dp) :: half_m, strain_factor, dstrain, inv_dx, dt, youngs_modulus, m, volume0
-      real(dp) :: linear
+      logical :: linear
       type(largest_move_t) :: largest
       real(dp) :: displacement(lanes), kinetic(lanes), strain(lanes), min_j(lanes)
       integer :: cb(block_size)
@@ -3014,7 +3212,7 @@ contains
       inv_dx = constants%inv_dx
       dt = constants%dt
       youngs_modulus = constants%youngs_modulus
-      linear = merge(1.0_dp, 0.0_dp, constants%linear)
+      linear = constants%linear
       m = constants%mass
       volume0 = constants%volume0
       call open_segment(k, shares, seg, mass_left, mass_right, momentum_left, momentum_right, stress_volume, first, last, &
@@ -3064,8 +3262,7 @@ contains
                else
                   dstrain = r1*strain_increment_of(e) + r2*strain_increment_of(e + 1)
                end if
-               call stress_particle(dstrain, youngs_modulus, strain_factor, volume0, linear, stress(p), volume_ratio(p), &
-                                    sb(i), svb(i))
+               call stress_hencky(dstrain, youngs_modulus, strain_factor, volume0, stress(p), volume_ratio(p), sb(i), svb(i))
                jb(i) = volume_ratio(p)
             end if
             if (relocates) then ! the parts at the new position
@@ -3171,7 +3368,7 @@ contains
       real(dp), intent(inout), contiguous, optional :: gradient(:), force_left(:), force_right(:)
       integer :: p, e, i, n, b0, first, last, lo, hi, outside, ahead, elements
       real(dp) :: half_m, strain_factor, dstrain, inv_dx, dt, youngs_modulus, m, volume0
-      real(dp) :: linear
+      logical :: linear
       type(largest_move_t) :: largest
       real(dp) :: displacement(lanes), kinetic(lanes), strain(lanes), min_j(lanes)
       integer :: cb(block_size)
@@ -3194,7 +3391,7 @@ contains
       inv_dx = constants%inv_dx
       dt = constants%dt
       youngs_modulus = constants%youngs_modulus
-      linear = merge(1.0_dp, 0.0_dp, constants%linear)
+      linear = constants%linear
       m = constants%mass
       volume0 = constants%volume0
       call open_segment(k, shares, seg, mass_left, mass_right, momentum_left, momentum_right, stress_volume, first, last, &
@@ -3219,6 +3416,7 @@ contains
                call prefetch_elements(cell(b0), cell(b0 + n - 1), strain_increment_of)
             end if
          end if
+         if (linear) then
          do i = 1, n
             p = b0 + i - 1
             e = cell(p)
@@ -3244,8 +3442,7 @@ contains
                else
                   dstrain = r1*strain_increment_of(e) + r2*strain_increment_of(e + 1)
                end if
-               call stress_particle(dstrain, youngs_modulus, strain_factor, volume0, linear, stress(p), volume_ratio(p), &
-                                    sb(i), svb(i))
+               call stress_linear(dstrain, youngs_modulus, strain_factor, volume0, stress(p), volume_ratio(p), sb(i), svb(i))
                jb(i) = volume_ratio(p)
             end if
             if (relocates) then ! the parts at the new position
@@ -3274,6 +3471,62 @@ contains
                right(i, 5) = r2*svb(i)
             end if
          end do
+         else
+         do i = 1, n
+            p = b0 + i - 1
+            e = cell(p)
+            ! the parts at the start of the step from x;
+            ! the stress passes need only the cell and the fraction r2, kept by the pass before (MUSL's
+            ! remap: the particle has moved since; USF's move pass of the step before, as it relocated it)
+            if (kernel == pass_musl_stress .or. kernel == pass_usf_stress) then
+               r2 = carry(p)
+               r1 = 1.0_dp - r2
+            else
+               l = fixed_l
+               call gimp_box((x(p) - origin)*inv_dx, l, elements, node, r1, r2, t1, t2, flag)
+               e = node + 1
+               if (kernel == pass_musl_remap) carry(p) = r2
+            end if
+            if (moves) call g2p_box(r1, r2, t1, t2, acceleration(e - 1), acceleration(e), acceleration(e + 1), &
+                                    velocity(e - 1), velocity(e), velocity(e + 1), inv_dx, dt, half_m, x0(p), x(p), v(p), &
+                                    db(i), kb(i), mb(i, slot))
+            if (stresses) then ! d eps = dt sum dS v_I = r1 (element e's) + r2 (element e + 1's)
+               if (moves) then
+                  dstrain = r1*strain_increment(velocity(e - 1), velocity(e), dt, inv_dx) + &
+                            r2*strain_increment(velocity(e), velocity(e + 1), dt, inv_dx)
+               else
+                  dstrain = r1*strain_increment_of(e) + r2*strain_increment_of(e + 1)
+               end if
+               call stress_hencky(dstrain, youngs_modulus, strain_factor, volume0, stress(p), volume_ratio(p), sb(i), svb(i))
+               jb(i) = volume_ratio(p)
+            end if
+            if (relocates) then ! the parts at the new position
+               l = fixed_l
+               call gimp_box((x(p) - origin)*inv_dx, l, elements, node, r1, r2, t1, t2, flag)
+               cb(i) = (node + 1)*flag
+               cell(p) = cb(i)
+               if (kernel == pass_usf_move) carry(p) = r2
+            else
+               cb(i) = e
+            end if
+            ! the sums of the parts the pass scatters (accumulate_boxes); right(i, 1) = r2 tells it which
+            ! particles have a right part
+            left(i, 1) = r1
+            right(i, 1) = r2
+            if (iand(shares, share_mass + share_momentum) /= 0) then
+               left(i, 2) = r1*t1
+               left(i, 3) = r1*v(p)
+               left(i, 4) = r1*t1*v(p)
+               right(i, 2) = r2*t2
+               right(i, 3) = r2*v(p)
+               right(i, 4) = r2*t2*v(p)
+            end if
+            if (iand(shares, share_stress) /= 0) then
+               left(i, 5) = r1*svb(i)
+               right(i, 5) = r2*svb(i)
+            end if
+         end do
+         end if
          ! the block's totals (macros of mpm_lanes.fypi, expanded here)
          if (moves) then
             do lane_i = 1, n - lanes + 1, lanes
@@ -3351,7 +3604,7 @@ contains
       real(dp), intent(inout), contiguous, optional :: gradient(:), force_left(:), force_right(:)
       integer :: p, e, i, n, b0, first, last, lo, hi, outside, ahead, elements
       real(dp) :: half_m, strain_factor, dstrain, inv_dx, dt, youngs_modulus, m, volume0
-      real(dp) :: linear
+      logical :: linear
       type(largest_move_t) :: largest
       real(dp) :: displacement(lanes), kinetic(lanes), strain(lanes), min_j(lanes)
       integer :: cb(block_size)
@@ -3374,7 +3627,7 @@ contains
       inv_dx = constants%inv_dx
       dt = constants%dt
       youngs_modulus = constants%youngs_modulus
-      linear = merge(1.0_dp, 0.0_dp, constants%linear)
+      linear = constants%linear
       m = constants%mass
       volume0 = constants%volume0
       call open_segment(k, shares, seg, mass_left, mass_right, momentum_left, momentum_right, stress_volume, first, last, &
@@ -3430,8 +3683,7 @@ contains
                else
                   dstrain = r1*strain_increment_of(e) + r2*strain_increment_of(e + 1)
                end if
-               call stress_particle(dstrain, youngs_modulus, strain_factor, volume0, linear, stress(p), volume_ratio(p), &
-                                    sb(i), svb(i))
+               call stress_hencky(dstrain, youngs_modulus, strain_factor, volume0, stress(p), volume_ratio(p), sb(i), svb(i))
                jb(i) = volume_ratio(p)
             end if
             if (relocates) then ! the parts at the new position (with the new J)
@@ -3537,7 +3789,7 @@ contains
       real(dp), intent(inout), contiguous, optional :: gradient(:), force_left(:), force_right(:)
       integer :: p, e, i, n, b0, first, last, lo, hi, outside, ahead, elements
       real(dp) :: half_m, strain_factor, dstrain, inv_dx, dt, youngs_modulus, m, volume0
-      real(dp) :: linear
+      logical :: linear
       type(largest_move_t) :: largest
       real(dp) :: displacement(lanes), kinetic(lanes), strain(lanes), min_j(lanes)
       integer :: cb(block_size)
@@ -3560,7 +3812,7 @@ contains
       inv_dx = constants%inv_dx
       dt = constants%dt
       youngs_modulus = constants%youngs_modulus
-      linear = merge(1.0_dp, 0.0_dp, constants%linear)
+      linear = constants%linear
       m = constants%mass
       volume0 = constants%volume0
       call open_segment(k, shares, seg, mass_left, mass_right, momentum_left, momentum_right, stress_volume, first, last, &
@@ -3585,6 +3837,7 @@ contains
                call prefetch_elements(cell(b0), cell(b0 + n - 1), strain_increment_of)
             end if
          end if
+         if (linear) then
          do i = 1, n
             p = b0 + i - 1
             e = cell(p)
@@ -3616,8 +3869,7 @@ contains
                else
                   dstrain = r1*strain_increment_of(e) + r2*strain_increment_of(e + 1)
                end if
-               call stress_particle(dstrain, youngs_modulus, strain_factor, volume0, linear, stress(p), volume_ratio(p), &
-                                    sb(i), svb(i))
+               call stress_linear(dstrain, youngs_modulus, strain_factor, volume0, stress(p), volume_ratio(p), sb(i), svb(i))
                jb(i) = volume_ratio(p)
             end if
             if (relocates) then ! the parts at the new position (with the new J)
@@ -3646,6 +3898,68 @@ contains
                right(i, 5) = r2*svb(i)
             end if
          end do
+         else
+         do i = 1, n
+            p = b0 + i - 1
+            e = cell(p)
+            ! the parts at the start of the step from x and J (USF's move pass: the J its stress pass kept);
+            ! the stress passes need only the cell and the fraction r2, kept by the pass before (MUSL's
+            ! remap: the particle has moved since; USF's move pass of the step before, as it relocated it)
+            if (kernel == pass_musl_stress .or. kernel == pass_usf_stress) then
+               r2 = carry(p)
+               r1 = 1.0_dp - r2
+               if (kernel == pass_usf_stress) carry(p) = volume_ratio(p) ! J for the move pass's box
+            else
+               if (kernel == pass_usf_move) then
+                  jstart = carry(p)
+               else
+                  jstart = volume_ratio(p)
+               end if
+               l = box_half_length(half_length0, jstart, 1.0_dp, inv_dx)
+               call gimp_box((x(p) - origin)*inv_dx, l, elements, node, r1, r2, t1, t2, flag)
+               e = node + 1
+               if (kernel == pass_musl_remap) carry(p) = r2
+            end if
+            if (moves) call g2p_box(r1, r2, t1, t2, acceleration(e - 1), acceleration(e), acceleration(e + 1), &
+                                    velocity(e - 1), velocity(e), velocity(e + 1), inv_dx, dt, half_m, x0(p), x(p), v(p), &
+                                    db(i), kb(i), mb(i, slot))
+            if (stresses) then ! d eps = dt sum dS v_I = r1 (element e's) + r2 (element e + 1's)
+               if (moves) then
+                  dstrain = r1*strain_increment(velocity(e - 1), velocity(e), dt, inv_dx) + &
+                            r2*strain_increment(velocity(e), velocity(e + 1), dt, inv_dx)
+               else
+                  dstrain = r1*strain_increment_of(e) + r2*strain_increment_of(e + 1)
+               end if
+               call stress_hencky(dstrain, youngs_modulus, strain_factor, volume0, stress(p), volume_ratio(p), sb(i), svb(i))
+               jb(i) = volume_ratio(p)
+            end if
+            if (relocates) then ! the parts at the new position (with the new J)
+               l = box_half_length(half_length0, volume_ratio(p), 1.0_dp, inv_dx)
+               call gimp_box((x(p) - origin)*inv_dx, l, elements, node, r1, r2, t1, t2, flag)
+               cb(i) = (node + 1)*flag
+               cell(p) = cb(i)
+               if (kernel == pass_usf_move) carry(p) = r2
+            else
+               cb(i) = e
+            end if
+            ! the sums of the parts the pass scatters (accumulate_boxes); right(i, 1) = r2 tells it which
+            ! particles have a right part
+            left(i, 1) = r1
+            right(i, 1) = r2
+            if (iand(shares, share_mass + share_momentum) /= 0) then
+               left(i, 2) = r1*t1
+               left(i, 3) = r1*v(p)
+               left(i, 4) = r1*t1*v(p)
+               right(i, 2) = r2*t2
+               right(i, 3) = r2*v(p)
+               right(i, 4) = r2*t2*v(p)
+            end if
+            if (iand(shares, share_stress) /= 0) then
+               left(i, 5) = r1*svb(i)
+               right(i, 5) = r2*svb(i)
+            end if
+         end do
+         end if
          ! the block's totals (macros of mpm_lanes.fypi, expanded here)
          if (moves) then
             do lane_i = 1, n - lanes + 1, lanes
@@ -3723,7 +4037,7 @@ contains
       real(dp), intent(inout), contiguous, optional :: gradient(:), force_left(:), force_right(:)
       integer :: p, e, i, n, b0, first, last, lo, hi, outside, ahead, elements
       real(dp) :: half_m, strain_factor, dstrain, inv_dx, dt, youngs_modulus, m, volume0
-      real(dp) :: linear
+      logical :: linear
       type(largest_move_t) :: largest
       real(dp) :: displacement(lanes), kinetic(lanes), strain(lanes), min_j(lanes)
       integer :: cb(block_size)
@@ -3746,7 +4060,7 @@ contains
       inv_dx = constants%inv_dx
       dt = constants%dt
       youngs_modulus = constants%youngs_modulus
-      linear = merge(1.0_dp, 0.0_dp, constants%linear)
+      linear = constants%linear
       m = constants%mass
       volume0 = constants%volume0
       call open_segment(k, shares, seg, mass_left, mass_right, momentum_left, momentum_right, stress_volume, first, last, &
@@ -3771,6 +4085,7 @@ contains
                call prefetch_elements(cell(b0), cell(b0 + n - 1), strain_increment_of)
             end if
          end if
+         if (linear) then
          do i = 1, n
             p = b0 + i - 1
             e = cell(p)
@@ -3802,8 +4117,7 @@ contains
                else
                   dstrain = r1*strain_increment_of(e) + r2*strain_increment_of(e + 1)
                end if
-               call stress_particle(dstrain, youngs_modulus, strain_factor, volume0, linear, stress(p), volume_ratio(p), &
-                                    sb(i), svb(i))
+               call stress_linear(dstrain, youngs_modulus, strain_factor, volume0, stress(p), volume_ratio(p), sb(i), svb(i))
                jb(i) = volume_ratio(p)
             end if
             if (relocates) then ! the parts at the new position (with the new J)
@@ -3832,6 +4146,68 @@ contains
                right(i, 5) = r2*svb(i)
             end if
          end do
+         else
+         do i = 1, n
+            p = b0 + i - 1
+            e = cell(p)
+            ! the parts at the start of the step from x and J (USF's move pass: the J its stress pass kept);
+            ! the stress passes need only the cell and the fraction r2, kept by the pass before (MUSL's
+            ! remap: the particle has moved since; USF's move pass of the step before, as it relocated it)
+            if (kernel == pass_musl_stress .or. kernel == pass_usf_stress) then
+               r2 = carry(p)
+               r1 = 1.0_dp - r2
+               if (kernel == pass_usf_stress) carry(p) = volume_ratio(p) ! J for the move pass's box
+            else
+               if (kernel == pass_usf_move) then
+                  jstart = carry(p)
+               else
+                  jstart = volume_ratio(p)
+               end if
+               l = box_half_length(half_length0, jstart, 1.0_dp, inv_dx)
+               call gimp_box((x(p) - origin)*inv_dx, l, elements, node, r1, r2, t1, t2, flag)
+               e = node + 1
+               if (kernel == pass_musl_remap) carry(p) = r2
+            end if
+            if (moves) call g2p_box(r1, r2, t1, t2, acceleration(e - 1), acceleration(e), acceleration(e + 1), &
+                                    velocity(e - 1), velocity(e), velocity(e + 1), inv_dx, dt, half_m, x0(p), x(p), v(p), &
+                                    db(i), kb(i), mb(i, slot))
+            if (stresses) then ! d eps = dt sum dS v_I = r1 (element e's) + r2 (element e + 1's)
+               if (moves) then
+                  dstrain = r1*strain_increment(velocity(e - 1), velocity(e), dt, inv_dx) + &
+                            r2*strain_increment(velocity(e), velocity(e + 1), dt, inv_dx)
+               else
+                  dstrain = r1*strain_increment_of(e) + r2*strain_increment_of(e + 1)
+               end if
+               call stress_hencky(dstrain, youngs_modulus, strain_factor, volume0, stress(p), volume_ratio(p), sb(i), svb(i))
+               jb(i) = volume_ratio(p)
+            end if
+            if (relocates) then ! the parts at the new position (with the new J)
+               l = box_half_length(half_length0, volume_ratio(p), 1.0_dp, inv_dx)
+               call gimp_box((x(p) - origin)*inv_dx, l, elements, node, r1, r2, t1, t2, flag)
+               cb(i) = (node + 1)*flag
+               cell(p) = cb(i)
+               if (kernel == pass_usf_move) carry(p) = r2
+            else
+               cb(i) = e
+            end if
+            ! the sums of the parts the pass scatters (accumulate_boxes); right(i, 1) = r2 tells it which
+            ! particles have a right part
+            left(i, 1) = r1
+            right(i, 1) = r2
+            if (iand(shares, share_mass + share_momentum) /= 0) then
+               left(i, 2) = r1*t1
+               left(i, 3) = r1*v(p)
+               left(i, 4) = r1*t1*v(p)
+               right(i, 2) = r2*t2
+               right(i, 3) = r2*v(p)
+               right(i, 4) = r2*t2*v(p)
+            end if
+            if (iand(shares, share_stress) /= 0) then
+               left(i, 5) = r1*svb(i)
+               right(i, 5) = r2*svb(i)
+            end if
+         end do
+         end if
          ! the block's totals (macros of mpm_lanes.fypi, expanded here)
          if (moves) then
             do lane_i = 1, n - lanes + 1, lanes
@@ -3909,7 +4285,7 @@ contains
       real(dp), intent(inout), contiguous, optional :: gradient(:), force_left(:), force_right(:)
       integer :: p, e, i, n, b0, first, last, lo, hi, outside, ahead, elements
       real(dp) :: half_m, strain_factor, dstrain, inv_dx, dt, youngs_modulus, m, volume0
-      real(dp) :: linear
+      logical :: linear
       type(largest_move_t) :: largest
       real(dp) :: displacement(lanes), kinetic(lanes), strain(lanes), min_j(lanes)
       integer :: cb(block_size)
@@ -3932,7 +4308,7 @@ contains
       inv_dx = constants%inv_dx
       dt = constants%dt
       youngs_modulus = constants%youngs_modulus
-      linear = merge(1.0_dp, 0.0_dp, constants%linear)
+      linear = constants%linear
       m = constants%mass
       volume0 = constants%volume0
       call open_segment(k, shares, seg, mass_left, mass_right, momentum_left, momentum_right, stress_volume, first, last, &
@@ -3988,8 +4364,7 @@ contains
                else
                   dstrain = r1*strain_increment_of(e) + r2*strain_increment_of(e + 1)
                end if
-               call stress_particle(dstrain, youngs_modulus, strain_factor, volume0, linear, stress(p), volume_ratio(p), &
-                                    sb(i), svb(i))
+               call stress_hencky(dstrain, youngs_modulus, strain_factor, volume0, stress(p), volume_ratio(p), sb(i), svb(i))
                jb(i) = volume_ratio(p)
             end if
             if (relocates) then ! the parts at the new position (with the new J)
@@ -4095,7 +4470,7 @@ contains
       real(dp), intent(inout), contiguous, optional :: gradient(:), force_left(:), force_right(:)
       integer :: p, e, i, n, b0, first, last, lo, hi, outside, ahead, elements
       real(dp) :: half_m, strain_factor, dstrain, inv_dx, dt, youngs_modulus, m, volume0
-      real(dp) :: linear
+      logical :: linear
       type(largest_move_t) :: largest
       real(dp) :: displacement(lanes), kinetic(lanes), strain(lanes), min_j(lanes)
       integer :: cb(block_size)
@@ -4118,7 +4493,7 @@ contains
       inv_dx = constants%inv_dx
       dt = constants%dt
       youngs_modulus = constants%youngs_modulus
-      linear = merge(1.0_dp, 0.0_dp, constants%linear)
+      linear = constants%linear
       m = constants%mass
       volume0 = constants%volume0
       call open_segment(k, shares, seg, mass_left, mass_right, momentum_left, momentum_right, stress_volume, first, last, &
@@ -4143,6 +4518,7 @@ contains
                call prefetch_elements(cell(b0), cell(b0 + n - 1), strain_increment_of)
             end if
          end if
+         if (linear) then
          do i = 1, n
             p = b0 + i - 1
             e = cell(p)
@@ -4174,8 +4550,7 @@ contains
                else
                   dstrain = r1*strain_increment_of(e) + r2*strain_increment_of(e + 1)
                end if
-               call stress_particle(dstrain, youngs_modulus, strain_factor, volume0, linear, stress(p), volume_ratio(p), &
-                                    sb(i), svb(i))
+               call stress_linear(dstrain, youngs_modulus, strain_factor, volume0, stress(p), volume_ratio(p), sb(i), svb(i))
                jb(i) = volume_ratio(p)
             end if
             if (relocates) then ! the parts at the new position (with the new J)
@@ -4204,6 +4579,68 @@ contains
                right(i, 5) = r2*svb(i)
             end if
          end do
+         else
+         do i = 1, n
+            p = b0 + i - 1
+            e = cell(p)
+            ! the parts at the start of the step from x and J (USF's move pass: the J its stress pass kept);
+            ! the stress passes need only the cell and the fraction r2, kept by the pass before (MUSL's
+            ! remap: the particle has moved since; USF's move pass of the step before, as it relocated it)
+            if (kernel == pass_musl_stress .or. kernel == pass_usf_stress) then
+               r2 = carry(p)
+               r1 = 1.0_dp - r2
+               if (kernel == pass_usf_stress) carry(p) = volume_ratio(p) ! J for the move pass's box
+            else
+               if (kernel == pass_usf_move) then
+                  jstart = carry(p)
+               else
+                  jstart = volume_ratio(p)
+               end if
+               l = box_half_length(half_length0, jstart, 1.0_dp, inv_dx)
+               call gimp_box((x(p) - origin)*inv_dx, l, elements, node, r1, r2, t1, t2, flag)
+               e = node + 1
+               if (kernel == pass_musl_remap) carry(p) = r2
+            end if
+            if (moves) call g2p_box(r1, r2, t1, t2, acceleration(e - 1), acceleration(e), acceleration(e + 1), &
+                                    velocity(e - 1), velocity(e), velocity(e + 1), inv_dx, dt, half_m, x0(p), x(p), v(p), &
+                                    db(i), kb(i), mb(i, slot))
+            if (stresses) then ! d eps = dt sum dS v_I = r1 (element e's) + r2 (element e + 1's)
+               if (moves) then
+                  dstrain = r1*strain_increment(velocity(e - 1), velocity(e), dt, inv_dx) + &
+                            r2*strain_increment(velocity(e), velocity(e + 1), dt, inv_dx)
+               else
+                  dstrain = r1*strain_increment_of(e) + r2*strain_increment_of(e + 1)
+               end if
+               call stress_hencky(dstrain, youngs_modulus, strain_factor, volume0, stress(p), volume_ratio(p), sb(i), svb(i))
+               jb(i) = volume_ratio(p)
+            end if
+            if (relocates) then ! the parts at the new position (with the new J)
+               l = box_half_length(half_length0, volume_ratio(p), 1.0_dp, inv_dx)
+               call gimp_box((x(p) - origin)*inv_dx, l, elements, node, r1, r2, t1, t2, flag)
+               cb(i) = (node + 1)*flag
+               cell(p) = cb(i)
+               if (kernel == pass_usf_move) carry(p) = r2
+            else
+               cb(i) = e
+            end if
+            ! the sums of the parts the pass scatters (accumulate_boxes); right(i, 1) = r2 tells it which
+            ! particles have a right part
+            left(i, 1) = r1
+            right(i, 1) = r2
+            if (iand(shares, share_mass + share_momentum) /= 0) then
+               left(i, 2) = r1*t1
+               left(i, 3) = r1*v(p)
+               left(i, 4) = r1*t1*v(p)
+               right(i, 2) = r2*t2
+               right(i, 3) = r2*v(p)
+               right(i, 4) = r2*t2*v(p)
+            end if
+            if (iand(shares, share_stress) /= 0) then
+               left(i, 5) = r1*svb(i)
+               right(i, 5) = r2*svb(i)
+            end if
+         end do
+         end if
          ! the block's totals (macros of mpm_lanes.fypi, expanded here)
          if (moves) then
             do lane_i = 1, n - lanes + 1, lanes
@@ -4281,7 +4718,7 @@ contains
       real(dp), intent(inout), contiguous, optional :: gradient(:), force_left(:), force_right(:)
       integer :: p, e, i, n, b0, first, last, lo, hi, outside, ahead, elements
       real(dp) :: half_m, strain_factor, dstrain, inv_dx, dt, youngs_modulus, m, volume0
-      real(dp) :: linear
+      logical :: linear
       type(largest_move_t) :: largest
       real(dp) :: displacement(lanes), kinetic(lanes), strain(lanes), min_j(lanes)
       integer :: cb(block_size)
@@ -4301,7 +4738,7 @@ contains
       inv_dx = constants%inv_dx
       dt = constants%dt
       youngs_modulus = constants%youngs_modulus
-      linear = merge(1.0_dp, 0.0_dp, constants%linear)
+      linear = constants%linear
       m = constants%mass
       volume0 = constants%volume0
       call open_segment(k, shares, seg, mass_left, mass_right, momentum_left, momentum_right, stress_volume, first, last, &
@@ -4350,8 +4787,7 @@ contains
                else
                   dstrain = r1*strain_increment_of(e) + r2*strain_increment_of(e + 1)
                end if
-               call stress_particle(dstrain, youngs_modulus, strain_factor, volume0, linear, stress(p), volume_ratio(p), &
-                                    sb(i), svb(i))
+               call stress_hencky(dstrain, youngs_modulus, strain_factor, volume0, stress(p), volume_ratio(p), sb(i), svb(i))
                jb(i) = volume_ratio(p)
             end if
             if (relocates) then ! the parts at the new position
@@ -4456,7 +4892,7 @@ contains
       real(dp), intent(inout), contiguous, optional :: gradient(:), force_left(:), force_right(:)
       integer :: p, e, i, n, b0, first, last, lo, hi, outside, ahead, elements
       real(dp) :: half_m, strain_factor, dstrain, inv_dx, dt, youngs_modulus, m, volume0
-      real(dp) :: linear
+      logical :: linear
       type(largest_move_t) :: largest
       real(dp) :: displacement(lanes), kinetic(lanes), strain(lanes), min_j(lanes)
       integer :: cb(block_size)
@@ -4476,7 +4912,7 @@ contains
       inv_dx = constants%inv_dx
       dt = constants%dt
       youngs_modulus = constants%youngs_modulus
-      linear = merge(1.0_dp, 0.0_dp, constants%linear)
+      linear = constants%linear
       m = constants%mass
       volume0 = constants%volume0
       call open_segment(k, shares, seg, mass_left, mass_right, momentum_left, momentum_right, stress_volume, first, last, &
@@ -4501,6 +4937,7 @@ contains
                call prefetch_elements(cell(b0), cell(b0 + n - 1), strain_increment_of)
             end if
          end if
+         if (linear) then
          do i = 1, n
             p = b0 + i - 1
             e = cell(p)
@@ -4525,8 +4962,7 @@ contains
                else
                   dstrain = r1*strain_increment_of(e) + r2*strain_increment_of(e + 1)
                end if
-               call stress_particle(dstrain, youngs_modulus, strain_factor, volume0, linear, stress(p), volume_ratio(p), &
-                                    sb(i), svb(i))
+               call stress_linear(dstrain, youngs_modulus, strain_factor, volume0, stress(p), volume_ratio(p), sb(i), svb(i))
                jb(i) = volume_ratio(p)
             end if
             if (relocates) then ! the parts at the new position
@@ -4554,6 +4990,60 @@ contains
                right(i, 5) = r2*svb(i)
             end if
          end do
+         else
+         do i = 1, n
+            p = b0 + i - 1
+            e = cell(p)
+            ! the parts at the start of the step from x;
+            ! the stress passes need only the cell and the fraction r2, kept by the pass before (MUSL's
+            ! remap: the particle has moved since; USF's move pass of the step before, as it relocated it)
+            if (kernel == pass_musl_stress .or. kernel == pass_usf_stress) then
+               r2 = carry(p)
+               r1 = 1.0_dp - r2
+            else
+               call spline_parts((x(p) - origin)*inv_dx, elements, node, r1, r2, t1, t2, flag)
+               e = node + 1
+               if (kernel == pass_musl_remap) carry(p) = r2
+            end if
+            if (moves) call g2p_box(r1, r2, t1, t2, acceleration(e - 1), acceleration(e), acceleration(e + 1), &
+                                    velocity(e - 1), velocity(e), velocity(e + 1), inv_dx, dt, half_m, x0(p), x(p), v(p), &
+                                    db(i), kb(i), mb(i, slot))
+            if (stresses) then ! d eps = dt sum dS v_I = r1 (element e's) + r2 (element e + 1's)
+               if (moves) then
+                  dstrain = r1*strain_increment(velocity(e - 1), velocity(e), dt, inv_dx) + &
+                            r2*strain_increment(velocity(e), velocity(e + 1), dt, inv_dx)
+               else
+                  dstrain = r1*strain_increment_of(e) + r2*strain_increment_of(e + 1)
+               end if
+               call stress_hencky(dstrain, youngs_modulus, strain_factor, volume0, stress(p), volume_ratio(p), sb(i), svb(i))
+               jb(i) = volume_ratio(p)
+            end if
+            if (relocates) then ! the parts at the new position
+               call spline_parts((x(p) - origin)*inv_dx, elements, node, r1, r2, t1, t2, flag)
+               cb(i) = (node + 1)*flag
+               cell(p) = cb(i)
+               if (kernel == pass_usf_move) carry(p) = r2
+            else
+               cb(i) = e
+            end if
+            ! the sums of the parts the pass scatters (accumulate_boxes); right(i, 1) = r2 tells it which
+            ! particles have a right part
+            left(i, 1) = r1
+            right(i, 1) = r2
+            if (iand(shares, share_mass + share_momentum) /= 0) then
+               left(i, 2) = r1*t1
+               left(i, 3) = r1*v(p)
+               left(i, 4) = r1*t1*v(p)
+               right(i, 2) = r2*t2
+               right(i, 3) = r2*v(p)
+               right(i, 4) = r2*t2*v(p)
+            end if
+            if (iand(shares, share_stress) /= 0) then
+               left(i, 5) = r1*svb(i)
+               right(i, 5) = r2*svb(i)
+            end if
+         end do
+         end if
          ! the block's totals (macros of mpm_lanes.fypi, expanded here)
          if (moves) then
             do lane_i = 1, n - lanes + 1, lanes
@@ -4631,7 +5121,7 @@ contains
       real(dp), intent(inout), contiguous, optional :: gradient(:), force_left(:), force_right(:)
       integer :: p, e, i, n, b0, first, last, lo, hi, outside, ahead, elements
       real(dp) :: half_m, strain_factor, dstrain, inv_dx, dt, youngs_modulus, m, volume0
-      real(dp) :: linear
+      logical :: linear
       type(largest_move_t) :: largest
       real(dp) :: displacement(lanes), kinetic(lanes), strain(lanes), min_j(lanes)
       integer :: cb(block_size)
@@ -4651,7 +5141,7 @@ contains
       inv_dx = constants%inv_dx
       dt = constants%dt
       youngs_modulus = constants%youngs_modulus
-      linear = merge(1.0_dp, 0.0_dp, constants%linear)
+      linear = constants%linear
       m = constants%mass
       volume0 = constants%volume0
       call open_segment(k, shares, seg, mass_left, mass_right, momentum_left, momentum_right, stress_volume, first, last, &
@@ -4676,6 +5166,7 @@ contains
                call prefetch_elements(cell(b0), cell(b0 + n - 1), strain_increment_of)
             end if
          end if
+         if (linear) then
          do i = 1, n
             p = b0 + i - 1
             e = cell(p)
@@ -4700,8 +5191,7 @@ contains
                else
                   dstrain = r1*strain_increment_of(e) + r2*strain_increment_of(e + 1)
                end if
-               call stress_particle(dstrain, youngs_modulus, strain_factor, volume0, linear, stress(p), volume_ratio(p), &
-                                    sb(i), svb(i))
+               call stress_linear(dstrain, youngs_modulus, strain_factor, volume0, stress(p), volume_ratio(p), sb(i), svb(i))
                jb(i) = volume_ratio(p)
             end if
             if (relocates) then ! the parts at the new position
@@ -4729,6 +5219,60 @@ contains
                right(i, 5) = r2*svb(i)
             end if
          end do
+         else
+         do i = 1, n
+            p = b0 + i - 1
+            e = cell(p)
+            ! the parts at the start of the step from x;
+            ! the stress passes need only the cell and the fraction r2, kept by the pass before (MUSL's
+            ! remap: the particle has moved since; USF's move pass of the step before, as it relocated it)
+            if (kernel == pass_musl_stress .or. kernel == pass_usf_stress) then
+               r2 = carry(p)
+               r1 = 1.0_dp - r2
+            else
+               call spline_parts((x(p) - origin)*inv_dx, elements, node, r1, r2, t1, t2, flag)
+               e = node + 1
+               if (kernel == pass_musl_remap) carry(p) = r2
+            end if
+            if (moves) call g2p_box(r1, r2, t1, t2, acceleration(e - 1), acceleration(e), acceleration(e + 1), &
+                                    velocity(e - 1), velocity(e), velocity(e + 1), inv_dx, dt, half_m, x0(p), x(p), v(p), &
+                                    db(i), kb(i), mb(i, slot))
+            if (stresses) then ! d eps = dt sum dS v_I = r1 (element e's) + r2 (element e + 1's)
+               if (moves) then
+                  dstrain = r1*strain_increment(velocity(e - 1), velocity(e), dt, inv_dx) + &
+                            r2*strain_increment(velocity(e), velocity(e + 1), dt, inv_dx)
+               else
+                  dstrain = r1*strain_increment_of(e) + r2*strain_increment_of(e + 1)
+               end if
+               call stress_hencky(dstrain, youngs_modulus, strain_factor, volume0, stress(p), volume_ratio(p), sb(i), svb(i))
+               jb(i) = volume_ratio(p)
+            end if
+            if (relocates) then ! the parts at the new position
+               call spline_parts((x(p) - origin)*inv_dx, elements, node, r1, r2, t1, t2, flag)
+               cb(i) = (node + 1)*flag
+               cell(p) = cb(i)
+               if (kernel == pass_usf_move) carry(p) = r2
+            else
+               cb(i) = e
+            end if
+            ! the sums of the parts the pass scatters (accumulate_boxes); right(i, 1) = r2 tells it which
+            ! particles have a right part
+            left(i, 1) = r1
+            right(i, 1) = r2
+            if (iand(shares, share_mass + share_momentum) /= 0) then
+               left(i, 2) = r1*t1
+               left(i, 3) = r1*v(p)
+               left(i, 4) = r1*t1*v(p)
+               right(i, 2) = r2*t2
+               right(i, 3) = r2*v(p)
+               right(i, 4) = r2*t2*v(p)
+            end if
+            if (iand(shares, share_stress) /= 0) then
+               left(i, 5) = r1*svb(i)
+               right(i, 5) = r2*svb(i)
+            end if
+         end do
+         end if
          ! the block's totals (macros of mpm_lanes.fypi, expanded here)
          if (moves) then
             do lane_i = 1, n - lanes + 1, lanes
@@ -4806,7 +5350,7 @@ contains
       real(dp), intent(inout), contiguous, optional :: gradient(:), force_left(:), force_right(:)
       integer :: p, e, i, n, b0, first, last, lo, hi, outside, ahead, elements
       real(dp) :: half_m, strain_factor, dstrain, inv_dx, dt, youngs_modulus, m, volume0
-      real(dp) :: linear
+      logical :: linear
       type(largest_move_t) :: largest
       real(dp) :: displacement(lanes), kinetic(lanes), strain(lanes), min_j(lanes)
       integer :: cb(block_size)
@@ -4826,7 +5370,7 @@ contains
       inv_dx = constants%inv_dx
       dt = constants%dt
       youngs_modulus = constants%youngs_modulus
-      linear = merge(1.0_dp, 0.0_dp, constants%linear)
+      linear = constants%linear
       m = constants%mass
       volume0 = constants%volume0
       call open_segment(k, shares, seg, mass_left, mass_right, momentum_left, momentum_right, stress_volume, first, last, &
@@ -4875,8 +5419,7 @@ contains
                else
                   dstrain = r1*strain_increment_of(e) + r2*strain_increment_of(e + 1)
                end if
-               call stress_particle(dstrain, youngs_modulus, strain_factor, volume0, linear, stress(p), volume_ratio(p), &
-                                    sb(i), svb(i))
+               call stress_hencky(dstrain, youngs_modulus, strain_factor, volume0, stress(p), volume_ratio(p), sb(i), svb(i))
                jb(i) = volume_ratio(p)
             end if
             if (relocates) then ! the parts at the new position
@@ -4981,7 +5524,7 @@ contains
       real(dp), intent(inout), contiguous, optional :: gradient(:), force_left(:), force_right(:)
       integer :: p, e, i, n, b0, first, last, lo, hi, outside, ahead, elements
       real(dp) :: half_m, strain_factor, dstrain, inv_dx, dt, youngs_modulus, m, volume0
-      real(dp) :: linear
+      logical :: linear
       type(largest_move_t) :: largest
       real(dp) :: displacement(lanes), kinetic(lanes), strain(lanes), min_j(lanes)
       integer :: cb(block_size)
@@ -5001,7 +5544,7 @@ contains
       inv_dx = constants%inv_dx
       dt = constants%dt
       youngs_modulus = constants%youngs_modulus
-      linear = merge(1.0_dp, 0.0_dp, constants%linear)
+      linear = constants%linear
       m = constants%mass
       volume0 = constants%volume0
       call open_segment(k, shares, seg, mass_left, mass_right, momentum_left, momentum_right, stress_volume, first, last, &
@@ -5026,6 +5569,7 @@ contains
                call prefetch_elements(cell(b0), cell(b0 + n - 1), strain_increment_of)
             end if
          end if
+         if (linear) then
          do i = 1, n
             p = b0 + i - 1
             e = cell(p)
@@ -5050,8 +5594,7 @@ contains
                else
                   dstrain = r1*strain_increment_of(e) + r2*strain_increment_of(e + 1)
                end if
-               call stress_particle(dstrain, youngs_modulus, strain_factor, volume0, linear, stress(p), volume_ratio(p), &
-                                    sb(i), svb(i))
+               call stress_linear(dstrain, youngs_modulus, strain_factor, volume0, stress(p), volume_ratio(p), sb(i), svb(i))
                jb(i) = volume_ratio(p)
             end if
             if (relocates) then ! the parts at the new position
@@ -5079,6 +5622,60 @@ contains
                right(i, 5) = r2*svb(i)
             end if
          end do
+         else
+         do i = 1, n
+            p = b0 + i - 1
+            e = cell(p)
+            ! the parts at the start of the step from x;
+            ! the stress passes need only the cell and the fraction r2, kept by the pass before (MUSL's
+            ! remap: the particle has moved since; USF's move pass of the step before, as it relocated it)
+            if (kernel == pass_musl_stress .or. kernel == pass_usf_stress) then
+               r2 = carry(p)
+               r1 = 1.0_dp - r2
+            else
+               call spline_parts((x(p) - origin)*inv_dx, elements, node, r1, r2, t1, t2, flag)
+               e = node + 1
+               if (kernel == pass_musl_remap) carry(p) = r2
+            end if
+            if (moves) call g2p_box(r1, r2, t1, t2, acceleration(e - 1), acceleration(e), acceleration(e + 1), &
+                                    velocity(e - 1), velocity(e), velocity(e + 1), inv_dx, dt, half_m, x0(p), x(p), v(p), &
+                                    db(i), kb(i), mb(i, slot))
+            if (stresses) then ! d eps = dt sum dS v_I = r1 (element e's) + r2 (element e + 1's)
+               if (moves) then
+                  dstrain = r1*strain_increment(velocity(e - 1), velocity(e), dt, inv_dx) + &
+                            r2*strain_increment(velocity(e), velocity(e + 1), dt, inv_dx)
+               else
+                  dstrain = r1*strain_increment_of(e) + r2*strain_increment_of(e + 1)
+               end if
+               call stress_hencky(dstrain, youngs_modulus, strain_factor, volume0, stress(p), volume_ratio(p), sb(i), svb(i))
+               jb(i) = volume_ratio(p)
+            end if
+            if (relocates) then ! the parts at the new position
+               call spline_parts((x(p) - origin)*inv_dx, elements, node, r1, r2, t1, t2, flag)
+               cb(i) = (node + 1)*flag
+               cell(p) = cb(i)
+               if (kernel == pass_usf_move) carry(p) = r2
+            else
+               cb(i) = e
+            end if
+            ! the sums of the parts the pass scatters (accumulate_boxes); right(i, 1) = r2 tells it which
+            ! particles have a right part
+            left(i, 1) = r1
+            right(i, 1) = r2
+            if (iand(shares, share_mass + share_momentum) /= 0) then
+               left(i, 2) = r1*t1
+               left(i, 3) = r1*v(p)
+               left(i, 4) = r1*t1*v(p)
+               right(i, 2) = r2*t2
+               right(i, 3) = r2*v(p)
+               right(i, 4) = r2*t2*v(p)
+            end if
+            if (iand(shares, share_stress) /= 0) then
+               left(i, 5) = r1*svb(i)
+               right(i, 5) = r2*svb(i)
+            end if
+         end do
+         end if
          ! the block's totals (macros of mpm_lanes.fypi, expanded here)
          if (moves) then
             do lane_i = 1, n - lanes + 1, lanes
@@ -5156,7 +5753,7 @@ contains
       real(dp), intent(inout), contiguous, optional :: gradient(:), force_left(:), force_right(:)
       integer :: p, e, i, n, b0, first, last, lo, hi, outside, ahead, elements
       real(dp) :: half_m, strain_factor, dstrain, inv_dx, dt, youngs_modulus, m, volume0
-      real(dp) :: linear
+      logical :: linear
       type(largest_move_t) :: largest
       real(dp) :: displacement(lanes), kinetic(lanes), strain(lanes), min_j(lanes)
       integer :: cb(block_size)
@@ -5176,7 +5773,7 @@ contains
       inv_dx = constants%inv_dx
       dt = constants%dt
       youngs_modulus = constants%youngs_modulus
-      linear = merge(1.0_dp, 0.0_dp, constants%linear)
+      linear = constants%linear
       m = constants%mass
       volume0 = constants%volume0
       call open_segment(k, shares, seg, mass_left, mass_right, momentum_left, momentum_right, stress_volume, first, last, &
@@ -5226,8 +5823,7 @@ contains
                else
                   dstrain = r1*strain_increment_of(e - 1) + r2*strain_increment_of(e) + r3*strain_increment_of(e + 1)
                end if
-               call stress_particle(dstrain, youngs_modulus, strain_factor, volume0, linear, stress(p), volume_ratio(p), &
-                                    sb(i), svb(i))
+               call stress_hencky(dstrain, youngs_modulus, strain_factor, volume0, stress(p), volume_ratio(p), sb(i), svb(i))
                jb(i) = volume_ratio(p)
             end if
             if (relocates) then ! the spline at the new position
@@ -5339,7 +5935,7 @@ contains
       real(dp), intent(inout), contiguous, optional :: gradient(:), force_left(:), force_right(:)
       integer :: p, e, i, n, b0, first, last, lo, hi, outside, ahead, elements
       real(dp) :: half_m, strain_factor, dstrain, inv_dx, dt, youngs_modulus, m, volume0
-      real(dp) :: linear
+      logical :: linear
       type(largest_move_t) :: largest
       real(dp) :: displacement(lanes), kinetic(lanes), strain(lanes), min_j(lanes)
       integer :: cb(block_size)
@@ -5359,7 +5955,7 @@ contains
       inv_dx = constants%inv_dx
       dt = constants%dt
       youngs_modulus = constants%youngs_modulus
-      linear = merge(1.0_dp, 0.0_dp, constants%linear)
+      linear = constants%linear
       m = constants%mass
       volume0 = constants%volume0
       call open_segment(k, shares, seg, mass_left, mass_right, momentum_left, momentum_right, stress_volume, first, last, &
@@ -5384,6 +5980,7 @@ contains
                call prefetch_elements(cell(b0), cell(b0 + n - 1), strain_increment_of)
             end if
          end if
+         if (linear) then
          do i = 1, n
             p = b0 + i - 1
             e = cell(p)
@@ -5409,8 +6006,7 @@ contains
                else
                   dstrain = r1*strain_increment_of(e - 1) + r2*strain_increment_of(e) + r3*strain_increment_of(e + 1)
                end if
-               call stress_particle(dstrain, youngs_modulus, strain_factor, volume0, linear, stress(p), volume_ratio(p), &
-                                    sb(i), svb(i))
+               call stress_linear(dstrain, youngs_modulus, strain_factor, volume0, stress(p), volume_ratio(p), sb(i), svb(i))
                jb(i) = volume_ratio(p)
             end if
             if (relocates) then ! the spline at the new position
@@ -5442,6 +6038,65 @@ contains
                right(i, 5) = r3*svb(i)
             end if
          end do
+         else
+         do i = 1, n
+            p = b0 + i - 1
+            e = cell(p)
+            ! the cubic B-spline in three parts, in the elements e - 1, e, e + 1 about its middle cell e
+            ! (see cubic_parts): from its span coordinate t at the start of the step (the stress passes:
+            ! t kept by the pass before, as for two parts)
+            if (kernel == pass_musl_stress .or. kernel == pass_usf_stress) then
+               tq = carry(p)
+            else
+               call bspline3_locate(x(p), origin, inv_dx, elements, node, tq, flag)
+               e = node + 2
+               if (kernel == pass_musl_remap) carry(p) = tq
+            end if
+            call cubic_parts(tq, r1, r2, r3, q1, q2, q3)
+            if (moves) call g2p_cubic(r1, r2, r3, q1, q2, q3, acceleration(e - 2), acceleration(e - 1), acceleration(e), &
+                                      acceleration(e + 1), velocity(e - 2), velocity(e - 1), velocity(e), velocity(e + 1), &
+                                      inv_dx, dt, half_m, x0(p), x(p), v(p), db(i), kb(i), mb(i, slot))
+            if (stresses) then
+               if (moves) then
+                  dstrain = r1*strain_increment(velocity(e - 2), velocity(e - 1), dt, inv_dx) + &
+                            r2*strain_increment(velocity(e - 1), velocity(e), dt, inv_dx) + &
+                            r3*strain_increment(velocity(e), velocity(e + 1), dt, inv_dx)
+               else
+                  dstrain = r1*strain_increment_of(e - 1) + r2*strain_increment_of(e) + r3*strain_increment_of(e + 1)
+               end if
+               call stress_hencky(dstrain, youngs_modulus, strain_factor, volume0, stress(p), volume_ratio(p), sb(i), svb(i))
+               jb(i) = volume_ratio(p)
+            end if
+            if (relocates) then ! the spline at the new position
+               call bspline3_locate(x(p), origin, inv_dx, elements, node, tq, flag)
+               call cubic_parts(tq, r1, r2, r3, q1, q2, q3)
+               cb(i) = (node + 2)*flag
+               cell(p) = cb(i)
+               if (kernel == pass_usf_move) carry(p) = tq
+            else
+               cb(i) = e
+            end if
+            left(i, 1) = r1
+            mid(i, 1) = r2
+            right(i, 1) = r3
+            if (iand(shares, share_mass + share_momentum) /= 0) then
+               left(i, 2) = q1
+               left(i, 3) = r1*v(p)
+               left(i, 4) = q1*v(p)
+               mid(i, 2) = q2
+               mid(i, 3) = r2*v(p)
+               mid(i, 4) = q2*v(p)
+               right(i, 2) = q3
+               right(i, 3) = r3*v(p)
+               right(i, 4) = q3*v(p)
+            end if
+            if (iand(shares, share_stress) /= 0) then
+               left(i, 5) = r1*svb(i)
+               mid(i, 5) = r2*svb(i)
+               right(i, 5) = r3*svb(i)
+            end if
+         end do
+         end if
          ! the block's totals (macros of mpm_lanes.fypi, expanded here)
          if (moves) then
             do lane_i = 1, n - lanes + 1, lanes
@@ -5522,7 +6177,7 @@ contains
       real(dp), intent(inout), contiguous, optional :: gradient(:), force_left(:), force_right(:)
       integer :: p, e, i, n, b0, first, last, lo, hi, outside, ahead, elements
       real(dp) :: half_m, strain_factor, dstrain, inv_dx, dt, youngs_modulus, m, volume0
-      real(dp) :: linear
+      logical :: linear
       type(largest_move_t) :: largest
       real(dp) :: displacement(lanes), kinetic(lanes), strain(lanes), min_j(lanes)
       integer :: cb(block_size)
@@ -5542,7 +6197,7 @@ contains
       inv_dx = constants%inv_dx
       dt = constants%dt
       youngs_modulus = constants%youngs_modulus
-      linear = merge(1.0_dp, 0.0_dp, constants%linear)
+      linear = constants%linear
       m = constants%mass
       volume0 = constants%volume0
       call open_segment(k, shares, seg, mass_left, mass_right, momentum_left, momentum_right, stress_volume, first, last, &
@@ -5567,6 +6222,7 @@ contains
                call prefetch_elements(cell(b0), cell(b0 + n - 1), strain_increment_of)
             end if
          end if
+         if (linear) then
          do i = 1, n
             p = b0 + i - 1
             e = cell(p)
@@ -5592,8 +6248,7 @@ contains
                else
                   dstrain = r1*strain_increment_of(e - 1) + r2*strain_increment_of(e) + r3*strain_increment_of(e + 1)
                end if
-               call stress_particle(dstrain, youngs_modulus, strain_factor, volume0, linear, stress(p), volume_ratio(p), &
-                                    sb(i), svb(i))
+               call stress_linear(dstrain, youngs_modulus, strain_factor, volume0, stress(p), volume_ratio(p), sb(i), svb(i))
                jb(i) = volume_ratio(p)
             end if
             if (relocates) then ! the spline at the new position
@@ -5625,6 +6280,65 @@ contains
                right(i, 5) = r3*svb(i)
             end if
          end do
+         else
+         do i = 1, n
+            p = b0 + i - 1
+            e = cell(p)
+            ! the cubic B-spline in three parts, in the elements e - 1, e, e + 1 about its middle cell e
+            ! (see cubic_parts): from its span coordinate t at the start of the step (the stress passes:
+            ! t kept by the pass before, as for two parts)
+            if (kernel == pass_musl_stress .or. kernel == pass_usf_stress) then
+               tq = carry(p)
+            else
+               call bspline3_locate(x(p), origin, inv_dx, elements, node, tq, flag)
+               e = node + 2
+               if (kernel == pass_musl_remap) carry(p) = tq
+            end if
+            call cubic_parts(tq, r1, r2, r3, q1, q2, q3)
+            if (moves) call g2p_cubic(r1, r2, r3, q1, q2, q3, acceleration(e - 2), acceleration(e - 1), acceleration(e), &
+                                      acceleration(e + 1), velocity(e - 2), velocity(e - 1), velocity(e), velocity(e + 1), &
+                                      inv_dx, dt, half_m, x0(p), x(p), v(p), db(i), kb(i), mb(i, slot))
+            if (stresses) then
+               if (moves) then
+                  dstrain = r1*strain_increment(velocity(e - 2), velocity(e - 1), dt, inv_dx) + &
+                            r2*strain_increment(velocity(e - 1), velocity(e), dt, inv_dx) + &
+                            r3*strain_increment(velocity(e), velocity(e + 1), dt, inv_dx)
+               else
+                  dstrain = r1*strain_increment_of(e - 1) + r2*strain_increment_of(e) + r3*strain_increment_of(e + 1)
+               end if
+               call stress_hencky(dstrain, youngs_modulus, strain_factor, volume0, stress(p), volume_ratio(p), sb(i), svb(i))
+               jb(i) = volume_ratio(p)
+            end if
+            if (relocates) then ! the spline at the new position
+               call bspline3_locate(x(p), origin, inv_dx, elements, node, tq, flag)
+               call cubic_parts(tq, r1, r2, r3, q1, q2, q3)
+               cb(i) = (node + 2)*flag
+               cell(p) = cb(i)
+               if (kernel == pass_usf_move) carry(p) = tq
+            else
+               cb(i) = e
+            end if
+            left(i, 1) = r1
+            mid(i, 1) = r2
+            right(i, 1) = r3
+            if (iand(shares, share_mass + share_momentum) /= 0) then
+               left(i, 2) = q1
+               left(i, 3) = r1*v(p)
+               left(i, 4) = q1*v(p)
+               mid(i, 2) = q2
+               mid(i, 3) = r2*v(p)
+               mid(i, 4) = q2*v(p)
+               right(i, 2) = q3
+               right(i, 3) = r3*v(p)
+               right(i, 4) = q3*v(p)
+            end if
+            if (iand(shares, share_stress) /= 0) then
+               left(i, 5) = r1*svb(i)
+               mid(i, 5) = r2*svb(i)
+               right(i, 5) = r3*svb(i)
+            end if
+         end do
+         end if
          ! the block's totals (macros of mpm_lanes.fypi, expanded here)
          if (moves) then
             do lane_i = 1, n - lanes + 1, lanes
@@ -5705,7 +6419,7 @@ contains
       real(dp), intent(inout), contiguous, optional :: gradient(:), force_left(:), force_right(:)
       integer :: p, e, i, n, b0, first, last, lo, hi, outside, ahead, elements
       real(dp) :: half_m, strain_factor, dstrain, inv_dx, dt, youngs_modulus, m, volume0
-      real(dp) :: linear
+      logical :: linear
       type(largest_move_t) :: largest
       real(dp) :: displacement(lanes), kinetic(lanes), strain(lanes), min_j(lanes)
       integer :: cb(block_size)
@@ -5725,7 +6439,7 @@ contains
       inv_dx = constants%inv_dx
       dt = constants%dt
       youngs_modulus = constants%youngs_modulus
-      linear = merge(1.0_dp, 0.0_dp, constants%linear)
+      linear = constants%linear
       m = constants%mass
       volume0 = constants%volume0
       call open_segment(k, shares, seg, mass_left, mass_right, momentum_left, momentum_right, stress_volume, first, last, &
@@ -5775,8 +6489,7 @@ contains
                else
                   dstrain = r1*strain_increment_of(e - 1) + r2*strain_increment_of(e) + r3*strain_increment_of(e + 1)
                end if
-               call stress_particle(dstrain, youngs_modulus, strain_factor, volume0, linear, stress(p), volume_ratio(p), &
-                                    sb(i), svb(i))
+               call stress_hencky(dstrain, youngs_modulus, strain_factor, volume0, stress(p), volume_ratio(p), sb(i), svb(i))
                jb(i) = volume_ratio(p)
             end if
             if (relocates) then ! the spline at the new position
@@ -5888,7 +6601,7 @@ contains
       real(dp), intent(inout), contiguous, optional :: gradient(:), force_left(:), force_right(:)
       integer :: p, e, i, n, b0, first, last, lo, hi, outside, ahead, elements
       real(dp) :: half_m, strain_factor, dstrain, inv_dx, dt, youngs_modulus, m, volume0
-      real(dp) :: linear
+      logical :: linear
       type(largest_move_t) :: largest
       real(dp) :: displacement(lanes), kinetic(lanes), strain(lanes), min_j(lanes)
       integer :: cb(block_size)
@@ -5908,7 +6621,7 @@ contains
       inv_dx = constants%inv_dx
       dt = constants%dt
       youngs_modulus = constants%youngs_modulus
-      linear = merge(1.0_dp, 0.0_dp, constants%linear)
+      linear = constants%linear
       m = constants%mass
       volume0 = constants%volume0
       call open_segment(k, shares, seg, mass_left, mass_right, momentum_left, momentum_right, stress_volume, first, last, &
@@ -5933,6 +6646,7 @@ contains
                call prefetch_elements(cell(b0), cell(b0 + n - 1), strain_increment_of)
             end if
          end if
+         if (linear) then
          do i = 1, n
             p = b0 + i - 1
             e = cell(p)
@@ -5958,8 +6672,7 @@ contains
                else
                   dstrain = r1*strain_increment_of(e - 1) + r2*strain_increment_of(e) + r3*strain_increment_of(e + 1)
                end if
-               call stress_particle(dstrain, youngs_modulus, strain_factor, volume0, linear, stress(p), volume_ratio(p), &
-                                    sb(i), svb(i))
+               call stress_linear(dstrain, youngs_modulus, strain_factor, volume0, stress(p), volume_ratio(p), sb(i), svb(i))
                jb(i) = volume_ratio(p)
             end if
             if (relocates) then ! the spline at the new position
@@ -5991,6 +6704,65 @@ contains
                right(i, 5) = r3*svb(i)
             end if
          end do
+         else
+         do i = 1, n
+            p = b0 + i - 1
+            e = cell(p)
+            ! the cubic B-spline in three parts, in the elements e - 1, e, e + 1 about its middle cell e
+            ! (see cubic_parts): from its span coordinate t at the start of the step (the stress passes:
+            ! t kept by the pass before, as for two parts)
+            if (kernel == pass_musl_stress .or. kernel == pass_usf_stress) then
+               tq = carry(p)
+            else
+               call bspline3_locate(x(p), origin, inv_dx, elements, node, tq, flag)
+               e = node + 2
+               if (kernel == pass_musl_remap) carry(p) = tq
+            end if
+            call cubic_parts(tq, r1, r2, r3, q1, q2, q3)
+            if (moves) call g2p_cubic(r1, r2, r3, q1, q2, q3, acceleration(e - 2), acceleration(e - 1), acceleration(e), &
+                                      acceleration(e + 1), velocity(e - 2), velocity(e - 1), velocity(e), velocity(e + 1), &
+                                      inv_dx, dt, half_m, x0(p), x(p), v(p), db(i), kb(i), mb(i, slot))
+            if (stresses) then
+               if (moves) then
+                  dstrain = r1*strain_increment(velocity(e - 2), velocity(e - 1), dt, inv_dx) + &
+                            r2*strain_increment(velocity(e - 1), velocity(e), dt, inv_dx) + &
+                            r3*strain_increment(velocity(e), velocity(e + 1), dt, inv_dx)
+               else
+                  dstrain = r1*strain_increment_of(e - 1) + r2*strain_increment_of(e) + r3*strain_increment_of(e + 1)
+               end if
+               call stress_hencky(dstrain, youngs_modulus, strain_factor, volume0, stress(p), volume_ratio(p), sb(i), svb(i))
+               jb(i) = volume_ratio(p)
+            end if
+            if (relocates) then ! the spline at the new position
+               call bspline3_locate(x(p), origin, inv_dx, elements, node, tq, flag)
+               call cubic_parts(tq, r1, r2, r3, q1, q2, q3)
+               cb(i) = (node + 2)*flag
+               cell(p) = cb(i)
+               if (kernel == pass_usf_move) carry(p) = tq
+            else
+               cb(i) = e
+            end if
+            left(i, 1) = r1
+            mid(i, 1) = r2
+            right(i, 1) = r3
+            if (iand(shares, share_mass + share_momentum) /= 0) then
+               left(i, 2) = q1
+               left(i, 3) = r1*v(p)
+               left(i, 4) = q1*v(p)
+               mid(i, 2) = q2
+               mid(i, 3) = r2*v(p)
+               mid(i, 4) = q2*v(p)
+               right(i, 2) = q3
+               right(i, 3) = r3*v(p)
+               right(i, 4) = q3*v(p)
+            end if
+            if (iand(shares, share_stress) /= 0) then
+               left(i, 5) = r1*svb(i)
+               mid(i, 5) = r2*svb(i)
+               right(i, 5) = r3*svb(i)
+            end if
+         end do
+         end if
          ! the block's totals (macros of mpm_lanes.fypi, expanded here)
          if (moves) then
             do lane_i = 1, n - lanes + 1, lanes
@@ -6071,7 +6843,7 @@ contains
       real(dp), intent(inout), contiguous, optional :: gradient(:), force_left(:), force_right(:)
       integer :: p, e, i, n, b0, first, last, lo, hi, outside, ahead, elements
       real(dp) :: half_m, strain_factor, dstrain, inv_dx, dt, youngs_modulus, m, volume0
-      real(dp) :: linear
+      logical :: linear
       type(largest_move_t) :: largest
       real(dp) :: displacement(lanes), kinetic(lanes), strain(lanes), min_j(lanes)
       integer :: cb(block_size)
@@ -6090,7 +6862,7 @@ contains
       inv_dx = constants%inv_dx
       dt = constants%dt
       youngs_modulus = constants%youngs_modulus
-      linear = merge(1.0_dp, 0.0_dp, constants%linear)
+      linear = constants%linear
       m = constants%mass
       volume0 = constants%volume0
       call open_segment(k, shares, seg, mass_left, mass_right, momentum_left, momentum_right, stress_volume, first, last, &
@@ -6136,8 +6908,7 @@ contains
                else
                   dstrain = strain_increment_of(e)
                end if
-               call stress_particle(dstrain, youngs_modulus, strain_factor, volume0, linear, stress(p), volume_ratio(p), &
-                                    sb(i), svb(i))
+               call stress_hencky(dstrain, youngs_modulus, strain_factor, volume0, stress(p), volume_ratio(p), sb(i), svb(i))
                jb(i) = volume_ratio(p)
             else if (iand(shares, share_stress) /= 0) then ! (an initial mapping: the stress as it is)
                svb(i) = stress(p)*volume_ratio(p)*volume0
@@ -6224,7 +6995,7 @@ contains
       real(dp), intent(inout), contiguous, optional :: gradient(:), force_left(:), force_right(:)
       integer :: p, e, i, n, b0, first, last, lo, hi, outside, ahead, elements
       real(dp) :: half_m, strain_factor, dstrain, inv_dx, dt, youngs_modulus, m, volume0
-      real(dp) :: linear
+      logical :: linear
       type(largest_move_t) :: largest
       real(dp) :: displacement(lanes), kinetic(lanes), strain(lanes), min_j(lanes)
       integer :: cb(block_size)
@@ -6243,7 +7014,7 @@ contains
       inv_dx = constants%inv_dx
       dt = constants%dt
       youngs_modulus = constants%youngs_modulus
-      linear = merge(1.0_dp, 0.0_dp, constants%linear)
+      linear = constants%linear
       m = constants%mass
       volume0 = constants%volume0
       call open_segment(k, shares, seg, mass_left, mass_right, momentum_left, momentum_right, stress_volume, first, last, &
@@ -6269,6 +7040,7 @@ contains
                call prefetch_elements(cell(b0), cell(b0 + n - 1), strain_increment_of)
             end if
          end if
+         if (linear) then
          do i = 1, n
             p = b0 + i - 1
             e = cell(p)
@@ -6289,8 +7061,7 @@ contains
                else
                   dstrain = strain_increment_of(e)
                end if
-               call stress_particle(dstrain, youngs_modulus, strain_factor, volume0, linear, stress(p), volume_ratio(p), &
-                                    sb(i), svb(i))
+               call stress_linear(dstrain, youngs_modulus, strain_factor, volume0, stress(p), volume_ratio(p), sb(i), svb(i))
                jb(i) = volume_ratio(p)
             else if (iand(shares, share_stress) /= 0) then ! (an initial mapping: the stress as it is)
                svb(i) = stress(p)*volume_ratio(p)*volume0
@@ -6304,6 +7075,42 @@ contains
             end if
             if (moves .or. relocates) vpb(i) = v(p)
          end do
+         else
+         do i = 1, n
+            p = b0 + i - 1
+            e = cell(p)
+            ! G2P with the start-of-step shape functions (PIC)
+            if (moves) then
+               xi = x(p)*inv_dx - (e - 1)
+               vgrid = (1.0_dp - xi)*velocity(e - 1) + xi*velocity(e)
+               v(p) = vgrid
+               dxp = dt*vgrid
+               x(p) = x(p) + dxp
+               db(i) = x(p) - x0(p)
+               kb(i) = half_m*v(p)*v(p)
+               mb(i, slot) = abs(dxp)*inv_dx
+            end if
+            if (stresses) then ! d eps = dt sum dN v_I over the start-of-step cell
+               if (moves) then
+                  dstrain = strain_increment(velocity(e - 1), velocity(e), dt, inv_dx)
+               else
+                  dstrain = strain_increment_of(e)
+               end if
+               call stress_hencky(dstrain, youngs_modulus, strain_factor, volume0, stress(p), volume_ratio(p), sb(i), svb(i))
+               jb(i) = volume_ratio(p)
+            else if (iand(shares, share_stress) /= 0) then ! (an initial mapping: the stress as it is)
+               svb(i) = stress(p)*volume_ratio(p)*volume0
+            end if
+            if (relocates) then ! the new cell, for P2G at the new position
+               call locate_cell(x(p), inv_dx, elements, elements_bits, cb(i), xib(i))
+               cell(p) = cb(i)
+            else                ! the shares go to the start-of-step cell
+               cb(i) = e
+               if (moves) xib(i) = xi
+            end if
+            if (moves .or. relocates) vpb(i) = v(p)
+         end do
+         end if
          ! the block's totals (macros of mpm_lanes.fypi, expanded here)
          if (moves) then
             do lane_i = 1, n - lanes + 1, lanes
@@ -6377,7 +7184,7 @@ contains
       real(dp), intent(inout), contiguous, optional :: gradient(:), force_left(:), force_right(:)
       integer :: p, e, i, n, b0, first, last, lo, hi, outside, ahead, elements
       real(dp) :: half_m, strain_factor, dstrain, inv_dx, dt, youngs_modulus, m, volume0
-      real(dp) :: linear
+      logical :: linear
       type(largest_move_t) :: largest
       real(dp) :: displacement(lanes), kinetic(lanes), strain(lanes), min_j(lanes)
       integer :: cb(block_size)
@@ -6396,7 +7203,7 @@ contains
       inv_dx = constants%inv_dx
       dt = constants%dt
       youngs_modulus = constants%youngs_modulus
-      linear = merge(1.0_dp, 0.0_dp, constants%linear)
+      linear = constants%linear
       m = constants%mass
       volume0 = constants%volume0
       call open_segment(k, shares, seg, mass_left, mass_right, momentum_left, momentum_right, stress_volume, first, last, &
@@ -6422,6 +7229,7 @@ contains
                call prefetch_elements(cell(b0), cell(b0 + n - 1), strain_increment_of)
             end if
          end if
+         if (linear) then
          do i = 1, n
             p = b0 + i - 1
             e = cell(p)
@@ -6442,8 +7250,7 @@ contains
                else
                   dstrain = strain_increment_of(e)
                end if
-               call stress_particle(dstrain, youngs_modulus, strain_factor, volume0, linear, stress(p), volume_ratio(p), &
-                                    sb(i), svb(i))
+               call stress_linear(dstrain, youngs_modulus, strain_factor, volume0, stress(p), volume_ratio(p), sb(i), svb(i))
                jb(i) = volume_ratio(p)
             else if (iand(shares, share_stress) /= 0) then ! (an initial mapping: the stress as it is)
                svb(i) = stress(p)*volume_ratio(p)*volume0
@@ -6457,6 +7264,42 @@ contains
             end if
             if (moves .or. relocates) vpb(i) = v(p)
          end do
+         else
+         do i = 1, n
+            p = b0 + i - 1
+            e = cell(p)
+            ! G2P with the start-of-step shape functions (PIC)
+            if (moves) then
+               xi = x(p)*inv_dx - (e - 1)
+               vgrid = (1.0_dp - xi)*velocity(e - 1) + xi*velocity(e)
+               v(p) = vgrid
+               dxp = dt*vgrid
+               x(p) = x(p) + dxp
+               db(i) = x(p) - x0(p)
+               kb(i) = half_m*v(p)*v(p)
+               mb(i, slot) = abs(dxp)*inv_dx
+            end if
+            if (stresses) then ! d eps = dt sum dN v_I over the start-of-step cell
+               if (moves) then
+                  dstrain = strain_increment(velocity(e - 1), velocity(e), dt, inv_dx)
+               else
+                  dstrain = strain_increment_of(e)
+               end if
+               call stress_hencky(dstrain, youngs_modulus, strain_factor, volume0, stress(p), volume_ratio(p), sb(i), svb(i))
+               jb(i) = volume_ratio(p)
+            else if (iand(shares, share_stress) /= 0) then ! (an initial mapping: the stress as it is)
+               svb(i) = stress(p)*volume_ratio(p)*volume0
+            end if
+            if (relocates) then ! the new cell, for P2G at the new position
+               call locate_cell(x(p), inv_dx, elements, elements_bits, cb(i), xib(i))
+               cell(p) = cb(i)
+            else                ! the shares go to the start-of-step cell
+               cb(i) = e
+               if (moves) xib(i) = xi
+            end if
+            if (moves .or. relocates) vpb(i) = v(p)
+         end do
+         end if
          ! the block's totals (macros of mpm_lanes.fypi, expanded here)
          if (moves) then
             do lane_i = 1, n - lanes + 1, lanes
@@ -6530,7 +7373,7 @@ contains
       real(dp), intent(inout), contiguous, optional :: gradient(:), force_left(:), force_right(:)
       integer :: p, e, i, n, b0, first, last, lo, hi, outside, ahead, elements
       real(dp) :: half_m, strain_factor, dstrain, inv_dx, dt, youngs_modulus, m, volume0
-      real(dp) :: linear
+      logical :: linear
       type(largest_move_t) :: largest
       real(dp) :: displacement(lanes), kinetic(lanes), strain(lanes), min_j(lanes)
       integer :: cb(block_size)
@@ -6549,7 +7392,7 @@ contains
       inv_dx = constants%inv_dx
       dt = constants%dt
       youngs_modulus = constants%youngs_modulus
-      linear = merge(1.0_dp, 0.0_dp, constants%linear)
+      linear = constants%linear
       m = constants%mass
       volume0 = constants%volume0
       call open_segment(k, shares, seg, mass_left, mass_right, momentum_left, momentum_right, stress_volume, first, last, &
@@ -6595,8 +7438,7 @@ contains
                else
                   dstrain = strain_increment_of(e)
                end if
-               call stress_particle(dstrain, youngs_modulus, strain_factor, volume0, linear, stress(p), volume_ratio(p), &
-                                    sb(i), svb(i))
+               call stress_hencky(dstrain, youngs_modulus, strain_factor, volume0, stress(p), volume_ratio(p), sb(i), svb(i))
                jb(i) = volume_ratio(p)
             else if (iand(shares, share_stress) /= 0) then ! (an initial mapping: the stress as it is)
                svb(i) = stress(p)*volume_ratio(p)*volume0
@@ -6683,7 +7525,7 @@ contains
       real(dp), intent(inout), contiguous, optional :: gradient(:), force_left(:), force_right(:)
       integer :: p, e, i, n, b0, first, last, lo, hi, outside, ahead, elements
       real(dp) :: half_m, strain_factor, dstrain, inv_dx, dt, youngs_modulus, m, volume0
-      real(dp) :: linear
+      logical :: linear
       type(largest_move_t) :: largest
       real(dp) :: displacement(lanes), kinetic(lanes), strain(lanes), min_j(lanes)
       integer :: cb(block_size)
@@ -6702,7 +7544,7 @@ contains
       inv_dx = constants%inv_dx
       dt = constants%dt
       youngs_modulus = constants%youngs_modulus
-      linear = merge(1.0_dp, 0.0_dp, constants%linear)
+      linear = constants%linear
       m = constants%mass
       volume0 = constants%volume0
       call open_segment(k, shares, seg, mass_left, mass_right, momentum_left, momentum_right, stress_volume, first, last, &
@@ -6728,6 +7570,7 @@ contains
                call prefetch_elements(cell(b0), cell(b0 + n - 1), strain_increment_of)
             end if
          end if
+         if (linear) then
          do i = 1, n
             p = b0 + i - 1
             e = cell(p)
@@ -6748,8 +7591,7 @@ contains
                else
                   dstrain = strain_increment_of(e)
                end if
-               call stress_particle(dstrain, youngs_modulus, strain_factor, volume0, linear, stress(p), volume_ratio(p), &
-                                    sb(i), svb(i))
+               call stress_linear(dstrain, youngs_modulus, strain_factor, volume0, stress(p), volume_ratio(p), sb(i), svb(i))
                jb(i) = volume_ratio(p)
             else if (iand(shares, share_stress) /= 0) then ! (an initial mapping: the stress as it is)
                svb(i) = stress(p)*volume_ratio(p)*volume0
@@ -6763,6 +7605,42 @@ contains
             end if
             if (moves .or. relocates) vpb(i) = v(p)
          end do
+         else
+         do i = 1, n
+            p = b0 + i - 1
+            e = cell(p)
+            ! G2P with the start-of-step shape functions (PIC)
+            if (moves) then
+               xi = x(p)*inv_dx - (e - 1)
+               vgrid = (1.0_dp - xi)*velocity(e - 1) + xi*velocity(e)
+               v(p) = vgrid
+               dxp = dt*vgrid
+               x(p) = x(p) + dxp
+               db(i) = x(p) - x0(p)
+               kb(i) = half_m*v(p)*v(p)
+               mb(i, slot) = abs(dxp)*inv_dx
+            end if
+            if (stresses) then ! d eps = dt sum dN v_I over the start-of-step cell
+               if (moves) then
+                  dstrain = strain_increment(velocity(e - 1), velocity(e), dt, inv_dx)
+               else
+                  dstrain = strain_increment_of(e)
+               end if
+               call stress_hencky(dstrain, youngs_modulus, strain_factor, volume0, stress(p), volume_ratio(p), sb(i), svb(i))
+               jb(i) = volume_ratio(p)
+            else if (iand(shares, share_stress) /= 0) then ! (an initial mapping: the stress as it is)
+               svb(i) = stress(p)*volume_ratio(p)*volume0
+            end if
+            if (relocates) then ! the new cell, for P2G at the new position
+               call locate_cell(x(p), inv_dx, elements, elements_bits, cb(i), xib(i))
+               cell(p) = cb(i)
+            else                ! the shares go to the start-of-step cell
+               cb(i) = e
+               if (moves) xib(i) = xi
+            end if
+            if (moves .or. relocates) vpb(i) = v(p)
+         end do
+         end if
          ! the block's totals (macros of mpm_lanes.fypi, expanded here)
          if (moves) then
             do lane_i = 1, n - lanes + 1, lanes
@@ -6836,7 +7714,7 @@ contains
       real(dp), intent(inout), contiguous, optional :: gradient(:), force_left(:), force_right(:)
       integer :: p, e, i, n, b0, first, last, lo, hi, outside, ahead, elements
       real(dp) :: half_m, strain_factor, dstrain, inv_dx, dt, youngs_modulus, m, volume0
-      real(dp) :: linear
+      logical :: linear
       type(largest_move_t) :: largest
       real(dp) :: displacement(lanes), kinetic(lanes), strain(lanes), min_j(lanes)
       integer :: cb(block_size)
@@ -6855,7 +7733,7 @@ contains
       inv_dx = constants%inv_dx
       dt = constants%dt
       youngs_modulus = constants%youngs_modulus
-      linear = merge(1.0_dp, 0.0_dp, constants%linear)
+      linear = constants%linear
       m = constants%mass
       volume0 = constants%volume0
       call open_segment(k, shares, seg, mass_left, mass_right, momentum_left, momentum_right, stress_volume, first, last, &
@@ -6901,8 +7779,7 @@ contains
                else
                   dstrain = strain_increment_of(e)
                end if
-               call stress_particle(dstrain, youngs_modulus, strain_factor, volume0, linear, stress(p), volume_ratio(p), &
-                                    sb(i), svb(i))
+               call stress_hencky(dstrain, youngs_modulus, strain_factor, volume0, stress(p), volume_ratio(p), sb(i), svb(i))
                jb(i) = volume_ratio(p)
             else if (iand(shares, share_stress) /= 0) then ! (an initial mapping: the stress as it is)
                svb(i) = stress(p)*volume_ratio(p)*volume0
@@ -6989,7 +7866,7 @@ contains
       real(dp), intent(inout), contiguous, optional :: gradient(:), force_left(:), force_right(:)
       integer :: p, e, i, n, b0, first, last, lo, hi, outside, ahead, elements
       real(dp) :: half_m, strain_factor, dstrain, inv_dx, dt, youngs_modulus, m, volume0
-      real(dp) :: linear
+      logical :: linear
       type(largest_move_t) :: largest
       real(dp) :: displacement(lanes), kinetic(lanes), strain(lanes), min_j(lanes)
       integer :: cb(block_size)
@@ -7008,7 +7885,7 @@ contains
       inv_dx = constants%inv_dx
       dt = constants%dt
       youngs_modulus = constants%youngs_modulus
-      linear = merge(1.0_dp, 0.0_dp, constants%linear)
+      linear = constants%linear
       m = constants%mass
       volume0 = constants%volume0
       call open_segment(k, shares, seg, mass_left, mass_right, momentum_left, momentum_right, stress_volume, first, last, &
@@ -7054,8 +7931,7 @@ contains
                else
                   dstrain = strain_increment_of(e)
                end if
-               call stress_particle(dstrain, youngs_modulus, strain_factor, volume0, linear, stress(p), volume_ratio(p), &
-                                    sb(i), svb(i))
+               call stress_hencky(dstrain, youngs_modulus, strain_factor, volume0, stress(p), volume_ratio(p), sb(i), svb(i))
                jb(i) = volume_ratio(p)
             else if (iand(shares, share_stress) /= 0) then ! (an initial mapping: the stress as it is)
                svb(i) = stress(p)*volume_ratio(p)*volume0
@@ -7142,7 +8018,7 @@ contains
       real(dp), intent(inout), contiguous, optional :: gradient(:), force_left(:), force_right(:)
       integer :: p, e, i, n, b0, first, last, lo, hi, outside, ahead, elements
       real(dp) :: half_m, strain_factor, dstrain, inv_dx, dt, youngs_modulus, m, volume0
-      real(dp) :: linear
+      logical :: linear
       type(largest_move_t) :: largest
       real(dp) :: displacement(lanes), kinetic(lanes), strain(lanes), min_j(lanes)
       integer :: cb(block_size)
@@ -7163,7 +8039,7 @@ contains
       inv_dx = constants%inv_dx
       dt = constants%dt
       youngs_modulus = constants%youngs_modulus
-      linear = merge(1.0_dp, 0.0_dp, constants%linear)
+      linear = constants%linear
       m = constants%mass
       volume0 = constants%volume0
       call open_segment(k, shares, seg, mass_left, mass_right, momentum_left, momentum_right, stress_volume, first, last, &
@@ -7210,8 +8086,7 @@ contains
                else
                   dstrain = strain_increment_of(e)
                end if
-               call stress_particle(dstrain, youngs_modulus, strain_factor, volume0, linear, stress(p), volume_ratio(p), &
-                                    sb(i), svb(i))
+               call stress_hencky(dstrain, youngs_modulus, strain_factor, volume0, stress(p), volume_ratio(p), sb(i), svb(i))
                jb(i) = volume_ratio(p)
             else if (iand(shares, share_stress) /= 0) then ! (an initial mapping: the stress as it is)
                svb(i) = stress(p)*volume_ratio(p)*volume0
@@ -7298,7 +8173,7 @@ contains
       real(dp), intent(inout), contiguous, optional :: gradient(:), force_left(:), force_right(:)
       integer :: p, e, i, n, b0, first, last, lo, hi, outside, ahead, elements
       real(dp) :: half_m, strain_factor, dstrain, inv_dx, dt, youngs_modulus, m, volume0
-      real(dp) :: linear
+      logical :: linear
       type(largest_move_t) :: largest
       real(dp) :: displacement(lanes), kinetic(lanes), strain(lanes), min_j(lanes)
       integer :: cb(block_size)
@@ -7319,7 +8194,7 @@ contains
       inv_dx = constants%inv_dx
       dt = constants%dt
       youngs_modulus = constants%youngs_modulus
-      linear = merge(1.0_dp, 0.0_dp, constants%linear)
+      linear = constants%linear
       m = constants%mass
       volume0 = constants%volume0
       call open_segment(k, shares, seg, mass_left, mass_right, momentum_left, momentum_right, stress_volume, first, last, &
@@ -7345,6 +8220,7 @@ contains
                call prefetch_elements(cell(b0), cell(b0 + n - 1), strain_increment_of)
             end if
          end if
+         if (linear) then
          do i = 1, n
             p = b0 + i - 1
             e = cell(p)
@@ -7366,8 +8242,7 @@ contains
                else
                   dstrain = strain_increment_of(e)
                end if
-               call stress_particle(dstrain, youngs_modulus, strain_factor, volume0, linear, stress(p), volume_ratio(p), &
-                                    sb(i), svb(i))
+               call stress_linear(dstrain, youngs_modulus, strain_factor, volume0, stress(p), volume_ratio(p), sb(i), svb(i))
                jb(i) = volume_ratio(p)
             else if (iand(shares, share_stress) /= 0) then ! (an initial mapping: the stress as it is)
                svb(i) = stress(p)*volume_ratio(p)*volume0
@@ -7381,6 +8256,43 @@ contains
             end if
             if (moves .or. relocates) vpb(i) = v(p)
          end do
+         else
+         do i = 1, n
+            p = b0 + i - 1
+            e = cell(p)
+            ! G2P with the start-of-step shape functions (the PIC/FLIP blend)
+            if (moves) then
+               xi = x(p)*inv_dx - (e - 1)
+               vgrid = (1.0_dp - xi)*velocity(e - 1) + xi*velocity(e)
+               v(p) = flip_fraction*(v(p) + dt*((1.0_dp - xi)*acceleration(e - 1) + xi*acceleration(e))) + &
+                      (1.0_dp - flip_fraction)*vgrid
+               dxp = dt*vgrid
+               x(p) = x(p) + dxp
+               db(i) = x(p) - x0(p)
+               kb(i) = half_m*v(p)*v(p)
+               mb(i, slot) = abs(dxp)*inv_dx
+            end if
+            if (stresses) then ! d eps = dt sum dN v_I over the start-of-step cell
+               if (moves) then
+                  dstrain = strain_increment(velocity(e - 1), velocity(e), dt, inv_dx)
+               else
+                  dstrain = strain_increment_of(e)
+               end if
+               call stress_hencky(dstrain, youngs_modulus, strain_factor, volume0, stress(p), volume_ratio(p), sb(i), svb(i))
+               jb(i) = volume_ratio(p)
+            else if (iand(shares, share_stress) /= 0) then ! (an initial mapping: the stress as it is)
+               svb(i) = stress(p)*volume_ratio(p)*volume0
+            end if
+            if (relocates) then ! the new cell, for P2G at the new position
+               call locate_cell(x(p), inv_dx, elements, elements_bits, cb(i), xib(i))
+               cell(p) = cb(i)
+            else                ! the shares go to the start-of-step cell
+               cb(i) = e
+               if (moves) xib(i) = xi
+            end if
+            if (moves .or. relocates) vpb(i) = v(p)
+         end do
+         end if
          ! the block's totals (macros of mpm_lanes.fypi, expanded here)
          if (moves) then
             do lane_i = 1, n - lanes + 1, lanes
@@ -7454,7 +8366,7 @@ contains
       real(dp), intent(inout), contiguous, optional :: gradient(:), force_left(:), force_right(:)
       integer :: p, e, i, n, b0, first, last, lo, hi, outside, ahead, elements
       real(dp) :: half_m, strain_factor, dstrain, inv_dx, dt, youngs_modulus, m, volume0
-      real(dp) :: linear
+      logical :: linear
       type(largest_move_t) :: largest
       real(dp) :: displacement(lanes), kinetic(lanes), strain(lanes), min_j(lanes)
       integer :: cb(block_size)
@@ -7475,7 +8387,7 @@ contains
       inv_dx = constants%inv_dx
       dt = constants%dt
       youngs_modulus = constants%youngs_modulus
-      linear = merge(1.0_dp, 0.0_dp, constants%linear)
+      linear = constants%linear
       m = constants%mass
       volume0 = constants%volume0
       call open_segment(k, shares, seg, mass_left, mass_right, momentum_left, momentum_right, stress_volume, first, last, &
@@ -7501,6 +8413,7 @@ contains
                call prefetch_elements(cell(b0), cell(b0 + n - 1), strain_increment_of)
             end if
          end if
+         if (linear) then
          do i = 1, n
             p = b0 + i - 1
             e = cell(p)
@@ -7522,8 +8435,7 @@ contains
                else
                   dstrain = strain_increment_of(e)
                end if
-               call stress_particle(dstrain, youngs_modulus, strain_factor, volume0, linear, stress(p), volume_ratio(p), &
-                                    sb(i), svb(i))
+               call stress_linear(dstrain, youngs_modulus, strain_factor, volume0, stress(p), volume_ratio(p), sb(i), svb(i))
                jb(i) = volume_ratio(p)
             else if (iand(shares, share_stress) /= 0) then ! (an initial mapping: the stress as it is)
                svb(i) = stress(p)*volume_ratio(p)*volume0
@@ -7537,6 +8449,43 @@ contains
             end if
             if (moves .or. relocates) vpb(i) = v(p)
          end do
+         else
+         do i = 1, n
+            p = b0 + i - 1
+            e = cell(p)
+            ! G2P with the start-of-step shape functions (the PIC/FLIP blend)
+            if (moves) then
+               xi = x(p)*inv_dx - (e - 1)
+               vgrid = (1.0_dp - xi)*velocity(e - 1) + xi*velocity(e)
+               v(p) = flip_fraction*(v(p) + dt*((1.0_dp - xi)*acceleration(e - 1) + xi*acceleration(e))) + &
+                      (1.0_dp - flip_fraction)*vgrid
+               dxp = dt*vgrid
+               x(p) = x(p) + dxp
+               db(i) = x(p) - x0(p)
+               kb(i) = half_m*v(p)*v(p)
+               mb(i, slot) = abs(dxp)*inv_dx
+            end if
+            if (stresses) then ! d eps = dt sum dN v_I over the start-of-step cell
+               if (moves) then
+                  dstrain = strain_increment(velocity(e - 1), velocity(e), dt, inv_dx)
+               else
+                  dstrain = strain_increment_of(e)
+               end if
+               call stress_hencky(dstrain, youngs_modulus, strain_factor, volume0, stress(p), volume_ratio(p), sb(i), svb(i))
+               jb(i) = volume_ratio(p)
+            else if (iand(shares, share_stress) /= 0) then ! (an initial mapping: the stress as it is)
+               svb(i) = stress(p)*volume_ratio(p)*volume0
+            end if
+            if (relocates) then ! the new cell, for P2G at the new position
+               call locate_cell(x(p), inv_dx, elements, elements_bits, cb(i), xib(i))
+               cell(p) = cb(i)
+            else                ! the shares go to the start-of-step cell
+               cb(i) = e
+               if (moves) xib(i) = xi
+            end if
+            if (moves .or. relocates) vpb(i) = v(p)
+         end do
+         end if
          ! the block's totals (macros of mpm_lanes.fypi, expanded here)
          if (moves) then
             do lane_i = 1, n - lanes + 1, lanes
@@ -7610,7 +8559,7 @@ contains
       real(dp), intent(inout), contiguous, optional :: gradient(:), force_left(:), force_right(:)
       integer :: p, e, i, n, b0, first, last, lo, hi, outside, ahead, elements
       real(dp) :: half_m, strain_factor, dstrain, inv_dx, dt, youngs_modulus, m, volume0
-      real(dp) :: linear
+      logical :: linear
       type(largest_move_t) :: largest
       real(dp) :: displacement(lanes), kinetic(lanes), strain(lanes), min_j(lanes)
       integer :: cb(block_size)
@@ -7631,7 +8580,7 @@ contains
       inv_dx = constants%inv_dx
       dt = constants%dt
       youngs_modulus = constants%youngs_modulus
-      linear = merge(1.0_dp, 0.0_dp, constants%linear)
+      linear = constants%linear
       m = constants%mass
       volume0 = constants%volume0
       call open_segment(k, shares, seg, mass_left, mass_right, momentum_left, momentum_right, stress_volume, first, last, &
@@ -7678,8 +8627,7 @@ contains
                else
                   dstrain = strain_increment_of(e)
                end if
-               call stress_particle(dstrain, youngs_modulus, strain_factor, volume0, linear, stress(p), volume_ratio(p), &
-                                    sb(i), svb(i))
+               call stress_hencky(dstrain, youngs_modulus, strain_factor, volume0, stress(p), volume_ratio(p), sb(i), svb(i))
                jb(i) = volume_ratio(p)
             else if (iand(shares, share_stress) /= 0) then ! (an initial mapping: the stress as it is)
                svb(i) = stress(p)*volume_ratio(p)*volume0
@@ -7766,7 +8714,7 @@ contains
       real(dp), intent(inout), contiguous, optional :: gradient(:), force_left(:), force_right(:)
       integer :: p, e, i, n, b0, first, last, lo, hi, outside, ahead, elements
       real(dp) :: half_m, strain_factor, dstrain, inv_dx, dt, youngs_modulus, m, volume0
-      real(dp) :: linear
+      logical :: linear
       type(largest_move_t) :: largest
       real(dp) :: displacement(lanes), kinetic(lanes), strain(lanes), min_j(lanes)
       integer :: cb(block_size)
@@ -7787,7 +8735,7 @@ contains
       inv_dx = constants%inv_dx
       dt = constants%dt
       youngs_modulus = constants%youngs_modulus
-      linear = merge(1.0_dp, 0.0_dp, constants%linear)
+      linear = constants%linear
       m = constants%mass
       volume0 = constants%volume0
       call open_segment(k, shares, seg, mass_left, mass_right, momentum_left, momentum_right, stress_volume, first, last, &
@@ -7813,6 +8761,7 @@ contains
                call prefetch_elements(cell(b0), cell(b0 + n - 1), strain_increment_of)
             end if
          end if
+         if (linear) then
          do i = 1, n
             p = b0 + i - 1
             e = cell(p)
@@ -7834,8 +8783,7 @@ contains
                else
                   dstrain = strain_increment_of(e)
                end if
-               call stress_particle(dstrain, youngs_modulus, strain_factor, volume0, linear, stress(p), volume_ratio(p), &
-                                    sb(i), svb(i))
+               call stress_linear(dstrain, youngs_modulus, strain_factor, volume0, stress(p), volume_ratio(p), sb(i), svb(i))
                jb(i) = volume_ratio(p)
             else if (iand(shares, share_stress) /= 0) then ! (an initial mapping: the stress as it is)
                svb(i) = stress(p)*volume_ratio(p)*volume0
@@ -7849,6 +8797,43 @@ contains
             end if
             if (moves .or. relocates) vpb(i) = v(p)
          end do
+         else
+         do i = 1, n
+            p = b0 + i - 1
+            e = cell(p)
+            ! G2P with the start-of-step shape functions (the PIC/FLIP blend)
+            if (moves) then
+               xi = x(p)*inv_dx - (e - 1)
+               vgrid = (1.0_dp - xi)*velocity(e - 1) + xi*velocity(e)
+               v(p) = flip_fraction*(v(p) + dt*((1.0_dp - xi)*acceleration(e - 1) + xi*acceleration(e))) + &
+                      (1.0_dp - flip_fraction)*vgrid
+               dxp = dt*vgrid
+               x(p) = x(p) + dxp
+               db(i) = x(p) - x0(p)
+               kb(i) = half_m*v(p)*v(p)
+               mb(i, slot) = abs(dxp)*inv_dx
+            end if
+            if (stresses) then ! d eps = dt sum dN v_I over the start-of-step cell
+               if (moves) then
+                  dstrain = strain_increment(velocity(e - 1), velocity(e), dt, inv_dx)
+               else
+                  dstrain = strain_increment_of(e)
+               end if
+               call stress_hencky(dstrain, youngs_modulus, strain_factor, volume0, stress(p), volume_ratio(p), sb(i), svb(i))
+               jb(i) = volume_ratio(p)
+            else if (iand(shares, share_stress) /= 0) then ! (an initial mapping: the stress as it is)
+               svb(i) = stress(p)*volume_ratio(p)*volume0
+            end if
+            if (relocates) then ! the new cell, for P2G at the new position
+               call locate_cell(x(p), inv_dx, elements, elements_bits, cb(i), xib(i))
+               cell(p) = cb(i)
+            else                ! the shares go to the start-of-step cell
+               cb(i) = e
+               if (moves) xib(i) = xi
+            end if
+            if (moves .or. relocates) vpb(i) = v(p)
+         end do
+         end if
          ! the block's totals (macros of mpm_lanes.fypi, expanded here)
          if (moves) then
             do lane_i = 1, n - lanes + 1, lanes
@@ -7922,7 +8907,7 @@ contains
       real(dp), intent(inout), contiguous, optional :: gradient(:), force_left(:), force_right(:)
       integer :: p, e, i, n, b0, first, last, lo, hi, outside, ahead, elements
       real(dp) :: half_m, strain_factor, dstrain, inv_dx, dt, youngs_modulus, m, volume0
-      real(dp) :: linear
+      logical :: linear
       type(largest_move_t) :: largest
       real(dp) :: displacement(lanes), kinetic(lanes), strain(lanes), min_j(lanes)
       integer :: cb(block_size)
@@ -7943,7 +8928,7 @@ contains
       inv_dx = constants%inv_dx
       dt = constants%dt
       youngs_modulus = constants%youngs_modulus
-      linear = merge(1.0_dp, 0.0_dp, constants%linear)
+      linear = constants%linear
       m = constants%mass
       volume0 = constants%volume0
       call open_segment(k, shares, seg, mass_left, mass_right, momentum_left, momentum_right, stress_volume, first, last, &
@@ -7990,8 +8975,7 @@ contains
                else
                   dstrain = strain_increment_of(e)
                end if
-               call stress_particle(dstrain, youngs_modulus, strain_factor, volume0, linear, stress(p), volume_ratio(p), &
-                                    sb(i), svb(i))
+               call stress_hencky(dstrain, youngs_modulus, strain_factor, volume0, stress(p), volume_ratio(p), sb(i), svb(i))
                jb(i) = volume_ratio(p)
             else if (iand(shares, share_stress) /= 0) then ! (an initial mapping: the stress as it is)
                svb(i) = stress(p)*volume_ratio(p)*volume0
@@ -8078,7 +9062,7 @@ contains
       real(dp), intent(inout), contiguous, optional :: gradient(:), force_left(:), force_right(:)
       integer :: p, e, i, n, b0, first, last, lo, hi, outside, ahead, elements
       real(dp) :: half_m, strain_factor, dstrain, inv_dx, dt, youngs_modulus, m, volume0
-      real(dp) :: linear
+      logical :: linear
       type(largest_move_t) :: largest
       real(dp) :: displacement(lanes), kinetic(lanes), strain(lanes), min_j(lanes)
       integer :: cb(block_size)
@@ -8099,7 +9083,7 @@ contains
       inv_dx = constants%inv_dx
       dt = constants%dt
       youngs_modulus = constants%youngs_modulus
-      linear = merge(1.0_dp, 0.0_dp, constants%linear)
+      linear = constants%linear
       m = constants%mass
       volume0 = constants%volume0
       call open_segment(k, shares, seg, mass_left, mass_right, momentum_left, momentum_right, stress_volume, first, last, &
@@ -8146,8 +9130,7 @@ contains
                else
                   dstrain = strain_increment_of(e)
                end if
-               call stress_particle(dstrain, youngs_modulus, strain_factor, volume0, linear, stress(p), volume_ratio(p), &
-                                    sb(i), svb(i))
+               call stress_hencky(dstrain, youngs_modulus, strain_factor, volume0, stress(p), volume_ratio(p), sb(i), svb(i))
                jb(i) = volume_ratio(p)
             else if (iand(shares, share_stress) /= 0) then ! (an initial mapping: the stress as it is)
                svb(i) = stress(p)*volume_ratio(p)*volume0
@@ -8234,7 +9217,7 @@ contains
       real(dp), intent(inout), contiguous, optional :: gradient(:), force_left(:), force_right(:)
       integer :: p, e, i, n, b0, first, last, lo, hi, outside, ahead, elements
       real(dp) :: half_m, strain_factor, dstrain, inv_dx, dt, youngs_modulus, m, volume0
-      real(dp) :: linear
+      logical :: linear
       type(largest_move_t) :: largest
       real(dp) :: displacement(lanes), kinetic(lanes), strain(lanes), min_j(lanes)
       integer :: cb(block_size)
@@ -8256,7 +9239,7 @@ contains
       inv_dx = constants%inv_dx
       dt = constants%dt
       youngs_modulus = constants%youngs_modulus
-      linear = merge(1.0_dp, 0.0_dp, constants%linear)
+      linear = constants%linear
       m = constants%mass
       volume0 = constants%volume0
       call open_segment(k, shares, seg, mass_left, mass_right, momentum_left, momentum_right, stress_volume, first, last, &
@@ -8304,8 +9287,7 @@ contains
                else
                   dstrain = strain_increment_of(e)
                end if
-               call stress_particle(dstrain, youngs_modulus, strain_factor, volume0, linear, stress(p), volume_ratio(p), &
-                                    sb(i), svb(i))
+               call stress_hencky(dstrain, youngs_modulus, strain_factor, volume0, stress(p), volume_ratio(p), sb(i), svb(i))
                jb(i) = volume_ratio(p)
             else if (iand(shares, share_stress) /= 0) then ! (an initial mapping: the stress as it is)
                svb(i) = stress(p)*volume_ratio(p)*volume0
@@ -8415,7 +9397,7 @@ contains
       real(dp), intent(inout), contiguous, optional :: gradient(:), force_left(:), force_right(:)
       integer :: p, e, i, n, b0, first, last, lo, hi, outside, ahead, elements
       real(dp) :: half_m, strain_factor, dstrain, inv_dx, dt, youngs_modulus, m, volume0
-      real(dp) :: linear
+      logical :: linear
       type(largest_move_t) :: largest
       real(dp) :: displacement(lanes), kinetic(lanes), strain(lanes), min_j(lanes)
       integer :: cb(block_size)
@@ -8437,7 +9419,7 @@ contains
       inv_dx = constants%inv_dx
       dt = constants%dt
       youngs_modulus = constants%youngs_modulus
-      linear = merge(1.0_dp, 0.0_dp, constants%linear)
+      linear = constants%linear
       m = constants%mass
       volume0 = constants%volume0
       call open_segment(k, shares, seg, mass_left, mass_right, momentum_left, momentum_right, stress_volume, first, last, &
@@ -8463,6 +9445,7 @@ contains
                call prefetch_elements(cell(b0), cell(b0 + n - 1), strain_increment_of)
             end if
          end if
+         if (linear) then
          do i = 1, n
             p = b0 + i - 1
             e = cell(p)
@@ -8485,8 +9468,7 @@ contains
                else
                   dstrain = strain_increment_of(e)
                end if
-               call stress_particle(dstrain, youngs_modulus, strain_factor, volume0, linear, stress(p), volume_ratio(p), &
-                                    sb(i), svb(i))
+               call stress_linear(dstrain, youngs_modulus, strain_factor, volume0, stress(p), volume_ratio(p), sb(i), svb(i))
                jb(i) = volume_ratio(p)
             else if (iand(shares, share_stress) /= 0) then ! (an initial mapping: the stress as it is)
                svb(i) = stress(p)*volume_ratio(p)*volume0
@@ -8519,6 +9501,63 @@ contains
             end if
             if (iand(shares, share_stress) /= 0) sh(i, 5) = svb(i)
          end do
+         else
+         do i = 1, n
+            p = b0 + i - 1
+            e = cell(p)
+            ! G2P with the start-of-step shape functions (APIC)
+            if (moves) then
+               xi = x(p)*inv_dx - (e - 1)
+               vgrid = (1.0_dp - xi)*velocity(e - 1) + xi*velocity(e)
+               v(p) = vgrid
+               cp = (velocity(e) - velocity(e - 1))*inv_dx  ! C_p = sum_I v_I dN_Ip (the hat's gradients)
+               gradient(p) = cp
+               dxp = dt*vgrid
+               x(p) = x(p) + dxp
+               db(i) = x(p) - x0(p)
+               kb(i) = half_m*v(p)*v(p)
+               mb(i, slot) = abs(dxp)*inv_dx
+            end if
+            if (stresses) then ! d eps = dt sum dN v_I over the start-of-step cell
+               if (moves) then
+                  dstrain = strain_increment(velocity(e - 1), velocity(e), dt, inv_dx)
+               else
+                  dstrain = strain_increment_of(e)
+               end if
+               call stress_hencky(dstrain, youngs_modulus, strain_factor, volume0, stress(p), volume_ratio(p), sb(i), svb(i))
+               jb(i) = volume_ratio(p)
+            else if (iand(shares, share_stress) /= 0) then ! (an initial mapping: the stress as it is)
+               svb(i) = stress(p)*volume_ratio(p)*volume0
+            end if
+            if (relocates) then ! the new cell, for P2G at the new position
+               call locate_cell(x(p), inv_dx, elements, elements_bits, cb(i), xib(i))
+               cell(p) = cb(i)
+            else                ! the shares go to the start-of-step cell
+               cb(i) = e
+               if (moves) xib(i) = xi
+            end if
+            ! the particle's whole element shares (accumulate_shares sums them): mass, momentum (APIC's
+            ! with its affine part), stress*volume, external force, at the left and right node
+            mp = m
+            if (iand(shares, share_mass + share_momentum) /= 0) then
+               sh(i, 2) = mp*xib(i)
+               sh(i, 1) = mp - sh(i, 2)
+            end if
+            if (iand(shares, share_momentum) /= 0) then
+               ! node I gets N_I m_p (v_p + C_p (x_I - x_p)), x_I - x_p = -xi dx (left), (1 - xi) dx (right)
+               ! ([Jiang 2015]; C_p of this pass's G2P, or kept by the pass that made it)
+               if (moves) then
+                  cq = cp
+               else
+                  cq = gradient(p)
+               end if
+               w = v(p) - cq*xib(i)*dx
+               sh(i, 3) = sh(i, 1)*w
+               sh(i, 4) = sh(i, 2)*(w + cq*dx)
+            end if
+            if (iand(shares, share_stress) /= 0) sh(i, 5) = svb(i)
+         end do
+         end if
          ! the block's totals (macros of mpm_lanes.fypi, expanded here)
          if (moves) then
             do lane_i = 1, n - lanes + 1, lanes
@@ -8596,7 +9635,7 @@ contains
       real(dp), intent(inout), contiguous, optional :: gradient(:), force_left(:), force_right(:)
       integer :: p, e, i, n, b0, first, last, lo, hi, outside, ahead, elements
       real(dp) :: half_m, strain_factor, dstrain, inv_dx, dt, youngs_modulus, m, volume0
-      real(dp) :: linear
+      logical :: linear
       type(largest_move_t) :: largest
       real(dp) :: displacement(lanes), kinetic(lanes), strain(lanes), min_j(lanes)
       integer :: cb(block_size)
@@ -8618,7 +9657,7 @@ contains
       inv_dx = constants%inv_dx
       dt = constants%dt
       youngs_modulus = constants%youngs_modulus
-      linear = merge(1.0_dp, 0.0_dp, constants%linear)
+      linear = constants%linear
       m = constants%mass
       volume0 = constants%volume0
       call open_segment(k, shares, seg, mass_left, mass_right, momentum_left, momentum_right, stress_volume, first, last, &
@@ -8644,6 +9683,7 @@ contains
                call prefetch_elements(cell(b0), cell(b0 + n - 1), strain_increment_of)
             end if
          end if
+         if (linear) then
          do i = 1, n
             p = b0 + i - 1
             e = cell(p)
@@ -8666,8 +9706,7 @@ contains
                else
                   dstrain = strain_increment_of(e)
                end if
-               call stress_particle(dstrain, youngs_modulus, strain_factor, volume0, linear, stress(p), volume_ratio(p), &
-                                    sb(i), svb(i))
+               call stress_linear(dstrain, youngs_modulus, strain_factor, volume0, stress(p), volume_ratio(p), sb(i), svb(i))
                jb(i) = volume_ratio(p)
             else if (iand(shares, share_stress) /= 0) then ! (an initial mapping: the stress as it is)
                svb(i) = stress(p)*volume_ratio(p)*volume0
@@ -8700,6 +9739,63 @@ contains
             end if
             if (iand(shares, share_stress) /= 0) sh(i, 5) = svb(i)
          end do
+         else
+         do i = 1, n
+            p = b0 + i - 1
+            e = cell(p)
+            ! G2P with the start-of-step shape functions (APIC)
+            if (moves) then
+               xi = x(p)*inv_dx - (e - 1)
+               vgrid = (1.0_dp - xi)*velocity(e - 1) + xi*velocity(e)
+               v(p) = vgrid
+               cp = (velocity(e) - velocity(e - 1))*inv_dx  ! C_p = sum_I v_I dN_Ip (the hat's gradients)
+               gradient(p) = cp
+               dxp = dt*vgrid
+               x(p) = x(p) + dxp
+               db(i) = x(p) - x0(p)
+               kb(i) = half_m*v(p)*v(p)
+               mb(i, slot) = abs(dxp)*inv_dx
+            end if
+            if (stresses) then ! d eps = dt sum dN v_I over the start-of-step cell
+               if (moves) then
+                  dstrain = strain_increment(velocity(e - 1), velocity(e), dt, inv_dx)
+               else
+                  dstrain = strain_increment_of(e)
+               end if
+               call stress_hencky(dstrain, youngs_modulus, strain_factor, volume0, stress(p), volume_ratio(p), sb(i), svb(i))
+               jb(i) = volume_ratio(p)
+            else if (iand(shares, share_stress) /= 0) then ! (an initial mapping: the stress as it is)
+               svb(i) = stress(p)*volume_ratio(p)*volume0
+            end if
+            if (relocates) then ! the new cell, for P2G at the new position
+               call locate_cell(x(p), inv_dx, elements, elements_bits, cb(i), xib(i))
+               cell(p) = cb(i)
+            else                ! the shares go to the start-of-step cell
+               cb(i) = e
+               if (moves) xib(i) = xi
+            end if
+            ! the particle's whole element shares (accumulate_shares sums them): mass, momentum (APIC's
+            ! with its affine part), stress*volume, external force, at the left and right node
+            mp = m
+            if (iand(shares, share_mass + share_momentum) /= 0) then
+               sh(i, 2) = mp*xib(i)
+               sh(i, 1) = mp - sh(i, 2)
+            end if
+            if (iand(shares, share_momentum) /= 0) then
+               ! node I gets N_I m_p (v_p + C_p (x_I - x_p)), x_I - x_p = -xi dx (left), (1 - xi) dx (right)
+               ! ([Jiang 2015]; C_p of this pass's G2P, or kept by the pass that made it)
+               if (moves) then
+                  cq = cp
+               else
+                  cq = gradient(p)
+               end if
+               w = v(p) - cq*xib(i)*dx
+               sh(i, 3) = sh(i, 1)*w
+               sh(i, 4) = sh(i, 2)*(w + cq*dx)
+            end if
+            if (iand(shares, share_stress) /= 0) sh(i, 5) = svb(i)
+         end do
+         end if
          ! the block's totals (macros of mpm_lanes.fypi, expanded here)
          if (moves) then
             do lane_i = 1, n - lanes + 1, lanes
@@ -8777,7 +9873,7 @@ contains
       real(dp), intent(inout), contiguous, optional :: gradient(:), force_left(:), force_right(:)
       integer :: p, e, i, n, b0, first, last, lo, hi, outside, ahead, elements
       real(dp) :: half_m, strain_factor, dstrain, inv_dx, dt, youngs_modulus, m, volume0
-      real(dp) :: linear
+      logical :: linear
       type(largest_move_t) :: largest
       real(dp) :: displacement(lanes), kinetic(lanes), strain(lanes), min_j(lanes)
       integer :: cb(block_size)
@@ -8799,7 +9895,7 @@ contains
       inv_dx = constants%inv_dx
       dt = constants%dt
       youngs_modulus = constants%youngs_modulus
-      linear = merge(1.0_dp, 0.0_dp, constants%linear)
+      linear = constants%linear
       m = constants%mass
       volume0 = constants%volume0
       call open_segment(k, shares, seg, mass_left, mass_right, momentum_left, momentum_right, stress_volume, first, last, &
@@ -8847,8 +9943,7 @@ contains
                else
                   dstrain = strain_increment_of(e)
                end if
-               call stress_particle(dstrain, youngs_modulus, strain_factor, volume0, linear, stress(p), volume_ratio(p), &
-                                    sb(i), svb(i))
+               call stress_hencky(dstrain, youngs_modulus, strain_factor, volume0, stress(p), volume_ratio(p), sb(i), svb(i))
                jb(i) = volume_ratio(p)
             else if (iand(shares, share_stress) /= 0) then ! (an initial mapping: the stress as it is)
                svb(i) = stress(p)*volume_ratio(p)*volume0
@@ -8958,7 +10053,7 @@ contains
       real(dp), intent(inout), contiguous, optional :: gradient(:), force_left(:), force_right(:)
       integer :: p, e, i, n, b0, first, last, lo, hi, outside, ahead, elements
       real(dp) :: half_m, strain_factor, dstrain, inv_dx, dt, youngs_modulus, m, volume0
-      real(dp) :: linear
+      logical :: linear
       type(largest_move_t) :: largest
       real(dp) :: displacement(lanes), kinetic(lanes), strain(lanes), min_j(lanes)
       integer :: cb(block_size)
@@ -8980,7 +10075,7 @@ contains
       inv_dx = constants%inv_dx
       dt = constants%dt
       youngs_modulus = constants%youngs_modulus
-      linear = merge(1.0_dp, 0.0_dp, constants%linear)
+      linear = constants%linear
       m = constants%mass
       volume0 = constants%volume0
       call open_segment(k, shares, seg, mass_left, mass_right, momentum_left, momentum_right, stress_volume, first, last, &
@@ -9006,6 +10101,7 @@ contains
                call prefetch_elements(cell(b0), cell(b0 + n - 1), strain_increment_of)
             end if
          end if
+         if (linear) then
          do i = 1, n
             p = b0 + i - 1
             e = cell(p)
@@ -9028,8 +10124,7 @@ contains
                else
                   dstrain = strain_increment_of(e)
                end if
-               call stress_particle(dstrain, youngs_modulus, strain_factor, volume0, linear, stress(p), volume_ratio(p), &
-                                    sb(i), svb(i))
+               call stress_linear(dstrain, youngs_modulus, strain_factor, volume0, stress(p), volume_ratio(p), sb(i), svb(i))
                jb(i) = volume_ratio(p)
             else if (iand(shares, share_stress) /= 0) then ! (an initial mapping: the stress as it is)
                svb(i) = stress(p)*volume_ratio(p)*volume0
@@ -9062,6 +10157,63 @@ contains
             end if
             if (iand(shares, share_stress) /= 0) sh(i, 5) = svb(i)
          end do
+         else
+         do i = 1, n
+            p = b0 + i - 1
+            e = cell(p)
+            ! G2P with the start-of-step shape functions (APIC)
+            if (moves) then
+               xi = x(p)*inv_dx - (e - 1)
+               vgrid = (1.0_dp - xi)*velocity(e - 1) + xi*velocity(e)
+               v(p) = vgrid
+               cp = (velocity(e) - velocity(e - 1))*inv_dx  ! C_p = sum_I v_I dN_Ip (the hat's gradients)
+               gradient(p) = cp
+               dxp = dt*vgrid
+               x(p) = x(p) + dxp
+               db(i) = x(p) - x0(p)
+               kb(i) = half_m*v(p)*v(p)
+               mb(i, slot) = abs(dxp)*inv_dx
+            end if
+            if (stresses) then ! d eps = dt sum dN v_I over the start-of-step cell
+               if (moves) then
+                  dstrain = strain_increment(velocity(e - 1), velocity(e), dt, inv_dx)
+               else
+                  dstrain = strain_increment_of(e)
+               end if
+               call stress_hencky(dstrain, youngs_modulus, strain_factor, volume0, stress(p), volume_ratio(p), sb(i), svb(i))
+               jb(i) = volume_ratio(p)
+            else if (iand(shares, share_stress) /= 0) then ! (an initial mapping: the stress as it is)
+               svb(i) = stress(p)*volume_ratio(p)*volume0
+            end if
+            if (relocates) then ! the new cell, for P2G at the new position
+               call locate_cell(x(p), inv_dx, elements, elements_bits, cb(i), xib(i))
+               cell(p) = cb(i)
+            else                ! the shares go to the start-of-step cell
+               cb(i) = e
+               if (moves) xib(i) = xi
+            end if
+            ! the particle's whole element shares (accumulate_shares sums them): mass, momentum (APIC's
+            ! with its affine part), stress*volume, external force, at the left and right node
+            mp = m
+            if (iand(shares, share_mass + share_momentum) /= 0) then
+               sh(i, 2) = mp*xib(i)
+               sh(i, 1) = mp - sh(i, 2)
+            end if
+            if (iand(shares, share_momentum) /= 0) then
+               ! node I gets N_I m_p (v_p + C_p (x_I - x_p)), x_I - x_p = -xi dx (left), (1 - xi) dx (right)
+               ! ([Jiang 2015]; C_p of this pass's G2P, or kept by the pass that made it)
+               if (moves) then
+                  cq = cp
+               else
+                  cq = gradient(p)
+               end if
+               w = v(p) - cq*xib(i)*dx
+               sh(i, 3) = sh(i, 1)*w
+               sh(i, 4) = sh(i, 2)*(w + cq*dx)
+            end if
+            if (iand(shares, share_stress) /= 0) sh(i, 5) = svb(i)
+         end do
+         end if
          ! the block's totals (macros of mpm_lanes.fypi, expanded here)
          if (moves) then
             do lane_i = 1, n - lanes + 1, lanes
@@ -9139,7 +10291,7 @@ contains
       real(dp), intent(inout), contiguous, optional :: gradient(:), force_left(:), force_right(:)
       integer :: p, e, i, n, b0, first, last, lo, hi, outside, ahead, elements
       real(dp) :: half_m, strain_factor, dstrain, inv_dx, dt, youngs_modulus, m, volume0
-      real(dp) :: linear
+      logical :: linear
       type(largest_move_t) :: largest
       real(dp) :: displacement(lanes), kinetic(lanes), strain(lanes), min_j(lanes)
       integer :: cb(block_size)
@@ -9161,7 +10313,7 @@ contains
       inv_dx = constants%inv_dx
       dt = constants%dt
       youngs_modulus = constants%youngs_modulus
-      linear = merge(1.0_dp, 0.0_dp, constants%linear)
+      linear = constants%linear
       m = constants%mass
       volume0 = constants%volume0
       call open_segment(k, shares, seg, mass_left, mass_right, momentum_left, momentum_right, stress_volume, first, last, &
@@ -9209,8 +10361,7 @@ contains
                else
                   dstrain = strain_increment_of(e)
                end if
-               call stress_particle(dstrain, youngs_modulus, strain_factor, volume0, linear, stress(p), volume_ratio(p), &
-                                    sb(i), svb(i))
+               call stress_hencky(dstrain, youngs_modulus, strain_factor, volume0, stress(p), volume_ratio(p), sb(i), svb(i))
                jb(i) = volume_ratio(p)
             else if (iand(shares, share_stress) /= 0) then ! (an initial mapping: the stress as it is)
                svb(i) = stress(p)*volume_ratio(p)*volume0
@@ -9320,7 +10471,7 @@ contains
       real(dp), intent(inout), contiguous, optional :: gradient(:), force_left(:), force_right(:)
       integer :: p, e, i, n, b0, first, last, lo, hi, outside, ahead, elements
       real(dp) :: half_m, strain_factor, dstrain, inv_dx, dt, youngs_modulus, m, volume0
-      real(dp) :: linear
+      logical :: linear
       type(largest_move_t) :: largest
       real(dp) :: displacement(lanes), kinetic(lanes), strain(lanes), min_j(lanes)
       integer :: cb(block_size)
@@ -9342,7 +10493,7 @@ contains
       inv_dx = constants%inv_dx
       dt = constants%dt
       youngs_modulus = constants%youngs_modulus
-      linear = merge(1.0_dp, 0.0_dp, constants%linear)
+      linear = constants%linear
       m = constants%mass
       volume0 = constants%volume0
       call open_segment(k, shares, seg, mass_left, mass_right, momentum_left, momentum_right, stress_volume, first, last, &
@@ -9390,8 +10541,7 @@ contains
                else
                   dstrain = strain_increment_of(e)
                end if
-               call stress_particle(dstrain, youngs_modulus, strain_factor, volume0, linear, stress(p), volume_ratio(p), &
-                                    sb(i), svb(i))
+               call stress_hencky(dstrain, youngs_modulus, strain_factor, volume0, stress(p), volume_ratio(p), sb(i), svb(i))
                jb(i) = volume_ratio(p)
             else if (iand(shares, share_stress) /= 0) then ! (an initial mapping: the stress as it is)
                svb(i) = stress(p)*volume_ratio(p)*volume0
@@ -9501,7 +10651,7 @@ contains
       real(dp), intent(inout), contiguous, optional :: gradient(:), force_left(:), force_right(:)
       integer :: p, e, i, n, b0, first, last, lo, hi, outside, ahead, elements
       real(dp) :: half_m, strain_factor, dstrain, inv_dx, dt, youngs_modulus, m, volume0
-      real(dp) :: linear
+      logical :: linear
       type(largest_move_t) :: largest
       real(dp) :: displacement(lanes), kinetic(lanes), strain(lanes), min_j(lanes)
       integer :: cb(block_size)
@@ -9521,7 +10671,7 @@ contains
       inv_dx = constants%inv_dx
       dt = constants%dt
       youngs_modulus = constants%youngs_modulus
-      linear = merge(1.0_dp, 0.0_dp, constants%linear)
+      linear = constants%linear
       m = constants%mass
       volume0 = constants%volume0
       call open_segment(k, shares, seg, mass_left, mass_right, momentum_left, momentum_right, stress_volume, first, last, &
@@ -9567,8 +10717,8 @@ contains
                else
                   dstrain = strain_increment_of(e)
                end if
-               call stress_particle(dstrain, modulus_of(p), 0.5_dp*volume0/modulus_of(p), volume0, linear, stress(p), &
-                                    volume_ratio(p), sb(i), svb(i))
+               call stress_hencky(dstrain, modulus_of(p), 0.5_dp*volume0/modulus_of(p), volume0, stress(p), volume_ratio(p), &
+                                 sb(i), svb(i))
                jb(i) = volume_ratio(p)
             else if (iand(shares, share_stress) /= 0) then ! (an initial mapping: the stress as it is)
                svb(i) = stress(p)*volume_ratio(p)*volume0
@@ -9670,7 +10820,7 @@ contains
       real(dp), intent(inout), contiguous, optional :: gradient(:), force_left(:), force_right(:)
       integer :: p, e, i, n, b0, first, last, lo, hi, outside, ahead, elements
       real(dp) :: half_m, strain_factor, dstrain, inv_dx, dt, youngs_modulus, m, volume0
-      real(dp) :: linear
+      logical :: linear
       type(largest_move_t) :: largest
       real(dp) :: displacement(lanes), kinetic(lanes), strain(lanes), min_j(lanes)
       integer :: cb(block_size)
@@ -9690,7 +10840,7 @@ contains
       inv_dx = constants%inv_dx
       dt = constants%dt
       youngs_modulus = constants%youngs_modulus
-      linear = merge(1.0_dp, 0.0_dp, constants%linear)
+      linear = constants%linear
       m = constants%mass
       volume0 = constants%volume0
       call open_segment(k, shares, seg, mass_left, mass_right, momentum_left, momentum_right, stress_volume, first, last, &
@@ -9716,6 +10866,7 @@ contains
                call prefetch_elements(cell(b0), cell(b0 + n - 1), strain_increment_of)
             end if
          end if
+         if (linear) then
          do i = 1, n
             p = b0 + i - 1
             e = cell(p)
@@ -9736,8 +10887,8 @@ contains
                else
                   dstrain = strain_increment_of(e)
                end if
-               call stress_particle(dstrain, modulus_of(p), 0.5_dp*volume0/modulus_of(p), volume0, linear, stress(p), &
-                                    volume_ratio(p), sb(i), svb(i))
+               call stress_linear(dstrain, modulus_of(p), 0.5_dp*volume0/modulus_of(p), volume0, stress(p), volume_ratio(p), &
+                                 sb(i), svb(i))
                jb(i) = volume_ratio(p)
             else if (iand(shares, share_stress) /= 0) then ! (an initial mapping: the stress as it is)
                svb(i) = stress(p)*volume_ratio(p)*volume0
@@ -9762,6 +10913,54 @@ contains
             end if
             if (iand(shares, share_stress) /= 0) sh(i, 5) = svb(i)
          end do
+         else
+         do i = 1, n
+            p = b0 + i - 1
+            e = cell(p)
+            ! G2P with the start-of-step shape functions (per-particle masses and moduli)
+            if (moves) then
+               xi = x(p)*inv_dx - (e - 1)
+               vgrid = (1.0_dp - xi)*velocity(e - 1) + xi*velocity(e)
+               v(p) = v(p) + dt*((1.0_dp - xi)*acceleration(e - 1) + xi*acceleration(e))
+               dxp = dt*vgrid
+               x(p) = x(p) + dxp
+               db(i) = mass_of(p)*(x(p) - x0(p))
+               kb(i) = 0.5_dp*mass_of(p)*v(p)*v(p)
+               mb(i, slot) = abs(dxp)*inv_dx
+            end if
+            if (stresses) then ! d eps = dt sum dN v_I over the start-of-step cell
+               if (moves) then
+                  dstrain = strain_increment(velocity(e - 1), velocity(e), dt, inv_dx)
+               else
+                  dstrain = strain_increment_of(e)
+               end if
+               call stress_hencky(dstrain, modulus_of(p), 0.5_dp*volume0/modulus_of(p), volume0, stress(p), volume_ratio(p), &
+                                 sb(i), svb(i))
+               jb(i) = volume_ratio(p)
+            else if (iand(shares, share_stress) /= 0) then ! (an initial mapping: the stress as it is)
+               svb(i) = stress(p)*volume_ratio(p)*volume0
+            end if
+            if (relocates) then ! the new cell, for P2G at the new position
+               call locate_cell(x(p), inv_dx, elements, elements_bits, cb(i), xib(i))
+               cell(p) = cb(i)
+            else                ! the shares go to the start-of-step cell
+               cb(i) = e
+               if (moves) xib(i) = xi
+            end if
+            ! the particle's whole element shares (accumulate_shares sums them): mass, momentum (APIC's
+            ! with its affine part), stress*volume, external force, at the left and right node
+            mp = mass_of(p)
+            if (iand(shares, share_mass + share_momentum) /= 0) then
+               sh(i, 2) = mp*xib(i)
+               sh(i, 1) = mp - sh(i, 2)
+            end if
+            if (iand(shares, share_momentum) /= 0) then
+               sh(i, 3) = sh(i, 1)*v(p)
+               sh(i, 4) = sh(i, 2)*v(p)
+            end if
+            if (iand(shares, share_stress) /= 0) sh(i, 5) = svb(i)
+         end do
+         end if
          ! the block's totals (macros of mpm_lanes.fypi, expanded here)
          if (moves) then
             do lane_i = 1, n - lanes + 1, lanes
@@ -9839,7 +11038,7 @@ contains
       real(dp), intent(inout), contiguous, optional :: gradient(:), force_left(:), force_right(:)
       integer :: p, e, i, n, b0, first, last, lo, hi, outside, ahead, elements
       real(dp) :: half_m, strain_factor, dstrain, inv_dx, dt, youngs_modulus, m, volume0
-      real(dp) :: linear
+      logical :: linear
       type(largest_move_t) :: largest
       real(dp) :: displacement(lanes), kinetic(lanes), strain(lanes), min_j(lanes)
       integer :: cb(block_size)
@@ -9859,7 +11058,7 @@ contains
       inv_dx = constants%inv_dx
       dt = constants%dt
       youngs_modulus = constants%youngs_modulus
-      linear = merge(1.0_dp, 0.0_dp, constants%linear)
+      linear = constants%linear
       m = constants%mass
       volume0 = constants%volume0
       call open_segment(k, shares, seg, mass_left, mass_right, momentum_left, momentum_right, stress_volume, first, last, &
@@ -9885,6 +11084,7 @@ contains
                call prefetch_elements(cell(b0), cell(b0 + n - 1), strain_increment_of)
             end if
          end if
+         if (linear) then
          do i = 1, n
             p = b0 + i - 1
             e = cell(p)
@@ -9905,8 +11105,8 @@ contains
                else
                   dstrain = strain_increment_of(e)
                end if
-               call stress_particle(dstrain, modulus_of(p), 0.5_dp*volume0/modulus_of(p), volume0, linear, stress(p), &
-                                    volume_ratio(p), sb(i), svb(i))
+               call stress_linear(dstrain, modulus_of(p), 0.5_dp*volume0/modulus_of(p), volume0, stress(p), volume_ratio(p), &
+                                 sb(i), svb(i))
                jb(i) = volume_ratio(p)
             else if (iand(shares, share_stress) /= 0) then ! (an initial mapping: the stress as it is)
                svb(i) = stress(p)*volume_ratio(p)*volume0
@@ -9931,6 +11131,54 @@ contains
             end if
             if (iand(shares, share_stress) /= 0) sh(i, 5) = svb(i)
          end do
+         else
+         do i = 1, n
+            p = b0 + i - 1
+            e = cell(p)
+            ! G2P with the start-of-step shape functions (per-particle masses and moduli)
+            if (moves) then
+               xi = x(p)*inv_dx - (e - 1)
+               vgrid = (1.0_dp - xi)*velocity(e - 1) + xi*velocity(e)
+               v(p) = v(p) + dt*((1.0_dp - xi)*acceleration(e - 1) + xi*acceleration(e))
+               dxp = dt*vgrid
+               x(p) = x(p) + dxp
+               db(i) = mass_of(p)*(x(p) - x0(p))
+               kb(i) = 0.5_dp*mass_of(p)*v(p)*v(p)
+               mb(i, slot) = abs(dxp)*inv_dx
+            end if
+            if (stresses) then ! d eps = dt sum dN v_I over the start-of-step cell
+               if (moves) then
+                  dstrain = strain_increment(velocity(e - 1), velocity(e), dt, inv_dx)
+               else
+                  dstrain = strain_increment_of(e)
+               end if
+               call stress_hencky(dstrain, modulus_of(p), 0.5_dp*volume0/modulus_of(p), volume0, stress(p), volume_ratio(p), &
+                                 sb(i), svb(i))
+               jb(i) = volume_ratio(p)
+            else if (iand(shares, share_stress) /= 0) then ! (an initial mapping: the stress as it is)
+               svb(i) = stress(p)*volume_ratio(p)*volume0
+            end if
+            if (relocates) then ! the new cell, for P2G at the new position
+               call locate_cell(x(p), inv_dx, elements, elements_bits, cb(i), xib(i))
+               cell(p) = cb(i)
+            else                ! the shares go to the start-of-step cell
+               cb(i) = e
+               if (moves) xib(i) = xi
+            end if
+            ! the particle's whole element shares (accumulate_shares sums them): mass, momentum (APIC's
+            ! with its affine part), stress*volume, external force, at the left and right node
+            mp = mass_of(p)
+            if (iand(shares, share_mass + share_momentum) /= 0) then
+               sh(i, 2) = mp*xib(i)
+               sh(i, 1) = mp - sh(i, 2)
+            end if
+            if (iand(shares, share_momentum) /= 0) then
+               sh(i, 3) = sh(i, 1)*v(p)
+               sh(i, 4) = sh(i, 2)*v(p)
+            end if
+            if (iand(shares, share_stress) /= 0) sh(i, 5) = svb(i)
+         end do
+         end if
          ! the block's totals (macros of mpm_lanes.fypi, expanded here)
          if (moves) then
             do lane_i = 1, n - lanes + 1, lanes
@@ -10008,7 +11256,7 @@ contains
       real(dp), intent(inout), contiguous, optional :: gradient(:), force_left(:), force_right(:)
       integer :: p, e, i, n, b0, first, last, lo, hi, outside, ahead, elements
       real(dp) :: half_m, strain_factor, dstrain, inv_dx, dt, youngs_modulus, m, volume0
-      real(dp) :: linear
+      logical :: linear
       type(largest_move_t) :: largest
       real(dp) :: displacement(lanes), kinetic(lanes), strain(lanes), min_j(lanes)
       integer :: cb(block_size)
@@ -10028,7 +11276,7 @@ contains
       inv_dx = constants%inv_dx
       dt = constants%dt
       youngs_modulus = constants%youngs_modulus
-      linear = merge(1.0_dp, 0.0_dp, constants%linear)
+      linear = constants%linear
       m = constants%mass
       volume0 = constants%volume0
       call open_segment(k, shares, seg, mass_left, mass_right, momentum_left, momentum_right, stress_volume, first, last, &
@@ -10074,8 +11322,8 @@ contains
                else
                   dstrain = strain_increment_of(e)
                end if
-               call stress_particle(dstrain, modulus_of(p), 0.5_dp*volume0/modulus_of(p), volume0, linear, stress(p), &
-                                    volume_ratio(p), sb(i), svb(i))
+               call stress_hencky(dstrain, modulus_of(p), 0.5_dp*volume0/modulus_of(p), volume0, stress(p), volume_ratio(p), &
+                                 sb(i), svb(i))
                jb(i) = volume_ratio(p)
             else if (iand(shares, share_stress) /= 0) then ! (an initial mapping: the stress as it is)
                svb(i) = stress(p)*volume_ratio(p)*volume0
@@ -10177,7 +11425,7 @@ contains
       real(dp), intent(inout), contiguous, optional :: gradient(:), force_left(:), force_right(:)
       integer :: p, e, i, n, b0, first, last, lo, hi, outside, ahead, elements
       real(dp) :: half_m, strain_factor, dstrain, inv_dx, dt, youngs_modulus, m, volume0
-      real(dp) :: linear
+      logical :: linear
       type(largest_move_t) :: largest
       real(dp) :: displacement(lanes), kinetic(lanes), strain(lanes), min_j(lanes)
       integer :: cb(block_size)
@@ -10197,7 +11445,7 @@ contains
       inv_dx = constants%inv_dx
       dt = constants%dt
       youngs_modulus = constants%youngs_modulus
-      linear = merge(1.0_dp, 0.0_dp, constants%linear)
+      linear = constants%linear
       m = constants%mass
       volume0 = constants%volume0
       call open_segment(k, shares, seg, mass_left, mass_right, momentum_left, momentum_right, stress_volume, first, last, &
@@ -10223,6 +11471,7 @@ contains
                call prefetch_elements(cell(b0), cell(b0 + n - 1), strain_increment_of)
             end if
          end if
+         if (linear) then
          do i = 1, n
             p = b0 + i - 1
             e = cell(p)
@@ -10243,8 +11492,8 @@ contains
                else
                   dstrain = strain_increment_of(e)
                end if
-               call stress_particle(dstrain, modulus_of(p), 0.5_dp*volume0/modulus_of(p), volume0, linear, stress(p), &
-                                    volume_ratio(p), sb(i), svb(i))
+               call stress_linear(dstrain, modulus_of(p), 0.5_dp*volume0/modulus_of(p), volume0, stress(p), volume_ratio(p), &
+                                 sb(i), svb(i))
                jb(i) = volume_ratio(p)
             else if (iand(shares, share_stress) /= 0) then ! (an initial mapping: the stress as it is)
                svb(i) = stress(p)*volume_ratio(p)*volume0
@@ -10269,6 +11518,54 @@ contains
             end if
             if (iand(shares, share_stress) /= 0) sh(i, 5) = svb(i)
          end do
+         else
+         do i = 1, n
+            p = b0 + i - 1
+            e = cell(p)
+            ! G2P with the start-of-step shape functions (per-particle masses and moduli)
+            if (moves) then
+               xi = x(p)*inv_dx - (e - 1)
+               vgrid = (1.0_dp - xi)*velocity(e - 1) + xi*velocity(e)
+               v(p) = v(p) + dt*((1.0_dp - xi)*acceleration(e - 1) + xi*acceleration(e))
+               dxp = dt*vgrid
+               x(p) = x(p) + dxp
+               db(i) = mass_of(p)*(x(p) - x0(p))
+               kb(i) = 0.5_dp*mass_of(p)*v(p)*v(p)
+               mb(i, slot) = abs(dxp)*inv_dx
+            end if
+            if (stresses) then ! d eps = dt sum dN v_I over the start-of-step cell
+               if (moves) then
+                  dstrain = strain_increment(velocity(e - 1), velocity(e), dt, inv_dx)
+               else
+                  dstrain = strain_increment_of(e)
+               end if
+               call stress_hencky(dstrain, modulus_of(p), 0.5_dp*volume0/modulus_of(p), volume0, stress(p), volume_ratio(p), &
+                                 sb(i), svb(i))
+               jb(i) = volume_ratio(p)
+            else if (iand(shares, share_stress) /= 0) then ! (an initial mapping: the stress as it is)
+               svb(i) = stress(p)*volume_ratio(p)*volume0
+            end if
+            if (relocates) then ! the new cell, for P2G at the new position
+               call locate_cell(x(p), inv_dx, elements, elements_bits, cb(i), xib(i))
+               cell(p) = cb(i)
+            else                ! the shares go to the start-of-step cell
+               cb(i) = e
+               if (moves) xib(i) = xi
+            end if
+            ! the particle's whole element shares (accumulate_shares sums them): mass, momentum (APIC's
+            ! with its affine part), stress*volume, external force, at the left and right node
+            mp = mass_of(p)
+            if (iand(shares, share_mass + share_momentum) /= 0) then
+               sh(i, 2) = mp*xib(i)
+               sh(i, 1) = mp - sh(i, 2)
+            end if
+            if (iand(shares, share_momentum) /= 0) then
+               sh(i, 3) = sh(i, 1)*v(p)
+               sh(i, 4) = sh(i, 2)*v(p)
+            end if
+            if (iand(shares, share_stress) /= 0) sh(i, 5) = svb(i)
+         end do
+         end if
          ! the block's totals (macros of mpm_lanes.fypi, expanded here)
          if (moves) then
             do lane_i = 1, n - lanes + 1, lanes
@@ -10346,7 +11643,7 @@ contains
       real(dp), intent(inout), contiguous, optional :: gradient(:), force_left(:), force_right(:)
       integer :: p, e, i, n, b0, first, last, lo, hi, outside, ahead, elements
       real(dp) :: half_m, strain_factor, dstrain, inv_dx, dt, youngs_modulus, m, volume0
-      real(dp) :: linear
+      logical :: linear
       type(largest_move_t) :: largest
       real(dp) :: displacement(lanes), kinetic(lanes), strain(lanes), min_j(lanes)
       integer :: cb(block_size)
@@ -10366,7 +11663,7 @@ contains
       inv_dx = constants%inv_dx
       dt = constants%dt
       youngs_modulus = constants%youngs_modulus
-      linear = merge(1.0_dp, 0.0_dp, constants%linear)
+      linear = constants%linear
       m = constants%mass
       volume0 = constants%volume0
       call open_segment(k, shares, seg, mass_left, mass_right, momentum_left, momentum_right, stress_volume, first, last, &
@@ -10412,8 +11709,8 @@ contains
                else
                   dstrain = strain_increment_of(e)
                end if
-               call stress_particle(dstrain, modulus_of(p), 0.5_dp*volume0/modulus_of(p), volume0, linear, stress(p), &
-                                    volume_ratio(p), sb(i), svb(i))
+               call stress_hencky(dstrain, modulus_of(p), 0.5_dp*volume0/modulus_of(p), volume0, stress(p), volume_ratio(p), &
+                                 sb(i), svb(i))
                jb(i) = volume_ratio(p)
             else if (iand(shares, share_stress) /= 0) then ! (an initial mapping: the stress as it is)
                svb(i) = stress(p)*volume_ratio(p)*volume0
@@ -10515,7 +11812,7 @@ contains
       real(dp), intent(inout), contiguous, optional :: gradient(:), force_left(:), force_right(:)
       integer :: p, e, i, n, b0, first, last, lo, hi, outside, ahead, elements
       real(dp) :: half_m, strain_factor, dstrain, inv_dx, dt, youngs_modulus, m, volume0
-      real(dp) :: linear
+      logical :: linear
       type(largest_move_t) :: largest
       real(dp) :: displacement(lanes), kinetic(lanes), strain(lanes), min_j(lanes)
       integer :: cb(block_size)
@@ -10535,7 +11832,7 @@ contains
       inv_dx = constants%inv_dx
       dt = constants%dt
       youngs_modulus = constants%youngs_modulus
-      linear = merge(1.0_dp, 0.0_dp, constants%linear)
+      linear = constants%linear
       m = constants%mass
       volume0 = constants%volume0
       call open_segment(k, shares, seg, mass_left, mass_right, momentum_left, momentum_right, stress_volume, first, last, &
@@ -10581,8 +11878,8 @@ contains
                else
                   dstrain = strain_increment_of(e)
                end if
-               call stress_particle(dstrain, modulus_of(p), 0.5_dp*volume0/modulus_of(p), volume0, linear, stress(p), &
-                                    volume_ratio(p), sb(i), svb(i))
+               call stress_hencky(dstrain, modulus_of(p), 0.5_dp*volume0/modulus_of(p), volume0, stress(p), volume_ratio(p), &
+                                 sb(i), svb(i))
                jb(i) = volume_ratio(p)
             else if (iand(shares, share_stress) /= 0) then ! (an initial mapping: the stress as it is)
                svb(i) = stress(p)*volume_ratio(p)*volume0
@@ -10684,7 +11981,7 @@ contains
       real(dp), intent(inout), contiguous, optional :: gradient(:), force_left(:), force_right(:)
       integer :: p, e, i, n, b0, first, last, lo, hi, outside, ahead, elements
       real(dp) :: half_m, strain_factor, dstrain, inv_dx, dt, youngs_modulus, m, volume0
-      real(dp) :: linear
+      logical :: linear
       type(largest_move_t) :: largest
       real(dp) :: displacement(lanes), kinetic(lanes), strain(lanes), min_j(lanes)
       integer :: cb(block_size)
@@ -10704,7 +12001,7 @@ contains
       inv_dx = constants%inv_dx
       dt = constants%dt
       youngs_modulus = constants%youngs_modulus
-      linear = merge(1.0_dp, 0.0_dp, constants%linear)
+      linear = constants%linear
       m = constants%mass
       volume0 = constants%volume0
       call open_segment(k, shares, seg, mass_left, mass_right, momentum_left, momentum_right, stress_volume, first, last, &
@@ -10750,8 +12047,7 @@ contains
                else
                   dstrain = strain_increment_of(e)
                end if
-               call stress_particle(dstrain, youngs_modulus, strain_factor, volume0, linear, stress(p), volume_ratio(p), &
-                                    sb(i), svb(i))
+               call stress_hencky(dstrain, youngs_modulus, strain_factor, volume0, stress(p), volume_ratio(p), sb(i), svb(i))
                jb(i) = volume_ratio(p)
             else if (iand(shares, share_stress) /= 0) then ! (an initial mapping: the stress as it is)
                svb(i) = stress(p)*volume_ratio(p)*volume0
@@ -10858,7 +12154,7 @@ contains
       real(dp), intent(inout), contiguous, optional :: gradient(:), force_left(:), force_right(:)
       integer :: p, e, i, n, b0, first, last, lo, hi, outside, ahead, elements
       real(dp) :: half_m, strain_factor, dstrain, inv_dx, dt, youngs_modulus, m, volume0
-      real(dp) :: linear
+      logical :: linear
       type(largest_move_t) :: largest
       real(dp) :: displacement(lanes), kinetic(lanes), strain(lanes), min_j(lanes)
       integer :: cb(block_size)
@@ -10878,7 +12174,7 @@ contains
       inv_dx = constants%inv_dx
       dt = constants%dt
       youngs_modulus = constants%youngs_modulus
-      linear = merge(1.0_dp, 0.0_dp, constants%linear)
+      linear = constants%linear
       m = constants%mass
       volume0 = constants%volume0
       call open_segment(k, shares, seg, mass_left, mass_right, momentum_left, momentum_right, stress_volume, first, last, &
@@ -10904,6 +12200,7 @@ contains
                call prefetch_elements(cell(b0), cell(b0 + n - 1), strain_increment_of)
             end if
          end if
+         if (linear) then
          do i = 1, n
             p = b0 + i - 1
             e = cell(p)
@@ -10924,8 +12221,7 @@ contains
                else
                   dstrain = strain_increment_of(e)
                end if
-               call stress_particle(dstrain, youngs_modulus, strain_factor, volume0, linear, stress(p), volume_ratio(p), &
-                                    sb(i), svb(i))
+               call stress_linear(dstrain, youngs_modulus, strain_factor, volume0, stress(p), volume_ratio(p), sb(i), svb(i))
                jb(i) = volume_ratio(p)
             else if (iand(shares, share_stress) /= 0) then ! (an initial mapping: the stress as it is)
                svb(i) = stress(p)*volume_ratio(p)*volume0
@@ -10955,6 +12251,58 @@ contains
                sh(i, 6) = forces(p) - sh(i, 7)
             end if
          end do
+         else
+         do i = 1, n
+            p = b0 + i - 1
+            e = cell(p)
+            ! G2P with the start-of-step shape functions (per-particle forces)
+            if (moves) then
+               xi = x(p)*inv_dx - (e - 1)
+               vgrid = (1.0_dp - xi)*velocity(e - 1) + xi*velocity(e)
+               v(p) = v(p) + dt*((1.0_dp - xi)*acceleration(e - 1) + xi*acceleration(e))
+               dxp = dt*vgrid
+               x(p) = x(p) + dxp
+               db(i) = x(p) - x0(p)
+               kb(i) = half_m*v(p)*v(p)
+               mb(i, slot) = abs(dxp)*inv_dx
+            end if
+            if (stresses) then ! d eps = dt sum dN v_I over the start-of-step cell
+               if (moves) then
+                  dstrain = strain_increment(velocity(e - 1), velocity(e), dt, inv_dx)
+               else
+                  dstrain = strain_increment_of(e)
+               end if
+               call stress_hencky(dstrain, youngs_modulus, strain_factor, volume0, stress(p), volume_ratio(p), sb(i), svb(i))
+               jb(i) = volume_ratio(p)
+            else if (iand(shares, share_stress) /= 0) then ! (an initial mapping: the stress as it is)
+               svb(i) = stress(p)*volume_ratio(p)*volume0
+            end if
+            if (relocates) then ! the new cell, for P2G at the new position
+               call locate_cell(x(p), inv_dx, elements, elements_bits, cb(i), xib(i))
+               cell(p) = cb(i)
+            else                ! the shares go to the start-of-step cell
+               cb(i) = e
+               if (moves) xib(i) = xi
+               if (.not. moves) xib(i) = x(p)*inv_dx - (e - 1)  ! (USF's stress pass maps the forces)
+            end if
+            ! the particle's whole element shares (accumulate_shares sums them): mass, momentum (APIC's
+            ! with its affine part), stress*volume, external force, at the left and right node
+            mp = m
+            if (iand(shares, share_mass + share_momentum) /= 0) then
+               sh(i, 2) = mp*xib(i)
+               sh(i, 1) = mp - sh(i, 2)
+            end if
+            if (iand(shares, share_momentum) /= 0) then
+               sh(i, 3) = sh(i, 1)*v(p)
+               sh(i, 4) = sh(i, 2)*v(p)
+            end if
+            if (iand(shares, share_stress) /= 0) sh(i, 5) = svb(i)
+            if (iand(shares, share_force) /= 0) then
+               sh(i, 7) = forces(p)*xib(i)
+               sh(i, 6) = forces(p) - sh(i, 7)
+            end if
+         end do
+         end if
          ! the block's totals (macros of mpm_lanes.fypi, expanded here)
          if (moves) then
             do lane_i = 1, n - lanes + 1, lanes
@@ -11032,7 +12380,7 @@ contains
       real(dp), intent(inout), contiguous, optional :: gradient(:), force_left(:), force_right(:)
       integer :: p, e, i, n, b0, first, last, lo, hi, outside, ahead, elements
       real(dp) :: half_m, strain_factor, dstrain, inv_dx, dt, youngs_modulus, m, volume0
-      real(dp) :: linear
+      logical :: linear
       type(largest_move_t) :: largest
       real(dp) :: displacement(lanes), kinetic(lanes), strain(lanes), min_j(lanes)
       integer :: cb(block_size)
@@ -11052,7 +12400,7 @@ contains
       inv_dx = constants%inv_dx
       dt = constants%dt
       youngs_modulus = constants%youngs_modulus
-      linear = merge(1.0_dp, 0.0_dp, constants%linear)
+      linear = constants%linear
       m = constants%mass
       volume0 = constants%volume0
       call open_segment(k, shares, seg, mass_left, mass_right, momentum_left, momentum_right, stress_volume, first, last, &
@@ -11078,6 +12426,7 @@ contains
                call prefetch_elements(cell(b0), cell(b0 + n - 1), strain_increment_of)
             end if
          end if
+         if (linear) then
          do i = 1, n
             p = b0 + i - 1
             e = cell(p)
@@ -11098,8 +12447,7 @@ contains
                else
                   dstrain = strain_increment_of(e)
                end if
-               call stress_particle(dstrain, youngs_modulus, strain_factor, volume0, linear, stress(p), volume_ratio(p), &
-                                    sb(i), svb(i))
+               call stress_linear(dstrain, youngs_modulus, strain_factor, volume0, stress(p), volume_ratio(p), sb(i), svb(i))
                jb(i) = volume_ratio(p)
             else if (iand(shares, share_stress) /= 0) then ! (an initial mapping: the stress as it is)
                svb(i) = stress(p)*volume_ratio(p)*volume0
@@ -11129,6 +12477,58 @@ contains
                sh(i, 6) = forces(p) - sh(i, 7)
             end if
          end do
+         else
+         do i = 1, n
+            p = b0 + i - 1
+            e = cell(p)
+            ! G2P with the start-of-step shape functions (per-particle forces)
+            if (moves) then
+               xi = x(p)*inv_dx - (e - 1)
+               vgrid = (1.0_dp - xi)*velocity(e - 1) + xi*velocity(e)
+               v(p) = v(p) + dt*((1.0_dp - xi)*acceleration(e - 1) + xi*acceleration(e))
+               dxp = dt*vgrid
+               x(p) = x(p) + dxp
+               db(i) = x(p) - x0(p)
+               kb(i) = half_m*v(p)*v(p)
+               mb(i, slot) = abs(dxp)*inv_dx
+            end if
+            if (stresses) then ! d eps = dt sum dN v_I over the start-of-step cell
+               if (moves) then
+                  dstrain = strain_increment(velocity(e - 1), velocity(e), dt, inv_dx)
+               else
+                  dstrain = strain_increment_of(e)
+               end if
+               call stress_hencky(dstrain, youngs_modulus, strain_factor, volume0, stress(p), volume_ratio(p), sb(i), svb(i))
+               jb(i) = volume_ratio(p)
+            else if (iand(shares, share_stress) /= 0) then ! (an initial mapping: the stress as it is)
+               svb(i) = stress(p)*volume_ratio(p)*volume0
+            end if
+            if (relocates) then ! the new cell, for P2G at the new position
+               call locate_cell(x(p), inv_dx, elements, elements_bits, cb(i), xib(i))
+               cell(p) = cb(i)
+            else                ! the shares go to the start-of-step cell
+               cb(i) = e
+               if (moves) xib(i) = xi
+               if (.not. moves) xib(i) = x(p)*inv_dx - (e - 1)  ! (USF's stress pass maps the forces)
+            end if
+            ! the particle's whole element shares (accumulate_shares sums them): mass, momentum (APIC's
+            ! with its affine part), stress*volume, external force, at the left and right node
+            mp = m
+            if (iand(shares, share_mass + share_momentum) /= 0) then
+               sh(i, 2) = mp*xib(i)
+               sh(i, 1) = mp - sh(i, 2)
+            end if
+            if (iand(shares, share_momentum) /= 0) then
+               sh(i, 3) = sh(i, 1)*v(p)
+               sh(i, 4) = sh(i, 2)*v(p)
+            end if
+            if (iand(shares, share_stress) /= 0) sh(i, 5) = svb(i)
+            if (iand(shares, share_force) /= 0) then
+               sh(i, 7) = forces(p)*xib(i)
+               sh(i, 6) = forces(p) - sh(i, 7)
+            end if
+         end do
+         end if
          ! the block's totals (macros of mpm_lanes.fypi, expanded here)
          if (moves) then
             do lane_i = 1, n - lanes + 1, lanes
@@ -11206,7 +12606,7 @@ contains
       real(dp), intent(inout), contiguous, optional :: gradient(:), force_left(:), force_right(:)
       integer :: p, e, i, n, b0, first, last, lo, hi, outside, ahead, elements
       real(dp) :: half_m, strain_factor, dstrain, inv_dx, dt, youngs_modulus, m, volume0
-      real(dp) :: linear
+      logical :: linear
       type(largest_move_t) :: largest
       real(dp) :: displacement(lanes), kinetic(lanes), strain(lanes), min_j(lanes)
       integer :: cb(block_size)
@@ -11226,7 +12626,7 @@ contains
       inv_dx = constants%inv_dx
       dt = constants%dt
       youngs_modulus = constants%youngs_modulus
-      linear = merge(1.0_dp, 0.0_dp, constants%linear)
+      linear = constants%linear
       m = constants%mass
       volume0 = constants%volume0
       call open_segment(k, shares, seg, mass_left, mass_right, momentum_left, momentum_right, stress_volume, first, last, &
@@ -11272,8 +12672,7 @@ contains
                else
                   dstrain = strain_increment_of(e)
                end if
-               call stress_particle(dstrain, youngs_modulus, strain_factor, volume0, linear, stress(p), volume_ratio(p), &
-                                    sb(i), svb(i))
+               call stress_hencky(dstrain, youngs_modulus, strain_factor, volume0, stress(p), volume_ratio(p), sb(i), svb(i))
                jb(i) = volume_ratio(p)
             else if (iand(shares, share_stress) /= 0) then ! (an initial mapping: the stress as it is)
                svb(i) = stress(p)*volume_ratio(p)*volume0
@@ -11380,7 +12779,7 @@ contains
       real(dp), intent(inout), contiguous, optional :: gradient(:), force_left(:), force_right(:)
       integer :: p, e, i, n, b0, first, last, lo, hi, outside, ahead, elements
       real(dp) :: half_m, strain_factor, dstrain, inv_dx, dt, youngs_modulus, m, volume0
-      real(dp) :: linear
+      logical :: linear
       type(largest_move_t) :: largest
       real(dp) :: displacement(lanes), kinetic(lanes), strain(lanes), min_j(lanes)
       integer :: cb(block_size)
@@ -11400,7 +12799,7 @@ contains
       inv_dx = constants%inv_dx
       dt = constants%dt
       youngs_modulus = constants%youngs_modulus
-      linear = merge(1.0_dp, 0.0_dp, constants%linear)
+      linear = constants%linear
       m = constants%mass
       volume0 = constants%volume0
       call open_segment(k, shares, seg, mass_left, mass_right, momentum_left, momentum_right, stress_volume, first, last, &
@@ -11426,6 +12825,7 @@ contains
                call prefetch_elements(cell(b0), cell(b0 + n - 1), strain_increment_of)
             end if
          end if
+         if (linear) then
          do i = 1, n
             p = b0 + i - 1
             e = cell(p)
@@ -11446,8 +12846,7 @@ contains
                else
                   dstrain = strain_increment_of(e)
                end if
-               call stress_particle(dstrain, youngs_modulus, strain_factor, volume0, linear, stress(p), volume_ratio(p), &
-                                    sb(i), svb(i))
+               call stress_linear(dstrain, youngs_modulus, strain_factor, volume0, stress(p), volume_ratio(p), sb(i), svb(i))
                jb(i) = volume_ratio(p)
             else if (iand(shares, share_stress) /= 0) then ! (an initial mapping: the stress as it is)
                svb(i) = stress(p)*volume_ratio(p)*volume0
@@ -11477,6 +12876,58 @@ contains
                sh(i, 6) = forces(p) - sh(i, 7)
             end if
          end do
+         else
+         do i = 1, n
+            p = b0 + i - 1
+            e = cell(p)
+            ! G2P with the start-of-step shape functions (per-particle forces)
+            if (moves) then
+               xi = x(p)*inv_dx - (e - 1)
+               vgrid = (1.0_dp - xi)*velocity(e - 1) + xi*velocity(e)
+               v(p) = v(p) + dt*((1.0_dp - xi)*acceleration(e - 1) + xi*acceleration(e))
+               dxp = dt*vgrid
+               x(p) = x(p) + dxp
+               db(i) = x(p) - x0(p)
+               kb(i) = half_m*v(p)*v(p)
+               mb(i, slot) = abs(dxp)*inv_dx
+            end if
+            if (stresses) then ! d eps = dt sum dN v_I over the start-of-step cell
+               if (moves) then
+                  dstrain = strain_increment(velocity(e - 1), velocity(e), dt, inv_dx)
+               else
+                  dstrain = strain_increment_of(e)
+               end if
+               call stress_hencky(dstrain, youngs_modulus, strain_factor, volume0, stress(p), volume_ratio(p), sb(i), svb(i))
+               jb(i) = volume_ratio(p)
+            else if (iand(shares, share_stress) /= 0) then ! (an initial mapping: the stress as it is)
+               svb(i) = stress(p)*volume_ratio(p)*volume0
+            end if
+            if (relocates) then ! the new cell, for P2G at the new position
+               call locate_cell(x(p), inv_dx, elements, elements_bits, cb(i), xib(i))
+               cell(p) = cb(i)
+            else                ! the shares go to the start-of-step cell
+               cb(i) = e
+               if (moves) xib(i) = xi
+               if (.not. moves) xib(i) = x(p)*inv_dx - (e - 1)  ! (USF's stress pass maps the forces)
+            end if
+            ! the particle's whole element shares (accumulate_shares sums them): mass, momentum (APIC's
+            ! with its affine part), stress*volume, external force, at the left and right node
+            mp = m
+            if (iand(shares, share_mass + share_momentum) /= 0) then
+               sh(i, 2) = mp*xib(i)
+               sh(i, 1) = mp - sh(i, 2)
+            end if
+            if (iand(shares, share_momentum) /= 0) then
+               sh(i, 3) = sh(i, 1)*v(p)
+               sh(i, 4) = sh(i, 2)*v(p)
+            end if
+            if (iand(shares, share_stress) /= 0) sh(i, 5) = svb(i)
+            if (iand(shares, share_force) /= 0) then
+               sh(i, 7) = forces(p)*xib(i)
+               sh(i, 6) = forces(p) - sh(i, 7)
+            end if
+         end do
+         end if
          ! the block's totals (macros of mpm_lanes.fypi, expanded here)
          if (moves) then
             do lane_i = 1, n - lanes + 1, lanes
@@ -11554,7 +13005,7 @@ contains
       real(dp), intent(inout), contiguous, optional :: gradient(:), force_left(:), force_right(:)
       integer :: p, e, i, n, b0, first, last, lo, hi, outside, ahead, elements
       real(dp) :: half_m, strain_factor, dstrain, inv_dx, dt, youngs_modulus, m, volume0
-      real(dp) :: linear
+      logical :: linear
       type(largest_move_t) :: largest
       real(dp) :: displacement(lanes), kinetic(lanes), strain(lanes), min_j(lanes)
       integer :: cb(block_size)
@@ -11574,7 +13025,7 @@ contains
       inv_dx = constants%inv_dx
       dt = constants%dt
       youngs_modulus = constants%youngs_modulus
-      linear = merge(1.0_dp, 0.0_dp, constants%linear)
+      linear = constants%linear
       m = constants%mass
       volume0 = constants%volume0
       call open_segment(k, shares, seg, mass_left, mass_right, momentum_left, momentum_right, stress_volume, first, last, &
@@ -11620,8 +13071,7 @@ contains
                else
                   dstrain = strain_increment_of(e)
                end if
-               call stress_particle(dstrain, youngs_modulus, strain_factor, volume0, linear, stress(p), volume_ratio(p), &
-                                    sb(i), svb(i))
+               call stress_hencky(dstrain, youngs_modulus, strain_factor, volume0, stress(p), volume_ratio(p), sb(i), svb(i))
                jb(i) = volume_ratio(p)
             else if (iand(shares, share_stress) /= 0) then ! (an initial mapping: the stress as it is)
                svb(i) = stress(p)*volume_ratio(p)*volume0
@@ -11728,7 +13178,7 @@ contains
       real(dp), intent(inout), contiguous, optional :: gradient(:), force_left(:), force_right(:)
       integer :: p, e, i, n, b0, first, last, lo, hi, outside, ahead, elements
       real(dp) :: half_m, strain_factor, dstrain, inv_dx, dt, youngs_modulus, m, volume0
-      real(dp) :: linear
+      logical :: linear
       type(largest_move_t) :: largest
       real(dp) :: displacement(lanes), kinetic(lanes), strain(lanes), min_j(lanes)
       integer :: cb(block_size)
@@ -11748,7 +13198,7 @@ contains
       inv_dx = constants%inv_dx
       dt = constants%dt
       youngs_modulus = constants%youngs_modulus
-      linear = merge(1.0_dp, 0.0_dp, constants%linear)
+      linear = constants%linear
       m = constants%mass
       volume0 = constants%volume0
       call open_segment(k, shares, seg, mass_left, mass_right, momentum_left, momentum_right, stress_volume, first, last, &
@@ -11794,8 +13244,7 @@ contains
                else
                   dstrain = strain_increment_of(e)
                end if
-               call stress_particle(dstrain, youngs_modulus, strain_factor, volume0, linear, stress(p), volume_ratio(p), &
-                                    sb(i), svb(i))
+               call stress_hencky(dstrain, youngs_modulus, strain_factor, volume0, stress(p), volume_ratio(p), sb(i), svb(i))
                jb(i) = volume_ratio(p)
             else if (iand(shares, share_stress) /= 0) then ! (an initial mapping: the stress as it is)
                svb(i) = stress(p)*volume_ratio(p)*volume0
@@ -11902,7 +13351,7 @@ contains
       real(dp), intent(inout), contiguous, optional :: gradient(:), force_left(:), force_right(:)
       integer :: p, e, i, n, b0, first, last, lo, hi, outside, ahead, elements
       real(dp) :: half_m, strain_factor, dstrain, inv_dx, dt, youngs_modulus, m, volume0
-      real(dp) :: linear
+      logical :: linear
       type(largest_move_t) :: largest
       real(dp) :: displacement(lanes), kinetic(lanes), strain(lanes), min_j(lanes)
       integer :: cb(block_size)
@@ -11925,7 +13374,7 @@ contains
       inv_dx = constants%inv_dx
       dt = constants%dt
       youngs_modulus = constants%youngs_modulus
-      linear = merge(1.0_dp, 0.0_dp, constants%linear)
+      linear = constants%linear
       m = constants%mass
       volume0 = constants%volume0
       call open_segment(k, shares, seg, mass_left, mass_right, momentum_left, momentum_right, stress_volume, first, last, &
@@ -11971,8 +13420,7 @@ contains
                else
                   dstrain = strain_increment_of(e)
                end if
-               call stress_particle(dstrain, youngs_modulus, strain_factor, volume0, linear, stress(p), volume_ratio(p), &
-                                    sb(i), svb(i))
+               call stress_hencky(dstrain, youngs_modulus, strain_factor, volume0, stress(p), volume_ratio(p), sb(i), svb(i))
                jb(i) = volume_ratio(p)
             else if (iand(shares, share_stress) /= 0) then ! (an initial mapping: the stress as it is)
                svb(i) = stress(p)*volume_ratio(p)*volume0
@@ -12060,7 +13508,7 @@ contains
       real(dp), intent(inout), contiguous, optional :: gradient(:), force_left(:), force_right(:)
       integer :: p, e, i, n, b0, first, last, lo, hi, outside, ahead, elements
       real(dp) :: half_m, strain_factor, dstrain, inv_dx, dt, youngs_modulus, m, volume0
-      real(dp) :: linear
+      logical :: linear
       type(largest_move_t) :: largest
       real(dp) :: displacement(lanes), kinetic(lanes), strain(lanes), min_j(lanes)
       integer :: cb(block_size)
@@ -12083,7 +13531,7 @@ contains
       inv_dx = constants%inv_dx
       dt = constants%dt
       youngs_modulus = constants%youngs_modulus
-      linear = merge(1.0_dp, 0.0_dp, constants%linear)
+      linear = constants%linear
       m = constants%mass
       volume0 = constants%volume0
       call open_segment(k, shares, seg, mass_left, mass_right, momentum_left, momentum_right, stress_volume, first, last, &
@@ -12109,6 +13557,7 @@ contains
                call prefetch_elements(cell(b0), cell(b0 + n - 1), strain_increment_of)
             end if
          end if
+         if (linear) then
          do i = 1, n
             p = b0 + i - 1
             e = cell(p)
@@ -12129,8 +13578,7 @@ contains
                else
                   dstrain = strain_increment_of(e)
                end if
-               call stress_particle(dstrain, youngs_modulus, strain_factor, volume0, linear, stress(p), volume_ratio(p), &
-                                    sb(i), svb(i))
+               call stress_linear(dstrain, youngs_modulus, strain_factor, volume0, stress(p), volume_ratio(p), sb(i), svb(i))
                jb(i) = volume_ratio(p)
             else if (iand(shares, share_stress) /= 0) then ! (an initial mapping: the stress as it is)
                svb(i) = stress(p)*volume_ratio(p)*volume0
@@ -12144,6 +13592,42 @@ contains
             end if
             if (moves .or. relocates) vpb(i) = v(p)
          end do
+         else
+         do i = 1, n
+            p = b0 + i - 1
+            e = cell(p)
+            ! G2P with the start-of-step shape functions (bodies on stacked fields)
+            if (moves) then
+               xi = (x(p) - origin)*inv_dx - (e - offset - 1)  ! (e: the cell in the stacked fields)
+               vgrid = (1.0_dp - xi)*velocity(e - 1) + xi*velocity(e)
+               v(p) = v(p) + dt*((1.0_dp - xi)*acceleration(e - 1) + xi*acceleration(e))
+               dxp = dt*vgrid
+               x(p) = x(p) + dxp
+               db(i) = x(p) - x0(p)
+               kb(i) = half_m*v(p)*v(p)
+               mb(i, slot) = abs(dxp)*inv_dx
+            end if
+            if (stresses) then ! d eps = dt sum dN v_I over the start-of-step cell
+               if (moves) then
+                  dstrain = strain_increment(velocity(e - 1), velocity(e), dt, inv_dx)
+               else
+                  dstrain = strain_increment_of(e)
+               end if
+               call stress_hencky(dstrain, youngs_modulus, strain_factor, volume0, stress(p), volume_ratio(p), sb(i), svb(i))
+               jb(i) = volume_ratio(p)
+            else if (iand(shares, share_stress) /= 0) then ! (an initial mapping: the stress as it is)
+               svb(i) = stress(p)*volume_ratio(p)*volume0
+            end if
+            if (relocates) then ! the new cell, for P2G at the new position
+               call locate_body_cell(x(p), origin, inv_dx, elements, elements_bits, offset, cb(i), xib(i))
+               cell(p) = cb(i)
+            else                ! the shares go to the start-of-step cell
+               cb(i) = e
+               if (moves) xib(i) = xi
+            end if
+            if (moves .or. relocates) vpb(i) = v(p)
+         end do
+         end if
          ! the block's totals (macros of mpm_lanes.fypi, expanded here)
          if (moves) then
             do lane_i = 1, n - lanes + 1, lanes
@@ -12218,7 +13702,7 @@ contains
       real(dp), intent(inout), contiguous, optional :: gradient(:), force_left(:), force_right(:)
       integer :: p, e, i, n, b0, first, last, lo, hi, outside, ahead, elements
       real(dp) :: half_m, strain_factor, dstrain, inv_dx, dt, youngs_modulus, m, volume0
-      real(dp) :: linear
+      logical :: linear
       type(largest_move_t) :: largest
       real(dp) :: displacement(lanes), kinetic(lanes), strain(lanes), min_j(lanes)
       integer :: cb(block_size)
@@ -12241,7 +13725,7 @@ contains
       inv_dx = constants%inv_dx
       dt = constants%dt
       youngs_modulus = constants%youngs_modulus
-      linear = merge(1.0_dp, 0.0_dp, constants%linear)
+      linear = constants%linear
       m = constants%mass
       volume0 = constants%volume0
       call open_segment(k, shares, seg, mass_left, mass_right, momentum_left, momentum_right, stress_volume, first, last, &
@@ -12267,6 +13751,7 @@ contains
                call prefetch_elements(cell(b0), cell(b0 + n - 1), strain_increment_of)
             end if
          end if
+         if (linear) then
          do i = 1, n
             p = b0 + i - 1
             e = cell(p)
@@ -12287,8 +13772,7 @@ contains
                else
                   dstrain = strain_increment_of(e)
                end if
-               call stress_particle(dstrain, youngs_modulus, strain_factor, volume0, linear, stress(p), volume_ratio(p), &
-                                    sb(i), svb(i))
+               call stress_linear(dstrain, youngs_modulus, strain_factor, volume0, stress(p), volume_ratio(p), sb(i), svb(i))
                jb(i) = volume_ratio(p)
             else if (iand(shares, share_stress) /= 0) then ! (an initial mapping: the stress as it is)
                svb(i) = stress(p)*volume_ratio(p)*volume0
@@ -12302,6 +13786,42 @@ contains
             end if
             if (moves .or. relocates) vpb(i) = v(p)
          end do
+         else
+         do i = 1, n
+            p = b0 + i - 1
+            e = cell(p)
+            ! G2P with the start-of-step shape functions (bodies on stacked fields)
+            if (moves) then
+               xi = (x(p) - origin)*inv_dx - (e - offset - 1)  ! (e: the cell in the stacked fields)
+               vgrid = (1.0_dp - xi)*velocity(e - 1) + xi*velocity(e)
+               v(p) = v(p) + dt*((1.0_dp - xi)*acceleration(e - 1) + xi*acceleration(e))
+               dxp = dt*vgrid
+               x(p) = x(p) + dxp
+               db(i) = x(p) - x0(p)
+               kb(i) = half_m*v(p)*v(p)
+               mb(i, slot) = abs(dxp)*inv_dx
+            end if
+            if (stresses) then ! d eps = dt sum dN v_I over the start-of-step cell
+               if (moves) then
+                  dstrain = strain_increment(velocity(e - 1), velocity(e), dt, inv_dx)
+               else
+                  dstrain = strain_increment_of(e)
+               end if
+               call stress_hencky(dstrain, youngs_modulus, strain_factor, volume0, stress(p), volume_ratio(p), sb(i), svb(i))
+               jb(i) = volume_ratio(p)
+            else if (iand(shares, share_stress) /= 0) then ! (an initial mapping: the stress as it is)
+               svb(i) = stress(p)*volume_ratio(p)*volume0
+            end if
+            if (relocates) then ! the new cell, for P2G at the new position
+               call locate_body_cell(x(p), origin, inv_dx, elements, elements_bits, offset, cb(i), xib(i))
+               cell(p) = cb(i)
+            else                ! the shares go to the start-of-step cell
+               cb(i) = e
+               if (moves) xib(i) = xi
+            end if
+            if (moves .or. relocates) vpb(i) = v(p)
+         end do
+         end if
          ! the block's totals (macros of mpm_lanes.fypi, expanded here)
          if (moves) then
             do lane_i = 1, n - lanes + 1, lanes
@@ -12376,7 +13896,7 @@ contains
       real(dp), intent(inout), contiguous, optional :: gradient(:), force_left(:), force_right(:)
       integer :: p, e, i, n, b0, first, last, lo, hi, outside, ahead, elements
       real(dp) :: half_m, strain_factor, dstrain, inv_dx, dt, youngs_modulus, m, volume0
-      real(dp) :: linear
+      logical :: linear
       type(largest_move_t) :: largest
       real(dp) :: displacement(lanes), kinetic(lanes), strain(lanes), min_j(lanes)
       integer :: cb(block_size)
@@ -12399,7 +13919,7 @@ contains
       inv_dx = constants%inv_dx
       dt = constants%dt
       youngs_modulus = constants%youngs_modulus
-      linear = merge(1.0_dp, 0.0_dp, constants%linear)
+      linear = constants%linear
       m = constants%mass
       volume0 = constants%volume0
       call open_segment(k, shares, seg, mass_left, mass_right, momentum_left, momentum_right, stress_volume, first, last, &
@@ -12445,8 +13965,7 @@ contains
                else
                   dstrain = strain_increment_of(e)
                end if
-               call stress_particle(dstrain, youngs_modulus, strain_factor, volume0, linear, stress(p), volume_ratio(p), &
-                                    sb(i), svb(i))
+               call stress_hencky(dstrain, youngs_modulus, strain_factor, volume0, stress(p), volume_ratio(p), sb(i), svb(i))
                jb(i) = volume_ratio(p)
             else if (iand(shares, share_stress) /= 0) then ! (an initial mapping: the stress as it is)
                svb(i) = stress(p)*volume_ratio(p)*volume0
@@ -12534,7 +14053,7 @@ contains
       real(dp), intent(inout), contiguous, optional :: gradient(:), force_left(:), force_right(:)
       integer :: p, e, i, n, b0, first, last, lo, hi, outside, ahead, elements
       real(dp) :: half_m, strain_factor, dstrain, inv_dx, dt, youngs_modulus, m, volume0
-      real(dp) :: linear
+      logical :: linear
       type(largest_move_t) :: largest
       real(dp) :: displacement(lanes), kinetic(lanes), strain(lanes), min_j(lanes)
       integer :: cb(block_size)
@@ -12557,7 +14076,7 @@ contains
       inv_dx = constants%inv_dx
       dt = constants%dt
       youngs_modulus = constants%youngs_modulus
-      linear = merge(1.0_dp, 0.0_dp, constants%linear)
+      linear = constants%linear
       m = constants%mass
       volume0 = constants%volume0
       call open_segment(k, shares, seg, mass_left, mass_right, momentum_left, momentum_right, stress_volume, first, last, &
@@ -12583,6 +14102,7 @@ contains
                call prefetch_elements(cell(b0), cell(b0 + n - 1), strain_increment_of)
             end if
          end if
+         if (linear) then
          do i = 1, n
             p = b0 + i - 1
             e = cell(p)
@@ -12603,8 +14123,7 @@ contains
                else
                   dstrain = strain_increment_of(e)
                end if
-               call stress_particle(dstrain, youngs_modulus, strain_factor, volume0, linear, stress(p), volume_ratio(p), &
-                                    sb(i), svb(i))
+               call stress_linear(dstrain, youngs_modulus, strain_factor, volume0, stress(p), volume_ratio(p), sb(i), svb(i))
                jb(i) = volume_ratio(p)
             else if (iand(shares, share_stress) /= 0) then ! (an initial mapping: the stress as it is)
                svb(i) = stress(p)*volume_ratio(p)*volume0
@@ -12618,6 +14137,42 @@ contains
             end if
             if (moves .or. relocates) vpb(i) = v(p)
          end do
+         else
+         do i = 1, n
+            p = b0 + i - 1
+            e = cell(p)
+            ! G2P with the start-of-step shape functions (bodies on stacked fields)
+            if (moves) then
+               xi = (x(p) - origin)*inv_dx - (e - offset - 1)  ! (e: the cell in the stacked fields)
+               vgrid = (1.0_dp - xi)*velocity(e - 1) + xi*velocity(e)
+               v(p) = v(p) + dt*((1.0_dp - xi)*acceleration(e - 1) + xi*acceleration(e))
+               dxp = dt*vgrid
+               x(p) = x(p) + dxp
+               db(i) = x(p) - x0(p)
+               kb(i) = half_m*v(p)*v(p)
+               mb(i, slot) = abs(dxp)*inv_dx
+            end if
+            if (stresses) then ! d eps = dt sum dN v_I over the start-of-step cell
+               if (moves) then
+                  dstrain = strain_increment(velocity(e - 1), velocity(e), dt, inv_dx)
+               else
+                  dstrain = strain_increment_of(e)
+               end if
+               call stress_hencky(dstrain, youngs_modulus, strain_factor, volume0, stress(p), volume_ratio(p), sb(i), svb(i))
+               jb(i) = volume_ratio(p)
+            else if (iand(shares, share_stress) /= 0) then ! (an initial mapping: the stress as it is)
+               svb(i) = stress(p)*volume_ratio(p)*volume0
+            end if
+            if (relocates) then ! the new cell, for P2G at the new position
+               call locate_body_cell(x(p), origin, inv_dx, elements, elements_bits, offset, cb(i), xib(i))
+               cell(p) = cb(i)
+            else                ! the shares go to the start-of-step cell
+               cb(i) = e
+               if (moves) xib(i) = xi
+            end if
+            if (moves .or. relocates) vpb(i) = v(p)
+         end do
+         end if
          ! the block's totals (macros of mpm_lanes.fypi, expanded here)
          if (moves) then
             do lane_i = 1, n - lanes + 1, lanes
@@ -12692,7 +14247,7 @@ contains
       real(dp), intent(inout), contiguous, optional :: gradient(:), force_left(:), force_right(:)
       integer :: p, e, i, n, b0, first, last, lo, hi, outside, ahead, elements
       real(dp) :: half_m, strain_factor, dstrain, inv_dx, dt, youngs_modulus, m, volume0
-      real(dp) :: linear
+      logical :: linear
       type(largest_move_t) :: largest
       real(dp) :: displacement(lanes), kinetic(lanes), strain(lanes), min_j(lanes)
       integer :: cb(block_size)
@@ -12715,7 +14270,7 @@ contains
       inv_dx = constants%inv_dx
       dt = constants%dt
       youngs_modulus = constants%youngs_modulus
-      linear = merge(1.0_dp, 0.0_dp, constants%linear)
+      linear = constants%linear
       m = constants%mass
       volume0 = constants%volume0
       call open_segment(k, shares, seg, mass_left, mass_right, momentum_left, momentum_right, stress_volume, first, last, &
@@ -12761,8 +14316,7 @@ contains
                else
                   dstrain = strain_increment_of(e)
                end if
-               call stress_particle(dstrain, youngs_modulus, strain_factor, volume0, linear, stress(p), volume_ratio(p), &
-                                    sb(i), svb(i))
+               call stress_hencky(dstrain, youngs_modulus, strain_factor, volume0, stress(p), volume_ratio(p), sb(i), svb(i))
                jb(i) = volume_ratio(p)
             else if (iand(shares, share_stress) /= 0) then ! (an initial mapping: the stress as it is)
                svb(i) = stress(p)*volume_ratio(p)*volume0
@@ -12850,7 +14404,7 @@ contains
       real(dp), intent(inout), contiguous, optional :: gradient(:), force_left(:), force_right(:)
       integer :: p, e, i, n, b0, first, last, lo, hi, outside, ahead, elements
       real(dp) :: half_m, strain_factor, dstrain, inv_dx, dt, youngs_modulus, m, volume0
-      real(dp) :: linear
+      logical :: linear
       type(largest_move_t) :: largest
       real(dp) :: displacement(lanes), kinetic(lanes), strain(lanes), min_j(lanes)
       integer :: cb(block_size)
@@ -12873,7 +14427,7 @@ contains
       inv_dx = constants%inv_dx
       dt = constants%dt
       youngs_modulus = constants%youngs_modulus
-      linear = merge(1.0_dp, 0.0_dp, constants%linear)
+      linear = constants%linear
       m = constants%mass
       volume0 = constants%volume0
       call open_segment(k, shares, seg, mass_left, mass_right, momentum_left, momentum_right, stress_volume, first, last, &
@@ -12919,8 +14473,7 @@ contains
                else
                   dstrain = strain_increment_of(e)
                end if
-               call stress_particle(dstrain, youngs_modulus, strain_factor, volume0, linear, stress(p), volume_ratio(p), &
-                                    sb(i), svb(i))
+               call stress_hencky(dstrain, youngs_modulus, strain_factor, volume0, stress(p), volume_ratio(p), sb(i), svb(i))
                jb(i) = volume_ratio(p)
             else if (iand(shares, share_stress) /= 0) then ! (an initial mapping: the stress as it is)
                svb(i) = stress(p)*volume_ratio(p)*volume0
