@@ -285,6 +285,15 @@ contains
                    "'quasi_static'; it belongs to integrator explicit, implicit")
       call t%check('sweep: the default dt_fraction, with quasi_static: not refused', &
                    index(message, 'sweep case 1 ') == 0, message)
+      ! dt_fraction's bound is the case's integrator's (10 explicit, 1e8 implicit), not the base's nor the
+      ! case's before (cases 2 implicit, 3 explicit, 4 implicit)
+      message = sweep_problems("&discretisation elements=4, integrator='implicit' / &run periods=4 / "// &
+                               "&sweep integrator='explicit', 'implicit', dt_fractions=0.5, 50, min_time=0 /")
+      call refused('sweep: dt_fraction 50 with the explicit integrator (the base implicit)', message, &
+                   "sweep case 3 (dt_fraction=50.000000000000000, integrator='explicit'): discretisation: "// &
+                   "dt_fraction = 50.0 is out of range; allowed: finite real with 0 < dt_fraction <= 10")
+      call t%check('sweep: dt_fraction 50 with the implicit integrator: not refused', &
+                   index(message, 'sweep case 4 ') == 0, message)
    end subroutine sweep_values_of_another_integrator
 
    function echo_of(config) result(text)

@@ -392,8 +392,10 @@ contains
             one = sweep_case_t(index=n)
             config = case_config(sweep, one)
             config%history = s%histories
-            call validate_config(config, case_error, with_system=.false., &
-                                 default_table=sweep%builder%default_table)
+            ! (the builder's configuration holds the case: its table is the case's)
+            sweep%builder%config%history = s%histories
+            call validate_config(sweep%builder%config, case_error, with_system=.false., &
+                                 default_table=sweep%builder%default_table, table=sweep%builder%table)
             if (allocated(case_error)) then
                call append_error(error, "sweep case "//str(n)//" ("//case_values(n)//"): "//case_error%message)
                deallocate (case_error)
