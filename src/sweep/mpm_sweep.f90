@@ -310,6 +310,22 @@ contains
       list_position = int(mod((index - 1)/stride, int(lists(j)%size(), i8))) + 1
    end function list_position
 
+   !> list_position of every list at once (one division per list, from the last: a case's
+   !> configuration took list_position per list, each a product over the later lists).
+   pure function list_positions(lists, index) result(at)
+      type(value_list_t), intent(in) :: lists(:)
+      integer, intent(in) :: index
+      integer :: at(size(lists))
+      integer :: j, n
+      integer(i8) :: rest
+      rest = index - 1
+      do j = size(lists), 1, -1
+         n = lists(j)%size()
+         at(j) = int(mod(rest, int(n, i8))) + 1
+         rest = rest/n
+      end do
+   end function list_positions
+
    !> The configuration of one case: the base with the case's value of every list, resolved.
    function case_config(sweep, c) result(config)
       type(sweep_t), intent(in) :: sweep
@@ -336,9 +352,11 @@ contains
          type(parameter_t), intent(inout) :: table(:)
          type(config_t), intent(inout) :: into
          integer :: j
+         integer :: at(size(sweep%settings%lists))
+         at = list_positions(sweep%settings%lists, c%index)
          do j = 1, size(sweep%settings%lists)
             associate (list => sweep%settings%lists(j))
-               call set_from_list(table(list%entry), list, list_position(sweep%settings%lists, j, c%index))
+               call set_from_list(table(list%entry), list, at(j))
             end associate
          end do
          into%snapshot_count = 0
