@@ -286,7 +286,6 @@ contains
       type(pass_totals_t), intent(out) :: totals
       !> the particles' shape (absent: the hat)
       type(fused_box_t), intent(inout), optional :: box
-      type(fused_box_t) :: hat
       call prepare_pass(particles, grid)
       ! the passes that update the stress without moving read one strain increment per element
       if (pass_stresses(pass) .and. .not. pass_moves(pass)) call strain_increments(grid, dt)
@@ -298,10 +297,17 @@ contains
             call finish_pass(particles, grid, pass_shares(pass), pass_relocates(pass), totals, box)
          end if
       else
+         call hat_pass()
+      end if
+   contains
+      !> The pass with the hat's box (a local of its own: a run's steps pass their box, and do not
+      !> set up and free one per pass)
+      subroutine hat_pass()
+         type(fused_box_t) :: hat
          allocate (hat%carry(0))
          call over_segments(particles, grid, pass, dt, youngs_modulus, hat)
          call finish_pass(particles, grid, pass_shares(pass), pass_relocates(pass), totals, hat)
-      end if
+      end subroutine hat_pass
    end subroutine fused_pass
 
    !> Each particle's cell for the fused GIMP kernels: the element of its box's left part (see the
@@ -631,6 +637,13 @@ contains
                         particles%volume_ratio, particles%cell, grid%acceleration, grid%velocity, grid%element_strain, &
                         grid%element_mass_left, grid%element_mass_right, grid%element_momentum_left, &
                         grid%element_momentum_right, grid%element_stress_volume, body_constants, box%carry)
+            return
+         end if
+         if (box%variant == variant_bar) then ! (the bar's kernels read no per-particle data: none passed)
+            call kernel(k, grid%segments, particles%x, particles%x0, particles%v, particles%stress, &
+                        particles%volume_ratio, particles%cell, grid%acceleration, grid%velocity, grid%element_strain, &
+                        grid%element_mass_left, grid%element_mass_right, grid%element_momentum_left, &
+                        grid%element_momentum_right, grid%element_stress_volume, constants, box%carry)
             return
          end if
          call kernel(k, grid%segments, particles%x, particles%x0, particles%v, particles%stress, particles%volume_ratio, &
