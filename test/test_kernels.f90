@@ -17,6 +17,8 @@ program test_kernels
    use mpm_transfer, only: pass_totals_t, p2g, fused_pass, pass_usl, pass_usf_move, pass_usf_stress, pass_musl_remap, &
                            pass_musl_stress
    use mpm_testing, only: tester_t, fixed_seed
+   use mpm_lanes, only: smallest_value
+   use, intrinsic :: ieee_arithmetic, only: ieee_value, ieee_quiet_nan, ieee_is_nan
    use mpm_strings, only: str
    implicit none
    type(tester_t) :: t
@@ -31,6 +33,7 @@ program test_kernels
    call check_musl(13, 11)
    call check_musl(20000, 10)
    call check_moving_ranges()
+   call check_smallest_value()
    call t%finish()
 
 contains
@@ -311,6 +314,35 @@ contains
    end function segment_of
 
    !> Every |actual - expected| <= atol + rtol |expected|; reports the worst entry.
+   !> smallest_value against minval: random arrays of 0 to 21 values (every remainder of its four
+   !> running minima), with and without NaNs (skipped), all NaN (NaN), empty (huge), +-huge and -0.
+   subroutine check_smallest_value()
+      real(dp), allocatable :: x(:)
+      real(dp) :: nan
+      integer :: n, k, wrong
+      nan = ieee_value(1.0_dp, ieee_quiet_nan)
+      wrong = 0
+      do n = 0, 21
+         do k = 1, 20
+            allocate (x(n))
+            call random_number(x)
+            x = 2.0_dp*x - 1.0_dp
+            if (n > 0 .and. k > 10) x(1 + mod(7*k, n)) = nan
+            if (n > 1 .and. k > 15) x(1 + mod(3*k, n)) = -huge(1.0_dp)
+            if (.not. (smallest_value(x) == minval(x) .or. (ieee_is_nan(smallest_value(x)) .and. &
+                       ieee_is_nan(minval(x))))) wrong = wrong + 1
+            deallocate (x)
+         end do
+      end do
+      call t%check('smallest_value = minval on 440 random arrays of 0 to 21 values (NaNs, -huge)', wrong == 0, &
+                   str(wrong)//' differ')
+      call t%check('smallest_value of all NaN: NaN', ieee_is_nan(smallest_value([nan, nan, nan, nan, nan])))
+      call t%check('smallest_value of nothing: huge', smallest_value([real(dp) ::]) == huge(1.0_dp))
+      call t%check('smallest_value of huge and NaN: huge', smallest_value([nan, huge(1.0_dp)]) == huge(1.0_dp))
+      call t%check('smallest_value finds the minimum in any lane', all([(smallest_value([1.0_dp, 2.0_dp, 3.0_dp, &
+                   4.0_dp, 5.0_dp, 6.0_dp] - merge(9.0_dp, 0.0_dp, [(k, k=1, 6)] == n)) == -8.0_dp + n - 1, n=1, 6)]))
+   end subroutine check_smallest_value
+
    subroutine all_close(label, actual, expected, rtol, atol)
       character(len=*), intent(in) :: label
       real(dp), intent(in) :: actual(:), expected(:), rtol, atol

@@ -25,6 +25,7 @@ module mpm_scene_impact
    use mpm_config, only: config_t
    use mpm_particles, only: particles_t, particles_init
    use mpm_scene, only: scene_t, margin_for
+   use mpm_lanes, only: smallest_value
    implicit none
    private
    public :: impact_t, impact_init
@@ -309,7 +310,7 @@ contains
          watch(w_last) = t
       end if
       watch(w_momentum1) = bar1
-      watch(w_min_stress) = min(watch(w_min_stress), minval(particles%stress))
+      watch(w_min_stress) = min(watch(w_min_stress), smallest_value(particles%stress))
       watch(w_drift) = max(watch(w_drift), abs(total - watch(w_momentum0)))
    end subroutine watch_step
 

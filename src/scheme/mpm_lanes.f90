@@ -11,7 +11,7 @@ module mpm_lanes
    use mpm_kinds, only: dp
    implicit none
    private
-   public :: largest_move_t, add_lanes, min_lanes, lane_total, track_largest_move, furthest_particle
+   public :: largest_move_t, add_lanes, min_lanes, lane_total, track_largest_move, furthest_particle, smallest_value
 
    !> Particles per block: the block's buffers stay in L1.
    integer, parameter, public :: block_size = 64
@@ -77,6 +77,28 @@ contains
          slot = 3 - slot
       end if
    end subroutine track_largest_move
+
+   !> minval(x) with four running minima: minval's one chain of dependent minimum operations, a
+   !> scene's smallest stress per step, was 9 % of a frictionless impact's time at 1e4 particles. The
+   !> smallest value does not depend on the order; NaNs are skipped (a comparison with NaN is false) as
+   !> minval skips them, and where no value is below huge (all NaN, or none) minval itself answers.
+   pure real(dp) function smallest_value(x) result(smallest)
+      real(dp), intent(in) :: x(:)
+      real(dp) :: m(4)
+      integer :: i, j, n4
+      m = huge(1.0_dp)
+      n4 = size(x) - mod(size(x), 4)
+      do i = 1, n4, 4
+         do j = 1, 4
+            if (x(i + j - 1) < m(j)) m(j) = x(i + j - 1)
+         end do
+      end do
+      do i = n4 + 1, size(x)
+         if (x(i) < m(1)) m(1) = x(i)
+      end do
+      smallest = minval(m)
+      if (.not. smallest < huge(1.0_dp)) smallest = minval(x)
+   end function smallest_value
 
    !> Sum of the lanes, in lane order.
    pure real(dp) function lane_total(lane_sums) result(total)
