@@ -12,7 +12,7 @@ module mpm_config
    use mpm_registry, only: parameter_t, nml_item_t, text_entry, int_entry, real_entry, real_list_entry, &
                            logical_entry, for_kinds, for_value, used_by, parse_namelist, read_input_text, add_overrides, &
                            apply_items, check_parameter, find_parameter, group_namelist, short_number, item_place, &
-                           format_value, same_value, type_real
+                           format_value, same_value, type_real, in_list
    use mpm_suggest, only: did_you_mean, printable
    implicit none
    private
@@ -732,20 +732,6 @@ contains
       character(len=*), intent(in) :: kind
       known_kind = in_list(trim(kind), known_scenes)
    end function known_kind
-
-   !> Is `word` one of the comma-separated `list`?
-   pure logical function in_list(word, list)
-      character(len=*), intent(in) :: word, list
-      integer :: first, comma
-      in_list = .false.
-      first = 1
-      do while (first <= len(list))
-         comma = index(list(first:), ',')
-         if (comma == 0) comma = len(list) - first + 2
-         if (trim(adjustl(list(first:first + comma - 2))) == word .and. len(word) > 0) in_list = .true.
-         first = first + comma
-      end do
-   end function in_list
 
    !> Check every value; append one line per problem to `error`, naming the variable and range, with
    !> the file and line where it was given when `given` (the table the input was read into) says.

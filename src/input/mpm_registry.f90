@@ -22,7 +22,7 @@ module mpm_registry
    public :: real_entry, int_entry, text_entry, logical_entry, real_list_entry
    public :: type_real, type_int, type_text, type_logical, type_real_list, type_name
    public :: read_namelist, parse_namelist, read_input_text, add_overrides, item_place
-   public :: apply_items, set_parameter, check_parameter, allowed_text
+   public :: apply_items, set_parameter, check_parameter, in_list, allowed_text
    public :: value_list_t, read_value_list, single_value_list, set_from_list, list_text
    public :: format_value, same_value, quoted, real_value, int_value, text_value, find_parameter, group_namelist
    public :: parameter_listing, parameter_help, short_number, entry_names, used_by, for_kinds, sweep_name_hint
@@ -407,47 +407,36 @@ contains
    end function real_in_range
 
    !> Is `word` allowed for text variable `p`?
-   !> The words are compared one by one in place (building the list without blanks for one index() was
-   !> 0.2 % of the paper's Table-2 sweeps, whose every case is checked).
    logical function word_allowed(p, word)
       type(parameter_t), intent(in) :: p
       character(len=*), intent(in) :: word
-      integer :: first, last, n
-      n = len_trim(p%words)
       word_allowed = len_trim(word) > 0
-      if (n == 0 .or. .not. word_allowed) return
-      word_allowed = .false.
-      if (index(word, ',') > 0) return
+      if (len_trim(p%words) > 0 .and. word_allowed) word_allowed = in_list(word, p%words)
+   end function word_allowed
+
+   !> Is `word` one of the comma-separated `list` (blanks around an item and trailing blanks of `word` do
+   !> not count; an empty word is none)? Compared in place: building the list without blanks for one
+   !> index() was 0.2 % of the paper's Table-2 sweeps, whose every case is checked.
+   pure logical function in_list(word, list)
+      character(len=*), intent(in) :: word, list
+      integer :: first, last, n
+      in_list = .false.
+      if (len_trim(word) == 0) return
+      n = len_trim(list)
       first = 1
       do while (first <= n)
-         last = index(p%words(first:n), ',')
+         last = index(list(first:n), ',')
          last = merge(n, first + last - 2, last == 0)
-         do while (first < last .and. p%words(first:first) == ' ')
+         do while (first < last .and. list(first:first) == ' ')
             first = first + 1
          end do
-         if (p%words(first:last) == word) then ! (trailing blanks of either do not count)
-            word_allowed = .true.
+         if (list(first:last) == word) then
+            in_list = .true.
             return
          end if
          first = last + 2
       end do
-   end function word_allowed
-
-   !> `text` without its blanks. One allocation: appending a character at a time reallocated per
-   !> character (2.6e4 instructions per word list; the check of every case of the paper's Table-2
-   !> sweeps spent 0.8 % of their instructions here).
-   pure function remove_blanks(text) result(compact)
-      character(len=*), intent(in) :: text
-      character(len=:), allocatable :: compact
-      integer :: i, n
-      allocate (character(len=len_trim(text) - count([(text(i:i) == ' ', i=1, len_trim(text))])) :: compact)
-      n = 0
-      do i = 1, len_trim(text)
-         if (text(i:i) == ' ') cycle
-         n = n + 1
-         compact(n:n) = text(i:i)
-      end do
-   end function remove_blanks
+   end function in_list
 
    !> Check the bound value of `p` against its range; `where` prefixes the message (e.g. "file:3: ").
    subroutine check_parameter(p, error, where)
@@ -977,7 +966,7 @@ contains
    pure logical function used_by(p, kind)
       type(parameter_t), intent(in) :: p
       character(len=*), intent(in) :: kind
-      used_by = len_trim(p%kinds) == 0 .or. index(','//remove_blanks(p%kinds)//',', ','//trim(kind)//',') > 0
+      used_by = len_trim(p%kinds) == 0 .or. in_list(kind, p%kinds)
    end function used_by
 
    !> `p` restricted to the scene kinds `kinds` (comma separated), for the table's constructors.

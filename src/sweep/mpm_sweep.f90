@@ -297,21 +297,8 @@ contains
       end function list_names
    end subroutine read_sweep_text
 
-   !> Value number of list `j` in case `index` (mixed radix over the lists, the last fastest).
-   pure integer function list_position(lists, j, index)
-      type(value_list_t), intent(in) :: lists(:)
-      integer, intent(in) :: j, index
-      integer(i8) :: stride
-      integer :: m
-      stride = 1
-      do m = j + 1, size(lists)
-         stride = stride*lists(m)%size()
-      end do
-      list_position = int(mod((index - 1)/stride, int(lists(j)%size(), i8))) + 1
-   end function list_position
-
-   !> list_position of every list at once (one division per list, from the last: a case's
-   !> configuration took list_position per list, each a product over the later lists).
+   !> The value number of every list in case `index` (mixed radix over the lists, the last fastest): one
+   !> division per list, from the last.
    pure function list_positions(lists, index) result(at)
       type(value_list_t), intent(in) :: lists(:)
       integer, intent(in) :: index
@@ -371,9 +358,13 @@ contains
       type(sweep_case_t), intent(in) :: cases(:)
       type(value_list_t) :: column
       integer, allocatable :: at(:)
-      integer :: i
+      integer :: i, positions(size(sweep%settings%lists))
       associate (list => sweep%settings%lists(j))
-         at = [(list_position(sweep%settings%lists, j, cases(i)%index), i=1, size(cases))]
+         allocate (at(size(cases)))
+         do i = 1, size(cases)
+            positions = list_positions(sweep%settings%lists, cases(i)%index)
+            at(i) = positions(j)
+         end do
          column = list
          column%reals = list%reals(at)
          column%ints = list%ints(at)
