@@ -11,7 +11,7 @@ module mpm_testing
    private
    public :: tester_t, app_path, run_app, read_text, scratch_dir, write_lines, fixed_seed
    public :: check_paths_agree
-   public :: check_fused_run, run_resolved
+   public :: check_fused_run, check_fused_config, run_resolved
 
    !> Counts checks and failures; `finish` prints "N passed, M failed" and ends with error stop 1 on failure.
    type :: tester_t
@@ -75,20 +75,14 @@ contains
    end function run_resolved
 
    !> The bar (scheme, shape, elements x ppc, dt fraction, amplitude v0, periods) run on the fused
-   !> kernels (1 thread) and on the generic path agree (check_paths_agree). With `segments`, the run
-   !> must be large enough to be cut into segments (`parallel_threshold` particles), and the fused run
-   !> on 2 threads must give the 1-thread histories of u_cm and the energies bit for bit.
+   !> kernels and on the generic path agree: check_fused_config.
    subroutine check_fused_run(t, scheme, shape, elements, ppc, fraction, v0, periods, segments)
       type(tester_t), intent(inout) :: t
       character(len=*), intent(in) :: scheme, shape
       integer, intent(in) :: elements, ppc
       real(dp), intent(in) :: fraction, v0, periods
       logical, intent(in), optional :: segments
-      type(run_result_t) :: fused, generic, two
       type(config_t) :: config
-      type(error_t), allocatable :: error
-      character(len=:), allocatable :: label
-      label = scheme//' '//shape//' '//str(elements)//' x '//str(ppc)//' k '//str(fraction)//' v0 '//str(v0)//': '
       config%scheme = scheme
       config%shape = shape
       config%elements = elements
@@ -96,12 +90,29 @@ contains
       config%dt_fraction = fraction
       config%velocity_amplitude = v0
       config%periods = periods
+      call check_fused_config(t, scheme//' '//shape//' '//str(elements)//' x '//str(ppc)//' k '//str(fraction)// &
+                              ' v0 '//str(v0)//': ', config, segments)
+   end subroutine check_fused_run
+
+   !> `given` run on the fused kernels (1 thread) and on the generic path agree (check_paths_agree). With
+   !> `segments`, the run must be large enough to be cut into segments (`parallel_threshold` particles),
+   !> and the fused run on 2 threads must give the 1-thread histories of u_cm and the energies bit for bit.
+   subroutine check_fused_config(t, label, given, segments)
+      type(tester_t), intent(inout) :: t
+      character(len=*), intent(in) :: label
+      type(config_t), intent(in) :: given
+      logical, intent(in), optional :: segments
+      type(run_result_t) :: fused, generic, two
+      type(config_t) :: config
+      type(error_t), allocatable :: error
+      config = given
       call resolve_config(config)
       call omp_set_num_threads(1)
       call run_simulation(config, fused, error, record_history=.true.)
+      if (allocated(error)) error stop 'check_fused_config: the run failed to start'
       config%kernels = 'generic'
       call run_simulation(config, generic, error, record_history=.true.)
-      call check_paths_agree(t, label, fused, generic, config%length)
+      call check_paths_agree(t, label, fused, generic, maxval(abs(fused%domain)))
       if (.not. present(segments)) return
       if (segments) then
          call t%check(label//'the run is cut into segments', fused%particles >= parallel_threshold)
@@ -114,7 +125,7 @@ contains
                       all(two%history%kinetic_energy == fused%history%kinetic_energy) .and. &
                       all(two%history%strain_energy == fused%history%strain_energy))
       end if
-   end subroutine check_fused_run
+   end subroutine check_fused_config
 
    subroutine tester_check(self, label, condition, detail)
       class(tester_t), intent(inout) :: self

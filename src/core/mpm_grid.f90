@@ -215,14 +215,22 @@ contains
 
    !> assemble_nodes(grid, .true.) then solve_momentum(grid, dt, .false.), chunk by chunk (a chunk
    !> is solved while its nodes are still in cache): the grid half of a USL or MUSL step.
-   subroutine assemble_and_solve(grid, dt)
+   !> `ranges` (optional): only the nodes ranges(1, r) .. ranges(2, r) of each column r, for a caller that
+   !> knows the other nodes hold zeros and have no shares (bodies on stacked fields: fused_step); each
+   !> node's value is the same as when all are solved.
+   subroutine assemble_and_solve(grid, dt, ranges)
       type(grid_t), intent(inout) :: grid
       real(dp), intent(in) :: dt
-      integer :: k
+      integer, intent(in), optional :: ranges(:, :)
+      integer :: k, r
       real(dp) :: lightest
       call assemble_ends(grid, .true.)
       lightest = huge(1.0_dp)
-      if (threaded_nodes(grid)) then
+      if (present(ranges)) then
+         do r = 1, size(ranges, 2)
+            call solve_part(max(ranges(1, r), 0), min(ranges(2, r), grid%elements), lightest)
+         end do
+      else if (threaded_nodes(grid)) then
          !$omp parallel do default(shared) private(k) schedule(static) reduction(min:lightest)
          do k = 0, grid%elements/node_chunk
             call assemble_interior(grid, .true., k*node_chunk, min(grid%elements, (k + 1)*node_chunk - 1))
@@ -234,6 +242,27 @@ contains
          call solve_nodes(grid, dt, .false., 0, grid%elements, lightest)
       end if
       call fix_nodes(grid, lightest)
+   contains
+      !> Nodes first..last, in node_chunk chunks on threads for a large grid.
+      subroutine solve_part(first, last, lightest)
+         integer, intent(in) :: first, last
+         real(dp), intent(inout) :: lightest
+         integer :: c, lo, hi
+         if (first > last) return
+         if (threaded_nodes(grid)) then
+            !$omp parallel do default(shared) private(c, lo, hi) schedule(static) reduction(min:lightest)
+            do c = first/node_chunk, last/node_chunk
+               lo = max(first, c*node_chunk)
+               hi = min(last, (c + 1)*node_chunk - 1)
+               call assemble_interior(grid, .true., lo, hi)
+               call solve_nodes(grid, dt, .false., lo, hi, lightest)
+            end do
+            !$omp end parallel do
+         else
+            call assemble_interior(grid, .true., first, last)
+            call solve_nodes(grid, dt, .false., first, last, lightest)
+         end if
+      end subroutine solve_part
    end subroutine assemble_and_solve
 
    !> The end nodes 0 and `elements` of the domain (each has one element).

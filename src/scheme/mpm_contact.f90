@@ -51,6 +51,8 @@ module mpm_contact
       logical :: touching = .false.               !< the surfaces touch at the start of this step
       real(dp) :: surface_gap = 0.0_dp            !< their distance then (m; < 0: overlap)
       type(grid_t) :: fields                      !< body b's node i is (b - 1)*nodes + i
+      !> The nodes of the fields each body may hold values at (columns: first, last; fused_step keeps it)
+      integer, allocatable :: active(:, :)
    end type bodies_t
 
 contains
@@ -117,6 +119,10 @@ contains
       bodies%fields%ghost = grid%ghost
       bodies%fields%mirror = .false.
       bodies%fields%fixed = [(grid%fixed + (b - 1)*bodies%nodes, b=1, bodies%count)]
+      allocate (bodies%active(2, bodies%count))
+      do b = 1, bodies%count ! (until a step has told: each body's whole field)
+         bodies%active(:, b) = [(b - 1)*bodies%nodes, b*bodies%nodes - 1]
+      end do
       shares = 0
       if (present(element_shares)) then
          if (element_shares) shares = total - 1

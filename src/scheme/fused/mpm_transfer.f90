@@ -66,7 +66,7 @@ module mpm_transfer
    public :: pass_totals_t, clear_element_shares, merge_totals
    public :: p2g, fused_pass, fused_box_t, box_cells, locate_all
 
-   public :: parallel_threshold, segment_particles
+   public :: parallel_threshold, segment_particles, body_of_element
 
    !> Runs with fewer particles are one segment: a pass then costs a few microseconds, less than
    !> waking a second thread is worth.
