@@ -425,183 +425,184 @@ contains
       integer, intent(in) :: kind
       real(dp), intent(in) :: dt, youngs_modulus
       type(fused_box_t), intent(inout) :: box
-      integer :: k
+      integer :: k, which
       logical :: threaded
-      procedure(usl_segment), pointer :: kernel
       type(pass_constants_t) :: constants
       constants = pass_constants_t(grid%elements, grid%origin, grid%inv_dx, dt, youngs_modulus, particles%mass, &
                                    particles%volume0, 0.5_dp*particles%volume0, box%stretch, box%flip_fraction, grid%dx, 0, &
                                    box%linear)
-      ! the kernel of the particles' shape and the pass (every kernel has usl_segment's interface)
+      ! the number of the kernel of the particles' shape and the pass; segment calls it directly (a call
+      ! through a procedure pointer passed every array's descriptor, and the kernels could not be
+      ! specialised to their callers: a tenth of a small run's step)
       if (box%variant /= variant_bar) then ! a variant of the hat's
          select case (box%variant)
          case (variant_pic)
             select case (kind)
             case (pass_usf_move)
-               kernel => pic_usf_move_segment
+               which = 26 ! pic_usf_move_segment
             case (pass_usf_stress)
-               kernel => pic_usf_stress_segment
+               which = 27 ! pic_usf_stress_segment
             case (pass_usl)
-               kernel => pic_usl_segment
+               which = 28 ! pic_usl_segment
             case (pass_musl_remap)
-               kernel => pic_musl_remap_segment
+               which = 29 ! pic_musl_remap_segment
             case (pass_musl_stress)
-               kernel => pic_musl_stress_segment
+               which = 30 ! pic_musl_stress_segment
             case (pass_map)
-               kernel => pic_map_segment
+               which = 31 ! pic_map_segment
             case default
-               kernel => pic_map_stress_segment
+               which = 32 ! pic_map_stress_segment
             end select
          case (variant_blend)
             select case (kind)
             case (pass_usf_move)
-               kernel => blend_usf_move_segment
+               which = 33 ! blend_usf_move_segment
             case (pass_usf_stress)
-               kernel => blend_usf_stress_segment
+               which = 34 ! blend_usf_stress_segment
             case (pass_usl)
-               kernel => blend_usl_segment
+               which = 35 ! blend_usl_segment
             case (pass_musl_remap)
-               kernel => blend_musl_remap_segment
+               which = 36 ! blend_musl_remap_segment
             case (pass_musl_stress)
-               kernel => blend_musl_stress_segment
+               which = 37 ! blend_musl_stress_segment
             case (pass_map)
-               kernel => blend_map_segment
+               which = 38 ! blend_map_segment
             case default
-               kernel => blend_map_stress_segment
+               which = 39 ! blend_map_stress_segment
             end select
          case (variant_apic)
             select case (kind)
             case (pass_usf_move)
-               kernel => apic_usf_move_segment
+               which = 40 ! apic_usf_move_segment
             case (pass_usf_stress)
-               kernel => apic_usf_stress_segment
+               which = 41 ! apic_usf_stress_segment
             case (pass_usl)
-               kernel => apic_usl_segment
+               which = 42 ! apic_usl_segment
             case (pass_musl_remap)
-               kernel => apic_musl_remap_segment
+               which = 43 ! apic_musl_remap_segment
             case (pass_musl_stress)
-               kernel => apic_musl_stress_segment
+               which = 44 ! apic_musl_stress_segment
             case (pass_map)
-               kernel => apic_map_segment
+               which = 45 ! apic_map_segment
             case default
-               kernel => apic_map_stress_segment
+               which = 46 ! apic_map_stress_segment
             end select
          case (variant_material)
             select case (kind)
             case (pass_usf_move)
-               kernel => material_usf_move_segment
+               which = 47 ! material_usf_move_segment
             case (pass_usf_stress)
-               kernel => material_usf_stress_segment
+               which = 48 ! material_usf_stress_segment
             case (pass_usl)
-               kernel => material_usl_segment
+               which = 49 ! material_usl_segment
             case (pass_musl_remap)
-               kernel => material_musl_remap_segment
+               which = 50 ! material_musl_remap_segment
             case (pass_musl_stress)
-               kernel => material_musl_stress_segment
+               which = 51 ! material_musl_stress_segment
             case (pass_map)
-               kernel => material_map_segment
+               which = 52 ! material_map_segment
             case default
-               kernel => material_map_stress_segment
+               which = 53 ! material_map_stress_segment
             end select
          case (variant_forced)
             select case (kind)
             case (pass_usf_move)
-               kernel => forced_usf_move_segment
+               which = 54 ! forced_usf_move_segment
             case (pass_usf_stress)
-               kernel => forced_usf_stress_segment
+               which = 55 ! forced_usf_stress_segment
             case (pass_usl)
-               kernel => forced_usl_segment
+               which = 56 ! forced_usl_segment
             case (pass_musl_remap)
-               kernel => forced_musl_remap_segment
+               which = 57 ! forced_musl_remap_segment
             case (pass_musl_stress)
-               kernel => forced_musl_stress_segment
+               which = 58 ! forced_musl_stress_segment
             case (pass_map)
-               kernel => forced_map_segment
+               which = 59 ! forced_map_segment
             case default
-               kernel => forced_map_stress_segment
+               which = 60 ! forced_map_stress_segment
             end select
          case default
             select case (kind)
             case (pass_usf_move)
-               kernel => bodies_usf_move_segment
+               which = 61 ! bodies_usf_move_segment
             case (pass_usf_stress)
-               kernel => bodies_usf_stress_segment
+               which = 62 ! bodies_usf_stress_segment
             case (pass_usl)
-               kernel => bodies_usl_segment
+               which = 63 ! bodies_usl_segment
             case (pass_musl_remap)
-               kernel => bodies_musl_remap_segment
+               which = 64 ! bodies_musl_remap_segment
             case (pass_musl_stress)
-               kernel => bodies_musl_stress_segment
+               which = 65 ! bodies_musl_stress_segment
             case (pass_map)
-               kernel => bodies_map_segment
+               which = 66 ! bodies_map_segment
             case default
-               kernel => bodies_map_stress_segment
+               which = 67 ! bodies_map_stress_segment
             end select
          end select
       else if (box%cubic) then
          select case (kind)
          case (pass_usf_move)
-            kernel => bspline3_usf_move_segment
+            which = 21 ! bspline3_usf_move_segment
          case (pass_usf_stress)
-            kernel => bspline3_usf_stress_segment
+            which = 22 ! bspline3_usf_stress_segment
          case (pass_usl)
-            kernel => bspline3_usl_segment
+            which = 23 ! bspline3_usl_segment
          case (pass_musl_remap)
-            kernel => bspline3_musl_remap_segment
+            which = 24 ! bspline3_musl_remap_segment
          case default
-            kernel => bspline3_musl_stress_segment
+            which = 25 ! bspline3_musl_stress_segment
          end select
       else if (box%spline) then
          select case (kind)
          case (pass_usf_move)
-            kernel => bspline2_usf_move_segment
+            which = 16 ! bspline2_usf_move_segment
          case (pass_usf_stress)
-            kernel => bspline2_usf_stress_segment
+            which = 17 ! bspline2_usf_stress_segment
          case (pass_usl)
-            kernel => bspline2_usl_segment
+            which = 18 ! bspline2_usl_segment
          case (pass_musl_remap)
-            kernel => bspline2_musl_remap_segment
+            which = 19 ! bspline2_musl_remap_segment
          case default
-            kernel => bspline2_musl_stress_segment
+            which = 20 ! bspline2_musl_stress_segment
          end select
       else if (box%parts .and. box%stretch) then
          select case (kind)
          case (pass_usf_move)
-            kernel => cpgimp_usf_move_segment
+            which = 11 ! cpgimp_usf_move_segment
          case (pass_usf_stress)
-            kernel => cpgimp_usf_stress_segment
+            which = 12 ! cpgimp_usf_stress_segment
          case (pass_usl)
-            kernel => cpgimp_usl_segment
+            which = 13 ! cpgimp_usl_segment
          case (pass_musl_remap)
-            kernel => cpgimp_musl_remap_segment
+            which = 14 ! cpgimp_musl_remap_segment
          case default
-            kernel => cpgimp_musl_stress_segment
+            which = 15 ! cpgimp_musl_stress_segment
          end select
       else if (box%parts) then
          select case (kind)
          case (pass_usf_move)
-            kernel => ugimp_usf_move_segment
+            which = 6 ! ugimp_usf_move_segment
          case (pass_usf_stress)
-            kernel => ugimp_usf_stress_segment
+            which = 7 ! ugimp_usf_stress_segment
          case (pass_usl)
-            kernel => ugimp_usl_segment
+            which = 8 ! ugimp_usl_segment
          case (pass_musl_remap)
-            kernel => ugimp_musl_remap_segment
+            which = 9 ! ugimp_musl_remap_segment
          case default
-            kernel => ugimp_musl_stress_segment
+            which = 10 ! ugimp_musl_stress_segment
          end select
       else
          select case (kind)
          case (pass_usf_move)
-            kernel => usf_move_segment
+            which = 1 ! usf_move_segment
          case (pass_usf_stress)
-            kernel => usf_stress_segment
+            which = 2 ! usf_stress_segment
          case (pass_usl)
-            kernel => usl_segment
+            which = 3 ! usl_segment
          case (pass_musl_remap)
-            kernel => musl_remap_segment
+            which = 4 ! musl_remap_segment
          case default
-            kernel => musl_stress_segment
+            which = 5 ! musl_stress_segment
          end select
       end if
       ! threads for a large run only (a run of bodies has a segment per body however small it is), and not
@@ -620,38 +621,463 @@ contains
          end do
       end if
    contains
-      !> Segment k's kernel (the per-particle arrays a run does not have are passed unallocated: absent).
+      !> Segment k's kernel: the bar's read no per-particle data (none passed), the variants' what the run
+      !> has (the arrays it does not have are passed unallocated: absent), a body's its body's constants.
       subroutine segment(k)
          integer, intent(in) :: k
-         type(pass_constants_t) :: body_constants
-         integer :: b
-         if (allocated(box%body_element)) then ! bodies on stacked fields: the segment's body's
-            b = body_of_element(box, grid%segments%first_element(k))
-            body_constants = constants
-            body_constants%elements = box%body_cells
-            body_constants%mass = box%body_mass(b)
-            body_constants%volume0 = box%body_volume0(b)
-            body_constants%youngs_modulus = box%body_modulus(b)
-            body_constants%offset = box%body_element(b) - 1
-            call kernel(k, grid%segments, particles%x, particles%x0, particles%v, particles%stress, &
-                        particles%volume_ratio, particles%cell, grid%acceleration, grid%velocity, grid%element_strain, &
-                        grid%element_mass_left, grid%element_mass_right, grid%element_momentum_left, &
-                        grid%element_momentum_right, grid%element_stress_volume, body_constants, box%carry)
-            return
-         end if
-         if (box%variant == variant_bar) then ! (the bar's kernels read no per-particle data: none passed)
-            call kernel(k, grid%segments, particles%x, particles%x0, particles%v, particles%stress, &
-                        particles%volume_ratio, particles%cell, grid%acceleration, grid%velocity, grid%element_strain, &
-                        grid%element_mass_left, grid%element_mass_right, grid%element_momentum_left, &
-                        grid%element_momentum_right, grid%element_stress_volume, constants, box%carry)
-            return
-         end if
-         call kernel(k, grid%segments, particles%x, particles%x0, particles%v, particles%stress, particles%volume_ratio, &
-                     particles%cell, grid%acceleration, grid%velocity, grid%element_strain, grid%element_mass_left, &
-                     grid%element_mass_right, grid%element_momentum_left, grid%element_momentum_right, &
-                     grid%element_stress_volume, constants, box%carry, particles%mass_of, particles%youngs_modulus_of, &
-                     box%forces, particles%velocity_gradient, grid%element_force_left, grid%element_force_right)
+         select case (which)
+         case (1)
+            call usf_move_segment(k, grid%segments, particles%x, particles%x0, particles%v, particles%stress, &
+                                 particles%volume_ratio, particles%cell, grid%acceleration, grid%velocity, &
+                                 grid%element_strain, grid%element_mass_left, grid%element_mass_right, &
+                                 grid%element_momentum_left, grid%element_momentum_right, grid%element_stress_volume, &
+                                 constants, box%carry)
+         case (2)
+            call usf_stress_segment(k, grid%segments, particles%x, particles%x0, particles%v, particles%stress, &
+                                   particles%volume_ratio, particles%cell, grid%acceleration, grid%velocity, &
+                                   grid%element_strain, grid%element_mass_left, grid%element_mass_right, &
+                                   grid%element_momentum_left, grid%element_momentum_right, grid%element_stress_volume, &
+                                   constants, box%carry)
+         case (3)
+            call usl_segment(k, grid%segments, particles%x, particles%x0, particles%v, particles%stress, &
+                            particles%volume_ratio, particles%cell, grid%acceleration, grid%velocity, &
+                            grid%element_strain, grid%element_mass_left, grid%element_mass_right, &
+                            grid%element_momentum_left, grid%element_momentum_right, grid%element_stress_volume, &
+                            constants, box%carry)
+         case (4)
+            call musl_remap_segment(k, grid%segments, particles%x, particles%x0, particles%v, particles%stress, &
+                                   particles%volume_ratio, particles%cell, grid%acceleration, grid%velocity, &
+                                   grid%element_strain, grid%element_mass_left, grid%element_mass_right, &
+                                   grid%element_momentum_left, grid%element_momentum_right, grid%element_stress_volume, &
+                                   constants, box%carry)
+         case (5)
+            call musl_stress_segment(k, grid%segments, particles%x, particles%x0, particles%v, particles%stress, &
+                                    particles%volume_ratio, particles%cell, grid%acceleration, grid%velocity, &
+                                    grid%element_strain, grid%element_mass_left, grid%element_mass_right, &
+                                    grid%element_momentum_left, grid%element_momentum_right, grid%element_stress_volume, &
+                                    constants, box%carry)
+         case (6)
+            call ugimp_usf_move_segment(k, grid%segments, particles%x, particles%x0, particles%v, particles%stress, &
+                                       particles%volume_ratio, particles%cell, grid%acceleration, grid%velocity, &
+                                       grid%element_strain, grid%element_mass_left, grid%element_mass_right, &
+                                       grid%element_momentum_left, grid%element_momentum_right, grid%element_stress_volume, &
+                                       constants, box%carry)
+         case (7)
+            call ugimp_usf_stress_segment(k, grid%segments, particles%x, particles%x0, particles%v, particles%stress, &
+                                         particles%volume_ratio, particles%cell, grid%acceleration, grid%velocity, &
+                                         grid%element_strain, grid%element_mass_left, grid%element_mass_right, &
+                                         grid%element_momentum_left, grid%element_momentum_right, grid%element_stress_volume, &
+                                         constants, box%carry)
+         case (8)
+            call ugimp_usl_segment(k, grid%segments, particles%x, particles%x0, particles%v, particles%stress, &
+                                  particles%volume_ratio, particles%cell, grid%acceleration, grid%velocity, &
+                                  grid%element_strain, grid%element_mass_left, grid%element_mass_right, &
+                                  grid%element_momentum_left, grid%element_momentum_right, grid%element_stress_volume, &
+                                  constants, box%carry)
+         case (9)
+            call ugimp_musl_remap_segment(k, grid%segments, particles%x, particles%x0, particles%v, particles%stress, &
+                                         particles%volume_ratio, particles%cell, grid%acceleration, grid%velocity, &
+                                         grid%element_strain, grid%element_mass_left, grid%element_mass_right, &
+                                         grid%element_momentum_left, grid%element_momentum_right, grid%element_stress_volume, &
+                                         constants, box%carry)
+         case (10)
+            call ugimp_musl_stress_segment(k, grid%segments, particles%x, particles%x0, particles%v, particles%stress, &
+                                          particles%volume_ratio, particles%cell, grid%acceleration, grid%velocity, &
+                                          grid%element_strain, grid%element_mass_left, grid%element_mass_right, &
+                                          grid%element_momentum_left, grid%element_momentum_right, grid%element_stress_volume, &
+                                          constants, box%carry)
+         case (11)
+            call cpgimp_usf_move_segment(k, grid%segments, particles%x, particles%x0, particles%v, particles%stress, &
+                                        particles%volume_ratio, particles%cell, grid%acceleration, grid%velocity, &
+                                        grid%element_strain, grid%element_mass_left, grid%element_mass_right, &
+                                        grid%element_momentum_left, grid%element_momentum_right, grid%element_stress_volume, &
+                                        constants, box%carry)
+         case (12)
+            call cpgimp_usf_stress_segment(k, grid%segments, particles%x, particles%x0, particles%v, particles%stress, &
+                                          particles%volume_ratio, particles%cell, grid%acceleration, grid%velocity, &
+                                          grid%element_strain, grid%element_mass_left, grid%element_mass_right, &
+                                          grid%element_momentum_left, grid%element_momentum_right, grid%element_stress_volume, &
+                                          constants, box%carry)
+         case (13)
+            call cpgimp_usl_segment(k, grid%segments, particles%x, particles%x0, particles%v, particles%stress, &
+                                   particles%volume_ratio, particles%cell, grid%acceleration, grid%velocity, &
+                                   grid%element_strain, grid%element_mass_left, grid%element_mass_right, &
+                                   grid%element_momentum_left, grid%element_momentum_right, grid%element_stress_volume, &
+                                   constants, box%carry)
+         case (14)
+            call cpgimp_musl_remap_segment(k, grid%segments, particles%x, particles%x0, particles%v, particles%stress, &
+                                          particles%volume_ratio, particles%cell, grid%acceleration, grid%velocity, &
+                                          grid%element_strain, grid%element_mass_left, grid%element_mass_right, &
+                                          grid%element_momentum_left, grid%element_momentum_right, grid%element_stress_volume, &
+                                          constants, box%carry)
+         case (15)
+            call cpgimp_musl_stress_segment(k, grid%segments, particles%x, particles%x0, particles%v, particles%stress, &
+                                           particles%volume_ratio, particles%cell, grid%acceleration, grid%velocity, &
+                                           grid%element_strain, grid%element_mass_left, grid%element_mass_right, &
+                                           grid%element_momentum_left, grid%element_momentum_right, grid%element_stress_volume, &
+                                           constants, box%carry)
+         case (16)
+            call bspline2_usf_move_segment(k, grid%segments, particles%x, particles%x0, particles%v, particles%stress, &
+                                          particles%volume_ratio, particles%cell, grid%acceleration, grid%velocity, &
+                                          grid%element_strain, grid%element_mass_left, grid%element_mass_right, &
+                                          grid%element_momentum_left, grid%element_momentum_right, grid%element_stress_volume, &
+                                          constants, box%carry)
+         case (17)
+            call bspline2_usf_stress_segment(k, grid%segments, particles%x, particles%x0, particles%v, particles%stress, &
+                                            particles%volume_ratio, particles%cell, grid%acceleration, grid%velocity, &
+                                            grid%element_strain, grid%element_mass_left, grid%element_mass_right, &
+                                            grid%element_momentum_left, grid%element_momentum_right, grid%element_stress_volume, &
+                                            constants, box%carry)
+         case (18)
+            call bspline2_usl_segment(k, grid%segments, particles%x, particles%x0, particles%v, particles%stress, &
+                                     particles%volume_ratio, particles%cell, grid%acceleration, grid%velocity, &
+                                     grid%element_strain, grid%element_mass_left, grid%element_mass_right, &
+                                     grid%element_momentum_left, grid%element_momentum_right, grid%element_stress_volume, &
+                                     constants, box%carry)
+         case (19)
+            call bspline2_musl_remap_segment(k, grid%segments, particles%x, particles%x0, particles%v, particles%stress, &
+                                            particles%volume_ratio, particles%cell, grid%acceleration, grid%velocity, &
+                                            grid%element_strain, grid%element_mass_left, grid%element_mass_right, &
+                                            grid%element_momentum_left, grid%element_momentum_right, grid%element_stress_volume, &
+                                            constants, box%carry)
+         case (20)
+            call bspline2_musl_stress_segment(k, grid%segments, particles%x, particles%x0, particles%v, particles%stress, &
+                                             particles%volume_ratio, particles%cell, grid%acceleration, grid%velocity, &
+                                             grid%element_strain, grid%element_mass_left, grid%element_mass_right, &
+                                             grid%element_momentum_left, grid%element_momentum_right, grid%element_stress_volume, &
+                                             constants, box%carry)
+         case (21)
+            call bspline3_usf_move_segment(k, grid%segments, particles%x, particles%x0, particles%v, particles%stress, &
+                                          particles%volume_ratio, particles%cell, grid%acceleration, grid%velocity, &
+                                          grid%element_strain, grid%element_mass_left, grid%element_mass_right, &
+                                          grid%element_momentum_left, grid%element_momentum_right, grid%element_stress_volume, &
+                                          constants, box%carry)
+         case (22)
+            call bspline3_usf_stress_segment(k, grid%segments, particles%x, particles%x0, particles%v, particles%stress, &
+                                            particles%volume_ratio, particles%cell, grid%acceleration, grid%velocity, &
+                                            grid%element_strain, grid%element_mass_left, grid%element_mass_right, &
+                                            grid%element_momentum_left, grid%element_momentum_right, grid%element_stress_volume, &
+                                            constants, box%carry)
+         case (23)
+            call bspline3_usl_segment(k, grid%segments, particles%x, particles%x0, particles%v, particles%stress, &
+                                     particles%volume_ratio, particles%cell, grid%acceleration, grid%velocity, &
+                                     grid%element_strain, grid%element_mass_left, grid%element_mass_right, &
+                                     grid%element_momentum_left, grid%element_momentum_right, grid%element_stress_volume, &
+                                     constants, box%carry)
+         case (24)
+            call bspline3_musl_remap_segment(k, grid%segments, particles%x, particles%x0, particles%v, particles%stress, &
+                                            particles%volume_ratio, particles%cell, grid%acceleration, grid%velocity, &
+                                            grid%element_strain, grid%element_mass_left, grid%element_mass_right, &
+                                            grid%element_momentum_left, grid%element_momentum_right, grid%element_stress_volume, &
+                                            constants, box%carry)
+         case (25)
+            call bspline3_musl_stress_segment(k, grid%segments, particles%x, particles%x0, particles%v, particles%stress, &
+                                             particles%volume_ratio, particles%cell, grid%acceleration, grid%velocity, &
+                                             grid%element_strain, grid%element_mass_left, grid%element_mass_right, &
+                                             grid%element_momentum_left, grid%element_momentum_right, grid%element_stress_volume, &
+                                             constants, box%carry)
+         case (26)
+            call pic_usf_move_segment(k, grid%segments, particles%x, particles%x0, particles%v, particles%stress, &
+                                     particles%volume_ratio, particles%cell, grid%acceleration, grid%velocity, &
+                                     grid%element_strain, grid%element_mass_left, grid%element_mass_right, &
+                                     grid%element_momentum_left, grid%element_momentum_right, grid%element_stress_volume, &
+                                     constants, box%carry, particles%mass_of, particles%youngs_modulus_of, box%forces, &
+                                     particles%velocity_gradient, grid%element_force_left, grid%element_force_right)
+         case (27)
+            call pic_usf_stress_segment(k, grid%segments, particles%x, particles%x0, particles%v, particles%stress, &
+                                       particles%volume_ratio, particles%cell, grid%acceleration, grid%velocity, &
+                                       grid%element_strain, grid%element_mass_left, grid%element_mass_right, &
+                                       grid%element_momentum_left, grid%element_momentum_right, grid%element_stress_volume, &
+                                       constants, box%carry, particles%mass_of, particles%youngs_modulus_of, box%forces, &
+                                       particles%velocity_gradient, grid%element_force_left, grid%element_force_right)
+         case (28)
+            call pic_usl_segment(k, grid%segments, particles%x, particles%x0, particles%v, particles%stress, &
+                                particles%volume_ratio, particles%cell, grid%acceleration, grid%velocity, &
+                                grid%element_strain, grid%element_mass_left, grid%element_mass_right, &
+                                grid%element_momentum_left, grid%element_momentum_right, grid%element_stress_volume, &
+                                constants, box%carry, particles%mass_of, particles%youngs_modulus_of, box%forces, &
+                                particles%velocity_gradient, grid%element_force_left, grid%element_force_right)
+         case (29)
+            call pic_musl_remap_segment(k, grid%segments, particles%x, particles%x0, particles%v, particles%stress, &
+                                       particles%volume_ratio, particles%cell, grid%acceleration, grid%velocity, &
+                                       grid%element_strain, grid%element_mass_left, grid%element_mass_right, &
+                                       grid%element_momentum_left, grid%element_momentum_right, grid%element_stress_volume, &
+                                       constants, box%carry, particles%mass_of, particles%youngs_modulus_of, box%forces, &
+                                       particles%velocity_gradient, grid%element_force_left, grid%element_force_right)
+         case (30)
+            call pic_musl_stress_segment(k, grid%segments, particles%x, particles%x0, particles%v, particles%stress, &
+                                        particles%volume_ratio, particles%cell, grid%acceleration, grid%velocity, &
+                                        grid%element_strain, grid%element_mass_left, grid%element_mass_right, &
+                                        grid%element_momentum_left, grid%element_momentum_right, grid%element_stress_volume, &
+                                        constants, box%carry, particles%mass_of, particles%youngs_modulus_of, box%forces, &
+                                        particles%velocity_gradient, grid%element_force_left, grid%element_force_right)
+         case (31)
+            call pic_map_segment(k, grid%segments, particles%x, particles%x0, particles%v, particles%stress, &
+                                particles%volume_ratio, particles%cell, grid%acceleration, grid%velocity, &
+                                grid%element_strain, grid%element_mass_left, grid%element_mass_right, &
+                                grid%element_momentum_left, grid%element_momentum_right, grid%element_stress_volume, &
+                                constants, box%carry, particles%mass_of, particles%youngs_modulus_of, box%forces, &
+                                particles%velocity_gradient, grid%element_force_left, grid%element_force_right)
+         case (32)
+            call pic_map_stress_segment(k, grid%segments, particles%x, particles%x0, particles%v, particles%stress, &
+                                       particles%volume_ratio, particles%cell, grid%acceleration, grid%velocity, &
+                                       grid%element_strain, grid%element_mass_left, grid%element_mass_right, &
+                                       grid%element_momentum_left, grid%element_momentum_right, grid%element_stress_volume, &
+                                       constants, box%carry, particles%mass_of, particles%youngs_modulus_of, box%forces, &
+                                       particles%velocity_gradient, grid%element_force_left, grid%element_force_right)
+         case (33)
+            call blend_usf_move_segment(k, grid%segments, particles%x, particles%x0, particles%v, particles%stress, &
+                                       particles%volume_ratio, particles%cell, grid%acceleration, grid%velocity, &
+                                       grid%element_strain, grid%element_mass_left, grid%element_mass_right, &
+                                       grid%element_momentum_left, grid%element_momentum_right, grid%element_stress_volume, &
+                                       constants, box%carry, particles%mass_of, particles%youngs_modulus_of, box%forces, &
+                                       particles%velocity_gradient, grid%element_force_left, grid%element_force_right)
+         case (34)
+            call blend_usf_stress_segment(k, grid%segments, particles%x, particles%x0, particles%v, particles%stress, &
+                                         particles%volume_ratio, particles%cell, grid%acceleration, grid%velocity, &
+                                         grid%element_strain, grid%element_mass_left, grid%element_mass_right, &
+                                         grid%element_momentum_left, grid%element_momentum_right, grid%element_stress_volume, &
+                                         constants, box%carry, particles%mass_of, particles%youngs_modulus_of, box%forces, &
+                                         particles%velocity_gradient, grid%element_force_left, grid%element_force_right)
+         case (35)
+            call blend_usl_segment(k, grid%segments, particles%x, particles%x0, particles%v, particles%stress, &
+                                  particles%volume_ratio, particles%cell, grid%acceleration, grid%velocity, &
+                                  grid%element_strain, grid%element_mass_left, grid%element_mass_right, &
+                                  grid%element_momentum_left, grid%element_momentum_right, grid%element_stress_volume, &
+                                  constants, box%carry, particles%mass_of, particles%youngs_modulus_of, box%forces, &
+                                  particles%velocity_gradient, grid%element_force_left, grid%element_force_right)
+         case (36)
+            call blend_musl_remap_segment(k, grid%segments, particles%x, particles%x0, particles%v, particles%stress, &
+                                         particles%volume_ratio, particles%cell, grid%acceleration, grid%velocity, &
+                                         grid%element_strain, grid%element_mass_left, grid%element_mass_right, &
+                                         grid%element_momentum_left, grid%element_momentum_right, grid%element_stress_volume, &
+                                         constants, box%carry, particles%mass_of, particles%youngs_modulus_of, box%forces, &
+                                         particles%velocity_gradient, grid%element_force_left, grid%element_force_right)
+         case (37)
+            call blend_musl_stress_segment(k, grid%segments, particles%x, particles%x0, particles%v, particles%stress, &
+                                          particles%volume_ratio, particles%cell, grid%acceleration, grid%velocity, &
+                                          grid%element_strain, grid%element_mass_left, grid%element_mass_right, &
+                                          grid%element_momentum_left, grid%element_momentum_right, grid%element_stress_volume, &
+                                          constants, box%carry, particles%mass_of, particles%youngs_modulus_of, box%forces, &
+                                          particles%velocity_gradient, grid%element_force_left, grid%element_force_right)
+         case (38)
+            call blend_map_segment(k, grid%segments, particles%x, particles%x0, particles%v, particles%stress, &
+                                  particles%volume_ratio, particles%cell, grid%acceleration, grid%velocity, &
+                                  grid%element_strain, grid%element_mass_left, grid%element_mass_right, &
+                                  grid%element_momentum_left, grid%element_momentum_right, grid%element_stress_volume, &
+                                  constants, box%carry, particles%mass_of, particles%youngs_modulus_of, box%forces, &
+                                  particles%velocity_gradient, grid%element_force_left, grid%element_force_right)
+         case (39)
+            call blend_map_stress_segment(k, grid%segments, particles%x, particles%x0, particles%v, particles%stress, &
+                                         particles%volume_ratio, particles%cell, grid%acceleration, grid%velocity, &
+                                         grid%element_strain, grid%element_mass_left, grid%element_mass_right, &
+                                         grid%element_momentum_left, grid%element_momentum_right, grid%element_stress_volume, &
+                                         constants, box%carry, particles%mass_of, particles%youngs_modulus_of, box%forces, &
+                                         particles%velocity_gradient, grid%element_force_left, grid%element_force_right)
+         case (40)
+            call apic_usf_move_segment(k, grid%segments, particles%x, particles%x0, particles%v, particles%stress, &
+                                      particles%volume_ratio, particles%cell, grid%acceleration, grid%velocity, &
+                                      grid%element_strain, grid%element_mass_left, grid%element_mass_right, &
+                                      grid%element_momentum_left, grid%element_momentum_right, grid%element_stress_volume, &
+                                      constants, box%carry, particles%mass_of, particles%youngs_modulus_of, box%forces, &
+                                      particles%velocity_gradient, grid%element_force_left, grid%element_force_right)
+         case (41)
+            call apic_usf_stress_segment(k, grid%segments, particles%x, particles%x0, particles%v, particles%stress, &
+                                        particles%volume_ratio, particles%cell, grid%acceleration, grid%velocity, &
+                                        grid%element_strain, grid%element_mass_left, grid%element_mass_right, &
+                                        grid%element_momentum_left, grid%element_momentum_right, grid%element_stress_volume, &
+                                        constants, box%carry, particles%mass_of, particles%youngs_modulus_of, box%forces, &
+                                        particles%velocity_gradient, grid%element_force_left, grid%element_force_right)
+         case (42)
+            call apic_usl_segment(k, grid%segments, particles%x, particles%x0, particles%v, particles%stress, &
+                                 particles%volume_ratio, particles%cell, grid%acceleration, grid%velocity, &
+                                 grid%element_strain, grid%element_mass_left, grid%element_mass_right, &
+                                 grid%element_momentum_left, grid%element_momentum_right, grid%element_stress_volume, &
+                                 constants, box%carry, particles%mass_of, particles%youngs_modulus_of, box%forces, &
+                                 particles%velocity_gradient, grid%element_force_left, grid%element_force_right)
+         case (43)
+            call apic_musl_remap_segment(k, grid%segments, particles%x, particles%x0, particles%v, particles%stress, &
+                                        particles%volume_ratio, particles%cell, grid%acceleration, grid%velocity, &
+                                        grid%element_strain, grid%element_mass_left, grid%element_mass_right, &
+                                        grid%element_momentum_left, grid%element_momentum_right, grid%element_stress_volume, &
+                                        constants, box%carry, particles%mass_of, particles%youngs_modulus_of, box%forces, &
+                                        particles%velocity_gradient, grid%element_force_left, grid%element_force_right)
+         case (44)
+            call apic_musl_stress_segment(k, grid%segments, particles%x, particles%x0, particles%v, particles%stress, &
+                                         particles%volume_ratio, particles%cell, grid%acceleration, grid%velocity, &
+                                         grid%element_strain, grid%element_mass_left, grid%element_mass_right, &
+                                         grid%element_momentum_left, grid%element_momentum_right, grid%element_stress_volume, &
+                                         constants, box%carry, particles%mass_of, particles%youngs_modulus_of, box%forces, &
+                                         particles%velocity_gradient, grid%element_force_left, grid%element_force_right)
+         case (45)
+            call apic_map_segment(k, grid%segments, particles%x, particles%x0, particles%v, particles%stress, &
+                                 particles%volume_ratio, particles%cell, grid%acceleration, grid%velocity, &
+                                 grid%element_strain, grid%element_mass_left, grid%element_mass_right, &
+                                 grid%element_momentum_left, grid%element_momentum_right, grid%element_stress_volume, &
+                                 constants, box%carry, particles%mass_of, particles%youngs_modulus_of, box%forces, &
+                                 particles%velocity_gradient, grid%element_force_left, grid%element_force_right)
+         case (46)
+            call apic_map_stress_segment(k, grid%segments, particles%x, particles%x0, particles%v, particles%stress, &
+                                        particles%volume_ratio, particles%cell, grid%acceleration, grid%velocity, &
+                                        grid%element_strain, grid%element_mass_left, grid%element_mass_right, &
+                                        grid%element_momentum_left, grid%element_momentum_right, grid%element_stress_volume, &
+                                        constants, box%carry, particles%mass_of, particles%youngs_modulus_of, box%forces, &
+                                        particles%velocity_gradient, grid%element_force_left, grid%element_force_right)
+         case (47)
+            call material_usf_move_segment(k, grid%segments, particles%x, particles%x0, particles%v, particles%stress, &
+                                          particles%volume_ratio, particles%cell, grid%acceleration, grid%velocity, &
+                                          grid%element_strain, grid%element_mass_left, grid%element_mass_right, &
+                                          grid%element_momentum_left, grid%element_momentum_right, grid%element_stress_volume, &
+                                          constants, box%carry, particles%mass_of, particles%youngs_modulus_of, box%forces, &
+                                          particles%velocity_gradient, grid%element_force_left, grid%element_force_right)
+         case (48)
+            call material_usf_stress_segment(k, grid%segments, particles%x, particles%x0, particles%v, particles%stress, &
+                                            particles%volume_ratio, particles%cell, grid%acceleration, grid%velocity, &
+                                            grid%element_strain, grid%element_mass_left, grid%element_mass_right, &
+                                            grid%element_momentum_left, grid%element_momentum_right, grid%element_stress_volume, &
+                                            constants, box%carry, particles%mass_of, particles%youngs_modulus_of, box%forces, &
+                                            particles%velocity_gradient, grid%element_force_left, grid%element_force_right)
+         case (49)
+            call material_usl_segment(k, grid%segments, particles%x, particles%x0, particles%v, particles%stress, &
+                                     particles%volume_ratio, particles%cell, grid%acceleration, grid%velocity, &
+                                     grid%element_strain, grid%element_mass_left, grid%element_mass_right, &
+                                     grid%element_momentum_left, grid%element_momentum_right, grid%element_stress_volume, &
+                                     constants, box%carry, particles%mass_of, particles%youngs_modulus_of, box%forces, &
+                                     particles%velocity_gradient, grid%element_force_left, grid%element_force_right)
+         case (50)
+            call material_musl_remap_segment(k, grid%segments, particles%x, particles%x0, particles%v, particles%stress, &
+                                            particles%volume_ratio, particles%cell, grid%acceleration, grid%velocity, &
+                                            grid%element_strain, grid%element_mass_left, grid%element_mass_right, &
+                                            grid%element_momentum_left, grid%element_momentum_right, grid%element_stress_volume, &
+                                            constants, box%carry, particles%mass_of, particles%youngs_modulus_of, box%forces, &
+                                            particles%velocity_gradient, grid%element_force_left, grid%element_force_right)
+         case (51)
+            call material_musl_stress_segment(k, grid%segments, particles%x, particles%x0, particles%v, particles%stress, &
+                                             particles%volume_ratio, particles%cell, grid%acceleration, grid%velocity, &
+                                             grid%element_strain, grid%element_mass_left, grid%element_mass_right, &
+                                             grid%element_momentum_left, grid%element_momentum_right, grid%element_stress_volume, &
+                                             constants, box%carry, particles%mass_of, particles%youngs_modulus_of, box%forces, &
+                                             particles%velocity_gradient, grid%element_force_left, grid%element_force_right)
+         case (52)
+            call material_map_segment(k, grid%segments, particles%x, particles%x0, particles%v, particles%stress, &
+                                     particles%volume_ratio, particles%cell, grid%acceleration, grid%velocity, &
+                                     grid%element_strain, grid%element_mass_left, grid%element_mass_right, &
+                                     grid%element_momentum_left, grid%element_momentum_right, grid%element_stress_volume, &
+                                     constants, box%carry, particles%mass_of, particles%youngs_modulus_of, box%forces, &
+                                     particles%velocity_gradient, grid%element_force_left, grid%element_force_right)
+         case (53)
+            call material_map_stress_segment(k, grid%segments, particles%x, particles%x0, particles%v, particles%stress, &
+                                            particles%volume_ratio, particles%cell, grid%acceleration, grid%velocity, &
+                                            grid%element_strain, grid%element_mass_left, grid%element_mass_right, &
+                                            grid%element_momentum_left, grid%element_momentum_right, grid%element_stress_volume, &
+                                            constants, box%carry, particles%mass_of, particles%youngs_modulus_of, box%forces, &
+                                            particles%velocity_gradient, grid%element_force_left, grid%element_force_right)
+         case (54)
+            call forced_usf_move_segment(k, grid%segments, particles%x, particles%x0, particles%v, particles%stress, &
+                                        particles%volume_ratio, particles%cell, grid%acceleration, grid%velocity, &
+                                        grid%element_strain, grid%element_mass_left, grid%element_mass_right, &
+                                        grid%element_momentum_left, grid%element_momentum_right, grid%element_stress_volume, &
+                                        constants, box%carry, particles%mass_of, particles%youngs_modulus_of, box%forces, &
+                                        particles%velocity_gradient, grid%element_force_left, grid%element_force_right)
+         case (55)
+            call forced_usf_stress_segment(k, grid%segments, particles%x, particles%x0, particles%v, particles%stress, &
+                                          particles%volume_ratio, particles%cell, grid%acceleration, grid%velocity, &
+                                          grid%element_strain, grid%element_mass_left, grid%element_mass_right, &
+                                          grid%element_momentum_left, grid%element_momentum_right, grid%element_stress_volume, &
+                                          constants, box%carry, particles%mass_of, particles%youngs_modulus_of, box%forces, &
+                                          particles%velocity_gradient, grid%element_force_left, grid%element_force_right)
+         case (56)
+            call forced_usl_segment(k, grid%segments, particles%x, particles%x0, particles%v, particles%stress, &
+                                   particles%volume_ratio, particles%cell, grid%acceleration, grid%velocity, &
+                                   grid%element_strain, grid%element_mass_left, grid%element_mass_right, &
+                                   grid%element_momentum_left, grid%element_momentum_right, grid%element_stress_volume, &
+                                   constants, box%carry, particles%mass_of, particles%youngs_modulus_of, box%forces, &
+                                   particles%velocity_gradient, grid%element_force_left, grid%element_force_right)
+         case (57)
+            call forced_musl_remap_segment(k, grid%segments, particles%x, particles%x0, particles%v, particles%stress, &
+                                          particles%volume_ratio, particles%cell, grid%acceleration, grid%velocity, &
+                                          grid%element_strain, grid%element_mass_left, grid%element_mass_right, &
+                                          grid%element_momentum_left, grid%element_momentum_right, grid%element_stress_volume, &
+                                          constants, box%carry, particles%mass_of, particles%youngs_modulus_of, box%forces, &
+                                          particles%velocity_gradient, grid%element_force_left, grid%element_force_right)
+         case (58)
+            call forced_musl_stress_segment(k, grid%segments, particles%x, particles%x0, particles%v, particles%stress, &
+                                           particles%volume_ratio, particles%cell, grid%acceleration, grid%velocity, &
+                                           grid%element_strain, grid%element_mass_left, grid%element_mass_right, &
+                                           grid%element_momentum_left, grid%element_momentum_right, grid%element_stress_volume, &
+                                           constants, box%carry, particles%mass_of, particles%youngs_modulus_of, box%forces, &
+                                           particles%velocity_gradient, grid%element_force_left, grid%element_force_right)
+         case (59)
+            call forced_map_segment(k, grid%segments, particles%x, particles%x0, particles%v, particles%stress, &
+                                   particles%volume_ratio, particles%cell, grid%acceleration, grid%velocity, &
+                                   grid%element_strain, grid%element_mass_left, grid%element_mass_right, &
+                                   grid%element_momentum_left, grid%element_momentum_right, grid%element_stress_volume, &
+                                   constants, box%carry, particles%mass_of, particles%youngs_modulus_of, box%forces, &
+                                   particles%velocity_gradient, grid%element_force_left, grid%element_force_right)
+         case (60)
+            call forced_map_stress_segment(k, grid%segments, particles%x, particles%x0, particles%v, particles%stress, &
+                                          particles%volume_ratio, particles%cell, grid%acceleration, grid%velocity, &
+                                          grid%element_strain, grid%element_mass_left, grid%element_mass_right, &
+                                          grid%element_momentum_left, grid%element_momentum_right, grid%element_stress_volume, &
+                                          constants, box%carry, particles%mass_of, particles%youngs_modulus_of, box%forces, &
+                                          particles%velocity_gradient, grid%element_force_left, grid%element_force_right)
+         case (61)
+            call bodies_usf_move_segment(k, grid%segments, particles%x, particles%x0, particles%v, particles%stress, &
+                                        particles%volume_ratio, particles%cell, grid%acceleration, grid%velocity, &
+                                        grid%element_strain, grid%element_mass_left, grid%element_mass_right, &
+                                        grid%element_momentum_left, grid%element_momentum_right, grid%element_stress_volume, &
+                                        body_constants(k), box%carry)
+         case (62)
+            call bodies_usf_stress_segment(k, grid%segments, particles%x, particles%x0, particles%v, particles%stress, &
+                                          particles%volume_ratio, particles%cell, grid%acceleration, grid%velocity, &
+                                          grid%element_strain, grid%element_mass_left, grid%element_mass_right, &
+                                          grid%element_momentum_left, grid%element_momentum_right, grid%element_stress_volume, &
+                                          body_constants(k), box%carry)
+         case (63)
+            call bodies_usl_segment(k, grid%segments, particles%x, particles%x0, particles%v, particles%stress, &
+                                   particles%volume_ratio, particles%cell, grid%acceleration, grid%velocity, &
+                                   grid%element_strain, grid%element_mass_left, grid%element_mass_right, &
+                                   grid%element_momentum_left, grid%element_momentum_right, grid%element_stress_volume, &
+                                   body_constants(k), box%carry)
+         case (64)
+            call bodies_musl_remap_segment(k, grid%segments, particles%x, particles%x0, particles%v, particles%stress, &
+                                          particles%volume_ratio, particles%cell, grid%acceleration, grid%velocity, &
+                                          grid%element_strain, grid%element_mass_left, grid%element_mass_right, &
+                                          grid%element_momentum_left, grid%element_momentum_right, grid%element_stress_volume, &
+                                          body_constants(k), box%carry)
+         case (65)
+            call bodies_musl_stress_segment(k, grid%segments, particles%x, particles%x0, particles%v, particles%stress, &
+                                           particles%volume_ratio, particles%cell, grid%acceleration, grid%velocity, &
+                                           grid%element_strain, grid%element_mass_left, grid%element_mass_right, &
+                                           grid%element_momentum_left, grid%element_momentum_right, grid%element_stress_volume, &
+                                           body_constants(k), box%carry)
+         case (66)
+            call bodies_map_segment(k, grid%segments, particles%x, particles%x0, particles%v, particles%stress, &
+                                   particles%volume_ratio, particles%cell, grid%acceleration, grid%velocity, &
+                                   grid%element_strain, grid%element_mass_left, grid%element_mass_right, &
+                                   grid%element_momentum_left, grid%element_momentum_right, grid%element_stress_volume, &
+                                   body_constants(k), box%carry)
+         case (67)
+            call bodies_map_stress_segment(k, grid%segments, particles%x, particles%x0, particles%v, particles%stress, &
+                                          particles%volume_ratio, particles%cell, grid%acceleration, grid%velocity, &
+                                          grid%element_strain, grid%element_mass_left, grid%element_mass_right, &
+                                          grid%element_momentum_left, grid%element_momentum_right, grid%element_stress_volume, &
+                                          body_constants(k), box%carry)
+         end select
       end subroutine segment
+      !> The constants of segment k's body (bodies: each segment lies in one body's field).
+      function body_constants(k) result(c)
+         integer, intent(in) :: k
+         type(pass_constants_t) :: c
+         integer :: b
+         b = body_of_element(box, grid%segments%first_element(k))
+         c = constants
+         c%elements = box%body_cells
+         c%mass = box%body_mass(b)
+         c%volume0 = box%body_volume0(b)
+         c%youngs_modulus = box%body_modulus(b)
+         c%offset = box%body_element(b) - 1
+      end function body_constants
    end subroutine over_segments
 
    !> Combine the totals of the two passes of one step (each pass fills different sums).
