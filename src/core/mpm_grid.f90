@@ -222,7 +222,7 @@ contains
       type(grid_t), intent(inout) :: grid
       real(dp), intent(in) :: dt
       integer, intent(in), optional :: ranges(:, :)
-      integer :: k, r
+      integer :: r
       real(dp) :: lightest
       call assemble_ends(grid, .true.)
       lightest = huge(1.0_dp)
@@ -230,16 +230,8 @@ contains
          do r = 1, size(ranges, 2)
             call solve_part(max(ranges(1, r), 0), min(ranges(2, r), grid%elements), lightest)
          end do
-      else if (threaded_nodes(grid)) then
-         !$omp parallel do default(shared) private(k) schedule(static) reduction(min:lightest)
-         do k = 0, grid%elements/node_chunk
-            call assemble_interior(grid, .true., k*node_chunk, min(grid%elements, (k + 1)*node_chunk - 1))
-            call solve_nodes(grid, dt, .false., k*node_chunk, min(grid%elements, (k + 1)*node_chunk - 1), lightest)
-         end do
-         !$omp end parallel do
       else
-         call assemble_interior(grid, .true., 0, grid%elements)
-         call solve_nodes(grid, dt, .false., 0, grid%elements, lightest)
+         call solve_part(0, grid%elements, lightest)
       end if
       call fix_nodes(grid, lightest)
    contains
