@@ -1793,8 +1793,10 @@ contains
    !> follow at the flush: mass m (a1 - a2), m a2; momentum m (a3 - a4), m a4. This rounds differently from
    !> summing m N v per particle (within a few ulps of the element's momentum), the same way for any
    !> thread count, and made the passes about 6 % faster with 1e7 particles.
+   !> APIC (xv present) sums xv(i) = xi (v + C (1 - xi) dx) in place of xi v: its right node's momentum
+   !> per mass; the left node's, (1 - xi)(v - C xi dx), is v less that (so a3 - a4 as for FLIP).
    subroutine accumulate_block(k, n, cells, xi, vp, sv, m, lo, hi, shares, run, mass_left, mass_right, &
-                               momentum_left, momentum_right, stress_volume, seg)
+                               momentum_left, momentum_right, stress_volume, seg, xv)
       integer, intent(in) :: k, n, lo, hi, shares
       integer, intent(in) :: cells(:)
       real(dp), intent(in) :: xi(:), vp(:), sv(:), m
@@ -1802,6 +1804,7 @@ contains
       real(dp), intent(inout), contiguous :: mass_left(:), mass_right(:), momentum_left(:), momentum_right(:), &
                                              stress_volume(:)
       type(segments_t), intent(inout) :: seg
+      real(dp), intent(in), optional :: xv(:)
       integer :: i, c, cur, na
       real(dp) :: a2, a3, a4, a5
       logical :: kinematic, with_stress
@@ -1841,7 +1844,11 @@ contains
             na = na + 1
             a2 = a2 + xi(i)
             a3 = a3 + vp(i)
-            a4 = a4 + xi(i)*vp(i)
+            if (present(xv)) then
+               a4 = a4 + xv(i)
+            else
+               a4 = a4 + xi(i)*vp(i)
+            end if
          end if
          if (with_stress) a5 = a5 + sv(i)
       end do
@@ -9674,8 +9681,7 @@ contains
       ! the variant's: G2P's grid velocity and move, the segment's body (cells offset), each particle's
       ! shares (accumulate_shares)
       real(dp) :: vgrid, dxp
-      real(dp) :: dx, cp, cq, w
-      real(dp) :: mp, sh(block_size, share_count)
+      real(dp) :: dx, cp, cq, xvb(block_size)
       dx = constants%dx
       elements = constants%elements
       inv_dx = constants%inv_dx
@@ -9741,26 +9747,19 @@ contains
                cb(i) = e
                if (moves) xib(i) = xi
             end if
-            ! the particle's whole element shares (accumulate_shares sums them): mass, momentum (APIC's
-            ! with its affine part), stress*volume, external force, at the left and right node
-            mp = m
-            if (iand(shares, share_mass + share_momentum) /= 0) then
-               sh(i, 2) = mp*xib(i)
-               sh(i, 1) = mp - sh(i, 2)
-            end if
+            if (moves .or. relocates) vpb(i) = v(p)
             if (iand(shares, share_momentum) /= 0) then
-               ! node I gets N_I m_p (v_p + C_p (x_I - x_p)), x_I - x_p = -xi dx (left), (1 - xi) dx (right)
-               ! ([Jiang 2015]; C_p of this pass's G2P, or kept by the pass that made it)
+               ! node I gets N_I m (v_p + C_p (x_I - x_p)), x_I - x_p = -xi dx (left), (1 - xi) dx (right)
+               ! ([Jiang 2015]; C_p of this pass's G2P, or kept by the pass that made it): the right node's
+               ! m xi (v_p + C_p (1 - xi) dx), the left node's the particle's m v_p less that, so that
+               ! accumulate_block sums xv = xi (v_p + C_p (1 - xi) dx) in place of FLIP's xi v_p
                if (moves) then
                   cq = cp
                else
                   cq = gradient(p)
                end if
-               w = v(p) - cq*xib(i)*dx
-               sh(i, 3) = sh(i, 1)*w
-               sh(i, 4) = sh(i, 2)*(w + cq*dx)
+               xvb(i) = xib(i)*(v(p) + cq*dx*(1.0_dp - xib(i)))
             end if
-            if (iand(shares, share_stress) /= 0) sh(i, 5) = svb(i)
          end do
          ! the block's totals (macros of mpm_lanes.fypi, expanded here)
          if (moves) then
@@ -9802,13 +9801,9 @@ contains
             if (lane_r > 0) min_j(1:lane_r) = min(min_j(1:lane_r), jb(n - lane_r + 1:n))
          end if
          if (relocates) call find_outside(n, b0, cb, outside)
-         call accumulate_shares(k, n, cb, sh, lo, hi, shares, run, mass_left, mass_right, momentum_left, momentum_right, &
-                                stress_volume, seg, force_left, force_right)
+         call accumulate_block(k, n, cb, xib, vpb, svb, m, lo, hi, shares, run, mass_left, mass_right, momentum_left, &
+                               momentum_right, stress_volume, seg, xvb)
       end do
-      ! the open run's whole shares
-      if (run%cur /= 0) call flush_sums(k, run%cur, lo, hi, shares, run%s, mass_left, mass_right, momentum_left, &
-                                        momentum_right, stress_volume, seg, force_left, force_right)
-      run%a = 0.0_dp  ! (close_segment flushes the bar's sums: none here)
       call close_segment(k, shares, m, run, [lane_total(displacement), lane_total(kinetic), lane_total(strain)], &
                          minval(min_j), largest%value, furthest_particle(largest, mb), outside, mass_left, mass_right, &
                          momentum_left, momentum_right, stress_volume, seg)
@@ -9854,8 +9849,7 @@ contains
       ! the variant's: G2P's grid velocity and move, the segment's body (cells offset), each particle's
       ! shares (accumulate_shares)
       real(dp) :: vgrid, dxp
-      real(dp) :: dx, cp, cq, w
-      real(dp) :: mp, sh(block_size, share_count)
+      real(dp) :: dx, cp, cq, xvb(block_size)
       dx = constants%dx
       elements = constants%elements
       inv_dx = constants%inv_dx
@@ -9922,26 +9916,19 @@ contains
                cb(i) = e
                if (moves) xib(i) = xi
             end if
-            ! the particle's whole element shares (accumulate_shares sums them): mass, momentum (APIC's
-            ! with its affine part), stress*volume, external force, at the left and right node
-            mp = m
-            if (iand(shares, share_mass + share_momentum) /= 0) then
-               sh(i, 2) = mp*xib(i)
-               sh(i, 1) = mp - sh(i, 2)
-            end if
+            if (moves .or. relocates) vpb(i) = v(p)
             if (iand(shares, share_momentum) /= 0) then
-               ! node I gets N_I m_p (v_p + C_p (x_I - x_p)), x_I - x_p = -xi dx (left), (1 - xi) dx (right)
-               ! ([Jiang 2015]; C_p of this pass's G2P, or kept by the pass that made it)
+               ! node I gets N_I m (v_p + C_p (x_I - x_p)), x_I - x_p = -xi dx (left), (1 - xi) dx (right)
+               ! ([Jiang 2015]; C_p of this pass's G2P, or kept by the pass that made it): the right node's
+               ! m xi (v_p + C_p (1 - xi) dx), the left node's the particle's m v_p less that, so that
+               ! accumulate_block sums xv = xi (v_p + C_p (1 - xi) dx) in place of FLIP's xi v_p
                if (moves) then
                   cq = cp
                else
                   cq = gradient(p)
                end if
-               w = v(p) - cq*xib(i)*dx
-               sh(i, 3) = sh(i, 1)*w
-               sh(i, 4) = sh(i, 2)*(w + cq*dx)
+               xvb(i) = xib(i)*(v(p) + cq*dx*(1.0_dp - xib(i)))
             end if
-            if (iand(shares, share_stress) /= 0) sh(i, 5) = svb(i)
          end do
          else
          do i = 1, n
@@ -9978,26 +9965,19 @@ contains
                cb(i) = e
                if (moves) xib(i) = xi
             end if
-            ! the particle's whole element shares (accumulate_shares sums them): mass, momentum (APIC's
-            ! with its affine part), stress*volume, external force, at the left and right node
-            mp = m
-            if (iand(shares, share_mass + share_momentum) /= 0) then
-               sh(i, 2) = mp*xib(i)
-               sh(i, 1) = mp - sh(i, 2)
-            end if
+            if (moves .or. relocates) vpb(i) = v(p)
             if (iand(shares, share_momentum) /= 0) then
-               ! node I gets N_I m_p (v_p + C_p (x_I - x_p)), x_I - x_p = -xi dx (left), (1 - xi) dx (right)
-               ! ([Jiang 2015]; C_p of this pass's G2P, or kept by the pass that made it)
+               ! node I gets N_I m (v_p + C_p (x_I - x_p)), x_I - x_p = -xi dx (left), (1 - xi) dx (right)
+               ! ([Jiang 2015]; C_p of this pass's G2P, or kept by the pass that made it): the right node's
+               ! m xi (v_p + C_p (1 - xi) dx), the left node's the particle's m v_p less that, so that
+               ! accumulate_block sums xv = xi (v_p + C_p (1 - xi) dx) in place of FLIP's xi v_p
                if (moves) then
                   cq = cp
                else
                   cq = gradient(p)
                end if
-               w = v(p) - cq*xib(i)*dx
-               sh(i, 3) = sh(i, 1)*w
-               sh(i, 4) = sh(i, 2)*(w + cq*dx)
+               xvb(i) = xib(i)*(v(p) + cq*dx*(1.0_dp - xib(i)))
             end if
-            if (iand(shares, share_stress) /= 0) sh(i, 5) = svb(i)
          end do
          end if
          ! the block's totals (macros of mpm_lanes.fypi, expanded here)
@@ -10040,13 +10020,9 @@ contains
             if (lane_r > 0) min_j(1:lane_r) = min(min_j(1:lane_r), jb(n - lane_r + 1:n))
          end if
          if (relocates) call find_outside(n, b0, cb, outside)
-         call accumulate_shares(k, n, cb, sh, lo, hi, shares, run, mass_left, mass_right, momentum_left, momentum_right, &
-                                stress_volume, seg, force_left, force_right)
+         call accumulate_block(k, n, cb, xib, vpb, svb, m, lo, hi, shares, run, mass_left, mass_right, momentum_left, &
+                               momentum_right, stress_volume, seg, xvb)
       end do
-      ! the open run's whole shares
-      if (run%cur /= 0) call flush_sums(k, run%cur, lo, hi, shares, run%s, mass_left, mass_right, momentum_left, &
-                                        momentum_right, stress_volume, seg, force_left, force_right)
-      run%a = 0.0_dp  ! (close_segment flushes the bar's sums: none here)
       call close_segment(k, shares, m, run, [lane_total(displacement), lane_total(kinetic), lane_total(strain)], &
                          minval(min_j), largest%value, furthest_particle(largest, mb), outside, mass_left, mass_right, &
                          momentum_left, momentum_right, stress_volume, seg)
@@ -10092,8 +10068,7 @@ contains
       ! the variant's: G2P's grid velocity and move, the segment's body (cells offset), each particle's
       ! shares (accumulate_shares)
       real(dp) :: vgrid, dxp
-      real(dp) :: dx, cp, cq, w
-      real(dp) :: mp, sh(block_size, share_count)
+      real(dp) :: dx, cp, cq, xvb(block_size)
       dx = constants%dx
       elements = constants%elements
       inv_dx = constants%inv_dx
@@ -10160,26 +10135,19 @@ contains
                cb(i) = e
                if (moves) xib(i) = xi
             end if
-            ! the particle's whole element shares (accumulate_shares sums them): mass, momentum (APIC's
-            ! with its affine part), stress*volume, external force, at the left and right node
-            mp = m
-            if (iand(shares, share_mass + share_momentum) /= 0) then
-               sh(i, 2) = mp*xib(i)
-               sh(i, 1) = mp - sh(i, 2)
-            end if
+            if (moves .or. relocates) vpb(i) = v(p)
             if (iand(shares, share_momentum) /= 0) then
-               ! node I gets N_I m_p (v_p + C_p (x_I - x_p)), x_I - x_p = -xi dx (left), (1 - xi) dx (right)
-               ! ([Jiang 2015]; C_p of this pass's G2P, or kept by the pass that made it)
+               ! node I gets N_I m (v_p + C_p (x_I - x_p)), x_I - x_p = -xi dx (left), (1 - xi) dx (right)
+               ! ([Jiang 2015]; C_p of this pass's G2P, or kept by the pass that made it): the right node's
+               ! m xi (v_p + C_p (1 - xi) dx), the left node's the particle's m v_p less that, so that
+               ! accumulate_block sums xv = xi (v_p + C_p (1 - xi) dx) in place of FLIP's xi v_p
                if (moves) then
                   cq = cp
                else
                   cq = gradient(p)
                end if
-               w = v(p) - cq*xib(i)*dx
-               sh(i, 3) = sh(i, 1)*w
-               sh(i, 4) = sh(i, 2)*(w + cq*dx)
+               xvb(i) = xib(i)*(v(p) + cq*dx*(1.0_dp - xib(i)))
             end if
-            if (iand(shares, share_stress) /= 0) sh(i, 5) = svb(i)
          end do
          else
          do i = 1, n
@@ -10216,26 +10184,19 @@ contains
                cb(i) = e
                if (moves) xib(i) = xi
             end if
-            ! the particle's whole element shares (accumulate_shares sums them): mass, momentum (APIC's
-            ! with its affine part), stress*volume, external force, at the left and right node
-            mp = m
-            if (iand(shares, share_mass + share_momentum) /= 0) then
-               sh(i, 2) = mp*xib(i)
-               sh(i, 1) = mp - sh(i, 2)
-            end if
+            if (moves .or. relocates) vpb(i) = v(p)
             if (iand(shares, share_momentum) /= 0) then
-               ! node I gets N_I m_p (v_p + C_p (x_I - x_p)), x_I - x_p = -xi dx (left), (1 - xi) dx (right)
-               ! ([Jiang 2015]; C_p of this pass's G2P, or kept by the pass that made it)
+               ! node I gets N_I m (v_p + C_p (x_I - x_p)), x_I - x_p = -xi dx (left), (1 - xi) dx (right)
+               ! ([Jiang 2015]; C_p of this pass's G2P, or kept by the pass that made it): the right node's
+               ! m xi (v_p + C_p (1 - xi) dx), the left node's the particle's m v_p less that, so that
+               ! accumulate_block sums xv = xi (v_p + C_p (1 - xi) dx) in place of FLIP's xi v_p
                if (moves) then
                   cq = cp
                else
                   cq = gradient(p)
                end if
-               w = v(p) - cq*xib(i)*dx
-               sh(i, 3) = sh(i, 1)*w
-               sh(i, 4) = sh(i, 2)*(w + cq*dx)
+               xvb(i) = xib(i)*(v(p) + cq*dx*(1.0_dp - xib(i)))
             end if
-            if (iand(shares, share_stress) /= 0) sh(i, 5) = svb(i)
          end do
          end if
          ! the block's totals (macros of mpm_lanes.fypi, expanded here)
@@ -10278,13 +10239,9 @@ contains
             if (lane_r > 0) min_j(1:lane_r) = min(min_j(1:lane_r), jb(n - lane_r + 1:n))
          end if
          if (relocates) call find_outside(n, b0, cb, outside)
-         call accumulate_shares(k, n, cb, sh, lo, hi, shares, run, mass_left, mass_right, momentum_left, momentum_right, &
-                                stress_volume, seg, force_left, force_right)
+         call accumulate_block(k, n, cb, xib, vpb, svb, m, lo, hi, shares, run, mass_left, mass_right, momentum_left, &
+                               momentum_right, stress_volume, seg, xvb)
       end do
-      ! the open run's whole shares
-      if (run%cur /= 0) call flush_sums(k, run%cur, lo, hi, shares, run%s, mass_left, mass_right, momentum_left, &
-                                        momentum_right, stress_volume, seg, force_left, force_right)
-      run%a = 0.0_dp  ! (close_segment flushes the bar's sums: none here)
       call close_segment(k, shares, m, run, [lane_total(displacement), lane_total(kinetic), lane_total(strain)], &
                          minval(min_j), largest%value, furthest_particle(largest, mb), outside, mass_left, mass_right, &
                          momentum_left, momentum_right, stress_volume, seg)
@@ -10330,8 +10287,7 @@ contains
       ! the variant's: G2P's grid velocity and move, the segment's body (cells offset), each particle's
       ! shares (accumulate_shares)
       real(dp) :: vgrid, dxp
-      real(dp) :: dx, cp, cq, w
-      real(dp) :: mp, sh(block_size, share_count)
+      real(dp) :: dx, cp, cq, xvb(block_size)
       dx = constants%dx
       elements = constants%elements
       inv_dx = constants%inv_dx
@@ -10397,26 +10353,19 @@ contains
                cb(i) = e
                if (moves) xib(i) = xi
             end if
-            ! the particle's whole element shares (accumulate_shares sums them): mass, momentum (APIC's
-            ! with its affine part), stress*volume, external force, at the left and right node
-            mp = m
-            if (iand(shares, share_mass + share_momentum) /= 0) then
-               sh(i, 2) = mp*xib(i)
-               sh(i, 1) = mp - sh(i, 2)
-            end if
+            if (moves .or. relocates) vpb(i) = v(p)
             if (iand(shares, share_momentum) /= 0) then
-               ! node I gets N_I m_p (v_p + C_p (x_I - x_p)), x_I - x_p = -xi dx (left), (1 - xi) dx (right)
-               ! ([Jiang 2015]; C_p of this pass's G2P, or kept by the pass that made it)
+               ! node I gets N_I m (v_p + C_p (x_I - x_p)), x_I - x_p = -xi dx (left), (1 - xi) dx (right)
+               ! ([Jiang 2015]; C_p of this pass's G2P, or kept by the pass that made it): the right node's
+               ! m xi (v_p + C_p (1 - xi) dx), the left node's the particle's m v_p less that, so that
+               ! accumulate_block sums xv = xi (v_p + C_p (1 - xi) dx) in place of FLIP's xi v_p
                if (moves) then
                   cq = cp
                else
                   cq = gradient(p)
                end if
-               w = v(p) - cq*xib(i)*dx
-               sh(i, 3) = sh(i, 1)*w
-               sh(i, 4) = sh(i, 2)*(w + cq*dx)
+               xvb(i) = xib(i)*(v(p) + cq*dx*(1.0_dp - xib(i)))
             end if
-            if (iand(shares, share_stress) /= 0) sh(i, 5) = svb(i)
          end do
          ! the block's totals (macros of mpm_lanes.fypi, expanded here)
          if (moves) then
@@ -10458,13 +10407,9 @@ contains
             if (lane_r > 0) min_j(1:lane_r) = min(min_j(1:lane_r), jb(n - lane_r + 1:n))
          end if
          if (relocates) call find_outside(n, b0, cb, outside)
-         call accumulate_shares(k, n, cb, sh, lo, hi, shares, run, mass_left, mass_right, momentum_left, momentum_right, &
-                                stress_volume, seg, force_left, force_right)
+         call accumulate_block(k, n, cb, xib, vpb, svb, m, lo, hi, shares, run, mass_left, mass_right, momentum_left, &
+                               momentum_right, stress_volume, seg, xvb)
       end do
-      ! the open run's whole shares
-      if (run%cur /= 0) call flush_sums(k, run%cur, lo, hi, shares, run%s, mass_left, mass_right, momentum_left, &
-                                        momentum_right, stress_volume, seg, force_left, force_right)
-      run%a = 0.0_dp  ! (close_segment flushes the bar's sums: none here)
       call close_segment(k, shares, m, run, [lane_total(displacement), lane_total(kinetic), lane_total(strain)], &
                          minval(min_j), largest%value, furthest_particle(largest, mb), outside, mass_left, mass_right, &
                          momentum_left, momentum_right, stress_volume, seg)
@@ -10510,8 +10455,7 @@ contains
       ! the variant's: G2P's grid velocity and move, the segment's body (cells offset), each particle's
       ! shares (accumulate_shares)
       real(dp) :: vgrid, dxp
-      real(dp) :: dx, cp, cq, w
-      real(dp) :: mp, sh(block_size, share_count)
+      real(dp) :: dx, cp, cq, xvb(block_size)
       dx = constants%dx
       elements = constants%elements
       inv_dx = constants%inv_dx
@@ -10578,26 +10522,19 @@ contains
                cb(i) = e
                if (moves) xib(i) = xi
             end if
-            ! the particle's whole element shares (accumulate_shares sums them): mass, momentum (APIC's
-            ! with its affine part), stress*volume, external force, at the left and right node
-            mp = m
-            if (iand(shares, share_mass + share_momentum) /= 0) then
-               sh(i, 2) = mp*xib(i)
-               sh(i, 1) = mp - sh(i, 2)
-            end if
+            if (moves .or. relocates) vpb(i) = v(p)
             if (iand(shares, share_momentum) /= 0) then
-               ! node I gets N_I m_p (v_p + C_p (x_I - x_p)), x_I - x_p = -xi dx (left), (1 - xi) dx (right)
-               ! ([Jiang 2015]; C_p of this pass's G2P, or kept by the pass that made it)
+               ! node I gets N_I m (v_p + C_p (x_I - x_p)), x_I - x_p = -xi dx (left), (1 - xi) dx (right)
+               ! ([Jiang 2015]; C_p of this pass's G2P, or kept by the pass that made it): the right node's
+               ! m xi (v_p + C_p (1 - xi) dx), the left node's the particle's m v_p less that, so that
+               ! accumulate_block sums xv = xi (v_p + C_p (1 - xi) dx) in place of FLIP's xi v_p
                if (moves) then
                   cq = cp
                else
                   cq = gradient(p)
                end if
-               w = v(p) - cq*xib(i)*dx
-               sh(i, 3) = sh(i, 1)*w
-               sh(i, 4) = sh(i, 2)*(w + cq*dx)
+               xvb(i) = xib(i)*(v(p) + cq*dx*(1.0_dp - xib(i)))
             end if
-            if (iand(shares, share_stress) /= 0) sh(i, 5) = svb(i)
          end do
          else
          do i = 1, n
@@ -10634,26 +10571,19 @@ contains
                cb(i) = e
                if (moves) xib(i) = xi
             end if
-            ! the particle's whole element shares (accumulate_shares sums them): mass, momentum (APIC's
-            ! with its affine part), stress*volume, external force, at the left and right node
-            mp = m
-            if (iand(shares, share_mass + share_momentum) /= 0) then
-               sh(i, 2) = mp*xib(i)
-               sh(i, 1) = mp - sh(i, 2)
-            end if
+            if (moves .or. relocates) vpb(i) = v(p)
             if (iand(shares, share_momentum) /= 0) then
-               ! node I gets N_I m_p (v_p + C_p (x_I - x_p)), x_I - x_p = -xi dx (left), (1 - xi) dx (right)
-               ! ([Jiang 2015]; C_p of this pass's G2P, or kept by the pass that made it)
+               ! node I gets N_I m (v_p + C_p (x_I - x_p)), x_I - x_p = -xi dx (left), (1 - xi) dx (right)
+               ! ([Jiang 2015]; C_p of this pass's G2P, or kept by the pass that made it): the right node's
+               ! m xi (v_p + C_p (1 - xi) dx), the left node's the particle's m v_p less that, so that
+               ! accumulate_block sums xv = xi (v_p + C_p (1 - xi) dx) in place of FLIP's xi v_p
                if (moves) then
                   cq = cp
                else
                   cq = gradient(p)
                end if
-               w = v(p) - cq*xib(i)*dx
-               sh(i, 3) = sh(i, 1)*w
-               sh(i, 4) = sh(i, 2)*(w + cq*dx)
+               xvb(i) = xib(i)*(v(p) + cq*dx*(1.0_dp - xib(i)))
             end if
-            if (iand(shares, share_stress) /= 0) sh(i, 5) = svb(i)
          end do
          end if
          ! the block's totals (macros of mpm_lanes.fypi, expanded here)
@@ -10696,13 +10626,9 @@ contains
             if (lane_r > 0) min_j(1:lane_r) = min(min_j(1:lane_r), jb(n - lane_r + 1:n))
          end if
          if (relocates) call find_outside(n, b0, cb, outside)
-         call accumulate_shares(k, n, cb, sh, lo, hi, shares, run, mass_left, mass_right, momentum_left, momentum_right, &
-                                stress_volume, seg, force_left, force_right)
+         call accumulate_block(k, n, cb, xib, vpb, svb, m, lo, hi, shares, run, mass_left, mass_right, momentum_left, &
+                               momentum_right, stress_volume, seg, xvb)
       end do
-      ! the open run's whole shares
-      if (run%cur /= 0) call flush_sums(k, run%cur, lo, hi, shares, run%s, mass_left, mass_right, momentum_left, &
-                                        momentum_right, stress_volume, seg, force_left, force_right)
-      run%a = 0.0_dp  ! (close_segment flushes the bar's sums: none here)
       call close_segment(k, shares, m, run, [lane_total(displacement), lane_total(kinetic), lane_total(strain)], &
                          minval(min_j), largest%value, furthest_particle(largest, mb), outside, mass_left, mass_right, &
                          momentum_left, momentum_right, stress_volume, seg)
@@ -10748,8 +10674,7 @@ contains
       ! the variant's: G2P's grid velocity and move, the segment's body (cells offset), each particle's
       ! shares (accumulate_shares)
       real(dp) :: vgrid, dxp
-      real(dp) :: dx, cp, cq, w
-      real(dp) :: mp, sh(block_size, share_count)
+      real(dp) :: dx, cp, cq, xvb(block_size)
       dx = constants%dx
       elements = constants%elements
       inv_dx = constants%inv_dx
@@ -10815,26 +10740,19 @@ contains
                cb(i) = e
                if (moves) xib(i) = xi
             end if
-            ! the particle's whole element shares (accumulate_shares sums them): mass, momentum (APIC's
-            ! with its affine part), stress*volume, external force, at the left and right node
-            mp = m
-            if (iand(shares, share_mass + share_momentum) /= 0) then
-               sh(i, 2) = mp*xib(i)
-               sh(i, 1) = mp - sh(i, 2)
-            end if
+            if (moves .or. relocates) vpb(i) = v(p)
             if (iand(shares, share_momentum) /= 0) then
-               ! node I gets N_I m_p (v_p + C_p (x_I - x_p)), x_I - x_p = -xi dx (left), (1 - xi) dx (right)
-               ! ([Jiang 2015]; C_p of this pass's G2P, or kept by the pass that made it)
+               ! node I gets N_I m (v_p + C_p (x_I - x_p)), x_I - x_p = -xi dx (left), (1 - xi) dx (right)
+               ! ([Jiang 2015]; C_p of this pass's G2P, or kept by the pass that made it): the right node's
+               ! m xi (v_p + C_p (1 - xi) dx), the left node's the particle's m v_p less that, so that
+               ! accumulate_block sums xv = xi (v_p + C_p (1 - xi) dx) in place of FLIP's xi v_p
                if (moves) then
                   cq = cp
                else
                   cq = gradient(p)
                end if
-               w = v(p) - cq*xib(i)*dx
-               sh(i, 3) = sh(i, 1)*w
-               sh(i, 4) = sh(i, 2)*(w + cq*dx)
+               xvb(i) = xib(i)*(v(p) + cq*dx*(1.0_dp - xib(i)))
             end if
-            if (iand(shares, share_stress) /= 0) sh(i, 5) = svb(i)
          end do
          ! the block's totals (macros of mpm_lanes.fypi, expanded here)
          if (moves) then
@@ -10876,13 +10794,9 @@ contains
             if (lane_r > 0) min_j(1:lane_r) = min(min_j(1:lane_r), jb(n - lane_r + 1:n))
          end if
          if (relocates) call find_outside(n, b0, cb, outside)
-         call accumulate_shares(k, n, cb, sh, lo, hi, shares, run, mass_left, mass_right, momentum_left, momentum_right, &
-                                stress_volume, seg, force_left, force_right)
+         call accumulate_block(k, n, cb, xib, vpb, svb, m, lo, hi, shares, run, mass_left, mass_right, momentum_left, &
+                               momentum_right, stress_volume, seg, xvb)
       end do
-      ! the open run's whole shares
-      if (run%cur /= 0) call flush_sums(k, run%cur, lo, hi, shares, run%s, mass_left, mass_right, momentum_left, &
-                                        momentum_right, stress_volume, seg, force_left, force_right)
-      run%a = 0.0_dp  ! (close_segment flushes the bar's sums: none here)
       call close_segment(k, shares, m, run, [lane_total(displacement), lane_total(kinetic), lane_total(strain)], &
                          minval(min_j), largest%value, furthest_particle(largest, mb), outside, mass_left, mass_right, &
                          momentum_left, momentum_right, stress_volume, seg)
@@ -10928,8 +10842,7 @@ contains
       ! the variant's: G2P's grid velocity and move, the segment's body (cells offset), each particle's
       ! shares (accumulate_shares)
       real(dp) :: vgrid, dxp
-      real(dp) :: dx, cp, cq, w
-      real(dp) :: mp, sh(block_size, share_count)
+      real(dp) :: dx, cp, cq, xvb(block_size)
       dx = constants%dx
       elements = constants%elements
       inv_dx = constants%inv_dx
@@ -10995,26 +10908,19 @@ contains
                cb(i) = e
                if (moves) xib(i) = xi
             end if
-            ! the particle's whole element shares (accumulate_shares sums them): mass, momentum (APIC's
-            ! with its affine part), stress*volume, external force, at the left and right node
-            mp = m
-            if (iand(shares, share_mass + share_momentum) /= 0) then
-               sh(i, 2) = mp*xib(i)
-               sh(i, 1) = mp - sh(i, 2)
-            end if
+            if (moves .or. relocates) vpb(i) = v(p)
             if (iand(shares, share_momentum) /= 0) then
-               ! node I gets N_I m_p (v_p + C_p (x_I - x_p)), x_I - x_p = -xi dx (left), (1 - xi) dx (right)
-               ! ([Jiang 2015]; C_p of this pass's G2P, or kept by the pass that made it)
+               ! node I gets N_I m (v_p + C_p (x_I - x_p)), x_I - x_p = -xi dx (left), (1 - xi) dx (right)
+               ! ([Jiang 2015]; C_p of this pass's G2P, or kept by the pass that made it): the right node's
+               ! m xi (v_p + C_p (1 - xi) dx), the left node's the particle's m v_p less that, so that
+               ! accumulate_block sums xv = xi (v_p + C_p (1 - xi) dx) in place of FLIP's xi v_p
                if (moves) then
                   cq = cp
                else
                   cq = gradient(p)
                end if
-               w = v(p) - cq*xib(i)*dx
-               sh(i, 3) = sh(i, 1)*w
-               sh(i, 4) = sh(i, 2)*(w + cq*dx)
+               xvb(i) = xib(i)*(v(p) + cq*dx*(1.0_dp - xib(i)))
             end if
-            if (iand(shares, share_stress) /= 0) sh(i, 5) = svb(i)
          end do
          ! the block's totals (macros of mpm_lanes.fypi, expanded here)
          if (moves) then
@@ -11056,13 +10962,9 @@ contains
             if (lane_r > 0) min_j(1:lane_r) = min(min_j(1:lane_r), jb(n - lane_r + 1:n))
          end if
          if (relocates) call find_outside(n, b0, cb, outside)
-         call accumulate_shares(k, n, cb, sh, lo, hi, shares, run, mass_left, mass_right, momentum_left, momentum_right, &
-                                stress_volume, seg, force_left, force_right)
+         call accumulate_block(k, n, cb, xib, vpb, svb, m, lo, hi, shares, run, mass_left, mass_right, momentum_left, &
+                               momentum_right, stress_volume, seg, xvb)
       end do
-      ! the open run's whole shares
-      if (run%cur /= 0) call flush_sums(k, run%cur, lo, hi, shares, run%s, mass_left, mass_right, momentum_left, &
-                                        momentum_right, stress_volume, seg, force_left, force_right)
-      run%a = 0.0_dp  ! (close_segment flushes the bar's sums: none here)
       call close_segment(k, shares, m, run, [lane_total(displacement), lane_total(kinetic), lane_total(strain)], &
                          minval(min_j), largest%value, furthest_particle(largest, mb), outside, mass_left, mass_right, &
                          momentum_left, momentum_right, stress_volume, seg)
