@@ -2035,7 +2035,7 @@ contains
                                              stress_volume(:)
       type(segments_t), intent(inout) :: seg
       real(dp), intent(inout), contiguous, optional :: force_left(:), force_right(:)
-      integer :: i, j, c, cur
+      integer :: i, c, cur
       real(dp) :: a1, a2, a3, a4, a5, a6, a7
       logical :: with_mass, with_momentum, with_stress, with_force
       with_mass = iand(shares, share_mass) /= 0
@@ -2044,14 +2044,10 @@ contains
       with_force = iand(shares, share_force) /= 0
       cur = run%cur
       a1 = run%s(1); a2 = run%s(2); a3 = run%s(3); a4 = run%s(4); a5 = run%s(5); a6 = run%s(6); a7 = run%s(7)
-      i = 1
-      do while (i <= n)
+      do i = 1, n
          c = cells(i)
          if (c /= cur) then
-            if (c == 0) then
-               i = i + 1
-               cycle
-            end if
+            if (c == 0) cycle
             if (cur >= lo .and. cur <= hi) then
                ! the segment's own element (the common case): flush_sums' adds written out, so that no
                ! array of the seven sums is stored and passed per element (13 % of a manufactured-solution
@@ -2078,27 +2074,21 @@ contains
             cur = c
             a1 = 0; a2 = 0; a3 = 0; a4 = 0; a5 = 0; a6 = 0; a7 = 0
          end if
-         ! the run of particles in cell cur: sums only (a loop of its own: see accumulate_boxes)
-         ! (counted, and not unrolled: the runs are a few particles long, 2 at 2 per element, and
-         ! -funroll-loops' copies by four went to their remainder code each time)
-         !GCC$ unroll 1
-         do j = i, n
-            if (cells(j) /= cur) exit
-            if (with_mass) then
-               a1 = a1 + sh(j, 1)
-               a2 = a2 + sh(j, 2)
-            end if
-            if (with_momentum) then
-               a3 = a3 + sh(j, 3)
-               a4 = a4 + sh(j, 4)
-            end if
-            if (with_stress) a5 = a5 + sh(j, 5)
-            if (with_force) then
-               a6 = a6 + sh(j, 6)
-               a7 = a7 + sh(j, 7)
-            end if
-         end do
-         i = j
+         ! (one loop over the particles, as accumulate_block's: a loop of its own for each run of
+         ! particles in one element took 2.5 % more instructions and branched twice per particle)
+         if (with_mass) then
+            a1 = a1 + sh(i, 1)
+            a2 = a2 + sh(i, 2)
+         end if
+         if (with_momentum) then
+            a3 = a3 + sh(i, 3)
+            a4 = a4 + sh(i, 4)
+         end if
+         if (with_stress) a5 = a5 + sh(i, 5)
+         if (with_force) then
+            a6 = a6 + sh(i, 6)
+            a7 = a7 + sh(i, 7)
+         end if
       end do
       run%cur = cur
       run%s = [a1, a2, a3, a4, a5, a6, a7]
