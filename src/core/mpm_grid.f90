@@ -57,6 +57,8 @@ module mpm_grid
       !> Per-segment totals: displacement, kinetic and strain energy; min J; max move and its particle;
       !> first particle outside; first and last new cell; unsorted or far-moving particles met.
       real(dp), allocatable :: sums(:, :), min_volume_ratio(:), max_cell_move(:)
+      !> Bodies on stacked fields (a segment lies in one body): its particles' sum m v and smallest stress.
+      real(dp), allocatable :: body_momentum(:), min_stress(:)
       integer, allocatable :: furthest(:), outside(:), first_cell(:), last_cell(:)
       logical, allocatable :: unsorted(:), far(:)
       !> Bodies on stacked fields (clear_written): each segment clears, of each kind of share (mass,

@@ -6,7 +6,7 @@ module mpm_diagnostics
    public :: no_value
    public :: status_ok, status_non_finite, status_volume_ratio, status_left_grid, status_energy_growth, &
              status_cell_crossing, status_setup_failed, status_not_run, status_name, status_newton
-   public :: history_t, snapshot_t, pass_totals_t
+   public :: history_t, snapshot_t, pass_totals_t, max_bodies
 
    !> Run status codes (stored in the HDF5 output; 0 means the run completed).
    integer, parameter :: status_ok = 0
@@ -22,6 +22,9 @@ module mpm_diagnostics
    !> "No value": a quiet NaN (bits 7FF8000000000000), written where a result does not exist (the
    !> error of a run a guard stopped, the time of a case not timed); the status says why.
    real(dp), parameter :: no_value = transfer(9221120237041090560_i8, 1.0_dp)
+
+   !> The most bodies on stacked fields whose own totals pass_totals_t carries (the impact's two bars).
+   integer, parameter :: max_bodies = 2
 
    !> Sums and extremes gathered during a pass over the particles.
    type :: pass_totals_t
@@ -42,6 +45,13 @@ module mpm_diagnostics
       integer :: furthest = 0
       !> first particle found outside the grid, 0 if none.
       integer :: outside = 0
+      !> Bodies on stacked fields (the fused kernels' variant `bodies`, at most max_bodies; else 0): the
+      !> number of bodies, each body's sum_p m_p (x_p - X_p) and sum_p m_p v_p (when the pass moves the
+      !> particles) and the smallest stress of all (when it updates the stress), summed in lanes per
+      !> segment, then over the segments in order; the impact's watch reads them (mpm_scene_impact).
+      integer :: bodies = 0
+      real(dp) :: body_displacement(max_bodies) = 0.0_dp, body_momentum(max_bodies) = 0.0_dp
+      real(dp) :: min_stress = huge(1.0_dp)
    end type pass_totals_t
 
    !> One entry per recorded step (step 0 = initial state).

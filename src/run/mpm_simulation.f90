@@ -243,7 +243,7 @@ contains
       type(run_result_t), intent(inout) :: result
       integer, intent(in) :: n
       logical, intent(in) :: record_history
-      real(dp) :: t, exact
+      real(dp) :: t, exact, error
       associate (particles => run%particles, grid => run%grid, totals => run%totals)
          t = (n - 1)*config%dt
          if (run%fused) then
@@ -266,14 +266,18 @@ contains
          if (record_history) exact = run%scene%ucm_exact(t)  ! (error_at evaluates it too: once a step without history)
          call finite_energies(particles, config%youngs_modulus, totals)
          run%energy = totals%kinetic_energy + totals%strain_energy + totals%plastic_work ! (0 for elastic laws)
-         result%max_error = max(result%max_error, run%scene%error_at(t, particles, run%ucm))
+         if (run%scene%watches) then ! (the scene's watch gives the error measure too)
+            call run%scene%watch_step(t, particles, totals, run%ucm, run%watch, error)
+         else
+            error = run%scene%error_at(t, particles, run%ucm)
+         end if
+         result%max_error = max(result%max_error, error)
          result%final_energy = run%energy
          result%max_energy_ratio = max(result%max_energy_ratio, run%energy/run%energy_reference)
          result%min_volume_ratio = min(result%min_volume_ratio, totals%min_volume_ratio)
          result%max_cell_move = max(result%max_cell_move, totals%max_cell_move)
          result%min_node_mass_ratio = min(result%min_node_mass_ratio, grid%min_node_mass/particles%mass)
          if (record_history) call record(result%history, t, run%ucm, exact, totals)
-         if (run%scene%watches) call run%scene%watch_step(t, particles, run%watch)
       end associate
    end subroutine advance
 

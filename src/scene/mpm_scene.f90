@@ -9,6 +9,7 @@ module mpm_scene
    use mpm_config, only: config_t
    use mpm_grid, only: grid_t, grid_loads_t
    use mpm_particles, only: particles_t
+   use mpm_diagnostics, only: pass_totals_t
    use mpm_shape, only: shape_cache_t
    implicit none
    private
@@ -72,8 +73,10 @@ module mpm_scene
       procedure :: energy_reference
       !> Empty cells left of x = 0 (a free left end that moves out; default none).
       procedure :: left_margin_cells
-      !> Called after every step when `watches`: the scene keeps what it needs in `watch` (allocated by
-      !> the scene on the first call); watch_report turns it into /summary quantities at the end.
+      !> Called after every step when `watches`, in place of error_at: the scene keeps what it needs in
+      !> `watch` (allocated by the scene on the first call) and gives the step's error measure (error_at's
+      !> value; a scene may take both from one pass over its particles, or from the step's `totals`);
+      !> watch_report turns `watch` into /summary quantities at the end.
       procedure :: watch_step, watch_report
       !> The drive as the implicit integrators take it (when `drives`), at the start of a step.
       procedure :: drive
@@ -171,11 +174,14 @@ contains
       cells = 0
    end function left_margin_cells
 
-   subroutine watch_step(self, t, particles, watch)
+   subroutine watch_step(self, t, particles, totals, ucm, watch, error)
       class(scene_t), intent(in) :: self
-      real(dp), intent(in) :: t
+      real(dp), intent(in) :: t, ucm
       type(particles_t), intent(in) :: particles
+      type(pass_totals_t), intent(in) :: totals
       real(dp), allocatable, intent(inout) :: watch(:)
+      real(dp), intent(out) :: error
+      error = self%error_at(t, particles, ucm)
    end subroutine watch_step
 
    subroutine watch_report(self, watch, particles, names, values)

@@ -24,6 +24,7 @@ module mpm_scene_impact
    use mpm_strings, only: str
    use mpm_config, only: config_t
    use mpm_particles, only: particles_t, particles_init
+   use mpm_diagnostics, only: pass_totals_t
    use mpm_scene, only: scene_t, margin_for
    use mpm_lanes, only: smallest_value
    implicit none
@@ -32,7 +33,7 @@ module mpm_scene_impact
 
    !> Entries of the watch array (watch_step).
    integer, parameter :: w_steps = 1, w_first = 2, w_last = 3, w_min_stress = 4, w_drift = 5, w_momentum1 = 6, &
-                         w_momentum0 = 7, w_size = 7
+                         w_momentum0 = 7, w_mass1 = 8, w_size = 8
 
    type, extends(scene_t) :: impact_t
       real(dp) :: length(2) = 0.0_dp, modulus(2) = 0.0_dp, density(2) = 0.0_dp, speed(2) = 0.0_dp
@@ -230,20 +231,14 @@ contains
       fused_applies = .true.
    end function fused_applies
 
-   !> |u_cm,1 - u_cm,1 exact| (m), bar 1's centre of mass from its particles.
+   !> |u_cm,1 - u_cm,1 exact| (m), bar 1's centre of mass from its particles (run_simulation takes it
+   !> from watch_step, which sums the same terms in the same order).
    real(dp) function error_at(self, t, particles, ucm)
       class(impact_t), intent(in) :: self
       real(dp), intent(in) :: t, ucm
       type(particles_t), intent(in) :: particles
-      real(dp) :: moment, mass
-      integer :: p
-      moment = 0.0_dp
-      mass = 0.0_dp
-      do p = 1, particles%count  ! bar 1's particles come first
-         if (particles%body(p) /= 1) exit
-         moment = moment + particles%mass_of(p)*(particles%x(p) - particles%x0(p))
-         mass = mass + particles%mass_of(p)
-      end do
+      real(dp) :: moment, mass, bar1, total
+      call step_sums(particles, moment, mass, bar1, total)
       error_at = abs(moment/mass - self%bar1_exact(t))
    end function error_at
 
@@ -272,27 +267,48 @@ contains
                 self%velocity(2) - (v1 - self%velocity(1))*self%mass(1)/self%mass(2)]
    end subroutine report
 
-   !> Bar 1's and the total momentum from the particles.
-   pure subroutine momenta(particles, bar1, total)
+   !> In one pass over the particles: bar 1's sum_p m_p (x_p - X_p) and mass over its particles, which come
+   !> first (to the first particle of another body), and bar 1's and the total momentum, each summed in
+   !> particle order. Over bar 1's leading particles the two momenta add the same terms in the same order,
+   !> so one sum serves both there (three chains of dependent additions in that loop, two after it,
+   !> where the error measure and the momenta took two passes and four chains).
+   pure subroutine step_sums(particles, moment, mass, bar1, total)
       type(particles_t), intent(in) :: particles
-      real(dp), intent(out) :: bar1, total
-      integer :: p
+      real(dp), intent(out) :: moment, mass, bar1, total
+      integer :: p, first_other
+      moment = 0.0_dp
+      mass = 0.0_dp
       bar1 = 0.0_dp
-      total = 0.0_dp
+      first_other = particles%count + 1
       do p = 1, particles%count
+         if (particles%body(p) /= 1) then
+            first_other = p
+            exit
+         end if
+         moment = moment + particles%mass_of(p)*(particles%x(p) - particles%x0(p))
+         mass = mass + particles%mass_of(p)
+         bar1 = bar1 + particles%mass_of(p)*particles%v(p)
+      end do
+      total = bar1
+      do p = first_other, particles%count
          if (particles%body(p) == 1) bar1 = bar1 + particles%mass_of(p)*particles%v(p)
          total = total + particles%mass_of(p)*particles%v(p)
       end do
-   end subroutine momenta
+   end subroutine step_sums
 
    !> After each step: whether bar 1's momentum changed (contact), the smallest stress, the total
-   !> momentum's drift from its initial value sum_p m_p v_b.
-   subroutine watch_step(self, t, particles, watch)
+   !> momentum's drift from its initial value sum_p m_p v_b; and the step's error measure (error_at's).
+   !> On stacked fields the fused kernels have summed each bar's m (x - X) and m v, and found the smallest
+   !> stress, in their pass (`totals`, summed in lanes: these measures then differ from the particle-order
+   !> sums at round-off), and no pass over the particles is made here.
+   subroutine watch_step(self, t, particles, totals, ucm, watch, error)
       class(impact_t), intent(in) :: self
-      real(dp), intent(in) :: t
+      real(dp), intent(in) :: t, ucm
       type(particles_t), intent(in) :: particles
+      type(pass_totals_t), intent(in) :: totals
       real(dp), allocatable, intent(inout) :: watch(:)
-      real(dp) :: bar1, total, scale
+      real(dp), intent(out) :: error
+      real(dp) :: moment, mass, bar1, total, scale, smallest
       if (.not. allocated(watch)) then
          allocate (watch(w_size))
          watch = 0.0_dp
@@ -301,8 +317,19 @@ contains
          watch(w_momentum1) = self%velocity(1)*sum(particles%mass_of, mask=particles%body == 1)
          watch(w_momentum0) = self%velocity(1)*sum(particles%mass_of, mask=particles%body == 1) + &
                               self%velocity(2)*sum(particles%mass_of, mask=particles%body == 2)
+         call step_sums(particles, moment, watch(w_mass1), bar1, total) ! (bar 1's mass, as error_at sums it)
       end if
-      call momenta(particles, bar1, total)
+      if (totals%bodies == 2) then ! (each bar a body on stacked fields: body b is bar b)
+         moment = totals%body_displacement(1)
+         mass = watch(w_mass1)
+         bar1 = totals%body_momentum(1)
+         total = totals%body_momentum(1) + totals%body_momentum(2)
+         smallest = totals%min_stress
+      else
+         call step_sums(particles, moment, mass, bar1, total)
+         smallest = smallest_value(particles%stress)
+      end if
+      error = abs(moment/mass - self%bar1_exact(t))
       scale = sum(self%mass*abs(self%velocity))
       if (abs(bar1 - watch(w_momentum1)) > 1.0e-9_dp*scale) then
          watch(w_steps) = watch(w_steps) + 1.0_dp
@@ -310,7 +337,7 @@ contains
          watch(w_last) = t
       end if
       watch(w_momentum1) = bar1
-      watch(w_min_stress) = min(watch(w_min_stress), smallest_value(particles%stress))
+      watch(w_min_stress) = min(watch(w_min_stress), smallest)
       watch(w_drift) = max(watch(w_drift), abs(total - watch(w_momentum0)))
    end subroutine watch_step
 

@@ -39,7 +39,7 @@ module mpm_transfer
    use mpm_kinds, only: dp, i8
    use mpm_grid, only: grid_t, segments_t, share_count, threaded_nodes, node_chunk
    use mpm_particles, only: particles_t, bytes_per_particle, permute
-   use mpm_diagnostics, only: pass_totals_t
+   use mpm_diagnostics, only: pass_totals_t, max_bodies
    use mpm_shape_range, only: infinity_bits
    use mpm_lanes, only: block_size, lanes, largest_move_t
    implicit none
@@ -296,6 +296,7 @@ contains
          else
             call finish_pass(particles, grid, pass_shares(pass), pass_relocates(pass), totals, box)
          end if
+         if (box%variant == variant_bodies) call body_totals(pass, grid, box, totals)
       else
          call hat_pass()
       end if
@@ -1093,7 +1094,34 @@ contains
          totals%furthest = other%furthest
       end if
       if (totals%outside == 0) totals%outside = other%outside
+      totals%bodies = max(totals%bodies, other%bodies)
+      totals%body_displacement = totals%body_displacement + other%body_displacement
+      totals%body_momentum = totals%body_momentum + other%body_momentum
+      totals%min_stress = min(totals%min_stress, other%min_stress)
    end subroutine merge_totals
+
+   !> The variant `bodies` (at most max_bodies): each body's sum m (x - X) and sum m v (a pass that
+   !> moves) and the smallest stress (a pass that updates it), from its segments (each lies in one body)
+   !> in segment order.
+   subroutine body_totals(pass, grid, box, totals)
+      integer, intent(in) :: pass
+      type(grid_t), intent(in) :: grid
+      type(fused_box_t), intent(in) :: box
+      type(pass_totals_t), intent(inout) :: totals
+      integer :: k, b
+      if (size(box%body_element) > max_bodies) return
+      totals%bodies = size(box%body_element)
+      associate (seg => grid%segments)
+         do k = 1, seg%count
+            b = body_of_element(box, seg%first_element(k))
+            if (pass_moves(pass)) then
+               totals%body_displacement(b) = totals%body_displacement(b) + seg%sums(1, k)
+               totals%body_momentum(b) = totals%body_momentum(b) + seg%body_momentum(k)
+            end if
+            if (pass_stresses(pass)) totals%min_stress = min(totals%min_stress, seg%min_stress(k))
+         end do
+      end associate
+   end subroutine body_totals
 
    !> Strain increment of a linear element from its nodal velocities: d eps = dt sum dN v_I.
    elemental real(dp) function strain_increment(velocity_left, velocity_right, dt, inv_dx) result(dstrain)
@@ -1159,13 +1187,15 @@ contains
          if (seg%count /= n .or. .not. allocated(seg%first_element)) then
             if (allocated(seg%first_element)) deallocate (seg%first_element, seg%first_particle, seg%halo_left, &
                                                           seg%halo_right, seg%sums, seg%min_volume_ratio, &
+                                                          seg%body_momentum, seg%min_stress, &
                                                           seg%max_cell_move, seg%furthest, seg%outside, &
                                                           seg%first_cell, seg%last_cell, seg%unsorted, seg%far, &
                                                           seg%written)
             allocate (seg%first_element(n + 1), seg%first_particle(n + 1), seg%halo_left(share_count, n), &
                       seg%halo_right(share_count, n), seg%sums(3, n), seg%min_volume_ratio(n), &
-                      seg%max_cell_move(n), seg%furthest(n), seg%outside(n), seg%first_cell(n), &
-                      seg%last_cell(n), seg%unsorted(n), seg%far(n), seg%written(2, share_kinds, n))
+                      seg%body_momentum(n), seg%min_stress(n), seg%max_cell_move(n), seg%furthest(n), &
+                      seg%outside(n), seg%first_cell(n), seg%last_cell(n), seg%unsorted(n), seg%far(n), &
+                      seg%written(2, share_kinds, n))
          end if
          seg%count = n
          if (present(breaks)) then
@@ -13704,6 +13734,8 @@ contains
       real(dp) :: vgrid, dxp
       real(dp) :: origin
       integer :: offset
+      ! the body's momentum per mass sum v and smallest stress, in lanes (body_totals)
+      real(dp) :: momentum(lanes), least_stress(lanes), vb(block_size), stb(block_size)
       origin = constants%origin
       offset = constants%offset
       elements = constants%elements
@@ -13716,6 +13748,7 @@ contains
       call open_segment(k, shares, seg, mass_left, mass_right, momentum_left, momentum_right, stress_volume, first, last, &
                         lo, hi)
       displacement = 0; kinetic = 0; strain = 0; min_j = huge(1.0_dp)
+      momentum = 0; least_stress = huge(1.0_dp)
       slot = 1
       outside = 0
       elements_bits = transfer(real(elements, dp), 0_i8)
@@ -13748,6 +13781,7 @@ contains
                x(p) = x(p) + dxp
                db(i) = x(p) - x0(p)
                kb(i) = half_m*v(p)*v(p)
+               vb(i) = v(p)
                mb(i, slot) = abs(dxp)*inv_dx
             end if
             if (stresses) then ! d eps = dt sum dN v_I over the start-of-step cell
@@ -13757,6 +13791,7 @@ contains
                   dstrain = strain_increment_of(e)
                end if
                call stress_hencky(dstrain, youngs_modulus, strain_factor, volume0, stress(p), volume_ratio(p), sb(i), svb(i))
+               stb(i) = stress(p)
                jb(i) = volume_ratio(p)
             else if (iand(shares, share_stress) /= 0) then ! (an initial mapping: the stress as it is)
                svb(i) = stress(p)*volume_ratio(p)*volume0
@@ -13809,6 +13844,20 @@ contains
             lane_r = mod(n, lanes)
             if (lane_r > 0) min_j(1:lane_r) = min(min_j(1:lane_r), jb(n - lane_r + 1:n))
          end if
+         if (moves) then
+            do lane_i = 1, n - lanes + 1, lanes
+               momentum = momentum + vb(lane_i:lane_i + lanes - 1)
+            end do
+            lane_r = mod(n, lanes)
+            if (lane_r > 0) momentum(1:lane_r) = momentum(1:lane_r) + vb(n - lane_r + 1:n)
+         end if
+         if (stresses) then
+            do lane_i = 1, n - lanes + 1, lanes
+               least_stress = min(least_stress, stb(lane_i:lane_i + lanes - 1))
+            end do
+            lane_r = mod(n, lanes)
+            if (lane_r > 0) least_stress(1:lane_r) = min(least_stress(1:lane_r), stb(n - lane_r + 1:n))
+         end if
          if (relocates) call find_outside(n, b0, cb, outside)
          call accumulate_block(k, n, cb, xib, vpb, svb, m, lo, hi, shares, run, mass_left, mass_right, momentum_left, &
                                momentum_right, stress_volume, seg)
@@ -13817,6 +13866,8 @@ contains
       call close_segment(k, shares, m, run, [m*lane_total(displacement), lane_total(kinetic), lane_total(strain)], &
                          minval(min_j), largest%value, furthest_particle(largest, mb), outside, mass_left, mass_right, &
                          momentum_left, momentum_right, stress_volume, seg)
+      seg%body_momentum(k) = m*lane_total(momentum)
+      seg%min_stress(k) = minval(least_stress)
    end subroutine bodies_usf_move_segment
 
    !> USF, first half: stress update, then stress*volume of the unmoved particles (the hat, bodies on stacked fields)
@@ -13861,6 +13912,8 @@ contains
       real(dp) :: vgrid, dxp
       real(dp) :: origin
       integer :: offset
+      ! the body's momentum per mass sum v and smallest stress, in lanes (body_totals)
+      real(dp) :: momentum(lanes), least_stress(lanes), vb(block_size), stb(block_size)
       origin = constants%origin
       offset = constants%offset
       elements = constants%elements
@@ -13873,6 +13926,7 @@ contains
       call open_segment(k, shares, seg, mass_left, mass_right, momentum_left, momentum_right, stress_volume, first, last, &
                         lo, hi)
       displacement = 0; kinetic = 0; strain = 0; min_j = huge(1.0_dp)
+      momentum = 0; least_stress = huge(1.0_dp)
       slot = 1
       outside = 0
       elements_bits = transfer(real(elements, dp), 0_i8)
@@ -13906,6 +13960,7 @@ contains
                x(p) = x(p) + dxp
                db(i) = x(p) - x0(p)
                kb(i) = half_m*v(p)*v(p)
+               vb(i) = v(p)
                mb(i, slot) = abs(dxp)*inv_dx
             end if
             if (stresses) then ! d eps = dt sum dN v_I over the start-of-step cell
@@ -13915,6 +13970,7 @@ contains
                   dstrain = strain_increment_of(e)
                end if
                call stress_linear(dstrain, youngs_modulus, strain_factor, volume0, stress(p), volume_ratio(p), sb(i), svb(i))
+               stb(i) = stress(p)
                jb(i) = volume_ratio(p)
             else if (iand(shares, share_stress) /= 0) then ! (an initial mapping: the stress as it is)
                svb(i) = stress(p)*volume_ratio(p)*volume0
@@ -13941,6 +13997,7 @@ contains
                x(p) = x(p) + dxp
                db(i) = x(p) - x0(p)
                kb(i) = half_m*v(p)*v(p)
+               vb(i) = v(p)
                mb(i, slot) = abs(dxp)*inv_dx
             end if
             if (stresses) then ! d eps = dt sum dN v_I over the start-of-step cell
@@ -13950,6 +14007,7 @@ contains
                   dstrain = strain_increment_of(e)
                end if
                call stress_hencky(dstrain, youngs_modulus, strain_factor, volume0, stress(p), volume_ratio(p), sb(i), svb(i))
+               stb(i) = stress(p)
                jb(i) = volume_ratio(p)
             else if (iand(shares, share_stress) /= 0) then ! (an initial mapping: the stress as it is)
                svb(i) = stress(p)*volume_ratio(p)*volume0
@@ -14003,6 +14061,20 @@ contains
             lane_r = mod(n, lanes)
             if (lane_r > 0) min_j(1:lane_r) = min(min_j(1:lane_r), jb(n - lane_r + 1:n))
          end if
+         if (moves) then
+            do lane_i = 1, n - lanes + 1, lanes
+               momentum = momentum + vb(lane_i:lane_i + lanes - 1)
+            end do
+            lane_r = mod(n, lanes)
+            if (lane_r > 0) momentum(1:lane_r) = momentum(1:lane_r) + vb(n - lane_r + 1:n)
+         end if
+         if (stresses) then
+            do lane_i = 1, n - lanes + 1, lanes
+               least_stress = min(least_stress, stb(lane_i:lane_i + lanes - 1))
+            end do
+            lane_r = mod(n, lanes)
+            if (lane_r > 0) least_stress(1:lane_r) = min(least_stress(1:lane_r), stb(n - lane_r + 1:n))
+         end if
          if (relocates) call find_outside(n, b0, cb, outside)
          call accumulate_block(k, n, cb, xib, vpb, svb, m, lo, hi, shares, run, mass_left, mass_right, momentum_left, &
                                momentum_right, stress_volume, seg)
@@ -14011,6 +14083,8 @@ contains
       call close_segment(k, shares, m, run, [m*lane_total(displacement), lane_total(kinetic), lane_total(strain)], &
                          minval(min_j), largest%value, furthest_particle(largest, mb), outside, mass_left, mass_right, &
                          momentum_left, momentum_right, stress_volume, seg)
+      seg%body_momentum(k) = m*lane_total(momentum)
+      seg%min_stress(k) = minval(least_stress)
    end subroutine bodies_usf_stress_segment
 
    !> USL: G2P, stress update from the updated nodal velocities, P2G at the new position (the hat, bodies on stacked fields)
@@ -14055,6 +14129,8 @@ contains
       real(dp) :: vgrid, dxp
       real(dp) :: origin
       integer :: offset
+      ! the body's momentum per mass sum v and smallest stress, in lanes (body_totals)
+      real(dp) :: momentum(lanes), least_stress(lanes), vb(block_size), stb(block_size)
       origin = constants%origin
       offset = constants%offset
       elements = constants%elements
@@ -14067,6 +14143,7 @@ contains
       call open_segment(k, shares, seg, mass_left, mass_right, momentum_left, momentum_right, stress_volume, first, last, &
                         lo, hi)
       displacement = 0; kinetic = 0; strain = 0; min_j = huge(1.0_dp)
+      momentum = 0; least_stress = huge(1.0_dp)
       slot = 1
       outside = 0
       elements_bits = transfer(real(elements, dp), 0_i8)
@@ -14100,6 +14177,7 @@ contains
                x(p) = x(p) + dxp
                db(i) = x(p) - x0(p)
                kb(i) = half_m*v(p)*v(p)
+               vb(i) = v(p)
                mb(i, slot) = abs(dxp)*inv_dx
             end if
             if (stresses) then ! d eps = dt sum dN v_I over the start-of-step cell
@@ -14109,6 +14187,7 @@ contains
                   dstrain = strain_increment_of(e)
                end if
                call stress_linear(dstrain, youngs_modulus, strain_factor, volume0, stress(p), volume_ratio(p), sb(i), svb(i))
+               stb(i) = stress(p)
                jb(i) = volume_ratio(p)
             else if (iand(shares, share_stress) /= 0) then ! (an initial mapping: the stress as it is)
                svb(i) = stress(p)*volume_ratio(p)*volume0
@@ -14135,6 +14214,7 @@ contains
                x(p) = x(p) + dxp
                db(i) = x(p) - x0(p)
                kb(i) = half_m*v(p)*v(p)
+               vb(i) = v(p)
                mb(i, slot) = abs(dxp)*inv_dx
             end if
             if (stresses) then ! d eps = dt sum dN v_I over the start-of-step cell
@@ -14144,6 +14224,7 @@ contains
                   dstrain = strain_increment_of(e)
                end if
                call stress_hencky(dstrain, youngs_modulus, strain_factor, volume0, stress(p), volume_ratio(p), sb(i), svb(i))
+               stb(i) = stress(p)
                jb(i) = volume_ratio(p)
             else if (iand(shares, share_stress) /= 0) then ! (an initial mapping: the stress as it is)
                svb(i) = stress(p)*volume_ratio(p)*volume0
@@ -14197,6 +14278,20 @@ contains
             lane_r = mod(n, lanes)
             if (lane_r > 0) min_j(1:lane_r) = min(min_j(1:lane_r), jb(n - lane_r + 1:n))
          end if
+         if (moves) then
+            do lane_i = 1, n - lanes + 1, lanes
+               momentum = momentum + vb(lane_i:lane_i + lanes - 1)
+            end do
+            lane_r = mod(n, lanes)
+            if (lane_r > 0) momentum(1:lane_r) = momentum(1:lane_r) + vb(n - lane_r + 1:n)
+         end if
+         if (stresses) then
+            do lane_i = 1, n - lanes + 1, lanes
+               least_stress = min(least_stress, stb(lane_i:lane_i + lanes - 1))
+            end do
+            lane_r = mod(n, lanes)
+            if (lane_r > 0) least_stress(1:lane_r) = min(least_stress(1:lane_r), stb(n - lane_r + 1:n))
+         end if
          if (relocates) call find_outside(n, b0, cb, outside)
          call accumulate_block(k, n, cb, xib, vpb, svb, m, lo, hi, shares, run, mass_left, mass_right, momentum_left, &
                                momentum_right, stress_volume, seg)
@@ -14205,6 +14300,8 @@ contains
       call close_segment(k, shares, m, run, [m*lane_total(displacement), lane_total(kinetic), lane_total(strain)], &
                          minval(min_j), largest%value, furthest_particle(largest, mb), outside, mass_left, mass_right, &
                          momentum_left, momentum_right, stress_volume, seg)
+      seg%body_momentum(k) = m*lane_total(momentum)
+      seg%min_stress(k) = minval(least_stress)
    end subroutine bodies_usl_segment
 
    !> MUSL, first pass: G2P, and the new momentum back to the start-of-step nodes (the hat, bodies on stacked fields)
@@ -14249,6 +14346,8 @@ contains
       real(dp) :: vgrid, dxp
       real(dp) :: origin
       integer :: offset
+      ! the body's momentum per mass sum v and smallest stress, in lanes (body_totals)
+      real(dp) :: momentum(lanes), least_stress(lanes), vb(block_size), stb(block_size)
       origin = constants%origin
       offset = constants%offset
       elements = constants%elements
@@ -14261,6 +14360,7 @@ contains
       call open_segment(k, shares, seg, mass_left, mass_right, momentum_left, momentum_right, stress_volume, first, last, &
                         lo, hi)
       displacement = 0; kinetic = 0; strain = 0; min_j = huge(1.0_dp)
+      momentum = 0; least_stress = huge(1.0_dp)
       slot = 1
       outside = 0
       elements_bits = transfer(real(elements, dp), 0_i8)
@@ -14293,6 +14393,7 @@ contains
                x(p) = x(p) + dxp
                db(i) = x(p) - x0(p)
                kb(i) = half_m*v(p)*v(p)
+               vb(i) = v(p)
                mb(i, slot) = abs(dxp)*inv_dx
             end if
             if (stresses) then ! d eps = dt sum dN v_I over the start-of-step cell
@@ -14302,6 +14403,7 @@ contains
                   dstrain = strain_increment_of(e)
                end if
                call stress_hencky(dstrain, youngs_modulus, strain_factor, volume0, stress(p), volume_ratio(p), sb(i), svb(i))
+               stb(i) = stress(p)
                jb(i) = volume_ratio(p)
             else if (iand(shares, share_stress) /= 0) then ! (an initial mapping: the stress as it is)
                svb(i) = stress(p)*volume_ratio(p)*volume0
@@ -14354,6 +14456,20 @@ contains
             lane_r = mod(n, lanes)
             if (lane_r > 0) min_j(1:lane_r) = min(min_j(1:lane_r), jb(n - lane_r + 1:n))
          end if
+         if (moves) then
+            do lane_i = 1, n - lanes + 1, lanes
+               momentum = momentum + vb(lane_i:lane_i + lanes - 1)
+            end do
+            lane_r = mod(n, lanes)
+            if (lane_r > 0) momentum(1:lane_r) = momentum(1:lane_r) + vb(n - lane_r + 1:n)
+         end if
+         if (stresses) then
+            do lane_i = 1, n - lanes + 1, lanes
+               least_stress = min(least_stress, stb(lane_i:lane_i + lanes - 1))
+            end do
+            lane_r = mod(n, lanes)
+            if (lane_r > 0) least_stress(1:lane_r) = min(least_stress(1:lane_r), stb(n - lane_r + 1:n))
+         end if
          if (relocates) call find_outside(n, b0, cb, outside)
          call accumulate_block(k, n, cb, xib, vpb, svb, m, lo, hi, shares, run, mass_left, mass_right, momentum_left, &
                                momentum_right, stress_volume, seg)
@@ -14362,6 +14478,8 @@ contains
       call close_segment(k, shares, m, run, [m*lane_total(displacement), lane_total(kinetic), lane_total(strain)], &
                          minval(min_j), largest%value, furthest_particle(largest, mb), outside, mass_left, mass_right, &
                          momentum_left, momentum_right, stress_volume, seg)
+      seg%body_momentum(k) = m*lane_total(momentum)
+      seg%min_stress(k) = minval(least_stress)
    end subroutine bodies_musl_remap_segment
 
    !> MUSL, second pass: stress update from the remapped velocities, P2G at the new position (the hat, bodies on stacked fields)
@@ -14406,6 +14524,8 @@ contains
       real(dp) :: vgrid, dxp
       real(dp) :: origin
       integer :: offset
+      ! the body's momentum per mass sum v and smallest stress, in lanes (body_totals)
+      real(dp) :: momentum(lanes), least_stress(lanes), vb(block_size), stb(block_size)
       origin = constants%origin
       offset = constants%offset
       elements = constants%elements
@@ -14418,6 +14538,7 @@ contains
       call open_segment(k, shares, seg, mass_left, mass_right, momentum_left, momentum_right, stress_volume, first, last, &
                         lo, hi)
       displacement = 0; kinetic = 0; strain = 0; min_j = huge(1.0_dp)
+      momentum = 0; least_stress = huge(1.0_dp)
       slot = 1
       outside = 0
       elements_bits = transfer(real(elements, dp), 0_i8)
@@ -14451,6 +14572,7 @@ contains
                x(p) = x(p) + dxp
                db(i) = x(p) - x0(p)
                kb(i) = half_m*v(p)*v(p)
+               vb(i) = v(p)
                mb(i, slot) = abs(dxp)*inv_dx
             end if
             if (stresses) then ! d eps = dt sum dN v_I over the start-of-step cell
@@ -14460,6 +14582,7 @@ contains
                   dstrain = strain_increment_of(e)
                end if
                call stress_linear(dstrain, youngs_modulus, strain_factor, volume0, stress(p), volume_ratio(p), sb(i), svb(i))
+               stb(i) = stress(p)
                jb(i) = volume_ratio(p)
             else if (iand(shares, share_stress) /= 0) then ! (an initial mapping: the stress as it is)
                svb(i) = stress(p)*volume_ratio(p)*volume0
@@ -14486,6 +14609,7 @@ contains
                x(p) = x(p) + dxp
                db(i) = x(p) - x0(p)
                kb(i) = half_m*v(p)*v(p)
+               vb(i) = v(p)
                mb(i, slot) = abs(dxp)*inv_dx
             end if
             if (stresses) then ! d eps = dt sum dN v_I over the start-of-step cell
@@ -14495,6 +14619,7 @@ contains
                   dstrain = strain_increment_of(e)
                end if
                call stress_hencky(dstrain, youngs_modulus, strain_factor, volume0, stress(p), volume_ratio(p), sb(i), svb(i))
+               stb(i) = stress(p)
                jb(i) = volume_ratio(p)
             else if (iand(shares, share_stress) /= 0) then ! (an initial mapping: the stress as it is)
                svb(i) = stress(p)*volume_ratio(p)*volume0
@@ -14548,6 +14673,20 @@ contains
             lane_r = mod(n, lanes)
             if (lane_r > 0) min_j(1:lane_r) = min(min_j(1:lane_r), jb(n - lane_r + 1:n))
          end if
+         if (moves) then
+            do lane_i = 1, n - lanes + 1, lanes
+               momentum = momentum + vb(lane_i:lane_i + lanes - 1)
+            end do
+            lane_r = mod(n, lanes)
+            if (lane_r > 0) momentum(1:lane_r) = momentum(1:lane_r) + vb(n - lane_r + 1:n)
+         end if
+         if (stresses) then
+            do lane_i = 1, n - lanes + 1, lanes
+               least_stress = min(least_stress, stb(lane_i:lane_i + lanes - 1))
+            end do
+            lane_r = mod(n, lanes)
+            if (lane_r > 0) least_stress(1:lane_r) = min(least_stress(1:lane_r), stb(n - lane_r + 1:n))
+         end if
          if (relocates) call find_outside(n, b0, cb, outside)
          call accumulate_block(k, n, cb, xib, vpb, svb, m, lo, hi, shares, run, mass_left, mass_right, momentum_left, &
                                momentum_right, stress_volume, seg)
@@ -14556,6 +14695,8 @@ contains
       call close_segment(k, shares, m, run, [m*lane_total(displacement), lane_total(kinetic), lane_total(strain)], &
                          minval(min_j), largest%value, furthest_particle(largest, mb), outside, mass_left, mass_right, &
                          momentum_left, momentum_right, stress_volume, seg)
+      seg%body_momentum(k) = m*lane_total(momentum)
+      seg%min_stress(k) = minval(least_stress)
    end subroutine bodies_musl_stress_segment
 
    !> initial mapping: mass and momentum (the hat, bodies on stacked fields)
@@ -14600,6 +14741,8 @@ contains
       real(dp) :: vgrid, dxp
       real(dp) :: origin
       integer :: offset
+      ! the body's momentum per mass sum v and smallest stress, in lanes (body_totals)
+      real(dp) :: momentum(lanes), least_stress(lanes), vb(block_size), stb(block_size)
       origin = constants%origin
       offset = constants%offset
       elements = constants%elements
@@ -14612,6 +14755,7 @@ contains
       call open_segment(k, shares, seg, mass_left, mass_right, momentum_left, momentum_right, stress_volume, first, last, &
                         lo, hi)
       displacement = 0; kinetic = 0; strain = 0; min_j = huge(1.0_dp)
+      momentum = 0; least_stress = huge(1.0_dp)
       slot = 1
       outside = 0
       elements_bits = transfer(real(elements, dp), 0_i8)
@@ -14644,6 +14788,7 @@ contains
                x(p) = x(p) + dxp
                db(i) = x(p) - x0(p)
                kb(i) = half_m*v(p)*v(p)
+               vb(i) = v(p)
                mb(i, slot) = abs(dxp)*inv_dx
             end if
             if (stresses) then ! d eps = dt sum dN v_I over the start-of-step cell
@@ -14653,6 +14798,7 @@ contains
                   dstrain = strain_increment_of(e)
                end if
                call stress_hencky(dstrain, youngs_modulus, strain_factor, volume0, stress(p), volume_ratio(p), sb(i), svb(i))
+               stb(i) = stress(p)
                jb(i) = volume_ratio(p)
             else if (iand(shares, share_stress) /= 0) then ! (an initial mapping: the stress as it is)
                svb(i) = stress(p)*volume_ratio(p)*volume0
@@ -14705,6 +14851,20 @@ contains
             lane_r = mod(n, lanes)
             if (lane_r > 0) min_j(1:lane_r) = min(min_j(1:lane_r), jb(n - lane_r + 1:n))
          end if
+         if (moves) then
+            do lane_i = 1, n - lanes + 1, lanes
+               momentum = momentum + vb(lane_i:lane_i + lanes - 1)
+            end do
+            lane_r = mod(n, lanes)
+            if (lane_r > 0) momentum(1:lane_r) = momentum(1:lane_r) + vb(n - lane_r + 1:n)
+         end if
+         if (stresses) then
+            do lane_i = 1, n - lanes + 1, lanes
+               least_stress = min(least_stress, stb(lane_i:lane_i + lanes - 1))
+            end do
+            lane_r = mod(n, lanes)
+            if (lane_r > 0) least_stress(1:lane_r) = min(least_stress(1:lane_r), stb(n - lane_r + 1:n))
+         end if
          if (relocates) call find_outside(n, b0, cb, outside)
          call accumulate_block(k, n, cb, xib, vpb, svb, m, lo, hi, shares, run, mass_left, mass_right, momentum_left, &
                                momentum_right, stress_volume, seg)
@@ -14713,6 +14873,8 @@ contains
       call close_segment(k, shares, m, run, [m*lane_total(displacement), lane_total(kinetic), lane_total(strain)], &
                          minval(min_j), largest%value, furthest_particle(largest, mb), outside, mass_left, mass_right, &
                          momentum_left, momentum_right, stress_volume, seg)
+      seg%body_momentum(k) = m*lane_total(momentum)
+      seg%min_stress(k) = minval(least_stress)
    end subroutine bodies_map_segment
 
    !> initial mapping: mass, momentum and stress*volume (and forces) (the hat, bodies on stacked fields)
@@ -14757,6 +14919,8 @@ contains
       real(dp) :: vgrid, dxp
       real(dp) :: origin
       integer :: offset
+      ! the body's momentum per mass sum v and smallest stress, in lanes (body_totals)
+      real(dp) :: momentum(lanes), least_stress(lanes), vb(block_size), stb(block_size)
       origin = constants%origin
       offset = constants%offset
       elements = constants%elements
@@ -14769,6 +14933,7 @@ contains
       call open_segment(k, shares, seg, mass_left, mass_right, momentum_left, momentum_right, stress_volume, first, last, &
                         lo, hi)
       displacement = 0; kinetic = 0; strain = 0; min_j = huge(1.0_dp)
+      momentum = 0; least_stress = huge(1.0_dp)
       slot = 1
       outside = 0
       elements_bits = transfer(real(elements, dp), 0_i8)
@@ -14801,6 +14966,7 @@ contains
                x(p) = x(p) + dxp
                db(i) = x(p) - x0(p)
                kb(i) = half_m*v(p)*v(p)
+               vb(i) = v(p)
                mb(i, slot) = abs(dxp)*inv_dx
             end if
             if (stresses) then ! d eps = dt sum dN v_I over the start-of-step cell
@@ -14810,6 +14976,7 @@ contains
                   dstrain = strain_increment_of(e)
                end if
                call stress_hencky(dstrain, youngs_modulus, strain_factor, volume0, stress(p), volume_ratio(p), sb(i), svb(i))
+               stb(i) = stress(p)
                jb(i) = volume_ratio(p)
             else if (iand(shares, share_stress) /= 0) then ! (an initial mapping: the stress as it is)
                svb(i) = stress(p)*volume_ratio(p)*volume0
@@ -14862,6 +15029,20 @@ contains
             lane_r = mod(n, lanes)
             if (lane_r > 0) min_j(1:lane_r) = min(min_j(1:lane_r), jb(n - lane_r + 1:n))
          end if
+         if (moves) then
+            do lane_i = 1, n - lanes + 1, lanes
+               momentum = momentum + vb(lane_i:lane_i + lanes - 1)
+            end do
+            lane_r = mod(n, lanes)
+            if (lane_r > 0) momentum(1:lane_r) = momentum(1:lane_r) + vb(n - lane_r + 1:n)
+         end if
+         if (stresses) then
+            do lane_i = 1, n - lanes + 1, lanes
+               least_stress = min(least_stress, stb(lane_i:lane_i + lanes - 1))
+            end do
+            lane_r = mod(n, lanes)
+            if (lane_r > 0) least_stress(1:lane_r) = min(least_stress(1:lane_r), stb(n - lane_r + 1:n))
+         end if
          if (relocates) call find_outside(n, b0, cb, outside)
          call accumulate_block(k, n, cb, xib, vpb, svb, m, lo, hi, shares, run, mass_left, mass_right, momentum_left, &
                                momentum_right, stress_volume, seg)
@@ -14870,6 +15051,8 @@ contains
       call close_segment(k, shares, m, run, [m*lane_total(displacement), lane_total(kinetic), lane_total(strain)], &
                          minval(min_j), largest%value, furthest_particle(largest, mb), outside, mass_left, mass_right, &
                          momentum_left, momentum_right, stress_volume, seg)
+      seg%body_momentum(k) = m*lane_total(momentum)
+      seg%min_stress(k) = minval(least_stress)
    end subroutine bodies_map_stress_segment
 
    ! The GIMP box and the B-splines' knot spans: src/shape/mpm_gimp_box.fypi and mpm_bspline_span.fypi,
