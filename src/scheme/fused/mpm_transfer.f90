@@ -2052,8 +2052,8 @@ contains
       run%b = [b1, b2, b3, b4, b5]
    end subroutine accumulate_thirds
 
-   !> Phase B of the hat's variants whose shares are not the bar's (APIC's affine momentum, per-particle
-   !> masses, per-particle forces): each particle's whole shares were formed in phase A, sh(i, :) = mass,
+   !> Phase B of the hat's variants whose shares are not the bar's (per-particle masses, per-particle
+   !> forces; APIC's affine momentum goes through accumulate_block): each particle's whole shares were formed in phase A, sh(i, :) = mass,
    !> momentum at the left and right node, stress*volume, external force at the left and right node
    !> (those of the pass's `shares`); a run of particles in one element sums them in particle order (in
    !> registers) and adds them once (flush_sums). Cells 0 are skipped, as in accumulate_block.
