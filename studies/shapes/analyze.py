@@ -495,8 +495,9 @@ def error_against_time(out, small):
              'case repeated until 0.02 s (FLIP) or 0.01 s (the others) are measured, one thread); '
              f'{stopped} runs stopped by a guard have no result and are not shown. The black line in each panel is '
              'that scheme\'s Pareto front; the table below gives the front over all of '
-             'them. Every shape with FLIP on the bar runs on the fused kernels, the other transfers on the generic '
-             'path (their speed ratios: Throughput, below).', '', '![error against run time](error_vs_time.png)', '',
+             'them. Every shape with FLIP, and the linear shape with PIC, the blend and APIC, runs on the fused '
+             'kernels; the wider shapes with the other transfers run on the generic path (the speed of each path: '
+             'Throughput, below).', '', '![error against run time](error_vs_time.png)', '',
              '### For a target relative error, use ...', '',
              '| target relative error | cheapest run reaching it (scheme shape transfer elements) | run time (s) | its error |',
              '|---|---|---|---|']
