@@ -16,7 +16,7 @@ program mpm1d_main
    use mpm_cli_help, only: print_help, print_parameters
    use mpm_sweep, only: sweep_t, read_sweep_text, run_sweep, has_sweep_text, sweep_output_file, cases_done, &
                         cases_to_time
-   use mpm_files, only: same_file, absolute_path, catch_interrupts
+   use mpm_files, only: same_file, absolute_path, catch_interrupts, file_size_errors
    use mpm_registry, only: read_input_text
    use mpm_command_line, only: command_line_t, command_arguments, parse_command_line, check_environment, &
                                check_has_groups
@@ -29,6 +29,7 @@ program mpm1d_main
    type(command_line_t) :: cl
    character(len=:), allocatable :: text, source
 
+   call file_size_errors()
    call parse_command_line(command_arguments(), cl, error)
    if (allocated(error)) call fail(error%message, 2)
    select case (cl%action)
@@ -141,11 +142,7 @@ contains
       call catch_interrupts()
       call sweep_header(sweep, cl%quiet, cl%resume)
       call run_sweep(sweep, catch_signals=.true.)
-      if (cl%resume) then
-         call write_sweep_file(output, sweep, error, previous=output)
-      else
-         call write_sweep_file(output, sweep, error)
-      end if
+      call write_sweep_file(output, sweep, error)
       if (allocated(error)) call fail(error%message, 3)
       if (.not. cl%quiet) call report_sweep(sweep, output)
       if (sweep%interrupted_by /= 0) call interrupted(sweep, output, resume_command())

@@ -21,11 +21,14 @@ module mpm_cli_report
 
 contains
 
-   !> End with an error: the message on standard error, prefixed 'mpm1d: ', and the exit code.
+   !> End with an error: the message on standard error, prefixed 'mpm1d: ', and the exit code. Flushed
+   !> before the exit: standard error redirected to a file is buffered, and the message is the one
+   !> thing the user must get.
    subroutine fail(message, code)
       character(len=*), intent(in) :: message
       integer, intent(in) :: code
       write (error_unit, '(a)') 'mpm1d: '//message
+      flush (error_unit)
       stop code, quiet=.true.
    end subroutine fail
 

@@ -5,7 +5,8 @@
 #                                  (test/generate.sh --check), the Fortran tests (all
 #                                  test/test_*.f90 but test_long_*), the cross-check against an
 #                                  independent NumPy implementation, the post-processing tests, the
-#                                  command line, the hostile-input suite, sweep determinism (3
+#                                  command line, the hostile-input suite, a full disk on every write
+#                                  path (test/test_full_disk.py), sweep determinism (3
 #                                  two-thread sweeps), the README's commands, the study pipelines
 #                                  and tests (but their long cases: long_cases in this script)
 #   bash test/run_tests.sh --all   the same, then the second tier: test/test_long_*.f90 (large runs
@@ -100,6 +101,7 @@ group "cross-check against an independent NumPy implementation" "$PYTHON" test/r
 group "post-processing package (pytest postprocess)" "$PYTHON" -m pytest -q -p no:cacheprovider postprocess
 group "the command line (test/test_command_line.sh)" bash test/test_command_line.sh
 group "hostile input (test/hostile)" "$PYTHON" test/hostile/run_hostile.py
+group "a full disk on every write path (test/test_full_disk.py)" "$PYTHON" test/test_full_disk.py
 if [ "$all" = 0 ]; then
   group "sweeps bit-identical on 1 and 2 threads (3 sweeps)" env SWEEP_REPEATS=3 bash test/test_sweep_determinism.sh
 fi

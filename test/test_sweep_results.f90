@@ -117,7 +117,7 @@ contains
       call t%check('resume: the 7 cases that ran are kept, 5 left to run', cases_done(again%cases) == 7 .and. &
                    all(again%cases(dropped)%status == status_not_run))
       call run_sweep(again)
-      call write_sweep_file(dir//'/resume.h5', again, error, previous=dir//'/resume.h5')
+      call write_sweep_file(dir//'/resume.h5', again, error)
       call t%check('resumed sweep written', .not. allocated(error))
       call compare_files(dir//'/whole.h5', dir//'/resume.h5')
       ! another sweep's file is refused, naming it

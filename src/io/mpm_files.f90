@@ -8,7 +8,7 @@ module mpm_files
    private
    public :: rename_file, remove_file, file_exists, available_memory, path_kind, same_file, process_id
    public :: register_partial, forget_partial, pause_seconds, absolute_path
-   public :: catch_interrupts, release_interrupts, interrupt_signal, wait_for_signal
+   public :: catch_interrupts, release_interrupts, interrupt_signal, wait_for_signal, file_size_errors
    !> What path_kind returns: nothing there, a regular file, a folder, anything else (device, FIFO, ...).
    integer, parameter, public :: path_none = 0, path_regular = 1, path_folder = 2, path_other = 3
 
@@ -55,6 +55,10 @@ module mpm_files
       !> Back to the default: SIGINT, SIGTERM or SIGHUP ends the process (removing the partial file).
       subroutine release_interrupts() bind(C, name='mpm_release_interrupts')
       end subroutine release_interrupts
+      !> From now on a write beyond the file-size limit (ulimit -f) fails (EFBIG: the writer reports it,
+      !> naming the file) instead of killing the process with SIGXFSZ.
+      subroutine file_size_errors() bind(C, name='mpm_file_size_errors')
+      end subroutine file_size_errors
       integer(c_int) function c_interrupt_signal() bind(C, name='mpm_interrupt_signal')
          import :: c_int
       end function c_interrupt_signal

@@ -152,6 +152,14 @@ int mpm_interrupt_signal(void)
     return caught;
 }
 
+/* A write beyond the file-size limit (ulimit -f) fails with EFBIG, which the writers report with the
+   file's name, instead of ending the process with SIGXFSZ (whose default action, and the Fortran
+   runtime's handler, kill it with a core dump or a backtrace and no word about the file). */
+void mpm_file_size_errors(void)
+{
+    signal(SIGXFSZ, SIG_IGN);
+}
+
 /* Test hook: create the file `marker` (NUL-terminated; a test waits for it), then sleep until a signal
    is recorded (at most `seconds`); returns at once if one was recorded before. */
 void mpm_wait_for_signal(int seconds, const char *marker)

@@ -3,9 +3,14 @@
 !> A file is written under `<name>.<process id>.part`, created only if no such file exists, and
 !> renamed to `<name>` only when complete; a run removes only the partial file it created, so two
 !> runs writing one output at once do not destroy each other's files (the last rename wins).
+!> A failure's message names the file, the operation and the system's cause (the errno HDF5's file
+!> driver recorded: "no space left on device"). HDF5's at-exit clean-up is switched off (open_library):
+!> the HDF5 1.10 library frees a file whose close failed (a full disk) but keeps its identifier, and
+!> its clean-up at exit closed that freed file again (a segmentation fault in every run that could not
+!> write its output). Every file this module opens it also closes, so the clean-up had nothing to do.
 !> Not thread-safe (neither is the HDF5 library): call only outside parallel regions.
 module mpm_hdf5
-   use, intrinsic :: iso_c_binding, only: c_ptr, c_char, c_null_char, c_loc, c_f_pointer, c_associated
+   use, intrinsic :: iso_c_binding, only: c_ptr, c_char, c_null_char, c_loc, c_f_pointer, c_associated, c_int
    use hdf5
    use mpm_kinds, only: dp
    use mpm_errors, only: error_t, set_error
@@ -17,13 +22,24 @@ module mpm_hdf5
    !> H5T_VARIABLE of H5Tpublic.h, (size_t)-1: the HDF5 1.10 Fortran API does not export it.
    integer(size_t), parameter :: variable_length = -1_size_t
 
-   public :: h5_writer_t, h5_read_real, h5_read_int, h5_read_attribute_real, h5_read_attribute_int, h5_read_attribute_string, &
+   interface
+      integer(c_int) function c_failure_cause(out, size) bind(C, name='mpm_h5_failure_cause')
+         import :: c_int, c_char
+         character(kind=c_char), dimension(*), intent(out) :: out
+         integer(c_int), value :: size
+      end function c_failure_cause
+   end interface
+
+   public :: h5_writer_t, h5_read_real, h5_read_int, h5_read_columns, h5_read_attribute_real, h5_read_attribute_int, &
+             h5_read_attribute_string, &
              h5_read_string, h5_exists
 
    type :: h5_writer_t
       integer(hid_t) :: file = -1
       character(len=:), allocatable :: path, part_path
       character(len=:), allocatable :: failure
+      !> The system's cause of the failure ("no space left on device"), when HDF5 recorded one.
+      character(len=:), allocatable :: cause
       !> Did this writer create part_path (only then may it remove it)?
       logical :: created = .false.
    contains
@@ -39,7 +55,7 @@ module mpm_hdf5
       procedure :: attribute_int => writer_attribute_int
       procedure :: attribute_string => writer_attribute_string
       procedure :: attribute_reals => writer_attribute_reals
-      procedure :: copy_from => writer_copy_from
+      procedure :: copy_attributes => writer_copy_attributes
       procedure :: finish => writer_finish
       procedure :: abandon => writer_abandon
       procedure, private :: check => writer_check
@@ -68,7 +84,12 @@ contains
       call h5fcreate_f(self%part_path, H5F_ACC_EXCL_F, self%file, hdferr)
       call self%check(hdferr, "create file '"//self%part_path//"'")
       self%created = hdferr >= 0
-      if (registered .and. .not. self%created) call forget_partial()
+      if (registered .and. .not. self%created) then
+         ! the create can fail after making the file (its first write on a full disk): the exclusive
+         ! create of a name that was free made it this process's, so it is removed
+         call remove_file(self%part_path)
+         call forget_partial()
+      end if
       call test_pause('MPM1D_PAUSE_AFTER_CREATE')
    end subroutine writer_create
 
@@ -348,21 +369,68 @@ contains
       call h5tclose_f(string_type, hdferr)
    end subroutine writer_attribute_string
 
-   !> Copy object `name` (a group with all it holds, or a dataset) of file `source` to the same
-   !> path in this file.
-   subroutine writer_copy_from(self, source, name)
+   !> Copy the attributes of object `on` of file `source` (scalar reals, integers and strings, 1-D
+   !> reals: what this writer writes) to object `on` of this file, through this writer's checked
+   !> calls. (HDF5's own copy, H5Ocopy, crashed in its error path when the disk filled during a copy.)
+   subroutine writer_copy_attributes(self, source, on)
       class(h5_writer_t), intent(inout) :: self
-      character(len=*), intent(in) :: source, name
-      integer(hid_t) :: file
-      integer :: hdferr
+      character(len=*), intent(in) :: source, on
+      integer(hid_t) :: file, object, attr, file_type, space
+      integer(hsize_t) :: k
+      integer(hssize_t) :: points
+      integer :: hdferr, count, class, rank, int_value
+      character(len=256) :: name
+      character(len=:), allocatable :: text
+      real(dp), allocatable :: reals(:)
       if (.not. self%ok()) return
       call h5fopen_f(source, H5F_ACC_RDONLY_F, file, hdferr)
-      call self%check(hdferr, "open '"//source//"' to copy '"//name//"'")
+      call self%check(hdferr, "open '"//source//"' to copy the attributes of '"//on//"'")
       if (.not. self%ok()) return
-      call h5ocopy_f(file, name, self%file, name, hdferr)
-      call self%check(hdferr, "copy '"//name//"' from '"//source//"'")
+      call h5oopen_f(file, on, object, hdferr)
+      call self%check(hdferr, "open '"//on//"' in '"//source//"'")
+      count = 0
+      if (self%ok()) call h5aget_num_attrs_f(object, count, hdferr)
+      do k = 0, count - 1
+         if (.not. self%ok()) exit
+         call h5aopen_by_idx_f(file, on, H5_INDEX_NAME_F, H5_ITER_INC_F, k, attr, hdferr)
+         call self%check(hdferr, "open an attribute of '"//on//"' in '"//source//"'")
+         if (.not. self%ok()) exit
+         call h5aget_name_f(attr, len(name, size_t), name, hdferr)
+         call h5aget_type_f(attr, file_type, hdferr)
+         call h5tget_class_f(file_type, class, hdferr)
+         call h5tclose_f(file_type, hdferr)
+         call h5aget_space_f(attr, space, hdferr)
+         call h5sget_simple_extent_ndims_f(space, rank, hdferr)
+         call h5sget_simple_extent_npoints_f(space, points, hdferr)
+         call h5sclose_f(space, hdferr)
+         if (class == H5T_FLOAT_F) then
+            allocate (reals(points))
+            hdferr = 0
+            if (points > 0) call h5aread_f(attr, H5T_NATIVE_DOUBLE, reals, [int(points, hsize_t)], hdferr)
+            call self%check(hdferr, "read attribute '"//trim(name)//"' of '"//on//"' in '"//source//"'")
+            if (rank == 0) then
+               call self%attribute_real(on, trim(name), reals(1))
+            else
+               call self%attribute_reals(on, trim(name), reals)
+            end if
+            deallocate (reals)
+         else if (class == H5T_INTEGER_F .and. rank == 0) then
+            call h5aread_f(attr, H5T_NATIVE_INTEGER, int_value, [1_hsize_t], hdferr)
+            call self%check(hdferr, "read attribute '"//trim(name)//"' of '"//on//"' in '"//source//"'")
+            call self%attribute_int(on, trim(name), int_value)
+         else if (class == H5T_STRING_F .and. rank == 0) then
+            call attribute_text(attr, text, hdferr)
+            call self%check(hdferr, "read attribute '"//trim(name)//"' of '"//on//"' in '"//source//"'")
+            call self%attribute_string(on, trim(name), text)
+         else
+            call self%check(-1, "copy attribute '"//trim(name)//"' of '"//on//"' in '"//source//"' (not a scalar "// &
+                            "real, integer or string, nor a list of reals)")
+         end if
+         call h5aclose_f(attr, hdferr)
+      end do
+      call h5oclose_f(object, hdferr)
       call h5fclose_f(file, hdferr)
-   end subroutine writer_copy_from
+   end subroutine writer_copy_attributes
 
    !> Close the file and move it to its final name; on any earlier failure remove the partial file.
    subroutine writer_finish(self, error)
@@ -378,7 +446,11 @@ contains
       if (.not. self%ok()) then
          if (self%created) call remove_file(self%part_path)
          call forget_partial()
-         call set_error(error, "HDF5 output '"//self%path//"': cannot "//self%failure)
+         if (allocated(self%cause)) then
+            call set_error(error, "HDF5 output '"//self%path//"': cannot "//self%failure//": "//self%cause)
+         else
+            call set_error(error, "HDF5 output '"//self%path//"': cannot "//self%failure)
+         end if
          return
       end if
       call crash_hook()
@@ -433,7 +505,14 @@ contains
       class(h5_writer_t), intent(inout) :: self
       integer, intent(in) :: hdferr
       character(len=*), intent(in) :: what
-      if (hdferr < 0 .and. .not. allocated(self%failure)) self%failure = what
+      character(kind=c_char, len=256) :: buffer
+      integer :: n
+      if (hdferr >= 0) return
+      if (.not. allocated(self%failure)) self%failure = what
+      ! (a cause recorded by a later failure, the close, serves when the first one recorded none)
+      if (allocated(self%cause)) return
+      n = c_failure_cause(buffer, int(len(buffer), c_int))
+      if (n > 0) self%cause = buffer(1:n)
    end subroutine writer_check
 
    logical function writer_ok(self)
@@ -445,10 +524,12 @@ contains
    !> predefined type each time it is called, and HDF5 then walks all of them at every file close:
    !> a merge of N shards that called it at each read took time quadratic in N (200 shards: 2 min).
    !> Nothing here calls h5close_f, so predefined types that exist mean an open interface.
+   !> Before it, the library is told not to register its clean-up at exit (see the module's comment).
    subroutine open_library(hdferr)
       integer, intent(out) :: hdferr
       hdferr = 0
       if (H5T_NATIVE_DOUBLE > 0 .and. H5T_NATIVE_INTEGER > 0) return
+      call h5dont_atexit_f(hdferr)
       call h5open_f(hdferr)
    end subroutine open_library
 
@@ -465,13 +546,8 @@ contains
       integer :: hdferr, rank
       length = 0
       dset = -1
-      call open_library(hdferr)
-      call h5eset_auto_f(0, hdferr)
-      call h5fopen_f(path, H5F_ACC_RDONLY_F, file, hdferr)
-      if (hdferr < 0) then
-         call set_error(error, "cannot open HDF5 file '"//path//"'")
-         return
-      end if
+      call open_file_for_read(path, file, error)
+      if (allocated(error)) return
       call h5dopen_f(file, name, dset, hdferr)
       if (hdferr < 0) then
          call set_error(error, "no dataset '"//name//"' in '"//path//"'")
@@ -508,6 +584,48 @@ contains
       if (hdferr < 0) call set_error(error, "cannot read '"//name//"' from '"//path//"'")
       call close_read(file, dset)
    end subroutine h5_read_real
+
+   !> Read the 1-D real datasets `names` of group `group` of `path`, all of one length n, into the
+   !> columns of `columns` (n x size(names)), opening the file once; no columns (0 x size(names)) when
+   !> the file has no such group.
+   subroutine h5_read_columns(path, group, names, columns, error)
+      character(len=*), intent(in) :: path, group
+      character(len=*), intent(in) :: names(:)
+      real(dp), allocatable, intent(out) :: columns(:, :)
+      type(error_t), allocatable, intent(out) :: error
+      integer(hid_t) :: file, dset, space
+      integer(hsize_t) :: dims(1), maxdims(1)
+      integer :: hdferr, j
+      logical :: found
+      call open_file_for_read(path, file, error)
+      if (allocated(error)) return
+      call h5lexists_f(file, group, found, hdferr)
+      if (hdferr < 0 .or. .not. found) then
+         allocate (columns(0, size(names)))
+         call h5fclose_f(file, hdferr)
+         return
+      end if
+      do j = 1, size(names)
+         call h5dopen_f(file, group//'/'//trim(names(j)), dset, hdferr)
+         if (hdferr < 0) then
+            call set_error(error, "no dataset '"//group//'/'//trim(names(j))//"' in '"//path//"'")
+            exit
+         end if
+         call h5dget_space_f(dset, space, hdferr)
+         call h5sget_simple_extent_dims_f(space, dims, maxdims, hdferr)
+         call h5sclose_f(space, hdferr)
+         if (.not. allocated(columns)) allocate (columns(dims(1), size(names)))
+         if (dims(1) /= size(columns, 1, kind=hsize_t)) then
+            call set_error(error, "the datasets of '"//group//"' in '"//path//"' differ in length")
+         else
+            call h5dread_f(dset, H5T_NATIVE_DOUBLE, columns(:, j), dims, hdferr)
+            if (hdferr < 0) call set_error(error, "cannot read '"//group//'/'//trim(names(j))//"' from '"//path//"'")
+         end if
+         call h5dclose_f(dset, hdferr)
+         if (allocated(error)) exit
+      end do
+      call h5fclose_f(file, hdferr)
+   end subroutine h5_read_columns
 
    !> Read a 1-D (or scalar, as one value) integer dataset.
    subroutine h5_read_int(path, name, values, error)
@@ -644,46 +762,74 @@ contains
       character(len=*), intent(in) :: path, on, name
       character(len=*), intent(out) :: value
       type(error_t), allocatable, intent(out) :: error
-      integer(hid_t) :: file, attr, string_type, space
-      type(c_ptr), target :: pointer(1)
-      type(c_ptr) :: buffer
-      logical :: variable
+      integer(hid_t) :: file, attr
+      character(len=:), allocatable :: text
       integer :: hdferr
       value = ''
       call open_attribute_for_read(path, on, name, file, attr, error)
       if (allocated(error)) return
+      call attribute_text(attr, text, hdferr)
+      value = text
+      if (hdferr < 0) call set_error(error, "cannot read attribute '"//name//"' of '"//on//"' in '"//path//"'")
+      call h5aclose_f(attr, hdferr)
+      call h5fclose_f(file, hdferr)
+   end subroutine h5_read_attribute_string
+
+   !> The text of the open scalar string attribute `attr` (variable-length, or fixed-length as older
+   !> files hold it); `hdferr` < 0 when it cannot be read.
+   subroutine attribute_text(attr, text, hdferr)
+      integer(hid_t), intent(in) :: attr
+      character(len=:), allocatable, intent(out) :: text
+      integer, intent(out) :: hdferr
+      integer(hid_t) :: string_type, space
+      integer(size_t) :: length
+      type(c_ptr), target :: pointer(1)
+      type(c_ptr) :: buffer
+      logical :: variable
+      integer :: status
+      text = ''
       call h5aget_type_f(attr, string_type, hdferr)
+      if (hdferr < 0) return
       call h5tis_variable_str_f(string_type, variable, hdferr)
       if (variable) then
          buffer = c_loc(pointer)
          call h5aread_f(attr, string_type, buffer, hdferr)
          if (hdferr >= 0) then
-            value = c_text(pointer(1))
-            call h5aget_space_f(attr, space, hdferr)
-            call h5dvlen_reclaim_f(string_type, space, H5P_DEFAULT_F, buffer, hdferr)
-            call h5sclose_f(space, hdferr)
+            text = c_text(pointer(1))
+            call h5aget_space_f(attr, space, status)
+            call h5dvlen_reclaim_f(string_type, space, H5P_DEFAULT_F, buffer, status)
+            call h5sclose_f(space, status)
          end if
       else
-         call h5aread_f(attr, string_type, value, [1_hsize_t], hdferr)
+         call h5tget_size_f(string_type, length, hdferr)
+         if (hdferr >= 0) then
+            deallocate (text)
+            allocate (character(len=length) :: text)
+            call h5aread_f(attr, string_type, text, [1_hsize_t], hdferr)
+         end if
       end if
-      if (hdferr < 0) call set_error(error, "cannot read attribute '"//name//"' of '"//on//"' in '"//path//"'")
-      call h5tclose_f(string_type, hdferr)
-      call h5aclose_f(attr, hdferr)
-      call h5fclose_f(file, hdferr)
-   end subroutine h5_read_attribute_string
+      call h5tclose_f(string_type, status)
+   end subroutine attribute_text
+
+   !> Open `path` read-only (the library opened first, its error printing off).
+   subroutine open_file_for_read(path, file, error)
+      character(len=*), intent(in) :: path
+      integer(hid_t), intent(out) :: file
+      type(error_t), allocatable, intent(out) :: error
+      integer :: hdferr
+      call open_library(hdferr)
+      call h5eset_auto_f(0, hdferr)
+      call h5fopen_f(path, H5F_ACC_RDONLY_F, file, hdferr)
+      if (hdferr < 0) call set_error(error, "cannot open HDF5 file '"//path//"'")
+   end subroutine open_file_for_read
 
    subroutine open_attribute_for_read(path, on, name, file, attr, error)
       character(len=*), intent(in) :: path, on, name
       integer(hid_t), intent(out) :: file, attr
       type(error_t), allocatable, intent(out) :: error
       integer :: hdferr
-      call open_library(hdferr)
-      call h5eset_auto_f(0, hdferr)
-      call h5fopen_f(path, H5F_ACC_RDONLY_F, file, hdferr)
-      if (hdferr < 0) then
-         call set_error(error, "cannot open HDF5 file '"//path//"'")
-         return
-      end if
+      call open_file_for_read(path, file, error)
+      if (allocated(error)) return
       call h5aopen_by_name_f(file, on, name, attr, hdferr)
       if (hdferr < 0) then
          call set_error(error, "no attribute '"//name//"' on '"//on//"' in '"//path//"'")

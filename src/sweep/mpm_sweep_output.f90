@@ -5,12 +5,12 @@ module mpm_sweep_output
    use mpm_kinds, only: dp
    use mpm_errors, only: error_t, set_error
    use mpm_strings, only: str
-   use mpm_hdf5, only: h5_writer_t, h5_read_real, h5_read_int, h5_read_string, h5_read_attribute_string, &
+   use mpm_hdf5, only: h5_writer_t, h5_read_real, h5_read_int, h5_read_columns, h5_read_string, h5_read_attribute_string, &
                        h5_read_attribute_int, h5_read_attribute_real, h5_exists
    use mpm_files, only: path_kind, path_regular, path_other
    use mpm_output, only: write_config_attributes
    use mpm_version, only: code_version
-   use mpm_diagnostics, only: status_name, status_ok, status_not_run
+   use mpm_diagnostics, only: history_t, status_name, status_ok, status_not_run
    use mpm_sweep, only: sweep_t, sweep_case_t, case_column
    use mpm_config, only: config_t, config_parameters, config_namelist, used_with
    use mpm_registry, only: parameter_t, value_list_t, single_value_list, type_real, type_int, used_by
@@ -38,16 +38,14 @@ module mpm_sweep_output
 
 contains
 
-   !> Write the sweep's results to `path` (via a .part file). The histories of cases read back from
-   !> an earlier file (a resumed sweep) are copied from `previous`.
-   subroutine write_sweep_file(path, sweep, error, previous)
+   !> Write the sweep's results to `path` (via a .part file), with each case's history when the sweep
+   !> keeps them (those of a resumed sweep's earlier cases were read back by resume_sweep).
+   subroutine write_sweep_file(path, sweep, error)
       character(len=*), intent(in) :: path
       type(sweep_t), intent(in) :: sweep
       type(error_t), allocatable, intent(out) :: error
-      character(len=*), intent(in), optional :: previous
       type(h5_writer_t) :: h5
       type(sweep_info_t) :: info
-      character(len=:), allocatable :: name
       integer :: i
       ! (component by component: gfortran 12 mis-sizes a deferred-length character in a structure constructor)
       info%namelist_text = sweep%settings%namelist_text
@@ -69,12 +67,7 @@ contains
       if (sweep%settings%histories) then
          call h5%group('/histories')
          do i = 1, size(sweep%cases)
-            if (sweep%cases(i)%from_file .and. present(previous)) then
-               name = '/histories/'//history_name(sweep%cases(i)%index)
-               if (h5_exists(previous, name)) call h5%copy_from(previous, name)
-            else
-               call write_history(h5, sweep%cases(i))
-            end if
+            call write_history(h5, sweep%cases(i)%index, sweep%cases(i)%history)
          end do
       end if
       call h5%finish(error)
@@ -113,21 +106,47 @@ contains
       end do
    end function scene_columns
 
-   subroutine write_history(h5, c)
+   !> The history of case `index` as /histories/<index> (nothing when it recorded none).
+   subroutine write_history(h5, index, history)
       type(h5_writer_t), intent(inout) :: h5
-      type(sweep_case_t), intent(in) :: c
+      integer, intent(in) :: index
+      type(history_t), intent(in) :: history
       character(len=:), allocatable :: group
       integer :: n
-      n = c%history%recorded
+      n = history%recorded
       if (n == 0) return
-      group = '/histories/'//history_name(c%index)
+      group = '/histories/'//history_name(index)
       call h5%group(group)
-      call h5%write_real(group//'/time', c%history%time(0:n - 1))
-      call h5%write_real(group//'/ucm', c%history%ucm(0:n - 1))
-      call h5%write_real(group//'/ucm_exact', c%history%ucm_exact(0:n - 1))
-      call h5%write_real(group//'/kinetic_energy', c%history%kinetic_energy(0:n - 1))
-      call h5%write_real(group//'/strain_energy', c%history%strain_energy(0:n - 1))
+      call h5%write_real(group//'/time', history%time(0:n - 1))
+      call h5%write_real(group//'/ucm', history%ucm(0:n - 1))
+      call h5%write_real(group//'/ucm_exact', history%ucm_exact(0:n - 1))
+      call h5%write_real(group//'/kinetic_energy', history%kinetic_energy(0:n - 1))
+      call h5%write_real(group//'/strain_energy', history%strain_energy(0:n - 1))
    end subroutine write_history
+
+   !> The history of case `index` in sweep file `path` (recorded 0 when the file has none).
+   subroutine read_history(path, index, history, error)
+      character(len=*), intent(in) :: path
+      integer, intent(in) :: index
+      type(history_t), intent(out) :: history
+      type(error_t), allocatable, intent(out) :: error
+      real(dp), allocatable :: columns(:, :)
+      integer :: n
+      call h5_read_columns(path, '/histories/'//history_name(index), [character(len=16) :: 'time', 'ucm', &
+                           'ucm_exact', 'kinetic_energy', 'strain_energy'], columns, error)
+      if (allocated(error)) return
+      n = size(columns, 1)
+      if (n == 0) return
+      history%recorded = n
+      ! (indexed from 0, as a run records them)
+      allocate (history%time(0:n - 1), history%ucm(0:n - 1), history%ucm_exact(0:n - 1), &
+                history%kinetic_energy(0:n - 1), history%strain_energy(0:n - 1))
+      history%time(:) = columns(:, 1)
+      history%ucm(:) = columns(:, 2)
+      history%ucm_exact(:) = columns(:, 3)
+      history%kinetic_energy(:) = columns(:, 4)
+      history%strain_energy(:) = columns(:, 5)
+   end subroutine read_history
 
    function history_name(index) result(name)
       integer, intent(in) :: index
@@ -254,6 +273,13 @@ contains
       do i = 1, size(cases)
          if (cases(i)%status == status_not_run) cycle
          cases(i)%from_file = .true.
+         if (sweep%settings%histories) then
+            call read_history(path, cases(i)%index, cases(i)%history, error)
+            if (allocated(error)) then
+               error%message = 'resume: '//error%message
+               return
+            end if
+         end if
          sweep%cases(i) = cases(i)
       end do
       sweep%wall_time = info%wall_time
@@ -408,6 +434,7 @@ contains
       type(error_t), allocatable, intent(out) :: error
       type(sweep_info_t) :: info
       type(h5_writer_t) :: h5
+      type(history_t) :: history
       character(len=:), allocatable :: text
       logical :: histories
       integer :: i, k
@@ -421,17 +448,26 @@ contains
       call h5%create(path)
       call h5%attribute_string('/', 'code_version', code_version)
       call h5%attribute_string('/', 'content', 'sweep')
-      call h5%copy_from(trim(inputs(1)), '/config')
+      call h5%group('/config')
+      call h5%copy_attributes(trim(inputs(1)), '/config')
       call write_table(h5, table%info, table%cases, table%columns)
       if (histories) then
          call h5%group('/histories')
          do i = 1, size(inputs)
             ! a shard holds the histories of its own cases: shard, shard + shards, ...
             call read_info(trim(inputs(i)), 'merge', info, text, error)
-            if (allocated(error)) return
+            if (allocated(error)) then
+               call h5%abandon()
+               return
+            end if
             do k = info%shard, size(table%cases), info%shards
-               if (h5_exists(trim(inputs(i)), '/histories/'//history_name(k))) &
-                  call h5%copy_from(trim(inputs(i)), '/histories/'//history_name(k))
+               call read_history(trim(inputs(i)), k, history, error)
+               if (allocated(error)) then
+                  error%message = 'merge: '//error%message
+                  call h5%abandon()
+                  return
+               end if
+               call write_history(h5, k, history)
             end do
          end do
       end if

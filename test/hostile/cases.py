@@ -758,3 +758,20 @@ add('i24_merge_into_fifo', C24, 2, r"merge: output file 'm\.h5' is not a regular
                         '[ -p m.h5 ] || exit 9; exit $rc')
 add('i24_single_run_into_fifo', C24, 2, r"not a regular file", input=nml(), setup='mkfifo o.h5',
     shell='"$MPM1D" in.nml; rc=$?; [ -p o.h5 ] || exit 9; exit $rc')
+
+# ---------------------------------------------------------------- 7: runs that survive: a full disk
+# A file-size limit (ulimit -f, in KiB) makes every write past it fail (EFBIG) as a full disk does
+# (test/test_full_disk.py fills a real tmpfs too): exit 3, a message naming the file and the cause,
+# the older file of that name intact, no temporary file (the suite's rule), no crash in the exit handlers.
+C7 = '7 survival'
+KEEP = 'echo older > {f}; cp {f} older.txt; '
+INTACT = 'cmp -s {f} older.txt || exit 9; '
+add('full_disk_single_run', C7, 3, r"(?m)^mpm1d: HDF5 output 'o\.h5': cannot .*: file too large",
+    input=nml(discretisation='elements=400', run='periods=1'),
+    shell=KEEP.format(f='o.h5') + '(ulimit -f 16; "$MPM1D" in.nml -q); rc=$?; ' + INTACT.format(f='o.h5') + 'exit $rc')
+add('full_disk_sweep', C7, 3, r"(?m)^mpm1d: HDF5 output 'o\.h5': cannot .*: file too large", input=SWEEP12,
+    shell=KEEP.format(f='o.h5') + '(ulimit -f 24; "$MPM1D" in.nml -q); rc=$?; ' + INTACT.format(f='o.h5') + 'exit $rc')
+add('full_disk_merge', C7, 3, r"(?m)^mpm1d: HDF5 output 'm\.h5': cannot .*: file too large", input=SWEEP12,
+    shell='"$MPM1D" in.nml --shard=1/2 -q && "$MPM1D" in.nml --shard=2/2 -q || exit 4; ' + KEEP.format(f='m.h5') +
+          '(ulimit -f 24; "$MPM1D" merge m.h5 o_shard001of002.h5 o_shard002of002.h5); rc=$?; ' +
+          INTACT.format(f='m.h5') + 'exit $rc')
