@@ -1,6 +1,8 @@
-"""Cross-check mpm1d against the independent NumPy implementation in reference_mpm.py.
+"""Cross-check mpm1d against the independent NumPy implementations in reference_mpm.py (the paper's bar)
+and reference_methods.py (total-Lagrangian MPM, CPDI, XPIC, FMPM, ASFLIP).
 
-Runs the mpm1d executable on cases of the paper's study (both schemes, and MUSL) and compares the
+First checks each method of reference_methods.py on its own (its self_checks: facts it must satisfy).
+Then runs the mpm1d executable on cases of the paper's study (both schemes, and MUSL) and compares the
 max centre-of-mass error, the step count and the whole u_cm history to the reference. Agreement
 must be at round-off level: the two codes sum in different orders, nothing more.
 Usage: python3 test/reference/check_reference.py [path/to/mpm1d]
@@ -13,7 +15,8 @@ import tempfile
 import h5py
 import numpy as np
 
-import reference_mpm  # noqa: E402  (found next to this script: Python puts the script's folder first)
+import reference_methods  # noqa: E402  (found next to this script: Python puts the script's folder first)
+import reference_mpm  # noqa: E402
 
 CASES = [  # scheme, elements, particles per element, dt fraction
     ('usf', 20, 1, 0.10), ('usl', 20, 1, 0.10), ('usf', 1, 1, 0.05), ('usl', 1, 10, 0.50),
@@ -39,6 +42,10 @@ def find_executable():
 def main():
     exe = find_executable()
     passed = failed = 0
+    for name, ok, detail in reference_methods.self_checks():
+        passed += ok
+        failed += not ok
+        print(f"{'ok  ' if ok else 'FAIL'} reference: {name}: {detail}")
     with tempfile.TemporaryDirectory() as tmp:
         cases = [(c, 0.1, 2.0) for c in CASES] + [(c, MOVING_END_V0, MOVING_END_PERIODS) for c in MOVING_END]
         for (scheme, ne, ppc, k), v0, periods in cases:
