@@ -15,6 +15,7 @@ from typing import Dict, List, Mapping, Optional, Sequence
 import numpy as np
 
 from .loader import Sweep
+from .orders import log_slope
 
 #: Element counts below this are left out of the convergence-rate fit of claim (d): one element
 #: cannot represent the vibration mode at all (paper, Fig. 10), which says nothing about a rate.
@@ -42,15 +43,6 @@ class Claim:
                 return f'no verdict: the data do not support one ({self.unsupported})'
             return 'not checked (data missing)'
         return 'holds' if self.holds else 'does not hold'
-
-
-def log_slope(x: Sequence[float], y: Sequence[float]) -> float:
-    """Slope of log(y) against log(x) by least squares (NaN with fewer than two points)."""
-    x, y = np.asarray(x, float), np.asarray(y, float)
-    keep = (x > 0) & (y > 0) & np.isfinite(y)
-    if keep.sum() < 2:
-        return float('nan')
-    return float(np.polyfit(np.log(x[keep]), np.log(y[keep]), 1)[0])
 
 
 def median_by(sweep: Sweep, mask: np.ndarray, key: str, quantity: str = 'max_error'

@@ -16,6 +16,7 @@ Usage: mpm1d-convergence-figures SWEEP.h5 [SWEEP.h5 ...] [--parts PARTS.h5] --ou
 from __future__ import annotations
 
 import argparse
+import dataclasses
 from pathlib import Path
 from typing import Dict, List, Optional, Tuple
 
@@ -27,6 +28,8 @@ import matplotlib.pyplot as plt  # noqa: E402
 
 from .figures import plain_ticks  # noqa: E402
 from .loader import Sweep, concatenate_sweeps, load_sweep  # noqa: E402
+from .orders import successive_orders  # noqa: E402
+from .tables import markdown_table  # noqa: E402
 
 #: The independent reference of issue 26 (sigma = E (J - 1) and Hencky, USL, linear shapes, 2 ppc,
 #: v0 = 0.1 m/s): relative u_cm errors at 800, 1600 and 3200 elements.
@@ -34,11 +37,6 @@ REFERENCE = {'linear': {800: 1.44e-5, 1600: 1.56e-5, 3200: 1.59e-5},
              'hencky': {800: 6.5e-6, 1600: 4.6e-6, 3200: 4.8e-6}}
 
 SHAPES = ('linear', 'ugimp', 'cpgimp', 'bspline2', 'bspline3')
-
-
-def local_orders(elements: np.ndarray, errors: np.ndarray) -> np.ndarray:
-    """Observed order between successive meshes: log(e_i / e_{i+1}) / log(n_{i+1} / n_i)."""
-    return np.log(errors[:-1] / errors[1:]) / np.log(elements[1:] / elements[:-1])
 
 
 #: Below this local order the error is taken as no longer falling (a floor).
@@ -54,26 +52,29 @@ def floor_start(orders: np.ndarray) -> Optional[int]:
     return None
 
 
-def column(c: Dict[str, np.ndarray], name: str, default: str, n: int) -> np.ndarray:
-    """A text column of the cases, or `default` for files written before it existed."""
-    return np.asarray(c[name]) if name in c else np.full(n, default)
+#: Columns that files written before them lack, and the value every case had then.
+DEFAULT_COLUMNS = {'shape': 'linear', 'law': 'hencky'}
 
 
-def series(c: Dict[str, np.ndarray], scheme: str, shape: str, law: str, v0: float
+def with_defaults(sweep: Sweep) -> Sweep:
+    """`sweep` with the columns of DEFAULT_COLUMNS that its file lacks (a new Sweep; the same if none)."""
+    missing = {name: np.full(len(sweep), value) for name, value in DEFAULT_COLUMNS.items() if name not in sweep.cases}
+    return dataclasses.replace(sweep, cases={**sweep.cases, **missing}) if missing else sweep
+
+
+def series(sweep: Sweep, scheme: str, shape: str, law: str, v0: float
            ) -> Tuple[np.ndarray, np.ndarray, np.ndarray]:
     """Elements, relative errors and case indices of one series, by elements."""
-    n = len(c['elements'])
-    m = ((c['scheme'] == scheme) & (column(c, 'shape', 'linear', n) == shape)
-         & (column(c, 'law', 'hencky', n) == law) & np.isclose(c['velocity_amplitude'], v0))
-    idx = np.flatnonzero(m)[np.argsort(c['elements'][m])]
-    return c['elements'][idx].astype(float), c['relative_error'][idx], idx
+    sweep = with_defaults(sweep)
+    idx = sweep.rows('elements', scheme=scheme, shape=shape, law=law, velocity_amplitude=v0)
+    return sweep.cases['elements'][idx].astype(float), sweep.cases['relative_error'][idx], idx
 
 
 def describe(ne: np.ndarray, rel: np.ndarray, ratio: float) -> Tuple[str, Optional[float]]:
     """What a series does: keeps falling (order of the last pair), or a floor (value, in v0/c)."""
     if len(ne) < 2:
         return 'one mesh', None
-    orders = local_orders(ne, rel)
+    orders = successive_orders(ne, rel)
     start = floor_start(orders)
     if start is None:
         return f'keeps falling (order {np.mean(orders):.2f}; {rel[-1]:.2e} at {int(ne[-1])})', None
@@ -86,13 +87,13 @@ def parts(sweep: Sweep) -> Dict[float, Dict[str, object]]:
     """Per amplitude, the error histories e(t) = u_cm - u_cm,exact of the parts sweep relative to the exact
     amplitude, and their split: model = e(hencky, uGIMP) - e(linear law, uGIMP), method = e(linear law,
     linear) - e(linear law, uGIMP); e(hencky, linear) = e(linear law, uGIMP) + model + method."""
+    sweep = with_defaults(sweep)
     c = sweep.cases
-    n = len(c['elements'])
-    shape, law = column(c, 'shape', 'linear', n), column(c, 'law', 'hencky', n)
+    shape, law = c['shape'], c['law']
     found: Dict[float, Dict[str, object]] = {}
     for v0 in sorted(set(c['velocity_amplitude'].tolist()), reverse=True):
         e = {}
-        for i in np.flatnonzero(np.isclose(c['velocity_amplitude'], v0)):
+        for i in sweep.rows(velocity_amplitude=v0):
             if i not in sweep.histories or c['status'][i] != 0:
                 continue
             h = sweep.histories[i]
@@ -128,11 +129,10 @@ def main(argv: Optional[List[str]] = None) -> int:
         args.outdir = files.pop()
     outdir = Path(args.outdir)
     # every case: the stopped ones are drawn apart and listed, never fitted
-    sweep = concatenate_sweeps([load_sweep(f, cases='all') for f in files])
+    sweep = with_defaults(concatenate_sweeps([load_sweep(f, cases='all') for f in files]))
     c = sweep.cases
     n = len(c['elements'])
-    shape_col = column(c, 'shape', 'linear', n)
-    law_col = column(c, 'law', 'hencky', n)
+    shape_col, law_col = c['shape'], c['law']
     wave = np.sqrt(c['youngs_modulus'] / c['density'])
     amplitudes = sorted(set(c['velocity_amplitude'].tolist()), reverse=True)
     schemes = [s for s in ('usf', 'usl', 'musl') if s in set(c['scheme'])]
@@ -148,9 +148,8 @@ def main(argv: Optional[List[str]] = None) -> int:
              'u_cm error = max over steps of |u_cm - u_cm,exact| (m), relative to the exact amplitude; order = '
              'local observed order between successive meshes. `hencky`: sigma = E ln F (the code\'s law, '
              'integrated as sigma += E d eps); `linear`: sigma = E (J - 1), for which the exact solution '
-             '(linear elasticity) is exact at any amplitude.', '',
-             '| scheme | shape | law | v0 (m/s) | v0/c | elements | relative error | order | status |',
-             '|---|---|---|---|---|---|---|---|---|']
+             '(linear elasticity) is exact at any amplitude.', '']
+    table = []
     panels = [(s, 'linear') for s in schemes if s != 'usl'] + [('usl', shape) for shape in shapes]
     cols = min(3, len(panels))
     rows = -(-len(panels) // cols)
@@ -160,13 +159,13 @@ def main(argv: Optional[List[str]] = None) -> int:
         ax = axes.flat[k]
         for law, style in zip(laws, ('-', '--')):
             for colour, v0 in zip(('C0', 'C1', 'C2', 'C3'), amplitudes):
-                ne, rel, idx = series(c, scheme, shape, law, v0)
+                ne, rel, idx = series(sweep, scheme, shape, law, v0)
                 if len(idx) == 0:
                     continue
                 ratio = v0 / wave[idx[0]]
                 ok = c['status'][idx] == 0
                 # orders between successive completed meshes only (a stopped case has no result)
-                orders = dict(zip(ne[ok][1:], local_orders(ne[ok], rel[ok])))
+                orders = dict(zip(ne[ok][1:], successive_orders(ne[ok], rel[ok])))
                 for j, i in enumerate(idx):
                     if ok[j]:
                         order = f'{orders[ne[j]]:.2f}' if ne[j] in orders else ''
@@ -174,8 +173,8 @@ def main(argv: Optional[List[str]] = None) -> int:
                     else:
                         order = ''
                         value = f'no result (before the stop {c["relative_error_before_stop"][i]:.3e})'
-                    lines.append(f'| {scheme} | {shape} | {law} | {v0:g} | {ratio:.1e} | {int(ne[j])} | '
-                                 f'{value} | {order} | {c["status_name"][i]} |')
+                    table.append([scheme, shape, law, f'{v0:g}', f'{ratio:.1e}', int(ne[j]), value, order,
+                                  c['status_name'][i]])
                 ax.loglog(ne[ok], rel[ok], 'o' + style, color=colour, ms=3.5,
                           label=f'{law} law, v0/c = {ratio:.0e}')
                 before = c['relative_error_before_stop'][idx][~ok]
@@ -196,6 +195,8 @@ def main(argv: Optional[List[str]] = None) -> int:
     fig.savefig(outdir / 'convergence.png', dpi=110)
     plt.close(fig)
 
+    lines += markdown_table(['scheme', 'shape', 'law', 'v0 (m/s)', 'v0/c', 'elements', 'relative error', 'order',
+                             'status'], table)
     lines += ['', '## Findings', '', f'A floor is where every later local order is below {FLOOR_ORDER}.', '']
     for scheme, shape in panels:
         for law in laws:
@@ -258,33 +259,34 @@ def main(argv: Optional[List[str]] = None) -> int:
                      'of opposite sign and larger size; with the wide shapes it is the model difference, which the '
                      'linear law removes.')
     if 'linear' in laws and 'hencky' in laws and 'usl' in schemes:
-        _, rel_l, _ = series(c, 'usl', 'linear', 'linear', top)
-        ne_l, rel_h, _ = series(c, 'usl', 'linear', 'hencky', top)
+        _, rel_l, _ = series(sweep, 'usl', 'linear', 'linear', top)
+        ne_l, rel_h, _ = series(sweep, 'usl', 'linear', 'hencky', top)
         rows_ref = [(int(m), rel_l[list(ne_l).index(m)] if m in ne_l else float('nan'),
                      rel_h[list(ne_l).index(m)] if m in ne_l else float('nan')) for m in (800, 1600, 3200)]
         if any(np.isfinite(r[1]) for r in rows_ref):
-            lines += ['', 'Against the independent reference of issue 26 (USL, linear shapes, 2 ppc, v0 = 0.1 m/s):', '',
-                      '| elements | linear law, this code | linear law, reference | hencky, this code | '
-                      'hencky, reference |', '|---|---|---|---|---|']
-            for m, a, b in rows_ref:
-                lines.append(f'| {m} | {a:.3e} | {REFERENCE["linear"][m]:.2e} | {b:.3e} | '
-                             f'{REFERENCE["hencky"][m]:.1e} |')
+            lines += ['', 'Against the independent reference of issue 26 (USL, linear shapes, 2 ppc, v0 = 0.1 m/s):', '']
+            lines += markdown_table(
+                ['elements', 'linear law, this code', 'linear law, reference', 'hencky, this code', 'hencky, reference'],
+                [[m, f'{a:.3e}', f'{REFERENCE["linear"][m]:.2e}', f'{b:.3e}', f'{REFERENCE["hencky"][m]:.1e}']
+                 for m, a, b in rows_ref])
     if split:
         first = split[max(split)]
         lines += ['', f'The split, USL, {first["elements"]} elements, from the histories (`parts.h5`, `parts.png`): '
                   'e = (u_cm - u_cm,exact)/amplitude; model = e(hencky, uGIMP) - e(linear law, uGIMP); method = '
                   'e(linear law, linear shapes) - e(linear law, uGIMP); each at its largest |value| over the run, '
-                  'and in units of v0/c:', '',
-                  '| v0 (m/s) | v0/c | model | model/(v0/c) | method (linear shapes) | method/(v0/c) | '
-                  'uGIMP, linear law: its own max error | hencky, linear shapes: max error | largest |sum - run| |',
-                  '|---|---|---|---|---|---|---|---|---|']
+                  'and in units of v0/c:', '']
+        rows_split = []
         for v0, part in split.items():
             r = part['ratio']
             err = part['errors']
-            lines.append(f'| {v0:g} | {r:.2e} | {signed_peak(part["model"]):+.2e} | {signed_peak(part["model"]) / r:+.3f} | '
-                         f'{signed_peak(part["method"]):+.2e} | {signed_peak(part["method"]) / r:+.3f} | '
-                         f'{np.max(np.abs(err[("ugimp", "linear")])):.2e} | '
-                         f'{np.max(np.abs(err[("linear", "hencky")])):.2e} | {np.max(np.abs(part["residual"])):.1e} |')
+            model_peak, method_peak = signed_peak(part['model']), signed_peak(part['method'])
+            rows_split.append([f'{v0:g}', f'{r:.2e}', f'{model_peak:+.2e}', f'{model_peak / r:+.3f}', f'{method_peak:+.2e}',
+                               f'{method_peak / r:+.3f}', f'{np.max(np.abs(err[("ugimp", "linear")])):.2e}',
+                               f'{np.max(np.abs(err[("linear", "hencky")])):.2e}',
+                               f'{np.max(np.abs(part["residual"])):.1e}'])
+        lines += markdown_table(['v0 (m/s)', 'v0/c', 'model', 'model/(v0/c)', 'method (linear shapes)', 'method/(v0/c)',
+                                 'uGIMP, linear law: its own max error', 'hencky, linear shapes: max error',
+                                 'largest |sum - run|'], rows_split)
         fig, axes = plt.subplots(1, len(split), figsize=(5.2 * len(split), 4.2), squeeze=False)
         for ax, (v0, part) in zip(axes.flat, split.items()):
             err = part['errors']
@@ -303,9 +305,9 @@ def main(argv: Optional[List[str]] = None) -> int:
         plt.close(fig)
         lines += ['', '![parts.png](parts.png)']
     if 'usf' in schemes:
-        _, a, _ = series(c, 'usf', 'linear', 'hencky', amplitudes[0])
-        _, b, _ = series(c, 'usf', 'linear', 'hencky', amplitudes[-1])
-        _, d, _ = series(c, 'usf', 'linear', 'linear', amplitudes[0])
+        _, a, _ = series(sweep, 'usf', 'linear', 'hencky', amplitudes[0])
+        _, b, _ = series(sweep, 'usf', 'linear', 'hencky', amplitudes[-1])
+        _, d, _ = series(sweep, 'usf', 'linear', 'linear', amplitudes[0])
         if len(a) and len(a) == len(b) == len(d):
             lines += ['', f'- USF is first order in time and space at this dt fraction: its error is the same at '
                       f'every amplitude and for both laws (largest ratio v0 = {amplitudes[0]:g} / {amplitudes[-1]:g}: '

@@ -7,7 +7,7 @@ and the parameters, and carries a footer with the code version and input files (
 
 Shared pieces: `save_figure` (footer and PNG), `case_grid` + `draw_colour_map` (the colour maps of
 figures 4, 5, 7, 8), `shared_log_norm` (one colour scale across panels and schemes), the fits
-`linear_fit` / `rational_fit`, `pareto_front`, `scene_text` (a scene's own parameters with units) and
+`linear_fit` / `rational_fit`, `scene_text` (a scene's own parameters with units) and
 `plain_ticks`.
 
 The sweeps given to the figures hold every case (``load_sweep(path, cases='all')``): fits, fronts and
@@ -33,6 +33,7 @@ from matplotlib.lines import Line2D  # noqa: E402
 import numpy as np  # noqa: E402
 
 from .loader import Run, Sweep  # noqa: E402
+from .pareto import pareto_front  # noqa: E402
 
 DPI = 150
 #: Paper figure numbers of the per-scheme figures: (error map, time map, time fits).
@@ -224,20 +225,6 @@ def rational_fit(k: Sequence[float], y: Sequence[float]) -> Dict[str, float]:
     line = linear_fit(1.0 / k, y)
     return {'a': line['slope'], 'b': line['intercept'],
             'r2': r_squared(y, line['slope'] / k + line['intercept'])}
-
-
-def pareto_front(times: Sequence[float], errors: Sequence[float]) -> np.ndarray:
-    """Indices of the Pareto-optimal points, fastest first: those for which no other point is
-    both at least as fast and at least as accurate, and strictly better in one (of identical
-    points one is kept)."""
-    times, errors = np.asarray(times, float), np.asarray(errors, float)
-    order = np.lexsort((errors, times))
-    front, best = [], np.inf
-    for i in order:
-        if errors[i] < best:
-            front.append(int(i))
-            best = errors[i]
-    return np.array(front, dtype=int)
 
 
 def shared_log_norm(arrays: Iterable[np.ndarray]) -> LogNorm:

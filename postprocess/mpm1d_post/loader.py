@@ -443,18 +443,39 @@ class Sweep:
                                 if k in renumber}, parameters=self.parameters, left_out=dict(self.left_out))
 
     def where(self, **criteria: Any) -> np.ndarray:
-        """Mask of the cases matching every ``column=value`` (floats compared with a tolerance).
+        """Mask of the cases matching every ``column=value`` (floats compared with a relative
+        tolerance of 1e-9); a list, tuple or set of values matches any of them.
 
         >>> sweep.where(scheme='usf', elements=20, particles_per_element=1, dt_fraction=0.1)
+        >>> sweep.where(scheme=('usl', 'musl'), shape='linear') & sweep.ok
         """
         mask = np.ones(len(self), dtype=bool)
         for column, value in criteria.items():
+            if column not in self.cases:
+                raise KeyError(f"where: no column '{column}' (columns: {', '.join(sorted(self.cases))})")
             values = self.cases[column]
-            if values.dtype.kind == 'f':
-                mask &= np.isclose(values, value, rtol=1e-9, atol=0.0)
-            else:
-                mask &= values == value
+            wanted = list(value) if isinstance(value, (list, tuple, set, frozenset)) else [value]
+            match = np.zeros(len(self), dtype=bool)
+            for one in wanted:
+                if values.dtype.kind == 'f':
+                    match |= np.isclose(values, one, rtol=1e-9, atol=0.0)
+                else:
+                    match |= values == one
+            mask &= match
         return mask
+
+    def rows(self, order_by: Optional[str] = None, descending: bool = False, **criteria: Any) -> np.ndarray:
+        """Indices of the cases matching `criteria` (as `where`), in the order of column `order_by`
+        (ascending, or descending; ties keep the file's order), else in the file's order.
+
+        >>> i = sweep.rows('elements', scheme='usl', shape='linear')   # one mesh series, coarse to fine
+        >>> sweep.cases['elements'][i], sweep.cases['relative_error'][i]
+        """
+        index = np.flatnonzero(self.where(**criteria))
+        if order_by is not None:
+            key = self.cases[order_by][index]
+            index = index[np.argsort(-key if descending else key, kind='stable')]
+        return index
 
 
 def load_sweep(path: 'str | os.PathLike', cases: str = 'completed') -> Sweep:

@@ -29,6 +29,7 @@ from typing import Dict, List, Optional, Sequence
 from . import analysis, figures
 from .figures import FigureSkipped
 from .loader import Mpm1dFileError, Run, Sweep, load_run, load_sweep, merge_sweeps
+from .tables import markdown_table
 
 PROGRAM = 'mpm1d-paper-figures'
 
@@ -112,28 +113,27 @@ def _fmt_case(case: Dict) -> str:
 
 def _sweep_section(report: Report, sweeps: Dict[str, Sweep], verification) -> None:
     """Verification errors (sweeps), per-scheme error extremes and the sweeps' wall times."""
-    report.add('## Sweeps', '', '| scheme | file | cases | threads | timing threads | shard | '
-               'wall time (s) | error pass (s) | timing pass (s) | code version |',
-               '|---|---|---|---|---|---|---|---|---|---|')
+    rows = []
     for scheme, sweep in sweeps.items():
         for path, attrs, version in zip(sweep.paths, sweep.sweep, sweep.code_versions):
             def get(key, fmt='{}'):
                 return fmt.format(attrs[key]) if key in attrs else '—'
-            report.add(f"| {scheme.upper()} | {Path(path).name} | {get('cases')} | "
-                       f"{get('threads')} | {get('timing_threads')} | "
-                       f"{get('shard')}/{get('shards')} | {get('wall_time', '{:.4g}')} | "
-                       f"{get('error_pass_time', '{:.4g}')} | {get('timing_pass_time', '{:.4g}')}"
-                       f" | {version} |")
-    report.add('', '### Errors per scheme', '',
-               '| scheme | cases | completed | failed | min error (m) | at | max error (m) | at |',
-               '|---|---|---|---|---|---|---|---|')
+            rows.append([scheme.upper(), Path(path).name, get('cases'), get('threads'), get('timing_threads'),
+                         f"{get('shard')}/{get('shards')}", get('wall_time', '{:.4g}'),
+                         get('error_pass_time', '{:.4g}'), get('timing_pass_time', '{:.4g}'), version])
+    report.add('## Sweeps', '', *markdown_table(['scheme', 'file', 'cases', 'threads', 'timing threads', 'shard',
+                                                  'wall time (s)', 'error pass (s)', 'timing pass (s)',
+                                                  'code version'], rows))
+    rows = []
     for scheme, sweep in sweeps.items():
         ext = analysis.error_extremes(sweep, scheme)
         failed = ', '.join(f'{n}: {k}' for n, k in ext['failed'].items()) or '0'
         low, high = ext.get('min'), ext.get('max')
-        report.add(f"| {scheme.upper()} | {ext['cases']} | {ext['completed']} | {failed} | "
-                   + (f"{low['max_error']:.3g} | {_fmt_case(low)} | {high['max_error']:.3g} | "
-                      f"{_fmt_case(high)} |" if low else '— | — | — | — |'))
+        rows.append([scheme.upper(), ext['cases'], ext['completed'], failed]
+                    + ([f"{low['max_error']:.3g}", _fmt_case(low), f"{high['max_error']:.3g}", _fmt_case(high)]
+                       if low else ['—'] * 4))
+    report.add('', '### Errors per scheme', '', *markdown_table(
+        ['scheme', 'cases', 'completed', 'failed', 'min error (m)', 'at', 'max error (m)', 'at'], rows))
     elements, ppe, dt_fraction = verification
     report.add('', f'### Verification case in the sweeps ({elements} el., {ppe} ppe, '
                f'{100 * dt_fraction:g} %)', '')
@@ -154,16 +154,13 @@ def _runs_section(report: Report, verification_runs: List[Run], fig10_runs: List
     """Verification errors from the single-run files and the fig. 10 numbers."""
     report.add('## Single runs', '')
     if verification_runs:
-        report.add('Verification case (fig. 3b):', '', '| file | scheme | discretisation | '
-                   'max error (m) | relative error | status | code version |',
-                   '|---|---|---|---|---|---|---|')
-        for run in verification_runs:
-            numbers = (f"{run.summary['max_error']:.4g} | {100 * run.summary['relative_error']:.3g} %" if run.ok
-                       else '— (no result) | —')
-            report.add(f"| {Path(run.path).name} | {run.scheme.upper()} | "
-                       f"{run.elements} el., {run.particles_per_element} ppe, "
-                       f"{100 * run.dt_fraction:g} % | {numbers} | "
-                       f"{run.summary['status_name']} | {run.code_version} |")
+        rows = [[Path(run.path).name, run.scheme.upper(),
+                 f"{run.elements} el., {run.particles_per_element} ppe, {100 * run.dt_fraction:g} %"]
+                + ([f"{run.summary['max_error']:.4g}", f"{100 * run.summary['relative_error']:.3g} %"] if run.ok
+                   else ['— (no result)', '—'])
+                + [run.summary['status_name'], run.code_version] for run in verification_runs]
+        report.add('Verification case (fig. 3b):', '', *markdown_table(
+            ['file', 'scheme', 'discretisation', 'max error (m)', 'relative error', 'status', 'code version'], rows))
         report.add('')
     if deviation:
         report.add('Initial velocity field (fig. 10), largest |v_grid − v0 sin(βx)| over the '
@@ -178,20 +175,19 @@ def _fits_section(report: Report, fits: Dict[str, Dict]) -> None:
     """The computation-time fits of figures 6 and 9."""
     if not fits:
         return
-    report.add('## Computation-time fits (figures 6 and 9)', '',
-               '| scheme | fit | coefficients | R² | data |', '|---|---|---|---|---|')
+    rows = []
     for scheme, fit in fits.items():
         line, curve = fit['particles'], fit['time_step']
-        report.add(f"| {scheme.upper()} | t = a·n + b (n particles per element) | "
-                   f"a = {line['slope']:.4g} s, b = {line['intercept']:.4g} s | "
-                   f"{line['r2']:.4f} | {line['elements']} el., "
-                   f"{100 * line['dt_fraction']:g} % of dx/c, {len(line['x'])} points"
-                   + (f", median spread of the repeats {np.median(line['spread']):.2g}"
-                      if line.get('spread') else '') + ' |')
-        report.add(f"| {scheme.upper()} | t = a/k + b (k time step in %) | "
-                   f"a = {curve['a']:.4g} s·%, b = {curve['b']:.4g} s | {curve['r2']:.4f} | "
-                   f"{curve['elements']} el., {curve['particles_per_element']} ppe, "
-                   f"{len(curve['x'])} points |")
+        rows.append([scheme.upper(), 't = a·n + b (n particles per element)',
+                     f"a = {line['slope']:.4g} s, b = {line['intercept']:.4g} s", f"{line['r2']:.4f}",
+                     f"{line['elements']} el., {100 * line['dt_fraction']:g} % of dx/c, {len(line['x'])} points"
+                     + (f", median spread of the repeats {np.median(line['spread']):.2g}"
+                        if line.get('spread') else '')])
+        rows.append([scheme.upper(), 't = a/k + b (k time step in %)',
+                     f"a = {curve['a']:.4g} s·%, b = {curve['b']:.4g} s", f"{curve['r2']:.4f}",
+                     f"{curve['elements']} el., {curve['particles_per_element']} ppe, {len(curve['x'])} points"])
+    report.add('## Computation-time fits (figures 6 and 9)', '',
+               *markdown_table(['scheme', 'fit', 'coefficients', 'R²', 'data'], rows))
     report.add('')
 
 
@@ -201,12 +197,11 @@ def _pareto_section(report: Report, pareto: Optional[List[Dict]]) -> None:
         return
     report.add('## Pareto-optimal configurations (error against time per run)', '',
                'No other case is both faster and more accurate. Fastest first.', '',
-               '| scheme | elements | particles per element | time step (%) | time per run (s) '
-               '| max error (m) |', '|---|---|---|---|---|---|')
-    for case in pareto:
-        report.add(f"| {case['scheme'].upper()} | {case['elements']} | "
-                   f"{case['particles_per_element']} | {100 * case['dt_fraction']:g} | "
-                   f"{case['run_time']:.4g} | {case['max_error']:.4g} |")
+               *markdown_table(['scheme', 'elements', 'particles per element', 'time step (%)', 'time per run (s)',
+                                'max error (m)'],
+                               [[case['scheme'].upper(), case['elements'], case['particles_per_element'],
+                                 f"{100 * case['dt_fraction']:g}", f"{case['run_time']:.4g}", f"{case['max_error']:.4g}"]
+                                for case in pareto]))
     report.add('')
 
 

@@ -32,6 +32,8 @@ from . import figures
 from .figures import FigureSkipped
 import matplotlib.pyplot as plt  # (after figures, which selects the Agg backend)
 from .loader import Mpm1dFileError, Sweep, load_sweep, merge_sweeps
+from .orders import fitted_order
+from .pareto import pareto_front
 
 PROGRAM = 'mpm1d-plot-sweep'
 #: Columns that name a group (one map figure each); the other swept columns only split series.
@@ -39,16 +41,6 @@ GROUP_COLUMNS = ('scheme', 'shape', 'transfer')
 #: More series than this in one figure are unreadable: the legend says how to select (--at).
 MAX_LEGEND_SERIES = 24
 ERROR_LABEL = 'max_error (the scene\'s error measure, m)'
-
-
-def convergence_order(elements: Sequence[float], errors: Sequence[float]) -> float:
-    """Order p of error ∝ elements^-p: minus the least-squares slope of log(error) against
-    log(elements) (NaN with fewer than two distinct meshes with a positive, finite error)."""
-    x, y = np.asarray(elements, float), np.asarray(errors, float)
-    keep = (x > 0) & (y > 0) & np.isfinite(y)
-    if np.unique(x[keep]).size < 2:
-        return float('nan')
-    return float(-np.polyfit(np.log(x[keep]), np.log(y[keep]), 1)[0])
 
 
 def varied_columns(sweep: Sweep) -> List[str]:
@@ -105,7 +97,7 @@ def error_vs_elements(sweep: Sweep, outdir: Path) -> Tuple[Path, List[Dict]]:
             continue
         order_by = np.argsort(sweep.cases['elements'][ok])
         x, y = sweep.cases['elements'][ok][order_by], sweep.cases['max_error'][ok][order_by]
-        p = convergence_order(x, y)
+        p = fitted_order(x, y)
         group = tuple(kv for kv in key if kv[0] in GROUP_COLUMNS)
         fitted = f': order {p:.2f}' if np.isfinite(p) else f' ({x.size} mesh: no order)' if x.size == 1 \
             else ': no order'
@@ -153,7 +145,7 @@ def error_vs_time(sweep: Sweep, outdir: Path) -> Path:
             ax.scatter(sweep.cases['run_time'][sel], sweep.cases['max_error'][sel], s=14, alpha=0.75,
                        color=plt.get_cmap('tab10')(i % 10), edgecolors='none', label=label_of(group))
     times, errors = sweep.cases['run_time'][timed], sweep.cases['max_error'][timed]
-    front = figures.pareto_front(times, errors)
+    front = pareto_front(times, errors)
     ax.step(times[front], errors[front], where='post', color='black', linewidth=1.2,
             label='Pareto front (nothing both faster and more accurate)')
     if untimed:
@@ -230,9 +222,9 @@ def select(sweep: Sweep, selections: Sequence[Tuple[str, str]]) -> Sweep:
                              f"{', '.join(sweep.parameter_columns or sorted(sweep.cases))})")
         column = sweep.cases[name]
         if column.dtype.kind in 'iuf':
-            mask &= np.isclose(column.astype(float), float(value), rtol=1e-9, atol=0.0)
-        else:
-            mask &= np.char.lower(column.astype(str)) == value.lower()
+            mask &= sweep.where(**{name: float(value)})
+        else:  # the column's spellings of the text
+            mask &= sweep.where(**{name: {v for v in column.tolist() if str(v).lower() == value.lower()}})
     if not mask.any():
         raise ValueError('no case matches ' + ' '.join(f'{n}={v}' for n, v in selections))
     return sweep.select(mask)

@@ -34,6 +34,8 @@ import matplotlib.pyplot as plt  # noqa: E402
 from . import linear_stability as ls  # noqa: E402
 from .figures import duration_text  # noqa: E402
 from .loader import Mpm1dFileError, Sweep, concatenate_sweeps, load_run, load_sweep  # noqa: E402
+from .limits import stability_limit  # noqa: E402
+from .tables import markdown_table  # noqa: E402
 
 PROGRAM = 'mpm1d-stability-figures'
 SCHEMES = ('usf', 'usl', 'musl')
@@ -181,21 +183,13 @@ def class_counts(report: Report, name: str, sweep: Sweep, expected_stable: np.nd
 # --------------------------------------------------------------------------------------------
 
 def critical_table(sweep: Sweep, scheme: str, ppc: int, elements: int):
-    """Measured limit of one (scheme, ppc): (measured, first_fail index or None, ks, statuses)."""
-    c = sweep.cases
-    m = (c['scheme'] == scheme) & (c['particles_per_element'] == ppc) & (c['elements'] == elements)
-    idx = np.flatnonzero(m)
-    idx = idx[np.argsort(c['dt_fraction'][idx])]
+    """Measured limit of one (scheme, ppc): (measured, first_fail index or None, the cases' indices by
+    dt_fraction), or None when the sweep has no such case."""
+    idx = sweep.rows('dt_fraction', scheme=scheme, particles_per_element=ppc, elements=elements)
     if idx.size == 0:
         return None
-    fails = idx[c['status'][idx] > 0]
-    first = int(fails[0]) if fails.size else None
-    if first is None:
-        measured = float(c['dt_fraction'][idx[-1]])
-    else:
-        below = idx[c['dt_fraction'][idx] < c['dt_fraction'][first]]
-        measured = float(c['dt_fraction'][below[-1]]) if below.size else float('nan')
-    return measured, first, idx
+    limit = stability_limit(sweep.cases['dt_fraction'][idx], sweep.cases['status'][idx])
+    return limit.stable, (int(idx[limit.first_index]) if limit.found else None), idx
 
 
 def stability_section(report: Report, sweep: Sweep, predicted, elements: int, title: str,
@@ -214,11 +208,11 @@ def stability_section(report: Report, sweep: Sweep, predicted, elements: int, ti
                f'k_crit = linear_stability.py ({elements} element(s)). rho(A) is the predicted '
                'amplification per step at the first failing k, and "steps to 1e16" = ln(1e16)/ln rho '
                'the steps a mode seeded at round-off needs to reach the size of the solution.', '')
-    extra = ' predicted first failing k (rho > 1 or energy ratio >= guard limit) |' if energy_guard else ''
-    header = ('| scheme | ppc | predicted k_crit | measured k_crit | first failing k | guard there '
-              '| rho(A) there | steps to 1e16 | steps run |' + extra +
-              (' agrees |' if energy_guard else ' measured <= predicted < first failing |'))
-    report.add(header, '|' + '---|' * (11 if energy_guard else 10))
+    header = (['scheme', 'ppc', 'predicted k_crit', 'measured k_crit', 'first failing k', 'guard there',
+               'rho(A) there', 'steps to 1e16', 'steps run']
+              + (['predicted first failing k (rho > 1 or energy ratio >= guard limit)', 'agrees'] if energy_guard
+                 else ['measured <= predicted < first failing']))
+    rows = []
     measured_all = {}
     expected_stable = np.zeros(len(sweep), dtype=bool)
     expected_unstable = np.zeros(len(sweep), dtype=bool)
@@ -256,8 +250,8 @@ def stability_section(report: Report, sweep: Sweep, predicted, elements: int, ti
                 if predicted_first is None and not expected_stable[i]:
                     predicted_first = float(k)
             if first is None:
-                report.add(f'| {scheme.upper()} | {ppc} | {kc:.4f} | >= {measured:g} | none | - | - | - | - |'
-                           + (' - |' if energy_guard else '') + ' - |')
+                rows.append([scheme.upper(), ppc, f'{kc:.4f}', f'>= {measured:g}', 'none', '-', '-', '-', '-']
+                            + ['-'] * (2 if energy_guard else 1))
                 continue
             kf = float(c['dt_fraction'][first])
             rho = analyser.spectral_radius(scheme, kf)
@@ -266,17 +260,17 @@ def stability_section(report: Report, sweep: Sweep, predicted, elements: int, ti
                 # the energy ratio crosses the limit smoothly: the non-linear run may cross it one
                 # grid step later than the linearised one
                 agree = predicted_first is not None and abs(predicted_first - kf) <= K_STEP + 1e-9
-                cell = f' {g(predicted_first)} |'
+                cell = [g(predicted_first)]
                 what = (f'first failing k {kf:g} = predicted {g(predicted_first)} within one step {K_STEP:g} '
                         f'(linear k_crit {kc:.4f})')
             else:
                 agree = measured <= kc + 1e-9 < kf
-                cell = ''
+                cell = []
                 what = f'measured {measured:g} <= predicted {kc:.4f} < first failing {kf:g}'
-            report.add(f'| {scheme.upper()} | {ppc} | {kc:.4f} | {measured:g} | {kf:g} | '
-                       f'{trip_text(c, first)} | {rho:.4f} | {g(need)} | {int(c["steps"][first])} |{cell} '
-                       f'{"yes" if agree else "**no**"} |')
+            rows.append([scheme.upper(), ppc, f'{kc:.4f}', f'{measured:g}', f'{kf:g}', trip_text(c, first),
+                         f'{rho:.4f}', g(need), int(c['steps'][first])] + cell + ['yes' if agree else '**no**'])
             report.check(name, f'{scheme.upper()} ppc {ppc}: {what}', agree)
+    report.add(*markdown_table(header, rows))
     report.add('')
     if energy_guard:
         lowest = {}
@@ -294,8 +288,8 @@ def stability_section(report: Report, sweep: Sweep, predicted, elements: int, ti
                    'expected to trip. Lowest such k per (scheme, ppc): ' +
                    ', '.join(f'{s.upper()} {p}: {k:g}' for (s, p), k in sorted(lowest.items())) + '.', '')
         near = np.array([any(abs(float(c['dt_fraction'][i]) - float(c['dt_fraction'][j])) <= K_STEP + 1e-9
-                             for j in np.flatnonzero(~energy_limited & (c['scheme'] == c['scheme'][i]) &
-                                                     (c['particles_per_element'] == c['particles_per_element'][i])))
+                             for j in np.flatnonzero(~energy_limited & sweep.where(
+                                 scheme=c['scheme'][i], particles_per_element=c['particles_per_element'][i])))
                          for i in range(len(c['status']))])
         report.check(name, f'every case with k < k_crit whose linearised energy ratio reaches {guard_limit:g} trips '
                      'energy_growth (but for the first grid step past that limit)',
@@ -329,7 +323,7 @@ def plot_map(report: Report, sweep: Sweep, predicted, elements: int, figname: st
     ppcs = sorted(set(c['particles_per_element'].tolist()))
     fig, axes = plt.subplots(1, len(schemes), figsize=(4.2 * len(schemes), 4.6), squeeze=False)
     for ax, scheme in zip(axes[0], schemes):
-        m = c['scheme'] == scheme
+        m = sweep.where(scheme=scheme)
         kcs = [predicted.get((scheme, p, elements)) for p in ppcs]
         kcs = [ls.Analyser(elements, p).critical_fraction(scheme)[0] if k is None else k
                for p, k in zip(ppcs, kcs)]
@@ -376,29 +370,27 @@ def scale_section(report: Report, sweep: Sweep) -> None:
                f'{g(np.sqrt(E / rho).min())} .. {g(np.sqrt(E / rho).max())} m/s), v0/c = '
                f'{RATIO_PAPER:.6g} as in the paper (spread of v0/c over the cases '
                f'{g(float(np.ptp(ratio) / RATIO_PAPER))} relative), 20 elements, 1 ppc, k = 0.1, '
-               '2 periods. Deviation = |relative_error / relative_error(paper case) - 1|.', '',
-               '| scheme | cases | completed | steps (all cases) | relative_error, paper case | '
-               'max deviation | at (E, rho) | max_error range (m) |', '|' + '---|' * 8)
+               '2 periods. Deviation = |relative_error / relative_error(paper case) - 1|.', '')
     expected_stable = np.ones(len(sweep), dtype=bool)
+    rows = []
     fig, axes = plt.subplots(1, 3, figsize=(13, 4.2))
     for ax, scheme in zip(axes, SCHEMES):
-        m = c['scheme'] == scheme
+        m = sweep.where(scheme=scheme)
         if not m.any():
             ax.set_visible(False)
             continue
-        ref = m & np.isclose(E, 200.0e9) & np.isclose(rho, 7800.0)
+        ref = sweep.where(scheme=scheme, youngs_modulus=200.0e9, density=7800.0)
         if not ref.any():
-            report.add(f'| {scheme.upper()} | no paper case (E = 2e11, rho = 7800) in the sweep |')
+            rows.append([scheme.upper(), 'no paper case (E = 2e11, rho = 7800) in the sweep'] + ['-'] * 6)
             continue
         r0 = float(c['relative_error'][ref][0])
         dev = np.abs(c['relative_error'] / r0 - 1.0)
         dev[~m] = np.nan
         j = int(np.nanargmax(dev))
         steps = sorted(set(c['steps'][m].tolist()))
-        report.add(f'| {scheme.upper()} | {int(m.sum())} | {int((m & (c["status"] == 0)).sum())} | '
-                   f'{", ".join(map(str, steps))} | {r0:.15g} | {dev[j]:.2e} | '
-                   f'({g(E[j])}, {g(rho[j])}) | {g(np.nanmin(c["max_error"][m]))} .. '
-                   f'{g(np.nanmax(c["max_error"][m]))} |')
+        rows.append([scheme.upper(), int(m.sum()), int((m & sweep.ok).sum()), ', '.join(map(str, steps)),
+                     f'{r0:.15g}', f'{dev[j]:.2e}', f'({g(E[j])}, {g(rho[j])})',
+                     f'{g(np.nanmin(c["max_error"][m]))} .. {g(np.nanmax(c["max_error"][m]))}'])
         report.check('scale', f'{scheme.upper()}: same steps as the paper case in every case', len(steps) == 1,
                      f'steps {steps}')
         report.check('scale', f'{scheme.upper()}: relative_error equals the paper case to 1e-9',
@@ -419,6 +411,8 @@ def scale_section(report: Report, sweep: Sweep) -> None:
                  'rho = 7800 kg/m^3); 20 el., 1 ppc, k = 0.1, 2 periods, v0/c = 1.975e-5', fontsize=9)
     fig.tight_layout(rect=(0, 0.03, 1, 0.94))
     report.save(fig, 'scale.png', f'{len(sweep.paths)} files scale_*.h5')
+    report.add(*markdown_table(['scheme', 'cases', 'completed', 'steps (all cases)', 'relative_error, paper case',
+                                'max deviation', 'at (E, rho)', 'max_error range (m)'], rows))
     report.add('', '![scale.png](scale.png)', '')
     class_counts(report, 'scale', sweep, expected_stable)
 
@@ -448,18 +442,17 @@ def large_section(report: Report, sweep: Sweep) -> None:
                'than two cells beyond the exact end amplitude: the method itself has failed (errors of '
                'tens of per cent or more at that point). With the grid ending at L (margin_cells = 0, '
                'the code before) every case above the threshold stopped with left_grid.', '')
-    report.add('| ppc | crossing threshold v0/c | ' + ' | '.join(
-        f'v0/c = {g(r)}' for r in ratios) + ' |', '|' + '---|' * (2 + len(ratios)))
+    rows = []
     threshold = np.array([math.pi * (2 * int(c['mode'][i]) - 1) / (4 * ne * c['particles_per_element'][i])
                           for i in range(len(sweep))])
     expected_stable = ratio < 0.9 * threshold
     expected_unstable = None
     for scheme in SCHEMES:
-        report.add(f'| **{scheme.upper()}** |' + ' |' * (1 + len(ratios)))
+        rows.append([f'**{scheme.upper()}**'] + [''] * (1 + len(ratios)))
         for ppc in ppcs:
             cells = []
             for r in ratios:
-                j = np.flatnonzero((c['scheme'] == scheme) & (c['particles_per_element'] == ppc)
+                j = np.flatnonzero(sweep.where(scheme=scheme, particles_per_element=ppc)
                                    & np.isclose(ratio, r, rtol=1e-9))
                 if j.size == 0:
                     cells.append('-')
@@ -467,7 +460,8 @@ def large_section(report: Report, sweep: Sweep) -> None:
                 j = int(j[0])
                 cells.append(f'ok, rel. err. {c["relative_error"][j]:.3g}' if c['status'][j] == 0
                              else trip_text(c, j))
-            report.add(f'| {ppc} | {math.pi / (4 * ne * ppc):.3g} | ' + ' | '.join(cells) + ' |')
+            rows.append([ppc, f'{math.pi / (4 * ne * ppc):.3g}'] + cells)
+    report.add(*markdown_table(['ppc', 'crossing threshold v0/c'] + [f'v0/c = {g(r)}' for r in ratios], rows))
     report.add('')
     energy = c['status_name'] == 'energy_growth'
     report.check('large motion', 'every energy_growth stop met a nearly empty node (lightest node < 0.01 '
@@ -483,7 +477,7 @@ def large_section(report: Report, sweep: Sweep) -> None:
         spread = {}
         for scheme in SCHEMES:
             for ppc in ppcs:
-                s = small & (c['scheme'] == scheme) & (c['particles_per_element'] == ppc)
+                s = small & sweep.where(scheme=scheme, particles_per_element=ppc)
                 if s.sum() > 1:
                     r = c['relative_error'][s]
                     spread[(scheme, ppc)] = float(np.ptp(r) / r.min())
@@ -495,7 +489,7 @@ def large_section(report: Report, sweep: Sweep) -> None:
     for ax, scheme in zip(axes, SCHEMES):
         for n, ppc in enumerate(ppcs):
             colour = f'C{n}'
-            s = (c['scheme'] == scheme) & (c['particles_per_element'] == ppc)
+            s = sweep.where(scheme=scheme, particles_per_element=ppc)
             o = np.argsort(ratio[s])
             r, e, st = ratio[s][o], c['relative_error'][s][o], c['status'][s][o]
             before = c['relative_error_before_stop'][s][o]
@@ -523,30 +517,29 @@ def large_section(report: Report, sweep: Sweep) -> None:
 def long_section(report: Report, sweeps: List[Sweep]) -> None:
     report.add('## 4. Long runs: energy drift', '',
                'Every scheme, 20 elements, 100 and 1000 periods of mode 1. final/max energy ratio = '
-               'total particle energy at the end / its maximum over the run, relative to the initial one.',
-               '', '| periods | scheme | ppc | k | steps | status | final energy ratio | max energy ratio | '
-               'relative error |', '|' + '---|' * 9)
+               'total particle energy at the end / its maximum over the run, relative to the initial one.', '')
+    rows = []
     for sweep in sweeps:
         report.versions.update(sweep.code_versions)
         c = sweep.cases
         periods = sweep.config.get('periods', float('nan'))
         order = np.lexsort((c['dt_fraction'], c['particles_per_element'],
                             [SCHEMES.index(s) for s in c['scheme']]))
-        for i in order:
-            report.add(f'| {g(periods)} | {c["scheme"][i].upper()} | {c["particles_per_element"][i]} | '
-                       f'{c["dt_fraction"][i]:g} | {c["steps"][i]} | {trip_text(c, i)} | '
-                       f'{c["final_energy_ratio"][i]:.6f} | {c["max_energy_ratio"][i]:.6f} | '
-                       f'{g(c["relative_error"][i])} |')
-        cons = np.isin(c['scheme'], ['usf', 'musl'])
+        rows += [[g(periods), c['scheme'][i].upper(), c['particles_per_element'][i], f'{c["dt_fraction"][i]:g}',
+                  c['steps'][i], trip_text(c, i), f'{c["final_energy_ratio"][i]:.6f}',
+                  f'{c["max_energy_ratio"][i]:.6f}', g(c['relative_error'][i])] for i in order]
+        cons = sweep.where(scheme=('usf', 'musl'))
         drift = np.abs(c['final_energy_ratio'][cons] - 1.0)
         report.check(f'long {g(periods)}', 'USF/MUSL conserve energy: |final ratio - 1| < 0.1 and '
                      'max ratio < 1.1', (drift < 0.1).all() and (c['max_energy_ratio'][cons] < 1.1).all(),
                      f'max |final - 1| = {drift.max():.3g}' if drift.size else '')
-        usl = c['scheme'] == 'usl'
+        usl = sweep.where(scheme='usl')
         report.check(f'long {g(periods)}', 'USL dissipates: final ratio < 1',
                      (c['final_energy_ratio'][usl] < 1.0).all(),
                      f'final ratios {", ".join(f"{x:.3g}" for x in c["final_energy_ratio"][usl])}')
         class_counts(report, f'long {g(periods)}', sweep, np.ones(len(sweep), dtype=bool))
+    report.add(*markdown_table(['periods', 'scheme', 'ppc', 'k', 'steps', 'status', 'final energy ratio',
+                                'max energy ratio', 'relative error'], rows))
     report.add('')
     report.add('The relative error of u_cm over 100 and 1000 periods (0.4-0.6 and about 2) is the '
                'accumulated phase error: at 2 the computed oscillation is in opposition to the exact '
@@ -558,7 +551,7 @@ def long_section(report: Report, sweeps: List[Sweep]) -> None:
         period = float(sweep.config.get('period', np.nan))
         fig, axes = plt.subplots(1, 3, figsize=(13, 4.0), sharey=True)
         for ax, scheme in zip(axes, SCHEMES):
-            for n, i in enumerate(np.flatnonzero(c['scheme'] == scheme)):
+            for n, i in enumerate(sweep.rows(scheme=scheme)):
                 h = sweep.histories.get(int(i))
                 if h is None:
                     continue
@@ -592,22 +585,23 @@ def modes_section(report: Report, sweep: Sweep) -> None:
     report.add('## 5. High modes', '',
                f'{len(sweep)} cases: modes {modes[0]}..{modes[-1]} on {ne} elements (elements per '
                f'wavelength 4 ne/(2n-1) = {epw.max():g} .. {epw.min():.3g}; 2 is the grid\'s limit), '
-               f'ppc {", ".join(map(str, ppcs))}, k = 0.1, 2 periods of the mode. Relative error of u_cm:', '',
-               '| mode | el. per wavelength | ' + ' | '.join(f'{s.upper()} ppc {p}' for s in SCHEMES for p in ppcs) + ' |',
-               '|' + '---|' * (2 + 3 * len(ppcs)))
+               f'ppc {", ".join(map(str, ppcs))}, k = 0.1, 2 periods of the mode. Relative error of u_cm:', '')
+    rows = []
     for mode in modes:
         cells = []
         for s in SCHEMES:
             for p in ppcs:
-                j = np.flatnonzero((c['scheme'] == s) & (c['particles_per_element'] == p) & (c['mode'] == mode))
+                j = sweep.rows(scheme=s, particles_per_element=p, mode=mode)
                 cells.append('-' if j.size == 0 else (f'{c["relative_error"][j[0]]:.3g}' if c['status'][j[0]] == 0
                                                       else trip_text(c, int(j[0]))))
-        report.add(f'| {mode} | {4.0 * ne / (2 * mode - 1):.3g} | ' + ' | '.join(cells) + ' |')
+        rows.append([mode, f'{4.0 * ne / (2 * mode - 1):.3g}'] + cells)
+    report.add(*markdown_table(['mode', 'el. per wavelength'] + [f'{s.upper()} ppc {p}' for s in SCHEMES for p in ppcs],
+                               rows))
     report.add('')
     fig, axes = plt.subplots(1, 3, figsize=(13, 4.0), sharey=True)
     for ax, s in zip(axes, SCHEMES):
         for p in ppcs:
-            m = (c['scheme'] == s) & (c['particles_per_element'] == p) & (c['status'] == 0)
+            m = sweep.where(scheme=s, particles_per_element=p) & sweep.ok
             o = np.argsort(epw[m])
             ax.loglog(epw[m][o], c['relative_error'][m][o], 'o-', ms=3, label=f'ppc {p}')
         ax.set_xlabel('elements per wavelength 4 ne/(2n-1)  (-)')
@@ -631,21 +625,21 @@ def mesh_section(report: Report, coarse: Optional[Sweep], fines: List[Sweep], la
     report.add('## 6. Very coarse and very fine meshes', '')
     if coarse is not None:
         c = coarse.cases
-        m = np.isclose(c['dt_fraction'], 0.1)
+        m = coarse.where(dt_fraction=0.1)
         report.add('One element, k = 0.1, 50 periods (from the one-element map above): relative error '
                    + ', '.join(f'{c["scheme"][i].upper()} ppc {c["particles_per_element"][i]}: '
                                f'{g(c["relative_error"][i])} ({trip_text(c, i)})' for i in np.flatnonzero(m)) + '.', '')
     if fines:
-        report.add('| elements | particles | scheme | ppc | steps | status | relative error | max error (m) |',
-                   '|' + '---|' * 8)
+        rows = []
         for sweep in fines:
             report.versions.update(sweep.code_versions)
             c = sweep.cases
-            for i in range(len(sweep)):
-                report.add(f'| {c["elements"][i]} | {c["particles"][i]} | {c["scheme"][i].upper()} | '
-                           f'{c["particles_per_element"][i]} | {c["steps"][i]} | {trip_text(c, i)} | '
-                           f'{g(c["relative_error"][i])} | {g(c["max_error"][i])} |')
+            rows += [[c['elements'][i], c['particles'][i], c['scheme'][i].upper(), c['particles_per_element'][i],
+                      c['steps'][i], trip_text(c, i), g(c['relative_error'][i]), g(c['max_error'][i])]
+                     for i in range(len(sweep))]
             class_counts(report, f'fine {int(c["elements"][0])} el.', sweep, np.ones(len(sweep), dtype=bool))
+        report.add(*markdown_table(['elements', 'particles', 'scheme', 'ppc', 'steps', 'status', 'relative error',
+                                    'max error (m)'], rows))
         report.add('')
         for sweep in fines:
             c = sweep.cases
@@ -731,19 +725,16 @@ def main(argv=None) -> int:
             f'`{Path(args.input).resolve()}`.', '']
     if measured:
         ppcs = sorted({p for _, p in measured})
-        head += ['## Measured against predicted critical time-step fraction (20 elements)', '',
-                 '| ppc | ' + ' | '.join(f'{s.upper()} measured | {s.upper()} predicted' for s in SCHEMES) + ' |',
-                 '|' + '---|' * (1 + 2 * len(SCHEMES))]
-        for p in ppcs:
-            head.append(f'| {p} | ' + ' | '.join(
-                f'{measured.get((s, p), float("nan")):g} | {predicted.get((s, p, 20), float("nan")):.4f}'
-                for s in SCHEMES) + ' |')
+        head += ['## Measured against predicted critical time-step fraction (20 elements)', '']
+        head += markdown_table(['ppc'] + [f'{s.upper()} {what}' for s in SCHEMES for what in ('measured', 'predicted')],
+                               [[p] + [cell for s in SCHEMES for cell in (f'{measured.get((s, p), float("nan")):g}',
+                                                                          f'{predicted.get((s, p, 20), float("nan")):.4f}')]
+                                for p in ppcs])
         head.append('')
-    head += ['## Overview of the case classes', '',
-             '| class | cases | completed | tripped (guard: count) | non-finite outputs | '
-             'expected stable but tripped | expected unstable but completed | garbled messages |',
-             '|' + '---|' * 8]
-    head += ['| ' + ' | '.join(row) + ' |' for row in report.classes]
+    head += ['## Overview of the case classes', '']
+    head += markdown_table(['class', 'cases', 'completed', 'tripped (guard: count)', 'non-finite outputs',
+                            'expected stable but tripped', 'expected unstable but completed', 'garbled messages'],
+                           report.classes)
     head += ['', f'## Checks: {len(report.checks) - len(failed)} passed, {len(failed)} failed', '']
     head += [f'- {"PASS" if ok else "**FAIL**"} [{k}] {what}' + (f' ({detail})' if detail else '')
              for k, what, ok, detail in report.checks]
@@ -757,8 +748,8 @@ def main(argv=None) -> int:
                  'is taken from what can be parsed, the time as step x dt.', '']
     if args.timings and Path(args.timings).exists():
         rows = [line.split() for line in open(args.timings) if line.strip()]
-        head += ['## Run time of each step of run.sh (s)', '', '| step | wall time (s) |', '|---|---|']
-        head += [f'| {r[0]} | {r[1]} |' for r in rows if len(r) == 2]
+        head += ['## Run time of each step of run.sh (s)', '']
+        head += markdown_table(['step', 'wall time (s)'], [r for r in rows if len(r) == 2])
         head.append('')
     with open(Path(args.output) / 'summary.md', 'w') as fh:
         fh.write('\n'.join(head + report.lines) + '\n')

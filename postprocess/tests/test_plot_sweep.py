@@ -17,12 +17,6 @@ SWEEP = ("&discretisation particles_per_element=4, dt_fraction=0.25 /\n&output f
          "elements=10,20,40, particles_per_element=2,4, min_time=0.0005 /\n")
 
 
-def test_order_of_an_exact_power_law():
-    elements = np.array([10, 20, 40, 80])
-    assert plot_sweep.convergence_order(elements, 3.0 * elements ** -2.0) == pytest.approx(2.0, abs=1e-12)
-    assert np.isnan(plot_sweep.convergence_order([10, 10], [1.0, 2.0]))
-
-
 @pytest.fixture(scope='module')
 def sweep_file(mpm1d, tmp_path_factory):
     folder = tmp_path_factory.mktemp('plot_sweep')

@@ -321,14 +321,6 @@ def test_r_squared_exact_line():
     assert noisy['r2'] < 1.0
 
 
-def test_pareto_front():
-    times = [1.0, 2.0, 3.0, 1.5, 4.0, 2.5, 1.0]
-    errors = [5.0, 3.0, 1.0, 4.0, 1.0, 3.5, 6.0]
-    # (1,5) (1.5,4) (2,3) (3,1) optimal; (4,1) slower than (3,1); (2.5,3.5) beaten by (2,3);
-    # (1,6) beaten by (1,5).
-    assert figures.pareto_front(times, errors).tolist() == [0, 3, 1, 2]
-
-
 def test_loader_decodes_strings():
     f = files()
     run = load_run(f.runs[0])

@@ -18,7 +18,8 @@ import sys
 
 import numpy as np
 
-from mpm1d_post.convergence import floor_start, local_orders, parts, series, signed_peak
+from mpm1d_post.convergence import floor_start, parts, series, signed_peak
+from mpm1d_post.orders import successive_orders
 from mpm1d_post.loader import concatenate_sweeps, load_sweep
 
 from mpm1d_post.study_checks import Checks, run_quick
@@ -40,29 +41,29 @@ def main() -> int:
     check('every case completed', bool(np.all(c['status'] == 0)))
     c_ = np.sqrt(c['youngs_modulus'][0] / c['density'][0])
 
-    ne, rel, _ = series(c, 'usl', 'linear', 'hencky', 0.001)
-    order = float(np.mean(local_orders(ne, rel)))
+    ne, rel, _ = series(sweep, 'usl', 'linear', 'hencky', 0.001)
+    order = float(np.mean(successive_orders(ne, rel)))
     check('hencky, linear shapes, v0 = 0.001 m/s: second order', 1.8 <= order <= 2.6, f'mean order {order:.2f}')
-    ne, rel, _ = series(c, 'usl', 'linear', 'hencky', 0.1)
-    start = floor_start(local_orders(ne, rel))
+    ne, rel, _ = series(sweep, 'usl', 'linear', 'hencky', 0.1)
+    start = floor_start(successive_orders(ne, rel))
     check('hencky, linear shapes, v0 = 0.1 m/s: a floor from 400 elements on', start is not None and ne[start] <= 400,
           f'floor from {ne[start] if start is not None else None}')
     floor = float(rel[start:].min()) if start is not None else float('nan')
     check('... of the order of v0/c', 0.05 <= floor / (0.1 / c_) <= 0.5, f'floor {floor:.3g} = {floor / (0.1 / c_):.3g} v0/c')
     for law in ('hencky', 'linear'):
-        _, a, _ = series(c, 'usf', 'linear', law, 0.1)
-        _, b, _ = series(c, 'usf', 'linear', law, 0.001)
+        _, a, _ = series(sweep, 'usf', 'linear', law, 0.1)
+        _, b, _ = series(sweep, 'usf', 'linear', law, 0.001)
         check(f'USF, {law}: the same error at every amplitude (its own discretisation error)',
               len(a) == len(b) > 0 and bool(np.all(np.abs(a / b - 1) < 0.1)), f'ratios {a / b}')
 
-    ne, lin, _ = series(c, 'usl', 'ugimp', 'linear', 0.1)
-    _, hen, _ = series(c, 'usl', 'ugimp', 'hencky', 0.1)
-    order = float(local_orders(ne, lin)[-1])
+    ne, lin, _ = series(sweep, 'usl', 'ugimp', 'linear', 0.1)
+    _, hen, _ = series(sweep, 'usl', 'ugimp', 'hencky', 0.1)
+    order = float(successive_orders(ne, lin)[-1])
     check('linear law, uGIMP, v0 = 0.1 m/s: second order to the finest mesh', 1.8 <= order <= 2.3, f'order {order:.2f}')
     check('... where Hencky with uGIMP has more than twice its error', hen[-1] > 2 * lin[-1], f'{hen[-1]:.3g} vs {lin[-1]:.3g}')
-    ne, rel, _ = series(c, 'usl', 'linear', 'linear', 0.1)
+    ne, rel, _ = series(sweep, 'usl', 'linear', 'linear', 0.1)
     check('linear law, linear shapes, v0 = 0.1 m/s: a floor (order below 0.5 at the last pair)',
-          float(local_orders(ne, rel)[-1]) < 0.5, f'orders {local_orders(ne, rel)}')
+          float(successive_orders(ne, rel)[-1]) < 0.5, f'orders {successive_orders(ne, rel)}')
 
     split = parts(load_sweep(os.path.join(out, 'parts.h5')))
     check('the split has the three amplitudes', len(split) == 3, f'{sorted(split)}')

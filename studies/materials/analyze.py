@@ -29,7 +29,7 @@ import matplotlib.pyplot as plt  # noqa: E402
 from matplotlib.lines import Line2D  # noqa: E402
 
 from mpm1d_post.loader import load_run, load_sweep, Run  # noqa: E402
-from mpm1d_post.figures import pareto_front  # noqa: E402
+from mpm1d_post.pareto import pareto_front  # noqa: E402
 
 SCHEMES = ('usf', 'usl', 'musl')
 SHAPES = ('linear', 'ugimp', 'cpgimp', 'bspline2', 'bspline3')

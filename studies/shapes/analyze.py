@@ -7,6 +7,7 @@ import os
 import pathlib
 
 from mpm1d_post.loader import load_run, load_sweep
+from mpm1d_post.pareto import pareto_front
 import numpy as np
 
 SHAPES = ['linear', 'ugimp', 'cpgimp', 'bspline2', 'bspline3']
@@ -487,7 +488,7 @@ def error_against_time(out, small):
     label = np.array([f'{s} {h} {tr} {n} el.' for s, h, tr, n in
                       zip(pts['scheme'], pts['shape'], pts['transfer'], pts['elements'])])
     idx = np.flatnonzero(ok)
-    front = idx[pf.pareto_front(t[ok], e[ok])]
+    front = idx[pareto_front(t[ok], e[ok])]
     stopped = int((pts['status'] != 0).sum())
     lines = ['', '## Error against run time over schemes, shapes and transfers (small amplitude, one thread)', '',
              f'{int(ok.sum())} timed runs: every scheme x shape with FLIP at 10-320 elements and every scheme x shape '
@@ -540,7 +541,7 @@ def error_against_time(out, small):
                               ms=4, lw=0.7, alpha=0.85)
             mine = np.flatnonzero(ok & (pts['scheme'] == scheme))  # this panel's scheme's front
             if mine.size:
-                own = mine[pf.pareto_front(t[mine], e[mine])]
+                own = mine[pareto_front(t[mine], e[mine])]
                 ax.loglog(t[own], e[own], 'k-', lw=1.6, zorder=5)
             ax.set_title(f'{scheme.upper()}, 4 ppc, k = 0.25, v0 = 0.1 m/s')
             ax.set_xlabel('run time (s, one thread)')

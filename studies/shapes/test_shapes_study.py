@@ -85,11 +85,6 @@ def main() -> int:
     spec = importlib.util.spec_from_file_location('analyze', os.path.join(HERE, 'analyze.py'))
     analyze = importlib.util.module_from_spec(spec)
     spec.loader.exec_module(analyze)
-    from mpm1d_post import figures
-    t = np.array([1.0, 2.0, 3.0, 2.5, 0.5])
-    e = np.array([1e-2, 1e-3, 1e-4, 1e-2, 5e-2])
-    check('Pareto front of synthetic points', list(figures.pareto_front(t, e)) == [4, 0, 1, 2],
-          str(figures.pareto_front(t, e)))
     check('observed order of e = C h^2', abs(analyze.order_between({40: 1.6e-3, 160: 1e-4}, 40, 160) - 2.0) < 1e-12)
     check('paired difference compares every other fine value',
           analyze.paired_difference(np.array([0.0, 1.0, 2.0]), np.array([0.0, 9.0, 1.5, 9.0, 2.0])) == 0.5)
