@@ -1,11 +1,12 @@
-"""Accuracy against cost: the Pareto front of (run time, error) points and the cheapest run that
-reaches an error target, written once for every figure and study.
+"""Accuracy against cost: the Pareto front of (run time, error) points, the cheapest run that reaches an
+error target and the rows of the studies' tables of them ('for a target error, use ...'), written once
+for every figure and study.
 
 Give only results: completed, timed runs (a stopped run has no error, an untimed one no time).
 """
 from __future__ import annotations
 
-from typing import Optional, Sequence
+from typing import List, Optional, Sequence
 
 import numpy as np
 
@@ -36,3 +37,33 @@ def cheapest_reaching(times: Sequence[float], errors: Sequence[float], target: f
         return None
     candidates = np.flatnonzero(reach)
     return int(candidates[np.argmin(times[candidates])])
+
+
+def cheapest_rows(times: Sequence[float], errors: Sequence[float], labels: Sequence[str],
+                  targets: Sequence[float], target_spec: str = 'g',
+                  among: Optional[Sequence[bool]] = None) -> List[List[str]]:
+    """The rows of a table 'for a target error, use ...': per target (written with `target_spec`) the label
+    of the cheapest point reaching it, its time and its error (.2e), or 'none of the measured runs'."""
+    rows = []
+    for target in targets:
+        i = cheapest_reaching(times, errors, target, among)
+        rows.append([format(target, target_spec)] + (['none of the measured runs', '', ''] if i is None else
+                                                      [labels[i], f'{times[i]:.2e}', f'{errors[i]:.2e}']))
+    return rows
+
+
+def cheapest_by_group_rows(times: Sequence[float], errors: Sequence[float], labels: Sequence[str],
+                           targets: Sequence[float], groups: Sequence[Sequence[bool]], target_spec: str = 'g',
+                           among: Optional[Sequence[bool]] = None) -> List[List[str]]:
+    """The rows of a table of the cheapest point of each group (one column each) reaching each target:
+    '<label>, <its time over the cheapest of all reaching it>x', or 'not reached'."""
+    rows = []
+    for target in targets:
+        best = cheapest_reaching(times, errors, target, among)
+        cells = []
+        for group in groups:
+            selected = np.asarray(group, dtype=bool) & (True if among is None else np.asarray(among, dtype=bool))
+            i = cheapest_reaching(times, errors, target, selected)
+            cells.append('not reached' if i is None else f'{labels[i]}, {times[i] / times[best]:.1f}x')
+        rows.append([format(target, target_spec)] + cells)
+    return rows

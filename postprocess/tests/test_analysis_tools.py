@@ -13,7 +13,7 @@ from mpm1d_post.limits import stability_limit
 from mpm1d_post.loader import Sweep
 from mpm1d_post.orders import (difference_at_common_times, fitted_order, log_slope, observed_order,
                                successive_orders)
-from mpm1d_post.pareto import cheapest_reaching, pareto_front
+from mpm1d_post.pareto import cheapest_by_group_rows, cheapest_reaching, cheapest_rows, pareto_front
 from mpm1d_post.tables import markdown_table, number, table_row
 
 
@@ -113,6 +113,23 @@ def test_cheapest_run_reaching_a_target():
     assert cheapest_reaching(times, errors, 1e-2, among=[False, False, True, True]) == 2
     # a run without an error (NaN) never reaches a target
     assert cheapest_reaching([0.1, 1.0], [float('nan'), 1e-3], 1e-2) == 1
+
+
+def test_tables_of_the_cheapest_runs():
+    times = np.array([1.0, 2.0, 3.0, 0.5, 4.0])
+    errors = np.array([1e-2, 1e-3, 1e-4, 5e-2, 2e-3])
+    labels = ['a 10 el.', 'a 20 el.', 'b 40 el.', 'b 5 el.', 'b 30 el.']
+    assert cheapest_rows(times, errors, labels, (1e-2, 1e-3, 1e-5), '.0e') == [
+        ['1e-02', 'a 10 el.', '1.00e+00', '1.00e-02'], ['1e-03', 'a 20 el.', '2.00e+00', '1.00e-03'],
+        ['1e-05', 'none of the measured runs', '', '']]
+    # per group: b's cheapest to 1e-2 is its 3 s run (its 0.5 s run misses it), 3x the 1 s run of a; to
+    # 1e-3 the same 3 s run, 1.5x the 2 s run of a; nothing of a reaches 1e-4
+    a, b = np.array([1, 1, 0, 0, 0], bool), np.array([0, 0, 1, 1, 1], bool)
+    assert cheapest_by_group_rows(times, errors, labels, (1e-2, 1e-3, 1e-4), [a, b], 'g') == [
+        ['0.01', 'a 10 el., 1.0x', 'b 40 el., 3.0x'], ['0.001', 'a 20 el., 1.0x', 'b 40 el., 1.5x'],
+        ['0.0001', 'not reached', 'b 40 el., 1.0x']]
+    # only the points `among` selects (a stopped or untimed run never counts)
+    assert cheapest_rows(times, errors, labels, (1e-2,), among=[False, True, True, True, True])[0][1] == 'a 20 el.'
 
 
 # --- the stability limit of a sweep of time steps --------------------------------------------------
