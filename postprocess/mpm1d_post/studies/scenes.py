@@ -1,9 +1,9 @@
-"""Scenes study report: each scene's error against elements and run time per scheme (figures) and the
-observed orders (summary.md), its error against dt, its stability limit next to the bar's, the impact's
-fields against time, and the benchmark's bytes per particle and speed per scene, from the files
-studies/scenes/run.sh writes.
+"""The scenes study (studies/scenes/run.sh, whose report.py calls `main`): each scene's error against
+elements and run time per scheme (figures) and the observed orders (summary.md), its error against dt,
+its stability limit next to the bar's, the impact's fields against time, and the benchmark's bytes per
+particle and speed per scene, from the files run.sh writes.
 
-Usage: python report.py OUT_FOLDER SWEEP.h5 [SWEEP.h5 ...] [--fields RUN.h5 ...] [--stability SWEEP.h5 ...]
+Usage: python studies/scenes/report.py OUT_FOLDER SWEEP.h5 [SWEEP.h5 ...] [--fields RUN.h5 ...] [--stability SWEEP.h5 ...]
        [--time SWEEP.h5 ...] [--bench BENCH.csv]
 
 The field pictures compare a single run's last snapshot with exact solutions written here again from
@@ -15,36 +15,24 @@ from __future__ import annotations
 import argparse
 from pathlib import Path
 
-from mpm1d_post.figures import plain_ticks
-from mpm1d_post.loader import load_run, load_sweep
 import matplotlib
 import numpy as np
 
 matplotlib.use('Agg')
 import matplotlib.pyplot as plt  # noqa: E402
 
+from ..figures import plain_ticks  # noqa: E402
+from ..limits import stability_limit  # noqa: E402
+from ..loader import Sweep, load_run, load_sweep  # noqa: E402
+from ..orders import successive_orders  # noqa: E402
+from ..tables import markdown_table  # noqa: E402
 
-def text(value) -> str:
-    return value.decode() if isinstance(value, bytes) else str(value)
-
-
-def load(path: Path) -> dict:
-    """The /cases columns the report needs, and the scene's description from /config (through the
-    loader of the postprocess package, the one reader of the file layout)."""
-    sweep = load_sweep(path, cases='all')  # every case: the stopped ones are shown apart, never fitted
-    cases = {name: sweep.cases[name] for name in ('scheme', 'elements', 'relative_error', 'status', 'run_time',
-                                                   'dt_fraction', 'max_energy_ratio', 'relative_error_before_stop',
-                                                   'status_name')}
-    cases['scheme'] = np.array([text(s) for s in cases['scheme']])
-    return {'path': path, 'cases': cases, 'kind': text(sweep.config['scene_kind']),
-            'namelist': text(sweep.config['namelist']), 'version': text(sweep.code_versions[0])}
+SCHEMES = ('usf', 'usl', 'musl')
 
 
-def orders(elements: np.ndarray, errors: np.ndarray) -> list[float]:
-    """Observed order between consecutive resolutions: log(e_i/e_{i+1}) / log(n_{i+1}/n_i) (NaN next to a
-    case without a result)."""
-    return [float(np.log(errors[i] / errors[i + 1]) / np.log(elements[i + 1] / elements[i]))
-            for i in range(len(errors) - 1)]
+def load(path: Path) -> Sweep:
+    """Every case of a sweep: the stopped ones are shown apart, never fitted."""
+    return load_sweep(path, cases='all')
 
 
 def column_displacement(x, t, length, c, g, terms=4000):
@@ -93,10 +81,10 @@ def composite_stress(x, t, lengths, moduli, densities, v):
 def field_figure(path: Path, out: Path) -> str:
     """The last snapshot of a single run against the exact field; returns the summary's lines."""
     run = load_run(path)
-    config, snap, version = run.config, run.snapshots[-1], text(run.code_version)
+    config, snap, version = run.config, run.snapshots[-1], run.code_version
     t = snap.time
     x0, x, stress = snap.extra['reference_x'], snap.x, snap.stress
-    kind = text(config['scene_kind'])
+    kind = config['scene_kind']
     fig, ax = plt.subplots(figsize=(5.5, 4))
     if kind == 'column':
         c = np.sqrt(config['youngs_modulus'] / config['density'])
@@ -113,7 +101,7 @@ def field_figure(path: Path, out: Path) -> str:
                                  np.atleast_1d(config['densities']), config['drive_velocity'])
         mpm, label = stress, 'stress (Pa)'
     ax.plot(x0, exact, 'k-', lw=1, label='exact')
-    ax.plot(x0, mpm, 'o', ms=2, label=f"MPM ({text(config['scheme'])}, {config['elements']} elements x "
+    ax.plot(x0, mpm, 'o', ms=2, label=f"MPM ({config['scheme']}, {config['elements']} elements x "
                                          f"{config['particles_per_element']})")
     ax.set_xlabel('reference position X (m)')
     ax.set_ylabel(label)
@@ -131,34 +119,24 @@ def field_figure(path: Path, out: Path) -> str:
 
 def scene_label(path: Path) -> str:
     """The scene a study file ran: its kind, and the impact's contact."""
-    config = load_sweep(path, cases='all').config
-    kind = text(config['scene_kind'])
-    return f"{kind} ({text(config['contact'])})" if kind == 'impact' else kind
+    config = load(path).config
+    kind = config['scene_kind']
+    return f"{kind} ({config['contact']})" if kind == 'impact' else kind
 
 
 def time_section(paths: list[Path], out: Path) -> list[str]:
     """Error against dt_fraction at a fixed mesh, per scene and scheme, with the observed order in dt."""
-    fractions = sorted(set(load(paths[0])['cases']['dt_fraction'].tolist()), reverse=True)
-    lines = ['## Convergence in time', '',
-             'dt_fraction halved at a fixed mesh (100 elements x 2; the impact 200 x 2): the observed order '
-             'in dt = log(e_i/e_i+1)/log 2. Where the spatial error dominates, the error stops falling with dt '
-             '(order near 0): the time discretisation is then not what limits the accuracy.', '',
-             '| scene | scheme | errors at dt_fraction ' + ', '.join(f'{k:g}' for k in fractions) + ' | orders |',
-             '|---|---|---|---|']
+    fractions = sorted(set(load(paths[0]).cases['dt_fraction'].tolist()), reverse=True)
+    rows = []
     fig, axes = plt.subplots(1, len(paths), figsize=(3.2 * len(paths), 3.4), squeeze=False)
     for ax, path in zip(axes[0], paths):
-        cases = load(path)['cases']
+        sweep = load(path)
         label = scene_label(path)
-        for scheme in dict.fromkeys(cases['scheme']):
-            pick = cases['scheme'] == scheme
-            k, e, ok = cases['dt_fraction'][pick], cases['relative_error'][pick], cases['status'][pick]
-            sort = np.argsort(-k)
-            k, e, ok = k[sort], e[sort], ok[sort]
+        for scheme in sweep.schemes:
+            pick = sweep.rows('dt_fraction', descending=True, scheme=scheme)
+            k, e, ok = (sweep.cases[name][pick] for name in ('dt_fraction', 'relative_error', 'status'))
             cells = [f'{e[i]:.4g}' if ok[i] == 0 else f'guard {ok[i]}' for i in range(len(k))]
-            o = [float(np.log(e[i] / e[i + 1]) / np.log(k[i] / k[i + 1])) if ok[i] == 0 and ok[i + 1] == 0
-                 else float('nan') for i in range(len(k) - 1)]
-            lines.append(f'| {label} | {scheme} | ' + ', '.join(cells) + ' | ' +
-                         ', '.join(f'{x:.2f}' for x in o) + ' |')
+            rows.append([label, scheme, ', '.join(cells), ', '.join(f'{x:.2f}' for x in successive_orders(k, e))])
             good = ok == 0
             ax.loglog(k[good], e[good], 'o-', label=scheme)
         ax.set_xlabel('dt / (dx/c)')
@@ -169,18 +147,13 @@ def time_section(paths: list[Path], out: Path) -> list[str]:
     fig.tight_layout()
     fig.savefig(out / 'time_convergence.png', dpi=110)
     plt.close(fig)
+    lines = ['## Convergence in time', '',
+             'dt_fraction halved at a fixed mesh (100 elements x 2; the impact 200 x 2): the observed order '
+             'in dt = log(e_i/e_i+1)/log 2. Where the spatial error dominates, the error stops falling with dt '
+             '(order near 0): the time discretisation is then not what limits the accuracy.', '']
+    lines += markdown_table(['scene', 'scheme', 'errors at dt_fraction ' + ', '.join(f'{k:g}' for k in fractions),
+                             'orders'], rows)
     return lines + ['', '![error against dt](time_convergence.png)', '']
-
-
-def critical_fraction(k: np.ndarray, status: np.ndarray) -> tuple[float, float]:
-    """The largest dt_fraction below the first one a guard stopped, and that first one (nan if none)."""
-    sort = np.argsort(k)
-    k, status = k[sort], status[sort]
-    bad = np.nonzero(status != 0)[0]
-    if len(bad) == 0:
-        return float(k[-1]), float('nan')
-    first = bad[0]
-    return (float(k[first - 1]) if first > 0 else float('nan')), float(k[first])
 
 
 def stability_section(paths: list[Path], out: Path) -> list[str]:
@@ -188,15 +161,14 @@ def stability_section(paths: list[Path], out: Path) -> list[str]:
     limits = {}
     fig, axes = plt.subplots(1, 3, figsize=(12, 3.8))
     for path in paths:
-        cases = load(path)['cases']
+        sweep = load(path)
         label = scene_label(path)
-        for ax, scheme in zip(axes, ('usf', 'usl', 'musl')):
-            pick = cases['scheme'] == scheme
-            k, ok, ratio = cases['dt_fraction'][pick], cases['status'][pick], cases['max_energy_ratio'][pick]
-            limits[(label, scheme)] = critical_fraction(k, ok)
-            sort = np.argsort(k)
-            ax.semilogy(k[sort], np.maximum(ratio[sort], 1e-3), '.-', label=label)
-    for ax, scheme in zip(axes, ('usf', 'usl', 'musl')):
+        for ax, scheme in zip(axes, SCHEMES):
+            pick = sweep.rows('dt_fraction', scheme=scheme)
+            k, ok, ratio = (sweep.cases[name][pick] for name in ('dt_fraction', 'status', 'max_energy_ratio'))
+            limits[(label, scheme)] = stability_limit(k, ok).stable
+            ax.semilogy(k, np.maximum(ratio, 1e-3), '.-', label=label)
+    for ax, scheme in zip(axes, SCHEMES):
         ax.set_xlabel('dt / (dx/c_max)')
         ax.set_ylabel('largest energy / reference energy')
         ax.set_title(f'{scheme}: energy against time step (guard at 10)', fontsize=9)
@@ -210,12 +182,13 @@ def stability_section(paths: list[Path], out: Path) -> list[str]:
              'long runs (bar, column, manufactured 20 periods; composite 0.2 s, five crossing times; impact 10 '
              'periods of 2L/c). Limit = the largest dt_fraction below the first one a guard stopped (energy growth '
              'beyond 10x, J <= 0, ...); resolution 0.05. The code\'s table for the bar at 2 particles per element '
-             '(mpm_config, stability_limit) says 0.757 for USL and 1.733 for USF and MUSL.', '',
-             '| scene | USF limit | USL limit | MUSL limit | USL limit / bar\'s |', '|---|---|---|---|---|']
-    bar = limits.get(('vibrating_bar', 'usl'), (float('nan'),))[0]
+             '(mpm_config, stability_limit) says 0.757 for USL and 1.733 for USF and MUSL.', '']
+    bar = limits.get(('vibrating_bar', 'usl'), float('nan'))
+    rows = []
     for label in dict.fromkeys(key[0] for key in limits):
-        row = [limits[(label, scheme)][0] for scheme in ('usf', 'usl', 'musl')]
-        lines.append(f'| {label} | ' + ' | '.join(f'{x:.2f}' for x in row) + f' | {row[1] / bar:.2f} |')
+        row = [limits[(label, scheme)] for scheme in SCHEMES]
+        rows.append([label] + [f'{x:.2f}' for x in row] + [f'{row[1] / bar:.2f}'])
+    lines += markdown_table(['scene', 'USF limit', 'USL limit', 'MUSL limit', 'USL limit / bar\'s'], rows)
     return lines + ['', '![stability](stability.png)', '']
 
 
@@ -230,31 +203,34 @@ def bench_section(path: Path) -> list[str]:
              f'`mpm1d_bench scenes` (studies/benchmark/bench.f90): each scene\'s whole run (USL, linear, FLIP, '
              f'dt = 0.2 dx/c, one thread, {rows[0][2]} particles, {rows[0][3]} steps; median of '
              f'{len(scenes[("vibrating_bar", "generic")])} runs on a shared machine, so ratios within about 15 % '
-             'are noise) and the bytes per particle of the particle arrays its set-up allocates.', '',
-             '| scene | path | bytes per particle | particle-steps/s | speed / generic bar |', '|---|---|---|---|---|']
+             'are noise) and the bytes per particle of the particle arrays its set-up allocates.', '']
+    table = []
     for (scene, route), values in scenes.items():
         rate = float(np.median([v[1] for v in values]))
-        lines.append(f'| {scene} | {route} | {values[0][0]:.0f} | {rate:.3g} | {rate / reference:.2f} |')
+        table.append([scene, route, f'{values[0][0]:.0f}', f'{rate:.3g}', f'{rate / reference:.2f}'])
+    lines += markdown_table(['scene', 'path', 'bytes per particle', 'particle-steps/s', 'speed / generic bar'], table)
     return lines + ['']
 
 
 def impact_exact(t, v, length, c, stick):
     """Identical bars at +-v, no gap: bar 1's centre-of-mass displacement and the interface stress / (rho c v).
-    Frictionless: deceleration c v/L for 2L/c, then free at -v. Stuck ('none'): the deceleration changes
+    Frictionless: deceleration c v/L for 2L/c, then parted, free at -v. Stuck ('none'): the deceleration changes
     sign every 2L/c (one free-free bar of length 2L)."""
     period = 2 * length / c
     a = -c * v / length
     u = np.zeros_like(t)
     stress = np.zeros_like(t)
     for i, time in enumerate(t):
-        rest, w, wv, sign, phase = time, 0.0, 0.0, 1.0, 0
-        stress[i] = -1.0 if not stick and time < period else (-1.0 if int(time // period) % 2 == 0 else 1.0)
+        rest, w, wv, sign = time, 0.0, 0.0, 1.0
+        if stick:
+            stress[i] = -1.0 if int(time // period) % 2 == 0 else 1.0
+        else:  # parted at 2L/c: no stress at the interface
+            stress[i] = -1.0 if time < period else 0.0
         while rest > 0:
             h = min(rest, period)
             w += wv * h + sign * a * h * h / 2
             wv += sign * a * h
             rest -= h
-            phase += 1
             if not stick:
                 w += wv * rest
                 break
@@ -267,13 +243,10 @@ def impact_figure(paths: list[Path], out: Path) -> list[str]:
     """Bar 1's centre of mass and the interface stress against time, and the stress along the bars at
     t = L/(2c), for each contact, against the exact solution; and the runs' /summary reports."""
     fig, (ucm_ax, stress_ax, profile_ax) = plt.subplots(1, 3, figsize=(13, 4))
-    lines = ['### Impact: two identical steel bars at +-1 m/s', '',
-             '| contact | contact time / (2L/c) | largest compressive stress / (rho c v) | final velocity 1 (m/s) | '
-             'final velocity 2 (m/s) | total momentum change / (sum M v) | final / initial energy | '
-             'max u_cm,1 error / (v L/c) |', '|---|---|---|---|---|---|---|---|']
+    rows = []
     for path in paths:
         run = load_run(path)
-        config, summary, snaps, version = run.config, run.summary, run.snapshots, text(run.code_version)
+        config, summary, snaps, version = run.config, run.summary, run.snapshots, run.code_version
         times = np.array([snap.time for snap in snaps])
         bar1 = snaps[0].extra['body'] == 1
         ucm = np.array([np.mean(snap.x[bar1] - snap.extra['reference_x'][bar1]) for snap in snaps])
@@ -282,7 +255,7 @@ def impact_figure(paths: list[Path], out: Path) -> list[str]:
         profile = min(range(len(snaps)), key=lambda i: abs(times[i] - 0.5 / np.sqrt(
             np.atleast_1d(config['youngs_moduli'])[0] / np.atleast_1d(config['densities'])[0])))
         x0_profile, stress_profile = snaps[profile].extra['reference_x'], snaps[profile].stress
-        contact = text(config['contact'])
+        contact = config['contact']
         length = float(np.atleast_1d(config['lengths'])[0])
         rho = float(np.atleast_1d(config['densities'])[0])
         c = float(np.sqrt(np.atleast_1d(config['youngs_moduli'])[0] / rho))
@@ -302,10 +275,10 @@ def impact_figure(paths: list[Path], out: Path) -> list[str]:
             profile_ax.plot(x0_profile, stress_profile / scale_s, 'o', ms=2, color=line.get_color(),
                             label=f'MPM, {contact}')
             profile_ax.set_title(f'stress along the bars at t = {t_profile * c / length:.3f} L/c', fontsize=9)
-        lines.append(f"| {contact} | {summary['contact_time'] / (2 * length / c):.4f} | "
-                     f"{summary['max_compressive_stress'] / scale_s:.3f} | {summary['final_velocity_1']:.4f} | "
-                     f"{summary['final_velocity_2']:.4f} | {summary['momentum_change']:.2g} | "
-                     f"{summary['final_energy'] / summary['initial_energy']:.4f} | {summary['relative_error']:.4f} |")
+        rows.append([contact, f"{summary['contact_time'] / (2 * length / c):.4f}",
+                     f"{summary['max_compressive_stress'] / scale_s:.3f}", f"{summary['final_velocity_1']:.4f}",
+                     f"{summary['final_velocity_2']:.4f}", f"{summary['momentum_change']:.2g}",
+                     f"{summary['final_energy'] / summary['initial_energy']:.4f}", f"{summary['relative_error']:.4f}"])
     ucm_ax.set_xlabel('time t c / L')
     ucm_ax.set_ylabel('u_cm,1 / (v L/c)')
     ucm_ax.set_title("bar 1's centre of mass", fontsize=9)
@@ -323,6 +296,10 @@ def impact_figure(paths: list[Path], out: Path) -> list[str]:
     fig.tight_layout()
     fig.savefig(out / 'field_impact.png', dpi=110)
     plt.close(fig)
+    lines = ['### Impact: two identical steel bars at +-1 m/s', '']
+    lines += markdown_table(['contact', 'contact time / (2L/c)', 'largest compressive stress / (rho c v)',
+                             'final velocity 1 (m/s)', 'final velocity 2 (m/s)', 'total momentum change / (sum M v)',
+                             'final / initial energy', 'max u_cm,1 error / (v L/c)'], rows)
     return lines + ['', 'Exact: frictionless, contact for 2L/c at stress -rho c v, then the velocities exchanged; '
                     "'none' (stuck), the interface stress alternates -+rho c v every 2L/c. The MPM stress "
                     'overshoots at the fronts (Gibbs oscillation of the step wave).', '',
@@ -343,30 +320,23 @@ def main(argv=None) -> int:
              '(the scene\'s own measure), observed order between consecutive resolutions = '
              'log(e_i/e_i+1)/log(n_i+1/n_i). Written by `bash studies/scenes/run.sh`.', '']
     for path in args.sweeps:
-        data = load(path)
-        cases = data['cases']
+        sweep = load(path)
+        kind = sweep.config['scene_kind']
         fig, (ax, cost) = plt.subplots(1, 2, figsize=(10, 4))
-        lines += [f"## {data['kind']} ({path.name})", '', '```', data['namelist'], '```', '',
-                  '| scheme | elements | relative error | order from previous | run time (s) | status |',
-                  '|---|---|---|---|---|---|']
+        rows = []
         stopped_shown = False
-        for scheme in dict.fromkeys(cases['scheme']):
-            pick = cases['scheme'] == scheme
-            n = cases['elements'][pick]
-            e = cases['relative_error'][pick]
-            ok = cases['status'][pick]
-            seconds = cases['run_time'][pick]
-            before, name = cases['relative_error_before_stop'][pick], cases['status_name'][pick]
-            sort = np.argsort(n)
-            n, e, ok, seconds, before, name = n[sort], e[sort], ok[sort], seconds[sort], before[sort], name[sort]
-            o = orders(n, e)
+        for scheme in sweep.schemes:
+            pick = sweep.rows('elements', scheme=scheme)
+            n, e, ok, seconds, before, name = (sweep.cases[column][pick] for column in (
+                'elements', 'relative_error', 'status', 'run_time', 'relative_error_before_stop', 'status_name'))
+            o = successive_orders(n, e)
             for i in range(len(n)):
                 if ok[i] == 0:
-                    lines.append(f'| {scheme} | {n[i]} | {e[i]:.4g} | {"" if i == 0 else f"{o[i - 1]:.2f}"} | '
-                                 f'{seconds[i]:.3g} | ok |')
+                    rows.append([scheme, n[i], f'{e[i]:.4g}', '' if i == 0 else f'{o[i - 1]:.2f}', f'{seconds[i]:.3g}',
+                                 'ok'])
                 else:
-                    lines.append(f'| {scheme} | {n[i]} | no result ({before[i]:.4g} before the stop) | | | '
-                                 f'guard: {name[i]} |')
+                    rows.append([scheme, n[i], f'no result ({before[i]:.4g} before the stop)', '', '',
+                                 f'guard: {name[i]}'])
             done = ok == 0
             line = ax.loglog(n[done], e[done], 'o-', label=scheme)[0]
             cost.loglog(seconds[done], e[done], 'o-', label=scheme, color=line.get_color())
@@ -374,24 +344,27 @@ def main(argv=None) -> int:
                 ax.loglog(n[~done], before[~done], 'x', color='0.55', ms=7,
                           label=None if stopped_shown else 'stopped by a guard: error before the stop, no result')
                 stopped_shown = True
+        lines += [f"## {kind} ({path.name})", '', '```', sweep.config['namelist'], '```', '']
+        lines += markdown_table(['scheme', 'elements', 'relative error', 'order from previous', 'run time (s)',
+                                 'status'], rows)
         lines.append('')
-        plain_ticks(ax, cases['elements'])
+        plain_ticks(ax, sweep.cases['elements'])
         ax.set_xlabel('elements across the body')
         ax.set_ylabel('relative error (scene measure)')
-        ax.set_title(f"{data['kind']}: error against elements", fontsize=10)
+        ax.set_title(f"{kind}: error against elements", fontsize=10)
         ax.grid(True, which='both', alpha=0.3)
         ax.legend()
         cost.set_xlabel('run time per case (s; median of the timing pass, one thread)')
         cost.set_ylabel('relative error (scene measure)')
-        cost.set_title(f"{data['kind']}: error against run time", fontsize=10)
+        cost.set_title(f"{kind}: error against run time", fontsize=10)
         cost.grid(True, which='both', alpha=0.3)
         cost.legend()
-        fig.text(0.01, 0.01, f"{data['version']}, {path.name}", fontsize=6)
+        fig.text(0.01, 0.01, f"{sweep.code_versions[0]}, {path.name}", fontsize=6)
         fig.tight_layout()
         figure = args.out / f"{path.stem}_error.png"
         fig.savefig(figure, dpi=120)
         plt.close(fig)
-        lines += [f'![{data["kind"]}]({figure.name})', '']
+        lines += [f'![{kind}]({figure.name})', '']
     if args.time:
         lines += time_section(args.time, args.out)
     if args.stability:
