@@ -3,7 +3,7 @@
 wave at 50-200 elements, short stability sweeps, a small speed and memory run; seconds) into a temporary
 folder and checks what it reports:
 - the files and figures are written and every plastic-wave case completed;
-- the study's own exact solution (analyze.py, written independently of the Fortran scene) gives the fronts
+- the study's own exact solution (mpm1d_post.studies.materials, written independently of the Fortran scene) gives the fronts
   the scene reports; its finite-strain solution tends to the small-strain one as V -> 0 and differs from it
   by well under 1 % at the study's V/c = 4e-3;
 - uGIMP converges (the error falls from 50 to 200 elements), the precursor stands where c_e T puts it, the
@@ -14,7 +14,6 @@ Plain script: last line `N passed, M failed`, exit status 1 on any failure.
 """
 
 import csv
-import importlib.util
 import os
 import sys
 
@@ -22,11 +21,9 @@ import numpy as np
 
 from mpm1d_post.loader import load_run, load_sweep
 from mpm1d_post.study_checks import Checks, run_quick
+from mpm1d_post.studies import materials as analyze
 
 HERE = os.path.dirname(os.path.abspath(__file__))
-spec = importlib.util.spec_from_file_location('materials_analyze', os.path.join(HERE, 'analyze.py'))
-analyze = importlib.util.module_from_spec(spec)
-spec.loader.exec_module(analyze)
 
 
 def main() -> int:
@@ -67,8 +64,8 @@ def main() -> int:
                                                      - 1) < 0.01)
     check('energy balance within 2 % at 200 elements', abs(float(s['energy_balance'])) < 0.02, f'{s["energy_balance"]}')
 
-    hencky = load_sweep(os.path.join(out, 'stability_bar_hencky.h5'), cases='all').cases
-    plastic = load_sweep(os.path.join(out, 'stability_bar_elastoplastic.h5'), cases='all').cases
+    hencky = load_sweep(os.path.join(out, 'stability_bar_hencky.h5'), cases='all')
+    plastic = load_sweep(os.path.join(out, 'stability_bar_elastoplastic.h5'), cases='all')
     worst = min(analyze.critical(plastic, sc, sh) - analyze.critical(hencky, sc, sh)
                 for sc in analyze.SCHEMES for sh in analyze.SHAPES)
     check('plasticity does not lower the bar\'s critical dt fraction (within one step of the sweep)',

@@ -11,7 +11,7 @@ sigma = E ln F with linear hardening in the log strain, momentum rho0 v_t = sigm
 coordinates with unit area): both waves steepen into shocks (sigma'(F) = E/F grows in compression), with
 the Rankine-Hugoniot conditions [v] = -U [F], [sigma] = rho0 U^2 [F].
 
-Usage: python studies/materials/analyze.py OUT_FOLDER
+Usage: python studies/materials/analyze.py OUT_FOLDER (the script calls `main`)
 """
 from __future__ import annotations
 
@@ -28,8 +28,11 @@ matplotlib.use('Agg')
 import matplotlib.pyplot as plt  # noqa: E402
 from matplotlib.lines import Line2D  # noqa: E402
 
-from mpm1d_post.loader import load_run, load_sweep, Run  # noqa: E402
-from mpm1d_post.pareto import pareto_front  # noqa: E402
+from ..limits import stability_limit  # noqa: E402
+from ..loader import Run, Sweep, load_run, load_sweep  # noqa: E402
+from ..orders import fitted_order  # noqa: E402
+from ..pareto import cheapest_by_group_rows, cheapest_rows, pareto_front  # noqa: E402
+from ..tables import markdown_table, number  # noqa: E402
 
 SCHEMES = ('usf', 'usl', 'musl')
 SHAPES = ('linear', 'ugimp', 'cpgimp', 'bspline2', 'bspline3')
@@ -92,16 +95,8 @@ def material(run: Run) -> Tuple[float, float, float, float, float, float]:
             float(c['hardening_modulus']), float(c['drive_velocity']), float(c['length']))
 
 
-def local_order(n: np.ndarray, e: np.ndarray) -> float:
-    """Least-squares slope of -log(error) against log(elements) (nan for fewer than two points)."""
-    ok = np.isfinite(e) & (e > 0)
-    if ok.sum() < 2:
-        return float('nan')
-    return float(-np.polyfit(np.log(n[ok]), np.log(e[ok]), 1)[0])
-
-
 def fmt(x: float, digits: int = 3) -> str:
-    return 'nan' if not np.isfinite(x) else f'{x:.{digits}g}'
+    return number(x, f'.{digits}g')
 
 
 def singles(out: Path, prefix: str) -> Dict[int, Run]:
@@ -130,15 +125,16 @@ def setup_section(run: Run) -> Tuple[List[str], Dict[str, float], Dict[str, floa
     X = (np.arange(200000) + 0.5) / 200000 * L
     diff = np.sum(np.abs(stress_profile(fs, X, T) - stress_profile(ss, X, T))) * L / 200000 / (ss['s2'] * L)
     strain = sy / E + (ss['s2'] - sy) * (E + H) / (E * H)
+    table = markdown_table(
+        ['front', 'speed, small strain (m/s)', 'speed, finite strain (m/s)', '|stress| behind, small strain (Pa)',
+         '|stress| behind, finite strain (Pa)'],
+        [['elastic precursor', f'{ss["c1"]:.2f}', f'{fs["c1"]:.2f}', f'{ss["s1"]:.4g}', f'{fs["s1"]:.4g}'],
+         ['plastic front', f'{ss["c2"]:.2f}', f'{fs["c2"]:.2f}', f'{ss["s2"]:.4g}', f'{fs["s2"]:.4g}']])
     lines = ['## The problem', '',
              f'A steel bar (E = {E:.3g} Pa, rho = {rho:g} kg/m^3, L = {L:g} m, c_e = {ss["c1"]:.1f} m/s), '
              f'elastoplastic with sigma_y = {sy:.3g} Pa and H = {H:.3g} Pa (E_t = {E * H / (E + H):.4g} Pa), '
              f'its left end driven at V = {V:g} m/s (V/c_e = {V / ss["c1"]:.2e}) for T = {T:.4g} s = 0.8 L/c_e, '
-             f'2 particles per element, dt = 0.2 dx/c_e unless said otherwise.', '',
-             '| front | speed, small strain (m/s) | speed, finite strain (m/s) | |stress| behind, small strain (Pa) | '
-             '|stress| behind, finite strain (Pa) |', '|---|---|---|---|---|',
-             f'| elastic precursor | {ss["c1"]:.2f} | {fs["c1"]:.2f} | {ss["s1"]:.4g} | {fs["s1"]:.4g} |',
-             f'| plastic front | {ss["c2"]:.2f} | {fs["c2"]:.2f} | {ss["s2"]:.4g} | {fs["s2"]:.4g} |', '',
+             f'2 particles per element, dt = 0.2 dx/c_e unless said otherwise.', '', *table, '',
              f'Particle velocity between the fronts v1 = {ss["v1"]:.4f} m/s (finite strain {fs["v1"]:.4f}); strain '
              f'behind the plastic front {strain:.2e}. The finite-strain solution of the code\'s own continuum '
              f'(Hencky, hardening in the log strain; both fronts are shocks) differs from the small-strain one '
@@ -149,31 +145,24 @@ def setup_section(run: Run) -> Tuple[List[str], Dict[str, float], Dict[str, floa
     return lines, ss, fs
 
 
-def convergence_section(out: Path, wave, fine) -> List[str]:
-    c = wave.cases
-    f = fine.cases if fine is not None else None
-    lines = ['## Convergence of the plastic wave', '',
-             'Relative L1 stress error at T, sum_p |sigma_p - sigma(X_p, T)| V0_p / (sigma_p L), FLIP '
-             '(`wave.h5`, `wave_fine.h5`):', '']
-    ne_all = sorted(set(c['elements'].tolist()) | (set(f['elements'].tolist()) if f is not None else set()))
-    lines += ['| scheme | shape | ' + ' | '.join(f'{n} el.' for n in ne_all) + ' | order (all) | order (last three) |',
-              '|---|---|' + '---|' * (len(ne_all) + 2)]
+def convergence_section(out: Path, wave: Sweep, fine: Optional[Sweep]) -> List[str]:
+    sources = [s for s in (wave, fine) if s is not None]
+    ne_all = sorted({int(n) for s in sources for n in s.cases['elements']})
+    rows = []
     fig, axes = plt.subplots(1, 3, figsize=(15, 4.4), sharey=True)
     for ax, scheme in zip(axes, SCHEMES):
         for shape in SHAPES:
             pts = {}
-            for src in (c, f):
-                if src is None:
-                    continue
-                m = (src['scheme'] == scheme) & (src['shape'] == shape) & (src['transfer'] == 'flip')
-                for n, e, st in zip(src['elements'][m], src['relative_error'][m], src['status'][m]):
-                    pts[int(n)] = float(e) if st == 0 else float('nan')
+            for src in sources:
+                for i in src.rows(scheme=scheme, shape=shape, transfer='flip'):
+                    pts[int(src.cases['elements'][i])] = (float(src.cases['relative_error'][i])
+                                                          if src.cases['status'][i] == 0 else float('nan'))
             if not pts:
                 continue
             n = np.array(sorted(pts), float)
             e = np.array([pts[int(k)] for k in n])
-            lines.append(f'| {scheme} | {shape} | ' + ' | '.join(fmt(pts.get(k, float('nan'))) for k in ne_all) +
-                         f' | {fmt(local_order(n, e), 2)} | {fmt(local_order(n[-3:], e[-3:]), 2)} |')
+            rows.append([scheme, shape] + [fmt(pts.get(k, float('nan'))) for k in ne_all]
+                        + [fmt(fitted_order(n, e), 2), fmt(fitted_order(n[-3:], e[-3:]), 2)])
             ax.loglog(n, e, 'o-', color=COLOURS[shape], ms=3.5, label=shape)
         ref = np.array([50.0, 3200.0])
         ax.loglog(ref, 0.06 * (ref / 50) ** -1.0, 'k:', lw=1, label='order 1')
@@ -186,20 +175,26 @@ def convergence_section(out: Path, wave, fine) -> List[str]:
     fig.tight_layout()
     fig.savefig(out / 'wave_convergence.png', dpi=110)
     plt.close(fig)
-    lines += ['', '![convergence](wave_convergence.png)', '',
-              'Every transfer (order fitted over all meshes of `wave.h5`):', '',
-              '| scheme | shape | flip | pic | blend | apic |', '|---|---|---|---|---|---|']
+    lines = ['## Convergence of the plastic wave', '',
+             'Relative L1 stress error at T, sum_p |sigma_p - sigma(X_p, T)| V0_p / (sigma_p L), FLIP '
+             '(`wave.h5`, `wave_fine.h5`):', '']
+    lines += markdown_table(['scheme', 'shape'] + [f'{n} el.' for n in ne_all] + ['order (all)', 'order (last three)'],
+                            rows)
+    rows = []
+    c = wave.cases
     for scheme in SCHEMES:
         for shape in SHAPES:
             cells = []
             for transfer in TRANSFERS:
-                m = (c['scheme'] == scheme) & (c['shape'] == shape) & (c['transfer'] == transfer)
-                o = np.argsort(c['elements'][m])
-                e = np.where(c['status'][m] == 0, c['relative_error'][m], np.nan)[o]
-                n = c['elements'][m][o].astype(float)
+                m = wave.rows('elements', scheme=scheme, shape=shape, transfer=transfer)
+                e = np.where(c['status'][m] == 0, c['relative_error'][m], np.nan)
+                n = c['elements'][m].astype(float)
                 stopped = int(np.sum(c['status'][m] != 0))
-                cells.append(f'{fmt(local_order(n, e), 2)} ({fmt(e[-1])})' + (f', {stopped} stopped' if stopped else ''))
-            lines.append(f'| {scheme} | {shape} | ' + ' | '.join(cells) + ' |')
+                cells.append(f'{fmt(fitted_order(n, e), 2)} ({fmt(e[-1])})' + (f', {stopped} stopped' if stopped else ''))
+            rows.append([scheme, shape] + cells)
+    lines += ['', '![convergence](wave_convergence.png)', '',
+              'Every transfer (order fitted over all meshes of `wave.h5`):', '']
+    lines += markdown_table(['scheme', 'shape'] + list(TRANSFERS), rows)
     lines += ['', 'Cells: order (error at the finest mesh of the sweep).', '']
     return lines
 
@@ -219,37 +214,22 @@ def time_section(out: Path, wave) -> List[str]:
     lines += [f'{int(ok.sum())} timed runs (every scheme x shape x transfer, {", ".join(str(n) for n in sorted(set(c["elements"])))} '
               f'elements; timing pass one thread, median spread of the repeats {fmt(spread, 2)}); the black line is '
               'the Pareto front over all of them. Every run of this scene takes the generic path.', '',
-              '![error against run time](wave_error_vs_time.png)', '', '### For a target relative L1 error, use ...', '',
-              '| target | cheapest run reaching it | run time (s) | its error |', '|---|---|---|---|']
+              '![error against run time](wave_error_vs_time.png)', '', '### For a target relative L1 error, use ...', '']
     targets = (0.05, 0.02, 0.01)
-    for target in targets:
-        m = ok & (e <= target)
-        if m.any():
-            i = np.flatnonzero(m)[np.argmin(t[m])]
-            lines.append(f'| {target:g} | {label[i]} | {t[i]:.2e} | {e[i]:.2e} |')
-        else:
-            lines.append(f'| {target:g} | none of the measured runs | | |')
-    lines += ['', 'The cheapest run of each shape reaching the target (time relative to the cheapest of all):', '',
-              '| target | ' + ' | '.join(SHAPES) + ' |', '|---|' + '---|' * len(SHAPES)]
-    for target in targets:
-        m = ok & (e <= target)
-        best = t[m].min() if m.any() else np.nan
-        cells = []
-        for shape in SHAPES:
-            ms = m & (c['shape'] == shape)
-            if ms.any():
-                i = np.flatnonzero(ms)[np.argmin(t[ms])]
-                cells.append(f"{c['scheme'][i]} {c['transfer'][i]} {c['elements'][i]} el., {t[i] / best:.1f}x")
-            else:
-                cells.append('not reached')
-        lines.append(f'| {target:g} | ' + ' | '.join(cells) + ' |')
-    lines += ['', 'Pareto front (fastest first):', '', '| run | run time (s) | relative error |', '|---|---|---|']
-    lines += [f'| {label[i]} | {t[i]:.2e} | {e[i]:.2e} |' for i in front]
+    lines += markdown_table(['target', 'cheapest run reaching it', 'run time (s)', 'its error'],
+                            cheapest_rows(t, e, label, targets, among=ok))
+    lines += ['', 'The cheapest run of each shape reaching the target (time relative to the cheapest of all):', '']
+    without_shape = [f'{s} {tr} {n} el.' for s, tr, n in zip(c['scheme'], c['transfer'], c['elements'])]
+    lines += markdown_table(['target'] + list(SHAPES), cheapest_by_group_rows(
+        t, e, without_shape, targets, [wave.where(shape=shape) for shape in SHAPES], among=ok))
+    lines += ['', 'Pareto front (fastest first):', '']
+    lines += markdown_table(['run', 'run time (s)', 'relative error'],
+                            [[label[i], f'{t[i]:.2e}', f'{e[i]:.2e}'] for i in front])
     fig, axes = plt.subplots(1, 3, figsize=(15, 4.8), sharey=True, sharex=True)
     for ax, scheme in zip(axes, SCHEMES):
         for shape in SHAPES:
             for transfer in TRANSFERS:
-                m = ok & (c['scheme'] == scheme) & (c['shape'] == shape) & (c['transfer'] == transfer)
+                m = ok & wave.where(scheme=scheme, shape=shape, transfer=transfer)
                 if m.any():
                     o = np.argsort(t[m])
                     ax.loglog(t[m][o], e[m][o], marker=MARKERS[transfer], color=COLOURS[shape], ms=4, lw=0.7,
@@ -275,17 +255,15 @@ def fronts_section(out: Path, ss: Dict[str, float], fs: Dict[str, float]) -> Tup
              'hencky driven at v1, one elastic wave carrying the precursor\'s state sigma_y, v1, without plasticity). '
              'Fronts: the largest X_p whose |sigma_p| reaches half the jump; plateaus: mean |sigma_p| over the middle '
              'half of each zone, relative to the exact value; crossed: fraction of the particles in another cell at '
-             'T than at t = 0; end: the driven end\'s travel V T in cells.', '',
-             '| shape | elements | rel. L1 error | end (cells) | crossed | precursor front | plastic front | '
-             'precursor plateau | plastic plateau | elastic control: plateau | its error | energy balance |',
-             '|---|---|---|---|---|---|---|---|---|---|---|---|']
+             'T than at t = 0; end: the driven end\'s travel V T in cells.', '']
     control = singles(out, 'elastic_linear')
     rows = {}
+    table = []
     for shape in ('linear', 'ugimp'):
         for n, run in singles(out, f'single_{shape}').items():
             s = run.summary
             if int(s['status']) != 0 or not run.snapshots:
-                lines.append(f'| {shape} | {n} | stopped ({s["status_name"]}) | | | | | | | | | |')
+                table.append([shape, n, f'stopped ({s["status_name"]})'] + [''] * 9)
                 continue
             T = float(run.snapshots[-1].time)
             end = float(run.config['drive_velocity']) * T / float(run.config['dx'])
@@ -300,10 +278,13 @@ def fronts_section(out: Path, ss: Dict[str, float], fs: Dict[str, float]) -> Tup
                 row['control'] = float(ctrl.summary['measured_precursor_stress']) / float(ctrl.summary['precursor_stress'])
                 row['control_error'] = float(ctrl.summary['relative_error'])
             rows[(shape, n)] = row
-            lines.append(f'| {shape} | {n} | {row["error"]:.3e} | {end:.2f} | {row["crossed"]:.2f} | '
-                         f'{row["precursor"]:.4f} | {row["plastic"]:.4f} | {row["p1"]:.4f} | {row["p2"]:.4f} | '
-                         f'{fmt(row.get("control", float("nan")), 4)} | {fmt(row.get("control_error", float("nan")))} | '
-                         f'{row["balance"]:+.2e} |')
+            table.append([shape, n, f'{row["error"]:.3e}', f'{end:.2f}', f'{row["crossed"]:.2f}',
+                          f'{row["precursor"]:.4f}', f'{row["plastic"]:.4f}', f'{row["p1"]:.4f}', f'{row["p2"]:.4f}',
+                          fmt(row.get('control', float('nan')), 4), fmt(row.get('control_error', float('nan'))),
+                          f'{row["balance"]:+.2e}'])
+    lines += markdown_table(['shape', 'elements', 'rel. L1 error', 'end (cells)', 'crossed', 'precursor front',
+                             'plastic front', 'precursor plateau', 'plastic plateau', 'elastic control: plateau',
+                             'its error', 'energy balance'], table)
     lines += ['']
     # profiles at two resolutions
     lin, ug = singles(out, 'single_linear'), singles(out, 'single_ugimp')
@@ -355,11 +336,11 @@ def energy_section(out: Path) -> List[str]:
         K, U, W = h['kinetic_energy'][k], h['strain_energy'][k], h['plastic_work'][k]
         ts.append(s.time)
         parts.append((K, U, W, drive))
-        rows.append(f'| {s.time * 1e6:.2f} | {K:.4g} | {U:.4g} | {W:.4g} | {drive:.4g} | {(K + U + W - drive) / drive:+.2e} |')
+        rows.append([f'{s.time * 1e6:.2f}', f'{K:.4g}', f'{U:.4g}', f'{W:.4g}', f'{drive:.4g}',
+                     f'{(K + U + W - drive) / drive:+.2e}'])
     lines += [f'USL, uGIMP, {run.elements} elements (`energy.h5`): kinetic + elastic + plastic work against the '
-              'drive\'s work V P(t) (its force is the momentum change at the constant velocity V), J per unit area.', '',
-              '| t (us) | kinetic | elastic | plastic work | drive work | (K + U + W_p - W)/W |',
-              '|---|---|---|---|---|---|'] + rows
+              'drive\'s work V P(t) (its force is the momentum change at the constant velocity V), J per unit area.', '']
+    lines += markdown_table(['t (us)', 'kinetic', 'elastic', 'plastic work', 'drive work', '(K + U + W_p - W)/W'], rows)
     s = run.summary
     others = sorted(out.glob('balance_v*.h5'), key=lambda p: float(p.stem[len('balance_v'):]))
     finest = singles(out, 'single_ugimp')
@@ -368,14 +349,16 @@ def energy_section(out: Path) -> List[str]:
         table = [(float(finest[n].config['drive_velocity']), finest[n])] + \
             [(float(load_run(str(p)).config['drive_velocity']), load_run(str(p))) for p in others]
         lines += ['', f'The balance at T on the finest mesh ({n} elements, uGIMP, USL) against the drive velocity '
-                  '(the strain behind the plastic front):', '',
-                  '| V (m/s) | strain behind the plastic front | (K + U + W_p - W)/W | rel. L1 error |', '|---|---|---|---|']
+                  '(the strain behind the plastic front):', '']
+        rows = []
         for v, r in sorted(table, key=lambda x: x[0]):
             E, rho, sy, H, _, _ = material(r)
             front = small_strain(E, rho, sy, H, v)
             strain = sy / E + (front['s2'] - sy) * (E + H) / (E * H)
-            lines.append(f'| {v:g} | {strain:.2e} | {float(r.summary["energy_balance"]):+.2e} | '
-                         f'{float(r.summary["relative_error"]):.2e} |')
+            rows.append([f'{v:g}', f'{strain:.2e}', f'{float(r.summary["energy_balance"]):+.2e}',
+                         f'{float(r.summary["relative_error"]):.2e}'])
+        lines += markdown_table(['V (m/s)', 'strain behind the plastic front', '(K + U + W_p - W)/W', 'rel. L1 error'],
+                                rows)
     lines += ['', f'At T: plastic work {float(s["plastic_work"]):.4g} J/m^2, of which dissipated (sigma_y alpha) '
               f'{float(s["dissipated_energy"]):.4g} and stored in the hardening (H alpha^2/2) '
               f'{float(s["hardening_energy"]):.4g}; {100 * float(s["yielded_fraction"]):.0f} % of the particles yielded.', '']
@@ -396,13 +379,10 @@ def energy_section(out: Path) -> List[str]:
     return lines + ['![energy](wave_energy.png)', '']
 
 
-def critical(c, scheme: str, shape: str) -> float:
-    """The first dt fraction (ascending) at which the case stopped, nan if none did."""
-    m = (c['scheme'] == scheme) & (c['shape'] == shape)
-    k = c['dt_fraction'][m]
-    o = np.argsort(k)
-    bad = c['status'][m][o] != 0
-    return float(k[o][np.argmax(bad)]) if bad.any() else float('nan')
+def critical(sweep: Sweep, scheme: str, shape: str) -> float:
+    """The first dt fraction at which a case of `scheme` and `shape` stopped, nan if none did."""
+    m = sweep.rows(scheme=scheme, shape=shape)
+    return stability_limit(sweep.cases['dt_fraction'][m], sweep.cases['status'][m]).first_failing
 
 
 def stability_section(out: Path) -> List[str]:
@@ -414,12 +394,10 @@ def stability_section(out: Path) -> List[str]:
              'Critical dt fraction (the first dt/(dx/c_e) at which a run stops, by a guard; 2 particles per element): '
              'the bar at v0 = 20 m/s, 20 elements, 20 periods, hencky and elastoplastic (sigma_y = 250 MPa: the '
              'initial stress amplitude rho c v0 = 790 MPa yields it), generic path; the plastic wave at '
-             f'{int(sweeps["plastic wave"].cases["elements"][0]) if "plastic wave" in sweeps else "?"} elements to 0.8 L/c_e.', '',
-             '| scheme | shape | ' + ' | '.join(sweeps) + ' |', '|---|---|' + '---|' * len(sweeps)]
-    for scheme in SCHEMES:
-        for shape in SHAPES:
-            lines.append(f'| {scheme} | {shape} | ' + ' | '.join(fmt(critical(s.cases, scheme, shape), 3)
-                                                            for s in sweeps.values()) + ' |')
+             f'{int(sweeps["plastic wave"].cases["elements"][0]) if "plastic wave" in sweeps else "?"} elements to 0.8 L/c_e.', '']
+    lines += markdown_table(['scheme', 'shape'] + list(sweeps),
+                            [[scheme, shape] + [fmt(critical(s, scheme, shape), 3) for s in sweeps.values()]
+                             for scheme in SCHEMES for shape in SHAPES])
     if 'bar, elastoplastic' in sweeps:
         c = sweeps['bar, elastoplastic'].cases
         lines += ['', f'(dt fractions tried: {c["dt_fraction"].min():.2f} to {c["dt_fraction"].max():.2f} in steps of '
@@ -431,20 +409,19 @@ def bar_section(out: Path) -> List[str]:
     path = out / 'bar.h5'
     if not path.exists():
         return []
-    c = load_sweep(str(path)).cases
+    sweep = load_sweep(str(path))
     lines = ['## The bar with both elastic laws (USL, 2 ppc, dt = 0.1 dx/c, half a period, v0 = 0.1 m/s)', '',
              'Relative u_cm error (`bar.h5`; the full study across amplitudes and shapes: studies/convergence):', '']
-    ne = sorted(set(c['elements'].tolist()))
-    lines += ['| shape | law | ' + ' | '.join(f'{n} el.' for n in ne) + ' |', '|---|---|' + '---|' * len(ne)]
+    ne = sorted(set(sweep.cases['elements'].tolist()))
+    rows = []
     fig, ax = plt.subplots(figsize=(7, 4.3))
     for shape in ('linear', 'ugimp', 'bspline2'):
         for law, style in (('hencky', '-'), ('linear', '--')):
-            m = (c['shape'] == shape) & (c['law'] == law)
-            if not m.any():
+            m = sweep.rows('elements', shape=shape, law=law)
+            if not m.size:
                 continue
-            o = np.argsort(c['elements'][m])
-            n, e = c['elements'][m][o], c['relative_error'][m][o]
-            lines.append(f'| {shape} | {law} | ' + ' | '.join(f'{x:.2e}' for x in e) + ' |')
+            n, e = sweep.cases['elements'][m], sweep.cases['relative_error'][m]
+            rows.append([shape, law] + [f'{x:.2e}' for x in e])
             ax.loglog(n, e, 'o' + style, color=COLOURS[shape], ms=3.5, label=f'{shape}, {law}')
     ax.set(xlabel='elements', ylabel='relative u_cm error (-)', title='Bar, USL, v0 = 0.1 m/s (v0/c = 2e-5)')
     ax.grid(alpha=0.3, which='both')
@@ -452,6 +429,7 @@ def bar_section(out: Path) -> List[str]:
     fig.tight_layout()
     fig.savefig(out / 'bar_laws.png', dpi=110)
     plt.close(fig)
+    lines += markdown_table(['shape', 'law'] + [f'{n} el.' for n in ne], rows)
     return lines + ['', '![bar, both laws](bar_laws.png)', '']
 
 
@@ -468,12 +446,13 @@ def speed_section(out: Path) -> List[str]:
         lines += [f'The bar at v0 = 20 m/s, {rows[0]["particles"]} particles (4 per element), {rows[0]["steps"]} steps, '
                   'one thread, kernels = \'generic\'; each round runs hencky, linear, elastoplastic never yielding '
                   '(sigma_y = 1e30) and yielding (sigma_y = 1 MPa, H = 1 GPa) one after the other; run time '
-                  'ratios to hencky within a round (median, min-max over rounds):', '',
-                  '| law | time / hencky (median) | min | max | rounds |', '|---|---|---|---|---|']
+                  'ratios to hencky within a round (median, min-max over rounds):', '']
+        table = []
         for law in laws:
             ratios = np.array([r[law] / r['hencky'] for r in by_round.values() if law in r and 'hencky' in r])
             if len(ratios):
-                lines.append(f'| {law} | {np.median(ratios):.3f} | {ratios.min():.3f} | {ratios.max():.3f} | {len(ratios)} |')
+                table.append([law, f'{np.median(ratios):.3f}', f'{ratios.min():.3f}', f'{ratios.max():.3f}', len(ratios)])
+        lines += markdown_table(['law', 'time / hencky (median)', 'min', 'max', 'rounds'], table)
         lines.append('')
     path = out / 'instructions.csv'
     if path.exists():
@@ -481,8 +460,9 @@ def speed_section(out: Path) -> List[str]:
             counts = {r['law']: int(r['instructions']) for r in csv.DictReader(f) if r['instructions'].strip().isdigit()}
         if 'hencky' in counts:
             lines += ['Instructions of the same runs at a tenth of the particles and 200 steps (callgrind, the plain '
-                      'release build; repeatable under load):', '', '| law | instructions | / hencky |', '|---|---|---|']
-            lines += [f'| {law} | {n:,} | {n / counts["hencky"]:.3f} |' for law, n in counts.items()]
+                      'release build; repeatable under load):', '']
+            lines += markdown_table(['law', 'instructions', '/ hencky'],
+                                    [[law, f'{n:,}', f'{n / counts["hencky"]:.3f}'] for law, n in counts.items()])
             lines.append('')
     path = out / 'memory.csv'
     if path.exists():
@@ -490,8 +470,8 @@ def speed_section(out: Path) -> List[str]:
             rows = [r for r in csv.DictReader(f) if r['max_rss_kib'].strip().isdigit()]
         lines += ['Largest resident memory (`/usr/bin/time -f %M`) of a short generic-path bar run at two sizes: '
                   'bytes per particle from the difference (everything per particle: the particles, the shape cache '
-                  'and scratch columns, the law\'s state), and each law against hencky at the larger size:', '',
-                  '| law | bytes per particle (slope) | extra bytes per particle over hencky |', '|---|---|---|']
+                  'and scratch columns, the law\'s state), and each law against hencky at the larger size:', '']
+        table = []
         data: Dict[str, List[Tuple[int, int]]] = {}
         for r in rows:
             data.setdefault(r['law'], []).append((int(r['particles']), int(r['max_rss_kib'])))
@@ -502,7 +482,8 @@ def speed_section(out: Path) -> List[str]:
                 continue
             slope = (pts[-1][1] - pts[0][1]) * 1024 / (pts[-1][0] - pts[0][0])
             extra = (pts[-1][1] - base[1]) * 1024 / pts[-1][0] if base[0] == pts[-1][0] else float('nan')
-            lines.append(f'| {law} | {slope:.1f} | {extra:+.1f} |')
+            table.append([law, f'{slope:.1f}', f'{extra:+.1f}'])
+        lines += markdown_table(['law', 'bytes per particle (slope)', 'extra bytes per particle over hencky'], table)
         lines.append('')
     return lines
 
