@@ -395,7 +395,7 @@ class Sweep:
         return ', '.join(sorted(set(self.code_versions)))
 
     def __len__(self) -> int:
-        return len(self.cases['scheme'])
+        return len(self.cases['status'])
 
     @property
     def ok(self) -> np.ndarray:

@@ -205,5 +205,7 @@ def test_rows_in_the_order_of_a_column():
     assert s.rows('elements').tolist() == [2, 0, 3, 4, 1]
     assert s.rows('elements', descending=True).tolist() == [1, 0, 3, 4, 2]
     many = Sweep(paths=['y.h5'], code_versions=['test'], config={}, sweep=[{}],
-                 cases={'scheme': np.array(['usl'] * 60), 'elements': np.array([20, 10, 30] * 20)})
+                 cases={'status': np.zeros(60, int), 'elements': np.array([20, 10, 30] * 20)})
     assert many.rows('elements').tolist() == list(range(1, 60, 3)) + list(range(0, 60, 3)) + list(range(2, 60, 3))
+    # a sweep without a scheme column (the implicit integrator's): 60 cases all the same
+    assert len(many) == 60 and many.where(elements=10).sum() == 20
