@@ -1,0 +1,72 @@
+"""The benchmark's report (mpm1d_post.studies.benchmark) on a synthetic set of the CSV files
+studies/benchmark/run.sh writes, with round numbers whose bounds, ratios and targets are worked out by hand
+(the benchmark itself takes minutes and is not run here)."""
+from __future__ import annotations
+
+import csv
+from pathlib import Path
+
+import pytest
+
+from mpm1d_post.studies import benchmark
+
+
+def write(path: Path, header: str, rows) -> None:
+    with open(path, 'w', newline='') as handle:
+        out = csv.writer(handle)
+        out.writerow(header.split(','))
+        out.writerows(rows)
+
+
+def synthetic_benchmark(folder: Path) -> Path:
+    """A complete benchmark folder. Bandwidth (1 thread): update 8e9 B/s, triad 1.2e10, the particles' pattern
+    6.4e9; 2 threads twice that. USL at 1e7 particles 6e7 particle-steps/s (its bound 8e9 / 80 B = 1e8: 60 %),
+    in cache 3e8; 2 threads 1.8 times 1 thread; RSS 50,000 KiB at 1e6 particles and 500,000 KiB at 1e7
+    (51.2 B per particle); the sweep 2 s on 1 thread and 1 s on 2; uGIMP on the fused kernels 0.6 x linear;
+    a run of the study 1 s at 200 elements, 4 ppc, k = 0.2 (C = 1/800,000) and 4.4 s at 400 (model 4 s)."""
+    (folder / 'flags.txt').write_text("flags: fpm --profile release --flag ''\nGNU Fortran 12\n")
+    write(folder / 'bandwidth.csv', 'kernel,threads,bytes_per_element,repeat,seconds,bytes_per_s',
+          [[k, t, 24, r, 1.0, v * t] for k, v in (('triad', 1.2e10), ('update', 8e9), ('particles', 6.4e9))
+           for t in (1, 2) for r in (1, 2)])
+    sizes = (1000, 10000, 100000, 10000000)
+    rate = {n: 3e8 if n < 1e6 else 6e7 for n in sizes}
+    write(folder / 'throughput.csv', 'scheme,elements,ppc,particles,threads,steps,repeat,seconds,particle_steps_per_s',
+          [[s, n // 10, 10, n, 1, 100, r, 1.0, rate[n]] for s in ('usf', 'usl', 'musl') for n in sizes for r in (1, 2)])
+    write(folder / 'threads.csv', 'scheme,elements,ppc,particles,threads,steps,repeat,seconds,particle_steps_per_s',
+          [[s, n // 10, 10, n, t, 100, 1, 1.0, rate[n] * (1.8 if t == 2 else 1.0)]
+           for s in ('usf', 'usl', 'musl') for n in (100000, 10000000) for t in (1, 2)])
+    write(folder / 'study.csv', 'scheme,elements,ppc,dt_fraction,steps,particles,repeat,seconds',
+          [['usl', 200, 4, 0.2, 100, 800, 1, 1.0], ['usl', 400, 4, 0.2, 200, 1600, 1, 4.4]])
+    write(folder / 'memory.csv', 'particles,elements,max_rss_kib', [[1000000, 100000, 50000], [10000000, 1000000, 500000]])
+    write(folder / 'sweep.csv', 'threads,repeat,cases,seconds', [[1, 1, 1200, 2.0], [2, 1, 1200, 1.0]])
+    write(folder / 'shapes.csv',
+          'scheme,elements,ppc,particles,threads,steps,repeat,seconds,particle_steps_per_s,shape,transfer,path,round',
+          [['usl', 2500, 4, 10000, 1, 200, 1, 1.0, v, shape, 'flip', path, 1]
+           for shape, path, v in (('linear', 'fused', 3e8), ('ugimp', 'fused', 1.8e8), ('ugimp', 'generic', 6e7))])
+    return folder
+
+
+@pytest.fixture
+def report(tmp_path: Path) -> str:
+    assert benchmark.main([str(synthetic_benchmark(tmp_path))]) == 0
+    assert (tmp_path / 'benchmark.png').stat().st_size > 10000
+    return (tmp_path / 'summary.md').read_text()
+
+
+def test_rates_against_the_memory_bound(report):
+    # USL at 1e7: 6e7 /s, 80 B per particle-step, bound 8e9 / 80 = 1e8: 60 %; the triad bound 1.2e10/80: 40 %
+    assert '| usl | 1e+07 | 100 | 6e+07 | 6e+07-6e+07 | 80 | 1e+08 | 60 |' in report
+    assert '- usl, 1e7 particles >= 1.5e8/s: 6e+07/s -> NOT met; >= 80 % of the bound: 60 % of the update bound, ' \
+           '40 % of the triad bound, 75 % of the traffic ceiling -> NOT met' in report
+
+
+def test_memory_speed_up_and_cost_model(report):
+    assert '- memory <= 80 B per particle: 51.2 -> met' in report
+    assert '- Table-2 error pass, 2 threads over 1 >= 1.8: 2.00 -> met' in report
+    assert '- usl, 1e+07 particles, 2 threads speed-up >= 1.7: 1.80 -> met' in report
+    assert '| 400 | 4 | 0.2 | 200 | 4.4 | 4 | 1.10 |' in report
+
+
+def test_shape_against_linear_on_the_fused_kernels(report):
+    assert '| 1e+04 | usl | ugimp | flip | fused | 1.8e+08 | 0.60 (0.60-0.60) | - |' in report
+    assert '- usl, 1e+04 particles, ugimp (fused) >= 0.5 x linear (fused): 0.60 -> met' in report
