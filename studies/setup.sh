@@ -59,8 +59,13 @@ _mpm1d_setup() {
     echo "$_mpm1d_tools" > "$_mpm1d_venv/.mpm1d-tools"
   fi
 
-  # this checkout's post-processing package, editable, unless the venv already imports it from here
-  if ! (cd / && "$_mpm1d_venv/bin/python" -I - "$_mpm1d_root/postprocess" >/dev/null 2>&1) <<'PY'
+  # this checkout's post-processing package, editable, unless the venv already imports it from here and
+  # was installed from the pyproject.toml of now (its console scripts are made at install: the stamp
+  # holds the file's checksum)
+  local stamp
+  stamp="$(cksum < "$_mpm1d_root/postprocess/pyproject.toml")"
+  if [ "$(cat "$_mpm1d_venv/.mpm1d-post" 2>/dev/null)" != "$stamp" ] \
+     || ! (cd / && "$_mpm1d_venv/bin/python" -I - "$_mpm1d_root/postprocess" >/dev/null 2>&1) <<'PY'
 import pathlib, sys
 import mpm1d_post
 sys.exit(pathlib.Path(mpm1d_post.__file__).resolve().parents[1] != pathlib.Path(sys.argv[1]).resolve())
@@ -69,6 +74,7 @@ PY
     echo "setup: installing the post-processing package into .venv (pip install -e postprocess)" >&2
     "$_mpm1d_venv/bin/python" -m pip install -q --no-deps --no-build-isolation -e "$_mpm1d_root/postprocess" >&2 \
       || { echo "setup: the post-processing package could not be installed into .venv" >&2; return 1; }
+    echo "$stamp" > "$_mpm1d_venv/.mpm1d-post"
   fi
 }
 

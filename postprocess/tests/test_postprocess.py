@@ -32,8 +32,9 @@ import numpy as np
 
 import h5py
 
-from mpm1d_post import analysis, figures
-from mpm1d_post import paper as make_paper_figures
+from mpm1d_post import figures
+from mpm1d_post.studies import paper as make_paper_figures
+from mpm1d_post.studies import paper_claims as analysis
 from mpm1d_post.loader import Mpm1dFileError, load_run, load_sweep, parse_parameters
 
 #: The repository's root (this file is postprocess/tests/test_postprocess.py).

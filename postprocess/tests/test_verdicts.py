@@ -6,7 +6,7 @@ from __future__ import annotations
 
 import numpy as np
 
-from mpm1d_post import analysis
+from mpm1d_post.studies import paper_claims as analysis
 
 PARTICLES = np.arange(1, 11, dtype=float)
 

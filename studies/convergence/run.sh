@@ -49,5 +49,5 @@ for sweep in linear wide parts; do
   "$exe" --quiet "$out/$sweep.nml"
 done
 end=$EPOCHREALTIME
-"$PYTHON" -m mpm1d_post.convergence "$out/linear.h5" "$out/wide.h5" --parts "$out/parts.h5" --outdir "$out" \
+"$PYTHON" -m mpm1d_post.studies.convergence "$out/linear.h5" "$out/wide.h5" --parts "$out/parts.h5" --outdir "$out" \
   --wall-time "$(awk -v a="$start" -v b="$end" 'BEGIN { printf "%.1f", b - a }')"

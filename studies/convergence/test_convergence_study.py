@@ -18,7 +18,7 @@ import sys
 
 import numpy as np
 
-from mpm1d_post.convergence import floor_start, parts, series, signed_peak
+from mpm1d_post.studies.convergence import floor_start, parts, series, signed_peak
 from mpm1d_post.orders import successive_orders
 from mpm1d_post.loader import concatenate_sweeps, load_sweep
 

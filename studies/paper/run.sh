@@ -52,7 +52,7 @@ NML
 done
 
 echo "== figures and summary"
-"$PYTHON" -m mpm1d_post.paper --usf "$out/sweep_usf.h5" --usl "$out/sweep_usl.h5" \
+"$PYTHON" -m mpm1d_post.studies.paper --usf "$out/sweep_usf.h5" --usl "$out/sweep_usl.h5" \
   --runs "${runs[@]}" -o "$out"
 end=$(date +%s.%N)
 total=$(awk -v a="$start" -v b="$end" 'BEGIN{printf "%.1f", b-a}')

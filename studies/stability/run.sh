@@ -2,7 +2,7 @@
 # Numerical stability study of mpm1d: builds mpm1d, runs every sweep of this folder (time-step
 # stability map for 20 and 1 element(s), stiffness and scale, large motion, long runs, high
 # modes, very fine meshes), computes the predicted limits with linear_stability.py and writes the
-# figures and summary.md with python -m mpm1d_post.stability (postprocess/).
+# figures and summary.md with python -m mpm1d_post.studies.stability (postprocess/).
 # Usage: bash studies/stability/run.sh [output folder]     (default: out/stability)
 # MPM1D_QUICK=1 shrinks every list to a few cases (seconds), for the pipeline test
 # (test_stability_study.py); the numbers are then not the study's.
@@ -112,7 +112,7 @@ lap predicted "$t0"
 
 echo "== figures and summary"
 t0=$(now)
-"$PYTHON" -m mpm1d_post.stability "$out" -o "$out" --predicted "$out/predicted/predicted_critical.csv" \
+"$PYTHON" -m mpm1d_post.studies.stability "$out" -o "$out" --predicted "$out/predicted/predicted_critical.csv" \
   --timings "$timings"
 lap figures "$t0"
 end=$(now)

@@ -46,7 +46,7 @@ def main() -> int:
     check('code version in summary', 'Code version: mpm1d' in text)
 
     # measured critical fraction, USL ppc 1, 20 elements, against the prediction
-    from mpm1d_post.stability import critical_table, load
+    from mpm1d_post.studies.stability import critical_table, load
     sweep = load(os.path.join(out, 'map.h5'))
     measured, first, _ = critical_table(sweep, 'usl', 1, 20)
     with open(os.path.join(out, 'predicted', 'predicted_critical.csv'), newline='') as fh:

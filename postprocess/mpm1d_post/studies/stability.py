@@ -1,7 +1,7 @@
 #!/usr/bin/env python3
 """Figures and summary.md of the mpm1d numerical stability study (studies/stability/run.sh).
 
-    mpm1d-stability-figures OUT_DIR -o OUT_DIR     (or .venv/bin/python -m mpm1d_post.stability ...) \\
+    mpm1d-stability-figures OUT_DIR -o OUT_DIR     (or .venv/bin/python -m mpm1d_post.studies.stability ...) \\
         --predicted OUT_DIR/predicted/predicted_critical.csv [--timings OUT_DIR/timings.txt]
 
 Reads the files run.sh writes into OUT_DIR (map.h5, coarse.h5, scale_*.h5, large.h5,
@@ -31,11 +31,11 @@ import matplotlib
 matplotlib.use('Agg')
 import matplotlib.pyplot as plt  # noqa: E402
 
-from . import linear_stability as ls  # noqa: E402
-from .figures import duration_text  # noqa: E402
-from .loader import Mpm1dFileError, Sweep, concatenate_sweeps, load_run, load_sweep  # noqa: E402
-from .limits import stability_limit  # noqa: E402
-from .tables import markdown_table  # noqa: E402
+from .. import linear_stability as ls  # noqa: E402
+from ..figures import duration_text  # noqa: E402
+from ..loader import Mpm1dFileError, Sweep, concatenate_sweeps, load_run, load_sweep  # noqa: E402
+from ..limits import stability_limit  # noqa: E402
+from ..tables import markdown_table  # noqa: E402
 
 PROGRAM = 'mpm1d-stability-figures'
 SCHEMES = ('usf', 'usl', 'musl')
@@ -721,7 +721,7 @@ def main(argv=None) -> int:
     failed = [c for c in report.checks if not c[2]]
     head = ['# mpm1d numerical stability study', '',
             f'Code version: {", ".join(sorted(report.versions))}; written '
-            f'{datetime.datetime.now().isoformat(timespec="seconds")} by {PROGRAM} (mpm1d_post.stability) from '
+            f'{datetime.datetime.now().isoformat(timespec="seconds")} by {PROGRAM} (mpm1d_post.studies.stability) from '
             f'`{Path(args.input).resolve()}`.', '']
     if measured:
         ppcs = sorted({p for _, p in measured})

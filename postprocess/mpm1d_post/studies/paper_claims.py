@@ -14,8 +14,8 @@ from typing import Dict, List, Mapping, Optional, Sequence
 
 import numpy as np
 
-from .loader import Sweep
-from .orders import log_slope
+from ..loader import Sweep
+from ..orders import log_slope
 
 #: Element counts below this are left out of the convergence-rate fit of claim (d): one element
 #: cannot represent the vibration mode at all (paper, Fig. 10), which says nothing about a rate.

@@ -26,10 +26,10 @@ import matplotlib
 matplotlib.use('Agg')
 import matplotlib.pyplot as plt  # noqa: E402
 
-from .figures import plain_ticks  # noqa: E402
-from .loader import Sweep, concatenate_sweeps, load_sweep  # noqa: E402
-from .orders import successive_orders  # noqa: E402
-from .tables import markdown_table  # noqa: E402
+from ..figures import plain_ticks  # noqa: E402
+from ..loader import Sweep, concatenate_sweeps, load_sweep  # noqa: E402
+from ..orders import successive_orders  # noqa: E402
+from ..tables import markdown_table  # noqa: E402
 
 #: The independent reference of issue 26 (sigma = E (J - 1) and Hencky, USL, linear shapes, 2 ppc,
 #: v0 = 0.1 m/s): relative u_cm errors at 800, 1600 and 3200 elements.

@@ -26,10 +26,11 @@ import sys
 import numpy as np
 from typing import Dict, List, Optional, Sequence
 
-from . import analysis, figures
-from .figures import FigureSkipped
-from .loader import Mpm1dFileError, Run, Sweep, load_run, load_sweep, merge_sweeps
-from .tables import markdown_table
+from .. import figures
+from . import paper_claims as analysis
+from ..figures import FigureSkipped
+from ..loader import Mpm1dFileError, Run, Sweep, load_run, load_sweep, merge_sweeps
+from ..tables import markdown_table
 
 PROGRAM = 'mpm1d-paper-figures'
 
@@ -269,7 +270,7 @@ def make_all(args: argparse.Namespace) -> Report:
 
     report.add('# mpm1d bar study — summary', '',
                f"Generated {datetime.datetime.now().isoformat(timespec='seconds')} by "
-               f'mpm1d-paper-figures (mpm1d_post.paper).', '')
+               f'mpm1d-paper-figures (mpm1d_post.studies.paper).', '')
     if sweeps:
         _sweep_section(report, sweeps, args.verification)
     if runs:
