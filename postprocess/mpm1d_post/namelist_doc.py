@@ -30,6 +30,7 @@ from pathlib import Path
 from typing import Dict, List, Optional, Sequence
 
 from .loader import Parameter, parse_parameters
+from .tables import markdown_table
 
 PROGRAM = 'mpm1d_post.namelist_doc'
 #: The command that regenerates the page, run from the repository's root (quoted in failures).
@@ -104,7 +105,7 @@ list that varies the variable, with its former name.
 {contents}
 """
 
-TABLE_HEAD = ('| variable | type | default | unit | allowed | meaning |', '|---|---|---|---|---|---|')
+TABLE_HEAD = ['variable', 'type', 'default', 'unit', 'allowed', 'meaning']
 
 
 def shortest(text: str) -> str:
@@ -177,12 +178,8 @@ def group_table(rows: Sequence[Parameter]) -> List[str]:
     """One group's table; the columns *scene kinds* and *sweep list* only where a row fills them."""
     with_kinds = any(p.kinds for p in rows)
     with_sweep = any(p.sweep_list for p in rows)
-    head, rule = TABLE_HEAD
-    if with_kinds:
-        head, rule = head + ' scene kinds |', rule + '---|'
-    if with_sweep:
-        head, rule = head + ' sweep list |', rule + '---|'
-    lines = [head, rule]
+    head = TABLE_HEAD + ['scene kinds'] * with_kinds + ['sweep list'] * with_sweep
+    table = []
     for p in rows:
         meaning = p.help if p.attribute == p.name else f'{p.help} (`/config` attribute `{p.attribute}`)'
         cells = [f'`{p.name}`', p.type, default_cell(p), cell(p.unit), cell(p.allowed), cell(meaning)]
@@ -190,8 +187,8 @@ def group_table(rows: Sequence[Parameter]) -> List[str]:
             cells.append(kinds_cell(p))
         if with_sweep:
             cells.append(sweep_cell(p))
-        lines.append('| ' + ' | '.join(cells) + ' |')
-    return lines
+        table.append(cells)
+    return markdown_table(head, table)
 
 
 def wrap_group(group: str, assignments: Sequence[str], width: int = 100) -> List[str]:

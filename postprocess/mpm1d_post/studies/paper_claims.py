@@ -14,6 +14,7 @@ from typing import Dict, List, Mapping, Optional, Sequence
 
 import numpy as np
 
+from ..figures import linear_fit
 from ..loader import Sweep
 from ..orders import log_slope
 
@@ -229,10 +230,8 @@ class LineJudgement:
 
 
 def _r2_line(x: np.ndarray, y: np.ndarray) -> float:
-    slope, intercept = np.polyfit(x, y, 1)
-    residual = float(np.sum((y - slope * x - intercept) ** 2))
-    total = float(np.sum((y - y.mean()) ** 2))
-    return 1.0 - residual / total if total > 0 else (1.0 if residual == 0 else float('nan'))
+    """R² of the least-squares line through the points."""
+    return linear_fit(x, y)['r2']
 
 
 def judge_linear(x: Sequence[float], y: Sequence[float], spread: Optional[Sequence[float]] = None,
