@@ -183,7 +183,7 @@ def error_maps(sweep: Sweep, outdir: Path) -> List[Path]:
                                  squeeze=False, constrained_layout=True)
         grids, mesh = [], None
         for ax, count in zip(axes.flat, counts):
-            grid = figures.case_grid(sweep, mask & (sweep.cases['elements'] == count), 'max_error')
+            grid = figures.case_grid(sweep, mask & sweep.where(elements=count), 'max_error')
             grids.append(grid)
             mesh = figures.draw_colour_map(ax, grid, norm)
             ax.set_title(f'{count} element{"s" if count != 1 else ""}', fontsize=10)

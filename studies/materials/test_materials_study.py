@@ -36,8 +36,9 @@ def main() -> int:
     if proc.returncode != 0:
         print(f'{sum(check.results)} passed, {len(check.results) - sum(check.results)} failed')
         return 1
-    wave = load_sweep(os.path.join(out, 'wave.h5')).cases
-    check('every plastic-wave case completed', bool(np.all(wave['status'] == 0)))
+    wave_sweep = load_sweep(os.path.join(out, 'wave.h5'), cases='all')
+    wave = wave_sweep.cases
+    check('every plastic-wave case completed', bool(np.all(wave_sweep.ok)))
 
     run = load_run(os.path.join(out, 'single_ugimp_200.h5'))
     E, rho, sy, H, V, L = analyze.material(run)
@@ -54,9 +55,10 @@ def main() -> int:
     check('finite strain -> small strain as V -> 0 (one elastic wave, 1e-5)',
           abs(small[0]['s2'] / small[1]['s2'] - 1) < 1e-5 and abs(small[0]['c1'] / small[1]['c1'] - 1) < 1e-5)
 
-    m = (wave['scheme'] == 'usl') & (wave['shape'] == 'ugimp') & (wave['transfer'] == 'flip')
-    fine = load_sweep(os.path.join(out, 'wave_fine.h5')).cases
-    mf = (fine['scheme'] == 'usl') & (fine['shape'] == 'ugimp')
+    m = wave_sweep.where(scheme='usl', shape='ugimp', transfer='flip')
+    fine_sweep = load_sweep(os.path.join(out, 'wave_fine.h5'))
+    fine = fine_sweep.cases
+    mf = fine_sweep.where(scheme='usl', shape='ugimp')
     coarse = float(wave['relative_error'][m][np.argmin(wave['elements'][m])])
     finest = float(fine['relative_error'][mf][np.argmax(fine['elements'][mf])])
     check('uGIMP USL: the error falls from 50 to 200 elements', finest < 0.7 * coarse, f'{coarse:.3g} -> {finest:.3g}')

@@ -201,7 +201,7 @@ def convergence_section(out: Path, wave: Sweep, fine: Optional[Sweep]) -> List[s
 
 def time_section(out: Path, wave) -> List[str]:
     c = wave.cases
-    ok = (c['status'] == 0) & (c['run_time'] > 0)
+    ok = wave.ok & (c['run_time'] > 0)
     t, e = c['run_time'], c['relative_error']
     label = np.array([f'{s} {h} {tr} {n} el.' for s, h, tr, n in
                       zip(c['scheme'], c['shape'], c['transfer'], c['elements'])])

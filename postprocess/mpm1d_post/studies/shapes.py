@@ -455,7 +455,7 @@ def error_against_time(out, small):
         if np.any(tr.cases['run_time'] > 0):
             points = concatenate_sweeps([small, tr.select(~tr.where(transfer='flip'))])
     pts = points.cases
-    ok = (pts['status'] == 0) & (pts['run_time'] > 0)
+    ok = points.ok & (pts['run_time'] > 0)
     t, e = pts['run_time'], pts['relative_error']
     label = np.array([f'{s} {h} {tr} {n} el.' for s, h, tr, n in
                       zip(pts['scheme'], pts['shape'], pts['transfer'], pts['elements'])])

@@ -71,7 +71,7 @@ def load(path: str) -> Sweep:
         if column not in sweep.cases:
             raise Mpm1dFileError(path, f"missing /cases/{column} (written by mpm1d since the trip "
                                        "columns were added; rerun the sweep)")
-    stopped = sweep.cases['status'] > 0
+    stopped = sweep.stopped
     step = np.where(stopped, sweep.cases['trip_step'].astype(float), np.nan)
     time = np.where(stopped, sweep.cases['trip_time'].astype(float), np.nan)
     parsed = np.ones(n, dtype=bool)
@@ -149,7 +149,7 @@ def class_counts(report: Report, name: str, sweep: Sweep, expected_stable: np.nd
     """Common checks and the row of the overview table for one case class."""
     c = sweep.cases
     n = len(sweep)
-    tripped = c['status'] > 0
+    tripped = sweep.stopped
     guards = {}
     for gname in c['status_name'][tripped]:
         guards[gname] = guards.get(gname, 0) + 1
@@ -277,7 +277,7 @@ def stability_section(report: Report, sweep: Sweep, predicted, elements: int, ti
         for i in np.flatnonzero(energy_limited):
             key = (c['scheme'][i], int(c['particles_per_element'][i]))
             lowest[key] = min(lowest.get(key, 9.0), float(c['dt_fraction'][i]))
-        tripped_el = energy_limited & (c['status'] > 0)
+        tripped_el = energy_limited & sweep.stopped
         report.add('On one element the **energy_growth guard trips below the linear limit**: the '
                    'particle energy (kinetic + sigma^2 V/2E), which is not the invariant of the '
                    f'discrete map, oscillates beyond the guard limit ({guard_limit:g} x initial) in a linearly stable '
@@ -297,15 +297,15 @@ def stability_section(report: Report, sweep: Sweep, predicted, elements: int, ti
                      f'{int(tripped_el.sum())} of {int(energy_limited.sum())}')
         expected_unstable |= energy_limited & ~near
     class_counts(report, name, sweep, expected_stable, expected_unstable)
-    ok_cases = c['status'] == 0
+    ok_cases = sweep.ok
     if ok_cases.any():
         j = int(np.argmax(np.where(ok_cases, c['max_energy_ratio'], -1.0)))
         report.add(f'Largest max_energy_ratio of a completed case: {c["max_energy_ratio"][j]:.4f} '
                    f'({c["scheme"][j].upper()}, ppc {c["particles_per_element"][j]}, k = '
                    f'{c["dt_fraction"][j]:g}).', '')
-    ok_above = expected_unstable & (c['status'] == 0)
+    ok_above = expected_unstable & sweep.ok
     report.add(f'Cases expected stable: {int(expected_stable.sum())}, of which '
-               f'{int((expected_stable & (c["status"] > 0)).sum())} tripped a guard. Cases expected '
+               f'{int((expected_stable & sweep.stopped).sum())} tripped a guard. Cases expected '
                f'to trip (above k_crit with predicted growth over the run > 1e16'
                f'{", or energy ratio >= 2" if energy_guard else ""}): {int(expected_unstable.sum())}, of '
                f'which {int(ok_above.sum())} completed. Guards of the failing cases: ' +
@@ -471,7 +471,7 @@ def large_section(report: Report, sweep: Sweep) -> None:
     left = (c['status_name'] == 'left_grid') & small_motion
     report.check('large motion', 'no left_grid while the exact end motion is under one cell (v0/c <= 0.03)',
                  not left.any(), f'{int(left.sum())} such cases left the grid')
-    ok = c['status'] == 0
+    ok = sweep.ok
     if ok.any():
         small = ok & (ratio <= 1.01e-4)
         spread = {}
