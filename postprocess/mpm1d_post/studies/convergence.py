@@ -163,7 +163,7 @@ def main(argv: Optional[List[str]] = None) -> int:
                 if len(idx) == 0:
                     continue
                 ratio = v0 / wave[idx[0]]
-                ok = c['status'][idx] == 0
+                ok = sweep.ok[idx]
                 # orders between successive completed meshes only (a stopped case has no result)
                 orders = dict(zip(ne[ok][1:], successive_orders(ne[ok], rel[ok])))
                 for j, i in enumerate(idx):

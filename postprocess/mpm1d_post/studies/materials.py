@@ -187,9 +187,9 @@ def convergence_section(out: Path, wave: Sweep, fine: Optional[Sweep]) -> List[s
             cells = []
             for transfer in TRANSFERS:
                 m = wave.rows('elements', scheme=scheme, shape=shape, transfer=transfer)
-                e = np.where(c['status'][m] == 0, c['relative_error'][m], np.nan)
+                e = np.where(wave.ok[m], c['relative_error'][m], np.nan)
                 n = c['elements'][m].astype(float)
-                stopped = int(np.sum(c['status'][m] != 0))
+                stopped = int(np.sum(~wave.ok[m]))
                 cells.append(f'{fmt(fitted_order(n, e), 2)} ({fmt(e[-1])})' + (f', {stopped} stopped' if stopped else ''))
             rows.append([scheme, shape] + cells)
     lines += ['', '![convergence](wave_convergence.png)', '',

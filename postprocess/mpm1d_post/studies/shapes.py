@@ -71,7 +71,7 @@ def convergence_table(sweep: Sweep, against_finest):
     for scheme in SCHEMES:
         for shape in SHAPES:
             idx = sweep.rows('elements', scheme=scheme, shape=shape)
-            el, err, ok = c['elements'][idx], c['relative_error'][idx], c['status'][idx] == 0
+            el, err, ok = c['elements'][idx], c['relative_error'][idx], sweep.ok[idx]
             amplitude = amplitude_of(sweep, idx)
             if against_finest:
                 measure = np.array([difference_at_common_times(history_of(sweep, a), history_of(sweep, b)) / amplitude
@@ -123,7 +123,7 @@ def temporal_rows(sweep: Sweep):
                 idx = sweep.rows('dt_fraction', descending=True, scheme=scheme, shape=shape, transfer=transfer)
                 if not idx.size:
                     continue
-                ks, err, ok = c['dt_fraction'][idx], c['relative_error'][idx], c['status'][idx] == 0
+                ks, err, ok = c['dt_fraction'][idx], c['relative_error'][idx], sweep.ok[idx]
                 amplitude = amplitude_of(sweep, idx)
                 d = np.array([difference_at_common_times(history_of(sweep, a), history_of(sweep, b)) / amplitude
                               if oa and ob else np.nan
@@ -461,7 +461,7 @@ def error_against_time(out, small):
                       zip(pts['scheme'], pts['shape'], pts['transfer'], pts['elements'])])
     idx = np.flatnonzero(ok)
     front = idx[pareto_front(t[ok], e[ok])]
-    stopped = int((pts['status'] != 0).sum())
+    stopped = int((~points.ok).sum())
     lines = ['', '## Error against run time over schemes, shapes and transfers (small amplitude, one thread)', '',
              f'{int(ok.sum())} timed runs: every scheme x shape with FLIP at 10-320 elements and every scheme x shape '
              'x PIC, blend (0.99) and APIC at 10-160 elements, 4 particles per element, k = 0.25 (timing pass: each '
@@ -790,7 +790,7 @@ def main(argv=None):
         for shape in SHAPES:
             for transfer in TRANSFERS:
                 m = tr.rows('elements', shape=shape, transfer=transfer, scheme='usl')
-                err, ok = tr.cases['relative_error'][m], tr.cases['status'][m] == 0
+                err, ok = tr.cases['relative_error'][m], tr.ok[m]
                 table.append([shape, transfer] + [result_cell(e, k) for e, k in zip(err, ok)]
                              + [', '.join(fo(x) for x in successive_orders(tr.cases['elements'][m], err))])
         lines += markdown_table(['shape', 'transfer'] + [f'{e} el.' for e in els] + ['orders'], table)
