@@ -7,7 +7,6 @@ from __future__ import annotations
 import csv
 import subprocess
 
-import numpy as np
 import pytest
 
 from mpm1d_post import plot_sweep
