@@ -15,7 +15,6 @@ import sys
 from mpm1d_post.study_checks import Checks, run_quick
 
 HERE = os.path.dirname(os.path.abspath(__file__))
-check = Checks()
 
 
 def numbers(text, pattern):
@@ -23,6 +22,7 @@ def numbers(text, pattern):
 
 
 def main() -> int:
+    check = Checks()
     out, proc = run_quick(HERE, 'mpm1d_implicit_', timeout=1800)
     check('run.sh (quick) exits 0', proc.returncode == 0, proc.stdout[-2000:] + proc.stderr[-2000:])
     for name in ('bar_explicit.h5', 'bar_implicit.h5', 'temporal.h5', 'energy_explicit.h5', 'energy_implicit.h5',

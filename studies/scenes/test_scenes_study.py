@@ -14,11 +14,10 @@ import sys
 from mpm1d_post.study_checks import Checks, run_quick
 
 HERE = os.path.dirname(os.path.abspath(__file__))
-check = Checks()
-results = check.results
 
 
 def main() -> int:
+    check = Checks()
     out, proc = run_quick(HERE, 'mpm1d_scenes_', timeout=900)
     check('run.sh (quick) exits 0', proc.returncode == 0, proc.stdout[-2000:] + proc.stderr[-2000:])
     for name in ('impact_frictionless_error.png', 'impact_none_error.png', 'field_impact.png', 'stability.png',
@@ -54,7 +53,7 @@ def main() -> int:
         m = re.search(rf'^\| {scene} \| {path_name} \| ([0-9]+) \|', text, re.M)
         check(f'benchmark: {scene} ({path_name}) {size} bytes per particle', m is not None and int(m.group(1)) == size,
               m.group(0) if m else 'no row')
-    passed, failed = sum(results), len(results) - sum(results)
+    passed, failed = sum(check.results), len(check.results) - sum(check.results)
     print(f'{passed} passed, {failed} failed')
     return 0 if failed == 0 else 1
 

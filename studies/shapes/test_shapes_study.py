@@ -19,11 +19,10 @@ import sys
 from mpm1d_post.study_checks import Checks, run_quick
 
 HERE = os.path.dirname(os.path.abspath(__file__))
-check = Checks()
-results = check.results
 
 
 def main() -> int:
+    check = Checks()
     out, proc = run_quick(HERE, 'mpm1d_shapes_', timeout=900)
     check('run.sh (quick) exits 0', proc.returncode == 0, proc.stdout[-2000:] + proc.stderr[-2000:])
     for name in ('convergence_small.h5', 'convergence_large.h5', 'transfers_small.h5', 'transfers_large.h5',
@@ -82,7 +81,7 @@ def main() -> int:
     with open(os.path.join(out, 'speed.csv')) as handle:
         rows = list(csv.DictReader(handle))
     check('speed: every shape timed', {r['shape'] for r in rows} == {'linear', 'ugimp', 'cpgimp', 'bspline2', 'bspline3'})
-    passed, failed = sum(results), len(results) - sum(results)
+    passed, failed = sum(check.results), len(check.results) - sum(check.results)
     print(f'{passed} passed, {failed} failed')
     return 0 if failed == 0 else 1
 

@@ -20,11 +20,10 @@ FIGURES = ('stability_map.png', 'stability_map_zoom.png', 'stability_map_1elemen
 SWEEPS = ('map.h5', 'coarse.h5', 'large.h5', 'long100.h5', 'long1000.h5', 'modes.h5',
           'fine_e10000.h5', 'largest.h5')
 
-check = Checks()
-results = check.results
 
 
 def main() -> int:
+    check = Checks()
     out, proc = run_quick(HERE, 'mpm1d_stability_', timeout=600)
     check('run.sh (quick) exits 0', proc.returncode == 0, proc.stdout[-2000:] + proc.stderr[-2000:])
     for name in SWEEPS:
@@ -56,7 +55,7 @@ def main() -> int:
           abs(measured - kc) <= 0.05, f'difference {measured - kc:.4f}')
     check('USL ppc 1: the first failing case trips a guard above the prediction',
           first is not None and sweep.cases['dt_fraction'][first] > kc)
-    passed, failed = sum(results), len(results) - sum(results)
+    passed, failed = sum(check.results), len(check.results) - sum(check.results)
     print(f'{passed} passed, {failed} failed')
     return 0 if failed == 0 else 1
 
