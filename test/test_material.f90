@@ -16,7 +16,9 @@ program test_material
    use mpm_kinds, only: dp
    use mpm_material_elastic, only: elastic_update, strain_energy_density, elastic_update_all, linear_update, &
                                    linear_update_all, linear_energy_density
-   use mpm_material_plastic, only: radial_return, plastic_update_all, plastic_work_density, dissipation_density
+   use mpm_material_plastic, only: radial_return, plastic_update_all, plastic_work_density, dissipation_density, &
+                                   hardening_tangent
+   use mpm_strings, only: str
    use mpm_material, only: law_hencky, law_linear, law_elastoplastic, law_tangent, law_id, law_name, known_laws
    use mpm_testing, only: tester_t, fixed_seed
    implicit none
@@ -334,7 +336,28 @@ contains
                          law_tangent(law_elastoplastic, youngs, yield, hardening_modulus, de, stress, 1.0_dp, alpha), &
                          fd, rtol=1.0e-6_dp)
       call t%check_close('... = E H/(E + H)', fd, youngs*hardening_modulus/(youngs + hardening_modulus), rtol=1.0e-6_dp)
+      call extreme_hardening()
    end subroutine tangents
+
+   !> E_t = E H/(E + H) wherever E_t is a double, against quadruple precision (whose range holds E H):
+   !> H = 1e300 with steel's E gives E (E H overflowed to a NaN tangent); H = 0 gives 0; ordinary moduli
+   !> give the bits of E H/(E + H) as written.
+   subroutine extreme_hardening()
+      real(dp), parameter :: pairs(2, 6) = reshape([2.0e11_dp, 1.0e300_dp, 2.0e11_dp, 0.0_dp, 1.0e200_dp, &
+                                                    3.0e200_dp, huge(1.0_dp), huge(1.0_dp), 1.0e300_dp, 2.0e11_dp, &
+                                                    youngs, hardening_modulus], [2, 6])
+      real(real128) :: e, h
+      integer :: k
+      do k = 1, size(pairs, 2)
+         e = real(pairs(1, k), real128)
+         h = real(pairs(2, k), real128)
+         call t%check_close('E_t of E = '//str(pairs(1, k))//', H = '//str(pairs(2, k))//' against quadruple precision', &
+                            hardening_tangent(pairs(1, k), pairs(2, k)), real(e*h/(e + h), dp), rtol=4*epsilon(1.0_dp), &
+                            atol=0.0_dp)
+      end do
+      call t%check('E_t of ordinary moduli: the bits of E H/(E + H)', hardening_tangent(youngs, hardening_modulus) == &
+                   youngs*hardening_modulus/(youngs + hardening_modulus))
+   end subroutine extreme_hardening
 
    real(dp) function fd_hencky(step, h)
       real(dp), intent(in) :: step, h

@@ -66,6 +66,10 @@ module mpm_config
    real(dp), parameter :: max_dt_fraction = 10.0_dp
    !> ... and above which an implicit run is (unconditionally stable: the step is the user's accuracy choice).
    real(dp), parameter :: max_implicit_dt_fraction = 1.0e8_dp
+   !> Largest ghost penalty: its stiffness gamma E/dx only conditions the tangent worse beyond the
+   !> material's (1/rcond grows as gamma); on the quasi-static column the solution's error is the same
+   !> from 1e3 to 1e10, 5x it at 1e12 and 0.9 (no digit) at 1e15, where Newton still reported convergence.
+   real(dp), parameter :: max_ghost_penalty = 1.0e6_dp
    !> Time integrators: the explicit schemes (scheme = usf, usl, musl), Newmark's trapezoidal rule with
    !> Newton on the grid, and equilibrium in load steps (mpm_implicit).
    character(len=*), parameter :: known_integrators = 'explicit, implicit, quasi_static'
@@ -206,7 +210,7 @@ contains
                     words='lumped, consistent', sweep_list='mass'), &
          int_entry('discretisation', 'load_steps', config%load_steps, "load increments of integrator "// &
                    "'quasi_static' (equilibrium under a fraction k/load_steps of the loads)", at_least=1, &
-                   sweep_list='load_steps'), &
+                   at_most=huge(1) - 1, sweep_list='load_steps'), &
          real_entry('discretisation', 'newton_tolerance', config%newton_tolerance, '', 'Newton stops at |R| <= '// &
                     'tolerance * |forces| (the sum of the magnitudes of the terms balanced at each node); '// &
                     "integrators 'implicit', 'quasi_static'", &
@@ -217,8 +221,8 @@ contains
          real_entry('discretisation', 'ghost_penalty', config%ghost_penalty, '', 'ghost penalty gamma on the '// &
                     'cut cells at free ends (stiffness gamma E/dx on the jump of the p-th derivative); 0: off; '// &
                     "integrators 'implicit', 'quasi_static'", &
-                    at_least=-1.0_dp, note='-1: 0.1 for GIMP and B-splines, 0 for linear', &
-                    sweep_list='ghost_penalty'), &
+                    at_least=-1.0_dp, at_most=max_ghost_penalty, note='-1: 0.1 for GIMP and B-splines, 0 for '// &
+                    'linear; between -1 and 0 refused', sweep_list='ghost_penalty'), &
          text_entry('scene', 'kind', config%scene_kind, 'the problem (docs/user-guide.md, Scenes): '// &
                     scene_list(periods=.false.), words=known_scenes, attribute='scene_kind'), &
          for_kinds(real_entry('scene', 'length', config%length, 'm', 'length of the bar', greater_than=0.0_dp), &
@@ -675,6 +679,10 @@ contains
          call config_parameters(defaults, own_defaults)
          call unused_values(own_defaults)
       end if
+      if (config%ghost_penalty > -1.0_dp .and. config%ghost_penalty < 0.0_dp) &
+         call append_error(error, "discretisation: ghost_penalty = "//short_number(config%ghost_penalty)//"; "// &
+                           "allowed: -1 (automatic: 0.1 for GIMP and B-splines, 0 for linear), or 0 to "// &
+                           short_number(max_ghost_penalty)//" (0: off)")
       if (trim(config%integrator) == 'quasi_static' .and. config%end_time_given) &
          call append_error(error, integrator_message(table(find_parameter(table, 'run', 'end_time')), &
                                                      config%integrator))
@@ -773,7 +781,9 @@ contains
       end if
       call check_memory(int(config%elements, i8)*config%particles_per_element, config%elements, &
                         merge(step_count(run_end_time(config), time_step(config)), 0, config%history), error, &
-                        config%margin_cells, automatic_margin(config), trim(config%integrator) /= 'explicit')
+                        config%margin_cells, automatic_margin(config), trim(config%integrator) /= 'explicit', &
+                        merge('discretisation: load_steps', 'run: its end time / dt    ', &
+                              trim(config%integrator) == 'quasi_static'))
       call check_output_path(config%file, 'output: file', error)
    contains
       !> Each value against its range, then the checks of the values together.
@@ -910,8 +920,6 @@ contains
                            "precursor reaches the free end at L/c = "//num(config%length/c, 4)//" s, where the "// &
                            "plastic wave's exact solution stops holding; allowed: periods <= 1 (end_time <= "// &
                            num(config%length/c, 4)//" s)")
-      if (end_time/dt > real(huge(1) - 1, dp)) call append_error(error, too_many_steps(config, end_time_given, &
-                                                                                         end_time, dt, given))
       call check_motion(config, end_time, dx, error, given)
       call check_snapshots(config, end_time, error, given)
    end subroutine check_run
@@ -934,6 +942,18 @@ contains
       if (trim(config%scene_kind) == 'manufactured' .and. trim(config%law) == 'elastoplastic') &
          call append_error(error, "material: law = 'elastoplastic' is not used by kind = 'manufactured' (its body "// &
                            "force makes the motion exact for an elastic law); allowed: law = 'hencky' or 'linear'")
+      ! the column's weight at its fixed end, rho g L: a perfectly plastic column yielding there has no
+      ! equilibrium (docs/theory.md, The static column): it flows without bound (a quasi-static run left
+      ! the grid at x = 3.5e10 m, an explicit one tripped the energy guard)
+      if (trim(config%scene_kind) == 'column' .and. trim(config%law) == 'elastoplastic' .and. &
+          config%hardening_modulus == 0.0_dp) then
+         if (config%yield_stress < config%density*config%gravity*config%length) &
+            call append_error(error, "material: hardening_modulus = 0 (perfectly plastic) with yield_stress = "// &
+                              short_number(config%yield_stress)//" Pa, below the column's weight at its fixed end "// &
+                              "rho g L = "//num(config%density*config%gravity*config%length, 4)//" Pa: the column "// &
+                              "yields and has no equilibrium; allowed: yield_stress >= "// &
+                              num(config%density*config%gravity*config%length, 4)//" Pa, or hardening_modulus > 0")
+      end if
    end subroutine check_material
 
    !> How the user gave the run's length: "run: end_time = 1e-3 s" or "run: periods = 2 (end time 1e-3 s)",
@@ -1144,6 +1164,14 @@ contains
                      2*log10(config%amplitude) - 4)
          return
       end if
+      if (trim(config%scene_kind) == 'plastic_wave') then
+         ! the energy balance sums m v^2/2 and the drive's work V sum m v as they stand
+         extra = ", drive_velocity = "//short_number(config%drive_velocity)//" m/s"
+         call within("the drive's work rho V^2 L", log10(config%density) + 2*log10(config%drive_velocity) + &
+                     log10(config%length))
+         call within("the stress rho c V", log10(config%density) + log_ratio/2 + log10(config%drive_velocity))
+         return
+      end if
       if (trim(config%scene_kind) /= 'vibrating_bar' .or. config%velocity_amplitude == 0.0_dp) return
       log_c = log_ratio/2
       log_v = log10(abs(config%velocity_amplitude))
@@ -1194,7 +1222,7 @@ contains
    !> Refuse a run whose particles and grid would not fit in the memory available now.
    !> `history_steps` is the number of history entries kept (0 without history).
    !> `margin` (margin_cells as given, -1: automatic) adds its empty cells to the grid's.
-   subroutine check_memory(particles, elements, history_steps, error, margin, automatic, implicit)
+   subroutine check_memory(particles, elements, history_steps, error, margin, automatic, implicit, history_from)
       integer(i8), intent(in) :: particles
       integer, intent(in) :: elements, history_steps
       type(error_t), allocatable, intent(inout) :: error
@@ -1204,6 +1232,8 @@ contains
       !> the implicit integrators' workspace too (mpm_implicit: 10 doubles per particle; per node 14 arrays
       !> and the band matrices, at most 3 x 5 + 1 doubles each for the tangent and the consistent mass)
       logical, intent(in), optional :: implicit
+      !> What sets the history's steps, named when the history takes most of the memory.
+      character(len=*), intent(in), optional :: history_from
       integer(i8) :: needed, available, margin_cells
       integer :: bytes_per_element
       integer, parameter :: bytes_per_history_entry = 5*8
@@ -1228,10 +1258,18 @@ contains
          if (implicit) needed = needed + particles*10*8
       end if
       available = available_memory()
-      if (available > 0 .and. needed > available) call append_error(error, &
-         "discretisation: elements = "//str(elements)//with_margin//" and particles_per_element give "// &
-         str(particles)//" particles; with "//str(history_steps)//" history steps the run needs "// &
-         str(needed/1024**2)//" MiB; allowed: at most the "//str(available/1024**2)//" MiB of memory available")
+      if (available <= 0 .or. needed <= available) return
+      if (present(history_from) .and. 2*int(history_steps, i8)*bytes_per_history_entry > needed) then
+         call append_error(error, "output: history = .true. keeps "//str(history_steps)//" steps ("// &
+                           trim(history_from)//" = "//str(history_steps)//") of "//str(bytes_per_history_entry)// &
+                           " bytes: the run needs "//str(needed/1024**2)//" MiB; allowed: at most the "// &
+                           str(available/1024**2)//" MiB of memory available (fewer steps, or history = .false.)")
+      else
+         call append_error(error, "discretisation: elements = "//str(elements)//with_margin//" and "// &
+                           "particles_per_element give "//str(particles)//" particles; with "//str(history_steps)// &
+                           " history steps the run needs "//str(needed/1024**2)//" MiB; allowed: at most the "// &
+                           str(available/1024**2)//" MiB of memory available")
+      end if
    end subroutine check_memory
 
    !> The output file's folder must exist (the file is written there under a temporary name first).

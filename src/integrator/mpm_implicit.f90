@@ -47,8 +47,8 @@
 !> v_{n+1} = V) and its point constraint sum_k w_k v_{n+1,k} = V is a Lagrange multiplier (a bordered
 !> system solved with two right-hand sides of the same factors).
 module mpm_implicit
-   use, intrinsic :: ieee_arithmetic, only: ieee_is_finite
-   use mpm_kinds, only: dp
+   use, intrinsic :: ieee_arithmetic, only: ieee_is_finite, ieee_value, ieee_quiet_nan
+   use mpm_kinds, only: dp, i8
    use mpm_config, only: config_t
    use mpm_grid, only: grid_t
    use mpm_particles, only: particles_t
@@ -83,6 +83,8 @@ module mpm_implicit
    real(dp), parameter :: automatic_ghost_penalty = 0.1_dp
    !> Halvings of a Newton step that does not reduce |R| (a backtracking line search).
    integer, parameter :: max_halvings = 10
+   !> Room for the relative residuals of this many solves a step, doubled when a step needs more.
+   integer, parameter :: initial_residuals = 32
 
    !> Everything an implicit run carries (nothing of it exists in an explicit run): the options, the
    !> Newton statistics, the step's grid and particle workspace and the banded matrices.
@@ -103,10 +105,14 @@ module mpm_implicit
       real(dp) :: floor_residual = 0.0_dp   !< the largest relative residual accepted so
       ! the last step
       integer :: iterations = 0          !< its linear solves
-      real(dp), allocatable :: residuals(:)  !< (0:max_iterations) its relative residual before each solve
+      !> its relative residual before each solve (0:iterations; grown as a step needs, never sized by
+      !> max_iterations: a cap of 2^31 - 1 once allocated 17 GB for steps of 2 solves)
+      real(dp), allocatable :: residuals(:)
       logical :: failed = .false.        !< it did not converge (the run stops: status_newton)
       real(dp) :: failed_residual = 0.0_dp
       integer :: singular_node = -1      !< >= 0: the tangent was singular there (an exactly zero pivot)
+      !> the singular matrix was the consistent mass matrix (its node: singular_node), not the tangent
+      logical :: singular_mass = .false.
       ! the step's data on the nodes 0..elements
       real(dp) :: dt = 0.0_dp
       integer, allocatable :: master(:)  !< the node whose unknown a node takes (itself if free; -1 held)
@@ -155,7 +161,7 @@ contains
       im%max_iterations = config%max_newton_iterations
       im%ghost_penalty = config%ghost_penalty
       if (im%ghost_penalty < 0.0_dp) im%ghost_penalty = merge(0.0_dp, automatic_ghost_penalty, trim(config%shape) == 'linear')
-      allocate (im%residuals(0:im%max_iterations))
+      allocate (im%residuals(0:min(im%max_iterations, initial_residuals)))
    end subroutine implicit_init
 
    !> One step from t to t + dt (implicit) or one load increment to the load factor t + dt (quasi-static):
@@ -172,6 +178,7 @@ contains
       type(pass_totals_t), intent(out) :: totals
       call prepare_step(im, scene, cache, particles, grid, dt, material, t, totals)
       if (totals%outside /= 0) return ! the left_grid guard stops the run
+      if (im%failed) return ! a singular consistent mass matrix
       call newton_solve(im, cache, particles, grid, material)
       if (im%failed) return
       call update_particles(im, cache, particles, grid, material, totals)
@@ -191,6 +198,8 @@ contains
       type(pass_totals_t), intent(out) :: totals
       logical :: dynamic
       dynamic = im%kind == integrator_implicit
+      im%failed = .false.
+      im%singular_mass = .false.
       im%dt = dt
       call locate_particles(cache, grid, particles, totals)
       if (totals%outside /= 0) return
@@ -309,6 +318,7 @@ contains
          end where
       else
          call consistent_mass(im, cache, particles, grid)
+         if (im%failed) return
          allocate (rhs(0:grid%elements, 2))
          rhs(:, 1) = merge(grid%momentum, 0.0_dp, im%unknown)
          rhs(:, 2) = merge(grid%force, 0.0_dp, im%unknown)
@@ -345,6 +355,16 @@ contains
       im%mass_magnitude = im%mass_matrix
       im%mass_magnitude%ab = abs(im%mass_matrix%ab)
       call banded_factor(im%mass_factors, info)
+      ! M = sum_p m_p N_p N_p^T has rank at most the particle count: with one particle per element a body
+      ! with free ends, or a particle entering a new cell, leaves it singular (a zero pivot: the solves
+      ! gave NaN); the run stops naming it (status newton_not_converged, singular_mass)
+      if (info > 0) then
+         im%failed = .true.
+         im%singular_mass = .true.
+         im%singular_node = info - 1
+         im%iterations = 0
+         im%failed_residual = 0.0_dp
+      end if
    end subroutine consistent_mass
 
    !> The scene's drive: its nodes held at the drive velocity (e = dt (V - v_n)/2, so v_{n+1} = V) and its
@@ -411,6 +431,7 @@ contains
          relative = relative_residual(im)
          gap = 0.0_dp
          if (im%constrained) gap = im%target - sum(im%weight*im%e)
+         if (iteration > ubound(im%residuals, 1)) call grow_residuals(im, iteration)
          im%residuals(iteration) = relative
          if (.not. ieee_is_finite(relative)) exit
          ! converged: the tolerance met, or the residual within floor_ulps of its round-off (floor_ulps)
@@ -476,6 +497,19 @@ contains
       im%failed_residual = relative
    end subroutine newton_solve
 
+   !> Room in im%residuals for solve `iteration` (doubled, kept values, the rest 0; at most max_iterations).
+   subroutine grow_residuals(im, iteration)
+      type(implicit_t), intent(inout) :: im
+      integer, intent(in) :: iteration
+      real(dp), allocatable :: grown(:)
+      integer :: last
+      last = ubound(im%residuals, 1)
+      allocate (grown(0:int(min(max(2_i8*last, int(iteration, i8)), int(im%max_iterations, i8)))))
+      grown = 0.0_dp
+      grown(0:last) = im%residuals
+      call move_alloc(grown, im%residuals)
+   end subroutine grow_residuals
+
    !> |R| / |forces| over the unknowns (0 when nothing acts; at most 1).
    real(dp) function relative_residual(im)
       type(implicit_t), intent(in) :: im
@@ -492,7 +526,7 @@ contains
    real(dp) function relative_to_forces(im, field) result(relative)
       type(implicit_t), intent(in) :: im
       real(dp), intent(in) :: field(0:)
-      real(dp) :: size2, scale2
+      real(dp) :: size2, scale2, scale
       integer :: i
       size2 = 0.0_dp
       scale2 = 0.0_dp
@@ -501,8 +535,17 @@ contains
          size2 = size2 + field(i)**2
          scale2 = scale2 + im%forces(i)**2
       end do
+      ! (a NaN field stays NaN, where "> 0" once made it 0: converged)
       relative = 0.0_dp
-      if (size2 > 0.0_dp) relative = sqrt(size2)/sqrt(scale2)
+      if (.not. size2 == 0.0_dp) relative = sqrt(size2)/sqrt(scale2)
+      ! squares beyond the doubles (forces above 1e154): the same norms in scaled form (norm2), where an
+      ! infinite scale once made every residual 0
+      if (.not. ieee_is_finite(scale2) .or. .not. ieee_is_finite(size2)) then
+         scale = norm2(pack(im%forces, im%unknown))
+         relative = norm2(pack(field, im%unknown))/scale
+         ! (an infinite force has no scale: no residual is small against it)
+         if (.not. ieee_is_finite(scale)) relative = ieee_value(scale, ieee_quiet_nan)
+      end if
    end function relative_to_forces
 
    !> |R| over the unknowns.

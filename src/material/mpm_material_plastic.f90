@@ -17,6 +17,7 @@ module mpm_material_plastic
    implicit none
    private
    public :: radial_return, plastic_tangent, plastic_work_density, dissipation_density, plastic_update_all
+   public :: hardening_tangent
 
 contains
 
@@ -51,11 +52,26 @@ contains
                                                hardening) result(tangent)
       real(dp), intent(in) :: youngs_modulus, yield_stress, hardening_modulus, dstrain, stress, hardening
       if (abs(stress + youngs_modulus*dstrain) - (yield_stress + hardening_modulus*hardening) > 0.0_dp) then
-         tangent = youngs_modulus*hardening_modulus/(youngs_modulus + hardening_modulus)
+         tangent = hardening_tangent(youngs_modulus, hardening_modulus)
       else
          tangent = youngs_modulus
       end if
    end function plastic_tangent
+
+   !> The tangent modulus of plastic loading, E_t = E H/(E + H) (0 when H = 0), formed as written while
+   !> E H is a double and as min/(1 + min/max) of E and H beyond (E = 2e11 and H = 1e300: E_t = E, where
+   !> E H overflowed to a NaN tangent).
+   elemental real(dp) function hardening_tangent(youngs_modulus, hardening_modulus) result(tangent)
+      real(dp), intent(in) :: youngs_modulus, hardening_modulus
+      real(dp) :: product
+      product = youngs_modulus*hardening_modulus
+      if (product <= huge(1.0_dp)) then
+         tangent = product/(youngs_modulus + hardening_modulus)
+      else
+         tangent = min(youngs_modulus, hardening_modulus)/(1.0_dp + min(youngs_modulus, hardening_modulus)/ &
+                                                           max(youngs_modulus, hardening_modulus))
+      end if
+   end function hardening_tangent
 
    !> Plastic work of a particle, (sigma_y alpha + H alpha^2/2) V0.
    elemental real(dp) function plastic_work_density(yield_stress, hardening_modulus, hardening, volume0)

@@ -5,7 +5,7 @@ module mpm_simulation
    use omp_lib, only: omp_get_wtime
    use mpm_kinds, only: dp
    use mpm_errors, only: error_t, set_error
-   use mpm_strings, only: str
+   use mpm_strings, only: str, plural
    use mpm_config, only: config_t, material_of
    use mpm_material, only: material_t, law_hencky, law_linear, material_state, material_report
    use mpm_grid, only: grid_t, grid_init
@@ -43,6 +43,7 @@ module mpm_simulation
       real(dp) :: node_mass_ratio = 0.0_dp  !< the lightest nodal mass of the step / particle mass
       integer :: iteration = 0      !< newton_not_converged: the linear solves made
       integer :: node = -1          !< newton_not_converged: the node of a singular tangent (-1: none)
+      logical :: mass_matrix = .false.  !< newton_not_converged: the singular matrix was the consistent mass
    end type guard_trip_t
 
    !> What one run produced.
@@ -325,6 +326,7 @@ contains
             call trip(run, result, step, time, status_newton, run%implicit%failed_residual, 0)
             result%trip%iteration = run%implicit%iterations
             result%trip%node = run%implicit%singular_node
+            result%trip%mass_matrix = run%implicit%singular_mass
          else if (.not. ieee_is_finite(energy) .or. .not. ieee_is_finite(run%ucm)) then
             call trip(run, result, step, time, status_non_finite, energy/reference, first_non_finite(particles))
          else if (totals%outside /= 0) then
@@ -421,7 +423,13 @@ contains
                    'particle state is finite): the scene cannot be represented at this scale'
          end if
       case (status_newton)
-         if (trip%node >= 0) then
+         if (trip%mass_matrix) then
+            what = 'the consistent mass matrix is singular (its LU factorisation: a zero pivot at node '// &
+                   str(trip%node)//'): M_IJ = sum_p m_p N_Ip N_Jp has rank at most the number of particles, and '// &
+                   'with '//plural(config%particles_per_element, 'particle')//' per element a free end or a '// &
+                   'particle entering a new cell leaves it short of the nodes it spans; allowed: '// &
+                   'particles_per_element >= 2, or mass = ''lumped'''
+         else if (trip%node >= 0) then
             what = 'the tangent is singular (its LU factorisation: a zero pivot at node '//str(trip%node)//') at Newton '// &
                    'iteration '//str(trip%iteration + 1)
          else

@@ -24,6 +24,7 @@
 !> particle's reference position, sum_p |sigma_p - sigma(X_p, T)| V0_p (Pa m), relative to the plastic
 !> stress times L (relative_error), as the composite bar's.
 module mpm_scene_plastic_wave
+   use, intrinsic :: ieee_arithmetic, only: ieee_value, ieee_quiet_nan
    use mpm_kinds, only: dp
    use mpm_errors, only: error_t
    use mpm_config, only: config_t, material_of
@@ -31,6 +32,7 @@ module mpm_scene_plastic_wave
    use mpm_particles, only: particles_t, particles_init
    use mpm_shape, only: shape_cache_t
    use mpm_material, only: material_t, law_elastoplastic, stored_energy, plastic_work
+   use mpm_material_plastic, only: hardening_tangent
    use mpm_scene, only: scene_t, margin_for, drive_t
    implicit none
    private
@@ -76,8 +78,7 @@ contains
       scene%plastic_stress = scene%precursor_stress
       if (scene%material%law == law_elastoplastic) then
          v1 = config%yield_stress/(config%density*scene%elastic_speed)
-         scene%tangent_modulus = config%youngs_modulus*config%hardening_modulus/ &
-                                 (config%youngs_modulus + config%hardening_modulus)
+         scene%tangent_modulus = hardening_tangent(config%youngs_modulus, config%hardening_modulus)
          scene%yields = config%drive_velocity > v1
          if (scene%yields) then
             scene%plastic_speed = sqrt(scene%tangent_modulus/config%density)
@@ -269,8 +270,11 @@ contains
       precursor = maxval(particles%x0, mask=magnitude >= 0.5_dp*self%precursor_stress, dim=1)
       plastic = maxval(particles%x0, mask=magnitude >= 0.5_dp*(self%precursor_stress + self%plastic_stress), dim=1)
       work = self%drive_velocity*sum(particles%mass_of*particles%v)
-      balance = (sum(0.5_dp*particles%mass_of*particles%v**2) + stored_energy(self%material, particles) + &
-                 plastic_work(self%material, particles) - work)/work
+      ! no work, no balance (a run a guard stopped at its first step): no value, not 0/0
+      balance = ieee_value(work, ieee_quiet_nan)
+      if (work /= 0.0_dp) balance = (sum(0.5_dp*particles%mass_of*particles%v**2) + &
+                                     stored_energy(self%material, particles) + plastic_work(self%material, particles) - &
+                                     work)/work
       names = [character(len=32) :: 'measured_precursor_front', 'measured_plastic_front', 'measured_plastic_stress', &
                'measured_precursor_stress', 'drive_work', 'energy_balance']
       values = [max(precursor, 0.0_dp), merge(max(plastic, 0.0_dp), 0.0_dp, self%yields), &

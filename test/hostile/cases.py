@@ -3,7 +3,8 @@
 Each case is a dict:
   name      unique name
   cls       its class: '1 not understood', '2 values changed', '3 messages', '4 paths', '5 scale',
-            '6 signals', or 'i16.N' for defect N of issue 16, section 3
+            '6 signals', '7 survival' (a full disk), '8 laws and integrators', or 'i16.N' for defect N of
+            issue 16, section 3
   input     text (or bytes) written to in.nml (None: no file)
   files     further files {name: text or bytes} written before the run
   args      the arguments ('{exe}' is the executable); default ['in.nml']
@@ -775,3 +776,67 @@ add('full_disk_merge', C7, 3, r"(?m)^mpm1d: HDF5 output 'm\.h5': cannot .*: file
     shell='"$MPM1D" in.nml --shard=1/2 -q && "$MPM1D" in.nml --shard=2/2 -q || exit 4; ' + KEEP.format(f='m.h5') +
           '(ulimit -f 24; "$MPM1D" merge m.h5 o_shard001of002.h5 o_shard002of002.h5); rc=$?; ' +
           INTACT.format(f='m.h5') + 'exit $rc')
+
+# ---------------------------------------------------------------- the laws and integrators under hostile input
+# Each to a clear refusal, a guard naming the real cause, or a correct run.
+C8 = '8 laws and integrators'
+COLUMN_QS = "&scene kind='column' /\n&discretisation integrator='quasi_static' /\n&output file='o.h5' /\n"
+IMPACT_NONE = ("&scene kind='impact', lengths=1.0, 1.0, youngs_moduli=200.0e9, 200.0e9, densities=7800.0, 7800.0, "
+               "velocities=1.0, -1.0, gap=0.0, contact='none' /\n&run periods=0.25 /\n&output file='o.h5' /\n")
+COMPOSITE = ("&scene kind='composite_bar', lengths=1.0, 1.0, youngs_moduli=16.0e6, 1.0e6, densities=1000.0, 1000.0, "
+             "drive_velocity=0.01 /\n&output file='o.h5' /\n")
+WAVE = "&scene kind='plastic_wave' /\n&material law='elastoplastic' /\n&output file='o.h5' /\n"
+# a cap on Newton's solves no longer sizes an array: 2^31 - 1 runs as the default (it allocated 17 GB)
+add('i38_max_newton_iterations_huge_runs', C8, 0, None, ref=True, output='o.h5', cpu_seconds=5,
+    input=COLUMN_QS.replace("'quasi_static'", "'quasi_static', max_newton_iterations=2147483647"))
+add('i38_max_newton_iterations_default', C8, 0, None, input=COLUMN_QS,
+    rel_error='@i38_max_newton_iterations_huge_runs', rel_tol=0.0)
+# a ghost penalty between -1 (automatic) and 0 was silently the automatic one; beyond 1e6 it only
+# conditions the tangent worse (1e15: error 0.9 with status ok)
+for g in ('-0.5', '-1e-300'):
+    refused(f'i38_ghost_penalty_{g}', C8, COLUMN_QS.replace("'quasi_static'", f"'quasi_static', ghost_penalty={g}"),
+            r"ghost_penalty = -[0-9.e-]+; allowed: -1 \(automatic.*or 0 to 1000000")
+for shape, g in (('ugimp', '1e15'), ('bspline2', '1e300')):
+    refused(f'i38_ghost_penalty_{shape}_{g}', C8, COLUMN_QS.replace(
+        "'quasi_static'", f"'quasi_static', shape='{shape}', ghost_penalty={g}"),
+        r"ghost_penalty = \S+ is out of range; allowed: finite real with -1 <= ghost_penalty <= 1000000")
+# the consistent mass matrix with one particle per element is singular (it ran into NaN): a guard names it;
+# two particles per element run
+SINGULAR = r"the consistent mass matrix is singular .*allowed: particles_per_element >= 2, or mass = 'lumped'"
+for name, text in (('impact_none', IMPACT_NONE), ('composite', COMPOSITE.replace(
+        "/\n&output", "/\n&run periods=0.5 /\n&output")), ('plastic_wave', WAVE)):
+    consistent = f"&discretisation integrator='implicit', mass='consistent'{', dt_fraction=0.1' if name == 'composite' else ''} /\n"
+    add(f'i38_consistent_mass_{name}_one_particle', C8, 1, SINGULAR, input=text + consistent)
+    add(f'i38_consistent_mass_{name}_two_particles', C8, 0, None,
+        input=text + consistent.replace("'consistent'", "'consistent', particles_per_element=2"))
+# the plastic wave at a drive whose energies underflow: refused by name; far below the rounding of positions
+# it runs alike (its stress error keeps its digits) and no warning names the bar's velocity_amplitude
+refused('i38_plastic_wave_drive_1e-200', C8, WAVE.replace("'plastic_wave'", "'plastic_wave', drive_velocity=1e-200"),
+        r"drive_velocity = 1e-200 m/s.*the drive's work rho V\^2 L is about 1e-395")
+add('i38_plastic_wave_drive_1e-150_runs', C8, 0, None,
+    input=WAVE.replace("'plastic_wave'", "'plastic_wave', drive_velocity=1e-150"))
+add('i38_plastic_wave_drive_1e-30_no_bar_advice', C8, 0, None, not_pattern=r'velocity_amplitude|warning',
+    input=WAVE.replace("'plastic_wave'", "'plastic_wave', drive_velocity=1e-30"))
+# a run stopped before the drive did work: energy_balance is no value (NaN, the status saying why), not 0/0
+add('i38_plastic_wave_stopped_at_first_step', C8, 1, r"guard newton_not_converged tripped at step 1",
+    input=WAVE + "&discretisation integrator='implicit', max_newton_iterations=1 /\n",
+    shell='"$MPM1D" in.nml -q; rc=$?; ' + H5.replace("f['cases']", "f['summary']") % (
+        "c['drive_work'] == 0 and np.isnan(c['energy_balance']) and c['status'] == 7") + ' || exit 9; exit $rc')
+# E_t = E H/(E + H) is representable although E H is not: a stiff hardening runs (it tripped non_finite)
+for integrator in ('explicit', 'implicit'):
+    add(f'i38_hardening_1e300_{integrator}', C8, 0, None,
+        input=WAVE.replace("'elastoplastic'", "'elastoplastic', hardening_modulus=1e300").replace(
+            "'plastic_wave'", "'plastic_wave', drive_velocity=100") + f"&discretisation integrator='{integrator}' /\n",
+        shell='"$MPM1D" in.nml -q || exit 4; ' + H5.replace("f['cases']", "f['summary']") % (
+            "c['tangent_modulus'] == 2e11 and c['yields'] == 1"))
+# a perfectly plastic column yielding at its fixed end has no equilibrium: refused, naming the cause
+for integrator in ('quasi_static', 'explicit'):
+    refused(f'i38_perfectly_plastic_column_{integrator}', C8,
+            f"&scene kind='column' /\n&material law='elastoplastic', hardening_modulus=0, yield_stress=1e3 /\n"
+            f"&discretisation integrator='{integrator}' /\n&output file='o.h5' /\n",
+            r"hardening_modulus = 0 \(perfectly plastic\) with yield_stress = 1000 Pa, below the column's weight at "
+            r"its fixed end rho g L = 1\.913e\+06 Pa: the column yields and has no equilibrium")
+# load_steps beyond the step counter: refused naming load_steps, once (it named periods, twice)
+refused('i38_load_steps_huge', C8, COLUMN_QS.replace("'quasi_static'", "'quasi_static', load_steps=2147483647"),
+        r"^mpm1d: invalid input:\n[^\n]*load_steps = 2147483647 is out of range; allowed: integer with 1 <= "
+        r"load_steps <= 2147483646\n?$", not_pattern='periods')
