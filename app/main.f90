@@ -7,6 +7,7 @@
 !> written) 130, 143, 129 (128 + the signal's number).
 program mpm1d_main
    use, intrinsic :: iso_fortran_env, only: output_unit
+   use mpm_kinds, only: dp
    use mpm_errors, only: error_t
    use mpm_strings, only: str
    use mpm_config, only: config_t, read_config_text, check_output_path
@@ -114,6 +115,7 @@ contains
    subroutine sweep_command()
       type(sweep_t) :: sweep
       character(len=:), allocatable :: output
+      real(dp) :: earlier(2)  !< a resumed sweep's error and timing pass times before this attempt
       call read_sweep_text(text, source, sweep, error, cl%shard, cl%shards, cl%threads, cl%overrides)
       if (allocated(error)) call fail('invalid input:'//new_line('a')//error%message, 2)
       if (cl%quiet) sweep%settings%progress = .false.
@@ -129,6 +131,7 @@ contains
       if (cl%resume) then
          call resume_sweep(output, sweep, error)
          if (allocated(error)) call fail(error%message, 2)
+         earlier = [sweep%error_pass_time, sweep%timing_pass_time]
          if (cases_done(sweep%cases) == size(sweep%cases) .and. (sweep%settings%min_time <= 0 .or. &
              .not. any(cases_to_time(sweep%cases)))) then
             if (.not. cl%quiet) write (output_unit, '(a)') 'mpm1d: nothing to resume: every case of '// &
@@ -144,7 +147,13 @@ contains
       call run_sweep(sweep, catch_signals=.true.)
       call write_sweep_file(output, sweep, error)
       if (allocated(error)) call fail(error%message, 3)
-      if (.not. cl%quiet) call report_sweep(sweep, output)
+      if (.not. cl%quiet) then
+         if (cl%resume) then
+            call report_sweep(sweep, output, earlier)
+         else
+            call report_sweep(sweep, output)
+         end if
+      end if
       if (sweep%interrupted_by /= 0) call interrupted(sweep, output, resume_command())
    end subroutine sweep_command
 

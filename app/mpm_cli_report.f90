@@ -200,18 +200,29 @@ contains
       flush (output_unit)
    end subroutine sweep_header
 
-   !> What a sweep reports on standard output when it has written its file.
-   subroutine report_sweep(sweep, output)
+   !> What a sweep reports on standard output when it has written its file. A resumed sweep's pass times
+   !> are summed over its attempts (the file's /sweep attributes hold the sums): `earlier` gives the error
+   !> and timing pass times of the attempts before this one, and the report says so.
+   subroutine report_sweep(sweep, output, earlier)
       type(sweep_t), intent(in) :: sweep
       character(len=*), intent(in) :: output
+      real(dp), intent(in), optional :: earlier(2)
       integer :: done, stopped
+      character(len=:), allocatable :: error_pass, timing_pass
+      error_pass = 'error pass '//num(sweep%error_pass_time, 3)//' s on '//plural(sweep%threads_used, 'thread')
+      timing_pass = 'timing pass '//num(sweep%timing_pass_time, 3)//' s on '// &
+                    plural(sweep%settings%timing_threads, 'thread')
+      if (present(earlier)) then
+         error_pass = error_pass//' (summed over the attempts: this one '// &
+                      num(sweep%error_pass_time - earlier(1), 3)//' s, the earlier ones '//num(earlier(1), 3)//' s)'
+         timing_pass = timing_pass//' (summed over the attempts: this one '// &
+                       num(sweep%timing_pass_time - earlier(2), 3)//' s, the earlier ones '//num(earlier(2), 3)//' s)'
+      end if
       if (sweep%settings%min_time > 0) then
-         write (output_unit, '(a)') 'error pass '//num(sweep%error_pass_time, 3)//' s on '// &
-            plural(sweep%threads_used, 'thread')//'; timing pass '//num(sweep%timing_pass_time, 3)//' s on '// &
-            plural(sweep%settings%timing_threads, 'thread')//' (min_time '//num(sweep%settings%min_time)//' s per case)'
+         write (output_unit, '(a)') error_pass//'; '//timing_pass//' (min_time '//num(sweep%settings%min_time)// &
+            ' s per case)'
       else
-         write (output_unit, '(a)') 'error pass '//num(sweep%error_pass_time, 3)//' s on '// &
-            plural(sweep%threads_used, 'thread')//'; no timing pass (min_time = 0)'
+         write (output_unit, '(a)') error_pass//'; no timing pass (min_time = 0)'
       end if
       done = cases_done(sweep%cases)
       stopped = count(sweep%cases%status /= status_ok .and. sweep%cases%status /= status_not_run)

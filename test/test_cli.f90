@@ -43,6 +43,14 @@ program test_cli
    call bad('missing slash', "&scene length=25.0", "not terminated by '/'")
    call bad('group given twice', "&scene length=3 / &scene length=4 /", 'given twice')
    call bad('output folder missing', "&output file='no_such_folder/bar.h5' /", 'does not exist')
+   call bad('output folder missing: where it was given and the absolute path tried', &
+            "&scene length=25.0 /"//new_line('a')//"&output file='no_such_folder/bar.h5' /", &
+            "bad.nml:2: output: file = 'no_such_folder/bar.h5': folder 'no_such_folder' does not exist (looked for "// &
+            absolute_path(dir)//"/no_such_folder, relative to the folder mpm1d runs in)")
+   call bad('snapshot_every: more snapshots than allowed (1600 steps)', "&output snapshot_every=1 /", &
+            "output: snapshot_every = 1 takes 1601 snapshots over the run's 1600 steps; allowed: at most 1000 "// &
+            "snapshots, snapshot_every >= 2")
+   call bad('snapshot_every negative', "&output snapshot_every=-3 /", 'snapshot_every')
    call bad('empty output name', "&output file='' /", 'file')
    call bad('snapshot after the end', "&output snapshot_times=10.0 /", 'snapshot_times')
    call bad('too many particles', "&discretisation elements=2000000000, particles_per_element=2 /", &

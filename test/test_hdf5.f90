@@ -1,11 +1,13 @@
 !> An HDF5 file written by the code reads back with the same values; no partial file is left.
 program test_hdf5
-   use mpm_kinds, only: dp
+   use mpm_kinds, only: dp, pi
+   use mpm_strings, only: str
    use mpm_errors, only: error_t
    use mpm_config, only: config_t, resolve_config
    use mpm_simulation, only: run_result_t, run_simulation
    use mpm_output, only: write_run_file
-   use mpm_hdf5, only: h5_read_real, h5_read_int, h5_read_attribute_real, h5_read_attribute_string, h5_read_string
+   use mpm_hdf5, only: h5_read_real, h5_read_int, h5_read_attribute_real, h5_read_attribute_string, h5_read_string, &
+                       h5_read_attribute_int
    use mpm_files, only: file_exists
    use mpm_version, only: code_version
    use mpm_testing, only: tester_t, scratch_dir
@@ -66,10 +68,59 @@ program test_hdf5
    call h5_read_string(path, '/summary/status_name', 16, names, error)
    call t%check('status name', trim(names(1)) == 'ok')
 
+   call periodic_snapshots()
+
    ! A file that cannot be created leaves nothing behind and reports the path.
    config%file = dir//'/no/such/folder/run.h5'
    call write_run_file(config, r, error)
    call t%check('unwritable path reported', allocated(error))
    if (allocated(error)) call t%check('message names the file', index(error%message, 'run.h5') > 0, error%message)
    call t%finish()
+
+contains
+
+   !> snapshot_every = N: a snapshot at steps 0, N, 2N, ... besides those of snapshot_times, one per step
+   !> where both fall on it; each with the scene's exact fields (the bar's velocity by hand).
+   subroutine periodic_snapshots()
+      type(config_t) :: periodic
+      type(run_result_t) :: run
+      integer, allocatable :: expected(:)
+      integer :: k, every, timed, step
+      real(dp), allocatable :: exact(:)
+      real(dp) :: time, omega, beta
+      character(len=4) :: name
+      periodic = config
+      periodic%file = dir//'/periodic.h5'
+      periodic%snapshot_count = 2
+      call resolve_config(periodic)
+      every = periodic%steps/4 + 1               ! steps 0, every, 2 every, 3 every (the last below steps)
+      timed = nint(0.01_dp/periodic%dt)          ! snapshot_times 0 and 0.01 s: steps 0 and `timed`
+      periodic%snapshot_times(1:2) = [0.0_dp, timed*periodic%dt]
+      periodic%snapshot_every = every
+      expected = [0, every, 2*every, 3*every]
+      if (all(expected /= timed)) expected = [pack(expected, expected < timed), timed, pack(expected, expected > timed)]
+      call run_simulation(periodic, run, error, record_history=.false.)
+      call write_run_file(periodic, run, error)
+      call t%check('periodic snapshots: file written', .not. allocated(error))
+      if (allocated(error)) return
+      call t%check('periodic snapshots: '//str(size(expected))//' taken', &
+                   count([(allocated(run%snapshots(k)%x), k=1, size(run%snapshots))]) == size(expected))
+      omega = pi/(2*periodic%length)*sqrt(periodic%youngs_modulus/periodic%density)
+      beta = pi/(2*periodic%length)
+      do k = 1, size(expected)
+         write (name, '(i4.4)') k
+         call h5_read_attribute_int(periodic%file, '/snapshots/'//name, 'step', step, error)
+         call t%check('periodic snapshot '//name//' at step '//str(expected(k)), step == expected(k), &
+                      'step '//str(step))
+         time = expected(k)*periodic%dt
+         call h5_read_real(periodic%file, '/snapshots/'//name//'/reference_x', values, error)
+         call h5_read_real(periodic%file, '/snapshots/'//name//'/exact_velocity', exact, error)
+         call t%check('periodic snapshot '//name//': exact velocity read', .not. allocated(error))
+         if (allocated(error)) return
+         call t%check('periodic snapshot '//name//': exact velocity v0 cos(omega t) sin(beta X)', &
+                      maxval(abs(exact - 0.1_dp*cos(omega*time)*sin(beta*values))) < 1.0e-15_dp)
+      end do
+      call h5_read_real(periodic%file, '/snapshots/'//'0006/x', values, error)
+      call t%check('no snapshot beyond them', allocated(error))
+   end subroutine periodic_snapshots
 end program test_hdf5

@@ -7,7 +7,7 @@
 program test_plastic_wave
    use mpm_kinds, only: dp
    use mpm_errors, only: error_t
-   use mpm_config, only: config_t, resolve_config, read_config
+   use mpm_config, only: config_t, resolve_config, read_config, config_warnings
    use mpm_simulation, only: run_result_t, run_simulation
    use mpm_diagnostics, only: status_ok, status_name
    use mpm_scene_plastic_wave, only: plastic_wave_t, plastic_wave_init
@@ -355,6 +355,33 @@ contains
       if (.not. allocated(error)) call t%check_close('... and ends at 0.8 L/c_e', config%final_time, &
                                                      0.8_dp*config%length/sqrt(config%youngs_modulus/config%density), &
                                                      rtol=1.0e-12_dp)
+      ! its defaults yield: law elastoplastic, driven at 20 m/s, above the yield velocity 250e6/(7800 c_e)
+      if (.not. allocated(error)) then
+         call t%check('plastic wave defaults: law elastoplastic', trim(config%law) == 'elastoplastic', trim(config%law))
+         call t%check_close('plastic wave defaults: drive 20 m/s', config%drive_velocity, 20.0_dp, rtol=0.0_dp)
+         call t%check('... above the yield velocity of the default material (6.3 m/s)', config%drive_velocity > &
+                      config%yield_stress/(config%density*sqrt(config%youngs_modulus/config%density)))
+         call t%check('... and no warning', len(config_warnings(config)) == 0, config_warnings(config))
+      end if
+      ! a plastic wave that cannot yield says so: an elastic law, a drive at or below the yield velocity
+      call write_lines(dir//'/wave_hencky.nml', [character(len=80) :: "&scene kind='plastic_wave', length=1.0 /", &
+                                                 "&material law='hencky' /"])
+      call read_config(dir//'/wave_hencky.nml', config, error)
+      call t%check('plastic wave, law hencky: accepted', .not. allocated(error))
+      if (.not. allocated(error)) call t%check_contains('... with a warning that it cannot yield', &
+         config_warnings(config), "the plastic wave cannot yield with law = 'hencky': one elastic wave, no plastic front")
+      call write_lines(dir//'/wave_slow.nml', [character(len=80) :: &
+                       "&scene kind='plastic_wave', length=1.0, drive_velocity=6.3 /"])
+      call read_config(dir//'/wave_slow.nml', config, error)
+      call t%check('plastic wave, drive 6.3 m/s: accepted', .not. allocated(error))
+      if (.not. allocated(error)) call t%check_contains('... with a warning naming the yield velocity 6.33 m/s', &
+         config_warnings(config), "drive_velocity = 6.3 m/s is at or below the yield velocity yield_stress/"// &
+         "(density c) = 6.33 m/s")
+      call write_lines(dir//'/wave_fast.nml', [character(len=80) :: &
+                       "&scene kind='plastic_wave', length=1.0, drive_velocity=6.4 /"])
+      call read_config(dir//'/wave_fast.nml', config, error)
+      if (.not. allocated(error)) call t%check('plastic wave, drive 6.4 m/s: no warning', &
+                                               len(config_warnings(config)) == 0, config_warnings(config))
       ! a sweep of a law's variable for another law is refused per case
       call write_lines(dir//'/sweep_yield.nml', [character(len=80) :: "&output file='sweep_yield.h5' /", &
                                                  "&sweep yield_stress=1e8, 2e8, min_time=0 /"])

@@ -10,6 +10,8 @@ program test_scenes
    use mpm_scene_column, only: column_series
    use mpm_scene_composite, only: composite_t, composite_init
    use mpm_scene_impact, only: impact_t, impact_init
+   use mpm_scene, only: scene_t, exact_name_length
+   use mpm_scenes, only: make_scene
    use mpm_sweep, only: sweep_t, read_sweep
    use mpm_testing, only: tester_t, scratch_dir, write_lines
    use mpm_strings, only: str
@@ -24,6 +26,7 @@ program test_scenes
    call manufactured_wide_shapes()
    call composite()
    call impact()
+   call exact_fields()
    call refused_variables()
    call t%finish()
 
@@ -265,6 +268,129 @@ contains
       config%periods = -huge(1.0_dp)
       config%end_time = end_time
    end function composite_config
+
+   !> Each scene's exact fields (written in the snapshots) against its own exact centre-of-mass motion:
+   !> at several times the mass-weighted mean of the exact displacement over the body is u_cm,exact(t), that
+   !> of the velocity its rate (a central difference), and where the theory is linear elasticity the strain
+   !> sigma/E integrates to the displacement's difference over the body, u(L) - u(0) (for the manufactured
+   !> solution's hencky law the strain is exp(sigma/E) - 1). Means by the midpoint rule on 40,000 points.
+   subroutine exact_fields()
+      type(config_t) :: config
+      config = config_t()
+      call check_fields('vibrating bar', config, 'strain')
+      config = config_t()
+      config%scene_kind = 'column'
+      call check_fields('column', config, 'strain')
+      config%integrator = 'quasi_static'
+      config%gravity = 2.0e5_dp
+      call check_fields('column, quasi-static (load factor as time)', config, 'static')
+      config = config_t()
+      config%scene_kind = 'manufactured'
+      call check_fields('manufactured, hencky', config, 'hencky')
+      config%law = 'linear'
+      call check_fields('manufactured, linear law', config, 'strain')
+      config = composite_config('usl', 100, [16.0e6_dp, 1.0e6_dp], 0.0_dp)
+      config%densities(1:2) = [1000.0_dp, 4000.0_dp]
+      config%end_time = 5.0_dp/sqrt(1.0e6_dp/4000.0_dp) ! the fronts cross either segment several times
+      call check_fields('composite bar', config, 'strain')
+      config = config_t()
+      config%scene_kind = 'plastic_wave'
+      config%law = 'elastoplastic'
+      config%drive_velocity = 20.0_dp
+      config%periods = 0.8_dp
+      call check_fields('plastic wave, yielding', config, '')
+      config%drive_velocity = 2.0_dp
+      call check_fields('plastic wave, elastic', config, 'strain')
+      config = config_t()
+      config%scene_kind = 'impact'
+      config%lengths(1:2) = 1.0_dp
+      config%length_count = 2
+      config%youngs_moduli(1:2) = 200.0e9_dp
+      config%modulus_count = 2
+      config%densities(1:2) = 7800.0_dp
+      config%density_count = 2
+      config%velocities(1:2) = [1.0_dp, -1.0_dp]
+      config%velocity_count = 2
+      call check_fields('impact (no exact fields)', config, '')
+   end subroutine exact_fields
+
+   !> check_fields of one scene (`stress`: 'strain' sigma/E, 'hencky' exp(sigma/E) - 1, 'static' the load
+   !> factor's quasi-static column (no velocity), '' no stress check).
+   subroutine check_fields(label, given, stress)
+      character(len=*), intent(in) :: label, stress
+      type(config_t), intent(in) :: given
+      integer, parameter :: points = 40000
+      type(config_t) :: config
+      class(scene_t), allocatable :: scene
+      type(error_t), allocatable :: error
+      character(len=exact_name_length), allocatable :: names(:)
+      real(dp), allocatable :: values(:, :), later(:, :), earlier(:, :), x(:), rho(:), modulus(:), ends(:, :)
+      real(dp), parameter :: fractions(4) = [0.13_dp, 0.37_dp, 0.71_dp, 0.93_dp]
+      real(dp) :: length, time, h, mean_v, rate
+      integer :: k, i, u, v, s, misfits
+      config = given
+      call resolve_config(config)
+      call make_scene(config, scene, error)
+      call t%check(label//': scene made', .not. allocated(error))
+      if (allocated(error)) return
+      length = config%length
+      x = [((i - 0.5_dp)*length/points, i=1, points)]
+      allocate (rho(points), modulus(points))
+      rho = config%density
+      modulus = config%youngs_modulus
+      if (config%length_count > 0 .and. trim(config%scene_kind) == 'composite_bar') then
+         do i = 1, config%length_count
+            where (x >= sum(config%lengths(1:i - 1)) .and. x < sum(config%lengths(1:i)))
+               rho = config%densities(i)
+               modulus = config%youngs_moduli(i)
+            end where
+         end do
+      end if
+      call scene%exact_fields(x, 0.5_dp*config%final_time, names, values)
+      if (trim(config%scene_kind) == 'impact') then
+         call t%check(label//': none given', size(names) == 0 .and. size(values, 2) == 0)
+         return
+      end if
+      u = findloc(names, 'displacement', 1)
+      v = findloc(names, 'velocity', 1)
+      s = findloc(names, 'stress', 1)
+      call t%check(label//': displacement and stress given', u > 0 .and. s > 0 .and. size(values, 1) == points)
+      call t%check(label//': velocity given unless quasi-static', (v > 0) .neqv. (stress == 'static'))
+      if (u == 0 .or. s == 0) return
+      do k = 1, 4
+         time = fractions(k)*config%final_time
+         call scene%exact_fields(x, time, names, values)
+         call t%check_close(label//': mean displacement = u_cm,exact at t = '//str(time), &
+                            sum(rho*values(:, u))/sum(rho), scene%ucm_exact(time), &
+                            rtol=1.0e-6_dp, atol=1.0e-6_dp*maxval(abs(values(:, u))))
+         if (v > 0) then
+            h = 1.0e-4_dp*config%final_time
+            mean_v = sum(rho*values(:, v))/sum(rho)
+            rate = (scene%ucm_exact(time + h) - scene%ucm_exact(time - h))/(2*h)
+            call t%check_close(label//': mean velocity = d u_cm,exact/dt at t = '//str(time), mean_v, rate, &
+                               rtol=1.0e-4_dp, atol=1.0e-9_dp*maxval(abs(values(:, v))))
+            ! the velocity is the displacement's rate wherever no front passes within h (all but a few points)
+            call scene%exact_fields(x, time + h, names, later)
+            call scene%exact_fields(x, time - h, names, earlier)
+            misfits = count(abs((later(:, u) - earlier(:, u))/(2*h) - values(:, v)) > 1.0e-4_dp*maxval(abs(values(:, v))))
+            call t%check(label//': du/dt = v but within h of a front at t = '//str(time), misfits <= points/100, &
+                         str(misfits)//' of '//str(points)//' points differ')
+         end if
+         if (stress == '') cycle
+         ! u(L) - u(0) (a point at the right end belongs to the body: just inside it)
+         call scene%exact_fields([0.0_dp, length*(1.0_dp - epsilon(1.0_dp))], time, names, ends)
+         select case (stress)
+         case ('hencky', 'static')
+            call t%check_close(label//': int (exp(sigma/E) - 1) = u(L) - u(0) at t = '//str(time), &
+                               sum(exp(values(:, s)/modulus) - 1.0_dp)*length/points, ends(2, u) - ends(1, u), &
+                               atol=1.0e-6_dp*maxval(abs(values(:, u))))
+         case default
+            call t%check_close(label//': int sigma/E = u(L) - u(0) at t = '//str(time), &
+                               sum(values(:, s)/modulus)*length/points, ends(2, u) - ends(1, u), &
+                               rtol=1.0e-3_dp, atol=1.0e-6_dp*maxval(abs(values(:, u))))
+         end select
+      end do
+   end subroutine check_fields
 
    !> Two bars colliding (README, Scenes): the exact solution by hand, the issue's done-when case
    !> (identical steel bars of 1 m at +-1 m/s, 200 elements x 2: frictionless contact lasts 2L/c within 2 %

@@ -5,7 +5,7 @@ module mpm_config
    use mpm_kinds, only: dp, i8, pi
    use mpm_errors, only: error_t, set_error, append_error
    use mpm_strings, only: str, lower, num, plural
-   use mpm_files, only: available_memory, path_kind, path_folder, path_other
+   use mpm_files, only: available_memory, path_kind, path_folder, path_other, absolute_path
    use mpm_particles, only: bytes_per_particle
    use mpm_shape, only: known_shapes, known_transfers
    use mpm_material, only: material_t, known_laws, law_id
@@ -19,7 +19,7 @@ module mpm_config
    public :: config_t, read_config, read_config_text, input_name, validate_config, resolve_config
    public :: write_config_namelist, config_namelist
    public :: default_config, config_summary, known_schemes
-   public :: max_snapshots, max_segments, check_output_path, body_length, largest_wave_speed
+   public :: max_snapshots, periodic_snapshots, max_segments, check_output_path, body_length, largest_wave_speed
    public :: config_parameters, config_groups, group_help, known_scenes, scene_kind_t, scene_kinds
    public :: material_of, plastic_wave_periods
    public :: step_count, stability_limit, not_used_message, config_warnings, contact_time, known_kind
@@ -27,6 +27,8 @@ module mpm_config
 
    !> Most snapshot times one run accepts.
    integer, parameter :: max_snapshots = 64
+   !> Most snapshots snapshot_every may take over one run (each holds every particle's state).
+   integer, parameter :: max_periodic_snapshots = 1000
    !> Most segments of a composite bar.
    integer, parameter :: max_segments = 16
    !> The scene kinds made of one body of one material (length, youngs_modulus, density).
@@ -58,6 +60,9 @@ module mpm_config
    !> The plastic wave's run length when neither periods nor end_time is given, in precursor transit
    !> times L/c: its exact solution holds until the elastic precursor reaches the free end.
    real(dp), parameter :: plastic_wave_periods = 0.8_dp
+   !> The plastic wave's drive velocity when none is given (m/s; its law is then elastoplastic): about
+   !> three times the default material's yield velocity, as the materials study drives it.
+   real(dp), parameter :: plastic_wave_drive = 20.0_dp
    !> Largest number of particles or elements one run accepts (array indices are default integers).
    integer(i8), parameter :: max_count = int(huge(1), i8)
    !> Largest mode: 2 mode - 1 (in beta_n) must be a default integer.
@@ -144,6 +149,8 @@ module mpm_config
       logical :: history = .true.
       integer :: snapshot_count = 0
       real(dp) :: snapshot_times(max_snapshots) = 0.0_dp
+      !> A snapshot every this many steps from step 0 (besides snapshot_times); 0: none.
+      integer :: snapshot_every = 0
       ! &guards
       !> A run fails when its total energy exceeds this factor times the initial energy.
       real(dp) :: energy_growth_limit = 10.0_dp
@@ -250,7 +257,8 @@ contains
                    'impact'), &
          for_kinds(real_entry('scene', 'drive_velocity', config%drive_velocity, 'm/s', 'velocity the left end '// &
                               'is driven at from t = 0 (pushing into the bar)', greater_than=0.0_dp, &
-                              sweep_list='drive_velocities'), 'composite_bar, plastic_wave'), &
+                              sweep_list='drive_velocities', note="plastic_wave: "//short_number(plastic_wave_drive)// &
+                              " when not given"), 'composite_bar, plastic_wave'), &
          for_kinds(real_entry('scene', 'velocity_amplitude', config%velocity_amplitude, 'm/s', 'v0 of the '// &
                               'initial velocity v(x,0) = v0 sin(beta_n x), beta_n = (2n-1) pi / (2 length)', &
                               sweep_list='velocity_amplitudes'), 'vibrating_bar'), &
@@ -264,7 +272,7 @@ contains
                               note='2 pi A / length < 1', sweep_list='amplitudes'), 'manufactured'), &
          text_entry('material', 'law', config%law, "constitutive law: 'hencky' sigma = E ln J (sigma += E d eps), "// &
                     "'linear' sigma = E (J - 1), 'elastoplastic' Hencky with linear isotropic hardening", &
-                    words=known_laws, sweep_list='law'), &
+                    words=known_laws, sweep_list='law', note="plastic_wave: 'elastoplastic' when not given"), &
          for_kinds(for_value(real_entry('material', 'yield_stress', config%yield_stress, 'Pa', 'initial yield stress '// &
                               'sigma_y: |sigma| <= sigma_y + H alpha (law elastoplastic)', greater_than=0.0_dp, &
                               sweep_list='yield_stress'), 'law', 'elastoplastic'), 'vibrating_bar, column, plastic_wave'), &
@@ -288,6 +296,9 @@ contains
          logical_entry('output', 'history', config%history, 'write u_cm(t), exact u_cm(t) and energies at every step'), &
          real_list_entry('output', 'snapshot_times', config%snapshot_times, config%snapshot_count, 's', &
                          'particle and grid state at these times', at_least=0.0_dp, note='within the run'), &
+         int_entry('output', 'snapshot_every', config%snapshot_every, 'particle and grid state every N steps from '// &
+                   'step 0 (evenly spaced frames; besides snapshot_times)', at_least=0, &
+                   note='0: none; at most '//str(max_periodic_snapshots)//' snapshots'), &
          real_entry('guards', 'energy_growth_limit', config%energy_growth_limit, '', 'a run stops when its total '// &
                     'energy exceeds this factor times the initial energy', greater_than=1.0_dp), &
          real_entry('guards', 'max_cell_move', config%max_cell_move, 'cells', 'a run stops when a particle moves '// &
@@ -330,6 +341,10 @@ contains
       character(len=:), allocatable :: text
       real(dp) :: meet
       text = ''
+      if (trim(config%scene_kind) == 'plastic_wave') then
+         text = plastic_wave_warning(config)
+         return
+      end if
       if (trim(config%scene_kind) /= 'impact') return
       meet = contact_time(config)
       if (config%velocities(1) <= config%velocities(2)) then
@@ -343,6 +358,24 @@ contains
                 "the impact (periods count from the first contact; or give a longer end_time)"
       end if
    end function config_warnings
+
+   !> A plastic wave that cannot yield (another law than elastoplastic, or a drive at or below the yield
+   !> velocity v1 = sigma_y/(rho c_e)) carries one elastic wave and no plastic front: say so ('' otherwise).
+   function plastic_wave_warning(config) result(text)
+      type(config_t), intent(in) :: config
+      character(len=:), allocatable :: text
+      real(dp) :: v1
+      text = ''
+      if (trim(config%law) /= 'elastoplastic') then
+         text = "the plastic wave cannot yield with law = '"//trim(config%law)//"': one elastic wave, no plastic "// &
+                "front (law = 'elastoplastic' makes one)"
+         return
+      end if
+      v1 = config%yield_stress/(config%density*sqrt(config%youngs_modulus/config%density))
+      if (config%drive_velocity <= v1) text = "the plastic wave cannot yield: drive_velocity = "// &
+         short_number(config%drive_velocity)//" m/s is at or below the yield velocity yield_stress/(density c) = "// &
+         num(v1, 4)//" m/s: one elastic wave, no plastic front (a faster drive makes one)"
+   end function plastic_wave_warning
 
    !> A configuration filled by a program (end_time set, not read) gets the flags the reader would set.
    subroutine run_length_flags(config)
@@ -426,6 +459,7 @@ contains
       table(find_parameter(table, 'discretisation', 'dt_fraction'))%upper = dt_fraction_limit(config)
       call check_given(table, config, error)
       call choose_run_length(table, config, error)
+      call plastic_wave_defaults(table, config)
       call check_conditions(table, items, path, error)
       if (allocated(error)) return
       call validate_config(config, error, given=table)
@@ -514,6 +548,17 @@ contains
          config%periods = plastic_wave_periods
       end if
    end subroutine choose_run_length
+
+   !> A plastic wave that does not name its law or its drive is elastoplastic and driven at
+   !> plastic_wave_drive, above the yield velocity sigma_y/(rho c_e) of the default material (6.3 m/s),
+   !> so that its defaults carry the two fronts (an elastic precursor and a plastic wave).
+   subroutine plastic_wave_defaults(table, config)
+      type(parameter_t), intent(in) :: table(:)
+      type(config_t), intent(inout) :: config
+      if (trim(config%scene_kind) /= 'plastic_wave') return
+      if (table(find_parameter(table, 'material', 'law'))%line == 0) config%law = 'elastoplastic'
+      if (table(find_parameter(table, 'scene', 'drive_velocity'))%line == 0) config%drive_velocity = plastic_wave_drive
+   end subroutine plastic_wave_defaults
 
    !> A variable used only with one word of another (for_value; flip_fraction, the FLIP share of
    !> transfer = 'blend') given (in its group or as a &sweep list) where no value of the other, in the
@@ -783,8 +828,10 @@ contains
                         merge(step_count(run_end_time(config), time_step(config)), 0, config%history), error, &
                         config%margin_cells, automatic_margin(config), trim(config%integrator) /= 'explicit', &
                         merge('discretisation: load_steps', 'run: its end time / dt    ', &
-                              trim(config%integrator) == 'quasi_static'))
-      call check_output_path(config%file, 'output: file', error)
+                              trim(config%integrator) == 'quasi_static'), &
+                        config%snapshot_count + periodic_snapshots(config%snapshot_every, &
+                                                                   step_count(run_end_time(config), time_step(config))))
+      call check_output_path(config%file, 'output: file', error, place(given, 'output', 'file'))
    contains
       !> Each value against its range, then the checks of the values together.
       subroutine validate_values(t)
@@ -922,6 +969,8 @@ contains
                            num(config%length/c, 4)//" s)")
       call check_motion(config, end_time, dx, error, given)
       call check_snapshots(config, end_time, error, given)
+      if (end_time >= dt .and. end_time/dt <= real(huge(1) - 1, dp)) &
+         call check_snapshot_every(config, step_count(end_time, dt), error, given)
    end subroutine check_run
 
    !> The &material group against the scene (a variable of another law is refused by its entry's
@@ -1104,6 +1153,28 @@ contains
       end function snapshot_list
    end subroutine check_snapshots
 
+   !> Periodic snapshots (steps 0, N, 2N, ... of the run's `steps`): at most max_periodic_snapshots.
+   subroutine check_snapshot_every(config, steps, error, given)
+      type(config_t), intent(in) :: config
+      integer, intent(in) :: steps
+      type(error_t), allocatable, intent(inout) :: error
+      type(parameter_t), intent(in), optional :: given(:)
+      if (config%snapshot_every <= 0) return
+      if (periodic_snapshots(config%snapshot_every, steps) <= max_periodic_snapshots) return
+      call append_error(error, place(given, 'output', 'snapshot_every')//"output: snapshot_every = "// &
+                        str(config%snapshot_every)//" takes "//str(periodic_snapshots(config%snapshot_every, steps))// &
+                        " snapshots over the run's "//plural(steps, 'step')//"; allowed: at most "// &
+                        str(max_periodic_snapshots)//" snapshots, snapshot_every >= "// &
+                        str(steps/max_periodic_snapshots + 1))
+   end subroutine check_snapshot_every
+
+   !> The snapshots of steps 0, every, 2 every, ... up to `steps` (0 when every = 0).
+   pure integer function periodic_snapshots(every, steps)
+      integer, intent(in) :: every, steps
+      periodic_snapshots = 0
+      if (every > 0) periodic_snapshots = steps/every + 1
+   end function periodic_snapshots
+
    !> Refuse a body whose material or motion doubles cannot represent, naming the variables typed: the
    !> wave speed (E/rho), and for the vibrating bar the free end's motion in cells (the grid's margin
    !> must hold it: at most 1e8 cells), its displacements (normal doubles), the energy rho v0^2 L/4 and
@@ -1222,7 +1293,8 @@ contains
    !> Refuse a run whose particles and grid would not fit in the memory available now.
    !> `history_steps` is the number of history entries kept (0 without history).
    !> `margin` (margin_cells as given, -1: automatic) adds its empty cells to the grid's.
-   subroutine check_memory(particles, elements, history_steps, error, margin, automatic, implicit, history_from)
+   subroutine check_memory(particles, elements, history_steps, error, margin, automatic, implicit, history_from, &
+                           snapshots)
       integer(i8), intent(in) :: particles
       integer, intent(in) :: elements, history_steps
       type(error_t), allocatable, intent(inout) :: error
@@ -1234,10 +1306,12 @@ contains
       logical, intent(in), optional :: implicit
       !> What sets the history's steps, named when the history takes most of the memory.
       character(len=*), intent(in), optional :: history_from
+      !> the snapshots the run keeps (each: 9 doubles per particle, 2 per node)
+      integer, intent(in), optional :: snapshots
       integer(i8) :: needed, available, margin_cells
       integer :: bytes_per_element
       integer, parameter :: bytes_per_history_entry = 5*8
-      character(len=:), allocatable :: with_margin
+      character(len=:), allocatable :: with_margin, with_snapshots
       bytes_per_element = 10*8 ! grid: 5 element shares + 5 nodal arrays
       if (present(implicit)) then
          if (implicit) bytes_per_element = bytes_per_element + (14 + 2*16)*8
@@ -1257,6 +1331,11 @@ contains
       if (present(implicit)) then
          if (implicit) needed = needed + particles*10*8
       end if
+      with_snapshots = ''
+      if (present(snapshots)) then
+         needed = needed + int(snapshots, i8)*(particles*9*8 + (int(max(elements, 0), i8) + margin_cells)*2*8)
+         if (snapshots > 0) with_snapshots = ' and '//plural(snapshots, 'snapshot')
+      end if
       available = available_memory()
       if (available <= 0 .or. needed <= available) return
       if (present(history_from) .and. 2*int(history_steps, i8)*bytes_per_history_entry > needed) then
@@ -1267,33 +1346,43 @@ contains
       else
          call append_error(error, "discretisation: elements = "//str(elements)//with_margin//" and "// &
                            "particles_per_element give "//str(particles)//" particles; with "//str(history_steps)// &
-                           " history steps the run needs "//str(needed/1024**2)//" MiB; allowed: at most the "// &
-                           str(available/1024**2)//" MiB of memory available")
+                           " history steps"//with_snapshots//" the run needs "//str(needed/1024**2)//" MiB; allowed: "// &
+                           "at most the "//str(available/1024**2)//" MiB of memory available")
       end if
    end subroutine check_memory
 
-   !> The output file's folder must exist (the file is written there under a temporary name first).
-   subroutine check_output_path(path, name, error)
+   !> The output file's folder must exist (the file is written there under a temporary name first). A
+   !> missing folder is named with the absolute path looked for: a relative path is taken from the folder
+   !> mpm1d runs in, which need not be the namelist's. `prefix`: where the file was given ("file:line: ").
+   subroutine check_output_path(path, name, error, prefix)
       character(len=*), intent(in) :: path, name
       type(error_t), allocatable, intent(inout) :: error
+      character(len=*), intent(in), optional :: prefix
+      character(len=:), allocatable :: where, folder
       integer :: slash
       logical :: exists
+      where = ''
+      if (present(prefix)) where = prefix
       slash = index(trim(path), '/', back=.true.)
       if (slash > 1) then
-         inquire (file=path(1:slash - 1)//'/.', exist=exists)
-         if (.not. exists) call append_error(error, name//" = '"//trim(path)//"': folder '"//path(1:slash - 1)// &
-                                             "' does not exist; allowed: a path in an existing folder")
+         folder = path(1:slash - 1)
+         inquire (file=folder//'/.', exist=exists)
+         if (.not. exists) call append_error(error, where//name//" = '"//trim(path)//"': folder '"//folder// &
+                                             "' does not exist (looked for "//absolute_path(folder)// &
+                                             trim(merge(', relative to the folder mpm1d runs in', &
+                                                        '                                      ', path(1:1) /= '/'))// &
+                                             "); allowed: a path in an existing folder")
       end if
       if (len_trim(path) - slash > 255) then
-         call append_error(error, name//" = '"//trim(path)//"': its last part has "//str(len_trim(path) - slash)// &
+         call append_error(error, where//name//" = '"//trim(path)//"': its last part has "//str(len_trim(path) - slash)// &
                            " characters; allowed: a file name of at most 255 characters (the file system's limit)")
       else if (slash == len_trim(path)) then
-         call append_error(error, name//" = '"//trim(path)//"' names a folder; allowed: a file name")
+         call append_error(error, where//name//" = '"//trim(path)//"' names a folder; allowed: a file name")
       else if (path_kind(path) == path_folder) then
-         call append_error(error, name//" = '"//trim(path)//"' is an existing folder; allowed: a file name")
+         call append_error(error, where//name//" = '"//trim(path)//"' is an existing folder; allowed: a file name")
       else if (path_kind(path) == path_other) then
-         call append_error(error, name//" = '"//trim(path)//"' is not a regular file (a device, FIFO or socket); "// &
-                           "allowed: a new file or a regular file to replace")
+         call append_error(error, where//name//" = '"//trim(path)//"' is not a regular file (a device, FIFO or "// &
+                           "socket); allowed: a new file or a regular file to replace")
       end if
    end subroutine check_output_path
 

@@ -22,7 +22,7 @@ contains
       type(run_result_t), intent(in) :: result
       type(error_t), allocatable, intent(out) :: error
       type(h5_writer_t) :: h5
-      integer :: i, n
+      integer :: i, n, k
       character(len=:), allocatable :: group
       logical :: stopped
 
@@ -101,6 +101,12 @@ contains
             call h5%write_real(group//'/volume_ratio', result%snapshots(i)%volume_ratio)
             call h5%write_real(group//'/grid_x', result%snapshots(i)%grid_x)
             call h5%write_real(group//'/grid_velocity', result%snapshots(i)%grid_velocity)
+            if (allocated(result%snapshots(i)%exact_names)) then
+               do k = 1, size(result%snapshots(i)%exact_names)
+                  call h5%write_real(group//'/exact_'//trim(result%snapshots(i)%exact_names(k)), &
+                                     result%snapshots(i)%exact(:, k))
+               end do
+            end if
          end do
       end if
       call h5%finish(error)

@@ -6,7 +6,7 @@ module mpm_diagnostics
    public :: no_value
    public :: status_ok, status_non_finite, status_volume_ratio, status_left_grid, status_energy_growth, &
              status_cell_crossing, status_setup_failed, status_not_run, status_name, status_newton
-   public :: history_t, snapshot_t, pass_totals_t, max_bodies
+   public :: history_t, snapshot_t, pass_totals_t, max_bodies, exact_name_length
 
    !> Run status codes (stored in the HDF5 output; 0 means the run completed).
    integer, parameter :: status_ok = 0
@@ -22,6 +22,9 @@ module mpm_diagnostics
    !> "No value": a quiet NaN (bits 7FF8000000000000), written where a result does not exist (the
    !> error of a run a guard stopped, the time of a case not timed); the status says why.
    real(dp), parameter :: no_value = transfer(9221120237041090560_i8, 1.0_dp)
+
+   !> The length of an exact field's name in a snapshot (scene_t's exact_fields).
+   integer, parameter :: exact_name_length = 16
 
    !> The most bodies on stacked fields whose own totals pass_totals_t carries (the impact's two bars).
    integer, parameter :: max_bodies = 2
@@ -75,6 +78,10 @@ module mpm_diagnostics
       !> each particle's plastic strain, where a body is elastoplastic
       real(dp), allocatable :: plastic_strain(:)
       real(dp), allocatable :: grid_x(:), grid_velocity(:)
+      !> the scene's exact fields at each particle's reference position (names: displacement, velocity,
+      !> stress; those the scene has), column k named exact_names(k)
+      character(len=exact_name_length), allocatable :: exact_names(:)
+      real(dp), allocatable :: exact(:, :)
    end type snapshot_t
 
 contains

@@ -6,7 +6,7 @@ module mpm_simulation
    use mpm_kinds, only: dp
    use mpm_errors, only: error_t, set_error
    use mpm_strings, only: str, plural
-   use mpm_config, only: config_t, material_of
+   use mpm_config, only: config_t, material_of, periodic_snapshots
    use mpm_material, only: material_t, law_hencky, law_linear, material_state, material_report
    use mpm_grid, only: grid_t, grid_init
    use mpm_particles, only: particles_t, per_particle_data
@@ -89,7 +89,9 @@ module mpm_simulation
       type(material_t) :: material        !< the law and its parameters (mpm_material)
       type(implicit_t) :: implicit        !< the implicit integrators' state (allocated only in their runs)
       real(dp), allocatable :: watch(:)   !< what a watching scene keeps between steps
-      integer :: scheme = 0, next_snapshot = 1
+      integer :: scheme = 0
+      !> the next of the configuration's snapshot times, and the snapshots taken so far
+      integer :: next_snapshot = 1, snapshots_taken = 0
       integer :: integrator = 0           !< integrator_explicit, or mpm_implicit's ids
       logical :: fused = .false.          !< the fused kernels run (else the generic path)
       real(dp) :: total_mass = 0.0_dp, energy_reference = 0.0_dp
@@ -233,7 +235,8 @@ contains
       if (record_history) call start_history(result%history, config%steps, allocated(run%particles%hardening))
       if (record_history) call record(result%history, 0.0_dp, run%ucm, 0.0_dp, run%totals)
       run%next_snapshot = 1
-      allocate (result%snapshots(config%snapshot_count))
+      run%snapshots_taken = 0
+      allocate (result%snapshots(config%snapshot_count + periodic_snapshots(config%snapshot_every, config%steps)))
       call take_snapshots(config, run, result, 0, 0.0_dp)
    end subroutine first_state
 
@@ -362,37 +365,55 @@ contains
       end if
    end subroutine trip
 
+   !> The snapshots due at `step`: one per snapshot time reached (in order), and one every snapshot_every
+   !> steps unless a snapshot time gave the step one already.
    subroutine take_snapshots(config, run, result, step, time)
       type(config_t), intent(in) :: config
       type(run_state_t), intent(inout) :: run
       type(run_result_t), intent(inout) :: result
       integer, intent(in) :: step
       real(dp), intent(in) :: time
-      integer :: i
+      logical :: periodic
+      periodic = config%snapshot_every > 0
+      if (periodic) periodic = mod(step, config%snapshot_every) == 0
       do while (run%next_snapshot <= config%snapshot_count)
          if (config%snapshot_times(run%next_snapshot) > time + 0.5_dp*config%dt) exit
-         if (step == 0) then
-            call initial_grid_velocity(run)
-         else if (run%fused) then
-            call fused_grid_sum(run%grid, run%box, run%bodies) ! (bodies on stacked fields: summed when read)
-         end if
-         associate (s => result%snapshots(run%next_snapshot), particles => run%particles, grid => run%grid)
-            s%time = time
-            s%step = step
-            s%x = particles%x
-            s%x0 = particles%x0
-            if (allocated(particles%youngs_modulus_of)) s%youngs_modulus = particles%youngs_modulus_of
-            if (allocated(particles%body)) s%body = particles%body
-            s%v = particles%v
-            s%stress = particles%stress
-            s%volume_ratio = particles%volume_ratio
-            if (allocated(particles%plastic_strain)) s%plastic_strain = particles%plastic_strain
-            s%grid_x = [(grid%origin + i*grid%dx, i=0, grid%elements)]
-            s%grid_velocity = grid%velocity
-         end associate
+         call take_snapshot(run, result, step, time)
          run%next_snapshot = run%next_snapshot + 1
+         periodic = .false.
       end do
+      if (periodic) call take_snapshot(run, result, step, time)
    end subroutine take_snapshots
+
+   !> The particle and grid state into the next free snapshot of `result`.
+   subroutine take_snapshot(run, result, step, time)
+      type(run_state_t), intent(inout) :: run
+      type(run_result_t), intent(inout) :: result
+      integer, intent(in) :: step
+      real(dp), intent(in) :: time
+      integer :: i
+      if (step == 0) then
+         call initial_grid_velocity(run)
+      else if (run%fused) then
+         call fused_grid_sum(run%grid, run%box, run%bodies) ! (bodies on stacked fields: summed when read)
+      end if
+      run%snapshots_taken = run%snapshots_taken + 1
+      associate (s => result%snapshots(run%snapshots_taken), particles => run%particles, grid => run%grid)
+         s%time = time
+         s%step = step
+         s%x = particles%x
+         s%x0 = particles%x0
+         if (allocated(particles%youngs_modulus_of)) s%youngs_modulus = particles%youngs_modulus_of
+         if (allocated(particles%body)) s%body = particles%body
+         s%v = particles%v
+         s%stress = particles%stress
+         s%volume_ratio = particles%volume_ratio
+         if (allocated(particles%plastic_strain)) s%plastic_strain = particles%plastic_strain
+         s%grid_x = [(grid%origin + i*grid%dx, i=0, grid%elements)]
+         s%grid_velocity = grid%velocity
+         call run%scene%exact_fields(particles%x0, time, s%exact_names, s%exact)
+      end associate
+   end subroutine take_snapshot
 
    !> The nodal velocity of the initial mapping, p_I / m_I (for the snapshot at t = 0).
    subroutine initial_grid_velocity(run)

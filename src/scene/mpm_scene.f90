@@ -9,11 +9,11 @@ module mpm_scene
    use mpm_config, only: config_t
    use mpm_grid, only: grid_t, grid_loads_t
    use mpm_particles, only: particles_t
-   use mpm_diagnostics, only: pass_totals_t
+   use mpm_diagnostics, only: pass_totals_t, exact_name_length
    use mpm_shape, only: shape_cache_t
    implicit none
    private
-   public :: scene_t, margin_for, sine_profile, drive_t
+   public :: scene_t, margin_for, sine_profile, drive_t, exact_name_length
 
    !> A scene's drive in the form the implicit integrators take it (mpm_implicit): nodes held at the
    !> velocity `velocity`, and a point whose interpolated velocity is prescribed,
@@ -80,7 +80,11 @@ module mpm_scene
       procedure :: watch_step, watch_report
       !> The drive as the implicit integrators take it (when `drives`), at the start of a step.
       procedure :: drive
+      !> The exact fields at reference positions x0 and time t, those the scene has (default: none):
+      !> written beside each snapshot's particle fields.
+      procedure :: exact_fields
    end type scene_t
+
 
    abstract interface
       subroutine place_i(self, config, particles, error)
@@ -242,6 +246,16 @@ contains
       character(len=:), allocatable :: unit
       unit = 'm'
    end function error_unit
+
+   !> No exact field: `names` of the fields given (displacement, velocity, stress), `values(:, k)` field k
+   !> at each of `x0` (m, m/s, Pa).
+   pure subroutine exact_fields(self, x0, t, names, values)
+      class(scene_t), intent(in) :: self
+      real(dp), intent(in) :: x0(:), t
+      character(len=exact_name_length), allocatable, intent(out) :: names(:)
+      real(dp), allocatable, intent(out) :: values(:, :)
+      allocate (names(0), values(size(x0), 0))
+   end subroutine exact_fields
 
    !> The initial energy (a run starting at rest with no force keeps zero energy: any growth trips).
    pure real(dp) function energy_reference(self, initial_energy)

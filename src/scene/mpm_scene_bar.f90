@@ -10,7 +10,7 @@ module mpm_scene_bar
    use mpm_errors, only: error_t
    use mpm_config, only: config_t
    use mpm_particles, only: particles_t, particles_init
-   use mpm_scene, only: scene_t, sine_profile, margin_for
+   use mpm_scene, only: scene_t, sine_profile, margin_for, exact_name_length
    implicit none
    private
    public :: bar_t, bar_init
@@ -19,13 +19,14 @@ module mpm_scene_bar
       real(dp) :: length = 0.0_dp
       real(dp) :: velocity_amplitude = 0.0_dp
       real(dp) :: wave_speed = 0.0_dp
+      real(dp) :: youngs_modulus = 0.0_dp
       integer :: mode = 1
       real(dp) :: beta = 0.0_dp   !< wave number beta_n (1/m)
       real(dp) :: omega = 0.0_dp  !< angular frequency omega_n (rad/s)
       real(dp) :: amplitude = 0.0_dp !< exact u_cm amplitude v0/(omega beta L) (m)
    contains
       procedure :: place_particles, margin_cells, fixed_nodes, ucm_exact, ucm_amplitude, fused_applies
-      procedure :: velocity_exact
+      procedure :: velocity_exact, exact_fields
    end type bar_t
 
 contains
@@ -37,6 +38,7 @@ contains
       bar%length = length
       bar%velocity_amplitude = velocity_amplitude
       bar%wave_speed = sqrt(youngs_modulus/density)
+      bar%youngs_modulus = youngs_modulus
       bar%mode = mode
       bar%beta = (2*mode - 1)*pi/(2.0_dp*length)
       bar%omega = bar%beta*bar%wave_speed
@@ -100,4 +102,19 @@ contains
       real(dp), intent(in) :: x, t
       velocity_exact = self%velocity_amplitude*cos(self%omega*t)*sin(self%beta*x)
    end function velocity_exact
+
+   !> The exact fields of linear elasticity at x0: u = v0/omega_n sin(omega_n t) sin(beta_n x0), v (eq. 13),
+   !> sigma = E du/dx = E v0 beta_n/omega_n sin(omega_n t) cos(beta_n x0).
+   pure subroutine exact_fields(self, x0, t, names, values)
+      class(bar_t), intent(in) :: self
+      real(dp), intent(in) :: x0(:), t
+      character(len=exact_name_length), allocatable, intent(out) :: names(:)
+      real(dp), allocatable, intent(out) :: values(:, :)
+      names = [character(len=exact_name_length) :: 'displacement', 'velocity', 'stress']
+      allocate (values(size(x0), 3))
+      values(:, 1) = self%velocity_amplitude/self%omega*sin(self%omega*t)*sin(self%beta*x0)
+      values(:, 2) = self%velocity_exact(x0, t)
+      values(:, 3) = self%youngs_modulus*self%velocity_amplitude*self%beta/self%omega*sin(self%omega*t)* &
+                     cos(self%beta*x0)
+   end subroutine exact_fields
 end module mpm_scene_bar

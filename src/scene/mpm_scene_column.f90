@@ -38,7 +38,7 @@ module mpm_scene_column
    use mpm_shape, only: shape_cache_t
    use mpm_particle_forces, only: p2g_particle_forces
    use mpm_material, only: material_t, law_linear, law_elastoplastic
-   use mpm_scene, only: scene_t, margin_for
+   use mpm_scene, only: scene_t, margin_for, exact_name_length
    implicit none
    private
    public :: column_t, column_init, column_series
@@ -56,7 +56,7 @@ module mpm_scene_column
    contains
       procedure :: place_particles, margin_cells, fixed_nodes, ucm_exact, ucm_amplitude
       procedure :: add_forces, energy_reference, report, error_at, error_name, fused_applies, grid_loads
-      procedure :: static_displacement
+      procedure :: static_displacement, exact_fields
    end type column_t
 
 contains
@@ -234,6 +234,74 @@ contains
       end do
       mean = mean/self%length
    end function static_mean
+
+   !> The exact fields at X = x0. Static (t the load factor): u_s(X) and sigma = -t rho0 g (L - X). Dynamic
+   !> (linear elasticity), d'Alembert's form of the module's series: w = u - u_s solves the wave equation
+   !> with w(0) = 0, w_x(L) = 0, w(x, 0) = -u_s(x), w_t(x, 0) = 0, so w = (F(x - ct) + F(x + ct))/2 with F
+   !> the extension of -u_s odd about 0 and even about L (period 4L): u = u_s + w, v = c (F'(x + ct) -
+   !> F'(x - ct))/2, sigma = E (u_s' + (F'(x - ct) + F'(x + ct))/2).
+   pure subroutine exact_fields(self, x0, t, names, values)
+      class(column_t), intent(in) :: self
+      real(dp), intent(in) :: x0(:), t
+      character(len=exact_name_length), allocatable, intent(out) :: names(:)
+      real(dp), allocatable, intent(out) :: values(:, :)
+      real(dp) :: c, k
+      integer :: p
+      if (self%static) then
+         names = [character(len=exact_name_length) :: 'displacement', 'stress']
+         allocate (values(size(x0), 2))
+         values(:, 1) = self%static_displacement(x0, t)
+         values(:, 2) = -t*self%density*self%gravity*(self%length - x0)
+         return
+      end if
+      names = [character(len=exact_name_length) :: 'displacement', 'velocity', 'stress']
+      allocate (values(size(x0), 3))
+      c = self%wave_speed
+      k = self%gravity/c**2
+      do p = 1, size(x0)
+         associate (x => x0(p))
+            values(p, 1) = -k*(self%length*x - x**2/2.0_dp) + 0.5_dp*(extension(x - c*t) + extension(x + c*t))
+            values(p, 2) = 0.5_dp*c*(slope(x + c*t) - slope(x - c*t))
+            values(p, 3) = self%density*c**2*(-k*(self%length - x) + 0.5_dp*(slope(x - c*t) + slope(x + c*t)))
+         end associate
+      end do
+   contains
+      !> F(s): -u_s(s) = k (L s - s^2/2) on [0, L], odd about 0, even about L, period 4L.
+      pure real(dp) function extension(s) result(f)
+         real(dp), intent(in) :: s
+         real(dp) :: r, sign
+         call fold(s, r, sign)
+         f = sign*k*(self%length*r - r**2/2.0_dp)
+      end function extension
+      !> F'(s): k (L - s) on [0, L], extended as the derivative of F (even about 0, odd about L).
+      pure real(dp) function slope(s)
+         real(dp), intent(in) :: s
+         real(dp) :: r, sign, l
+         l = self%length
+         r = modulo(s, 4.0_dp*l)
+         sign = 1.0_dp
+         if (r > 2.0_dp*l) r = 4.0_dp*l - r          ! F' even about 0 (and 4L-periodic)
+         if (r > l) then                             ! F' odd about L
+            r = 2.0_dp*l - r
+            sign = -1.0_dp
+         end if
+         slope = sign*k*(l - r)
+      end function slope
+      !> s folded into [0, L] and the sign of F there: F(s) = sign F(r).
+      pure subroutine fold(s, r, sign)
+         real(dp), intent(in) :: s
+         real(dp), intent(out) :: r, sign
+         real(dp) :: l
+         l = self%length
+         r = modulo(s, 4.0_dp*l)
+         sign = 1.0_dp
+         if (r > 2.0_dp*l) then                      ! odd about 0 (and 4L-periodic)
+            r = 4.0_dp*l - r
+            sign = -1.0_dp
+         end if
+         if (r > l) r = 2.0_dp*l - r                 ! even about L
+      end subroutine fold
+   end subroutine exact_fields
 
    !> Static: max_p |x_p - X_p - u_s(X_p)| under the load factor t (m); else the common |u_cm - u_cm,exact|.
    real(dp) function error_at(self, t, particles, ucm)

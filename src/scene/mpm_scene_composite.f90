@@ -20,7 +20,7 @@ module mpm_scene_composite
    use mpm_grid, only: grid_t, grid_loads_t
    use mpm_particles, only: particles_t, particles_init
    use mpm_shape, only: shape_cache_t
-   use mpm_scene, only: scene_t, margin_for, drive_t
+   use mpm_scene, only: scene_t, margin_for, drive_t, exact_name_length
    implicit none
    private
    public :: composite_t, composite_init
@@ -44,7 +44,7 @@ module mpm_scene_composite
    contains
       procedure :: place_particles, margin_cells, fixed_nodes, ucm_exact, ucm_amplitude
       procedure :: add_forces, error_at, error_name, error_unit, energy_reference, report, fused_applies, grid_loads
-      procedure :: stress_exact, drive
+      procedure :: stress_exact, drive, exact_fields
    end type composite_t
 
 contains
@@ -164,6 +164,37 @@ contains
          end if
       end do
    end function stress_exact
+
+   !> The exact fields at X = x0: the stress (stress_exact), the velocity (a front's velocity jump is
+   !> -jump/Z going right, +jump/Z going left) and the displacement (each front's velocity jump times the
+   !> time since it passed x0).
+   pure subroutine exact_fields(self, x0, t, names, values)
+      class(composite_t), intent(in) :: self
+      real(dp), intent(in) :: x0(:), t
+      character(len=exact_name_length), allocatable, intent(out) :: names(:)
+      real(dp), allocatable, intent(out) :: values(:, :)
+      integer :: f, i, p
+      real(dp) :: since, jump
+      names = [character(len=exact_name_length) :: 'displacement', 'velocity', 'stress']
+      allocate (values(size(x0), 3))
+      values = 0.0_dp
+      do p = 1, size(x0)
+         do f = 1, size(self%front_jump)
+            i = self%front_segment(f)
+            if (x0(p) < self%left(i) .or. x0(p) >= self%right(i)) cycle
+            if (self%front_direction(f) > 0) then
+               since = t - self%front_start(f) - (x0(p) - self%left(i))/self%speed(i)
+            else
+               since = t - self%front_start(f) - (self%right(i) - x0(p))/self%speed(i)
+            end if
+            if (since < 0.0_dp) cycle
+            jump = -self%front_direction(f)*self%front_jump(f)/self%impedance(i)
+            values(p, 1) = values(p, 1) + jump*since
+            values(p, 2) = values(p, 2) + jump
+         end do
+         values(p, 3) = self%stress_exact(x0(p), t)
+      end do
+   end subroutine exact_fields
 
    !> `particles_per_element` particles per element at the centres of equal sub-cells over the whole
    !> bar, each of the segment holding its centre: its own mass and Young's modulus (and with law

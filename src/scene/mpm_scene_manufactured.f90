@@ -27,7 +27,7 @@ module mpm_scene_manufactured
    use mpm_grid, only: grid_t
    use mpm_particles, only: particles_t, particles_init
    use mpm_shape, only: shape_cache_t
-   use mpm_scene, only: scene_t, sine_profile
+   use mpm_scene, only: scene_t, sine_profile, exact_name_length
    use mpm_particle_forces, only: p2g_particle_forces
    implicit none
    private
@@ -46,7 +46,7 @@ module mpm_scene_manufactured
    contains
       procedure :: place_particles, margin_cells, fixed_nodes, ucm_exact, ucm_amplitude
       procedure :: add_forces, error_at, error_name, energy_reference, report, fused_applies, particle_forces
-      procedure :: displacement_exact, body_force
+      procedure :: displacement_exact, body_force, exact_fields
    end type manufactured_t
 
    !> The columns of particles%scene_factors: A sin(k X_p), A k cos(k X_p).
@@ -78,6 +78,26 @@ contains
       real(dp), intent(in) :: x0, t
       displacement_exact = self%amplitude*sin(self%wave_number*x0)*sin(self%omega*t)
    end function displacement_exact
+
+   !> The exact fields at X = x0: u, v = A w sin(k X) cos(w t) and the law's stress of F = 1 + du/dX,
+   !> sigma = E ln F (hencky) or E (F - 1) (linear), E = rho0 c^2.
+   pure subroutine exact_fields(self, x0, t, names, values)
+      class(manufactured_t), intent(in) :: self
+      real(dp), intent(in) :: x0(:), t
+      character(len=exact_name_length), allocatable, intent(out) :: names(:)
+      real(dp), allocatable, intent(out) :: values(:, :)
+      real(dp), allocatable :: strain(:)
+      names = [character(len=exact_name_length) :: 'displacement', 'velocity', 'stress']
+      allocate (values(size(x0), 3))
+      values(:, 1) = self%displacement_exact(x0, t)
+      values(:, 2) = self%amplitude*self%omega*sin(self%wave_number*x0)*cos(self%omega*t)
+      strain = self%amplitude*self%wave_number*cos(self%wave_number*x0)*sin(self%omega*t)
+      if (self%linear_law) then
+         values(:, 3) = self%density*self%wave_speed**2*strain
+      else
+         values(:, 3) = self%density*self%wave_speed**2*log(1.0_dp + strain)
+      end if
+   end subroutine exact_fields
 
    !> b(X, t) = d2u/dt2 - c^2 d(ln F)/dX, or d2u/dt2 - c^2 u_XX for the linear law (see the module's comment).
    elemental real(dp) function body_force(self, x0, t)

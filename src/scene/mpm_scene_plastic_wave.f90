@@ -33,7 +33,7 @@ module mpm_scene_plastic_wave
    use mpm_shape, only: shape_cache_t
    use mpm_material, only: material_t, law_elastoplastic, stored_energy, plastic_work
    use mpm_material_plastic, only: hardening_tangent
-   use mpm_scene, only: scene_t, margin_for, drive_t
+   use mpm_scene, only: scene_t, margin_for, drive_t, exact_name_length
    implicit none
    private
    public :: plastic_wave_t, plastic_wave_init
@@ -53,7 +53,7 @@ module mpm_scene_plastic_wave
    contains
       procedure :: place_particles, margin_cells, fixed_nodes, ucm_exact, ucm_amplitude
       procedure :: add_forces, error_at, error_name, error_unit, energy_reference, report, watch_report
-      procedure :: stress_exact, velocity_exact, drive
+      procedure :: stress_exact, velocity_exact, drive, exact_fields
    end type plastic_wave_t
 
 contains
@@ -114,6 +114,22 @@ contains
          velocity_exact = 0.0_dp
       end if
    end function velocity_exact
+
+   !> The exact fields at X = x0: the displacement, the time integral of the velocity (each front adds its
+   !> velocity jump from its arrival X/c on), the velocity and the stress.
+   pure subroutine exact_fields(self, x0, t, names, values)
+      class(plastic_wave_t), intent(in) :: self
+      real(dp), intent(in) :: x0(:), t
+      character(len=exact_name_length), allocatable, intent(out) :: names(:)
+      real(dp), allocatable, intent(out) :: values(:, :)
+      names = [character(len=exact_name_length) :: 'displacement', 'velocity', 'stress']
+      allocate (values(size(x0), 3))
+      values(:, 1) = self%precursor_velocity*max(0.0_dp, t - x0/self%elastic_speed)
+      if (self%yields) values(:, 1) = values(:, 1) + (self%drive_velocity - self%precursor_velocity)* &
+                                      max(0.0_dp, t - x0/self%plastic_speed)
+      values(:, 2) = self%velocity_exact(x0, t)
+      values(:, 3) = self%stress_exact(x0, t)
+   end subroutine exact_fields
 
    !> As the bar's particles, at rest and unstressed (particle 1 is the driven end's).
    subroutine place_particles(self, config, particles, error)
