@@ -12,7 +12,7 @@ module mpm_registry
    use, intrinsic :: ieee_arithmetic, only: ieee_is_finite
    use mpm_kinds, only: dp, i8
    use mpm_errors, only: error_t, set_error, append_error
-   use mpm_strings, only: str, lower
+   use mpm_strings, only: str, lower, num
    use mpm_namelist, only: nml_value_t, nml_item_t, read_namelist, parse_namelist, read_input_text, add_overrides, &
                            item_place
    use mpm_suggest, only: did_you_mean, nearest_words, printable
@@ -254,12 +254,16 @@ contains
 
    ! ------------------------------------------------------------------ ranges and checks
 
-   !> A number as short as it reads (ranges and defaults in messages and --help): 0, 10, 0.5, 2e+11.
+   !> A number as short as it reads (ranges and defaults in messages and --help): 0, 10, 0.5, 2e+11, NaN, Infinity.
    function short_number(x) result(text)
       real(dp), intent(in) :: x
       character(len=:), allocatable :: text
       character(len=32) :: buffer
       integer :: e, k
+      if (x /= x .or. abs(x) > huge(x)) then  ! (no number, no exponent to shorten: NaN, Infinity)
+         text = num(x)
+         return
+      end if
       if (x == aint(x) .and. abs(x) < 1.0e9_dp) then
          write (buffer, '(i0)') int(x, i8)
          text = trim(buffer)
