@@ -2,18 +2,20 @@
 # The tests of mpm1d, in two tiers, after installing what is missing (studies/setup.sh: apt packages
 # and the project's .venv; nothing into the system's Python).
 #   bash test/run_tests.sh         the default tier, minutes: the build, the generated sources' check
-#                                  (test/generate.sh --check), the Fortran tests (all
-#                                  test/test_*.f90 but test_long_*), the cross-check against an
-#                                  independent NumPy implementation, the post-processing tests, the
-#                                  command line, the hostile-input suite, a full disk on every write
-#                                  path (test/test_full_disk.py), sweep determinism (3
-#                                  two-thread sweeps), the README's commands, the study pipelines
-#                                  and tests (but their long cases: long_cases in this script)
-#   bash test/run_tests.sh --all   the same, then the second tier: test/test_long_*.f90 (large runs
-#                                  on 1 and 2 threads), test/test_long_*.sh (1000 shards merged),
-#                                  sweep determinism with 20 two-thread sweeps (instead of 3), the
-#                                  API documentation (docs/build_api.sh: FORD, no warnings), the
-#                                  long cases of the study tests, and the SLURM job array on a live
+#                                  (test/generate.sh --check), the Fortran tests (every program of
+#                                  fpm.toml's test list, but their long cases), the tester's named
+#                                  cases, the cross-check against an independent NumPy implementation,
+#                                  the post-processing tests, the command line, the hostile-input
+#                                  suite, a full disk on every write path (test/cli/test_full_disk.py),
+#                                  sweep determinism (3 two-thread sweeps), the README's
+#                                  commands, the study pipelines and tests (but their long cases:
+#                                  long_cases in this script)
+#   bash test/run_tests.sh --all   the same, the Fortran tests with their long cases (large runs on 1
+#                                  and 2 threads: MPM1D_LONG_TESTS=1), then the second tier:
+#                                  test/end_to_end/test_*_long.sh (1000 shards merged), sweep
+#                                  determinism with 20 two-thread sweeps (instead of 3), the API
+#                                  documentation (docs/build_api.sh: FORD, no warnings), the long
+#                                  cases of the study tests, and the SLURM job array on a live
 #                                  single-node cluster
 # Every group runs (a failure does not stop the others); the end shows each group's result, wall time
 # and CPU time (of the processes the group waited for: the SLURM daemons' and jobs' are not counted).
@@ -24,7 +26,7 @@ all=0
 for arg in "$@"; do
   case "$arg" in
     --all) all=1 ;;
-    -h|--help) sed -n '2,19p' "$0" | sed 's/^# \{0,1\}//'; exit 0 ;;
+    -h|--help) sed -n '2,22p' "$0" | sed 's/^# \{0,1\}//'; exit 0 ;;
     *) echo "run_tests.sh: unknown argument '$arg' (allowed: --all, --help)" >&2; exit 2 ;;
   esac
 done
@@ -63,12 +65,19 @@ group() {
   summary+=("$(printf '%-8s %-64s %8s %8s' "$result" "$name" "$wall" "$cpu")")
 }
 
-tests_in() {  # the Fortran test programs' names: tests_in quick | long
-  local f n
-  for f in test/test_*.f90; do
+# Every test program (test/**/test_*.f90) is in fpm.toml's test list, with its folder, once: a program
+# left out would never run (the tests are listed, not discovered: fpm.toml says why).
+tests_listed() {
+  local f n missing=0
+  while IFS= read -r f; do
     n="$(basename "$f" .f90)"
-    case "$n" in test_long_*) [ "$1" = long ] && echo "$n" ;; *) [ "$1" = quick ] && echo "$n" ;; esac
-  done
+    if [ "$(grep -c "{ name = \"$n\", *source-dir = \"$(dirname "$f")\", *main = \"$n.f90\" }" fpm.toml)" != 1 ]; then
+      echo "FAIL $f: not in fpm.toml's test list (add: { name = \"$n\", source-dir = \"$(dirname "$f")\", main = \"$n.f90\" })"
+      missing=$((missing + 1))
+    fi
+  done < <(find test -name 'test_*.f90' | sort)
+  echo "tests_listed: $(find test -name 'test_*.f90' | wc -l) programs, $missing not listed"
+  [ "$missing" = 0 ]
 }
 
 # cases of the Python tests that sweep sizes (the stability analysis up to 80 elements): second tier
@@ -95,18 +104,23 @@ for dir in build/gfortran_*/mpm1d; do
 done
 group "build (library, mpm1d, tests, examples)" fpm build --profile release --tests
 group "generated sources up to date (test/generate.sh --check)" bash test/generate.sh --check
-# shellcheck disable=SC2046
-group "Fortran tests (fpm test, test/test_*.f90 but test_long_*)" fpm test --profile release $(tests_in quick)
+group "every test program in fpm.toml's test list" tests_listed
+if [ "$all" = 0 ]; then
+  group "Fortran tests (fpm test: every program, but the long cases)" fpm test --profile release
+else
+  group "Fortran tests with their long cases (fpm test, MPM1D_LONG_TESTS=1)" env MPM1D_LONG_TESTS=1 fpm test --profile release
+fi
+group "named cases run alone (test/support/test_tester.sh)" bash test/support/test_tester.sh
 group "cross-check against an independent NumPy implementation" "$PYTHON" test/reference/check_reference.py
 group "post-processing package (pytest postprocess)" "$PYTHON" -m pytest -q -p no:cacheprovider postprocess
-group "the command line (test/test_command_line.sh)" bash test/test_command_line.sh
-group "hostile input (test/hostile)" "$PYTHON" test/hostile/run_hostile.py
-group "a full disk on every write path (test/test_full_disk.py)" "$PYTHON" test/test_full_disk.py
+group "the command line (test/cli/test_cli_options.sh)" bash test/cli/test_cli_options.sh
+group "hostile input (test/cli/hostile)" "$PYTHON" test/cli/hostile/run_hostile.py
+group "a full disk on every write path (test/cli/test_full_disk.py)" "$PYTHON" test/cli/test_full_disk.py
 if [ "$all" = 0 ]; then
-  group "sweeps bit-identical on 1 and 2 threads (3 sweeps)" env SWEEP_REPEATS=3 bash test/test_sweep_determinism.sh
+  group "sweeps bit-identical on 1 and 2 threads (3 sweeps)" env SWEEP_REPEATS=3 bash test/end_to_end/test_sweep_determinism.sh
 fi
-group "the README's commands (test/test_readme.sh)" bash test/test_readme.sh
-group "paper study pipeline, small" bash test/test_paper_pipeline.sh
+group "the README's commands (test/end_to_end/test_readme.sh)" bash test/end_to_end/test_readme.sh
+group "paper study pipeline, small" bash test/end_to_end/test_paper_pipeline.sh
 # study tests: plain scripts, or through pytest for a file with cases in the second tier
 for t in studies/*/test_*.py; do
   [ -f "$t" ] || continue
@@ -117,15 +131,13 @@ for t in studies/*/test_*.py; do
 done
 
 if [ "$all" = 1 ]; then
-  # shellcheck disable=SC2046
-  group "long Fortran tests (fpm test, test/test_long_*.f90)" fpm test --profile release $(tests_in long)
-  for t in test/test_long_*.sh; do
+  for t in test/end_to_end/test_*_long.sh; do
     [ -f "$t" ] && group "$t" bash "$t"
   done
-  group "sweeps bit-identical on 1 and 2 threads (20 sweeps)" env SWEEP_REPEATS=20 bash test/test_sweep_determinism.sh
+  group "sweeps bit-identical on 1 and 2 threads (20 sweeps)" env SWEEP_REPEATS=20 bash test/end_to_end/test_sweep_determinism.sh
   group "API documentation builds without warnings (docs/build_api.sh)" bash docs/build_api.sh
   group "long cases of the study tests (pytest)" "$PYTHON" -m pytest -q -p no:cacheprovider "${long_cases[@]}"
-  group "SLURM job array on a live single-node cluster" bash test/test_slurm.sh
+  group "SLURM job array on a live single-node cluster" bash test/end_to_end/test_slurm.sh
 fi
 
 wall=$(awk -v a="$start_all" -v b="$(date +%s.%N)" 'BEGIN { printf "%.1f", b - a }')

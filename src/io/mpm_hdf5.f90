@@ -462,11 +462,11 @@ contains
       call forget_partial()
    end subroutine writer_finish
 
-   !> Test hook (test_cli): with MPM1D_CRASH_BEFORE_RENAME set, the process aborts between the complete
+   !> Test hook (test_cli_input): with MPM1D_CRASH_BEFORE_RENAME set, the process aborts between the complete
    !> partial file and its rename, as a crash or a kill there would, so that a test can see that nothing
    !> appears under the final name and the partial file keeps the data.
    !> With MPM1D_PAUSE_BEFORE_RENAME=N the process sleeps N seconds there instead, so that a test can
-   !> send a signal while the complete partial file exists (test/hostile, class 6).
+   !> send a signal while the complete partial file exists (test/cli/hostile, class 6).
    subroutine crash_hook()
       integer :: length
       call get_environment_variable('MPM1D_CRASH_BEFORE_RENAME', length=length)

@@ -11,7 +11,7 @@
 !> and the series S in closed form (integrating twice sum_n cos((2n-1) th)/(2n-1)^2 = pi(pi - 2|th|)/8,
 !> |th| <= pi): S(th) = pi^4/96 - pi (pi th^2/2 - th^3/3)/8 on [0, pi], even and 2 pi-periodic, with
 !> S(2 pi - th) = S(th). So u_cm swings between 0 and -2 g L^2/(3 c^2): its amplitude is g L^2/(3 c^2).
-!> The sum to round-off and the closed form agree (test_scenes). Needs the external force on the grid:
+!> The sum to round-off and the closed form agree (test_scenes_exact). Needs the external force on the grid:
 !> f_I += m_I (-g) (the lumped mass carries sum_p N_Ip m_p (-g) exactly, since sum_I N_Ip = 1).
 !>
 !> Static (integrator = 'quasi_static', mpm_implicit): equilibrium under the fraction lambda of the

@@ -1,7 +1,7 @@
 !> The shape layer: for every particle, the nodes it touches, their weights N_I(x_p) and gradients
 !> dN_I/dx(x_p), evaluated once per step at the start-of-step positions and kept in a shape_cache_t
 !> that the generic operations (mpm_operations) read. A shape function is one module plus one case
-!> below; every shape passes the same property tests (test_shape):
+!> below; every shape passes the same property tests (test_shape_functions):
 !>   linear    the hat functions (mpm_shape_linear)
 !>   ugimp     uniform GIMP, box half-length l_p0 = dx/(2 ppc) (mpm_shape_gimp)
 !>   cpgimp    contiguous-particle GIMP, l_p = l_p0 J_p (mpm_shape_gimp)

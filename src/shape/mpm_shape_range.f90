@@ -5,7 +5,7 @@
 !> (gfortran does not inline a function of another module), with the same names:
 !>    below = transfer(s - lo, 0_i8); above = transfer(hi - s, 0_i8)
 !>    flag = int(1_i8 - ishft(ior(ior(below, above), infinity_bits - below), -63))
-!> test_shape checks inside_range and, through the shapes, the written-out copies.
+!> test_shape_functions checks inside_range and, through the shapes, the written-out copies.
 module mpm_shape_range
    use mpm_kinds, only: dp, i8
    implicit none

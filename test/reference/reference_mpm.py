@@ -2,7 +2,7 @@
 
 Written from the conventions in README.md ("Algorithm"), not from the Fortran code: nodal
 arrays are accumulated node by node with np.add.at, shape functions are recomputed from the
-positions, u_cm is sum m (x - X) / sum m. Used by test/check_reference.py to confirm that
+positions, u_cm is sum m (x - X) / sum m. Used by test/reference/check_reference.py to confirm that
 mpm1d's errors agree with a second implementation to round-off.
 """
 import math

@@ -305,7 +305,8 @@ def main(argv=None):
                               f'{bw2/BYTES[s]:.3g}', f'{pattern2/BYTES[s]:.3g}'])
     lines += markdown_table(['scheme', 'particles', '1 thread', '2 threads', 'speed-up',
                              '2-thread bound (2-thread update BW / bytes)', '2-thread traffic ceiling'], table)
-    lines.append('\nResults are bit-for-bit identical with 1 and 2 threads (test/test_threads.f90): the segments '
+    lines.append('\nResults are bit-for-bit identical with 1 and 2 threads '
+                 '(test/unit/scheme/fused/test_fused_threads.f90): the segments '
                  'of a run are fixed by its size, not by the thread count.\n')
 
     sweep_times = {t: [float(r['seconds']) for r in sweep if int(r['threads']) == t] for t in (1, 2)}

@@ -7,7 +7,7 @@
 !> one or two fused passes over the particles (mpm_transfer), which also carry the next step's
 !> particle-to-grid transfer. The generic path (mpm_schemes over mpm_operations) is the definition;
 !> these kernels are chosen automatically where they apply (fused_choose, from mpm_simulation) and must
-!> agree with it to round-off (test_generic, test_fused_shapes, test_fused_scenes).
+!> agree with it to round-off (test_fused_bar, test_fused_shapes, test_fused_scenes).
 module mpm_fused
    use mpm_kinds, only: dp
    use mpm_grid, only: grid_t, assemble_nodes, assemble_and_solve, nodal_velocity, solve_momentum, element_forces
