@@ -4,15 +4,15 @@
 !>
 !> A test program names its cases and runs each one the tester selects:
 !>
-!>     t = tester('test_shape_functions')
+!>     t = tester('test_example')
 !>     if (t%case('partition_of_unity')) call partition_of_unity()
 !>     if (t%case('large_runs', long=.true.)) call large_runs()
 !>     call t%finish()
 !>
-!> Its command line (`fpm test test_shape_functions -- CASE ...`): case names run those cases only (a long case
-!> too); `--list` lists the cases and runs none; no name runs every case but the long ones, which run
-!> when the environment variable MPM1D_LONG_TESTS is 1 (the second tier). A name that is no case is an
-!> error (exit status 2) that lists the cases.
+!> Its command line (`fpm test test_example -- CASE ...`): case names run those cases only (a long
+!> case too); `--list` lists the cases and runs none; no name runs every case but the long ones, which
+!> run when the environment variable MPM1D_LONG_TESTS is 1 (the second tier). A name that is no case
+!> is an error (exit status 2) that lists the cases.
 module mpm_testing
    use, intrinsic :: iso_fortran_env, only: error_unit
    use mpm_kinds, only: dp
