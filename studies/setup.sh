@@ -2,11 +2,12 @@
 # Set up what mpm1d needs, installing only what is missing and leaving the system's Python alone:
 #   - apt packages (the system's to have, installed when missing, never upgraded): gfortran,
 #     libhdf5-dev, hdf5-tools, pkg-config, python3-venv, python3-numpy,
-#     python3-matplotlib, python3-h5py, python3-pytest;
+#     python3-matplotlib, python3-h5py, python3-pytest, python3-pandas;
 #   - the project's own virtual environment .venv at the top of this checkout, made by Debian's
-#     interpreter: `/usr/bin/python3 -m venv --system-site-packages .venv` (numpy, h5py, matplotlib
-#     and pytest come from apt through it), holding fpm, fypp and ford from PyPI (versions below) and
-#     this checkout's post-processing package (postprocess/, editable: `mpm1d-plot-sweep` & co.).
+#     interpreter: `/usr/bin/python3 -m venv --system-site-packages .venv` (numpy, h5py, matplotlib,
+#     pytest and pandas come from apt through it), holding fpm, fypp and ford from PyPI, nbclient and
+#     ipykernel from PyPI (what executes the tutorial notebook; versions below) and this checkout's
+#     post-processing package (postprocess/, editable: `mpm1d-plot-sweep` & co.).
 # Nothing goes into the system interpreter, pyenv or ~/.local, and no other checkout's install is
 # touched: two clones have two venvs. The `python3` on PATH (pyenv or other) is not used.
 # Run it (`bash studies/setup.sh`) or source it (`source studies/setup.sh`, as every script here
@@ -16,8 +17,12 @@ _mpm1d_root="$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)"
 _mpm1d_venv="$_mpm1d_root/.venv"
 # the PyPI tools, pinned: fpm 0.12 is the version whose (re)linking the test runner works with
 _mpm1d_tools="fpm==0.12.0 fypp==3.3 ford==7.0.13"
+# what executes docs/tutorial.ipynb (nbclient, on an ipykernel of this venv), pinned: IPython and
+# matplotlib-inline as Debian 12's matplotlib 3.6 needs them (IPython 9 and matplotlib-inline 0.2 call
+# matplotlib >= 3.7, and %matplotlib inline fails)
+_mpm1d_notebook="nbclient==0.10.2 ipykernel==6.29.5 ipython==8.18.1 matplotlib-inline==0.1.6"
 _mpm1d_apt="gfortran libhdf5-dev hdf5-tools pkg-config python3-venv python3-numpy
-  python3-matplotlib python3-h5py python3-pytest"
+  python3-matplotlib python3-h5py python3-pytest python3-pandas"
 
 _mpm1d_setup() {
   local missing="" p sudo=""
@@ -43,8 +48,8 @@ _mpm1d_setup() {
     /usr/bin/python3 -m venv --system-site-packages "$_mpm1d_venv" \
       || { echo "setup: could not make $_mpm1d_venv" >&2; return 1; }
   fi
-  if ! "$_mpm1d_venv/bin/python" -I -c 'import numpy, h5py, matplotlib, pytest' >/dev/null 2>&1; then
-    echo "setup: $_mpm1d_venv/bin/python does not import numpy, h5py, matplotlib and pytest (apt's);" \
+  if ! "$_mpm1d_venv/bin/python" -I -c 'import numpy, h5py, matplotlib, pytest, pandas' >/dev/null 2>&1; then
+    echo "setup: $_mpm1d_venv/bin/python does not import numpy, h5py, matplotlib, pytest and pandas (apt's);" \
          "was .venv made otherwise? Remove it and run studies/setup.sh again" >&2
     return 1
   fi
@@ -57,6 +62,13 @@ _mpm1d_setup() {
     "$_mpm1d_venv/bin/python" -m pip install -q $_mpm1d_tools >&2 \
       || { echo "setup: pip install $_mpm1d_tools into .venv failed" >&2; return 1; }
     echo "$_mpm1d_tools" > "$_mpm1d_venv/.mpm1d-tools"
+  fi
+  if [ "$(cat "$_mpm1d_venv/.mpm1d-notebook" 2>/dev/null)" != "$_mpm1d_notebook" ]; then
+    echo "setup: installing $_mpm1d_notebook into .venv (pip of the venv)" >&2
+    # shellcheck disable=SC2086
+    "$_mpm1d_venv/bin/python" -m pip install -q $_mpm1d_notebook >&2 \
+      || { echo "setup: pip install $_mpm1d_notebook into .venv failed" >&2; return 1; }
+    echo "$_mpm1d_notebook" > "$_mpm1d_venv/.mpm1d-notebook"
   fi
 
   # this checkout's post-processing package, editable, unless the venv already imports it from here and

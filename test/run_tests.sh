@@ -113,6 +113,7 @@ fi
 group "named cases run alone (test/support/test_tester.sh)" bash test/support/test_tester.sh
 group "cross-check against an independent NumPy implementation" "$PYTHON" test/reference/check_reference.py
 group "post-processing package (pytest postprocess)" "$PYTHON" -m pytest -q -p no:cacheprovider postprocess
+group "tutorial notebook (test/end_to_end/run_notebook.py docs/tutorial.ipynb)" "$PYTHON" test/end_to_end/run_notebook.py docs/tutorial.ipynb
 group "the command line (test/cli/test_cli_options.sh)" bash test/cli/test_cli_options.sh
 group "hostile input (test/cli/hostile)" "$PYTHON" test/cli/hostile/run_hostile.py
 group "a full disk on every write path (test/cli/test_full_disk.py)" "$PYTHON" test/cli/test_full_disk.py

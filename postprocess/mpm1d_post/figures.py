@@ -42,10 +42,13 @@ SCHEME_MARKERS = {'usf': 'o', 'usl': 's', 'musl': '^'}
 ERROR_LABEL = r'max $|u_{cm} - u_{cm}^{exact}|$ (m)'
 TIME_LABEL = 'computation time per run (s)'
 PPE_LABEL = 'particles per element'
-#: The sweep's time-step setting is dt_fraction = dt·c/dx, a fraction of the time a wave takes to
+#: The sweep's time-step setting is dt_fraction = dt·c/dx, a fraction of the time dx/c a wave takes to
 #: cross an element: not the stability limit, which depends on the scheme (USL with linear shapes
-#: and 1 particle per element: about 0.71), so the axes say what it is.
-DT_LABEL = 'time step dt·c/dx (% of dx/c)'
+#: and 1 particle per element: about 0.71), so the axes say what it is (once).
+DT_LABEL = 'time step dt (% of dx/c)'
+#: Median repeat spread (interquartile range over median of a case's timing repeats) above which
+#: timings are too noisy to fit (the paper claims' rule, studies.paper_claims.MAX_TIMING_SPREAD).
+NOISY_TIMING_SPREAD = 0.2
 
 Source = Union[Run, Sweep]
 
@@ -79,6 +82,19 @@ def save_figure(fig: plt.Figure, outdir: str, name: str, sources: Iterable[Sourc
     fig.savefig(path, dpi=DPI)
     plt.close(fig)
     return path
+
+
+def output_folder_problem(outdir: Path, given: str) -> str:
+    """Make the figures' folder `outdir` (`given` on the command line as -o): '' when it is there or was
+    made, else what is wrong, for the command's message."""
+    if outdir.exists() and not outdir.is_dir():
+        return (f'-o {given}: is an existing file, not a folder; allowed: a folder (created when missing) for '
+                'the figures')
+    try:
+        outdir.mkdir(parents=True, exist_ok=True)
+    except OSError as exc:
+        return f'-o {given}: cannot make the folder ({exc.strerror})'
+    return ''
 
 
 def duration_text(config: Mapping) -> str:
@@ -374,24 +390,30 @@ def fig3b(runs: Sequence[Run], outdir: str) -> str:
 # --------------------------------------------------------------------------------------------
 
 def _colour_map_figure(sweep: Sweep, scheme: str, panels: Sequence[int], quantity: str,
-                       norm: LogNorm, which: int, title: str, colour_label: str, outdir: str, name: str,
-                       annotate: Optional[str] = None) -> str:
+                       norms: Mapping[int, LogNorm], which: int, title: str, colour_label: str, outdir: str,
+                       name: str, annotate: Optional[str] = None) -> str:
     """One figure of colour maps of `quantity` for `scheme`, one panel per element count in
-    `panels`, all on the colour scale `norm`, with a single colourbar."""
+    `panels`, each on its colour scale `norms[elements]`: one colourbar per panel, or one for the
+    figure when every panel has the same scale."""
     rows, columns = _panel_layout(len(panels))
-    fig, axes = plt.subplots(rows, columns, figsize=(4.0 * columns + 1.2, 3.5 * rows + 0.9),
+    one_scale = len({(norms[e].vmin, norms[e].vmax) for e in panels}) == 1
+    width = max(4.0 * columns + (1.2 if one_scale else 0.9 * columns), 7.0)
+    fig, axes = plt.subplots(rows, columns, figsize=(width, 3.5 * rows + 1.1),
                              squeeze=False, constrained_layout=True)
     grids, mesh = [], None
     for ax, elements in zip(axes.flat, panels):
         grid = case_grid(sweep, sweep.where(scheme=scheme, elements=elements), quantity)
         grids.append(grid)
-        mesh = draw_colour_map(ax, grid, norm, annotate=annotate)
+        mesh = draw_colour_map(ax, grid, norms[elements], annotate=annotate)
         ax.set_title(f'{elements} element{"s" if elements != 1 else ""}', fontsize=10)
         ax.set_xlabel(PPE_LABEL)
         ax.set_ylabel(DT_LABEL)
+        if not one_scale:
+            fig.colorbar(mesh, ax=ax, label=colour_label, shrink=0.9)
     for ax in list(axes.flat)[len(panels):]:
         ax.set_visible(False)
-    fig.colorbar(mesh, ax=axes, label=colour_label, shrink=0.9)
+    if one_scale:
+        fig.colorbar(mesh, ax=axes, label=colour_label, shrink=0.9)
     _status_legend(fig, grids)
     fitted_title(fig, f'{figure_title(scheme, which, title)}\n{problem_text(sweep.config)}')
     fig.get_layout_engine().set(rect=(0, 0.025, 1, 0.975))
@@ -401,19 +423,22 @@ def _colour_map_figure(sweep: Sweep, scheme: str, panels: Sequence[int], quantit
 def error_maps(sweeps: Mapping[str, Sweep], outdir: str,
                elements: Optional[Sequence[int]] = None) -> Dict[str, str]:
     """Figures 4 (USF) and 7 (USL): maximum u_cm error over particles per element × time step,
-    one panel per element count; one logarithmic colour scale shared by all panels of all
-    schemes given, so that every panel compares with every other. Returns {scheme: path}."""
+    one panel per element count, each on a logarithmic colour scale of its own (the error spans
+    orders of magnitude from 1 to 50 elements: on one scale each panel would be nearly one colour and
+    the trends within a mesh would not show), shared by the schemes given, so that USF and USL compare
+    panel by panel. Returns {scheme: path}."""
     panels = {scheme: sorted(set(s.cases['elements'][s.where(scheme=scheme)].tolist()))
               for scheme, s in sweeps.items()}
     if elements is not None:
         panels = {k: [e for e in v if e in elements] for k, v in panels.items()}
-    norm = shared_log_norm(s.cases['max_error'][s.where(scheme=k) & s.ok]
-                           for k, s in sweeps.items())
-    shared = ' (colour scale shared by ' + ' and '.join(k.upper() for k in sweeps) + ')' \
-        if len(sweeps) > 1 else ''
+    norms = {count: shared_log_norm(s.cases['max_error'][s.where(scheme=k, elements=count) & s.ok]
+                                    for k, s in sweeps.items())
+             for count in sorted({c for v in panels.values() for c in v})}
+    shared = ', one colour scale per mesh, shared by ' + ' and '.join(k.upper() for k in sweeps) \
+        if len(sweeps) > 1 else ', one colour scale per mesh'
     return {scheme: _colour_map_figure(
-        sweep, scheme, panels[scheme], 'max_error', norm, 0,
-        'Maximum centre-of-mass displacement error', ERROR_LABEL + shared, outdir,
+        sweep, scheme, panels[scheme], 'max_error', norms, 0,
+        'Maximum centre-of-mass displacement error' + shared, 'max |u_cm − u_cm,exact| (m)', outdir,
         f'{_figure_number(scheme, 0)}error_map_{scheme}.png')
         for scheme, sweep in sweeps.items() if panels[scheme]}
 
@@ -433,8 +458,8 @@ def time_maps(sweeps: Mapping[str, Sweep], outdir: str, elements: int = 3) -> Di
     norm = shared_log_norm(s.cases['run_time'][s.where(scheme=k, elements=elements) & s.ok]
                            for k, s in timed.items())
     return {scheme: _colour_map_figure(
-        sweep, scheme, [elements], 'run_time', norm, 1,
-        f'Computation time per run (median over repeats), {elements} elements', TIME_LABEL,
+        sweep, scheme, [elements], 'run_time', {elements: norm}, 1,
+        'Computation time per run (median over repeats)', TIME_LABEL,
         outdir, f'{_figure_number(scheme, 1)}time_map_{scheme}.png', annotate='.2g')
         for scheme, sweep in timed.items()}
 
@@ -442,6 +467,18 @@ def time_maps(sweeps: Mapping[str, Sweep], outdir: str, elements: int = 3) -> Di
 # --------------------------------------------------------------------------------------------
 # Figures 6/9: computation time against particles and against time step, with fits
 # --------------------------------------------------------------------------------------------
+
+def timing_noise(spreads: Optional[Sequence[float]]) -> str:
+    """Why timings with these repeat spreads are too noisy to judge a fit by ('' when they are
+    steady enough: median spread at most NOISY_TIMING_SPREAD, or no spreads recorded)."""
+    if not spreads:
+        return ''
+    median = float(np.nanmedian(np.asarray(spreads, float)))
+    if not median > NOISY_TIMING_SPREAD:
+        return ''
+    return (f'timings too noisy to judge a fit (median spread of the repeats {median:.2g} > '
+            f'{NOISY_TIMING_SPREAD:g})')
+
 
 def time_fits(sweep: Sweep, scheme: str, outdir: str, elements: int = 3,
               dt_fraction: Optional[float] = None,
@@ -470,32 +507,38 @@ def time_fits(sweep: Sweep, scheme: str, outdir: str, elements: int = 3,
     n, t_n, k, t_k = n[order_n], t_n[order_n], k[order_k], t_k[order_k]
     line = linear_fit(n, t_n)
     curve = rational_fit(k, t_k)
-    spread = cases['run_time_spread'][row][order_n].tolist() if 'run_time_spread' in cases else None
+    has_spread = 'run_time_spread' in cases
+    spread = cases['run_time_spread'][row][order_n].tolist() if has_spread else None
+    spread_k = cases['run_time_spread'][column][order_k].tolist() if has_spread else None
     fits = {'particles': dict(line, elements=elements, dt_fraction=dt_fraction,
                               x=n.tolist(), time=t_n.tolist(), spread=spread),
             'time_step': dict(curve, elements=elements,
                               particles_per_element=particles_per_element,
-                              x=k.tolist(), time=t_k.tolist())}
+                              x=k.tolist(), time=t_k.tolist(), spread=spread_k)}
 
-    fig, (ax_a, ax_b) = plt.subplots(1, 2, figsize=(10.5, 4.3))
-    ax_a.plot(n, t_n, 'o', color='C0', label='measured')
+    fig, (ax_a, ax_b) = plt.subplots(1, 2, figsize=(10.5, 4.5))
     n_fine = np.linspace(n.min(), n.max(), 100)
-    ax_a.plot(n_fine, line['slope'] * n_fine + line['intercept'], color='C1',
-              label=f"t = {line['slope']:.3g} s·n{signed(line['intercept'], 's')}\n"
-                    f"R² = {line['r2']:.4f}")
+    k_fine = np.linspace(k.min(), k.max(), 200)
+    for ax, x, t, spreads, fit_x, fit_t, formula, r2 in (
+            (ax_a, n, t_n, spread, n_fine, line['slope'] * n_fine + line['intercept'],
+             f"t = {line['slope']:.3g} s·n{signed(line['intercept'], 's')}", line['r2']),
+            (ax_b, k, t_k, spread_k, k_fine, curve['a'] / k_fine + curve['b'],
+             f"t = {curve['a']:.3g} s·%/k{signed(curve['b'], 's')}", curve['r2'])):
+        # each point's spread of repeats (interquartile range over median) as a bar of its width
+        bars = 0.5 * np.asarray(spreads, float) * t if spreads else None
+        ax.errorbar(x, t, yerr=bars, fmt='o', color='C0', capsize=2,
+                    label='measured (bar: interquartile range of the repeats)' if spreads else 'measured')
+        noisy = timing_noise(spreads)
+        ax.plot(fit_x, fit_t, color='0.6' if noisy else 'C1', ls='--' if noisy else '-',
+                label=f'{formula}\nR² = {r2:.4f}' + (f'\n{noisy}' if noisy else ''))
     ax_a.set_xlabel(f'{PPE_LABEL} n ({elements} elements)')
     ax_a.set_title(f'(a) time step dt = {100 * dt_fraction:g} % of dx/c', fontsize=10)
-    ax_b.plot(k, t_k, 'o', color='C0', label='measured')
-    k_fine = np.linspace(k.min(), k.max(), 200)
-    ax_b.plot(k_fine, curve['a'] / k_fine + curve['b'], color='C1',
-              label=f"t = {curve['a']:.3g} s·%/k{signed(curve['b'], 's')}\n"
-                    f"R² = {curve['r2']:.4f}")
-    ax_b.set_xlabel('time step k = dt·c/dx (% of dx/c)')
+    ax_b.set_xlabel('time step k (% of dx/c)')
     ax_b.set_title(f'(b) {particles_per_element} particles per element', fontsize=10)
     for ax in (ax_a, ax_b):
         ax.set_ylabel(TIME_LABEL)
         ax.grid(alpha=0.3)
-        ax.legend(fontsize=8)
+        ax.legend(fontsize=7)
     fitted_title(fig, figure_title(scheme, 2, f'Computation time, {elements} elements') + '\n'
                  + problem_text(sweep.config))
     fig.tight_layout(rect=(0, 0.03, 1, 1))

@@ -442,6 +442,12 @@ class Sweep:
                      histories={renumber[k]: h for k, h in self.histories.items()
                                 if k in renumber}, parameters=self.parameters, left_out=dict(self.left_out))
 
+    def to_dataframe(self) -> 'pandas.DataFrame':
+        """The cases as a pandas DataFrame: one row per case this Sweep holds, one column per
+        ``/cases`` dataset, the file's values as they are (NaN and statuses included)."""
+        from .frames import cases_frame  # pandas only when a table is asked for
+        return cases_frame(self)
+
     def where(self, **criteria: Any) -> np.ndarray:
         """Mask of the cases matching every ``column=value`` (floats compared with a relative
         tolerance of 1e-9); a list, tuple or set of values matches any of them.

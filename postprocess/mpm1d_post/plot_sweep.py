@@ -8,9 +8,10 @@ cases that differ only in `elements`: one per combination of the other swept var
 shape, transfer, particles per element, dt_fraction, ...); `--at name=value` keeps only the cases
 with that value. Each series' order of convergence is the least-squares slope of log(error)
 against log(elements), over its completed cases (the order p in error ∝ elements^-p); a series with
-fewer than two meshes has no order. A case a guard stopped has no result: it is drawn apart (a grey
-'x' at the error it reached before the stop), never fitted, and kept off the Pareto front and maps'
-colour scale. Several files must be the shards of one sweep (as `mpm1d merge` requires).
+fewer than two meshes has no order. A case a guard stopped has no result: it is never drawn on an
+error axis (its error before the stop is no result), never fitted, and kept off the Pareto front and
+the maps' colour scale; the legends count the stopped cases, the maps mark them. Several files must be
+the shards of one sweep (as `mpm1d merge` requires).
 
 Writes into OUTDIR: `error_vs_elements.png`, `error_vs_time.png` (when the sweep has timings),
 `error_map_<scheme>_<shape>_<transfer>.png` (one per group, one panel per element count), and
@@ -79,6 +80,20 @@ def scene_text(sweep: Sweep) -> str:
     return figures.scene_text(sweep, swept=varied_columns(sweep))
 
 
+def stopped_cases_text(sweep: Sweep) -> str:
+    """'4 cases stopped by a guard (energy_growth 4; at 10, 20, 40, 80 elements): no result, not
+    drawn' ('' when none stopped)."""
+    stopped = sweep.stopped
+    if not stopped.any():
+        return ''
+    names, counts = np.unique(sweep.cases['status_name'][stopped], return_counts=True)
+    where = ', '.join(f'{e:g}' for e in np.unique(sweep.cases['elements'][stopped]))
+    statuses = ', '.join(f'{n} {c}' for n, c in zip(names, counts))
+    count = int(stopped.sum())
+    return (f"{count} case{'s' if count != 1 else ''} stopped by a guard ({statuses}; at {where} elements): "
+            'no result, not drawn')
+
+
 def error_vs_elements(sweep: Sweep, outdir: Path) -> Tuple[Path, List[Dict]]:
     """Error against elements (log-log), one line per series with its fitted order. Returns the
     path and the rows of orders.csv."""
@@ -109,12 +124,12 @@ def error_vs_elements(sweep: Sweep, outdir: Path) -> Tuple[Path, List[Dict]]:
     if drawn == 0:
         plt.close(fig)
         raise FigureSkipped('no completed case with a positive error')
-    stopped = sweep.stopped & (np.nan_to_num(sweep.cases.get('error_before_stop', np.zeros(len(sweep)))) > 0)
-    if stopped.any():
-        ax.loglog(sweep.cases['elements'][stopped], sweep.cases['error_before_stop'][stopped], 'x', color='0.55',
-                  markersize=6, label=f'stopped by a guard ({int(stopped.sum())}): error before the stop, no result, '
-                                      'not fitted')
-    figures.plain_ticks(ax, sweep.cases['elements'][sweep.ok | stopped])
+    # a stopped case has no error: it is counted in the legend, never drawn on the error axis (its error
+    # before the stop, often below every result, would read as one)
+    stopped_label = stopped_cases_text(sweep)
+    if stopped_label:
+        ax.plot([], [], 'x', color='0.55', label=stopped_label)
+    figures.plain_ticks(ax, sweep.cases['elements'][sweep.ok])
     ax.set_xlabel('elements')
     ax.set_ylabel(ERROR_LABEL)
     ax.grid(alpha=0.3, which='both')
@@ -256,10 +271,9 @@ def main(argv: Optional[Sequence[str]] = None) -> int:
     except (ValueError, argparse.ArgumentTypeError) as exc:
         print(f'{PROGRAM}: {exc}', file=sys.stderr)
         return 2
-    try:
-        outdir.mkdir(parents=True, exist_ok=True)
-    except OSError as exc:
-        print(f'{PROGRAM}: -o {args.outdir}: cannot make the folder ({exc.strerror})', file=sys.stderr)
+    problem = figures.output_folder_problem(outdir, args.outdir)
+    if problem:
+        print(f'{PROGRAM}: {problem}', file=sys.stderr)
         return 2
     written: List[Path] = []
     rows: List[Dict] = []

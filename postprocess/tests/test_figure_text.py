@@ -4,6 +4,7 @@ for what it is, a fraction of dx/c, not of the critical step."""
 from __future__ import annotations
 
 import matplotlib.pyplot as plt
+import numpy as np
 import pytest
 
 from mpm1d_post import figures, load_sweep
@@ -73,7 +74,7 @@ def test_titles_break_between_phrases(sweeps, drawn, tmp_path):
     assert any('Computation time per run (median over repeats)' in line for line in title.split('\n')), title
     # every line the wrapping cut ends between phrases: 'mode 1,' / '2 periods', never 'mode 1, 2' / 'periods'
     lines = title.split('\n')
-    assert [line for line in lines[:-1] if not line.endswith((',', '—', ';', 'elements'))] == [], title
+    assert [line for line in lines[:-1] if not line.endswith((',', '—', ';', 'elements', 'repeats)'))] == [], title
     assert '2 periods' in lines[-1], title
     assert figures.wrap_phrases('Fig. 5 — USF — Computation time per run (median over repeats), 3 elements', 50) == \
         ['Fig. 5 — USF —', 'Computation time per run (median over repeats),', '3 elements']
@@ -102,3 +103,66 @@ def test_fig10_spans_the_bar(mpm1d, tmp_path):
     finally:
         figures.save_figure = original
     assert limits == [(0.0, run.config['length'])]
+
+
+@pytest.fixture()
+def panels(monkeypatch):
+    """Instead of saving, keep each figure's title, its panels (title, colour scale, y label) and the
+    labels of its lines and error bars."""
+    shown = {}
+
+    def capture(fig, outdir, name, sources):
+        found = []
+        for ax in fig.axes:
+            meshes = [c for c in ax.collections if hasattr(c, 'norm') and c.get_array() is not None]
+            found.append({'title': ax.get_title(), 'ylabel': ax.get_ylabel(),
+                          'norm': (meshes[0].norm.vmin, meshes[0].norm.vmax) if meshes else None,
+                          'labels': [h.get_label() for h in ax.get_legend_handles_labels()[0]],
+                          'error_bars': len(ax.containers)})
+        shown[name] = {'title': fig._suptitle.get_text(), 'panels': found}
+        plt.close(fig)
+        return name
+    monkeypatch.setattr(figures, 'save_figure', capture)
+    return shown
+
+
+def test_error_maps_one_colour_scale_per_mesh(sweeps, panels, tmp_path):
+    """Figs. 4 and 7: on one scale for 1 to 50 elements each panel was almost one colour. Each mesh
+    now has its own scale, spanning its completed cases of both schemes (USF and USL compare panel by
+    panel); the time-step axis says dx/c once."""
+    figures.error_maps(sweeps, str(tmp_path))
+    for name in ('fig4_error_map_usf.png', 'fig7_error_map_usl.png'):
+        maps = [p for p in panels[name]['panels'] if p['norm'] is not None and p['title']]  # (not the colourbars)
+        assert len(maps) == 6, name
+        for panel in maps:
+            count = int(panel['title'].split()[0])
+            errors = np.concatenate([s.cases['max_error'][s.where(scheme=k, elements=count) & s.ok]
+                                     for k, s in sweeps.items()])
+            assert panel['norm'] == pytest.approx((errors.min(), errors.max())), (name, count)
+            assert panel['ylabel'] == 'time step dt (% of dx/c)'
+    scales = {p['norm'] for p in panels['fig4_error_map_usf.png']['panels'] if p['norm'] is not None and p['title']}
+    assert len(scales) == 6
+
+
+def test_time_map_title_names_the_mesh_once(sweeps, panels, tmp_path):
+    figures.time_maps(sweeps, str(tmp_path))
+    figure = panels['fig5_time_map_usf.png']
+    text = figure['title'] + ' ' + ' '.join(p['title'] for p in figure['panels'])
+    assert text.count('3 elements') == 1, text
+    assert len(figure['title'].split('\n')) <= 3, figure['title']
+
+
+@pytest.mark.parametrize('spread, noisy', [(0.05, False), (0.6, True)])
+def test_time_fits_show_the_spread_and_say_when_it_is_too_large(sweeps, panels, tmp_path, spread, noisy):
+    """Figs. 6 and 9 fitted lines to timings as if they were exact: each point has its repeats' spread as
+    a bar, and a fit over timings whose median spread exceeds 0.2 says it cannot be judged."""
+    sweep = sweeps['usl']
+    sweep.cases['run_time_spread'] = np.full(len(sweep), spread)
+    _, fits = figures.time_fits(sweep, 'usl', str(tmp_path))
+    figure = panels['fig9_time_fits_usl.png']
+    for panel in figure['panels']:
+        assert panel['error_bars'] == 1
+        said = any('timings too noisy to judge a fit (median spread of the repeats 0.6 > 0.2)' in label
+                   for label in panel['labels'])
+        assert said == noisy, panel['labels']
+    assert fits['time_step']['spread'] == [spread] * len(fits['time_step']['x'])

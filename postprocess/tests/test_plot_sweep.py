@@ -115,3 +115,27 @@ def test_labels_of_a_scene_and_element_ticks(mpm1d, tmp_path, monkeypatch):
     one = plot_sweep.select(sweep, [('elements', '10')])
     plot_sweep.error_vs_elements(one, tmp_path)
     assert not [label for label in shown['error_vs_elements.png'][2] if 'nan' in label]
+
+
+def test_stopped_cases_counted_never_on_the_error_axis(mpm1d, tmp_path, monkeypatch):
+    """The README's sweep: USL at dt = 0.8 dx/c is stopped on every mesh; its errors before the stop
+    (down to 3e-9 m) lie below every result. They are counted in the legend, not drawn."""
+    (tmp_path / 's.nml').write_text("&output file='s.h5' /\n&sweep scheme='usf','usl', elements=10,20,40,80, "
+                                    "particles_per_element=2, dt_fraction=0.2,0.8, min_time=0 /\n")
+    assert subprocess.run([str(mpm1d), 's.nml', '-q'], cwd=tmp_path, capture_output=True).returncode == 0
+    shown = {}
+
+    def capture(fig, outdir, name, sources):
+        ax = fig.axes[0]
+        shown[name] = {'y': [y for line in ax.lines for y in line.get_ydata()],
+                       'labels': [line.get_label() for line in ax.lines]}
+        return name
+    monkeypatch.setattr(plot_sweep.figures, 'save_figure', capture)
+    sweep = plot_sweep.load_sweep(tmp_path / 's.h5', cases='all')
+    plot_sweep.error_vs_elements(sweep, tmp_path)
+    drawn = shown['error_vs_elements.png']
+    results = sweep.cases['max_error'][sweep.ok]
+    assert min(drawn['y']) == pytest.approx(results.min())
+    assert not set(sweep.cases['error_before_stop'][sweep.stopped]) & set(drawn['y'])
+    assert ('4 cases stopped by a guard (energy_growth 4; at 10, 20, 40, 80 elements): no result, not drawn'
+            in drawn['labels'])

@@ -57,13 +57,30 @@ check "the Python block exits 0 in the first run's folder" "[ $python_status = 0
 check "it prints the best case's max_error, a finite number, and its run_time" \
   "grep -Eq 'max_error [0-9][0-9.e+-]*\$' \"$log.python\" && grep -Eq 'run_time [0-9][0-9.e+-]*\$' \"$log.python\""
 check "the sweep left its stopped cases out and said so" "grep -q 'left out' \"$log.python\""
+# the section's second Python block: the same sweep through mpm1d_post.sweep, which runs the mpm1d the
+# 'By hand' block installed (found on PATH: no MPM1D_EXE), in a folder of its own
+api_block="$(awk '/^## Reading the results in Python/ {found=1; next}
+                  found && /^## / {exit}
+                  found && /^```python/ {blocks++; if (blocks == 2) {inside=1; next}}
+                  inside && /^```/ {exit}
+                  inside {print}' README.md)"
+check "README has a second Python block, with mpm1d_post.sweep" "grep -q 'mpm1d_post.sweep' <<< \"\$api_block\""
+(cd "$first" 2>/dev/null && env -u MPM1D_EXE PATH="$home/.local/bin:$PATH" "$root/.venv/bin/python" -c "$api_block") \
+  > "$log.api" 2>&1
+api_status=$?
+check "the API block exits 0 with the installed mpm1d" "[ $api_status = 0 ]"
+check "it prints the best case as the first block does: USL, 80 elements, dt = 0.2 dx/c" \
+  "grep -Eq 'scheme +usl\$' \"$log.api\" && grep -Eq 'elements +80\$' \"$log.api\" && grep -Eq 'dt_fraction +0.2\$' \"$log.api\""
+# the built-in case as the README names it: what mpm1d with no input echoes
+check "the README names the built-in case's scheme and mesh as mpm1d runs it" \
+  "grep -q \"built-in verification case (the paper's bar, \$(sed -n 's/^# \\([a-z]*\\), \\([0-9]*\\) elements.*/\\2 elements, \\U\\1/p' \"$log\" | head -n 1))\" README.md"
 check "the 'By hand' block exits 0 as written" "[ $status = 0 ]"
 check "it installed mpm1d into \$HOME/.local/bin" "[ -x \"$home/.local/bin/mpm1d\" ]"
 check "it wrote bar.h5 (the built-in case) in its own folder" "[ -s \"$first/bar.h5\" ]"
 check "it wrote sweep.h5 and sweep_b2.h5 there" "[ -s \"$first/sweep.h5\" ] && [ -s \"$first/sweep_b2.h5\" ]"
 check "no ERROR STOP trace (fpm ran mpm1d alone)" "! grep -q 'ERROR STOP\|<ERROR>' \"$log\""
 check "--help printed the usage" "grep -q 'usage' \"$log\""
-[ "$failed" = 0 ] || { tail -n 40 "$log"; cat "$log.python" 2>/dev/null; }
+[ "$failed" = 0 ] || { tail -n 40 "$log"; cat "$log.python" "$log.api" 2>/dev/null; }
 rm -rf "$scratch"
 echo "test_readme: $passed passed, $failed failed"
 [ "$failed" = 0 ]
