@@ -7,7 +7,7 @@ module mpm_config
    use mpm_strings, only: str, lower, num, plural
    use mpm_files, only: available_memory, path_kind, path_folder, path_other, absolute_path
    use mpm_particles, only: bytes_per_particle
-   use mpm_shape, only: known_shapes, known_transfers
+   use mpm_shape, only: known_shapes, known_transfers, known_formulations
    use mpm_material, only: material_t, known_laws, law_id
    use mpm_registry, only: parameter_t, nml_item_t, text_entry, int_entry, real_entry, real_list_entry, &
                            logical_entry, for_kinds, for_value, used_by, parse_namelist, read_input_text, add_overrides, &
@@ -75,6 +75,8 @@ module mpm_config
    !> material's (1/rcond grows as gamma); on the quasi-static column the solution's error is the same
    !> from 1e3 to 1e10, 5x it at 1e12 and 0.9 (no digit) at 1e15, where Newton still reported convergence.
    real(dp), parameter :: max_ghost_penalty = 1.0e6_dp
+   !> The largest order of transfer = 'xpic' or 'fmpm' (each order one more projection per filtered velocity).
+   integer, parameter :: max_transfer_order = 100
    !> Time integrators: the explicit schemes (scheme = usf, usl, musl), Newmark's trapezoidal rule with
    !> Newton on the grid, and equilibrium in load steps (mpm_implicit).
    character(len=*), parameter :: known_integrators = 'explicit, implicit, quasi_static'
@@ -128,14 +130,19 @@ module mpm_config
       real(dp) :: dt_fraction = 0.1_dp
       !> Empty grid cells beyond each free end of the body; -1: the scene's expected motion + 2 cells.
       integer :: margin_cells = -1
-      !> 'auto': the fused kernels where they apply (laws hencky and linear: the bar and the column with FLIP and any
-      !> shape, every scene and transfer with the linear shape; mpm_fused's fused_choose), else the generic path;
-      !> 'generic': always generic.
+      !> 'auto': the fused kernels where they apply (laws hencky and linear, the updated formulation: the bar and the
+      !> column with FLIP and any shape but CPDI, every scene with the linear shape and FLIP, PIC, the blend or APIC;
+      !> mpm_fused's fused_choose), else the generic path; 'generic': always generic.
       character(len=8) :: kernels = 'auto'
-      !> Shape functions (mpm_shape) and the velocity transfer of G2P, with the FLIP share of 'blend'.
+      !> Shape functions (mpm_shape) and the velocity transfer of G2P, with the FLIP share of 'blend', the
+      !> orders of 'xpic' and 'fmpm' and the alpha of 'asflip'; the formulation (updated or total Lagrangian).
       character(len=8) :: shape = 'linear'
       character(len=8) :: transfer = 'flip'
       real(dp) :: flip_fraction = 0.99_dp
+      integer :: xpic_order = 2
+      integer :: fmpm_order = 2
+      real(dp) :: asflip_alpha = 0.99_dp
+      character(len=8) :: formulation = 'updated'
       ! &run
       real(dp) :: periods = 2.0_dp
       !> NaN until set: a program that fills config_t sets end_time alone (see run_length_flags); a
@@ -195,18 +202,33 @@ contains
                     'c = sqrt(youngs_modulus/density)', greater_than=0.0_dp, at_most=dt_fraction_limit(config), &
                     sweep_list='dt_fractions', note="integrator 'implicit': up to 1e8"), &
          text_entry('discretisation', 'shape', config%shape, 'shape functions: linear hat, uniform or '// &
-                    'contiguous-particle GIMP, quadratic or cubic B-splines (docs/theory.md, Shape functions)', &
-                    words=known_shapes, sweep_list='shapes'), &
+                    'contiguous-particle GIMP, quadratic or cubic B-splines, or convected particle domains '// &
+                    '(docs/theory.md, Shape functions; CPDI: The cures)', words=known_shapes, sweep_list='shapes'), &
          text_entry('discretisation', 'transfer', config%transfer, 'velocity transfer of G2P: FLIP, PIC, their '// &
-                    'blend (flip_fraction), or affine PIC', words=known_transfers, sweep_list='transfers'), &
+                    'blend (flip_fraction), affine PIC, extended PIC of order xpic_order, FMPM of order fmpm_order, '// &
+                    'or affine-separable FLIP (asflip_alpha; docs/theory.md, The cures)', words=known_transfers, &
+                    sweep_list='transfers'), &
          for_value(real_entry('discretisation', 'flip_fraction', config%flip_fraction, '', "FLIP share of "// &
                               "transfer = 'blend': v = f v_FLIP + (1 - f) v_PIC", at_least=0.0_dp, at_most=1.0_dp, &
                               sweep_list='flip_fractions'), 'transfer', 'blend'), &
+         for_value(int_entry('discretisation', 'xpic_order', config%xpic_order, "order m of transfer = 'xpic': "// &
+                             "v* = sum_{k=1..m} (-1)^(k+1) C(m,k) A^(k-1) v (1: PIC)", at_least=1, &
+                             at_most=max_transfer_order, sweep_list='xpic_orders'), 'transfer', 'xpic'), &
+         for_value(int_entry('discretisation', 'fmpm_order', config%fmpm_order, "order k of transfer = 'fmpm': "// &
+                             "v_k(q) = sum_{r<k} (I - A)^r M_L^-1 q (1: PIC)", at_least=1, &
+                             at_most=max_transfer_order, sweep_list='fmpm_orders'), 'transfer', 'fmpm'), &
+         for_value(real_entry('discretisation', 'asflip_alpha', config%asflip_alpha, '', "alpha of transfer = "// &
+                              "'asflip': v = v_PIC + alpha (v - v_old) (0: PIC, 1: FLIP's velocity)", &
+                              at_least=0.0_dp, at_most=1.0_dp, sweep_list='asflip_alphas'), 'transfer', 'asflip'), &
+         text_entry('discretisation', 'formulation', config%formulation, "'updated' Lagrangian (the weights at "// &
+                    "the particles' positions each step) or 'total' Lagrangian (at their reference positions, "// &
+                    "once; docs/theory.md, The cures); integrator 'explicit'", words=known_formulations, &
+                    sweep_list='formulations'), &
          int_entry('discretisation', 'margin_cells', config%margin_cells, 'empty grid cells beyond each free end '// &
                    'of the body', at_least=-1, note="-1: the scene's expected motion + 2 cells"), &
          text_entry('discretisation', 'kernels', config%kernels, "'auto': the fused kernels where they apply (laws "// &
-                    "hencky and linear, explicit: the bar and the column with FLIP and any shape, every scene and "// &
-                    "transfer with the linear shape), "// &
+                    "hencky and linear, explicit, updated formulation: the bar and the column with FLIP and any shape "// &
+                    "but cpdi, every scene with the linear shape and transfer flip, pic, blend or apic), "// &
                     "else the generic path; 'generic': always the generic layered path", &
                     words='auto, generic'), &
          text_entry('discretisation', 'integrator', config%integrator, "time integration: 'explicit' (the "// &
@@ -647,7 +669,7 @@ contains
       character(len=*), intent(in) :: name
       character(len=:), allocatable :: list
       select case (trim(name))
-      case ('scheme', 'kernels')
+      case ('scheme', 'kernels', 'formulation', 'xpic_order', 'fmpm_order', 'asflip_alpha')
          list = 'explicit'
       case ('mass')
          list = 'implicit'
@@ -846,6 +868,7 @@ contains
          call check_scene(config, error, given)
          call check_material(config, error)
          call check_integrator(config, t, error, default_table)
+         call check_methods(config, error, given)
       end subroutine validate_values
    end subroutine validate_config
 
@@ -972,6 +995,54 @@ contains
       if (end_time >= dt .and. end_time/dt <= real(huge(1) - 1, dp)) &
          call check_snapshot_every(config, step_count(end_time, dt), error, given)
    end subroutine check_run
+
+   !> The formulation, shape and transfer against the scene and the integrator (docs/theory.md, The cures):
+   !> the total-Lagrangian formulation keeps the reference configuration, which the impact's contact cannot
+   !> use; CPDI's domains are one body's chain of corners and its particles the domains' centres, which
+   !> ASFLIP's own moves and the impact's bars are not; XPIC, FMPM and ASFLIP keep grid fields of one
+   !> velocity field, not the impact's field per bar; the implicit integrators take none of them (their
+   !> Newton step moves the particles with the grid's displacement: formulation by its integrator list).
+   subroutine check_methods(config, error, given)
+      type(config_t), intent(in) :: config
+      type(error_t), allocatable, intent(inout) :: error
+      type(parameter_t), intent(in), optional :: given(:)
+      logical :: new_transfer
+      new_transfer = in_list(trim(config%transfer), 'xpic, fmpm, asflip')
+      if (trim(config%formulation) == 'total' .and. trim(config%scene_kind) == 'impact') &
+         call append_error(error, place(given, 'discretisation', 'formulation')//"discretisation: formulation = "// &
+                           "'total' is not used by kind = 'impact' (the bars' contact needs their current "// &
+                           "configuration; the total-Lagrangian formulation keeps the reference one); allowed: "// &
+                           "formulation = 'updated', or another kind")
+      if (trim(config%shape) == 'cpdi' .and. trim(config%scene_kind) == 'impact') &
+         call append_error(error, place(given, 'discretisation', 'shape')//"discretisation: shape = 'cpdi' is not "// &
+                           "used by kind = 'impact' (the bars' domains and their contact are not implemented for "// &
+                           "CPDI); allowed: another shape, or another kind")
+      if (trim(config%shape) == 'cpdi' .and. trim(config%transfer) == 'asflip') &
+         call append_error(error, place(given, 'discretisation', 'transfer')//"discretisation: transfer = "// &
+                           "'asflip' is not used with shape = 'cpdi' (a CPDI particle is its domain's centre, moved "// &
+                           "with the grid; ASFLIP moves particles off the grid's motion); allowed: another transfer, "// &
+                           "or another shape")
+      if (new_transfer .and. trim(config%scene_kind) == 'impact' .and. trim(config%contact) == 'frictionless') &
+         call append_error(error, place(given, 'discretisation', 'transfer')//"discretisation: transfer = '"// &
+                           trim(config%transfer)//"' is not used with contact = 'frictionless' (its grid fields "// &
+                           "are of one velocity field, not of a field per bar); allowed: contact = 'none', or "// &
+                           "transfer = 'flip', 'pic', 'blend' or 'apic'")
+      if (trim(config%integrator) /= 'explicit' .and. known_integrator(config%integrator)) then
+         if (new_transfer) call append_error(error, place(given, 'discretisation', 'transfer')//"discretisation: "// &
+                                             "transfer = '"//trim(config%transfer)//"' is not used by integrator = '"// &
+                                             trim(config%integrator)//"'; allowed: transfer = 'flip', 'pic', "// &
+                                             "'blend' or 'apic', or integrator = 'explicit'")
+         if (trim(config%shape) == 'cpdi') call append_error(error, place(given, 'discretisation', 'shape')// &
+            "discretisation: shape = 'cpdi' is not used by integrator = '"//trim(config%integrator)//"' (its "// &
+            "domains' corners move with the explicit schemes' grid velocity); allowed: another shape, or "// &
+            "integrator = 'explicit'")
+      end if
+   contains
+      pure logical function known_integrator(name)
+         character(len=*), intent(in) :: name
+         known_integrator = in_list(trim(name), known_integrators)
+      end function known_integrator
+   end subroutine check_methods
 
    !> The &material group against the scene (a variable of another law is refused by its entry's
    !> condition, for_value): an elastoplastic composite bar or impact needs yield_stresses and hardening_moduli with one

@@ -5,7 +5,8 @@ module mpm_diagnostics
    private
    public :: no_value
    public :: status_ok, status_non_finite, status_volume_ratio, status_left_grid, status_energy_growth, &
-             status_cell_crossing, status_setup_failed, status_not_run, status_name, status_newton
+             status_cell_crossing, status_setup_failed, status_not_run, status_name, status_newton, &
+             status_domain_stretched
    public :: history_t, snapshot_t, pass_totals_t, max_bodies, exact_name_length
 
    !> Run status codes (stored in the HDF5 output; 0 means the run completed).
@@ -17,6 +18,7 @@ module mpm_diagnostics
    integer, parameter :: status_cell_crossing = 5  !< a particle moved more than one cell in one step
    integer, parameter :: status_setup_failed = 6   !< the run could not be set up (memory)
    integer, parameter :: status_newton = 7         !< an implicit step's Newton iteration did not converge
+   integer, parameter :: status_domain_stretched = 8 !< a CPDI particle domain outgrew the nodes it touches
    integer, parameter :: status_not_run = -1       !< a sweep case that has not run (yet), or was abandoned
 
    !> "No value": a quiet NaN (bits 7FF8000000000000), written where a result does not exist (the
@@ -107,6 +109,8 @@ contains
          name = 'setup_failed'
       case (status_newton)
          name = 'newton_not_converged'
+      case (status_domain_stretched)
+         name = 'domain_stretched'
       case (status_not_run)
          name = 'not_run'
       case default

@@ -10,7 +10,9 @@ module mpm_simulation
    use mpm_material, only: material_t, law_hencky, law_linear, material_state, material_report
    use mpm_grid, only: grid_t, grid_init
    use mpm_particles, only: particles_t, per_particle_data
-   use mpm_shape, only: shape_cache_t, shape_id, shape_extra_cells, transfer_id, transfer_apic
+   use mpm_shape, only: shape_cache_t, shape_id, shape_extra_cells, transfer_id, transfer_apic, transfer_xpic, &
+                        transfer_fmpm, transfer_asflip, shape_cpdi, formulation_id, formulation_total
+   use mpm_shape_cpdi, only: cpdi_corners
    use mpm_fused, only: fused_start, fused_step, fused_box_t, fused_choose, fused_mass, fused_grid_velocity, fused_grid_sum
    use mpm_operations, only: particle_energies, locate_particles, p2g_mass_momentum, nodal_velocities
    use mpm_schemes, only: scheme_usf, scheme_usl, scheme_musl, scheme_step, scheme_step_bodies
@@ -19,7 +21,7 @@ module mpm_simulation
    use mpm_scenes, only: make_scene
    use mpm_diagnostics, only: history_t, snapshot_t, pass_totals_t, status_ok, status_non_finite, &
                               status_volume_ratio, status_left_grid, status_energy_growth, status_cell_crossing, &
-                              status_name, status_not_run, status_newton
+                              status_name, status_not_run, status_newton, status_domain_stretched
    use mpm_files, only: interrupt_signal
    use mpm_implicit, only: implicit_t, implicit_init, implicit_advance, implicit_report, integrator_id, &
                            integrator_explicit
@@ -168,6 +170,10 @@ contains
          cache%kind = shape_id(config%shape)
          cache%transfer = transfer_id(config%transfer)
          cache%flip_fraction = config%flip_fraction
+         if (cache%transfer == transfer_xpic) cache%order = config%xpic_order
+         if (cache%transfer == transfer_fmpm) cache%order = config%fmpm_order
+         if (cache%transfer == transfer_asflip) cache%alpha = config%asflip_alpha
+         cache%total = formulation_id(config%formulation) == formulation_total
          ! shapes wider than the hat: one more cell beyond the free end, one ghost cell left of x = 0
          extra = shape_extra_cells(cache%kind)
          result%ucm_amplitude = scene%ucm_amplitude()
@@ -182,7 +188,7 @@ contains
          run%box%linear = run%material%law == law_linear
          run%fused = trim(config%kernels) == 'auto' .and. run%box%variant >= 0 .and. &
                      (run%material%law == law_hencky .or. run%material%law == law_linear) .and. &
-                     run%integrator == integrator_explicit
+                     run%integrator == integrator_explicit .and. .not. cache%total
          result%fused = run%fused
          if (.not. run%fused) call per_particle_data(particles, error)
          if (allocated(error)) return
@@ -203,6 +209,15 @@ contains
          if (allocated(error)) return
          if (scene%body_fields) call bodies_init(run%bodies, run%grid, particles, error, element_shares=run%fused)
          if (allocated(error)) return
+         if (cache%kind == shape_cpdi) then ! the domains' corners: each particle's sub-cell, tiling each body
+            if (allocated(particles%body)) then
+               call cpdi_corners(particles%x0, particles%volume0_of, run%grid%origin, run%grid%origin + &
+                                 run%grid%length, cache%corners, cache%corner_of, particles%body)
+            else
+               call cpdi_corners(particles%x0, particles%volume0_of, run%grid%origin, run%grid%origin + &
+                                 run%grid%length, cache%corners, cache%corner_of)
+            end if
+         end if
          result%domain = [run%grid%origin, run%grid%origin + run%grid%length]
          result%particles = particles%count
       end associate
@@ -334,6 +349,8 @@ contains
             call trip(run, result, step, time, status_non_finite, energy/reference, first_non_finite(particles))
          else if (totals%outside /= 0) then
             call trip(run, result, step, time, status_left_grid, 0.0_dp, totals%outside)
+         else if (run%cache%stretched /= 0) then
+            call trip(run, result, step, time, status_domain_stretched, 0.0_dp, run%cache%stretched)
          else if (totals%min_volume_ratio <= 0.0_dp) then
             call trip(run, result, step, time, status_volume_ratio, totals%min_volume_ratio, &
                       minloc(particles%volume_ratio, 1))
@@ -463,6 +480,9 @@ contains
                 '] m (the body with its margin_cells; a larger margin_cells widens it)'
       case (status_volume_ratio)
          what = 'volume ratio J = V/V0 <= 0'
+      case (status_domain_stretched)
+         what = 'a CPDI particle domain stretched over more than the four nodes a CPDI particle touches (its '// &
+                'corners lie in cells more than two apart); more particles per element shorten the domains'
       case (status_cell_crossing)
          what = 'a particle moved '//str(trip%value)//' cells in one step (limit '//str(config%max_cell_move)//')'
       case (status_energy_growth)

@@ -177,15 +177,17 @@ contains
       real(dp), intent(in) :: t
       type(shape_cache_t), intent(in) :: cache
       type(particles_t), intent(in) :: particles
-      real(dp) :: missing, flexibility, w, multiplier
+      real(dp) :: missing, flexibility, w, multiplier, driven_end
       integer :: k, i
       logical :: behind(cache%support)
       missing = self%drive_velocity
       flexibility = 0.0_dp
+      driven_end = particles%x(1)
+      if (cache%total) driven_end = particles%x0(1) ! (the total-Lagrangian grid is the reference configuration's)
       do k = 1, cache%support
          i = cache%first(1) + k - 1
          w = cache%weight(1, k)
-         behind(k) = grid%origin + i*grid%dx <= particles%x(1)
+         behind(k) = grid%origin + i*grid%dx <= driven_end
          if (grid%mass(i) <= grid%empty_mass) cycle ! the solve gives it no velocity
          if (behind(k)) then
             grid%force(i) = (grid%mass(i)*self%drive_velocity - grid%momentum(i))/self%dt

@@ -6,12 +6,17 @@
 !>          FLIP  v_p += dt sum_I N_Ip a_I
 !>          PIC   v_p  = sum_I N_Ip v_I
 !>          blend v_p  = f (v_p + dt sum_I N_Ip a_I) + (1 - f) sum_I N_Ip v_I,  f = flip_fraction
+!>          XPIC  v_p  = sum_I N_Ip (v*_I + dt a_I) (mpm_xpic), FMPM v_p = sum_I N_Ip v_k(p^L)_I (mpm_fmpm: as PIC,
+!>                on the filtered velocities), ASFLIP (mpm_asflip: v_p and the move from sum N v^n, sum N v^L)
 !>          APIC  v_p  = sum_I N_Ip v_I and the velocity gradient C_p ([Jiang 2015], sec. 5.3; references:
 !>                docs/theory.md):
 !>                C_p = sum_I v_I dN_Ip (hat, GIMP: exact for their piecewise-linear weights) or
 !>                C_p = B_p D_p^-1, B_p = sum_I N_Ip v_I (x_I - x_p), D_p = dx^2/4 (quadratic),
 !>                dx^2/3 (cubic B-splines); P2G then adds sum_p N_Ip m_p C_p (x_I - x_p) to p_I.
 !>   stress: d eps_p = dt sum_I dN_Ip v_I, then the material's update (mpm_material: the run's law)
+!> The total-Lagrangian formulation (cache%total, mpm_total_lagrangian) evaluates the weights once at the
+!> reference positions, integrates the force over V0_p and gives the laws dF/F; CPDI (mpm_shape_cpdi) takes the
+!> volume of the domain between its corners and moves the corners with the grid in G2P.
 !> Each is one loop over the particles (or nodes), serial: sweeps run cases on threads, and a run's
 !> results are the same on any number of threads. The schemes (mpm_schemes) compose them.
 !> Each public operation hands the arrays to a kernel with explicit contiguous dummies: gfortran then
@@ -21,7 +26,12 @@ module mpm_operations
    use mpm_grid, only: grid_t, solve_range, zero_fixed
    use mpm_particles, only: particles_t
    use mpm_shape, only: shape_cache_t, evaluate_shapes, shape_ugimp, shape_cpgimp, shape_bspline2, shape_bspline3, &
-                        transfer_pic, transfer_blend, transfer_apic
+                        shape_cpdi, transfer_pic, transfer_blend, transfer_apic, transfer_xpic, transfer_fmpm, &
+                        transfer_asflip
+   use mpm_shape_cpdi, only: cpdi_move_corners, cpdi_centres
+   use mpm_total_lagrangian, only: log_strain_increment, reference_stress_volume
+   use mpm_asflip, only: asflip_update
+   use mpm_mirror, only: mirror_even, mirror_odd
    use mpm_diagnostics, only: pass_totals_t
    use mpm_shape_range, only: infinity_bits
    use mpm_lanes, only: block_size, lanes, largest_move_t, add_lanes, lane_total, track_largest_move, furthest_particle
@@ -36,12 +46,23 @@ module mpm_operations
 contains
 
    !> Shape functions at the start-of-step positions; totals%outside = first particle outside the domain.
+   !> In the total-Lagrangian formulation, at the reference positions, once (the box of GIMP is then the
+   !> reference one for uGIMP and cpGIMP alike, J = 1; CPDI's domains are the reference ones).
    subroutine locate_particles(cache, grid, particles, totals)
       type(shape_cache_t), intent(inout) :: cache
       type(grid_t), intent(in) :: grid
       type(particles_t), intent(in) :: particles
       type(pass_totals_t), intent(inout) :: totals
       integer :: outside
+      if (cache%total) then
+         if (.not. cache%evaluated) then
+            if (cache%kind == shape_ugimp .or. cache%kind == shape_cpgimp) cache%half_length = 0.5_dp*particles%volume0_of
+            call evaluate_shapes(cache, grid, particles%x0, outside)
+            if (totals%outside == 0) totals%outside = outside
+            cache%evaluated = .true.
+         end if
+         return
+      end if
       select case (cache%kind)
       case (shape_ugimp)  ! the box of the particle's initial length, l_p0 = V0_p / 2 (per unit area), set
          ! once: V0 does not change, and the generic path keeps the particles' order
@@ -97,7 +118,15 @@ contains
       logical :: affine
       call scratch(cache, particles%count)
       affine = kinematics .and. cache%transfer == transfer_apic
-      if (force) cache%work(:, 1) = particles%stress*particles%volume_ratio*particles%volume0_of
+      if (force) then ! sigma_p V_p: V_p = J_p V0_p; V0_p (total Lagrangian); CPDI's domain at the step's start
+         if (cache%total) then
+            call reference_stress_volume(particles%stress, particles%volume0_of, cache%work(:, 1))
+         else if (cache%kind == shape_cpdi) then
+            call domain_stress_volume(cache%corners, cache%corner_of, particles%stress, cache%work(:, 1))
+         else
+            cache%work(:, 1) = particles%stress*particles%volume_ratio*particles%volume0_of
+         end if
+      end if
       if (affine) then ! APIC: the momentum per unit weight q, r in the loop (see scatter_columns)
          call scatter_columns(cache%support, cache%first, cache%weight, cache%gradient, particles%mass_of, &
                               cache%work(:, 2:2), cache%work(:, 1), kinematics, force, grid%mass, grid%momentum, &
@@ -110,6 +139,18 @@ contains
                               grid%force, grid%origin, grid%dx)
       end if
    end subroutine scatter
+
+   !> CPDI: sigma_p (x2 - x1), the stress times the particle domain's length between its corners.
+   pure subroutine domain_stress_volume(corners, corner_of, stress, stress_volume)
+      real(dp), intent(in) :: corners(0:)
+      integer, intent(in), contiguous :: corner_of(:)
+      real(dp), intent(in), contiguous :: stress(:)
+      real(dp), intent(out), contiguous :: stress_volume(:)
+      integer :: p
+      do p = 1, size(stress)
+         stress_volume(p) = stress(p)*(corners(corner_of(p) + 1) - corners(corner_of(p)))
+      end do
+   end subroutine domain_stress_volume
 
    !> At a fixed end with ghost cells (grid%mirror), the mirror image of the body beyond it: node
    !> c - j (c = grid%ghost, the fixed node at x = 0) is node c + j reflected. The body's image has the
@@ -125,47 +166,12 @@ contains
    subroutine mirror_fold(grid, with_kinematics, with_force)
       type(grid_t), intent(inout) :: grid
       logical, intent(in) :: with_kinematics, with_force
-      integer :: j, c
-      call mirror_fold_right(grid, with_kinematics, with_force)
-      if (.not. grid%mirror) return
-      c = grid%ghost
-      do j = 1, c
-         if (with_kinematics) then
-            grid%mass(c + j) = grid%mass(c + j) + grid%mass(c - j)
-            grid%momentum(c + j) = grid%momentum(c + j) - grid%momentum(c - j)
-            grid%mass(c - j) = grid%mass(c + j)
-            grid%momentum(c - j) = -grid%momentum(c + j)
-         end if
-         if (with_force) then
-            grid%force(c + j) = grid%force(c + j) - grid%force(c - j)
-            grid%force(c - j) = -grid%force(c + j)
-         end if
-      end do
+      if (with_kinematics) then
+         call mirror_even(grid, grid%mass)
+         call mirror_odd(grid, grid%momentum)
+      end if
+      if (with_force) call mirror_odd(grid, grid%force)
    end subroutine mirror_fold
-
-   !> The mirror at a fixed right end x = L (grid%mirror_right = r, the manufactured scene's): margin
-   !> node r + j is node r - j reflected, as mirror_fold does at x = 0 (the solution is odd about a
-   !> fixed end there too). Without it the margin nodes beyond a fixed end moved freely, and the wide
-   !> shapes' particles next to it followed them (first order, and through the wall at large strain).
-   subroutine mirror_fold_right(grid, with_kinematics, with_force)
-      type(grid_t), intent(inout) :: grid
-      logical, intent(in) :: with_kinematics, with_force
-      integer :: j, r
-      r = grid%mirror_right
-      if (r < 0) return
-      do j = 1, grid%ghost
-         if (with_kinematics) then
-            grid%mass(r - j) = grid%mass(r - j) + grid%mass(r + j)
-            grid%momentum(r - j) = grid%momentum(r - j) - grid%momentum(r + j)
-            grid%mass(r + j) = grid%mass(r - j)
-            grid%momentum(r + j) = -grid%momentum(r - j)
-         end if
-         if (with_force) then
-            grid%force(r - j) = grid%force(r - j) - grid%force(r + j)
-            grid%force(r + j) = -grid%force(r - j)
-         end if
-      end do
-   end subroutine mirror_fold_right
 
    !> v_I = p_I / m_I (zero on empty nodes), fixed nodes held at rest (momentum and velocity zero).
    subroutine nodal_velocities(grid)
@@ -205,8 +211,8 @@ contains
       !> Also gather sum_I dN_Ip v_I for update_stress (USL: the same nodal velocities; saves a gather).
       logical, intent(in), optional :: strain_rate
       logical :: with_strain_rate, apic, spline
-      with_strain_rate = .false.
-      if (present(strain_rate)) with_strain_rate = strain_rate
+      with_strain_rate = cache%transfer == transfer_asflip ! (ASFLIP's separation test needs sum dN v^L)
+      if (present(strain_rate)) with_strain_rate = with_strain_rate .or. strain_rate
       call scratch(cache, particles%count)
       apic = cache%transfer == transfer_apic
       spline = cache%kind == shape_bspline2 .or. cache%kind == shape_bspline3
@@ -221,18 +227,38 @@ contains
                           merge(affine_spline, affine_hat, spline), totals, cache%transfer, cache%flip_fraction, &
                           grid%dx, merge(4.0_dp, 3.0_dp, cache%kind == shape_bspline2)*grid%inv_dx**2, &
                           cache%position, particles%velocity_gradient)
+      else if (cache%transfer == transfer_xpic) then ! column 1 gathers v* + dt a (mpm_xpic)
+         call gather_move(cache%support, cache%first, cache%weight, cache%gradient, cache%grid_work(:, 1), &
+                          grid%velocity, dt, grid%inv_dx, grid%origin, grid%origin + grid%length, particles%mass_of, &
+                          particles%x0, particles%x, particles%v, cache%work, with_strain_rate, affine_none, totals, &
+                          cache%transfer, cache%flip_fraction, grid%dx, 0.0_dp)
+      else if (cache%transfer == transfer_asflip) then ! column 1 gathers v^n (mpm_asflip)
+         call gather_move(cache%support, cache%first, cache%weight, cache%gradient, cache%grid_work(:, 1), &
+                          grid%velocity, dt, grid%inv_dx, grid%origin, grid%origin + grid%length, particles%mass_of, &
+                          particles%x0, particles%x, particles%v, cache%work, with_strain_rate, affine_none, totals, &
+                          cache%transfer, cache%flip_fraction, grid%dx, 0.0_dp, alpha=cache%alpha, &
+                          start_volume_ratio=cache%start_volume_ratio)
       else
          call gather_move(cache%support, cache%first, cache%weight, cache%gradient, grid%acceleration, grid%velocity, &
                           dt, grid%inv_dx, grid%origin, grid%origin + grid%length, particles%mass_of, particles%x0, &
                           particles%x, particles%v, cache%work, with_strain_rate, affine_none, totals, &
                           cache%transfer, cache%flip_fraction, grid%dx, 0.0_dp)
       end if
+      if (cache%kind == shape_cpdi .and. .not. cache%total) then ! the domains' corners move with the grid
+         call cpdi_move_corners(grid%origin, grid%inv_dx, grid%elements, grid%velocity, dt, cache%corners)
+         call cpdi_centres(cache%corners, cache%corner_of, particles%x)
+      end if
    end subroutine g2p
 
+   !> The gathers of G2P (column 1 sums N `acceleration`: a, or XPIC's v* + dt a, ASFLIP's v^n; column 2
+   !> N v; with `strain_rate` column 3 dN v), the velocity update of the transfer and the move.
    subroutine gather_move(support, first, weight, gradient, acceleration, velocity, dt, inv_dx, lo, hi, mass_of, x0, &
                           x, v, gathered, strain_rate, affine, totals, transfer_kind, flip_fraction, dx, c_factor, &
-                          position, velocity_gradient)
+                          position, velocity_gradient, alpha, start_volume_ratio)
       integer, intent(in) :: support, transfer_kind
+      !> ASFLIP's alpha and each particle's J at the start of the step
+      real(dp), intent(in), optional :: alpha
+      real(dp), intent(in), contiguous, optional :: start_volume_ratio(:)
       !> APIC's velocity gradient C_p, gathered in the same loop: affine_none (no C), affine_hat
       !> (C = sum dN v; it implies the strain rate) or affine_spline (C = c_factor (d_p sum N v + dx
       !> sum_k (k - 1) N_k v_k), d_p = lo + first(p) dx - position(p)), into velocity_gradient
@@ -260,8 +286,12 @@ contains
       call gather_columns(support, first, weight, gradient, acceleration, velocity, gathered, strain_rate, affine, lo, dx, &
                           c_factor, position, velocity_gradient)
       select case (transfer_kind)
-      case (transfer_pic, transfer_apic)
+      case (transfer_pic, transfer_apic, transfer_fmpm) ! (FMPM: on the filtered velocities)
          v = gathered(:, 2)
+      case (transfer_xpic)
+         v = gathered(:, 1)
+      case (transfer_asflip) ! (also sets column 2 to the velocity the particle moves with)
+         call asflip_update(alpha, dt, start_volume_ratio, v, gathered)
       case (transfer_blend)
          v = flip_fraction*(v + dt*gathered(:, 1)) + (1.0_dp - flip_fraction)*gathered(:, 2)
       case default ! transfer_flip
@@ -316,6 +346,7 @@ contains
       else
          call gather_strain(cache%support, cache%first, cache%gradient, grid%velocity, dt, cache%work(:, 1))
       end if
+      if (cache%total) call log_strain_increment(particles%volume_ratio, cache%work(:, 1)) ! (dF into dF/F)
       call update_material(material, cache%work(:, 1), particles, totals%strain_energy, totals%min_volume_ratio, &
                            totals%plastic_work)
    end subroutine update_stress

@@ -5,6 +5,9 @@
 !> - USL, Update Stress Last: the stress from the nodal velocities after the momentum update.
 !> - MUSL, Modified USL ([Sulsky 1995]): as USL, but the updated particle momentum is
 !>   mapped back with the same shape functions and the stress uses the nodal velocity of that remap.
+!> The transfers that need grid fields of their own (XPIC, FMPM, ASFLIP) act at three points of each step
+!> (mpm_transfer_steps): after the P2G of mass and momentum, after a velocity formed outside the solve, and
+!> after the solve.
 module mpm_schemes
    use mpm_kinds, only: dp
    use mpm_grid, only: grid_t
@@ -16,6 +19,7 @@ module mpm_schemes
                              solve_grid, g2p, update_stress, mirror_fold
    use mpm_contact, only: bodies_t, locate_bodies, contact_velocities, contact_momentum, combine_bodies
    use mpm_material, only: material_t, law_hencky
+   use mpm_transfer_steps, only: transfer_mapped, transfer_velocity_formed, transfer_solved
    implicit none
    private
    public :: scheme_usf, scheme_usl, scheme_musl, scheme_step, scheme_step_bodies
@@ -56,23 +60,28 @@ contains
       select case (scheme)
       case (scheme_usf)
          call p2g_mass_momentum(cache, particles, grid, with_force=.false.)
+         call transfer_mapped(cache, particles, grid)
          call nodal_velocities(grid)
+         call transfer_velocity_formed(cache, particles, grid)
          call update_stress(cache, particles, grid, dt, material, totals)
          call p2g_internal_force(cache, particles, grid)
          call momentum_update()
          call g2p(cache, particles, grid, dt, totals)
       case (scheme_usl)
          call p2g_mass_momentum(cache, particles, grid, with_force=.true.)
+         call transfer_mapped(cache, particles, grid)
          call momentum_update()
          ! (the strain increment uses the nodal velocities G2P used: gathered there, in the same loop)
          call g2p(cache, particles, grid, dt, totals, strain_rate=.true.)
          call update_stress(cache, particles, grid, dt, material, totals, strain_rate_gathered=.true.)
       case (scheme_musl)
          call p2g_mass_momentum(cache, particles, grid, with_force=.true.)
+         call transfer_mapped(cache, particles, grid)
          call momentum_update()
          call g2p(cache, particles, grid, dt, totals)
          call p2g_mass_momentum(cache, particles, grid, with_force=.false.)  ! the remap: the new velocities
          call nodal_velocities(grid)
+         call transfer_velocity_formed(cache, particles, grid)
          call update_stress(cache, particles, grid, dt, material, totals)
       end select
    contains
@@ -83,6 +92,7 @@ contains
          if (scene%external_forces) call scene%add_forces(grid, t, cache, particles)
          call mirror_fold(grid, .false., .true.)
          call solve_grid(grid, dt)
+         call transfer_solved(cache, particles, grid, dt)
       end subroutine momentum_update
    end subroutine scheme_step_material
 

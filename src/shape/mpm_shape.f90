@@ -7,32 +7,46 @@
 !>   cpgimp    contiguous-particle GIMP, l_p = l_p0 J_p (mpm_shape_gimp)
 !>   bspline2  quadratic B-splines (mpm_shape_bspline)
 !>   bspline3  cubic B-splines (mpm_shape_bspline)
+!>   cpdi      convected particle domains: the hat averaged over each particle's domain, whose corners move
+!>             with the grid (mpm_shape_cpdi)
 !> Shapes wider than the hat need one grid cell beyond each end of the body (shape_extra_cells); at
 !> a fixed end that cell is a mirror ghost (mpm_grid, mirror_fold).
-!> The cache also carries the velocity transfer of G2P (flip, pic, blend, apic): the operations
-!> read both from it.
+!> The cache also carries the velocity transfer of G2P (flip, pic, blend, apic, xpic, fmpm, asflip) and the
+!> formulation (updated or total Lagrangian: in the total one the weights are evaluated once, at the
+!> reference positions): the operations read them from it.
 module mpm_shape
    use mpm_kinds, only: dp
    use mpm_grid, only: grid_t
    use mpm_shape_linear, only: linear_support, linear_shapes
    use mpm_shape_gimp, only: gimp_support, gimp_shapes
    use mpm_shape_bspline, only: bspline2_support, bspline3_support, bspline2_shapes, bspline3_shapes
+   use mpm_shape_cpdi, only: cpdi_support, cpdi_shapes
    implicit none
    private
-   public :: shape_cache_t, shape_linear, shape_ugimp, shape_cpgimp, shape_bspline2, shape_bspline3, all_shapes
+   public :: shape_cache_t, shape_linear, shape_ugimp, shape_cpgimp, shape_bspline2, shape_bspline3, shape_cpdi, all_shapes
    public :: shape_support, evaluate_shapes, shape_name, shape_id, shape_extra_cells, known_shapes
-   public :: transfer_flip, transfer_pic, transfer_blend, transfer_apic, all_transfers, transfer_id, transfer_name
-   public :: known_transfers
+   public :: transfer_flip, transfer_pic, transfer_blend, transfer_apic, transfer_xpic, transfer_fmpm, transfer_asflip
+   public :: all_transfers, transfer_id, transfer_name, known_transfers
+   public :: formulation_updated, formulation_total, formulation_id, known_formulations
 
    !> Shape function ids.
-   integer, parameter :: shape_linear = 1, shape_ugimp = 2, shape_cpgimp = 3, shape_bspline2 = 4, shape_bspline3 = 5
-   integer, parameter :: all_shapes(5) = [shape_linear, shape_ugimp, shape_cpgimp, shape_bspline2, shape_bspline3]
-   character(len=*), parameter :: known_shapes = 'linear, ugimp, cpgimp, bspline2, bspline3'
+   integer, parameter :: shape_linear = 1, shape_ugimp = 2, shape_cpgimp = 3, shape_bspline2 = 4, shape_bspline3 = 5, &
+                         shape_cpdi = 6
+   integer, parameter :: all_shapes(6) = [shape_linear, shape_ugimp, shape_cpgimp, shape_bspline2, shape_bspline3, &
+                                          shape_cpdi]
+   character(len=*), parameter :: known_shapes = 'linear, ugimp, cpgimp, bspline2, bspline3, cpdi'
    !> Velocity transfer ids (G2P): FLIP v += dt sum N a; PIC v = sum N v; their blend; APIC
-   !> ([Jiang 2015] in docs/theory.md: PIC plus a per-particle velocity gradient carried into the next P2G).
-   integer, parameter :: transfer_flip = 1, transfer_pic = 2, transfer_blend = 3, transfer_apic = 4
-   integer, parameter :: all_transfers(4) = [transfer_flip, transfer_pic, transfer_blend, transfer_apic]
-   character(len=*), parameter :: known_transfers = 'flip, pic, blend, apic'
+   !> ([Jiang 2015] in docs/theory.md: PIC plus a per-particle velocity gradient carried into the next P2G);
+   !> XPIC(m), FMPM(k) and ASFLIP (mpm_xpic, mpm_fmpm, mpm_asflip; docs/theory.md, The cures).
+   integer, parameter :: transfer_flip = 1, transfer_pic = 2, transfer_blend = 3, transfer_apic = 4, &
+                         transfer_xpic = 5, transfer_fmpm = 6, transfer_asflip = 7
+   integer, parameter :: all_transfers(7) = [transfer_flip, transfer_pic, transfer_blend, transfer_apic, &
+                                             transfer_xpic, transfer_fmpm, transfer_asflip]
+   character(len=*), parameter :: known_transfers = 'flip, pic, blend, apic, xpic, fmpm, asflip'
+   !> Formulations: updated Lagrangian (the weights at the particles' positions each step) and total
+   !> Lagrangian ([de Vaucorbeil 2020]: the weights and gradients at the reference positions, once).
+   integer, parameter :: formulation_updated = 1, formulation_total = 2
+   character(len=*), parameter :: known_formulations = 'updated, total'
 
    !> Weights and gradients of every particle: node first(p) + k - 1 gets weight(p, k), gradient(p, k)
    !> (particle index first, so that the operations' loops over particles read them contiguously).
@@ -43,9 +57,25 @@ module mpm_shape
       real(dp), allocatable :: weight(:, :), gradient(:, :)
       !> Scratch space of the operations, one value per particle each (gathered nodal values).
       real(dp), allocatable :: work(:, :)
-      !> The velocity transfer of G2P, and the FLIP share of the blend (1 = FLIP, 0 = PIC).
+      !> The velocity transfer of G2P, and the FLIP share of the blend (1 = FLIP, 0 = PIC), the order of XPIC
+      !> and FMPM, ASFLIP's alpha.
       integer :: transfer = transfer_flip
       real(dp) :: flip_fraction = 1.0_dp
+      integer :: order = 1
+      real(dp) :: alpha = 0.0_dp
+      !> Total Lagrangian: the weights and gradients are those of the reference positions, evaluated once
+      !> (and `evaluated` then says they are).
+      logical :: total = .false., evaluated = .false.
+      !> Grid-sized scratch of the transfers (node index 0..cells, a column each), allocated by the transfer
+      !> that uses it (XPIC, FMPM, ASFLIP).
+      real(dp), allocatable :: grid_work(:, :)
+      !> ASFLIP: each particle's J at the start of the step.
+      real(dp), allocatable :: start_volume_ratio(:)
+      !> CPDI: the domains' corners (0-based; particle p spans corners(corner_of(p)) .. corners(corner_of(p) + 1))
+      !> and the first particle whose domain is longer than the shape's nodes cover (0: none).
+      real(dp), allocatable :: corners(:)
+      integer, allocatable :: corner_of(:)
+      integer :: stretched = 0
       !> The particles' box half-lengths (GIMP only), set by the caller before evaluate_shapes.
       real(dp), allocatable :: half_length(:)
       !> Start-of-step positions (APIC only: the affine term of P2G needs x_I - x_p after G2P moved x).
@@ -68,6 +98,8 @@ contains
          name = 'bspline2'
       case (shape_bspline3)
          name = 'bspline3'
+      case (shape_cpdi)
+         name = 'cpdi'
       case default
          name = 'unknown'
       end select
@@ -88,6 +120,8 @@ contains
          shape_id = shape_bspline2
       case ('bspline3')
          shape_id = shape_bspline3
+      case ('cpdi')
+         shape_id = shape_cpdi
       case default
          shape_id = 0
       end select
@@ -105,6 +139,12 @@ contains
          name = 'blend'
       case (transfer_apic)
          name = 'apic'
+      case (transfer_xpic)
+         name = 'xpic'
+      case (transfer_fmpm)
+         name = 'fmpm'
+      case (transfer_asflip)
+         name = 'asflip'
       case default
          name = 'unknown'
       end select
@@ -122,6 +162,12 @@ contains
          transfer_id = transfer_blend
       case ('apic')
          transfer_id = transfer_apic
+      case ('xpic')
+         transfer_id = transfer_xpic
+      case ('fmpm')
+         transfer_id = transfer_fmpm
+      case ('asflip')
+         transfer_id = transfer_asflip
       case default
          transfer_id = 0
       end select
@@ -139,21 +185,38 @@ contains
          shape_support = bspline2_support
       case (shape_bspline3)
          shape_support = bspline3_support
+      case (shape_cpdi)
+         shape_support = cpdi_support
       case default
          shape_support = 0
       end select
    end function shape_support
 
    !> Grid cells a shape needs beyond an end of the body besides the hat's: its support radius (1 for
-   !> the hat, 1 + l_p/dx for GIMP, 3/2 and 2 for the B-splines) rounded up, less one.
+   !> the hat, 1 + l_p/dx for GIMP, 3/2 and 2 for the B-splines) rounded up, less one. CPDI's weights are
+   !> the hat's at the domain's corners, which stay inside the body's cells and its margin: none.
    pure integer function shape_extra_cells(kind)
       integer, intent(in) :: kind
-      shape_extra_cells = merge(0, 1, kind == shape_linear)
+      shape_extra_cells = merge(0, 1, kind == shape_linear .or. kind == shape_cpdi)
    end function shape_extra_cells
+
+   !> Id of a formulation name (0 if unknown).
+   pure integer function formulation_id(name)
+      character(len=*), intent(in) :: name
+      select case (trim(name))
+      case ('updated')
+         formulation_id = formulation_updated
+      case ('total')
+         formulation_id = formulation_total
+      case default
+         formulation_id = 0
+      end select
+   end function formulation_id
 
    !> Fill `cache` for positions x (allocating it on first use); `outside` = first particle outside
    !> the grid domain (its support not inside the grid), 0 if none. GIMP needs the particles' box
-   !> half-lengths in cache%half_length.
+   !> half-lengths in cache%half_length, CPDI the domains' corners in cache%corners (x is then the
+   !> domains' centres).
    subroutine evaluate_shapes(cache, grid, x, outside)
       type(shape_cache_t), intent(inout) :: cache
       type(grid_t), intent(in) :: grid
@@ -175,6 +238,9 @@ contains
       case (shape_bspline3)
          call bspline3_shapes(grid%origin, grid%inv_dx, grid%elements, x, cache%first, cache%weight, cache%gradient, &
                               outside)
+      case (shape_cpdi)
+         call cpdi_shapes(grid%origin, grid%inv_dx, grid%elements, cache%corners, cache%corner_of, cache%first, &
+                          cache%weight, cache%gradient, outside, cache%stretched)
       end select
       if (cache%transfer == transfer_apic) then
          if (.not. allocated(cache%position)) allocate (cache%position(size(x)))

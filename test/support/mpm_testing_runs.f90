@@ -1,17 +1,19 @@
 !> Test helpers that run simulations (they use the run layer, so only tests of whole runs use them):
-!> the fused kernels against the generic path, and a run from a configuration.
+!> the fused kernels against the generic path, a run from a configuration, and mesh series' errors and orders.
 module mpm_testing_runs
    use mpm_kinds, only: dp
    use mpm_strings, only: str
    use mpm_simulation, only: run_result_t, run_simulation
    use mpm_config, only: config_t, resolve_config
    use mpm_errors, only: error_t
+   use mpm_diagnostics, only: status_ok
    use mpm_transfer, only: parallel_threshold
    use mpm_testing, only: tester_t
    use omp_lib, only: omp_set_num_threads
    implicit none
    private
    public :: check_paths_agree, check_fused_run, check_fused_config, run_resolved
+   public :: mesh_errors, observed_orders, listed, convergence_bar
 
 contains
 
@@ -105,4 +107,55 @@ contains
                       all(two%history%strain_energy == fused%history%strain_energy))
       end if
    end subroutine check_fused_config
+
+   !> The linear-law bar of the cures' convergence checks (docs/theory.md, The cures): USL, FLIP, 2 particles
+   !> per element, dt = 0.1 dx/c, one period, with `formulation` and `shape`.
+   function convergence_bar(formulation, shape) result(config)
+      character(len=*), intent(in) :: formulation, shape
+      type(config_t) :: config
+      config%formulation = formulation
+      config%shape = shape
+      config%law = 'linear'
+      config%scheme = 'usl'
+      config%particles_per_element = 2
+      config%dt_fraction = 0.1_dp
+      config%periods = 1.0_dp
+   end function convergence_bar
+
+   !> The relative errors of `config` run on each of `meshes` elements (huge where a run did not complete).
+   function mesh_errors(config, meshes) result(errors)
+      type(config_t), intent(in) :: config
+      integer, intent(in) :: meshes(:)
+      real(dp) :: errors(size(meshes))
+      type(config_t) :: case
+      type(run_result_t) :: result
+      type(error_t), allocatable :: error
+      integer :: k
+      case = config
+      do k = 1, size(meshes)
+         case%elements = meshes(k)
+         call resolve_config(case)
+         call run_simulation(case, result, error, record_history=.false.)
+         errors(k) = merge(result%relative_error, huge(1.0_dp), result%status == status_ok .and. &
+                           .not. allocated(error))
+      end do
+   end function mesh_errors
+
+   !> The observed orders between successive meshes, each twice the last.
+   pure function observed_orders(errors) result(orders)
+      real(dp), intent(in) :: errors(:)
+      real(dp) :: orders(size(errors) - 1)
+      orders = log(errors(:size(errors) - 1)/errors(2:))/log(2.0_dp)
+   end function observed_orders
+
+   !> Numbers as text for a check's detail: ' 1.0E-3 2.5E-4 ...'.
+   function listed(values) result(text)
+      real(dp), intent(in) :: values(:)
+      character(len=:), allocatable :: text
+      integer :: k
+      text = ''
+      do k = 1, size(values)
+         text = text//' '//str(values(k))
+      end do
+   end function listed
 end module mpm_testing_runs

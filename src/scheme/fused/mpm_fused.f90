@@ -13,8 +13,8 @@ module mpm_fused
    use mpm_grid, only: grid_t, assemble_nodes, assemble_and_solve, nodal_velocity, solve_momentum, element_forces
    use mpm_operations, only: mirror_fold
    use mpm_particles, only: particles_t
-   use mpm_shape, only: shape_linear, shape_cpgimp, shape_bspline2, shape_bspline3, transfer_flip, transfer_pic, &
-                        transfer_blend, transfer_apic
+   use mpm_shape, only: shape_linear, shape_cpgimp, shape_bspline2, shape_bspline3, shape_cpdi, transfer_flip, &
+                        transfer_pic, transfer_blend, transfer_apic
    use mpm_schemes, only: scheme_usf, scheme_usl, scheme_musl
    use mpm_scene, only: scene_t
    use mpm_contact, only: bodies_t, touch_test, contact_correct, combine_bodies
@@ -48,7 +48,7 @@ contains
       box = fused_shape(kind)
       box%variant = -1  ! (none: the generic path)
       box%flip_fraction = flip_fraction
-      if (.not. scene%fused_applies()) return
+      if (.not. scene%fused_applies() .or. kind == shape_cpdi) return ! (CPDI's weights follow moving corners)
       hat_flip = kind == shape_linear .and. transfer == transfer_flip
       per_particle = allocated(particles%mass_of) .or. allocated(particles%volume0_of) .or. &
                      allocated(particles%youngs_modulus_of)

@@ -113,6 +113,7 @@ add('no_input_runs_default_with_notice', C1, 0, r"no input file given; running t
 C2 = '2 values changed'
 TEXTS = {'scheme': ('discretisation', 8, 'usl'), 'shape': ('discretisation', 8, 'linear'),
          'transfer': ('discretisation', 8, 'flip'), 'kernels': ('discretisation', 8, 'auto'),
+         'formulation': ('discretisation', 8, 'updated'),
          'kind': ('scene', 32, 'vibrating_bar')}
 for var, (g, width, word) in TEXTS.items():
     refused(f'long_{var}', C2, nml(**{g: f"{var}='{word}{'x' * (width + 1)}'"}),
@@ -545,6 +546,47 @@ add('sweep_flip_fraction_used_by_blend', I3, 0, r"sweep of 2 cases", input=nml(d
     "flip_fraction=0.3") + "&sweep transfer='flip','blend', min_time=0 /\n", exists=['o.h5'])
 refused('sweep_flip_fraction_no_case_uses', I3, nml(discretisation="elements=4, flip_fraction=0.3") +
         "&sweep transfer='flip','apic', min_time=0 /\n", r"flip_fraction = 0\.3 is used only with transfer = 'blend'")
+# the methods of docs/theory.md, The cures: a parameter of one transfer given to another is refused naming both,
+# and the combinations a method does not take are refused naming the variables and what is allowed
+refused('xpic_order_with_flip', I3, nml(discretisation='elements=4, xpic_order=3'),
+        r"in\.nml:2: discretisation: xpic_order = 3 is used only with transfer = 'xpic', not with transfer = 'flip'; "
+        r"allowed: xpic_order with transfer = 'xpic', or no xpic_order")
+refused('fmpm_order_with_xpic', I3, nml(discretisation="elements=4, transfer='xpic', fmpm_order=2"),
+        r"fmpm_order = 2 is used only with transfer = 'fmpm', not with transfer = 'xpic'")
+refused('asflip_alpha_override_pic', I3, nml(discretisation="elements=4, transfer='pic'"),
+        r"command line 'discretisation\.asflip_alpha=0\.5': .*used only with transfer = 'asflip', not with transfer = "
+        r"'pic'", args=['in.nml', 'discretisation.asflip_alpha=0.5'])
+refused('xpic_order_zero', I3, nml(discretisation="elements=4, transfer='xpic', xpic_order=0"),
+        r"xpic_order = 0 is out of range; allowed: integer with 1 <= xpic_order <= 100")
+refused('fmpm_order_101', I3, nml(discretisation="elements=4, transfer='fmpm', fmpm_order=101"),
+        r"fmpm_order = 101 is out of range; allowed: integer with 1 <= fmpm_order <= 100")
+refused('asflip_alpha_above_one', I3, nml(discretisation="elements=4, transfer='asflip', asflip_alpha=1.5"),
+        r"asflip_alpha = 1\.5 is out of range; allowed: finite real with 0 <= asflip_alpha <= 1")
+refused('formulation_misspelled', I3, nml(discretisation="elements=4, formulation='totl'"),
+        r"formulation = 'totl' is unknown; did you mean 'total'\?")
+refused('total_impact', I3, nml(scene=BARS + "velocities=1, -1", discretisation="elements=4, formulation='total'"),
+        r"in\.nml:2: discretisation: formulation = 'total' is not used by kind = 'impact' \(the bars' contact needs "
+        r"their current configuration.*allowed: formulation = 'updated', or another kind")
+refused('total_implicit', I3, nml(discretisation="elements=4, formulation='total', integrator='implicit'"),
+        r"'formulation' is not used by integrator = 'implicit'; it belongs to integrator explicit")
+refused('cpdi_asflip', I3, nml(discretisation="elements=4, shape='cpdi', transfer='asflip'"),
+        r"transfer = 'asflip' is not used with shape = 'cpdi' \(a CPDI particle is its domain's centre")
+refused('cpdi_impact', I3, nml(scene=BARS + "velocities=1, -1", discretisation="elements=4, shape='cpdi'"),
+        r"shape = 'cpdi' is not used by kind = 'impact'")
+refused('xpic_frictionless_impact', I3, nml(scene=BARS + "velocities=1, -1", discretisation="elements=4, "
+        "transfer='xpic'"), r"transfer = 'xpic' is not used with contact = 'frictionless'.*allowed: contact = 'none'")
+refused('fmpm_implicit', I3, nml(discretisation="elements=4, transfer='fmpm', integrator='implicit'"),
+        r"transfer = 'fmpm' is not used by integrator = 'implicit'; allowed: transfer = 'flip', 'pic', 'blend' or "
+        r"'apic', or integrator = 'explicit'")
+refused('cpdi_quasi_static', I3, nml(scene="kind='column'", discretisation="elements=4, shape='cpdi', "
+        "integrator='quasi_static'", run=None), r"shape = 'cpdi' is not used by integrator = 'quasi_static'")
+refused('sweep_xpic_orders_beside_flip', I3, nml() + "&sweep transfer='flip','xpic', xpic_order=2,3, min_time=0 /\n",
+        r"has 2 values, but the sweep's transfer 'flip' does not use xpic_order")
+add('sweep_methods_run', I3, 0, r"sweep of 6 cases", input=nml(discretisation="elements=4, transfer='xpic'") +
+    "&sweep xpic_order=1, 2, 4, formulation='updated', 'total', min_time=0 /\n", exists=['o.h5'])
+add('methods_echo_their_parameters', I3, 0, r"transfer='fmpm', fmpm_order=3, formulation='total'",
+    not_pattern=r"xpic_order *=", input=nml(discretisation="elements=4, transfer='fmpm', fmpm_order=3, "
+    "formulation='total', shape='cpdi'"), exists=['o.h5'])
 
 refused('misspelled_group_suggested', I4, nml(discretisation=None) + "&discretization elements=4 /\n",
         r"in\.nml:\d: unknown namelist group &discretization; did you mean &discretisation\? known groups: &scene, "

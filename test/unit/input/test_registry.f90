@@ -40,10 +40,11 @@ contains
 
    !> --help, the echoed namelist and /config each name every registry entry (periods and end_time
    !> exclude each other: one configuration gives each; a scene's own variables appear with its kind,
-   !> flip_fraction with transfer = 'blend', a law's with that law, an integrator's with that integrator).
+   !> flip_fraction with transfer = 'blend' and the other transfers' parameters with theirs, a law's with that
+   !> law, an integrator's with that integrator).
    subroutine every_entry_everywhere()
       type(config_t), target :: config, by_time, manufactured, composite, impact, plastic, plastic_composite
-      type(config_t), target :: implicit, static
+      type(config_t), target :: implicit, static, xpic, fmpm, asflip
       type(parameter_t), allocatable :: table(:), sweep_table(:)
       type(sweep_config_t), target :: settings
       character(len=:), allocatable :: help, echo
@@ -80,12 +81,19 @@ contains
       static = config
       static%integrator = 'quasi_static'
       static%scene_kind = 'column'
+      xpic = config
+      xpic%transfer = 'xpic'
+      fmpm = config
+      fmpm%transfer = 'fmpm'
+      asflip = config
+      asflip%transfer = 'asflip'
       call config_parameters(config, table)
       call t%check('the registry has entries', size(table) >= 19)
       call run_app(dir, '--help', status, help)
       echo = config_namelist(config)//config_namelist(by_time)//config_namelist(manufactured)// &
              config_namelist(composite)//config_namelist(impact)//config_namelist(plastic)// &
-             config_namelist(plastic_composite)//config_namelist(implicit)//config_namelist(static)
+             config_namelist(plastic_composite)//config_namelist(implicit)//config_namelist(static)// &
+             config_namelist(xpic)//config_namelist(fmpm)//config_namelist(asflip)
       call write_attributes(config, dir//'/config.h5')
       call write_attributes(by_time, dir//'/by_time.h5')
       call write_attributes(manufactured, dir//'/manufactured.h5')

@@ -1,6 +1,7 @@
 !> The generic P2G and G2P for every shape and velocity transfer: P2G conserves mass and momentum
 !> (APIC's affine part adds none) and the internal forces of a free body sum to zero; a G2P after the
-!> grid solve keeps the total momentum; APIC carries an affine velocity field through P2G and G2P
+!> grid solve keeps the total momentum (XPIC, FMPM and ASFLIP with their grid fields: each of their
+!> projections keeps sum m_I w_I of a free body); APIC carries an affine velocity field through P2G and G2P
 !> exactly; and the mirror ghost at a fixed end (mpm_grid, mirror_fold) gives on the body's nodes
 !> what the body and its explicit mirror image give on a grid without ghosts.
 program test_generic_p2g_g2p
@@ -9,7 +10,9 @@ program test_generic_p2g_g2p
    use mpm_grid, only: grid_t, grid_init
    use mpm_particles, only: particles_t, particles_init, per_particle_data
    use mpm_shape, only: shape_cache_t, all_shapes, all_transfers, shape_name, transfer_name, transfer_apic, &
-                        shape_extra_cells
+                        shape_extra_cells, shape_cpdi
+   use mpm_shape_cpdi, only: cpdi_corners
+   use mpm_transfer_steps, only: transfer_mapped, transfer_solved
    use mpm_operations, only: locate_particles, p2g_mass_momentum, solve_grid, g2p, nodal_velocities, mirror_fold
    use mpm_diagnostics, only: pass_totals_t
    use mpm_testing, only: tester_t, tester
@@ -39,7 +42,8 @@ program test_generic_p2g_g2p
 contains
 
    !> A free body (no fixed node) of 7 elements x 3 particles moved off the sub-cell centres, with
-   !> random velocities, velocity gradients and stresses.
+   !> random velocities, velocity gradients and stresses (CPDI: each particle's domain its sub-cell's length
+   !> about it, the domains overlapping where the particles moved together).
    subroutine free_body(kind, transfer, particles, grid, cache)
       integer, intent(in) :: kind, transfer
       type(particles_t), intent(out) :: particles
@@ -47,6 +51,7 @@ contains
       type(shape_cache_t), intent(out) :: cache
       type(error_t), allocatable :: error
       real(dp), allocatable :: r(:)
+      integer :: p
       call particles_init(particles, 7, 3, 1.0_dp, 2.5_dp, error)
       call per_particle_data(particles, error)
       allocate (r(particles%count))
@@ -64,6 +69,11 @@ contains
       cache%kind = kind
       cache%transfer = transfer
       cache%flip_fraction = 0.7_dp
+      cache%order = 3
+      cache%alpha = 0.6_dp
+      if (kind == shape_cpdi) call cpdi_corners(particles%x, particles%volume0_of, grid%origin, grid%origin + &
+                                                grid%length, cache%corners, cache%corner_of, &
+                                                body=[(p, p=1, particles%count)]) ! (a body each: domains of their own)
    end subroutine free_body
 
    subroutine conservation(kind, transfer)
@@ -81,11 +91,13 @@ contains
       call locate_particles(cache, grid, particles, totals)
       call t%check(name//'no particle outside', totals%outside == 0)
       call p2g_mass_momentum(cache, particles, grid, with_force=.true.)
+      call transfer_mapped(cache, particles, grid)
       call t%check_close(name//'P2G conserves mass', sum(grid%mass), sum(particles%mass_of), rtol=1.0e-14_dp)
       call t%check_close(name//'P2G conserves momentum', sum(grid%momentum), momentum, atol=1.0e-13_dp)
       call t%check_close(name//'internal forces of a free body sum to zero', sum(grid%force), 0.0_dp, &
                          atol=1.0e-11_dp*maxval(abs(grid%force)))
       call solve_grid(grid, dt)
+      call transfer_solved(cache, particles, grid, dt)
       call g2p(cache, particles, grid, dt, totals)
       call t%check_close(name//'P2G, solve and G2P conserve momentum', sum(particles%mass_of*particles%v), momentum, &
                          atol=1.0e-12_dp)

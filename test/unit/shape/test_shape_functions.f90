@@ -3,14 +3,18 @@
 !> (sum N_I x_I = x and sum dN_I x_I = 1), weights continuous as a particle crosses a node, and
 !> particles outside the domain flagged, gradients the derivatives of the weights. GIMP boxes of
 !> half-length dx/4 (ugimp: 2 particles per cell) and of random half-lengths up to dx/2 (cpgimp), whose
-!> weights are also checked against the box averages of the hat functions by quadrature.
+!> weights are also checked against the box averages of the hat functions by quadrature. CPDI's domains
+!> (the same random half-lengths) against their closed form: the mean of the hat at the two corners, and
+!> the mean of the hat's derivative over the domain by quadrature (CPDI's gradient is that mean, not the
+!> derivative of its weight, which differs where a node lies inside the domain); a domain whose corners lie
+!> in cells more than two apart (more than the four nodes it may touch) is flagged as stretched.
 program test_shape_functions
    use, intrinsic :: ieee_arithmetic, only: ieee_value, ieee_quiet_nan, ieee_positive_inf
    use mpm_kinds, only: dp
    use mpm_errors, only: error_t
    use mpm_grid, only: grid_t, grid_init
    use mpm_shape, only: shape_cache_t, evaluate_shapes, shape_name, all_shapes, shape_ugimp, shape_cpgimp, shape_bspline2, &
-                        shape_bspline3
+                        shape_bspline3, shape_cpdi
    use mpm_testing, only: tester_t, tester
    use mpm_shape_range, only: inside_range
    implicit none
@@ -43,7 +47,8 @@ contains
       ! inside the grid by the widest support (2 cells), so that no particle may be flagged
       x = grid%origin + 2*grid%dx + x*(grid%length - 4*grid%dx)
       call random_number(half)
-      half = merge(0.5_dp*grid%dx*max(half, 1.0e-3_dp), 0.25_dp*grid%dx + 0*half, kind == shape_cpgimp)
+      half = merge(0.5_dp*grid%dx*max(half, 1.0e-3_dp), 0.25_dp*grid%dx + 0*half, kind == shape_cpgimp .or. &
+                                                                                   kind == shape_cpdi)
       lp = 0.25_dp*grid%dx
       cache%kind = kind
       call evaluate(cache, grid, x, outside, half)
@@ -71,9 +76,11 @@ contains
                                nodal(right, k), atol=1.0e-8_dp)
          end do
       end do
-      ! gradients are the derivatives of the weights (central differences, between nodes)
+      ! gradients are the derivatives of the weights (central differences, between nodes); CPDI's the mean
+      ! derivative over the domain, and its weights the mean of the hat at the corners
+      if (kind == shape_cpdi) call cpdi_closed_form(cache, grid, node_x, x, half)
       d = 1.0e-6_dp*grid%dx
-      do p = 1, 50
+      do p = 1, merge(0, 50, kind == shape_cpdi)
          call evaluate(left, grid, [x(p) - d], outside, [half(p)])
          call evaluate(right, grid, [x(p) + d], outside, [half(p)])
          do k = 0, grid%elements
@@ -116,22 +123,75 @@ contains
       call t%check(name//'right edge of the domain + 1e-9 dx is flagged', outside == 10)
    end subroutine properties
 
-   !> evaluate_shapes with the GIMP boxes' half-lengths `half` (the other shapes ignore them).
+   !> evaluate_shapes with the GIMP boxes' half-lengths `half`, CPDI's domains x -/+ half, each a domain of
+   !> its own (the other shapes ignore them).
    subroutine evaluate(cache, grid, x, outside, half)
       type(shape_cache_t), intent(inout) :: cache
       type(grid_t), intent(in) :: grid
       real(dp), intent(in) :: x(:), half(:)
       integer, intent(out) :: outside
+      integer :: p
       cache%half_length = half
+      if (cache%kind == shape_cpdi) then
+         cache%corner_of = [(2*(p - 1), p=1, size(x))]
+         allocate (cache%corners(0:2*size(x) - 1))
+         cache%corners(0::2) = x - half
+         cache%corners(1::2) = x + half
+      end if
       call evaluate_shapes(cache, grid, x, outside)
+      if (allocated(cache%corners)) deallocate (cache%corners)
    end subroutine evaluate
+
+   !> CPDI against its closed form: S_I = (N_I(x1) + N_I(x2))/2 from the hat, G_I the mean of dN_I/dx over
+   !> [x1, x2] (from the overlaps of the domain with the hat's two slopes); and a domain whose corners lie in
+   !> cells more than two apart flagged.
+   subroutine cpdi_closed_form(cache, grid, node_x, x, half)
+      type(shape_cache_t), intent(in) :: cache
+      type(grid_t), intent(in) :: grid
+      real(dp), intent(in) :: node_x(:), x(:), half(:)
+      type(shape_cache_t) :: long
+      integer :: p, k, outside
+      do p = 1, 40
+         do k = 0, grid%elements
+            call t%check_close('cpdi: weight = mean of the hat at the corners', at_node(cache, cache%weight, p, k), &
+                               0.5_dp*(hat(node_x(k + 1), x(p) - half(p), grid%dx) + &
+                                       hat(node_x(k + 1), x(p) + half(p), grid%dx)), atol=1.0e-14_dp)
+            call t%check_close('cpdi: gradient = mean of dN/dx over the domain', at_node(cache, cache%gradient, p, k), &
+                               mean_slope(node_x(k + 1), x(p), half(p), grid%dx), atol=1.0e-12_dp*grid%inv_dx)
+         end do
+      end do
+      long%kind = shape_cpdi
+      call evaluate(long, grid, [node_x(1) + 3.55_dp*grid%dx, node_x(1) + 3.0_dp*grid%dx], outside, &
+                    [1.35_dp*grid%dx, 1.05_dp*grid%dx])
+      call t%check('cpdi: corners in cells 2 and 4 (2.7 cells apart) are not stretched', outside == 0 .and. &
+                   long%stretched /= 1)
+      call t%check('cpdi: ... and touch four nodes', count(long%weight(1, :) > 0.0_dp) == 4)
+      call t%check('cpdi: corners in cells 1 and 4 (2.1 cells apart) are stretched', long%stretched == 2)
+      call t%check('cpdi: a stretched domain has zero weights', all(long%weight(2, :) == 0.0_dp))
+   end subroutine cpdi_closed_form
+
+   !> The hat of the node at xi, at y.
+   pure real(dp) function hat(xi, y, dx)
+      real(dp), intent(in) :: xi, y, dx
+      hat = max(0.0_dp, 1.0_dp - abs(y - xi)/dx)
+   end function hat
+
+   !> (1/2l) int_{x-l}^{x+l} dN_I/dx, N_I the hat of the node at xi: dN_I/dx is 1/dx on (xi - dx, xi) and
+   !> -1/dx on (xi, xi + dx), so the integral is the lengths of the domain's overlaps with them over dx.
+   pure real(dp) function mean_slope(xi, x, l, dx)
+      real(dp), intent(in) :: xi, x, l, dx
+      real(dp) :: rising, falling
+      rising = max(0.0_dp, min(xi, x + l) - max(xi - dx, x - l))
+      falling = max(0.0_dp, min(xi + dx, x + l) - max(xi, x - l))
+      mean_slope = (rising - falling)/dx/(2*l)
+   end function mean_slope
 
    !> Grid coordinate (in cells from the origin) of the leftmost particle whose support is inside the
    !> grid: the support's half-width less one cell (GIMP with boxes of half-length dx/4).
    real(dp) function lowest_inside(kind)
       integer, intent(in) :: kind
       select case (kind)
-      case (shape_ugimp, shape_cpgimp)
+      case (shape_ugimp, shape_cpgimp, shape_cpdi)
          lowest_inside = 0.25_dp
       case (shape_bspline2)
          lowest_inside = 0.5_dp
