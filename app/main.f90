@@ -21,9 +21,9 @@ program mpm1d_main
    use mpm_registry, only: read_input_text
    use mpm_command_line, only: command_line_t, command_arguments, parse_command_line, check_environment, &
                                check_has_groups
-   use mpm_sweep_output, only: write_sweep_file, merge_sweep_files, resume_sweep
+   use mpm_sweep_output, only: write_sweep_file, merge_sweep_files, resume_sweep, open_sweep_journal, close_sweep_journal
    use mpm_cli_report, only: fail, finish, warn_run, report_config, report_run, warn_rounding, stop_for_guard, &
-                             sweep_header, report_sweep, interrupted, report_dry_run
+                             sweep_header, report_sweep, interrupted, report_dry_run, report_journal, warn
    implicit none
 
    type(error_t), allocatable :: error
@@ -114,7 +114,7 @@ contains
    !> with a &sweep group.
    subroutine sweep_command()
       type(sweep_t) :: sweep
-      character(len=:), allocatable :: output
+      character(len=:), allocatable :: output, warning
       real(dp) :: earlier(2)  !< a resumed sweep's error and timing pass times before this attempt
       call read_sweep_text(text, source, sweep, error, cl%shard, cl%shards, cl%threads, cl%overrides)
       if (allocated(error)) call fail('invalid input:'//new_line('a')//error%message, 2)
@@ -132,21 +132,31 @@ contains
          call resume_sweep(output, sweep, error)
          if (allocated(error)) call fail(error%message, 2)
          earlier = [sweep%error_pass_time, sweep%timing_pass_time]
-         if (cases_done(sweep%cases) == size(sweep%cases) .and. (sweep%settings%min_time <= 0 .or. &
-             .not. any(cases_to_time(sweep%cases)))) then
-            if (.not. cl%quiet) write (output_unit, '(a)') 'mpm1d: nothing to resume: every case of '// &
-               absolute_path(output)//' ran'//trim(merge(' and was timed', '              ', &
-               sweep%settings%min_time > 0))//'; the file is left as it is'
-            call finish()
-         end if
+      end if
+      ! each case is appended to the journal as it finishes (a kill loses only the cases running)
+      call open_sweep_journal(output, sweep, cl%resume, warning, error)
+      if (allocated(error)) call fail(error%message, 2)
+      if (len(warning) > 0) call warn(warning)
+      if (cl%resume .and. sweep%journal_records == 0 .and. cases_done(sweep%cases) == size(sweep%cases) .and. &
+          (sweep%settings%min_time <= 0 .or. .not. any(cases_to_time(sweep%cases)))) then
+         call close_sweep_journal(sweep, written=.true.)
+         if (.not. cl%quiet) write (output_unit, '(a)') 'mpm1d: nothing to resume: every case of '// &
+            absolute_path(output)//' ran'//trim(merge(' and was timed', '              ', &
+            sweep%settings%min_time > 0))//'; the file is left as it is'
+         call finish()
       end if
       ! from the header on, a signal stops the sweep and keeps what it finished (a script that waits for
       ! the header before it signals finds the sweep catching)
       call catch_interrupts()
       call sweep_header(sweep, cl%quiet, cl%resume)
+      if (cl%resume) call report_journal(sweep, cl%quiet)
       call run_sweep(sweep, catch_signals=.true.)
       call write_sweep_file(output, sweep, error)
-      if (allocated(error)) call fail(error%message, 3)
+      call close_sweep_journal(sweep, written=.not. allocated(error))
+      if (allocated(error)) call fail(error%message//journal_kept(sweep), 3)
+      if (allocated(sweep%journal%failure)) call warn("the journal '"//sweep%journal%path//"' took no more "// &
+         "records after its "//str(sweep%journal%appended)//" first: "//sweep%journal%failure//"; a kill before "// &
+         "the output was written would have lost the cases after them")
       if (.not. cl%quiet) then
          if (cl%resume) then
             call report_sweep(sweep, output, earlier)
@@ -156,6 +166,25 @@ contains
       end if
       if (sweep%interrupted_by /= 0) call interrupted(sweep, output, resume_command())
    end subroutine sweep_command
+
+   !> What the journal kept when a sweep's output could not be written, and how to go on ('' when it
+   !> kept nothing).
+   function journal_kept(sweep) result(text)
+      type(sweep_t), intent(in) :: sweep
+      character(len=:), allocatable :: text, how
+      text = ''
+      if (sweep%journal%appended <= 1 .and. sweep%journal_records == 0) return
+      how = resume_command()
+      if (sweep%settings%shards > 1) how = how//' --shard '//str(sweep%settings%shard)//'/'//str(sweep%settings%shards)
+      if (allocated(sweep%journal%failure)) then
+         text = new_line('a')//"the journal '"//sweep%journal%path//"' keeps the cases finished before it too "// &
+                "failed ("//sweep%journal%failure//"): free space (or mend the cause), then "//how//" --resume "// &
+                "runs only the others and writes the file"
+      else
+         text = new_line('a')//"the finished cases are kept in the journal '"//sweep%journal%path//"': free "// &
+                "space (or mend the cause), then "//how//" --resume writes the file without running them again"
+      end if
+   end function journal_kept
 
    !> The command that resumes this sweep (--resume and a shard's --shard are added by the message).
    function resume_command() result(how)

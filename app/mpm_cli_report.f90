@@ -14,7 +14,7 @@ module mpm_cli_report
    implicit none
    private
    public :: fail, finish, warn_run, report_config, report_run, warn_rounding, stop_for_guard, sweep_header, &
-             report_sweep, interrupted, report_dry_run
+             report_sweep, interrupted, report_dry_run, report_journal, warn
 
    !> Fewest elements per wavelength of the mode before a run is warned (two resolve a wave at best).
    integer, parameter :: min_elements_per_wavelength = 2
@@ -31,6 +31,26 @@ contains
       flush (error_unit)
       stop code, quiet=.true.
    end subroutine fail
+
+   !> A warning on standard error: 'mpm1d: warning: ' and the text (the run goes on).
+   subroutine warn(text)
+      character(len=*), intent(in) :: text
+      write (error_unit, '(a)') 'mpm1d: warning: '//text
+   end subroutine warn
+
+   !> What a resumed sweep took from its journal (standard output): the cases and timings it held, and
+   !> a torn last record dropped (a kill in the middle of its write: never read as a result).
+   subroutine report_journal(sweep, quiet)
+      type(sweep_t), intent(in) :: sweep
+      logical, intent(in) :: quiet
+      character(len=:), allocatable :: torn
+      if (quiet .or. (sweep%journal_records == 0 .and. sweep%journal_torn == 0)) return
+      torn = ''
+      if (sweep%journal_torn > 0) torn = '; a torn last record of '//str(int(sweep%journal_torn))//' bytes dropped'
+      write (output_unit, '(a)') 'from the journal '''//sweep%journal%path//''': '// &
+         plural(sweep%journal_cases, 'case')//', '//plural(sweep%journal_records - sweep%journal_cases, 'timing')//torn
+      flush (output_unit)
+   end subroutine report_journal
 
    !> Normal end: floating-point flags a run raised on purpose (an energy sum computed again in scaled
    !> form, subnormal intermediates of a far-scaled bar) are no news to the user: no runtime note.

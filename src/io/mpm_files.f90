@@ -7,7 +7,7 @@ module mpm_files
    implicit none
    private
    public :: rename_file, remove_file, file_exists, available_memory, path_kind, same_file, process_id
-   public :: register_partial, forget_partial, pause_seconds, absolute_path
+   public :: register_partial, forget_partial, pause_seconds, absolute_path, sibling_name
    public :: catch_interrupts, release_interrupts, interrupt_signal, wait_for_signal, file_size_errors
    !> What path_kind returns: nothing there, a regular file, a folder, anything else (device, FIFO, ...).
    integer, parameter, public :: path_none = 0, path_regular = 1, path_folder = 2, path_other = 3
@@ -140,6 +140,22 @@ contains
          absolute = buffer(1:n)
       end if
    end function absolute_path
+
+   !> The name of a file kept beside `path` (its temporary file, its journal): `path` + `suffix`, its last
+   !> component shortened to the file system's 255 characters when it would exceed them (a legal
+   !> 255-character name keeps a legal sibling name).
+   function sibling_name(path, suffix) result(name)
+      character(len=*), intent(in) :: path, suffix
+      character(len=:), allocatable :: name
+      integer, parameter :: name_max = 255
+      integer :: slash
+      slash = index(path, '/', back=.true.)
+      if (len(path) - slash + len(suffix) <= name_max) then
+         name = path//suffix
+      else
+         name = path(1:slash + name_max - len(suffix))//suffix
+      end if
+   end function sibling_name
 
    !> This process's id (unique among the processes running now).
    integer function process_id()

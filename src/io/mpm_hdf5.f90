@@ -15,7 +15,7 @@ module mpm_hdf5
    use mpm_kinds, only: dp
    use mpm_errors, only: error_t, set_error
    use mpm_files, only: rename_file, remove_file, process_id, register_partial, forget_partial, pause_seconds, &
-                        path_kind, path_none
+                        path_kind, path_none, sibling_name
    use mpm_strings, only: str
    implicit none
    private
@@ -70,7 +70,7 @@ contains
       integer :: hdferr
       logical :: registered
       self%path = trim(path)
-      self%part_path = part_name(trim(path), '.'//str(process_id())//'.part')
+      self%part_path = sibling_name(trim(path), '.'//str(process_id())//'.part')
       self%created = .false.
       call open_library(hdferr)
       call self%check(hdferr, 'initialise the HDF5 library')
@@ -92,22 +92,6 @@ contains
       end if
       call test_pause('MPM1D_PAUSE_AFTER_CREATE')
    end subroutine writer_create
-
-   !> The temporary name of `path`: `path` + `suffix`, its last component shortened to the file
-   !> system's 255 characters when it would exceed them (a legal 255-character name keeps a legal
-   !> temporary name; the process id in `suffix` keeps it unique).
-   function part_name(path, suffix) result(name)
-      character(len=*), intent(in) :: path, suffix
-      character(len=:), allocatable :: name
-      integer, parameter :: name_max = 255
-      integer :: slash
-      slash = index(path, '/', back=.true.)
-      if (len(path) - slash + len(suffix) <= name_max) then
-         name = path//suffix
-      else
-         name = path(1:slash + name_max - len(suffix))//suffix
-      end if
-   end function part_name
 
    subroutine writer_group(self, name)
       class(h5_writer_t), intent(inout) :: self

@@ -8,6 +8,7 @@
 !> caller writes what was finished; a later run resumes the cases still not run (or not timed).
 module mpm_sweep
    use, intrinsic :: ieee_arithmetic, only: ieee_is_finite
+   use, intrinsic :: iso_fortran_env, only: int8
    use omp_lib, only: omp_get_wtime, omp_get_max_threads
    use mpm_kinds, only: dp, i8
    use mpm_errors, only: error_t, set_error, append_error
@@ -25,11 +26,17 @@ module mpm_sweep
    use mpm_files, only: catch_interrupts, release_interrupts, interrupt_signal, wait_for_signal
    use mpm_progress, only: progress_t
    use mpm_sort, only: sort_order, median, relative_spread
+   use mpm_journal, only: journal_t, journal_record_t, journal_append
    implicit none
    private
    public :: sweep_config_t, sweep_case_t, sweep_t, read_sweep, read_sweep_text, sweep_cases, run_sweep
    public :: has_sweep_group, has_sweep_text, case_config, max_threads, shard_file, sweep_output_file
    public :: cases_done, cases_timed, cases_to_time, case_cost, shard_cases
+   public :: apply_record
+
+   !> The records of a sweep's journal (mpm_journal): its identity (the first record), a case that ran
+   !> (its row and history), a case timed (its timing columns).
+   integer, parameter, public :: record_sweep = 1, record_case = 2, record_timing = 3
 
    !> Timing pass: a round of repeats whose middle half spans more than this fraction of its median
    !> was disturbed (another process, frequency changes) and is measured again, up to max_rounds
@@ -83,8 +90,6 @@ module mpm_sweep
       character(len=:), allocatable :: message !< why the case failed (made after the parallel loop)
       type(guard_trip_t) :: trip
       type(history_t) :: history
-      !> Read back from the file a resumed sweep continues (its history is copied from there).
-      logical :: from_file = .false.
    end type sweep_case_t
 
    !> What makes a case's configuration: a configuration and the parameter table pointing into it,
@@ -112,6 +117,12 @@ module mpm_sweep
       !> case_config writes into it, so its callers take turns (the error and timing passes call it in
       !> a critical section). Without it case_config builds a table of its own.
       type(case_builder_t), pointer :: builder => null()
+      !> Where each finished case is appended as it finishes (mpm_sweep_output opens it; not open: none).
+      type(journal_t) :: journal
+      !> A resumed sweep: the cases (and records of cases and timings) its journal gave, the bytes of its
+      !> whole records, and the bytes of a torn last record dropped.
+      integer :: journal_cases = 0, journal_records = 0
+      integer(i8) :: journal_bytes = 0, journal_torn = 0
    end type sweep_t
 
 contains
@@ -544,6 +555,7 @@ contains
          else
             call run_case(config, sweep%settings%histories, sweep%cases(order(k)))
          end if
+         call journal_case(sweep%journal, sweep%cases(order(k)), timing)
          if (interrupt_signal() /= 0) cycle
          call progress%advance(weights(order(k)))
          if (pause_after > 0) then
@@ -557,6 +569,175 @@ contains
       !$omp end parallel do
       call progress%finish()
    end subroutine over_cases
+
+   !> Append a finished case to the journal (when one is open): its row and history after the error
+   !> pass, its timing after the timing pass; a case a signal abandoned is not finished. Its record is
+   !> made by the case's thread, written by one thread at a time.
+   subroutine journal_case(journal, c, timing)
+      type(journal_t), intent(inout) :: journal
+      type(sweep_case_t), intent(in) :: c
+      logical, intent(in) :: timing
+      integer(int8), allocatable :: record(:)
+      integer :: kind
+      if (journal%fd < 0) return
+      if (timing .and. c%repeats > 0) then
+         kind = record_timing
+         record = [transfer([c%index, c%repeats, c%timing_rounds], [0_int8]), &
+                   transfer([c%run_time, c%run_time_spread], [0_int8])]
+      else if (.not. timing .and. c%status /= status_not_run) then
+         kind = record_case
+         record = case_record(c)
+      else
+         return
+      end if
+      !$omp critical (mpm_journal)
+      call journal_append(journal, kind, record)
+      !$omp end critical (mpm_journal)
+   end subroutine journal_case
+
+   !> A case's row and history as bytes: 7 integers (index, steps, particles, status, repeats,
+   !> timing_rounds, the history's length n), 12 reals, the guard's trip as it is in memory, then the
+   !> history's 5 columns of n values (apply_record reads them back).
+   function case_record(c) result(bytes)
+      type(sweep_case_t), intent(in) :: c
+      integer(int8), allocatable :: bytes(:)
+      integer, parameter :: real_bytes = storage_size(0.0_dp)/8
+      integer(int8), allocatable :: head(:)
+      integer :: n, at
+      n = c%history%recorded
+      head = [transfer([c%index, c%steps, c%particles, c%status, c%repeats, c%timing_rounds, n], [0_int8]), &
+              transfer(case_reals(c), [0_int8]), transfer(c%trip, [0_int8])]
+      allocate (bytes(size(head) + 5*n*real_bytes))
+      bytes(1:size(head)) = head
+      at = size(head)
+      if (n == 0) return
+      call put(c%history%time(0:n - 1))
+      call put(c%history%ucm(0:n - 1))
+      call put(c%history%ucm_exact(0:n - 1))
+      call put(c%history%kinetic_energy(0:n - 1))
+      call put(c%history%strain_energy(0:n - 1))
+   contains
+      subroutine put(values)
+         real(dp), intent(in) :: values(:)
+         bytes(at + 1:at + size(values)*real_bytes) = transfer(values, bytes)
+         at = at + size(values)*real_bytes
+      end subroutine put
+   end function case_record
+
+   !> The real columns of a case's row, in the journal's order.
+   pure function case_reals(c) result(reals)
+      type(sweep_case_t), intent(in) :: c
+      real(dp) :: reals(12)
+      reals = [c%dt, c%max_error, c%relative_error, c%run_time, c%error_before_stop, c%relative_error_before_stop, &
+               c%run_time_spread, c%max_energy_ratio, c%final_energy_ratio, c%min_volume_ratio, c%max_cell_move, &
+               c%min_node_mass_ratio]
+   end function case_reals
+
+   !> Put a case or timing record of the sweep's journal back into its case (the record's case must be
+   !> one of this shard's: an error names it otherwise).
+   subroutine apply_record(sweep, record, error)
+      type(sweep_t), intent(inout) :: sweep
+      type(journal_record_t), intent(in) :: record
+      type(error_t), allocatable, intent(out) :: error
+      integer, parameter :: int_bytes = storage_size(0)/8, real_bytes = storage_size(0.0_dp)/8
+      integer :: ints(7), i, n, trip_bytes, at
+      real(dp) :: reals(12)
+      type(guard_trip_t) :: trip
+      trip_bytes = size(transfer(trip, [0_int8]))
+      associate (bytes => record%payload)
+         select case (record%kind)
+         case (record_case)
+            if (size(bytes) < 7*int_bytes) then
+               call malformed()
+               return
+            end if
+            ints = transfer(bytes(1:7*int_bytes), ints)
+            n = ints(7)
+            if (n < 0 .or. size(bytes, kind=i8) /= 7*int_bytes + 12*real_bytes + trip_bytes + 5_i8*n*real_bytes) then
+               call malformed()
+               return
+            end if
+            i = position(ints(1))
+            if (i == 0) return
+            at = 7*int_bytes
+            reals = transfer(bytes(at + 1:at + 12*real_bytes), reals)
+            at = at + 12*real_bytes
+            trip = transfer(bytes(at + 1:at + trip_bytes), trip)
+            at = at + trip_bytes
+            associate (c => sweep%cases(i))
+               c%steps = ints(2)
+               c%particles = ints(3)
+               c%status = ints(4)
+               c%repeats = ints(5)
+               c%timing_rounds = ints(6)
+               c%dt = reals(1)
+               c%max_error = reals(2)
+               c%relative_error = reals(3)
+               c%run_time = reals(4)
+               c%error_before_stop = reals(5)
+               c%relative_error_before_stop = reals(6)
+               c%run_time_spread = reals(7)
+               c%max_energy_ratio = reals(8)
+               c%final_energy_ratio = reals(9)
+               c%min_volume_ratio = reals(10)
+               c%max_cell_move = reals(11)
+               c%min_node_mass_ratio = reals(12)
+               c%trip = trip
+               if (allocated(c%message)) deallocate (c%message) ! (made again from the trip)
+               c%history = history_t()
+               c%history%recorded = n
+               if (n > 0) then
+                  allocate (c%history%time(0:n - 1), c%history%ucm(0:n - 1), c%history%ucm_exact(0:n - 1), &
+                            c%history%kinetic_energy(0:n - 1), c%history%strain_energy(0:n - 1))
+                  call column(c%history%time)
+                  call column(c%history%ucm)
+                  call column(c%history%ucm_exact)
+                  call column(c%history%kinetic_energy)
+                  call column(c%history%strain_energy)
+               end if
+            end associate
+         case (record_timing)
+            if (size(bytes) /= 3*int_bytes + 2*real_bytes) then
+               call malformed()
+               return
+            end if
+            ints(1:3) = transfer(bytes(1:3*int_bytes), ints(1:3))
+            reals(1:2) = transfer(bytes(3*int_bytes + 1:), reals(1:2))
+            i = position(ints(1))
+            if (i == 0) return
+            sweep%cases(i)%repeats = ints(2)
+            sweep%cases(i)%timing_rounds = ints(3)
+            sweep%cases(i)%run_time = reals(1)
+            sweep%cases(i)%run_time_spread = reals(2)
+         case default
+            call malformed()
+         end select
+      end associate
+   contains
+      !> The position in this shard's cases of case `index`, 0 (and an error) when it is not one of them.
+      integer function position(index)
+         integer, intent(in) :: index
+         associate (s => sweep%settings)
+            position = 0
+            if (index >= s%shard .and. mod(index - s%shard, s%shards) == 0) position = (index - s%shard)/s%shards + 1
+            if (position > size(sweep%cases)) position = 0
+            if (position > 0) then
+               if (sweep%cases(position)%index /= index) position = 0
+            end if
+         end associate
+         if (position == 0) call set_error(error, 'a record of case '//str(index)//', which is not a case of '// &
+                                           'this sweep (or shard)')
+      end function position
+      subroutine column(values)
+         real(dp), intent(out) :: values(0:)
+         values = transfer(record%payload(at + 1:at + size(values)*real_bytes), values)
+         at = at + size(values)*real_bytes
+      end subroutine column
+      subroutine malformed()
+         call set_error(error, 'a record of kind '//str(record%kind)//' and '//str(size(record%payload))// &
+                        ' bytes, which this build does not write')
+      end subroutine malformed
+   end subroutine apply_record
 
    !> The cases done: run to their end or stopped by a guard (not the ones not run).
    pure integer function cases_done(cases)

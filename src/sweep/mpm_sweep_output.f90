@@ -2,6 +2,8 @@
 !> shard files into the file an unsharded run gives, and the reading back of a sweep's own file to
 !> resume it.
 module mpm_sweep_output
+   use, intrinsic :: iso_c_binding, only: c_long_long
+   use, intrinsic :: iso_fortran_env, only: int8
    use mpm_kinds, only: dp
    use mpm_errors, only: error_t, set_error
    use mpm_strings, only: str
@@ -11,12 +13,13 @@ module mpm_sweep_output
    use mpm_output, only: write_config_attributes
    use mpm_version, only: code_version
    use mpm_diagnostics, only: history_t, status_name, status_ok, status_not_run
-   use mpm_sweep, only: sweep_t, sweep_case_t, case_column
+   use mpm_sweep, only: sweep_t, sweep_case_t, case_column, apply_record, record_sweep, record_case
+   use mpm_journal, only: journal_record_t, journal_name, journal_read, journal_open, journal_append, journal_close
    use mpm_config, only: config_t, config_parameters, config_namelist, used_with
    use mpm_registry, only: parameter_t, value_list_t, single_value_list, type_real, type_int, used_by
    implicit none
    private
-   public :: write_sweep_file, merge_sweep_files, resume_sweep
+   public :: write_sweep_file, merge_sweep_files, resume_sweep, open_sweep_journal, close_sweep_journal
 
    !> Sweep-level numbers written as /sweep attributes.
    type :: sweep_info_t
@@ -35,6 +38,8 @@ module mpm_sweep_output
    end type merge_table_t
 
    integer, parameter :: message_length = 1024
+   !> Between the parts of a journal's identity record.
+   character(len=1), parameter :: separator = achar(0)
 
 contains
 
@@ -231,60 +236,103 @@ contains
       end subroutine write_column
    end subroutine write_table
 
-   !> Read back the file `path` this sweep (the same input, the same shard) wrote before, to continue
-   !> it: its cases that ran take their results from there (and keep them), the others stay not run.
-   !> A file of another sweep is refused, naming the file and what differs.
+   !> Continue the sweep that wrote `path` (the same input, the same shard) from what it kept: the
+   !> sweep file an interrupted run wrote (SIGINT, SIGTERM, SIGHUP) and the journal beside it (a run
+   !> killed, or whose output could not be written); each case that ran takes its results from there,
+   !> the journal's being the later ones; the others stay not run. A file or journal of another sweep
+   !> is refused, naming it and what differs; a file of another sweep beside this sweep's journal is
+   !> the one the killed run would have replaced, and is passed over. The journal's torn last record
+   !> (a kill in the middle of its write) is dropped (sweep%journal_torn bytes).
    subroutine resume_sweep(path, sweep, error)
       character(len=*), intent(in) :: path
       type(sweep_t), intent(inout) :: sweep
       type(error_t), allocatable, intent(out) :: error
       type(sweep_info_t) :: info
       type(sweep_case_t), allocatable :: cases(:)
-      character(len=:), allocatable :: config_text
+      type(journal_record_t), allocatable :: records(:)
+      character(len=:), allocatable :: config_text, journal, differs
+      integer(c_long_long) :: valid, torn
+      logical :: use_file, use_journal
       integer :: i
-      if (path_kind(path) /= path_regular) then
-         call set_error(error, "resume: '"//path//"' does not exist (or is not a file): nothing to resume; "// &
-                        "run the sweep without --resume")
+      journal = journal_name(path)
+      use_file = path_kind(path) == path_regular
+      use_journal = path_kind(journal) == path_regular
+      if (.not. use_file .and. .not. use_journal) then
+         call set_error(error, "resume: '"//path//"' does not exist (or is not a file), nor its journal '"// &
+                        journal//"': nothing to resume; run the sweep without --resume")
          return
       end if
-      call read_info(path, 'resume', info, config_text, error)
-      if (allocated(error)) return
-      if (config_text /= config_namelist(sweep%base)) then
-         call refuse('its configuration (/config) differs from this input''s')
-      else if (results_part(info%namelist_text) /= results_part(sweep%settings%namelist_text)) then
-         call refuse('its &sweep group differs from this input''s')
-      else if (info%total_cases /= sweep%total_cases) then
-         call refuse('it has '//str(info%total_cases)//' cases, this sweep '//str(sweep%total_cases))
-      else if (info%shard /= sweep%settings%shard .or. info%shards /= sweep%settings%shards) then
-         call refuse('it is shard '//str(info%shard)//' of '//str(info%shards)//', this run shard '// &
-                     str(sweep%settings%shard)//' of '//str(sweep%settings%shards))
-      end if
-      if (allocated(error)) return
-      call read_cases(path, 'resume', cases, error)
-      if (allocated(error)) return
-      if (size(cases) /= size(sweep%cases)) then
-         call refuse('it holds '//str(size(cases))//' cases, this shard has '//str(size(sweep%cases)))
-         return
-      end if
-      if (any(cases%index /= sweep%cases%index)) then
-         call refuse('its cases are not this shard''s')
-         return
-      end if
-      do i = 1, size(cases)
-         if (cases(i)%status == status_not_run) cycle
-         cases(i)%from_file = .true.
-         if (sweep%settings%histories) then
-            call read_history(path, cases(i)%index, cases(i)%history, error)
-            if (allocated(error)) then
-               error%message = 'resume: '//error%message
+      if (use_journal) then
+         call journal_read(journal, records, valid, torn, error)
+         if (allocated(error)) then
+            error%message = 'resume: '//error%message
+            return
+         end if
+         sweep%journal_bytes = valid
+         sweep%journal_torn = torn
+         use_journal = size(records) > 0
+         if (use_journal) then
+            differs = journal_differs(records(1), sweep)
+            if (len(differs) > 0) then
+               call set_error(error, "resume: the journal '"//journal//"' holds another sweep: "//differs// &
+                              "; allowed: the journal this sweep (the same input and overrides) wrote, or run "// &
+                              "without --resume to start afresh")
                return
             end if
+         else if (.not. use_file) then
+            call set_error(error, "resume: the journal '"//journal//"' holds no whole record (the sweep was "// &
+                           "killed as it began it) and '"//path//"' does not exist: nothing to resume; run the "// &
+                           "sweep without --resume")
+            return
          end if
-         sweep%cases(i) = cases(i)
+      end if
+      if (use_file) then
+         call read_info(path, 'resume', info, config_text, error)
+         if (allocated(error)) return
+         differs = sweep_differs(sweep, config_text, info)
+         if (len(differs) > 0 .and. use_journal) then
+            use_file = .false.
+         else if (len(differs) > 0) then
+            call refuse(differs)
+            return
+         end if
+      end if
+      if (use_file) then
+         call read_cases(path, 'resume', cases, error)
+         if (allocated(error)) return
+         if (size(cases) /= size(sweep%cases)) then
+            call refuse('it holds '//str(size(cases))//' cases, this shard has '//str(size(sweep%cases)))
+            return
+         end if
+         if (any(cases%index /= sweep%cases%index)) then
+            call refuse('its cases are not this shard''s')
+            return
+         end if
+         do i = 1, size(cases)
+            if (cases(i)%status == status_not_run) cycle
+            if (sweep%settings%histories) then
+               call read_history(path, cases(i)%index, cases(i)%history, error)
+               if (allocated(error)) then
+                  error%message = 'resume: '//error%message
+                  return
+               end if
+            end if
+            sweep%cases(i) = cases(i)
+         end do
+         sweep%wall_time = info%wall_time
+         sweep%error_pass_time = info%error_pass_time
+         sweep%timing_pass_time = info%timing_pass_time
+      end if
+      if (.not. use_journal) return
+      do i = 2, size(records)
+         call apply_record(sweep, records(i), error)
+         if (allocated(error)) then
+            error%message = "resume: the journal '"//journal//"' holds "//error%message
+            return
+         end if
+         if (records(i)%kind == record_case) sweep%journal_cases = sweep%journal_cases + 1
       end do
-      sweep%wall_time = info%wall_time
-      sweep%error_pass_time = info%error_pass_time
-      sweep%timing_pass_time = info%timing_pass_time
+      sweep%journal_records = size(records) - 1
    contains
       subroutine refuse(what)
          character(len=*), intent(in) :: what
@@ -292,6 +340,148 @@ contains
                         "sweep (the same input and overrides) wrote, or run without --resume to start afresh")
       end subroutine refuse
    end subroutine resume_sweep
+
+   !> What differs between `sweep` and the sweep whose /config namelist is `config_text` and /sweep
+   !> attributes `info` ('' when they are the same sweep: only what changes results is compared).
+   function sweep_differs(sweep, config_text, info) result(what)
+      type(sweep_t), intent(in) :: sweep
+      character(len=*), intent(in) :: config_text
+      type(sweep_info_t), intent(in) :: info
+      character(len=:), allocatable :: what
+      what = ''
+      if (config_text /= config_namelist(sweep%base)) then
+         what = 'its configuration (/config) differs from this input''s'
+      else if (results_part(info%namelist_text) /= results_part(sweep%settings%namelist_text)) then
+         what = 'its &sweep group differs from this input''s'
+      else if (info%total_cases /= sweep%total_cases) then
+         what = 'it has '//str(info%total_cases)//' cases, this sweep '//str(sweep%total_cases)
+      else if (info%shard /= sweep%settings%shard .or. info%shards /= sweep%settings%shards) then
+         what = 'it is shard '//str(info%shard)//' of '//str(info%shards)//', this run shard '// &
+                str(sweep%settings%shard)//' of '//str(sweep%settings%shards)
+      end if
+   end function sweep_differs
+
+   !> The first record of a sweep's journal: the format and the bytes of a case record's guard trip (a
+   !> build whose records differ cannot read them), then the configuration's namelist, the &sweep group,
+   !> the cases, the shard and the shards, each ended by a NUL (which no namelist text holds).
+   function journal_identity(sweep) result(bytes)
+      type(sweep_t), intent(in) :: sweep
+      integer(int8), allocatable :: bytes(:)
+      character(len=:), allocatable :: text
+      text = identity_format()//separator//config_namelist(sweep%base)//separator//sweep%settings%namelist_text// &
+             separator//str(sweep%total_cases)//separator//str(sweep%settings%shard)//separator// &
+             str(sweep%settings%shards)
+      bytes = transfer(text, [0_int8], len(text))
+   end function journal_identity
+
+   !> The journal format and this build's layout of a case record.
+   function identity_format() result(text)
+      character(len=:), allocatable :: text
+      type(sweep_case_t) :: c
+      text = 'mpm1d sweep journal 1, guard trip of '//str(size(transfer(c%trip, [0_int8])))//' bytes'
+   end function identity_format
+
+   !> What differs between `sweep` and the one a journal's first record `record` identifies ('' if none).
+   function journal_differs(record, sweep) result(what)
+      type(journal_record_t), intent(in) :: record
+      type(sweep_t), intent(in) :: sweep
+      character(len=:), allocatable :: what, text
+      character(len=:), allocatable :: lines(:)
+      type(sweep_info_t) :: info
+      integer :: stat(3)
+      what = 'its first record is not a sweep''s identity'
+      if (record%kind /= record_sweep) return
+      allocate (character(len=size(record%payload)) :: text)
+      text = transfer(record%payload, text)
+      lines = split_text(text)
+      if (size(lines) /= 6) return
+      if (trim(lines(1)) /= identity_format()) then
+         what = "it was written by another build of mpm1d ('"//trim(lines(1))//"'; this one: '"//identity_format()//"')"
+         return
+      end if
+      info%namelist_text = trim(lines(3))
+      read (lines(4), *, iostat=stat(1)) info%total_cases
+      read (lines(5), *, iostat=stat(2)) info%shard
+      read (lines(6), *, iostat=stat(3)) info%shards
+      if (any(stat /= 0)) return
+      what = sweep_differs(sweep, trim(lines(2)), info)
+   end function journal_differs
+
+   !> The parts of `text` between separators (each as long as the longest).
+   function split_text(text) result(parts)
+      character(len=*), intent(in) :: text
+      character(len=:), allocatable :: parts(:)
+      integer :: count, start, i, k, longest
+      count = 1
+      longest = 0
+      start = 1
+      do i = 1, len(text)
+         if (text(i:i) /= separator) cycle
+         count = count + 1
+         longest = max(longest, i - start)
+         start = i + 1
+      end do
+      longest = max(longest, len(text) + 1 - start)
+      allocate (character(len=longest) :: parts(count))
+      k = 1
+      start = 1
+      do i = 1, len(text)
+         if (text(i:i) /= separator) cycle
+         parts(k) = text(start:i - 1)
+         k = k + 1
+         start = i + 1
+      end do
+      parts(k) = text(start:)
+   end function split_text
+
+   !> Open this sweep's journal beside its output `path`: a resumed sweep appends to the journal it read
+   !> (its torn last record cut off), any other starts it empty with its identity. A journal another
+   !> process holds (a sweep into the same output running now) is refused to a resumed sweep (`error`);
+   !> a fresh sweep then runs without one, as it does when the journal cannot be made: `warning` says so,
+   !> or that the journal of an earlier sweep that did not finish was replaced.
+   subroutine open_sweep_journal(path, sweep, resumed, warning, error)
+      character(len=*), intent(in) :: path
+      type(sweep_t), intent(inout) :: sweep
+      logical, intent(in) :: resumed
+      character(len=:), allocatable, intent(out) :: warning
+      type(error_t), allocatable, intent(out) :: error
+      type(error_t), allocatable :: problem
+      character(len=:), allocatable :: journal
+      integer(c_long_long) :: keep
+      logical :: in_use
+      warning = ''
+      journal = journal_name(path)
+      keep = 0
+      if (resumed) keep = sweep%journal_bytes
+      call journal_open(sweep%journal, journal, keep, in_use, problem)
+      if (in_use) then
+         if (resumed) then
+            call set_error(error, "resume: another mpm1d process is running this sweep now (it holds the "// &
+                           "journal '"//journal//"'); allowed: --resume once it has ended")
+         else
+            warning = "another mpm1d process is running a sweep into '"//path//"' now (it holds the journal '"// &
+                      journal//"'): this sweep keeps no journal, and a kill would lose its finished cases"
+         end if
+         return
+      end if
+      if (allocated(problem)) then
+         warning = problem%message//": this sweep keeps no journal, and a kill would lose its finished cases"
+         return
+      end if
+      if (keep == 0) then
+         if (sweep%journal%found > 0) warning = "the journal '"//journal//"' of an earlier sweep into '"//path// &
+                                                "' that did not finish was replaced (--resume would have continued it)"
+         call journal_append(sweep%journal, record_sweep, journal_identity(sweep))
+      end if
+   end subroutine open_sweep_journal
+
+   !> Close the sweep's journal: removed once `written` (the output holds every case it held), kept
+   !> otherwise (a --resume reads it).
+   subroutine close_sweep_journal(sweep, written)
+      type(sweep_t), intent(inout) :: sweep
+      logical, intent(in) :: written
+      call journal_close(sweep%journal, remove=written)
+   end subroutine close_sweep_journal
 
    !> Join shard files (every shard 1..n of one sweep, each once) into `path`: the same table,
    !> in the same case order, as one unsharded run; run times and pass times are the shards'.

@@ -1,5 +1,7 @@
 """Every write path of mpm1d on a full disk: a single run, a sweep (with histories), a shard, a
-resumed sweep and a merge, each made to fail at several points of its file. Two ways to fill the disk:
+resumed sweep and a merge, each made to fail at several points of its file; a sweep whose output
+fails keeps its finished cases in its journal, and --resume writes the file without running them again.
+Two ways to fill the disk:
   * a small tmpfs (ENOSPC, "no space left on device"), filled but for a few kilobytes: needs root and
     a kernel that lets it mount one; skipped, saying why, where it cannot;
   * a file-size limit (RLIMIT_FSIZE, `ulimit -f`: EFBIG, "file too large"), anywhere.
@@ -20,7 +22,8 @@ import subprocess
 import sys
 from pathlib import Path
 
-ROOT = Path(__file__).resolve().parents[2]
+from cli_checks import ROOT, Tally, find_exe
+
 SCRATCH = ROOT / 'build' / 'test_scratch' / 'full_disk'
 OLDER = b'an older file of this name\n'
 CRASH_WORDS = re.compile(r'Fortran runtime|Backtrace|Program received signal|Segmentation fault|HDF5-DIAG|'
@@ -32,22 +35,8 @@ SWEEP = """&output file='{out}' /
 &sweep elements=3, 4, 5, 6, 7, 8, dt_fraction=0.1, 0.2, 0.3, 0.4, min_time=0, histories=.true., threads=1 /
 """
 
-passed = failed = 0
-
-
-def check(name, ok, detail=''):
-    global passed, failed
-    if ok:
-        passed += 1
-    else:
-        failed += 1
-        print(f'FAIL {name}' + (f': {detail}' if detail else ''))
-
-
-def find_exe():
-    out = subprocess.run(['fpm', 'run', '--profile', 'release', '--target', 'mpm1d', '--runner', 'echo'],
-                         cwd=ROOT, capture_output=True, text=True, check=True).stdout.strip().splitlines()
-    return str(ROOT / out[-1])
+TALLY = Tally()
+check = TALLY.check
 
 
 def run(args, cwd, limit_kb=None, env=None):
@@ -120,6 +109,54 @@ def write_paths(exe, folder, free_levels, fill, cause):
             expect_failure(f'{name}, {level}', p, folder, folder / final, cause)
 
 
+def sweep_keeps_its_cases(exe, folder, reference, full, room, cause):
+    """A sweep whose output cannot be written keeps its finished cases in its journal (`full`: the
+    limits of a disk with room for the journal, then of one with room for part of it), and `room()`
+    freeing space, --resume writes the file without running them again: the uninterrupted table."""
+    for label, limits, whole in (('the journal fits', full(True), True), ('the journal fills too', full(False), False)):
+        for p in folder.iterdir():
+            p.unlink()
+        (folder / 'sw.nml').write_text(SWEEP.format(out='sw.h5'))
+        limits = limits() if callable(limits) else limits
+        p = run([exe, 'sw.nml', '-q'], folder, **limits)
+        text = p.stderr
+        check(f'sweep, {label}: exit 3', p.returncode == 3, f'exit {p.returncode}; {text[:300]}')
+        check(f'sweep, {label}: the message names the output, the cause and the journal', cause in text and
+              "journal 'sw.h5.journal'" in text and '--resume' in text and not CRASH_WORDS.search(text), text[:400])
+        if not whole:
+            check(f'sweep, {label}: the message says the journal failed too', 'before it too failed' in text, text[:400])
+        check(f'sweep, {label}: the journal kept, no temporary file', (folder / 'sw.h5.journal').exists() and
+              not leftovers(folder), sorted(p.name for p in folder.iterdir()))
+        room()
+        p = run([exe, 'sw.nml', '--resume'], folder)
+        check(f'sweep, {label}: --resume writes the file', p.returncode == 0 and (folder / 'sw.h5').exists(),
+              p.stderr[:300])
+        if whole:
+            check(f'sweep, {label}: --resume runs no case again', '24 of 24 cases ran before (kept); 0 to run'
+                  in p.stdout, p.stdout[:300])
+        else:
+            check(f'sweep, {label}: --resume runs the cases after the journal failed',
+                  re.search(r'resumed: ([1-9]|1\d|2[0-3]) of 24 cases ran before \(kept\)', p.stdout), p.stdout[:300])
+        if (folder / 'sw.h5').exists():
+            check(f'sweep, {label}: the table equals the uninterrupted one', same_cases(reference, folder / 'sw.h5'))
+        check(f'sweep, {label}: the journal removed', not (folder / 'sw.h5.journal').exists())
+
+
+def same_cases(a, b):
+    """The /cases columns but the timings and the histories, bit for bit."""
+    import h5py
+    import numpy as np
+
+    def same(x, y):
+        x, y = np.asarray(x), np.asarray(y)
+        return x.tolist() == y.tolist() if x.dtype.kind in 'OSU' else x.tobytes() == y.tobytes()
+    with h5py.File(a, 'r') as f, h5py.File(b, 'r') as g:
+        if set(f['cases']) != set(g['cases']) or set(f['histories']) != set(g['histories']):
+            return False
+        return all(same(f['cases'][k][()], g['cases'][k][()]) for k in f['cases'] if k != 'run_time') and \
+            all(same(f['histories'][k][d][()], g['histories'][k][d][()]) for k in f['histories'] for d in f['histories'][k])
+
+
 def interrupted_sweep(exe, side):
     """A sweep file with 4 of its 24 cases run (a SIGINT after the 4th; made once)."""
     path = side / 'interrupted' / 'sw.h5'
@@ -159,6 +196,13 @@ def main():
     limited = SCRATCH / 'limited'
     limited.mkdir()
     write_paths(exe, limited, [1, 16, 48, 96, 136], lambda kb: {'limit_kb': kb}, 'file too large')
+    # the sweep's journal takes 223 KiB, its output 320 KiB (a limit is per file)
+    (SCRATCH / 'reference').mkdir()
+    (SCRATCH / 'reference' / 'sw.nml').write_text(SWEEP.format(out='sw.h5'))
+    assert run([exe, 'sw.nml', '-q'], SCRATCH / 'reference').returncode == 0
+    reference = SCRATCH / 'reference' / 'sw.h5'
+    sweep_keeps_its_cases(exe, limited, reference, lambda whole: {'limit_kb': 256 if whole else 64},
+                          lambda: None, 'file too large')
 
     # a full tmpfs: filled by a filler file but for `free` KiB
     disk = SCRATCH / 'tmpfs'
@@ -176,6 +220,9 @@ def main():
                             break
                 return {}
             write_paths(exe, disk, [0, 8, 32, 64, 128], fill, 'no space left on device')
+            # room for the journal (223 KiB) but not the output (320 KiB more), then for part of the journal
+            sweep_keeps_its_cases(exe, disk, reference, lambda whole: (lambda: fill(448 if whole else 96)),
+                                  lambda: (disk / 'filler').unlink(), 'no space left on device')
             # with room again, every path writes its file
             for p in disk.iterdir():
                 p.unlink()
@@ -187,10 +234,10 @@ def main():
             subprocess.run(['umount', str(disk)], check=False)
     else:
         skipped = why
-    print(f'test_full_disk: {passed} passed, {failed} failed')
+    print(f'test_full_disk: {TALLY.passed} passed, {TALLY.failed} failed')
     if skipped:
         print(f'test_full_disk: the tmpfs part skipped: {skipped} (the file-size limit part ran)')
-    sys.exit(1 if failed else 0)
+    sys.exit(1 if TALLY.failed else 0)
 
 
 if __name__ == '__main__':

@@ -891,3 +891,21 @@ for integrator in ('quasi_static', 'explicit'):
 refused('i38_load_steps_huge', C8, COLUMN_QS.replace("'quasi_static'", "'quasi_static', load_steps=2147483647"),
         r"^mpm1d: invalid input:\n[^\n]*load_steps = 2147483647 is out of range; allowed: integer with 1 <= "
         r"load_steps <= 2147483646\n?$", not_pattern='periods')
+# SIGKILL: each finished case is in the journal beside the output (o.h5.journal), --resume continues from it
+# to the uninterrupted table (test/cli/test_sweep_kill.py kills at 24 random moments and tears journals)
+KILLED = ('set -m; "$MPM1D" in.nml -q output.file=u.h5 || exit 3; '
+          'MPM1D_PAUSE_AFTER_CASES=4 "$MPM1D" in.nml -q 2> err.txt & pid=$!; '
+          'until [ -e mpm1d_paused ]; do kill -0 $pid 2>/dev/null || exit 4; sleep 0.02; done; '
+          'kill -KILL $pid; wait $pid; [ $? = 137 ] || exit 5; [ -s o.h5.journal ] || exit 6; [ ! -e o.h5 ] || exit 7; ')
+add('sigkill_sweep_resumes_from_journal', C7, 0, r"resumed: 4 of 12 cases ran before \(kept\); 8 to run\n"
+    r"from the journal 'o\.h5\.journal': 4 cases, 0 timings", input=SWEEP12,
+    shell=KILLED + '"$MPM1D" in.nml --resume || exit 8; h5diff -q u.h5 o.h5 /cases /cases || exit 9; '
+          'h5diff -q u.h5 o.h5 /histories /histories || exit 10; [ ! -e o.h5.journal ] || exit 11')
+add('torn_journal_record_dropped', C7, 0, r"from the journal 'o\.h5\.journal': 3 cases, 0 timings; a torn last record "
+    r"of \d+ bytes dropped", input=SWEEP12,
+    shell=KILLED + 'truncate -s -5 o.h5.journal; "$MPM1D" in.nml --resume || exit 8; '
+          'h5diff -q u.h5 o.h5 /cases /cases || exit 9; h5diff -q u.h5 o.h5 /histories /histories || exit 10')
+add('journal_of_another_sweep_refused', C7, 2, r"resume: the journal 'o\.h5\.journal' holds another sweep: its "
+    r"configuration \(/config\) differs", input=SWEEP12,
+    shell=KILLED + 'cp o.h5.journal keep; "$MPM1D" in.nml scene.velocity_amplitude=0.2 --resume; rc=$?; '
+          'cmp -s keep o.h5.journal || exit 9; exit $rc')
