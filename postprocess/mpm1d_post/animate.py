@@ -11,7 +11,8 @@ transfer, law and mesh from ``/config``. A run a guard stopped is drawn in grey 
 
 GIF through Pillow (matplotlib's PillowWriter); MP4 through ffmpeg where it is installed (else the
 command says so and exits 2). Exit status 0 written, 2 bad input (a file with fewer than two snapshots,
-another suffix, ffmpeg missing for .mp4).
+another suffix, ffmpeg missing for .mp4), 3 the file could not be written (it is written under a
+temporary name and renamed when complete: a full disk leaves an older file of that name as it was).
 """
 
 from __future__ import annotations
@@ -27,6 +28,7 @@ from . import figures
 import matplotlib.animation as animation  # (after figures, which selects the Agg backend)
 import matplotlib.pyplot as plt
 from .loader import Mpm1dFileError, Run, load_run
+from .output_files import replacing_path, with_output_errors
 from .plot_run import FIELDS, draw_field, field_values, moment_text, result_text, run_title, time_label
 
 PROGRAM = 'mpm1d-animate'
@@ -96,7 +98,7 @@ def animate(run: Run, output: 'str | Path', field: str = 'stress', fps: float = 
     body = run.snapshots[0].extra.get('body')
     bodies = np.unique(body) if body is not None and np.unique(body).size > 1 else None
     output.parent.mkdir(parents=True, exist_ok=True)
-    with writer.saving(fig, str(output), dpi=100):
+    with replacing_path(output) as temporary, writer.saving(fig, str(temporary), dpi=100):
         for snapshot in run.snapshots:
             x, values, profile = field_values(snapshot, field)
             if bodies is None:
@@ -122,7 +124,7 @@ def build_parser() -> argparse.ArgumentParser:
     return p
 
 
-def main(argv: Optional[Sequence[str]] = None) -> int:
+def _main(argv: Optional[Sequence[str]] = None) -> int:
     args = build_parser().parse_args(argv)
     try:
         run = load_run(args.run)
@@ -134,6 +136,12 @@ def main(argv: Optional[Sequence[str]] = None) -> int:
     print(f'{PROGRAM}: wrote {args.output}: {frames} frames ({args.field}), {size / 1024:.0f} KiB; '
           f'{time_label(run).split(" (")[0]} from {run.snapshots[0].time:.4g} to {run.snapshots[-1].time:.4g}')
     return 0
+
+
+
+def main(argv: Optional[Sequence[str]] = None) -> int:
+    """Command-line entry point; returns the exit status (3: the file could not be written)."""
+    return with_output_errors(PROGRAM, _main, argv)
 
 
 if __name__ == '__main__':

@@ -33,6 +33,7 @@ from matplotlib.lines import Line2D  # noqa: E402
 import numpy as np  # noqa: E402
 
 from .loader import Run, Sweep  # noqa: E402
+from .output_files import save_figure_file  # noqa: E402
 from .pareto import pareto_front  # noqa: E402
 
 DPI = 150
@@ -79,7 +80,7 @@ def save_figure(fig: plt.Figure, outdir: str, name: str, sources: Iterable[Sourc
              ha='left', va='bottom')
     Path(outdir).mkdir(parents=True, exist_ok=True)
     path = str(Path(outdir) / name)
-    fig.savefig(path, dpi=DPI)
+    save_figure_file(fig, path, dpi=DPI)
     plt.close(fig)
     return path
 

@@ -37,6 +37,10 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
+from .output_files import replacing, save_figure_file, with_output_errors
+
+PROGRAM = "mpm1d-linear-stability"
+
 SCHEMES = ("usf", "usl", "musl")
 
 #: Default tolerance on the spectral radius: a mode is called unstable when |lambda| > 1 + TOL.
@@ -465,6 +469,11 @@ def build_parser() -> argparse.ArgumentParser:
 
 
 def main(argv=None) -> int:
+    """Command-line entry point; returns the exit status (3: a file could not be written)."""
+    return with_output_errors(PROGRAM, _main, argv)
+
+
+def _main(argv=None) -> int:
     args = build_parser().parse_args(argv)
     schemes = [s.strip().lower() for s in args.schemes.split(",") if s.strip()]
     bad = [s for s in schemes if s not in SCHEMES]
@@ -491,13 +500,13 @@ def main(argv=None) -> int:
                 details.append((scheme, ppc, ne, kc, island, dimk, on, defective, block_err))
 
     path = Path(args.out) / "predicted_critical.csv"
-    with open(path, "w", newline="") as fh:
+    with replacing(path, "w", newline="") as fh:
         w = csv.writer(fh)
         w.writerow(["scheme", "particles_per_element", "elements", "k_crit"])
         for s, ppc, ne, kc in rows:
             w.writerow([s, ppc, ne, f"{kc:.10f}"])
     dpath = Path(args.out) / "predicted_critical_details.csv"
-    with open(dpath, "w", newline="") as fh:
+    with replacing(dpath, "w", newline="") as fh:
         w = csv.writer(fh)
         w.writerow(["scheme", "particles_per_element", "elements", "k_crit", "restabilises",
                     "zero_energy_modes_lambda1", "unit_modulus_eigs_in_R_at_half_kcrit",
@@ -538,7 +547,7 @@ def main(argv=None) -> int:
         for s in schemes:
             rm = rho_map(s, ks, ppcs, args.map_elements)
             mpath = Path(args.out) / f"rho_map_{s}.csv"
-            with open(mpath, "w", newline="") as fh:
+            with replacing(mpath, "w", newline="") as fh:
                 w = csv.writer(fh)
                 w.writerow(["particles_per_element", "k", "rho"])
                 for i, ppc in enumerate(ppcs):
@@ -554,7 +563,7 @@ def shapes_command(args, schemes) -> int:
     shapes = [s.strip() for s in args.shapes.split(",") if s.strip()]
     path = Path(args.out) / "predicted_shapes.csv"
     print(f"Predicted critical dt fraction per shape (at rest / stretched by {args.stretch:g})")
-    with open(path, "w", newline="") as fh:
+    with replacing(path, "w", newline="") as fh:
         w = csv.writer(fh)
         w.writerow(["scheme", "shape", "particles_per_element", "elements", "k_crit_rest", "k_crit_stretched"])
         for ne in args.elements:
@@ -584,7 +593,7 @@ def _plot_map(scheme, ks, ppcs, rm, ne, path):
     ax.set_title(f"{scheme.upper()}: log10(rho(A) - 1), ne = {ne}")
     fig.colorbar(im, ax=ax)
     fig.tight_layout()
-    fig.savefig(path, dpi=120)
+    save_figure_file(fig, path, dpi=120)
     plt.close(fig)
 
 

@@ -12,7 +12,8 @@ snapshots (``&output snapshot_times`` or ``snapshot_every``). Each figure's titl
 scheme, shape, transfer, law, integrator and mesh from the file's ``/config``, and what the run
 measured (its error measure and value from ``/summary``); its footer the code version and file. A run
 a guard stopped has no result: its figures say so and draw the state up to the stop in grey. A
-quasi-static run's "time" is the load factor. Exit status 0 written, 2 bad input.
+quasi-static run's "time" is the load factor. Exit status 0 written, 2 bad input, 3 a file could not
+be written (a full disk: the message names it; an older file of that name is left as it was).
 """
 
 from __future__ import annotations
@@ -28,6 +29,7 @@ from . import figures
 from .figures import FigureSkipped
 import matplotlib.pyplot as plt  # (after figures, which selects the Agg backend)
 from .loader import Mpm1dFileError, Run, Snapshot, load_run
+from .output_files import with_output_errors
 
 PROGRAM = 'mpm1d-plot-run'
 #: The particle fields drawn, with their axis labels and the exact field's dataset.
@@ -240,7 +242,7 @@ def plot_run(run: Run, outdir: 'str | Path', most: int = 6) -> Tuple[List[Path],
     return written, skipped
 
 
-def main(argv: Optional[Sequence[str]] = None) -> int:
+def _main(argv: Optional[Sequence[str]] = None) -> int:
     args = build_parser().parse_args(argv)
     outdir = Path(args.outdir)
     if args.snapshots < 1:
@@ -262,6 +264,12 @@ def main(argv: Optional[Sequence[str]] = None) -> int:
         return 2
     print(f'{PROGRAM}: wrote ' + ', '.join(p.name for p in written) + f' in {outdir}')
     return 0
+
+
+
+def main(argv: Optional[Sequence[str]] = None) -> int:
+    """Command-line entry point; returns the exit status (3: a file could not be written)."""
+    return with_output_errors(PROGRAM, _main, argv)
 
 
 if __name__ == '__main__':

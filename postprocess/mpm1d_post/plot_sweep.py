@@ -34,6 +34,7 @@ from .figures import FigureSkipped
 import matplotlib.pyplot as plt  # (after figures, which selects the Agg backend)
 from .loader import Mpm1dFileError, Sweep, load_sweep, merge_sweeps
 from .orders import fitted_order
+from .output_files import replacing, with_output_errors
 from .pareto import pareto_front
 
 PROGRAM = 'mpm1d-plot-sweep'
@@ -254,7 +255,7 @@ def build_parser() -> argparse.ArgumentParser:
     return p
 
 
-def main(argv: Optional[Sequence[str]] = None) -> int:
+def _main(argv: Optional[Sequence[str]] = None) -> int:
     args = build_parser().parse_args(argv)
     outdir = Path(args.outdir)
     if outdir.exists() and not outdir.is_dir():
@@ -291,7 +292,7 @@ def main(argv: Optional[Sequence[str]] = None) -> int:
             written += result
         else:
             written.append(result)
-    with open(outdir / 'orders.csv', 'w', newline='') as handle:
+    with replacing(outdir / 'orders.csv', 'w', newline='') as handle:
         writer = csv.DictWriter(handle, ['series', 'points', 'order', 'finest_elements', 'finest_error'])
         writer.writeheader()
         for row in rows:
@@ -307,6 +308,11 @@ def main(argv: Optional[Sequence[str]] = None) -> int:
                   "with a result; an order needs two)")
     print(f'{PROGRAM}: wrote ' + ', '.join(p.name for p in written) + f' in {outdir}')
     return 0
+
+
+def main(argv: Optional[Sequence[str]] = None) -> int:
+    """Command-line entry point; returns the exit status (3: a file could not be written)."""
+    return with_output_errors(PROGRAM, _main, argv)
 
 
 if __name__ == '__main__':

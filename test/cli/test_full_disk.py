@@ -1,7 +1,8 @@
 """Every write path of mpm1d on a full disk: a single run, a sweep (with histories), a shard, a
 resumed sweep and a merge, each made to fail at several points of its file; a sweep whose output
-fails keeps its finished cases in its journal, and --resume writes the file without running them again.
-Two ways to fill the disk:
+fails keeps its finished cases in its journal, and --resume writes the file without running them again;
+the Python figure commands (mpm1d-plot-sweep, mpm1d-linear-stability, mpm1d-plot-run, mpm1d-animate)
+fail the same way. Two ways to fill the disk:
   * a small tmpfs (ENOSPC, "no space left on device"), filled but for a few kilobytes: needs root and
     a kernel that lets it mount one; skipped, saying why, where it cannot;
   * a file-size limit (RLIMIT_FSIZE, `ulimit -f`: EFBIG, "file too large"), anywhere.
@@ -109,6 +110,35 @@ def write_paths(exe, folder, free_levels, fill, cause):
             expect_failure(f'{name}, {level}', p, folder, folder / final, cause)
 
 
+def figure_commands(folder, sweep, single, fill, levels, cause):
+    """The Python figure commands writing into a full `folder` (`fill(level)`: the limits), from the sweep
+    file `sweep` and the run file `single`: exit 3, the file and the cause in the command's own words, the
+    older file of that name intact, no temporary file."""
+    bin_dir = Path(sys.executable).parent
+    commands = {
+        'mpm1d-plot-sweep': ([str(bin_dir / 'mpm1d-plot-sweep'), str(sweep), '-o', '.'], 'error_vs_elements.png'),
+        'mpm1d-linear-stability': ([str(bin_dir / 'mpm1d-linear-stability'), '--schemes', 'usl', '--ppc', '1',
+                                    '--elements', '10', '--out', '.'], 'predicted_critical.csv'),
+        'mpm1d-plot-run': ([str(bin_dir / 'mpm1d-plot-run'), str(single), '-o', '.'], 'ucm.png'),
+        'mpm1d-animate': ([str(bin_dir / 'mpm1d-animate'), str(single), '-o', 'run.gif'], 'run.gif'),
+    }
+    for level in levels:
+        for name, (args, first) in commands.items():
+            if level > 0 and name == 'mpm1d-linear-stability':
+                continue  # (its files are small: full from the start only)
+            for p in folder.iterdir():
+                p.unlink()
+            (folder / first).write_bytes(OLDER)
+            p = run(args, folder, **fill(level))
+            label = f'{name}, {level}'
+            check(f'{label}: exit 3', p.returncode == 3, f'exit {p.returncode}; {p.stderr[-300:]}')
+            check(f'{label}: the message names the file and the cause', re.search(
+                rf"^{name}: cannot write '[^']+': {cause}$", p.stderr, re.M) is not None and 'Traceback' not in p.stderr,
+                p.stderr[-300:])
+            check(f'{label}: the older file intact', (folder / first).read_bytes() == OLDER)
+            check(f'{label}: no temporary file left', not leftovers(folder), leftovers(folder))
+
+
 def sweep_keeps_its_cases(exe, folder, reference, full, room, cause):
     """A sweep whose output cannot be written keeps its finished cases in its journal (`full`: the
     limits of a disk with room for the journal, then of one with room for part of it), and `room()`
@@ -201,8 +231,12 @@ def main():
     (SCRATCH / 'reference' / 'sw.nml').write_text(SWEEP.format(out='sw.h5'))
     assert run([exe, 'sw.nml', '-q'], SCRATCH / 'reference').returncode == 0
     reference = SCRATCH / 'reference' / 'sw.h5'
+    (SCRATCH / 'reference' / 'run.nml').write_text(RUN.format(out='run.h5'))
+    assert run([exe, 'run.nml', '-q'], SCRATCH / 'reference').returncode == 0
+    single = SCRATCH / 'reference' / 'run.h5'
     sweep_keeps_its_cases(exe, limited, reference, lambda whole: {'limit_kb': 256 if whole else 64},
                           lambda: None, 'file too large')
+    figure_commands(limited, reference, single, lambda kb: {'limit_kb': kb}, [0, 4], 'file too large')
 
     # a full tmpfs: filled by a filler file but for `free` KiB
     disk = SCRATCH / 'tmpfs'
@@ -223,6 +257,7 @@ def main():
             # room for the journal (223 KiB) but not the output (320 KiB more), then for part of the journal
             sweep_keeps_its_cases(exe, disk, reference, lambda whole: (lambda: fill(448 if whole else 96)),
                                   lambda: (disk / 'filler').unlink(), 'no space left on device')
+            figure_commands(disk, reference, single, lambda free: (fill(free) or {}), [0, 4], 'no space left on device')
             # with room again, every path writes its file
             for p in disk.iterdir():
                 p.unlink()

@@ -29,7 +29,10 @@ import matplotlib.pyplot as plt  # noqa: E402
 from ..figures import plain_ticks  # noqa: E402
 from ..loader import Sweep, concatenate_sweeps, load_sweep  # noqa: E402
 from ..orders import successive_orders  # noqa: E402
+from ..output_files import replacing, save_figure_file, with_output_errors  # noqa: E402
 from ..tables import markdown_table  # noqa: E402
+
+PROGRAM = 'mpm1d-convergence-figures'
 
 #: The independent reference of issue 26 (sigma = E (J - 1) and Hencky, USL, linear shapes, 2 ppc,
 #: v0 = 0.1 m/s): relative u_cm errors at 800, 1600 and 3200 elements.
@@ -115,7 +118,7 @@ def signed_peak(x: np.ndarray) -> float:
     return float(x[np.argmax(np.abs(x))])
 
 
-def main(argv: Optional[List[str]] = None) -> int:
+def _main(argv: Optional[List[str]] = None) -> int:
     ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     ap.add_argument('sweeps', nargs='+', help='sweep files (the last one is the output folder in the older form)')
     ap.add_argument('--outdir')
@@ -192,7 +195,7 @@ def main(argv: Optional[List[str]] = None) -> int:
         ax.axis('off')
     axes.flat[0].legend(fontsize=6.5, title='solid: hencky, dashed: linear law; grey x: stopped by a guard (its error before the stop, no result)', title_fontsize=6.5)
     fig.tight_layout()
-    fig.savefig(outdir / 'convergence.png', dpi=110)
+    save_figure_file(fig, outdir / 'convergence.png', dpi=110)
     plt.close(fig)
 
     lines += markdown_table(['scheme', 'shape', 'law', 'v0 (m/s)', 'v0/c', 'elements', 'relative error', 'order',
@@ -301,7 +304,7 @@ def main(argv: Optional[List[str]] = None) -> int:
         axes.flat[0].set_ylabel('(u_cm - u_cm,exact) / exact amplitude (-)')
         axes.flat[0].legend(fontsize=7)
         fig.tight_layout()
-        fig.savefig(outdir / 'parts.png', dpi=110)
+        save_figure_file(fig, outdir / 'parts.png', dpi=110)
         plt.close(fig)
         lines += ['', '![parts.png](parts.png)']
     if 'usf' in schemes:
@@ -314,10 +317,15 @@ def main(argv: Optional[List[str]] = None) -> int:
                       f'{np.max(a / b):.3f}; linear law / hencky: {np.max(d / a):.3f}): its own discretisation '
                       'error, far above either floor.']
     lines += ['', '![convergence.png](convergence.png)', '']
-    with open(outdir / 'summary.md', 'w') as f:
+    with replacing(outdir / 'summary.md', 'w') as f:
         f.write('\n'.join(lines))
     print(f'wrote {outdir / "summary.md"}, convergence.png' + (', parts.png' if split else ''))
     return 0
+
+
+def main(argv: Optional[List[str]] = None) -> int:
+    """Command-line entry point; returns the exit status (3: a file could not be written)."""
+    return with_output_errors(PROGRAM, _main, argv)
 
 
 if __name__ == '__main__':

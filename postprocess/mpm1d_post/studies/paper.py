@@ -30,6 +30,7 @@ from .. import figures
 from . import paper_claims as analysis
 from ..figures import FigureSkipped
 from ..loader import Mpm1dFileError, Run, Sweep, load_run, load_sweep, merge_sweeps
+from ..output_files import write_text, with_output_errors
 from ..tables import markdown_table
 
 PROGRAM = 'mpm1d-paper-figures'
@@ -292,8 +293,7 @@ def make_all(args: argparse.Namespace) -> Report:
     return report
 
 
-def main(argv: Optional[Sequence[str]] = None) -> int:
-    """Command-line entry point; returns the exit status."""
+def _main(argv: Optional[Sequence[str]] = None) -> int:
     try:
         args = parse_args(argv)
     except SystemExit as exc:  # --help (0) or a usage error (2): report, do not exit
@@ -305,13 +305,17 @@ def main(argv: Optional[Sequence[str]] = None) -> int:
         return 2
     summary = Path(args.output) / 'summary.md'
     summary.parent.mkdir(parents=True, exist_ok=True)
-    with open(summary, 'w', encoding='utf-8') as handle:
-        handle.write('\n'.join(report.lines).rstrip() + '\n')
+    write_text(summary, '\n'.join(report.lines).rstrip() + '\n')
     for path in report.written + [summary]:
         print(path)
     for reason in report.skipped:
         print(f'{PROGRAM}: skipped {reason}', file=sys.stderr)
     return 0
+
+
+def main(argv: Optional[Sequence[str]] = None) -> int:
+    """Command-line entry point; returns the exit status (3: a file could not be written)."""
+    return with_output_errors(PROGRAM, _main, argv)
 
 
 if __name__ == '__main__':

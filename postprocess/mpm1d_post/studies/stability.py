@@ -35,6 +35,7 @@ from .. import linear_stability as ls  # noqa: E402
 from ..figures import duration_text  # noqa: E402
 from ..loader import Mpm1dFileError, Sweep, concatenate_sweeps, load_run, load_sweep  # noqa: E402
 from ..limits import stability_limit  # noqa: E402
+from ..output_files import OutputError, replacing, save_figure_file, with_output_errors  # noqa: E402
 from ..tables import markdown_table  # noqa: E402
 
 PROGRAM = 'mpm1d-stability-figures'
@@ -120,8 +121,7 @@ class Report:
 
     def save(self, fig, name: str, sources: str) -> None:
         self.footer(fig, sources)
-        path = str(Path(self.out) / name)
-        fig.savefig(path, dpi=130)
+        save_figure_file(fig, Path(self.out) / name, dpi=130)
         plt.close(fig)
         self.figures.append(name)
 
@@ -676,7 +676,7 @@ def parse_args(argv):
     return p.parse_args(argv)
 
 
-def main(argv=None) -> int:
+def _main(argv=None) -> int:
     args = parse_args(argv)
     Path(args.output).mkdir(parents=True, exist_ok=True)
     report = Report(args.output)
@@ -714,6 +714,8 @@ def main(argv=None) -> int:
                                               key=lambda p: int(re.sub(r'\D', '', p.name) or 0))]
         largest = load_run(path('largest.h5')) if Path(path('largest.h5')).exists() else None
         mesh_section(report, coarse, fines, largest)
+    except OutputError:
+        raise
     except (Mpm1dFileError, OSError, KeyError) as exc:
         print(f'{PROGRAM}: {exc}', file=sys.stderr)
         return 2
@@ -751,11 +753,16 @@ def main(argv=None) -> int:
         head += ['## Run time of each step of run.sh (s)', '']
         head += markdown_table(['step', 'wall time (s)'], [r for r in rows if len(r) == 2])
         head.append('')
-    with open(Path(args.output) / 'summary.md', 'w') as fh:
+    with replacing(Path(args.output) / 'summary.md', 'w') as fh:
         fh.write('\n'.join(head + report.lines) + '\n')
     print(f'{PROGRAM}: wrote summary.md and {len(report.figures)} figures ({", ".join(report.figures)}) '
           f'to {args.output}; checks: {len(report.checks) - len(failed)} passed, {len(failed)} failed')
     return 0
+
+
+def main(argv: Optional[Sequence[str]] = None) -> int:
+    """Command-line entry point; returns the exit status (3: a file could not be written)."""
+    return with_output_errors(PROGRAM, _main, argv)
 
 
 if __name__ == '__main__':
