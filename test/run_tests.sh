@@ -2,7 +2,8 @@
 # The tests of mpm1d, in two tiers, after installing what is missing (studies/setup.sh: apt packages
 # and the project's .venv; nothing into the system's Python).
 #   bash test/run_tests.sh         the default tier, minutes: the build, the generated sources' check
-#                                  (test/generate.sh --check), the Fortran tests (every program of
+#                                  (test/generate.sh --check), the source folders' layers
+#                                  (test/unit/check_layers.py), the Fortran tests (every program of
 #                                  fpm.toml's test list, but their long cases), the tester's named
 #                                  cases, the cross-check against an independent NumPy implementation,
 #                                  the post-processing tests, the command line, the hostile-input
@@ -27,7 +28,7 @@ all=0
 for arg in "$@"; do
   case "$arg" in
     --all) all=1 ;;
-    -h|--help) sed -n '2,22p' "$0" | sed 's/^# \{0,1\}//'; exit 0 ;;
+    -h|--help) sed -n '2,23p' "$0" | sed 's/^# \{0,1\}//'; exit 0 ;;
     *) echo "run_tests.sh: unknown argument '$arg' (allowed: --all, --help)" >&2; exit 2 ;;
   esac
 done
@@ -105,6 +106,7 @@ for dir in build/gfortran_*/mpm1d; do
 done
 group "build (library, mpm1d, tests, examples)" fpm build --profile release --tests
 group "generated sources up to date (test/generate.sh --check)" bash test/generate.sh --check
+group "source folders in layers, no import cycle (test/unit/check_layers.py)" "$PYTHON" test/unit/check_layers.py
 group "every test program in fpm.toml's test list" tests_listed
 if [ "$all" = 0 ]; then
   group "Fortran tests (fpm test: every program, but the long cases)" fpm test --profile release

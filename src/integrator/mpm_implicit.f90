@@ -53,7 +53,7 @@ module mpm_implicit
    use mpm_grid, only: grid_t
    use mpm_particles, only: particles_t
    use mpm_shape, only: shape_cache_t
-   use mpm_scene, only: scene_t, drive_t
+   use mpm_loads, only: loads_t, drive_t
    use mpm_diagnostics, only: pass_totals_t
    use mpm_operations, only: locate_particles, p2g_mass_momentum, nodal_velocities, mirror_fold, g2p
    use mpm_material, only: material_t, law_stress, law_stiffness, update_material_finite
@@ -169,7 +169,7 @@ contains
    !> their state and the run stops.
    subroutine implicit_advance(im, scene, cache, particles, grid, dt, material, t, totals)
       type(implicit_t), intent(inout) :: im
-      class(scene_t), intent(in) :: scene
+      class(loads_t), intent(in) :: scene
       type(shape_cache_t), intent(inout) :: cache
       type(particles_t), intent(inout) :: particles
       type(grid_t), intent(inout) :: grid
@@ -189,7 +189,7 @@ contains
    !> quasi-statically).
    subroutine prepare_step(im, scene, cache, particles, grid, dt, material, t, totals)
       type(implicit_t), intent(inout) :: im
-      class(scene_t), intent(in) :: scene
+      class(loads_t), intent(in) :: scene
       type(shape_cache_t), intent(inout) :: cache
       type(particles_t), intent(in) :: particles
       type(grid_t), intent(inout) :: grid
@@ -300,7 +300,7 @@ contains
    !> + the drive's reaction at t_n (grid%force holds f_int(sigma_n) from P2G).
    subroutine start_kinematics(im, scene, cache, particles, grid, t)
       type(implicit_t), intent(inout) :: im
-      class(scene_t), intent(in) :: scene
+      class(loads_t), intent(in) :: scene
       type(shape_cache_t), intent(inout) :: cache
       type(particles_t), intent(in) :: particles
       type(grid_t), intent(inout) :: grid
@@ -372,7 +372,7 @@ contains
    !> unknowns (weights folded, held nodes' share moved to the target).
    subroutine drive_constraint(im, scene, cache, particles, grid)
       type(implicit_t), intent(inout) :: im
-      class(scene_t), intent(in) :: scene
+      class(loads_t), intent(in) :: scene
       type(shape_cache_t), intent(in) :: cache
       type(particles_t), intent(in) :: particles
       type(grid_t), intent(in) :: grid

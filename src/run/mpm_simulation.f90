@@ -184,7 +184,8 @@ contains
          if (allocated(error)) return
          ! the fused kernels, where they take the scene, shape, transfer and what the particles carry;
          ! their stress update is hencky's or the linear law's, and they are explicit
-         run%box = fused_choose(cache%kind, cache%transfer, config%flip_fraction, scene, particles)
+         run%box = fused_choose(cache%kind, cache%transfer, config%flip_fraction, scene%fused_applies(), &
+                                 scene%body_fields, scene, particles)
          run%box%linear = run%material%law == law_linear
          run%fused = trim(config%kernels) == 'auto' .and. run%box%variant >= 0 .and. &
                      (run%material%law == law_hencky .or. run%material%law == law_linear) .and. &

@@ -11,34 +11,18 @@ module mpm_scene
    use mpm_particles, only: particles_t
    use mpm_diagnostics, only: pass_totals_t, exact_name_length
    use mpm_shape, only: shape_cache_t
+   use mpm_loads, only: loads_t
    implicit none
    private
-   public :: scene_t, margin_for, sine_profile, drive_t, exact_name_length
+   public :: scene_t, margin_for, sine_profile, exact_name_length
 
-   !> A scene's drive in the form the implicit integrators take it (mpm_implicit): nodes held at the
-   !> velocity `velocity`, and a point whose interpolated velocity is prescribed,
-   !> sum_k weight(k) v(first + k - 1) = velocity (no point when weight has size 0).
-   type :: drive_t
-      integer, allocatable :: nodes(:)
-      integer :: first = 0
-      real(dp), allocatable :: weight(:)
-      real(dp) :: velocity = 0.0_dp
-   end type drive_t
-
-   type, abstract :: scene_t
-      !> Whether the scene adds external (body or driving) forces to the grid each step.
-      logical :: external_forces = .false.
+   !> A scene is the problem a run solves: its loads (mpm_loads, what the steppers see) and all the rest.
+   type, abstract, extends(loads_t) :: scene_t
       !> Whether each body has its own velocity field on the grid (frictionless contact, mpm_contact):
       !> the scene places each body's particles as one contiguous range and sets particles%body.
       logical :: body_fields = .false.
       !> Whether the scene watches every step (watch_step) and reports what it saw (watch_report).
       logical :: watches = .false.
-      !> Whether its external forces differ between particles and are given per particle by
-      !> particle_forces (the fused kernels map them; the generic path's add_forces uses the same values).
-      logical :: has_particle_forces = .false.
-      !> Whether the scene drives its body at a prescribed velocity: its add_forces is then the explicit
-      !> schemes' drive, and the implicit integrators take `drive` instead.
-      logical :: drives = .false.
    contains
       !> Particles of the bodies, in their initial state (shared mass and volume; see per_particle_data).
       procedure(place_i), deferred :: place_particles
@@ -53,14 +37,6 @@ module mpm_scene
       !> manufactured solution and impact say yes: mpm_fused's fused_choose then decides by the shape,
       !> the transfer and what the particles carry).
       procedure :: fused_applies
-      !> The scene's external forces that are grid operations (a uniform body acceleration, a driven
-      !> node: mpm_grid's grid_loads_t), for the fused kernels' path (default: none).
-      procedure :: grid_loads
-      !> External forces per particle at time t (N per unit area; called only when has_particle_forces).
-      procedure :: particle_forces
-      !> External nodal forces at time t, added to grid%force (called only when external_forces), from the
-      !> nodal masses or, for forces that differ between particles, through the step's shape functions.
-      procedure :: add_forces
       !> The scene's error measure at time t from the particles (default: |u_cm - u_cm,exact(t)|);
       !> the run's max_error is its largest value over the steps, relative_error that / ucm_amplitude.
       procedure :: error_at
@@ -78,8 +54,6 @@ module mpm_scene
       !> value; a scene may take both from one pass over its particles, or from the step's `totals`);
       !> watch_report turns `watch` into /summary quantities at the end.
       procedure :: watch_step, watch_report
-      !> The drive as the implicit integrators take it (when `drives`), at the start of a step.
-      procedure :: drive
       !> The exact fields at reference positions x0 and time t, those the scene has (default: none):
       !> written beside each snapshot's particle fields.
       procedure :: exact_fields
@@ -134,42 +108,6 @@ contains
          v(p) = amplitude*sin(wave_number*x(p))
       end do
    end subroutine sine_profile
-
-   !> No external force (scenes that have some override this and set external_forces).
-   subroutine add_forces(self, grid, t, cache, particles)
-      class(scene_t), intent(in) :: self
-      type(grid_t), intent(inout) :: grid
-      real(dp), intent(in) :: t
-      type(shape_cache_t), intent(in) :: cache
-      type(particles_t), intent(in) :: particles
-   end subroutine add_forces
-
-   !> No grid loads. Every field is set here (and in the scenes' versions): the default initialisation
-   !> of a function result was not applied in a -march=native build of gfortran 12 (the benchmark's
-   !> bar read driven_node = 0 and drive_dt = 0, dividing by zero).
-   pure function grid_loads(self) result(loads)
-      class(scene_t), intent(in) :: self
-      type(grid_loads_t) :: loads
-      loads = grid_loads_t(acceleration=0.0_dp, driven_node=-1, drive_velocity=0.0_dp, drive_dt=1.0_dp)
-   end function grid_loads
-
-   !> No per-particle force (scenes that have some override this and set has_particle_forces).
-   subroutine particle_forces(self, t, particles, forces)
-      class(scene_t), intent(in) :: self
-      real(dp), intent(in) :: t
-      type(particles_t), intent(in) :: particles
-      real(dp), intent(out), contiguous :: forces(:)
-      forces = 0.0_dp
-   end subroutine particle_forces
-   !> No drive (scenes that drive their body override this and set `drives`).
-   subroutine drive(self, grid, cache, particles, driven)
-      class(scene_t), intent(in) :: self
-      type(grid_t), intent(in) :: grid
-      type(shape_cache_t), intent(in) :: cache
-      type(particles_t), intent(in) :: particles
-      type(drive_t), intent(out) :: driven
-      allocate (driven%nodes(0), driven%weight(0))
-   end subroutine drive
 
    pure integer function left_margin_cells(self, dx, requested) result(cells)
       class(scene_t), intent(in) :: self

@@ -20,7 +20,8 @@ module mpm_scene_composite
    use mpm_grid, only: grid_t, grid_loads_t
    use mpm_particles, only: particles_t, particles_init
    use mpm_shape, only: shape_cache_t
-   use mpm_scene, only: scene_t, margin_for, drive_t, exact_name_length
+   use mpm_scene, only: scene_t, margin_for, exact_name_length
+   use mpm_loads, only: drive_t
    implicit none
    private
    public :: composite_t, composite_init

@@ -33,7 +33,8 @@ module mpm_scene_plastic_wave
    use mpm_shape, only: shape_cache_t
    use mpm_material, only: material_t, law_elastoplastic, stored_energy, plastic_work
    use mpm_material_plastic, only: hardening_tangent
-   use mpm_scene, only: scene_t, margin_for, drive_t, exact_name_length
+   use mpm_scene, only: scene_t, margin_for, exact_name_length
+   use mpm_loads, only: drive_t
    implicit none
    private
    public :: plastic_wave_t, plastic_wave_init

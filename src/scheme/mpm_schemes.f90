@@ -13,7 +13,7 @@ module mpm_schemes
    use mpm_grid, only: grid_t
    use mpm_particles, only: particles_t
    use mpm_shape, only: shape_cache_t
-   use mpm_scene, only: scene_t
+   use mpm_loads, only: loads_t
    use mpm_diagnostics, only: pass_totals_t
    use mpm_operations, only: locate_particles, p2g_mass_momentum, p2g_internal_force, nodal_velocities, &
                              solve_grid, g2p, update_stress, mirror_fold
@@ -36,7 +36,7 @@ contains
    !> scheme_step of a body of the hencky law with Young's modulus `youngs_modulus`.
    subroutine scheme_step_hencky(scheme, scene, cache, particles, grid, dt, youngs_modulus, t, totals)
       integer, intent(in) :: scheme
-      class(scene_t), intent(in) :: scene
+      class(loads_t), intent(in) :: scene
       type(shape_cache_t), intent(inout) :: cache
       type(particles_t), intent(inout) :: particles
       type(grid_t), intent(inout) :: grid
@@ -49,7 +49,7 @@ contains
    !> One step of `scheme` from time t to t + dt; shape functions at the start-of-step positions.
    subroutine scheme_step_material(scheme, scene, cache, particles, grid, dt, material, t, totals)
       integer, intent(in) :: scheme
-      class(scene_t), intent(in) :: scene
+      class(loads_t), intent(in) :: scene
       type(shape_cache_t), intent(inout) :: cache
       type(particles_t), intent(inout) :: particles
       type(grid_t), intent(inout) :: grid
@@ -101,7 +101,7 @@ contains
    !> (USF, MUSL's remap) and after the momentum update; the run's grid then holds the bodies' sum.
    subroutine scheme_step_bodies(scheme, scene, cache, particles, grid, bodies, dt, material, t, totals)
       integer, intent(in) :: scheme
-      class(scene_t), intent(in) :: scene
+      class(loads_t), intent(in) :: scene
       type(shape_cache_t), intent(inout) :: cache
       type(particles_t), intent(inout) :: particles
       type(grid_t), intent(inout) :: grid

@@ -481,7 +481,8 @@ contains
       if (allocated(error)) error stop 'particles failed'
       kind = shape_id(config%shape)
       transfer = transfer_id(config%transfer)
-      box = fused_choose(kind, transfer, config%flip_fraction, scene, particles)
+      box = fused_choose(kind, transfer, config%flip_fraction, scene%fused_applies(), scene%body_fields, &
+                         scene, particles)
       fused = trim(config%kernels) == 'auto' .and. box%variant >= 0
       if (.not. fused) call per_particle_data(particles, error)
       bytes = 0

@@ -16,7 +16,7 @@ module mpm_fused
    use mpm_shape, only: shape_linear, shape_cpgimp, shape_bspline2, shape_bspline3, shape_cpdi, transfer_flip, &
                         transfer_pic, transfer_blend, transfer_apic
    use mpm_schemes, only: scheme_usf, scheme_usl, scheme_musl
-   use mpm_scene, only: scene_t
+   use mpm_loads, only: loads_t
    use mpm_contact, only: bodies_t, touch_test, contact_correct, combine_bodies
    use mpm_transfer, only: pass_totals_t, p2g, fused_pass, pass_usf_stress, pass_usf_move, pass_usl, pass_musl_remap, &
                            pass_musl_stress, pass_map, pass_map_stress, merge_totals, fused_box_t, box_cells, &
@@ -30,7 +30,9 @@ module mpm_fused
 contains
 
    !> Whether the fused kernels take a run of shape `kind` (mpm_shape's ids), transfer `transfer` (its
-   !> FLIP fraction for the blend) of `scene` with its placed `particles`, and if so `box`, the kernels'
+   !> FLIP fraction for the blend) of a problem with loads `loads` and its placed `particles`, where the
+   !> problem allows them (`applies`: the scene's fused_applies) and with a velocity field per body when
+   !> `body_fields`, and if so `box`, the kernels'
    !> description of it (fused_box_t: the shape, and the variant of the hat's kernels). They take:
    !> - the bar and a scene whose forces are grid loads (the column), every shape with FLIP, the hat with
    !>   PIC, the blend and APIC: particles of one mass and volume (no per-particle arrays);
@@ -38,24 +40,25 @@ contains
    !>   particle forces (the manufactured solution), bodies each of one mass, volume and modulus, on
    !>   stacked fields or in one field (the impact).
    !> Anything else runs on the generic path.
-   function fused_choose(kind, transfer, flip_fraction, scene, particles) result(box)
+   function fused_choose(kind, transfer, flip_fraction, applies, body_fields, loads, particles) result(box)
       integer, intent(in) :: kind, transfer
       real(dp), intent(in) :: flip_fraction
-      class(scene_t), intent(in) :: scene
+      logical, intent(in) :: applies, body_fields
+      class(loads_t), intent(in) :: loads
       type(particles_t), intent(in) :: particles
       type(fused_box_t) :: box
       logical :: hat_flip, per_particle
       box = fused_shape(kind)
       box%variant = -1  ! (none: the generic path)
       box%flip_fraction = flip_fraction
-      if (.not. scene%fused_applies() .or. kind == shape_cpdi) return ! (CPDI's weights follow moving corners)
+      if (.not. applies .or. kind == shape_cpdi) return ! (CPDI's weights follow moving corners)
       hat_flip = kind == shape_linear .and. transfer == transfer_flip
       per_particle = allocated(particles%mass_of) .or. allocated(particles%volume0_of) .or. &
                      allocated(particles%youngs_modulus_of)
       if (allocated(particles%body)) then ! bodies, each of one mass, volume and modulus
          ! (on stacked fields each its own; in one field, as one body: the same for all)
-         if (hat_flip .and. bodies_uniform(particles, .not. scene%body_fields)) box%variant = variant_bodies
-      else if (scene%has_particle_forces) then
+         if (hat_flip .and. bodies_uniform(particles, .not. body_fields)) box%variant = variant_bodies
+      else if (loads%has_particle_forces) then
          if (hat_flip .and. .not. per_particle) box%variant = variant_forced
       else if (per_particle) then ! several materials of one particle volume
          if (hat_flip .and. allocated(particles%mass_of) .and. allocated(particles%youngs_modulus_of)) then
@@ -125,7 +128,7 @@ contains
       type(pass_totals_t), intent(out) :: totals
       type(fused_box_t), intent(inout), optional :: box
       real(dp), intent(in), optional :: youngs_modulus
-      class(scene_t), intent(in), optional :: scene
+      class(loads_t), intent(in), optional :: scene
       type(bodies_t), intent(inout), optional :: bodies
       if (present(scene)) grid%loads = scene%grid_loads()
       if (present(box)) then
@@ -242,7 +245,7 @@ contains
       real(dp), intent(in) :: dt, youngs_modulus
       type(pass_totals_t), intent(out) :: totals
       type(fused_box_t), intent(inout), optional :: box
-      class(scene_t), intent(in), optional :: scene
+      class(loads_t), intent(in), optional :: scene
       real(dp), intent(in), optional :: t
       type(bodies_t), intent(inout), optional :: bodies
       type(pass_totals_t) :: stress_totals
