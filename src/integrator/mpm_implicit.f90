@@ -54,6 +54,8 @@ module mpm_implicit
    use mpm_particles, only: particles_t
    use mpm_shape, only: shape_cache_t
    use mpm_loads, only: loads_t, drive_t
+   use mpm_stepper, only: stepper_stop_t
+   use mpm_schemes, only: generic_stepper_t
    use mpm_diagnostics, only: pass_totals_t
    use mpm_operations, only: locate_particles, p2g_mass_momentum, nodal_velocities, mirror_fold, g2p
    use mpm_material, only: material_t, law_stress, law_stiffness, update_material_finite
@@ -64,6 +66,7 @@ module mpm_implicit
    private
    public :: implicit_t, integrator_explicit, integrator_implicit, integrator_quasi_static, integrator_id
    public :: implicit_init, implicit_advance, implicit_report, prepare_step, assemble_system, newton_solve
+   public :: implicit_stepper_t
 
    !> Integrator ids.
    integer, parameter :: integrator_explicit = 0, integrator_implicit = 1, integrator_quasi_static = 2
@@ -135,6 +138,16 @@ module mpm_implicit
       type(banded_t) :: tangent, mass_matrix, mass_factors, mass_magnitude
       type(ghost_knots_t) :: knots
    end type implicit_t
+
+   !> The run's stepper of the implicit integrators: the generic path's shape cache and material (its
+   !> start, u_cm and snapshots are the generic path's) and the integrator's state `im`.
+   type, extends(generic_stepper_t) :: implicit_stepper_t
+      type(implicit_t) :: im
+   contains
+      procedure :: step => implicit_stepper_step
+      procedure :: stop_reason => implicit_stop_reason
+      procedure :: report => implicit_stepper_report
+   end type implicit_stepper_t
 
 contains
 
@@ -833,4 +846,30 @@ contains
                 merge(im%min_pivot_ratio, 1.0_dp, im%min_pivot_ratio < huge(1.0_dp)), real(im%floor_steps, dp), &
                 im%floor_residual, real(im%halvings, dp)]
    end subroutine implicit_report
+
+   subroutine implicit_stepper_step(self, loads, particles, grid, dt, t, totals)
+      class(implicit_stepper_t), intent(inout) :: self
+      class(loads_t), intent(in) :: loads
+      type(particles_t), intent(inout) :: particles
+      type(grid_t), intent(inout) :: grid
+      real(dp), intent(in) :: dt, t
+      type(pass_totals_t), intent(out) :: totals
+      call implicit_advance(self%im, loads, self%cache, particles, grid, dt, self%material, t, totals)
+   end subroutine implicit_stepper_step
+
+   !> A step whose Newton iteration failed: its residual, its solves, and the node of a singular matrix's
+   !> zero pivot (the tangent's, or the consistent mass matrix's).
+   pure function implicit_stop_reason(self) result(reason)
+      class(implicit_stepper_t), intent(in) :: self
+      type(stepper_stop_t) :: reason
+      reason = stepper_stop_t(stopped=self%im%failed, residual=self%im%failed_residual, iteration=self%im%iterations, &
+                              node=self%im%singular_node, mass_matrix=self%im%singular_mass)
+   end function implicit_stop_reason
+
+   subroutine implicit_stepper_report(self, names, values)
+      class(implicit_stepper_t), intent(in) :: self
+      character(len=32), allocatable, intent(out) :: names(:)
+      real(dp), allocatable, intent(out) :: values(:)
+      call implicit_report(self%im, names, values)
+   end subroutine implicit_stepper_report
 end module mpm_implicit

@@ -13,21 +13,19 @@ module mpm_simulation
    use mpm_shape, only: shape_cache_t, shape_id, shape_extra_cells, transfer_id, transfer_apic, transfer_xpic, &
                         transfer_fmpm, transfer_asflip, shape_cpdi, formulation_id, formulation_total
    use mpm_shape_cpdi, only: cpdi_corners
-   use mpm_fused, only: fused_start, fused_step, fused_box_t, fused_choose, fused_mass, fused_grid_velocity, fused_grid_sum
-   use mpm_operations, only: particle_energies, locate_particles, p2g_mass_momentum, nodal_velocities
-   use mpm_schemes, only: scheme_usf, scheme_usl, scheme_musl, scheme_step, scheme_step_bodies
-   use mpm_contact, only: bodies_t, bodies_init
+   use mpm_stepper, only: stepper_t, stepper_stop_t, scheme_id
+   use mpm_fused, only: fused_box_t, fused_choose, fused_stepper_t
+   use mpm_schemes, only: generic_stepper_t
    use mpm_scene, only: scene_t
    use mpm_scenes, only: make_scene
    use mpm_diagnostics, only: history_t, snapshot_t, pass_totals_t, status_ok, status_non_finite, &
                               status_volume_ratio, status_left_grid, status_energy_growth, status_cell_crossing, &
                               status_name, status_not_run, status_newton, status_domain_stretched
    use mpm_files, only: interrupt_signal
-   use mpm_implicit, only: implicit_t, implicit_init, implicit_advance, implicit_report, integrator_id, &
-                           integrator_explicit
+   use mpm_implicit, only: implicit_stepper_t, implicit_init, integrator_id, integrator_explicit
    implicit none
    private
-   public :: run_result_t, run_simulation, scheme_id, guard_trip_t, guard_message
+   public :: run_result_t, run_simulation, guard_trip_t, guard_message
 
    !> A node lighter than this fraction of a particle's mass is "nearly empty" in guard messages.
    real(dp), parameter :: nearly_empty = 0.01_dp
@@ -78,44 +76,25 @@ module mpm_simulation
       type(snapshot_t), allocatable :: snapshots(:)
    end type run_result_t
 
-   !> Everything one run steps: the scene, its particles and grid, the path taken, and the running
-   !> quantities the guards and the result read.
+   !> Everything one run steps: the scene, its particles and grid, the stepper chosen for it, and the
+   !> running quantities the guards and the result read.
    type :: run_state_t
       class(scene_t), allocatable :: scene
       type(grid_t) :: grid
       type(particles_t) :: particles
-      type(shape_cache_t) :: cache
       type(pass_totals_t) :: totals
-      type(bodies_t) :: bodies
-      type(fused_box_t) :: box
+      !> how the run steps (mpm_stepper: the generic path, the fused kernels, an implicit integrator)
+      class(stepper_t), allocatable :: stepper
       type(material_t) :: material        !< the law and its parameters (mpm_material)
-      type(implicit_t) :: implicit        !< the implicit integrators' state (allocated only in their runs)
       real(dp), allocatable :: watch(:)   !< what a watching scene keeps between steps
-      integer :: scheme = 0
       !> the next of the configuration's snapshot times, and the snapshots taken so far
       integer :: next_snapshot = 1, snapshots_taken = 0
-      integer :: integrator = 0           !< integrator_explicit, or mpm_implicit's ids
       logical :: fused = .false.          !< the fused kernels run (else the generic path)
       real(dp) :: total_mass = 0.0_dp, energy_reference = 0.0_dp
       real(dp) :: ucm = 0.0_dp, energy = 0.0_dp  !< u_cm and the total energy after the last step
    end type run_state_t
 
 contains
-
-   !> Integer id of a scheme name (0 if unknown; the configuration is validated before).
-   pure integer function scheme_id(scheme)
-      character(len=*), intent(in) :: scheme
-      select case (trim(scheme))
-      case ('usf')
-         scheme_id = scheme_usf
-      case ('usl')
-         scheme_id = scheme_usl
-      case ('musl')
-         scheme_id = scheme_musl
-      case default
-         scheme_id = 0
-      end select
-   end function scheme_id
 
    !> Run the validated and resolved `config`. Guard trips end the run with result%status /= 0 and
    !> the state reached so far; `error` is set only when the run cannot be set up (memory).
@@ -150,32 +129,26 @@ contains
       result%run_time = omp_get_wtime() - start
    end subroutine run_simulation
 
-   !> The scene, its particles and grid, the path (fused kernels or generic) and what the result
-   !> reports before the first step.
+   !> The scene, its particles and grid, the stepper (fused kernels, generic path or implicit) and what
+   !> the result reports before the first step.
    subroutine set_up(config, run, result, error)
       type(config_t), intent(in) :: config
       type(run_state_t), intent(inout) :: run
       type(run_result_t), intent(inout) :: result
       type(error_t), allocatable, intent(out) :: error
-      integer :: extra, stat
+      type(fused_box_t) :: box
+      integer :: extra, stat, kind, transfer, integrator
       result%steps = config%steps
       result%dt = config%dt
-      run%scheme = scheme_id(config%scheme)
-      run%integrator = integrator_id(config%integrator)
-      if (run%integrator /= integrator_explicit) call implicit_init(run%implicit, config)
+      integrator = integrator_id(config%integrator)
       run%material = material_of(config)
       call make_scene(config, run%scene, error)
       if (allocated(error)) return
-      associate (scene => run%scene, cache => run%cache, particles => run%particles)
-         cache%kind = shape_id(config%shape)
-         cache%transfer = transfer_id(config%transfer)
-         cache%flip_fraction = config%flip_fraction
-         if (cache%transfer == transfer_xpic) cache%order = config%xpic_order
-         if (cache%transfer == transfer_fmpm) cache%order = config%fmpm_order
-         if (cache%transfer == transfer_asflip) cache%alpha = config%asflip_alpha
-         cache%total = formulation_id(config%formulation) == formulation_total
+      associate (scene => run%scene, particles => run%particles)
+         kind = shape_id(config%shape)
+         transfer = transfer_id(config%transfer)
          ! shapes wider than the hat: one more cell beyond the free end, one ghost cell left of x = 0
-         extra = shape_extra_cells(cache%kind)
+         extra = shape_extra_cells(kind)
          result%ucm_amplitude = scene%ucm_amplitude()
          result%error_name = scene%error_name()
          result%error_unit = scene%error_unit()
@@ -184,18 +157,18 @@ contains
          if (allocated(error)) return
          ! the fused kernels, where they take the scene, shape, transfer and what the particles carry;
          ! their stress update is hencky's or the linear law's, and they are explicit
-         run%box = fused_choose(cache%kind, cache%transfer, config%flip_fraction, scene%fused_applies(), &
-                                 scene%body_fields, scene, particles)
-         run%box%linear = run%material%law == law_linear
-         run%fused = trim(config%kernels) == 'auto' .and. run%box%variant >= 0 .and. &
+         box = fused_choose(kind, transfer, config%flip_fraction, scene%fused_applies(), scene%body_fields, scene, &
+                            particles)
+         box%linear = run%material%law == law_linear
+         run%fused = trim(config%kernels) == 'auto' .and. box%variant >= 0 .and. &
                      (run%material%law == law_hencky .or. run%material%law == law_linear) .and. &
-                     run%integrator == integrator_explicit .and. .not. cache%total
+                     integrator == integrator_explicit .and. formulation_id(config%formulation) /= formulation_total
          result%fused = run%fused
          if (.not. run%fused) call per_particle_data(particles, error)
          if (allocated(error)) return
          call material_state(run%material, particles, error)
          if (allocated(error)) return
-         if (cache%transfer == transfer_apic) then
+         if (transfer == transfer_apic) then
             ! APIC starts from C_p = 0 (the first P2G is PIC's)
             allocate (particles%velocity_gradient(particles%count), stat=stat)
             if (stat /= 0) then
@@ -208,21 +181,69 @@ contains
                         margin=scene%margin_cells(config%dx, config%margin_cells) + extra, fixed=scene%fixed_nodes(), &
                         element_shares=run%fused, ghost=extra + scene%left_margin_cells(config%dx, config%margin_cells))
          if (allocated(error)) return
-         if (scene%body_fields) call bodies_init(run%bodies, run%grid, particles, error, element_shares=run%fused)
+         call choose_stepper(config, run, box, integrator, kind, transfer, error)
          if (allocated(error)) return
-         if (cache%kind == shape_cpdi) then ! the domains' corners: each particle's sub-cell, tiling each body
-            if (allocated(particles%body)) then
-               call cpdi_corners(particles%x0, particles%volume0_of, run%grid%origin, run%grid%origin + &
-                                 run%grid%length, cache%corners, cache%corner_of, particles%body)
-            else
-               call cpdi_corners(particles%x0, particles%volume0_of, run%grid%origin, run%grid%origin + &
-                                 run%grid%length, cache%corners, cache%corner_of)
-            end if
-         end if
          result%domain = [run%grid%origin, run%grid%origin + run%grid%length]
          result%particles = particles%count
       end associate
    end subroutine set_up
+
+   !> The run's stepper, chosen once: the fused kernels (run%fused, described by `box`), an implicit
+   !> integrator, or the explicit schemes on the generic operations; with the scene's velocity field per
+   !> body where it has one.
+   subroutine choose_stepper(config, run, box, integrator, kind, transfer, error)
+      type(config_t), intent(in) :: config
+      type(run_state_t), intent(inout) :: run
+      type(fused_box_t), intent(in) :: box
+      integer, intent(in) :: integrator, kind, transfer
+      type(error_t), allocatable, intent(out) :: error
+      ! (made in place: a copy would hold a large run's contact fields twice)
+      if (run%fused) then
+         allocate (fused_stepper_t :: run%stepper)
+      else if (integrator /= integrator_explicit) then ! Newton on the grid (mpm_implicit)
+         allocate (implicit_stepper_t :: run%stepper)
+      else
+         allocate (generic_stepper_t :: run%stepper)
+      end if
+      run%stepper%scheme = scheme_id(config%scheme)
+      select type (stepper => run%stepper)
+      type is (fused_stepper_t)
+         stepper%box = box
+         stepper%youngs_modulus = config%youngs_modulus
+         stepper%contact = run%scene%body_fields
+         call stepper%attach(run%grid, run%particles, error)
+      class is (generic_stepper_t) ! (and its extension, the implicit integrators')
+         stepper%cache%kind = kind
+         stepper%cache%transfer = transfer
+         stepper%cache%flip_fraction = config%flip_fraction
+         if (transfer == transfer_xpic) stepper%cache%order = config%xpic_order
+         if (transfer == transfer_fmpm) stepper%cache%order = config%fmpm_order
+         if (transfer == transfer_asflip) stepper%cache%alpha = config%asflip_alpha
+         stepper%cache%total = formulation_id(config%formulation) == formulation_total
+         if (kind == shape_cpdi) call corners(stepper%cache) ! each particle's sub-cell, tiling each body
+         stepper%material = run%material
+         stepper%contact = run%scene%body_fields
+         select type (stepper)
+         type is (implicit_stepper_t)
+            call implicit_init(stepper%im, config)
+         end select
+         call stepper%attach(run%grid, run%particles, error)
+      end select
+   contains
+      !> CPDI's domains: their corners at the particles' reference positions, one chain per body.
+      subroutine corners(cache)
+         type(shape_cache_t), intent(inout) :: cache
+         associate (particles => run%particles, grid => run%grid)
+            if (allocated(particles%body)) then
+               call cpdi_corners(particles%x0, particles%volume0_of, grid%origin, grid%origin + grid%length, &
+                                 cache%corners, cache%corner_of, particles%body)
+            else
+               call cpdi_corners(particles%x0, particles%volume0_of, grid%origin, grid%origin + grid%length, &
+                                 cache%corners, cache%corner_of)
+            end if
+         end associate
+      end subroutine corners
+   end subroutine choose_stepper
 
    !> The state at t = 0: the first mapping, the energies the guards compare with, the first history
    !> entry and the snapshots at t = 0.
@@ -231,14 +252,8 @@ contains
       type(run_state_t), intent(inout) :: run
       type(run_result_t), intent(inout) :: result
       logical, intent(in) :: record_history
-      if (run%fused) then
-         call fused_start(run%scheme, run%particles, run%grid, run%totals, run%box, config%youngs_modulus, run%scene, &
-                          run%bodies)
-         run%total_mass = fused_mass(run%particles, run%box) ! (the particle count where all have the one mass)
-      else
-         call particle_energies(run%particles, run%material, run%totals)
-         run%total_mass = sum(run%particles%mass_of)
-      end if
+      call run%stepper%start(run%scene, run%particles, run%grid, run%totals)
+      run%total_mass = run%stepper%displacement_mass(run%particles)
       call finite_energies(run%particles, config%youngs_modulus, run%totals)
       result%initial_energy = run%totals%kinetic_energy + run%totals%strain_energy + run%totals%plastic_work
       ! Zero initial energy (v0 = 0) stays exactly zero in a sound run: any growth trips the guard.
@@ -266,22 +281,9 @@ contains
       real(dp) :: t, exact, error
       associate (particles => run%particles, grid => run%grid, totals => run%totals)
          t = (n - 1)*config%dt
-         if (run%fused) then
-            call fused_step(run%scheme, particles, grid, config%dt, config%youngs_modulus, totals, run%box, run%scene, t, &
-                            run%bodies)
-            run%ucm = totals%displacement/run%total_mass ! u_cm = sum m (x - X) / sum m (equal masses: sum (x - X) / N)
-         else if (run%integrator /= integrator_explicit) then ! Newton on the grid (mpm_implicit)
-            call implicit_advance(run%implicit, run%scene, run%cache, particles, grid, config%dt, run%material, t, &
-                                  totals)
-            run%ucm = totals%displacement/run%total_mass
-         else if (run%scene%body_fields) then
-            call scheme_step_bodies(run%scheme, run%scene, run%cache, particles, grid, run%bodies, config%dt, &
-                                    run%material, t, totals)
-            run%ucm = totals%displacement/run%total_mass
-         else
-            call scheme_step(run%scheme, run%scene, run%cache, particles, grid, config%dt, run%material, t, totals)
-            run%ucm = totals%displacement/run%total_mass
-         end if
+         call run%stepper%step(run%scene, particles, grid, config%dt, t, totals)
+         ! u_cm = sum m (x - X) / sum m (equal masses on the fused kernels: sum (x - X) / N)
+         run%ucm = totals%displacement/run%total_mass
          t = n*config%dt
          if (record_history) exact = run%scene%ucm_exact(t)  ! (error_at evaluates it too: once a step without history)
          call finite_energies(particles, config%youngs_modulus, totals)
@@ -315,10 +317,8 @@ contains
       end if
       call material_report(run%material, run%particles, names, values) ! (none for elastic laws)
       call add_report(result, names, values)
-      if (run%integrator /= integrator_explicit) then
-         call implicit_report(run%implicit, names, values)
-         call add_report(result, names, values)
-      end if
+      call run%stepper%report(names, values) ! (the implicit integrators' Newton statistics)
+      call add_report(result, names, values)
       if (result%ucm_amplitude /= 0.0_dp) then
          result%relative_error = result%max_error/abs(result%ucm_amplitude)
       else
@@ -339,19 +339,21 @@ contains
       type(run_result_t), intent(inout) :: result
       integer, intent(in) :: step
       real(dp), intent(in) :: time
+      type(stepper_stop_t) :: stop
+      stop = run%stepper%stop_reason()
       associate (energy => run%energy, totals => run%totals, particles => run%particles, &
                  reference => run%energy_reference)
-         if (run%implicit%failed) then
-            call trip(run, result, step, time, status_newton, run%implicit%failed_residual, 0)
-            result%trip%iteration = run%implicit%iterations
-            result%trip%node = run%implicit%singular_node
-            result%trip%mass_matrix = run%implicit%singular_mass
+         if (stop%stopped) then
+            call trip(run, result, step, time, status_newton, stop%residual, 0)
+            result%trip%iteration = stop%iteration
+            result%trip%node = stop%node
+            result%trip%mass_matrix = stop%mass_matrix
          else if (.not. ieee_is_finite(energy) .or. .not. ieee_is_finite(run%ucm)) then
             call trip(run, result, step, time, status_non_finite, energy/reference, first_non_finite(particles))
          else if (totals%outside /= 0) then
             call trip(run, result, step, time, status_left_grid, 0.0_dp, totals%outside)
-         else if (run%cache%stretched /= 0) then
-            call trip(run, result, step, time, status_domain_stretched, 0.0_dp, run%cache%stretched)
+         else if (stop%stretched /= 0) then
+            call trip(run, result, step, time, status_domain_stretched, 0.0_dp, stop%stretched)
          else if (totals%min_volume_ratio <= 0.0_dp) then
             call trip(run, result, step, time, status_volume_ratio, totals%min_volume_ratio, &
                       minloc(particles%volume_ratio, 1))
@@ -410,11 +412,7 @@ contains
       integer, intent(in) :: step
       real(dp), intent(in) :: time
       integer :: i
-      if (step == 0) then
-         call initial_grid_velocity(run)
-      else if (run%fused) then
-         call fused_grid_sum(run%grid, run%box, run%bodies) ! (bodies on stacked fields: summed when read)
-      end if
+      call run%stepper%snapshot_grid(run%particles, run%grid, step)
       run%snapshots_taken = run%snapshots_taken + 1
       associate (s => result%snapshots(run%snapshots_taken), particles => run%particles, grid => run%grid)
          s%time = time
@@ -432,19 +430,6 @@ contains
          call run%scene%exact_fields(particles%x0, time, s%exact_names, s%exact)
       end associate
    end subroutine take_snapshot
-
-   !> The nodal velocity of the initial mapping, p_I / m_I (for the snapshot at t = 0).
-   subroutine initial_grid_velocity(run)
-      type(run_state_t), intent(inout) :: run
-      type(pass_totals_t) :: unused
-      if (run%fused) then
-         call fused_grid_velocity(run%grid, run%box, run%bodies)
-      else
-         call locate_particles(run%cache, run%grid, run%particles, unused)
-         call p2g_mass_momentum(run%cache, run%particles, run%grid, with_force=.false.)
-         call nodal_velocities(run%grid)
-      end if
-   end subroutine initial_grid_velocity
 
    !> The message of a run stopped by a guard: what tripped, when, and the particle at fault.
    !> Call it outside parallel regions (it uses formatted internal writes).

@@ -15,19 +15,86 @@ module mpm_fused
    use mpm_particles, only: particles_t
    use mpm_shape, only: shape_linear, shape_cpgimp, shape_bspline2, shape_bspline3, shape_cpdi, transfer_flip, &
                         transfer_pic, transfer_blend, transfer_apic
-   use mpm_schemes, only: scheme_usf, scheme_usl, scheme_musl
+   use mpm_errors, only: error_t
+   use mpm_diagnostics, only: pass_totals_t
+   use mpm_stepper, only: stepper_t, scheme_usf, scheme_usl, scheme_musl
    use mpm_loads, only: loads_t
-   use mpm_contact, only: bodies_t, touch_test, contact_correct, combine_bodies
-   use mpm_transfer, only: pass_totals_t, p2g, fused_pass, pass_usf_stress, pass_usf_move, pass_usl, pass_musl_remap, &
+   use mpm_contact, only: bodies_t, bodies_init, touch_test, contact_correct, combine_bodies
+   use mpm_transfer, only: p2g, fused_pass, pass_usf_stress, pass_usf_move, pass_usl, pass_musl_remap, &
                            pass_musl_stress, pass_map, pass_map_stress, merge_totals, fused_box_t, box_cells, &
                            locate_all, variant_bar, variant_pic, variant_blend, variant_apic, variant_material, &
                            variant_forced, variant_bodies, body_of_element
    implicit none
    private
    public :: fused_start, fused_step, fused_box_t, fused_shape, fused_choose, fused_mass, fused_grid_velocity, &
-             fused_grid_sum
+             fused_grid_sum, fused_stepper_t
+
+   !> The run's stepper on the fused kernels: the kernels' description of the run (`box`, from
+   !> fused_choose), the one Young's modulus of the bar's kernels, and the bodies' stacked fields where
+   !> each body has its own (`contact`, made by `attach`).
+   type, extends(stepper_t) :: fused_stepper_t
+      type(fused_box_t) :: box
+      real(dp) :: youngs_modulus = 0.0_dp
+      logical :: contact = .false.
+      type(bodies_t) :: bodies
+   contains
+      procedure :: attach => fused_attach
+      procedure :: start => fused_stepper_start
+      procedure :: step => fused_stepper_step
+      procedure :: displacement_mass => fused_stepper_mass
+      procedure :: snapshot_grid => fused_snapshot_grid
+   end type fused_stepper_t
 
 contains
+
+   !> The bodies' stacked fields, with the kernels' element shares, when the stepper has `contact`
+   !> (after the run's grid is made).
+   subroutine fused_attach(self, grid, particles, error)
+      class(fused_stepper_t), intent(inout) :: self
+      type(grid_t), intent(in) :: grid
+      type(particles_t), intent(in) :: particles
+      type(error_t), allocatable, intent(out) :: error
+      if (self%contact) call bodies_init(self%bodies, grid, particles, error, element_shares=.true.)
+   end subroutine fused_attach
+
+   subroutine fused_stepper_start(self, loads, particles, grid, totals)
+      class(fused_stepper_t), intent(inout) :: self
+      class(loads_t), intent(in) :: loads
+      type(particles_t), intent(inout) :: particles
+      type(grid_t), intent(inout) :: grid
+      type(pass_totals_t), intent(out) :: totals
+      call fused_start(self%scheme, particles, grid, totals, self%box, self%youngs_modulus, loads, self%bodies)
+   end subroutine fused_stepper_start
+
+   subroutine fused_stepper_step(self, loads, particles, grid, dt, t, totals)
+      class(fused_stepper_t), intent(inout) :: self
+      class(loads_t), intent(in) :: loads
+      type(particles_t), intent(inout) :: particles
+      type(grid_t), intent(inout) :: grid
+      real(dp), intent(in) :: dt, t
+      type(pass_totals_t), intent(out) :: totals
+      call fused_step(self%scheme, particles, grid, dt, self%youngs_modulus, totals, self%box, loads, t, self%bodies)
+   end subroutine fused_stepper_step
+
+   real(dp) function fused_stepper_mass(self, particles)
+      class(fused_stepper_t), intent(in) :: self
+      type(particles_t), intent(in) :: particles
+      fused_stepper_mass = fused_mass(particles, self%box)
+   end function fused_stepper_mass
+
+   !> At step 0 the nodal velocity of the first mapping; later, bodies on stacked fields summed on the
+   !> run's grid (fused_step leaves it as it was: only a snapshot reads it).
+   subroutine fused_snapshot_grid(self, particles, grid, step)
+      class(fused_stepper_t), intent(inout) :: self
+      type(particles_t), intent(in) :: particles
+      type(grid_t), intent(inout) :: grid
+      integer, intent(in) :: step
+      if (step == 0) then
+         call fused_grid_velocity(grid, self%box, self%bodies)
+      else
+         call fused_grid_sum(grid, self%box, self%bodies)
+      end if
+   end subroutine fused_snapshot_grid
 
    !> Whether the fused kernels take a run of shape `kind` (mpm_shape's ids), transfer `transfer` (its
    !> FLIP fraction for the blend) of a problem with loads `loads` and its placed `particles`, where the
