@@ -43,7 +43,7 @@ module mpm_shape
    integer, parameter :: all_transfers(7) = [transfer_flip, transfer_pic, transfer_blend, transfer_apic, &
                                              transfer_xpic, transfer_fmpm, transfer_asflip]
    character(len=*), parameter :: known_transfers = 'flip, pic, blend, apic, xpic, fmpm, asflip'
-   !> Formulations: updated Lagrangian (the weights at the particles' positions each step) and total
+   !> The formulations: updated Lagrangian (the weights at the particles' positions each step) and total
    !> Lagrangian ([de Vaucorbeil 2020]: the weights and gradients at the reference positions, once).
    integer, parameter :: formulation_updated = 1, formulation_total = 2
    character(len=*), parameter :: known_formulations = 'updated, total'
@@ -69,9 +69,9 @@ module mpm_shape
       !> Grid-sized scratch of the transfers (node index 0..cells, a column each), allocated by the transfer
       !> that uses it (XPIC, FMPM, ASFLIP).
       real(dp), allocatable :: grid_work(:, :)
-      !> ASFLIP: each particle's J at the start of the step.
+      !> Each particle's J at the start of the step (ASFLIP).
       real(dp), allocatable :: start_volume_ratio(:)
-      !> CPDI: the domains' corners (0-based; particle p spans corners(corner_of(p)) .. corners(corner_of(p) + 1))
+      !> The CPDI domains' corners (0-based; particle p spans corners(corner_of(p)) .. corners(corner_of(p) + 1))
       !> and the first particle whose domain is longer than the shape's nodes cover (0: none).
       real(dp), allocatable :: corners(:)
       integer, allocatable :: corner_of(:)
