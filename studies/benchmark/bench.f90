@@ -27,7 +27,7 @@
 !>       every scene and transfer against the fused bar (the issue-28 table): REPEATS rounds, each the
 !>       bar's whole run first, then the bar on the generic path, with PIC, the blend (FLIP fraction 0.95)
 !>       and APIC, the column, the composite bar, the manufactured solution, the impact (frictionless and
-!>       stuck), each a whole run as a user starts one (run_simulation: set-up included, no history, no
+!>       stuck), the bar with the cures (total-Lagrangian, CPDI, XPIC(2), FMPM(2), ASFLIP(0.99)), each a whole run as a user starts one (run_simulation: set-up included, no history, no
 !>       file; linear shapes, dt = 0.2 dx/c, STEPS steps, about PARTICLES particles, PPC per element), then
 !>       the bar's kernel (its steps alone, as `throughput` times them); one thread, CPU time:
 !>       round,scheme,run,path,particles,steps,bytes_per_particle,seconds,particle_steps_per_s
@@ -41,7 +41,8 @@ program mpm1d_bench
    use mpm_grid, only: grid_t, grid_init
    use mpm_particles, only: particles_t, per_particle_data, bytes_per_particle
    use mpm_shape, only: shape_cache_t, shape_id, shape_extra_cells, transfer_id, transfer_apic, shape_name, &
-                        transfer_name, transfer_flip, shape_support, shape_ugimp, shape_cpgimp
+                        transfer_name, transfer_flip, shape_support, shape_ugimp, shape_cpgimp, &
+                        shape_cpdi, transfer_asflip
    use mpm_transfer, only: pass_totals_t
    use mpm_fused, only: fused_start, fused_step, fused_box_t, fused_shape, fused_choose
    use mpm_schemes, only: scheme_usf, scheme_usl, scheme_musl, scheme_step
@@ -316,9 +317,10 @@ contains
 
    !> Every scene and transfer against the fused bar, paired in rounds (see the program's header).
    subroutine ratios()
-      character(len=32), parameter :: kinds(10) = [character(len=32) :: 'bar', 'bar_generic', 'bar_pic', 'bar_blend', &
+      character(len=32), parameter :: kinds(15) = [character(len=32) :: 'bar', 'bar_generic', 'bar_pic', 'bar_blend', &
                                                    'bar_apic', 'column', 'composite_bar', 'manufactured', &
-                                                   'impact_frictionless', 'impact_none']
+                                                   'impact_frictionless', 'impact_none', 'bar_total', 'bar_cpdi', &
+                                                   'bar_xpic2', 'bar_fmpm2', 'bar_asflip']
       type(config_t) :: configs(size(kinds))
       type(run_result_t) :: result
       integer :: particles, ppc, steps, repeats, k, r
@@ -388,7 +390,8 @@ contains
    end subroutine kernel_row
 
    !> The configuration of one run of `ratios` and `scenes`: `kind` (bar, bar_generic, bar_pic, bar_blend,
-   !> bar_apic, column, manufactured, composite_bar, impact_frictionless, impact_none) with `elements` elements
+   !> bar_apic, column, manufactured, composite_bar, impact_frictionless, impact_none, bar_total, bar_cpdi, bar_xpic2,
+   !> bar_fmpm2, bar_asflip) with `elements` elements
    !> (the impact: its two bars of length 1 together), ppc particles per element, dt = 0.2 dx/c, `steps` steps.
    function run_config(kind, elements, ppc, steps, scheme) result(config)
       character(len=*), intent(in) :: kind, scheme
@@ -405,6 +408,17 @@ contains
       case ('bar_pic', 'bar_blend', 'bar_apic')
          config%transfer = kind(5:)
          config%flip_fraction = 0.95_dp
+      case ('bar_total')
+         config%formulation = 'total'
+      case ('bar_cpdi')
+         config%shape = 'cpdi'
+      case ('bar_xpic2', 'bar_fmpm2')
+         config%transfer = kind(5:8)
+         config%xpic_order = 2
+         config%fmpm_order = 2
+      case ('bar_asflip')
+         config%transfer = 'asflip'
+         config%asflip_alpha = 0.99_dp
       case ('column')
          config%scene_kind = 'column'
       case ('manufactured')
@@ -465,7 +479,8 @@ contains
    !> The bytes per particle a run of `config` holds: its particle arrays (those the scene allocates and,
    !> on the generic path, per-particle mass and volume), the fused path's per-particle forces, APIC's
    !> velocity gradients, and the generic path's shape cache (first node, weights and gradients of the
-   !> support, three columns of scratch, APIC's start positions, GIMP's half-lengths).
+   !> support, three columns of scratch, APIC's start positions, GIMP's half-lengths, CPDI's corners and
+   !> corner indices, ASFLIP's start-of-step J; XPIC's and FMPM's scratch is the grid's, not per particle).
    real(dp) function run_bytes(config) result(per_particle)
       type(config_t), intent(in) :: config
       class(scene_t), allocatable :: scene
@@ -483,7 +498,7 @@ contains
       transfer = transfer_id(config%transfer)
       box = fused_choose(kind, transfer, config%flip_fraction, scene%fused_applies(), scene%body_fields, &
                          scene, particles)
-      fused = trim(config%kernels) == 'auto' .and. box%variant >= 0
+      fused = trim(config%kernels) == 'auto' .and. box%variant >= 0 .and. trim(config%formulation) /= 'total'
       if (.not. fused) call per_particle_data(particles, error)
       bytes = 0
       bytes = bytes + real_bytes(particles%x)
@@ -505,6 +520,8 @@ contains
          bytes = bytes + (4_i8 + 16_i8*shape_support(kind) + 24_i8)*particles%count
          if (transfer == transfer_apic) bytes = bytes + 8_i8*particles%count
          if (kind == shape_ugimp .or. kind == shape_cpgimp) bytes = bytes + 8_i8*particles%count
+         if (kind == shape_cpdi) bytes = bytes + 12_i8*particles%count
+         if (transfer == transfer_asflip) bytes = bytes + 8_i8*particles%count
       end if
       per_particle = real(bytes, dp)/particles%count
    end function run_bytes

@@ -154,7 +154,8 @@ if want ratios; then
 echo "== every scene and transfer against the fused bar (whole runs, paired in rounds, one thread)" >&2
 # USL, 2 particles per element, 200 steps, set-up included (run_simulation, as a user starts a run);
 # each round: the fused bar, the bar on the generic path, PIC, blend, APIC, the column, the composite
-# bar, the manufactured solution, the impact (frictionless, stuck), then the bar's kernel alone
+# bar, the manufactured solution, the impact (frictionless, stuck), the bar with the cures (total-Lagrangian,
+# CPDI, XPIC(2), FMPM(2), ASFLIP), then the bar's kernel alone
 echo "size,round,scheme,run,path,particles,steps,bytes_per_particle,seconds,particle_steps_per_s" > "$out/ratios.csv"
 for n in 10000 1000000; do
   "$bench" ratios $n 2 200 "$REPEATS" usl | sed "s/^/$n,/" >> "$out/ratios.csv"
@@ -163,7 +164,7 @@ if [ "${CALLGRIND:-0}" = 1 ] && command -v valgrind >/dev/null 2>&1; then
   # the instructions of each whole run at 1e4 particles (callgrind_annotate's inclusive count of timed_run)
   echo "run,instructions" > "$out/ratios_callgrind.csv"
   for run in bar bar_generic bar_pic bar_blend bar_apic column composite_bar manufactured impact_frictionless \
-             impact_none; do
+             impact_none bar_total bar_cpdi bar_xpic2 bar_fmpm2 bar_asflip; do
     valgrind --tool=callgrind --callgrind-out-file="$out/callgrind_ratios_$run.out" "$bench" ratios 10000 2 200 1 usl \
       $run > /dev/null 2>&1
     echo "$run,$(callgrind_annotate --inclusive=yes "$out/callgrind_ratios_$run.out" | awk '/timed_run/ {gsub(/,/, "", $1); print $1; exit}')" \
