@@ -98,7 +98,8 @@ def verdicts(scene: str, findings: Dict) -> List[str]:
             f"{method} ({number(f['orders'][-1], '.2f')} up to {f['elements'][f['ok']][-1]} elements)")
     lines = []
     if second:
-        lines.append(f"Second order (last observed order >= {SECOND_ORDER}) to the finest mesh: " + ', '.join(second) + '.')
+        lines.append(f"Second order (last observed order >= {SECOND_ORDER}) to the finest mesh: " + ', '.join(second)
+                     + '.')
     if not_second:
         lines.append('Not second order at the finest meshes: ' + ', '.join(not_second) + '.')
     return lines + [''] if lines else []
@@ -162,58 +163,40 @@ def noise_section(out: Path, noise: Dict) -> List[str]:
     if not rows:
         return []
     lines = ['## Noise against energy', '', "The bar of the linear law (exact at any amplitude) at v0 = 0.01 c, the "
-             "particles crossing cells (MUSL, 2 particles per element, dt = 0.1 dx/c), at the end time: the particles' velocities fitted by the mode a sin(beta X) "
-             "(least squares over the particles); velocity noise = the RMS of what the mode leaves over v0, mode "
-             "amplitude = a over the exact v0 cos(w T) (below 1: damped), the energy at the end over the initial "
-             "energy (kinetic + stored), and the u_cm error over its amplitude.", '']
+             "particles crossing cells (MUSL, 2 particles per element, dt = 0.1 dx/c), at the end time: the particles' "
+             "velocities fitted by the mode a sin(beta X) (least squares over the particles); velocity noise = the "
+             "RMS of what the mode leaves over v0, mode amplitude = a over the exact v0 cos(w T) (below 1: damped), "
+             "the energy at the end over the initial energy (kinetic + stored), and the u_cm error over its "
+             "amplitude.", '']
     lines += markdown_table(['transfer', 'status', 'velocity noise', 'mode amplitude', 'energy ratio', 'u_cm error'],
                             rows)
     return lines + ['']
 
 
-def convergence_figure(findings: Dict, outdir: Path, sources: List[Sweep]) -> Optional[str]:
-    panels = [(scene, title) for scene, title, _ in SCENES if findings.get(scene)]
+def error_figure(findings: Dict, outdir: Path, sources: List[Sweep], against: str, xlabel: str, title: str,
+                 name: str) -> Optional[str]:
+    """One panel per scene: each method's relative error of its completed runs against `against` ('elements',
+    or 'times': the timed runs only); the cures solid with circles, the methods of before dotted."""
+    panels = [(scene, label) for scene, label, _ in SCENES if findings.get(scene)]
     if not panels:
         return None
     fig, axes = pf.plt.subplots(1, len(panels), figsize=(4.2 * len(panels), 4.2), squeeze=False)
-    for ax, (scene, title) in zip(axes[0], panels):
-        for method, _ in METHODS:
-            f = findings[scene].get(method)
-            if f is None or not f['ok'].any():
-                continue
-            ax.loglog(f['elements'][f['ok']], f['errors'][f['ok']], marker='o' if method in CURES else '.',
-                      linestyle='-' if method in CURES else ':', label=method)
-        ax.set_title(title, fontsize=9)
-        ax.set_xlabel('elements')
-        ax.grid(True, which='both', alpha=0.3)
-    axes[0][0].set_ylabel('relative error')
-    axes[0][-1].legend(fontsize=7)
-    pf.fitted_title(fig, 'The cures (solid, circles) against the methods of before (dotted): error against elements, '
-                         'USL, 2 particles per element')
-    return pf.save_figure(fig, str(outdir), 'methods_convergence.png', sources)
-
-
-def time_figure(findings: Dict, outdir: Path, sources: List[Sweep]) -> Optional[str]:
-    panels = [(scene, title) for scene, title, _ in SCENES if findings.get(scene)]
-    if not panels:
-        return None
-    fig, axes = pf.plt.subplots(1, len(panels), figsize=(4.2 * len(panels), 4.2), squeeze=False)
-    for ax, (scene, title) in zip(axes[0], panels):
+    for ax, (scene, label) in zip(axes[0], panels):
         for method, _ in METHODS:
             f = findings[scene].get(method)
             if f is None:
                 continue
-            timed = f['ok'] & np.isfinite(f['times'])
-            if timed.any():
-                ax.loglog(f['times'][timed], f['errors'][timed], marker='o' if method in CURES else '.',
+            shown = f['ok'] & np.isfinite(np.asarray(f[against], dtype=float))
+            if shown.any():
+                ax.loglog(f[against][shown], f['errors'][shown], marker='o' if method in CURES else '.',
                           linestyle='-' if method in CURES else ':', label=method)
-        ax.set_title(title, fontsize=9)
-        ax.set_xlabel(pf.TIME_LABEL)
+        ax.set_title(label, fontsize=9)
+        ax.set_xlabel(xlabel)
         ax.grid(True, which='both', alpha=0.3)
     axes[0][0].set_ylabel('relative error')
     axes[0][-1].legend(fontsize=7)
-    pf.fitted_title(fig, 'Accuracy against cost: relative error against run time (one thread), the timed meshes')
-    return pf.save_figure(fig, str(outdir), 'methods_error_vs_time.png', sources)
+    pf.fitted_title(fig, title)
+    return pf.save_figure(fig, str(outdir), name, sources)
 
 
 def main(argv=None) -> int:
@@ -237,7 +220,11 @@ def main(argv=None) -> int:
     lines += answer_section(findings)
     lines += noise_section(out, noise)
     sources = [s for scene, _, _ in SCENES for m, _ in METHODS for s in [series(out, scene, m)] if s is not None]
-    figures = [convergence_figure(findings, out, sources), time_figure(findings, out, sources)]
+    figures = [error_figure(findings, out, sources, 'elements', 'elements', 'The cures (solid, circles) against the '
+                            'methods of before (dotted): error against elements, USL, 2 particles per element',
+                            'methods_convergence.png'),
+               error_figure(findings, out, sources, 'times', pf.TIME_LABEL, 'Accuracy against cost: relative error '
+                            'against run time (one thread), the timed meshes', 'methods_error_vs_time.png')]
     lines += ['## Figures', ''] + [f'![{Path(f).stem}]({Path(f).name})' for f in figures if f] + ['']
     (out / 'summary.md').write_text('\n'.join(lines), encoding='utf-8')
     print(f'wrote {out / "summary.md"}')
