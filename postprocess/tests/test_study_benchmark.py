@@ -70,3 +70,41 @@ def test_memory_speed_up_and_cost_model(report):
 def test_shape_against_linear_on_the_fused_kernels(report):
     assert '| 1e+04 | usl | ugimp | flip | fused | 1.8e+08 | 0.60 (0.60-0.60) | - |' in report
     assert '- usl, 1e+04 particles, ugimp (fused) >= 0.5 x linear (fused): 0.60 -> met' in report
+
+
+def test_elastoplastic_implicit_and_two_builds(tmp_path: Path):
+    """The parts of issue 40 alone (PARTS='plastic implicit table2'): the elastoplastic bar at 0.8 and 0.9 of the
+    Hencky bar in two rounds (median 0.85, met), the cubic B-spline's at 0.7 (not met); the implicit linear step
+    4 and 5 times the explicit one's time per particle-step (median 4.5 > 4: not met), Hencky 5 (<= 6: met), and
+    2e4 particles x 10 steps at 1.04e8 instructions against 2e4 x 100 explicit at 2.6e8 (520 against 130 per
+    particle-step: 4.00); the Table-2 pass of the native build 0.9 x the old one's speed (1.0 s against 0.9 s),
+    the portable 1.1 x (1.0 s against 1.1 s)."""
+    write(tmp_path / 'plastic.csv', 'size,round,scheme,shape,law,path,particles,steps,seconds,particle_steps_per_s,'
+          'yielded_fraction',
+          [[10000, r, 'usl', shape, law, 'fused', 10000, 200, 1.0, v, 0.78 if law == 'elastoplastic' else 0]
+           for r, plastic, cubic in ((1, 8e7, 7e7), (2, 9e7, 7e7))
+           for shape, law, v in (('linear', 'hencky', 1e8), ('linear', 'elastoplastic', plastic),
+                                 ('bspline3', 'hencky', 1e8), ('bspline3', 'elastoplastic', cubic))])
+    write(tmp_path / 'implicit.csv', 'round,run,law,mass,particles,steps,seconds,particle_steps_per_s,solves_per_step',
+          [[r, run, law, mass, 100000, 20, 1.0, v, 1.0]
+           for r, linear in ((1, 1.25e7), (2, 1e7))
+           for run, law, mass, v in (('explicit_linear', 'linear', '-', 5e7), ('explicit_hencky', 'hencky', '-', 5e7),
+                                     ('implicit_linear_lumped', 'linear', 'lumped', linear),
+                                     ('implicit_hencky_lumped', 'hencky', 'lumped', 1e7))])
+    write(tmp_path / 'implicit_callgrind.csv', 'run,instructions',
+          [['explicit_linear', 2.6e8], ['implicit_linear_lumped', 1.04e8]])
+    write(tmp_path / 'table2.csv', 'build,binary,scheme,threads,repeat,seconds',
+          [[build, binary, 'usl', 1, r, t] for r in (1, 2)
+           for build, binary, t in (('-march=native', 'new', 1.0), ('-march=native', 'old', 0.9),
+                                    ('portable', 'new', 1.0), ('portable', 'old', 1.1))])
+    assert benchmark.main([str(tmp_path)]) == 0
+    report = (tmp_path / 'summary.md').read_text()
+    assert '| 1e+04 | linear | fused, fused | 1e+08 | 8.5e+07 | 0.78 | 0.85 (0.80-0.90) |' in report
+    assert '- elastoplastic bar, linear, 1e+04 particles, >= 0.8 x the Hencky bar: 0.850 -> met' in report
+    assert '- elastoplastic bar, bspline3, 1e+04 particles, >= 0.8 x the Hencky bar: 0.700 -> NOT met' in report
+    assert '| implicit_linear_lumped | linear | lumped | 1.12e+07 | 1.00 | 4.50 (4.00-5.00) |' in report
+    assert '- implicit_linear_lumped, time per particle-step <= 4.0 x explicit: 4.500 -> NOT met' in report
+    assert '- implicit_hencky_lumped, time per particle-step <= 6.0 x explicit: 5.000 -> met' in report
+    assert '| implicit_linear_lumped | 520 | 4.00 |' in report
+    assert '| -march=native | usl | 1 | 1.000 | 0.900 | 0.90 (0.90-0.90) |' in report
+    assert '- Table-2 usl, portable build, 1 thread(s), wall time, >= 1.0 x the old build: 1.100 -> met' in report

@@ -32,12 +32,28 @@
 !>       the bar's kernel (its steps alone, as `throughput` times them); one thread, CPU time:
 !>       round,scheme,run,path,particles,steps,bytes_per_particle,seconds,particle_steps_per_s
 !>       (with RUN, one of the runs' names, only that run: for instruction counts under valgrind)
+!>   mpm1d_bench plastic PARTICLES PPC STEPS REPEATS SCHEME [SHAPE [LAW]]
+!>       the elastoplastic bar against the Hencky bar, shape by shape (FLIP): REPEATS rounds, each for every
+!>       shape the Hencky bar's whole run, then the same bar elastoplastic (run_simulation as `ratios`
+!>       runs it: dt = 0.2 dx/c, STEPS steps, about PARTICLES particles, PPC per element, one thread, CPU
+!>       time), with the yield stress a third of the largest stress the elastic bar reaches in the run
+!>       (rho c v0 sin(omega T) at the fixed end) and the hardening modulus E/10, so that the bar yields
+!>       from a third of the run on; the last column is the fraction of the particles that yielded:
+!>       round,scheme,shape,law,path,particles,steps,seconds,particle_steps_per_s,yielded_fraction
+!>       (with SHAPE, that shape only; with LAW (hencky or elastoplastic) that law only: for valgrind)
+!>   mpm1d_bench implicit PARTICLES PPC STEPS REPEATS [RUN]
+!>       an implicit step against an explicit one, at the same dt = 0.5 dx/c and particles (the default
+!>       bar, USL on the fused kernels for explicit): REPEATS rounds, each the explicit runs (laws linear
+!>       and hencky, 10 STEPS steps) then the implicit ones (linear and hencky, lumped and consistent mass,
+!>       STEPS steps), whole runs, one thread, CPU time; the last column is the mean Newton solves per step:
+!>       round,run,law,mass,particles,steps,seconds,particle_steps_per_s,solves_per_step
+!>       (with RUN, one of explicit_linear, explicit_hencky, implicit_linear_lumped, ..., only that run)
 program mpm1d_bench
    use, intrinsic :: iso_fortran_env, only: output_unit, error_unit
    use omp_lib, only: omp_get_wtime, omp_set_num_threads
    use mpm_kinds, only: dp, i8
    use mpm_errors, only: error_t
-   use mpm_config, only: config_t, resolve_config
+   use mpm_config, only: config_t, resolve_config, material_of
    use mpm_grid, only: grid_t, grid_init
    use mpm_particles, only: particles_t, per_particle_data, bytes_per_particle
    use mpm_shape, only: shape_cache_t, shape_id, shape_extra_cells, transfer_id, transfer_apic, shape_name, &
@@ -65,6 +81,10 @@ program mpm1d_bench
       call scenes()
    case ('ratios')
       call ratios()
+   case ('plastic')
+      call plastic()
+   case ('implicit')
+      call implicit()
    case default
       call usage('')
    end select
@@ -87,6 +107,8 @@ contains
          '       mpm1d_bench study SCHEME ELEMENTS PPC DT_FRACTION END_TIME REPEATS', &
          '       mpm1d_bench scenes ELEMENTS PPC STEPS REPEATS', &
          '       mpm1d_bench ratios PARTICLES PPC STEPS REPEATS SCHEME [RUN]', &
+         '       mpm1d_bench plastic PARTICLES PPC STEPS REPEATS SCHEME [SHAPE [LAW]]', &
+         '       mpm1d_bench implicit PARTICLES PPC STEPS REPEATS [RUN]', &
          '(studies/benchmark/bench.f90 says what each prints)'
       stop 2, quiet=.true.
    end subroutine usage
@@ -348,6 +370,103 @@ contains
       end do
    end subroutine ratios
 
+   !> The elastoplastic bar against the Hencky bar, shape by shape (see the program's header).
+   subroutine plastic()
+      character(len=8), parameter :: shapes(5) = [character(len=8) :: 'linear', 'ugimp', 'cpgimp', 'bspline2', &
+                                                   'bspline3']
+      character(len=16), parameter :: laws(2) = [character(len=16) :: 'hencky', 'elastoplastic']
+      type(config_t) :: config
+      type(run_result_t) :: result
+      integer :: particles, ppc, steps, repeats, r, k, l
+      real(dp) :: seconds, reached
+      character(len=:), allocatable :: scheme
+      particles = iarg(2)
+      ppc = iarg(3)
+      steps = iarg(4)
+      repeats = iarg(5)
+      scheme = trim(arg(6))
+      if (scheme /= 'usf' .and. scheme /= 'usl' .and. scheme /= 'musl') call usage('SCHEME is usf, usl or musl')
+      call omp_set_num_threads(1)
+      do r = 1, repeats
+         do k = 1, size(shapes)
+            if (len_trim(arg(7)) > 0 .and. trim(arg(7)) /= trim(shapes(k))) cycle
+            do l = 1, size(laws)
+               if (len_trim(arg(8)) > 0 .and. trim(arg(8)) /= trim(laws(l))) cycle
+               config = run_config('bar', max(1, particles/ppc), ppc, steps, scheme)
+               config%shape = shapes(k)
+               config%law = laws(l)
+               ! the largest stress of the elastic bar by the end of the run: rho c v0 sin(omega T) at x = 0
+               reached = config%density*config%wave_speed*config%velocity_amplitude* &
+                         sin(2*acos(-1.0_dp)*config%end_time/config%period)
+               config%yield_stress = reached/3
+               config%hardening_modulus = config%youngs_modulus/10
+               call resolve_config(config)
+               call timed_run(config, result, seconds)
+               write (output_unit, '(i0,",",a,",",a,",",a,",",a,",",i0,",",i0,",",es12.5,",",es12.5,",",f0.4)') &
+                  r, scheme, trim(shapes(k)), trim(laws(l)), trim(merge('fused  ', 'generic', result%fused)), &
+                  result%particles, result%steps_done, seconds, real(result%particles, dp)*result%steps_done/seconds, &
+                  report_value(result, 'yielded_fraction')
+               flush (output_unit)
+            end do
+         end do
+      end do
+   end subroutine plastic
+
+   !> An implicit step against an explicit one (see the program's header).
+   subroutine implicit()
+      character(len=32), parameter :: runs(6) = [character(len=32) :: 'explicit_linear', 'explicit_hencky', &
+                                                 'implicit_linear_lumped', 'implicit_hencky_lumped', &
+                                                 'implicit_linear_consistent', 'implicit_hencky_consistent']
+      type(config_t) :: config
+      type(run_result_t) :: result
+      integer :: particles, ppc, steps, repeats, r, k, n
+      real(dp) :: seconds
+      character(len=16) :: law, mass
+      particles = iarg(2)
+      ppc = iarg(3)
+      steps = iarg(4)
+      repeats = iarg(5)
+      call omp_set_num_threads(1)
+      do r = 1, repeats
+         do k = 1, size(runs)
+            if (len_trim(arg(6)) > 0 .and. trim(arg(6)) /= trim(runs(k))) cycle
+            law = 'hencky'
+            if (index(runs(k), 'linear') > 0) law = 'linear'
+            mass = '-'
+            n = 10*steps
+            config = run_config('bar', max(1, particles/ppc), ppc, n, 'usl')
+            if (runs(k)(1:8) == 'implicit') then
+               mass = 'lumped'
+               if (index(runs(k), 'consistent') > 0) mass = 'consistent'
+               config%integrator = 'implicit'
+               config%mass = mass
+               n = steps
+            end if
+            config%law = law
+            config%dt_fraction = 0.5_dp
+            call resolve_config(config)
+            config%end_time = n*config%dt
+            call resolve_config(config)
+            call timed_run(config, result, seconds)
+            write (output_unit, '(i0,",",a,",",a,",",a,",",i0,",",i0,",",es12.5,",",es12.5,",",f0.3)') &
+               r, trim(runs(k)), trim(law), trim(mass), result%particles, result%steps_done, seconds, &
+               real(result%particles, dp)*result%steps_done/seconds, report_value(result, 'newton_iterations')
+            flush (output_unit)
+         end do
+      end do
+   end subroutine implicit
+
+   !> The value of report `name` of a run (0 when it has none).
+   real(dp) function report_value(result, name) result(value)
+      type(run_result_t), intent(in) :: result
+      character(len=*), intent(in) :: name
+      integer :: k
+      value = 0
+      do k = 1, size(result%report_names)
+         if (trim(result%report_names(k)) == name) value = result%report_values(k)
+      end do
+   end function report_value
+
    !> A row of `ratios`.
    subroutine ratio_row(round, scheme, run, path, count, done, per_particle, time)
       integer, intent(in) :: round, count, done
@@ -477,7 +596,8 @@ contains
    end subroutine timed_run
 
    !> The bytes per particle a run of `config` holds: its particle arrays (those the scene allocates and,
-   !> on the generic path, per-particle mass and volume), the fused path's per-particle forces, APIC's
+   !> on the generic path, per-particle mass and volume; the elastoplastic law's state), the fused path's
+   !> per-particle forces, APIC's
    !> velocity gradients, and the generic path's shape cache (first node, weights and gradients of the
    !> support, three columns of scratch, APIC's start positions, GIMP's half-lengths, CPDI's corners and
    !> corner indices, ASFLIP's start-of-step J; XPIC's and FMPM's scratch is the grid's, not per particle).
@@ -514,6 +634,7 @@ contains
       if (allocated(particles%scene_factors)) bytes = bytes + storage_size(particles%scene_factors, i8)/8* &
                                                       size(particles%scene_factors, kind=i8)
       if (transfer == transfer_apic) bytes = bytes + 8_i8*particles%count
+      if (trim(config%law) == 'elastoplastic') bytes = bytes + 16_i8*particles%count  ! (plastic strain, hardening)
       if (fused) then
          if (scene%has_particle_forces) bytes = bytes + 8_i8*particles%count
       else

@@ -6,13 +6,16 @@
 # 1 and 2 threads) and the bounds they imply, OpenMP speed-up inside
 # one run, cost of a study against elements^2 * ppc / dt_fraction, and memory per particle.
 # Every scene and transfer against the fused bar (whole runs, set-up included, 1e4 and 1e6 particles),
+# the elastoplastic bar against the Hencky bar shape by shape, an implicit step against an explicit one,
 # and the Table-2 error pass paired against an older build (OLD_MPM1D=path: wall-time medians of
-# alternate runs, 1 and 2 threads; with CALLGRIND=1 also valgrind's instruction counts, which a busy
-# machine does not change; for the scenes' whole runs at 1e4 particles too).
+# alternate runs, 1 and 2 threads; OLD_PORTABLE_MPM1D=path pairs the portable build with it too; with
+# CALLGRIND=1 also valgrind's instruction counts, which a busy machine does not change; for the scenes'
+# whole runs, the elastoplastic and the implicit runs too).
 # Writes CSV files, benchmark.png and summary.md to the output folder (default out/benchmark).
 # Usage: bash studies/benchmark/run.sh [output folder]
 #   PARTS='...' runs only some parts (default: all of bandwidth throughput generic shapes threads
-#   sweep study memory ratios table2); REPEATS (default 3) rounds of each paired measurement.
+#   sweep study memory ratios plastic implicit table2); REPEATS (default 3) rounds of each paired
+#   measurement.
 # Built for this machine's CPU (-march=native, as every study script; studies/setup.sh): PORTABLE=1
 # for fpm's plain release profile, or FLAGS='...' for other flags. -march=native is for local runs
 # only (the binary uses this machine's vector instructions), not for portable builds.
@@ -25,7 +28,7 @@ out="${1:-out/benchmark}"
 mkdir -p "$out"
 bench="$(mpm1d_build --example mpm1d_bench)"
 REPEATS="${REPEATS:-3}"
-PARTS="${PARTS:-bandwidth throughput generic shapes threads sweep study memory ratios table2}"
+PARTS="${PARTS:-bandwidth throughput generic shapes threads sweep study memory ratios plastic implicit table2}"
 want() { [[ " $PARTS " == *" $1 "* ]]; }
 mpm1d="$(mpm1d_build)"
 echo "flags: fpm --profile release --flag '$FLAGS'" > "$out/flags.txt"
@@ -173,11 +176,51 @@ if [ "${CALLGRIND:-0}" = 1 ] && command -v valgrind >/dev/null 2>&1; then
 fi
 fi
 
+if want plastic; then
+echo "== the elastoplastic bar against the Hencky bar, shape by shape (paired in rounds, one thread)" >&2
+# USL, 2 particles per element, 200 steps, whole runs; the yield stress a third of the stress the bar
+# reaches in the run, so that it yields (the last column: the fraction of the particles that did)
+echo "size,round,scheme,shape,law,path,particles,steps,seconds,particle_steps_per_s,yielded_fraction" > "$out/plastic.csv"
+for n in 10000 1000000; do
+  "$bench" plastic $n 2 200 "$REPEATS" usl | sed "s/^/$n,/" >> "$out/plastic.csv"
+done
+if [ "${CALLGRIND:-0}" = 1 ] && command -v valgrind >/dev/null 2>&1; then
+  echo "shape,law,instructions" > "$out/plastic_callgrind.csv"
+  for shape in linear ugimp cpgimp bspline2 bspline3; do
+    for law in hencky elastoplastic; do
+      valgrind --tool=callgrind --callgrind-out-file="$out/callgrind_plastic_${shape}_$law.out" "$bench" plastic 10000 2 200 \
+        1 usl $shape $law > /dev/null 2>&1
+      echo "$shape,$law,$(callgrind_annotate --inclusive=yes "$out/callgrind_plastic_${shape}_$law.out" \
+        | awk '/timed_run/ {gsub(/,/, "", $1); print $1; exit}')" >> "$out/plastic_callgrind.csv"
+    done
+  done
+fi
+fi
+
+if want implicit; then
+echo "== an implicit step against an explicit one (1e5 particles, dt = 0.5 dx/c, paired in rounds, one thread)" >&2
+# explicit: USL on the fused kernels, 200 steps; implicit: 20 steps; laws linear and hencky, both masses
+echo "round,run,law,mass,particles,steps,seconds,particle_steps_per_s,solves_per_step" > "$out/implicit.csv"
+"$bench" implicit 100000 2 20 "$REPEATS" >> "$out/implicit.csv"
+if [ "${CALLGRIND:-0}" = 1 ] && command -v valgrind >/dev/null 2>&1; then
+  # the instructions of each whole run at 2e4 particles (explicit 100 steps, implicit 10)
+  echo "run,instructions" > "$out/implicit_callgrind.csv"
+  for run in explicit_linear explicit_hencky implicit_linear_lumped implicit_hencky_lumped implicit_linear_consistent \
+             implicit_hencky_consistent; do
+    valgrind --tool=callgrind --callgrind-out-file="$out/callgrind_implicit_$run.out" "$bench" implicit 20000 2 10 1 \
+      $run > /dev/null 2>&1
+    echo "$run,$(callgrind_annotate --inclusive=yes "$out/callgrind_implicit_$run.out" \
+      | awk '/timed_run/ {gsub(/,/, "", $1); print $1; exit}')" >> "$out/implicit_callgrind.csv"
+  done
+fi
+fi
+
 if want table2; then
-echo "== Table-2 error pass against an older build (OLD_MPM1D), 1 and 2 threads" >&2
+echo "== Table-2 error pass against an older build (OLD_MPM1D, OLD_PORTABLE_MPM1D), 1 and 2 threads" >&2
 # the paper's Table-2 sweeps (USF and USL apart, 600 cases each, no timing pass), this build and
-# $OLD_MPM1D alternately; whole process wall time. CALLGRIND=1: instruction counts, one thread.
-echo "binary,scheme,threads,repeat,seconds" > "$out/table2.csv"
+# $OLD_MPM1D alternately (and, with OLD_PORTABLE_MPM1D, this code's portable build and that one); whole
+# process wall time. CALLGRIND=1: instruction counts, one thread.
+echo "build,binary,scheme,threads,repeat,seconds" > "$out/table2.csv"
 t2() { # scheme threads file
   cat <<EOF
 &scene kind='vibrating_bar', length=25.0, youngs_modulus=200.0e9, density=7800.0, velocity_amplitude=0.1, mode=1 /
@@ -188,31 +231,47 @@ t2() { # scheme threads file
        progress=.false. /
 EOF
 }
+# the builds to pair: this one (FLAGS) with OLD_MPM1D, and the portable one with OLD_PORTABLE_MPM1D
+builds="flags"; [ -n "${OLD_PORTABLE_MPM1D:-}" ] && builds="flags portable"
+portable_mpm1d=""
+[ -n "${OLD_PORTABLE_MPM1D:-}" ] && portable_mpm1d="$(FLAGS="" mpm1d_build)"
 binaries="new"; [ -n "${OLD_MPM1D:-}" ] && binaries="new old"
+exe_of() { # build binary
+  case "$1,$2" in
+    flags,new) echo "$mpm1d" ;; flags,old) echo "$OLD_MPM1D" ;;
+    portable,new) echo "$portable_mpm1d" ;; portable,old) echo "$OLD_PORTABLE_MPM1D" ;;
+  esac
+}
+build_name() { if [ "$1" = flags ] && [ -n "$FLAGS" ]; then echo "$FLAGS"; else echo portable; fi; }
 for r in $(seq $((REPEATS + 2))); do
-  for scheme in usf usl; do
-    for threads in 1 2; do
-      for b in $binaries; do  # alternately, so that both see the same load of this shared machine
-        exe="$mpm1d"; [ "$b" = old ] && exe="$OLD_MPM1D"
-        t2 $scheme $threads "$out/t2_$b.h5" > "$out/t2_$b.nml"
-        start=$EPOCHREALTIME
-        "$exe" "$out/t2_$b.nml" >/dev/null 2>&1
-        end=$EPOCHREALTIME
-        echo "$b,$scheme,$threads,$r,$(awk -v a="$start" -v b="$end" 'BEGIN { printf "%.4f", b - a }')" >> "$out/table2.csv"
+  for build in $builds; do
+    for scheme in usf usl; do
+      for threads in 1 2; do
+        for b in $binaries; do  # alternately, so that both see the same load of this shared machine
+          exe="$(exe_of $build $b)"
+          t2 $scheme $threads "$out/t2_$b.h5" > "$out/t2_$b.nml"
+          start=$EPOCHREALTIME
+          "$exe" "$out/t2_$b.nml" >/dev/null 2>&1
+          end=$EPOCHREALTIME
+          echo "$(build_name $build),$b,$scheme,$threads,$r,$(awk -v a="$start" -v b="$end" 'BEGIN { printf "%.4f", b - a }')" \
+            >> "$out/table2.csv"
+        done
       done
     done
   done
 done
 if [ "${CALLGRIND:-0}" = 1 ] && command -v valgrind >/dev/null 2>&1; then
-  echo "binary,scheme,instructions" > "$out/table2_callgrind.csv"
-  for scheme in usf usl; do
-    for b in $binaries; do
-      exe="$mpm1d"; [ "$b" = old ] && exe="$OLD_MPM1D"
-      t2 $scheme 1 "$out/t2_$b.h5" > "$out/t2_$b.nml"
-      valgrind --tool=callgrind --callgrind-out-file="$out/callgrind_${b}_$scheme.out" "$exe" "$out/t2_$b.nml" \
-        > "$out/callgrind_${b}_$scheme.log" 2>&1
-      echo "$b,$scheme,$(awk '/Collected/ {gsub(/,/, "", $4); print $4}' "$out/callgrind_${b}_$scheme.log")" \
-        >> "$out/table2_callgrind.csv"
+  echo "build,binary,scheme,instructions" > "$out/table2_callgrind.csv"
+  for build in $builds; do
+    for scheme in usf usl; do
+      for b in $binaries; do
+        exe="$(exe_of $build $b)"
+        t2 $scheme 1 "$out/t2_$b.h5" > "$out/t2_$b.nml"
+        valgrind --tool=callgrind --callgrind-out-file="$out/callgrind_${build}_${b}_$scheme.out" "$exe" "$out/t2_$b.nml" \
+          > "$out/callgrind_${build}_${b}_$scheme.log" 2>&1
+        echo "$(build_name $build),$b,$scheme,$(awk '/Collected/ {gsub(/,/, "", $4); print $4}' \
+          "$out/callgrind_${build}_${b}_$scheme.log")" >> "$out/table2_callgrind.csv"
+      done
     done
   done
 fi

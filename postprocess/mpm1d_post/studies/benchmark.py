@@ -143,41 +143,138 @@ def ratio_table(rows, lines, targets, counts=()):
                  'that fixed work is a visible part of the run, so a run\'s rate is below the kernel\'s.\n')
 
 
+def plastic_table(rows, counts, lines, targets):
+    """Section on the elastoplastic bar against the Hencky bar, shape by shape (plastic.csv,
+    plastic_callgrind.csv): per size and shape the median rates and the median over rounds of the paired
+    ratio elastoplastic / Hencky (range in brackets). Appends to `targets` (>= 0.8)."""
+    if not rows:
+        return
+    def rate(r):
+        return float(r['particle_steps_per_s'])
+    hencky = {(r['size'], r['shape'], r['round']): rate(r) for r in rows if r['law'] == 'hencky'}
+    hencky_path = {(int(r['size']), r['shape']): r['path'] for r in rows if r['law'] == 'hencky'}
+    lines += ['## The elastoplastic bar against the Hencky bar\n',
+              'Whole runs (run_simulation, set-up included), USL, FLIP, 2 particles per element, 200 steps, one '
+              'thread, CPU time; the yield stress a third of the largest stress the elastic bar reaches in the run, '
+              'the hardening modulus E/10 (yielded: the fraction of the particles that yielded by the end). Each '
+              'round runs every shape\'s Hencky bar, then the same bar elastoplastic; ratio: median over rounds of '
+              'the elastoplastic rate / the Hencky rate of the same shape and round (min-max). Target >= 0.8.\n']
+    groups = {}
+    for r in rows:
+        if r['law'] == 'elastoplastic':
+            groups.setdefault((int(r['size']), r['shape']), []).append(r)
+    table = []
+    for key in sorted(groups, key=lambda k: (k[0], SHAPE_ORDER.index(k[1]) if k[1] in SHAPE_ORDER else 99)):
+        n, shape = key
+        rs = groups[key]
+        q = [rate(r) / hencky[r['size'], shape, r['round']] for r in rs if (r['size'], shape, r['round']) in hencky]
+        h = [v for k, v in hencky.items() if int(k[0]) == n and k[1] == shape]
+        table.append([f'{n:.0e}', shape, f'{hencky_path.get(key, "-")}, {rs[0]["path"]}',
+                      f'{np.median(h) if h else float("nan"):.3g}', f'{np.median([rate(r) for r in rs]):.3g}',
+                      f'{float(rs[0]["yielded_fraction"]):.2f}', spread(q) if q else '-'])
+        if q:
+            targets.append((f'elastoplastic bar, {shape}, {n:.0e} particles, >= 0.8 x the Hencky bar', float(np.median(q)),
+                            float(np.median(q)) >= 0.8))
+    lines += markdown_table(['particles', 'shape', 'paths (Hencky, elastoplastic)', 'Hencky particle-steps/s',
+                             'elastoplastic particle-steps/s', 'yielded', 'elastoplastic / Hencky'], table)
+    ir = {(r['shape'], r['law']): float(r['instructions']) for r in counts if r['instructions']}
+    if ir:
+        lines += ['\nInstructions of each whole run at 1e4 particles (valgrind --tool=callgrind):\n']
+        lines += markdown_table(['shape', 'Hencky', 'elastoplastic', 'Hencky / elastoplastic'],
+                                [[shape, f'{ir[shape, "hencky"]:.4g}', f'{ir[shape, "elastoplastic"]:.4g}',
+                                  f'{ir[shape, "hencky"] / ir[shape, "elastoplastic"]:.3f}'] for shape in SHAPE_ORDER
+                                 if (shape, 'hencky') in ir and (shape, 'elastoplastic') in ir])
+    lines.append('')
+
+
+#: Targets of an implicit step: its time per particle-step / an explicit fused one's (lumped mass).
+IMPLICIT_TARGETS = {'implicit_linear_lumped': 4.0, 'implicit_hencky_lumped': 6.0}
+#: The runs of `mpm1d_bench implicit`, in the order of its table.
+IMPLICIT_ORDER = ['explicit_linear', 'explicit_hencky', 'implicit_linear_lumped', 'implicit_hencky_lumped',
+                  'implicit_linear_consistent', 'implicit_hencky_consistent']
+
+
+def implicit_table(rows, counts, lines, targets):
+    """Section on an implicit step against an explicit one (implicit.csv, implicit_callgrind.csv): per run the
+    median rate, Newton solves per step and the median over rounds of the paired ratio of times per particle-step,
+    implicit / explicit of the same law (range in brackets). Appends to `targets`."""
+    if not rows:
+        return
+    def rate(r):
+        return float(r['particle_steps_per_s'])
+    explicit = {(r['law'], r['round']): rate(r) for r in rows if r['run'].startswith('explicit')}
+    lines += ['## An implicit step against an explicit one\n',
+              'The default bar, 1e5 particles (2 per element), dt = 0.5 dx/c for both; explicit: USL on the fused '
+              'kernels, 200 steps; implicit: Newmark\'s trapezoidal rule with Newton, 20 steps; whole runs, one '
+              'thread, CPU time. Each round runs the explicit bars (laws linear and Hencky), then the implicit ones. '
+              'Ratio: median over rounds of the implicit time per particle-step / the explicit one of the same law and '
+              'round (min-max). Targets (lumped mass): linear <= 4, Hencky <= 6.\n']
+    groups = {}
+    for r in rows:
+        groups.setdefault(r['run'], []).append(r)
+    table = []
+    for run in sorted(groups, key=lambda k: IMPLICIT_ORDER.index(k) if k in IMPLICIT_ORDER else 99):
+        rs = groups[run]
+        q = [explicit[r['law'], r['round']] / rate(r) for r in rs if (r['law'], r['round']) in explicit]
+        table.append([run, rs[0]['law'], rs[0]['mass'], f'{np.median([rate(r) for r in rs]):.3g}',
+                      f'{float(rs[0]["solves_per_step"]):.2f}', spread(q) if q and run.startswith('implicit') else '-'])
+        if run in IMPLICIT_TARGETS and q:
+            targets.append((f'{run}, time per particle-step <= {IMPLICIT_TARGETS[run]} x explicit', float(np.median(q)),
+                            float(np.median(q)) <= IMPLICIT_TARGETS[run]))
+    lines += markdown_table(['run', 'law', 'mass', 'particle-steps/s', 'Newton solves per step', 'time / explicit'], table)
+    ir = {r['run']: float(r['instructions']) for r in counts if r['instructions']}
+    if ir:
+        lines += ['\nInstructions per particle-step (valgrind --tool=callgrind; whole runs at 2e4 particles, 100 '
+                  'explicit or 10 implicit steps):\n']
+        table = []
+        for run in IMPLICIT_ORDER:
+            if run in ir:
+                per = ir[run] / (2e4 * (100 if run.startswith('explicit') else 10))
+                ref = ir.get('explicit_' + ('linear' if 'linear' in run else 'hencky'))
+                table.append([run, f'{per:.0f}', f'{per / (ref / 2e6):.2f}' if ref else '-'])
+        lines += markdown_table(['run', 'instructions per particle-step', '/ explicit'], table)
+    lines.append('')
+
+
 def table2_table(rows, counts, lines, targets):
-    """Section on the Table-2 error pass against an older build (table2.csv, table2_callgrind.csv)."""
+    """Section on the Table-2 error pass against an older build (table2.csv, table2_callgrind.csv), per build
+    (the study scripts' flags and, when run.sh was given OLD_PORTABLE_MPM1D, the portable one)."""
     if rows:
         lines += ['## Table-2 error pass against an older build\n',
                   'USF and USL sweeps of the founding paper (600 cases each, 2 periods, no timing pass), this build '
-                  'and OLD_MPM1D alternately; whole process wall time on a shared machine (a second view: the '
-                  'instruction counts below are the repeatable one). Speed ratio: median over rounds of old time / '
-                  'new time (min-max).\n']
+                  'and OLD_MPM1D (OLD_PORTABLE_MPM1D for the portable build) alternately; whole process wall time on '
+                  'a shared machine (a second view: the instruction counts below are the repeatable one). Speed '
+                  'ratio: median over rounds of old time / new time (min-max).\n']
         table = []
-        for scheme in ('usf', 'usl'):
-            for t in ('1', '2'):
-                new = {r['repeat']: float(r['seconds']) for r in rows
-                       if r['binary'] == 'new' and r['scheme'] == scheme and r['threads'] == t}
-                old = {r['repeat']: float(r['seconds']) for r in rows
-                       if r['binary'] == 'old' and r['scheme'] == scheme and r['threads'] == t}
-                q = [old[k] / new[k] for k in new if k in old]
-                if new:
-                    table.append([scheme, t, f'{np.median(list(new.values())):.3f}',
-                                  f'{np.median(list(old.values())) if old else float("nan"):.3f}',
-                                  spread(q) if q else '-'])
-                if q:
-                    targets.append((f'Table-2 {scheme}, {t} thread(s), wall time, >= 1.0 x the old build',
-                                    float(np.median(q)), float(np.median(q)) >= 1.0))
-        lines += markdown_table(['scheme', 'threads', 'new s (median)', 'old s (median)', 'speed new / old'], table)
+        for build in sorted({r.get('build', '') for r in rows}):
+            for scheme in ('usf', 'usl'):
+                for t in ('1', '2'):
+                    sel = [r for r in rows if r.get('build', '') == build and r['scheme'] == scheme and r['threads'] == t]
+                    new = {r['repeat']: float(r['seconds']) for r in sel if r['binary'] == 'new'}
+                    old = {r['repeat']: float(r['seconds']) for r in sel if r['binary'] == 'old'}
+                    q = [old[k] / new[k] for k in new if k in old]
+                    if new:
+                        table.append([build or '-', scheme, t, f'{np.median(list(new.values())):.3f}',
+                                      f'{np.median(list(old.values())) if old else float("nan"):.3f}',
+                                      spread(q) if q else '-'])
+                    if q:
+                        targets.append((f'Table-2 {scheme}, {build or "this"} build, {t} thread(s), wall time, >= 1.0 x '
+                                        'the old build', float(np.median(q)), float(np.median(q)) >= 1.0))
+        lines += markdown_table(['build', 'scheme', 'threads', 'new s (median)', 'old s (median)', 'speed new / old'],
+                                table)
         lines.append('')
     if counts:
         lines += ['Instruction counts (valgrind --tool=callgrind, one thread; repeatable on a busy machine):\n']
         table = []
-        for scheme in ('usf', 'usl'):
-            c = {r['binary']: float(r['instructions']) for r in counts if r['scheme'] == scheme and r['instructions']}
-            if 'new' in c and 'old' in c:
-                table.append([scheme, f'{c["new"]:.4g}', f'{c["old"]:.4g}', f'{c["old"] / c["new"]:.3f}'])
-                targets.append((f'Table-2 {scheme}, instructions, old / new >= 1.0', c['old'] / c['new'],
-                                c['old'] / c['new'] >= 1.0))
-        lines += markdown_table(['scheme', 'new', 'old', 'old / new'], table)
+        for build in sorted({r.get('build', '') for r in counts}):
+            for scheme in ('usf', 'usl'):
+                c = {r['binary']: float(r['instructions']) for r in counts
+                     if r.get('build', '') == build and r['scheme'] == scheme and r['instructions']}
+                if 'new' in c and 'old' in c:
+                    table.append([build or '-', scheme, f'{c["new"]:.4g}', f'{c["old"]:.4g}', f'{c["old"] / c["new"]:.3f}'])
+                    targets.append((f'Table-2 {scheme}, {build or "this"} build, instructions, old / new >= 1.0',
+                                    c['old'] / c['new'], c['old'] / c['new'] >= 1.0))
+        lines += markdown_table(['build', 'scheme', 'new', 'old', 'old / new'], table)
         lines.append('')
 
 
@@ -207,6 +304,8 @@ def main(argv=None):
         lines = ['# mpm1d benchmark (some parts)\n', f'Code version {version}. Build: {flags}'.replace('\n', '; ') + '\n']
         targets = []
         ratio_table(optional(d, 'ratios.csv'), lines, targets, optional(d, 'ratios_callgrind.csv'))
+        plastic_table(optional(d, 'plastic.csv'), optional(d, 'plastic_callgrind.csv'), lines, targets)
+        implicit_table(optional(d, 'implicit.csv'), optional(d, 'implicit_callgrind.csv'), lines, targets)
         table2_table(optional(d, 'table2.csv'), optional(d, 'table2_callgrind.csv'), lines, targets)
         lines += ['## Targets\n'] + [f'- {t}: {v:.3f} -> {"met" if ok else "NOT met"}' for t, v, ok in targets]
         open(os.path.join(d, 'summary.md'), 'w').write('\n'.join(lines) + '\n')
@@ -385,6 +484,8 @@ def main(argv=None):
     shape_ratio, transfer_cost = shape_table(shape_rows, lines)
     run_targets = []
     ratio_table(optional(d, 'ratios.csv'), lines, run_targets, optional(d, 'ratios_callgrind.csv'))
+    plastic_table(optional(d, 'plastic.csv'), optional(d, 'plastic_callgrind.csv'), lines, run_targets)
+    implicit_table(optional(d, 'implicit.csv'), optional(d, 'implicit_callgrind.csv'), lines, run_targets)
     table2_table(optional(d, 'table2.csv'), optional(d, 'table2_callgrind.csv'), lines, run_targets)
 
     lines += ['## Targets\n']
