@@ -153,7 +153,9 @@ contains
    end function stored_energy
 
    !> The plastic work done on the particles so far, sum (sigma_y alpha + H alpha^2/2) V0 (0 unless
-   !> the law is elastoplastic).
+   !> the law is elastoplastic). V0 per particle where the particles carry it (the generic path, and the
+   !> scenes of several materials, which give the yield stresses per particle), else the particles' one V0
+   !> (the fused kernels' bar; no array of it is formed, which would add 8 bytes per particle of peak memory).
    real(dp) function plastic_work(material, particles) result(work)
       type(material_t), intent(in) :: material
       type(particles_t), intent(in) :: particles
@@ -162,9 +164,12 @@ contains
       if (allocated(particles%yield_stress_of)) then
          work = sum(plastic_work_density(particles%yield_stress_of, particles%hardening_modulus_of, &
                                          particles%hardening, particles%volume0_of))
-      else
+      else if (allocated(particles%volume0_of)) then
          work = sum(plastic_work_density(material%yield_stress, material%hardening_modulus, particles%hardening, &
                                          particles%volume0_of))
+      else
+         work = sum(plastic_work_density(material%yield_stress, material%hardening_modulus, particles%hardening, &
+                                         particles%volume0))
       end if
    end function plastic_work
 
@@ -176,8 +181,10 @@ contains
       if (material%law /= law_elastoplastic .or. .not. allocated(particles%hardening)) return
       if (allocated(particles%yield_stress_of)) then
          energy = sum(dissipation_density(particles%yield_stress_of, particles%hardening, particles%volume0_of))
-      else
+      else if (allocated(particles%volume0_of)) then
          energy = sum(dissipation_density(material%yield_stress, particles%hardening, particles%volume0_of))
+      else
+         energy = sum(dissipation_density(material%yield_stress, particles%hardening, particles%volume0))
       end if
    end function dissipated_energy
 

@@ -7,7 +7,7 @@ module mpm_simulation
    use mpm_errors, only: error_t, set_error
    use mpm_strings, only: str, plural
    use mpm_config, only: config_t, material_of, periodic_snapshots
-   use mpm_material, only: material_t, law_hencky, law_linear, material_state, material_report
+   use mpm_material, only: material_t, material_state, material_report
    use mpm_grid, only: grid_t, grid_init
    use mpm_particles, only: particles_t, per_particle_data
    use mpm_shape, only: shape_cache_t, shape_id, shape_extra_cells, transfer_id, transfer_apic, transfer_xpic, &
@@ -155,13 +155,11 @@ contains
          call scene%report(result%report_names, result%report_values)
          call scene%place_particles(config, particles, error)
          if (allocated(error)) return
-         ! the fused kernels, where they take the scene, shape, transfer and what the particles carry;
-         ! their stress update is hencky's or the linear law's, and they are explicit
+         ! the fused kernels, where they take the scene, shape, transfer, law and what the particles carry;
+         ! they are explicit
          box = fused_choose(kind, transfer, config%flip_fraction, scene%fused_applies(), scene%body_fields, scene, &
-                            particles)
-         box%linear = run%material%law == law_linear
+                            particles, run%material)
          run%fused = trim(config%kernels) == 'auto' .and. box%variant >= 0 .and. &
-                     (run%material%law == law_hencky .or. run%material%law == law_linear) .and. &
                      integrator == integrator_explicit .and. formulation_id(config%formulation) /= formulation_total
          result%fused = run%fused
          if (.not. run%fused) call per_particle_data(particles, error)

@@ -617,7 +617,7 @@ contains
       kind = shape_id(config%shape)
       transfer = transfer_id(config%transfer)
       box = fused_choose(kind, transfer, config%flip_fraction, scene%fused_applies(), scene%body_fields, &
-                         scene, particles)
+                         scene, particles, material_of(config))
       fused = trim(config%kernels) == 'auto' .and. box%variant >= 0 .and. trim(config%formulation) /= 'total'
       if (.not. fused) call per_particle_data(particles, error)
       bytes = 0

@@ -18,6 +18,7 @@ module mpm_fused
    use mpm_errors, only: error_t
    use mpm_diagnostics, only: pass_totals_t
    use mpm_stepper, only: stepper_t, scheme_usf, scheme_usl, scheme_musl
+   use mpm_material, only: material_t, law_linear, law_elastoplastic
    use mpm_loads, only: loads_t
    use mpm_contact, only: bodies_t, bodies_init, touch_test, contact_correct, combine_bodies
    use mpm_transfer, only: p2g, fused_pass, pass_usf_stress, pass_usf_move, pass_usl, pass_musl_remap, &
@@ -97,27 +98,32 @@ contains
    end subroutine fused_snapshot_grid
 
    !> Whether the fused kernels take a run of shape `kind` (mpm_shape's ids), transfer `transfer` (its
-   !> FLIP fraction for the blend) of a problem with loads `loads` and its placed `particles`, where the
-   !> problem allows them (`applies`: the scene's fused_applies) and with a velocity field per body when
-   !> `body_fields`, and if so `box`, the kernels'
-   !> description of it (fused_box_t: the shape, and the variant of the hat's kernels). They take:
+   !> FLIP fraction for the blend) of a problem with loads `loads`, its placed `particles` and `material`
+   !> (every law: hencky, linear, elastoplastic), where the problem allows them (`applies`: the scene's
+   !> fused_applies) and with a velocity field per body when `body_fields`, and if so `box`, the kernels'
+   !> description of it (fused_box_t: the shape, the variant of the hat's kernels, the law). They take:
    !> - the bar and a scene whose forces are grid loads (the column), every shape with FLIP, the hat with
    !>   PIC, the blend and APIC: particles of one mass and volume (no per-particle arrays);
    !> - with the hat and FLIP: per-particle masses and moduli of one volume (the composite bar), per-
    !>   particle forces (the manufactured solution), bodies each of one mass, volume and modulus, on
    !>   stacked fields or in one field (the impact).
    !> Anything else runs on the generic path.
-   function fused_choose(kind, transfer, flip_fraction, applies, body_fields, loads, particles) result(box)
+   function fused_choose(kind, transfer, flip_fraction, applies, body_fields, loads, particles, material) result(box)
       integer, intent(in) :: kind, transfer
       real(dp), intent(in) :: flip_fraction
       logical, intent(in) :: applies, body_fields
       class(loads_t), intent(in) :: loads
       type(particles_t), intent(in) :: particles
+      type(material_t), intent(in) :: material
       type(fused_box_t) :: box
       logical :: hat_flip, per_particle
       box = fused_shape(kind)
       box%variant = -1  ! (none: the generic path)
       box%flip_fraction = flip_fraction
+      box%linear = material%law == law_linear
+      box%plastic = material%law == law_elastoplastic
+      box%yield_stress = material%yield_stress
+      box%hardening_modulus = material%hardening_modulus
       if (.not. applies .or. kind == shape_cpdi) return ! (CPDI's weights follow moving corners)
       hat_flip = kind == shape_linear .and. transfer == transfer_flip
       per_particle = allocated(particles%mass_of) .or. allocated(particles%volume0_of) .or. &
@@ -149,8 +155,8 @@ contains
       end if
    end function fused_choose
 
-   !> Each body (a contiguous range of particles%body) has one mass, volume and modulus (`together`: all
-   !> bodies the same).
+   !> Each body (a contiguous range of particles%body) has one mass, volume and modulus, and where the
+   !> particles carry them one yield stress and hardening modulus (`together`: all bodies the same).
    pure logical function bodies_uniform(particles, together) result(uniform)
       type(particles_t), intent(in) :: particles
       logical, intent(in) :: together
@@ -164,6 +170,13 @@ contains
              .or. particles%youngs_modulus_of(p) /= particles%youngs_modulus_of(p - 1)) then
             uniform = .false.
             return
+         end if
+         if (allocated(particles%yield_stress_of)) then
+            if (particles%yield_stress_of(p) /= particles%yield_stress_of(p - 1) .or. &
+                particles%hardening_modulus_of(p) /= particles%hardening_modulus_of(p - 1)) then
+               uniform = .false.
+               return
+            end if
          end if
       end do
    end function bodies_uniform
@@ -242,9 +255,9 @@ contains
    end subroutine fused_start
 
    !> The bodies' description for the kernels (variant_bodies): each body's particles, mass, volume and
-   !> modulus, and where its field begins in the stacked fields of `bodies` (allocated with element
-   !> shares by bodies_init); without stacked fields (bodies%count = 0: one velocity field) all the
-   !> particles as one body on the run's grid.
+   !> modulus (and yield stress and hardening modulus: the elastoplastic law), and where its field begins
+   !> in the stacked fields of `bodies` (allocated with element shares by bodies_init); without stacked
+   !> fields (bodies%count = 0: one velocity field) all the particles as one body on the run's grid.
    subroutine start_bodies(box, particles, grid, bodies)
       type(fused_box_t), intent(inout) :: box
       type(particles_t), intent(in) :: particles
@@ -259,6 +272,7 @@ contains
          box%body_modulus = [particles%youngs_modulus_of(1)]
          box%body_element = [1]
          box%body_cells = grid%elements
+         call body_laws([1])
          return
       end if
       associate (n => bodies%count)
@@ -269,7 +283,21 @@ contains
          box%body_modulus = particles%youngs_modulus_of(bodies%first)
          box%body_element = [((b - 1)*bodies%nodes + 1, b=1, n)]
          box%body_cells = bodies%nodes - 1
+         call body_laws(bodies%first)
       end associate
+   contains
+      !> Each body's yield stress and hardening modulus, its first particle's (the run's where the
+      !> particles carry none).
+      subroutine body_laws(firsts)
+         integer, intent(in) :: firsts(:)
+         if (allocated(particles%yield_stress_of)) then
+            box%body_yield = particles%yield_stress_of(firsts)
+            box%body_hardening = particles%hardening_modulus_of(firsts)
+         else
+            box%body_yield = spread(box%yield_stress, 1, size(firsts))
+            box%body_hardening = spread(box%hardening_modulus, 1, size(firsts))
+         end if
+      end subroutine body_laws
    end subroutine start_bodies
 
    !> Kinetic and strain energy and the smallest J of the particles as they are (the variants' start).

@@ -119,8 +119,10 @@ module mpm_transfer
       logical :: stretch
       real(dp) :: flip_fraction = 1.0_dp, dx = 0.0_dp
       integer :: offset = 0
-      !> The stress update's law: hencky (sigma += E d eps) or, when set, linear (sigma = E (J - 1)).
-      logical :: linear = .false.
+      !> The stress update's law: hencky (sigma += E d eps) or, when set, linear (sigma = E (J - 1)) or
+      !> elastoplastic (`plastic`: hencky with the radial return, yield stress and hardening modulus).
+      logical :: linear = .false., plastic = .false.
+      real(dp) :: yield_stress = huge(1.0_dp), hardening_modulus = 0.0_dp
    end type pass_constants_t
 
    !> The particles' shape on the fused path: the hat (default) or a particle in two parts (`parts`,
@@ -144,8 +146,12 @@ module mpm_transfer
       integer, allocatable :: body_first(:), body_last(:), body_element(:)
       real(dp), allocatable :: body_mass(:), body_volume0(:), body_modulus(:)
       integer :: body_cells = 0  !< the cells of one body's field
-      !> The law of the stress update: hencky (default) or linear (stress_hencky, stress_linear).
-      logical :: linear = .false.
+      !> The law of the stress update: hencky (default), linear or elastoplastic (`plastic`, with the
+      !> run's yield stress and hardening modulus, or each body's; stress_hencky, stress_linear,
+      !> stress_plastic)
+      logical :: linear = .false., plastic = .false.
+      real(dp) :: yield_stress = huge(1.0_dp), hardening_modulus = 0.0_dp
+      real(dp), allocatable :: body_yield(:), body_hardening(:)
    end type fused_box_t
 
    interface
@@ -431,7 +437,7 @@ contains
       type(pass_constants_t) :: constants
       constants = pass_constants_t(grid%elements, grid%origin, grid%inv_dx, dt, youngs_modulus, particles%mass, &
                                    particles%volume0, 0.5_dp*particles%volume0, box%stretch, box%flip_fraction, grid%dx, 0, &
-                                   box%linear)
+                                   box%linear, box%plastic, box%yield_stress, box%hardening_modulus)
       ! the number of the kernel of the particles' shape and the pass; segment calls it directly (a call
       ! through a procedure pointer passed every array's descriptor, and the kernels could not be
       ! specialised to their callers: a tenth of a small run's step)
@@ -638,13 +644,15 @@ contains
                                    particles%volume_ratio, particles%cell, grid%acceleration, grid%velocity, &
                                    grid%element_strain, grid%element_mass_left, grid%element_mass_right, &
                                    grid%element_momentum_left, grid%element_momentum_right, grid%element_stress_volume, &
-                                   constants, box%carry)
+                                   constants, box%carry, &
+                                   plastic_strain=particles%plastic_strain, hardening=particles%hardening)
          case (3)
             call usl_segment(k, grid%segments, particles%x, particles%x0, particles%v, particles%stress, &
                             particles%volume_ratio, particles%cell, grid%acceleration, grid%velocity, &
                             grid%element_strain, grid%element_mass_left, grid%element_mass_right, &
                             grid%element_momentum_left, grid%element_momentum_right, grid%element_stress_volume, &
-                            constants, box%carry)
+                            constants, box%carry, &
+                            plastic_strain=particles%plastic_strain, hardening=particles%hardening)
          case (4)
             call musl_remap_segment(k, grid%segments, particles%x, particles%x0, particles%v, particles%stress, &
                                    particles%volume_ratio, particles%cell, grid%acceleration, grid%velocity, &
@@ -656,7 +664,8 @@ contains
                                     particles%volume_ratio, particles%cell, grid%acceleration, grid%velocity, &
                                     grid%element_strain, grid%element_mass_left, grid%element_mass_right, &
                                     grid%element_momentum_left, grid%element_momentum_right, grid%element_stress_volume, &
-                                    constants, box%carry)
+                                    constants, box%carry, &
+                                    plastic_strain=particles%plastic_strain, hardening=particles%hardening)
          case (6)
             call ugimp_usf_move_segment(k, grid%segments, particles%x, particles%x0, particles%v, particles%stress, &
                                        particles%volume_ratio, particles%cell, grid%acceleration, grid%velocity, &
@@ -668,13 +677,15 @@ contains
                                          particles%volume_ratio, particles%cell, grid%acceleration, grid%velocity, &
                                          grid%element_strain, grid%element_mass_left, grid%element_mass_right, &
                                          grid%element_momentum_left, grid%element_momentum_right, grid%element_stress_volume, &
-                                         constants, box%carry)
+                                         constants, box%carry, &
+                                         plastic_strain=particles%plastic_strain, hardening=particles%hardening)
          case (8)
             call ugimp_usl_segment(k, grid%segments, particles%x, particles%x0, particles%v, particles%stress, &
                                   particles%volume_ratio, particles%cell, grid%acceleration, grid%velocity, &
                                   grid%element_strain, grid%element_mass_left, grid%element_mass_right, &
                                   grid%element_momentum_left, grid%element_momentum_right, grid%element_stress_volume, &
-                                  constants, box%carry)
+                                  constants, box%carry, &
+                                  plastic_strain=particles%plastic_strain, hardening=particles%hardening)
          case (9)
             call ugimp_musl_remap_segment(k, grid%segments, particles%x, particles%x0, particles%v, particles%stress, &
                                          particles%volume_ratio, particles%cell, grid%acceleration, grid%velocity, &
@@ -686,7 +697,8 @@ contains
                                           particles%volume_ratio, particles%cell, grid%acceleration, grid%velocity, &
                                           grid%element_strain, grid%element_mass_left, grid%element_mass_right, &
                                           grid%element_momentum_left, grid%element_momentum_right, grid%element_stress_volume, &
-                                          constants, box%carry)
+                                          constants, box%carry, &
+                                          plastic_strain=particles%plastic_strain, hardening=particles%hardening)
          case (11)
             call cpgimp_usf_move_segment(k, grid%segments, particles%x, particles%x0, particles%v, particles%stress, &
                                         particles%volume_ratio, particles%cell, grid%acceleration, grid%velocity, &
@@ -698,13 +710,15 @@ contains
                                           particles%volume_ratio, particles%cell, grid%acceleration, grid%velocity, &
                                           grid%element_strain, grid%element_mass_left, grid%element_mass_right, &
                                           grid%element_momentum_left, grid%element_momentum_right, grid%element_stress_volume, &
-                                          constants, box%carry)
+                                          constants, box%carry, &
+                                          plastic_strain=particles%plastic_strain, hardening=particles%hardening)
          case (13)
             call cpgimp_usl_segment(k, grid%segments, particles%x, particles%x0, particles%v, particles%stress, &
                                    particles%volume_ratio, particles%cell, grid%acceleration, grid%velocity, &
                                    grid%element_strain, grid%element_mass_left, grid%element_mass_right, &
                                    grid%element_momentum_left, grid%element_momentum_right, grid%element_stress_volume, &
-                                   constants, box%carry)
+                                   constants, box%carry, &
+                                   plastic_strain=particles%plastic_strain, hardening=particles%hardening)
          case (14)
             call cpgimp_musl_remap_segment(k, grid%segments, particles%x, particles%x0, particles%v, particles%stress, &
                                           particles%volume_ratio, particles%cell, grid%acceleration, grid%velocity, &
@@ -716,7 +730,8 @@ contains
                                            particles%volume_ratio, particles%cell, grid%acceleration, grid%velocity, &
                                            grid%element_strain, grid%element_mass_left, grid%element_mass_right, &
                                            grid%element_momentum_left, grid%element_momentum_right, grid%element_stress_volume, &
-                                           constants, box%carry)
+                                           constants, box%carry, &
+                                           plastic_strain=particles%plastic_strain, hardening=particles%hardening)
          case (16)
             call bspline2_usf_move_segment(k, grid%segments, particles%x, particles%x0, particles%v, particles%stress, &
                                           particles%volume_ratio, particles%cell, grid%acceleration, grid%velocity, &
@@ -728,13 +743,15 @@ contains
                                             particles%volume_ratio, particles%cell, grid%acceleration, grid%velocity, &
                                             grid%element_strain, grid%element_mass_left, grid%element_mass_right, &
                                             grid%element_momentum_left, grid%element_momentum_right, grid%element_stress_volume, &
-                                            constants, box%carry)
+                                            constants, box%carry, &
+                                            plastic_strain=particles%plastic_strain, hardening=particles%hardening)
          case (18)
             call bspline2_usl_segment(k, grid%segments, particles%x, particles%x0, particles%v, particles%stress, &
                                      particles%volume_ratio, particles%cell, grid%acceleration, grid%velocity, &
                                      grid%element_strain, grid%element_mass_left, grid%element_mass_right, &
                                      grid%element_momentum_left, grid%element_momentum_right, grid%element_stress_volume, &
-                                     constants, box%carry)
+                                     constants, box%carry, &
+                                     plastic_strain=particles%plastic_strain, hardening=particles%hardening)
          case (19)
             call bspline2_musl_remap_segment(k, grid%segments, particles%x, particles%x0, particles%v, particles%stress, &
                                             particles%volume_ratio, particles%cell, grid%acceleration, grid%velocity, &
@@ -746,7 +763,8 @@ contains
                                              particles%volume_ratio, particles%cell, grid%acceleration, grid%velocity, &
                                              grid%element_strain, grid%element_mass_left, grid%element_mass_right, &
                                              grid%element_momentum_left, grid%element_momentum_right, grid%element_stress_volume, &
-                                             constants, box%carry)
+                                             constants, box%carry, &
+                                             plastic_strain=particles%plastic_strain, hardening=particles%hardening)
          case (21)
             call bspline3_usf_move_segment(k, grid%segments, particles%x, particles%x0, particles%v, particles%stress, &
                                           particles%volume_ratio, particles%cell, grid%acceleration, grid%velocity, &
@@ -758,13 +776,15 @@ contains
                                             particles%volume_ratio, particles%cell, grid%acceleration, grid%velocity, &
                                             grid%element_strain, grid%element_mass_left, grid%element_mass_right, &
                                             grid%element_momentum_left, grid%element_momentum_right, grid%element_stress_volume, &
-                                            constants, box%carry)
+                                            constants, box%carry, &
+                                            plastic_strain=particles%plastic_strain, hardening=particles%hardening)
          case (23)
             call bspline3_usl_segment(k, grid%segments, particles%x, particles%x0, particles%v, particles%stress, &
                                      particles%volume_ratio, particles%cell, grid%acceleration, grid%velocity, &
                                      grid%element_strain, grid%element_mass_left, grid%element_mass_right, &
                                      grid%element_momentum_left, grid%element_momentum_right, grid%element_stress_volume, &
-                                     constants, box%carry)
+                                     constants, box%carry, &
+                                     plastic_strain=particles%plastic_strain, hardening=particles%hardening)
          case (24)
             call bspline3_musl_remap_segment(k, grid%segments, particles%x, particles%x0, particles%v, particles%stress, &
                                             particles%volume_ratio, particles%cell, grid%acceleration, grid%velocity, &
@@ -776,7 +796,8 @@ contains
                                              particles%volume_ratio, particles%cell, grid%acceleration, grid%velocity, &
                                              grid%element_strain, grid%element_mass_left, grid%element_mass_right, &
                                              grid%element_momentum_left, grid%element_momentum_right, grid%element_stress_volume, &
-                                             constants, box%carry)
+                                             constants, box%carry, &
+                                             plastic_strain=particles%plastic_strain, hardening=particles%hardening)
          case (26)
             call pic_usf_move_segment(k, grid%segments, particles%x, particles%x0, particles%v, particles%stress, &
                                      particles%volume_ratio, particles%cell, grid%acceleration, grid%velocity, &
@@ -790,14 +811,18 @@ contains
                                        grid%element_strain, grid%element_mass_left, grid%element_mass_right, &
                                        grid%element_momentum_left, grid%element_momentum_right, grid%element_stress_volume, &
                                        constants, box%carry, particles%mass_of, particles%youngs_modulus_of, box%forces, &
-                                       particles%velocity_gradient, grid%element_force_left, grid%element_force_right)
+                                       particles%velocity_gradient, grid%element_force_left, grid%element_force_right, &
+                                       plastic_strain=particles%plastic_strain, hardening=particles%hardening, &
+                                       yield_of=particles%yield_stress_of, hardening_of=particles%hardening_modulus_of)
          case (28)
             call pic_usl_segment(k, grid%segments, particles%x, particles%x0, particles%v, particles%stress, &
                                 particles%volume_ratio, particles%cell, grid%acceleration, grid%velocity, &
                                 grid%element_strain, grid%element_mass_left, grid%element_mass_right, &
                                 grid%element_momentum_left, grid%element_momentum_right, grid%element_stress_volume, &
                                 constants, box%carry, particles%mass_of, particles%youngs_modulus_of, box%forces, &
-                                particles%velocity_gradient, grid%element_force_left, grid%element_force_right)
+                                particles%velocity_gradient, grid%element_force_left, grid%element_force_right, &
+                                plastic_strain=particles%plastic_strain, hardening=particles%hardening, &
+                                yield_of=particles%yield_stress_of, hardening_of=particles%hardening_modulus_of)
          case (29)
             call pic_musl_remap_segment(k, grid%segments, particles%x, particles%x0, particles%v, particles%stress, &
                                        particles%volume_ratio, particles%cell, grid%acceleration, grid%velocity, &
@@ -811,7 +836,9 @@ contains
                                         grid%element_strain, grid%element_mass_left, grid%element_mass_right, &
                                         grid%element_momentum_left, grid%element_momentum_right, grid%element_stress_volume, &
                                         constants, box%carry, particles%mass_of, particles%youngs_modulus_of, box%forces, &
-                                        particles%velocity_gradient, grid%element_force_left, grid%element_force_right)
+                                        particles%velocity_gradient, grid%element_force_left, grid%element_force_right, &
+                                        plastic_strain=particles%plastic_strain, hardening=particles%hardening, &
+                                        yield_of=particles%yield_stress_of, hardening_of=particles%hardening_modulus_of)
          case (31)
             call pic_map_segment(k, grid%segments, particles%x, particles%x0, particles%v, particles%stress, &
                                 particles%volume_ratio, particles%cell, grid%acceleration, grid%velocity, &
@@ -839,14 +866,18 @@ contains
                                          grid%element_strain, grid%element_mass_left, grid%element_mass_right, &
                                          grid%element_momentum_left, grid%element_momentum_right, grid%element_stress_volume, &
                                          constants, box%carry, particles%mass_of, particles%youngs_modulus_of, box%forces, &
-                                         particles%velocity_gradient, grid%element_force_left, grid%element_force_right)
+                                         particles%velocity_gradient, grid%element_force_left, grid%element_force_right, &
+                                         plastic_strain=particles%plastic_strain, hardening=particles%hardening, &
+                                         yield_of=particles%yield_stress_of, hardening_of=particles%hardening_modulus_of)
          case (35)
             call blend_usl_segment(k, grid%segments, particles%x, particles%x0, particles%v, particles%stress, &
                                   particles%volume_ratio, particles%cell, grid%acceleration, grid%velocity, &
                                   grid%element_strain, grid%element_mass_left, grid%element_mass_right, &
                                   grid%element_momentum_left, grid%element_momentum_right, grid%element_stress_volume, &
                                   constants, box%carry, particles%mass_of, particles%youngs_modulus_of, box%forces, &
-                                  particles%velocity_gradient, grid%element_force_left, grid%element_force_right)
+                                  particles%velocity_gradient, grid%element_force_left, grid%element_force_right, &
+                                  plastic_strain=particles%plastic_strain, hardening=particles%hardening, &
+                                  yield_of=particles%yield_stress_of, hardening_of=particles%hardening_modulus_of)
          case (36)
             call blend_musl_remap_segment(k, grid%segments, particles%x, particles%x0, particles%v, particles%stress, &
                                          particles%volume_ratio, particles%cell, grid%acceleration, grid%velocity, &
@@ -860,7 +891,9 @@ contains
                                           grid%element_strain, grid%element_mass_left, grid%element_mass_right, &
                                           grid%element_momentum_left, grid%element_momentum_right, grid%element_stress_volume, &
                                           constants, box%carry, particles%mass_of, particles%youngs_modulus_of, box%forces, &
-                                          particles%velocity_gradient, grid%element_force_left, grid%element_force_right)
+                                          particles%velocity_gradient, grid%element_force_left, grid%element_force_right, &
+                                          plastic_strain=particles%plastic_strain, hardening=particles%hardening, &
+                                          yield_of=particles%yield_stress_of, hardening_of=particles%hardening_modulus_of)
          case (38)
             call blend_map_segment(k, grid%segments, particles%x, particles%x0, particles%v, particles%stress, &
                                   particles%volume_ratio, particles%cell, grid%acceleration, grid%velocity, &
@@ -888,14 +921,18 @@ contains
                                         grid%element_strain, grid%element_mass_left, grid%element_mass_right, &
                                         grid%element_momentum_left, grid%element_momentum_right, grid%element_stress_volume, &
                                         constants, box%carry, particles%mass_of, particles%youngs_modulus_of, box%forces, &
-                                        particles%velocity_gradient, grid%element_force_left, grid%element_force_right)
+                                        particles%velocity_gradient, grid%element_force_left, grid%element_force_right, &
+                                        plastic_strain=particles%plastic_strain, hardening=particles%hardening, &
+                                        yield_of=particles%yield_stress_of, hardening_of=particles%hardening_modulus_of)
          case (42)
             call apic_usl_segment(k, grid%segments, particles%x, particles%x0, particles%v, particles%stress, &
                                  particles%volume_ratio, particles%cell, grid%acceleration, grid%velocity, &
                                  grid%element_strain, grid%element_mass_left, grid%element_mass_right, &
                                  grid%element_momentum_left, grid%element_momentum_right, grid%element_stress_volume, &
                                  constants, box%carry, particles%mass_of, particles%youngs_modulus_of, box%forces, &
-                                 particles%velocity_gradient, grid%element_force_left, grid%element_force_right)
+                                 particles%velocity_gradient, grid%element_force_left, grid%element_force_right, &
+                                 plastic_strain=particles%plastic_strain, hardening=particles%hardening, &
+                                 yield_of=particles%yield_stress_of, hardening_of=particles%hardening_modulus_of)
          case (43)
             call apic_musl_remap_segment(k, grid%segments, particles%x, particles%x0, particles%v, particles%stress, &
                                         particles%volume_ratio, particles%cell, grid%acceleration, grid%velocity, &
@@ -909,7 +946,9 @@ contains
                                          grid%element_strain, grid%element_mass_left, grid%element_mass_right, &
                                          grid%element_momentum_left, grid%element_momentum_right, grid%element_stress_volume, &
                                          constants, box%carry, particles%mass_of, particles%youngs_modulus_of, box%forces, &
-                                         particles%velocity_gradient, grid%element_force_left, grid%element_force_right)
+                                         particles%velocity_gradient, grid%element_force_left, grid%element_force_right, &
+                                         plastic_strain=particles%plastic_strain, hardening=particles%hardening, &
+                                         yield_of=particles%yield_stress_of, hardening_of=particles%hardening_modulus_of)
          case (45)
             call apic_map_segment(k, grid%segments, particles%x, particles%x0, particles%v, particles%stress, &
                                  particles%volume_ratio, particles%cell, grid%acceleration, grid%velocity, &
@@ -937,14 +976,18 @@ contains
                                             grid%element_strain, grid%element_mass_left, grid%element_mass_right, &
                                             grid%element_momentum_left, grid%element_momentum_right, grid%element_stress_volume, &
                                             constants, box%carry, particles%mass_of, particles%youngs_modulus_of, box%forces, &
-                                            particles%velocity_gradient, grid%element_force_left, grid%element_force_right)
+                                            particles%velocity_gradient, grid%element_force_left, grid%element_force_right, &
+                                            plastic_strain=particles%plastic_strain, hardening=particles%hardening, &
+                                            yield_of=particles%yield_stress_of, hardening_of=particles%hardening_modulus_of)
          case (49)
             call material_usl_segment(k, grid%segments, particles%x, particles%x0, particles%v, particles%stress, &
                                      particles%volume_ratio, particles%cell, grid%acceleration, grid%velocity, &
                                      grid%element_strain, grid%element_mass_left, grid%element_mass_right, &
                                      grid%element_momentum_left, grid%element_momentum_right, grid%element_stress_volume, &
                                      constants, box%carry, particles%mass_of, particles%youngs_modulus_of, box%forces, &
-                                     particles%velocity_gradient, grid%element_force_left, grid%element_force_right)
+                                     particles%velocity_gradient, grid%element_force_left, grid%element_force_right, &
+                                     plastic_strain=particles%plastic_strain, hardening=particles%hardening, &
+                                     yield_of=particles%yield_stress_of, hardening_of=particles%hardening_modulus_of)
          case (50)
             call material_musl_remap_segment(k, grid%segments, particles%x, particles%x0, particles%v, particles%stress, &
                                             particles%volume_ratio, particles%cell, grid%acceleration, grid%velocity, &
@@ -958,7 +1001,9 @@ contains
                                              grid%element_strain, grid%element_mass_left, grid%element_mass_right, &
                                              grid%element_momentum_left, grid%element_momentum_right, grid%element_stress_volume, &
                                              constants, box%carry, particles%mass_of, particles%youngs_modulus_of, box%forces, &
-                                             particles%velocity_gradient, grid%element_force_left, grid%element_force_right)
+                                             particles%velocity_gradient, grid%element_force_left, grid%element_force_right, &
+                                             plastic_strain=particles%plastic_strain, hardening=particles%hardening, &
+                                             yield_of=particles%yield_stress_of, hardening_of=particles%hardening_modulus_of)
          case (52)
             call material_map_segment(k, grid%segments, particles%x, particles%x0, particles%v, particles%stress, &
                                      particles%volume_ratio, particles%cell, grid%acceleration, grid%velocity, &
@@ -986,14 +1031,18 @@ contains
                                           grid%element_strain, grid%element_mass_left, grid%element_mass_right, &
                                           grid%element_momentum_left, grid%element_momentum_right, grid%element_stress_volume, &
                                           constants, box%carry, particles%mass_of, particles%youngs_modulus_of, box%forces, &
-                                          particles%velocity_gradient, grid%element_force_left, grid%element_force_right)
+                                          particles%velocity_gradient, grid%element_force_left, grid%element_force_right, &
+                                          plastic_strain=particles%plastic_strain, hardening=particles%hardening, &
+                                          yield_of=particles%yield_stress_of, hardening_of=particles%hardening_modulus_of)
          case (56)
             call forced_usl_segment(k, grid%segments, particles%x, particles%x0, particles%v, particles%stress, &
                                    particles%volume_ratio, particles%cell, grid%acceleration, grid%velocity, &
                                    grid%element_strain, grid%element_mass_left, grid%element_mass_right, &
                                    grid%element_momentum_left, grid%element_momentum_right, grid%element_stress_volume, &
                                    constants, box%carry, particles%mass_of, particles%youngs_modulus_of, box%forces, &
-                                   particles%velocity_gradient, grid%element_force_left, grid%element_force_right)
+                                   particles%velocity_gradient, grid%element_force_left, grid%element_force_right, &
+                                   plastic_strain=particles%plastic_strain, hardening=particles%hardening, &
+                                   yield_of=particles%yield_stress_of, hardening_of=particles%hardening_modulus_of)
          case (57)
             call forced_musl_remap_segment(k, grid%segments, particles%x, particles%x0, particles%v, particles%stress, &
                                           particles%volume_ratio, particles%cell, grid%acceleration, grid%velocity, &
@@ -1007,7 +1056,9 @@ contains
                                            grid%element_strain, grid%element_mass_left, grid%element_mass_right, &
                                            grid%element_momentum_left, grid%element_momentum_right, grid%element_stress_volume, &
                                            constants, box%carry, particles%mass_of, particles%youngs_modulus_of, box%forces, &
-                                           particles%velocity_gradient, grid%element_force_left, grid%element_force_right)
+                                           particles%velocity_gradient, grid%element_force_left, grid%element_force_right, &
+                                           plastic_strain=particles%plastic_strain, hardening=particles%hardening, &
+                                           yield_of=particles%yield_stress_of, hardening_of=particles%hardening_modulus_of)
          case (59)
             call forced_map_segment(k, grid%segments, particles%x, particles%x0, particles%v, particles%stress, &
                                    particles%volume_ratio, particles%cell, grid%acceleration, grid%velocity, &
@@ -1033,13 +1084,15 @@ contains
                                           particles%volume_ratio, particles%cell, grid%acceleration, grid%velocity, &
                                           grid%element_strain, grid%element_mass_left, grid%element_mass_right, &
                                           grid%element_momentum_left, grid%element_momentum_right, grid%element_stress_volume, &
-                                          body_constants(k), box%carry)
+                                          body_constants(k), box%carry, &
+                                          plastic_strain=particles%plastic_strain, hardening=particles%hardening)
          case (63)
             call bodies_usl_segment(k, grid%segments, particles%x, particles%x0, particles%v, particles%stress, &
                                    particles%volume_ratio, particles%cell, grid%acceleration, grid%velocity, &
                                    grid%element_strain, grid%element_mass_left, grid%element_mass_right, &
                                    grid%element_momentum_left, grid%element_momentum_right, grid%element_stress_volume, &
-                                   body_constants(k), box%carry)
+                                   body_constants(k), box%carry, &
+                                   plastic_strain=particles%plastic_strain, hardening=particles%hardening)
          case (64)
             call bodies_musl_remap_segment(k, grid%segments, particles%x, particles%x0, particles%v, particles%stress, &
                                           particles%volume_ratio, particles%cell, grid%acceleration, grid%velocity, &
@@ -1051,7 +1104,8 @@ contains
                                            particles%volume_ratio, particles%cell, grid%acceleration, grid%velocity, &
                                            grid%element_strain, grid%element_mass_left, grid%element_mass_right, &
                                            grid%element_momentum_left, grid%element_momentum_right, grid%element_stress_volume, &
-                                           body_constants(k), box%carry)
+                                           body_constants(k), box%carry, &
+                                           plastic_strain=particles%plastic_strain, hardening=particles%hardening)
          case (66)
             call bodies_map_segment(k, grid%segments, particles%x, particles%x0, particles%v, particles%stress, &
                                    particles%volume_ratio, particles%cell, grid%acceleration, grid%velocity, &
@@ -1078,6 +1132,10 @@ contains
          c%volume0 = box%body_volume0(b)
          c%youngs_modulus = box%body_modulus(b)
          c%offset = box%body_element(b) - 1
+         if (box%plastic) then
+            c%yield_stress = box%body_yield(b)
+            c%hardening_modulus = box%body_hardening(b)
+         end if
       end function body_constants
    end subroutine over_segments
 
@@ -1088,6 +1146,7 @@ contains
       totals%displacement = totals%displacement + other%displacement
       totals%kinetic_energy = totals%kinetic_energy + other%kinetic_energy
       totals%strain_energy = totals%strain_energy + other%strain_energy
+      totals%plastic_work = totals%plastic_work + other%plastic_work
       totals%min_volume_ratio = min(totals%min_volume_ratio, other%min_volume_ratio)
       if (other%max_cell_move > totals%max_cell_move) then
          totals%max_cell_move = other%max_cell_move
@@ -1192,7 +1251,7 @@ contains
                                                           seg%first_cell, seg%last_cell, seg%unsorted, seg%far, &
                                                           seg%written)
             allocate (seg%first_element(n + 1), seg%first_particle(n + 1), seg%halo_left(share_count, n), &
-                      seg%halo_right(share_count, n), seg%sums(3, n), seg%min_volume_ratio(n), &
+                      seg%halo_right(share_count, n), seg%sums(4, n), seg%min_volume_ratio(n), &
                       seg%body_momentum(n), seg%min_stress(n), seg%max_cell_move(n), seg%furthest(n), &
                       seg%outside(n), seg%first_cell(n), seg%last_cell(n), seg%unsorted(n), seg%far(n), &
                       seg%written(2, share_kinds, n))
@@ -1297,6 +1356,7 @@ contains
             totals%displacement = totals%displacement + seg%sums(1, k)
             totals%kinetic_energy = totals%kinetic_energy + seg%sums(2, k)
             totals%strain_energy = totals%strain_energy + seg%sums(3, k)
+            totals%plastic_work = totals%plastic_work + seg%sums(4, k)
             totals%min_volume_ratio = min(totals%min_volume_ratio, seg%min_volume_ratio(k))
             if (seg%max_cell_move(k) > totals%max_cell_move) then
                totals%max_cell_move = seg%max_cell_move(k)
@@ -2165,7 +2225,8 @@ contains
       integer, intent(in) :: k, shares, furthest, outside
       real(dp), intent(in) :: m
       type(run_t), intent(in) :: run
-      real(dp), intent(in) :: sums(3), min_j, max_move
+      !> displacement, kinetic and strain energy, plastic work
+      real(dp), intent(in) :: sums(4), min_j, max_move
       real(dp), intent(inout), contiguous :: mass_left(:), mass_right(:), momentum_left(:), momentum_right(:), &
                                              stress_volume(:)
       type(segments_t), intent(inout) :: seg
@@ -2212,7 +2273,7 @@ contains
    subroutine usf_move_segment(k, seg, x, x0, v, stress, volume_ratio, cell, acceleration, velocity, &
                                strain_increment_of, mass_left, mass_right, momentum_left, momentum_right, &
                                stress_volume, constants, carry, mass_of, modulus_of, forces, gradient, force_left, &
-                               force_right)
+                               force_right, plastic_strain, hardening, yield_of, hardening_of)
       integer, parameter :: kernel = pass_usf_move
       logical, parameter :: moves = pass_moves(kernel), stresses = pass_stresses(kernel), relocates = pass_relocates(kernel)
       integer, parameter :: shares = pass_shares(kernel)
@@ -2231,9 +2292,13 @@ contains
       !> the forces
       real(dp), intent(in), contiguous, optional :: mass_of(:), modulus_of(:), forces(:)
       real(dp), intent(inout), contiguous, optional :: gradient(:), force_left(:), force_right(:)
+      !> the elastoplastic law's state (plastic strain, hardening variable) and, `material`, each particle's
+      !> yield stress and hardening modulus (absent for the other laws)
+      real(dp), intent(inout), contiguous, optional :: plastic_strain(:), hardening(:)
+      real(dp), intent(in), contiguous, optional :: yield_of(:), hardening_of(:)
       integer :: p, e, i, n, b0, first, last, lo, hi, outside, ahead, elements
       real(dp) :: half_m, strain_factor, dstrain, inv_dx, dt, youngs_modulus, m, volume0
-      logical :: linear
+      logical :: linear, plastic
       type(largest_move_t) :: largest
       real(dp) :: displacement(lanes), kinetic(lanes), strain(lanes), min_j(lanes)
       integer :: cb(block_size)
@@ -2250,6 +2315,7 @@ contains
       dt = constants%dt
       youngs_modulus = constants%youngs_modulus
       linear = constants%linear
+      plastic = constants%plastic
       m = constants%mass
       volume0 = constants%volume0
       call open_segment(k, shares, seg, mass_left, mass_right, momentum_left, momentum_right, stress_volume, first, last, &
@@ -2269,6 +2335,7 @@ contains
             if (kernel == pass_usf_move .or. kernel == pass_musl_remap) call prefetch_block(ahead, cell, x, x0, v)
             if (kernel == pass_usf_stress) call prefetch_block(ahead, cell, stress, volume_ratio)
             if (kernel == pass_musl_stress) call prefetch_block(ahead, cell, x, v, stress, volume_ratio)
+            if (stresses .and. plastic) call prefetch_block(ahead, cell, plastic_strain, hardening)
             if (moves) then
                call prefetch_nodes(cell(b0), cell(b0 + n - 1), acceleration, velocity)
             else
@@ -2287,7 +2354,8 @@ contains
                else
                   dstrain = strain_increment_of(e)
                end if
-               call stress_hencky(dstrain, youngs_modulus, strain_factor, volume0, stress(p), volume_ratio(p), sb(i), svb(i))
+               call stress_hencky(dstrain, youngs_modulus, strain_factor, volume0, stress(p), volume_ratio(p), &
+                                  sb(i), svb(i))
                jb(i) = volume_ratio(p)
             end if
             if (relocates) then ! the new cell, for P2G at the new position
@@ -2342,7 +2410,8 @@ contains
          call accumulate_block(k, n, cb, xib, vpb, svb, m, lo, hi, shares, run, mass_left, mass_right, momentum_left, &
                                momentum_right, stress_volume, seg)
       end do
-      call close_segment(k, shares, m, run, [lane_total(displacement), lane_total(kinetic), lane_total(strain)], &
+      call close_segment(k, shares, m, run, [lane_total(displacement), lane_total(kinetic), lane_total(strain), &
+                         0.0_dp], &
                          minval(min_j), largest%value, furthest_particle(largest, mb), outside, mass_left, mass_right, &
                          momentum_left, momentum_right, stress_volume, seg)
    end subroutine usf_move_segment
@@ -2351,7 +2420,7 @@ contains
    subroutine usf_stress_segment(k, seg, x, x0, v, stress, volume_ratio, cell, acceleration, velocity, &
                                  strain_increment_of, mass_left, mass_right, momentum_left, momentum_right, &
                                  stress_volume, constants, carry, mass_of, modulus_of, forces, gradient, force_left, &
-                                 force_right)
+                                 force_right, plastic_strain, hardening, yield_of, hardening_of)
       integer, parameter :: kernel = pass_usf_stress
       logical, parameter :: moves = pass_moves(kernel), stresses = pass_stresses(kernel), relocates = pass_relocates(kernel)
       integer, parameter :: shares = pass_shares(kernel)
@@ -2370,9 +2439,15 @@ contains
       !> the forces
       real(dp), intent(in), contiguous, optional :: mass_of(:), modulus_of(:), forces(:)
       real(dp), intent(inout), contiguous, optional :: gradient(:), force_left(:), force_right(:)
+      !> the elastoplastic law's state (plastic strain, hardening variable) and, `material`, each particle's
+      !> yield stress and hardening modulus (absent for the other laws)
+      real(dp), intent(inout), contiguous, optional :: plastic_strain(:), hardening(:)
+      real(dp), intent(in), contiguous, optional :: yield_of(:), hardening_of(:)
       integer :: p, e, i, n, b0, first, last, lo, hi, outside, ahead, elements
       real(dp) :: half_m, strain_factor, dstrain, inv_dx, dt, youngs_modulus, m, volume0
-      logical :: linear
+      logical :: linear, plastic
+      ! the elastoplastic law's constants and the block's plastic work, summed in lanes
+      real(dp) :: yield_stress, hardening_modulus, increment, wb(block_size), work(lanes)
       type(largest_move_t) :: largest
       real(dp) :: displacement(lanes), kinetic(lanes), strain(lanes), min_j(lanes)
       integer :: cb(block_size)
@@ -2389,6 +2464,10 @@ contains
       dt = constants%dt
       youngs_modulus = constants%youngs_modulus
       linear = constants%linear
+      plastic = constants%plastic
+      yield_stress = constants%yield_stress
+      hardening_modulus = constants%hardening_modulus
+      work = 0
       m = constants%mass
       volume0 = constants%volume0
       call open_segment(k, shares, seg, mass_left, mass_right, momentum_left, momentum_right, stress_volume, first, last, &
@@ -2408,6 +2487,7 @@ contains
             if (kernel == pass_usf_move .or. kernel == pass_musl_remap) call prefetch_block(ahead, cell, x, x0, v)
             if (kernel == pass_usf_stress) call prefetch_block(ahead, cell, stress, volume_ratio)
             if (kernel == pass_musl_stress) call prefetch_block(ahead, cell, x, v, stress, volume_ratio)
+            if (stresses .and. plastic) call prefetch_block(ahead, cell, plastic_strain, hardening)
             if (moves) then
                call prefetch_nodes(cell(b0), cell(b0 + n - 1), acceleration, velocity)
             else
@@ -2427,7 +2507,44 @@ contains
                else
                   dstrain = strain_increment_of(e)
                end if
-               call stress_linear(dstrain, youngs_modulus, strain_factor, volume0, stress(p), volume_ratio(p), sb(i), svb(i))
+               call stress_linear(dstrain, youngs_modulus, strain_factor, volume0, stress(p), volume_ratio(p), &
+                                  sb(i), svb(i))
+               jb(i) = volume_ratio(p)
+            end if
+            if (relocates) then ! the new cell, for P2G at the new position
+               call locate_cell(x(p), inv_dx, elements, elements_bits, cb(i), xib(i))
+               cell(p) = cb(i)
+            else                ! the shares go to the start-of-step cell
+               cb(i) = e
+               if (moves) xib(i) = xi
+            end if
+            if (moves .or. relocates) vpb(i) = v(p)
+         end do
+         else if (plastic) then
+         do i = 1, n
+            p = b0 + i - 1
+            e = cell(p)
+            ! G2P with the start-of-step shape functions
+            if (moves) call g2p_particle(e, acceleration(e - 1), acceleration(e), velocity(e - 1), velocity(e), inv_dx, &
+                                         dt, half_m, x0(p), x(p), v(p), xi, db(i), kb(i), mb(i, slot))
+            if (stresses) then ! d eps = dt sum dN v_I over the start-of-step cell
+               if (moves) then
+                  dstrain = strain_increment(velocity(e - 1), velocity(e), dt, inv_dx)
+               else
+                  dstrain = strain_increment_of(e)
+               end if
+               stress(p) = stress(p) + youngs_modulus*dstrain
+               ! d gamma, zero in an elastic step: written without a branch, so that a loop over particles
+               ! vectorises; an elastic step then subtracts and adds zeros, which leaves the hencky bits
+               increment = max(abs(stress(p)) - (yield_stress + hardening_modulus*hardening(p)), 0.0_dp)/ &
+                           (youngs_modulus + hardening_modulus)
+               stress(p) = stress(p) - sign(youngs_modulus*increment, stress(p))
+               plastic_strain(p) = plastic_strain(p) + sign(increment, stress(p))
+               hardening(p) = hardening(p) + increment
+               volume_ratio(p) = volume_ratio(p)*(1.0_dp + dstrain)
+               sb(i) = stress(p)*stress(p)*volume_ratio(p)*strain_factor
+               svb(i) = stress(p)*volume_ratio(p)*volume0
+               wb(i) = (yield_stress + 0.5_dp*hardening_modulus*hardening(p))*hardening(p)*volume0
                jb(i) = volume_ratio(p)
             end if
             if (relocates) then ! the new cell, for P2G at the new position
@@ -2452,7 +2569,8 @@ contains
                else
                   dstrain = strain_increment_of(e)
                end if
-               call stress_hencky(dstrain, youngs_modulus, strain_factor, volume0, stress(p), volume_ratio(p), sb(i), svb(i))
+               call stress_hencky(dstrain, youngs_modulus, strain_factor, volume0, stress(p), volume_ratio(p), &
+                                  sb(i), svb(i))
                jb(i) = volume_ratio(p)
             end if
             if (relocates) then ! the new cell, for P2G at the new position
@@ -2504,11 +2622,19 @@ contains
             lane_r = mod(n, lanes)
             if (lane_r > 0) min_j(1:lane_r) = min(min_j(1:lane_r), jb(n - lane_r + 1:n))
          end if
+         if (plastic) then
+            do lane_i = 1, n - lanes + 1, lanes
+               work = work + wb(lane_i:lane_i + lanes - 1)
+            end do
+            lane_r = mod(n, lanes)
+            if (lane_r > 0) work(1:lane_r) = work(1:lane_r) + wb(n - lane_r + 1:n)
+         end if
          if (relocates) call find_outside(n, b0, cb, outside)
          call accumulate_block(k, n, cb, xib, vpb, svb, m, lo, hi, shares, run, mass_left, mass_right, momentum_left, &
                                momentum_right, stress_volume, seg)
       end do
-      call close_segment(k, shares, m, run, [lane_total(displacement), lane_total(kinetic), lane_total(strain)], &
+      call close_segment(k, shares, m, run, [lane_total(displacement), lane_total(kinetic), lane_total(strain), &
+                         lane_total(work)], &
                          minval(min_j), largest%value, furthest_particle(largest, mb), outside, mass_left, mass_right, &
                          momentum_left, momentum_right, stress_volume, seg)
    end subroutine usf_stress_segment
@@ -2517,7 +2643,7 @@ contains
    subroutine usl_segment(k, seg, x, x0, v, stress, volume_ratio, cell, acceleration, velocity, &
                           strain_increment_of, mass_left, mass_right, momentum_left, momentum_right, &
                           stress_volume, constants, carry, mass_of, modulus_of, forces, gradient, force_left, &
-                          force_right)
+                          force_right, plastic_strain, hardening, yield_of, hardening_of)
       integer, parameter :: kernel = pass_usl
       logical, parameter :: moves = pass_moves(kernel), stresses = pass_stresses(kernel), relocates = pass_relocates(kernel)
       integer, parameter :: shares = pass_shares(kernel)
@@ -2536,9 +2662,15 @@ contains
       !> the forces
       real(dp), intent(in), contiguous, optional :: mass_of(:), modulus_of(:), forces(:)
       real(dp), intent(inout), contiguous, optional :: gradient(:), force_left(:), force_right(:)
+      !> the elastoplastic law's state (plastic strain, hardening variable) and, `material`, each particle's
+      !> yield stress and hardening modulus (absent for the other laws)
+      real(dp), intent(inout), contiguous, optional :: plastic_strain(:), hardening(:)
+      real(dp), intent(in), contiguous, optional :: yield_of(:), hardening_of(:)
       integer :: p, e, i, n, b0, first, last, lo, hi, outside, ahead, elements
       real(dp) :: half_m, strain_factor, dstrain, inv_dx, dt, youngs_modulus, m, volume0
-      logical :: linear
+      logical :: linear, plastic
+      ! the elastoplastic law's constants and the block's plastic work, summed in lanes
+      real(dp) :: yield_stress, hardening_modulus, increment, wb(block_size), work(lanes)
       type(largest_move_t) :: largest
       real(dp) :: displacement(lanes), kinetic(lanes), strain(lanes), min_j(lanes)
       integer :: cb(block_size)
@@ -2555,6 +2687,10 @@ contains
       dt = constants%dt
       youngs_modulus = constants%youngs_modulus
       linear = constants%linear
+      plastic = constants%plastic
+      yield_stress = constants%yield_stress
+      hardening_modulus = constants%hardening_modulus
+      work = 0
       m = constants%mass
       volume0 = constants%volume0
       call open_segment(k, shares, seg, mass_left, mass_right, momentum_left, momentum_right, stress_volume, first, last, &
@@ -2574,6 +2710,7 @@ contains
             if (kernel == pass_usf_move .or. kernel == pass_musl_remap) call prefetch_block(ahead, cell, x, x0, v)
             if (kernel == pass_usf_stress) call prefetch_block(ahead, cell, stress, volume_ratio)
             if (kernel == pass_musl_stress) call prefetch_block(ahead, cell, x, v, stress, volume_ratio)
+            if (stresses .and. plastic) call prefetch_block(ahead, cell, plastic_strain, hardening)
             if (moves) then
                call prefetch_nodes(cell(b0), cell(b0 + n - 1), acceleration, velocity)
             else
@@ -2593,7 +2730,44 @@ contains
                else
                   dstrain = strain_increment_of(e)
                end if
-               call stress_linear(dstrain, youngs_modulus, strain_factor, volume0, stress(p), volume_ratio(p), sb(i), svb(i))
+               call stress_linear(dstrain, youngs_modulus, strain_factor, volume0, stress(p), volume_ratio(p), &
+                                  sb(i), svb(i))
+               jb(i) = volume_ratio(p)
+            end if
+            if (relocates) then ! the new cell, for P2G at the new position
+               call locate_cell(x(p), inv_dx, elements, elements_bits, cb(i), xib(i))
+               cell(p) = cb(i)
+            else                ! the shares go to the start-of-step cell
+               cb(i) = e
+               if (moves) xib(i) = xi
+            end if
+            if (moves .or. relocates) vpb(i) = v(p)
+         end do
+         else if (plastic) then
+         do i = 1, n
+            p = b0 + i - 1
+            e = cell(p)
+            ! G2P with the start-of-step shape functions
+            if (moves) call g2p_particle(e, acceleration(e - 1), acceleration(e), velocity(e - 1), velocity(e), inv_dx, &
+                                         dt, half_m, x0(p), x(p), v(p), xi, db(i), kb(i), mb(i, slot))
+            if (stresses) then ! d eps = dt sum dN v_I over the start-of-step cell
+               if (moves) then
+                  dstrain = strain_increment(velocity(e - 1), velocity(e), dt, inv_dx)
+               else
+                  dstrain = strain_increment_of(e)
+               end if
+               stress(p) = stress(p) + youngs_modulus*dstrain
+               ! d gamma, zero in an elastic step: written without a branch, so that a loop over particles
+               ! vectorises; an elastic step then subtracts and adds zeros, which leaves the hencky bits
+               increment = max(abs(stress(p)) - (yield_stress + hardening_modulus*hardening(p)), 0.0_dp)/ &
+                           (youngs_modulus + hardening_modulus)
+               stress(p) = stress(p) - sign(youngs_modulus*increment, stress(p))
+               plastic_strain(p) = plastic_strain(p) + sign(increment, stress(p))
+               hardening(p) = hardening(p) + increment
+               volume_ratio(p) = volume_ratio(p)*(1.0_dp + dstrain)
+               sb(i) = stress(p)*stress(p)*volume_ratio(p)*strain_factor
+               svb(i) = stress(p)*volume_ratio(p)*volume0
+               wb(i) = (yield_stress + 0.5_dp*hardening_modulus*hardening(p))*hardening(p)*volume0
                jb(i) = volume_ratio(p)
             end if
             if (relocates) then ! the new cell, for P2G at the new position
@@ -2618,7 +2792,8 @@ contains
                else
                   dstrain = strain_increment_of(e)
                end if
-               call stress_hencky(dstrain, youngs_modulus, strain_factor, volume0, stress(p), volume_ratio(p), sb(i), svb(i))
+               call stress_hencky(dstrain, youngs_modulus, strain_factor, volume0, stress(p), volume_ratio(p), &
+                                  sb(i), svb(i))
                jb(i) = volume_ratio(p)
             end if
             if (relocates) then ! the new cell, for P2G at the new position
@@ -2670,11 +2845,19 @@ contains
             lane_r = mod(n, lanes)
             if (lane_r > 0) min_j(1:lane_r) = min(min_j(1:lane_r), jb(n - lane_r + 1:n))
          end if
+         if (plastic) then
+            do lane_i = 1, n - lanes + 1, lanes
+               work = work + wb(lane_i:lane_i + lanes - 1)
+            end do
+            lane_r = mod(n, lanes)
+            if (lane_r > 0) work(1:lane_r) = work(1:lane_r) + wb(n - lane_r + 1:n)
+         end if
          if (relocates) call find_outside(n, b0, cb, outside)
          call accumulate_block(k, n, cb, xib, vpb, svb, m, lo, hi, shares, run, mass_left, mass_right, momentum_left, &
                                momentum_right, stress_volume, seg)
       end do
-      call close_segment(k, shares, m, run, [lane_total(displacement), lane_total(kinetic), lane_total(strain)], &
+      call close_segment(k, shares, m, run, [lane_total(displacement), lane_total(kinetic), lane_total(strain), &
+                         lane_total(work)], &
                          minval(min_j), largest%value, furthest_particle(largest, mb), outside, mass_left, mass_right, &
                          momentum_left, momentum_right, stress_volume, seg)
    end subroutine usl_segment
@@ -2683,7 +2866,7 @@ contains
    subroutine musl_remap_segment(k, seg, x, x0, v, stress, volume_ratio, cell, acceleration, velocity, &
                                  strain_increment_of, mass_left, mass_right, momentum_left, momentum_right, &
                                  stress_volume, constants, carry, mass_of, modulus_of, forces, gradient, force_left, &
-                                 force_right)
+                                 force_right, plastic_strain, hardening, yield_of, hardening_of)
       integer, parameter :: kernel = pass_musl_remap
       logical, parameter :: moves = pass_moves(kernel), stresses = pass_stresses(kernel), relocates = pass_relocates(kernel)
       integer, parameter :: shares = pass_shares(kernel)
@@ -2702,9 +2885,13 @@ contains
       !> the forces
       real(dp), intent(in), contiguous, optional :: mass_of(:), modulus_of(:), forces(:)
       real(dp), intent(inout), contiguous, optional :: gradient(:), force_left(:), force_right(:)
+      !> the elastoplastic law's state (plastic strain, hardening variable) and, `material`, each particle's
+      !> yield stress and hardening modulus (absent for the other laws)
+      real(dp), intent(inout), contiguous, optional :: plastic_strain(:), hardening(:)
+      real(dp), intent(in), contiguous, optional :: yield_of(:), hardening_of(:)
       integer :: p, e, i, n, b0, first, last, lo, hi, outside, ahead, elements
       real(dp) :: half_m, strain_factor, dstrain, inv_dx, dt, youngs_modulus, m, volume0
-      logical :: linear
+      logical :: linear, plastic
       type(largest_move_t) :: largest
       real(dp) :: displacement(lanes), kinetic(lanes), strain(lanes), min_j(lanes)
       integer :: cb(block_size)
@@ -2721,6 +2908,7 @@ contains
       dt = constants%dt
       youngs_modulus = constants%youngs_modulus
       linear = constants%linear
+      plastic = constants%plastic
       m = constants%mass
       volume0 = constants%volume0
       call open_segment(k, shares, seg, mass_left, mass_right, momentum_left, momentum_right, stress_volume, first, last, &
@@ -2740,6 +2928,7 @@ contains
             if (kernel == pass_usf_move .or. kernel == pass_musl_remap) call prefetch_block(ahead, cell, x, x0, v)
             if (kernel == pass_usf_stress) call prefetch_block(ahead, cell, stress, volume_ratio)
             if (kernel == pass_musl_stress) call prefetch_block(ahead, cell, x, v, stress, volume_ratio)
+            if (stresses .and. plastic) call prefetch_block(ahead, cell, plastic_strain, hardening)
             if (moves) then
                call prefetch_nodes(cell(b0), cell(b0 + n - 1), acceleration, velocity)
             else
@@ -2758,7 +2947,8 @@ contains
                else
                   dstrain = strain_increment_of(e)
                end if
-               call stress_hencky(dstrain, youngs_modulus, strain_factor, volume0, stress(p), volume_ratio(p), sb(i), svb(i))
+               call stress_hencky(dstrain, youngs_modulus, strain_factor, volume0, stress(p), volume_ratio(p), &
+                                  sb(i), svb(i))
                jb(i) = volume_ratio(p)
             end if
             if (relocates) then ! the new cell, for P2G at the new position
@@ -2813,7 +3003,8 @@ contains
          call accumulate_block(k, n, cb, xib, vpb, svb, m, lo, hi, shares, run, mass_left, mass_right, momentum_left, &
                                momentum_right, stress_volume, seg)
       end do
-      call close_segment(k, shares, m, run, [lane_total(displacement), lane_total(kinetic), lane_total(strain)], &
+      call close_segment(k, shares, m, run, [lane_total(displacement), lane_total(kinetic), lane_total(strain), &
+                         0.0_dp], &
                          minval(min_j), largest%value, furthest_particle(largest, mb), outside, mass_left, mass_right, &
                          momentum_left, momentum_right, stress_volume, seg)
    end subroutine musl_remap_segment
@@ -2822,7 +3013,7 @@ contains
    subroutine musl_stress_segment(k, seg, x, x0, v, stress, volume_ratio, cell, acceleration, velocity, &
                                   strain_increment_of, mass_left, mass_right, momentum_left, momentum_right, &
                                   stress_volume, constants, carry, mass_of, modulus_of, forces, gradient, force_left, &
-                                  force_right)
+                                  force_right, plastic_strain, hardening, yield_of, hardening_of)
       integer, parameter :: kernel = pass_musl_stress
       logical, parameter :: moves = pass_moves(kernel), stresses = pass_stresses(kernel), relocates = pass_relocates(kernel)
       integer, parameter :: shares = pass_shares(kernel)
@@ -2841,9 +3032,15 @@ contains
       !> the forces
       real(dp), intent(in), contiguous, optional :: mass_of(:), modulus_of(:), forces(:)
       real(dp), intent(inout), contiguous, optional :: gradient(:), force_left(:), force_right(:)
+      !> the elastoplastic law's state (plastic strain, hardening variable) and, `material`, each particle's
+      !> yield stress and hardening modulus (absent for the other laws)
+      real(dp), intent(inout), contiguous, optional :: plastic_strain(:), hardening(:)
+      real(dp), intent(in), contiguous, optional :: yield_of(:), hardening_of(:)
       integer :: p, e, i, n, b0, first, last, lo, hi, outside, ahead, elements
       real(dp) :: half_m, strain_factor, dstrain, inv_dx, dt, youngs_modulus, m, volume0
-      logical :: linear
+      logical :: linear, plastic
+      ! the elastoplastic law's constants and the block's plastic work, summed in lanes
+      real(dp) :: yield_stress, hardening_modulus, increment, wb(block_size), work(lanes)
       type(largest_move_t) :: largest
       real(dp) :: displacement(lanes), kinetic(lanes), strain(lanes), min_j(lanes)
       integer :: cb(block_size)
@@ -2860,6 +3057,10 @@ contains
       dt = constants%dt
       youngs_modulus = constants%youngs_modulus
       linear = constants%linear
+      plastic = constants%plastic
+      yield_stress = constants%yield_stress
+      hardening_modulus = constants%hardening_modulus
+      work = 0
       m = constants%mass
       volume0 = constants%volume0
       call open_segment(k, shares, seg, mass_left, mass_right, momentum_left, momentum_right, stress_volume, first, last, &
@@ -2879,6 +3080,7 @@ contains
             if (kernel == pass_usf_move .or. kernel == pass_musl_remap) call prefetch_block(ahead, cell, x, x0, v)
             if (kernel == pass_usf_stress) call prefetch_block(ahead, cell, stress, volume_ratio)
             if (kernel == pass_musl_stress) call prefetch_block(ahead, cell, x, v, stress, volume_ratio)
+            if (stresses .and. plastic) call prefetch_block(ahead, cell, plastic_strain, hardening)
             if (moves) then
                call prefetch_nodes(cell(b0), cell(b0 + n - 1), acceleration, velocity)
             else
@@ -2898,7 +3100,44 @@ contains
                else
                   dstrain = strain_increment_of(e)
                end if
-               call stress_linear(dstrain, youngs_modulus, strain_factor, volume0, stress(p), volume_ratio(p), sb(i), svb(i))
+               call stress_linear(dstrain, youngs_modulus, strain_factor, volume0, stress(p), volume_ratio(p), &
+                                  sb(i), svb(i))
+               jb(i) = volume_ratio(p)
+            end if
+            if (relocates) then ! the new cell, for P2G at the new position
+               call locate_cell(x(p), inv_dx, elements, elements_bits, cb(i), xib(i))
+               cell(p) = cb(i)
+            else                ! the shares go to the start-of-step cell
+               cb(i) = e
+               if (moves) xib(i) = xi
+            end if
+            if (moves .or. relocates) vpb(i) = v(p)
+         end do
+         else if (plastic) then
+         do i = 1, n
+            p = b0 + i - 1
+            e = cell(p)
+            ! G2P with the start-of-step shape functions
+            if (moves) call g2p_particle(e, acceleration(e - 1), acceleration(e), velocity(e - 1), velocity(e), inv_dx, &
+                                         dt, half_m, x0(p), x(p), v(p), xi, db(i), kb(i), mb(i, slot))
+            if (stresses) then ! d eps = dt sum dN v_I over the start-of-step cell
+               if (moves) then
+                  dstrain = strain_increment(velocity(e - 1), velocity(e), dt, inv_dx)
+               else
+                  dstrain = strain_increment_of(e)
+               end if
+               stress(p) = stress(p) + youngs_modulus*dstrain
+               ! d gamma, zero in an elastic step: written without a branch, so that a loop over particles
+               ! vectorises; an elastic step then subtracts and adds zeros, which leaves the hencky bits
+               increment = max(abs(stress(p)) - (yield_stress + hardening_modulus*hardening(p)), 0.0_dp)/ &
+                           (youngs_modulus + hardening_modulus)
+               stress(p) = stress(p) - sign(youngs_modulus*increment, stress(p))
+               plastic_strain(p) = plastic_strain(p) + sign(increment, stress(p))
+               hardening(p) = hardening(p) + increment
+               volume_ratio(p) = volume_ratio(p)*(1.0_dp + dstrain)
+               sb(i) = stress(p)*stress(p)*volume_ratio(p)*strain_factor
+               svb(i) = stress(p)*volume_ratio(p)*volume0
+               wb(i) = (yield_stress + 0.5_dp*hardening_modulus*hardening(p))*hardening(p)*volume0
                jb(i) = volume_ratio(p)
             end if
             if (relocates) then ! the new cell, for P2G at the new position
@@ -2923,7 +3162,8 @@ contains
                else
                   dstrain = strain_increment_of(e)
                end if
-               call stress_hencky(dstrain, youngs_modulus, strain_factor, volume0, stress(p), volume_ratio(p), sb(i), svb(i))
+               call stress_hencky(dstrain, youngs_modulus, strain_factor, volume0, stress(p), volume_ratio(p), &
+                                  sb(i), svb(i))
                jb(i) = volume_ratio(p)
             end if
             if (relocates) then ! the new cell, for P2G at the new position
@@ -2975,11 +3215,19 @@ contains
             lane_r = mod(n, lanes)
             if (lane_r > 0) min_j(1:lane_r) = min(min_j(1:lane_r), jb(n - lane_r + 1:n))
          end if
+         if (plastic) then
+            do lane_i = 1, n - lanes + 1, lanes
+               work = work + wb(lane_i:lane_i + lanes - 1)
+            end do
+            lane_r = mod(n, lanes)
+            if (lane_r > 0) work(1:lane_r) = work(1:lane_r) + wb(n - lane_r + 1:n)
+         end if
          if (relocates) call find_outside(n, b0, cb, outside)
          call accumulate_block(k, n, cb, xib, vpb, svb, m, lo, hi, shares, run, mass_left, mass_right, momentum_left, &
                                momentum_right, stress_volume, seg)
       end do
-      call close_segment(k, shares, m, run, [lane_total(displacement), lane_total(kinetic), lane_total(strain)], &
+      call close_segment(k, shares, m, run, [lane_total(displacement), lane_total(kinetic), lane_total(strain), &
+                         lane_total(work)], &
                          minval(min_j), largest%value, furthest_particle(largest, mb), outside, mass_left, mass_right, &
                          momentum_left, momentum_right, stress_volume, seg)
    end subroutine musl_stress_segment
@@ -2988,7 +3236,7 @@ contains
    subroutine ugimp_usf_move_segment(k, seg, x, x0, v, stress, volume_ratio, cell, acceleration, velocity, &
                                      strain_increment_of, mass_left, mass_right, momentum_left, momentum_right, &
                                      stress_volume, constants, carry, mass_of, modulus_of, forces, gradient, force_left, &
-                                     force_right)
+                                     force_right, plastic_strain, hardening, yield_of, hardening_of)
       integer, parameter :: kernel = pass_usf_move
       logical, parameter :: moves = pass_moves(kernel), stresses = pass_stresses(kernel), relocates = pass_relocates(kernel)
       integer, parameter :: shares = pass_shares(kernel)
@@ -3007,9 +3255,13 @@ contains
       !> the forces
       real(dp), intent(in), contiguous, optional :: mass_of(:), modulus_of(:), forces(:)
       real(dp), intent(inout), contiguous, optional :: gradient(:), force_left(:), force_right(:)
+      !> the elastoplastic law's state (plastic strain, hardening variable) and, `material`, each particle's
+      !> yield stress and hardening modulus (absent for the other laws)
+      real(dp), intent(inout), contiguous, optional :: plastic_strain(:), hardening(:)
+      real(dp), intent(in), contiguous, optional :: yield_of(:), hardening_of(:)
       integer :: p, e, i, n, b0, first, last, lo, hi, outside, ahead, elements
       real(dp) :: half_m, strain_factor, dstrain, inv_dx, dt, youngs_modulus, m, volume0
-      logical :: linear
+      logical :: linear, plastic
       type(largest_move_t) :: largest
       real(dp) :: displacement(lanes), kinetic(lanes), strain(lanes), min_j(lanes)
       integer :: cb(block_size)
@@ -3033,6 +3285,7 @@ contains
       dt = constants%dt
       youngs_modulus = constants%youngs_modulus
       linear = constants%linear
+      plastic = constants%plastic
       m = constants%mass
       volume0 = constants%volume0
       call open_segment(k, shares, seg, mass_left, mass_right, momentum_left, momentum_right, stress_volume, first, last, &
@@ -3051,6 +3304,7 @@ contains
             if (kernel == pass_usf_move .or. kernel == pass_musl_remap) call prefetch_block(ahead, cell, x, x0, v)
             if (kernel == pass_usf_stress) call prefetch_block(ahead, cell, stress, volume_ratio)
             if (kernel == pass_musl_stress) call prefetch_block(ahead, cell, x, v, stress, volume_ratio)
+            if (stresses .and. plastic) call prefetch_block(ahead, cell, plastic_strain, hardening)
             if (moves) then
                call prefetch_nodes(cell(b0), cell(b0 + n - 1), acceleration, velocity)
             else
@@ -3082,7 +3336,8 @@ contains
                else
                   dstrain = r1*strain_increment_of(e) + r2*strain_increment_of(e + 1)
                end if
-               call stress_hencky(dstrain, youngs_modulus, strain_factor, volume0, stress(p), volume_ratio(p), sb(i), svb(i))
+               call stress_hencky(dstrain, youngs_modulus, strain_factor, volume0, stress(p), volume_ratio(p), &
+                                  sb(i), svb(i))
                jb(i) = volume_ratio(p)
             end if
             if (relocates) then ! the parts at the new position
@@ -3158,7 +3413,8 @@ contains
       if (run%cur /= 0) call flush_shares(k, run%cur + 1, lo, hi, shares, m, run%b(1), run%b(2), run%b(3), run%b(4), &
                                           run%b(5), mass_left, mass_right, momentum_left, momentum_right, stress_volume, &
                                           seg)
-      call close_segment(k, shares, m, run, [lane_total(displacement), lane_total(kinetic), lane_total(strain)], &
+      call close_segment(k, shares, m, run, [lane_total(displacement), lane_total(kinetic), lane_total(strain), &
+                         0.0_dp], &
                          minval(min_j), largest%value, furthest_particle(largest, mb), outside, mass_left, mass_right, &
                          momentum_left, momentum_right, stress_volume, seg)
    end subroutine ugimp_usf_move_segment
@@ -3167,7 +3423,7 @@ contains
    subroutine ugimp_usf_stress_segment(k, seg, x, x0, v, stress, volume_ratio, cell, acceleration, velocity, &
                                        strain_increment_of, mass_left, mass_right, momentum_left, momentum_right, &
                                        stress_volume, constants, carry, mass_of, modulus_of, forces, gradient, force_left, &
-                                       force_right)
+                                       force_right, plastic_strain, hardening, yield_of, hardening_of)
       integer, parameter :: kernel = pass_usf_stress
       logical, parameter :: moves = pass_moves(kernel), stresses = pass_stresses(kernel), relocates = pass_relocates(kernel)
       integer, parameter :: shares = pass_shares(kernel)
@@ -3186,9 +3442,15 @@ contains
       !> the forces
       real(dp), intent(in), contiguous, optional :: mass_of(:), modulus_of(:), forces(:)
       real(dp), intent(inout), contiguous, optional :: gradient(:), force_left(:), force_right(:)
+      !> the elastoplastic law's state (plastic strain, hardening variable) and, `material`, each particle's
+      !> yield stress and hardening modulus (absent for the other laws)
+      real(dp), intent(inout), contiguous, optional :: plastic_strain(:), hardening(:)
+      real(dp), intent(in), contiguous, optional :: yield_of(:), hardening_of(:)
       integer :: p, e, i, n, b0, first, last, lo, hi, outside, ahead, elements
       real(dp) :: half_m, strain_factor, dstrain, inv_dx, dt, youngs_modulus, m, volume0
-      logical :: linear
+      logical :: linear, plastic
+      ! the elastoplastic law's constants and the block's plastic work, summed in lanes
+      real(dp) :: yield_stress, hardening_modulus, increment, wb(block_size), work(lanes)
       type(largest_move_t) :: largest
       real(dp) :: displacement(lanes), kinetic(lanes), strain(lanes), min_j(lanes)
       integer :: cb(block_size)
@@ -3212,6 +3474,10 @@ contains
       dt = constants%dt
       youngs_modulus = constants%youngs_modulus
       linear = constants%linear
+      plastic = constants%plastic
+      yield_stress = constants%yield_stress
+      hardening_modulus = constants%hardening_modulus
+      work = 0
       m = constants%mass
       volume0 = constants%volume0
       call open_segment(k, shares, seg, mass_left, mass_right, momentum_left, momentum_right, stress_volume, first, last, &
@@ -3230,6 +3496,7 @@ contains
             if (kernel == pass_usf_move .or. kernel == pass_musl_remap) call prefetch_block(ahead, cell, x, x0, v)
             if (kernel == pass_usf_stress) call prefetch_block(ahead, cell, stress, volume_ratio)
             if (kernel == pass_musl_stress) call prefetch_block(ahead, cell, x, v, stress, volume_ratio)
+            if (stresses .and. plastic) call prefetch_block(ahead, cell, plastic_strain, hardening)
             if (moves) then
                call prefetch_nodes(cell(b0), cell(b0 + n - 1), acceleration, velocity)
             else
@@ -3262,7 +3529,74 @@ contains
                else
                   dstrain = r1*strain_increment_of(e) + r2*strain_increment_of(e + 1)
                end if
-               call stress_linear(dstrain, youngs_modulus, strain_factor, volume0, stress(p), volume_ratio(p), sb(i), svb(i))
+               call stress_linear(dstrain, youngs_modulus, strain_factor, volume0, stress(p), volume_ratio(p), &
+                                  sb(i), svb(i))
+               jb(i) = volume_ratio(p)
+            end if
+            if (relocates) then ! the parts at the new position
+               l = fixed_l
+               call gimp_box((x(p) - origin)*inv_dx, l, elements, node, r1, r2, t1, t2, flag)
+               cb(i) = (node + 1)*flag
+               cell(p) = cb(i)
+               if (kernel == pass_usf_move) carry(p) = r2
+            else
+               cb(i) = e
+            end if
+            ! the sums of the parts the pass scatters (accumulate_boxes); right(i, 1) = r2 tells it which
+            ! particles have a right part
+            left(i, 1) = r1
+            right(i, 1) = r2
+            if (iand(shares, share_mass + share_momentum) /= 0) then
+               left(i, 2) = r1*t1
+               left(i, 3) = r1*v(p)
+               left(i, 4) = r1*t1*v(p)
+               right(i, 2) = r2*t2
+               right(i, 3) = r2*v(p)
+               right(i, 4) = r2*t2*v(p)
+            end if
+            if (iand(shares, share_stress) /= 0) then
+               left(i, 5) = r1*svb(i)
+               right(i, 5) = r2*svb(i)
+            end if
+         end do
+         else if (plastic) then
+         do i = 1, n
+            p = b0 + i - 1
+            e = cell(p)
+            ! the parts at the start of the step from x;
+            ! the stress passes need only the cell and the fraction r2, kept by the pass before (MUSL's
+            ! remap: the particle has moved since; USF's move pass of the step before, as it relocated it)
+            if (kernel == pass_musl_stress .or. kernel == pass_usf_stress) then
+               r2 = carry(p)
+               r1 = 1.0_dp - r2
+            else
+               l = fixed_l
+               call gimp_box((x(p) - origin)*inv_dx, l, elements, node, r1, r2, t1, t2, flag)
+               e = node + 1
+               if (kernel == pass_musl_remap) carry(p) = r2
+            end if
+            if (moves) call g2p_box(r1, r2, t1, t2, acceleration(e - 1), acceleration(e), acceleration(e + 1), &
+                                    velocity(e - 1), velocity(e), velocity(e + 1), inv_dx, dt, half_m, x0(p), x(p), v(p), &
+                                    db(i), kb(i), mb(i, slot))
+            if (stresses) then ! d eps = dt sum dS v_I = r1 (element e's) + r2 (element e + 1's)
+               if (moves) then
+                  dstrain = r1*strain_increment(velocity(e - 1), velocity(e), dt, inv_dx) + &
+                            r2*strain_increment(velocity(e), velocity(e + 1), dt, inv_dx)
+               else
+                  dstrain = r1*strain_increment_of(e) + r2*strain_increment_of(e + 1)
+               end if
+               stress(p) = stress(p) + youngs_modulus*dstrain
+               ! d gamma, zero in an elastic step: written without a branch, so that a loop over particles
+               ! vectorises; an elastic step then subtracts and adds zeros, which leaves the hencky bits
+               increment = max(abs(stress(p)) - (yield_stress + hardening_modulus*hardening(p)), 0.0_dp)/ &
+                           (youngs_modulus + hardening_modulus)
+               stress(p) = stress(p) - sign(youngs_modulus*increment, stress(p))
+               plastic_strain(p) = plastic_strain(p) + sign(increment, stress(p))
+               hardening(p) = hardening(p) + increment
+               volume_ratio(p) = volume_ratio(p)*(1.0_dp + dstrain)
+               sb(i) = stress(p)*stress(p)*volume_ratio(p)*strain_factor
+               svb(i) = stress(p)*volume_ratio(p)*volume0
+               wb(i) = (yield_stress + 0.5_dp*hardening_modulus*hardening(p))*hardening(p)*volume0
                jb(i) = volume_ratio(p)
             end if
             if (relocates) then ! the parts at the new position
@@ -3317,7 +3651,8 @@ contains
                else
                   dstrain = r1*strain_increment_of(e) + r2*strain_increment_of(e + 1)
                end if
-               call stress_hencky(dstrain, youngs_modulus, strain_factor, volume0, stress(p), volume_ratio(p), sb(i), svb(i))
+               call stress_hencky(dstrain, youngs_modulus, strain_factor, volume0, stress(p), volume_ratio(p), &
+                                  sb(i), svb(i))
                jb(i) = volume_ratio(p)
             end if
             if (relocates) then ! the parts at the new position
@@ -3386,6 +3721,13 @@ contains
             lane_r = mod(n, lanes)
             if (lane_r > 0) min_j(1:lane_r) = min(min_j(1:lane_r), jb(n - lane_r + 1:n))
          end if
+         if (plastic) then
+            do lane_i = 1, n - lanes + 1, lanes
+               work = work + wb(lane_i:lane_i + lanes - 1)
+            end do
+            lane_r = mod(n, lanes)
+            if (lane_r > 0) work(1:lane_r) = work(1:lane_r) + wb(n - lane_r + 1:n)
+         end if
          if (relocates) call find_outside(n, b0, cb, outside)
          call accumulate_boxes(k, n, cb, left, right, m, lo, hi, shares, run, mass_left, mass_right, momentum_left, &
                                momentum_right, stress_volume, seg)
@@ -3394,7 +3736,8 @@ contains
       if (run%cur /= 0) call flush_shares(k, run%cur + 1, lo, hi, shares, m, run%b(1), run%b(2), run%b(3), run%b(4), &
                                           run%b(5), mass_left, mass_right, momentum_left, momentum_right, stress_volume, &
                                           seg)
-      call close_segment(k, shares, m, run, [lane_total(displacement), lane_total(kinetic), lane_total(strain)], &
+      call close_segment(k, shares, m, run, [lane_total(displacement), lane_total(kinetic), lane_total(strain), &
+                         lane_total(work)], &
                          minval(min_j), largest%value, furthest_particle(largest, mb), outside, mass_left, mass_right, &
                          momentum_left, momentum_right, stress_volume, seg)
    end subroutine ugimp_usf_stress_segment
@@ -3403,7 +3746,7 @@ contains
    subroutine ugimp_usl_segment(k, seg, x, x0, v, stress, volume_ratio, cell, acceleration, velocity, &
                                 strain_increment_of, mass_left, mass_right, momentum_left, momentum_right, &
                                 stress_volume, constants, carry, mass_of, modulus_of, forces, gradient, force_left, &
-                                force_right)
+                                force_right, plastic_strain, hardening, yield_of, hardening_of)
       integer, parameter :: kernel = pass_usl
       logical, parameter :: moves = pass_moves(kernel), stresses = pass_stresses(kernel), relocates = pass_relocates(kernel)
       integer, parameter :: shares = pass_shares(kernel)
@@ -3422,9 +3765,15 @@ contains
       !> the forces
       real(dp), intent(in), contiguous, optional :: mass_of(:), modulus_of(:), forces(:)
       real(dp), intent(inout), contiguous, optional :: gradient(:), force_left(:), force_right(:)
+      !> the elastoplastic law's state (plastic strain, hardening variable) and, `material`, each particle's
+      !> yield stress and hardening modulus (absent for the other laws)
+      real(dp), intent(inout), contiguous, optional :: plastic_strain(:), hardening(:)
+      real(dp), intent(in), contiguous, optional :: yield_of(:), hardening_of(:)
       integer :: p, e, i, n, b0, first, last, lo, hi, outside, ahead, elements
       real(dp) :: half_m, strain_factor, dstrain, inv_dx, dt, youngs_modulus, m, volume0
-      logical :: linear
+      logical :: linear, plastic
+      ! the elastoplastic law's constants and the block's plastic work, summed in lanes
+      real(dp) :: yield_stress, hardening_modulus, increment, wb(block_size), work(lanes)
       type(largest_move_t) :: largest
       real(dp) :: displacement(lanes), kinetic(lanes), strain(lanes), min_j(lanes)
       integer :: cb(block_size)
@@ -3448,6 +3797,10 @@ contains
       dt = constants%dt
       youngs_modulus = constants%youngs_modulus
       linear = constants%linear
+      plastic = constants%plastic
+      yield_stress = constants%yield_stress
+      hardening_modulus = constants%hardening_modulus
+      work = 0
       m = constants%mass
       volume0 = constants%volume0
       call open_segment(k, shares, seg, mass_left, mass_right, momentum_left, momentum_right, stress_volume, first, last, &
@@ -3466,6 +3819,7 @@ contains
             if (kernel == pass_usf_move .or. kernel == pass_musl_remap) call prefetch_block(ahead, cell, x, x0, v)
             if (kernel == pass_usf_stress) call prefetch_block(ahead, cell, stress, volume_ratio)
             if (kernel == pass_musl_stress) call prefetch_block(ahead, cell, x, v, stress, volume_ratio)
+            if (stresses .and. plastic) call prefetch_block(ahead, cell, plastic_strain, hardening)
             if (moves) then
                call prefetch_nodes(cell(b0), cell(b0 + n - 1), acceleration, velocity)
             else
@@ -3498,7 +3852,74 @@ contains
                else
                   dstrain = r1*strain_increment_of(e) + r2*strain_increment_of(e + 1)
                end if
-               call stress_linear(dstrain, youngs_modulus, strain_factor, volume0, stress(p), volume_ratio(p), sb(i), svb(i))
+               call stress_linear(dstrain, youngs_modulus, strain_factor, volume0, stress(p), volume_ratio(p), &
+                                  sb(i), svb(i))
+               jb(i) = volume_ratio(p)
+            end if
+            if (relocates) then ! the parts at the new position
+               l = fixed_l
+               call gimp_box((x(p) - origin)*inv_dx, l, elements, node, r1, r2, t1, t2, flag)
+               cb(i) = (node + 1)*flag
+               cell(p) = cb(i)
+               if (kernel == pass_usf_move) carry(p) = r2
+            else
+               cb(i) = e
+            end if
+            ! the sums of the parts the pass scatters (accumulate_boxes); right(i, 1) = r2 tells it which
+            ! particles have a right part
+            left(i, 1) = r1
+            right(i, 1) = r2
+            if (iand(shares, share_mass + share_momentum) /= 0) then
+               left(i, 2) = r1*t1
+               left(i, 3) = r1*v(p)
+               left(i, 4) = r1*t1*v(p)
+               right(i, 2) = r2*t2
+               right(i, 3) = r2*v(p)
+               right(i, 4) = r2*t2*v(p)
+            end if
+            if (iand(shares, share_stress) /= 0) then
+               left(i, 5) = r1*svb(i)
+               right(i, 5) = r2*svb(i)
+            end if
+         end do
+         else if (plastic) then
+         do i = 1, n
+            p = b0 + i - 1
+            e = cell(p)
+            ! the parts at the start of the step from x;
+            ! the stress passes need only the cell and the fraction r2, kept by the pass before (MUSL's
+            ! remap: the particle has moved since; USF's move pass of the step before, as it relocated it)
+            if (kernel == pass_musl_stress .or. kernel == pass_usf_stress) then
+               r2 = carry(p)
+               r1 = 1.0_dp - r2
+            else
+               l = fixed_l
+               call gimp_box((x(p) - origin)*inv_dx, l, elements, node, r1, r2, t1, t2, flag)
+               e = node + 1
+               if (kernel == pass_musl_remap) carry(p) = r2
+            end if
+            if (moves) call g2p_box(r1, r2, t1, t2, acceleration(e - 1), acceleration(e), acceleration(e + 1), &
+                                    velocity(e - 1), velocity(e), velocity(e + 1), inv_dx, dt, half_m, x0(p), x(p), v(p), &
+                                    db(i), kb(i), mb(i, slot))
+            if (stresses) then ! d eps = dt sum dS v_I = r1 (element e's) + r2 (element e + 1's)
+               if (moves) then
+                  dstrain = r1*strain_increment(velocity(e - 1), velocity(e), dt, inv_dx) + &
+                            r2*strain_increment(velocity(e), velocity(e + 1), dt, inv_dx)
+               else
+                  dstrain = r1*strain_increment_of(e) + r2*strain_increment_of(e + 1)
+               end if
+               stress(p) = stress(p) + youngs_modulus*dstrain
+               ! d gamma, zero in an elastic step: written without a branch, so that a loop over particles
+               ! vectorises; an elastic step then subtracts and adds zeros, which leaves the hencky bits
+               increment = max(abs(stress(p)) - (yield_stress + hardening_modulus*hardening(p)), 0.0_dp)/ &
+                           (youngs_modulus + hardening_modulus)
+               stress(p) = stress(p) - sign(youngs_modulus*increment, stress(p))
+               plastic_strain(p) = plastic_strain(p) + sign(increment, stress(p))
+               hardening(p) = hardening(p) + increment
+               volume_ratio(p) = volume_ratio(p)*(1.0_dp + dstrain)
+               sb(i) = stress(p)*stress(p)*volume_ratio(p)*strain_factor
+               svb(i) = stress(p)*volume_ratio(p)*volume0
+               wb(i) = (yield_stress + 0.5_dp*hardening_modulus*hardening(p))*hardening(p)*volume0
                jb(i) = volume_ratio(p)
             end if
             if (relocates) then ! the parts at the new position
@@ -3553,7 +3974,8 @@ contains
                else
                   dstrain = r1*strain_increment_of(e) + r2*strain_increment_of(e + 1)
                end if
-               call stress_hencky(dstrain, youngs_modulus, strain_factor, volume0, stress(p), volume_ratio(p), sb(i), svb(i))
+               call stress_hencky(dstrain, youngs_modulus, strain_factor, volume0, stress(p), volume_ratio(p), &
+                                  sb(i), svb(i))
                jb(i) = volume_ratio(p)
             end if
             if (relocates) then ! the parts at the new position
@@ -3622,6 +4044,13 @@ contains
             lane_r = mod(n, lanes)
             if (lane_r > 0) min_j(1:lane_r) = min(min_j(1:lane_r), jb(n - lane_r + 1:n))
          end if
+         if (plastic) then
+            do lane_i = 1, n - lanes + 1, lanes
+               work = work + wb(lane_i:lane_i + lanes - 1)
+            end do
+            lane_r = mod(n, lanes)
+            if (lane_r > 0) work(1:lane_r) = work(1:lane_r) + wb(n - lane_r + 1:n)
+         end if
          if (relocates) call find_outside(n, b0, cb, outside)
          call accumulate_boxes(k, n, cb, left, right, m, lo, hi, shares, run, mass_left, mass_right, momentum_left, &
                                momentum_right, stress_volume, seg)
@@ -3630,7 +4059,8 @@ contains
       if (run%cur /= 0) call flush_shares(k, run%cur + 1, lo, hi, shares, m, run%b(1), run%b(2), run%b(3), run%b(4), &
                                           run%b(5), mass_left, mass_right, momentum_left, momentum_right, stress_volume, &
                                           seg)
-      call close_segment(k, shares, m, run, [lane_total(displacement), lane_total(kinetic), lane_total(strain)], &
+      call close_segment(k, shares, m, run, [lane_total(displacement), lane_total(kinetic), lane_total(strain), &
+                         lane_total(work)], &
                          minval(min_j), largest%value, furthest_particle(largest, mb), outside, mass_left, mass_right, &
                          momentum_left, momentum_right, stress_volume, seg)
    end subroutine ugimp_usl_segment
@@ -3639,7 +4069,7 @@ contains
    subroutine ugimp_musl_remap_segment(k, seg, x, x0, v, stress, volume_ratio, cell, acceleration, velocity, &
                                        strain_increment_of, mass_left, mass_right, momentum_left, momentum_right, &
                                        stress_volume, constants, carry, mass_of, modulus_of, forces, gradient, force_left, &
-                                       force_right)
+                                       force_right, plastic_strain, hardening, yield_of, hardening_of)
       integer, parameter :: kernel = pass_musl_remap
       logical, parameter :: moves = pass_moves(kernel), stresses = pass_stresses(kernel), relocates = pass_relocates(kernel)
       integer, parameter :: shares = pass_shares(kernel)
@@ -3658,9 +4088,13 @@ contains
       !> the forces
       real(dp), intent(in), contiguous, optional :: mass_of(:), modulus_of(:), forces(:)
       real(dp), intent(inout), contiguous, optional :: gradient(:), force_left(:), force_right(:)
+      !> the elastoplastic law's state (plastic strain, hardening variable) and, `material`, each particle's
+      !> yield stress and hardening modulus (absent for the other laws)
+      real(dp), intent(inout), contiguous, optional :: plastic_strain(:), hardening(:)
+      real(dp), intent(in), contiguous, optional :: yield_of(:), hardening_of(:)
       integer :: p, e, i, n, b0, first, last, lo, hi, outside, ahead, elements
       real(dp) :: half_m, strain_factor, dstrain, inv_dx, dt, youngs_modulus, m, volume0
-      logical :: linear
+      logical :: linear, plastic
       type(largest_move_t) :: largest
       real(dp) :: displacement(lanes), kinetic(lanes), strain(lanes), min_j(lanes)
       integer :: cb(block_size)
@@ -3684,6 +4118,7 @@ contains
       dt = constants%dt
       youngs_modulus = constants%youngs_modulus
       linear = constants%linear
+      plastic = constants%plastic
       m = constants%mass
       volume0 = constants%volume0
       call open_segment(k, shares, seg, mass_left, mass_right, momentum_left, momentum_right, stress_volume, first, last, &
@@ -3702,6 +4137,7 @@ contains
             if (kernel == pass_usf_move .or. kernel == pass_musl_remap) call prefetch_block(ahead, cell, x, x0, v)
             if (kernel == pass_usf_stress) call prefetch_block(ahead, cell, stress, volume_ratio)
             if (kernel == pass_musl_stress) call prefetch_block(ahead, cell, x, v, stress, volume_ratio)
+            if (stresses .and. plastic) call prefetch_block(ahead, cell, plastic_strain, hardening)
             if (moves) then
                call prefetch_nodes(cell(b0), cell(b0 + n - 1), acceleration, velocity)
             else
@@ -3733,7 +4169,8 @@ contains
                else
                   dstrain = r1*strain_increment_of(e) + r2*strain_increment_of(e + 1)
                end if
-               call stress_hencky(dstrain, youngs_modulus, strain_factor, volume0, stress(p), volume_ratio(p), sb(i), svb(i))
+               call stress_hencky(dstrain, youngs_modulus, strain_factor, volume0, stress(p), volume_ratio(p), &
+                                  sb(i), svb(i))
                jb(i) = volume_ratio(p)
             end if
             if (relocates) then ! the parts at the new position
@@ -3809,7 +4246,8 @@ contains
       if (run%cur /= 0) call flush_shares(k, run%cur + 1, lo, hi, shares, m, run%b(1), run%b(2), run%b(3), run%b(4), &
                                           run%b(5), mass_left, mass_right, momentum_left, momentum_right, stress_volume, &
                                           seg)
-      call close_segment(k, shares, m, run, [lane_total(displacement), lane_total(kinetic), lane_total(strain)], &
+      call close_segment(k, shares, m, run, [lane_total(displacement), lane_total(kinetic), lane_total(strain), &
+                         0.0_dp], &
                          minval(min_j), largest%value, furthest_particle(largest, mb), outside, mass_left, mass_right, &
                          momentum_left, momentum_right, stress_volume, seg)
    end subroutine ugimp_musl_remap_segment
@@ -3818,7 +4256,7 @@ contains
    subroutine ugimp_musl_stress_segment(k, seg, x, x0, v, stress, volume_ratio, cell, acceleration, velocity, &
                                         strain_increment_of, mass_left, mass_right, momentum_left, momentum_right, &
                                         stress_volume, constants, carry, mass_of, modulus_of, forces, gradient, force_left, &
-                                        force_right)
+                                        force_right, plastic_strain, hardening, yield_of, hardening_of)
       integer, parameter :: kernel = pass_musl_stress
       logical, parameter :: moves = pass_moves(kernel), stresses = pass_stresses(kernel), relocates = pass_relocates(kernel)
       integer, parameter :: shares = pass_shares(kernel)
@@ -3837,9 +4275,15 @@ contains
       !> the forces
       real(dp), intent(in), contiguous, optional :: mass_of(:), modulus_of(:), forces(:)
       real(dp), intent(inout), contiguous, optional :: gradient(:), force_left(:), force_right(:)
+      !> the elastoplastic law's state (plastic strain, hardening variable) and, `material`, each particle's
+      !> yield stress and hardening modulus (absent for the other laws)
+      real(dp), intent(inout), contiguous, optional :: plastic_strain(:), hardening(:)
+      real(dp), intent(in), contiguous, optional :: yield_of(:), hardening_of(:)
       integer :: p, e, i, n, b0, first, last, lo, hi, outside, ahead, elements
       real(dp) :: half_m, strain_factor, dstrain, inv_dx, dt, youngs_modulus, m, volume0
-      logical :: linear
+      logical :: linear, plastic
+      ! the elastoplastic law's constants and the block's plastic work, summed in lanes
+      real(dp) :: yield_stress, hardening_modulus, increment, wb(block_size), work(lanes)
       type(largest_move_t) :: largest
       real(dp) :: displacement(lanes), kinetic(lanes), strain(lanes), min_j(lanes)
       integer :: cb(block_size)
@@ -3863,6 +4307,10 @@ contains
       dt = constants%dt
       youngs_modulus = constants%youngs_modulus
       linear = constants%linear
+      plastic = constants%plastic
+      yield_stress = constants%yield_stress
+      hardening_modulus = constants%hardening_modulus
+      work = 0
       m = constants%mass
       volume0 = constants%volume0
       call open_segment(k, shares, seg, mass_left, mass_right, momentum_left, momentum_right, stress_volume, first, last, &
@@ -3881,6 +4329,7 @@ contains
             if (kernel == pass_usf_move .or. kernel == pass_musl_remap) call prefetch_block(ahead, cell, x, x0, v)
             if (kernel == pass_usf_stress) call prefetch_block(ahead, cell, stress, volume_ratio)
             if (kernel == pass_musl_stress) call prefetch_block(ahead, cell, x, v, stress, volume_ratio)
+            if (stresses .and. plastic) call prefetch_block(ahead, cell, plastic_strain, hardening)
             if (moves) then
                call prefetch_nodes(cell(b0), cell(b0 + n - 1), acceleration, velocity)
             else
@@ -3913,7 +4362,74 @@ contains
                else
                   dstrain = r1*strain_increment_of(e) + r2*strain_increment_of(e + 1)
                end if
-               call stress_linear(dstrain, youngs_modulus, strain_factor, volume0, stress(p), volume_ratio(p), sb(i), svb(i))
+               call stress_linear(dstrain, youngs_modulus, strain_factor, volume0, stress(p), volume_ratio(p), &
+                                  sb(i), svb(i))
+               jb(i) = volume_ratio(p)
+            end if
+            if (relocates) then ! the parts at the new position
+               l = fixed_l
+               call gimp_box((x(p) - origin)*inv_dx, l, elements, node, r1, r2, t1, t2, flag)
+               cb(i) = (node + 1)*flag
+               cell(p) = cb(i)
+               if (kernel == pass_usf_move) carry(p) = r2
+            else
+               cb(i) = e
+            end if
+            ! the sums of the parts the pass scatters (accumulate_boxes); right(i, 1) = r2 tells it which
+            ! particles have a right part
+            left(i, 1) = r1
+            right(i, 1) = r2
+            if (iand(shares, share_mass + share_momentum) /= 0) then
+               left(i, 2) = r1*t1
+               left(i, 3) = r1*v(p)
+               left(i, 4) = r1*t1*v(p)
+               right(i, 2) = r2*t2
+               right(i, 3) = r2*v(p)
+               right(i, 4) = r2*t2*v(p)
+            end if
+            if (iand(shares, share_stress) /= 0) then
+               left(i, 5) = r1*svb(i)
+               right(i, 5) = r2*svb(i)
+            end if
+         end do
+         else if (plastic) then
+         do i = 1, n
+            p = b0 + i - 1
+            e = cell(p)
+            ! the parts at the start of the step from x;
+            ! the stress passes need only the cell and the fraction r2, kept by the pass before (MUSL's
+            ! remap: the particle has moved since; USF's move pass of the step before, as it relocated it)
+            if (kernel == pass_musl_stress .or. kernel == pass_usf_stress) then
+               r2 = carry(p)
+               r1 = 1.0_dp - r2
+            else
+               l = fixed_l
+               call gimp_box((x(p) - origin)*inv_dx, l, elements, node, r1, r2, t1, t2, flag)
+               e = node + 1
+               if (kernel == pass_musl_remap) carry(p) = r2
+            end if
+            if (moves) call g2p_box(r1, r2, t1, t2, acceleration(e - 1), acceleration(e), acceleration(e + 1), &
+                                    velocity(e - 1), velocity(e), velocity(e + 1), inv_dx, dt, half_m, x0(p), x(p), v(p), &
+                                    db(i), kb(i), mb(i, slot))
+            if (stresses) then ! d eps = dt sum dS v_I = r1 (element e's) + r2 (element e + 1's)
+               if (moves) then
+                  dstrain = r1*strain_increment(velocity(e - 1), velocity(e), dt, inv_dx) + &
+                            r2*strain_increment(velocity(e), velocity(e + 1), dt, inv_dx)
+               else
+                  dstrain = r1*strain_increment_of(e) + r2*strain_increment_of(e + 1)
+               end if
+               stress(p) = stress(p) + youngs_modulus*dstrain
+               ! d gamma, zero in an elastic step: written without a branch, so that a loop over particles
+               ! vectorises; an elastic step then subtracts and adds zeros, which leaves the hencky bits
+               increment = max(abs(stress(p)) - (yield_stress + hardening_modulus*hardening(p)), 0.0_dp)/ &
+                           (youngs_modulus + hardening_modulus)
+               stress(p) = stress(p) - sign(youngs_modulus*increment, stress(p))
+               plastic_strain(p) = plastic_strain(p) + sign(increment, stress(p))
+               hardening(p) = hardening(p) + increment
+               volume_ratio(p) = volume_ratio(p)*(1.0_dp + dstrain)
+               sb(i) = stress(p)*stress(p)*volume_ratio(p)*strain_factor
+               svb(i) = stress(p)*volume_ratio(p)*volume0
+               wb(i) = (yield_stress + 0.5_dp*hardening_modulus*hardening(p))*hardening(p)*volume0
                jb(i) = volume_ratio(p)
             end if
             if (relocates) then ! the parts at the new position
@@ -3968,7 +4484,8 @@ contains
                else
                   dstrain = r1*strain_increment_of(e) + r2*strain_increment_of(e + 1)
                end if
-               call stress_hencky(dstrain, youngs_modulus, strain_factor, volume0, stress(p), volume_ratio(p), sb(i), svb(i))
+               call stress_hencky(dstrain, youngs_modulus, strain_factor, volume0, stress(p), volume_ratio(p), &
+                                  sb(i), svb(i))
                jb(i) = volume_ratio(p)
             end if
             if (relocates) then ! the parts at the new position
@@ -4037,6 +4554,13 @@ contains
             lane_r = mod(n, lanes)
             if (lane_r > 0) min_j(1:lane_r) = min(min_j(1:lane_r), jb(n - lane_r + 1:n))
          end if
+         if (plastic) then
+            do lane_i = 1, n - lanes + 1, lanes
+               work = work + wb(lane_i:lane_i + lanes - 1)
+            end do
+            lane_r = mod(n, lanes)
+            if (lane_r > 0) work(1:lane_r) = work(1:lane_r) + wb(n - lane_r + 1:n)
+         end if
          if (relocates) call find_outside(n, b0, cb, outside)
          call accumulate_boxes(k, n, cb, left, right, m, lo, hi, shares, run, mass_left, mass_right, momentum_left, &
                                momentum_right, stress_volume, seg)
@@ -4045,7 +4569,8 @@ contains
       if (run%cur /= 0) call flush_shares(k, run%cur + 1, lo, hi, shares, m, run%b(1), run%b(2), run%b(3), run%b(4), &
                                           run%b(5), mass_left, mass_right, momentum_left, momentum_right, stress_volume, &
                                           seg)
-      call close_segment(k, shares, m, run, [lane_total(displacement), lane_total(kinetic), lane_total(strain)], &
+      call close_segment(k, shares, m, run, [lane_total(displacement), lane_total(kinetic), lane_total(strain), &
+                         lane_total(work)], &
                          minval(min_j), largest%value, furthest_particle(largest, mb), outside, mass_left, mass_right, &
                          momentum_left, momentum_right, stress_volume, seg)
    end subroutine ugimp_musl_stress_segment
@@ -4054,7 +4579,7 @@ contains
    subroutine cpgimp_usf_move_segment(k, seg, x, x0, v, stress, volume_ratio, cell, acceleration, velocity, &
                                       strain_increment_of, mass_left, mass_right, momentum_left, momentum_right, &
                                       stress_volume, constants, carry, mass_of, modulus_of, forces, gradient, force_left, &
-                                      force_right)
+                                      force_right, plastic_strain, hardening, yield_of, hardening_of)
       integer, parameter :: kernel = pass_usf_move
       logical, parameter :: moves = pass_moves(kernel), stresses = pass_stresses(kernel), relocates = pass_relocates(kernel)
       integer, parameter :: shares = pass_shares(kernel)
@@ -4073,9 +4598,13 @@ contains
       !> the forces
       real(dp), intent(in), contiguous, optional :: mass_of(:), modulus_of(:), forces(:)
       real(dp), intent(inout), contiguous, optional :: gradient(:), force_left(:), force_right(:)
+      !> the elastoplastic law's state (plastic strain, hardening variable) and, `material`, each particle's
+      !> yield stress and hardening modulus (absent for the other laws)
+      real(dp), intent(inout), contiguous, optional :: plastic_strain(:), hardening(:)
+      real(dp), intent(in), contiguous, optional :: yield_of(:), hardening_of(:)
       integer :: p, e, i, n, b0, first, last, lo, hi, outside, ahead, elements
       real(dp) :: half_m, strain_factor, dstrain, inv_dx, dt, youngs_modulus, m, volume0
-      logical :: linear
+      logical :: linear, plastic
       type(largest_move_t) :: largest
       real(dp) :: displacement(lanes), kinetic(lanes), strain(lanes), min_j(lanes)
       integer :: cb(block_size)
@@ -4099,6 +4628,7 @@ contains
       dt = constants%dt
       youngs_modulus = constants%youngs_modulus
       linear = constants%linear
+      plastic = constants%plastic
       m = constants%mass
       volume0 = constants%volume0
       call open_segment(k, shares, seg, mass_left, mass_right, momentum_left, momentum_right, stress_volume, first, last, &
@@ -4117,6 +4647,7 @@ contains
             if (kernel == pass_usf_move .or. kernel == pass_musl_remap) call prefetch_block(ahead, cell, x, x0, v)
             if (kernel == pass_usf_stress) call prefetch_block(ahead, cell, stress, volume_ratio)
             if (kernel == pass_musl_stress) call prefetch_block(ahead, cell, x, v, stress, volume_ratio)
+            if (stresses .and. plastic) call prefetch_block(ahead, cell, plastic_strain, hardening)
             if (moves) then
                call prefetch_nodes(cell(b0), cell(b0 + n - 1), acceleration, velocity)
             else
@@ -4154,7 +4685,8 @@ contains
                else
                   dstrain = r1*strain_increment_of(e) + r2*strain_increment_of(e + 1)
                end if
-               call stress_hencky(dstrain, youngs_modulus, strain_factor, volume0, stress(p), volume_ratio(p), sb(i), svb(i))
+               call stress_hencky(dstrain, youngs_modulus, strain_factor, volume0, stress(p), volume_ratio(p), &
+                                  sb(i), svb(i))
                jb(i) = volume_ratio(p)
             end if
             if (relocates) then ! the parts at the new position (with the new J)
@@ -4230,7 +4762,8 @@ contains
       if (run%cur /= 0) call flush_shares(k, run%cur + 1, lo, hi, shares, m, run%b(1), run%b(2), run%b(3), run%b(4), &
                                           run%b(5), mass_left, mass_right, momentum_left, momentum_right, stress_volume, &
                                           seg)
-      call close_segment(k, shares, m, run, [lane_total(displacement), lane_total(kinetic), lane_total(strain)], &
+      call close_segment(k, shares, m, run, [lane_total(displacement), lane_total(kinetic), lane_total(strain), &
+                         0.0_dp], &
                          minval(min_j), largest%value, furthest_particle(largest, mb), outside, mass_left, mass_right, &
                          momentum_left, momentum_right, stress_volume, seg)
    end subroutine cpgimp_usf_move_segment
@@ -4239,7 +4772,7 @@ contains
    subroutine cpgimp_usf_stress_segment(k, seg, x, x0, v, stress, volume_ratio, cell, acceleration, velocity, &
                                         strain_increment_of, mass_left, mass_right, momentum_left, momentum_right, &
                                         stress_volume, constants, carry, mass_of, modulus_of, forces, gradient, force_left, &
-                                        force_right)
+                                        force_right, plastic_strain, hardening, yield_of, hardening_of)
       integer, parameter :: kernel = pass_usf_stress
       logical, parameter :: moves = pass_moves(kernel), stresses = pass_stresses(kernel), relocates = pass_relocates(kernel)
       integer, parameter :: shares = pass_shares(kernel)
@@ -4258,9 +4791,15 @@ contains
       !> the forces
       real(dp), intent(in), contiguous, optional :: mass_of(:), modulus_of(:), forces(:)
       real(dp), intent(inout), contiguous, optional :: gradient(:), force_left(:), force_right(:)
+      !> the elastoplastic law's state (plastic strain, hardening variable) and, `material`, each particle's
+      !> yield stress and hardening modulus (absent for the other laws)
+      real(dp), intent(inout), contiguous, optional :: plastic_strain(:), hardening(:)
+      real(dp), intent(in), contiguous, optional :: yield_of(:), hardening_of(:)
       integer :: p, e, i, n, b0, first, last, lo, hi, outside, ahead, elements
       real(dp) :: half_m, strain_factor, dstrain, inv_dx, dt, youngs_modulus, m, volume0
-      logical :: linear
+      logical :: linear, plastic
+      ! the elastoplastic law's constants and the block's plastic work, summed in lanes
+      real(dp) :: yield_stress, hardening_modulus, increment, wb(block_size), work(lanes)
       type(largest_move_t) :: largest
       real(dp) :: displacement(lanes), kinetic(lanes), strain(lanes), min_j(lanes)
       integer :: cb(block_size)
@@ -4284,6 +4823,10 @@ contains
       dt = constants%dt
       youngs_modulus = constants%youngs_modulus
       linear = constants%linear
+      plastic = constants%plastic
+      yield_stress = constants%yield_stress
+      hardening_modulus = constants%hardening_modulus
+      work = 0
       m = constants%mass
       volume0 = constants%volume0
       call open_segment(k, shares, seg, mass_left, mass_right, momentum_left, momentum_right, stress_volume, first, last, &
@@ -4302,6 +4845,7 @@ contains
             if (kernel == pass_usf_move .or. kernel == pass_musl_remap) call prefetch_block(ahead, cell, x, x0, v)
             if (kernel == pass_usf_stress) call prefetch_block(ahead, cell, stress, volume_ratio)
             if (kernel == pass_musl_stress) call prefetch_block(ahead, cell, x, v, stress, volume_ratio)
+            if (stresses .and. plastic) call prefetch_block(ahead, cell, plastic_strain, hardening)
             if (moves) then
                call prefetch_nodes(cell(b0), cell(b0 + n - 1), acceleration, velocity)
             else
@@ -4340,7 +4884,80 @@ contains
                else
                   dstrain = r1*strain_increment_of(e) + r2*strain_increment_of(e + 1)
                end if
-               call stress_linear(dstrain, youngs_modulus, strain_factor, volume0, stress(p), volume_ratio(p), sb(i), svb(i))
+               call stress_linear(dstrain, youngs_modulus, strain_factor, volume0, stress(p), volume_ratio(p), &
+                                  sb(i), svb(i))
+               jb(i) = volume_ratio(p)
+            end if
+            if (relocates) then ! the parts at the new position (with the new J)
+               l = box_half_length(half_length0, volume_ratio(p), 1.0_dp, inv_dx)
+               call gimp_box((x(p) - origin)*inv_dx, l, elements, node, r1, r2, t1, t2, flag)
+               cb(i) = (node + 1)*flag
+               cell(p) = cb(i)
+               if (kernel == pass_usf_move) carry(p) = r2
+            else
+               cb(i) = e
+            end if
+            ! the sums of the parts the pass scatters (accumulate_boxes); right(i, 1) = r2 tells it which
+            ! particles have a right part
+            left(i, 1) = r1
+            right(i, 1) = r2
+            if (iand(shares, share_mass + share_momentum) /= 0) then
+               left(i, 2) = r1*t1
+               left(i, 3) = r1*v(p)
+               left(i, 4) = r1*t1*v(p)
+               right(i, 2) = r2*t2
+               right(i, 3) = r2*v(p)
+               right(i, 4) = r2*t2*v(p)
+            end if
+            if (iand(shares, share_stress) /= 0) then
+               left(i, 5) = r1*svb(i)
+               right(i, 5) = r2*svb(i)
+            end if
+         end do
+         else if (plastic) then
+         do i = 1, n
+            p = b0 + i - 1
+            e = cell(p)
+            ! the parts at the start of the step from x and J (USF's move pass: the J its stress pass kept);
+            ! the stress passes need only the cell and the fraction r2, kept by the pass before (MUSL's
+            ! remap: the particle has moved since; USF's move pass of the step before, as it relocated it)
+            if (kernel == pass_musl_stress .or. kernel == pass_usf_stress) then
+               r2 = carry(p)
+               r1 = 1.0_dp - r2
+               if (kernel == pass_usf_stress) carry(p) = volume_ratio(p) ! J for the move pass's box
+            else
+               if (kernel == pass_usf_move) then
+                  jstart = carry(p)
+               else
+                  jstart = volume_ratio(p)
+               end if
+               l = box_half_length(half_length0, jstart, 1.0_dp, inv_dx)
+               call gimp_box((x(p) - origin)*inv_dx, l, elements, node, r1, r2, t1, t2, flag)
+               e = node + 1
+               if (kernel == pass_musl_remap) carry(p) = r2
+            end if
+            if (moves) call g2p_box(r1, r2, t1, t2, acceleration(e - 1), acceleration(e), acceleration(e + 1), &
+                                    velocity(e - 1), velocity(e), velocity(e + 1), inv_dx, dt, half_m, x0(p), x(p), v(p), &
+                                    db(i), kb(i), mb(i, slot))
+            if (stresses) then ! d eps = dt sum dS v_I = r1 (element e's) + r2 (element e + 1's)
+               if (moves) then
+                  dstrain = r1*strain_increment(velocity(e - 1), velocity(e), dt, inv_dx) + &
+                            r2*strain_increment(velocity(e), velocity(e + 1), dt, inv_dx)
+               else
+                  dstrain = r1*strain_increment_of(e) + r2*strain_increment_of(e + 1)
+               end if
+               stress(p) = stress(p) + youngs_modulus*dstrain
+               ! d gamma, zero in an elastic step: written without a branch, so that a loop over particles
+               ! vectorises; an elastic step then subtracts and adds zeros, which leaves the hencky bits
+               increment = max(abs(stress(p)) - (yield_stress + hardening_modulus*hardening(p)), 0.0_dp)/ &
+                           (youngs_modulus + hardening_modulus)
+               stress(p) = stress(p) - sign(youngs_modulus*increment, stress(p))
+               plastic_strain(p) = plastic_strain(p) + sign(increment, stress(p))
+               hardening(p) = hardening(p) + increment
+               volume_ratio(p) = volume_ratio(p)*(1.0_dp + dstrain)
+               sb(i) = stress(p)*stress(p)*volume_ratio(p)*strain_factor
+               svb(i) = stress(p)*volume_ratio(p)*volume0
+               wb(i) = (yield_stress + 0.5_dp*hardening_modulus*hardening(p))*hardening(p)*volume0
                jb(i) = volume_ratio(p)
             end if
             if (relocates) then ! the parts at the new position (with the new J)
@@ -4401,7 +5018,8 @@ contains
                else
                   dstrain = r1*strain_increment_of(e) + r2*strain_increment_of(e + 1)
                end if
-               call stress_hencky(dstrain, youngs_modulus, strain_factor, volume0, stress(p), volume_ratio(p), sb(i), svb(i))
+               call stress_hencky(dstrain, youngs_modulus, strain_factor, volume0, stress(p), volume_ratio(p), &
+                                  sb(i), svb(i))
                jb(i) = volume_ratio(p)
             end if
             if (relocates) then ! the parts at the new position (with the new J)
@@ -4470,6 +5088,13 @@ contains
             lane_r = mod(n, lanes)
             if (lane_r > 0) min_j(1:lane_r) = min(min_j(1:lane_r), jb(n - lane_r + 1:n))
          end if
+         if (plastic) then
+            do lane_i = 1, n - lanes + 1, lanes
+               work = work + wb(lane_i:lane_i + lanes - 1)
+            end do
+            lane_r = mod(n, lanes)
+            if (lane_r > 0) work(1:lane_r) = work(1:lane_r) + wb(n - lane_r + 1:n)
+         end if
          if (relocates) call find_outside(n, b0, cb, outside)
          call accumulate_boxes(k, n, cb, left, right, m, lo, hi, shares, run, mass_left, mass_right, momentum_left, &
                                momentum_right, stress_volume, seg)
@@ -4478,7 +5103,8 @@ contains
       if (run%cur /= 0) call flush_shares(k, run%cur + 1, lo, hi, shares, m, run%b(1), run%b(2), run%b(3), run%b(4), &
                                           run%b(5), mass_left, mass_right, momentum_left, momentum_right, stress_volume, &
                                           seg)
-      call close_segment(k, shares, m, run, [lane_total(displacement), lane_total(kinetic), lane_total(strain)], &
+      call close_segment(k, shares, m, run, [lane_total(displacement), lane_total(kinetic), lane_total(strain), &
+                         lane_total(work)], &
                          minval(min_j), largest%value, furthest_particle(largest, mb), outside, mass_left, mass_right, &
                          momentum_left, momentum_right, stress_volume, seg)
    end subroutine cpgimp_usf_stress_segment
@@ -4487,7 +5113,7 @@ contains
    subroutine cpgimp_usl_segment(k, seg, x, x0, v, stress, volume_ratio, cell, acceleration, velocity, &
                                  strain_increment_of, mass_left, mass_right, momentum_left, momentum_right, &
                                  stress_volume, constants, carry, mass_of, modulus_of, forces, gradient, force_left, &
-                                 force_right)
+                                 force_right, plastic_strain, hardening, yield_of, hardening_of)
       integer, parameter :: kernel = pass_usl
       logical, parameter :: moves = pass_moves(kernel), stresses = pass_stresses(kernel), relocates = pass_relocates(kernel)
       integer, parameter :: shares = pass_shares(kernel)
@@ -4506,9 +5132,15 @@ contains
       !> the forces
       real(dp), intent(in), contiguous, optional :: mass_of(:), modulus_of(:), forces(:)
       real(dp), intent(inout), contiguous, optional :: gradient(:), force_left(:), force_right(:)
+      !> the elastoplastic law's state (plastic strain, hardening variable) and, `material`, each particle's
+      !> yield stress and hardening modulus (absent for the other laws)
+      real(dp), intent(inout), contiguous, optional :: plastic_strain(:), hardening(:)
+      real(dp), intent(in), contiguous, optional :: yield_of(:), hardening_of(:)
       integer :: p, e, i, n, b0, first, last, lo, hi, outside, ahead, elements
       real(dp) :: half_m, strain_factor, dstrain, inv_dx, dt, youngs_modulus, m, volume0
-      logical :: linear
+      logical :: linear, plastic
+      ! the elastoplastic law's constants and the block's plastic work, summed in lanes
+      real(dp) :: yield_stress, hardening_modulus, increment, wb(block_size), work(lanes)
       type(largest_move_t) :: largest
       real(dp) :: displacement(lanes), kinetic(lanes), strain(lanes), min_j(lanes)
       integer :: cb(block_size)
@@ -4532,6 +5164,10 @@ contains
       dt = constants%dt
       youngs_modulus = constants%youngs_modulus
       linear = constants%linear
+      plastic = constants%plastic
+      yield_stress = constants%yield_stress
+      hardening_modulus = constants%hardening_modulus
+      work = 0
       m = constants%mass
       volume0 = constants%volume0
       call open_segment(k, shares, seg, mass_left, mass_right, momentum_left, momentum_right, stress_volume, first, last, &
@@ -4550,6 +5186,7 @@ contains
             if (kernel == pass_usf_move .or. kernel == pass_musl_remap) call prefetch_block(ahead, cell, x, x0, v)
             if (kernel == pass_usf_stress) call prefetch_block(ahead, cell, stress, volume_ratio)
             if (kernel == pass_musl_stress) call prefetch_block(ahead, cell, x, v, stress, volume_ratio)
+            if (stresses .and. plastic) call prefetch_block(ahead, cell, plastic_strain, hardening)
             if (moves) then
                call prefetch_nodes(cell(b0), cell(b0 + n - 1), acceleration, velocity)
             else
@@ -4588,7 +5225,80 @@ contains
                else
                   dstrain = r1*strain_increment_of(e) + r2*strain_increment_of(e + 1)
                end if
-               call stress_linear(dstrain, youngs_modulus, strain_factor, volume0, stress(p), volume_ratio(p), sb(i), svb(i))
+               call stress_linear(dstrain, youngs_modulus, strain_factor, volume0, stress(p), volume_ratio(p), &
+                                  sb(i), svb(i))
+               jb(i) = volume_ratio(p)
+            end if
+            if (relocates) then ! the parts at the new position (with the new J)
+               l = box_half_length(half_length0, volume_ratio(p), 1.0_dp, inv_dx)
+               call gimp_box((x(p) - origin)*inv_dx, l, elements, node, r1, r2, t1, t2, flag)
+               cb(i) = (node + 1)*flag
+               cell(p) = cb(i)
+               if (kernel == pass_usf_move) carry(p) = r2
+            else
+               cb(i) = e
+            end if
+            ! the sums of the parts the pass scatters (accumulate_boxes); right(i, 1) = r2 tells it which
+            ! particles have a right part
+            left(i, 1) = r1
+            right(i, 1) = r2
+            if (iand(shares, share_mass + share_momentum) /= 0) then
+               left(i, 2) = r1*t1
+               left(i, 3) = r1*v(p)
+               left(i, 4) = r1*t1*v(p)
+               right(i, 2) = r2*t2
+               right(i, 3) = r2*v(p)
+               right(i, 4) = r2*t2*v(p)
+            end if
+            if (iand(shares, share_stress) /= 0) then
+               left(i, 5) = r1*svb(i)
+               right(i, 5) = r2*svb(i)
+            end if
+         end do
+         else if (plastic) then
+         do i = 1, n
+            p = b0 + i - 1
+            e = cell(p)
+            ! the parts at the start of the step from x and J (USF's move pass: the J its stress pass kept);
+            ! the stress passes need only the cell and the fraction r2, kept by the pass before (MUSL's
+            ! remap: the particle has moved since; USF's move pass of the step before, as it relocated it)
+            if (kernel == pass_musl_stress .or. kernel == pass_usf_stress) then
+               r2 = carry(p)
+               r1 = 1.0_dp - r2
+               if (kernel == pass_usf_stress) carry(p) = volume_ratio(p) ! J for the move pass's box
+            else
+               if (kernel == pass_usf_move) then
+                  jstart = carry(p)
+               else
+                  jstart = volume_ratio(p)
+               end if
+               l = box_half_length(half_length0, jstart, 1.0_dp, inv_dx)
+               call gimp_box((x(p) - origin)*inv_dx, l, elements, node, r1, r2, t1, t2, flag)
+               e = node + 1
+               if (kernel == pass_musl_remap) carry(p) = r2
+            end if
+            if (moves) call g2p_box(r1, r2, t1, t2, acceleration(e - 1), acceleration(e), acceleration(e + 1), &
+                                    velocity(e - 1), velocity(e), velocity(e + 1), inv_dx, dt, half_m, x0(p), x(p), v(p), &
+                                    db(i), kb(i), mb(i, slot))
+            if (stresses) then ! d eps = dt sum dS v_I = r1 (element e's) + r2 (element e + 1's)
+               if (moves) then
+                  dstrain = r1*strain_increment(velocity(e - 1), velocity(e), dt, inv_dx) + &
+                            r2*strain_increment(velocity(e), velocity(e + 1), dt, inv_dx)
+               else
+                  dstrain = r1*strain_increment_of(e) + r2*strain_increment_of(e + 1)
+               end if
+               stress(p) = stress(p) + youngs_modulus*dstrain
+               ! d gamma, zero in an elastic step: written without a branch, so that a loop over particles
+               ! vectorises; an elastic step then subtracts and adds zeros, which leaves the hencky bits
+               increment = max(abs(stress(p)) - (yield_stress + hardening_modulus*hardening(p)), 0.0_dp)/ &
+                           (youngs_modulus + hardening_modulus)
+               stress(p) = stress(p) - sign(youngs_modulus*increment, stress(p))
+               plastic_strain(p) = plastic_strain(p) + sign(increment, stress(p))
+               hardening(p) = hardening(p) + increment
+               volume_ratio(p) = volume_ratio(p)*(1.0_dp + dstrain)
+               sb(i) = stress(p)*stress(p)*volume_ratio(p)*strain_factor
+               svb(i) = stress(p)*volume_ratio(p)*volume0
+               wb(i) = (yield_stress + 0.5_dp*hardening_modulus*hardening(p))*hardening(p)*volume0
                jb(i) = volume_ratio(p)
             end if
             if (relocates) then ! the parts at the new position (with the new J)
@@ -4649,7 +5359,8 @@ contains
                else
                   dstrain = r1*strain_increment_of(e) + r2*strain_increment_of(e + 1)
                end if
-               call stress_hencky(dstrain, youngs_modulus, strain_factor, volume0, stress(p), volume_ratio(p), sb(i), svb(i))
+               call stress_hencky(dstrain, youngs_modulus, strain_factor, volume0, stress(p), volume_ratio(p), &
+                                  sb(i), svb(i))
                jb(i) = volume_ratio(p)
             end if
             if (relocates) then ! the parts at the new position (with the new J)
@@ -4718,6 +5429,13 @@ contains
             lane_r = mod(n, lanes)
             if (lane_r > 0) min_j(1:lane_r) = min(min_j(1:lane_r), jb(n - lane_r + 1:n))
          end if
+         if (plastic) then
+            do lane_i = 1, n - lanes + 1, lanes
+               work = work + wb(lane_i:lane_i + lanes - 1)
+            end do
+            lane_r = mod(n, lanes)
+            if (lane_r > 0) work(1:lane_r) = work(1:lane_r) + wb(n - lane_r + 1:n)
+         end if
          if (relocates) call find_outside(n, b0, cb, outside)
          call accumulate_boxes(k, n, cb, left, right, m, lo, hi, shares, run, mass_left, mass_right, momentum_left, &
                                momentum_right, stress_volume, seg)
@@ -4726,7 +5444,8 @@ contains
       if (run%cur /= 0) call flush_shares(k, run%cur + 1, lo, hi, shares, m, run%b(1), run%b(2), run%b(3), run%b(4), &
                                           run%b(5), mass_left, mass_right, momentum_left, momentum_right, stress_volume, &
                                           seg)
-      call close_segment(k, shares, m, run, [lane_total(displacement), lane_total(kinetic), lane_total(strain)], &
+      call close_segment(k, shares, m, run, [lane_total(displacement), lane_total(kinetic), lane_total(strain), &
+                         lane_total(work)], &
                          minval(min_j), largest%value, furthest_particle(largest, mb), outside, mass_left, mass_right, &
                          momentum_left, momentum_right, stress_volume, seg)
    end subroutine cpgimp_usl_segment
@@ -4735,7 +5454,7 @@ contains
    subroutine cpgimp_musl_remap_segment(k, seg, x, x0, v, stress, volume_ratio, cell, acceleration, velocity, &
                                         strain_increment_of, mass_left, mass_right, momentum_left, momentum_right, &
                                         stress_volume, constants, carry, mass_of, modulus_of, forces, gradient, force_left, &
-                                        force_right)
+                                        force_right, plastic_strain, hardening, yield_of, hardening_of)
       integer, parameter :: kernel = pass_musl_remap
       logical, parameter :: moves = pass_moves(kernel), stresses = pass_stresses(kernel), relocates = pass_relocates(kernel)
       integer, parameter :: shares = pass_shares(kernel)
@@ -4754,9 +5473,13 @@ contains
       !> the forces
       real(dp), intent(in), contiguous, optional :: mass_of(:), modulus_of(:), forces(:)
       real(dp), intent(inout), contiguous, optional :: gradient(:), force_left(:), force_right(:)
+      !> the elastoplastic law's state (plastic strain, hardening variable) and, `material`, each particle's
+      !> yield stress and hardening modulus (absent for the other laws)
+      real(dp), intent(inout), contiguous, optional :: plastic_strain(:), hardening(:)
+      real(dp), intent(in), contiguous, optional :: yield_of(:), hardening_of(:)
       integer :: p, e, i, n, b0, first, last, lo, hi, outside, ahead, elements
       real(dp) :: half_m, strain_factor, dstrain, inv_dx, dt, youngs_modulus, m, volume0
-      logical :: linear
+      logical :: linear, plastic
       type(largest_move_t) :: largest
       real(dp) :: displacement(lanes), kinetic(lanes), strain(lanes), min_j(lanes)
       integer :: cb(block_size)
@@ -4780,6 +5503,7 @@ contains
       dt = constants%dt
       youngs_modulus = constants%youngs_modulus
       linear = constants%linear
+      plastic = constants%plastic
       m = constants%mass
       volume0 = constants%volume0
       call open_segment(k, shares, seg, mass_left, mass_right, momentum_left, momentum_right, stress_volume, first, last, &
@@ -4798,6 +5522,7 @@ contains
             if (kernel == pass_usf_move .or. kernel == pass_musl_remap) call prefetch_block(ahead, cell, x, x0, v)
             if (kernel == pass_usf_stress) call prefetch_block(ahead, cell, stress, volume_ratio)
             if (kernel == pass_musl_stress) call prefetch_block(ahead, cell, x, v, stress, volume_ratio)
+            if (stresses .and. plastic) call prefetch_block(ahead, cell, plastic_strain, hardening)
             if (moves) then
                call prefetch_nodes(cell(b0), cell(b0 + n - 1), acceleration, velocity)
             else
@@ -4835,7 +5560,8 @@ contains
                else
                   dstrain = r1*strain_increment_of(e) + r2*strain_increment_of(e + 1)
                end if
-               call stress_hencky(dstrain, youngs_modulus, strain_factor, volume0, stress(p), volume_ratio(p), sb(i), svb(i))
+               call stress_hencky(dstrain, youngs_modulus, strain_factor, volume0, stress(p), volume_ratio(p), &
+                                  sb(i), svb(i))
                jb(i) = volume_ratio(p)
             end if
             if (relocates) then ! the parts at the new position (with the new J)
@@ -4911,7 +5637,8 @@ contains
       if (run%cur /= 0) call flush_shares(k, run%cur + 1, lo, hi, shares, m, run%b(1), run%b(2), run%b(3), run%b(4), &
                                           run%b(5), mass_left, mass_right, momentum_left, momentum_right, stress_volume, &
                                           seg)
-      call close_segment(k, shares, m, run, [lane_total(displacement), lane_total(kinetic), lane_total(strain)], &
+      call close_segment(k, shares, m, run, [lane_total(displacement), lane_total(kinetic), lane_total(strain), &
+                         0.0_dp], &
                          minval(min_j), largest%value, furthest_particle(largest, mb), outside, mass_left, mass_right, &
                          momentum_left, momentum_right, stress_volume, seg)
    end subroutine cpgimp_musl_remap_segment
@@ -4920,7 +5647,7 @@ contains
    subroutine cpgimp_musl_stress_segment(k, seg, x, x0, v, stress, volume_ratio, cell, acceleration, velocity, &
                                          strain_increment_of, mass_left, mass_right, momentum_left, momentum_right, &
                                          stress_volume, constants, carry, mass_of, modulus_of, forces, gradient, force_left, &
-                                         force_right)
+                                         force_right, plastic_strain, hardening, yield_of, hardening_of)
       integer, parameter :: kernel = pass_musl_stress
       logical, parameter :: moves = pass_moves(kernel), stresses = pass_stresses(kernel), relocates = pass_relocates(kernel)
       integer, parameter :: shares = pass_shares(kernel)
@@ -4939,9 +5666,15 @@ contains
       !> the forces
       real(dp), intent(in), contiguous, optional :: mass_of(:), modulus_of(:), forces(:)
       real(dp), intent(inout), contiguous, optional :: gradient(:), force_left(:), force_right(:)
+      !> the elastoplastic law's state (plastic strain, hardening variable) and, `material`, each particle's
+      !> yield stress and hardening modulus (absent for the other laws)
+      real(dp), intent(inout), contiguous, optional :: plastic_strain(:), hardening(:)
+      real(dp), intent(in), contiguous, optional :: yield_of(:), hardening_of(:)
       integer :: p, e, i, n, b0, first, last, lo, hi, outside, ahead, elements
       real(dp) :: half_m, strain_factor, dstrain, inv_dx, dt, youngs_modulus, m, volume0
-      logical :: linear
+      logical :: linear, plastic
+      ! the elastoplastic law's constants and the block's plastic work, summed in lanes
+      real(dp) :: yield_stress, hardening_modulus, increment, wb(block_size), work(lanes)
       type(largest_move_t) :: largest
       real(dp) :: displacement(lanes), kinetic(lanes), strain(lanes), min_j(lanes)
       integer :: cb(block_size)
@@ -4965,6 +5698,10 @@ contains
       dt = constants%dt
       youngs_modulus = constants%youngs_modulus
       linear = constants%linear
+      plastic = constants%plastic
+      yield_stress = constants%yield_stress
+      hardening_modulus = constants%hardening_modulus
+      work = 0
       m = constants%mass
       volume0 = constants%volume0
       call open_segment(k, shares, seg, mass_left, mass_right, momentum_left, momentum_right, stress_volume, first, last, &
@@ -4983,6 +5720,7 @@ contains
             if (kernel == pass_usf_move .or. kernel == pass_musl_remap) call prefetch_block(ahead, cell, x, x0, v)
             if (kernel == pass_usf_stress) call prefetch_block(ahead, cell, stress, volume_ratio)
             if (kernel == pass_musl_stress) call prefetch_block(ahead, cell, x, v, stress, volume_ratio)
+            if (stresses .and. plastic) call prefetch_block(ahead, cell, plastic_strain, hardening)
             if (moves) then
                call prefetch_nodes(cell(b0), cell(b0 + n - 1), acceleration, velocity)
             else
@@ -5021,7 +5759,80 @@ contains
                else
                   dstrain = r1*strain_increment_of(e) + r2*strain_increment_of(e + 1)
                end if
-               call stress_linear(dstrain, youngs_modulus, strain_factor, volume0, stress(p), volume_ratio(p), sb(i), svb(i))
+               call stress_linear(dstrain, youngs_modulus, strain_factor, volume0, stress(p), volume_ratio(p), &
+                                  sb(i), svb(i))
+               jb(i) = volume_ratio(p)
+            end if
+            if (relocates) then ! the parts at the new position (with the new J)
+               l = box_half_length(half_length0, volume_ratio(p), 1.0_dp, inv_dx)
+               call gimp_box((x(p) - origin)*inv_dx, l, elements, node, r1, r2, t1, t2, flag)
+               cb(i) = (node + 1)*flag
+               cell(p) = cb(i)
+               if (kernel == pass_usf_move) carry(p) = r2
+            else
+               cb(i) = e
+            end if
+            ! the sums of the parts the pass scatters (accumulate_boxes); right(i, 1) = r2 tells it which
+            ! particles have a right part
+            left(i, 1) = r1
+            right(i, 1) = r2
+            if (iand(shares, share_mass + share_momentum) /= 0) then
+               left(i, 2) = r1*t1
+               left(i, 3) = r1*v(p)
+               left(i, 4) = r1*t1*v(p)
+               right(i, 2) = r2*t2
+               right(i, 3) = r2*v(p)
+               right(i, 4) = r2*t2*v(p)
+            end if
+            if (iand(shares, share_stress) /= 0) then
+               left(i, 5) = r1*svb(i)
+               right(i, 5) = r2*svb(i)
+            end if
+         end do
+         else if (plastic) then
+         do i = 1, n
+            p = b0 + i - 1
+            e = cell(p)
+            ! the parts at the start of the step from x and J (USF's move pass: the J its stress pass kept);
+            ! the stress passes need only the cell and the fraction r2, kept by the pass before (MUSL's
+            ! remap: the particle has moved since; USF's move pass of the step before, as it relocated it)
+            if (kernel == pass_musl_stress .or. kernel == pass_usf_stress) then
+               r2 = carry(p)
+               r1 = 1.0_dp - r2
+               if (kernel == pass_usf_stress) carry(p) = volume_ratio(p) ! J for the move pass's box
+            else
+               if (kernel == pass_usf_move) then
+                  jstart = carry(p)
+               else
+                  jstart = volume_ratio(p)
+               end if
+               l = box_half_length(half_length0, jstart, 1.0_dp, inv_dx)
+               call gimp_box((x(p) - origin)*inv_dx, l, elements, node, r1, r2, t1, t2, flag)
+               e = node + 1
+               if (kernel == pass_musl_remap) carry(p) = r2
+            end if
+            if (moves) call g2p_box(r1, r2, t1, t2, acceleration(e - 1), acceleration(e), acceleration(e + 1), &
+                                    velocity(e - 1), velocity(e), velocity(e + 1), inv_dx, dt, half_m, x0(p), x(p), v(p), &
+                                    db(i), kb(i), mb(i, slot))
+            if (stresses) then ! d eps = dt sum dS v_I = r1 (element e's) + r2 (element e + 1's)
+               if (moves) then
+                  dstrain = r1*strain_increment(velocity(e - 1), velocity(e), dt, inv_dx) + &
+                            r2*strain_increment(velocity(e), velocity(e + 1), dt, inv_dx)
+               else
+                  dstrain = r1*strain_increment_of(e) + r2*strain_increment_of(e + 1)
+               end if
+               stress(p) = stress(p) + youngs_modulus*dstrain
+               ! d gamma, zero in an elastic step: written without a branch, so that a loop over particles
+               ! vectorises; an elastic step then subtracts and adds zeros, which leaves the hencky bits
+               increment = max(abs(stress(p)) - (yield_stress + hardening_modulus*hardening(p)), 0.0_dp)/ &
+                           (youngs_modulus + hardening_modulus)
+               stress(p) = stress(p) - sign(youngs_modulus*increment, stress(p))
+               plastic_strain(p) = plastic_strain(p) + sign(increment, stress(p))
+               hardening(p) = hardening(p) + increment
+               volume_ratio(p) = volume_ratio(p)*(1.0_dp + dstrain)
+               sb(i) = stress(p)*stress(p)*volume_ratio(p)*strain_factor
+               svb(i) = stress(p)*volume_ratio(p)*volume0
+               wb(i) = (yield_stress + 0.5_dp*hardening_modulus*hardening(p))*hardening(p)*volume0
                jb(i) = volume_ratio(p)
             end if
             if (relocates) then ! the parts at the new position (with the new J)
@@ -5082,7 +5893,8 @@ contains
                else
                   dstrain = r1*strain_increment_of(e) + r2*strain_increment_of(e + 1)
                end if
-               call stress_hencky(dstrain, youngs_modulus, strain_factor, volume0, stress(p), volume_ratio(p), sb(i), svb(i))
+               call stress_hencky(dstrain, youngs_modulus, strain_factor, volume0, stress(p), volume_ratio(p), &
+                                  sb(i), svb(i))
                jb(i) = volume_ratio(p)
             end if
             if (relocates) then ! the parts at the new position (with the new J)
@@ -5151,6 +5963,13 @@ contains
             lane_r = mod(n, lanes)
             if (lane_r > 0) min_j(1:lane_r) = min(min_j(1:lane_r), jb(n - lane_r + 1:n))
          end if
+         if (plastic) then
+            do lane_i = 1, n - lanes + 1, lanes
+               work = work + wb(lane_i:lane_i + lanes - 1)
+            end do
+            lane_r = mod(n, lanes)
+            if (lane_r > 0) work(1:lane_r) = work(1:lane_r) + wb(n - lane_r + 1:n)
+         end if
          if (relocates) call find_outside(n, b0, cb, outside)
          call accumulate_boxes(k, n, cb, left, right, m, lo, hi, shares, run, mass_left, mass_right, momentum_left, &
                                momentum_right, stress_volume, seg)
@@ -5159,7 +5978,8 @@ contains
       if (run%cur /= 0) call flush_shares(k, run%cur + 1, lo, hi, shares, m, run%b(1), run%b(2), run%b(3), run%b(4), &
                                           run%b(5), mass_left, mass_right, momentum_left, momentum_right, stress_volume, &
                                           seg)
-      call close_segment(k, shares, m, run, [lane_total(displacement), lane_total(kinetic), lane_total(strain)], &
+      call close_segment(k, shares, m, run, [lane_total(displacement), lane_total(kinetic), lane_total(strain), &
+                         lane_total(work)], &
                          minval(min_j), largest%value, furthest_particle(largest, mb), outside, mass_left, mass_right, &
                          momentum_left, momentum_right, stress_volume, seg)
    end subroutine cpgimp_musl_stress_segment
@@ -5168,7 +5988,7 @@ contains
    subroutine bspline2_usf_move_segment(k, seg, x, x0, v, stress, volume_ratio, cell, acceleration, velocity, &
                                         strain_increment_of, mass_left, mass_right, momentum_left, momentum_right, &
                                         stress_volume, constants, carry, mass_of, modulus_of, forces, gradient, force_left, &
-                                        force_right)
+                                        force_right, plastic_strain, hardening, yield_of, hardening_of)
       integer, parameter :: kernel = pass_usf_move
       logical, parameter :: moves = pass_moves(kernel), stresses = pass_stresses(kernel), relocates = pass_relocates(kernel)
       integer, parameter :: shares = pass_shares(kernel)
@@ -5187,9 +6007,13 @@ contains
       !> the forces
       real(dp), intent(in), contiguous, optional :: mass_of(:), modulus_of(:), forces(:)
       real(dp), intent(inout), contiguous, optional :: gradient(:), force_left(:), force_right(:)
+      !> the elastoplastic law's state (plastic strain, hardening variable) and, `material`, each particle's
+      !> yield stress and hardening modulus (absent for the other laws)
+      real(dp), intent(inout), contiguous, optional :: plastic_strain(:), hardening(:)
+      real(dp), intent(in), contiguous, optional :: yield_of(:), hardening_of(:)
       integer :: p, e, i, n, b0, first, last, lo, hi, outside, ahead, elements
       real(dp) :: half_m, strain_factor, dstrain, inv_dx, dt, youngs_modulus, m, volume0
-      logical :: linear
+      logical :: linear, plastic
       type(largest_move_t) :: largest
       real(dp) :: displacement(lanes), kinetic(lanes), strain(lanes), min_j(lanes)
       integer :: cb(block_size)
@@ -5210,6 +6034,7 @@ contains
       dt = constants%dt
       youngs_modulus = constants%youngs_modulus
       linear = constants%linear
+      plastic = constants%plastic
       m = constants%mass
       volume0 = constants%volume0
       call open_segment(k, shares, seg, mass_left, mass_right, momentum_left, momentum_right, stress_volume, first, last, &
@@ -5228,6 +6053,7 @@ contains
             if (kernel == pass_usf_move .or. kernel == pass_musl_remap) call prefetch_block(ahead, cell, x, x0, v)
             if (kernel == pass_usf_stress) call prefetch_block(ahead, cell, stress, volume_ratio)
             if (kernel == pass_musl_stress) call prefetch_block(ahead, cell, x, v, stress, volume_ratio)
+            if (stresses .and. plastic) call prefetch_block(ahead, cell, plastic_strain, hardening)
             if (moves) then
                call prefetch_nodes(cell(b0), cell(b0 + n - 1), acceleration, velocity)
             else
@@ -5258,7 +6084,8 @@ contains
                else
                   dstrain = r1*strain_increment_of(e) + r2*strain_increment_of(e + 1)
                end if
-               call stress_hencky(dstrain, youngs_modulus, strain_factor, volume0, stress(p), volume_ratio(p), sb(i), svb(i))
+               call stress_hencky(dstrain, youngs_modulus, strain_factor, volume0, stress(p), volume_ratio(p), &
+                                  sb(i), svb(i))
                jb(i) = volume_ratio(p)
             end if
             if (relocates) then ! the parts at the new position
@@ -5333,7 +6160,8 @@ contains
       if (run%cur /= 0) call flush_shares(k, run%cur + 1, lo, hi, shares, m, run%b(1), run%b(2), run%b(3), run%b(4), &
                                           run%b(5), mass_left, mass_right, momentum_left, momentum_right, stress_volume, &
                                           seg)
-      call close_segment(k, shares, m, run, [lane_total(displacement), lane_total(kinetic), lane_total(strain)], &
+      call close_segment(k, shares, m, run, [lane_total(displacement), lane_total(kinetic), lane_total(strain), &
+                         0.0_dp], &
                          minval(min_j), largest%value, furthest_particle(largest, mb), outside, mass_left, mass_right, &
                          momentum_left, momentum_right, stress_volume, seg)
    end subroutine bspline2_usf_move_segment
@@ -5342,7 +6170,7 @@ contains
    subroutine bspline2_usf_stress_segment(k, seg, x, x0, v, stress, volume_ratio, cell, acceleration, velocity, &
                                           strain_increment_of, mass_left, mass_right, momentum_left, momentum_right, &
                                           stress_volume, constants, carry, mass_of, modulus_of, forces, gradient, force_left, &
-                                          force_right)
+                                          force_right, plastic_strain, hardening, yield_of, hardening_of)
       integer, parameter :: kernel = pass_usf_stress
       logical, parameter :: moves = pass_moves(kernel), stresses = pass_stresses(kernel), relocates = pass_relocates(kernel)
       integer, parameter :: shares = pass_shares(kernel)
@@ -5361,9 +6189,15 @@ contains
       !> the forces
       real(dp), intent(in), contiguous, optional :: mass_of(:), modulus_of(:), forces(:)
       real(dp), intent(inout), contiguous, optional :: gradient(:), force_left(:), force_right(:)
+      !> the elastoplastic law's state (plastic strain, hardening variable) and, `material`, each particle's
+      !> yield stress and hardening modulus (absent for the other laws)
+      real(dp), intent(inout), contiguous, optional :: plastic_strain(:), hardening(:)
+      real(dp), intent(in), contiguous, optional :: yield_of(:), hardening_of(:)
       integer :: p, e, i, n, b0, first, last, lo, hi, outside, ahead, elements
       real(dp) :: half_m, strain_factor, dstrain, inv_dx, dt, youngs_modulus, m, volume0
-      logical :: linear
+      logical :: linear, plastic
+      ! the elastoplastic law's constants and the block's plastic work, summed in lanes
+      real(dp) :: yield_stress, hardening_modulus, increment, wb(block_size), work(lanes)
       type(largest_move_t) :: largest
       real(dp) :: displacement(lanes), kinetic(lanes), strain(lanes), min_j(lanes)
       integer :: cb(block_size)
@@ -5384,6 +6218,10 @@ contains
       dt = constants%dt
       youngs_modulus = constants%youngs_modulus
       linear = constants%linear
+      plastic = constants%plastic
+      yield_stress = constants%yield_stress
+      hardening_modulus = constants%hardening_modulus
+      work = 0
       m = constants%mass
       volume0 = constants%volume0
       call open_segment(k, shares, seg, mass_left, mass_right, momentum_left, momentum_right, stress_volume, first, last, &
@@ -5402,6 +6240,7 @@ contains
             if (kernel == pass_usf_move .or. kernel == pass_musl_remap) call prefetch_block(ahead, cell, x, x0, v)
             if (kernel == pass_usf_stress) call prefetch_block(ahead, cell, stress, volume_ratio)
             if (kernel == pass_musl_stress) call prefetch_block(ahead, cell, x, v, stress, volume_ratio)
+            if (stresses .and. plastic) call prefetch_block(ahead, cell, plastic_strain, hardening)
             if (moves) then
                call prefetch_nodes(cell(b0), cell(b0 + n - 1), acceleration, velocity)
             else
@@ -5433,7 +6272,72 @@ contains
                else
                   dstrain = r1*strain_increment_of(e) + r2*strain_increment_of(e + 1)
                end if
-               call stress_linear(dstrain, youngs_modulus, strain_factor, volume0, stress(p), volume_ratio(p), sb(i), svb(i))
+               call stress_linear(dstrain, youngs_modulus, strain_factor, volume0, stress(p), volume_ratio(p), &
+                                  sb(i), svb(i))
+               jb(i) = volume_ratio(p)
+            end if
+            if (relocates) then ! the parts at the new position
+               call spline_parts((x(p) - origin)*inv_dx, elements, node, r1, r2, t1, t2, flag)
+               cb(i) = (node + 1)*flag
+               cell(p) = cb(i)
+               if (kernel == pass_usf_move) carry(p) = r2
+            else
+               cb(i) = e
+            end if
+            ! the sums of the parts the pass scatters (accumulate_boxes); right(i, 1) = r2 tells it which
+            ! particles have a right part
+            left(i, 1) = r1
+            right(i, 1) = r2
+            if (iand(shares, share_mass + share_momentum) /= 0) then
+               left(i, 2) = r1*t1
+               left(i, 3) = r1*v(p)
+               left(i, 4) = r1*t1*v(p)
+               right(i, 2) = r2*t2
+               right(i, 3) = r2*v(p)
+               right(i, 4) = r2*t2*v(p)
+            end if
+            if (iand(shares, share_stress) /= 0) then
+               left(i, 5) = r1*svb(i)
+               right(i, 5) = r2*svb(i)
+            end if
+         end do
+         else if (plastic) then
+         do i = 1, n
+            p = b0 + i - 1
+            e = cell(p)
+            ! the parts at the start of the step from x;
+            ! the stress passes need only the cell and the fraction r2, kept by the pass before (MUSL's
+            ! remap: the particle has moved since; USF's move pass of the step before, as it relocated it)
+            if (kernel == pass_musl_stress .or. kernel == pass_usf_stress) then
+               r2 = carry(p)
+               r1 = 1.0_dp - r2
+            else
+               call spline_parts((x(p) - origin)*inv_dx, elements, node, r1, r2, t1, t2, flag)
+               e = node + 1
+               if (kernel == pass_musl_remap) carry(p) = r2
+            end if
+            if (moves) call g2p_box(r1, r2, t1, t2, acceleration(e - 1), acceleration(e), acceleration(e + 1), &
+                                    velocity(e - 1), velocity(e), velocity(e + 1), inv_dx, dt, half_m, x0(p), x(p), v(p), &
+                                    db(i), kb(i), mb(i, slot))
+            if (stresses) then ! d eps = dt sum dS v_I = r1 (element e's) + r2 (element e + 1's)
+               if (moves) then
+                  dstrain = r1*strain_increment(velocity(e - 1), velocity(e), dt, inv_dx) + &
+                            r2*strain_increment(velocity(e), velocity(e + 1), dt, inv_dx)
+               else
+                  dstrain = r1*strain_increment_of(e) + r2*strain_increment_of(e + 1)
+               end if
+               stress(p) = stress(p) + youngs_modulus*dstrain
+               ! d gamma, zero in an elastic step: written without a branch, so that a loop over particles
+               ! vectorises; an elastic step then subtracts and adds zeros, which leaves the hencky bits
+               increment = max(abs(stress(p)) - (yield_stress + hardening_modulus*hardening(p)), 0.0_dp)/ &
+                           (youngs_modulus + hardening_modulus)
+               stress(p) = stress(p) - sign(youngs_modulus*increment, stress(p))
+               plastic_strain(p) = plastic_strain(p) + sign(increment, stress(p))
+               hardening(p) = hardening(p) + increment
+               volume_ratio(p) = volume_ratio(p)*(1.0_dp + dstrain)
+               sb(i) = stress(p)*stress(p)*volume_ratio(p)*strain_factor
+               svb(i) = stress(p)*volume_ratio(p)*volume0
+               wb(i) = (yield_stress + 0.5_dp*hardening_modulus*hardening(p))*hardening(p)*volume0
                jb(i) = volume_ratio(p)
             end if
             if (relocates) then ! the parts at the new position
@@ -5486,7 +6390,8 @@ contains
                else
                   dstrain = r1*strain_increment_of(e) + r2*strain_increment_of(e + 1)
                end if
-               call stress_hencky(dstrain, youngs_modulus, strain_factor, volume0, stress(p), volume_ratio(p), sb(i), svb(i))
+               call stress_hencky(dstrain, youngs_modulus, strain_factor, volume0, stress(p), volume_ratio(p), &
+                                  sb(i), svb(i))
                jb(i) = volume_ratio(p)
             end if
             if (relocates) then ! the parts at the new position
@@ -5554,6 +6459,13 @@ contains
             lane_r = mod(n, lanes)
             if (lane_r > 0) min_j(1:lane_r) = min(min_j(1:lane_r), jb(n - lane_r + 1:n))
          end if
+         if (plastic) then
+            do lane_i = 1, n - lanes + 1, lanes
+               work = work + wb(lane_i:lane_i + lanes - 1)
+            end do
+            lane_r = mod(n, lanes)
+            if (lane_r > 0) work(1:lane_r) = work(1:lane_r) + wb(n - lane_r + 1:n)
+         end if
          if (relocates) call find_outside(n, b0, cb, outside)
          call accumulate_boxes(k, n, cb, left, right, m, lo, hi, shares, run, mass_left, mass_right, momentum_left, &
                                momentum_right, stress_volume, seg)
@@ -5562,7 +6474,8 @@ contains
       if (run%cur /= 0) call flush_shares(k, run%cur + 1, lo, hi, shares, m, run%b(1), run%b(2), run%b(3), run%b(4), &
                                           run%b(5), mass_left, mass_right, momentum_left, momentum_right, stress_volume, &
                                           seg)
-      call close_segment(k, shares, m, run, [lane_total(displacement), lane_total(kinetic), lane_total(strain)], &
+      call close_segment(k, shares, m, run, [lane_total(displacement), lane_total(kinetic), lane_total(strain), &
+                         lane_total(work)], &
                          minval(min_j), largest%value, furthest_particle(largest, mb), outside, mass_left, mass_right, &
                          momentum_left, momentum_right, stress_volume, seg)
    end subroutine bspline2_usf_stress_segment
@@ -5571,7 +6484,7 @@ contains
    subroutine bspline2_usl_segment(k, seg, x, x0, v, stress, volume_ratio, cell, acceleration, velocity, &
                                    strain_increment_of, mass_left, mass_right, momentum_left, momentum_right, &
                                    stress_volume, constants, carry, mass_of, modulus_of, forces, gradient, force_left, &
-                                   force_right)
+                                   force_right, plastic_strain, hardening, yield_of, hardening_of)
       integer, parameter :: kernel = pass_usl
       logical, parameter :: moves = pass_moves(kernel), stresses = pass_stresses(kernel), relocates = pass_relocates(kernel)
       integer, parameter :: shares = pass_shares(kernel)
@@ -5590,9 +6503,15 @@ contains
       !> the forces
       real(dp), intent(in), contiguous, optional :: mass_of(:), modulus_of(:), forces(:)
       real(dp), intent(inout), contiguous, optional :: gradient(:), force_left(:), force_right(:)
+      !> the elastoplastic law's state (plastic strain, hardening variable) and, `material`, each particle's
+      !> yield stress and hardening modulus (absent for the other laws)
+      real(dp), intent(inout), contiguous, optional :: plastic_strain(:), hardening(:)
+      real(dp), intent(in), contiguous, optional :: yield_of(:), hardening_of(:)
       integer :: p, e, i, n, b0, first, last, lo, hi, outside, ahead, elements
       real(dp) :: half_m, strain_factor, dstrain, inv_dx, dt, youngs_modulus, m, volume0
-      logical :: linear
+      logical :: linear, plastic
+      ! the elastoplastic law's constants and the block's plastic work, summed in lanes
+      real(dp) :: yield_stress, hardening_modulus, increment, wb(block_size), work(lanes)
       type(largest_move_t) :: largest
       real(dp) :: displacement(lanes), kinetic(lanes), strain(lanes), min_j(lanes)
       integer :: cb(block_size)
@@ -5613,6 +6532,10 @@ contains
       dt = constants%dt
       youngs_modulus = constants%youngs_modulus
       linear = constants%linear
+      plastic = constants%plastic
+      yield_stress = constants%yield_stress
+      hardening_modulus = constants%hardening_modulus
+      work = 0
       m = constants%mass
       volume0 = constants%volume0
       call open_segment(k, shares, seg, mass_left, mass_right, momentum_left, momentum_right, stress_volume, first, last, &
@@ -5631,6 +6554,7 @@ contains
             if (kernel == pass_usf_move .or. kernel == pass_musl_remap) call prefetch_block(ahead, cell, x, x0, v)
             if (kernel == pass_usf_stress) call prefetch_block(ahead, cell, stress, volume_ratio)
             if (kernel == pass_musl_stress) call prefetch_block(ahead, cell, x, v, stress, volume_ratio)
+            if (stresses .and. plastic) call prefetch_block(ahead, cell, plastic_strain, hardening)
             if (moves) then
                call prefetch_nodes(cell(b0), cell(b0 + n - 1), acceleration, velocity)
             else
@@ -5662,7 +6586,72 @@ contains
                else
                   dstrain = r1*strain_increment_of(e) + r2*strain_increment_of(e + 1)
                end if
-               call stress_linear(dstrain, youngs_modulus, strain_factor, volume0, stress(p), volume_ratio(p), sb(i), svb(i))
+               call stress_linear(dstrain, youngs_modulus, strain_factor, volume0, stress(p), volume_ratio(p), &
+                                  sb(i), svb(i))
+               jb(i) = volume_ratio(p)
+            end if
+            if (relocates) then ! the parts at the new position
+               call spline_parts((x(p) - origin)*inv_dx, elements, node, r1, r2, t1, t2, flag)
+               cb(i) = (node + 1)*flag
+               cell(p) = cb(i)
+               if (kernel == pass_usf_move) carry(p) = r2
+            else
+               cb(i) = e
+            end if
+            ! the sums of the parts the pass scatters (accumulate_boxes); right(i, 1) = r2 tells it which
+            ! particles have a right part
+            left(i, 1) = r1
+            right(i, 1) = r2
+            if (iand(shares, share_mass + share_momentum) /= 0) then
+               left(i, 2) = r1*t1
+               left(i, 3) = r1*v(p)
+               left(i, 4) = r1*t1*v(p)
+               right(i, 2) = r2*t2
+               right(i, 3) = r2*v(p)
+               right(i, 4) = r2*t2*v(p)
+            end if
+            if (iand(shares, share_stress) /= 0) then
+               left(i, 5) = r1*svb(i)
+               right(i, 5) = r2*svb(i)
+            end if
+         end do
+         else if (plastic) then
+         do i = 1, n
+            p = b0 + i - 1
+            e = cell(p)
+            ! the parts at the start of the step from x;
+            ! the stress passes need only the cell and the fraction r2, kept by the pass before (MUSL's
+            ! remap: the particle has moved since; USF's move pass of the step before, as it relocated it)
+            if (kernel == pass_musl_stress .or. kernel == pass_usf_stress) then
+               r2 = carry(p)
+               r1 = 1.0_dp - r2
+            else
+               call spline_parts((x(p) - origin)*inv_dx, elements, node, r1, r2, t1, t2, flag)
+               e = node + 1
+               if (kernel == pass_musl_remap) carry(p) = r2
+            end if
+            if (moves) call g2p_box(r1, r2, t1, t2, acceleration(e - 1), acceleration(e), acceleration(e + 1), &
+                                    velocity(e - 1), velocity(e), velocity(e + 1), inv_dx, dt, half_m, x0(p), x(p), v(p), &
+                                    db(i), kb(i), mb(i, slot))
+            if (stresses) then ! d eps = dt sum dS v_I = r1 (element e's) + r2 (element e + 1's)
+               if (moves) then
+                  dstrain = r1*strain_increment(velocity(e - 1), velocity(e), dt, inv_dx) + &
+                            r2*strain_increment(velocity(e), velocity(e + 1), dt, inv_dx)
+               else
+                  dstrain = r1*strain_increment_of(e) + r2*strain_increment_of(e + 1)
+               end if
+               stress(p) = stress(p) + youngs_modulus*dstrain
+               ! d gamma, zero in an elastic step: written without a branch, so that a loop over particles
+               ! vectorises; an elastic step then subtracts and adds zeros, which leaves the hencky bits
+               increment = max(abs(stress(p)) - (yield_stress + hardening_modulus*hardening(p)), 0.0_dp)/ &
+                           (youngs_modulus + hardening_modulus)
+               stress(p) = stress(p) - sign(youngs_modulus*increment, stress(p))
+               plastic_strain(p) = plastic_strain(p) + sign(increment, stress(p))
+               hardening(p) = hardening(p) + increment
+               volume_ratio(p) = volume_ratio(p)*(1.0_dp + dstrain)
+               sb(i) = stress(p)*stress(p)*volume_ratio(p)*strain_factor
+               svb(i) = stress(p)*volume_ratio(p)*volume0
+               wb(i) = (yield_stress + 0.5_dp*hardening_modulus*hardening(p))*hardening(p)*volume0
                jb(i) = volume_ratio(p)
             end if
             if (relocates) then ! the parts at the new position
@@ -5715,7 +6704,8 @@ contains
                else
                   dstrain = r1*strain_increment_of(e) + r2*strain_increment_of(e + 1)
                end if
-               call stress_hencky(dstrain, youngs_modulus, strain_factor, volume0, stress(p), volume_ratio(p), sb(i), svb(i))
+               call stress_hencky(dstrain, youngs_modulus, strain_factor, volume0, stress(p), volume_ratio(p), &
+                                  sb(i), svb(i))
                jb(i) = volume_ratio(p)
             end if
             if (relocates) then ! the parts at the new position
@@ -5783,6 +6773,13 @@ contains
             lane_r = mod(n, lanes)
             if (lane_r > 0) min_j(1:lane_r) = min(min_j(1:lane_r), jb(n - lane_r + 1:n))
          end if
+         if (plastic) then
+            do lane_i = 1, n - lanes + 1, lanes
+               work = work + wb(lane_i:lane_i + lanes - 1)
+            end do
+            lane_r = mod(n, lanes)
+            if (lane_r > 0) work(1:lane_r) = work(1:lane_r) + wb(n - lane_r + 1:n)
+         end if
          if (relocates) call find_outside(n, b0, cb, outside)
          call accumulate_boxes(k, n, cb, left, right, m, lo, hi, shares, run, mass_left, mass_right, momentum_left, &
                                momentum_right, stress_volume, seg)
@@ -5791,7 +6788,8 @@ contains
       if (run%cur /= 0) call flush_shares(k, run%cur + 1, lo, hi, shares, m, run%b(1), run%b(2), run%b(3), run%b(4), &
                                           run%b(5), mass_left, mass_right, momentum_left, momentum_right, stress_volume, &
                                           seg)
-      call close_segment(k, shares, m, run, [lane_total(displacement), lane_total(kinetic), lane_total(strain)], &
+      call close_segment(k, shares, m, run, [lane_total(displacement), lane_total(kinetic), lane_total(strain), &
+                         lane_total(work)], &
                          minval(min_j), largest%value, furthest_particle(largest, mb), outside, mass_left, mass_right, &
                          momentum_left, momentum_right, stress_volume, seg)
    end subroutine bspline2_usl_segment
@@ -5800,7 +6798,7 @@ contains
    subroutine bspline2_musl_remap_segment(k, seg, x, x0, v, stress, volume_ratio, cell, acceleration, velocity, &
                                           strain_increment_of, mass_left, mass_right, momentum_left, momentum_right, &
                                           stress_volume, constants, carry, mass_of, modulus_of, forces, gradient, force_left, &
-                                          force_right)
+                                          force_right, plastic_strain, hardening, yield_of, hardening_of)
       integer, parameter :: kernel = pass_musl_remap
       logical, parameter :: moves = pass_moves(kernel), stresses = pass_stresses(kernel), relocates = pass_relocates(kernel)
       integer, parameter :: shares = pass_shares(kernel)
@@ -5819,9 +6817,13 @@ contains
       !> the forces
       real(dp), intent(in), contiguous, optional :: mass_of(:), modulus_of(:), forces(:)
       real(dp), intent(inout), contiguous, optional :: gradient(:), force_left(:), force_right(:)
+      !> the elastoplastic law's state (plastic strain, hardening variable) and, `material`, each particle's
+      !> yield stress and hardening modulus (absent for the other laws)
+      real(dp), intent(inout), contiguous, optional :: plastic_strain(:), hardening(:)
+      real(dp), intent(in), contiguous, optional :: yield_of(:), hardening_of(:)
       integer :: p, e, i, n, b0, first, last, lo, hi, outside, ahead, elements
       real(dp) :: half_m, strain_factor, dstrain, inv_dx, dt, youngs_modulus, m, volume0
-      logical :: linear
+      logical :: linear, plastic
       type(largest_move_t) :: largest
       real(dp) :: displacement(lanes), kinetic(lanes), strain(lanes), min_j(lanes)
       integer :: cb(block_size)
@@ -5842,6 +6844,7 @@ contains
       dt = constants%dt
       youngs_modulus = constants%youngs_modulus
       linear = constants%linear
+      plastic = constants%plastic
       m = constants%mass
       volume0 = constants%volume0
       call open_segment(k, shares, seg, mass_left, mass_right, momentum_left, momentum_right, stress_volume, first, last, &
@@ -5860,6 +6863,7 @@ contains
             if (kernel == pass_usf_move .or. kernel == pass_musl_remap) call prefetch_block(ahead, cell, x, x0, v)
             if (kernel == pass_usf_stress) call prefetch_block(ahead, cell, stress, volume_ratio)
             if (kernel == pass_musl_stress) call prefetch_block(ahead, cell, x, v, stress, volume_ratio)
+            if (stresses .and. plastic) call prefetch_block(ahead, cell, plastic_strain, hardening)
             if (moves) then
                call prefetch_nodes(cell(b0), cell(b0 + n - 1), acceleration, velocity)
             else
@@ -5890,7 +6894,8 @@ contains
                else
                   dstrain = r1*strain_increment_of(e) + r2*strain_increment_of(e + 1)
                end if
-               call stress_hencky(dstrain, youngs_modulus, strain_factor, volume0, stress(p), volume_ratio(p), sb(i), svb(i))
+               call stress_hencky(dstrain, youngs_modulus, strain_factor, volume0, stress(p), volume_ratio(p), &
+                                  sb(i), svb(i))
                jb(i) = volume_ratio(p)
             end if
             if (relocates) then ! the parts at the new position
@@ -5965,7 +6970,8 @@ contains
       if (run%cur /= 0) call flush_shares(k, run%cur + 1, lo, hi, shares, m, run%b(1), run%b(2), run%b(3), run%b(4), &
                                           run%b(5), mass_left, mass_right, momentum_left, momentum_right, stress_volume, &
                                           seg)
-      call close_segment(k, shares, m, run, [lane_total(displacement), lane_total(kinetic), lane_total(strain)], &
+      call close_segment(k, shares, m, run, [lane_total(displacement), lane_total(kinetic), lane_total(strain), &
+                         0.0_dp], &
                          minval(min_j), largest%value, furthest_particle(largest, mb), outside, mass_left, mass_right, &
                          momentum_left, momentum_right, stress_volume, seg)
    end subroutine bspline2_musl_remap_segment
@@ -5974,7 +6980,7 @@ contains
    subroutine bspline2_musl_stress_segment(k, seg, x, x0, v, stress, volume_ratio, cell, acceleration, velocity, &
                                            strain_increment_of, mass_left, mass_right, momentum_left, momentum_right, &
                                            stress_volume, constants, carry, mass_of, modulus_of, forces, gradient, force_left, &
-                                           force_right)
+                                           force_right, plastic_strain, hardening, yield_of, hardening_of)
       integer, parameter :: kernel = pass_musl_stress
       logical, parameter :: moves = pass_moves(kernel), stresses = pass_stresses(kernel), relocates = pass_relocates(kernel)
       integer, parameter :: shares = pass_shares(kernel)
@@ -5993,9 +6999,15 @@ contains
       !> the forces
       real(dp), intent(in), contiguous, optional :: mass_of(:), modulus_of(:), forces(:)
       real(dp), intent(inout), contiguous, optional :: gradient(:), force_left(:), force_right(:)
+      !> the elastoplastic law's state (plastic strain, hardening variable) and, `material`, each particle's
+      !> yield stress and hardening modulus (absent for the other laws)
+      real(dp), intent(inout), contiguous, optional :: plastic_strain(:), hardening(:)
+      real(dp), intent(in), contiguous, optional :: yield_of(:), hardening_of(:)
       integer :: p, e, i, n, b0, first, last, lo, hi, outside, ahead, elements
       real(dp) :: half_m, strain_factor, dstrain, inv_dx, dt, youngs_modulus, m, volume0
-      logical :: linear
+      logical :: linear, plastic
+      ! the elastoplastic law's constants and the block's plastic work, summed in lanes
+      real(dp) :: yield_stress, hardening_modulus, increment, wb(block_size), work(lanes)
       type(largest_move_t) :: largest
       real(dp) :: displacement(lanes), kinetic(lanes), strain(lanes), min_j(lanes)
       integer :: cb(block_size)
@@ -6016,6 +7028,10 @@ contains
       dt = constants%dt
       youngs_modulus = constants%youngs_modulus
       linear = constants%linear
+      plastic = constants%plastic
+      yield_stress = constants%yield_stress
+      hardening_modulus = constants%hardening_modulus
+      work = 0
       m = constants%mass
       volume0 = constants%volume0
       call open_segment(k, shares, seg, mass_left, mass_right, momentum_left, momentum_right, stress_volume, first, last, &
@@ -6034,6 +7050,7 @@ contains
             if (kernel == pass_usf_move .or. kernel == pass_musl_remap) call prefetch_block(ahead, cell, x, x0, v)
             if (kernel == pass_usf_stress) call prefetch_block(ahead, cell, stress, volume_ratio)
             if (kernel == pass_musl_stress) call prefetch_block(ahead, cell, x, v, stress, volume_ratio)
+            if (stresses .and. plastic) call prefetch_block(ahead, cell, plastic_strain, hardening)
             if (moves) then
                call prefetch_nodes(cell(b0), cell(b0 + n - 1), acceleration, velocity)
             else
@@ -6065,7 +7082,72 @@ contains
                else
                   dstrain = r1*strain_increment_of(e) + r2*strain_increment_of(e + 1)
                end if
-               call stress_linear(dstrain, youngs_modulus, strain_factor, volume0, stress(p), volume_ratio(p), sb(i), svb(i))
+               call stress_linear(dstrain, youngs_modulus, strain_factor, volume0, stress(p), volume_ratio(p), &
+                                  sb(i), svb(i))
+               jb(i) = volume_ratio(p)
+            end if
+            if (relocates) then ! the parts at the new position
+               call spline_parts((x(p) - origin)*inv_dx, elements, node, r1, r2, t1, t2, flag)
+               cb(i) = (node + 1)*flag
+               cell(p) = cb(i)
+               if (kernel == pass_usf_move) carry(p) = r2
+            else
+               cb(i) = e
+            end if
+            ! the sums of the parts the pass scatters (accumulate_boxes); right(i, 1) = r2 tells it which
+            ! particles have a right part
+            left(i, 1) = r1
+            right(i, 1) = r2
+            if (iand(shares, share_mass + share_momentum) /= 0) then
+               left(i, 2) = r1*t1
+               left(i, 3) = r1*v(p)
+               left(i, 4) = r1*t1*v(p)
+               right(i, 2) = r2*t2
+               right(i, 3) = r2*v(p)
+               right(i, 4) = r2*t2*v(p)
+            end if
+            if (iand(shares, share_stress) /= 0) then
+               left(i, 5) = r1*svb(i)
+               right(i, 5) = r2*svb(i)
+            end if
+         end do
+         else if (plastic) then
+         do i = 1, n
+            p = b0 + i - 1
+            e = cell(p)
+            ! the parts at the start of the step from x;
+            ! the stress passes need only the cell and the fraction r2, kept by the pass before (MUSL's
+            ! remap: the particle has moved since; USF's move pass of the step before, as it relocated it)
+            if (kernel == pass_musl_stress .or. kernel == pass_usf_stress) then
+               r2 = carry(p)
+               r1 = 1.0_dp - r2
+            else
+               call spline_parts((x(p) - origin)*inv_dx, elements, node, r1, r2, t1, t2, flag)
+               e = node + 1
+               if (kernel == pass_musl_remap) carry(p) = r2
+            end if
+            if (moves) call g2p_box(r1, r2, t1, t2, acceleration(e - 1), acceleration(e), acceleration(e + 1), &
+                                    velocity(e - 1), velocity(e), velocity(e + 1), inv_dx, dt, half_m, x0(p), x(p), v(p), &
+                                    db(i), kb(i), mb(i, slot))
+            if (stresses) then ! d eps = dt sum dS v_I = r1 (element e's) + r2 (element e + 1's)
+               if (moves) then
+                  dstrain = r1*strain_increment(velocity(e - 1), velocity(e), dt, inv_dx) + &
+                            r2*strain_increment(velocity(e), velocity(e + 1), dt, inv_dx)
+               else
+                  dstrain = r1*strain_increment_of(e) + r2*strain_increment_of(e + 1)
+               end if
+               stress(p) = stress(p) + youngs_modulus*dstrain
+               ! d gamma, zero in an elastic step: written without a branch, so that a loop over particles
+               ! vectorises; an elastic step then subtracts and adds zeros, which leaves the hencky bits
+               increment = max(abs(stress(p)) - (yield_stress + hardening_modulus*hardening(p)), 0.0_dp)/ &
+                           (youngs_modulus + hardening_modulus)
+               stress(p) = stress(p) - sign(youngs_modulus*increment, stress(p))
+               plastic_strain(p) = plastic_strain(p) + sign(increment, stress(p))
+               hardening(p) = hardening(p) + increment
+               volume_ratio(p) = volume_ratio(p)*(1.0_dp + dstrain)
+               sb(i) = stress(p)*stress(p)*volume_ratio(p)*strain_factor
+               svb(i) = stress(p)*volume_ratio(p)*volume0
+               wb(i) = (yield_stress + 0.5_dp*hardening_modulus*hardening(p))*hardening(p)*volume0
                jb(i) = volume_ratio(p)
             end if
             if (relocates) then ! the parts at the new position
@@ -6118,7 +7200,8 @@ contains
                else
                   dstrain = r1*strain_increment_of(e) + r2*strain_increment_of(e + 1)
                end if
-               call stress_hencky(dstrain, youngs_modulus, strain_factor, volume0, stress(p), volume_ratio(p), sb(i), svb(i))
+               call stress_hencky(dstrain, youngs_modulus, strain_factor, volume0, stress(p), volume_ratio(p), &
+                                  sb(i), svb(i))
                jb(i) = volume_ratio(p)
             end if
             if (relocates) then ! the parts at the new position
@@ -6185,6 +7268,13 @@ contains
             end do
             lane_r = mod(n, lanes)
             if (lane_r > 0) min_j(1:lane_r) = min(min_j(1:lane_r), jb(n - lane_r + 1:n))
+         end if
+         if (plastic) then
+            do lane_i = 1, n - lanes + 1, lanes
+               work = work + wb(lane_i:lane_i + lanes - 1)
+            end do
+            lane_r = mod(n, lanes)
+            if (lane_r > 0) work(1:lane_r) = work(1:lane_r) + wb(n - lane_r + 1:n)
          end if
          if (relocates) call find_outside(n, b0, cb, outside)
          call accumulate_boxes(k, n, cb, left, right, m, lo, hi, shares, run, mass_left, mass_right, momentum_left, &
@@ -6194,7 +7284,8 @@ contains
       if (run%cur /= 0) call flush_shares(k, run%cur + 1, lo, hi, shares, m, run%b(1), run%b(2), run%b(3), run%b(4), &
                                           run%b(5), mass_left, mass_right, momentum_left, momentum_right, stress_volume, &
                                           seg)
-      call close_segment(k, shares, m, run, [lane_total(displacement), lane_total(kinetic), lane_total(strain)], &
+      call close_segment(k, shares, m, run, [lane_total(displacement), lane_total(kinetic), lane_total(strain), &
+                         lane_total(work)], &
                          minval(min_j), largest%value, furthest_particle(largest, mb), outside, mass_left, mass_right, &
                          momentum_left, momentum_right, stress_volume, seg)
    end subroutine bspline2_musl_stress_segment
@@ -6203,7 +7294,7 @@ contains
    subroutine bspline3_usf_move_segment(k, seg, x, x0, v, stress, volume_ratio, cell, acceleration, velocity, &
                                         strain_increment_of, mass_left, mass_right, momentum_left, momentum_right, &
                                         stress_volume, constants, carry, mass_of, modulus_of, forces, gradient, force_left, &
-                                        force_right)
+                                        force_right, plastic_strain, hardening, yield_of, hardening_of)
       integer, parameter :: kernel = pass_usf_move
       logical, parameter :: moves = pass_moves(kernel), stresses = pass_stresses(kernel), relocates = pass_relocates(kernel)
       integer, parameter :: shares = pass_shares(kernel)
@@ -6222,9 +7313,13 @@ contains
       !> the forces
       real(dp), intent(in), contiguous, optional :: mass_of(:), modulus_of(:), forces(:)
       real(dp), intent(inout), contiguous, optional :: gradient(:), force_left(:), force_right(:)
+      !> the elastoplastic law's state (plastic strain, hardening variable) and, `material`, each particle's
+      !> yield stress and hardening modulus (absent for the other laws)
+      real(dp), intent(inout), contiguous, optional :: plastic_strain(:), hardening(:)
+      real(dp), intent(in), contiguous, optional :: yield_of(:), hardening_of(:)
       integer :: p, e, i, n, b0, first, last, lo, hi, outside, ahead, elements
       real(dp) :: half_m, strain_factor, dstrain, inv_dx, dt, youngs_modulus, m, volume0
-      logical :: linear
+      logical :: linear, plastic
       type(largest_move_t) :: largest
       real(dp) :: displacement(lanes), kinetic(lanes), strain(lanes), min_j(lanes)
       integer :: cb(block_size)
@@ -6245,6 +7340,7 @@ contains
       dt = constants%dt
       youngs_modulus = constants%youngs_modulus
       linear = constants%linear
+      plastic = constants%plastic
       m = constants%mass
       volume0 = constants%volume0
       call open_segment(k, shares, seg, mass_left, mass_right, momentum_left, momentum_right, stress_volume, first, last, &
@@ -6263,6 +7359,7 @@ contains
             if (kernel == pass_usf_move .or. kernel == pass_musl_remap) call prefetch_block(ahead, cell, x, x0, v)
             if (kernel == pass_usf_stress) call prefetch_block(ahead, cell, stress, volume_ratio)
             if (kernel == pass_musl_stress) call prefetch_block(ahead, cell, x, v, stress, volume_ratio)
+            if (stresses .and. plastic) call prefetch_block(ahead, cell, plastic_strain, hardening)
             if (moves) then
                call prefetch_nodes(cell(b0), cell(b0 + n - 1), acceleration, velocity)
             else
@@ -6294,7 +7391,8 @@ contains
                else
                   dstrain = r1*strain_increment_of(e - 1) + r2*strain_increment_of(e) + r3*strain_increment_of(e + 1)
                end if
-               call stress_hencky(dstrain, youngs_modulus, strain_factor, volume0, stress(p), volume_ratio(p), sb(i), svb(i))
+               call stress_hencky(dstrain, youngs_modulus, strain_factor, volume0, stress(p), volume_ratio(p), &
+                                  sb(i), svb(i))
                jb(i) = volume_ratio(p)
             end if
             if (relocates) then ! the spline at the new position
@@ -6376,7 +7474,8 @@ contains
       if (run%cur /= 0) call flush_shares(k, run%cur - 1, lo, hi, shares, m, run%z(1), run%z(2), run%z(3), run%z(4), &
                                           run%z(5), mass_left, mass_right, momentum_left, momentum_right, stress_volume, &
                                           seg)
-      call close_segment(k, shares, m, run, [lane_total(displacement), lane_total(kinetic), lane_total(strain)], &
+      call close_segment(k, shares, m, run, [lane_total(displacement), lane_total(kinetic), lane_total(strain), &
+                         0.0_dp], &
                          minval(min_j), largest%value, furthest_particle(largest, mb), outside, mass_left, mass_right, &
                          momentum_left, momentum_right, stress_volume, seg)
    end subroutine bspline3_usf_move_segment
@@ -6385,7 +7484,7 @@ contains
    subroutine bspline3_usf_stress_segment(k, seg, x, x0, v, stress, volume_ratio, cell, acceleration, velocity, &
                                           strain_increment_of, mass_left, mass_right, momentum_left, momentum_right, &
                                           stress_volume, constants, carry, mass_of, modulus_of, forces, gradient, force_left, &
-                                          force_right)
+                                          force_right, plastic_strain, hardening, yield_of, hardening_of)
       integer, parameter :: kernel = pass_usf_stress
       logical, parameter :: moves = pass_moves(kernel), stresses = pass_stresses(kernel), relocates = pass_relocates(kernel)
       integer, parameter :: shares = pass_shares(kernel)
@@ -6404,9 +7503,15 @@ contains
       !> the forces
       real(dp), intent(in), contiguous, optional :: mass_of(:), modulus_of(:), forces(:)
       real(dp), intent(inout), contiguous, optional :: gradient(:), force_left(:), force_right(:)
+      !> the elastoplastic law's state (plastic strain, hardening variable) and, `material`, each particle's
+      !> yield stress and hardening modulus (absent for the other laws)
+      real(dp), intent(inout), contiguous, optional :: plastic_strain(:), hardening(:)
+      real(dp), intent(in), contiguous, optional :: yield_of(:), hardening_of(:)
       integer :: p, e, i, n, b0, first, last, lo, hi, outside, ahead, elements
       real(dp) :: half_m, strain_factor, dstrain, inv_dx, dt, youngs_modulus, m, volume0
-      logical :: linear
+      logical :: linear, plastic
+      ! the elastoplastic law's constants and the block's plastic work, summed in lanes
+      real(dp) :: yield_stress, hardening_modulus, increment, wb(block_size), work(lanes)
       type(largest_move_t) :: largest
       real(dp) :: displacement(lanes), kinetic(lanes), strain(lanes), min_j(lanes)
       integer :: cb(block_size)
@@ -6427,6 +7532,10 @@ contains
       dt = constants%dt
       youngs_modulus = constants%youngs_modulus
       linear = constants%linear
+      plastic = constants%plastic
+      yield_stress = constants%yield_stress
+      hardening_modulus = constants%hardening_modulus
+      work = 0
       m = constants%mass
       volume0 = constants%volume0
       call open_segment(k, shares, seg, mass_left, mass_right, momentum_left, momentum_right, stress_volume, first, last, &
@@ -6445,6 +7554,7 @@ contains
             if (kernel == pass_usf_move .or. kernel == pass_musl_remap) call prefetch_block(ahead, cell, x, x0, v)
             if (kernel == pass_usf_stress) call prefetch_block(ahead, cell, stress, volume_ratio)
             if (kernel == pass_musl_stress) call prefetch_block(ahead, cell, x, v, stress, volume_ratio)
+            if (stresses .and. plastic) call prefetch_block(ahead, cell, plastic_strain, hardening)
             if (moves) then
                call prefetch_nodes(cell(b0), cell(b0 + n - 1), acceleration, velocity)
             else
@@ -6477,7 +7587,77 @@ contains
                else
                   dstrain = r1*strain_increment_of(e - 1) + r2*strain_increment_of(e) + r3*strain_increment_of(e + 1)
                end if
-               call stress_linear(dstrain, youngs_modulus, strain_factor, volume0, stress(p), volume_ratio(p), sb(i), svb(i))
+               call stress_linear(dstrain, youngs_modulus, strain_factor, volume0, stress(p), volume_ratio(p), &
+                                  sb(i), svb(i))
+               jb(i) = volume_ratio(p)
+            end if
+            if (relocates) then ! the spline at the new position
+               call bspline3_locate(x(p), origin, inv_dx, elements, node, tq, flag)
+               call cubic_parts(tq, r1, r2, r3, q1, q2, q3)
+               cb(i) = (node + 2)*flag
+               cell(p) = cb(i)
+               if (kernel == pass_usf_move) carry(p) = tq
+            else
+               cb(i) = e
+            end if
+            left(i, 1) = r1
+            mid(i, 1) = r2
+            right(i, 1) = r3
+            if (iand(shares, share_mass + share_momentum) /= 0) then
+               left(i, 2) = q1
+               left(i, 3) = r1*v(p)
+               left(i, 4) = q1*v(p)
+               mid(i, 2) = q2
+               mid(i, 3) = r2*v(p)
+               mid(i, 4) = q2*v(p)
+               right(i, 2) = q3
+               right(i, 3) = r3*v(p)
+               right(i, 4) = q3*v(p)
+            end if
+            if (iand(shares, share_stress) /= 0) then
+               left(i, 5) = r1*svb(i)
+               mid(i, 5) = r2*svb(i)
+               right(i, 5) = r3*svb(i)
+            end if
+         end do
+         else if (plastic) then
+         do i = 1, n
+            p = b0 + i - 1
+            e = cell(p)
+            ! the cubic B-spline in three parts, in the elements e - 1, e, e + 1 about its middle cell e
+            ! (see cubic_parts): from its span coordinate t at the start of the step (the stress passes:
+            ! t kept by the pass before, as for two parts)
+            if (kernel == pass_musl_stress .or. kernel == pass_usf_stress) then
+               tq = carry(p)
+            else
+               call bspline3_locate(x(p), origin, inv_dx, elements, node, tq, flag)
+               e = node + 2
+               if (kernel == pass_musl_remap) carry(p) = tq
+            end if
+            call cubic_parts(tq, r1, r2, r3, q1, q2, q3)
+            if (moves) call g2p_cubic(r1, r2, r3, q1, q2, q3, acceleration(e - 2), acceleration(e - 1), acceleration(e), &
+                                      acceleration(e + 1), velocity(e - 2), velocity(e - 1), velocity(e), velocity(e + 1), &
+                                      inv_dx, dt, half_m, x0(p), x(p), v(p), db(i), kb(i), mb(i, slot))
+            if (stresses) then
+               if (moves) then
+                  dstrain = r1*strain_increment(velocity(e - 2), velocity(e - 1), dt, inv_dx) + &
+                            r2*strain_increment(velocity(e - 1), velocity(e), dt, inv_dx) + &
+                            r3*strain_increment(velocity(e), velocity(e + 1), dt, inv_dx)
+               else
+                  dstrain = r1*strain_increment_of(e - 1) + r2*strain_increment_of(e) + r3*strain_increment_of(e + 1)
+               end if
+               stress(p) = stress(p) + youngs_modulus*dstrain
+               ! d gamma, zero in an elastic step: written without a branch, so that a loop over particles
+               ! vectorises; an elastic step then subtracts and adds zeros, which leaves the hencky bits
+               increment = max(abs(stress(p)) - (yield_stress + hardening_modulus*hardening(p)), 0.0_dp)/ &
+                           (youngs_modulus + hardening_modulus)
+               stress(p) = stress(p) - sign(youngs_modulus*increment, stress(p))
+               plastic_strain(p) = plastic_strain(p) + sign(increment, stress(p))
+               hardening(p) = hardening(p) + increment
+               volume_ratio(p) = volume_ratio(p)*(1.0_dp + dstrain)
+               sb(i) = stress(p)*stress(p)*volume_ratio(p)*strain_factor
+               svb(i) = stress(p)*volume_ratio(p)*volume0
+               wb(i) = (yield_stress + 0.5_dp*hardening_modulus*hardening(p))*hardening(p)*volume0
                jb(i) = volume_ratio(p)
             end if
             if (relocates) then ! the spline at the new position
@@ -6535,7 +7715,8 @@ contains
                else
                   dstrain = r1*strain_increment_of(e - 1) + r2*strain_increment_of(e) + r3*strain_increment_of(e + 1)
                end if
-               call stress_hencky(dstrain, youngs_modulus, strain_factor, volume0, stress(p), volume_ratio(p), sb(i), svb(i))
+               call stress_hencky(dstrain, youngs_modulus, strain_factor, volume0, stress(p), volume_ratio(p), &
+                                  sb(i), svb(i))
                jb(i) = volume_ratio(p)
             end if
             if (relocates) then ! the spline at the new position
@@ -6607,6 +7788,13 @@ contains
             lane_r = mod(n, lanes)
             if (lane_r > 0) min_j(1:lane_r) = min(min_j(1:lane_r), jb(n - lane_r + 1:n))
          end if
+         if (plastic) then
+            do lane_i = 1, n - lanes + 1, lanes
+               work = work + wb(lane_i:lane_i + lanes - 1)
+            end do
+            lane_r = mod(n, lanes)
+            if (lane_r > 0) work(1:lane_r) = work(1:lane_r) + wb(n - lane_r + 1:n)
+         end if
          if (relocates) call find_outside(n, b0, cb, outside)
          call accumulate_thirds(k, n, cb, left, mid, right, m, lo, hi, shares, run, mass_left, mass_right, momentum_left, &
                                 momentum_right, stress_volume, seg)
@@ -6618,7 +7806,8 @@ contains
       if (run%cur /= 0) call flush_shares(k, run%cur - 1, lo, hi, shares, m, run%z(1), run%z(2), run%z(3), run%z(4), &
                                           run%z(5), mass_left, mass_right, momentum_left, momentum_right, stress_volume, &
                                           seg)
-      call close_segment(k, shares, m, run, [lane_total(displacement), lane_total(kinetic), lane_total(strain)], &
+      call close_segment(k, shares, m, run, [lane_total(displacement), lane_total(kinetic), lane_total(strain), &
+                         lane_total(work)], &
                          minval(min_j), largest%value, furthest_particle(largest, mb), outside, mass_left, mass_right, &
                          momentum_left, momentum_right, stress_volume, seg)
    end subroutine bspline3_usf_stress_segment
@@ -6627,7 +7816,7 @@ contains
    subroutine bspline3_usl_segment(k, seg, x, x0, v, stress, volume_ratio, cell, acceleration, velocity, &
                                    strain_increment_of, mass_left, mass_right, momentum_left, momentum_right, &
                                    stress_volume, constants, carry, mass_of, modulus_of, forces, gradient, force_left, &
-                                   force_right)
+                                   force_right, plastic_strain, hardening, yield_of, hardening_of)
       integer, parameter :: kernel = pass_usl
       logical, parameter :: moves = pass_moves(kernel), stresses = pass_stresses(kernel), relocates = pass_relocates(kernel)
       integer, parameter :: shares = pass_shares(kernel)
@@ -6646,9 +7835,15 @@ contains
       !> the forces
       real(dp), intent(in), contiguous, optional :: mass_of(:), modulus_of(:), forces(:)
       real(dp), intent(inout), contiguous, optional :: gradient(:), force_left(:), force_right(:)
+      !> the elastoplastic law's state (plastic strain, hardening variable) and, `material`, each particle's
+      !> yield stress and hardening modulus (absent for the other laws)
+      real(dp), intent(inout), contiguous, optional :: plastic_strain(:), hardening(:)
+      real(dp), intent(in), contiguous, optional :: yield_of(:), hardening_of(:)
       integer :: p, e, i, n, b0, first, last, lo, hi, outside, ahead, elements
       real(dp) :: half_m, strain_factor, dstrain, inv_dx, dt, youngs_modulus, m, volume0
-      logical :: linear
+      logical :: linear, plastic
+      ! the elastoplastic law's constants and the block's plastic work, summed in lanes
+      real(dp) :: yield_stress, hardening_modulus, increment, wb(block_size), work(lanes)
       type(largest_move_t) :: largest
       real(dp) :: displacement(lanes), kinetic(lanes), strain(lanes), min_j(lanes)
       integer :: cb(block_size)
@@ -6669,6 +7864,10 @@ contains
       dt = constants%dt
       youngs_modulus = constants%youngs_modulus
       linear = constants%linear
+      plastic = constants%plastic
+      yield_stress = constants%yield_stress
+      hardening_modulus = constants%hardening_modulus
+      work = 0
       m = constants%mass
       volume0 = constants%volume0
       call open_segment(k, shares, seg, mass_left, mass_right, momentum_left, momentum_right, stress_volume, first, last, &
@@ -6687,6 +7886,7 @@ contains
             if (kernel == pass_usf_move .or. kernel == pass_musl_remap) call prefetch_block(ahead, cell, x, x0, v)
             if (kernel == pass_usf_stress) call prefetch_block(ahead, cell, stress, volume_ratio)
             if (kernel == pass_musl_stress) call prefetch_block(ahead, cell, x, v, stress, volume_ratio)
+            if (stresses .and. plastic) call prefetch_block(ahead, cell, plastic_strain, hardening)
             if (moves) then
                call prefetch_nodes(cell(b0), cell(b0 + n - 1), acceleration, velocity)
             else
@@ -6719,7 +7919,77 @@ contains
                else
                   dstrain = r1*strain_increment_of(e - 1) + r2*strain_increment_of(e) + r3*strain_increment_of(e + 1)
                end if
-               call stress_linear(dstrain, youngs_modulus, strain_factor, volume0, stress(p), volume_ratio(p), sb(i), svb(i))
+               call stress_linear(dstrain, youngs_modulus, strain_factor, volume0, stress(p), volume_ratio(p), &
+                                  sb(i), svb(i))
+               jb(i) = volume_ratio(p)
+            end if
+            if (relocates) then ! the spline at the new position
+               call bspline3_locate(x(p), origin, inv_dx, elements, node, tq, flag)
+               call cubic_parts(tq, r1, r2, r3, q1, q2, q3)
+               cb(i) = (node + 2)*flag
+               cell(p) = cb(i)
+               if (kernel == pass_usf_move) carry(p) = tq
+            else
+               cb(i) = e
+            end if
+            left(i, 1) = r1
+            mid(i, 1) = r2
+            right(i, 1) = r3
+            if (iand(shares, share_mass + share_momentum) /= 0) then
+               left(i, 2) = q1
+               left(i, 3) = r1*v(p)
+               left(i, 4) = q1*v(p)
+               mid(i, 2) = q2
+               mid(i, 3) = r2*v(p)
+               mid(i, 4) = q2*v(p)
+               right(i, 2) = q3
+               right(i, 3) = r3*v(p)
+               right(i, 4) = q3*v(p)
+            end if
+            if (iand(shares, share_stress) /= 0) then
+               left(i, 5) = r1*svb(i)
+               mid(i, 5) = r2*svb(i)
+               right(i, 5) = r3*svb(i)
+            end if
+         end do
+         else if (plastic) then
+         do i = 1, n
+            p = b0 + i - 1
+            e = cell(p)
+            ! the cubic B-spline in three parts, in the elements e - 1, e, e + 1 about its middle cell e
+            ! (see cubic_parts): from its span coordinate t at the start of the step (the stress passes:
+            ! t kept by the pass before, as for two parts)
+            if (kernel == pass_musl_stress .or. kernel == pass_usf_stress) then
+               tq = carry(p)
+            else
+               call bspline3_locate(x(p), origin, inv_dx, elements, node, tq, flag)
+               e = node + 2
+               if (kernel == pass_musl_remap) carry(p) = tq
+            end if
+            call cubic_parts(tq, r1, r2, r3, q1, q2, q3)
+            if (moves) call g2p_cubic(r1, r2, r3, q1, q2, q3, acceleration(e - 2), acceleration(e - 1), acceleration(e), &
+                                      acceleration(e + 1), velocity(e - 2), velocity(e - 1), velocity(e), velocity(e + 1), &
+                                      inv_dx, dt, half_m, x0(p), x(p), v(p), db(i), kb(i), mb(i, slot))
+            if (stresses) then
+               if (moves) then
+                  dstrain = r1*strain_increment(velocity(e - 2), velocity(e - 1), dt, inv_dx) + &
+                            r2*strain_increment(velocity(e - 1), velocity(e), dt, inv_dx) + &
+                            r3*strain_increment(velocity(e), velocity(e + 1), dt, inv_dx)
+               else
+                  dstrain = r1*strain_increment_of(e - 1) + r2*strain_increment_of(e) + r3*strain_increment_of(e + 1)
+               end if
+               stress(p) = stress(p) + youngs_modulus*dstrain
+               ! d gamma, zero in an elastic step: written without a branch, so that a loop over particles
+               ! vectorises; an elastic step then subtracts and adds zeros, which leaves the hencky bits
+               increment = max(abs(stress(p)) - (yield_stress + hardening_modulus*hardening(p)), 0.0_dp)/ &
+                           (youngs_modulus + hardening_modulus)
+               stress(p) = stress(p) - sign(youngs_modulus*increment, stress(p))
+               plastic_strain(p) = plastic_strain(p) + sign(increment, stress(p))
+               hardening(p) = hardening(p) + increment
+               volume_ratio(p) = volume_ratio(p)*(1.0_dp + dstrain)
+               sb(i) = stress(p)*stress(p)*volume_ratio(p)*strain_factor
+               svb(i) = stress(p)*volume_ratio(p)*volume0
+               wb(i) = (yield_stress + 0.5_dp*hardening_modulus*hardening(p))*hardening(p)*volume0
                jb(i) = volume_ratio(p)
             end if
             if (relocates) then ! the spline at the new position
@@ -6777,7 +8047,8 @@ contains
                else
                   dstrain = r1*strain_increment_of(e - 1) + r2*strain_increment_of(e) + r3*strain_increment_of(e + 1)
                end if
-               call stress_hencky(dstrain, youngs_modulus, strain_factor, volume0, stress(p), volume_ratio(p), sb(i), svb(i))
+               call stress_hencky(dstrain, youngs_modulus, strain_factor, volume0, stress(p), volume_ratio(p), &
+                                  sb(i), svb(i))
                jb(i) = volume_ratio(p)
             end if
             if (relocates) then ! the spline at the new position
@@ -6849,6 +8120,13 @@ contains
             lane_r = mod(n, lanes)
             if (lane_r > 0) min_j(1:lane_r) = min(min_j(1:lane_r), jb(n - lane_r + 1:n))
          end if
+         if (plastic) then
+            do lane_i = 1, n - lanes + 1, lanes
+               work = work + wb(lane_i:lane_i + lanes - 1)
+            end do
+            lane_r = mod(n, lanes)
+            if (lane_r > 0) work(1:lane_r) = work(1:lane_r) + wb(n - lane_r + 1:n)
+         end if
          if (relocates) call find_outside(n, b0, cb, outside)
          call accumulate_thirds(k, n, cb, left, mid, right, m, lo, hi, shares, run, mass_left, mass_right, momentum_left, &
                                 momentum_right, stress_volume, seg)
@@ -6860,7 +8138,8 @@ contains
       if (run%cur /= 0) call flush_shares(k, run%cur - 1, lo, hi, shares, m, run%z(1), run%z(2), run%z(3), run%z(4), &
                                           run%z(5), mass_left, mass_right, momentum_left, momentum_right, stress_volume, &
                                           seg)
-      call close_segment(k, shares, m, run, [lane_total(displacement), lane_total(kinetic), lane_total(strain)], &
+      call close_segment(k, shares, m, run, [lane_total(displacement), lane_total(kinetic), lane_total(strain), &
+                         lane_total(work)], &
                          minval(min_j), largest%value, furthest_particle(largest, mb), outside, mass_left, mass_right, &
                          momentum_left, momentum_right, stress_volume, seg)
    end subroutine bspline3_usl_segment
@@ -6869,7 +8148,7 @@ contains
    subroutine bspline3_musl_remap_segment(k, seg, x, x0, v, stress, volume_ratio, cell, acceleration, velocity, &
                                           strain_increment_of, mass_left, mass_right, momentum_left, momentum_right, &
                                           stress_volume, constants, carry, mass_of, modulus_of, forces, gradient, force_left, &
-                                          force_right)
+                                          force_right, plastic_strain, hardening, yield_of, hardening_of)
       integer, parameter :: kernel = pass_musl_remap
       logical, parameter :: moves = pass_moves(kernel), stresses = pass_stresses(kernel), relocates = pass_relocates(kernel)
       integer, parameter :: shares = pass_shares(kernel)
@@ -6888,9 +8167,13 @@ contains
       !> the forces
       real(dp), intent(in), contiguous, optional :: mass_of(:), modulus_of(:), forces(:)
       real(dp), intent(inout), contiguous, optional :: gradient(:), force_left(:), force_right(:)
+      !> the elastoplastic law's state (plastic strain, hardening variable) and, `material`, each particle's
+      !> yield stress and hardening modulus (absent for the other laws)
+      real(dp), intent(inout), contiguous, optional :: plastic_strain(:), hardening(:)
+      real(dp), intent(in), contiguous, optional :: yield_of(:), hardening_of(:)
       integer :: p, e, i, n, b0, first, last, lo, hi, outside, ahead, elements
       real(dp) :: half_m, strain_factor, dstrain, inv_dx, dt, youngs_modulus, m, volume0
-      logical :: linear
+      logical :: linear, plastic
       type(largest_move_t) :: largest
       real(dp) :: displacement(lanes), kinetic(lanes), strain(lanes), min_j(lanes)
       integer :: cb(block_size)
@@ -6911,6 +8194,7 @@ contains
       dt = constants%dt
       youngs_modulus = constants%youngs_modulus
       linear = constants%linear
+      plastic = constants%plastic
       m = constants%mass
       volume0 = constants%volume0
       call open_segment(k, shares, seg, mass_left, mass_right, momentum_left, momentum_right, stress_volume, first, last, &
@@ -6929,6 +8213,7 @@ contains
             if (kernel == pass_usf_move .or. kernel == pass_musl_remap) call prefetch_block(ahead, cell, x, x0, v)
             if (kernel == pass_usf_stress) call prefetch_block(ahead, cell, stress, volume_ratio)
             if (kernel == pass_musl_stress) call prefetch_block(ahead, cell, x, v, stress, volume_ratio)
+            if (stresses .and. plastic) call prefetch_block(ahead, cell, plastic_strain, hardening)
             if (moves) then
                call prefetch_nodes(cell(b0), cell(b0 + n - 1), acceleration, velocity)
             else
@@ -6960,7 +8245,8 @@ contains
                else
                   dstrain = r1*strain_increment_of(e - 1) + r2*strain_increment_of(e) + r3*strain_increment_of(e + 1)
                end if
-               call stress_hencky(dstrain, youngs_modulus, strain_factor, volume0, stress(p), volume_ratio(p), sb(i), svb(i))
+               call stress_hencky(dstrain, youngs_modulus, strain_factor, volume0, stress(p), volume_ratio(p), &
+                                  sb(i), svb(i))
                jb(i) = volume_ratio(p)
             end if
             if (relocates) then ! the spline at the new position
@@ -7042,7 +8328,8 @@ contains
       if (run%cur /= 0) call flush_shares(k, run%cur - 1, lo, hi, shares, m, run%z(1), run%z(2), run%z(3), run%z(4), &
                                           run%z(5), mass_left, mass_right, momentum_left, momentum_right, stress_volume, &
                                           seg)
-      call close_segment(k, shares, m, run, [lane_total(displacement), lane_total(kinetic), lane_total(strain)], &
+      call close_segment(k, shares, m, run, [lane_total(displacement), lane_total(kinetic), lane_total(strain), &
+                         0.0_dp], &
                          minval(min_j), largest%value, furthest_particle(largest, mb), outside, mass_left, mass_right, &
                          momentum_left, momentum_right, stress_volume, seg)
    end subroutine bspline3_musl_remap_segment
@@ -7051,7 +8338,7 @@ contains
    subroutine bspline3_musl_stress_segment(k, seg, x, x0, v, stress, volume_ratio, cell, acceleration, velocity, &
                                            strain_increment_of, mass_left, mass_right, momentum_left, momentum_right, &
                                            stress_volume, constants, carry, mass_of, modulus_of, forces, gradient, force_left, &
-                                           force_right)
+                                           force_right, plastic_strain, hardening, yield_of, hardening_of)
       integer, parameter :: kernel = pass_musl_stress
       logical, parameter :: moves = pass_moves(kernel), stresses = pass_stresses(kernel), relocates = pass_relocates(kernel)
       integer, parameter :: shares = pass_shares(kernel)
@@ -7070,9 +8357,15 @@ contains
       !> the forces
       real(dp), intent(in), contiguous, optional :: mass_of(:), modulus_of(:), forces(:)
       real(dp), intent(inout), contiguous, optional :: gradient(:), force_left(:), force_right(:)
+      !> the elastoplastic law's state (plastic strain, hardening variable) and, `material`, each particle's
+      !> yield stress and hardening modulus (absent for the other laws)
+      real(dp), intent(inout), contiguous, optional :: plastic_strain(:), hardening(:)
+      real(dp), intent(in), contiguous, optional :: yield_of(:), hardening_of(:)
       integer :: p, e, i, n, b0, first, last, lo, hi, outside, ahead, elements
       real(dp) :: half_m, strain_factor, dstrain, inv_dx, dt, youngs_modulus, m, volume0
-      logical :: linear
+      logical :: linear, plastic
+      ! the elastoplastic law's constants and the block's plastic work, summed in lanes
+      real(dp) :: yield_stress, hardening_modulus, increment, wb(block_size), work(lanes)
       type(largest_move_t) :: largest
       real(dp) :: displacement(lanes), kinetic(lanes), strain(lanes), min_j(lanes)
       integer :: cb(block_size)
@@ -7093,6 +8386,10 @@ contains
       dt = constants%dt
       youngs_modulus = constants%youngs_modulus
       linear = constants%linear
+      plastic = constants%plastic
+      yield_stress = constants%yield_stress
+      hardening_modulus = constants%hardening_modulus
+      work = 0
       m = constants%mass
       volume0 = constants%volume0
       call open_segment(k, shares, seg, mass_left, mass_right, momentum_left, momentum_right, stress_volume, first, last, &
@@ -7111,6 +8408,7 @@ contains
             if (kernel == pass_usf_move .or. kernel == pass_musl_remap) call prefetch_block(ahead, cell, x, x0, v)
             if (kernel == pass_usf_stress) call prefetch_block(ahead, cell, stress, volume_ratio)
             if (kernel == pass_musl_stress) call prefetch_block(ahead, cell, x, v, stress, volume_ratio)
+            if (stresses .and. plastic) call prefetch_block(ahead, cell, plastic_strain, hardening)
             if (moves) then
                call prefetch_nodes(cell(b0), cell(b0 + n - 1), acceleration, velocity)
             else
@@ -7143,7 +8441,77 @@ contains
                else
                   dstrain = r1*strain_increment_of(e - 1) + r2*strain_increment_of(e) + r3*strain_increment_of(e + 1)
                end if
-               call stress_linear(dstrain, youngs_modulus, strain_factor, volume0, stress(p), volume_ratio(p), sb(i), svb(i))
+               call stress_linear(dstrain, youngs_modulus, strain_factor, volume0, stress(p), volume_ratio(p), &
+                                  sb(i), svb(i))
+               jb(i) = volume_ratio(p)
+            end if
+            if (relocates) then ! the spline at the new position
+               call bspline3_locate(x(p), origin, inv_dx, elements, node, tq, flag)
+               call cubic_parts(tq, r1, r2, r3, q1, q2, q3)
+               cb(i) = (node + 2)*flag
+               cell(p) = cb(i)
+               if (kernel == pass_usf_move) carry(p) = tq
+            else
+               cb(i) = e
+            end if
+            left(i, 1) = r1
+            mid(i, 1) = r2
+            right(i, 1) = r3
+            if (iand(shares, share_mass + share_momentum) /= 0) then
+               left(i, 2) = q1
+               left(i, 3) = r1*v(p)
+               left(i, 4) = q1*v(p)
+               mid(i, 2) = q2
+               mid(i, 3) = r2*v(p)
+               mid(i, 4) = q2*v(p)
+               right(i, 2) = q3
+               right(i, 3) = r3*v(p)
+               right(i, 4) = q3*v(p)
+            end if
+            if (iand(shares, share_stress) /= 0) then
+               left(i, 5) = r1*svb(i)
+               mid(i, 5) = r2*svb(i)
+               right(i, 5) = r3*svb(i)
+            end if
+         end do
+         else if (plastic) then
+         do i = 1, n
+            p = b0 + i - 1
+            e = cell(p)
+            ! the cubic B-spline in three parts, in the elements e - 1, e, e + 1 about its middle cell e
+            ! (see cubic_parts): from its span coordinate t at the start of the step (the stress passes:
+            ! t kept by the pass before, as for two parts)
+            if (kernel == pass_musl_stress .or. kernel == pass_usf_stress) then
+               tq = carry(p)
+            else
+               call bspline3_locate(x(p), origin, inv_dx, elements, node, tq, flag)
+               e = node + 2
+               if (kernel == pass_musl_remap) carry(p) = tq
+            end if
+            call cubic_parts(tq, r1, r2, r3, q1, q2, q3)
+            if (moves) call g2p_cubic(r1, r2, r3, q1, q2, q3, acceleration(e - 2), acceleration(e - 1), acceleration(e), &
+                                      acceleration(e + 1), velocity(e - 2), velocity(e - 1), velocity(e), velocity(e + 1), &
+                                      inv_dx, dt, half_m, x0(p), x(p), v(p), db(i), kb(i), mb(i, slot))
+            if (stresses) then
+               if (moves) then
+                  dstrain = r1*strain_increment(velocity(e - 2), velocity(e - 1), dt, inv_dx) + &
+                            r2*strain_increment(velocity(e - 1), velocity(e), dt, inv_dx) + &
+                            r3*strain_increment(velocity(e), velocity(e + 1), dt, inv_dx)
+               else
+                  dstrain = r1*strain_increment_of(e - 1) + r2*strain_increment_of(e) + r3*strain_increment_of(e + 1)
+               end if
+               stress(p) = stress(p) + youngs_modulus*dstrain
+               ! d gamma, zero in an elastic step: written without a branch, so that a loop over particles
+               ! vectorises; an elastic step then subtracts and adds zeros, which leaves the hencky bits
+               increment = max(abs(stress(p)) - (yield_stress + hardening_modulus*hardening(p)), 0.0_dp)/ &
+                           (youngs_modulus + hardening_modulus)
+               stress(p) = stress(p) - sign(youngs_modulus*increment, stress(p))
+               plastic_strain(p) = plastic_strain(p) + sign(increment, stress(p))
+               hardening(p) = hardening(p) + increment
+               volume_ratio(p) = volume_ratio(p)*(1.0_dp + dstrain)
+               sb(i) = stress(p)*stress(p)*volume_ratio(p)*strain_factor
+               svb(i) = stress(p)*volume_ratio(p)*volume0
+               wb(i) = (yield_stress + 0.5_dp*hardening_modulus*hardening(p))*hardening(p)*volume0
                jb(i) = volume_ratio(p)
             end if
             if (relocates) then ! the spline at the new position
@@ -7201,7 +8569,8 @@ contains
                else
                   dstrain = r1*strain_increment_of(e - 1) + r2*strain_increment_of(e) + r3*strain_increment_of(e + 1)
                end if
-               call stress_hencky(dstrain, youngs_modulus, strain_factor, volume0, stress(p), volume_ratio(p), sb(i), svb(i))
+               call stress_hencky(dstrain, youngs_modulus, strain_factor, volume0, stress(p), volume_ratio(p), &
+                                  sb(i), svb(i))
                jb(i) = volume_ratio(p)
             end if
             if (relocates) then ! the spline at the new position
@@ -7272,6 +8641,13 @@ contains
             end do
             lane_r = mod(n, lanes)
             if (lane_r > 0) min_j(1:lane_r) = min(min_j(1:lane_r), jb(n - lane_r + 1:n))
+         end if
+         if (plastic) then
+            do lane_i = 1, n - lanes + 1, lanes
+               work = work + wb(lane_i:lane_i + lanes - 1)
+            end do
+            lane_r = mod(n, lanes)
+            if (lane_r > 0) work(1:lane_r) = work(1:lane_r) + wb(n - lane_r + 1:n)
          end if
          if (relocates) call find_outside(n, b0, cb, outside)
          call accumulate_thirds(k, n, cb, left, mid, right, m, lo, hi, shares, run, mass_left, mass_right, momentum_left, &
@@ -7284,7 +8660,8 @@ contains
       if (run%cur /= 0) call flush_shares(k, run%cur - 1, lo, hi, shares, m, run%z(1), run%z(2), run%z(3), run%z(4), &
                                           run%z(5), mass_left, mass_right, momentum_left, momentum_right, stress_volume, &
                                           seg)
-      call close_segment(k, shares, m, run, [lane_total(displacement), lane_total(kinetic), lane_total(strain)], &
+      call close_segment(k, shares, m, run, [lane_total(displacement), lane_total(kinetic), lane_total(strain), &
+                         lane_total(work)], &
                          minval(min_j), largest%value, furthest_particle(largest, mb), outside, mass_left, mass_right, &
                          momentum_left, momentum_right, stress_volume, seg)
    end subroutine bspline3_musl_stress_segment
@@ -7293,7 +8670,7 @@ contains
    subroutine pic_usf_move_segment(k, seg, x, x0, v, stress, volume_ratio, cell, acceleration, velocity, &
                                    strain_increment_of, mass_left, mass_right, momentum_left, momentum_right, &
                                    stress_volume, constants, carry, mass_of, modulus_of, forces, gradient, force_left, &
-                                   force_right)
+                                   force_right, plastic_strain, hardening, yield_of, hardening_of)
       integer, parameter :: kernel = pass_usf_move
       logical, parameter :: moves = pass_moves(kernel), stresses = pass_stresses(kernel), relocates = pass_relocates(kernel)
       integer, parameter :: shares = pass_shares(kernel)
@@ -7312,9 +8689,13 @@ contains
       !> the forces
       real(dp), intent(in), contiguous, optional :: mass_of(:), modulus_of(:), forces(:)
       real(dp), intent(inout), contiguous, optional :: gradient(:), force_left(:), force_right(:)
+      !> the elastoplastic law's state (plastic strain, hardening variable) and, `material`, each particle's
+      !> yield stress and hardening modulus (absent for the other laws)
+      real(dp), intent(inout), contiguous, optional :: plastic_strain(:), hardening(:)
+      real(dp), intent(in), contiguous, optional :: yield_of(:), hardening_of(:)
       integer :: p, e, i, n, b0, first, last, lo, hi, outside, ahead, elements
       real(dp) :: half_m, strain_factor, dstrain, inv_dx, dt, youngs_modulus, m, volume0
-      logical :: linear
+      logical :: linear, plastic
       type(largest_move_t) :: largest
       real(dp) :: displacement(lanes), kinetic(lanes), strain(lanes), min_j(lanes)
       integer :: cb(block_size)
@@ -7334,6 +8715,7 @@ contains
       dt = constants%dt
       youngs_modulus = constants%youngs_modulus
       linear = constants%linear
+      plastic = constants%plastic
       m = constants%mass
       volume0 = constants%volume0
       call open_segment(k, shares, seg, mass_left, mass_right, momentum_left, momentum_right, stress_volume, first, last, &
@@ -7353,6 +8735,7 @@ contains
             if (kernel == pass_usf_move .or. kernel == pass_musl_remap) call prefetch_block(ahead, cell, x, x0, v)
             if (kernel == pass_usf_stress) call prefetch_block(ahead, cell, stress, volume_ratio)
             if (kernel == pass_musl_stress) call prefetch_block(ahead, cell, x, v, stress, volume_ratio)
+            if (stresses .and. plastic) call prefetch_block(ahead, cell, plastic_strain, hardening)
             if (moves) then
                call prefetch_nodes(cell(b0), cell(b0 + n - 1), acceleration, velocity)
             else
@@ -7379,7 +8762,8 @@ contains
                else
                   dstrain = strain_increment_of(e)
                end if
-               call stress_hencky(dstrain, youngs_modulus, strain_factor, volume0, stress(p), volume_ratio(p), sb(i), svb(i))
+               call stress_hencky(dstrain, youngs_modulus, strain_factor, volume0, stress(p), volume_ratio(p), &
+                                  sb(i), svb(i))
                jb(i) = volume_ratio(p)
             else if (iand(shares, share_stress) /= 0) then ! (an initial mapping: the stress as it is)
                svb(i) = stress(p)*volume_ratio(p)*volume0
@@ -7436,7 +8820,8 @@ contains
          call accumulate_block(k, n, cb, xib, vpb, svb, m, lo, hi, shares, run, mass_left, mass_right, momentum_left, &
                                momentum_right, stress_volume, seg)
       end do
-      call close_segment(k, shares, m, run, [lane_total(displacement), lane_total(kinetic), lane_total(strain)], &
+      call close_segment(k, shares, m, run, [lane_total(displacement), lane_total(kinetic), lane_total(strain), &
+                         0.0_dp], &
                          minval(min_j), largest%value, furthest_particle(largest, mb), outside, mass_left, mass_right, &
                          momentum_left, momentum_right, stress_volume, seg)
    end subroutine pic_usf_move_segment
@@ -7445,7 +8830,7 @@ contains
    subroutine pic_usf_stress_segment(k, seg, x, x0, v, stress, volume_ratio, cell, acceleration, velocity, &
                                      strain_increment_of, mass_left, mass_right, momentum_left, momentum_right, &
                                      stress_volume, constants, carry, mass_of, modulus_of, forces, gradient, force_left, &
-                                     force_right)
+                                     force_right, plastic_strain, hardening, yield_of, hardening_of)
       integer, parameter :: kernel = pass_usf_stress
       logical, parameter :: moves = pass_moves(kernel), stresses = pass_stresses(kernel), relocates = pass_relocates(kernel)
       integer, parameter :: shares = pass_shares(kernel)
@@ -7464,9 +8849,15 @@ contains
       !> the forces
       real(dp), intent(in), contiguous, optional :: mass_of(:), modulus_of(:), forces(:)
       real(dp), intent(inout), contiguous, optional :: gradient(:), force_left(:), force_right(:)
+      !> the elastoplastic law's state (plastic strain, hardening variable) and, `material`, each particle's
+      !> yield stress and hardening modulus (absent for the other laws)
+      real(dp), intent(inout), contiguous, optional :: plastic_strain(:), hardening(:)
+      real(dp), intent(in), contiguous, optional :: yield_of(:), hardening_of(:)
       integer :: p, e, i, n, b0, first, last, lo, hi, outside, ahead, elements
       real(dp) :: half_m, strain_factor, dstrain, inv_dx, dt, youngs_modulus, m, volume0
-      logical :: linear
+      logical :: linear, plastic
+      ! the elastoplastic law's constants and the block's plastic work, summed in lanes
+      real(dp) :: yield_stress, hardening_modulus, increment, wb(block_size), work(lanes)
       type(largest_move_t) :: largest
       real(dp) :: displacement(lanes), kinetic(lanes), strain(lanes), min_j(lanes)
       integer :: cb(block_size)
@@ -7486,6 +8877,10 @@ contains
       dt = constants%dt
       youngs_modulus = constants%youngs_modulus
       linear = constants%linear
+      plastic = constants%plastic
+      yield_stress = constants%yield_stress
+      hardening_modulus = constants%hardening_modulus
+      work = 0
       m = constants%mass
       volume0 = constants%volume0
       call open_segment(k, shares, seg, mass_left, mass_right, momentum_left, momentum_right, stress_volume, first, last, &
@@ -7505,6 +8900,7 @@ contains
             if (kernel == pass_usf_move .or. kernel == pass_musl_remap) call prefetch_block(ahead, cell, x, x0, v)
             if (kernel == pass_usf_stress) call prefetch_block(ahead, cell, stress, volume_ratio)
             if (kernel == pass_musl_stress) call prefetch_block(ahead, cell, x, v, stress, volume_ratio)
+            if (stresses .and. plastic) call prefetch_block(ahead, cell, plastic_strain, hardening)
             if (moves) then
                call prefetch_nodes(cell(b0), cell(b0 + n - 1), acceleration, velocity)
             else
@@ -7532,7 +8928,54 @@ contains
                else
                   dstrain = strain_increment_of(e)
                end if
-               call stress_linear(dstrain, youngs_modulus, strain_factor, volume0, stress(p), volume_ratio(p), sb(i), svb(i))
+               call stress_linear(dstrain, youngs_modulus, strain_factor, volume0, stress(p), volume_ratio(p), &
+                                  sb(i), svb(i))
+               jb(i) = volume_ratio(p)
+            else if (iand(shares, share_stress) /= 0) then ! (an initial mapping: the stress as it is)
+               svb(i) = stress(p)*volume_ratio(p)*volume0
+            end if
+            if (relocates) then ! the new cell, for P2G at the new position
+               call locate_cell(x(p), inv_dx, elements, elements_bits, cb(i), xib(i))
+               cell(p) = cb(i)
+            else                ! the shares go to the start-of-step cell
+               cb(i) = e
+               if (moves) xib(i) = xi
+            end if
+            if (moves .or. relocates) vpb(i) = v(p)
+         end do
+         else if (plastic) then
+         do i = 1, n
+            p = b0 + i - 1
+            e = cell(p)
+            ! G2P with the start-of-step shape functions (PIC)
+            if (moves) then
+               xi = x(p)*inv_dx - (e - 1)
+               vgrid = (1.0_dp - xi)*velocity(e - 1) + xi*velocity(e)
+               v(p) = vgrid
+               dxp = dt*vgrid
+               x(p) = x(p) + dxp
+               db(i) = x(p) - x0(p)
+               kb(i) = half_m*v(p)*v(p)
+               mb(i, slot) = abs(dxp)*inv_dx
+            end if
+            if (stresses) then ! d eps = dt sum dN v_I over the start-of-step cell
+               if (moves) then
+                  dstrain = strain_increment(velocity(e - 1), velocity(e), dt, inv_dx)
+               else
+                  dstrain = strain_increment_of(e)
+               end if
+               stress(p) = stress(p) + youngs_modulus*dstrain
+               ! d gamma, zero in an elastic step: written without a branch, so that a loop over particles
+               ! vectorises; an elastic step then subtracts and adds zeros, which leaves the hencky bits
+               increment = max(abs(stress(p)) - (yield_stress + hardening_modulus*hardening(p)), 0.0_dp)/ &
+                           (youngs_modulus + hardening_modulus)
+               stress(p) = stress(p) - sign(youngs_modulus*increment, stress(p))
+               plastic_strain(p) = plastic_strain(p) + sign(increment, stress(p))
+               hardening(p) = hardening(p) + increment
+               volume_ratio(p) = volume_ratio(p)*(1.0_dp + dstrain)
+               sb(i) = stress(p)*stress(p)*volume_ratio(p)*strain_factor
+               svb(i) = stress(p)*volume_ratio(p)*volume0
+               wb(i) = (yield_stress + 0.5_dp*hardening_modulus*hardening(p))*hardening(p)*volume0
                jb(i) = volume_ratio(p)
             else if (iand(shares, share_stress) /= 0) then ! (an initial mapping: the stress as it is)
                svb(i) = stress(p)*volume_ratio(p)*volume0
@@ -7567,7 +9010,8 @@ contains
                else
                   dstrain = strain_increment_of(e)
                end if
-               call stress_hencky(dstrain, youngs_modulus, strain_factor, volume0, stress(p), volume_ratio(p), sb(i), svb(i))
+               call stress_hencky(dstrain, youngs_modulus, strain_factor, volume0, stress(p), volume_ratio(p), &
+                                  sb(i), svb(i))
                jb(i) = volume_ratio(p)
             else if (iand(shares, share_stress) /= 0) then ! (an initial mapping: the stress as it is)
                svb(i) = stress(p)*volume_ratio(p)*volume0
@@ -7621,11 +9065,19 @@ contains
             lane_r = mod(n, lanes)
             if (lane_r > 0) min_j(1:lane_r) = min(min_j(1:lane_r), jb(n - lane_r + 1:n))
          end if
+         if (plastic) then
+            do lane_i = 1, n - lanes + 1, lanes
+               work = work + wb(lane_i:lane_i + lanes - 1)
+            end do
+            lane_r = mod(n, lanes)
+            if (lane_r > 0) work(1:lane_r) = work(1:lane_r) + wb(n - lane_r + 1:n)
+         end if
          if (relocates) call find_outside(n, b0, cb, outside)
          call accumulate_block(k, n, cb, xib, vpb, svb, m, lo, hi, shares, run, mass_left, mass_right, momentum_left, &
                                momentum_right, stress_volume, seg)
       end do
-      call close_segment(k, shares, m, run, [lane_total(displacement), lane_total(kinetic), lane_total(strain)], &
+      call close_segment(k, shares, m, run, [lane_total(displacement), lane_total(kinetic), lane_total(strain), &
+                         lane_total(work)], &
                          minval(min_j), largest%value, furthest_particle(largest, mb), outside, mass_left, mass_right, &
                          momentum_left, momentum_right, stress_volume, seg)
    end subroutine pic_usf_stress_segment
@@ -7634,7 +9086,7 @@ contains
    subroutine pic_usl_segment(k, seg, x, x0, v, stress, volume_ratio, cell, acceleration, velocity, &
                               strain_increment_of, mass_left, mass_right, momentum_left, momentum_right, &
                               stress_volume, constants, carry, mass_of, modulus_of, forces, gradient, force_left, &
-                              force_right)
+                              force_right, plastic_strain, hardening, yield_of, hardening_of)
       integer, parameter :: kernel = pass_usl
       logical, parameter :: moves = pass_moves(kernel), stresses = pass_stresses(kernel), relocates = pass_relocates(kernel)
       integer, parameter :: shares = pass_shares(kernel)
@@ -7653,9 +9105,15 @@ contains
       !> the forces
       real(dp), intent(in), contiguous, optional :: mass_of(:), modulus_of(:), forces(:)
       real(dp), intent(inout), contiguous, optional :: gradient(:), force_left(:), force_right(:)
+      !> the elastoplastic law's state (plastic strain, hardening variable) and, `material`, each particle's
+      !> yield stress and hardening modulus (absent for the other laws)
+      real(dp), intent(inout), contiguous, optional :: plastic_strain(:), hardening(:)
+      real(dp), intent(in), contiguous, optional :: yield_of(:), hardening_of(:)
       integer :: p, e, i, n, b0, first, last, lo, hi, outside, ahead, elements
       real(dp) :: half_m, strain_factor, dstrain, inv_dx, dt, youngs_modulus, m, volume0
-      logical :: linear
+      logical :: linear, plastic
+      ! the elastoplastic law's constants and the block's plastic work, summed in lanes
+      real(dp) :: yield_stress, hardening_modulus, increment, wb(block_size), work(lanes)
       type(largest_move_t) :: largest
       real(dp) :: displacement(lanes), kinetic(lanes), strain(lanes), min_j(lanes)
       integer :: cb(block_size)
@@ -7675,6 +9133,10 @@ contains
       dt = constants%dt
       youngs_modulus = constants%youngs_modulus
       linear = constants%linear
+      plastic = constants%plastic
+      yield_stress = constants%yield_stress
+      hardening_modulus = constants%hardening_modulus
+      work = 0
       m = constants%mass
       volume0 = constants%volume0
       call open_segment(k, shares, seg, mass_left, mass_right, momentum_left, momentum_right, stress_volume, first, last, &
@@ -7694,6 +9156,7 @@ contains
             if (kernel == pass_usf_move .or. kernel == pass_musl_remap) call prefetch_block(ahead, cell, x, x0, v)
             if (kernel == pass_usf_stress) call prefetch_block(ahead, cell, stress, volume_ratio)
             if (kernel == pass_musl_stress) call prefetch_block(ahead, cell, x, v, stress, volume_ratio)
+            if (stresses .and. plastic) call prefetch_block(ahead, cell, plastic_strain, hardening)
             if (moves) then
                call prefetch_nodes(cell(b0), cell(b0 + n - 1), acceleration, velocity)
             else
@@ -7721,7 +9184,54 @@ contains
                else
                   dstrain = strain_increment_of(e)
                end if
-               call stress_linear(dstrain, youngs_modulus, strain_factor, volume0, stress(p), volume_ratio(p), sb(i), svb(i))
+               call stress_linear(dstrain, youngs_modulus, strain_factor, volume0, stress(p), volume_ratio(p), &
+                                  sb(i), svb(i))
+               jb(i) = volume_ratio(p)
+            else if (iand(shares, share_stress) /= 0) then ! (an initial mapping: the stress as it is)
+               svb(i) = stress(p)*volume_ratio(p)*volume0
+            end if
+            if (relocates) then ! the new cell, for P2G at the new position
+               call locate_cell(x(p), inv_dx, elements, elements_bits, cb(i), xib(i))
+               cell(p) = cb(i)
+            else                ! the shares go to the start-of-step cell
+               cb(i) = e
+               if (moves) xib(i) = xi
+            end if
+            if (moves .or. relocates) vpb(i) = v(p)
+         end do
+         else if (plastic) then
+         do i = 1, n
+            p = b0 + i - 1
+            e = cell(p)
+            ! G2P with the start-of-step shape functions (PIC)
+            if (moves) then
+               xi = x(p)*inv_dx - (e - 1)
+               vgrid = (1.0_dp - xi)*velocity(e - 1) + xi*velocity(e)
+               v(p) = vgrid
+               dxp = dt*vgrid
+               x(p) = x(p) + dxp
+               db(i) = x(p) - x0(p)
+               kb(i) = half_m*v(p)*v(p)
+               mb(i, slot) = abs(dxp)*inv_dx
+            end if
+            if (stresses) then ! d eps = dt sum dN v_I over the start-of-step cell
+               if (moves) then
+                  dstrain = strain_increment(velocity(e - 1), velocity(e), dt, inv_dx)
+               else
+                  dstrain = strain_increment_of(e)
+               end if
+               stress(p) = stress(p) + youngs_modulus*dstrain
+               ! d gamma, zero in an elastic step: written without a branch, so that a loop over particles
+               ! vectorises; an elastic step then subtracts and adds zeros, which leaves the hencky bits
+               increment = max(abs(stress(p)) - (yield_stress + hardening_modulus*hardening(p)), 0.0_dp)/ &
+                           (youngs_modulus + hardening_modulus)
+               stress(p) = stress(p) - sign(youngs_modulus*increment, stress(p))
+               plastic_strain(p) = plastic_strain(p) + sign(increment, stress(p))
+               hardening(p) = hardening(p) + increment
+               volume_ratio(p) = volume_ratio(p)*(1.0_dp + dstrain)
+               sb(i) = stress(p)*stress(p)*volume_ratio(p)*strain_factor
+               svb(i) = stress(p)*volume_ratio(p)*volume0
+               wb(i) = (yield_stress + 0.5_dp*hardening_modulus*hardening(p))*hardening(p)*volume0
                jb(i) = volume_ratio(p)
             else if (iand(shares, share_stress) /= 0) then ! (an initial mapping: the stress as it is)
                svb(i) = stress(p)*volume_ratio(p)*volume0
@@ -7756,7 +9266,8 @@ contains
                else
                   dstrain = strain_increment_of(e)
                end if
-               call stress_hencky(dstrain, youngs_modulus, strain_factor, volume0, stress(p), volume_ratio(p), sb(i), svb(i))
+               call stress_hencky(dstrain, youngs_modulus, strain_factor, volume0, stress(p), volume_ratio(p), &
+                                  sb(i), svb(i))
                jb(i) = volume_ratio(p)
             else if (iand(shares, share_stress) /= 0) then ! (an initial mapping: the stress as it is)
                svb(i) = stress(p)*volume_ratio(p)*volume0
@@ -7810,11 +9321,19 @@ contains
             lane_r = mod(n, lanes)
             if (lane_r > 0) min_j(1:lane_r) = min(min_j(1:lane_r), jb(n - lane_r + 1:n))
          end if
+         if (plastic) then
+            do lane_i = 1, n - lanes + 1, lanes
+               work = work + wb(lane_i:lane_i + lanes - 1)
+            end do
+            lane_r = mod(n, lanes)
+            if (lane_r > 0) work(1:lane_r) = work(1:lane_r) + wb(n - lane_r + 1:n)
+         end if
          if (relocates) call find_outside(n, b0, cb, outside)
          call accumulate_block(k, n, cb, xib, vpb, svb, m, lo, hi, shares, run, mass_left, mass_right, momentum_left, &
                                momentum_right, stress_volume, seg)
       end do
-      call close_segment(k, shares, m, run, [lane_total(displacement), lane_total(kinetic), lane_total(strain)], &
+      call close_segment(k, shares, m, run, [lane_total(displacement), lane_total(kinetic), lane_total(strain), &
+                         lane_total(work)], &
                          minval(min_j), largest%value, furthest_particle(largest, mb), outside, mass_left, mass_right, &
                          momentum_left, momentum_right, stress_volume, seg)
    end subroutine pic_usl_segment
@@ -7823,7 +9342,7 @@ contains
    subroutine pic_musl_remap_segment(k, seg, x, x0, v, stress, volume_ratio, cell, acceleration, velocity, &
                                      strain_increment_of, mass_left, mass_right, momentum_left, momentum_right, &
                                      stress_volume, constants, carry, mass_of, modulus_of, forces, gradient, force_left, &
-                                     force_right)
+                                     force_right, plastic_strain, hardening, yield_of, hardening_of)
       integer, parameter :: kernel = pass_musl_remap
       logical, parameter :: moves = pass_moves(kernel), stresses = pass_stresses(kernel), relocates = pass_relocates(kernel)
       integer, parameter :: shares = pass_shares(kernel)
@@ -7842,9 +9361,13 @@ contains
       !> the forces
       real(dp), intent(in), contiguous, optional :: mass_of(:), modulus_of(:), forces(:)
       real(dp), intent(inout), contiguous, optional :: gradient(:), force_left(:), force_right(:)
+      !> the elastoplastic law's state (plastic strain, hardening variable) and, `material`, each particle's
+      !> yield stress and hardening modulus (absent for the other laws)
+      real(dp), intent(inout), contiguous, optional :: plastic_strain(:), hardening(:)
+      real(dp), intent(in), contiguous, optional :: yield_of(:), hardening_of(:)
       integer :: p, e, i, n, b0, first, last, lo, hi, outside, ahead, elements
       real(dp) :: half_m, strain_factor, dstrain, inv_dx, dt, youngs_modulus, m, volume0
-      logical :: linear
+      logical :: linear, plastic
       type(largest_move_t) :: largest
       real(dp) :: displacement(lanes), kinetic(lanes), strain(lanes), min_j(lanes)
       integer :: cb(block_size)
@@ -7864,6 +9387,7 @@ contains
       dt = constants%dt
       youngs_modulus = constants%youngs_modulus
       linear = constants%linear
+      plastic = constants%plastic
       m = constants%mass
       volume0 = constants%volume0
       call open_segment(k, shares, seg, mass_left, mass_right, momentum_left, momentum_right, stress_volume, first, last, &
@@ -7883,6 +9407,7 @@ contains
             if (kernel == pass_usf_move .or. kernel == pass_musl_remap) call prefetch_block(ahead, cell, x, x0, v)
             if (kernel == pass_usf_stress) call prefetch_block(ahead, cell, stress, volume_ratio)
             if (kernel == pass_musl_stress) call prefetch_block(ahead, cell, x, v, stress, volume_ratio)
+            if (stresses .and. plastic) call prefetch_block(ahead, cell, plastic_strain, hardening)
             if (moves) then
                call prefetch_nodes(cell(b0), cell(b0 + n - 1), acceleration, velocity)
             else
@@ -7909,7 +9434,8 @@ contains
                else
                   dstrain = strain_increment_of(e)
                end if
-               call stress_hencky(dstrain, youngs_modulus, strain_factor, volume0, stress(p), volume_ratio(p), sb(i), svb(i))
+               call stress_hencky(dstrain, youngs_modulus, strain_factor, volume0, stress(p), volume_ratio(p), &
+                                  sb(i), svb(i))
                jb(i) = volume_ratio(p)
             else if (iand(shares, share_stress) /= 0) then ! (an initial mapping: the stress as it is)
                svb(i) = stress(p)*volume_ratio(p)*volume0
@@ -7966,7 +9492,8 @@ contains
          call accumulate_block(k, n, cb, xib, vpb, svb, m, lo, hi, shares, run, mass_left, mass_right, momentum_left, &
                                momentum_right, stress_volume, seg)
       end do
-      call close_segment(k, shares, m, run, [lane_total(displacement), lane_total(kinetic), lane_total(strain)], &
+      call close_segment(k, shares, m, run, [lane_total(displacement), lane_total(kinetic), lane_total(strain), &
+                         0.0_dp], &
                          minval(min_j), largest%value, furthest_particle(largest, mb), outside, mass_left, mass_right, &
                          momentum_left, momentum_right, stress_volume, seg)
    end subroutine pic_musl_remap_segment
@@ -7975,7 +9502,7 @@ contains
    subroutine pic_musl_stress_segment(k, seg, x, x0, v, stress, volume_ratio, cell, acceleration, velocity, &
                                       strain_increment_of, mass_left, mass_right, momentum_left, momentum_right, &
                                       stress_volume, constants, carry, mass_of, modulus_of, forces, gradient, force_left, &
-                                      force_right)
+                                      force_right, plastic_strain, hardening, yield_of, hardening_of)
       integer, parameter :: kernel = pass_musl_stress
       logical, parameter :: moves = pass_moves(kernel), stresses = pass_stresses(kernel), relocates = pass_relocates(kernel)
       integer, parameter :: shares = pass_shares(kernel)
@@ -7994,9 +9521,15 @@ contains
       !> the forces
       real(dp), intent(in), contiguous, optional :: mass_of(:), modulus_of(:), forces(:)
       real(dp), intent(inout), contiguous, optional :: gradient(:), force_left(:), force_right(:)
+      !> the elastoplastic law's state (plastic strain, hardening variable) and, `material`, each particle's
+      !> yield stress and hardening modulus (absent for the other laws)
+      real(dp), intent(inout), contiguous, optional :: plastic_strain(:), hardening(:)
+      real(dp), intent(in), contiguous, optional :: yield_of(:), hardening_of(:)
       integer :: p, e, i, n, b0, first, last, lo, hi, outside, ahead, elements
       real(dp) :: half_m, strain_factor, dstrain, inv_dx, dt, youngs_modulus, m, volume0
-      logical :: linear
+      logical :: linear, plastic
+      ! the elastoplastic law's constants and the block's plastic work, summed in lanes
+      real(dp) :: yield_stress, hardening_modulus, increment, wb(block_size), work(lanes)
       type(largest_move_t) :: largest
       real(dp) :: displacement(lanes), kinetic(lanes), strain(lanes), min_j(lanes)
       integer :: cb(block_size)
@@ -8016,6 +9549,10 @@ contains
       dt = constants%dt
       youngs_modulus = constants%youngs_modulus
       linear = constants%linear
+      plastic = constants%plastic
+      yield_stress = constants%yield_stress
+      hardening_modulus = constants%hardening_modulus
+      work = 0
       m = constants%mass
       volume0 = constants%volume0
       call open_segment(k, shares, seg, mass_left, mass_right, momentum_left, momentum_right, stress_volume, first, last, &
@@ -8035,6 +9572,7 @@ contains
             if (kernel == pass_usf_move .or. kernel == pass_musl_remap) call prefetch_block(ahead, cell, x, x0, v)
             if (kernel == pass_usf_stress) call prefetch_block(ahead, cell, stress, volume_ratio)
             if (kernel == pass_musl_stress) call prefetch_block(ahead, cell, x, v, stress, volume_ratio)
+            if (stresses .and. plastic) call prefetch_block(ahead, cell, plastic_strain, hardening)
             if (moves) then
                call prefetch_nodes(cell(b0), cell(b0 + n - 1), acceleration, velocity)
             else
@@ -8062,7 +9600,54 @@ contains
                else
                   dstrain = strain_increment_of(e)
                end if
-               call stress_linear(dstrain, youngs_modulus, strain_factor, volume0, stress(p), volume_ratio(p), sb(i), svb(i))
+               call stress_linear(dstrain, youngs_modulus, strain_factor, volume0, stress(p), volume_ratio(p), &
+                                  sb(i), svb(i))
+               jb(i) = volume_ratio(p)
+            else if (iand(shares, share_stress) /= 0) then ! (an initial mapping: the stress as it is)
+               svb(i) = stress(p)*volume_ratio(p)*volume0
+            end if
+            if (relocates) then ! the new cell, for P2G at the new position
+               call locate_cell(x(p), inv_dx, elements, elements_bits, cb(i), xib(i))
+               cell(p) = cb(i)
+            else                ! the shares go to the start-of-step cell
+               cb(i) = e
+               if (moves) xib(i) = xi
+            end if
+            if (moves .or. relocates) vpb(i) = v(p)
+         end do
+         else if (plastic) then
+         do i = 1, n
+            p = b0 + i - 1
+            e = cell(p)
+            ! G2P with the start-of-step shape functions (PIC)
+            if (moves) then
+               xi = x(p)*inv_dx - (e - 1)
+               vgrid = (1.0_dp - xi)*velocity(e - 1) + xi*velocity(e)
+               v(p) = vgrid
+               dxp = dt*vgrid
+               x(p) = x(p) + dxp
+               db(i) = x(p) - x0(p)
+               kb(i) = half_m*v(p)*v(p)
+               mb(i, slot) = abs(dxp)*inv_dx
+            end if
+            if (stresses) then ! d eps = dt sum dN v_I over the start-of-step cell
+               if (moves) then
+                  dstrain = strain_increment(velocity(e - 1), velocity(e), dt, inv_dx)
+               else
+                  dstrain = strain_increment_of(e)
+               end if
+               stress(p) = stress(p) + youngs_modulus*dstrain
+               ! d gamma, zero in an elastic step: written without a branch, so that a loop over particles
+               ! vectorises; an elastic step then subtracts and adds zeros, which leaves the hencky bits
+               increment = max(abs(stress(p)) - (yield_stress + hardening_modulus*hardening(p)), 0.0_dp)/ &
+                           (youngs_modulus + hardening_modulus)
+               stress(p) = stress(p) - sign(youngs_modulus*increment, stress(p))
+               plastic_strain(p) = plastic_strain(p) + sign(increment, stress(p))
+               hardening(p) = hardening(p) + increment
+               volume_ratio(p) = volume_ratio(p)*(1.0_dp + dstrain)
+               sb(i) = stress(p)*stress(p)*volume_ratio(p)*strain_factor
+               svb(i) = stress(p)*volume_ratio(p)*volume0
+               wb(i) = (yield_stress + 0.5_dp*hardening_modulus*hardening(p))*hardening(p)*volume0
                jb(i) = volume_ratio(p)
             else if (iand(shares, share_stress) /= 0) then ! (an initial mapping: the stress as it is)
                svb(i) = stress(p)*volume_ratio(p)*volume0
@@ -8097,7 +9682,8 @@ contains
                else
                   dstrain = strain_increment_of(e)
                end if
-               call stress_hencky(dstrain, youngs_modulus, strain_factor, volume0, stress(p), volume_ratio(p), sb(i), svb(i))
+               call stress_hencky(dstrain, youngs_modulus, strain_factor, volume0, stress(p), volume_ratio(p), &
+                                  sb(i), svb(i))
                jb(i) = volume_ratio(p)
             else if (iand(shares, share_stress) /= 0) then ! (an initial mapping: the stress as it is)
                svb(i) = stress(p)*volume_ratio(p)*volume0
@@ -8151,11 +9737,19 @@ contains
             lane_r = mod(n, lanes)
             if (lane_r > 0) min_j(1:lane_r) = min(min_j(1:lane_r), jb(n - lane_r + 1:n))
          end if
+         if (plastic) then
+            do lane_i = 1, n - lanes + 1, lanes
+               work = work + wb(lane_i:lane_i + lanes - 1)
+            end do
+            lane_r = mod(n, lanes)
+            if (lane_r > 0) work(1:lane_r) = work(1:lane_r) + wb(n - lane_r + 1:n)
+         end if
          if (relocates) call find_outside(n, b0, cb, outside)
          call accumulate_block(k, n, cb, xib, vpb, svb, m, lo, hi, shares, run, mass_left, mass_right, momentum_left, &
                                momentum_right, stress_volume, seg)
       end do
-      call close_segment(k, shares, m, run, [lane_total(displacement), lane_total(kinetic), lane_total(strain)], &
+      call close_segment(k, shares, m, run, [lane_total(displacement), lane_total(kinetic), lane_total(strain), &
+                         lane_total(work)], &
                          minval(min_j), largest%value, furthest_particle(largest, mb), outside, mass_left, mass_right, &
                          momentum_left, momentum_right, stress_volume, seg)
    end subroutine pic_musl_stress_segment
@@ -8164,7 +9758,7 @@ contains
    subroutine pic_map_segment(k, seg, x, x0, v, stress, volume_ratio, cell, acceleration, velocity, &
                               strain_increment_of, mass_left, mass_right, momentum_left, momentum_right, &
                               stress_volume, constants, carry, mass_of, modulus_of, forces, gradient, force_left, &
-                              force_right)
+                              force_right, plastic_strain, hardening, yield_of, hardening_of)
       integer, parameter :: kernel = pass_map
       logical, parameter :: moves = pass_moves(kernel), stresses = pass_stresses(kernel), relocates = pass_relocates(kernel)
       integer, parameter :: shares = pass_shares(kernel)
@@ -8183,9 +9777,13 @@ contains
       !> the forces
       real(dp), intent(in), contiguous, optional :: mass_of(:), modulus_of(:), forces(:)
       real(dp), intent(inout), contiguous, optional :: gradient(:), force_left(:), force_right(:)
+      !> the elastoplastic law's state (plastic strain, hardening variable) and, `material`, each particle's
+      !> yield stress and hardening modulus (absent for the other laws)
+      real(dp), intent(inout), contiguous, optional :: plastic_strain(:), hardening(:)
+      real(dp), intent(in), contiguous, optional :: yield_of(:), hardening_of(:)
       integer :: p, e, i, n, b0, first, last, lo, hi, outside, ahead, elements
       real(dp) :: half_m, strain_factor, dstrain, inv_dx, dt, youngs_modulus, m, volume0
-      logical :: linear
+      logical :: linear, plastic
       type(largest_move_t) :: largest
       real(dp) :: displacement(lanes), kinetic(lanes), strain(lanes), min_j(lanes)
       integer :: cb(block_size)
@@ -8205,6 +9803,7 @@ contains
       dt = constants%dt
       youngs_modulus = constants%youngs_modulus
       linear = constants%linear
+      plastic = constants%plastic
       m = constants%mass
       volume0 = constants%volume0
       call open_segment(k, shares, seg, mass_left, mass_right, momentum_left, momentum_right, stress_volume, first, last, &
@@ -8224,6 +9823,7 @@ contains
             if (kernel == pass_usf_move .or. kernel == pass_musl_remap) call prefetch_block(ahead, cell, x, x0, v)
             if (kernel == pass_usf_stress) call prefetch_block(ahead, cell, stress, volume_ratio)
             if (kernel == pass_musl_stress) call prefetch_block(ahead, cell, x, v, stress, volume_ratio)
+            if (stresses .and. plastic) call prefetch_block(ahead, cell, plastic_strain, hardening)
             if (moves) then
                call prefetch_nodes(cell(b0), cell(b0 + n - 1), acceleration, velocity)
             else
@@ -8250,7 +9850,8 @@ contains
                else
                   dstrain = strain_increment_of(e)
                end if
-               call stress_hencky(dstrain, youngs_modulus, strain_factor, volume0, stress(p), volume_ratio(p), sb(i), svb(i))
+               call stress_hencky(dstrain, youngs_modulus, strain_factor, volume0, stress(p), volume_ratio(p), &
+                                  sb(i), svb(i))
                jb(i) = volume_ratio(p)
             else if (iand(shares, share_stress) /= 0) then ! (an initial mapping: the stress as it is)
                svb(i) = stress(p)*volume_ratio(p)*volume0
@@ -8307,7 +9908,8 @@ contains
          call accumulate_block(k, n, cb, xib, vpb, svb, m, lo, hi, shares, run, mass_left, mass_right, momentum_left, &
                                momentum_right, stress_volume, seg)
       end do
-      call close_segment(k, shares, m, run, [lane_total(displacement), lane_total(kinetic), lane_total(strain)], &
+      call close_segment(k, shares, m, run, [lane_total(displacement), lane_total(kinetic), lane_total(strain), &
+                         0.0_dp], &
                          minval(min_j), largest%value, furthest_particle(largest, mb), outside, mass_left, mass_right, &
                          momentum_left, momentum_right, stress_volume, seg)
    end subroutine pic_map_segment
@@ -8316,7 +9918,7 @@ contains
    subroutine pic_map_stress_segment(k, seg, x, x0, v, stress, volume_ratio, cell, acceleration, velocity, &
                                      strain_increment_of, mass_left, mass_right, momentum_left, momentum_right, &
                                      stress_volume, constants, carry, mass_of, modulus_of, forces, gradient, force_left, &
-                                     force_right)
+                                     force_right, plastic_strain, hardening, yield_of, hardening_of)
       integer, parameter :: kernel = pass_map_stress
       logical, parameter :: moves = pass_moves(kernel), stresses = pass_stresses(kernel), relocates = pass_relocates(kernel)
       integer, parameter :: shares = pass_shares(kernel)
@@ -8335,9 +9937,13 @@ contains
       !> the forces
       real(dp), intent(in), contiguous, optional :: mass_of(:), modulus_of(:), forces(:)
       real(dp), intent(inout), contiguous, optional :: gradient(:), force_left(:), force_right(:)
+      !> the elastoplastic law's state (plastic strain, hardening variable) and, `material`, each particle's
+      !> yield stress and hardening modulus (absent for the other laws)
+      real(dp), intent(inout), contiguous, optional :: plastic_strain(:), hardening(:)
+      real(dp), intent(in), contiguous, optional :: yield_of(:), hardening_of(:)
       integer :: p, e, i, n, b0, first, last, lo, hi, outside, ahead, elements
       real(dp) :: half_m, strain_factor, dstrain, inv_dx, dt, youngs_modulus, m, volume0
-      logical :: linear
+      logical :: linear, plastic
       type(largest_move_t) :: largest
       real(dp) :: displacement(lanes), kinetic(lanes), strain(lanes), min_j(lanes)
       integer :: cb(block_size)
@@ -8357,6 +9963,7 @@ contains
       dt = constants%dt
       youngs_modulus = constants%youngs_modulus
       linear = constants%linear
+      plastic = constants%plastic
       m = constants%mass
       volume0 = constants%volume0
       call open_segment(k, shares, seg, mass_left, mass_right, momentum_left, momentum_right, stress_volume, first, last, &
@@ -8376,6 +9983,7 @@ contains
             if (kernel == pass_usf_move .or. kernel == pass_musl_remap) call prefetch_block(ahead, cell, x, x0, v)
             if (kernel == pass_usf_stress) call prefetch_block(ahead, cell, stress, volume_ratio)
             if (kernel == pass_musl_stress) call prefetch_block(ahead, cell, x, v, stress, volume_ratio)
+            if (stresses .and. plastic) call prefetch_block(ahead, cell, plastic_strain, hardening)
             if (moves) then
                call prefetch_nodes(cell(b0), cell(b0 + n - 1), acceleration, velocity)
             else
@@ -8402,7 +10010,8 @@ contains
                else
                   dstrain = strain_increment_of(e)
                end if
-               call stress_hencky(dstrain, youngs_modulus, strain_factor, volume0, stress(p), volume_ratio(p), sb(i), svb(i))
+               call stress_hencky(dstrain, youngs_modulus, strain_factor, volume0, stress(p), volume_ratio(p), &
+                                  sb(i), svb(i))
                jb(i) = volume_ratio(p)
             else if (iand(shares, share_stress) /= 0) then ! (an initial mapping: the stress as it is)
                svb(i) = stress(p)*volume_ratio(p)*volume0
@@ -8459,7 +10068,8 @@ contains
          call accumulate_block(k, n, cb, xib, vpb, svb, m, lo, hi, shares, run, mass_left, mass_right, momentum_left, &
                                momentum_right, stress_volume, seg)
       end do
-      call close_segment(k, shares, m, run, [lane_total(displacement), lane_total(kinetic), lane_total(strain)], &
+      call close_segment(k, shares, m, run, [lane_total(displacement), lane_total(kinetic), lane_total(strain), &
+                         0.0_dp], &
                          minval(min_j), largest%value, furthest_particle(largest, mb), outside, mass_left, mass_right, &
                          momentum_left, momentum_right, stress_volume, seg)
    end subroutine pic_map_stress_segment
@@ -8468,7 +10078,7 @@ contains
    subroutine blend_usf_move_segment(k, seg, x, x0, v, stress, volume_ratio, cell, acceleration, velocity, &
                                      strain_increment_of, mass_left, mass_right, momentum_left, momentum_right, &
                                      stress_volume, constants, carry, mass_of, modulus_of, forces, gradient, force_left, &
-                                     force_right)
+                                     force_right, plastic_strain, hardening, yield_of, hardening_of)
       integer, parameter :: kernel = pass_usf_move
       logical, parameter :: moves = pass_moves(kernel), stresses = pass_stresses(kernel), relocates = pass_relocates(kernel)
       integer, parameter :: shares = pass_shares(kernel)
@@ -8487,9 +10097,13 @@ contains
       !> the forces
       real(dp), intent(in), contiguous, optional :: mass_of(:), modulus_of(:), forces(:)
       real(dp), intent(inout), contiguous, optional :: gradient(:), force_left(:), force_right(:)
+      !> the elastoplastic law's state (plastic strain, hardening variable) and, `material`, each particle's
+      !> yield stress and hardening modulus (absent for the other laws)
+      real(dp), intent(inout), contiguous, optional :: plastic_strain(:), hardening(:)
+      real(dp), intent(in), contiguous, optional :: yield_of(:), hardening_of(:)
       integer :: p, e, i, n, b0, first, last, lo, hi, outside, ahead, elements
       real(dp) :: half_m, strain_factor, dstrain, inv_dx, dt, youngs_modulus, m, volume0
-      logical :: linear
+      logical :: linear, plastic
       type(largest_move_t) :: largest
       real(dp) :: displacement(lanes), kinetic(lanes), strain(lanes), min_j(lanes)
       integer :: cb(block_size)
@@ -8511,6 +10125,7 @@ contains
       dt = constants%dt
       youngs_modulus = constants%youngs_modulus
       linear = constants%linear
+      plastic = constants%plastic
       m = constants%mass
       volume0 = constants%volume0
       call open_segment(k, shares, seg, mass_left, mass_right, momentum_left, momentum_right, stress_volume, first, last, &
@@ -8530,6 +10145,7 @@ contains
             if (kernel == pass_usf_move .or. kernel == pass_musl_remap) call prefetch_block(ahead, cell, x, x0, v)
             if (kernel == pass_usf_stress) call prefetch_block(ahead, cell, stress, volume_ratio)
             if (kernel == pass_musl_stress) call prefetch_block(ahead, cell, x, v, stress, volume_ratio)
+            if (stresses .and. plastic) call prefetch_block(ahead, cell, plastic_strain, hardening)
             if (moves) then
                call prefetch_nodes(cell(b0), cell(b0 + n - 1), acceleration, velocity)
             else
@@ -8557,7 +10173,8 @@ contains
                else
                   dstrain = strain_increment_of(e)
                end if
-               call stress_hencky(dstrain, youngs_modulus, strain_factor, volume0, stress(p), volume_ratio(p), sb(i), svb(i))
+               call stress_hencky(dstrain, youngs_modulus, strain_factor, volume0, stress(p), volume_ratio(p), &
+                                  sb(i), svb(i))
                jb(i) = volume_ratio(p)
             else if (iand(shares, share_stress) /= 0) then ! (an initial mapping: the stress as it is)
                svb(i) = stress(p)*volume_ratio(p)*volume0
@@ -8614,7 +10231,8 @@ contains
          call accumulate_block(k, n, cb, xib, vpb, svb, m, lo, hi, shares, run, mass_left, mass_right, momentum_left, &
                                momentum_right, stress_volume, seg)
       end do
-      call close_segment(k, shares, m, run, [lane_total(displacement), lane_total(kinetic), lane_total(strain)], &
+      call close_segment(k, shares, m, run, [lane_total(displacement), lane_total(kinetic), lane_total(strain), &
+                         0.0_dp], &
                          minval(min_j), largest%value, furthest_particle(largest, mb), outside, mass_left, mass_right, &
                          momentum_left, momentum_right, stress_volume, seg)
    end subroutine blend_usf_move_segment
@@ -8623,7 +10241,7 @@ contains
    subroutine blend_usf_stress_segment(k, seg, x, x0, v, stress, volume_ratio, cell, acceleration, velocity, &
                                        strain_increment_of, mass_left, mass_right, momentum_left, momentum_right, &
                                        stress_volume, constants, carry, mass_of, modulus_of, forces, gradient, force_left, &
-                                       force_right)
+                                       force_right, plastic_strain, hardening, yield_of, hardening_of)
       integer, parameter :: kernel = pass_usf_stress
       logical, parameter :: moves = pass_moves(kernel), stresses = pass_stresses(kernel), relocates = pass_relocates(kernel)
       integer, parameter :: shares = pass_shares(kernel)
@@ -8642,9 +10260,15 @@ contains
       !> the forces
       real(dp), intent(in), contiguous, optional :: mass_of(:), modulus_of(:), forces(:)
       real(dp), intent(inout), contiguous, optional :: gradient(:), force_left(:), force_right(:)
+      !> the elastoplastic law's state (plastic strain, hardening variable) and, `material`, each particle's
+      !> yield stress and hardening modulus (absent for the other laws)
+      real(dp), intent(inout), contiguous, optional :: plastic_strain(:), hardening(:)
+      real(dp), intent(in), contiguous, optional :: yield_of(:), hardening_of(:)
       integer :: p, e, i, n, b0, first, last, lo, hi, outside, ahead, elements
       real(dp) :: half_m, strain_factor, dstrain, inv_dx, dt, youngs_modulus, m, volume0
-      logical :: linear
+      logical :: linear, plastic
+      ! the elastoplastic law's constants and the block's plastic work, summed in lanes
+      real(dp) :: yield_stress, hardening_modulus, increment, wb(block_size), work(lanes)
       type(largest_move_t) :: largest
       real(dp) :: displacement(lanes), kinetic(lanes), strain(lanes), min_j(lanes)
       integer :: cb(block_size)
@@ -8666,6 +10290,10 @@ contains
       dt = constants%dt
       youngs_modulus = constants%youngs_modulus
       linear = constants%linear
+      plastic = constants%plastic
+      yield_stress = constants%yield_stress
+      hardening_modulus = constants%hardening_modulus
+      work = 0
       m = constants%mass
       volume0 = constants%volume0
       call open_segment(k, shares, seg, mass_left, mass_right, momentum_left, momentum_right, stress_volume, first, last, &
@@ -8685,6 +10313,7 @@ contains
             if (kernel == pass_usf_move .or. kernel == pass_musl_remap) call prefetch_block(ahead, cell, x, x0, v)
             if (kernel == pass_usf_stress) call prefetch_block(ahead, cell, stress, volume_ratio)
             if (kernel == pass_musl_stress) call prefetch_block(ahead, cell, x, v, stress, volume_ratio)
+            if (stresses .and. plastic) call prefetch_block(ahead, cell, plastic_strain, hardening)
             if (moves) then
                call prefetch_nodes(cell(b0), cell(b0 + n - 1), acceleration, velocity)
             else
@@ -8713,7 +10342,55 @@ contains
                else
                   dstrain = strain_increment_of(e)
                end if
-               call stress_linear(dstrain, youngs_modulus, strain_factor, volume0, stress(p), volume_ratio(p), sb(i), svb(i))
+               call stress_linear(dstrain, youngs_modulus, strain_factor, volume0, stress(p), volume_ratio(p), &
+                                  sb(i), svb(i))
+               jb(i) = volume_ratio(p)
+            else if (iand(shares, share_stress) /= 0) then ! (an initial mapping: the stress as it is)
+               svb(i) = stress(p)*volume_ratio(p)*volume0
+            end if
+            if (relocates) then ! the new cell, for P2G at the new position
+               call locate_cell(x(p), inv_dx, elements, elements_bits, cb(i), xib(i))
+               cell(p) = cb(i)
+            else                ! the shares go to the start-of-step cell
+               cb(i) = e
+               if (moves) xib(i) = xi
+            end if
+            if (moves .or. relocates) vpb(i) = v(p)
+         end do
+         else if (plastic) then
+         do i = 1, n
+            p = b0 + i - 1
+            e = cell(p)
+            ! G2P with the start-of-step shape functions (the PIC/FLIP blend)
+            if (moves) then
+               xi = x(p)*inv_dx - (e - 1)
+               vgrid = (1.0_dp - xi)*velocity(e - 1) + xi*velocity(e)
+               v(p) = flip_fraction*(v(p) + dt*((1.0_dp - xi)*acceleration(e - 1) + xi*acceleration(e))) + &
+                      (1.0_dp - flip_fraction)*vgrid
+               dxp = dt*vgrid
+               x(p) = x(p) + dxp
+               db(i) = x(p) - x0(p)
+               kb(i) = half_m*v(p)*v(p)
+               mb(i, slot) = abs(dxp)*inv_dx
+            end if
+            if (stresses) then ! d eps = dt sum dN v_I over the start-of-step cell
+               if (moves) then
+                  dstrain = strain_increment(velocity(e - 1), velocity(e), dt, inv_dx)
+               else
+                  dstrain = strain_increment_of(e)
+               end if
+               stress(p) = stress(p) + youngs_modulus*dstrain
+               ! d gamma, zero in an elastic step: written without a branch, so that a loop over particles
+               ! vectorises; an elastic step then subtracts and adds zeros, which leaves the hencky bits
+               increment = max(abs(stress(p)) - (yield_stress + hardening_modulus*hardening(p)), 0.0_dp)/ &
+                           (youngs_modulus + hardening_modulus)
+               stress(p) = stress(p) - sign(youngs_modulus*increment, stress(p))
+               plastic_strain(p) = plastic_strain(p) + sign(increment, stress(p))
+               hardening(p) = hardening(p) + increment
+               volume_ratio(p) = volume_ratio(p)*(1.0_dp + dstrain)
+               sb(i) = stress(p)*stress(p)*volume_ratio(p)*strain_factor
+               svb(i) = stress(p)*volume_ratio(p)*volume0
+               wb(i) = (yield_stress + 0.5_dp*hardening_modulus*hardening(p))*hardening(p)*volume0
                jb(i) = volume_ratio(p)
             else if (iand(shares, share_stress) /= 0) then ! (an initial mapping: the stress as it is)
                svb(i) = stress(p)*volume_ratio(p)*volume0
@@ -8749,7 +10426,8 @@ contains
                else
                   dstrain = strain_increment_of(e)
                end if
-               call stress_hencky(dstrain, youngs_modulus, strain_factor, volume0, stress(p), volume_ratio(p), sb(i), svb(i))
+               call stress_hencky(dstrain, youngs_modulus, strain_factor, volume0, stress(p), volume_ratio(p), &
+                                  sb(i), svb(i))
                jb(i) = volume_ratio(p)
             else if (iand(shares, share_stress) /= 0) then ! (an initial mapping: the stress as it is)
                svb(i) = stress(p)*volume_ratio(p)*volume0
@@ -8803,11 +10481,19 @@ contains
             lane_r = mod(n, lanes)
             if (lane_r > 0) min_j(1:lane_r) = min(min_j(1:lane_r), jb(n - lane_r + 1:n))
          end if
+         if (plastic) then
+            do lane_i = 1, n - lanes + 1, lanes
+               work = work + wb(lane_i:lane_i + lanes - 1)
+            end do
+            lane_r = mod(n, lanes)
+            if (lane_r > 0) work(1:lane_r) = work(1:lane_r) + wb(n - lane_r + 1:n)
+         end if
          if (relocates) call find_outside(n, b0, cb, outside)
          call accumulate_block(k, n, cb, xib, vpb, svb, m, lo, hi, shares, run, mass_left, mass_right, momentum_left, &
                                momentum_right, stress_volume, seg)
       end do
-      call close_segment(k, shares, m, run, [lane_total(displacement), lane_total(kinetic), lane_total(strain)], &
+      call close_segment(k, shares, m, run, [lane_total(displacement), lane_total(kinetic), lane_total(strain), &
+                         lane_total(work)], &
                          minval(min_j), largest%value, furthest_particle(largest, mb), outside, mass_left, mass_right, &
                          momentum_left, momentum_right, stress_volume, seg)
    end subroutine blend_usf_stress_segment
@@ -8816,7 +10502,7 @@ contains
    subroutine blend_usl_segment(k, seg, x, x0, v, stress, volume_ratio, cell, acceleration, velocity, &
                                 strain_increment_of, mass_left, mass_right, momentum_left, momentum_right, &
                                 stress_volume, constants, carry, mass_of, modulus_of, forces, gradient, force_left, &
-                                force_right)
+                                force_right, plastic_strain, hardening, yield_of, hardening_of)
       integer, parameter :: kernel = pass_usl
       logical, parameter :: moves = pass_moves(kernel), stresses = pass_stresses(kernel), relocates = pass_relocates(kernel)
       integer, parameter :: shares = pass_shares(kernel)
@@ -8835,9 +10521,15 @@ contains
       !> the forces
       real(dp), intent(in), contiguous, optional :: mass_of(:), modulus_of(:), forces(:)
       real(dp), intent(inout), contiguous, optional :: gradient(:), force_left(:), force_right(:)
+      !> the elastoplastic law's state (plastic strain, hardening variable) and, `material`, each particle's
+      !> yield stress and hardening modulus (absent for the other laws)
+      real(dp), intent(inout), contiguous, optional :: plastic_strain(:), hardening(:)
+      real(dp), intent(in), contiguous, optional :: yield_of(:), hardening_of(:)
       integer :: p, e, i, n, b0, first, last, lo, hi, outside, ahead, elements
       real(dp) :: half_m, strain_factor, dstrain, inv_dx, dt, youngs_modulus, m, volume0
-      logical :: linear
+      logical :: linear, plastic
+      ! the elastoplastic law's constants and the block's plastic work, summed in lanes
+      real(dp) :: yield_stress, hardening_modulus, increment, wb(block_size), work(lanes)
       type(largest_move_t) :: largest
       real(dp) :: displacement(lanes), kinetic(lanes), strain(lanes), min_j(lanes)
       integer :: cb(block_size)
@@ -8859,6 +10551,10 @@ contains
       dt = constants%dt
       youngs_modulus = constants%youngs_modulus
       linear = constants%linear
+      plastic = constants%plastic
+      yield_stress = constants%yield_stress
+      hardening_modulus = constants%hardening_modulus
+      work = 0
       m = constants%mass
       volume0 = constants%volume0
       call open_segment(k, shares, seg, mass_left, mass_right, momentum_left, momentum_right, stress_volume, first, last, &
@@ -8878,6 +10574,7 @@ contains
             if (kernel == pass_usf_move .or. kernel == pass_musl_remap) call prefetch_block(ahead, cell, x, x0, v)
             if (kernel == pass_usf_stress) call prefetch_block(ahead, cell, stress, volume_ratio)
             if (kernel == pass_musl_stress) call prefetch_block(ahead, cell, x, v, stress, volume_ratio)
+            if (stresses .and. plastic) call prefetch_block(ahead, cell, plastic_strain, hardening)
             if (moves) then
                call prefetch_nodes(cell(b0), cell(b0 + n - 1), acceleration, velocity)
             else
@@ -8906,7 +10603,55 @@ contains
                else
                   dstrain = strain_increment_of(e)
                end if
-               call stress_linear(dstrain, youngs_modulus, strain_factor, volume0, stress(p), volume_ratio(p), sb(i), svb(i))
+               call stress_linear(dstrain, youngs_modulus, strain_factor, volume0, stress(p), volume_ratio(p), &
+                                  sb(i), svb(i))
+               jb(i) = volume_ratio(p)
+            else if (iand(shares, share_stress) /= 0) then ! (an initial mapping: the stress as it is)
+               svb(i) = stress(p)*volume_ratio(p)*volume0
+            end if
+            if (relocates) then ! the new cell, for P2G at the new position
+               call locate_cell(x(p), inv_dx, elements, elements_bits, cb(i), xib(i))
+               cell(p) = cb(i)
+            else                ! the shares go to the start-of-step cell
+               cb(i) = e
+               if (moves) xib(i) = xi
+            end if
+            if (moves .or. relocates) vpb(i) = v(p)
+         end do
+         else if (plastic) then
+         do i = 1, n
+            p = b0 + i - 1
+            e = cell(p)
+            ! G2P with the start-of-step shape functions (the PIC/FLIP blend)
+            if (moves) then
+               xi = x(p)*inv_dx - (e - 1)
+               vgrid = (1.0_dp - xi)*velocity(e - 1) + xi*velocity(e)
+               v(p) = flip_fraction*(v(p) + dt*((1.0_dp - xi)*acceleration(e - 1) + xi*acceleration(e))) + &
+                      (1.0_dp - flip_fraction)*vgrid
+               dxp = dt*vgrid
+               x(p) = x(p) + dxp
+               db(i) = x(p) - x0(p)
+               kb(i) = half_m*v(p)*v(p)
+               mb(i, slot) = abs(dxp)*inv_dx
+            end if
+            if (stresses) then ! d eps = dt sum dN v_I over the start-of-step cell
+               if (moves) then
+                  dstrain = strain_increment(velocity(e - 1), velocity(e), dt, inv_dx)
+               else
+                  dstrain = strain_increment_of(e)
+               end if
+               stress(p) = stress(p) + youngs_modulus*dstrain
+               ! d gamma, zero in an elastic step: written without a branch, so that a loop over particles
+               ! vectorises; an elastic step then subtracts and adds zeros, which leaves the hencky bits
+               increment = max(abs(stress(p)) - (yield_stress + hardening_modulus*hardening(p)), 0.0_dp)/ &
+                           (youngs_modulus + hardening_modulus)
+               stress(p) = stress(p) - sign(youngs_modulus*increment, stress(p))
+               plastic_strain(p) = plastic_strain(p) + sign(increment, stress(p))
+               hardening(p) = hardening(p) + increment
+               volume_ratio(p) = volume_ratio(p)*(1.0_dp + dstrain)
+               sb(i) = stress(p)*stress(p)*volume_ratio(p)*strain_factor
+               svb(i) = stress(p)*volume_ratio(p)*volume0
+               wb(i) = (yield_stress + 0.5_dp*hardening_modulus*hardening(p))*hardening(p)*volume0
                jb(i) = volume_ratio(p)
             else if (iand(shares, share_stress) /= 0) then ! (an initial mapping: the stress as it is)
                svb(i) = stress(p)*volume_ratio(p)*volume0
@@ -8942,7 +10687,8 @@ contains
                else
                   dstrain = strain_increment_of(e)
                end if
-               call stress_hencky(dstrain, youngs_modulus, strain_factor, volume0, stress(p), volume_ratio(p), sb(i), svb(i))
+               call stress_hencky(dstrain, youngs_modulus, strain_factor, volume0, stress(p), volume_ratio(p), &
+                                  sb(i), svb(i))
                jb(i) = volume_ratio(p)
             else if (iand(shares, share_stress) /= 0) then ! (an initial mapping: the stress as it is)
                svb(i) = stress(p)*volume_ratio(p)*volume0
@@ -8996,11 +10742,19 @@ contains
             lane_r = mod(n, lanes)
             if (lane_r > 0) min_j(1:lane_r) = min(min_j(1:lane_r), jb(n - lane_r + 1:n))
          end if
+         if (plastic) then
+            do lane_i = 1, n - lanes + 1, lanes
+               work = work + wb(lane_i:lane_i + lanes - 1)
+            end do
+            lane_r = mod(n, lanes)
+            if (lane_r > 0) work(1:lane_r) = work(1:lane_r) + wb(n - lane_r + 1:n)
+         end if
          if (relocates) call find_outside(n, b0, cb, outside)
          call accumulate_block(k, n, cb, xib, vpb, svb, m, lo, hi, shares, run, mass_left, mass_right, momentum_left, &
                                momentum_right, stress_volume, seg)
       end do
-      call close_segment(k, shares, m, run, [lane_total(displacement), lane_total(kinetic), lane_total(strain)], &
+      call close_segment(k, shares, m, run, [lane_total(displacement), lane_total(kinetic), lane_total(strain), &
+                         lane_total(work)], &
                          minval(min_j), largest%value, furthest_particle(largest, mb), outside, mass_left, mass_right, &
                          momentum_left, momentum_right, stress_volume, seg)
    end subroutine blend_usl_segment
@@ -9009,7 +10763,7 @@ contains
    subroutine blend_musl_remap_segment(k, seg, x, x0, v, stress, volume_ratio, cell, acceleration, velocity, &
                                        strain_increment_of, mass_left, mass_right, momentum_left, momentum_right, &
                                        stress_volume, constants, carry, mass_of, modulus_of, forces, gradient, force_left, &
-                                       force_right)
+                                       force_right, plastic_strain, hardening, yield_of, hardening_of)
       integer, parameter :: kernel = pass_musl_remap
       logical, parameter :: moves = pass_moves(kernel), stresses = pass_stresses(kernel), relocates = pass_relocates(kernel)
       integer, parameter :: shares = pass_shares(kernel)
@@ -9028,9 +10782,13 @@ contains
       !> the forces
       real(dp), intent(in), contiguous, optional :: mass_of(:), modulus_of(:), forces(:)
       real(dp), intent(inout), contiguous, optional :: gradient(:), force_left(:), force_right(:)
+      !> the elastoplastic law's state (plastic strain, hardening variable) and, `material`, each particle's
+      !> yield stress and hardening modulus (absent for the other laws)
+      real(dp), intent(inout), contiguous, optional :: plastic_strain(:), hardening(:)
+      real(dp), intent(in), contiguous, optional :: yield_of(:), hardening_of(:)
       integer :: p, e, i, n, b0, first, last, lo, hi, outside, ahead, elements
       real(dp) :: half_m, strain_factor, dstrain, inv_dx, dt, youngs_modulus, m, volume0
-      logical :: linear
+      logical :: linear, plastic
       type(largest_move_t) :: largest
       real(dp) :: displacement(lanes), kinetic(lanes), strain(lanes), min_j(lanes)
       integer :: cb(block_size)
@@ -9052,6 +10810,7 @@ contains
       dt = constants%dt
       youngs_modulus = constants%youngs_modulus
       linear = constants%linear
+      plastic = constants%plastic
       m = constants%mass
       volume0 = constants%volume0
       call open_segment(k, shares, seg, mass_left, mass_right, momentum_left, momentum_right, stress_volume, first, last, &
@@ -9071,6 +10830,7 @@ contains
             if (kernel == pass_usf_move .or. kernel == pass_musl_remap) call prefetch_block(ahead, cell, x, x0, v)
             if (kernel == pass_usf_stress) call prefetch_block(ahead, cell, stress, volume_ratio)
             if (kernel == pass_musl_stress) call prefetch_block(ahead, cell, x, v, stress, volume_ratio)
+            if (stresses .and. plastic) call prefetch_block(ahead, cell, plastic_strain, hardening)
             if (moves) then
                call prefetch_nodes(cell(b0), cell(b0 + n - 1), acceleration, velocity)
             else
@@ -9098,7 +10858,8 @@ contains
                else
                   dstrain = strain_increment_of(e)
                end if
-               call stress_hencky(dstrain, youngs_modulus, strain_factor, volume0, stress(p), volume_ratio(p), sb(i), svb(i))
+               call stress_hencky(dstrain, youngs_modulus, strain_factor, volume0, stress(p), volume_ratio(p), &
+                                  sb(i), svb(i))
                jb(i) = volume_ratio(p)
             else if (iand(shares, share_stress) /= 0) then ! (an initial mapping: the stress as it is)
                svb(i) = stress(p)*volume_ratio(p)*volume0
@@ -9155,7 +10916,8 @@ contains
          call accumulate_block(k, n, cb, xib, vpb, svb, m, lo, hi, shares, run, mass_left, mass_right, momentum_left, &
                                momentum_right, stress_volume, seg)
       end do
-      call close_segment(k, shares, m, run, [lane_total(displacement), lane_total(kinetic), lane_total(strain)], &
+      call close_segment(k, shares, m, run, [lane_total(displacement), lane_total(kinetic), lane_total(strain), &
+                         0.0_dp], &
                          minval(min_j), largest%value, furthest_particle(largest, mb), outside, mass_left, mass_right, &
                          momentum_left, momentum_right, stress_volume, seg)
    end subroutine blend_musl_remap_segment
@@ -9164,7 +10926,7 @@ contains
    subroutine blend_musl_stress_segment(k, seg, x, x0, v, stress, volume_ratio, cell, acceleration, velocity, &
                                         strain_increment_of, mass_left, mass_right, momentum_left, momentum_right, &
                                         stress_volume, constants, carry, mass_of, modulus_of, forces, gradient, force_left, &
-                                        force_right)
+                                        force_right, plastic_strain, hardening, yield_of, hardening_of)
       integer, parameter :: kernel = pass_musl_stress
       logical, parameter :: moves = pass_moves(kernel), stresses = pass_stresses(kernel), relocates = pass_relocates(kernel)
       integer, parameter :: shares = pass_shares(kernel)
@@ -9183,9 +10945,15 @@ contains
       !> the forces
       real(dp), intent(in), contiguous, optional :: mass_of(:), modulus_of(:), forces(:)
       real(dp), intent(inout), contiguous, optional :: gradient(:), force_left(:), force_right(:)
+      !> the elastoplastic law's state (plastic strain, hardening variable) and, `material`, each particle's
+      !> yield stress and hardening modulus (absent for the other laws)
+      real(dp), intent(inout), contiguous, optional :: plastic_strain(:), hardening(:)
+      real(dp), intent(in), contiguous, optional :: yield_of(:), hardening_of(:)
       integer :: p, e, i, n, b0, first, last, lo, hi, outside, ahead, elements
       real(dp) :: half_m, strain_factor, dstrain, inv_dx, dt, youngs_modulus, m, volume0
-      logical :: linear
+      logical :: linear, plastic
+      ! the elastoplastic law's constants and the block's plastic work, summed in lanes
+      real(dp) :: yield_stress, hardening_modulus, increment, wb(block_size), work(lanes)
       type(largest_move_t) :: largest
       real(dp) :: displacement(lanes), kinetic(lanes), strain(lanes), min_j(lanes)
       integer :: cb(block_size)
@@ -9207,6 +10975,10 @@ contains
       dt = constants%dt
       youngs_modulus = constants%youngs_modulus
       linear = constants%linear
+      plastic = constants%plastic
+      yield_stress = constants%yield_stress
+      hardening_modulus = constants%hardening_modulus
+      work = 0
       m = constants%mass
       volume0 = constants%volume0
       call open_segment(k, shares, seg, mass_left, mass_right, momentum_left, momentum_right, stress_volume, first, last, &
@@ -9226,6 +10998,7 @@ contains
             if (kernel == pass_usf_move .or. kernel == pass_musl_remap) call prefetch_block(ahead, cell, x, x0, v)
             if (kernel == pass_usf_stress) call prefetch_block(ahead, cell, stress, volume_ratio)
             if (kernel == pass_musl_stress) call prefetch_block(ahead, cell, x, v, stress, volume_ratio)
+            if (stresses .and. plastic) call prefetch_block(ahead, cell, plastic_strain, hardening)
             if (moves) then
                call prefetch_nodes(cell(b0), cell(b0 + n - 1), acceleration, velocity)
             else
@@ -9254,7 +11027,55 @@ contains
                else
                   dstrain = strain_increment_of(e)
                end if
-               call stress_linear(dstrain, youngs_modulus, strain_factor, volume0, stress(p), volume_ratio(p), sb(i), svb(i))
+               call stress_linear(dstrain, youngs_modulus, strain_factor, volume0, stress(p), volume_ratio(p), &
+                                  sb(i), svb(i))
+               jb(i) = volume_ratio(p)
+            else if (iand(shares, share_stress) /= 0) then ! (an initial mapping: the stress as it is)
+               svb(i) = stress(p)*volume_ratio(p)*volume0
+            end if
+            if (relocates) then ! the new cell, for P2G at the new position
+               call locate_cell(x(p), inv_dx, elements, elements_bits, cb(i), xib(i))
+               cell(p) = cb(i)
+            else                ! the shares go to the start-of-step cell
+               cb(i) = e
+               if (moves) xib(i) = xi
+            end if
+            if (moves .or. relocates) vpb(i) = v(p)
+         end do
+         else if (plastic) then
+         do i = 1, n
+            p = b0 + i - 1
+            e = cell(p)
+            ! G2P with the start-of-step shape functions (the PIC/FLIP blend)
+            if (moves) then
+               xi = x(p)*inv_dx - (e - 1)
+               vgrid = (1.0_dp - xi)*velocity(e - 1) + xi*velocity(e)
+               v(p) = flip_fraction*(v(p) + dt*((1.0_dp - xi)*acceleration(e - 1) + xi*acceleration(e))) + &
+                      (1.0_dp - flip_fraction)*vgrid
+               dxp = dt*vgrid
+               x(p) = x(p) + dxp
+               db(i) = x(p) - x0(p)
+               kb(i) = half_m*v(p)*v(p)
+               mb(i, slot) = abs(dxp)*inv_dx
+            end if
+            if (stresses) then ! d eps = dt sum dN v_I over the start-of-step cell
+               if (moves) then
+                  dstrain = strain_increment(velocity(e - 1), velocity(e), dt, inv_dx)
+               else
+                  dstrain = strain_increment_of(e)
+               end if
+               stress(p) = stress(p) + youngs_modulus*dstrain
+               ! d gamma, zero in an elastic step: written without a branch, so that a loop over particles
+               ! vectorises; an elastic step then subtracts and adds zeros, which leaves the hencky bits
+               increment = max(abs(stress(p)) - (yield_stress + hardening_modulus*hardening(p)), 0.0_dp)/ &
+                           (youngs_modulus + hardening_modulus)
+               stress(p) = stress(p) - sign(youngs_modulus*increment, stress(p))
+               plastic_strain(p) = plastic_strain(p) + sign(increment, stress(p))
+               hardening(p) = hardening(p) + increment
+               volume_ratio(p) = volume_ratio(p)*(1.0_dp + dstrain)
+               sb(i) = stress(p)*stress(p)*volume_ratio(p)*strain_factor
+               svb(i) = stress(p)*volume_ratio(p)*volume0
+               wb(i) = (yield_stress + 0.5_dp*hardening_modulus*hardening(p))*hardening(p)*volume0
                jb(i) = volume_ratio(p)
             else if (iand(shares, share_stress) /= 0) then ! (an initial mapping: the stress as it is)
                svb(i) = stress(p)*volume_ratio(p)*volume0
@@ -9290,7 +11111,8 @@ contains
                else
                   dstrain = strain_increment_of(e)
                end if
-               call stress_hencky(dstrain, youngs_modulus, strain_factor, volume0, stress(p), volume_ratio(p), sb(i), svb(i))
+               call stress_hencky(dstrain, youngs_modulus, strain_factor, volume0, stress(p), volume_ratio(p), &
+                                  sb(i), svb(i))
                jb(i) = volume_ratio(p)
             else if (iand(shares, share_stress) /= 0) then ! (an initial mapping: the stress as it is)
                svb(i) = stress(p)*volume_ratio(p)*volume0
@@ -9344,11 +11166,19 @@ contains
             lane_r = mod(n, lanes)
             if (lane_r > 0) min_j(1:lane_r) = min(min_j(1:lane_r), jb(n - lane_r + 1:n))
          end if
+         if (plastic) then
+            do lane_i = 1, n - lanes + 1, lanes
+               work = work + wb(lane_i:lane_i + lanes - 1)
+            end do
+            lane_r = mod(n, lanes)
+            if (lane_r > 0) work(1:lane_r) = work(1:lane_r) + wb(n - lane_r + 1:n)
+         end if
          if (relocates) call find_outside(n, b0, cb, outside)
          call accumulate_block(k, n, cb, xib, vpb, svb, m, lo, hi, shares, run, mass_left, mass_right, momentum_left, &
                                momentum_right, stress_volume, seg)
       end do
-      call close_segment(k, shares, m, run, [lane_total(displacement), lane_total(kinetic), lane_total(strain)], &
+      call close_segment(k, shares, m, run, [lane_total(displacement), lane_total(kinetic), lane_total(strain), &
+                         lane_total(work)], &
                          minval(min_j), largest%value, furthest_particle(largest, mb), outside, mass_left, mass_right, &
                          momentum_left, momentum_right, stress_volume, seg)
    end subroutine blend_musl_stress_segment
@@ -9357,7 +11187,7 @@ contains
    subroutine blend_map_segment(k, seg, x, x0, v, stress, volume_ratio, cell, acceleration, velocity, &
                                 strain_increment_of, mass_left, mass_right, momentum_left, momentum_right, &
                                 stress_volume, constants, carry, mass_of, modulus_of, forces, gradient, force_left, &
-                                force_right)
+                                force_right, plastic_strain, hardening, yield_of, hardening_of)
       integer, parameter :: kernel = pass_map
       logical, parameter :: moves = pass_moves(kernel), stresses = pass_stresses(kernel), relocates = pass_relocates(kernel)
       integer, parameter :: shares = pass_shares(kernel)
@@ -9376,9 +11206,13 @@ contains
       !> the forces
       real(dp), intent(in), contiguous, optional :: mass_of(:), modulus_of(:), forces(:)
       real(dp), intent(inout), contiguous, optional :: gradient(:), force_left(:), force_right(:)
+      !> the elastoplastic law's state (plastic strain, hardening variable) and, `material`, each particle's
+      !> yield stress and hardening modulus (absent for the other laws)
+      real(dp), intent(inout), contiguous, optional :: plastic_strain(:), hardening(:)
+      real(dp), intent(in), contiguous, optional :: yield_of(:), hardening_of(:)
       integer :: p, e, i, n, b0, first, last, lo, hi, outside, ahead, elements
       real(dp) :: half_m, strain_factor, dstrain, inv_dx, dt, youngs_modulus, m, volume0
-      logical :: linear
+      logical :: linear, plastic
       type(largest_move_t) :: largest
       real(dp) :: displacement(lanes), kinetic(lanes), strain(lanes), min_j(lanes)
       integer :: cb(block_size)
@@ -9400,6 +11234,7 @@ contains
       dt = constants%dt
       youngs_modulus = constants%youngs_modulus
       linear = constants%linear
+      plastic = constants%plastic
       m = constants%mass
       volume0 = constants%volume0
       call open_segment(k, shares, seg, mass_left, mass_right, momentum_left, momentum_right, stress_volume, first, last, &
@@ -9419,6 +11254,7 @@ contains
             if (kernel == pass_usf_move .or. kernel == pass_musl_remap) call prefetch_block(ahead, cell, x, x0, v)
             if (kernel == pass_usf_stress) call prefetch_block(ahead, cell, stress, volume_ratio)
             if (kernel == pass_musl_stress) call prefetch_block(ahead, cell, x, v, stress, volume_ratio)
+            if (stresses .and. plastic) call prefetch_block(ahead, cell, plastic_strain, hardening)
             if (moves) then
                call prefetch_nodes(cell(b0), cell(b0 + n - 1), acceleration, velocity)
             else
@@ -9446,7 +11282,8 @@ contains
                else
                   dstrain = strain_increment_of(e)
                end if
-               call stress_hencky(dstrain, youngs_modulus, strain_factor, volume0, stress(p), volume_ratio(p), sb(i), svb(i))
+               call stress_hencky(dstrain, youngs_modulus, strain_factor, volume0, stress(p), volume_ratio(p), &
+                                  sb(i), svb(i))
                jb(i) = volume_ratio(p)
             else if (iand(shares, share_stress) /= 0) then ! (an initial mapping: the stress as it is)
                svb(i) = stress(p)*volume_ratio(p)*volume0
@@ -9503,7 +11340,8 @@ contains
          call accumulate_block(k, n, cb, xib, vpb, svb, m, lo, hi, shares, run, mass_left, mass_right, momentum_left, &
                                momentum_right, stress_volume, seg)
       end do
-      call close_segment(k, shares, m, run, [lane_total(displacement), lane_total(kinetic), lane_total(strain)], &
+      call close_segment(k, shares, m, run, [lane_total(displacement), lane_total(kinetic), lane_total(strain), &
+                         0.0_dp], &
                          minval(min_j), largest%value, furthest_particle(largest, mb), outside, mass_left, mass_right, &
                          momentum_left, momentum_right, stress_volume, seg)
    end subroutine blend_map_segment
@@ -9512,7 +11350,7 @@ contains
    subroutine blend_map_stress_segment(k, seg, x, x0, v, stress, volume_ratio, cell, acceleration, velocity, &
                                        strain_increment_of, mass_left, mass_right, momentum_left, momentum_right, &
                                        stress_volume, constants, carry, mass_of, modulus_of, forces, gradient, force_left, &
-                                       force_right)
+                                       force_right, plastic_strain, hardening, yield_of, hardening_of)
       integer, parameter :: kernel = pass_map_stress
       logical, parameter :: moves = pass_moves(kernel), stresses = pass_stresses(kernel), relocates = pass_relocates(kernel)
       integer, parameter :: shares = pass_shares(kernel)
@@ -9531,9 +11369,13 @@ contains
       !> the forces
       real(dp), intent(in), contiguous, optional :: mass_of(:), modulus_of(:), forces(:)
       real(dp), intent(inout), contiguous, optional :: gradient(:), force_left(:), force_right(:)
+      !> the elastoplastic law's state (plastic strain, hardening variable) and, `material`, each particle's
+      !> yield stress and hardening modulus (absent for the other laws)
+      real(dp), intent(inout), contiguous, optional :: plastic_strain(:), hardening(:)
+      real(dp), intent(in), contiguous, optional :: yield_of(:), hardening_of(:)
       integer :: p, e, i, n, b0, first, last, lo, hi, outside, ahead, elements
       real(dp) :: half_m, strain_factor, dstrain, inv_dx, dt, youngs_modulus, m, volume0
-      logical :: linear
+      logical :: linear, plastic
       type(largest_move_t) :: largest
       real(dp) :: displacement(lanes), kinetic(lanes), strain(lanes), min_j(lanes)
       integer :: cb(block_size)
@@ -9555,6 +11397,7 @@ contains
       dt = constants%dt
       youngs_modulus = constants%youngs_modulus
       linear = constants%linear
+      plastic = constants%plastic
       m = constants%mass
       volume0 = constants%volume0
       call open_segment(k, shares, seg, mass_left, mass_right, momentum_left, momentum_right, stress_volume, first, last, &
@@ -9574,6 +11417,7 @@ contains
             if (kernel == pass_usf_move .or. kernel == pass_musl_remap) call prefetch_block(ahead, cell, x, x0, v)
             if (kernel == pass_usf_stress) call prefetch_block(ahead, cell, stress, volume_ratio)
             if (kernel == pass_musl_stress) call prefetch_block(ahead, cell, x, v, stress, volume_ratio)
+            if (stresses .and. plastic) call prefetch_block(ahead, cell, plastic_strain, hardening)
             if (moves) then
                call prefetch_nodes(cell(b0), cell(b0 + n - 1), acceleration, velocity)
             else
@@ -9601,7 +11445,8 @@ contains
                else
                   dstrain = strain_increment_of(e)
                end if
-               call stress_hencky(dstrain, youngs_modulus, strain_factor, volume0, stress(p), volume_ratio(p), sb(i), svb(i))
+               call stress_hencky(dstrain, youngs_modulus, strain_factor, volume0, stress(p), volume_ratio(p), &
+                                  sb(i), svb(i))
                jb(i) = volume_ratio(p)
             else if (iand(shares, share_stress) /= 0) then ! (an initial mapping: the stress as it is)
                svb(i) = stress(p)*volume_ratio(p)*volume0
@@ -9658,7 +11503,8 @@ contains
          call accumulate_block(k, n, cb, xib, vpb, svb, m, lo, hi, shares, run, mass_left, mass_right, momentum_left, &
                                momentum_right, stress_volume, seg)
       end do
-      call close_segment(k, shares, m, run, [lane_total(displacement), lane_total(kinetic), lane_total(strain)], &
+      call close_segment(k, shares, m, run, [lane_total(displacement), lane_total(kinetic), lane_total(strain), &
+                         0.0_dp], &
                          minval(min_j), largest%value, furthest_particle(largest, mb), outside, mass_left, mass_right, &
                          momentum_left, momentum_right, stress_volume, seg)
    end subroutine blend_map_stress_segment
@@ -9667,7 +11513,7 @@ contains
    subroutine apic_usf_move_segment(k, seg, x, x0, v, stress, volume_ratio, cell, acceleration, velocity, &
                                     strain_increment_of, mass_left, mass_right, momentum_left, momentum_right, &
                                     stress_volume, constants, carry, mass_of, modulus_of, forces, gradient, force_left, &
-                                    force_right)
+                                    force_right, plastic_strain, hardening, yield_of, hardening_of)
       integer, parameter :: kernel = pass_usf_move
       logical, parameter :: moves = pass_moves(kernel), stresses = pass_stresses(kernel), relocates = pass_relocates(kernel)
       integer, parameter :: shares = pass_shares(kernel)
@@ -9686,9 +11532,13 @@ contains
       !> the forces
       real(dp), intent(in), contiguous, optional :: mass_of(:), modulus_of(:), forces(:)
       real(dp), intent(inout), contiguous, optional :: gradient(:), force_left(:), force_right(:)
+      !> the elastoplastic law's state (plastic strain, hardening variable) and, `material`, each particle's
+      !> yield stress and hardening modulus (absent for the other laws)
+      real(dp), intent(inout), contiguous, optional :: plastic_strain(:), hardening(:)
+      real(dp), intent(in), contiguous, optional :: yield_of(:), hardening_of(:)
       integer :: p, e, i, n, b0, first, last, lo, hi, outside, ahead, elements
       real(dp) :: half_m, strain_factor, dstrain, inv_dx, dt, youngs_modulus, m, volume0
-      logical :: linear
+      logical :: linear, plastic
       type(largest_move_t) :: largest
       real(dp) :: displacement(lanes), kinetic(lanes), strain(lanes), min_j(lanes)
       integer :: cb(block_size)
@@ -9710,6 +11560,7 @@ contains
       dt = constants%dt
       youngs_modulus = constants%youngs_modulus
       linear = constants%linear
+      plastic = constants%plastic
       m = constants%mass
       volume0 = constants%volume0
       call open_segment(k, shares, seg, mass_left, mass_right, momentum_left, momentum_right, stress_volume, first, last, &
@@ -9729,6 +11580,7 @@ contains
             if (kernel == pass_usf_move .or. kernel == pass_musl_remap) call prefetch_block(ahead, cell, x, x0, v)
             if (kernel == pass_usf_stress) call prefetch_block(ahead, cell, stress, volume_ratio)
             if (kernel == pass_musl_stress) call prefetch_block(ahead, cell, x, v, stress, volume_ratio)
+            if (stresses .and. plastic) call prefetch_block(ahead, cell, plastic_strain, hardening)
             if (moves) then
                call prefetch_nodes(cell(b0), cell(b0 + n - 1), acceleration, velocity)
             else
@@ -9757,7 +11609,8 @@ contains
                else
                   dstrain = strain_increment_of(e)
                end if
-               call stress_hencky(dstrain, youngs_modulus, strain_factor, volume0, stress(p), volume_ratio(p), sb(i), svb(i))
+               call stress_hencky(dstrain, youngs_modulus, strain_factor, volume0, stress(p), volume_ratio(p), &
+                                  sb(i), svb(i))
                jb(i) = volume_ratio(p)
             else if (iand(shares, share_stress) /= 0) then ! (an initial mapping: the stress as it is)
                svb(i) = stress(p)*volume_ratio(p)*volume0
@@ -9826,7 +11679,8 @@ contains
          call accumulate_block(k, n, cb, xib, vpb, svb, m, lo, hi, shares, run, mass_left, mass_right, momentum_left, &
                                momentum_right, stress_volume, seg, xvb)
       end do
-      call close_segment(k, shares, m, run, [lane_total(displacement), lane_total(kinetic), lane_total(strain)], &
+      call close_segment(k, shares, m, run, [lane_total(displacement), lane_total(kinetic), lane_total(strain), &
+                         0.0_dp], &
                          minval(min_j), largest%value, furthest_particle(largest, mb), outside, mass_left, mass_right, &
                          momentum_left, momentum_right, stress_volume, seg)
    end subroutine apic_usf_move_segment
@@ -9835,7 +11689,7 @@ contains
    subroutine apic_usf_stress_segment(k, seg, x, x0, v, stress, volume_ratio, cell, acceleration, velocity, &
                                       strain_increment_of, mass_left, mass_right, momentum_left, momentum_right, &
                                       stress_volume, constants, carry, mass_of, modulus_of, forces, gradient, force_left, &
-                                      force_right)
+                                      force_right, plastic_strain, hardening, yield_of, hardening_of)
       integer, parameter :: kernel = pass_usf_stress
       logical, parameter :: moves = pass_moves(kernel), stresses = pass_stresses(kernel), relocates = pass_relocates(kernel)
       integer, parameter :: shares = pass_shares(kernel)
@@ -9854,9 +11708,15 @@ contains
       !> the forces
       real(dp), intent(in), contiguous, optional :: mass_of(:), modulus_of(:), forces(:)
       real(dp), intent(inout), contiguous, optional :: gradient(:), force_left(:), force_right(:)
+      !> the elastoplastic law's state (plastic strain, hardening variable) and, `material`, each particle's
+      !> yield stress and hardening modulus (absent for the other laws)
+      real(dp), intent(inout), contiguous, optional :: plastic_strain(:), hardening(:)
+      real(dp), intent(in), contiguous, optional :: yield_of(:), hardening_of(:)
       integer :: p, e, i, n, b0, first, last, lo, hi, outside, ahead, elements
       real(dp) :: half_m, strain_factor, dstrain, inv_dx, dt, youngs_modulus, m, volume0
-      logical :: linear
+      logical :: linear, plastic
+      ! the elastoplastic law's constants and the block's plastic work, summed in lanes
+      real(dp) :: yield_stress, hardening_modulus, increment, wb(block_size), work(lanes)
       type(largest_move_t) :: largest
       real(dp) :: displacement(lanes), kinetic(lanes), strain(lanes), min_j(lanes)
       integer :: cb(block_size)
@@ -9878,6 +11738,10 @@ contains
       dt = constants%dt
       youngs_modulus = constants%youngs_modulus
       linear = constants%linear
+      plastic = constants%plastic
+      yield_stress = constants%yield_stress
+      hardening_modulus = constants%hardening_modulus
+      work = 0
       m = constants%mass
       volume0 = constants%volume0
       call open_segment(k, shares, seg, mass_left, mass_right, momentum_left, momentum_right, stress_volume, first, last, &
@@ -9897,6 +11761,7 @@ contains
             if (kernel == pass_usf_move .or. kernel == pass_musl_remap) call prefetch_block(ahead, cell, x, x0, v)
             if (kernel == pass_usf_stress) call prefetch_block(ahead, cell, stress, volume_ratio)
             if (kernel == pass_musl_stress) call prefetch_block(ahead, cell, x, v, stress, volume_ratio)
+            if (stresses .and. plastic) call prefetch_block(ahead, cell, plastic_strain, hardening)
             if (moves) then
                call prefetch_nodes(cell(b0), cell(b0 + n - 1), acceleration, velocity)
             else
@@ -9926,7 +11791,68 @@ contains
                else
                   dstrain = strain_increment_of(e)
                end if
-               call stress_linear(dstrain, youngs_modulus, strain_factor, volume0, stress(p), volume_ratio(p), sb(i), svb(i))
+               call stress_linear(dstrain, youngs_modulus, strain_factor, volume0, stress(p), volume_ratio(p), &
+                                  sb(i), svb(i))
+               jb(i) = volume_ratio(p)
+            else if (iand(shares, share_stress) /= 0) then ! (an initial mapping: the stress as it is)
+               svb(i) = stress(p)*volume_ratio(p)*volume0
+            end if
+            if (relocates) then ! the new cell, for P2G at the new position
+               call locate_cell(x(p), inv_dx, elements, elements_bits, cb(i), xib(i))
+               cell(p) = cb(i)
+            else                ! the shares go to the start-of-step cell
+               cb(i) = e
+               if (moves) xib(i) = xi
+            end if
+            if (moves .or. relocates) vpb(i) = v(p)
+            if (iand(shares, share_momentum) /= 0) then
+               ! node I gets N_I m (v_p + C_p (x_I - x_p)), x_I - x_p = -xi dx (left), (1 - xi) dx (right)
+               ! ([Jiang 2015]; C_p of this pass's G2P, or kept by the pass that made it): the right node's
+               ! m xi (v_p + C_p (1 - xi) dx), the left node's the particle's m v_p less that, so that
+               ! accumulate_block sums xv = xi (v_p + C_p (1 - xi) dx) in place of FLIP's xi v_p
+               if (moves) then
+                  cq = cp
+               else
+                  cq = gradient(p)
+               end if
+               xvb(i) = xib(i)*(v(p) + cq*dx*(1.0_dp - xib(i)))
+            end if
+         end do
+         else if (plastic) then
+         do i = 1, n
+            p = b0 + i - 1
+            e = cell(p)
+            ! G2P with the start-of-step shape functions (APIC)
+            if (moves) then
+               xi = x(p)*inv_dx - (e - 1)
+               vgrid = (1.0_dp - xi)*velocity(e - 1) + xi*velocity(e)
+               v(p) = vgrid
+               cp = (velocity(e) - velocity(e - 1))*inv_dx  ! C_p = sum_I v_I dN_Ip (the hat's gradients)
+               gradient(p) = cp
+               dxp = dt*vgrid
+               x(p) = x(p) + dxp
+               db(i) = x(p) - x0(p)
+               kb(i) = half_m*v(p)*v(p)
+               mb(i, slot) = abs(dxp)*inv_dx
+            end if
+            if (stresses) then ! d eps = dt sum dN v_I over the start-of-step cell
+               if (moves) then
+                  dstrain = strain_increment(velocity(e - 1), velocity(e), dt, inv_dx)
+               else
+                  dstrain = strain_increment_of(e)
+               end if
+               stress(p) = stress(p) + youngs_modulus*dstrain
+               ! d gamma, zero in an elastic step: written without a branch, so that a loop over particles
+               ! vectorises; an elastic step then subtracts and adds zeros, which leaves the hencky bits
+               increment = max(abs(stress(p)) - (yield_stress + hardening_modulus*hardening(p)), 0.0_dp)/ &
+                           (youngs_modulus + hardening_modulus)
+               stress(p) = stress(p) - sign(youngs_modulus*increment, stress(p))
+               plastic_strain(p) = plastic_strain(p) + sign(increment, stress(p))
+               hardening(p) = hardening(p) + increment
+               volume_ratio(p) = volume_ratio(p)*(1.0_dp + dstrain)
+               sb(i) = stress(p)*stress(p)*volume_ratio(p)*strain_factor
+               svb(i) = stress(p)*volume_ratio(p)*volume0
+               wb(i) = (yield_stress + 0.5_dp*hardening_modulus*hardening(p))*hardening(p)*volume0
                jb(i) = volume_ratio(p)
             else if (iand(shares, share_stress) /= 0) then ! (an initial mapping: the stress as it is)
                svb(i) = stress(p)*volume_ratio(p)*volume0
@@ -9975,7 +11901,8 @@ contains
                else
                   dstrain = strain_increment_of(e)
                end if
-               call stress_hencky(dstrain, youngs_modulus, strain_factor, volume0, stress(p), volume_ratio(p), sb(i), svb(i))
+               call stress_hencky(dstrain, youngs_modulus, strain_factor, volume0, stress(p), volume_ratio(p), &
+                                  sb(i), svb(i))
                jb(i) = volume_ratio(p)
             else if (iand(shares, share_stress) /= 0) then ! (an initial mapping: the stress as it is)
                svb(i) = stress(p)*volume_ratio(p)*volume0
@@ -10041,11 +11968,19 @@ contains
             lane_r = mod(n, lanes)
             if (lane_r > 0) min_j(1:lane_r) = min(min_j(1:lane_r), jb(n - lane_r + 1:n))
          end if
+         if (plastic) then
+            do lane_i = 1, n - lanes + 1, lanes
+               work = work + wb(lane_i:lane_i + lanes - 1)
+            end do
+            lane_r = mod(n, lanes)
+            if (lane_r > 0) work(1:lane_r) = work(1:lane_r) + wb(n - lane_r + 1:n)
+         end if
          if (relocates) call find_outside(n, b0, cb, outside)
          call accumulate_block(k, n, cb, xib, vpb, svb, m, lo, hi, shares, run, mass_left, mass_right, momentum_left, &
                                momentum_right, stress_volume, seg, xvb)
       end do
-      call close_segment(k, shares, m, run, [lane_total(displacement), lane_total(kinetic), lane_total(strain)], &
+      call close_segment(k, shares, m, run, [lane_total(displacement), lane_total(kinetic), lane_total(strain), &
+                         lane_total(work)], &
                          minval(min_j), largest%value, furthest_particle(largest, mb), outside, mass_left, mass_right, &
                          momentum_left, momentum_right, stress_volume, seg)
    end subroutine apic_usf_stress_segment
@@ -10054,7 +11989,7 @@ contains
    subroutine apic_usl_segment(k, seg, x, x0, v, stress, volume_ratio, cell, acceleration, velocity, &
                                strain_increment_of, mass_left, mass_right, momentum_left, momentum_right, &
                                stress_volume, constants, carry, mass_of, modulus_of, forces, gradient, force_left, &
-                               force_right)
+                               force_right, plastic_strain, hardening, yield_of, hardening_of)
       integer, parameter :: kernel = pass_usl
       logical, parameter :: moves = pass_moves(kernel), stresses = pass_stresses(kernel), relocates = pass_relocates(kernel)
       integer, parameter :: shares = pass_shares(kernel)
@@ -10073,9 +12008,15 @@ contains
       !> the forces
       real(dp), intent(in), contiguous, optional :: mass_of(:), modulus_of(:), forces(:)
       real(dp), intent(inout), contiguous, optional :: gradient(:), force_left(:), force_right(:)
+      !> the elastoplastic law's state (plastic strain, hardening variable) and, `material`, each particle's
+      !> yield stress and hardening modulus (absent for the other laws)
+      real(dp), intent(inout), contiguous, optional :: plastic_strain(:), hardening(:)
+      real(dp), intent(in), contiguous, optional :: yield_of(:), hardening_of(:)
       integer :: p, e, i, n, b0, first, last, lo, hi, outside, ahead, elements
       real(dp) :: half_m, strain_factor, dstrain, inv_dx, dt, youngs_modulus, m, volume0
-      logical :: linear
+      logical :: linear, plastic
+      ! the elastoplastic law's constants and the block's plastic work, summed in lanes
+      real(dp) :: yield_stress, hardening_modulus, increment, wb(block_size), work(lanes)
       type(largest_move_t) :: largest
       real(dp) :: displacement(lanes), kinetic(lanes), strain(lanes), min_j(lanes)
       integer :: cb(block_size)
@@ -10097,6 +12038,10 @@ contains
       dt = constants%dt
       youngs_modulus = constants%youngs_modulus
       linear = constants%linear
+      plastic = constants%plastic
+      yield_stress = constants%yield_stress
+      hardening_modulus = constants%hardening_modulus
+      work = 0
       m = constants%mass
       volume0 = constants%volume0
       call open_segment(k, shares, seg, mass_left, mass_right, momentum_left, momentum_right, stress_volume, first, last, &
@@ -10116,6 +12061,7 @@ contains
             if (kernel == pass_usf_move .or. kernel == pass_musl_remap) call prefetch_block(ahead, cell, x, x0, v)
             if (kernel == pass_usf_stress) call prefetch_block(ahead, cell, stress, volume_ratio)
             if (kernel == pass_musl_stress) call prefetch_block(ahead, cell, x, v, stress, volume_ratio)
+            if (stresses .and. plastic) call prefetch_block(ahead, cell, plastic_strain, hardening)
             if (moves) then
                call prefetch_nodes(cell(b0), cell(b0 + n - 1), acceleration, velocity)
             else
@@ -10145,7 +12091,68 @@ contains
                else
                   dstrain = strain_increment_of(e)
                end if
-               call stress_linear(dstrain, youngs_modulus, strain_factor, volume0, stress(p), volume_ratio(p), sb(i), svb(i))
+               call stress_linear(dstrain, youngs_modulus, strain_factor, volume0, stress(p), volume_ratio(p), &
+                                  sb(i), svb(i))
+               jb(i) = volume_ratio(p)
+            else if (iand(shares, share_stress) /= 0) then ! (an initial mapping: the stress as it is)
+               svb(i) = stress(p)*volume_ratio(p)*volume0
+            end if
+            if (relocates) then ! the new cell, for P2G at the new position
+               call locate_cell(x(p), inv_dx, elements, elements_bits, cb(i), xib(i))
+               cell(p) = cb(i)
+            else                ! the shares go to the start-of-step cell
+               cb(i) = e
+               if (moves) xib(i) = xi
+            end if
+            if (moves .or. relocates) vpb(i) = v(p)
+            if (iand(shares, share_momentum) /= 0) then
+               ! node I gets N_I m (v_p + C_p (x_I - x_p)), x_I - x_p = -xi dx (left), (1 - xi) dx (right)
+               ! ([Jiang 2015]; C_p of this pass's G2P, or kept by the pass that made it): the right node's
+               ! m xi (v_p + C_p (1 - xi) dx), the left node's the particle's m v_p less that, so that
+               ! accumulate_block sums xv = xi (v_p + C_p (1 - xi) dx) in place of FLIP's xi v_p
+               if (moves) then
+                  cq = cp
+               else
+                  cq = gradient(p)
+               end if
+               xvb(i) = xib(i)*(v(p) + cq*dx*(1.0_dp - xib(i)))
+            end if
+         end do
+         else if (plastic) then
+         do i = 1, n
+            p = b0 + i - 1
+            e = cell(p)
+            ! G2P with the start-of-step shape functions (APIC)
+            if (moves) then
+               xi = x(p)*inv_dx - (e - 1)
+               vgrid = (1.0_dp - xi)*velocity(e - 1) + xi*velocity(e)
+               v(p) = vgrid
+               cp = (velocity(e) - velocity(e - 1))*inv_dx  ! C_p = sum_I v_I dN_Ip (the hat's gradients)
+               gradient(p) = cp
+               dxp = dt*vgrid
+               x(p) = x(p) + dxp
+               db(i) = x(p) - x0(p)
+               kb(i) = half_m*v(p)*v(p)
+               mb(i, slot) = abs(dxp)*inv_dx
+            end if
+            if (stresses) then ! d eps = dt sum dN v_I over the start-of-step cell
+               if (moves) then
+                  dstrain = strain_increment(velocity(e - 1), velocity(e), dt, inv_dx)
+               else
+                  dstrain = strain_increment_of(e)
+               end if
+               stress(p) = stress(p) + youngs_modulus*dstrain
+               ! d gamma, zero in an elastic step: written without a branch, so that a loop over particles
+               ! vectorises; an elastic step then subtracts and adds zeros, which leaves the hencky bits
+               increment = max(abs(stress(p)) - (yield_stress + hardening_modulus*hardening(p)), 0.0_dp)/ &
+                           (youngs_modulus + hardening_modulus)
+               stress(p) = stress(p) - sign(youngs_modulus*increment, stress(p))
+               plastic_strain(p) = plastic_strain(p) + sign(increment, stress(p))
+               hardening(p) = hardening(p) + increment
+               volume_ratio(p) = volume_ratio(p)*(1.0_dp + dstrain)
+               sb(i) = stress(p)*stress(p)*volume_ratio(p)*strain_factor
+               svb(i) = stress(p)*volume_ratio(p)*volume0
+               wb(i) = (yield_stress + 0.5_dp*hardening_modulus*hardening(p))*hardening(p)*volume0
                jb(i) = volume_ratio(p)
             else if (iand(shares, share_stress) /= 0) then ! (an initial mapping: the stress as it is)
                svb(i) = stress(p)*volume_ratio(p)*volume0
@@ -10194,7 +12201,8 @@ contains
                else
                   dstrain = strain_increment_of(e)
                end if
-               call stress_hencky(dstrain, youngs_modulus, strain_factor, volume0, stress(p), volume_ratio(p), sb(i), svb(i))
+               call stress_hencky(dstrain, youngs_modulus, strain_factor, volume0, stress(p), volume_ratio(p), &
+                                  sb(i), svb(i))
                jb(i) = volume_ratio(p)
             else if (iand(shares, share_stress) /= 0) then ! (an initial mapping: the stress as it is)
                svb(i) = stress(p)*volume_ratio(p)*volume0
@@ -10260,11 +12268,19 @@ contains
             lane_r = mod(n, lanes)
             if (lane_r > 0) min_j(1:lane_r) = min(min_j(1:lane_r), jb(n - lane_r + 1:n))
          end if
+         if (plastic) then
+            do lane_i = 1, n - lanes + 1, lanes
+               work = work + wb(lane_i:lane_i + lanes - 1)
+            end do
+            lane_r = mod(n, lanes)
+            if (lane_r > 0) work(1:lane_r) = work(1:lane_r) + wb(n - lane_r + 1:n)
+         end if
          if (relocates) call find_outside(n, b0, cb, outside)
          call accumulate_block(k, n, cb, xib, vpb, svb, m, lo, hi, shares, run, mass_left, mass_right, momentum_left, &
                                momentum_right, stress_volume, seg, xvb)
       end do
-      call close_segment(k, shares, m, run, [lane_total(displacement), lane_total(kinetic), lane_total(strain)], &
+      call close_segment(k, shares, m, run, [lane_total(displacement), lane_total(kinetic), lane_total(strain), &
+                         lane_total(work)], &
                          minval(min_j), largest%value, furthest_particle(largest, mb), outside, mass_left, mass_right, &
                          momentum_left, momentum_right, stress_volume, seg)
    end subroutine apic_usl_segment
@@ -10273,7 +12289,7 @@ contains
    subroutine apic_musl_remap_segment(k, seg, x, x0, v, stress, volume_ratio, cell, acceleration, velocity, &
                                       strain_increment_of, mass_left, mass_right, momentum_left, momentum_right, &
                                       stress_volume, constants, carry, mass_of, modulus_of, forces, gradient, force_left, &
-                                      force_right)
+                                      force_right, plastic_strain, hardening, yield_of, hardening_of)
       integer, parameter :: kernel = pass_musl_remap
       logical, parameter :: moves = pass_moves(kernel), stresses = pass_stresses(kernel), relocates = pass_relocates(kernel)
       integer, parameter :: shares = pass_shares(kernel)
@@ -10292,9 +12308,13 @@ contains
       !> the forces
       real(dp), intent(in), contiguous, optional :: mass_of(:), modulus_of(:), forces(:)
       real(dp), intent(inout), contiguous, optional :: gradient(:), force_left(:), force_right(:)
+      !> the elastoplastic law's state (plastic strain, hardening variable) and, `material`, each particle's
+      !> yield stress and hardening modulus (absent for the other laws)
+      real(dp), intent(inout), contiguous, optional :: plastic_strain(:), hardening(:)
+      real(dp), intent(in), contiguous, optional :: yield_of(:), hardening_of(:)
       integer :: p, e, i, n, b0, first, last, lo, hi, outside, ahead, elements
       real(dp) :: half_m, strain_factor, dstrain, inv_dx, dt, youngs_modulus, m, volume0
-      logical :: linear
+      logical :: linear, plastic
       type(largest_move_t) :: largest
       real(dp) :: displacement(lanes), kinetic(lanes), strain(lanes), min_j(lanes)
       integer :: cb(block_size)
@@ -10316,6 +12336,7 @@ contains
       dt = constants%dt
       youngs_modulus = constants%youngs_modulus
       linear = constants%linear
+      plastic = constants%plastic
       m = constants%mass
       volume0 = constants%volume0
       call open_segment(k, shares, seg, mass_left, mass_right, momentum_left, momentum_right, stress_volume, first, last, &
@@ -10335,6 +12356,7 @@ contains
             if (kernel == pass_usf_move .or. kernel == pass_musl_remap) call prefetch_block(ahead, cell, x, x0, v)
             if (kernel == pass_usf_stress) call prefetch_block(ahead, cell, stress, volume_ratio)
             if (kernel == pass_musl_stress) call prefetch_block(ahead, cell, x, v, stress, volume_ratio)
+            if (stresses .and. plastic) call prefetch_block(ahead, cell, plastic_strain, hardening)
             if (moves) then
                call prefetch_nodes(cell(b0), cell(b0 + n - 1), acceleration, velocity)
             else
@@ -10363,7 +12385,8 @@ contains
                else
                   dstrain = strain_increment_of(e)
                end if
-               call stress_hencky(dstrain, youngs_modulus, strain_factor, volume0, stress(p), volume_ratio(p), sb(i), svb(i))
+               call stress_hencky(dstrain, youngs_modulus, strain_factor, volume0, stress(p), volume_ratio(p), &
+                                  sb(i), svb(i))
                jb(i) = volume_ratio(p)
             else if (iand(shares, share_stress) /= 0) then ! (an initial mapping: the stress as it is)
                svb(i) = stress(p)*volume_ratio(p)*volume0
@@ -10432,7 +12455,8 @@ contains
          call accumulate_block(k, n, cb, xib, vpb, svb, m, lo, hi, shares, run, mass_left, mass_right, momentum_left, &
                                momentum_right, stress_volume, seg, xvb)
       end do
-      call close_segment(k, shares, m, run, [lane_total(displacement), lane_total(kinetic), lane_total(strain)], &
+      call close_segment(k, shares, m, run, [lane_total(displacement), lane_total(kinetic), lane_total(strain), &
+                         0.0_dp], &
                          minval(min_j), largest%value, furthest_particle(largest, mb), outside, mass_left, mass_right, &
                          momentum_left, momentum_right, stress_volume, seg)
    end subroutine apic_musl_remap_segment
@@ -10441,7 +12465,7 @@ contains
    subroutine apic_musl_stress_segment(k, seg, x, x0, v, stress, volume_ratio, cell, acceleration, velocity, &
                                        strain_increment_of, mass_left, mass_right, momentum_left, momentum_right, &
                                        stress_volume, constants, carry, mass_of, modulus_of, forces, gradient, force_left, &
-                                       force_right)
+                                       force_right, plastic_strain, hardening, yield_of, hardening_of)
       integer, parameter :: kernel = pass_musl_stress
       logical, parameter :: moves = pass_moves(kernel), stresses = pass_stresses(kernel), relocates = pass_relocates(kernel)
       integer, parameter :: shares = pass_shares(kernel)
@@ -10460,9 +12484,15 @@ contains
       !> the forces
       real(dp), intent(in), contiguous, optional :: mass_of(:), modulus_of(:), forces(:)
       real(dp), intent(inout), contiguous, optional :: gradient(:), force_left(:), force_right(:)
+      !> the elastoplastic law's state (plastic strain, hardening variable) and, `material`, each particle's
+      !> yield stress and hardening modulus (absent for the other laws)
+      real(dp), intent(inout), contiguous, optional :: plastic_strain(:), hardening(:)
+      real(dp), intent(in), contiguous, optional :: yield_of(:), hardening_of(:)
       integer :: p, e, i, n, b0, first, last, lo, hi, outside, ahead, elements
       real(dp) :: half_m, strain_factor, dstrain, inv_dx, dt, youngs_modulus, m, volume0
-      logical :: linear
+      logical :: linear, plastic
+      ! the elastoplastic law's constants and the block's plastic work, summed in lanes
+      real(dp) :: yield_stress, hardening_modulus, increment, wb(block_size), work(lanes)
       type(largest_move_t) :: largest
       real(dp) :: displacement(lanes), kinetic(lanes), strain(lanes), min_j(lanes)
       integer :: cb(block_size)
@@ -10484,6 +12514,10 @@ contains
       dt = constants%dt
       youngs_modulus = constants%youngs_modulus
       linear = constants%linear
+      plastic = constants%plastic
+      yield_stress = constants%yield_stress
+      hardening_modulus = constants%hardening_modulus
+      work = 0
       m = constants%mass
       volume0 = constants%volume0
       call open_segment(k, shares, seg, mass_left, mass_right, momentum_left, momentum_right, stress_volume, first, last, &
@@ -10503,6 +12537,7 @@ contains
             if (kernel == pass_usf_move .or. kernel == pass_musl_remap) call prefetch_block(ahead, cell, x, x0, v)
             if (kernel == pass_usf_stress) call prefetch_block(ahead, cell, stress, volume_ratio)
             if (kernel == pass_musl_stress) call prefetch_block(ahead, cell, x, v, stress, volume_ratio)
+            if (stresses .and. plastic) call prefetch_block(ahead, cell, plastic_strain, hardening)
             if (moves) then
                call prefetch_nodes(cell(b0), cell(b0 + n - 1), acceleration, velocity)
             else
@@ -10532,7 +12567,68 @@ contains
                else
                   dstrain = strain_increment_of(e)
                end if
-               call stress_linear(dstrain, youngs_modulus, strain_factor, volume0, stress(p), volume_ratio(p), sb(i), svb(i))
+               call stress_linear(dstrain, youngs_modulus, strain_factor, volume0, stress(p), volume_ratio(p), &
+                                  sb(i), svb(i))
+               jb(i) = volume_ratio(p)
+            else if (iand(shares, share_stress) /= 0) then ! (an initial mapping: the stress as it is)
+               svb(i) = stress(p)*volume_ratio(p)*volume0
+            end if
+            if (relocates) then ! the new cell, for P2G at the new position
+               call locate_cell(x(p), inv_dx, elements, elements_bits, cb(i), xib(i))
+               cell(p) = cb(i)
+            else                ! the shares go to the start-of-step cell
+               cb(i) = e
+               if (moves) xib(i) = xi
+            end if
+            if (moves .or. relocates) vpb(i) = v(p)
+            if (iand(shares, share_momentum) /= 0) then
+               ! node I gets N_I m (v_p + C_p (x_I - x_p)), x_I - x_p = -xi dx (left), (1 - xi) dx (right)
+               ! ([Jiang 2015]; C_p of this pass's G2P, or kept by the pass that made it): the right node's
+               ! m xi (v_p + C_p (1 - xi) dx), the left node's the particle's m v_p less that, so that
+               ! accumulate_block sums xv = xi (v_p + C_p (1 - xi) dx) in place of FLIP's xi v_p
+               if (moves) then
+                  cq = cp
+               else
+                  cq = gradient(p)
+               end if
+               xvb(i) = xib(i)*(v(p) + cq*dx*(1.0_dp - xib(i)))
+            end if
+         end do
+         else if (plastic) then
+         do i = 1, n
+            p = b0 + i - 1
+            e = cell(p)
+            ! G2P with the start-of-step shape functions (APIC)
+            if (moves) then
+               xi = x(p)*inv_dx - (e - 1)
+               vgrid = (1.0_dp - xi)*velocity(e - 1) + xi*velocity(e)
+               v(p) = vgrid
+               cp = (velocity(e) - velocity(e - 1))*inv_dx  ! C_p = sum_I v_I dN_Ip (the hat's gradients)
+               gradient(p) = cp
+               dxp = dt*vgrid
+               x(p) = x(p) + dxp
+               db(i) = x(p) - x0(p)
+               kb(i) = half_m*v(p)*v(p)
+               mb(i, slot) = abs(dxp)*inv_dx
+            end if
+            if (stresses) then ! d eps = dt sum dN v_I over the start-of-step cell
+               if (moves) then
+                  dstrain = strain_increment(velocity(e - 1), velocity(e), dt, inv_dx)
+               else
+                  dstrain = strain_increment_of(e)
+               end if
+               stress(p) = stress(p) + youngs_modulus*dstrain
+               ! d gamma, zero in an elastic step: written without a branch, so that a loop over particles
+               ! vectorises; an elastic step then subtracts and adds zeros, which leaves the hencky bits
+               increment = max(abs(stress(p)) - (yield_stress + hardening_modulus*hardening(p)), 0.0_dp)/ &
+                           (youngs_modulus + hardening_modulus)
+               stress(p) = stress(p) - sign(youngs_modulus*increment, stress(p))
+               plastic_strain(p) = plastic_strain(p) + sign(increment, stress(p))
+               hardening(p) = hardening(p) + increment
+               volume_ratio(p) = volume_ratio(p)*(1.0_dp + dstrain)
+               sb(i) = stress(p)*stress(p)*volume_ratio(p)*strain_factor
+               svb(i) = stress(p)*volume_ratio(p)*volume0
+               wb(i) = (yield_stress + 0.5_dp*hardening_modulus*hardening(p))*hardening(p)*volume0
                jb(i) = volume_ratio(p)
             else if (iand(shares, share_stress) /= 0) then ! (an initial mapping: the stress as it is)
                svb(i) = stress(p)*volume_ratio(p)*volume0
@@ -10581,7 +12677,8 @@ contains
                else
                   dstrain = strain_increment_of(e)
                end if
-               call stress_hencky(dstrain, youngs_modulus, strain_factor, volume0, stress(p), volume_ratio(p), sb(i), svb(i))
+               call stress_hencky(dstrain, youngs_modulus, strain_factor, volume0, stress(p), volume_ratio(p), &
+                                  sb(i), svb(i))
                jb(i) = volume_ratio(p)
             else if (iand(shares, share_stress) /= 0) then ! (an initial mapping: the stress as it is)
                svb(i) = stress(p)*volume_ratio(p)*volume0
@@ -10647,11 +12744,19 @@ contains
             lane_r = mod(n, lanes)
             if (lane_r > 0) min_j(1:lane_r) = min(min_j(1:lane_r), jb(n - lane_r + 1:n))
          end if
+         if (plastic) then
+            do lane_i = 1, n - lanes + 1, lanes
+               work = work + wb(lane_i:lane_i + lanes - 1)
+            end do
+            lane_r = mod(n, lanes)
+            if (lane_r > 0) work(1:lane_r) = work(1:lane_r) + wb(n - lane_r + 1:n)
+         end if
          if (relocates) call find_outside(n, b0, cb, outside)
          call accumulate_block(k, n, cb, xib, vpb, svb, m, lo, hi, shares, run, mass_left, mass_right, momentum_left, &
                                momentum_right, stress_volume, seg, xvb)
       end do
-      call close_segment(k, shares, m, run, [lane_total(displacement), lane_total(kinetic), lane_total(strain)], &
+      call close_segment(k, shares, m, run, [lane_total(displacement), lane_total(kinetic), lane_total(strain), &
+                         lane_total(work)], &
                          minval(min_j), largest%value, furthest_particle(largest, mb), outside, mass_left, mass_right, &
                          momentum_left, momentum_right, stress_volume, seg)
    end subroutine apic_musl_stress_segment
@@ -10660,7 +12765,7 @@ contains
    subroutine apic_map_segment(k, seg, x, x0, v, stress, volume_ratio, cell, acceleration, velocity, &
                                strain_increment_of, mass_left, mass_right, momentum_left, momentum_right, &
                                stress_volume, constants, carry, mass_of, modulus_of, forces, gradient, force_left, &
-                               force_right)
+                               force_right, plastic_strain, hardening, yield_of, hardening_of)
       integer, parameter :: kernel = pass_map
       logical, parameter :: moves = pass_moves(kernel), stresses = pass_stresses(kernel), relocates = pass_relocates(kernel)
       integer, parameter :: shares = pass_shares(kernel)
@@ -10679,9 +12784,13 @@ contains
       !> the forces
       real(dp), intent(in), contiguous, optional :: mass_of(:), modulus_of(:), forces(:)
       real(dp), intent(inout), contiguous, optional :: gradient(:), force_left(:), force_right(:)
+      !> the elastoplastic law's state (plastic strain, hardening variable) and, `material`, each particle's
+      !> yield stress and hardening modulus (absent for the other laws)
+      real(dp), intent(inout), contiguous, optional :: plastic_strain(:), hardening(:)
+      real(dp), intent(in), contiguous, optional :: yield_of(:), hardening_of(:)
       integer :: p, e, i, n, b0, first, last, lo, hi, outside, ahead, elements
       real(dp) :: half_m, strain_factor, dstrain, inv_dx, dt, youngs_modulus, m, volume0
-      logical :: linear
+      logical :: linear, plastic
       type(largest_move_t) :: largest
       real(dp) :: displacement(lanes), kinetic(lanes), strain(lanes), min_j(lanes)
       integer :: cb(block_size)
@@ -10703,6 +12812,7 @@ contains
       dt = constants%dt
       youngs_modulus = constants%youngs_modulus
       linear = constants%linear
+      plastic = constants%plastic
       m = constants%mass
       volume0 = constants%volume0
       call open_segment(k, shares, seg, mass_left, mass_right, momentum_left, momentum_right, stress_volume, first, last, &
@@ -10722,6 +12832,7 @@ contains
             if (kernel == pass_usf_move .or. kernel == pass_musl_remap) call prefetch_block(ahead, cell, x, x0, v)
             if (kernel == pass_usf_stress) call prefetch_block(ahead, cell, stress, volume_ratio)
             if (kernel == pass_musl_stress) call prefetch_block(ahead, cell, x, v, stress, volume_ratio)
+            if (stresses .and. plastic) call prefetch_block(ahead, cell, plastic_strain, hardening)
             if (moves) then
                call prefetch_nodes(cell(b0), cell(b0 + n - 1), acceleration, velocity)
             else
@@ -10750,7 +12861,8 @@ contains
                else
                   dstrain = strain_increment_of(e)
                end if
-               call stress_hencky(dstrain, youngs_modulus, strain_factor, volume0, stress(p), volume_ratio(p), sb(i), svb(i))
+               call stress_hencky(dstrain, youngs_modulus, strain_factor, volume0, stress(p), volume_ratio(p), &
+                                  sb(i), svb(i))
                jb(i) = volume_ratio(p)
             else if (iand(shares, share_stress) /= 0) then ! (an initial mapping: the stress as it is)
                svb(i) = stress(p)*volume_ratio(p)*volume0
@@ -10819,7 +12931,8 @@ contains
          call accumulate_block(k, n, cb, xib, vpb, svb, m, lo, hi, shares, run, mass_left, mass_right, momentum_left, &
                                momentum_right, stress_volume, seg, xvb)
       end do
-      call close_segment(k, shares, m, run, [lane_total(displacement), lane_total(kinetic), lane_total(strain)], &
+      call close_segment(k, shares, m, run, [lane_total(displacement), lane_total(kinetic), lane_total(strain), &
+                         0.0_dp], &
                          minval(min_j), largest%value, furthest_particle(largest, mb), outside, mass_left, mass_right, &
                          momentum_left, momentum_right, stress_volume, seg)
    end subroutine apic_map_segment
@@ -10828,7 +12941,7 @@ contains
    subroutine apic_map_stress_segment(k, seg, x, x0, v, stress, volume_ratio, cell, acceleration, velocity, &
                                       strain_increment_of, mass_left, mass_right, momentum_left, momentum_right, &
                                       stress_volume, constants, carry, mass_of, modulus_of, forces, gradient, force_left, &
-                                      force_right)
+                                      force_right, plastic_strain, hardening, yield_of, hardening_of)
       integer, parameter :: kernel = pass_map_stress
       logical, parameter :: moves = pass_moves(kernel), stresses = pass_stresses(kernel), relocates = pass_relocates(kernel)
       integer, parameter :: shares = pass_shares(kernel)
@@ -10847,9 +12960,13 @@ contains
       !> the forces
       real(dp), intent(in), contiguous, optional :: mass_of(:), modulus_of(:), forces(:)
       real(dp), intent(inout), contiguous, optional :: gradient(:), force_left(:), force_right(:)
+      !> the elastoplastic law's state (plastic strain, hardening variable) and, `material`, each particle's
+      !> yield stress and hardening modulus (absent for the other laws)
+      real(dp), intent(inout), contiguous, optional :: plastic_strain(:), hardening(:)
+      real(dp), intent(in), contiguous, optional :: yield_of(:), hardening_of(:)
       integer :: p, e, i, n, b0, first, last, lo, hi, outside, ahead, elements
       real(dp) :: half_m, strain_factor, dstrain, inv_dx, dt, youngs_modulus, m, volume0
-      logical :: linear
+      logical :: linear, plastic
       type(largest_move_t) :: largest
       real(dp) :: displacement(lanes), kinetic(lanes), strain(lanes), min_j(lanes)
       integer :: cb(block_size)
@@ -10871,6 +12988,7 @@ contains
       dt = constants%dt
       youngs_modulus = constants%youngs_modulus
       linear = constants%linear
+      plastic = constants%plastic
       m = constants%mass
       volume0 = constants%volume0
       call open_segment(k, shares, seg, mass_left, mass_right, momentum_left, momentum_right, stress_volume, first, last, &
@@ -10890,6 +13008,7 @@ contains
             if (kernel == pass_usf_move .or. kernel == pass_musl_remap) call prefetch_block(ahead, cell, x, x0, v)
             if (kernel == pass_usf_stress) call prefetch_block(ahead, cell, stress, volume_ratio)
             if (kernel == pass_musl_stress) call prefetch_block(ahead, cell, x, v, stress, volume_ratio)
+            if (stresses .and. plastic) call prefetch_block(ahead, cell, plastic_strain, hardening)
             if (moves) then
                call prefetch_nodes(cell(b0), cell(b0 + n - 1), acceleration, velocity)
             else
@@ -10918,7 +13037,8 @@ contains
                else
                   dstrain = strain_increment_of(e)
                end if
-               call stress_hencky(dstrain, youngs_modulus, strain_factor, volume0, stress(p), volume_ratio(p), sb(i), svb(i))
+               call stress_hencky(dstrain, youngs_modulus, strain_factor, volume0, stress(p), volume_ratio(p), &
+                                  sb(i), svb(i))
                jb(i) = volume_ratio(p)
             else if (iand(shares, share_stress) /= 0) then ! (an initial mapping: the stress as it is)
                svb(i) = stress(p)*volume_ratio(p)*volume0
@@ -10987,7 +13107,8 @@ contains
          call accumulate_block(k, n, cb, xib, vpb, svb, m, lo, hi, shares, run, mass_left, mass_right, momentum_left, &
                                momentum_right, stress_volume, seg, xvb)
       end do
-      call close_segment(k, shares, m, run, [lane_total(displacement), lane_total(kinetic), lane_total(strain)], &
+      call close_segment(k, shares, m, run, [lane_total(displacement), lane_total(kinetic), lane_total(strain), &
+                         0.0_dp], &
                          minval(min_j), largest%value, furthest_particle(largest, mb), outside, mass_left, mass_right, &
                          momentum_left, momentum_right, stress_volume, seg)
    end subroutine apic_map_stress_segment
@@ -10996,7 +13117,7 @@ contains
    subroutine material_usf_move_segment(k, seg, x, x0, v, stress, volume_ratio, cell, acceleration, velocity, &
                                         strain_increment_of, mass_left, mass_right, momentum_left, momentum_right, &
                                         stress_volume, constants, carry, mass_of, modulus_of, forces, gradient, force_left, &
-                                        force_right)
+                                        force_right, plastic_strain, hardening, yield_of, hardening_of)
       integer, parameter :: kernel = pass_usf_move
       logical, parameter :: moves = pass_moves(kernel), stresses = pass_stresses(kernel), relocates = pass_relocates(kernel)
       integer, parameter :: shares = pass_shares(kernel)
@@ -11015,9 +13136,13 @@ contains
       !> the forces
       real(dp), intent(in), contiguous, optional :: mass_of(:), modulus_of(:), forces(:)
       real(dp), intent(inout), contiguous, optional :: gradient(:), force_left(:), force_right(:)
+      !> the elastoplastic law's state (plastic strain, hardening variable) and, `material`, each particle's
+      !> yield stress and hardening modulus (absent for the other laws)
+      real(dp), intent(inout), contiguous, optional :: plastic_strain(:), hardening(:)
+      real(dp), intent(in), contiguous, optional :: yield_of(:), hardening_of(:)
       integer :: p, e, i, n, b0, first, last, lo, hi, outside, ahead, elements
       real(dp) :: half_m, strain_factor, dstrain, inv_dx, dt, youngs_modulus, m, volume0
-      logical :: linear
+      logical :: linear, plastic
       type(largest_move_t) :: largest
       real(dp) :: displacement(lanes), kinetic(lanes), strain(lanes), min_j(lanes)
       integer :: cb(block_size)
@@ -11038,6 +13163,7 @@ contains
       dt = constants%dt
       youngs_modulus = constants%youngs_modulus
       linear = constants%linear
+      plastic = constants%plastic
       m = constants%mass
       volume0 = constants%volume0
       call open_segment(k, shares, seg, mass_left, mass_right, momentum_left, momentum_right, stress_volume, first, last, &
@@ -11057,6 +13183,7 @@ contains
             if (kernel == pass_usf_move .or. kernel == pass_musl_remap) call prefetch_block(ahead, cell, x, x0, v)
             if (kernel == pass_usf_stress) call prefetch_block(ahead, cell, stress, volume_ratio)
             if (kernel == pass_musl_stress) call prefetch_block(ahead, cell, x, v, stress, volume_ratio)
+            if (stresses .and. plastic) call prefetch_block(ahead, cell, plastic_strain, hardening)
             if (moves) then
                call prefetch_nodes(cell(b0), cell(b0 + n - 1), acceleration, velocity)
             else
@@ -11084,7 +13211,7 @@ contains
                   dstrain = strain_increment_of(e)
                end if
                call stress_hencky(dstrain, modulus_of(p), 0.5_dp*volume0/modulus_of(p), volume0, stress(p), volume_ratio(p), &
-                                 sb(i), svb(i))
+                                  sb(i), svb(i))
                jb(i) = volume_ratio(p)
             else if (iand(shares, share_stress) /= 0) then ! (an initial mapping: the stress as it is)
                svb(i) = stress(p)*volume_ratio(p)*volume0
@@ -11156,7 +13283,8 @@ contains
       if (run%cur /= 0) call flush_sums(k, run%cur, lo, hi, shares, run%s, mass_left, mass_right, momentum_left, &
                                         momentum_right, stress_volume, seg, force_left, force_right)
       run%a = 0.0_dp  ! (close_segment flushes the bar's sums: none here)
-      call close_segment(k, shares, m, run, [lane_total(displacement), lane_total(kinetic), lane_total(strain)], &
+      call close_segment(k, shares, m, run, [lane_total(displacement), lane_total(kinetic), lane_total(strain), &
+                         0.0_dp], &
                          minval(min_j), largest%value, furthest_particle(largest, mb), outside, mass_left, mass_right, &
                          momentum_left, momentum_right, stress_volume, seg)
    end subroutine material_usf_move_segment
@@ -11165,7 +13293,7 @@ contains
    subroutine material_usf_stress_segment(k, seg, x, x0, v, stress, volume_ratio, cell, acceleration, velocity, &
                                           strain_increment_of, mass_left, mass_right, momentum_left, momentum_right, &
                                           stress_volume, constants, carry, mass_of, modulus_of, forces, gradient, force_left, &
-                                          force_right)
+                                          force_right, plastic_strain, hardening, yield_of, hardening_of)
       integer, parameter :: kernel = pass_usf_stress
       logical, parameter :: moves = pass_moves(kernel), stresses = pass_stresses(kernel), relocates = pass_relocates(kernel)
       integer, parameter :: shares = pass_shares(kernel)
@@ -11184,9 +13312,15 @@ contains
       !> the forces
       real(dp), intent(in), contiguous, optional :: mass_of(:), modulus_of(:), forces(:)
       real(dp), intent(inout), contiguous, optional :: gradient(:), force_left(:), force_right(:)
+      !> the elastoplastic law's state (plastic strain, hardening variable) and, `material`, each particle's
+      !> yield stress and hardening modulus (absent for the other laws)
+      real(dp), intent(inout), contiguous, optional :: plastic_strain(:), hardening(:)
+      real(dp), intent(in), contiguous, optional :: yield_of(:), hardening_of(:)
       integer :: p, e, i, n, b0, first, last, lo, hi, outside, ahead, elements
       real(dp) :: half_m, strain_factor, dstrain, inv_dx, dt, youngs_modulus, m, volume0
-      logical :: linear
+      logical :: linear, plastic
+      ! the elastoplastic law's constants and the block's plastic work, summed in lanes
+      real(dp) :: yield_stress, hardening_modulus, increment, wb(block_size), work(lanes)
       type(largest_move_t) :: largest
       real(dp) :: displacement(lanes), kinetic(lanes), strain(lanes), min_j(lanes)
       integer :: cb(block_size)
@@ -11207,6 +13341,10 @@ contains
       dt = constants%dt
       youngs_modulus = constants%youngs_modulus
       linear = constants%linear
+      plastic = constants%plastic
+      yield_stress = constants%yield_stress
+      hardening_modulus = constants%hardening_modulus
+      work = 0
       m = constants%mass
       volume0 = constants%volume0
       call open_segment(k, shares, seg, mass_left, mass_right, momentum_left, momentum_right, stress_volume, first, last, &
@@ -11226,6 +13364,7 @@ contains
             if (kernel == pass_usf_move .or. kernel == pass_musl_remap) call prefetch_block(ahead, cell, x, x0, v)
             if (kernel == pass_usf_stress) call prefetch_block(ahead, cell, stress, volume_ratio)
             if (kernel == pass_musl_stress) call prefetch_block(ahead, cell, x, v, stress, volume_ratio)
+            if (stresses .and. plastic) call prefetch_block(ahead, cell, plastic_strain, hardening)
             if (moves) then
                call prefetch_nodes(cell(b0), cell(b0 + n - 1), acceleration, velocity)
             else
@@ -11254,7 +13393,64 @@ contains
                   dstrain = strain_increment_of(e)
                end if
                call stress_linear(dstrain, modulus_of(p), 0.5_dp*volume0/modulus_of(p), volume0, stress(p), volume_ratio(p), &
-                                 sb(i), svb(i))
+                                  sb(i), svb(i))
+               jb(i) = volume_ratio(p)
+            else if (iand(shares, share_stress) /= 0) then ! (an initial mapping: the stress as it is)
+               svb(i) = stress(p)*volume_ratio(p)*volume0
+            end if
+            if (relocates) then ! the new cell, for P2G at the new position
+               call locate_cell(x(p), inv_dx, elements, elements_bits, cb(i), xib(i))
+               cell(p) = cb(i)
+            else                ! the shares go to the start-of-step cell
+               cb(i) = e
+               if (moves) xib(i) = xi
+            end if
+            ! the particle's whole element shares (accumulate_shares sums them): mass, momentum (APIC's
+            ! with its affine part), stress*volume, external force, at the left and right node
+            mp = mass_of(p)
+            if (iand(shares, share_mass + share_momentum) /= 0) then
+               sh(i, 2) = mp*xib(i)
+               sh(i, 1) = mp - sh(i, 2)
+            end if
+            if (iand(shares, share_momentum) /= 0) then
+               sh(i, 3) = sh(i, 1)*v(p)
+               sh(i, 4) = sh(i, 2)*v(p)
+            end if
+            if (iand(shares, share_stress) /= 0) sh(i, 5) = svb(i)
+         end do
+         else if (plastic) then
+         do i = 1, n
+            p = b0 + i - 1
+            e = cell(p)
+            ! G2P with the start-of-step shape functions (per-particle masses and moduli)
+            if (moves) then
+               xi = x(p)*inv_dx - (e - 1)
+               vgrid = (1.0_dp - xi)*velocity(e - 1) + xi*velocity(e)
+               v(p) = v(p) + dt*((1.0_dp - xi)*acceleration(e - 1) + xi*acceleration(e))
+               dxp = dt*vgrid
+               x(p) = x(p) + dxp
+               db(i) = mass_of(p)*(x(p) - x0(p))
+               kb(i) = 0.5_dp*mass_of(p)*v(p)*v(p)
+               mb(i, slot) = abs(dxp)*inv_dx
+            end if
+            if (stresses) then ! d eps = dt sum dN v_I over the start-of-step cell
+               if (moves) then
+                  dstrain = strain_increment(velocity(e - 1), velocity(e), dt, inv_dx)
+               else
+                  dstrain = strain_increment_of(e)
+               end if
+               stress(p) = stress(p) + modulus_of(p)*dstrain
+               ! d gamma, zero in an elastic step: written without a branch, so that a loop over particles
+               ! vectorises; an elastic step then subtracts and adds zeros, which leaves the hencky bits
+               increment = max(abs(stress(p)) - (yield_of(p) + hardening_of(p)*hardening(p)), 0.0_dp)/ &
+                           (modulus_of(p) + hardening_of(p))
+               stress(p) = stress(p) - sign(modulus_of(p)*increment, stress(p))
+               plastic_strain(p) = plastic_strain(p) + sign(increment, stress(p))
+               hardening(p) = hardening(p) + increment
+               volume_ratio(p) = volume_ratio(p)*(1.0_dp + dstrain)
+               sb(i) = stress(p)*stress(p)*volume_ratio(p)*0.5_dp*volume0/modulus_of(p)
+               svb(i) = stress(p)*volume_ratio(p)*volume0
+               wb(i) = (yield_of(p) + 0.5_dp*hardening_of(p)*hardening(p))*hardening(p)*volume0
                jb(i) = volume_ratio(p)
             else if (iand(shares, share_stress) /= 0) then ! (an initial mapping: the stress as it is)
                svb(i) = stress(p)*volume_ratio(p)*volume0
@@ -11301,7 +13497,7 @@ contains
                   dstrain = strain_increment_of(e)
                end if
                call stress_hencky(dstrain, modulus_of(p), 0.5_dp*volume0/modulus_of(p), volume0, stress(p), volume_ratio(p), &
-                                 sb(i), svb(i))
+                                  sb(i), svb(i))
                jb(i) = volume_ratio(p)
             else if (iand(shares, share_stress) /= 0) then ! (an initial mapping: the stress as it is)
                svb(i) = stress(p)*volume_ratio(p)*volume0
@@ -11366,6 +13562,13 @@ contains
             lane_r = mod(n, lanes)
             if (lane_r > 0) min_j(1:lane_r) = min(min_j(1:lane_r), jb(n - lane_r + 1:n))
          end if
+         if (plastic) then
+            do lane_i = 1, n - lanes + 1, lanes
+               work = work + wb(lane_i:lane_i + lanes - 1)
+            end do
+            lane_r = mod(n, lanes)
+            if (lane_r > 0) work(1:lane_r) = work(1:lane_r) + wb(n - lane_r + 1:n)
+         end if
          if (relocates) call find_outside(n, b0, cb, outside)
          call accumulate_shares(k, n, cb, sh, lo, hi, shares, run, mass_left, mass_right, momentum_left, momentum_right, &
                                 stress_volume, seg, force_left, force_right)
@@ -11374,7 +13577,8 @@ contains
       if (run%cur /= 0) call flush_sums(k, run%cur, lo, hi, shares, run%s, mass_left, mass_right, momentum_left, &
                                         momentum_right, stress_volume, seg, force_left, force_right)
       run%a = 0.0_dp  ! (close_segment flushes the bar's sums: none here)
-      call close_segment(k, shares, m, run, [lane_total(displacement), lane_total(kinetic), lane_total(strain)], &
+      call close_segment(k, shares, m, run, [lane_total(displacement), lane_total(kinetic), lane_total(strain), &
+                         lane_total(work)], &
                          minval(min_j), largest%value, furthest_particle(largest, mb), outside, mass_left, mass_right, &
                          momentum_left, momentum_right, stress_volume, seg)
    end subroutine material_usf_stress_segment
@@ -11383,7 +13587,7 @@ contains
    subroutine material_usl_segment(k, seg, x, x0, v, stress, volume_ratio, cell, acceleration, velocity, &
                                    strain_increment_of, mass_left, mass_right, momentum_left, momentum_right, &
                                    stress_volume, constants, carry, mass_of, modulus_of, forces, gradient, force_left, &
-                                   force_right)
+                                   force_right, plastic_strain, hardening, yield_of, hardening_of)
       integer, parameter :: kernel = pass_usl
       logical, parameter :: moves = pass_moves(kernel), stresses = pass_stresses(kernel), relocates = pass_relocates(kernel)
       integer, parameter :: shares = pass_shares(kernel)
@@ -11402,9 +13606,15 @@ contains
       !> the forces
       real(dp), intent(in), contiguous, optional :: mass_of(:), modulus_of(:), forces(:)
       real(dp), intent(inout), contiguous, optional :: gradient(:), force_left(:), force_right(:)
+      !> the elastoplastic law's state (plastic strain, hardening variable) and, `material`, each particle's
+      !> yield stress and hardening modulus (absent for the other laws)
+      real(dp), intent(inout), contiguous, optional :: plastic_strain(:), hardening(:)
+      real(dp), intent(in), contiguous, optional :: yield_of(:), hardening_of(:)
       integer :: p, e, i, n, b0, first, last, lo, hi, outside, ahead, elements
       real(dp) :: half_m, strain_factor, dstrain, inv_dx, dt, youngs_modulus, m, volume0
-      logical :: linear
+      logical :: linear, plastic
+      ! the elastoplastic law's constants and the block's plastic work, summed in lanes
+      real(dp) :: yield_stress, hardening_modulus, increment, wb(block_size), work(lanes)
       type(largest_move_t) :: largest
       real(dp) :: displacement(lanes), kinetic(lanes), strain(lanes), min_j(lanes)
       integer :: cb(block_size)
@@ -11425,6 +13635,10 @@ contains
       dt = constants%dt
       youngs_modulus = constants%youngs_modulus
       linear = constants%linear
+      plastic = constants%plastic
+      yield_stress = constants%yield_stress
+      hardening_modulus = constants%hardening_modulus
+      work = 0
       m = constants%mass
       volume0 = constants%volume0
       call open_segment(k, shares, seg, mass_left, mass_right, momentum_left, momentum_right, stress_volume, first, last, &
@@ -11444,6 +13658,7 @@ contains
             if (kernel == pass_usf_move .or. kernel == pass_musl_remap) call prefetch_block(ahead, cell, x, x0, v)
             if (kernel == pass_usf_stress) call prefetch_block(ahead, cell, stress, volume_ratio)
             if (kernel == pass_musl_stress) call prefetch_block(ahead, cell, x, v, stress, volume_ratio)
+            if (stresses .and. plastic) call prefetch_block(ahead, cell, plastic_strain, hardening)
             if (moves) then
                call prefetch_nodes(cell(b0), cell(b0 + n - 1), acceleration, velocity)
             else
@@ -11472,7 +13687,64 @@ contains
                   dstrain = strain_increment_of(e)
                end if
                call stress_linear(dstrain, modulus_of(p), 0.5_dp*volume0/modulus_of(p), volume0, stress(p), volume_ratio(p), &
-                                 sb(i), svb(i))
+                                  sb(i), svb(i))
+               jb(i) = volume_ratio(p)
+            else if (iand(shares, share_stress) /= 0) then ! (an initial mapping: the stress as it is)
+               svb(i) = stress(p)*volume_ratio(p)*volume0
+            end if
+            if (relocates) then ! the new cell, for P2G at the new position
+               call locate_cell(x(p), inv_dx, elements, elements_bits, cb(i), xib(i))
+               cell(p) = cb(i)
+            else                ! the shares go to the start-of-step cell
+               cb(i) = e
+               if (moves) xib(i) = xi
+            end if
+            ! the particle's whole element shares (accumulate_shares sums them): mass, momentum (APIC's
+            ! with its affine part), stress*volume, external force, at the left and right node
+            mp = mass_of(p)
+            if (iand(shares, share_mass + share_momentum) /= 0) then
+               sh(i, 2) = mp*xib(i)
+               sh(i, 1) = mp - sh(i, 2)
+            end if
+            if (iand(shares, share_momentum) /= 0) then
+               sh(i, 3) = sh(i, 1)*v(p)
+               sh(i, 4) = sh(i, 2)*v(p)
+            end if
+            if (iand(shares, share_stress) /= 0) sh(i, 5) = svb(i)
+         end do
+         else if (plastic) then
+         do i = 1, n
+            p = b0 + i - 1
+            e = cell(p)
+            ! G2P with the start-of-step shape functions (per-particle masses and moduli)
+            if (moves) then
+               xi = x(p)*inv_dx - (e - 1)
+               vgrid = (1.0_dp - xi)*velocity(e - 1) + xi*velocity(e)
+               v(p) = v(p) + dt*((1.0_dp - xi)*acceleration(e - 1) + xi*acceleration(e))
+               dxp = dt*vgrid
+               x(p) = x(p) + dxp
+               db(i) = mass_of(p)*(x(p) - x0(p))
+               kb(i) = 0.5_dp*mass_of(p)*v(p)*v(p)
+               mb(i, slot) = abs(dxp)*inv_dx
+            end if
+            if (stresses) then ! d eps = dt sum dN v_I over the start-of-step cell
+               if (moves) then
+                  dstrain = strain_increment(velocity(e - 1), velocity(e), dt, inv_dx)
+               else
+                  dstrain = strain_increment_of(e)
+               end if
+               stress(p) = stress(p) + modulus_of(p)*dstrain
+               ! d gamma, zero in an elastic step: written without a branch, so that a loop over particles
+               ! vectorises; an elastic step then subtracts and adds zeros, which leaves the hencky bits
+               increment = max(abs(stress(p)) - (yield_of(p) + hardening_of(p)*hardening(p)), 0.0_dp)/ &
+                           (modulus_of(p) + hardening_of(p))
+               stress(p) = stress(p) - sign(modulus_of(p)*increment, stress(p))
+               plastic_strain(p) = plastic_strain(p) + sign(increment, stress(p))
+               hardening(p) = hardening(p) + increment
+               volume_ratio(p) = volume_ratio(p)*(1.0_dp + dstrain)
+               sb(i) = stress(p)*stress(p)*volume_ratio(p)*0.5_dp*volume0/modulus_of(p)
+               svb(i) = stress(p)*volume_ratio(p)*volume0
+               wb(i) = (yield_of(p) + 0.5_dp*hardening_of(p)*hardening(p))*hardening(p)*volume0
                jb(i) = volume_ratio(p)
             else if (iand(shares, share_stress) /= 0) then ! (an initial mapping: the stress as it is)
                svb(i) = stress(p)*volume_ratio(p)*volume0
@@ -11519,7 +13791,7 @@ contains
                   dstrain = strain_increment_of(e)
                end if
                call stress_hencky(dstrain, modulus_of(p), 0.5_dp*volume0/modulus_of(p), volume0, stress(p), volume_ratio(p), &
-                                 sb(i), svb(i))
+                                  sb(i), svb(i))
                jb(i) = volume_ratio(p)
             else if (iand(shares, share_stress) /= 0) then ! (an initial mapping: the stress as it is)
                svb(i) = stress(p)*volume_ratio(p)*volume0
@@ -11584,6 +13856,13 @@ contains
             lane_r = mod(n, lanes)
             if (lane_r > 0) min_j(1:lane_r) = min(min_j(1:lane_r), jb(n - lane_r + 1:n))
          end if
+         if (plastic) then
+            do lane_i = 1, n - lanes + 1, lanes
+               work = work + wb(lane_i:lane_i + lanes - 1)
+            end do
+            lane_r = mod(n, lanes)
+            if (lane_r > 0) work(1:lane_r) = work(1:lane_r) + wb(n - lane_r + 1:n)
+         end if
          if (relocates) call find_outside(n, b0, cb, outside)
          call accumulate_shares(k, n, cb, sh, lo, hi, shares, run, mass_left, mass_right, momentum_left, momentum_right, &
                                 stress_volume, seg, force_left, force_right)
@@ -11592,7 +13871,8 @@ contains
       if (run%cur /= 0) call flush_sums(k, run%cur, lo, hi, shares, run%s, mass_left, mass_right, momentum_left, &
                                         momentum_right, stress_volume, seg, force_left, force_right)
       run%a = 0.0_dp  ! (close_segment flushes the bar's sums: none here)
-      call close_segment(k, shares, m, run, [lane_total(displacement), lane_total(kinetic), lane_total(strain)], &
+      call close_segment(k, shares, m, run, [lane_total(displacement), lane_total(kinetic), lane_total(strain), &
+                         lane_total(work)], &
                          minval(min_j), largest%value, furthest_particle(largest, mb), outside, mass_left, mass_right, &
                          momentum_left, momentum_right, stress_volume, seg)
    end subroutine material_usl_segment
@@ -11601,7 +13881,7 @@ contains
    subroutine material_musl_remap_segment(k, seg, x, x0, v, stress, volume_ratio, cell, acceleration, velocity, &
                                           strain_increment_of, mass_left, mass_right, momentum_left, momentum_right, &
                                           stress_volume, constants, carry, mass_of, modulus_of, forces, gradient, force_left, &
-                                          force_right)
+                                          force_right, plastic_strain, hardening, yield_of, hardening_of)
       integer, parameter :: kernel = pass_musl_remap
       logical, parameter :: moves = pass_moves(kernel), stresses = pass_stresses(kernel), relocates = pass_relocates(kernel)
       integer, parameter :: shares = pass_shares(kernel)
@@ -11620,9 +13900,13 @@ contains
       !> the forces
       real(dp), intent(in), contiguous, optional :: mass_of(:), modulus_of(:), forces(:)
       real(dp), intent(inout), contiguous, optional :: gradient(:), force_left(:), force_right(:)
+      !> the elastoplastic law's state (plastic strain, hardening variable) and, `material`, each particle's
+      !> yield stress and hardening modulus (absent for the other laws)
+      real(dp), intent(inout), contiguous, optional :: plastic_strain(:), hardening(:)
+      real(dp), intent(in), contiguous, optional :: yield_of(:), hardening_of(:)
       integer :: p, e, i, n, b0, first, last, lo, hi, outside, ahead, elements
       real(dp) :: half_m, strain_factor, dstrain, inv_dx, dt, youngs_modulus, m, volume0
-      logical :: linear
+      logical :: linear, plastic
       type(largest_move_t) :: largest
       real(dp) :: displacement(lanes), kinetic(lanes), strain(lanes), min_j(lanes)
       integer :: cb(block_size)
@@ -11643,6 +13927,7 @@ contains
       dt = constants%dt
       youngs_modulus = constants%youngs_modulus
       linear = constants%linear
+      plastic = constants%plastic
       m = constants%mass
       volume0 = constants%volume0
       call open_segment(k, shares, seg, mass_left, mass_right, momentum_left, momentum_right, stress_volume, first, last, &
@@ -11662,6 +13947,7 @@ contains
             if (kernel == pass_usf_move .or. kernel == pass_musl_remap) call prefetch_block(ahead, cell, x, x0, v)
             if (kernel == pass_usf_stress) call prefetch_block(ahead, cell, stress, volume_ratio)
             if (kernel == pass_musl_stress) call prefetch_block(ahead, cell, x, v, stress, volume_ratio)
+            if (stresses .and. plastic) call prefetch_block(ahead, cell, plastic_strain, hardening)
             if (moves) then
                call prefetch_nodes(cell(b0), cell(b0 + n - 1), acceleration, velocity)
             else
@@ -11689,7 +13975,7 @@ contains
                   dstrain = strain_increment_of(e)
                end if
                call stress_hencky(dstrain, modulus_of(p), 0.5_dp*volume0/modulus_of(p), volume0, stress(p), volume_ratio(p), &
-                                 sb(i), svb(i))
+                                  sb(i), svb(i))
                jb(i) = volume_ratio(p)
             else if (iand(shares, share_stress) /= 0) then ! (an initial mapping: the stress as it is)
                svb(i) = stress(p)*volume_ratio(p)*volume0
@@ -11761,7 +14047,8 @@ contains
       if (run%cur /= 0) call flush_sums(k, run%cur, lo, hi, shares, run%s, mass_left, mass_right, momentum_left, &
                                         momentum_right, stress_volume, seg, force_left, force_right)
       run%a = 0.0_dp  ! (close_segment flushes the bar's sums: none here)
-      call close_segment(k, shares, m, run, [lane_total(displacement), lane_total(kinetic), lane_total(strain)], &
+      call close_segment(k, shares, m, run, [lane_total(displacement), lane_total(kinetic), lane_total(strain), &
+                         0.0_dp], &
                          minval(min_j), largest%value, furthest_particle(largest, mb), outside, mass_left, mass_right, &
                          momentum_left, momentum_right, stress_volume, seg)
    end subroutine material_musl_remap_segment
@@ -11770,7 +14057,7 @@ contains
    subroutine material_musl_stress_segment(k, seg, x, x0, v, stress, volume_ratio, cell, acceleration, velocity, &
                                            strain_increment_of, mass_left, mass_right, momentum_left, momentum_right, &
                                            stress_volume, constants, carry, mass_of, modulus_of, forces, gradient, force_left, &
-                                           force_right)
+                                           force_right, plastic_strain, hardening, yield_of, hardening_of)
       integer, parameter :: kernel = pass_musl_stress
       logical, parameter :: moves = pass_moves(kernel), stresses = pass_stresses(kernel), relocates = pass_relocates(kernel)
       integer, parameter :: shares = pass_shares(kernel)
@@ -11789,9 +14076,15 @@ contains
       !> the forces
       real(dp), intent(in), contiguous, optional :: mass_of(:), modulus_of(:), forces(:)
       real(dp), intent(inout), contiguous, optional :: gradient(:), force_left(:), force_right(:)
+      !> the elastoplastic law's state (plastic strain, hardening variable) and, `material`, each particle's
+      !> yield stress and hardening modulus (absent for the other laws)
+      real(dp), intent(inout), contiguous, optional :: plastic_strain(:), hardening(:)
+      real(dp), intent(in), contiguous, optional :: yield_of(:), hardening_of(:)
       integer :: p, e, i, n, b0, first, last, lo, hi, outside, ahead, elements
       real(dp) :: half_m, strain_factor, dstrain, inv_dx, dt, youngs_modulus, m, volume0
-      logical :: linear
+      logical :: linear, plastic
+      ! the elastoplastic law's constants and the block's plastic work, summed in lanes
+      real(dp) :: yield_stress, hardening_modulus, increment, wb(block_size), work(lanes)
       type(largest_move_t) :: largest
       real(dp) :: displacement(lanes), kinetic(lanes), strain(lanes), min_j(lanes)
       integer :: cb(block_size)
@@ -11812,6 +14105,10 @@ contains
       dt = constants%dt
       youngs_modulus = constants%youngs_modulus
       linear = constants%linear
+      plastic = constants%plastic
+      yield_stress = constants%yield_stress
+      hardening_modulus = constants%hardening_modulus
+      work = 0
       m = constants%mass
       volume0 = constants%volume0
       call open_segment(k, shares, seg, mass_left, mass_right, momentum_left, momentum_right, stress_volume, first, last, &
@@ -11831,6 +14128,7 @@ contains
             if (kernel == pass_usf_move .or. kernel == pass_musl_remap) call prefetch_block(ahead, cell, x, x0, v)
             if (kernel == pass_usf_stress) call prefetch_block(ahead, cell, stress, volume_ratio)
             if (kernel == pass_musl_stress) call prefetch_block(ahead, cell, x, v, stress, volume_ratio)
+            if (stresses .and. plastic) call prefetch_block(ahead, cell, plastic_strain, hardening)
             if (moves) then
                call prefetch_nodes(cell(b0), cell(b0 + n - 1), acceleration, velocity)
             else
@@ -11859,7 +14157,64 @@ contains
                   dstrain = strain_increment_of(e)
                end if
                call stress_linear(dstrain, modulus_of(p), 0.5_dp*volume0/modulus_of(p), volume0, stress(p), volume_ratio(p), &
-                                 sb(i), svb(i))
+                                  sb(i), svb(i))
+               jb(i) = volume_ratio(p)
+            else if (iand(shares, share_stress) /= 0) then ! (an initial mapping: the stress as it is)
+               svb(i) = stress(p)*volume_ratio(p)*volume0
+            end if
+            if (relocates) then ! the new cell, for P2G at the new position
+               call locate_cell(x(p), inv_dx, elements, elements_bits, cb(i), xib(i))
+               cell(p) = cb(i)
+            else                ! the shares go to the start-of-step cell
+               cb(i) = e
+               if (moves) xib(i) = xi
+            end if
+            ! the particle's whole element shares (accumulate_shares sums them): mass, momentum (APIC's
+            ! with its affine part), stress*volume, external force, at the left and right node
+            mp = mass_of(p)
+            if (iand(shares, share_mass + share_momentum) /= 0) then
+               sh(i, 2) = mp*xib(i)
+               sh(i, 1) = mp - sh(i, 2)
+            end if
+            if (iand(shares, share_momentum) /= 0) then
+               sh(i, 3) = sh(i, 1)*v(p)
+               sh(i, 4) = sh(i, 2)*v(p)
+            end if
+            if (iand(shares, share_stress) /= 0) sh(i, 5) = svb(i)
+         end do
+         else if (plastic) then
+         do i = 1, n
+            p = b0 + i - 1
+            e = cell(p)
+            ! G2P with the start-of-step shape functions (per-particle masses and moduli)
+            if (moves) then
+               xi = x(p)*inv_dx - (e - 1)
+               vgrid = (1.0_dp - xi)*velocity(e - 1) + xi*velocity(e)
+               v(p) = v(p) + dt*((1.0_dp - xi)*acceleration(e - 1) + xi*acceleration(e))
+               dxp = dt*vgrid
+               x(p) = x(p) + dxp
+               db(i) = mass_of(p)*(x(p) - x0(p))
+               kb(i) = 0.5_dp*mass_of(p)*v(p)*v(p)
+               mb(i, slot) = abs(dxp)*inv_dx
+            end if
+            if (stresses) then ! d eps = dt sum dN v_I over the start-of-step cell
+               if (moves) then
+                  dstrain = strain_increment(velocity(e - 1), velocity(e), dt, inv_dx)
+               else
+                  dstrain = strain_increment_of(e)
+               end if
+               stress(p) = stress(p) + modulus_of(p)*dstrain
+               ! d gamma, zero in an elastic step: written without a branch, so that a loop over particles
+               ! vectorises; an elastic step then subtracts and adds zeros, which leaves the hencky bits
+               increment = max(abs(stress(p)) - (yield_of(p) + hardening_of(p)*hardening(p)), 0.0_dp)/ &
+                           (modulus_of(p) + hardening_of(p))
+               stress(p) = stress(p) - sign(modulus_of(p)*increment, stress(p))
+               plastic_strain(p) = plastic_strain(p) + sign(increment, stress(p))
+               hardening(p) = hardening(p) + increment
+               volume_ratio(p) = volume_ratio(p)*(1.0_dp + dstrain)
+               sb(i) = stress(p)*stress(p)*volume_ratio(p)*0.5_dp*volume0/modulus_of(p)
+               svb(i) = stress(p)*volume_ratio(p)*volume0
+               wb(i) = (yield_of(p) + 0.5_dp*hardening_of(p)*hardening(p))*hardening(p)*volume0
                jb(i) = volume_ratio(p)
             else if (iand(shares, share_stress) /= 0) then ! (an initial mapping: the stress as it is)
                svb(i) = stress(p)*volume_ratio(p)*volume0
@@ -11906,7 +14261,7 @@ contains
                   dstrain = strain_increment_of(e)
                end if
                call stress_hencky(dstrain, modulus_of(p), 0.5_dp*volume0/modulus_of(p), volume0, stress(p), volume_ratio(p), &
-                                 sb(i), svb(i))
+                                  sb(i), svb(i))
                jb(i) = volume_ratio(p)
             else if (iand(shares, share_stress) /= 0) then ! (an initial mapping: the stress as it is)
                svb(i) = stress(p)*volume_ratio(p)*volume0
@@ -11971,6 +14326,13 @@ contains
             lane_r = mod(n, lanes)
             if (lane_r > 0) min_j(1:lane_r) = min(min_j(1:lane_r), jb(n - lane_r + 1:n))
          end if
+         if (plastic) then
+            do lane_i = 1, n - lanes + 1, lanes
+               work = work + wb(lane_i:lane_i + lanes - 1)
+            end do
+            lane_r = mod(n, lanes)
+            if (lane_r > 0) work(1:lane_r) = work(1:lane_r) + wb(n - lane_r + 1:n)
+         end if
          if (relocates) call find_outside(n, b0, cb, outside)
          call accumulate_shares(k, n, cb, sh, lo, hi, shares, run, mass_left, mass_right, momentum_left, momentum_right, &
                                 stress_volume, seg, force_left, force_right)
@@ -11979,7 +14341,8 @@ contains
       if (run%cur /= 0) call flush_sums(k, run%cur, lo, hi, shares, run%s, mass_left, mass_right, momentum_left, &
                                         momentum_right, stress_volume, seg, force_left, force_right)
       run%a = 0.0_dp  ! (close_segment flushes the bar's sums: none here)
-      call close_segment(k, shares, m, run, [lane_total(displacement), lane_total(kinetic), lane_total(strain)], &
+      call close_segment(k, shares, m, run, [lane_total(displacement), lane_total(kinetic), lane_total(strain), &
+                         lane_total(work)], &
                          minval(min_j), largest%value, furthest_particle(largest, mb), outside, mass_left, mass_right, &
                          momentum_left, momentum_right, stress_volume, seg)
    end subroutine material_musl_stress_segment
@@ -11988,7 +14351,7 @@ contains
    subroutine material_map_segment(k, seg, x, x0, v, stress, volume_ratio, cell, acceleration, velocity, &
                                    strain_increment_of, mass_left, mass_right, momentum_left, momentum_right, &
                                    stress_volume, constants, carry, mass_of, modulus_of, forces, gradient, force_left, &
-                                   force_right)
+                                   force_right, plastic_strain, hardening, yield_of, hardening_of)
       integer, parameter :: kernel = pass_map
       logical, parameter :: moves = pass_moves(kernel), stresses = pass_stresses(kernel), relocates = pass_relocates(kernel)
       integer, parameter :: shares = pass_shares(kernel)
@@ -12007,9 +14370,13 @@ contains
       !> the forces
       real(dp), intent(in), contiguous, optional :: mass_of(:), modulus_of(:), forces(:)
       real(dp), intent(inout), contiguous, optional :: gradient(:), force_left(:), force_right(:)
+      !> the elastoplastic law's state (plastic strain, hardening variable) and, `material`, each particle's
+      !> yield stress and hardening modulus (absent for the other laws)
+      real(dp), intent(inout), contiguous, optional :: plastic_strain(:), hardening(:)
+      real(dp), intent(in), contiguous, optional :: yield_of(:), hardening_of(:)
       integer :: p, e, i, n, b0, first, last, lo, hi, outside, ahead, elements
       real(dp) :: half_m, strain_factor, dstrain, inv_dx, dt, youngs_modulus, m, volume0
-      logical :: linear
+      logical :: linear, plastic
       type(largest_move_t) :: largest
       real(dp) :: displacement(lanes), kinetic(lanes), strain(lanes), min_j(lanes)
       integer :: cb(block_size)
@@ -12030,6 +14397,7 @@ contains
       dt = constants%dt
       youngs_modulus = constants%youngs_modulus
       linear = constants%linear
+      plastic = constants%plastic
       m = constants%mass
       volume0 = constants%volume0
       call open_segment(k, shares, seg, mass_left, mass_right, momentum_left, momentum_right, stress_volume, first, last, &
@@ -12049,6 +14417,7 @@ contains
             if (kernel == pass_usf_move .or. kernel == pass_musl_remap) call prefetch_block(ahead, cell, x, x0, v)
             if (kernel == pass_usf_stress) call prefetch_block(ahead, cell, stress, volume_ratio)
             if (kernel == pass_musl_stress) call prefetch_block(ahead, cell, x, v, stress, volume_ratio)
+            if (stresses .and. plastic) call prefetch_block(ahead, cell, plastic_strain, hardening)
             if (moves) then
                call prefetch_nodes(cell(b0), cell(b0 + n - 1), acceleration, velocity)
             else
@@ -12076,7 +14445,7 @@ contains
                   dstrain = strain_increment_of(e)
                end if
                call stress_hencky(dstrain, modulus_of(p), 0.5_dp*volume0/modulus_of(p), volume0, stress(p), volume_ratio(p), &
-                                 sb(i), svb(i))
+                                  sb(i), svb(i))
                jb(i) = volume_ratio(p)
             else if (iand(shares, share_stress) /= 0) then ! (an initial mapping: the stress as it is)
                svb(i) = stress(p)*volume_ratio(p)*volume0
@@ -12148,7 +14517,8 @@ contains
       if (run%cur /= 0) call flush_sums(k, run%cur, lo, hi, shares, run%s, mass_left, mass_right, momentum_left, &
                                         momentum_right, stress_volume, seg, force_left, force_right)
       run%a = 0.0_dp  ! (close_segment flushes the bar's sums: none here)
-      call close_segment(k, shares, m, run, [lane_total(displacement), lane_total(kinetic), lane_total(strain)], &
+      call close_segment(k, shares, m, run, [lane_total(displacement), lane_total(kinetic), lane_total(strain), &
+                         0.0_dp], &
                          minval(min_j), largest%value, furthest_particle(largest, mb), outside, mass_left, mass_right, &
                          momentum_left, momentum_right, stress_volume, seg)
    end subroutine material_map_segment
@@ -12157,7 +14527,7 @@ contains
    subroutine material_map_stress_segment(k, seg, x, x0, v, stress, volume_ratio, cell, acceleration, velocity, &
                                           strain_increment_of, mass_left, mass_right, momentum_left, momentum_right, &
                                           stress_volume, constants, carry, mass_of, modulus_of, forces, gradient, force_left, &
-                                          force_right)
+                                          force_right, plastic_strain, hardening, yield_of, hardening_of)
       integer, parameter :: kernel = pass_map_stress
       logical, parameter :: moves = pass_moves(kernel), stresses = pass_stresses(kernel), relocates = pass_relocates(kernel)
       integer, parameter :: shares = pass_shares(kernel)
@@ -12176,9 +14546,13 @@ contains
       !> the forces
       real(dp), intent(in), contiguous, optional :: mass_of(:), modulus_of(:), forces(:)
       real(dp), intent(inout), contiguous, optional :: gradient(:), force_left(:), force_right(:)
+      !> the elastoplastic law's state (plastic strain, hardening variable) and, `material`, each particle's
+      !> yield stress and hardening modulus (absent for the other laws)
+      real(dp), intent(inout), contiguous, optional :: plastic_strain(:), hardening(:)
+      real(dp), intent(in), contiguous, optional :: yield_of(:), hardening_of(:)
       integer :: p, e, i, n, b0, first, last, lo, hi, outside, ahead, elements
       real(dp) :: half_m, strain_factor, dstrain, inv_dx, dt, youngs_modulus, m, volume0
-      logical :: linear
+      logical :: linear, plastic
       type(largest_move_t) :: largest
       real(dp) :: displacement(lanes), kinetic(lanes), strain(lanes), min_j(lanes)
       integer :: cb(block_size)
@@ -12199,6 +14573,7 @@ contains
       dt = constants%dt
       youngs_modulus = constants%youngs_modulus
       linear = constants%linear
+      plastic = constants%plastic
       m = constants%mass
       volume0 = constants%volume0
       call open_segment(k, shares, seg, mass_left, mass_right, momentum_left, momentum_right, stress_volume, first, last, &
@@ -12218,6 +14593,7 @@ contains
             if (kernel == pass_usf_move .or. kernel == pass_musl_remap) call prefetch_block(ahead, cell, x, x0, v)
             if (kernel == pass_usf_stress) call prefetch_block(ahead, cell, stress, volume_ratio)
             if (kernel == pass_musl_stress) call prefetch_block(ahead, cell, x, v, stress, volume_ratio)
+            if (stresses .and. plastic) call prefetch_block(ahead, cell, plastic_strain, hardening)
             if (moves) then
                call prefetch_nodes(cell(b0), cell(b0 + n - 1), acceleration, velocity)
             else
@@ -12245,7 +14621,7 @@ contains
                   dstrain = strain_increment_of(e)
                end if
                call stress_hencky(dstrain, modulus_of(p), 0.5_dp*volume0/modulus_of(p), volume0, stress(p), volume_ratio(p), &
-                                 sb(i), svb(i))
+                                  sb(i), svb(i))
                jb(i) = volume_ratio(p)
             else if (iand(shares, share_stress) /= 0) then ! (an initial mapping: the stress as it is)
                svb(i) = stress(p)*volume_ratio(p)*volume0
@@ -12317,7 +14693,8 @@ contains
       if (run%cur /= 0) call flush_sums(k, run%cur, lo, hi, shares, run%s, mass_left, mass_right, momentum_left, &
                                         momentum_right, stress_volume, seg, force_left, force_right)
       run%a = 0.0_dp  ! (close_segment flushes the bar's sums: none here)
-      call close_segment(k, shares, m, run, [lane_total(displacement), lane_total(kinetic), lane_total(strain)], &
+      call close_segment(k, shares, m, run, [lane_total(displacement), lane_total(kinetic), lane_total(strain), &
+                         0.0_dp], &
                          minval(min_j), largest%value, furthest_particle(largest, mb), outside, mass_left, mass_right, &
                          momentum_left, momentum_right, stress_volume, seg)
    end subroutine material_map_stress_segment
@@ -12326,7 +14703,7 @@ contains
    subroutine forced_usf_move_segment(k, seg, x, x0, v, stress, volume_ratio, cell, acceleration, velocity, &
                                       strain_increment_of, mass_left, mass_right, momentum_left, momentum_right, &
                                       stress_volume, constants, carry, mass_of, modulus_of, forces, gradient, force_left, &
-                                      force_right)
+                                      force_right, plastic_strain, hardening, yield_of, hardening_of)
       integer, parameter :: kernel = pass_usf_move
       logical, parameter :: moves = pass_moves(kernel), stresses = pass_stresses(kernel), relocates = pass_relocates(kernel)
       integer, parameter :: shares = pass_force_shares(kernel)
@@ -12345,9 +14722,13 @@ contains
       !> the forces
       real(dp), intent(in), contiguous, optional :: mass_of(:), modulus_of(:), forces(:)
       real(dp), intent(inout), contiguous, optional :: gradient(:), force_left(:), force_right(:)
+      !> the elastoplastic law's state (plastic strain, hardening variable) and, `material`, each particle's
+      !> yield stress and hardening modulus (absent for the other laws)
+      real(dp), intent(inout), contiguous, optional :: plastic_strain(:), hardening(:)
+      real(dp), intent(in), contiguous, optional :: yield_of(:), hardening_of(:)
       integer :: p, e, i, n, b0, first, last, lo, hi, outside, ahead, elements
       real(dp) :: half_m, strain_factor, dstrain, inv_dx, dt, youngs_modulus, m, volume0
-      logical :: linear
+      logical :: linear, plastic
       type(largest_move_t) :: largest
       real(dp) :: displacement(lanes), kinetic(lanes), strain(lanes), min_j(lanes)
       integer :: cb(block_size)
@@ -12368,6 +14749,7 @@ contains
       dt = constants%dt
       youngs_modulus = constants%youngs_modulus
       linear = constants%linear
+      plastic = constants%plastic
       m = constants%mass
       volume0 = constants%volume0
       call open_segment(k, shares, seg, mass_left, mass_right, momentum_left, momentum_right, stress_volume, first, last, &
@@ -12387,6 +14769,7 @@ contains
             if (kernel == pass_usf_move .or. kernel == pass_musl_remap) call prefetch_block(ahead, cell, x, x0, v)
             if (kernel == pass_usf_stress) call prefetch_block(ahead, cell, stress, volume_ratio)
             if (kernel == pass_musl_stress) call prefetch_block(ahead, cell, x, v, stress, volume_ratio)
+            if (stresses .and. plastic) call prefetch_block(ahead, cell, plastic_strain, hardening)
             if (moves) then
                call prefetch_nodes(cell(b0), cell(b0 + n - 1), acceleration, velocity)
             else
@@ -12413,7 +14796,8 @@ contains
                else
                   dstrain = strain_increment_of(e)
                end if
-               call stress_hencky(dstrain, youngs_modulus, strain_factor, volume0, stress(p), volume_ratio(p), sb(i), svb(i))
+               call stress_hencky(dstrain, youngs_modulus, strain_factor, volume0, stress(p), volume_ratio(p), &
+                                  sb(i), svb(i))
                jb(i) = volume_ratio(p)
             else if (iand(shares, share_stress) /= 0) then ! (an initial mapping: the stress as it is)
                svb(i) = stress(p)*volume_ratio(p)*volume0
@@ -12490,7 +14874,8 @@ contains
       if (run%cur /= 0) call flush_sums(k, run%cur, lo, hi, shares, run%s, mass_left, mass_right, momentum_left, &
                                         momentum_right, stress_volume, seg, force_left, force_right)
       run%a = 0.0_dp  ! (close_segment flushes the bar's sums: none here)
-      call close_segment(k, shares, m, run, [lane_total(displacement), lane_total(kinetic), lane_total(strain)], &
+      call close_segment(k, shares, m, run, [lane_total(displacement), lane_total(kinetic), lane_total(strain), &
+                         0.0_dp], &
                          minval(min_j), largest%value, furthest_particle(largest, mb), outside, mass_left, mass_right, &
                          momentum_left, momentum_right, stress_volume, seg)
    end subroutine forced_usf_move_segment
@@ -12499,7 +14884,7 @@ contains
    subroutine forced_usf_stress_segment(k, seg, x, x0, v, stress, volume_ratio, cell, acceleration, velocity, &
                                         strain_increment_of, mass_left, mass_right, momentum_left, momentum_right, &
                                         stress_volume, constants, carry, mass_of, modulus_of, forces, gradient, force_left, &
-                                        force_right)
+                                        force_right, plastic_strain, hardening, yield_of, hardening_of)
       integer, parameter :: kernel = pass_usf_stress
       logical, parameter :: moves = pass_moves(kernel), stresses = pass_stresses(kernel), relocates = pass_relocates(kernel)
       integer, parameter :: shares = pass_force_shares(kernel)
@@ -12518,9 +14903,15 @@ contains
       !> the forces
       real(dp), intent(in), contiguous, optional :: mass_of(:), modulus_of(:), forces(:)
       real(dp), intent(inout), contiguous, optional :: gradient(:), force_left(:), force_right(:)
+      !> the elastoplastic law's state (plastic strain, hardening variable) and, `material`, each particle's
+      !> yield stress and hardening modulus (absent for the other laws)
+      real(dp), intent(inout), contiguous, optional :: plastic_strain(:), hardening(:)
+      real(dp), intent(in), contiguous, optional :: yield_of(:), hardening_of(:)
       integer :: p, e, i, n, b0, first, last, lo, hi, outside, ahead, elements
       real(dp) :: half_m, strain_factor, dstrain, inv_dx, dt, youngs_modulus, m, volume0
-      logical :: linear
+      logical :: linear, plastic
+      ! the elastoplastic law's constants and the block's plastic work, summed in lanes
+      real(dp) :: yield_stress, hardening_modulus, increment, wb(block_size), work(lanes)
       type(largest_move_t) :: largest
       real(dp) :: displacement(lanes), kinetic(lanes), strain(lanes), min_j(lanes)
       integer :: cb(block_size)
@@ -12541,6 +14932,10 @@ contains
       dt = constants%dt
       youngs_modulus = constants%youngs_modulus
       linear = constants%linear
+      plastic = constants%plastic
+      yield_stress = constants%yield_stress
+      hardening_modulus = constants%hardening_modulus
+      work = 0
       m = constants%mass
       volume0 = constants%volume0
       call open_segment(k, shares, seg, mass_left, mass_right, momentum_left, momentum_right, stress_volume, first, last, &
@@ -12560,6 +14955,7 @@ contains
             if (kernel == pass_usf_move .or. kernel == pass_musl_remap) call prefetch_block(ahead, cell, x, x0, v)
             if (kernel == pass_usf_stress) call prefetch_block(ahead, cell, stress, volume_ratio)
             if (kernel == pass_musl_stress) call prefetch_block(ahead, cell, x, v, stress, volume_ratio)
+            if (stresses .and. plastic) call prefetch_block(ahead, cell, plastic_strain, hardening)
             if (moves) then
                call prefetch_nodes(cell(b0), cell(b0 + n - 1), acceleration, velocity)
             else
@@ -12587,7 +14983,70 @@ contains
                else
                   dstrain = strain_increment_of(e)
                end if
-               call stress_linear(dstrain, youngs_modulus, strain_factor, volume0, stress(p), volume_ratio(p), sb(i), svb(i))
+               call stress_linear(dstrain, youngs_modulus, strain_factor, volume0, stress(p), volume_ratio(p), &
+                                  sb(i), svb(i))
+               jb(i) = volume_ratio(p)
+            else if (iand(shares, share_stress) /= 0) then ! (an initial mapping: the stress as it is)
+               svb(i) = stress(p)*volume_ratio(p)*volume0
+            end if
+            if (relocates) then ! the new cell, for P2G at the new position
+               call locate_cell(x(p), inv_dx, elements, elements_bits, cb(i), xib(i))
+               cell(p) = cb(i)
+            else                ! the shares go to the start-of-step cell
+               cb(i) = e
+               if (moves) xib(i) = xi
+               if (.not. moves) xib(i) = x(p)*inv_dx - (e - 1)  ! (USF's stress pass maps the forces)
+            end if
+            ! the particle's whole element shares (accumulate_shares sums them): mass, momentum (APIC's
+            ! with its affine part), stress*volume, external force, at the left and right node
+            mp = m
+            if (iand(shares, share_mass + share_momentum) /= 0) then
+               sh(i, 2) = mp*xib(i)
+               sh(i, 1) = mp - sh(i, 2)
+            end if
+            if (iand(shares, share_momentum) /= 0) then
+               sh(i, 3) = sh(i, 1)*v(p)
+               sh(i, 4) = sh(i, 2)*v(p)
+            end if
+            if (iand(shares, share_stress) /= 0) sh(i, 5) = svb(i)
+            if (iand(shares, share_force) /= 0) then
+               sh(i, 7) = forces(p)*xib(i)
+               sh(i, 6) = forces(p) - sh(i, 7)
+            end if
+         end do
+         else if (plastic) then
+         do i = 1, n
+            p = b0 + i - 1
+            e = cell(p)
+            ! G2P with the start-of-step shape functions (per-particle forces)
+            if (moves) then
+               xi = x(p)*inv_dx - (e - 1)
+               vgrid = (1.0_dp - xi)*velocity(e - 1) + xi*velocity(e)
+               v(p) = v(p) + dt*((1.0_dp - xi)*acceleration(e - 1) + xi*acceleration(e))
+               dxp = dt*vgrid
+               x(p) = x(p) + dxp
+               db(i) = x(p) - x0(p)
+               kb(i) = half_m*v(p)*v(p)
+               mb(i, slot) = abs(dxp)*inv_dx
+            end if
+            if (stresses) then ! d eps = dt sum dN v_I over the start-of-step cell
+               if (moves) then
+                  dstrain = strain_increment(velocity(e - 1), velocity(e), dt, inv_dx)
+               else
+                  dstrain = strain_increment_of(e)
+               end if
+               stress(p) = stress(p) + youngs_modulus*dstrain
+               ! d gamma, zero in an elastic step: written without a branch, so that a loop over particles
+               ! vectorises; an elastic step then subtracts and adds zeros, which leaves the hencky bits
+               increment = max(abs(stress(p)) - (yield_stress + hardening_modulus*hardening(p)), 0.0_dp)/ &
+                           (youngs_modulus + hardening_modulus)
+               stress(p) = stress(p) - sign(youngs_modulus*increment, stress(p))
+               plastic_strain(p) = plastic_strain(p) + sign(increment, stress(p))
+               hardening(p) = hardening(p) + increment
+               volume_ratio(p) = volume_ratio(p)*(1.0_dp + dstrain)
+               sb(i) = stress(p)*stress(p)*volume_ratio(p)*strain_factor
+               svb(i) = stress(p)*volume_ratio(p)*volume0
+               wb(i) = (yield_stress + 0.5_dp*hardening_modulus*hardening(p))*hardening(p)*volume0
                jb(i) = volume_ratio(p)
             else if (iand(shares, share_stress) /= 0) then ! (an initial mapping: the stress as it is)
                svb(i) = stress(p)*volume_ratio(p)*volume0
@@ -12638,7 +15097,8 @@ contains
                else
                   dstrain = strain_increment_of(e)
                end if
-               call stress_hencky(dstrain, youngs_modulus, strain_factor, volume0, stress(p), volume_ratio(p), sb(i), svb(i))
+               call stress_hencky(dstrain, youngs_modulus, strain_factor, volume0, stress(p), volume_ratio(p), &
+                                  sb(i), svb(i))
                jb(i) = volume_ratio(p)
             else if (iand(shares, share_stress) /= 0) then ! (an initial mapping: the stress as it is)
                svb(i) = stress(p)*volume_ratio(p)*volume0
@@ -12708,6 +15168,13 @@ contains
             lane_r = mod(n, lanes)
             if (lane_r > 0) min_j(1:lane_r) = min(min_j(1:lane_r), jb(n - lane_r + 1:n))
          end if
+         if (plastic) then
+            do lane_i = 1, n - lanes + 1, lanes
+               work = work + wb(lane_i:lane_i + lanes - 1)
+            end do
+            lane_r = mod(n, lanes)
+            if (lane_r > 0) work(1:lane_r) = work(1:lane_r) + wb(n - lane_r + 1:n)
+         end if
          if (relocates) call find_outside(n, b0, cb, outside)
          call accumulate_shares(k, n, cb, sh, lo, hi, shares, run, mass_left, mass_right, momentum_left, momentum_right, &
                                 stress_volume, seg, force_left, force_right)
@@ -12716,7 +15183,8 @@ contains
       if (run%cur /= 0) call flush_sums(k, run%cur, lo, hi, shares, run%s, mass_left, mass_right, momentum_left, &
                                         momentum_right, stress_volume, seg, force_left, force_right)
       run%a = 0.0_dp  ! (close_segment flushes the bar's sums: none here)
-      call close_segment(k, shares, m, run, [lane_total(displacement), lane_total(kinetic), lane_total(strain)], &
+      call close_segment(k, shares, m, run, [lane_total(displacement), lane_total(kinetic), lane_total(strain), &
+                         lane_total(work)], &
                          minval(min_j), largest%value, furthest_particle(largest, mb), outside, mass_left, mass_right, &
                          momentum_left, momentum_right, stress_volume, seg)
    end subroutine forced_usf_stress_segment
@@ -12725,7 +15193,7 @@ contains
    subroutine forced_usl_segment(k, seg, x, x0, v, stress, volume_ratio, cell, acceleration, velocity, &
                                  strain_increment_of, mass_left, mass_right, momentum_left, momentum_right, &
                                  stress_volume, constants, carry, mass_of, modulus_of, forces, gradient, force_left, &
-                                 force_right)
+                                 force_right, plastic_strain, hardening, yield_of, hardening_of)
       integer, parameter :: kernel = pass_usl
       logical, parameter :: moves = pass_moves(kernel), stresses = pass_stresses(kernel), relocates = pass_relocates(kernel)
       integer, parameter :: shares = pass_force_shares(kernel)
@@ -12744,9 +15212,15 @@ contains
       !> the forces
       real(dp), intent(in), contiguous, optional :: mass_of(:), modulus_of(:), forces(:)
       real(dp), intent(inout), contiguous, optional :: gradient(:), force_left(:), force_right(:)
+      !> the elastoplastic law's state (plastic strain, hardening variable) and, `material`, each particle's
+      !> yield stress and hardening modulus (absent for the other laws)
+      real(dp), intent(inout), contiguous, optional :: plastic_strain(:), hardening(:)
+      real(dp), intent(in), contiguous, optional :: yield_of(:), hardening_of(:)
       integer :: p, e, i, n, b0, first, last, lo, hi, outside, ahead, elements
       real(dp) :: half_m, strain_factor, dstrain, inv_dx, dt, youngs_modulus, m, volume0
-      logical :: linear
+      logical :: linear, plastic
+      ! the elastoplastic law's constants and the block's plastic work, summed in lanes
+      real(dp) :: yield_stress, hardening_modulus, increment, wb(block_size), work(lanes)
       type(largest_move_t) :: largest
       real(dp) :: displacement(lanes), kinetic(lanes), strain(lanes), min_j(lanes)
       integer :: cb(block_size)
@@ -12767,6 +15241,10 @@ contains
       dt = constants%dt
       youngs_modulus = constants%youngs_modulus
       linear = constants%linear
+      plastic = constants%plastic
+      yield_stress = constants%yield_stress
+      hardening_modulus = constants%hardening_modulus
+      work = 0
       m = constants%mass
       volume0 = constants%volume0
       call open_segment(k, shares, seg, mass_left, mass_right, momentum_left, momentum_right, stress_volume, first, last, &
@@ -12786,6 +15264,7 @@ contains
             if (kernel == pass_usf_move .or. kernel == pass_musl_remap) call prefetch_block(ahead, cell, x, x0, v)
             if (kernel == pass_usf_stress) call prefetch_block(ahead, cell, stress, volume_ratio)
             if (kernel == pass_musl_stress) call prefetch_block(ahead, cell, x, v, stress, volume_ratio)
+            if (stresses .and. plastic) call prefetch_block(ahead, cell, plastic_strain, hardening)
             if (moves) then
                call prefetch_nodes(cell(b0), cell(b0 + n - 1), acceleration, velocity)
             else
@@ -12813,7 +15292,70 @@ contains
                else
                   dstrain = strain_increment_of(e)
                end if
-               call stress_linear(dstrain, youngs_modulus, strain_factor, volume0, stress(p), volume_ratio(p), sb(i), svb(i))
+               call stress_linear(dstrain, youngs_modulus, strain_factor, volume0, stress(p), volume_ratio(p), &
+                                  sb(i), svb(i))
+               jb(i) = volume_ratio(p)
+            else if (iand(shares, share_stress) /= 0) then ! (an initial mapping: the stress as it is)
+               svb(i) = stress(p)*volume_ratio(p)*volume0
+            end if
+            if (relocates) then ! the new cell, for P2G at the new position
+               call locate_cell(x(p), inv_dx, elements, elements_bits, cb(i), xib(i))
+               cell(p) = cb(i)
+            else                ! the shares go to the start-of-step cell
+               cb(i) = e
+               if (moves) xib(i) = xi
+               if (.not. moves) xib(i) = x(p)*inv_dx - (e - 1)  ! (USF's stress pass maps the forces)
+            end if
+            ! the particle's whole element shares (accumulate_shares sums them): mass, momentum (APIC's
+            ! with its affine part), stress*volume, external force, at the left and right node
+            mp = m
+            if (iand(shares, share_mass + share_momentum) /= 0) then
+               sh(i, 2) = mp*xib(i)
+               sh(i, 1) = mp - sh(i, 2)
+            end if
+            if (iand(shares, share_momentum) /= 0) then
+               sh(i, 3) = sh(i, 1)*v(p)
+               sh(i, 4) = sh(i, 2)*v(p)
+            end if
+            if (iand(shares, share_stress) /= 0) sh(i, 5) = svb(i)
+            if (iand(shares, share_force) /= 0) then
+               sh(i, 7) = forces(p)*xib(i)
+               sh(i, 6) = forces(p) - sh(i, 7)
+            end if
+         end do
+         else if (plastic) then
+         do i = 1, n
+            p = b0 + i - 1
+            e = cell(p)
+            ! G2P with the start-of-step shape functions (per-particle forces)
+            if (moves) then
+               xi = x(p)*inv_dx - (e - 1)
+               vgrid = (1.0_dp - xi)*velocity(e - 1) + xi*velocity(e)
+               v(p) = v(p) + dt*((1.0_dp - xi)*acceleration(e - 1) + xi*acceleration(e))
+               dxp = dt*vgrid
+               x(p) = x(p) + dxp
+               db(i) = x(p) - x0(p)
+               kb(i) = half_m*v(p)*v(p)
+               mb(i, slot) = abs(dxp)*inv_dx
+            end if
+            if (stresses) then ! d eps = dt sum dN v_I over the start-of-step cell
+               if (moves) then
+                  dstrain = strain_increment(velocity(e - 1), velocity(e), dt, inv_dx)
+               else
+                  dstrain = strain_increment_of(e)
+               end if
+               stress(p) = stress(p) + youngs_modulus*dstrain
+               ! d gamma, zero in an elastic step: written without a branch, so that a loop over particles
+               ! vectorises; an elastic step then subtracts and adds zeros, which leaves the hencky bits
+               increment = max(abs(stress(p)) - (yield_stress + hardening_modulus*hardening(p)), 0.0_dp)/ &
+                           (youngs_modulus + hardening_modulus)
+               stress(p) = stress(p) - sign(youngs_modulus*increment, stress(p))
+               plastic_strain(p) = plastic_strain(p) + sign(increment, stress(p))
+               hardening(p) = hardening(p) + increment
+               volume_ratio(p) = volume_ratio(p)*(1.0_dp + dstrain)
+               sb(i) = stress(p)*stress(p)*volume_ratio(p)*strain_factor
+               svb(i) = stress(p)*volume_ratio(p)*volume0
+               wb(i) = (yield_stress + 0.5_dp*hardening_modulus*hardening(p))*hardening(p)*volume0
                jb(i) = volume_ratio(p)
             else if (iand(shares, share_stress) /= 0) then ! (an initial mapping: the stress as it is)
                svb(i) = stress(p)*volume_ratio(p)*volume0
@@ -12864,7 +15406,8 @@ contains
                else
                   dstrain = strain_increment_of(e)
                end if
-               call stress_hencky(dstrain, youngs_modulus, strain_factor, volume0, stress(p), volume_ratio(p), sb(i), svb(i))
+               call stress_hencky(dstrain, youngs_modulus, strain_factor, volume0, stress(p), volume_ratio(p), &
+                                  sb(i), svb(i))
                jb(i) = volume_ratio(p)
             else if (iand(shares, share_stress) /= 0) then ! (an initial mapping: the stress as it is)
                svb(i) = stress(p)*volume_ratio(p)*volume0
@@ -12934,6 +15477,13 @@ contains
             lane_r = mod(n, lanes)
             if (lane_r > 0) min_j(1:lane_r) = min(min_j(1:lane_r), jb(n - lane_r + 1:n))
          end if
+         if (plastic) then
+            do lane_i = 1, n - lanes + 1, lanes
+               work = work + wb(lane_i:lane_i + lanes - 1)
+            end do
+            lane_r = mod(n, lanes)
+            if (lane_r > 0) work(1:lane_r) = work(1:lane_r) + wb(n - lane_r + 1:n)
+         end if
          if (relocates) call find_outside(n, b0, cb, outside)
          call accumulate_shares(k, n, cb, sh, lo, hi, shares, run, mass_left, mass_right, momentum_left, momentum_right, &
                                 stress_volume, seg, force_left, force_right)
@@ -12942,7 +15492,8 @@ contains
       if (run%cur /= 0) call flush_sums(k, run%cur, lo, hi, shares, run%s, mass_left, mass_right, momentum_left, &
                                         momentum_right, stress_volume, seg, force_left, force_right)
       run%a = 0.0_dp  ! (close_segment flushes the bar's sums: none here)
-      call close_segment(k, shares, m, run, [lane_total(displacement), lane_total(kinetic), lane_total(strain)], &
+      call close_segment(k, shares, m, run, [lane_total(displacement), lane_total(kinetic), lane_total(strain), &
+                         lane_total(work)], &
                          minval(min_j), largest%value, furthest_particle(largest, mb), outside, mass_left, mass_right, &
                          momentum_left, momentum_right, stress_volume, seg)
    end subroutine forced_usl_segment
@@ -12951,7 +15502,7 @@ contains
    subroutine forced_musl_remap_segment(k, seg, x, x0, v, stress, volume_ratio, cell, acceleration, velocity, &
                                         strain_increment_of, mass_left, mass_right, momentum_left, momentum_right, &
                                         stress_volume, constants, carry, mass_of, modulus_of, forces, gradient, force_left, &
-                                        force_right)
+                                        force_right, plastic_strain, hardening, yield_of, hardening_of)
       integer, parameter :: kernel = pass_musl_remap
       logical, parameter :: moves = pass_moves(kernel), stresses = pass_stresses(kernel), relocates = pass_relocates(kernel)
       integer, parameter :: shares = pass_force_shares(kernel)
@@ -12970,9 +15521,13 @@ contains
       !> the forces
       real(dp), intent(in), contiguous, optional :: mass_of(:), modulus_of(:), forces(:)
       real(dp), intent(inout), contiguous, optional :: gradient(:), force_left(:), force_right(:)
+      !> the elastoplastic law's state (plastic strain, hardening variable) and, `material`, each particle's
+      !> yield stress and hardening modulus (absent for the other laws)
+      real(dp), intent(inout), contiguous, optional :: plastic_strain(:), hardening(:)
+      real(dp), intent(in), contiguous, optional :: yield_of(:), hardening_of(:)
       integer :: p, e, i, n, b0, first, last, lo, hi, outside, ahead, elements
       real(dp) :: half_m, strain_factor, dstrain, inv_dx, dt, youngs_modulus, m, volume0
-      logical :: linear
+      logical :: linear, plastic
       type(largest_move_t) :: largest
       real(dp) :: displacement(lanes), kinetic(lanes), strain(lanes), min_j(lanes)
       integer :: cb(block_size)
@@ -12993,6 +15548,7 @@ contains
       dt = constants%dt
       youngs_modulus = constants%youngs_modulus
       linear = constants%linear
+      plastic = constants%plastic
       m = constants%mass
       volume0 = constants%volume0
       call open_segment(k, shares, seg, mass_left, mass_right, momentum_left, momentum_right, stress_volume, first, last, &
@@ -13012,6 +15568,7 @@ contains
             if (kernel == pass_usf_move .or. kernel == pass_musl_remap) call prefetch_block(ahead, cell, x, x0, v)
             if (kernel == pass_usf_stress) call prefetch_block(ahead, cell, stress, volume_ratio)
             if (kernel == pass_musl_stress) call prefetch_block(ahead, cell, x, v, stress, volume_ratio)
+            if (stresses .and. plastic) call prefetch_block(ahead, cell, plastic_strain, hardening)
             if (moves) then
                call prefetch_nodes(cell(b0), cell(b0 + n - 1), acceleration, velocity)
             else
@@ -13038,7 +15595,8 @@ contains
                else
                   dstrain = strain_increment_of(e)
                end if
-               call stress_hencky(dstrain, youngs_modulus, strain_factor, volume0, stress(p), volume_ratio(p), sb(i), svb(i))
+               call stress_hencky(dstrain, youngs_modulus, strain_factor, volume0, stress(p), volume_ratio(p), &
+                                  sb(i), svb(i))
                jb(i) = volume_ratio(p)
             else if (iand(shares, share_stress) /= 0) then ! (an initial mapping: the stress as it is)
                svb(i) = stress(p)*volume_ratio(p)*volume0
@@ -13115,7 +15673,8 @@ contains
       if (run%cur /= 0) call flush_sums(k, run%cur, lo, hi, shares, run%s, mass_left, mass_right, momentum_left, &
                                         momentum_right, stress_volume, seg, force_left, force_right)
       run%a = 0.0_dp  ! (close_segment flushes the bar's sums: none here)
-      call close_segment(k, shares, m, run, [lane_total(displacement), lane_total(kinetic), lane_total(strain)], &
+      call close_segment(k, shares, m, run, [lane_total(displacement), lane_total(kinetic), lane_total(strain), &
+                         0.0_dp], &
                          minval(min_j), largest%value, furthest_particle(largest, mb), outside, mass_left, mass_right, &
                          momentum_left, momentum_right, stress_volume, seg)
    end subroutine forced_musl_remap_segment
@@ -13124,7 +15683,7 @@ contains
    subroutine forced_musl_stress_segment(k, seg, x, x0, v, stress, volume_ratio, cell, acceleration, velocity, &
                                          strain_increment_of, mass_left, mass_right, momentum_left, momentum_right, &
                                          stress_volume, constants, carry, mass_of, modulus_of, forces, gradient, force_left, &
-                                         force_right)
+                                         force_right, plastic_strain, hardening, yield_of, hardening_of)
       integer, parameter :: kernel = pass_musl_stress
       logical, parameter :: moves = pass_moves(kernel), stresses = pass_stresses(kernel), relocates = pass_relocates(kernel)
       integer, parameter :: shares = pass_force_shares(kernel)
@@ -13143,9 +15702,15 @@ contains
       !> the forces
       real(dp), intent(in), contiguous, optional :: mass_of(:), modulus_of(:), forces(:)
       real(dp), intent(inout), contiguous, optional :: gradient(:), force_left(:), force_right(:)
+      !> the elastoplastic law's state (plastic strain, hardening variable) and, `material`, each particle's
+      !> yield stress and hardening modulus (absent for the other laws)
+      real(dp), intent(inout), contiguous, optional :: plastic_strain(:), hardening(:)
+      real(dp), intent(in), contiguous, optional :: yield_of(:), hardening_of(:)
       integer :: p, e, i, n, b0, first, last, lo, hi, outside, ahead, elements
       real(dp) :: half_m, strain_factor, dstrain, inv_dx, dt, youngs_modulus, m, volume0
-      logical :: linear
+      logical :: linear, plastic
+      ! the elastoplastic law's constants and the block's plastic work, summed in lanes
+      real(dp) :: yield_stress, hardening_modulus, increment, wb(block_size), work(lanes)
       type(largest_move_t) :: largest
       real(dp) :: displacement(lanes), kinetic(lanes), strain(lanes), min_j(lanes)
       integer :: cb(block_size)
@@ -13166,6 +15731,10 @@ contains
       dt = constants%dt
       youngs_modulus = constants%youngs_modulus
       linear = constants%linear
+      plastic = constants%plastic
+      yield_stress = constants%yield_stress
+      hardening_modulus = constants%hardening_modulus
+      work = 0
       m = constants%mass
       volume0 = constants%volume0
       call open_segment(k, shares, seg, mass_left, mass_right, momentum_left, momentum_right, stress_volume, first, last, &
@@ -13185,6 +15754,7 @@ contains
             if (kernel == pass_usf_move .or. kernel == pass_musl_remap) call prefetch_block(ahead, cell, x, x0, v)
             if (kernel == pass_usf_stress) call prefetch_block(ahead, cell, stress, volume_ratio)
             if (kernel == pass_musl_stress) call prefetch_block(ahead, cell, x, v, stress, volume_ratio)
+            if (stresses .and. plastic) call prefetch_block(ahead, cell, plastic_strain, hardening)
             if (moves) then
                call prefetch_nodes(cell(b0), cell(b0 + n - 1), acceleration, velocity)
             else
@@ -13212,7 +15782,70 @@ contains
                else
                   dstrain = strain_increment_of(e)
                end if
-               call stress_linear(dstrain, youngs_modulus, strain_factor, volume0, stress(p), volume_ratio(p), sb(i), svb(i))
+               call stress_linear(dstrain, youngs_modulus, strain_factor, volume0, stress(p), volume_ratio(p), &
+                                  sb(i), svb(i))
+               jb(i) = volume_ratio(p)
+            else if (iand(shares, share_stress) /= 0) then ! (an initial mapping: the stress as it is)
+               svb(i) = stress(p)*volume_ratio(p)*volume0
+            end if
+            if (relocates) then ! the new cell, for P2G at the new position
+               call locate_cell(x(p), inv_dx, elements, elements_bits, cb(i), xib(i))
+               cell(p) = cb(i)
+            else                ! the shares go to the start-of-step cell
+               cb(i) = e
+               if (moves) xib(i) = xi
+               if (.not. moves) xib(i) = x(p)*inv_dx - (e - 1)  ! (USF's stress pass maps the forces)
+            end if
+            ! the particle's whole element shares (accumulate_shares sums them): mass, momentum (APIC's
+            ! with its affine part), stress*volume, external force, at the left and right node
+            mp = m
+            if (iand(shares, share_mass + share_momentum) /= 0) then
+               sh(i, 2) = mp*xib(i)
+               sh(i, 1) = mp - sh(i, 2)
+            end if
+            if (iand(shares, share_momentum) /= 0) then
+               sh(i, 3) = sh(i, 1)*v(p)
+               sh(i, 4) = sh(i, 2)*v(p)
+            end if
+            if (iand(shares, share_stress) /= 0) sh(i, 5) = svb(i)
+            if (iand(shares, share_force) /= 0) then
+               sh(i, 7) = forces(p)*xib(i)
+               sh(i, 6) = forces(p) - sh(i, 7)
+            end if
+         end do
+         else if (plastic) then
+         do i = 1, n
+            p = b0 + i - 1
+            e = cell(p)
+            ! G2P with the start-of-step shape functions (per-particle forces)
+            if (moves) then
+               xi = x(p)*inv_dx - (e - 1)
+               vgrid = (1.0_dp - xi)*velocity(e - 1) + xi*velocity(e)
+               v(p) = v(p) + dt*((1.0_dp - xi)*acceleration(e - 1) + xi*acceleration(e))
+               dxp = dt*vgrid
+               x(p) = x(p) + dxp
+               db(i) = x(p) - x0(p)
+               kb(i) = half_m*v(p)*v(p)
+               mb(i, slot) = abs(dxp)*inv_dx
+            end if
+            if (stresses) then ! d eps = dt sum dN v_I over the start-of-step cell
+               if (moves) then
+                  dstrain = strain_increment(velocity(e - 1), velocity(e), dt, inv_dx)
+               else
+                  dstrain = strain_increment_of(e)
+               end if
+               stress(p) = stress(p) + youngs_modulus*dstrain
+               ! d gamma, zero in an elastic step: written without a branch, so that a loop over particles
+               ! vectorises; an elastic step then subtracts and adds zeros, which leaves the hencky bits
+               increment = max(abs(stress(p)) - (yield_stress + hardening_modulus*hardening(p)), 0.0_dp)/ &
+                           (youngs_modulus + hardening_modulus)
+               stress(p) = stress(p) - sign(youngs_modulus*increment, stress(p))
+               plastic_strain(p) = plastic_strain(p) + sign(increment, stress(p))
+               hardening(p) = hardening(p) + increment
+               volume_ratio(p) = volume_ratio(p)*(1.0_dp + dstrain)
+               sb(i) = stress(p)*stress(p)*volume_ratio(p)*strain_factor
+               svb(i) = stress(p)*volume_ratio(p)*volume0
+               wb(i) = (yield_stress + 0.5_dp*hardening_modulus*hardening(p))*hardening(p)*volume0
                jb(i) = volume_ratio(p)
             else if (iand(shares, share_stress) /= 0) then ! (an initial mapping: the stress as it is)
                svb(i) = stress(p)*volume_ratio(p)*volume0
@@ -13263,7 +15896,8 @@ contains
                else
                   dstrain = strain_increment_of(e)
                end if
-               call stress_hencky(dstrain, youngs_modulus, strain_factor, volume0, stress(p), volume_ratio(p), sb(i), svb(i))
+               call stress_hencky(dstrain, youngs_modulus, strain_factor, volume0, stress(p), volume_ratio(p), &
+                                  sb(i), svb(i))
                jb(i) = volume_ratio(p)
             else if (iand(shares, share_stress) /= 0) then ! (an initial mapping: the stress as it is)
                svb(i) = stress(p)*volume_ratio(p)*volume0
@@ -13333,6 +15967,13 @@ contains
             lane_r = mod(n, lanes)
             if (lane_r > 0) min_j(1:lane_r) = min(min_j(1:lane_r), jb(n - lane_r + 1:n))
          end if
+         if (plastic) then
+            do lane_i = 1, n - lanes + 1, lanes
+               work = work + wb(lane_i:lane_i + lanes - 1)
+            end do
+            lane_r = mod(n, lanes)
+            if (lane_r > 0) work(1:lane_r) = work(1:lane_r) + wb(n - lane_r + 1:n)
+         end if
          if (relocates) call find_outside(n, b0, cb, outside)
          call accumulate_shares(k, n, cb, sh, lo, hi, shares, run, mass_left, mass_right, momentum_left, momentum_right, &
                                 stress_volume, seg, force_left, force_right)
@@ -13341,7 +15982,8 @@ contains
       if (run%cur /= 0) call flush_sums(k, run%cur, lo, hi, shares, run%s, mass_left, mass_right, momentum_left, &
                                         momentum_right, stress_volume, seg, force_left, force_right)
       run%a = 0.0_dp  ! (close_segment flushes the bar's sums: none here)
-      call close_segment(k, shares, m, run, [lane_total(displacement), lane_total(kinetic), lane_total(strain)], &
+      call close_segment(k, shares, m, run, [lane_total(displacement), lane_total(kinetic), lane_total(strain), &
+                         lane_total(work)], &
                          minval(min_j), largest%value, furthest_particle(largest, mb), outside, mass_left, mass_right, &
                          momentum_left, momentum_right, stress_volume, seg)
    end subroutine forced_musl_stress_segment
@@ -13350,7 +15992,7 @@ contains
    subroutine forced_map_segment(k, seg, x, x0, v, stress, volume_ratio, cell, acceleration, velocity, &
                                  strain_increment_of, mass_left, mass_right, momentum_left, momentum_right, &
                                  stress_volume, constants, carry, mass_of, modulus_of, forces, gradient, force_left, &
-                                 force_right)
+                                 force_right, plastic_strain, hardening, yield_of, hardening_of)
       integer, parameter :: kernel = pass_map
       logical, parameter :: moves = pass_moves(kernel), stresses = pass_stresses(kernel), relocates = pass_relocates(kernel)
       integer, parameter :: shares = pass_force_shares(kernel)
@@ -13369,9 +16011,13 @@ contains
       !> the forces
       real(dp), intent(in), contiguous, optional :: mass_of(:), modulus_of(:), forces(:)
       real(dp), intent(inout), contiguous, optional :: gradient(:), force_left(:), force_right(:)
+      !> the elastoplastic law's state (plastic strain, hardening variable) and, `material`, each particle's
+      !> yield stress and hardening modulus (absent for the other laws)
+      real(dp), intent(inout), contiguous, optional :: plastic_strain(:), hardening(:)
+      real(dp), intent(in), contiguous, optional :: yield_of(:), hardening_of(:)
       integer :: p, e, i, n, b0, first, last, lo, hi, outside, ahead, elements
       real(dp) :: half_m, strain_factor, dstrain, inv_dx, dt, youngs_modulus, m, volume0
-      logical :: linear
+      logical :: linear, plastic
       type(largest_move_t) :: largest
       real(dp) :: displacement(lanes), kinetic(lanes), strain(lanes), min_j(lanes)
       integer :: cb(block_size)
@@ -13392,6 +16038,7 @@ contains
       dt = constants%dt
       youngs_modulus = constants%youngs_modulus
       linear = constants%linear
+      plastic = constants%plastic
       m = constants%mass
       volume0 = constants%volume0
       call open_segment(k, shares, seg, mass_left, mass_right, momentum_left, momentum_right, stress_volume, first, last, &
@@ -13411,6 +16058,7 @@ contains
             if (kernel == pass_usf_move .or. kernel == pass_musl_remap) call prefetch_block(ahead, cell, x, x0, v)
             if (kernel == pass_usf_stress) call prefetch_block(ahead, cell, stress, volume_ratio)
             if (kernel == pass_musl_stress) call prefetch_block(ahead, cell, x, v, stress, volume_ratio)
+            if (stresses .and. plastic) call prefetch_block(ahead, cell, plastic_strain, hardening)
             if (moves) then
                call prefetch_nodes(cell(b0), cell(b0 + n - 1), acceleration, velocity)
             else
@@ -13437,7 +16085,8 @@ contains
                else
                   dstrain = strain_increment_of(e)
                end if
-               call stress_hencky(dstrain, youngs_modulus, strain_factor, volume0, stress(p), volume_ratio(p), sb(i), svb(i))
+               call stress_hencky(dstrain, youngs_modulus, strain_factor, volume0, stress(p), volume_ratio(p), &
+                                  sb(i), svb(i))
                jb(i) = volume_ratio(p)
             else if (iand(shares, share_stress) /= 0) then ! (an initial mapping: the stress as it is)
                svb(i) = stress(p)*volume_ratio(p)*volume0
@@ -13514,7 +16163,8 @@ contains
       if (run%cur /= 0) call flush_sums(k, run%cur, lo, hi, shares, run%s, mass_left, mass_right, momentum_left, &
                                         momentum_right, stress_volume, seg, force_left, force_right)
       run%a = 0.0_dp  ! (close_segment flushes the bar's sums: none here)
-      call close_segment(k, shares, m, run, [lane_total(displacement), lane_total(kinetic), lane_total(strain)], &
+      call close_segment(k, shares, m, run, [lane_total(displacement), lane_total(kinetic), lane_total(strain), &
+                         0.0_dp], &
                          minval(min_j), largest%value, furthest_particle(largest, mb), outside, mass_left, mass_right, &
                          momentum_left, momentum_right, stress_volume, seg)
    end subroutine forced_map_segment
@@ -13523,7 +16173,7 @@ contains
    subroutine forced_map_stress_segment(k, seg, x, x0, v, stress, volume_ratio, cell, acceleration, velocity, &
                                         strain_increment_of, mass_left, mass_right, momentum_left, momentum_right, &
                                         stress_volume, constants, carry, mass_of, modulus_of, forces, gradient, force_left, &
-                                        force_right)
+                                        force_right, plastic_strain, hardening, yield_of, hardening_of)
       integer, parameter :: kernel = pass_map_stress
       logical, parameter :: moves = pass_moves(kernel), stresses = pass_stresses(kernel), relocates = pass_relocates(kernel)
       integer, parameter :: shares = pass_force_shares(kernel)
@@ -13542,9 +16192,13 @@ contains
       !> the forces
       real(dp), intent(in), contiguous, optional :: mass_of(:), modulus_of(:), forces(:)
       real(dp), intent(inout), contiguous, optional :: gradient(:), force_left(:), force_right(:)
+      !> the elastoplastic law's state (plastic strain, hardening variable) and, `material`, each particle's
+      !> yield stress and hardening modulus (absent for the other laws)
+      real(dp), intent(inout), contiguous, optional :: plastic_strain(:), hardening(:)
+      real(dp), intent(in), contiguous, optional :: yield_of(:), hardening_of(:)
       integer :: p, e, i, n, b0, first, last, lo, hi, outside, ahead, elements
       real(dp) :: half_m, strain_factor, dstrain, inv_dx, dt, youngs_modulus, m, volume0
-      logical :: linear
+      logical :: linear, plastic
       type(largest_move_t) :: largest
       real(dp) :: displacement(lanes), kinetic(lanes), strain(lanes), min_j(lanes)
       integer :: cb(block_size)
@@ -13565,6 +16219,7 @@ contains
       dt = constants%dt
       youngs_modulus = constants%youngs_modulus
       linear = constants%linear
+      plastic = constants%plastic
       m = constants%mass
       volume0 = constants%volume0
       call open_segment(k, shares, seg, mass_left, mass_right, momentum_left, momentum_right, stress_volume, first, last, &
@@ -13584,6 +16239,7 @@ contains
             if (kernel == pass_usf_move .or. kernel == pass_musl_remap) call prefetch_block(ahead, cell, x, x0, v)
             if (kernel == pass_usf_stress) call prefetch_block(ahead, cell, stress, volume_ratio)
             if (kernel == pass_musl_stress) call prefetch_block(ahead, cell, x, v, stress, volume_ratio)
+            if (stresses .and. plastic) call prefetch_block(ahead, cell, plastic_strain, hardening)
             if (moves) then
                call prefetch_nodes(cell(b0), cell(b0 + n - 1), acceleration, velocity)
             else
@@ -13610,7 +16266,8 @@ contains
                else
                   dstrain = strain_increment_of(e)
                end if
-               call stress_hencky(dstrain, youngs_modulus, strain_factor, volume0, stress(p), volume_ratio(p), sb(i), svb(i))
+               call stress_hencky(dstrain, youngs_modulus, strain_factor, volume0, stress(p), volume_ratio(p), &
+                                  sb(i), svb(i))
                jb(i) = volume_ratio(p)
             else if (iand(shares, share_stress) /= 0) then ! (an initial mapping: the stress as it is)
                svb(i) = stress(p)*volume_ratio(p)*volume0
@@ -13687,7 +16344,8 @@ contains
       if (run%cur /= 0) call flush_sums(k, run%cur, lo, hi, shares, run%s, mass_left, mass_right, momentum_left, &
                                         momentum_right, stress_volume, seg, force_left, force_right)
       run%a = 0.0_dp  ! (close_segment flushes the bar's sums: none here)
-      call close_segment(k, shares, m, run, [lane_total(displacement), lane_total(kinetic), lane_total(strain)], &
+      call close_segment(k, shares, m, run, [lane_total(displacement), lane_total(kinetic), lane_total(strain), &
+                         0.0_dp], &
                          minval(min_j), largest%value, furthest_particle(largest, mb), outside, mass_left, mass_right, &
                          momentum_left, momentum_right, stress_volume, seg)
    end subroutine forced_map_stress_segment
@@ -13696,7 +16354,7 @@ contains
    subroutine bodies_usf_move_segment(k, seg, x, x0, v, stress, volume_ratio, cell, acceleration, velocity, &
                                       strain_increment_of, mass_left, mass_right, momentum_left, momentum_right, &
                                       stress_volume, constants, carry, mass_of, modulus_of, forces, gradient, force_left, &
-                                      force_right)
+                                      force_right, plastic_strain, hardening, yield_of, hardening_of)
       integer, parameter :: kernel = pass_usf_move
       logical, parameter :: moves = pass_moves(kernel), stresses = pass_stresses(kernel), relocates = pass_relocates(kernel)
       integer, parameter :: shares = pass_shares(kernel)
@@ -13715,9 +16373,13 @@ contains
       !> the forces
       real(dp), intent(in), contiguous, optional :: mass_of(:), modulus_of(:), forces(:)
       real(dp), intent(inout), contiguous, optional :: gradient(:), force_left(:), force_right(:)
+      !> the elastoplastic law's state (plastic strain, hardening variable) and, `material`, each particle's
+      !> yield stress and hardening modulus (absent for the other laws)
+      real(dp), intent(inout), contiguous, optional :: plastic_strain(:), hardening(:)
+      real(dp), intent(in), contiguous, optional :: yield_of(:), hardening_of(:)
       integer :: p, e, i, n, b0, first, last, lo, hi, outside, ahead, elements
       real(dp) :: half_m, strain_factor, dstrain, inv_dx, dt, youngs_modulus, m, volume0
-      logical :: linear
+      logical :: linear, plastic
       type(largest_move_t) :: largest
       real(dp) :: displacement(lanes), kinetic(lanes), strain(lanes), min_j(lanes)
       integer :: cb(block_size)
@@ -13743,6 +16405,7 @@ contains
       dt = constants%dt
       youngs_modulus = constants%youngs_modulus
       linear = constants%linear
+      plastic = constants%plastic
       m = constants%mass
       volume0 = constants%volume0
       call open_segment(k, shares, seg, mass_left, mass_right, momentum_left, momentum_right, stress_volume, first, last, &
@@ -13763,6 +16426,7 @@ contains
             if (kernel == pass_usf_move .or. kernel == pass_musl_remap) call prefetch_block(ahead, cell, x, x0, v)
             if (kernel == pass_usf_stress) call prefetch_block(ahead, cell, stress, volume_ratio)
             if (kernel == pass_musl_stress) call prefetch_block(ahead, cell, x, v, stress, volume_ratio)
+            if (stresses .and. plastic) call prefetch_block(ahead, cell, plastic_strain, hardening)
             if (moves) then
                call prefetch_nodes(cell(b0), cell(b0 + n - 1), acceleration, velocity)
             else
@@ -13790,7 +16454,8 @@ contains
                else
                   dstrain = strain_increment_of(e)
                end if
-               call stress_hencky(dstrain, youngs_modulus, strain_factor, volume0, stress(p), volume_ratio(p), sb(i), svb(i))
+               call stress_hencky(dstrain, youngs_modulus, strain_factor, volume0, stress(p), volume_ratio(p), &
+                                  sb(i), svb(i))
                stb(i) = stress(p)
                jb(i) = volume_ratio(p)
             else if (iand(shares, share_stress) /= 0) then ! (an initial mapping: the stress as it is)
@@ -13863,7 +16528,8 @@ contains
                                momentum_right, stress_volume, seg)
       end do
       ! (the body's mass times its sum of x - X: the bodies' masses differ)
-      call close_segment(k, shares, m, run, [m*lane_total(displacement), lane_total(kinetic), lane_total(strain)], &
+      call close_segment(k, shares, m, run, [m*lane_total(displacement), lane_total(kinetic), lane_total(strain), &
+                         0.0_dp], &
                          minval(min_j), largest%value, furthest_particle(largest, mb), outside, mass_left, mass_right, &
                          momentum_left, momentum_right, stress_volume, seg)
       seg%body_momentum(k) = m*lane_total(momentum)
@@ -13874,7 +16540,7 @@ contains
    subroutine bodies_usf_stress_segment(k, seg, x, x0, v, stress, volume_ratio, cell, acceleration, velocity, &
                                         strain_increment_of, mass_left, mass_right, momentum_left, momentum_right, &
                                         stress_volume, constants, carry, mass_of, modulus_of, forces, gradient, force_left, &
-                                        force_right)
+                                        force_right, plastic_strain, hardening, yield_of, hardening_of)
       integer, parameter :: kernel = pass_usf_stress
       logical, parameter :: moves = pass_moves(kernel), stresses = pass_stresses(kernel), relocates = pass_relocates(kernel)
       integer, parameter :: shares = pass_shares(kernel)
@@ -13893,9 +16559,15 @@ contains
       !> the forces
       real(dp), intent(in), contiguous, optional :: mass_of(:), modulus_of(:), forces(:)
       real(dp), intent(inout), contiguous, optional :: gradient(:), force_left(:), force_right(:)
+      !> the elastoplastic law's state (plastic strain, hardening variable) and, `material`, each particle's
+      !> yield stress and hardening modulus (absent for the other laws)
+      real(dp), intent(inout), contiguous, optional :: plastic_strain(:), hardening(:)
+      real(dp), intent(in), contiguous, optional :: yield_of(:), hardening_of(:)
       integer :: p, e, i, n, b0, first, last, lo, hi, outside, ahead, elements
       real(dp) :: half_m, strain_factor, dstrain, inv_dx, dt, youngs_modulus, m, volume0
-      logical :: linear
+      logical :: linear, plastic
+      ! the elastoplastic law's constants and the block's plastic work, summed in lanes
+      real(dp) :: yield_stress, hardening_modulus, increment, wb(block_size), work(lanes)
       type(largest_move_t) :: largest
       real(dp) :: displacement(lanes), kinetic(lanes), strain(lanes), min_j(lanes)
       integer :: cb(block_size)
@@ -13921,6 +16593,10 @@ contains
       dt = constants%dt
       youngs_modulus = constants%youngs_modulus
       linear = constants%linear
+      plastic = constants%plastic
+      yield_stress = constants%yield_stress
+      hardening_modulus = constants%hardening_modulus
+      work = 0
       m = constants%mass
       volume0 = constants%volume0
       call open_segment(k, shares, seg, mass_left, mass_right, momentum_left, momentum_right, stress_volume, first, last, &
@@ -13941,6 +16617,7 @@ contains
             if (kernel == pass_usf_move .or. kernel == pass_musl_remap) call prefetch_block(ahead, cell, x, x0, v)
             if (kernel == pass_usf_stress) call prefetch_block(ahead, cell, stress, volume_ratio)
             if (kernel == pass_musl_stress) call prefetch_block(ahead, cell, x, v, stress, volume_ratio)
+            if (stresses .and. plastic) call prefetch_block(ahead, cell, plastic_strain, hardening)
             if (moves) then
                call prefetch_nodes(cell(b0), cell(b0 + n - 1), acceleration, velocity)
             else
@@ -13969,7 +16646,56 @@ contains
                else
                   dstrain = strain_increment_of(e)
                end if
-               call stress_linear(dstrain, youngs_modulus, strain_factor, volume0, stress(p), volume_ratio(p), sb(i), svb(i))
+               call stress_linear(dstrain, youngs_modulus, strain_factor, volume0, stress(p), volume_ratio(p), &
+                                  sb(i), svb(i))
+               stb(i) = stress(p)
+               jb(i) = volume_ratio(p)
+            else if (iand(shares, share_stress) /= 0) then ! (an initial mapping: the stress as it is)
+               svb(i) = stress(p)*volume_ratio(p)*volume0
+            end if
+            if (relocates) then ! the new cell, for P2G at the new position
+               call locate_body_cell(x(p), origin, inv_dx, elements, elements_bits, offset, cb(i), xib(i))
+               cell(p) = cb(i)
+            else                ! the shares go to the start-of-step cell
+               cb(i) = e
+               if (moves) xib(i) = xi
+            end if
+            if (moves .or. relocates) vpb(i) = v(p)
+         end do
+         else if (plastic) then
+         do i = 1, n
+            p = b0 + i - 1
+            e = cell(p)
+            ! G2P with the start-of-step shape functions (bodies on stacked fields)
+            if (moves) then
+               xi = (x(p) - origin)*inv_dx - (e - offset - 1)  ! (e: the cell in the stacked fields)
+               vgrid = (1.0_dp - xi)*velocity(e - 1) + xi*velocity(e)
+               v(p) = v(p) + dt*((1.0_dp - xi)*acceleration(e - 1) + xi*acceleration(e))
+               dxp = dt*vgrid
+               x(p) = x(p) + dxp
+               db(i) = x(p) - x0(p)
+               kb(i) = half_m*v(p)*v(p)
+               vb(i) = v(p)
+               mb(i, slot) = abs(dxp)*inv_dx
+            end if
+            if (stresses) then ! d eps = dt sum dN v_I over the start-of-step cell
+               if (moves) then
+                  dstrain = strain_increment(velocity(e - 1), velocity(e), dt, inv_dx)
+               else
+                  dstrain = strain_increment_of(e)
+               end if
+               stress(p) = stress(p) + youngs_modulus*dstrain
+               ! d gamma, zero in an elastic step: written without a branch, so that a loop over particles
+               ! vectorises; an elastic step then subtracts and adds zeros, which leaves the hencky bits
+               increment = max(abs(stress(p)) - (yield_stress + hardening_modulus*hardening(p)), 0.0_dp)/ &
+                           (youngs_modulus + hardening_modulus)
+               stress(p) = stress(p) - sign(youngs_modulus*increment, stress(p))
+               plastic_strain(p) = plastic_strain(p) + sign(increment, stress(p))
+               hardening(p) = hardening(p) + increment
+               volume_ratio(p) = volume_ratio(p)*(1.0_dp + dstrain)
+               sb(i) = stress(p)*stress(p)*volume_ratio(p)*strain_factor
+               svb(i) = stress(p)*volume_ratio(p)*volume0
+               wb(i) = (yield_stress + 0.5_dp*hardening_modulus*hardening(p))*hardening(p)*volume0
                stb(i) = stress(p)
                jb(i) = volume_ratio(p)
             else if (iand(shares, share_stress) /= 0) then ! (an initial mapping: the stress as it is)
@@ -14006,7 +16732,8 @@ contains
                else
                   dstrain = strain_increment_of(e)
                end if
-               call stress_hencky(dstrain, youngs_modulus, strain_factor, volume0, stress(p), volume_ratio(p), sb(i), svb(i))
+               call stress_hencky(dstrain, youngs_modulus, strain_factor, volume0, stress(p), volume_ratio(p), &
+                                  sb(i), svb(i))
                stb(i) = stress(p)
                jb(i) = volume_ratio(p)
             else if (iand(shares, share_stress) /= 0) then ! (an initial mapping: the stress as it is)
@@ -14061,6 +16788,13 @@ contains
             lane_r = mod(n, lanes)
             if (lane_r > 0) min_j(1:lane_r) = min(min_j(1:lane_r), jb(n - lane_r + 1:n))
          end if
+         if (plastic) then
+            do lane_i = 1, n - lanes + 1, lanes
+               work = work + wb(lane_i:lane_i + lanes - 1)
+            end do
+            lane_r = mod(n, lanes)
+            if (lane_r > 0) work(1:lane_r) = work(1:lane_r) + wb(n - lane_r + 1:n)
+         end if
          if (moves) then
             do lane_i = 1, n - lanes + 1, lanes
                momentum = momentum + vb(lane_i:lane_i + lanes - 1)
@@ -14080,7 +16814,8 @@ contains
                                momentum_right, stress_volume, seg)
       end do
       ! (the body's mass times its sum of x - X: the bodies' masses differ)
-      call close_segment(k, shares, m, run, [m*lane_total(displacement), lane_total(kinetic), lane_total(strain)], &
+      call close_segment(k, shares, m, run, [m*lane_total(displacement), lane_total(kinetic), lane_total(strain), &
+                         lane_total(work)], &
                          minval(min_j), largest%value, furthest_particle(largest, mb), outside, mass_left, mass_right, &
                          momentum_left, momentum_right, stress_volume, seg)
       seg%body_momentum(k) = m*lane_total(momentum)
@@ -14091,7 +16826,7 @@ contains
    subroutine bodies_usl_segment(k, seg, x, x0, v, stress, volume_ratio, cell, acceleration, velocity, &
                                  strain_increment_of, mass_left, mass_right, momentum_left, momentum_right, &
                                  stress_volume, constants, carry, mass_of, modulus_of, forces, gradient, force_left, &
-                                 force_right)
+                                 force_right, plastic_strain, hardening, yield_of, hardening_of)
       integer, parameter :: kernel = pass_usl
       logical, parameter :: moves = pass_moves(kernel), stresses = pass_stresses(kernel), relocates = pass_relocates(kernel)
       integer, parameter :: shares = pass_shares(kernel)
@@ -14110,9 +16845,15 @@ contains
       !> the forces
       real(dp), intent(in), contiguous, optional :: mass_of(:), modulus_of(:), forces(:)
       real(dp), intent(inout), contiguous, optional :: gradient(:), force_left(:), force_right(:)
+      !> the elastoplastic law's state (plastic strain, hardening variable) and, `material`, each particle's
+      !> yield stress and hardening modulus (absent for the other laws)
+      real(dp), intent(inout), contiguous, optional :: plastic_strain(:), hardening(:)
+      real(dp), intent(in), contiguous, optional :: yield_of(:), hardening_of(:)
       integer :: p, e, i, n, b0, first, last, lo, hi, outside, ahead, elements
       real(dp) :: half_m, strain_factor, dstrain, inv_dx, dt, youngs_modulus, m, volume0
-      logical :: linear
+      logical :: linear, plastic
+      ! the elastoplastic law's constants and the block's plastic work, summed in lanes
+      real(dp) :: yield_stress, hardening_modulus, increment, wb(block_size), work(lanes)
       type(largest_move_t) :: largest
       real(dp) :: displacement(lanes), kinetic(lanes), strain(lanes), min_j(lanes)
       integer :: cb(block_size)
@@ -14138,6 +16879,10 @@ contains
       dt = constants%dt
       youngs_modulus = constants%youngs_modulus
       linear = constants%linear
+      plastic = constants%plastic
+      yield_stress = constants%yield_stress
+      hardening_modulus = constants%hardening_modulus
+      work = 0
       m = constants%mass
       volume0 = constants%volume0
       call open_segment(k, shares, seg, mass_left, mass_right, momentum_left, momentum_right, stress_volume, first, last, &
@@ -14158,6 +16903,7 @@ contains
             if (kernel == pass_usf_move .or. kernel == pass_musl_remap) call prefetch_block(ahead, cell, x, x0, v)
             if (kernel == pass_usf_stress) call prefetch_block(ahead, cell, stress, volume_ratio)
             if (kernel == pass_musl_stress) call prefetch_block(ahead, cell, x, v, stress, volume_ratio)
+            if (stresses .and. plastic) call prefetch_block(ahead, cell, plastic_strain, hardening)
             if (moves) then
                call prefetch_nodes(cell(b0), cell(b0 + n - 1), acceleration, velocity)
             else
@@ -14186,7 +16932,56 @@ contains
                else
                   dstrain = strain_increment_of(e)
                end if
-               call stress_linear(dstrain, youngs_modulus, strain_factor, volume0, stress(p), volume_ratio(p), sb(i), svb(i))
+               call stress_linear(dstrain, youngs_modulus, strain_factor, volume0, stress(p), volume_ratio(p), &
+                                  sb(i), svb(i))
+               stb(i) = stress(p)
+               jb(i) = volume_ratio(p)
+            else if (iand(shares, share_stress) /= 0) then ! (an initial mapping: the stress as it is)
+               svb(i) = stress(p)*volume_ratio(p)*volume0
+            end if
+            if (relocates) then ! the new cell, for P2G at the new position
+               call locate_body_cell(x(p), origin, inv_dx, elements, elements_bits, offset, cb(i), xib(i))
+               cell(p) = cb(i)
+            else                ! the shares go to the start-of-step cell
+               cb(i) = e
+               if (moves) xib(i) = xi
+            end if
+            if (moves .or. relocates) vpb(i) = v(p)
+         end do
+         else if (plastic) then
+         do i = 1, n
+            p = b0 + i - 1
+            e = cell(p)
+            ! G2P with the start-of-step shape functions (bodies on stacked fields)
+            if (moves) then
+               xi = (x(p) - origin)*inv_dx - (e - offset - 1)  ! (e: the cell in the stacked fields)
+               vgrid = (1.0_dp - xi)*velocity(e - 1) + xi*velocity(e)
+               v(p) = v(p) + dt*((1.0_dp - xi)*acceleration(e - 1) + xi*acceleration(e))
+               dxp = dt*vgrid
+               x(p) = x(p) + dxp
+               db(i) = x(p) - x0(p)
+               kb(i) = half_m*v(p)*v(p)
+               vb(i) = v(p)
+               mb(i, slot) = abs(dxp)*inv_dx
+            end if
+            if (stresses) then ! d eps = dt sum dN v_I over the start-of-step cell
+               if (moves) then
+                  dstrain = strain_increment(velocity(e - 1), velocity(e), dt, inv_dx)
+               else
+                  dstrain = strain_increment_of(e)
+               end if
+               stress(p) = stress(p) + youngs_modulus*dstrain
+               ! d gamma, zero in an elastic step: written without a branch, so that a loop over particles
+               ! vectorises; an elastic step then subtracts and adds zeros, which leaves the hencky bits
+               increment = max(abs(stress(p)) - (yield_stress + hardening_modulus*hardening(p)), 0.0_dp)/ &
+                           (youngs_modulus + hardening_modulus)
+               stress(p) = stress(p) - sign(youngs_modulus*increment, stress(p))
+               plastic_strain(p) = plastic_strain(p) + sign(increment, stress(p))
+               hardening(p) = hardening(p) + increment
+               volume_ratio(p) = volume_ratio(p)*(1.0_dp + dstrain)
+               sb(i) = stress(p)*stress(p)*volume_ratio(p)*strain_factor
+               svb(i) = stress(p)*volume_ratio(p)*volume0
+               wb(i) = (yield_stress + 0.5_dp*hardening_modulus*hardening(p))*hardening(p)*volume0
                stb(i) = stress(p)
                jb(i) = volume_ratio(p)
             else if (iand(shares, share_stress) /= 0) then ! (an initial mapping: the stress as it is)
@@ -14223,7 +17018,8 @@ contains
                else
                   dstrain = strain_increment_of(e)
                end if
-               call stress_hencky(dstrain, youngs_modulus, strain_factor, volume0, stress(p), volume_ratio(p), sb(i), svb(i))
+               call stress_hencky(dstrain, youngs_modulus, strain_factor, volume0, stress(p), volume_ratio(p), &
+                                  sb(i), svb(i))
                stb(i) = stress(p)
                jb(i) = volume_ratio(p)
             else if (iand(shares, share_stress) /= 0) then ! (an initial mapping: the stress as it is)
@@ -14278,6 +17074,13 @@ contains
             lane_r = mod(n, lanes)
             if (lane_r > 0) min_j(1:lane_r) = min(min_j(1:lane_r), jb(n - lane_r + 1:n))
          end if
+         if (plastic) then
+            do lane_i = 1, n - lanes + 1, lanes
+               work = work + wb(lane_i:lane_i + lanes - 1)
+            end do
+            lane_r = mod(n, lanes)
+            if (lane_r > 0) work(1:lane_r) = work(1:lane_r) + wb(n - lane_r + 1:n)
+         end if
          if (moves) then
             do lane_i = 1, n - lanes + 1, lanes
                momentum = momentum + vb(lane_i:lane_i + lanes - 1)
@@ -14297,7 +17100,8 @@ contains
                                momentum_right, stress_volume, seg)
       end do
       ! (the body's mass times its sum of x - X: the bodies' masses differ)
-      call close_segment(k, shares, m, run, [m*lane_total(displacement), lane_total(kinetic), lane_total(strain)], &
+      call close_segment(k, shares, m, run, [m*lane_total(displacement), lane_total(kinetic), lane_total(strain), &
+                         lane_total(work)], &
                          minval(min_j), largest%value, furthest_particle(largest, mb), outside, mass_left, mass_right, &
                          momentum_left, momentum_right, stress_volume, seg)
       seg%body_momentum(k) = m*lane_total(momentum)
@@ -14308,7 +17112,7 @@ contains
    subroutine bodies_musl_remap_segment(k, seg, x, x0, v, stress, volume_ratio, cell, acceleration, velocity, &
                                         strain_increment_of, mass_left, mass_right, momentum_left, momentum_right, &
                                         stress_volume, constants, carry, mass_of, modulus_of, forces, gradient, force_left, &
-                                        force_right)
+                                        force_right, plastic_strain, hardening, yield_of, hardening_of)
       integer, parameter :: kernel = pass_musl_remap
       logical, parameter :: moves = pass_moves(kernel), stresses = pass_stresses(kernel), relocates = pass_relocates(kernel)
       integer, parameter :: shares = pass_shares(kernel)
@@ -14327,9 +17131,13 @@ contains
       !> the forces
       real(dp), intent(in), contiguous, optional :: mass_of(:), modulus_of(:), forces(:)
       real(dp), intent(inout), contiguous, optional :: gradient(:), force_left(:), force_right(:)
+      !> the elastoplastic law's state (plastic strain, hardening variable) and, `material`, each particle's
+      !> yield stress and hardening modulus (absent for the other laws)
+      real(dp), intent(inout), contiguous, optional :: plastic_strain(:), hardening(:)
+      real(dp), intent(in), contiguous, optional :: yield_of(:), hardening_of(:)
       integer :: p, e, i, n, b0, first, last, lo, hi, outside, ahead, elements
       real(dp) :: half_m, strain_factor, dstrain, inv_dx, dt, youngs_modulus, m, volume0
-      logical :: linear
+      logical :: linear, plastic
       type(largest_move_t) :: largest
       real(dp) :: displacement(lanes), kinetic(lanes), strain(lanes), min_j(lanes)
       integer :: cb(block_size)
@@ -14355,6 +17163,7 @@ contains
       dt = constants%dt
       youngs_modulus = constants%youngs_modulus
       linear = constants%linear
+      plastic = constants%plastic
       m = constants%mass
       volume0 = constants%volume0
       call open_segment(k, shares, seg, mass_left, mass_right, momentum_left, momentum_right, stress_volume, first, last, &
@@ -14375,6 +17184,7 @@ contains
             if (kernel == pass_usf_move .or. kernel == pass_musl_remap) call prefetch_block(ahead, cell, x, x0, v)
             if (kernel == pass_usf_stress) call prefetch_block(ahead, cell, stress, volume_ratio)
             if (kernel == pass_musl_stress) call prefetch_block(ahead, cell, x, v, stress, volume_ratio)
+            if (stresses .and. plastic) call prefetch_block(ahead, cell, plastic_strain, hardening)
             if (moves) then
                call prefetch_nodes(cell(b0), cell(b0 + n - 1), acceleration, velocity)
             else
@@ -14402,7 +17212,8 @@ contains
                else
                   dstrain = strain_increment_of(e)
                end if
-               call stress_hencky(dstrain, youngs_modulus, strain_factor, volume0, stress(p), volume_ratio(p), sb(i), svb(i))
+               call stress_hencky(dstrain, youngs_modulus, strain_factor, volume0, stress(p), volume_ratio(p), &
+                                  sb(i), svb(i))
                stb(i) = stress(p)
                jb(i) = volume_ratio(p)
             else if (iand(shares, share_stress) /= 0) then ! (an initial mapping: the stress as it is)
@@ -14475,7 +17286,8 @@ contains
                                momentum_right, stress_volume, seg)
       end do
       ! (the body's mass times its sum of x - X: the bodies' masses differ)
-      call close_segment(k, shares, m, run, [m*lane_total(displacement), lane_total(kinetic), lane_total(strain)], &
+      call close_segment(k, shares, m, run, [m*lane_total(displacement), lane_total(kinetic), lane_total(strain), &
+                         0.0_dp], &
                          minval(min_j), largest%value, furthest_particle(largest, mb), outside, mass_left, mass_right, &
                          momentum_left, momentum_right, stress_volume, seg)
       seg%body_momentum(k) = m*lane_total(momentum)
@@ -14486,7 +17298,7 @@ contains
    subroutine bodies_musl_stress_segment(k, seg, x, x0, v, stress, volume_ratio, cell, acceleration, velocity, &
                                          strain_increment_of, mass_left, mass_right, momentum_left, momentum_right, &
                                          stress_volume, constants, carry, mass_of, modulus_of, forces, gradient, force_left, &
-                                         force_right)
+                                         force_right, plastic_strain, hardening, yield_of, hardening_of)
       integer, parameter :: kernel = pass_musl_stress
       logical, parameter :: moves = pass_moves(kernel), stresses = pass_stresses(kernel), relocates = pass_relocates(kernel)
       integer, parameter :: shares = pass_shares(kernel)
@@ -14505,9 +17317,15 @@ contains
       !> the forces
       real(dp), intent(in), contiguous, optional :: mass_of(:), modulus_of(:), forces(:)
       real(dp), intent(inout), contiguous, optional :: gradient(:), force_left(:), force_right(:)
+      !> the elastoplastic law's state (plastic strain, hardening variable) and, `material`, each particle's
+      !> yield stress and hardening modulus (absent for the other laws)
+      real(dp), intent(inout), contiguous, optional :: plastic_strain(:), hardening(:)
+      real(dp), intent(in), contiguous, optional :: yield_of(:), hardening_of(:)
       integer :: p, e, i, n, b0, first, last, lo, hi, outside, ahead, elements
       real(dp) :: half_m, strain_factor, dstrain, inv_dx, dt, youngs_modulus, m, volume0
-      logical :: linear
+      logical :: linear, plastic
+      ! the elastoplastic law's constants and the block's plastic work, summed in lanes
+      real(dp) :: yield_stress, hardening_modulus, increment, wb(block_size), work(lanes)
       type(largest_move_t) :: largest
       real(dp) :: displacement(lanes), kinetic(lanes), strain(lanes), min_j(lanes)
       integer :: cb(block_size)
@@ -14533,6 +17351,10 @@ contains
       dt = constants%dt
       youngs_modulus = constants%youngs_modulus
       linear = constants%linear
+      plastic = constants%plastic
+      yield_stress = constants%yield_stress
+      hardening_modulus = constants%hardening_modulus
+      work = 0
       m = constants%mass
       volume0 = constants%volume0
       call open_segment(k, shares, seg, mass_left, mass_right, momentum_left, momentum_right, stress_volume, first, last, &
@@ -14553,6 +17375,7 @@ contains
             if (kernel == pass_usf_move .or. kernel == pass_musl_remap) call prefetch_block(ahead, cell, x, x0, v)
             if (kernel == pass_usf_stress) call prefetch_block(ahead, cell, stress, volume_ratio)
             if (kernel == pass_musl_stress) call prefetch_block(ahead, cell, x, v, stress, volume_ratio)
+            if (stresses .and. plastic) call prefetch_block(ahead, cell, plastic_strain, hardening)
             if (moves) then
                call prefetch_nodes(cell(b0), cell(b0 + n - 1), acceleration, velocity)
             else
@@ -14581,7 +17404,56 @@ contains
                else
                   dstrain = strain_increment_of(e)
                end if
-               call stress_linear(dstrain, youngs_modulus, strain_factor, volume0, stress(p), volume_ratio(p), sb(i), svb(i))
+               call stress_linear(dstrain, youngs_modulus, strain_factor, volume0, stress(p), volume_ratio(p), &
+                                  sb(i), svb(i))
+               stb(i) = stress(p)
+               jb(i) = volume_ratio(p)
+            else if (iand(shares, share_stress) /= 0) then ! (an initial mapping: the stress as it is)
+               svb(i) = stress(p)*volume_ratio(p)*volume0
+            end if
+            if (relocates) then ! the new cell, for P2G at the new position
+               call locate_body_cell(x(p), origin, inv_dx, elements, elements_bits, offset, cb(i), xib(i))
+               cell(p) = cb(i)
+            else                ! the shares go to the start-of-step cell
+               cb(i) = e
+               if (moves) xib(i) = xi
+            end if
+            if (moves .or. relocates) vpb(i) = v(p)
+         end do
+         else if (plastic) then
+         do i = 1, n
+            p = b0 + i - 1
+            e = cell(p)
+            ! G2P with the start-of-step shape functions (bodies on stacked fields)
+            if (moves) then
+               xi = (x(p) - origin)*inv_dx - (e - offset - 1)  ! (e: the cell in the stacked fields)
+               vgrid = (1.0_dp - xi)*velocity(e - 1) + xi*velocity(e)
+               v(p) = v(p) + dt*((1.0_dp - xi)*acceleration(e - 1) + xi*acceleration(e))
+               dxp = dt*vgrid
+               x(p) = x(p) + dxp
+               db(i) = x(p) - x0(p)
+               kb(i) = half_m*v(p)*v(p)
+               vb(i) = v(p)
+               mb(i, slot) = abs(dxp)*inv_dx
+            end if
+            if (stresses) then ! d eps = dt sum dN v_I over the start-of-step cell
+               if (moves) then
+                  dstrain = strain_increment(velocity(e - 1), velocity(e), dt, inv_dx)
+               else
+                  dstrain = strain_increment_of(e)
+               end if
+               stress(p) = stress(p) + youngs_modulus*dstrain
+               ! d gamma, zero in an elastic step: written without a branch, so that a loop over particles
+               ! vectorises; an elastic step then subtracts and adds zeros, which leaves the hencky bits
+               increment = max(abs(stress(p)) - (yield_stress + hardening_modulus*hardening(p)), 0.0_dp)/ &
+                           (youngs_modulus + hardening_modulus)
+               stress(p) = stress(p) - sign(youngs_modulus*increment, stress(p))
+               plastic_strain(p) = plastic_strain(p) + sign(increment, stress(p))
+               hardening(p) = hardening(p) + increment
+               volume_ratio(p) = volume_ratio(p)*(1.0_dp + dstrain)
+               sb(i) = stress(p)*stress(p)*volume_ratio(p)*strain_factor
+               svb(i) = stress(p)*volume_ratio(p)*volume0
+               wb(i) = (yield_stress + 0.5_dp*hardening_modulus*hardening(p))*hardening(p)*volume0
                stb(i) = stress(p)
                jb(i) = volume_ratio(p)
             else if (iand(shares, share_stress) /= 0) then ! (an initial mapping: the stress as it is)
@@ -14618,7 +17490,8 @@ contains
                else
                   dstrain = strain_increment_of(e)
                end if
-               call stress_hencky(dstrain, youngs_modulus, strain_factor, volume0, stress(p), volume_ratio(p), sb(i), svb(i))
+               call stress_hencky(dstrain, youngs_modulus, strain_factor, volume0, stress(p), volume_ratio(p), &
+                                  sb(i), svb(i))
                stb(i) = stress(p)
                jb(i) = volume_ratio(p)
             else if (iand(shares, share_stress) /= 0) then ! (an initial mapping: the stress as it is)
@@ -14673,6 +17546,13 @@ contains
             lane_r = mod(n, lanes)
             if (lane_r > 0) min_j(1:lane_r) = min(min_j(1:lane_r), jb(n - lane_r + 1:n))
          end if
+         if (plastic) then
+            do lane_i = 1, n - lanes + 1, lanes
+               work = work + wb(lane_i:lane_i + lanes - 1)
+            end do
+            lane_r = mod(n, lanes)
+            if (lane_r > 0) work(1:lane_r) = work(1:lane_r) + wb(n - lane_r + 1:n)
+         end if
          if (moves) then
             do lane_i = 1, n - lanes + 1, lanes
                momentum = momentum + vb(lane_i:lane_i + lanes - 1)
@@ -14692,7 +17572,8 @@ contains
                                momentum_right, stress_volume, seg)
       end do
       ! (the body's mass times its sum of x - X: the bodies' masses differ)
-      call close_segment(k, shares, m, run, [m*lane_total(displacement), lane_total(kinetic), lane_total(strain)], &
+      call close_segment(k, shares, m, run, [m*lane_total(displacement), lane_total(kinetic), lane_total(strain), &
+                         lane_total(work)], &
                          minval(min_j), largest%value, furthest_particle(largest, mb), outside, mass_left, mass_right, &
                          momentum_left, momentum_right, stress_volume, seg)
       seg%body_momentum(k) = m*lane_total(momentum)
@@ -14703,7 +17584,7 @@ contains
    subroutine bodies_map_segment(k, seg, x, x0, v, stress, volume_ratio, cell, acceleration, velocity, &
                                  strain_increment_of, mass_left, mass_right, momentum_left, momentum_right, &
                                  stress_volume, constants, carry, mass_of, modulus_of, forces, gradient, force_left, &
-                                 force_right)
+                                 force_right, plastic_strain, hardening, yield_of, hardening_of)
       integer, parameter :: kernel = pass_map
       logical, parameter :: moves = pass_moves(kernel), stresses = pass_stresses(kernel), relocates = pass_relocates(kernel)
       integer, parameter :: shares = pass_shares(kernel)
@@ -14722,9 +17603,13 @@ contains
       !> the forces
       real(dp), intent(in), contiguous, optional :: mass_of(:), modulus_of(:), forces(:)
       real(dp), intent(inout), contiguous, optional :: gradient(:), force_left(:), force_right(:)
+      !> the elastoplastic law's state (plastic strain, hardening variable) and, `material`, each particle's
+      !> yield stress and hardening modulus (absent for the other laws)
+      real(dp), intent(inout), contiguous, optional :: plastic_strain(:), hardening(:)
+      real(dp), intent(in), contiguous, optional :: yield_of(:), hardening_of(:)
       integer :: p, e, i, n, b0, first, last, lo, hi, outside, ahead, elements
       real(dp) :: half_m, strain_factor, dstrain, inv_dx, dt, youngs_modulus, m, volume0
-      logical :: linear
+      logical :: linear, plastic
       type(largest_move_t) :: largest
       real(dp) :: displacement(lanes), kinetic(lanes), strain(lanes), min_j(lanes)
       integer :: cb(block_size)
@@ -14750,6 +17635,7 @@ contains
       dt = constants%dt
       youngs_modulus = constants%youngs_modulus
       linear = constants%linear
+      plastic = constants%plastic
       m = constants%mass
       volume0 = constants%volume0
       call open_segment(k, shares, seg, mass_left, mass_right, momentum_left, momentum_right, stress_volume, first, last, &
@@ -14770,6 +17656,7 @@ contains
             if (kernel == pass_usf_move .or. kernel == pass_musl_remap) call prefetch_block(ahead, cell, x, x0, v)
             if (kernel == pass_usf_stress) call prefetch_block(ahead, cell, stress, volume_ratio)
             if (kernel == pass_musl_stress) call prefetch_block(ahead, cell, x, v, stress, volume_ratio)
+            if (stresses .and. plastic) call prefetch_block(ahead, cell, plastic_strain, hardening)
             if (moves) then
                call prefetch_nodes(cell(b0), cell(b0 + n - 1), acceleration, velocity)
             else
@@ -14797,7 +17684,8 @@ contains
                else
                   dstrain = strain_increment_of(e)
                end if
-               call stress_hencky(dstrain, youngs_modulus, strain_factor, volume0, stress(p), volume_ratio(p), sb(i), svb(i))
+               call stress_hencky(dstrain, youngs_modulus, strain_factor, volume0, stress(p), volume_ratio(p), &
+                                  sb(i), svb(i))
                stb(i) = stress(p)
                jb(i) = volume_ratio(p)
             else if (iand(shares, share_stress) /= 0) then ! (an initial mapping: the stress as it is)
@@ -14870,7 +17758,8 @@ contains
                                momentum_right, stress_volume, seg)
       end do
       ! (the body's mass times its sum of x - X: the bodies' masses differ)
-      call close_segment(k, shares, m, run, [m*lane_total(displacement), lane_total(kinetic), lane_total(strain)], &
+      call close_segment(k, shares, m, run, [m*lane_total(displacement), lane_total(kinetic), lane_total(strain), &
+                         0.0_dp], &
                          minval(min_j), largest%value, furthest_particle(largest, mb), outside, mass_left, mass_right, &
                          momentum_left, momentum_right, stress_volume, seg)
       seg%body_momentum(k) = m*lane_total(momentum)
@@ -14881,7 +17770,7 @@ contains
    subroutine bodies_map_stress_segment(k, seg, x, x0, v, stress, volume_ratio, cell, acceleration, velocity, &
                                         strain_increment_of, mass_left, mass_right, momentum_left, momentum_right, &
                                         stress_volume, constants, carry, mass_of, modulus_of, forces, gradient, force_left, &
-                                        force_right)
+                                        force_right, plastic_strain, hardening, yield_of, hardening_of)
       integer, parameter :: kernel = pass_map_stress
       logical, parameter :: moves = pass_moves(kernel), stresses = pass_stresses(kernel), relocates = pass_relocates(kernel)
       integer, parameter :: shares = pass_shares(kernel)
@@ -14900,9 +17789,13 @@ contains
       !> the forces
       real(dp), intent(in), contiguous, optional :: mass_of(:), modulus_of(:), forces(:)
       real(dp), intent(inout), contiguous, optional :: gradient(:), force_left(:), force_right(:)
+      !> the elastoplastic law's state (plastic strain, hardening variable) and, `material`, each particle's
+      !> yield stress and hardening modulus (absent for the other laws)
+      real(dp), intent(inout), contiguous, optional :: plastic_strain(:), hardening(:)
+      real(dp), intent(in), contiguous, optional :: yield_of(:), hardening_of(:)
       integer :: p, e, i, n, b0, first, last, lo, hi, outside, ahead, elements
       real(dp) :: half_m, strain_factor, dstrain, inv_dx, dt, youngs_modulus, m, volume0
-      logical :: linear
+      logical :: linear, plastic
       type(largest_move_t) :: largest
       real(dp) :: displacement(lanes), kinetic(lanes), strain(lanes), min_j(lanes)
       integer :: cb(block_size)
@@ -14928,6 +17821,7 @@ contains
       dt = constants%dt
       youngs_modulus = constants%youngs_modulus
       linear = constants%linear
+      plastic = constants%plastic
       m = constants%mass
       volume0 = constants%volume0
       call open_segment(k, shares, seg, mass_left, mass_right, momentum_left, momentum_right, stress_volume, first, last, &
@@ -14948,6 +17842,7 @@ contains
             if (kernel == pass_usf_move .or. kernel == pass_musl_remap) call prefetch_block(ahead, cell, x, x0, v)
             if (kernel == pass_usf_stress) call prefetch_block(ahead, cell, stress, volume_ratio)
             if (kernel == pass_musl_stress) call prefetch_block(ahead, cell, x, v, stress, volume_ratio)
+            if (stresses .and. plastic) call prefetch_block(ahead, cell, plastic_strain, hardening)
             if (moves) then
                call prefetch_nodes(cell(b0), cell(b0 + n - 1), acceleration, velocity)
             else
@@ -14975,7 +17870,8 @@ contains
                else
                   dstrain = strain_increment_of(e)
                end if
-               call stress_hencky(dstrain, youngs_modulus, strain_factor, volume0, stress(p), volume_ratio(p), sb(i), svb(i))
+               call stress_hencky(dstrain, youngs_modulus, strain_factor, volume0, stress(p), volume_ratio(p), &
+                                  sb(i), svb(i))
                stb(i) = stress(p)
                jb(i) = volume_ratio(p)
             else if (iand(shares, share_stress) /= 0) then ! (an initial mapping: the stress as it is)
@@ -15048,7 +17944,8 @@ contains
                                momentum_right, stress_volume, seg)
       end do
       ! (the body's mass times its sum of x - X: the bodies' masses differ)
-      call close_segment(k, shares, m, run, [m*lane_total(displacement), lane_total(kinetic), lane_total(strain)], &
+      call close_segment(k, shares, m, run, [m*lane_total(displacement), lane_total(kinetic), lane_total(strain), &
+                         0.0_dp], &
                          minval(min_j), largest%value, furthest_particle(largest, mb), outside, mass_left, mass_right, &
                          momentum_left, momentum_right, stress_volume, seg)
       seg%body_momentum(k) = m*lane_total(momentum)

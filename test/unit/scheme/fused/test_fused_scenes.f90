@@ -12,10 +12,15 @@
 !> round-off and the last kinetic energies to 1e-10 (mpm_testing_runs' check_paths_agree, its u_cm
 !> tolerance taken from the largest |u_cm| of the generic run where the scene's amplitude is not a
 !> displacement), and the scene's error measure to 1e-9 relative; with law = 'linear' the same
-!> comparison (the fused kernels' stress update takes hencky's law and the linear one) for the bar with
-!> every shape, the composite and the manufactured solution; law = 'elastoplastic' runs on the generic
-!> path. The frictionless impact also takes snapshots after contact: their nodal velocities (the run's
-!> grid, the bodies' fields summed only when a snapshot reads it) equal the generic path's to round-off.
+!> comparison (the fused kernels' stress update takes every law) for the bar with every shape, the
+!> composite and the manufactured solution; with law = 'elastoplastic', yielding, for the bar with every
+!> shape and every transfer of the hat, the column, the composite bar (each segment its own yield stress)
+!> and the frictionless impact (each bar its own), the law's report (plastic work, largest plastic strain,
+!> yielded fraction) to 1e-9 too; an elastoplastic bar that never yields gives the fused Hencky bar's
+!> histories bit for bit (the radial return adds exact zeros), every shape. The plastic wave (a driven
+!> end) runs on the generic path. The frictionless impact also takes snapshots after contact: their
+!> nodal velocities (the run's grid, the bodies' fields summed only when a snapshot reads it) equal the
+!> generic path's to round-off.
 !> The scenes' reports agree too (reports_agree: the impact's contact times, stress and velocities, which
 !> on stacked fields come from the fused kernels' per-body sums).
 !> Small runs: seconds.
@@ -49,6 +54,8 @@ program test_fused_scenes
             config%velocity_amplitude = 5.0_dp
             config%periods = 1.0_dp
             call compare('bar '//trim(transfers(j)), config)
+            call yielding(config)
+            call compare('bar '//trim(transfers(j))//', law elastoplastic', config)
          end do
       end do
    end if
@@ -64,6 +71,12 @@ program test_fused_scenes
          call compare('column', config)
          config%shape = 'bspline2'
          call compare('column bspline2', config)
+         config%law = 'elastoplastic'  ! (the dynamic load of the weight yields the lower quarter)
+         config%yield_stress = 2.5e6_dp
+         config%hardening_modulus = 1.0e9_dp
+         call compare('column bspline2, law elastoplastic', config)
+         config%shape = 'linear'
+         call compare('column, law elastoplastic', config)
       end do
    end if
    if (t%case('composite')) then
@@ -85,12 +98,12 @@ program test_fused_scenes
          call compare('composite', config, by_largest=.true.)
          config%law = 'linear'
          call compare('composite, law linear', config, by_largest=.true.)
-         config%law = 'elastoplastic'  ! (the fused kernels' stress update is elastic)
-         config%yield_stresses(1:2) = [1.0e4_dp, 1.0e4_dp]
+         config%law = 'elastoplastic'  ! (each segment its yield stress and hardening modulus: per particle)
+         config%yield_stresses(1:2) = [3.0e4_dp, 1.0e4_dp]
          config%yield_count = 2
-         config%hardening_moduli(1:2) = [0.0_dp, 0.0_dp]
+         config%hardening_moduli(1:2) = [1.0e6_dp, 0.0_dp]
          config%hardening_count = 2
-         call on_generic_path('composite, law elastoplastic', config)
+         call compare('composite, law elastoplastic', config, by_largest=.true.)
       end do
    end if
    if (t%case('manufactured')) then
@@ -127,6 +140,23 @@ program test_fused_scenes
          end do
       end do
    end if
+   if (t%case('bar_shapes_law_elastoplastic')) then
+      do i = 1, size(schemes)
+         do j = 1, size(shapes)
+            config = config_t()
+            config%scheme = trim(schemes(i))
+            config%shape = trim(shapes(j))
+            config%elements = 24
+            config%particles_per_element = 2
+            config%dt_fraction = 0.2_dp
+            config%velocity_amplitude = 5.0_dp
+            config%periods = 1.0_dp
+            call yielding(config)
+            call compare('bar '//trim(shapes(j))//', law elastoplastic', config)
+            call never_yields('bar '//trim(shapes(j)), config)
+         end do
+      end do
+   end if
    if (t%case('impact')) then
       do i = 1, size(schemes)
          config = config_t()
@@ -147,6 +177,15 @@ program test_fused_scenes
          config%periods = 1.0_dp
          config%contact = 'frictionless'
          call compare('impact frictionless', config, by_largest=.true., snapshots=.true.)
+         config%law = 'elastoplastic'  ! (the contact stress rho c v = 3.9e7 Pa: both bars yield)
+         config%yield_stresses(1:2) = [2.0e7_dp, 1.0e7_dp]
+         config%yield_count = 2
+         config%hardening_moduli(1:2) = [1.0e10_dp, 2.0e9_dp]
+         config%hardening_count = 2
+         call compare('impact frictionless, law elastoplastic', config, by_largest=.true.)
+         config%law = 'hencky'
+         config%yield_count = 0
+         config%hardening_count = 0
          ! soft bars (c = 31.6 m/s) moving right that close a gap of 0.02 m, meet and part: their particles
          ! cross cells, so each body's nodes to solve move with it (fused_step's active_nodes), and the nodes
          ! a body left must be solved once more (to zeros) or their old values reach the contact correction
@@ -170,6 +209,19 @@ program test_fused_scenes
          config%lengths(1:2) = [1.0_dp, 1.0_dp]
          config%contact = 'none'
          call compare('impact stuck', config, by_largest=.true.)
+      end do
+   end if
+   if (t%case('plastic_wave')) then
+      do i = 1, size(schemes)
+         config = config_t()
+         config%scene_kind = 'plastic_wave'
+         config%scheme = trim(schemes(i))
+         config%law = 'elastoplastic'
+         config%drive_velocity = 20.0_dp
+         config%elements = 50
+         config%particles_per_element = 2
+         config%dt_fraction = 0.2_dp
+         call on_generic_path('plastic wave (a driven end)', config)
       end do
    end if
    call t%finish()
@@ -267,4 +319,45 @@ contains
       call t%check(trim(config%scheme)//' '//what//': on the generic path', .not. result%fused)
       call t%check(trim(config%scheme)//' '//what//': status ok', result%status == 0, 'status '//str(result%status))
    end subroutine on_generic_path
+
+   !> `config` made elastoplastic and yielding: the bar's stress amplitude rho c v0 four times its yield
+   !> stress, hardening modulus E/20.
+   subroutine yielding(config)
+      type(config_t), intent(inout) :: config
+      config%law = 'elastoplastic'
+      config%yield_stress = 0.25_dp*config%density*sqrt(config%youngs_modulus/config%density)*config%velocity_amplitude
+      config%hardening_modulus = config%youngs_modulus/20
+   end subroutine yielding
+
+   !> `config` (the bar) elastoplastic with a yield stress it never reaches, on the fused kernels: the
+   !> histories of u_cm and the energies are the Hencky bar's bit for bit (the radial return of an elastic
+   !> step subtracts and adds exact zeros, and the strain energy is written as hencky's), the plastic
+   !> work zero, and the run on the fused kernels.
+   subroutine never_yields(what, config)
+      character(len=*), intent(in) :: what
+      type(config_t), intent(in) :: config
+      type(config_t) :: plastic, hencky
+      type(run_result_t) :: a, b
+      type(error_t), allocatable :: error
+      character(len=:), allocatable :: label
+      label = trim(config%scheme)//' '//what//' elastoplastic, never yielding: '
+      hencky = config
+      hencky%law = 'hencky'
+      call resolve_config(hencky)
+      call run_simulation(hencky, a, error, record_history=.true.)
+      if (allocated(error)) error stop 'hencky run failed to start'
+      plastic = config
+      plastic%law = 'elastoplastic'
+      plastic%yield_stress = 1.0e30_dp
+      call resolve_config(plastic)
+      call run_simulation(plastic, b, error, record_history=.true.)
+      if (allocated(error)) error stop 'elastoplastic run failed to start'
+      call t%check(label//'both on the fused kernels', a%fused .and. b%fused)
+      call t%check(label//'same steps', a%steps_done == b%steps_done .and. a%history%recorded == b%history%recorded)
+      if (a%history%recorded /= b%history%recorded) return
+      call t%check(label//'u_cm, kinetic and strain energy histories = hencky''s bit for bit', &
+                   all(a%history%ucm == b%history%ucm) .and. all(a%history%kinetic_energy == b%history%kinetic_energy) &
+                   .and. all(a%history%strain_energy == b%history%strain_energy))
+      call t%check(label//'no plastic work', all(b%history%plastic_work == 0.0_dp))
+   end subroutine never_yields
 end program test_fused_scenes
