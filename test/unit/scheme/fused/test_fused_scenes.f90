@@ -98,8 +98,10 @@ program test_fused_scenes
          call compare('composite', config, by_largest=.true.)
          config%law = 'linear'
          call compare('composite, law linear', config, by_largest=.true.)
-         config%law = 'elastoplastic'  ! (each segment its yield stress and hardening modulus: per particle)
-         config%yield_stresses(1:2) = [3.0e4_dp, 1.0e4_dp]
+         ! each segment its yield stress and hardening modulus (per particle), both below the stresses the
+         ! drive makes (1.3e3 Pa in the stiff segment, 3.2e2 Pa in the soft one): both segments yield
+         config%law = 'elastoplastic'
+         config%yield_stresses(1:2) = [8.0e2_dp, 2.0e2_dp]
          config%yield_count = 2
          config%hardening_moduli(1:2) = [1.0e6_dp, 0.0_dp]
          config%hardening_count = 2
