@@ -58,7 +58,7 @@ module mpm_implicit
    use mpm_schemes, only: generic_stepper_t
    use mpm_diagnostics, only: pass_totals_t
    use mpm_operations, only: locate_particles, p2g_mass_momentum, nodal_velocities, mirror_fold, g2p
-   use mpm_material, only: material_t, law_stress, law_stiffness, update_material_finite
+   use mpm_material, only: material_t, law_stress_stiffness, update_material_finite
    use mpm_banded, only: banded_t, banded_init, banded_zero, banded_add, banded_factor, banded_solve, &
                          banded_rcond, banded_multiply, banded_pivot_ratio
    use mpm_ghost_penalty, only: ghost_knots_t, find_ghost_knots
@@ -417,7 +417,9 @@ contains
    end subroutine drive_constraint
 
    !> Newton-Raphson on e with a backtracking line search on |R| (max_halvings): assemble R (and, unless
-   !> converged, the tangent), factor, solve, update, until
+   !> converged, the tangent: in the same pass over the particles at a step's start, where Newton always
+   !> needs it; after a line search, whose last residual is the next iteration's, in a pass of its own
+   !> only when that residual has not converged), factor, solve, update, until
    !> |R| <= tolerance |forces| or R is within floor_ulps eps of its round-off (floor_ulps), and the
    !> drive's constraint holds. Records the relative residuals, the
    !> solves and the smallest reciprocal condition number; sets im%failed when max_iterations solves do
@@ -432,14 +434,16 @@ contains
       real(dp), allocatable :: start(:)
       real(dp) :: relative, gap, correction, pivots, before, step, merit, stiffness, multiplier
       integer :: iteration, info, halving
-      logical :: floor, assembled
+      logical :: floor, assembled, tangent_ready
       im%failed = .false.
       im%singular_node = -1
       im%residuals = 0.0_dp
       allocate (rhs(0:grid%elements, merge(2, 1, im%constrained)), start(0:grid%elements))
       assembled = .false.
       do iteration = 0, im%max_iterations
-         if (.not. assembled) call assemble_residual(im, cache, particles, grid, material)
+         ! a Newton step's residual (the line search's last) or, with the tangent in the same pass, the first
+         tangent_ready = .not. assembled
+         if (.not. assembled) call assemble_residual(im, cache, particles, grid, material, with_tangent=.true.)
          assembled = .false.
          relative = relative_residual(im)
          gap = 0.0_dp
@@ -462,7 +466,7 @@ contains
             return
          end if
          if (iteration == im%max_iterations) exit
-         call assemble_tangent(im, cache, particles, grid)
+         if (.not. tangent_ready) call assemble_tangent(im, cache, particles, grid)
          ! the constraint's gap in force units, for the line search's merit: the tangent's diagonal at the
          ! constraint's nodes, weighted
          stiffness = 0.0_dp
@@ -497,7 +501,7 @@ contains
             where (im%unknown) im%e = start + step*rhs(:, 1)
             call fill_slaves(im, im%e)
             im%multiplier = multiplier + step*correction
-            call assemble_residual(im, cache, particles, grid, material)
+            call assemble_residual(im, cache, particles, grid, material, with_tangent=.false.)
             assembled = .true.
             merit = hypot(residual_norm(im), stiffness*(1.0_dp - step)*gap)
             if (merit <= (1.0_dp - 1.0e-4_dp*step)*before .or. halving == max_halvings) exit
@@ -576,50 +580,37 @@ contains
       type(grid_t), intent(in) :: grid
       type(material_t), intent(in) :: material
       logical, intent(in) :: with_tangent
-      call assemble_residual(im, cache, particles, grid, material)
-      if (with_tangent) call assemble_tangent(im, cache, particles, grid)
+      call assemble_residual(im, cache, particles, grid, material, with_tangent)
    end subroutine assemble_system
 
    !> R(e) from the particles' stresses at d eps_p = sum_J dN_Jp du_J, du = dt v_n + e (kept in im%dstrain,
-   !> im%stress for the tangent and the update), and the force scale.
-   subroutine assemble_residual(im, cache, particles, grid, material)
+   !> im%stress for the tangent and the update), and the force scale; `with_tangent`: the tangent at the
+   !> same strains too (assemble_tangent), its particles' part in the same pass over the particles.
+   subroutine assemble_residual(im, cache, particles, grid, material, with_tangent)
       type(implicit_t), intent(inout) :: im
       type(shape_cache_t), intent(in) :: cache
       type(particles_t), intent(in) :: particles
       type(grid_t), intent(in) :: grid
       type(material_t), intent(in) :: material
-      real(dp) :: share, inertia_factor
-      integer :: p, k, node, i, n
+      logical, intent(in) :: with_tangent
+      real(dp) :: inertia_factor
+      integer :: i, n
       n = grid%elements
       call fill_slaves(im, im%e)
       im%du = im%dt*im%velocity + im%e
       im%residual = 0.0_dp
       im%forces = 0.0_dp
-      ! the particles' stresses over the increment and their force shares dN_Ip sigma_p V_p^n
-      im%dstrain = 0.0_dp
-      im%strain_magnitude = 0.0_dp
-      do k = 1, cache%support
-         do p = 1, particles%count
-            share = cache%gradient(p, k)*im%du(cache%first(p) + k - 1)
-            im%dstrain(p) = im%dstrain(p) + share
-            im%strain_magnitude(p) = im%strain_magnitude(p) + abs(share)
-         end do
-      end do
-      im%stress = law_stress(material%law, im%modulus, im%yield, im%hardening_modulus, im%dstrain, particles%stress, &
-                             particles%volume_ratio, im%hardening)
-      im%stiffness = law_stiffness(material%law, im%modulus, im%yield, im%hardening_modulus, im%dstrain, &
-                                   particles%stress, particles%volume_ratio, im%hardening)
       im%roundoff = 0.0_dp
-      do p = 1, particles%count
-         do k = 1, cache%support
-            node = cache%first(p) + k - 1
-            share = cache%gradient(p, k)*im%stress(p)*im%volume(p)
-            im%residual(node) = im%residual(node) + share
-            im%forces(node) = im%forces(node) + abs(share)
-            im%roundoff(node) = im%roundoff(node) + abs(cache%gradient(p, k)*im%stiffness(p)*im%volume(p))* &
-                                im%strain_magnitude(p)
-         end do
-      end do
+      if (with_tangent) call banded_zero(im%tangent)
+      ! the particles' stresses over the increment and their force shares dN_Ip sigma_p V_p^n (and stiffness)
+      call strain_pass(particles%count, size(cache%gradient, 1), cache%support, n, cache%first, cache%gradient, im%du, &
+                       im%dstrain, im%strain_magnitude)
+      call law_stress_stiffness(material%law, particles%count, im%modulus, im%yield, im%hardening_modulus, im%dstrain, &
+                                particles%stress, particles%volume_ratio, im%hardening, im%stress, im%stiffness)
+      call force_pass(particles%count, size(cache%gradient, 1), cache%support, n, cache%first, cache%gradient, &
+                      im%stress, im%stiffness, im%volume, im%strain_magnitude, im%master, im%sign, .true., with_tangent, &
+                      im%residual, im%forces, im%roundoff, size(im%tangent%ab, 1), im%tangent%ab, &
+                      2*im%tangent%bandwidth + 1)
       ! folded onto the unknowns (a ghost's share to its partner, reflected)
       do i = 0, n
          if (im%master(i) < 0 .or. im%unknown(i)) cycle
@@ -650,6 +641,7 @@ contains
       end where
       if (im%constrained) im%residual = im%residual - im%multiplier*im%weight
       call ghost_forces(im, im%du)
+      if (with_tangent) call finish_tangent(im, grid)
    contains
       !> The vector with the entries of the nodes outside the consistent mass matrix zero (held nodes;
       !> driven nodes are in it: it was formed before the drive held them).
@@ -667,26 +659,24 @@ contains
       type(shape_cache_t), intent(in) :: cache
       type(particles_t), intent(in) :: particles
       type(grid_t), intent(in) :: grid
-      real(dp) :: share, inertia_factor
-      integer :: p, k, l, a, b, i, n, node, diagonal
-      n = grid%elements
       call banded_zero(im%tangent)
+      call force_pass(particles%count, size(cache%gradient, 1), cache%support, grid%elements, cache%first, &
+                      cache%gradient, im%stress, im%stiffness, im%volume, im%strain_magnitude, im%master, im%sign, &
+                      .false., .true., im%residual, im%forces, im%roundoff, size(im%tangent%ab, 1), im%tangent%ab, &
+                      2*im%tangent%bandwidth + 1)
+      call finish_tangent(im, grid)
+   end subroutine assemble_tangent
+
+   !> The tangent's terms after the particles': the inertia 4 M/dt^2 (dynamic), the ghost penalty, the
+   !> held rows.
+   subroutine finish_tangent(im, grid)
+      type(implicit_t), intent(inout) :: im
+      type(grid_t), intent(in) :: grid
+      real(dp) :: inertia_factor
+      integer :: k, i, n, diagonal
+      n = grid%elements
       diagonal = 2*im%tangent%bandwidth + 1  ! A(a, b) is ab(diagonal + a - b, b) (mpm_banded)
       associate (ab => im%tangent%ab)
-         do p = 1, particles%count
-            do k = 1, cache%support
-               node = cache%first(p) + k - 1
-               a = im%master(node)
-               if (a < 0) cycle
-               share = im%sign(node)*cache%gradient(p, k)*im%stiffness(p)*im%volume(p)
-               do l = 1, cache%support
-                  b = im%master(cache%first(p) + l - 1)
-                  if (b < 0) cycle
-                  ab(diagonal + a - b, b + 1) = ab(diagonal + a - b, b + 1) + &
-                                                share*im%sign(cache%first(p) + l - 1)*cache%gradient(p, l)
-               end do
-            end do
-         end do
          if (im%kind == integrator_implicit) then
             inertia_factor = 4.0_dp/im%dt**2
             do i = 0, n
@@ -705,7 +695,70 @@ contains
       end associate
       call ghost_tangent(im)
       call hold_rows(im%tangent, im%unknown)
-   end subroutine assemble_tangent
+   end subroutine finish_tangent
+
+   !> The particles' strain increments d eps_p = sum_J dN_Jp du_J and their magnitudes sum_J |dN_Jp du_J|.
+   !> The particle loops here and in force_pass take explicit-shape arrays: gfortran then indexes them
+   !> without the strides of assumed shapes (im's components through their descriptors cost three times the
+   !> arithmetic). `rows`: the leading dimension of the shape cache's arrays.
+   subroutine strain_pass(count, rows, support, n, first, gradient, du, dstrain, magnitude)
+      integer, intent(in) :: count, rows, support, n
+      integer, intent(in) :: first(count)
+      real(dp), intent(in) :: gradient(rows, support), du(0:n)
+      real(dp), intent(out) :: dstrain(count), magnitude(count)
+      real(dp) :: share
+      integer :: p, k
+      dstrain = 0.0_dp
+      magnitude = 0.0_dp
+      do k = 1, support
+         do p = 1, count
+            share = gradient(p, k)*du(first(p) + k - 1)
+            dstrain(p) = dstrain(p) + share
+            magnitude(p) = magnitude(p) + abs(share)
+         end do
+      end do
+   end subroutine strain_pass
+
+   !> One pass over the particles: `residual_part`, the force shares dN_Ip sigma_p V_p^n to R and |forces|,
+   !> and the round-off scale |dN_Ip k_p V_p^n| sum_J |dN_Jp du_J| to roundoff; `tangent_part`, the
+   !> stiffness dN_Ip k_p V_p^n dN_Jp to the band ab (A(a, b) in ab(diagonal + a - b, b + 1)) on the nodes'
+   !> unknowns (master: held nodes none, a ghost its partner's with its sign). Each sum runs in the order of
+   !> the separate loops it replaced (over the particles, then the support): the same bits.
+   subroutine force_pass(count, rows, support, n, first, gradient, stress, stiffness, volume, magnitude, master, sign, &
+                         residual_part, tangent_part, residual, forces, roundoff, band_rows, ab, diagonal)
+      integer, intent(in) :: count, rows, support, n, band_rows, diagonal
+      integer, intent(in) :: first(count), master(0:n)
+      real(dp), intent(in) :: gradient(rows, support), stress(count), stiffness(count), volume(count), &
+                              magnitude(count), sign(0:n)
+      logical, intent(in) :: residual_part, tangent_part
+      real(dp), intent(inout) :: residual(0:n), forces(0:n), roundoff(0:n), ab(band_rows, n + 1)
+      real(dp) :: share
+      integer :: p, k, l, node, a, b
+      do p = 1, count
+         if (residual_part) then
+            do k = 1, support
+               node = first(p) + k - 1
+               share = gradient(p, k)*stress(p)*volume(p)
+               residual(node) = residual(node) + share
+               forces(node) = forces(node) + abs(share)
+               roundoff(node) = roundoff(node) + abs(gradient(p, k)*stiffness(p)*volume(p))*magnitude(p)
+            end do
+         end if
+         if (tangent_part) then
+            do k = 1, support
+               node = first(p) + k - 1
+               a = master(node)
+               if (a < 0) cycle
+               share = sign(node)*gradient(p, k)*stiffness(p)*volume(p)
+               do l = 1, support
+                  b = master(first(p) + l - 1)
+                  if (b < 0) cycle
+                  ab(diagonal + a - b, b + 1) = ab(diagonal + a - b, b + 1) + share*sign(first(p) + l - 1)*gradient(p, l)
+               end do
+            end do
+         end if
+      end do
+   end subroutine force_pass
 
    !> The rows of the nodes without an unknown of their own (held, or a mirror ghost) get the diagonal
    !> entry of the unknowns' largest, and nothing else (their right-hand side is zero): the matrix stays
