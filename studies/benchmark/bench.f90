@@ -348,13 +348,7 @@ contains
       integer :: particles, ppc, steps, repeats, k, r
       real(dp) :: seconds, bytes(size(kinds))
       character(len=:), allocatable :: scheme
-      particles = iarg(2)
-      ppc = iarg(3)
-      steps = iarg(4)
-      repeats = iarg(5)
-      scheme = trim(arg(6))
-      if (scheme /= 'usf' .and. scheme /= 'usl' .and. scheme /= 'musl') call usage('SCHEME is usf, usl or musl')
-      call omp_set_num_threads(1)
+      call run_arguments(particles, ppc, steps, repeats, scheme)
       do k = 1, size(kinds)
          configs(k) = run_config(kinds(k), max(1, particles/ppc), ppc, steps, scheme)
          bytes(k) = run_bytes(configs(k))
@@ -380,13 +374,7 @@ contains
       integer :: particles, ppc, steps, repeats, r, k, l
       real(dp) :: seconds, reached
       character(len=:), allocatable :: scheme
-      particles = iarg(2)
-      ppc = iarg(3)
-      steps = iarg(4)
-      repeats = iarg(5)
-      scheme = trim(arg(6))
-      if (scheme /= 'usf' .and. scheme /= 'usl' .and. scheme /= 'musl') call usage('SCHEME is usf, usl or musl')
-      call omp_set_num_threads(1)
+      call run_arguments(particles, ppc, steps, repeats, scheme)
       do r = 1, repeats
          do k = 1, size(shapes)
             if (len_trim(arg(7)) > 0 .and. trim(arg(7)) /= trim(shapes(k))) cycle
@@ -455,6 +443,19 @@ contains
          end do
       end do
    end subroutine implicit
+
+   !> The arguments PARTICLES PPC STEPS REPEATS SCHEME of `ratios` and `plastic`; one thread.
+   subroutine run_arguments(particles, ppc, steps, repeats, scheme)
+      integer, intent(out) :: particles, ppc, steps, repeats
+      character(len=:), allocatable, intent(out) :: scheme
+      particles = iarg(2)
+      ppc = iarg(3)
+      steps = iarg(4)
+      repeats = iarg(5)
+      scheme = trim(arg(6))
+      if (scheme /= 'usf' .and. scheme /= 'usl' .and. scheme /= 'musl') call usage('SCHEME is usf, usl or musl')
+      call omp_set_num_threads(1)
+   end subroutine run_arguments
 
    !> The value of report `name` of a run (0 when it has none).
    real(dp) function report_value(result, name) result(value)

@@ -30,6 +30,13 @@ bench="$(mpm1d_build --example mpm1d_bench)"
 REPEATS="${REPEATS:-3}"
 PARTS="${PARTS:-bandwidth throughput generic shapes threads sweep study memory ratios plastic implicit table2}"
 want() { [[ " $PARTS " == *" $1 "* ]]; }
+# instructions NAME BENCH-ARGUMENTS...: the bench's run under callgrind (its profile $out/callgrind_NAME.out),
+# printing the inclusive instruction count of its timed runs (timed_run)
+instructions() {
+  local name="$1"; shift
+  valgrind --tool=callgrind --callgrind-out-file="$out/callgrind_$name.out" "$bench" "$@" > /dev/null 2>&1
+  callgrind_annotate --inclusive=yes "$out/callgrind_$name.out" | awk '/timed_run/ {gsub(/,/, "", $1); print $1; exit}'
+}
 mpm1d="$(mpm1d_build)"
 echo "flags: fpm --profile release --flag '$FLAGS'" > "$out/flags.txt"
 gfortran --version | head -n 1 >> "$out/flags.txt"
@@ -168,10 +175,7 @@ if [ "${CALLGRIND:-0}" = 1 ] && command -v valgrind >/dev/null 2>&1; then
   echo "run,instructions" > "$out/ratios_callgrind.csv"
   for run in bar bar_generic bar_pic bar_blend bar_apic column composite_bar manufactured impact_frictionless \
              impact_none bar_total bar_cpdi bar_xpic2 bar_fmpm2 bar_asflip; do
-    valgrind --tool=callgrind --callgrind-out-file="$out/callgrind_ratios_$run.out" "$bench" ratios 10000 2 200 1 usl \
-      $run > /dev/null 2>&1
-    echo "$run,$(callgrind_annotate --inclusive=yes "$out/callgrind_ratios_$run.out" | awk '/timed_run/ {gsub(/,/, "", $1); print $1; exit}')" \
-      >> "$out/ratios_callgrind.csv"
+    echo "$run,$(instructions "ratios_$run" ratios 10000 2 200 1 usl "$run")" >> "$out/ratios_callgrind.csv"
   done
 fi
 fi
@@ -188,10 +192,8 @@ if [ "${CALLGRIND:-0}" = 1 ] && command -v valgrind >/dev/null 2>&1; then
   echo "shape,law,instructions" > "$out/plastic_callgrind.csv"
   for shape in linear ugimp cpgimp bspline2 bspline3; do
     for law in hencky elastoplastic; do
-      valgrind --tool=callgrind --callgrind-out-file="$out/callgrind_plastic_${shape}_$law.out" "$bench" plastic 10000 2 200 \
-        1 usl $shape $law > /dev/null 2>&1
-      echo "$shape,$law,$(callgrind_annotate --inclusive=yes "$out/callgrind_plastic_${shape}_$law.out" \
-        | awk '/timed_run/ {gsub(/,/, "", $1); print $1; exit}')" >> "$out/plastic_callgrind.csv"
+      echo "$shape,$law,$(instructions "plastic_${shape}_$law" plastic 10000 2 200 1 usl "$shape" "$law")" \
+        >> "$out/plastic_callgrind.csv"
     done
   done
 fi
@@ -207,10 +209,7 @@ if [ "${CALLGRIND:-0}" = 1 ] && command -v valgrind >/dev/null 2>&1; then
   echo "run,instructions" > "$out/implicit_callgrind.csv"
   for run in explicit_linear explicit_hencky implicit_linear_lumped implicit_hencky_lumped implicit_linear_consistent \
              implicit_hencky_consistent; do
-    valgrind --tool=callgrind --callgrind-out-file="$out/callgrind_implicit_$run.out" "$bench" implicit 20000 2 10 1 \
-      $run > /dev/null 2>&1
-    echo "$run,$(callgrind_annotate --inclusive=yes "$out/callgrind_implicit_$run.out" \
-      | awk '/timed_run/ {gsub(/,/, "", $1); print $1; exit}')" >> "$out/implicit_callgrind.csv"
+    echo "$run,$(instructions "implicit_$run" implicit 20000 2 10 1 "$run")" >> "$out/implicit_callgrind.csv"
   done
 fi
 fi
