@@ -1,10 +1,11 @@
 !> mpm1d command line: `mpm1d [input.nml | -] [group.name=value ...] [--quiet] [--shard I/N] [--threads N]
-!> [--resume] [--dry-run]`, `mpm1d merge OUT IN...`,
+!> [--resume] [--restart] [--dry-run]`, `mpm1d merge OUT IN...`,
 !> `mpm1d --help`, `mpm1d --list-parameters`, `mpm1d --version`. An input file with a &sweep group runs a sweep.
 !> Parses arguments, calls the library, prints messages and sets the exit code:
 !> 0 success, 1 a guard stopped the run (its history is still written), 2 bad input or usage,
 !> 3 output could not be written; a sweep interrupted by SIGINT, SIGTERM or SIGHUP (what it finished is
-!> written) 130, 143, 129 (128 + the signal's number).
+!> written), or a single run that keeps checkpoints (its state kept in the checkpoint), 130, 143, 129
+!> (128 + the signal's number).
 program mpm1d_main
    use, intrinsic :: iso_fortran_env, only: output_unit
    use mpm_kinds, only: dp
@@ -12,12 +13,15 @@ program mpm1d_main
    use mpm_strings, only: str
    use mpm_config, only: config_t, read_config_text, check_output_path
    use mpm_simulation, only: run_result_t, run_simulation
+   use mpm_diagnostics, only: status_not_run
+   use mpm_state, only: state_t
+   use mpm_checkpoint, only: checkpoint_file_t, checkpoint_for, read_checkpoint
    use mpm_output, only: write_run_file
    use mpm_version, only: code_version
    use mpm_cli_help, only: print_help, print_parameters
    use mpm_sweep, only: sweep_t, read_sweep_text, run_sweep, has_sweep_text, sweep_output_file, cases_done, &
                         cases_to_time
-   use mpm_files, only: same_file, absolute_path, catch_interrupts, file_size_errors
+   use mpm_files, only: same_file, absolute_path, catch_interrupts, file_size_errors, interrupt_signal, remove_file
    use mpm_registry, only: read_input_text
    use mpm_command_line, only: command_line_t, command_arguments, parse_command_line, check_environment, &
                                check_has_groups
@@ -78,10 +82,13 @@ contains
    subroutine single_run()
       type(config_t) :: config
       type(run_result_t) :: result
+      type(checkpoint_file_t) :: checkpoints
+      type(state_t) :: state
+      integer :: step
       if (cl%shards > 0 .or. cl%threads >= 0) call fail('--shard and --threads are for a sweep (an input with a '// &
                                                         '&sweep group); see mpm1d --help', 2)
       if (cl%resume) call fail('--resume is for a sweep (an input with a &sweep group): a single run has nothing '// &
-                               'to resume; see mpm1d --help', 2)
+                               'to resume (--restart continues a single run from its checkpoint); see mpm1d --help', 2)
       call read_config_text(text, source, config, error, overrides=cl%overrides)
       if (allocated(error)) call fail('invalid input:'//new_line('a')//error%message, 2)
       call refuse_input_as_output(trim(config%file))
@@ -101,14 +108,76 @@ contains
       end if
       call warn_run(config)
       if (.not. cl%quiet) call report_config(config)
-      call run_simulation(config, result, error, record_history=config%history)
-      if (allocated(error)) call fail(error%message, 3)
+      checkpoints = checkpoint_for(config)
+      if (cl%restart) then
+         call read_checkpoint(config, state, step, error)
+         if (allocated(error)) call fail(error%message, 2)
+         if (.not. cl%quiet) write (output_unit, '(a)') 'mpm1d: restarted from step '//str(step)//' of '// &
+            str(config%steps)//" (the checkpoint '"//checkpoints%path//"')"
+      end if
+      ! a signal stops a run that keeps checkpoints after its step, which the checkpoint then keeps
+      if (config%checkpoint_steps > 0) call catch_interrupts()
+      if (cl%restart) then
+         call run_simulation(config, result, error, record_history=config%history, checkpoints=checkpoints, &
+                             restart=state)
+         if (allocated(error)) call fail("restart: the checkpoint '"//checkpoints%path//"' is damaged: "// &
+                                         error%message//"; allowed: an undamaged checkpoint, or run without "// &
+                                         "--restart to start afresh", 2)
+      else
+         call run_simulation(config, result, error, record_history=config%history, checkpoints=checkpoints)
+         if (allocated(error)) call fail(error%message, 3)
+      end if
+      if (allocated(checkpoints%failure)) call warn(checkpoints%failure//' (the run went on without it)')
+      if (result%status == status_not_run) call stopped_run(checkpoints, result%steps_done, config%steps)
       call write_run_file(config, result, error)
       if (allocated(error)) call fail(error%message, 3)
+      ! the run's file is complete: its checkpoint (this run's, or an earlier run's into this file) is done
+      call remove_file(checkpoints%path)
       if (.not. cl%quiet) call report_run(config, result)
       call warn_rounding(config, result)
       call stop_for_guard(config, result)
    end subroutine single_run
+
+   !> A run that keeps checkpoints, stopped by a signal after step `step` of `steps`: where its state is
+   !> and how to go on; the exit code 128 + the signal's number.
+   subroutine stopped_run(checkpoints, step, steps)
+      type(checkpoint_file_t), intent(in) :: checkpoints
+      integer, intent(in) :: step, steps
+      integer :: signal
+      signal = interrupt_signal()
+      if (checkpoints%step == step) then
+         call fail(signal_name(signal)//' stopped the run after step '//str(step)//' of '//str(steps)// &
+                   "; the checkpoint '"//checkpoints%path//"' keeps it: "//restart_command()// &
+                   ' continues from there', 128 + signal)
+      else
+         call fail(signal_name(signal)//' stopped the run after step '//str(step)//' of '//str(steps)// &
+                   "; its checkpoint could not be written ("//checkpoints%failure//')', 128 + signal)
+      end if
+   end subroutine stopped_run
+
+   !> The command that restarts this run.
+   function restart_command() result(how)
+      character(len=:), allocatable :: how
+      how = 'mpm1d'
+      if (cl%has_input) how = how//' '//cl%input
+      if (size(cl%overrides) > 0) how = how//' (with its overrides)'
+      how = how//' --restart'
+   end function restart_command
+
+   function signal_name(signal) result(name)
+      integer, intent(in) :: signal
+      character(len=:), allocatable :: name
+      select case (signal)
+      case (1)
+         name = 'SIGHUP'
+      case (2)
+         name = 'SIGINT'
+      case (15)
+         name = 'SIGTERM'
+      case default
+         name = 'signal '//str(signal)
+      end select
+   end function signal_name
 
    !> `mpm1d input.nml [overrides] [--shard I/N] [--threads N] [--quiet] [--resume] [--dry-run]` for an input
    !> with a &sweep group.

@@ -9,6 +9,7 @@
 #                                  the post-processing tests, the command line, the hostile-input
 #                                  suite, a full disk on every write path (test/cli/test_full_disk.py),
 #                                  sweeps killed at 24 moments and resumed (test/cli/test_sweep_kill.py),
+#                                  single runs killed and restarted (test/cli/test_restart.py),
 #                                  sweep determinism (3 two-thread sweeps), the README's
 #                                  commands, the study pipelines and tests (but their long cases:
 #                                  long_cases in this script)
@@ -121,6 +122,7 @@ group "the command line (test/cli/test_cli_options.sh)" bash test/cli/test_cli_o
 group "hostile input (test/cli/hostile)" "$PYTHON" test/cli/hostile/run_hostile.py
 group "a full disk on every write path (test/cli/test_full_disk.py)" "$PYTHON" test/cli/test_full_disk.py
 group "sweeps killed with SIGKILL resume from their journal (test/cli/test_sweep_kill.py)" "$PYTHON" test/cli/test_sweep_kill.py
+group "single runs killed restart from their checkpoint (test/cli/test_restart.py)" "$PYTHON" test/cli/test_restart.py
 if [ "$all" = 0 ]; then
   group "sweeps bit-identical on 1 and 2 threads (3 sweeps)" env SWEEP_REPEATS=3 bash test/end_to_end/test_sweep_determinism.sh
 fi

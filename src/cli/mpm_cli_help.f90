@@ -56,6 +56,9 @@ contains
          'sweeps: mpm1d sweep.nml [--shard I/N] [--threads N] [--resume];  mpm1d merge OUT.h5 SHARD.h5 ...', &
          '  SIGINT, SIGTERM or SIGHUP stop a sweep: it writes the cases it finished (the others not_run);', &
          '  --resume runs the cases left in that file (the same input) and writes it again', &
+         'single runs: &output checkpoint_steps = N keeps the whole state every N steps (and when SIGINT, SIGTERM', &
+         '  or SIGHUP stops the run) in OUTPUT.checkpoint; mpm1d run.nml --restart continues from it, to the file', &
+         '  the uninterrupted run writes', &
          '', &
          'exit codes: 0 done; 1 a guard stopped the run (history so far written); 2 bad input; 3 output failed;', &
          '  a sweep interrupted by SIGINT, SIGTERM, SIGHUP (what it finished written): 130, 143, 129.', &

@@ -1,5 +1,5 @@
 !> mpm1d's command line read into what to do: `mpm1d [input.nml | -] [group.name=value ...] [--quiet]
-!> [--shard I/N] [--threads N] [--resume] [--dry-run]`, `mpm1d merge OUT SHARD...`, `mpm1d --help | --list-parameters |
+!> [--shard I/N] [--threads N] [--resume] [--restart] [--dry-run]`, `mpm1d merge OUT SHARD...`, `mpm1d --help | --list-parameters |
 !> --version`; and the checks of the input that come before the namelist's (OMP_NUM_THREADS, an input
 !> without any group). Every refusal names the argument and what is allowed; an argument `name=value`
 !> without its group is told the group (`elements=40`: discretisation.elements=40).
@@ -38,6 +38,8 @@ module mpm_command_line
       !> With --resume, run only the cases the sweep's output file has as not_run; with --dry-run, say
       !> what would run (cases, output path) and run nothing.
       logical :: resume = .false., dry_run = .false.
+      !> With --restart, a single run continues from its checkpoint (&output checkpoint_steps).
+      logical :: restart = .false.
       !> --shard I/N (0, 0: not given) and --threads N (-1: not given).
       integer :: shard = 0, shards = 0, threads = -1
       !> merge: the output, then the shard files.
@@ -108,6 +110,8 @@ contains
          cl%quiet = .true.
       case ('--resume')
          cl%resume = .true.
+      case ('--restart')
+         cl%restart = .true.
       case ('--dry-run')
          cl%dry_run = .true.
       case ('--shard=':'--shard=~')

@@ -11,11 +11,12 @@ module mpm_grid
    use mpm_kinds, only: dp
    use mpm_errors, only: error_t, set_error
    use mpm_strings, only: str
+   use mpm_state, only: state_t
    implicit none
    private
    public :: grid_t, grid_init, assemble_nodes, assemble_and_solve, nodal_velocity, solve_momentum, mass_tolerance
    public :: parallel_nodes, node_chunk, threaded_nodes, solve_range, zero_fixed
-   public :: segments_t, share_count, grid_loads_t, element_forces
+   public :: segments_t, share_count, grid_loads_t, element_forces, sync_grid
 
    !> Nodes lighter than this fraction of one particle's mass are treated as empty.
    real(dp), parameter :: mass_tolerance = 1.0e-12_dp
@@ -497,4 +498,40 @@ contains
          field(fixed(k)) = 0.0_dp
       end do
    end subroutine zero_fixed
+
+   !> The grid's fields to or from `state` (under `prefix`.*, as state%saving says), for a checkpoint:
+   !> what a step leaves for the next (the fused kernels' element shares, the nodal fields a snapshot
+   !> reads, the segments' record of what they wrote), into a grid made for the same run.
+   subroutine sync_grid(state, prefix, grid)
+      type(state_t), intent(inout) :: state
+      character(len=*), intent(in) :: prefix
+      type(grid_t), intent(inout) :: grid
+      integer, allocatable :: flat(:)
+      call state%sync(prefix//'.element_mass_left', grid%element_mass_left)
+      call state%sync(prefix//'.element_mass_right', grid%element_mass_right)
+      call state%sync(prefix//'.element_momentum_left', grid%element_momentum_left)
+      call state%sync(prefix//'.element_momentum_right', grid%element_momentum_right)
+      call state%sync(prefix//'.element_stress_volume', grid%element_stress_volume)
+      call state%sync(prefix//'.element_strain', grid%element_strain)
+      call state%sync(prefix//'.element_force_left', grid%element_force_left)
+      call state%sync(prefix//'.element_force_right', grid%element_force_right)
+      call state%sync(prefix//'.mass', grid%mass)
+      call state%sync(prefix//'.momentum', grid%momentum)
+      call state%sync(prefix//'.force', grid%force)
+      call state%sync(prefix//'.velocity', grid%velocity)
+      call state%sync(prefix//'.acceleration', grid%acceleration)
+      call state%sync(prefix//'.min_node_mass', grid%min_node_mass)
+      associate (s => grid%segments)
+         call state%sync(prefix//'.segments.first_particle', s%first_particle)
+         call state%sync(prefix//'.segments.halo_left', s%halo_left)
+         call state%sync(prefix//'.segments.halo_right', s%halo_right)
+         if (.not. allocated(s%written)) return
+         ! (flat: the state holds arrays of rank 2 at most)
+         if (state%saving) flat = reshape(s%written, [size(s%written)])
+         call state%sync(prefix//'.segments.written', flat)
+         if (.not. state%saving .and. allocated(flat)) then
+            if (size(flat) == size(s%written)) s%written = reshape(flat, shape(s%written))
+         end if
+      end associate
+   end subroutine sync_grid
 end module mpm_grid

@@ -7,9 +7,10 @@ module mpm_particles
    use mpm_kinds, only: dp, i8
    use mpm_errors, only: error_t, set_error
    use mpm_strings, only: str
+   use mpm_state, only: state_t
    implicit none
    private
-   public :: particles_t, particles_init, bytes_per_particle, per_particle_data, permute
+   public :: particles_t, particles_init, bytes_per_particle, per_particle_data, permute, sync_particles
 
    !> Storage per particle: x, x0, v, stress, volume_ratio (8 bytes each) and cell (4 bytes).
    integer, parameter :: bytes_per_particle = 5*8 + 4
@@ -144,4 +145,29 @@ contains
          call move_alloc(copy, a)
       end subroutine permute_int
    end subroutine permute
+
+   !> The particles to or from `state` (under particles.*, as state%saving says), for a checkpoint.
+   subroutine sync_particles(state, particles)
+      type(state_t), intent(inout) :: state
+      type(particles_t), intent(inout) :: particles
+      call state%sync('particles.count', particles%count)
+      call state%sync('particles.mass', particles%mass)
+      call state%sync('particles.volume0', particles%volume0)
+      call state%sync('particles.x', particles%x)
+      call state%sync('particles.x0', particles%x0)
+      call state%sync('particles.v', particles%v)
+      call state%sync('particles.stress', particles%stress)
+      call state%sync('particles.volume_ratio', particles%volume_ratio)
+      call state%sync('particles.cell', particles%cell)
+      call state%sync('particles.mass_of', particles%mass_of)
+      call state%sync('particles.volume0_of', particles%volume0_of)
+      call state%sync('particles.velocity_gradient', particles%velocity_gradient)
+      call state%sync('particles.youngs_modulus_of', particles%youngs_modulus_of)
+      call state%sync('particles.body', particles%body)
+      call state%sync('particles.scene_factors', particles%scene_factors)
+      call state%sync('particles.plastic_strain', particles%plastic_strain)
+      call state%sync('particles.hardening', particles%hardening)
+      call state%sync('particles.yield_stress_of', particles%yield_stress_of)
+      call state%sync('particles.hardening_modulus_of', particles%hardening_modulus_of)
+   end subroutine sync_particles
 end module mpm_particles

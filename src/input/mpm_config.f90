@@ -158,6 +158,8 @@ module mpm_config
       real(dp) :: snapshot_times(max_snapshots) = 0.0_dp
       !> A snapshot every this many steps from step 0 (besides snapshot_times); 0: none.
       integer :: snapshot_every = 0
+      !> The run's whole state every N steps (and when a signal stops it) in <file>.checkpoint: 0 none.
+      integer :: checkpoint_steps = 0
       ! &guards
       !> A run fails when its total energy exceeds this factor times the initial energy.
       real(dp) :: energy_growth_limit = 10.0_dp
@@ -321,6 +323,9 @@ contains
          int_entry('output', 'snapshot_every', config%snapshot_every, 'particle and grid state every N steps from '// &
                    'step 0 (evenly spaced frames; besides snapshot_times)', at_least=0, &
                    note='0: none; at most '//str(max_periodic_snapshots)//' snapshots'), &
+         int_entry('output', 'checkpoint_steps', config%checkpoint_steps, 'the whole state of the run every N '// &
+                   'steps, and when SIGINT, SIGTERM or SIGHUP stops it, in <file>.checkpoint (mpm1d RUN.nml '// &
+                   '--restart continues from it)', at_least=0, note='0: none; a single run (a sweep''s cases none)'), &
          real_entry('guards', 'energy_growth_limit', config%energy_growth_limit, '', 'a run stops when its total '// &
                     'energy exceeds this factor times the initial energy', greater_than=1.0_dp), &
          real_entry('guards', 'max_cell_move', config%max_cell_move, 'cells', 'a run stops when a particle moves '// &

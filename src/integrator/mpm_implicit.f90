@@ -55,7 +55,8 @@ module mpm_implicit
    use mpm_shape, only: shape_cache_t
    use mpm_loads, only: loads_t, drive_t
    use mpm_stepper, only: stepper_stop_t
-   use mpm_schemes, only: generic_stepper_t
+   use mpm_schemes, only: generic_stepper_t, generic_sync_state
+   use mpm_state, only: state_t
    use mpm_diagnostics, only: pass_totals_t
    use mpm_operations, only: locate_particles, p2g_mass_momentum, nodal_velocities, mirror_fold, g2p
    use mpm_material, only: material_t, law_stress_stiffness, update_material_finite
@@ -147,6 +148,7 @@ module mpm_implicit
       procedure :: step => implicit_stepper_step
       procedure :: stop_reason => implicit_stop_reason
       procedure :: report => implicit_stepper_report
+      procedure :: sync_state => implicit_sync_state
    end type implicit_stepper_t
 
 contains
@@ -925,4 +927,35 @@ contains
       real(dp), allocatable, intent(out) :: values(:)
       call implicit_report(self%im, names, values)
    end subroutine implicit_stepper_report
+
+   !> What the implicit integrator carries from one step to the next, to or from a checkpoint's `state`
+   !> (after the generic stepper's): its Newton statistics over the run and the drive's reaction of the
+   !> last step (the next step's a_n); every other array is made again at the start of each step.
+   subroutine implicit_sync_state(self, state)
+      class(implicit_stepper_t), intent(inout) :: self
+      type(state_t), intent(inout) :: state
+      real(dp), allocatable :: reaction(:)
+      integer :: count
+      call generic_sync_state(self, state)
+      associate (im => self%im)
+         call state%sync('implicit.steps', im%steps)
+         call state%sync('implicit.solves', im%solves)
+         call state%sync('implicit.most_solves', im%most_solves)
+         call state%sync('implicit.min_rcond', im%min_rcond)
+         call state%sync('implicit.min_pivot_ratio', im%min_pivot_ratio)
+         call state%sync('implicit.floor_steps', im%floor_steps)
+         call state%sync('implicit.halvings', im%halvings)
+         call state%sync('implicit.floor_residual', im%floor_residual)
+         if (.not. allocated(im%reaction) .and. state%saving) return ! (no step made yet)
+         if (.not. state%saving .and. .not. state%has('implicit.reaction')) return
+         count = 0
+         if (state%saving) count = size(im%x_start)
+         call state%sync('implicit.particles', count)
+         if (state%saving) reaction = im%reaction
+         call state%sync('implicit.reaction', reaction)
+         if (state%saving .or. .not. allocated(reaction) .or. count <= 0) return
+         call workspace(im, ubound(reaction, 1), count) ! (the step's arrays, as its first step made them)
+         im%reaction = reaction
+      end associate
+   end subroutine implicit_sync_state
 end module mpm_implicit

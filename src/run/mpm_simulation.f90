@@ -8,8 +8,9 @@ module mpm_simulation
    use mpm_strings, only: str, plural
    use mpm_config, only: config_t, material_of, periodic_snapshots
    use mpm_material, only: material_t, material_state, material_report
-   use mpm_grid, only: grid_t, grid_init
-   use mpm_particles, only: particles_t, per_particle_data
+   use mpm_grid, only: grid_t, grid_init, sync_grid
+   use mpm_particles, only: particles_t, per_particle_data, sync_particles
+   use mpm_state, only: state_t
    use mpm_shape, only: shape_cache_t, shape_id, shape_extra_cells, transfer_id, transfer_apic, transfer_xpic, &
                         transfer_fmpm, transfer_asflip, shape_cpdi, formulation_id, formulation_total
    use mpm_shape_cpdi, only: cpdi_corners
@@ -20,12 +21,31 @@ module mpm_simulation
    use mpm_scenes, only: make_scene
    use mpm_diagnostics, only: history_t, snapshot_t, pass_totals_t, status_ok, status_non_finite, &
                               status_volume_ratio, status_left_grid, status_energy_growth, status_cell_crossing, &
-                              status_name, status_not_run, status_newton, status_domain_stretched
+                              status_name, status_not_run, status_newton, status_domain_stretched, &
+                              exact_name_length
    use mpm_files, only: interrupt_signal
    use mpm_implicit, only: implicit_stepper_t, implicit_init, integrator_id, integrator_explicit
    implicit none
    private
-   public :: run_result_t, run_simulation, guard_trip_t, guard_message
+   public :: run_result_t, run_simulation, guard_trip_t, guard_message, checkpoint_sink_t
+
+   !> Where a run puts its checkpoints (mpm_checkpoint writes them to a file): `save` gets the run's
+   !> whole state after every `every` steps (0: never) but the last, and after the step a signal stopped
+   !> it at (the run goes on when a save fails: the sink keeps why).
+   type, abstract :: checkpoint_sink_t
+      integer :: every = 0
+   contains
+      procedure(save_i), deferred :: save
+   end type checkpoint_sink_t
+
+   abstract interface
+      subroutine save_i(self, state, step)
+         import :: checkpoint_sink_t, state_t
+         class(checkpoint_sink_t), intent(inout) :: self
+         type(state_t), intent(in) :: state
+         integer, intent(in) :: step
+      end subroutine save_i
+   end interface
 
    !> A node lighter than this fraction of a particle's mass is "nearly empty" in guard messages.
    real(dp), parameter :: nearly_empty = 0.01_dp
@@ -101,20 +121,33 @@ contains
    !> `record_history` keeps one history entry per step; snapshots are taken when the configuration asks.
    !> A signal caught by a sweep (mpm_files, catch_interrupts) ends the run at its next step with
    !> status_not_run: the run was abandoned, its numbers are no result.
-   subroutine run_simulation(config, result, error, record_history)
+   subroutine run_simulation(config, result, error, record_history, checkpoints, restart)
       type(config_t), intent(in) :: config
       type(run_result_t), intent(out) :: result
       type(error_t), allocatable, intent(out) :: error
       logical, intent(in) :: record_history
+      !> where the run's checkpoints go (none when absent or every = 0)
+      class(checkpoint_sink_t), intent(inout), optional :: checkpoints
+      !> the state a checkpoint of this run kept: the run continues from it, to the file the
+      !> uninterrupted run gives (bit for bit); `error` when it lacks a value (a damaged checkpoint)
+      type(state_t), intent(inout), optional :: restart
       type(run_state_t) :: run
+      type(state_t) :: state
       real(dp) :: start
-      integer :: n
+      integer :: n, first, every
 
       start = omp_get_wtime()
+      every = 0
+      if (present(checkpoints)) every = checkpoints%every
       call set_up(config, run, result, error)
       if (allocated(error)) return
       call first_state(config, run, result, record_history)
-      do n = 1, config%steps
+      first = 1
+      if (present(restart)) then
+         call restore(restart, run, result, first, error)
+         if (allocated(error)) return
+      end if
+      do n = first, config%steps
          call advance(config, run, result, n, record_history)
          call check_guards(config, run, result, n, n*config%dt)
          if (result%status /= status_ok) exit
@@ -122,7 +155,17 @@ contains
          call take_snapshots(config, run, result, n, n*config%dt)
          if (interrupt_signal() /= 0) then
             result%status = status_not_run
+            if (every > 0) then ! (the step it reached: --restart continues from there)
+               call capture(run, result, n, state)
+               call checkpoints%save(state, n)
+            end if
             exit
+         end if
+         if (every > 0 .and. n < config%steps) then
+            if (mod(n, every) == 0) then
+               call capture(run, result, n, state)
+               call checkpoints%save(state, n)
+            end if
          end if
       end do
       call finish(config, run, result)
@@ -567,4 +610,122 @@ contains
       call move_alloc(all_names, result%report_names)
       call move_alloc(all_values, result%report_values)
    end subroutine add_report
+
+   !> The whole state of a run after step `step`: what `restore` continues from.
+   subroutine capture(run, result, step, state)
+      type(run_state_t), intent(inout) :: run
+      type(run_result_t), intent(inout) :: result
+      integer, intent(in) :: step
+      type(state_t), intent(out) :: state
+      integer :: at
+      at = step
+      state%saving = .true.
+      call sync_run(state, run, result, at)
+   end subroutine capture
+
+   !> Continue from `state` (a run of this configuration after its step `first` - 1): the run set up and
+   !> at its first state takes every running value back; `error` when the state lacks one (a damaged
+   !> checkpoint or one of another build).
+   subroutine restore(state, run, result, first, error)
+      type(state_t), intent(inout) :: state
+      type(run_state_t), intent(inout) :: run
+      type(run_result_t), intent(inout) :: result
+      integer, intent(out) :: first
+      type(error_t), allocatable, intent(out) :: error
+      integer :: step
+      step = -1
+      state%saving = .false.
+      call sync_run(state, run, result, step)
+      if (allocated(state%missing)) then
+         call set_error(error, 'it lacks (or holds in another form) '//state%missing)
+      else if (step < 0 .or. step > result%steps) then
+         call set_error(error, 'its step '//str(step)//' is not one of this run''s 0 .. '//str(result%steps))
+      end if
+      first = step + 1
+   end subroutine restore
+
+   !> A run's whole state to or from `state` (as state%saving says): the particles, the grid, the
+   !> stepper's own, the guards' and the scene's running values, the result so far with its history
+   !> and snapshots, the step.
+   subroutine sync_run(state, run, result, step)
+      type(state_t), intent(inout) :: state
+      type(run_state_t), intent(inout) :: run
+      type(run_result_t), intent(inout) :: result
+      integer, intent(inout) :: step
+      integer :: k
+      call state%sync('step', step)
+      call sync_particles(state, run%particles)
+      call sync_grid(state, 'grid', run%grid)
+      call run%stepper%sync_state(state)
+      call state%sync('run.watch', run%watch)
+      call state%sync('run.next_snapshot', run%next_snapshot)
+      call state%sync('run.snapshots_taken', run%snapshots_taken)
+      call state%sync('run.total_mass', run%total_mass)
+      call state%sync('run.energy_reference', run%energy_reference)
+      call state%sync('run.ucm', run%ucm)
+      call state%sync('run.energy', run%energy)
+      call state%sync('result.steps_done', result%steps_done)
+      call state%sync('result.max_error', result%max_error)
+      call state%sync('result.initial_energy', result%initial_energy)
+      call state%sync('result.final_energy', result%final_energy)
+      call state%sync('result.max_energy_ratio', result%max_energy_ratio)
+      call state%sync('result.min_volume_ratio', result%min_volume_ratio)
+      call state%sync('result.max_cell_move', result%max_cell_move)
+      call state%sync('result.min_node_mass_ratio', result%min_node_mass_ratio)
+      associate (h => result%history)
+         call state%sync('history.recorded', h%recorded)
+         call state%sync('history.time', h%time)
+         call state%sync('history.ucm', h%ucm)
+         call state%sync('history.ucm_exact', h%ucm_exact)
+         call state%sync('history.kinetic_energy', h%kinetic_energy)
+         call state%sync('history.strain_energy', h%strain_energy)
+         call state%sync('history.plastic_work', h%plastic_work)
+      end associate
+      if (run%snapshots_taken < 0 .or. run%snapshots_taken > size(result%snapshots)) then
+         call state%sync('snapshot.count', run%snapshots_taken) ! (noted as missing: not one this run takes)
+         return
+      end if
+      do k = 1, run%snapshots_taken
+         call sync_snapshot(state, 'snapshot.'//str(k), result%snapshots(k))
+      end do
+   end subroutine sync_run
+
+   subroutine sync_snapshot(state, name, s)
+      type(state_t), intent(inout) :: state
+      character(len=*), intent(in) :: name
+      type(snapshot_t), intent(inout) :: s
+      character(len=:), allocatable :: names
+      integer :: k, n
+      call state%sync(name//'.time', s%time)
+      call state%sync(name//'.step', s%step)
+      call state%sync(name//'.x', s%x)
+      call state%sync(name//'.v', s%v)
+      call state%sync(name//'.stress', s%stress)
+      call state%sync(name//'.volume_ratio', s%volume_ratio)
+      call state%sync(name//'.x0', s%x0)
+      call state%sync(name//'.youngs_modulus', s%youngs_modulus)
+      call state%sync(name//'.body', s%body)
+      call state%sync(name//'.plastic_strain', s%plastic_strain)
+      call state%sync(name//'.grid_x', s%grid_x)
+      call state%sync(name//'.grid_velocity', s%grid_velocity)
+      call state%sync(name//'.exact', s%exact)
+      ! the exact fields' names, joined (each exact_name_length characters)
+      if (state%saving) then
+         if (.not. allocated(s%exact_names)) return
+         names = ''
+         do k = 1, size(s%exact_names)
+            names = names//s%exact_names(k)
+         end do
+         call state%put(name//'.exact_names', names)
+      else
+         if (allocated(s%exact_names)) deallocate (s%exact_names)
+         if (.not. state%has(name//'.exact_names')) return
+         call state%get(name//'.exact_names', names)
+         n = len(names)/exact_name_length
+         allocate (s%exact_names(n))
+         do k = 1, n
+            s%exact_names(k) = names((k - 1)*exact_name_length + 1:k*exact_name_length)
+         end do
+      end if
+   end subroutine sync_snapshot
 end module mpm_simulation

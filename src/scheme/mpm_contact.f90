@@ -26,7 +26,8 @@ module mpm_contact
    use mpm_kinds, only: dp
    use mpm_errors, only: error_t, set_error
    use mpm_strings, only: str
-   use mpm_grid, only: grid_t
+   use mpm_grid, only: grid_t, sync_grid
+   use mpm_state, only: state_t
    use mpm_particles, only: particles_t
    use mpm_shape, only: shape_cache_t
    use mpm_diagnostics, only: pass_totals_t
@@ -35,6 +36,7 @@ module mpm_contact
    private
    public :: bodies_t, bodies_init, locate_bodies, contact_velocities, contact_momentum, combine_bodies, touch_test, &
              contact_correct
+   public :: sync_bodies
 
    !> Largest surface gap, in cells, at which the bodies count as touching (the surface estimate from
    !> the end particles' domains is not exact while they deform).
@@ -272,4 +274,21 @@ contains
          end if
       end do
    end subroutine sum_fields
+
+   !> What the bodies' fields carry from one step to the next, to or from `state` (under bodies.*, as
+   !> state%saving says), for a checkpoint.
+   subroutine sync_bodies(state, bodies)
+      type(state_t), intent(inout) :: state
+      type(bodies_t), intent(inout) :: bodies
+      call state%sync('bodies.first', bodies%first)
+      call state%sync('bodies.last', bodies%last)
+      call state%sync('bodies.normal', bodies%normal)
+      call state%sync('bodies.contact_nodes', bodies%contact_nodes)
+      call state%sync('bodies.facing1', bodies%facing(1))
+      call state%sync('bodies.facing2', bodies%facing(2))
+      call state%sync('bodies.touching', bodies%touching)
+      call state%sync('bodies.surface_gap', bodies%surface_gap)
+      call state%sync('bodies.active', bodies%active)
+      call sync_grid(state, 'bodies.fields', bodies%fields)
+   end subroutine sync_bodies
 end module mpm_contact

@@ -15,18 +15,21 @@ module mpm_schemes
    use mpm_errors, only: error_t
    use mpm_grid, only: grid_t
    use mpm_particles, only: particles_t
-   use mpm_shape, only: shape_cache_t
+   use mpm_shape, only: shape_cache_t, sync_cache
+   use mpm_state, only: state_t
    use mpm_loads, only: loads_t
    use mpm_stepper, only: stepper_t, stepper_stop_t, scheme_usf, scheme_usl, scheme_musl, scheme_id
    use mpm_diagnostics, only: pass_totals_t
    use mpm_operations, only: locate_particles, p2g_mass_momentum, p2g_internal_force, nodal_velocities, &
                              solve_grid, g2p, update_stress, mirror_fold, particle_energies
-   use mpm_contact, only: bodies_t, bodies_init, locate_bodies, contact_velocities, contact_momentum, combine_bodies
+   use mpm_contact, only: bodies_t, sync_bodies, bodies_init, locate_bodies, contact_velocities, &
+                          contact_momentum, combine_bodies
    use mpm_material, only: material_t, law_hencky
    use mpm_transfer_steps, only: transfer_mapped, transfer_velocity_formed, transfer_solved
    implicit none
    private
    public :: scheme_usf, scheme_usl, scheme_musl, scheme_id, scheme_step, generic_stepper_t
+   public :: generic_sync_state
 
    !> One step with the body's material, or with a Young's modulus alone (the hencky law).
    interface scheme_step
@@ -47,6 +50,7 @@ module mpm_schemes
       procedure :: displacement_mass => generic_mass
       procedure :: snapshot_grid => generic_snapshot_grid
       procedure :: stop_reason => generic_stop_reason
+      procedure :: sync_state => generic_sync_state
    end type generic_stepper_t
 
 contains
@@ -211,4 +215,14 @@ contains
       reason = stepper_stop_t()
       reason%stretched = self%cache%stretched
    end function generic_stop_reason
+
+
+   !> What the generic path carries from one step to the next: its shape cache (a total Lagrangian
+   !> run's weights, CPDI corners, the transfers' grid fields) and the bodies' fields of a contact run.
+   subroutine generic_sync_state(self, state)
+      class(generic_stepper_t), intent(inout) :: self
+      type(state_t), intent(inout) :: state
+      call sync_cache(state, self%cache)
+      if (self%contact) call sync_bodies(state, self%bodies)
+   end subroutine generic_sync_state
 end module mpm_schemes

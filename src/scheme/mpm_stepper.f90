@@ -14,6 +14,7 @@ module mpm_stepper
    use mpm_particles, only: particles_t
    use mpm_diagnostics, only: pass_totals_t
    use mpm_loads, only: loads_t
+   use mpm_state, only: state_t
    implicit none
    private
    public :: stepper_t, stepper_stop_t, scheme_usf, scheme_usl, scheme_musl, scheme_id
@@ -52,6 +53,9 @@ module mpm_stepper
       procedure :: stop_reason
       !> What the stepper reports in the run's /summary (default: nothing).
       procedure :: report
+      !> What it carries from one step to the next, to or from a checkpoint's state (as state%saving
+      !> says: back into a stepper set up for the same run; default: nothing).
+      procedure :: sync_state
    end type stepper_t
 
    abstract interface
@@ -115,4 +119,10 @@ contains
       real(dp), allocatable, intent(out) :: values(:)
       allocate (names(0), values(0))
    end subroutine report
+
+
+   subroutine sync_state(self, state)
+      class(stepper_t), intent(inout) :: self
+      type(state_t), intent(inout) :: state
+   end subroutine sync_state
 end module mpm_stepper

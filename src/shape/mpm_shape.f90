@@ -17,6 +17,7 @@
 module mpm_shape
    use mpm_kinds, only: dp
    use mpm_grid, only: grid_t
+   use mpm_state, only: state_t
    use mpm_shape_linear, only: linear_support, linear_shapes
    use mpm_shape_gimp, only: gimp_support, gimp_shapes
    use mpm_shape_bspline, only: bspline2_support, bspline3_support, bspline2_shapes, bspline3_shapes
@@ -28,6 +29,7 @@ module mpm_shape
    public :: transfer_flip, transfer_pic, transfer_blend, transfer_apic, transfer_xpic, transfer_fmpm, transfer_asflip
    public :: all_transfers, transfer_id, transfer_name, known_transfers
    public :: formulation_updated, formulation_total, formulation_id, known_formulations
+   public :: sync_cache
 
    !> Shape function ids.
    integer, parameter :: shape_linear = 1, shape_ugimp = 2, shape_cpgimp = 3, shape_bspline2 = 4, shape_bspline3 = 5, &
@@ -247,4 +249,24 @@ contains
          cache%position = x
       end if
    end subroutine evaluate_shapes
+
+   !> What a shape cache carries from one step to the next, to or from `state` (under cache.*, as
+   !> state%saving says), for a checkpoint: the weights of a total Lagrangian run (evaluated once), the
+   !> CPDI corners, the transfers' grid fields.
+   subroutine sync_cache(state, cache)
+      type(state_t), intent(inout) :: state
+      type(shape_cache_t), intent(inout) :: cache
+      call state%sync('cache.first', cache%first)
+      call state%sync('cache.weight', cache%weight)
+      call state%sync('cache.gradient', cache%gradient)
+      call state%sync('cache.work', cache%work)
+      call state%sync('cache.evaluated', cache%evaluated)
+      call state%sync('cache.grid_work', cache%grid_work)
+      call state%sync('cache.start_volume_ratio', cache%start_volume_ratio)
+      call state%sync('cache.corners', cache%corners)
+      call state%sync('cache.corner_of', cache%corner_of)
+      call state%sync('cache.stretched', cache%stretched)
+      call state%sync('cache.half_length', cache%half_length)
+      call state%sync('cache.position', cache%position)
+   end subroutine sync_cache
 end module mpm_shape

@@ -359,6 +359,7 @@ contains
          end do
          into%snapshot_count = 0
          into%snapshot_every = 0
+         into%checkpoint_steps = 0
          call resolve_config(into)
       end subroutine set_case_values
    end function case_config

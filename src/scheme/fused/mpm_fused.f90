@@ -20,7 +20,8 @@ module mpm_fused
    use mpm_stepper, only: stepper_t, scheme_usf, scheme_usl, scheme_musl
    use mpm_material, only: material_t, law_linear, law_elastoplastic
    use mpm_loads, only: loads_t
-   use mpm_contact, only: bodies_t, bodies_init, touch_test, contact_correct, combine_bodies
+   use mpm_state, only: state_t
+   use mpm_contact, only: bodies_t, sync_bodies, bodies_init, touch_test, contact_correct, combine_bodies
    use mpm_transfer, only: p2g, fused_pass, pass_usf_stress, pass_usf_move, pass_usl, pass_musl_remap, &
                            pass_musl_stress, pass_map, pass_map_stress, merge_totals, fused_box_t, box_cells, &
                            locate_all, variant_bar, variant_pic, variant_blend, variant_apic, variant_material, &
@@ -44,6 +45,7 @@ module mpm_fused
       procedure :: step => fused_stepper_step
       procedure :: displacement_mass => fused_stepper_mass
       procedure :: snapshot_grid => fused_snapshot_grid
+      procedure :: sync_state => fused_sync_state
    end type fused_stepper_t
 
 contains
@@ -524,4 +526,13 @@ contains
       box%spline = kind == shape_bspline2 .or. kind == shape_bspline3
       box%cubic = kind == shape_bspline3
    end function fused_shape
+
+
+   !> What the fused kernels carry from one step to the next beyond the run's grid: the bodies' fields
+   !> of a contact run.
+   subroutine fused_sync_state(self, state)
+      class(fused_stepper_t), intent(inout) :: self
+      type(state_t), intent(inout) :: state
+      if (self%contact) call sync_bodies(state, self%bodies)
+   end subroutine fused_sync_state
 end module mpm_fused
