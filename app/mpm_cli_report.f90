@@ -16,9 +16,6 @@ module mpm_cli_report
    public :: fail, finish, warn_run, report_config, report_run, warn_rounding, stop_for_guard, sweep_header, &
              report_sweep, interrupted, report_dry_run, report_journal, warn
 
-   !> Fewest elements per wavelength of the mode before a run is warned (two resolve a wave at best).
-   integer, parameter :: min_elements_per_wavelength = 2
-
 contains
 
    !> End with an error: the message on standard error, prefixed 'mpm1d: ', and the exit code. Flushed
@@ -60,15 +57,11 @@ contains
    end subroutine finish
 
    !> A single run's warnings before it starts (standard error): a time step above the stability
-   !> limit, the scene's own warnings, a mesh too coarse for the mode.
+   !> limit, the scene's own warnings (the bar's: a mesh too coarse for its mode).
    subroutine warn_run(config)
       type(config_t), intent(in) :: config
       call warn_stability(config)
       if (len(config_warnings(config)) > 0) write (error_unit, '(a)') 'mpm1d: warning: '//config_warnings(config)
-      if (unresolved(config)) write (error_unit, '(a)') 'mpm1d: warning: mode '//str(config%mode)//' has '// &
-         num(elements_per_wavelength(config), 3)//' elements per wavelength on '//plural(config%elements, 'element')// &
-         ' (wavelength 4 L/(2 mode - 1)); below '//str(min_elements_per_wavelength)//' the mesh cannot represent '// &
-         'it and the error says little about the method'
    end subroutine warn_run
 
    !> The configuration a single run uses, as a namelist, and its one-line summary.
@@ -112,18 +105,8 @@ contains
       type(config_t), intent(in) :: config
       type(run_result_t), intent(in) :: result
       character(len=:), allocatable :: raise
-      select case (trim(config%scene_kind))
-      case ('vibrating_bar')
-         raise = 'velocity_amplitude'
-      case ('column')
-         raise = 'gravity (or length)'
-      case ('manufactured')
-         raise = 'amplitude'
-      case ('impact')
-         raise = 'the velocities'
-      case default
-         return
-      end select
+      raise = config%scene%amplitude_source()
+      if (len(raise) == 0) return
       if (result%ucm_amplitude < 100*spacing(config%length)) write (error_unit, '(a)') 'mpm1d: warning: the '// &
          'exact displacement amplitude '//num(result%ucm_amplitude)//' m is below 100 times the rounding of '// &
          'positions near x = L ('//num(spacing(config%length), 3)//' m): the error measures rounding, not the '// &
@@ -139,17 +122,6 @@ contains
       call fail(readable_numbers(guard_message(result%status, result%trip, config), 5)//new_line('a')// &
                 'the history up to that step is in '//absolute_path(trim(config%file)), 1)
    end subroutine stop_for_guard
-
-   pure real(dp) function elements_per_wavelength(c)
-      type(config_t), intent(in) :: c
-      elements_per_wavelength = 4*real(c%elements, dp)/(2*real(c%mode, dp) - 1)
-   end function elements_per_wavelength
-
-   !> Does the mesh have fewer than min_elements_per_wavelength elements per wavelength of the mode?
-   pure logical function unresolved(c)
-      type(config_t), intent(in) :: c
-      unresolved = elements_per_wavelength(c) < min_elements_per_wavelength
-   end function unresolved
 
    !> Is the time step above the linear stability limit of the explicit scheme and shape? (The implicit
    !> integrators are unconditionally stable: no limit.)
@@ -180,7 +152,7 @@ contains
       type(sweep_t), intent(in) :: sweep
       logical, intent(in) :: quiet, resume
       type(config_t) :: config
-      integer :: i, above, coarse, missed
+      integer :: i, above, missed
       character(len=:), allocatable :: first_warning
       if (quiet) then
          continue
@@ -194,21 +166,16 @@ contains
          plural(size(sweep%cases), 'case')//' ran before (kept); '//str(size(sweep%cases) - cases_done(sweep%cases))// &
          ' to run'
       above = 0
-      coarse = 0
       missed = 0
       do i = 1, size(sweep%cases)
          config = case_config(sweep, sweep%cases(i))
          if (len(config_warnings(config)) > 0) missed = missed + 1
          if (missed == 1 .and. len(config_warnings(config)) > 0) first_warning = config_warnings(config)
          if (above_stability_limit(config)) above = above + 1
-         if (unresolved(config)) coarse = coarse + 1
       end do
       if (missed > 0) write (error_unit, '(a)') 'mpm1d: warning: '//plural(missed, 'case')//' of '// &
          str(size(sweep%cases))//': '//first_warning//trim(merge(' (the first of them)', '                    ', &
                                                                missed > 1))
-      if (coarse > 0) write (error_unit, '(a)') 'mpm1d: warning: '//plural(coarse, 'case')//' ha'// &
-         trim(merge('s ', 've', coarse == 1))//' fewer than '//str(min_elements_per_wavelength)//' elements per '// &
-         'wavelength of the mode (wavelength 4 L/(2 mode - 1)): the mesh cannot represent it'
       if (above > 0) write (error_unit, '(a)') 'mpm1d: warning: '//plural(above, 'case')// &
          trim(merge(' asks', ' ask ', above == 1))//' for a time step '// &
          'above their scheme''s linear stability limit (see studies/stability); guards will stop them if they grow'

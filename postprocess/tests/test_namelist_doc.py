@@ -99,14 +99,20 @@ def test_sweep_example_gives_the_cases_it_says(mpm1d, tmp_path):
 
 
 def test_files_store_the_listed_registry(mpm1d, registry, tmp_path):
-    """/config/parameters of an output file holds the registry as --list-parameters prints it, scene
-    kinds included (the values are the run's: here periods)."""
+    """/config/parameters of an output file holds the registry as --list-parameters prints it, those
+    entries its scene kind uses (the values are the run's: here periods); another kind's are not there."""
     subprocess.run([str(mpm1d), '--quiet', 'run.periods=0.5'], cwd=tmp_path, check=True, capture_output=True)
     stored = load_run(str(tmp_path / 'bar.h5')).parameters
-    listed = [p for p in registry if p.group != 'sweep']
+    listed = [p for p in registry if p.group != 'sweep' and _used_by(p, 'vibrating_bar')]
     assert [dataclasses.replace(p, value='') for p in stored] == [dataclasses.replace(p, value='') for p in listed]
     assert [p.value for p in stored if p.name == 'periods'] == ['0.50000000000000000']
-    assert {p.name: p.kinds for p in stored}['gravity'] == 'column'
+    assert {p.name: p.kinds for p in stored}['mode'] == 'vibrating_bar'
+    assert 'gravity' not in {p.name for p in stored} and 'gravity' in {p.name for p in registry}
+
+
+def _used_by(p, kind):
+    """Is registry entry `p` a variable of scene kind `kind` (its kinds column empty: of every kind)?"""
+    return not p.kinds or kind in [k.strip() for k in p.kinds.split(',')]
 
 
 def test_check_mode_names_a_stale_page_and_the_fix(mpm1d, registry, tmp_path, capsys):

@@ -1,7 +1,8 @@
 !> The text of `mpm1d --help`: usage and the namelist reference.
 module mpm_cli_help
    use mpm_version, only: code_version
-   use mpm_config, only: config_t, config_parameters, config_groups, group_help
+   use mpm_config, only: config_t, catalog_parameters, config_groups, group_help, new_config
+   use mpm_scenes, only: scene_slot_t
    use mpm_registry, only: parameter_t, parameter_help, parameter_listing
    use mpm_sweep, only: sweep_config_t, sweep_parameters
    implicit none
@@ -13,6 +14,7 @@ contains
    subroutine print_help(unit)
       integer, intent(in) :: unit
       type(config_t), target :: local
+      type(scene_slot_t), allocatable, target :: slots(:)
       type(parameter_t), allocatable :: table(:), sweep_table(:)
       type(sweep_config_t), target :: settings
       integer :: i
@@ -30,8 +32,8 @@ contains
          '  mpm1d --list-parameters   the parameter registry, tab-separated (what /config/parameters holds)', &
          '', &
          'namelist groups (all optional; each variable with its default, what it means and what it allows):'
-      local = config_t()
-      call config_parameters(local, table)
+      local = new_config()
+      call catalog_parameters(local, slots, table)
       do i = 1, size(config_groups)
          write (unit, '(a)') '  &'//trim(config_groups(i))//': '//group_help(trim(config_groups(i)))
          write (unit, '(a)', advance='no') parameter_help(table, trim(config_groups(i)))
@@ -69,9 +71,11 @@ contains
    subroutine print_parameters(unit)
       integer, intent(in) :: unit
       type(config_t), target :: local
+      type(scene_slot_t), allocatable, target :: slots(:)
       type(sweep_config_t), target :: settings
       type(parameter_t), allocatable :: table(:), sweep_table(:)
-      call config_parameters(local, table)
+      local = new_config()
+      call catalog_parameters(local, slots, table)
       call sweep_parameters(settings, sweep_table)
       write (unit, '(a)') parameter_listing([table, sweep_table])
    end subroutine print_parameters

@@ -8,7 +8,8 @@ module mpm_command_line
    use mpm_strings, only: str, lower
    use mpm_suggest, only: nearest_words, printable
    use mpm_registry, only: parameter_t, parse_namelist, nml_item_t
-   use mpm_config, only: config_t, config_parameters
+   use mpm_config, only: config_t, catalog_parameters, new_config
+   use mpm_scenes, only: scene_slot_t
    use mpm_sweep, only: sweep_config_t, sweep_parameters, max_threads
    implicit none
    private
@@ -183,13 +184,15 @@ contains
       character(len=*), intent(in) :: text
       character(len=:), allocatable :: hint, name, value, names, near
       type(config_t), target :: config
+      type(scene_slot_t), allocatable, target :: slots(:)
       type(sweep_config_t), target :: settings
       type(parameter_t), allocatable :: table(:), sweep_table(:)
       integer :: k, eq
       eq = index(text, '=')
       name = lower(text(1:eq - 1))
       value = text(eq:)
-      call config_parameters(config, table)
+      config = new_config()
+      call catalog_parameters(config, slots, table)
       call sweep_parameters(settings, sweep_table)
       table = [table, sweep_table]
       names = ''

@@ -35,10 +35,10 @@ module mpm_particles
       !> the body each particle belongs to (1, 2, ...): only scenes of several bodies allocate it (impact),
       !> which place each body's particles as one contiguous range
       integer, allocatable :: body(:)
-      !> per-particle constants a scene computes once from the particles' reference positions (the
-      !> manufactured solution's A sin kX and A k cos kX: its force and exact displacement are then
-      !> products, with no sine per particle and step), one column each; only scenes that use them
-      real(dp), allocatable :: scene_factors(:, :)
+      !> per-particle columns a layer above attaches to the particles (one column each), permuted with them:
+      !> values computed once from the particles' initial state that a later pass reads (a scene's factors:
+      !> the manufactured solution's A sin kX and A k cos kX); allocated only by a layer that attaches some
+      real(dp), allocatable :: attached(:, :)
       !> the elastoplastic law's state (mpm_material_plastic), allocated only when a body is elastoplastic:
       !> plastic strain eps_p and hardening variable alpha (the accumulated |d eps_p|)
       real(dp), allocatable :: plastic_strain(:), hardening(:)
@@ -119,12 +119,12 @@ contains
       call permute_real(particles%hardening_modulus_of)
       call permute_int(particles%body)
       call permute_int(particles%cell)
-      if (allocated(particles%scene_factors)) then
+      if (allocated(particles%attached)) then
          block
             real(dp), allocatable :: copy(:, :)
-            allocate (copy(size(particles%scene_factors, 1), size(particles%scene_factors, 2)))
-            copy(destination, :) = particles%scene_factors
-            call move_alloc(copy, particles%scene_factors)
+            allocate (copy(size(particles%attached, 1), size(particles%attached, 2)))
+            copy(destination, :) = particles%attached
+            call move_alloc(copy, particles%attached)
          end block
       end if
    contains
@@ -164,7 +164,7 @@ contains
       call state%sync('particles.velocity_gradient', particles%velocity_gradient)
       call state%sync('particles.youngs_modulus_of', particles%youngs_modulus_of)
       call state%sync('particles.body', particles%body)
-      call state%sync('particles.scene_factors', particles%scene_factors)
+      call state%sync('particles.attached', particles%attached)
       call state%sync('particles.plastic_strain', particles%plastic_strain)
       call state%sync('particles.hardening', particles%hardening)
       call state%sync('particles.yield_stress_of', particles%yield_stress_of)

@@ -26,7 +26,7 @@ module mpm_registry
    public :: value_list_t, read_value_list, single_value_list, set_from_list, list_text
    public :: format_value, same_value, quoted, real_value, int_value, text_value, find_parameter, group_namelist
    public :: parameter_listing, parameter_help, short_number, entry_names, used_by, for_kinds, sweep_name_hint
-   public :: for_value, applies
+   public :: for_value, applies, place
 
    integer, parameter :: type_real = 1, type_int = 2, type_text = 3, type_logical = 4, type_real_list = 5
 
@@ -972,6 +972,20 @@ contains
       character(len=*), intent(in) :: kind
       used_by = len_trim(p%kinds) == 0 .or. in_list(kind, p%kinds)
    end function used_by
+
+   !> Where variable `name` of `group` was given ("file:line: "), '' when `given` (the table the input was
+   !> read into) does not say: the prefix of a message that blames that variable.
+   function place(given, group, name) result(prefix)
+      type(parameter_t), intent(in), optional :: given(:)
+      character(len=*), intent(in) :: group, name
+      character(len=:), allocatable :: prefix
+      integer :: k
+      prefix = ''
+      if (.not. present(given)) return
+      k = find_parameter(given, group, name)
+      if (k == 0) return
+      if (given(k)%line > 0) prefix = trim(given(k)%origin)//' '
+   end function place
 
    !> `p` restricted to the scene kinds `kinds` (comma separated), for the table's constructors.
    function for_kinds(p, kinds) result(q)

@@ -49,7 +49,7 @@
 module mpm_implicit
    use, intrinsic :: ieee_arithmetic, only: ieee_is_finite, ieee_value, ieee_quiet_nan
    use mpm_kinds, only: dp, i8
-   use mpm_config, only: config_t
+   use mpm_settings, only: settings_t
    use mpm_grid, only: grid_t
    use mpm_particles, only: particles_t
    use mpm_shape, only: shape_cache_t
@@ -169,7 +169,7 @@ contains
    !> The integrator's options from the configuration.
    subroutine implicit_init(im, config)
       type(implicit_t), intent(out) :: im
-      type(config_t), intent(in) :: config
+      class(settings_t), intent(in) :: config
       im%kind = integrator_id(config%integrator)
       im%mass = merge(mass_consistent, mass_lumped, trim(config%mass) == 'consistent')
       im%tolerance = config%newton_tolerance

@@ -118,10 +118,10 @@ contains
       end function pad
    end subroutine write_run_file
 
-   !> The configuration as attributes of `group`: every variable of the parameter registry, also those
-   !> another scene kind uses (the namelist text leaves those out: it must read back) (under its
-   !> attribute name; logicals as 0/1, an unset optional left out), the resolved quantities, the
-   !> namelist text that reproduces the run and the registry itself ('parameters', tab-separated).
+   !> The configuration as attributes of `group`: every variable of the parameter registry that the run's
+   !> scene kind uses (under its attribute name; logicals as 0/1, an unset optional left out), the
+   !> resolved quantities, the namelist text that reproduces the run and those registry entries
+   !> themselves ('parameters', tab-separated).
    subroutine write_config_attributes(h5, group, config)
       type(h5_writer_t), intent(inout) :: h5
       character(len=*), intent(in) :: group

@@ -17,8 +17,7 @@ module mpm_simulation
    use mpm_stepper, only: stepper_t, stepper_stop_t, scheme_id
    use mpm_fused, only: fused_box_t, fused_choose, fused_stepper_t
    use mpm_schemes, only: generic_stepper_t
-   use mpm_scene, only: scene_t
-   use mpm_scenes, only: make_scene
+   use mpm_scene, only: scene_t, watch_t
    use mpm_diagnostics, only: history_t, snapshot_t, pass_totals_t, status_ok, status_non_finite, &
                               status_volume_ratio, status_left_grid, status_energy_growth, status_cell_crossing, &
                               status_name, status_not_run, status_newton, status_domain_stretched, &
@@ -106,7 +105,7 @@ module mpm_simulation
       !> how the run steps (mpm_stepper: the generic path, the fused kernels, an implicit integrator)
       class(stepper_t), allocatable :: stepper
       type(material_t) :: material        !< the law and its parameters (mpm_material)
-      real(dp), allocatable :: watch(:)   !< what a watching scene keeps between steps
+      class(watch_t), allocatable :: watch  !< what a watching scene keeps between steps
       !> the next of the configuration's snapshot times, and the snapshots taken so far
       integer :: next_snapshot = 1, snapshots_taken = 0
       logical :: fused = .false.          !< the fused kernels run (else the generic path)
@@ -185,7 +184,7 @@ contains
       result%dt = config%dt
       integrator = integrator_id(config%integrator)
       run%material = material_of(config)
-      call make_scene(config, run%scene, error)
+      call config%scene%make(config, run%scene, error)
       if (allocated(error)) return
       associate (scene => run%scene, particles => run%particles)
          kind = shape_id(config%shape)
@@ -653,11 +652,18 @@ contains
       type(run_result_t), intent(inout) :: result
       integer, intent(inout) :: step
       integer :: k
+      logical :: started
       call state%sync('step', step)
       call sync_particles(state, run%particles)
       call sync_grid(state, 'grid', run%grid)
       call run%stepper%sync_state(state)
-      call state%sync('run.watch', run%watch)
+      ! the scene's watch, made at its first step: restored into an empty one of the scene's type
+      started = allocated(run%watch)
+      call state%sync('run.watch_started', started)
+      if (started) then
+         if (.not. allocated(run%watch)) call run%scene%new_watch(run%watch)
+         call run%watch%sync(state, 'run.watch')
+      end if
       call state%sync('run.next_snapshot', run%next_snapshot)
       call state%sync('run.snapshots_taken', run%snapshots_taken)
       call state%sync('run.total_mass', run%total_mass)

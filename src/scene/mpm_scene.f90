@@ -6,7 +6,8 @@
 module mpm_scene
    use mpm_kinds, only: dp
    use mpm_errors, only: error_t
-   use mpm_config, only: config_t
+   use mpm_settings, only: settings_t
+   use mpm_state, only: state_t
    use mpm_grid, only: grid_t, grid_loads_t
    use mpm_particles, only: particles_t
    use mpm_diagnostics, only: pass_totals_t, exact_name_length
@@ -14,7 +15,15 @@ module mpm_scene
    use mpm_loads, only: loads_t
    implicit none
    private
-   public :: scene_t, margin_for, sine_profile, exact_name_length
+   public :: scene_t, watch_t, margin_for, sine_profile, exact_name_length
+
+   !> What a scene that watches every step keeps between steps: each such scene extends it with its own
+   !> running values (watch_step makes it on the first step).
+   type :: watch_t
+   contains
+      !> Save or restore its running values in a checkpoint (mpm_state; default: it has none).
+      procedure :: sync => watch_sync
+   end type watch_t
 
    !> A scene is the problem a run solves: its loads (mpm_loads, what the steppers see) and all the rest.
    type, abstract, extends(loads_t) :: scene_t
@@ -50,10 +59,12 @@ module mpm_scene
       !> Empty cells left of x = 0 (a free left end that moves out; default none).
       procedure :: left_margin_cells
       !> Called after every step when `watches`, in place of error_at: the scene keeps what it needs in
-      !> `watch` (allocated by the scene on the first call) and gives the step's error measure (error_at's
-      !> value; a scene may take both from one pass over its particles, or from the step's `totals`);
-      !> watch_report turns `watch` into /summary quantities at the end.
+      !> `watch` (its own extension of watch_t, made by the scene on the first call) and gives the step's
+      !> error measure (error_at's value; a scene may take both from one pass over its particles, or from
+      !> the step's `totals`); watch_report turns `watch` into /summary quantities at the end.
       procedure :: watch_step, watch_report
+      !> An empty watch of the scene's own type, for a checkpoint to fill (a restart).
+      procedure :: new_watch
       !> The exact fields at reference positions x0 and time t, those the scene has (default: none):
       !> written beside each snapshot's particle fields.
       procedure :: exact_fields
@@ -61,10 +72,10 @@ module mpm_scene
 
 
    abstract interface
-      subroutine place_i(self, config, particles, error)
-         import :: scene_t, config_t, particles_t, error_t
+      subroutine place_i(self, settings, particles, error)
+         import :: scene_t, settings_t, particles_t, error_t
          class(scene_t), intent(in) :: self
-         type(config_t), intent(in) :: config
+         class(settings_t), intent(in) :: settings
          type(particles_t), intent(out) :: particles
          type(error_t), allocatable, intent(out) :: error
       end subroutine place_i
@@ -121,14 +132,20 @@ contains
       real(dp), intent(in) :: t, ucm
       type(particles_t), intent(in) :: particles
       type(pass_totals_t), intent(in) :: totals
-      real(dp), allocatable, intent(inout) :: watch(:)
+      class(watch_t), allocatable, intent(inout) :: watch
       real(dp), intent(out) :: error
       error = self%error_at(t, particles, ucm)
    end subroutine watch_step
 
+   subroutine new_watch(self, watch)
+      class(scene_t), intent(in) :: self
+      class(watch_t), allocatable, intent(out) :: watch
+      allocate (watch_t :: watch)
+   end subroutine new_watch
+
    subroutine watch_report(self, watch, particles, names, values)
       class(scene_t), intent(in) :: self
-      real(dp), allocatable, intent(in) :: watch(:)
+      class(watch_t), allocatable, intent(in) :: watch
       type(particles_t), intent(in) :: particles
       character(len=32), allocatable, intent(out) :: names(:)
       real(dp), allocatable, intent(out) :: values(:)
@@ -201,4 +218,9 @@ contains
       real(dp), intent(in) :: initial_energy
       energy_reference = max(initial_energy, tiny(1.0_dp))
    end function energy_reference
+   subroutine watch_sync(self, state, name)
+      class(watch_t), intent(inout) :: self
+      type(state_t), intent(inout) :: state
+      character(len=*), intent(in) :: name
+   end subroutine watch_sync
 end module mpm_scene

@@ -31,17 +31,35 @@
 module mpm_scene_column
    use, intrinsic :: ieee_arithmetic, only: ieee_value, ieee_quiet_nan
    use mpm_kinds, only: dp, pi
-   use mpm_errors, only: error_t
-   use mpm_config, only: config_t
+   use mpm_errors, only: error_t, append_error
+   use mpm_strings, only: str, num
+   use mpm_settings, only: settings_t
+   use mpm_registry, only: parameter_t, real_entry, short_number
    use mpm_grid, only: grid_t, grid_loads_t
    use mpm_particles, only: particles_t, particles_init
    use mpm_shape, only: shape_cache_t
    use mpm_particle_forces, only: p2g_particle_forces
    use mpm_material, only: material_t, law_linear, law_elastoplastic
    use mpm_scene, only: scene_t, margin_for, exact_name_length
+   use mpm_scene_input, only: scene_input_t, scene_kind_t, body_input_t, body_representable
    implicit none
    private
-   public :: column_t, column_init, column_series
+   public :: column_t, column_init, column_series, column_input_t
+
+   !> The column's input: its body and the gravitational acceleration g.
+   type, extends(body_input_t) :: column_input_t
+      real(dp) :: gravity = 9.81_dp
+   contains
+      procedure, nopass :: describe => column_describe
+      procedure :: entries => column_entries
+      procedure :: amplitude_source => column_amplitude_source
+      procedure :: period => column_period
+      procedure :: reach => column_reach
+      procedure :: static_loads => column_static_loads
+      procedure :: check => column_check
+      procedure :: check_representable => column_representable
+      procedure :: make => column_make
+   end type column_input_t
 
    type, extends(scene_t) :: column_t
       real(dp) :: length = 0.0_dp
@@ -60,6 +78,110 @@ module mpm_scene_column
    end type column_t
 
 contains
+
+   pure function column_describe() result(kind)
+      type(scene_kind_t) :: kind
+      kind = scene_kind_t('column', 'a column under its own weight, suddenly loaded', '4L/c')
+   end function column_describe
+
+   subroutine column_entries(self, table)
+      class(column_input_t), intent(inout), target :: self
+      type(parameter_t), allocatable, intent(out) :: table(:)
+      call self%body_entries(table)
+      table = [table, real_entry('scene', 'gravity', self%gravity, 'm/s^2', 'gravitational acceleration g: body '// &
+                                 'force -g per unit mass, towards the fixed end x = 0', greater_than=0.0_dp, &
+                                 sweep_list='gravities')]
+   end subroutine column_entries
+
+   !> Its first mode's period, 4L/c.
+   pure real(dp) function column_period(self)
+      class(column_input_t), intent(in) :: self
+      column_period = 4.0_dp*self%length/sqrt(self%youngs_modulus/self%density)
+   end function column_period
+
+   !> Its sag g L^2/c^2.
+   pure real(dp) function column_reach(self, end_time)
+      class(column_input_t), intent(in) :: self
+      real(dp), intent(in) :: end_time
+      column_reach = self%gravity*self%length**2/self%wave_speed()**2
+   end function column_reach
+
+   !> The column's weight at its fixed end, rho g L: a perfectly plastic column yielding there has no
+   !> equilibrium (docs/theory.md, The static column): it flows without bound (a quasi-static run left the
+   !> grid at x = 3.5e10 m, an explicit one tripped the energy guard).
+   subroutine column_check(self, settings, error, given)
+      class(column_input_t), intent(in) :: self
+      class(settings_t), intent(in) :: settings
+      type(error_t), allocatable, intent(inout) :: error
+      type(parameter_t), intent(in), optional :: given(:)
+      real(dp) :: weight
+      if (trim(settings%law) /= 'elastoplastic' .or. self%hardening_modulus /= 0.0_dp) return
+      weight = self%density*self%gravity*self%length
+      if (self%yield_stress < weight) &
+         call append_error(error, "material: hardening_modulus = 0 (perfectly plastic) with yield_stress = "// &
+                           short_number(self%yield_stress)//" Pa, below the column's weight at its fixed end "// &
+                           "rho g L = "//num(weight, 4)//" Pa: the column yields and has no equilibrium; allowed: "// &
+                           "yield_stress >= "//num(weight, 4)//" Pa, or hardening_modulus > 0")
+   end subroutine column_check
+
+   !> Its weight is a static load with an exact static solution (integrator 'quasi_static').
+   pure logical function column_static_loads(self)
+      class(column_input_t), intent(in) :: self
+      column_static_loads = .true.
+   end function column_static_loads
+
+   !> Beyond the wave speed (body_input_t): a strain g L rho/E below 1 at the fixed end, and the products
+   !> its exact solution and energies form as they stand within the doubles (compared as logarithms).
+   subroutine column_representable(self, settings, error)
+      class(column_input_t), intent(in) :: self
+      class(settings_t), intent(in) :: settings
+      type(error_t), allocatable, intent(inout) :: error
+      real(dp), parameter :: top = log10(huge(1.0_dp)), bottom = log10(tiny(1.0_dp))
+      real(dp) :: log_ratio, log_v
+      call body_representable(self, settings, error)
+      if (allocated(error)) return
+      log_ratio = log10(self%youngs_modulus) - log10(self%density)
+      ! strain at the fixed end rho g L/E = g L/c^2 (>= 1: J <= 0)
+      log_v = log10(self%gravity) + log10(self%length) - log_ratio
+      if (log_v >= 0.0_dp) then
+         call append_error(error, "scene: gravity = "//short_number(self%gravity)//" m/s^2, length = "// &
+                           short_number(self%length)//" m and "//material()//" give a strain g L rho/E = 1e"// &
+                           str(nint(log_v))//" at the fixed end; allowed: gravity length density/youngs_modulus < 1")
+         return
+      end if
+      call within("the sag g L^2/c^2", log_v + log10(self%length))
+      call within("g L", log10(self%gravity) + log10(self%length))
+      call within("L^3", 3*log10(self%length))
+      call within("g^2", 2*log10(self%gravity))
+      call within("the energy rho g^2 L^3/c^2", log10(self%density) + 2*log10(self%gravity) + &
+                  3*log10(self%length) - log_ratio)
+   contains
+      !> Refuse the scene when a product its formulas form (log10 `magnitude`) leaves the doubles.
+      subroutine within(what, magnitude)
+         character(len=*), intent(in) :: what
+         real(dp), intent(in) :: magnitude
+         if (magnitude < bottom + 2 .or. magnitude > top - 2) call append_error(error, "scene: kind = 'column' "// &
+            "with length = "//short_number(self%length)//" m, gravity = "//short_number(self%gravity)// &
+            " m/s^2 and "//material()//": "//what//" is about 1e"//str(nint(magnitude))//", beyond what its "// &
+            "formulas hold in doubles; allowed: 1e-306 to 1e306 (choose units nearer 1; the vibrating bar's "// &
+            "formulas are scaled, these are not)")
+      end subroutine within
+      function material() result(text)
+         character(len=:), allocatable :: text
+         text = "youngs_modulus = "//short_number(self%youngs_modulus)//" Pa and density = "// &
+                short_number(self%density)//" kg/m^3"
+      end function material
+   end subroutine column_representable
+
+   subroutine column_make(self, settings, scene, error)
+      class(column_input_t), intent(in) :: self
+      class(settings_t), intent(in) :: settings
+      class(scene_t), allocatable, intent(out) :: scene
+      type(error_t), allocatable, intent(out) :: error
+      allocate (scene, source=column_init(self%length, self%youngs_modulus, self%density, self%gravity, &
+                                          static=trim(settings%integrator) == 'quasi_static', &
+                                          material=self%material(settings%law)))
+   end subroutine column_make
 
    pure function column_init(length, youngs_modulus, density, gravity, static, material) result(column)
       real(dp), intent(in) :: length, youngs_modulus, density, gravity
@@ -89,12 +211,12 @@ contains
    end function column_series
 
    !> As the bar's: `particles_per_element` particles per element at the centres of equal sub-cells, at rest.
-   subroutine place_particles(self, config, particles, error)
+   subroutine place_particles(self, settings, particles, error)
       class(column_t), intent(in) :: self
-      type(config_t), intent(in) :: config
+      class(settings_t), intent(in) :: settings
       type(particles_t), intent(out) :: particles
       type(error_t), allocatable, intent(out) :: error
-      call particles_init(particles, config%elements, config%particles_per_element, config%dx, config%density, error)
+      call particles_init(particles, settings%elements, settings%particles_per_element, settings%dx, self%density, error)
    end subroutine place_particles
 
    !> The free end moves towards the fixed one, by at most twice the static end displacement g L^2/(2 c^2)
@@ -378,4 +500,10 @@ contains
       energy_reference = max(initial_energy, 2.0_dp*self%density*self%gravity**2*self%length**3/ &
                              (3.0_dp*self%wave_speed**2), tiny(1.0_dp))
    end function energy_reference
+   function column_amplitude_source(self) result(text)
+      class(column_input_t), intent(in) :: self
+      character(len=:), allocatable :: text
+      text = 'gravity (or length)'
+   end function column_amplitude_source
+
 end module mpm_scene_column

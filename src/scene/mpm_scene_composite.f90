@@ -14,17 +14,33 @@
 !> solve gives it the drive velocity, f_0 = (m_0 v - p_0)/dt (the reaction force), through add_forces.
 module mpm_scene_composite
    use mpm_kinds, only: dp
-   use mpm_errors, only: error_t, set_error
-   use mpm_strings, only: str
-   use mpm_config, only: config_t
+   use mpm_errors, only: error_t, set_error, append_error
+   use mpm_strings, only: str, num
+   use mpm_settings, only: settings_t, max_segments
+   use mpm_registry, only: parameter_t, short_number, place
    use mpm_grid, only: grid_t, grid_loads_t
    use mpm_particles, only: particles_t, particles_init
    use mpm_shape, only: shape_cache_t
    use mpm_scene, only: scene_t, margin_for, exact_name_length
    use mpm_loads, only: drive_t
+   use mpm_scene_input, only: scene_input_t, scene_kind_t, bodies_input_t, drive_entry
    implicit none
    private
-   public :: composite_t, composite_init
+   public :: composite_t, composite_init, composite_input_t
+
+   !> The composite bar's input: its segments (2 to max_segments) and the drive velocity of its left end.
+   type, extends(bodies_input_t) :: composite_input_t
+      real(dp) :: drive_velocity = 1.0_dp
+   contains
+      procedure, nopass :: describe => composite_describe, part => composite_part
+      procedure :: entries => composite_entries
+      procedure :: check => composite_check
+      procedure :: check_run => composite_check_run
+      procedure :: body_length => composite_length
+      procedure :: period => composite_period
+      procedure :: reach => composite_reach
+      procedure :: make => composite_make
+   end type composite_input_t
 
    !> Most fronts the exact solution follows (a longer end time is refused).
    integer, parameter :: max_fronts = 2000000
@@ -50,20 +66,106 @@ module mpm_scene_composite
 
 contains
 
+   pure function composite_describe() result(kind)
+      type(scene_kind_t) :: kind
+      kind = scene_kind_t('composite_bar', 'a wave through stiff-soft segments, driven at one end', &
+                          'sum L_i/c_i, one crossing')
+   end function composite_describe
+
+   pure function composite_part() result(name)
+      character(len=:), allocatable :: name
+      name = 'segment'
+   end function composite_part
+
+   subroutine composite_entries(self, table)
+      class(composite_input_t), intent(inout), target :: self
+      type(parameter_t), allocatable, intent(out) :: table(:)
+      call self%bodies_entries(table)
+      table = [table, drive_entry(self%drive_velocity)]
+   end subroutine composite_entries
+
+   !> 2 to max_segments segments with one value of each list, and the elastoplastic lists as many.
+   subroutine composite_check(self, settings, error, given)
+      class(composite_input_t), intent(in) :: self
+      class(settings_t), intent(in) :: settings
+      type(error_t), allocatable, intent(inout) :: error
+      type(parameter_t), intent(in), optional :: given(:)
+      if (self%length_count < 2 .or. self%modulus_count /= self%length_count .or. &
+          self%density_count /= self%length_count) call append_error(error, place(given, 'scene', 'lengths')// &
+         "scene: kind = 'composite_bar' needs 2 to "//str(max_segments)//" segments: lengths, youngs_moduli and "// &
+         "densities with one value each (given "//str(self%length_count)//", "//str(self%modulus_count)// &
+         ", "//str(self%density_count)//")")
+      call self%check_bodies_material(settings, error)
+   end subroutine composite_check
+
+   !> The driven end's motion over the run must fit the grid's automatic margin (at most 1e8 cells).
+   subroutine composite_check_run(self, settings, end_time, dx, length_text, error, given)
+      class(composite_input_t), intent(in) :: self
+      class(settings_t), intent(in) :: settings
+      real(dp), intent(in) :: end_time, dx
+      character(len=*), intent(in) :: length_text
+      type(error_t), allocatable, intent(inout) :: error
+      type(parameter_t), intent(in), optional :: given(:)
+      real(dp), parameter :: most_cells = 1.0e8_dp
+      real(dp) :: cells
+      if (settings%margin_cells >= 0) return
+      cells = self%reach(end_time)/dx
+      if (.not. (cells > most_cells)) return
+      call append_error(error, place(given, 'scene', 'drive_velocity')//"scene: drive_velocity = "// &
+                        short_number(self%drive_velocity)//" m/s moves the bar's free end by up to 4 v T = "// &
+                        num(self%reach(end_time), 4)//" m over the run (T = "//num(end_time, 4)// &
+                        " s), about "//num(cells, 3)//" cells of dx = "//num(dx, 4)//" m for the grid's margin"// &
+                        " to hold; allowed: at most 1e8 cells, drive_velocity <= "// &
+                        num(self%drive_velocity*most_cells/cells, 4)//" m/s")
+   end subroutine composite_check_run
+
+   !> The segments together.
+   pure real(dp) function composite_length(self)
+      class(composite_input_t), intent(in) :: self
+      composite_length = sum(self%lengths(1:self%length_count))
+   end function composite_length
+
+   !> The time a wave takes to cross all segments, sum L_i/c_i.
+   pure real(dp) function composite_period(self)
+      class(composite_input_t), intent(in) :: self
+      associate (n => self%length_count)
+         composite_period = sum(self%lengths(1:n)/sqrt(self%youngs_moduli(1:n)/self%densities(1:n)))
+      end associate
+   end function composite_period
+
+   !> 4 v T: a transmitted wave's particle velocity is at most 2 v, doubled at the free end.
+   pure real(dp) function composite_reach(self, end_time)
+      class(composite_input_t), intent(in) :: self
+      real(dp), intent(in) :: end_time
+      composite_reach = 4.0_dp*self%drive_velocity*end_time
+   end function composite_reach
+
+   subroutine composite_make(self, settings, scene, error)
+      class(composite_input_t), intent(in) :: self
+      class(settings_t), intent(in) :: settings
+      class(scene_t), allocatable, intent(out) :: scene
+      type(error_t), allocatable, intent(out) :: error
+      type(composite_t) :: composite
+      call composite_init(self, settings, composite, error)
+      if (allocated(error)) return
+      allocate (scene, source=composite)
+   end subroutine composite_make
+
    !> The scene of a resolved configuration (its end time bounds the fronts followed).
-   subroutine composite_init(config, scene, error)
-      type(config_t), intent(in) :: config
+   subroutine composite_init(input, settings, scene, error)
+      type(composite_input_t), intent(in) :: input
+      class(settings_t), intent(in) :: settings
       type(composite_t), intent(out) :: scene
       type(error_t), allocatable, intent(out) :: error
       integer :: n, i
-      n = config%length_count
+      n = input%length_count
       scene%external_forces = .true.
       scene%drives = .true.
-      scene%modulus = config%youngs_moduli(1:n)
-      scene%density = config%densities(1:n)
-      if (trim(config%law) == 'elastoplastic') then
-         scene%yield_stress = config%yield_stresses(1:n)
-         scene%hardening_modulus = config%hardening_moduli(1:n)
+      scene%modulus = input%youngs_moduli(1:n)
+      scene%density = input%densities(1:n)
+      if (trim(settings%law) == 'elastoplastic') then
+         scene%yield_stress = input%yield_stresses(1:n)
+         scene%hardening_modulus = input%hardening_moduli(1:n)
       end if
       scene%speed = sqrt(scene%modulus/scene%density)
       scene%impedance = scene%density*scene%speed
@@ -71,13 +173,13 @@ contains
       scene%left(1) = 0.0_dp
       do i = 1, n
          if (i > 1) scene%left(i) = scene%right(i - 1)
-         scene%right(i) = scene%left(i) + config%lengths(i)
+         scene%right(i) = scene%left(i) + input%lengths(i)
       end do
-      scene%drive_velocity = config%drive_velocity
-      scene%dt = config%dt
-      scene%dx = config%dx
-      scene%end_time = config%steps*config%dt
-      scene%scale = scene%impedance(1)*config%drive_velocity*scene%right(n)
+      scene%drive_velocity = input%drive_velocity
+      scene%dt = settings%dt
+      scene%dx = settings%dx
+      scene%end_time = settings%steps*settings%dt
+      scene%scale = scene%impedance(1)*input%drive_velocity*scene%right(n)
       call trace_fronts(scene, error)
    end subroutine composite_init
 
@@ -200,13 +302,13 @@ contains
    !> `particles_per_element` particles per element at the centres of equal sub-cells over the whole
    !> bar, each of the segment holding its centre: its own mass and Young's modulus (and with law
    !> elastoplastic its yield stress and hardening modulus).
-   subroutine place_particles(self, config, particles, error)
+   subroutine place_particles(self, settings, particles, error)
       class(composite_t), intent(in) :: self
-      type(config_t), intent(in) :: config
+      class(settings_t), intent(in) :: settings
       type(particles_t), intent(out) :: particles
       type(error_t), allocatable, intent(out) :: error
       integer :: p, i, stat
-      call particles_init(particles, config%elements, config%particles_per_element, config%dx, 1.0_dp, error)
+      call particles_init(particles, settings%elements, settings%particles_per_element, settings%dx, 1.0_dp, error)
       if (allocated(error)) return
       allocate (particles%mass_of(particles%count), particles%volume0_of(particles%count), &
                 particles%youngs_modulus_of(particles%count), stat=stat)

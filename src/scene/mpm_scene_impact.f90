@@ -20,20 +20,55 @@
 !> momentum's largest change (round-off) and the exact values to compare with.
 module mpm_scene_impact
    use mpm_kinds, only: dp
-   use mpm_errors, only: error_t, set_error
-   use mpm_strings, only: str
-   use mpm_config, only: config_t
+   use mpm_errors, only: error_t, set_error, append_error
+   use mpm_strings, only: str, num
+   use mpm_settings, only: settings_t
+   use mpm_registry, only: parameter_t, real_entry, real_list_entry, text_entry, short_number, place, in_list
    use mpm_particles, only: particles_t, particles_init
    use mpm_diagnostics, only: pass_totals_t
-   use mpm_scene, only: scene_t, margin_for
+   use mpm_state, only: state_t
+   use mpm_scene, only: scene_t, watch_t, margin_for
    use mpm_lanes, only: smallest_value
+   use mpm_scene_input, only: scene_input_t, scene_kind_t, bodies_input_t
    implicit none
    private
-   public :: impact_t, impact_init
+   public :: impact_t, impact_init, impact_input_t
 
-   !> Entries of the watch array (watch_step).
-   integer, parameter :: w_steps = 1, w_first = 2, w_last = 3, w_min_stress = 4, w_drift = 5, w_momentum1 = 6, &
-                         w_momentum0 = 7, w_mass1 = 8, w_size = 8
+   !> The impact's input: its two bars (lengths, youngs_moduli, densities: two values each), their
+   !> initial velocities, the gap between them and the contact model.
+   type, extends(bodies_input_t) :: impact_input_t
+      real(dp) :: velocities(2) = 0.0_dp
+      integer :: velocity_count = 0
+      real(dp) :: gap = 0.0_dp
+      character(len=16) :: contact = 'frictionless'
+   contains
+      procedure, nopass :: describe => impact_describe, part => impact_part
+      procedure :: entries => impact_entries
+      procedure :: amplitude_source => impact_amplitude_source
+      procedure :: check => impact_check
+      procedure :: check_run => impact_check_run
+      procedure :: body_length => impact_length
+      procedure :: period => impact_period
+      procedure :: periods_from => contact_time
+      procedure :: reach => impact_reach
+      procedure :: free_ends => impact_free_ends
+      procedure :: warnings => impact_warnings
+      procedure :: start_note => impact_start_note
+      procedure :: make => impact_make
+   end type impact_input_t
+
+   !> What the impact watches over the steps (watch_step) for its report (watch_report).
+   type, extends(watch_t) :: impact_watch_t
+      real(dp) :: steps = 0.0_dp                     !< steps in which bar 1's momentum changed (in contact)
+      real(dp) :: first = huge(1.0_dp), last = 0.0_dp  !< the first such step's start and the last one's end (s)
+      real(dp) :: min_stress = 0.0_dp                !< the smallest stress met (Pa)
+      real(dp) :: drift = 0.0_dp                     !< the total momentum's largest change from momentum0
+      real(dp) :: momentum1 = 0.0_dp                 !< bar 1's momentum after the last step
+      real(dp) :: momentum0 = 0.0_dp                 !< the initial total momentum, sum_p m_p v_b
+      real(dp) :: mass1 = 0.0_dp                     !< bar 1's mass, as error_at sums it
+   contains
+      procedure :: sync => impact_watch_sync
+   end type impact_watch_t
 
    type, extends(scene_t) :: impact_t
       real(dp) :: length(2) = 0.0_dp, modulus(2) = 0.0_dp, density(2) = 0.0_dp, speed(2) = 0.0_dp
@@ -52,31 +87,221 @@ module mpm_scene_impact
       procedure :: place_particles, margin_cells, left_margin_cells, fixed_nodes, ucm_exact, ucm_amplitude
       procedure :: error_at, error_name, report, watch_step, watch_report, fused_applies
       procedure :: bar1_exact, bar1_velocity
+      procedure :: new_watch => impact_new_watch
    end type impact_t
 
 contains
 
+   pure function impact_describe() result(kind)
+      type(scene_kind_t) :: kind
+      kind = scene_kind_t('impact', 'two bars colliding', '2 max L/c, from their first contact')
+   end function impact_describe
+
+   pure function impact_part() result(name)
+      character(len=:), allocatable :: name
+      name = 'bar'
+   end function impact_part
+
+   subroutine impact_entries(self, table)
+      class(impact_input_t), intent(inout), target :: self
+      type(parameter_t), allocatable, intent(out) :: table(:)
+      call self%bodies_entries(table)
+      table = [table, real_list_entry('scene', 'velocities', self%velocities, self%velocity_count, 'm/s', &
+                                      'initial velocity of bar 1 (left) and bar 2 (right)', note='two values'), &
+               real_entry('scene', 'gap', self%gap, 'm', 'distance between bar 1 (on [0, L1]) and bar 2', &
+                          at_least=0.0_dp, sweep_list='gaps'), &
+               text_entry('scene', 'contact', self%contact, "'none': one shared velocity field (the bars "// &
+                          "stick); 'frictionless': a field per bar, the centre-of-mass velocity where they "// &
+                          "approach (docs/user-guide.md, impact)", words='none, frictionless', sweep_list='contacts')]
+   end subroutine impact_entries
+
+   !> The two bars: two values of each list, the configurations its exact solution covers (equal
+   !> impedances rho c, and for contact = 'none', the bars stuck, equal wave transit times L/c); a grid
+   !> that resolves both bars (`elements` spans both bars and the gap, and a bar shorter than half a cell
+   !> would get a cell of its own it does not fill); the elastoplastic lists; one velocity field for the
+   !> implicit integrators (a field per body's contact is a non-smooth constraint Newton does not take).
+   subroutine impact_check(self, settings, error, given)
+      class(impact_input_t), intent(in) :: self
+      class(settings_t), intent(in) :: settings
+      type(error_t), allocatable, intent(inout) :: error
+      type(parameter_t), intent(in), optional :: given(:)
+      real(dp) :: z(2), transit(2), dx, shortest
+      integer :: b
+      if (self%length_count /= 2 .or. self%modulus_count /= 2 .or. self%density_count /= 2 .or. &
+          self%velocity_count /= 2) then
+         call append_error(error, place(given, 'scene', 'lengths')//"scene: kind = 'impact' needs two bars: "// &
+                           "lengths, youngs_moduli, densities and velocities with two values each (given "// &
+                           str(self%length_count)//", "//str(self%modulus_count)//", "// &
+                           str(self%density_count)//", "//str(self%velocity_count)//")")
+      else
+         z = sqrt(self%youngs_moduli(1:2)*self%densities(1:2))
+         transit = self%lengths(1:2)/sqrt(self%youngs_moduli(1:2)/self%densities(1:2))
+         if (abs(z(1) - z(2)) > 1.0e-9_dp*maxval(z)) call append_error(error, place(given, 'scene', 'youngs_moduli')// &
+            "scene: kind = 'impact' needs equal impedances sqrt(youngs_moduli*densities) of the two bars (its exact "// &
+            "solution covers those); given "//num(z(1), 6)//" and "//num(z(2), 6)//" kg/(m^2 s)")
+         if (trim(self%contact) == 'none' .and. abs(transit(1) - transit(2)) > 1.0e-9_dp*maxval(transit)) &
+            call append_error(error, place(given, 'scene', 'contact')//"scene: kind = 'impact' with contact = 'none' "// &
+                              "needs equal wave transit times lengths/c of the two bars (the stuck bars' exact "// &
+                              "solution); given "//num(transit(1), 6)//" and "//num(transit(2), 6)//" s")
+         dx = self%body_length()/settings%elements
+         shortest = minval(self%lengths(1:2))
+         b = minloc(self%lengths(1:2), 1)
+         if (shortest < 0.5_dp*dx) then
+            call append_error(error, place(given, 'scene', 'gap')//"scene: gap = "//short_number(self%gap)// &
+                              " m with lengths = "//short_number(self%lengths(1))//", "// &
+                              short_number(self%lengths(2))//" m on elements = "//str(settings%elements)//" gives "// &
+                              "cells of dx = (lengths(1) + gap + lengths(2))/elements = "//num(dx, 4)//" m, more "// &
+                              "than twice bar "//str(b)//"'s length: the grid cannot resolve it; allowed: dx <= 2 "// &
+                              "lengths("//str(b)//"), that is gap <= "//num(max(0.0_dp, 2*shortest*settings%elements - &
+                              sum(self%lengths(1:2))), 4)//" m at elements = "//str(settings%elements)// &
+                              " (or elements >= "//num(self%body_length()/(2*shortest), 4)//")")
+         end if
+      end if
+      call self%check_bodies_material(settings, error)
+      if ((trim(settings%integrator) == 'implicit' .or. trim(settings%integrator) == 'quasi_static') .and. &
+          trim(self%contact) == 'frictionless') &
+         call append_error(error, "scene: contact = 'frictionless' is not used by integrator = '"// &
+                           trim(settings%integrator)//"' (a velocity field per body, whose contact is a non-smooth "// &
+                           "constraint the Newton iteration does not take); allowed: contact = 'none', or "// &
+                           "integrator = 'explicit'")
+      ! the methods that cannot take two bars in contact (docs/theory.md, The cures): the total-Lagrangian
+      ! formulation keeps the reference configuration, which contact cannot use; CPDI's domains are one
+      ! body's chain of corners; XPIC, FMPM and ASFLIP keep grid fields of one velocity field, not of a
+      ! field per bar
+      if (trim(settings%formulation) == 'total') &
+         call append_error(error, place(given, 'discretisation', 'formulation')//"discretisation: formulation = "// &
+                           "'total' is not used by kind = 'impact' (the bars' contact needs their current "// &
+                           "configuration; the total-Lagrangian formulation keeps the reference one); allowed: "// &
+                           "formulation = 'updated', or another kind")
+      if (trim(settings%shape) == 'cpdi') &
+         call append_error(error, place(given, 'discretisation', 'shape')//"discretisation: shape = 'cpdi' is not "// &
+                           "used by kind = 'impact' (the bars' domains and their contact are not implemented for "// &
+                           "CPDI); allowed: another shape, or another kind")
+      if (in_list(trim(settings%transfer), 'xpic, fmpm, asflip') .and. trim(self%contact) == 'frictionless') &
+         call append_error(error, place(given, 'discretisation', 'transfer')//"discretisation: transfer = '"// &
+                           trim(settings%transfer)//"' is not used with contact = 'frictionless' (its grid fields "// &
+                           "are of one velocity field, not of a field per bar); allowed: contact = 'none', or "// &
+                           "transfer = 'flip', 'pic', 'blend' or 'apic'")
+   end subroutine impact_check
+
+   !> The bars' outer ends' motion over the run must fit the grid's automatic margins (at most 1e8 cells).
+   subroutine impact_check_run(self, settings, end_time, dx, length_text, error, given)
+      class(impact_input_t), intent(in) :: self
+      class(settings_t), intent(in) :: settings
+      real(dp), intent(in) :: end_time, dx
+      character(len=*), intent(in) :: length_text
+      type(error_t), allocatable, intent(inout) :: error
+      type(parameter_t), intent(in), optional :: given(:)
+      real(dp), parameter :: most_cells = 1.0e8_dp
+      real(dp) :: cells
+      if (settings%margin_cells >= 0) return
+      cells = self%reach(end_time)/dx
+      if (.not. (cells > most_cells)) return
+      call append_error(error, place(given, 'scene', 'velocities')//"scene: velocities = "// &
+                        short_number(self%velocities(1))//", "//short_number(self%velocities(2))// &
+                        " m/s move the bars' outer ends by up to 1.5 max |v| T = "// &
+                        num(self%reach(end_time), 4)//" m over the run (T = "//num(end_time, 4)// &
+                        " s), about "//num(cells, 3)//" cells of dx = "//num(dx, 4)//" m for the grid's margins"// &
+                        " to hold; allowed: at most 1e8 cells, |velocities| <= "// &
+                        num(maxval(abs(self%velocities))*most_cells/cells, 4)//" m/s")
+   end subroutine impact_check_run
+
+   !> Both bars and the gap.
+   pure real(dp) function impact_length(self)
+      class(impact_input_t), intent(in) :: self
+      impact_length = sum(self%lengths(1:2)) + self%gap
+   end function impact_length
+
+   !> The longer of the bars' wave round trips 2 L/c (identical bars: the contact time).
+   pure real(dp) function impact_period(self)
+      class(impact_input_t), intent(in) :: self
+      impact_period = 2.0_dp*maxval(self%lengths(1:2)/sqrt(self%youngs_moduli(1:2)/self%densities(1:2)))
+   end function impact_period
+
+   !> When the bars first touch: gap/(v1 - v2) when bar 1 is faster toward bar 2, else 0 (they touch at
+   !> once or never): periods count from then.
+   pure real(dp) function contact_time(self)
+      class(impact_input_t), intent(in) :: self
+      contact_time = 0.0_dp
+      if (self%velocity_count /= 2) return
+      if (self%velocities(1) > self%velocities(2)) contact_time = self%gap/(self%velocities(1) - self%velocities(2))
+   end function contact_time
+
+   !> 1.5 max |v_b| T on either side.
+   pure real(dp) function impact_reach(self, end_time)
+      class(impact_input_t), intent(in) :: self
+      real(dp), intent(in) :: end_time
+      impact_reach = 1.5_dp*maxval(abs(self%velocities(1:2)))*end_time
+   end function impact_reach
+
+   !> Both bars' outer ends are free.
+   pure integer function impact_free_ends(self)
+      class(impact_input_t), intent(in) :: self
+      impact_free_ends = 2
+   end function impact_free_ends
+
+   !> Bars that do not meet before the run ends (end_time given) or never meet: the error measures free
+   !> flight, which any scheme follows to round-off.
+   function impact_warnings(self, settings) result(text)
+      class(impact_input_t), intent(in) :: self
+      class(settings_t), intent(in) :: settings
+      character(len=:), allocatable :: text
+      real(dp) :: meet
+      text = ''
+      meet = self%periods_from()
+      if (self%velocities(1) <= self%velocities(2)) then
+         text = "the bars never meet: velocities = "//short_number(self%velocities(1))//", "// &
+                short_number(self%velocities(2))//" m/s (bar 1, on the left, is not faster than bar 2); the error "// &
+                "measures free flight, not an impact"
+      else if (meet >= settings%final_time) then
+         text = "the bars do not meet before the end of the run: gap = "//short_number(self%gap)//" m closing at "// &
+                num(self%velocities(1) - self%velocities(2), 4)//" m/s first touches at t = "//num(meet, 4)// &
+                " s, after the end time "//num(settings%final_time, 4)//" s; the error measures free flight, not "// &
+                "the impact (periods count from the first contact; or give a longer end_time)"
+      end if
+   end function impact_warnings
+
+   !> The run's length counts from the first contact.
+   function impact_start_note(self, end_time) result(text)
+      class(impact_input_t), intent(in) :: self
+      real(dp), intent(in) :: end_time
+      character(len=:), allocatable :: text
+      text = ''
+      if (self%periods_from() > 0.0_dp) &
+         text = ": the bars meet at t = gap/(velocities(1) - velocities(2)) = "//num(self%periods_from(), 4)// &
+                " s with gap = "//short_number(self%gap)//" m, and periods count from then"
+   end function impact_start_note
+
+   subroutine impact_make(self, settings, scene, error)
+      class(impact_input_t), intent(in) :: self
+      class(settings_t), intent(in) :: settings
+      class(scene_t), allocatable, intent(out) :: scene
+      type(error_t), allocatable, intent(out) :: error
+      allocate (scene, source=impact_init(self, settings))
+   end subroutine impact_make
+
    !> The scene of a validated and resolved configuration.
-   pure function impact_init(config) result(scene)
-      type(config_t), intent(in) :: config
+   pure function impact_init(input, settings) result(scene)
+      type(impact_input_t), intent(in) :: input
+      class(settings_t), intent(in) :: settings
       type(impact_t) :: scene
-      scene%body_fields = trim(config%contact) == 'frictionless'
+      scene%body_fields = trim(input%contact) == 'frictionless'
       scene%stick = .not. scene%body_fields
       scene%watches = .true.
-      scene%length = config%lengths(1:2)
-      scene%modulus = config%youngs_moduli(1:2)
-      scene%density = config%densities(1:2)
-      scene%plastic = trim(config%law) == 'elastoplastic'
+      scene%length = input%lengths(1:2)
+      scene%modulus = input%youngs_moduli(1:2)
+      scene%density = input%densities(1:2)
+      scene%plastic = trim(settings%law) == 'elastoplastic'
       if (scene%plastic) then
-         scene%yield_stress = config%yield_stresses(1:2)
-         scene%hardening_modulus = config%hardening_moduli(1:2)
+         scene%yield_stress = input%yield_stresses(1:2)
+         scene%hardening_modulus = input%hardening_moduli(1:2)
       end if
       scene%speed = sqrt(scene%modulus/scene%density)
-      scene%velocity = config%velocities(1:2)
-      scene%gap = config%gap
+      scene%velocity = input%velocities(1:2)
+      scene%gap = input%gap
       scene%mass = scene%density*scene%length
-      scene%dt = config%dt
-      scene%end_time = config%steps*config%dt
+      scene%dt = settings%dt
+      scene%end_time = settings%steps*settings%dt
       if (scene%velocity(1) > scene%velocity(2)) then
          scene%start = scene%gap/(scene%velocity(1) - scene%velocity(2))
          scene%stress = -scene%density(1)*scene%speed(1)*(scene%velocity(1) - scene%velocity(2))/2.0_dp
@@ -134,15 +359,15 @@ contains
    !> Each bar's elements: its length in cells of the run's dx (at least one), `particles_per_element`
    !> particles in each at the centres of equal sub-cells; bar 1's particles first (body 1), then
    !> bar 2's (body 2), each with its bar's mass, Young's modulus and velocity.
-   subroutine place_particles(self, config, particles, error)
+   subroutine place_particles(self, settings, particles, error)
       class(impact_t), intent(in) :: self
-      type(config_t), intent(in) :: config
+      class(settings_t), intent(in) :: settings
       type(particles_t), intent(out) :: particles
       type(error_t), allocatable, intent(out) :: error
       integer :: cells(2), b, k, p, stat, per_bar
       real(dp) :: sub, left
-      cells = max(1, nint(self%length/config%dx))
-      call particles_init(particles, sum(cells), config%particles_per_element, config%dx, 1.0_dp, error)
+      cells = max(1, nint(self%length/settings%dx))
+      call particles_init(particles, sum(cells), settings%particles_per_element, settings%dx, 1.0_dp, error)
       if (allocated(error)) return
       allocate (particles%mass_of(particles%count), particles%volume0_of(particles%count), &
                 particles%youngs_modulus_of(particles%count), particles%body(particles%count), stat=stat)
@@ -155,13 +380,13 @@ contains
       end if
       p = 0
       do b = 1, 2
-         per_bar = cells(b)*config%particles_per_element
+         per_bar = cells(b)*settings%particles_per_element
          sub = self%length(b)/per_bar
          left = merge(0.0_dp, self%length(1) + self%gap, b == 1)
          do k = 1, per_bar
             p = p + 1
             particles%x(p) = left + (k - 0.5_dp)*sub
-            particles%cell(p) = min(int(particles%x(p)/config%dx) + 1, config%elements)
+            particles%cell(p) = min(int(particles%x(p)/settings%dx) + 1, settings%elements)
             particles%volume0_of(p) = sub
             particles%mass_of(p) = self%density(b)*sub
             particles%youngs_modulus_of(p) = self%modulus(b)
@@ -306,39 +531,40 @@ contains
       real(dp), intent(in) :: t, ucm
       type(particles_t), intent(in) :: particles
       type(pass_totals_t), intent(in) :: totals
-      real(dp), allocatable, intent(inout) :: watch(:)
+      class(watch_t), allocatable, intent(inout) :: watch
       real(dp), intent(out) :: error
       real(dp) :: moment, mass, bar1, total, scale, smallest
-      if (.not. allocated(watch)) then
-         allocate (watch(w_size))
-         watch = 0.0_dp
-         watch(w_first) = huge(1.0_dp)
-         watch(w_min_stress) = 0.0_dp
-         watch(w_momentum1) = self%velocity(1)*sum(particles%mass_of, mask=particles%body == 1)
-         watch(w_momentum0) = self%velocity(1)*sum(particles%mass_of, mask=particles%body == 1) + &
-                              self%velocity(2)*sum(particles%mass_of, mask=particles%body == 2)
-         call step_sums(particles, moment, watch(w_mass1), bar1, total) ! (bar 1's mass, as error_at sums it)
+      type(impact_watch_t) :: start
+      if (.not. allocated(watch)) then ! (the first step: the initial momenta)
+         start%momentum1 = self%velocity(1)*sum(particles%mass_of, mask=particles%body == 1)
+         start%momentum0 = self%velocity(1)*sum(particles%mass_of, mask=particles%body == 1) + &
+                           self%velocity(2)*sum(particles%mass_of, mask=particles%body == 2)
+         call step_sums(particles, moment, start%mass1, bar1, total) ! (bar 1's mass, as error_at sums it)
+         allocate (watch, source=start)
       end if
-      if (totals%bodies == 2) then ! (each bar a body on stacked fields: body b is bar b)
-         moment = totals%body_displacement(1)
-         mass = watch(w_mass1)
-         bar1 = totals%body_momentum(1)
-         total = totals%body_momentum(1) + totals%body_momentum(2)
-         smallest = totals%min_stress
-      else
-         call step_sums(particles, moment, mass, bar1, total)
-         smallest = smallest_value(particles%stress)
-      end if
-      error = abs(moment/mass - self%bar1_exact(t))
-      scale = sum(self%mass*abs(self%velocity))
-      if (abs(bar1 - watch(w_momentum1)) > 1.0e-9_dp*scale) then
-         watch(w_steps) = watch(w_steps) + 1.0_dp
-         watch(w_first) = min(watch(w_first), t - self%dt)
-         watch(w_last) = t
-      end if
-      watch(w_momentum1) = bar1
-      watch(w_min_stress) = min(watch(w_min_stress), smallest)
-      watch(w_drift) = max(watch(w_drift), abs(total - watch(w_momentum0)))
+      select type (w => watch)
+      type is (impact_watch_t)
+         if (totals%bodies == 2) then ! (each bar a body on stacked fields: body b is bar b)
+            moment = totals%body_displacement(1)
+            mass = w%mass1
+            bar1 = totals%body_momentum(1)
+            total = totals%body_momentum(1) + totals%body_momentum(2)
+            smallest = totals%min_stress
+         else
+            call step_sums(particles, moment, mass, bar1, total)
+            smallest = smallest_value(particles%stress)
+         end if
+         error = abs(moment/mass - self%bar1_exact(t))
+         scale = sum(self%mass*abs(self%velocity))
+         if (abs(bar1 - w%momentum1) > 1.0e-9_dp*scale) then
+            w%steps = w%steps + 1.0_dp
+            w%first = min(w%first, t - self%dt)
+            w%last = t
+         end if
+         w%momentum1 = bar1
+         w%min_stress = min(w%min_stress, smallest)
+         w%drift = max(w%drift, abs(total - w%momentum0))
+      end select
    end subroutine watch_step
 
    !> contact_time (steps in contact times dt), contact_start and contact_end, the largest compressive
@@ -346,7 +572,7 @@ contains
    !> its largest change over the run relative to sum_b M_b |v_b|.
    subroutine watch_report(self, watch, particles, names, values)
       class(impact_t), intent(in) :: self
-      real(dp), allocatable, intent(in) :: watch(:)
+      class(watch_t), allocatable, intent(in) :: watch
       type(particles_t), intent(in) :: particles
       character(len=32), allocatable, intent(out) :: names(:)
       real(dp), allocatable, intent(out) :: values(:)
@@ -354,18 +580,45 @@ contains
       integer :: b
       names = [character(len=32) :: 'contact_time', 'contact_start', 'contact_end', 'max_compressive_stress', &
                'final_velocity_1', 'final_velocity_2', 'final_momentum', 'momentum_change']
-      if (.not. allocated(watch)) then ! no step done
-         allocate (values(size(names)))
-         values = 0.0_dp
-         return
-      end if
+      allocate (values(size(names)))
+      values = 0.0_dp
+      if (.not. allocated(watch)) return ! (no step done)
       do b = 1, 2
          final(b) = sum(particles%mass_of*particles%v, mask=particles%body == b)/ &
                     sum(particles%mass_of, mask=particles%body == b)
       end do
       total = sum(particles%mass_of*particles%v)
       scale = max(sum(self%mass*abs(self%velocity)), tiny(1.0_dp))
-      values = [watch(w_steps)*self%dt, merge(0.0_dp, watch(w_first), watch(w_steps) == 0.0_dp), watch(w_last), &
-                -watch(w_min_stress), final(1), final(2), total, watch(w_drift)/scale]
+      select type (w => watch)
+      type is (impact_watch_t)
+         values = [w%steps*self%dt, merge(0.0_dp, w%first, w%steps == 0.0_dp), w%last, -w%min_stress, final(1), &
+                   final(2), total, w%drift/scale]
+      end select
    end subroutine watch_report
+   function impact_amplitude_source(self) result(text)
+      class(impact_input_t), intent(in) :: self
+      character(len=:), allocatable :: text
+      text = 'the velocities'
+   end function impact_amplitude_source
+
+   subroutine impact_watch_sync(self, state, name)
+      class(impact_watch_t), intent(inout) :: self
+      type(state_t), intent(inout) :: state
+      character(len=*), intent(in) :: name
+      call state%sync(name//'.steps', self%steps)
+      call state%sync(name//'.first', self%first)
+      call state%sync(name//'.last', self%last)
+      call state%sync(name//'.min_stress', self%min_stress)
+      call state%sync(name//'.drift', self%drift)
+      call state%sync(name//'.momentum1', self%momentum1)
+      call state%sync(name//'.momentum0', self%momentum0)
+      call state%sync(name//'.mass1', self%mass1)
+   end subroutine impact_watch_sync
+
+   subroutine impact_new_watch(self, watch)
+      class(impact_t), intent(in) :: self
+      class(watch_t), allocatable, intent(out) :: watch
+      allocate (impact_watch_t :: watch)
+   end subroutine impact_new_watch
+
 end module mpm_scene_impact

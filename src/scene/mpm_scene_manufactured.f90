@@ -15,23 +15,41 @@
 !> Error measure: the mass-weighted RMS over the particles of x_p - X_p - u(X_p, t) (m); relative_error
 !> divides it by A. u_cm is exactly zero (ucm_exact = 0).
 !> b and u are separable in X and t: each particle keeps A sin(kX_p) and A k cos(kX_p), computed once
-!> when it is placed (particles%scene_factors), and a step evaluates sin(w t) once, so that
+!> when it is placed (particles%attached), and a step evaluates sin(w t) once, so that
 !>   b_p(t) = (A sin(kX_p) s)(-w^2 + c^2 k^2/(1 + (A k cos(kX_p)) s)),  u(X_p, t) = (A sin(kX_p)) s,
 !> the same operations in the same order as from the sines of each particle and step (the same bits),
 !> with one division per particle and step and no sine or cosine.
 module mpm_scene_manufactured
    use mpm_kinds, only: dp, pi
-   use mpm_errors, only: error_t, set_error
-   use mpm_strings, only: str
-   use mpm_config, only: config_t
+   use mpm_errors, only: error_t, set_error, append_error
+   use mpm_strings, only: str, num
+   use mpm_settings, only: settings_t
+   use mpm_registry, only: parameter_t, real_entry, short_number, place
    use mpm_grid, only: grid_t
    use mpm_particles, only: particles_t, particles_init
    use mpm_shape, only: shape_cache_t
    use mpm_scene, only: scene_t, sine_profile, exact_name_length
    use mpm_particle_forces, only: p2g_particle_forces
+   use mpm_scene_input, only: scene_input_t, scene_kind_t, body_input_t, body_representable
    implicit none
    private
-   public :: manufactured_t, manufactured_init
+   public :: manufactured_t, manufactured_init, manufactured_input_t
+
+   !> The manufactured solution's input: its body and the displacement amplitude A. Its body force makes
+   !> the motion exact for an elastic law: it takes no elastoplastic parameters.
+   type, extends(body_input_t) :: manufactured_input_t
+      real(dp) :: amplitude = 0.025_dp
+   contains
+      procedure, nopass :: describe => manufactured_describe
+      procedure :: entries => manufactured_entries
+      procedure :: amplitude_source => manufactured_amplitude_source
+      procedure :: material_entries => manufactured_material_entries
+      procedure :: check => manufactured_check
+      procedure :: period => manufactured_period
+      procedure :: free_ends => manufactured_free_ends
+      procedure :: check_representable => manufactured_representable
+      procedure :: make => manufactured_make
+   end type manufactured_input_t
 
    type, extends(scene_t) :: manufactured_t
       real(dp) :: length = 0.0_dp
@@ -49,10 +67,98 @@ module mpm_scene_manufactured
       procedure :: displacement_exact, body_force, exact_fields
    end type manufactured_t
 
-   !> The columns of particles%scene_factors: A sin(k X_p), A k cos(k X_p).
+   !> The columns of particles%attached: A sin(k X_p), A k cos(k X_p).
    integer, parameter :: factor_sine = 1, factor_cosine = 2
 
 contains
+
+   pure function manufactured_describe() result(kind)
+      type(scene_kind_t) :: kind
+      kind = scene_kind_t('manufactured', 'a manufactured solution at large strain', '2L/c')
+   end function manufactured_describe
+
+   subroutine manufactured_entries(self, table)
+      class(manufactured_input_t), intent(inout), target :: self
+      type(parameter_t), allocatable, intent(out) :: table(:)
+      call self%body_entries(table)
+      table = [table, real_entry('scene', 'amplitude', self%amplitude, 'm', 'A of the manufactured displacement '// &
+                                 'u(X,t) = A sin(2 pi X/length) sin(pi c t/length)', greater_than=0.0_dp, &
+                                 note='2 pi A / length < 1', sweep_list='amplitudes')]
+   end subroutine manufactured_entries
+
+   !> No law's parameters: the body force is made for an elastic law.
+   subroutine manufactured_material_entries(self, table)
+      class(manufactured_input_t), intent(inout), target :: self
+      type(parameter_t), allocatable, intent(out) :: table(:)
+      allocate (table(0))
+   end subroutine manufactured_material_entries
+
+   !> F > 0 everywhere (2 pi A / L < 1), and an elastic law.
+   subroutine manufactured_check(self, settings, error, given)
+      class(manufactured_input_t), intent(in) :: self
+      class(settings_t), intent(in) :: settings
+      type(error_t), allocatable, intent(inout) :: error
+      type(parameter_t), intent(in), optional :: given(:)
+      if (2*pi*self%amplitude >= self%length) call append_error(error, place(given, 'scene', 'amplitude')// &
+         "scene: kind = 'manufactured' needs 2 pi amplitude / length < 1 (F > 0 everywhere); amplitude = "// &
+         short_number(self%amplitude)//" m, length = "//short_number(self%length)//" m give "// &
+         num(2*pi*self%amplitude/self%length, 4)//"; allowed: amplitude < "//num(self%length/(2*pi), 4)//" m")
+      if (trim(settings%law) == 'elastoplastic') &
+         call append_error(error, "material: law = 'elastoplastic' is not used by kind = 'manufactured' (its body "// &
+                           "force makes the motion exact for an elastic law); allowed: law = 'hencky' or 'linear'")
+   end subroutine manufactured_check
+
+   !> u oscillates as sin(pi c t/L): period 2L/c.
+   pure real(dp) function manufactured_period(self)
+      class(manufactured_input_t), intent(in) :: self
+      manufactured_period = 2.0_dp*self%length/sqrt(self%youngs_modulus/self%density)
+   end function manufactured_period
+
+   !> Both ends are fixed: no automatic margin.
+   pure integer function manufactured_free_ends(self)
+      class(manufactured_input_t), intent(in) :: self
+      manufactured_free_ends = 0
+   end function manufactured_free_ends
+
+   !> Beyond the wave speed (body_input_t): the products its body force, energies and error measure form
+   !> as they stand within the doubles (compared as logarithms).
+   subroutine manufactured_representable(self, settings, error)
+      class(manufactured_input_t), intent(in) :: self
+      class(settings_t), intent(in) :: settings
+      type(error_t), allocatable, intent(inout) :: error
+      real(dp), parameter :: top = log10(huge(1.0_dp)), bottom = log10(tiny(1.0_dp))
+      real(dp) :: log_ratio
+      call body_representable(self, settings, error)
+      if (allocated(error)) return
+      log_ratio = log10(self%youngs_modulus) - log10(self%density)
+      call within("(c/L)^2", log_ratio - 2*log10(self%length))
+      call within("the body force A (c/L)^2", log10(self%amplitude) + log_ratio - 2*log10(self%length))
+      call within("the energy rho (c A)^2/L", log10(self%density) + log_ratio + 2*log10(self%amplitude) - &
+                  log10(self%length))
+      call within("the error measure's scale rho L (A/100)^2", log10(self%density) + log10(self%length) + &
+                  2*log10(self%amplitude) - 4)
+   contains
+      !> Refuse the scene when a product its formulas form (log10 `magnitude`) leaves the doubles.
+      subroutine within(what, magnitude)
+         character(len=*), intent(in) :: what
+         real(dp), intent(in) :: magnitude
+         if (magnitude < bottom + 2 .or. magnitude > top - 2) call append_error(error, "scene: kind = "// &
+            "'manufactured' with length = "//short_number(self%length)//" m, amplitude = "// &
+            short_number(self%amplitude)//" m and youngs_modulus = "//short_number(self%youngs_modulus)// &
+            " Pa and density = "//short_number(self%density)//" kg/m^3: "//what//" is about 1e"// &
+            str(nint(magnitude))//", beyond what its formulas hold in doubles; allowed: 1e-306 to 1e306 (choose "// &
+            "units nearer 1; the vibrating bar's formulas are scaled, these are not)")
+      end subroutine within
+   end subroutine manufactured_representable
+
+   subroutine manufactured_make(self, settings, scene, error)
+      class(manufactured_input_t), intent(in) :: self
+      class(settings_t), intent(in) :: settings
+      class(scene_t), allocatable, intent(out) :: scene
+      type(error_t), allocatable, intent(out) :: error
+      allocate (scene, source=manufactured_init(self%length, self%youngs_modulus, self%density, self%amplitude, &
+                                                settings%elements, settings%law))
+   end subroutine manufactured_make
 
    pure function manufactured_init(length, youngs_modulus, density, amplitude, elements, law) result(scene)
       real(dp), intent(in) :: length, youngs_modulus, density, amplitude
@@ -114,29 +220,30 @@ contains
    !> As the bar's particles, with the exact initial velocity A w sin(k X), and each particle's factors
    !> A sin(k X_p), A k cos(k X_p) (see the module's comment): one scalar sine and cosine per particle
    !> (as sine_profile, not vectorised, so that every run starts from the same bits).
-   subroutine place_particles(self, config, particles, error)
+   subroutine place_particles(self, settings, particles, error)
       class(manufactured_t), intent(in) :: self
-      type(config_t), intent(in) :: config
+      class(settings_t), intent(in) :: settings
       type(particles_t), intent(out) :: particles
       type(error_t), allocatable, intent(out) :: error
       real(dp) :: amplitude_k
       integer :: p, stat
-      call particles_init(particles, config%elements, config%particles_per_element, config%dx, config%density, error)
+      call particles_init(particles, settings%elements, settings%particles_per_element, settings%dx, self%density, &
+                          error)
       if (allocated(error)) return
-      allocate (particles%scene_factors(particles%count, 2), stat=stat)
+      allocate (particles%attached(particles%count, 2), stat=stat)
       if (stat /= 0) then
          call set_error(error, 'cannot allocate the manufactured solution''s factors of '//str(particles%count)// &
                         ' particles (out of memory)')
          return
       end if
       ! sin(k X_p) once: the initial velocity (A w) sin(k X_p), as sine_profile makes it, and A sin(k X_p)
-      call sine_profile(1.0_dp, self%wave_number, particles%x0, particles%scene_factors(:, factor_sine))
-      particles%v = (self%amplitude*self%omega)*particles%scene_factors(:, factor_sine)
-      particles%scene_factors(:, factor_sine) = self%amplitude*particles%scene_factors(:, factor_sine)
+      call sine_profile(1.0_dp, self%wave_number, particles%x0, particles%attached(:, factor_sine))
+      particles%v = (self%amplitude*self%omega)*particles%attached(:, factor_sine)
+      particles%attached(:, factor_sine) = self%amplitude*particles%attached(:, factor_sine)
       amplitude_k = self%amplitude*self%wave_number
       !GCC$ novector
       do p = 1, particles%count
-         particles%scene_factors(p, factor_cosine) = amplitude_k*cos(self%wave_number*particles%x0(p))
+         particles%attached(p, factor_cosine) = amplitude_k*cos(self%wave_number*particles%x0(p))
       end do
    end subroutine place_particles
 
@@ -191,7 +298,7 @@ contains
       s = sin(self%omega*t)
       inertia = -self%omega**2
       stiffness = self%wave_speed**2*self%wave_number**2
-      associate (sine => particles%scene_factors(:, factor_sine), cosine => particles%scene_factors(:, factor_cosine))
+      associate (sine => particles%attached(:, factor_sine), cosine => particles%attached(:, factor_cosine))
          if (self%linear_law) then ! (F = 1 in body_force: c^2 k^2 / 1 is c^2 k^2, the same bits)
             if (allocated(particles%mass_of)) then
                forces = particles%mass_of*(sine*s*(inertia + stiffness))
@@ -214,7 +321,7 @@ contains
       type(particles_t), intent(in) :: particles
       real(dp) :: s
       s = sin(self%omega*t)
-      associate (sine => particles%scene_factors(:, factor_sine))
+      associate (sine => particles%attached(:, factor_sine))
          if (allocated(particles%mass_of)) then
             error_at = sqrt(sum(particles%mass_of*(particles%x - particles%x0 - sine*s)**2)/sum(particles%mass_of))
          else
@@ -250,4 +357,10 @@ contains
       real(dp), intent(in) :: initial_energy
       energy_reference = max(initial_energy, 1.25_dp*self%density*(self%wave_speed*self%amplitude*pi)**2/self%length)
    end function energy_reference
+   function manufactured_amplitude_source(self) result(text)
+      class(manufactured_input_t), intent(in) :: self
+      character(len=:), allocatable :: text
+      text = 'amplitude'
+   end function manufactured_amplitude_source
+
 end module mpm_scene_manufactured

@@ -26,18 +26,42 @@
 module mpm_scene_plastic_wave
    use, intrinsic :: ieee_arithmetic, only: ieee_value, ieee_quiet_nan
    use mpm_kinds, only: dp
-   use mpm_errors, only: error_t
-   use mpm_config, only: config_t, material_of
+   use mpm_errors, only: error_t, append_error
+   use mpm_strings, only: num, str
+   use mpm_settings, only: settings_t
+   use mpm_registry, only: parameter_t, short_number
    use mpm_grid, only: grid_t
    use mpm_particles, only: particles_t, particles_init
    use mpm_shape, only: shape_cache_t
    use mpm_material, only: material_t, law_elastoplastic, stored_energy, plastic_work
    use mpm_material_plastic, only: hardening_tangent
-   use mpm_scene, only: scene_t, margin_for, exact_name_length
+   use mpm_scene, only: scene_t, watch_t, margin_for, exact_name_length
    use mpm_loads, only: drive_t
+   use mpm_scene_input, only: scene_input_t, scene_kind_t, body_input_t, drive_entry, body_representable
    implicit none
    private
-   public :: plastic_wave_t, plastic_wave_init
+   public :: plastic_wave_t, plastic_wave_init, plastic_wave_input_t
+
+   !> The plastic wave's run length when neither periods nor end_time is given, in precursor transit
+   !> times L/c: its exact solution holds until the elastic precursor reaches the free end.
+   real(dp), parameter :: plastic_wave_periods = 0.8_dp
+
+   !> The plastic wave's input: its body and the drive velocity V (by default about three times the
+   !> default material's yield velocity sigma_y/(rho c_e) = 6.3 m/s, as the materials study drives it, so
+   !> that the default run carries both fronts; its law is then elastoplastic, default_law).
+   type, extends(body_input_t) :: plastic_wave_input_t
+      real(dp) :: drive_velocity = 20.0_dp
+   contains
+      procedure, nopass :: describe => plastic_wave_describe
+      procedure :: entries => plastic_wave_entries
+      procedure :: check_run => plastic_wave_check_run
+      procedure :: period => plastic_wave_period
+      procedure :: default_periods => plastic_wave_default_periods
+      procedure :: default_law => plastic_wave_default_law
+      procedure :: warnings => plastic_wave_warnings
+      procedure :: check_representable => plastic_wave_representable
+      procedure :: make => plastic_wave_make
+   end type plastic_wave_input_t
 
    type, extends(scene_t) :: plastic_wave_t
       real(dp) :: length = 0.0_dp, density = 0.0_dp
@@ -59,33 +83,137 @@ module mpm_scene_plastic_wave
 
 contains
 
+   pure function plastic_wave_describe() result(kind)
+      type(scene_kind_t) :: kind
+      kind = scene_kind_t('plastic_wave', 'an elastic-plastic wave from a driven end', &
+                          "L/c (the precursor's transit; default 0.8)")
+   end function plastic_wave_describe
+
+   subroutine plastic_wave_entries(self, table)
+      class(plastic_wave_input_t), intent(inout), target :: self
+      type(parameter_t), allocatable, intent(out) :: table(:)
+      call self%body_entries(table)
+      table = [table, drive_entry(self%drive_velocity)]
+   end subroutine plastic_wave_entries
+
+   !> The exact solution holds until the elastic precursor reaches the free end at L/c.
+   subroutine plastic_wave_check_run(self, settings, end_time, dx, length_text, error, given)
+      class(plastic_wave_input_t), intent(in) :: self
+      class(settings_t), intent(in) :: settings
+      real(dp), intent(in) :: end_time, dx
+      character(len=*), intent(in) :: length_text
+      type(error_t), allocatable, intent(inout) :: error
+      type(parameter_t), intent(in), optional :: given(:)
+      real(dp) :: transit
+      transit = self%length/self%wave_speed()
+      if (end_time > (1.0_dp + 1.0e-12_dp)*transit) &
+         call append_error(error, length_text//" ends after the elastic precursor reaches the free end at L/c = "// &
+                           num(transit, 4)// &
+                           " s, where the plastic wave's exact solution stops holding; allowed: periods <= 1 "// &
+                           "(end_time <= "//num(transit, 4)//" s)")
+   end subroutine plastic_wave_check_run
+
+   !> The elastic precursor's transit time L/c.
+   pure real(dp) function plastic_wave_period(self)
+      class(plastic_wave_input_t), intent(in) :: self
+      plastic_wave_period = self%length/sqrt(self%youngs_modulus/self%density)
+   end function plastic_wave_period
+
+   !> Beyond the wave speed (body_input_t): the energy balance sums m v^2/2 and the drive's work V sum m v
+   !> as they stand, and the stress rho c V, within the doubles (compared as logarithms).
+   subroutine plastic_wave_representable(self, settings, error)
+      class(plastic_wave_input_t), intent(in) :: self
+      class(settings_t), intent(in) :: settings
+      type(error_t), allocatable, intent(inout) :: error
+      real(dp), parameter :: top = log10(huge(1.0_dp)), bottom = log10(tiny(1.0_dp))
+      real(dp) :: log_ratio
+      call body_representable(self, settings, error)
+      if (allocated(error)) return
+      log_ratio = log10(self%youngs_modulus) - log10(self%density)
+      call within("the drive's work rho V^2 L", log10(self%density) + 2*log10(self%drive_velocity) + &
+                  log10(self%length))
+      call within("the stress rho c V", log10(self%density) + log_ratio/2 + log10(self%drive_velocity))
+   contains
+      !> Refuse the scene when a product its formulas form (log10 `magnitude`) leaves the doubles.
+      subroutine within(what, magnitude)
+         character(len=*), intent(in) :: what
+         real(dp), intent(in) :: magnitude
+         if (magnitude < bottom + 2 .or. magnitude > top - 2) call append_error(error, "scene: kind = "// &
+            "'plastic_wave' with length = "//short_number(self%length)//" m, drive_velocity = "// &
+            short_number(self%drive_velocity)//" m/s and youngs_modulus = "//short_number(self%youngs_modulus)// &
+            " Pa and density = "//short_number(self%density)//" kg/m^3: "//what//" is about 1e"// &
+            str(nint(magnitude))//", beyond what its formulas hold in doubles; allowed: 1e-306 to 1e306 (choose "// &
+            "units nearer 1; the vibrating bar's formulas are scaled, these are not)")
+      end subroutine within
+   end subroutine plastic_wave_representable
+
+   !> Elastoplastic when the input names no law: the wave's two fronts.
+   function plastic_wave_default_law(self) result(law)
+      class(plastic_wave_input_t), intent(in) :: self
+      character(len=:), allocatable :: law
+      law = 'elastoplastic'
+   end function plastic_wave_default_law
+
+   !> A plastic wave that cannot yield (another law than elastoplastic, or a drive at or below the yield
+   !> velocity v1 = sigma_y/(rho c_e)) carries one elastic wave and no plastic front: say so ('' otherwise).
+   function plastic_wave_warnings(self, settings) result(text)
+      class(plastic_wave_input_t), intent(in) :: self
+      class(settings_t), intent(in) :: settings
+      character(len=:), allocatable :: text
+      real(dp) :: v1
+      text = ''
+      if (trim(settings%law) /= 'elastoplastic') then
+         text = "the plastic wave cannot yield with law = '"//trim(settings%law)//"': one elastic wave, no plastic "// &
+                "front (law = 'elastoplastic' makes one)"
+         return
+      end if
+      v1 = self%yield_stress/(self%density*sqrt(self%youngs_modulus/self%density))
+      if (self%drive_velocity <= v1) text = "the plastic wave cannot yield: drive_velocity = "// &
+         short_number(self%drive_velocity)//" m/s is at or below the yield velocity yield_stress/(density c) = "// &
+         num(v1, 4)//" m/s: one elastic wave, no plastic front (a faster drive makes one)"
+   end function plastic_wave_warnings
+
+   pure real(dp) function plastic_wave_default_periods(self)
+      class(plastic_wave_input_t), intent(in) :: self
+      plastic_wave_default_periods = plastic_wave_periods
+   end function plastic_wave_default_periods
+
+   subroutine plastic_wave_make(self, settings, scene, error)
+      class(plastic_wave_input_t), intent(in) :: self
+      class(settings_t), intent(in) :: settings
+      class(scene_t), allocatable, intent(out) :: scene
+      type(error_t), allocatable, intent(out) :: error
+      allocate (scene, source=plastic_wave_init(self, settings))
+   end subroutine plastic_wave_make
+
    !> The scene of a validated and resolved configuration.
-   pure function plastic_wave_init(config) result(scene)
-      type(config_t), intent(in) :: config
+   pure function plastic_wave_init(input, settings) result(scene)
+      type(plastic_wave_input_t), intent(in) :: input
+      class(settings_t), intent(in) :: settings
       type(plastic_wave_t) :: scene
       real(dp) :: v1
       scene%external_forces = .true.
       scene%drives = .true.
       scene%watches = .true.  ! (nothing per step; watch_report measures the fronts at the end)
-      scene%length = config%length
-      scene%density = config%density
-      scene%drive_velocity = config%drive_velocity
-      scene%elastic_speed = sqrt(config%youngs_modulus/config%density)
-      scene%dt = config%dt
-      scene%end_time = config%steps*config%dt
-      scene%material = material_of(config)
-      scene%precursor_stress = config%density*scene%elastic_speed*config%drive_velocity
-      scene%precursor_velocity = config%drive_velocity
+      scene%length = input%length
+      scene%density = input%density
+      scene%drive_velocity = input%drive_velocity
+      scene%elastic_speed = sqrt(input%youngs_modulus/input%density)
+      scene%dt = settings%dt
+      scene%end_time = settings%steps*settings%dt
+      scene%material = input%material(settings%law)
+      scene%precursor_stress = input%density*scene%elastic_speed*input%drive_velocity
+      scene%precursor_velocity = input%drive_velocity
       scene%plastic_stress = scene%precursor_stress
       if (scene%material%law == law_elastoplastic) then
-         v1 = config%yield_stress/(config%density*scene%elastic_speed)
-         scene%tangent_modulus = hardening_tangent(config%youngs_modulus, config%hardening_modulus)
-         scene%yields = config%drive_velocity > v1
+         v1 = input%yield_stress/(input%density*scene%elastic_speed)
+         scene%tangent_modulus = hardening_tangent(input%youngs_modulus, input%hardening_modulus)
+         scene%yields = input%drive_velocity > v1
          if (scene%yields) then
-            scene%plastic_speed = sqrt(scene%tangent_modulus/config%density)
-            scene%precursor_stress = config%yield_stress
+            scene%plastic_speed = sqrt(scene%tangent_modulus/input%density)
+            scene%precursor_stress = input%yield_stress
             scene%precursor_velocity = v1
-            scene%plastic_stress = config%yield_stress + config%density*scene%plastic_speed*(config%drive_velocity - v1)
+            scene%plastic_stress = input%yield_stress + input%density*scene%plastic_speed*(input%drive_velocity - v1)
          end if
       end if
    end function plastic_wave_init
@@ -133,12 +261,13 @@ contains
    end subroutine exact_fields
 
    !> As the bar's particles, at rest and unstressed (particle 1 is the driven end's).
-   subroutine place_particles(self, config, particles, error)
+   subroutine place_particles(self, settings, particles, error)
       class(plastic_wave_t), intent(in) :: self
-      type(config_t), intent(in) :: config
+      class(settings_t), intent(in) :: settings
       type(particles_t), intent(out) :: particles
       type(error_t), allocatable, intent(out) :: error
-      call particles_init(particles, config%elements, config%particles_per_element, config%dx, config%density, error)
+      call particles_init(particles, settings%elements, settings%particles_per_element, settings%dx, self%density, &
+                          error)
    end subroutine place_particles
 
    !> The free end stays at rest until the precursor reaches it (after the run): two cells as for the bar.
@@ -277,7 +406,7 @@ contains
    !> the bar's momentum change, at the constant velocity V) and (kinetic + stored + plastic work - W)/W.
    subroutine watch_report(self, watch, particles, names, values)
       class(plastic_wave_t), intent(in) :: self
-      real(dp), allocatable, intent(in) :: watch(:)
+      class(watch_t), allocatable, intent(in) :: watch
       type(particles_t), intent(in) :: particles
       character(len=32), allocatable, intent(out) :: names(:)
       real(dp), allocatable, intent(out) :: values(:)

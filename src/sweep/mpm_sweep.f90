@@ -14,7 +14,7 @@ module mpm_sweep
    use mpm_errors, only: error_t, set_error, append_error
    use mpm_strings, only: str, lower
    use mpm_config, only: config_t, read_config_text, input_name, validate_config, resolve_config, &
-                         config_parameters, config_groups, not_used_message, known_kind, &
+                         config_parameters, config_groups, other_kind_list, new_config, assign_in_place, known_kind, &
                         run_length_flags
    use mpm_registry, only: parameter_t, nml_item_t, value_list_t, real_entry, int_entry, logical_entry, &
                            parse_namelist, read_input_text, add_overrides, item_place, read_value_list, &
@@ -95,7 +95,7 @@ module mpm_sweep
    !> What makes a case's configuration: a configuration and the parameter table pointing into it,
    !> built once per sweep (the table is an array of about 60 entries of 1.4 kB with their help texts:
    !> built per case, four times per case, it cost the paper's Table-2 sweep 3 % of its instructions).
-   !> With the table of the defaults (config_t()), which validating a case compares with.
+   !> With the table of the defaults (new_config of the sweep's kind), which validating a case compares with.
    type :: case_builder_t
       type(config_t) :: config, defaults
       type(parameter_t), allocatable :: table(:), default_table(:)
@@ -247,14 +247,14 @@ contains
             end if
             lines(j) = items(i)%line
             k = study%settings%lists(j)%entry
-            if (known_kind(study%base%scene_kind) .and. .not. used_by(base(k), trim(study%base%scene_kind))) then
-               call append_error(error, where//"sweep: list '"//items(i)%name//"' varies "// &
-                                 not_used_message(base(k), study%base%scene_kind))
-               cycle
-            end if
             call read_value_list(base(k), items(i)%name, items(i)%values, where, study%settings%lists(j), error)
             study%settings%lists(j)%entry = k
             study%settings%lists(j)%name = base(k)%sweep_list  ! the list's name, whichever name was given
+            cycle
+         end if
+         if (len(other_kind_list(study%base, items(i)%name)) > 0) then ! (a list of another kind's variable)
+            if (known_kind(study%base%scene_kind)) call append_error(error, where//"sweep: list '"// &
+               items(i)%name//"' varies "//other_kind_list(study%base, items(i)%name))
             cycle
          end if
          k = find_parameter(settings, 'sweep', items(i)%name)
@@ -332,9 +332,9 @@ contains
       type(config_t), target :: local
       type(parameter_t), allocatable :: table(:)
       if (associated(sweep%builder)) then
-         ! the base's values into the builder's configuration (fixed-size components: assigned in
-         ! place, so the table's pointers stay on them)
-         sweep%builder%config = sweep%base
+         ! the base's values into the builder's configuration, in place, so that the table's pointers
+         ! stay on them
+         call assign_in_place(sweep%builder%config, sweep%base)
          call run_length_flags(sweep%builder%config)
          call set_case_values(sweep%builder%table, sweep%builder%config)
          config = sweep%builder%config
@@ -406,6 +406,7 @@ contains
          if (.not. associated(sweep%builder)) then
             allocate (sweep%builder)
             sweep%builder%config = sweep%base
+            sweep%builder%defaults = new_config(sweep%base%scene_kind)
             call config_parameters(sweep%builder%config, sweep%builder%table)
             call config_parameters(sweep%builder%defaults, sweep%builder%default_table)
          end if

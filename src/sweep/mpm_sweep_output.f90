@@ -15,7 +15,8 @@ module mpm_sweep_output
    use mpm_diagnostics, only: history_t, status_name, status_ok, status_not_run
    use mpm_sweep, only: sweep_t, sweep_case_t, case_column, apply_record, record_sweep, record_case
    use mpm_journal, only: journal_record_t, journal_name, journal_read, journal_open, journal_append, journal_close
-   use mpm_config, only: config_t, config_parameters, config_namelist, used_with
+   use mpm_config, only: config_t, config_parameters, catalog_parameters, config_namelist, used_with, new_config
+   use mpm_scenes, only: scene_slot_t
    use mpm_registry, only: parameter_t, value_list_t, single_value_list, type_real, type_int, used_by
    implicit none
    private
@@ -809,13 +810,16 @@ contains
       end subroutine real_column
    end subroutine read_cases
 
-   !> Empty columns for the sweepable variables of the registry: name, type and text width.
+   !> Empty columns for the sweepable variables of the registry (every scene kind's): name, type and text
+   !> width.
    function sweep_columns() result(columns)
       type(value_list_t), allocatable :: columns(:)
       type(config_t), target :: defaults
+      type(scene_slot_t), allocatable, target :: slots(:)
       type(parameter_t), allocatable :: table(:)
       integer :: k
-      call config_parameters(defaults, table)
+      defaults = new_config()
+      call catalog_parameters(defaults, slots, table)
       allocate (columns(0))
       do k = 1, size(table)
          if (len_trim(table(k)%sweep_list) == 0) cycle

@@ -53,7 +53,7 @@ program mpm1d_bench
    use omp_lib, only: omp_get_wtime, omp_set_num_threads
    use mpm_kinds, only: dp, i8
    use mpm_errors, only: error_t
-   use mpm_config, only: config_t, resolve_config, material_of
+   use mpm_config, only: config_t, resolve_config, material_of, set_config_values
    use mpm_grid, only: grid_t, grid_init
    use mpm_particles, only: particles_t, per_particle_data, bytes_per_particle
    use mpm_shape, only: shape_cache_t, shape_id, shape_extra_cells, transfer_id, transfer_apic, shape_name, &
@@ -62,10 +62,11 @@ program mpm1d_bench
    use mpm_transfer, only: pass_totals_t
    use mpm_fused, only: fused_start, fused_step, fused_box_t, fused_shape, fused_choose
    use mpm_schemes, only: scheme_usf, scheme_usl, scheme_musl, scheme_step
-   use mpm_scene_bar, only: bar_t, bar_init
+   use mpm_strings, only: str
+   use mpm_scene_bar, only: bar_t, bar_init, bar_input_t
+   use mpm_scene_impact, only: impact_input_t
    use mpm_simulation, only: run_result_t, run_simulation
    use mpm_scene, only: scene_t
-   use mpm_scenes, only: make_scene
    implicit none
    character(len=32) :: mode
 
@@ -154,7 +155,7 @@ contains
       threads = iarg(7)
       call resolve_config(config)
       call omp_set_num_threads(threads)
-      bar = bar_init(config%length, config%youngs_modulus, config%density, config%velocity_amplitude, config%mode)
+      bar = bar_of(config)
       generic = trim(arg(8)) == 'generic'
       columns = ''
       if (len_trim(arg(9)) > 0) then
@@ -373,6 +374,7 @@ contains
       type(run_result_t) :: result
       integer :: particles, ppc, steps, repeats, r, k, l
       real(dp) :: seconds, reached
+      character(len=128) :: line(1)
       character(len=:), allocatable :: scheme
       call run_arguments(particles, ppc, steps, repeats, scheme)
       do r = 1, repeats
@@ -384,10 +386,15 @@ contains
                config%shape = shapes(k)
                config%law = laws(l)
                ! the largest stress of the elastic bar by the end of the run: rho c v0 sin(omega T) at x = 0
-               reached = config%density*config%wave_speed*config%velocity_amplitude* &
-                         sin(2*acos(-1.0_dp)*config%end_time/config%period)
-               config%yield_stress = reached/3
-               config%hardening_modulus = config%youngs_modulus/10
+               select type (bar => config%scene)
+               type is (bar_input_t)
+                  reached = bar%density*config%wave_speed*bar%velocity_amplitude* &
+                            sin(2*acos(-1.0_dp)*config%end_time/config%period)
+               end select
+               line(1) = 'material.yield_stress='//str(reached/3)
+               call set(config, line)
+               line(1) = 'material.hardening_modulus='//str(config%youngs_modulus/10)
+               call set(config, line)
                call resolve_config(config)
                call timed_run(config, result, seconds)
                write (output_unit, '(i0,",",a,",",a,",",a,",",a,",",i0,",",i0,",",es12.5,",",es12.5,",",f0.4)') &
@@ -490,7 +497,7 @@ contains
       type(error_t), allocatable :: error
       real(dp) :: start, worst
       integer :: n, id
-      bar = bar_init(config%length, config%youngs_modulus, config%density, config%velocity_amplitude, config%mode)
+      bar = bar_of(config)
       call bar%place_particles(config, particles, error)
       if (allocated(error)) error stop 'out of memory'
       call grid_init(grid, config%elements, config%length, particles%mass, error, margin=bar%margin_cells(config%dx, -1), &
@@ -540,26 +547,17 @@ contains
          config%transfer = 'asflip'
          config%asflip_alpha = 0.99_dp
       case ('column')
-         config%scene_kind = 'column'
+         call set(config, [character(len=128) :: "scene.kind='column'"])
       case ('manufactured')
-         config%scene_kind = 'manufactured'
-         config%length = 1.0_dp
-         config%youngs_modulus = 1.0e7_dp
-         config%density = 1000.0_dp
-         config%amplitude = 1.0e-6_dp
+         call set(config, [character(len=128) :: "scene.kind='manufactured'", 'scene.length=1.0', 'scene.youngs_modulus=1.0e7', &
+                   'scene.density=1000.0', 'scene.amplitude=1.0e-6'])
       case ('composite_bar')
-         config%scene_kind = 'composite_bar'
-         call two(config%lengths, config%length_count, 1.0_dp, 1.0_dp)
-         call two(config%youngs_moduli, config%modulus_count, 16.0e6_dp, 1.0e6_dp)
-         call two(config%densities, config%density_count, 1000.0_dp, 1000.0_dp)
-         config%drive_velocity = 0.01_dp
+         call set(config, [character(len=128) :: "scene.kind='composite_bar'", 'scene.lengths=1.0, 1.0', &
+                   'scene.youngs_moduli=16.0e6, 1.0e6', 'scene.densities=1000.0, 1000.0', 'scene.drive_velocity=0.01'])
       case ('impact_frictionless', 'impact_none')
-         config%scene_kind = 'impact'
-         call two(config%lengths, config%length_count, 1.0_dp, 1.0_dp)
-         call two(config%youngs_moduli, config%modulus_count, 200.0e9_dp, 200.0e9_dp)
-         call two(config%densities, config%density_count, 7800.0_dp, 7800.0_dp)
-         call two(config%velocities, config%velocity_count, 1.0_dp, -1.0_dp)
-         config%contact = kind(8:)
+         call set(config, [character(len=128) :: "scene.kind='impact'", 'scene.lengths=1.0, 1.0', &
+                   'scene.youngs_moduli=200.0e9, 200.0e9', 'scene.densities=7800.0, 7800.0', 'scene.velocities=1.0, -1.0', &
+                   "scene.contact='"//trim(kind(8:))//"'"])
       end select
       call resolve_config(config)
       config%periods = -huge(1.0_dp)
@@ -567,19 +565,38 @@ contains
       call resolve_config(config)
    end function run_config
 
-   subroutine two(list, count, a, b)
-      real(dp), intent(inout) :: list(:)
-      integer, intent(out) :: count
-      real(dp), intent(in) :: a, b
-      list(1:2) = [a, b]
-      count = 2
-   end subroutine two
+   !> `config` with variables set ('group.name=value').
+   subroutine set(config, assignments)
+      type(config_t), intent(inout) :: config
+      character(len=*), intent(in) :: assignments(:)
+      type(error_t), allocatable :: error
+      call set_config_values(config, assignments, error)
+      if (allocated(error)) error stop 'benchmark configuration refused: '//error%message
+   end subroutine set
 
-   pure function scene_name(config) result(name)
+   !> The bar of `config` (its default scene).
+   function bar_of(config) result(bar)
+      type(config_t), intent(in) :: config
+      type(bar_t) :: bar
+      class(scene_t), allocatable :: scene
+      type(error_t), allocatable :: error
+      call config%scene%make(config, scene, error)
+      select type (scene)
+      type is (bar_t)
+         bar = scene
+      class default
+         error stop 'the benchmark runs the bar'
+      end select
+   end function bar_of
+
+   function scene_name(config) result(name)
       type(config_t), intent(in) :: config
       character(len=:), allocatable :: name
       name = trim(config%scene_kind)
-      if (name == 'impact') name = name//'_'//trim(config%contact)
+      select type (input => config%scene)
+      type is (impact_input_t)
+         name = name//'_'//trim(input%contact)
+      end select
    end function scene_name
 
    !> One whole run (run_simulation, no history) and its CPU time (one thread).
@@ -611,7 +628,7 @@ contains
       integer(i8) :: bytes
       integer :: kind, transfer
       logical :: fused
-      call make_scene(config, scene, error)
+      call config%scene%make(config, scene, error)
       if (allocated(error)) error stop 'scene failed'
       call scene%place_particles(config, particles, error)
       if (allocated(error)) error stop 'particles failed'
@@ -632,8 +649,8 @@ contains
       bytes = bytes + real_bytes(particles%youngs_modulus_of)
       bytes = bytes + int_bytes(particles%cell)
       bytes = bytes + int_bytes(particles%body)
-      if (allocated(particles%scene_factors)) bytes = bytes + storage_size(particles%scene_factors, i8)/8* &
-                                                      size(particles%scene_factors, kind=i8)
+      if (allocated(particles%attached)) bytes = bytes + storage_size(particles%attached, i8)/8* &
+                                                      size(particles%attached, kind=i8)
       if (transfer == transfer_apic) bytes = bytes + 8_i8*particles%count
       if (trim(config%law) == 'elastoplastic') bytes = bytes + 16_i8*particles%count  ! (plastic strain, hardening)
       if (fused) then

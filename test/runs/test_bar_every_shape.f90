@@ -16,6 +16,7 @@ program test_bar_every_shape
    use mpm_shape, only: all_shapes, shape_name, shape_linear
    use mpm_strings, only: str
    use mpm_testing, only: tester_t, tester, scratch_dir
+   use mpm_testing_runs, only: set_value
    implicit none
    type(tester_t) :: t
    character(len=4), parameter :: schemes(3) = ['usf ', 'usl ', 'musl']
@@ -50,7 +51,7 @@ contains
       config%elements = 200
       config%particles_per_element = 4
       config%dt_fraction = 0.5_dp
-      config%velocity_amplitude = 0.01_dp*sqrt(config%youngs_modulus/config%density)
+      call set_value(config, 'scene.velocity_amplitude='//str(0.01_dp*sqrt(200.0e9_dp/7800.0_dp)))
       config%periods = 2.0_dp
       call resolve_config(config)
       call run_simulation(config, result, error, record_history=.false.)

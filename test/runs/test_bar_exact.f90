@@ -7,7 +7,8 @@ program test_bar_exact
    use mpm_simulation, only: run_result_t, run_simulation
    use mpm_diagnostics, only: status_ok, status_left_grid, status_energy_growth, status_name
    use mpm_testing, only: tester_t, tester
-   use mpm_scene_bar, only: bar_t, bar_init
+   use mpm_testing_runs, only: set_value
+   use mpm_scene_bar, only: bar_t, bar_init, bar_input_t
    use mpm_scene, only: sine_profile
    use mpm_particles, only: particles_t
    use mpm_strings, only: str
@@ -109,7 +110,10 @@ contains
          config%elements = 7
          config%particles_per_element = ppc
          call resolve_config(config)
-         bar = bar_init(config%length, config%youngs_modulus, config%density, config%velocity_amplitude, config%mode)
+         select type (input => config%scene)
+         type is (bar_input_t)
+            bar = bar_init(input%length, input%youngs_modulus, input%density, input%velocity_amplitude, input%mode)
+         end select
          call bar%place_particles(config, particles, error)
          if (allocated(error)) error stop 'particles not placed'
          do p = 1, particles%count
@@ -137,7 +141,7 @@ contains
       config%particles_per_element = ppc
       config%dt_fraction = fraction
       config%periods = periods
-      if (present(v0)) config%velocity_amplitude = v0
+      if (present(v0)) call set_value(config, 'scene.velocity_amplitude='//str(v0))
       if (present(margin)) config%margin_cells = margin
       call resolve_config(config)
       call run_simulation(config, res, error, record_history=history)

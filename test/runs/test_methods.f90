@@ -14,13 +14,15 @@
 !> Agreement with an independent implementation at round-off: test/reference/check_reference.py.
 program test_methods
    use mpm_kinds, only: dp
-   use mpm_config, only: config_t
+   use mpm_config, only: config_t, new_config
    use mpm_simulation, only: run_result_t
    use mpm_diagnostics, only: status_ok, status_name, status_domain_stretched
    use mpm_strings, only: str
    use mpm_testing, only: tester_t, tester
-   use mpm_testing_runs, only: run_resolved, mesh_errors, observed_orders, listed, convergence_bar
+   use mpm_testing_runs, only: run_resolved, mesh_errors, observed_orders, listed, convergence_bar, set_value, set_values
    implicit none
+   !> c = sqrt(E/rho) of the vibrating bar's defaults (E = 200 GPa, rho = 7800 kg/m^3).
+   real(dp), parameter :: bar_wave_speed = sqrt(200.0e9_dp/7800.0_dp)
    type(tester_t) :: t
    character(len=4), parameter :: schemes(3) = ['usf ', 'usl ', 'musl']
    character(len=8), parameter :: shapes(2) = ['linear  ', 'bspline2']
@@ -47,6 +49,7 @@ contains
    function crossing_bar(scheme, shape, transfer) result(config)
       character(len=*), intent(in) :: scheme, shape, transfer
       type(config_t) :: config
+      config = new_config()
       config%scheme = scheme
       config%shape = shape
       config%transfer = transfer
@@ -55,7 +58,7 @@ contains
       config%particles_per_element = 3
       config%dt_fraction = 0.2_dp
       config%periods = 0.5_dp
-      config%velocity_amplitude = 0.01_dp*sqrt(config%youngs_modulus/config%density)
+      call set_value(config, 'scene.velocity_amplitude='//str(0.01_dp*bar_wave_speed))
    end function crossing_bar
 
    !> The largest difference of two runs' u_cm histories over the exact amplitude.
@@ -123,11 +126,11 @@ contains
       call t%check('CPDI, linear-law bar: order 2 from 25 to 200 elements (1.95 to 2.05)', &
                    all(abs(observed_orders(errors) - 2.0_dp) <= 0.05_dp), 'errors'//listed(errors)//'; orders'// &
                    listed(observed_orders(errors)))
-      config%scene_kind = 'manufactured'
-      config%length = 1.0_dp
-      config%youngs_modulus = 1.0e7_dp
-      config%density = 1000.0_dp
-      config%amplitude = 0.05_dp
+      call set_values(config, ["scene.kind='manufactured'"])
+      call set_values(config, ['scene.length=1.0'])
+      call set_values(config, ['scene.youngs_modulus=1.0e7'])
+      call set_values(config, ['scene.density=1000.0'])
+      call set_values(config, ['scene.amplitude=0.05'])
       config%scheme = 'usl'
       config%particles_per_element = 2
       config%dt_fraction = 0.1_dp
@@ -159,8 +162,8 @@ contains
       call t%check('... which the updated formulation does not (the check can fail)', &
                    any(a%history%ucm /= b%history%ucm))
       ! the plastic wave on the reference grid: the drive keeps the end particle at V
-      config = config_t()
-      config%scene_kind = 'plastic_wave'
+      config = new_config()
+      call set_values(config, ["scene.kind='plastic_wave'"])
       config%law = 'elastoplastic'
       config%formulation = 'total'
       config%elements = 100
@@ -177,7 +180,7 @@ contains
       ! the bar stretched beyond four nodes: one particle per element, a free end pulled far
       config = crossing_bar('usl', 'cpdi', 'flip')
       config%particles_per_element = 1
-      config%velocity_amplitude = 2.0_dp*sqrt(config%youngs_modulus/config%density)
+      call set_value(config, 'scene.velocity_amplitude='//str(2.0_dp*bar_wave_speed))
       config%energy_growth_limit = 1.0e10_dp
       result = run_resolved(config)
       call t%check('CPDI: a domain stretched over more than four nodes stops the run with domain_stretched', &

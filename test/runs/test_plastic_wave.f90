@@ -7,12 +7,13 @@
 program test_plastic_wave
    use mpm_kinds, only: dp
    use mpm_errors, only: error_t
-   use mpm_config, only: config_t, resolve_config, read_config, config_warnings
+   use mpm_config, only: config_t, resolve_config, read_config, config_warnings, new_config
    use mpm_simulation, only: run_result_t, run_simulation
    use mpm_diagnostics, only: status_ok, status_name
-   use mpm_scene_plastic_wave, only: plastic_wave_t, plastic_wave_init
+   use mpm_scene_plastic_wave, only: plastic_wave_t, plastic_wave_init, plastic_wave_input_t
    use mpm_sweep, only: sweep_t, read_sweep
    use mpm_testing, only: tester_t, tester, scratch_dir, write_lines
+   use mpm_testing_runs, only: set_values, set_value
    use mpm_strings, only: str
    implicit none
    type(tester_t) :: t
@@ -40,17 +41,17 @@ contains
       character(len=*), intent(in), optional :: shape, law
       real(dp), intent(in), optional :: velocity
       type(config_t) :: config
-      config%scene_kind = 'plastic_wave'
-      config%length = 1.0_dp
-      config%youngs_modulus = youngs
-      config%density = density
-      config%drive_velocity = drive
-      if (present(velocity)) config%drive_velocity = velocity
+      call set_values(config, ["scene.kind='plastic_wave'"])
+      call set_values(config, ['scene.length=1.0'])
+      call set_value(config, 'scene.youngs_modulus='//str(youngs))
+      call set_value(config, 'scene.density='//str(density))
+      call set_value(config, 'scene.drive_velocity='//str(drive))
+      if (present(velocity)) call set_value(config, 'scene.drive_velocity='//str(velocity))
       config%law = 'elastoplastic'
       if (present(law)) config%law = law
       if (trim(config%law) == 'elastoplastic') then
-         config%yield_stress = yield
-         config%hardening_modulus = hardening
+         call set_value(config, 'material.yield_stress='//str(yield))
+         call set_value(config, 'material.hardening_modulus='//str(hardening))
       end if
       config%elements = elements
       config%particles_per_element = 2
@@ -95,7 +96,7 @@ contains
       v1 = yield/(density*ce)
       cp = sqrt(youngs*hardening/(youngs + hardening)/density)
       plastic = yield + density*cp*(drive - v1)
-      scene = plastic_wave_init(wave_config(100))
+      scene = wave_of(wave_config(100))
       tt = 1.0e-4_dp
       call t%check('two fronts when V > v1', scene%yields)
       call t%check_close('behind the plastic front: -(sigma_y + rho c_p (V - v1))', &
@@ -109,11 +110,11 @@ contains
                          scene%velocity_exact(0.5_dp*(cp + ce)*tt, tt), v1, rtol=1.0e-14_dp)
       call t%check_close('u_cm = |sigma(0)| t^2/(2 rho L)', scene%ucm_exact(tt), plastic*tt**2/(2*density), &
                          rtol=1.0e-14_dp)
-      scene = plastic_wave_init(wave_config(100, velocity=0.9_dp*v1))
+      scene = wave_of(wave_config(100, velocity=0.9_dp*v1))
       call t%check('one elastic wave when V <= v1', .not. scene%yields .and. &
                    abs(scene%stress_exact(0.5_dp*ce*tt, tt) + density*ce*0.9_dp*v1) < 1.0e-6_dp*yield .and. &
                    scene%stress_exact(1.01_dp*ce*tt, tt) == 0.0_dp)
-      scene = plastic_wave_init(wave_config(100, law='linear'))
+      scene = wave_of(wave_config(100, law='linear'))
       call t%check_close('an elastic law: one wave of rho c_e V', scene%stress_exact(0.5_dp*ce*tt, tt), &
                          -density*ce*drive, rtol=1.0e-14_dp)
    end subroutine exact_solution
@@ -199,30 +200,27 @@ contains
       integer :: k
       character(len=4), parameter :: schemes(3) = ['usf ', 'usl ', 'musl']
       do k = 1, 3
-         config = config_t()
+         config = new_config()
          config%scheme = schemes(k)
          config%elements = 30
          config%particles_per_element = 2
-         config%velocity_amplitude = 20.0_dp
+         call set_values(config, ['scene.velocity_amplitude=20.0'])
          config%kernels = 'generic'
          config%periods = 1.0_dp
          call resolve_config(config)
          a = run(config)
          config%law = 'elastoplastic'
-         config%yield_stress = 1.0e30_dp
+         call set_values(config, ['material.yield_stress=1.0e30'])
          b = run(config)
          call t%check('bar '//trim(schemes(k))//': sigma_y = 1e30 gives the hencky histories bit for bit', &
                       same(a, b) .and. all(b%history%plastic_work == 0.0_dp))
       end do
-      config = config_t()
-      config%scene_kind = 'composite_bar'
-      config%lengths(1:2) = 1.0_dp
-      config%youngs_moduli(1:2) = [16.0e6_dp, 1.0e6_dp]
-      config%densities(1:2) = 1000.0_dp
-      config%length_count = 2
-      config%modulus_count = 2
-      config%density_count = 2
-      config%drive_velocity = 0.01_dp
+      config = new_config()
+      call set_values(config, ["scene.kind='composite_bar'"])
+      call set_values(config, ['scene.lengths=1.0, 1.0'])
+      call set_values(config, ['scene.youngs_moduli=16.0e6, 1.0e6'])
+      call set_values(config, ['scene.densities=1000.0, 1000.0'])
+      call set_values(config, ['scene.drive_velocity=0.01'])
       config%elements = 40
       config%particles_per_element = 2
       config%dt_fraction = 0.2_dp
@@ -231,14 +229,12 @@ contains
       call resolve_config(config)
       a = run(config)
       config%law = 'elastoplastic'
-      config%yield_stresses(1:2) = 1.0e30_dp
-      config%hardening_moduli(1:2) = [1.0e5_dp, 0.0_dp]
-      config%yield_count = 2
-      config%hardening_count = 2
+      call set_values(config, ['material.yield_stresses=1.0e30, 1.0e30'])
+      call set_values(config, ['material.hardening_moduli=1.0e5, 0.0'])
       b = run(config)
       call t%check('composite bar: sigma_y = 1e30 per segment gives hencky bit for bit', same(a, b) .and. &
                    a%max_error == b%max_error)
-      config%yield_stresses(1:2) = [1.0e30_dp, 3.0_dp]
+      call set_values(config, ['material.yield_stresses=1.0e30, 3.0'])
       b = run(config)
       call t%check('composite bar: the soft segment yielding changes the run and does plastic work', &
                    .not. same(a, b) .and. reported(b, 'plastic_work') > 0.0_dp .and. b%status == status_ok)
@@ -281,11 +277,11 @@ contains
       real(dp) :: order
       integer :: i
       do i = 1, 2
-         config = config_t()
+         config = new_config()
          config%shape = 'ugimp'
          config%elements = 100*i
          config%particles_per_element = 2
-         config%velocity_amplitude = 5.0_dp
+         call set_values(config, ['scene.velocity_amplitude=5.0'])
          config%periods = 0.5_dp
          call resolve_config(config)
          hencky(i) = run(config)
@@ -301,14 +297,14 @@ contains
                    'hencky '//str(hencky(1)%relative_error)//', '//str(hencky(2)%relative_error)//'; linear '// &
                    str(linear(1)%relative_error)//', '//str(linear(2)%relative_error))
       do i = 1, 2
-         config = config_t()
-         config%scene_kind = 'manufactured'
+         config = new_config()
+         call set_values(config, ["scene.kind='manufactured'"])
          config%law = 'linear'
          config%shape = 'cpgimp'
-         config%length = 1.0_dp
-         config%youngs_modulus = 1.0e7_dp
-         config%density = 1000.0_dp
-         config%amplitude = 0.05_dp
+         call set_values(config, ['scene.length=1.0'])
+         call set_values(config, ['scene.youngs_modulus=1.0e7'])
+         call set_values(config, ['scene.density=1000.0'])
+         call set_values(config, ['scene.amplitude=0.05'])
          config%elements = 40*2**i
          config%particles_per_element = 2
          config%dt_fraction = 0.1_dp
@@ -353,14 +349,17 @@ contains
       call read_config(dir//'/wave_default.nml', config, error)
       call t%check('plastic wave: default run accepted', .not. allocated(error))
       if (.not. allocated(error)) call t%check_close('... and ends at 0.8 L/c_e', config%final_time, &
-                                                     0.8_dp*config%length/sqrt(config%youngs_modulus/config%density), &
+                                                     0.8_dp*config%length/config%wave_speed, &
                                                      rtol=1.0e-12_dp)
       ! its defaults yield: law elastoplastic, driven at 20 m/s, above the yield velocity 250e6/(7800 c_e)
       if (.not. allocated(error)) then
          call t%check('plastic wave defaults: law elastoplastic', trim(config%law) == 'elastoplastic', trim(config%law))
-         call t%check_close('plastic wave defaults: drive 20 m/s', config%drive_velocity, 20.0_dp, rtol=0.0_dp)
-         call t%check('... above the yield velocity of the default material (6.3 m/s)', config%drive_velocity > &
-                      config%yield_stress/(config%density*sqrt(config%youngs_modulus/config%density)))
+         select type (wave => config%scene)
+         type is (plastic_wave_input_t)
+            call t%check_close('plastic wave defaults: drive 20 m/s', wave%drive_velocity, 20.0_dp, rtol=0.0_dp)
+            call t%check('... above the yield velocity of the default material (6.3 m/s)', wave%drive_velocity > &
+                         wave%yield_stress/(wave%density*sqrt(wave%youngs_modulus/wave%density)))
+         end select
          call t%check('... and no warning', len(config_warnings(config)) == 0, config_warnings(config))
       end if
       ! a plastic wave that cannot yield says so: an elastic law, a drive at or below the yield velocity
@@ -409,4 +408,16 @@ contains
       call t%check(name//': refused', allocated(error))
       if (allocated(error)) call t%check_contains(name//': the message names it', error%message, expected)
    end subroutine refused
+
+   !> The plastic wave of a resolved plastic-wave configuration.
+   function wave_of(config) result(scene)
+      type(config_t), intent(in) :: config
+      type(plastic_wave_t) :: scene
+      select type (input => config%scene)
+      type is (plastic_wave_input_t)
+         scene = plastic_wave_init(input, config)
+      class default
+         error stop 'wave_of: not a plastic wave'
+      end select
+   end function wave_of
 end program test_plastic_wave

@@ -9,6 +9,8 @@ program test_scale_invariance
    use mpm_simulation, only: run_result_t, run_simulation
    use mpm_diagnostics, only: status_ok
    use mpm_testing, only: tester_t, tester
+   use mpm_testing_runs, only: set_value
+   use mpm_strings, only: str
    implicit none
    type(tester_t) :: t
    type(run_result_t) :: reference, r
@@ -76,10 +78,10 @@ contains
       type(config_t) :: config
       type(error_t), allocatable :: error
       config%scheme = scheme
-      config%youngs_modulus = youngs
-      config%density = density
-      config%length = length
-      config%velocity_amplitude = v0_over_c*sqrt(youngs/density)
+      call set_value(config, 'scene.youngs_modulus='//str(youngs))
+      call set_value(config, 'scene.density='//str(density))
+      call set_value(config, 'scene.length='//str(length))
+      call set_value(config, 'scene.velocity_amplitude='//str(v0_over_c*sqrt(youngs/density)))
       config%elements = 10
       config%particles_per_element = 3
       config%dt_fraction = 0.3_dp

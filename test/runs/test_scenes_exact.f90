@@ -4,16 +4,17 @@ program test_scenes_exact
    use, intrinsic :: ieee_arithmetic, only: ieee_value, ieee_quiet_nan
    use mpm_kinds, only: dp, pi
    use mpm_errors, only: error_t
-   use mpm_config, only: config_t, resolve_config, read_config
+   use mpm_config, only: config_t, resolve_config, read_config, new_config
    use mpm_simulation, only: run_result_t, run_simulation
    use mpm_diagnostics, only: status_ok, status_name
    use mpm_scene_column, only: column_series
-   use mpm_scene_composite, only: composite_t, composite_init
-   use mpm_scene_impact, only: impact_t, impact_init
+   use mpm_scene_composite, only: composite_t, composite_init, composite_input_t
+   use mpm_scene_impact, only: impact_t, impact_init, impact_input_t
    use mpm_scene, only: scene_t, exact_name_length
-   use mpm_scenes, only: make_scene
+   use mpm_scene_input, only: body_input_t, bodies_input_t
    use mpm_sweep, only: sweep_t, read_sweep
    use mpm_testing, only: tester_t, tester, scratch_dir, write_lines
+   use mpm_testing_runs, only: set_values, set_value
    use mpm_strings, only: str
    implicit none
    type(tester_t) :: t
@@ -86,7 +87,7 @@ contains
       character(len=*), intent(in), optional :: shape
       type(run_result_t) :: res
       type(config_t) :: config
-      config%scene_kind = 'column'
+      call set_values(config, ["scene.kind='column'"])
       config%scheme = scheme
       config%elements = elements
       config%particles_per_element = 2
@@ -175,11 +176,11 @@ contains
       type(run_result_t) :: res
       type(config_t) :: config
       if (present(shape)) config%shape = shape
-      config%scene_kind = 'manufactured'
-      config%length = 1.0_dp
-      config%youngs_modulus = 1.0e7_dp
-      config%density = 1000.0_dp
-      config%amplitude = amplitude
+      call set_values(config, ["scene.kind='manufactured'"])
+      call set_values(config, ['scene.length=1.0'])
+      call set_values(config, ['scene.youngs_modulus=1.0e7'])
+      call set_values(config, ['scene.density=1000.0'])
+      call set_value(config, 'scene.amplitude='//str(amplitude))
       config%scheme = scheme
       config%elements = elements
       config%particles_per_element = 2
@@ -200,7 +201,10 @@ contains
       integer :: i
       config = composite_config('usl', 100, [16.0e6_dp, 1.0e6_dp], 0.03_dp)
       call resolve_config(config)
-      call composite_init(config, scene, error)
+      select type (input => config%scene)
+      type is (composite_input_t)
+         call composite_init(input, config, scene, error)
+      end select
       call t%check('composite scene set up', .not. allocated(error))
       c1 = sqrt(16.0e6_dp/1000.0_dp)
       z1 = 1000.0_dp*c1
@@ -253,14 +257,11 @@ contains
       integer, intent(in) :: elements
       real(dp), intent(in) :: moduli(2), end_time
       type(config_t) :: config
-      config%scene_kind = 'composite_bar'
-      config%lengths(1:2) = 1.0_dp
-      config%length_count = 2
-      config%youngs_moduli(1:2) = moduli
-      config%modulus_count = 2
-      config%densities(1:2) = 1000.0_dp
-      config%density_count = 2
-      config%drive_velocity = 0.01_dp
+      call set_values(config, ["scene.kind='composite_bar'"])
+      call set_values(config, ['scene.lengths=1.0, 1.0'])
+      call set_value(config, 'scene.youngs_moduli='//str(moduli(1))//', '//str(moduli(2)))
+      call set_values(config, ['scene.densities=1000.0, 1000.0'])
+      call set_values(config, ['scene.drive_velocity=0.01'])
       config%scheme = scheme
       config%elements = elements
       config%particles_per_element = 2
@@ -276,41 +277,37 @@ contains
    !> solution's hencky law the strain is exp(sigma/E) - 1). Means by the midpoint rule on 40,000 points.
    subroutine exact_fields()
       type(config_t) :: config
-      config = config_t()
+      config = new_config()
       call check_fields('vibrating bar', config, 'strain')
-      config = config_t()
-      config%scene_kind = 'column'
+      config = new_config()
+      call set_values(config, ["scene.kind='column'"])
       call check_fields('column', config, 'strain')
       config%integrator = 'quasi_static'
-      config%gravity = 2.0e5_dp
+      call set_values(config, ['scene.gravity=2.0e5'])
       call check_fields('column, quasi-static (load factor as time)', config, 'static')
-      config = config_t()
-      config%scene_kind = 'manufactured'
+      config = new_config()
+      call set_values(config, ["scene.kind='manufactured'"])
       call check_fields('manufactured, hencky', config, 'hencky')
       config%law = 'linear'
       call check_fields('manufactured, linear law', config, 'strain')
       config = composite_config('usl', 100, [16.0e6_dp, 1.0e6_dp], 0.0_dp)
-      config%densities(1:2) = [1000.0_dp, 4000.0_dp]
+      call set_values(config, ['scene.densities=1000.0, 4000.0'])
       config%end_time = 5.0_dp/sqrt(1.0e6_dp/4000.0_dp) ! the fronts cross either segment several times
       call check_fields('composite bar', config, 'strain')
-      config = config_t()
-      config%scene_kind = 'plastic_wave'
+      config = new_config()
+      call set_values(config, ["scene.kind='plastic_wave'"])
       config%law = 'elastoplastic'
-      config%drive_velocity = 20.0_dp
+      call set_values(config, ['scene.drive_velocity=20.0'])
       config%periods = 0.8_dp
       call check_fields('plastic wave, yielding', config, '')
-      config%drive_velocity = 2.0_dp
+      call set_values(config, ['scene.drive_velocity=2.0'])
       call check_fields('plastic wave, elastic', config, 'strain')
-      config = config_t()
-      config%scene_kind = 'impact'
-      config%lengths(1:2) = 1.0_dp
-      config%length_count = 2
-      config%youngs_moduli(1:2) = 200.0e9_dp
-      config%modulus_count = 2
-      config%densities(1:2) = 7800.0_dp
-      config%density_count = 2
-      config%velocities(1:2) = [1.0_dp, -1.0_dp]
-      config%velocity_count = 2
+      config = new_config()
+      call set_values(config, ["scene.kind='impact'"])
+      call set_values(config, ['scene.lengths=1.0, 1.0'])
+      call set_values(config, ['scene.youngs_moduli=200.0e9, 200.0e9'])
+      call set_values(config, ['scene.densities=7800.0, 7800.0'])
+      call set_values(config, ['scene.velocities=1.0, -1.0'])
       call check_fields('impact (no exact fields)', config, '')
    end subroutine exact_fields
 
@@ -330,22 +327,26 @@ contains
       integer :: k, i, u, v, s, misfits
       config = given
       call resolve_config(config)
-      call make_scene(config, scene, error)
+      call config%scene%make(config, scene, error)
       call t%check(label//': scene made', .not. allocated(error))
       if (allocated(error)) return
       length = config%length
       x = [((i - 0.5_dp)*length/points, i=1, points)]
       allocate (rho(points), modulus(points))
-      rho = config%density
-      modulus = config%youngs_modulus
-      if (config%length_count > 0 .and. trim(config%scene_kind) == 'composite_bar') then
-         do i = 1, config%length_count
-            where (x >= sum(config%lengths(1:i - 1)) .and. x < sum(config%lengths(1:i)))
-               rho = config%densities(i)
-               modulus = config%youngs_moduli(i)
+      rho = 1.0_dp
+      modulus = 1.0_dp
+      select type (input => config%scene)
+      class is (body_input_t)
+         rho = input%density
+         modulus = input%youngs_modulus
+      class is (bodies_input_t) ! (the composite bar's segments; the impact has no exact fields)
+         do i = 1, input%length_count
+            where (x >= sum(input%lengths(1:i - 1)) .and. x < sum(input%lengths(1:i)))
+               rho = input%densities(i)
+               modulus = input%youngs_moduli(i)
             end where
          end do
-      end if
+      end select
       call scene%exact_fields(x, 0.5_dp*config%final_time, names, values)
       if (trim(config%scene_kind) == 'impact') then
          call t%check(label//': none given', size(names) == 0 .and. size(values, 2) == 0)
@@ -406,7 +407,7 @@ contains
       ! the exact u_cm,1 by hand: v t - v c t^2/(2L) to 2L/c, then -v (t - 2L/c)
       config = impact_config('usl', 200, 'frictionless', [1.0_dp, 1.0_dp], [1.0_dp, -1.0_dp], 0.0_dp)
       call resolve_config(config)
-      scene = impact_init(config)
+      scene = impact_of(config)
       c = sqrt(200.0e9_dp/7800.0_dp)
       l = 1.0_dp
       v = 1.0_dp
@@ -420,7 +421,7 @@ contains
       config%periods = -huge(1.0_dp)
       config%end_time = 0.0025_dp
       call resolve_config(config)
-      scene = impact_init(config)
+      scene = impact_of(config)
       call t%check_close('impact exact: the short bar leaves at the long bar''s velocity', &
                          scene%bar1_velocity(0.0025_dp), -0.5_dp, rtol=1.0e-12_dp)
       call t%check_close('impact exact: bar 1 free until they meet', scene%bar1_exact(0.001_dp), 0.002_dp, &
@@ -493,17 +494,13 @@ contains
       integer, intent(in) :: elements
       real(dp), intent(in) :: lengths(2), velocities(2), gap
       type(config_t) :: config
-      config%scene_kind = 'impact'
-      config%lengths(1:2) = lengths
-      config%length_count = 2
-      config%youngs_moduli(1:2) = 200.0e9_dp
-      config%modulus_count = 2
-      config%densities(1:2) = 7800.0_dp
-      config%density_count = 2
-      config%velocities = velocities
-      config%velocity_count = 2
-      config%gap = gap
-      config%contact = contact
+      call set_values(config, ["scene.kind='impact'"])
+      call set_value(config, 'scene.lengths='//str(lengths(1))//', '//str(lengths(2)))
+      call set_values(config, ['scene.youngs_moduli=200.0e9, 200.0e9'])
+      call set_values(config, ['scene.densities=7800.0, 7800.0'])
+      call set_value(config, 'scene.velocities='//str(velocities(1))//', '//str(velocities(2)))
+      call set_value(config, 'scene.gap='//str(gap))
+      call set_value(config, "scene.contact='"//trim(contact)//"'")
       config%scheme = scheme
       config%elements = elements
       config%particles_per_element = 2
@@ -622,4 +619,16 @@ contains
       call t%check_close('the column''s period is 4 L/c', config%period, 4*config%length/config%wave_speed, &
                          rtol=1.0e-14_dp)
    end subroutine refused_variables
+
+   !> The impact scene of a resolved impact configuration.
+   function impact_of(config) result(scene)
+      type(config_t), intent(in) :: config
+      type(impact_t) :: scene
+      select type (input => config%scene)
+      type is (impact_input_t)
+         scene = impact_init(input, config)
+      class default
+         error stop 'impact_of: not an impact'
+      end select
+   end function impact_of
 end program test_scenes_exact

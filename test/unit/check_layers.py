@@ -4,6 +4,8 @@ Maps every `use` of a module in src/ (Fortran sources and fypp templates) to the
 defines the module, and checks the folder graph:
   - it has no cycle (a folder never reaches itself through the modules it uses);
   - src/core uses no module outside src/core;
+  - no scene kind is named outside src/scene (a quoted kind name in the code of src/ or app/, comments
+    left out): what differs between kinds is each kind's input's to say (src/scene);
   - the layers table in docs/development.md (between the markers `<!-- layers -->` and
     `<!-- /layers -->`) is the one this script prints (`--write` rewrites it).
 Prints the layers bottom-up: each folder with its level (1 + the highest level it uses) and what it
@@ -93,6 +95,29 @@ def table(graph):
     return "\n".join(rows)
 
 
+def scene_kinds(src=SRC):
+    """The kinds the scene modules describe (scene_kind_t('name', ...))."""
+    kinds = set()
+    for path in (src / "scene").glob("*.f90"):
+        kinds.update(re.findall(r"scene_kind_t\(\s*'(\w+)'", path.read_text()))
+    return kinds
+
+
+def kinds_named_outside(src=SRC, app=ROOT / "app"):
+    """[(file, line number, kind)] of quoted scene kind names in code outside src/scene."""
+    kinds = scene_kinds(src)
+    found = []
+    for path in sources(src) + sorted(app.glob("*.f90")):
+        if path.is_relative_to(src / "scene"):
+            continue
+        for number, line in enumerate(path.read_text(errors="replace").splitlines(), 1):
+            code = line.split("!")[0]
+            for kind in kinds:
+                if re.search(r"['\"]" + kind + r"['\"]", code):
+                    found.append((path.relative_to(ROOT).as_posix(), number, kind))
+    return found
+
+
 def doc_table(text):
     if BEGIN not in text or END not in text:
         return None
@@ -111,6 +136,10 @@ def main(argv=None):
                                            for f, m in graph[a][b][:1]) + ")")
     for target, places in sorted(graph.get("core", {}).items()):
         failures.append(f"src/core uses src/{target}: " + ", ".join(f"{f} uses {m}" for f, m in places))
+    if not scene_kinds():
+        failures.append("no scene kind found in src/scene (scene_kind_t('name', ...))")
+    for file, number, kind in kinds_named_outside():
+        failures.append(f"{file}:{number} names scene kind '{kind}' outside src/scene")
     text = table(graph)
     print(text)
     doc = DOC.read_text()
@@ -126,7 +155,8 @@ def main(argv=None):
     for f in failures:
         print("FAIL " + f)
     if not failures:
-        print(f"ok   {len(graph)} folders of src/ in layers, no cycle; src/core uses nothing outside it")
+        print(f"ok   {len(graph)} folders of src/ in layers, no cycle; src/core uses nothing outside it; "
+              f"no scene kind ({len(scene_kinds())}) named outside src/scene")
     return 1 if failures else 0
 
 

@@ -11,7 +11,8 @@ program test_messages
    use mpm_errors, only: error_t
    use mpm_strings, only: str
    use mpm_suggest, only: edit_distance, nearest_words, did_you_mean, printable
-   use mpm_config, only: config_t, read_config_text, known_scenes, scene_kinds, config_warnings, config_parameters
+   use mpm_config, only: config_t, read_config_text, known_scenes, scene_kinds, scene_kind_t, config_warnings, &
+                         config_parameters
    use mpm_registry, only: parameter_t, find_parameter
    use mpm_sweep, only: sweep_t, read_sweep_text
    use mpm_scene, only: margin_for
@@ -344,22 +345,24 @@ contains
    subroutine help_made_from_the_registry()
       type(config_t), target :: config
       type(parameter_t), allocatable :: table(:)
+      type(scene_kind_t), allocatable :: kinds(:)
       character(len=:), allocatable :: help, kind_help, periods_help, rest, scene
       integer :: k, comma, status
+      kinds = scene_kinds()
       call config_parameters(config, table)
       kind_help = trim(table(find_parameter(table, 'scene', 'kind'))%help)
       periods_help = trim(table(find_parameter(table, 'run', 'periods'))%help)
-      rest = known_scenes//','
+      rest = known_scenes()//','
       do
          comma = index(rest, ',')
          if (comma == 0) exit
          scene = trim(adjustl(rest(1:comma - 1)))
-         call t%check('scene table has '//scene, any(scene_kinds%name == scene))
+         call t%check('scene table has '//scene, any(kinds%name == scene))
          call t%check_contains('kind''s help describes '//scene, kind_help, "'"//scene//"' ")
          call t%check_contains('periods'' help gives the period of '//scene, periods_help, scene//': ')
          rest = rest(comma + 1:)
       end do
-      call t%check('no scene table row without a scene', size(scene_kinds) == count_commas(known_scenes) + 1)
+      call t%check('no scene table row without a scene', size(kinds) == count_commas(known_scenes()) + 1)
       call t%check_contains('periods mentions the composite bar', periods_help, 'composite_bar: sum L_i/c_i')
       call run_app(scratch_dir('messages'), '--help', status, help)
       call t%check_contains('--help: kind lists the impact', help, "'impact' two bars colliding")

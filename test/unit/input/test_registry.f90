@@ -5,11 +5,15 @@
 program test_registry
    use mpm_kinds, only: dp
    use mpm_errors, only: error_t
-   use mpm_config, only: config_t, read_config, config_parameters, config_namelist, used_with
+   use mpm_config, only: config_t, read_config, config_parameters, catalog_parameters, config_namelist, used_with, &
+                         new_config
+   use mpm_scenes, only: scene_slot_t
+   use mpm_scene_bar, only: bar_input_t
    use mpm_registry, only: parameter_t, nml_item_t, parse_namelist, apply_items, check_parameter, used_by
    use mpm_output, only: write_config_attributes
    use mpm_hdf5, only: h5_writer_t, h5_exists
    use mpm_testing, only: tester_t, tester, scratch_dir, run_app
+   use mpm_testing_runs, only: set_values
    use mpm_sweep, only: sweep_t, sweep_config_t, read_sweep, case_config, sweep_parameters
    use mpm_sweep_output, only: write_sweep_file
    implicit none
@@ -46,48 +50,45 @@ contains
       type(config_t), target :: config, by_time, manufactured, composite, impact, plastic, plastic_composite
       type(config_t), target :: implicit, static, xpic, fmpm, asflip
       type(parameter_t), allocatable :: table(:), sweep_table(:)
+      type(scene_slot_t), allocatable, target :: slots(:)
       type(sweep_config_t), target :: settings
       character(len=:), allocatable :: help, echo
       integer :: i, status
-      config = config_t()
+      config = new_config()
       config%snapshot_count = 1 ! so that the list is echoed too
       by_time = config
       by_time%end_time = 0.01_dp
       by_time%periods = -huge(1.0_dp)
-      by_time%scene_kind = 'column'
+      call set_values(by_time, ["scene.kind='column'"])
       manufactured = config
-      manufactured%scene_kind = 'manufactured'
+      call set_values(manufactured, ["scene.kind='manufactured'"])
       composite = config
-      composite%scene_kind = 'composite_bar'
-      composite%length_count = 2
-      composite%modulus_count = 2
-      composite%density_count = 2
-      composite%lengths(1:2) = 1.0_dp
-      composite%youngs_moduli(1:2) = 1.0e6_dp
-      composite%densities(1:2) = 1.0e3_dp
-      impact = composite
-      impact%scene_kind = 'impact'
-      impact%velocities = [1.0_dp, -1.0_dp]
-      impact%velocity_count = 2
+      call set_values(composite, [character(len=64) :: "scene.kind='composite_bar'", 'scene.lengths=1.0, 1.0', &
+                                  'scene.youngs_moduli=1.0e6, 1.0e6', 'scene.densities=1.0e3, 1.0e3'])
+      impact = config
+      call set_values(impact, [character(len=64) :: "scene.kind='impact'", 'scene.lengths=1.0, 1.0', &
+                               'scene.youngs_moduli=1.0e6, 1.0e6', 'scene.densities=1.0e3, 1.0e3', &
+                               'scene.velocities=1.0, -1.0'])
       impact%transfer = 'blend' ! (flip_fraction is echoed with the blend alone)
       plastic = config ! a law's own variables appear with that law
       plastic%law = 'elastoplastic'
       plastic_composite = composite
       plastic_composite%law = 'elastoplastic'
-      plastic_composite%yield_count = 2
-      plastic_composite%hardening_count = 2
+      call set_values(plastic_composite, [character(len=64) :: 'material.yield_stresses=1.0e6, 1.0e6', &
+                                          'material.hardening_moduli=1.0e6, 1.0e6'])
       implicit = config ! an integrator's own variables appear with that integrator
       implicit%integrator = 'implicit'
       static = config
       static%integrator = 'quasi_static'
-      static%scene_kind = 'column'
+      call set_values(static, ["scene.kind='column'"])
       xpic = config
       xpic%transfer = 'xpic'
       fmpm = config
       fmpm%transfer = 'fmpm'
       asflip = config
       asflip%transfer = 'asflip'
-      call config_parameters(config, table)
+      ! (every kind's variables: the registry of the catalog)
+      call catalog_parameters(config, slots, table)
       call t%check('the registry has entries', size(table) >= 19)
       call run_app(dir, '--help', status, help)
       echo = config_namelist(config)//config_namelist(by_time)//config_namelist(manufactured)// &
@@ -97,13 +98,17 @@ contains
       call write_attributes(config, dir//'/config.h5')
       call write_attributes(by_time, dir//'/by_time.h5')
       call write_attributes(manufactured, dir//'/manufactured.h5')
+      call write_attributes(impact, dir//'/impact.h5')
+      call write_attributes(plastic_composite, dir//'/plastic_composite.h5')
       do i = 1, size(table)
          call t%check_contains('--help names '//trim(table(i)%name), help, '    '//trim(table(i)%name)//' = ')
          call t%check_contains('the echo has '//trim(table(i)%name), echo, ' '//trim(table(i)%name)//'=')
          call t%check('/config has '//trim(table(i)%attribute), &
                       h5_exists(dir//'/config.h5', '/config', trim(table(i)%attribute)) .or. &
                       h5_exists(dir//'/by_time.h5', '/config', trim(table(i)%attribute)) .or. &
-                      h5_exists(dir//'/manufactured.h5', '/config', trim(table(i)%attribute)))
+                      h5_exists(dir//'/manufactured.h5', '/config', trim(table(i)%attribute)) .or. &
+                      h5_exists(dir//'/impact.h5', '/config', trim(table(i)%attribute)) .or. &
+                      h5_exists(dir//'/plastic_composite.h5', '/config', trim(table(i)%attribute)))
          if (len_trim(table(i)%sweep_list) > 0) call t%check_contains('--help names the sweep list '// &
             trim(table(i)%sweep_list), help, '&sweep '//trim(table(i)%sweep_list))
       end do
@@ -149,9 +154,14 @@ contains
          print '(a)', error%message
          return
       end if
-      call t%check('real over lines', config%youngs_modulus == 1.0e9_dp .and. config%mode == 2)
-      call t%check('integer text for a real', config%density == 1000.0_dp)
-      call t%check('negative real', config%velocity_amplitude == -0.01_dp)
+      select type (bar => config%scene)
+      type is (bar_input_t)
+         call t%check('real over lines', bar%youngs_modulus == 1.0e9_dp .and. bar%mode == 2)
+         call t%check('integer text for a real', bar%density == 1000.0_dp)
+         call t%check('negative real', bar%velocity_amplitude == -0.01_dp)
+      class default
+         call t%check('the kind read', .false.)
+      end select
       call t%check('keywords in lower case', config%scheme == 'usf')
       call t%check('values separated by blanks', config%elements == 4 .and. config%particles_per_element == 3)
       call t%check('end_time given, periods not', config%end_time == 0.01_dp .and. config%periods < 0.0_dp)
@@ -231,6 +241,7 @@ contains
       type(sweep_t) :: sweep
       type(config_t) :: c
       type(config_t), target :: defaults
+      type(scene_slot_t), allocatable, target :: slots(:)
       type(parameter_t), allocatable :: table(:)
       type(error_t), allocatable :: error
       integer :: k, i
@@ -250,14 +261,20 @@ contains
          c = case_config(sweep, sweep%cases(k))
          ! schemes is the outer loop, densities the middle, modes (the last list) the fastest
          if (c%scheme /= merge('usf ', 'musl', k <= 6)) in_order = .false.
-         if (c%density /= merge(7800.0_dp, 1000.0_dp, mod((k - 1)/3, 2) == 0)) in_order = .false.
-         if (c%mode /= mod(k - 1, 3) + 1) in_order = .false.
+         select type (bar => c%scene)
+         type is (bar_input_t)
+            if (bar%density /= merge(7800.0_dp, 1000.0_dp, mod((k - 1)/3, 2) == 0)) in_order = .false.
+            if (bar%mode /= mod(k - 1, 3) + 1) in_order = .false.
+         class default
+            in_order = .false.
+         end select
          if (c%elements /= 20 .or. c%youngs_modulus /= 200.0e9_dp) in_order = .false.
       end do
       call t%check('cases in loop order, the last list fastest', in_order)
       call write_sweep_file(dir//'/sweep.h5', sweep, error) ! (the namelist's file is relative to the run's folder)
       call t%check('sweep file written', .not. allocated(error))
-      call config_parameters(defaults, table)
+      defaults = new_config()
+      call catalog_parameters(defaults, slots, table) ! (every kind's variables)
       do i = 1, size(table)
          if (len_trim(table(i)%sweep_list) == 0) cycle
          ! the columns of the variables the scene, the law and the integrator use, and only those (a bar
@@ -295,7 +312,7 @@ contains
       integer, allocatable :: lines(:)
       type(error_t), allocatable :: error
       integer :: i
-      config = config_t()
+      config = new_config()
       call config_parameters(config, table)
       call parse_namelist("&discretisation elements=40, scheme='MUSL' /", 'override', items, groups, lines, error)
       call apply_items(table, items, 'discretisation', 'override', error)

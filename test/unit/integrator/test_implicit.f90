@@ -17,18 +17,18 @@ program test_implicit
    use mpm_kinds, only: dp
    use mpm_errors, only: error_t
    use mpm_strings, only: str
-   use mpm_config, only: config_t, resolve_config, read_config_text, config_namelist, material_of
+   use mpm_config, only: config_t, resolve_config, read_config_text, config_namelist, material_of, new_config
    use mpm_simulation, only: run_result_t, guard_message
    use mpm_diagnostics, only: status_ok, status_newton, status_name, pass_totals_t
    use mpm_scene, only: scene_t
-   use mpm_scenes, only: make_scene
+   use mpm_scene_column, only: column_input_t
    use mpm_grid, only: grid_t, grid_init
    use mpm_particles, only: particles_t, per_particle_data
    use mpm_shape, only: shape_cache_t, shape_id, shape_extra_cells, transfer_id
    use mpm_material, only: material_t, material_state
    use mpm_implicit, only: implicit_t, implicit_init, implicit_advance, prepare_step, assemble_system, newton_solve
    use mpm_testing, only: tester_t, tester
-   use mpm_testing_runs, only: run_resolved
+   use mpm_testing_runs, only: run_resolved, set_values, set_value
    implicit none
    type(tester_t) :: t
    character(len=8), parameter :: shapes(5) = [character(len=8) :: 'linear', 'ugimp', 'cpgimp', 'bspline2', 'bspline3']
@@ -62,7 +62,7 @@ contains
       integer :: extra
       call resolve_config(config)
       material = material_of(config)
-      call make_scene(config, scene, error)
+      call config%scene%make(config, scene, error)
       if (allocated(error)) error stop 'test_implicit: scene'
       cache%kind = shape_id(config%shape)
       cache%transfer = transfer_id(config%transfer)
@@ -84,12 +84,12 @@ contains
       type(config_t) :: config
       integer :: s
       do s = 1, size(shapes)
-         config = config_t()
+         config = new_config()
          config%integrator = 'implicit'
          config%shape = shapes(s)
          config%elements = 16
          config%particles_per_element = 2
-         config%velocity_amplitude = 60.0_dp      ! strain amplitude v0/c ~ 1 %
+         call set_values(config, ['scene.velocity_amplitude=60.0'])      ! strain amplitude v0/c ~ 1 %
          config%dt_fraction = 2.0_dp
          config%ghost_penalty = 0.1_dp
          call check_tangent(config, 12, 'bar hencky '//trim(shapes(s)))
@@ -98,19 +98,19 @@ contains
          config%mass = 'lumped'
          config%law = 'linear'
          call check_tangent(config, 12, 'bar linear '//trim(shapes(s)))
-         config = config_t()
+         config = new_config()
          config%integrator = 'quasi_static'
-         config%scene_kind = 'column'
+         call set_values(config, ["scene.kind='column'"])
          config%shape = shapes(s)
          config%elements = 12
          config%particles_per_element = 2
-         config%length = 1.0_dp
-         config%youngs_modulus = 1.0e10_dp
-         config%density = 1000.0_dp
-         config%gravity = 3.0e6_dp                ! strain 0.3 at the fixed end
+         call set_values(config, ['scene.length=1.0'])
+         call set_values(config, ['scene.youngs_modulus=1.0e10'])
+         call set_values(config, ['scene.density=1000.0'])
+         call set_values(config, ['scene.gravity=3.0e6'])                ! strain 0.3 at the fixed end
          config%law = 'elastoplastic'
-         config%yield_stress = 1.0e9_dp
-         config%hardening_modulus = 2.0e9_dp
+         call set_values(config, ['material.yield_stress=1.0e9'])
+         call set_values(config, ['material.hardening_modulus=2.0e9'])
          config%load_steps = 8
          config%max_cell_move = 100.0_dp
          call check_tangent(config, 5, 'column elastoplastic '//trim(shapes(s)))
@@ -182,7 +182,7 @@ contains
       config%dt_fraction = 1.0_dp
       config%newton_tolerance = 1.0e-12_dp
       config%max_newton_iterations = 4
-      config%velocity_amplitude = 1.0e-8_dp*sqrt(config%youngs_modulus/config%density)
+      call set_value(config, 'scene.velocity_amplitude='//str(1.0e-8_dp*sqrt(200.0e9_dp/7800.0_dp)))
       config%periods = 1.0_dp
       r = run_resolved(config)
       call t%check('linear law, strain 1e-8, tolerance 1e-12: completes', r%status == status_ok, &
@@ -236,7 +236,7 @@ contains
       real(dp) :: difference(3), order
       integer :: k
       do k = 1, 4
-         config = config_t()
+         config = new_config()
          config%integrator = 'implicit'
          config%law = 'linear'
          config%elements = 20
@@ -254,7 +254,7 @@ contains
       end do
       ! ... and to the explicit schemes' limit: the same semi-discrete system (lumped mass, FLIP), so the
       ! finest implicit history lies within its own temporal error of MUSL at an 8 times smaller step
-      config = config_t()
+      config = new_config()
       config%law = 'linear'
       config%scheme = 'musl'
       config%elements = 20
@@ -275,7 +275,7 @@ contains
       integer :: k
       do k = 1, 2
          fraction = 4.0_dp*k
-         config = config_t()
+         config = new_config()
          config%integrator = 'implicit'
          config%law = 'linear'
          config%elements = 40
@@ -327,11 +327,14 @@ contains
       ! one particle per cell, linear shapes, one load step: the nodal values are exact
       config = column_config('linear', 'linear', 10, 1)
       config%particles_per_element = 1
-      config%gravity = 3.0e4_dp
+      call set_values(config, ['scene.gravity=3.0e4'])
       r = run_resolved(config)
-      a = config%density*config%gravity/config%youngs_modulus
-      call t%check_close('static column, linear law, hat, 1 ppc: error = (rho g/E) dx^2/8', r%max_error, &
-                         a*(config%length/config%elements)**2/8, rtol=1.0e-9_dp)
+      select type (column => config%scene)
+      type is (column_input_t)
+         a = column%density*column%gravity/column%youngs_modulus
+         call t%check_close('static column, linear law, hat, 1 ppc: error = (rho g/E) dx^2/8', r%max_error, &
+                            a*(column%length/config%elements)**2/8, rtol=1.0e-9_dp)
+      end select
       call t%check('static column: the converged state is a snapshot at full load', size(r%snapshots) == 1)
       if (size(r%snapshots) == 1) call t%check_close('static column: snapshot at load factor 1', &
                                                      r%snapshots(1)%time, 1.0_dp, atol=1.0e-12_dp)
@@ -353,20 +356,20 @@ contains
       integer, intent(in) :: elements, load_steps
       type(config_t) :: config
       config%integrator = 'quasi_static'
-      config%scene_kind = 'column'
+      call set_values(config, ["scene.kind='column'"])
       config%law = law
       config%shape = shape
       config%elements = elements
       config%particles_per_element = 2
-      config%length = 1.0_dp
-      config%youngs_modulus = 1.0e10_dp
-      config%density = 1000.0_dp
-      config%gravity = 3.0e6_dp
+      call set_values(config, ['scene.length=1.0'])
+      call set_values(config, ['scene.youngs_modulus=1.0e10'])
+      call set_values(config, ['scene.density=1000.0'])
+      call set_values(config, ['scene.gravity=3.0e6'])
       config%load_steps = load_steps
       config%max_cell_move = 100.0_dp
       if (law == 'elastoplastic') then
-         config%yield_stress = 1.0e9_dp
-         config%hardening_modulus = 2.0e9_dp
+         call set_values(config, ['material.yield_stress=1.0e9'])
+         call set_values(config, ['material.hardening_modulus=2.0e9'])
       end if
    end function column_config
 
@@ -381,14 +384,11 @@ contains
       type(config_t) :: config
       type(run_result_t) :: explicit, implicit
       real(dp) :: ucm_explicit, ucm_implicit
-      config%scene_kind = 'composite_bar'
-      config%length_count = 2
-      config%modulus_count = 2
-      config%density_count = 2
-      config%lengths(1:2) = 0.5_dp
-      config%youngs_moduli(1:2) = [1.0e8_dp, 1.0e12_dp]
-      config%densities(1:2) = 1000.0_dp
-      config%drive_velocity = 0.01_dp
+      call set_values(config, ["scene.kind='composite_bar'"])
+      call set_values(config, ['scene.lengths=0.5, 0.5'])
+      call set_values(config, ['scene.youngs_moduli=1.0e8, 1.0e12'])
+      call set_values(config, ['scene.densities=1000.0, 1000.0'])
+      call set_values(config, ['scene.drive_velocity=0.01'])
       config%law = 'linear'
       config%elements = 100
       config%particles_per_element = 2
@@ -408,15 +408,15 @@ contains
                    implicit%status == status_ok .and. reported(implicit, 'newton_iterations_max') == 1.0_dp)
       call t%check('composite: implicit u_cm error within 2x explicit''s ('//str(ucm_implicit)//', '// &
                    str(ucm_explicit)//')', ucm_implicit < 2*ucm_explicit, 'implicit '//str(ucm_implicit))
-      config = config_t()
-      config%scene_kind = 'plastic_wave'
-      config%length = 1.0_dp
-      config%youngs_modulus = 1.0e10_dp
-      config%density = 1000.0_dp
-      config%drive_velocity = 5.0_dp
+      config = new_config()
+      call set_values(config, ["scene.kind='plastic_wave'"])
+      call set_values(config, ['scene.length=1.0'])
+      call set_values(config, ['scene.youngs_modulus=1.0e10'])
+      call set_values(config, ['scene.density=1000.0'])
+      call set_values(config, ['scene.drive_velocity=5.0'])
       config%law = 'elastoplastic'
-      config%yield_stress = 1.0e7_dp
-      config%hardening_modulus = 1.0e9_dp
+      call set_values(config, ['material.yield_stress=1.0e7'])
+      call set_values(config, ['material.hardening_modulus=1.0e9'])
       config%elements = 100
       config%particles_per_element = 2
       config%periods = 0.8_dp
@@ -514,7 +514,7 @@ contains
       config%integrator = 'implicit'
       config%shape = 'bspline2'
       config%elements = 40
-      config%velocity_amplitude = 30.0_dp
+      call set_values(config, ['scene.velocity_amplitude=30.0'])
       config%dt_fraction = 1.0_dp
       config%periods = 0.5_dp
       config%ghost_penalty = 0.0_dp
@@ -531,7 +531,7 @@ contains
                    str(penalised%relative_error)//' against '//str(plain%relative_error))
       config = column_config('linear', 'bspline2', 20, 2)
       config%particles_per_element = 1
-      config%gravity = 1.6e6_dp
+      call set_values(config, ['scene.gravity=1.6e6'])
       config%ghost_penalty = 0.0_dp
       plain = run_resolved(config)
       config%ghost_penalty = -1.0_dp

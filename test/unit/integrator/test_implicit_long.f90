@@ -7,11 +7,11 @@
 program test_implicit_long
    use mpm_kinds, only: dp
    use mpm_strings, only: str
-   use mpm_config, only: config_t, resolve_config
+   use mpm_config, only: config_t, resolve_config, new_config
    use mpm_simulation, only: run_result_t, guard_message
    use mpm_diagnostics, only: status_ok, status_name
    use mpm_testing, only: tester_t, tester
-   use mpm_testing_runs, only: run_resolved
+   use mpm_testing_runs, only: run_resolved, set_values
    implicit none
    type(tester_t) :: t
    character(len=8), parameter :: shapes(5) = [character(len=8) :: 'linear', 'ugimp', 'cpgimp', 'bspline2', 'bspline3']
@@ -44,47 +44,40 @@ contains
    function scene_config(scene, shape) result(config)
       character(len=*), intent(in) :: scene, shape
       type(config_t) :: config
-      config%scene_kind = scene
+      call set_values(config, ["scene.kind=scene"])
       config%shape = shape
       config%elements = 40
       config%particles_per_element = 2
       config%periods = 1.0_dp
       select case (scene)
       case ('column')
-         config%length = 1.0_dp
-         config%youngs_modulus = 1.0e8_dp
-         config%density = 1000.0_dp
+         call set_values(config, ['scene.length=1.0'])
+         call set_values(config, ['scene.youngs_modulus=1.0e8'])
+         call set_values(config, ['scene.density=1000.0'])
       case ('manufactured')
-         config%length = 1.0_dp
-         config%youngs_modulus = 1.0e7_dp
-         config%density = 1000.0_dp
-         config%amplitude = 1.0e-3_dp
+         call set_values(config, ['scene.length=1.0'])
+         call set_values(config, ['scene.youngs_modulus=1.0e7'])
+         call set_values(config, ['scene.density=1000.0'])
+         call set_values(config, ['scene.amplitude=1.0e-3'])
       case ('composite_bar')
-         config%length_count = 2
-         config%modulus_count = 2
-         config%density_count = 2
-         config%lengths(1:2) = 0.5_dp
-         config%youngs_moduli(1:2) = [1.0e8_dp, 1.6e9_dp]
-         config%densities(1:2) = 1000.0_dp
-         config%drive_velocity = 0.01_dp
+         call set_values(config, ['scene.lengths=0.5, 0.5'])
+         call set_values(config, ['scene.youngs_moduli=1.0e8, 1.6e9'])
+         call set_values(config, ['scene.densities=1000.0, 1000.0'])
+         call set_values(config, ['scene.drive_velocity=0.01'])
       case ('impact')
-         config%length_count = 2
-         config%modulus_count = 2
-         config%density_count = 2
-         config%velocity_count = 2
-         config%lengths(1:2) = 0.5_dp
-         config%youngs_moduli(1:2) = 1.0e8_dp
-         config%densities(1:2) = 1000.0_dp
-         config%velocities(1:2) = [0.01_dp, -0.01_dp]
-         config%contact = 'none'
+         call set_values(config, ['scene.lengths=0.5, 0.5'])
+         call set_values(config, ['scene.youngs_moduli=1.0e8, 1.0e8'])
+         call set_values(config, ['scene.densities=1000.0, 1000.0'])
+         call set_values(config, ['scene.velocities=0.01, -0.01'])
+         call set_values(config, ["scene.contact='none'"])
       case ('plastic_wave')
-         config%length = 1.0_dp
-         config%youngs_modulus = 1.0e10_dp
-         config%density = 1000.0_dp
-         config%drive_velocity = 5.0_dp
+         call set_values(config, ['scene.length=1.0'])
+         call set_values(config, ['scene.youngs_modulus=1.0e10'])
+         call set_values(config, ['scene.density=1000.0'])
+         call set_values(config, ['scene.drive_velocity=5.0'])
          config%law = 'elastoplastic'
-         config%yield_stress = 1.0e7_dp
-         config%hardening_modulus = 1.0e9_dp
+         call set_values(config, ['material.yield_stress=1.0e7'])
+         call set_values(config, ['material.hardening_modulus=1.0e9'])
          config%periods = 0.8_dp
       end select
    end function scene_config
@@ -126,25 +119,25 @@ contains
       type(run_result_t) :: r
       integer :: i
       do i = 1, size(laws)
-         config = config_t()
+         config = new_config()
          config%integrator = 'quasi_static'
-         config%scene_kind = 'column'
+         call set_values(config, ["scene.kind='column'"])
          config%law = laws(i)
          config%shape = shape
          config%elements = 40
          config%particles_per_element = 2
-         config%length = 1.0_dp
-         config%youngs_modulus = 1.0e10_dp
-         config%density = 1000.0_dp
-         config%gravity = 2.0e6_dp
+         call set_values(config, ['scene.length=1.0'])
+         call set_values(config, ['scene.youngs_modulus=1.0e10'])
+         call set_values(config, ['scene.density=1000.0'])
+         call set_values(config, ['scene.gravity=2.0e6'])
          config%load_steps = 10
          ! (linear shapes: one load step, the equilibrium on the undeformed particles; after it, point
          ! particles carry sigma J per cell, an error of the order of the strain: docs/theory.md)
          if (shape == 'linear') config%load_steps = 1
          config%max_cell_move = 100.0_dp
          if (laws(i) == 'elastoplastic') then
-            config%yield_stress = 1.0e9_dp
-            config%hardening_modulus = 2.0e9_dp
+            call set_values(config, ['material.yield_stress=1.0e9'])
+            call set_values(config, ['material.hardening_modulus=2.0e9'])
          end if
          call resolve_config(config)
          r = run_resolved(config)

@@ -109,7 +109,7 @@ contains
       if (allocated(error)) return
       call t%check('periodic snapshots: '//str(size(expected))//' taken', &
                    count([(allocated(run%snapshots(k)%x), k=1, size(run%snapshots))]) == size(expected))
-      omega = pi/(2*periodic%length)*sqrt(periodic%youngs_modulus/periodic%density)
+      omega = pi/(2*periodic%length)*periodic%wave_speed
       beta = pi/(2*periodic%length)
       do k = 1, size(expected)
          write (name, '(i4.4)') k

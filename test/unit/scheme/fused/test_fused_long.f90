@@ -10,9 +10,9 @@
 !> on the nodes each body holds values at (fused_step's active_nodes); the bars cross cells and meet.
 program test_fused_long
    use mpm_kinds, only: dp
-   use mpm_config, only: config_t
+   use mpm_config, only: config_t, new_config
    use mpm_testing, only: tester_t, tester
-   use mpm_testing_runs, only: check_fused_run, check_fused_config
+   use mpm_testing_runs, only: check_fused_run, check_fused_config, set_values
    implicit none
    type(tester_t) :: t
    type(config_t) :: config
@@ -29,19 +29,15 @@ program test_fused_long
    end if
    if (t%case('impact_60000_nodes', long=.true.)) then
       do i = 2, size(schemes)
-         config = config_t()
-         config%scene_kind = 'impact'
+         config = new_config()
+         call set_values(config, ["scene.kind='impact'"])
          config%scheme = trim(schemes(i))
-         config%lengths(1:2) = [1.0_dp, 1.0_dp]
-         config%length_count = 2
-         config%youngs_moduli(1:2) = [1.0e6_dp, 1.0e6_dp]
-         config%modulus_count = 2
-         config%densities(1:2) = [1000.0_dp, 1000.0_dp]
-         config%density_count = 2
-         config%velocities(1:2) = [1.4_dp, 0.6_dp]
-         config%velocity_count = 2
-         config%gap = 1.0e-4_dp ! (3 cells: they meet at step 593 of 1793; bar 1 moves 16 cells)
-         config%contact = 'frictionless'
+         call set_values(config, ['scene.lengths=1.0, 1.0'])
+         call set_values(config, ['scene.youngs_moduli=1.0e6, 1.0e6'])
+         call set_values(config, ['scene.densities=1000.0, 1000.0'])
+         call set_values(config, ['scene.velocities=1.4, 0.6'])
+         call set_values(config, ['scene.gap=1.0e-4']) ! (3 cells: they meet at step 593 of 1793; bar 1 moves 16 cells)
+         call set_values(config, ["scene.contact='frictionless'"])
          config%elements = 60000
          config%particles_per_element = 2
          config%dt_fraction = 0.2_dp

@@ -26,12 +26,13 @@
 !> Small runs: seconds.
 program test_fused_scenes
    use mpm_kinds, only: dp
+   use mpm_scene_bar, only: bar_input_t
    use mpm_errors, only: error_t
-   use mpm_config, only: config_t, resolve_config
+   use mpm_config, only: config_t, resolve_config, new_config
    use mpm_simulation, only: run_result_t, run_simulation
    use mpm_strings, only: str
    use mpm_testing, only: tester_t, tester
-   use mpm_testing_runs, only: check_paths_agree
+   use mpm_testing_runs, only: check_paths_agree, set_values, set_value
    implicit none
    type(tester_t) :: t
    character(len=4), parameter :: schemes(3) = ['usf ', 'usl ', 'musl']
@@ -44,14 +45,14 @@ program test_fused_scenes
    if (t%case('bar_transfers')) then
       do i = 1, size(schemes)
          do j = 1, size(transfers)
-            config = config_t()
+            config = new_config()
             config%scheme = trim(schemes(i))
             config%transfer = trim(transfers(j))
             config%flip_fraction = 0.75_dp
             config%elements = 30
             config%particles_per_element = 3
             config%dt_fraction = 0.3_dp
-            config%velocity_amplitude = 5.0_dp
+            call set_values(config, ['scene.velocity_amplitude=5.0'])
             config%periods = 1.0_dp
             call compare('bar '//trim(transfers(j)), config)
             call yielding(config)
@@ -61,8 +62,8 @@ program test_fused_scenes
    end if
    if (t%case('column')) then
       do i = 1, size(schemes)
-         config = config_t()
-         config%scene_kind = 'column'
+         config = new_config()
+         call set_values(config, ["scene.kind='column'"])
          config%scheme = trim(schemes(i))
          config%elements = 40
          config%particles_per_element = 2
@@ -72,8 +73,8 @@ program test_fused_scenes
          config%shape = 'bspline2'
          call compare('column bspline2', config)
          config%law = 'elastoplastic'  ! (the dynamic load of the weight yields the lower quarter)
-         config%yield_stress = 2.5e6_dp
-         config%hardening_modulus = 1.0e9_dp
+         call set_values(config, ['material.yield_stress=2.5e6'])
+         call set_values(config, ['material.hardening_modulus=1.0e9'])
          call compare('column bspline2, law elastoplastic', config)
          config%shape = 'linear'
          call compare('column, law elastoplastic', config)
@@ -81,16 +82,13 @@ program test_fused_scenes
    end if
    if (t%case('composite')) then
       do i = 1, size(schemes)
-         config = config_t()
-         config%scene_kind = 'composite_bar'
+         config = new_config()
+         call set_values(config, ["scene.kind='composite_bar'"])
          config%scheme = trim(schemes(i))
-         config%lengths(1:2) = [1.0_dp, 1.0_dp]
-         config%length_count = 2
-         config%youngs_moduli(1:2) = [16.0e6_dp, 1.0e6_dp]
-         config%modulus_count = 2
-         config%densities(1:2) = [1000.0_dp, 1000.0_dp]
-         config%density_count = 2
-         config%drive_velocity = 0.01_dp
+         call set_values(config, ['scene.lengths=1.0, 1.0'])
+         call set_values(config, ['scene.youngs_moduli=16.0e6, 1.0e6'])
+         call set_values(config, ['scene.densities=1000.0, 1000.0'])
+         call set_values(config, ['scene.drive_velocity=0.01'])
          config%elements = 45  ! (the interface inside an element: particles of both materials share it)
          config%particles_per_element = 3
          config%dt_fraction = 0.3_dp
@@ -101,22 +99,20 @@ program test_fused_scenes
          ! each segment its yield stress and hardening modulus (per particle), both below the stresses the
          ! drive makes (1.3e3 Pa in the stiff segment, 3.2e2 Pa in the soft one): both segments yield
          config%law = 'elastoplastic'
-         config%yield_stresses(1:2) = [8.0e2_dp, 2.0e2_dp]
-         config%yield_count = 2
-         config%hardening_moduli(1:2) = [1.0e6_dp, 0.0_dp]
-         config%hardening_count = 2
+         call set_values(config, ['material.yield_stresses=8.0e2, 2.0e2'])
+         call set_values(config, ['material.hardening_moduli=1.0e6, 0.0'])
          call compare('composite, law elastoplastic', config, by_largest=.true.)
       end do
    end if
    if (t%case('manufactured')) then
       do i = 1, size(schemes)
-         config = config_t()
-         config%scene_kind = 'manufactured'
+         config = new_config()
+         call set_values(config, ["scene.kind='manufactured'"])
          config%scheme = trim(schemes(i))
-         config%length = 1.0_dp
-         config%youngs_modulus = 1.0e7_dp
-         config%density = 1000.0_dp
-         config%amplitude = 1.0e-3_dp
+         call set_values(config, ['scene.length=1.0'])
+         call set_values(config, ['scene.youngs_modulus=1.0e7'])
+         call set_values(config, ['scene.density=1000.0'])
+         call set_values(config, ['scene.amplitude=1.0e-3'])
          config%elements = 30
          config%particles_per_element = 2
          config%dt_fraction = 0.2_dp
@@ -129,14 +125,14 @@ program test_fused_scenes
    if (t%case('bar_shapes_law_linear')) then
       do i = 1, size(schemes)
          do j = 1, size(shapes)
-            config = config_t()
+            config = new_config()
             config%scheme = trim(schemes(i))
             config%shape = trim(shapes(j))
             config%law = 'linear'
             config%elements = 24
             config%particles_per_element = 2
             config%dt_fraction = 0.2_dp
-            config%velocity_amplitude = 5.0_dp
+            call set_values(config, ['scene.velocity_amplitude=5.0'])
             config%periods = 1.0_dp
             call compare('bar '//trim(shapes(j))//', law linear', config)
          end do
@@ -145,13 +141,13 @@ program test_fused_scenes
    if (t%case('bar_shapes_law_elastoplastic')) then
       do i = 1, size(schemes)
          do j = 1, size(shapes)
-            config = config_t()
+            config = new_config()
             config%scheme = trim(schemes(i))
             config%shape = trim(shapes(j))
             config%elements = 24
             config%particles_per_element = 2
             config%dt_fraction = 0.2_dp
-            config%velocity_amplitude = 5.0_dp
+            call set_values(config, ['scene.velocity_amplitude=5.0'])
             config%periods = 1.0_dp
             call yielding(config)
             call compare('bar '//trim(shapes(j))//', law elastoplastic', config)
@@ -161,65 +157,57 @@ program test_fused_scenes
    end if
    if (t%case('impact')) then
       do i = 1, size(schemes)
-         config = config_t()
-         config%scene_kind = 'impact'
+         config = new_config()
+         call set_values(config, ["scene.kind='impact'"])
          config%scheme = trim(schemes(i))
-         config%lengths(1:2) = [1.0_dp, 0.7_dp]
-         config%length_count = 2
-         config%youngs_moduli(1:2) = [200.0e9_dp, 50.0e9_dp]
-         config%modulus_count = 2
-         config%densities(1:2) = [7800.0_dp, 31200.0_dp]  ! (equal impedances, as the scene requires)
-         config%density_count = 2
-         config%velocities(1:2) = [1.0_dp, -1.0_dp]
-         config%velocity_count = 2
-         config%gap = 0.0_dp  ! (in contact from the start)
+         call set_values(config, ['scene.lengths=1.0, 0.7'])
+         call set_values(config, ['scene.youngs_moduli=200.0e9, 50.0e9'])
+         call set_values(config, ['scene.densities=7800.0, 31200.0'])  ! (equal impedances, as the scene requires)
+         call set_values(config, ['scene.velocities=1.0, -1.0'])
+         call set_values(config, ['scene.gap=0.0'])  ! (in contact from the start)
          config%elements = 40
          config%particles_per_element = 2
          config%dt_fraction = 0.2_dp
          config%periods = 1.0_dp
-         config%contact = 'frictionless'
+         call set_values(config, ["scene.contact='frictionless'"])
          call compare('impact frictionless', config, by_largest=.true., snapshots=.true.)
          config%law = 'elastoplastic'  ! (the contact stress rho c v = 3.9e7 Pa: both bars yield)
-         config%yield_stresses(1:2) = [2.0e7_dp, 1.0e7_dp]
-         config%yield_count = 2
-         config%hardening_moduli(1:2) = [1.0e10_dp, 2.0e9_dp]
-         config%hardening_count = 2
+         call set_values(config, ['material.yield_stresses=2.0e7, 1.0e7'])
+         call set_values(config, ['material.hardening_moduli=1.0e10, 2.0e9'])
          call compare('impact frictionless, law elastoplastic', config, by_largest=.true.)
          config%law = 'hencky'
-         config%yield_count = 0
-         config%hardening_count = 0
          ! soft bars (c = 31.6 m/s) moving right that close a gap of 0.02 m, meet and part: their particles
          ! cross cells, so each body's nodes to solve move with it (fused_step's active_nodes), and the nodes
          ! a body left must be solved once more (to zeros) or their old values reach the contact correction
          ! and the snapshots. (USF: no stacked-field solve restricted to active nodes. 4 particles per
          ! element: at 2, USL's runs of this case stop at J <= 0 on both paths.)
-         config%lengths(1:2) = [1.0_dp, 1.0_dp]
-         config%youngs_moduli(1:2) = [1.0e6_dp, 1.0e6_dp]
-         config%densities(1:2) = [1000.0_dp, 1000.0_dp]
-         config%velocities(1:2) = [1.4_dp, 0.6_dp]
-         config%gap = 0.02_dp
+         call set_values(config, ['scene.lengths=1.0, 1.0'])
+         call set_values(config, ['scene.youngs_moduli=1.0e6, 1.0e6'])
+         call set_values(config, ['scene.densities=1000.0, 1000.0'])
+         call set_values(config, ['scene.velocities=1.4, 0.6'])
+         call set_values(config, ['scene.gap=0.02'])
          config%periods = 2.0_dp
          config%particles_per_element = 4
          if (trim(schemes(i)) /= 'usf') call compare('impact frictionless, soft bars crossing cells', config, &
                                                       by_largest=.true., snapshots=.true.)
          config%particles_per_element = 2
-         config%velocities(1:2) = [1.0_dp, -1.0_dp]
-         config%gap = 0.0_dp
+         call set_values(config, ['scene.velocities=1.0, -1.0'])
+         call set_values(config, ['scene.gap=0.0'])
          config%periods = 1.0_dp
-         config%youngs_moduli(1:2) = [200.0e9_dp, 200.0e9_dp]
-         config%densities(1:2) = [7800.0_dp, 7800.0_dp]
-         config%lengths(1:2) = [1.0_dp, 1.0_dp]
-         config%contact = 'none'
+         call set_values(config, ['scene.youngs_moduli=200.0e9, 200.0e9'])
+         call set_values(config, ['scene.densities=7800.0, 7800.0'])
+         call set_values(config, ['scene.lengths=1.0, 1.0'])
+         call set_values(config, ["scene.contact='none'"])
          call compare('impact stuck', config, by_largest=.true.)
       end do
    end if
    if (t%case('plastic_wave')) then
       do i = 1, size(schemes)
-         config = config_t()
-         config%scene_kind = 'plastic_wave'
+         config = new_config()
+         call set_values(config, ["scene.kind='plastic_wave'"])
          config%scheme = trim(schemes(i))
          config%law = 'elastoplastic'
-         config%drive_velocity = 20.0_dp
+         call set_values(config, ['scene.drive_velocity=20.0'])
          config%elements = 50
          config%particles_per_element = 2
          config%dt_fraction = 0.2_dp
@@ -326,9 +314,17 @@ contains
    !> stress, hardening modulus E/20.
    subroutine yielding(config)
       type(config_t), intent(inout) :: config
+      real(dp) :: yield_stress, hardening_modulus
       config%law = 'elastoplastic'
-      config%yield_stress = 0.25_dp*config%density*sqrt(config%youngs_modulus/config%density)*config%velocity_amplitude
-      config%hardening_modulus = config%youngs_modulus/20
+      select type (bar => config%scene)
+      type is (bar_input_t)
+         yield_stress = 0.25_dp*sqrt(bar%youngs_modulus*bar%density)*bar%velocity_amplitude
+         hardening_modulus = bar%youngs_modulus/20
+      class default
+         error stop 'yielding: the bar only'
+      end select
+      call set_value(config, 'material.yield_stress='//str(yield_stress))
+      call set_value(config, 'material.hardening_modulus='//str(hardening_modulus))
    end subroutine yielding
 
    !> `config` (the bar) elastoplastic with a yield stress it never reaches, on the fused kernels: the
@@ -350,7 +346,7 @@ contains
       if (allocated(error)) error stop 'hencky run failed to start'
       plastic = config
       plastic%law = 'elastoplastic'
-      plastic%yield_stress = 1.0e30_dp
+      call set_values(plastic, ['material.yield_stress=1.0e30'])
       call resolve_config(plastic)
       call run_simulation(plastic, b, error, record_history=.true.)
       if (allocated(error)) error stop 'elastoplastic run failed to start'

@@ -1,5 +1,9 @@
 !> Namelist configuration of one run: read, validate (reporting every problem), resolve derived
 !> quantities (wave speed, element size, time step, step count) and echo.
+!> The run's configuration as a whole: the common settings (mpm_settings) and the chosen scene's input
+!> (src/scene: its own parameters, checks and resolution), read from the namelist through one parameter
+!> table, validated (reporting every problem), resolved (wave speed, element size, time step, step
+!> count) and echoed. It names no scene: what differs between kinds, each kind's input says.
 module mpm_config
    use, intrinsic :: ieee_arithmetic, only: ieee_is_finite, ieee_is_normal, ieee_is_nan
    use mpm_kinds, only: dp, i8, pi
@@ -7,66 +11,37 @@ module mpm_config
    use mpm_strings, only: str, lower, num, plural
    use mpm_files, only: available_memory, path_kind, path_folder, path_other, absolute_path
    use mpm_particles, only: bytes_per_particle
+   use mpm_settings, only: settings_t, max_snapshots, max_segments
    use mpm_shape, only: known_shapes, known_transfers, known_formulations
    use mpm_material, only: material_t, known_laws, law_id
    use mpm_registry, only: parameter_t, nml_item_t, text_entry, int_entry, real_entry, real_list_entry, &
-                           logical_entry, for_kinds, for_value, used_by, parse_namelist, read_input_text, add_overrides, &
+                           logical_entry, for_value, used_by, parse_namelist, read_input_text, add_overrides, &
                            apply_items, check_parameter, find_parameter, group_namelist, short_number, item_place, &
-                           format_value, same_value, type_real, in_list
+                           format_value, same_value, type_real, in_list, place
    use mpm_suggest, only: did_you_mean, printable
+   use mpm_scenes, only: scene_input_t, scene_kind_t, scene_slot_t, scene_catalog, scene_kinds, known_scenes, &
+                         new_scene_input, default_scene
    implicit none
    private
    public :: config_t, read_config, read_config_text, input_name, validate_config, resolve_config
    public :: write_config_namelist, config_namelist
-   public :: default_config, config_summary, known_schemes
-   public :: max_snapshots, periodic_snapshots, max_segments, check_output_path, body_length, largest_wave_speed
-   public :: config_parameters, config_groups, group_help, known_scenes, scene_kind_t, scene_kinds
-   public :: material_of, plastic_wave_periods
-   public :: step_count, stability_limit, not_used_message, config_warnings, contact_time, known_kind
-   public :: known_integrators, max_implicit_dt_fraction, used_with, run_length_flags
+   public :: default_config, new_config, config_summary, known_schemes
+   public :: max_snapshots, periodic_snapshots, max_segments, check_output_path
+   public :: config_parameters, catalog_parameters, config_groups, group_help, known_scenes, scene_kind_t, scene_kinds
+   public :: material_of, set_config_values
+   public :: stability_limit, not_used_message, config_warnings, known_kind, other_kind_message, other_kind_list
+   public :: assign_in_place
+   public :: known_integrators, used_with, run_length_flags
 
-   !> Most snapshot times one run accepts.
-   integer, parameter :: max_snapshots = 64
-   !> Most snapshots snapshot_every may take over one run (each holds every particle's state).
-   integer, parameter :: max_periodic_snapshots = 1000
-   !> Most segments of a composite bar.
-   integer, parameter :: max_segments = 16
-   !> The scene kinds made of one body of one material (length, youngs_modulus, density).
-   character(len=*), parameter :: single_body = 'vibrating_bar, column, manufactured, plastic_wave'
    !> Schemes the code implements.
    character(len=*), parameter :: known_schemes = 'usf, usl, musl'
-   !> Scene kinds the code implements (mpm_scenes makes them).
-   character(len=*), parameter :: known_scenes = 'vibrating_bar, column, manufactured, composite_bar, impact, '// &
-                                                 'plastic_wave'
-   !> A scene kind as --help and the help of `kind` and `periods` describe it: its name, what it is, and
-   !> the period `periods` counts in it (scene_period). Every kind of known_scenes has one (test_registry).
-   type :: scene_kind_t
-      character(len=16) :: name = ''
-      character(len=64) :: what = ''
-      character(len=48) :: period = ''
-   end type scene_kind_t
-   type(scene_kind_t), parameter :: scene_kinds(*) = [ &
-      scene_kind_t('vibrating_bar', 'the vibrating bar of the founding study', '2 pi/omega_n (its mode n)'), &
-      scene_kind_t('column', 'a column under its own weight, suddenly loaded', '4L/c'), &
-      scene_kind_t('manufactured', 'a manufactured solution at large strain', '2L/c'), &
-      scene_kind_t('composite_bar', 'a wave through stiff-soft segments, driven at one end', &
-                   'sum L_i/c_i, one crossing'), &
-      scene_kind_t('impact', 'two bars colliding', '2 max L/c, from their first contact'), &
-      scene_kind_t('plastic_wave', 'an elastic-plastic wave from a driven end', &
-                   "L/c (the precursor's transit; default 0.8)")]
    !> The groups of one run's input, in the order of the echo and of --help.
    character(len=16), parameter :: config_groups(*) = [character(len=16) :: 'scene', 'material', 'discretisation', &
                                                         'run', 'output', 'guards']
-   !> The plastic wave's run length when neither periods nor end_time is given, in precursor transit
-   !> times L/c: its exact solution holds until the elastic precursor reaches the free end.
-   real(dp), parameter :: plastic_wave_periods = 0.8_dp
-   !> The plastic wave's drive velocity when none is given (m/s; its law is then elastoplastic): about
-   !> three times the default material's yield velocity, as the materials study drives it.
-   real(dp), parameter :: plastic_wave_drive = 20.0_dp
+   !> Most snapshots snapshot_every may take over one run (each holds every particle's state).
+   integer, parameter :: max_periodic_snapshots = 1000
    !> Largest number of particles or elements one run accepts (array indices are default integers).
    integer(i8), parameter :: max_count = int(huge(1), i8)
-   !> Largest mode: 2 mode - 1 (in beta_n) must be a default integer.
-   integer, parameter :: max_mode = (huge(1) - 1)/2
    !> Time-step fraction above which a run is refused outright (far beyond any stability limit).
    real(dp), parameter :: max_dt_fraction = 10.0_dp
    !> ... and above which an implicit run is (unconditionally stable: the step is the user's accuracy choice).
@@ -81,118 +56,93 @@ module mpm_config
    !> Newton on the grid, and equilibrium in load steps (mpm_implicit).
    character(len=*), parameter :: known_integrators = 'explicit, implicit, quasi_static'
 
-   !> Everything one run needs to know; defaults are the paper's Table 1 and its verification case.
-   type :: config_t
-      ! &scene
-      character(len=32) :: scene_kind = 'vibrating_bar'
-      real(dp) :: length = 25.0_dp
-      real(dp) :: youngs_modulus = 200.0e9_dp
-      real(dp) :: density = 7800.0_dp
-      real(dp) :: velocity_amplitude = 0.1_dp
-      integer :: mode = 1
-      !> Column: gravitational acceleration g (body force -g per unit mass, towards the fixed end x = 0).
-      real(dp) :: gravity = 9.81_dp
-      !> Manufactured solution: displacement amplitude A (m).
-      real(dp) :: amplitude = 0.025_dp
-      !> Composite bar: segments left to right (length, Young's modulus, density; counts given) and the
-      !> velocity the left end is driven at.
-      real(dp) :: lengths(max_segments) = 0.0_dp, youngs_moduli(max_segments) = 0.0_dp, &
-                  densities(max_segments) = 0.0_dp
-      integer :: length_count = 0, modulus_count = 0, density_count = 0
-      real(dp) :: drive_velocity = 1.0_dp
-      !> Impact scene: two bars (lengths, youngs_moduli, densities above, two values each), their initial
-      !> velocities, the gap between them and the contact model ('none': one shared velocity field;
-      !> 'frictionless': a field per body, mpm_contact).
-      real(dp) :: velocities(2) = 0.0_dp
-      integer :: velocity_count = 0
-      real(dp) :: gap = 0.0_dp
-      character(len=16) :: contact = 'frictionless'
-      ! &material (mpm_material): the law and the elastoplastic law's parameters, one body's or one per
-      ! segment (composite bar) or bar (impact)
-      character(len=16) :: law = 'hencky'
-      real(dp) :: yield_stress = 250.0e6_dp
-      real(dp) :: hardening_modulus = 10.0e9_dp
-      real(dp) :: yield_stresses(max_segments) = 0.0_dp, hardening_moduli(max_segments) = 0.0_dp
-      integer :: yield_count = 0, hardening_count = 0
-      ! &discretisation
-      !> The time integrator (explicit: the scheme; implicit, quasi_static: mpm_implicit) and what only the
-      !> implicit ones use: the mass matrix (implicit), load increments (quasi_static), Newton's relative
-      !> residual tolerance and iteration limit, the ghost penalty on cut cells (both).
-      character(len=16) :: integrator = 'explicit'
-      character(len=16) :: mass = 'lumped'
-      integer :: load_steps = 10
-      real(dp) :: newton_tolerance = 1.0e-10_dp
-      integer :: max_newton_iterations = 25
-      real(dp) :: ghost_penalty = -1.0_dp
-      character(len=8) :: scheme = 'usl'
-      integer :: elements = 20
-      integer :: particles_per_element = 1
-      real(dp) :: dt_fraction = 0.1_dp
-      !> Empty grid cells beyond each free end of the body; -1: the scene's expected motion + 2 cells.
-      integer :: margin_cells = -1
-      !> 'auto': the fused kernels where they apply (laws hencky and linear, the updated formulation: the bar and the
-      !> column with FLIP and any shape but CPDI, every scene with the linear shape and FLIP, PIC, the blend or APIC;
-      !> mpm_fused's fused_choose), else the generic path; 'generic': always generic.
-      character(len=8) :: kernels = 'auto'
-      !> Shape functions (mpm_shape) and the velocity transfer of G2P, with the FLIP share of 'blend', the
-      !> orders of 'xpic' and 'fmpm' and the alpha of 'asflip'; the formulation (updated or total Lagrangian).
-      character(len=8) :: shape = 'linear'
-      character(len=8) :: transfer = 'flip'
-      real(dp) :: flip_fraction = 0.99_dp
-      integer :: xpic_order = 2
-      integer :: fmpm_order = 2
-      real(dp) :: asflip_alpha = 0.99_dp
-      character(len=8) :: formulation = 'updated'
-      ! &run
-      real(dp) :: periods = 2.0_dp
-      !> NaN until set: a program that fills config_t sets end_time alone (see run_length_flags); a
-      !> user's NaN is refused by its range check, as it sets end_time_given.
-      real(dp) :: end_time = transfer(9221120237041090560_i8, 1.0_dp)
-      !> Which of the two gives the run's length: flags of their own, set when the input gives them (no
-      !> value a user can type means "not given"); end_time given makes periods_given false.
-      logical :: periods_given = .true., end_time_given = .false.
-      ! &output
-      character(len=1024) :: file = 'bar.h5'
-      logical :: history = .true.
-      integer :: snapshot_count = 0
-      real(dp) :: snapshot_times(max_snapshots) = 0.0_dp
-      !> A snapshot every this many steps from step 0 (besides snapshot_times); 0: none.
-      integer :: snapshot_every = 0
-      !> The run's whole state every N steps (and when a signal stops it) in <file>.checkpoint: 0 none.
-      integer :: checkpoint_steps = 0
-      ! &guards
-      !> A run fails when its total energy exceeds this factor times the initial energy.
-      real(dp) :: energy_growth_limit = 10.0_dp
-      !> A run fails when a particle moves more than this many cells in one step.
-      real(dp) :: max_cell_move = 1.0_dp
-      ! resolved (derived) quantities, filled by resolve_config
-      real(dp) :: wave_speed = 0.0_dp
-      real(dp) :: dx = 0.0_dp
-      real(dp) :: dt = 0.0_dp
-      real(dp) :: period = 0.0_dp
-      real(dp) :: final_time = 0.0_dp
-      integer :: steps = 0
+   !> Everything one run needs to know: the common settings (their defaults are the paper's Table 1 and
+   !> its verification case), the scene's kind and its input (made by new_config or the reader).
+   type, extends(settings_t) :: config_t
+      character(len=32) :: scene_kind = default_scene
+      class(scene_input_t), allocatable :: scene
    end type config_t
 
 contains
+
+   !> A configuration of scene kind `kind` (default: the default scene), every value at its default,
+   !> not resolved. An unknown kind gets the default scene's input and keeps its name (validation refuses it).
+   function new_config(kind) result(config)
+      character(len=*), intent(in), optional :: kind
+      type(config_t) :: config
+      if (present(kind)) config%scene_kind = lower(trim(adjustl(kind)))
+      call kind_input(config)
+   end function new_config
+
+   !> `config`'s scene input is its kind's: made at its defaults when it has none or another kind's (a
+   !> program that sets scene_kind); an unknown kind keeps what it has, else gets the default scene's.
+   subroutine kind_input(config)
+      type(config_t), intent(inout) :: config
+      class(scene_input_t), allocatable :: input
+      if (allocated(config%scene)) then
+         if (trim(config%scene%describe_name()) == trim(config%scene_kind)) return
+      end if
+      call new_scene_input(trim(config%scene_kind), input)
+      if (allocated(input)) then
+         call move_alloc(input, config%scene)
+      else if (.not. allocated(config%scene)) then
+         call new_scene_input(default_scene, config%scene)
+      end if
+   end subroutine kind_input
 
    !> The built-in default: the paper's verification case (20 elements, 1 particle per element,
    !> 10% of the critical step, USL, two periods of the first mode).
    function default_config() result(config)
       type(config_t) :: config
-      config = config_t()
+      config = new_config()
       call resolve_config(config)
    end function default_config
 
    !> The registry of the run's input: one entry per namelist variable, bound to its field of
-   !> `config` (which must stay in place while the table is used). Adding a variable: a field of
-   !> config_t with its default, one entry here, and the code that uses it.
+   !> `config` (which must stay in place while the table is used): the discretisation's, the scene's kind,
+   !> the scene's own (its input's entries), the law, its parameters (the scene's), the run's length, the
+   !> output and the guards. Each scene entry names the kinds that have it (`kinds`, for messages and
+   !> listings). Adding a common variable: a field of settings_t with its default, one entry here, and the
+   !> code that uses it; a scene's: its input's entries.
    !> The order of the sweepable entries is the order of the sweep's loops (the last varies fastest).
    subroutine config_parameters(config, table)
       type(config_t), intent(inout), target :: config
       type(parameter_t), allocatable, intent(out) :: table(:)
+      type(parameter_t), allocatable :: scene(:), material(:)
       call run_length_flags(config)
-      table = [ &
+      call kind_input(config)
+      call config%scene%entries(scene)
+      call config%scene%material_entries(material)
+      call name_kinds(scene)
+      call name_kinds(material)
+      table = [common_entries(config, 'discretisation'), common_entries(config, 'scene'), scene, &
+               common_entries(config, 'material'), material, common_entries(config, 'run'), &
+               common_entries(config, 'output'), common_entries(config, 'guards')]
+   end subroutine config_parameters
+
+   !> The law's note: the kinds with a law of their own when none is given ("plastic_wave: 'elastoplastic'
+   !> when not given").
+   function law_note() result(note)
+      character(len=:), allocatable :: note
+      type(scene_slot_t), allocatable :: slots(:)
+      integer :: k
+      note = ''
+      call scene_catalog(slots)
+      do k = 1, size(slots)
+         if (len(slots(k)%input%default_law()) == 0) cycle
+         if (len(note) > 0) note = note//'; '
+         note = note//slots(k)%input%describe_name()//": '"//slots(k)%input%default_law()//"' when not given"
+      end do
+   end function law_note
+
+   !> The entries of `group` that are not a scene's (the settings' and the scene's kind).
+   function common_entries(config, group) result(table)
+      type(config_t), intent(inout), target :: config
+      character(len=*), intent(in) :: group
+      type(parameter_t), allocatable :: table(:)
+      select case (group)
+      case ('discretisation')
+         table = [ &
          text_entry('discretisation', 'scheme', config%scheme, 'update scheme: stress update first, last, or '// &
                     'modified last (docs/theory.md, Algorithm); integrator ''explicit''', words=known_schemes, &
                     sweep_list='schemes'), &
@@ -253,68 +203,23 @@ contains
                     'cut cells at free ends (stiffness gamma E/dx on the jump of the p-th derivative); 0: off; '// &
                     "integrators 'implicit', 'quasi_static'", &
                     at_least=-1.0_dp, at_most=max_ghost_penalty, note='-1: 0.1 for GIMP and B-splines, 0 for '// &
-                    'linear; between -1 and 0 refused', sweep_list='ghost_penalty'), &
-         text_entry('scene', 'kind', config%scene_kind, 'the problem (docs/user-guide.md, Scenes): '// &
-                    scene_list(periods=.false.), words=known_scenes, attribute='scene_kind'), &
-         for_kinds(real_entry('scene', 'length', config%length, 'm', 'length of the bar', greater_than=0.0_dp), &
-                   single_body), &
-         for_kinds(real_entry('scene', 'youngs_modulus', config%youngs_modulus, 'Pa', "Young's modulus E", &
-                              greater_than=0.0_dp, sweep_list='youngs_moduli'), single_body), &
-         for_kinds(real_entry('scene', 'density', config%density, 'kg/m^3', 'density rho', greater_than=0.0_dp, &
-                              sweep_list='densities'), single_body), &
-         for_kinds(real_list_entry('scene', 'lengths', config%lengths, config%length_count, 'm', 'segment lengths, '// &
-                                   'left (driven end) to right (free end); impact: bar 1, bar 2', greater_than=0.0_dp, &
-                                   note='2 to 16 segments; impact: 2'), 'composite_bar, impact'), &
-         for_kinds(real_list_entry('scene', 'youngs_moduli', config%youngs_moduli, config%modulus_count, 'Pa', &
-                                   "each segment's (bar's) Young's modulus", greater_than=0.0_dp, &
-                                   note='one per segment'), 'composite_bar, impact'), &
-         for_kinds(real_list_entry('scene', 'densities', config%densities, config%density_count, 'kg/m^3', &
-                                   "each segment's (bar's) density", greater_than=0.0_dp, note='one per segment'), &
-                   'composite_bar, impact'), &
-         for_kinds(real_list_entry('scene', 'velocities', config%velocities, config%velocity_count, 'm/s', &
-                                   'initial velocity of bar 1 (left) and bar 2 (right)', note='two values'), 'impact'), &
-         for_kinds(real_entry('scene', 'gap', config%gap, 'm', 'distance between bar 1 (on [0, L1]) and bar 2', &
-                              at_least=0.0_dp, sweep_list='gaps'), 'impact'), &
-         for_kinds(text_entry('scene', 'contact', config%contact, "'none': one shared velocity field (the bars "// &
-                              "stick); 'frictionless': a field per bar, the centre-of-mass velocity where they "// &
-                              "approach (docs/user-guide.md, impact)", words='none, frictionless', sweep_list='contacts'), &
-                   'impact'), &
-         for_kinds(real_entry('scene', 'drive_velocity', config%drive_velocity, 'm/s', 'velocity the left end '// &
-                              'is driven at from t = 0 (pushing into the bar)', greater_than=0.0_dp, &
-                              sweep_list='drive_velocities', note="plastic_wave: "//short_number(plastic_wave_drive)// &
-                              " when not given"), 'composite_bar, plastic_wave'), &
-         for_kinds(real_entry('scene', 'velocity_amplitude', config%velocity_amplitude, 'm/s', 'v0 of the '// &
-                              'initial velocity v(x,0) = v0 sin(beta_n x), beta_n = (2n-1) pi / (2 length)', &
-                              sweep_list='velocity_amplitudes'), 'vibrating_bar'), &
-         for_kinds(int_entry('scene', 'mode', config%mode, 'the mode n of the initial velocity', at_least=1, &
-                             at_most=max_mode, sweep_list='modes'), 'vibrating_bar'), &
-         for_kinds(real_entry('scene', 'gravity', config%gravity, 'm/s^2', 'gravitational acceleration g: body '// &
-                              'force -g per unit mass, towards the fixed end x = 0', greater_than=0.0_dp, &
-                              sweep_list='gravities'), 'column'), &
-         for_kinds(real_entry('scene', 'amplitude', config%amplitude, 'm', 'A of the manufactured displacement '// &
-                              'u(X,t) = A sin(2 pi X/length) sin(pi c t/length)', greater_than=0.0_dp, &
-                              note='2 pi A / length < 1', sweep_list='amplitudes'), 'manufactured'), &
-         text_entry('material', 'law', config%law, "constitutive law: 'hencky' sigma = E ln J (sigma += E d eps), "// &
-                    "'linear' sigma = E (J - 1), 'elastoplastic' Hencky with linear isotropic hardening", &
-                    words=known_laws, sweep_list='law', note="plastic_wave: 'elastoplastic' when not given"), &
-         for_kinds(for_value(real_entry('material', 'yield_stress', config%yield_stress, 'Pa', 'initial yield stress '// &
-                              'sigma_y: |sigma| <= sigma_y + H alpha (law elastoplastic)', greater_than=0.0_dp, &
-                              sweep_list='yield_stress'), 'law', 'elastoplastic'), 'vibrating_bar, column, plastic_wave'), &
-         for_kinds(for_value(real_entry('material', 'hardening_modulus', config%hardening_modulus, 'Pa', 'linear isotropic '// &
-                              'hardening modulus H (law elastoplastic; 0: perfectly plastic)', at_least=0.0_dp, &
-                              sweep_list='hardening_modulus'), 'law', 'elastoplastic'), 'vibrating_bar, column, plastic_wave'), &
-         for_kinds(for_value(real_list_entry('material', 'yield_stresses', config%yield_stresses, config%yield_count, 'Pa', &
-                                   "each segment's (bar's) yield stress (law elastoplastic)", greater_than=0.0_dp, &
-                                   note='one per segment'), 'law', 'elastoplastic'), 'composite_bar, impact'), &
-         for_kinds(for_value(real_list_entry('material', 'hardening_moduli', config%hardening_moduli, config%hardening_count, &
-                                   'Pa', "each segment's (bar's) hardening modulus (law elastoplastic)", &
-                                   at_least=0.0_dp, note='one per segment'), 'law', 'elastoplastic'), &
-                   'composite_bar, impact'), &
+                    'linear; between -1 and 0 refused', sweep_list='ghost_penalty')]
+      case ('scene')
+         table = [text_entry('scene', 'kind', config%scene_kind, 'the problem (docs/user-guide.md, Scenes): '// &
+                             scene_list(periods=.false.), words=known_scenes(), attribute='scene_kind')]
+      case ('material')
+         table = [text_entry('material', 'law', config%law, "constitutive law: 'hencky' sigma = E ln J (sigma += E "// &
+                             "d eps), 'linear' sigma = E (J - 1), 'elastoplastic' Hencky with linear isotropic "// &
+                             "hardening", words=known_laws, sweep_list='law', note=law_note())]
+      case ('run')
+         table = [ &
          real_entry('run', 'periods', config%periods, '', 'run length in periods of the scene ('// &
                     scene_list(periods=.true.)//'); steps = smallest n with n dt >= end time', &
                     greater_than=0.0_dp, optional=.true., given=config%periods_given), &
          real_entry('run', 'end_time', config%end_time, 's', 'run length in seconds (give periods or end_time)', &
-                    greater_than=0.0_dp, optional=.true., given=config%end_time_given), &
+                    greater_than=0.0_dp, optional=.true., given=config%end_time_given)]
+      case ('output')
+         table = [ &
          text_entry('output', 'file', config%file, 'the HDF5 file written (via a temporary .part file)', &
                     attribute='output_file'), &
          logical_entry('output', 'history', config%history, 'write u_cm(t), exact u_cm(t) and energies at every step'), &
@@ -325,12 +230,93 @@ contains
                    note='0: none; at most '//str(max_periodic_snapshots)//' snapshots'), &
          int_entry('output', 'checkpoint_steps', config%checkpoint_steps, 'the whole state of the run every N '// &
                    'steps, and when SIGINT, SIGTERM or SIGHUP stops it, in <file>.checkpoint (mpm1d RUN.nml '// &
-                   '--restart continues from it)', at_least=0, note='0: none; a single run (a sweep''s cases none)'), &
+                   '--restart continues from it)', at_least=0, note='0: none; a single run (a sweep''s cases none)')]
+      case ('guards')
+         table = [ &
          real_entry('guards', 'energy_growth_limit', config%energy_growth_limit, '', 'a run stops when its total '// &
                     'energy exceeds this factor times the initial energy', greater_than=1.0_dp), &
          real_entry('guards', 'max_cell_move', config%max_cell_move, 'cells', 'a run stops when a particle moves '// &
                     'more than this many cells in one step', greater_than=0.0_dp)]
-   end subroutine config_parameters
+      case default
+         allocate (table(0))
+      end select
+   end function common_entries
+
+   !> Each scene entry's `kinds`: the kinds whose input has a variable of its group and name (a variable
+   !> given for another kind is refused naming them).
+   subroutine name_kinds(table)
+      type(parameter_t), intent(inout) :: table(:)
+      type(scene_slot_t), allocatable, target :: slots(:)
+      type(parameter_t), allocatable :: own(:), material(:)
+      integer :: i, k
+      call scene_catalog(slots)
+      table%kinds = ''
+      do k = 1, size(slots)
+         call slots(k)%input%entries(own)
+         call slots(k)%input%material_entries(material)
+         own = [own, material]
+         do i = 1, size(table)
+            if (find_parameter(own, trim(table(i)%group), trim(table(i)%name)) == 0) cycle
+            if (len_trim(table(i)%kinds) > 0) table(i)%kinds = trim(table(i)%kinds)//', '
+            table(i)%kinds = trim(table(i)%kinds)//trim(slots(k)%input%describe_name())
+         end do
+      end do
+   end subroutine name_kinds
+
+   !> The registry of every kind (--help, --list-parameters, the namelist reference, hints for a name in
+   !> the wrong group): the entries of `config`'s settings and, in each group, every kind's entries of it
+   !> (the first kind's where several have one: they share it; another kind's own default is added to its
+   !> note), bound to the inputs of `slots` (made here: they and `config` must stay in place while the
+   !> table is used).
+   subroutine catalog_parameters(config, slots, table)
+      type(config_t), intent(inout), target :: config
+      type(scene_slot_t), allocatable, intent(out), target :: slots(:)
+      type(parameter_t), allocatable, intent(out) :: table(:)
+      type(parameter_t), allocatable :: scene(:), material(:)
+      call run_length_flags(config)
+      call scene_catalog(slots)
+      call every_kind(scene, material)
+      call name_kinds(scene)
+      call name_kinds(material)
+      table = [common_entries(config, 'discretisation'), common_entries(config, 'scene'), scene, &
+               common_entries(config, 'material'), material, common_entries(config, 'run'), &
+               common_entries(config, 'output'), common_entries(config, 'guards')]
+   contains
+      subroutine every_kind(scene, material)
+         type(parameter_t), allocatable, intent(out) :: scene(:), material(:)
+         type(parameter_t), allocatable :: own(:)
+         integer :: k, i, j
+         allocate (scene(0), material(0))
+         do k = 1, size(slots)
+            call slots(k)%input%entries(own)
+            do i = 1, size(own)
+               j = find_parameter(scene, 'scene', trim(own(i)%name))
+               if (j == 0) then
+                  scene = [scene, own(i)]
+               else if (format_value(own(i)) /= format_value(scene(j))) then ! (another kind's default)
+                  if (len_trim(scene(j)%note) > 0) scene(j)%note = trim(scene(j)%note)//'; '
+                  scene(j)%note = trim(scene(j)%note)//slots(k)%input%describe_name()//': '// &
+                                  default_text(own(i))//' when not given'
+               end if
+            end do
+            call slots(k)%input%material_entries(own)
+            do i = 1, size(own)
+               if (find_parameter(material, 'material', trim(own(i)%name)) == 0) material = [material, own(i)]
+            end do
+         end do
+      end subroutine every_kind
+
+      !> A default as the listing shows it (a real in its shortest exact form).
+      function default_text(p) result(text)
+         type(parameter_t), intent(in) :: p
+         character(len=:), allocatable :: text
+         if (p%type == type_real) then
+            text = short_number(p%real_value)
+         else
+            text = trim(format_value(p))
+         end if
+      end function default_text
+   end subroutine catalog_parameters
 
    !> The bounds of `table` (config_parameters(config, table)) that depend on the configuration's values,
    !> set again for its present values (a table a sweep reuses for its cases): dt_fraction's upper bound
@@ -348,61 +334,27 @@ contains
    function scene_list(periods) result(text)
       logical, intent(in) :: periods
       character(len=:), allocatable :: text
+      type(scene_kind_t), allocatable :: kinds(:)
       integer :: k
+      kinds = scene_kinds()
       text = ''
-      do k = 1, size(scene_kinds)
+      do k = 1, size(kinds)
          if (k > 1) text = text//'; '
          if (periods) then
-            text = text//trim(scene_kinds(k)%name)//': '//trim(scene_kinds(k)%period)
+            text = text//trim(kinds(k)%name)//': '//trim(kinds(k)%period)
          else
-            text = text//"'"//trim(scene_kinds(k)%name)//"' "//trim(scene_kinds(k)%what)
+            text = text//"'"//trim(kinds(k)%name)//"' "//trim(kinds(k)%what)
          end if
       end do
    end function scene_list
 
    !> Warnings about a valid, resolved configuration (one line each, '' when none): a run that misses
-   !> what it is for. An impact whose bars do not meet before the run ends (end_time given) or never
-   !> meet: its error measures free flight, which any scheme follows to round-off.
+   !> what it is for (the scene's).
    function config_warnings(config) result(text)
       type(config_t), intent(in) :: config
       character(len=:), allocatable :: text
-      real(dp) :: meet
-      text = ''
-      if (trim(config%scene_kind) == 'plastic_wave') then
-         text = plastic_wave_warning(config)
-         return
-      end if
-      if (trim(config%scene_kind) /= 'impact') return
-      meet = contact_time(config)
-      if (config%velocities(1) <= config%velocities(2)) then
-         text = "the bars never meet: velocities = "//short_number(config%velocities(1))//", "// &
-                short_number(config%velocities(2))//" m/s (bar 1, on the left, is not faster than bar 2); the error "// &
-                "measures free flight, not an impact"
-      else if (meet >= config%final_time) then
-         text = "the bars do not meet before the end of the run: gap = "//short_number(config%gap)//" m closing at "// &
-                num(config%velocities(1) - config%velocities(2), 4)//" m/s first touches at t = "//num(meet, 4)// &
-                " s, after the end time "//num(config%final_time, 4)//" s; the error measures free flight, not "// &
-                "the impact (periods count from the first contact; or give a longer end_time)"
-      end if
+      text = config%scene%warnings(config)
    end function config_warnings
-
-   !> A plastic wave that cannot yield (another law than elastoplastic, or a drive at or below the yield
-   !> velocity v1 = sigma_y/(rho c_e)) carries one elastic wave and no plastic front: say so ('' otherwise).
-   function plastic_wave_warning(config) result(text)
-      type(config_t), intent(in) :: config
-      character(len=:), allocatable :: text
-      real(dp) :: v1
-      text = ''
-      if (trim(config%law) /= 'elastoplastic') then
-         text = "the plastic wave cannot yield with law = '"//trim(config%law)//"': one elastic wave, no plastic "// &
-                "front (law = 'elastoplastic' makes one)"
-         return
-      end if
-      v1 = config%yield_stress/(config%density*sqrt(config%youngs_modulus/config%density))
-      if (config%drive_velocity <= v1) text = "the plastic wave cannot yield: drive_velocity = "// &
-         short_number(config%drive_velocity)//" m/s is at or below the yield velocity yield_stress/(density c) = "// &
-         num(v1, 4)//" m/s: one elastic wave, no plastic front (a faster drive makes one)"
-   end function plastic_wave_warning
 
    !> A configuration filled by a program (end_time set, not read) gets the flags the reader would set.
    subroutine run_length_flags(config)
@@ -443,7 +395,7 @@ contains
       type(error_t), allocatable, intent(out) :: error
       character(len=*), intent(in), optional :: extra_groups(:), overrides(:)
       character(len=:), allocatable :: text
-      config = config_t()
+      config = new_config()
       call read_input_text(path, text, error)
       if (allocated(error)) return
       call read_config_text(text, input_name(path), config, error, extra_groups, overrides)
@@ -472,13 +424,15 @@ contains
       character(len=16), allocatable :: known(:)
       integer :: i
 
-      config = config_t()
       known = config_groups
       if (present(extra_groups)) known = [character(len=16) :: known, extra_groups]
       ! problems of syntax do not stop the reading: every problem of the file is reported at once
       call parse_namelist(text, path, items, groups, group_lines, error)
       call refuse_unknown_groups(groups, group_lines, known, path, error)
       if (present(overrides)) call put_overrides(items, overrides, known, error)
+      ! the scene's kind first: the table has its input's variables (another kind's are refused by name)
+      config = new_config(given_kind(items))
+      call refuse_other_kinds(config, items, path, error)
       call config_parameters(config, table)
       do i = 1, size(config_groups)
          call apply_items(table, items, trim(config_groups(i)), path, error)
@@ -486,13 +440,110 @@ contains
       table(find_parameter(table, 'discretisation', 'dt_fraction'))%upper = dt_fraction_limit(config)
       call check_given(table, config, error)
       call choose_run_length(table, config, error)
-      call plastic_wave_defaults(table, config)
+      ! a kind with a law of its own when none is given (the plastic wave: elastoplastic, to yield)
+      if (table(find_parameter(table, 'material', 'law'))%line == 0 .and. len(config%scene%default_law()) > 0) &
+         config%law = config%scene%default_law()
       call check_conditions(table, items, path, error)
       if (allocated(error)) return
       call validate_config(config, error, given=table)
       if (allocated(error)) return
       call resolve_config(config)
    end subroutine read_config_text
+
+   !> The scene kind the items give (the last assignment of &scene kind), else the default scene.
+   function given_kind(items) result(kind)
+      type(nml_item_t), intent(in) :: items(:)
+      character(len=:), allocatable :: kind
+      integer :: i
+      kind = default_scene
+      do i = 1, size(items)
+         if (items(i)%group /= 'scene' .or. items(i)%name /= 'kind') cycle
+         if (size(items(i)%values) /= 1) cycle ! (the kind's own check reports it)
+         kind = lower(trim(adjustl(items(i)%values(1)%text)))
+      end do
+   end function given_kind
+
+   !> A variable of &scene or &material that `config`'s kind does not have but another kind has is refused
+   !> naming the kinds it belongs to, and dropped from `items` (a name no kind has is left for the table's
+   !> reader, which says so). After an unknown kind, whose own message says what the kinds are, such
+   !> variables are dropped without a message of their own.
+   subroutine refuse_other_kinds(config, items, path, error)
+      type(config_t), intent(inout), target :: config
+      type(nml_item_t), allocatable, intent(inout) :: items(:)
+      character(len=*), intent(in) :: path
+      type(error_t), allocatable, intent(inout) :: error
+      type(parameter_t), allocatable :: table(:)
+      logical, allocatable :: keep(:)
+      character(len=:), allocatable :: message
+      integer :: i
+      logical :: known
+      known = known_kind(config%scene_kind)
+      call config_parameters(config, table)
+      allocate (keep(size(items)))
+      keep = .true.
+      do i = 1, size(items)
+         if (items(i)%group /= 'scene' .and. items(i)%group /= 'material') cycle
+         if (find_parameter(table, trim(items(i)%group), trim(items(i)%name)) > 0) cycle
+         message = other_kind_message(config, trim(items(i)%group), trim(items(i)%name))
+         if (len(message) == 0) cycle
+         if (known) call append_error(error, item_place(items(i), path)//message)
+         keep(i) = .false.
+      end do
+      items = pack(items, keep)
+   end subroutine refuse_other_kinds
+
+   !> The message refusing variable `name` of `group` that `config`'s kind does not have but another kind
+   !> has ("scene: 'gravity' is not used by kind = 'vibrating_bar'; it belongs to kind column"), '' when no
+   !> kind has it.
+   function other_kind_message(config, group, name) result(text)
+      type(config_t), intent(in) :: config
+      character(len=*), intent(in) :: group, name
+      character(len=:), allocatable :: text
+      type(config_t), target :: local
+      type(scene_slot_t), allocatable, target :: slots(:)
+      type(parameter_t), allocatable :: table(:)
+      integer :: k
+      text = ''
+      local = config
+      call catalog_parameters(local, slots, table)
+      k = find_parameter(table, group, name)
+      if (k == 0) return
+      if (used_by(table(k), trim(config%scene_kind))) return
+      text = not_used_message(table(k), config%scene_kind)
+   end function other_kind_message
+
+   !> What a &sweep list named `list` varies when `config`'s kind does not have it but another kind does
+   !> ("scene: 'gravity' is not used by kind = 'vibrating_bar'; it belongs to kind column"), else ''
+   !> (for an unknown kind the message names it; the caller, whose kind was refused already, says nothing).
+   function other_kind_list(config, list) result(text)
+      type(config_t), intent(in) :: config
+      character(len=*), intent(in) :: list
+      character(len=:), allocatable :: text
+      type(config_t), target :: local
+      type(scene_slot_t), allocatable, target :: slots(:)
+      type(parameter_t), allocatable :: table(:)
+      integer :: k
+      text = ''
+      local = config
+      call catalog_parameters(local, slots, table)
+      do k = 1, size(table)
+         if (len_trim(table(k)%sweep_list) == 0) cycle
+         if (table(k)%sweep_list /= list .and. (len_trim(table(k)%sweep_alias) == 0 .or. &
+                                                table(k)%sweep_alias /= list)) cycle
+         if (.not. used_by(table(k), trim(config%scene_kind))) text = not_used_message(table(k), config%scene_kind)
+         return
+      end do
+   end function other_kind_list
+
+   !> `into` (a sweep's case, made from `from`, its base) takes the settings of `from` in place: the
+   !> components keep their addresses, so that a table bound to `into` (config_parameters) stays valid.
+   !> The scene's input is not copied: it is the base's from the start, nothing but the table changes it,
+   !> and the table sets every value a sweep's lists vary for each case.
+   subroutine assign_in_place(into, from)
+      type(config_t), intent(inout) :: into
+      type(config_t), intent(in) :: from
+      into%settings_t = from%settings_t
+   end subroutine assign_in_place
 
    !> A group that is neither the run's nor one of `known`: named with the known group nearest to it.
    !> The list of known groups has &sweep too (an input with it is a sweep).
@@ -536,19 +587,15 @@ contains
       end if
    end subroutine put_overrides
 
-   !> Each variable's range, where it was given; a variable given for a scene kind that does not use it
-   !> is refused (after an unknown kind, whose own message says what the kinds are, it is not), and so is
-   !> a variable of another integrator (one of another law: check_conditions, for_value).
+   !> Each variable's range, where it was given; a variable of another integrator is refused (one of another
+   !> scene kind: refuse_other_kinds; of another law: check_conditions, for_value).
    subroutine check_given(table, config, error)
       type(parameter_t), intent(in) :: table(:)
       type(config_t), intent(in) :: config
       type(error_t), allocatable, intent(inout) :: error
       integer :: i
       do i = 1, size(table)
-         if (table(i)%line > 0 .and. known_kind(config%scene_kind) .and. &
-             .not. used_by(table(i), trim(config%scene_kind))) then
-            call append_error(error, trim(table(i)%origin)//' '//not_used_message(table(i), config%scene_kind))
-         else if (table(i)%line > 0 .and. .not. used_by_integrator(table(i)%name, config%integrator)) then
+         if (table(i)%line > 0 .and. .not. used_by_integrator(table(i)%name, config%integrator)) then
             call append_error(error, trim(table(i)%origin)//' '//integrator_message(table(i), config%integrator))
          else if (table(i)%line > 0) then
             call check_parameter(table(i), error, trim(table(i)%origin)//' ')
@@ -571,21 +618,10 @@ contains
       else if (table(end_time)%line > 0) then
          config%periods_given = .false.
          config%periods = -huge(1.0_dp) ! no value (for programs reading config_t; the flag decides)
-      else if (table(periods)%line == 0 .and. trim(config%scene_kind) == 'plastic_wave') then
-         config%periods = plastic_wave_periods
+      else if (table(periods)%line == 0 .and. config%scene%default_periods() > 0.0_dp) then
+         config%periods = config%scene%default_periods()
       end if
    end subroutine choose_run_length
-
-   !> A plastic wave that does not name its law or its drive is elastoplastic and driven at
-   !> plastic_wave_drive, above the yield velocity sigma_y/(rho c_e) of the default material (6.3 m/s),
-   !> so that its defaults carry the two fronts (an elastic precursor and a plastic wave).
-   subroutine plastic_wave_defaults(table, config)
-      type(parameter_t), intent(in) :: table(:)
-      type(config_t), intent(inout) :: config
-      if (trim(config%scene_kind) /= 'plastic_wave') return
-      if (table(find_parameter(table, 'material', 'law'))%line == 0) config%law = 'elastoplastic'
-      if (table(find_parameter(table, 'scene', 'drive_velocity'))%line == 0) config%drive_velocity = plastic_wave_drive
-   end subroutine plastic_wave_defaults
 
    !> A variable used only with one word of another (for_value; flip_fraction, the FLIP share of
    !> transfer = 'blend') given (in its group or as a &sweep list) where no value of the other, in the
@@ -730,11 +766,10 @@ contains
    end function dt_fraction_limit
 
    !> The integrator against the rest: a variable it does not use but a sweep set is refused (given in the
-   !> input it is refused by name already), and the scenes it cannot run. quasi_static needs static loads
-   !> and an exact static solution: the column (the other scenes' motion is driven by initial velocities,
-   !> time-dependent forces or a driven end with the other end free, which has no equilibrium but a rigid
-   !> motion). The implicit integrators take one velocity field: the impact's frictionless contact (a
-   !> velocity field per body, a non-smooth constraint) is the explicit schemes' only.
+   !> input it is refused by name already), and the scenes it cannot run: quasi_static needs static loads
+   !> and an exact static solution (the scene's static_loads; the other scenes' motion is driven by
+   !> initial velocities, time-dependent forces or a driven end with the other end free, which has no
+   !> equilibrium but a rigid motion). What else a scene needs of the integrator, its check says.
    !> `table` is `config`'s (validate_config's); `default_table` the defaults' (config_t()), built
    !> here when not given (a sweep builds it once for its cases).
    subroutine check_integrator(config, table, error, default_table)
@@ -748,6 +783,7 @@ contains
       if (present(default_table)) then
          call unused_values(default_table)
       else
+         defaults = new_config(config%scene_kind)
          call config_parameters(defaults, own_defaults)
          call unused_values(own_defaults)
       end if
@@ -758,18 +794,25 @@ contains
       if (trim(config%integrator) == 'quasi_static' .and. config%end_time_given) &
          call append_error(error, integrator_message(table(find_parameter(table, 'run', 'end_time')), &
                                                      config%integrator))
-      if (trim(config%integrator) == 'quasi_static' .and. trim(config%scene_kind) /= 'column') &
+      if (trim(config%integrator) == 'quasi_static' .and. .not. config%scene%static_loads()) &
          call append_error(error, "discretisation: integrator = 'quasi_static' needs a scene with static loads "// &
                            "and an exact static solution; kind = '"//trim(config%scene_kind)//"' has none "// &
                            "(its motion comes from initial velocities, time-dependent forces or a driven end); "// &
-                           "allowed: kind = 'column'")
-      if (trim(config%integrator) /= 'explicit' .and. trim(config%scene_kind) == 'impact' .and. &
-          trim(config%contact) == 'frictionless') &
-         call append_error(error, "scene: contact = 'frictionless' is not used by integrator = '"// &
-                           trim(config%integrator)//"' (a velocity field per body, whose contact is a non-smooth "// &
-                           "constraint the Newton iteration does not take); allowed: contact = 'none', or "// &
-                           "integrator = 'explicit'")
+                           "allowed: kind = "//static_kinds())
    contains
+      !> The kinds whose loads are static, as the message lists them ("'column'").
+      function static_kinds() result(text)
+         character(len=:), allocatable :: text
+         type(scene_slot_t), allocatable :: slots(:)
+         integer :: k
+         text = ''
+         call scene_catalog(slots)
+         do k = 1, size(slots)
+            if (.not. slots(k)%input%static_loads()) cycle
+            if (len(text) > 0) text = text//' or '
+            text = text//"'"//trim(slots(k)%input%describe_name())//"'"
+         end do
+      end function static_kinds
       !> A variable the integrator does not use whose value is not its default is refused.
       subroutine unused_values(defaults)
          type(parameter_t), intent(in) :: defaults(:)
@@ -790,12 +833,7 @@ contains
    pure function material_of(config) result(material)
       type(config_t), intent(in) :: config
       type(material_t) :: material
-      material%law = law_id(config%law)
-      material%youngs_modulus = config%youngs_modulus
-      if (trim(config%law) == 'elastoplastic') then
-         material%yield_stress = config%yield_stress
-         material%hardening_modulus = config%hardening_modulus
-      end if
+      material = config%scene%material(config%law)
    end function material_of
 
    !> The message refusing a variable that scene kind `kind` does not use.
@@ -808,9 +846,9 @@ contains
    end function not_used_message
 
    !> Is `kind` a scene kind the code implements?
-   pure logical function known_kind(kind)
+   logical function known_kind(kind)
       character(len=*), intent(in) :: kind
-      known_kind = in_list(trim(kind), known_scenes)
+      known_kind = in_list(trim(kind), known_scenes())
    end function known_kind
 
    !> Check every value; append one line per problem to `error`, naming the variable and range, with
@@ -844,7 +882,7 @@ contains
          call validate_values(own_table)
       end if
       if (allocated(error)) return
-      call check_representable(config, error)
+      call config%scene%check_representable(config, error) ! (its material and motion within the doubles)
       if (allocated(error)) return
       call check_run(config, local%end_time_given, error, given)
       if (allocated(error)) return
@@ -870,25 +908,11 @@ contains
          if (.not. local%periods_given .and. .not. local%end_time_given) call append_error(error, &
             "run: give periods or end_time")
          call check_counts(config, error)
-         call check_scene(config, error, given)
-         call check_material(config, error)
+         call config%scene%check(config, error, given)
          call check_integrator(config, t, error, default_table)
          call check_methods(config, error, given)
       end subroutine validate_values
    end subroutine validate_config
-
-   !> Where variable `name` of `group` was given ("file:line: "), '' when `given` does not say.
-   function place(given, group, name) result(prefix)
-      type(parameter_t), intent(in), optional :: given(:)
-      character(len=*), intent(in) :: group, name
-      character(len=:), allocatable :: prefix
-      integer :: k
-      prefix = ''
-      if (.not. present(given)) return
-      k = find_parameter(given, group, name)
-      if (k == 0) return
-      if (given(k)%line > 0) prefix = trim(given(k)%origin)//' '
-   end function place
 
    !> Grid cells and particles within the integers of the arrays.
    subroutine check_counts(config, error)
@@ -904,83 +928,20 @@ contains
          str(max_count))
    end subroutine check_counts
 
-   !> What a scene needs of its variables together (each variable's range is checked on its own).
-   subroutine check_scene(config, error, given)
-      type(config_t), intent(in) :: config
-      type(error_t), allocatable, intent(inout) :: error
-      type(parameter_t), intent(in), optional :: given(:)
-      select case (trim(config%scene_kind))
-      case ('manufactured')
-         if (2*pi*config%amplitude >= config%length) call append_error(error, place(given, 'scene', 'amplitude')// &
-            "scene: kind = 'manufactured' needs 2 pi amplitude / length < 1 (F > 0 everywhere); amplitude = "// &
-            short_number(config%amplitude)//" m, length = "//short_number(config%length)//" m give "// &
-            num(2*pi*config%amplitude/config%length, 4)//"; allowed: amplitude < "//num(config%length/(2*pi), 4)//" m")
-      case ('composite_bar')
-         if (config%length_count < 2 .or. config%modulus_count /= config%length_count .or. &
-             config%density_count /= config%length_count) call append_error(error, place(given, 'scene', 'lengths')// &
-            "scene: kind = 'composite_bar' needs 2 to "//str(max_segments)//" segments: lengths, youngs_moduli and "// &
-            "densities with one value each (given "//str(config%length_count)//", "//str(config%modulus_count)// &
-            ", "//str(config%density_count)//")")
-      case ('impact')
-         call check_impact(config, error, given)
-      end select
-   end subroutine check_scene
-
-   !> The impact's two bars: two values of each list, the configurations its exact solution covers
-   !> (mpm_scene_impact): equal impedances rho c, and for contact = 'none' (the bars stick) equal wave
-   !> transit times L/c; and a grid that resolves both bars: `elements` spans both bars and the gap, and
-   !> a bar shorter than half a cell would get a cell of its own it does not fill.
-   subroutine check_impact(config, error, given)
-      type(config_t), intent(in) :: config
-      type(error_t), allocatable, intent(inout) :: error
-      type(parameter_t), intent(in), optional :: given(:)
-      real(dp) :: z(2), transit(2), dx, shortest
-      integer :: b
-      if (config%length_count /= 2 .or. config%modulus_count /= 2 .or. config%density_count /= 2 .or. &
-          config%velocity_count /= 2) then
-         call append_error(error, place(given, 'scene', 'lengths')//"scene: kind = 'impact' needs two bars: "// &
-                           "lengths, youngs_moduli, densities and velocities with two values each (given "// &
-                           str(config%length_count)//", "//str(config%modulus_count)//", "// &
-                           str(config%density_count)//", "//str(config%velocity_count)//")")
-         return
-      end if
-      z = sqrt(config%youngs_moduli(1:2)*config%densities(1:2))
-      transit = config%lengths(1:2)/sqrt(config%youngs_moduli(1:2)/config%densities(1:2))
-      if (abs(z(1) - z(2)) > 1.0e-9_dp*maxval(z)) call append_error(error, place(given, 'scene', 'youngs_moduli')// &
-         "scene: kind = 'impact' needs equal impedances sqrt(youngs_moduli*densities) of the two bars (its exact "// &
-         "solution covers those); given "//num(z(1), 6)//" and "//num(z(2), 6)//" kg/(m^2 s)")
-      if (trim(config%contact) == 'none' .and. abs(transit(1) - transit(2)) > 1.0e-9_dp*maxval(transit)) &
-         call append_error(error, place(given, 'scene', 'contact')//"scene: kind = 'impact' with contact = 'none' "// &
-                           "needs equal wave transit times lengths/c of the two bars (the stuck bars' exact "// &
-                           "solution); given "//num(transit(1), 6)//" and "//num(transit(2), 6)//" s")
-      dx = body_length(config)/config%elements
-      shortest = minval(config%lengths(1:2))
-      b = minloc(config%lengths(1:2), 1)
-      if (shortest < 0.5_dp*dx) then
-         call append_error(error, place(given, 'scene', 'gap')//"scene: gap = "//short_number(config%gap)// &
-                           " m with lengths = "//short_number(config%lengths(1))//", "// &
-                           short_number(config%lengths(2))//" m on elements = "//str(config%elements)//" gives "// &
-                           "cells of dx = (lengths(1) + gap + lengths(2))/elements = "//num(dx, 4)//" m, more than "// &
-                           "twice bar "//str(b)//"'s length: the grid cannot resolve it; allowed: dx <= 2 "// &
-                           "lengths("//str(b)//"), that is gap <= "//num(max(0.0_dp, 2*shortest*config%elements - &
-                           sum(config%lengths(1:2))), 4)//" m at elements = "//str(config%elements)// &
-                           " (or elements >= "//num(body_length(config)/(2*shortest), 4)//")")
-      end if
-   end subroutine check_impact
-
    !> The time step and the run's length: dx and dt doubles can hold, at least one step and at most
-   !> huge(1) - 1 of them, a motion of the free ends the grid's margin can hold, snapshots within the run.
+   !> huge(1) - 1 of them, what the scene needs of the run (a motion of the free ends the grid's margin can
+   !> hold, a length its exact solution covers), snapshots within the run.
    subroutine check_run(config, end_time_given, error, given)
       type(config_t), intent(in) :: config
       logical, intent(in) :: end_time_given
       type(error_t), allocatable, intent(inout) :: error
       type(parameter_t), intent(in), optional :: given(:)
       real(dp) :: c, dx, dt, end_time
-      c = largest_wave_speed(config)
-      dx = body_length(config)/config%elements
+      c = config%scene%wave_speed()
+      dx = config%scene%body_length()/config%elements
       dt = time_step(config)
       if (.not. ieee_is_normal(c) .or. .not. ieee_is_normal(dt) .or. .not. ieee_is_normal(dx) .or. dt <= 0.0_dp) then
-         call append_error(error, "scene: length = "//short_number(body_length(config))//" m on elements = "// &
+         call append_error(error, "scene: length = "//short_number(config%scene%body_length())//" m on elements = "// &
                            str(config%elements)//" with dt_fraction = "//short_number(config%dt_fraction)// &
                            " gives dx = "//short_number(dx)//" m and dt = dt_fraction dx/c = "//short_number(dt)// &
                            " s, which doubles cannot hold; allowed: dx and dt between 2.2e-308 and 1.8e308")
@@ -990,48 +951,28 @@ contains
       if (end_time < dt) call append_error(error, run_too_short(config, end_time_given, end_time, dt, given))
       if (end_time/dt > real(huge(1) - 1, dp)) call append_error(error, too_many_steps(config, end_time_given, &
                                                                                          end_time, dt, given))
-      if (trim(config%scene_kind) == 'plastic_wave' .and. end_time > (1.0_dp + 1.0e-12_dp)*config%length/c) &
-         call append_error(error, run_length(config, end_time_given, end_time, given)//" ends after the elastic "// &
-                           "precursor reaches the free end at L/c = "//num(config%length/c, 4)//" s, where the "// &
-                           "plastic wave's exact solution stops holding; allowed: periods <= 1 (end_time <= "// &
-                           num(config%length/c, 4)//" s)")
-      call check_motion(config, end_time, dx, error, given)
+      call config%scene%check_run(config, end_time, dx, run_length(config, end_time_given, end_time, given), error, &
+                                  given)
       call check_snapshots(config, end_time, error, given)
       if (end_time >= dt .and. end_time/dt <= real(huge(1) - 1, dp)) &
          call check_snapshot_every(config, step_count(end_time, dt), error, given)
    end subroutine check_run
 
-   !> The formulation, shape and transfer against the scene and the integrator (docs/theory.md, The cures):
-   !> the total-Lagrangian formulation keeps the reference configuration, which the impact's contact cannot
-   !> use; CPDI's domains are one body's chain of corners and its particles the domains' centres, which
-   !> ASFLIP's own moves and the impact's bars are not; XPIC, FMPM and ASFLIP keep grid fields of one
-   !> velocity field, not the impact's field per bar; the implicit integrators take none of them (their
-   !> Newton step moves the particles with the grid's displacement: formulation by its integrator list).
+   !> The formulation, shape and transfer against each other and the integrator (docs/theory.md, The cures;
+   !> against a scene: its input's check): CPDI's particles are the domains' centres, which ASFLIP's own
+   !> moves are not; the implicit integrators take none of XPIC, FMPM, ASFLIP and CPDI (their Newton step
+   !> moves the particles with the grid's displacement: formulation by its integrator list).
    subroutine check_methods(config, error, given)
       type(config_t), intent(in) :: config
       type(error_t), allocatable, intent(inout) :: error
       type(parameter_t), intent(in), optional :: given(:)
       logical :: new_transfer
       new_transfer = in_list(trim(config%transfer), 'xpic, fmpm, asflip')
-      if (trim(config%formulation) == 'total' .and. trim(config%scene_kind) == 'impact') &
-         call append_error(error, place(given, 'discretisation', 'formulation')//"discretisation: formulation = "// &
-                           "'total' is not used by kind = 'impact' (the bars' contact needs their current "// &
-                           "configuration; the total-Lagrangian formulation keeps the reference one); allowed: "// &
-                           "formulation = 'updated', or another kind")
-      if (trim(config%shape) == 'cpdi' .and. trim(config%scene_kind) == 'impact') &
-         call append_error(error, place(given, 'discretisation', 'shape')//"discretisation: shape = 'cpdi' is not "// &
-                           "used by kind = 'impact' (the bars' domains and their contact are not implemented for "// &
-                           "CPDI); allowed: another shape, or another kind")
       if (trim(config%shape) == 'cpdi' .and. trim(config%transfer) == 'asflip') &
          call append_error(error, place(given, 'discretisation', 'transfer')//"discretisation: transfer = "// &
                            "'asflip' is not used with shape = 'cpdi' (a CPDI particle is its domain's centre, moved "// &
                            "with the grid; ASFLIP moves particles off the grid's motion); allowed: another transfer, "// &
                            "or another shape")
-      if (new_transfer .and. trim(config%scene_kind) == 'impact' .and. trim(config%contact) == 'frictionless') &
-         call append_error(error, place(given, 'discretisation', 'transfer')//"discretisation: transfer = '"// &
-                           trim(config%transfer)//"' is not used with contact = 'frictionless' (its grid fields "// &
-                           "are of one velocity field, not of a field per bar); allowed: contact = 'none', or "// &
-                           "transfer = 'flip', 'pic', 'blend' or 'apic'")
       if (trim(config%integrator) /= 'explicit' .and. known_integrator(config%integrator)) then
          if (new_transfer) call append_error(error, place(given, 'discretisation', 'transfer')//"discretisation: "// &
                                              "transfer = '"//trim(config%transfer)//"' is not used by integrator = '"// &
@@ -1049,40 +990,8 @@ contains
       end function known_integrator
    end subroutine check_methods
 
-   !> The &material group against the scene (a variable of another law is refused by its entry's
-   !> condition, for_value): an elastoplastic composite bar or impact needs yield_stresses and hardening_moduli with one
-   !> value per segment, and the manufactured solution's body force is made for an elastic law.
-   subroutine check_material(config, error)
-      type(config_t), intent(in) :: config
-      type(error_t), allocatable, intent(inout) :: error
-      logical :: several
-      several = trim(config%scene_kind) == 'composite_bar' .or. trim(config%scene_kind) == 'impact'
-      if (trim(config%law) == 'elastoplastic' .and. several .and. (config%yield_count /= config%length_count .or. &
-                              config%hardening_count /= config%length_count)) then
-         call append_error(error, "material: law = 'elastoplastic' with kind = '"//trim(config%scene_kind)// &
-                           "' needs yield_stresses and hardening_moduli with one value per segment (given "// &
-                           str(config%yield_count)//" and "//str(config%hardening_count)//" for "// &
-                           str(config%length_count)//" segments)")
-      end if
-      if (trim(config%scene_kind) == 'manufactured' .and. trim(config%law) == 'elastoplastic') &
-         call append_error(error, "material: law = 'elastoplastic' is not used by kind = 'manufactured' (its body "// &
-                           "force makes the motion exact for an elastic law); allowed: law = 'hencky' or 'linear'")
-      ! the column's weight at its fixed end, rho g L: a perfectly plastic column yielding there has no
-      ! equilibrium (docs/theory.md, The static column): it flows without bound (a quasi-static run left
-      ! the grid at x = 3.5e10 m, an explicit one tripped the energy guard)
-      if (trim(config%scene_kind) == 'column' .and. trim(config%law) == 'elastoplastic' .and. &
-          config%hardening_modulus == 0.0_dp) then
-         if (config%yield_stress < config%density*config%gravity*config%length) &
-            call append_error(error, "material: hardening_modulus = 0 (perfectly plastic) with yield_stress = "// &
-                              short_number(config%yield_stress)//" Pa, below the column's weight at its fixed end "// &
-                              "rho g L = "//num(config%density*config%gravity*config%length, 4)//" Pa: the column "// &
-                              "yields and has no equilibrium; allowed: yield_stress >= "// &
-                              num(config%density*config%gravity*config%length, 4)//" Pa, or hardening_modulus > 0")
-      end if
-   end subroutine check_material
-
    !> How the user gave the run's length: "run: end_time = 1e-3 s" or "run: periods = 2 (end time 1e-3 s)",
-   !> for the impact with the time the bars meet, from which periods count.
+   !> with what the scene says of when its periods start (the impact: when the bars meet).
    function run_length(config, end_time_given, end_time, given) result(text)
       type(config_t), intent(in) :: config
       logical, intent(in) :: end_time_given
@@ -1091,11 +1000,9 @@ contains
       character(len=:), allocatable :: text
       if (end_time_given) then
          text = place(given, 'run', 'end_time')//"run: end_time = "//short_number(config%end_time)//" s"
-      else if (contact_time(config) > 0.0_dp) then
+      else if (len(config%scene%start_note(end_time)) > 0) then
          text = place(given, 'run', 'periods')//"run: periods = "//short_number(config%periods)//" (end time "// &
-                num(end_time, 4)//" s: the bars meet at t = gap/(velocities(1) - velocities(2)) = "// &
-                num(contact_time(config), 4)//" s with gap = "//short_number(config%gap)//" m, and periods count "// &
-                "from then)"
+                num(end_time, 4)//" s"//config%scene%start_note(end_time)//")"
       else
          text = place(given, 'run', 'periods')//"run: periods = "//short_number(config%periods)//" (end time "// &
                 num(end_time, 4)//" s)"
@@ -1110,22 +1017,14 @@ contains
       type(parameter_t), intent(in), optional :: given(:)
       character(len=:), allocatable :: text
       real(dp) :: period
-      integer(i8) :: largest_mode
       if (end_time_given) then
          text = place(given, 'run', 'end_time')//"run: end_time = "//short_number(config%end_time)//" s: the end "// &
                 "time is shorter than one time step dt = "//num(dt, 4)//" s; allowed: end_time >= "//num(dt, 4)//" s"
          return
       end if
       period = end_time/config%periods
-      if (trim(config%scene_kind) == 'vibrating_bar' .and. config%mode > 1) then
-         ! periods (2 pi/omega_n = 4 L/((2n-1) c)) >= dt  <=>  2n - 1 <= periods 4 L/(c dt)
-         largest_mode = int(min((config%periods*4*config%length/(largest_wave_speed(config)*dt) + 1)/2, &
-                                real(huge(1), dp)), i8)
-         text = place(given, 'scene', 'mode')//"scene: mode = "//str(config%mode)//" with periods = "// &
-                short_number(config%periods)//" gives an end time "//num(end_time, 4)//" s, shorter than one "// &
-                "time step dt = "//num(dt, 4)//" s; allowed: mode <= "//str(largest_mode)//" (or run: periods >= "// &
-                num(dt/period, 4)//")"
-      else
+      text = config%scene%short_run(config, end_time, dt, given) ! (a scene's variable that makes it so)
+      if (len(text) == 0) then
          text = place(given, 'run', 'periods')//"run: periods = "//short_number(config%periods)//" gives an end "// &
                 "time "//num(end_time, 4)//" s, shorter than one time step dt = "//num(dt, 4)//" s; allowed: "// &
                 "periods >= "//num(dt/period, 4)
@@ -1134,69 +1033,26 @@ contains
 
    !> The run needs more steps than the integers hold: name what was typed. In a body of several
    !> materials the step follows the fastest wave and the period the slower ones: a large contrast of
-   !> wave speeds is named with the values that give it.
+   !> wave speeds is named with the values that give it (the scene's fast_waves).
    function too_many_steps(config, end_time_given, end_time, dt, given) result(text)
       type(config_t), intent(in) :: config
       logical, intent(in) :: end_time_given
       real(dp), intent(in) :: end_time, dt
       type(parameter_t), intent(in), optional :: given(:)
-      character(len=:), allocatable :: text, advice, part
-      real(dp), allocatable :: c(:)
-      integer :: fast, slow
+      character(len=:), allocatable :: text, advice, cause, cause_advice
       text = run_length(config, end_time_given, end_time, given)//" needs "//num(end_time/dt, 4)// &
              " steps of dt = "//num(dt, 4)//" s"
       advice = "fewer periods, a larger dt_fraction or fewer elements"
       if (end_time_given) advice = "a shorter end_time, a larger dt_fraction or fewer elements"
-      if (contact_time(config) > 0.0_dp .and. .not. end_time_given) advice = "a smaller gap or a faster approach, "//advice
-      if (trim(config%scene_kind) == 'composite_bar' .or. trim(config%scene_kind) == 'impact') then
-         c = sqrt(config%youngs_moduli(1:config%length_count)/config%densities(1:config%length_count))
-         fast = maxloc(c, 1)
-         slow = minloc(c, 1)
-         if (c(fast) > 100*c(slow) .and. .not. end_time_given) then
-            part = merge('segment', 'bar    ', trim(config%scene_kind) == 'composite_bar')
-            text = place(given, 'scene', 'youngs_moduli')//"scene: youngs_moduli("//str(fast)//") = "// &
-                   short_number(config%youngs_moduli(fast))//" Pa and densities("//str(fast)//") = "// &
-                   short_number(config%densities(fast))//" kg/m^3 give "//trim(part)//" "//str(fast)//" a wave "// &
-                   "speed of "//num(c(fast), 4)//" m/s, "//num(c(fast)/c(slow), 3)//" times "//trim(part)//" "// &
-                   str(slow)//"'s ("//num(c(slow), 4)//" m/s): dt follows the fastest wave, the period the "// &
-                   "slower ones, so "//text
-            advice = "wave speeds sqrt(youngs_moduli/densities) closer together, "//advice
-         end if
+      if (config%scene%periods_from() > 0.0_dp .and. .not. end_time_given) &
+         advice = "a smaller gap or a faster approach, "//advice
+      if (.not. end_time_given) then ! (the scene's wave speeds, when they are the cause)
+         call config%scene%fast_waves(config, cause, cause_advice, given)
+         text = cause//text
+         advice = cause_advice//advice
       end if
       text = text//"; allowed: at most "//str(huge(1) - 1)//" steps ("//advice//")"
    end function too_many_steps
-
-   !> A free end's motion over the run must fit the grid's automatic margin (margin_cells = -1): at most
-   !> 1e8 cells, as for the vibrating bar (check_representable). The composite bar's driven end and the
-   !> impact's bars are named here (their motion grows with the run's length).
-   subroutine check_motion(config, end_time, dx, error, given)
-      type(config_t), intent(in) :: config
-      real(dp), intent(in) :: end_time, dx
-      type(error_t), allocatable, intent(inout) :: error
-      type(parameter_t), intent(in), optional :: given(:)
-      real(dp), parameter :: most_cells = 1.0e8_dp
-      real(dp) :: cells
-      if (config%margin_cells >= 0) return
-      cells = free_end_reach(config, end_time)/dx
-      if (.not. (cells > most_cells)) return
-      select case (trim(config%scene_kind))
-      case ('composite_bar')
-         call append_error(error, place(given, 'scene', 'drive_velocity')//"scene: drive_velocity = "// &
-                           short_number(config%drive_velocity)//" m/s moves the bar's free end by up to 4 v T = "// &
-                           num(free_end_reach(config, end_time), 4)//" m over the run (T = "//num(end_time, 4)// &
-                           " s), about "//num(cells, 3)//" cells of dx = "//num(dx, 4)//" m for the grid's margin"// &
-                           " to hold; allowed: at most 1e8 cells, drive_velocity <= "// &
-                           num(config%drive_velocity*most_cells/cells, 4)//" m/s")
-      case ('impact')
-         call append_error(error, place(given, 'scene', 'velocities')//"scene: velocities = "// &
-                           short_number(config%velocities(1))//", "//short_number(config%velocities(2))// &
-                           " m/s move the bars' outer ends by up to 1.5 max |v| T = "// &
-                           num(free_end_reach(config, end_time), 4)//" m over the run (T = "//num(end_time, 4)// &
-                           " s), about "//num(cells, 3)//" cells of dx = "//num(dx, 4)//" m for the grid's margins"// &
-                           " to hold; allowed: at most 1e8 cells, |velocities| <= "// &
-                           num(maxval(abs(config%velocities))*most_cells/cells, 4)//" m/s")
-      end select
-   end subroutine check_motion
 
    !> Snapshot times within the run and in increasing order.
    subroutine check_snapshots(config, end_time, error, given)
@@ -1250,121 +1106,6 @@ contains
       periodic_snapshots = 0
       if (every > 0) periodic_snapshots = steps/every + 1
    end function periodic_snapshots
-
-   !> Refuse a body whose material or motion doubles cannot represent, naming the variables typed: the
-   !> wave speed (E/rho), and for the vibrating bar the free end's motion in cells (the grid's margin
-   !> must hold it: at most 1e8 cells), its displacements (normal doubles), the energy rho v0^2 L/4 and
-   !> the stress amplitude sqrt(E rho) |v0| (finite doubles). |v0| >= c is allowed (studies/stability
-   !> runs v0 = c on purpose; the guards stop such a run).
-   !> Magnitudes are compared as logarithms so that the check itself cannot overflow.
-   subroutine check_representable(config, error)
-      type(config_t), intent(in) :: config
-      type(error_t), allocatable, intent(inout) :: error
-      real(dp), parameter :: top = log10(huge(1.0_dp)), bottom = log10(tiny(1.0_dp))
-      real(dp) :: log_ratio, log_c, log_v, log_cells
-      integer :: k
-      character(len=:), allocatable :: extra
-      extra = ''
-      if (trim(config%scene_kind) == 'composite_bar') then
-         do k = 1, config%length_count
-            log_ratio = log10(config%youngs_moduli(k)) - log10(config%densities(k))
-            if (log_ratio > top .or. log_ratio < bottom) call append_error(error, "scene: youngs_moduli("// &
-               str(k)//") = "//short_number(config%youngs_moduli(k))//" Pa and densities("//str(k)//") = "// &
-               short_number(config%densities(k))//" kg/m^3 give E/rho = 1e"//str(nint(log_ratio))// &
-               ", beyond the doubles; allowed: 2.2e-308 <= youngs_moduli/densities <= 1.8e308")
-         end do
-         return
-      end if
-      log_ratio = log10(config%youngs_modulus) - log10(config%density)
-      if (log_ratio > top .or. log_ratio < bottom) then
-         call append_error(error, "scene: "//material()//" give no wave speed sqrt(E/rho) doubles can hold "// &
-                           "(E/rho = 1e"//str(nint(log_ratio))//"); allowed: 2.2e-308 <= youngs_modulus/density <= 1.8e308")
-         return
-      end if
-      if (trim(config%scene_kind) == 'column') then
-         ! strain at the fixed end rho g L/E = g L/c^2 (>= 1: J <= 0)
-         log_v = log10(config%gravity) + log10(config%length) - log_ratio
-         if (log_v >= 0.0_dp) then
-            call append_error(error, "scene: gravity = "//short_number(config%gravity)//" m/s^2, length = "// &
-                              short_number(config%length)//" m and "//material()//" give a strain g L rho/E = 1e"// &
-                              str(nint(log_v))//" at the fixed end; allowed: gravity length density/youngs_modulus < 1")
-            return
-         end if
-         ! the column's exact solution and energies use these products as they stand
-         extra = ", gravity = "//short_number(config%gravity)//" m/s^2"
-         call within("the sag g L^2/c^2", log_v + log10(config%length))
-         call within("g L", log10(config%gravity) + log10(config%length))
-         call within("L^3", 3*log10(config%length))
-         call within("g^2", 2*log10(config%gravity))
-         call within("the energy rho g^2 L^3/c^2", log10(config%density) + 2*log10(config%gravity) + &
-                     3*log10(config%length) - log_ratio)
-         return
-      end if
-      if (trim(config%scene_kind) == 'manufactured') then
-         ! the manufactured solution's body force, energies and error measure use these products as they stand
-         extra = ", amplitude = "//short_number(config%amplitude)//" m"
-         call within("(c/L)^2", log_ratio - 2*log10(config%length))
-         call within("the body force A (c/L)^2", log10(config%amplitude) + log_ratio - 2*log10(config%length))
-         call within("the energy rho (c A)^2/L", log10(config%density) + log_ratio + 2*log10(config%amplitude) - &
-                     log10(config%length))
-         call within("the error measure's scale rho L (A/100)^2", log10(config%density) + log10(config%length) + &
-                     2*log10(config%amplitude) - 4)
-         return
-      end if
-      if (trim(config%scene_kind) == 'plastic_wave') then
-         ! the energy balance sums m v^2/2 and the drive's work V sum m v as they stand
-         extra = ", drive_velocity = "//short_number(config%drive_velocity)//" m/s"
-         call within("the drive's work rho V^2 L", log10(config%density) + 2*log10(config%drive_velocity) + &
-                     log10(config%length))
-         call within("the stress rho c V", log10(config%density) + log_ratio/2 + log10(config%drive_velocity))
-         return
-      end if
-      if (trim(config%scene_kind) /= 'vibrating_bar' .or. config%velocity_amplitude == 0.0_dp) return
-      log_c = log_ratio/2
-      log_v = log10(abs(config%velocity_amplitude))
-      ! the free end's amplitude in cells, |v0|/c 2 elements/((2 mode - 1) pi): the grid's margin holds it
-      log_cells = log_v - log_c + log10(2*real(config%elements, dp)/((2*real(config%mode, dp) - 1)*pi))
-      if (log_cells > 8 .and. config%margin_cells < 0) then
-         call append_error(error, "scene: velocity_amplitude = "//short_number(config%velocity_amplitude)// &
-                           " m/s moves the free end by about 1e"//str(nint(log_cells))//" cells (|v0|/c = 1e"// &
-                           str(nint(log_v - log_c))//" with c = sqrt(youngs_modulus/density) = "// &
-                           short_number(10.0_dp**log_c)//" m/s); allowed: an amplitude of at most 1e8 cells, "// &
-                           "|velocity_amplitude| <= "//short_number(10.0_dp**(log_c + 8 - log_cells + log_v))//" m/s")
-      else if (log_v - log_c + log10(config%length) < bottom + 1) then
-         ! the exact u_cm amplitude v0/(omega beta L) = (v0/c) L (2/((2n-1) pi))^2 must be a normal double
-         call append_error(error, "scene: velocity_amplitude = "//short_number(config%velocity_amplitude)// &
-                           " m/s, length = "//short_number(config%length)//" m and "//material()//" give "// &
-                           "displacements of about (v0/c) L = 1e"//str(nint(log_v - log_c + log10(config%length)))// &
-                           " m, below the doubles (2.2e-307); allowed: a larger velocity_amplitude or length")
-      else if (log10(config%density) + 2*log_v + log10(config%length) - log10(4.0_dp) > top - 1) then
-         call append_error(error, "scene: density = "//short_number(config%density)//" kg/m^3, velocity_amplitude"// &
-                           " = "//short_number(config%velocity_amplitude)//" m/s and length = "// &
-                           short_number(config%length)//" m give an energy rho v0^2 L/4 of 1e"// &
-                           str(nint(log10(config%density) + 2*log_v + log10(config%length) - log10(4.0_dp)))// &
-                           " J/m^2, beyond the doubles; allowed: rho v0^2 L/4 < 1.8e307")
-      else if ((log10(config%youngs_modulus) + log10(config%density))/2 + log_v > top - 1) then
-         call append_error(error, "scene: "//material()//" with velocity_amplitude = "// &
-                           short_number(config%velocity_amplitude)//" m/s give a stress amplitude sqrt(E rho) |v0| "// &
-                           "beyond the doubles; allowed: sqrt(youngs_modulus density) |velocity_amplitude| < 1.8e307 Pa")
-      end if
-   contains
-      !> Refuse the scene when a product its formulas form (log10 `magnitude`) leaves the doubles.
-      subroutine within(what, magnitude)
-         character(len=*), intent(in) :: what
-         real(dp), intent(in) :: magnitude
-         if (magnitude < bottom + 2 .or. magnitude > top - 2) call append_error(error, "scene: kind = '"// &
-            trim(config%scene_kind)//"' with length = "//short_number(config%length)//" m"//extra//" and "//material()// &
-            ": "//what//" is about 1e"//str(nint(magnitude))//", beyond what its formulas hold in doubles; "// &
-            "allowed: 1e-306 to 1e306 (choose units nearer 1; the vibrating bar's formulas are scaled, these are not)")
-      end subroutine within
-      !> The material's values, for a message (formed only then: for every case of a sweep, the
-      !> numbers' text was 0.1 % of the paper's Table-2 sweeps).
-      function material() result(text)
-         character(len=:), allocatable :: text
-         text = "youngs_modulus = "//short_number(config%youngs_modulus)//" Pa and density = "// &
-                short_number(config%density)//" kg/m^3"
-      end function material
-   end subroutine check_representable
 
    !> Refuse a run whose particles and grid would not fit in the memory available now.
    !> `history_steps` is the number of history entries kept (0 without history).
@@ -1464,127 +1205,37 @@ contains
 
    real(dp) function run_end_time(config)
       type(config_t), intent(in) :: config
-      real(dp) :: omega
       if (trim(config%integrator) == 'quasi_static') then ! the full load
          run_end_time = 1.0_dp
       else if (config%end_time_given .or. .not. ieee_is_nan(config%end_time)) then
          run_end_time = config%end_time
-      else if (trim(config%scene_kind) == 'vibrating_bar') then ! this association: the paper's step counts
-         omega = (2*config%mode - 1)*pi/(2.0_dp*config%length)*sqrt(config%youngs_modulus/config%density)
-         run_end_time = config%periods*2.0_dp*pi/omega
       else
-         ! the impact's periods count from the bars' first contact (0 when they meet at once or never)
-         run_end_time = contact_time(config) + config%periods*scene_period(config)
+         run_end_time = config%scene%end_time(config) ! (periods of the scene's period, from its start)
       end if
    end function run_end_time
 
-   !> When the impact's bars first touch: gap/(v1 - v2) when bar 1 is faster toward bar 2, else 0 (they
-   !> touch at once or never); 0 for the other scenes.
-   pure real(dp) function contact_time(config)
-      type(config_t), intent(in) :: config
-      contact_time = 0.0_dp
-      if (trim(config%scene_kind) /= 'impact' .or. config%velocity_count /= 2) return
-      if (config%velocities(1) > config%velocities(2)) &
-         contact_time = config%gap/(config%velocities(1) - config%velocities(2))
-   end function contact_time
-
    !> The time step of a validated configuration: dt = dt_fraction dx/c, c the fastest wave speed; for
    !> integrator quasi_static the load increment 1/load_steps (its "time" is the load factor, 0 to 1).
-   pure real(dp) function time_step(config)
+   real(dp) function time_step(config)
       type(config_t), intent(in) :: config
       if (trim(config%integrator) == 'quasi_static') then
          time_step = 1.0_dp/config%load_steps
       else
-         time_step = config%dt_fraction*(body_length(config)/config%elements)/largest_wave_speed(config)
+         time_step = config%dt_fraction*(config%scene%body_length()/config%elements)/config%scene%wave_speed()
       end if
    end function time_step
 
-   !> How far a free end can move out over a run of `end_time` (m): the scene's automatic grid margin
-   !> holds it (mpm_scene_*: margin_cells). The bar: the end's amplitude |v0|/omega_n; the column: its
-   !> sag g L^2/c^2; the composite bar: 4 v T (a transmitted wave's particle velocity is at most 2 v,
-   !> doubled at the free end); the impact: 1.5 max |v_b| T on either side; the manufactured solution
-   !> has no free end.
-   pure real(dp) function free_end_reach(config, end_time) result(reach)
-      type(config_t), intent(in) :: config
-      real(dp), intent(in) :: end_time
-      real(dp) :: c
-      c = largest_wave_speed(config)
-      select case (trim(config%scene_kind))
-      case ('vibrating_bar')
-         reach = abs(config%velocity_amplitude)/((2*real(config%mode, dp) - 1)*pi/(2.0_dp*config%length)*c)
-      case ('column')
-         reach = config%gravity*config%length**2/c**2
-      case ('composite_bar')
-         reach = 4.0_dp*config%drive_velocity*end_time
-      case ('impact')
-         reach = 1.5_dp*maxval(abs(config%velocities(1:2)))*end_time
-      case default
-         reach = 0.0_dp
-      end select
-   end function free_end_reach
-
    !> The empty cells the scene's grid gets beyond its free ends when margin_cells = -1: its reach in
-   !> cells plus 2 on each free end (the impact has two), as mpm_scene's margin_for counts them.
+   !> cells plus 2 on each free end (the scene's free_ends), as mpm_scene's margin_for counts them.
    integer(i8) function automatic_margin(config)
       type(config_t), intent(in) :: config
       real(dp) :: cells
       automatic_margin = 0
       if (config%margin_cells >= 0) return
-      cells = free_end_reach(config, run_end_time(config))/(body_length(config)/config%elements)
+      cells = config%scene%reach(run_end_time(config))/(config%scene%body_length()/config%elements)
       if (.not. (cells <= 1.0e9_dp)) cells = 1.0e9_dp
-      automatic_margin = 2 + ceiling(cells, i8)
-      if (trim(config%scene_kind) == 'impact') automatic_margin = 2*automatic_margin
-      if (trim(config%scene_kind) == 'manufactured') automatic_margin = 0
+      automatic_margin = config%scene%free_ends()*(2 + ceiling(cells, i8))
    end function automatic_margin
-
-   !> The length of the body: the composite bar's segments together, else `length`.
-   pure real(dp) function body_length(config)
-      type(config_t), intent(in) :: config
-      if (trim(config%scene_kind) == 'composite_bar') then
-         body_length = sum(config%lengths(1:config%length_count))
-      else if (trim(config%scene_kind) == 'impact') then ! both bars and the gap
-         body_length = sum(config%lengths(1:2)) + config%gap
-      else
-         body_length = config%length
-      end if
-   end function body_length
-
-   !> The wave speed the time step follows: the stiffest segment's of a composite bar, else sqrt(E/rho).
-   pure real(dp) function largest_wave_speed(config)
-      type(config_t), intent(in) :: config
-      integer :: n
-      if (trim(config%scene_kind) == 'composite_bar' .or. trim(config%scene_kind) == 'impact') then
-         n = config%length_count
-         largest_wave_speed = maxval(sqrt(config%youngs_moduli(1:n)/config%densities(1:n)))
-      else
-         largest_wave_speed = sqrt(config%youngs_modulus/config%density)
-      end if
-   end function largest_wave_speed
-
-   !> The period that `periods` counts: the bar's mode n, 2 pi/omega_n; the column's first mode, 4L/c;
-   !> the manufactured solution's, 2L/c (u oscillates as sin(pi c t/L)); the composite bar's: the time
-   !> a wave takes to cross all segments, sum L_i/c_i.
-   real(dp) function scene_period(config)
-      type(config_t), intent(in) :: config
-      real(dp) :: c
-      c = sqrt(config%youngs_modulus/config%density)
-      select case (trim(config%scene_kind))
-      case ('column')
-         scene_period = 4.0_dp*config%length/c
-      case ('manufactured')
-         scene_period = 2.0_dp*config%length/c
-      case ('composite_bar')
-         associate (n => config%length_count)
-            scene_period = sum(config%lengths(1:n)/sqrt(config%youngs_moduli(1:n)/config%densities(1:n)))
-         end associate
-      case ('plastic_wave') ! the elastic precursor's transit time
-         scene_period = config%length/c
-      case ('impact') ! the longer of the bars' wave round trips 2 L/c (identical bars: the contact time)
-         scene_period = 2.0_dp*maxval(config%lengths(1:2)/sqrt(config%youngs_moduli(1:2)/config%densities(1:2)))
-      case default
-         scene_period = 2.0_dp*pi/((2*config%mode - 1)*pi/(2.0_dp*config%length)*c)
-      end select
-   end function scene_period
 
    !> The time-step fraction above which `scheme` with `particles_per_element` and `shape` (default
    !> linear) is unstable. Linear: the predicted limit on fine meshes (studies/stability/
@@ -1662,12 +1313,15 @@ contains
    !> Fill the derived quantities of a validated configuration.
    subroutine resolve_config(config)
       type(config_t), intent(inout) :: config
-      if (trim(config%scene_kind) == 'composite_bar' .or. trim(config%scene_kind) == 'impact') &
-         config%length = body_length(config)
-      config%wave_speed = largest_wave_speed(config)
+      type(material_t) :: material
+      call kind_input(config)
+      config%length = config%scene%body_length()
+      material = config%scene%material(config%law)
+      config%youngs_modulus = material%youngs_modulus
+      config%wave_speed = config%scene%wave_speed()
       config%dx = config%length/config%elements
       config%dt = time_step(config)
-      config%period = scene_period(config)
+      config%period = config%scene%period()
       config%final_time = run_end_time(config)
       config%steps = step_count(config%final_time, config%dt)
       if (trim(config%integrator) == 'quasi_static') then
@@ -1704,7 +1358,7 @@ contains
       integer :: i
       local = config
       call config_parameters(local, table)
-      defaults = config_t()
+      defaults = new_config(config%scene_kind)
       call config_parameters(defaults, default_table)
       do i = 1, size(table)
          if (len_trim(table(i)%needs_variable) == 0) cycle
@@ -1737,6 +1391,31 @@ contains
              plural(config%particles_per_element, "particle")//" per element, dt = "//num(config%dt_fraction)// &
              " dx/c = "//num(config%dt, 3)//" s, "//plural(config%steps, "step")
    end function config_summary
+
+   !> Set variables of `config` from assignments 'group.name=value', as command-line overrides give them,
+   !> without validating or resolving (a program that builds a configuration: the tests, the benchmark;
+   !> resolve_config after). A kind among them takes effect first: the scene's input of that kind, at its
+   !> defaults, then the other values.
+   subroutine set_config_values(config, assignments, error)
+      type(config_t), intent(inout), target :: config
+      character(len=*), intent(in) :: assignments(:)
+      type(error_t), allocatable, intent(out) :: error
+      type(nml_item_t), allocatable :: items(:)
+      type(parameter_t), allocatable :: table(:)
+      integer :: i
+      allocate (items(0))
+      call add_overrides(items, assignments, config_groups, error)
+      if (allocated(error)) return
+      do i = 1, size(items) ! (a kind given: its input first)
+         if (items(i)%group == 'scene' .and. items(i)%name == 'kind') config%scene_kind = given_kind(items)
+      end do
+      call kind_input(config)
+      call config_parameters(config, table)
+      do i = 1, size(config_groups)
+         call apply_items(table, items, trim(config_groups(i)), 'set_config_values', error)
+      end do
+      call run_length_flags(config)
+   end subroutine set_config_values
 
    !> `words` joined by `separator`, each after `before` ('&scene, &run').
    pure function join(words, separator, before) result(text)
