@@ -1,6 +1,7 @@
 !> Run outcome codes, the per-step history of a run and its snapshots.
 module mpm_diagnostics
    use mpm_kinds, only: dp, i8
+   use mpm_names, only: id_name
    implicit none
    private
    public :: no_value
@@ -20,6 +21,10 @@ module mpm_diagnostics
    integer, parameter :: status_newton = 7         !< an implicit step's Newton iteration did not converge
    integer, parameter :: status_domain_stretched = 8 !< a CPDI particle domain outgrew the nodes it touches
    integer, parameter :: status_not_run = -1       !< a sweep case that has not run (yet), or was abandoned
+   !> Their names, from status_not_run to status_domain_stretched (mpm_names).
+   character(len=*), parameter :: status_names = 'not_run, ok, non_finite, volume_ratio_not_positive, '// &
+                                                  'left_grid, energy_growth, cell_crossing, setup_failed, '// &
+                                                  'newton_not_converged, domain_stretched'
 
    !> "No value": a quiet NaN (bits 7FF8000000000000), written where a result does not exist (the
    !> error of a run a guard stopped, the time of a case not timed); the status says why.
@@ -92,29 +97,6 @@ contains
    pure function status_name(code) result(name)
       integer, intent(in) :: code
       character(len=:), allocatable :: name
-      select case (code)
-      case (status_ok)
-         name = 'ok'
-      case (status_non_finite)
-         name = 'non_finite'
-      case (status_volume_ratio)
-         name = 'volume_ratio_not_positive'
-      case (status_left_grid)
-         name = 'left_grid'
-      case (status_energy_growth)
-         name = 'energy_growth'
-      case (status_cell_crossing)
-         name = 'cell_crossing'
-      case (status_setup_failed)
-         name = 'setup_failed'
-      case (status_newton)
-         name = 'newton_not_converged'
-      case (status_domain_stretched)
-         name = 'domain_stretched'
-      case (status_not_run)
-         name = 'not_run'
-      case default
-         name = 'unknown'
-      end select
+      name = id_name(code, status_names, first=status_not_run)
    end function status_name
 end module mpm_diagnostics

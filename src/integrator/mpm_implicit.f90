@@ -49,6 +49,7 @@
 module mpm_implicit
    use, intrinsic :: ieee_arithmetic, only: ieee_is_finite, ieee_value, ieee_quiet_nan
    use mpm_kinds, only: dp, i8
+   use mpm_names, only: name_id
    use mpm_settings, only: settings_t
    use mpm_grid, only: grid_t
    use mpm_particles, only: particles_t
@@ -65,12 +66,15 @@ module mpm_implicit
    use mpm_ghost_penalty, only: ghost_knots_t, find_ghost_knots
    implicit none
    private
-   public :: implicit_t, integrator_explicit, integrator_implicit, integrator_quasi_static, integrator_id
+   public :: implicit_t, integrator_explicit, integrator_implicit, integrator_quasi_static, integrator_id, &
+             known_integrators
    public :: implicit_init, implicit_advance, implicit_report, prepare_step, assemble_system, newton_solve
    public :: implicit_stepper_t
 
    !> Integrator ids.
    integer, parameter :: integrator_explicit = 0, integrator_implicit = 1, integrator_quasi_static = 2
+   !> Their names, in the order of the ids (mpm_names).
+   character(len=*), parameter :: known_integrators = 'explicit, implicit, quasi_static'
    !> Mass matrices.
    integer, parameter :: mass_lumped = 1, mass_consistent = 2
    !> The round-off floor of the residual ("the tolerance meets the floor"): the increments du carry an
@@ -156,14 +160,7 @@ contains
    !> Integer id of an integrator name (explicit for anything else; the configuration is validated).
    pure integer function integrator_id(name)
       character(len=*), intent(in) :: name
-      select case (trim(name))
-      case ('implicit')
-         integrator_id = integrator_implicit
-      case ('quasi_static')
-         integrator_id = integrator_quasi_static
-      case default
-         integrator_id = integrator_explicit
-      end select
+      integrator_id = max(name_id(name, known_integrators, first=integrator_explicit), integrator_explicit)
    end function integrator_id
 
    !> The integrator's options from the configuration.

@@ -11,6 +11,7 @@
 !> fused stress pass can call the law of one particle; the whole-array updates here serve the generic path.
 module mpm_material
    use mpm_kinds, only: dp
+   use mpm_names, only: name_id, id_name
    use mpm_errors, only: error_t, set_error
    use mpm_strings, only: str
    use mpm_particles, only: particles_t
@@ -41,34 +42,15 @@ module mpm_material
 
 contains
 
-   !> Id of a law name (0 if unknown; the configuration is validated before).
    pure integer function law_id(name)
       character(len=*), intent(in) :: name
-      select case (trim(name))
-      case ('hencky')
-         law_id = law_hencky
-      case ('linear')
-         law_id = law_linear
-      case ('elastoplastic')
-         law_id = law_elastoplastic
-      case default
-         law_id = 0
-      end select
+      law_id = name_id(name, known_laws)
    end function law_id
 
    pure function law_name(law) result(name)
       integer, intent(in) :: law
       character(len=:), allocatable :: name
-      select case (law)
-      case (law_hencky)
-         name = 'hencky'
-      case (law_linear)
-         name = 'linear'
-      case (law_elastoplastic)
-         name = 'elastoplastic'
-      case default
-         name = 'unknown'
-      end select
+      name = id_name(law, known_laws)
    end function law_name
 
    !> The per-particle state the law needs, in its initial value: for the elastoplastic law the plastic

@@ -14,6 +14,8 @@ module mpm_config
    use mpm_settings, only: settings_t, max_snapshots, max_segments
    use mpm_shape, only: known_shapes, known_transfers, known_formulations
    use mpm_material, only: material_t, known_laws, law_id
+   use mpm_stepper, only: known_schemes
+   use mpm_implicit, only: known_integrators
    use mpm_registry, only: parameter_t, nml_item_t, text_entry, int_entry, real_entry, real_list_entry, &
                            logical_entry, for_value, used_by, parse_namelist, read_input_text, add_overrides, &
                            apply_items, check_parameter, find_parameter, group_namelist, short_number, item_place, &
@@ -33,8 +35,6 @@ module mpm_config
    public :: assign_in_place
    public :: known_integrators, used_with, run_length_flags
 
-   !> Schemes the code implements.
-   character(len=*), parameter :: known_schemes = 'usf, usl, musl'
    !> The groups of one run's input, in the order of the echo and of --help.
    character(len=16), parameter :: config_groups(*) = [character(len=16) :: 'scene', 'material', 'discretisation', &
                                                         'run', 'output', 'guards']
@@ -52,9 +52,6 @@ module mpm_config
    real(dp), parameter :: max_ghost_penalty = 1.0e6_dp
    !> The largest order of transfer = 'xpic' or 'fmpm' (each order one more projection per filtered velocity).
    integer, parameter :: max_transfer_order = 100
-   !> Time integrators: the explicit schemes (scheme = usf, usl, musl), Newmark's trapezoidal rule with
-   !> Newton on the grid, and equilibrium in load steps (mpm_implicit).
-   character(len=*), parameter :: known_integrators = 'explicit, implicit, quasi_static'
 
    !> Everything one run needs to know: the common settings (their defaults are the paper's Table 1 and
    !> its verification case), the scene's kind and its input (made by new_config or the reader).

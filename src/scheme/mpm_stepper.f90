@@ -10,6 +10,7 @@
 !> what every path shares (the particles, the run's grid, the problem's loads) is passed to it.
 module mpm_stepper
    use mpm_kinds, only: dp
+   use mpm_names, only: name_id
    use mpm_grid, only: grid_t
    use mpm_particles, only: particles_t
    use mpm_diagnostics, only: pass_totals_t
@@ -17,10 +18,12 @@ module mpm_stepper
    use mpm_state, only: state_t
    implicit none
    private
-   public :: stepper_t, stepper_stop_t, scheme_usf, scheme_usl, scheme_musl, scheme_id
+   public :: stepper_t, stepper_stop_t, scheme_usf, scheme_usl, scheme_musl, scheme_id, known_schemes
 
    !> The explicit update schemes (docs/theory.md, Algorithm).
    integer, parameter :: scheme_usf = 1, scheme_usl = 2, scheme_musl = 3
+   !> Their names, in the order of the ids (mpm_names).
+   character(len=*), parameter :: known_schemes = 'usf, usl, musl'
 
    !> Why a stepper could not complete a step (an implicit step whose Newton iteration failed): what the
    !> guard reports. `stopped` false: the step completed. `stretched`: a step that completed but left a
@@ -95,16 +98,7 @@ contains
    !> Integer id of a scheme name (0 if unknown; the configuration is validated before).
    pure integer function scheme_id(scheme)
       character(len=*), intent(in) :: scheme
-      select case (trim(scheme))
-      case ('usf')
-         scheme_id = scheme_usf
-      case ('usl')
-         scheme_id = scheme_usl
-      case ('musl')
-         scheme_id = scheme_musl
-      case default
-         scheme_id = 0
-      end select
+      scheme_id = name_id(scheme, known_schemes)
    end function scheme_id
 
    pure function stop_reason(self) result(reason)

@@ -16,6 +16,7 @@
 !> reference positions): the operations read them from it.
 module mpm_shape
    use mpm_kinds, only: dp
+   use mpm_names, only: name_id, id_name
    use mpm_grid, only: grid_t
    use mpm_state, only: state_t
    use mpm_shape_linear, only: linear_support, linear_shapes
@@ -31,13 +32,13 @@ module mpm_shape
    public :: formulation_updated, formulation_total, formulation_id, known_formulations
    public :: sync_cache
 
-   !> Shape function ids.
+   !> Shape function ids, in the order of their names in known_shapes (mpm_names).
    integer, parameter :: shape_linear = 1, shape_ugimp = 2, shape_cpgimp = 3, shape_bspline2 = 4, shape_bspline3 = 5, &
                          shape_cpdi = 6
    integer, parameter :: all_shapes(6) = [shape_linear, shape_ugimp, shape_cpgimp, shape_bspline2, shape_bspline3, &
                                           shape_cpdi]
    character(len=*), parameter :: known_shapes = 'linear, ugimp, cpgimp, bspline2, bspline3, cpdi'
-   !> Velocity transfer ids (G2P): FLIP v += dt sum N a; PIC v = sum N v; their blend; APIC
+   !> Velocity transfer ids (G2P; in the order of known_transfers): FLIP v += dt sum N a; PIC v = sum N v; their blend; APIC
    !> ([Jiang 2015] in docs/theory.md: PIC plus a per-particle velocity gradient carried into the next P2G);
    !> XPIC(m), FMPM(k) and ASFLIP (mpm_xpic, mpm_fmpm, mpm_asflip; docs/theory.md, The cures).
    integer, parameter :: transfer_flip = 1, transfer_pic = 2, transfer_blend = 3, transfer_apic = 4, &
@@ -45,8 +46,9 @@ module mpm_shape
    integer, parameter :: all_transfers(7) = [transfer_flip, transfer_pic, transfer_blend, transfer_apic, &
                                              transfer_xpic, transfer_fmpm, transfer_asflip]
    character(len=*), parameter :: known_transfers = 'flip, pic, blend, apic, xpic, fmpm, asflip'
-   !> The formulations: updated Lagrangian (the weights at the particles' positions each step) and total
-   !> Lagrangian ([de Vaucorbeil 2020]: the weights and gradients at the reference positions, once).
+   !> The formulations (in the order of known_formulations): updated Lagrangian (the weights at the
+   !> particles' positions each step) and total Lagrangian ([de Vaucorbeil 2020]: the weights and
+   !> gradients at the reference positions, once).
    integer, parameter :: formulation_updated = 1, formulation_total = 2
    character(len=*), parameter :: known_formulations = 'updated, total'
 
@@ -89,90 +91,25 @@ contains
    pure function shape_name(kind) result(name)
       integer, intent(in) :: kind
       character(len=:), allocatable :: name
-      select case (kind)
-      case (shape_linear)
-         name = 'linear'
-      case (shape_ugimp)
-         name = 'ugimp'
-      case (shape_cpgimp)
-         name = 'cpgimp'
-      case (shape_bspline2)
-         name = 'bspline2'
-      case (shape_bspline3)
-         name = 'bspline3'
-      case (shape_cpdi)
-         name = 'cpdi'
-      case default
-         name = 'unknown'
-      end select
+      name = id_name(kind, known_shapes)
    end function shape_name
 
    !> Id of a shape name (0 if unknown; the configuration is validated before).
    pure integer function shape_id(name)
       character(len=*), intent(in) :: name
-      ! (a select case: no allocatable temporaries in a lookup that every run makes)
-      select case (trim(name))
-      case ('linear')
-         shape_id = shape_linear
-      case ('ugimp')
-         shape_id = shape_ugimp
-      case ('cpgimp')
-         shape_id = shape_cpgimp
-      case ('bspline2')
-         shape_id = shape_bspline2
-      case ('bspline3')
-         shape_id = shape_bspline3
-      case ('cpdi')
-         shape_id = shape_cpdi
-      case default
-         shape_id = 0
-      end select
+      shape_id = name_id(name, known_shapes)
    end function shape_id
 
    pure function transfer_name(kind) result(name)
       integer, intent(in) :: kind
       character(len=:), allocatable :: name
-      select case (kind)
-      case (transfer_flip)
-         name = 'flip'
-      case (transfer_pic)
-         name = 'pic'
-      case (transfer_blend)
-         name = 'blend'
-      case (transfer_apic)
-         name = 'apic'
-      case (transfer_xpic)
-         name = 'xpic'
-      case (transfer_fmpm)
-         name = 'fmpm'
-      case (transfer_asflip)
-         name = 'asflip'
-      case default
-         name = 'unknown'
-      end select
+      name = id_name(kind, known_transfers)
    end function transfer_name
 
    !> Id of a transfer name (0 if unknown).
    pure integer function transfer_id(name)
       character(len=*), intent(in) :: name
-      select case (trim(name))  ! (see shape_id)
-      case ('flip')
-         transfer_id = transfer_flip
-      case ('pic')
-         transfer_id = transfer_pic
-      case ('blend')
-         transfer_id = transfer_blend
-      case ('apic')
-         transfer_id = transfer_apic
-      case ('xpic')
-         transfer_id = transfer_xpic
-      case ('fmpm')
-         transfer_id = transfer_fmpm
-      case ('asflip')
-         transfer_id = transfer_asflip
-      case default
-         transfer_id = 0
-      end select
+      transfer_id = name_id(name, known_transfers)
    end function transfer_id
 
    !> Nodes per particle of shape `kind`.
@@ -205,14 +142,7 @@ contains
    !> Id of a formulation name (0 if unknown).
    pure integer function formulation_id(name)
       character(len=*), intent(in) :: name
-      select case (trim(name))
-      case ('updated')
-         formulation_id = formulation_updated
-      case ('total')
-         formulation_id = formulation_total
-      case default
-         formulation_id = 0
-      end select
+      formulation_id = name_id(name, known_formulations)
    end function formulation_id
 
    !> Fill `cache` for positions x (allocating it on first use); `outside` = first particle outside
