@@ -481,6 +481,22 @@ def timing_noise(spreads: Optional[Sequence[float]]) -> str:
             f'{NOISY_TIMING_SPREAD:g})')
 
 
+def timing_too_small(fitted: Sequence[float], times: Sequence[float],
+                     spreads: Optional[Sequence[float]]) -> str:
+    """Why a fit's timings are too small to judge it by ('' when they are not, or no spreads are
+    recorded): the fitted time changes over the measured range (largest minus smallest of `fitted`,
+    the fit at the measured points) by no more than the repeats' spread (median relative spread
+    times the median time), so that a slope, flat or steep, is not told apart from timing noise."""
+    if spreads is None or len(spreads) == 0:
+        return ''
+    change = float(np.ptp(np.asarray(fitted, float)))
+    noise = float(np.nanmedian(np.asarray(spreads, float)) * np.nanmedian(np.asarray(times, float)))
+    if change > noise:
+        return ''
+    return (f'timings too small to judge a fit (the fit changes by {change:.2g} s over the range, '
+            f'the repeats spread by {noise:.2g} s)')
+
+
 def time_fits(sweep: Sweep, scheme: str, outdir: str, elements: int = 3,
               dt_fraction: Optional[float] = None,
               particles_per_element: Optional[int] = None) -> Tuple[str, Dict[str, Dict]]:
@@ -529,9 +545,10 @@ def time_fits(sweep: Sweep, scheme: str, outdir: str, elements: int = 3,
         bars = 0.5 * np.asarray(spreads, float) * t if spreads else None
         ax.errorbar(x, t, yerr=bars, fmt='o', color='C0', capsize=2,
                     label='measured (bar: interquartile range of the repeats)' if spreads else 'measured')
-        noisy = timing_noise(spreads)
+        at_points = line['slope'] * x + line['intercept'] if ax is ax_a else curve['a'] / x + curve['b']
+        noisy = timing_noise(spreads) or timing_too_small(at_points, t, spreads)
         ax.plot(fit_x, fit_t, color='0.6' if noisy else 'C1', ls='--' if noisy else '-',
-                label=f'{formula}\nR² = {r2:.4f}' + (f'\n{noisy}' if noisy else ''))
+                label=f'{formula}\nR² = {r2:.4f}' + (f'\n{textwrap.fill(noisy, 48)}' if noisy else ''))
     ax_a.set_xlabel(f'{PPE_LABEL} n ({elements} elements)')
     ax_a.set_title(f'(a) time step dt = {100 * dt_fraction:g} % of dx/c', fontsize=10)
     ax_b.set_xlabel('time step k (% of dx/c)')

@@ -162,7 +162,23 @@ def test_time_fits_show_the_spread_and_say_when_it_is_too_large(sweeps, panels, 
     figure = panels['fig9_time_fits_usl.png']
     for panel in figure['panels']:
         assert panel['error_bars'] == 1
-        said = any('timings too noisy to judge a fit (median spread of the repeats 0.6 > 0.2)' in label
+        said = any('timings too noisy to judge a fit (median spread of the repeats 0.6 > 0.2)' in ' '.join(label.split())
                    for label in panel['labels'])
         assert said == noisy, panel['labels']
     assert fits['time_step']['spread'] == [spread] * len(fits['time_step']['x'])
+
+
+@pytest.mark.parametrize('slope, small', [(1e-7, True), (1e-4, False)])
+def test_time_fits_say_when_the_timings_are_too_small_to_judge(sweeps, panels, tmp_path, slope, small):
+    """Steady repeats (spread 0.05) do not make a fit judgeable when the fitted time changes over the
+    measured range by less than that spread of the median time: 1e-7 s per particle over n = 1..10 on
+    a 2e-4 s run (a change of 9e-7 s against a spread of 1e-5 s) is noise, 1e-4 s per particle is not.
+    The times follow t = 2e-4 s + slope (n + 100 k), k the time-step fraction, so both panels share it."""
+    sweep = sweeps['usl']
+    cases = sweep.cases
+    cases['run_time'] = 2e-4 + slope * (cases['particles_per_element'] + 100 * cases['dt_fraction'])
+    cases['run_time_spread'] = np.full(len(sweep), 0.05)
+    figures.time_fits(sweep, 'usl', str(tmp_path))
+    for panel in panels['fig9_time_fits_usl.png']['panels']:
+        said = any('timings too small to judge a fit' in ' '.join(label.split()) for label in panel['labels'])
+        assert said == small, panel['labels']

@@ -58,3 +58,25 @@ def test_without_stored_spreads_the_outlier_rule_still_applies():
     times[2] *= 5.0
     fits = {'usf': {'particles': {'x': PARTICLES.tolist(), 'time': times.tolist(), 'spread': None}}}
     assert analysis.claim_linear_time(fits).holds is None
+
+
+def test_a_change_within_the_spread_gives_no_verdict():
+    """Timings of 3 elements (USL, 2.4e-4 s a run) that do not grow with the particles: R² near 0,
+    yet the line changes over n = 1..10 by less than the repeats' spread of the median time, so
+    the data cannot tell flat from linear."""
+    times = 2.4e-4 * (1 + 0.01 * np.random.default_rng(7).standard_normal(10))
+    judged = analysis.judge_linear(PARTICLES, times, np.full(10, 0.065))
+    assert judged.r2 < 0.5 and judged.verdict is None, judged
+    assert 'too small to judge' in judged.reason, judged.reason
+    claim = analysis.claim_linear_time(_fits(times, np.full(10, 0.065)))
+    assert claim.holds is None and claim.verdict.startswith('no verdict'), claim.verdict
+
+
+def test_scatter_between_cases_gives_no_verdict():
+    """Each case's repeats agree (spread 0.02) but the cases, timed at different moments of a shared
+    machine, scatter by 30 % about the line: R² is low, yet no curve fits either, so this is not
+    evidence against linearity."""
+    times = (2e-4 + 1e-5 * PARTICLES) * (1 + 0.3 * np.random.default_rng(11).standard_normal(10))
+    judged = analysis.judge_linear(PARTICLES, times, np.full(10, 0.02))
+    assert judged.r2 < 0.97 and judged.verdict is None, judged
+    assert 'scatter about any smooth curve' in judged.reason, judged.reason

@@ -180,17 +180,18 @@ def _fits_section(report: Report, fits: Dict[str, Dict]) -> None:
     rows = []
     for scheme, fit in fits.items():
         line, curve = fit['particles'], fit['time_step']
-        for formula, coefficients, r2, data, spread in (
+        n, k = np.asarray(line['x'], float), np.asarray(curve['x'], float)
+        for formula, coefficients, r2, data, spread, fitted, times in (
                 ('t = a·n + b (n particles per element)', f"a = {line['slope']:.4g} s, b = {line['intercept']:.4g} s",
                  line['r2'], f"{line['elements']} el., {100 * line['dt_fraction']:g} % of dx/c, {len(line['x'])} points",
-                 line.get('spread')),
+                 line.get('spread'), line['slope'] * n + line['intercept'], line['time']),
                 ('t = a/k + b (k time step in %)', f"a = {curve['a']:.4g} s·%, b = {curve['b']:.4g} s", curve['r2'],
                  f"{curve['elements']} el., {curve['particles_per_element']} ppe, {len(curve['x'])} points",
-                 curve.get('spread'))):
-            noisy = figures.timing_noise(spread)
+                 curve.get('spread'), curve['a'] / k + curve['b'], curve['time'])):
+            noisy = figures.timing_noise(spread) or figures.timing_too_small(fitted, times, spread)
             rows.append([scheme.upper(), formula, coefficients, f'{r2:.4f}',
                          data + (f', median spread of the repeats {np.median(spread):.2g}' if spread else ''),
-                         noisy or 'steady enough to fit'])
+                         noisy or 'repeats steady (the verdict on linearity: Findings (e))'])
     report.add('## Computation-time fits (figures 6 and 9)', '',
                'A fit says something only where the timings are steady: each case was repeated until its '
                'min_time, and the spread of its repeats (interquartile range over median) is the bar in the '

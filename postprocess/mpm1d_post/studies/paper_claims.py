@@ -14,7 +14,7 @@ from typing import Dict, List, Mapping, Optional, Sequence
 
 import numpy as np
 
-from ..figures import linear_fit
+from ..figures import linear_fit, timing_too_small
 from ..loader import Sweep
 from ..orders import log_slope
 
@@ -238,9 +238,11 @@ def judge_linear(x: Sequence[float], y: Sequence[float], spread: Optional[Sequen
                  threshold: float = 0.97) -> LineJudgement:
     """Is y linear in x (R² of the least-squares line above `threshold`)? A verdict is stated only
     when the data support it: the timings are steady (median spread of their repeats at most
-    MAX_TIMING_SPREAD), there are at least MIN_FIT_POINTS points, and no single point decides it
+    MAX_TIMING_SPREAD), the line's change over the measured range is larger than their spread
+    (figures.timing_too_small), there are at least MIN_FIT_POINTS points, no single point decides it
     (R² with any one point left out stays on the same side of the threshold; a point that decides
-    is an outlier to re-time, not evidence). Otherwise the verdict is None, with the reason."""
+    is an outlier to re-time, not evidence), and points off the line lie on a curve (a parabola's R²
+    above `threshold`; else they scatter). Otherwise the verdict is None, with the reason."""
     x, y = np.asarray(x, float), np.asarray(y, float)
     n = x.size
     r2 = _r2_line(x, y) if n >= 2 else float('nan')
@@ -257,9 +259,22 @@ def judge_linear(x: Sequence[float], y: Sequence[float], spread: Optional[Sequen
         return LineJudgement(None, r2, (low, high), median_spread,
                              f'timings too noisy (median spread of the repeats {median_spread:.2g} > '
                              f'{MAX_TIMING_SPREAD:g}): {numbers}')
+    if spreads.size:
+        fit = linear_fit(x, y)
+        too_small = timing_too_small(fit['slope'] * x + fit['intercept'], y, spreads)
+        if too_small:
+            return LineJudgement(None, r2, (low, high), median_spread, f'{too_small}: {numbers}')
     if low > threshold and r2 > threshold:
         return LineJudgement(True, r2, (low, high), median_spread, numbers)
     if high <= threshold and r2 <= threshold:
+        # off a line: a curve says so only if the points lie on one (a parabola fits them); points
+        # that scatter about every smooth curve are timing noise between the cases
+        curve = np.polyval(np.polyfit(x, y, 2), x)
+        r2_curve = 1.0 - float(np.sum((y - curve) ** 2) / np.sum((y - np.mean(y)) ** 2))
+        if r2_curve <= threshold:
+            return LineJudgement(None, r2, (low, high), median_spread,
+                                 f'the points scatter about any smooth curve (R² of a parabola {r2_curve:.2f}): '
+                                 f'timing noise between the cases, not a shape: {numbers}')
         return LineJudgement(False, r2, (low, high), median_spread, numbers)
     worst = int(np.nanargmax(left_out)) if r2 <= threshold else int(np.nanargmin(left_out))
     return LineJudgement(None, r2, (low, high), median_spread,
@@ -273,9 +288,11 @@ def claim_linear_time(fits: Mapping[str, Mapping], threshold: float = 0.97) -> C
                   f'(R² > {threshold:g} in the paper).',
                   f'R² of the least-squares line of time against particles per element > '
                   f'{threshold:g} for every scheme, with any one point left out too; no verdict when '
-                  f'a single point decides it, with fewer than {MIN_FIT_POINTS} points, or when the '
+                  f'a single point decides it, with fewer than {MIN_FIT_POINTS} points, when the '
                   f'repeats of a case spread by more than {MAX_TIMING_SPREAD:g} of their median '
-                  f'(median over the cases)', None)
+                  f'(median over the cases), or when the line changes over the measured range by no '
+                  f'more than that spread of the median time (too small to judge); "does not hold" '
+                  f'only when the points lie on a curve (R² of a parabola > {threshold:g})', None)
     verdicts = []
     for scheme, fit in fits.items():
         line = fit['particles']
