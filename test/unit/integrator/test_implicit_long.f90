@@ -44,7 +44,7 @@ contains
    function scene_config(scene, shape) result(config)
       character(len=*), intent(in) :: scene, shape
       type(config_t) :: config
-      call set_values(config, ["scene.kind=scene"])
+      config = new_config(scene)
       config%shape = shape
       config%elements = 40
       config%particles_per_element = 2
