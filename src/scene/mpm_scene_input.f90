@@ -18,7 +18,7 @@ module mpm_scene_input
    use mpm_scene, only: scene_t
    implicit none
    private
-   public :: scene_input_t, scene_kind_t, body_input_t, bodies_input_t, drive_entry, body_representable
+   public :: scene_input_t, scene_kind_t, body_input_t, bodies_input_t, drive_entry, body_representable, refuse_beyond_doubles
 
    !> A scene kind as --help and the help of `kind` and `periods` describe it: its name, what it is, and
    !> the period `periods` counts in it.
@@ -435,4 +435,15 @@ contains
                      sweep_list='drive_velocities')
    end function drive_entry
 
+   !> Refuse a scene (`scene`: its kind and values) when a product its formulas form, `what` of about
+   !> 1e`magnitude`, lies within a factor 100 of the doubles' range.
+   subroutine refuse_beyond_doubles(error, scene, what, magnitude)
+      type(error_t), allocatable, intent(inout) :: error
+      character(len=*), intent(in) :: scene, what
+      real(dp), intent(in) :: magnitude
+      real(dp), parameter :: top = log10(huge(1.0_dp)), bottom = log10(tiny(1.0_dp))
+      if (magnitude < bottom + 2 .or. magnitude > top - 2) call append_error(error, "scene: "//scene//": "// &
+         what//" is about 1e"//str(nint(magnitude))//", beyond what its formulas hold in doubles; allowed: "// &
+         "1e-306 to 1e306 (choose units nearer 1; the vibrating bar's formulas are scaled, these are not)")
+   end subroutine refuse_beyond_doubles
 end module mpm_scene_input

@@ -30,7 +30,7 @@ module mpm_scene_manufactured
    use mpm_shape, only: shape_cache_t
    use mpm_scene, only: scene_t, sine_profile, exact_name_length
    use mpm_particle_forces, only: p2g_particle_forces
-   use mpm_scene_input, only: scene_input_t, scene_kind_t, body_input_t, body_representable
+   use mpm_scene_input, only: scene_input_t, scene_kind_t, body_input_t, body_representable, refuse_beyond_doubles
    implicit none
    private
    public :: manufactured_t, manufactured_init, manufactured_input_t
@@ -126,7 +126,6 @@ contains
       class(manufactured_input_t), intent(in) :: self
       class(settings_t), intent(in) :: settings
       type(error_t), allocatable, intent(inout) :: error
-      real(dp), parameter :: top = log10(huge(1.0_dp)), bottom = log10(tiny(1.0_dp))
       real(dp) :: log_ratio
       call body_representable(self, settings, error)
       if (allocated(error)) return
@@ -142,12 +141,10 @@ contains
       subroutine within(what, magnitude)
          character(len=*), intent(in) :: what
          real(dp), intent(in) :: magnitude
-         if (magnitude < bottom + 2 .or. magnitude > top - 2) call append_error(error, "scene: kind = "// &
+         call refuse_beyond_doubles(error, "kind = "// &
             "'manufactured' with length = "//short_number(self%length)//" m, amplitude = "// &
             short_number(self%amplitude)//" m and youngs_modulus = "//short_number(self%youngs_modulus)// &
-            " Pa and density = "//short_number(self%density)//" kg/m^3: "//what//" is about 1e"// &
-            str(nint(magnitude))//", beyond what its formulas hold in doubles; allowed: 1e-306 to 1e306 (choose "// &
-            "units nearer 1; the vibrating bar's formulas are scaled, these are not)")
+            " Pa and density = "//short_number(self%density)//" kg/m^3", what, magnitude)
       end subroutine within
    end subroutine manufactured_representable
 

@@ -37,7 +37,7 @@ module mpm_scene_plastic_wave
    use mpm_material_plastic, only: hardening_tangent
    use mpm_scene, only: scene_t, watch_t, margin_for, exact_name_length
    use mpm_loads, only: drive_t
-   use mpm_scene_input, only: scene_input_t, scene_kind_t, body_input_t, drive_entry, body_representable
+   use mpm_scene_input, only: scene_input_t, scene_kind_t, body_input_t, drive_entry, body_representable, refuse_beyond_doubles
    implicit none
    private
    public :: plastic_wave_t, plastic_wave_init, plastic_wave_input_t
@@ -125,7 +125,6 @@ contains
       class(plastic_wave_input_t), intent(in) :: self
       class(settings_t), intent(in) :: settings
       type(error_t), allocatable, intent(inout) :: error
-      real(dp), parameter :: top = log10(huge(1.0_dp)), bottom = log10(tiny(1.0_dp))
       real(dp) :: log_ratio
       call body_representable(self, settings, error)
       if (allocated(error)) return
@@ -138,12 +137,10 @@ contains
       subroutine within(what, magnitude)
          character(len=*), intent(in) :: what
          real(dp), intent(in) :: magnitude
-         if (magnitude < bottom + 2 .or. magnitude > top - 2) call append_error(error, "scene: kind = "// &
+         call refuse_beyond_doubles(error, "kind = "// &
             "'plastic_wave' with length = "//short_number(self%length)//" m, drive_velocity = "// &
             short_number(self%drive_velocity)//" m/s and youngs_modulus = "//short_number(self%youngs_modulus)// &
-            " Pa and density = "//short_number(self%density)//" kg/m^3: "//what//" is about 1e"// &
-            str(nint(magnitude))//", beyond what its formulas hold in doubles; allowed: 1e-306 to 1e306 (choose "// &
-            "units nearer 1; the vibrating bar's formulas are scaled, these are not)")
+            " Pa and density = "//short_number(self%density)//" kg/m^3", what, magnitude)
       end subroutine within
    end subroutine plastic_wave_representable
 
