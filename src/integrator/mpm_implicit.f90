@@ -127,6 +127,9 @@ module mpm_implicit
       real(dp), allocatable :: sign(:)   !< +1, or -1 for a mirror ghost
       logical, allocatable :: prescribed(:)  !< held at a drive velocity (e fixed)
       logical, allocatable :: unknown(:)     !< master(i) == i: the node has an unknown of its own
+      !> the nodes without an unknown of their own when the roles were made (node_roles: ghosts and held
+      !> nodes; the drive's nodes, held later, keep their values in fill_slaves and are not among them)
+      integer, allocatable :: dependent(:)
       real(dp), allocatable :: e(:), du(:), velocity(:), acceleration(:), external(:), residual(:), forces(:)
       real(dp), allocatable :: work(:), reaction(:)
       ! the drive's point constraint (folded weights over the nodes) and its multiplier
@@ -289,6 +292,7 @@ contains
          end do
       end if
       im%unknown = im%master == [(i, i=0, grid%elements)]
+      im%dependent = pack([(i, i=0, grid%elements)], .not. im%unknown)
    end subroutine node_roles
 
    !> Each particle's material parameters and the law's state at the step's start, and its volume V_p^n.
@@ -431,7 +435,7 @@ contains
       type(material_t), intent(in) :: material
       real(dp), allocatable :: rhs(:, :)
       real(dp), allocatable :: start(:)
-      real(dp) :: relative, gap, correction, pivots, before, step, merit, stiffness, multiplier
+      real(dp) :: relative, roundoff, gap, correction, pivots, before, step, merit, stiffness, multiplier
       integer :: iteration, info, halving
       logical :: floor, assembled, tangent_ready
       im%failed = .false.
@@ -444,14 +448,14 @@ contains
          tangent_ready = .not. assembled
          if (.not. assembled) call assemble_residual(im, cache, particles, grid, material, with_tangent=.true.)
          assembled = .false.
-         relative = relative_residual(im)
+         call relative_measures(im, relative, roundoff)
          gap = 0.0_dp
          if (im%constrained) gap = im%target - sum(im%weight*im%e)
          if (iteration > ubound(im%residuals, 1)) call grow_residuals(im, iteration)
          im%residuals(iteration) = relative
          if (.not. ieee_is_finite(relative)) exit
          ! converged: the tolerance met, or the residual within floor_ulps of its round-off (floor_ulps)
-         floor = relative <= floor_ulps*epsilon(1.0_dp)*relative_roundoff(im)
+         floor = relative <= floor_ulps*epsilon(1.0_dp)*roundoff
          if ((relative <= im%tolerance .or. floor) .and. &
              abs(gap) <= im%tolerance*max(abs(im%target), tiny(1.0_dp))) then
             im%iterations = iteration
@@ -526,31 +530,31 @@ contains
       call move_alloc(grown, im%residuals)
    end subroutine grow_residuals
 
-   !> |R| / |forces| over the unknowns (0 when nothing acts; at most 1).
-   real(dp) function relative_residual(im)
+   !> |R| / |forces| (`relative`: 0 when nothing acts; at most 1) and |roundoff| / |forces| (`roundoff`, see
+   !> floor_ulps), norms over the unknowns, in one pass over the nodes.
+   subroutine relative_measures(im, relative, roundoff)
       type(implicit_t), intent(in) :: im
-      relative_residual = relative_to_forces(im, im%residual)
-   end function relative_residual
-
-   !> |roundoff| / |forces| over the unknowns (see floor_ulps).
-   real(dp) function relative_roundoff(im)
-      type(implicit_t), intent(in) :: im
-      relative_roundoff = relative_to_forces(im, im%roundoff)
-   end function relative_roundoff
-
-   !> |field| / |forces|, norms over the unknowns (0 when the field is 0 there).
-   real(dp) function relative_to_forces(im, field) result(relative)
-      type(implicit_t), intent(in) :: im
-      real(dp), intent(in) :: field(0:)
-      real(dp) :: size2, scale2, scale
+      real(dp), intent(out) :: relative, roundoff
+      real(dp) :: residual2, roundoff2, scale2
       integer :: i
-      size2 = 0.0_dp
+      residual2 = 0.0_dp
+      roundoff2 = 0.0_dp
       scale2 = 0.0_dp
       do i = 0, size(im%master) - 1
          if (.not. im%unknown(i)) cycle
-         size2 = size2 + field(i)**2
+         residual2 = residual2 + im%residual(i)**2
+         roundoff2 = roundoff2 + im%roundoff(i)**2
          scale2 = scale2 + im%forces(i)**2
       end do
+      relative = relative_to_forces(im, im%residual, residual2, scale2)
+      roundoff = relative_to_forces(im, im%roundoff, roundoff2, scale2)
+   end subroutine relative_measures
+
+   !> |field| / |forces| from the sums of squares over the unknowns (0 when the field is 0 there).
+   real(dp) function relative_to_forces(im, field, size2, scale2) result(relative)
+      type(implicit_t), intent(in) :: im
+      real(dp), intent(in) :: field(0:), size2, scale2
+      real(dp) :: scale
       ! (a NaN field stays NaN, where "> 0" once made it 0: converged)
       relative = 0.0_dp
       if (.not. size2 == 0.0_dp) relative = sqrt(size2)/sqrt(scale2)
@@ -593,25 +597,31 @@ contains
       type(material_t), intent(in) :: material
       logical, intent(in) :: with_tangent
       real(dp) :: inertia_factor
-      integer :: i, n
+      integer :: i, k, n
+      logical :: dynamic
       n = grid%elements
       call fill_slaves(im, im%e)
-      im%du = im%dt*im%velocity + im%e
-      im%residual = 0.0_dp
-      im%forces = 0.0_dp
-      im%roundoff = 0.0_dp
+      do i = 0, n
+         im%du(i) = im%dt*im%velocity(i) + im%e(i)
+         im%residual(i) = 0.0_dp
+         im%forces(i) = 0.0_dp
+         im%roundoff(i) = 0.0_dp
+      end do
       if (with_tangent) call banded_zero(im%tangent)
       ! the particles' stresses over the increment and their force shares dN_Ip sigma_p V_p^n (and stiffness)
-      call strain_pass(particles%count, size(cache%gradient, 1), cache%support, n, cache%first, cache%gradient, im%du, &
-                       im%dstrain, im%strain_magnitude)
+      if (cache%support == 2) then
+         call strain_pass_hat(particles%count, size(cache%gradient, 1), n, cache%first, cache%gradient, im%du, &
+                              im%dstrain, im%strain_magnitude)
+      else
+         call strain_pass(particles%count, size(cache%gradient, 1), cache%support, n, cache%first, cache%gradient, &
+                          im%du, im%dstrain, im%strain_magnitude)
+      end if
       call law_stress_stiffness(material%law, particles%count, im%modulus, im%yield, im%hardening_modulus, im%dstrain, &
                                 particles%stress, particles%volume_ratio, im%hardening, im%stress, im%stiffness)
-      call force_pass(particles%count, size(cache%gradient, 1), cache%support, n, cache%first, cache%gradient, &
-                      im%stress, im%stiffness, im%volume, im%strain_magnitude, im%master, im%sign, .true., with_tangent, &
-                      im%residual, im%forces, im%roundoff, size(im%tangent%ab, 1), im%tangent%ab, &
-                      2*im%tangent%bandwidth + 1)
-      ! folded onto the unknowns (a ghost's share to its partner, reflected)
-      do i = 0, n
+      call particle_forces(im, cache, particles%count, n, .true., with_tangent)
+      ! folded onto the unknowns (a ghost's share to its partner, reflected; the ghosts are dependent nodes)
+      do k = 1, size(im%dependent)
+         i = im%dependent(k)
          if (im%master(i) < 0 .or. im%unknown(i)) cycle
          im%residual(im%master(i)) = im%residual(im%master(i)) + im%sign(i)*im%residual(i)
          im%forces(im%master(i)) = im%forces(im%master(i)) + im%forces(i)
@@ -625,20 +635,26 @@ contains
       if (im%kind == integrator_implicit) then
          inertia_factor = 4.0_dp/im%dt**2
          if (im%mass == mass_lumped) then
-            im%work = grid%mass*(inertia_factor*im%e - im%acceleration)
-            im%forces = im%forces + grid%mass*(inertia_factor*abs(im%e) + abs(im%acceleration))
+            do i = 0, n
+               im%work(i) = grid%mass(i)*(inertia_factor*im%e(i) - im%acceleration(i))
+               im%forces(i) = im%forces(i) + grid%mass(i)*(inertia_factor*abs(im%e(i)) + abs(im%acceleration(i)))
+            end do
          else
             im%work = banded_multiply(im%mass_matrix, in_mass(inertia_factor*im%e - im%acceleration))
             im%forces = im%forces + banded_multiply(im%mass_magnitude, in_mass(inertia_factor*abs(im%e) + &
                                                                                 abs(im%acceleration)))
          end if
-         where (im%unknown .or. im%prescribed) im%residual = im%residual + im%work
       end if
-      where (im%unknown .or. im%prescribed)
-         im%residual = im%residual - im%external
-         im%forces = im%forces + abs(im%external)
-      end where
-      if (im%constrained) im%residual = im%residual - im%multiplier*im%weight
+      ! (each node's terms in the order of the array statements this loop replaced: the same bits)
+      dynamic = im%kind == integrator_implicit
+      do i = 0, n
+         if (im%unknown(i) .or. im%prescribed(i)) then
+            if (dynamic) im%residual(i) = im%residual(i) + im%work(i)
+            im%residual(i) = im%residual(i) - im%external(i)
+            im%forces(i) = im%forces(i) + abs(im%external(i))
+         end if
+         if (im%constrained) im%residual(i) = im%residual(i) - im%multiplier*im%weight(i)
+      end do
       call ghost_forces(im, im%du)
       if (with_tangent) call finish_tangent(im, grid)
    contains
@@ -659,10 +675,7 @@ contains
       type(particles_t), intent(in) :: particles
       type(grid_t), intent(in) :: grid
       call banded_zero(im%tangent)
-      call force_pass(particles%count, size(cache%gradient, 1), cache%support, grid%elements, cache%first, &
-                      cache%gradient, im%stress, im%stiffness, im%volume, im%strain_magnitude, im%master, im%sign, &
-                      .false., .true., im%residual, im%forces, im%roundoff, size(im%tangent%ab, 1), im%tangent%ab, &
-                      2*im%tangent%bandwidth + 1)
+      call particle_forces(im, cache, particles%count, grid%elements, .false., .true.)
       call finish_tangent(im, grid)
    end subroutine assemble_tangent
 
@@ -717,6 +730,94 @@ contains
          end do
       end do
    end subroutine strain_pass
+
+   !> The particles' force shares and stiffness (force_pass; the hat's support of two nodes in a loop of its
+   !> own, force_pass_hat).
+   subroutine particle_forces(im, cache, count, n, residual_part, tangent_part)
+      type(implicit_t), intent(inout) :: im
+      type(shape_cache_t), intent(in) :: cache
+      integer, intent(in) :: count, n
+      logical, intent(in) :: residual_part, tangent_part
+      if (cache%support == 2 .and. residual_part) then
+         call force_pass_hat(count, size(cache%gradient, 1), n, cache%first, cache%gradient, im%stress, im%stiffness, &
+                             im%volume, im%strain_magnitude, im%master, im%sign, tangent_part, im%residual, im%forces, &
+                             im%roundoff, size(im%tangent%ab, 1), im%tangent%ab, 2*im%tangent%bandwidth + 1)
+      else
+         call force_pass(count, size(cache%gradient, 1), cache%support, n, cache%first, cache%gradient, im%stress, &
+                         im%stiffness, im%volume, im%strain_magnitude, im%master, im%sign, residual_part, tangent_part, &
+                         im%residual, im%forces, im%roundoff, size(im%tangent%ab, 1), im%tangent%ab, &
+                         2*im%tangent%bandwidth + 1)
+      end if
+   end subroutine particle_forces
+
+   !> strain_pass for the hat (support 2): each particle's two terms written out, summed as the loop does.
+   subroutine strain_pass_hat(count, rows, n, first, gradient, du, dstrain, magnitude)
+      integer, intent(in) :: count, rows, n
+      integer, intent(in) :: first(count)
+      real(dp), intent(in) :: gradient(rows, 2), du(0:n)
+      real(dp), intent(out) :: dstrain(count), magnitude(count)
+      real(dp) :: left, right, total, spread
+      integer :: p
+      do p = 1, count
+         left = gradient(p, 1)*du(first(p))
+         right = gradient(p, 2)*du(first(p) + 1)
+         ! (from 0 as the loop: 0 + (-0) is +0)
+         total = 0.0_dp
+         spread = 0.0_dp
+         total = total + left
+         spread = spread + abs(left)
+         dstrain(p) = total + right
+         magnitude(p) = spread + abs(right)
+      end do
+   end subroutine strain_pass_hat
+
+   !> force_pass (residual part, tangent part when `tangent_part`) for the hat: each particle's two nodes
+   !> written out. Where both are unknowns of their own (sign +1) the tangent's four entries are added
+   !> directly, each the product force_pass forms (its sign factors are exactly 1); a particle at a held
+   !> node or a ghost takes force_pass's loop. The same operations in the same order: the same bits.
+   subroutine force_pass_hat(count, rows, n, first, gradient, stress, stiffness, volume, magnitude, master, sign, &
+                             tangent_part, residual, forces, roundoff, band_rows, ab, diagonal)
+      integer, intent(in) :: count, rows, n, band_rows, diagonal
+      integer, intent(in) :: first(count), master(0:n)
+      real(dp), intent(in) :: gradient(rows, 2), stress(count), stiffness(count), volume(count), magnitude(count), &
+                              sign(0:n)
+      logical, intent(in) :: tangent_part
+      real(dp), intent(inout) :: residual(0:n), forces(0:n), roundoff(0:n), ab(band_rows, n + 1)
+      real(dp) :: left, right, left_stiffness, right_stiffness, share
+      integer :: p, i, k, l, node, a, b
+      do p = 1, count
+         i = first(p)
+         left = gradient(p, 1)*stress(p)*volume(p)
+         right = gradient(p, 2)*stress(p)*volume(p)
+         left_stiffness = gradient(p, 1)*stiffness(p)*volume(p)
+         right_stiffness = gradient(p, 2)*stiffness(p)*volume(p)
+         residual(i) = residual(i) + left
+         forces(i) = forces(i) + abs(left)
+         roundoff(i) = roundoff(i) + abs(left_stiffness)*magnitude(p)
+         residual(i + 1) = residual(i + 1) + right
+         forces(i + 1) = forces(i + 1) + abs(right)
+         roundoff(i + 1) = roundoff(i + 1) + abs(right_stiffness)*magnitude(p)
+         if (.not. tangent_part) cycle
+         if (master(i) == i .and. master(i + 1) == i + 1) then
+            ab(diagonal, i + 1) = ab(diagonal, i + 1) + left_stiffness*gradient(p, 1)
+            ab(diagonal - 1, i + 2) = ab(diagonal - 1, i + 2) + left_stiffness*gradient(p, 2)
+            ab(diagonal + 1, i + 1) = ab(diagonal + 1, i + 1) + right_stiffness*gradient(p, 1)
+            ab(diagonal, i + 2) = ab(diagonal, i + 2) + right_stiffness*gradient(p, 2)
+            cycle
+         end if
+         do k = 1, 2
+            node = i + k - 1
+            a = master(node)
+            if (a < 0) cycle
+            share = sign(node)*gradient(p, k)*stiffness(p)*volume(p)
+            do l = 1, 2
+               b = master(i + l - 1)
+               if (b < 0) cycle
+               ab(diagonal + a - b, b + 1) = ab(diagonal + a - b, b + 1) + share*sign(i + l - 1)*gradient(p, l)
+            end do
+         end do
+      end do
+   end subroutine force_pass_hat
 
    !> One pass over the particles: `residual_part`, the force shares dN_Ip sigma_p V_p^n to R and |forces|,
    !> and the round-off scale |dN_Ip k_p V_p^n| sum_J |dN_Jp du_J| to roundoff; `tangent_part`, the
@@ -822,12 +923,14 @@ contains
       end do
    end subroutine ghost_tangent
 
-   !> A ghost takes its partner's value reflected; held nodes that are not driven keep 0.
+   !> A ghost takes its partner's value reflected; held nodes that are not driven keep 0 (the nodes of
+   !> im%dependent: every other node keeps its value).
    subroutine fill_slaves(im, field)
       type(implicit_t), intent(in) :: im
       real(dp), intent(inout) :: field(0:)
-      integer :: i
-      do i = 0, size(im%master) - 1
+      integer :: k, i
+      do k = 1, size(im%dependent)
+         i = im%dependent(k)
          if (im%master(i) >= 0 .and. im%master(i) /= i) then
             field(i) = im%sign(i)*field(im%master(i))
          else if (im%master(i) < 0 .and. .not. im%prescribed(i)) then
@@ -846,8 +949,7 @@ contains
       type(grid_t), intent(inout) :: grid
       type(material_t), intent(in) :: material
       type(pass_totals_t), intent(inout) :: totals
-      real(dp) :: move, lo, hi
-      integer :: p, outside
+      integer :: outside
       outside = totals%outside
       if (im%kind == integrator_implicit) then
          grid%velocity = im%velocity + 2.0_dp*im%e/im%dt
@@ -864,24 +966,46 @@ contains
          totals%kinetic_energy = 0.0_dp
       end if
       totals%outside = outside
-      totals%displacement = 0.0_dp
-      totals%max_cell_move = 0.0_dp
-      totals%furthest = 0
-      lo = grid%origin
-      hi = grid%origin + grid%length
-      do p = 1, particles%count
-         move = sum(cache%weight(p, :)*im%du(cache%first(p):cache%first(p) + cache%support - 1))
-         particles%x(p) = im%x_start(p) + move
-         totals%displacement = totals%displacement + particles%mass_of(p)*(particles%x(p) - particles%x0(p))
-         if (abs(move)*grid%inv_dx > totals%max_cell_move) then
-            totals%max_cell_move = abs(move)*grid%inv_dx
-            totals%furthest = p
-         end if
-         if (totals%outside == 0 .and. .not. (particles%x(p) >= lo .and. particles%x(p) <= hi)) totals%outside = p
-      end do
+      call move_particles(particles%count, size(cache%weight, 1), cache%support, grid%elements, cache%first, &
+                          cache%weight, im%du, im%x_start, particles%x0, particles%mass_of, grid%origin, &
+                          grid%origin + grid%length, grid%inv_dx, particles%x, totals%displacement, &
+                          totals%max_cell_move, totals%furthest, totals%outside)
       call update_material_finite(material, im%dstrain, particles, totals%strain_energy, totals%min_volume_ratio, &
                                   totals%plastic_work)
    end subroutine update_particles
+
+   !> x_p = x_p^n + sum_I N_Ip du_I (summed over the support in order from 0), and the step's totals of
+   !> the positions: the mass-weighted displacement from x0, the largest move in cells and its particle,
+   !> the first particle outside [lo, hi] (kept when one is set already). Explicit-shape arrays, as
+   !> strain_pass.
+   subroutine move_particles(count, rows, support, n, first, weight, du, x_start, x0, mass, lo, hi, inv_dx, x, &
+                             displacement, max_cell_move, furthest, outside)
+      integer, intent(in) :: count, rows, support, n
+      integer, intent(in) :: first(count)
+      real(dp), intent(in) :: weight(rows, support), du(0:n), x_start(count), x0(count), mass(count), lo, hi, inv_dx
+      real(dp), intent(inout) :: x(count)
+      real(dp), intent(out) :: displacement, max_cell_move
+      integer, intent(out) :: furthest
+      integer, intent(inout) :: outside
+      real(dp) :: move
+      integer :: p, k
+      displacement = 0.0_dp
+      max_cell_move = 0.0_dp
+      furthest = 0
+      do p = 1, count
+         move = 0.0_dp
+         do k = 1, support
+            move = move + weight(p, k)*du(first(p) + k - 1)
+         end do
+         x(p) = x_start(p) + move
+         displacement = displacement + mass(p)*(x(p) - x0(p))
+         if (abs(move)*inv_dx > max_cell_move) then
+            max_cell_move = abs(move)*inv_dx
+            furthest = p
+         end if
+         if (outside == 0 .and. .not. (x(p) >= lo .and. x(p) <= hi)) outside = p
+      end do
+   end subroutine move_particles
 
    !> What the integrator adds to /summary: the mean and largest number of linear solves per step, the
    !> smallest reciprocal condition number of the tangent met (mpm_banded's 1-norm estimate, first iteration of
