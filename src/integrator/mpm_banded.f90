@@ -171,35 +171,44 @@ contains
    pure subroutine factor_tridiagonal(a, info)
       type(banded_t), intent(inout) :: a
       integer, intent(inout) :: info
-      integer :: j, n
+      call factor_rows(a%n, a%ab, a%pivots, info)
+   end subroutine factor_tridiagonal
+
+   !> factor_tridiagonal on the band as an explicit-shape array (gfortran indexed the component through its
+   !> descriptor, reloaded after every store: twice the instructions).
+   pure subroutine factor_rows(n, ab, pivots, info)
+      integer, intent(in) :: n
+      real(dp), intent(inout) :: ab(4, n)
+      integer, intent(out) :: pivots(n)
+      integer, intent(inout) :: info
+      integer :: j
       real(dp) :: l, t
-      n = a%n
       ! column j: U(j-2, j) in ab(1, j) (fill-in), U(j-1, j) in ab(2, j), the diagonal in ab(3, j), the
       ! sub-diagonal (then the multiplier) in ab(4, j)
       do j = 1, n - 1
-         a%pivots(j) = j
-         if (abs(a%ab(4, j)) > abs(a%ab(3, j))) then ! rows j and j + 1, columns j .. j + 2
-            a%pivots(j) = j + 1
-            t = a%ab(3, j); a%ab(3, j) = a%ab(4, j); a%ab(4, j) = t
-            t = a%ab(2, j + 1); a%ab(2, j + 1) = a%ab(3, j + 1); a%ab(3, j + 1) = t
+         pivots(j) = j
+         if (abs(ab(4, j)) > abs(ab(3, j))) then ! rows j and j + 1, columns j .. j + 2
+            pivots(j) = j + 1
+            t = ab(3, j); ab(3, j) = ab(4, j); ab(4, j) = t
+            t = ab(2, j + 1); ab(2, j + 1) = ab(3, j + 1); ab(3, j + 1) = t
             if (j + 2 <= n) then
-               t = a%ab(1, j + 2); a%ab(1, j + 2) = a%ab(2, j + 2); a%ab(2, j + 2) = t
+               t = ab(1, j + 2); ab(1, j + 2) = ab(2, j + 2); ab(2, j + 2) = t
             end if
          end if
-         if (a%ab(3, j) == 0.0_dp) then
+         if (ab(3, j) == 0.0_dp) then
             if (info == 0) info = j
             cycle
          end if
-         l = a%ab(4, j)/a%ab(3, j)
-         a%ab(4, j) = l
-         if (a%ab(2, j + 1) /= 0.0_dp) a%ab(3, j + 1) = a%ab(3, j + 1) - l*a%ab(2, j + 1)
+         l = ab(4, j)/ab(3, j)
+         ab(4, j) = l
+         if (ab(2, j + 1) /= 0.0_dp) ab(3, j + 1) = ab(3, j + 1) - l*ab(2, j + 1)
          if (j + 2 <= n) then
-            if (a%ab(1, j + 2) /= 0.0_dp) a%ab(2, j + 2) = a%ab(2, j + 2) - l*a%ab(1, j + 2)
+            if (ab(1, j + 2) /= 0.0_dp) ab(2, j + 2) = ab(2, j + 2) - l*ab(1, j + 2)
          end if
       end do
-      a%pivots(n) = n
-      if (a%ab(3, n) == 0.0_dp .and. info == 0) info = n
-   end subroutine factor_tridiagonal
+      pivots(n) = n
+      if (ab(3, n) == 0.0_dp .and. info == 0) info = n
+   end subroutine factor_rows
 
    !> Solve A X = B in place with the factors of banded_factor, every column of b.
    pure subroutine banded_solve(a, b, info)
@@ -226,15 +235,7 @@ contains
       b = a%bandwidth
       d = 2*b + 1
       if (b == 1 .and. .not. transposed) then ! (the loops below written out: the same operations)
-         do j = 1, a%n - 1
-            call interchange(x, j, a%pivots(j))
-            x(j + 1) = x(j + 1) - a%ab(4, j)*x(j)
-         end do
-         do j = a%n, 1, -1
-            x(j) = x(j)/a%ab(3, j)
-            if (j >= 3) x(j - 2) = x(j - 2) - a%ab(1, j)*x(j)
-            if (j >= 2) x(j - 1) = x(j - 1) - a%ab(2, j)*x(j)
-         end do
+         call solve_rows(a%n, a%ab, a%pivots, x)
       else if (.not. transposed) then
          do j = 1, a%n - 1 ! L y = P x
             below = min(b, a%n - j)
@@ -258,6 +259,29 @@ contains
          end do
       end if
    end subroutine solve_one
+
+   !> solve_one for bandwidth 1 (not transposed) on explicit-shape arrays (as factor_rows).
+   pure subroutine solve_rows(n, ab, pivots, x)
+      integer, intent(in) :: n
+      real(dp), intent(in) :: ab(4, n)
+      integer, intent(in) :: pivots(n)
+      real(dp), intent(inout) :: x(n)
+      real(dp) :: t
+      integer :: j
+      do j = 1, n - 1
+         if (pivots(j) /= j) then
+            t = x(pivots(j))
+            x(pivots(j)) = x(j)
+            x(j) = t
+         end if
+         x(j + 1) = x(j + 1) - ab(4, j)*x(j)
+      end do
+      do j = n, 1, -1
+         x(j) = x(j)/ab(3, j)
+         if (j >= 3) x(j - 2) = x(j - 2) - ab(1, j)*x(j)
+         if (j >= 2) x(j - 1) = x(j - 1) - ab(2, j)*x(j)
+      end do
+   end subroutine solve_rows
 
    !> x(i) and x(l) exchanged (nothing when l = i).
    pure subroutine interchange(x, i, l)
