@@ -60,7 +60,7 @@ module mpm_implicit
    use mpm_state, only: state_t
    use mpm_diagnostics, only: pass_totals_t
    use mpm_operations, only: locate_particles, p2g_mass_momentum, nodal_velocities, mirror_fold, g2p
-   use mpm_material, only: material_t, law_stress_stiffness, update_material_finite
+   use mpm_material, only: material_t, law_stress_stiffness, update_material_finite, law_linear, law_hencky
    use mpm_banded, only: banded_t, banded_init, banded_zero, banded_add, banded_factor, banded_solve, &
                          banded_rcond, banded_multiply, banded_pivot_ratio
    use mpm_ghost_penalty, only: ghost_knots_t, find_ghost_knots
@@ -268,7 +268,7 @@ contains
    subroutine node_roles(im, grid)
       type(implicit_t), intent(inout) :: im
       type(grid_t), intent(in) :: grid
-      integer :: i, j, k
+      integer :: i, j, k, dependent
       do i = 0, grid%elements
          im%master(i) = merge(i, -1, grid%mass(i) > grid%empty_mass)
       end do
@@ -291,8 +291,21 @@ contains
             im%sign(i) = -1.0_dp
          end do
       end if
-      im%unknown = im%master == [(i, i=0, grid%elements)]
-      im%dependent = pack([(i, i=0, grid%elements)], .not. im%unknown)
+      dependent = 0
+      do i = 0, grid%elements
+         im%unknown(i) = im%master(i) == i
+         if (.not. im%unknown(i)) dependent = dependent + 1
+      end do
+      if (allocated(im%dependent)) then
+         if (size(im%dependent) /= dependent) deallocate (im%dependent)
+      end if
+      if (.not. allocated(im%dependent)) allocate (im%dependent(dependent))
+      dependent = 0
+      do i = 0, grid%elements
+         if (im%unknown(i)) cycle
+         dependent = dependent + 1
+         im%dependent(dependent) = i
+      end do
    end subroutine node_roles
 
    !> Each particle's material parameters and the law's state at the step's start, and its volume V_p^n.
@@ -302,12 +315,16 @@ contains
       type(material_t), intent(in) :: material
       im%modulus = material%youngs_modulus
       if (allocated(particles%youngs_modulus_of)) im%modulus = particles%youngs_modulus_of
-      im%yield = material%yield_stress
-      if (allocated(particles%yield_stress_of)) im%yield = particles%yield_stress_of
-      im%hardening_modulus = material%hardening_modulus
-      if (allocated(particles%hardening_modulus_of)) im%hardening_modulus = particles%hardening_modulus_of
-      im%hardening = 0.0_dp
-      if (allocated(particles%hardening)) im%hardening = particles%hardening
+      ! the plastic parameters and state: read by the laws without a loop of their own in
+      ! law_stress_stiffness only (the elastoplastic one)
+      if (material%law /= law_linear .and. material%law /= law_hencky) then
+         im%yield = material%yield_stress
+         if (allocated(particles%yield_stress_of)) im%yield = particles%yield_stress_of
+         im%hardening_modulus = material%hardening_modulus
+         if (allocated(particles%hardening_modulus_of)) im%hardening_modulus = particles%hardening_modulus_of
+         im%hardening = 0.0_dp
+         if (allocated(particles%hardening)) im%hardening = particles%hardening
+      end if
       im%volume = particles%volume_ratio*particles%volume0_of
       im%x_start = particles%x
    end subroutine particle_data
@@ -994,9 +1011,14 @@ contains
       furthest = 0
       do p = 1, count
          move = 0.0_dp
-         do k = 1, support
-            move = move + weight(p, k)*du(first(p) + k - 1)
-         end do
+         if (support == 2) then ! (the hat's two terms written out)
+            move = move + weight(p, 1)*du(first(p))
+            move = move + weight(p, 2)*du(first(p) + 1)
+         else
+            do k = 1, support
+               move = move + weight(p, k)*du(first(p) + k - 1)
+            end do
+         end if
          x(p) = x_start(p) + move
          displacement = displacement + mass(p)*(x(p) - x0(p))
          if (abs(move)*inv_dx > max_cell_move) then
