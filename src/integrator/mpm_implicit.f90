@@ -988,7 +988,7 @@ contains
                           grid%origin + grid%length, grid%inv_dx, particles%x, totals%displacement, &
                           totals%max_cell_move, totals%furthest, totals%outside)
       call update_material_finite(material, im%dstrain, particles, totals%strain_energy, totals%min_volume_ratio, &
-                                  totals%plastic_work)
+                                  totals%plastic_work, im%stress)
    end subroutine update_particles
 
    !> x_p = x_p^n + sum_I N_Ip du_I (summed over the support in order from 0), and the step's totals of

@@ -277,18 +277,27 @@ contains
    !> The state update of a finite increment (see law_stress): the law's own update (update_material) by
    !> the logarithmic increment for hencky and elastoplastic, then J_{n+1} = J_n (1 + d eps) and the stored
    !> energy and smallest J of that J; the linear law's update as it is (its stress is E (J - 1)).
-   subroutine update_material_finite(material, dstrain, particles, energy, smallest, work)
+   !> `stress`, when given: law_stress's stresses at these increments, formed already (the implicit
+   !> integrator's last residual); hencky's update is exactly that stress, sigma_n + E ln(1 + d eps), and
+   !> takes it instead of forming the logarithms again.
+   subroutine update_material_finite(material, dstrain, particles, energy, smallest, work, stress)
       type(material_t), intent(in) :: material
       real(dp), intent(in), contiguous :: dstrain(:)
       type(particles_t), intent(inout) :: particles
       real(dp), intent(out) :: energy, smallest, work
+      real(dp), intent(in), contiguous, optional :: stress(:)
       real(dp), allocatable :: volume_ratio(:)
       if (material%law == law_linear) then
          call update_material(material, dstrain, particles, energy, smallest, work)
          return
       end if
       volume_ratio = particles%volume_ratio*(1.0_dp + dstrain)
-      call update_material(material, log_one_plus(dstrain), particles, energy, smallest, work)
+      if (material%law == law_hencky .and. present(stress)) then
+         particles%stress = stress
+         work = 0.0_dp
+      else
+         call update_material(material, log_one_plus(dstrain), particles, energy, smallest, work)
+      end if
       particles%volume_ratio = volume_ratio
       energy = stored_energy(material, particles)
       smallest = minval(volume_ratio)
