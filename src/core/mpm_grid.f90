@@ -16,14 +16,10 @@ module mpm_grid
    private
    public :: grid_t, grid_init, assemble_nodes, assemble_and_solve, nodal_velocity, solve_momentum, mass_tolerance
    public :: parallel_nodes, node_chunk, threaded_nodes, solve_range, zero_fixed
-   public :: segments_t, share_count, grid_loads_t, element_forces, sync_grid
+   public :: grid_loads_t, element_forces, sync_grid
 
    !> Nodes lighter than this fraction of one particle's mass are treated as empty.
    real(dp), parameter :: mass_tolerance = 1.0e-12_dp
-
-   !> Number of per-element shares a particle pass accumulates (mass left/right, momentum
-   !> left/right, stress*volume, external force left/right): the layout of the halo buffers below.
-   integer, parameter :: share_count = 7
 
    !> External loads the scene registers as grid operations (applied where the nodal force is
    !> assembled from the element shares, after the node's mass and momentum: the fused kernels'
@@ -40,38 +36,6 @@ module mpm_grid
    !> Grids of at least this many elements update their nodes on threads (see threaded_nodes), in
    !> chunks of `node_chunk` nodes (the arrays of a chunk stay in a core's L2 cache).
    integer, parameter :: parallel_nodes = 50000, node_chunk = 8192
-
-   !> How the particle passes split one run into segments: contiguous element ranges, fixed by the
-   !> problem size only (never by the thread count), each holding a contiguous range of particles
-   !> (particles are kept sorted by element). A segment sums the shares of its own elements in particle
-   !> order; shares for the element just left or right of its range go to its halo buffers, added in a
-   !> fixed order after the pass. So every sum has the same association whatever the number of threads.
-   !> Filled by the first P2G (mpm_transfer), used by every later pass; no allocation in the time loop.
-   type :: segments_t
-      integer :: count = 0
-      !> Segment k covers elements first_element(k) .. first_element(k+1)-1.
-      integer, allocatable :: first_element(:)
-      !> ... and particles first_particle(k) .. first_particle(k+1)-1 (found at the start of a pass).
-      integer, allocatable :: first_particle(:)
-      !> Shares for element first_element(k)-1 (halo_left) and first_element(k+1) (halo_right).
-      real(dp), allocatable :: halo_left(:, :), halo_right(:, :)
-      !> Per-segment totals: displacement, kinetic and strain energy; min J; max move and its particle;
-      !> first particle outside; first and last new cell; unsorted or far-moving particles met.
-      real(dp), allocatable :: sums(:, :), min_volume_ratio(:), max_cell_move(:)
-      !> Bodies on stacked fields (a segment lies in one body): its particles' sum m v and smallest stress.
-      real(dp), allocatable :: body_momentum(:), min_stress(:)
-      integer, allocatable :: furthest(:), outside(:), first_cell(:), last_cell(:)
-      logical, allocatable :: unsorted(:), far(:)
-      !> Bodies on stacked fields (clear_written): each segment clears, of each kind of share (mass,
-      !> momentum, stress, force: the second index), only the elements written(1, :, k) .. written(2, :, k)
-      !> that its last pass of that kind wrote (every other element of its range is zero), not its whole
-      !> range: a body's field spans the whole domain but its particles reach only the cells they fill.
-      logical :: clear_written = .false.
-      integer, allocatable :: written(:, :, :)
-      !> Whether the kernels ask for particle data ahead of use (set by plan_segments from the size of
-      !> the run; see mpm_transfer's prefetch_bytes).
-      logical :: prefetch = .false.
-   end type segments_t
 
    !> Grid state. Nodes are numbered 0..elements; element e spans nodes e-1 and e.
    type :: grid_t
@@ -110,8 +74,6 @@ module mpm_grid
       !> The same at the body's right end x = L when it is fixed (node mirror_right; -1: none): margin
       !> node mirror_right + j is node mirror_right - j reflected.
       integer :: mirror_right = -1
-      !> Work split of the particle passes (see segments_t).
-      type(segments_t) :: segments
    end type grid_t
 
 contains
@@ -501,12 +463,11 @@ contains
 
    !> The grid's fields to or from `state` (under `prefix`.*, as state%saving says), for a checkpoint:
    !> what a step leaves for the next (the fused kernels' element shares, the nodal fields a snapshot
-   !> reads, the segments' record of what they wrote), into a grid made for the same run.
+   !> reads), into a grid made for the same run.
    subroutine sync_grid(state, prefix, grid)
       type(state_t), intent(inout) :: state
       character(len=*), intent(in) :: prefix
       type(grid_t), intent(inout) :: grid
-      integer, allocatable :: flat(:)
       call state%sync(prefix//'.element_mass_left', grid%element_mass_left)
       call state%sync(prefix//'.element_mass_right', grid%element_mass_right)
       call state%sync(prefix//'.element_momentum_left', grid%element_momentum_left)
@@ -521,17 +482,5 @@ contains
       call state%sync(prefix//'.velocity', grid%velocity)
       call state%sync(prefix//'.acceleration', grid%acceleration)
       call state%sync(prefix//'.min_node_mass', grid%min_node_mass)
-      associate (s => grid%segments)
-         call state%sync(prefix//'.segments.first_particle', s%first_particle)
-         call state%sync(prefix//'.segments.halo_left', s%halo_left)
-         call state%sync(prefix//'.segments.halo_right', s%halo_right)
-         if (.not. allocated(s%written)) return
-         ! (flat: the state holds arrays of rank 2 at most)
-         if (state%saving) flat = reshape(s%written, [size(s%written)])
-         call state%sync(prefix//'.segments.written', flat)
-         if (.not. state%saving .and. allocated(flat)) then
-            if (size(flat) == size(s%written)) s%written = reshape(flat, shape(s%written))
-         end if
-      end associate
    end subroutine sync_grid
 end module mpm_grid

@@ -58,7 +58,7 @@ module mpm_implicit
    use mpm_stepper, only: stepper_stop_t
    use mpm_schemes, only: generic_stepper_t, generic_sync_state
    use mpm_state, only: state_t
-   use mpm_diagnostics, only: pass_totals_t
+   use mpm_pass_totals, only: pass_totals_t
    use mpm_operations, only: locate_particles, p2g_mass_momentum, nodal_velocities, mirror_fold, g2p
    use mpm_material, only: material_t, law_stress_stiffness, update_material_finite, law_linear, law_hencky
    use mpm_banded, only: banded_t, banded_init, banded_zero, banded_add, banded_factor, banded_solve, &

@@ -18,10 +18,10 @@ module mpm_simulation
    use mpm_fused, only: fused_box_t, fused_choose, fused_stepper_t
    use mpm_schemes, only: generic_stepper_t
    use mpm_scene, only: scene_t, watch_t
-   use mpm_diagnostics, only: history_t, snapshot_t, pass_totals_t, status_ok, status_non_finite, &
-                              status_volume_ratio, status_left_grid, status_energy_growth, status_cell_crossing, &
-                              status_name, status_not_run, status_newton, status_domain_stretched, &
-                              exact_name_length
+   use mpm_diagnostics, only: history_t, snapshot_t, status_ok, status_non_finite, status_volume_ratio, &
+                              status_left_grid, status_energy_growth, status_cell_crossing, status_name, &
+                              status_not_run, status_newton, status_domain_stretched, exact_name_length
+   use mpm_pass_totals, only: pass_totals_t
    use mpm_files, only: interrupt_signal
    use mpm_implicit, only: implicit_stepper_t, implicit_init, integrator_id, integrator_explicit
    implicit none

@@ -10,7 +10,8 @@ module mpm_scene
    use mpm_state, only: state_t
    use mpm_grid, only: grid_t, grid_loads_t
    use mpm_particles, only: particles_t
-   use mpm_diagnostics, only: pass_totals_t, exact_name_length
+   use mpm_diagnostics, only: exact_name_length
+   use mpm_pass_totals, only: pass_totals_t
    use mpm_shape, only: shape_cache_t
    use mpm_loads, only: loads_t
    implicit none

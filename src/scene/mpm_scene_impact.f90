@@ -25,7 +25,7 @@ module mpm_scene_impact
    use mpm_settings, only: settings_t
    use mpm_registry, only: parameter_t, real_entry, real_list_entry, text_entry, short_number, place, in_list
    use mpm_particles, only: particles_t, particles_init
-   use mpm_diagnostics, only: pass_totals_t
+   use mpm_pass_totals, only: pass_totals_t
    use mpm_state, only: state_t
    use mpm_scene, only: scene_t, watch_t, margin_for
    use mpm_lanes, only: smallest_value

@@ -30,7 +30,7 @@ module mpm_contact
    use mpm_state, only: state_t
    use mpm_particles, only: particles_t
    use mpm_shape, only: shape_cache_t
-   use mpm_diagnostics, only: pass_totals_t
+   use mpm_pass_totals, only: pass_totals_t
    use mpm_operations, only: locate_particles
    implicit none
    private

@@ -32,7 +32,7 @@ module mpm_operations
    use mpm_total_lagrangian, only: log_strain_increment, reference_stress_volume
    use mpm_asflip, only: asflip_update
    use mpm_mirror, only: mirror_even, mirror_odd
-   use mpm_diagnostics, only: pass_totals_t
+   use mpm_pass_totals, only: pass_totals_t
    use mpm_shape_range, only: infinity_bits
    use mpm_lanes, only: block_size, lanes, largest_move_t, add_lanes, lane_total, track_largest_move, furthest_particle
    use mpm_scatter_gather, only: scatter_columns, gather_columns, affine_none, affine_hat, affine_spline

@@ -19,7 +19,7 @@ module mpm_schemes
    use mpm_state, only: state_t
    use mpm_loads, only: loads_t
    use mpm_stepper, only: stepper_t, stepper_stop_t, scheme_usf, scheme_usl, scheme_musl, scheme_id
-   use mpm_diagnostics, only: pass_totals_t
+   use mpm_pass_totals, only: pass_totals_t
    use mpm_operations, only: locate_particles, p2g_mass_momentum, p2g_internal_force, nodal_velocities, &
                              solve_grid, g2p, update_stress, mirror_fold, particle_energies
    use mpm_contact, only: bodies_t, sync_bodies, bodies_init, locate_bodies, contact_velocities, &

@@ -13,7 +13,7 @@ module mpm_stepper
    use mpm_names, only: name_id
    use mpm_grid, only: grid_t
    use mpm_particles, only: particles_t
-   use mpm_diagnostics, only: pass_totals_t
+   use mpm_pass_totals, only: pass_totals_t
    use mpm_loads, only: loads_t
    use mpm_state, only: state_t
    implicit none

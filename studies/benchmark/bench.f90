@@ -61,6 +61,7 @@ program mpm1d_bench
                         shape_cpdi, transfer_asflip
    use mpm_transfer, only: pass_totals_t
    use mpm_fused, only: fused_start, fused_step, fused_box_t, fused_shape, fused_choose
+   use mpm_segments, only: segments_t
    use mpm_schemes, only: scheme_usf, scheme_usl, scheme_musl, scheme_step
    use mpm_strings, only: str
    use mpm_scene_bar, only: bar_t, bar_init, bar_input_t
@@ -140,6 +141,7 @@ contains
       type(grid_t) :: grid
       type(particles_t) :: particles
       type(pass_totals_t) :: totals
+      type(segments_t) :: seg
       type(error_t), allocatable :: error
       type(shape_cache_t) :: cache
       type(fused_box_t) :: box
@@ -189,7 +191,7 @@ contains
          if (generic) then
             total_mass = sum(particles%mass_of)
          else
-            call fused_start(scheme, particles, grid, totals, box, config%youngs_modulus)
+            call fused_start(scheme, particles, grid, seg, totals, box, config%youngs_modulus)
          end if
          worst = 0
          start = clock(threads)
@@ -200,7 +202,7 @@ contains
                                 (n - 1)*config%dt, totals)
                ucm = totals%displacement/total_mass
             else
-               call fused_step(scheme, particles, grid, config%dt, config%youngs_modulus, totals, box)
+               call fused_step(scheme, particles, grid, seg, config%dt, config%youngs_modulus, totals, box)
                ucm = totals%displacement/particles%count
             end if
             worst = max(worst, abs(ucm - bar%ucm_exact(n*config%dt)))
@@ -493,6 +495,7 @@ contains
       type(grid_t) :: grid
       type(particles_t) :: particles
       type(pass_totals_t) :: totals
+      type(segments_t) :: seg
       type(fused_box_t) :: box
       type(error_t), allocatable :: error
       real(dp) :: start, worst
@@ -504,11 +507,11 @@ contains
                      fixed=bar%fixed_nodes())
       id = merge(scheme_usf, merge(scheme_usl, scheme_musl, scheme == 'usl'), scheme == 'usf')
       box = fused_shape(shape_id('linear'))
-      call fused_start(id, particles, grid, totals, box, config%youngs_modulus)
+      call fused_start(id, particles, grid, seg, totals, box, config%youngs_modulus)
       worst = 0
       start = clock(1)
       do n = 1, config%steps
-         call fused_step(id, particles, grid, config%dt, config%youngs_modulus, totals, box)
+         call fused_step(id, particles, grid, seg, config%dt, config%youngs_modulus, totals, box)
          worst = max(worst, abs(totals%displacement/particles%count - bar%ucm_exact(n*config%dt)))
       end do
       call ratio_row(round, scheme, 'bar_kernel', 'fused', particles%count, config%steps, &

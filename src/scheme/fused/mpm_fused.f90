@@ -16,11 +16,12 @@ module mpm_fused
    use mpm_shape, only: shape_linear, shape_cpgimp, shape_bspline2, shape_bspline3, shape_cpdi, transfer_flip, &
                         transfer_pic, transfer_blend, transfer_apic
    use mpm_errors, only: error_t
-   use mpm_diagnostics, only: pass_totals_t
+   use mpm_pass_totals, only: pass_totals_t
    use mpm_stepper, only: stepper_t, scheme_usf, scheme_usl, scheme_musl
    use mpm_material, only: material_t, law_linear, law_elastoplastic
    use mpm_loads, only: loads_t
    use mpm_state, only: state_t
+   use mpm_segments, only: segments_t, sync_segments
    use mpm_contact, only: bodies_t, sync_bodies, bodies_init, touch_test, contact_correct, combine_bodies
    use mpm_transfer, only: p2g, fused_pass, pass_usf_stress, pass_usf_move, pass_usl, pass_musl_remap, &
                            pass_musl_stress, pass_map, pass_map_stress, merge_totals, fused_box_t, box_cells, &
@@ -32,10 +33,12 @@ module mpm_fused
              fused_grid_sum, fused_stepper_t
 
    !> The run's stepper on the fused kernels: the kernels' description of the run (`box`, from
-   !> fused_choose), the one Young's modulus of the bar's kernels, and the bodies' stacked fields where
-   !> each body has its own (`contact`, made by `attach`).
+   !> fused_choose), the one Young's modulus of the bar's kernels, the particle passes' work split
+   !> (`segments`, planned at the start), and the bodies' stacked fields where each body has its own
+   !> (`contact`, made by `attach`).
    type, extends(stepper_t) :: fused_stepper_t
       type(fused_box_t) :: box
+      type(segments_t) :: segments
       real(dp) :: youngs_modulus = 0.0_dp
       logical :: contact = .false.
       type(bodies_t) :: bodies
@@ -66,7 +69,8 @@ contains
       type(particles_t), intent(inout) :: particles
       type(grid_t), intent(inout) :: grid
       type(pass_totals_t), intent(out) :: totals
-      call fused_start(self%scheme, particles, grid, totals, self%box, self%youngs_modulus, loads, self%bodies)
+      call fused_start(self%scheme, particles, grid, self%segments, totals, self%box, self%youngs_modulus, loads, &
+                       self%bodies)
    end subroutine fused_stepper_start
 
    subroutine fused_stepper_step(self, loads, particles, grid, dt, t, totals)
@@ -76,7 +80,8 @@ contains
       type(grid_t), intent(inout) :: grid
       real(dp), intent(in) :: dt, t
       type(pass_totals_t), intent(out) :: totals
-      call fused_step(self%scheme, particles, grid, dt, self%youngs_modulus, totals, self%box, loads, t, self%bodies)
+      call fused_step(self%scheme, particles, grid, self%segments, dt, self%youngs_modulus, totals, self%box, loads, t, &
+                      self%bodies)
    end subroutine fused_stepper_step
 
    real(dp) function fused_stepper_mass(self, particles)
@@ -203,15 +208,18 @@ contains
    !> as it is). The hat's variants: each particle's cell, then the mapping passes pass_map(_stress)
    !> (with the scene's forces at t = 0; bodies: on the stacked fields of `bodies`, whose element shares
    !> are made here) and the energies of the particles as they are. The scene's grid loads are set here.
-   subroutine fused_start(scheme, particles, grid, totals, box, youngs_modulus, scene, bodies)
+   subroutine fused_start(scheme, particles, grid, seg, totals, box, youngs_modulus, scene, bodies)
       integer, intent(in) :: scheme
       type(particles_t), intent(inout) :: particles
       type(grid_t), intent(inout) :: grid
+      !> the run's segments (planned here)
+      type(segments_t), intent(inout) :: seg
       type(pass_totals_t), intent(out) :: totals
       type(fused_box_t), intent(inout), optional :: box
       real(dp), intent(in), optional :: youngs_modulus
       class(loads_t), intent(in), optional :: scene
       type(bodies_t), intent(inout), optional :: bodies
+      seg = segments_t() ! (planned afresh: the segments of an earlier run with other particles mean nothing here)
       if (present(scene)) grid%loads = scene%grid_loads()
       if (present(box)) then
          if (box%variant /= variant_bar) then
@@ -231,13 +239,13 @@ contains
             if (scheme /= scheme_usl .and. .not. allocated(box%carry)) allocate (box%carry(particles%count))
             if (.not. allocated(box%carry)) allocate (box%carry(0))
             call box_cells(particles, grid, box)
-            call fused_pass(pass_usl, particles, grid, 0.0_dp, youngs_modulus, totals, box)
+            call fused_pass(pass_usl, particles, grid, seg, 0.0_dp, youngs_modulus, totals, box)
             return
          end if
          ! the hat's passes take it too (no carry), so that no pass allocates one
          if (.not. allocated(box%carry)) allocate (box%carry(0))
       end if
-      call p2g(particles, grid, scheme /= scheme_usf, totals)
+      call p2g(particles, grid, seg, scheme /= scheme_usf, totals)
    contains
       subroutine start_variant(fields)
          type(grid_t), intent(inout) :: fields
@@ -247,9 +255,9 @@ contains
             allocate (box%forces(particles%count))
             call element_forces(fields)
          end if
-         call locate_all(particles, fields, box)
+         call locate_all(particles, fields, seg, box)
          if (box%variant == variant_forced) call scene%particle_forces(0.0_dp, particles, box%forces)
-         call fused_pass(merge(pass_map, pass_map_stress, scheme == scheme_usf), particles, fields, 0.0_dp, &
+         call fused_pass(merge(pass_map, pass_map_stress, scheme == scheme_usf), particles, fields, seg, 0.0_dp, &
                          youngs_modulus, map_totals, box)
          call initial_energies(particles, youngs_modulus, totals)
          totals%outside = map_totals%outside
@@ -335,10 +343,12 @@ contains
    !> cell there). Bodies on stacked fields (`bodies`): the passes on its fields, the contact correction
    !> after each nodal velocity and momentum update (as scheme_step_bodies); the run's grid becomes their sum
    !> when it is read (fused_grid_sum), its lightest node each step.
-   subroutine fused_step(scheme, particles, grid, dt, youngs_modulus, totals, box, scene, t, bodies)
+   subroutine fused_step(scheme, particles, grid, seg, dt, youngs_modulus, totals, box, scene, t, bodies)
       integer, intent(in) :: scheme
       type(particles_t), intent(inout) :: particles
       type(grid_t), intent(inout) :: grid
+      !> the run's segments (fused_start planned them)
+      type(segments_t), intent(inout) :: seg
       real(dp), intent(in) :: dt, youngs_modulus
       type(pass_totals_t), intent(out) :: totals
       type(fused_box_t), intent(inout), optional :: box
@@ -414,7 +424,7 @@ contains
             call mirror_fold(g, .true., .true.)
             call solve_momentum(g, dt, .false.)
          else if (stacked) then
-            call assemble_and_solve(g, dt, active_nodes(g, box, bodies))
+            call assemble_and_solve(g, dt, active_nodes(g, seg, box, bodies))
          else
             call assemble_and_solve(g, dt)
          end if
@@ -437,9 +447,9 @@ contains
          integer, intent(in) :: kind
          type(pass_totals_t), intent(out) :: pass_totals
          if (with_box) then
-            call fused_pass(kind, particles, g, dt, youngs_modulus, pass_totals, box)
+            call fused_pass(kind, particles, g, seg, dt, youngs_modulus, pass_totals, box)
          else
-            call fused_pass(kind, particles, g, dt, youngs_modulus, pass_totals)
+            call fused_pass(kind, particles, g, seg, dt, youngs_modulus, pass_totals)
          end if
       end subroutine pass
    end subroutine fused_step
@@ -451,8 +461,9 @@ contains
    !> now if they are not among them); every other node of its field holds zeros and would stay so. Each
    !> body's field spans the whole grid, the body only its part: solving every node was a quarter of a
    !> frictionless impact's time at 1e4 particles.
-   function active_nodes(g, box, bodies) result(ranges)
+   function active_nodes(g, seg, box, bodies) result(ranges)
       type(grid_t), intent(in) :: g
+      type(segments_t), intent(in) :: seg
       type(fused_box_t), intent(in) :: box
       type(bodies_t), intent(inout) :: bodies
       integer :: ranges(2, bodies%count)
@@ -460,23 +471,21 @@ contains
       integer :: k, b, kind
       now(1, :) = huge(1)
       now(2, :) = -huge(1)
-      if (.not. g%segments%clear_written) then ! (no record of what was written: every node)
+      if (.not. seg%clear_written) then ! (no record of what was written: every node)
          do b = 1, bodies%count
             now(:, b) = [(b - 1)*bodies%nodes, b*bodies%nodes - 1]
          end do
       end if
-      associate (seg => g%segments)
-         do k = 1, seg%count
-            b = body_of_element(box, seg%first_element(k))
-            do kind = 1, size(seg%written, 2)
-               ! (the kinds of share the fields have: no forces, no record of them but the first "whole")
-               if (kind == size(seg%written, 2) .and. .not. allocated(g%element_force_left)) cycle
-               if (seg%written(1, kind, k) > seg%written(2, kind, k)) cycle ! (none)
-               now(1, b) = min(now(1, b), seg%written(1, kind, k) - 1)
-               now(2, b) = max(now(2, b), seg%written(2, kind, k))
-            end do
+      do k = 1, seg%count
+         b = body_of_element(box, seg%first_element(k))
+         do kind = 1, size(seg%written, 2)
+            ! (the kinds of share the fields have: no forces, no record of them but the first "whole")
+            if (kind == size(seg%written, 2) .and. .not. allocated(g%element_force_left)) cycle
+            if (seg%written(1, kind, k) > seg%written(2, kind, k)) cycle ! (none)
+            now(1, b) = min(now(1, b), seg%written(1, kind, k) - 1)
+            now(2, b) = max(now(2, b), seg%written(2, kind, k))
          end do
-      end associate
+      end do
       ranges(1, :) = min(now(1, :), bodies%active(1, :))
       ranges(2, :) = max(now(2, :), bodies%active(2, :))
       bodies%active = now
@@ -528,11 +537,12 @@ contains
    end function fused_shape
 
 
-   !> What the fused kernels carry from one step to the next beyond the run's grid: the bodies' fields
-   !> of a contact run.
+   !> What the fused kernels carry from one step to the next beyond the run's grid: the segments' record
+   !> of the last pass, and the bodies' fields of a contact run.
    subroutine fused_sync_state(self, state)
       class(fused_stepper_t), intent(inout) :: self
       type(state_t), intent(inout) :: state
+      call sync_segments(state, 'fused.segments', self%segments)
       if (self%contact) call sync_bodies(state, self%bodies)
    end subroutine fused_sync_state
 end module mpm_fused

@@ -28,7 +28,8 @@
 !> scatter into the same element and a run of them is summed in registers and written once.
 !>
 !> Threads: a large run (at least `parallel_threshold` particles) is cut into segments of whole
-!> elements whose size depends on the problem only (see segments_t in mpm_grid); the segments of a
+!> elements whose size depends on the problem only (see mpm_segments; the caller owns them: the fused
+!> stepper's state, passed to every entry point as `seg`); the segments of a
 !> pass run in an OpenMP loop, unless the caller is already inside a parallel region (a sweep), where
 !> the same segments run one after the other. Every sum is therefore associated the same way whatever
 !> the number of threads (and whichever thread runs a segment: the loop is scheduled dynamically, so
@@ -37,9 +38,10 @@
 module mpm_transfer
    use omp_lib, only: omp_in_parallel
    use mpm_kinds, only: dp, i8
-   use mpm_grid, only: grid_t, segments_t, share_count, threaded_nodes, node_chunk
+   use mpm_grid, only: grid_t, threaded_nodes, node_chunk
+   use mpm_segments, only: segments_t, share_count
    use mpm_particles, only: particles_t, bytes_per_particle, permute
-   use mpm_diagnostics, only: pass_totals_t, max_bodies
+   use mpm_pass_totals, only: pass_totals_t, max_bodies
    use mpm_shape_range, only: infinity_bits
    use mpm_lanes, only: block_size, lanes, largest_move_t
    implicit none
@@ -195,9 +197,10 @@ contains
    !> momentum and (when `with_stress`) stress*volume; records each particle's cell.
    !> Also plans the segments of the run and sorts the particles by element when they are not.
    !> Runs on one thread (it is called once per run).
-   subroutine p2g(particles, grid, with_stress, totals)
+   subroutine p2g(particles, grid, seg, with_stress, totals)
       type(particles_t), intent(inout) :: particles
       type(grid_t), intent(inout) :: grid
+      type(segments_t), intent(inout) :: seg
       logical, intent(in) :: with_stress
       type(pass_totals_t), intent(out) :: totals
       integer :: p, c, cur, shares
@@ -205,7 +208,7 @@ contains
       real(dp) :: xi, m, vp, sv, a1, a2, a3, a4, a5
       logical :: sorted
       call clear_element_shares(grid, .true., with_stress)
-      call plan_segments(grid, particles%count)
+      call plan_segments(grid, seg, particles%count)
       m = particles%mass
       shares = share_mass + share_momentum
       if (with_stress) shares = shares + share_stress
@@ -244,16 +247,17 @@ contains
       if (cur /= 0) call add_own_shares(cur, shares, m*(a1 - a2), m*a2, m*(a3 - a4), m*a4, a5, grid%element_mass_left, &
                                         grid%element_mass_right, grid%element_momentum_left, &
                                         grid%element_momentum_right, grid%element_stress_volume)
-      if (.not. sorted .and. grid%segments%count > 1 .and. totals%outside == 0) call sort_by_cell(particles, grid)
+      if (.not. sorted .and. seg%count > 1 .and. totals%outside == 0) call sort_by_cell(particles, grid)
    end subroutine p2g
 
    !> The first step of the variants' initial mapping (the hat's; mpm_fused's fused_start maps them then
    !> by pass_map or pass_map_stress): each particle's cell (in its body's field for bodies on stacked
    !> fields), the segments (cut where a body's field begins), and the particles sorted by cell when they
    !> are not (unless one is outside the grid: the run stops at its first step).
-   subroutine locate_all(particles, grid, box)
+   subroutine locate_all(particles, grid, seg, box)
       type(particles_t), intent(inout) :: particles
-      type(grid_t), intent(inout) :: grid
+      type(grid_t), intent(in) :: grid
+      type(segments_t), intent(inout) :: seg
       type(fused_box_t), intent(in) :: box
       integer :: p, b
       real(dp) :: xi
@@ -271,9 +275,9 @@ contains
          end if
       end do
       if (allocated(box%body_element)) then
-         call plan_segments(grid, particles%count, box%body_element)
+         call plan_segments(grid, seg, particles%count, box%body_element)
       else
-         call plan_segments(grid, particles%count)
+         call plan_segments(grid, seg, particles%count)
       end if
       if (particles%count < 2) return
       if (any(particles%cell(2:) < particles%cell(:particles%count - 1)) .and. all(particles%cell > 0)) &
@@ -284,25 +288,27 @@ contains
    !> threads when the run is large, see over_segments), then the halo shares and totals in a fixed
    !> order (finish_pass). The passes that update the stress from the element's velocity difference
    !> get it per element first (strain_increments).
-   subroutine fused_pass(pass, particles, grid, dt, youngs_modulus, totals, box)
+   subroutine fused_pass(pass, particles, grid, seg, dt, youngs_modulus, totals, box)
       integer, intent(in) :: pass
       type(particles_t), intent(inout) :: particles
       type(grid_t), intent(inout) :: grid
+      !> the run's segments (planned by p2g or locate_all, or here at the first pass)
+      type(segments_t), intent(inout) :: seg
       real(dp), intent(in) :: dt, youngs_modulus
       type(pass_totals_t), intent(out) :: totals
       !> the particles' shape (absent: the hat)
       type(fused_box_t), intent(inout), optional :: box
-      call prepare_pass(particles, grid)
+      call prepare_pass(particles, grid, seg)
       ! the passes that update the stress without moving read one strain increment per element
       if (pass_stresses(pass) .and. .not. pass_moves(pass)) call strain_increments(grid, dt)
       if (present(box)) then
-         call over_segments(particles, grid, pass, dt, youngs_modulus, box)
+         call over_segments(particles, grid, seg, pass, dt, youngs_modulus, box)
          if (box%variant == variant_forced) then
-            call finish_pass(particles, grid, pass_force_shares(pass), pass_relocates(pass), totals, box)
+            call finish_pass(particles, grid, seg, pass_force_shares(pass), pass_relocates(pass), totals, box)
          else
-            call finish_pass(particles, grid, pass_shares(pass), pass_relocates(pass), totals, box)
+            call finish_pass(particles, grid, seg, pass_shares(pass), pass_relocates(pass), totals, box)
          end if
-         if (box%variant == variant_bodies) call body_totals(pass, grid, box, totals)
+         if (box%variant == variant_bodies) call body_totals(pass, seg, box, totals)
       else
          call hat_pass()
       end if
@@ -312,8 +318,8 @@ contains
       subroutine hat_pass()
          type(fused_box_t) :: hat
          allocate (hat%carry(0))
-         call over_segments(particles, grid, pass, dt, youngs_modulus, hat)
-         call finish_pass(particles, grid, pass_shares(pass), pass_relocates(pass), totals, hat)
+         call over_segments(particles, grid, seg, pass, dt, youngs_modulus, hat)
+         call finish_pass(particles, grid, seg, pass_shares(pass), pass_relocates(pass), totals, hat)
       end subroutine hat_pass
    end subroutine fused_pass
 
@@ -426,9 +432,10 @@ contains
    !> is not itself inside a parallel region (a sweep), else in this thread. A branch, not an `if`
    !> clause: an inactive parallel region still costs a team set-up (about a microsecond) per pass,
    !> which dominated small runs.
-   subroutine over_segments(particles, grid, kind, dt, youngs_modulus, box)
+   subroutine over_segments(particles, grid, seg, kind, dt, youngs_modulus, box)
       type(particles_t), intent(inout) :: particles
       type(grid_t), intent(inout) :: grid
+      type(segments_t), intent(inout) :: seg
       integer, intent(in) :: kind
       real(dp), intent(in) :: dt, youngs_modulus
       type(fused_box_t), intent(inout) :: box
@@ -615,15 +622,15 @@ contains
       ! threads for a large run only (a run of bodies has a segment per body however small it is), and not
       ! inside a parallel region (a sweep); omp_in_parallel, a library call, only then
       threaded = .false.
-      if (grid%segments%count > 1 .and. particles%count >= parallel_threshold) threaded = .not. omp_in_parallel()
+      if (seg%count > 1 .and. particles%count >= parallel_threshold) threaded = .not. omp_in_parallel()
       if (threaded) then
          !$omp parallel do default(shared) private(k) schedule(dynamic, 4)
-         do k = 1, grid%segments%count
+         do k = 1, seg%count
             call segment(k)
          end do
          !$omp end parallel do
       else
-         do k = 1, grid%segments%count
+         do k = 1, seg%count
             call segment(k)
          end do
       end if
@@ -634,179 +641,179 @@ contains
          integer, intent(in) :: k
          select case (which)
          case (1)
-            call usf_move_segment(k, grid%segments, particles%x, particles%x0, particles%v, particles%stress, &
+            call usf_move_segment(k, seg, particles%x, particles%x0, particles%v, particles%stress, &
                                  particles%volume_ratio, particles%cell, grid%acceleration, grid%velocity, &
                                  grid%element_strain, grid%element_mass_left, grid%element_mass_right, &
                                  grid%element_momentum_left, grid%element_momentum_right, grid%element_stress_volume, &
                                  constants, box%carry)
          case (2)
-            call usf_stress_segment(k, grid%segments, particles%x, particles%x0, particles%v, particles%stress, &
+            call usf_stress_segment(k, seg, particles%x, particles%x0, particles%v, particles%stress, &
                                    particles%volume_ratio, particles%cell, grid%acceleration, grid%velocity, &
                                    grid%element_strain, grid%element_mass_left, grid%element_mass_right, &
                                    grid%element_momentum_left, grid%element_momentum_right, grid%element_stress_volume, &
                                    constants, box%carry, &
                                    plastic_strain=particles%plastic_strain, hardening=particles%hardening)
          case (3)
-            call usl_segment(k, grid%segments, particles%x, particles%x0, particles%v, particles%stress, &
+            call usl_segment(k, seg, particles%x, particles%x0, particles%v, particles%stress, &
                             particles%volume_ratio, particles%cell, grid%acceleration, grid%velocity, &
                             grid%element_strain, grid%element_mass_left, grid%element_mass_right, &
                             grid%element_momentum_left, grid%element_momentum_right, grid%element_stress_volume, &
                             constants, box%carry, &
                             plastic_strain=particles%plastic_strain, hardening=particles%hardening)
          case (4)
-            call musl_remap_segment(k, grid%segments, particles%x, particles%x0, particles%v, particles%stress, &
+            call musl_remap_segment(k, seg, particles%x, particles%x0, particles%v, particles%stress, &
                                    particles%volume_ratio, particles%cell, grid%acceleration, grid%velocity, &
                                    grid%element_strain, grid%element_mass_left, grid%element_mass_right, &
                                    grid%element_momentum_left, grid%element_momentum_right, grid%element_stress_volume, &
                                    constants, box%carry)
          case (5)
-            call musl_stress_segment(k, grid%segments, particles%x, particles%x0, particles%v, particles%stress, &
+            call musl_stress_segment(k, seg, particles%x, particles%x0, particles%v, particles%stress, &
                                     particles%volume_ratio, particles%cell, grid%acceleration, grid%velocity, &
                                     grid%element_strain, grid%element_mass_left, grid%element_mass_right, &
                                     grid%element_momentum_left, grid%element_momentum_right, grid%element_stress_volume, &
                                     constants, box%carry, &
                                     plastic_strain=particles%plastic_strain, hardening=particles%hardening)
          case (6)
-            call ugimp_usf_move_segment(k, grid%segments, particles%x, particles%x0, particles%v, particles%stress, &
+            call ugimp_usf_move_segment(k, seg, particles%x, particles%x0, particles%v, particles%stress, &
                                        particles%volume_ratio, particles%cell, grid%acceleration, grid%velocity, &
                                        grid%element_strain, grid%element_mass_left, grid%element_mass_right, &
                                        grid%element_momentum_left, grid%element_momentum_right, grid%element_stress_volume, &
                                        constants, box%carry)
          case (7)
-            call ugimp_usf_stress_segment(k, grid%segments, particles%x, particles%x0, particles%v, particles%stress, &
+            call ugimp_usf_stress_segment(k, seg, particles%x, particles%x0, particles%v, particles%stress, &
                                          particles%volume_ratio, particles%cell, grid%acceleration, grid%velocity, &
                                          grid%element_strain, grid%element_mass_left, grid%element_mass_right, &
                                          grid%element_momentum_left, grid%element_momentum_right, grid%element_stress_volume, &
                                          constants, box%carry, &
                                          plastic_strain=particles%plastic_strain, hardening=particles%hardening)
          case (8)
-            call ugimp_usl_segment(k, grid%segments, particles%x, particles%x0, particles%v, particles%stress, &
+            call ugimp_usl_segment(k, seg, particles%x, particles%x0, particles%v, particles%stress, &
                                   particles%volume_ratio, particles%cell, grid%acceleration, grid%velocity, &
                                   grid%element_strain, grid%element_mass_left, grid%element_mass_right, &
                                   grid%element_momentum_left, grid%element_momentum_right, grid%element_stress_volume, &
                                   constants, box%carry, &
                                   plastic_strain=particles%plastic_strain, hardening=particles%hardening)
          case (9)
-            call ugimp_musl_remap_segment(k, grid%segments, particles%x, particles%x0, particles%v, particles%stress, &
+            call ugimp_musl_remap_segment(k, seg, particles%x, particles%x0, particles%v, particles%stress, &
                                          particles%volume_ratio, particles%cell, grid%acceleration, grid%velocity, &
                                          grid%element_strain, grid%element_mass_left, grid%element_mass_right, &
                                          grid%element_momentum_left, grid%element_momentum_right, grid%element_stress_volume, &
                                          constants, box%carry)
          case (10)
-            call ugimp_musl_stress_segment(k, grid%segments, particles%x, particles%x0, particles%v, particles%stress, &
+            call ugimp_musl_stress_segment(k, seg, particles%x, particles%x0, particles%v, particles%stress, &
                                           particles%volume_ratio, particles%cell, grid%acceleration, grid%velocity, &
                                           grid%element_strain, grid%element_mass_left, grid%element_mass_right, &
                                           grid%element_momentum_left, grid%element_momentum_right, grid%element_stress_volume, &
                                           constants, box%carry, &
                                           plastic_strain=particles%plastic_strain, hardening=particles%hardening)
          case (11)
-            call cpgimp_usf_move_segment(k, grid%segments, particles%x, particles%x0, particles%v, particles%stress, &
+            call cpgimp_usf_move_segment(k, seg, particles%x, particles%x0, particles%v, particles%stress, &
                                         particles%volume_ratio, particles%cell, grid%acceleration, grid%velocity, &
                                         grid%element_strain, grid%element_mass_left, grid%element_mass_right, &
                                         grid%element_momentum_left, grid%element_momentum_right, grid%element_stress_volume, &
                                         constants, box%carry)
          case (12)
-            call cpgimp_usf_stress_segment(k, grid%segments, particles%x, particles%x0, particles%v, particles%stress, &
+            call cpgimp_usf_stress_segment(k, seg, particles%x, particles%x0, particles%v, particles%stress, &
                                           particles%volume_ratio, particles%cell, grid%acceleration, grid%velocity, &
                                           grid%element_strain, grid%element_mass_left, grid%element_mass_right, &
                                           grid%element_momentum_left, grid%element_momentum_right, grid%element_stress_volume, &
                                           constants, box%carry, &
                                           plastic_strain=particles%plastic_strain, hardening=particles%hardening)
          case (13)
-            call cpgimp_usl_segment(k, grid%segments, particles%x, particles%x0, particles%v, particles%stress, &
+            call cpgimp_usl_segment(k, seg, particles%x, particles%x0, particles%v, particles%stress, &
                                    particles%volume_ratio, particles%cell, grid%acceleration, grid%velocity, &
                                    grid%element_strain, grid%element_mass_left, grid%element_mass_right, &
                                    grid%element_momentum_left, grid%element_momentum_right, grid%element_stress_volume, &
                                    constants, box%carry, &
                                    plastic_strain=particles%plastic_strain, hardening=particles%hardening)
          case (14)
-            call cpgimp_musl_remap_segment(k, grid%segments, particles%x, particles%x0, particles%v, particles%stress, &
+            call cpgimp_musl_remap_segment(k, seg, particles%x, particles%x0, particles%v, particles%stress, &
                                           particles%volume_ratio, particles%cell, grid%acceleration, grid%velocity, &
                                           grid%element_strain, grid%element_mass_left, grid%element_mass_right, &
                                           grid%element_momentum_left, grid%element_momentum_right, grid%element_stress_volume, &
                                           constants, box%carry)
          case (15)
-            call cpgimp_musl_stress_segment(k, grid%segments, particles%x, particles%x0, particles%v, particles%stress, &
+            call cpgimp_musl_stress_segment(k, seg, particles%x, particles%x0, particles%v, particles%stress, &
                                            particles%volume_ratio, particles%cell, grid%acceleration, grid%velocity, &
                                            grid%element_strain, grid%element_mass_left, grid%element_mass_right, &
                                            grid%element_momentum_left, grid%element_momentum_right, grid%element_stress_volume, &
                                            constants, box%carry, &
                                            plastic_strain=particles%plastic_strain, hardening=particles%hardening)
          case (16)
-            call bspline2_usf_move_segment(k, grid%segments, particles%x, particles%x0, particles%v, particles%stress, &
+            call bspline2_usf_move_segment(k, seg, particles%x, particles%x0, particles%v, particles%stress, &
                                           particles%volume_ratio, particles%cell, grid%acceleration, grid%velocity, &
                                           grid%element_strain, grid%element_mass_left, grid%element_mass_right, &
                                           grid%element_momentum_left, grid%element_momentum_right, grid%element_stress_volume, &
                                           constants, box%carry)
          case (17)
-            call bspline2_usf_stress_segment(k, grid%segments, particles%x, particles%x0, particles%v, particles%stress, &
+            call bspline2_usf_stress_segment(k, seg, particles%x, particles%x0, particles%v, particles%stress, &
                                             particles%volume_ratio, particles%cell, grid%acceleration, grid%velocity, &
                                             grid%element_strain, grid%element_mass_left, grid%element_mass_right, &
                                             grid%element_momentum_left, grid%element_momentum_right, grid%element_stress_volume, &
                                             constants, box%carry, &
                                             plastic_strain=particles%plastic_strain, hardening=particles%hardening)
          case (18)
-            call bspline2_usl_segment(k, grid%segments, particles%x, particles%x0, particles%v, particles%stress, &
+            call bspline2_usl_segment(k, seg, particles%x, particles%x0, particles%v, particles%stress, &
                                      particles%volume_ratio, particles%cell, grid%acceleration, grid%velocity, &
                                      grid%element_strain, grid%element_mass_left, grid%element_mass_right, &
                                      grid%element_momentum_left, grid%element_momentum_right, grid%element_stress_volume, &
                                      constants, box%carry, &
                                      plastic_strain=particles%plastic_strain, hardening=particles%hardening)
          case (19)
-            call bspline2_musl_remap_segment(k, grid%segments, particles%x, particles%x0, particles%v, particles%stress, &
+            call bspline2_musl_remap_segment(k, seg, particles%x, particles%x0, particles%v, particles%stress, &
                                             particles%volume_ratio, particles%cell, grid%acceleration, grid%velocity, &
                                             grid%element_strain, grid%element_mass_left, grid%element_mass_right, &
                                             grid%element_momentum_left, grid%element_momentum_right, grid%element_stress_volume, &
                                             constants, box%carry)
          case (20)
-            call bspline2_musl_stress_segment(k, grid%segments, particles%x, particles%x0, particles%v, particles%stress, &
+            call bspline2_musl_stress_segment(k, seg, particles%x, particles%x0, particles%v, particles%stress, &
                                              particles%volume_ratio, particles%cell, grid%acceleration, grid%velocity, &
                                              grid%element_strain, grid%element_mass_left, grid%element_mass_right, &
                                              grid%element_momentum_left, grid%element_momentum_right, grid%element_stress_volume, &
                                              constants, box%carry, &
                                              plastic_strain=particles%plastic_strain, hardening=particles%hardening)
          case (21)
-            call bspline3_usf_move_segment(k, grid%segments, particles%x, particles%x0, particles%v, particles%stress, &
+            call bspline3_usf_move_segment(k, seg, particles%x, particles%x0, particles%v, particles%stress, &
                                           particles%volume_ratio, particles%cell, grid%acceleration, grid%velocity, &
                                           grid%element_strain, grid%element_mass_left, grid%element_mass_right, &
                                           grid%element_momentum_left, grid%element_momentum_right, grid%element_stress_volume, &
                                           constants, box%carry)
          case (22)
-            call bspline3_usf_stress_segment(k, grid%segments, particles%x, particles%x0, particles%v, particles%stress, &
+            call bspline3_usf_stress_segment(k, seg, particles%x, particles%x0, particles%v, particles%stress, &
                                             particles%volume_ratio, particles%cell, grid%acceleration, grid%velocity, &
                                             grid%element_strain, grid%element_mass_left, grid%element_mass_right, &
                                             grid%element_momentum_left, grid%element_momentum_right, grid%element_stress_volume, &
                                             constants, box%carry, &
                                             plastic_strain=particles%plastic_strain, hardening=particles%hardening)
          case (23)
-            call bspline3_usl_segment(k, grid%segments, particles%x, particles%x0, particles%v, particles%stress, &
+            call bspline3_usl_segment(k, seg, particles%x, particles%x0, particles%v, particles%stress, &
                                      particles%volume_ratio, particles%cell, grid%acceleration, grid%velocity, &
                                      grid%element_strain, grid%element_mass_left, grid%element_mass_right, &
                                      grid%element_momentum_left, grid%element_momentum_right, grid%element_stress_volume, &
                                      constants, box%carry, &
                                      plastic_strain=particles%plastic_strain, hardening=particles%hardening)
          case (24)
-            call bspline3_musl_remap_segment(k, grid%segments, particles%x, particles%x0, particles%v, particles%stress, &
+            call bspline3_musl_remap_segment(k, seg, particles%x, particles%x0, particles%v, particles%stress, &
                                             particles%volume_ratio, particles%cell, grid%acceleration, grid%velocity, &
                                             grid%element_strain, grid%element_mass_left, grid%element_mass_right, &
                                             grid%element_momentum_left, grid%element_momentum_right, grid%element_stress_volume, &
                                             constants, box%carry)
          case (25)
-            call bspline3_musl_stress_segment(k, grid%segments, particles%x, particles%x0, particles%v, particles%stress, &
+            call bspline3_musl_stress_segment(k, seg, particles%x, particles%x0, particles%v, particles%stress, &
                                              particles%volume_ratio, particles%cell, grid%acceleration, grid%velocity, &
                                              grid%element_strain, grid%element_mass_left, grid%element_mass_right, &
                                              grid%element_momentum_left, grid%element_momentum_right, grid%element_stress_volume, &
                                              constants, box%carry, &
                                              plastic_strain=particles%plastic_strain, hardening=particles%hardening)
          case (26)
-            call pic_usf_move_segment(k, grid%segments, particles%x, particles%x0, particles%v, particles%stress, &
+            call pic_usf_move_segment(k, seg, particles%x, particles%x0, particles%v, particles%stress, &
                                      particles%volume_ratio, particles%cell, grid%acceleration, grid%velocity, &
                                      grid%element_strain, grid%element_mass_left, grid%element_mass_right, &
                                      grid%element_momentum_left, grid%element_momentum_right, grid%element_stress_volume, &
                                      constants, box%carry, particles%mass_of, particles%youngs_modulus_of, box%forces, &
                                      particles%velocity_gradient, grid%element_force_left, grid%element_force_right)
          case (27)
-            call pic_usf_stress_segment(k, grid%segments, particles%x, particles%x0, particles%v, particles%stress, &
+            call pic_usf_stress_segment(k, seg, particles%x, particles%x0, particles%v, particles%stress, &
                                        particles%volume_ratio, particles%cell, grid%acceleration, grid%velocity, &
                                        grid%element_strain, grid%element_mass_left, grid%element_mass_right, &
                                        grid%element_momentum_left, grid%element_momentum_right, grid%element_stress_volume, &
@@ -815,7 +822,7 @@ contains
                                        plastic_strain=particles%plastic_strain, hardening=particles%hardening, &
                                        yield_of=particles%yield_stress_of, hardening_of=particles%hardening_modulus_of)
          case (28)
-            call pic_usl_segment(k, grid%segments, particles%x, particles%x0, particles%v, particles%stress, &
+            call pic_usl_segment(k, seg, particles%x, particles%x0, particles%v, particles%stress, &
                                 particles%volume_ratio, particles%cell, grid%acceleration, grid%velocity, &
                                 grid%element_strain, grid%element_mass_left, grid%element_mass_right, &
                                 grid%element_momentum_left, grid%element_momentum_right, grid%element_stress_volume, &
@@ -824,14 +831,14 @@ contains
                                 plastic_strain=particles%plastic_strain, hardening=particles%hardening, &
                                 yield_of=particles%yield_stress_of, hardening_of=particles%hardening_modulus_of)
          case (29)
-            call pic_musl_remap_segment(k, grid%segments, particles%x, particles%x0, particles%v, particles%stress, &
+            call pic_musl_remap_segment(k, seg, particles%x, particles%x0, particles%v, particles%stress, &
                                        particles%volume_ratio, particles%cell, grid%acceleration, grid%velocity, &
                                        grid%element_strain, grid%element_mass_left, grid%element_mass_right, &
                                        grid%element_momentum_left, grid%element_momentum_right, grid%element_stress_volume, &
                                        constants, box%carry, particles%mass_of, particles%youngs_modulus_of, box%forces, &
                                        particles%velocity_gradient, grid%element_force_left, grid%element_force_right)
          case (30)
-            call pic_musl_stress_segment(k, grid%segments, particles%x, particles%x0, particles%v, particles%stress, &
+            call pic_musl_stress_segment(k, seg, particles%x, particles%x0, particles%v, particles%stress, &
                                         particles%volume_ratio, particles%cell, grid%acceleration, grid%velocity, &
                                         grid%element_strain, grid%element_mass_left, grid%element_mass_right, &
                                         grid%element_momentum_left, grid%element_momentum_right, grid%element_stress_volume, &
@@ -840,28 +847,28 @@ contains
                                         plastic_strain=particles%plastic_strain, hardening=particles%hardening, &
                                         yield_of=particles%yield_stress_of, hardening_of=particles%hardening_modulus_of)
          case (31)
-            call pic_map_segment(k, grid%segments, particles%x, particles%x0, particles%v, particles%stress, &
+            call pic_map_segment(k, seg, particles%x, particles%x0, particles%v, particles%stress, &
                                 particles%volume_ratio, particles%cell, grid%acceleration, grid%velocity, &
                                 grid%element_strain, grid%element_mass_left, grid%element_mass_right, &
                                 grid%element_momentum_left, grid%element_momentum_right, grid%element_stress_volume, &
                                 constants, box%carry, particles%mass_of, particles%youngs_modulus_of, box%forces, &
                                 particles%velocity_gradient, grid%element_force_left, grid%element_force_right)
          case (32)
-            call pic_map_stress_segment(k, grid%segments, particles%x, particles%x0, particles%v, particles%stress, &
+            call pic_map_stress_segment(k, seg, particles%x, particles%x0, particles%v, particles%stress, &
                                        particles%volume_ratio, particles%cell, grid%acceleration, grid%velocity, &
                                        grid%element_strain, grid%element_mass_left, grid%element_mass_right, &
                                        grid%element_momentum_left, grid%element_momentum_right, grid%element_stress_volume, &
                                        constants, box%carry, particles%mass_of, particles%youngs_modulus_of, box%forces, &
                                        particles%velocity_gradient, grid%element_force_left, grid%element_force_right)
          case (33)
-            call blend_usf_move_segment(k, grid%segments, particles%x, particles%x0, particles%v, particles%stress, &
+            call blend_usf_move_segment(k, seg, particles%x, particles%x0, particles%v, particles%stress, &
                                        particles%volume_ratio, particles%cell, grid%acceleration, grid%velocity, &
                                        grid%element_strain, grid%element_mass_left, grid%element_mass_right, &
                                        grid%element_momentum_left, grid%element_momentum_right, grid%element_stress_volume, &
                                        constants, box%carry, particles%mass_of, particles%youngs_modulus_of, box%forces, &
                                        particles%velocity_gradient, grid%element_force_left, grid%element_force_right)
          case (34)
-            call blend_usf_stress_segment(k, grid%segments, particles%x, particles%x0, particles%v, particles%stress, &
+            call blend_usf_stress_segment(k, seg, particles%x, particles%x0, particles%v, particles%stress, &
                                          particles%volume_ratio, particles%cell, grid%acceleration, grid%velocity, &
                                          grid%element_strain, grid%element_mass_left, grid%element_mass_right, &
                                          grid%element_momentum_left, grid%element_momentum_right, grid%element_stress_volume, &
@@ -870,7 +877,7 @@ contains
                                          plastic_strain=particles%plastic_strain, hardening=particles%hardening, &
                                          yield_of=particles%yield_stress_of, hardening_of=particles%hardening_modulus_of)
          case (35)
-            call blend_usl_segment(k, grid%segments, particles%x, particles%x0, particles%v, particles%stress, &
+            call blend_usl_segment(k, seg, particles%x, particles%x0, particles%v, particles%stress, &
                                   particles%volume_ratio, particles%cell, grid%acceleration, grid%velocity, &
                                   grid%element_strain, grid%element_mass_left, grid%element_mass_right, &
                                   grid%element_momentum_left, grid%element_momentum_right, grid%element_stress_volume, &
@@ -879,14 +886,14 @@ contains
                                   plastic_strain=particles%plastic_strain, hardening=particles%hardening, &
                                   yield_of=particles%yield_stress_of, hardening_of=particles%hardening_modulus_of)
          case (36)
-            call blend_musl_remap_segment(k, grid%segments, particles%x, particles%x0, particles%v, particles%stress, &
+            call blend_musl_remap_segment(k, seg, particles%x, particles%x0, particles%v, particles%stress, &
                                          particles%volume_ratio, particles%cell, grid%acceleration, grid%velocity, &
                                          grid%element_strain, grid%element_mass_left, grid%element_mass_right, &
                                          grid%element_momentum_left, grid%element_momentum_right, grid%element_stress_volume, &
                                          constants, box%carry, particles%mass_of, particles%youngs_modulus_of, box%forces, &
                                          particles%velocity_gradient, grid%element_force_left, grid%element_force_right)
          case (37)
-            call blend_musl_stress_segment(k, grid%segments, particles%x, particles%x0, particles%v, particles%stress, &
+            call blend_musl_stress_segment(k, seg, particles%x, particles%x0, particles%v, particles%stress, &
                                           particles%volume_ratio, particles%cell, grid%acceleration, grid%velocity, &
                                           grid%element_strain, grid%element_mass_left, grid%element_mass_right, &
                                           grid%element_momentum_left, grid%element_momentum_right, grid%element_stress_volume, &
@@ -895,28 +902,28 @@ contains
                                           plastic_strain=particles%plastic_strain, hardening=particles%hardening, &
                                           yield_of=particles%yield_stress_of, hardening_of=particles%hardening_modulus_of)
          case (38)
-            call blend_map_segment(k, grid%segments, particles%x, particles%x0, particles%v, particles%stress, &
+            call blend_map_segment(k, seg, particles%x, particles%x0, particles%v, particles%stress, &
                                   particles%volume_ratio, particles%cell, grid%acceleration, grid%velocity, &
                                   grid%element_strain, grid%element_mass_left, grid%element_mass_right, &
                                   grid%element_momentum_left, grid%element_momentum_right, grid%element_stress_volume, &
                                   constants, box%carry, particles%mass_of, particles%youngs_modulus_of, box%forces, &
                                   particles%velocity_gradient, grid%element_force_left, grid%element_force_right)
          case (39)
-            call blend_map_stress_segment(k, grid%segments, particles%x, particles%x0, particles%v, particles%stress, &
+            call blend_map_stress_segment(k, seg, particles%x, particles%x0, particles%v, particles%stress, &
                                          particles%volume_ratio, particles%cell, grid%acceleration, grid%velocity, &
                                          grid%element_strain, grid%element_mass_left, grid%element_mass_right, &
                                          grid%element_momentum_left, grid%element_momentum_right, grid%element_stress_volume, &
                                          constants, box%carry, particles%mass_of, particles%youngs_modulus_of, box%forces, &
                                          particles%velocity_gradient, grid%element_force_left, grid%element_force_right)
          case (40)
-            call apic_usf_move_segment(k, grid%segments, particles%x, particles%x0, particles%v, particles%stress, &
+            call apic_usf_move_segment(k, seg, particles%x, particles%x0, particles%v, particles%stress, &
                                       particles%volume_ratio, particles%cell, grid%acceleration, grid%velocity, &
                                       grid%element_strain, grid%element_mass_left, grid%element_mass_right, &
                                       grid%element_momentum_left, grid%element_momentum_right, grid%element_stress_volume, &
                                       constants, box%carry, particles%mass_of, particles%youngs_modulus_of, box%forces, &
                                       particles%velocity_gradient, grid%element_force_left, grid%element_force_right)
          case (41)
-            call apic_usf_stress_segment(k, grid%segments, particles%x, particles%x0, particles%v, particles%stress, &
+            call apic_usf_stress_segment(k, seg, particles%x, particles%x0, particles%v, particles%stress, &
                                         particles%volume_ratio, particles%cell, grid%acceleration, grid%velocity, &
                                         grid%element_strain, grid%element_mass_left, grid%element_mass_right, &
                                         grid%element_momentum_left, grid%element_momentum_right, grid%element_stress_volume, &
@@ -925,7 +932,7 @@ contains
                                         plastic_strain=particles%plastic_strain, hardening=particles%hardening, &
                                         yield_of=particles%yield_stress_of, hardening_of=particles%hardening_modulus_of)
          case (42)
-            call apic_usl_segment(k, grid%segments, particles%x, particles%x0, particles%v, particles%stress, &
+            call apic_usl_segment(k, seg, particles%x, particles%x0, particles%v, particles%stress, &
                                  particles%volume_ratio, particles%cell, grid%acceleration, grid%velocity, &
                                  grid%element_strain, grid%element_mass_left, grid%element_mass_right, &
                                  grid%element_momentum_left, grid%element_momentum_right, grid%element_stress_volume, &
@@ -934,14 +941,14 @@ contains
                                  plastic_strain=particles%plastic_strain, hardening=particles%hardening, &
                                  yield_of=particles%yield_stress_of, hardening_of=particles%hardening_modulus_of)
          case (43)
-            call apic_musl_remap_segment(k, grid%segments, particles%x, particles%x0, particles%v, particles%stress, &
+            call apic_musl_remap_segment(k, seg, particles%x, particles%x0, particles%v, particles%stress, &
                                         particles%volume_ratio, particles%cell, grid%acceleration, grid%velocity, &
                                         grid%element_strain, grid%element_mass_left, grid%element_mass_right, &
                                         grid%element_momentum_left, grid%element_momentum_right, grid%element_stress_volume, &
                                         constants, box%carry, particles%mass_of, particles%youngs_modulus_of, box%forces, &
                                         particles%velocity_gradient, grid%element_force_left, grid%element_force_right)
          case (44)
-            call apic_musl_stress_segment(k, grid%segments, particles%x, particles%x0, particles%v, particles%stress, &
+            call apic_musl_stress_segment(k, seg, particles%x, particles%x0, particles%v, particles%stress, &
                                          particles%volume_ratio, particles%cell, grid%acceleration, grid%velocity, &
                                          grid%element_strain, grid%element_mass_left, grid%element_mass_right, &
                                          grid%element_momentum_left, grid%element_momentum_right, grid%element_stress_volume, &
@@ -950,28 +957,28 @@ contains
                                          plastic_strain=particles%plastic_strain, hardening=particles%hardening, &
                                          yield_of=particles%yield_stress_of, hardening_of=particles%hardening_modulus_of)
          case (45)
-            call apic_map_segment(k, grid%segments, particles%x, particles%x0, particles%v, particles%stress, &
+            call apic_map_segment(k, seg, particles%x, particles%x0, particles%v, particles%stress, &
                                  particles%volume_ratio, particles%cell, grid%acceleration, grid%velocity, &
                                  grid%element_strain, grid%element_mass_left, grid%element_mass_right, &
                                  grid%element_momentum_left, grid%element_momentum_right, grid%element_stress_volume, &
                                  constants, box%carry, particles%mass_of, particles%youngs_modulus_of, box%forces, &
                                  particles%velocity_gradient, grid%element_force_left, grid%element_force_right)
          case (46)
-            call apic_map_stress_segment(k, grid%segments, particles%x, particles%x0, particles%v, particles%stress, &
+            call apic_map_stress_segment(k, seg, particles%x, particles%x0, particles%v, particles%stress, &
                                         particles%volume_ratio, particles%cell, grid%acceleration, grid%velocity, &
                                         grid%element_strain, grid%element_mass_left, grid%element_mass_right, &
                                         grid%element_momentum_left, grid%element_momentum_right, grid%element_stress_volume, &
                                         constants, box%carry, particles%mass_of, particles%youngs_modulus_of, box%forces, &
                                         particles%velocity_gradient, grid%element_force_left, grid%element_force_right)
          case (47)
-            call material_usf_move_segment(k, grid%segments, particles%x, particles%x0, particles%v, particles%stress, &
+            call material_usf_move_segment(k, seg, particles%x, particles%x0, particles%v, particles%stress, &
                                           particles%volume_ratio, particles%cell, grid%acceleration, grid%velocity, &
                                           grid%element_strain, grid%element_mass_left, grid%element_mass_right, &
                                           grid%element_momentum_left, grid%element_momentum_right, grid%element_stress_volume, &
                                           constants, box%carry, particles%mass_of, particles%youngs_modulus_of, box%forces, &
                                           particles%velocity_gradient, grid%element_force_left, grid%element_force_right)
          case (48)
-            call material_usf_stress_segment(k, grid%segments, particles%x, particles%x0, particles%v, particles%stress, &
+            call material_usf_stress_segment(k, seg, particles%x, particles%x0, particles%v, particles%stress, &
                                             particles%volume_ratio, particles%cell, grid%acceleration, grid%velocity, &
                                             grid%element_strain, grid%element_mass_left, grid%element_mass_right, &
                                             grid%element_momentum_left, grid%element_momentum_right, grid%element_stress_volume, &
@@ -980,7 +987,7 @@ contains
                                             plastic_strain=particles%plastic_strain, hardening=particles%hardening, &
                                             yield_of=particles%yield_stress_of, hardening_of=particles%hardening_modulus_of)
          case (49)
-            call material_usl_segment(k, grid%segments, particles%x, particles%x0, particles%v, particles%stress, &
+            call material_usl_segment(k, seg, particles%x, particles%x0, particles%v, particles%stress, &
                                      particles%volume_ratio, particles%cell, grid%acceleration, grid%velocity, &
                                      grid%element_strain, grid%element_mass_left, grid%element_mass_right, &
                                      grid%element_momentum_left, grid%element_momentum_right, grid%element_stress_volume, &
@@ -989,14 +996,14 @@ contains
                                      plastic_strain=particles%plastic_strain, hardening=particles%hardening, &
                                      yield_of=particles%yield_stress_of, hardening_of=particles%hardening_modulus_of)
          case (50)
-            call material_musl_remap_segment(k, grid%segments, particles%x, particles%x0, particles%v, particles%stress, &
+            call material_musl_remap_segment(k, seg, particles%x, particles%x0, particles%v, particles%stress, &
                                             particles%volume_ratio, particles%cell, grid%acceleration, grid%velocity, &
                                             grid%element_strain, grid%element_mass_left, grid%element_mass_right, &
                                             grid%element_momentum_left, grid%element_momentum_right, grid%element_stress_volume, &
                                             constants, box%carry, particles%mass_of, particles%youngs_modulus_of, box%forces, &
                                             particles%velocity_gradient, grid%element_force_left, grid%element_force_right)
          case (51)
-            call material_musl_stress_segment(k, grid%segments, particles%x, particles%x0, particles%v, particles%stress, &
+            call material_musl_stress_segment(k, seg, particles%x, particles%x0, particles%v, particles%stress, &
                                              particles%volume_ratio, particles%cell, grid%acceleration, grid%velocity, &
                                              grid%element_strain, grid%element_mass_left, grid%element_mass_right, &
                                              grid%element_momentum_left, grid%element_momentum_right, grid%element_stress_volume, &
@@ -1005,28 +1012,28 @@ contains
                                              plastic_strain=particles%plastic_strain, hardening=particles%hardening, &
                                              yield_of=particles%yield_stress_of, hardening_of=particles%hardening_modulus_of)
          case (52)
-            call material_map_segment(k, grid%segments, particles%x, particles%x0, particles%v, particles%stress, &
+            call material_map_segment(k, seg, particles%x, particles%x0, particles%v, particles%stress, &
                                      particles%volume_ratio, particles%cell, grid%acceleration, grid%velocity, &
                                      grid%element_strain, grid%element_mass_left, grid%element_mass_right, &
                                      grid%element_momentum_left, grid%element_momentum_right, grid%element_stress_volume, &
                                      constants, box%carry, particles%mass_of, particles%youngs_modulus_of, box%forces, &
                                      particles%velocity_gradient, grid%element_force_left, grid%element_force_right)
          case (53)
-            call material_map_stress_segment(k, grid%segments, particles%x, particles%x0, particles%v, particles%stress, &
+            call material_map_stress_segment(k, seg, particles%x, particles%x0, particles%v, particles%stress, &
                                             particles%volume_ratio, particles%cell, grid%acceleration, grid%velocity, &
                                             grid%element_strain, grid%element_mass_left, grid%element_mass_right, &
                                             grid%element_momentum_left, grid%element_momentum_right, grid%element_stress_volume, &
                                             constants, box%carry, particles%mass_of, particles%youngs_modulus_of, box%forces, &
                                             particles%velocity_gradient, grid%element_force_left, grid%element_force_right)
          case (54)
-            call forced_usf_move_segment(k, grid%segments, particles%x, particles%x0, particles%v, particles%stress, &
+            call forced_usf_move_segment(k, seg, particles%x, particles%x0, particles%v, particles%stress, &
                                         particles%volume_ratio, particles%cell, grid%acceleration, grid%velocity, &
                                         grid%element_strain, grid%element_mass_left, grid%element_mass_right, &
                                         grid%element_momentum_left, grid%element_momentum_right, grid%element_stress_volume, &
                                         constants, box%carry, particles%mass_of, particles%youngs_modulus_of, box%forces, &
                                         particles%velocity_gradient, grid%element_force_left, grid%element_force_right)
          case (55)
-            call forced_usf_stress_segment(k, grid%segments, particles%x, particles%x0, particles%v, particles%stress, &
+            call forced_usf_stress_segment(k, seg, particles%x, particles%x0, particles%v, particles%stress, &
                                           particles%volume_ratio, particles%cell, grid%acceleration, grid%velocity, &
                                           grid%element_strain, grid%element_mass_left, grid%element_mass_right, &
                                           grid%element_momentum_left, grid%element_momentum_right, grid%element_stress_volume, &
@@ -1035,7 +1042,7 @@ contains
                                           plastic_strain=particles%plastic_strain, hardening=particles%hardening, &
                                           yield_of=particles%yield_stress_of, hardening_of=particles%hardening_modulus_of)
          case (56)
-            call forced_usl_segment(k, grid%segments, particles%x, particles%x0, particles%v, particles%stress, &
+            call forced_usl_segment(k, seg, particles%x, particles%x0, particles%v, particles%stress, &
                                    particles%volume_ratio, particles%cell, grid%acceleration, grid%velocity, &
                                    grid%element_strain, grid%element_mass_left, grid%element_mass_right, &
                                    grid%element_momentum_left, grid%element_momentum_right, grid%element_stress_volume, &
@@ -1044,14 +1051,14 @@ contains
                                    plastic_strain=particles%plastic_strain, hardening=particles%hardening, &
                                    yield_of=particles%yield_stress_of, hardening_of=particles%hardening_modulus_of)
          case (57)
-            call forced_musl_remap_segment(k, grid%segments, particles%x, particles%x0, particles%v, particles%stress, &
+            call forced_musl_remap_segment(k, seg, particles%x, particles%x0, particles%v, particles%stress, &
                                           particles%volume_ratio, particles%cell, grid%acceleration, grid%velocity, &
                                           grid%element_strain, grid%element_mass_left, grid%element_mass_right, &
                                           grid%element_momentum_left, grid%element_momentum_right, grid%element_stress_volume, &
                                           constants, box%carry, particles%mass_of, particles%youngs_modulus_of, box%forces, &
                                           particles%velocity_gradient, grid%element_force_left, grid%element_force_right)
          case (58)
-            call forced_musl_stress_segment(k, grid%segments, particles%x, particles%x0, particles%v, particles%stress, &
+            call forced_musl_stress_segment(k, seg, particles%x, particles%x0, particles%v, particles%stress, &
                                            particles%volume_ratio, particles%cell, grid%acceleration, grid%velocity, &
                                            grid%element_strain, grid%element_mass_left, grid%element_mass_right, &
                                            grid%element_momentum_left, grid%element_momentum_right, grid%element_stress_volume, &
@@ -1060,60 +1067,60 @@ contains
                                            plastic_strain=particles%plastic_strain, hardening=particles%hardening, &
                                            yield_of=particles%yield_stress_of, hardening_of=particles%hardening_modulus_of)
          case (59)
-            call forced_map_segment(k, grid%segments, particles%x, particles%x0, particles%v, particles%stress, &
+            call forced_map_segment(k, seg, particles%x, particles%x0, particles%v, particles%stress, &
                                    particles%volume_ratio, particles%cell, grid%acceleration, grid%velocity, &
                                    grid%element_strain, grid%element_mass_left, grid%element_mass_right, &
                                    grid%element_momentum_left, grid%element_momentum_right, grid%element_stress_volume, &
                                    constants, box%carry, particles%mass_of, particles%youngs_modulus_of, box%forces, &
                                    particles%velocity_gradient, grid%element_force_left, grid%element_force_right)
          case (60)
-            call forced_map_stress_segment(k, grid%segments, particles%x, particles%x0, particles%v, particles%stress, &
+            call forced_map_stress_segment(k, seg, particles%x, particles%x0, particles%v, particles%stress, &
                                           particles%volume_ratio, particles%cell, grid%acceleration, grid%velocity, &
                                           grid%element_strain, grid%element_mass_left, grid%element_mass_right, &
                                           grid%element_momentum_left, grid%element_momentum_right, grid%element_stress_volume, &
                                           constants, box%carry, particles%mass_of, particles%youngs_modulus_of, box%forces, &
                                           particles%velocity_gradient, grid%element_force_left, grid%element_force_right)
          case (61)
-            call bodies_usf_move_segment(k, grid%segments, particles%x, particles%x0, particles%v, particles%stress, &
+            call bodies_usf_move_segment(k, seg, particles%x, particles%x0, particles%v, particles%stress, &
                                         particles%volume_ratio, particles%cell, grid%acceleration, grid%velocity, &
                                         grid%element_strain, grid%element_mass_left, grid%element_mass_right, &
                                         grid%element_momentum_left, grid%element_momentum_right, grid%element_stress_volume, &
                                         body_constants(k), box%carry)
          case (62)
-            call bodies_usf_stress_segment(k, grid%segments, particles%x, particles%x0, particles%v, particles%stress, &
+            call bodies_usf_stress_segment(k, seg, particles%x, particles%x0, particles%v, particles%stress, &
                                           particles%volume_ratio, particles%cell, grid%acceleration, grid%velocity, &
                                           grid%element_strain, grid%element_mass_left, grid%element_mass_right, &
                                           grid%element_momentum_left, grid%element_momentum_right, grid%element_stress_volume, &
                                           body_constants(k), box%carry, &
                                           plastic_strain=particles%plastic_strain, hardening=particles%hardening)
          case (63)
-            call bodies_usl_segment(k, grid%segments, particles%x, particles%x0, particles%v, particles%stress, &
+            call bodies_usl_segment(k, seg, particles%x, particles%x0, particles%v, particles%stress, &
                                    particles%volume_ratio, particles%cell, grid%acceleration, grid%velocity, &
                                    grid%element_strain, grid%element_mass_left, grid%element_mass_right, &
                                    grid%element_momentum_left, grid%element_momentum_right, grid%element_stress_volume, &
                                    body_constants(k), box%carry, &
                                    plastic_strain=particles%plastic_strain, hardening=particles%hardening)
          case (64)
-            call bodies_musl_remap_segment(k, grid%segments, particles%x, particles%x0, particles%v, particles%stress, &
+            call bodies_musl_remap_segment(k, seg, particles%x, particles%x0, particles%v, particles%stress, &
                                           particles%volume_ratio, particles%cell, grid%acceleration, grid%velocity, &
                                           grid%element_strain, grid%element_mass_left, grid%element_mass_right, &
                                           grid%element_momentum_left, grid%element_momentum_right, grid%element_stress_volume, &
                                           body_constants(k), box%carry)
          case (65)
-            call bodies_musl_stress_segment(k, grid%segments, particles%x, particles%x0, particles%v, particles%stress, &
+            call bodies_musl_stress_segment(k, seg, particles%x, particles%x0, particles%v, particles%stress, &
                                            particles%volume_ratio, particles%cell, grid%acceleration, grid%velocity, &
                                            grid%element_strain, grid%element_mass_left, grid%element_mass_right, &
                                            grid%element_momentum_left, grid%element_momentum_right, grid%element_stress_volume, &
                                            body_constants(k), box%carry, &
                                            plastic_strain=particles%plastic_strain, hardening=particles%hardening)
          case (66)
-            call bodies_map_segment(k, grid%segments, particles%x, particles%x0, particles%v, particles%stress, &
+            call bodies_map_segment(k, seg, particles%x, particles%x0, particles%v, particles%stress, &
                                    particles%volume_ratio, particles%cell, grid%acceleration, grid%velocity, &
                                    grid%element_strain, grid%element_mass_left, grid%element_mass_right, &
                                    grid%element_momentum_left, grid%element_momentum_right, grid%element_stress_volume, &
                                    body_constants(k), box%carry)
          case (67)
-            call bodies_map_stress_segment(k, grid%segments, particles%x, particles%x0, particles%v, particles%stress, &
+            call bodies_map_stress_segment(k, seg, particles%x, particles%x0, particles%v, particles%stress, &
                                           particles%volume_ratio, particles%cell, grid%acceleration, grid%velocity, &
                                           grid%element_strain, grid%element_mass_left, grid%element_mass_right, &
                                           grid%element_momentum_left, grid%element_momentum_right, grid%element_stress_volume, &
@@ -1125,7 +1132,7 @@ contains
          integer, intent(in) :: k
          type(pass_constants_t) :: c
          integer :: b
-         b = body_of_element(box, grid%segments%first_element(k))
+         b = body_of_element(box, seg%first_element(k))
          c = constants
          c%elements = box%body_cells
          c%mass = box%body_mass(b)
@@ -1162,24 +1169,22 @@ contains
    !> The variant `bodies` (at most max_bodies): each body's sum m (x - X) and sum m v (a pass that
    !> moves) and the smallest stress (a pass that updates it), from its segments (each lies in one body)
    !> in segment order.
-   subroutine body_totals(pass, grid, box, totals)
+   subroutine body_totals(pass, seg, box, totals)
       integer, intent(in) :: pass
-      type(grid_t), intent(in) :: grid
+      type(segments_t), intent(in) :: seg
       type(fused_box_t), intent(in) :: box
       type(pass_totals_t), intent(inout) :: totals
       integer :: k, b
       if (size(box%body_element) > max_bodies) return
       totals%bodies = size(box%body_element)
-      associate (seg => grid%segments)
-         do k = 1, seg%count
-            b = body_of_element(box, seg%first_element(k))
-            if (pass_moves(pass)) then
-               totals%body_displacement(b) = totals%body_displacement(b) + seg%sums(1, k)
-               totals%body_momentum(b) = totals%body_momentum(b) + seg%body_momentum(k)
-            end if
-            if (pass_stresses(pass)) totals%min_stress = min(totals%min_stress, seg%min_stress(k))
-         end do
-      end associate
+      do k = 1, seg%count
+         b = body_of_element(box, seg%first_element(k))
+         if (pass_moves(pass)) then
+            totals%body_displacement(b) = totals%body_displacement(b) + seg%sums(1, k)
+            totals%body_momentum(b) = totals%body_momentum(b) + seg%body_momentum(k)
+         end if
+         if (pass_stresses(pass)) totals%min_stress = min(totals%min_stress, seg%min_stress(k))
+      end do
    end subroutine body_totals
 
    !> Strain increment of a linear element from its nodal velocities: d eps = dt sum dN v_I.
@@ -1220,8 +1225,9 @@ contains
    !> (one segment below `parallel_threshold`). Allocates only when the plan changes size.
    !> With `breaks` (bodies on stacked fields: the first element of each body's field), each body's
    !> elements are cut so, and no segment holds two bodies' elements.
-   subroutine plan_segments(grid, count, breaks)
-      type(grid_t), intent(inout) :: grid
+   subroutine plan_segments(grid, seg, count, breaks)
+      type(grid_t), intent(in) :: grid
+      type(segments_t), intent(inout) :: seg
       integer, intent(in) :: count
       integer, intent(in), optional :: breaks(:)
       integer :: per, n, k, b, e
@@ -1242,43 +1248,42 @@ contains
       else
          n = (grid%elements + per - 1)/per
       end if
-      associate (seg => grid%segments)
-         if (seg%count /= n .or. .not. allocated(seg%first_element)) then
-            if (allocated(seg%first_element)) deallocate (seg%first_element, seg%first_particle, seg%halo_left, &
-                                                          seg%halo_right, seg%sums, seg%min_volume_ratio, &
-                                                          seg%body_momentum, seg%min_stress, &
-                                                          seg%max_cell_move, seg%furthest, seg%outside, &
-                                                          seg%first_cell, seg%last_cell, seg%unsorted, seg%far, &
-                                                          seg%written)
-            allocate (seg%first_element(n + 1), seg%first_particle(n + 1), seg%halo_left(share_count, n), &
-                      seg%halo_right(share_count, n), seg%sums(4, n), seg%min_volume_ratio(n), &
-                      seg%body_momentum(n), seg%min_stress(n), seg%max_cell_move(n), seg%furthest(n), &
-                      seg%outside(n), seg%first_cell(n), seg%last_cell(n), seg%unsorted(n), seg%far(n), &
-                      seg%written(2, share_kinds, n))
-         end if
-         seg%count = n
-         if (present(breaks)) then
-            seg%first_element = [starts, grid%elements + 1]
-         else
-            seg%first_element = [(min(1 + (k - 1)*per, grid%elements + 1), k=1, n + 1)]
-         end if
-         seg%first_element(n + 1) = grid%elements + 1
-         seg%first_particle = 0  ! no earlier ranges to start the search from
-         ! bodies on stacked fields clear what their passes wrote; until a pass has, their whole range
-         seg%clear_written = present(breaks)
-         do k = 1, n
-            call written_whole(seg, k, share_mass + share_momentum + share_stress + share_force)
-         end do
-         seg%prefetch = int(count, i8)*bytes_per_particle > prefetch_bytes
-      end associate
+      if (seg%count /= n .or. .not. allocated(seg%first_element)) then
+         if (allocated(seg%first_element)) deallocate (seg%first_element, seg%first_particle, seg%halo_left, &
+                                                       seg%halo_right, seg%sums, seg%min_volume_ratio, &
+                                                       seg%body_momentum, seg%min_stress, &
+                                                       seg%max_cell_move, seg%furthest, seg%outside, &
+                                                       seg%first_cell, seg%last_cell, seg%unsorted, seg%far, &
+                                                       seg%written)
+         allocate (seg%first_element(n + 1), seg%first_particle(n + 1), seg%halo_left(share_count, n), &
+                   seg%halo_right(share_count, n), seg%sums(4, n), seg%min_volume_ratio(n), &
+                   seg%body_momentum(n), seg%min_stress(n), seg%max_cell_move(n), seg%furthest(n), &
+                   seg%outside(n), seg%first_cell(n), seg%last_cell(n), seg%unsorted(n), seg%far(n), &
+                   seg%written(2, share_kinds, n))
+      end if
+      seg%count = n
+      if (present(breaks)) then
+         seg%first_element = [starts, grid%elements + 1]
+      else
+         seg%first_element = [(min(1 + (k - 1)*per, grid%elements + 1), k=1, n + 1)]
+      end if
+      seg%first_element(n + 1) = grid%elements + 1
+      seg%first_particle = 0  ! no earlier ranges to start the search from
+      ! bodies on stacked fields clear what their passes wrote; until a pass has, their whole range
+      seg%clear_written = present(breaks)
+      do k = 1, n
+         call written_whole(seg, k, share_mass + share_momentum + share_stress + share_force)
+      end do
+      seg%prefetch = int(count, i8)*bytes_per_particle > prefetch_bytes
    end subroutine plan_segments
 
    !> Segments planned (when a pass comes before any P2G) and particle ranges found.
-   subroutine prepare_pass(particles, grid)
+   subroutine prepare_pass(particles, grid, seg)
       type(particles_t), intent(in) :: particles
-      type(grid_t), intent(inout) :: grid
-      if (grid%segments%count == 0) call plan_segments(grid, particles%count)
-      call find_particle_ranges(grid%segments, particles%cell, particles%count)
+      type(grid_t), intent(in) :: grid
+      type(segments_t), intent(inout) :: seg
+      if (seg%count == 0) call plan_segments(grid, seg, particles%count)
+      call find_particle_ranges(seg, particles%cell, particles%count)
    end subroutine prepare_pass
 
    !> Particle range of each segment: particles are sorted by start-of-step cell, so the range
@@ -1340,57 +1345,56 @@ contains
    !> After the segments of a pass: halo shares added in a fixed order, totals combined in segment
    !> order (strict comparisons keep the first particle, as a single loop would), far movers added,
    !> and the particles re-sorted by element if some overtook others.
-   subroutine finish_pass(particles, grid, shares, moved, totals, box)
+   subroutine finish_pass(particles, grid, seg, shares, moved, totals, box)
       type(particles_t), intent(inout) :: particles
       type(grid_t), intent(inout) :: grid
+      type(segments_t), intent(inout) :: seg
       integer, intent(in) :: shares
       logical, intent(in) :: moved
       type(pass_totals_t), intent(inout) :: totals
       type(fused_box_t), intent(inout) :: box
       integer :: k, e
       logical :: sorted, far
-      associate (seg => grid%segments)
-         sorted = .true.
-         far = .false.
-         do k = 1, seg%count
-            totals%displacement = totals%displacement + seg%sums(1, k)
-            totals%kinetic_energy = totals%kinetic_energy + seg%sums(2, k)
-            totals%strain_energy = totals%strain_energy + seg%sums(3, k)
-            totals%plastic_work = totals%plastic_work + seg%sums(4, k)
-            totals%min_volume_ratio = min(totals%min_volume_ratio, seg%min_volume_ratio(k))
-            if (seg%max_cell_move(k) > totals%max_cell_move) then
-               totals%max_cell_move = seg%max_cell_move(k)
-               totals%furthest = seg%furthest(k)
-            end if
-            if (totals%outside == 0) totals%outside = seg%outside(k)
-            if (seg%unsorted(k)) sorted = .false.
-            if (seg%far(k)) far = .true.
-            if (k > 1) then
-               if (seg%last_cell(k - 1) /= 0 .and. seg%first_cell(k) /= 0 .and. &
-                   seg%first_cell(k) < seg%last_cell(k - 1)) sorted = .false.
-               e = seg%first_element(k)
-               call add_share_set(grid, e - 1, seg%halo_left(:, k), shares)
-               call add_share_set(grid, e, seg%halo_right(:, k - 1), shares)
-               if (seg%clear_written) then ! (a body's halo across the next body's field holds zeros)
-                  if (any(seg%halo_left(:, k) /= 0.0_dp)) call written_also(seg, k - 1, shares, e - 1)
-                  if (any(seg%halo_right(:, k - 1) /= 0.0_dp)) call written_also(seg, k, shares, e)
-               end if
-            end if
-         end do
-         if (far) then ! (far movers' shares may land in any segment's elements)
-            call add_far_movers(particles, grid, shares, box)
-            if (seg%clear_written) then
-               do k = 1, seg%count
-                  call written_whole(seg, k, shares)
-               end do
+      sorted = .true.
+      far = .false.
+      do k = 1, seg%count
+         totals%displacement = totals%displacement + seg%sums(1, k)
+         totals%kinetic_energy = totals%kinetic_energy + seg%sums(2, k)
+         totals%strain_energy = totals%strain_energy + seg%sums(3, k)
+         totals%plastic_work = totals%plastic_work + seg%sums(4, k)
+         totals%min_volume_ratio = min(totals%min_volume_ratio, seg%min_volume_ratio(k))
+         if (seg%max_cell_move(k) > totals%max_cell_move) then
+            totals%max_cell_move = seg%max_cell_move(k)
+            totals%furthest = seg%furthest(k)
+         end if
+         if (totals%outside == 0) totals%outside = seg%outside(k)
+         if (seg%unsorted(k)) sorted = .false.
+         if (seg%far(k)) far = .true.
+         if (k > 1) then
+            if (seg%last_cell(k - 1) /= 0 .and. seg%first_cell(k) /= 0 .and. &
+                seg%first_cell(k) < seg%last_cell(k - 1)) sorted = .false.
+            e = seg%first_element(k)
+            call add_share_set(grid, e - 1, seg%halo_left(:, k), shares)
+            call add_share_set(grid, e, seg%halo_right(:, k - 1), shares)
+            if (seg%clear_written) then ! (a body's halo across the next body's field holds zeros)
+               if (any(seg%halo_left(:, k) /= 0.0_dp)) call written_also(seg, k - 1, shares, e - 1)
+               if (any(seg%halo_right(:, k - 1) /= 0.0_dp)) call written_also(seg, k, shares, e)
             end if
          end if
-         if (moved .and. .not. sorted .and. seg%count > 1 .and. totals%outside == 0) then
-            ! (box%carry needs no reordering: only the last pass of a step relocates, and the next
-            ! step's first pass writes it afresh)
-            call sort_by_cell(particles, grid, totals%furthest)
+      end do
+      if (far) then ! (far movers' shares may land in any segment's elements)
+         call add_far_movers(particles, grid, seg, shares, box)
+         if (seg%clear_written) then
+            do k = 1, seg%count
+               call written_whole(seg, k, shares)
+            end do
          end if
-      end associate
+      end if
+      if (moved .and. .not. sorted .and. seg%count > 1 .and. totals%outside == 0) then
+         ! (box%carry needs no reordering: only the last pass of a step relocates, and the next
+         ! step's first pass writes it afresh)
+         call sort_by_cell(particles, grid, totals%furthest)
+      end if
    end subroutine finish_pass
 
    subroutine add_share_set(grid, e, a, shares)
@@ -1414,9 +1418,10 @@ contains
 
    !> Particles that moved more than one element past their segment (the cell-crossing guard stops
    !> such a run after this step): their shares, from their new state, in particle order.
-   subroutine add_far_movers(particles, grid, shares, box)
+   subroutine add_far_movers(particles, grid, seg, shares, box)
       type(particles_t), intent(inout) :: particles
       type(grid_t), intent(inout) :: grid
+      type(segments_t), intent(in) :: seg
       integer, intent(in) :: shares
       type(fused_box_t), intent(in) :: box
       integer :: k, p, c, lo, hi, i, flag, b
@@ -1426,32 +1431,30 @@ contains
          call add_far_variants()
          return
       end if
-      associate (seg => grid%segments)
-         do k = 1, seg%count
-            if (.not. seg%far(k)) cycle
-            lo = seg%first_element(k)
-            hi = seg%first_element(k + 1) - 1
-            do p = seg%first_particle(k), seg%first_particle(k + 1) - 1
-               c = particles%cell(p)
-               if (box%cubic) then ! the three parts about the middle cell c
-                  call bspline3_locate(particles%x(p), grid%origin, grid%inv_dx, grid%elements, i, t1, flag)
-                  call cubic_parts(t1, r1, r2, r3, q1, q2, q3)
-                  if (c - 1 < lo - 1 .or. c - 1 > hi + 1) call add_part(c - 1, r1, q1)
-                  if (c < lo - 1 .or. c > hi + 1) call add_part(c, r2, q2)
-                  if (c + 1 < lo - 1 .or. c + 1 > hi + 1) call add_part(c + 1, r3, q3)
-               else if (box%parts) then ! the particle's two parts, each where the kernel could not add it
-                  call particle_parts(box, particles%x(p), particles%volume0, particles%volume_ratio(p), grid, i, r1, &
-                                      r2, t1, t2, flag)
-                  if (c < lo - 1 .or. c > hi + 1) call add_part(c, r1, r1*t1)
-                  if (c + 1 < lo - 1 .or. c + 1 > hi + 1) call add_part(c + 1, r2, r2*t2)
-               else
-                  if (c >= lo - 1 .and. c <= hi + 1) cycle
-                  xi = particles%x(p)*grid%inv_dx - (c - 1)
-                  call add_part(c, 1.0_dp, xi)
-               end if
-            end do
+      do k = 1, seg%count
+         if (.not. seg%far(k)) cycle
+         lo = seg%first_element(k)
+         hi = seg%first_element(k + 1) - 1
+         do p = seg%first_particle(k), seg%first_particle(k + 1) - 1
+            c = particles%cell(p)
+            if (box%cubic) then ! the three parts about the middle cell c
+               call bspline3_locate(particles%x(p), grid%origin, grid%inv_dx, grid%elements, i, t1, flag)
+               call cubic_parts(t1, r1, r2, r3, q1, q2, q3)
+               if (c - 1 < lo - 1 .or. c - 1 > hi + 1) call add_part(c - 1, r1, q1)
+               if (c < lo - 1 .or. c > hi + 1) call add_part(c, r2, q2)
+               if (c + 1 < lo - 1 .or. c + 1 > hi + 1) call add_part(c + 1, r3, q3)
+            else if (box%parts) then ! the particle's two parts, each where the kernel could not add it
+               call particle_parts(box, particles%x(p), particles%volume0, particles%volume_ratio(p), grid, i, r1, &
+                                   r2, t1, t2, flag)
+               if (c < lo - 1 .or. c > hi + 1) call add_part(c, r1, r1*t1)
+               if (c + 1 < lo - 1 .or. c + 1 > hi + 1) call add_part(c + 1, r2, r2*t2)
+            else
+               if (c >= lo - 1 .and. c <= hi + 1) cycle
+               xi = particles%x(p)*grid%inv_dx - (c - 1)
+               call add_part(c, 1.0_dp, xi)
+            end if
          end do
-      end associate
+      end do
    contains
       !> The shares of particle p's part of fraction r at local coordinate t = q/r in element c.
       subroutine add_part(c, r, q)
@@ -1470,48 +1473,46 @@ contains
       subroutine add_far_variants()
          real(dp) :: a(share_count), mp, volume0, w, cq, origin
          integer :: offset
-         associate (seg => grid%segments)
-            do k = 1, seg%count
-               if (.not. seg%far(k)) cycle
-               lo = seg%first_element(k)
-               hi = seg%first_element(k + 1) - 1
-               do p = seg%first_particle(k), seg%first_particle(k + 1) - 1
-                  c = particles%cell(p)
-                  if (c >= lo - 1 .and. c <= hi + 1) cycle
-                  mp = m
-                  volume0 = particles%volume0
-                  offset = 0
-                  origin = 0.0_dp
-                  if (box%variant == variant_material) mp = particles%mass_of(p)
-                  if (allocated(box%body_element)) then
-                     b = body_of_element(box, c)
-                     mp = box%body_mass(b)
-                     volume0 = box%body_volume0(b)
-                     offset = box%body_element(b) - 1
-                     origin = grid%origin
-                  end if
-                  xi = (particles%x(p) - origin)*grid%inv_dx - (c - offset - 1)
-                  a = 0.0_dp
-                  a(2) = mp*xi
-                  a(1) = mp - a(2)
-                  if (box%variant == variant_apic) then
-                     cq = particles%velocity_gradient(p)
-                     w = particles%v(p) - cq*xi*grid%dx
-                     a(3) = a(1)*w
-                     a(4) = a(2)*(w + cq*grid%dx)
-                  else
-                     a(3) = a(1)*particles%v(p)
-                     a(4) = a(2)*particles%v(p)
-                  end if
-                  a(5) = particles%stress(p)*particles%volume_ratio(p)*volume0
-                  if (box%variant == variant_forced) then
-                     a(7) = box%forces(p)*xi
-                     a(6) = box%forces(p) - a(7)
-                  end if
-                  call add_share_set(grid, c, a, shares)
-               end do
+         do k = 1, seg%count
+            if (.not. seg%far(k)) cycle
+            lo = seg%first_element(k)
+            hi = seg%first_element(k + 1) - 1
+            do p = seg%first_particle(k), seg%first_particle(k + 1) - 1
+               c = particles%cell(p)
+               if (c >= lo - 1 .and. c <= hi + 1) cycle
+               mp = m
+               volume0 = particles%volume0
+               offset = 0
+               origin = 0.0_dp
+               if (box%variant == variant_material) mp = particles%mass_of(p)
+               if (allocated(box%body_element)) then
+                  b = body_of_element(box, c)
+                  mp = box%body_mass(b)
+                  volume0 = box%body_volume0(b)
+                  offset = box%body_element(b) - 1
+                  origin = grid%origin
+               end if
+               xi = (particles%x(p) - origin)*grid%inv_dx - (c - offset - 1)
+               a = 0.0_dp
+               a(2) = mp*xi
+               a(1) = mp - a(2)
+               if (box%variant == variant_apic) then
+                  cq = particles%velocity_gradient(p)
+                  w = particles%v(p) - cq*xi*grid%dx
+                  a(3) = a(1)*w
+                  a(4) = a(2)*(w + cq*grid%dx)
+               else
+                  a(3) = a(1)*particles%v(p)
+                  a(4) = a(2)*particles%v(p)
+               end if
+               a(5) = particles%stress(p)*particles%volume_ratio(p)*volume0
+               if (box%variant == variant_forced) then
+                  a(7) = box%forces(p)*xi
+                  a(6) = box%forces(p) - a(7)
+               end if
+               call add_share_set(grid, c, a, shares)
             end do
-         end associate
+         end do
       end subroutine add_far_variants
    end subroutine add_far_movers
 

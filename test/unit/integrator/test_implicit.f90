@@ -19,7 +19,8 @@ program test_implicit
    use mpm_strings, only: str
    use mpm_config, only: config_t, resolve_config, read_config_text, config_namelist, material_of, new_config
    use mpm_simulation, only: run_result_t, guard_message
-   use mpm_diagnostics, only: status_ok, status_newton, status_name, pass_totals_t
+   use mpm_diagnostics, only: status_ok, status_newton, status_name
+   use mpm_pass_totals, only: pass_totals_t
    use mpm_scene, only: scene_t
    use mpm_scene_column, only: column_input_t
    use mpm_grid, only: grid_t, grid_init

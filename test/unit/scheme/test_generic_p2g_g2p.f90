@@ -14,7 +14,7 @@ program test_generic_p2g_g2p
    use mpm_shape_cpdi, only: cpdi_corners
    use mpm_transfer_steps, only: transfer_mapped, transfer_solved
    use mpm_operations, only: locate_particles, p2g_mass_momentum, solve_grid, g2p, nodal_velocities, mirror_fold
-   use mpm_diagnostics, only: pass_totals_t
+   use mpm_pass_totals, only: pass_totals_t
    use mpm_testing, only: tester_t, tester
    implicit none
    type(tester_t) :: t

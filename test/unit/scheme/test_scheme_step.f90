@@ -11,6 +11,7 @@ program test_scheme_step
    use mpm_particles, only: particles_t, particles_init
    use mpm_transfer, only: pass_totals_t
    use mpm_fused, only: fused_start, fused_step
+   use mpm_segments, only: segments_t
    use mpm_schemes, only: scheme_usf, scheme_usl, scheme_musl, scheme_step
    use mpm_testing, only: tester_t, tester
    use mpm_particles, only: per_particle_data
@@ -23,6 +24,7 @@ program test_scheme_step
    type(grid_t) :: grid
    type(particles_t) :: particles
    type(pass_totals_t) :: totals
+   type(segments_t) :: seg
    type(shape_cache_t) :: cache
    type(bar_t) :: bar
 
@@ -32,8 +34,8 @@ program test_scheme_step
    ! USL: force from the current stresses: sum sigma V = 0.5 - 1 = -0.5, f_1 = -dN_1 * (-0.5) = +0.25.
    if (t%case('usl')) then
       call setup()
-      call fused_start(scheme_usl, particles, grid, totals)
-      call fused_step(scheme_usl, particles, grid, dt, youngs, totals)
+      call fused_start(scheme_usl, particles, grid, seg, totals)
+      call fused_step(scheme_usl, particles, grid, seg, dt, youngs, totals)
       f1 = 0.25_dp
       p1 = 5.25_dp + dt*f1
       a1 = f1/m
@@ -54,8 +56,8 @@ program test_scheme_step
    ! stresses 0.85, -0.65; J = 1.0875; sum sigma V = 0.2 * 1.0875; f_1 = -(1/2)(0.2175) = -0.10875.
    if (t%case('usf')) then
       call setup()
-      call fused_start(scheme_usf, particles, grid, totals)
-      call fused_step(scheme_usf, particles, grid, dt, youngs, totals)
+      call fused_start(scheme_usf, particles, grid, seg, totals)
+      call fused_step(scheme_usf, particles, grid, seg, dt, youngs, totals)
       de = dt*1.75_dp/dx
       s_expected = [0.5_dp, -1.0_dp] + youngs*de
       j_expected = 1.0_dp + de
@@ -77,8 +79,8 @@ program test_scheme_step
    ! and the strain from that nodal velocity.
    if (t%case('musl')) then
       call setup()
-      call fused_start(scheme_musl, particles, grid, totals)
-      call fused_step(scheme_musl, particles, grid, dt, youngs, totals)
+      call fused_start(scheme_musl, particles, grid, seg, totals)
+      call fused_step(scheme_musl, particles, grid, seg, dt, youngs, totals)
       f1 = 0.25_dp
       p1 = 5.25_dp + dt*f1
       a1 = f1/m

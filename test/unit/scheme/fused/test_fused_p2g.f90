@@ -7,12 +7,14 @@ program test_fused_p2g
    use mpm_grid, only: grid_t, grid_init, assemble_nodes
    use mpm_particles, only: particles_t, particles_init
    use mpm_transfer, only: pass_totals_t, p2g
+   use mpm_segments, only: segments_t
    use mpm_testing, only: tester_t, tester
    implicit none
    type(tester_t) :: t
    type(grid_t) :: grid
    type(particles_t) :: particles
    type(pass_totals_t) :: totals
+   type(segments_t) :: seg
    type(error_t), allocatable :: error
    real(dp) :: x, xi, r, total_mass, first_moment
    integer :: i, e
@@ -51,7 +53,7 @@ program test_fused_p2g
          call random_number(r)
          particles%v(i) = 2*r - 1
       end do
-      call p2g(particles, grid, .true., totals)
+      call p2g(particles, grid, seg, .true., totals)
       call assemble_nodes(grid, .true.)
       total_mass = particles%mass*particles%count
       call t%check_close('total particle mass = rho L', total_mass, 2.5_dp*length, rtol=1.0e-14_dp)
@@ -64,7 +66,7 @@ program test_fused_p2g
       call t%check('fixed node has no momentum', grid%momentum(0) == 0.0_dp .and. grid%force(0) == 0.0_dp)
       ! internal forces of a free body sum to zero: sum_I f_I = -sum_p sum_I dN_I sigma V = 0 (sum dN = 0)
       particles%stress = 1.0_dp
-      call p2g(particles, grid, .true., totals)
+      call p2g(particles, grid, seg, .true., totals)
       call assemble_nodes(grid, .true.)
       call t%check_close('internal forces sum to zero except the reaction', sum(grid%force(1:)), &
                          -sum(grid%element_stress_volume(1:1))*grid%inv_dx, rtol=1.0e-12_dp)

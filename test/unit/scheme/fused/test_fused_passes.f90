@@ -14,6 +14,7 @@ program test_fused_passes
    use mpm_shape_linear, only: locate
    use mpm_grid, only: grid_t, grid_init
    use mpm_particles, only: particles_t, particles_init
+   use mpm_segments, only: segments_t
    use mpm_transfer, only: pass_totals_t, p2g, fused_pass, pass_usl, pass_usf_move, pass_usf_stress, pass_musl_remap, &
                            pass_musl_stress
    use mpm_testing, only: tester_t, tester
@@ -50,6 +51,7 @@ contains
       type(particles_t) :: particles
       type(grid_t) :: grid
       type(pass_totals_t) :: totals, stress_totals
+      type(segments_t) :: seg
       type(error_t), allocatable :: error
       real(dp), allocatable :: x(:), v(:), stress(:), jac(:), move(:), r(:)
       real(dp), allocatable :: mass_left(:), mass_right(:), momentum_left(:), momentum_right(:), stress_volume(:)
@@ -72,7 +74,7 @@ contains
       particles%stress = 3*r - 1
       call random_number(r)
       particles%volume_ratio = 0.8_dp + 0.4_dp*r
-      call p2g(particles, grid, .true., totals)   ! records the cells (and plans the segments)
+      call p2g(particles, grid, seg, .true., totals)   ! records the cells (and plans the segments)
       ! random nodal fields: moves up to about 0.4 element; a node in the middle moves its neighbours
       ! up to two elements (the furthest particle is inside the run), the last node throws particles out
       call random_number(grid%velocity)
@@ -127,12 +129,12 @@ contains
 
       ! the pass(es) under test
       if (scheme == 'usl') then
-         call fused_pass(pass_usl, particles, grid, dt, youngs_modulus, totals)
+         call fused_pass(pass_usl, particles, grid, seg, dt, youngs_modulus, totals)
       else
-         call fused_pass(pass_usf_stress, particles, grid, dt, youngs_modulus, stress_totals)
+         call fused_pass(pass_usf_stress, particles, grid, seg, dt, youngs_modulus, stress_totals)
          call all_close(label//'stress*volume per element (USF force)', grid%element_stress_volume, &
                         stress_volume, 1.0e-11_dp, 1.0e-12_dp)
-         call fused_pass(pass_usf_move, particles, grid, dt, 0.0_dp, totals)
+         call fused_pass(pass_usf_move, particles, grid, seg, dt, 0.0_dp, totals)
          totals%strain_energy = stress_totals%strain_energy
          totals%min_volume_ratio = stress_totals%min_volume_ratio
       end if
@@ -174,6 +176,7 @@ contains
       type(particles_t) :: particles
       type(grid_t) :: grid
       type(pass_totals_t) :: totals
+      type(segments_t) :: seg
       type(error_t), allocatable :: error
       real(dp), allocatable :: x(:), v(:), stress(:), jac(:), r(:), xi0(:), mass_left0(:), mass_right0(:)
       real(dp), allocatable :: mass_left(:), mass_right(:), momentum_left(:), momentum_right(:), stress_volume(:)
@@ -195,7 +198,7 @@ contains
       particles%stress = 3*r - 1
       call random_number(r)
       particles%volume_ratio = 0.8_dp + 0.4_dp*r
-      call p2g(particles, grid, .true., totals)
+      call p2g(particles, grid, seg, .true., totals)
       mass_left0 = grid%element_mass_left
       mass_right0 = grid%element_mass_right
       call random_number(grid%velocity)
@@ -217,7 +220,7 @@ contains
          momentum_left(e) = momentum_left(e) + (1 - xi0(p))*m*v(p)
          momentum_right(e) = momentum_right(e) + xi0(p)*m*v(p)
       end do
-      call fused_pass(pass_musl_remap, particles, grid, dt, 0.0_dp, totals)
+      call fused_pass(pass_musl_remap, particles, grid, seg, dt, 0.0_dp, totals)
       call all_close(label//'remap: positions', particles%x, x, 1.0e-14_dp, 1.0e-14_dp)
       call all_close(label//'remap: velocities', particles%v, v, 1.0e-13_dp, 1.0e-14_dp)
       call t%check(label//'remap: cells unchanged (start-of-step shape functions)', all(particles%cell == cell0))
@@ -247,7 +250,7 @@ contains
          momentum_right(c) = momentum_right(c) + xi*m*v(p)
          stress_volume(c) = stress_volume(c) + stress(p)*jac(p)*particles%volume0
       end do
-      call fused_pass(pass_musl_stress, particles, grid, dt, youngs_modulus, totals)
+      call fused_pass(pass_musl_stress, particles, grid, seg, dt, youngs_modulus, totals)
       call all_close(label//'stress pass: stresses', particles%stress, stress, 1.0e-13_dp, 1.0e-13_dp)
       call all_close(label//'stress pass: volume ratios', particles%volume_ratio, jac, 1.0e-14_dp, 0.0_dp)
       call all_close(label//'stress pass: mass shares (left)', grid%element_mass_left, mass_left, 1.0e-12_dp, 0.0_dp)
@@ -268,6 +271,7 @@ contains
       type(particles_t) :: particles
       type(grid_t) :: grid
       type(pass_totals_t) :: totals
+      type(segments_t) :: seg
       type(error_t), allocatable :: error
       real(dp), allocatable :: x(:), held(:)
       integer, allocatable :: start_cells(:)
@@ -277,7 +281,7 @@ contains
       character(len=:), allocatable :: label
       call particles_init(particles, elements, per_element, length/elements, density, error)
       call grid_init(grid, elements, length, particles%mass, error)
-      call p2g(particles, grid, .true., totals)
+      call p2g(particles, grid, seg, .true., totals)
       start_cells = particles%cell
       allocate (held(elements))
       do pass = 1, 6
@@ -296,25 +300,25 @@ contains
             call locate(x(p), grid%inv_dx, elements, c, xi)
             held(c) = held(c) + particles%mass
          end do
-         call fused_pass(pass_usl, particles, grid, dt, youngs_modulus, totals)
+         call fused_pass(pass_usl, particles, grid, seg, dt, youngs_modulus, totals)
          call t%check(label//'no particle left the grid', totals%outside == 0)
-         if (pass == 3) crossed = any(segment_of(grid, particles%cell) /= segment_of(grid, start_cells))
+         if (pass == 3) crossed = any(segment_of(seg, particles%cell) /= segment_of(seg, start_cells))
          call all_close(label//'positions', particles%x, x, 1.0e-14_dp, 1.0e-14_dp)
          call all_close(label//'element masses', grid%element_mass_left + grid%element_mass_right, held, &
                         1.0e-12_dp, 0.0_dp)
       end do
-      call t%check('moving ranges: the run has several segments', grid%segments%count > 2)
+      call t%check('moving ranges: the run has several segments', seg%count > 2)
       call t%check('moving ranges: particles crossed segment borders (after the three moves right, a particle '// &
                    'is in another segment than it started in)', crossed)
    end subroutine check_moving_ranges
 
-   !> The segment of `grid` holding each cell.
-   function segment_of(grid, cells) result(segments)
-      type(grid_t), intent(in) :: grid
+   !> The segment of `seg` holding each cell.
+   function segment_of(seg, cells) result(segments)
+      type(segments_t), intent(in) :: seg
       integer, intent(in) :: cells(:)
       integer :: segments(size(cells)), p
       do p = 1, size(cells)
-         segments(p) = count(grid%segments%first_element(1:grid%segments%count) <= cells(p))
+         segments(p) = count(seg%first_element(1:seg%count) <= cells(p))
       end do
    end function segment_of
 

@@ -18,6 +18,7 @@ program test_fused_shapes
    use mpm_particles, only: particles_t, particles_init
    use mpm_transfer, only: pass_totals_t, fused_pass, pass_usl, parallel_threshold
    use mpm_fused, only: fused_start, fused_box_t, fused_shape
+   use mpm_segments, only: segments_t
    use mpm_shape, only: shape_id
    use mpm_schemes, only: scheme_usl
    use mpm_testing, only: tester_t, tester
@@ -72,6 +73,7 @@ contains
       type(particles_t) :: particles
       type(grid_t) :: grid
       type(pass_totals_t) :: totals
+      type(segments_t) :: seg
       type(fused_box_t) :: box
       type(error_t), allocatable :: error
       integer :: p
@@ -82,9 +84,9 @@ contains
       if (shape == 'cpgimp') particles%volume_ratio = 1.0_dp + 0.2_dp*sin(7*particles%x)  ! boxes of many lengths
       box = fused_shape(shape_id(shape))
       call grid_init(grid, elements, length, particles%mass, error, margin=20, fixed=[0], element_shares=.true., ghost=1)
-      call fused_start(scheme_usl, particles, grid, totals, box, 200.0e9_dp)
-      call t%check(label//'the run is cut into segments shorter than the move', grid%segments%count > 2 .and. &
-                   maxval(grid%segments%first_element(2:) - grid%segments%first_element(:grid%segments%count)) < 3000)
+      call fused_start(scheme_usl, particles, grid, seg, totals, box, 200.0e9_dp)
+      call t%check(label//'the run is cut into segments shorter than the move', seg%count > 2 .and. &
+                   maxval(seg%first_element(2:) - seg%first_element(:seg%count)) < 3000)
       ! 3000.9 elements on, past its segment (about 2000 elements) and its halo: its box (dx/8 about the
       ! element's first sub-cell centre, dx/8 from its left node) then straddles a node, so that both
       ! parts are far (the B-spline's parts both have weight anywhere)
@@ -92,7 +94,7 @@ contains
       particles%x(p) = particles%x(p) + 3000.9_dp*length/elements
       grid%velocity = 0.0_dp
       grid%acceleration = 0.0_dp
-      call fused_pass(pass_usl, particles, grid, 0.0_dp, 200.0e9_dp, totals, box)
+      call fused_pass(pass_usl, particles, grid, seg, 0.0_dp, 200.0e9_dp, totals, box)
       ! the element shares hold every particle's whole box once (before the fixed end holds its node)
       call t%check_close(label//'mass conserved', sum(grid%element_mass_left) + sum(grid%element_mass_right), &
                          particles%mass*particles%count, rtol=1.0e-12_dp)

@@ -13,6 +13,7 @@ program test_fused_threads
    use mpm_particles, only: particles_t, particles_init
    use mpm_transfer, only: pass_totals_t, parallel_threshold, fused_pass, pass_usl
    use mpm_fused, only: fused_start, fused_step
+   use mpm_segments, only: segments_t
    use mpm_schemes, only: scheme_usf, scheme_usl, scheme_musl, scheme_step
    use mpm_testing, only: tester_t, tester
    implicit none
@@ -22,6 +23,7 @@ program test_fused_threads
    type(particles_t) :: p1, p2, p3(2)
    type(grid_t) :: g1, g2, g3(2)
    type(pass_totals_t) :: t1, t2, t3(2)
+   type(segments_t) :: s1, s2, s3(2)
    integer :: s, i
 
    t = tester('test_fused_threads')
@@ -32,16 +34,16 @@ program test_fused_threads
    do s = 1, size(schemes)
       if (.not. t%case(trim(schemes(s)))) cycle
       call omp_set_num_threads(1)
-      call run(trim(schemes(s)), p1, g1, t1)
-      call t%check(trim(schemes(s))//': no prefetch hints at this size', .not. g1%segments%prefetch)
+      call run(trim(schemes(s)), p1, g1, s1, t1)
+      call t%check(trim(schemes(s))//': no prefetch hints at this size', .not. s1%prefetch)
       ! the second run also with the prefetch hints of large runs: a hint changes no result
       call omp_set_num_threads(2)
-      call run(trim(schemes(s)), p2, g2, t2, prefetch=.true.)
+      call run(trim(schemes(s)), p2, g2, s2, t2, prefetch=.true.)
       call compare(trim(schemes(s))//' 1 vs 2 threads (and prefetch hints)', p1, g1, t1, p2, g2, t2)
       ! two runs side by side in a parallel region (a sweep): serial passes, same bits
       !$omp parallel do num_threads(2) schedule(static,1)
       do i = 1, 2
-         call run(trim(schemes(s)), p3(i), g3(i), t3(i))
+         call run(trim(schemes(s)), p3(i), g3(i), s3(i), t3(i))
       end do
       !$omp end parallel do
       do i = 1, 2
@@ -54,10 +56,11 @@ program test_fused_threads
 
 contains
 
-   subroutine run(scheme, particles, grid, totals, prefetch)
+   subroutine run(scheme, particles, grid, seg, totals, prefetch)
       character(len=*), intent(in) :: scheme
       type(particles_t), intent(out) :: particles
       type(grid_t), intent(out) :: grid
+      type(segments_t), intent(out) :: seg
       type(pass_totals_t), intent(out) :: totals
       logical, intent(in), optional :: prefetch
       type(error_t), allocatable :: error
@@ -71,21 +74,21 @@ contains
       dt = 0.2_dp*(length/elements)/sqrt(youngs/density)
       select case (scheme)
       case ('usf')
-         call fused_start(scheme_usf, particles, grid, totals)
+         call fused_start(scheme_usf, particles, grid, seg, totals)
       case ('usl')
-         call fused_start(scheme_usl, particles, grid, totals)
+         call fused_start(scheme_usl, particles, grid, seg, totals)
       case ('musl')
-         call fused_start(scheme_musl, particles, grid, totals)
+         call fused_start(scheme_musl, particles, grid, seg, totals)
       end select
-      if (present(prefetch)) grid%segments%prefetch = prefetch
+      if (present(prefetch)) seg%prefetch = prefetch
       do n = 1, steps
          select case (scheme)
          case ('usf')
-            call fused_step(scheme_usf, particles, grid, dt, youngs, totals)
+            call fused_step(scheme_usf, particles, grid, seg, dt, youngs, totals)
          case ('usl')
-            call fused_step(scheme_usl, particles, grid, dt, youngs, totals)
+            call fused_step(scheme_usl, particles, grid, seg, dt, youngs, totals)
          case ('musl')
-            call fused_step(scheme_musl, particles, grid, dt, youngs, totals)
+            call fused_step(scheme_musl, particles, grid, seg, dt, youngs, totals)
          end select
       end do
    end subroutine run
@@ -123,12 +126,13 @@ contains
       type(particles_t) :: particles
       type(grid_t) :: grid
       type(pass_totals_t) :: totals
+      type(segments_t) :: seg
       type(error_t), allocatable :: error
       integer, parameter :: large = 150000  ! elements; 4 per element: 600000 particles, 26.4 MB
       call particles_init(particles, large, per_element, 25.0_dp/large, 7800.0_dp, error)
       call grid_init(grid, large, 25.0_dp, particles%mass, error, fixed=[0])
-      call fused_start(scheme_usl, particles, grid, totals)
-      call t%check('600000 particles (26.4 MB): prefetch hints on', grid%segments%prefetch)
+      call fused_start(scheme_usl, particles, grid, seg, totals)
+      call t%check('600000 particles (26.4 MB): prefetch hints on', seg%prefetch)
    end subroutine large_run_prefetches
 
    !> Swap two particles across an element boundary: the pass sorts them back by element, with
@@ -137,11 +141,12 @@ contains
       type(particles_t) :: pa, pb
       type(grid_t) :: ga, gb
       type(pass_totals_t) :: ta, tb
+      type(segments_t) :: sa
       integer :: k, threads
       real(dp) :: tmp
       do threads = 1, 2
          call omp_set_num_threads(threads)
-         call run('usl', pa, ga, ta)
+         call run('usl', pa, ga, sa, ta)
          call assemble_nodes(ga, .false.)
          call t%check_close('after the run: mass conserved', sum(ga%mass), pa%mass*pa%count, rtol=1.0e-12_dp)
          ! particle k (last of its element) and k+1 (first of the next) exchange places
@@ -151,7 +156,7 @@ contains
          pa%x(k + 1) = tmp
          ga%velocity = 0
          ga%acceleration = 0
-         call fused_pass(pass_usl, pa, ga, 0.0_dp, 200.0e9_dp, ta)
+         call fused_pass(pass_usl, pa, ga, sa, 0.0_dp, 200.0e9_dp, ta)
          call t%check('overtaking: particles sorted by element again', all(pa%cell(2:) >= pa%cell(:pa%count - 1)))
          call assemble_nodes(ga, .false.)
          call t%check_close('overtaking: mass conserved', sum(ga%mass), pa%mass*pa%count, rtol=1.0e-12_dp)
