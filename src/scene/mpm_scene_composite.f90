@@ -23,7 +23,7 @@ module mpm_scene_composite
    use mpm_shape, only: shape_cache_t
    use mpm_scene, only: scene_t, margin_for, exact_name_length
    use mpm_loads, only: drive_t
-   use mpm_scene_input, only: scene_input_t, scene_kind_t, bodies_input_t, drive_entry
+   use mpm_scene_input, only: scene_input_t, scene_kind_t, bodies_input_t, drive_entry, most_margin_cells
    implicit none
    private
    public :: composite_t, composite_init, composite_input_t
@@ -106,17 +106,13 @@ contains
       character(len=*), intent(in) :: length_text
       type(error_t), allocatable, intent(inout) :: error
       type(parameter_t), intent(in), optional :: given(:)
-      real(dp), parameter :: most_cells = 1.0e8_dp
       real(dp) :: cells
-      if (settings%margin_cells >= 0) return
-      cells = self%reach(end_time)/dx
-      if (.not. (cells > most_cells)) return
+      cells = self%margin_overflow(settings, end_time, dx)
+      if (cells == 0.0_dp) return
       call append_error(error, place(given, 'scene', 'drive_velocity')//"scene: drive_velocity = "// &
                         short_number(self%drive_velocity)//" m/s moves the bar's free end by up to 4 v T = "// &
-                        num(self%reach(end_time), 4)//" m over the run (T = "//num(end_time, 4)// &
-                        " s), about "//num(cells, 3)//" cells of dx = "//num(dx, 4)//" m for the grid's margin"// &
-                        " to hold; allowed: at most 1e8 cells, drive_velocity <= "// &
-                        num(self%drive_velocity*most_cells/cells, 4)//" m/s")
+                        self%margin_overflow_text(end_time, dx, cells, 'margin')//"drive_velocity <= "// &
+                        num(self%drive_velocity*most_margin_cells/cells, 4)//" m/s")
    end subroutine composite_check_run
 
    !> The segments together.

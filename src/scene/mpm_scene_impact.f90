@@ -29,7 +29,7 @@ module mpm_scene_impact
    use mpm_state, only: state_t
    use mpm_scene, only: scene_t, watch_t, margin_for
    use mpm_lanes, only: smallest_value
-   use mpm_scene_input, only: scene_input_t, scene_kind_t, bodies_input_t
+   use mpm_scene_input, only: scene_input_t, scene_kind_t, bodies_input_t, most_margin_cells
    implicit none
    private
    public :: impact_t, impact_init, impact_input_t
@@ -192,18 +192,14 @@ contains
       character(len=*), intent(in) :: length_text
       type(error_t), allocatable, intent(inout) :: error
       type(parameter_t), intent(in), optional :: given(:)
-      real(dp), parameter :: most_cells = 1.0e8_dp
       real(dp) :: cells
-      if (settings%margin_cells >= 0) return
-      cells = self%reach(end_time)/dx
-      if (.not. (cells > most_cells)) return
+      cells = self%margin_overflow(settings, end_time, dx)
+      if (cells == 0.0_dp) return
       call append_error(error, place(given, 'scene', 'velocities')//"scene: velocities = "// &
                         short_number(self%velocities(1))//", "//short_number(self%velocities(2))// &
                         " m/s move the bars' outer ends by up to 1.5 max |v| T = "// &
-                        num(self%reach(end_time), 4)//" m over the run (T = "//num(end_time, 4)// &
-                        " s), about "//num(cells, 3)//" cells of dx = "//num(dx, 4)//" m for the grid's margins"// &
-                        " to hold; allowed: at most 1e8 cells, |velocities| <= "// &
-                        num(maxval(abs(self%velocities))*most_cells/cells, 4)//" m/s")
+                        self%margin_overflow_text(end_time, dx, cells, 'margins')//"|velocities| <= "// &
+                        num(maxval(abs(self%velocities))*most_margin_cells/cells, 4)//" m/s")
    end subroutine impact_check_run
 
    !> Both bars and the gap.

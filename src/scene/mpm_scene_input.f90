@@ -19,6 +19,10 @@ module mpm_scene_input
    implicit none
    private
    public :: scene_input_t, scene_kind_t, body_input_t, bodies_input_t, drive_entry, body_representable, refuse_beyond_doubles
+   public :: most_margin_cells
+
+   !> The most cells the grid's automatic margin may add for a moving end (margin_overflow).
+   real(dp), parameter :: most_margin_cells = 1.0e8_dp
 
    !> A scene kind as --help and the help of `kind` and `periods` describe it: its name, what it is, and
    !> the period `periods` counts in it.
@@ -62,6 +66,9 @@ module mpm_scene_input
       !> How far a free end moves out over a run of `end_time` (m; default 0: none moves out), and how
       !> many free ends the grid's automatic margin is beyond (default 1).
       procedure :: reach, free_ends
+      !> The cells the automatic margin would need beyond the allowed (margin_overflow), and the middle of
+      !> the message that refuses it (margin_overflow_text).
+      procedure :: margin_overflow, margin_overflow_text
       !> Whether its loads are static with an exact static solution (integrator 'quasi_static').
       procedure :: static_loads
       !> Warnings about a valid run that misses what it is for ('' when none).
@@ -212,6 +219,31 @@ contains
       real(dp), intent(in) :: end_time
       reach = 0.0_dp
    end function reach
+
+   !> The cells of dx that the grid's automatic margin needs to hold the scene's moving ends over a run
+   !> of `end_time` (its reach), when that is more than most_margin_cells; 0 when it is not, or when the
+   !> input gives the margin (settings%margin_cells >= 0).
+   real(dp) function margin_overflow(self, settings, end_time, dx) result(cells)
+      class(scene_input_t), intent(in) :: self
+      class(settings_t), intent(in) :: settings
+      real(dp), intent(in) :: end_time, dx
+      cells = 0.0_dp
+      if (settings%margin_cells >= 0) return
+      if (self%reach(end_time)/dx > most_margin_cells) cells = self%reach(end_time)/dx
+   end function margin_overflow
+
+   !> "<reach> m over the run (T = <end_time> s), about <cells> cells of dx = <dx> m for the grid's
+   !> <margins> to hold; allowed: at most 1e8 cells, ": the message of a margin_overflow after the words
+   !> that name the scene's moving ends, before the bound on its own variable.
+   function margin_overflow_text(self, end_time, dx, cells, margins) result(text)
+      class(scene_input_t), intent(in) :: self
+      real(dp), intent(in) :: end_time, dx, cells
+      character(len=*), intent(in) :: margins
+      character(len=:), allocatable :: text
+      text = num(self%reach(end_time), 4)//" m over the run (T = "//num(end_time, 4)//" s), about "// &
+             num(cells, 3)//" cells of dx = "//num(dx, 4)//" m for the grid's "//margins// &
+             " to hold; allowed: at most 1e8 cells, "
+   end function margin_overflow_text
 
    pure integer function free_ends(self)
       class(scene_input_t), intent(in) :: self
