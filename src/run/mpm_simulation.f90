@@ -200,9 +200,8 @@ contains
          ! the fused kernels, where they take the scene, shape, transfer, law and what the particles carry;
          ! they are explicit
          box = fused_choose(kind, transfer, config%flip_fraction, scene%fused_applies(), scene%body_fields, scene, &
-                            particles, run%material)
-         run%fused = trim(config%kernels) == 'auto' .and. box%variant >= 0 .and. &
-                     integrator == integrator_explicit .and. formulation_id(config%formulation) /= formulation_total
+                            particles, run%material, formulation_id(config%formulation) == formulation_total)
+         run%fused = trim(config%kernels) == 'auto' .and. box%variant >= 0 .and. integrator == integrator_explicit
          result%fused = run%fused
          if (.not. run%fused) call per_particle_data(particles, error)
          if (allocated(error)) return
@@ -249,6 +248,7 @@ contains
       select type (stepper => run%stepper)
       type is (fused_stepper_t)
          stepper%box = box
+         stepper%box%asflip_alpha = config%asflip_alpha
          stepper%youngs_modulus = config%youngs_modulus
          stepper%contact = run%scene%body_fields
          call stepper%attach(run%grid, run%particles, error)

@@ -638,8 +638,8 @@ contains
       kind = shape_id(config%shape)
       transfer = transfer_id(config%transfer)
       box = fused_choose(kind, transfer, config%flip_fraction, scene%fused_applies(), scene%body_fields, &
-                         scene, particles, material_of(config))
-      fused = trim(config%kernels) == 'auto' .and. box%variant >= 0 .and. trim(config%formulation) /= 'total'
+                         scene, particles, material_of(config), trim(config%formulation) == 'total')
+      fused = trim(config%kernels) == 'auto' .and. box%variant >= 0
       if (.not. fused) call per_particle_data(particles, error)
       bytes = 0
       bytes = bytes + real_bytes(particles%x)

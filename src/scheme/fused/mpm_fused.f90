@@ -14,7 +14,7 @@ module mpm_fused
    use mpm_operations, only: mirror_fold
    use mpm_particles, only: particles_t
    use mpm_shape, only: shape_linear, shape_cpgimp, shape_bspline2, shape_bspline3, shape_cpdi, transfer_flip, &
-                        transfer_pic, transfer_blend, transfer_apic
+                        transfer_pic, transfer_blend, transfer_apic, transfer_asflip
    use mpm_errors, only: error_t
    use mpm_pass_totals, only: pass_totals_t
    use mpm_stepper, only: stepper_t, scheme_usf, scheme_usl, scheme_musl
@@ -26,7 +26,8 @@ module mpm_fused
    use mpm_transfer, only: p2g, fused_pass, pass_usf_stress, pass_usf_move, pass_usl, pass_musl_remap, &
                            pass_musl_stress, pass_map, pass_map_stress, merge_totals, fused_box_t, box_cells, &
                            locate_all, variant_bar, variant_pic, variant_blend, variant_apic, variant_material, &
-                           variant_forced, variant_bodies, body_of_element
+                           variant_forced, variant_bodies, variant_asflip, variant_total, body_of_element, &
+                           asflip_separation
    implicit none
    private
    public :: fused_start, fused_step, fused_box_t, fused_shape, fused_choose, fused_mass, fused_grid_velocity, &
@@ -110,18 +111,22 @@ contains
    !> fused_applies) and with a velocity field per body when `body_fields`, and if so `box`, the kernels'
    !> description of it (fused_box_t: the shape, the variant of the hat's kernels, the law). They take:
    !> - the bar and a scene whose forces are grid loads (the column), every shape with FLIP, the hat with
-   !>   PIC, the blend and APIC: particles of one mass and volume (no per-particle arrays);
+   !>   PIC, the blend, APIC and ASFLIP: particles of one mass and volume (no per-particle arrays);
    !> - with the hat and FLIP: per-particle masses and moduli of one volume (the composite bar), per-
    !>   particle forces (the manufactured solution), bodies each of one mass, volume and modulus, on
    !>   stacked fields or in one field (the impact).
+   !> With `total` (the total-Lagrangian formulation) only the first kind, with the hat and FLIP (variant
+   !> total: the bar and the column).
    !> Anything else runs on the generic path.
-   function fused_choose(kind, transfer, flip_fraction, applies, body_fields, loads, particles, material) result(box)
+   function fused_choose(kind, transfer, flip_fraction, applies, body_fields, loads, particles, material, total) &
+      result(box)
       integer, intent(in) :: kind, transfer
       real(dp), intent(in) :: flip_fraction
       logical, intent(in) :: applies, body_fields
       class(loads_t), intent(in) :: loads
       type(particles_t), intent(in) :: particles
       type(material_t), intent(in) :: material
+      logical, intent(in), optional :: total
       type(fused_box_t) :: box
       logical :: hat_flip, per_particle
       box = fused_shape(kind)
@@ -135,6 +140,13 @@ contains
       hat_flip = kind == shape_linear .and. transfer == transfer_flip
       per_particle = allocated(particles%mass_of) .or. allocated(particles%volume0_of) .or. &
                      allocated(particles%youngs_modulus_of)
+      if (present(total)) then
+         if (total) then
+            if (hat_flip .and. .not. (per_particle .or. allocated(particles%body) .or. loads%has_particle_forces)) &
+               box%variant = variant_total
+            return
+         end if
+      end if
       if (allocated(particles%body)) then ! bodies, each of one mass, volume and modulus
          ! (on stacked fields each its own; in one field, as one body: the same for all)
          if (hat_flip .and. bodies_uniform(particles, .not. body_fields)) box%variant = variant_bodies
@@ -158,6 +170,8 @@ contains
             if (kind == shape_linear) box%variant = variant_blend
          case (transfer_apic)
             if (kind == shape_linear) box%variant = variant_apic
+         case (transfer_asflip) ! (its alpha: box%asflip_alpha, set by the caller)
+            if (kind == shape_linear) box%variant = variant_asflip
          end select
       end if
    end function fused_choose
@@ -250,6 +264,11 @@ contains
       subroutine start_variant(fields)
          type(grid_t), intent(inout) :: fields
          type(pass_totals_t) :: map_totals
+         if (box%variant == variant_asflip) then ! v^n of each step's mapping; USF: J^n between its passes
+            if (.not. allocated(box%mapped_velocity)) allocate (box%mapped_velocity(0:fields%elements), &
+                                                                box%separating(fields%elements))
+            if (scheme == scheme_usf .and. .not. allocated(box%carry)) allocate (box%carry(particles%count))
+         end if
          if (.not. allocated(box%carry)) allocate (box%carry(0))
          if (box%variant == variant_forced) then
             allocate (box%forces(particles%count))
@@ -356,16 +375,18 @@ contains
       real(dp), intent(in), optional :: t
       type(bodies_t), intent(inout), optional :: bodies
       type(pass_totals_t) :: stress_totals
-      logical :: wide, with_box, forced, stacked
+      logical :: wide, with_box, forced, stacked, mapped
       wide = .false.
       with_box = .false.
       forced = .false.
       stacked = .false.
+      mapped = .false.
       if (present(box)) then
          wide = box%parts
          with_box = allocated(box%carry)
          forced = box%variant == variant_forced
          stacked = on_stacked_fields(box)
+         mapped = box%variant == variant_asflip
       end if
       if (stacked) then
          call touch_test(bodies, particles, grid%dx)
@@ -385,20 +406,24 @@ contains
             call kinematics(g)
             if (forced) call forces_at(t)
             call pass(g, pass_usf_stress, stress_totals)
+            if (mapped) call keep_mapped(g) ! (ASFLIP's v^n, which the stress pass read)
             if (wide) then
                call solve(g)
             else ! the force assembled in the solve (mass and momentum are assembled already)
                call solve_momentum(g, dt, .true.)
                call contact(g, dt)
             end if
+            if (mapped) call asflip_separation(g, dt, box%separating)
             call pass(g, pass_usf_move, totals)
             call merge_totals(totals, stress_totals)
          case (scheme_usl)
             call solve(g)
             if (forced) call forces_at(t + dt)
+            if (mapped) call asflip_separation(g, dt, box%separating)
             call pass(g, pass_usl, totals)
          case (scheme_musl)
             call solve(g)
+            if (mapped) call asflip_separation(g, dt, box%separating)
             call pass(g, pass_musl_remap, totals)
             call kinematics(g)
             if (forced) call forces_at(t + dt)
@@ -425,11 +450,25 @@ contains
             call solve_momentum(g, dt, .false.)
          else if (stacked) then
             call assemble_and_solve(g, dt, active_nodes(g, seg, box, bodies))
+         else if (mapped) then ! ASFLIP: v^n = p/m of the mapping before the update (the same nodal values)
+            call assemble_nodes(g, .true.)
+            call nodal_velocity(g)
+            call keep_mapped(g)
+            call solve_momentum(g, dt, .false.)
          else
             call assemble_and_solve(g, dt)
          end if
          call contact(g, dt)
       end subroutine solve
+      !> ASFLIP: the nodal velocity g%velocity (v^n) becomes box%mapped_velocity, by swapping the arrays (no
+      !> copy); the solve then writes v^L over the old one.
+      subroutine keep_mapped(g)
+         type(grid_t), intent(inout) :: g
+         real(dp), allocatable :: swap(:)
+         call move_alloc(g%velocity, swap)
+         call move_alloc(box%mapped_velocity, g%velocity)
+         call move_alloc(swap, box%mapped_velocity)
+      end subroutine keep_mapped
       !> Bodies on stacked fields: approaching bodies share their centre-of-mass velocity (mpm_contact).
       subroutine contact(g, step)
          type(grid_t), intent(inout) :: g

@@ -44,6 +44,7 @@ module mpm_transfer
    use mpm_pass_totals, only: pass_totals_t, max_bodies
    use mpm_shape_range, only: infinity_bits
    use mpm_lanes, only: block_size, lanes, largest_move_t
+   use mpm_asflip, only: separation_threshold
    implicit none
    private
    !> The fused passes (fused_pass; what each does: the table before the segment kernels):
@@ -64,9 +65,10 @@ module mpm_transfer
    !> The kernel families (fused_box_t%variant): the bar's (FLIP, one mass, volume and modulus; every
    !> shape) and the hat's variants (see the kernels' table below).
    integer, parameter, public :: variant_bar = 0, variant_pic = 1, variant_blend = 2, variant_apic = 3, &
-                                 variant_material = 4, variant_forced = 5, variant_bodies = 6
+                                 variant_material = 4, variant_forced = 5, variant_bodies = 6, variant_asflip = 7, &
+                                 variant_total = 8
    public :: pass_totals_t, clear_element_shares, merge_totals
-   public :: p2g, fused_pass, fused_box_t, box_cells, locate_all
+   public :: p2g, fused_pass, fused_box_t, box_cells, locate_all, asflip_separation
 
    public :: parallel_threshold, segment_particles, body_of_element
 
@@ -125,6 +127,8 @@ module mpm_transfer
       !> elastoplastic (`plastic`: hencky with the radial return, yield stress and hardening modulus).
       logical :: linear = .false., plastic = .false.
       real(dp) :: yield_stress = huge(1.0_dp), hardening_modulus = 0.0_dp
+      !> ASFLIP's alpha (mpm_asflip)
+      real(dp) :: asflip_alpha = 0.0_dp
    end type pass_constants_t
 
    !> The particles' shape on the fused path: the hat (default) or a particle in two parts (`parts`,
@@ -154,6 +158,13 @@ module mpm_transfer
       logical :: linear = .false., plastic = .false.
       real(dp) :: yield_stress = huge(1.0_dp), hardening_modulus = 0.0_dp
       real(dp), allocatable :: body_yield(:), body_hardening(:)
+      !> ASFLIP (variant_asflip): its alpha, and the nodal velocity v^n = p/m of the step's mapping (before
+      !> the momentum update; mpm_fused sets it each step); USF's stress pass keeps each particle's J at
+      !> the start of the step in `carry` for its move pass
+      real(dp) :: asflip_alpha = 0.0_dp
+      real(dp), allocatable :: mapped_velocity(:)
+      !> ... and the J^n at and above which a particle of each element separates (asflip_separation)
+      real(dp), allocatable :: separating(:)
    end type fused_box_t
 
    interface
@@ -445,6 +456,7 @@ contains
       constants = pass_constants_t(grid%elements, grid%origin, grid%inv_dx, dt, youngs_modulus, particles%mass, &
                                    particles%volume0, 0.5_dp*particles%volume0, box%stretch, box%flip_fraction, grid%dx, 0, &
                                    box%linear, box%plastic, box%yield_stress, box%hardening_modulus)
+      constants%asflip_alpha = box%asflip_alpha
       ! the number of the kernel of the particles' shape and the pass; segment calls it directly (a call
       ! through a procedure pointer passed every array's descriptor, and the kernels could not be
       ! specialised to their callers: a tenth of a small run's step)
@@ -535,7 +547,7 @@ contains
             case default
                which = 60 ! forced_map_stress_segment
             end select
-         case default
+         case (variant_bodies)
             select case (kind)
             case (pass_usf_move)
                which = 61 ! bodies_usf_move_segment
@@ -551,6 +563,40 @@ contains
                which = 66 ! bodies_map_segment
             case default
                which = 67 ! bodies_map_stress_segment
+            end select
+         case (variant_asflip)
+            select case (kind)
+            case (pass_usf_move)
+               which = 68 ! asflip_usf_move_segment
+            case (pass_usf_stress)
+               which = 69 ! asflip_usf_stress_segment
+            case (pass_usl)
+               which = 70 ! asflip_usl_segment
+            case (pass_musl_remap)
+               which = 71 ! asflip_musl_remap_segment
+            case (pass_musl_stress)
+               which = 72 ! asflip_musl_stress_segment
+            case (pass_map)
+               which = 73 ! asflip_map_segment
+            case default
+               which = 74 ! asflip_map_stress_segment
+            end select
+         case default
+            select case (kind)
+            case (pass_usf_move)
+               which = 75 ! total_usf_move_segment
+            case (pass_usf_stress)
+               which = 76 ! total_usf_stress_segment
+            case (pass_usl)
+               which = 77 ! total_usl_segment
+            case (pass_musl_remap)
+               which = 78 ! total_musl_remap_segment
+            case (pass_musl_stress)
+               which = 79 ! total_musl_stress_segment
+            case (pass_map)
+               which = 80 ! total_map_segment
+            case default
+               which = 81 ! total_map_stress_segment
             end select
          end select
       else if (box%cubic) then
@@ -811,7 +857,8 @@ contains
                                      grid%element_strain, grid%element_mass_left, grid%element_mass_right, &
                                      grid%element_momentum_left, grid%element_momentum_right, grid%element_stress_volume, &
                                      constants, box%carry, particles%mass_of, particles%youngs_modulus_of, box%forces, &
-                                     particles%velocity_gradient, grid%element_force_left, grid%element_force_right)
+                                     particles%velocity_gradient, grid%element_force_left, grid%element_force_right, &
+                                     mapped=box%mapped_velocity, separating=box%separating)
          case (27)
             call pic_usf_stress_segment(k, seg, particles%x, particles%x0, particles%v, particles%stress, &
                                        particles%volume_ratio, particles%cell, grid%acceleration, grid%velocity, &
@@ -819,6 +866,7 @@ contains
                                        grid%element_momentum_left, grid%element_momentum_right, grid%element_stress_volume, &
                                        constants, box%carry, particles%mass_of, particles%youngs_modulus_of, box%forces, &
                                        particles%velocity_gradient, grid%element_force_left, grid%element_force_right, &
+                                       mapped=box%mapped_velocity, separating=box%separating, &
                                        plastic_strain=particles%plastic_strain, hardening=particles%hardening, &
                                        yield_of=particles%yield_stress_of, hardening_of=particles%hardening_modulus_of)
          case (28)
@@ -828,6 +876,7 @@ contains
                                 grid%element_momentum_left, grid%element_momentum_right, grid%element_stress_volume, &
                                 constants, box%carry, particles%mass_of, particles%youngs_modulus_of, box%forces, &
                                 particles%velocity_gradient, grid%element_force_left, grid%element_force_right, &
+                                mapped=box%mapped_velocity, separating=box%separating, &
                                 plastic_strain=particles%plastic_strain, hardening=particles%hardening, &
                                 yield_of=particles%yield_stress_of, hardening_of=particles%hardening_modulus_of)
          case (29)
@@ -836,7 +885,8 @@ contains
                                        grid%element_strain, grid%element_mass_left, grid%element_mass_right, &
                                        grid%element_momentum_left, grid%element_momentum_right, grid%element_stress_volume, &
                                        constants, box%carry, particles%mass_of, particles%youngs_modulus_of, box%forces, &
-                                       particles%velocity_gradient, grid%element_force_left, grid%element_force_right)
+                                       particles%velocity_gradient, grid%element_force_left, grid%element_force_right, &
+                                       mapped=box%mapped_velocity, separating=box%separating)
          case (30)
             call pic_musl_stress_segment(k, seg, particles%x, particles%x0, particles%v, particles%stress, &
                                         particles%volume_ratio, particles%cell, grid%acceleration, grid%velocity, &
@@ -844,6 +894,7 @@ contains
                                         grid%element_momentum_left, grid%element_momentum_right, grid%element_stress_volume, &
                                         constants, box%carry, particles%mass_of, particles%youngs_modulus_of, box%forces, &
                                         particles%velocity_gradient, grid%element_force_left, grid%element_force_right, &
+                                        mapped=box%mapped_velocity, separating=box%separating, &
                                         plastic_strain=particles%plastic_strain, hardening=particles%hardening, &
                                         yield_of=particles%yield_stress_of, hardening_of=particles%hardening_modulus_of)
          case (31)
@@ -852,21 +903,24 @@ contains
                                 grid%element_strain, grid%element_mass_left, grid%element_mass_right, &
                                 grid%element_momentum_left, grid%element_momentum_right, grid%element_stress_volume, &
                                 constants, box%carry, particles%mass_of, particles%youngs_modulus_of, box%forces, &
-                                particles%velocity_gradient, grid%element_force_left, grid%element_force_right)
+                                particles%velocity_gradient, grid%element_force_left, grid%element_force_right, &
+                                mapped=box%mapped_velocity, separating=box%separating)
          case (32)
             call pic_map_stress_segment(k, seg, particles%x, particles%x0, particles%v, particles%stress, &
                                        particles%volume_ratio, particles%cell, grid%acceleration, grid%velocity, &
                                        grid%element_strain, grid%element_mass_left, grid%element_mass_right, &
                                        grid%element_momentum_left, grid%element_momentum_right, grid%element_stress_volume, &
                                        constants, box%carry, particles%mass_of, particles%youngs_modulus_of, box%forces, &
-                                       particles%velocity_gradient, grid%element_force_left, grid%element_force_right)
+                                       particles%velocity_gradient, grid%element_force_left, grid%element_force_right, &
+                                       mapped=box%mapped_velocity, separating=box%separating)
          case (33)
             call blend_usf_move_segment(k, seg, particles%x, particles%x0, particles%v, particles%stress, &
                                        particles%volume_ratio, particles%cell, grid%acceleration, grid%velocity, &
                                        grid%element_strain, grid%element_mass_left, grid%element_mass_right, &
                                        grid%element_momentum_left, grid%element_momentum_right, grid%element_stress_volume, &
                                        constants, box%carry, particles%mass_of, particles%youngs_modulus_of, box%forces, &
-                                       particles%velocity_gradient, grid%element_force_left, grid%element_force_right)
+                                       particles%velocity_gradient, grid%element_force_left, grid%element_force_right, &
+                                       mapped=box%mapped_velocity, separating=box%separating)
          case (34)
             call blend_usf_stress_segment(k, seg, particles%x, particles%x0, particles%v, particles%stress, &
                                          particles%volume_ratio, particles%cell, grid%acceleration, grid%velocity, &
@@ -874,6 +928,7 @@ contains
                                          grid%element_momentum_left, grid%element_momentum_right, grid%element_stress_volume, &
                                          constants, box%carry, particles%mass_of, particles%youngs_modulus_of, box%forces, &
                                          particles%velocity_gradient, grid%element_force_left, grid%element_force_right, &
+                                         mapped=box%mapped_velocity, separating=box%separating, &
                                          plastic_strain=particles%plastic_strain, hardening=particles%hardening, &
                                          yield_of=particles%yield_stress_of, hardening_of=particles%hardening_modulus_of)
          case (35)
@@ -883,6 +938,7 @@ contains
                                   grid%element_momentum_left, grid%element_momentum_right, grid%element_stress_volume, &
                                   constants, box%carry, particles%mass_of, particles%youngs_modulus_of, box%forces, &
                                   particles%velocity_gradient, grid%element_force_left, grid%element_force_right, &
+                                  mapped=box%mapped_velocity, separating=box%separating, &
                                   plastic_strain=particles%plastic_strain, hardening=particles%hardening, &
                                   yield_of=particles%yield_stress_of, hardening_of=particles%hardening_modulus_of)
          case (36)
@@ -891,7 +947,8 @@ contains
                                          grid%element_strain, grid%element_mass_left, grid%element_mass_right, &
                                          grid%element_momentum_left, grid%element_momentum_right, grid%element_stress_volume, &
                                          constants, box%carry, particles%mass_of, particles%youngs_modulus_of, box%forces, &
-                                         particles%velocity_gradient, grid%element_force_left, grid%element_force_right)
+                                         particles%velocity_gradient, grid%element_force_left, grid%element_force_right, &
+                                         mapped=box%mapped_velocity, separating=box%separating)
          case (37)
             call blend_musl_stress_segment(k, seg, particles%x, particles%x0, particles%v, particles%stress, &
                                           particles%volume_ratio, particles%cell, grid%acceleration, grid%velocity, &
@@ -899,6 +956,7 @@ contains
                                           grid%element_momentum_left, grid%element_momentum_right, grid%element_stress_volume, &
                                           constants, box%carry, particles%mass_of, particles%youngs_modulus_of, box%forces, &
                                           particles%velocity_gradient, grid%element_force_left, grid%element_force_right, &
+                                          mapped=box%mapped_velocity, separating=box%separating, &
                                           plastic_strain=particles%plastic_strain, hardening=particles%hardening, &
                                           yield_of=particles%yield_stress_of, hardening_of=particles%hardening_modulus_of)
          case (38)
@@ -907,21 +965,24 @@ contains
                                   grid%element_strain, grid%element_mass_left, grid%element_mass_right, &
                                   grid%element_momentum_left, grid%element_momentum_right, grid%element_stress_volume, &
                                   constants, box%carry, particles%mass_of, particles%youngs_modulus_of, box%forces, &
-                                  particles%velocity_gradient, grid%element_force_left, grid%element_force_right)
+                                  particles%velocity_gradient, grid%element_force_left, grid%element_force_right, &
+                                  mapped=box%mapped_velocity, separating=box%separating)
          case (39)
             call blend_map_stress_segment(k, seg, particles%x, particles%x0, particles%v, particles%stress, &
                                          particles%volume_ratio, particles%cell, grid%acceleration, grid%velocity, &
                                          grid%element_strain, grid%element_mass_left, grid%element_mass_right, &
                                          grid%element_momentum_left, grid%element_momentum_right, grid%element_stress_volume, &
                                          constants, box%carry, particles%mass_of, particles%youngs_modulus_of, box%forces, &
-                                         particles%velocity_gradient, grid%element_force_left, grid%element_force_right)
+                                         particles%velocity_gradient, grid%element_force_left, grid%element_force_right, &
+                                         mapped=box%mapped_velocity, separating=box%separating)
          case (40)
             call apic_usf_move_segment(k, seg, particles%x, particles%x0, particles%v, particles%stress, &
                                       particles%volume_ratio, particles%cell, grid%acceleration, grid%velocity, &
                                       grid%element_strain, grid%element_mass_left, grid%element_mass_right, &
                                       grid%element_momentum_left, grid%element_momentum_right, grid%element_stress_volume, &
                                       constants, box%carry, particles%mass_of, particles%youngs_modulus_of, box%forces, &
-                                      particles%velocity_gradient, grid%element_force_left, grid%element_force_right)
+                                      particles%velocity_gradient, grid%element_force_left, grid%element_force_right, &
+                                      mapped=box%mapped_velocity, separating=box%separating)
          case (41)
             call apic_usf_stress_segment(k, seg, particles%x, particles%x0, particles%v, particles%stress, &
                                         particles%volume_ratio, particles%cell, grid%acceleration, grid%velocity, &
@@ -929,6 +990,7 @@ contains
                                         grid%element_momentum_left, grid%element_momentum_right, grid%element_stress_volume, &
                                         constants, box%carry, particles%mass_of, particles%youngs_modulus_of, box%forces, &
                                         particles%velocity_gradient, grid%element_force_left, grid%element_force_right, &
+                                        mapped=box%mapped_velocity, separating=box%separating, &
                                         plastic_strain=particles%plastic_strain, hardening=particles%hardening, &
                                         yield_of=particles%yield_stress_of, hardening_of=particles%hardening_modulus_of)
          case (42)
@@ -938,6 +1000,7 @@ contains
                                  grid%element_momentum_left, grid%element_momentum_right, grid%element_stress_volume, &
                                  constants, box%carry, particles%mass_of, particles%youngs_modulus_of, box%forces, &
                                  particles%velocity_gradient, grid%element_force_left, grid%element_force_right, &
+                                 mapped=box%mapped_velocity, separating=box%separating, &
                                  plastic_strain=particles%plastic_strain, hardening=particles%hardening, &
                                  yield_of=particles%yield_stress_of, hardening_of=particles%hardening_modulus_of)
          case (43)
@@ -946,7 +1009,8 @@ contains
                                         grid%element_strain, grid%element_mass_left, grid%element_mass_right, &
                                         grid%element_momentum_left, grid%element_momentum_right, grid%element_stress_volume, &
                                         constants, box%carry, particles%mass_of, particles%youngs_modulus_of, box%forces, &
-                                        particles%velocity_gradient, grid%element_force_left, grid%element_force_right)
+                                        particles%velocity_gradient, grid%element_force_left, grid%element_force_right, &
+                                        mapped=box%mapped_velocity, separating=box%separating)
          case (44)
             call apic_musl_stress_segment(k, seg, particles%x, particles%x0, particles%v, particles%stress, &
                                          particles%volume_ratio, particles%cell, grid%acceleration, grid%velocity, &
@@ -954,6 +1018,7 @@ contains
                                          grid%element_momentum_left, grid%element_momentum_right, grid%element_stress_volume, &
                                          constants, box%carry, particles%mass_of, particles%youngs_modulus_of, box%forces, &
                                          particles%velocity_gradient, grid%element_force_left, grid%element_force_right, &
+                                         mapped=box%mapped_velocity, separating=box%separating, &
                                          plastic_strain=particles%plastic_strain, hardening=particles%hardening, &
                                          yield_of=particles%yield_stress_of, hardening_of=particles%hardening_modulus_of)
          case (45)
@@ -962,21 +1027,24 @@ contains
                                  grid%element_strain, grid%element_mass_left, grid%element_mass_right, &
                                  grid%element_momentum_left, grid%element_momentum_right, grid%element_stress_volume, &
                                  constants, box%carry, particles%mass_of, particles%youngs_modulus_of, box%forces, &
-                                 particles%velocity_gradient, grid%element_force_left, grid%element_force_right)
+                                 particles%velocity_gradient, grid%element_force_left, grid%element_force_right, &
+                                 mapped=box%mapped_velocity, separating=box%separating)
          case (46)
             call apic_map_stress_segment(k, seg, particles%x, particles%x0, particles%v, particles%stress, &
                                         particles%volume_ratio, particles%cell, grid%acceleration, grid%velocity, &
                                         grid%element_strain, grid%element_mass_left, grid%element_mass_right, &
                                         grid%element_momentum_left, grid%element_momentum_right, grid%element_stress_volume, &
                                         constants, box%carry, particles%mass_of, particles%youngs_modulus_of, box%forces, &
-                                        particles%velocity_gradient, grid%element_force_left, grid%element_force_right)
+                                        particles%velocity_gradient, grid%element_force_left, grid%element_force_right, &
+                                        mapped=box%mapped_velocity, separating=box%separating)
          case (47)
             call material_usf_move_segment(k, seg, particles%x, particles%x0, particles%v, particles%stress, &
                                           particles%volume_ratio, particles%cell, grid%acceleration, grid%velocity, &
                                           grid%element_strain, grid%element_mass_left, grid%element_mass_right, &
                                           grid%element_momentum_left, grid%element_momentum_right, grid%element_stress_volume, &
                                           constants, box%carry, particles%mass_of, particles%youngs_modulus_of, box%forces, &
-                                          particles%velocity_gradient, grid%element_force_left, grid%element_force_right)
+                                          particles%velocity_gradient, grid%element_force_left, grid%element_force_right, &
+                                          mapped=box%mapped_velocity, separating=box%separating)
          case (48)
             call material_usf_stress_segment(k, seg, particles%x, particles%x0, particles%v, particles%stress, &
                                             particles%volume_ratio, particles%cell, grid%acceleration, grid%velocity, &
@@ -984,6 +1052,7 @@ contains
                                             grid%element_momentum_left, grid%element_momentum_right, grid%element_stress_volume, &
                                             constants, box%carry, particles%mass_of, particles%youngs_modulus_of, box%forces, &
                                             particles%velocity_gradient, grid%element_force_left, grid%element_force_right, &
+                                            mapped=box%mapped_velocity, separating=box%separating, &
                                             plastic_strain=particles%plastic_strain, hardening=particles%hardening, &
                                             yield_of=particles%yield_stress_of, hardening_of=particles%hardening_modulus_of)
          case (49)
@@ -993,6 +1062,7 @@ contains
                                      grid%element_momentum_left, grid%element_momentum_right, grid%element_stress_volume, &
                                      constants, box%carry, particles%mass_of, particles%youngs_modulus_of, box%forces, &
                                      particles%velocity_gradient, grid%element_force_left, grid%element_force_right, &
+                                     mapped=box%mapped_velocity, separating=box%separating, &
                                      plastic_strain=particles%plastic_strain, hardening=particles%hardening, &
                                      yield_of=particles%yield_stress_of, hardening_of=particles%hardening_modulus_of)
          case (50)
@@ -1001,7 +1071,8 @@ contains
                                             grid%element_strain, grid%element_mass_left, grid%element_mass_right, &
                                             grid%element_momentum_left, grid%element_momentum_right, grid%element_stress_volume, &
                                             constants, box%carry, particles%mass_of, particles%youngs_modulus_of, box%forces, &
-                                            particles%velocity_gradient, grid%element_force_left, grid%element_force_right)
+                                            particles%velocity_gradient, grid%element_force_left, grid%element_force_right, &
+                                            mapped=box%mapped_velocity, separating=box%separating)
          case (51)
             call material_musl_stress_segment(k, seg, particles%x, particles%x0, particles%v, particles%stress, &
                                              particles%volume_ratio, particles%cell, grid%acceleration, grid%velocity, &
@@ -1009,6 +1080,7 @@ contains
                                              grid%element_momentum_left, grid%element_momentum_right, grid%element_stress_volume, &
                                              constants, box%carry, particles%mass_of, particles%youngs_modulus_of, box%forces, &
                                              particles%velocity_gradient, grid%element_force_left, grid%element_force_right, &
+                                             mapped=box%mapped_velocity, separating=box%separating, &
                                              plastic_strain=particles%plastic_strain, hardening=particles%hardening, &
                                              yield_of=particles%yield_stress_of, hardening_of=particles%hardening_modulus_of)
          case (52)
@@ -1017,21 +1089,24 @@ contains
                                      grid%element_strain, grid%element_mass_left, grid%element_mass_right, &
                                      grid%element_momentum_left, grid%element_momentum_right, grid%element_stress_volume, &
                                      constants, box%carry, particles%mass_of, particles%youngs_modulus_of, box%forces, &
-                                     particles%velocity_gradient, grid%element_force_left, grid%element_force_right)
+                                     particles%velocity_gradient, grid%element_force_left, grid%element_force_right, &
+                                     mapped=box%mapped_velocity, separating=box%separating)
          case (53)
             call material_map_stress_segment(k, seg, particles%x, particles%x0, particles%v, particles%stress, &
                                             particles%volume_ratio, particles%cell, grid%acceleration, grid%velocity, &
                                             grid%element_strain, grid%element_mass_left, grid%element_mass_right, &
                                             grid%element_momentum_left, grid%element_momentum_right, grid%element_stress_volume, &
                                             constants, box%carry, particles%mass_of, particles%youngs_modulus_of, box%forces, &
-                                            particles%velocity_gradient, grid%element_force_left, grid%element_force_right)
+                                            particles%velocity_gradient, grid%element_force_left, grid%element_force_right, &
+                                            mapped=box%mapped_velocity, separating=box%separating)
          case (54)
             call forced_usf_move_segment(k, seg, particles%x, particles%x0, particles%v, particles%stress, &
                                         particles%volume_ratio, particles%cell, grid%acceleration, grid%velocity, &
                                         grid%element_strain, grid%element_mass_left, grid%element_mass_right, &
                                         grid%element_momentum_left, grid%element_momentum_right, grid%element_stress_volume, &
                                         constants, box%carry, particles%mass_of, particles%youngs_modulus_of, box%forces, &
-                                        particles%velocity_gradient, grid%element_force_left, grid%element_force_right)
+                                        particles%velocity_gradient, grid%element_force_left, grid%element_force_right, &
+                                        mapped=box%mapped_velocity, separating=box%separating)
          case (55)
             call forced_usf_stress_segment(k, seg, particles%x, particles%x0, particles%v, particles%stress, &
                                           particles%volume_ratio, particles%cell, grid%acceleration, grid%velocity, &
@@ -1039,6 +1114,7 @@ contains
                                           grid%element_momentum_left, grid%element_momentum_right, grid%element_stress_volume, &
                                           constants, box%carry, particles%mass_of, particles%youngs_modulus_of, box%forces, &
                                           particles%velocity_gradient, grid%element_force_left, grid%element_force_right, &
+                                          mapped=box%mapped_velocity, separating=box%separating, &
                                           plastic_strain=particles%plastic_strain, hardening=particles%hardening, &
                                           yield_of=particles%yield_stress_of, hardening_of=particles%hardening_modulus_of)
          case (56)
@@ -1048,6 +1124,7 @@ contains
                                    grid%element_momentum_left, grid%element_momentum_right, grid%element_stress_volume, &
                                    constants, box%carry, particles%mass_of, particles%youngs_modulus_of, box%forces, &
                                    particles%velocity_gradient, grid%element_force_left, grid%element_force_right, &
+                                   mapped=box%mapped_velocity, separating=box%separating, &
                                    plastic_strain=particles%plastic_strain, hardening=particles%hardening, &
                                    yield_of=particles%yield_stress_of, hardening_of=particles%hardening_modulus_of)
          case (57)
@@ -1056,7 +1133,8 @@ contains
                                           grid%element_strain, grid%element_mass_left, grid%element_mass_right, &
                                           grid%element_momentum_left, grid%element_momentum_right, grid%element_stress_volume, &
                                           constants, box%carry, particles%mass_of, particles%youngs_modulus_of, box%forces, &
-                                          particles%velocity_gradient, grid%element_force_left, grid%element_force_right)
+                                          particles%velocity_gradient, grid%element_force_left, grid%element_force_right, &
+                                          mapped=box%mapped_velocity, separating=box%separating)
          case (58)
             call forced_musl_stress_segment(k, seg, particles%x, particles%x0, particles%v, particles%stress, &
                                            particles%volume_ratio, particles%cell, grid%acceleration, grid%velocity, &
@@ -1064,6 +1142,7 @@ contains
                                            grid%element_momentum_left, grid%element_momentum_right, grid%element_stress_volume, &
                                            constants, box%carry, particles%mass_of, particles%youngs_modulus_of, box%forces, &
                                            particles%velocity_gradient, grid%element_force_left, grid%element_force_right, &
+                                           mapped=box%mapped_velocity, separating=box%separating, &
                                            plastic_strain=particles%plastic_strain, hardening=particles%hardening, &
                                            yield_of=particles%yield_stress_of, hardening_of=particles%hardening_modulus_of)
          case (59)
@@ -1072,14 +1151,16 @@ contains
                                    grid%element_strain, grid%element_mass_left, grid%element_mass_right, &
                                    grid%element_momentum_left, grid%element_momentum_right, grid%element_stress_volume, &
                                    constants, box%carry, particles%mass_of, particles%youngs_modulus_of, box%forces, &
-                                   particles%velocity_gradient, grid%element_force_left, grid%element_force_right)
+                                   particles%velocity_gradient, grid%element_force_left, grid%element_force_right, &
+                                   mapped=box%mapped_velocity, separating=box%separating)
          case (60)
             call forced_map_stress_segment(k, seg, particles%x, particles%x0, particles%v, particles%stress, &
                                           particles%volume_ratio, particles%cell, grid%acceleration, grid%velocity, &
                                           grid%element_strain, grid%element_mass_left, grid%element_mass_right, &
                                           grid%element_momentum_left, grid%element_momentum_right, grid%element_stress_volume, &
                                           constants, box%carry, particles%mass_of, particles%youngs_modulus_of, box%forces, &
-                                          particles%velocity_gradient, grid%element_force_left, grid%element_force_right)
+                                          particles%velocity_gradient, grid%element_force_left, grid%element_force_right, &
+                                          mapped=box%mapped_velocity, separating=box%separating)
          case (61)
             call bodies_usf_move_segment(k, seg, particles%x, particles%x0, particles%v, particles%stress, &
                                         particles%volume_ratio, particles%cell, grid%acceleration, grid%velocity, &
@@ -1125,6 +1206,130 @@ contains
                                           grid%element_strain, grid%element_mass_left, grid%element_mass_right, &
                                           grid%element_momentum_left, grid%element_momentum_right, grid%element_stress_volume, &
                                           body_constants(k), box%carry)
+         case (68)
+            call asflip_usf_move_segment(k, seg, particles%x, particles%x0, particles%v, particles%stress, &
+                                        particles%volume_ratio, particles%cell, grid%acceleration, grid%velocity, &
+                                        grid%element_strain, grid%element_mass_left, grid%element_mass_right, &
+                                        grid%element_momentum_left, grid%element_momentum_right, grid%element_stress_volume, &
+                                        constants, box%carry, particles%mass_of, particles%youngs_modulus_of, box%forces, &
+                                        particles%velocity_gradient, grid%element_force_left, grid%element_force_right, &
+                                        mapped=box%mapped_velocity, separating=box%separating)
+         case (69)
+            call asflip_usf_stress_segment(k, seg, particles%x, particles%x0, particles%v, particles%stress, &
+                                          particles%volume_ratio, particles%cell, grid%acceleration, grid%velocity, &
+                                          grid%element_strain, grid%element_mass_left, grid%element_mass_right, &
+                                          grid%element_momentum_left, grid%element_momentum_right, grid%element_stress_volume, &
+                                          constants, box%carry, particles%mass_of, particles%youngs_modulus_of, box%forces, &
+                                          particles%velocity_gradient, grid%element_force_left, grid%element_force_right, &
+                                          mapped=box%mapped_velocity, separating=box%separating, &
+                                          plastic_strain=particles%plastic_strain, hardening=particles%hardening, &
+                                          yield_of=particles%yield_stress_of, hardening_of=particles%hardening_modulus_of)
+         case (70)
+            call asflip_usl_segment(k, seg, particles%x, particles%x0, particles%v, particles%stress, &
+                                   particles%volume_ratio, particles%cell, grid%acceleration, grid%velocity, &
+                                   grid%element_strain, grid%element_mass_left, grid%element_mass_right, &
+                                   grid%element_momentum_left, grid%element_momentum_right, grid%element_stress_volume, &
+                                   constants, box%carry, particles%mass_of, particles%youngs_modulus_of, box%forces, &
+                                   particles%velocity_gradient, grid%element_force_left, grid%element_force_right, &
+                                   mapped=box%mapped_velocity, separating=box%separating, &
+                                   plastic_strain=particles%plastic_strain, hardening=particles%hardening, &
+                                   yield_of=particles%yield_stress_of, hardening_of=particles%hardening_modulus_of)
+         case (71)
+            call asflip_musl_remap_segment(k, seg, particles%x, particles%x0, particles%v, particles%stress, &
+                                          particles%volume_ratio, particles%cell, grid%acceleration, grid%velocity, &
+                                          grid%element_strain, grid%element_mass_left, grid%element_mass_right, &
+                                          grid%element_momentum_left, grid%element_momentum_right, grid%element_stress_volume, &
+                                          constants, box%carry, particles%mass_of, particles%youngs_modulus_of, box%forces, &
+                                          particles%velocity_gradient, grid%element_force_left, grid%element_force_right, &
+                                          mapped=box%mapped_velocity, separating=box%separating)
+         case (72)
+            call asflip_musl_stress_segment(k, seg, particles%x, particles%x0, particles%v, particles%stress, &
+                                           particles%volume_ratio, particles%cell, grid%acceleration, grid%velocity, &
+                                           grid%element_strain, grid%element_mass_left, grid%element_mass_right, &
+                                           grid%element_momentum_left, grid%element_momentum_right, grid%element_stress_volume, &
+                                           constants, box%carry, particles%mass_of, particles%youngs_modulus_of, box%forces, &
+                                           particles%velocity_gradient, grid%element_force_left, grid%element_force_right, &
+                                           mapped=box%mapped_velocity, separating=box%separating, &
+                                           plastic_strain=particles%plastic_strain, hardening=particles%hardening, &
+                                           yield_of=particles%yield_stress_of, hardening_of=particles%hardening_modulus_of)
+         case (73)
+            call asflip_map_segment(k, seg, particles%x, particles%x0, particles%v, particles%stress, &
+                                   particles%volume_ratio, particles%cell, grid%acceleration, grid%velocity, &
+                                   grid%element_strain, grid%element_mass_left, grid%element_mass_right, &
+                                   grid%element_momentum_left, grid%element_momentum_right, grid%element_stress_volume, &
+                                   constants, box%carry, particles%mass_of, particles%youngs_modulus_of, box%forces, &
+                                   particles%velocity_gradient, grid%element_force_left, grid%element_force_right, &
+                                   mapped=box%mapped_velocity, separating=box%separating)
+         case (74)
+            call asflip_map_stress_segment(k, seg, particles%x, particles%x0, particles%v, particles%stress, &
+                                          particles%volume_ratio, particles%cell, grid%acceleration, grid%velocity, &
+                                          grid%element_strain, grid%element_mass_left, grid%element_mass_right, &
+                                          grid%element_momentum_left, grid%element_momentum_right, grid%element_stress_volume, &
+                                          constants, box%carry, particles%mass_of, particles%youngs_modulus_of, box%forces, &
+                                          particles%velocity_gradient, grid%element_force_left, grid%element_force_right, &
+                                          mapped=box%mapped_velocity, separating=box%separating)
+         case (75)
+            call total_usf_move_segment(k, seg, particles%x, particles%x0, particles%v, particles%stress, &
+                                       particles%volume_ratio, particles%cell, grid%acceleration, grid%velocity, &
+                                       grid%element_strain, grid%element_mass_left, grid%element_mass_right, &
+                                       grid%element_momentum_left, grid%element_momentum_right, grid%element_stress_volume, &
+                                       constants, box%carry, particles%mass_of, particles%youngs_modulus_of, box%forces, &
+                                       particles%velocity_gradient, grid%element_force_left, grid%element_force_right, &
+                                       mapped=box%mapped_velocity, separating=box%separating)
+         case (76)
+            call total_usf_stress_segment(k, seg, particles%x, particles%x0, particles%v, particles%stress, &
+                                         particles%volume_ratio, particles%cell, grid%acceleration, grid%velocity, &
+                                         grid%element_strain, grid%element_mass_left, grid%element_mass_right, &
+                                         grid%element_momentum_left, grid%element_momentum_right, grid%element_stress_volume, &
+                                         constants, box%carry, particles%mass_of, particles%youngs_modulus_of, box%forces, &
+                                         particles%velocity_gradient, grid%element_force_left, grid%element_force_right, &
+                                         mapped=box%mapped_velocity, separating=box%separating, &
+                                         plastic_strain=particles%plastic_strain, hardening=particles%hardening, &
+                                         yield_of=particles%yield_stress_of, hardening_of=particles%hardening_modulus_of)
+         case (77)
+            call total_usl_segment(k, seg, particles%x, particles%x0, particles%v, particles%stress, &
+                                  particles%volume_ratio, particles%cell, grid%acceleration, grid%velocity, &
+                                  grid%element_strain, grid%element_mass_left, grid%element_mass_right, &
+                                  grid%element_momentum_left, grid%element_momentum_right, grid%element_stress_volume, &
+                                  constants, box%carry, particles%mass_of, particles%youngs_modulus_of, box%forces, &
+                                  particles%velocity_gradient, grid%element_force_left, grid%element_force_right, &
+                                  mapped=box%mapped_velocity, separating=box%separating, &
+                                  plastic_strain=particles%plastic_strain, hardening=particles%hardening, &
+                                  yield_of=particles%yield_stress_of, hardening_of=particles%hardening_modulus_of)
+         case (78)
+            call total_musl_remap_segment(k, seg, particles%x, particles%x0, particles%v, particles%stress, &
+                                         particles%volume_ratio, particles%cell, grid%acceleration, grid%velocity, &
+                                         grid%element_strain, grid%element_mass_left, grid%element_mass_right, &
+                                         grid%element_momentum_left, grid%element_momentum_right, grid%element_stress_volume, &
+                                         constants, box%carry, particles%mass_of, particles%youngs_modulus_of, box%forces, &
+                                         particles%velocity_gradient, grid%element_force_left, grid%element_force_right, &
+                                         mapped=box%mapped_velocity, separating=box%separating)
+         case (79)
+            call total_musl_stress_segment(k, seg, particles%x, particles%x0, particles%v, particles%stress, &
+                                          particles%volume_ratio, particles%cell, grid%acceleration, grid%velocity, &
+                                          grid%element_strain, grid%element_mass_left, grid%element_mass_right, &
+                                          grid%element_momentum_left, grid%element_momentum_right, grid%element_stress_volume, &
+                                          constants, box%carry, particles%mass_of, particles%youngs_modulus_of, box%forces, &
+                                          particles%velocity_gradient, grid%element_force_left, grid%element_force_right, &
+                                          mapped=box%mapped_velocity, separating=box%separating, &
+                                          plastic_strain=particles%plastic_strain, hardening=particles%hardening, &
+                                          yield_of=particles%yield_stress_of, hardening_of=particles%hardening_modulus_of)
+         case (80)
+            call total_map_segment(k, seg, particles%x, particles%x0, particles%v, particles%stress, &
+                                  particles%volume_ratio, particles%cell, grid%acceleration, grid%velocity, &
+                                  grid%element_strain, grid%element_mass_left, grid%element_mass_right, &
+                                  grid%element_momentum_left, grid%element_momentum_right, grid%element_stress_volume, &
+                                  constants, box%carry, particles%mass_of, particles%youngs_modulus_of, box%forces, &
+                                  particles%velocity_gradient, grid%element_force_left, grid%element_force_right, &
+                                  mapped=box%mapped_velocity, separating=box%separating)
+         case (81)
+            call total_map_stress_segment(k, seg, particles%x, particles%x0, particles%v, particles%stress, &
+                                         particles%volume_ratio, particles%cell, grid%acceleration, grid%velocity, &
+                                         grid%element_strain, grid%element_mass_left, grid%element_mass_right, &
+                                         grid%element_momentum_left, grid%element_momentum_right, grid%element_stress_volume, &
+                                         constants, box%carry, particles%mass_of, particles%youngs_modulus_of, box%forces, &
+                                         particles%velocity_gradient, grid%element_force_left, grid%element_force_right, &
+                                         mapped=box%mapped_velocity, separating=box%separating)
          end select
       end subroutine segment
       !> The constants of segment k's body (bodies: each segment lies in one body's field).
@@ -1210,6 +1415,43 @@ contains
          call strain_range(1, grid%elements, dt, grid%inv_dx, grid%velocity, grid%element_strain)
       end if
    end subroutine strain_increments
+
+   !> ASFLIP's separation test per element of the hat, before a pass that moves the particles with the
+   !> grid's updated velocities v^L: a particle of element e separates (mpm_asflip) where ln J^n + d eps_e >=
+   !> separation_threshold, d eps_e = dt (v_e - v_{e-1})/dx (strain_increment), that is where J^n >=
+   !> separating(e) = exp(separation_threshold - d eps_e). The same test, with an exp per element in place of
+   !> a log per particle (which cost a quarter of a step); the exp as its Taylor polynomial of degree 8 where
+   !> |y| <= 2^-6 (remainder below 2e-22 relative: it and the library's exp are within an ulp of the exact
+   !> value), in a loop that vectorises, and the library's exp for the elements beyond (a fast compression
+   !> or expansion, rare). The two tests round differently only where J^n lies within an ulp or two of the
+   !> boundary.
+   subroutine asflip_separation(grid, dt, separating)
+      type(grid_t), intent(in) :: grid
+      real(dp), intent(in) :: dt
+      real(dp), intent(inout), contiguous :: separating(:)
+      real(dp), parameter :: limit = 2.0_dp**(-6)
+      !> elements per chunk: the library's exp only in a chunk that needs it, while it is in cache
+      integer, parameter :: chunk = 256
+      integer :: e, lo, hi
+      real(dp) :: y, widest
+      associate (v => grid%velocity, inv_dx => grid%inv_dx)
+         do lo = 1, grid%elements, chunk
+            hi = min(grid%elements, lo + chunk - 1)
+            widest = 0.0_dp
+            do e = lo, hi
+               y = separation_threshold - strain_increment(v(e - 1), v(e), dt, inv_dx)
+               widest = max(widest, abs(y))
+               separating(e) = 1.0_dp + y*(1.0_dp + y*(1.0_dp/2 + y*(1.0_dp/6 + y*(1.0_dp/24 + y*(1.0_dp/120 + &
+                               y*(1.0_dp/720 + y*(1.0_dp/5040 + y*(1.0_dp/40320))))))))
+            end do
+            if (widest <= limit) cycle
+            do e = lo, hi
+               y = separation_threshold - strain_increment(v(e - 1), v(e), dt, inv_dx)
+               if (abs(y) > limit) separating(e) = exp(y)
+            end do
+         end do
+      end associate
+   end subroutine asflip_separation
 
    subroutine strain_range(lo, hi, dt, inv_dx, velocity, strain)
       integer, intent(in) :: lo, hi
@@ -2274,7 +2516,8 @@ contains
    subroutine usf_move_segment(k, seg, x, x0, v, stress, volume_ratio, cell, acceleration, velocity, &
                                strain_increment_of, mass_left, mass_right, momentum_left, momentum_right, &
                                stress_volume, constants, carry, mass_of, modulus_of, forces, gradient, force_left, &
-                               force_right, plastic_strain, hardening, yield_of, hardening_of)
+                               force_right, plastic_strain, hardening, yield_of, hardening_of, mapped, &
+                               separating)
       integer, parameter :: kernel = pass_usf_move
       logical, parameter :: moves = pass_moves(kernel), stresses = pass_stresses(kernel), relocates = pass_relocates(kernel)
       integer, parameter :: shares = pass_shares(kernel)
@@ -2297,6 +2540,9 @@ contains
       !> yield stress and hardening modulus (absent for the other laws)
       real(dp), intent(inout), contiguous, optional :: plastic_strain(:), hardening(:)
       real(dp), intent(in), contiguous, optional :: yield_of(:), hardening_of(:)
+      !> ASFLIP's nodal velocity v^n of the step's mapping and each element's J of separation (absent for
+      !> the others)
+      real(dp), intent(in), contiguous, optional :: mapped(0:), separating(:)
       integer :: p, e, i, n, b0, first, last, lo, hi, outside, ahead, elements
       real(dp) :: half_m, strain_factor, dstrain, inv_dx, dt, youngs_modulus, m, volume0
       logical :: linear, plastic
@@ -2421,7 +2667,8 @@ contains
    subroutine usf_stress_segment(k, seg, x, x0, v, stress, volume_ratio, cell, acceleration, velocity, &
                                  strain_increment_of, mass_left, mass_right, momentum_left, momentum_right, &
                                  stress_volume, constants, carry, mass_of, modulus_of, forces, gradient, force_left, &
-                                 force_right, plastic_strain, hardening, yield_of, hardening_of)
+                                 force_right, plastic_strain, hardening, yield_of, hardening_of, mapped, &
+                                 separating)
       integer, parameter :: kernel = pass_usf_stress
       logical, parameter :: moves = pass_moves(kernel), stresses = pass_stresses(kernel), relocates = pass_relocates(kernel)
       integer, parameter :: shares = pass_shares(kernel)
@@ -2444,6 +2691,9 @@ contains
       !> yield stress and hardening modulus (absent for the other laws)
       real(dp), intent(inout), contiguous, optional :: plastic_strain(:), hardening(:)
       real(dp), intent(in), contiguous, optional :: yield_of(:), hardening_of(:)
+      !> ASFLIP's nodal velocity v^n of the step's mapping and each element's J of separation (absent for
+      !> the others)
+      real(dp), intent(in), contiguous, optional :: mapped(0:), separating(:)
       integer :: p, e, i, n, b0, first, last, lo, hi, outside, ahead, elements
       real(dp) :: half_m, strain_factor, dstrain, inv_dx, dt, youngs_modulus, m, volume0
       logical :: linear, plastic
@@ -2644,7 +2894,8 @@ contains
    subroutine usl_segment(k, seg, x, x0, v, stress, volume_ratio, cell, acceleration, velocity, &
                           strain_increment_of, mass_left, mass_right, momentum_left, momentum_right, &
                           stress_volume, constants, carry, mass_of, modulus_of, forces, gradient, force_left, &
-                          force_right, plastic_strain, hardening, yield_of, hardening_of)
+                          force_right, plastic_strain, hardening, yield_of, hardening_of, mapped, &
+                          separating)
       integer, parameter :: kernel = pass_usl
       logical, parameter :: moves = pass_moves(kernel), stresses = pass_stresses(kernel), relocates = pass_relocates(kernel)
       integer, parameter :: shares = pass_shares(kernel)
@@ -2667,6 +2918,9 @@ contains
       !> yield stress and hardening modulus (absent for the other laws)
       real(dp), intent(inout), contiguous, optional :: plastic_strain(:), hardening(:)
       real(dp), intent(in), contiguous, optional :: yield_of(:), hardening_of(:)
+      !> ASFLIP's nodal velocity v^n of the step's mapping and each element's J of separation (absent for
+      !> the others)
+      real(dp), intent(in), contiguous, optional :: mapped(0:), separating(:)
       integer :: p, e, i, n, b0, first, last, lo, hi, outside, ahead, elements
       real(dp) :: half_m, strain_factor, dstrain, inv_dx, dt, youngs_modulus, m, volume0
       logical :: linear, plastic
@@ -2867,7 +3121,8 @@ contains
    subroutine musl_remap_segment(k, seg, x, x0, v, stress, volume_ratio, cell, acceleration, velocity, &
                                  strain_increment_of, mass_left, mass_right, momentum_left, momentum_right, &
                                  stress_volume, constants, carry, mass_of, modulus_of, forces, gradient, force_left, &
-                                 force_right, plastic_strain, hardening, yield_of, hardening_of)
+                                 force_right, plastic_strain, hardening, yield_of, hardening_of, mapped, &
+                                 separating)
       integer, parameter :: kernel = pass_musl_remap
       logical, parameter :: moves = pass_moves(kernel), stresses = pass_stresses(kernel), relocates = pass_relocates(kernel)
       integer, parameter :: shares = pass_shares(kernel)
@@ -2890,6 +3145,9 @@ contains
       !> yield stress and hardening modulus (absent for the other laws)
       real(dp), intent(inout), contiguous, optional :: plastic_strain(:), hardening(:)
       real(dp), intent(in), contiguous, optional :: yield_of(:), hardening_of(:)
+      !> ASFLIP's nodal velocity v^n of the step's mapping and each element's J of separation (absent for
+      !> the others)
+      real(dp), intent(in), contiguous, optional :: mapped(0:), separating(:)
       integer :: p, e, i, n, b0, first, last, lo, hi, outside, ahead, elements
       real(dp) :: half_m, strain_factor, dstrain, inv_dx, dt, youngs_modulus, m, volume0
       logical :: linear, plastic
@@ -3014,7 +3272,8 @@ contains
    subroutine musl_stress_segment(k, seg, x, x0, v, stress, volume_ratio, cell, acceleration, velocity, &
                                   strain_increment_of, mass_left, mass_right, momentum_left, momentum_right, &
                                   stress_volume, constants, carry, mass_of, modulus_of, forces, gradient, force_left, &
-                                  force_right, plastic_strain, hardening, yield_of, hardening_of)
+                                  force_right, plastic_strain, hardening, yield_of, hardening_of, mapped, &
+                                  separating)
       integer, parameter :: kernel = pass_musl_stress
       logical, parameter :: moves = pass_moves(kernel), stresses = pass_stresses(kernel), relocates = pass_relocates(kernel)
       integer, parameter :: shares = pass_shares(kernel)
@@ -3037,6 +3296,9 @@ contains
       !> yield stress and hardening modulus (absent for the other laws)
       real(dp), intent(inout), contiguous, optional :: plastic_strain(:), hardening(:)
       real(dp), intent(in), contiguous, optional :: yield_of(:), hardening_of(:)
+      !> ASFLIP's nodal velocity v^n of the step's mapping and each element's J of separation (absent for
+      !> the others)
+      real(dp), intent(in), contiguous, optional :: mapped(0:), separating(:)
       integer :: p, e, i, n, b0, first, last, lo, hi, outside, ahead, elements
       real(dp) :: half_m, strain_factor, dstrain, inv_dx, dt, youngs_modulus, m, volume0
       logical :: linear, plastic
@@ -3237,7 +3499,8 @@ contains
    subroutine ugimp_usf_move_segment(k, seg, x, x0, v, stress, volume_ratio, cell, acceleration, velocity, &
                                      strain_increment_of, mass_left, mass_right, momentum_left, momentum_right, &
                                      stress_volume, constants, carry, mass_of, modulus_of, forces, gradient, force_left, &
-                                     force_right, plastic_strain, hardening, yield_of, hardening_of)
+                                     force_right, plastic_strain, hardening, yield_of, hardening_of, mapped, &
+                                     separating)
       integer, parameter :: kernel = pass_usf_move
       logical, parameter :: moves = pass_moves(kernel), stresses = pass_stresses(kernel), relocates = pass_relocates(kernel)
       integer, parameter :: shares = pass_shares(kernel)
@@ -3260,6 +3523,9 @@ contains
       !> yield stress and hardening modulus (absent for the other laws)
       real(dp), intent(inout), contiguous, optional :: plastic_strain(:), hardening(:)
       real(dp), intent(in), contiguous, optional :: yield_of(:), hardening_of(:)
+      !> ASFLIP's nodal velocity v^n of the step's mapping and each element's J of separation (absent for
+      !> the others)
+      real(dp), intent(in), contiguous, optional :: mapped(0:), separating(:)
       integer :: p, e, i, n, b0, first, last, lo, hi, outside, ahead, elements
       real(dp) :: half_m, strain_factor, dstrain, inv_dx, dt, youngs_modulus, m, volume0
       logical :: linear, plastic
@@ -3424,7 +3690,8 @@ contains
    subroutine ugimp_usf_stress_segment(k, seg, x, x0, v, stress, volume_ratio, cell, acceleration, velocity, &
                                        strain_increment_of, mass_left, mass_right, momentum_left, momentum_right, &
                                        stress_volume, constants, carry, mass_of, modulus_of, forces, gradient, force_left, &
-                                       force_right, plastic_strain, hardening, yield_of, hardening_of)
+                                       force_right, plastic_strain, hardening, yield_of, hardening_of, mapped, &
+                                       separating)
       integer, parameter :: kernel = pass_usf_stress
       logical, parameter :: moves = pass_moves(kernel), stresses = pass_stresses(kernel), relocates = pass_relocates(kernel)
       integer, parameter :: shares = pass_shares(kernel)
@@ -3447,6 +3714,9 @@ contains
       !> yield stress and hardening modulus (absent for the other laws)
       real(dp), intent(inout), contiguous, optional :: plastic_strain(:), hardening(:)
       real(dp), intent(in), contiguous, optional :: yield_of(:), hardening_of(:)
+      !> ASFLIP's nodal velocity v^n of the step's mapping and each element's J of separation (absent for
+      !> the others)
+      real(dp), intent(in), contiguous, optional :: mapped(0:), separating(:)
       integer :: p, e, i, n, b0, first, last, lo, hi, outside, ahead, elements
       real(dp) :: half_m, strain_factor, dstrain, inv_dx, dt, youngs_modulus, m, volume0
       logical :: linear, plastic
@@ -3747,7 +4017,8 @@ contains
    subroutine ugimp_usl_segment(k, seg, x, x0, v, stress, volume_ratio, cell, acceleration, velocity, &
                                 strain_increment_of, mass_left, mass_right, momentum_left, momentum_right, &
                                 stress_volume, constants, carry, mass_of, modulus_of, forces, gradient, force_left, &
-                                force_right, plastic_strain, hardening, yield_of, hardening_of)
+                                force_right, plastic_strain, hardening, yield_of, hardening_of, mapped, &
+                                separating)
       integer, parameter :: kernel = pass_usl
       logical, parameter :: moves = pass_moves(kernel), stresses = pass_stresses(kernel), relocates = pass_relocates(kernel)
       integer, parameter :: shares = pass_shares(kernel)
@@ -3770,6 +4041,9 @@ contains
       !> yield stress and hardening modulus (absent for the other laws)
       real(dp), intent(inout), contiguous, optional :: plastic_strain(:), hardening(:)
       real(dp), intent(in), contiguous, optional :: yield_of(:), hardening_of(:)
+      !> ASFLIP's nodal velocity v^n of the step's mapping and each element's J of separation (absent for
+      !> the others)
+      real(dp), intent(in), contiguous, optional :: mapped(0:), separating(:)
       integer :: p, e, i, n, b0, first, last, lo, hi, outside, ahead, elements
       real(dp) :: half_m, strain_factor, dstrain, inv_dx, dt, youngs_modulus, m, volume0
       logical :: linear, plastic
@@ -4070,7 +4344,8 @@ contains
    subroutine ugimp_musl_remap_segment(k, seg, x, x0, v, stress, volume_ratio, cell, acceleration, velocity, &
                                        strain_increment_of, mass_left, mass_right, momentum_left, momentum_right, &
                                        stress_volume, constants, carry, mass_of, modulus_of, forces, gradient, force_left, &
-                                       force_right, plastic_strain, hardening, yield_of, hardening_of)
+                                       force_right, plastic_strain, hardening, yield_of, hardening_of, mapped, &
+                                       separating)
       integer, parameter :: kernel = pass_musl_remap
       logical, parameter :: moves = pass_moves(kernel), stresses = pass_stresses(kernel), relocates = pass_relocates(kernel)
       integer, parameter :: shares = pass_shares(kernel)
@@ -4093,6 +4368,9 @@ contains
       !> yield stress and hardening modulus (absent for the other laws)
       real(dp), intent(inout), contiguous, optional :: plastic_strain(:), hardening(:)
       real(dp), intent(in), contiguous, optional :: yield_of(:), hardening_of(:)
+      !> ASFLIP's nodal velocity v^n of the step's mapping and each element's J of separation (absent for
+      !> the others)
+      real(dp), intent(in), contiguous, optional :: mapped(0:), separating(:)
       integer :: p, e, i, n, b0, first, last, lo, hi, outside, ahead, elements
       real(dp) :: half_m, strain_factor, dstrain, inv_dx, dt, youngs_modulus, m, volume0
       logical :: linear, plastic
@@ -4257,7 +4535,8 @@ contains
    subroutine ugimp_musl_stress_segment(k, seg, x, x0, v, stress, volume_ratio, cell, acceleration, velocity, &
                                         strain_increment_of, mass_left, mass_right, momentum_left, momentum_right, &
                                         stress_volume, constants, carry, mass_of, modulus_of, forces, gradient, force_left, &
-                                        force_right, plastic_strain, hardening, yield_of, hardening_of)
+                                        force_right, plastic_strain, hardening, yield_of, hardening_of, mapped, &
+                                        separating)
       integer, parameter :: kernel = pass_musl_stress
       logical, parameter :: moves = pass_moves(kernel), stresses = pass_stresses(kernel), relocates = pass_relocates(kernel)
       integer, parameter :: shares = pass_shares(kernel)
@@ -4280,6 +4559,9 @@ contains
       !> yield stress and hardening modulus (absent for the other laws)
       real(dp), intent(inout), contiguous, optional :: plastic_strain(:), hardening(:)
       real(dp), intent(in), contiguous, optional :: yield_of(:), hardening_of(:)
+      !> ASFLIP's nodal velocity v^n of the step's mapping and each element's J of separation (absent for
+      !> the others)
+      real(dp), intent(in), contiguous, optional :: mapped(0:), separating(:)
       integer :: p, e, i, n, b0, first, last, lo, hi, outside, ahead, elements
       real(dp) :: half_m, strain_factor, dstrain, inv_dx, dt, youngs_modulus, m, volume0
       logical :: linear, plastic
@@ -4580,7 +4862,8 @@ contains
    subroutine cpgimp_usf_move_segment(k, seg, x, x0, v, stress, volume_ratio, cell, acceleration, velocity, &
                                       strain_increment_of, mass_left, mass_right, momentum_left, momentum_right, &
                                       stress_volume, constants, carry, mass_of, modulus_of, forces, gradient, force_left, &
-                                      force_right, plastic_strain, hardening, yield_of, hardening_of)
+                                      force_right, plastic_strain, hardening, yield_of, hardening_of, mapped, &
+                                      separating)
       integer, parameter :: kernel = pass_usf_move
       logical, parameter :: moves = pass_moves(kernel), stresses = pass_stresses(kernel), relocates = pass_relocates(kernel)
       integer, parameter :: shares = pass_shares(kernel)
@@ -4603,6 +4886,9 @@ contains
       !> yield stress and hardening modulus (absent for the other laws)
       real(dp), intent(inout), contiguous, optional :: plastic_strain(:), hardening(:)
       real(dp), intent(in), contiguous, optional :: yield_of(:), hardening_of(:)
+      !> ASFLIP's nodal velocity v^n of the step's mapping and each element's J of separation (absent for
+      !> the others)
+      real(dp), intent(in), contiguous, optional :: mapped(0:), separating(:)
       integer :: p, e, i, n, b0, first, last, lo, hi, outside, ahead, elements
       real(dp) :: half_m, strain_factor, dstrain, inv_dx, dt, youngs_modulus, m, volume0
       logical :: linear, plastic
@@ -4773,7 +5059,8 @@ contains
    subroutine cpgimp_usf_stress_segment(k, seg, x, x0, v, stress, volume_ratio, cell, acceleration, velocity, &
                                         strain_increment_of, mass_left, mass_right, momentum_left, momentum_right, &
                                         stress_volume, constants, carry, mass_of, modulus_of, forces, gradient, force_left, &
-                                        force_right, plastic_strain, hardening, yield_of, hardening_of)
+                                        force_right, plastic_strain, hardening, yield_of, hardening_of, mapped, &
+                                        separating)
       integer, parameter :: kernel = pass_usf_stress
       logical, parameter :: moves = pass_moves(kernel), stresses = pass_stresses(kernel), relocates = pass_relocates(kernel)
       integer, parameter :: shares = pass_shares(kernel)
@@ -4796,6 +5083,9 @@ contains
       !> yield stress and hardening modulus (absent for the other laws)
       real(dp), intent(inout), contiguous, optional :: plastic_strain(:), hardening(:)
       real(dp), intent(in), contiguous, optional :: yield_of(:), hardening_of(:)
+      !> ASFLIP's nodal velocity v^n of the step's mapping and each element's J of separation (absent for
+      !> the others)
+      real(dp), intent(in), contiguous, optional :: mapped(0:), separating(:)
       integer :: p, e, i, n, b0, first, last, lo, hi, outside, ahead, elements
       real(dp) :: half_m, strain_factor, dstrain, inv_dx, dt, youngs_modulus, m, volume0
       logical :: linear, plastic
@@ -5114,7 +5404,8 @@ contains
    subroutine cpgimp_usl_segment(k, seg, x, x0, v, stress, volume_ratio, cell, acceleration, velocity, &
                                  strain_increment_of, mass_left, mass_right, momentum_left, momentum_right, &
                                  stress_volume, constants, carry, mass_of, modulus_of, forces, gradient, force_left, &
-                                 force_right, plastic_strain, hardening, yield_of, hardening_of)
+                                 force_right, plastic_strain, hardening, yield_of, hardening_of, mapped, &
+                                 separating)
       integer, parameter :: kernel = pass_usl
       logical, parameter :: moves = pass_moves(kernel), stresses = pass_stresses(kernel), relocates = pass_relocates(kernel)
       integer, parameter :: shares = pass_shares(kernel)
@@ -5137,6 +5428,9 @@ contains
       !> yield stress and hardening modulus (absent for the other laws)
       real(dp), intent(inout), contiguous, optional :: plastic_strain(:), hardening(:)
       real(dp), intent(in), contiguous, optional :: yield_of(:), hardening_of(:)
+      !> ASFLIP's nodal velocity v^n of the step's mapping and each element's J of separation (absent for
+      !> the others)
+      real(dp), intent(in), contiguous, optional :: mapped(0:), separating(:)
       integer :: p, e, i, n, b0, first, last, lo, hi, outside, ahead, elements
       real(dp) :: half_m, strain_factor, dstrain, inv_dx, dt, youngs_modulus, m, volume0
       logical :: linear, plastic
@@ -5455,7 +5749,8 @@ contains
    subroutine cpgimp_musl_remap_segment(k, seg, x, x0, v, stress, volume_ratio, cell, acceleration, velocity, &
                                         strain_increment_of, mass_left, mass_right, momentum_left, momentum_right, &
                                         stress_volume, constants, carry, mass_of, modulus_of, forces, gradient, force_left, &
-                                        force_right, plastic_strain, hardening, yield_of, hardening_of)
+                                        force_right, plastic_strain, hardening, yield_of, hardening_of, mapped, &
+                                        separating)
       integer, parameter :: kernel = pass_musl_remap
       logical, parameter :: moves = pass_moves(kernel), stresses = pass_stresses(kernel), relocates = pass_relocates(kernel)
       integer, parameter :: shares = pass_shares(kernel)
@@ -5478,6 +5773,9 @@ contains
       !> yield stress and hardening modulus (absent for the other laws)
       real(dp), intent(inout), contiguous, optional :: plastic_strain(:), hardening(:)
       real(dp), intent(in), contiguous, optional :: yield_of(:), hardening_of(:)
+      !> ASFLIP's nodal velocity v^n of the step's mapping and each element's J of separation (absent for
+      !> the others)
+      real(dp), intent(in), contiguous, optional :: mapped(0:), separating(:)
       integer :: p, e, i, n, b0, first, last, lo, hi, outside, ahead, elements
       real(dp) :: half_m, strain_factor, dstrain, inv_dx, dt, youngs_modulus, m, volume0
       logical :: linear, plastic
@@ -5648,7 +5946,8 @@ contains
    subroutine cpgimp_musl_stress_segment(k, seg, x, x0, v, stress, volume_ratio, cell, acceleration, velocity, &
                                          strain_increment_of, mass_left, mass_right, momentum_left, momentum_right, &
                                          stress_volume, constants, carry, mass_of, modulus_of, forces, gradient, force_left, &
-                                         force_right, plastic_strain, hardening, yield_of, hardening_of)
+                                         force_right, plastic_strain, hardening, yield_of, hardening_of, mapped, &
+                                         separating)
       integer, parameter :: kernel = pass_musl_stress
       logical, parameter :: moves = pass_moves(kernel), stresses = pass_stresses(kernel), relocates = pass_relocates(kernel)
       integer, parameter :: shares = pass_shares(kernel)
@@ -5671,6 +5970,9 @@ contains
       !> yield stress and hardening modulus (absent for the other laws)
       real(dp), intent(inout), contiguous, optional :: plastic_strain(:), hardening(:)
       real(dp), intent(in), contiguous, optional :: yield_of(:), hardening_of(:)
+      !> ASFLIP's nodal velocity v^n of the step's mapping and each element's J of separation (absent for
+      !> the others)
+      real(dp), intent(in), contiguous, optional :: mapped(0:), separating(:)
       integer :: p, e, i, n, b0, first, last, lo, hi, outside, ahead, elements
       real(dp) :: half_m, strain_factor, dstrain, inv_dx, dt, youngs_modulus, m, volume0
       logical :: linear, plastic
@@ -5989,7 +6291,8 @@ contains
    subroutine bspline2_usf_move_segment(k, seg, x, x0, v, stress, volume_ratio, cell, acceleration, velocity, &
                                         strain_increment_of, mass_left, mass_right, momentum_left, momentum_right, &
                                         stress_volume, constants, carry, mass_of, modulus_of, forces, gradient, force_left, &
-                                        force_right, plastic_strain, hardening, yield_of, hardening_of)
+                                        force_right, plastic_strain, hardening, yield_of, hardening_of, mapped, &
+                                        separating)
       integer, parameter :: kernel = pass_usf_move
       logical, parameter :: moves = pass_moves(kernel), stresses = pass_stresses(kernel), relocates = pass_relocates(kernel)
       integer, parameter :: shares = pass_shares(kernel)
@@ -6012,6 +6315,9 @@ contains
       !> yield stress and hardening modulus (absent for the other laws)
       real(dp), intent(inout), contiguous, optional :: plastic_strain(:), hardening(:)
       real(dp), intent(in), contiguous, optional :: yield_of(:), hardening_of(:)
+      !> ASFLIP's nodal velocity v^n of the step's mapping and each element's J of separation (absent for
+      !> the others)
+      real(dp), intent(in), contiguous, optional :: mapped(0:), separating(:)
       integer :: p, e, i, n, b0, first, last, lo, hi, outside, ahead, elements
       real(dp) :: half_m, strain_factor, dstrain, inv_dx, dt, youngs_modulus, m, volume0
       logical :: linear, plastic
@@ -6171,7 +6477,8 @@ contains
    subroutine bspline2_usf_stress_segment(k, seg, x, x0, v, stress, volume_ratio, cell, acceleration, velocity, &
                                           strain_increment_of, mass_left, mass_right, momentum_left, momentum_right, &
                                           stress_volume, constants, carry, mass_of, modulus_of, forces, gradient, force_left, &
-                                          force_right, plastic_strain, hardening, yield_of, hardening_of)
+                                          force_right, plastic_strain, hardening, yield_of, hardening_of, mapped, &
+                                          separating)
       integer, parameter :: kernel = pass_usf_stress
       logical, parameter :: moves = pass_moves(kernel), stresses = pass_stresses(kernel), relocates = pass_relocates(kernel)
       integer, parameter :: shares = pass_shares(kernel)
@@ -6194,6 +6501,9 @@ contains
       !> yield stress and hardening modulus (absent for the other laws)
       real(dp), intent(inout), contiguous, optional :: plastic_strain(:), hardening(:)
       real(dp), intent(in), contiguous, optional :: yield_of(:), hardening_of(:)
+      !> ASFLIP's nodal velocity v^n of the step's mapping and each element's J of separation (absent for
+      !> the others)
+      real(dp), intent(in), contiguous, optional :: mapped(0:), separating(:)
       integer :: p, e, i, n, b0, first, last, lo, hi, outside, ahead, elements
       real(dp) :: half_m, strain_factor, dstrain, inv_dx, dt, youngs_modulus, m, volume0
       logical :: linear, plastic
@@ -6485,7 +6795,8 @@ contains
    subroutine bspline2_usl_segment(k, seg, x, x0, v, stress, volume_ratio, cell, acceleration, velocity, &
                                    strain_increment_of, mass_left, mass_right, momentum_left, momentum_right, &
                                    stress_volume, constants, carry, mass_of, modulus_of, forces, gradient, force_left, &
-                                   force_right, plastic_strain, hardening, yield_of, hardening_of)
+                                   force_right, plastic_strain, hardening, yield_of, hardening_of, mapped, &
+                                   separating)
       integer, parameter :: kernel = pass_usl
       logical, parameter :: moves = pass_moves(kernel), stresses = pass_stresses(kernel), relocates = pass_relocates(kernel)
       integer, parameter :: shares = pass_shares(kernel)
@@ -6508,6 +6819,9 @@ contains
       !> yield stress and hardening modulus (absent for the other laws)
       real(dp), intent(inout), contiguous, optional :: plastic_strain(:), hardening(:)
       real(dp), intent(in), contiguous, optional :: yield_of(:), hardening_of(:)
+      !> ASFLIP's nodal velocity v^n of the step's mapping and each element's J of separation (absent for
+      !> the others)
+      real(dp), intent(in), contiguous, optional :: mapped(0:), separating(:)
       integer :: p, e, i, n, b0, first, last, lo, hi, outside, ahead, elements
       real(dp) :: half_m, strain_factor, dstrain, inv_dx, dt, youngs_modulus, m, volume0
       logical :: linear, plastic
@@ -6799,7 +7113,8 @@ contains
    subroutine bspline2_musl_remap_segment(k, seg, x, x0, v, stress, volume_ratio, cell, acceleration, velocity, &
                                           strain_increment_of, mass_left, mass_right, momentum_left, momentum_right, &
                                           stress_volume, constants, carry, mass_of, modulus_of, forces, gradient, force_left, &
-                                          force_right, plastic_strain, hardening, yield_of, hardening_of)
+                                          force_right, plastic_strain, hardening, yield_of, hardening_of, mapped, &
+                                          separating)
       integer, parameter :: kernel = pass_musl_remap
       logical, parameter :: moves = pass_moves(kernel), stresses = pass_stresses(kernel), relocates = pass_relocates(kernel)
       integer, parameter :: shares = pass_shares(kernel)
@@ -6822,6 +7137,9 @@ contains
       !> yield stress and hardening modulus (absent for the other laws)
       real(dp), intent(inout), contiguous, optional :: plastic_strain(:), hardening(:)
       real(dp), intent(in), contiguous, optional :: yield_of(:), hardening_of(:)
+      !> ASFLIP's nodal velocity v^n of the step's mapping and each element's J of separation (absent for
+      !> the others)
+      real(dp), intent(in), contiguous, optional :: mapped(0:), separating(:)
       integer :: p, e, i, n, b0, first, last, lo, hi, outside, ahead, elements
       real(dp) :: half_m, strain_factor, dstrain, inv_dx, dt, youngs_modulus, m, volume0
       logical :: linear, plastic
@@ -6981,7 +7299,8 @@ contains
    subroutine bspline2_musl_stress_segment(k, seg, x, x0, v, stress, volume_ratio, cell, acceleration, velocity, &
                                            strain_increment_of, mass_left, mass_right, momentum_left, momentum_right, &
                                            stress_volume, constants, carry, mass_of, modulus_of, forces, gradient, force_left, &
-                                           force_right, plastic_strain, hardening, yield_of, hardening_of)
+                                           force_right, plastic_strain, hardening, yield_of, hardening_of, mapped, &
+                                           separating)
       integer, parameter :: kernel = pass_musl_stress
       logical, parameter :: moves = pass_moves(kernel), stresses = pass_stresses(kernel), relocates = pass_relocates(kernel)
       integer, parameter :: shares = pass_shares(kernel)
@@ -7004,6 +7323,9 @@ contains
       !> yield stress and hardening modulus (absent for the other laws)
       real(dp), intent(inout), contiguous, optional :: plastic_strain(:), hardening(:)
       real(dp), intent(in), contiguous, optional :: yield_of(:), hardening_of(:)
+      !> ASFLIP's nodal velocity v^n of the step's mapping and each element's J of separation (absent for
+      !> the others)
+      real(dp), intent(in), contiguous, optional :: mapped(0:), separating(:)
       integer :: p, e, i, n, b0, first, last, lo, hi, outside, ahead, elements
       real(dp) :: half_m, strain_factor, dstrain, inv_dx, dt, youngs_modulus, m, volume0
       logical :: linear, plastic
@@ -7295,7 +7617,8 @@ contains
    subroutine bspline3_usf_move_segment(k, seg, x, x0, v, stress, volume_ratio, cell, acceleration, velocity, &
                                         strain_increment_of, mass_left, mass_right, momentum_left, momentum_right, &
                                         stress_volume, constants, carry, mass_of, modulus_of, forces, gradient, force_left, &
-                                        force_right, plastic_strain, hardening, yield_of, hardening_of)
+                                        force_right, plastic_strain, hardening, yield_of, hardening_of, mapped, &
+                                        separating)
       integer, parameter :: kernel = pass_usf_move
       logical, parameter :: moves = pass_moves(kernel), stresses = pass_stresses(kernel), relocates = pass_relocates(kernel)
       integer, parameter :: shares = pass_shares(kernel)
@@ -7318,6 +7641,9 @@ contains
       !> yield stress and hardening modulus (absent for the other laws)
       real(dp), intent(inout), contiguous, optional :: plastic_strain(:), hardening(:)
       real(dp), intent(in), contiguous, optional :: yield_of(:), hardening_of(:)
+      !> ASFLIP's nodal velocity v^n of the step's mapping and each element's J of separation (absent for
+      !> the others)
+      real(dp), intent(in), contiguous, optional :: mapped(0:), separating(:)
       integer :: p, e, i, n, b0, first, last, lo, hi, outside, ahead, elements
       real(dp) :: half_m, strain_factor, dstrain, inv_dx, dt, youngs_modulus, m, volume0
       logical :: linear, plastic
@@ -7485,7 +7811,8 @@ contains
    subroutine bspline3_usf_stress_segment(k, seg, x, x0, v, stress, volume_ratio, cell, acceleration, velocity, &
                                           strain_increment_of, mass_left, mass_right, momentum_left, momentum_right, &
                                           stress_volume, constants, carry, mass_of, modulus_of, forces, gradient, force_left, &
-                                          force_right, plastic_strain, hardening, yield_of, hardening_of)
+                                          force_right, plastic_strain, hardening, yield_of, hardening_of, mapped, &
+                                          separating)
       integer, parameter :: kernel = pass_usf_stress
       logical, parameter :: moves = pass_moves(kernel), stresses = pass_stresses(kernel), relocates = pass_relocates(kernel)
       integer, parameter :: shares = pass_shares(kernel)
@@ -7508,6 +7835,9 @@ contains
       !> yield stress and hardening modulus (absent for the other laws)
       real(dp), intent(inout), contiguous, optional :: plastic_strain(:), hardening(:)
       real(dp), intent(in), contiguous, optional :: yield_of(:), hardening_of(:)
+      !> ASFLIP's nodal velocity v^n of the step's mapping and each element's J of separation (absent for
+      !> the others)
+      real(dp), intent(in), contiguous, optional :: mapped(0:), separating(:)
       integer :: p, e, i, n, b0, first, last, lo, hi, outside, ahead, elements
       real(dp) :: half_m, strain_factor, dstrain, inv_dx, dt, youngs_modulus, m, volume0
       logical :: linear, plastic
@@ -7817,7 +8147,8 @@ contains
    subroutine bspline3_usl_segment(k, seg, x, x0, v, stress, volume_ratio, cell, acceleration, velocity, &
                                    strain_increment_of, mass_left, mass_right, momentum_left, momentum_right, &
                                    stress_volume, constants, carry, mass_of, modulus_of, forces, gradient, force_left, &
-                                   force_right, plastic_strain, hardening, yield_of, hardening_of)
+                                   force_right, plastic_strain, hardening, yield_of, hardening_of, mapped, &
+                                   separating)
       integer, parameter :: kernel = pass_usl
       logical, parameter :: moves = pass_moves(kernel), stresses = pass_stresses(kernel), relocates = pass_relocates(kernel)
       integer, parameter :: shares = pass_shares(kernel)
@@ -7840,6 +8171,9 @@ contains
       !> yield stress and hardening modulus (absent for the other laws)
       real(dp), intent(inout), contiguous, optional :: plastic_strain(:), hardening(:)
       real(dp), intent(in), contiguous, optional :: yield_of(:), hardening_of(:)
+      !> ASFLIP's nodal velocity v^n of the step's mapping and each element's J of separation (absent for
+      !> the others)
+      real(dp), intent(in), contiguous, optional :: mapped(0:), separating(:)
       integer :: p, e, i, n, b0, first, last, lo, hi, outside, ahead, elements
       real(dp) :: half_m, strain_factor, dstrain, inv_dx, dt, youngs_modulus, m, volume0
       logical :: linear, plastic
@@ -8149,7 +8483,8 @@ contains
    subroutine bspline3_musl_remap_segment(k, seg, x, x0, v, stress, volume_ratio, cell, acceleration, velocity, &
                                           strain_increment_of, mass_left, mass_right, momentum_left, momentum_right, &
                                           stress_volume, constants, carry, mass_of, modulus_of, forces, gradient, force_left, &
-                                          force_right, plastic_strain, hardening, yield_of, hardening_of)
+                                          force_right, plastic_strain, hardening, yield_of, hardening_of, mapped, &
+                                          separating)
       integer, parameter :: kernel = pass_musl_remap
       logical, parameter :: moves = pass_moves(kernel), stresses = pass_stresses(kernel), relocates = pass_relocates(kernel)
       integer, parameter :: shares = pass_shares(kernel)
@@ -8172,6 +8507,9 @@ contains
       !> yield stress and hardening modulus (absent for the other laws)
       real(dp), intent(inout), contiguous, optional :: plastic_strain(:), hardening(:)
       real(dp), intent(in), contiguous, optional :: yield_of(:), hardening_of(:)
+      !> ASFLIP's nodal velocity v^n of the step's mapping and each element's J of separation (absent for
+      !> the others)
+      real(dp), intent(in), contiguous, optional :: mapped(0:), separating(:)
       integer :: p, e, i, n, b0, first, last, lo, hi, outside, ahead, elements
       real(dp) :: half_m, strain_factor, dstrain, inv_dx, dt, youngs_modulus, m, volume0
       logical :: linear, plastic
@@ -8339,7 +8677,8 @@ contains
    subroutine bspline3_musl_stress_segment(k, seg, x, x0, v, stress, volume_ratio, cell, acceleration, velocity, &
                                            strain_increment_of, mass_left, mass_right, momentum_left, momentum_right, &
                                            stress_volume, constants, carry, mass_of, modulus_of, forces, gradient, force_left, &
-                                           force_right, plastic_strain, hardening, yield_of, hardening_of)
+                                           force_right, plastic_strain, hardening, yield_of, hardening_of, mapped, &
+                                           separating)
       integer, parameter :: kernel = pass_musl_stress
       logical, parameter :: moves = pass_moves(kernel), stresses = pass_stresses(kernel), relocates = pass_relocates(kernel)
       integer, parameter :: shares = pass_shares(kernel)
@@ -8362,6 +8701,9 @@ contains
       !> yield stress and hardening modulus (absent for the other laws)
       real(dp), intent(inout), contiguous, optional :: plastic_strain(:), hardening(:)
       real(dp), intent(in), contiguous, optional :: yield_of(:), hardening_of(:)
+      !> ASFLIP's nodal velocity v^n of the step's mapping and each element's J of separation (absent for
+      !> the others)
+      real(dp), intent(in), contiguous, optional :: mapped(0:), separating(:)
       integer :: p, e, i, n, b0, first, last, lo, hi, outside, ahead, elements
       real(dp) :: half_m, strain_factor, dstrain, inv_dx, dt, youngs_modulus, m, volume0
       logical :: linear, plastic
@@ -8671,7 +9013,8 @@ contains
    subroutine pic_usf_move_segment(k, seg, x, x0, v, stress, volume_ratio, cell, acceleration, velocity, &
                                    strain_increment_of, mass_left, mass_right, momentum_left, momentum_right, &
                                    stress_volume, constants, carry, mass_of, modulus_of, forces, gradient, force_left, &
-                                   force_right, plastic_strain, hardening, yield_of, hardening_of)
+                                   force_right, plastic_strain, hardening, yield_of, hardening_of, mapped, &
+                                   separating)
       integer, parameter :: kernel = pass_usf_move
       logical, parameter :: moves = pass_moves(kernel), stresses = pass_stresses(kernel), relocates = pass_relocates(kernel)
       integer, parameter :: shares = pass_shares(kernel)
@@ -8694,6 +9037,9 @@ contains
       !> yield stress and hardening modulus (absent for the other laws)
       real(dp), intent(inout), contiguous, optional :: plastic_strain(:), hardening(:)
       real(dp), intent(in), contiguous, optional :: yield_of(:), hardening_of(:)
+      !> ASFLIP's nodal velocity v^n of the step's mapping and each element's J of separation (absent for
+      !> the others)
+      real(dp), intent(in), contiguous, optional :: mapped(0:), separating(:)
       integer :: p, e, i, n, b0, first, last, lo, hi, outside, ahead, elements
       real(dp) :: half_m, strain_factor, dstrain, inv_dx, dt, youngs_modulus, m, volume0
       logical :: linear, plastic
@@ -8831,7 +9177,8 @@ contains
    subroutine pic_usf_stress_segment(k, seg, x, x0, v, stress, volume_ratio, cell, acceleration, velocity, &
                                      strain_increment_of, mass_left, mass_right, momentum_left, momentum_right, &
                                      stress_volume, constants, carry, mass_of, modulus_of, forces, gradient, force_left, &
-                                     force_right, plastic_strain, hardening, yield_of, hardening_of)
+                                     force_right, plastic_strain, hardening, yield_of, hardening_of, mapped, &
+                                     separating)
       integer, parameter :: kernel = pass_usf_stress
       logical, parameter :: moves = pass_moves(kernel), stresses = pass_stresses(kernel), relocates = pass_relocates(kernel)
       integer, parameter :: shares = pass_shares(kernel)
@@ -8854,6 +9201,9 @@ contains
       !> yield stress and hardening modulus (absent for the other laws)
       real(dp), intent(inout), contiguous, optional :: plastic_strain(:), hardening(:)
       real(dp), intent(in), contiguous, optional :: yield_of(:), hardening_of(:)
+      !> ASFLIP's nodal velocity v^n of the step's mapping and each element's J of separation (absent for
+      !> the others)
+      real(dp), intent(in), contiguous, optional :: mapped(0:), separating(:)
       integer :: p, e, i, n, b0, first, last, lo, hi, outside, ahead, elements
       real(dp) :: half_m, strain_factor, dstrain, inv_dx, dt, youngs_modulus, m, volume0
       logical :: linear, plastic
@@ -9087,7 +9437,8 @@ contains
    subroutine pic_usl_segment(k, seg, x, x0, v, stress, volume_ratio, cell, acceleration, velocity, &
                               strain_increment_of, mass_left, mass_right, momentum_left, momentum_right, &
                               stress_volume, constants, carry, mass_of, modulus_of, forces, gradient, force_left, &
-                              force_right, plastic_strain, hardening, yield_of, hardening_of)
+                              force_right, plastic_strain, hardening, yield_of, hardening_of, mapped, &
+                              separating)
       integer, parameter :: kernel = pass_usl
       logical, parameter :: moves = pass_moves(kernel), stresses = pass_stresses(kernel), relocates = pass_relocates(kernel)
       integer, parameter :: shares = pass_shares(kernel)
@@ -9110,6 +9461,9 @@ contains
       !> yield stress and hardening modulus (absent for the other laws)
       real(dp), intent(inout), contiguous, optional :: plastic_strain(:), hardening(:)
       real(dp), intent(in), contiguous, optional :: yield_of(:), hardening_of(:)
+      !> ASFLIP's nodal velocity v^n of the step's mapping and each element's J of separation (absent for
+      !> the others)
+      real(dp), intent(in), contiguous, optional :: mapped(0:), separating(:)
       integer :: p, e, i, n, b0, first, last, lo, hi, outside, ahead, elements
       real(dp) :: half_m, strain_factor, dstrain, inv_dx, dt, youngs_modulus, m, volume0
       logical :: linear, plastic
@@ -9343,7 +9697,8 @@ contains
    subroutine pic_musl_remap_segment(k, seg, x, x0, v, stress, volume_ratio, cell, acceleration, velocity, &
                                      strain_increment_of, mass_left, mass_right, momentum_left, momentum_right, &
                                      stress_volume, constants, carry, mass_of, modulus_of, forces, gradient, force_left, &
-                                     force_right, plastic_strain, hardening, yield_of, hardening_of)
+                                     force_right, plastic_strain, hardening, yield_of, hardening_of, mapped, &
+                                     separating)
       integer, parameter :: kernel = pass_musl_remap
       logical, parameter :: moves = pass_moves(kernel), stresses = pass_stresses(kernel), relocates = pass_relocates(kernel)
       integer, parameter :: shares = pass_shares(kernel)
@@ -9366,6 +9721,9 @@ contains
       !> yield stress and hardening modulus (absent for the other laws)
       real(dp), intent(inout), contiguous, optional :: plastic_strain(:), hardening(:)
       real(dp), intent(in), contiguous, optional :: yield_of(:), hardening_of(:)
+      !> ASFLIP's nodal velocity v^n of the step's mapping and each element's J of separation (absent for
+      !> the others)
+      real(dp), intent(in), contiguous, optional :: mapped(0:), separating(:)
       integer :: p, e, i, n, b0, first, last, lo, hi, outside, ahead, elements
       real(dp) :: half_m, strain_factor, dstrain, inv_dx, dt, youngs_modulus, m, volume0
       logical :: linear, plastic
@@ -9503,7 +9861,8 @@ contains
    subroutine pic_musl_stress_segment(k, seg, x, x0, v, stress, volume_ratio, cell, acceleration, velocity, &
                                       strain_increment_of, mass_left, mass_right, momentum_left, momentum_right, &
                                       stress_volume, constants, carry, mass_of, modulus_of, forces, gradient, force_left, &
-                                      force_right, plastic_strain, hardening, yield_of, hardening_of)
+                                      force_right, plastic_strain, hardening, yield_of, hardening_of, mapped, &
+                                      separating)
       integer, parameter :: kernel = pass_musl_stress
       logical, parameter :: moves = pass_moves(kernel), stresses = pass_stresses(kernel), relocates = pass_relocates(kernel)
       integer, parameter :: shares = pass_shares(kernel)
@@ -9526,6 +9885,9 @@ contains
       !> yield stress and hardening modulus (absent for the other laws)
       real(dp), intent(inout), contiguous, optional :: plastic_strain(:), hardening(:)
       real(dp), intent(in), contiguous, optional :: yield_of(:), hardening_of(:)
+      !> ASFLIP's nodal velocity v^n of the step's mapping and each element's J of separation (absent for
+      !> the others)
+      real(dp), intent(in), contiguous, optional :: mapped(0:), separating(:)
       integer :: p, e, i, n, b0, first, last, lo, hi, outside, ahead, elements
       real(dp) :: half_m, strain_factor, dstrain, inv_dx, dt, youngs_modulus, m, volume0
       logical :: linear, plastic
@@ -9759,7 +10121,8 @@ contains
    subroutine pic_map_segment(k, seg, x, x0, v, stress, volume_ratio, cell, acceleration, velocity, &
                               strain_increment_of, mass_left, mass_right, momentum_left, momentum_right, &
                               stress_volume, constants, carry, mass_of, modulus_of, forces, gradient, force_left, &
-                              force_right, plastic_strain, hardening, yield_of, hardening_of)
+                              force_right, plastic_strain, hardening, yield_of, hardening_of, mapped, &
+                              separating)
       integer, parameter :: kernel = pass_map
       logical, parameter :: moves = pass_moves(kernel), stresses = pass_stresses(kernel), relocates = pass_relocates(kernel)
       integer, parameter :: shares = pass_shares(kernel)
@@ -9782,6 +10145,9 @@ contains
       !> yield stress and hardening modulus (absent for the other laws)
       real(dp), intent(inout), contiguous, optional :: plastic_strain(:), hardening(:)
       real(dp), intent(in), contiguous, optional :: yield_of(:), hardening_of(:)
+      !> ASFLIP's nodal velocity v^n of the step's mapping and each element's J of separation (absent for
+      !> the others)
+      real(dp), intent(in), contiguous, optional :: mapped(0:), separating(:)
       integer :: p, e, i, n, b0, first, last, lo, hi, outside, ahead, elements
       real(dp) :: half_m, strain_factor, dstrain, inv_dx, dt, youngs_modulus, m, volume0
       logical :: linear, plastic
@@ -9919,7 +10285,8 @@ contains
    subroutine pic_map_stress_segment(k, seg, x, x0, v, stress, volume_ratio, cell, acceleration, velocity, &
                                      strain_increment_of, mass_left, mass_right, momentum_left, momentum_right, &
                                      stress_volume, constants, carry, mass_of, modulus_of, forces, gradient, force_left, &
-                                     force_right, plastic_strain, hardening, yield_of, hardening_of)
+                                     force_right, plastic_strain, hardening, yield_of, hardening_of, mapped, &
+                                     separating)
       integer, parameter :: kernel = pass_map_stress
       logical, parameter :: moves = pass_moves(kernel), stresses = pass_stresses(kernel), relocates = pass_relocates(kernel)
       integer, parameter :: shares = pass_shares(kernel)
@@ -9942,6 +10309,9 @@ contains
       !> yield stress and hardening modulus (absent for the other laws)
       real(dp), intent(inout), contiguous, optional :: plastic_strain(:), hardening(:)
       real(dp), intent(in), contiguous, optional :: yield_of(:), hardening_of(:)
+      !> ASFLIP's nodal velocity v^n of the step's mapping and each element's J of separation (absent for
+      !> the others)
+      real(dp), intent(in), contiguous, optional :: mapped(0:), separating(:)
       integer :: p, e, i, n, b0, first, last, lo, hi, outside, ahead, elements
       real(dp) :: half_m, strain_factor, dstrain, inv_dx, dt, youngs_modulus, m, volume0
       logical :: linear, plastic
@@ -10079,7 +10449,8 @@ contains
    subroutine blend_usf_move_segment(k, seg, x, x0, v, stress, volume_ratio, cell, acceleration, velocity, &
                                      strain_increment_of, mass_left, mass_right, momentum_left, momentum_right, &
                                      stress_volume, constants, carry, mass_of, modulus_of, forces, gradient, force_left, &
-                                     force_right, plastic_strain, hardening, yield_of, hardening_of)
+                                     force_right, plastic_strain, hardening, yield_of, hardening_of, mapped, &
+                                     separating)
       integer, parameter :: kernel = pass_usf_move
       logical, parameter :: moves = pass_moves(kernel), stresses = pass_stresses(kernel), relocates = pass_relocates(kernel)
       integer, parameter :: shares = pass_shares(kernel)
@@ -10102,6 +10473,9 @@ contains
       !> yield stress and hardening modulus (absent for the other laws)
       real(dp), intent(inout), contiguous, optional :: plastic_strain(:), hardening(:)
       real(dp), intent(in), contiguous, optional :: yield_of(:), hardening_of(:)
+      !> ASFLIP's nodal velocity v^n of the step's mapping and each element's J of separation (absent for
+      !> the others)
+      real(dp), intent(in), contiguous, optional :: mapped(0:), separating(:)
       integer :: p, e, i, n, b0, first, last, lo, hi, outside, ahead, elements
       real(dp) :: half_m, strain_factor, dstrain, inv_dx, dt, youngs_modulus, m, volume0
       logical :: linear, plastic
@@ -10242,7 +10616,8 @@ contains
    subroutine blend_usf_stress_segment(k, seg, x, x0, v, stress, volume_ratio, cell, acceleration, velocity, &
                                        strain_increment_of, mass_left, mass_right, momentum_left, momentum_right, &
                                        stress_volume, constants, carry, mass_of, modulus_of, forces, gradient, force_left, &
-                                       force_right, plastic_strain, hardening, yield_of, hardening_of)
+                                       force_right, plastic_strain, hardening, yield_of, hardening_of, mapped, &
+                                       separating)
       integer, parameter :: kernel = pass_usf_stress
       logical, parameter :: moves = pass_moves(kernel), stresses = pass_stresses(kernel), relocates = pass_relocates(kernel)
       integer, parameter :: shares = pass_shares(kernel)
@@ -10265,6 +10640,9 @@ contains
       !> yield stress and hardening modulus (absent for the other laws)
       real(dp), intent(inout), contiguous, optional :: plastic_strain(:), hardening(:)
       real(dp), intent(in), contiguous, optional :: yield_of(:), hardening_of(:)
+      !> ASFLIP's nodal velocity v^n of the step's mapping and each element's J of separation (absent for
+      !> the others)
+      real(dp), intent(in), contiguous, optional :: mapped(0:), separating(:)
       integer :: p, e, i, n, b0, first, last, lo, hi, outside, ahead, elements
       real(dp) :: half_m, strain_factor, dstrain, inv_dx, dt, youngs_modulus, m, volume0
       logical :: linear, plastic
@@ -10503,7 +10881,8 @@ contains
    subroutine blend_usl_segment(k, seg, x, x0, v, stress, volume_ratio, cell, acceleration, velocity, &
                                 strain_increment_of, mass_left, mass_right, momentum_left, momentum_right, &
                                 stress_volume, constants, carry, mass_of, modulus_of, forces, gradient, force_left, &
-                                force_right, plastic_strain, hardening, yield_of, hardening_of)
+                                force_right, plastic_strain, hardening, yield_of, hardening_of, mapped, &
+                                separating)
       integer, parameter :: kernel = pass_usl
       logical, parameter :: moves = pass_moves(kernel), stresses = pass_stresses(kernel), relocates = pass_relocates(kernel)
       integer, parameter :: shares = pass_shares(kernel)
@@ -10526,6 +10905,9 @@ contains
       !> yield stress and hardening modulus (absent for the other laws)
       real(dp), intent(inout), contiguous, optional :: plastic_strain(:), hardening(:)
       real(dp), intent(in), contiguous, optional :: yield_of(:), hardening_of(:)
+      !> ASFLIP's nodal velocity v^n of the step's mapping and each element's J of separation (absent for
+      !> the others)
+      real(dp), intent(in), contiguous, optional :: mapped(0:), separating(:)
       integer :: p, e, i, n, b0, first, last, lo, hi, outside, ahead, elements
       real(dp) :: half_m, strain_factor, dstrain, inv_dx, dt, youngs_modulus, m, volume0
       logical :: linear, plastic
@@ -10764,7 +11146,8 @@ contains
    subroutine blend_musl_remap_segment(k, seg, x, x0, v, stress, volume_ratio, cell, acceleration, velocity, &
                                        strain_increment_of, mass_left, mass_right, momentum_left, momentum_right, &
                                        stress_volume, constants, carry, mass_of, modulus_of, forces, gradient, force_left, &
-                                       force_right, plastic_strain, hardening, yield_of, hardening_of)
+                                       force_right, plastic_strain, hardening, yield_of, hardening_of, mapped, &
+                                       separating)
       integer, parameter :: kernel = pass_musl_remap
       logical, parameter :: moves = pass_moves(kernel), stresses = pass_stresses(kernel), relocates = pass_relocates(kernel)
       integer, parameter :: shares = pass_shares(kernel)
@@ -10787,6 +11170,9 @@ contains
       !> yield stress and hardening modulus (absent for the other laws)
       real(dp), intent(inout), contiguous, optional :: plastic_strain(:), hardening(:)
       real(dp), intent(in), contiguous, optional :: yield_of(:), hardening_of(:)
+      !> ASFLIP's nodal velocity v^n of the step's mapping and each element's J of separation (absent for
+      !> the others)
+      real(dp), intent(in), contiguous, optional :: mapped(0:), separating(:)
       integer :: p, e, i, n, b0, first, last, lo, hi, outside, ahead, elements
       real(dp) :: half_m, strain_factor, dstrain, inv_dx, dt, youngs_modulus, m, volume0
       logical :: linear, plastic
@@ -10927,7 +11313,8 @@ contains
    subroutine blend_musl_stress_segment(k, seg, x, x0, v, stress, volume_ratio, cell, acceleration, velocity, &
                                         strain_increment_of, mass_left, mass_right, momentum_left, momentum_right, &
                                         stress_volume, constants, carry, mass_of, modulus_of, forces, gradient, force_left, &
-                                        force_right, plastic_strain, hardening, yield_of, hardening_of)
+                                        force_right, plastic_strain, hardening, yield_of, hardening_of, mapped, &
+                                        separating)
       integer, parameter :: kernel = pass_musl_stress
       logical, parameter :: moves = pass_moves(kernel), stresses = pass_stresses(kernel), relocates = pass_relocates(kernel)
       integer, parameter :: shares = pass_shares(kernel)
@@ -10950,6 +11337,9 @@ contains
       !> yield stress and hardening modulus (absent for the other laws)
       real(dp), intent(inout), contiguous, optional :: plastic_strain(:), hardening(:)
       real(dp), intent(in), contiguous, optional :: yield_of(:), hardening_of(:)
+      !> ASFLIP's nodal velocity v^n of the step's mapping and each element's J of separation (absent for
+      !> the others)
+      real(dp), intent(in), contiguous, optional :: mapped(0:), separating(:)
       integer :: p, e, i, n, b0, first, last, lo, hi, outside, ahead, elements
       real(dp) :: half_m, strain_factor, dstrain, inv_dx, dt, youngs_modulus, m, volume0
       logical :: linear, plastic
@@ -11188,7 +11578,8 @@ contains
    subroutine blend_map_segment(k, seg, x, x0, v, stress, volume_ratio, cell, acceleration, velocity, &
                                 strain_increment_of, mass_left, mass_right, momentum_left, momentum_right, &
                                 stress_volume, constants, carry, mass_of, modulus_of, forces, gradient, force_left, &
-                                force_right, plastic_strain, hardening, yield_of, hardening_of)
+                                force_right, plastic_strain, hardening, yield_of, hardening_of, mapped, &
+                                separating)
       integer, parameter :: kernel = pass_map
       logical, parameter :: moves = pass_moves(kernel), stresses = pass_stresses(kernel), relocates = pass_relocates(kernel)
       integer, parameter :: shares = pass_shares(kernel)
@@ -11211,6 +11602,9 @@ contains
       !> yield stress and hardening modulus (absent for the other laws)
       real(dp), intent(inout), contiguous, optional :: plastic_strain(:), hardening(:)
       real(dp), intent(in), contiguous, optional :: yield_of(:), hardening_of(:)
+      !> ASFLIP's nodal velocity v^n of the step's mapping and each element's J of separation (absent for
+      !> the others)
+      real(dp), intent(in), contiguous, optional :: mapped(0:), separating(:)
       integer :: p, e, i, n, b0, first, last, lo, hi, outside, ahead, elements
       real(dp) :: half_m, strain_factor, dstrain, inv_dx, dt, youngs_modulus, m, volume0
       logical :: linear, plastic
@@ -11351,7 +11745,8 @@ contains
    subroutine blend_map_stress_segment(k, seg, x, x0, v, stress, volume_ratio, cell, acceleration, velocity, &
                                        strain_increment_of, mass_left, mass_right, momentum_left, momentum_right, &
                                        stress_volume, constants, carry, mass_of, modulus_of, forces, gradient, force_left, &
-                                       force_right, plastic_strain, hardening, yield_of, hardening_of)
+                                       force_right, plastic_strain, hardening, yield_of, hardening_of, mapped, &
+                                       separating)
       integer, parameter :: kernel = pass_map_stress
       logical, parameter :: moves = pass_moves(kernel), stresses = pass_stresses(kernel), relocates = pass_relocates(kernel)
       integer, parameter :: shares = pass_shares(kernel)
@@ -11374,6 +11769,9 @@ contains
       !> yield stress and hardening modulus (absent for the other laws)
       real(dp), intent(inout), contiguous, optional :: plastic_strain(:), hardening(:)
       real(dp), intent(in), contiguous, optional :: yield_of(:), hardening_of(:)
+      !> ASFLIP's nodal velocity v^n of the step's mapping and each element's J of separation (absent for
+      !> the others)
+      real(dp), intent(in), contiguous, optional :: mapped(0:), separating(:)
       integer :: p, e, i, n, b0, first, last, lo, hi, outside, ahead, elements
       real(dp) :: half_m, strain_factor, dstrain, inv_dx, dt, youngs_modulus, m, volume0
       logical :: linear, plastic
@@ -11514,7 +11912,8 @@ contains
    subroutine apic_usf_move_segment(k, seg, x, x0, v, stress, volume_ratio, cell, acceleration, velocity, &
                                     strain_increment_of, mass_left, mass_right, momentum_left, momentum_right, &
                                     stress_volume, constants, carry, mass_of, modulus_of, forces, gradient, force_left, &
-                                    force_right, plastic_strain, hardening, yield_of, hardening_of)
+                                    force_right, plastic_strain, hardening, yield_of, hardening_of, mapped, &
+                                    separating)
       integer, parameter :: kernel = pass_usf_move
       logical, parameter :: moves = pass_moves(kernel), stresses = pass_stresses(kernel), relocates = pass_relocates(kernel)
       integer, parameter :: shares = pass_shares(kernel)
@@ -11537,6 +11936,9 @@ contains
       !> yield stress and hardening modulus (absent for the other laws)
       real(dp), intent(inout), contiguous, optional :: plastic_strain(:), hardening(:)
       real(dp), intent(in), contiguous, optional :: yield_of(:), hardening_of(:)
+      !> ASFLIP's nodal velocity v^n of the step's mapping and each element's J of separation (absent for
+      !> the others)
+      real(dp), intent(in), contiguous, optional :: mapped(0:), separating(:)
       integer :: p, e, i, n, b0, first, last, lo, hi, outside, ahead, elements
       real(dp) :: half_m, strain_factor, dstrain, inv_dx, dt, youngs_modulus, m, volume0
       logical :: linear, plastic
@@ -11690,7 +12092,8 @@ contains
    subroutine apic_usf_stress_segment(k, seg, x, x0, v, stress, volume_ratio, cell, acceleration, velocity, &
                                       strain_increment_of, mass_left, mass_right, momentum_left, momentum_right, &
                                       stress_volume, constants, carry, mass_of, modulus_of, forces, gradient, force_left, &
-                                      force_right, plastic_strain, hardening, yield_of, hardening_of)
+                                      force_right, plastic_strain, hardening, yield_of, hardening_of, mapped, &
+                                      separating)
       integer, parameter :: kernel = pass_usf_stress
       logical, parameter :: moves = pass_moves(kernel), stresses = pass_stresses(kernel), relocates = pass_relocates(kernel)
       integer, parameter :: shares = pass_shares(kernel)
@@ -11713,6 +12116,9 @@ contains
       !> yield stress and hardening modulus (absent for the other laws)
       real(dp), intent(inout), contiguous, optional :: plastic_strain(:), hardening(:)
       real(dp), intent(in), contiguous, optional :: yield_of(:), hardening_of(:)
+      !> ASFLIP's nodal velocity v^n of the step's mapping and each element's J of separation (absent for
+      !> the others)
+      real(dp), intent(in), contiguous, optional :: mapped(0:), separating(:)
       integer :: p, e, i, n, b0, first, last, lo, hi, outside, ahead, elements
       real(dp) :: half_m, strain_factor, dstrain, inv_dx, dt, youngs_modulus, m, volume0
       logical :: linear, plastic
@@ -11990,7 +12396,8 @@ contains
    subroutine apic_usl_segment(k, seg, x, x0, v, stress, volume_ratio, cell, acceleration, velocity, &
                                strain_increment_of, mass_left, mass_right, momentum_left, momentum_right, &
                                stress_volume, constants, carry, mass_of, modulus_of, forces, gradient, force_left, &
-                               force_right, plastic_strain, hardening, yield_of, hardening_of)
+                               force_right, plastic_strain, hardening, yield_of, hardening_of, mapped, &
+                               separating)
       integer, parameter :: kernel = pass_usl
       logical, parameter :: moves = pass_moves(kernel), stresses = pass_stresses(kernel), relocates = pass_relocates(kernel)
       integer, parameter :: shares = pass_shares(kernel)
@@ -12013,6 +12420,9 @@ contains
       !> yield stress and hardening modulus (absent for the other laws)
       real(dp), intent(inout), contiguous, optional :: plastic_strain(:), hardening(:)
       real(dp), intent(in), contiguous, optional :: yield_of(:), hardening_of(:)
+      !> ASFLIP's nodal velocity v^n of the step's mapping and each element's J of separation (absent for
+      !> the others)
+      real(dp), intent(in), contiguous, optional :: mapped(0:), separating(:)
       integer :: p, e, i, n, b0, first, last, lo, hi, outside, ahead, elements
       real(dp) :: half_m, strain_factor, dstrain, inv_dx, dt, youngs_modulus, m, volume0
       logical :: linear, plastic
@@ -12290,7 +12700,8 @@ contains
    subroutine apic_musl_remap_segment(k, seg, x, x0, v, stress, volume_ratio, cell, acceleration, velocity, &
                                       strain_increment_of, mass_left, mass_right, momentum_left, momentum_right, &
                                       stress_volume, constants, carry, mass_of, modulus_of, forces, gradient, force_left, &
-                                      force_right, plastic_strain, hardening, yield_of, hardening_of)
+                                      force_right, plastic_strain, hardening, yield_of, hardening_of, mapped, &
+                                      separating)
       integer, parameter :: kernel = pass_musl_remap
       logical, parameter :: moves = pass_moves(kernel), stresses = pass_stresses(kernel), relocates = pass_relocates(kernel)
       integer, parameter :: shares = pass_shares(kernel)
@@ -12313,6 +12724,9 @@ contains
       !> yield stress and hardening modulus (absent for the other laws)
       real(dp), intent(inout), contiguous, optional :: plastic_strain(:), hardening(:)
       real(dp), intent(in), contiguous, optional :: yield_of(:), hardening_of(:)
+      !> ASFLIP's nodal velocity v^n of the step's mapping and each element's J of separation (absent for
+      !> the others)
+      real(dp), intent(in), contiguous, optional :: mapped(0:), separating(:)
       integer :: p, e, i, n, b0, first, last, lo, hi, outside, ahead, elements
       real(dp) :: half_m, strain_factor, dstrain, inv_dx, dt, youngs_modulus, m, volume0
       logical :: linear, plastic
@@ -12466,7 +12880,8 @@ contains
    subroutine apic_musl_stress_segment(k, seg, x, x0, v, stress, volume_ratio, cell, acceleration, velocity, &
                                        strain_increment_of, mass_left, mass_right, momentum_left, momentum_right, &
                                        stress_volume, constants, carry, mass_of, modulus_of, forces, gradient, force_left, &
-                                       force_right, plastic_strain, hardening, yield_of, hardening_of)
+                                       force_right, plastic_strain, hardening, yield_of, hardening_of, mapped, &
+                                       separating)
       integer, parameter :: kernel = pass_musl_stress
       logical, parameter :: moves = pass_moves(kernel), stresses = pass_stresses(kernel), relocates = pass_relocates(kernel)
       integer, parameter :: shares = pass_shares(kernel)
@@ -12489,6 +12904,9 @@ contains
       !> yield stress and hardening modulus (absent for the other laws)
       real(dp), intent(inout), contiguous, optional :: plastic_strain(:), hardening(:)
       real(dp), intent(in), contiguous, optional :: yield_of(:), hardening_of(:)
+      !> ASFLIP's nodal velocity v^n of the step's mapping and each element's J of separation (absent for
+      !> the others)
+      real(dp), intent(in), contiguous, optional :: mapped(0:), separating(:)
       integer :: p, e, i, n, b0, first, last, lo, hi, outside, ahead, elements
       real(dp) :: half_m, strain_factor, dstrain, inv_dx, dt, youngs_modulus, m, volume0
       logical :: linear, plastic
@@ -12766,7 +13184,8 @@ contains
    subroutine apic_map_segment(k, seg, x, x0, v, stress, volume_ratio, cell, acceleration, velocity, &
                                strain_increment_of, mass_left, mass_right, momentum_left, momentum_right, &
                                stress_volume, constants, carry, mass_of, modulus_of, forces, gradient, force_left, &
-                               force_right, plastic_strain, hardening, yield_of, hardening_of)
+                               force_right, plastic_strain, hardening, yield_of, hardening_of, mapped, &
+                               separating)
       integer, parameter :: kernel = pass_map
       logical, parameter :: moves = pass_moves(kernel), stresses = pass_stresses(kernel), relocates = pass_relocates(kernel)
       integer, parameter :: shares = pass_shares(kernel)
@@ -12789,6 +13208,9 @@ contains
       !> yield stress and hardening modulus (absent for the other laws)
       real(dp), intent(inout), contiguous, optional :: plastic_strain(:), hardening(:)
       real(dp), intent(in), contiguous, optional :: yield_of(:), hardening_of(:)
+      !> ASFLIP's nodal velocity v^n of the step's mapping and each element's J of separation (absent for
+      !> the others)
+      real(dp), intent(in), contiguous, optional :: mapped(0:), separating(:)
       integer :: p, e, i, n, b0, first, last, lo, hi, outside, ahead, elements
       real(dp) :: half_m, strain_factor, dstrain, inv_dx, dt, youngs_modulus, m, volume0
       logical :: linear, plastic
@@ -12942,7 +13364,8 @@ contains
    subroutine apic_map_stress_segment(k, seg, x, x0, v, stress, volume_ratio, cell, acceleration, velocity, &
                                       strain_increment_of, mass_left, mass_right, momentum_left, momentum_right, &
                                       stress_volume, constants, carry, mass_of, modulus_of, forces, gradient, force_left, &
-                                      force_right, plastic_strain, hardening, yield_of, hardening_of)
+                                      force_right, plastic_strain, hardening, yield_of, hardening_of, mapped, &
+                                      separating)
       integer, parameter :: kernel = pass_map_stress
       logical, parameter :: moves = pass_moves(kernel), stresses = pass_stresses(kernel), relocates = pass_relocates(kernel)
       integer, parameter :: shares = pass_shares(kernel)
@@ -12965,6 +13388,9 @@ contains
       !> yield stress and hardening modulus (absent for the other laws)
       real(dp), intent(inout), contiguous, optional :: plastic_strain(:), hardening(:)
       real(dp), intent(in), contiguous, optional :: yield_of(:), hardening_of(:)
+      !> ASFLIP's nodal velocity v^n of the step's mapping and each element's J of separation (absent for
+      !> the others)
+      real(dp), intent(in), contiguous, optional :: mapped(0:), separating(:)
       integer :: p, e, i, n, b0, first, last, lo, hi, outside, ahead, elements
       real(dp) :: half_m, strain_factor, dstrain, inv_dx, dt, youngs_modulus, m, volume0
       logical :: linear, plastic
@@ -13118,7 +13544,8 @@ contains
    subroutine material_usf_move_segment(k, seg, x, x0, v, stress, volume_ratio, cell, acceleration, velocity, &
                                         strain_increment_of, mass_left, mass_right, momentum_left, momentum_right, &
                                         stress_volume, constants, carry, mass_of, modulus_of, forces, gradient, force_left, &
-                                        force_right, plastic_strain, hardening, yield_of, hardening_of)
+                                        force_right, plastic_strain, hardening, yield_of, hardening_of, mapped, &
+                                        separating)
       integer, parameter :: kernel = pass_usf_move
       logical, parameter :: moves = pass_moves(kernel), stresses = pass_stresses(kernel), relocates = pass_relocates(kernel)
       integer, parameter :: shares = pass_shares(kernel)
@@ -13141,6 +13568,9 @@ contains
       !> yield stress and hardening modulus (absent for the other laws)
       real(dp), intent(inout), contiguous, optional :: plastic_strain(:), hardening(:)
       real(dp), intent(in), contiguous, optional :: yield_of(:), hardening_of(:)
+      !> ASFLIP's nodal velocity v^n of the step's mapping and each element's J of separation (absent for
+      !> the others)
+      real(dp), intent(in), contiguous, optional :: mapped(0:), separating(:)
       integer :: p, e, i, n, b0, first, last, lo, hi, outside, ahead, elements
       real(dp) :: half_m, strain_factor, dstrain, inv_dx, dt, youngs_modulus, m, volume0
       logical :: linear, plastic
@@ -13294,7 +13724,8 @@ contains
    subroutine material_usf_stress_segment(k, seg, x, x0, v, stress, volume_ratio, cell, acceleration, velocity, &
                                           strain_increment_of, mass_left, mass_right, momentum_left, momentum_right, &
                                           stress_volume, constants, carry, mass_of, modulus_of, forces, gradient, force_left, &
-                                          force_right, plastic_strain, hardening, yield_of, hardening_of)
+                                          force_right, plastic_strain, hardening, yield_of, hardening_of, mapped, &
+                                          separating)
       integer, parameter :: kernel = pass_usf_stress
       logical, parameter :: moves = pass_moves(kernel), stresses = pass_stresses(kernel), relocates = pass_relocates(kernel)
       integer, parameter :: shares = pass_shares(kernel)
@@ -13317,6 +13748,9 @@ contains
       !> yield stress and hardening modulus (absent for the other laws)
       real(dp), intent(inout), contiguous, optional :: plastic_strain(:), hardening(:)
       real(dp), intent(in), contiguous, optional :: yield_of(:), hardening_of(:)
+      !> ASFLIP's nodal velocity v^n of the step's mapping and each element's J of separation (absent for
+      !> the others)
+      real(dp), intent(in), contiguous, optional :: mapped(0:), separating(:)
       integer :: p, e, i, n, b0, first, last, lo, hi, outside, ahead, elements
       real(dp) :: half_m, strain_factor, dstrain, inv_dx, dt, youngs_modulus, m, volume0
       logical :: linear, plastic
@@ -13588,7 +14022,8 @@ contains
    subroutine material_usl_segment(k, seg, x, x0, v, stress, volume_ratio, cell, acceleration, velocity, &
                                    strain_increment_of, mass_left, mass_right, momentum_left, momentum_right, &
                                    stress_volume, constants, carry, mass_of, modulus_of, forces, gradient, force_left, &
-                                   force_right, plastic_strain, hardening, yield_of, hardening_of)
+                                   force_right, plastic_strain, hardening, yield_of, hardening_of, mapped, &
+                                   separating)
       integer, parameter :: kernel = pass_usl
       logical, parameter :: moves = pass_moves(kernel), stresses = pass_stresses(kernel), relocates = pass_relocates(kernel)
       integer, parameter :: shares = pass_shares(kernel)
@@ -13611,6 +14046,9 @@ contains
       !> yield stress and hardening modulus (absent for the other laws)
       real(dp), intent(inout), contiguous, optional :: plastic_strain(:), hardening(:)
       real(dp), intent(in), contiguous, optional :: yield_of(:), hardening_of(:)
+      !> ASFLIP's nodal velocity v^n of the step's mapping and each element's J of separation (absent for
+      !> the others)
+      real(dp), intent(in), contiguous, optional :: mapped(0:), separating(:)
       integer :: p, e, i, n, b0, first, last, lo, hi, outside, ahead, elements
       real(dp) :: half_m, strain_factor, dstrain, inv_dx, dt, youngs_modulus, m, volume0
       logical :: linear, plastic
@@ -13882,7 +14320,8 @@ contains
    subroutine material_musl_remap_segment(k, seg, x, x0, v, stress, volume_ratio, cell, acceleration, velocity, &
                                           strain_increment_of, mass_left, mass_right, momentum_left, momentum_right, &
                                           stress_volume, constants, carry, mass_of, modulus_of, forces, gradient, force_left, &
-                                          force_right, plastic_strain, hardening, yield_of, hardening_of)
+                                          force_right, plastic_strain, hardening, yield_of, hardening_of, mapped, &
+                                          separating)
       integer, parameter :: kernel = pass_musl_remap
       logical, parameter :: moves = pass_moves(kernel), stresses = pass_stresses(kernel), relocates = pass_relocates(kernel)
       integer, parameter :: shares = pass_shares(kernel)
@@ -13905,6 +14344,9 @@ contains
       !> yield stress and hardening modulus (absent for the other laws)
       real(dp), intent(inout), contiguous, optional :: plastic_strain(:), hardening(:)
       real(dp), intent(in), contiguous, optional :: yield_of(:), hardening_of(:)
+      !> ASFLIP's nodal velocity v^n of the step's mapping and each element's J of separation (absent for
+      !> the others)
+      real(dp), intent(in), contiguous, optional :: mapped(0:), separating(:)
       integer :: p, e, i, n, b0, first, last, lo, hi, outside, ahead, elements
       real(dp) :: half_m, strain_factor, dstrain, inv_dx, dt, youngs_modulus, m, volume0
       logical :: linear, plastic
@@ -14058,7 +14500,8 @@ contains
    subroutine material_musl_stress_segment(k, seg, x, x0, v, stress, volume_ratio, cell, acceleration, velocity, &
                                            strain_increment_of, mass_left, mass_right, momentum_left, momentum_right, &
                                            stress_volume, constants, carry, mass_of, modulus_of, forces, gradient, force_left, &
-                                           force_right, plastic_strain, hardening, yield_of, hardening_of)
+                                           force_right, plastic_strain, hardening, yield_of, hardening_of, mapped, &
+                                           separating)
       integer, parameter :: kernel = pass_musl_stress
       logical, parameter :: moves = pass_moves(kernel), stresses = pass_stresses(kernel), relocates = pass_relocates(kernel)
       integer, parameter :: shares = pass_shares(kernel)
@@ -14081,6 +14524,9 @@ contains
       !> yield stress and hardening modulus (absent for the other laws)
       real(dp), intent(inout), contiguous, optional :: plastic_strain(:), hardening(:)
       real(dp), intent(in), contiguous, optional :: yield_of(:), hardening_of(:)
+      !> ASFLIP's nodal velocity v^n of the step's mapping and each element's J of separation (absent for
+      !> the others)
+      real(dp), intent(in), contiguous, optional :: mapped(0:), separating(:)
       integer :: p, e, i, n, b0, first, last, lo, hi, outside, ahead, elements
       real(dp) :: half_m, strain_factor, dstrain, inv_dx, dt, youngs_modulus, m, volume0
       logical :: linear, plastic
@@ -14352,7 +14798,8 @@ contains
    subroutine material_map_segment(k, seg, x, x0, v, stress, volume_ratio, cell, acceleration, velocity, &
                                    strain_increment_of, mass_left, mass_right, momentum_left, momentum_right, &
                                    stress_volume, constants, carry, mass_of, modulus_of, forces, gradient, force_left, &
-                                   force_right, plastic_strain, hardening, yield_of, hardening_of)
+                                   force_right, plastic_strain, hardening, yield_of, hardening_of, mapped, &
+                                   separating)
       integer, parameter :: kernel = pass_map
       logical, parameter :: moves = pass_moves(kernel), stresses = pass_stresses(kernel), relocates = pass_relocates(kernel)
       integer, parameter :: shares = pass_shares(kernel)
@@ -14375,6 +14822,9 @@ contains
       !> yield stress and hardening modulus (absent for the other laws)
       real(dp), intent(inout), contiguous, optional :: plastic_strain(:), hardening(:)
       real(dp), intent(in), contiguous, optional :: yield_of(:), hardening_of(:)
+      !> ASFLIP's nodal velocity v^n of the step's mapping and each element's J of separation (absent for
+      !> the others)
+      real(dp), intent(in), contiguous, optional :: mapped(0:), separating(:)
       integer :: p, e, i, n, b0, first, last, lo, hi, outside, ahead, elements
       real(dp) :: half_m, strain_factor, dstrain, inv_dx, dt, youngs_modulus, m, volume0
       logical :: linear, plastic
@@ -14528,7 +14978,8 @@ contains
    subroutine material_map_stress_segment(k, seg, x, x0, v, stress, volume_ratio, cell, acceleration, velocity, &
                                           strain_increment_of, mass_left, mass_right, momentum_left, momentum_right, &
                                           stress_volume, constants, carry, mass_of, modulus_of, forces, gradient, force_left, &
-                                          force_right, plastic_strain, hardening, yield_of, hardening_of)
+                                          force_right, plastic_strain, hardening, yield_of, hardening_of, mapped, &
+                                          separating)
       integer, parameter :: kernel = pass_map_stress
       logical, parameter :: moves = pass_moves(kernel), stresses = pass_stresses(kernel), relocates = pass_relocates(kernel)
       integer, parameter :: shares = pass_shares(kernel)
@@ -14551,6 +15002,9 @@ contains
       !> yield stress and hardening modulus (absent for the other laws)
       real(dp), intent(inout), contiguous, optional :: plastic_strain(:), hardening(:)
       real(dp), intent(in), contiguous, optional :: yield_of(:), hardening_of(:)
+      !> ASFLIP's nodal velocity v^n of the step's mapping and each element's J of separation (absent for
+      !> the others)
+      real(dp), intent(in), contiguous, optional :: mapped(0:), separating(:)
       integer :: p, e, i, n, b0, first, last, lo, hi, outside, ahead, elements
       real(dp) :: half_m, strain_factor, dstrain, inv_dx, dt, youngs_modulus, m, volume0
       logical :: linear, plastic
@@ -14704,7 +15158,8 @@ contains
    subroutine forced_usf_move_segment(k, seg, x, x0, v, stress, volume_ratio, cell, acceleration, velocity, &
                                       strain_increment_of, mass_left, mass_right, momentum_left, momentum_right, &
                                       stress_volume, constants, carry, mass_of, modulus_of, forces, gradient, force_left, &
-                                      force_right, plastic_strain, hardening, yield_of, hardening_of)
+                                      force_right, plastic_strain, hardening, yield_of, hardening_of, mapped, &
+                                      separating)
       integer, parameter :: kernel = pass_usf_move
       logical, parameter :: moves = pass_moves(kernel), stresses = pass_stresses(kernel), relocates = pass_relocates(kernel)
       integer, parameter :: shares = pass_force_shares(kernel)
@@ -14727,6 +15182,9 @@ contains
       !> yield stress and hardening modulus (absent for the other laws)
       real(dp), intent(inout), contiguous, optional :: plastic_strain(:), hardening(:)
       real(dp), intent(in), contiguous, optional :: yield_of(:), hardening_of(:)
+      !> ASFLIP's nodal velocity v^n of the step's mapping and each element's J of separation (absent for
+      !> the others)
+      real(dp), intent(in), contiguous, optional :: mapped(0:), separating(:)
       integer :: p, e, i, n, b0, first, last, lo, hi, outside, ahead, elements
       real(dp) :: half_m, strain_factor, dstrain, inv_dx, dt, youngs_modulus, m, volume0
       logical :: linear, plastic
@@ -14885,7 +15343,8 @@ contains
    subroutine forced_usf_stress_segment(k, seg, x, x0, v, stress, volume_ratio, cell, acceleration, velocity, &
                                         strain_increment_of, mass_left, mass_right, momentum_left, momentum_right, &
                                         stress_volume, constants, carry, mass_of, modulus_of, forces, gradient, force_left, &
-                                        force_right, plastic_strain, hardening, yield_of, hardening_of)
+                                        force_right, plastic_strain, hardening, yield_of, hardening_of, mapped, &
+                                        separating)
       integer, parameter :: kernel = pass_usf_stress
       logical, parameter :: moves = pass_moves(kernel), stresses = pass_stresses(kernel), relocates = pass_relocates(kernel)
       integer, parameter :: shares = pass_force_shares(kernel)
@@ -14908,6 +15367,9 @@ contains
       !> yield stress and hardening modulus (absent for the other laws)
       real(dp), intent(inout), contiguous, optional :: plastic_strain(:), hardening(:)
       real(dp), intent(in), contiguous, optional :: yield_of(:), hardening_of(:)
+      !> ASFLIP's nodal velocity v^n of the step's mapping and each element's J of separation (absent for
+      !> the others)
+      real(dp), intent(in), contiguous, optional :: mapped(0:), separating(:)
       integer :: p, e, i, n, b0, first, last, lo, hi, outside, ahead, elements
       real(dp) :: half_m, strain_factor, dstrain, inv_dx, dt, youngs_modulus, m, volume0
       logical :: linear, plastic
@@ -15194,7 +15656,8 @@ contains
    subroutine forced_usl_segment(k, seg, x, x0, v, stress, volume_ratio, cell, acceleration, velocity, &
                                  strain_increment_of, mass_left, mass_right, momentum_left, momentum_right, &
                                  stress_volume, constants, carry, mass_of, modulus_of, forces, gradient, force_left, &
-                                 force_right, plastic_strain, hardening, yield_of, hardening_of)
+                                 force_right, plastic_strain, hardening, yield_of, hardening_of, mapped, &
+                                 separating)
       integer, parameter :: kernel = pass_usl
       logical, parameter :: moves = pass_moves(kernel), stresses = pass_stresses(kernel), relocates = pass_relocates(kernel)
       integer, parameter :: shares = pass_force_shares(kernel)
@@ -15217,6 +15680,9 @@ contains
       !> yield stress and hardening modulus (absent for the other laws)
       real(dp), intent(inout), contiguous, optional :: plastic_strain(:), hardening(:)
       real(dp), intent(in), contiguous, optional :: yield_of(:), hardening_of(:)
+      !> ASFLIP's nodal velocity v^n of the step's mapping and each element's J of separation (absent for
+      !> the others)
+      real(dp), intent(in), contiguous, optional :: mapped(0:), separating(:)
       integer :: p, e, i, n, b0, first, last, lo, hi, outside, ahead, elements
       real(dp) :: half_m, strain_factor, dstrain, inv_dx, dt, youngs_modulus, m, volume0
       logical :: linear, plastic
@@ -15503,7 +15969,8 @@ contains
    subroutine forced_musl_remap_segment(k, seg, x, x0, v, stress, volume_ratio, cell, acceleration, velocity, &
                                         strain_increment_of, mass_left, mass_right, momentum_left, momentum_right, &
                                         stress_volume, constants, carry, mass_of, modulus_of, forces, gradient, force_left, &
-                                        force_right, plastic_strain, hardening, yield_of, hardening_of)
+                                        force_right, plastic_strain, hardening, yield_of, hardening_of, mapped, &
+                                        separating)
       integer, parameter :: kernel = pass_musl_remap
       logical, parameter :: moves = pass_moves(kernel), stresses = pass_stresses(kernel), relocates = pass_relocates(kernel)
       integer, parameter :: shares = pass_force_shares(kernel)
@@ -15526,6 +15993,9 @@ contains
       !> yield stress and hardening modulus (absent for the other laws)
       real(dp), intent(inout), contiguous, optional :: plastic_strain(:), hardening(:)
       real(dp), intent(in), contiguous, optional :: yield_of(:), hardening_of(:)
+      !> ASFLIP's nodal velocity v^n of the step's mapping and each element's J of separation (absent for
+      !> the others)
+      real(dp), intent(in), contiguous, optional :: mapped(0:), separating(:)
       integer :: p, e, i, n, b0, first, last, lo, hi, outside, ahead, elements
       real(dp) :: half_m, strain_factor, dstrain, inv_dx, dt, youngs_modulus, m, volume0
       logical :: linear, plastic
@@ -15684,7 +16154,8 @@ contains
    subroutine forced_musl_stress_segment(k, seg, x, x0, v, stress, volume_ratio, cell, acceleration, velocity, &
                                          strain_increment_of, mass_left, mass_right, momentum_left, momentum_right, &
                                          stress_volume, constants, carry, mass_of, modulus_of, forces, gradient, force_left, &
-                                         force_right, plastic_strain, hardening, yield_of, hardening_of)
+                                         force_right, plastic_strain, hardening, yield_of, hardening_of, mapped, &
+                                         separating)
       integer, parameter :: kernel = pass_musl_stress
       logical, parameter :: moves = pass_moves(kernel), stresses = pass_stresses(kernel), relocates = pass_relocates(kernel)
       integer, parameter :: shares = pass_force_shares(kernel)
@@ -15707,6 +16178,9 @@ contains
       !> yield stress and hardening modulus (absent for the other laws)
       real(dp), intent(inout), contiguous, optional :: plastic_strain(:), hardening(:)
       real(dp), intent(in), contiguous, optional :: yield_of(:), hardening_of(:)
+      !> ASFLIP's nodal velocity v^n of the step's mapping and each element's J of separation (absent for
+      !> the others)
+      real(dp), intent(in), contiguous, optional :: mapped(0:), separating(:)
       integer :: p, e, i, n, b0, first, last, lo, hi, outside, ahead, elements
       real(dp) :: half_m, strain_factor, dstrain, inv_dx, dt, youngs_modulus, m, volume0
       logical :: linear, plastic
@@ -15993,7 +16467,8 @@ contains
    subroutine forced_map_segment(k, seg, x, x0, v, stress, volume_ratio, cell, acceleration, velocity, &
                                  strain_increment_of, mass_left, mass_right, momentum_left, momentum_right, &
                                  stress_volume, constants, carry, mass_of, modulus_of, forces, gradient, force_left, &
-                                 force_right, plastic_strain, hardening, yield_of, hardening_of)
+                                 force_right, plastic_strain, hardening, yield_of, hardening_of, mapped, &
+                                 separating)
       integer, parameter :: kernel = pass_map
       logical, parameter :: moves = pass_moves(kernel), stresses = pass_stresses(kernel), relocates = pass_relocates(kernel)
       integer, parameter :: shares = pass_force_shares(kernel)
@@ -16016,6 +16491,9 @@ contains
       !> yield stress and hardening modulus (absent for the other laws)
       real(dp), intent(inout), contiguous, optional :: plastic_strain(:), hardening(:)
       real(dp), intent(in), contiguous, optional :: yield_of(:), hardening_of(:)
+      !> ASFLIP's nodal velocity v^n of the step's mapping and each element's J of separation (absent for
+      !> the others)
+      real(dp), intent(in), contiguous, optional :: mapped(0:), separating(:)
       integer :: p, e, i, n, b0, first, last, lo, hi, outside, ahead, elements
       real(dp) :: half_m, strain_factor, dstrain, inv_dx, dt, youngs_modulus, m, volume0
       logical :: linear, plastic
@@ -16174,7 +16652,8 @@ contains
    subroutine forced_map_stress_segment(k, seg, x, x0, v, stress, volume_ratio, cell, acceleration, velocity, &
                                         strain_increment_of, mass_left, mass_right, momentum_left, momentum_right, &
                                         stress_volume, constants, carry, mass_of, modulus_of, forces, gradient, force_left, &
-                                        force_right, plastic_strain, hardening, yield_of, hardening_of)
+                                        force_right, plastic_strain, hardening, yield_of, hardening_of, mapped, &
+                                        separating)
       integer, parameter :: kernel = pass_map_stress
       logical, parameter :: moves = pass_moves(kernel), stresses = pass_stresses(kernel), relocates = pass_relocates(kernel)
       integer, parameter :: shares = pass_force_shares(kernel)
@@ -16197,6 +16676,9 @@ contains
       !> yield stress and hardening modulus (absent for the other laws)
       real(dp), intent(inout), contiguous, optional :: plastic_strain(:), hardening(:)
       real(dp), intent(in), contiguous, optional :: yield_of(:), hardening_of(:)
+      !> ASFLIP's nodal velocity v^n of the step's mapping and each element's J of separation (absent for
+      !> the others)
+      real(dp), intent(in), contiguous, optional :: mapped(0:), separating(:)
       integer :: p, e, i, n, b0, first, last, lo, hi, outside, ahead, elements
       real(dp) :: half_m, strain_factor, dstrain, inv_dx, dt, youngs_modulus, m, volume0
       logical :: linear, plastic
@@ -16355,7 +16837,8 @@ contains
    subroutine bodies_usf_move_segment(k, seg, x, x0, v, stress, volume_ratio, cell, acceleration, velocity, &
                                       strain_increment_of, mass_left, mass_right, momentum_left, momentum_right, &
                                       stress_volume, constants, carry, mass_of, modulus_of, forces, gradient, force_left, &
-                                      force_right, plastic_strain, hardening, yield_of, hardening_of)
+                                      force_right, plastic_strain, hardening, yield_of, hardening_of, mapped, &
+                                      separating)
       integer, parameter :: kernel = pass_usf_move
       logical, parameter :: moves = pass_moves(kernel), stresses = pass_stresses(kernel), relocates = pass_relocates(kernel)
       integer, parameter :: shares = pass_shares(kernel)
@@ -16378,6 +16861,9 @@ contains
       !> yield stress and hardening modulus (absent for the other laws)
       real(dp), intent(inout), contiguous, optional :: plastic_strain(:), hardening(:)
       real(dp), intent(in), contiguous, optional :: yield_of(:), hardening_of(:)
+      !> ASFLIP's nodal velocity v^n of the step's mapping and each element's J of separation (absent for
+      !> the others)
+      real(dp), intent(in), contiguous, optional :: mapped(0:), separating(:)
       integer :: p, e, i, n, b0, first, last, lo, hi, outside, ahead, elements
       real(dp) :: half_m, strain_factor, dstrain, inv_dx, dt, youngs_modulus, m, volume0
       logical :: linear, plastic
@@ -16541,7 +17027,8 @@ contains
    subroutine bodies_usf_stress_segment(k, seg, x, x0, v, stress, volume_ratio, cell, acceleration, velocity, &
                                         strain_increment_of, mass_left, mass_right, momentum_left, momentum_right, &
                                         stress_volume, constants, carry, mass_of, modulus_of, forces, gradient, force_left, &
-                                        force_right, plastic_strain, hardening, yield_of, hardening_of)
+                                        force_right, plastic_strain, hardening, yield_of, hardening_of, mapped, &
+                                        separating)
       integer, parameter :: kernel = pass_usf_stress
       logical, parameter :: moves = pass_moves(kernel), stresses = pass_stresses(kernel), relocates = pass_relocates(kernel)
       integer, parameter :: shares = pass_shares(kernel)
@@ -16564,6 +17051,9 @@ contains
       !> yield stress and hardening modulus (absent for the other laws)
       real(dp), intent(inout), contiguous, optional :: plastic_strain(:), hardening(:)
       real(dp), intent(in), contiguous, optional :: yield_of(:), hardening_of(:)
+      !> ASFLIP's nodal velocity v^n of the step's mapping and each element's J of separation (absent for
+      !> the others)
+      real(dp), intent(in), contiguous, optional :: mapped(0:), separating(:)
       integer :: p, e, i, n, b0, first, last, lo, hi, outside, ahead, elements
       real(dp) :: half_m, strain_factor, dstrain, inv_dx, dt, youngs_modulus, m, volume0
       logical :: linear, plastic
@@ -16827,7 +17317,8 @@ contains
    subroutine bodies_usl_segment(k, seg, x, x0, v, stress, volume_ratio, cell, acceleration, velocity, &
                                  strain_increment_of, mass_left, mass_right, momentum_left, momentum_right, &
                                  stress_volume, constants, carry, mass_of, modulus_of, forces, gradient, force_left, &
-                                 force_right, plastic_strain, hardening, yield_of, hardening_of)
+                                 force_right, plastic_strain, hardening, yield_of, hardening_of, mapped, &
+                                 separating)
       integer, parameter :: kernel = pass_usl
       logical, parameter :: moves = pass_moves(kernel), stresses = pass_stresses(kernel), relocates = pass_relocates(kernel)
       integer, parameter :: shares = pass_shares(kernel)
@@ -16850,6 +17341,9 @@ contains
       !> yield stress and hardening modulus (absent for the other laws)
       real(dp), intent(inout), contiguous, optional :: plastic_strain(:), hardening(:)
       real(dp), intent(in), contiguous, optional :: yield_of(:), hardening_of(:)
+      !> ASFLIP's nodal velocity v^n of the step's mapping and each element's J of separation (absent for
+      !> the others)
+      real(dp), intent(in), contiguous, optional :: mapped(0:), separating(:)
       integer :: p, e, i, n, b0, first, last, lo, hi, outside, ahead, elements
       real(dp) :: half_m, strain_factor, dstrain, inv_dx, dt, youngs_modulus, m, volume0
       logical :: linear, plastic
@@ -17113,7 +17607,8 @@ contains
    subroutine bodies_musl_remap_segment(k, seg, x, x0, v, stress, volume_ratio, cell, acceleration, velocity, &
                                         strain_increment_of, mass_left, mass_right, momentum_left, momentum_right, &
                                         stress_volume, constants, carry, mass_of, modulus_of, forces, gradient, force_left, &
-                                        force_right, plastic_strain, hardening, yield_of, hardening_of)
+                                        force_right, plastic_strain, hardening, yield_of, hardening_of, mapped, &
+                                        separating)
       integer, parameter :: kernel = pass_musl_remap
       logical, parameter :: moves = pass_moves(kernel), stresses = pass_stresses(kernel), relocates = pass_relocates(kernel)
       integer, parameter :: shares = pass_shares(kernel)
@@ -17136,6 +17631,9 @@ contains
       !> yield stress and hardening modulus (absent for the other laws)
       real(dp), intent(inout), contiguous, optional :: plastic_strain(:), hardening(:)
       real(dp), intent(in), contiguous, optional :: yield_of(:), hardening_of(:)
+      !> ASFLIP's nodal velocity v^n of the step's mapping and each element's J of separation (absent for
+      !> the others)
+      real(dp), intent(in), contiguous, optional :: mapped(0:), separating(:)
       integer :: p, e, i, n, b0, first, last, lo, hi, outside, ahead, elements
       real(dp) :: half_m, strain_factor, dstrain, inv_dx, dt, youngs_modulus, m, volume0
       logical :: linear, plastic
@@ -17299,7 +17797,8 @@ contains
    subroutine bodies_musl_stress_segment(k, seg, x, x0, v, stress, volume_ratio, cell, acceleration, velocity, &
                                          strain_increment_of, mass_left, mass_right, momentum_left, momentum_right, &
                                          stress_volume, constants, carry, mass_of, modulus_of, forces, gradient, force_left, &
-                                         force_right, plastic_strain, hardening, yield_of, hardening_of)
+                                         force_right, plastic_strain, hardening, yield_of, hardening_of, mapped, &
+                                         separating)
       integer, parameter :: kernel = pass_musl_stress
       logical, parameter :: moves = pass_moves(kernel), stresses = pass_stresses(kernel), relocates = pass_relocates(kernel)
       integer, parameter :: shares = pass_shares(kernel)
@@ -17322,6 +17821,9 @@ contains
       !> yield stress and hardening modulus (absent for the other laws)
       real(dp), intent(inout), contiguous, optional :: plastic_strain(:), hardening(:)
       real(dp), intent(in), contiguous, optional :: yield_of(:), hardening_of(:)
+      !> ASFLIP's nodal velocity v^n of the step's mapping and each element's J of separation (absent for
+      !> the others)
+      real(dp), intent(in), contiguous, optional :: mapped(0:), separating(:)
       integer :: p, e, i, n, b0, first, last, lo, hi, outside, ahead, elements
       real(dp) :: half_m, strain_factor, dstrain, inv_dx, dt, youngs_modulus, m, volume0
       logical :: linear, plastic
@@ -17585,7 +18087,8 @@ contains
    subroutine bodies_map_segment(k, seg, x, x0, v, stress, volume_ratio, cell, acceleration, velocity, &
                                  strain_increment_of, mass_left, mass_right, momentum_left, momentum_right, &
                                  stress_volume, constants, carry, mass_of, modulus_of, forces, gradient, force_left, &
-                                 force_right, plastic_strain, hardening, yield_of, hardening_of)
+                                 force_right, plastic_strain, hardening, yield_of, hardening_of, mapped, &
+                                 separating)
       integer, parameter :: kernel = pass_map
       logical, parameter :: moves = pass_moves(kernel), stresses = pass_stresses(kernel), relocates = pass_relocates(kernel)
       integer, parameter :: shares = pass_shares(kernel)
@@ -17608,6 +18111,9 @@ contains
       !> yield stress and hardening modulus (absent for the other laws)
       real(dp), intent(inout), contiguous, optional :: plastic_strain(:), hardening(:)
       real(dp), intent(in), contiguous, optional :: yield_of(:), hardening_of(:)
+      !> ASFLIP's nodal velocity v^n of the step's mapping and each element's J of separation (absent for
+      !> the others)
+      real(dp), intent(in), contiguous, optional :: mapped(0:), separating(:)
       integer :: p, e, i, n, b0, first, last, lo, hi, outside, ahead, elements
       real(dp) :: half_m, strain_factor, dstrain, inv_dx, dt, youngs_modulus, m, volume0
       logical :: linear, plastic
@@ -17771,7 +18277,8 @@ contains
    subroutine bodies_map_stress_segment(k, seg, x, x0, v, stress, volume_ratio, cell, acceleration, velocity, &
                                         strain_increment_of, mass_left, mass_right, momentum_left, momentum_right, &
                                         stress_volume, constants, carry, mass_of, modulus_of, forces, gradient, force_left, &
-                                        force_right, plastic_strain, hardening, yield_of, hardening_of)
+                                        force_right, plastic_strain, hardening, yield_of, hardening_of, mapped, &
+                                        separating)
       integer, parameter :: kernel = pass_map_stress
       logical, parameter :: moves = pass_moves(kernel), stresses = pass_stresses(kernel), relocates = pass_relocates(kernel)
       integer, parameter :: shares = pass_shares(kernel)
@@ -17794,6 +18301,9 @@ contains
       !> yield stress and hardening modulus (absent for the other laws)
       real(dp), intent(inout), contiguous, optional :: plastic_strain(:), hardening(:)
       real(dp), intent(in), contiguous, optional :: yield_of(:), hardening_of(:)
+      !> ASFLIP's nodal velocity v^n of the step's mapping and each element's J of separation (absent for
+      !> the others)
+      real(dp), intent(in), contiguous, optional :: mapped(0:), separating(:)
       integer :: p, e, i, n, b0, first, last, lo, hi, outside, ahead, elements
       real(dp) :: half_m, strain_factor, dstrain, inv_dx, dt, youngs_modulus, m, volume0
       logical :: linear, plastic
@@ -17952,6 +18462,3172 @@ contains
       seg%body_momentum(k) = m*lane_total(momentum)
       seg%min_stress(k) = minval(least_stress)
    end subroutine bodies_map_stress_segment
+
+   !> USF, second half: G2P, then mass and momentum at the new position (the hat, ASFLIP)
+   subroutine asflip_usf_move_segment(k, seg, x, x0, v, stress, volume_ratio, cell, acceleration, velocity, &
+                                      strain_increment_of, mass_left, mass_right, momentum_left, momentum_right, &
+                                      stress_volume, constants, carry, mass_of, modulus_of, forces, gradient, force_left, &
+                                      force_right, plastic_strain, hardening, yield_of, hardening_of, mapped, &
+                                      separating)
+      integer, parameter :: kernel = pass_usf_move
+      logical, parameter :: moves = pass_moves(kernel), stresses = pass_stresses(kernel), relocates = pass_relocates(kernel)
+      integer, parameter :: shares = pass_shares(kernel)
+      integer, intent(in) :: k
+      type(segments_t), intent(inout) :: seg
+      real(dp), intent(inout), contiguous :: x(:), v(:), stress(:), volume_ratio(:)
+      real(dp), intent(in), contiguous :: x0(:)
+      integer, intent(inout), contiguous :: cell(:)
+      real(dp), intent(in), contiguous :: acceleration(0:), velocity(0:)
+      real(dp), intent(in), contiguous :: strain_increment_of(:)  !< per element (grid%element_strain)
+      real(dp), intent(inout), contiguous :: mass_left(:), mass_right(:), momentum_left(:), momentum_right(:), stress_volume(:)
+      type(pass_constants_t), intent(in) :: constants
+      real(dp), intent(inout), contiguous :: carry(:)  !< particles in parts: what a pass keeps for the next (fused_box_t)
+      !> the variants' per-particle data (absent when the run has none): masses and Young's moduli
+      !> (`material`), external forces (`forced`), APIC's velocity gradients C_p, and the element shares of
+      !> the forces
+      real(dp), intent(in), contiguous, optional :: mass_of(:), modulus_of(:), forces(:)
+      real(dp), intent(inout), contiguous, optional :: gradient(:), force_left(:), force_right(:)
+      !> the elastoplastic law's state (plastic strain, hardening variable) and, `material`, each particle's
+      !> yield stress and hardening modulus (absent for the other laws)
+      real(dp), intent(inout), contiguous, optional :: plastic_strain(:), hardening(:)
+      real(dp), intent(in), contiguous, optional :: yield_of(:), hardening_of(:)
+      !> ASFLIP's nodal velocity v^n of the step's mapping and each element's J of separation (absent for
+      !> the others)
+      real(dp), intent(in), contiguous, optional :: mapped(0:), separating(:)
+      integer :: p, e, i, n, b0, first, last, lo, hi, outside, ahead, elements
+      real(dp) :: half_m, strain_factor, dstrain, inv_dx, dt, youngs_modulus, m, volume0
+      logical :: linear, plastic
+      type(largest_move_t) :: largest
+      real(dp) :: displacement(lanes), kinetic(lanes), strain(lanes), min_j(lanes)
+      integer :: cb(block_size)
+      real(dp) :: svb(block_size), db(block_size), kb(block_size), sb(block_size), jb(block_size)
+      real(dp) :: mb(block_size, 2)  !< the moves of a block, and of the block with the largest (lanes_track_move)
+      integer :: slot
+      real(dp) :: lane_max(lanes), block_max
+      integer :: lane_i, lane_r
+      type(run_t) :: run
+      integer(i8) :: elements_bits
+      real(dp) :: xi, xib(block_size), vpb(block_size)
+      ! the variant's: G2P's grid velocity and move, the segment's body (cells offset), each particle's
+      ! shares (accumulate_shares)
+      real(dp) :: vgrid, dxp
+      real(dp) :: asflip_alpha, offset, separation
+      integer(i8) :: keep
+      asflip_alpha = constants%asflip_alpha
+      elements = constants%elements
+      inv_dx = constants%inv_dx
+      dt = constants%dt
+      youngs_modulus = constants%youngs_modulus
+      linear = constants%linear
+      plastic = constants%plastic
+      m = constants%mass
+      volume0 = constants%volume0
+      call open_segment(k, shares, seg, mass_left, mass_right, momentum_left, momentum_right, stress_volume, first, last, &
+                        lo, hi)
+      displacement = 0; kinetic = 0; strain = 0; min_j = huge(1.0_dp)
+      slot = 1
+      outside = 0
+      elements_bits = transfer(real(elements, dp), 0_i8)
+      half_m = 0.5_dp*m
+      strain_factor = 0.0_dp
+      if (stresses) strain_factor = 0.5_dp*volume0/youngs_modulus
+      do b0 = first, last, block_size
+         n = min(block_size, last - b0 + 1)
+         if (seg%prefetch) then  ! the arrays the pass reads, and the grid values of the next blocks
+            ahead = b0 + prefetch_ahead
+            if (kernel == pass_usl) call prefetch_block(ahead, cell, x, x0, v, stress, volume_ratio)
+            if (kernel == pass_usf_move .or. kernel == pass_musl_remap) call prefetch_block(ahead, cell, x, x0, v)
+            if (kernel == pass_usf_stress) call prefetch_block(ahead, cell, stress, volume_ratio)
+            if (kernel == pass_musl_stress) call prefetch_block(ahead, cell, x, v, stress, volume_ratio)
+            if (stresses .and. plastic) call prefetch_block(ahead, cell, plastic_strain, hardening)
+            if (moves) then
+               call prefetch_nodes(cell(b0), cell(b0 + n - 1), acceleration, velocity)
+            else
+               call prefetch_elements(cell(b0), cell(b0 + n - 1), strain_increment_of)
+            end if
+         end if
+         do i = 1, n
+            p = b0 + i - 1
+            e = cell(p)
+            ! G2P with the start-of-step shape functions (ASFLIP)
+            if (moves) then
+               xi = x(p)*inv_dx - (e - 1)
+               vgrid = (1.0_dp - xi)*velocity(e - 1) + xi*velocity(e)
+               ! v_p <- v_PIC + alpha (v_p - v_old), v_old = sum N v^n; the particle moves with v_PIC plus that
+               ! offset where it separates, ln J^n + dt sum dN v^L >= separation_threshold (mpm_asflip), that is
+               ! J^n >= exp(separation_threshold - dt sum dN v^L), the element's `separating` (set before the
+               ! pass: an exp per element, no log per particle): the offset's bits masked by the sign of the
+               ! difference (a comparison would keep the loop scalar)
+               offset = asflip_alpha*(v(p) - ((1.0_dp - xi)*mapped(e - 1) + xi*mapped(e)))
+               v(p) = vgrid + offset
+               if (kernel == pass_usf_move) then ! (J^n, kept by the stress pass before its update)
+                  separation = carry(p) - separating(e)
+               else
+                  separation = volume_ratio(p) - separating(e)
+               end if
+               keep = ishft(transfer(separation, 0_i8), -63) - 1_i8 ! all bits set where it separates, else none
+               vgrid = vgrid + transfer(iand(transfer(offset, 0_i8), keep), 1.0_dp)
+               dxp = dt*vgrid
+               x(p) = x(p) + dxp
+               db(i) = x(p) - x0(p)
+               kb(i) = half_m*v(p)*v(p)
+               mb(i, slot) = abs(dxp)*inv_dx
+            end if
+            if (stresses) then ! d eps = dt sum dN v_I over the start-of-step cell
+               if (moves) then
+                  dstrain = strain_increment(velocity(e - 1), velocity(e), dt, inv_dx)
+               else
+                  dstrain = strain_increment_of(e)
+               end if
+               if (kernel == pass_usf_stress) carry(p) = volume_ratio(p) ! (J^n for the move pass's test)
+               call stress_hencky(dstrain, youngs_modulus, strain_factor, volume0, stress(p), volume_ratio(p), &
+                                  sb(i), svb(i))
+               jb(i) = volume_ratio(p)
+            else if (iand(shares, share_stress) /= 0) then ! (an initial mapping: the stress as it is)
+               svb(i) = stress(p)*volume_ratio(p)*volume0
+            end if
+            if (relocates) then ! the new cell, for P2G at the new position
+               call locate_cell(x(p), inv_dx, elements, elements_bits, cb(i), xib(i))
+               cell(p) = cb(i)
+            else                ! the shares go to the start-of-step cell
+               cb(i) = e
+               if (moves) xib(i) = xi
+            end if
+            if (moves .or. relocates) vpb(i) = v(p)
+         end do
+         ! the block's totals (macros of mpm_lanes.fypi, expanded here)
+         if (moves) then
+            do lane_i = 1, n - lanes + 1, lanes
+               displacement = displacement + db(lane_i:lane_i + lanes - 1)
+            end do
+            lane_r = mod(n, lanes)
+            if (lane_r > 0) displacement(1:lane_r) = displacement(1:lane_r) + db(n - lane_r + 1:n)
+            do lane_i = 1, n - lanes + 1, lanes
+               kinetic = kinetic + kb(lane_i:lane_i + lanes - 1)
+            end do
+            lane_r = mod(n, lanes)
+            if (lane_r > 0) kinetic(1:lane_r) = kinetic(1:lane_r) + kb(n - lane_r + 1:n)
+            lane_max = 0.0_dp
+            do lane_i = 1, n - lanes + 1, lanes
+               lane_max = max(lane_max, mb(lane_i:lane_i + lanes - 1, slot))
+            end do
+            lane_r = mod(n, lanes)
+            if (lane_r > 0) lane_max(1:lane_r) = max(lane_max(1:lane_r), mb(n - lane_r + 1:n, slot))
+            block_max = maxval(lane_max)
+            if (block_max > largest%value) then
+               largest%value = block_max
+               largest%first = b0
+               largest%count = n
+               largest%slot = slot
+               slot = 3 - slot
+            end if
+         end if
+         if (stresses) then
+            do lane_i = 1, n - lanes + 1, lanes
+               strain = strain + sb(lane_i:lane_i + lanes - 1)
+            end do
+            lane_r = mod(n, lanes)
+            if (lane_r > 0) strain(1:lane_r) = strain(1:lane_r) + sb(n - lane_r + 1:n)
+            do lane_i = 1, n - lanes + 1, lanes
+               min_j = min(min_j, jb(lane_i:lane_i + lanes - 1))
+            end do
+            lane_r = mod(n, lanes)
+            if (lane_r > 0) min_j(1:lane_r) = min(min_j(1:lane_r), jb(n - lane_r + 1:n))
+         end if
+         if (relocates) call find_outside(n, b0, cb, outside)
+         call accumulate_block(k, n, cb, xib, vpb, svb, m, lo, hi, shares, run, mass_left, mass_right, momentum_left, &
+                               momentum_right, stress_volume, seg)
+      end do
+      call close_segment(k, shares, m, run, [lane_total(displacement), lane_total(kinetic), lane_total(strain), &
+                         0.0_dp], &
+                         minval(min_j), largest%value, furthest_particle(largest, mb), outside, mass_left, mass_right, &
+                         momentum_left, momentum_right, stress_volume, seg)
+   end subroutine asflip_usf_move_segment
+
+   !> USF, first half: stress update, then stress*volume of the unmoved particles (the hat, ASFLIP)
+   subroutine asflip_usf_stress_segment(k, seg, x, x0, v, stress, volume_ratio, cell, acceleration, velocity, &
+                                        strain_increment_of, mass_left, mass_right, momentum_left, momentum_right, &
+                                        stress_volume, constants, carry, mass_of, modulus_of, forces, gradient, force_left, &
+                                        force_right, plastic_strain, hardening, yield_of, hardening_of, mapped, &
+                                        separating)
+      integer, parameter :: kernel = pass_usf_stress
+      logical, parameter :: moves = pass_moves(kernel), stresses = pass_stresses(kernel), relocates = pass_relocates(kernel)
+      integer, parameter :: shares = pass_shares(kernel)
+      integer, intent(in) :: k
+      type(segments_t), intent(inout) :: seg
+      real(dp), intent(inout), contiguous :: x(:), v(:), stress(:), volume_ratio(:)
+      real(dp), intent(in), contiguous :: x0(:)
+      integer, intent(inout), contiguous :: cell(:)
+      real(dp), intent(in), contiguous :: acceleration(0:), velocity(0:)
+      real(dp), intent(in), contiguous :: strain_increment_of(:)  !< per element (grid%element_strain)
+      real(dp), intent(inout), contiguous :: mass_left(:), mass_right(:), momentum_left(:), momentum_right(:), stress_volume(:)
+      type(pass_constants_t), intent(in) :: constants
+      real(dp), intent(inout), contiguous :: carry(:)  !< particles in parts: what a pass keeps for the next (fused_box_t)
+      !> the variants' per-particle data (absent when the run has none): masses and Young's moduli
+      !> (`material`), external forces (`forced`), APIC's velocity gradients C_p, and the element shares of
+      !> the forces
+      real(dp), intent(in), contiguous, optional :: mass_of(:), modulus_of(:), forces(:)
+      real(dp), intent(inout), contiguous, optional :: gradient(:), force_left(:), force_right(:)
+      !> the elastoplastic law's state (plastic strain, hardening variable) and, `material`, each particle's
+      !> yield stress and hardening modulus (absent for the other laws)
+      real(dp), intent(inout), contiguous, optional :: plastic_strain(:), hardening(:)
+      real(dp), intent(in), contiguous, optional :: yield_of(:), hardening_of(:)
+      !> ASFLIP's nodal velocity v^n of the step's mapping and each element's J of separation (absent for
+      !> the others)
+      real(dp), intent(in), contiguous, optional :: mapped(0:), separating(:)
+      integer :: p, e, i, n, b0, first, last, lo, hi, outside, ahead, elements
+      real(dp) :: half_m, strain_factor, dstrain, inv_dx, dt, youngs_modulus, m, volume0
+      logical :: linear, plastic
+      ! the elastoplastic law's constants and the block's plastic work, summed in lanes
+      real(dp) :: yield_stress, hardening_modulus, increment, wb(block_size), work(lanes)
+      type(largest_move_t) :: largest
+      real(dp) :: displacement(lanes), kinetic(lanes), strain(lanes), min_j(lanes)
+      integer :: cb(block_size)
+      real(dp) :: svb(block_size), db(block_size), kb(block_size), sb(block_size), jb(block_size)
+      real(dp) :: mb(block_size, 2)  !< the moves of a block, and of the block with the largest (lanes_track_move)
+      integer :: slot
+      real(dp) :: lane_max(lanes), block_max
+      integer :: lane_i, lane_r
+      type(run_t) :: run
+      integer(i8) :: elements_bits
+      real(dp) :: xi, xib(block_size), vpb(block_size)
+      ! the variant's: G2P's grid velocity and move, the segment's body (cells offset), each particle's
+      ! shares (accumulate_shares)
+      real(dp) :: vgrid, dxp
+      real(dp) :: asflip_alpha, offset, separation
+      integer(i8) :: keep
+      asflip_alpha = constants%asflip_alpha
+      elements = constants%elements
+      inv_dx = constants%inv_dx
+      dt = constants%dt
+      youngs_modulus = constants%youngs_modulus
+      linear = constants%linear
+      plastic = constants%plastic
+      yield_stress = constants%yield_stress
+      hardening_modulus = constants%hardening_modulus
+      work = 0
+      m = constants%mass
+      volume0 = constants%volume0
+      call open_segment(k, shares, seg, mass_left, mass_right, momentum_left, momentum_right, stress_volume, first, last, &
+                        lo, hi)
+      displacement = 0; kinetic = 0; strain = 0; min_j = huge(1.0_dp)
+      slot = 1
+      outside = 0
+      elements_bits = transfer(real(elements, dp), 0_i8)
+      half_m = 0.5_dp*m
+      strain_factor = 0.0_dp
+      if (stresses) strain_factor = 0.5_dp*volume0/youngs_modulus
+      do b0 = first, last, block_size
+         n = min(block_size, last - b0 + 1)
+         if (seg%prefetch) then  ! the arrays the pass reads, and the grid values of the next blocks
+            ahead = b0 + prefetch_ahead
+            if (kernel == pass_usl) call prefetch_block(ahead, cell, x, x0, v, stress, volume_ratio)
+            if (kernel == pass_usf_move .or. kernel == pass_musl_remap) call prefetch_block(ahead, cell, x, x0, v)
+            if (kernel == pass_usf_stress) call prefetch_block(ahead, cell, stress, volume_ratio)
+            if (kernel == pass_musl_stress) call prefetch_block(ahead, cell, x, v, stress, volume_ratio)
+            if (stresses .and. plastic) call prefetch_block(ahead, cell, plastic_strain, hardening)
+            if (moves) then
+               call prefetch_nodes(cell(b0), cell(b0 + n - 1), acceleration, velocity)
+            else
+               call prefetch_elements(cell(b0), cell(b0 + n - 1), strain_increment_of)
+            end if
+         end if
+         if (linear) then
+         do i = 1, n
+            p = b0 + i - 1
+            e = cell(p)
+            ! G2P with the start-of-step shape functions (ASFLIP)
+            if (moves) then
+               xi = x(p)*inv_dx - (e - 1)
+               vgrid = (1.0_dp - xi)*velocity(e - 1) + xi*velocity(e)
+               ! v_p <- v_PIC + alpha (v_p - v_old), v_old = sum N v^n; the particle moves with v_PIC plus that
+               ! offset where it separates, ln J^n + dt sum dN v^L >= separation_threshold (mpm_asflip), that is
+               ! J^n >= exp(separation_threshold - dt sum dN v^L), the element's `separating` (set before the
+               ! pass: an exp per element, no log per particle): the offset's bits masked by the sign of the
+               ! difference (a comparison would keep the loop scalar)
+               offset = asflip_alpha*(v(p) - ((1.0_dp - xi)*mapped(e - 1) + xi*mapped(e)))
+               v(p) = vgrid + offset
+               if (kernel == pass_usf_move) then ! (J^n, kept by the stress pass before its update)
+                  separation = carry(p) - separating(e)
+               else
+                  separation = volume_ratio(p) - separating(e)
+               end if
+               keep = ishft(transfer(separation, 0_i8), -63) - 1_i8 ! all bits set where it separates, else none
+               vgrid = vgrid + transfer(iand(transfer(offset, 0_i8), keep), 1.0_dp)
+               dxp = dt*vgrid
+               x(p) = x(p) + dxp
+               db(i) = x(p) - x0(p)
+               kb(i) = half_m*v(p)*v(p)
+               mb(i, slot) = abs(dxp)*inv_dx
+            end if
+            if (stresses) then ! d eps = dt sum dN v_I over the start-of-step cell
+               if (moves) then
+                  dstrain = strain_increment(velocity(e - 1), velocity(e), dt, inv_dx)
+               else
+                  dstrain = strain_increment_of(e)
+               end if
+               if (kernel == pass_usf_stress) carry(p) = volume_ratio(p) ! (J^n for the move pass's test)
+               call stress_linear(dstrain, youngs_modulus, strain_factor, volume0, stress(p), volume_ratio(p), &
+                                  sb(i), svb(i))
+               jb(i) = volume_ratio(p)
+            else if (iand(shares, share_stress) /= 0) then ! (an initial mapping: the stress as it is)
+               svb(i) = stress(p)*volume_ratio(p)*volume0
+            end if
+            if (relocates) then ! the new cell, for P2G at the new position
+               call locate_cell(x(p), inv_dx, elements, elements_bits, cb(i), xib(i))
+               cell(p) = cb(i)
+            else                ! the shares go to the start-of-step cell
+               cb(i) = e
+               if (moves) xib(i) = xi
+            end if
+            if (moves .or. relocates) vpb(i) = v(p)
+         end do
+         else if (plastic) then
+         do i = 1, n
+            p = b0 + i - 1
+            e = cell(p)
+            ! G2P with the start-of-step shape functions (ASFLIP)
+            if (moves) then
+               xi = x(p)*inv_dx - (e - 1)
+               vgrid = (1.0_dp - xi)*velocity(e - 1) + xi*velocity(e)
+               ! v_p <- v_PIC + alpha (v_p - v_old), v_old = sum N v^n; the particle moves with v_PIC plus that
+               ! offset where it separates, ln J^n + dt sum dN v^L >= separation_threshold (mpm_asflip), that is
+               ! J^n >= exp(separation_threshold - dt sum dN v^L), the element's `separating` (set before the
+               ! pass: an exp per element, no log per particle): the offset's bits masked by the sign of the
+               ! difference (a comparison would keep the loop scalar)
+               offset = asflip_alpha*(v(p) - ((1.0_dp - xi)*mapped(e - 1) + xi*mapped(e)))
+               v(p) = vgrid + offset
+               if (kernel == pass_usf_move) then ! (J^n, kept by the stress pass before its update)
+                  separation = carry(p) - separating(e)
+               else
+                  separation = volume_ratio(p) - separating(e)
+               end if
+               keep = ishft(transfer(separation, 0_i8), -63) - 1_i8 ! all bits set where it separates, else none
+               vgrid = vgrid + transfer(iand(transfer(offset, 0_i8), keep), 1.0_dp)
+               dxp = dt*vgrid
+               x(p) = x(p) + dxp
+               db(i) = x(p) - x0(p)
+               kb(i) = half_m*v(p)*v(p)
+               mb(i, slot) = abs(dxp)*inv_dx
+            end if
+            if (stresses) then ! d eps = dt sum dN v_I over the start-of-step cell
+               if (moves) then
+                  dstrain = strain_increment(velocity(e - 1), velocity(e), dt, inv_dx)
+               else
+                  dstrain = strain_increment_of(e)
+               end if
+               if (kernel == pass_usf_stress) carry(p) = volume_ratio(p) ! (J^n for the move pass's test)
+               stress(p) = stress(p) + youngs_modulus*dstrain
+               ! d gamma, zero in an elastic step: written without a branch, so that a loop over particles
+               ! vectorises; an elastic step then subtracts and adds zeros, which leaves the hencky bits
+               increment = max(abs(stress(p)) - (yield_stress + hardening_modulus*hardening(p)), 0.0_dp)/ &
+                           (youngs_modulus + hardening_modulus)
+               stress(p) = stress(p) - sign(youngs_modulus*increment, stress(p))
+               plastic_strain(p) = plastic_strain(p) + sign(increment, stress(p))
+               hardening(p) = hardening(p) + increment
+               volume_ratio(p) = volume_ratio(p)*(1.0_dp + dstrain)
+               sb(i) = stress(p)*stress(p)*volume_ratio(p)*strain_factor
+               svb(i) = stress(p)*volume_ratio(p)*volume0
+               wb(i) = (yield_stress + 0.5_dp*hardening_modulus*hardening(p))*hardening(p)*volume0
+               jb(i) = volume_ratio(p)
+            else if (iand(shares, share_stress) /= 0) then ! (an initial mapping: the stress as it is)
+               svb(i) = stress(p)*volume_ratio(p)*volume0
+            end if
+            if (relocates) then ! the new cell, for P2G at the new position
+               call locate_cell(x(p), inv_dx, elements, elements_bits, cb(i), xib(i))
+               cell(p) = cb(i)
+            else                ! the shares go to the start-of-step cell
+               cb(i) = e
+               if (moves) xib(i) = xi
+            end if
+            if (moves .or. relocates) vpb(i) = v(p)
+         end do
+         else
+         do i = 1, n
+            p = b0 + i - 1
+            e = cell(p)
+            ! G2P with the start-of-step shape functions (ASFLIP)
+            if (moves) then
+               xi = x(p)*inv_dx - (e - 1)
+               vgrid = (1.0_dp - xi)*velocity(e - 1) + xi*velocity(e)
+               ! v_p <- v_PIC + alpha (v_p - v_old), v_old = sum N v^n; the particle moves with v_PIC plus that
+               ! offset where it separates, ln J^n + dt sum dN v^L >= separation_threshold (mpm_asflip), that is
+               ! J^n >= exp(separation_threshold - dt sum dN v^L), the element's `separating` (set before the
+               ! pass: an exp per element, no log per particle): the offset's bits masked by the sign of the
+               ! difference (a comparison would keep the loop scalar)
+               offset = asflip_alpha*(v(p) - ((1.0_dp - xi)*mapped(e - 1) + xi*mapped(e)))
+               v(p) = vgrid + offset
+               if (kernel == pass_usf_move) then ! (J^n, kept by the stress pass before its update)
+                  separation = carry(p) - separating(e)
+               else
+                  separation = volume_ratio(p) - separating(e)
+               end if
+               keep = ishft(transfer(separation, 0_i8), -63) - 1_i8 ! all bits set where it separates, else none
+               vgrid = vgrid + transfer(iand(transfer(offset, 0_i8), keep), 1.0_dp)
+               dxp = dt*vgrid
+               x(p) = x(p) + dxp
+               db(i) = x(p) - x0(p)
+               kb(i) = half_m*v(p)*v(p)
+               mb(i, slot) = abs(dxp)*inv_dx
+            end if
+            if (stresses) then ! d eps = dt sum dN v_I over the start-of-step cell
+               if (moves) then
+                  dstrain = strain_increment(velocity(e - 1), velocity(e), dt, inv_dx)
+               else
+                  dstrain = strain_increment_of(e)
+               end if
+               if (kernel == pass_usf_stress) carry(p) = volume_ratio(p) ! (J^n for the move pass's test)
+               call stress_hencky(dstrain, youngs_modulus, strain_factor, volume0, stress(p), volume_ratio(p), &
+                                  sb(i), svb(i))
+               jb(i) = volume_ratio(p)
+            else if (iand(shares, share_stress) /= 0) then ! (an initial mapping: the stress as it is)
+               svb(i) = stress(p)*volume_ratio(p)*volume0
+            end if
+            if (relocates) then ! the new cell, for P2G at the new position
+               call locate_cell(x(p), inv_dx, elements, elements_bits, cb(i), xib(i))
+               cell(p) = cb(i)
+            else                ! the shares go to the start-of-step cell
+               cb(i) = e
+               if (moves) xib(i) = xi
+            end if
+            if (moves .or. relocates) vpb(i) = v(p)
+         end do
+         end if
+         ! the block's totals (macros of mpm_lanes.fypi, expanded here)
+         if (moves) then
+            do lane_i = 1, n - lanes + 1, lanes
+               displacement = displacement + db(lane_i:lane_i + lanes - 1)
+            end do
+            lane_r = mod(n, lanes)
+            if (lane_r > 0) displacement(1:lane_r) = displacement(1:lane_r) + db(n - lane_r + 1:n)
+            do lane_i = 1, n - lanes + 1, lanes
+               kinetic = kinetic + kb(lane_i:lane_i + lanes - 1)
+            end do
+            lane_r = mod(n, lanes)
+            if (lane_r > 0) kinetic(1:lane_r) = kinetic(1:lane_r) + kb(n - lane_r + 1:n)
+            lane_max = 0.0_dp
+            do lane_i = 1, n - lanes + 1, lanes
+               lane_max = max(lane_max, mb(lane_i:lane_i + lanes - 1, slot))
+            end do
+            lane_r = mod(n, lanes)
+            if (lane_r > 0) lane_max(1:lane_r) = max(lane_max(1:lane_r), mb(n - lane_r + 1:n, slot))
+            block_max = maxval(lane_max)
+            if (block_max > largest%value) then
+               largest%value = block_max
+               largest%first = b0
+               largest%count = n
+               largest%slot = slot
+               slot = 3 - slot
+            end if
+         end if
+         if (stresses) then
+            do lane_i = 1, n - lanes + 1, lanes
+               strain = strain + sb(lane_i:lane_i + lanes - 1)
+            end do
+            lane_r = mod(n, lanes)
+            if (lane_r > 0) strain(1:lane_r) = strain(1:lane_r) + sb(n - lane_r + 1:n)
+            do lane_i = 1, n - lanes + 1, lanes
+               min_j = min(min_j, jb(lane_i:lane_i + lanes - 1))
+            end do
+            lane_r = mod(n, lanes)
+            if (lane_r > 0) min_j(1:lane_r) = min(min_j(1:lane_r), jb(n - lane_r + 1:n))
+         end if
+         if (plastic) then
+            do lane_i = 1, n - lanes + 1, lanes
+               work = work + wb(lane_i:lane_i + lanes - 1)
+            end do
+            lane_r = mod(n, lanes)
+            if (lane_r > 0) work(1:lane_r) = work(1:lane_r) + wb(n - lane_r + 1:n)
+         end if
+         if (relocates) call find_outside(n, b0, cb, outside)
+         call accumulate_block(k, n, cb, xib, vpb, svb, m, lo, hi, shares, run, mass_left, mass_right, momentum_left, &
+                               momentum_right, stress_volume, seg)
+      end do
+      call close_segment(k, shares, m, run, [lane_total(displacement), lane_total(kinetic), lane_total(strain), &
+                         lane_total(work)], &
+                         minval(min_j), largest%value, furthest_particle(largest, mb), outside, mass_left, mass_right, &
+                         momentum_left, momentum_right, stress_volume, seg)
+   end subroutine asflip_usf_stress_segment
+
+   !> USL: G2P, stress update from the updated nodal velocities, P2G at the new position (the hat, ASFLIP)
+   subroutine asflip_usl_segment(k, seg, x, x0, v, stress, volume_ratio, cell, acceleration, velocity, &
+                                 strain_increment_of, mass_left, mass_right, momentum_left, momentum_right, &
+                                 stress_volume, constants, carry, mass_of, modulus_of, forces, gradient, force_left, &
+                                 force_right, plastic_strain, hardening, yield_of, hardening_of, mapped, &
+                                 separating)
+      integer, parameter :: kernel = pass_usl
+      logical, parameter :: moves = pass_moves(kernel), stresses = pass_stresses(kernel), relocates = pass_relocates(kernel)
+      integer, parameter :: shares = pass_shares(kernel)
+      integer, intent(in) :: k
+      type(segments_t), intent(inout) :: seg
+      real(dp), intent(inout), contiguous :: x(:), v(:), stress(:), volume_ratio(:)
+      real(dp), intent(in), contiguous :: x0(:)
+      integer, intent(inout), contiguous :: cell(:)
+      real(dp), intent(in), contiguous :: acceleration(0:), velocity(0:)
+      real(dp), intent(in), contiguous :: strain_increment_of(:)  !< per element (grid%element_strain)
+      real(dp), intent(inout), contiguous :: mass_left(:), mass_right(:), momentum_left(:), momentum_right(:), stress_volume(:)
+      type(pass_constants_t), intent(in) :: constants
+      real(dp), intent(inout), contiguous :: carry(:)  !< particles in parts: what a pass keeps for the next (fused_box_t)
+      !> the variants' per-particle data (absent when the run has none): masses and Young's moduli
+      !> (`material`), external forces (`forced`), APIC's velocity gradients C_p, and the element shares of
+      !> the forces
+      real(dp), intent(in), contiguous, optional :: mass_of(:), modulus_of(:), forces(:)
+      real(dp), intent(inout), contiguous, optional :: gradient(:), force_left(:), force_right(:)
+      !> the elastoplastic law's state (plastic strain, hardening variable) and, `material`, each particle's
+      !> yield stress and hardening modulus (absent for the other laws)
+      real(dp), intent(inout), contiguous, optional :: plastic_strain(:), hardening(:)
+      real(dp), intent(in), contiguous, optional :: yield_of(:), hardening_of(:)
+      !> ASFLIP's nodal velocity v^n of the step's mapping and each element's J of separation (absent for
+      !> the others)
+      real(dp), intent(in), contiguous, optional :: mapped(0:), separating(:)
+      integer :: p, e, i, n, b0, first, last, lo, hi, outside, ahead, elements
+      real(dp) :: half_m, strain_factor, dstrain, inv_dx, dt, youngs_modulus, m, volume0
+      logical :: linear, plastic
+      ! the elastoplastic law's constants and the block's plastic work, summed in lanes
+      real(dp) :: yield_stress, hardening_modulus, increment, wb(block_size), work(lanes)
+      type(largest_move_t) :: largest
+      real(dp) :: displacement(lanes), kinetic(lanes), strain(lanes), min_j(lanes)
+      integer :: cb(block_size)
+      real(dp) :: svb(block_size), db(block_size), kb(block_size), sb(block_size), jb(block_size)
+      real(dp) :: mb(block_size, 2)  !< the moves of a block, and of the block with the largest (lanes_track_move)
+      integer :: slot
+      real(dp) :: lane_max(lanes), block_max
+      integer :: lane_i, lane_r
+      type(run_t) :: run
+      integer(i8) :: elements_bits
+      real(dp) :: xi, xib(block_size), vpb(block_size)
+      ! the variant's: G2P's grid velocity and move, the segment's body (cells offset), each particle's
+      ! shares (accumulate_shares)
+      real(dp) :: vgrid, dxp
+      real(dp) :: asflip_alpha, offset, separation
+      integer(i8) :: keep
+      asflip_alpha = constants%asflip_alpha
+      elements = constants%elements
+      inv_dx = constants%inv_dx
+      dt = constants%dt
+      youngs_modulus = constants%youngs_modulus
+      linear = constants%linear
+      plastic = constants%plastic
+      yield_stress = constants%yield_stress
+      hardening_modulus = constants%hardening_modulus
+      work = 0
+      m = constants%mass
+      volume0 = constants%volume0
+      call open_segment(k, shares, seg, mass_left, mass_right, momentum_left, momentum_right, stress_volume, first, last, &
+                        lo, hi)
+      displacement = 0; kinetic = 0; strain = 0; min_j = huge(1.0_dp)
+      slot = 1
+      outside = 0
+      elements_bits = transfer(real(elements, dp), 0_i8)
+      half_m = 0.5_dp*m
+      strain_factor = 0.0_dp
+      if (stresses) strain_factor = 0.5_dp*volume0/youngs_modulus
+      do b0 = first, last, block_size
+         n = min(block_size, last - b0 + 1)
+         if (seg%prefetch) then  ! the arrays the pass reads, and the grid values of the next blocks
+            ahead = b0 + prefetch_ahead
+            if (kernel == pass_usl) call prefetch_block(ahead, cell, x, x0, v, stress, volume_ratio)
+            if (kernel == pass_usf_move .or. kernel == pass_musl_remap) call prefetch_block(ahead, cell, x, x0, v)
+            if (kernel == pass_usf_stress) call prefetch_block(ahead, cell, stress, volume_ratio)
+            if (kernel == pass_musl_stress) call prefetch_block(ahead, cell, x, v, stress, volume_ratio)
+            if (stresses .and. plastic) call prefetch_block(ahead, cell, plastic_strain, hardening)
+            if (moves) then
+               call prefetch_nodes(cell(b0), cell(b0 + n - 1), acceleration, velocity)
+            else
+               call prefetch_elements(cell(b0), cell(b0 + n - 1), strain_increment_of)
+            end if
+         end if
+         if (linear) then
+         do i = 1, n
+            p = b0 + i - 1
+            e = cell(p)
+            ! G2P with the start-of-step shape functions (ASFLIP)
+            if (moves) then
+               xi = x(p)*inv_dx - (e - 1)
+               vgrid = (1.0_dp - xi)*velocity(e - 1) + xi*velocity(e)
+               ! v_p <- v_PIC + alpha (v_p - v_old), v_old = sum N v^n; the particle moves with v_PIC plus that
+               ! offset where it separates, ln J^n + dt sum dN v^L >= separation_threshold (mpm_asflip), that is
+               ! J^n >= exp(separation_threshold - dt sum dN v^L), the element's `separating` (set before the
+               ! pass: an exp per element, no log per particle): the offset's bits masked by the sign of the
+               ! difference (a comparison would keep the loop scalar)
+               offset = asflip_alpha*(v(p) - ((1.0_dp - xi)*mapped(e - 1) + xi*mapped(e)))
+               v(p) = vgrid + offset
+               if (kernel == pass_usf_move) then ! (J^n, kept by the stress pass before its update)
+                  separation = carry(p) - separating(e)
+               else
+                  separation = volume_ratio(p) - separating(e)
+               end if
+               keep = ishft(transfer(separation, 0_i8), -63) - 1_i8 ! all bits set where it separates, else none
+               vgrid = vgrid + transfer(iand(transfer(offset, 0_i8), keep), 1.0_dp)
+               dxp = dt*vgrid
+               x(p) = x(p) + dxp
+               db(i) = x(p) - x0(p)
+               kb(i) = half_m*v(p)*v(p)
+               mb(i, slot) = abs(dxp)*inv_dx
+            end if
+            if (stresses) then ! d eps = dt sum dN v_I over the start-of-step cell
+               if (moves) then
+                  dstrain = strain_increment(velocity(e - 1), velocity(e), dt, inv_dx)
+               else
+                  dstrain = strain_increment_of(e)
+               end if
+               if (kernel == pass_usf_stress) carry(p) = volume_ratio(p) ! (J^n for the move pass's test)
+               call stress_linear(dstrain, youngs_modulus, strain_factor, volume0, stress(p), volume_ratio(p), &
+                                  sb(i), svb(i))
+               jb(i) = volume_ratio(p)
+            else if (iand(shares, share_stress) /= 0) then ! (an initial mapping: the stress as it is)
+               svb(i) = stress(p)*volume_ratio(p)*volume0
+            end if
+            if (relocates) then ! the new cell, for P2G at the new position
+               call locate_cell(x(p), inv_dx, elements, elements_bits, cb(i), xib(i))
+               cell(p) = cb(i)
+            else                ! the shares go to the start-of-step cell
+               cb(i) = e
+               if (moves) xib(i) = xi
+            end if
+            if (moves .or. relocates) vpb(i) = v(p)
+         end do
+         else if (plastic) then
+         do i = 1, n
+            p = b0 + i - 1
+            e = cell(p)
+            ! G2P with the start-of-step shape functions (ASFLIP)
+            if (moves) then
+               xi = x(p)*inv_dx - (e - 1)
+               vgrid = (1.0_dp - xi)*velocity(e - 1) + xi*velocity(e)
+               ! v_p <- v_PIC + alpha (v_p - v_old), v_old = sum N v^n; the particle moves with v_PIC plus that
+               ! offset where it separates, ln J^n + dt sum dN v^L >= separation_threshold (mpm_asflip), that is
+               ! J^n >= exp(separation_threshold - dt sum dN v^L), the element's `separating` (set before the
+               ! pass: an exp per element, no log per particle): the offset's bits masked by the sign of the
+               ! difference (a comparison would keep the loop scalar)
+               offset = asflip_alpha*(v(p) - ((1.0_dp - xi)*mapped(e - 1) + xi*mapped(e)))
+               v(p) = vgrid + offset
+               if (kernel == pass_usf_move) then ! (J^n, kept by the stress pass before its update)
+                  separation = carry(p) - separating(e)
+               else
+                  separation = volume_ratio(p) - separating(e)
+               end if
+               keep = ishft(transfer(separation, 0_i8), -63) - 1_i8 ! all bits set where it separates, else none
+               vgrid = vgrid + transfer(iand(transfer(offset, 0_i8), keep), 1.0_dp)
+               dxp = dt*vgrid
+               x(p) = x(p) + dxp
+               db(i) = x(p) - x0(p)
+               kb(i) = half_m*v(p)*v(p)
+               mb(i, slot) = abs(dxp)*inv_dx
+            end if
+            if (stresses) then ! d eps = dt sum dN v_I over the start-of-step cell
+               if (moves) then
+                  dstrain = strain_increment(velocity(e - 1), velocity(e), dt, inv_dx)
+               else
+                  dstrain = strain_increment_of(e)
+               end if
+               if (kernel == pass_usf_stress) carry(p) = volume_ratio(p) ! (J^n for the move pass's test)
+               stress(p) = stress(p) + youngs_modulus*dstrain
+               ! d gamma, zero in an elastic step: written without a branch, so that a loop over particles
+               ! vectorises; an elastic step then subtracts and adds zeros, which leaves the hencky bits
+               increment = max(abs(stress(p)) - (yield_stress + hardening_modulus*hardening(p)), 0.0_dp)/ &
+                           (youngs_modulus + hardening_modulus)
+               stress(p) = stress(p) - sign(youngs_modulus*increment, stress(p))
+               plastic_strain(p) = plastic_strain(p) + sign(increment, stress(p))
+               hardening(p) = hardening(p) + increment
+               volume_ratio(p) = volume_ratio(p)*(1.0_dp + dstrain)
+               sb(i) = stress(p)*stress(p)*volume_ratio(p)*strain_factor
+               svb(i) = stress(p)*volume_ratio(p)*volume0
+               wb(i) = (yield_stress + 0.5_dp*hardening_modulus*hardening(p))*hardening(p)*volume0
+               jb(i) = volume_ratio(p)
+            else if (iand(shares, share_stress) /= 0) then ! (an initial mapping: the stress as it is)
+               svb(i) = stress(p)*volume_ratio(p)*volume0
+            end if
+            if (relocates) then ! the new cell, for P2G at the new position
+               call locate_cell(x(p), inv_dx, elements, elements_bits, cb(i), xib(i))
+               cell(p) = cb(i)
+            else                ! the shares go to the start-of-step cell
+               cb(i) = e
+               if (moves) xib(i) = xi
+            end if
+            if (moves .or. relocates) vpb(i) = v(p)
+         end do
+         else
+         do i = 1, n
+            p = b0 + i - 1
+            e = cell(p)
+            ! G2P with the start-of-step shape functions (ASFLIP)
+            if (moves) then
+               xi = x(p)*inv_dx - (e - 1)
+               vgrid = (1.0_dp - xi)*velocity(e - 1) + xi*velocity(e)
+               ! v_p <- v_PIC + alpha (v_p - v_old), v_old = sum N v^n; the particle moves with v_PIC plus that
+               ! offset where it separates, ln J^n + dt sum dN v^L >= separation_threshold (mpm_asflip), that is
+               ! J^n >= exp(separation_threshold - dt sum dN v^L), the element's `separating` (set before the
+               ! pass: an exp per element, no log per particle): the offset's bits masked by the sign of the
+               ! difference (a comparison would keep the loop scalar)
+               offset = asflip_alpha*(v(p) - ((1.0_dp - xi)*mapped(e - 1) + xi*mapped(e)))
+               v(p) = vgrid + offset
+               if (kernel == pass_usf_move) then ! (J^n, kept by the stress pass before its update)
+                  separation = carry(p) - separating(e)
+               else
+                  separation = volume_ratio(p) - separating(e)
+               end if
+               keep = ishft(transfer(separation, 0_i8), -63) - 1_i8 ! all bits set where it separates, else none
+               vgrid = vgrid + transfer(iand(transfer(offset, 0_i8), keep), 1.0_dp)
+               dxp = dt*vgrid
+               x(p) = x(p) + dxp
+               db(i) = x(p) - x0(p)
+               kb(i) = half_m*v(p)*v(p)
+               mb(i, slot) = abs(dxp)*inv_dx
+            end if
+            if (stresses) then ! d eps = dt sum dN v_I over the start-of-step cell
+               if (moves) then
+                  dstrain = strain_increment(velocity(e - 1), velocity(e), dt, inv_dx)
+               else
+                  dstrain = strain_increment_of(e)
+               end if
+               if (kernel == pass_usf_stress) carry(p) = volume_ratio(p) ! (J^n for the move pass's test)
+               call stress_hencky(dstrain, youngs_modulus, strain_factor, volume0, stress(p), volume_ratio(p), &
+                                  sb(i), svb(i))
+               jb(i) = volume_ratio(p)
+            else if (iand(shares, share_stress) /= 0) then ! (an initial mapping: the stress as it is)
+               svb(i) = stress(p)*volume_ratio(p)*volume0
+            end if
+            if (relocates) then ! the new cell, for P2G at the new position
+               call locate_cell(x(p), inv_dx, elements, elements_bits, cb(i), xib(i))
+               cell(p) = cb(i)
+            else                ! the shares go to the start-of-step cell
+               cb(i) = e
+               if (moves) xib(i) = xi
+            end if
+            if (moves .or. relocates) vpb(i) = v(p)
+         end do
+         end if
+         ! the block's totals (macros of mpm_lanes.fypi, expanded here)
+         if (moves) then
+            do lane_i = 1, n - lanes + 1, lanes
+               displacement = displacement + db(lane_i:lane_i + lanes - 1)
+            end do
+            lane_r = mod(n, lanes)
+            if (lane_r > 0) displacement(1:lane_r) = displacement(1:lane_r) + db(n - lane_r + 1:n)
+            do lane_i = 1, n - lanes + 1, lanes
+               kinetic = kinetic + kb(lane_i:lane_i + lanes - 1)
+            end do
+            lane_r = mod(n, lanes)
+            if (lane_r > 0) kinetic(1:lane_r) = kinetic(1:lane_r) + kb(n - lane_r + 1:n)
+            lane_max = 0.0_dp
+            do lane_i = 1, n - lanes + 1, lanes
+               lane_max = max(lane_max, mb(lane_i:lane_i + lanes - 1, slot))
+            end do
+            lane_r = mod(n, lanes)
+            if (lane_r > 0) lane_max(1:lane_r) = max(lane_max(1:lane_r), mb(n - lane_r + 1:n, slot))
+            block_max = maxval(lane_max)
+            if (block_max > largest%value) then
+               largest%value = block_max
+               largest%first = b0
+               largest%count = n
+               largest%slot = slot
+               slot = 3 - slot
+            end if
+         end if
+         if (stresses) then
+            do lane_i = 1, n - lanes + 1, lanes
+               strain = strain + sb(lane_i:lane_i + lanes - 1)
+            end do
+            lane_r = mod(n, lanes)
+            if (lane_r > 0) strain(1:lane_r) = strain(1:lane_r) + sb(n - lane_r + 1:n)
+            do lane_i = 1, n - lanes + 1, lanes
+               min_j = min(min_j, jb(lane_i:lane_i + lanes - 1))
+            end do
+            lane_r = mod(n, lanes)
+            if (lane_r > 0) min_j(1:lane_r) = min(min_j(1:lane_r), jb(n - lane_r + 1:n))
+         end if
+         if (plastic) then
+            do lane_i = 1, n - lanes + 1, lanes
+               work = work + wb(lane_i:lane_i + lanes - 1)
+            end do
+            lane_r = mod(n, lanes)
+            if (lane_r > 0) work(1:lane_r) = work(1:lane_r) + wb(n - lane_r + 1:n)
+         end if
+         if (relocates) call find_outside(n, b0, cb, outside)
+         call accumulate_block(k, n, cb, xib, vpb, svb, m, lo, hi, shares, run, mass_left, mass_right, momentum_left, &
+                               momentum_right, stress_volume, seg)
+      end do
+      call close_segment(k, shares, m, run, [lane_total(displacement), lane_total(kinetic), lane_total(strain), &
+                         lane_total(work)], &
+                         minval(min_j), largest%value, furthest_particle(largest, mb), outside, mass_left, mass_right, &
+                         momentum_left, momentum_right, stress_volume, seg)
+   end subroutine asflip_usl_segment
+
+   !> MUSL, first pass: G2P, and the new momentum back to the start-of-step nodes (the hat, ASFLIP)
+   subroutine asflip_musl_remap_segment(k, seg, x, x0, v, stress, volume_ratio, cell, acceleration, velocity, &
+                                        strain_increment_of, mass_left, mass_right, momentum_left, momentum_right, &
+                                        stress_volume, constants, carry, mass_of, modulus_of, forces, gradient, force_left, &
+                                        force_right, plastic_strain, hardening, yield_of, hardening_of, mapped, &
+                                        separating)
+      integer, parameter :: kernel = pass_musl_remap
+      logical, parameter :: moves = pass_moves(kernel), stresses = pass_stresses(kernel), relocates = pass_relocates(kernel)
+      integer, parameter :: shares = pass_shares(kernel)
+      integer, intent(in) :: k
+      type(segments_t), intent(inout) :: seg
+      real(dp), intent(inout), contiguous :: x(:), v(:), stress(:), volume_ratio(:)
+      real(dp), intent(in), contiguous :: x0(:)
+      integer, intent(inout), contiguous :: cell(:)
+      real(dp), intent(in), contiguous :: acceleration(0:), velocity(0:)
+      real(dp), intent(in), contiguous :: strain_increment_of(:)  !< per element (grid%element_strain)
+      real(dp), intent(inout), contiguous :: mass_left(:), mass_right(:), momentum_left(:), momentum_right(:), stress_volume(:)
+      type(pass_constants_t), intent(in) :: constants
+      real(dp), intent(inout), contiguous :: carry(:)  !< particles in parts: what a pass keeps for the next (fused_box_t)
+      !> the variants' per-particle data (absent when the run has none): masses and Young's moduli
+      !> (`material`), external forces (`forced`), APIC's velocity gradients C_p, and the element shares of
+      !> the forces
+      real(dp), intent(in), contiguous, optional :: mass_of(:), modulus_of(:), forces(:)
+      real(dp), intent(inout), contiguous, optional :: gradient(:), force_left(:), force_right(:)
+      !> the elastoplastic law's state (plastic strain, hardening variable) and, `material`, each particle's
+      !> yield stress and hardening modulus (absent for the other laws)
+      real(dp), intent(inout), contiguous, optional :: plastic_strain(:), hardening(:)
+      real(dp), intent(in), contiguous, optional :: yield_of(:), hardening_of(:)
+      !> ASFLIP's nodal velocity v^n of the step's mapping and each element's J of separation (absent for
+      !> the others)
+      real(dp), intent(in), contiguous, optional :: mapped(0:), separating(:)
+      integer :: p, e, i, n, b0, first, last, lo, hi, outside, ahead, elements
+      real(dp) :: half_m, strain_factor, dstrain, inv_dx, dt, youngs_modulus, m, volume0
+      logical :: linear, plastic
+      type(largest_move_t) :: largest
+      real(dp) :: displacement(lanes), kinetic(lanes), strain(lanes), min_j(lanes)
+      integer :: cb(block_size)
+      real(dp) :: svb(block_size), db(block_size), kb(block_size), sb(block_size), jb(block_size)
+      real(dp) :: mb(block_size, 2)  !< the moves of a block, and of the block with the largest (lanes_track_move)
+      integer :: slot
+      real(dp) :: lane_max(lanes), block_max
+      integer :: lane_i, lane_r
+      type(run_t) :: run
+      integer(i8) :: elements_bits
+      real(dp) :: xi, xib(block_size), vpb(block_size)
+      ! the variant's: G2P's grid velocity and move, the segment's body (cells offset), each particle's
+      ! shares (accumulate_shares)
+      real(dp) :: vgrid, dxp
+      real(dp) :: asflip_alpha, offset, separation
+      integer(i8) :: keep
+      asflip_alpha = constants%asflip_alpha
+      elements = constants%elements
+      inv_dx = constants%inv_dx
+      dt = constants%dt
+      youngs_modulus = constants%youngs_modulus
+      linear = constants%linear
+      plastic = constants%plastic
+      m = constants%mass
+      volume0 = constants%volume0
+      call open_segment(k, shares, seg, mass_left, mass_right, momentum_left, momentum_right, stress_volume, first, last, &
+                        lo, hi)
+      displacement = 0; kinetic = 0; strain = 0; min_j = huge(1.0_dp)
+      slot = 1
+      outside = 0
+      elements_bits = transfer(real(elements, dp), 0_i8)
+      half_m = 0.5_dp*m
+      strain_factor = 0.0_dp
+      if (stresses) strain_factor = 0.5_dp*volume0/youngs_modulus
+      do b0 = first, last, block_size
+         n = min(block_size, last - b0 + 1)
+         if (seg%prefetch) then  ! the arrays the pass reads, and the grid values of the next blocks
+            ahead = b0 + prefetch_ahead
+            if (kernel == pass_usl) call prefetch_block(ahead, cell, x, x0, v, stress, volume_ratio)
+            if (kernel == pass_usf_move .or. kernel == pass_musl_remap) call prefetch_block(ahead, cell, x, x0, v)
+            if (kernel == pass_usf_stress) call prefetch_block(ahead, cell, stress, volume_ratio)
+            if (kernel == pass_musl_stress) call prefetch_block(ahead, cell, x, v, stress, volume_ratio)
+            if (stresses .and. plastic) call prefetch_block(ahead, cell, plastic_strain, hardening)
+            if (moves) then
+               call prefetch_nodes(cell(b0), cell(b0 + n - 1), acceleration, velocity)
+            else
+               call prefetch_elements(cell(b0), cell(b0 + n - 1), strain_increment_of)
+            end if
+         end if
+         do i = 1, n
+            p = b0 + i - 1
+            e = cell(p)
+            ! G2P with the start-of-step shape functions (ASFLIP)
+            if (moves) then
+               xi = x(p)*inv_dx - (e - 1)
+               vgrid = (1.0_dp - xi)*velocity(e - 1) + xi*velocity(e)
+               ! v_p <- v_PIC + alpha (v_p - v_old), v_old = sum N v^n; the particle moves with v_PIC plus that
+               ! offset where it separates, ln J^n + dt sum dN v^L >= separation_threshold (mpm_asflip), that is
+               ! J^n >= exp(separation_threshold - dt sum dN v^L), the element's `separating` (set before the
+               ! pass: an exp per element, no log per particle): the offset's bits masked by the sign of the
+               ! difference (a comparison would keep the loop scalar)
+               offset = asflip_alpha*(v(p) - ((1.0_dp - xi)*mapped(e - 1) + xi*mapped(e)))
+               v(p) = vgrid + offset
+               if (kernel == pass_usf_move) then ! (J^n, kept by the stress pass before its update)
+                  separation = carry(p) - separating(e)
+               else
+                  separation = volume_ratio(p) - separating(e)
+               end if
+               keep = ishft(transfer(separation, 0_i8), -63) - 1_i8 ! all bits set where it separates, else none
+               vgrid = vgrid + transfer(iand(transfer(offset, 0_i8), keep), 1.0_dp)
+               dxp = dt*vgrid
+               x(p) = x(p) + dxp
+               db(i) = x(p) - x0(p)
+               kb(i) = half_m*v(p)*v(p)
+               mb(i, slot) = abs(dxp)*inv_dx
+            end if
+            if (stresses) then ! d eps = dt sum dN v_I over the start-of-step cell
+               if (moves) then
+                  dstrain = strain_increment(velocity(e - 1), velocity(e), dt, inv_dx)
+               else
+                  dstrain = strain_increment_of(e)
+               end if
+               if (kernel == pass_usf_stress) carry(p) = volume_ratio(p) ! (J^n for the move pass's test)
+               call stress_hencky(dstrain, youngs_modulus, strain_factor, volume0, stress(p), volume_ratio(p), &
+                                  sb(i), svb(i))
+               jb(i) = volume_ratio(p)
+            else if (iand(shares, share_stress) /= 0) then ! (an initial mapping: the stress as it is)
+               svb(i) = stress(p)*volume_ratio(p)*volume0
+            end if
+            if (relocates) then ! the new cell, for P2G at the new position
+               call locate_cell(x(p), inv_dx, elements, elements_bits, cb(i), xib(i))
+               cell(p) = cb(i)
+            else                ! the shares go to the start-of-step cell
+               cb(i) = e
+               if (moves) xib(i) = xi
+            end if
+            if (moves .or. relocates) vpb(i) = v(p)
+         end do
+         ! the block's totals (macros of mpm_lanes.fypi, expanded here)
+         if (moves) then
+            do lane_i = 1, n - lanes + 1, lanes
+               displacement = displacement + db(lane_i:lane_i + lanes - 1)
+            end do
+            lane_r = mod(n, lanes)
+            if (lane_r > 0) displacement(1:lane_r) = displacement(1:lane_r) + db(n - lane_r + 1:n)
+            do lane_i = 1, n - lanes + 1, lanes
+               kinetic = kinetic + kb(lane_i:lane_i + lanes - 1)
+            end do
+            lane_r = mod(n, lanes)
+            if (lane_r > 0) kinetic(1:lane_r) = kinetic(1:lane_r) + kb(n - lane_r + 1:n)
+            lane_max = 0.0_dp
+            do lane_i = 1, n - lanes + 1, lanes
+               lane_max = max(lane_max, mb(lane_i:lane_i + lanes - 1, slot))
+            end do
+            lane_r = mod(n, lanes)
+            if (lane_r > 0) lane_max(1:lane_r) = max(lane_max(1:lane_r), mb(n - lane_r + 1:n, slot))
+            block_max = maxval(lane_max)
+            if (block_max > largest%value) then
+               largest%value = block_max
+               largest%first = b0
+               largest%count = n
+               largest%slot = slot
+               slot = 3 - slot
+            end if
+         end if
+         if (stresses) then
+            do lane_i = 1, n - lanes + 1, lanes
+               strain = strain + sb(lane_i:lane_i + lanes - 1)
+            end do
+            lane_r = mod(n, lanes)
+            if (lane_r > 0) strain(1:lane_r) = strain(1:lane_r) + sb(n - lane_r + 1:n)
+            do lane_i = 1, n - lanes + 1, lanes
+               min_j = min(min_j, jb(lane_i:lane_i + lanes - 1))
+            end do
+            lane_r = mod(n, lanes)
+            if (lane_r > 0) min_j(1:lane_r) = min(min_j(1:lane_r), jb(n - lane_r + 1:n))
+         end if
+         if (relocates) call find_outside(n, b0, cb, outside)
+         call accumulate_block(k, n, cb, xib, vpb, svb, m, lo, hi, shares, run, mass_left, mass_right, momentum_left, &
+                               momentum_right, stress_volume, seg)
+      end do
+      call close_segment(k, shares, m, run, [lane_total(displacement), lane_total(kinetic), lane_total(strain), &
+                         0.0_dp], &
+                         minval(min_j), largest%value, furthest_particle(largest, mb), outside, mass_left, mass_right, &
+                         momentum_left, momentum_right, stress_volume, seg)
+   end subroutine asflip_musl_remap_segment
+
+   !> MUSL, second pass: stress update from the remapped velocities, P2G at the new position (the hat, ASFLIP)
+   subroutine asflip_musl_stress_segment(k, seg, x, x0, v, stress, volume_ratio, cell, acceleration, velocity, &
+                                         strain_increment_of, mass_left, mass_right, momentum_left, momentum_right, &
+                                         stress_volume, constants, carry, mass_of, modulus_of, forces, gradient, force_left, &
+                                         force_right, plastic_strain, hardening, yield_of, hardening_of, mapped, &
+                                         separating)
+      integer, parameter :: kernel = pass_musl_stress
+      logical, parameter :: moves = pass_moves(kernel), stresses = pass_stresses(kernel), relocates = pass_relocates(kernel)
+      integer, parameter :: shares = pass_shares(kernel)
+      integer, intent(in) :: k
+      type(segments_t), intent(inout) :: seg
+      real(dp), intent(inout), contiguous :: x(:), v(:), stress(:), volume_ratio(:)
+      real(dp), intent(in), contiguous :: x0(:)
+      integer, intent(inout), contiguous :: cell(:)
+      real(dp), intent(in), contiguous :: acceleration(0:), velocity(0:)
+      real(dp), intent(in), contiguous :: strain_increment_of(:)  !< per element (grid%element_strain)
+      real(dp), intent(inout), contiguous :: mass_left(:), mass_right(:), momentum_left(:), momentum_right(:), stress_volume(:)
+      type(pass_constants_t), intent(in) :: constants
+      real(dp), intent(inout), contiguous :: carry(:)  !< particles in parts: what a pass keeps for the next (fused_box_t)
+      !> the variants' per-particle data (absent when the run has none): masses and Young's moduli
+      !> (`material`), external forces (`forced`), APIC's velocity gradients C_p, and the element shares of
+      !> the forces
+      real(dp), intent(in), contiguous, optional :: mass_of(:), modulus_of(:), forces(:)
+      real(dp), intent(inout), contiguous, optional :: gradient(:), force_left(:), force_right(:)
+      !> the elastoplastic law's state (plastic strain, hardening variable) and, `material`, each particle's
+      !> yield stress and hardening modulus (absent for the other laws)
+      real(dp), intent(inout), contiguous, optional :: plastic_strain(:), hardening(:)
+      real(dp), intent(in), contiguous, optional :: yield_of(:), hardening_of(:)
+      !> ASFLIP's nodal velocity v^n of the step's mapping and each element's J of separation (absent for
+      !> the others)
+      real(dp), intent(in), contiguous, optional :: mapped(0:), separating(:)
+      integer :: p, e, i, n, b0, first, last, lo, hi, outside, ahead, elements
+      real(dp) :: half_m, strain_factor, dstrain, inv_dx, dt, youngs_modulus, m, volume0
+      logical :: linear, plastic
+      ! the elastoplastic law's constants and the block's plastic work, summed in lanes
+      real(dp) :: yield_stress, hardening_modulus, increment, wb(block_size), work(lanes)
+      type(largest_move_t) :: largest
+      real(dp) :: displacement(lanes), kinetic(lanes), strain(lanes), min_j(lanes)
+      integer :: cb(block_size)
+      real(dp) :: svb(block_size), db(block_size), kb(block_size), sb(block_size), jb(block_size)
+      real(dp) :: mb(block_size, 2)  !< the moves of a block, and of the block with the largest (lanes_track_move)
+      integer :: slot
+      real(dp) :: lane_max(lanes), block_max
+      integer :: lane_i, lane_r
+      type(run_t) :: run
+      integer(i8) :: elements_bits
+      real(dp) :: xi, xib(block_size), vpb(block_size)
+      ! the variant's: G2P's grid velocity and move, the segment's body (cells offset), each particle's
+      ! shares (accumulate_shares)
+      real(dp) :: vgrid, dxp
+      real(dp) :: asflip_alpha, offset, separation
+      integer(i8) :: keep
+      asflip_alpha = constants%asflip_alpha
+      elements = constants%elements
+      inv_dx = constants%inv_dx
+      dt = constants%dt
+      youngs_modulus = constants%youngs_modulus
+      linear = constants%linear
+      plastic = constants%plastic
+      yield_stress = constants%yield_stress
+      hardening_modulus = constants%hardening_modulus
+      work = 0
+      m = constants%mass
+      volume0 = constants%volume0
+      call open_segment(k, shares, seg, mass_left, mass_right, momentum_left, momentum_right, stress_volume, first, last, &
+                        lo, hi)
+      displacement = 0; kinetic = 0; strain = 0; min_j = huge(1.0_dp)
+      slot = 1
+      outside = 0
+      elements_bits = transfer(real(elements, dp), 0_i8)
+      half_m = 0.5_dp*m
+      strain_factor = 0.0_dp
+      if (stresses) strain_factor = 0.5_dp*volume0/youngs_modulus
+      do b0 = first, last, block_size
+         n = min(block_size, last - b0 + 1)
+         if (seg%prefetch) then  ! the arrays the pass reads, and the grid values of the next blocks
+            ahead = b0 + prefetch_ahead
+            if (kernel == pass_usl) call prefetch_block(ahead, cell, x, x0, v, stress, volume_ratio)
+            if (kernel == pass_usf_move .or. kernel == pass_musl_remap) call prefetch_block(ahead, cell, x, x0, v)
+            if (kernel == pass_usf_stress) call prefetch_block(ahead, cell, stress, volume_ratio)
+            if (kernel == pass_musl_stress) call prefetch_block(ahead, cell, x, v, stress, volume_ratio)
+            if (stresses .and. plastic) call prefetch_block(ahead, cell, plastic_strain, hardening)
+            if (moves) then
+               call prefetch_nodes(cell(b0), cell(b0 + n - 1), acceleration, velocity)
+            else
+               call prefetch_elements(cell(b0), cell(b0 + n - 1), strain_increment_of)
+            end if
+         end if
+         if (linear) then
+         do i = 1, n
+            p = b0 + i - 1
+            e = cell(p)
+            ! G2P with the start-of-step shape functions (ASFLIP)
+            if (moves) then
+               xi = x(p)*inv_dx - (e - 1)
+               vgrid = (1.0_dp - xi)*velocity(e - 1) + xi*velocity(e)
+               ! v_p <- v_PIC + alpha (v_p - v_old), v_old = sum N v^n; the particle moves with v_PIC plus that
+               ! offset where it separates, ln J^n + dt sum dN v^L >= separation_threshold (mpm_asflip), that is
+               ! J^n >= exp(separation_threshold - dt sum dN v^L), the element's `separating` (set before the
+               ! pass: an exp per element, no log per particle): the offset's bits masked by the sign of the
+               ! difference (a comparison would keep the loop scalar)
+               offset = asflip_alpha*(v(p) - ((1.0_dp - xi)*mapped(e - 1) + xi*mapped(e)))
+               v(p) = vgrid + offset
+               if (kernel == pass_usf_move) then ! (J^n, kept by the stress pass before its update)
+                  separation = carry(p) - separating(e)
+               else
+                  separation = volume_ratio(p) - separating(e)
+               end if
+               keep = ishft(transfer(separation, 0_i8), -63) - 1_i8 ! all bits set where it separates, else none
+               vgrid = vgrid + transfer(iand(transfer(offset, 0_i8), keep), 1.0_dp)
+               dxp = dt*vgrid
+               x(p) = x(p) + dxp
+               db(i) = x(p) - x0(p)
+               kb(i) = half_m*v(p)*v(p)
+               mb(i, slot) = abs(dxp)*inv_dx
+            end if
+            if (stresses) then ! d eps = dt sum dN v_I over the start-of-step cell
+               if (moves) then
+                  dstrain = strain_increment(velocity(e - 1), velocity(e), dt, inv_dx)
+               else
+                  dstrain = strain_increment_of(e)
+               end if
+               if (kernel == pass_usf_stress) carry(p) = volume_ratio(p) ! (J^n for the move pass's test)
+               call stress_linear(dstrain, youngs_modulus, strain_factor, volume0, stress(p), volume_ratio(p), &
+                                  sb(i), svb(i))
+               jb(i) = volume_ratio(p)
+            else if (iand(shares, share_stress) /= 0) then ! (an initial mapping: the stress as it is)
+               svb(i) = stress(p)*volume_ratio(p)*volume0
+            end if
+            if (relocates) then ! the new cell, for P2G at the new position
+               call locate_cell(x(p), inv_dx, elements, elements_bits, cb(i), xib(i))
+               cell(p) = cb(i)
+            else                ! the shares go to the start-of-step cell
+               cb(i) = e
+               if (moves) xib(i) = xi
+            end if
+            if (moves .or. relocates) vpb(i) = v(p)
+         end do
+         else if (plastic) then
+         do i = 1, n
+            p = b0 + i - 1
+            e = cell(p)
+            ! G2P with the start-of-step shape functions (ASFLIP)
+            if (moves) then
+               xi = x(p)*inv_dx - (e - 1)
+               vgrid = (1.0_dp - xi)*velocity(e - 1) + xi*velocity(e)
+               ! v_p <- v_PIC + alpha (v_p - v_old), v_old = sum N v^n; the particle moves with v_PIC plus that
+               ! offset where it separates, ln J^n + dt sum dN v^L >= separation_threshold (mpm_asflip), that is
+               ! J^n >= exp(separation_threshold - dt sum dN v^L), the element's `separating` (set before the
+               ! pass: an exp per element, no log per particle): the offset's bits masked by the sign of the
+               ! difference (a comparison would keep the loop scalar)
+               offset = asflip_alpha*(v(p) - ((1.0_dp - xi)*mapped(e - 1) + xi*mapped(e)))
+               v(p) = vgrid + offset
+               if (kernel == pass_usf_move) then ! (J^n, kept by the stress pass before its update)
+                  separation = carry(p) - separating(e)
+               else
+                  separation = volume_ratio(p) - separating(e)
+               end if
+               keep = ishft(transfer(separation, 0_i8), -63) - 1_i8 ! all bits set where it separates, else none
+               vgrid = vgrid + transfer(iand(transfer(offset, 0_i8), keep), 1.0_dp)
+               dxp = dt*vgrid
+               x(p) = x(p) + dxp
+               db(i) = x(p) - x0(p)
+               kb(i) = half_m*v(p)*v(p)
+               mb(i, slot) = abs(dxp)*inv_dx
+            end if
+            if (stresses) then ! d eps = dt sum dN v_I over the start-of-step cell
+               if (moves) then
+                  dstrain = strain_increment(velocity(e - 1), velocity(e), dt, inv_dx)
+               else
+                  dstrain = strain_increment_of(e)
+               end if
+               if (kernel == pass_usf_stress) carry(p) = volume_ratio(p) ! (J^n for the move pass's test)
+               stress(p) = stress(p) + youngs_modulus*dstrain
+               ! d gamma, zero in an elastic step: written without a branch, so that a loop over particles
+               ! vectorises; an elastic step then subtracts and adds zeros, which leaves the hencky bits
+               increment = max(abs(stress(p)) - (yield_stress + hardening_modulus*hardening(p)), 0.0_dp)/ &
+                           (youngs_modulus + hardening_modulus)
+               stress(p) = stress(p) - sign(youngs_modulus*increment, stress(p))
+               plastic_strain(p) = plastic_strain(p) + sign(increment, stress(p))
+               hardening(p) = hardening(p) + increment
+               volume_ratio(p) = volume_ratio(p)*(1.0_dp + dstrain)
+               sb(i) = stress(p)*stress(p)*volume_ratio(p)*strain_factor
+               svb(i) = stress(p)*volume_ratio(p)*volume0
+               wb(i) = (yield_stress + 0.5_dp*hardening_modulus*hardening(p))*hardening(p)*volume0
+               jb(i) = volume_ratio(p)
+            else if (iand(shares, share_stress) /= 0) then ! (an initial mapping: the stress as it is)
+               svb(i) = stress(p)*volume_ratio(p)*volume0
+            end if
+            if (relocates) then ! the new cell, for P2G at the new position
+               call locate_cell(x(p), inv_dx, elements, elements_bits, cb(i), xib(i))
+               cell(p) = cb(i)
+            else                ! the shares go to the start-of-step cell
+               cb(i) = e
+               if (moves) xib(i) = xi
+            end if
+            if (moves .or. relocates) vpb(i) = v(p)
+         end do
+         else
+         do i = 1, n
+            p = b0 + i - 1
+            e = cell(p)
+            ! G2P with the start-of-step shape functions (ASFLIP)
+            if (moves) then
+               xi = x(p)*inv_dx - (e - 1)
+               vgrid = (1.0_dp - xi)*velocity(e - 1) + xi*velocity(e)
+               ! v_p <- v_PIC + alpha (v_p - v_old), v_old = sum N v^n; the particle moves with v_PIC plus that
+               ! offset where it separates, ln J^n + dt sum dN v^L >= separation_threshold (mpm_asflip), that is
+               ! J^n >= exp(separation_threshold - dt sum dN v^L), the element's `separating` (set before the
+               ! pass: an exp per element, no log per particle): the offset's bits masked by the sign of the
+               ! difference (a comparison would keep the loop scalar)
+               offset = asflip_alpha*(v(p) - ((1.0_dp - xi)*mapped(e - 1) + xi*mapped(e)))
+               v(p) = vgrid + offset
+               if (kernel == pass_usf_move) then ! (J^n, kept by the stress pass before its update)
+                  separation = carry(p) - separating(e)
+               else
+                  separation = volume_ratio(p) - separating(e)
+               end if
+               keep = ishft(transfer(separation, 0_i8), -63) - 1_i8 ! all bits set where it separates, else none
+               vgrid = vgrid + transfer(iand(transfer(offset, 0_i8), keep), 1.0_dp)
+               dxp = dt*vgrid
+               x(p) = x(p) + dxp
+               db(i) = x(p) - x0(p)
+               kb(i) = half_m*v(p)*v(p)
+               mb(i, slot) = abs(dxp)*inv_dx
+            end if
+            if (stresses) then ! d eps = dt sum dN v_I over the start-of-step cell
+               if (moves) then
+                  dstrain = strain_increment(velocity(e - 1), velocity(e), dt, inv_dx)
+               else
+                  dstrain = strain_increment_of(e)
+               end if
+               if (kernel == pass_usf_stress) carry(p) = volume_ratio(p) ! (J^n for the move pass's test)
+               call stress_hencky(dstrain, youngs_modulus, strain_factor, volume0, stress(p), volume_ratio(p), &
+                                  sb(i), svb(i))
+               jb(i) = volume_ratio(p)
+            else if (iand(shares, share_stress) /= 0) then ! (an initial mapping: the stress as it is)
+               svb(i) = stress(p)*volume_ratio(p)*volume0
+            end if
+            if (relocates) then ! the new cell, for P2G at the new position
+               call locate_cell(x(p), inv_dx, elements, elements_bits, cb(i), xib(i))
+               cell(p) = cb(i)
+            else                ! the shares go to the start-of-step cell
+               cb(i) = e
+               if (moves) xib(i) = xi
+            end if
+            if (moves .or. relocates) vpb(i) = v(p)
+         end do
+         end if
+         ! the block's totals (macros of mpm_lanes.fypi, expanded here)
+         if (moves) then
+            do lane_i = 1, n - lanes + 1, lanes
+               displacement = displacement + db(lane_i:lane_i + lanes - 1)
+            end do
+            lane_r = mod(n, lanes)
+            if (lane_r > 0) displacement(1:lane_r) = displacement(1:lane_r) + db(n - lane_r + 1:n)
+            do lane_i = 1, n - lanes + 1, lanes
+               kinetic = kinetic + kb(lane_i:lane_i + lanes - 1)
+            end do
+            lane_r = mod(n, lanes)
+            if (lane_r > 0) kinetic(1:lane_r) = kinetic(1:lane_r) + kb(n - lane_r + 1:n)
+            lane_max = 0.0_dp
+            do lane_i = 1, n - lanes + 1, lanes
+               lane_max = max(lane_max, mb(lane_i:lane_i + lanes - 1, slot))
+            end do
+            lane_r = mod(n, lanes)
+            if (lane_r > 0) lane_max(1:lane_r) = max(lane_max(1:lane_r), mb(n - lane_r + 1:n, slot))
+            block_max = maxval(lane_max)
+            if (block_max > largest%value) then
+               largest%value = block_max
+               largest%first = b0
+               largest%count = n
+               largest%slot = slot
+               slot = 3 - slot
+            end if
+         end if
+         if (stresses) then
+            do lane_i = 1, n - lanes + 1, lanes
+               strain = strain + sb(lane_i:lane_i + lanes - 1)
+            end do
+            lane_r = mod(n, lanes)
+            if (lane_r > 0) strain(1:lane_r) = strain(1:lane_r) + sb(n - lane_r + 1:n)
+            do lane_i = 1, n - lanes + 1, lanes
+               min_j = min(min_j, jb(lane_i:lane_i + lanes - 1))
+            end do
+            lane_r = mod(n, lanes)
+            if (lane_r > 0) min_j(1:lane_r) = min(min_j(1:lane_r), jb(n - lane_r + 1:n))
+         end if
+         if (plastic) then
+            do lane_i = 1, n - lanes + 1, lanes
+               work = work + wb(lane_i:lane_i + lanes - 1)
+            end do
+            lane_r = mod(n, lanes)
+            if (lane_r > 0) work(1:lane_r) = work(1:lane_r) + wb(n - lane_r + 1:n)
+         end if
+         if (relocates) call find_outside(n, b0, cb, outside)
+         call accumulate_block(k, n, cb, xib, vpb, svb, m, lo, hi, shares, run, mass_left, mass_right, momentum_left, &
+                               momentum_right, stress_volume, seg)
+      end do
+      call close_segment(k, shares, m, run, [lane_total(displacement), lane_total(kinetic), lane_total(strain), &
+                         lane_total(work)], &
+                         minval(min_j), largest%value, furthest_particle(largest, mb), outside, mass_left, mass_right, &
+                         momentum_left, momentum_right, stress_volume, seg)
+   end subroutine asflip_musl_stress_segment
+
+   !> initial mapping: mass and momentum (the hat, ASFLIP)
+   subroutine asflip_map_segment(k, seg, x, x0, v, stress, volume_ratio, cell, acceleration, velocity, &
+                                 strain_increment_of, mass_left, mass_right, momentum_left, momentum_right, &
+                                 stress_volume, constants, carry, mass_of, modulus_of, forces, gradient, force_left, &
+                                 force_right, plastic_strain, hardening, yield_of, hardening_of, mapped, &
+                                 separating)
+      integer, parameter :: kernel = pass_map
+      logical, parameter :: moves = pass_moves(kernel), stresses = pass_stresses(kernel), relocates = pass_relocates(kernel)
+      integer, parameter :: shares = pass_shares(kernel)
+      integer, intent(in) :: k
+      type(segments_t), intent(inout) :: seg
+      real(dp), intent(inout), contiguous :: x(:), v(:), stress(:), volume_ratio(:)
+      real(dp), intent(in), contiguous :: x0(:)
+      integer, intent(inout), contiguous :: cell(:)
+      real(dp), intent(in), contiguous :: acceleration(0:), velocity(0:)
+      real(dp), intent(in), contiguous :: strain_increment_of(:)  !< per element (grid%element_strain)
+      real(dp), intent(inout), contiguous :: mass_left(:), mass_right(:), momentum_left(:), momentum_right(:), stress_volume(:)
+      type(pass_constants_t), intent(in) :: constants
+      real(dp), intent(inout), contiguous :: carry(:)  !< particles in parts: what a pass keeps for the next (fused_box_t)
+      !> the variants' per-particle data (absent when the run has none): masses and Young's moduli
+      !> (`material`), external forces (`forced`), APIC's velocity gradients C_p, and the element shares of
+      !> the forces
+      real(dp), intent(in), contiguous, optional :: mass_of(:), modulus_of(:), forces(:)
+      real(dp), intent(inout), contiguous, optional :: gradient(:), force_left(:), force_right(:)
+      !> the elastoplastic law's state (plastic strain, hardening variable) and, `material`, each particle's
+      !> yield stress and hardening modulus (absent for the other laws)
+      real(dp), intent(inout), contiguous, optional :: plastic_strain(:), hardening(:)
+      real(dp), intent(in), contiguous, optional :: yield_of(:), hardening_of(:)
+      !> ASFLIP's nodal velocity v^n of the step's mapping and each element's J of separation (absent for
+      !> the others)
+      real(dp), intent(in), contiguous, optional :: mapped(0:), separating(:)
+      integer :: p, e, i, n, b0, first, last, lo, hi, outside, ahead, elements
+      real(dp) :: half_m, strain_factor, dstrain, inv_dx, dt, youngs_modulus, m, volume0
+      logical :: linear, plastic
+      type(largest_move_t) :: largest
+      real(dp) :: displacement(lanes), kinetic(lanes), strain(lanes), min_j(lanes)
+      integer :: cb(block_size)
+      real(dp) :: svb(block_size), db(block_size), kb(block_size), sb(block_size), jb(block_size)
+      real(dp) :: mb(block_size, 2)  !< the moves of a block, and of the block with the largest (lanes_track_move)
+      integer :: slot
+      real(dp) :: lane_max(lanes), block_max
+      integer :: lane_i, lane_r
+      type(run_t) :: run
+      integer(i8) :: elements_bits
+      real(dp) :: xi, xib(block_size), vpb(block_size)
+      ! the variant's: G2P's grid velocity and move, the segment's body (cells offset), each particle's
+      ! shares (accumulate_shares)
+      real(dp) :: vgrid, dxp
+      real(dp) :: asflip_alpha, offset, separation
+      integer(i8) :: keep
+      asflip_alpha = constants%asflip_alpha
+      elements = constants%elements
+      inv_dx = constants%inv_dx
+      dt = constants%dt
+      youngs_modulus = constants%youngs_modulus
+      linear = constants%linear
+      plastic = constants%plastic
+      m = constants%mass
+      volume0 = constants%volume0
+      call open_segment(k, shares, seg, mass_left, mass_right, momentum_left, momentum_right, stress_volume, first, last, &
+                        lo, hi)
+      displacement = 0; kinetic = 0; strain = 0; min_j = huge(1.0_dp)
+      slot = 1
+      outside = 0
+      elements_bits = transfer(real(elements, dp), 0_i8)
+      half_m = 0.5_dp*m
+      strain_factor = 0.0_dp
+      if (stresses) strain_factor = 0.5_dp*volume0/youngs_modulus
+      do b0 = first, last, block_size
+         n = min(block_size, last - b0 + 1)
+         if (seg%prefetch) then  ! the arrays the pass reads, and the grid values of the next blocks
+            ahead = b0 + prefetch_ahead
+            if (kernel == pass_usl) call prefetch_block(ahead, cell, x, x0, v, stress, volume_ratio)
+            if (kernel == pass_usf_move .or. kernel == pass_musl_remap) call prefetch_block(ahead, cell, x, x0, v)
+            if (kernel == pass_usf_stress) call prefetch_block(ahead, cell, stress, volume_ratio)
+            if (kernel == pass_musl_stress) call prefetch_block(ahead, cell, x, v, stress, volume_ratio)
+            if (stresses .and. plastic) call prefetch_block(ahead, cell, plastic_strain, hardening)
+            if (moves) then
+               call prefetch_nodes(cell(b0), cell(b0 + n - 1), acceleration, velocity)
+            else
+               call prefetch_elements(cell(b0), cell(b0 + n - 1), strain_increment_of)
+            end if
+         end if
+         do i = 1, n
+            p = b0 + i - 1
+            e = cell(p)
+            ! G2P with the start-of-step shape functions (ASFLIP)
+            if (moves) then
+               xi = x(p)*inv_dx - (e - 1)
+               vgrid = (1.0_dp - xi)*velocity(e - 1) + xi*velocity(e)
+               ! v_p <- v_PIC + alpha (v_p - v_old), v_old = sum N v^n; the particle moves with v_PIC plus that
+               ! offset where it separates, ln J^n + dt sum dN v^L >= separation_threshold (mpm_asflip), that is
+               ! J^n >= exp(separation_threshold - dt sum dN v^L), the element's `separating` (set before the
+               ! pass: an exp per element, no log per particle): the offset's bits masked by the sign of the
+               ! difference (a comparison would keep the loop scalar)
+               offset = asflip_alpha*(v(p) - ((1.0_dp - xi)*mapped(e - 1) + xi*mapped(e)))
+               v(p) = vgrid + offset
+               if (kernel == pass_usf_move) then ! (J^n, kept by the stress pass before its update)
+                  separation = carry(p) - separating(e)
+               else
+                  separation = volume_ratio(p) - separating(e)
+               end if
+               keep = ishft(transfer(separation, 0_i8), -63) - 1_i8 ! all bits set where it separates, else none
+               vgrid = vgrid + transfer(iand(transfer(offset, 0_i8), keep), 1.0_dp)
+               dxp = dt*vgrid
+               x(p) = x(p) + dxp
+               db(i) = x(p) - x0(p)
+               kb(i) = half_m*v(p)*v(p)
+               mb(i, slot) = abs(dxp)*inv_dx
+            end if
+            if (stresses) then ! d eps = dt sum dN v_I over the start-of-step cell
+               if (moves) then
+                  dstrain = strain_increment(velocity(e - 1), velocity(e), dt, inv_dx)
+               else
+                  dstrain = strain_increment_of(e)
+               end if
+               if (kernel == pass_usf_stress) carry(p) = volume_ratio(p) ! (J^n for the move pass's test)
+               call stress_hencky(dstrain, youngs_modulus, strain_factor, volume0, stress(p), volume_ratio(p), &
+                                  sb(i), svb(i))
+               jb(i) = volume_ratio(p)
+            else if (iand(shares, share_stress) /= 0) then ! (an initial mapping: the stress as it is)
+               svb(i) = stress(p)*volume_ratio(p)*volume0
+            end if
+            if (relocates) then ! the new cell, for P2G at the new position
+               call locate_cell(x(p), inv_dx, elements, elements_bits, cb(i), xib(i))
+               cell(p) = cb(i)
+            else                ! the shares go to the start-of-step cell
+               cb(i) = e
+               if (moves) xib(i) = xi
+            end if
+            if (moves .or. relocates) vpb(i) = v(p)
+         end do
+         ! the block's totals (macros of mpm_lanes.fypi, expanded here)
+         if (moves) then
+            do lane_i = 1, n - lanes + 1, lanes
+               displacement = displacement + db(lane_i:lane_i + lanes - 1)
+            end do
+            lane_r = mod(n, lanes)
+            if (lane_r > 0) displacement(1:lane_r) = displacement(1:lane_r) + db(n - lane_r + 1:n)
+            do lane_i = 1, n - lanes + 1, lanes
+               kinetic = kinetic + kb(lane_i:lane_i + lanes - 1)
+            end do
+            lane_r = mod(n, lanes)
+            if (lane_r > 0) kinetic(1:lane_r) = kinetic(1:lane_r) + kb(n - lane_r + 1:n)
+            lane_max = 0.0_dp
+            do lane_i = 1, n - lanes + 1, lanes
+               lane_max = max(lane_max, mb(lane_i:lane_i + lanes - 1, slot))
+            end do
+            lane_r = mod(n, lanes)
+            if (lane_r > 0) lane_max(1:lane_r) = max(lane_max(1:lane_r), mb(n - lane_r + 1:n, slot))
+            block_max = maxval(lane_max)
+            if (block_max > largest%value) then
+               largest%value = block_max
+               largest%first = b0
+               largest%count = n
+               largest%slot = slot
+               slot = 3 - slot
+            end if
+         end if
+         if (stresses) then
+            do lane_i = 1, n - lanes + 1, lanes
+               strain = strain + sb(lane_i:lane_i + lanes - 1)
+            end do
+            lane_r = mod(n, lanes)
+            if (lane_r > 0) strain(1:lane_r) = strain(1:lane_r) + sb(n - lane_r + 1:n)
+            do lane_i = 1, n - lanes + 1, lanes
+               min_j = min(min_j, jb(lane_i:lane_i + lanes - 1))
+            end do
+            lane_r = mod(n, lanes)
+            if (lane_r > 0) min_j(1:lane_r) = min(min_j(1:lane_r), jb(n - lane_r + 1:n))
+         end if
+         if (relocates) call find_outside(n, b0, cb, outside)
+         call accumulate_block(k, n, cb, xib, vpb, svb, m, lo, hi, shares, run, mass_left, mass_right, momentum_left, &
+                               momentum_right, stress_volume, seg)
+      end do
+      call close_segment(k, shares, m, run, [lane_total(displacement), lane_total(kinetic), lane_total(strain), &
+                         0.0_dp], &
+                         minval(min_j), largest%value, furthest_particle(largest, mb), outside, mass_left, mass_right, &
+                         momentum_left, momentum_right, stress_volume, seg)
+   end subroutine asflip_map_segment
+
+   !> initial mapping: mass, momentum and stress*volume (and forces) (the hat, ASFLIP)
+   subroutine asflip_map_stress_segment(k, seg, x, x0, v, stress, volume_ratio, cell, acceleration, velocity, &
+                                        strain_increment_of, mass_left, mass_right, momentum_left, momentum_right, &
+                                        stress_volume, constants, carry, mass_of, modulus_of, forces, gradient, force_left, &
+                                        force_right, plastic_strain, hardening, yield_of, hardening_of, mapped, &
+                                        separating)
+      integer, parameter :: kernel = pass_map_stress
+      logical, parameter :: moves = pass_moves(kernel), stresses = pass_stresses(kernel), relocates = pass_relocates(kernel)
+      integer, parameter :: shares = pass_shares(kernel)
+      integer, intent(in) :: k
+      type(segments_t), intent(inout) :: seg
+      real(dp), intent(inout), contiguous :: x(:), v(:), stress(:), volume_ratio(:)
+      real(dp), intent(in), contiguous :: x0(:)
+      integer, intent(inout), contiguous :: cell(:)
+      real(dp), intent(in), contiguous :: acceleration(0:), velocity(0:)
+      real(dp), intent(in), contiguous :: strain_increment_of(:)  !< per element (grid%element_strain)
+      real(dp), intent(inout), contiguous :: mass_left(:), mass_right(:), momentum_left(:), momentum_right(:), stress_volume(:)
+      type(pass_constants_t), intent(in) :: constants
+      real(dp), intent(inout), contiguous :: carry(:)  !< particles in parts: what a pass keeps for the next (fused_box_t)
+      !> the variants' per-particle data (absent when the run has none): masses and Young's moduli
+      !> (`material`), external forces (`forced`), APIC's velocity gradients C_p, and the element shares of
+      !> the forces
+      real(dp), intent(in), contiguous, optional :: mass_of(:), modulus_of(:), forces(:)
+      real(dp), intent(inout), contiguous, optional :: gradient(:), force_left(:), force_right(:)
+      !> the elastoplastic law's state (plastic strain, hardening variable) and, `material`, each particle's
+      !> yield stress and hardening modulus (absent for the other laws)
+      real(dp), intent(inout), contiguous, optional :: plastic_strain(:), hardening(:)
+      real(dp), intent(in), contiguous, optional :: yield_of(:), hardening_of(:)
+      !> ASFLIP's nodal velocity v^n of the step's mapping and each element's J of separation (absent for
+      !> the others)
+      real(dp), intent(in), contiguous, optional :: mapped(0:), separating(:)
+      integer :: p, e, i, n, b0, first, last, lo, hi, outside, ahead, elements
+      real(dp) :: half_m, strain_factor, dstrain, inv_dx, dt, youngs_modulus, m, volume0
+      logical :: linear, plastic
+      type(largest_move_t) :: largest
+      real(dp) :: displacement(lanes), kinetic(lanes), strain(lanes), min_j(lanes)
+      integer :: cb(block_size)
+      real(dp) :: svb(block_size), db(block_size), kb(block_size), sb(block_size), jb(block_size)
+      real(dp) :: mb(block_size, 2)  !< the moves of a block, and of the block with the largest (lanes_track_move)
+      integer :: slot
+      real(dp) :: lane_max(lanes), block_max
+      integer :: lane_i, lane_r
+      type(run_t) :: run
+      integer(i8) :: elements_bits
+      real(dp) :: xi, xib(block_size), vpb(block_size)
+      ! the variant's: G2P's grid velocity and move, the segment's body (cells offset), each particle's
+      ! shares (accumulate_shares)
+      real(dp) :: vgrid, dxp
+      real(dp) :: asflip_alpha, offset, separation
+      integer(i8) :: keep
+      asflip_alpha = constants%asflip_alpha
+      elements = constants%elements
+      inv_dx = constants%inv_dx
+      dt = constants%dt
+      youngs_modulus = constants%youngs_modulus
+      linear = constants%linear
+      plastic = constants%plastic
+      m = constants%mass
+      volume0 = constants%volume0
+      call open_segment(k, shares, seg, mass_left, mass_right, momentum_left, momentum_right, stress_volume, first, last, &
+                        lo, hi)
+      displacement = 0; kinetic = 0; strain = 0; min_j = huge(1.0_dp)
+      slot = 1
+      outside = 0
+      elements_bits = transfer(real(elements, dp), 0_i8)
+      half_m = 0.5_dp*m
+      strain_factor = 0.0_dp
+      if (stresses) strain_factor = 0.5_dp*volume0/youngs_modulus
+      do b0 = first, last, block_size
+         n = min(block_size, last - b0 + 1)
+         if (seg%prefetch) then  ! the arrays the pass reads, and the grid values of the next blocks
+            ahead = b0 + prefetch_ahead
+            if (kernel == pass_usl) call prefetch_block(ahead, cell, x, x0, v, stress, volume_ratio)
+            if (kernel == pass_usf_move .or. kernel == pass_musl_remap) call prefetch_block(ahead, cell, x, x0, v)
+            if (kernel == pass_usf_stress) call prefetch_block(ahead, cell, stress, volume_ratio)
+            if (kernel == pass_musl_stress) call prefetch_block(ahead, cell, x, v, stress, volume_ratio)
+            if (stresses .and. plastic) call prefetch_block(ahead, cell, plastic_strain, hardening)
+            if (moves) then
+               call prefetch_nodes(cell(b0), cell(b0 + n - 1), acceleration, velocity)
+            else
+               call prefetch_elements(cell(b0), cell(b0 + n - 1), strain_increment_of)
+            end if
+         end if
+         do i = 1, n
+            p = b0 + i - 1
+            e = cell(p)
+            ! G2P with the start-of-step shape functions (ASFLIP)
+            if (moves) then
+               xi = x(p)*inv_dx - (e - 1)
+               vgrid = (1.0_dp - xi)*velocity(e - 1) + xi*velocity(e)
+               ! v_p <- v_PIC + alpha (v_p - v_old), v_old = sum N v^n; the particle moves with v_PIC plus that
+               ! offset where it separates, ln J^n + dt sum dN v^L >= separation_threshold (mpm_asflip), that is
+               ! J^n >= exp(separation_threshold - dt sum dN v^L), the element's `separating` (set before the
+               ! pass: an exp per element, no log per particle): the offset's bits masked by the sign of the
+               ! difference (a comparison would keep the loop scalar)
+               offset = asflip_alpha*(v(p) - ((1.0_dp - xi)*mapped(e - 1) + xi*mapped(e)))
+               v(p) = vgrid + offset
+               if (kernel == pass_usf_move) then ! (J^n, kept by the stress pass before its update)
+                  separation = carry(p) - separating(e)
+               else
+                  separation = volume_ratio(p) - separating(e)
+               end if
+               keep = ishft(transfer(separation, 0_i8), -63) - 1_i8 ! all bits set where it separates, else none
+               vgrid = vgrid + transfer(iand(transfer(offset, 0_i8), keep), 1.0_dp)
+               dxp = dt*vgrid
+               x(p) = x(p) + dxp
+               db(i) = x(p) - x0(p)
+               kb(i) = half_m*v(p)*v(p)
+               mb(i, slot) = abs(dxp)*inv_dx
+            end if
+            if (stresses) then ! d eps = dt sum dN v_I over the start-of-step cell
+               if (moves) then
+                  dstrain = strain_increment(velocity(e - 1), velocity(e), dt, inv_dx)
+               else
+                  dstrain = strain_increment_of(e)
+               end if
+               if (kernel == pass_usf_stress) carry(p) = volume_ratio(p) ! (J^n for the move pass's test)
+               call stress_hencky(dstrain, youngs_modulus, strain_factor, volume0, stress(p), volume_ratio(p), &
+                                  sb(i), svb(i))
+               jb(i) = volume_ratio(p)
+            else if (iand(shares, share_stress) /= 0) then ! (an initial mapping: the stress as it is)
+               svb(i) = stress(p)*volume_ratio(p)*volume0
+            end if
+            if (relocates) then ! the new cell, for P2G at the new position
+               call locate_cell(x(p), inv_dx, elements, elements_bits, cb(i), xib(i))
+               cell(p) = cb(i)
+            else                ! the shares go to the start-of-step cell
+               cb(i) = e
+               if (moves) xib(i) = xi
+            end if
+            if (moves .or. relocates) vpb(i) = v(p)
+         end do
+         ! the block's totals (macros of mpm_lanes.fypi, expanded here)
+         if (moves) then
+            do lane_i = 1, n - lanes + 1, lanes
+               displacement = displacement + db(lane_i:lane_i + lanes - 1)
+            end do
+            lane_r = mod(n, lanes)
+            if (lane_r > 0) displacement(1:lane_r) = displacement(1:lane_r) + db(n - lane_r + 1:n)
+            do lane_i = 1, n - lanes + 1, lanes
+               kinetic = kinetic + kb(lane_i:lane_i + lanes - 1)
+            end do
+            lane_r = mod(n, lanes)
+            if (lane_r > 0) kinetic(1:lane_r) = kinetic(1:lane_r) + kb(n - lane_r + 1:n)
+            lane_max = 0.0_dp
+            do lane_i = 1, n - lanes + 1, lanes
+               lane_max = max(lane_max, mb(lane_i:lane_i + lanes - 1, slot))
+            end do
+            lane_r = mod(n, lanes)
+            if (lane_r > 0) lane_max(1:lane_r) = max(lane_max(1:lane_r), mb(n - lane_r + 1:n, slot))
+            block_max = maxval(lane_max)
+            if (block_max > largest%value) then
+               largest%value = block_max
+               largest%first = b0
+               largest%count = n
+               largest%slot = slot
+               slot = 3 - slot
+            end if
+         end if
+         if (stresses) then
+            do lane_i = 1, n - lanes + 1, lanes
+               strain = strain + sb(lane_i:lane_i + lanes - 1)
+            end do
+            lane_r = mod(n, lanes)
+            if (lane_r > 0) strain(1:lane_r) = strain(1:lane_r) + sb(n - lane_r + 1:n)
+            do lane_i = 1, n - lanes + 1, lanes
+               min_j = min(min_j, jb(lane_i:lane_i + lanes - 1))
+            end do
+            lane_r = mod(n, lanes)
+            if (lane_r > 0) min_j(1:lane_r) = min(min_j(1:lane_r), jb(n - lane_r + 1:n))
+         end if
+         if (relocates) call find_outside(n, b0, cb, outside)
+         call accumulate_block(k, n, cb, xib, vpb, svb, m, lo, hi, shares, run, mass_left, mass_right, momentum_left, &
+                               momentum_right, stress_volume, seg)
+      end do
+      call close_segment(k, shares, m, run, [lane_total(displacement), lane_total(kinetic), lane_total(strain), &
+                         0.0_dp], &
+                         minval(min_j), largest%value, furthest_particle(largest, mb), outside, mass_left, mass_right, &
+                         momentum_left, momentum_right, stress_volume, seg)
+   end subroutine asflip_map_stress_segment
+
+   !> USF, second half: G2P, then mass and momentum at the new position (the hat, the total-Lagrangian formulation)
+   subroutine total_usf_move_segment(k, seg, x, x0, v, stress, volume_ratio, cell, acceleration, velocity, &
+                                     strain_increment_of, mass_left, mass_right, momentum_left, momentum_right, &
+                                     stress_volume, constants, carry, mass_of, modulus_of, forces, gradient, force_left, &
+                                     force_right, plastic_strain, hardening, yield_of, hardening_of, mapped, &
+                                     separating)
+      integer, parameter :: kernel = pass_usf_move
+      logical, parameter :: moves = pass_moves(kernel), stresses = pass_stresses(kernel), relocates = pass_relocates(kernel)
+      integer, parameter :: shares = pass_shares(kernel)
+      integer, intent(in) :: k
+      type(segments_t), intent(inout) :: seg
+      real(dp), intent(inout), contiguous :: x(:), v(:), stress(:), volume_ratio(:)
+      real(dp), intent(in), contiguous :: x0(:)
+      integer, intent(inout), contiguous :: cell(:)
+      real(dp), intent(in), contiguous :: acceleration(0:), velocity(0:)
+      real(dp), intent(in), contiguous :: strain_increment_of(:)  !< per element (grid%element_strain)
+      real(dp), intent(inout), contiguous :: mass_left(:), mass_right(:), momentum_left(:), momentum_right(:), stress_volume(:)
+      type(pass_constants_t), intent(in) :: constants
+      real(dp), intent(inout), contiguous :: carry(:)  !< particles in parts: what a pass keeps for the next (fused_box_t)
+      !> the variants' per-particle data (absent when the run has none): masses and Young's moduli
+      !> (`material`), external forces (`forced`), APIC's velocity gradients C_p, and the element shares of
+      !> the forces
+      real(dp), intent(in), contiguous, optional :: mass_of(:), modulus_of(:), forces(:)
+      real(dp), intent(inout), contiguous, optional :: gradient(:), force_left(:), force_right(:)
+      !> the elastoplastic law's state (plastic strain, hardening variable) and, `material`, each particle's
+      !> yield stress and hardening modulus (absent for the other laws)
+      real(dp), intent(inout), contiguous, optional :: plastic_strain(:), hardening(:)
+      real(dp), intent(in), contiguous, optional :: yield_of(:), hardening_of(:)
+      !> ASFLIP's nodal velocity v^n of the step's mapping and each element's J of separation (absent for
+      !> the others)
+      real(dp), intent(in), contiguous, optional :: mapped(0:), separating(:)
+      integer :: p, e, i, n, b0, first, last, lo, hi, outside, ahead, elements
+      real(dp) :: half_m, strain_factor, dstrain, inv_dx, dt, youngs_modulus, m, volume0
+      logical :: linear, plastic
+      type(largest_move_t) :: largest
+      real(dp) :: displacement(lanes), kinetic(lanes), strain(lanes), min_j(lanes)
+      integer :: cb(block_size)
+      real(dp) :: svb(block_size), db(block_size), kb(block_size), sb(block_size), jb(block_size)
+      real(dp) :: mb(block_size, 2)  !< the moves of a block, and of the block with the largest (lanes_track_move)
+      integer :: slot
+      real(dp) :: lane_max(lanes), block_max
+      integer :: lane_i, lane_r
+      type(run_t) :: run
+      integer(i8) :: elements_bits
+      real(dp) :: xi, xib(block_size), vpb(block_size)
+      ! the variant's: G2P's grid velocity and move, the segment's body (cells offset), each particle's
+      ! shares (accumulate_shares)
+      real(dp) :: vgrid, dxp
+      elements = constants%elements
+      inv_dx = constants%inv_dx
+      dt = constants%dt
+      youngs_modulus = constants%youngs_modulus
+      linear = constants%linear
+      plastic = constants%plastic
+      m = constants%mass
+      volume0 = constants%volume0
+      call open_segment(k, shares, seg, mass_left, mass_right, momentum_left, momentum_right, stress_volume, first, last, &
+                        lo, hi)
+      displacement = 0; kinetic = 0; strain = 0; min_j = huge(1.0_dp)
+      slot = 1
+      outside = 0
+      elements_bits = transfer(real(elements, dp), 0_i8)
+      half_m = 0.5_dp*m
+      strain_factor = 0.0_dp
+      if (stresses) strain_factor = 0.5_dp*volume0/youngs_modulus
+      do b0 = first, last, block_size
+         n = min(block_size, last - b0 + 1)
+         if (seg%prefetch) then  ! the arrays the pass reads, and the grid values of the next blocks
+            ahead = b0 + prefetch_ahead
+            if (kernel == pass_usl) call prefetch_block(ahead, cell, x, x0, v, stress, volume_ratio)
+            if (kernel == pass_usf_move .or. kernel == pass_musl_remap) call prefetch_block(ahead, cell, x, x0, v)
+            if (kernel == pass_usf_stress) call prefetch_block(ahead, cell, stress, volume_ratio)
+            if (kernel == pass_musl_stress) call prefetch_block(ahead, cell, x, v, stress, volume_ratio)
+            if (stresses .and. plastic) call prefetch_block(ahead, cell, plastic_strain, hardening)
+            if (moves) then
+               call prefetch_nodes(cell(b0), cell(b0 + n - 1), acceleration, velocity)
+            else
+               call prefetch_elements(cell(b0), cell(b0 + n - 1), strain_increment_of)
+            end if
+         end if
+         do i = 1, n
+            p = b0 + i - 1
+            e = cell(p)
+            ! G2P with the start-of-step shape functions (the total-Lagrangian formulation)
+            if (moves) then
+               xi = x0(p)*inv_dx - (e - 1)  ! (the reference position's: e is its cell, for good)
+               vgrid = (1.0_dp - xi)*velocity(e - 1) + xi*velocity(e)
+               v(p) = v(p) + dt*((1.0_dp - xi)*acceleration(e - 1) + xi*acceleration(e))
+               dxp = dt*vgrid
+               x(p) = x(p) + dxp
+               db(i) = x(p) - x0(p)
+               kb(i) = half_m*v(p)*v(p)
+               mb(i, slot) = abs(dxp)*inv_dx
+            end if
+            if (stresses) then ! d eps = dt sum dN v_I over the start-of-step cell
+               if (moves) then
+                  dstrain = strain_increment(velocity(e - 1), velocity(e), dt, inv_dx)
+               else
+                  dstrain = strain_increment_of(e)
+               end if
+               ! dF = dt sum_I v_I dN_I/dX(X_p) into the log-strain increment dF/F the laws take (F = J), and the
+               ! force's stress*volume over the reference volume, P V0 (mpm_total_lagrangian)
+               dstrain = dstrain/volume_ratio(p)
+               call stress_hencky(dstrain, youngs_modulus, strain_factor, volume0, stress(p), volume_ratio(p), &
+                                  sb(i), svb(i))
+               svb(i) = stress(p)*volume0
+               jb(i) = volume_ratio(p)
+            else if (iand(shares, share_stress) /= 0) then ! (an initial mapping: the stress as it is)
+               svb(i) = stress(p)*volume0
+            end if
+            if (relocates) then ! the new cell, for P2G at the new position
+               ! the reference cell and weights again (they never change); the new position only tells
+               ! whether the particle left the grid (cell 0: its shares are skipped and the run stops)
+               call locate_cell(x(p), inv_dx, elements, elements_bits, cb(i), xib(i))
+               cb(i) = iand(e, -min(cb(i), 1))
+               xib(i) = x0(p)*inv_dx - (e - 1)
+            else                ! the shares go to the start-of-step cell
+               cb(i) = e
+               if (moves) xib(i) = xi
+            end if
+            if (moves .or. relocates) vpb(i) = v(p)
+         end do
+         ! the block's totals (macros of mpm_lanes.fypi, expanded here)
+         if (moves) then
+            do lane_i = 1, n - lanes + 1, lanes
+               displacement = displacement + db(lane_i:lane_i + lanes - 1)
+            end do
+            lane_r = mod(n, lanes)
+            if (lane_r > 0) displacement(1:lane_r) = displacement(1:lane_r) + db(n - lane_r + 1:n)
+            do lane_i = 1, n - lanes + 1, lanes
+               kinetic = kinetic + kb(lane_i:lane_i + lanes - 1)
+            end do
+            lane_r = mod(n, lanes)
+            if (lane_r > 0) kinetic(1:lane_r) = kinetic(1:lane_r) + kb(n - lane_r + 1:n)
+            lane_max = 0.0_dp
+            do lane_i = 1, n - lanes + 1, lanes
+               lane_max = max(lane_max, mb(lane_i:lane_i + lanes - 1, slot))
+            end do
+            lane_r = mod(n, lanes)
+            if (lane_r > 0) lane_max(1:lane_r) = max(lane_max(1:lane_r), mb(n - lane_r + 1:n, slot))
+            block_max = maxval(lane_max)
+            if (block_max > largest%value) then
+               largest%value = block_max
+               largest%first = b0
+               largest%count = n
+               largest%slot = slot
+               slot = 3 - slot
+            end if
+         end if
+         if (stresses) then
+            do lane_i = 1, n - lanes + 1, lanes
+               strain = strain + sb(lane_i:lane_i + lanes - 1)
+            end do
+            lane_r = mod(n, lanes)
+            if (lane_r > 0) strain(1:lane_r) = strain(1:lane_r) + sb(n - lane_r + 1:n)
+            do lane_i = 1, n - lanes + 1, lanes
+               min_j = min(min_j, jb(lane_i:lane_i + lanes - 1))
+            end do
+            lane_r = mod(n, lanes)
+            if (lane_r > 0) min_j(1:lane_r) = min(min_j(1:lane_r), jb(n - lane_r + 1:n))
+         end if
+         if (relocates) call find_outside(n, b0, cb, outside)
+         call accumulate_block(k, n, cb, xib, vpb, svb, m, lo, hi, shares, run, mass_left, mass_right, momentum_left, &
+                               momentum_right, stress_volume, seg)
+      end do
+      call close_segment(k, shares, m, run, [lane_total(displacement), lane_total(kinetic), lane_total(strain), &
+                         0.0_dp], &
+                         minval(min_j), largest%value, furthest_particle(largest, mb), outside, mass_left, mass_right, &
+                         momentum_left, momentum_right, stress_volume, seg)
+   end subroutine total_usf_move_segment
+
+   !> USF, first half: stress update, then stress*volume of the unmoved particles (the hat, the total-Lagrangian formulation)
+   subroutine total_usf_stress_segment(k, seg, x, x0, v, stress, volume_ratio, cell, acceleration, velocity, &
+                                       strain_increment_of, mass_left, mass_right, momentum_left, momentum_right, &
+                                       stress_volume, constants, carry, mass_of, modulus_of, forces, gradient, force_left, &
+                                       force_right, plastic_strain, hardening, yield_of, hardening_of, mapped, &
+                                       separating)
+      integer, parameter :: kernel = pass_usf_stress
+      logical, parameter :: moves = pass_moves(kernel), stresses = pass_stresses(kernel), relocates = pass_relocates(kernel)
+      integer, parameter :: shares = pass_shares(kernel)
+      integer, intent(in) :: k
+      type(segments_t), intent(inout) :: seg
+      real(dp), intent(inout), contiguous :: x(:), v(:), stress(:), volume_ratio(:)
+      real(dp), intent(in), contiguous :: x0(:)
+      integer, intent(inout), contiguous :: cell(:)
+      real(dp), intent(in), contiguous :: acceleration(0:), velocity(0:)
+      real(dp), intent(in), contiguous :: strain_increment_of(:)  !< per element (grid%element_strain)
+      real(dp), intent(inout), contiguous :: mass_left(:), mass_right(:), momentum_left(:), momentum_right(:), stress_volume(:)
+      type(pass_constants_t), intent(in) :: constants
+      real(dp), intent(inout), contiguous :: carry(:)  !< particles in parts: what a pass keeps for the next (fused_box_t)
+      !> the variants' per-particle data (absent when the run has none): masses and Young's moduli
+      !> (`material`), external forces (`forced`), APIC's velocity gradients C_p, and the element shares of
+      !> the forces
+      real(dp), intent(in), contiguous, optional :: mass_of(:), modulus_of(:), forces(:)
+      real(dp), intent(inout), contiguous, optional :: gradient(:), force_left(:), force_right(:)
+      !> the elastoplastic law's state (plastic strain, hardening variable) and, `material`, each particle's
+      !> yield stress and hardening modulus (absent for the other laws)
+      real(dp), intent(inout), contiguous, optional :: plastic_strain(:), hardening(:)
+      real(dp), intent(in), contiguous, optional :: yield_of(:), hardening_of(:)
+      !> ASFLIP's nodal velocity v^n of the step's mapping and each element's J of separation (absent for
+      !> the others)
+      real(dp), intent(in), contiguous, optional :: mapped(0:), separating(:)
+      integer :: p, e, i, n, b0, first, last, lo, hi, outside, ahead, elements
+      real(dp) :: half_m, strain_factor, dstrain, inv_dx, dt, youngs_modulus, m, volume0
+      logical :: linear, plastic
+      ! the elastoplastic law's constants and the block's plastic work, summed in lanes
+      real(dp) :: yield_stress, hardening_modulus, increment, wb(block_size), work(lanes)
+      type(largest_move_t) :: largest
+      real(dp) :: displacement(lanes), kinetic(lanes), strain(lanes), min_j(lanes)
+      integer :: cb(block_size)
+      real(dp) :: svb(block_size), db(block_size), kb(block_size), sb(block_size), jb(block_size)
+      real(dp) :: mb(block_size, 2)  !< the moves of a block, and of the block with the largest (lanes_track_move)
+      integer :: slot
+      real(dp) :: lane_max(lanes), block_max
+      integer :: lane_i, lane_r
+      type(run_t) :: run
+      integer(i8) :: elements_bits
+      real(dp) :: xi, xib(block_size), vpb(block_size)
+      ! the variant's: G2P's grid velocity and move, the segment's body (cells offset), each particle's
+      ! shares (accumulate_shares)
+      real(dp) :: vgrid, dxp
+      elements = constants%elements
+      inv_dx = constants%inv_dx
+      dt = constants%dt
+      youngs_modulus = constants%youngs_modulus
+      linear = constants%linear
+      plastic = constants%plastic
+      yield_stress = constants%yield_stress
+      hardening_modulus = constants%hardening_modulus
+      work = 0
+      m = constants%mass
+      volume0 = constants%volume0
+      call open_segment(k, shares, seg, mass_left, mass_right, momentum_left, momentum_right, stress_volume, first, last, &
+                        lo, hi)
+      displacement = 0; kinetic = 0; strain = 0; min_j = huge(1.0_dp)
+      slot = 1
+      outside = 0
+      elements_bits = transfer(real(elements, dp), 0_i8)
+      half_m = 0.5_dp*m
+      strain_factor = 0.0_dp
+      if (stresses) strain_factor = 0.5_dp*volume0/youngs_modulus
+      do b0 = first, last, block_size
+         n = min(block_size, last - b0 + 1)
+         if (seg%prefetch) then  ! the arrays the pass reads, and the grid values of the next blocks
+            ahead = b0 + prefetch_ahead
+            if (kernel == pass_usl) call prefetch_block(ahead, cell, x, x0, v, stress, volume_ratio)
+            if (kernel == pass_usf_move .or. kernel == pass_musl_remap) call prefetch_block(ahead, cell, x, x0, v)
+            if (kernel == pass_usf_stress) call prefetch_block(ahead, cell, stress, volume_ratio)
+            if (kernel == pass_musl_stress) call prefetch_block(ahead, cell, x, v, stress, volume_ratio)
+            if (stresses .and. plastic) call prefetch_block(ahead, cell, plastic_strain, hardening)
+            if (moves) then
+               call prefetch_nodes(cell(b0), cell(b0 + n - 1), acceleration, velocity)
+            else
+               call prefetch_elements(cell(b0), cell(b0 + n - 1), strain_increment_of)
+            end if
+         end if
+         if (linear) then
+         do i = 1, n
+            p = b0 + i - 1
+            e = cell(p)
+            ! G2P with the start-of-step shape functions (the total-Lagrangian formulation)
+            if (moves) then
+               xi = x0(p)*inv_dx - (e - 1)  ! (the reference position's: e is its cell, for good)
+               vgrid = (1.0_dp - xi)*velocity(e - 1) + xi*velocity(e)
+               v(p) = v(p) + dt*((1.0_dp - xi)*acceleration(e - 1) + xi*acceleration(e))
+               dxp = dt*vgrid
+               x(p) = x(p) + dxp
+               db(i) = x(p) - x0(p)
+               kb(i) = half_m*v(p)*v(p)
+               mb(i, slot) = abs(dxp)*inv_dx
+            end if
+            if (stresses) then ! d eps = dt sum dN v_I over the start-of-step cell
+               if (moves) then
+                  dstrain = strain_increment(velocity(e - 1), velocity(e), dt, inv_dx)
+               else
+                  dstrain = strain_increment_of(e)
+               end if
+               ! dF = dt sum_I v_I dN_I/dX(X_p) into the log-strain increment dF/F the laws take (F = J), and the
+               ! force's stress*volume over the reference volume, P V0 (mpm_total_lagrangian)
+               dstrain = dstrain/volume_ratio(p)
+               call stress_linear(dstrain, youngs_modulus, strain_factor, volume0, stress(p), volume_ratio(p), &
+                                  sb(i), svb(i))
+               svb(i) = stress(p)*volume0
+               jb(i) = volume_ratio(p)
+            else if (iand(shares, share_stress) /= 0) then ! (an initial mapping: the stress as it is)
+               svb(i) = stress(p)*volume0
+            end if
+            if (relocates) then ! the new cell, for P2G at the new position
+               ! the reference cell and weights again (they never change); the new position only tells
+               ! whether the particle left the grid (cell 0: its shares are skipped and the run stops)
+               call locate_cell(x(p), inv_dx, elements, elements_bits, cb(i), xib(i))
+               cb(i) = iand(e, -min(cb(i), 1))
+               xib(i) = x0(p)*inv_dx - (e - 1)
+            else                ! the shares go to the start-of-step cell
+               cb(i) = e
+               if (moves) xib(i) = xi
+            end if
+            if (moves .or. relocates) vpb(i) = v(p)
+         end do
+         else if (plastic) then
+         do i = 1, n
+            p = b0 + i - 1
+            e = cell(p)
+            ! G2P with the start-of-step shape functions (the total-Lagrangian formulation)
+            if (moves) then
+               xi = x0(p)*inv_dx - (e - 1)  ! (the reference position's: e is its cell, for good)
+               vgrid = (1.0_dp - xi)*velocity(e - 1) + xi*velocity(e)
+               v(p) = v(p) + dt*((1.0_dp - xi)*acceleration(e - 1) + xi*acceleration(e))
+               dxp = dt*vgrid
+               x(p) = x(p) + dxp
+               db(i) = x(p) - x0(p)
+               kb(i) = half_m*v(p)*v(p)
+               mb(i, slot) = abs(dxp)*inv_dx
+            end if
+            if (stresses) then ! d eps = dt sum dN v_I over the start-of-step cell
+               if (moves) then
+                  dstrain = strain_increment(velocity(e - 1), velocity(e), dt, inv_dx)
+               else
+                  dstrain = strain_increment_of(e)
+               end if
+               ! dF = dt sum_I v_I dN_I/dX(X_p) into the log-strain increment dF/F the laws take (F = J), and the
+               ! force's stress*volume over the reference volume, P V0 (mpm_total_lagrangian)
+               dstrain = dstrain/volume_ratio(p)
+               stress(p) = stress(p) + youngs_modulus*dstrain
+               ! d gamma, zero in an elastic step: written without a branch, so that a loop over particles
+               ! vectorises; an elastic step then subtracts and adds zeros, which leaves the hencky bits
+               increment = max(abs(stress(p)) - (yield_stress + hardening_modulus*hardening(p)), 0.0_dp)/ &
+                           (youngs_modulus + hardening_modulus)
+               stress(p) = stress(p) - sign(youngs_modulus*increment, stress(p))
+               plastic_strain(p) = plastic_strain(p) + sign(increment, stress(p))
+               hardening(p) = hardening(p) + increment
+               volume_ratio(p) = volume_ratio(p)*(1.0_dp + dstrain)
+               sb(i) = stress(p)*stress(p)*volume_ratio(p)*strain_factor
+               svb(i) = stress(p)*volume_ratio(p)*volume0
+               wb(i) = (yield_stress + 0.5_dp*hardening_modulus*hardening(p))*hardening(p)*volume0
+               svb(i) = stress(p)*volume0
+               jb(i) = volume_ratio(p)
+            else if (iand(shares, share_stress) /= 0) then ! (an initial mapping: the stress as it is)
+               svb(i) = stress(p)*volume0
+            end if
+            if (relocates) then ! the new cell, for P2G at the new position
+               ! the reference cell and weights again (they never change); the new position only tells
+               ! whether the particle left the grid (cell 0: its shares are skipped and the run stops)
+               call locate_cell(x(p), inv_dx, elements, elements_bits, cb(i), xib(i))
+               cb(i) = iand(e, -min(cb(i), 1))
+               xib(i) = x0(p)*inv_dx - (e - 1)
+            else                ! the shares go to the start-of-step cell
+               cb(i) = e
+               if (moves) xib(i) = xi
+            end if
+            if (moves .or. relocates) vpb(i) = v(p)
+         end do
+         else
+         do i = 1, n
+            p = b0 + i - 1
+            e = cell(p)
+            ! G2P with the start-of-step shape functions (the total-Lagrangian formulation)
+            if (moves) then
+               xi = x0(p)*inv_dx - (e - 1)  ! (the reference position's: e is its cell, for good)
+               vgrid = (1.0_dp - xi)*velocity(e - 1) + xi*velocity(e)
+               v(p) = v(p) + dt*((1.0_dp - xi)*acceleration(e - 1) + xi*acceleration(e))
+               dxp = dt*vgrid
+               x(p) = x(p) + dxp
+               db(i) = x(p) - x0(p)
+               kb(i) = half_m*v(p)*v(p)
+               mb(i, slot) = abs(dxp)*inv_dx
+            end if
+            if (stresses) then ! d eps = dt sum dN v_I over the start-of-step cell
+               if (moves) then
+                  dstrain = strain_increment(velocity(e - 1), velocity(e), dt, inv_dx)
+               else
+                  dstrain = strain_increment_of(e)
+               end if
+               ! dF = dt sum_I v_I dN_I/dX(X_p) into the log-strain increment dF/F the laws take (F = J), and the
+               ! force's stress*volume over the reference volume, P V0 (mpm_total_lagrangian)
+               dstrain = dstrain/volume_ratio(p)
+               call stress_hencky(dstrain, youngs_modulus, strain_factor, volume0, stress(p), volume_ratio(p), &
+                                  sb(i), svb(i))
+               svb(i) = stress(p)*volume0
+               jb(i) = volume_ratio(p)
+            else if (iand(shares, share_stress) /= 0) then ! (an initial mapping: the stress as it is)
+               svb(i) = stress(p)*volume0
+            end if
+            if (relocates) then ! the new cell, for P2G at the new position
+               ! the reference cell and weights again (they never change); the new position only tells
+               ! whether the particle left the grid (cell 0: its shares are skipped and the run stops)
+               call locate_cell(x(p), inv_dx, elements, elements_bits, cb(i), xib(i))
+               cb(i) = iand(e, -min(cb(i), 1))
+               xib(i) = x0(p)*inv_dx - (e - 1)
+            else                ! the shares go to the start-of-step cell
+               cb(i) = e
+               if (moves) xib(i) = xi
+            end if
+            if (moves .or. relocates) vpb(i) = v(p)
+         end do
+         end if
+         ! the block's totals (macros of mpm_lanes.fypi, expanded here)
+         if (moves) then
+            do lane_i = 1, n - lanes + 1, lanes
+               displacement = displacement + db(lane_i:lane_i + lanes - 1)
+            end do
+            lane_r = mod(n, lanes)
+            if (lane_r > 0) displacement(1:lane_r) = displacement(1:lane_r) + db(n - lane_r + 1:n)
+            do lane_i = 1, n - lanes + 1, lanes
+               kinetic = kinetic + kb(lane_i:lane_i + lanes - 1)
+            end do
+            lane_r = mod(n, lanes)
+            if (lane_r > 0) kinetic(1:lane_r) = kinetic(1:lane_r) + kb(n - lane_r + 1:n)
+            lane_max = 0.0_dp
+            do lane_i = 1, n - lanes + 1, lanes
+               lane_max = max(lane_max, mb(lane_i:lane_i + lanes - 1, slot))
+            end do
+            lane_r = mod(n, lanes)
+            if (lane_r > 0) lane_max(1:lane_r) = max(lane_max(1:lane_r), mb(n - lane_r + 1:n, slot))
+            block_max = maxval(lane_max)
+            if (block_max > largest%value) then
+               largest%value = block_max
+               largest%first = b0
+               largest%count = n
+               largest%slot = slot
+               slot = 3 - slot
+            end if
+         end if
+         if (stresses) then
+            do lane_i = 1, n - lanes + 1, lanes
+               strain = strain + sb(lane_i:lane_i + lanes - 1)
+            end do
+            lane_r = mod(n, lanes)
+            if (lane_r > 0) strain(1:lane_r) = strain(1:lane_r) + sb(n - lane_r + 1:n)
+            do lane_i = 1, n - lanes + 1, lanes
+               min_j = min(min_j, jb(lane_i:lane_i + lanes - 1))
+            end do
+            lane_r = mod(n, lanes)
+            if (lane_r > 0) min_j(1:lane_r) = min(min_j(1:lane_r), jb(n - lane_r + 1:n))
+         end if
+         if (plastic) then
+            do lane_i = 1, n - lanes + 1, lanes
+               work = work + wb(lane_i:lane_i + lanes - 1)
+            end do
+            lane_r = mod(n, lanes)
+            if (lane_r > 0) work(1:lane_r) = work(1:lane_r) + wb(n - lane_r + 1:n)
+         end if
+         if (relocates) call find_outside(n, b0, cb, outside)
+         call accumulate_block(k, n, cb, xib, vpb, svb, m, lo, hi, shares, run, mass_left, mass_right, momentum_left, &
+                               momentum_right, stress_volume, seg)
+      end do
+      call close_segment(k, shares, m, run, [lane_total(displacement), lane_total(kinetic), lane_total(strain), &
+                         lane_total(work)], &
+                         minval(min_j), largest%value, furthest_particle(largest, mb), outside, mass_left, mass_right, &
+                         momentum_left, momentum_right, stress_volume, seg)
+   end subroutine total_usf_stress_segment
+
+   !> USL: G2P, stress update from the updated nodal velocities, P2G at the new position (the hat, the total-Lagrangian formulation)
+   subroutine total_usl_segment(k, seg, x, x0, v, stress, volume_ratio, cell, acceleration, velocity, &
+                                strain_increment_of, mass_left, mass_right, momentum_left, momentum_right, &
+                                stress_volume, constants, carry, mass_of, modulus_of, forces, gradient, force_left, &
+                                force_right, plastic_strain, hardening, yield_of, hardening_of, mapped, &
+                                separating)
+      integer, parameter :: kernel = pass_usl
+      logical, parameter :: moves = pass_moves(kernel), stresses = pass_stresses(kernel), relocates = pass_relocates(kernel)
+      integer, parameter :: shares = pass_shares(kernel)
+      integer, intent(in) :: k
+      type(segments_t), intent(inout) :: seg
+      real(dp), intent(inout), contiguous :: x(:), v(:), stress(:), volume_ratio(:)
+      real(dp), intent(in), contiguous :: x0(:)
+      integer, intent(inout), contiguous :: cell(:)
+      real(dp), intent(in), contiguous :: acceleration(0:), velocity(0:)
+      real(dp), intent(in), contiguous :: strain_increment_of(:)  !< per element (grid%element_strain)
+      real(dp), intent(inout), contiguous :: mass_left(:), mass_right(:), momentum_left(:), momentum_right(:), stress_volume(:)
+      type(pass_constants_t), intent(in) :: constants
+      real(dp), intent(inout), contiguous :: carry(:)  !< particles in parts: what a pass keeps for the next (fused_box_t)
+      !> the variants' per-particle data (absent when the run has none): masses and Young's moduli
+      !> (`material`), external forces (`forced`), APIC's velocity gradients C_p, and the element shares of
+      !> the forces
+      real(dp), intent(in), contiguous, optional :: mass_of(:), modulus_of(:), forces(:)
+      real(dp), intent(inout), contiguous, optional :: gradient(:), force_left(:), force_right(:)
+      !> the elastoplastic law's state (plastic strain, hardening variable) and, `material`, each particle's
+      !> yield stress and hardening modulus (absent for the other laws)
+      real(dp), intent(inout), contiguous, optional :: plastic_strain(:), hardening(:)
+      real(dp), intent(in), contiguous, optional :: yield_of(:), hardening_of(:)
+      !> ASFLIP's nodal velocity v^n of the step's mapping and each element's J of separation (absent for
+      !> the others)
+      real(dp), intent(in), contiguous, optional :: mapped(0:), separating(:)
+      integer :: p, e, i, n, b0, first, last, lo, hi, outside, ahead, elements
+      real(dp) :: half_m, strain_factor, dstrain, inv_dx, dt, youngs_modulus, m, volume0
+      logical :: linear, plastic
+      ! the elastoplastic law's constants and the block's plastic work, summed in lanes
+      real(dp) :: yield_stress, hardening_modulus, increment, wb(block_size), work(lanes)
+      type(largest_move_t) :: largest
+      real(dp) :: displacement(lanes), kinetic(lanes), strain(lanes), min_j(lanes)
+      integer :: cb(block_size)
+      real(dp) :: svb(block_size), db(block_size), kb(block_size), sb(block_size), jb(block_size)
+      real(dp) :: mb(block_size, 2)  !< the moves of a block, and of the block with the largest (lanes_track_move)
+      integer :: slot
+      real(dp) :: lane_max(lanes), block_max
+      integer :: lane_i, lane_r
+      type(run_t) :: run
+      integer(i8) :: elements_bits
+      real(dp) :: xi, xib(block_size), vpb(block_size)
+      ! the variant's: G2P's grid velocity and move, the segment's body (cells offset), each particle's
+      ! shares (accumulate_shares)
+      real(dp) :: vgrid, dxp
+      elements = constants%elements
+      inv_dx = constants%inv_dx
+      dt = constants%dt
+      youngs_modulus = constants%youngs_modulus
+      linear = constants%linear
+      plastic = constants%plastic
+      yield_stress = constants%yield_stress
+      hardening_modulus = constants%hardening_modulus
+      work = 0
+      m = constants%mass
+      volume0 = constants%volume0
+      call open_segment(k, shares, seg, mass_left, mass_right, momentum_left, momentum_right, stress_volume, first, last, &
+                        lo, hi)
+      displacement = 0; kinetic = 0; strain = 0; min_j = huge(1.0_dp)
+      slot = 1
+      outside = 0
+      elements_bits = transfer(real(elements, dp), 0_i8)
+      half_m = 0.5_dp*m
+      strain_factor = 0.0_dp
+      if (stresses) strain_factor = 0.5_dp*volume0/youngs_modulus
+      do b0 = first, last, block_size
+         n = min(block_size, last - b0 + 1)
+         if (seg%prefetch) then  ! the arrays the pass reads, and the grid values of the next blocks
+            ahead = b0 + prefetch_ahead
+            if (kernel == pass_usl) call prefetch_block(ahead, cell, x, x0, v, stress, volume_ratio)
+            if (kernel == pass_usf_move .or. kernel == pass_musl_remap) call prefetch_block(ahead, cell, x, x0, v)
+            if (kernel == pass_usf_stress) call prefetch_block(ahead, cell, stress, volume_ratio)
+            if (kernel == pass_musl_stress) call prefetch_block(ahead, cell, x, v, stress, volume_ratio)
+            if (stresses .and. plastic) call prefetch_block(ahead, cell, plastic_strain, hardening)
+            if (moves) then
+               call prefetch_nodes(cell(b0), cell(b0 + n - 1), acceleration, velocity)
+            else
+               call prefetch_elements(cell(b0), cell(b0 + n - 1), strain_increment_of)
+            end if
+         end if
+         if (linear) then
+         do i = 1, n
+            p = b0 + i - 1
+            e = cell(p)
+            ! G2P with the start-of-step shape functions (the total-Lagrangian formulation)
+            if (moves) then
+               xi = x0(p)*inv_dx - (e - 1)  ! (the reference position's: e is its cell, for good)
+               vgrid = (1.0_dp - xi)*velocity(e - 1) + xi*velocity(e)
+               v(p) = v(p) + dt*((1.0_dp - xi)*acceleration(e - 1) + xi*acceleration(e))
+               dxp = dt*vgrid
+               x(p) = x(p) + dxp
+               db(i) = x(p) - x0(p)
+               kb(i) = half_m*v(p)*v(p)
+               mb(i, slot) = abs(dxp)*inv_dx
+            end if
+            if (stresses) then ! d eps = dt sum dN v_I over the start-of-step cell
+               if (moves) then
+                  dstrain = strain_increment(velocity(e - 1), velocity(e), dt, inv_dx)
+               else
+                  dstrain = strain_increment_of(e)
+               end if
+               ! dF = dt sum_I v_I dN_I/dX(X_p) into the log-strain increment dF/F the laws take (F = J), and the
+               ! force's stress*volume over the reference volume, P V0 (mpm_total_lagrangian)
+               dstrain = dstrain/volume_ratio(p)
+               call stress_linear(dstrain, youngs_modulus, strain_factor, volume0, stress(p), volume_ratio(p), &
+                                  sb(i), svb(i))
+               svb(i) = stress(p)*volume0
+               jb(i) = volume_ratio(p)
+            else if (iand(shares, share_stress) /= 0) then ! (an initial mapping: the stress as it is)
+               svb(i) = stress(p)*volume0
+            end if
+            if (relocates) then ! the new cell, for P2G at the new position
+               ! the reference cell and weights again (they never change); the new position only tells
+               ! whether the particle left the grid (cell 0: its shares are skipped and the run stops)
+               call locate_cell(x(p), inv_dx, elements, elements_bits, cb(i), xib(i))
+               cb(i) = iand(e, -min(cb(i), 1))
+               xib(i) = x0(p)*inv_dx - (e - 1)
+            else                ! the shares go to the start-of-step cell
+               cb(i) = e
+               if (moves) xib(i) = xi
+            end if
+            if (moves .or. relocates) vpb(i) = v(p)
+         end do
+         else if (plastic) then
+         do i = 1, n
+            p = b0 + i - 1
+            e = cell(p)
+            ! G2P with the start-of-step shape functions (the total-Lagrangian formulation)
+            if (moves) then
+               xi = x0(p)*inv_dx - (e - 1)  ! (the reference position's: e is its cell, for good)
+               vgrid = (1.0_dp - xi)*velocity(e - 1) + xi*velocity(e)
+               v(p) = v(p) + dt*((1.0_dp - xi)*acceleration(e - 1) + xi*acceleration(e))
+               dxp = dt*vgrid
+               x(p) = x(p) + dxp
+               db(i) = x(p) - x0(p)
+               kb(i) = half_m*v(p)*v(p)
+               mb(i, slot) = abs(dxp)*inv_dx
+            end if
+            if (stresses) then ! d eps = dt sum dN v_I over the start-of-step cell
+               if (moves) then
+                  dstrain = strain_increment(velocity(e - 1), velocity(e), dt, inv_dx)
+               else
+                  dstrain = strain_increment_of(e)
+               end if
+               ! dF = dt sum_I v_I dN_I/dX(X_p) into the log-strain increment dF/F the laws take (F = J), and the
+               ! force's stress*volume over the reference volume, P V0 (mpm_total_lagrangian)
+               dstrain = dstrain/volume_ratio(p)
+               stress(p) = stress(p) + youngs_modulus*dstrain
+               ! d gamma, zero in an elastic step: written without a branch, so that a loop over particles
+               ! vectorises; an elastic step then subtracts and adds zeros, which leaves the hencky bits
+               increment = max(abs(stress(p)) - (yield_stress + hardening_modulus*hardening(p)), 0.0_dp)/ &
+                           (youngs_modulus + hardening_modulus)
+               stress(p) = stress(p) - sign(youngs_modulus*increment, stress(p))
+               plastic_strain(p) = plastic_strain(p) + sign(increment, stress(p))
+               hardening(p) = hardening(p) + increment
+               volume_ratio(p) = volume_ratio(p)*(1.0_dp + dstrain)
+               sb(i) = stress(p)*stress(p)*volume_ratio(p)*strain_factor
+               svb(i) = stress(p)*volume_ratio(p)*volume0
+               wb(i) = (yield_stress + 0.5_dp*hardening_modulus*hardening(p))*hardening(p)*volume0
+               svb(i) = stress(p)*volume0
+               jb(i) = volume_ratio(p)
+            else if (iand(shares, share_stress) /= 0) then ! (an initial mapping: the stress as it is)
+               svb(i) = stress(p)*volume0
+            end if
+            if (relocates) then ! the new cell, for P2G at the new position
+               ! the reference cell and weights again (they never change); the new position only tells
+               ! whether the particle left the grid (cell 0: its shares are skipped and the run stops)
+               call locate_cell(x(p), inv_dx, elements, elements_bits, cb(i), xib(i))
+               cb(i) = iand(e, -min(cb(i), 1))
+               xib(i) = x0(p)*inv_dx - (e - 1)
+            else                ! the shares go to the start-of-step cell
+               cb(i) = e
+               if (moves) xib(i) = xi
+            end if
+            if (moves .or. relocates) vpb(i) = v(p)
+         end do
+         else
+         do i = 1, n
+            p = b0 + i - 1
+            e = cell(p)
+            ! G2P with the start-of-step shape functions (the total-Lagrangian formulation)
+            if (moves) then
+               xi = x0(p)*inv_dx - (e - 1)  ! (the reference position's: e is its cell, for good)
+               vgrid = (1.0_dp - xi)*velocity(e - 1) + xi*velocity(e)
+               v(p) = v(p) + dt*((1.0_dp - xi)*acceleration(e - 1) + xi*acceleration(e))
+               dxp = dt*vgrid
+               x(p) = x(p) + dxp
+               db(i) = x(p) - x0(p)
+               kb(i) = half_m*v(p)*v(p)
+               mb(i, slot) = abs(dxp)*inv_dx
+            end if
+            if (stresses) then ! d eps = dt sum dN v_I over the start-of-step cell
+               if (moves) then
+                  dstrain = strain_increment(velocity(e - 1), velocity(e), dt, inv_dx)
+               else
+                  dstrain = strain_increment_of(e)
+               end if
+               ! dF = dt sum_I v_I dN_I/dX(X_p) into the log-strain increment dF/F the laws take (F = J), and the
+               ! force's stress*volume over the reference volume, P V0 (mpm_total_lagrangian)
+               dstrain = dstrain/volume_ratio(p)
+               call stress_hencky(dstrain, youngs_modulus, strain_factor, volume0, stress(p), volume_ratio(p), &
+                                  sb(i), svb(i))
+               svb(i) = stress(p)*volume0
+               jb(i) = volume_ratio(p)
+            else if (iand(shares, share_stress) /= 0) then ! (an initial mapping: the stress as it is)
+               svb(i) = stress(p)*volume0
+            end if
+            if (relocates) then ! the new cell, for P2G at the new position
+               ! the reference cell and weights again (they never change); the new position only tells
+               ! whether the particle left the grid (cell 0: its shares are skipped and the run stops)
+               call locate_cell(x(p), inv_dx, elements, elements_bits, cb(i), xib(i))
+               cb(i) = iand(e, -min(cb(i), 1))
+               xib(i) = x0(p)*inv_dx - (e - 1)
+            else                ! the shares go to the start-of-step cell
+               cb(i) = e
+               if (moves) xib(i) = xi
+            end if
+            if (moves .or. relocates) vpb(i) = v(p)
+         end do
+         end if
+         ! the block's totals (macros of mpm_lanes.fypi, expanded here)
+         if (moves) then
+            do lane_i = 1, n - lanes + 1, lanes
+               displacement = displacement + db(lane_i:lane_i + lanes - 1)
+            end do
+            lane_r = mod(n, lanes)
+            if (lane_r > 0) displacement(1:lane_r) = displacement(1:lane_r) + db(n - lane_r + 1:n)
+            do lane_i = 1, n - lanes + 1, lanes
+               kinetic = kinetic + kb(lane_i:lane_i + lanes - 1)
+            end do
+            lane_r = mod(n, lanes)
+            if (lane_r > 0) kinetic(1:lane_r) = kinetic(1:lane_r) + kb(n - lane_r + 1:n)
+            lane_max = 0.0_dp
+            do lane_i = 1, n - lanes + 1, lanes
+               lane_max = max(lane_max, mb(lane_i:lane_i + lanes - 1, slot))
+            end do
+            lane_r = mod(n, lanes)
+            if (lane_r > 0) lane_max(1:lane_r) = max(lane_max(1:lane_r), mb(n - lane_r + 1:n, slot))
+            block_max = maxval(lane_max)
+            if (block_max > largest%value) then
+               largest%value = block_max
+               largest%first = b0
+               largest%count = n
+               largest%slot = slot
+               slot = 3 - slot
+            end if
+         end if
+         if (stresses) then
+            do lane_i = 1, n - lanes + 1, lanes
+               strain = strain + sb(lane_i:lane_i + lanes - 1)
+            end do
+            lane_r = mod(n, lanes)
+            if (lane_r > 0) strain(1:lane_r) = strain(1:lane_r) + sb(n - lane_r + 1:n)
+            do lane_i = 1, n - lanes + 1, lanes
+               min_j = min(min_j, jb(lane_i:lane_i + lanes - 1))
+            end do
+            lane_r = mod(n, lanes)
+            if (lane_r > 0) min_j(1:lane_r) = min(min_j(1:lane_r), jb(n - lane_r + 1:n))
+         end if
+         if (plastic) then
+            do lane_i = 1, n - lanes + 1, lanes
+               work = work + wb(lane_i:lane_i + lanes - 1)
+            end do
+            lane_r = mod(n, lanes)
+            if (lane_r > 0) work(1:lane_r) = work(1:lane_r) + wb(n - lane_r + 1:n)
+         end if
+         if (relocates) call find_outside(n, b0, cb, outside)
+         call accumulate_block(k, n, cb, xib, vpb, svb, m, lo, hi, shares, run, mass_left, mass_right, momentum_left, &
+                               momentum_right, stress_volume, seg)
+      end do
+      call close_segment(k, shares, m, run, [lane_total(displacement), lane_total(kinetic), lane_total(strain), &
+                         lane_total(work)], &
+                         minval(min_j), largest%value, furthest_particle(largest, mb), outside, mass_left, mass_right, &
+                         momentum_left, momentum_right, stress_volume, seg)
+   end subroutine total_usl_segment
+
+   !> MUSL, first pass: G2P, and the new momentum back to the start-of-step nodes (the hat, the total-Lagrangian formulation)
+   subroutine total_musl_remap_segment(k, seg, x, x0, v, stress, volume_ratio, cell, acceleration, velocity, &
+                                       strain_increment_of, mass_left, mass_right, momentum_left, momentum_right, &
+                                       stress_volume, constants, carry, mass_of, modulus_of, forces, gradient, force_left, &
+                                       force_right, plastic_strain, hardening, yield_of, hardening_of, mapped, &
+                                       separating)
+      integer, parameter :: kernel = pass_musl_remap
+      logical, parameter :: moves = pass_moves(kernel), stresses = pass_stresses(kernel), relocates = pass_relocates(kernel)
+      integer, parameter :: shares = pass_shares(kernel)
+      integer, intent(in) :: k
+      type(segments_t), intent(inout) :: seg
+      real(dp), intent(inout), contiguous :: x(:), v(:), stress(:), volume_ratio(:)
+      real(dp), intent(in), contiguous :: x0(:)
+      integer, intent(inout), contiguous :: cell(:)
+      real(dp), intent(in), contiguous :: acceleration(0:), velocity(0:)
+      real(dp), intent(in), contiguous :: strain_increment_of(:)  !< per element (grid%element_strain)
+      real(dp), intent(inout), contiguous :: mass_left(:), mass_right(:), momentum_left(:), momentum_right(:), stress_volume(:)
+      type(pass_constants_t), intent(in) :: constants
+      real(dp), intent(inout), contiguous :: carry(:)  !< particles in parts: what a pass keeps for the next (fused_box_t)
+      !> the variants' per-particle data (absent when the run has none): masses and Young's moduli
+      !> (`material`), external forces (`forced`), APIC's velocity gradients C_p, and the element shares of
+      !> the forces
+      real(dp), intent(in), contiguous, optional :: mass_of(:), modulus_of(:), forces(:)
+      real(dp), intent(inout), contiguous, optional :: gradient(:), force_left(:), force_right(:)
+      !> the elastoplastic law's state (plastic strain, hardening variable) and, `material`, each particle's
+      !> yield stress and hardening modulus (absent for the other laws)
+      real(dp), intent(inout), contiguous, optional :: plastic_strain(:), hardening(:)
+      real(dp), intent(in), contiguous, optional :: yield_of(:), hardening_of(:)
+      !> ASFLIP's nodal velocity v^n of the step's mapping and each element's J of separation (absent for
+      !> the others)
+      real(dp), intent(in), contiguous, optional :: mapped(0:), separating(:)
+      integer :: p, e, i, n, b0, first, last, lo, hi, outside, ahead, elements
+      real(dp) :: half_m, strain_factor, dstrain, inv_dx, dt, youngs_modulus, m, volume0
+      logical :: linear, plastic
+      type(largest_move_t) :: largest
+      real(dp) :: displacement(lanes), kinetic(lanes), strain(lanes), min_j(lanes)
+      integer :: cb(block_size)
+      real(dp) :: svb(block_size), db(block_size), kb(block_size), sb(block_size), jb(block_size)
+      real(dp) :: mb(block_size, 2)  !< the moves of a block, and of the block with the largest (lanes_track_move)
+      integer :: slot
+      real(dp) :: lane_max(lanes), block_max
+      integer :: lane_i, lane_r
+      type(run_t) :: run
+      integer(i8) :: elements_bits
+      real(dp) :: xi, xib(block_size), vpb(block_size)
+      ! the variant's: G2P's grid velocity and move, the segment's body (cells offset), each particle's
+      ! shares (accumulate_shares)
+      real(dp) :: vgrid, dxp
+      elements = constants%elements
+      inv_dx = constants%inv_dx
+      dt = constants%dt
+      youngs_modulus = constants%youngs_modulus
+      linear = constants%linear
+      plastic = constants%plastic
+      m = constants%mass
+      volume0 = constants%volume0
+      call open_segment(k, shares, seg, mass_left, mass_right, momentum_left, momentum_right, stress_volume, first, last, &
+                        lo, hi)
+      displacement = 0; kinetic = 0; strain = 0; min_j = huge(1.0_dp)
+      slot = 1
+      outside = 0
+      elements_bits = transfer(real(elements, dp), 0_i8)
+      half_m = 0.5_dp*m
+      strain_factor = 0.0_dp
+      if (stresses) strain_factor = 0.5_dp*volume0/youngs_modulus
+      do b0 = first, last, block_size
+         n = min(block_size, last - b0 + 1)
+         if (seg%prefetch) then  ! the arrays the pass reads, and the grid values of the next blocks
+            ahead = b0 + prefetch_ahead
+            if (kernel == pass_usl) call prefetch_block(ahead, cell, x, x0, v, stress, volume_ratio)
+            if (kernel == pass_usf_move .or. kernel == pass_musl_remap) call prefetch_block(ahead, cell, x, x0, v)
+            if (kernel == pass_usf_stress) call prefetch_block(ahead, cell, stress, volume_ratio)
+            if (kernel == pass_musl_stress) call prefetch_block(ahead, cell, x, v, stress, volume_ratio)
+            if (stresses .and. plastic) call prefetch_block(ahead, cell, plastic_strain, hardening)
+            if (moves) then
+               call prefetch_nodes(cell(b0), cell(b0 + n - 1), acceleration, velocity)
+            else
+               call prefetch_elements(cell(b0), cell(b0 + n - 1), strain_increment_of)
+            end if
+         end if
+         do i = 1, n
+            p = b0 + i - 1
+            e = cell(p)
+            ! G2P with the start-of-step shape functions (the total-Lagrangian formulation)
+            if (moves) then
+               xi = x0(p)*inv_dx - (e - 1)  ! (the reference position's: e is its cell, for good)
+               vgrid = (1.0_dp - xi)*velocity(e - 1) + xi*velocity(e)
+               v(p) = v(p) + dt*((1.0_dp - xi)*acceleration(e - 1) + xi*acceleration(e))
+               dxp = dt*vgrid
+               x(p) = x(p) + dxp
+               db(i) = x(p) - x0(p)
+               kb(i) = half_m*v(p)*v(p)
+               mb(i, slot) = abs(dxp)*inv_dx
+            end if
+            if (stresses) then ! d eps = dt sum dN v_I over the start-of-step cell
+               if (moves) then
+                  dstrain = strain_increment(velocity(e - 1), velocity(e), dt, inv_dx)
+               else
+                  dstrain = strain_increment_of(e)
+               end if
+               ! dF = dt sum_I v_I dN_I/dX(X_p) into the log-strain increment dF/F the laws take (F = J), and the
+               ! force's stress*volume over the reference volume, P V0 (mpm_total_lagrangian)
+               dstrain = dstrain/volume_ratio(p)
+               call stress_hencky(dstrain, youngs_modulus, strain_factor, volume0, stress(p), volume_ratio(p), &
+                                  sb(i), svb(i))
+               svb(i) = stress(p)*volume0
+               jb(i) = volume_ratio(p)
+            else if (iand(shares, share_stress) /= 0) then ! (an initial mapping: the stress as it is)
+               svb(i) = stress(p)*volume0
+            end if
+            if (relocates) then ! the new cell, for P2G at the new position
+               ! the reference cell and weights again (they never change); the new position only tells
+               ! whether the particle left the grid (cell 0: its shares are skipped and the run stops)
+               call locate_cell(x(p), inv_dx, elements, elements_bits, cb(i), xib(i))
+               cb(i) = iand(e, -min(cb(i), 1))
+               xib(i) = x0(p)*inv_dx - (e - 1)
+            else                ! the shares go to the start-of-step cell
+               cb(i) = e
+               if (moves) xib(i) = xi
+            end if
+            if (moves .or. relocates) vpb(i) = v(p)
+         end do
+         ! the block's totals (macros of mpm_lanes.fypi, expanded here)
+         if (moves) then
+            do lane_i = 1, n - lanes + 1, lanes
+               displacement = displacement + db(lane_i:lane_i + lanes - 1)
+            end do
+            lane_r = mod(n, lanes)
+            if (lane_r > 0) displacement(1:lane_r) = displacement(1:lane_r) + db(n - lane_r + 1:n)
+            do lane_i = 1, n - lanes + 1, lanes
+               kinetic = kinetic + kb(lane_i:lane_i + lanes - 1)
+            end do
+            lane_r = mod(n, lanes)
+            if (lane_r > 0) kinetic(1:lane_r) = kinetic(1:lane_r) + kb(n - lane_r + 1:n)
+            lane_max = 0.0_dp
+            do lane_i = 1, n - lanes + 1, lanes
+               lane_max = max(lane_max, mb(lane_i:lane_i + lanes - 1, slot))
+            end do
+            lane_r = mod(n, lanes)
+            if (lane_r > 0) lane_max(1:lane_r) = max(lane_max(1:lane_r), mb(n - lane_r + 1:n, slot))
+            block_max = maxval(lane_max)
+            if (block_max > largest%value) then
+               largest%value = block_max
+               largest%first = b0
+               largest%count = n
+               largest%slot = slot
+               slot = 3 - slot
+            end if
+         end if
+         if (stresses) then
+            do lane_i = 1, n - lanes + 1, lanes
+               strain = strain + sb(lane_i:lane_i + lanes - 1)
+            end do
+            lane_r = mod(n, lanes)
+            if (lane_r > 0) strain(1:lane_r) = strain(1:lane_r) + sb(n - lane_r + 1:n)
+            do lane_i = 1, n - lanes + 1, lanes
+               min_j = min(min_j, jb(lane_i:lane_i + lanes - 1))
+            end do
+            lane_r = mod(n, lanes)
+            if (lane_r > 0) min_j(1:lane_r) = min(min_j(1:lane_r), jb(n - lane_r + 1:n))
+         end if
+         if (relocates) call find_outside(n, b0, cb, outside)
+         call accumulate_block(k, n, cb, xib, vpb, svb, m, lo, hi, shares, run, mass_left, mass_right, momentum_left, &
+                               momentum_right, stress_volume, seg)
+      end do
+      call close_segment(k, shares, m, run, [lane_total(displacement), lane_total(kinetic), lane_total(strain), &
+                         0.0_dp], &
+                         minval(min_j), largest%value, furthest_particle(largest, mb), outside, mass_left, mass_right, &
+                         momentum_left, momentum_right, stress_volume, seg)
+   end subroutine total_musl_remap_segment
+
+   !> MUSL, second pass: stress update from the remapped velocities, P2G at the new position (the hat, the total-Lagrangian formulation)
+   subroutine total_musl_stress_segment(k, seg, x, x0, v, stress, volume_ratio, cell, acceleration, velocity, &
+                                        strain_increment_of, mass_left, mass_right, momentum_left, momentum_right, &
+                                        stress_volume, constants, carry, mass_of, modulus_of, forces, gradient, force_left, &
+                                        force_right, plastic_strain, hardening, yield_of, hardening_of, mapped, &
+                                        separating)
+      integer, parameter :: kernel = pass_musl_stress
+      logical, parameter :: moves = pass_moves(kernel), stresses = pass_stresses(kernel), relocates = pass_relocates(kernel)
+      integer, parameter :: shares = pass_shares(kernel)
+      integer, intent(in) :: k
+      type(segments_t), intent(inout) :: seg
+      real(dp), intent(inout), contiguous :: x(:), v(:), stress(:), volume_ratio(:)
+      real(dp), intent(in), contiguous :: x0(:)
+      integer, intent(inout), contiguous :: cell(:)
+      real(dp), intent(in), contiguous :: acceleration(0:), velocity(0:)
+      real(dp), intent(in), contiguous :: strain_increment_of(:)  !< per element (grid%element_strain)
+      real(dp), intent(inout), contiguous :: mass_left(:), mass_right(:), momentum_left(:), momentum_right(:), stress_volume(:)
+      type(pass_constants_t), intent(in) :: constants
+      real(dp), intent(inout), contiguous :: carry(:)  !< particles in parts: what a pass keeps for the next (fused_box_t)
+      !> the variants' per-particle data (absent when the run has none): masses and Young's moduli
+      !> (`material`), external forces (`forced`), APIC's velocity gradients C_p, and the element shares of
+      !> the forces
+      real(dp), intent(in), contiguous, optional :: mass_of(:), modulus_of(:), forces(:)
+      real(dp), intent(inout), contiguous, optional :: gradient(:), force_left(:), force_right(:)
+      !> the elastoplastic law's state (plastic strain, hardening variable) and, `material`, each particle's
+      !> yield stress and hardening modulus (absent for the other laws)
+      real(dp), intent(inout), contiguous, optional :: plastic_strain(:), hardening(:)
+      real(dp), intent(in), contiguous, optional :: yield_of(:), hardening_of(:)
+      !> ASFLIP's nodal velocity v^n of the step's mapping and each element's J of separation (absent for
+      !> the others)
+      real(dp), intent(in), contiguous, optional :: mapped(0:), separating(:)
+      integer :: p, e, i, n, b0, first, last, lo, hi, outside, ahead, elements
+      real(dp) :: half_m, strain_factor, dstrain, inv_dx, dt, youngs_modulus, m, volume0
+      logical :: linear, plastic
+      ! the elastoplastic law's constants and the block's plastic work, summed in lanes
+      real(dp) :: yield_stress, hardening_modulus, increment, wb(block_size), work(lanes)
+      type(largest_move_t) :: largest
+      real(dp) :: displacement(lanes), kinetic(lanes), strain(lanes), min_j(lanes)
+      integer :: cb(block_size)
+      real(dp) :: svb(block_size), db(block_size), kb(block_size), sb(block_size), jb(block_size)
+      real(dp) :: mb(block_size, 2)  !< the moves of a block, and of the block with the largest (lanes_track_move)
+      integer :: slot
+      real(dp) :: lane_max(lanes), block_max
+      integer :: lane_i, lane_r
+      type(run_t) :: run
+      integer(i8) :: elements_bits
+      real(dp) :: xi, xib(block_size), vpb(block_size)
+      ! the variant's: G2P's grid velocity and move, the segment's body (cells offset), each particle's
+      ! shares (accumulate_shares)
+      real(dp) :: vgrid, dxp
+      elements = constants%elements
+      inv_dx = constants%inv_dx
+      dt = constants%dt
+      youngs_modulus = constants%youngs_modulus
+      linear = constants%linear
+      plastic = constants%plastic
+      yield_stress = constants%yield_stress
+      hardening_modulus = constants%hardening_modulus
+      work = 0
+      m = constants%mass
+      volume0 = constants%volume0
+      call open_segment(k, shares, seg, mass_left, mass_right, momentum_left, momentum_right, stress_volume, first, last, &
+                        lo, hi)
+      displacement = 0; kinetic = 0; strain = 0; min_j = huge(1.0_dp)
+      slot = 1
+      outside = 0
+      elements_bits = transfer(real(elements, dp), 0_i8)
+      half_m = 0.5_dp*m
+      strain_factor = 0.0_dp
+      if (stresses) strain_factor = 0.5_dp*volume0/youngs_modulus
+      do b0 = first, last, block_size
+         n = min(block_size, last - b0 + 1)
+         if (seg%prefetch) then  ! the arrays the pass reads, and the grid values of the next blocks
+            ahead = b0 + prefetch_ahead
+            if (kernel == pass_usl) call prefetch_block(ahead, cell, x, x0, v, stress, volume_ratio)
+            if (kernel == pass_usf_move .or. kernel == pass_musl_remap) call prefetch_block(ahead, cell, x, x0, v)
+            if (kernel == pass_usf_stress) call prefetch_block(ahead, cell, stress, volume_ratio)
+            if (kernel == pass_musl_stress) call prefetch_block(ahead, cell, x, v, stress, volume_ratio)
+            if (stresses .and. plastic) call prefetch_block(ahead, cell, plastic_strain, hardening)
+            if (moves) then
+               call prefetch_nodes(cell(b0), cell(b0 + n - 1), acceleration, velocity)
+            else
+               call prefetch_elements(cell(b0), cell(b0 + n - 1), strain_increment_of)
+            end if
+         end if
+         if (linear) then
+         do i = 1, n
+            p = b0 + i - 1
+            e = cell(p)
+            ! G2P with the start-of-step shape functions (the total-Lagrangian formulation)
+            if (moves) then
+               xi = x0(p)*inv_dx - (e - 1)  ! (the reference position's: e is its cell, for good)
+               vgrid = (1.0_dp - xi)*velocity(e - 1) + xi*velocity(e)
+               v(p) = v(p) + dt*((1.0_dp - xi)*acceleration(e - 1) + xi*acceleration(e))
+               dxp = dt*vgrid
+               x(p) = x(p) + dxp
+               db(i) = x(p) - x0(p)
+               kb(i) = half_m*v(p)*v(p)
+               mb(i, slot) = abs(dxp)*inv_dx
+            end if
+            if (stresses) then ! d eps = dt sum dN v_I over the start-of-step cell
+               if (moves) then
+                  dstrain = strain_increment(velocity(e - 1), velocity(e), dt, inv_dx)
+               else
+                  dstrain = strain_increment_of(e)
+               end if
+               ! dF = dt sum_I v_I dN_I/dX(X_p) into the log-strain increment dF/F the laws take (F = J), and the
+               ! force's stress*volume over the reference volume, P V0 (mpm_total_lagrangian)
+               dstrain = dstrain/volume_ratio(p)
+               call stress_linear(dstrain, youngs_modulus, strain_factor, volume0, stress(p), volume_ratio(p), &
+                                  sb(i), svb(i))
+               svb(i) = stress(p)*volume0
+               jb(i) = volume_ratio(p)
+            else if (iand(shares, share_stress) /= 0) then ! (an initial mapping: the stress as it is)
+               svb(i) = stress(p)*volume0
+            end if
+            if (relocates) then ! the new cell, for P2G at the new position
+               ! the reference cell and weights again (they never change); the new position only tells
+               ! whether the particle left the grid (cell 0: its shares are skipped and the run stops)
+               call locate_cell(x(p), inv_dx, elements, elements_bits, cb(i), xib(i))
+               cb(i) = iand(e, -min(cb(i), 1))
+               xib(i) = x0(p)*inv_dx - (e - 1)
+            else                ! the shares go to the start-of-step cell
+               cb(i) = e
+               if (moves) xib(i) = xi
+            end if
+            if (moves .or. relocates) vpb(i) = v(p)
+         end do
+         else if (plastic) then
+         do i = 1, n
+            p = b0 + i - 1
+            e = cell(p)
+            ! G2P with the start-of-step shape functions (the total-Lagrangian formulation)
+            if (moves) then
+               xi = x0(p)*inv_dx - (e - 1)  ! (the reference position's: e is its cell, for good)
+               vgrid = (1.0_dp - xi)*velocity(e - 1) + xi*velocity(e)
+               v(p) = v(p) + dt*((1.0_dp - xi)*acceleration(e - 1) + xi*acceleration(e))
+               dxp = dt*vgrid
+               x(p) = x(p) + dxp
+               db(i) = x(p) - x0(p)
+               kb(i) = half_m*v(p)*v(p)
+               mb(i, slot) = abs(dxp)*inv_dx
+            end if
+            if (stresses) then ! d eps = dt sum dN v_I over the start-of-step cell
+               if (moves) then
+                  dstrain = strain_increment(velocity(e - 1), velocity(e), dt, inv_dx)
+               else
+                  dstrain = strain_increment_of(e)
+               end if
+               ! dF = dt sum_I v_I dN_I/dX(X_p) into the log-strain increment dF/F the laws take (F = J), and the
+               ! force's stress*volume over the reference volume, P V0 (mpm_total_lagrangian)
+               dstrain = dstrain/volume_ratio(p)
+               stress(p) = stress(p) + youngs_modulus*dstrain
+               ! d gamma, zero in an elastic step: written without a branch, so that a loop over particles
+               ! vectorises; an elastic step then subtracts and adds zeros, which leaves the hencky bits
+               increment = max(abs(stress(p)) - (yield_stress + hardening_modulus*hardening(p)), 0.0_dp)/ &
+                           (youngs_modulus + hardening_modulus)
+               stress(p) = stress(p) - sign(youngs_modulus*increment, stress(p))
+               plastic_strain(p) = plastic_strain(p) + sign(increment, stress(p))
+               hardening(p) = hardening(p) + increment
+               volume_ratio(p) = volume_ratio(p)*(1.0_dp + dstrain)
+               sb(i) = stress(p)*stress(p)*volume_ratio(p)*strain_factor
+               svb(i) = stress(p)*volume_ratio(p)*volume0
+               wb(i) = (yield_stress + 0.5_dp*hardening_modulus*hardening(p))*hardening(p)*volume0
+               svb(i) = stress(p)*volume0
+               jb(i) = volume_ratio(p)
+            else if (iand(shares, share_stress) /= 0) then ! (an initial mapping: the stress as it is)
+               svb(i) = stress(p)*volume0
+            end if
+            if (relocates) then ! the new cell, for P2G at the new position
+               ! the reference cell and weights again (they never change); the new position only tells
+               ! whether the particle left the grid (cell 0: its shares are skipped and the run stops)
+               call locate_cell(x(p), inv_dx, elements, elements_bits, cb(i), xib(i))
+               cb(i) = iand(e, -min(cb(i), 1))
+               xib(i) = x0(p)*inv_dx - (e - 1)
+            else                ! the shares go to the start-of-step cell
+               cb(i) = e
+               if (moves) xib(i) = xi
+            end if
+            if (moves .or. relocates) vpb(i) = v(p)
+         end do
+         else
+         do i = 1, n
+            p = b0 + i - 1
+            e = cell(p)
+            ! G2P with the start-of-step shape functions (the total-Lagrangian formulation)
+            if (moves) then
+               xi = x0(p)*inv_dx - (e - 1)  ! (the reference position's: e is its cell, for good)
+               vgrid = (1.0_dp - xi)*velocity(e - 1) + xi*velocity(e)
+               v(p) = v(p) + dt*((1.0_dp - xi)*acceleration(e - 1) + xi*acceleration(e))
+               dxp = dt*vgrid
+               x(p) = x(p) + dxp
+               db(i) = x(p) - x0(p)
+               kb(i) = half_m*v(p)*v(p)
+               mb(i, slot) = abs(dxp)*inv_dx
+            end if
+            if (stresses) then ! d eps = dt sum dN v_I over the start-of-step cell
+               if (moves) then
+                  dstrain = strain_increment(velocity(e - 1), velocity(e), dt, inv_dx)
+               else
+                  dstrain = strain_increment_of(e)
+               end if
+               ! dF = dt sum_I v_I dN_I/dX(X_p) into the log-strain increment dF/F the laws take (F = J), and the
+               ! force's stress*volume over the reference volume, P V0 (mpm_total_lagrangian)
+               dstrain = dstrain/volume_ratio(p)
+               call stress_hencky(dstrain, youngs_modulus, strain_factor, volume0, stress(p), volume_ratio(p), &
+                                  sb(i), svb(i))
+               svb(i) = stress(p)*volume0
+               jb(i) = volume_ratio(p)
+            else if (iand(shares, share_stress) /= 0) then ! (an initial mapping: the stress as it is)
+               svb(i) = stress(p)*volume0
+            end if
+            if (relocates) then ! the new cell, for P2G at the new position
+               ! the reference cell and weights again (they never change); the new position only tells
+               ! whether the particle left the grid (cell 0: its shares are skipped and the run stops)
+               call locate_cell(x(p), inv_dx, elements, elements_bits, cb(i), xib(i))
+               cb(i) = iand(e, -min(cb(i), 1))
+               xib(i) = x0(p)*inv_dx - (e - 1)
+            else                ! the shares go to the start-of-step cell
+               cb(i) = e
+               if (moves) xib(i) = xi
+            end if
+            if (moves .or. relocates) vpb(i) = v(p)
+         end do
+         end if
+         ! the block's totals (macros of mpm_lanes.fypi, expanded here)
+         if (moves) then
+            do lane_i = 1, n - lanes + 1, lanes
+               displacement = displacement + db(lane_i:lane_i + lanes - 1)
+            end do
+            lane_r = mod(n, lanes)
+            if (lane_r > 0) displacement(1:lane_r) = displacement(1:lane_r) + db(n - lane_r + 1:n)
+            do lane_i = 1, n - lanes + 1, lanes
+               kinetic = kinetic + kb(lane_i:lane_i + lanes - 1)
+            end do
+            lane_r = mod(n, lanes)
+            if (lane_r > 0) kinetic(1:lane_r) = kinetic(1:lane_r) + kb(n - lane_r + 1:n)
+            lane_max = 0.0_dp
+            do lane_i = 1, n - lanes + 1, lanes
+               lane_max = max(lane_max, mb(lane_i:lane_i + lanes - 1, slot))
+            end do
+            lane_r = mod(n, lanes)
+            if (lane_r > 0) lane_max(1:lane_r) = max(lane_max(1:lane_r), mb(n - lane_r + 1:n, slot))
+            block_max = maxval(lane_max)
+            if (block_max > largest%value) then
+               largest%value = block_max
+               largest%first = b0
+               largest%count = n
+               largest%slot = slot
+               slot = 3 - slot
+            end if
+         end if
+         if (stresses) then
+            do lane_i = 1, n - lanes + 1, lanes
+               strain = strain + sb(lane_i:lane_i + lanes - 1)
+            end do
+            lane_r = mod(n, lanes)
+            if (lane_r > 0) strain(1:lane_r) = strain(1:lane_r) + sb(n - lane_r + 1:n)
+            do lane_i = 1, n - lanes + 1, lanes
+               min_j = min(min_j, jb(lane_i:lane_i + lanes - 1))
+            end do
+            lane_r = mod(n, lanes)
+            if (lane_r > 0) min_j(1:lane_r) = min(min_j(1:lane_r), jb(n - lane_r + 1:n))
+         end if
+         if (plastic) then
+            do lane_i = 1, n - lanes + 1, lanes
+               work = work + wb(lane_i:lane_i + lanes - 1)
+            end do
+            lane_r = mod(n, lanes)
+            if (lane_r > 0) work(1:lane_r) = work(1:lane_r) + wb(n - lane_r + 1:n)
+         end if
+         if (relocates) call find_outside(n, b0, cb, outside)
+         call accumulate_block(k, n, cb, xib, vpb, svb, m, lo, hi, shares, run, mass_left, mass_right, momentum_left, &
+                               momentum_right, stress_volume, seg)
+      end do
+      call close_segment(k, shares, m, run, [lane_total(displacement), lane_total(kinetic), lane_total(strain), &
+                         lane_total(work)], &
+                         minval(min_j), largest%value, furthest_particle(largest, mb), outside, mass_left, mass_right, &
+                         momentum_left, momentum_right, stress_volume, seg)
+   end subroutine total_musl_stress_segment
+
+   !> initial mapping: mass and momentum (the hat, the total-Lagrangian formulation)
+   subroutine total_map_segment(k, seg, x, x0, v, stress, volume_ratio, cell, acceleration, velocity, &
+                                strain_increment_of, mass_left, mass_right, momentum_left, momentum_right, &
+                                stress_volume, constants, carry, mass_of, modulus_of, forces, gradient, force_left, &
+                                force_right, plastic_strain, hardening, yield_of, hardening_of, mapped, &
+                                separating)
+      integer, parameter :: kernel = pass_map
+      logical, parameter :: moves = pass_moves(kernel), stresses = pass_stresses(kernel), relocates = pass_relocates(kernel)
+      integer, parameter :: shares = pass_shares(kernel)
+      integer, intent(in) :: k
+      type(segments_t), intent(inout) :: seg
+      real(dp), intent(inout), contiguous :: x(:), v(:), stress(:), volume_ratio(:)
+      real(dp), intent(in), contiguous :: x0(:)
+      integer, intent(inout), contiguous :: cell(:)
+      real(dp), intent(in), contiguous :: acceleration(0:), velocity(0:)
+      real(dp), intent(in), contiguous :: strain_increment_of(:)  !< per element (grid%element_strain)
+      real(dp), intent(inout), contiguous :: mass_left(:), mass_right(:), momentum_left(:), momentum_right(:), stress_volume(:)
+      type(pass_constants_t), intent(in) :: constants
+      real(dp), intent(inout), contiguous :: carry(:)  !< particles in parts: what a pass keeps for the next (fused_box_t)
+      !> the variants' per-particle data (absent when the run has none): masses and Young's moduli
+      !> (`material`), external forces (`forced`), APIC's velocity gradients C_p, and the element shares of
+      !> the forces
+      real(dp), intent(in), contiguous, optional :: mass_of(:), modulus_of(:), forces(:)
+      real(dp), intent(inout), contiguous, optional :: gradient(:), force_left(:), force_right(:)
+      !> the elastoplastic law's state (plastic strain, hardening variable) and, `material`, each particle's
+      !> yield stress and hardening modulus (absent for the other laws)
+      real(dp), intent(inout), contiguous, optional :: plastic_strain(:), hardening(:)
+      real(dp), intent(in), contiguous, optional :: yield_of(:), hardening_of(:)
+      !> ASFLIP's nodal velocity v^n of the step's mapping and each element's J of separation (absent for
+      !> the others)
+      real(dp), intent(in), contiguous, optional :: mapped(0:), separating(:)
+      integer :: p, e, i, n, b0, first, last, lo, hi, outside, ahead, elements
+      real(dp) :: half_m, strain_factor, dstrain, inv_dx, dt, youngs_modulus, m, volume0
+      logical :: linear, plastic
+      type(largest_move_t) :: largest
+      real(dp) :: displacement(lanes), kinetic(lanes), strain(lanes), min_j(lanes)
+      integer :: cb(block_size)
+      real(dp) :: svb(block_size), db(block_size), kb(block_size), sb(block_size), jb(block_size)
+      real(dp) :: mb(block_size, 2)  !< the moves of a block, and of the block with the largest (lanes_track_move)
+      integer :: slot
+      real(dp) :: lane_max(lanes), block_max
+      integer :: lane_i, lane_r
+      type(run_t) :: run
+      integer(i8) :: elements_bits
+      real(dp) :: xi, xib(block_size), vpb(block_size)
+      ! the variant's: G2P's grid velocity and move, the segment's body (cells offset), each particle's
+      ! shares (accumulate_shares)
+      real(dp) :: vgrid, dxp
+      elements = constants%elements
+      inv_dx = constants%inv_dx
+      dt = constants%dt
+      youngs_modulus = constants%youngs_modulus
+      linear = constants%linear
+      plastic = constants%plastic
+      m = constants%mass
+      volume0 = constants%volume0
+      call open_segment(k, shares, seg, mass_left, mass_right, momentum_left, momentum_right, stress_volume, first, last, &
+                        lo, hi)
+      displacement = 0; kinetic = 0; strain = 0; min_j = huge(1.0_dp)
+      slot = 1
+      outside = 0
+      elements_bits = transfer(real(elements, dp), 0_i8)
+      half_m = 0.5_dp*m
+      strain_factor = 0.0_dp
+      if (stresses) strain_factor = 0.5_dp*volume0/youngs_modulus
+      do b0 = first, last, block_size
+         n = min(block_size, last - b0 + 1)
+         if (seg%prefetch) then  ! the arrays the pass reads, and the grid values of the next blocks
+            ahead = b0 + prefetch_ahead
+            if (kernel == pass_usl) call prefetch_block(ahead, cell, x, x0, v, stress, volume_ratio)
+            if (kernel == pass_usf_move .or. kernel == pass_musl_remap) call prefetch_block(ahead, cell, x, x0, v)
+            if (kernel == pass_usf_stress) call prefetch_block(ahead, cell, stress, volume_ratio)
+            if (kernel == pass_musl_stress) call prefetch_block(ahead, cell, x, v, stress, volume_ratio)
+            if (stresses .and. plastic) call prefetch_block(ahead, cell, plastic_strain, hardening)
+            if (moves) then
+               call prefetch_nodes(cell(b0), cell(b0 + n - 1), acceleration, velocity)
+            else
+               call prefetch_elements(cell(b0), cell(b0 + n - 1), strain_increment_of)
+            end if
+         end if
+         do i = 1, n
+            p = b0 + i - 1
+            e = cell(p)
+            ! G2P with the start-of-step shape functions (the total-Lagrangian formulation)
+            if (moves) then
+               xi = x0(p)*inv_dx - (e - 1)  ! (the reference position's: e is its cell, for good)
+               vgrid = (1.0_dp - xi)*velocity(e - 1) + xi*velocity(e)
+               v(p) = v(p) + dt*((1.0_dp - xi)*acceleration(e - 1) + xi*acceleration(e))
+               dxp = dt*vgrid
+               x(p) = x(p) + dxp
+               db(i) = x(p) - x0(p)
+               kb(i) = half_m*v(p)*v(p)
+               mb(i, slot) = abs(dxp)*inv_dx
+            end if
+            if (stresses) then ! d eps = dt sum dN v_I over the start-of-step cell
+               if (moves) then
+                  dstrain = strain_increment(velocity(e - 1), velocity(e), dt, inv_dx)
+               else
+                  dstrain = strain_increment_of(e)
+               end if
+               ! dF = dt sum_I v_I dN_I/dX(X_p) into the log-strain increment dF/F the laws take (F = J), and the
+               ! force's stress*volume over the reference volume, P V0 (mpm_total_lagrangian)
+               dstrain = dstrain/volume_ratio(p)
+               call stress_hencky(dstrain, youngs_modulus, strain_factor, volume0, stress(p), volume_ratio(p), &
+                                  sb(i), svb(i))
+               svb(i) = stress(p)*volume0
+               jb(i) = volume_ratio(p)
+            else if (iand(shares, share_stress) /= 0) then ! (an initial mapping: the stress as it is)
+               svb(i) = stress(p)*volume0
+            end if
+            if (relocates) then ! the new cell, for P2G at the new position
+               ! the reference cell and weights again (they never change); the new position only tells
+               ! whether the particle left the grid (cell 0: its shares are skipped and the run stops)
+               call locate_cell(x(p), inv_dx, elements, elements_bits, cb(i), xib(i))
+               cb(i) = iand(e, -min(cb(i), 1))
+               xib(i) = x0(p)*inv_dx - (e - 1)
+            else                ! the shares go to the start-of-step cell
+               cb(i) = e
+               if (moves) xib(i) = xi
+            end if
+            if (moves .or. relocates) vpb(i) = v(p)
+         end do
+         ! the block's totals (macros of mpm_lanes.fypi, expanded here)
+         if (moves) then
+            do lane_i = 1, n - lanes + 1, lanes
+               displacement = displacement + db(lane_i:lane_i + lanes - 1)
+            end do
+            lane_r = mod(n, lanes)
+            if (lane_r > 0) displacement(1:lane_r) = displacement(1:lane_r) + db(n - lane_r + 1:n)
+            do lane_i = 1, n - lanes + 1, lanes
+               kinetic = kinetic + kb(lane_i:lane_i + lanes - 1)
+            end do
+            lane_r = mod(n, lanes)
+            if (lane_r > 0) kinetic(1:lane_r) = kinetic(1:lane_r) + kb(n - lane_r + 1:n)
+            lane_max = 0.0_dp
+            do lane_i = 1, n - lanes + 1, lanes
+               lane_max = max(lane_max, mb(lane_i:lane_i + lanes - 1, slot))
+            end do
+            lane_r = mod(n, lanes)
+            if (lane_r > 0) lane_max(1:lane_r) = max(lane_max(1:lane_r), mb(n - lane_r + 1:n, slot))
+            block_max = maxval(lane_max)
+            if (block_max > largest%value) then
+               largest%value = block_max
+               largest%first = b0
+               largest%count = n
+               largest%slot = slot
+               slot = 3 - slot
+            end if
+         end if
+         if (stresses) then
+            do lane_i = 1, n - lanes + 1, lanes
+               strain = strain + sb(lane_i:lane_i + lanes - 1)
+            end do
+            lane_r = mod(n, lanes)
+            if (lane_r > 0) strain(1:lane_r) = strain(1:lane_r) + sb(n - lane_r + 1:n)
+            do lane_i = 1, n - lanes + 1, lanes
+               min_j = min(min_j, jb(lane_i:lane_i + lanes - 1))
+            end do
+            lane_r = mod(n, lanes)
+            if (lane_r > 0) min_j(1:lane_r) = min(min_j(1:lane_r), jb(n - lane_r + 1:n))
+         end if
+         if (relocates) call find_outside(n, b0, cb, outside)
+         call accumulate_block(k, n, cb, xib, vpb, svb, m, lo, hi, shares, run, mass_left, mass_right, momentum_left, &
+                               momentum_right, stress_volume, seg)
+      end do
+      call close_segment(k, shares, m, run, [lane_total(displacement), lane_total(kinetic), lane_total(strain), &
+                         0.0_dp], &
+                         minval(min_j), largest%value, furthest_particle(largest, mb), outside, mass_left, mass_right, &
+                         momentum_left, momentum_right, stress_volume, seg)
+   end subroutine total_map_segment
+
+   !> initial mapping: mass, momentum and stress*volume (and forces) (the hat, the total-Lagrangian formulation)
+   subroutine total_map_stress_segment(k, seg, x, x0, v, stress, volume_ratio, cell, acceleration, velocity, &
+                                       strain_increment_of, mass_left, mass_right, momentum_left, momentum_right, &
+                                       stress_volume, constants, carry, mass_of, modulus_of, forces, gradient, force_left, &
+                                       force_right, plastic_strain, hardening, yield_of, hardening_of, mapped, &
+                                       separating)
+      integer, parameter :: kernel = pass_map_stress
+      logical, parameter :: moves = pass_moves(kernel), stresses = pass_stresses(kernel), relocates = pass_relocates(kernel)
+      integer, parameter :: shares = pass_shares(kernel)
+      integer, intent(in) :: k
+      type(segments_t), intent(inout) :: seg
+      real(dp), intent(inout), contiguous :: x(:), v(:), stress(:), volume_ratio(:)
+      real(dp), intent(in), contiguous :: x0(:)
+      integer, intent(inout), contiguous :: cell(:)
+      real(dp), intent(in), contiguous :: acceleration(0:), velocity(0:)
+      real(dp), intent(in), contiguous :: strain_increment_of(:)  !< per element (grid%element_strain)
+      real(dp), intent(inout), contiguous :: mass_left(:), mass_right(:), momentum_left(:), momentum_right(:), stress_volume(:)
+      type(pass_constants_t), intent(in) :: constants
+      real(dp), intent(inout), contiguous :: carry(:)  !< particles in parts: what a pass keeps for the next (fused_box_t)
+      !> the variants' per-particle data (absent when the run has none): masses and Young's moduli
+      !> (`material`), external forces (`forced`), APIC's velocity gradients C_p, and the element shares of
+      !> the forces
+      real(dp), intent(in), contiguous, optional :: mass_of(:), modulus_of(:), forces(:)
+      real(dp), intent(inout), contiguous, optional :: gradient(:), force_left(:), force_right(:)
+      !> the elastoplastic law's state (plastic strain, hardening variable) and, `material`, each particle's
+      !> yield stress and hardening modulus (absent for the other laws)
+      real(dp), intent(inout), contiguous, optional :: plastic_strain(:), hardening(:)
+      real(dp), intent(in), contiguous, optional :: yield_of(:), hardening_of(:)
+      !> ASFLIP's nodal velocity v^n of the step's mapping and each element's J of separation (absent for
+      !> the others)
+      real(dp), intent(in), contiguous, optional :: mapped(0:), separating(:)
+      integer :: p, e, i, n, b0, first, last, lo, hi, outside, ahead, elements
+      real(dp) :: half_m, strain_factor, dstrain, inv_dx, dt, youngs_modulus, m, volume0
+      logical :: linear, plastic
+      type(largest_move_t) :: largest
+      real(dp) :: displacement(lanes), kinetic(lanes), strain(lanes), min_j(lanes)
+      integer :: cb(block_size)
+      real(dp) :: svb(block_size), db(block_size), kb(block_size), sb(block_size), jb(block_size)
+      real(dp) :: mb(block_size, 2)  !< the moves of a block, and of the block with the largest (lanes_track_move)
+      integer :: slot
+      real(dp) :: lane_max(lanes), block_max
+      integer :: lane_i, lane_r
+      type(run_t) :: run
+      integer(i8) :: elements_bits
+      real(dp) :: xi, xib(block_size), vpb(block_size)
+      ! the variant's: G2P's grid velocity and move, the segment's body (cells offset), each particle's
+      ! shares (accumulate_shares)
+      real(dp) :: vgrid, dxp
+      elements = constants%elements
+      inv_dx = constants%inv_dx
+      dt = constants%dt
+      youngs_modulus = constants%youngs_modulus
+      linear = constants%linear
+      plastic = constants%plastic
+      m = constants%mass
+      volume0 = constants%volume0
+      call open_segment(k, shares, seg, mass_left, mass_right, momentum_left, momentum_right, stress_volume, first, last, &
+                        lo, hi)
+      displacement = 0; kinetic = 0; strain = 0; min_j = huge(1.0_dp)
+      slot = 1
+      outside = 0
+      elements_bits = transfer(real(elements, dp), 0_i8)
+      half_m = 0.5_dp*m
+      strain_factor = 0.0_dp
+      if (stresses) strain_factor = 0.5_dp*volume0/youngs_modulus
+      do b0 = first, last, block_size
+         n = min(block_size, last - b0 + 1)
+         if (seg%prefetch) then  ! the arrays the pass reads, and the grid values of the next blocks
+            ahead = b0 + prefetch_ahead
+            if (kernel == pass_usl) call prefetch_block(ahead, cell, x, x0, v, stress, volume_ratio)
+            if (kernel == pass_usf_move .or. kernel == pass_musl_remap) call prefetch_block(ahead, cell, x, x0, v)
+            if (kernel == pass_usf_stress) call prefetch_block(ahead, cell, stress, volume_ratio)
+            if (kernel == pass_musl_stress) call prefetch_block(ahead, cell, x, v, stress, volume_ratio)
+            if (stresses .and. plastic) call prefetch_block(ahead, cell, plastic_strain, hardening)
+            if (moves) then
+               call prefetch_nodes(cell(b0), cell(b0 + n - 1), acceleration, velocity)
+            else
+               call prefetch_elements(cell(b0), cell(b0 + n - 1), strain_increment_of)
+            end if
+         end if
+         do i = 1, n
+            p = b0 + i - 1
+            e = cell(p)
+            ! G2P with the start-of-step shape functions (the total-Lagrangian formulation)
+            if (moves) then
+               xi = x0(p)*inv_dx - (e - 1)  ! (the reference position's: e is its cell, for good)
+               vgrid = (1.0_dp - xi)*velocity(e - 1) + xi*velocity(e)
+               v(p) = v(p) + dt*((1.0_dp - xi)*acceleration(e - 1) + xi*acceleration(e))
+               dxp = dt*vgrid
+               x(p) = x(p) + dxp
+               db(i) = x(p) - x0(p)
+               kb(i) = half_m*v(p)*v(p)
+               mb(i, slot) = abs(dxp)*inv_dx
+            end if
+            if (stresses) then ! d eps = dt sum dN v_I over the start-of-step cell
+               if (moves) then
+                  dstrain = strain_increment(velocity(e - 1), velocity(e), dt, inv_dx)
+               else
+                  dstrain = strain_increment_of(e)
+               end if
+               ! dF = dt sum_I v_I dN_I/dX(X_p) into the log-strain increment dF/F the laws take (F = J), and the
+               ! force's stress*volume over the reference volume, P V0 (mpm_total_lagrangian)
+               dstrain = dstrain/volume_ratio(p)
+               call stress_hencky(dstrain, youngs_modulus, strain_factor, volume0, stress(p), volume_ratio(p), &
+                                  sb(i), svb(i))
+               svb(i) = stress(p)*volume0
+               jb(i) = volume_ratio(p)
+            else if (iand(shares, share_stress) /= 0) then ! (an initial mapping: the stress as it is)
+               svb(i) = stress(p)*volume0
+            end if
+            if (relocates) then ! the new cell, for P2G at the new position
+               ! the reference cell and weights again (they never change); the new position only tells
+               ! whether the particle left the grid (cell 0: its shares are skipped and the run stops)
+               call locate_cell(x(p), inv_dx, elements, elements_bits, cb(i), xib(i))
+               cb(i) = iand(e, -min(cb(i), 1))
+               xib(i) = x0(p)*inv_dx - (e - 1)
+            else                ! the shares go to the start-of-step cell
+               cb(i) = e
+               if (moves) xib(i) = xi
+            end if
+            if (moves .or. relocates) vpb(i) = v(p)
+         end do
+         ! the block's totals (macros of mpm_lanes.fypi, expanded here)
+         if (moves) then
+            do lane_i = 1, n - lanes + 1, lanes
+               displacement = displacement + db(lane_i:lane_i + lanes - 1)
+            end do
+            lane_r = mod(n, lanes)
+            if (lane_r > 0) displacement(1:lane_r) = displacement(1:lane_r) + db(n - lane_r + 1:n)
+            do lane_i = 1, n - lanes + 1, lanes
+               kinetic = kinetic + kb(lane_i:lane_i + lanes - 1)
+            end do
+            lane_r = mod(n, lanes)
+            if (lane_r > 0) kinetic(1:lane_r) = kinetic(1:lane_r) + kb(n - lane_r + 1:n)
+            lane_max = 0.0_dp
+            do lane_i = 1, n - lanes + 1, lanes
+               lane_max = max(lane_max, mb(lane_i:lane_i + lanes - 1, slot))
+            end do
+            lane_r = mod(n, lanes)
+            if (lane_r > 0) lane_max(1:lane_r) = max(lane_max(1:lane_r), mb(n - lane_r + 1:n, slot))
+            block_max = maxval(lane_max)
+            if (block_max > largest%value) then
+               largest%value = block_max
+               largest%first = b0
+               largest%count = n
+               largest%slot = slot
+               slot = 3 - slot
+            end if
+         end if
+         if (stresses) then
+            do lane_i = 1, n - lanes + 1, lanes
+               strain = strain + sb(lane_i:lane_i + lanes - 1)
+            end do
+            lane_r = mod(n, lanes)
+            if (lane_r > 0) strain(1:lane_r) = strain(1:lane_r) + sb(n - lane_r + 1:n)
+            do lane_i = 1, n - lanes + 1, lanes
+               min_j = min(min_j, jb(lane_i:lane_i + lanes - 1))
+            end do
+            lane_r = mod(n, lanes)
+            if (lane_r > 0) min_j(1:lane_r) = min(min_j(1:lane_r), jb(n - lane_r + 1:n))
+         end if
+         if (relocates) call find_outside(n, b0, cb, outside)
+         call accumulate_block(k, n, cb, xib, vpb, svb, m, lo, hi, shares, run, mass_left, mass_right, momentum_left, &
+                               momentum_right, stress_volume, seg)
+      end do
+      call close_segment(k, shares, m, run, [lane_total(displacement), lane_total(kinetic), lane_total(strain), &
+                         0.0_dp], &
+                         minval(min_j), largest%value, furthest_particle(largest, mb), outside, mass_left, mass_right, &
+                         momentum_left, momentum_right, stress_volume, seg)
+   end subroutine total_map_stress_segment
 
    ! The GIMP box and the B-splines' knot spans: src/shape/mpm_gimp_box.fypi and mpm_bspline_span.fypi,
    ! the same source as mpm_shape_gimp's and mpm_shape_bspline's, so that the kernels inline the same
