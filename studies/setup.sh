@@ -104,14 +104,27 @@ hash -r
 
 # Build of the study scripts (local runs): for this machine's CPU (-march=native, about twice the
 # kernels' speed) unless PORTABLE=1 (fpm's plain release profile, the build the tests and the SLURM
-# scripts use); FLAGS, if set, is passed to fpm as it is. `mpm1d_build` builds and prints the path of
-# the mpm1d executable of that build; `mpm1d_build --example mpm1d_bench` that of the benchmark.
+# scripts use); FLAGS, if set, replaces -march=native. `mpm1d_build` builds and prints the path of the
+# mpm1d executable of that build; `mpm1d_build --example mpm1d_bench` that of the benchmark.
+# A build with FLAGS takes fpm 0.12's release flags for gfortran without -funroll-loops (fpm puts its
+# profile's flags after --flag's, so -fno-unroll-loops cannot undo them): unrolled, the vector loops of
+# -march=native (with their remainder loops) made the code of one step of a small run (the paper's
+# Table 2: 1-50 elements) too large for the level-1 instruction cache (USF sweep: 19.5e6 misses
+# against 9.4e6 without unrolling); large runs gain nothing from it (docs/performance.md, "The Table-2
+# error pass on the native build").
 if [ -z "${FLAGS+x}" ]; then
   if [ "${PORTABLE:-0}" = 1 ]; then FLAGS=""; else FLAGS="-march=native"; fi
 fi
+MPM1D_RELEASE_FLAGS="-O3 -Wimplicit-interface -fPIC -fmax-errors=1 -fcoarray=single"
+# the fpm options of the build that FLAGS selects (in the array mpm1d_fpm_options)
+mpm1d_build_options() {
+  if [ -z "$FLAGS" ]; then mpm1d_fpm_options=(--profile release)
+  else mpm1d_fpm_options=(--flag "$MPM1D_RELEASE_FLAGS $FLAGS"); fi
+}
 mpm1d_build() {
-  local target=(--target mpm1d)
+  local target=(--target mpm1d) mpm1d_fpm_options
   [ "$#" -gt 0 ] && target=("$@")
-  fpm build --profile release --flag "$FLAGS" >/dev/null || return 1
-  echo "$PWD/$(fpm run --profile release --flag "$FLAGS" "${target[@]}" --runner echo 2>/dev/null | tail -n 1)"
+  mpm1d_build_options
+  fpm build "${mpm1d_fpm_options[@]}" >/dev/null || return 1
+  echo "$PWD/$(fpm run "${mpm1d_fpm_options[@]}" "${target[@]}" --runner echo 2>/dev/null | tail -n 1)"
 }

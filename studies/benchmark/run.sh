@@ -16,8 +16,9 @@
 #   PARTS='...' runs only some parts (default: all of bandwidth throughput generic shapes threads
 #   sweep study memory ratios plastic implicit table2); REPEATS (default 3) rounds of each paired
 #   measurement.
-# Built for this machine's CPU (-march=native, as every study script; studies/setup.sh): PORTABLE=1
-# for fpm's plain release profile, or FLAGS='...' for other flags. -march=native is for local runs
+# Built for this machine's CPU (-march=native, as every study script, with fpm's release flags without
+# -funroll-loops; studies/setup.sh): PORTABLE=1 for fpm's plain release profile, or FLAGS='...' for
+# other flags. -march=native is for local runs
 # only (the binary uses this machine's vector instructions), not for portable builds.
 set -euo pipefail
 root="$(cd "$(dirname "$0")/../.." && pwd)"
@@ -38,7 +39,8 @@ instructions() {
   callgrind_annotate --inclusive=yes "$out/callgrind_$name.out" | awk '/timed_run/ {gsub(/,/, "", $1); print $1; exit}'
 }
 mpm1d="$(mpm1d_build)"
-echo "flags: fpm --profile release --flag '$FLAGS'" > "$out/flags.txt"
+mpm1d_build_options
+echo "build: fpm build ${mpm1d_fpm_options[*]}" > "$out/flags.txt"
 gfortran --version | head -n 1 >> "$out/flags.txt"
 lscpu | grep -E 'Model name|^CPU\(s\)|L3' >> "$out/flags.txt" || true
 
@@ -260,16 +262,19 @@ for r in $(seq $((REPEATS + 2))); do
   done
 done
 if [ "${CALLGRIND:-0}" = 1 ] && command -v valgrind >/dev/null 2>&1; then
-  echo "build,binary,scheme,instructions" > "$out/table2_callgrind.csv"
+  # with the simulated caches: the level-1 instruction cache's misses (a step's code larger than the cache
+  # costs time that the instruction count does not show)
+  echo "build,binary,scheme,instructions,i1_misses" > "$out/table2_callgrind.csv"
   for build in $builds; do
     for scheme in usf usl; do
       for b in $binaries; do
         exe="$(exe_of $build $b)"
         t2 $scheme 1 "$out/t2_$b.h5" > "$out/t2_$b.nml"
-        valgrind --tool=callgrind --callgrind-out-file="$out/callgrind_${build}_${b}_$scheme.out" "$exe" "$out/t2_$b.nml" \
-          > "$out/callgrind_${build}_${b}_$scheme.log" 2>&1
-        echo "$(build_name $build),$b,$scheme,$(awk '/Collected/ {gsub(/,/, "", $4); print $4}' \
-          "$out/callgrind_${build}_${b}_$scheme.log")" >> "$out/table2_callgrind.csv"
+        log="$out/callgrind_${build}_${b}_$scheme.log"
+        valgrind --tool=callgrind --cache-sim=yes --callgrind-out-file="$out/callgrind_${build}_${b}_$scheme.out" "$exe" \
+          "$out/t2_$b.nml" > "$log" 2>&1
+        echo "$(build_name $build),$b,$scheme,$(awk '/Collected/ {gsub(/,/, "", $4); print $4}' "$log"),$(awk \
+          '/I1 +misses/ {gsub(/,/, "", $4); print $4}' "$log")" >> "$out/table2_callgrind.csv"
       done
     done
   done
