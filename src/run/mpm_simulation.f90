@@ -11,8 +11,8 @@ module mpm_simulation
    use mpm_grid, only: grid_t, grid_init, sync_grid
    use mpm_particles, only: particles_t, per_particle_data, sync_particles
    use mpm_state, only: state_t
-   use mpm_shape, only: shape_cache_t, shape_id, shape_extra_cells, transfer_id, transfer_apic, transfer_xpic, &
-                        transfer_fmpm, transfer_asflip, shape_cpdi, formulation_id, formulation_total
+   use mpm_shape, only: shape_cache_t, shape_id, shape_extra_cells, shape_support, transfer_id, transfer_apic, &
+                        transfer_xpic, transfer_fmpm, transfer_asflip, shape_cpdi, formulation_id, formulation_total
    use mpm_shape_cpdi, only: cpdi_corners
    use mpm_stepper, only: stepper_t, stepper_stop_t, scheme_id
    use mpm_fused, only: fused_box_t, fused_choose, fused_stepper_t
@@ -179,7 +179,7 @@ contains
       type(run_result_t), intent(inout) :: result
       type(error_t), allocatable, intent(out) :: error
       type(fused_box_t) :: box
-      integer :: extra, stat, kind, transfer, integrator
+      integer :: extra, stat, kind, transfer, integrator, margin, ghost
       result%steps = config%steps
       result%dt = config%dt
       integrator = integrator_id(config%integrator)
@@ -216,9 +216,14 @@ contains
             end if
             particles%velocity_gradient = 0.0_dp
          end if
-         call grid_init(run%grid, config%elements, config%length, particles%mass, error, &
-                        margin=scene%margin_cells(config%dx, config%margin_cells) + extra, fixed=scene%fixed_nodes(), &
-                        element_shares=run%fused, ghost=extra + scene%left_margin_cells(config%dx, config%margin_cells))
+         margin = scene%margin_cells(config%dx, config%margin_cells) + extra
+         ghost = extra + scene%left_margin_cells(config%dx, config%margin_cells)
+         ! every node a particle's support columns name must exist: a grid of at least support - 1 cells
+         ! (CPDI's four columns on a body of one or two elements between fixed ends: empty cells beyond
+         ! its right end, which no particle's weights reach)
+         margin = margin + max(0, shape_support(kind) - 1 - (config%elements + ghost + margin))
+         call grid_init(run%grid, config%elements, config%length, particles%mass, error, margin=margin, &
+                        fixed=scene%fixed_nodes(), element_shares=run%fused, ghost=ghost)
          if (allocated(error)) return
          call choose_stepper(config, run, box, integrator, kind, transfer, error)
          if (allocated(error)) return

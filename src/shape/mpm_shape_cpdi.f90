@@ -57,8 +57,11 @@ contains
    end subroutine cpdi_corners
 
    !> Weights and gradients of every particle from its domain's corners on a grid of `cells` cells of size
-   !> 1/inv_dx from `origin`: first(p) = the left node of the cell of its left corner, weight(p, k) and
-   !> gradient(p, k) on nodes first(p) + k - 1, k = 1..4. A corner on a node belongs to the cell to its
+   !> 1/inv_dx from `origin`: weight(p, k) and gradient(p, k) on nodes first(p) + k - 1, k = 1..4, where
+   !> first(p) is the left node of the cell of its left corner, or, near the grid's right end, the node
+   !> that makes the four columns end at the grid's last node (every node a column names exists: the
+   !> operations read and write all four; the columns before the left corner's hold zeros).
+   !> Needs at least 3 cells. A corner on a node belongs to the cell to its
    !> right, the grid's last node to the last cell. A particle with a corner outside the grid (NaN too)
    !> gets first = 0 and zero weights and gradients, `outside` = the first such particle (0 if none);
    !> `stretched` = the first particle whose corners lie in cells more than two apart (0 if none), which
@@ -72,7 +75,7 @@ contains
       integer, intent(out), contiguous :: first(:)
       real(dp), intent(out), contiguous :: weight(:, :), gradient(:, :)
       integer, intent(out) :: outside, stretched
-      integer :: p, left_cell, right_cell, k
+      integer :: p, left_cell, right_cell, j, k
       real(dp) :: s1, s2, xi1, xi2, inverse_length
       outside = 0
       stretched = 0
@@ -92,15 +95,16 @@ contains
             if (stretched == 0) stretched = p
             cycle
          end if
-         first(p) = left_cell
+         first(p) = min(left_cell, cells - 3)
+         j = left_cell - first(p) + 1 ! (the support column of the left corner's left node)
+         k = right_cell - first(p) + 1 ! (... and of the right corner's)
          xi1 = s1 - left_cell
          xi2 = s2 - right_cell
-         k = right_cell - left_cell + 1 ! (the support column of the right corner's left node)
          inverse_length = inv_dx/(s2 - s1)
-         weight(p, 1) = 0.5_dp*(1.0_dp - xi1)
-         weight(p, 2) = 0.5_dp*xi1
-         gradient(p, 1) = -(1.0_dp - xi1)*inverse_length
-         gradient(p, 2) = -xi1*inverse_length
+         weight(p, j) = 0.5_dp*(1.0_dp - xi1)
+         weight(p, j + 1) = 0.5_dp*xi1
+         gradient(p, j) = -(1.0_dp - xi1)*inverse_length
+         gradient(p, j + 1) = -xi1*inverse_length
          weight(p, k) = weight(p, k) + 0.5_dp*(1.0_dp - xi2)
          weight(p, k + 1) = weight(p, k + 1) + 0.5_dp*xi2
          gradient(p, k) = gradient(p, k) + (1.0_dp - xi2)*inverse_length

@@ -121,6 +121,17 @@ contains
       x(10) = grid%origin + grid%length - d + h
       call evaluate(many, grid, x, outside, [(lp, i=1, 12)])
       call t%check(name//'right edge of the domain + 1e-9 dx is flagged', outside == 10)
+      ! every column of a particle inside the domain names a node of the grid (the operations read and
+      ! write all of a particle's columns), at the domain's right edge too, where the weights still sum to 1
+      x(10) = grid%origin + grid%length - d - h
+      call evaluate(many, grid, x, outside, [(lp, i=1, 12)])
+      call t%check(name//'at the right edge of the domain, the columns name nodes of the grid only', &
+                   all(many%first >= 0 .and. many%first + many%support - 1 <= grid%elements))
+      i = many%first(10)
+      call t%check_close(name//'at the right edge of the domain: partition of unity', sum(many%weight(10, :)), 1.0_dp, &
+                         atol=1.0e-14_dp)
+      call t%check_close(name//'at the right edge of the domain: sum N_I x_I = x', &
+                         sum(many%weight(10, :)*node_x(i + 1:i + many%support)), x(10), rtol=1.0e-14_dp)
    end subroutine properties
 
    !> evaluate_shapes with the GIMP boxes' half-lengths `half`, CPDI's domains x -/+ half, each a domain of
