@@ -175,10 +175,10 @@ contains
                     sweep_list='formulations'), &
          int_entry('discretisation', 'margin_cells', config%margin_cells, 'empty grid cells beyond each free end '// &
                    'of the body', at_least=-1, note="-1: the scene's expected motion + 2 cells"), &
-         text_entry('discretisation', 'kernels', config%kernels, "'auto': the fused kernels where they apply (laws "// &
-                    "hencky and linear, explicit, updated formulation: the bar and the column with FLIP and any shape "// &
-                    "but cpdi, every scene with the linear shape and transfer flip, pic, blend or apic), "// &
-                    "else the generic path; 'generic': always the generic layered path", &
+         text_entry('discretisation', 'kernels', config%kernels, "'auto': the fused kernels where they apply "// &
+                    "(explicit runs; which scenes, shapes, transfers, laws and formulations they take: "// &
+                    "docs/performance.md, Which runs take the fused kernels), else the generic path; "// &
+                    "'generic': always the generic layered path", &
                     words='auto, generic'), &
          text_entry('discretisation', 'integrator', config%integrator, "time integration: 'explicit' (the "// &
                     "scheme), 'implicit' (Newmark trapezoidal rule, Newton on the grid), 'quasi_static' "// &
