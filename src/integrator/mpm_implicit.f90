@@ -991,7 +991,7 @@ contains
                                   totals%plastic_work, im%stress)
    end subroutine update_particles
 
-   !> x_p = x_p^n + sum_I N_Ip du_I (summed over the support in order from 0), and the step's totals of
+   !> x_p = x_p^n + sum_I N_Ip du_I, and the step's totals of
    !> the positions: the mass-weighted displacement from x0, the largest move in cells and its particle,
    !> the first particle outside [lo, hi] (kept when one is set already). Explicit-shape arrays, as
    !> strain_pass.
@@ -1005,20 +1005,14 @@ contains
       integer, intent(out) :: furthest
       integer, intent(inout) :: outside
       real(dp) :: move
-      integer :: p, k
+      integer :: p
       displacement = 0.0_dp
       max_cell_move = 0.0_dp
       furthest = 0
       do p = 1, count
-         move = 0.0_dp
-         if (support == 2) then ! (the hat's two terms written out)
-            move = move + weight(p, 1)*du(first(p))
-            move = move + weight(p, 2)*du(first(p) + 1)
-         else
-            do k = 1, support
-               move = move + weight(p, k)*du(first(p) + k - 1)
-            end do
-         end if
+         ! (sum of the products, as the array expression the step summed before: a loop of multiply-adds
+         ! is contracted to fused ones where the build has them, another rounding)
+         move = sum(weight(p, :)*du(first(p):first(p) + support - 1))
          x(p) = x_start(p) + move
          displacement = displacement + mass(p)*(x(p) - x0(p))
          if (abs(move)*inv_dx > max_cell_move) then
