@@ -384,21 +384,21 @@ contains
       type(run_result_t), intent(inout) :: result
       integer, intent(in) :: step
       real(dp), intent(in) :: time
-      type(stepper_stop_t) :: stop
-      stop = run%stepper%stop_reason()
+      type(stepper_stop_t) :: halt
+      halt = run%stepper%stop_reason()
       associate (energy => run%energy, totals => run%totals, particles => run%particles, &
                  reference => run%energy_reference)
-         if (stop%stopped) then
-            call trip(run, result, step, time, status_newton, stop%residual, 0)
-            result%trip%iteration = stop%iteration
-            result%trip%node = stop%node
-            result%trip%mass_matrix = stop%mass_matrix
+         if (halt%stopped) then
+            call trip(run, result, step, time, status_newton, halt%residual, 0)
+            result%trip%iteration = halt%iteration
+            result%trip%node = halt%node
+            result%trip%mass_matrix = halt%mass_matrix
          else if (.not. ieee_is_finite(energy) .or. .not. ieee_is_finite(run%ucm)) then
             call trip(run, result, step, time, status_non_finite, energy/reference, first_non_finite(particles))
          else if (totals%outside /= 0) then
             call trip(run, result, step, time, status_left_grid, 0.0_dp, totals%outside)
-         else if (stop%stretched /= 0) then
-            call trip(run, result, step, time, status_domain_stretched, 0.0_dp, stop%stretched)
+         else if (halt%stretched /= 0) then
+            call trip(run, result, step, time, status_domain_stretched, 0.0_dp, halt%stretched)
          else if (totals%min_volume_ratio <= 0.0_dp) then
             call trip(run, result, step, time, status_volume_ratio, totals%min_volume_ratio, &
                       minloc(particles%volume_ratio, 1))

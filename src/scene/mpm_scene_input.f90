@@ -229,7 +229,8 @@ contains
       real(dp), intent(in) :: end_time, dx
       cells = 0.0_dp
       if (settings%margin_cells >= 0) return
-      if (self%reach(end_time)/dx > most_margin_cells) cells = self%reach(end_time)/dx
+      cells = self%reach(end_time)/dx
+      if (.not. (cells > most_margin_cells)) cells = 0.0_dp
    end function margin_overflow
 
    !> "<reach> m over the run (T = <end_time> s), about <cells> cells of dx = <dx> m for the grid's
