@@ -460,7 +460,7 @@ contains
          end if
          call contact(g, dt)
       end subroutine solve
-      !> ASFLIP: the nodal velocity g%velocity (v^n) becomes box%mapped_velocity, by swapping the arrays (no
+      !> For ASFLIP the nodal velocity g%velocity (v^n) becomes box%mapped_velocity, by swapping the arrays (no
       !> copy); the solve then writes v^L over the old one.
       subroutine keep_mapped(g)
          type(grid_t), intent(inout) :: g
