@@ -200,7 +200,8 @@ contains
          ! the fused kernels, where they take the scene, shape, transfer, law and what the particles carry;
          ! they are explicit
          box = fused_choose(kind, transfer, config%flip_fraction, scene%fused_applies(), scene%body_fields, scene, &
-                            particles, run%material, formulation_id(config%formulation) == formulation_total)
+                           particles, run%material, formulation_id(config%formulation) == formulation_total, &
+                           scheme_id(config%scheme))
          run%fused = trim(config%kernels) == 'auto' .and. box%variant >= 0 .and. integrator == integrator_explicit
          result%fused = run%fused
          if (.not. run%fused) call per_particle_data(particles, error)
@@ -254,6 +255,8 @@ contains
       type is (fused_stepper_t)
          stepper%box = box
          stepper%box%asflip_alpha = config%asflip_alpha
+         if (transfer == transfer_xpic) stepper%box%series_order = config%xpic_order
+         if (transfer == transfer_fmpm) stepper%box%series_order = config%fmpm_order
          stepper%youngs_modulus = config%youngs_modulus
          stepper%contact = run%scene%body_fields
          call stepper%attach(run%grid, run%particles, error)

@@ -12,7 +12,7 @@ module mpm_particle_projection
    use mpm_mirror, only: mirror_odd
    implicit none
    private
-   public :: projection_series, grid_scratch, velocity_of_momentum
+   public :: projection_series, series_term, grid_scratch, velocity_of_momentum
 
 contains
 
@@ -32,12 +32,21 @@ contains
       term = field
       do r = 1, order - 1
          call gather_scatter(support, first, weight, mass_of, term, projected, carried)
-         call mirror_odd(grid, projected)
-         call velocity_of_momentum(grid, projected)
-         term = term - projected
-         field = field + term
+         call series_term(grid, field, term, projected)
       end do
    end subroutine projection_series
+
+   !> One term of the series: from projected = S^T diag(m_p) S term (a P2G of the particles' m_p times term
+   !> gathered), term <- (I - A) term and field <- field + term. The fused kernels' particles gather and
+   !> scatter by their own layout (mpm_fused_projection) and share this.
+   subroutine series_term(grid, field, term, projected)
+      type(grid_t), intent(in) :: grid
+      real(dp), intent(inout), contiguous :: field(0:), term(0:), projected(0:)
+      call mirror_odd(grid, projected)
+      call velocity_of_momentum(grid, projected)
+      term = term - projected
+      field = field + term
+   end subroutine series_term
 
    !> out_I = sum_p N_Ip m_p (sum_J N_Jp w_J); `carried` is scratch (the particles' m_p sum_J N_Jp w_J).
    subroutine gather_scatter(support, first, weight, mass_of, w, out, carried)

@@ -62,7 +62,7 @@ program mpm1d_bench
    use mpm_transfer, only: pass_totals_t
    use mpm_fused, only: fused_start, fused_step, fused_box_t, fused_shape, fused_choose
    use mpm_segments, only: segments_t
-   use mpm_schemes, only: scheme_usf, scheme_usl, scheme_musl, scheme_step
+   use mpm_schemes, only: scheme_usf, scheme_usl, scheme_musl, scheme_step, scheme_id
    use mpm_strings, only: str
    use mpm_scene_bar, only: bar_t, bar_init, bar_input_t
    use mpm_scene_impact, only: impact_input_t
@@ -638,7 +638,8 @@ contains
       kind = shape_id(config%shape)
       transfer = transfer_id(config%transfer)
       box = fused_choose(kind, transfer, config%flip_fraction, scene%fused_applies(), scene%body_fields, &
-                         scene, particles, material_of(config), trim(config%formulation) == 'total')
+                         scene, particles, material_of(config), trim(config%formulation) == 'total', &
+                         scheme_id(config%scheme))
       fused = trim(config%kernels) == 'auto' .and. box%variant >= 0
       if (.not. fused) call per_particle_data(particles, error)
       bytes = 0

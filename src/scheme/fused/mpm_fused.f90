@@ -14,7 +14,8 @@ module mpm_fused
    use mpm_operations, only: mirror_fold
    use mpm_particles, only: particles_t
    use mpm_shape, only: shape_linear, shape_cpgimp, shape_bspline2, shape_bspline3, shape_cpdi, transfer_flip, &
-                        transfer_pic, transfer_blend, transfer_apic, transfer_asflip
+                        transfer_pic, transfer_blend, transfer_apic, transfer_asflip, transfer_xpic, &
+                        transfer_fmpm
    use mpm_errors, only: error_t
    use mpm_pass_totals, only: pass_totals_t
    use mpm_stepper, only: stepper_t, scheme_usf, scheme_usl, scheme_musl
@@ -26,8 +27,10 @@ module mpm_fused
    use mpm_transfer, only: p2g, fused_pass, pass_usf_stress, pass_usf_move, pass_usl, pass_musl_remap, &
                            pass_musl_stress, pass_map, pass_map_stress, merge_totals, fused_box_t, box_cells, &
                            locate_all, variant_bar, variant_pic, variant_blend, variant_apic, variant_material, &
-                           variant_forced, variant_bodies, variant_asflip, variant_total, body_of_element, &
-                           asflip_separation
+                           variant_forced, variant_bodies, variant_asflip, variant_total, variant_xpic, &
+                           body_of_element, asflip_separation
+   use mpm_fused_projection, only: fused_projection_series
+   use mpm_particle_projection, only: velocity_of_momentum
    implicit none
    private
    public :: fused_start, fused_step, fused_box_t, fused_shape, fused_choose, fused_mass, fused_grid_velocity, &
@@ -114,13 +117,17 @@ contains
    !>   PIC, the blend, APIC and ASFLIP: particles of one mass and volume (no per-particle arrays);
    !> - with the hat and FLIP: per-particle masses and moduli of one volume (the composite bar), per-
    !>   particle forces (the manufactured solution), bodies each of one mass, volume and modulus, on
-   !>   stacked fields or in one field (the impact).
+   !>   stacked fields or in one field (the impact);
+   !> - the hat with XPIC (its variant), and with FMPM (PIC's kernels on filtered velocities) when `scheme`
+   !>   is given and is USF or USL (MUSL's remapped velocity would need the particles' start-of-step
+   !>   positions after they moved), as PIC: particles of one mass and volume.
    !> With `total` (the total-Lagrangian formulation) only the first kind, with the hat and FLIP (variant
    !> total: the bar and the column).
    !> Anything else runs on the generic path.
-   function fused_choose(kind, transfer, flip_fraction, applies, body_fields, loads, particles, material, total) &
-      result(box)
+   function fused_choose(kind, transfer, flip_fraction, applies, body_fields, loads, particles, material, total, &
+                         scheme) result(box)
       integer, intent(in) :: kind, transfer
+      integer, intent(in), optional :: scheme
       real(dp), intent(in) :: flip_fraction
       logical, intent(in) :: applies, body_fields
       class(loads_t), intent(in) :: loads
@@ -172,6 +179,13 @@ contains
             if (kind == shape_linear) box%variant = variant_apic
          case (transfer_asflip) ! (its alpha: box%asflip_alpha, set by the caller)
             if (kind == shape_linear) box%variant = variant_asflip
+         case (transfer_xpic)
+            if (kind == shape_linear) box%variant = variant_xpic
+         case (transfer_fmpm)
+            if (kind == shape_linear .and. present(scheme)) then
+               box%fmpm = scheme == scheme_usf .or. scheme == scheme_usl
+               if (box%fmpm) box%variant = variant_pic
+            end if
          end select
       end if
    end function fused_choose
@@ -270,6 +284,11 @@ contains
             if (scheme == scheme_usf .and. .not. allocated(box%carry)) allocate (box%carry(particles%count))
          end if
          if (.not. allocated(box%carry)) allocate (box%carry(0))
+         if (box%variant == variant_xpic .or. box%fmpm) then ! the series' grid scratch, once
+            if (.not. allocated(box%series_field)) allocate (box%series_field(0:fields%elements), &
+                                                             box%series_term(0:fields%elements), &
+                                                             box%series_projected(0:fields%elements))
+         end if
          if (box%variant == variant_forced) then
             allocate (box%forces(particles%count))
             call element_forces(fields)
@@ -361,7 +380,10 @@ contains
    !> end before they are used (mirror_fold, as on the generic path: the wide shapes' grid has a ghost
    !> cell there). Bodies on stacked fields (`bodies`): the passes on its fields, the contact correction
    !> after each nodal velocity and momentum update (as scheme_step_bodies); the run's grid becomes their sum
-   !> when it is read (fused_grid_sum), its lightest node each step.
+   !> when it is read (fused_grid_sum), its lightest node each step. XPIC keeps v^n = p/m of the mapping
+   !> (before the force update) and forms v* + dt a after the solve, from which its G2P gathers the
+   !> particles' velocity; FMPM filters each nodal velocity the step forms (USF's v^n, the solve's v^L)
+   !> before a pass reads it (mpm_xpic, mpm_fmpm: the generic path's order, the same operations).
    subroutine fused_step(scheme, particles, grid, seg, dt, youngs_modulus, totals, box, scene, t, bodies)
       integer, intent(in) :: scheme
       type(particles_t), intent(inout) :: particles
@@ -375,18 +397,22 @@ contains
       real(dp), intent(in), optional :: t
       type(bodies_t), intent(inout), optional :: bodies
       type(pass_totals_t) :: stress_totals
-      logical :: wide, with_box, forced, stacked, mapped
+      logical :: wide, with_box, forced, stacked, mapped, xpic, fmpm
       wide = .false.
       with_box = .false.
       forced = .false.
       stacked = .false.
       mapped = .false.
+      xpic = .false.
+      fmpm = .false.
       if (present(box)) then
          wide = box%parts
          with_box = allocated(box%carry)
          forced = box%variant == variant_forced
          stacked = on_stacked_fields(box)
          mapped = box%variant == variant_asflip
+         xpic = box%variant == variant_xpic
+         fmpm = box%fmpm
       end if
       if (stacked) then
          call touch_test(bodies, particles, grid%dx)
@@ -404,6 +430,8 @@ contains
          select case (scheme)
          case (scheme_usf)
             call kinematics(g)
+            if (xpic) box%series_field = g%velocity ! v^n
+            if (fmpm) call filter(g)
             if (forced) call forces_at(t)
             call pass(g, pass_usf_stress, stress_totals)
             if (mapped) call keep_mapped(g) ! (ASFLIP's v^n, which the stress pass read)
@@ -414,16 +442,19 @@ contains
                call contact(g, dt)
             end if
             if (mapped) call asflip_separation(g, dt, box%separating)
+            call solved(g)
             call pass(g, pass_usf_move, totals)
             call merge_totals(totals, stress_totals)
          case (scheme_usl)
             call solve(g)
+            call solved(g)
             if (forced) call forces_at(t + dt)
             if (mapped) call asflip_separation(g, dt, box%separating)
             call pass(g, pass_usl, totals)
          case (scheme_musl)
             call solve(g)
             if (mapped) call asflip_separation(g, dt, box%separating)
+            call solved(g)
             call pass(g, pass_musl_remap, totals)
             call kinematics(g)
             if (forced) call forces_at(t + dt)
@@ -455,6 +486,11 @@ contains
             call nodal_velocity(g)
             call keep_mapped(g)
             call solve_momentum(g, dt, .false.)
+         else if (xpic) then ! v^n = p/m between the assembly and the update
+            call assemble_nodes(g, .true.)
+            box%series_field = g%momentum
+            call velocity_of_momentum(g, box%series_field)
+            call solve_momentum(g, dt, .false.)
          else
             call assemble_and_solve(g, dt)
          end if
@@ -469,6 +505,25 @@ contains
          call move_alloc(box%mapped_velocity, g%velocity)
          call move_alloc(swap, box%mapped_velocity)
       end subroutine keep_mapped
+      !> After the momentum update: XPIC's field v* + dt a for G2P, FMPM's filtered v^L.
+      subroutine solved(g)
+         type(grid_t), intent(inout) :: g
+         if (xpic) then
+            call fused_projection_series(particles, g, box%series_order, box%series_field, box%series_term, &
+                                         box%series_projected)
+            box%series_field = box%series_field + dt*g%acceleration
+         end if
+         if (fmpm) call filter(g)
+      end subroutine solved
+      !> FMPM: the nodal velocity <- v_k of its momentum (the series on M_L^-1 q).
+      subroutine filter(g)
+         type(grid_t), intent(inout) :: g
+         if (box%series_order <= 1) return
+         box%series_field = g%velocity
+         call fused_projection_series(particles, g, box%series_order, box%series_field, box%series_term, &
+                                      box%series_projected)
+         g%velocity = box%series_field
+      end subroutine filter
       !> Bodies on stacked fields: approaching bodies share their centre-of-mass velocity (mpm_contact).
       subroutine contact(g, step)
          type(grid_t), intent(inout) :: g

@@ -66,7 +66,7 @@ module mpm_transfer
    !> shape) and the hat's variants (see the kernels' table below).
    integer, parameter, public :: variant_bar = 0, variant_pic = 1, variant_blend = 2, variant_apic = 3, &
                                  variant_material = 4, variant_forced = 5, variant_bodies = 6, variant_asflip = 7, &
-                                 variant_total = 8
+                                 variant_total = 8, variant_xpic = 9
    public :: pass_totals_t, clear_element_shares, merge_totals
    public :: p2g, fused_pass, fused_box_t, box_cells, locate_all, asflip_separation
 
@@ -142,7 +142,11 @@ module mpm_transfer
    !> Beyond the shape, the kernel family (`variant`, one of variant_*: the bar's, or a variant of the
    !> hat's: PIC, the blend (its FLIP fraction), APIC, per-particle masses and moduli, per-particle
    !> external forces (`forces`, N per unit area, set before each pass that maps them), bodies on stacked
-   !> fields (their particles first .. last, mass, volume and modulus, and the first stacked element of each)).
+   !> fields (their particles first .. last, mass, volume and modulus, and the first stacked element of each)),
+   !> XPIC and FMPM (`fmpm`: PIC's kernels on filtered velocities): their series' order (XPIC's m, FMPM's k),
+   !> its field on the grid's nodes (`series_field`: XPIC's v* + dt a, from which its kernels gather the
+   !> particles' new velocity in place of the acceleration; FMPM's velocity as it is filtered) and scratch
+   !> (mpm_fused_projection).
    type :: fused_box_t
       logical :: parts = .false., stretch = .false., spline = .false., cubic = .false.
       real(dp), allocatable :: carry(:)
@@ -165,6 +169,10 @@ module mpm_transfer
       real(dp), allocatable :: mapped_velocity(:)
       !> ... and the J^n at and above which a particle of each element separates (asflip_separation)
       real(dp), allocatable :: separating(:)
+      real(dp), allocatable :: series_field(:)
+      logical :: fmpm = .false.
+      integer :: series_order = 1
+      real(dp), allocatable :: series_term(:), series_projected(:)
    end type fused_box_t
 
    interface
@@ -581,7 +589,7 @@ contains
             case default
                which = 74 ! asflip_map_stress_segment
             end select
-         case default
+         case (variant_total)
             select case (kind)
             case (pass_usf_move)
                which = 75 ! total_usf_move_segment
@@ -597,6 +605,23 @@ contains
                which = 80 ! total_map_segment
             case default
                which = 81 ! total_map_stress_segment
+            end select
+         case default
+            select case (kind)
+            case (pass_usf_move)
+               which = 82 ! xpic_usf_move_segment
+            case (pass_usf_stress)
+               which = 83 ! xpic_usf_stress_segment
+            case (pass_usl)
+               which = 84 ! xpic_usl_segment
+            case (pass_musl_remap)
+               which = 85 ! xpic_musl_remap_segment
+            case (pass_musl_stress)
+               which = 86 ! xpic_musl_stress_segment
+            case (pass_map)
+               which = 87 ! xpic_map_segment
+            case default
+               which = 88 ! xpic_map_stress_segment
             end select
          end select
       else if (box%cubic) then
@@ -1330,6 +1355,68 @@ contains
                                          constants, box%carry, particles%mass_of, particles%youngs_modulus_of, box%forces, &
                                          particles%velocity_gradient, grid%element_force_left, grid%element_force_right, &
                                          mapped=box%mapped_velocity, separating=box%separating)
+         case (82)
+            call xpic_usf_move_segment(k, seg, particles%x, particles%x0, particles%v, particles%stress, &
+                                      particles%volume_ratio, particles%cell, box%series_field, grid%velocity, &
+                                      grid%element_strain, grid%element_mass_left, grid%element_mass_right, &
+                                      grid%element_momentum_left, grid%element_momentum_right, grid%element_stress_volume, &
+                                      constants, box%carry, particles%mass_of, particles%youngs_modulus_of, box%forces, &
+                                      particles%velocity_gradient, grid%element_force_left, grid%element_force_right, &
+                                      mapped=box%mapped_velocity, separating=box%separating)
+         case (83)
+            call xpic_usf_stress_segment(k, seg, particles%x, particles%x0, particles%v, particles%stress, &
+                                        particles%volume_ratio, particles%cell, box%series_field, grid%velocity, &
+                                        grid%element_strain, grid%element_mass_left, grid%element_mass_right, &
+                                        grid%element_momentum_left, grid%element_momentum_right, grid%element_stress_volume, &
+                                        constants, box%carry, particles%mass_of, particles%youngs_modulus_of, box%forces, &
+                                        particles%velocity_gradient, grid%element_force_left, grid%element_force_right, &
+                                        mapped=box%mapped_velocity, separating=box%separating, &
+                                        plastic_strain=particles%plastic_strain, hardening=particles%hardening, &
+                                        yield_of=particles%yield_stress_of, hardening_of=particles%hardening_modulus_of)
+         case (84)
+            call xpic_usl_segment(k, seg, particles%x, particles%x0, particles%v, particles%stress, &
+                                 particles%volume_ratio, particles%cell, box%series_field, grid%velocity, &
+                                 grid%element_strain, grid%element_mass_left, grid%element_mass_right, &
+                                 grid%element_momentum_left, grid%element_momentum_right, grid%element_stress_volume, &
+                                 constants, box%carry, particles%mass_of, particles%youngs_modulus_of, box%forces, &
+                                 particles%velocity_gradient, grid%element_force_left, grid%element_force_right, &
+                                 mapped=box%mapped_velocity, separating=box%separating, &
+                                 plastic_strain=particles%plastic_strain, hardening=particles%hardening, &
+                                 yield_of=particles%yield_stress_of, hardening_of=particles%hardening_modulus_of)
+         case (85)
+            call xpic_musl_remap_segment(k, seg, particles%x, particles%x0, particles%v, particles%stress, &
+                                        particles%volume_ratio, particles%cell, box%series_field, grid%velocity, &
+                                        grid%element_strain, grid%element_mass_left, grid%element_mass_right, &
+                                        grid%element_momentum_left, grid%element_momentum_right, grid%element_stress_volume, &
+                                        constants, box%carry, particles%mass_of, particles%youngs_modulus_of, box%forces, &
+                                        particles%velocity_gradient, grid%element_force_left, grid%element_force_right, &
+                                        mapped=box%mapped_velocity, separating=box%separating)
+         case (86)
+            call xpic_musl_stress_segment(k, seg, particles%x, particles%x0, particles%v, particles%stress, &
+                                         particles%volume_ratio, particles%cell, box%series_field, grid%velocity, &
+                                         grid%element_strain, grid%element_mass_left, grid%element_mass_right, &
+                                         grid%element_momentum_left, grid%element_momentum_right, grid%element_stress_volume, &
+                                         constants, box%carry, particles%mass_of, particles%youngs_modulus_of, box%forces, &
+                                         particles%velocity_gradient, grid%element_force_left, grid%element_force_right, &
+                                         mapped=box%mapped_velocity, separating=box%separating, &
+                                         plastic_strain=particles%plastic_strain, hardening=particles%hardening, &
+                                         yield_of=particles%yield_stress_of, hardening_of=particles%hardening_modulus_of)
+         case (87)
+            call xpic_map_segment(k, seg, particles%x, particles%x0, particles%v, particles%stress, &
+                                 particles%volume_ratio, particles%cell, box%series_field, grid%velocity, &
+                                 grid%element_strain, grid%element_mass_left, grid%element_mass_right, &
+                                 grid%element_momentum_left, grid%element_momentum_right, grid%element_stress_volume, &
+                                 constants, box%carry, particles%mass_of, particles%youngs_modulus_of, box%forces, &
+                                 particles%velocity_gradient, grid%element_force_left, grid%element_force_right, &
+                                 mapped=box%mapped_velocity, separating=box%separating)
+         case (88)
+            call xpic_map_stress_segment(k, seg, particles%x, particles%x0, particles%v, particles%stress, &
+                                        particles%volume_ratio, particles%cell, box%series_field, grid%velocity, &
+                                        grid%element_strain, grid%element_mass_left, grid%element_mass_right, &
+                                        grid%element_momentum_left, grid%element_momentum_right, grid%element_stress_volume, &
+                                        constants, box%carry, particles%mass_of, particles%youngs_modulus_of, box%forces, &
+                                        particles%velocity_gradient, grid%element_force_left, grid%element_force_right, &
+                                        mapped=box%mapped_velocity, separating=box%separating)
          end select
       end subroutine segment
       !> The constants of segment k's body (bodies: each segment lies in one body's field).
@@ -21628,6 +21715,1455 @@ contains
                          minval(min_j), largest%value, furthest_particle(largest, mb), outside, mass_left, mass_right, &
                          momentum_left, momentum_right, stress_volume, seg)
    end subroutine total_map_stress_segment
+
+   !> USF, second half: G2P, then mass and momentum at the new position (the hat, XPIC)
+   subroutine xpic_usf_move_segment(k, seg, x, x0, v, stress, volume_ratio, cell, acceleration, velocity, &
+                                    strain_increment_of, mass_left, mass_right, momentum_left, momentum_right, &
+                                    stress_volume, constants, carry, mass_of, modulus_of, forces, gradient, force_left, &
+                                    force_right, plastic_strain, hardening, yield_of, hardening_of, mapped, &
+                                    separating)
+      integer, parameter :: kernel = pass_usf_move
+      logical, parameter :: moves = pass_moves(kernel), stresses = pass_stresses(kernel), relocates = pass_relocates(kernel)
+      integer, parameter :: shares = pass_shares(kernel)
+      integer, intent(in) :: k
+      type(segments_t), intent(inout) :: seg
+      real(dp), intent(inout), contiguous :: x(:), v(:), stress(:), volume_ratio(:)
+      real(dp), intent(in), contiguous :: x0(:)
+      integer, intent(inout), contiguous :: cell(:)
+      real(dp), intent(in), contiguous :: acceleration(0:), velocity(0:)
+      real(dp), intent(in), contiguous :: strain_increment_of(:)  !< per element (grid%element_strain)
+      real(dp), intent(inout), contiguous :: mass_left(:), mass_right(:), momentum_left(:), momentum_right(:), stress_volume(:)
+      type(pass_constants_t), intent(in) :: constants
+      real(dp), intent(inout), contiguous :: carry(:)  !< particles in parts: what a pass keeps for the next (fused_box_t)
+      !> the variants' per-particle data (absent when the run has none): masses and Young's moduli
+      !> (`material`), external forces (`forced`), APIC's velocity gradients C_p, and the element shares of
+      !> the forces
+      real(dp), intent(in), contiguous, optional :: mass_of(:), modulus_of(:), forces(:)
+      real(dp), intent(inout), contiguous, optional :: gradient(:), force_left(:), force_right(:)
+      !> the elastoplastic law's state (plastic strain, hardening variable) and, `material`, each particle's
+      !> yield stress and hardening modulus (absent for the other laws)
+      real(dp), intent(inout), contiguous, optional :: plastic_strain(:), hardening(:)
+      real(dp), intent(in), contiguous, optional :: yield_of(:), hardening_of(:)
+      !> ASFLIP's nodal velocity v^n of the step's mapping and each element's J of separation (absent for
+      !> the others)
+      real(dp), intent(in), contiguous, optional :: mapped(0:), separating(:)
+      integer :: p, e, i, n, b0, first, last, lo, hi, outside, ahead, elements
+      real(dp) :: half_m, strain_factor, dstrain, inv_dx, dt, youngs_modulus, m, volume0
+      logical :: linear, plastic
+      type(largest_move_t) :: largest
+      real(dp) :: displacement(lanes), kinetic(lanes), strain(lanes), min_j(lanes)
+      integer :: cb(block_size)
+      real(dp) :: svb(block_size), db(block_size), kb(block_size), sb(block_size), jb(block_size)
+      real(dp) :: mb(block_size, 2)  !< the moves of a block, and of the block with the largest (lanes_track_move)
+      integer :: slot
+      real(dp) :: lane_max(lanes), block_max
+      integer :: lane_i, lane_r
+      type(run_t) :: run
+      integer(i8) :: elements_bits
+      real(dp) :: xi, xib(block_size), vpb(block_size)
+      ! the variant's: G2P's grid velocity and move, the segment's body (cells offset), each particle's
+      ! shares (accumulate_shares)
+      real(dp) :: vgrid, dxp
+      elements = constants%elements
+      inv_dx = constants%inv_dx
+      dt = constants%dt
+      youngs_modulus = constants%youngs_modulus
+      linear = constants%linear
+      plastic = constants%plastic
+      m = constants%mass
+      volume0 = constants%volume0
+      call open_segment(k, shares, seg, mass_left, mass_right, momentum_left, momentum_right, stress_volume, first, last, &
+                        lo, hi)
+      displacement = 0; kinetic = 0; strain = 0; min_j = huge(1.0_dp)
+      slot = 1
+      outside = 0
+      elements_bits = transfer(real(elements, dp), 0_i8)
+      half_m = 0.5_dp*m
+      strain_factor = 0.0_dp
+      if (stresses) strain_factor = 0.5_dp*volume0/youngs_modulus
+      do b0 = first, last, block_size
+         n = min(block_size, last - b0 + 1)
+         if (seg%prefetch) then  ! the arrays the pass reads, and the grid values of the next blocks
+            ahead = b0 + prefetch_ahead
+            if (kernel == pass_usl) call prefetch_block(ahead, cell, x, x0, v, stress, volume_ratio)
+            if (kernel == pass_usf_move .or. kernel == pass_musl_remap) call prefetch_block(ahead, cell, x, x0, v)
+            if (kernel == pass_usf_stress) call prefetch_block(ahead, cell, stress, volume_ratio)
+            if (kernel == pass_musl_stress) call prefetch_block(ahead, cell, x, v, stress, volume_ratio)
+            if (stresses .and. plastic) call prefetch_block(ahead, cell, plastic_strain, hardening)
+            if (moves) then
+               call prefetch_nodes(cell(b0), cell(b0 + n - 1), acceleration, velocity)
+            else
+               call prefetch_elements(cell(b0), cell(b0 + n - 1), strain_increment_of)
+            end if
+         end if
+         do i = 1, n
+            p = b0 + i - 1
+            e = cell(p)
+            ! G2P with the start-of-step shape functions (XPIC)
+            if (moves) then
+               xi = x(p)*inv_dx - (e - 1)
+               vgrid = (1.0_dp - xi)*velocity(e - 1) + xi*velocity(e)
+               ! (`acceleration` is XPIC's field v* + dt a: over_segments passes it)
+               v(p) = (1.0_dp - xi)*acceleration(e - 1) + xi*acceleration(e)
+               dxp = dt*vgrid
+               x(p) = x(p) + dxp
+               db(i) = x(p) - x0(p)
+               kb(i) = half_m*v(p)*v(p)
+               mb(i, slot) = abs(dxp)*inv_dx
+            end if
+            if (stresses) then ! d eps = dt sum dN v_I over the start-of-step cell
+               if (moves) then
+                  dstrain = strain_increment(velocity(e - 1), velocity(e), dt, inv_dx)
+               else
+                  dstrain = strain_increment_of(e)
+               end if
+               call stress_hencky(dstrain, youngs_modulus, strain_factor, volume0, stress(p), volume_ratio(p), &
+                                  sb(i), svb(i))
+               jb(i) = volume_ratio(p)
+            else if (iand(shares, share_stress) /= 0) then ! (an initial mapping: the stress as it is)
+               svb(i) = stress(p)*volume_ratio(p)*volume0
+            end if
+            if (relocates) then ! the new cell, for P2G at the new position
+               call locate_cell(x(p), inv_dx, elements, elements_bits, cb(i), xib(i))
+               cell(p) = cb(i)
+            else                ! the shares go to the start-of-step cell
+               cb(i) = e
+               if (moves) xib(i) = xi
+            end if
+            if (moves .or. relocates) vpb(i) = v(p)
+         end do
+         ! the block's totals (macros of mpm_lanes.fypi, expanded here)
+         if (moves) then
+            do lane_i = 1, n - lanes + 1, lanes
+               displacement = displacement + db(lane_i:lane_i + lanes - 1)
+            end do
+            lane_r = mod(n, lanes)
+            if (lane_r > 0) displacement(1:lane_r) = displacement(1:lane_r) + db(n - lane_r + 1:n)
+            do lane_i = 1, n - lanes + 1, lanes
+               kinetic = kinetic + kb(lane_i:lane_i + lanes - 1)
+            end do
+            lane_r = mod(n, lanes)
+            if (lane_r > 0) kinetic(1:lane_r) = kinetic(1:lane_r) + kb(n - lane_r + 1:n)
+            lane_max = 0.0_dp
+            do lane_i = 1, n - lanes + 1, lanes
+               lane_max = max(lane_max, mb(lane_i:lane_i + lanes - 1, slot))
+            end do
+            lane_r = mod(n, lanes)
+            if (lane_r > 0) lane_max(1:lane_r) = max(lane_max(1:lane_r), mb(n - lane_r + 1:n, slot))
+            block_max = maxval(lane_max)
+            if (block_max > largest%value) then
+               largest%value = block_max
+               largest%first = b0
+               largest%count = n
+               largest%slot = slot
+               slot = 3 - slot
+            end if
+         end if
+         if (stresses) then
+            do lane_i = 1, n - lanes + 1, lanes
+               strain = strain + sb(lane_i:lane_i + lanes - 1)
+            end do
+            lane_r = mod(n, lanes)
+            if (lane_r > 0) strain(1:lane_r) = strain(1:lane_r) + sb(n - lane_r + 1:n)
+            do lane_i = 1, n - lanes + 1, lanes
+               min_j = min(min_j, jb(lane_i:lane_i + lanes - 1))
+            end do
+            lane_r = mod(n, lanes)
+            if (lane_r > 0) min_j(1:lane_r) = min(min_j(1:lane_r), jb(n - lane_r + 1:n))
+         end if
+         if (relocates) call find_outside(n, b0, cb, outside)
+         call accumulate_block(k, n, cb, xib, vpb, svb, m, lo, hi, shares, run, mass_left, mass_right, momentum_left, &
+                               momentum_right, stress_volume, seg)
+      end do
+      call close_segment(k, shares, m, run, [lane_total(displacement), lane_total(kinetic), lane_total(strain), &
+                         0.0_dp], &
+                         minval(min_j), largest%value, furthest_particle(largest, mb), outside, mass_left, mass_right, &
+                         momentum_left, momentum_right, stress_volume, seg)
+   end subroutine xpic_usf_move_segment
+
+   !> USF, first half: stress update, then stress*volume of the unmoved particles (the hat, XPIC)
+   subroutine xpic_usf_stress_segment(k, seg, x, x0, v, stress, volume_ratio, cell, acceleration, velocity, &
+                                      strain_increment_of, mass_left, mass_right, momentum_left, momentum_right, &
+                                      stress_volume, constants, carry, mass_of, modulus_of, forces, gradient, force_left, &
+                                      force_right, plastic_strain, hardening, yield_of, hardening_of, mapped, &
+                                      separating)
+      integer, parameter :: kernel = pass_usf_stress
+      logical, parameter :: moves = pass_moves(kernel), stresses = pass_stresses(kernel), relocates = pass_relocates(kernel)
+      integer, parameter :: shares = pass_shares(kernel)
+      integer, intent(in) :: k
+      type(segments_t), intent(inout) :: seg
+      real(dp), intent(inout), contiguous :: x(:), v(:), stress(:), volume_ratio(:)
+      real(dp), intent(in), contiguous :: x0(:)
+      integer, intent(inout), contiguous :: cell(:)
+      real(dp), intent(in), contiguous :: acceleration(0:), velocity(0:)
+      real(dp), intent(in), contiguous :: strain_increment_of(:)  !< per element (grid%element_strain)
+      real(dp), intent(inout), contiguous :: mass_left(:), mass_right(:), momentum_left(:), momentum_right(:), stress_volume(:)
+      type(pass_constants_t), intent(in) :: constants
+      real(dp), intent(inout), contiguous :: carry(:)  !< particles in parts: what a pass keeps for the next (fused_box_t)
+      !> the variants' per-particle data (absent when the run has none): masses and Young's moduli
+      !> (`material`), external forces (`forced`), APIC's velocity gradients C_p, and the element shares of
+      !> the forces
+      real(dp), intent(in), contiguous, optional :: mass_of(:), modulus_of(:), forces(:)
+      real(dp), intent(inout), contiguous, optional :: gradient(:), force_left(:), force_right(:)
+      !> the elastoplastic law's state (plastic strain, hardening variable) and, `material`, each particle's
+      !> yield stress and hardening modulus (absent for the other laws)
+      real(dp), intent(inout), contiguous, optional :: plastic_strain(:), hardening(:)
+      real(dp), intent(in), contiguous, optional :: yield_of(:), hardening_of(:)
+      !> ASFLIP's nodal velocity v^n of the step's mapping and each element's J of separation (absent for
+      !> the others)
+      real(dp), intent(in), contiguous, optional :: mapped(0:), separating(:)
+      integer :: p, e, i, n, b0, first, last, lo, hi, outside, ahead, elements
+      real(dp) :: half_m, strain_factor, dstrain, inv_dx, dt, youngs_modulus, m, volume0
+      logical :: linear, plastic
+      ! the elastoplastic law's constants and the block's plastic work, summed in lanes
+      real(dp) :: yield_stress, hardening_modulus, increment, wb(block_size), work(lanes)
+      type(largest_move_t) :: largest
+      real(dp) :: displacement(lanes), kinetic(lanes), strain(lanes), min_j(lanes)
+      integer :: cb(block_size)
+      real(dp) :: svb(block_size), db(block_size), kb(block_size), sb(block_size), jb(block_size)
+      real(dp) :: mb(block_size, 2)  !< the moves of a block, and of the block with the largest (lanes_track_move)
+      integer :: slot
+      real(dp) :: lane_max(lanes), block_max
+      integer :: lane_i, lane_r
+      type(run_t) :: run
+      integer(i8) :: elements_bits
+      real(dp) :: xi, xib(block_size), vpb(block_size)
+      ! the variant's: G2P's grid velocity and move, the segment's body (cells offset), each particle's
+      ! shares (accumulate_shares)
+      real(dp) :: vgrid, dxp
+      elements = constants%elements
+      inv_dx = constants%inv_dx
+      dt = constants%dt
+      youngs_modulus = constants%youngs_modulus
+      linear = constants%linear
+      plastic = constants%plastic
+      yield_stress = constants%yield_stress
+      hardening_modulus = constants%hardening_modulus
+      work = 0
+      m = constants%mass
+      volume0 = constants%volume0
+      call open_segment(k, shares, seg, mass_left, mass_right, momentum_left, momentum_right, stress_volume, first, last, &
+                        lo, hi)
+      displacement = 0; kinetic = 0; strain = 0; min_j = huge(1.0_dp)
+      slot = 1
+      outside = 0
+      elements_bits = transfer(real(elements, dp), 0_i8)
+      half_m = 0.5_dp*m
+      strain_factor = 0.0_dp
+      if (stresses) strain_factor = 0.5_dp*volume0/youngs_modulus
+      do b0 = first, last, block_size
+         n = min(block_size, last - b0 + 1)
+         if (seg%prefetch) then  ! the arrays the pass reads, and the grid values of the next blocks
+            ahead = b0 + prefetch_ahead
+            if (kernel == pass_usl) call prefetch_block(ahead, cell, x, x0, v, stress, volume_ratio)
+            if (kernel == pass_usf_move .or. kernel == pass_musl_remap) call prefetch_block(ahead, cell, x, x0, v)
+            if (kernel == pass_usf_stress) call prefetch_block(ahead, cell, stress, volume_ratio)
+            if (kernel == pass_musl_stress) call prefetch_block(ahead, cell, x, v, stress, volume_ratio)
+            if (stresses .and. plastic) call prefetch_block(ahead, cell, plastic_strain, hardening)
+            if (moves) then
+               call prefetch_nodes(cell(b0), cell(b0 + n - 1), acceleration, velocity)
+            else
+               call prefetch_elements(cell(b0), cell(b0 + n - 1), strain_increment_of)
+            end if
+         end if
+         if (linear) then
+         do i = 1, n
+            p = b0 + i - 1
+            e = cell(p)
+            ! G2P with the start-of-step shape functions (XPIC)
+            if (moves) then
+               xi = x(p)*inv_dx - (e - 1)
+               vgrid = (1.0_dp - xi)*velocity(e - 1) + xi*velocity(e)
+               ! (`acceleration` is XPIC's field v* + dt a: over_segments passes it)
+               v(p) = (1.0_dp - xi)*acceleration(e - 1) + xi*acceleration(e)
+               dxp = dt*vgrid
+               x(p) = x(p) + dxp
+               db(i) = x(p) - x0(p)
+               kb(i) = half_m*v(p)*v(p)
+               mb(i, slot) = abs(dxp)*inv_dx
+            end if
+            if (stresses) then ! d eps = dt sum dN v_I over the start-of-step cell
+               if (moves) then
+                  dstrain = strain_increment(velocity(e - 1), velocity(e), dt, inv_dx)
+               else
+                  dstrain = strain_increment_of(e)
+               end if
+               call stress_linear(dstrain, youngs_modulus, strain_factor, volume0, stress(p), volume_ratio(p), &
+                                  sb(i), svb(i))
+               jb(i) = volume_ratio(p)
+            else if (iand(shares, share_stress) /= 0) then ! (an initial mapping: the stress as it is)
+               svb(i) = stress(p)*volume_ratio(p)*volume0
+            end if
+            if (relocates) then ! the new cell, for P2G at the new position
+               call locate_cell(x(p), inv_dx, elements, elements_bits, cb(i), xib(i))
+               cell(p) = cb(i)
+            else                ! the shares go to the start-of-step cell
+               cb(i) = e
+               if (moves) xib(i) = xi
+            end if
+            if (moves .or. relocates) vpb(i) = v(p)
+         end do
+         else if (plastic) then
+         do i = 1, n
+            p = b0 + i - 1
+            e = cell(p)
+            ! G2P with the start-of-step shape functions (XPIC)
+            if (moves) then
+               xi = x(p)*inv_dx - (e - 1)
+               vgrid = (1.0_dp - xi)*velocity(e - 1) + xi*velocity(e)
+               ! (`acceleration` is XPIC's field v* + dt a: over_segments passes it)
+               v(p) = (1.0_dp - xi)*acceleration(e - 1) + xi*acceleration(e)
+               dxp = dt*vgrid
+               x(p) = x(p) + dxp
+               db(i) = x(p) - x0(p)
+               kb(i) = half_m*v(p)*v(p)
+               mb(i, slot) = abs(dxp)*inv_dx
+            end if
+            if (stresses) then ! d eps = dt sum dN v_I over the start-of-step cell
+               if (moves) then
+                  dstrain = strain_increment(velocity(e - 1), velocity(e), dt, inv_dx)
+               else
+                  dstrain = strain_increment_of(e)
+               end if
+               stress(p) = stress(p) + youngs_modulus*dstrain
+               ! d gamma, zero in an elastic step: written without a branch, so that a loop over particles
+               ! vectorises; an elastic step then subtracts and adds zeros, which leaves the hencky bits
+               increment = max(abs(stress(p)) - (yield_stress + hardening_modulus*hardening(p)), 0.0_dp)/ &
+                           (youngs_modulus + hardening_modulus)
+               stress(p) = stress(p) - sign(youngs_modulus*increment, stress(p))
+               plastic_strain(p) = plastic_strain(p) + sign(increment, stress(p))
+               hardening(p) = hardening(p) + increment
+               volume_ratio(p) = volume_ratio(p)*(1.0_dp + dstrain)
+               sb(i) = stress(p)*stress(p)*volume_ratio(p)*strain_factor
+               svb(i) = stress(p)*volume_ratio(p)*volume0
+               wb(i) = (yield_stress + 0.5_dp*hardening_modulus*hardening(p))*hardening(p)*volume0
+               jb(i) = volume_ratio(p)
+            else if (iand(shares, share_stress) /= 0) then ! (an initial mapping: the stress as it is)
+               svb(i) = stress(p)*volume_ratio(p)*volume0
+            end if
+            if (relocates) then ! the new cell, for P2G at the new position
+               call locate_cell(x(p), inv_dx, elements, elements_bits, cb(i), xib(i))
+               cell(p) = cb(i)
+            else                ! the shares go to the start-of-step cell
+               cb(i) = e
+               if (moves) xib(i) = xi
+            end if
+            if (moves .or. relocates) vpb(i) = v(p)
+         end do
+         else
+         do i = 1, n
+            p = b0 + i - 1
+            e = cell(p)
+            ! G2P with the start-of-step shape functions (XPIC)
+            if (moves) then
+               xi = x(p)*inv_dx - (e - 1)
+               vgrid = (1.0_dp - xi)*velocity(e - 1) + xi*velocity(e)
+               ! (`acceleration` is XPIC's field v* + dt a: over_segments passes it)
+               v(p) = (1.0_dp - xi)*acceleration(e - 1) + xi*acceleration(e)
+               dxp = dt*vgrid
+               x(p) = x(p) + dxp
+               db(i) = x(p) - x0(p)
+               kb(i) = half_m*v(p)*v(p)
+               mb(i, slot) = abs(dxp)*inv_dx
+            end if
+            if (stresses) then ! d eps = dt sum dN v_I over the start-of-step cell
+               if (moves) then
+                  dstrain = strain_increment(velocity(e - 1), velocity(e), dt, inv_dx)
+               else
+                  dstrain = strain_increment_of(e)
+               end if
+               call stress_hencky(dstrain, youngs_modulus, strain_factor, volume0, stress(p), volume_ratio(p), &
+                                  sb(i), svb(i))
+               jb(i) = volume_ratio(p)
+            else if (iand(shares, share_stress) /= 0) then ! (an initial mapping: the stress as it is)
+               svb(i) = stress(p)*volume_ratio(p)*volume0
+            end if
+            if (relocates) then ! the new cell, for P2G at the new position
+               call locate_cell(x(p), inv_dx, elements, elements_bits, cb(i), xib(i))
+               cell(p) = cb(i)
+            else                ! the shares go to the start-of-step cell
+               cb(i) = e
+               if (moves) xib(i) = xi
+            end if
+            if (moves .or. relocates) vpb(i) = v(p)
+         end do
+         end if
+         ! the block's totals (macros of mpm_lanes.fypi, expanded here)
+         if (moves) then
+            do lane_i = 1, n - lanes + 1, lanes
+               displacement = displacement + db(lane_i:lane_i + lanes - 1)
+            end do
+            lane_r = mod(n, lanes)
+            if (lane_r > 0) displacement(1:lane_r) = displacement(1:lane_r) + db(n - lane_r + 1:n)
+            do lane_i = 1, n - lanes + 1, lanes
+               kinetic = kinetic + kb(lane_i:lane_i + lanes - 1)
+            end do
+            lane_r = mod(n, lanes)
+            if (lane_r > 0) kinetic(1:lane_r) = kinetic(1:lane_r) + kb(n - lane_r + 1:n)
+            lane_max = 0.0_dp
+            do lane_i = 1, n - lanes + 1, lanes
+               lane_max = max(lane_max, mb(lane_i:lane_i + lanes - 1, slot))
+            end do
+            lane_r = mod(n, lanes)
+            if (lane_r > 0) lane_max(1:lane_r) = max(lane_max(1:lane_r), mb(n - lane_r + 1:n, slot))
+            block_max = maxval(lane_max)
+            if (block_max > largest%value) then
+               largest%value = block_max
+               largest%first = b0
+               largest%count = n
+               largest%slot = slot
+               slot = 3 - slot
+            end if
+         end if
+         if (stresses) then
+            do lane_i = 1, n - lanes + 1, lanes
+               strain = strain + sb(lane_i:lane_i + lanes - 1)
+            end do
+            lane_r = mod(n, lanes)
+            if (lane_r > 0) strain(1:lane_r) = strain(1:lane_r) + sb(n - lane_r + 1:n)
+            do lane_i = 1, n - lanes + 1, lanes
+               min_j = min(min_j, jb(lane_i:lane_i + lanes - 1))
+            end do
+            lane_r = mod(n, lanes)
+            if (lane_r > 0) min_j(1:lane_r) = min(min_j(1:lane_r), jb(n - lane_r + 1:n))
+         end if
+         if (plastic) then
+            do lane_i = 1, n - lanes + 1, lanes
+               work = work + wb(lane_i:lane_i + lanes - 1)
+            end do
+            lane_r = mod(n, lanes)
+            if (lane_r > 0) work(1:lane_r) = work(1:lane_r) + wb(n - lane_r + 1:n)
+         end if
+         if (relocates) call find_outside(n, b0, cb, outside)
+         call accumulate_block(k, n, cb, xib, vpb, svb, m, lo, hi, shares, run, mass_left, mass_right, momentum_left, &
+                               momentum_right, stress_volume, seg)
+      end do
+      call close_segment(k, shares, m, run, [lane_total(displacement), lane_total(kinetic), lane_total(strain), &
+                         lane_total(work)], &
+                         minval(min_j), largest%value, furthest_particle(largest, mb), outside, mass_left, mass_right, &
+                         momentum_left, momentum_right, stress_volume, seg)
+   end subroutine xpic_usf_stress_segment
+
+   !> USL: G2P, stress update from the updated nodal velocities, P2G at the new position (the hat, XPIC)
+   subroutine xpic_usl_segment(k, seg, x, x0, v, stress, volume_ratio, cell, acceleration, velocity, &
+                               strain_increment_of, mass_left, mass_right, momentum_left, momentum_right, &
+                               stress_volume, constants, carry, mass_of, modulus_of, forces, gradient, force_left, &
+                               force_right, plastic_strain, hardening, yield_of, hardening_of, mapped, &
+                               separating)
+      integer, parameter :: kernel = pass_usl
+      logical, parameter :: moves = pass_moves(kernel), stresses = pass_stresses(kernel), relocates = pass_relocates(kernel)
+      integer, parameter :: shares = pass_shares(kernel)
+      integer, intent(in) :: k
+      type(segments_t), intent(inout) :: seg
+      real(dp), intent(inout), contiguous :: x(:), v(:), stress(:), volume_ratio(:)
+      real(dp), intent(in), contiguous :: x0(:)
+      integer, intent(inout), contiguous :: cell(:)
+      real(dp), intent(in), contiguous :: acceleration(0:), velocity(0:)
+      real(dp), intent(in), contiguous :: strain_increment_of(:)  !< per element (grid%element_strain)
+      real(dp), intent(inout), contiguous :: mass_left(:), mass_right(:), momentum_left(:), momentum_right(:), stress_volume(:)
+      type(pass_constants_t), intent(in) :: constants
+      real(dp), intent(inout), contiguous :: carry(:)  !< particles in parts: what a pass keeps for the next (fused_box_t)
+      !> the variants' per-particle data (absent when the run has none): masses and Young's moduli
+      !> (`material`), external forces (`forced`), APIC's velocity gradients C_p, and the element shares of
+      !> the forces
+      real(dp), intent(in), contiguous, optional :: mass_of(:), modulus_of(:), forces(:)
+      real(dp), intent(inout), contiguous, optional :: gradient(:), force_left(:), force_right(:)
+      !> the elastoplastic law's state (plastic strain, hardening variable) and, `material`, each particle's
+      !> yield stress and hardening modulus (absent for the other laws)
+      real(dp), intent(inout), contiguous, optional :: plastic_strain(:), hardening(:)
+      real(dp), intent(in), contiguous, optional :: yield_of(:), hardening_of(:)
+      !> ASFLIP's nodal velocity v^n of the step's mapping and each element's J of separation (absent for
+      !> the others)
+      real(dp), intent(in), contiguous, optional :: mapped(0:), separating(:)
+      integer :: p, e, i, n, b0, first, last, lo, hi, outside, ahead, elements
+      real(dp) :: half_m, strain_factor, dstrain, inv_dx, dt, youngs_modulus, m, volume0
+      logical :: linear, plastic
+      ! the elastoplastic law's constants and the block's plastic work, summed in lanes
+      real(dp) :: yield_stress, hardening_modulus, increment, wb(block_size), work(lanes)
+      type(largest_move_t) :: largest
+      real(dp) :: displacement(lanes), kinetic(lanes), strain(lanes), min_j(lanes)
+      integer :: cb(block_size)
+      real(dp) :: svb(block_size), db(block_size), kb(block_size), sb(block_size), jb(block_size)
+      real(dp) :: mb(block_size, 2)  !< the moves of a block, and of the block with the largest (lanes_track_move)
+      integer :: slot
+      real(dp) :: lane_max(lanes), block_max
+      integer :: lane_i, lane_r
+      type(run_t) :: run
+      integer(i8) :: elements_bits
+      real(dp) :: xi, xib(block_size), vpb(block_size)
+      ! the variant's: G2P's grid velocity and move, the segment's body (cells offset), each particle's
+      ! shares (accumulate_shares)
+      real(dp) :: vgrid, dxp
+      elements = constants%elements
+      inv_dx = constants%inv_dx
+      dt = constants%dt
+      youngs_modulus = constants%youngs_modulus
+      linear = constants%linear
+      plastic = constants%plastic
+      yield_stress = constants%yield_stress
+      hardening_modulus = constants%hardening_modulus
+      work = 0
+      m = constants%mass
+      volume0 = constants%volume0
+      call open_segment(k, shares, seg, mass_left, mass_right, momentum_left, momentum_right, stress_volume, first, last, &
+                        lo, hi)
+      displacement = 0; kinetic = 0; strain = 0; min_j = huge(1.0_dp)
+      slot = 1
+      outside = 0
+      elements_bits = transfer(real(elements, dp), 0_i8)
+      half_m = 0.5_dp*m
+      strain_factor = 0.0_dp
+      if (stresses) strain_factor = 0.5_dp*volume0/youngs_modulus
+      do b0 = first, last, block_size
+         n = min(block_size, last - b0 + 1)
+         if (seg%prefetch) then  ! the arrays the pass reads, and the grid values of the next blocks
+            ahead = b0 + prefetch_ahead
+            if (kernel == pass_usl) call prefetch_block(ahead, cell, x, x0, v, stress, volume_ratio)
+            if (kernel == pass_usf_move .or. kernel == pass_musl_remap) call prefetch_block(ahead, cell, x, x0, v)
+            if (kernel == pass_usf_stress) call prefetch_block(ahead, cell, stress, volume_ratio)
+            if (kernel == pass_musl_stress) call prefetch_block(ahead, cell, x, v, stress, volume_ratio)
+            if (stresses .and. plastic) call prefetch_block(ahead, cell, plastic_strain, hardening)
+            if (moves) then
+               call prefetch_nodes(cell(b0), cell(b0 + n - 1), acceleration, velocity)
+            else
+               call prefetch_elements(cell(b0), cell(b0 + n - 1), strain_increment_of)
+            end if
+         end if
+         if (linear) then
+         do i = 1, n
+            p = b0 + i - 1
+            e = cell(p)
+            ! G2P with the start-of-step shape functions (XPIC)
+            if (moves) then
+               xi = x(p)*inv_dx - (e - 1)
+               vgrid = (1.0_dp - xi)*velocity(e - 1) + xi*velocity(e)
+               ! (`acceleration` is XPIC's field v* + dt a: over_segments passes it)
+               v(p) = (1.0_dp - xi)*acceleration(e - 1) + xi*acceleration(e)
+               dxp = dt*vgrid
+               x(p) = x(p) + dxp
+               db(i) = x(p) - x0(p)
+               kb(i) = half_m*v(p)*v(p)
+               mb(i, slot) = abs(dxp)*inv_dx
+            end if
+            if (stresses) then ! d eps = dt sum dN v_I over the start-of-step cell
+               if (moves) then
+                  dstrain = strain_increment(velocity(e - 1), velocity(e), dt, inv_dx)
+               else
+                  dstrain = strain_increment_of(e)
+               end if
+               call stress_linear(dstrain, youngs_modulus, strain_factor, volume0, stress(p), volume_ratio(p), &
+                                  sb(i), svb(i))
+               jb(i) = volume_ratio(p)
+            else if (iand(shares, share_stress) /= 0) then ! (an initial mapping: the stress as it is)
+               svb(i) = stress(p)*volume_ratio(p)*volume0
+            end if
+            if (relocates) then ! the new cell, for P2G at the new position
+               call locate_cell(x(p), inv_dx, elements, elements_bits, cb(i), xib(i))
+               cell(p) = cb(i)
+            else                ! the shares go to the start-of-step cell
+               cb(i) = e
+               if (moves) xib(i) = xi
+            end if
+            if (moves .or. relocates) vpb(i) = v(p)
+         end do
+         else if (plastic) then
+         do i = 1, n
+            p = b0 + i - 1
+            e = cell(p)
+            ! G2P with the start-of-step shape functions (XPIC)
+            if (moves) then
+               xi = x(p)*inv_dx - (e - 1)
+               vgrid = (1.0_dp - xi)*velocity(e - 1) + xi*velocity(e)
+               ! (`acceleration` is XPIC's field v* + dt a: over_segments passes it)
+               v(p) = (1.0_dp - xi)*acceleration(e - 1) + xi*acceleration(e)
+               dxp = dt*vgrid
+               x(p) = x(p) + dxp
+               db(i) = x(p) - x0(p)
+               kb(i) = half_m*v(p)*v(p)
+               mb(i, slot) = abs(dxp)*inv_dx
+            end if
+            if (stresses) then ! d eps = dt sum dN v_I over the start-of-step cell
+               if (moves) then
+                  dstrain = strain_increment(velocity(e - 1), velocity(e), dt, inv_dx)
+               else
+                  dstrain = strain_increment_of(e)
+               end if
+               stress(p) = stress(p) + youngs_modulus*dstrain
+               ! d gamma, zero in an elastic step: written without a branch, so that a loop over particles
+               ! vectorises; an elastic step then subtracts and adds zeros, which leaves the hencky bits
+               increment = max(abs(stress(p)) - (yield_stress + hardening_modulus*hardening(p)), 0.0_dp)/ &
+                           (youngs_modulus + hardening_modulus)
+               stress(p) = stress(p) - sign(youngs_modulus*increment, stress(p))
+               plastic_strain(p) = plastic_strain(p) + sign(increment, stress(p))
+               hardening(p) = hardening(p) + increment
+               volume_ratio(p) = volume_ratio(p)*(1.0_dp + dstrain)
+               sb(i) = stress(p)*stress(p)*volume_ratio(p)*strain_factor
+               svb(i) = stress(p)*volume_ratio(p)*volume0
+               wb(i) = (yield_stress + 0.5_dp*hardening_modulus*hardening(p))*hardening(p)*volume0
+               jb(i) = volume_ratio(p)
+            else if (iand(shares, share_stress) /= 0) then ! (an initial mapping: the stress as it is)
+               svb(i) = stress(p)*volume_ratio(p)*volume0
+            end if
+            if (relocates) then ! the new cell, for P2G at the new position
+               call locate_cell(x(p), inv_dx, elements, elements_bits, cb(i), xib(i))
+               cell(p) = cb(i)
+            else                ! the shares go to the start-of-step cell
+               cb(i) = e
+               if (moves) xib(i) = xi
+            end if
+            if (moves .or. relocates) vpb(i) = v(p)
+         end do
+         else
+         do i = 1, n
+            p = b0 + i - 1
+            e = cell(p)
+            ! G2P with the start-of-step shape functions (XPIC)
+            if (moves) then
+               xi = x(p)*inv_dx - (e - 1)
+               vgrid = (1.0_dp - xi)*velocity(e - 1) + xi*velocity(e)
+               ! (`acceleration` is XPIC's field v* + dt a: over_segments passes it)
+               v(p) = (1.0_dp - xi)*acceleration(e - 1) + xi*acceleration(e)
+               dxp = dt*vgrid
+               x(p) = x(p) + dxp
+               db(i) = x(p) - x0(p)
+               kb(i) = half_m*v(p)*v(p)
+               mb(i, slot) = abs(dxp)*inv_dx
+            end if
+            if (stresses) then ! d eps = dt sum dN v_I over the start-of-step cell
+               if (moves) then
+                  dstrain = strain_increment(velocity(e - 1), velocity(e), dt, inv_dx)
+               else
+                  dstrain = strain_increment_of(e)
+               end if
+               call stress_hencky(dstrain, youngs_modulus, strain_factor, volume0, stress(p), volume_ratio(p), &
+                                  sb(i), svb(i))
+               jb(i) = volume_ratio(p)
+            else if (iand(shares, share_stress) /= 0) then ! (an initial mapping: the stress as it is)
+               svb(i) = stress(p)*volume_ratio(p)*volume0
+            end if
+            if (relocates) then ! the new cell, for P2G at the new position
+               call locate_cell(x(p), inv_dx, elements, elements_bits, cb(i), xib(i))
+               cell(p) = cb(i)
+            else                ! the shares go to the start-of-step cell
+               cb(i) = e
+               if (moves) xib(i) = xi
+            end if
+            if (moves .or. relocates) vpb(i) = v(p)
+         end do
+         end if
+         ! the block's totals (macros of mpm_lanes.fypi, expanded here)
+         if (moves) then
+            do lane_i = 1, n - lanes + 1, lanes
+               displacement = displacement + db(lane_i:lane_i + lanes - 1)
+            end do
+            lane_r = mod(n, lanes)
+            if (lane_r > 0) displacement(1:lane_r) = displacement(1:lane_r) + db(n - lane_r + 1:n)
+            do lane_i = 1, n - lanes + 1, lanes
+               kinetic = kinetic + kb(lane_i:lane_i + lanes - 1)
+            end do
+            lane_r = mod(n, lanes)
+            if (lane_r > 0) kinetic(1:lane_r) = kinetic(1:lane_r) + kb(n - lane_r + 1:n)
+            lane_max = 0.0_dp
+            do lane_i = 1, n - lanes + 1, lanes
+               lane_max = max(lane_max, mb(lane_i:lane_i + lanes - 1, slot))
+            end do
+            lane_r = mod(n, lanes)
+            if (lane_r > 0) lane_max(1:lane_r) = max(lane_max(1:lane_r), mb(n - lane_r + 1:n, slot))
+            block_max = maxval(lane_max)
+            if (block_max > largest%value) then
+               largest%value = block_max
+               largest%first = b0
+               largest%count = n
+               largest%slot = slot
+               slot = 3 - slot
+            end if
+         end if
+         if (stresses) then
+            do lane_i = 1, n - lanes + 1, lanes
+               strain = strain + sb(lane_i:lane_i + lanes - 1)
+            end do
+            lane_r = mod(n, lanes)
+            if (lane_r > 0) strain(1:lane_r) = strain(1:lane_r) + sb(n - lane_r + 1:n)
+            do lane_i = 1, n - lanes + 1, lanes
+               min_j = min(min_j, jb(lane_i:lane_i + lanes - 1))
+            end do
+            lane_r = mod(n, lanes)
+            if (lane_r > 0) min_j(1:lane_r) = min(min_j(1:lane_r), jb(n - lane_r + 1:n))
+         end if
+         if (plastic) then
+            do lane_i = 1, n - lanes + 1, lanes
+               work = work + wb(lane_i:lane_i + lanes - 1)
+            end do
+            lane_r = mod(n, lanes)
+            if (lane_r > 0) work(1:lane_r) = work(1:lane_r) + wb(n - lane_r + 1:n)
+         end if
+         if (relocates) call find_outside(n, b0, cb, outside)
+         call accumulate_block(k, n, cb, xib, vpb, svb, m, lo, hi, shares, run, mass_left, mass_right, momentum_left, &
+                               momentum_right, stress_volume, seg)
+      end do
+      call close_segment(k, shares, m, run, [lane_total(displacement), lane_total(kinetic), lane_total(strain), &
+                         lane_total(work)], &
+                         minval(min_j), largest%value, furthest_particle(largest, mb), outside, mass_left, mass_right, &
+                         momentum_left, momentum_right, stress_volume, seg)
+   end subroutine xpic_usl_segment
+
+   !> MUSL, first pass: G2P, and the new momentum back to the start-of-step nodes (the hat, XPIC)
+   subroutine xpic_musl_remap_segment(k, seg, x, x0, v, stress, volume_ratio, cell, acceleration, velocity, &
+                                      strain_increment_of, mass_left, mass_right, momentum_left, momentum_right, &
+                                      stress_volume, constants, carry, mass_of, modulus_of, forces, gradient, force_left, &
+                                      force_right, plastic_strain, hardening, yield_of, hardening_of, mapped, &
+                                      separating)
+      integer, parameter :: kernel = pass_musl_remap
+      logical, parameter :: moves = pass_moves(kernel), stresses = pass_stresses(kernel), relocates = pass_relocates(kernel)
+      integer, parameter :: shares = pass_shares(kernel)
+      integer, intent(in) :: k
+      type(segments_t), intent(inout) :: seg
+      real(dp), intent(inout), contiguous :: x(:), v(:), stress(:), volume_ratio(:)
+      real(dp), intent(in), contiguous :: x0(:)
+      integer, intent(inout), contiguous :: cell(:)
+      real(dp), intent(in), contiguous :: acceleration(0:), velocity(0:)
+      real(dp), intent(in), contiguous :: strain_increment_of(:)  !< per element (grid%element_strain)
+      real(dp), intent(inout), contiguous :: mass_left(:), mass_right(:), momentum_left(:), momentum_right(:), stress_volume(:)
+      type(pass_constants_t), intent(in) :: constants
+      real(dp), intent(inout), contiguous :: carry(:)  !< particles in parts: what a pass keeps for the next (fused_box_t)
+      !> the variants' per-particle data (absent when the run has none): masses and Young's moduli
+      !> (`material`), external forces (`forced`), APIC's velocity gradients C_p, and the element shares of
+      !> the forces
+      real(dp), intent(in), contiguous, optional :: mass_of(:), modulus_of(:), forces(:)
+      real(dp), intent(inout), contiguous, optional :: gradient(:), force_left(:), force_right(:)
+      !> the elastoplastic law's state (plastic strain, hardening variable) and, `material`, each particle's
+      !> yield stress and hardening modulus (absent for the other laws)
+      real(dp), intent(inout), contiguous, optional :: plastic_strain(:), hardening(:)
+      real(dp), intent(in), contiguous, optional :: yield_of(:), hardening_of(:)
+      !> ASFLIP's nodal velocity v^n of the step's mapping and each element's J of separation (absent for
+      !> the others)
+      real(dp), intent(in), contiguous, optional :: mapped(0:), separating(:)
+      integer :: p, e, i, n, b0, first, last, lo, hi, outside, ahead, elements
+      real(dp) :: half_m, strain_factor, dstrain, inv_dx, dt, youngs_modulus, m, volume0
+      logical :: linear, plastic
+      type(largest_move_t) :: largest
+      real(dp) :: displacement(lanes), kinetic(lanes), strain(lanes), min_j(lanes)
+      integer :: cb(block_size)
+      real(dp) :: svb(block_size), db(block_size), kb(block_size), sb(block_size), jb(block_size)
+      real(dp) :: mb(block_size, 2)  !< the moves of a block, and of the block with the largest (lanes_track_move)
+      integer :: slot
+      real(dp) :: lane_max(lanes), block_max
+      integer :: lane_i, lane_r
+      type(run_t) :: run
+      integer(i8) :: elements_bits
+      real(dp) :: xi, xib(block_size), vpb(block_size)
+      ! the variant's: G2P's grid velocity and move, the segment's body (cells offset), each particle's
+      ! shares (accumulate_shares)
+      real(dp) :: vgrid, dxp
+      elements = constants%elements
+      inv_dx = constants%inv_dx
+      dt = constants%dt
+      youngs_modulus = constants%youngs_modulus
+      linear = constants%linear
+      plastic = constants%plastic
+      m = constants%mass
+      volume0 = constants%volume0
+      call open_segment(k, shares, seg, mass_left, mass_right, momentum_left, momentum_right, stress_volume, first, last, &
+                        lo, hi)
+      displacement = 0; kinetic = 0; strain = 0; min_j = huge(1.0_dp)
+      slot = 1
+      outside = 0
+      elements_bits = transfer(real(elements, dp), 0_i8)
+      half_m = 0.5_dp*m
+      strain_factor = 0.0_dp
+      if (stresses) strain_factor = 0.5_dp*volume0/youngs_modulus
+      do b0 = first, last, block_size
+         n = min(block_size, last - b0 + 1)
+         if (seg%prefetch) then  ! the arrays the pass reads, and the grid values of the next blocks
+            ahead = b0 + prefetch_ahead
+            if (kernel == pass_usl) call prefetch_block(ahead, cell, x, x0, v, stress, volume_ratio)
+            if (kernel == pass_usf_move .or. kernel == pass_musl_remap) call prefetch_block(ahead, cell, x, x0, v)
+            if (kernel == pass_usf_stress) call prefetch_block(ahead, cell, stress, volume_ratio)
+            if (kernel == pass_musl_stress) call prefetch_block(ahead, cell, x, v, stress, volume_ratio)
+            if (stresses .and. plastic) call prefetch_block(ahead, cell, plastic_strain, hardening)
+            if (moves) then
+               call prefetch_nodes(cell(b0), cell(b0 + n - 1), acceleration, velocity)
+            else
+               call prefetch_elements(cell(b0), cell(b0 + n - 1), strain_increment_of)
+            end if
+         end if
+         do i = 1, n
+            p = b0 + i - 1
+            e = cell(p)
+            ! G2P with the start-of-step shape functions (XPIC)
+            if (moves) then
+               xi = x(p)*inv_dx - (e - 1)
+               vgrid = (1.0_dp - xi)*velocity(e - 1) + xi*velocity(e)
+               ! (`acceleration` is XPIC's field v* + dt a: over_segments passes it)
+               v(p) = (1.0_dp - xi)*acceleration(e - 1) + xi*acceleration(e)
+               dxp = dt*vgrid
+               x(p) = x(p) + dxp
+               db(i) = x(p) - x0(p)
+               kb(i) = half_m*v(p)*v(p)
+               mb(i, slot) = abs(dxp)*inv_dx
+            end if
+            if (stresses) then ! d eps = dt sum dN v_I over the start-of-step cell
+               if (moves) then
+                  dstrain = strain_increment(velocity(e - 1), velocity(e), dt, inv_dx)
+               else
+                  dstrain = strain_increment_of(e)
+               end if
+               call stress_hencky(dstrain, youngs_modulus, strain_factor, volume0, stress(p), volume_ratio(p), &
+                                  sb(i), svb(i))
+               jb(i) = volume_ratio(p)
+            else if (iand(shares, share_stress) /= 0) then ! (an initial mapping: the stress as it is)
+               svb(i) = stress(p)*volume_ratio(p)*volume0
+            end if
+            if (relocates) then ! the new cell, for P2G at the new position
+               call locate_cell(x(p), inv_dx, elements, elements_bits, cb(i), xib(i))
+               cell(p) = cb(i)
+            else                ! the shares go to the start-of-step cell
+               cb(i) = e
+               if (moves) xib(i) = xi
+            end if
+            if (moves .or. relocates) vpb(i) = v(p)
+         end do
+         ! the block's totals (macros of mpm_lanes.fypi, expanded here)
+         if (moves) then
+            do lane_i = 1, n - lanes + 1, lanes
+               displacement = displacement + db(lane_i:lane_i + lanes - 1)
+            end do
+            lane_r = mod(n, lanes)
+            if (lane_r > 0) displacement(1:lane_r) = displacement(1:lane_r) + db(n - lane_r + 1:n)
+            do lane_i = 1, n - lanes + 1, lanes
+               kinetic = kinetic + kb(lane_i:lane_i + lanes - 1)
+            end do
+            lane_r = mod(n, lanes)
+            if (lane_r > 0) kinetic(1:lane_r) = kinetic(1:lane_r) + kb(n - lane_r + 1:n)
+            lane_max = 0.0_dp
+            do lane_i = 1, n - lanes + 1, lanes
+               lane_max = max(lane_max, mb(lane_i:lane_i + lanes - 1, slot))
+            end do
+            lane_r = mod(n, lanes)
+            if (lane_r > 0) lane_max(1:lane_r) = max(lane_max(1:lane_r), mb(n - lane_r + 1:n, slot))
+            block_max = maxval(lane_max)
+            if (block_max > largest%value) then
+               largest%value = block_max
+               largest%first = b0
+               largest%count = n
+               largest%slot = slot
+               slot = 3 - slot
+            end if
+         end if
+         if (stresses) then
+            do lane_i = 1, n - lanes + 1, lanes
+               strain = strain + sb(lane_i:lane_i + lanes - 1)
+            end do
+            lane_r = mod(n, lanes)
+            if (lane_r > 0) strain(1:lane_r) = strain(1:lane_r) + sb(n - lane_r + 1:n)
+            do lane_i = 1, n - lanes + 1, lanes
+               min_j = min(min_j, jb(lane_i:lane_i + lanes - 1))
+            end do
+            lane_r = mod(n, lanes)
+            if (lane_r > 0) min_j(1:lane_r) = min(min_j(1:lane_r), jb(n - lane_r + 1:n))
+         end if
+         if (relocates) call find_outside(n, b0, cb, outside)
+         call accumulate_block(k, n, cb, xib, vpb, svb, m, lo, hi, shares, run, mass_left, mass_right, momentum_left, &
+                               momentum_right, stress_volume, seg)
+      end do
+      call close_segment(k, shares, m, run, [lane_total(displacement), lane_total(kinetic), lane_total(strain), &
+                         0.0_dp], &
+                         minval(min_j), largest%value, furthest_particle(largest, mb), outside, mass_left, mass_right, &
+                         momentum_left, momentum_right, stress_volume, seg)
+   end subroutine xpic_musl_remap_segment
+
+   !> MUSL, second pass: stress update from the remapped velocities, P2G at the new position (the hat, XPIC)
+   subroutine xpic_musl_stress_segment(k, seg, x, x0, v, stress, volume_ratio, cell, acceleration, velocity, &
+                                       strain_increment_of, mass_left, mass_right, momentum_left, momentum_right, &
+                                       stress_volume, constants, carry, mass_of, modulus_of, forces, gradient, force_left, &
+                                       force_right, plastic_strain, hardening, yield_of, hardening_of, mapped, &
+                                       separating)
+      integer, parameter :: kernel = pass_musl_stress
+      logical, parameter :: moves = pass_moves(kernel), stresses = pass_stresses(kernel), relocates = pass_relocates(kernel)
+      integer, parameter :: shares = pass_shares(kernel)
+      integer, intent(in) :: k
+      type(segments_t), intent(inout) :: seg
+      real(dp), intent(inout), contiguous :: x(:), v(:), stress(:), volume_ratio(:)
+      real(dp), intent(in), contiguous :: x0(:)
+      integer, intent(inout), contiguous :: cell(:)
+      real(dp), intent(in), contiguous :: acceleration(0:), velocity(0:)
+      real(dp), intent(in), contiguous :: strain_increment_of(:)  !< per element (grid%element_strain)
+      real(dp), intent(inout), contiguous :: mass_left(:), mass_right(:), momentum_left(:), momentum_right(:), stress_volume(:)
+      type(pass_constants_t), intent(in) :: constants
+      real(dp), intent(inout), contiguous :: carry(:)  !< particles in parts: what a pass keeps for the next (fused_box_t)
+      !> the variants' per-particle data (absent when the run has none): masses and Young's moduli
+      !> (`material`), external forces (`forced`), APIC's velocity gradients C_p, and the element shares of
+      !> the forces
+      real(dp), intent(in), contiguous, optional :: mass_of(:), modulus_of(:), forces(:)
+      real(dp), intent(inout), contiguous, optional :: gradient(:), force_left(:), force_right(:)
+      !> the elastoplastic law's state (plastic strain, hardening variable) and, `material`, each particle's
+      !> yield stress and hardening modulus (absent for the other laws)
+      real(dp), intent(inout), contiguous, optional :: plastic_strain(:), hardening(:)
+      real(dp), intent(in), contiguous, optional :: yield_of(:), hardening_of(:)
+      !> ASFLIP's nodal velocity v^n of the step's mapping and each element's J of separation (absent for
+      !> the others)
+      real(dp), intent(in), contiguous, optional :: mapped(0:), separating(:)
+      integer :: p, e, i, n, b0, first, last, lo, hi, outside, ahead, elements
+      real(dp) :: half_m, strain_factor, dstrain, inv_dx, dt, youngs_modulus, m, volume0
+      logical :: linear, plastic
+      ! the elastoplastic law's constants and the block's plastic work, summed in lanes
+      real(dp) :: yield_stress, hardening_modulus, increment, wb(block_size), work(lanes)
+      type(largest_move_t) :: largest
+      real(dp) :: displacement(lanes), kinetic(lanes), strain(lanes), min_j(lanes)
+      integer :: cb(block_size)
+      real(dp) :: svb(block_size), db(block_size), kb(block_size), sb(block_size), jb(block_size)
+      real(dp) :: mb(block_size, 2)  !< the moves of a block, and of the block with the largest (lanes_track_move)
+      integer :: slot
+      real(dp) :: lane_max(lanes), block_max
+      integer :: lane_i, lane_r
+      type(run_t) :: run
+      integer(i8) :: elements_bits
+      real(dp) :: xi, xib(block_size), vpb(block_size)
+      ! the variant's: G2P's grid velocity and move, the segment's body (cells offset), each particle's
+      ! shares (accumulate_shares)
+      real(dp) :: vgrid, dxp
+      elements = constants%elements
+      inv_dx = constants%inv_dx
+      dt = constants%dt
+      youngs_modulus = constants%youngs_modulus
+      linear = constants%linear
+      plastic = constants%plastic
+      yield_stress = constants%yield_stress
+      hardening_modulus = constants%hardening_modulus
+      work = 0
+      m = constants%mass
+      volume0 = constants%volume0
+      call open_segment(k, shares, seg, mass_left, mass_right, momentum_left, momentum_right, stress_volume, first, last, &
+                        lo, hi)
+      displacement = 0; kinetic = 0; strain = 0; min_j = huge(1.0_dp)
+      slot = 1
+      outside = 0
+      elements_bits = transfer(real(elements, dp), 0_i8)
+      half_m = 0.5_dp*m
+      strain_factor = 0.0_dp
+      if (stresses) strain_factor = 0.5_dp*volume0/youngs_modulus
+      do b0 = first, last, block_size
+         n = min(block_size, last - b0 + 1)
+         if (seg%prefetch) then  ! the arrays the pass reads, and the grid values of the next blocks
+            ahead = b0 + prefetch_ahead
+            if (kernel == pass_usl) call prefetch_block(ahead, cell, x, x0, v, stress, volume_ratio)
+            if (kernel == pass_usf_move .or. kernel == pass_musl_remap) call prefetch_block(ahead, cell, x, x0, v)
+            if (kernel == pass_usf_stress) call prefetch_block(ahead, cell, stress, volume_ratio)
+            if (kernel == pass_musl_stress) call prefetch_block(ahead, cell, x, v, stress, volume_ratio)
+            if (stresses .and. plastic) call prefetch_block(ahead, cell, plastic_strain, hardening)
+            if (moves) then
+               call prefetch_nodes(cell(b0), cell(b0 + n - 1), acceleration, velocity)
+            else
+               call prefetch_elements(cell(b0), cell(b0 + n - 1), strain_increment_of)
+            end if
+         end if
+         if (linear) then
+         do i = 1, n
+            p = b0 + i - 1
+            e = cell(p)
+            ! G2P with the start-of-step shape functions (XPIC)
+            if (moves) then
+               xi = x(p)*inv_dx - (e - 1)
+               vgrid = (1.0_dp - xi)*velocity(e - 1) + xi*velocity(e)
+               ! (`acceleration` is XPIC's field v* + dt a: over_segments passes it)
+               v(p) = (1.0_dp - xi)*acceleration(e - 1) + xi*acceleration(e)
+               dxp = dt*vgrid
+               x(p) = x(p) + dxp
+               db(i) = x(p) - x0(p)
+               kb(i) = half_m*v(p)*v(p)
+               mb(i, slot) = abs(dxp)*inv_dx
+            end if
+            if (stresses) then ! d eps = dt sum dN v_I over the start-of-step cell
+               if (moves) then
+                  dstrain = strain_increment(velocity(e - 1), velocity(e), dt, inv_dx)
+               else
+                  dstrain = strain_increment_of(e)
+               end if
+               call stress_linear(dstrain, youngs_modulus, strain_factor, volume0, stress(p), volume_ratio(p), &
+                                  sb(i), svb(i))
+               jb(i) = volume_ratio(p)
+            else if (iand(shares, share_stress) /= 0) then ! (an initial mapping: the stress as it is)
+               svb(i) = stress(p)*volume_ratio(p)*volume0
+            end if
+            if (relocates) then ! the new cell, for P2G at the new position
+               call locate_cell(x(p), inv_dx, elements, elements_bits, cb(i), xib(i))
+               cell(p) = cb(i)
+            else                ! the shares go to the start-of-step cell
+               cb(i) = e
+               if (moves) xib(i) = xi
+            end if
+            if (moves .or. relocates) vpb(i) = v(p)
+         end do
+         else if (plastic) then
+         do i = 1, n
+            p = b0 + i - 1
+            e = cell(p)
+            ! G2P with the start-of-step shape functions (XPIC)
+            if (moves) then
+               xi = x(p)*inv_dx - (e - 1)
+               vgrid = (1.0_dp - xi)*velocity(e - 1) + xi*velocity(e)
+               ! (`acceleration` is XPIC's field v* + dt a: over_segments passes it)
+               v(p) = (1.0_dp - xi)*acceleration(e - 1) + xi*acceleration(e)
+               dxp = dt*vgrid
+               x(p) = x(p) + dxp
+               db(i) = x(p) - x0(p)
+               kb(i) = half_m*v(p)*v(p)
+               mb(i, slot) = abs(dxp)*inv_dx
+            end if
+            if (stresses) then ! d eps = dt sum dN v_I over the start-of-step cell
+               if (moves) then
+                  dstrain = strain_increment(velocity(e - 1), velocity(e), dt, inv_dx)
+               else
+                  dstrain = strain_increment_of(e)
+               end if
+               stress(p) = stress(p) + youngs_modulus*dstrain
+               ! d gamma, zero in an elastic step: written without a branch, so that a loop over particles
+               ! vectorises; an elastic step then subtracts and adds zeros, which leaves the hencky bits
+               increment = max(abs(stress(p)) - (yield_stress + hardening_modulus*hardening(p)), 0.0_dp)/ &
+                           (youngs_modulus + hardening_modulus)
+               stress(p) = stress(p) - sign(youngs_modulus*increment, stress(p))
+               plastic_strain(p) = plastic_strain(p) + sign(increment, stress(p))
+               hardening(p) = hardening(p) + increment
+               volume_ratio(p) = volume_ratio(p)*(1.0_dp + dstrain)
+               sb(i) = stress(p)*stress(p)*volume_ratio(p)*strain_factor
+               svb(i) = stress(p)*volume_ratio(p)*volume0
+               wb(i) = (yield_stress + 0.5_dp*hardening_modulus*hardening(p))*hardening(p)*volume0
+               jb(i) = volume_ratio(p)
+            else if (iand(shares, share_stress) /= 0) then ! (an initial mapping: the stress as it is)
+               svb(i) = stress(p)*volume_ratio(p)*volume0
+            end if
+            if (relocates) then ! the new cell, for P2G at the new position
+               call locate_cell(x(p), inv_dx, elements, elements_bits, cb(i), xib(i))
+               cell(p) = cb(i)
+            else                ! the shares go to the start-of-step cell
+               cb(i) = e
+               if (moves) xib(i) = xi
+            end if
+            if (moves .or. relocates) vpb(i) = v(p)
+         end do
+         else
+         do i = 1, n
+            p = b0 + i - 1
+            e = cell(p)
+            ! G2P with the start-of-step shape functions (XPIC)
+            if (moves) then
+               xi = x(p)*inv_dx - (e - 1)
+               vgrid = (1.0_dp - xi)*velocity(e - 1) + xi*velocity(e)
+               ! (`acceleration` is XPIC's field v* + dt a: over_segments passes it)
+               v(p) = (1.0_dp - xi)*acceleration(e - 1) + xi*acceleration(e)
+               dxp = dt*vgrid
+               x(p) = x(p) + dxp
+               db(i) = x(p) - x0(p)
+               kb(i) = half_m*v(p)*v(p)
+               mb(i, slot) = abs(dxp)*inv_dx
+            end if
+            if (stresses) then ! d eps = dt sum dN v_I over the start-of-step cell
+               if (moves) then
+                  dstrain = strain_increment(velocity(e - 1), velocity(e), dt, inv_dx)
+               else
+                  dstrain = strain_increment_of(e)
+               end if
+               call stress_hencky(dstrain, youngs_modulus, strain_factor, volume0, stress(p), volume_ratio(p), &
+                                  sb(i), svb(i))
+               jb(i) = volume_ratio(p)
+            else if (iand(shares, share_stress) /= 0) then ! (an initial mapping: the stress as it is)
+               svb(i) = stress(p)*volume_ratio(p)*volume0
+            end if
+            if (relocates) then ! the new cell, for P2G at the new position
+               call locate_cell(x(p), inv_dx, elements, elements_bits, cb(i), xib(i))
+               cell(p) = cb(i)
+            else                ! the shares go to the start-of-step cell
+               cb(i) = e
+               if (moves) xib(i) = xi
+            end if
+            if (moves .or. relocates) vpb(i) = v(p)
+         end do
+         end if
+         ! the block's totals (macros of mpm_lanes.fypi, expanded here)
+         if (moves) then
+            do lane_i = 1, n - lanes + 1, lanes
+               displacement = displacement + db(lane_i:lane_i + lanes - 1)
+            end do
+            lane_r = mod(n, lanes)
+            if (lane_r > 0) displacement(1:lane_r) = displacement(1:lane_r) + db(n - lane_r + 1:n)
+            do lane_i = 1, n - lanes + 1, lanes
+               kinetic = kinetic + kb(lane_i:lane_i + lanes - 1)
+            end do
+            lane_r = mod(n, lanes)
+            if (lane_r > 0) kinetic(1:lane_r) = kinetic(1:lane_r) + kb(n - lane_r + 1:n)
+            lane_max = 0.0_dp
+            do lane_i = 1, n - lanes + 1, lanes
+               lane_max = max(lane_max, mb(lane_i:lane_i + lanes - 1, slot))
+            end do
+            lane_r = mod(n, lanes)
+            if (lane_r > 0) lane_max(1:lane_r) = max(lane_max(1:lane_r), mb(n - lane_r + 1:n, slot))
+            block_max = maxval(lane_max)
+            if (block_max > largest%value) then
+               largest%value = block_max
+               largest%first = b0
+               largest%count = n
+               largest%slot = slot
+               slot = 3 - slot
+            end if
+         end if
+         if (stresses) then
+            do lane_i = 1, n - lanes + 1, lanes
+               strain = strain + sb(lane_i:lane_i + lanes - 1)
+            end do
+            lane_r = mod(n, lanes)
+            if (lane_r > 0) strain(1:lane_r) = strain(1:lane_r) + sb(n - lane_r + 1:n)
+            do lane_i = 1, n - lanes + 1, lanes
+               min_j = min(min_j, jb(lane_i:lane_i + lanes - 1))
+            end do
+            lane_r = mod(n, lanes)
+            if (lane_r > 0) min_j(1:lane_r) = min(min_j(1:lane_r), jb(n - lane_r + 1:n))
+         end if
+         if (plastic) then
+            do lane_i = 1, n - lanes + 1, lanes
+               work = work + wb(lane_i:lane_i + lanes - 1)
+            end do
+            lane_r = mod(n, lanes)
+            if (lane_r > 0) work(1:lane_r) = work(1:lane_r) + wb(n - lane_r + 1:n)
+         end if
+         if (relocates) call find_outside(n, b0, cb, outside)
+         call accumulate_block(k, n, cb, xib, vpb, svb, m, lo, hi, shares, run, mass_left, mass_right, momentum_left, &
+                               momentum_right, stress_volume, seg)
+      end do
+      call close_segment(k, shares, m, run, [lane_total(displacement), lane_total(kinetic), lane_total(strain), &
+                         lane_total(work)], &
+                         minval(min_j), largest%value, furthest_particle(largest, mb), outside, mass_left, mass_right, &
+                         momentum_left, momentum_right, stress_volume, seg)
+   end subroutine xpic_musl_stress_segment
+
+   !> initial mapping: mass and momentum (the hat, XPIC)
+   subroutine xpic_map_segment(k, seg, x, x0, v, stress, volume_ratio, cell, acceleration, velocity, &
+                               strain_increment_of, mass_left, mass_right, momentum_left, momentum_right, &
+                               stress_volume, constants, carry, mass_of, modulus_of, forces, gradient, force_left, &
+                               force_right, plastic_strain, hardening, yield_of, hardening_of, mapped, &
+                               separating)
+      integer, parameter :: kernel = pass_map
+      logical, parameter :: moves = pass_moves(kernel), stresses = pass_stresses(kernel), relocates = pass_relocates(kernel)
+      integer, parameter :: shares = pass_shares(kernel)
+      integer, intent(in) :: k
+      type(segments_t), intent(inout) :: seg
+      real(dp), intent(inout), contiguous :: x(:), v(:), stress(:), volume_ratio(:)
+      real(dp), intent(in), contiguous :: x0(:)
+      integer, intent(inout), contiguous :: cell(:)
+      real(dp), intent(in), contiguous :: acceleration(0:), velocity(0:)
+      real(dp), intent(in), contiguous :: strain_increment_of(:)  !< per element (grid%element_strain)
+      real(dp), intent(inout), contiguous :: mass_left(:), mass_right(:), momentum_left(:), momentum_right(:), stress_volume(:)
+      type(pass_constants_t), intent(in) :: constants
+      real(dp), intent(inout), contiguous :: carry(:)  !< particles in parts: what a pass keeps for the next (fused_box_t)
+      !> the variants' per-particle data (absent when the run has none): masses and Young's moduli
+      !> (`material`), external forces (`forced`), APIC's velocity gradients C_p, and the element shares of
+      !> the forces
+      real(dp), intent(in), contiguous, optional :: mass_of(:), modulus_of(:), forces(:)
+      real(dp), intent(inout), contiguous, optional :: gradient(:), force_left(:), force_right(:)
+      !> the elastoplastic law's state (plastic strain, hardening variable) and, `material`, each particle's
+      !> yield stress and hardening modulus (absent for the other laws)
+      real(dp), intent(inout), contiguous, optional :: plastic_strain(:), hardening(:)
+      real(dp), intent(in), contiguous, optional :: yield_of(:), hardening_of(:)
+      !> ASFLIP's nodal velocity v^n of the step's mapping and each element's J of separation (absent for
+      !> the others)
+      real(dp), intent(in), contiguous, optional :: mapped(0:), separating(:)
+      integer :: p, e, i, n, b0, first, last, lo, hi, outside, ahead, elements
+      real(dp) :: half_m, strain_factor, dstrain, inv_dx, dt, youngs_modulus, m, volume0
+      logical :: linear, plastic
+      type(largest_move_t) :: largest
+      real(dp) :: displacement(lanes), kinetic(lanes), strain(lanes), min_j(lanes)
+      integer :: cb(block_size)
+      real(dp) :: svb(block_size), db(block_size), kb(block_size), sb(block_size), jb(block_size)
+      real(dp) :: mb(block_size, 2)  !< the moves of a block, and of the block with the largest (lanes_track_move)
+      integer :: slot
+      real(dp) :: lane_max(lanes), block_max
+      integer :: lane_i, lane_r
+      type(run_t) :: run
+      integer(i8) :: elements_bits
+      real(dp) :: xi, xib(block_size), vpb(block_size)
+      ! the variant's: G2P's grid velocity and move, the segment's body (cells offset), each particle's
+      ! shares (accumulate_shares)
+      real(dp) :: vgrid, dxp
+      elements = constants%elements
+      inv_dx = constants%inv_dx
+      dt = constants%dt
+      youngs_modulus = constants%youngs_modulus
+      linear = constants%linear
+      plastic = constants%plastic
+      m = constants%mass
+      volume0 = constants%volume0
+      call open_segment(k, shares, seg, mass_left, mass_right, momentum_left, momentum_right, stress_volume, first, last, &
+                        lo, hi)
+      displacement = 0; kinetic = 0; strain = 0; min_j = huge(1.0_dp)
+      slot = 1
+      outside = 0
+      elements_bits = transfer(real(elements, dp), 0_i8)
+      half_m = 0.5_dp*m
+      strain_factor = 0.0_dp
+      if (stresses) strain_factor = 0.5_dp*volume0/youngs_modulus
+      do b0 = first, last, block_size
+         n = min(block_size, last - b0 + 1)
+         if (seg%prefetch) then  ! the arrays the pass reads, and the grid values of the next blocks
+            ahead = b0 + prefetch_ahead
+            if (kernel == pass_usl) call prefetch_block(ahead, cell, x, x0, v, stress, volume_ratio)
+            if (kernel == pass_usf_move .or. kernel == pass_musl_remap) call prefetch_block(ahead, cell, x, x0, v)
+            if (kernel == pass_usf_stress) call prefetch_block(ahead, cell, stress, volume_ratio)
+            if (kernel == pass_musl_stress) call prefetch_block(ahead, cell, x, v, stress, volume_ratio)
+            if (stresses .and. plastic) call prefetch_block(ahead, cell, plastic_strain, hardening)
+            if (moves) then
+               call prefetch_nodes(cell(b0), cell(b0 + n - 1), acceleration, velocity)
+            else
+               call prefetch_elements(cell(b0), cell(b0 + n - 1), strain_increment_of)
+            end if
+         end if
+         do i = 1, n
+            p = b0 + i - 1
+            e = cell(p)
+            ! G2P with the start-of-step shape functions (XPIC)
+            if (moves) then
+               xi = x(p)*inv_dx - (e - 1)
+               vgrid = (1.0_dp - xi)*velocity(e - 1) + xi*velocity(e)
+               ! (`acceleration` is XPIC's field v* + dt a: over_segments passes it)
+               v(p) = (1.0_dp - xi)*acceleration(e - 1) + xi*acceleration(e)
+               dxp = dt*vgrid
+               x(p) = x(p) + dxp
+               db(i) = x(p) - x0(p)
+               kb(i) = half_m*v(p)*v(p)
+               mb(i, slot) = abs(dxp)*inv_dx
+            end if
+            if (stresses) then ! d eps = dt sum dN v_I over the start-of-step cell
+               if (moves) then
+                  dstrain = strain_increment(velocity(e - 1), velocity(e), dt, inv_dx)
+               else
+                  dstrain = strain_increment_of(e)
+               end if
+               call stress_hencky(dstrain, youngs_modulus, strain_factor, volume0, stress(p), volume_ratio(p), &
+                                  sb(i), svb(i))
+               jb(i) = volume_ratio(p)
+            else if (iand(shares, share_stress) /= 0) then ! (an initial mapping: the stress as it is)
+               svb(i) = stress(p)*volume_ratio(p)*volume0
+            end if
+            if (relocates) then ! the new cell, for P2G at the new position
+               call locate_cell(x(p), inv_dx, elements, elements_bits, cb(i), xib(i))
+               cell(p) = cb(i)
+            else                ! the shares go to the start-of-step cell
+               cb(i) = e
+               if (moves) xib(i) = xi
+            end if
+            if (moves .or. relocates) vpb(i) = v(p)
+         end do
+         ! the block's totals (macros of mpm_lanes.fypi, expanded here)
+         if (moves) then
+            do lane_i = 1, n - lanes + 1, lanes
+               displacement = displacement + db(lane_i:lane_i + lanes - 1)
+            end do
+            lane_r = mod(n, lanes)
+            if (lane_r > 0) displacement(1:lane_r) = displacement(1:lane_r) + db(n - lane_r + 1:n)
+            do lane_i = 1, n - lanes + 1, lanes
+               kinetic = kinetic + kb(lane_i:lane_i + lanes - 1)
+            end do
+            lane_r = mod(n, lanes)
+            if (lane_r > 0) kinetic(1:lane_r) = kinetic(1:lane_r) + kb(n - lane_r + 1:n)
+            lane_max = 0.0_dp
+            do lane_i = 1, n - lanes + 1, lanes
+               lane_max = max(lane_max, mb(lane_i:lane_i + lanes - 1, slot))
+            end do
+            lane_r = mod(n, lanes)
+            if (lane_r > 0) lane_max(1:lane_r) = max(lane_max(1:lane_r), mb(n - lane_r + 1:n, slot))
+            block_max = maxval(lane_max)
+            if (block_max > largest%value) then
+               largest%value = block_max
+               largest%first = b0
+               largest%count = n
+               largest%slot = slot
+               slot = 3 - slot
+            end if
+         end if
+         if (stresses) then
+            do lane_i = 1, n - lanes + 1, lanes
+               strain = strain + sb(lane_i:lane_i + lanes - 1)
+            end do
+            lane_r = mod(n, lanes)
+            if (lane_r > 0) strain(1:lane_r) = strain(1:lane_r) + sb(n - lane_r + 1:n)
+            do lane_i = 1, n - lanes + 1, lanes
+               min_j = min(min_j, jb(lane_i:lane_i + lanes - 1))
+            end do
+            lane_r = mod(n, lanes)
+            if (lane_r > 0) min_j(1:lane_r) = min(min_j(1:lane_r), jb(n - lane_r + 1:n))
+         end if
+         if (relocates) call find_outside(n, b0, cb, outside)
+         call accumulate_block(k, n, cb, xib, vpb, svb, m, lo, hi, shares, run, mass_left, mass_right, momentum_left, &
+                               momentum_right, stress_volume, seg)
+      end do
+      call close_segment(k, shares, m, run, [lane_total(displacement), lane_total(kinetic), lane_total(strain), &
+                         0.0_dp], &
+                         minval(min_j), largest%value, furthest_particle(largest, mb), outside, mass_left, mass_right, &
+                         momentum_left, momentum_right, stress_volume, seg)
+   end subroutine xpic_map_segment
+
+   !> initial mapping: mass, momentum and stress*volume (and forces) (the hat, XPIC)
+   subroutine xpic_map_stress_segment(k, seg, x, x0, v, stress, volume_ratio, cell, acceleration, velocity, &
+                                      strain_increment_of, mass_left, mass_right, momentum_left, momentum_right, &
+                                      stress_volume, constants, carry, mass_of, modulus_of, forces, gradient, force_left, &
+                                      force_right, plastic_strain, hardening, yield_of, hardening_of, mapped, &
+                                      separating)
+      integer, parameter :: kernel = pass_map_stress
+      logical, parameter :: moves = pass_moves(kernel), stresses = pass_stresses(kernel), relocates = pass_relocates(kernel)
+      integer, parameter :: shares = pass_shares(kernel)
+      integer, intent(in) :: k
+      type(segments_t), intent(inout) :: seg
+      real(dp), intent(inout), contiguous :: x(:), v(:), stress(:), volume_ratio(:)
+      real(dp), intent(in), contiguous :: x0(:)
+      integer, intent(inout), contiguous :: cell(:)
+      real(dp), intent(in), contiguous :: acceleration(0:), velocity(0:)
+      real(dp), intent(in), contiguous :: strain_increment_of(:)  !< per element (grid%element_strain)
+      real(dp), intent(inout), contiguous :: mass_left(:), mass_right(:), momentum_left(:), momentum_right(:), stress_volume(:)
+      type(pass_constants_t), intent(in) :: constants
+      real(dp), intent(inout), contiguous :: carry(:)  !< particles in parts: what a pass keeps for the next (fused_box_t)
+      !> the variants' per-particle data (absent when the run has none): masses and Young's moduli
+      !> (`material`), external forces (`forced`), APIC's velocity gradients C_p, and the element shares of
+      !> the forces
+      real(dp), intent(in), contiguous, optional :: mass_of(:), modulus_of(:), forces(:)
+      real(dp), intent(inout), contiguous, optional :: gradient(:), force_left(:), force_right(:)
+      !> the elastoplastic law's state (plastic strain, hardening variable) and, `material`, each particle's
+      !> yield stress and hardening modulus (absent for the other laws)
+      real(dp), intent(inout), contiguous, optional :: plastic_strain(:), hardening(:)
+      real(dp), intent(in), contiguous, optional :: yield_of(:), hardening_of(:)
+      !> ASFLIP's nodal velocity v^n of the step's mapping and each element's J of separation (absent for
+      !> the others)
+      real(dp), intent(in), contiguous, optional :: mapped(0:), separating(:)
+      integer :: p, e, i, n, b0, first, last, lo, hi, outside, ahead, elements
+      real(dp) :: half_m, strain_factor, dstrain, inv_dx, dt, youngs_modulus, m, volume0
+      logical :: linear, plastic
+      type(largest_move_t) :: largest
+      real(dp) :: displacement(lanes), kinetic(lanes), strain(lanes), min_j(lanes)
+      integer :: cb(block_size)
+      real(dp) :: svb(block_size), db(block_size), kb(block_size), sb(block_size), jb(block_size)
+      real(dp) :: mb(block_size, 2)  !< the moves of a block, and of the block with the largest (lanes_track_move)
+      integer :: slot
+      real(dp) :: lane_max(lanes), block_max
+      integer :: lane_i, lane_r
+      type(run_t) :: run
+      integer(i8) :: elements_bits
+      real(dp) :: xi, xib(block_size), vpb(block_size)
+      ! the variant's: G2P's grid velocity and move, the segment's body (cells offset), each particle's
+      ! shares (accumulate_shares)
+      real(dp) :: vgrid, dxp
+      elements = constants%elements
+      inv_dx = constants%inv_dx
+      dt = constants%dt
+      youngs_modulus = constants%youngs_modulus
+      linear = constants%linear
+      plastic = constants%plastic
+      m = constants%mass
+      volume0 = constants%volume0
+      call open_segment(k, shares, seg, mass_left, mass_right, momentum_left, momentum_right, stress_volume, first, last, &
+                        lo, hi)
+      displacement = 0; kinetic = 0; strain = 0; min_j = huge(1.0_dp)
+      slot = 1
+      outside = 0
+      elements_bits = transfer(real(elements, dp), 0_i8)
+      half_m = 0.5_dp*m
+      strain_factor = 0.0_dp
+      if (stresses) strain_factor = 0.5_dp*volume0/youngs_modulus
+      do b0 = first, last, block_size
+         n = min(block_size, last - b0 + 1)
+         if (seg%prefetch) then  ! the arrays the pass reads, and the grid values of the next blocks
+            ahead = b0 + prefetch_ahead
+            if (kernel == pass_usl) call prefetch_block(ahead, cell, x, x0, v, stress, volume_ratio)
+            if (kernel == pass_usf_move .or. kernel == pass_musl_remap) call prefetch_block(ahead, cell, x, x0, v)
+            if (kernel == pass_usf_stress) call prefetch_block(ahead, cell, stress, volume_ratio)
+            if (kernel == pass_musl_stress) call prefetch_block(ahead, cell, x, v, stress, volume_ratio)
+            if (stresses .and. plastic) call prefetch_block(ahead, cell, plastic_strain, hardening)
+            if (moves) then
+               call prefetch_nodes(cell(b0), cell(b0 + n - 1), acceleration, velocity)
+            else
+               call prefetch_elements(cell(b0), cell(b0 + n - 1), strain_increment_of)
+            end if
+         end if
+         do i = 1, n
+            p = b0 + i - 1
+            e = cell(p)
+            ! G2P with the start-of-step shape functions (XPIC)
+            if (moves) then
+               xi = x(p)*inv_dx - (e - 1)
+               vgrid = (1.0_dp - xi)*velocity(e - 1) + xi*velocity(e)
+               ! (`acceleration` is XPIC's field v* + dt a: over_segments passes it)
+               v(p) = (1.0_dp - xi)*acceleration(e - 1) + xi*acceleration(e)
+               dxp = dt*vgrid
+               x(p) = x(p) + dxp
+               db(i) = x(p) - x0(p)
+               kb(i) = half_m*v(p)*v(p)
+               mb(i, slot) = abs(dxp)*inv_dx
+            end if
+            if (stresses) then ! d eps = dt sum dN v_I over the start-of-step cell
+               if (moves) then
+                  dstrain = strain_increment(velocity(e - 1), velocity(e), dt, inv_dx)
+               else
+                  dstrain = strain_increment_of(e)
+               end if
+               call stress_hencky(dstrain, youngs_modulus, strain_factor, volume0, stress(p), volume_ratio(p), &
+                                  sb(i), svb(i))
+               jb(i) = volume_ratio(p)
+            else if (iand(shares, share_stress) /= 0) then ! (an initial mapping: the stress as it is)
+               svb(i) = stress(p)*volume_ratio(p)*volume0
+            end if
+            if (relocates) then ! the new cell, for P2G at the new position
+               call locate_cell(x(p), inv_dx, elements, elements_bits, cb(i), xib(i))
+               cell(p) = cb(i)
+            else                ! the shares go to the start-of-step cell
+               cb(i) = e
+               if (moves) xib(i) = xi
+            end if
+            if (moves .or. relocates) vpb(i) = v(p)
+         end do
+         ! the block's totals (macros of mpm_lanes.fypi, expanded here)
+         if (moves) then
+            do lane_i = 1, n - lanes + 1, lanes
+               displacement = displacement + db(lane_i:lane_i + lanes - 1)
+            end do
+            lane_r = mod(n, lanes)
+            if (lane_r > 0) displacement(1:lane_r) = displacement(1:lane_r) + db(n - lane_r + 1:n)
+            do lane_i = 1, n - lanes + 1, lanes
+               kinetic = kinetic + kb(lane_i:lane_i + lanes - 1)
+            end do
+            lane_r = mod(n, lanes)
+            if (lane_r > 0) kinetic(1:lane_r) = kinetic(1:lane_r) + kb(n - lane_r + 1:n)
+            lane_max = 0.0_dp
+            do lane_i = 1, n - lanes + 1, lanes
+               lane_max = max(lane_max, mb(lane_i:lane_i + lanes - 1, slot))
+            end do
+            lane_r = mod(n, lanes)
+            if (lane_r > 0) lane_max(1:lane_r) = max(lane_max(1:lane_r), mb(n - lane_r + 1:n, slot))
+            block_max = maxval(lane_max)
+            if (block_max > largest%value) then
+               largest%value = block_max
+               largest%first = b0
+               largest%count = n
+               largest%slot = slot
+               slot = 3 - slot
+            end if
+         end if
+         if (stresses) then
+            do lane_i = 1, n - lanes + 1, lanes
+               strain = strain + sb(lane_i:lane_i + lanes - 1)
+            end do
+            lane_r = mod(n, lanes)
+            if (lane_r > 0) strain(1:lane_r) = strain(1:lane_r) + sb(n - lane_r + 1:n)
+            do lane_i = 1, n - lanes + 1, lanes
+               min_j = min(min_j, jb(lane_i:lane_i + lanes - 1))
+            end do
+            lane_r = mod(n, lanes)
+            if (lane_r > 0) min_j(1:lane_r) = min(min_j(1:lane_r), jb(n - lane_r + 1:n))
+         end if
+         if (relocates) call find_outside(n, b0, cb, outside)
+         call accumulate_block(k, n, cb, xib, vpb, svb, m, lo, hi, shares, run, mass_left, mass_right, momentum_left, &
+                               momentum_right, stress_volume, seg)
+      end do
+      call close_segment(k, shares, m, run, [lane_total(displacement), lane_total(kinetic), lane_total(strain), &
+                         0.0_dp], &
+                         minval(min_j), largest%value, furthest_particle(largest, mb), outside, mass_left, mass_right, &
+                         momentum_left, momentum_right, stress_volume, seg)
+   end subroutine xpic_map_stress_segment
 
    ! The GIMP box and the B-splines' knot spans: src/shape/mpm_gimp_box.fypi and mpm_bspline_span.fypi,
    ! the same source as mpm_shape_gimp's and mpm_shape_bspline's, so that the kernels inline the same

@@ -1,0 +1,104 @@
+!> XPIC(m) and FMPM(k) on the fused kernels (mpm_fused; the projection in mpm_fused_projection) against the
+!> generic path, which is their definition (cross-checked against the NumPy reference), run by run with
+!> `kernels='generic'` as the only difference (mpm_testing_runs' check_fused_config: the path asked for,
+!> same status and steps, u_cm histories equal to round-off, the last kinetic energies to 1e-10):
+!> - xpic: the bar with particles crossing cells, USF, USL and MUSL, m = 1, 2, 3 and 5; the column (a grid
+!>   load) with USL, m = 2;
+!> - fmpm: the same bar with USF and USL, k = 1, 2, 3 and 5; the column with USF, k = 2; MUSL stays on the
+!>   generic path (its remapped velocity would need the start-of-step positions after the particles moved);
+!> - threads: a run cut into segments (1e5 particles), XPIC(2) and FMPM(2) with USL: the fast run on 2
+!>   threads gives the 1-thread histories bit for bit, and both agree with the generic path.
+!> Small runs but the last (1e5 particles, 20 steps): seconds.
+program test_cures_fused
+   use mpm_kinds, only: dp
+   use mpm_config, only: config_t, new_config
+   use mpm_simulation, only: run_result_t
+   use mpm_strings, only: str
+   use mpm_testing, only: tester_t, tester
+   use mpm_testing_runs, only: check_fused_config, set_value, run_resolved
+   implicit none
+   type(tester_t) :: t
+   character(len=4), parameter :: schemes(3) = ['usf ', 'usl ', 'musl']
+   integer, parameter :: orders(4) = [1, 2, 3, 5]
+   integer :: i, j
+
+   t = tester('test_cures_fused')
+   if (t%case('xpic')) then
+      do i = 1, size(schemes)
+         do j = 1, size(orders)
+            call check_fused_config(t, 'bar '//trim(schemes(i))//' XPIC('//str(orders(j))//'): ', &
+                                    crossing_bar(trim(schemes(i)), 'xpic', orders(j)))
+         end do
+      end do
+      call check_fused_config(t, 'column usl XPIC(2): ', column('usl', 'xpic', 2))
+   end if
+   if (t%case('fmpm')) then
+      do i = 1, 2
+         do j = 1, size(orders)
+            call check_fused_config(t, 'bar '//trim(schemes(i))//' FMPM('//str(orders(j))//'): ', &
+                                    crossing_bar(trim(schemes(i)), 'fmpm', orders(j)))
+         end do
+      end do
+      call check_fused_config(t, 'column usf FMPM(2): ', column('usf', 'fmpm', 2))
+      call generic_only()
+   end if
+   if (t%case('threads')) then
+      call check_fused_config(t, 'large bar usl XPIC(2): ', large_bar('xpic'), segments=.true.)
+      call check_fused_config(t, 'large bar usl FMPM(2): ', large_bar('fmpm'), segments=.true.)
+   end if
+   call t%finish()
+
+contains
+
+   !> The bar, 30 elements x 3 particles, dt = 0.3 dx/c, v0 = 0.01 c (particles cross cells), one period,
+   !> with `transfer` of order `order`.
+   function crossing_bar(scheme, transfer, order) result(config)
+      character(len=*), intent(in) :: scheme, transfer
+      integer, intent(in) :: order
+      type(config_t) :: config
+      config = new_config()
+      config%scheme = scheme
+      config%transfer = transfer
+      config%xpic_order = 1
+      config%fmpm_order = 1
+      if (transfer == 'xpic') config%xpic_order = order
+      if (transfer == 'fmpm') config%fmpm_order = order
+      config%elements = 30
+      config%particles_per_element = 3
+      config%dt_fraction = 0.3_dp
+      config%periods = 1.0_dp
+      call set_value(config, 'scene.velocity_amplitude='//str(0.01_dp*sqrt(200.0e9_dp/7800.0_dp)))
+   end function crossing_bar
+
+   !> The column under its weight (a grid load), 40 elements x 2 particles, with `transfer` of order `order`.
+   function column(scheme, transfer, order) result(config)
+      character(len=*), intent(in) :: scheme, transfer
+      integer, intent(in) :: order
+      type(config_t) :: config
+      config = new_config('column')
+      config%scheme = scheme
+      config%transfer = transfer
+      if (transfer == 'xpic') config%xpic_order = order
+      if (transfer == 'fmpm') config%fmpm_order = order
+      config%elements = 40
+      config%particles_per_element = 2
+      config%dt_fraction = 0.2_dp
+   end function column
+
+   !> The bar of 50,000 elements x 2 particles (cut into segments), USL, 20 steps, `transfer` of order 2.
+   function large_bar(transfer) result(config)
+      character(len=*), intent(in) :: transfer
+      type(config_t) :: config
+      config = crossing_bar('usl', transfer, 2)
+      config%elements = 50000
+      config%particles_per_element = 2
+      config%periods = 20*0.3_dp/(4.0_dp*50000)
+   end function large_bar
+
+   !> FMPM with MUSL runs on the generic path (auto does not choose the fused kernels).
+   subroutine generic_only()
+      type(run_result_t) :: res
+      res = run_resolved(crossing_bar('musl', 'fmpm', 2))
+      call t%check('bar musl FMPM(2): auto keeps the generic path', .not. res%fused)
+   end subroutine generic_only
+end program test_cures_fused
