@@ -17,6 +17,7 @@ module mpm_simulation
    use mpm_stepper, only: stepper_t, stepper_stop_t, scheme_id
    use mpm_fused, only: fused_box_t, fused_choose, fused_stepper_t
    use mpm_schemes, only: generic_stepper_t
+   use mpm_fused_cpdi, only: cpdi_stepper_t, cpdi_fast
    use mpm_scene, only: scene_t, watch_t
    use mpm_diagnostics, only: history_t, snapshot_t, status_ok, status_non_finite, status_volume_ratio, &
                               status_left_grid, status_energy_growth, status_cell_crossing, status_name, &
@@ -90,7 +91,7 @@ module mpm_simulation
       real(dp) :: min_node_mass_ratio = 0.0_dp !< smallest nodal mass / particle mass met
       integer :: particles = 0
       real(dp) :: domain(2) = 0.0_dp        !< the grid domain [x_min, x_max] (m)
-      logical :: fused = .false.            !< whether the fused kernels ran (else the generic path)
+      logical :: fused = .false.            !< whether a fast path ran (the fused kernels, CPDI's lean step; else the generic path)
       type(history_t) :: history
       type(snapshot_t), allocatable :: snapshots(:)
    end type run_result_t
@@ -227,6 +228,10 @@ contains
                         fixed=scene%fixed_nodes(), element_shares=run%fused, ghost=ghost)
          if (allocated(error)) return
          call choose_stepper(config, run, box, integrator, kind, transfer, error)
+         select type (stepper => run%stepper)
+         type is (cpdi_stepper_t)
+            result%fused = .true.
+         end select
          if (allocated(error)) return
          result%domain = [run%grid%origin, run%grid%origin + run%grid%length]
          result%particles = particles%count
@@ -234,8 +239,8 @@ contains
    end subroutine set_up
 
    !> The run's stepper, chosen once: the fused kernels (run%fused, described by `box`), an implicit
-   !> integrator, or the explicit schemes on the generic operations; with the scene's velocity field per
-   !> body where it has one.
+   !> integrator, CPDI's lean step where it applies (mpm_fused_cpdi's cpdi_fast; kernels = 'auto'), or the
+   !> explicit schemes on the generic operations; with the scene's velocity field per body where it has one.
    subroutine choose_stepper(config, run, box, integrator, kind, transfer, error)
       type(config_t), intent(in) :: config
       type(run_state_t), intent(inout) :: run
@@ -247,6 +252,10 @@ contains
          allocate (fused_stepper_t :: run%stepper)
       else if (integrator /= integrator_explicit) then ! Newton on the grid (mpm_implicit)
          allocate (implicit_stepper_t :: run%stepper)
+      else if (kind == shape_cpdi .and. trim(config%kernels) == 'auto' .and. &
+               cpdi_fast(scheme_id(config%scheme), transfer, formulation_id(config%formulation) == formulation_total, &
+                         run%particles, run%scene)) then
+         allocate (cpdi_stepper_t :: run%stepper)
       else
          allocate (generic_stepper_t :: run%stepper)
       end if

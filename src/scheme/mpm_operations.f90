@@ -40,6 +40,7 @@ module mpm_operations
    implicit none
    private
 
+   public :: move_block_totals, move_totals
    public :: locate_particles, p2g_mass_momentum, p2g_internal_force, nodal_velocities, solve_grid, g2p, &
              update_stress, particle_energies, mirror_fold
 
@@ -314,17 +315,39 @@ contains
             displacement_block(i) = mass_of(p)*(x(p) - x0(p))
             kinetic_block(i) = 0.5_dp*mass_of(p)*v(p)*v(p)
          end do
-         call add_lanes(n, displacement_block, displacement)
-         call add_lanes(n, kinetic_block, kinetic)
-         call track_largest_move(n, b0, moved, slot, largest)
-         if (outside == 0 .and. minval(inside(1:n)) == 0) outside = b0 - 1 + findloc(inside(1:n), 0, 1)
+         call move_block_totals(n, b0, displacement_block, kinetic_block, moved, inside, slot, largest, displacement, &
+                                kinetic, outside)
       end do
+      call move_totals(displacement, kinetic, largest, moved, outside, totals)
+   end subroutine gather_move
+
+   !> A G2P block's share of the totals (n particles from b0): sum m (x - X) and the kinetic energy in
+   !> lanes, the largest move (its slot of `moved`, mpm_lanes), the first particle outside (`inside` 0).
+   subroutine move_block_totals(n, b0, displacement_block, kinetic_block, moved, inside, slot, largest, displacement, &
+                                kinetic, outside)
+      integer, intent(in) :: n, b0, inside(:)
+      real(dp), intent(in) :: displacement_block(:), kinetic_block(:), moved(:, :)
+      real(dp), intent(inout) :: displacement(lanes), kinetic(lanes)
+      integer, intent(inout) :: slot, outside
+      type(largest_move_t), intent(inout) :: largest
+      call add_lanes(n, displacement_block, displacement)
+      call add_lanes(n, kinetic_block, kinetic)
+      call track_largest_move(n, b0, moved, slot, largest)
+      if (outside == 0 .and. minval(inside(1:n)) == 0) outside = b0 - 1 + findloc(inside(1:n), 0, 1)
+   end subroutine move_block_totals
+
+   !> G2P's totals from its blocks' (move_block_totals).
+   subroutine move_totals(displacement, kinetic, largest, moved, outside, totals)
+      real(dp), intent(in) :: displacement(lanes), kinetic(lanes), moved(:, :)
+      type(largest_move_t), intent(in) :: largest
+      integer, intent(in) :: outside
+      type(pass_totals_t), intent(inout) :: totals
       totals%displacement = lane_total(displacement)
       totals%kinetic_energy = lane_total(kinetic)
       totals%max_cell_move = largest%value
       totals%furthest = furthest_particle(largest, moved)
       if (totals%outside == 0) totals%outside = outside
-   end subroutine gather_move
+   end subroutine move_totals
 
    !> Strain increment d eps = dt sum_I dN_Ip v_I and the material's update (its law, with the run's
    !> parameters or each particle's where the scene gave them); totals: strain energy, min J, plastic work.

@@ -63,6 +63,7 @@ program mpm1d_bench
    use mpm_fused, only: fused_start, fused_step, fused_box_t, fused_shape, fused_choose
    use mpm_segments, only: segments_t
    use mpm_schemes, only: scheme_usf, scheme_usl, scheme_musl, scheme_step, scheme_id
+   use mpm_fused_cpdi, only: cpdi_fast
    use mpm_strings, only: str
    use mpm_scene_bar, only: bar_t, bar_init, bar_input_t
    use mpm_scene_impact, only: impact_input_t
@@ -663,7 +664,14 @@ contains
          bytes = bytes + (4_i8 + 16_i8*shape_support(kind) + 24_i8)*particles%count
          if (transfer == transfer_apic) bytes = bytes + 8_i8*particles%count
          if (kind == shape_ugimp .or. kind == shape_cpgimp) bytes = bytes + 8_i8*particles%count
-         if (kind == shape_cpdi) bytes = bytes + 12_i8*particles%count
+         if (kind == shape_cpdi) then
+            bytes = bytes + 12_i8*particles%count ! (corners and corner index)
+            ! CPDI's lean step holds no shape cache (first node, weights, gradients), and the corners' moved
+            ! positions
+            if (trim(config%kernels) == 'auto' .and. cpdi_fast(scheme_id(config%scheme), transfer, &
+                                                                 trim(config%formulation) == 'total', particles, scene)) &
+               bytes = bytes - (4_i8 + 16_i8*shape_support(kind) - 8_i8)*particles%count
+         end if
          if (transfer == transfer_asflip) bytes = bytes + 8_i8*particles%count
       end if
       per_particle = real(bytes, dp)/particles%count
