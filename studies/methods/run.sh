@@ -14,9 +14,9 @@
 #      (MUSL: under USL the cell-crossing instability stops every one of them within the 5 periods);
 #   then summary.md with the tables (each method's errors and orders, the cheapest run to each target
 #   error, noise against energy) and the figures (analyze.py; mpm1d_post.studies.methods).
-# The runs take the path mpm1d chooses for them (kernels = 'auto': FLIP, PIC and APIC with the hat,
-# cpGIMP and the B-splines run on the fused kernels where they apply, the cures on the generic path), so
-# that the run times are those a user gets.
+# The runs take the path mpm1d chooses for them (kernels = 'auto': the fused kernels where they apply,
+# CPDI's lean step under USL, else the generic path: docs/performance.md, Which runs take the fused
+# kernels), so that the run times are those a user gets.
 # Usage: bash studies/methods/run.sh [output folder]     (default: out/methods)
 # A run or sweep whose file is in the folder already is not run again (files are written whole, under a
 # temporary name first): an interrupted study goes on where it stopped; a fresh folder runs everything.
