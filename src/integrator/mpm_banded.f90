@@ -31,15 +31,22 @@ module mpm_banded
 contains
 
    !> An n x n matrix of `bandwidth` sub- and super-diagonals, zero (storage kept when it fits).
-   subroutine banded_init(a, n, bandwidth)
+   subroutine banded_init(a, n, bandwidth, cleared)
       type(banded_t), intent(inout) :: a
       integer, intent(in) :: n, bandwidth
+      !> .false.: the values are left as they are (a caller that sets every one before reading any);
+      !> default .true. (all zero)
+      logical, intent(in), optional :: cleared
       if (allocated(a%ab)) then
          if (size(a%ab, 1) /= 3*bandwidth + 1 .or. size(a%ab, 2) /= n) deallocate (a%ab, a%pivots)
       end if
       if (.not. allocated(a%ab)) allocate (a%ab(3*bandwidth + 1, n), a%pivots(n))
       a%n = n
       a%bandwidth = bandwidth
+      a%factored = .false.
+      if (present(cleared)) then
+         if (.not. cleared) return
+      end if
       call banded_zero(a)
    end subroutine banded_init
 

@@ -53,7 +53,8 @@ module mpm_implicit
    use mpm_settings, only: settings_t
    use mpm_grid, only: grid_t
    use mpm_particles, only: particles_t
-   use mpm_shape, only: shape_cache_t
+   use mpm_shape, only: shape_cache_t, shape_linear, transfer_flip
+   use mpm_lanes, only: block_size, lanes, add_lanes, lane_total
    use mpm_loads, only: loads_t, drive_t
    use mpm_stepper, only: stepper_stop_t
    use mpm_schemes, only: generic_stepper_t, generic_sync_state
@@ -132,6 +133,9 @@ module mpm_implicit
       integer, allocatable :: dependent(:)
       real(dp), allocatable :: e(:), du(:), velocity(:), acceleration(:), external(:), residual(:), forces(:)
       real(dp), allocatable :: work(:), reaction(:)
+      !> Newton's right-hand sides (the residual's, the constraint's; the consistent mass's two) and the line
+      !> search's starting e
+      real(dp), allocatable :: rhs(:, :), start(:)
       ! the drive's point constraint (folded weights over the nodes) and its multiplier
       real(dp), allocatable :: weight(:)
       real(dp) :: target = 0.0_dp, multiplier = 0.0_dp
@@ -240,7 +244,9 @@ contains
       im%knots%count = 0
       if (im%ghost_penalty > 0.0_dp) call find_ghost_knots(cache, grid, particles%x, im%volume, im%modulus, &
                                                            im%ghost_penalty, im%knots)
-      call banded_init(im%tangent, grid%elements + 1, cache%support - 1 + merge(1, 0, im%ghost_penalty > 0.0_dp))
+      ! (cleared where Newton assembles it, before it reads it)
+      call banded_init(im%tangent, grid%elements + 1, cache%support - 1 + merge(1, 0, im%ghost_penalty > 0.0_dp), &
+                       cleared=.false.)
    end subroutine prepare_step
 
    !> The step's arrays, allocated on the first step (or when the grid or particle count changes).
@@ -250,13 +256,14 @@ contains
       if (allocated(im%e)) then
          if (size(im%e) == n + 1 .and. size(im%x_start) == count) return
          deallocate (im%master, im%sign, im%prescribed, im%unknown, im%e, im%du, im%velocity, im%acceleration, &
-                     im%external, im%residual, im%forces, im%work, im%reaction, im%weight, im%x_start, im%dstrain, &
+                     im%external, im%residual, im%forces, im%work, im%reaction, im%weight, im%rhs, im%start, &
+                     im%x_start, im%dstrain, &
                      im%roundoff, im%strain_magnitude, &
                      im%stress, im%stiffness, im%volume, im%modulus, im%yield, im%hardening_modulus, im%hardening)
       end if
       allocate (im%master(0:n), im%sign(0:n), im%prescribed(0:n), im%unknown(0:n), im%e(0:n), im%du(0:n), &
                 im%velocity(0:n), im%acceleration(0:n), im%external(0:n), im%residual(0:n), im%forces(0:n), &
-                im%work(0:n), im%reaction(0:n), im%weight(0:n), im%roundoff(0:n))
+                im%work(0:n), im%reaction(0:n), im%weight(0:n), im%roundoff(0:n), im%rhs(0:n, 2), im%start(0:n))
       allocate (im%x_start(count), im%dstrain(count), im%stress(count), im%stiffness(count), im%volume(count), &
                 im%strain_magnitude(count), &
                 im%modulus(count), im%yield(count), im%hardening_modulus(count), im%hardening(count))
@@ -338,7 +345,6 @@ contains
       type(particles_t), intent(in) :: particles
       type(grid_t), intent(inout) :: grid
       real(dp), intent(in) :: t
-      real(dp), allocatable :: rhs(:, :)
       integer :: info
       if (scene%external_forces .and. .not. scene%drives) call scene%add_forces(grid, t, cache, particles)
       call mirror_fold(grid, .false., .true.)
@@ -352,12 +358,11 @@ contains
       else
          call consistent_mass(im, cache, particles, grid)
          if (im%failed) return
-         allocate (rhs(0:grid%elements, 2))
-         rhs(:, 1) = merge(grid%momentum, 0.0_dp, im%unknown)
-         rhs(:, 2) = merge(grid%force, 0.0_dp, im%unknown)
-         call banded_solve(im%mass_factors, rhs, info)
-         im%velocity = rhs(:, 1)
-         im%acceleration = rhs(:, 2)
+         im%rhs(:, 1) = merge(grid%momentum, 0.0_dp, im%unknown)
+         im%rhs(:, 2) = merge(grid%force, 0.0_dp, im%unknown)
+         call banded_solve(im%mass_factors, im%rhs, info)
+         im%velocity = im%rhs(:, 1)
+         im%acceleration = im%rhs(:, 2)
       end if
       call fill_slaves(im, im%velocity)
       call fill_slaves(im, im%acceleration)
@@ -450,15 +455,12 @@ contains
       type(particles_t), intent(in) :: particles
       type(grid_t), intent(in) :: grid
       type(material_t), intent(in) :: material
-      real(dp), allocatable :: rhs(:, :)
-      real(dp), allocatable :: start(:)
       real(dp) :: relative, roundoff, gap, correction, pivots, before, step, merit, stiffness, multiplier
       integer :: iteration, info, halving
       logical :: floor, assembled, tangent_ready
       im%failed = .false.
       im%singular_node = -1
       im%residuals = 0.0_dp
-      allocate (rhs(0:grid%elements, merge(2, 1, im%constrained)), start(0:grid%elements))
       assembled = .false.
       do iteration = 0, im%max_iterations
          ! a Newton step's residual (the line search's last) or, with the tangent in the same pass, the first
@@ -503,22 +505,15 @@ contains
             if (pivots < im%min_pivot_ratio) im%min_rcond = min(im%min_rcond, banded_rcond(im%tangent))
             im%min_pivot_ratio = min(im%min_pivot_ratio, pivots)
          end if
-         rhs(:, 1) = merge(-im%residual, 0.0_dp, im%unknown)
-         if (im%constrained) rhs(:, 2) = im%weight
-         call banded_solve(im%tangent, rhs, info)
-         correction = 0.0_dp
-         if (im%constrained) then ! the bordered system: delta = y + d(lambda) z, w.delta = gap
-            correction = (gap - sum(im%weight*rhs(:, 1)))/sum(im%weight*rhs(:, 2))
-            rhs(:, 1) = rhs(:, 1) + correction*rhs(:, 2)
-         end if
+         call newton_direction(im, gap, info, correction)
          ! the full Newton step, halved while it does not reduce |R| (a piecewise linear law, as the
          ! elastoplastic one, can make Newton cycle between loading and unloading at long steps)
-         start = im%e
+         im%start = im%e
          multiplier = im%multiplier
          before = hypot(residual_norm(im), stiffness*gap)
          step = 1.0_dp
          do halving = 0, max_halvings
-            where (im%unknown) im%e = start + step*rhs(:, 1)
+            where (im%unknown) im%e = im%start + step*im%rhs(:, 1)
             call fill_slaves(im, im%e)
             im%multiplier = multiplier + step*correction
             call assemble_residual(im, cache, particles, grid, material, with_tangent=.false.)
@@ -533,6 +528,26 @@ contains
       im%iterations = iteration
       im%failed_residual = relative
    end subroutine newton_solve
+
+   !> The Newton step in im%rhs(:, 1): K delta = -R on the unknowns, with the factored tangent; under the
+   !> drive's constraint the bordered system's, delta = y + d(lambda) z (K z = w, w.delta = gap), and
+   !> d(lambda) in `correction` (0 without it).
+   subroutine newton_direction(im, gap, info, correction)
+      type(implicit_t), intent(inout) :: im
+      real(dp), intent(in) :: gap
+      integer, intent(out) :: info
+      real(dp), intent(out) :: correction
+      integer :: columns
+      columns = merge(2, 1, im%constrained)
+      im%rhs(:, 1) = merge(-im%residual, 0.0_dp, im%unknown)
+      if (im%constrained) im%rhs(:, 2) = im%weight
+      call banded_solve(im%tangent, im%rhs(:, 1:columns), info)
+      correction = 0.0_dp
+      if (im%constrained) then
+         correction = (gap - sum(im%weight*im%rhs(:, 1)))/sum(im%weight*im%rhs(:, 2))
+         im%rhs(:, 1) = im%rhs(:, 1) + correction*im%rhs(:, 2)
+      end if
+   end subroutine newton_direction
 
    !> Room in im%residuals for solve `iteration` (doubled, kept values, the rest 0; at most max_iterations).
    subroutine grow_residuals(im, iteration)
@@ -967,7 +982,11 @@ contains
       type(material_t), intent(in) :: material
       type(pass_totals_t), intent(inout) :: totals
       integer :: outside
+      logical :: hat_flip
       outside = totals%outside
+      ! the hat with FLIP: G2P and the move in one pass (update_hat_flip)
+      hat_flip = im%kind == integrator_implicit .and. cache%kind == shape_linear .and. .not. cache%total .and. &
+                 cache%transfer == transfer_flip
       if (im%kind == integrator_implicit) then
          grid%velocity = im%velocity + 2.0_dp*im%e/im%dt
          grid%acceleration = 2.0_dp*im%e/im%dt**2
@@ -975,21 +994,84 @@ contains
             grid%velocity = im%drive_velocity
             grid%acceleration = (im%drive_velocity - im%velocity)/im%dt
          end where
-         call g2p(cache, particles, grid, im%dt, totals)
+         if (hat_flip) then
+            call update_hat_flip(particles%count, size(cache%weight, 1), grid%elements, cache%first, cache%weight, &
+                                 grid%acceleration, im%du, im%dt, im%x_start, particles%x0, particles%mass_of, &
+                                 grid%origin, grid%origin + grid%length, grid%inv_dx, particles%x, particles%v, &
+                                 totals%kinetic_energy, totals%displacement, totals%max_cell_move, totals%furthest, &
+                                 outside)
+            totals%outside = outside
+         else
+            call g2p(cache, particles, grid, im%dt, totals)
+         end if
          im%reaction = merge(im%residual, 0.0_dp, im%prescribed)
          if (im%constrained) im%reaction = im%reaction + im%multiplier*im%weight
       else
          grid%velocity = 0.0_dp
          totals%kinetic_energy = 0.0_dp
       end if
-      totals%outside = outside
-      call move_particles(particles%count, size(cache%weight, 1), cache%support, grid%elements, cache%first, &
-                          cache%weight, im%du, im%x_start, particles%x0, particles%mass_of, grid%origin, &
-                          grid%origin + grid%length, grid%inv_dx, particles%x, totals%displacement, &
-                          totals%max_cell_move, totals%furthest, totals%outside)
+      if (.not. hat_flip) then
+         totals%outside = outside
+         call move_particles(particles%count, size(cache%weight, 1), cache%support, grid%elements, cache%first, &
+                             cache%weight, im%du, im%x_start, particles%x0, particles%mass_of, grid%origin, &
+                             grid%origin + grid%length, grid%inv_dx, particles%x, totals%displacement, &
+                             totals%max_cell_move, totals%furthest, totals%outside)
+      end if
       call update_material_finite(material, im%dstrain, particles, totals%strain_energy, totals%min_volume_ratio, &
                                   totals%plastic_work, im%stress)
    end subroutine update_particles
+
+   !> The particles' update of the hat with FLIP in one pass, block by block: G2P's v_p += dt sum_I N_Ip a_I
+   !> and the kinetic energy (g2p: its gather, gather2_plain, and gather_move's velocity update and lanes),
+   !> and the move with its totals (move_particles); each value formed by the same operations in the same
+   !> order as there (the same bits). The products N_Ip du_I of the move are formed in a loop of their own
+   !> and summed in another, as move_particles' array expression: a build with fused multiply-add does not
+   !> contract the sum (another rounding).
+   subroutine update_hat_flip(count, rows, n, first, weight, acceleration, du, dt, x_start, x0, mass, lo, hi, &
+                              inv_dx, x, v, kinetic_energy, displacement, max_cell_move, furthest, outside)
+      integer, intent(in) :: count, rows, n
+      integer, intent(in) :: first(count)
+      real(dp), intent(in) :: weight(rows, 2), acceleration(0:n), du(0:n), dt, x_start(count), x0(count), &
+                              mass(count), lo, hi, inv_dx
+      real(dp), intent(inout) :: x(count), v(count)
+      real(dp), intent(out) :: kinetic_energy, displacement, max_cell_move
+      integer, intent(out) :: furthest
+      integer, intent(inout) :: outside
+      real(dp) :: kinetic(lanes), kinetic_block(block_size), products(block_size, 2), na, move
+      integer :: b0, m, i, p, node
+      kinetic = 0.0_dp
+      displacement = 0.0_dp
+      max_cell_move = 0.0_dp
+      furthest = 0
+      do b0 = 1, count, block_size
+         m = min(block_size, count - b0 + 1)
+         do i = 1, m
+            p = b0 + i - 1
+            node = first(p)
+            na = weight(p, 1)*acceleration(node)
+            na = na + weight(p, 2)*acceleration(node + 1)
+            v(p) = v(p) + dt*na
+            kinetic_block(i) = 0.5_dp*mass(p)*v(p)*v(p)
+            products(i, 1) = weight(p, 1)*du(node)
+            products(i, 2) = weight(p, 2)*du(node + 1)
+         end do
+         call add_lanes(m, kinetic_block, kinetic)
+         do i = 1, m
+            p = b0 + i - 1
+            move = 0.0_dp
+            move = move + products(i, 1)
+            move = move + products(i, 2)
+            x(p) = x_start(p) + move
+            displacement = displacement + mass(p)*(x(p) - x0(p))
+            if (abs(move)*inv_dx > max_cell_move) then
+               max_cell_move = abs(move)*inv_dx
+               furthest = p
+            end if
+            if (outside == 0 .and. .not. (x(p) >= lo .and. x(p) <= hi)) outside = p
+         end do
+      end do
+      kinetic_energy = lane_total(kinetic)
+   end subroutine update_hat_flip
 
    !> x_p = x_p^n + sum_I N_Ip du_I, and the step's totals of
    !> the positions: the mass-weighted displacement from x0, the largest move in cells and its particle,
