@@ -376,18 +376,24 @@ contains
       type(grid_t), intent(in) :: grid
       integer :: p, k, l, a, b, info
       call banded_init(im%mass_matrix, grid%elements + 1, cache%support - 1)
-      do p = 1, particles%count
-         do k = 1, cache%support
-            a = im%master(cache%first(p) + k - 1)
-            if (a < 0) cycle
-            do l = 1, cache%support
-               b = im%master(cache%first(p) + l - 1)
-               if (b < 0) cycle
-               call banded_add(im%mass_matrix, a + 1, b + 1, im%sign(cache%first(p) + k - 1)* &
-                               im%sign(cache%first(p) + l - 1)*particles%mass_of(p)*cache%weight(p, k)*cache%weight(p, l))
+      if (cache%support == 2) then
+         call consistent_mass_hat(particles%count, size(cache%weight, 1), grid%elements, cache%first, cache%weight, &
+                                  particles%mass_of, im%master, im%sign, im%mass_matrix%ab)
+      else
+         do p = 1, particles%count
+            do k = 1, cache%support
+               a = im%master(cache%first(p) + k - 1)
+               if (a < 0) cycle
+               do l = 1, cache%support
+                  b = im%master(cache%first(p) + l - 1)
+                  if (b < 0) cycle
+                  call banded_add(im%mass_matrix, a + 1, b + 1, im%sign(cache%first(p) + k - 1)* &
+                                  im%sign(cache%first(p) + l - 1)*particles%mass_of(p)*cache%weight(p, k)* &
+                                  cache%weight(p, l))
+               end do
             end do
          end do
-      end do
+      end if
       call hold_rows(im%mass_matrix, im%unknown)
       im%mass_factors = im%mass_matrix
       im%mass_magnitude = im%mass_matrix
@@ -404,6 +410,51 @@ contains
          im%failed_residual = 0.0_dp
       end if
    end subroutine consistent_mass
+
+   !> consistent_mass's sums for the hat (band 1: A(a, b) in ab(3 + a - b, b + 1)), block by block: each
+   !> particle's four products m_p N_k N_l (sign_k sign_l m_p N_k N_l where a node is a ghost; none for a
+   !> held node) formed in a loop of their own, then added in particle order, as banded_add added the values
+   !> consistent_mass formed (a loop that adds each product where it forms it is contracted to fused
+   !> multiply-adds where the build has them, another rounding). Where both nodes are unknowns of their own
+   !> the sign factors, exactly 1, are left out.
+   subroutine consistent_mass_hat(count, rows, n, first, weight, mass, master, sign, ab)
+      integer, intent(in) :: count, rows, n
+      integer, intent(in) :: first(count), master(0:n)
+      real(dp), intent(in) :: weight(rows, 2), mass(count), sign(0:n)
+      real(dp), intent(inout) :: ab(4, n + 1)
+      integer, parameter :: diagonal = 3
+      real(dp) :: products(block_size, 2, 2)
+      integer :: b0, m, j, p, i, k, l, a, b
+      do b0 = 1, count, block_size
+         m = min(block_size, count - b0 + 1)
+         do j = 1, m
+            p = b0 + j - 1
+            i = first(p)
+            do k = 1, 2
+               do l = 1, 2
+                  if (master(i) == i .and. master(i + 1) == i + 1) then
+                     products(j, k, l) = mass(p)*weight(p, k)*weight(p, l)
+                  else
+                     products(j, k, l) = sign(i + k - 1)*sign(i + l - 1)*mass(p)*weight(p, k)*weight(p, l)
+                  end if
+               end do
+            end do
+         end do
+         do j = 1, m
+            p = b0 + j - 1
+            i = first(p)
+            do k = 1, 2
+               a = master(i + k - 1)
+               if (a < 0) cycle
+               do l = 1, 2
+                  b = master(i + l - 1)
+                  if (b < 0) cycle
+                  ab(diagonal + a - b, b + 1) = ab(diagonal + a - b, b + 1) + products(j, k, l)
+               end do
+            end do
+         end do
+      end do
+   end subroutine consistent_mass_hat
 
    !> The scene's drive: its nodes held at the drive velocity (e = dt (V - v_n)/2, so v_{n+1} = V) and its
    !> point constraint sum_k w_k v_{n+1,k} = V, i.e. sum_k w_k e_k = dt (V - sum_k w_k v_n,k)/2, over the
@@ -805,8 +856,9 @@ contains
 
    !> force_pass (residual part, tangent part when `tangent_part`) for the hat: each particle's two nodes
    !> written out. Where both are unknowns of their own (sign +1) the tangent's four entries are added
-   !> directly, each the product force_pass forms (its sign factors are exactly 1); a particle at a held
-   !> node or a ghost takes force_pass's loop. The same operations in the same order: the same bits.
+   !> directly, each the value of the product force_pass forms (its sign factors are exactly 1); a particle
+   !> at a held node or a ghost takes force_pass's loop. The same values added in the same order: the same
+   !> bits.
    subroutine force_pass_hat(count, rows, n, first, gradient, stress, stiffness, volume, magnitude, master, sign, &
                              tangent_part, residual, forces, roundoff, band_rows, ab, diagonal)
       integer, intent(in) :: count, rows, n, band_rows, diagonal
@@ -815,26 +867,29 @@ contains
                               sign(0:n)
       logical, intent(in) :: tangent_part
       real(dp), intent(inout) :: residual(0:n), forces(0:n), roundoff(0:n), ab(band_rows, n + 1)
-      real(dp) :: left, right, left_stiffness, right_stiffness, share
+      real(dp) :: left, left_stiffness, rounding, tangent_share, share
       integer :: p, i, k, l, node, a, b
+      ! The hat's gradients are -1/dx and 1/dx (times the particle's inside flag, mpm_shape_linear):
+      ! gradient(p, 2) = -gradient(p, 1) exactly, so each product of the right node is the left one's
+      ! negated (exact), and the tangent's four entries are one product and its negation.
       do p = 1, count
          i = first(p)
          left = gradient(p, 1)*stress(p)*volume(p)
-         right = gradient(p, 2)*stress(p)*volume(p)
          left_stiffness = gradient(p, 1)*stiffness(p)*volume(p)
-         right_stiffness = gradient(p, 2)*stiffness(p)*volume(p)
+         rounding = abs(left_stiffness)*magnitude(p)
          residual(i) = residual(i) + left
          forces(i) = forces(i) + abs(left)
-         roundoff(i) = roundoff(i) + abs(left_stiffness)*magnitude(p)
-         residual(i + 1) = residual(i + 1) + right
-         forces(i + 1) = forces(i + 1) + abs(right)
-         roundoff(i + 1) = roundoff(i + 1) + abs(right_stiffness)*magnitude(p)
+         roundoff(i) = roundoff(i) + rounding
+         residual(i + 1) = residual(i + 1) - left
+         forces(i + 1) = forces(i + 1) + abs(left)
+         roundoff(i + 1) = roundoff(i + 1) + rounding
          if (.not. tangent_part) cycle
          if (master(i) == i .and. master(i + 1) == i + 1) then
-            ab(diagonal, i + 1) = ab(diagonal, i + 1) + left_stiffness*gradient(p, 1)
-            ab(diagonal - 1, i + 2) = ab(diagonal - 1, i + 2) + left_stiffness*gradient(p, 2)
-            ab(diagonal + 1, i + 1) = ab(diagonal + 1, i + 1) + right_stiffness*gradient(p, 1)
-            ab(diagonal, i + 2) = ab(diagonal, i + 2) + right_stiffness*gradient(p, 2)
+            tangent_share = left_stiffness*gradient(p, 1)
+            ab(diagonal, i + 1) = ab(diagonal, i + 1) + tangent_share
+            ab(diagonal - 1, i + 2) = ab(diagonal - 1, i + 2) - tangent_share
+            ab(diagonal + 1, i + 1) = ab(diagonal + 1, i + 1) - tangent_share
+            ab(diagonal, i + 2) = ab(diagonal, i + 2) + tangent_share
             cycle
          end if
          do k = 1, 2
