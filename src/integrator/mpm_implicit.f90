@@ -1111,6 +1111,9 @@ contains
             products(i, 2) = weight(p, 2)*du(node + 1)
          end do
          call add_lanes(m, kinetic_block, kinetic)
+         ! (move_particles' per-particle lines, written out again: as one procedure that both loops call,
+         ! inlined, a build with fused multiply-add contracted move_particles' sums otherwise, another
+         ! rounding of the generic shapes' positions)
          do i = 1, m
             p = b0 + i - 1
             move = 0.0_dp
