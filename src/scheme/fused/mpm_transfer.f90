@@ -2635,15 +2635,17 @@ contains
       logical :: linear, plastic
       type(largest_move_t) :: largest
       real(dp) :: displacement(lanes), kinetic(lanes), strain(lanes), min_j(lanes)
-      integer :: cb(block_size)
-      real(dp) :: svb(block_size), db(block_size), kb(block_size), sb(block_size), jb(block_size)
+      ! the block's buffers (its particles' J and, with the bar's hat, their x - X, cells and velocities are
+      ! read back from the particles)
+      real(dp) :: svb(block_size), kb(block_size), sb(block_size)
+      real(dp) :: displaced
       real(dp) :: mb(block_size, 2)  !< the moves of a block, and of the block with the largest (lanes_track_move)
       integer :: slot
       real(dp) :: lane_max(lanes), block_max
       integer :: lane_i, lane_r
       type(run_t) :: run
       integer(i8) :: elements_bits
-      real(dp) :: xi, xib(block_size), vpb(block_size)
+      real(dp) :: xi, xib(block_size)
       elements = constants%elements
       inv_dx = constants%inv_dx
       dt = constants%dt
@@ -2681,7 +2683,7 @@ contains
             e = cell(p)
             ! G2P with the start-of-step shape functions
             if (moves) call g2p_particle(e, acceleration(e - 1), acceleration(e), velocity(e - 1), velocity(e), inv_dx, &
-                                         dt, half_m, x0(p), x(p), v(p), xi, db(i), kb(i), mb(i, slot))
+                                         dt, half_m, x0(p), x(p), v(p), xi, displaced, kb(i), mb(i, slot))
             if (stresses) then ! d eps = dt sum dN v_I over the start-of-step cell
                if (moves) then
                   dstrain = strain_increment(velocity(e - 1), velocity(e), dt, inv_dx)
@@ -2690,24 +2692,23 @@ contains
                end if
                call stress_hencky(dstrain, youngs_modulus, strain_factor, volume0, stress(p), volume_ratio(p), &
                                   sb(i), svb(i))
-               jb(i) = volume_ratio(p)
             end if
+            ! (phase B reads the particles' cells and velocities in place)
             if (relocates) then ! the new cell, for P2G at the new position
-               call locate_cell(x(p), inv_dx, elements, elements_bits, cb(i), xib(i))
-               cell(p) = cb(i)
+               call locate_cell(x(p), inv_dx, elements, elements_bits, cell(p), xib(i))
             else                ! the shares go to the start-of-step cell
-               cb(i) = e
                if (moves) xib(i) = xi
             end if
-            if (moves .or. relocates) vpb(i) = v(p)
          end do
          ! the block's totals (macros of mpm_lanes.fypi, expanded here)
          if (moves) then
             do lane_i = 1, n - lanes + 1, lanes
-               displacement = displacement + db(lane_i:lane_i + lanes - 1)
+               displacement = displacement + &
+                  (x(b0 + lane_i - 1:b0 + lane_i + lanes - 2) - x0(b0 + lane_i - 1:b0 + lane_i + lanes - 2))
             end do
             lane_r = mod(n, lanes)
-            if (lane_r > 0) displacement(1:lane_r) = displacement(1:lane_r) + db(n - lane_r + 1:n)
+            if (lane_r > 0) displacement(1:lane_r) = displacement(1:lane_r) + &
+                            (x(b0 + n - lane_r:b0 + n - 1) - x0(b0 + n - lane_r:b0 + n - 1))
             do lane_i = 1, n - lanes + 1, lanes
                kinetic = kinetic + kb(lane_i:lane_i + lanes - 1)
             end do
@@ -2735,14 +2736,15 @@ contains
             lane_r = mod(n, lanes)
             if (lane_r > 0) strain(1:lane_r) = strain(1:lane_r) + sb(n - lane_r + 1:n)
             do lane_i = 1, n - lanes + 1, lanes
-               min_j = min(min_j, jb(lane_i:lane_i + lanes - 1))
+               min_j = min(min_j, volume_ratio(b0 + lane_i - 1:b0 + lane_i + lanes - 2))
             end do
             lane_r = mod(n, lanes)
-            if (lane_r > 0) min_j(1:lane_r) = min(min_j(1:lane_r), jb(n - lane_r + 1:n))
+            if (lane_r > 0) min_j(1:lane_r) = min(min_j(1:lane_r), &
+                                                        volume_ratio(b0 + n - lane_r:b0 + n - 1))
          end if
-         if (relocates) call find_outside(n, b0, cb, outside)
-         call accumulate_block(k, n, cb, xib, vpb, svb, m, lo, hi, shares, run, mass_left, mass_right, momentum_left, &
-                               momentum_right, stress_volume, seg)
+         if (relocates) call find_outside(n, b0, cell(b0:b0 + n - 1), outside)
+         call accumulate_block(k, n, cell(b0:b0 + n - 1), xib, v(b0:b0 + n - 1), svb, m, lo, hi, shares, run, mass_left, &
+                               mass_right, momentum_left, momentum_right, stress_volume, seg)
       end do
       call close_segment(k, shares, m, run, [lane_total(displacement), lane_total(kinetic), lane_total(strain), &
                          0.0_dp], &
@@ -2788,15 +2790,17 @@ contains
       real(dp) :: yield_stress, hardening_modulus, increment, wb(block_size), work(lanes)
       type(largest_move_t) :: largest
       real(dp) :: displacement(lanes), kinetic(lanes), strain(lanes), min_j(lanes)
-      integer :: cb(block_size)
-      real(dp) :: svb(block_size), db(block_size), kb(block_size), sb(block_size), jb(block_size)
+      ! the block's buffers (its particles' J and, with the bar's hat, their x - X, cells and velocities are
+      ! read back from the particles)
+      real(dp) :: svb(block_size), kb(block_size), sb(block_size)
+      real(dp) :: displaced
       real(dp) :: mb(block_size, 2)  !< the moves of a block, and of the block with the largest (lanes_track_move)
       integer :: slot
       real(dp) :: lane_max(lanes), block_max
       integer :: lane_i, lane_r
       type(run_t) :: run
       integer(i8) :: elements_bits
-      real(dp) :: xi, xib(block_size), vpb(block_size)
+      real(dp) :: xi, xib(block_size)
       elements = constants%elements
       inv_dx = constants%inv_dx
       dt = constants%dt
@@ -2838,7 +2842,7 @@ contains
             e = cell(p)
             ! G2P with the start-of-step shape functions
             if (moves) call g2p_particle(e, acceleration(e - 1), acceleration(e), velocity(e - 1), velocity(e), inv_dx, &
-                                         dt, half_m, x0(p), x(p), v(p), xi, db(i), kb(i), mb(i, slot))
+                                         dt, half_m, x0(p), x(p), v(p), xi, displaced, kb(i), mb(i, slot))
             if (stresses) then ! d eps = dt sum dN v_I over the start-of-step cell
                if (moves) then
                   dstrain = strain_increment(velocity(e - 1), velocity(e), dt, inv_dx)
@@ -2847,16 +2851,13 @@ contains
                end if
                call stress_linear(dstrain, youngs_modulus, strain_factor, volume0, stress(p), volume_ratio(p), &
                                   sb(i), svb(i))
-               jb(i) = volume_ratio(p)
             end if
+            ! (phase B reads the particles' cells and velocities in place)
             if (relocates) then ! the new cell, for P2G at the new position
-               call locate_cell(x(p), inv_dx, elements, elements_bits, cb(i), xib(i))
-               cell(p) = cb(i)
+               call locate_cell(x(p), inv_dx, elements, elements_bits, cell(p), xib(i))
             else                ! the shares go to the start-of-step cell
-               cb(i) = e
                if (moves) xib(i) = xi
             end if
-            if (moves .or. relocates) vpb(i) = v(p)
          end do
          else if (plastic) then
          do i = 1, n
@@ -2864,7 +2865,7 @@ contains
             e = cell(p)
             ! G2P with the start-of-step shape functions
             if (moves) call g2p_particle(e, acceleration(e - 1), acceleration(e), velocity(e - 1), velocity(e), inv_dx, &
-                                         dt, half_m, x0(p), x(p), v(p), xi, db(i), kb(i), mb(i, slot))
+                                         dt, half_m, x0(p), x(p), v(p), xi, displaced, kb(i), mb(i, slot))
             if (stresses) then ! d eps = dt sum dN v_I over the start-of-step cell
                if (moves) then
                   dstrain = strain_increment(velocity(e - 1), velocity(e), dt, inv_dx)
@@ -2883,16 +2884,13 @@ contains
                sb(i) = stress(p)*stress(p)*volume_ratio(p)*strain_factor
                svb(i) = stress(p)*volume_ratio(p)*volume0
                wb(i) = (yield_stress + 0.5_dp*hardening_modulus*hardening(p))*hardening(p)*volume0
-               jb(i) = volume_ratio(p)
             end if
+            ! (phase B reads the particles' cells and velocities in place)
             if (relocates) then ! the new cell, for P2G at the new position
-               call locate_cell(x(p), inv_dx, elements, elements_bits, cb(i), xib(i))
-               cell(p) = cb(i)
+               call locate_cell(x(p), inv_dx, elements, elements_bits, cell(p), xib(i))
             else                ! the shares go to the start-of-step cell
-               cb(i) = e
                if (moves) xib(i) = xi
             end if
-            if (moves .or. relocates) vpb(i) = v(p)
          end do
          else
          do i = 1, n
@@ -2900,7 +2898,7 @@ contains
             e = cell(p)
             ! G2P with the start-of-step shape functions
             if (moves) call g2p_particle(e, acceleration(e - 1), acceleration(e), velocity(e - 1), velocity(e), inv_dx, &
-                                         dt, half_m, x0(p), x(p), v(p), xi, db(i), kb(i), mb(i, slot))
+                                         dt, half_m, x0(p), x(p), v(p), xi, displaced, kb(i), mb(i, slot))
             if (stresses) then ! d eps = dt sum dN v_I over the start-of-step cell
                if (moves) then
                   dstrain = strain_increment(velocity(e - 1), velocity(e), dt, inv_dx)
@@ -2909,25 +2907,24 @@ contains
                end if
                call stress_hencky(dstrain, youngs_modulus, strain_factor, volume0, stress(p), volume_ratio(p), &
                                   sb(i), svb(i))
-               jb(i) = volume_ratio(p)
             end if
+            ! (phase B reads the particles' cells and velocities in place)
             if (relocates) then ! the new cell, for P2G at the new position
-               call locate_cell(x(p), inv_dx, elements, elements_bits, cb(i), xib(i))
-               cell(p) = cb(i)
+               call locate_cell(x(p), inv_dx, elements, elements_bits, cell(p), xib(i))
             else                ! the shares go to the start-of-step cell
-               cb(i) = e
                if (moves) xib(i) = xi
             end if
-            if (moves .or. relocates) vpb(i) = v(p)
          end do
          end if
          ! the block's totals (macros of mpm_lanes.fypi, expanded here)
          if (moves) then
             do lane_i = 1, n - lanes + 1, lanes
-               displacement = displacement + db(lane_i:lane_i + lanes - 1)
+               displacement = displacement + &
+                  (x(b0 + lane_i - 1:b0 + lane_i + lanes - 2) - x0(b0 + lane_i - 1:b0 + lane_i + lanes - 2))
             end do
             lane_r = mod(n, lanes)
-            if (lane_r > 0) displacement(1:lane_r) = displacement(1:lane_r) + db(n - lane_r + 1:n)
+            if (lane_r > 0) displacement(1:lane_r) = displacement(1:lane_r) + &
+                            (x(b0 + n - lane_r:b0 + n - 1) - x0(b0 + n - lane_r:b0 + n - 1))
             do lane_i = 1, n - lanes + 1, lanes
                kinetic = kinetic + kb(lane_i:lane_i + lanes - 1)
             end do
@@ -2955,10 +2952,11 @@ contains
             lane_r = mod(n, lanes)
             if (lane_r > 0) strain(1:lane_r) = strain(1:lane_r) + sb(n - lane_r + 1:n)
             do lane_i = 1, n - lanes + 1, lanes
-               min_j = min(min_j, jb(lane_i:lane_i + lanes - 1))
+               min_j = min(min_j, volume_ratio(b0 + lane_i - 1:b0 + lane_i + lanes - 2))
             end do
             lane_r = mod(n, lanes)
-            if (lane_r > 0) min_j(1:lane_r) = min(min_j(1:lane_r), jb(n - lane_r + 1:n))
+            if (lane_r > 0) min_j(1:lane_r) = min(min_j(1:lane_r), &
+                                                        volume_ratio(b0 + n - lane_r:b0 + n - 1))
          end if
          if (plastic) then
             do lane_i = 1, n - lanes + 1, lanes
@@ -2967,9 +2965,9 @@ contains
             lane_r = mod(n, lanes)
             if (lane_r > 0) work(1:lane_r) = work(1:lane_r) + wb(n - lane_r + 1:n)
          end if
-         if (relocates) call find_outside(n, b0, cb, outside)
-         call accumulate_block(k, n, cb, xib, vpb, svb, m, lo, hi, shares, run, mass_left, mass_right, momentum_left, &
-                               momentum_right, stress_volume, seg)
+         if (relocates) call find_outside(n, b0, cell(b0:b0 + n - 1), outside)
+         call accumulate_block(k, n, cell(b0:b0 + n - 1), xib, v(b0:b0 + n - 1), svb, m, lo, hi, shares, run, mass_left, &
+                               mass_right, momentum_left, momentum_right, stress_volume, seg)
       end do
       call close_segment(k, shares, m, run, [lane_total(displacement), lane_total(kinetic), lane_total(strain), &
                          lane_total(work)], &
@@ -3015,15 +3013,17 @@ contains
       real(dp) :: yield_stress, hardening_modulus, increment, wb(block_size), work(lanes)
       type(largest_move_t) :: largest
       real(dp) :: displacement(lanes), kinetic(lanes), strain(lanes), min_j(lanes)
-      integer :: cb(block_size)
-      real(dp) :: svb(block_size), db(block_size), kb(block_size), sb(block_size), jb(block_size)
+      ! the block's buffers (its particles' J and, with the bar's hat, their x - X, cells and velocities are
+      ! read back from the particles)
+      real(dp) :: svb(block_size), kb(block_size), sb(block_size)
+      real(dp) :: displaced
       real(dp) :: mb(block_size, 2)  !< the moves of a block, and of the block with the largest (lanes_track_move)
       integer :: slot
       real(dp) :: lane_max(lanes), block_max
       integer :: lane_i, lane_r
       type(run_t) :: run
       integer(i8) :: elements_bits
-      real(dp) :: xi, xib(block_size), vpb(block_size)
+      real(dp) :: xi, xib(block_size)
       elements = constants%elements
       inv_dx = constants%inv_dx
       dt = constants%dt
@@ -3065,7 +3065,7 @@ contains
             e = cell(p)
             ! G2P with the start-of-step shape functions
             if (moves) call g2p_particle(e, acceleration(e - 1), acceleration(e), velocity(e - 1), velocity(e), inv_dx, &
-                                         dt, half_m, x0(p), x(p), v(p), xi, db(i), kb(i), mb(i, slot))
+                                         dt, half_m, x0(p), x(p), v(p), xi, displaced, kb(i), mb(i, slot))
             if (stresses) then ! d eps = dt sum dN v_I over the start-of-step cell
                if (moves) then
                   dstrain = strain_increment(velocity(e - 1), velocity(e), dt, inv_dx)
@@ -3074,16 +3074,13 @@ contains
                end if
                call stress_linear(dstrain, youngs_modulus, strain_factor, volume0, stress(p), volume_ratio(p), &
                                   sb(i), svb(i))
-               jb(i) = volume_ratio(p)
             end if
+            ! (phase B reads the particles' cells and velocities in place)
             if (relocates) then ! the new cell, for P2G at the new position
-               call locate_cell(x(p), inv_dx, elements, elements_bits, cb(i), xib(i))
-               cell(p) = cb(i)
+               call locate_cell(x(p), inv_dx, elements, elements_bits, cell(p), xib(i))
             else                ! the shares go to the start-of-step cell
-               cb(i) = e
                if (moves) xib(i) = xi
             end if
-            if (moves .or. relocates) vpb(i) = v(p)
          end do
          else if (plastic) then
          do i = 1, n
@@ -3091,7 +3088,7 @@ contains
             e = cell(p)
             ! G2P with the start-of-step shape functions
             if (moves) call g2p_particle(e, acceleration(e - 1), acceleration(e), velocity(e - 1), velocity(e), inv_dx, &
-                                         dt, half_m, x0(p), x(p), v(p), xi, db(i), kb(i), mb(i, slot))
+                                         dt, half_m, x0(p), x(p), v(p), xi, displaced, kb(i), mb(i, slot))
             if (stresses) then ! d eps = dt sum dN v_I over the start-of-step cell
                if (moves) then
                   dstrain = strain_increment(velocity(e - 1), velocity(e), dt, inv_dx)
@@ -3110,16 +3107,13 @@ contains
                sb(i) = stress(p)*stress(p)*volume_ratio(p)*strain_factor
                svb(i) = stress(p)*volume_ratio(p)*volume0
                wb(i) = (yield_stress + 0.5_dp*hardening_modulus*hardening(p))*hardening(p)*volume0
-               jb(i) = volume_ratio(p)
             end if
+            ! (phase B reads the particles' cells and velocities in place)
             if (relocates) then ! the new cell, for P2G at the new position
-               call locate_cell(x(p), inv_dx, elements, elements_bits, cb(i), xib(i))
-               cell(p) = cb(i)
+               call locate_cell(x(p), inv_dx, elements, elements_bits, cell(p), xib(i))
             else                ! the shares go to the start-of-step cell
-               cb(i) = e
                if (moves) xib(i) = xi
             end if
-            if (moves .or. relocates) vpb(i) = v(p)
          end do
          else
          do i = 1, n
@@ -3127,7 +3121,7 @@ contains
             e = cell(p)
             ! G2P with the start-of-step shape functions
             if (moves) call g2p_particle(e, acceleration(e - 1), acceleration(e), velocity(e - 1), velocity(e), inv_dx, &
-                                         dt, half_m, x0(p), x(p), v(p), xi, db(i), kb(i), mb(i, slot))
+                                         dt, half_m, x0(p), x(p), v(p), xi, displaced, kb(i), mb(i, slot))
             if (stresses) then ! d eps = dt sum dN v_I over the start-of-step cell
                if (moves) then
                   dstrain = strain_increment(velocity(e - 1), velocity(e), dt, inv_dx)
@@ -3136,25 +3130,24 @@ contains
                end if
                call stress_hencky(dstrain, youngs_modulus, strain_factor, volume0, stress(p), volume_ratio(p), &
                                   sb(i), svb(i))
-               jb(i) = volume_ratio(p)
             end if
+            ! (phase B reads the particles' cells and velocities in place)
             if (relocates) then ! the new cell, for P2G at the new position
-               call locate_cell(x(p), inv_dx, elements, elements_bits, cb(i), xib(i))
-               cell(p) = cb(i)
+               call locate_cell(x(p), inv_dx, elements, elements_bits, cell(p), xib(i))
             else                ! the shares go to the start-of-step cell
-               cb(i) = e
                if (moves) xib(i) = xi
             end if
-            if (moves .or. relocates) vpb(i) = v(p)
          end do
          end if
          ! the block's totals (macros of mpm_lanes.fypi, expanded here)
          if (moves) then
             do lane_i = 1, n - lanes + 1, lanes
-               displacement = displacement + db(lane_i:lane_i + lanes - 1)
+               displacement = displacement + &
+                  (x(b0 + lane_i - 1:b0 + lane_i + lanes - 2) - x0(b0 + lane_i - 1:b0 + lane_i + lanes - 2))
             end do
             lane_r = mod(n, lanes)
-            if (lane_r > 0) displacement(1:lane_r) = displacement(1:lane_r) + db(n - lane_r + 1:n)
+            if (lane_r > 0) displacement(1:lane_r) = displacement(1:lane_r) + &
+                            (x(b0 + n - lane_r:b0 + n - 1) - x0(b0 + n - lane_r:b0 + n - 1))
             do lane_i = 1, n - lanes + 1, lanes
                kinetic = kinetic + kb(lane_i:lane_i + lanes - 1)
             end do
@@ -3182,10 +3175,11 @@ contains
             lane_r = mod(n, lanes)
             if (lane_r > 0) strain(1:lane_r) = strain(1:lane_r) + sb(n - lane_r + 1:n)
             do lane_i = 1, n - lanes + 1, lanes
-               min_j = min(min_j, jb(lane_i:lane_i + lanes - 1))
+               min_j = min(min_j, volume_ratio(b0 + lane_i - 1:b0 + lane_i + lanes - 2))
             end do
             lane_r = mod(n, lanes)
-            if (lane_r > 0) min_j(1:lane_r) = min(min_j(1:lane_r), jb(n - lane_r + 1:n))
+            if (lane_r > 0) min_j(1:lane_r) = min(min_j(1:lane_r), &
+                                                        volume_ratio(b0 + n - lane_r:b0 + n - 1))
          end if
          if (plastic) then
             do lane_i = 1, n - lanes + 1, lanes
@@ -3194,9 +3188,9 @@ contains
             lane_r = mod(n, lanes)
             if (lane_r > 0) work(1:lane_r) = work(1:lane_r) + wb(n - lane_r + 1:n)
          end if
-         if (relocates) call find_outside(n, b0, cb, outside)
-         call accumulate_block(k, n, cb, xib, vpb, svb, m, lo, hi, shares, run, mass_left, mass_right, momentum_left, &
-                               momentum_right, stress_volume, seg)
+         if (relocates) call find_outside(n, b0, cell(b0:b0 + n - 1), outside)
+         call accumulate_block(k, n, cell(b0:b0 + n - 1), xib, v(b0:b0 + n - 1), svb, m, lo, hi, shares, run, mass_left, &
+                               mass_right, momentum_left, momentum_right, stress_volume, seg)
       end do
       call close_segment(k, shares, m, run, [lane_total(displacement), lane_total(kinetic), lane_total(strain), &
                          lane_total(work)], &
@@ -3240,15 +3234,17 @@ contains
       logical :: linear, plastic
       type(largest_move_t) :: largest
       real(dp) :: displacement(lanes), kinetic(lanes), strain(lanes), min_j(lanes)
-      integer :: cb(block_size)
-      real(dp) :: svb(block_size), db(block_size), kb(block_size), sb(block_size), jb(block_size)
+      ! the block's buffers (its particles' J and, with the bar's hat, their x - X, cells and velocities are
+      ! read back from the particles)
+      real(dp) :: svb(block_size), kb(block_size), sb(block_size)
+      real(dp) :: displaced
       real(dp) :: mb(block_size, 2)  !< the moves of a block, and of the block with the largest (lanes_track_move)
       integer :: slot
       real(dp) :: lane_max(lanes), block_max
       integer :: lane_i, lane_r
       type(run_t) :: run
       integer(i8) :: elements_bits
-      real(dp) :: xi, xib(block_size), vpb(block_size)
+      real(dp) :: xi, xib(block_size)
       elements = constants%elements
       inv_dx = constants%inv_dx
       dt = constants%dt
@@ -3286,7 +3282,7 @@ contains
             e = cell(p)
             ! G2P with the start-of-step shape functions
             if (moves) call g2p_particle(e, acceleration(e - 1), acceleration(e), velocity(e - 1), velocity(e), inv_dx, &
-                                         dt, half_m, x0(p), x(p), v(p), xi, db(i), kb(i), mb(i, slot))
+                                         dt, half_m, x0(p), x(p), v(p), xi, displaced, kb(i), mb(i, slot))
             if (stresses) then ! d eps = dt sum dN v_I over the start-of-step cell
                if (moves) then
                   dstrain = strain_increment(velocity(e - 1), velocity(e), dt, inv_dx)
@@ -3295,24 +3291,23 @@ contains
                end if
                call stress_hencky(dstrain, youngs_modulus, strain_factor, volume0, stress(p), volume_ratio(p), &
                                   sb(i), svb(i))
-               jb(i) = volume_ratio(p)
             end if
+            ! (phase B reads the particles' cells and velocities in place)
             if (relocates) then ! the new cell, for P2G at the new position
-               call locate_cell(x(p), inv_dx, elements, elements_bits, cb(i), xib(i))
-               cell(p) = cb(i)
+               call locate_cell(x(p), inv_dx, elements, elements_bits, cell(p), xib(i))
             else                ! the shares go to the start-of-step cell
-               cb(i) = e
                if (moves) xib(i) = xi
             end if
-            if (moves .or. relocates) vpb(i) = v(p)
          end do
          ! the block's totals (macros of mpm_lanes.fypi, expanded here)
          if (moves) then
             do lane_i = 1, n - lanes + 1, lanes
-               displacement = displacement + db(lane_i:lane_i + lanes - 1)
+               displacement = displacement + &
+                  (x(b0 + lane_i - 1:b0 + lane_i + lanes - 2) - x0(b0 + lane_i - 1:b0 + lane_i + lanes - 2))
             end do
             lane_r = mod(n, lanes)
-            if (lane_r > 0) displacement(1:lane_r) = displacement(1:lane_r) + db(n - lane_r + 1:n)
+            if (lane_r > 0) displacement(1:lane_r) = displacement(1:lane_r) + &
+                            (x(b0 + n - lane_r:b0 + n - 1) - x0(b0 + n - lane_r:b0 + n - 1))
             do lane_i = 1, n - lanes + 1, lanes
                kinetic = kinetic + kb(lane_i:lane_i + lanes - 1)
             end do
@@ -3340,14 +3335,15 @@ contains
             lane_r = mod(n, lanes)
             if (lane_r > 0) strain(1:lane_r) = strain(1:lane_r) + sb(n - lane_r + 1:n)
             do lane_i = 1, n - lanes + 1, lanes
-               min_j = min(min_j, jb(lane_i:lane_i + lanes - 1))
+               min_j = min(min_j, volume_ratio(b0 + lane_i - 1:b0 + lane_i + lanes - 2))
             end do
             lane_r = mod(n, lanes)
-            if (lane_r > 0) min_j(1:lane_r) = min(min_j(1:lane_r), jb(n - lane_r + 1:n))
+            if (lane_r > 0) min_j(1:lane_r) = min(min_j(1:lane_r), &
+                                                        volume_ratio(b0 + n - lane_r:b0 + n - 1))
          end if
-         if (relocates) call find_outside(n, b0, cb, outside)
-         call accumulate_block(k, n, cb, xib, vpb, svb, m, lo, hi, shares, run, mass_left, mass_right, momentum_left, &
-                               momentum_right, stress_volume, seg)
+         if (relocates) call find_outside(n, b0, cell(b0:b0 + n - 1), outside)
+         call accumulate_block(k, n, cell(b0:b0 + n - 1), xib, v(b0:b0 + n - 1), svb, m, lo, hi, shares, run, mass_left, &
+                               mass_right, momentum_left, momentum_right, stress_volume, seg)
       end do
       call close_segment(k, shares, m, run, [lane_total(displacement), lane_total(kinetic), lane_total(strain), &
                          0.0_dp], &
@@ -3393,15 +3389,17 @@ contains
       real(dp) :: yield_stress, hardening_modulus, increment, wb(block_size), work(lanes)
       type(largest_move_t) :: largest
       real(dp) :: displacement(lanes), kinetic(lanes), strain(lanes), min_j(lanes)
-      integer :: cb(block_size)
-      real(dp) :: svb(block_size), db(block_size), kb(block_size), sb(block_size), jb(block_size)
+      ! the block's buffers (its particles' J and, with the bar's hat, their x - X, cells and velocities are
+      ! read back from the particles)
+      real(dp) :: svb(block_size), kb(block_size), sb(block_size)
+      real(dp) :: displaced
       real(dp) :: mb(block_size, 2)  !< the moves of a block, and of the block with the largest (lanes_track_move)
       integer :: slot
       real(dp) :: lane_max(lanes), block_max
       integer :: lane_i, lane_r
       type(run_t) :: run
       integer(i8) :: elements_bits
-      real(dp) :: xi, xib(block_size), vpb(block_size)
+      real(dp) :: xi, xib(block_size)
       elements = constants%elements
       inv_dx = constants%inv_dx
       dt = constants%dt
@@ -3443,7 +3441,7 @@ contains
             e = cell(p)
             ! G2P with the start-of-step shape functions
             if (moves) call g2p_particle(e, acceleration(e - 1), acceleration(e), velocity(e - 1), velocity(e), inv_dx, &
-                                         dt, half_m, x0(p), x(p), v(p), xi, db(i), kb(i), mb(i, slot))
+                                         dt, half_m, x0(p), x(p), v(p), xi, displaced, kb(i), mb(i, slot))
             if (stresses) then ! d eps = dt sum dN v_I over the start-of-step cell
                if (moves) then
                   dstrain = strain_increment(velocity(e - 1), velocity(e), dt, inv_dx)
@@ -3452,16 +3450,13 @@ contains
                end if
                call stress_linear(dstrain, youngs_modulus, strain_factor, volume0, stress(p), volume_ratio(p), &
                                   sb(i), svb(i))
-               jb(i) = volume_ratio(p)
             end if
+            ! (phase B reads the particles' cells and velocities in place)
             if (relocates) then ! the new cell, for P2G at the new position
-               call locate_cell(x(p), inv_dx, elements, elements_bits, cb(i), xib(i))
-               cell(p) = cb(i)
+               call locate_cell(x(p), inv_dx, elements, elements_bits, cell(p), xib(i))
             else                ! the shares go to the start-of-step cell
-               cb(i) = e
                if (moves) xib(i) = xi
             end if
-            if (moves .or. relocates) vpb(i) = v(p)
          end do
          else if (plastic) then
          do i = 1, n
@@ -3469,7 +3464,7 @@ contains
             e = cell(p)
             ! G2P with the start-of-step shape functions
             if (moves) call g2p_particle(e, acceleration(e - 1), acceleration(e), velocity(e - 1), velocity(e), inv_dx, &
-                                         dt, half_m, x0(p), x(p), v(p), xi, db(i), kb(i), mb(i, slot))
+                                         dt, half_m, x0(p), x(p), v(p), xi, displaced, kb(i), mb(i, slot))
             if (stresses) then ! d eps = dt sum dN v_I over the start-of-step cell
                if (moves) then
                   dstrain = strain_increment(velocity(e - 1), velocity(e), dt, inv_dx)
@@ -3488,16 +3483,13 @@ contains
                sb(i) = stress(p)*stress(p)*volume_ratio(p)*strain_factor
                svb(i) = stress(p)*volume_ratio(p)*volume0
                wb(i) = (yield_stress + 0.5_dp*hardening_modulus*hardening(p))*hardening(p)*volume0
-               jb(i) = volume_ratio(p)
             end if
+            ! (phase B reads the particles' cells and velocities in place)
             if (relocates) then ! the new cell, for P2G at the new position
-               call locate_cell(x(p), inv_dx, elements, elements_bits, cb(i), xib(i))
-               cell(p) = cb(i)
+               call locate_cell(x(p), inv_dx, elements, elements_bits, cell(p), xib(i))
             else                ! the shares go to the start-of-step cell
-               cb(i) = e
                if (moves) xib(i) = xi
             end if
-            if (moves .or. relocates) vpb(i) = v(p)
          end do
          else
          do i = 1, n
@@ -3505,7 +3497,7 @@ contains
             e = cell(p)
             ! G2P with the start-of-step shape functions
             if (moves) call g2p_particle(e, acceleration(e - 1), acceleration(e), velocity(e - 1), velocity(e), inv_dx, &
-                                         dt, half_m, x0(p), x(p), v(p), xi, db(i), kb(i), mb(i, slot))
+                                         dt, half_m, x0(p), x(p), v(p), xi, displaced, kb(i), mb(i, slot))
             if (stresses) then ! d eps = dt sum dN v_I over the start-of-step cell
                if (moves) then
                   dstrain = strain_increment(velocity(e - 1), velocity(e), dt, inv_dx)
@@ -3514,25 +3506,24 @@ contains
                end if
                call stress_hencky(dstrain, youngs_modulus, strain_factor, volume0, stress(p), volume_ratio(p), &
                                   sb(i), svb(i))
-               jb(i) = volume_ratio(p)
             end if
+            ! (phase B reads the particles' cells and velocities in place)
             if (relocates) then ! the new cell, for P2G at the new position
-               call locate_cell(x(p), inv_dx, elements, elements_bits, cb(i), xib(i))
-               cell(p) = cb(i)
+               call locate_cell(x(p), inv_dx, elements, elements_bits, cell(p), xib(i))
             else                ! the shares go to the start-of-step cell
-               cb(i) = e
                if (moves) xib(i) = xi
             end if
-            if (moves .or. relocates) vpb(i) = v(p)
          end do
          end if
          ! the block's totals (macros of mpm_lanes.fypi, expanded here)
          if (moves) then
             do lane_i = 1, n - lanes + 1, lanes
-               displacement = displacement + db(lane_i:lane_i + lanes - 1)
+               displacement = displacement + &
+                  (x(b0 + lane_i - 1:b0 + lane_i + lanes - 2) - x0(b0 + lane_i - 1:b0 + lane_i + lanes - 2))
             end do
             lane_r = mod(n, lanes)
-            if (lane_r > 0) displacement(1:lane_r) = displacement(1:lane_r) + db(n - lane_r + 1:n)
+            if (lane_r > 0) displacement(1:lane_r) = displacement(1:lane_r) + &
+                            (x(b0 + n - lane_r:b0 + n - 1) - x0(b0 + n - lane_r:b0 + n - 1))
             do lane_i = 1, n - lanes + 1, lanes
                kinetic = kinetic + kb(lane_i:lane_i + lanes - 1)
             end do
@@ -3560,10 +3551,11 @@ contains
             lane_r = mod(n, lanes)
             if (lane_r > 0) strain(1:lane_r) = strain(1:lane_r) + sb(n - lane_r + 1:n)
             do lane_i = 1, n - lanes + 1, lanes
-               min_j = min(min_j, jb(lane_i:lane_i + lanes - 1))
+               min_j = min(min_j, volume_ratio(b0 + lane_i - 1:b0 + lane_i + lanes - 2))
             end do
             lane_r = mod(n, lanes)
-            if (lane_r > 0) min_j(1:lane_r) = min(min_j(1:lane_r), jb(n - lane_r + 1:n))
+            if (lane_r > 0) min_j(1:lane_r) = min(min_j(1:lane_r), &
+                                                        volume_ratio(b0 + n - lane_r:b0 + n - 1))
          end if
          if (plastic) then
             do lane_i = 1, n - lanes + 1, lanes
@@ -3572,9 +3564,9 @@ contains
             lane_r = mod(n, lanes)
             if (lane_r > 0) work(1:lane_r) = work(1:lane_r) + wb(n - lane_r + 1:n)
          end if
-         if (relocates) call find_outside(n, b0, cb, outside)
-         call accumulate_block(k, n, cb, xib, vpb, svb, m, lo, hi, shares, run, mass_left, mass_right, momentum_left, &
-                               momentum_right, stress_volume, seg)
+         if (relocates) call find_outside(n, b0, cell(b0:b0 + n - 1), outside)
+         call accumulate_block(k, n, cell(b0:b0 + n - 1), xib, v(b0:b0 + n - 1), svb, m, lo, hi, shares, run, mass_left, &
+                               mass_right, momentum_left, momentum_right, stress_volume, seg)
       end do
       call close_segment(k, shares, m, run, [lane_total(displacement), lane_total(kinetic), lane_total(strain), &
                          lane_total(work)], &
@@ -3618,8 +3610,11 @@ contains
       logical :: linear, plastic
       type(largest_move_t) :: largest
       real(dp) :: displacement(lanes), kinetic(lanes), strain(lanes), min_j(lanes)
+      ! the block's buffers (its particles' J and, with the bar's hat, their x - X, cells and velocities are
+      ! read back from the particles)
+      real(dp) :: svb(block_size), kb(block_size), sb(block_size)
       integer :: cb(block_size)
-      real(dp) :: svb(block_size), db(block_size), kb(block_size), sb(block_size), jb(block_size)
+      real(dp) :: db(block_size)
       real(dp) :: mb(block_size, 2)  !< the moves of a block, and of the block with the largest (lanes_track_move)
       integer :: slot
       real(dp) :: lane_max(lanes), block_max
@@ -3692,7 +3687,6 @@ contains
                end if
                call stress_hencky(dstrain, youngs_modulus, strain_factor, volume0, stress(p), volume_ratio(p), &
                                   sb(i), svb(i))
-               jb(i) = volume_ratio(p)
             end if
             if (relocates) then ! the parts at the new position
                l = fixed_l
@@ -3754,10 +3748,11 @@ contains
             lane_r = mod(n, lanes)
             if (lane_r > 0) strain(1:lane_r) = strain(1:lane_r) + sb(n - lane_r + 1:n)
             do lane_i = 1, n - lanes + 1, lanes
-               min_j = min(min_j, jb(lane_i:lane_i + lanes - 1))
+               min_j = min(min_j, volume_ratio(b0 + lane_i - 1:b0 + lane_i + lanes - 2))
             end do
             lane_r = mod(n, lanes)
-            if (lane_r > 0) min_j(1:lane_r) = min(min_j(1:lane_r), jb(n - lane_r + 1:n))
+            if (lane_r > 0) min_j(1:lane_r) = min(min_j(1:lane_r), &
+                                                        volume_ratio(b0 + n - lane_r:b0 + n - 1))
          end if
          if (relocates) call find_outside(n, b0, cb, outside)
          call accumulate_boxes(k, n, cb, left, right, m, lo, hi, shares, run, mass_left, mass_right, momentum_left, &
@@ -3811,8 +3806,11 @@ contains
       real(dp) :: yield_stress, hardening_modulus, increment, wb(block_size), work(lanes)
       type(largest_move_t) :: largest
       real(dp) :: displacement(lanes), kinetic(lanes), strain(lanes), min_j(lanes)
+      ! the block's buffers (its particles' J and, with the bar's hat, their x - X, cells and velocities are
+      ! read back from the particles)
+      real(dp) :: svb(block_size), kb(block_size), sb(block_size)
       integer :: cb(block_size)
-      real(dp) :: svb(block_size), db(block_size), kb(block_size), sb(block_size), jb(block_size)
+      real(dp) :: db(block_size)
       real(dp) :: mb(block_size, 2)  !< the moves of a block, and of the block with the largest (lanes_track_move)
       integer :: slot
       real(dp) :: lane_max(lanes), block_max
@@ -3889,7 +3887,6 @@ contains
                end if
                call stress_linear(dstrain, youngs_modulus, strain_factor, volume0, stress(p), volume_ratio(p), &
                                   sb(i), svb(i))
-               jb(i) = volume_ratio(p)
             end if
             if (relocates) then ! the parts at the new position
                l = fixed_l
@@ -3955,7 +3952,6 @@ contains
                sb(i) = stress(p)*stress(p)*volume_ratio(p)*strain_factor
                svb(i) = stress(p)*volume_ratio(p)*volume0
                wb(i) = (yield_stress + 0.5_dp*hardening_modulus*hardening(p))*hardening(p)*volume0
-               jb(i) = volume_ratio(p)
             end if
             if (relocates) then ! the parts at the new position
                l = fixed_l
@@ -4011,7 +4007,6 @@ contains
                end if
                call stress_hencky(dstrain, youngs_modulus, strain_factor, volume0, stress(p), volume_ratio(p), &
                                   sb(i), svb(i))
-               jb(i) = volume_ratio(p)
             end if
             if (relocates) then ! the parts at the new position
                l = fixed_l
@@ -4074,10 +4069,11 @@ contains
             lane_r = mod(n, lanes)
             if (lane_r > 0) strain(1:lane_r) = strain(1:lane_r) + sb(n - lane_r + 1:n)
             do lane_i = 1, n - lanes + 1, lanes
-               min_j = min(min_j, jb(lane_i:lane_i + lanes - 1))
+               min_j = min(min_j, volume_ratio(b0 + lane_i - 1:b0 + lane_i + lanes - 2))
             end do
             lane_r = mod(n, lanes)
-            if (lane_r > 0) min_j(1:lane_r) = min(min_j(1:lane_r), jb(n - lane_r + 1:n))
+            if (lane_r > 0) min_j(1:lane_r) = min(min_j(1:lane_r), &
+                                                        volume_ratio(b0 + n - lane_r:b0 + n - 1))
          end if
          if (plastic) then
             do lane_i = 1, n - lanes + 1, lanes
@@ -4138,8 +4134,11 @@ contains
       real(dp) :: yield_stress, hardening_modulus, increment, wb(block_size), work(lanes)
       type(largest_move_t) :: largest
       real(dp) :: displacement(lanes), kinetic(lanes), strain(lanes), min_j(lanes)
+      ! the block's buffers (its particles' J and, with the bar's hat, their x - X, cells and velocities are
+      ! read back from the particles)
+      real(dp) :: svb(block_size), kb(block_size), sb(block_size)
       integer :: cb(block_size)
-      real(dp) :: svb(block_size), db(block_size), kb(block_size), sb(block_size), jb(block_size)
+      real(dp) :: db(block_size)
       real(dp) :: mb(block_size, 2)  !< the moves of a block, and of the block with the largest (lanes_track_move)
       integer :: slot
       real(dp) :: lane_max(lanes), block_max
@@ -4216,7 +4215,6 @@ contains
                end if
                call stress_linear(dstrain, youngs_modulus, strain_factor, volume0, stress(p), volume_ratio(p), &
                                   sb(i), svb(i))
-               jb(i) = volume_ratio(p)
             end if
             if (relocates) then ! the parts at the new position
                l = fixed_l
@@ -4282,7 +4280,6 @@ contains
                sb(i) = stress(p)*stress(p)*volume_ratio(p)*strain_factor
                svb(i) = stress(p)*volume_ratio(p)*volume0
                wb(i) = (yield_stress + 0.5_dp*hardening_modulus*hardening(p))*hardening(p)*volume0
-               jb(i) = volume_ratio(p)
             end if
             if (relocates) then ! the parts at the new position
                l = fixed_l
@@ -4338,7 +4335,6 @@ contains
                end if
                call stress_hencky(dstrain, youngs_modulus, strain_factor, volume0, stress(p), volume_ratio(p), &
                                   sb(i), svb(i))
-               jb(i) = volume_ratio(p)
             end if
             if (relocates) then ! the parts at the new position
                l = fixed_l
@@ -4401,10 +4397,11 @@ contains
             lane_r = mod(n, lanes)
             if (lane_r > 0) strain(1:lane_r) = strain(1:lane_r) + sb(n - lane_r + 1:n)
             do lane_i = 1, n - lanes + 1, lanes
-               min_j = min(min_j, jb(lane_i:lane_i + lanes - 1))
+               min_j = min(min_j, volume_ratio(b0 + lane_i - 1:b0 + lane_i + lanes - 2))
             end do
             lane_r = mod(n, lanes)
-            if (lane_r > 0) min_j(1:lane_r) = min(min_j(1:lane_r), jb(n - lane_r + 1:n))
+            if (lane_r > 0) min_j(1:lane_r) = min(min_j(1:lane_r), &
+                                                        volume_ratio(b0 + n - lane_r:b0 + n - 1))
          end if
          if (plastic) then
             do lane_i = 1, n - lanes + 1, lanes
@@ -4463,8 +4460,11 @@ contains
       logical :: linear, plastic
       type(largest_move_t) :: largest
       real(dp) :: displacement(lanes), kinetic(lanes), strain(lanes), min_j(lanes)
+      ! the block's buffers (its particles' J and, with the bar's hat, their x - X, cells and velocities are
+      ! read back from the particles)
+      real(dp) :: svb(block_size), kb(block_size), sb(block_size)
       integer :: cb(block_size)
-      real(dp) :: svb(block_size), db(block_size), kb(block_size), sb(block_size), jb(block_size)
+      real(dp) :: db(block_size)
       real(dp) :: mb(block_size, 2)  !< the moves of a block, and of the block with the largest (lanes_track_move)
       integer :: slot
       real(dp) :: lane_max(lanes), block_max
@@ -4537,7 +4537,6 @@ contains
                end if
                call stress_hencky(dstrain, youngs_modulus, strain_factor, volume0, stress(p), volume_ratio(p), &
                                   sb(i), svb(i))
-               jb(i) = volume_ratio(p)
             end if
             if (relocates) then ! the parts at the new position
                l = fixed_l
@@ -4599,10 +4598,11 @@ contains
             lane_r = mod(n, lanes)
             if (lane_r > 0) strain(1:lane_r) = strain(1:lane_r) + sb(n - lane_r + 1:n)
             do lane_i = 1, n - lanes + 1, lanes
-               min_j = min(min_j, jb(lane_i:lane_i + lanes - 1))
+               min_j = min(min_j, volume_ratio(b0 + lane_i - 1:b0 + lane_i + lanes - 2))
             end do
             lane_r = mod(n, lanes)
-            if (lane_r > 0) min_j(1:lane_r) = min(min_j(1:lane_r), jb(n - lane_r + 1:n))
+            if (lane_r > 0) min_j(1:lane_r) = min(min_j(1:lane_r), &
+                                                        volume_ratio(b0 + n - lane_r:b0 + n - 1))
          end if
          if (relocates) call find_outside(n, b0, cb, outside)
          call accumulate_boxes(k, n, cb, left, right, m, lo, hi, shares, run, mass_left, mass_right, momentum_left, &
@@ -4656,8 +4656,11 @@ contains
       real(dp) :: yield_stress, hardening_modulus, increment, wb(block_size), work(lanes)
       type(largest_move_t) :: largest
       real(dp) :: displacement(lanes), kinetic(lanes), strain(lanes), min_j(lanes)
+      ! the block's buffers (its particles' J and, with the bar's hat, their x - X, cells and velocities are
+      ! read back from the particles)
+      real(dp) :: svb(block_size), kb(block_size), sb(block_size)
       integer :: cb(block_size)
-      real(dp) :: svb(block_size), db(block_size), kb(block_size), sb(block_size), jb(block_size)
+      real(dp) :: db(block_size)
       real(dp) :: mb(block_size, 2)  !< the moves of a block, and of the block with the largest (lanes_track_move)
       integer :: slot
       real(dp) :: lane_max(lanes), block_max
@@ -4734,7 +4737,6 @@ contains
                end if
                call stress_linear(dstrain, youngs_modulus, strain_factor, volume0, stress(p), volume_ratio(p), &
                                   sb(i), svb(i))
-               jb(i) = volume_ratio(p)
             end if
             if (relocates) then ! the parts at the new position
                l = fixed_l
@@ -4800,7 +4802,6 @@ contains
                sb(i) = stress(p)*stress(p)*volume_ratio(p)*strain_factor
                svb(i) = stress(p)*volume_ratio(p)*volume0
                wb(i) = (yield_stress + 0.5_dp*hardening_modulus*hardening(p))*hardening(p)*volume0
-               jb(i) = volume_ratio(p)
             end if
             if (relocates) then ! the parts at the new position
                l = fixed_l
@@ -4856,7 +4857,6 @@ contains
                end if
                call stress_hencky(dstrain, youngs_modulus, strain_factor, volume0, stress(p), volume_ratio(p), &
                                   sb(i), svb(i))
-               jb(i) = volume_ratio(p)
             end if
             if (relocates) then ! the parts at the new position
                l = fixed_l
@@ -4919,10 +4919,11 @@ contains
             lane_r = mod(n, lanes)
             if (lane_r > 0) strain(1:lane_r) = strain(1:lane_r) + sb(n - lane_r + 1:n)
             do lane_i = 1, n - lanes + 1, lanes
-               min_j = min(min_j, jb(lane_i:lane_i + lanes - 1))
+               min_j = min(min_j, volume_ratio(b0 + lane_i - 1:b0 + lane_i + lanes - 2))
             end do
             lane_r = mod(n, lanes)
-            if (lane_r > 0) min_j(1:lane_r) = min(min_j(1:lane_r), jb(n - lane_r + 1:n))
+            if (lane_r > 0) min_j(1:lane_r) = min(min_j(1:lane_r), &
+                                                        volume_ratio(b0 + n - lane_r:b0 + n - 1))
          end if
          if (plastic) then
             do lane_i = 1, n - lanes + 1, lanes
@@ -4981,8 +4982,11 @@ contains
       logical :: linear, plastic
       type(largest_move_t) :: largest
       real(dp) :: displacement(lanes), kinetic(lanes), strain(lanes), min_j(lanes)
+      ! the block's buffers (its particles' J and, with the bar's hat, their x - X, cells and velocities are
+      ! read back from the particles)
+      real(dp) :: svb(block_size), kb(block_size), sb(block_size)
       integer :: cb(block_size)
-      real(dp) :: svb(block_size), db(block_size), kb(block_size), sb(block_size), jb(block_size)
+      real(dp) :: db(block_size)
       real(dp) :: mb(block_size, 2)  !< the moves of a block, and of the block with the largest (lanes_track_move)
       integer :: slot
       real(dp) :: lane_max(lanes), block_max
@@ -5061,7 +5065,6 @@ contains
                end if
                call stress_hencky(dstrain, youngs_modulus, strain_factor, volume0, stress(p), volume_ratio(p), &
                                   sb(i), svb(i))
-               jb(i) = volume_ratio(p)
             end if
             if (relocates) then ! the parts at the new position (with the new J)
                l = box_half_length(half_length0, volume_ratio(p), 1.0_dp, inv_dx)
@@ -5123,10 +5126,11 @@ contains
             lane_r = mod(n, lanes)
             if (lane_r > 0) strain(1:lane_r) = strain(1:lane_r) + sb(n - lane_r + 1:n)
             do lane_i = 1, n - lanes + 1, lanes
-               min_j = min(min_j, jb(lane_i:lane_i + lanes - 1))
+               min_j = min(min_j, volume_ratio(b0 + lane_i - 1:b0 + lane_i + lanes - 2))
             end do
             lane_r = mod(n, lanes)
-            if (lane_r > 0) min_j(1:lane_r) = min(min_j(1:lane_r), jb(n - lane_r + 1:n))
+            if (lane_r > 0) min_j(1:lane_r) = min(min_j(1:lane_r), &
+                                                        volume_ratio(b0 + n - lane_r:b0 + n - 1))
          end if
          if (relocates) call find_outside(n, b0, cb, outside)
          call accumulate_boxes(k, n, cb, left, right, m, lo, hi, shares, run, mass_left, mass_right, momentum_left, &
@@ -5180,8 +5184,11 @@ contains
       real(dp) :: yield_stress, hardening_modulus, increment, wb(block_size), work(lanes)
       type(largest_move_t) :: largest
       real(dp) :: displacement(lanes), kinetic(lanes), strain(lanes), min_j(lanes)
+      ! the block's buffers (its particles' J and, with the bar's hat, their x - X, cells and velocities are
+      ! read back from the particles)
+      real(dp) :: svb(block_size), kb(block_size), sb(block_size)
       integer :: cb(block_size)
-      real(dp) :: svb(block_size), db(block_size), kb(block_size), sb(block_size), jb(block_size)
+      real(dp) :: db(block_size)
       real(dp) :: mb(block_size, 2)  !< the moves of a block, and of the block with the largest (lanes_track_move)
       integer :: slot
       real(dp) :: lane_max(lanes), block_max
@@ -5264,7 +5271,6 @@ contains
                end if
                call stress_linear(dstrain, youngs_modulus, strain_factor, volume0, stress(p), volume_ratio(p), &
                                   sb(i), svb(i))
-               jb(i) = volume_ratio(p)
             end if
             if (relocates) then ! the parts at the new position (with the new J)
                l = box_half_length(half_length0, volume_ratio(p), 1.0_dp, inv_dx)
@@ -5336,7 +5342,6 @@ contains
                sb(i) = stress(p)*stress(p)*volume_ratio(p)*strain_factor
                svb(i) = stress(p)*volume_ratio(p)*volume0
                wb(i) = (yield_stress + 0.5_dp*hardening_modulus*hardening(p))*hardening(p)*volume0
-               jb(i) = volume_ratio(p)
             end if
             if (relocates) then ! the parts at the new position (with the new J)
                l = box_half_length(half_length0, volume_ratio(p), 1.0_dp, inv_dx)
@@ -5398,7 +5403,6 @@ contains
                end if
                call stress_hencky(dstrain, youngs_modulus, strain_factor, volume0, stress(p), volume_ratio(p), &
                                   sb(i), svb(i))
-               jb(i) = volume_ratio(p)
             end if
             if (relocates) then ! the parts at the new position (with the new J)
                l = box_half_length(half_length0, volume_ratio(p), 1.0_dp, inv_dx)
@@ -5461,10 +5465,11 @@ contains
             lane_r = mod(n, lanes)
             if (lane_r > 0) strain(1:lane_r) = strain(1:lane_r) + sb(n - lane_r + 1:n)
             do lane_i = 1, n - lanes + 1, lanes
-               min_j = min(min_j, jb(lane_i:lane_i + lanes - 1))
+               min_j = min(min_j, volume_ratio(b0 + lane_i - 1:b0 + lane_i + lanes - 2))
             end do
             lane_r = mod(n, lanes)
-            if (lane_r > 0) min_j(1:lane_r) = min(min_j(1:lane_r), jb(n - lane_r + 1:n))
+            if (lane_r > 0) min_j(1:lane_r) = min(min_j(1:lane_r), &
+                                                        volume_ratio(b0 + n - lane_r:b0 + n - 1))
          end if
          if (plastic) then
             do lane_i = 1, n - lanes + 1, lanes
@@ -5525,8 +5530,11 @@ contains
       real(dp) :: yield_stress, hardening_modulus, increment, wb(block_size), work(lanes)
       type(largest_move_t) :: largest
       real(dp) :: displacement(lanes), kinetic(lanes), strain(lanes), min_j(lanes)
+      ! the block's buffers (its particles' J and, with the bar's hat, their x - X, cells and velocities are
+      ! read back from the particles)
+      real(dp) :: svb(block_size), kb(block_size), sb(block_size)
       integer :: cb(block_size)
-      real(dp) :: svb(block_size), db(block_size), kb(block_size), sb(block_size), jb(block_size)
+      real(dp) :: db(block_size)
       real(dp) :: mb(block_size, 2)  !< the moves of a block, and of the block with the largest (lanes_track_move)
       integer :: slot
       real(dp) :: lane_max(lanes), block_max
@@ -5609,7 +5617,6 @@ contains
                end if
                call stress_linear(dstrain, youngs_modulus, strain_factor, volume0, stress(p), volume_ratio(p), &
                                   sb(i), svb(i))
-               jb(i) = volume_ratio(p)
             end if
             if (relocates) then ! the parts at the new position (with the new J)
                l = box_half_length(half_length0, volume_ratio(p), 1.0_dp, inv_dx)
@@ -5681,7 +5688,6 @@ contains
                sb(i) = stress(p)*stress(p)*volume_ratio(p)*strain_factor
                svb(i) = stress(p)*volume_ratio(p)*volume0
                wb(i) = (yield_stress + 0.5_dp*hardening_modulus*hardening(p))*hardening(p)*volume0
-               jb(i) = volume_ratio(p)
             end if
             if (relocates) then ! the parts at the new position (with the new J)
                l = box_half_length(half_length0, volume_ratio(p), 1.0_dp, inv_dx)
@@ -5743,7 +5749,6 @@ contains
                end if
                call stress_hencky(dstrain, youngs_modulus, strain_factor, volume0, stress(p), volume_ratio(p), &
                                   sb(i), svb(i))
-               jb(i) = volume_ratio(p)
             end if
             if (relocates) then ! the parts at the new position (with the new J)
                l = box_half_length(half_length0, volume_ratio(p), 1.0_dp, inv_dx)
@@ -5806,10 +5811,11 @@ contains
             lane_r = mod(n, lanes)
             if (lane_r > 0) strain(1:lane_r) = strain(1:lane_r) + sb(n - lane_r + 1:n)
             do lane_i = 1, n - lanes + 1, lanes
-               min_j = min(min_j, jb(lane_i:lane_i + lanes - 1))
+               min_j = min(min_j, volume_ratio(b0 + lane_i - 1:b0 + lane_i + lanes - 2))
             end do
             lane_r = mod(n, lanes)
-            if (lane_r > 0) min_j(1:lane_r) = min(min_j(1:lane_r), jb(n - lane_r + 1:n))
+            if (lane_r > 0) min_j(1:lane_r) = min(min_j(1:lane_r), &
+                                                        volume_ratio(b0 + n - lane_r:b0 + n - 1))
          end if
          if (plastic) then
             do lane_i = 1, n - lanes + 1, lanes
@@ -5868,8 +5874,11 @@ contains
       logical :: linear, plastic
       type(largest_move_t) :: largest
       real(dp) :: displacement(lanes), kinetic(lanes), strain(lanes), min_j(lanes)
+      ! the block's buffers (its particles' J and, with the bar's hat, their x - X, cells and velocities are
+      ! read back from the particles)
+      real(dp) :: svb(block_size), kb(block_size), sb(block_size)
       integer :: cb(block_size)
-      real(dp) :: svb(block_size), db(block_size), kb(block_size), sb(block_size), jb(block_size)
+      real(dp) :: db(block_size)
       real(dp) :: mb(block_size, 2)  !< the moves of a block, and of the block with the largest (lanes_track_move)
       integer :: slot
       real(dp) :: lane_max(lanes), block_max
@@ -5948,7 +5957,6 @@ contains
                end if
                call stress_hencky(dstrain, youngs_modulus, strain_factor, volume0, stress(p), volume_ratio(p), &
                                   sb(i), svb(i))
-               jb(i) = volume_ratio(p)
             end if
             if (relocates) then ! the parts at the new position (with the new J)
                l = box_half_length(half_length0, volume_ratio(p), 1.0_dp, inv_dx)
@@ -6010,10 +6018,11 @@ contains
             lane_r = mod(n, lanes)
             if (lane_r > 0) strain(1:lane_r) = strain(1:lane_r) + sb(n - lane_r + 1:n)
             do lane_i = 1, n - lanes + 1, lanes
-               min_j = min(min_j, jb(lane_i:lane_i + lanes - 1))
+               min_j = min(min_j, volume_ratio(b0 + lane_i - 1:b0 + lane_i + lanes - 2))
             end do
             lane_r = mod(n, lanes)
-            if (lane_r > 0) min_j(1:lane_r) = min(min_j(1:lane_r), jb(n - lane_r + 1:n))
+            if (lane_r > 0) min_j(1:lane_r) = min(min_j(1:lane_r), &
+                                                        volume_ratio(b0 + n - lane_r:b0 + n - 1))
          end if
          if (relocates) call find_outside(n, b0, cb, outside)
          call accumulate_boxes(k, n, cb, left, right, m, lo, hi, shares, run, mass_left, mass_right, momentum_left, &
@@ -6067,8 +6076,11 @@ contains
       real(dp) :: yield_stress, hardening_modulus, increment, wb(block_size), work(lanes)
       type(largest_move_t) :: largest
       real(dp) :: displacement(lanes), kinetic(lanes), strain(lanes), min_j(lanes)
+      ! the block's buffers (its particles' J and, with the bar's hat, their x - X, cells and velocities are
+      ! read back from the particles)
+      real(dp) :: svb(block_size), kb(block_size), sb(block_size)
       integer :: cb(block_size)
-      real(dp) :: svb(block_size), db(block_size), kb(block_size), sb(block_size), jb(block_size)
+      real(dp) :: db(block_size)
       real(dp) :: mb(block_size, 2)  !< the moves of a block, and of the block with the largest (lanes_track_move)
       integer :: slot
       real(dp) :: lane_max(lanes), block_max
@@ -6151,7 +6163,6 @@ contains
                end if
                call stress_linear(dstrain, youngs_modulus, strain_factor, volume0, stress(p), volume_ratio(p), &
                                   sb(i), svb(i))
-               jb(i) = volume_ratio(p)
             end if
             if (relocates) then ! the parts at the new position (with the new J)
                l = box_half_length(half_length0, volume_ratio(p), 1.0_dp, inv_dx)
@@ -6223,7 +6234,6 @@ contains
                sb(i) = stress(p)*stress(p)*volume_ratio(p)*strain_factor
                svb(i) = stress(p)*volume_ratio(p)*volume0
                wb(i) = (yield_stress + 0.5_dp*hardening_modulus*hardening(p))*hardening(p)*volume0
-               jb(i) = volume_ratio(p)
             end if
             if (relocates) then ! the parts at the new position (with the new J)
                l = box_half_length(half_length0, volume_ratio(p), 1.0_dp, inv_dx)
@@ -6285,7 +6295,6 @@ contains
                end if
                call stress_hencky(dstrain, youngs_modulus, strain_factor, volume0, stress(p), volume_ratio(p), &
                                   sb(i), svb(i))
-               jb(i) = volume_ratio(p)
             end if
             if (relocates) then ! the parts at the new position (with the new J)
                l = box_half_length(half_length0, volume_ratio(p), 1.0_dp, inv_dx)
@@ -6348,10 +6357,11 @@ contains
             lane_r = mod(n, lanes)
             if (lane_r > 0) strain(1:lane_r) = strain(1:lane_r) + sb(n - lane_r + 1:n)
             do lane_i = 1, n - lanes + 1, lanes
-               min_j = min(min_j, jb(lane_i:lane_i + lanes - 1))
+               min_j = min(min_j, volume_ratio(b0 + lane_i - 1:b0 + lane_i + lanes - 2))
             end do
             lane_r = mod(n, lanes)
-            if (lane_r > 0) min_j(1:lane_r) = min(min_j(1:lane_r), jb(n - lane_r + 1:n))
+            if (lane_r > 0) min_j(1:lane_r) = min(min_j(1:lane_r), &
+                                                        volume_ratio(b0 + n - lane_r:b0 + n - 1))
          end if
          if (plastic) then
             do lane_i = 1, n - lanes + 1, lanes
@@ -6410,8 +6420,11 @@ contains
       logical :: linear, plastic
       type(largest_move_t) :: largest
       real(dp) :: displacement(lanes), kinetic(lanes), strain(lanes), min_j(lanes)
+      ! the block's buffers (its particles' J and, with the bar's hat, their x - X, cells and velocities are
+      ! read back from the particles)
+      real(dp) :: svb(block_size), kb(block_size), sb(block_size)
       integer :: cb(block_size)
-      real(dp) :: svb(block_size), db(block_size), kb(block_size), sb(block_size), jb(block_size)
+      real(dp) :: db(block_size)
       real(dp) :: mb(block_size, 2)  !< the moves of a block, and of the block with the largest (lanes_track_move)
       integer :: slot
       real(dp) :: lane_max(lanes), block_max
@@ -6480,7 +6493,6 @@ contains
                end if
                call stress_hencky(dstrain, youngs_modulus, strain_factor, volume0, stress(p), volume_ratio(p), &
                                   sb(i), svb(i))
-               jb(i) = volume_ratio(p)
             end if
             if (relocates) then ! the parts at the new position
                call spline_parts((x(p) - origin)*inv_dx, elements, node, r1, r2, t1, t2, flag)
@@ -6541,10 +6553,11 @@ contains
             lane_r = mod(n, lanes)
             if (lane_r > 0) strain(1:lane_r) = strain(1:lane_r) + sb(n - lane_r + 1:n)
             do lane_i = 1, n - lanes + 1, lanes
-               min_j = min(min_j, jb(lane_i:lane_i + lanes - 1))
+               min_j = min(min_j, volume_ratio(b0 + lane_i - 1:b0 + lane_i + lanes - 2))
             end do
             lane_r = mod(n, lanes)
-            if (lane_r > 0) min_j(1:lane_r) = min(min_j(1:lane_r), jb(n - lane_r + 1:n))
+            if (lane_r > 0) min_j(1:lane_r) = min(min_j(1:lane_r), &
+                                                        volume_ratio(b0 + n - lane_r:b0 + n - 1))
          end if
          if (relocates) call find_outside(n, b0, cb, outside)
          call accumulate_boxes(k, n, cb, left, right, m, lo, hi, shares, run, mass_left, mass_right, momentum_left, &
@@ -6598,8 +6611,11 @@ contains
       real(dp) :: yield_stress, hardening_modulus, increment, wb(block_size), work(lanes)
       type(largest_move_t) :: largest
       real(dp) :: displacement(lanes), kinetic(lanes), strain(lanes), min_j(lanes)
+      ! the block's buffers (its particles' J and, with the bar's hat, their x - X, cells and velocities are
+      ! read back from the particles)
+      real(dp) :: svb(block_size), kb(block_size), sb(block_size)
       integer :: cb(block_size)
-      real(dp) :: svb(block_size), db(block_size), kb(block_size), sb(block_size), jb(block_size)
+      real(dp) :: db(block_size)
       real(dp) :: mb(block_size, 2)  !< the moves of a block, and of the block with the largest (lanes_track_move)
       integer :: slot
       real(dp) :: lane_max(lanes), block_max
@@ -6672,7 +6688,6 @@ contains
                end if
                call stress_linear(dstrain, youngs_modulus, strain_factor, volume0, stress(p), volume_ratio(p), &
                                   sb(i), svb(i))
-               jb(i) = volume_ratio(p)
             end if
             if (relocates) then ! the parts at the new position
                call spline_parts((x(p) - origin)*inv_dx, elements, node, r1, r2, t1, t2, flag)
@@ -6736,7 +6751,6 @@ contains
                sb(i) = stress(p)*stress(p)*volume_ratio(p)*strain_factor
                svb(i) = stress(p)*volume_ratio(p)*volume0
                wb(i) = (yield_stress + 0.5_dp*hardening_modulus*hardening(p))*hardening(p)*volume0
-               jb(i) = volume_ratio(p)
             end if
             if (relocates) then ! the parts at the new position
                call spline_parts((x(p) - origin)*inv_dx, elements, node, r1, r2, t1, t2, flag)
@@ -6790,7 +6804,6 @@ contains
                end if
                call stress_hencky(dstrain, youngs_modulus, strain_factor, volume0, stress(p), volume_ratio(p), &
                                   sb(i), svb(i))
-               jb(i) = volume_ratio(p)
             end if
             if (relocates) then ! the parts at the new position
                call spline_parts((x(p) - origin)*inv_dx, elements, node, r1, r2, t1, t2, flag)
@@ -6852,10 +6865,11 @@ contains
             lane_r = mod(n, lanes)
             if (lane_r > 0) strain(1:lane_r) = strain(1:lane_r) + sb(n - lane_r + 1:n)
             do lane_i = 1, n - lanes + 1, lanes
-               min_j = min(min_j, jb(lane_i:lane_i + lanes - 1))
+               min_j = min(min_j, volume_ratio(b0 + lane_i - 1:b0 + lane_i + lanes - 2))
             end do
             lane_r = mod(n, lanes)
-            if (lane_r > 0) min_j(1:lane_r) = min(min_j(1:lane_r), jb(n - lane_r + 1:n))
+            if (lane_r > 0) min_j(1:lane_r) = min(min_j(1:lane_r), &
+                                                        volume_ratio(b0 + n - lane_r:b0 + n - 1))
          end if
          if (plastic) then
             do lane_i = 1, n - lanes + 1, lanes
@@ -6916,8 +6930,11 @@ contains
       real(dp) :: yield_stress, hardening_modulus, increment, wb(block_size), work(lanes)
       type(largest_move_t) :: largest
       real(dp) :: displacement(lanes), kinetic(lanes), strain(lanes), min_j(lanes)
+      ! the block's buffers (its particles' J and, with the bar's hat, their x - X, cells and velocities are
+      ! read back from the particles)
+      real(dp) :: svb(block_size), kb(block_size), sb(block_size)
       integer :: cb(block_size)
-      real(dp) :: svb(block_size), db(block_size), kb(block_size), sb(block_size), jb(block_size)
+      real(dp) :: db(block_size)
       real(dp) :: mb(block_size, 2)  !< the moves of a block, and of the block with the largest (lanes_track_move)
       integer :: slot
       real(dp) :: lane_max(lanes), block_max
@@ -6990,7 +7007,6 @@ contains
                end if
                call stress_linear(dstrain, youngs_modulus, strain_factor, volume0, stress(p), volume_ratio(p), &
                                   sb(i), svb(i))
-               jb(i) = volume_ratio(p)
             end if
             if (relocates) then ! the parts at the new position
                call spline_parts((x(p) - origin)*inv_dx, elements, node, r1, r2, t1, t2, flag)
@@ -7054,7 +7070,6 @@ contains
                sb(i) = stress(p)*stress(p)*volume_ratio(p)*strain_factor
                svb(i) = stress(p)*volume_ratio(p)*volume0
                wb(i) = (yield_stress + 0.5_dp*hardening_modulus*hardening(p))*hardening(p)*volume0
-               jb(i) = volume_ratio(p)
             end if
             if (relocates) then ! the parts at the new position
                call spline_parts((x(p) - origin)*inv_dx, elements, node, r1, r2, t1, t2, flag)
@@ -7108,7 +7123,6 @@ contains
                end if
                call stress_hencky(dstrain, youngs_modulus, strain_factor, volume0, stress(p), volume_ratio(p), &
                                   sb(i), svb(i))
-               jb(i) = volume_ratio(p)
             end if
             if (relocates) then ! the parts at the new position
                call spline_parts((x(p) - origin)*inv_dx, elements, node, r1, r2, t1, t2, flag)
@@ -7170,10 +7184,11 @@ contains
             lane_r = mod(n, lanes)
             if (lane_r > 0) strain(1:lane_r) = strain(1:lane_r) + sb(n - lane_r + 1:n)
             do lane_i = 1, n - lanes + 1, lanes
-               min_j = min(min_j, jb(lane_i:lane_i + lanes - 1))
+               min_j = min(min_j, volume_ratio(b0 + lane_i - 1:b0 + lane_i + lanes - 2))
             end do
             lane_r = mod(n, lanes)
-            if (lane_r > 0) min_j(1:lane_r) = min(min_j(1:lane_r), jb(n - lane_r + 1:n))
+            if (lane_r > 0) min_j(1:lane_r) = min(min_j(1:lane_r), &
+                                                        volume_ratio(b0 + n - lane_r:b0 + n - 1))
          end if
          if (plastic) then
             do lane_i = 1, n - lanes + 1, lanes
@@ -7232,8 +7247,11 @@ contains
       logical :: linear, plastic
       type(largest_move_t) :: largest
       real(dp) :: displacement(lanes), kinetic(lanes), strain(lanes), min_j(lanes)
+      ! the block's buffers (its particles' J and, with the bar's hat, their x - X, cells and velocities are
+      ! read back from the particles)
+      real(dp) :: svb(block_size), kb(block_size), sb(block_size)
       integer :: cb(block_size)
-      real(dp) :: svb(block_size), db(block_size), kb(block_size), sb(block_size), jb(block_size)
+      real(dp) :: db(block_size)
       real(dp) :: mb(block_size, 2)  !< the moves of a block, and of the block with the largest (lanes_track_move)
       integer :: slot
       real(dp) :: lane_max(lanes), block_max
@@ -7302,7 +7320,6 @@ contains
                end if
                call stress_hencky(dstrain, youngs_modulus, strain_factor, volume0, stress(p), volume_ratio(p), &
                                   sb(i), svb(i))
-               jb(i) = volume_ratio(p)
             end if
             if (relocates) then ! the parts at the new position
                call spline_parts((x(p) - origin)*inv_dx, elements, node, r1, r2, t1, t2, flag)
@@ -7363,10 +7380,11 @@ contains
             lane_r = mod(n, lanes)
             if (lane_r > 0) strain(1:lane_r) = strain(1:lane_r) + sb(n - lane_r + 1:n)
             do lane_i = 1, n - lanes + 1, lanes
-               min_j = min(min_j, jb(lane_i:lane_i + lanes - 1))
+               min_j = min(min_j, volume_ratio(b0 + lane_i - 1:b0 + lane_i + lanes - 2))
             end do
             lane_r = mod(n, lanes)
-            if (lane_r > 0) min_j(1:lane_r) = min(min_j(1:lane_r), jb(n - lane_r + 1:n))
+            if (lane_r > 0) min_j(1:lane_r) = min(min_j(1:lane_r), &
+                                                        volume_ratio(b0 + n - lane_r:b0 + n - 1))
          end if
          if (relocates) call find_outside(n, b0, cb, outside)
          call accumulate_boxes(k, n, cb, left, right, m, lo, hi, shares, run, mass_left, mass_right, momentum_left, &
@@ -7420,8 +7438,11 @@ contains
       real(dp) :: yield_stress, hardening_modulus, increment, wb(block_size), work(lanes)
       type(largest_move_t) :: largest
       real(dp) :: displacement(lanes), kinetic(lanes), strain(lanes), min_j(lanes)
+      ! the block's buffers (its particles' J and, with the bar's hat, their x - X, cells and velocities are
+      ! read back from the particles)
+      real(dp) :: svb(block_size), kb(block_size), sb(block_size)
       integer :: cb(block_size)
-      real(dp) :: svb(block_size), db(block_size), kb(block_size), sb(block_size), jb(block_size)
+      real(dp) :: db(block_size)
       real(dp) :: mb(block_size, 2)  !< the moves of a block, and of the block with the largest (lanes_track_move)
       integer :: slot
       real(dp) :: lane_max(lanes), block_max
@@ -7494,7 +7515,6 @@ contains
                end if
                call stress_linear(dstrain, youngs_modulus, strain_factor, volume0, stress(p), volume_ratio(p), &
                                   sb(i), svb(i))
-               jb(i) = volume_ratio(p)
             end if
             if (relocates) then ! the parts at the new position
                call spline_parts((x(p) - origin)*inv_dx, elements, node, r1, r2, t1, t2, flag)
@@ -7558,7 +7578,6 @@ contains
                sb(i) = stress(p)*stress(p)*volume_ratio(p)*strain_factor
                svb(i) = stress(p)*volume_ratio(p)*volume0
                wb(i) = (yield_stress + 0.5_dp*hardening_modulus*hardening(p))*hardening(p)*volume0
-               jb(i) = volume_ratio(p)
             end if
             if (relocates) then ! the parts at the new position
                call spline_parts((x(p) - origin)*inv_dx, elements, node, r1, r2, t1, t2, flag)
@@ -7612,7 +7631,6 @@ contains
                end if
                call stress_hencky(dstrain, youngs_modulus, strain_factor, volume0, stress(p), volume_ratio(p), &
                                   sb(i), svb(i))
-               jb(i) = volume_ratio(p)
             end if
             if (relocates) then ! the parts at the new position
                call spline_parts((x(p) - origin)*inv_dx, elements, node, r1, r2, t1, t2, flag)
@@ -7674,10 +7692,11 @@ contains
             lane_r = mod(n, lanes)
             if (lane_r > 0) strain(1:lane_r) = strain(1:lane_r) + sb(n - lane_r + 1:n)
             do lane_i = 1, n - lanes + 1, lanes
-               min_j = min(min_j, jb(lane_i:lane_i + lanes - 1))
+               min_j = min(min_j, volume_ratio(b0 + lane_i - 1:b0 + lane_i + lanes - 2))
             end do
             lane_r = mod(n, lanes)
-            if (lane_r > 0) min_j(1:lane_r) = min(min_j(1:lane_r), jb(n - lane_r + 1:n))
+            if (lane_r > 0) min_j(1:lane_r) = min(min_j(1:lane_r), &
+                                                        volume_ratio(b0 + n - lane_r:b0 + n - 1))
          end if
          if (plastic) then
             do lane_i = 1, n - lanes + 1, lanes
@@ -7736,8 +7755,11 @@ contains
       logical :: linear, plastic
       type(largest_move_t) :: largest
       real(dp) :: displacement(lanes), kinetic(lanes), strain(lanes), min_j(lanes)
+      ! the block's buffers (its particles' J and, with the bar's hat, their x - X, cells and velocities are
+      ! read back from the particles)
+      real(dp) :: svb(block_size), kb(block_size), sb(block_size)
       integer :: cb(block_size)
-      real(dp) :: svb(block_size), db(block_size), kb(block_size), sb(block_size), jb(block_size)
+      real(dp) :: db(block_size)
       real(dp) :: mb(block_size, 2)  !< the moves of a block, and of the block with the largest (lanes_track_move)
       integer :: slot
       real(dp) :: lane_max(lanes), block_max
@@ -7807,7 +7829,6 @@ contains
                end if
                call stress_hencky(dstrain, youngs_modulus, strain_factor, volume0, stress(p), volume_ratio(p), &
                                   sb(i), svb(i))
-               jb(i) = volume_ratio(p)
             end if
             if (relocates) then ! the spline at the new position
                call bspline3_locate(x(p), origin, inv_dx, elements, node, tq, flag)
@@ -7872,10 +7893,11 @@ contains
             lane_r = mod(n, lanes)
             if (lane_r > 0) strain(1:lane_r) = strain(1:lane_r) + sb(n - lane_r + 1:n)
             do lane_i = 1, n - lanes + 1, lanes
-               min_j = min(min_j, jb(lane_i:lane_i + lanes - 1))
+               min_j = min(min_j, volume_ratio(b0 + lane_i - 1:b0 + lane_i + lanes - 2))
             end do
             lane_r = mod(n, lanes)
-            if (lane_r > 0) min_j(1:lane_r) = min(min_j(1:lane_r), jb(n - lane_r + 1:n))
+            if (lane_r > 0) min_j(1:lane_r) = min(min_j(1:lane_r), &
+                                                        volume_ratio(b0 + n - lane_r:b0 + n - 1))
          end if
          if (relocates) call find_outside(n, b0, cb, outside)
          call accumulate_thirds(k, n, cb, left, mid, right, m, lo, hi, shares, run, mass_left, mass_right, momentum_left, &
@@ -7932,8 +7954,11 @@ contains
       real(dp) :: yield_stress, hardening_modulus, increment, wb(block_size), work(lanes)
       type(largest_move_t) :: largest
       real(dp) :: displacement(lanes), kinetic(lanes), strain(lanes), min_j(lanes)
+      ! the block's buffers (its particles' J and, with the bar's hat, their x - X, cells and velocities are
+      ! read back from the particles)
+      real(dp) :: svb(block_size), kb(block_size), sb(block_size)
       integer :: cb(block_size)
-      real(dp) :: svb(block_size), db(block_size), kb(block_size), sb(block_size), jb(block_size)
+      real(dp) :: db(block_size)
       real(dp) :: mb(block_size, 2)  !< the moves of a block, and of the block with the largest (lanes_track_move)
       integer :: slot
       real(dp) :: lane_max(lanes), block_max
@@ -8007,7 +8032,6 @@ contains
                end if
                call stress_linear(dstrain, youngs_modulus, strain_factor, volume0, stress(p), volume_ratio(p), &
                                   sb(i), svb(i))
-               jb(i) = volume_ratio(p)
             end if
             if (relocates) then ! the spline at the new position
                call bspline3_locate(x(p), origin, inv_dx, elements, node, tq, flag)
@@ -8076,7 +8100,6 @@ contains
                sb(i) = stress(p)*stress(p)*volume_ratio(p)*strain_factor
                svb(i) = stress(p)*volume_ratio(p)*volume0
                wb(i) = (yield_stress + 0.5_dp*hardening_modulus*hardening(p))*hardening(p)*volume0
-               jb(i) = volume_ratio(p)
             end if
             if (relocates) then ! the spline at the new position
                call bspline3_locate(x(p), origin, inv_dx, elements, node, tq, flag)
@@ -8135,7 +8158,6 @@ contains
                end if
                call stress_hencky(dstrain, youngs_modulus, strain_factor, volume0, stress(p), volume_ratio(p), &
                                   sb(i), svb(i))
-               jb(i) = volume_ratio(p)
             end if
             if (relocates) then ! the spline at the new position
                call bspline3_locate(x(p), origin, inv_dx, elements, node, tq, flag)
@@ -8201,10 +8223,11 @@ contains
             lane_r = mod(n, lanes)
             if (lane_r > 0) strain(1:lane_r) = strain(1:lane_r) + sb(n - lane_r + 1:n)
             do lane_i = 1, n - lanes + 1, lanes
-               min_j = min(min_j, jb(lane_i:lane_i + lanes - 1))
+               min_j = min(min_j, volume_ratio(b0 + lane_i - 1:b0 + lane_i + lanes - 2))
             end do
             lane_r = mod(n, lanes)
-            if (lane_r > 0) min_j(1:lane_r) = min(min_j(1:lane_r), jb(n - lane_r + 1:n))
+            if (lane_r > 0) min_j(1:lane_r) = min(min_j(1:lane_r), &
+                                                        volume_ratio(b0 + n - lane_r:b0 + n - 1))
          end if
          if (plastic) then
             do lane_i = 1, n - lanes + 1, lanes
@@ -8268,8 +8291,11 @@ contains
       real(dp) :: yield_stress, hardening_modulus, increment, wb(block_size), work(lanes)
       type(largest_move_t) :: largest
       real(dp) :: displacement(lanes), kinetic(lanes), strain(lanes), min_j(lanes)
+      ! the block's buffers (its particles' J and, with the bar's hat, their x - X, cells and velocities are
+      ! read back from the particles)
+      real(dp) :: svb(block_size), kb(block_size), sb(block_size)
       integer :: cb(block_size)
-      real(dp) :: svb(block_size), db(block_size), kb(block_size), sb(block_size), jb(block_size)
+      real(dp) :: db(block_size)
       real(dp) :: mb(block_size, 2)  !< the moves of a block, and of the block with the largest (lanes_track_move)
       integer :: slot
       real(dp) :: lane_max(lanes), block_max
@@ -8343,7 +8369,6 @@ contains
                end if
                call stress_linear(dstrain, youngs_modulus, strain_factor, volume0, stress(p), volume_ratio(p), &
                                   sb(i), svb(i))
-               jb(i) = volume_ratio(p)
             end if
             if (relocates) then ! the spline at the new position
                call bspline3_locate(x(p), origin, inv_dx, elements, node, tq, flag)
@@ -8412,7 +8437,6 @@ contains
                sb(i) = stress(p)*stress(p)*volume_ratio(p)*strain_factor
                svb(i) = stress(p)*volume_ratio(p)*volume0
                wb(i) = (yield_stress + 0.5_dp*hardening_modulus*hardening(p))*hardening(p)*volume0
-               jb(i) = volume_ratio(p)
             end if
             if (relocates) then ! the spline at the new position
                call bspline3_locate(x(p), origin, inv_dx, elements, node, tq, flag)
@@ -8471,7 +8495,6 @@ contains
                end if
                call stress_hencky(dstrain, youngs_modulus, strain_factor, volume0, stress(p), volume_ratio(p), &
                                   sb(i), svb(i))
-               jb(i) = volume_ratio(p)
             end if
             if (relocates) then ! the spline at the new position
                call bspline3_locate(x(p), origin, inv_dx, elements, node, tq, flag)
@@ -8537,10 +8560,11 @@ contains
             lane_r = mod(n, lanes)
             if (lane_r > 0) strain(1:lane_r) = strain(1:lane_r) + sb(n - lane_r + 1:n)
             do lane_i = 1, n - lanes + 1, lanes
-               min_j = min(min_j, jb(lane_i:lane_i + lanes - 1))
+               min_j = min(min_j, volume_ratio(b0 + lane_i - 1:b0 + lane_i + lanes - 2))
             end do
             lane_r = mod(n, lanes)
-            if (lane_r > 0) min_j(1:lane_r) = min(min_j(1:lane_r), jb(n - lane_r + 1:n))
+            if (lane_r > 0) min_j(1:lane_r) = min(min_j(1:lane_r), &
+                                                        volume_ratio(b0 + n - lane_r:b0 + n - 1))
          end if
          if (plastic) then
             do lane_i = 1, n - lanes + 1, lanes
@@ -8602,8 +8626,11 @@ contains
       logical :: linear, plastic
       type(largest_move_t) :: largest
       real(dp) :: displacement(lanes), kinetic(lanes), strain(lanes), min_j(lanes)
+      ! the block's buffers (its particles' J and, with the bar's hat, their x - X, cells and velocities are
+      ! read back from the particles)
+      real(dp) :: svb(block_size), kb(block_size), sb(block_size)
       integer :: cb(block_size)
-      real(dp) :: svb(block_size), db(block_size), kb(block_size), sb(block_size), jb(block_size)
+      real(dp) :: db(block_size)
       real(dp) :: mb(block_size, 2)  !< the moves of a block, and of the block with the largest (lanes_track_move)
       integer :: slot
       real(dp) :: lane_max(lanes), block_max
@@ -8673,7 +8700,6 @@ contains
                end if
                call stress_hencky(dstrain, youngs_modulus, strain_factor, volume0, stress(p), volume_ratio(p), &
                                   sb(i), svb(i))
-               jb(i) = volume_ratio(p)
             end if
             if (relocates) then ! the spline at the new position
                call bspline3_locate(x(p), origin, inv_dx, elements, node, tq, flag)
@@ -8738,10 +8764,11 @@ contains
             lane_r = mod(n, lanes)
             if (lane_r > 0) strain(1:lane_r) = strain(1:lane_r) + sb(n - lane_r + 1:n)
             do lane_i = 1, n - lanes + 1, lanes
-               min_j = min(min_j, jb(lane_i:lane_i + lanes - 1))
+               min_j = min(min_j, volume_ratio(b0 + lane_i - 1:b0 + lane_i + lanes - 2))
             end do
             lane_r = mod(n, lanes)
-            if (lane_r > 0) min_j(1:lane_r) = min(min_j(1:lane_r), jb(n - lane_r + 1:n))
+            if (lane_r > 0) min_j(1:lane_r) = min(min_j(1:lane_r), &
+                                                        volume_ratio(b0 + n - lane_r:b0 + n - 1))
          end if
          if (relocates) call find_outside(n, b0, cb, outside)
          call accumulate_thirds(k, n, cb, left, mid, right, m, lo, hi, shares, run, mass_left, mass_right, momentum_left, &
@@ -8798,8 +8825,11 @@ contains
       real(dp) :: yield_stress, hardening_modulus, increment, wb(block_size), work(lanes)
       type(largest_move_t) :: largest
       real(dp) :: displacement(lanes), kinetic(lanes), strain(lanes), min_j(lanes)
+      ! the block's buffers (its particles' J and, with the bar's hat, their x - X, cells and velocities are
+      ! read back from the particles)
+      real(dp) :: svb(block_size), kb(block_size), sb(block_size)
       integer :: cb(block_size)
-      real(dp) :: svb(block_size), db(block_size), kb(block_size), sb(block_size), jb(block_size)
+      real(dp) :: db(block_size)
       real(dp) :: mb(block_size, 2)  !< the moves of a block, and of the block with the largest (lanes_track_move)
       integer :: slot
       real(dp) :: lane_max(lanes), block_max
@@ -8873,7 +8903,6 @@ contains
                end if
                call stress_linear(dstrain, youngs_modulus, strain_factor, volume0, stress(p), volume_ratio(p), &
                                   sb(i), svb(i))
-               jb(i) = volume_ratio(p)
             end if
             if (relocates) then ! the spline at the new position
                call bspline3_locate(x(p), origin, inv_dx, elements, node, tq, flag)
@@ -8942,7 +8971,6 @@ contains
                sb(i) = stress(p)*stress(p)*volume_ratio(p)*strain_factor
                svb(i) = stress(p)*volume_ratio(p)*volume0
                wb(i) = (yield_stress + 0.5_dp*hardening_modulus*hardening(p))*hardening(p)*volume0
-               jb(i) = volume_ratio(p)
             end if
             if (relocates) then ! the spline at the new position
                call bspline3_locate(x(p), origin, inv_dx, elements, node, tq, flag)
@@ -9001,7 +9029,6 @@ contains
                end if
                call stress_hencky(dstrain, youngs_modulus, strain_factor, volume0, stress(p), volume_ratio(p), &
                                   sb(i), svb(i))
-               jb(i) = volume_ratio(p)
             end if
             if (relocates) then ! the spline at the new position
                call bspline3_locate(x(p), origin, inv_dx, elements, node, tq, flag)
@@ -9067,10 +9094,11 @@ contains
             lane_r = mod(n, lanes)
             if (lane_r > 0) strain(1:lane_r) = strain(1:lane_r) + sb(n - lane_r + 1:n)
             do lane_i = 1, n - lanes + 1, lanes
-               min_j = min(min_j, jb(lane_i:lane_i + lanes - 1))
+               min_j = min(min_j, volume_ratio(b0 + lane_i - 1:b0 + lane_i + lanes - 2))
             end do
             lane_r = mod(n, lanes)
-            if (lane_r > 0) min_j(1:lane_r) = min(min_j(1:lane_r), jb(n - lane_r + 1:n))
+            if (lane_r > 0) min_j(1:lane_r) = min(min_j(1:lane_r), &
+                                                        volume_ratio(b0 + n - lane_r:b0 + n - 1))
          end if
          if (plastic) then
             do lane_i = 1, n - lanes + 1, lanes
@@ -9132,15 +9160,19 @@ contains
       logical :: linear, plastic
       type(largest_move_t) :: largest
       real(dp) :: displacement(lanes), kinetic(lanes), strain(lanes), min_j(lanes)
+      ! the block's buffers (its particles' J and, with the bar's hat, their x - X, cells and velocities are
+      ! read back from the particles)
+      real(dp) :: svb(block_size), kb(block_size), sb(block_size)
       integer :: cb(block_size)
-      real(dp) :: svb(block_size), db(block_size), kb(block_size), sb(block_size), jb(block_size)
+      real(dp) :: db(block_size)
       real(dp) :: mb(block_size, 2)  !< the moves of a block, and of the block with the largest (lanes_track_move)
       integer :: slot
       real(dp) :: lane_max(lanes), block_max
       integer :: lane_i, lane_r
       type(run_t) :: run
       integer(i8) :: elements_bits
-      real(dp) :: xi, xib(block_size), vpb(block_size)
+      real(dp) :: xi, xib(block_size)
+      real(dp) :: vpb(block_size)
       ! the variant's: G2P's grid velocity and move, the segment's body (cells offset), each particle's
       ! shares (accumulate_shares)
       real(dp) :: vgrid, dxp
@@ -9198,7 +9230,6 @@ contains
                end if
                call stress_hencky(dstrain, youngs_modulus, strain_factor, volume0, stress(p), volume_ratio(p), &
                                   sb(i), svb(i))
-               jb(i) = volume_ratio(p)
             else if (iand(shares, share_stress) /= 0) then ! (an initial mapping: the stress as it is)
                svb(i) = stress(p)*volume_ratio(p)*volume0
             end if
@@ -9245,10 +9276,11 @@ contains
             lane_r = mod(n, lanes)
             if (lane_r > 0) strain(1:lane_r) = strain(1:lane_r) + sb(n - lane_r + 1:n)
             do lane_i = 1, n - lanes + 1, lanes
-               min_j = min(min_j, jb(lane_i:lane_i + lanes - 1))
+               min_j = min(min_j, volume_ratio(b0 + lane_i - 1:b0 + lane_i + lanes - 2))
             end do
             lane_r = mod(n, lanes)
-            if (lane_r > 0) min_j(1:lane_r) = min(min_j(1:lane_r), jb(n - lane_r + 1:n))
+            if (lane_r > 0) min_j(1:lane_r) = min(min_j(1:lane_r), &
+                                                        volume_ratio(b0 + n - lane_r:b0 + n - 1))
          end if
          if (relocates) call find_outside(n, b0, cb, outside)
          call accumulate_block(k, n, cb, xib, vpb, svb, m, lo, hi, shares, run, mass_left, mass_right, momentum_left, &
@@ -9298,15 +9330,19 @@ contains
       real(dp) :: yield_stress, hardening_modulus, increment, wb(block_size), work(lanes)
       type(largest_move_t) :: largest
       real(dp) :: displacement(lanes), kinetic(lanes), strain(lanes), min_j(lanes)
+      ! the block's buffers (its particles' J and, with the bar's hat, their x - X, cells and velocities are
+      ! read back from the particles)
+      real(dp) :: svb(block_size), kb(block_size), sb(block_size)
       integer :: cb(block_size)
-      real(dp) :: svb(block_size), db(block_size), kb(block_size), sb(block_size), jb(block_size)
+      real(dp) :: db(block_size)
       real(dp) :: mb(block_size, 2)  !< the moves of a block, and of the block with the largest (lanes_track_move)
       integer :: slot
       real(dp) :: lane_max(lanes), block_max
       integer :: lane_i, lane_r
       type(run_t) :: run
       integer(i8) :: elements_bits
-      real(dp) :: xi, xib(block_size), vpb(block_size)
+      real(dp) :: xi, xib(block_size)
+      real(dp) :: vpb(block_size)
       ! the variant's: G2P's grid velocity and move, the segment's body (cells offset), each particle's
       ! shares (accumulate_shares)
       real(dp) :: vgrid, dxp
@@ -9368,7 +9404,6 @@ contains
                end if
                call stress_linear(dstrain, youngs_modulus, strain_factor, volume0, stress(p), volume_ratio(p), &
                                   sb(i), svb(i))
-               jb(i) = volume_ratio(p)
             else if (iand(shares, share_stress) /= 0) then ! (an initial mapping: the stress as it is)
                svb(i) = stress(p)*volume_ratio(p)*volume0
             end if
@@ -9414,7 +9449,6 @@ contains
                sb(i) = stress(p)*stress(p)*volume_ratio(p)*strain_factor
                svb(i) = stress(p)*volume_ratio(p)*volume0
                wb(i) = (yield_stress + 0.5_dp*hardening_modulus*hardening(p))*hardening(p)*volume0
-               jb(i) = volume_ratio(p)
             else if (iand(shares, share_stress) /= 0) then ! (an initial mapping: the stress as it is)
                svb(i) = stress(p)*volume_ratio(p)*volume0
             end if
@@ -9450,7 +9484,6 @@ contains
                end if
                call stress_hencky(dstrain, youngs_modulus, strain_factor, volume0, stress(p), volume_ratio(p), &
                                   sb(i), svb(i))
-               jb(i) = volume_ratio(p)
             else if (iand(shares, share_stress) /= 0) then ! (an initial mapping: the stress as it is)
                svb(i) = stress(p)*volume_ratio(p)*volume0
             end if
@@ -9498,10 +9531,11 @@ contains
             lane_r = mod(n, lanes)
             if (lane_r > 0) strain(1:lane_r) = strain(1:lane_r) + sb(n - lane_r + 1:n)
             do lane_i = 1, n - lanes + 1, lanes
-               min_j = min(min_j, jb(lane_i:lane_i + lanes - 1))
+               min_j = min(min_j, volume_ratio(b0 + lane_i - 1:b0 + lane_i + lanes - 2))
             end do
             lane_r = mod(n, lanes)
-            if (lane_r > 0) min_j(1:lane_r) = min(min_j(1:lane_r), jb(n - lane_r + 1:n))
+            if (lane_r > 0) min_j(1:lane_r) = min(min_j(1:lane_r), &
+                                                        volume_ratio(b0 + n - lane_r:b0 + n - 1))
          end if
          if (plastic) then
             do lane_i = 1, n - lanes + 1, lanes
@@ -9558,15 +9592,19 @@ contains
       real(dp) :: yield_stress, hardening_modulus, increment, wb(block_size), work(lanes)
       type(largest_move_t) :: largest
       real(dp) :: displacement(lanes), kinetic(lanes), strain(lanes), min_j(lanes)
+      ! the block's buffers (its particles' J and, with the bar's hat, their x - X, cells and velocities are
+      ! read back from the particles)
+      real(dp) :: svb(block_size), kb(block_size), sb(block_size)
       integer :: cb(block_size)
-      real(dp) :: svb(block_size), db(block_size), kb(block_size), sb(block_size), jb(block_size)
+      real(dp) :: db(block_size)
       real(dp) :: mb(block_size, 2)  !< the moves of a block, and of the block with the largest (lanes_track_move)
       integer :: slot
       real(dp) :: lane_max(lanes), block_max
       integer :: lane_i, lane_r
       type(run_t) :: run
       integer(i8) :: elements_bits
-      real(dp) :: xi, xib(block_size), vpb(block_size)
+      real(dp) :: xi, xib(block_size)
+      real(dp) :: vpb(block_size)
       ! the variant's: G2P's grid velocity and move, the segment's body (cells offset), each particle's
       ! shares (accumulate_shares)
       real(dp) :: vgrid, dxp
@@ -9628,7 +9666,6 @@ contains
                end if
                call stress_linear(dstrain, youngs_modulus, strain_factor, volume0, stress(p), volume_ratio(p), &
                                   sb(i), svb(i))
-               jb(i) = volume_ratio(p)
             else if (iand(shares, share_stress) /= 0) then ! (an initial mapping: the stress as it is)
                svb(i) = stress(p)*volume_ratio(p)*volume0
             end if
@@ -9674,7 +9711,6 @@ contains
                sb(i) = stress(p)*stress(p)*volume_ratio(p)*strain_factor
                svb(i) = stress(p)*volume_ratio(p)*volume0
                wb(i) = (yield_stress + 0.5_dp*hardening_modulus*hardening(p))*hardening(p)*volume0
-               jb(i) = volume_ratio(p)
             else if (iand(shares, share_stress) /= 0) then ! (an initial mapping: the stress as it is)
                svb(i) = stress(p)*volume_ratio(p)*volume0
             end if
@@ -9710,7 +9746,6 @@ contains
                end if
                call stress_hencky(dstrain, youngs_modulus, strain_factor, volume0, stress(p), volume_ratio(p), &
                                   sb(i), svb(i))
-               jb(i) = volume_ratio(p)
             else if (iand(shares, share_stress) /= 0) then ! (an initial mapping: the stress as it is)
                svb(i) = stress(p)*volume_ratio(p)*volume0
             end if
@@ -9758,10 +9793,11 @@ contains
             lane_r = mod(n, lanes)
             if (lane_r > 0) strain(1:lane_r) = strain(1:lane_r) + sb(n - lane_r + 1:n)
             do lane_i = 1, n - lanes + 1, lanes
-               min_j = min(min_j, jb(lane_i:lane_i + lanes - 1))
+               min_j = min(min_j, volume_ratio(b0 + lane_i - 1:b0 + lane_i + lanes - 2))
             end do
             lane_r = mod(n, lanes)
-            if (lane_r > 0) min_j(1:lane_r) = min(min_j(1:lane_r), jb(n - lane_r + 1:n))
+            if (lane_r > 0) min_j(1:lane_r) = min(min_j(1:lane_r), &
+                                                        volume_ratio(b0 + n - lane_r:b0 + n - 1))
          end if
          if (plastic) then
             do lane_i = 1, n - lanes + 1, lanes
@@ -9816,15 +9852,19 @@ contains
       logical :: linear, plastic
       type(largest_move_t) :: largest
       real(dp) :: displacement(lanes), kinetic(lanes), strain(lanes), min_j(lanes)
+      ! the block's buffers (its particles' J and, with the bar's hat, their x - X, cells and velocities are
+      ! read back from the particles)
+      real(dp) :: svb(block_size), kb(block_size), sb(block_size)
       integer :: cb(block_size)
-      real(dp) :: svb(block_size), db(block_size), kb(block_size), sb(block_size), jb(block_size)
+      real(dp) :: db(block_size)
       real(dp) :: mb(block_size, 2)  !< the moves of a block, and of the block with the largest (lanes_track_move)
       integer :: slot
       real(dp) :: lane_max(lanes), block_max
       integer :: lane_i, lane_r
       type(run_t) :: run
       integer(i8) :: elements_bits
-      real(dp) :: xi, xib(block_size), vpb(block_size)
+      real(dp) :: xi, xib(block_size)
+      real(dp) :: vpb(block_size)
       ! the variant's: G2P's grid velocity and move, the segment's body (cells offset), each particle's
       ! shares (accumulate_shares)
       real(dp) :: vgrid, dxp
@@ -9882,7 +9922,6 @@ contains
                end if
                call stress_hencky(dstrain, youngs_modulus, strain_factor, volume0, stress(p), volume_ratio(p), &
                                   sb(i), svb(i))
-               jb(i) = volume_ratio(p)
             else if (iand(shares, share_stress) /= 0) then ! (an initial mapping: the stress as it is)
                svb(i) = stress(p)*volume_ratio(p)*volume0
             end if
@@ -9929,10 +9968,11 @@ contains
             lane_r = mod(n, lanes)
             if (lane_r > 0) strain(1:lane_r) = strain(1:lane_r) + sb(n - lane_r + 1:n)
             do lane_i = 1, n - lanes + 1, lanes
-               min_j = min(min_j, jb(lane_i:lane_i + lanes - 1))
+               min_j = min(min_j, volume_ratio(b0 + lane_i - 1:b0 + lane_i + lanes - 2))
             end do
             lane_r = mod(n, lanes)
-            if (lane_r > 0) min_j(1:lane_r) = min(min_j(1:lane_r), jb(n - lane_r + 1:n))
+            if (lane_r > 0) min_j(1:lane_r) = min(min_j(1:lane_r), &
+                                                        volume_ratio(b0 + n - lane_r:b0 + n - 1))
          end if
          if (relocates) call find_outside(n, b0, cb, outside)
          call accumulate_block(k, n, cb, xib, vpb, svb, m, lo, hi, shares, run, mass_left, mass_right, momentum_left, &
@@ -9982,15 +10022,19 @@ contains
       real(dp) :: yield_stress, hardening_modulus, increment, wb(block_size), work(lanes)
       type(largest_move_t) :: largest
       real(dp) :: displacement(lanes), kinetic(lanes), strain(lanes), min_j(lanes)
+      ! the block's buffers (its particles' J and, with the bar's hat, their x - X, cells and velocities are
+      ! read back from the particles)
+      real(dp) :: svb(block_size), kb(block_size), sb(block_size)
       integer :: cb(block_size)
-      real(dp) :: svb(block_size), db(block_size), kb(block_size), sb(block_size), jb(block_size)
+      real(dp) :: db(block_size)
       real(dp) :: mb(block_size, 2)  !< the moves of a block, and of the block with the largest (lanes_track_move)
       integer :: slot
       real(dp) :: lane_max(lanes), block_max
       integer :: lane_i, lane_r
       type(run_t) :: run
       integer(i8) :: elements_bits
-      real(dp) :: xi, xib(block_size), vpb(block_size)
+      real(dp) :: xi, xib(block_size)
+      real(dp) :: vpb(block_size)
       ! the variant's: G2P's grid velocity and move, the segment's body (cells offset), each particle's
       ! shares (accumulate_shares)
       real(dp) :: vgrid, dxp
@@ -10052,7 +10096,6 @@ contains
                end if
                call stress_linear(dstrain, youngs_modulus, strain_factor, volume0, stress(p), volume_ratio(p), &
                                   sb(i), svb(i))
-               jb(i) = volume_ratio(p)
             else if (iand(shares, share_stress) /= 0) then ! (an initial mapping: the stress as it is)
                svb(i) = stress(p)*volume_ratio(p)*volume0
             end if
@@ -10098,7 +10141,6 @@ contains
                sb(i) = stress(p)*stress(p)*volume_ratio(p)*strain_factor
                svb(i) = stress(p)*volume_ratio(p)*volume0
                wb(i) = (yield_stress + 0.5_dp*hardening_modulus*hardening(p))*hardening(p)*volume0
-               jb(i) = volume_ratio(p)
             else if (iand(shares, share_stress) /= 0) then ! (an initial mapping: the stress as it is)
                svb(i) = stress(p)*volume_ratio(p)*volume0
             end if
@@ -10134,7 +10176,6 @@ contains
                end if
                call stress_hencky(dstrain, youngs_modulus, strain_factor, volume0, stress(p), volume_ratio(p), &
                                   sb(i), svb(i))
-               jb(i) = volume_ratio(p)
             else if (iand(shares, share_stress) /= 0) then ! (an initial mapping: the stress as it is)
                svb(i) = stress(p)*volume_ratio(p)*volume0
             end if
@@ -10182,10 +10223,11 @@ contains
             lane_r = mod(n, lanes)
             if (lane_r > 0) strain(1:lane_r) = strain(1:lane_r) + sb(n - lane_r + 1:n)
             do lane_i = 1, n - lanes + 1, lanes
-               min_j = min(min_j, jb(lane_i:lane_i + lanes - 1))
+               min_j = min(min_j, volume_ratio(b0 + lane_i - 1:b0 + lane_i + lanes - 2))
             end do
             lane_r = mod(n, lanes)
-            if (lane_r > 0) min_j(1:lane_r) = min(min_j(1:lane_r), jb(n - lane_r + 1:n))
+            if (lane_r > 0) min_j(1:lane_r) = min(min_j(1:lane_r), &
+                                                        volume_ratio(b0 + n - lane_r:b0 + n - 1))
          end if
          if (plastic) then
             do lane_i = 1, n - lanes + 1, lanes
@@ -10240,15 +10282,19 @@ contains
       logical :: linear, plastic
       type(largest_move_t) :: largest
       real(dp) :: displacement(lanes), kinetic(lanes), strain(lanes), min_j(lanes)
+      ! the block's buffers (its particles' J and, with the bar's hat, their x - X, cells and velocities are
+      ! read back from the particles)
+      real(dp) :: svb(block_size), kb(block_size), sb(block_size)
       integer :: cb(block_size)
-      real(dp) :: svb(block_size), db(block_size), kb(block_size), sb(block_size), jb(block_size)
+      real(dp) :: db(block_size)
       real(dp) :: mb(block_size, 2)  !< the moves of a block, and of the block with the largest (lanes_track_move)
       integer :: slot
       real(dp) :: lane_max(lanes), block_max
       integer :: lane_i, lane_r
       type(run_t) :: run
       integer(i8) :: elements_bits
-      real(dp) :: xi, xib(block_size), vpb(block_size)
+      real(dp) :: xi, xib(block_size)
+      real(dp) :: vpb(block_size)
       ! the variant's: G2P's grid velocity and move, the segment's body (cells offset), each particle's
       ! shares (accumulate_shares)
       real(dp) :: vgrid, dxp
@@ -10306,7 +10352,6 @@ contains
                end if
                call stress_hencky(dstrain, youngs_modulus, strain_factor, volume0, stress(p), volume_ratio(p), &
                                   sb(i), svb(i))
-               jb(i) = volume_ratio(p)
             else if (iand(shares, share_stress) /= 0) then ! (an initial mapping: the stress as it is)
                svb(i) = stress(p)*volume_ratio(p)*volume0
             end if
@@ -10353,10 +10398,11 @@ contains
             lane_r = mod(n, lanes)
             if (lane_r > 0) strain(1:lane_r) = strain(1:lane_r) + sb(n - lane_r + 1:n)
             do lane_i = 1, n - lanes + 1, lanes
-               min_j = min(min_j, jb(lane_i:lane_i + lanes - 1))
+               min_j = min(min_j, volume_ratio(b0 + lane_i - 1:b0 + lane_i + lanes - 2))
             end do
             lane_r = mod(n, lanes)
-            if (lane_r > 0) min_j(1:lane_r) = min(min_j(1:lane_r), jb(n - lane_r + 1:n))
+            if (lane_r > 0) min_j(1:lane_r) = min(min_j(1:lane_r), &
+                                                        volume_ratio(b0 + n - lane_r:b0 + n - 1))
          end if
          if (relocates) call find_outside(n, b0, cb, outside)
          call accumulate_block(k, n, cb, xib, vpb, svb, m, lo, hi, shares, run, mass_left, mass_right, momentum_left, &
@@ -10404,15 +10450,19 @@ contains
       logical :: linear, plastic
       type(largest_move_t) :: largest
       real(dp) :: displacement(lanes), kinetic(lanes), strain(lanes), min_j(lanes)
+      ! the block's buffers (its particles' J and, with the bar's hat, their x - X, cells and velocities are
+      ! read back from the particles)
+      real(dp) :: svb(block_size), kb(block_size), sb(block_size)
       integer :: cb(block_size)
-      real(dp) :: svb(block_size), db(block_size), kb(block_size), sb(block_size), jb(block_size)
+      real(dp) :: db(block_size)
       real(dp) :: mb(block_size, 2)  !< the moves of a block, and of the block with the largest (lanes_track_move)
       integer :: slot
       real(dp) :: lane_max(lanes), block_max
       integer :: lane_i, lane_r
       type(run_t) :: run
       integer(i8) :: elements_bits
-      real(dp) :: xi, xib(block_size), vpb(block_size)
+      real(dp) :: xi, xib(block_size)
+      real(dp) :: vpb(block_size)
       ! the variant's: G2P's grid velocity and move, the segment's body (cells offset), each particle's
       ! shares (accumulate_shares)
       real(dp) :: vgrid, dxp
@@ -10470,7 +10520,6 @@ contains
                end if
                call stress_hencky(dstrain, youngs_modulus, strain_factor, volume0, stress(p), volume_ratio(p), &
                                   sb(i), svb(i))
-               jb(i) = volume_ratio(p)
             else if (iand(shares, share_stress) /= 0) then ! (an initial mapping: the stress as it is)
                svb(i) = stress(p)*volume_ratio(p)*volume0
             end if
@@ -10517,10 +10566,11 @@ contains
             lane_r = mod(n, lanes)
             if (lane_r > 0) strain(1:lane_r) = strain(1:lane_r) + sb(n - lane_r + 1:n)
             do lane_i = 1, n - lanes + 1, lanes
-               min_j = min(min_j, jb(lane_i:lane_i + lanes - 1))
+               min_j = min(min_j, volume_ratio(b0 + lane_i - 1:b0 + lane_i + lanes - 2))
             end do
             lane_r = mod(n, lanes)
-            if (lane_r > 0) min_j(1:lane_r) = min(min_j(1:lane_r), jb(n - lane_r + 1:n))
+            if (lane_r > 0) min_j(1:lane_r) = min(min_j(1:lane_r), &
+                                                        volume_ratio(b0 + n - lane_r:b0 + n - 1))
          end if
          if (relocates) call find_outside(n, b0, cb, outside)
          call accumulate_block(k, n, cb, xib, vpb, svb, m, lo, hi, shares, run, mass_left, mass_right, momentum_left, &
@@ -10568,15 +10618,19 @@ contains
       logical :: linear, plastic
       type(largest_move_t) :: largest
       real(dp) :: displacement(lanes), kinetic(lanes), strain(lanes), min_j(lanes)
+      ! the block's buffers (its particles' J and, with the bar's hat, their x - X, cells and velocities are
+      ! read back from the particles)
+      real(dp) :: svb(block_size), kb(block_size), sb(block_size)
       integer :: cb(block_size)
-      real(dp) :: svb(block_size), db(block_size), kb(block_size), sb(block_size), jb(block_size)
+      real(dp) :: db(block_size)
       real(dp) :: mb(block_size, 2)  !< the moves of a block, and of the block with the largest (lanes_track_move)
       integer :: slot
       real(dp) :: lane_max(lanes), block_max
       integer :: lane_i, lane_r
       type(run_t) :: run
       integer(i8) :: elements_bits
-      real(dp) :: xi, xib(block_size), vpb(block_size)
+      real(dp) :: xi, xib(block_size)
+      real(dp) :: vpb(block_size)
       ! the variant's: G2P's grid velocity and move, the segment's body (cells offset), each particle's
       ! shares (accumulate_shares)
       real(dp) :: vgrid, dxp
@@ -10637,7 +10691,6 @@ contains
                end if
                call stress_hencky(dstrain, youngs_modulus, strain_factor, volume0, stress(p), volume_ratio(p), &
                                   sb(i), svb(i))
-               jb(i) = volume_ratio(p)
             else if (iand(shares, share_stress) /= 0) then ! (an initial mapping: the stress as it is)
                svb(i) = stress(p)*volume_ratio(p)*volume0
             end if
@@ -10684,10 +10737,11 @@ contains
             lane_r = mod(n, lanes)
             if (lane_r > 0) strain(1:lane_r) = strain(1:lane_r) + sb(n - lane_r + 1:n)
             do lane_i = 1, n - lanes + 1, lanes
-               min_j = min(min_j, jb(lane_i:lane_i + lanes - 1))
+               min_j = min(min_j, volume_ratio(b0 + lane_i - 1:b0 + lane_i + lanes - 2))
             end do
             lane_r = mod(n, lanes)
-            if (lane_r > 0) min_j(1:lane_r) = min(min_j(1:lane_r), jb(n - lane_r + 1:n))
+            if (lane_r > 0) min_j(1:lane_r) = min(min_j(1:lane_r), &
+                                                        volume_ratio(b0 + n - lane_r:b0 + n - 1))
          end if
          if (relocates) call find_outside(n, b0, cb, outside)
          call accumulate_block(k, n, cb, xib, vpb, svb, m, lo, hi, shares, run, mass_left, mass_right, momentum_left, &
@@ -10737,15 +10791,19 @@ contains
       real(dp) :: yield_stress, hardening_modulus, increment, wb(block_size), work(lanes)
       type(largest_move_t) :: largest
       real(dp) :: displacement(lanes), kinetic(lanes), strain(lanes), min_j(lanes)
+      ! the block's buffers (its particles' J and, with the bar's hat, their x - X, cells and velocities are
+      ! read back from the particles)
+      real(dp) :: svb(block_size), kb(block_size), sb(block_size)
       integer :: cb(block_size)
-      real(dp) :: svb(block_size), db(block_size), kb(block_size), sb(block_size), jb(block_size)
+      real(dp) :: db(block_size)
       real(dp) :: mb(block_size, 2)  !< the moves of a block, and of the block with the largest (lanes_track_move)
       integer :: slot
       real(dp) :: lane_max(lanes), block_max
       integer :: lane_i, lane_r
       type(run_t) :: run
       integer(i8) :: elements_bits
-      real(dp) :: xi, xib(block_size), vpb(block_size)
+      real(dp) :: xi, xib(block_size)
+      real(dp) :: vpb(block_size)
       ! the variant's: G2P's grid velocity and move, the segment's body (cells offset), each particle's
       ! shares (accumulate_shares)
       real(dp) :: vgrid, dxp
@@ -10810,7 +10868,6 @@ contains
                end if
                call stress_linear(dstrain, youngs_modulus, strain_factor, volume0, stress(p), volume_ratio(p), &
                                   sb(i), svb(i))
-               jb(i) = volume_ratio(p)
             else if (iand(shares, share_stress) /= 0) then ! (an initial mapping: the stress as it is)
                svb(i) = stress(p)*volume_ratio(p)*volume0
             end if
@@ -10857,7 +10914,6 @@ contains
                sb(i) = stress(p)*stress(p)*volume_ratio(p)*strain_factor
                svb(i) = stress(p)*volume_ratio(p)*volume0
                wb(i) = (yield_stress + 0.5_dp*hardening_modulus*hardening(p))*hardening(p)*volume0
-               jb(i) = volume_ratio(p)
             else if (iand(shares, share_stress) /= 0) then ! (an initial mapping: the stress as it is)
                svb(i) = stress(p)*volume_ratio(p)*volume0
             end if
@@ -10894,7 +10950,6 @@ contains
                end if
                call stress_hencky(dstrain, youngs_modulus, strain_factor, volume0, stress(p), volume_ratio(p), &
                                   sb(i), svb(i))
-               jb(i) = volume_ratio(p)
             else if (iand(shares, share_stress) /= 0) then ! (an initial mapping: the stress as it is)
                svb(i) = stress(p)*volume_ratio(p)*volume0
             end if
@@ -10942,10 +10997,11 @@ contains
             lane_r = mod(n, lanes)
             if (lane_r > 0) strain(1:lane_r) = strain(1:lane_r) + sb(n - lane_r + 1:n)
             do lane_i = 1, n - lanes + 1, lanes
-               min_j = min(min_j, jb(lane_i:lane_i + lanes - 1))
+               min_j = min(min_j, volume_ratio(b0 + lane_i - 1:b0 + lane_i + lanes - 2))
             end do
             lane_r = mod(n, lanes)
-            if (lane_r > 0) min_j(1:lane_r) = min(min_j(1:lane_r), jb(n - lane_r + 1:n))
+            if (lane_r > 0) min_j(1:lane_r) = min(min_j(1:lane_r), &
+                                                        volume_ratio(b0 + n - lane_r:b0 + n - 1))
          end if
          if (plastic) then
             do lane_i = 1, n - lanes + 1, lanes
@@ -11002,15 +11058,19 @@ contains
       real(dp) :: yield_stress, hardening_modulus, increment, wb(block_size), work(lanes)
       type(largest_move_t) :: largest
       real(dp) :: displacement(lanes), kinetic(lanes), strain(lanes), min_j(lanes)
+      ! the block's buffers (its particles' J and, with the bar's hat, their x - X, cells and velocities are
+      ! read back from the particles)
+      real(dp) :: svb(block_size), kb(block_size), sb(block_size)
       integer :: cb(block_size)
-      real(dp) :: svb(block_size), db(block_size), kb(block_size), sb(block_size), jb(block_size)
+      real(dp) :: db(block_size)
       real(dp) :: mb(block_size, 2)  !< the moves of a block, and of the block with the largest (lanes_track_move)
       integer :: slot
       real(dp) :: lane_max(lanes), block_max
       integer :: lane_i, lane_r
       type(run_t) :: run
       integer(i8) :: elements_bits
-      real(dp) :: xi, xib(block_size), vpb(block_size)
+      real(dp) :: xi, xib(block_size)
+      real(dp) :: vpb(block_size)
       ! the variant's: G2P's grid velocity and move, the segment's body (cells offset), each particle's
       ! shares (accumulate_shares)
       real(dp) :: vgrid, dxp
@@ -11075,7 +11135,6 @@ contains
                end if
                call stress_linear(dstrain, youngs_modulus, strain_factor, volume0, stress(p), volume_ratio(p), &
                                   sb(i), svb(i))
-               jb(i) = volume_ratio(p)
             else if (iand(shares, share_stress) /= 0) then ! (an initial mapping: the stress as it is)
                svb(i) = stress(p)*volume_ratio(p)*volume0
             end if
@@ -11122,7 +11181,6 @@ contains
                sb(i) = stress(p)*stress(p)*volume_ratio(p)*strain_factor
                svb(i) = stress(p)*volume_ratio(p)*volume0
                wb(i) = (yield_stress + 0.5_dp*hardening_modulus*hardening(p))*hardening(p)*volume0
-               jb(i) = volume_ratio(p)
             else if (iand(shares, share_stress) /= 0) then ! (an initial mapping: the stress as it is)
                svb(i) = stress(p)*volume_ratio(p)*volume0
             end if
@@ -11159,7 +11217,6 @@ contains
                end if
                call stress_hencky(dstrain, youngs_modulus, strain_factor, volume0, stress(p), volume_ratio(p), &
                                   sb(i), svb(i))
-               jb(i) = volume_ratio(p)
             else if (iand(shares, share_stress) /= 0) then ! (an initial mapping: the stress as it is)
                svb(i) = stress(p)*volume_ratio(p)*volume0
             end if
@@ -11207,10 +11264,11 @@ contains
             lane_r = mod(n, lanes)
             if (lane_r > 0) strain(1:lane_r) = strain(1:lane_r) + sb(n - lane_r + 1:n)
             do lane_i = 1, n - lanes + 1, lanes
-               min_j = min(min_j, jb(lane_i:lane_i + lanes - 1))
+               min_j = min(min_j, volume_ratio(b0 + lane_i - 1:b0 + lane_i + lanes - 2))
             end do
             lane_r = mod(n, lanes)
-            if (lane_r > 0) min_j(1:lane_r) = min(min_j(1:lane_r), jb(n - lane_r + 1:n))
+            if (lane_r > 0) min_j(1:lane_r) = min(min_j(1:lane_r), &
+                                                        volume_ratio(b0 + n - lane_r:b0 + n - 1))
          end if
          if (plastic) then
             do lane_i = 1, n - lanes + 1, lanes
@@ -11265,15 +11323,19 @@ contains
       logical :: linear, plastic
       type(largest_move_t) :: largest
       real(dp) :: displacement(lanes), kinetic(lanes), strain(lanes), min_j(lanes)
+      ! the block's buffers (its particles' J and, with the bar's hat, their x - X, cells and velocities are
+      ! read back from the particles)
+      real(dp) :: svb(block_size), kb(block_size), sb(block_size)
       integer :: cb(block_size)
-      real(dp) :: svb(block_size), db(block_size), kb(block_size), sb(block_size), jb(block_size)
+      real(dp) :: db(block_size)
       real(dp) :: mb(block_size, 2)  !< the moves of a block, and of the block with the largest (lanes_track_move)
       integer :: slot
       real(dp) :: lane_max(lanes), block_max
       integer :: lane_i, lane_r
       type(run_t) :: run
       integer(i8) :: elements_bits
-      real(dp) :: xi, xib(block_size), vpb(block_size)
+      real(dp) :: xi, xib(block_size)
+      real(dp) :: vpb(block_size)
       ! the variant's: G2P's grid velocity and move, the segment's body (cells offset), each particle's
       ! shares (accumulate_shares)
       real(dp) :: vgrid, dxp
@@ -11334,7 +11396,6 @@ contains
                end if
                call stress_hencky(dstrain, youngs_modulus, strain_factor, volume0, stress(p), volume_ratio(p), &
                                   sb(i), svb(i))
-               jb(i) = volume_ratio(p)
             else if (iand(shares, share_stress) /= 0) then ! (an initial mapping: the stress as it is)
                svb(i) = stress(p)*volume_ratio(p)*volume0
             end if
@@ -11381,10 +11442,11 @@ contains
             lane_r = mod(n, lanes)
             if (lane_r > 0) strain(1:lane_r) = strain(1:lane_r) + sb(n - lane_r + 1:n)
             do lane_i = 1, n - lanes + 1, lanes
-               min_j = min(min_j, jb(lane_i:lane_i + lanes - 1))
+               min_j = min(min_j, volume_ratio(b0 + lane_i - 1:b0 + lane_i + lanes - 2))
             end do
             lane_r = mod(n, lanes)
-            if (lane_r > 0) min_j(1:lane_r) = min(min_j(1:lane_r), jb(n - lane_r + 1:n))
+            if (lane_r > 0) min_j(1:lane_r) = min(min_j(1:lane_r), &
+                                                        volume_ratio(b0 + n - lane_r:b0 + n - 1))
          end if
          if (relocates) call find_outside(n, b0, cb, outside)
          call accumulate_block(k, n, cb, xib, vpb, svb, m, lo, hi, shares, run, mass_left, mass_right, momentum_left, &
@@ -11434,15 +11496,19 @@ contains
       real(dp) :: yield_stress, hardening_modulus, increment, wb(block_size), work(lanes)
       type(largest_move_t) :: largest
       real(dp) :: displacement(lanes), kinetic(lanes), strain(lanes), min_j(lanes)
+      ! the block's buffers (its particles' J and, with the bar's hat, their x - X, cells and velocities are
+      ! read back from the particles)
+      real(dp) :: svb(block_size), kb(block_size), sb(block_size)
       integer :: cb(block_size)
-      real(dp) :: svb(block_size), db(block_size), kb(block_size), sb(block_size), jb(block_size)
+      real(dp) :: db(block_size)
       real(dp) :: mb(block_size, 2)  !< the moves of a block, and of the block with the largest (lanes_track_move)
       integer :: slot
       real(dp) :: lane_max(lanes), block_max
       integer :: lane_i, lane_r
       type(run_t) :: run
       integer(i8) :: elements_bits
-      real(dp) :: xi, xib(block_size), vpb(block_size)
+      real(dp) :: xi, xib(block_size)
+      real(dp) :: vpb(block_size)
       ! the variant's: G2P's grid velocity and move, the segment's body (cells offset), each particle's
       ! shares (accumulate_shares)
       real(dp) :: vgrid, dxp
@@ -11507,7 +11573,6 @@ contains
                end if
                call stress_linear(dstrain, youngs_modulus, strain_factor, volume0, stress(p), volume_ratio(p), &
                                   sb(i), svb(i))
-               jb(i) = volume_ratio(p)
             else if (iand(shares, share_stress) /= 0) then ! (an initial mapping: the stress as it is)
                svb(i) = stress(p)*volume_ratio(p)*volume0
             end if
@@ -11554,7 +11619,6 @@ contains
                sb(i) = stress(p)*stress(p)*volume_ratio(p)*strain_factor
                svb(i) = stress(p)*volume_ratio(p)*volume0
                wb(i) = (yield_stress + 0.5_dp*hardening_modulus*hardening(p))*hardening(p)*volume0
-               jb(i) = volume_ratio(p)
             else if (iand(shares, share_stress) /= 0) then ! (an initial mapping: the stress as it is)
                svb(i) = stress(p)*volume_ratio(p)*volume0
             end if
@@ -11591,7 +11655,6 @@ contains
                end if
                call stress_hencky(dstrain, youngs_modulus, strain_factor, volume0, stress(p), volume_ratio(p), &
                                   sb(i), svb(i))
-               jb(i) = volume_ratio(p)
             else if (iand(shares, share_stress) /= 0) then ! (an initial mapping: the stress as it is)
                svb(i) = stress(p)*volume_ratio(p)*volume0
             end if
@@ -11639,10 +11702,11 @@ contains
             lane_r = mod(n, lanes)
             if (lane_r > 0) strain(1:lane_r) = strain(1:lane_r) + sb(n - lane_r + 1:n)
             do lane_i = 1, n - lanes + 1, lanes
-               min_j = min(min_j, jb(lane_i:lane_i + lanes - 1))
+               min_j = min(min_j, volume_ratio(b0 + lane_i - 1:b0 + lane_i + lanes - 2))
             end do
             lane_r = mod(n, lanes)
-            if (lane_r > 0) min_j(1:lane_r) = min(min_j(1:lane_r), jb(n - lane_r + 1:n))
+            if (lane_r > 0) min_j(1:lane_r) = min(min_j(1:lane_r), &
+                                                        volume_ratio(b0 + n - lane_r:b0 + n - 1))
          end if
          if (plastic) then
             do lane_i = 1, n - lanes + 1, lanes
@@ -11697,15 +11761,19 @@ contains
       logical :: linear, plastic
       type(largest_move_t) :: largest
       real(dp) :: displacement(lanes), kinetic(lanes), strain(lanes), min_j(lanes)
+      ! the block's buffers (its particles' J and, with the bar's hat, their x - X, cells and velocities are
+      ! read back from the particles)
+      real(dp) :: svb(block_size), kb(block_size), sb(block_size)
       integer :: cb(block_size)
-      real(dp) :: svb(block_size), db(block_size), kb(block_size), sb(block_size), jb(block_size)
+      real(dp) :: db(block_size)
       real(dp) :: mb(block_size, 2)  !< the moves of a block, and of the block with the largest (lanes_track_move)
       integer :: slot
       real(dp) :: lane_max(lanes), block_max
       integer :: lane_i, lane_r
       type(run_t) :: run
       integer(i8) :: elements_bits
-      real(dp) :: xi, xib(block_size), vpb(block_size)
+      real(dp) :: xi, xib(block_size)
+      real(dp) :: vpb(block_size)
       ! the variant's: G2P's grid velocity and move, the segment's body (cells offset), each particle's
       ! shares (accumulate_shares)
       real(dp) :: vgrid, dxp
@@ -11766,7 +11834,6 @@ contains
                end if
                call stress_hencky(dstrain, youngs_modulus, strain_factor, volume0, stress(p), volume_ratio(p), &
                                   sb(i), svb(i))
-               jb(i) = volume_ratio(p)
             else if (iand(shares, share_stress) /= 0) then ! (an initial mapping: the stress as it is)
                svb(i) = stress(p)*volume_ratio(p)*volume0
             end if
@@ -11813,10 +11880,11 @@ contains
             lane_r = mod(n, lanes)
             if (lane_r > 0) strain(1:lane_r) = strain(1:lane_r) + sb(n - lane_r + 1:n)
             do lane_i = 1, n - lanes + 1, lanes
-               min_j = min(min_j, jb(lane_i:lane_i + lanes - 1))
+               min_j = min(min_j, volume_ratio(b0 + lane_i - 1:b0 + lane_i + lanes - 2))
             end do
             lane_r = mod(n, lanes)
-            if (lane_r > 0) min_j(1:lane_r) = min(min_j(1:lane_r), jb(n - lane_r + 1:n))
+            if (lane_r > 0) min_j(1:lane_r) = min(min_j(1:lane_r), &
+                                                        volume_ratio(b0 + n - lane_r:b0 + n - 1))
          end if
          if (relocates) call find_outside(n, b0, cb, outside)
          call accumulate_block(k, n, cb, xib, vpb, svb, m, lo, hi, shares, run, mass_left, mass_right, momentum_left, &
@@ -11864,15 +11932,19 @@ contains
       logical :: linear, plastic
       type(largest_move_t) :: largest
       real(dp) :: displacement(lanes), kinetic(lanes), strain(lanes), min_j(lanes)
+      ! the block's buffers (its particles' J and, with the bar's hat, their x - X, cells and velocities are
+      ! read back from the particles)
+      real(dp) :: svb(block_size), kb(block_size), sb(block_size)
       integer :: cb(block_size)
-      real(dp) :: svb(block_size), db(block_size), kb(block_size), sb(block_size), jb(block_size)
+      real(dp) :: db(block_size)
       real(dp) :: mb(block_size, 2)  !< the moves of a block, and of the block with the largest (lanes_track_move)
       integer :: slot
       real(dp) :: lane_max(lanes), block_max
       integer :: lane_i, lane_r
       type(run_t) :: run
       integer(i8) :: elements_bits
-      real(dp) :: xi, xib(block_size), vpb(block_size)
+      real(dp) :: xi, xib(block_size)
+      real(dp) :: vpb(block_size)
       ! the variant's: G2P's grid velocity and move, the segment's body (cells offset), each particle's
       ! shares (accumulate_shares)
       real(dp) :: vgrid, dxp
@@ -11933,7 +12005,6 @@ contains
                end if
                call stress_hencky(dstrain, youngs_modulus, strain_factor, volume0, stress(p), volume_ratio(p), &
                                   sb(i), svb(i))
-               jb(i) = volume_ratio(p)
             else if (iand(shares, share_stress) /= 0) then ! (an initial mapping: the stress as it is)
                svb(i) = stress(p)*volume_ratio(p)*volume0
             end if
@@ -11980,10 +12051,11 @@ contains
             lane_r = mod(n, lanes)
             if (lane_r > 0) strain(1:lane_r) = strain(1:lane_r) + sb(n - lane_r + 1:n)
             do lane_i = 1, n - lanes + 1, lanes
-               min_j = min(min_j, jb(lane_i:lane_i + lanes - 1))
+               min_j = min(min_j, volume_ratio(b0 + lane_i - 1:b0 + lane_i + lanes - 2))
             end do
             lane_r = mod(n, lanes)
-            if (lane_r > 0) min_j(1:lane_r) = min(min_j(1:lane_r), jb(n - lane_r + 1:n))
+            if (lane_r > 0) min_j(1:lane_r) = min(min_j(1:lane_r), &
+                                                        volume_ratio(b0 + n - lane_r:b0 + n - 1))
          end if
          if (relocates) call find_outside(n, b0, cb, outside)
          call accumulate_block(k, n, cb, xib, vpb, svb, m, lo, hi, shares, run, mass_left, mass_right, momentum_left, &
@@ -12031,15 +12103,19 @@ contains
       logical :: linear, plastic
       type(largest_move_t) :: largest
       real(dp) :: displacement(lanes), kinetic(lanes), strain(lanes), min_j(lanes)
+      ! the block's buffers (its particles' J and, with the bar's hat, their x - X, cells and velocities are
+      ! read back from the particles)
+      real(dp) :: svb(block_size), kb(block_size), sb(block_size)
       integer :: cb(block_size)
-      real(dp) :: svb(block_size), db(block_size), kb(block_size), sb(block_size), jb(block_size)
+      real(dp) :: db(block_size)
       real(dp) :: mb(block_size, 2)  !< the moves of a block, and of the block with the largest (lanes_track_move)
       integer :: slot
       real(dp) :: lane_max(lanes), block_max
       integer :: lane_i, lane_r
       type(run_t) :: run
       integer(i8) :: elements_bits
-      real(dp) :: xi, xib(block_size), vpb(block_size)
+      real(dp) :: xi, xib(block_size)
+      real(dp) :: vpb(block_size)
       ! the variant's: G2P's grid velocity and move, the segment's body (cells offset), each particle's
       ! shares (accumulate_shares)
       real(dp) :: vgrid, dxp
@@ -12101,7 +12177,6 @@ contains
                end if
                call stress_hencky(dstrain, youngs_modulus, strain_factor, volume0, stress(p), volume_ratio(p), &
                                   sb(i), svb(i))
-               jb(i) = volume_ratio(p)
             else if (iand(shares, share_stress) /= 0) then ! (an initial mapping: the stress as it is)
                svb(i) = stress(p)*volume_ratio(p)*volume0
             end if
@@ -12160,10 +12235,11 @@ contains
             lane_r = mod(n, lanes)
             if (lane_r > 0) strain(1:lane_r) = strain(1:lane_r) + sb(n - lane_r + 1:n)
             do lane_i = 1, n - lanes + 1, lanes
-               min_j = min(min_j, jb(lane_i:lane_i + lanes - 1))
+               min_j = min(min_j, volume_ratio(b0 + lane_i - 1:b0 + lane_i + lanes - 2))
             end do
             lane_r = mod(n, lanes)
-            if (lane_r > 0) min_j(1:lane_r) = min(min_j(1:lane_r), jb(n - lane_r + 1:n))
+            if (lane_r > 0) min_j(1:lane_r) = min(min_j(1:lane_r), &
+                                                        volume_ratio(b0 + n - lane_r:b0 + n - 1))
          end if
          if (relocates) call find_outside(n, b0, cb, outside)
          call accumulate_block(k, n, cb, xib, vpb, svb, m, lo, hi, shares, run, mass_left, mass_right, momentum_left, &
@@ -12213,15 +12289,19 @@ contains
       real(dp) :: yield_stress, hardening_modulus, increment, wb(block_size), work(lanes)
       type(largest_move_t) :: largest
       real(dp) :: displacement(lanes), kinetic(lanes), strain(lanes), min_j(lanes)
+      ! the block's buffers (its particles' J and, with the bar's hat, their x - X, cells and velocities are
+      ! read back from the particles)
+      real(dp) :: svb(block_size), kb(block_size), sb(block_size)
       integer :: cb(block_size)
-      real(dp) :: svb(block_size), db(block_size), kb(block_size), sb(block_size), jb(block_size)
+      real(dp) :: db(block_size)
       real(dp) :: mb(block_size, 2)  !< the moves of a block, and of the block with the largest (lanes_track_move)
       integer :: slot
       real(dp) :: lane_max(lanes), block_max
       integer :: lane_i, lane_r
       type(run_t) :: run
       integer(i8) :: elements_bits
-      real(dp) :: xi, xib(block_size), vpb(block_size)
+      real(dp) :: xi, xib(block_size)
+      real(dp) :: vpb(block_size)
       ! the variant's: G2P's grid velocity and move, the segment's body (cells offset), each particle's
       ! shares (accumulate_shares)
       real(dp) :: vgrid, dxp
@@ -12287,7 +12367,6 @@ contains
                end if
                call stress_linear(dstrain, youngs_modulus, strain_factor, volume0, stress(p), volume_ratio(p), &
                                   sb(i), svb(i))
-               jb(i) = volume_ratio(p)
             else if (iand(shares, share_stress) /= 0) then ! (an initial mapping: the stress as it is)
                svb(i) = stress(p)*volume_ratio(p)*volume0
             end if
@@ -12347,7 +12426,6 @@ contains
                sb(i) = stress(p)*stress(p)*volume_ratio(p)*strain_factor
                svb(i) = stress(p)*volume_ratio(p)*volume0
                wb(i) = (yield_stress + 0.5_dp*hardening_modulus*hardening(p))*hardening(p)*volume0
-               jb(i) = volume_ratio(p)
             else if (iand(shares, share_stress) /= 0) then ! (an initial mapping: the stress as it is)
                svb(i) = stress(p)*volume_ratio(p)*volume0
             end if
@@ -12397,7 +12475,6 @@ contains
                end if
                call stress_hencky(dstrain, youngs_modulus, strain_factor, volume0, stress(p), volume_ratio(p), &
                                   sb(i), svb(i))
-               jb(i) = volume_ratio(p)
             else if (iand(shares, share_stress) /= 0) then ! (an initial mapping: the stress as it is)
                svb(i) = stress(p)*volume_ratio(p)*volume0
             end if
@@ -12457,10 +12534,11 @@ contains
             lane_r = mod(n, lanes)
             if (lane_r > 0) strain(1:lane_r) = strain(1:lane_r) + sb(n - lane_r + 1:n)
             do lane_i = 1, n - lanes + 1, lanes
-               min_j = min(min_j, jb(lane_i:lane_i + lanes - 1))
+               min_j = min(min_j, volume_ratio(b0 + lane_i - 1:b0 + lane_i + lanes - 2))
             end do
             lane_r = mod(n, lanes)
-            if (lane_r > 0) min_j(1:lane_r) = min(min_j(1:lane_r), jb(n - lane_r + 1:n))
+            if (lane_r > 0) min_j(1:lane_r) = min(min_j(1:lane_r), &
+                                                        volume_ratio(b0 + n - lane_r:b0 + n - 1))
          end if
          if (plastic) then
             do lane_i = 1, n - lanes + 1, lanes
@@ -12517,15 +12595,19 @@ contains
       real(dp) :: yield_stress, hardening_modulus, increment, wb(block_size), work(lanes)
       type(largest_move_t) :: largest
       real(dp) :: displacement(lanes), kinetic(lanes), strain(lanes), min_j(lanes)
+      ! the block's buffers (its particles' J and, with the bar's hat, their x - X, cells and velocities are
+      ! read back from the particles)
+      real(dp) :: svb(block_size), kb(block_size), sb(block_size)
       integer :: cb(block_size)
-      real(dp) :: svb(block_size), db(block_size), kb(block_size), sb(block_size), jb(block_size)
+      real(dp) :: db(block_size)
       real(dp) :: mb(block_size, 2)  !< the moves of a block, and of the block with the largest (lanes_track_move)
       integer :: slot
       real(dp) :: lane_max(lanes), block_max
       integer :: lane_i, lane_r
       type(run_t) :: run
       integer(i8) :: elements_bits
-      real(dp) :: xi, xib(block_size), vpb(block_size)
+      real(dp) :: xi, xib(block_size)
+      real(dp) :: vpb(block_size)
       ! the variant's: G2P's grid velocity and move, the segment's body (cells offset), each particle's
       ! shares (accumulate_shares)
       real(dp) :: vgrid, dxp
@@ -12591,7 +12673,6 @@ contains
                end if
                call stress_linear(dstrain, youngs_modulus, strain_factor, volume0, stress(p), volume_ratio(p), &
                                   sb(i), svb(i))
-               jb(i) = volume_ratio(p)
             else if (iand(shares, share_stress) /= 0) then ! (an initial mapping: the stress as it is)
                svb(i) = stress(p)*volume_ratio(p)*volume0
             end if
@@ -12651,7 +12732,6 @@ contains
                sb(i) = stress(p)*stress(p)*volume_ratio(p)*strain_factor
                svb(i) = stress(p)*volume_ratio(p)*volume0
                wb(i) = (yield_stress + 0.5_dp*hardening_modulus*hardening(p))*hardening(p)*volume0
-               jb(i) = volume_ratio(p)
             else if (iand(shares, share_stress) /= 0) then ! (an initial mapping: the stress as it is)
                svb(i) = stress(p)*volume_ratio(p)*volume0
             end if
@@ -12701,7 +12781,6 @@ contains
                end if
                call stress_hencky(dstrain, youngs_modulus, strain_factor, volume0, stress(p), volume_ratio(p), &
                                   sb(i), svb(i))
-               jb(i) = volume_ratio(p)
             else if (iand(shares, share_stress) /= 0) then ! (an initial mapping: the stress as it is)
                svb(i) = stress(p)*volume_ratio(p)*volume0
             end if
@@ -12761,10 +12840,11 @@ contains
             lane_r = mod(n, lanes)
             if (lane_r > 0) strain(1:lane_r) = strain(1:lane_r) + sb(n - lane_r + 1:n)
             do lane_i = 1, n - lanes + 1, lanes
-               min_j = min(min_j, jb(lane_i:lane_i + lanes - 1))
+               min_j = min(min_j, volume_ratio(b0 + lane_i - 1:b0 + lane_i + lanes - 2))
             end do
             lane_r = mod(n, lanes)
-            if (lane_r > 0) min_j(1:lane_r) = min(min_j(1:lane_r), jb(n - lane_r + 1:n))
+            if (lane_r > 0) min_j(1:lane_r) = min(min_j(1:lane_r), &
+                                                        volume_ratio(b0 + n - lane_r:b0 + n - 1))
          end if
          if (plastic) then
             do lane_i = 1, n - lanes + 1, lanes
@@ -12819,15 +12899,19 @@ contains
       logical :: linear, plastic
       type(largest_move_t) :: largest
       real(dp) :: displacement(lanes), kinetic(lanes), strain(lanes), min_j(lanes)
+      ! the block's buffers (its particles' J and, with the bar's hat, their x - X, cells and velocities are
+      ! read back from the particles)
+      real(dp) :: svb(block_size), kb(block_size), sb(block_size)
       integer :: cb(block_size)
-      real(dp) :: svb(block_size), db(block_size), kb(block_size), sb(block_size), jb(block_size)
+      real(dp) :: db(block_size)
       real(dp) :: mb(block_size, 2)  !< the moves of a block, and of the block with the largest (lanes_track_move)
       integer :: slot
       real(dp) :: lane_max(lanes), block_max
       integer :: lane_i, lane_r
       type(run_t) :: run
       integer(i8) :: elements_bits
-      real(dp) :: xi, xib(block_size), vpb(block_size)
+      real(dp) :: xi, xib(block_size)
+      real(dp) :: vpb(block_size)
       ! the variant's: G2P's grid velocity and move, the segment's body (cells offset), each particle's
       ! shares (accumulate_shares)
       real(dp) :: vgrid, dxp
@@ -12889,7 +12973,6 @@ contains
                end if
                call stress_hencky(dstrain, youngs_modulus, strain_factor, volume0, stress(p), volume_ratio(p), &
                                   sb(i), svb(i))
-               jb(i) = volume_ratio(p)
             else if (iand(shares, share_stress) /= 0) then ! (an initial mapping: the stress as it is)
                svb(i) = stress(p)*volume_ratio(p)*volume0
             end if
@@ -12948,10 +13031,11 @@ contains
             lane_r = mod(n, lanes)
             if (lane_r > 0) strain(1:lane_r) = strain(1:lane_r) + sb(n - lane_r + 1:n)
             do lane_i = 1, n - lanes + 1, lanes
-               min_j = min(min_j, jb(lane_i:lane_i + lanes - 1))
+               min_j = min(min_j, volume_ratio(b0 + lane_i - 1:b0 + lane_i + lanes - 2))
             end do
             lane_r = mod(n, lanes)
-            if (lane_r > 0) min_j(1:lane_r) = min(min_j(1:lane_r), jb(n - lane_r + 1:n))
+            if (lane_r > 0) min_j(1:lane_r) = min(min_j(1:lane_r), &
+                                                        volume_ratio(b0 + n - lane_r:b0 + n - 1))
          end if
          if (relocates) call find_outside(n, b0, cb, outside)
          call accumulate_block(k, n, cb, xib, vpb, svb, m, lo, hi, shares, run, mass_left, mass_right, momentum_left, &
@@ -13001,15 +13085,19 @@ contains
       real(dp) :: yield_stress, hardening_modulus, increment, wb(block_size), work(lanes)
       type(largest_move_t) :: largest
       real(dp) :: displacement(lanes), kinetic(lanes), strain(lanes), min_j(lanes)
+      ! the block's buffers (its particles' J and, with the bar's hat, their x - X, cells and velocities are
+      ! read back from the particles)
+      real(dp) :: svb(block_size), kb(block_size), sb(block_size)
       integer :: cb(block_size)
-      real(dp) :: svb(block_size), db(block_size), kb(block_size), sb(block_size), jb(block_size)
+      real(dp) :: db(block_size)
       real(dp) :: mb(block_size, 2)  !< the moves of a block, and of the block with the largest (lanes_track_move)
       integer :: slot
       real(dp) :: lane_max(lanes), block_max
       integer :: lane_i, lane_r
       type(run_t) :: run
       integer(i8) :: elements_bits
-      real(dp) :: xi, xib(block_size), vpb(block_size)
+      real(dp) :: xi, xib(block_size)
+      real(dp) :: vpb(block_size)
       ! the variant's: G2P's grid velocity and move, the segment's body (cells offset), each particle's
       ! shares (accumulate_shares)
       real(dp) :: vgrid, dxp
@@ -13075,7 +13163,6 @@ contains
                end if
                call stress_linear(dstrain, youngs_modulus, strain_factor, volume0, stress(p), volume_ratio(p), &
                                   sb(i), svb(i))
-               jb(i) = volume_ratio(p)
             else if (iand(shares, share_stress) /= 0) then ! (an initial mapping: the stress as it is)
                svb(i) = stress(p)*volume_ratio(p)*volume0
             end if
@@ -13135,7 +13222,6 @@ contains
                sb(i) = stress(p)*stress(p)*volume_ratio(p)*strain_factor
                svb(i) = stress(p)*volume_ratio(p)*volume0
                wb(i) = (yield_stress + 0.5_dp*hardening_modulus*hardening(p))*hardening(p)*volume0
-               jb(i) = volume_ratio(p)
             else if (iand(shares, share_stress) /= 0) then ! (an initial mapping: the stress as it is)
                svb(i) = stress(p)*volume_ratio(p)*volume0
             end if
@@ -13185,7 +13271,6 @@ contains
                end if
                call stress_hencky(dstrain, youngs_modulus, strain_factor, volume0, stress(p), volume_ratio(p), &
                                   sb(i), svb(i))
-               jb(i) = volume_ratio(p)
             else if (iand(shares, share_stress) /= 0) then ! (an initial mapping: the stress as it is)
                svb(i) = stress(p)*volume_ratio(p)*volume0
             end if
@@ -13245,10 +13330,11 @@ contains
             lane_r = mod(n, lanes)
             if (lane_r > 0) strain(1:lane_r) = strain(1:lane_r) + sb(n - lane_r + 1:n)
             do lane_i = 1, n - lanes + 1, lanes
-               min_j = min(min_j, jb(lane_i:lane_i + lanes - 1))
+               min_j = min(min_j, volume_ratio(b0 + lane_i - 1:b0 + lane_i + lanes - 2))
             end do
             lane_r = mod(n, lanes)
-            if (lane_r > 0) min_j(1:lane_r) = min(min_j(1:lane_r), jb(n - lane_r + 1:n))
+            if (lane_r > 0) min_j(1:lane_r) = min(min_j(1:lane_r), &
+                                                        volume_ratio(b0 + n - lane_r:b0 + n - 1))
          end if
          if (plastic) then
             do lane_i = 1, n - lanes + 1, lanes
@@ -13303,15 +13389,19 @@ contains
       logical :: linear, plastic
       type(largest_move_t) :: largest
       real(dp) :: displacement(lanes), kinetic(lanes), strain(lanes), min_j(lanes)
+      ! the block's buffers (its particles' J and, with the bar's hat, their x - X, cells and velocities are
+      ! read back from the particles)
+      real(dp) :: svb(block_size), kb(block_size), sb(block_size)
       integer :: cb(block_size)
-      real(dp) :: svb(block_size), db(block_size), kb(block_size), sb(block_size), jb(block_size)
+      real(dp) :: db(block_size)
       real(dp) :: mb(block_size, 2)  !< the moves of a block, and of the block with the largest (lanes_track_move)
       integer :: slot
       real(dp) :: lane_max(lanes), block_max
       integer :: lane_i, lane_r
       type(run_t) :: run
       integer(i8) :: elements_bits
-      real(dp) :: xi, xib(block_size), vpb(block_size)
+      real(dp) :: xi, xib(block_size)
+      real(dp) :: vpb(block_size)
       ! the variant's: G2P's grid velocity and move, the segment's body (cells offset), each particle's
       ! shares (accumulate_shares)
       real(dp) :: vgrid, dxp
@@ -13373,7 +13463,6 @@ contains
                end if
                call stress_hencky(dstrain, youngs_modulus, strain_factor, volume0, stress(p), volume_ratio(p), &
                                   sb(i), svb(i))
-               jb(i) = volume_ratio(p)
             else if (iand(shares, share_stress) /= 0) then ! (an initial mapping: the stress as it is)
                svb(i) = stress(p)*volume_ratio(p)*volume0
             end if
@@ -13432,10 +13521,11 @@ contains
             lane_r = mod(n, lanes)
             if (lane_r > 0) strain(1:lane_r) = strain(1:lane_r) + sb(n - lane_r + 1:n)
             do lane_i = 1, n - lanes + 1, lanes
-               min_j = min(min_j, jb(lane_i:lane_i + lanes - 1))
+               min_j = min(min_j, volume_ratio(b0 + lane_i - 1:b0 + lane_i + lanes - 2))
             end do
             lane_r = mod(n, lanes)
-            if (lane_r > 0) min_j(1:lane_r) = min(min_j(1:lane_r), jb(n - lane_r + 1:n))
+            if (lane_r > 0) min_j(1:lane_r) = min(min_j(1:lane_r), &
+                                                        volume_ratio(b0 + n - lane_r:b0 + n - 1))
          end if
          if (relocates) call find_outside(n, b0, cb, outside)
          call accumulate_block(k, n, cb, xib, vpb, svb, m, lo, hi, shares, run, mass_left, mass_right, momentum_left, &
@@ -13483,15 +13573,19 @@ contains
       logical :: linear, plastic
       type(largest_move_t) :: largest
       real(dp) :: displacement(lanes), kinetic(lanes), strain(lanes), min_j(lanes)
+      ! the block's buffers (its particles' J and, with the bar's hat, their x - X, cells and velocities are
+      ! read back from the particles)
+      real(dp) :: svb(block_size), kb(block_size), sb(block_size)
       integer :: cb(block_size)
-      real(dp) :: svb(block_size), db(block_size), kb(block_size), sb(block_size), jb(block_size)
+      real(dp) :: db(block_size)
       real(dp) :: mb(block_size, 2)  !< the moves of a block, and of the block with the largest (lanes_track_move)
       integer :: slot
       real(dp) :: lane_max(lanes), block_max
       integer :: lane_i, lane_r
       type(run_t) :: run
       integer(i8) :: elements_bits
-      real(dp) :: xi, xib(block_size), vpb(block_size)
+      real(dp) :: xi, xib(block_size)
+      real(dp) :: vpb(block_size)
       ! the variant's: G2P's grid velocity and move, the segment's body (cells offset), each particle's
       ! shares (accumulate_shares)
       real(dp) :: vgrid, dxp
@@ -13553,7 +13647,6 @@ contains
                end if
                call stress_hencky(dstrain, youngs_modulus, strain_factor, volume0, stress(p), volume_ratio(p), &
                                   sb(i), svb(i))
-               jb(i) = volume_ratio(p)
             else if (iand(shares, share_stress) /= 0) then ! (an initial mapping: the stress as it is)
                svb(i) = stress(p)*volume_ratio(p)*volume0
             end if
@@ -13612,10 +13705,11 @@ contains
             lane_r = mod(n, lanes)
             if (lane_r > 0) strain(1:lane_r) = strain(1:lane_r) + sb(n - lane_r + 1:n)
             do lane_i = 1, n - lanes + 1, lanes
-               min_j = min(min_j, jb(lane_i:lane_i + lanes - 1))
+               min_j = min(min_j, volume_ratio(b0 + lane_i - 1:b0 + lane_i + lanes - 2))
             end do
             lane_r = mod(n, lanes)
-            if (lane_r > 0) min_j(1:lane_r) = min(min_j(1:lane_r), jb(n - lane_r + 1:n))
+            if (lane_r > 0) min_j(1:lane_r) = min(min_j(1:lane_r), &
+                                                        volume_ratio(b0 + n - lane_r:b0 + n - 1))
          end if
          if (relocates) call find_outside(n, b0, cb, outside)
          call accumulate_block(k, n, cb, xib, vpb, svb, m, lo, hi, shares, run, mass_left, mass_right, momentum_left, &
@@ -13663,15 +13757,19 @@ contains
       logical :: linear, plastic
       type(largest_move_t) :: largest
       real(dp) :: displacement(lanes), kinetic(lanes), strain(lanes), min_j(lanes)
+      ! the block's buffers (its particles' J and, with the bar's hat, their x - X, cells and velocities are
+      ! read back from the particles)
+      real(dp) :: svb(block_size), kb(block_size), sb(block_size)
       integer :: cb(block_size)
-      real(dp) :: svb(block_size), db(block_size), kb(block_size), sb(block_size), jb(block_size)
+      real(dp) :: db(block_size)
       real(dp) :: mb(block_size, 2)  !< the moves of a block, and of the block with the largest (lanes_track_move)
       integer :: slot
       real(dp) :: lane_max(lanes), block_max
       integer :: lane_i, lane_r
       type(run_t) :: run
       integer(i8) :: elements_bits
-      real(dp) :: xi, xib(block_size), vpb(block_size)
+      real(dp) :: xi, xib(block_size)
+      real(dp) :: vpb(block_size)
       ! the variant's: G2P's grid velocity and move, the segment's body (cells offset), each particle's
       ! shares (accumulate_shares)
       real(dp) :: vgrid, dxp
@@ -13730,7 +13828,6 @@ contains
                end if
                call stress_hencky(dstrain, modulus_of(p), 0.5_dp*volume0/modulus_of(p), volume0, stress(p), volume_ratio(p), &
                                   sb(i), svb(i))
-               jb(i) = volume_ratio(p)
             else if (iand(shares, share_stress) /= 0) then ! (an initial mapping: the stress as it is)
                svb(i) = stress(p)*volume_ratio(p)*volume0
             end if
@@ -13788,10 +13885,11 @@ contains
             lane_r = mod(n, lanes)
             if (lane_r > 0) strain(1:lane_r) = strain(1:lane_r) + sb(n - lane_r + 1:n)
             do lane_i = 1, n - lanes + 1, lanes
-               min_j = min(min_j, jb(lane_i:lane_i + lanes - 1))
+               min_j = min(min_j, volume_ratio(b0 + lane_i - 1:b0 + lane_i + lanes - 2))
             end do
             lane_r = mod(n, lanes)
-            if (lane_r > 0) min_j(1:lane_r) = min(min_j(1:lane_r), jb(n - lane_r + 1:n))
+            if (lane_r > 0) min_j(1:lane_r) = min(min_j(1:lane_r), &
+                                                        volume_ratio(b0 + n - lane_r:b0 + n - 1))
          end if
          if (relocates) call find_outside(n, b0, cb, outside)
          call accumulate_shares(k, n, cb, sh, lo, hi, shares, run, mass_left, mass_right, momentum_left, momentum_right, &
@@ -13845,15 +13943,19 @@ contains
       real(dp) :: yield_stress, hardening_modulus, increment, wb(block_size), work(lanes)
       type(largest_move_t) :: largest
       real(dp) :: displacement(lanes), kinetic(lanes), strain(lanes), min_j(lanes)
+      ! the block's buffers (its particles' J and, with the bar's hat, their x - X, cells and velocities are
+      ! read back from the particles)
+      real(dp) :: svb(block_size), kb(block_size), sb(block_size)
       integer :: cb(block_size)
-      real(dp) :: svb(block_size), db(block_size), kb(block_size), sb(block_size), jb(block_size)
+      real(dp) :: db(block_size)
       real(dp) :: mb(block_size, 2)  !< the moves of a block, and of the block with the largest (lanes_track_move)
       integer :: slot
       real(dp) :: lane_max(lanes), block_max
       integer :: lane_i, lane_r
       type(run_t) :: run
       integer(i8) :: elements_bits
-      real(dp) :: xi, xib(block_size), vpb(block_size)
+      real(dp) :: xi, xib(block_size)
+      real(dp) :: vpb(block_size)
       ! the variant's: G2P's grid velocity and move, the segment's body (cells offset), each particle's
       ! shares (accumulate_shares)
       real(dp) :: vgrid, dxp
@@ -13916,7 +14018,6 @@ contains
                end if
                call stress_linear(dstrain, modulus_of(p), 0.5_dp*volume0/modulus_of(p), volume0, stress(p), volume_ratio(p), &
                                   sb(i), svb(i))
-               jb(i) = volume_ratio(p)
             else if (iand(shares, share_stress) /= 0) then ! (an initial mapping: the stress as it is)
                svb(i) = stress(p)*volume_ratio(p)*volume0
             end if
@@ -13973,7 +14074,6 @@ contains
                sb(i) = stress(p)*stress(p)*volume_ratio(p)*0.5_dp*volume0/modulus_of(p)
                svb(i) = stress(p)*volume_ratio(p)*volume0
                wb(i) = (yield_of(p) + 0.5_dp*hardening_of(p)*hardening(p))*hardening(p)*volume0
-               jb(i) = volume_ratio(p)
             else if (iand(shares, share_stress) /= 0) then ! (an initial mapping: the stress as it is)
                svb(i) = stress(p)*volume_ratio(p)*volume0
             end if
@@ -14020,7 +14120,6 @@ contains
                end if
                call stress_hencky(dstrain, modulus_of(p), 0.5_dp*volume0/modulus_of(p), volume0, stress(p), volume_ratio(p), &
                                   sb(i), svb(i))
-               jb(i) = volume_ratio(p)
             else if (iand(shares, share_stress) /= 0) then ! (an initial mapping: the stress as it is)
                svb(i) = stress(p)*volume_ratio(p)*volume0
             end if
@@ -14079,10 +14178,11 @@ contains
             lane_r = mod(n, lanes)
             if (lane_r > 0) strain(1:lane_r) = strain(1:lane_r) + sb(n - lane_r + 1:n)
             do lane_i = 1, n - lanes + 1, lanes
-               min_j = min(min_j, jb(lane_i:lane_i + lanes - 1))
+               min_j = min(min_j, volume_ratio(b0 + lane_i - 1:b0 + lane_i + lanes - 2))
             end do
             lane_r = mod(n, lanes)
-            if (lane_r > 0) min_j(1:lane_r) = min(min_j(1:lane_r), jb(n - lane_r + 1:n))
+            if (lane_r > 0) min_j(1:lane_r) = min(min_j(1:lane_r), &
+                                                        volume_ratio(b0 + n - lane_r:b0 + n - 1))
          end if
          if (plastic) then
             do lane_i = 1, n - lanes + 1, lanes
@@ -14143,15 +14243,19 @@ contains
       real(dp) :: yield_stress, hardening_modulus, increment, wb(block_size), work(lanes)
       type(largest_move_t) :: largest
       real(dp) :: displacement(lanes), kinetic(lanes), strain(lanes), min_j(lanes)
+      ! the block's buffers (its particles' J and, with the bar's hat, their x - X, cells and velocities are
+      ! read back from the particles)
+      real(dp) :: svb(block_size), kb(block_size), sb(block_size)
       integer :: cb(block_size)
-      real(dp) :: svb(block_size), db(block_size), kb(block_size), sb(block_size), jb(block_size)
+      real(dp) :: db(block_size)
       real(dp) :: mb(block_size, 2)  !< the moves of a block, and of the block with the largest (lanes_track_move)
       integer :: slot
       real(dp) :: lane_max(lanes), block_max
       integer :: lane_i, lane_r
       type(run_t) :: run
       integer(i8) :: elements_bits
-      real(dp) :: xi, xib(block_size), vpb(block_size)
+      real(dp) :: xi, xib(block_size)
+      real(dp) :: vpb(block_size)
       ! the variant's: G2P's grid velocity and move, the segment's body (cells offset), each particle's
       ! shares (accumulate_shares)
       real(dp) :: vgrid, dxp
@@ -14214,7 +14318,6 @@ contains
                end if
                call stress_linear(dstrain, modulus_of(p), 0.5_dp*volume0/modulus_of(p), volume0, stress(p), volume_ratio(p), &
                                   sb(i), svb(i))
-               jb(i) = volume_ratio(p)
             else if (iand(shares, share_stress) /= 0) then ! (an initial mapping: the stress as it is)
                svb(i) = stress(p)*volume_ratio(p)*volume0
             end if
@@ -14271,7 +14374,6 @@ contains
                sb(i) = stress(p)*stress(p)*volume_ratio(p)*0.5_dp*volume0/modulus_of(p)
                svb(i) = stress(p)*volume_ratio(p)*volume0
                wb(i) = (yield_of(p) + 0.5_dp*hardening_of(p)*hardening(p))*hardening(p)*volume0
-               jb(i) = volume_ratio(p)
             else if (iand(shares, share_stress) /= 0) then ! (an initial mapping: the stress as it is)
                svb(i) = stress(p)*volume_ratio(p)*volume0
             end if
@@ -14318,7 +14420,6 @@ contains
                end if
                call stress_hencky(dstrain, modulus_of(p), 0.5_dp*volume0/modulus_of(p), volume0, stress(p), volume_ratio(p), &
                                   sb(i), svb(i))
-               jb(i) = volume_ratio(p)
             else if (iand(shares, share_stress) /= 0) then ! (an initial mapping: the stress as it is)
                svb(i) = stress(p)*volume_ratio(p)*volume0
             end if
@@ -14377,10 +14478,11 @@ contains
             lane_r = mod(n, lanes)
             if (lane_r > 0) strain(1:lane_r) = strain(1:lane_r) + sb(n - lane_r + 1:n)
             do lane_i = 1, n - lanes + 1, lanes
-               min_j = min(min_j, jb(lane_i:lane_i + lanes - 1))
+               min_j = min(min_j, volume_ratio(b0 + lane_i - 1:b0 + lane_i + lanes - 2))
             end do
             lane_r = mod(n, lanes)
-            if (lane_r > 0) min_j(1:lane_r) = min(min_j(1:lane_r), jb(n - lane_r + 1:n))
+            if (lane_r > 0) min_j(1:lane_r) = min(min_j(1:lane_r), &
+                                                        volume_ratio(b0 + n - lane_r:b0 + n - 1))
          end if
          if (plastic) then
             do lane_i = 1, n - lanes + 1, lanes
@@ -14439,15 +14541,19 @@ contains
       logical :: linear, plastic
       type(largest_move_t) :: largest
       real(dp) :: displacement(lanes), kinetic(lanes), strain(lanes), min_j(lanes)
+      ! the block's buffers (its particles' J and, with the bar's hat, their x - X, cells and velocities are
+      ! read back from the particles)
+      real(dp) :: svb(block_size), kb(block_size), sb(block_size)
       integer :: cb(block_size)
-      real(dp) :: svb(block_size), db(block_size), kb(block_size), sb(block_size), jb(block_size)
+      real(dp) :: db(block_size)
       real(dp) :: mb(block_size, 2)  !< the moves of a block, and of the block with the largest (lanes_track_move)
       integer :: slot
       real(dp) :: lane_max(lanes), block_max
       integer :: lane_i, lane_r
       type(run_t) :: run
       integer(i8) :: elements_bits
-      real(dp) :: xi, xib(block_size), vpb(block_size)
+      real(dp) :: xi, xib(block_size)
+      real(dp) :: vpb(block_size)
       ! the variant's: G2P's grid velocity and move, the segment's body (cells offset), each particle's
       ! shares (accumulate_shares)
       real(dp) :: vgrid, dxp
@@ -14506,7 +14612,6 @@ contains
                end if
                call stress_hencky(dstrain, modulus_of(p), 0.5_dp*volume0/modulus_of(p), volume0, stress(p), volume_ratio(p), &
                                   sb(i), svb(i))
-               jb(i) = volume_ratio(p)
             else if (iand(shares, share_stress) /= 0) then ! (an initial mapping: the stress as it is)
                svb(i) = stress(p)*volume_ratio(p)*volume0
             end if
@@ -14564,10 +14669,11 @@ contains
             lane_r = mod(n, lanes)
             if (lane_r > 0) strain(1:lane_r) = strain(1:lane_r) + sb(n - lane_r + 1:n)
             do lane_i = 1, n - lanes + 1, lanes
-               min_j = min(min_j, jb(lane_i:lane_i + lanes - 1))
+               min_j = min(min_j, volume_ratio(b0 + lane_i - 1:b0 + lane_i + lanes - 2))
             end do
             lane_r = mod(n, lanes)
-            if (lane_r > 0) min_j(1:lane_r) = min(min_j(1:lane_r), jb(n - lane_r + 1:n))
+            if (lane_r > 0) min_j(1:lane_r) = min(min_j(1:lane_r), &
+                                                        volume_ratio(b0 + n - lane_r:b0 + n - 1))
          end if
          if (relocates) call find_outside(n, b0, cb, outside)
          call accumulate_shares(k, n, cb, sh, lo, hi, shares, run, mass_left, mass_right, momentum_left, momentum_right, &
@@ -14621,15 +14727,19 @@ contains
       real(dp) :: yield_stress, hardening_modulus, increment, wb(block_size), work(lanes)
       type(largest_move_t) :: largest
       real(dp) :: displacement(lanes), kinetic(lanes), strain(lanes), min_j(lanes)
+      ! the block's buffers (its particles' J and, with the bar's hat, their x - X, cells and velocities are
+      ! read back from the particles)
+      real(dp) :: svb(block_size), kb(block_size), sb(block_size)
       integer :: cb(block_size)
-      real(dp) :: svb(block_size), db(block_size), kb(block_size), sb(block_size), jb(block_size)
+      real(dp) :: db(block_size)
       real(dp) :: mb(block_size, 2)  !< the moves of a block, and of the block with the largest (lanes_track_move)
       integer :: slot
       real(dp) :: lane_max(lanes), block_max
       integer :: lane_i, lane_r
       type(run_t) :: run
       integer(i8) :: elements_bits
-      real(dp) :: xi, xib(block_size), vpb(block_size)
+      real(dp) :: xi, xib(block_size)
+      real(dp) :: vpb(block_size)
       ! the variant's: G2P's grid velocity and move, the segment's body (cells offset), each particle's
       ! shares (accumulate_shares)
       real(dp) :: vgrid, dxp
@@ -14692,7 +14802,6 @@ contains
                end if
                call stress_linear(dstrain, modulus_of(p), 0.5_dp*volume0/modulus_of(p), volume0, stress(p), volume_ratio(p), &
                                   sb(i), svb(i))
-               jb(i) = volume_ratio(p)
             else if (iand(shares, share_stress) /= 0) then ! (an initial mapping: the stress as it is)
                svb(i) = stress(p)*volume_ratio(p)*volume0
             end if
@@ -14749,7 +14858,6 @@ contains
                sb(i) = stress(p)*stress(p)*volume_ratio(p)*0.5_dp*volume0/modulus_of(p)
                svb(i) = stress(p)*volume_ratio(p)*volume0
                wb(i) = (yield_of(p) + 0.5_dp*hardening_of(p)*hardening(p))*hardening(p)*volume0
-               jb(i) = volume_ratio(p)
             else if (iand(shares, share_stress) /= 0) then ! (an initial mapping: the stress as it is)
                svb(i) = stress(p)*volume_ratio(p)*volume0
             end if
@@ -14796,7 +14904,6 @@ contains
                end if
                call stress_hencky(dstrain, modulus_of(p), 0.5_dp*volume0/modulus_of(p), volume0, stress(p), volume_ratio(p), &
                                   sb(i), svb(i))
-               jb(i) = volume_ratio(p)
             else if (iand(shares, share_stress) /= 0) then ! (an initial mapping: the stress as it is)
                svb(i) = stress(p)*volume_ratio(p)*volume0
             end if
@@ -14855,10 +14962,11 @@ contains
             lane_r = mod(n, lanes)
             if (lane_r > 0) strain(1:lane_r) = strain(1:lane_r) + sb(n - lane_r + 1:n)
             do lane_i = 1, n - lanes + 1, lanes
-               min_j = min(min_j, jb(lane_i:lane_i + lanes - 1))
+               min_j = min(min_j, volume_ratio(b0 + lane_i - 1:b0 + lane_i + lanes - 2))
             end do
             lane_r = mod(n, lanes)
-            if (lane_r > 0) min_j(1:lane_r) = min(min_j(1:lane_r), jb(n - lane_r + 1:n))
+            if (lane_r > 0) min_j(1:lane_r) = min(min_j(1:lane_r), &
+                                                        volume_ratio(b0 + n - lane_r:b0 + n - 1))
          end if
          if (plastic) then
             do lane_i = 1, n - lanes + 1, lanes
@@ -14917,15 +15025,19 @@ contains
       logical :: linear, plastic
       type(largest_move_t) :: largest
       real(dp) :: displacement(lanes), kinetic(lanes), strain(lanes), min_j(lanes)
+      ! the block's buffers (its particles' J and, with the bar's hat, their x - X, cells and velocities are
+      ! read back from the particles)
+      real(dp) :: svb(block_size), kb(block_size), sb(block_size)
       integer :: cb(block_size)
-      real(dp) :: svb(block_size), db(block_size), kb(block_size), sb(block_size), jb(block_size)
+      real(dp) :: db(block_size)
       real(dp) :: mb(block_size, 2)  !< the moves of a block, and of the block with the largest (lanes_track_move)
       integer :: slot
       real(dp) :: lane_max(lanes), block_max
       integer :: lane_i, lane_r
       type(run_t) :: run
       integer(i8) :: elements_bits
-      real(dp) :: xi, xib(block_size), vpb(block_size)
+      real(dp) :: xi, xib(block_size)
+      real(dp) :: vpb(block_size)
       ! the variant's: G2P's grid velocity and move, the segment's body (cells offset), each particle's
       ! shares (accumulate_shares)
       real(dp) :: vgrid, dxp
@@ -14984,7 +15096,6 @@ contains
                end if
                call stress_hencky(dstrain, modulus_of(p), 0.5_dp*volume0/modulus_of(p), volume0, stress(p), volume_ratio(p), &
                                   sb(i), svb(i))
-               jb(i) = volume_ratio(p)
             else if (iand(shares, share_stress) /= 0) then ! (an initial mapping: the stress as it is)
                svb(i) = stress(p)*volume_ratio(p)*volume0
             end if
@@ -15042,10 +15153,11 @@ contains
             lane_r = mod(n, lanes)
             if (lane_r > 0) strain(1:lane_r) = strain(1:lane_r) + sb(n - lane_r + 1:n)
             do lane_i = 1, n - lanes + 1, lanes
-               min_j = min(min_j, jb(lane_i:lane_i + lanes - 1))
+               min_j = min(min_j, volume_ratio(b0 + lane_i - 1:b0 + lane_i + lanes - 2))
             end do
             lane_r = mod(n, lanes)
-            if (lane_r > 0) min_j(1:lane_r) = min(min_j(1:lane_r), jb(n - lane_r + 1:n))
+            if (lane_r > 0) min_j(1:lane_r) = min(min_j(1:lane_r), &
+                                                        volume_ratio(b0 + n - lane_r:b0 + n - 1))
          end if
          if (relocates) call find_outside(n, b0, cb, outside)
          call accumulate_shares(k, n, cb, sh, lo, hi, shares, run, mass_left, mass_right, momentum_left, momentum_right, &
@@ -15097,15 +15209,19 @@ contains
       logical :: linear, plastic
       type(largest_move_t) :: largest
       real(dp) :: displacement(lanes), kinetic(lanes), strain(lanes), min_j(lanes)
+      ! the block's buffers (its particles' J and, with the bar's hat, their x - X, cells and velocities are
+      ! read back from the particles)
+      real(dp) :: svb(block_size), kb(block_size), sb(block_size)
       integer :: cb(block_size)
-      real(dp) :: svb(block_size), db(block_size), kb(block_size), sb(block_size), jb(block_size)
+      real(dp) :: db(block_size)
       real(dp) :: mb(block_size, 2)  !< the moves of a block, and of the block with the largest (lanes_track_move)
       integer :: slot
       real(dp) :: lane_max(lanes), block_max
       integer :: lane_i, lane_r
       type(run_t) :: run
       integer(i8) :: elements_bits
-      real(dp) :: xi, xib(block_size), vpb(block_size)
+      real(dp) :: xi, xib(block_size)
+      real(dp) :: vpb(block_size)
       ! the variant's: G2P's grid velocity and move, the segment's body (cells offset), each particle's
       ! shares (accumulate_shares)
       real(dp) :: vgrid, dxp
@@ -15164,7 +15280,6 @@ contains
                end if
                call stress_hencky(dstrain, modulus_of(p), 0.5_dp*volume0/modulus_of(p), volume0, stress(p), volume_ratio(p), &
                                   sb(i), svb(i))
-               jb(i) = volume_ratio(p)
             else if (iand(shares, share_stress) /= 0) then ! (an initial mapping: the stress as it is)
                svb(i) = stress(p)*volume_ratio(p)*volume0
             end if
@@ -15222,10 +15337,11 @@ contains
             lane_r = mod(n, lanes)
             if (lane_r > 0) strain(1:lane_r) = strain(1:lane_r) + sb(n - lane_r + 1:n)
             do lane_i = 1, n - lanes + 1, lanes
-               min_j = min(min_j, jb(lane_i:lane_i + lanes - 1))
+               min_j = min(min_j, volume_ratio(b0 + lane_i - 1:b0 + lane_i + lanes - 2))
             end do
             lane_r = mod(n, lanes)
-            if (lane_r > 0) min_j(1:lane_r) = min(min_j(1:lane_r), jb(n - lane_r + 1:n))
+            if (lane_r > 0) min_j(1:lane_r) = min(min_j(1:lane_r), &
+                                                        volume_ratio(b0 + n - lane_r:b0 + n - 1))
          end if
          if (relocates) call find_outside(n, b0, cb, outside)
          call accumulate_shares(k, n, cb, sh, lo, hi, shares, run, mass_left, mass_right, momentum_left, momentum_right, &
@@ -15277,15 +15393,19 @@ contains
       logical :: linear, plastic
       type(largest_move_t) :: largest
       real(dp) :: displacement(lanes), kinetic(lanes), strain(lanes), min_j(lanes)
+      ! the block's buffers (its particles' J and, with the bar's hat, their x - X, cells and velocities are
+      ! read back from the particles)
+      real(dp) :: svb(block_size), kb(block_size), sb(block_size)
       integer :: cb(block_size)
-      real(dp) :: svb(block_size), db(block_size), kb(block_size), sb(block_size), jb(block_size)
+      real(dp) :: db(block_size)
       real(dp) :: mb(block_size, 2)  !< the moves of a block, and of the block with the largest (lanes_track_move)
       integer :: slot
       real(dp) :: lane_max(lanes), block_max
       integer :: lane_i, lane_r
       type(run_t) :: run
       integer(i8) :: elements_bits
-      real(dp) :: xi, xib(block_size), vpb(block_size)
+      real(dp) :: xi, xib(block_size)
+      real(dp) :: vpb(block_size)
       ! the variant's: G2P's grid velocity and move, the segment's body (cells offset), each particle's
       ! shares (accumulate_shares)
       real(dp) :: vgrid, dxp
@@ -15344,7 +15464,6 @@ contains
                end if
                call stress_hencky(dstrain, youngs_modulus, strain_factor, volume0, stress(p), volume_ratio(p), &
                                   sb(i), svb(i))
-               jb(i) = volume_ratio(p)
             else if (iand(shares, share_stress) /= 0) then ! (an initial mapping: the stress as it is)
                svb(i) = stress(p)*volume_ratio(p)*volume0
             end if
@@ -15407,10 +15526,11 @@ contains
             lane_r = mod(n, lanes)
             if (lane_r > 0) strain(1:lane_r) = strain(1:lane_r) + sb(n - lane_r + 1:n)
             do lane_i = 1, n - lanes + 1, lanes
-               min_j = min(min_j, jb(lane_i:lane_i + lanes - 1))
+               min_j = min(min_j, volume_ratio(b0 + lane_i - 1:b0 + lane_i + lanes - 2))
             end do
             lane_r = mod(n, lanes)
-            if (lane_r > 0) min_j(1:lane_r) = min(min_j(1:lane_r), jb(n - lane_r + 1:n))
+            if (lane_r > 0) min_j(1:lane_r) = min(min_j(1:lane_r), &
+                                                        volume_ratio(b0 + n - lane_r:b0 + n - 1))
          end if
          if (relocates) call find_outside(n, b0, cb, outside)
          call accumulate_shares(k, n, cb, sh, lo, hi, shares, run, mass_left, mass_right, momentum_left, momentum_right, &
@@ -15464,15 +15584,19 @@ contains
       real(dp) :: yield_stress, hardening_modulus, increment, wb(block_size), work(lanes)
       type(largest_move_t) :: largest
       real(dp) :: displacement(lanes), kinetic(lanes), strain(lanes), min_j(lanes)
+      ! the block's buffers (its particles' J and, with the bar's hat, their x - X, cells and velocities are
+      ! read back from the particles)
+      real(dp) :: svb(block_size), kb(block_size), sb(block_size)
       integer :: cb(block_size)
-      real(dp) :: svb(block_size), db(block_size), kb(block_size), sb(block_size), jb(block_size)
+      real(dp) :: db(block_size)
       real(dp) :: mb(block_size, 2)  !< the moves of a block, and of the block with the largest (lanes_track_move)
       integer :: slot
       real(dp) :: lane_max(lanes), block_max
       integer :: lane_i, lane_r
       type(run_t) :: run
       integer(i8) :: elements_bits
-      real(dp) :: xi, xib(block_size), vpb(block_size)
+      real(dp) :: xi, xib(block_size)
+      real(dp) :: vpb(block_size)
       ! the variant's: G2P's grid velocity and move, the segment's body (cells offset), each particle's
       ! shares (accumulate_shares)
       real(dp) :: vgrid, dxp
@@ -15535,7 +15659,6 @@ contains
                end if
                call stress_linear(dstrain, youngs_modulus, strain_factor, volume0, stress(p), volume_ratio(p), &
                                   sb(i), svb(i))
-               jb(i) = volume_ratio(p)
             else if (iand(shares, share_stress) /= 0) then ! (an initial mapping: the stress as it is)
                svb(i) = stress(p)*volume_ratio(p)*volume0
             end if
@@ -15597,7 +15720,6 @@ contains
                sb(i) = stress(p)*stress(p)*volume_ratio(p)*strain_factor
                svb(i) = stress(p)*volume_ratio(p)*volume0
                wb(i) = (yield_stress + 0.5_dp*hardening_modulus*hardening(p))*hardening(p)*volume0
-               jb(i) = volume_ratio(p)
             else if (iand(shares, share_stress) /= 0) then ! (an initial mapping: the stress as it is)
                svb(i) = stress(p)*volume_ratio(p)*volume0
             end if
@@ -15649,7 +15771,6 @@ contains
                end if
                call stress_hencky(dstrain, youngs_modulus, strain_factor, volume0, stress(p), volume_ratio(p), &
                                   sb(i), svb(i))
-               jb(i) = volume_ratio(p)
             else if (iand(shares, share_stress) /= 0) then ! (an initial mapping: the stress as it is)
                svb(i) = stress(p)*volume_ratio(p)*volume0
             end if
@@ -15713,10 +15834,11 @@ contains
             lane_r = mod(n, lanes)
             if (lane_r > 0) strain(1:lane_r) = strain(1:lane_r) + sb(n - lane_r + 1:n)
             do lane_i = 1, n - lanes + 1, lanes
-               min_j = min(min_j, jb(lane_i:lane_i + lanes - 1))
+               min_j = min(min_j, volume_ratio(b0 + lane_i - 1:b0 + lane_i + lanes - 2))
             end do
             lane_r = mod(n, lanes)
-            if (lane_r > 0) min_j(1:lane_r) = min(min_j(1:lane_r), jb(n - lane_r + 1:n))
+            if (lane_r > 0) min_j(1:lane_r) = min(min_j(1:lane_r), &
+                                                        volume_ratio(b0 + n - lane_r:b0 + n - 1))
          end if
          if (plastic) then
             do lane_i = 1, n - lanes + 1, lanes
@@ -15777,15 +15899,19 @@ contains
       real(dp) :: yield_stress, hardening_modulus, increment, wb(block_size), work(lanes)
       type(largest_move_t) :: largest
       real(dp) :: displacement(lanes), kinetic(lanes), strain(lanes), min_j(lanes)
+      ! the block's buffers (its particles' J and, with the bar's hat, their x - X, cells and velocities are
+      ! read back from the particles)
+      real(dp) :: svb(block_size), kb(block_size), sb(block_size)
       integer :: cb(block_size)
-      real(dp) :: svb(block_size), db(block_size), kb(block_size), sb(block_size), jb(block_size)
+      real(dp) :: db(block_size)
       real(dp) :: mb(block_size, 2)  !< the moves of a block, and of the block with the largest (lanes_track_move)
       integer :: slot
       real(dp) :: lane_max(lanes), block_max
       integer :: lane_i, lane_r
       type(run_t) :: run
       integer(i8) :: elements_bits
-      real(dp) :: xi, xib(block_size), vpb(block_size)
+      real(dp) :: xi, xib(block_size)
+      real(dp) :: vpb(block_size)
       ! the variant's: G2P's grid velocity and move, the segment's body (cells offset), each particle's
       ! shares (accumulate_shares)
       real(dp) :: vgrid, dxp
@@ -15848,7 +15974,6 @@ contains
                end if
                call stress_linear(dstrain, youngs_modulus, strain_factor, volume0, stress(p), volume_ratio(p), &
                                   sb(i), svb(i))
-               jb(i) = volume_ratio(p)
             else if (iand(shares, share_stress) /= 0) then ! (an initial mapping: the stress as it is)
                svb(i) = stress(p)*volume_ratio(p)*volume0
             end if
@@ -15910,7 +16035,6 @@ contains
                sb(i) = stress(p)*stress(p)*volume_ratio(p)*strain_factor
                svb(i) = stress(p)*volume_ratio(p)*volume0
                wb(i) = (yield_stress + 0.5_dp*hardening_modulus*hardening(p))*hardening(p)*volume0
-               jb(i) = volume_ratio(p)
             else if (iand(shares, share_stress) /= 0) then ! (an initial mapping: the stress as it is)
                svb(i) = stress(p)*volume_ratio(p)*volume0
             end if
@@ -15962,7 +16086,6 @@ contains
                end if
                call stress_hencky(dstrain, youngs_modulus, strain_factor, volume0, stress(p), volume_ratio(p), &
                                   sb(i), svb(i))
-               jb(i) = volume_ratio(p)
             else if (iand(shares, share_stress) /= 0) then ! (an initial mapping: the stress as it is)
                svb(i) = stress(p)*volume_ratio(p)*volume0
             end if
@@ -16026,10 +16149,11 @@ contains
             lane_r = mod(n, lanes)
             if (lane_r > 0) strain(1:lane_r) = strain(1:lane_r) + sb(n - lane_r + 1:n)
             do lane_i = 1, n - lanes + 1, lanes
-               min_j = min(min_j, jb(lane_i:lane_i + lanes - 1))
+               min_j = min(min_j, volume_ratio(b0 + lane_i - 1:b0 + lane_i + lanes - 2))
             end do
             lane_r = mod(n, lanes)
-            if (lane_r > 0) min_j(1:lane_r) = min(min_j(1:lane_r), jb(n - lane_r + 1:n))
+            if (lane_r > 0) min_j(1:lane_r) = min(min_j(1:lane_r), &
+                                                        volume_ratio(b0 + n - lane_r:b0 + n - 1))
          end if
          if (plastic) then
             do lane_i = 1, n - lanes + 1, lanes
@@ -16088,15 +16212,19 @@ contains
       logical :: linear, plastic
       type(largest_move_t) :: largest
       real(dp) :: displacement(lanes), kinetic(lanes), strain(lanes), min_j(lanes)
+      ! the block's buffers (its particles' J and, with the bar's hat, their x - X, cells and velocities are
+      ! read back from the particles)
+      real(dp) :: svb(block_size), kb(block_size), sb(block_size)
       integer :: cb(block_size)
-      real(dp) :: svb(block_size), db(block_size), kb(block_size), sb(block_size), jb(block_size)
+      real(dp) :: db(block_size)
       real(dp) :: mb(block_size, 2)  !< the moves of a block, and of the block with the largest (lanes_track_move)
       integer :: slot
       real(dp) :: lane_max(lanes), block_max
       integer :: lane_i, lane_r
       type(run_t) :: run
       integer(i8) :: elements_bits
-      real(dp) :: xi, xib(block_size), vpb(block_size)
+      real(dp) :: xi, xib(block_size)
+      real(dp) :: vpb(block_size)
       ! the variant's: G2P's grid velocity and move, the segment's body (cells offset), each particle's
       ! shares (accumulate_shares)
       real(dp) :: vgrid, dxp
@@ -16155,7 +16283,6 @@ contains
                end if
                call stress_hencky(dstrain, youngs_modulus, strain_factor, volume0, stress(p), volume_ratio(p), &
                                   sb(i), svb(i))
-               jb(i) = volume_ratio(p)
             else if (iand(shares, share_stress) /= 0) then ! (an initial mapping: the stress as it is)
                svb(i) = stress(p)*volume_ratio(p)*volume0
             end if
@@ -16218,10 +16345,11 @@ contains
             lane_r = mod(n, lanes)
             if (lane_r > 0) strain(1:lane_r) = strain(1:lane_r) + sb(n - lane_r + 1:n)
             do lane_i = 1, n - lanes + 1, lanes
-               min_j = min(min_j, jb(lane_i:lane_i + lanes - 1))
+               min_j = min(min_j, volume_ratio(b0 + lane_i - 1:b0 + lane_i + lanes - 2))
             end do
             lane_r = mod(n, lanes)
-            if (lane_r > 0) min_j(1:lane_r) = min(min_j(1:lane_r), jb(n - lane_r + 1:n))
+            if (lane_r > 0) min_j(1:lane_r) = min(min_j(1:lane_r), &
+                                                        volume_ratio(b0 + n - lane_r:b0 + n - 1))
          end if
          if (relocates) call find_outside(n, b0, cb, outside)
          call accumulate_shares(k, n, cb, sh, lo, hi, shares, run, mass_left, mass_right, momentum_left, momentum_right, &
@@ -16275,15 +16403,19 @@ contains
       real(dp) :: yield_stress, hardening_modulus, increment, wb(block_size), work(lanes)
       type(largest_move_t) :: largest
       real(dp) :: displacement(lanes), kinetic(lanes), strain(lanes), min_j(lanes)
+      ! the block's buffers (its particles' J and, with the bar's hat, their x - X, cells and velocities are
+      ! read back from the particles)
+      real(dp) :: svb(block_size), kb(block_size), sb(block_size)
       integer :: cb(block_size)
-      real(dp) :: svb(block_size), db(block_size), kb(block_size), sb(block_size), jb(block_size)
+      real(dp) :: db(block_size)
       real(dp) :: mb(block_size, 2)  !< the moves of a block, and of the block with the largest (lanes_track_move)
       integer :: slot
       real(dp) :: lane_max(lanes), block_max
       integer :: lane_i, lane_r
       type(run_t) :: run
       integer(i8) :: elements_bits
-      real(dp) :: xi, xib(block_size), vpb(block_size)
+      real(dp) :: xi, xib(block_size)
+      real(dp) :: vpb(block_size)
       ! the variant's: G2P's grid velocity and move, the segment's body (cells offset), each particle's
       ! shares (accumulate_shares)
       real(dp) :: vgrid, dxp
@@ -16346,7 +16478,6 @@ contains
                end if
                call stress_linear(dstrain, youngs_modulus, strain_factor, volume0, stress(p), volume_ratio(p), &
                                   sb(i), svb(i))
-               jb(i) = volume_ratio(p)
             else if (iand(shares, share_stress) /= 0) then ! (an initial mapping: the stress as it is)
                svb(i) = stress(p)*volume_ratio(p)*volume0
             end if
@@ -16408,7 +16539,6 @@ contains
                sb(i) = stress(p)*stress(p)*volume_ratio(p)*strain_factor
                svb(i) = stress(p)*volume_ratio(p)*volume0
                wb(i) = (yield_stress + 0.5_dp*hardening_modulus*hardening(p))*hardening(p)*volume0
-               jb(i) = volume_ratio(p)
             else if (iand(shares, share_stress) /= 0) then ! (an initial mapping: the stress as it is)
                svb(i) = stress(p)*volume_ratio(p)*volume0
             end if
@@ -16460,7 +16590,6 @@ contains
                end if
                call stress_hencky(dstrain, youngs_modulus, strain_factor, volume0, stress(p), volume_ratio(p), &
                                   sb(i), svb(i))
-               jb(i) = volume_ratio(p)
             else if (iand(shares, share_stress) /= 0) then ! (an initial mapping: the stress as it is)
                svb(i) = stress(p)*volume_ratio(p)*volume0
             end if
@@ -16524,10 +16653,11 @@ contains
             lane_r = mod(n, lanes)
             if (lane_r > 0) strain(1:lane_r) = strain(1:lane_r) + sb(n - lane_r + 1:n)
             do lane_i = 1, n - lanes + 1, lanes
-               min_j = min(min_j, jb(lane_i:lane_i + lanes - 1))
+               min_j = min(min_j, volume_ratio(b0 + lane_i - 1:b0 + lane_i + lanes - 2))
             end do
             lane_r = mod(n, lanes)
-            if (lane_r > 0) min_j(1:lane_r) = min(min_j(1:lane_r), jb(n - lane_r + 1:n))
+            if (lane_r > 0) min_j(1:lane_r) = min(min_j(1:lane_r), &
+                                                        volume_ratio(b0 + n - lane_r:b0 + n - 1))
          end if
          if (plastic) then
             do lane_i = 1, n - lanes + 1, lanes
@@ -16586,15 +16716,19 @@ contains
       logical :: linear, plastic
       type(largest_move_t) :: largest
       real(dp) :: displacement(lanes), kinetic(lanes), strain(lanes), min_j(lanes)
+      ! the block's buffers (its particles' J and, with the bar's hat, their x - X, cells and velocities are
+      ! read back from the particles)
+      real(dp) :: svb(block_size), kb(block_size), sb(block_size)
       integer :: cb(block_size)
-      real(dp) :: svb(block_size), db(block_size), kb(block_size), sb(block_size), jb(block_size)
+      real(dp) :: db(block_size)
       real(dp) :: mb(block_size, 2)  !< the moves of a block, and of the block with the largest (lanes_track_move)
       integer :: slot
       real(dp) :: lane_max(lanes), block_max
       integer :: lane_i, lane_r
       type(run_t) :: run
       integer(i8) :: elements_bits
-      real(dp) :: xi, xib(block_size), vpb(block_size)
+      real(dp) :: xi, xib(block_size)
+      real(dp) :: vpb(block_size)
       ! the variant's: G2P's grid velocity and move, the segment's body (cells offset), each particle's
       ! shares (accumulate_shares)
       real(dp) :: vgrid, dxp
@@ -16653,7 +16787,6 @@ contains
                end if
                call stress_hencky(dstrain, youngs_modulus, strain_factor, volume0, stress(p), volume_ratio(p), &
                                   sb(i), svb(i))
-               jb(i) = volume_ratio(p)
             else if (iand(shares, share_stress) /= 0) then ! (an initial mapping: the stress as it is)
                svb(i) = stress(p)*volume_ratio(p)*volume0
             end if
@@ -16716,10 +16849,11 @@ contains
             lane_r = mod(n, lanes)
             if (lane_r > 0) strain(1:lane_r) = strain(1:lane_r) + sb(n - lane_r + 1:n)
             do lane_i = 1, n - lanes + 1, lanes
-               min_j = min(min_j, jb(lane_i:lane_i + lanes - 1))
+               min_j = min(min_j, volume_ratio(b0 + lane_i - 1:b0 + lane_i + lanes - 2))
             end do
             lane_r = mod(n, lanes)
-            if (lane_r > 0) min_j(1:lane_r) = min(min_j(1:lane_r), jb(n - lane_r + 1:n))
+            if (lane_r > 0) min_j(1:lane_r) = min(min_j(1:lane_r), &
+                                                        volume_ratio(b0 + n - lane_r:b0 + n - 1))
          end if
          if (relocates) call find_outside(n, b0, cb, outside)
          call accumulate_shares(k, n, cb, sh, lo, hi, shares, run, mass_left, mass_right, momentum_left, momentum_right, &
@@ -16771,15 +16905,19 @@ contains
       logical :: linear, plastic
       type(largest_move_t) :: largest
       real(dp) :: displacement(lanes), kinetic(lanes), strain(lanes), min_j(lanes)
+      ! the block's buffers (its particles' J and, with the bar's hat, their x - X, cells and velocities are
+      ! read back from the particles)
+      real(dp) :: svb(block_size), kb(block_size), sb(block_size)
       integer :: cb(block_size)
-      real(dp) :: svb(block_size), db(block_size), kb(block_size), sb(block_size), jb(block_size)
+      real(dp) :: db(block_size)
       real(dp) :: mb(block_size, 2)  !< the moves of a block, and of the block with the largest (lanes_track_move)
       integer :: slot
       real(dp) :: lane_max(lanes), block_max
       integer :: lane_i, lane_r
       type(run_t) :: run
       integer(i8) :: elements_bits
-      real(dp) :: xi, xib(block_size), vpb(block_size)
+      real(dp) :: xi, xib(block_size)
+      real(dp) :: vpb(block_size)
       ! the variant's: G2P's grid velocity and move, the segment's body (cells offset), each particle's
       ! shares (accumulate_shares)
       real(dp) :: vgrid, dxp
@@ -16838,7 +16976,6 @@ contains
                end if
                call stress_hencky(dstrain, youngs_modulus, strain_factor, volume0, stress(p), volume_ratio(p), &
                                   sb(i), svb(i))
-               jb(i) = volume_ratio(p)
             else if (iand(shares, share_stress) /= 0) then ! (an initial mapping: the stress as it is)
                svb(i) = stress(p)*volume_ratio(p)*volume0
             end if
@@ -16901,10 +17038,11 @@ contains
             lane_r = mod(n, lanes)
             if (lane_r > 0) strain(1:lane_r) = strain(1:lane_r) + sb(n - lane_r + 1:n)
             do lane_i = 1, n - lanes + 1, lanes
-               min_j = min(min_j, jb(lane_i:lane_i + lanes - 1))
+               min_j = min(min_j, volume_ratio(b0 + lane_i - 1:b0 + lane_i + lanes - 2))
             end do
             lane_r = mod(n, lanes)
-            if (lane_r > 0) min_j(1:lane_r) = min(min_j(1:lane_r), jb(n - lane_r + 1:n))
+            if (lane_r > 0) min_j(1:lane_r) = min(min_j(1:lane_r), &
+                                                        volume_ratio(b0 + n - lane_r:b0 + n - 1))
          end if
          if (relocates) call find_outside(n, b0, cb, outside)
          call accumulate_shares(k, n, cb, sh, lo, hi, shares, run, mass_left, mass_right, momentum_left, momentum_right, &
@@ -16956,15 +17094,19 @@ contains
       logical :: linear, plastic
       type(largest_move_t) :: largest
       real(dp) :: displacement(lanes), kinetic(lanes), strain(lanes), min_j(lanes)
+      ! the block's buffers (its particles' J and, with the bar's hat, their x - X, cells and velocities are
+      ! read back from the particles)
+      real(dp) :: svb(block_size), kb(block_size), sb(block_size)
       integer :: cb(block_size)
-      real(dp) :: svb(block_size), db(block_size), kb(block_size), sb(block_size), jb(block_size)
+      real(dp) :: db(block_size)
       real(dp) :: mb(block_size, 2)  !< the moves of a block, and of the block with the largest (lanes_track_move)
       integer :: slot
       real(dp) :: lane_max(lanes), block_max
       integer :: lane_i, lane_r
       type(run_t) :: run
       integer(i8) :: elements_bits
-      real(dp) :: xi, xib(block_size), vpb(block_size)
+      real(dp) :: xi, xib(block_size)
+      real(dp) :: vpb(block_size)
       ! the variant's: G2P's grid velocity and move, the segment's body (cells offset), each particle's
       ! shares (accumulate_shares)
       real(dp) :: vgrid, dxp
@@ -17031,7 +17173,6 @@ contains
                call stress_hencky(dstrain, youngs_modulus, strain_factor, volume0, stress(p), volume_ratio(p), &
                                   sb(i), svb(i))
                stb(i) = stress(p)
-               jb(i) = volume_ratio(p)
             else if (iand(shares, share_stress) /= 0) then ! (an initial mapping: the stress as it is)
                svb(i) = stress(p)*volume_ratio(p)*volume0
             end if
@@ -17078,10 +17219,11 @@ contains
             lane_r = mod(n, lanes)
             if (lane_r > 0) strain(1:lane_r) = strain(1:lane_r) + sb(n - lane_r + 1:n)
             do lane_i = 1, n - lanes + 1, lanes
-               min_j = min(min_j, jb(lane_i:lane_i + lanes - 1))
+               min_j = min(min_j, volume_ratio(b0 + lane_i - 1:b0 + lane_i + lanes - 2))
             end do
             lane_r = mod(n, lanes)
-            if (lane_r > 0) min_j(1:lane_r) = min(min_j(1:lane_r), jb(n - lane_r + 1:n))
+            if (lane_r > 0) min_j(1:lane_r) = min(min_j(1:lane_r), &
+                                                        volume_ratio(b0 + n - lane_r:b0 + n - 1))
          end if
          if (moves) then
             do lane_i = 1, n - lanes + 1, lanes
@@ -17148,15 +17290,19 @@ contains
       real(dp) :: yield_stress, hardening_modulus, increment, wb(block_size), work(lanes)
       type(largest_move_t) :: largest
       real(dp) :: displacement(lanes), kinetic(lanes), strain(lanes), min_j(lanes)
+      ! the block's buffers (its particles' J and, with the bar's hat, their x - X, cells and velocities are
+      ! read back from the particles)
+      real(dp) :: svb(block_size), kb(block_size), sb(block_size)
       integer :: cb(block_size)
-      real(dp) :: svb(block_size), db(block_size), kb(block_size), sb(block_size), jb(block_size)
+      real(dp) :: db(block_size)
       real(dp) :: mb(block_size, 2)  !< the moves of a block, and of the block with the largest (lanes_track_move)
       integer :: slot
       real(dp) :: lane_max(lanes), block_max
       integer :: lane_i, lane_r
       type(run_t) :: run
       integer(i8) :: elements_bits
-      real(dp) :: xi, xib(block_size), vpb(block_size)
+      real(dp) :: xi, xib(block_size)
+      real(dp) :: vpb(block_size)
       ! the variant's: G2P's grid velocity and move, the segment's body (cells offset), each particle's
       ! shares (accumulate_shares)
       real(dp) :: vgrid, dxp
@@ -17227,7 +17373,6 @@ contains
                call stress_linear(dstrain, youngs_modulus, strain_factor, volume0, stress(p), volume_ratio(p), &
                                   sb(i), svb(i))
                stb(i) = stress(p)
-               jb(i) = volume_ratio(p)
             else if (iand(shares, share_stress) /= 0) then ! (an initial mapping: the stress as it is)
                svb(i) = stress(p)*volume_ratio(p)*volume0
             end if
@@ -17275,7 +17420,6 @@ contains
                svb(i) = stress(p)*volume_ratio(p)*volume0
                wb(i) = (yield_stress + 0.5_dp*hardening_modulus*hardening(p))*hardening(p)*volume0
                stb(i) = stress(p)
-               jb(i) = volume_ratio(p)
             else if (iand(shares, share_stress) /= 0) then ! (an initial mapping: the stress as it is)
                svb(i) = stress(p)*volume_ratio(p)*volume0
             end if
@@ -17313,7 +17457,6 @@ contains
                call stress_hencky(dstrain, youngs_modulus, strain_factor, volume0, stress(p), volume_ratio(p), &
                                   sb(i), svb(i))
                stb(i) = stress(p)
-               jb(i) = volume_ratio(p)
             else if (iand(shares, share_stress) /= 0) then ! (an initial mapping: the stress as it is)
                svb(i) = stress(p)*volume_ratio(p)*volume0
             end if
@@ -17361,10 +17504,11 @@ contains
             lane_r = mod(n, lanes)
             if (lane_r > 0) strain(1:lane_r) = strain(1:lane_r) + sb(n - lane_r + 1:n)
             do lane_i = 1, n - lanes + 1, lanes
-               min_j = min(min_j, jb(lane_i:lane_i + lanes - 1))
+               min_j = min(min_j, volume_ratio(b0 + lane_i - 1:b0 + lane_i + lanes - 2))
             end do
             lane_r = mod(n, lanes)
-            if (lane_r > 0) min_j(1:lane_r) = min(min_j(1:lane_r), jb(n - lane_r + 1:n))
+            if (lane_r > 0) min_j(1:lane_r) = min(min_j(1:lane_r), &
+                                                        volume_ratio(b0 + n - lane_r:b0 + n - 1))
          end if
          if (plastic) then
             do lane_i = 1, n - lanes + 1, lanes
@@ -17438,15 +17582,19 @@ contains
       real(dp) :: yield_stress, hardening_modulus, increment, wb(block_size), work(lanes)
       type(largest_move_t) :: largest
       real(dp) :: displacement(lanes), kinetic(lanes), strain(lanes), min_j(lanes)
+      ! the block's buffers (its particles' J and, with the bar's hat, their x - X, cells and velocities are
+      ! read back from the particles)
+      real(dp) :: svb(block_size), kb(block_size), sb(block_size)
       integer :: cb(block_size)
-      real(dp) :: svb(block_size), db(block_size), kb(block_size), sb(block_size), jb(block_size)
+      real(dp) :: db(block_size)
       real(dp) :: mb(block_size, 2)  !< the moves of a block, and of the block with the largest (lanes_track_move)
       integer :: slot
       real(dp) :: lane_max(lanes), block_max
       integer :: lane_i, lane_r
       type(run_t) :: run
       integer(i8) :: elements_bits
-      real(dp) :: xi, xib(block_size), vpb(block_size)
+      real(dp) :: xi, xib(block_size)
+      real(dp) :: vpb(block_size)
       ! the variant's: G2P's grid velocity and move, the segment's body (cells offset), each particle's
       ! shares (accumulate_shares)
       real(dp) :: vgrid, dxp
@@ -17517,7 +17665,6 @@ contains
                call stress_linear(dstrain, youngs_modulus, strain_factor, volume0, stress(p), volume_ratio(p), &
                                   sb(i), svb(i))
                stb(i) = stress(p)
-               jb(i) = volume_ratio(p)
             else if (iand(shares, share_stress) /= 0) then ! (an initial mapping: the stress as it is)
                svb(i) = stress(p)*volume_ratio(p)*volume0
             end if
@@ -17565,7 +17712,6 @@ contains
                svb(i) = stress(p)*volume_ratio(p)*volume0
                wb(i) = (yield_stress + 0.5_dp*hardening_modulus*hardening(p))*hardening(p)*volume0
                stb(i) = stress(p)
-               jb(i) = volume_ratio(p)
             else if (iand(shares, share_stress) /= 0) then ! (an initial mapping: the stress as it is)
                svb(i) = stress(p)*volume_ratio(p)*volume0
             end if
@@ -17603,7 +17749,6 @@ contains
                call stress_hencky(dstrain, youngs_modulus, strain_factor, volume0, stress(p), volume_ratio(p), &
                                   sb(i), svb(i))
                stb(i) = stress(p)
-               jb(i) = volume_ratio(p)
             else if (iand(shares, share_stress) /= 0) then ! (an initial mapping: the stress as it is)
                svb(i) = stress(p)*volume_ratio(p)*volume0
             end if
@@ -17651,10 +17796,11 @@ contains
             lane_r = mod(n, lanes)
             if (lane_r > 0) strain(1:lane_r) = strain(1:lane_r) + sb(n - lane_r + 1:n)
             do lane_i = 1, n - lanes + 1, lanes
-               min_j = min(min_j, jb(lane_i:lane_i + lanes - 1))
+               min_j = min(min_j, volume_ratio(b0 + lane_i - 1:b0 + lane_i + lanes - 2))
             end do
             lane_r = mod(n, lanes)
-            if (lane_r > 0) min_j(1:lane_r) = min(min_j(1:lane_r), jb(n - lane_r + 1:n))
+            if (lane_r > 0) min_j(1:lane_r) = min(min_j(1:lane_r), &
+                                                        volume_ratio(b0 + n - lane_r:b0 + n - 1))
          end if
          if (plastic) then
             do lane_i = 1, n - lanes + 1, lanes
@@ -17726,15 +17872,19 @@ contains
       logical :: linear, plastic
       type(largest_move_t) :: largest
       real(dp) :: displacement(lanes), kinetic(lanes), strain(lanes), min_j(lanes)
+      ! the block's buffers (its particles' J and, with the bar's hat, their x - X, cells and velocities are
+      ! read back from the particles)
+      real(dp) :: svb(block_size), kb(block_size), sb(block_size)
       integer :: cb(block_size)
-      real(dp) :: svb(block_size), db(block_size), kb(block_size), sb(block_size), jb(block_size)
+      real(dp) :: db(block_size)
       real(dp) :: mb(block_size, 2)  !< the moves of a block, and of the block with the largest (lanes_track_move)
       integer :: slot
       real(dp) :: lane_max(lanes), block_max
       integer :: lane_i, lane_r
       type(run_t) :: run
       integer(i8) :: elements_bits
-      real(dp) :: xi, xib(block_size), vpb(block_size)
+      real(dp) :: xi, xib(block_size)
+      real(dp) :: vpb(block_size)
       ! the variant's: G2P's grid velocity and move, the segment's body (cells offset), each particle's
       ! shares (accumulate_shares)
       real(dp) :: vgrid, dxp
@@ -17801,7 +17951,6 @@ contains
                call stress_hencky(dstrain, youngs_modulus, strain_factor, volume0, stress(p), volume_ratio(p), &
                                   sb(i), svb(i))
                stb(i) = stress(p)
-               jb(i) = volume_ratio(p)
             else if (iand(shares, share_stress) /= 0) then ! (an initial mapping: the stress as it is)
                svb(i) = stress(p)*volume_ratio(p)*volume0
             end if
@@ -17848,10 +17997,11 @@ contains
             lane_r = mod(n, lanes)
             if (lane_r > 0) strain(1:lane_r) = strain(1:lane_r) + sb(n - lane_r + 1:n)
             do lane_i = 1, n - lanes + 1, lanes
-               min_j = min(min_j, jb(lane_i:lane_i + lanes - 1))
+               min_j = min(min_j, volume_ratio(b0 + lane_i - 1:b0 + lane_i + lanes - 2))
             end do
             lane_r = mod(n, lanes)
-            if (lane_r > 0) min_j(1:lane_r) = min(min_j(1:lane_r), jb(n - lane_r + 1:n))
+            if (lane_r > 0) min_j(1:lane_r) = min(min_j(1:lane_r), &
+                                                        volume_ratio(b0 + n - lane_r:b0 + n - 1))
          end if
          if (moves) then
             do lane_i = 1, n - lanes + 1, lanes
@@ -17918,15 +18068,19 @@ contains
       real(dp) :: yield_stress, hardening_modulus, increment, wb(block_size), work(lanes)
       type(largest_move_t) :: largest
       real(dp) :: displacement(lanes), kinetic(lanes), strain(lanes), min_j(lanes)
+      ! the block's buffers (its particles' J and, with the bar's hat, their x - X, cells and velocities are
+      ! read back from the particles)
+      real(dp) :: svb(block_size), kb(block_size), sb(block_size)
       integer :: cb(block_size)
-      real(dp) :: svb(block_size), db(block_size), kb(block_size), sb(block_size), jb(block_size)
+      real(dp) :: db(block_size)
       real(dp) :: mb(block_size, 2)  !< the moves of a block, and of the block with the largest (lanes_track_move)
       integer :: slot
       real(dp) :: lane_max(lanes), block_max
       integer :: lane_i, lane_r
       type(run_t) :: run
       integer(i8) :: elements_bits
-      real(dp) :: xi, xib(block_size), vpb(block_size)
+      real(dp) :: xi, xib(block_size)
+      real(dp) :: vpb(block_size)
       ! the variant's: G2P's grid velocity and move, the segment's body (cells offset), each particle's
       ! shares (accumulate_shares)
       real(dp) :: vgrid, dxp
@@ -17997,7 +18151,6 @@ contains
                call stress_linear(dstrain, youngs_modulus, strain_factor, volume0, stress(p), volume_ratio(p), &
                                   sb(i), svb(i))
                stb(i) = stress(p)
-               jb(i) = volume_ratio(p)
             else if (iand(shares, share_stress) /= 0) then ! (an initial mapping: the stress as it is)
                svb(i) = stress(p)*volume_ratio(p)*volume0
             end if
@@ -18045,7 +18198,6 @@ contains
                svb(i) = stress(p)*volume_ratio(p)*volume0
                wb(i) = (yield_stress + 0.5_dp*hardening_modulus*hardening(p))*hardening(p)*volume0
                stb(i) = stress(p)
-               jb(i) = volume_ratio(p)
             else if (iand(shares, share_stress) /= 0) then ! (an initial mapping: the stress as it is)
                svb(i) = stress(p)*volume_ratio(p)*volume0
             end if
@@ -18083,7 +18235,6 @@ contains
                call stress_hencky(dstrain, youngs_modulus, strain_factor, volume0, stress(p), volume_ratio(p), &
                                   sb(i), svb(i))
                stb(i) = stress(p)
-               jb(i) = volume_ratio(p)
             else if (iand(shares, share_stress) /= 0) then ! (an initial mapping: the stress as it is)
                svb(i) = stress(p)*volume_ratio(p)*volume0
             end if
@@ -18131,10 +18282,11 @@ contains
             lane_r = mod(n, lanes)
             if (lane_r > 0) strain(1:lane_r) = strain(1:lane_r) + sb(n - lane_r + 1:n)
             do lane_i = 1, n - lanes + 1, lanes
-               min_j = min(min_j, jb(lane_i:lane_i + lanes - 1))
+               min_j = min(min_j, volume_ratio(b0 + lane_i - 1:b0 + lane_i + lanes - 2))
             end do
             lane_r = mod(n, lanes)
-            if (lane_r > 0) min_j(1:lane_r) = min(min_j(1:lane_r), jb(n - lane_r + 1:n))
+            if (lane_r > 0) min_j(1:lane_r) = min(min_j(1:lane_r), &
+                                                        volume_ratio(b0 + n - lane_r:b0 + n - 1))
          end if
          if (plastic) then
             do lane_i = 1, n - lanes + 1, lanes
@@ -18206,15 +18358,19 @@ contains
       logical :: linear, plastic
       type(largest_move_t) :: largest
       real(dp) :: displacement(lanes), kinetic(lanes), strain(lanes), min_j(lanes)
+      ! the block's buffers (its particles' J and, with the bar's hat, their x - X, cells and velocities are
+      ! read back from the particles)
+      real(dp) :: svb(block_size), kb(block_size), sb(block_size)
       integer :: cb(block_size)
-      real(dp) :: svb(block_size), db(block_size), kb(block_size), sb(block_size), jb(block_size)
+      real(dp) :: db(block_size)
       real(dp) :: mb(block_size, 2)  !< the moves of a block, and of the block with the largest (lanes_track_move)
       integer :: slot
       real(dp) :: lane_max(lanes), block_max
       integer :: lane_i, lane_r
       type(run_t) :: run
       integer(i8) :: elements_bits
-      real(dp) :: xi, xib(block_size), vpb(block_size)
+      real(dp) :: xi, xib(block_size)
+      real(dp) :: vpb(block_size)
       ! the variant's: G2P's grid velocity and move, the segment's body (cells offset), each particle's
       ! shares (accumulate_shares)
       real(dp) :: vgrid, dxp
@@ -18281,7 +18437,6 @@ contains
                call stress_hencky(dstrain, youngs_modulus, strain_factor, volume0, stress(p), volume_ratio(p), &
                                   sb(i), svb(i))
                stb(i) = stress(p)
-               jb(i) = volume_ratio(p)
             else if (iand(shares, share_stress) /= 0) then ! (an initial mapping: the stress as it is)
                svb(i) = stress(p)*volume_ratio(p)*volume0
             end if
@@ -18328,10 +18483,11 @@ contains
             lane_r = mod(n, lanes)
             if (lane_r > 0) strain(1:lane_r) = strain(1:lane_r) + sb(n - lane_r + 1:n)
             do lane_i = 1, n - lanes + 1, lanes
-               min_j = min(min_j, jb(lane_i:lane_i + lanes - 1))
+               min_j = min(min_j, volume_ratio(b0 + lane_i - 1:b0 + lane_i + lanes - 2))
             end do
             lane_r = mod(n, lanes)
-            if (lane_r > 0) min_j(1:lane_r) = min(min_j(1:lane_r), jb(n - lane_r + 1:n))
+            if (lane_r > 0) min_j(1:lane_r) = min(min_j(1:lane_r), &
+                                                        volume_ratio(b0 + n - lane_r:b0 + n - 1))
          end if
          if (moves) then
             do lane_i = 1, n - lanes + 1, lanes
@@ -18396,15 +18552,19 @@ contains
       logical :: linear, plastic
       type(largest_move_t) :: largest
       real(dp) :: displacement(lanes), kinetic(lanes), strain(lanes), min_j(lanes)
+      ! the block's buffers (its particles' J and, with the bar's hat, their x - X, cells and velocities are
+      ! read back from the particles)
+      real(dp) :: svb(block_size), kb(block_size), sb(block_size)
       integer :: cb(block_size)
-      real(dp) :: svb(block_size), db(block_size), kb(block_size), sb(block_size), jb(block_size)
+      real(dp) :: db(block_size)
       real(dp) :: mb(block_size, 2)  !< the moves of a block, and of the block with the largest (lanes_track_move)
       integer :: slot
       real(dp) :: lane_max(lanes), block_max
       integer :: lane_i, lane_r
       type(run_t) :: run
       integer(i8) :: elements_bits
-      real(dp) :: xi, xib(block_size), vpb(block_size)
+      real(dp) :: xi, xib(block_size)
+      real(dp) :: vpb(block_size)
       ! the variant's: G2P's grid velocity and move, the segment's body (cells offset), each particle's
       ! shares (accumulate_shares)
       real(dp) :: vgrid, dxp
@@ -18471,7 +18631,6 @@ contains
                call stress_hencky(dstrain, youngs_modulus, strain_factor, volume0, stress(p), volume_ratio(p), &
                                   sb(i), svb(i))
                stb(i) = stress(p)
-               jb(i) = volume_ratio(p)
             else if (iand(shares, share_stress) /= 0) then ! (an initial mapping: the stress as it is)
                svb(i) = stress(p)*volume_ratio(p)*volume0
             end if
@@ -18518,10 +18677,11 @@ contains
             lane_r = mod(n, lanes)
             if (lane_r > 0) strain(1:lane_r) = strain(1:lane_r) + sb(n - lane_r + 1:n)
             do lane_i = 1, n - lanes + 1, lanes
-               min_j = min(min_j, jb(lane_i:lane_i + lanes - 1))
+               min_j = min(min_j, volume_ratio(b0 + lane_i - 1:b0 + lane_i + lanes - 2))
             end do
             lane_r = mod(n, lanes)
-            if (lane_r > 0) min_j(1:lane_r) = min(min_j(1:lane_r), jb(n - lane_r + 1:n))
+            if (lane_r > 0) min_j(1:lane_r) = min(min_j(1:lane_r), &
+                                                        volume_ratio(b0 + n - lane_r:b0 + n - 1))
          end if
          if (moves) then
             do lane_i = 1, n - lanes + 1, lanes
@@ -18586,15 +18746,19 @@ contains
       logical :: linear, plastic
       type(largest_move_t) :: largest
       real(dp) :: displacement(lanes), kinetic(lanes), strain(lanes), min_j(lanes)
+      ! the block's buffers (its particles' J and, with the bar's hat, their x - X, cells and velocities are
+      ! read back from the particles)
+      real(dp) :: svb(block_size), kb(block_size), sb(block_size)
       integer :: cb(block_size)
-      real(dp) :: svb(block_size), db(block_size), kb(block_size), sb(block_size), jb(block_size)
+      real(dp) :: db(block_size)
       real(dp) :: mb(block_size, 2)  !< the moves of a block, and of the block with the largest (lanes_track_move)
       integer :: slot
       real(dp) :: lane_max(lanes), block_max
       integer :: lane_i, lane_r
       type(run_t) :: run
       integer(i8) :: elements_bits
-      real(dp) :: xi, xib(block_size), vpb(block_size)
+      real(dp) :: xi, xib(block_size)
+      real(dp) :: vpb(block_size)
       ! the variant's: G2P's grid velocity and move, the segment's body (cells offset), each particle's
       ! shares (accumulate_shares)
       real(dp) :: vgrid, dxp
@@ -18669,7 +18833,6 @@ contains
                if (kernel == pass_usf_stress) carry(p) = volume_ratio(p) ! (J^n for the move pass's test)
                call stress_hencky(dstrain, youngs_modulus, strain_factor, volume0, stress(p), volume_ratio(p), &
                                   sb(i), svb(i))
-               jb(i) = volume_ratio(p)
             else if (iand(shares, share_stress) /= 0) then ! (an initial mapping: the stress as it is)
                svb(i) = stress(p)*volume_ratio(p)*volume0
             end if
@@ -18716,10 +18879,11 @@ contains
             lane_r = mod(n, lanes)
             if (lane_r > 0) strain(1:lane_r) = strain(1:lane_r) + sb(n - lane_r + 1:n)
             do lane_i = 1, n - lanes + 1, lanes
-               min_j = min(min_j, jb(lane_i:lane_i + lanes - 1))
+               min_j = min(min_j, volume_ratio(b0 + lane_i - 1:b0 + lane_i + lanes - 2))
             end do
             lane_r = mod(n, lanes)
-            if (lane_r > 0) min_j(1:lane_r) = min(min_j(1:lane_r), jb(n - lane_r + 1:n))
+            if (lane_r > 0) min_j(1:lane_r) = min(min_j(1:lane_r), &
+                                                        volume_ratio(b0 + n - lane_r:b0 + n - 1))
          end if
          if (relocates) call find_outside(n, b0, cb, outside)
          call accumulate_block(k, n, cb, xib, vpb, svb, m, lo, hi, shares, run, mass_left, mass_right, momentum_left, &
@@ -18769,15 +18933,19 @@ contains
       real(dp) :: yield_stress, hardening_modulus, increment, wb(block_size), work(lanes)
       type(largest_move_t) :: largest
       real(dp) :: displacement(lanes), kinetic(lanes), strain(lanes), min_j(lanes)
+      ! the block's buffers (its particles' J and, with the bar's hat, their x - X, cells and velocities are
+      ! read back from the particles)
+      real(dp) :: svb(block_size), kb(block_size), sb(block_size)
       integer :: cb(block_size)
-      real(dp) :: svb(block_size), db(block_size), kb(block_size), sb(block_size), jb(block_size)
+      real(dp) :: db(block_size)
       real(dp) :: mb(block_size, 2)  !< the moves of a block, and of the block with the largest (lanes_track_move)
       integer :: slot
       real(dp) :: lane_max(lanes), block_max
       integer :: lane_i, lane_r
       type(run_t) :: run
       integer(i8) :: elements_bits
-      real(dp) :: xi, xib(block_size), vpb(block_size)
+      real(dp) :: xi, xib(block_size)
+      real(dp) :: vpb(block_size)
       ! the variant's: G2P's grid velocity and move, the segment's body (cells offset), each particle's
       ! shares (accumulate_shares)
       real(dp) :: vgrid, dxp
@@ -18856,7 +19024,6 @@ contains
                if (kernel == pass_usf_stress) carry(p) = volume_ratio(p) ! (J^n for the move pass's test)
                call stress_linear(dstrain, youngs_modulus, strain_factor, volume0, stress(p), volume_ratio(p), &
                                   sb(i), svb(i))
-               jb(i) = volume_ratio(p)
             else if (iand(shares, share_stress) /= 0) then ! (an initial mapping: the stress as it is)
                svb(i) = stress(p)*volume_ratio(p)*volume0
             end if
@@ -18916,7 +19083,6 @@ contains
                sb(i) = stress(p)*stress(p)*volume_ratio(p)*strain_factor
                svb(i) = stress(p)*volume_ratio(p)*volume0
                wb(i) = (yield_stress + 0.5_dp*hardening_modulus*hardening(p))*hardening(p)*volume0
-               jb(i) = volume_ratio(p)
             else if (iand(shares, share_stress) /= 0) then ! (an initial mapping: the stress as it is)
                svb(i) = stress(p)*volume_ratio(p)*volume0
             end if
@@ -18966,7 +19132,6 @@ contains
                if (kernel == pass_usf_stress) carry(p) = volume_ratio(p) ! (J^n for the move pass's test)
                call stress_hencky(dstrain, youngs_modulus, strain_factor, volume0, stress(p), volume_ratio(p), &
                                   sb(i), svb(i))
-               jb(i) = volume_ratio(p)
             else if (iand(shares, share_stress) /= 0) then ! (an initial mapping: the stress as it is)
                svb(i) = stress(p)*volume_ratio(p)*volume0
             end if
@@ -19014,10 +19179,11 @@ contains
             lane_r = mod(n, lanes)
             if (lane_r > 0) strain(1:lane_r) = strain(1:lane_r) + sb(n - lane_r + 1:n)
             do lane_i = 1, n - lanes + 1, lanes
-               min_j = min(min_j, jb(lane_i:lane_i + lanes - 1))
+               min_j = min(min_j, volume_ratio(b0 + lane_i - 1:b0 + lane_i + lanes - 2))
             end do
             lane_r = mod(n, lanes)
-            if (lane_r > 0) min_j(1:lane_r) = min(min_j(1:lane_r), jb(n - lane_r + 1:n))
+            if (lane_r > 0) min_j(1:lane_r) = min(min_j(1:lane_r), &
+                                                        volume_ratio(b0 + n - lane_r:b0 + n - 1))
          end if
          if (plastic) then
             do lane_i = 1, n - lanes + 1, lanes
@@ -19074,15 +19240,19 @@ contains
       real(dp) :: yield_stress, hardening_modulus, increment, wb(block_size), work(lanes)
       type(largest_move_t) :: largest
       real(dp) :: displacement(lanes), kinetic(lanes), strain(lanes), min_j(lanes)
+      ! the block's buffers (its particles' J and, with the bar's hat, their x - X, cells and velocities are
+      ! read back from the particles)
+      real(dp) :: svb(block_size), kb(block_size), sb(block_size)
       integer :: cb(block_size)
-      real(dp) :: svb(block_size), db(block_size), kb(block_size), sb(block_size), jb(block_size)
+      real(dp) :: db(block_size)
       real(dp) :: mb(block_size, 2)  !< the moves of a block, and of the block with the largest (lanes_track_move)
       integer :: slot
       real(dp) :: lane_max(lanes), block_max
       integer :: lane_i, lane_r
       type(run_t) :: run
       integer(i8) :: elements_bits
-      real(dp) :: xi, xib(block_size), vpb(block_size)
+      real(dp) :: xi, xib(block_size)
+      real(dp) :: vpb(block_size)
       ! the variant's: G2P's grid velocity and move, the segment's body (cells offset), each particle's
       ! shares (accumulate_shares)
       real(dp) :: vgrid, dxp
@@ -19161,7 +19331,6 @@ contains
                if (kernel == pass_usf_stress) carry(p) = volume_ratio(p) ! (J^n for the move pass's test)
                call stress_linear(dstrain, youngs_modulus, strain_factor, volume0, stress(p), volume_ratio(p), &
                                   sb(i), svb(i))
-               jb(i) = volume_ratio(p)
             else if (iand(shares, share_stress) /= 0) then ! (an initial mapping: the stress as it is)
                svb(i) = stress(p)*volume_ratio(p)*volume0
             end if
@@ -19221,7 +19390,6 @@ contains
                sb(i) = stress(p)*stress(p)*volume_ratio(p)*strain_factor
                svb(i) = stress(p)*volume_ratio(p)*volume0
                wb(i) = (yield_stress + 0.5_dp*hardening_modulus*hardening(p))*hardening(p)*volume0
-               jb(i) = volume_ratio(p)
             else if (iand(shares, share_stress) /= 0) then ! (an initial mapping: the stress as it is)
                svb(i) = stress(p)*volume_ratio(p)*volume0
             end if
@@ -19271,7 +19439,6 @@ contains
                if (kernel == pass_usf_stress) carry(p) = volume_ratio(p) ! (J^n for the move pass's test)
                call stress_hencky(dstrain, youngs_modulus, strain_factor, volume0, stress(p), volume_ratio(p), &
                                   sb(i), svb(i))
-               jb(i) = volume_ratio(p)
             else if (iand(shares, share_stress) /= 0) then ! (an initial mapping: the stress as it is)
                svb(i) = stress(p)*volume_ratio(p)*volume0
             end if
@@ -19319,10 +19486,11 @@ contains
             lane_r = mod(n, lanes)
             if (lane_r > 0) strain(1:lane_r) = strain(1:lane_r) + sb(n - lane_r + 1:n)
             do lane_i = 1, n - lanes + 1, lanes
-               min_j = min(min_j, jb(lane_i:lane_i + lanes - 1))
+               min_j = min(min_j, volume_ratio(b0 + lane_i - 1:b0 + lane_i + lanes - 2))
             end do
             lane_r = mod(n, lanes)
-            if (lane_r > 0) min_j(1:lane_r) = min(min_j(1:lane_r), jb(n - lane_r + 1:n))
+            if (lane_r > 0) min_j(1:lane_r) = min(min_j(1:lane_r), &
+                                                        volume_ratio(b0 + n - lane_r:b0 + n - 1))
          end if
          if (plastic) then
             do lane_i = 1, n - lanes + 1, lanes
@@ -19377,15 +19545,19 @@ contains
       logical :: linear, plastic
       type(largest_move_t) :: largest
       real(dp) :: displacement(lanes), kinetic(lanes), strain(lanes), min_j(lanes)
+      ! the block's buffers (its particles' J and, with the bar's hat, their x - X, cells and velocities are
+      ! read back from the particles)
+      real(dp) :: svb(block_size), kb(block_size), sb(block_size)
       integer :: cb(block_size)
-      real(dp) :: svb(block_size), db(block_size), kb(block_size), sb(block_size), jb(block_size)
+      real(dp) :: db(block_size)
       real(dp) :: mb(block_size, 2)  !< the moves of a block, and of the block with the largest (lanes_track_move)
       integer :: slot
       real(dp) :: lane_max(lanes), block_max
       integer :: lane_i, lane_r
       type(run_t) :: run
       integer(i8) :: elements_bits
-      real(dp) :: xi, xib(block_size), vpb(block_size)
+      real(dp) :: xi, xib(block_size)
+      real(dp) :: vpb(block_size)
       ! the variant's: G2P's grid velocity and move, the segment's body (cells offset), each particle's
       ! shares (accumulate_shares)
       real(dp) :: vgrid, dxp
@@ -19460,7 +19632,6 @@ contains
                if (kernel == pass_usf_stress) carry(p) = volume_ratio(p) ! (J^n for the move pass's test)
                call stress_hencky(dstrain, youngs_modulus, strain_factor, volume0, stress(p), volume_ratio(p), &
                                   sb(i), svb(i))
-               jb(i) = volume_ratio(p)
             else if (iand(shares, share_stress) /= 0) then ! (an initial mapping: the stress as it is)
                svb(i) = stress(p)*volume_ratio(p)*volume0
             end if
@@ -19507,10 +19678,11 @@ contains
             lane_r = mod(n, lanes)
             if (lane_r > 0) strain(1:lane_r) = strain(1:lane_r) + sb(n - lane_r + 1:n)
             do lane_i = 1, n - lanes + 1, lanes
-               min_j = min(min_j, jb(lane_i:lane_i + lanes - 1))
+               min_j = min(min_j, volume_ratio(b0 + lane_i - 1:b0 + lane_i + lanes - 2))
             end do
             lane_r = mod(n, lanes)
-            if (lane_r > 0) min_j(1:lane_r) = min(min_j(1:lane_r), jb(n - lane_r + 1:n))
+            if (lane_r > 0) min_j(1:lane_r) = min(min_j(1:lane_r), &
+                                                        volume_ratio(b0 + n - lane_r:b0 + n - 1))
          end if
          if (relocates) call find_outside(n, b0, cb, outside)
          call accumulate_block(k, n, cb, xib, vpb, svb, m, lo, hi, shares, run, mass_left, mass_right, momentum_left, &
@@ -19560,15 +19732,19 @@ contains
       real(dp) :: yield_stress, hardening_modulus, increment, wb(block_size), work(lanes)
       type(largest_move_t) :: largest
       real(dp) :: displacement(lanes), kinetic(lanes), strain(lanes), min_j(lanes)
+      ! the block's buffers (its particles' J and, with the bar's hat, their x - X, cells and velocities are
+      ! read back from the particles)
+      real(dp) :: svb(block_size), kb(block_size), sb(block_size)
       integer :: cb(block_size)
-      real(dp) :: svb(block_size), db(block_size), kb(block_size), sb(block_size), jb(block_size)
+      real(dp) :: db(block_size)
       real(dp) :: mb(block_size, 2)  !< the moves of a block, and of the block with the largest (lanes_track_move)
       integer :: slot
       real(dp) :: lane_max(lanes), block_max
       integer :: lane_i, lane_r
       type(run_t) :: run
       integer(i8) :: elements_bits
-      real(dp) :: xi, xib(block_size), vpb(block_size)
+      real(dp) :: xi, xib(block_size)
+      real(dp) :: vpb(block_size)
       ! the variant's: G2P's grid velocity and move, the segment's body (cells offset), each particle's
       ! shares (accumulate_shares)
       real(dp) :: vgrid, dxp
@@ -19647,7 +19823,6 @@ contains
                if (kernel == pass_usf_stress) carry(p) = volume_ratio(p) ! (J^n for the move pass's test)
                call stress_linear(dstrain, youngs_modulus, strain_factor, volume0, stress(p), volume_ratio(p), &
                                   sb(i), svb(i))
-               jb(i) = volume_ratio(p)
             else if (iand(shares, share_stress) /= 0) then ! (an initial mapping: the stress as it is)
                svb(i) = stress(p)*volume_ratio(p)*volume0
             end if
@@ -19707,7 +19882,6 @@ contains
                sb(i) = stress(p)*stress(p)*volume_ratio(p)*strain_factor
                svb(i) = stress(p)*volume_ratio(p)*volume0
                wb(i) = (yield_stress + 0.5_dp*hardening_modulus*hardening(p))*hardening(p)*volume0
-               jb(i) = volume_ratio(p)
             else if (iand(shares, share_stress) /= 0) then ! (an initial mapping: the stress as it is)
                svb(i) = stress(p)*volume_ratio(p)*volume0
             end if
@@ -19757,7 +19931,6 @@ contains
                if (kernel == pass_usf_stress) carry(p) = volume_ratio(p) ! (J^n for the move pass's test)
                call stress_hencky(dstrain, youngs_modulus, strain_factor, volume0, stress(p), volume_ratio(p), &
                                   sb(i), svb(i))
-               jb(i) = volume_ratio(p)
             else if (iand(shares, share_stress) /= 0) then ! (an initial mapping: the stress as it is)
                svb(i) = stress(p)*volume_ratio(p)*volume0
             end if
@@ -19805,10 +19978,11 @@ contains
             lane_r = mod(n, lanes)
             if (lane_r > 0) strain(1:lane_r) = strain(1:lane_r) + sb(n - lane_r + 1:n)
             do lane_i = 1, n - lanes + 1, lanes
-               min_j = min(min_j, jb(lane_i:lane_i + lanes - 1))
+               min_j = min(min_j, volume_ratio(b0 + lane_i - 1:b0 + lane_i + lanes - 2))
             end do
             lane_r = mod(n, lanes)
-            if (lane_r > 0) min_j(1:lane_r) = min(min_j(1:lane_r), jb(n - lane_r + 1:n))
+            if (lane_r > 0) min_j(1:lane_r) = min(min_j(1:lane_r), &
+                                                        volume_ratio(b0 + n - lane_r:b0 + n - 1))
          end if
          if (plastic) then
             do lane_i = 1, n - lanes + 1, lanes
@@ -19863,15 +20037,19 @@ contains
       logical :: linear, plastic
       type(largest_move_t) :: largest
       real(dp) :: displacement(lanes), kinetic(lanes), strain(lanes), min_j(lanes)
+      ! the block's buffers (its particles' J and, with the bar's hat, their x - X, cells and velocities are
+      ! read back from the particles)
+      real(dp) :: svb(block_size), kb(block_size), sb(block_size)
       integer :: cb(block_size)
-      real(dp) :: svb(block_size), db(block_size), kb(block_size), sb(block_size), jb(block_size)
+      real(dp) :: db(block_size)
       real(dp) :: mb(block_size, 2)  !< the moves of a block, and of the block with the largest (lanes_track_move)
       integer :: slot
       real(dp) :: lane_max(lanes), block_max
       integer :: lane_i, lane_r
       type(run_t) :: run
       integer(i8) :: elements_bits
-      real(dp) :: xi, xib(block_size), vpb(block_size)
+      real(dp) :: xi, xib(block_size)
+      real(dp) :: vpb(block_size)
       ! the variant's: G2P's grid velocity and move, the segment's body (cells offset), each particle's
       ! shares (accumulate_shares)
       real(dp) :: vgrid, dxp
@@ -19946,7 +20124,6 @@ contains
                if (kernel == pass_usf_stress) carry(p) = volume_ratio(p) ! (J^n for the move pass's test)
                call stress_hencky(dstrain, youngs_modulus, strain_factor, volume0, stress(p), volume_ratio(p), &
                                   sb(i), svb(i))
-               jb(i) = volume_ratio(p)
             else if (iand(shares, share_stress) /= 0) then ! (an initial mapping: the stress as it is)
                svb(i) = stress(p)*volume_ratio(p)*volume0
             end if
@@ -19993,10 +20170,11 @@ contains
             lane_r = mod(n, lanes)
             if (lane_r > 0) strain(1:lane_r) = strain(1:lane_r) + sb(n - lane_r + 1:n)
             do lane_i = 1, n - lanes + 1, lanes
-               min_j = min(min_j, jb(lane_i:lane_i + lanes - 1))
+               min_j = min(min_j, volume_ratio(b0 + lane_i - 1:b0 + lane_i + lanes - 2))
             end do
             lane_r = mod(n, lanes)
-            if (lane_r > 0) min_j(1:lane_r) = min(min_j(1:lane_r), jb(n - lane_r + 1:n))
+            if (lane_r > 0) min_j(1:lane_r) = min(min_j(1:lane_r), &
+                                                        volume_ratio(b0 + n - lane_r:b0 + n - 1))
          end if
          if (relocates) call find_outside(n, b0, cb, outside)
          call accumulate_block(k, n, cb, xib, vpb, svb, m, lo, hi, shares, run, mass_left, mass_right, momentum_left, &
@@ -20044,15 +20222,19 @@ contains
       logical :: linear, plastic
       type(largest_move_t) :: largest
       real(dp) :: displacement(lanes), kinetic(lanes), strain(lanes), min_j(lanes)
+      ! the block's buffers (its particles' J and, with the bar's hat, their x - X, cells and velocities are
+      ! read back from the particles)
+      real(dp) :: svb(block_size), kb(block_size), sb(block_size)
       integer :: cb(block_size)
-      real(dp) :: svb(block_size), db(block_size), kb(block_size), sb(block_size), jb(block_size)
+      real(dp) :: db(block_size)
       real(dp) :: mb(block_size, 2)  !< the moves of a block, and of the block with the largest (lanes_track_move)
       integer :: slot
       real(dp) :: lane_max(lanes), block_max
       integer :: lane_i, lane_r
       type(run_t) :: run
       integer(i8) :: elements_bits
-      real(dp) :: xi, xib(block_size), vpb(block_size)
+      real(dp) :: xi, xib(block_size)
+      real(dp) :: vpb(block_size)
       ! the variant's: G2P's grid velocity and move, the segment's body (cells offset), each particle's
       ! shares (accumulate_shares)
       real(dp) :: vgrid, dxp
@@ -20127,7 +20309,6 @@ contains
                if (kernel == pass_usf_stress) carry(p) = volume_ratio(p) ! (J^n for the move pass's test)
                call stress_hencky(dstrain, youngs_modulus, strain_factor, volume0, stress(p), volume_ratio(p), &
                                   sb(i), svb(i))
-               jb(i) = volume_ratio(p)
             else if (iand(shares, share_stress) /= 0) then ! (an initial mapping: the stress as it is)
                svb(i) = stress(p)*volume_ratio(p)*volume0
             end if
@@ -20174,10 +20355,11 @@ contains
             lane_r = mod(n, lanes)
             if (lane_r > 0) strain(1:lane_r) = strain(1:lane_r) + sb(n - lane_r + 1:n)
             do lane_i = 1, n - lanes + 1, lanes
-               min_j = min(min_j, jb(lane_i:lane_i + lanes - 1))
+               min_j = min(min_j, volume_ratio(b0 + lane_i - 1:b0 + lane_i + lanes - 2))
             end do
             lane_r = mod(n, lanes)
-            if (lane_r > 0) min_j(1:lane_r) = min(min_j(1:lane_r), jb(n - lane_r + 1:n))
+            if (lane_r > 0) min_j(1:lane_r) = min(min_j(1:lane_r), &
+                                                        volume_ratio(b0 + n - lane_r:b0 + n - 1))
          end if
          if (relocates) call find_outside(n, b0, cb, outside)
          call accumulate_block(k, n, cb, xib, vpb, svb, m, lo, hi, shares, run, mass_left, mass_right, momentum_left, &
@@ -20225,15 +20407,19 @@ contains
       logical :: linear, plastic
       type(largest_move_t) :: largest
       real(dp) :: displacement(lanes), kinetic(lanes), strain(lanes), min_j(lanes)
+      ! the block's buffers (its particles' J and, with the bar's hat, their x - X, cells and velocities are
+      ! read back from the particles)
+      real(dp) :: svb(block_size), kb(block_size), sb(block_size)
       integer :: cb(block_size)
-      real(dp) :: svb(block_size), db(block_size), kb(block_size), sb(block_size), jb(block_size)
+      real(dp) :: db(block_size)
       real(dp) :: mb(block_size, 2)  !< the moves of a block, and of the block with the largest (lanes_track_move)
       integer :: slot
       real(dp) :: lane_max(lanes), block_max
       integer :: lane_i, lane_r
       type(run_t) :: run
       integer(i8) :: elements_bits
-      real(dp) :: xi, xib(block_size), vpb(block_size)
+      real(dp) :: xi, xib(block_size)
+      real(dp) :: vpb(block_size)
       ! the variant's: G2P's grid velocity and move, the segment's body (cells offset), each particle's
       ! shares (accumulate_shares)
       real(dp) :: vgrid, dxp
@@ -20295,7 +20481,6 @@ contains
                call stress_hencky(dstrain, youngs_modulus, strain_factor, volume0, stress(p), volume_ratio(p), &
                                   sb(i), svb(i))
                svb(i) = stress(p)*volume0
-               jb(i) = volume_ratio(p)
             else if (iand(shares, share_stress) /= 0) then ! (an initial mapping: the stress as it is)
                svb(i) = stress(p)*volume0
             end if
@@ -20345,10 +20530,11 @@ contains
             lane_r = mod(n, lanes)
             if (lane_r > 0) strain(1:lane_r) = strain(1:lane_r) + sb(n - lane_r + 1:n)
             do lane_i = 1, n - lanes + 1, lanes
-               min_j = min(min_j, jb(lane_i:lane_i + lanes - 1))
+               min_j = min(min_j, volume_ratio(b0 + lane_i - 1:b0 + lane_i + lanes - 2))
             end do
             lane_r = mod(n, lanes)
-            if (lane_r > 0) min_j(1:lane_r) = min(min_j(1:lane_r), jb(n - lane_r + 1:n))
+            if (lane_r > 0) min_j(1:lane_r) = min(min_j(1:lane_r), &
+                                                        volume_ratio(b0 + n - lane_r:b0 + n - 1))
          end if
          if (relocates) call find_outside(n, b0, cb, outside)
          call accumulate_block(k, n, cb, xib, vpb, svb, m, lo, hi, shares, run, mass_left, mass_right, momentum_left, &
@@ -20398,15 +20584,19 @@ contains
       real(dp) :: yield_stress, hardening_modulus, increment, wb(block_size), work(lanes)
       type(largest_move_t) :: largest
       real(dp) :: displacement(lanes), kinetic(lanes), strain(lanes), min_j(lanes)
+      ! the block's buffers (its particles' J and, with the bar's hat, their x - X, cells and velocities are
+      ! read back from the particles)
+      real(dp) :: svb(block_size), kb(block_size), sb(block_size)
       integer :: cb(block_size)
-      real(dp) :: svb(block_size), db(block_size), kb(block_size), sb(block_size), jb(block_size)
+      real(dp) :: db(block_size)
       real(dp) :: mb(block_size, 2)  !< the moves of a block, and of the block with the largest (lanes_track_move)
       integer :: slot
       real(dp) :: lane_max(lanes), block_max
       integer :: lane_i, lane_r
       type(run_t) :: run
       integer(i8) :: elements_bits
-      real(dp) :: xi, xib(block_size), vpb(block_size)
+      real(dp) :: xi, xib(block_size)
+      real(dp) :: vpb(block_size)
       ! the variant's: G2P's grid velocity and move, the segment's body (cells offset), each particle's
       ! shares (accumulate_shares)
       real(dp) :: vgrid, dxp
@@ -20472,7 +20662,6 @@ contains
                call stress_linear(dstrain, youngs_modulus, strain_factor, volume0, stress(p), volume_ratio(p), &
                                   sb(i), svb(i))
                svb(i) = stress(p)*volume0
-               jb(i) = volume_ratio(p)
             else if (iand(shares, share_stress) /= 0) then ! (an initial mapping: the stress as it is)
                svb(i) = stress(p)*volume0
             end if
@@ -20525,7 +20714,6 @@ contains
                svb(i) = stress(p)*volume_ratio(p)*volume0
                wb(i) = (yield_stress + 0.5_dp*hardening_modulus*hardening(p))*hardening(p)*volume0
                svb(i) = stress(p)*volume0
-               jb(i) = volume_ratio(p)
             else if (iand(shares, share_stress) /= 0) then ! (an initial mapping: the stress as it is)
                svb(i) = stress(p)*volume0
             end if
@@ -20568,7 +20756,6 @@ contains
                call stress_hencky(dstrain, youngs_modulus, strain_factor, volume0, stress(p), volume_ratio(p), &
                                   sb(i), svb(i))
                svb(i) = stress(p)*volume0
-               jb(i) = volume_ratio(p)
             else if (iand(shares, share_stress) /= 0) then ! (an initial mapping: the stress as it is)
                svb(i) = stress(p)*volume0
             end if
@@ -20619,10 +20806,11 @@ contains
             lane_r = mod(n, lanes)
             if (lane_r > 0) strain(1:lane_r) = strain(1:lane_r) + sb(n - lane_r + 1:n)
             do lane_i = 1, n - lanes + 1, lanes
-               min_j = min(min_j, jb(lane_i:lane_i + lanes - 1))
+               min_j = min(min_j, volume_ratio(b0 + lane_i - 1:b0 + lane_i + lanes - 2))
             end do
             lane_r = mod(n, lanes)
-            if (lane_r > 0) min_j(1:lane_r) = min(min_j(1:lane_r), jb(n - lane_r + 1:n))
+            if (lane_r > 0) min_j(1:lane_r) = min(min_j(1:lane_r), &
+                                                        volume_ratio(b0 + n - lane_r:b0 + n - 1))
          end if
          if (plastic) then
             do lane_i = 1, n - lanes + 1, lanes
@@ -20679,15 +20867,19 @@ contains
       real(dp) :: yield_stress, hardening_modulus, increment, wb(block_size), work(lanes)
       type(largest_move_t) :: largest
       real(dp) :: displacement(lanes), kinetic(lanes), strain(lanes), min_j(lanes)
+      ! the block's buffers (its particles' J and, with the bar's hat, their x - X, cells and velocities are
+      ! read back from the particles)
+      real(dp) :: svb(block_size), kb(block_size), sb(block_size)
       integer :: cb(block_size)
-      real(dp) :: svb(block_size), db(block_size), kb(block_size), sb(block_size), jb(block_size)
+      real(dp) :: db(block_size)
       real(dp) :: mb(block_size, 2)  !< the moves of a block, and of the block with the largest (lanes_track_move)
       integer :: slot
       real(dp) :: lane_max(lanes), block_max
       integer :: lane_i, lane_r
       type(run_t) :: run
       integer(i8) :: elements_bits
-      real(dp) :: xi, xib(block_size), vpb(block_size)
+      real(dp) :: xi, xib(block_size)
+      real(dp) :: vpb(block_size)
       ! the variant's: G2P's grid velocity and move, the segment's body (cells offset), each particle's
       ! shares (accumulate_shares)
       real(dp) :: vgrid, dxp
@@ -20753,7 +20945,6 @@ contains
                call stress_linear(dstrain, youngs_modulus, strain_factor, volume0, stress(p), volume_ratio(p), &
                                   sb(i), svb(i))
                svb(i) = stress(p)*volume0
-               jb(i) = volume_ratio(p)
             else if (iand(shares, share_stress) /= 0) then ! (an initial mapping: the stress as it is)
                svb(i) = stress(p)*volume0
             end if
@@ -20806,7 +20997,6 @@ contains
                svb(i) = stress(p)*volume_ratio(p)*volume0
                wb(i) = (yield_stress + 0.5_dp*hardening_modulus*hardening(p))*hardening(p)*volume0
                svb(i) = stress(p)*volume0
-               jb(i) = volume_ratio(p)
             else if (iand(shares, share_stress) /= 0) then ! (an initial mapping: the stress as it is)
                svb(i) = stress(p)*volume0
             end if
@@ -20849,7 +21039,6 @@ contains
                call stress_hencky(dstrain, youngs_modulus, strain_factor, volume0, stress(p), volume_ratio(p), &
                                   sb(i), svb(i))
                svb(i) = stress(p)*volume0
-               jb(i) = volume_ratio(p)
             else if (iand(shares, share_stress) /= 0) then ! (an initial mapping: the stress as it is)
                svb(i) = stress(p)*volume0
             end if
@@ -20900,10 +21089,11 @@ contains
             lane_r = mod(n, lanes)
             if (lane_r > 0) strain(1:lane_r) = strain(1:lane_r) + sb(n - lane_r + 1:n)
             do lane_i = 1, n - lanes + 1, lanes
-               min_j = min(min_j, jb(lane_i:lane_i + lanes - 1))
+               min_j = min(min_j, volume_ratio(b0 + lane_i - 1:b0 + lane_i + lanes - 2))
             end do
             lane_r = mod(n, lanes)
-            if (lane_r > 0) min_j(1:lane_r) = min(min_j(1:lane_r), jb(n - lane_r + 1:n))
+            if (lane_r > 0) min_j(1:lane_r) = min(min_j(1:lane_r), &
+                                                        volume_ratio(b0 + n - lane_r:b0 + n - 1))
          end if
          if (plastic) then
             do lane_i = 1, n - lanes + 1, lanes
@@ -20958,15 +21148,19 @@ contains
       logical :: linear, plastic
       type(largest_move_t) :: largest
       real(dp) :: displacement(lanes), kinetic(lanes), strain(lanes), min_j(lanes)
+      ! the block's buffers (its particles' J and, with the bar's hat, their x - X, cells and velocities are
+      ! read back from the particles)
+      real(dp) :: svb(block_size), kb(block_size), sb(block_size)
       integer :: cb(block_size)
-      real(dp) :: svb(block_size), db(block_size), kb(block_size), sb(block_size), jb(block_size)
+      real(dp) :: db(block_size)
       real(dp) :: mb(block_size, 2)  !< the moves of a block, and of the block with the largest (lanes_track_move)
       integer :: slot
       real(dp) :: lane_max(lanes), block_max
       integer :: lane_i, lane_r
       type(run_t) :: run
       integer(i8) :: elements_bits
-      real(dp) :: xi, xib(block_size), vpb(block_size)
+      real(dp) :: xi, xib(block_size)
+      real(dp) :: vpb(block_size)
       ! the variant's: G2P's grid velocity and move, the segment's body (cells offset), each particle's
       ! shares (accumulate_shares)
       real(dp) :: vgrid, dxp
@@ -21028,7 +21222,6 @@ contains
                call stress_hencky(dstrain, youngs_modulus, strain_factor, volume0, stress(p), volume_ratio(p), &
                                   sb(i), svb(i))
                svb(i) = stress(p)*volume0
-               jb(i) = volume_ratio(p)
             else if (iand(shares, share_stress) /= 0) then ! (an initial mapping: the stress as it is)
                svb(i) = stress(p)*volume0
             end if
@@ -21078,10 +21271,11 @@ contains
             lane_r = mod(n, lanes)
             if (lane_r > 0) strain(1:lane_r) = strain(1:lane_r) + sb(n - lane_r + 1:n)
             do lane_i = 1, n - lanes + 1, lanes
-               min_j = min(min_j, jb(lane_i:lane_i + lanes - 1))
+               min_j = min(min_j, volume_ratio(b0 + lane_i - 1:b0 + lane_i + lanes - 2))
             end do
             lane_r = mod(n, lanes)
-            if (lane_r > 0) min_j(1:lane_r) = min(min_j(1:lane_r), jb(n - lane_r + 1:n))
+            if (lane_r > 0) min_j(1:lane_r) = min(min_j(1:lane_r), &
+                                                        volume_ratio(b0 + n - lane_r:b0 + n - 1))
          end if
          if (relocates) call find_outside(n, b0, cb, outside)
          call accumulate_block(k, n, cb, xib, vpb, svb, m, lo, hi, shares, run, mass_left, mass_right, momentum_left, &
@@ -21131,15 +21325,19 @@ contains
       real(dp) :: yield_stress, hardening_modulus, increment, wb(block_size), work(lanes)
       type(largest_move_t) :: largest
       real(dp) :: displacement(lanes), kinetic(lanes), strain(lanes), min_j(lanes)
+      ! the block's buffers (its particles' J and, with the bar's hat, their x - X, cells and velocities are
+      ! read back from the particles)
+      real(dp) :: svb(block_size), kb(block_size), sb(block_size)
       integer :: cb(block_size)
-      real(dp) :: svb(block_size), db(block_size), kb(block_size), sb(block_size), jb(block_size)
+      real(dp) :: db(block_size)
       real(dp) :: mb(block_size, 2)  !< the moves of a block, and of the block with the largest (lanes_track_move)
       integer :: slot
       real(dp) :: lane_max(lanes), block_max
       integer :: lane_i, lane_r
       type(run_t) :: run
       integer(i8) :: elements_bits
-      real(dp) :: xi, xib(block_size), vpb(block_size)
+      real(dp) :: xi, xib(block_size)
+      real(dp) :: vpb(block_size)
       ! the variant's: G2P's grid velocity and move, the segment's body (cells offset), each particle's
       ! shares (accumulate_shares)
       real(dp) :: vgrid, dxp
@@ -21205,7 +21403,6 @@ contains
                call stress_linear(dstrain, youngs_modulus, strain_factor, volume0, stress(p), volume_ratio(p), &
                                   sb(i), svb(i))
                svb(i) = stress(p)*volume0
-               jb(i) = volume_ratio(p)
             else if (iand(shares, share_stress) /= 0) then ! (an initial mapping: the stress as it is)
                svb(i) = stress(p)*volume0
             end if
@@ -21258,7 +21455,6 @@ contains
                svb(i) = stress(p)*volume_ratio(p)*volume0
                wb(i) = (yield_stress + 0.5_dp*hardening_modulus*hardening(p))*hardening(p)*volume0
                svb(i) = stress(p)*volume0
-               jb(i) = volume_ratio(p)
             else if (iand(shares, share_stress) /= 0) then ! (an initial mapping: the stress as it is)
                svb(i) = stress(p)*volume0
             end if
@@ -21301,7 +21497,6 @@ contains
                call stress_hencky(dstrain, youngs_modulus, strain_factor, volume0, stress(p), volume_ratio(p), &
                                   sb(i), svb(i))
                svb(i) = stress(p)*volume0
-               jb(i) = volume_ratio(p)
             else if (iand(shares, share_stress) /= 0) then ! (an initial mapping: the stress as it is)
                svb(i) = stress(p)*volume0
             end if
@@ -21352,10 +21547,11 @@ contains
             lane_r = mod(n, lanes)
             if (lane_r > 0) strain(1:lane_r) = strain(1:lane_r) + sb(n - lane_r + 1:n)
             do lane_i = 1, n - lanes + 1, lanes
-               min_j = min(min_j, jb(lane_i:lane_i + lanes - 1))
+               min_j = min(min_j, volume_ratio(b0 + lane_i - 1:b0 + lane_i + lanes - 2))
             end do
             lane_r = mod(n, lanes)
-            if (lane_r > 0) min_j(1:lane_r) = min(min_j(1:lane_r), jb(n - lane_r + 1:n))
+            if (lane_r > 0) min_j(1:lane_r) = min(min_j(1:lane_r), &
+                                                        volume_ratio(b0 + n - lane_r:b0 + n - 1))
          end if
          if (plastic) then
             do lane_i = 1, n - lanes + 1, lanes
@@ -21410,15 +21606,19 @@ contains
       logical :: linear, plastic
       type(largest_move_t) :: largest
       real(dp) :: displacement(lanes), kinetic(lanes), strain(lanes), min_j(lanes)
+      ! the block's buffers (its particles' J and, with the bar's hat, their x - X, cells and velocities are
+      ! read back from the particles)
+      real(dp) :: svb(block_size), kb(block_size), sb(block_size)
       integer :: cb(block_size)
-      real(dp) :: svb(block_size), db(block_size), kb(block_size), sb(block_size), jb(block_size)
+      real(dp) :: db(block_size)
       real(dp) :: mb(block_size, 2)  !< the moves of a block, and of the block with the largest (lanes_track_move)
       integer :: slot
       real(dp) :: lane_max(lanes), block_max
       integer :: lane_i, lane_r
       type(run_t) :: run
       integer(i8) :: elements_bits
-      real(dp) :: xi, xib(block_size), vpb(block_size)
+      real(dp) :: xi, xib(block_size)
+      real(dp) :: vpb(block_size)
       ! the variant's: G2P's grid velocity and move, the segment's body (cells offset), each particle's
       ! shares (accumulate_shares)
       real(dp) :: vgrid, dxp
@@ -21480,7 +21680,6 @@ contains
                call stress_hencky(dstrain, youngs_modulus, strain_factor, volume0, stress(p), volume_ratio(p), &
                                   sb(i), svb(i))
                svb(i) = stress(p)*volume0
-               jb(i) = volume_ratio(p)
             else if (iand(shares, share_stress) /= 0) then ! (an initial mapping: the stress as it is)
                svb(i) = stress(p)*volume0
             end if
@@ -21530,10 +21729,11 @@ contains
             lane_r = mod(n, lanes)
             if (lane_r > 0) strain(1:lane_r) = strain(1:lane_r) + sb(n - lane_r + 1:n)
             do lane_i = 1, n - lanes + 1, lanes
-               min_j = min(min_j, jb(lane_i:lane_i + lanes - 1))
+               min_j = min(min_j, volume_ratio(b0 + lane_i - 1:b0 + lane_i + lanes - 2))
             end do
             lane_r = mod(n, lanes)
-            if (lane_r > 0) min_j(1:lane_r) = min(min_j(1:lane_r), jb(n - lane_r + 1:n))
+            if (lane_r > 0) min_j(1:lane_r) = min(min_j(1:lane_r), &
+                                                        volume_ratio(b0 + n - lane_r:b0 + n - 1))
          end if
          if (relocates) call find_outside(n, b0, cb, outside)
          call accumulate_block(k, n, cb, xib, vpb, svb, m, lo, hi, shares, run, mass_left, mass_right, momentum_left, &
@@ -21581,15 +21781,19 @@ contains
       logical :: linear, plastic
       type(largest_move_t) :: largest
       real(dp) :: displacement(lanes), kinetic(lanes), strain(lanes), min_j(lanes)
+      ! the block's buffers (its particles' J and, with the bar's hat, their x - X, cells and velocities are
+      ! read back from the particles)
+      real(dp) :: svb(block_size), kb(block_size), sb(block_size)
       integer :: cb(block_size)
-      real(dp) :: svb(block_size), db(block_size), kb(block_size), sb(block_size), jb(block_size)
+      real(dp) :: db(block_size)
       real(dp) :: mb(block_size, 2)  !< the moves of a block, and of the block with the largest (lanes_track_move)
       integer :: slot
       real(dp) :: lane_max(lanes), block_max
       integer :: lane_i, lane_r
       type(run_t) :: run
       integer(i8) :: elements_bits
-      real(dp) :: xi, xib(block_size), vpb(block_size)
+      real(dp) :: xi, xib(block_size)
+      real(dp) :: vpb(block_size)
       ! the variant's: G2P's grid velocity and move, the segment's body (cells offset), each particle's
       ! shares (accumulate_shares)
       real(dp) :: vgrid, dxp
@@ -21651,7 +21855,6 @@ contains
                call stress_hencky(dstrain, youngs_modulus, strain_factor, volume0, stress(p), volume_ratio(p), &
                                   sb(i), svb(i))
                svb(i) = stress(p)*volume0
-               jb(i) = volume_ratio(p)
             else if (iand(shares, share_stress) /= 0) then ! (an initial mapping: the stress as it is)
                svb(i) = stress(p)*volume0
             end if
@@ -21701,10 +21904,11 @@ contains
             lane_r = mod(n, lanes)
             if (lane_r > 0) strain(1:lane_r) = strain(1:lane_r) + sb(n - lane_r + 1:n)
             do lane_i = 1, n - lanes + 1, lanes
-               min_j = min(min_j, jb(lane_i:lane_i + lanes - 1))
+               min_j = min(min_j, volume_ratio(b0 + lane_i - 1:b0 + lane_i + lanes - 2))
             end do
             lane_r = mod(n, lanes)
-            if (lane_r > 0) min_j(1:lane_r) = min(min_j(1:lane_r), jb(n - lane_r + 1:n))
+            if (lane_r > 0) min_j(1:lane_r) = min(min_j(1:lane_r), &
+                                                        volume_ratio(b0 + n - lane_r:b0 + n - 1))
          end if
          if (relocates) call find_outside(n, b0, cb, outside)
          call accumulate_block(k, n, cb, xib, vpb, svb, m, lo, hi, shares, run, mass_left, mass_right, momentum_left, &
@@ -21752,15 +21956,19 @@ contains
       logical :: linear, plastic
       type(largest_move_t) :: largest
       real(dp) :: displacement(lanes), kinetic(lanes), strain(lanes), min_j(lanes)
+      ! the block's buffers (its particles' J and, with the bar's hat, their x - X, cells and velocities are
+      ! read back from the particles)
+      real(dp) :: svb(block_size), kb(block_size), sb(block_size)
       integer :: cb(block_size)
-      real(dp) :: svb(block_size), db(block_size), kb(block_size), sb(block_size), jb(block_size)
+      real(dp) :: db(block_size)
       real(dp) :: mb(block_size, 2)  !< the moves of a block, and of the block with the largest (lanes_track_move)
       integer :: slot
       real(dp) :: lane_max(lanes), block_max
       integer :: lane_i, lane_r
       type(run_t) :: run
       integer(i8) :: elements_bits
-      real(dp) :: xi, xib(block_size), vpb(block_size)
+      real(dp) :: xi, xib(block_size)
+      real(dp) :: vpb(block_size)
       ! the variant's: G2P's grid velocity and move, the segment's body (cells offset), each particle's
       ! shares (accumulate_shares)
       real(dp) :: vgrid, dxp
@@ -21819,7 +22027,6 @@ contains
                end if
                call stress_hencky(dstrain, youngs_modulus, strain_factor, volume0, stress(p), volume_ratio(p), &
                                   sb(i), svb(i))
-               jb(i) = volume_ratio(p)
             else if (iand(shares, share_stress) /= 0) then ! (an initial mapping: the stress as it is)
                svb(i) = stress(p)*volume_ratio(p)*volume0
             end if
@@ -21866,10 +22073,11 @@ contains
             lane_r = mod(n, lanes)
             if (lane_r > 0) strain(1:lane_r) = strain(1:lane_r) + sb(n - lane_r + 1:n)
             do lane_i = 1, n - lanes + 1, lanes
-               min_j = min(min_j, jb(lane_i:lane_i + lanes - 1))
+               min_j = min(min_j, volume_ratio(b0 + lane_i - 1:b0 + lane_i + lanes - 2))
             end do
             lane_r = mod(n, lanes)
-            if (lane_r > 0) min_j(1:lane_r) = min(min_j(1:lane_r), jb(n - lane_r + 1:n))
+            if (lane_r > 0) min_j(1:lane_r) = min(min_j(1:lane_r), &
+                                                        volume_ratio(b0 + n - lane_r:b0 + n - 1))
          end if
          if (relocates) call find_outside(n, b0, cb, outside)
          call accumulate_block(k, n, cb, xib, vpb, svb, m, lo, hi, shares, run, mass_left, mass_right, momentum_left, &
@@ -21919,15 +22127,19 @@ contains
       real(dp) :: yield_stress, hardening_modulus, increment, wb(block_size), work(lanes)
       type(largest_move_t) :: largest
       real(dp) :: displacement(lanes), kinetic(lanes), strain(lanes), min_j(lanes)
+      ! the block's buffers (its particles' J and, with the bar's hat, their x - X, cells and velocities are
+      ! read back from the particles)
+      real(dp) :: svb(block_size), kb(block_size), sb(block_size)
       integer :: cb(block_size)
-      real(dp) :: svb(block_size), db(block_size), kb(block_size), sb(block_size), jb(block_size)
+      real(dp) :: db(block_size)
       real(dp) :: mb(block_size, 2)  !< the moves of a block, and of the block with the largest (lanes_track_move)
       integer :: slot
       real(dp) :: lane_max(lanes), block_max
       integer :: lane_i, lane_r
       type(run_t) :: run
       integer(i8) :: elements_bits
-      real(dp) :: xi, xib(block_size), vpb(block_size)
+      real(dp) :: xi, xib(block_size)
+      real(dp) :: vpb(block_size)
       ! the variant's: G2P's grid velocity and move, the segment's body (cells offset), each particle's
       ! shares (accumulate_shares)
       real(dp) :: vgrid, dxp
@@ -21990,7 +22202,6 @@ contains
                end if
                call stress_linear(dstrain, youngs_modulus, strain_factor, volume0, stress(p), volume_ratio(p), &
                                   sb(i), svb(i))
-               jb(i) = volume_ratio(p)
             else if (iand(shares, share_stress) /= 0) then ! (an initial mapping: the stress as it is)
                svb(i) = stress(p)*volume_ratio(p)*volume0
             end if
@@ -22037,7 +22248,6 @@ contains
                sb(i) = stress(p)*stress(p)*volume_ratio(p)*strain_factor
                svb(i) = stress(p)*volume_ratio(p)*volume0
                wb(i) = (yield_stress + 0.5_dp*hardening_modulus*hardening(p))*hardening(p)*volume0
-               jb(i) = volume_ratio(p)
             else if (iand(shares, share_stress) /= 0) then ! (an initial mapping: the stress as it is)
                svb(i) = stress(p)*volume_ratio(p)*volume0
             end if
@@ -22074,7 +22284,6 @@ contains
                end if
                call stress_hencky(dstrain, youngs_modulus, strain_factor, volume0, stress(p), volume_ratio(p), &
                                   sb(i), svb(i))
-               jb(i) = volume_ratio(p)
             else if (iand(shares, share_stress) /= 0) then ! (an initial mapping: the stress as it is)
                svb(i) = stress(p)*volume_ratio(p)*volume0
             end if
@@ -22122,10 +22331,11 @@ contains
             lane_r = mod(n, lanes)
             if (lane_r > 0) strain(1:lane_r) = strain(1:lane_r) + sb(n - lane_r + 1:n)
             do lane_i = 1, n - lanes + 1, lanes
-               min_j = min(min_j, jb(lane_i:lane_i + lanes - 1))
+               min_j = min(min_j, volume_ratio(b0 + lane_i - 1:b0 + lane_i + lanes - 2))
             end do
             lane_r = mod(n, lanes)
-            if (lane_r > 0) min_j(1:lane_r) = min(min_j(1:lane_r), jb(n - lane_r + 1:n))
+            if (lane_r > 0) min_j(1:lane_r) = min(min_j(1:lane_r), &
+                                                        volume_ratio(b0 + n - lane_r:b0 + n - 1))
          end if
          if (plastic) then
             do lane_i = 1, n - lanes + 1, lanes
@@ -22182,15 +22392,19 @@ contains
       real(dp) :: yield_stress, hardening_modulus, increment, wb(block_size), work(lanes)
       type(largest_move_t) :: largest
       real(dp) :: displacement(lanes), kinetic(lanes), strain(lanes), min_j(lanes)
+      ! the block's buffers (its particles' J and, with the bar's hat, their x - X, cells and velocities are
+      ! read back from the particles)
+      real(dp) :: svb(block_size), kb(block_size), sb(block_size)
       integer :: cb(block_size)
-      real(dp) :: svb(block_size), db(block_size), kb(block_size), sb(block_size), jb(block_size)
+      real(dp) :: db(block_size)
       real(dp) :: mb(block_size, 2)  !< the moves of a block, and of the block with the largest (lanes_track_move)
       integer :: slot
       real(dp) :: lane_max(lanes), block_max
       integer :: lane_i, lane_r
       type(run_t) :: run
       integer(i8) :: elements_bits
-      real(dp) :: xi, xib(block_size), vpb(block_size)
+      real(dp) :: xi, xib(block_size)
+      real(dp) :: vpb(block_size)
       ! the variant's: G2P's grid velocity and move, the segment's body (cells offset), each particle's
       ! shares (accumulate_shares)
       real(dp) :: vgrid, dxp
@@ -22253,7 +22467,6 @@ contains
                end if
                call stress_linear(dstrain, youngs_modulus, strain_factor, volume0, stress(p), volume_ratio(p), &
                                   sb(i), svb(i))
-               jb(i) = volume_ratio(p)
             else if (iand(shares, share_stress) /= 0) then ! (an initial mapping: the stress as it is)
                svb(i) = stress(p)*volume_ratio(p)*volume0
             end if
@@ -22300,7 +22513,6 @@ contains
                sb(i) = stress(p)*stress(p)*volume_ratio(p)*strain_factor
                svb(i) = stress(p)*volume_ratio(p)*volume0
                wb(i) = (yield_stress + 0.5_dp*hardening_modulus*hardening(p))*hardening(p)*volume0
-               jb(i) = volume_ratio(p)
             else if (iand(shares, share_stress) /= 0) then ! (an initial mapping: the stress as it is)
                svb(i) = stress(p)*volume_ratio(p)*volume0
             end if
@@ -22337,7 +22549,6 @@ contains
                end if
                call stress_hencky(dstrain, youngs_modulus, strain_factor, volume0, stress(p), volume_ratio(p), &
                                   sb(i), svb(i))
-               jb(i) = volume_ratio(p)
             else if (iand(shares, share_stress) /= 0) then ! (an initial mapping: the stress as it is)
                svb(i) = stress(p)*volume_ratio(p)*volume0
             end if
@@ -22385,10 +22596,11 @@ contains
             lane_r = mod(n, lanes)
             if (lane_r > 0) strain(1:lane_r) = strain(1:lane_r) + sb(n - lane_r + 1:n)
             do lane_i = 1, n - lanes + 1, lanes
-               min_j = min(min_j, jb(lane_i:lane_i + lanes - 1))
+               min_j = min(min_j, volume_ratio(b0 + lane_i - 1:b0 + lane_i + lanes - 2))
             end do
             lane_r = mod(n, lanes)
-            if (lane_r > 0) min_j(1:lane_r) = min(min_j(1:lane_r), jb(n - lane_r + 1:n))
+            if (lane_r > 0) min_j(1:lane_r) = min(min_j(1:lane_r), &
+                                                        volume_ratio(b0 + n - lane_r:b0 + n - 1))
          end if
          if (plastic) then
             do lane_i = 1, n - lanes + 1, lanes
@@ -22443,15 +22655,19 @@ contains
       logical :: linear, plastic
       type(largest_move_t) :: largest
       real(dp) :: displacement(lanes), kinetic(lanes), strain(lanes), min_j(lanes)
+      ! the block's buffers (its particles' J and, with the bar's hat, their x - X, cells and velocities are
+      ! read back from the particles)
+      real(dp) :: svb(block_size), kb(block_size), sb(block_size)
       integer :: cb(block_size)
-      real(dp) :: svb(block_size), db(block_size), kb(block_size), sb(block_size), jb(block_size)
+      real(dp) :: db(block_size)
       real(dp) :: mb(block_size, 2)  !< the moves of a block, and of the block with the largest (lanes_track_move)
       integer :: slot
       real(dp) :: lane_max(lanes), block_max
       integer :: lane_i, lane_r
       type(run_t) :: run
       integer(i8) :: elements_bits
-      real(dp) :: xi, xib(block_size), vpb(block_size)
+      real(dp) :: xi, xib(block_size)
+      real(dp) :: vpb(block_size)
       ! the variant's: G2P's grid velocity and move, the segment's body (cells offset), each particle's
       ! shares (accumulate_shares)
       real(dp) :: vgrid, dxp
@@ -22510,7 +22726,6 @@ contains
                end if
                call stress_hencky(dstrain, youngs_modulus, strain_factor, volume0, stress(p), volume_ratio(p), &
                                   sb(i), svb(i))
-               jb(i) = volume_ratio(p)
             else if (iand(shares, share_stress) /= 0) then ! (an initial mapping: the stress as it is)
                svb(i) = stress(p)*volume_ratio(p)*volume0
             end if
@@ -22557,10 +22772,11 @@ contains
             lane_r = mod(n, lanes)
             if (lane_r > 0) strain(1:lane_r) = strain(1:lane_r) + sb(n - lane_r + 1:n)
             do lane_i = 1, n - lanes + 1, lanes
-               min_j = min(min_j, jb(lane_i:lane_i + lanes - 1))
+               min_j = min(min_j, volume_ratio(b0 + lane_i - 1:b0 + lane_i + lanes - 2))
             end do
             lane_r = mod(n, lanes)
-            if (lane_r > 0) min_j(1:lane_r) = min(min_j(1:lane_r), jb(n - lane_r + 1:n))
+            if (lane_r > 0) min_j(1:lane_r) = min(min_j(1:lane_r), &
+                                                        volume_ratio(b0 + n - lane_r:b0 + n - 1))
          end if
          if (relocates) call find_outside(n, b0, cb, outside)
          call accumulate_block(k, n, cb, xib, vpb, svb, m, lo, hi, shares, run, mass_left, mass_right, momentum_left, &
@@ -22610,15 +22826,19 @@ contains
       real(dp) :: yield_stress, hardening_modulus, increment, wb(block_size), work(lanes)
       type(largest_move_t) :: largest
       real(dp) :: displacement(lanes), kinetic(lanes), strain(lanes), min_j(lanes)
+      ! the block's buffers (its particles' J and, with the bar's hat, their x - X, cells and velocities are
+      ! read back from the particles)
+      real(dp) :: svb(block_size), kb(block_size), sb(block_size)
       integer :: cb(block_size)
-      real(dp) :: svb(block_size), db(block_size), kb(block_size), sb(block_size), jb(block_size)
+      real(dp) :: db(block_size)
       real(dp) :: mb(block_size, 2)  !< the moves of a block, and of the block with the largest (lanes_track_move)
       integer :: slot
       real(dp) :: lane_max(lanes), block_max
       integer :: lane_i, lane_r
       type(run_t) :: run
       integer(i8) :: elements_bits
-      real(dp) :: xi, xib(block_size), vpb(block_size)
+      real(dp) :: xi, xib(block_size)
+      real(dp) :: vpb(block_size)
       ! the variant's: G2P's grid velocity and move, the segment's body (cells offset), each particle's
       ! shares (accumulate_shares)
       real(dp) :: vgrid, dxp
@@ -22681,7 +22901,6 @@ contains
                end if
                call stress_linear(dstrain, youngs_modulus, strain_factor, volume0, stress(p), volume_ratio(p), &
                                   sb(i), svb(i))
-               jb(i) = volume_ratio(p)
             else if (iand(shares, share_stress) /= 0) then ! (an initial mapping: the stress as it is)
                svb(i) = stress(p)*volume_ratio(p)*volume0
             end if
@@ -22728,7 +22947,6 @@ contains
                sb(i) = stress(p)*stress(p)*volume_ratio(p)*strain_factor
                svb(i) = stress(p)*volume_ratio(p)*volume0
                wb(i) = (yield_stress + 0.5_dp*hardening_modulus*hardening(p))*hardening(p)*volume0
-               jb(i) = volume_ratio(p)
             else if (iand(shares, share_stress) /= 0) then ! (an initial mapping: the stress as it is)
                svb(i) = stress(p)*volume_ratio(p)*volume0
             end if
@@ -22765,7 +22983,6 @@ contains
                end if
                call stress_hencky(dstrain, youngs_modulus, strain_factor, volume0, stress(p), volume_ratio(p), &
                                   sb(i), svb(i))
-               jb(i) = volume_ratio(p)
             else if (iand(shares, share_stress) /= 0) then ! (an initial mapping: the stress as it is)
                svb(i) = stress(p)*volume_ratio(p)*volume0
             end if
@@ -22813,10 +23030,11 @@ contains
             lane_r = mod(n, lanes)
             if (lane_r > 0) strain(1:lane_r) = strain(1:lane_r) + sb(n - lane_r + 1:n)
             do lane_i = 1, n - lanes + 1, lanes
-               min_j = min(min_j, jb(lane_i:lane_i + lanes - 1))
+               min_j = min(min_j, volume_ratio(b0 + lane_i - 1:b0 + lane_i + lanes - 2))
             end do
             lane_r = mod(n, lanes)
-            if (lane_r > 0) min_j(1:lane_r) = min(min_j(1:lane_r), jb(n - lane_r + 1:n))
+            if (lane_r > 0) min_j(1:lane_r) = min(min_j(1:lane_r), &
+                                                        volume_ratio(b0 + n - lane_r:b0 + n - 1))
          end if
          if (plastic) then
             do lane_i = 1, n - lanes + 1, lanes
@@ -22871,15 +23089,19 @@ contains
       logical :: linear, plastic
       type(largest_move_t) :: largest
       real(dp) :: displacement(lanes), kinetic(lanes), strain(lanes), min_j(lanes)
+      ! the block's buffers (its particles' J and, with the bar's hat, their x - X, cells and velocities are
+      ! read back from the particles)
+      real(dp) :: svb(block_size), kb(block_size), sb(block_size)
       integer :: cb(block_size)
-      real(dp) :: svb(block_size), db(block_size), kb(block_size), sb(block_size), jb(block_size)
+      real(dp) :: db(block_size)
       real(dp) :: mb(block_size, 2)  !< the moves of a block, and of the block with the largest (lanes_track_move)
       integer :: slot
       real(dp) :: lane_max(lanes), block_max
       integer :: lane_i, lane_r
       type(run_t) :: run
       integer(i8) :: elements_bits
-      real(dp) :: xi, xib(block_size), vpb(block_size)
+      real(dp) :: xi, xib(block_size)
+      real(dp) :: vpb(block_size)
       ! the variant's: G2P's grid velocity and move, the segment's body (cells offset), each particle's
       ! shares (accumulate_shares)
       real(dp) :: vgrid, dxp
@@ -22938,7 +23160,6 @@ contains
                end if
                call stress_hencky(dstrain, youngs_modulus, strain_factor, volume0, stress(p), volume_ratio(p), &
                                   sb(i), svb(i))
-               jb(i) = volume_ratio(p)
             else if (iand(shares, share_stress) /= 0) then ! (an initial mapping: the stress as it is)
                svb(i) = stress(p)*volume_ratio(p)*volume0
             end if
@@ -22985,10 +23206,11 @@ contains
             lane_r = mod(n, lanes)
             if (lane_r > 0) strain(1:lane_r) = strain(1:lane_r) + sb(n - lane_r + 1:n)
             do lane_i = 1, n - lanes + 1, lanes
-               min_j = min(min_j, jb(lane_i:lane_i + lanes - 1))
+               min_j = min(min_j, volume_ratio(b0 + lane_i - 1:b0 + lane_i + lanes - 2))
             end do
             lane_r = mod(n, lanes)
-            if (lane_r > 0) min_j(1:lane_r) = min(min_j(1:lane_r), jb(n - lane_r + 1:n))
+            if (lane_r > 0) min_j(1:lane_r) = min(min_j(1:lane_r), &
+                                                        volume_ratio(b0 + n - lane_r:b0 + n - 1))
          end if
          if (relocates) call find_outside(n, b0, cb, outside)
          call accumulate_block(k, n, cb, xib, vpb, svb, m, lo, hi, shares, run, mass_left, mass_right, momentum_left, &
@@ -23036,15 +23258,19 @@ contains
       logical :: linear, plastic
       type(largest_move_t) :: largest
       real(dp) :: displacement(lanes), kinetic(lanes), strain(lanes), min_j(lanes)
+      ! the block's buffers (its particles' J and, with the bar's hat, their x - X, cells and velocities are
+      ! read back from the particles)
+      real(dp) :: svb(block_size), kb(block_size), sb(block_size)
       integer :: cb(block_size)
-      real(dp) :: svb(block_size), db(block_size), kb(block_size), sb(block_size), jb(block_size)
+      real(dp) :: db(block_size)
       real(dp) :: mb(block_size, 2)  !< the moves of a block, and of the block with the largest (lanes_track_move)
       integer :: slot
       real(dp) :: lane_max(lanes), block_max
       integer :: lane_i, lane_r
       type(run_t) :: run
       integer(i8) :: elements_bits
-      real(dp) :: xi, xib(block_size), vpb(block_size)
+      real(dp) :: xi, xib(block_size)
+      real(dp) :: vpb(block_size)
       ! the variant's: G2P's grid velocity and move, the segment's body (cells offset), each particle's
       ! shares (accumulate_shares)
       real(dp) :: vgrid, dxp
@@ -23103,7 +23329,6 @@ contains
                end if
                call stress_hencky(dstrain, youngs_modulus, strain_factor, volume0, stress(p), volume_ratio(p), &
                                   sb(i), svb(i))
-               jb(i) = volume_ratio(p)
             else if (iand(shares, share_stress) /= 0) then ! (an initial mapping: the stress as it is)
                svb(i) = stress(p)*volume_ratio(p)*volume0
             end if
@@ -23150,10 +23375,11 @@ contains
             lane_r = mod(n, lanes)
             if (lane_r > 0) strain(1:lane_r) = strain(1:lane_r) + sb(n - lane_r + 1:n)
             do lane_i = 1, n - lanes + 1, lanes
-               min_j = min(min_j, jb(lane_i:lane_i + lanes - 1))
+               min_j = min(min_j, volume_ratio(b0 + lane_i - 1:b0 + lane_i + lanes - 2))
             end do
             lane_r = mod(n, lanes)
-            if (lane_r > 0) min_j(1:lane_r) = min(min_j(1:lane_r), jb(n - lane_r + 1:n))
+            if (lane_r > 0) min_j(1:lane_r) = min(min_j(1:lane_r), &
+                                                        volume_ratio(b0 + n - lane_r:b0 + n - 1))
          end if
          if (relocates) call find_outside(n, b0, cb, outside)
          call accumulate_block(k, n, cb, xib, vpb, svb, m, lo, hi, shares, run, mass_left, mass_right, momentum_left, &
