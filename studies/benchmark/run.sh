@@ -262,9 +262,9 @@ for r in $(seq $((REPEATS + 2))); do
   done
 done
 if [ "${CALLGRIND:-0}" = 1 ] && command -v valgrind >/dev/null 2>&1; then
-  # with the simulated caches: the level-1 instruction cache's misses (a step's code larger than the cache
-  # costs time that the instruction count does not show)
-  echo "build,binary,scheme,instructions,i1_misses" > "$out/table2_callgrind.csv"
+  # with the simulated caches: the level-1 instruction and data caches' misses (a step whose code or data do not
+  # fit in them costs time that the instruction count does not show)
+  echo "build,binary,scheme,instructions,i1_misses,d1_misses" > "$out/table2_callgrind.csv"
   for build in $builds; do
     for scheme in usf usl; do
       for b in $binaries; do
@@ -274,7 +274,8 @@ if [ "${CALLGRIND:-0}" = 1 ] && command -v valgrind >/dev/null 2>&1; then
         valgrind --tool=callgrind --cache-sim=yes --callgrind-out-file="$out/callgrind_${build}_${b}_$scheme.out" "$exe" \
           "$out/t2_$b.nml" > "$log" 2>&1
         echo "$(build_name $build),$b,$scheme,$(awk '/Collected/ {gsub(/,/, "", $4); print $4}' "$log"),$(awk \
-          '/I1 +misses/ {gsub(/,/, "", $4); print $4}' "$log")" >> "$out/table2_callgrind.csv"
+          '/I1 +misses/ {gsub(/,/, "", $4); print $4}' "$log"),$(awk \
+          '/D1 +misses/ {gsub(/,/, "", $4); print $4}' "$log")" >> "$out/table2_callgrind.csv"
       done
     done
   done

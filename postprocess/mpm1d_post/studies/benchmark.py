@@ -265,21 +265,24 @@ def table2_table(rows, counts, lines, targets):
         lines.append('')
     if counts:
         lines += ['Instruction counts (valgrind --tool=callgrind, one thread; repeatable on a busy machine) and the '
-                  'misses of its simulated level-1 instruction cache (a step whose code does not fit in it costs '
-                  'time that the instruction count does not show):\n']
+                  'misses of its simulated level-1 instruction and data caches (a step whose code or data do not fit '
+                  'in them costs time that the instruction count does not show):\n']
         table = []
         for build in sorted({r.get('build', '') for r in counts}):
             for scheme in ('usf', 'usl'):
                 sel = [r for r in counts if r.get('build', '') == build and r['scheme'] == scheme and r['instructions']]
                 c = {r['binary']: float(r['instructions']) for r in sel}
-                m = {r['binary']: float(r['i1_misses']) for r in sel if r.get('i1_misses')}
+                misses = []
+                for cache in ('i1_misses', 'd1_misses'):
+                    m = {r['binary']: float(r[cache]) for r in sel if r.get(cache)}
+                    misses += [f'{m[b]:.3g}' if b in m else '-' for b in ('new', 'old')]
                 if 'new' in c and 'old' in c:
-                    misses = [f'{m[b]:.3g}' if b in m else '-' for b in ('new', 'old')]
                     table.append([build or '-', scheme, f'{c["new"]:.4g}', f'{c["old"]:.4g}', f'{c["old"] / c["new"]:.3f}']
                                  + misses)
                     targets.append((f'Table-2 {scheme}, {build or "this"} build, instructions, old / new >= 1.0',
                                     c['old'] / c['new'], c['old'] / c['new'] >= 1.0))
-        lines += markdown_table(['build', 'scheme', 'new', 'old', 'old / new', 'I1 misses new', 'I1 misses old'], table)
+        lines += markdown_table(['build', 'scheme', 'new', 'old', 'old / new', 'I1 misses new', 'I1 misses old',
+                                 'D1 misses new', 'D1 misses old'], table)
         lines.append('')
 
 
