@@ -20,7 +20,7 @@ program test_cures_fused
    use mpm_strings, only: str
    use mpm_diagnostics, only: status_domain_stretched, status_name
    use mpm_testing, only: tester_t, tester
-   use mpm_testing_runs, only: check_fused_config, set_value, run_resolved
+   use mpm_testing_runs, only: check_fused_config, run_resolved, moving_bar, set_bar_speed, set_value
    implicit none
    type(tester_t) :: t
    character(len=4), parameter :: schemes(3) = ['usf ', 'usl ', 'musl']
@@ -66,18 +66,12 @@ contains
       character(len=*), intent(in) :: scheme, transfer
       integer, intent(in) :: order
       type(config_t) :: config
-      config = new_config()
-      config%scheme = scheme
+      config = moving_bar(scheme, 30, 3, 0.3_dp, 1.0_dp, 0.01_dp)
       config%transfer = transfer
       config%xpic_order = 1
       config%fmpm_order = 1
       if (transfer == 'xpic') config%xpic_order = order
       if (transfer == 'fmpm') config%fmpm_order = order
-      config%elements = 30
-      config%particles_per_element = 3
-      config%dt_fraction = 0.3_dp
-      config%periods = 1.0_dp
-      call set_value(config, 'scene.velocity_amplitude='//str(0.01_dp*sqrt(200.0e9_dp/7800.0_dp)))
    end function crossing_bar
 
    !> The column under its weight (a grid load), 40 elements x 2 particles, with `transfer` of order `order`.
@@ -126,14 +120,14 @@ contains
       call check_fused_config(t, 'bar usl CPDI, law elastoplastic: ', config)
       config = crossing_bar('usl', 'flip', 1)
       config%shape = 'cpdi'
-      call set_value(config, 'scene.velocity_amplitude='//str(0.3_dp*sqrt(200.0e9_dp/7800.0_dp)))
+      call set_bar_speed(config, 0.3_dp)
       config%periods = 0.5_dp
       call check_fused_config(t, 'bar usl CPDI, v0 = 0.3 c: ', config)
       ! a domain stretched beyond the four nodes: the lean step stops where the generic path stops
       config = crossing_bar('usl', 'flip', 1)
       config%shape = 'cpdi'
       config%particles_per_element = 1
-      call set_value(config, 'scene.velocity_amplitude='//str(2.0_dp*sqrt(200.0e9_dp/7800.0_dp)))
+      call set_bar_speed(config, 2.0_dp)
       config%energy_growth_limit = 1.0e10_dp
       res = run_resolved(config)
       config%kernels = 'generic'

@@ -18,10 +18,8 @@ program test_fast_cures
    use mpm_config, only: config_t, new_config
    use mpm_strings, only: str
    use mpm_testing, only: tester_t, tester
-   use mpm_testing_runs, only: check_fused_config, set_value, set_values
+   use mpm_testing_runs, only: check_fused_config, set_value, set_values, moving_bar, set_bar_speed
    implicit none
-   !> c = sqrt(E/rho) of the vibrating bar's defaults (E = 200 GPa, rho = 7800 kg/m^3).
-   real(dp), parameter :: bar_wave_speed = sqrt(200.0e9_dp/7800.0_dp)
    character(len=4), parameter :: schemes(3) = ['usf ', 'usl ', 'musl']
    real(dp), parameter :: alphas(3) = [0.99_dp, 0.5_dp, 0.0_dp]
    character(len=4), parameter :: alpha_names(3) = ['0.99', '0.5 ', '0   ']
@@ -48,7 +46,7 @@ program test_fast_cures
          config%asflip_alpha = 0.99_dp
          config%elements = 8
          config%dt_fraction = 0.8_dp
-         call set_value(config, 'scene.velocity_amplitude='//str(0.2_dp*bar_wave_speed))
+         call set_bar_speed(config, 0.2_dp)
          config%energy_growth_limit = 1.0e10_dp
          call check_fused_config(t, 'ASFLIP(0.99) '//trim(schemes(i))//', v0 = 0.2 c: ', config)
       end do
@@ -90,28 +88,13 @@ contains
    function crossing_bar(scheme) result(config)
       character(len=*), intent(in) :: scheme
       type(config_t) :: config
-      config = bar(scheme, 30, 3, 0.3_dp, 1.0_dp)
+      config = moving_bar(scheme, 30, 3, 0.3_dp, 1.0_dp, 0.02_dp)
    end function crossing_bar
 
    !> The same bar on 50,000 elements x 2 particles (cut into segments, run on threads), 200 steps.
    function segmented_bar(scheme) result(config)
       character(len=*), intent(in) :: scheme
       type(config_t) :: config
-      config = bar(scheme, 50000, 2, 0.5_dp, 0.0005_dp)
+      config = moving_bar(scheme, 50000, 2, 0.5_dp, 0.0005_dp, 0.02_dp)
    end function segmented_bar
-
-   !> The bar at v0 = 0.02 c on `elements` x `ppc`, dt = `fraction` dx/c, for `periods`.
-   function bar(scheme, elements, ppc, fraction, periods) result(config)
-      character(len=*), intent(in) :: scheme
-      integer, intent(in) :: elements, ppc
-      real(dp), intent(in) :: fraction, periods
-      type(config_t) :: config
-      config = new_config()
-      config%scheme = scheme
-      config%elements = elements
-      config%particles_per_element = ppc
-      config%dt_fraction = fraction
-      config%periods = periods
-      call set_value(config, 'scene.velocity_amplitude='//str(0.02_dp*bar_wave_speed))
-   end function bar
 end program test_fast_cures

@@ -19,10 +19,9 @@ program test_methods
    use mpm_diagnostics, only: status_ok, status_name, status_domain_stretched
    use mpm_strings, only: str
    use mpm_testing, only: tester_t, tester
-   use mpm_testing_runs, only: run_resolved, mesh_errors, observed_orders, listed, convergence_bar, set_value, set_values
+   use mpm_testing_runs, only: run_resolved, mesh_errors, observed_orders, listed, convergence_bar, set_values, &
+                               moving_bar, set_bar_speed
    implicit none
-   !> c = sqrt(E/rho) of the vibrating bar's defaults (E = 200 GPa, rho = 7800 kg/m^3).
-   real(dp), parameter :: bar_wave_speed = sqrt(200.0e9_dp/7800.0_dp)
    type(tester_t) :: t
    character(len=4), parameter :: schemes(3) = ['usf ', 'usl ', 'musl']
    character(len=8), parameter :: shapes(2) = ['linear  ', 'bspline2']
@@ -49,16 +48,10 @@ contains
    function crossing_bar(scheme, shape, transfer) result(config)
       character(len=*), intent(in) :: scheme, shape, transfer
       type(config_t) :: config
-      config = new_config()
-      config%scheme = scheme
+      config = moving_bar(scheme, 12, 3, 0.2_dp, 0.5_dp, 0.01_dp)
       config%shape = shape
       config%transfer = transfer
       config%kernels = 'generic'
-      config%elements = 12
-      config%particles_per_element = 3
-      config%dt_fraction = 0.2_dp
-      config%periods = 0.5_dp
-      call set_value(config, 'scene.velocity_amplitude='//str(0.01_dp*bar_wave_speed))
    end function crossing_bar
 
    !> The largest difference of two runs' u_cm histories over the exact amplitude.
@@ -180,7 +173,7 @@ contains
       ! the bar stretched beyond four nodes: one particle per element, a free end pulled far
       config = crossing_bar('usl', 'cpdi', 'flip')
       config%particles_per_element = 1
-      call set_value(config, 'scene.velocity_amplitude='//str(2.0_dp*bar_wave_speed))
+      call set_bar_speed(config, 2.0_dp)
       config%energy_growth_limit = 1.0e10_dp
       result = run_resolved(config)
       call t%check('CPDI: a domain stretched over more than four nodes stops the run with domain_stretched', &

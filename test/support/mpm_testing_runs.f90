@@ -4,7 +4,7 @@ module mpm_testing_runs
    use mpm_kinds, only: dp
    use mpm_strings, only: str
    use mpm_simulation, only: run_result_t, run_simulation
-   use mpm_config, only: config_t, resolve_config, set_config_values
+   use mpm_config, only: config_t, resolve_config, set_config_values, new_config
    use mpm_errors, only: error_t
    use mpm_diagnostics, only: status_ok
    use mpm_transfer, only: parallel_threshold
@@ -13,9 +13,34 @@ module mpm_testing_runs
    implicit none
    private
    public :: check_paths_agree, check_fused_run, check_fused_config, run_resolved, set_values, set_value
-   public :: mesh_errors, observed_orders, listed, convergence_bar
+   public :: mesh_errors, observed_orders, listed, convergence_bar, moving_bar, set_bar_speed
+   !> c = sqrt(E/rho) of the vibrating bar's defaults (E = 200 GPa, rho = 7800 kg/m^3).
+   real(dp), parameter, public :: bar_wave_speed = sqrt(200.0e9_dp/7800.0_dp)
 
 contains
+
+   !> The vibrating bar (its defaults) under `scheme` on `elements` x `ppc`, dt = `fraction` dx/c, for
+   !> `periods`, at v0 = `speed` c (from about 0.01 c its particles cross cells).
+   function moving_bar(scheme, elements, ppc, fraction, periods, speed) result(config)
+      character(len=*), intent(in) :: scheme
+      integer, intent(in) :: elements, ppc
+      real(dp), intent(in) :: fraction, periods, speed
+      type(config_t) :: config
+      config = new_config()
+      config%scheme = scheme
+      config%elements = elements
+      config%particles_per_element = ppc
+      config%dt_fraction = fraction
+      config%periods = periods
+      call set_bar_speed(config, speed)
+   end function moving_bar
+
+   !> The bar's velocity amplitude v0 = `speed` c (c of the bar's defaults).
+   subroutine set_bar_speed(config, speed)
+      type(config_t), intent(inout) :: config
+      real(dp), intent(in) :: speed
+      call set_value(config, 'scene.velocity_amplitude='//str(speed*bar_wave_speed))
+   end subroutine set_bar_speed
 
    !> `config` with variables set from assignments 'group.name=value' (mpm_config's set_config_values: a
    !> kind among them first); one it refuses ends the test program (error stop naming it).
