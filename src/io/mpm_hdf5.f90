@@ -203,7 +203,7 @@ contains
       class(h5_writer_t), intent(inout) :: self
       character(len=*), intent(in) :: name
       character(len=*), intent(in) :: values(:)
-      integer(hid_t) :: dset, space, string_type
+      integer(hid_t) :: dset, space, string_type, transfer
       integer(hsize_t) :: dims(1)
       character(len=len(values) + 1, kind=c_char), allocatable, target :: texts(:)
       type(c_ptr), allocatable, target :: pointers(:)
@@ -218,8 +218,11 @@ contains
       dims = size(values, kind=hsize_t)
       call open_dataset(self, name, string_type, dims, dset, space)
       if (self%ok()) then
-         call h5dwrite_f(dset, string_type, c_loc(pointers), hdferr)
+         hdferr = 0
+         call string_transfer(self, size(values), transfer)
+         if (self%ok()) call h5dwrite_f(dset, string_type, c_loc(pointers), hdferr, xfer_prp=transfer)
          call close_dataset(self, name, dset, space, hdferr)
+         if (transfer >= 0) call h5pclose_f(transfer, hdferr)
       end if
       call h5tclose_f(string_type, hdferr)
    end subroutine writer_write_strings
@@ -228,7 +231,7 @@ contains
    subroutine writer_write_string_scalar(self, name, value)
       class(h5_writer_t), intent(inout) :: self
       character(len=*), intent(in) :: name, value
-      integer(hid_t) :: dset, space, string_type
+      integer(hid_t) :: dset, space, string_type, transfer
       integer(hsize_t) :: dims(0)
       character(len=len_trim(value) + 1, kind=c_char), target :: text
       type(c_ptr), target :: pointer
@@ -239,11 +242,37 @@ contains
       pointer = c_loc(text)
       call open_dataset(self, name, string_type, dims, dset, space)
       if (self%ok()) then
-         call h5dwrite_f(dset, string_type, c_loc(pointer), hdferr)
+         hdferr = 0
+         call string_transfer(self, 1, transfer)
+         if (self%ok()) call h5dwrite_f(dset, string_type, c_loc(pointer), hdferr, xfer_prp=transfer)
          call close_dataset(self, name, dset, space, hdferr)
+         if (transfer >= 0) call h5pclose_f(transfer, hdferr)
       end if
       call h5tclose_f(string_type, hdferr)
    end subroutine writer_write_string_scalar
+
+   !> A transfer property list whose conversion buffer holds `count` strings (at least one). HDF5
+   !> converts C strings to variable-length ones through a buffer it allocates and zeroes on every
+   !> write, of 1 MiB unless the transfer list says otherwise: each string dataset of a sweep's
+   !> /cases cost a 1 MiB memset and, through malloc's trimming, fresh pages from the system.
+   !> The file's contents do not depend on the buffer's size.
+   subroutine string_transfer(self, count, transfer)
+      class(h5_writer_t), intent(inout) :: self
+      integer, intent(in) :: count
+      integer(hid_t), intent(out) :: transfer
+      !> Bytes per element the conversion needs at most: a variable-length string in the file
+      !> (length, heap address and index: 16 bytes) against a C pointer in memory.
+      integer(size_t), parameter :: element_bytes = 32
+      integer :: hdferr
+      call h5pcreate_f(H5P_DATASET_XFER_F, transfer, hdferr)
+      call self%check(hdferr, 'create a transfer property list')
+      if (hdferr /= 0) then
+         transfer = -1
+         return
+      end if
+      call h5pset_buffer_f(transfer, element_bytes*max(count, 1), hdferr)
+      call self%check(hdferr, 'set the conversion buffer of a string write')
+   end subroutine string_transfer
 
    !> The variable-length, null-terminated C string type (file and memory).
    subroutine string_type_of(self, string_type)
