@@ -33,6 +33,10 @@
 !>           node-wise sums of the magnitudes of the terms balanced (inertia, every particle's force
 !>           share, external force, penalty): the scale of the round-off in R, so the tolerance is
 !>           reachable down to a few eps;
+!>   affine  the linear law (sigma = sigma_n + E J_n d eps) makes R exactly affine in e: f(sigma_n) and
+!>           S = sum_p dN_I E J_n V_p^n dN_J are formed once at the step's start (affine_start) and every
+!>           residual is f(sigma_n) + S du + the node-wise terms, without a pass over the particles
+!>           (docs/theory.md, The affine residual of the linear law); the other laws' residual is a pass;
 !>   G2P     v_p by the run's transfer from v_{n+1} (FLIP: v_p += sum N (v_{n+1} - v_n)), x_p += sum_I N_Ip
 !>           du_I, and the law's state update by d eps_p (update_material_finite).
 !> Mass: lumped by default (the row sums, the explicit schemes' P2G unchanged, a diagonal that needs no
@@ -147,6 +151,18 @@ module mpm_implicit
       !> |K_IJ| |du_J| (times eps); the residual cannot fall below a few eps of it (floor_ulps)
       real(dp), allocatable :: roundoff(:)
       real(dp), allocatable :: modulus(:), yield(:), hardening_modulus(:), hardening(:)
+      !> the step's law is affine in the increment (linear): R(e) is formed on the nodes from what the
+      !> step's start assembled (affine_start), without a pass over the particles
+      logical :: affine = .false.
+      !> off: every law's residual from the particles (tests compare the two forms)
+      logical :: affine_allowed = .true.
+      !> the affine law's node-wise sums over the particles, on the nodes 0..elements before folding: the
+      !> stiffness S_IJ = sum_p dN_Ip k_p V_p dN_Jp and the sums of its terms' magnitudes, by the offset
+      !> d = J - I (band(d, I)); the force shares at sigma_n, sum_p dN_Ip sigma_p^n V_p, and their magnitudes
+      real(dp), allocatable :: band(:, :), band_magnitude(:, :), start_force(:), start_magnitude(:)
+      !> the hat's: per cell i (nodes i, i + 1), the sums over its particles of dN^2 k_p V_p, of dN sigma_p^n V_p
+      !> (dN the left node's gradient) and of its magnitude (affine_start_hat)
+      real(dp), allocatable :: cells(:, :)
       type(banded_t) :: tangent, mass_matrix, mass_factors, mass_magnitude
       type(ghost_knots_t) :: knots
    end type implicit_t
@@ -228,6 +244,8 @@ contains
       grid%min_node_mass = minval(grid%mass, mask=grid%mass > 0.0_dp)
       call node_roles(im, grid)
       call particle_data(im, particles, material)
+      im%affine = im%affine_allowed .and. material%law == law_linear
+      if (im%affine) call affine_start(im, cache, particles, grid%elements)
       im%e = 0.0_dp
       im%velocity = 0.0_dp
       im%acceleration = 0.0_dp
@@ -691,17 +709,23 @@ contains
          im%roundoff(i) = 0.0_dp
       end do
       if (with_tangent) call banded_zero(im%tangent)
-      ! the particles' stresses over the increment and their force shares dN_Ip sigma_p V_p^n (and stiffness)
-      if (cache%support == 2) then
-         call strain_pass_hat(particles%count, size(cache%gradient, 1), n, cache%first, cache%gradient, im%du, &
-                              im%dstrain, im%strain_magnitude)
+      if (im%affine) then
+         ! the linear law: the same sums formed on the nodes from the step's start (affine_start)
+         if (cache%support == 2) then
+            call affine_forces_hat(n, im%cells, im%du, im%residual, im%forces, im%roundoff)
+         else
+            call affine_forces(n, cache%support - 1, im%band, im%band_magnitude, im%start_force, im%start_magnitude, &
+                               im%du, im%residual, im%forces, im%roundoff)
+         end if
+         if (with_tangent) call fold_stiffness(im, cache%support, n)
       else
-         call strain_pass(particles%count, size(cache%gradient, 1), cache%support, n, cache%first, cache%gradient, &
-                          im%du, im%dstrain, im%strain_magnitude)
+         ! the particles' stresses over the increment and their force shares dN_Ip sigma_p V_p^n (and stiffness)
+         call particle_strains(im, cache, particles%count, n)
+         call law_stress_stiffness(material%law, particles%count, im%modulus, im%yield, im%hardening_modulus, &
+                                   im%dstrain, particles%stress, particles%volume_ratio, im%hardening, im%stress, &
+                                   im%stiffness)
+         call particle_forces(im, cache, particles%count, n, .true., with_tangent)
       end if
-      call law_stress_stiffness(material%law, particles%count, im%modulus, im%yield, im%hardening_modulus, im%dstrain, &
-                                particles%stress, particles%volume_ratio, im%hardening, im%stress, im%stiffness)
-      call particle_forces(im, cache, particles%count, n, .true., with_tangent)
       ! folded onto the unknowns (a ghost's share to its partner, reflected; the ghosts are dependent nodes)
       do k = 1, size(im%dependent)
          i = im%dependent(k)
@@ -758,7 +782,11 @@ contains
       type(particles_t), intent(in) :: particles
       type(grid_t), intent(in) :: grid
       call banded_zero(im%tangent)
-      call particle_forces(im, cache, particles%count, grid%elements, .false., .true.)
+      if (im%affine) then
+         call fold_stiffness(im, cache%support, grid%elements)
+      else
+         call particle_forces(im, cache, particles%count, grid%elements, .false., .true.)
+      end if
       call finish_tangent(im, grid)
    end subroutine assemble_tangent
 
@@ -791,6 +819,216 @@ contains
       call ghost_tangent(im)
       call hold_rows(im%tangent, im%unknown)
    end subroutine finish_tangent
+
+   !> The particles' strain increments d eps_p and their magnitudes at the step's du (strain_pass; the hat's
+   !> in a loop of its own, strain_pass_hat).
+   subroutine particle_strains(im, cache, count, n)
+      type(implicit_t), intent(inout) :: im
+      type(shape_cache_t), intent(in) :: cache
+      integer, intent(in) :: count, n
+      if (cache%support == 2) then
+         call strain_pass_hat(count, size(cache%gradient, 1), n, cache%first, cache%gradient, im%du, im%dstrain, &
+                              im%strain_magnitude)
+      else
+         call strain_pass(count, size(cache%gradient, 1), cache%support, n, cache%first, cache%gradient, im%du, &
+                          im%dstrain, im%strain_magnitude)
+      end if
+   end subroutine particle_strains
+
+   !> The linear law's residual on the nodes (docs/theory.md, "The affine residual of the linear law"): its
+   !> stress sigma_p = sigma_p^n + k_p d eps_p, k_p = E J_p^n, is affine in the increment, so the particles'
+   !> force shares are f_I = sum_p dN_Ip sigma_p^n V_p + sum_J S_IJ du_J with S_IJ = sum_p dN_Ip k_p V_p dN_Jp,
+   !> both fixed during the step: formed here once, in a pass over the particles at the step's start (with
+   !> the magnitudes' sums that make the force scale and the round-off floor). Any support: im%band
+   !> (S by the offset d = J - I, band(d, I)), im%band_magnitude, im%start_force, im%start_magnitude; the
+   !> hat: per cell (affine_start_hat), im%cells.
+   subroutine affine_start(im, cache, particles, n)
+      type(implicit_t), intent(inout) :: im
+      type(shape_cache_t), intent(in) :: cache
+      type(particles_t), intent(in) :: particles
+      integer, intent(in) :: n
+      integer :: b
+      b = cache%support - 1
+      ! (the linear law's d sigma/d eps: law_stress_stiffness's product)
+      im%stiffness = im%modulus*particles%volume_ratio
+      if (b == 1) then
+         if (allocated(im%cells)) then
+            if (size(im%cells, 2) /= n) deallocate (im%cells)
+         end if
+         if (.not. allocated(im%cells)) allocate (im%cells(3, 0:n - 1))
+         call affine_start_hat(particles%count, size(cache%gradient, 1), n, cache%first, cache%gradient, &
+                               particles%stress, im%stiffness, im%volume, im%cells)
+         return
+      end if
+      if (allocated(im%band)) then
+         if (size(im%band, 1) /= 2*b + 1 .or. size(im%band, 2) /= n + 1) &
+            deallocate (im%band, im%band_magnitude, im%start_force, im%start_magnitude)
+      end if
+      if (.not. allocated(im%band)) allocate (im%band(-b:b, 0:n), im%band_magnitude(-b:b, 0:n), &
+                                              im%start_force(0:n), im%start_magnitude(0:n))
+      call affine_start_pass(particles%count, size(cache%gradient, 1), b, n, cache%first, cache%gradient, &
+                             particles%stress, im%stiffness, im%volume, im%band, im%band_magnitude, im%start_force, &
+                             im%start_magnitude)
+   end subroutine affine_start
+
+   !> affine_start's sums for any support (`b` = support - 1).
+   subroutine affine_start_pass(count, rows, b, n, first, gradient, stress, stiffness, volume, band, band_magnitude, &
+                                force, magnitude)
+      integer, intent(in) :: count, rows, b, n
+      integer, intent(in) :: first(count)
+      real(dp), intent(in) :: gradient(rows, b + 1), stress(count), stiffness(count), volume(count)
+      real(dp), intent(out) :: band(-b:b, 0:n), band_magnitude(-b:b, 0:n), force(0:n), magnitude(0:n)
+      real(dp) :: share, weighted, entry
+      integer :: p, k, l, i
+      band = 0.0_dp
+      band_magnitude = 0.0_dp
+      force = 0.0_dp
+      magnitude = 0.0_dp
+      do p = 1, count
+         do k = 1, b + 1
+            i = first(p) + k - 1
+            share = gradient(p, k)*stress(p)*volume(p)
+            force(i) = force(i) + share
+            magnitude(i) = magnitude(i) + abs(share)
+            weighted = gradient(p, k)*stiffness(p)*volume(p)
+            do l = 1, b + 1
+               entry = weighted*gradient(p, l)
+               band(l - k, i) = band(l - k, i) + entry
+               band_magnitude(l - k, i) = band_magnitude(l - k, i) + abs(entry)
+            end do
+         end do
+      end do
+   end subroutine affine_start_pass
+
+   !> affine_start's sums for the hat, per cell: its gradients are g = -1/dx and 1/dx (force_pass_hat), so a
+   !> particle in cell i gives node i the share g sigma V - c (du_{i+1} - du_i), c = g^2 k V, and node i + 1
+   !> that negated; cells(:, i) holds the cell's sums of c, of g sigma^n V and of |g sigma^n V|
+   !> (affine_forces_hat forms S du from them; S is the cells' [[C, -C], [-C, C]] summed).
+   subroutine affine_start_hat(count, rows, n, first, gradient, stress, stiffness, volume, cells)
+      integer, intent(in) :: count, rows, n
+      integer, intent(in) :: first(count)
+      real(dp), intent(in) :: gradient(rows, 2), stress(count), stiffness(count), volume(count)
+      real(dp), intent(out) :: cells(3, 0:n - 1)
+      real(dp) :: share
+      integer :: p, i
+      cells = 0.0_dp
+      do p = 1, count
+         i = first(p)
+         share = gradient(p, 1)*stress(p)*volume(p)
+         cells(1, i) = cells(1, i) + gradient(p, 1)*stiffness(p)*volume(p)*gradient(p, 1)
+         cells(2, i) = cells(2, i) + share
+         cells(3, i) = cells(3, i) + abs(share)
+      end do
+   end subroutine affine_start_hat
+
+   !> The affine law's force shares at du on the nodes 0..n (before folding): residual = f(sigma_n) + S du;
+   !> roundoff = |S| |du| (the sum over the particles of |dN_Ip k_p V_p| sum_J |dN_Jp du_J|, as force_pass
+   !> forms it); forces = the magnitudes' sum at sigma_n + |S| |du|, which bounds force_pass's sum of
+   !> |dN_Ip sigma_p V_p| from above.
+   subroutine affine_forces(n, b, band, band_magnitude, force, magnitude, du, residual, forces, roundoff)
+      integer, intent(in) :: n, b
+      real(dp), intent(in) :: band(-b:b, 0:n), band_magnitude(-b:b, 0:n), force(0:n), magnitude(0:n), du(0:n)
+      real(dp), intent(out) :: residual(0:n), forces(0:n), roundoff(0:n)
+      real(dp) :: total, spread
+      integer :: i, d
+      do i = 0, n
+         total = 0.0_dp
+         spread = 0.0_dp
+         do d = max(-b, -i), min(b, n - i)
+            total = total + band(d, i)*du(i + d)
+            spread = spread + band_magnitude(d, i)*abs(du(i + d))
+         end do
+         residual(i) = force(i) + total
+         roundoff(i) = spread
+         forces(i) = magnitude(i) + spread
+      end do
+   end subroutine affine_forces
+
+   !> affine_forces for the hat from its cells' sums (affine_start_hat): cell i's share of node i is
+   !> T_i = F_i - C_i (du_{i+1} - du_i) and of node i + 1 -T_i; its round-off scale C_i (|du_i| + |du_{i+1}|)
+   !> (every particle's c >= 0, so the magnitudes' sum is C_i itself) and its force scale |F|_i go to both.
+   subroutine affine_forces_hat(n, cells, du, residual, forces, roundoff)
+      integer, intent(in) :: n
+      real(dp), intent(in) :: cells(3, 0:n - 1), du(0:n)
+      real(dp), intent(out) :: residual(0:n), forces(0:n), roundoff(0:n)
+      real(dp) :: share, previous, spread, spread_before, magnitude_before
+      integer :: i
+      previous = 0.0_dp
+      spread_before = 0.0_dp
+      magnitude_before = 0.0_dp
+      do i = 0, n - 1
+         share = cells(2, i) - cells(1, i)*(du(i + 1) - du(i))
+         spread = cells(1, i)*(abs(du(i)) + abs(du(i + 1)))
+         residual(i) = share - previous
+         roundoff(i) = spread_before + spread
+         forces(i) = (magnitude_before + cells(3, i)) + roundoff(i)
+         previous = share
+         spread_before = spread
+         magnitude_before = cells(3, i)
+      end do
+      residual(n) = -previous
+      roundoff(n) = spread_before
+      forces(n) = magnitude_before + spread_before
+   end subroutine affine_forces_hat
+
+   !> The affine law's stiffness S folded onto the unknowns of the tangent (a ghost's row and column its
+   !> partner's, with its sign; held nodes none): fold_cells_hat, fold_band.
+   subroutine fold_stiffness(im, support, n)
+      type(implicit_t), intent(inout) :: im
+      integer, intent(in) :: support, n
+      if (support == 2) then
+         call fold_cells_hat(n, im%cells, im%master, im%sign, size(im%tangent%ab, 1), im%tangent%ab, &
+                             2*im%tangent%bandwidth + 1)
+      else
+         call fold_band(n, ubound(im%band, 1), im%band, im%master, im%sign, size(im%tangent%ab, 1), im%tangent%ab, &
+                        2*im%tangent%bandwidth + 1)
+      end if
+   end subroutine fold_stiffness
+
+   !> S (by offsets, band(d, I) = S(I, I + d)) added to the band ab (A(a, b) in ab(diagonal + a - b, b + 1)).
+   subroutine fold_band(n, b, band, master, sign, band_rows, ab, diagonal)
+      integer, intent(in) :: n, b, band_rows, diagonal
+      integer, intent(in) :: master(0:n)
+      real(dp), intent(in) :: band(-b:b, 0:n), sign(0:n)
+      real(dp), intent(inout) :: ab(band_rows, n + 1)
+      integer :: i, d, a, c
+      do i = 0, n
+         a = master(i)
+         if (a < 0) cycle
+         do d = max(-b, -i), min(b, n - i)
+            c = master(i + d)
+            if (c < 0) cycle
+            ab(diagonal + a - c, c + 1) = ab(diagonal + a - c, c + 1) + sign(i)*sign(i + d)*band(d, i)
+         end do
+      end do
+   end subroutine fold_band
+
+   !> The hat's cells' stiffness [[C_i, -C_i], [-C_i, C_i]] on the nodes i, i + 1 added to the band ab (as
+   !> fold_band; where both nodes are unknowns of their own, directly).
+   subroutine fold_cells_hat(n, cells, master, sign, band_rows, ab, diagonal)
+      integer, intent(in) :: n, band_rows, diagonal
+      integer, intent(in) :: master(0:n)
+      real(dp), intent(in) :: cells(3, 0:n - 1), sign(0:n)
+      real(dp), intent(inout) :: ab(band_rows, n + 1)
+      real(dp) :: c
+      integer :: i, k, l, a, b
+      do i = 0, n - 1
+         c = cells(1, i)
+         if (master(i) == i .and. master(i + 1) == i + 1) then
+            call add_hat_block(band_rows, n, ab, diagonal, i, c)
+            cycle
+         end if
+         do k = 0, 1
+            a = master(i + k)
+            if (a < 0) cycle
+            do l = 0, 1
+               b = master(i + l)
+               if (b < 0) cycle
+               ab(diagonal + a - b, b + 1) = ab(diagonal + a - b, b + 1) + sign(i + k)*sign(i + l)*merge(c, -c, k == l)
+            end do
+         end do
+      end do
+   end subroutine fold_cells_hat
 
    !> The particles' strain increments d eps_p = sum_J dN_Jp du_J and their magnitudes sum_J |dN_Jp du_J|.
    !> The particle loops here and in force_pass take explicit-shape arrays: gfortran then indexes them
@@ -886,10 +1124,7 @@ contains
          if (.not. tangent_part) cycle
          if (master(i) == i .and. master(i + 1) == i + 1) then
             tangent_share = left_stiffness*gradient(p, 1)
-            ab(diagonal, i + 1) = ab(diagonal, i + 1) + tangent_share
-            ab(diagonal - 1, i + 2) = ab(diagonal - 1, i + 2) - tangent_share
-            ab(diagonal + 1, i + 1) = ab(diagonal + 1, i + 1) - tangent_share
-            ab(diagonal, i + 2) = ab(diagonal, i + 2) + tangent_share
+            call add_hat_block(band_rows, n, ab, diagonal, i, tangent_share)
             cycle
          end if
          do k = 1, 2
@@ -905,6 +1140,18 @@ contains
          end do
       end do
    end subroutine force_pass_hat
+
+   !> The hat's stiffness block [[c, -c], [-c, c]] on the nodes i, i + 1, both unknowns of their own, added to
+   !> the band ab (A(a, b) in ab(diagonal + a - b, b + 1)).
+   pure subroutine add_hat_block(band_rows, n, ab, diagonal, i, c)
+      integer, intent(in) :: band_rows, n, diagonal, i
+      real(dp), intent(inout) :: ab(band_rows, n + 1)
+      real(dp), intent(in) :: c
+      ab(diagonal, i + 1) = ab(diagonal, i + 1) + c
+      ab(diagonal - 1, i + 2) = ab(diagonal - 1, i + 2) - c
+      ab(diagonal + 1, i + 1) = ab(diagonal + 1, i + 1) - c
+      ab(diagonal, i + 2) = ab(diagonal, i + 2) + c
+   end subroutine add_hat_block
 
    !> One pass over the particles: `residual_part`, the force shares dN_Ip sigma_p V_p^n to R and |forces|,
    !> and the round-off scale |dN_Ip k_p V_p^n| sum_J |dN_Jp du_J| to roundoff; `tangent_part`, the
@@ -1072,6 +1319,8 @@ contains
                              grid%origin + grid%length, grid%inv_dx, particles%x, totals%displacement, &
                              totals%max_cell_move, totals%furthest, totals%outside)
       end if
+      ! (the affine law's residual formed no strains: the converged ones here)
+      if (im%affine) call particle_strains(im, cache, particles%count, grid%elements)
       call update_material_finite(material, im%dstrain, particles, totals%strain_energy, totals%min_volume_ratio, &
                                   totals%plastic_work, im%stress)
    end subroutine update_particles

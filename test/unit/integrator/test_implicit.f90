@@ -1,6 +1,9 @@
 !> The implicit integrators (mpm_implicit) against independent expectations, at sizes that take seconds:
 !> - the tangent of every shape against central finite differences of the residual at a deformed state
 !>   (moved particles, stressed and yielded, mirror ghosts, the ghost penalty, both mass matrices);
+!> - the linear law's residual formed on the nodes from the step's start (affine in the increment) against
+!>   the particles' residual at the same e, and whole runs of both forms, to round-off (every shape, both
+!>   masses, the ghost penalty, mirror ghosts, the drive's constraint, quasi-static);
 !> - Newton: a law linear in the increment converges in one linear solve at newton_tolerance 1e-12 even at
 !>   a strain of 1e-8 (the round-off floor of a stress formed from J - 1); the Hencky column converges
 !>   quadratically (each relative residual at most a modest constant times the square of the one before);
@@ -37,6 +40,7 @@ program test_implicit
    t = tester('test_implicit')
    if (t%case('tangent_against_differences')) call tangent_against_differences()
    if (t%case('one_solve_for_a_linear_law')) call one_solve_for_a_linear_law()
+   if (t%case('affine_residual')) call affine_residual()
    if (t%case('quadratic_convergence')) call quadratic_convergence()
    if (t%case('temporal_order')) call temporal_order()
    if (t%case('beyond_the_explicit_limit')) call beyond_the_explicit_limit()
@@ -170,6 +174,88 @@ contains
       call t%check(label//': tangent = finite differences of the residual ('//str(unknowns)//' unknowns)', &
                    worst < 1.0e-6_dp .and. unknowns > 5, 'largest relative difference '//str(worst))
    end subroutine check_tangent
+
+   !> The linear law's residual as the nodes form it (f(sigma_n) + S du, mpm_implicit affine_start) against the
+   !> pass over the particles (im%affine_allowed = .false.), which forms sigma_p = sigma_n + E J_n d eps_p per
+   !> particle: on the bar (hat, lumped; cpGIMP with the ghost penalty and the consistent mass), the driven
+   !> composite bar and the quasi-static column (B-spline, mirror ghosts), after some steps of each form.
+   subroutine affine_residual()
+      type(config_t) :: config
+      config = new_config()
+      config%integrator = 'implicit'
+      config%law = 'linear'
+      config%elements = 16
+      config%particles_per_element = 2
+      call set_values(config, ['scene.velocity_amplitude=60.0'])
+      config%dt_fraction = 2.0_dp
+      call compare_affine(config, 8, 'bar, hat, lumped')
+      config%shape = 'cpgimp'
+      config%mass = 'consistent'
+      config%ghost_penalty = 0.1_dp
+      call compare_affine(config, 8, 'bar, cpgimp, consistent, ghost penalty')
+      config = driven_composite('1.0e10', 20)
+      config%integrator = 'implicit'
+      config%dt_fraction = 5.0_dp
+      call compare_affine(config, 8, 'composite bar, driven')
+      config = column_config('linear', 'bspline2', 12, 4)
+      call compare_affine(config, 3, 'column, bspline2, quasi-static')
+   end subroutine affine_residual
+
+   !> compare_affine's check: after `steps` steps of each form from the same start, the positions,
+   !> velocities and stresses agree to round-off of their scales and the solves are the same; then at one
+   !> e off the solution (a random 1 % of the increment) both forms' residuals on the unknowns agree to
+   !> round-off of the force scale, and their tangents to round-off of the largest entry.
+   subroutine compare_affine(config, steps, label)
+      type(config_t), intent(inout) :: config
+      integer, intent(in) :: steps
+      character(len=*), intent(in) :: label
+      class(scene_t), allocatable :: scene
+      type(particles_t) :: pa, pp
+      type(grid_t) :: grid
+      type(shape_cache_t) :: cache
+      type(material_t) :: material
+      type(implicit_t) :: affine, particle
+      type(pass_totals_t) :: totals
+      real(dp), allocatable :: e(:), noise(:)
+      real(dp) :: position, velocity, stress, residual, tangent
+      integer :: n
+      call setup(config, scene, pa, grid, cache, material)
+      pp = pa
+      call implicit_init(affine, config)
+      call implicit_init(particle, config)
+      particle%affine_allowed = .false.
+      do n = 1, steps
+         call implicit_advance(affine, scene, cache, pa, grid, config%dt, material, (n - 1)*config%dt, totals)
+         call implicit_advance(particle, scene, cache, pp, grid, config%dt, material, (n - 1)*config%dt, totals)
+      end do
+      call t%check(label//': both forms converge, the same solves ('//str(affine%solves)//', '// &
+                   str(particle%solves)//')', .not. (affine%failed .or. particle%failed) .and. &
+                   affine%solves == particle%solves .and. affine%solves >= steps)
+      position = maxval(abs(pa%x - pp%x))/maxval(abs(pp%x - pp%x0))
+      velocity = maxval(abs(pa%v - pp%v))/max(maxval(abs(pp%v)), tiny(1.0_dp))
+      stress = maxval(abs(pa%stress - pp%stress))/maxval(abs(pp%stress))
+      call t%check(label//': the runs agree to round-off (displacement '//str(position)//', velocity '// &
+                   str(velocity)//', stress '//str(stress)//')', max(position, velocity, stress) < 1.0e-11_dp)
+      ! one e, both forms, from the particles of the particle form's run
+      call prepare_step(affine, scene, cache, pp, grid, config%dt, material, steps*config%dt, totals)
+      call prepare_step(particle, scene, cache, pp, grid, config%dt, material, steps*config%dt, totals)
+      call newton_solve(particle, cache, pp, grid, material)
+      allocate (noise(0:grid%elements))
+      call random_number(noise)
+      e = particle%e + 0.01_dp*(noise - 0.5_dp)*maxval(abs(particle%du))
+      affine%e = merge(e, affine%e, affine%unknown)
+      particle%e = merge(e, particle%e, particle%unknown)
+      call assemble_system(affine, cache, pp, grid, material, with_tangent=.true.)
+      call assemble_system(particle, cache, pp, grid, material, with_tangent=.true.)
+      residual = maxval(abs(affine%residual - particle%residual), mask=particle%unknown)/ &
+                 maxval(particle%forces, mask=particle%unknown)
+      tangent = maxval(abs(affine%tangent%ab - particle%tangent%ab))/maxval(abs(particle%tangent%ab))
+      call t%check(label//': the residual on the nodes = the particles'' to round-off ('//str(residual)//')', &
+                   affine%affine .and. .not. particle%affine .and. residual < 1.0e-13_dp .and. &
+                   maxval(abs(particle%residual), mask=particle%unknown) > 1.0e-6_dp* &
+                   maxval(particle%forces, mask=particle%unknown))
+      call t%check(label//': the tangents agree to round-off ('//str(tangent)//')', tangent < 1.0e-13_dp)
+   end subroutine compare_affine
 
    !> The linear law is linear in the increment (sigma = sigma_n + E J_n d eps): one solve per step, at a
    !> tolerance of 1e-12 and a strain amplitude of 1e-8, where the stress E (J - 1) formed from a J stored
@@ -374,6 +460,22 @@ contains
       end if
    end function column_config
 
+   !> The composite bar of the drives' tests: a soft segment (E 1e8) driven at 0.01 m/s, then a stiff one
+   !> (Young's modulus `stiff`), law linear, 2 particles per element.
+   function driven_composite(stiff, elements) result(config)
+      character(len=*), intent(in) :: stiff
+      integer, intent(in) :: elements
+      type(config_t) :: config
+      call set_values(config, ["scene.kind='composite_bar'"])
+      call set_values(config, ['scene.lengths=0.5, 0.5'])
+      call set_value(config, 'scene.youngs_moduli=1.0e8, '//stiff)
+      call set_values(config, ['scene.densities=1000.0, 1000.0'])
+      call set_values(config, ['scene.drive_velocity=0.01'])
+      config%law = 'linear'
+      config%elements = elements
+      config%particles_per_element = 2
+   end function driven_composite
+
    !> The drives: the composite bar (a soft segment driven at 0.01 m/s, a stiff one 100 times faster) at
    !> 100 elements: implicit at dt = 0.5 dx/c_soft (50 times the explicit step) has a u_cm error within
    !> twice explicit USL's at dt = 0.5 dx/c_stiff (the driven node moves at V over the whole step: the
@@ -385,14 +487,7 @@ contains
       type(config_t) :: config
       type(run_result_t) :: explicit, implicit
       real(dp) :: ucm_explicit, ucm_implicit
-      call set_values(config, ["scene.kind='composite_bar'"])
-      call set_values(config, ['scene.lengths=0.5, 0.5'])
-      call set_values(config, ['scene.youngs_moduli=1.0e8, 1.0e12'])
-      call set_values(config, ['scene.densities=1000.0, 1000.0'])
-      call set_values(config, ['scene.drive_velocity=0.01'])
-      config%law = 'linear'
-      config%elements = 100
-      config%particles_per_element = 2
+      config = driven_composite('1.0e12', 100)
       config%end_time = 1.5_dp*0.5_dp/sqrt(1.0e8_dp/1000.0_dp)
       config%periods_given = .false.
       config%end_time_given = .true.
