@@ -524,7 +524,7 @@ contains
       type(particles_t), intent(in) :: particles
       type(grid_t), intent(in) :: grid
       type(material_t), intent(in) :: material
-      real(dp) :: relative, roundoff, gap, correction, pivots, before, step, merit, stiffness, multiplier
+      real(dp) :: relative, roundoff, norm, gap, correction, pivots, before, step, merit, stiffness, multiplier
       integer :: iteration, info, halving
       logical :: floor, assembled, tangent_ready
       im%failed = .false.
@@ -534,9 +534,12 @@ contains
       do iteration = 0, im%max_iterations
          ! a Newton step's residual (the line search's last) or, with the tangent in the same pass, the first
          tangent_ready = .not. assembled
-         if (.not. assembled) call assemble_residual(im, cache, particles, grid, material, with_tangent=.true.)
+         ! (the line search's last residual comes with its measures)
+         if (.not. assembled) then
+            call assemble_residual(im, cache, particles, grid, material, with_tangent=.true.)
+            call relative_measures(im, relative, roundoff, norm)
+         end if
          assembled = .false.
-         call relative_measures(im, relative, roundoff)
          gap = 0.0_dp
          if (im%constrained) gap = im%target - sum(im%weight*im%e)
          if (iteration > ubound(im%residuals, 1)) call grow_residuals(im, iteration)
@@ -579,7 +582,7 @@ contains
          ! elastoplastic one, can make Newton cycle between loading and unloading at long steps)
          im%start = im%e
          multiplier = im%multiplier
-         before = hypot(residual_norm(im), stiffness*gap)
+         before = hypot(norm, stiffness*gap)
          step = 1.0_dp
          do halving = 0, max_halvings
             where (im%unknown) im%e = im%start + step*im%rhs(:, 1)
@@ -587,7 +590,8 @@ contains
             im%multiplier = multiplier + step*correction
             call assemble_residual(im, cache, particles, grid, material, with_tangent=.false.)
             assembled = .true.
-            merit = hypot(residual_norm(im), stiffness*(1.0_dp - step)*gap)
+            call relative_measures(im, relative, roundoff, norm)
+            merit = hypot(norm, stiffness*(1.0_dp - step)*gap)
             if (merit <= (1.0_dp - 1.0e-4_dp*step)*before .or. halving == max_halvings) exit
             step = 0.5_dp*step
          end do
@@ -631,25 +635,38 @@ contains
       call move_alloc(grown, im%residuals)
    end subroutine grow_residuals
 
-   !> |R| / |forces| (`relative`: 0 when nothing acts; at most 1) and |roundoff| / |forces| (`roundoff`, see
-   !> floor_ulps), norms over the unknowns, in one pass over the nodes.
-   subroutine relative_measures(im, relative, roundoff)
+   !> |R| / |forces| (`relative`: 0 when nothing acts; at most 1), |roundoff| / |forces| (`roundoff`, see
+   !> floor_ulps) and |R| (`norm`, the line search's), norms over the unknowns, in one pass over the nodes.
+   subroutine relative_measures(im, relative, roundoff, norm)
       type(implicit_t), intent(in) :: im
-      real(dp), intent(out) :: relative, roundoff
+      real(dp), intent(out) :: relative, roundoff, norm
       real(dp) :: residual2, roundoff2, scale2
+      call sums_of_squares(size(im%master) - 1, im%unknown, im%residual, im%roundoff, im%forces, residual2, &
+                           roundoff2, scale2)
+      relative = relative_to_forces(im, im%residual, residual2, scale2)
+      roundoff = relative_to_forces(im, im%roundoff, roundoff2, scale2)
+      norm = sqrt(residual2)
+      ! (squares beyond the doubles: the scaled form)
+      if (.not. ieee_is_finite(residual2)) norm = norm2(pack(im%residual, im%unknown))
+   end subroutine relative_measures
+
+   !> relative_measures' sums of squares over the unknowns of the nodes 0..n.
+   pure subroutine sums_of_squares(n, unknown, residual, roundoff, forces, residual2, roundoff2, scale2)
+      integer, intent(in) :: n
+      logical, intent(in) :: unknown(0:n)
+      real(dp), intent(in) :: residual(0:n), roundoff(0:n), forces(0:n)
+      real(dp), intent(out) :: residual2, roundoff2, scale2
       integer :: i
       residual2 = 0.0_dp
       roundoff2 = 0.0_dp
       scale2 = 0.0_dp
-      do i = 0, size(im%master) - 1
-         if (.not. im%unknown(i)) cycle
-         residual2 = residual2 + im%residual(i)**2
-         roundoff2 = roundoff2 + im%roundoff(i)**2
-         scale2 = scale2 + im%forces(i)**2
+      do i = 0, n
+         if (.not. unknown(i)) cycle
+         residual2 = residual2 + residual(i)**2
+         roundoff2 = roundoff2 + roundoff(i)**2
+         scale2 = scale2 + forces(i)**2
       end do
-      relative = relative_to_forces(im, im%residual, residual2, scale2)
-      roundoff = relative_to_forces(im, im%roundoff, roundoff2, scale2)
-   end subroutine relative_measures
+   end subroutine sums_of_squares
 
    !> |field| / |forces| from the sums of squares over the unknowns (0 when the field is 0 there).
    real(dp) function relative_to_forces(im, field, size2, scale2) result(relative)
@@ -668,12 +685,6 @@ contains
          if (.not. ieee_is_finite(scale)) relative = ieee_value(scale, ieee_quiet_nan)
       end if
    end function relative_to_forces
-
-   !> |R| over the unknowns.
-   real(dp) function residual_norm(im)
-      type(implicit_t), intent(in) :: im
-      residual_norm = norm2(merge(im%residual, 0.0_dp, im%unknown))
-   end function residual_norm
 
    !> The residual R(e) on the unknowns (their rows; held nodes' rows hold their reaction), the force
    !> scale |forces| and, `with_tangent`, the tangent dR/de (assemble_tangent).
@@ -702,12 +713,18 @@ contains
       logical :: dynamic
       n = grid%elements
       call fill_slaves(im, im%e)
-      do i = 0, n
-         im%du(i) = im%dt*im%velocity(i) + im%e(i)
-         im%residual(i) = 0.0_dp
-         im%forces(i) = 0.0_dp
-         im%roundoff(i) = 0.0_dp
-      end do
+      if (im%affine) then
+         ! (the affine forms set every node's sums: nothing to clear)
+         call node_increments(n, im%dt, im%velocity, im%e, im%du)
+      else
+         ! (one loop: the clearing in loops of its own becomes three memset calls)
+         do i = 0, n
+            im%du(i) = im%dt*im%velocity(i) + im%e(i)
+            im%residual(i) = 0.0_dp
+            im%forces(i) = 0.0_dp
+            im%roundoff(i) = 0.0_dp
+         end do
+      end if
       if (with_tangent) call banded_zero(im%tangent)
       if (im%affine) then
          ! the linear law: the same sums formed on the nodes from the step's start (affine_start)
@@ -739,29 +756,16 @@ contains
       end do
       ! inertia (dynamic) and external force on the rows that balance forces (the unknowns' and, their
       ! reaction, the driven nodes'), the drive's multiplier, the ghost penalty
-      if (im%kind == integrator_implicit) then
-         inertia_factor = 4.0_dp/im%dt**2
-         if (im%mass == mass_lumped) then
-            do i = 0, n
-               im%work(i) = grid%mass(i)*(inertia_factor*im%e(i) - im%acceleration(i))
-               im%forces(i) = im%forces(i) + grid%mass(i)*(inertia_factor*abs(im%e(i)) + abs(im%acceleration(i)))
-            end do
-         else
-            im%work = banded_multiply(im%mass_matrix, in_mass(inertia_factor*im%e - im%acceleration))
-            im%forces = im%forces + banded_multiply(im%mass_magnitude, in_mass(inertia_factor*abs(im%e) + &
-                                                                                abs(im%acceleration)))
-         end if
-      end if
-      ! (each node's terms in the order of the array statements this loop replaced: the same bits)
       dynamic = im%kind == integrator_implicit
-      do i = 0, n
-         if (im%unknown(i) .or. im%prescribed(i)) then
-            if (dynamic) im%residual(i) = im%residual(i) + im%work(i)
-            im%residual(i) = im%residual(i) - im%external(i)
-            im%forces(i) = im%forces(i) + abs(im%external(i))
-         end if
-         if (im%constrained) im%residual(i) = im%residual(i) - im%multiplier*im%weight(i)
-      end do
+      inertia_factor = 4.0_dp/im%dt**2
+      if (dynamic .and. im%mass /= mass_lumped) then
+         im%work = banded_multiply(im%mass_matrix, in_mass(inertia_factor*im%e - im%acceleration))
+         im%forces = im%forces + banded_multiply(im%mass_magnitude, in_mass(inertia_factor*abs(im%e) + &
+                                                                             abs(im%acceleration)))
+      end if
+      call balance_rows(n, dynamic, dynamic .and. im%mass == mass_lumped, inertia_factor, grid%mass, im%e, &
+                        im%acceleration, im%external, im%unknown, im%prescribed, im%constrained, im%multiplier, &
+                        im%weight, im%work, im%residual, im%forces)
       call ghost_forces(im, im%du)
       if (with_tangent) call finish_tangent(im, grid)
    contains
@@ -773,6 +777,41 @@ contains
          w = merge(v, 0.0_dp, im%unknown .or. im%prescribed)
       end function in_mass
    end subroutine assemble_residual
+
+   !> du = dt v_n + e on the nodes 0..n.
+   pure subroutine node_increments(n, dt, velocity, e, du)
+      integer, intent(in) :: n
+      real(dp), intent(in) :: dt, velocity(0:n), e(0:n)
+      real(dp), intent(out) :: du(0:n)
+      du = dt*velocity + e
+   end subroutine node_increments
+
+   !> The residual's terms after the particles' (folded) shares, in one pass over the nodes: the inertia
+   !> (`dynamic`; `lumped`: m_I (4 e_I/dt^2 - a_I) formed here, else given in `work`) and the external force on
+   !> the rows that balance forces (the unknowns' and, their reaction, the driven nodes'), the drive's
+   !> multiplier; the inertia's and the external force's magnitudes to |forces|.
+   subroutine balance_rows(n, dynamic, lumped, inertia_factor, mass, e, acceleration, external, unknown, prescribed, &
+                           constrained, multiplier, weight, work, residual, forces)
+      integer, intent(in) :: n
+      logical, intent(in) :: dynamic, lumped, constrained
+      real(dp), intent(in) :: inertia_factor, mass(0:n), e(0:n), acceleration(0:n), external(0:n), multiplier, &
+                              weight(0:n)
+      logical, intent(in) :: unknown(0:n), prescribed(0:n)
+      real(dp), intent(inout) :: work(0:n), residual(0:n), forces(0:n)
+      integer :: i
+      do i = 0, n
+         if (lumped) then
+            work(i) = mass(i)*(inertia_factor*e(i) - acceleration(i))
+            forces(i) = forces(i) + mass(i)*(inertia_factor*abs(e(i)) + abs(acceleration(i)))
+         end if
+         if (unknown(i) .or. prescribed(i)) then
+            if (dynamic) residual(i) = residual(i) + work(i)
+            residual(i) = residual(i) - external(i)
+            forces(i) = forces(i) + abs(external(i))
+         end if
+         if (constrained) residual(i) = residual(i) - multiplier*weight(i)
+      end do
+   end subroutine balance_rows
 
    !> The tangent dR/de = 4 M/dt^2 + sum_p dN_Ip (d sigma_p/d eps) dN_Jp V_p^n + the ghost penalty, folded
    !> onto the unknowns (held nodes: hold_rows), at the strains of the last assemble_residual.
