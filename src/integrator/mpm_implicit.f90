@@ -841,18 +841,18 @@ contains
       associate (ab => im%tangent%ab)
          if (im%kind == integrator_implicit) then
             inertia_factor = 4.0_dp/im%dt**2
-            do i = 0, n
-               if (.not. im%unknown(i)) cycle
-               if (im%mass == mass_lumped) then
-                  ab(diagonal, i + 1) = ab(diagonal, i + 1) + inertia_factor*grid%mass(i)
-               else
+            if (im%mass == mass_lumped) then
+               call add_lumped_inertia(n, size(ab, 1), ab, diagonal, im%unknown, inertia_factor, grid%mass)
+            else
+               do i = 0, n
+                  if (.not. im%unknown(i)) cycle
                   do k = max(0, i - im%mass_matrix%bandwidth), min(n, i + im%mass_matrix%bandwidth)
                      if (.not. im%unknown(k)) cycle
                      ab(diagonal + i - k, k + 1) = ab(diagonal + i - k, k + 1) + inertia_factor* &
                         im%mass_matrix%ab(2*im%mass_matrix%bandwidth + 1 + i - k, k + 1)
                   end do
-               end if
-            end do
+               end do
+            end if
          end if
       end associate
       call ghost_tangent(im)
@@ -1069,6 +1069,18 @@ contains
       end do
    end subroutine fold_cells_hat
 
+   !> The lumped inertia 4 m_I/dt^2 on the unknowns' diagonal of the band ab (explicit-shape, as hold_band_rows).
+   pure subroutine add_lumped_inertia(n, band_rows, ab, diagonal, unknown, inertia_factor, mass)
+      integer, intent(in) :: n, band_rows, diagonal
+      real(dp), intent(inout) :: ab(band_rows, n + 1)
+      logical, intent(in) :: unknown(0:n)
+      real(dp), intent(in) :: inertia_factor, mass(0:n)
+      integer :: i
+      do i = 0, n
+         if (unknown(i)) ab(diagonal, i + 1) = ab(diagonal, i + 1) + inertia_factor*mass(i)
+      end do
+   end subroutine add_lumped_inertia
+
    !> The particles' strain increments d eps_p = sum_J dN_Jp du_J and their magnitudes sum_J |dN_Jp du_J|.
    !> The particle loops here and in force_pass take explicit-shape arrays: gfortran then indexes them
    !> without the strides of assumed shapes (im's components through their descriptors cost three times the
@@ -1239,17 +1251,25 @@ contains
    subroutine hold_rows(a, unknown)
       type(banded_t), intent(inout) :: a
       logical, intent(in) :: unknown(0:)
-      real(dp) :: diagonal
-      integer :: i
-      diagonal = 0.0_dp
-      do i = 0, size(unknown) - 1
-         if (unknown(i)) diagonal = max(diagonal, abs(a%ab(2*a%bandwidth + 1, i + 1)))
-      end do
-      if (diagonal == 0.0_dp) diagonal = 1.0_dp
-      do i = 0, size(unknown) - 1
-         if (.not. unknown(i)) a%ab(2*a%bandwidth + 1, i + 1) = a%ab(2*a%bandwidth + 1, i + 1) + diagonal
-      end do
+      call hold_band_rows(size(unknown) - 1, size(a%ab, 1), a%ab, 2*a%bandwidth + 1, unknown)
    end subroutine hold_rows
+
+   !> hold_rows on the band as an explicit-shape array (nodes 0..n; the diagonal in row `diagonal`).
+   pure subroutine hold_band_rows(n, band_rows, ab, diagonal, unknown)
+      integer, intent(in) :: n, band_rows, diagonal
+      real(dp), intent(inout) :: ab(band_rows, n + 1)
+      logical, intent(in) :: unknown(0:n)
+      real(dp) :: largest
+      integer :: i
+      largest = 0.0_dp
+      do i = 0, n
+         if (unknown(i)) largest = max(largest, abs(ab(diagonal, i + 1)))
+      end do
+      if (largest == 0.0_dp) largest = 1.0_dp
+      do i = 0, n
+         if (.not. unknown(i)) ab(diagonal, i + 1) = ab(diagonal, i + 1) + largest
+      end do
+   end subroutine hold_band_rows
 
    !> The ghost penalty's forces K_g du on the unknowns (du: the step's increment), folded as the rest.
    subroutine ghost_forces(im, du)
@@ -1337,6 +1357,7 @@ contains
          end where
          if (hat_flip) then
             call update_hat_flip(particles%count, size(cache%weight, 1), grid%elements, cache%first, cache%weight, &
+                                 cache%gradient, im%affine, im%dstrain, &
                                  grid%acceleration, im%du, im%dt, im%x_start, particles%x0, particles%mass_of, &
                                  grid%origin, grid%origin + grid%length, grid%inv_dx, particles%x, particles%v, &
                                  totals%kinetic_energy, totals%displacement, totals%max_cell_move, totals%furthest, &
@@ -1358,8 +1379,8 @@ contains
                              grid%origin + grid%length, grid%inv_dx, particles%x, totals%displacement, &
                              totals%max_cell_move, totals%furthest, totals%outside)
       end if
-      ! (the affine law's residual formed no strains: the converged ones here)
-      if (im%affine) call particle_strains(im, cache, particles%count, grid%elements)
+      ! (the affine law's residual formed no strains: the converged ones here, or in update_hat_flip)
+      if (im%affine .and. .not. hat_flip) call particle_strains(im, cache, particles%count, grid%elements)
       call update_material_finite(material, im%dstrain, particles, totals%strain_energy, totals%min_volume_ratio, &
                                   totals%plastic_work, im%stress)
    end subroutine update_particles
@@ -1370,17 +1391,21 @@ contains
    !> order as there (the same bits). The products N_Ip du_I of the move are formed in a loop of their own
    !> and summed in another, as move_particles' array expression: a build with fused multiply-add does not
    !> contract the sum (another rounding).
-   subroutine update_hat_flip(count, rows, n, first, weight, acceleration, du, dt, x_start, x0, mass, lo, hi, &
-                              inv_dx, x, v, kinetic_energy, displacement, max_cell_move, furthest, outside)
+   subroutine update_hat_flip(count, rows, n, first, weight, gradient, strains, dstrain, acceleration, du, dt, &
+                              x_start, x0, mass, lo, hi, inv_dx, x, v, kinetic_energy, displacement, max_cell_move, &
+                              furthest, outside)
       integer, intent(in) :: count, rows, n
       integer, intent(in) :: first(count)
-      real(dp), intent(in) :: weight(rows, 2), acceleration(0:n), du(0:n), dt, x_start(count), x0(count), &
-                              mass(count), lo, hi, inv_dx
+      real(dp), intent(in) :: weight(rows, 2), gradient(rows, 2), acceleration(0:n), du(0:n), dt, x_start(count), &
+                              x0(count), mass(count), lo, hi, inv_dx
+      !> `strains`: the strain increments d eps_p too (as strain_pass_hat forms them)
+      logical, intent(in) :: strains
+      real(dp), intent(inout) :: dstrain(count)
       real(dp), intent(inout) :: x(count), v(count)
       real(dp), intent(out) :: kinetic_energy, displacement, max_cell_move
       integer, intent(out) :: furthest
       integer, intent(inout) :: outside
-      real(dp) :: kinetic(lanes), kinetic_block(block_size), products(block_size, 2), na, move
+      real(dp) :: kinetic(lanes), kinetic_block(block_size), products(block_size, 2), na, move, total
       integer :: b0, m, i, p, node
       kinetic = 0.0_dp
       displacement = 0.0_dp
@@ -1398,6 +1423,16 @@ contains
             products(i, 1) = weight(p, 1)*du(node)
             products(i, 2) = weight(p, 2)*du(node + 1)
          end do
+         if (strains) then
+            do i = 1, m
+               p = b0 + i - 1
+               node = first(p)
+               ! (from 0 as strain_pass_hat: 0 + (-0) is +0)
+               total = 0.0_dp
+               total = total + gradient(p, 1)*du(node)
+               dstrain(p) = total + gradient(p, 2)*du(node + 1)
+            end do
+         end if
          call add_lanes(m, kinetic_block, kinetic)
          ! (move_particles' per-particle lines, written out again: as one procedure that both loops call,
          ! inlined, a build with fused multiply-add contracted move_particles' sums otherwise, another
