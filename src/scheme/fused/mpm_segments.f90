@@ -15,6 +15,22 @@ module mpm_segments
    !> left/right, stress*volume, external force left/right): the layout of the halo buffers below.
    integer, parameter :: share_count = 7
 
+   !> What a pass records of one segment, read back in segment order after the pass (finish_pass). One
+   !> record per segment, in one allocation: a small run's step touched a cache line (and a descriptor)
+   !> for each of eleven arrays of these, and its data then overflowed sets of the level-1 cache.
+   type :: segment_tally_t
+      !> displacement (sum of x - X), kinetic and strain energy, plastic work
+      real(dp) :: sums(4) = 0.0_dp
+      !> smallest J; largest move in cells and its particle; first particle outside the grid
+      real(dp) :: min_volume_ratio = 0.0_dp, max_cell_move = 0.0_dp
+      integer :: furthest = 0, outside = 0
+      !> the first and last new cell of its particles; whether some were out of order or moved far
+      integer :: first_cell = 0, last_cell = 0
+      logical :: unsorted = .false., far = .false.
+      !> Bodies on stacked fields (a segment lies in one body): its particles' sum m v and smallest stress.
+      real(dp) :: body_momentum = 0.0_dp, min_stress = 0.0_dp
+   end type segment_tally_t
+
    !> How the particle passes split one run into segments: contiguous element ranges, fixed by the
    !> problem size only (never by the thread count), each holding a contiguous range of particles.
    !> A segment sums the shares of its own elements in particle order; shares for the element just
@@ -29,13 +45,8 @@ module mpm_segments
       integer, allocatable :: first_particle(:)
       !> Shares for element first_element(k)-1 (halo_left) and first_element(k+1) (halo_right).
       real(dp), allocatable :: halo_left(:, :), halo_right(:, :)
-      !> Per-segment totals: displacement, kinetic and strain energy; min J; max move and its particle;
-      !> first particle outside; first and last new cell; unsorted or far-moving particles met.
-      real(dp), allocatable :: sums(:, :), min_volume_ratio(:), max_cell_move(:)
-      !> Bodies on stacked fields (a segment lies in one body): its particles' sum m v and smallest stress.
-      real(dp), allocatable :: body_momentum(:), min_stress(:)
-      integer, allocatable :: furthest(:), outside(:), first_cell(:), last_cell(:)
-      logical, allocatable :: unsorted(:), far(:)
+      !> Each segment's totals of the last pass (tally(k): segment k)
+      type(segment_tally_t), allocatable :: tally(:)
       !> Bodies on stacked fields (clear_written): each segment clears, of each kind of share (mass,
       !> momentum, stress, force: the second index), only the elements written(1, :, k) .. written(2, :, k)
       !> that its last pass of that kind wrote (every other element of its range is zero), not its whole

@@ -1472,10 +1472,10 @@ contains
       do k = 1, seg%count
          b = body_of_element(box, seg%first_element(k))
          if (pass_moves(pass)) then
-            totals%body_displacement(b) = totals%body_displacement(b) + seg%sums(1, k)
-            totals%body_momentum(b) = totals%body_momentum(b) + seg%body_momentum(k)
+            totals%body_displacement(b) = totals%body_displacement(b) + seg%tally(k)%sums(1)
+            totals%body_momentum(b) = totals%body_momentum(b) + seg%tally(k)%body_momentum
          end if
-         if (pass_stresses(pass)) totals%min_stress = min(totals%min_stress, seg%min_stress(k))
+         if (pass_stresses(pass)) totals%min_stress = min(totals%min_stress, seg%tally(k)%min_stress)
       end do
    end subroutine body_totals
 
@@ -1579,16 +1579,9 @@ contains
       end if
       if (seg%count /= n .or. .not. allocated(seg%first_element)) then
          if (allocated(seg%first_element)) deallocate (seg%first_element, seg%first_particle, seg%halo_left, &
-                                                       seg%halo_right, seg%sums, seg%min_volume_ratio, &
-                                                       seg%body_momentum, seg%min_stress, &
-                                                       seg%max_cell_move, seg%furthest, seg%outside, &
-                                                       seg%first_cell, seg%last_cell, seg%unsorted, seg%far, &
-                                                       seg%written)
+                                                       seg%halo_right, seg%tally, seg%written)
          allocate (seg%first_element(n + 1), seg%first_particle(n + 1), seg%halo_left(share_count, n), &
-                   seg%halo_right(share_count, n), seg%sums(4, n), seg%min_volume_ratio(n), &
-                   seg%body_momentum(n), seg%min_stress(n), seg%max_cell_move(n), seg%furthest(n), &
-                   seg%outside(n), seg%first_cell(n), seg%last_cell(n), seg%unsorted(n), seg%far(n), &
-                   seg%written(2, share_kinds, n))
+                   seg%halo_right(share_count, n), seg%tally(n), seg%written(2, share_kinds, n))
       end if
       seg%count = n
       if (present(breaks)) then
@@ -1687,21 +1680,21 @@ contains
       sorted = .true.
       far = .false.
       do k = 1, seg%count
-         totals%displacement = totals%displacement + seg%sums(1, k)
-         totals%kinetic_energy = totals%kinetic_energy + seg%sums(2, k)
-         totals%strain_energy = totals%strain_energy + seg%sums(3, k)
-         totals%plastic_work = totals%plastic_work + seg%sums(4, k)
-         totals%min_volume_ratio = min(totals%min_volume_ratio, seg%min_volume_ratio(k))
-         if (seg%max_cell_move(k) > totals%max_cell_move) then
-            totals%max_cell_move = seg%max_cell_move(k)
-            totals%furthest = seg%furthest(k)
+         totals%displacement = totals%displacement + seg%tally(k)%sums(1)
+         totals%kinetic_energy = totals%kinetic_energy + seg%tally(k)%sums(2)
+         totals%strain_energy = totals%strain_energy + seg%tally(k)%sums(3)
+         totals%plastic_work = totals%plastic_work + seg%tally(k)%sums(4)
+         totals%min_volume_ratio = min(totals%min_volume_ratio, seg%tally(k)%min_volume_ratio)
+         if (seg%tally(k)%max_cell_move > totals%max_cell_move) then
+            totals%max_cell_move = seg%tally(k)%max_cell_move
+            totals%furthest = seg%tally(k)%furthest
          end if
-         if (totals%outside == 0) totals%outside = seg%outside(k)
-         if (seg%unsorted(k)) sorted = .false.
-         if (seg%far(k)) far = .true.
+         if (totals%outside == 0) totals%outside = seg%tally(k)%outside
+         if (seg%tally(k)%unsorted) sorted = .false.
+         if (seg%tally(k)%far) far = .true.
          if (k > 1) then
-            if (seg%last_cell(k - 1) /= 0 .and. seg%first_cell(k) /= 0 .and. &
-                seg%first_cell(k) < seg%last_cell(k - 1)) sorted = .false.
+            if (seg%tally(k - 1)%last_cell /= 0 .and. seg%tally(k)%first_cell /= 0 .and. &
+                seg%tally(k)%first_cell < seg%tally(k - 1)%last_cell) sorted = .false.
             e = seg%first_element(k)
             call add_share_set(grid, e - 1, seg%halo_left(:, k), shares)
             call add_share_set(grid, e, seg%halo_right(:, k - 1), shares)
@@ -1761,7 +1754,7 @@ contains
          return
       end if
       do k = 1, seg%count
-         if (.not. seg%far(k)) cycle
+         if (.not. seg%tally(k)%far) cycle
          lo = seg%first_element(k)
          hi = seg%first_element(k + 1) - 1
          do p = seg%first_particle(k), seg%first_particle(k + 1) - 1
@@ -1803,7 +1796,7 @@ contains
          real(dp) :: a(share_count), mp, volume0, w, cq, origin
          integer :: offset
          do k = 1, seg%count
-            if (.not. seg%far(k)) cycle
+            if (.not. seg%tally(k)%far) cycle
             lo = seg%first_element(k)
             hi = seg%first_element(k + 1) - 1
             do p = seg%first_particle(k), seg%first_particle(k + 1) - 1
@@ -1931,7 +1924,7 @@ contains
       else if (c == hi + 1) then
          seg%halo_right(1:run_sums, k) = seg%halo_right(1:run_sums, k) + [s1, s2, s3, s4, a5]
       else
-         seg%far(k) = .true.
+         seg%tally(k)%far = .true.
       end if
    end subroutine flush_shares
 
@@ -1971,10 +1964,10 @@ contains
       ! (rows 1:share_count, a constant: stores in place; (:, k) called memset twice per segment and pass)
       seg%halo_left(1:share_count, k) = 0.0_dp
       seg%halo_right(1:share_count, k) = 0.0_dp
-      seg%far(k) = .false.
-      seg%unsorted(k) = .false.
-      seg%first_cell(k) = 0
-      seg%last_cell(k) = 0
+      seg%tally(k)%far = .false.
+      seg%tally(k)%unsorted = .false.
+      seg%tally(k)%first_cell = 0
+      seg%tally(k)%last_cell = 0
    end subroutine open_segment
 
    !> The elements c0..c1 of segment k (elements lo..hi) whose shares of one kind a pass clears: all of
@@ -2257,8 +2250,8 @@ contains
                call flush_shares(k, cur, lo, hi, shares, m, real(na, dp), a2, a3, a4, a5, mass_left, mass_right, &
                                  momentum_left, momentum_right, stress_volume, seg)
             end if
-            if (c < cur) seg%unsorted(k) = .true.
-            if (cur == 0) seg%first_cell(k) = c
+            if (c < cur) seg%tally(k)%unsorted = .true.
+            if (cur == 0) seg%tally(k)%first_cell = c
             cur = c
             na = 0; a2 = 0; a3 = 0; a4 = 0; a5 = 0
          end if
@@ -2326,8 +2319,8 @@ contains
                a1 = 0; a2 = 0; a3 = 0; a4 = 0; a5 = 0
             end if
             b1 = 0; b2 = 0; b3 = 0; b4 = 0; b5 = 0
-            if (c < cur) seg%unsorted(k) = .true.
-            if (cur == 0) seg%first_cell(k) = c
+            if (c < cur) seg%tally(k)%unsorted = .true.
+            if (cur == 0) seg%tally(k)%first_cell = c
             cur = c
          end if
          ! the run of particles in cell cur: sums only (a loop of its own, so that the sums stay in
@@ -2416,8 +2409,8 @@ contains
                a1 = 0; a2 = 0; a3 = 0; a4 = 0; a5 = 0
             end if
             b1 = 0; b2 = 0; b3 = 0; b4 = 0; b5 = 0
-            if (c < cur) seg%unsorted(k) = .true.
-            if (cur == 0) seg%first_cell(k) = c
+            if (c < cur) seg%tally(k)%unsorted = .true.
+            if (cur == 0) seg%tally(k)%first_cell = c
             cur = c
          end if
          ! the run of particles in cell cur: sums only (see accumulate_boxes)
@@ -2491,8 +2484,8 @@ contains
                call flush_sums(k, cur, lo, hi, shares, [a1, a2, a3, a4, a5, a6, a7], mass_left, mass_right, &
                                momentum_left, momentum_right, stress_volume, seg, force_left, force_right)
             end if
-            if (c < cur) seg%unsorted(k) = .true.
-            if (cur == 0) seg%first_cell(k) = c
+            if (c < cur) seg%tally(k)%unsorted = .true.
+            if (cur == 0) seg%tally(k)%first_cell = c
             cur = c
             a1 = 0; a2 = 0; a3 = 0; a4 = 0; a5 = 0; a6 = 0; a7 = 0
          end if
@@ -2545,7 +2538,7 @@ contains
       else if (c == hi + 1) then
          seg%halo_right(:, k) = seg%halo_right(:, k) + a
       else
-         seg%far(k) = .true.
+         seg%tally(k)%far = .true.
       end if
    end subroutine flush_sums
 
@@ -2566,21 +2559,21 @@ contains
       if (run%cur /= 0) call flush_shares(k, run%cur, lo, hi, shares, m, run%a(1), run%a(2), run%a(3), run%a(4), &
                                           run%a(5), mass_left, mass_right, momentum_left, momentum_right, &
                                           stress_volume, seg)
-      seg%last_cell(k) = run%cur
+      seg%tally(k)%last_cell = run%cur
       if (seg%clear_written) then ! the cells written: from the first run's to the last's, when sorted
-         if (seg%unsorted(k) .or. seg%far(k) .or. (seg%first_cell(k) == 0 .neqv. run%cur == 0)) then
+         if (seg%tally(k)%unsorted .or. seg%tally(k)%far .or. (seg%tally(k)%first_cell == 0 .neqv. run%cur == 0)) then
             call written_whole(seg, k, shares)
          else if (run%cur == 0) then
             call set_written(seg, k, shares, hi + 1, hi) ! no particle: nothing written
          else
-            call set_written(seg, k, shares, max(lo, seg%first_cell(k)), min(hi, run%cur))
+            call set_written(seg, k, shares, max(lo, seg%tally(k)%first_cell), min(hi, run%cur))
          end if
       end if
-      seg%sums(:, k) = sums
-      seg%min_volume_ratio(k) = min_j
-      seg%max_cell_move(k) = max_move
-      seg%furthest(k) = furthest
-      seg%outside(k) = outside
+      seg%tally(k)%sums = sums
+      seg%tally(k)%min_volume_ratio = min_j
+      seg%tally(k)%max_cell_move = max_move
+      seg%tally(k)%furthest = furthest
+      seg%tally(k)%outside = outside
    end subroutine close_segment
 
    ! ---- the segment kernels: one per pass and shape, generated from the template below ----
@@ -17248,8 +17241,8 @@ contains
                          0.0_dp], &
                          minval(min_j), largest%value, furthest_particle(largest, mb), outside, mass_left, mass_right, &
                          momentum_left, momentum_right, stress_volume, seg)
-      seg%body_momentum(k) = m*lane_total(momentum)
-      seg%min_stress(k) = minval(least_stress)
+      seg%tally(k)%body_momentum = m*lane_total(momentum)
+      seg%tally(k)%min_stress = minval(least_stress)
    end subroutine bodies_usf_move_segment
 
    !> USF, first half: stress update, then stress*volume of the unmoved particles (the hat, bodies on stacked fields)
@@ -17540,8 +17533,8 @@ contains
                          lane_total(work)], &
                          minval(min_j), largest%value, furthest_particle(largest, mb), outside, mass_left, mass_right, &
                          momentum_left, momentum_right, stress_volume, seg)
-      seg%body_momentum(k) = m*lane_total(momentum)
-      seg%min_stress(k) = minval(least_stress)
+      seg%tally(k)%body_momentum = m*lane_total(momentum)
+      seg%tally(k)%min_stress = minval(least_stress)
    end subroutine bodies_usf_stress_segment
 
    !> USL: G2P, stress update from the updated nodal velocities, P2G at the new position (the hat, bodies on stacked fields)
@@ -17832,8 +17825,8 @@ contains
                          lane_total(work)], &
                          minval(min_j), largest%value, furthest_particle(largest, mb), outside, mass_left, mass_right, &
                          momentum_left, momentum_right, stress_volume, seg)
-      seg%body_momentum(k) = m*lane_total(momentum)
-      seg%min_stress(k) = minval(least_stress)
+      seg%tally(k)%body_momentum = m*lane_total(momentum)
+      seg%tally(k)%min_stress = minval(least_stress)
    end subroutine bodies_usl_segment
 
    !> MUSL, first pass: G2P, and the new momentum back to the start-of-step nodes (the hat, bodies on stacked fields)
@@ -18026,8 +18019,8 @@ contains
                          0.0_dp], &
                          minval(min_j), largest%value, furthest_particle(largest, mb), outside, mass_left, mass_right, &
                          momentum_left, momentum_right, stress_volume, seg)
-      seg%body_momentum(k) = m*lane_total(momentum)
-      seg%min_stress(k) = minval(least_stress)
+      seg%tally(k)%body_momentum = m*lane_total(momentum)
+      seg%tally(k)%min_stress = minval(least_stress)
    end subroutine bodies_musl_remap_segment
 
    !> MUSL, second pass: stress update from the remapped velocities, P2G at the new position (the hat, bodies on stacked fields)
@@ -18318,8 +18311,8 @@ contains
                          lane_total(work)], &
                          minval(min_j), largest%value, furthest_particle(largest, mb), outside, mass_left, mass_right, &
                          momentum_left, momentum_right, stress_volume, seg)
-      seg%body_momentum(k) = m*lane_total(momentum)
-      seg%min_stress(k) = minval(least_stress)
+      seg%tally(k)%body_momentum = m*lane_total(momentum)
+      seg%tally(k)%min_stress = minval(least_stress)
    end subroutine bodies_musl_stress_segment
 
    !> initial mapping: mass and momentum (the hat, bodies on stacked fields)
@@ -18512,8 +18505,8 @@ contains
                          0.0_dp], &
                          minval(min_j), largest%value, furthest_particle(largest, mb), outside, mass_left, mass_right, &
                          momentum_left, momentum_right, stress_volume, seg)
-      seg%body_momentum(k) = m*lane_total(momentum)
-      seg%min_stress(k) = minval(least_stress)
+      seg%tally(k)%body_momentum = m*lane_total(momentum)
+      seg%tally(k)%min_stress = minval(least_stress)
    end subroutine bodies_map_segment
 
    !> initial mapping: mass, momentum and stress*volume (and forces) (the hat, bodies on stacked fields)
@@ -18706,8 +18699,8 @@ contains
                          0.0_dp], &
                          minval(min_j), largest%value, furthest_particle(largest, mb), outside, mass_left, mass_right, &
                          momentum_left, momentum_right, stress_volume, seg)
-      seg%body_momentum(k) = m*lane_total(momentum)
-      seg%min_stress(k) = minval(least_stress)
+      seg%tally(k)%body_momentum = m*lane_total(momentum)
+      seg%tally(k)%min_stress = minval(least_stress)
    end subroutine bodies_map_stress_segment
 
    !> USF, second half: G2P, then mass and momentum at the new position (the hat, ASFLIP)
