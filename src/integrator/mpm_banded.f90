@@ -24,6 +24,7 @@ module mpm_banded
       integer :: bandwidth = 0
       real(dp), allocatable :: ab(:, :)    !< (3 bandwidth + 1, n): band storage, then the LU factors
       integer, allocatable :: pivots(:)    !< row j was interchanged with row pivots(j) at step j
+      logical :: interchanged = .false.    !< some row was (pivots(j) /= j for some j)
       real(dp) :: norm1 = 0.0_dp           !< the 1-norm of the matrix before it was factored
       logical :: factored = .false.
    end type banded_t
@@ -124,6 +125,7 @@ contains
       d = 2*b + 1 ! the row of the diagonal
       info = 0
       a%norm1 = 0.0_dp
+      a%interchanged = .true.
       if (b == 1) then
          do j = 1, a%n
             a%norm1 = max(a%norm1, abs(a%ab(2, j)) + abs(a%ab(3, j)) + abs(a%ab(4, j)))
@@ -178,24 +180,46 @@ contains
    pure subroutine factor_tridiagonal(a, info)
       type(banded_t), intent(inout) :: a
       integer, intent(inout) :: info
-      call factor_rows(a%n, a%ab, a%pivots, info)
+      call factor_rows(a%n, a%ab, a%pivots, info, a%interchanged)
    end subroutine factor_tridiagonal
 
    !> factor_tridiagonal on the band as an explicit-shape array (gfortran indexed the component through its
    !> descriptor, reloaded after every store: twice the instructions).
-   pure subroutine factor_rows(n, ab, pivots, info)
+   pure subroutine factor_rows(n, ab, pivots, info, interchanged)
       integer, intent(in) :: n
       real(dp), intent(inout) :: ab(4, n)
       integer, intent(out) :: pivots(n)
       integer, intent(inout) :: info
-      integer :: j
-      real(dp) :: l, t
+      logical, intent(out) :: interchanged
+      integer :: j, first
+      real(dp) :: l, t, pivot, upper
       ! column j: U(j-2, j) in ab(1, j) (fill-in), U(j-1, j) in ab(2, j), the diagonal in ab(3, j), the
       ! sub-diagonal (then the multiplier) in ab(4, j)
+      interchanged = .false.
+      ! the columns before the first that needs an interchange or has a zero pivot (all of them, where
+      ! the diagonal dominates, as the inertia makes it): the loop below's operations with the pivot carried
+      ! in a register (that loop reloads it through memory after each store: twice the time); the fill-in
+      ! row stays zero, so its updates are none
+      first = n
+      if (n >= 1) pivot = ab(3, 1)
       do j = 1, n - 1
+         if (.not. abs(ab(4, j)) <= abs(pivot) .or. pivot == 0.0_dp) then
+            first = j
+            exit
+         end if
+         pivots(j) = j
+         l = ab(4, j)/pivot
+         ab(4, j) = l
+         upper = ab(2, j + 1)
+         pivot = ab(3, j + 1)
+         if (upper /= 0.0_dp) pivot = pivot - l*upper
+         ab(3, j + 1) = pivot
+      end do
+      do j = first, n - 1
          pivots(j) = j
          if (abs(ab(4, j)) > abs(ab(3, j))) then ! rows j and j + 1, columns j .. j + 2
             pivots(j) = j + 1
+            interchanged = .true.
             t = ab(3, j); ab(3, j) = ab(4, j); ab(4, j) = t
             t = ab(2, j + 1); ab(2, j + 1) = ab(3, j + 1); ab(3, j + 1) = t
             if (j + 2 <= n) then
@@ -242,7 +266,7 @@ contains
       b = a%bandwidth
       d = 2*b + 1
       if (b == 1 .and. .not. transposed) then ! (the loops below written out: the same operations)
-         call solve_rows(a%n, a%ab, a%pivots, x)
+         call solve_rows(a%n, a%ab, a%pivots, a%interchanged, x)
       else if (.not. transposed) then
          do j = 1, a%n - 1 ! L y = P x
             below = min(b, a%n - j)
@@ -268,13 +292,30 @@ contains
    end subroutine solve_one
 
    !> solve_one for bandwidth 1 (not transposed) on explicit-shape arrays (as factor_rows).
-   pure subroutine solve_rows(n, ab, pivots, x)
+   pure subroutine solve_rows(n, ab, pivots, interchanged, x)
       integer, intent(in) :: n
       real(dp), intent(in) :: ab(4, n)
       integer, intent(in) :: pivots(n)
+      logical, intent(in) :: interchanged
       real(dp), intent(inout) :: x(n)
-      real(dp) :: t
+      real(dp) :: t, y
       integer :: j
+      if (.not. interchanged .and. n >= 1) then
+         ! no interchange (so no fill-in: ab(1, :) = 0): the loops below' operations with the last value
+         ! carried in a register
+         y = x(1)
+         do j = 1, n - 1
+            y = x(j + 1) - ab(4, j)*y
+            x(j + 1) = y
+         end do
+         y = x(n)/ab(3, n)
+         x(n) = y
+         do j = n - 1, 1, -1
+            y = (x(j) - ab(2, j + 1)*y)/ab(3, j)
+            x(j) = y
+         end do
+         return
+      end if
       do j = 1, n - 1
          if (pivots(j) /= j) then
             t = x(pivots(j))
