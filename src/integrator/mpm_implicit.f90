@@ -243,9 +243,9 @@ contains
       call workspace(im, grid%elements, particles%count)
       grid%min_node_mass = minval(grid%mass, mask=grid%mass > 0.0_dp)
       call node_roles(im, grid)
-      call particle_data(im, particles, material)
       im%affine = im%affine_allowed .and. material%law == law_linear
-      if (im%affine) call affine_start(im, cache, particles, grid%elements)
+      call particle_data(im, cache, particles, material)
+      if (im%affine) call affine_start(im, cache, particles, material, grid%elements)
       im%e = 0.0_dp
       im%velocity = 0.0_dp
       im%acceleration = 0.0_dp
@@ -333,11 +333,17 @@ contains
       end do
    end subroutine node_roles
 
-   !> Each particle's material parameters and the law's state at the step's start, and its volume V_p^n.
-   subroutine particle_data(im, particles, material)
+   !> Each particle's material parameters and the law's state at the step's start, its volume V_p^n and its
+   !> position x_p^n, as far as the step reads them: the affine law on the hat without the ghost penalty reads
+   !> neither the moduli nor the volumes (affine_start_hat forms them), the hat's update with FLIP moves the
+   !> particles from where they are (update_hat_flip).
+   subroutine particle_data(im, cache, particles, material)
       type(implicit_t), intent(inout) :: im
+      type(shape_cache_t), intent(in) :: cache
       type(particles_t), intent(in) :: particles
       type(material_t), intent(in) :: material
+      if (.not. hat_flip_update(im, cache)) im%x_start = particles%x
+      if (im%affine .and. cache%support == 2 .and. .not. im%ghost_penalty > 0.0_dp) return
       im%modulus = material%youngs_modulus
       if (allocated(particles%youngs_modulus_of)) im%modulus = particles%youngs_modulus_of
       ! the plastic parameters and state: read by the laws without a loop of their own in
@@ -351,8 +357,15 @@ contains
          if (allocated(particles%hardening)) im%hardening = particles%hardening
       end if
       im%volume = particles%volume_ratio*particles%volume0_of
-      im%x_start = particles%x
    end subroutine particle_data
+
+   !> The step's update is the hat's with FLIP in one pass (update_hat_flip).
+   pure logical function hat_flip_update(im, cache)
+      type(implicit_t), intent(in) :: im
+      type(shape_cache_t), intent(in) :: cache
+      hat_flip_update = im%kind == integrator_implicit .and. cache%kind == shape_linear .and. .not. cache%total .and. &
+                        cache%transfer == transfer_flip
+   end function hat_flip_update
 
    !> v_n and a_n (lumped: p/m and f/m; consistent: M v = p, M a = f solved), f = f_ext(t_n) - f_int(sigma_n)
    !> + the drive's reaction at t_n (grid%force holds f_int(sigma_n) from P2G).
@@ -881,24 +894,26 @@ contains
    !> the magnitudes' sums that make the force scale and the round-off floor). Any support: im%band
    !> (S by the offset d = J - I, band(d, I)), im%band_magnitude, im%start_force, im%start_magnitude; the
    !> hat: per cell (affine_start_hat), im%cells.
-   subroutine affine_start(im, cache, particles, n)
+   subroutine affine_start(im, cache, particles, material, n)
       type(implicit_t), intent(inout) :: im
       type(shape_cache_t), intent(in) :: cache
       type(particles_t), intent(in) :: particles
+      type(material_t), intent(in) :: material
       integer, intent(in) :: n
       integer :: b
       b = cache%support - 1
-      ! (the linear law's d sigma/d eps: law_stress_stiffness's product)
-      im%stiffness = im%modulus*particles%volume_ratio
       if (b == 1) then
          if (allocated(im%cells)) then
             if (size(im%cells, 2) /= n) deallocate (im%cells)
          end if
          if (.not. allocated(im%cells)) allocate (im%cells(3, 0:n - 1))
          call affine_start_hat(particles%count, size(cache%gradient, 1), n, cache%first, cache%gradient, &
-                               particles%stress, im%stiffness, im%volume, im%cells)
+                               particles%stress, material%youngs_modulus, particles%volume_ratio, &
+                               particles%volume0_of, im%cells, particles%youngs_modulus_of)
          return
       end if
+      ! (the linear law's d sigma/d eps: law_stress_stiffness's product)
+      im%stiffness = im%modulus*particles%volume_ratio
       if (allocated(im%band)) then
          if (size(im%band, 1) /= 2*b + 1 .or. size(im%band, 2) /= n + 1) &
             deallocate (im%band, im%band_magnitude, im%start_force, im%start_magnitude)
@@ -942,19 +957,26 @@ contains
    !> affine_start's sums for the hat, per cell: its gradients are g = -1/dx and 1/dx (force_pass_hat), so a
    !> particle in cell i gives node i the share g sigma V - c (du_{i+1} - du_i), c = g^2 k V, and node i + 1
    !> that negated; cells(:, i) holds the cell's sums of c, of g sigma^n V and of |g sigma^n V|
-   !> (affine_forces_hat forms S du from them; S is the cells' [[C, -C], [-C, C]] summed).
-   subroutine affine_start_hat(count, rows, n, first, gradient, stress, stiffness, volume, cells)
+   !> (affine_forces_hat forms S du from them; S is the cells' [[C, -C], [-C, C]] summed). The particles'
+   !> k = E J^n and V^n = J^n V_0 formed here (particle_data and affine_start's products), E the
+   !> material's or, given, the particle's (`modulus_of`).
+   subroutine affine_start_hat(count, rows, n, first, gradient, stress, modulus, volume_ratio, volume0, cells, &
+                               modulus_of)
       integer, intent(in) :: count, rows, n
       integer, intent(in) :: first(count)
-      real(dp), intent(in) :: gradient(rows, 2), stress(count), stiffness(count), volume(count)
+      real(dp), intent(in) :: gradient(rows, 2), stress(count), modulus, volume_ratio(count), volume0(count)
       real(dp), intent(out) :: cells(3, 0:n - 1)
-      real(dp) :: share
+      real(dp), intent(in), optional :: modulus_of(count)
+      real(dp) :: share, stiffness, volume
       integer :: p, i
       cells = 0.0_dp
       do p = 1, count
          i = first(p)
-         share = gradient(p, 1)*stress(p)*volume(p)
-         cells(1, i) = cells(1, i) + gradient(p, 1)*stiffness(p)*volume(p)*gradient(p, 1)
+         stiffness = modulus*volume_ratio(p)
+         if (present(modulus_of)) stiffness = modulus_of(p)*volume_ratio(p)
+         volume = volume_ratio(p)*volume0(p)
+         share = gradient(p, 1)*stress(p)*volume
+         cells(1, i) = cells(1, i) + gradient(p, 1)*stiffness*volume*gradient(p, 1)
          cells(2, i) = cells(2, i) + share
          cells(3, i) = cells(3, i) + abs(share)
       end do
@@ -1346,8 +1368,7 @@ contains
       logical :: hat_flip
       outside = totals%outside
       ! the hat with FLIP: G2P and the move in one pass (update_hat_flip)
-      hat_flip = im%kind == integrator_implicit .and. cache%kind == shape_linear .and. .not. cache%total .and. &
-                 cache%transfer == transfer_flip
+      hat_flip = hat_flip_update(im, cache)
       if (im%kind == integrator_implicit) then
          grid%velocity = im%velocity + 2.0_dp*im%e/im%dt
          grid%acceleration = 2.0_dp*im%e/im%dt**2
@@ -1358,7 +1379,7 @@ contains
          if (hat_flip) then
             call update_hat_flip(particles%count, size(cache%weight, 1), grid%elements, cache%first, cache%weight, &
                                  cache%gradient, im%affine, im%dstrain, &
-                                 grid%acceleration, im%du, im%dt, im%x_start, particles%x0, particles%mass_of, &
+                                 grid%acceleration, im%du, im%dt, particles%x0, particles%mass_of, &
                                  grid%origin, grid%origin + grid%length, grid%inv_dx, particles%x, particles%v, &
                                  totals%kinetic_energy, totals%displacement, totals%max_cell_move, totals%furthest, &
                                  outside)
@@ -1392,11 +1413,11 @@ contains
    !> and summed in another, as move_particles' array expression: a build with fused multiply-add does not
    !> contract the sum (another rounding).
    subroutine update_hat_flip(count, rows, n, first, weight, gradient, strains, dstrain, acceleration, du, dt, &
-                              x_start, x0, mass, lo, hi, inv_dx, x, v, kinetic_energy, displacement, max_cell_move, &
+                              x0, mass, lo, hi, inv_dx, x, v, kinetic_energy, displacement, max_cell_move, &
                               furthest, outside)
       integer, intent(in) :: count, rows, n
       integer, intent(in) :: first(count)
-      real(dp), intent(in) :: weight(rows, 2), gradient(rows, 2), acceleration(0:n), du(0:n), dt, x_start(count), &
+      real(dp), intent(in) :: weight(rows, 2), gradient(rows, 2), acceleration(0:n), du(0:n), dt, &
                               x0(count), mass(count), lo, hi, inv_dx
       !> `strains`: the strain increments d eps_p too (as strain_pass_hat forms them)
       logical, intent(in) :: strains
@@ -1442,7 +1463,7 @@ contains
             move = 0.0_dp
             move = move + products(i, 1)
             move = move + products(i, 2)
-            x(p) = x_start(p) + move
+            x(p) = x(p) + move ! (from x_p^n: the step moves the particles here only)
             displacement = displacement + mass(p)*(x(p) - x0(p))
             if (abs(move)*inv_dx > max_cell_move) then
                max_cell_move = abs(move)*inv_dx
