@@ -25,6 +25,9 @@ module mpm_banded
       real(dp), allocatable :: ab(:, :)    !< (3 bandwidth + 1, n): band storage, then the LU factors
       integer, allocatable :: pivots(:)    !< row j was interchanged with row pivots(j) at step j
       logical :: interchanged = .false.    !< some row was (pivots(j) /= j for some j)
+      !> the smallest and largest |U_jj| where the factorisation formed them in passing (no interchange, every
+      !> pivot finite and nonzero), else -1
+      real(dp) :: smallest_pivot = -1.0_dp, largest_pivot = -1.0_dp
       real(dp) :: norm1 = 0.0_dp           !< the 1-norm of the matrix before it was factored
       logical :: factored = .false.
    end type banded_t
@@ -126,6 +129,8 @@ contains
       info = 0
       a%norm1 = 0.0_dp
       a%interchanged = .true.
+      a%smallest_pivot = -1.0_dp
+      a%largest_pivot = -1.0_dp
       if (b == 1) then
          do j = 1, a%n
             a%norm1 = max(a%norm1, abs(a%ab(2, j)) + abs(a%ab(3, j)) + abs(a%ab(4, j)))
@@ -180,17 +185,19 @@ contains
    pure subroutine factor_tridiagonal(a, info)
       type(banded_t), intent(inout) :: a
       integer, intent(inout) :: info
-      call factor_rows(a%n, a%ab, a%pivots, info, a%interchanged)
+      call factor_rows(a%n, a%ab, a%pivots, info, a%interchanged, a%smallest_pivot, a%largest_pivot)
    end subroutine factor_tridiagonal
 
    !> factor_tridiagonal on the band as an explicit-shape array (gfortran indexed the component through its
    !> descriptor, reloaded after every store: twice the instructions).
-   pure subroutine factor_rows(n, ab, pivots, info, interchanged)
+   pure subroutine factor_rows(n, ab, pivots, info, interchanged, smallest, largest)
       integer, intent(in) :: n
       real(dp), intent(inout) :: ab(4, n)
       integer, intent(out) :: pivots(n)
       integer, intent(inout) :: info
       logical, intent(out) :: interchanged
+      !> min and max |U_jj| where every column took the first loop and the last pivot is a number, else -1
+      real(dp), intent(out) :: smallest, largest
       integer :: j, first
       real(dp) :: l, t, pivot, upper
       ! column j: U(j-2, j) in ab(1, j) (fill-in), U(j-1, j) in ab(2, j), the diagonal in ab(3, j), the
@@ -201,12 +208,16 @@ contains
       ! in a register (that loop reloads it through memory after each store: twice the time); the fill-in
       ! row stays zero, so its updates are none
       first = n
+      smallest = huge(1.0_dp)
+      largest = 0.0_dp
       if (n >= 1) pivot = ab(3, 1)
       do j = 1, n - 1
          if (.not. abs(ab(4, j)) <= abs(pivot) .or. pivot == 0.0_dp) then
             first = j
             exit
          end if
+         smallest = min(smallest, abs(pivot))
+         largest = max(largest, abs(pivot))
          pivots(j) = j
          l = ab(4, j)/pivot
          ab(4, j) = l
@@ -215,6 +226,13 @@ contains
          if (upper /= 0.0_dp) pivot = pivot - l*upper
          ab(3, j + 1) = pivot
       end do
+      if (first == n .and. n >= 2 .and. abs(pivot) <= huge(1.0_dp)) then
+         smallest = min(smallest, abs(pivot))
+         largest = max(largest, abs(pivot))
+      else
+         smallest = -1.0_dp
+         largest = -1.0_dp
+      end if
       do j = first, n - 1
          pivots(j) = j
          if (abs(ab(4, j)) > abs(ab(3, j))) then ! rows j and j + 1, columns j .. j + 2
@@ -347,6 +365,11 @@ contains
    real(dp) function banded_pivot_ratio(a) result(ratio)
       type(banded_t), intent(in) :: a
       real(dp) :: largest
+      if (a%smallest_pivot >= 0.0_dp) then ! (formed by the factorisation)
+         ratio = a%smallest_pivot
+         if (a%largest_pivot > 0.0_dp) ratio = ratio/a%largest_pivot
+         return
+      end if
       largest = maxval(abs(a%ab(2*a%bandwidth + 1, :)))
       ratio = minval(abs(a%ab(2*a%bandwidth + 1, :)))
       if (largest > 0.0_dp) ratio = ratio/largest

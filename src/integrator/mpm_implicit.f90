@@ -145,6 +145,8 @@ module mpm_implicit
       real(dp) :: target = 0.0_dp, multiplier = 0.0_dp
       real(dp) :: drive_velocity = 0.0_dp  !< the velocity of the driven nodes
       logical :: constrained = .false.
+      !> the step has a drive (its held nodes and reaction: without one the reaction stays zero)
+      logical :: driven = .false.
       ! per particle
       real(dp), allocatable :: x_start(:), dstrain(:), stress(:), stiffness(:), volume(:), strain_magnitude(:)
       !> per node, the size of R's round-off from the increments' own: sum over the stiffness terms of
@@ -241,23 +243,30 @@ contains
       ! m, p and (dynamic) f_int(sigma_n)
       call p2g_mass_momentum(cache, particles, grid, with_force=dynamic)
       call workspace(im, grid%elements, particles%count)
-      grid%min_node_mass = minval(grid%mass, mask=grid%mass > 0.0_dp)
       call node_roles(im, grid)
       im%affine = im%affine_allowed .and. material%law == law_linear
       call particle_data(im, cache, particles, material)
       if (im%affine) call affine_start(im, cache, particles, material, grid%elements)
       im%e = 0.0_dp
-      im%velocity = 0.0_dp
-      im%acceleration = 0.0_dp
       im%multiplier = 0.0_dp
       im%constrained = .false.
-      if (dynamic) call start_kinematics(im, scene, cache, particles, grid, t)
+      im%driven = scene%drives .and. dynamic
+      if (dynamic) then ! (v_n and a_n on every node)
+         call start_kinematics(im, scene, cache, particles, grid, t)
+      else
+         im%velocity = 0.0_dp
+         im%acceleration = 0.0_dp
+      end if
       ! the external force at the step's end (quasi-statically the load factor t + dt of the loads)
-      grid%force = 0.0_dp
-      if (scene%external_forces .and. .not. scene%drives) call scene%add_forces(grid, t + dt, cache, particles)
-      call mirror_fold(grid, .false., .true.)
-      im%external = grid%force
-      if (.not. dynamic) im%external = (t + dt)*im%external
+      if (scene%external_forces .and. .not. scene%drives) then
+         grid%force = 0.0_dp
+         call scene%add_forces(grid, t + dt, cache, particles)
+         call mirror_fold(grid, .false., .true.)
+         im%external = grid%force
+         if (.not. dynamic) im%external = (t + dt)*im%external
+      else
+         im%external = 0.0_dp
+      end if
       if (scene%drives .and. dynamic) call drive_constraint(im, scene, cache, particles, grid)
       im%knots%count = 0
       if (im%ghost_penalty > 0.0_dp) call find_ghost_knots(cache, grid, particles%x, im%volume, im%modulus, &
@@ -292,11 +301,16 @@ contains
    !> the sign -1 (mpm_operations, mirror_fold), fixed and empty nodes none (-1).
    subroutine node_roles(im, grid)
       type(implicit_t), intent(inout) :: im
-      type(grid_t), intent(in) :: grid
+      type(grid_t), intent(inout) :: grid
       integer :: i, j, k, dependent
+      real(dp) :: lightest
+      ! (and the lightest node with mass)
+      lightest = huge(1.0_dp)
       do i = 0, grid%elements
          im%master(i) = merge(i, -1, grid%mass(i) > grid%empty_mass)
+         if (grid%mass(i) > 0.0_dp) lightest = min(lightest, grid%mass(i))
       end do
+      grid%min_node_mass = lightest
       im%sign = 1.0_dp
       im%prescribed = .false.
       do k = 1, size(grid%fixed)
@@ -379,16 +393,18 @@ contains
       integer :: info
       if (scene%external_forces .and. .not. scene%drives) call scene%add_forces(grid, t, cache, particles)
       call mirror_fold(grid, .false., .true.)
-      grid%force = grid%force + im%reaction
+      if (im%driven) grid%force = grid%force + im%reaction ! (zero without a drive)
       call nodal_velocities(grid)
       if (im%mass == mass_lumped) then
-         where (im%unknown)
-            im%velocity = grid%velocity
-            im%acceleration = grid%force/grid%mass
-         end where
+         call lumped_kinematics(grid%elements, im%unknown, grid%velocity, grid%force, grid%mass, im%velocity, &
+                                im%acceleration)
       else
          call consistent_mass(im, cache, particles, grid)
-         if (im%failed) return
+         if (im%failed) then
+            im%velocity = 0.0_dp
+            im%acceleration = 0.0_dp
+            return
+         end if
          im%rhs(:, 1) = merge(grid%momentum, 0.0_dp, im%unknown)
          im%rhs(:, 2) = merge(grid%force, 0.0_dp, im%unknown)
          call banded_solve(im%mass_factors, im%rhs, info)
@@ -398,6 +414,24 @@ contains
       call fill_slaves(im, im%velocity)
       call fill_slaves(im, im%acceleration)
    end subroutine start_kinematics
+
+   !> The lumped mass's v_n = p/m and a_n = f/m on the unknowns, zero on the other nodes (fill_slaves sets the
+   !> ghosts').
+   pure subroutine lumped_kinematics(n, unknown, grid_velocity, force, mass, velocity, acceleration)
+      integer, intent(in) :: n
+      logical, intent(in) :: unknown(0:n)
+      real(dp), intent(in) :: grid_velocity(0:n), force(0:n), mass(0:n)
+      real(dp), intent(out) :: velocity(0:n), acceleration(0:n)
+      integer :: i
+      do i = 0, n
+         velocity(i) = 0.0_dp
+         acceleration(i) = 0.0_dp
+         if (unknown(i)) then
+            velocity(i) = grid_velocity(i)
+            acceleration(i) = force(i)/mass(i)
+         end if
+      end do
+   end subroutine lumped_kinematics
 
    !> M_IJ = sum_p m_p N_Ip N_Jp folded onto the unknowns (identity rows for the held nodes), and its factors.
    subroutine consistent_mass(im, cache, particles, grid)
@@ -593,12 +627,11 @@ contains
          call newton_direction(im, gap, info, correction)
          ! the full Newton step, halved while it does not reduce |R| (a piecewise linear law, as the
          ! elastoplastic one, can make Newton cycle between loading and unloading at long steps)
-         im%start = im%e
          multiplier = im%multiplier
          before = hypot(norm, stiffness*gap)
          step = 1.0_dp
          do halving = 0, max_halvings
-            where (im%unknown) im%e = im%start + step*im%rhs(:, 1)
+            call trial_increment(size(im%e) - 1, halving == 0, im%unknown, step, im%rhs(:, 1), im%start, im%e)
             call fill_slaves(im, im%e)
             im%multiplier = multiplier + step*correction
             call assemble_residual(im, cache, particles, grid, material, with_tangent=.false.)
@@ -614,6 +647,25 @@ contains
       im%iterations = iteration
       im%failed_residual = relative
    end subroutine newton_solve
+
+   !> The line search's e = start + step delta on the unknowns (`first`: start = e first, the step's e).
+   pure subroutine trial_increment(n, first, unknown, step, delta, start, e)
+      integer, intent(in) :: n
+      logical, intent(in) :: first, unknown(0:n)
+      real(dp), intent(in) :: step, delta(0:n)
+      real(dp), intent(inout) :: start(0:n), e(0:n)
+      integer :: i
+      if (first) then
+         do i = 0, n
+            start(i) = e(i)
+            if (unknown(i)) e(i) = start(i) + step*delta(i)
+         end do
+      else
+         do i = 0, n
+            if (unknown(i)) e(i) = start(i) + step*delta(i)
+         end do
+      end if
+   end subroutine trial_increment
 
    !> The Newton step in im%rhs(:, 1): K delta = -R on the unknowns, with the factored tangent; under the
    !> drive's constraint the bordered system's, delta = y + d(lambda) z (K z = w, w.delta = gap), and
@@ -1370,12 +1422,13 @@ contains
       ! the hat with FLIP: G2P and the move in one pass (update_hat_flip)
       hat_flip = hat_flip_update(im, cache)
       if (im%kind == integrator_implicit) then
-         grid%velocity = im%velocity + 2.0_dp*im%e/im%dt
-         grid%acceleration = 2.0_dp*im%e/im%dt**2
-         where (im%prescribed) ! driven at V over the whole step (drive_constraint)
-            grid%velocity = im%drive_velocity
-            grid%acceleration = (im%drive_velocity - im%velocity)/im%dt
-         end where
+         call end_kinematics(grid%elements, im%dt, im%velocity, im%e, grid%velocity, grid%acceleration)
+         if (im%driven) then
+            where (im%prescribed) ! driven at V over the whole step (drive_constraint)
+               grid%velocity = im%drive_velocity
+               grid%acceleration = (im%drive_velocity - im%velocity)/im%dt
+            end where
+         end if
          if (hat_flip) then
             call update_hat_flip(particles%count, size(cache%weight, 1), grid%elements, cache%first, cache%weight, &
                                  cache%gradient, im%affine, im%dstrain, &
@@ -1387,7 +1440,7 @@ contains
          else
             call g2p(cache, particles, grid, im%dt, totals)
          end if
-         im%reaction = merge(im%residual, 0.0_dp, im%prescribed)
+         if (im%driven) im%reaction = merge(im%residual, 0.0_dp, im%prescribed)
          if (im%constrained) im%reaction = im%reaction + im%multiplier*im%weight
       else
          grid%velocity = 0.0_dp
@@ -1405,6 +1458,18 @@ contains
       call update_material_finite(material, im%dstrain, particles, totals%strain_energy, totals%min_volume_ratio, &
                                   totals%plastic_work, im%stress)
    end subroutine update_particles
+
+   !> The grid's v_{n+1} = v_n + 2 e/dt and a = 2 e/dt^2 (for G2P: (v_{n+1} - v_n)/dt) on the nodes 0..n.
+   pure subroutine end_kinematics(n, dt, velocity, e, grid_velocity, grid_acceleration)
+      integer, intent(in) :: n
+      real(dp), intent(in) :: dt, velocity(0:n), e(0:n)
+      real(dp), intent(out) :: grid_velocity(0:n), grid_acceleration(0:n)
+      integer :: i
+      do i = 0, n
+         grid_velocity(i) = velocity(i) + 2.0_dp*e(i)/dt
+         grid_acceleration(i) = 2.0_dp*e(i)/dt**2
+      end do
+   end subroutine end_kinematics
 
    !> The particles' update of the hat with FLIP in one pass, block by block: G2P's v_p += dt sum_I N_Ip a_I
    !> and the kinetic energy (g2p: its gather, gather2_plain, and gather_move's velocity update and lanes),
