@@ -233,20 +233,25 @@ contains
       real(dp), intent(in) :: dt, t
       type(material_t), intent(in) :: material
       type(pass_totals_t), intent(out) :: totals
-      logical :: dynamic
+      logical :: dynamic, fused
       dynamic = im%kind == integrator_implicit
       im%failed = .false.
       im%singular_mass = .false.
       im%dt = dt
       call locate_particles(cache, grid, particles, totals)
       if (totals%outside /= 0) return
-      ! m, p and (dynamic) f_int(sigma_n)
-      call p2g_mass_momentum(cache, particles, grid, with_force=dynamic)
+      im%affine = im%affine_allowed .and. material%law == law_linear
+      ! m, p and (dynamic) f_int(sigma_n); the hat with FLIP with the affine law's cell sums in the same pass
+      fused = hat_flip_update(im, cache)
+      if (fused) then
+         call start_hat(im, cache, particles, grid, material)
+      else
+         call p2g_mass_momentum(cache, particles, grid, with_force=dynamic)
+      end if
       call workspace(im, grid%elements, particles%count)
       call node_roles(im, grid)
-      im%affine = im%affine_allowed .and. material%law == law_linear
       call particle_data(im, cache, particles, material)
-      if (im%affine) call affine_start(im, cache, particles, material, grid%elements)
+      if (im%affine .and. .not. fused) call affine_start(im, cache, particles, material, grid%elements)
       im%e = 0.0_dp
       im%multiplier = 0.0_dp
       im%constrained = .false.
@@ -976,6 +981,92 @@ contains
                              particles%stress, im%stiffness, im%volume, im%band, im%band_magnitude, im%start_force, &
                              im%start_magnitude)
    end subroutine affine_start
+
+   !> The start of a step of the hat with FLIP: p2g_mass_momentum's sums with the force and, for the affine law,
+   !> affine_start's (start_pass_hat).
+   subroutine start_hat(im, cache, particles, grid, material)
+      type(implicit_t), intent(inout) :: im
+      type(shape_cache_t), intent(in) :: cache
+      type(particles_t), intent(in) :: particles
+      type(grid_t), intent(inout) :: grid
+      type(material_t), intent(in) :: material
+      integer :: n
+      n = grid%elements
+      grid%mass = 0.0_dp
+      grid%momentum = 0.0_dp
+      grid%force = 0.0_dp
+      if (im%affine) then
+         if (allocated(im%cells)) then
+            if (size(im%cells, 2) /= n) deallocate (im%cells)
+         end if
+         if (.not. allocated(im%cells)) allocate (im%cells(3, 0:n - 1))
+         call start_pass_hat(particles%count, size(cache%weight, 1), n, cache%first, cache%weight, cache%gradient, &
+                             particles%mass_of, particles%v, particles%stress, particles%volume_ratio, &
+                             particles%volume0_of, grid%mass, grid%momentum, grid%force, material%youngs_modulus, &
+                             im%cells, particles%youngs_modulus_of)
+      else
+         call start_pass_hat(particles%count, size(cache%weight, 1), n, cache%first, cache%weight, cache%gradient, &
+                             particles%mass_of, particles%v, particles%stress, particles%volume_ratio, &
+                             particles%volume0_of, grid%mass, grid%momentum, grid%force, material%youngs_modulus)
+      end if
+      call mirror_fold(grid, .true., .false.)
+   end subroutine start_hat
+
+   !> The hat's P2G at a step's start, m_I, p_I and f_I = -sum_p dN_Ip sigma_p V_p (scatter's sums: a cell's
+   !> particles next to each other summed in registers, each run added to its nodes; p_p = m_p v_p and
+   !> sigma_p V_p formed as scatter forms its columns of them) and, given `cells`, affine_start_hat's sums
+   !> (added per particle, as there), in one pass over the particles: each value formed by the same operations
+   !> in the same order (the same bits).
+   subroutine start_pass_hat(count, rows, n, first, weight, gradient, mass_of, v, stress, volume_ratio, volume0, &
+                             mass, momentum, force, modulus, cells, modulus_of)
+      integer, intent(in) :: count, rows, n
+      integer, intent(in) :: first(count)
+      real(dp), intent(in) :: weight(rows, 2), gradient(rows, 2), mass_of(count), v(count), stress(count), &
+                              volume_ratio(count), volume0(count), modulus
+      real(dp), intent(inout) :: mass(0:n), momentum(0:n), force(0:n)
+      real(dp), intent(out), optional :: cells(3, 0:n - 1)
+      real(dp), intent(in), optional :: modulus_of(count)
+      real(dp) :: mass1, mass2, momentum1, momentum2, force1, force2, q, stress_volume, share, stiffness, volume
+      integer :: p, i
+      logical :: run_ends
+      if (present(cells)) cells = 0.0_dp
+      run_ends = .true.
+      do p = 1, count
+         if (run_ends) then ! a run starts
+            mass1 = 0.0_dp; mass2 = 0.0_dp
+            momentum1 = 0.0_dp; momentum2 = 0.0_dp
+            force1 = 0.0_dp; force2 = 0.0_dp
+         end if
+         q = mass_of(p)*v(p)
+         mass1 = mass1 + weight(p, 1)*mass_of(p)
+         mass2 = mass2 + weight(p, 2)*mass_of(p)
+         momentum1 = momentum1 + weight(p, 1)*q
+         momentum2 = momentum2 + weight(p, 2)*q
+         stress_volume = stress(p)*volume_ratio(p)*volume0(p)
+         force1 = force1 - gradient(p, 1)*stress_volume
+         force2 = force2 - gradient(p, 2)*stress_volume
+         i = first(p)
+         if (present(cells)) then
+            stiffness = modulus*volume_ratio(p)
+            if (present(modulus_of)) stiffness = modulus_of(p)*volume_ratio(p)
+            volume = volume_ratio(p)*volume0(p)
+            share = gradient(p, 1)*stress(p)*volume
+            cells(1, i) = cells(1, i) + gradient(p, 1)*stiffness*volume*gradient(p, 1)
+            cells(2, i) = cells(2, i) + share
+            cells(3, i) = cells(3, i) + abs(share)
+         end if
+         run_ends = p == count
+         if (.not. run_ends) run_ends = first(p + 1) /= i
+         if (run_ends) then ! add the run's sums to its nodes
+            mass(i) = mass(i) + mass1
+            mass(i + 1) = mass(i + 1) + mass2
+            momentum(i) = momentum(i) + momentum1
+            momentum(i + 1) = momentum(i + 1) + momentum2
+            force(i) = force(i) + force1
+            force(i + 1) = force(i + 1) + force2
+         end if
+      end do
+   end subroutine start_pass_hat
 
    !> affine_start's sums for any support (`b` = support - 1).
    subroutine affine_start_pass(count, rows, b, n, first, gradient, stress, stiffness, volume, band, band_magnitude, &
