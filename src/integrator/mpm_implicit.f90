@@ -1015,8 +1015,9 @@ contains
    !> The hat's P2G at a step's start, m_I, p_I and f_I = -sum_p dN_Ip sigma_p V_p (scatter's sums: a cell's
    !> particles next to each other summed in registers, each run added to its nodes; p_p = m_p v_p and
    !> sigma_p V_p formed as scatter forms its columns of them) and, given `cells`, affine_start_hat's sums
-   !> (added per particle, as there), in one pass over the particles: each value formed by the same operations
-   !> in the same order (the same bits).
+   !> (added per particle, as there; a cell's sums held in registers while its particles follow each other),
+   !> in one pass over the particles: each value formed by the same operations in the same order (the same
+   !> bits).
    subroutine start_pass_hat(count, rows, n, first, weight, gradient, mass_of, v, stress, volume_ratio, volume0, &
                              mass, momentum, force, modulus, cells, modulus_of)
       integer, intent(in) :: count, rows, n
@@ -1026,7 +1027,8 @@ contains
       real(dp), intent(inout) :: mass(0:n), momentum(0:n), force(0:n)
       real(dp), intent(out), optional :: cells(3, 0:n - 1)
       real(dp), intent(in), optional :: modulus_of(count)
-      real(dp) :: mass1, mass2, momentum1, momentum2, force1, force2, q, stress_volume, share, stiffness, volume
+      real(dp) :: mass1, mass2, momentum1, momentum2, force1, force2, q, stress_volume, share, stiffness, volume, &
+                  cell1, cell2, cell3
       integer :: p, i
       logical :: run_ends
       if (present(cells)) cells = 0.0_dp
@@ -1036,6 +1038,9 @@ contains
             mass1 = 0.0_dp; mass2 = 0.0_dp
             momentum1 = 0.0_dp; momentum2 = 0.0_dp
             force1 = 0.0_dp; force2 = 0.0_dp
+            if (present(cells)) then
+               cell1 = cells(1, first(p)); cell2 = cells(2, first(p)); cell3 = cells(3, first(p))
+            end if
          end if
          q = mass_of(p)*v(p)
          mass1 = mass1 + weight(p, 1)*mass_of(p)
@@ -1051,13 +1056,16 @@ contains
             if (present(modulus_of)) stiffness = modulus_of(p)*volume_ratio(p)
             volume = volume_ratio(p)*volume0(p)
             share = gradient(p, 1)*stress(p)*volume
-            cells(1, i) = cells(1, i) + gradient(p, 1)*stiffness*volume*gradient(p, 1)
-            cells(2, i) = cells(2, i) + share
-            cells(3, i) = cells(3, i) + abs(share)
+            cell1 = cell1 + gradient(p, 1)*stiffness*volume*gradient(p, 1)
+            cell2 = cell2 + share
+            cell3 = cell3 + abs(share)
          end if
          run_ends = p == count
          if (.not. run_ends) run_ends = first(p + 1) /= i
          if (run_ends) then ! add the run's sums to its nodes
+            if (present(cells)) then
+               cells(1, i) = cell1; cells(2, i) = cell2; cells(3, i) = cell3
+            end if
             mass(i) = mass(i) + mass1
             mass(i + 1) = mass(i + 1) + mass2
             momentum(i) = momentum(i) + momentum1
@@ -1312,7 +1320,10 @@ contains
    !> written out. Where both are unknowns of their own (sign +1) the tangent's four entries are added
    !> directly, each the value of the product force_pass forms (its sign factors are exactly 1); a particle
    !> at a held node or a ghost takes force_pass's loop. The same values added in the same order: the same
-   !> bits.
+   !> bits. The sums of the cell whose particles are being added (its two nodes' residual, forces and
+   !> round-off, and its four tangent entries) are held in registers while its particles follow each
+   !> other, and the right node's carried on as the next cell's left: adding each particle to memory made
+   !> every add wait for the previous particle's store to the same node.
    subroutine force_pass_hat(count, rows, n, first, gradient, stress, stiffness, volume, magnitude, master, sign, &
                              tangent_part, residual, forces, roundoff, band_rows, ab, diagonal)
       integer, intent(in) :: count, rows, n, band_rows, diagonal
@@ -1322,25 +1333,63 @@ contains
       logical, intent(in) :: tangent_part
       real(dp), intent(inout) :: residual(0:n), forces(0:n), roundoff(0:n), ab(band_rows, n + 1)
       real(dp) :: left, left_stiffness, rounding, tangent_share, share
-      integer :: p, i, k, l, node, a, b
+      ! the held sums: residual, forces, round-off of the cell's nodes i (0) and i + 1 (1), its tangent's
+      ! diagonal entries, A(i, i + 1) and A(i + 1, i)
+      real(dp) :: r0, r1, f0, f1, o0, o1, d0, d1, upper, lower
+      integer :: p, i, k, l, node, a, b, cell
+      logical :: direct, held_direct
       ! The hat's gradients are -1/dx and 1/dx (times the particle's inside flag, mpm_shape_linear):
       ! gradient(p, 2) = -gradient(p, 1) exactly, so each product of the right node is the left one's
       ! negated (exact), and the tangent's four entries are one product and its negation.
+      cell = -2 ! (none held)
+      held_direct = .false.
       do p = 1, count
          i = first(p)
+         if (i /= cell) then ! the held cell's sums to memory, the new cell's from it
+            if (cell >= 0) then
+               residual(cell) = r0; forces(cell) = f0; roundoff(cell) = o0
+               residual(cell + 1) = r1; forces(cell + 1) = f1; roundoff(cell + 1) = o1
+               if (held_direct) then
+                  ab(diagonal, cell + 1) = d0; ab(diagonal, cell + 2) = d1
+                  ab(diagonal - 1, cell + 2) = upper; ab(diagonal + 1, cell + 1) = lower
+               end if
+            end if
+            direct = tangent_part .and. master(i) == i .and. master(i + 1) == i + 1
+            if (i == cell + 1) then ! (the right node's sums are the left's now)
+               r0 = r1; f0 = f1; o0 = o1
+               if (direct) then
+                  d0 = d1
+                  if (.not. held_direct) d0 = ab(diagonal, i + 1)
+               end if
+            else
+               r0 = residual(i); f0 = forces(i); o0 = roundoff(i)
+               if (direct) d0 = ab(diagonal, i + 1)
+            end if
+            r1 = residual(i + 1); f1 = forces(i + 1); o1 = roundoff(i + 1)
+            if (direct) then
+               d1 = ab(diagonal, i + 2)
+               upper = ab(diagonal - 1, i + 2)
+               lower = ab(diagonal + 1, i + 1)
+            end if
+            cell = i
+            held_direct = direct
+         end if
          left = gradient(p, 1)*stress(p)*volume(p)
          left_stiffness = gradient(p, 1)*stiffness(p)*volume(p)
          rounding = abs(left_stiffness)*magnitude(p)
-         residual(i) = residual(i) + left
-         forces(i) = forces(i) + abs(left)
-         roundoff(i) = roundoff(i) + rounding
-         residual(i + 1) = residual(i + 1) - left
-         forces(i + 1) = forces(i + 1) + abs(left)
-         roundoff(i + 1) = roundoff(i + 1) + rounding
+         r0 = r0 + left
+         f0 = f0 + abs(left)
+         o0 = o0 + rounding
+         r1 = r1 - left
+         f1 = f1 + abs(left)
+         o1 = o1 + rounding
          if (.not. tangent_part) cycle
-         if (master(i) == i .and. master(i + 1) == i + 1) then
+         if (held_direct) then ! (add_hat_block's four adds)
             tangent_share = left_stiffness*gradient(p, 1)
-            call add_hat_block(band_rows, n, ab, diagonal, i, tangent_share)
+            d0 = d0 + tangent_share
+            upper = upper - tangent_share
+            lower = lower - tangent_share
+            d1 = d1 + tangent_share
             cycle
          end if
          do k = 1, 2
@@ -1355,6 +1404,14 @@ contains
             end do
          end do
       end do
+      if (cell >= 0) then
+         residual(cell) = r0; forces(cell) = f0; roundoff(cell) = o0
+         residual(cell + 1) = r1; forces(cell + 1) = f1; roundoff(cell + 1) = o1
+         if (held_direct) then
+            ab(diagonal, cell + 1) = d0; ab(diagonal, cell + 2) = d1
+            ab(diagonal - 1, cell + 2) = upper; ab(diagonal + 1, cell + 1) = lower
+         end if
+      end if
    end subroutine force_pass_hat
 
    !> The hat's stiffness block [[c, -c], [-c, c]] on the nodes i, i + 1, both unknowns of their own, added to
