@@ -216,8 +216,8 @@ contains
             first = j
             exit
          end if
-         smallest = min(smallest, abs(pivot))
-         largest = max(largest, abs(pivot))
+         if (abs(pivot) < smallest) smallest = abs(pivot)
+         if (abs(pivot) > largest) largest = abs(pivot)
          pivots(j) = j
          l = ab(4, j)/pivot
          ab(4, j) = l
