@@ -172,7 +172,9 @@ def kills(exe, references, durations, count, rng):
             if list(folder.glob('sw.h5.*.part')):
                 phase = 'writing'
             elif not (folder / 'sw.h5.journal').exists():
-                phase = 'starting'
+                # no journal: killed before it began, or after the finished sweep removed it (its file in
+                # place, the process not yet gone)
+                phase = 'after the end' if (folder / 'sw.h5').exists() else 'starting'
             elif timing and cases == 48:
                 phase = 'timing pass'
             else:
@@ -182,6 +184,9 @@ def kills(exe, references, durations, count, rng):
         check(f'kill {k}: every case the log saw finish is in the journal', lost == 0, f'{log_done} > {cases}')
         if phase == 'after the end':
             check(f'kill {k}: a finished sweep leaves no journal', not (folder / 'sw.h5.journal').exists())
+            with h5py.File(folder / 'sw.h5', 'r') as f:
+                check(f'kill {k}: a finished sweep wrote its every case', f['cases']['index'].shape == (48,),
+                      str(f['cases']['index'].shape))
             again = 0
         elif phase == 'starting':
             # killed before its journal began: nothing kept, and --resume says so
