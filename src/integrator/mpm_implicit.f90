@@ -147,6 +147,15 @@ module mpm_implicit
       logical :: constrained = .false.
       !> the step has a drive (its held nodes and reaction: without one the reaction stays zero)
       logical :: driven = .false.
+      !> the grid has mirror ghosts (node_roles)
+      logical :: mirrored = .false.
+      !> the affine law on the hat, lumped mass, dynamic, no mirror ghost and no ghost penalty: the residual
+      !> and the tangent are passes over the nodes in closed form (residual_hat, tangent_hat)
+      logical :: plain_hat = .false.
+      !> residual_hat's sums of squares of the residual, round-off and forces over the unknowns, for
+      !> relative_measures (`measured`: formed with the last residual)
+      real(dp) :: squares(3) = 0.0_dp
+      logical :: measured = .false.
       ! per particle
       real(dp), allocatable :: x_start(:), dstrain(:), stress(:), stiffness(:), volume(:), strain_magnitude(:)
       !> per node, the size of R's round-off from the increments' own: sum over the stiffness terms of
@@ -276,6 +285,9 @@ contains
       im%knots%count = 0
       if (im%ghost_penalty > 0.0_dp) call find_ghost_knots(cache, grid, particles%x, im%volume, im%modulus, &
                                                            im%ghost_penalty, im%knots)
+      im%plain_hat = im%affine .and. cache%support == 2 .and. dynamic .and. im%mass == mass_lumped .and. &
+                     .not. im%mirrored .and. im%knots%count == 0
+      im%measured = .false.
       ! (cleared where Newton assembles it, before it reads it)
       call banded_init(im%tangent, grid%elements + 1, cache%support - 1 + merge(1, 0, im%ghost_penalty > 0.0_dp), &
                        cleared=.false.)
@@ -321,6 +333,7 @@ contains
       do k = 1, size(grid%fixed)
          im%master(grid%fixed(k)) = -1
       end do
+      im%mirrored = grid%mirror .or. grid%mirror_right >= 0
       if (grid%mirror) then
          do j = 1, grid%ghost
             i = grid%ghost - j
@@ -711,8 +724,14 @@ contains
       type(implicit_t), intent(in) :: im
       real(dp), intent(out) :: relative, roundoff, norm
       real(dp) :: residual2, roundoff2, scale2
-      call sums_of_squares(size(im%master) - 1, im%unknown, im%residual, im%roundoff, im%forces, residual2, &
-                           roundoff2, scale2)
+      if (im%measured) then ! (residual_hat's)
+         residual2 = im%squares(1)
+         roundoff2 = im%squares(2)
+         scale2 = im%squares(3)
+      else
+         call sums_of_squares(size(im%master) - 1, im%unknown, im%residual, im%roundoff, im%forces, residual2, &
+                              roundoff2, scale2)
+      end if
       relative = relative_to_forces(im, im%residual, residual2, scale2)
       roundoff = relative_to_forces(im, im%roundoff, roundoff2, scale2)
       norm = sqrt(residual2)
@@ -783,6 +802,14 @@ contains
       logical :: dynamic
       n = grid%elements
       call fill_slaves(im, im%e)
+      if (im%plain_hat) then ! (the tangent, if asked, in finish_tangent: tangent_hat)
+         call residual_hat(n, im%dt, im%velocity, im%e, im%cells, grid%mass, im%acceleration, im%external, &
+                           im%unknown, im%prescribed, im%constrained, im%multiplier, im%weight, 4.0_dp/im%dt**2, &
+                           im%du, im%residual, im%forces, im%roundoff, im%squares)
+         im%measured = .true.
+         if (with_tangent) call finish_tangent(im, grid)
+         return
+      end if
       if (im%affine) then
          ! (the affine forms set every node's sums: nothing to clear)
          call node_increments(n, im%dt, im%velocity, im%e, im%du)
@@ -890,6 +917,10 @@ contains
       type(shape_cache_t), intent(in) :: cache
       type(particles_t), intent(in) :: particles
       type(grid_t), intent(in) :: grid
+      if (im%plain_hat) then ! (tangent_hat: every entry set)
+         call finish_tangent(im, grid)
+         return
+      end if
       call banded_zero(im%tangent)
       if (im%affine) then
          call fold_stiffness(im, cache%support, grid%elements)
@@ -907,6 +938,10 @@ contains
       real(dp) :: inertia_factor
       integer :: k, i, n, diagonal
       n = grid%elements
+      if (im%plain_hat) then
+         call tangent_hat(n, im%cells, im%unknown, 4.0_dp/im%dt**2, grid%mass, im%tangent%ab)
+         return
+      end if
       diagonal = 2*im%tangent%bandwidth + 1  ! A(a, b) is ab(diagonal + a - b, b) (mpm_banded)
       associate (ab => im%tangent%ab)
          if (im%kind == integrator_implicit) then
@@ -1182,6 +1217,99 @@ contains
       roundoff(n) = spread_before
       forces(n) = magnitude_before + spread_before
    end subroutine affine_forces_hat
+
+   !> assemble_residual where im%plain_hat holds, in one pass over the nodes: du = dt v_n + e
+   !> (node_increments), the cells' shares (affine_forces_hat), the inertia, the external force and the
+   !> drive's multiplier (balance_rows, lumped) and relative_measures' sums of squares over the unknowns
+   !> (sums_of_squares; in `squares`): each value formed by the same operations in the same order (the same
+   !> bits). Without mirror ghosts the fold onto the unknowns moves nothing, and without ghost knots the
+   !> penalty adds nothing.
+   pure subroutine residual_hat(n, dt, velocity, e, cells, mass, acceleration, external, unknown, prescribed, &
+                                constrained, multiplier, weight, inertia_factor, du, residual, forces, roundoff, squares)
+      integer, intent(in) :: n
+      real(dp), intent(in) :: dt, velocity(0:n), e(0:n), cells(3, 0:n - 1), mass(0:n), acceleration(0:n), &
+                              external(0:n), multiplier, weight(0:n), inertia_factor
+      logical, intent(in) :: unknown(0:n), prescribed(0:n), constrained
+      real(dp), intent(out) :: du(0:n), residual(0:n), forces(0:n), roundoff(0:n), squares(3)
+      real(dp) :: share, previous, spread, spread_before, magnitude_before, work, residual2, roundoff2, scale2
+      integer :: i
+      previous = 0.0_dp
+      spread_before = 0.0_dp
+      magnitude_before = 0.0_dp
+      residual2 = 0.0_dp
+      roundoff2 = 0.0_dp
+      scale2 = 0.0_dp
+      du(0) = dt*velocity(0) + e(0)
+      do i = 0, n
+         if (i < n) then
+            du(i + 1) = dt*velocity(i + 1) + e(i + 1)
+            share = cells(2, i) - cells(1, i)*(du(i + 1) - du(i))
+            spread = cells(1, i)*(abs(du(i)) + abs(du(i + 1)))
+            residual(i) = share - previous
+            roundoff(i) = spread_before + spread
+            forces(i) = (magnitude_before + cells(3, i)) + roundoff(i)
+            previous = share
+            spread_before = spread
+            magnitude_before = cells(3, i)
+         else
+            residual(n) = -previous
+            roundoff(n) = spread_before
+            forces(n) = magnitude_before + spread_before
+         end if
+         work = mass(i)*(inertia_factor*e(i) - acceleration(i))
+         forces(i) = forces(i) + mass(i)*(inertia_factor*abs(e(i)) + abs(acceleration(i)))
+         if (unknown(i) .or. prescribed(i)) then
+            residual(i) = residual(i) + work
+            residual(i) = residual(i) - external(i)
+            forces(i) = forces(i) + abs(external(i))
+         end if
+         if (constrained) residual(i) = residual(i) - multiplier*weight(i)
+         if (unknown(i)) then
+            residual2 = residual2 + residual(i)**2
+            roundoff2 = roundoff2 + roundoff(i)**2
+            scale2 = scale2 + forces(i)**2
+         end if
+      end do
+      squares = [residual2, roundoff2, scale2]
+   end subroutine residual_hat
+
+   !> The tangent where im%plain_hat holds, every entry of the band ab (bandwidth 1) set in one pass over the
+   !> nodes: the cells' stiffness (fold_cells_hat: a node's diagonal takes C of each of its cells, the
+   !> cell's off-diagonal entries -C where both its nodes are unknowns), the lumped inertia
+   !> (add_lumped_inertia), then the held rows (hold_band_rows); each entry the sum the zeroed band and
+   !> those loops form, in the same order (the same bits).
+   pure subroutine tangent_hat(n, cells, unknown, inertia_factor, mass, ab)
+      integer, intent(in) :: n
+      real(dp), intent(in) :: cells(3, 0:n - 1), inertia_factor, mass(0:n)
+      logical, intent(in) :: unknown(0:n)
+      real(dp), intent(out) :: ab(4, n + 1)
+      real(dp) :: diagonal, largest
+      integer :: i
+      largest = 0.0_dp
+      do i = 0, n
+         ab(1, i + 1) = 0.0_dp
+         ab(2, i + 1) = 0.0_dp ! A(i - 1, i)
+         ab(4, i + 1) = 0.0_dp ! A(i + 1, i)
+         if (i < n) then
+            if (unknown(i) .and. unknown(i + 1)) ab(4, i + 1) = 0.0_dp - cells(1, i)
+         end if
+         if (i > 0) then
+            if (unknown(i - 1) .and. unknown(i)) ab(2, i + 1) = 0.0_dp - cells(1, i - 1)
+         end if
+         diagonal = 0.0_dp
+         if (unknown(i)) then
+            if (i > 0) diagonal = diagonal + cells(1, i - 1)
+            if (i < n) diagonal = diagonal + cells(1, i)
+            diagonal = diagonal + inertia_factor*mass(i)
+            largest = max(largest, abs(diagonal))
+         end if
+         ab(3, i + 1) = diagonal
+      end do
+      if (largest == 0.0_dp) largest = 1.0_dp
+      do i = 0, n
+         if (.not. unknown(i)) ab(3, i + 1) = ab(3, i + 1) + largest
+      end do
+   end subroutine tangent_hat
 
    !> The affine law's stiffness S folded onto the unknowns of the tangent (a ghost's row and column its
    !> partner's, with its sign; held nodes none): fold_cells_hat, fold_band.
