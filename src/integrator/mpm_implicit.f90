@@ -1448,10 +1448,7 @@ contains
    !> written out. Where both are unknowns of their own (sign +1) the tangent's four entries are added
    !> directly, each the value of the product force_pass forms (its sign factors are exactly 1); a particle
    !> at a held node or a ghost takes force_pass's loop. The same values added in the same order: the same
-   !> bits. The sums of the cell whose particles are being added (its two nodes' residual, forces and
-   !> round-off, and its four tangent entries) are held in registers while its particles follow each
-   !> other, and the right node's carried on as the next cell's left: adding each particle to memory made
-   !> every add wait for the previous particle's store to the same node.
+   !> bits.
    subroutine force_pass_hat(count, rows, n, first, gradient, stress, stiffness, volume, magnitude, master, sign, &
                              tangent_part, residual, forces, roundoff, band_rows, ab, diagonal)
       integer, intent(in) :: count, rows, n, band_rows, diagonal
@@ -1461,63 +1458,25 @@ contains
       logical, intent(in) :: tangent_part
       real(dp), intent(inout) :: residual(0:n), forces(0:n), roundoff(0:n), ab(band_rows, n + 1)
       real(dp) :: left, left_stiffness, rounding, tangent_share, share
-      ! the held sums: residual, forces, round-off of the cell's nodes i (0) and i + 1 (1), its tangent's
-      ! diagonal entries, A(i, i + 1) and A(i + 1, i)
-      real(dp) :: r0, r1, f0, f1, o0, o1, d0, d1, upper, lower
-      integer :: p, i, k, l, node, a, b, cell
-      logical :: direct, held_direct
+      integer :: p, i, k, l, node, a, b
       ! The hat's gradients are -1/dx and 1/dx (times the particle's inside flag, mpm_shape_linear):
       ! gradient(p, 2) = -gradient(p, 1) exactly, so each product of the right node is the left one's
       ! negated (exact), and the tangent's four entries are one product and its negation.
-      cell = -2 ! (none held)
-      held_direct = .false.
       do p = 1, count
          i = first(p)
-         if (i /= cell) then ! the held cell's sums to memory, the new cell's from it
-            if (cell >= 0) then
-               residual(cell) = r0; forces(cell) = f0; roundoff(cell) = o0
-               residual(cell + 1) = r1; forces(cell + 1) = f1; roundoff(cell + 1) = o1
-               if (held_direct) then
-                  ab(diagonal, cell + 1) = d0; ab(diagonal, cell + 2) = d1
-                  ab(diagonal - 1, cell + 2) = upper; ab(diagonal + 1, cell + 1) = lower
-               end if
-            end if
-            direct = tangent_part .and. master(i) == i .and. master(i + 1) == i + 1
-            if (i == cell + 1) then ! (the right node's sums are the left's now)
-               r0 = r1; f0 = f1; o0 = o1
-               if (direct) then
-                  d0 = d1
-                  if (.not. held_direct) d0 = ab(diagonal, i + 1)
-               end if
-            else
-               r0 = residual(i); f0 = forces(i); o0 = roundoff(i)
-               if (direct) d0 = ab(diagonal, i + 1)
-            end if
-            r1 = residual(i + 1); f1 = forces(i + 1); o1 = roundoff(i + 1)
-            if (direct) then
-               d1 = ab(diagonal, i + 2)
-               upper = ab(diagonal - 1, i + 2)
-               lower = ab(diagonal + 1, i + 1)
-            end if
-            cell = i
-            held_direct = direct
-         end if
          left = gradient(p, 1)*stress(p)*volume(p)
          left_stiffness = gradient(p, 1)*stiffness(p)*volume(p)
          rounding = abs(left_stiffness)*magnitude(p)
-         r0 = r0 + left
-         f0 = f0 + abs(left)
-         o0 = o0 + rounding
-         r1 = r1 - left
-         f1 = f1 + abs(left)
-         o1 = o1 + rounding
+         residual(i) = residual(i) + left
+         forces(i) = forces(i) + abs(left)
+         roundoff(i) = roundoff(i) + rounding
+         residual(i + 1) = residual(i + 1) - left
+         forces(i + 1) = forces(i + 1) + abs(left)
+         roundoff(i + 1) = roundoff(i + 1) + rounding
          if (.not. tangent_part) cycle
-         if (held_direct) then ! (add_hat_block's four adds)
+         if (master(i) == i .and. master(i + 1) == i + 1) then
             tangent_share = left_stiffness*gradient(p, 1)
-            d0 = d0 + tangent_share
-            upper = upper - tangent_share
-            lower = lower - tangent_share
-            d1 = d1 + tangent_share
+            call add_hat_block(band_rows, n, ab, diagonal, i, tangent_share)
             cycle
          end if
          do k = 1, 2
@@ -1532,14 +1491,6 @@ contains
             end do
          end do
       end do
-      if (cell >= 0) then
-         residual(cell) = r0; forces(cell) = f0; roundoff(cell) = o0
-         residual(cell + 1) = r1; forces(cell + 1) = f1; roundoff(cell + 1) = o1
-         if (held_direct) then
-            ab(diagonal, cell + 1) = d0; ab(diagonal, cell + 2) = d1
-            ab(diagonal - 1, cell + 2) = upper; ab(diagonal + 1, cell + 1) = lower
-         end if
-      end if
    end subroutine force_pass_hat
 
    !> The hat's stiffness block [[c, -c], [-c, c]] on the nodes i, i + 1, both unknowns of their own, added to
