@@ -45,8 +45,10 @@
 !>       an implicit step against an explicit one, at the same dt = 0.5 dx/c and particles (the default
 !>       bar, USL on the fused kernels for explicit): REPEATS rounds, each the explicit runs (laws linear
 !>       and hencky, 10 STEPS steps) then the implicit ones (linear and hencky, lumped and consistent mass,
-!>       STEPS steps), whole runs, one thread, CPU time; the last column is the mean Newton solves per step:
-!>       round,run,law,mass,particles,steps,seconds,particle_steps_per_s,solves_per_step
+!>       STEPS steps), one thread, CPU time: of the whole run (seconds, particle_steps_per_s), the mean Newton
+!>       solves per step, and of its time loop alone (the steps without the set-up, paid once a run):
+!>       round,run,law,mass,particles,steps,seconds,particle_steps_per_s,solves_per_step,loop_seconds,
+!>       loop_particle_steps_per_s
 !>       (with RUN, one of explicit_linear, explicit_hencky, implicit_linear_lumped, ..., only that run)
 program mpm1d_bench
    use, intrinsic :: iso_fortran_env, only: output_unit, error_unit
@@ -446,9 +448,10 @@ contains
             config%end_time = n*config%dt
             call resolve_config(config)
             call timed_run(config, result, seconds)
-            write (output_unit, '(i0,",",a,",",a,",",a,",",i0,",",i0,",",es12.5,",",es12.5,",",f0.3)') &
+            write (output_unit, '(i0,",",a,",",a,",",a,",",i0,",",i0,",",es12.5,",",es12.5,",",f0.3,",",es12.5,",",es12.5)') &
                r, trim(runs(k)), trim(law), trim(mass), result%particles, result%steps_done, seconds, &
-               real(result%particles, dp)*result%steps_done/seconds, report_value(result, 'newton_iterations')
+               real(result%particles, dp)*result%steps_done/seconds, report_value(result, 'newton_iterations'), &
+               result%loop_cpu_time, real(result%particles, dp)*result%steps_done/result%loop_cpu_time
             flush (output_unit)
          end do
       end do

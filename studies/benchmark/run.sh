@@ -204,7 +204,7 @@ fi
 if want implicit; then
 echo "== an implicit step against an explicit one (1e5 particles, dt = 0.5 dx/c, paired in rounds, one thread)" >&2
 # explicit: USL on the fused kernels, 200 steps; implicit: 20 steps; laws linear and hencky, both masses
-echo "round,run,law,mass,particles,steps,seconds,particle_steps_per_s,solves_per_step" > "$out/implicit.csv"
+echo "round,run,law,mass,particles,steps,seconds,particle_steps_per_s,solves_per_step,loop_seconds,loop_particle_steps_per_s" > "$out/implicit.csv"
 "$bench" implicit 100000 2 20 "$REPEATS" >> "$out/implicit.csv"
 if [ "${CALLGRIND:-0}" = 1 ] && command -v valgrind >/dev/null 2>&1; then
   # the instructions of each whole run at 2e4 particles (explicit 100 steps, implicit 10)
