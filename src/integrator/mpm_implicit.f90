@@ -1198,25 +1198,44 @@ contains
       integer, intent(in) :: n
       real(dp), intent(in) :: cells(3, 0:n - 1), du(0:n)
       real(dp), intent(out) :: residual(0:n), forces(0:n), roundoff(0:n)
-      real(dp) :: share, previous, spread, spread_before, magnitude_before
+      real(dp) :: previous, spread_before, magnitude_before
       integer :: i
       previous = 0.0_dp
       spread_before = 0.0_dp
       magnitude_before = 0.0_dp
       do i = 0, n - 1
-         share = cells(2, i) - cells(1, i)*(du(i + 1) - du(i))
-         spread = cells(1, i)*(abs(du(i)) + abs(du(i + 1)))
-         residual(i) = share - previous
-         roundoff(i) = spread_before + spread
-         forces(i) = (magnitude_before + cells(3, i)) + roundoff(i)
-         previous = share
-         spread_before = spread
-         magnitude_before = cells(3, i)
+         call cell_shares(cells(1, i), cells(2, i), cells(3, i), du(i), du(i + 1), previous, spread_before, &
+                          magnitude_before, residual(i), roundoff(i), forces(i))
       end do
-      residual(n) = -previous
-      roundoff(n) = spread_before
-      forces(n) = magnitude_before + spread_before
+      call last_shares(previous, spread_before, magnitude_before, residual(n), roundoff(n), forces(n))
    end subroutine affine_forces_hat
+
+   !> affine_forces_hat's terms of node i from its cell i (C, F, |F| and the increments of its nodes) and from
+   !> cell i - 1 (its share, round-off scale and force scale; then cell i's, for node i + 1).
+   pure subroutine cell_shares(stiffness, force, magnitude, du_left, du_right, previous, spread_before, &
+                               magnitude_before, residual, roundoff, forces)
+      real(dp), intent(in) :: stiffness, force, magnitude, du_left, du_right
+      real(dp), intent(inout) :: previous, spread_before, magnitude_before
+      real(dp), intent(out) :: residual, roundoff, forces
+      real(dp) :: share, spread
+      share = force - stiffness*(du_right - du_left)
+      spread = stiffness*(abs(du_left) + abs(du_right))
+      residual = share - previous
+      roundoff = spread_before + spread
+      forces = (magnitude_before + magnitude) + roundoff
+      previous = share
+      spread_before = spread
+      magnitude_before = magnitude
+   end subroutine cell_shares
+
+   !> affine_forces_hat's terms of the last node, from its one cell's.
+   pure subroutine last_shares(previous, spread_before, magnitude_before, residual, roundoff, forces)
+      real(dp), intent(in) :: previous, spread_before, magnitude_before
+      real(dp), intent(out) :: residual, roundoff, forces
+      residual = -previous
+      roundoff = spread_before
+      forces = magnitude_before + spread_before
+   end subroutine last_shares
 
    !> assemble_residual where im%plain_hat holds, in one pass over the nodes: du = dt v_n + e
    !> (node_increments), the cells' shares (affine_forces_hat), the inertia, the external force and the
@@ -1231,7 +1250,7 @@ contains
                               external(0:n), multiplier, weight(0:n), inertia_factor
       logical, intent(in) :: unknown(0:n), prescribed(0:n), constrained
       real(dp), intent(out) :: du(0:n), residual(0:n), forces(0:n), roundoff(0:n), squares(3)
-      real(dp) :: share, previous, spread, spread_before, magnitude_before, work, residual2, roundoff2, scale2
+      real(dp) :: previous, spread_before, magnitude_before, work, residual2, roundoff2, scale2
       integer :: i
       previous = 0.0_dp
       spread_before = 0.0_dp
@@ -1243,18 +1262,10 @@ contains
       do i = 0, n
          if (i < n) then
             du(i + 1) = dt*velocity(i + 1) + e(i + 1)
-            share = cells(2, i) - cells(1, i)*(du(i + 1) - du(i))
-            spread = cells(1, i)*(abs(du(i)) + abs(du(i + 1)))
-            residual(i) = share - previous
-            roundoff(i) = spread_before + spread
-            forces(i) = (magnitude_before + cells(3, i)) + roundoff(i)
-            previous = share
-            spread_before = spread
-            magnitude_before = cells(3, i)
+            call cell_shares(cells(1, i), cells(2, i), cells(3, i), du(i), du(i + 1), previous, spread_before, &
+                             magnitude_before, residual(i), roundoff(i), forces(i))
          else
-            residual(n) = -previous
-            roundoff(n) = spread_before
-            forces(n) = magnitude_before + spread_before
+            call last_shares(previous, spread_before, magnitude_before, residual(n), roundoff(n), forces(n))
          end if
          work = mass(i)*(inertia_factor*e(i) - acceleration(i))
          forces(i) = forces(i) + mass(i)*(inertia_factor*abs(e(i)) + abs(acceleration(i)))
