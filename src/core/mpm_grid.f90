@@ -275,39 +275,22 @@ contains
          momentum(0) = momentum_left(1)
       end if
       force(0) = stress_volume(1)*inv_dx
-      call update_node(mass(0), force(0), momentum(0), acceleration(0), velocity(0))
+      call update_node(dt, empty_mass, mass(0), force(0), momentum(0), acceleration(0), velocity(0), lowest)
       do i = 1, n - 1
          if (with_nodes) then
             mass(i) = mass_right(i) + mass_left(i + 1)
             momentum(i) = momentum_right(i) + momentum_left(i + 1)
          end if
          force(i) = (stress_volume(i + 1) - stress_volume(i))*inv_dx
-         call update_node(mass(i), force(i), momentum(i), acceleration(i), velocity(i))
+         call update_node(dt, empty_mass, mass(i), force(i), momentum(i), acceleration(i), velocity(i), lowest)
       end do
       if (with_nodes) then
          mass(n) = mass_right(n)
          momentum(n) = momentum_right(n)
       end if
       force(n) = -stress_volume(n)*inv_dx
-      call update_node(mass(n), force(n), momentum(n), acceleration(n), velocity(n))
+      call update_node(dt, empty_mass, mass(n), force(n), momentum(n), acceleration(n), velocity(n), lowest)
       lightest = lowest
-   contains
-      !> p += dt f, a = f/m, v = p/m, empty nodes 0 (solve_range's update of one node)
-      subroutine update_node(m, f, p, a, v)
-         real(dp), intent(in) :: m, f
-         real(dp), intent(inout) :: p
-         real(dp), intent(out) :: a, v
-         p = p + dt*f
-         if (m > empty_mass) then
-            a = f/m
-            v = p/m
-            lowest = min(lowest, m)
-         else
-            if (m > 0.0_dp) lowest = min(lowest, m)
-            a = 0.0_dp
-            v = 0.0_dp
-         end if
-      end subroutine update_node
    end subroutine assemble_solve_serial
 
    !> The end nodes 0 and `elements` of the domain (each has one element).
@@ -548,19 +531,28 @@ contains
       real(dp) :: lowest
       lowest = lightest ! (a local: gfortran kept the dummy in memory, a store and load per node)
       do i = lo, hi
-         momentum(i) = momentum(i) + dt*force(i)
-         if (mass(i) > empty_mass) then
-            acceleration(i) = force(i)/mass(i)
-            velocity(i) = momentum(i)/mass(i)
-            lowest = min(lowest, mass(i))
-         else ! (one test for the nodes with mass, the common case)
-            if (mass(i) > 0.0_dp) lowest = min(lowest, mass(i))
-            acceleration(i) = 0.0_dp
-            velocity(i) = 0.0_dp
-         end if
+         call update_node(dt, empty_mass, mass(i), force(i), momentum(i), acceleration(i), velocity(i), lowest)
       end do
       lightest = lowest
    end subroutine solve_range
+
+   !> One node's update: p += dt f, a = f/m, v = p/m (empty nodes 0), and the lightest node with mass so far
+   !> in `lowest`.
+   pure subroutine update_node(dt, empty_mass, m, f, p, a, v, lowest)
+      real(dp), intent(in) :: dt, empty_mass, m, f
+      real(dp), intent(inout) :: p, lowest
+      real(dp), intent(out) :: a, v
+      p = p + dt*f
+      if (m > empty_mass) then
+         a = f/m
+         v = p/m
+         lowest = min(lowest, m)
+      else ! (one test for the nodes with mass, the common case)
+         if (m > 0.0_dp) lowest = min(lowest, m)
+         a = 0.0_dp
+         v = 0.0_dp
+      end if
+   end subroutine update_node
 
    !> The fixed nodes stay at rest; records the lightest node of the step.
    subroutine fix_nodes(grid, lightest)

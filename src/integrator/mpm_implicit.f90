@@ -147,15 +147,12 @@ module mpm_implicit
       logical :: constrained = .false.
       !> the step has a drive (its held nodes and reaction: without one the reaction stays zero)
       logical :: driven = .false.
-      !> the grid has mirror ghosts (node_roles)
-      logical :: mirrored = .false.
       !> the affine law on the hat, lumped mass, dynamic, no mirror ghost and no ghost penalty: the residual
       !> and the tangent are passes over the nodes in closed form (residual_hat, tangent_hat)
       logical :: plain_hat = .false.
       !> residual_hat's sums of squares of the residual, round-off and forces over the unknowns, for
-      !> relative_measures (`measured`: formed with the last residual)
+      !> relative_measures (where plain_hat holds: every residual is residual_hat's)
       real(dp) :: squares(3) = 0.0_dp
-      logical :: measured = .false.
       ! per particle
       real(dp), allocatable :: x_start(:), dstrain(:), stress(:), stiffness(:), volume(:), strain_magnitude(:)
       !> per node, the size of R's round-off from the increments' own: sum over the stiffness terms of
@@ -286,8 +283,7 @@ contains
       if (im%ghost_penalty > 0.0_dp) call find_ghost_knots(cache, grid, particles%x, im%volume, im%modulus, &
                                                            im%ghost_penalty, im%knots)
       im%plain_hat = im%affine .and. cache%support == 2 .and. dynamic .and. im%mass == mass_lumped .and. &
-                     .not. im%mirrored .and. im%knots%count == 0
-      im%measured = .false.
+                     .not. (grid%mirror .or. grid%mirror_right >= 0) .and. im%knots%count == 0
       ! (cleared where Newton assembles it, before it reads it)
       call banded_init(im%tangent, grid%elements + 1, cache%support - 1 + merge(1, 0, im%ghost_penalty > 0.0_dp), &
                        cleared=.false.)
@@ -333,7 +329,6 @@ contains
       do k = 1, size(grid%fixed)
          im%master(grid%fixed(k)) = -1
       end do
-      im%mirrored = grid%mirror .or. grid%mirror_right >= 0
       if (grid%mirror) then
          do j = 1, grid%ghost
             i = grid%ghost - j
@@ -724,7 +719,7 @@ contains
       type(implicit_t), intent(in) :: im
       real(dp), intent(out) :: relative, roundoff, norm
       real(dp) :: residual2, roundoff2, scale2
-      if (im%measured) then ! (residual_hat's)
+      if (im%plain_hat) then ! (residual_hat's)
          residual2 = im%squares(1)
          roundoff2 = im%squares(2)
          scale2 = im%squares(3)
@@ -806,7 +801,6 @@ contains
          call residual_hat(n, im%dt, im%velocity, im%e, im%cells, grid%mass, im%acceleration, im%external, &
                            im%unknown, im%prescribed, im%constrained, im%multiplier, im%weight, 4.0_dp/im%dt**2, &
                            im%du, im%residual, im%forces, im%roundoff, im%squares)
-         im%measured = .true.
          if (with_tangent) call finish_tangent(im, grid)
          return
       end if
