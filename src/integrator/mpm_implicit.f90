@@ -36,7 +36,10 @@
 !>   affine  the linear law (sigma = sigma_n + E J_n d eps) makes R exactly affine in e: f(sigma_n) and
 !>           S = sum_p dN_I E J_n V_p^n dN_J are formed once at the step's start (affine_start) and every
 !>           residual is f(sigma_n) + S du + the node-wise terms, without a pass over the particles
-!>           (docs/theory.md, The affine residual of the linear law); the other laws' residual is a pass;
+!>           (docs/theory.md, The affine residual of the linear law); hencky's on the hat with FLIP per cell:
+!>           a cell's particles share their strain increment, so their stresses sigma_n + E ln(1 + d eps)
+!>           sum to F + H ln(1 + d eps) with F, H summed at the step's start, one logarithm a cell
+!>           (hencky_cells; docs/theory.md, Hencky's residual per cell); the other laws' residual is a pass;
 !>   G2P     v_p by the run's transfer from v_{n+1} (FLIP: v_p += sum N (v_{n+1} - v_n)), x_p += sum_I N_Ip
 !>           du_I, and the law's state update by d eps_p (update_material_finite).
 !> Mass: lumped by default (the row sums, the explicit schemes' P2G unchanged, a diagonal that needs no
@@ -162,15 +165,27 @@ module mpm_implicit
       !> the step's law is affine in the increment (linear): R(e) is formed on the nodes from what the
       !> step's start assembled (affine_start), without a pass over the particles
       logical :: affine = .false.
-      !> off: every law's residual from the particles (tests compare the two forms)
-      logical :: affine_allowed = .true.
+      !> hencky's law on the hat with FLIP, without the ghost penalty: a cell's particles share their strain
+      !> increment, so R(e) is formed per cell from the start's sums, one logarithm a cell (hencky_cells)
+      logical :: hencky_cells = .false.
+      !> off: every law's residual from the particles (tests compare the forms)
+      logical :: node_forms = .true.
       !> the affine law's node-wise sums over the particles, on the nodes 0..elements before folding: the
       !> stiffness S_IJ = sum_p dN_Ip k_p V_p dN_Jp and the sums of its terms' magnitudes, by the offset
       !> d = J - I (band(d, I)); the force shares at sigma_n, sum_p dN_Ip sigma_p^n V_p, and their magnitudes
       real(dp), allocatable :: band(:, :), band_magnitude(:, :), start_force(:), start_magnitude(:)
-      !> the hat's: per cell i (nodes i, i + 1), the sums over its particles of dN^2 k_p V_p, of dN sigma_p^n V_p
-      !> (dN the left node's gradient) and of its magnitude (affine_start_hat)
+      !> the hat's: per cell i (nodes i, i + 1), the sums over its particles of dN^2 k_p V_p (the tangent's), of
+      !> dN sigma_p^n V_p (dN the left node's gradient), of its magnitude and of dN^2 k_p V_p again (the share's:
+      !> affine_start_hat); hencky_cells' at the last residual (hencky_logarithms): the tangent's
+      !> sum dN^2 E_p V_p/(1 + d eps), the share sum dN sigma_p V_p, its magnitude's bound, 0 (the share is
+      !> not affine). affine_forces_hat forms the residual from either.
       real(dp), allocatable :: cells(:, :)
+      !> hencky_cells' sums per cell at the step's start (start_pass_hat): sum dN^2 E_p V_p, sum dN sigma_p^n V_p
+      !> and its magnitude; the smallest and largest sigma_p^n/E_p of its particles (stress_ranges); the cell's
+      !> ln(1 + d eps) at the last residual and whether its stresses there have both signs; 1 per particle
+      !> (start_pass_hat's stiffness ratio for hencky's sums)
+      real(dp), allocatable :: hencky(:, :), ranges(:, :), logarithms(:), ones(:)
+      logical, allocatable :: mixed(:)
       type(banded_t) :: tangent, mass_matrix, mass_factors, mass_magnitude
       type(ghost_knots_t) :: knots
    end type implicit_t
@@ -246,7 +261,9 @@ contains
       im%dt = dt
       call locate_particles(cache, grid, particles, totals)
       if (totals%outside /= 0) return
-      im%affine = im%affine_allowed .and. material%law == law_linear
+      im%affine = im%node_forms .and. material%law == law_linear
+      im%hencky_cells = im%node_forms .and. material%law == law_hencky .and. hat_flip_update(im, cache) .and. &
+                        .not. im%ghost_penalty > 0.0_dp
       ! m, p and (dynamic) f_int(sigma_n); the hat with FLIP with the affine law's cell sums in the same pass
       fused = hat_flip_update(im, cache)
       if (fused) then
@@ -282,8 +299,8 @@ contains
       im%knots%count = 0
       if (im%ghost_penalty > 0.0_dp) call find_ghost_knots(cache, grid, particles%x, im%volume, im%modulus, &
                                                            im%ghost_penalty, im%knots)
-      im%plain_hat = im%affine .and. cache%support == 2 .and. dynamic .and. im%mass == mass_lumped .and. &
-                     .not. (grid%mirror .or. grid%mirror_right >= 0) .and. im%knots%count == 0
+      im%plain_hat = (im%affine .or. im%hencky_cells) .and. cache%support == 2 .and. dynamic .and. &
+                     im%mass == mass_lumped .and. .not. (grid%mirror .or. grid%mirror_right >= 0) .and. im%knots%count == 0
       ! (cleared where Newton assembles it, before it reads it)
       call banded_init(im%tangent, grid%elements + 1, cache%support - 1 + merge(1, 0, im%ghost_penalty > 0.0_dp), &
                        cleared=.false.)
@@ -361,16 +378,16 @@ contains
    end subroutine node_roles
 
    !> Each particle's material parameters and the law's state at the step's start, its volume V_p^n and its
-   !> position x_p^n, as far as the step reads them: the affine law on the hat without the ghost penalty reads
-   !> neither the moduli nor the volumes (affine_start_hat forms them), the hat's update with FLIP moves the
-   !> particles from where they are (update_hat_flip).
+   !> position x_p^n, as far as the step reads them: the affine law and hencky_cells on the hat without the
+   !> ghost penalty read neither the moduli nor the volumes (the start's cell sums form them), the hat's
+   !> update with FLIP moves the particles from where they are (update_hat_flip).
    subroutine particle_data(im, cache, particles, material)
       type(implicit_t), intent(inout) :: im
       type(shape_cache_t), intent(in) :: cache
       type(particles_t), intent(in) :: particles
       type(material_t), intent(in) :: material
       if (.not. hat_flip_update(im, cache)) im%x_start = particles%x
-      if (im%affine .and. cache%support == 2 .and. .not. im%ghost_penalty > 0.0_dp) return
+      if ((im%affine .or. im%hencky_cells) .and. cache%support == 2 .and. .not. im%ghost_penalty > 0.0_dp) return
       im%modulus = material%youngs_modulus
       if (allocated(particles%youngs_modulus_of)) im%modulus = particles%youngs_modulus_of
       ! the plastic parameters and state: read by the laws without a loop of their own in
@@ -793,18 +810,26 @@ contains
       type(material_t), intent(in) :: material
       logical, intent(in) :: with_tangent
       real(dp) :: inertia_factor
-      integer :: i, k, n
+      integer :: i, k, n, mixed_cells
       logical :: dynamic
       n = grid%elements
       call fill_slaves(im, im%e)
+      if (im%hencky_cells) then
+         call hencky_logarithms(n, im%dt, grid%inv_dx, im%velocity, im%e, im%hencky, im%ranges, im%logarithms, &
+                                im%mixed, mixed_cells, im%cells)
+         if (mixed_cells > 0) call mixed_magnitudes(particles%count, size(cache%gradient, 1), n, cache%first, &
+                                                    cache%gradient, particles%stress, particles%volume_ratio, &
+                                                    particles%volume0_of, material%youngs_modulus, im%logarithms, &
+                                                    im%mixed, im%cells, particles%youngs_modulus_of)
+      end if
       if (im%plain_hat) then ! (the tangent, if asked, in finish_tangent: tangent_hat)
-         call residual_hat(n, im%dt, im%velocity, im%e, im%cells, grid%mass, im%acceleration, im%external, &
-                           im%unknown, im%prescribed, im%constrained, im%multiplier, im%weight, 4.0_dp/im%dt**2, &
-                           im%du, im%residual, im%forces, im%roundoff, im%squares)
+         call residual_hat(n, im%dt, im%velocity, im%e, merge(0.0_dp, 1.0_dp, im%hencky_cells), im%cells, grid%mass, &
+                           im%acceleration, im%external, im%unknown, im%prescribed, im%constrained, im%multiplier, &
+                           im%weight, 4.0_dp/im%dt**2, im%du, im%residual, im%forces, im%roundoff, im%squares)
          if (with_tangent) call finish_tangent(im, grid)
          return
       end if
-      if (im%affine) then
+      if (im%affine .or. im%hencky_cells) then
          ! (the affine forms set every node's sums: nothing to clear)
          call node_increments(n, im%dt, im%velocity, im%e, im%du)
       else
@@ -817,10 +842,12 @@ contains
          end do
       end if
       if (with_tangent) call banded_zero(im%tangent)
-      if (im%affine) then
-         ! the linear law: the same sums formed on the nodes from the step's start (affine_start)
+      if (im%affine .or. im%hencky_cells) then
+         ! the linear law: the same sums formed on the nodes from the step's start (affine_start); hencky_cells
+         ! from its cells' logarithms
          if (cache%support == 2) then
-            call affine_forces_hat(n, im%cells, im%du, im%residual, im%forces, im%roundoff)
+            call affine_forces_hat(n, merge(0.0_dp, 1.0_dp, im%hencky_cells), im%cells, im%du, im%residual, &
+                                   im%forces, im%roundoff)
          else
             call affine_forces(n, cache%support - 1, im%band, im%band_magnitude, im%start_force, im%start_magnitude, &
                                im%du, im%residual, im%forces, im%roundoff)
@@ -916,7 +943,7 @@ contains
          return
       end if
       call banded_zero(im%tangent)
-      if (im%affine) then
+      if (im%affine .or. im%hencky_cells) then
          call fold_stiffness(im, cache%support, grid%elements)
       else
          call particle_forces(im, cache, particles%count, grid%elements, .false., .true.)
@@ -989,10 +1016,7 @@ contains
       integer :: b
       b = cache%support - 1
       if (b == 1) then
-         if (allocated(im%cells)) then
-            if (size(im%cells, 2) /= n) deallocate (im%cells)
-         end if
-         if (.not. allocated(im%cells)) allocate (im%cells(3, 0:n - 1))
+         call cell_room(im%cells, 3, n)
          call affine_start_hat(particles%count, size(cache%gradient, 1), n, cache%first, cache%gradient, &
                                particles%stress, material%youngs_modulus, particles%volume_ratio, &
                                particles%volume0_of, im%cells, particles%youngs_modulus_of)
@@ -1011,8 +1035,64 @@ contains
                              im%start_magnitude)
    end subroutine affine_start
 
+   !> Room for `rows` sums per cell of the cells 0..n - 1 (allocated when the grid changes).
+   subroutine cell_room(cells, rows, n)
+      real(dp), allocatable, intent(inout) :: cells(:, :)
+      integer, intent(in) :: rows, n
+      if (allocated(cells)) then
+         if (size(cells, 2) /= n) deallocate (cells)
+      end if
+      if (.not. allocated(cells)) allocate (cells(rows, 0:n - 1))
+   end subroutine cell_room
+
+   !> hencky_cells' arrays for the cells 0..n - 1 and `count` particles (allocated when their sizes change).
+   subroutine hencky_room(im, n, count)
+      type(implicit_t), intent(inout) :: im
+      integer, intent(in) :: n, count
+      call cell_room(im%cells, 3, n)
+      call cell_room(im%hencky, 3, n)
+      call cell_room(im%ranges, 2, n)
+      if (allocated(im%logarithms)) then
+         if (size(im%logarithms) /= n) deallocate (im%logarithms, im%mixed)
+      end if
+      if (.not. allocated(im%logarithms)) allocate (im%logarithms(0:n - 1), im%mixed(0:n - 1))
+      if (allocated(im%ones)) then
+         if (size(im%ones) /= count) deallocate (im%ones)
+      end if
+      if (.not. allocated(im%ones)) then
+         allocate (im%ones(count))
+         im%ones = 1.0_dp
+      end if
+   end subroutine hencky_room
+
+   !> Per cell the smallest and the largest sigma_p^n/E_p of its particles (none: +huge, -huge), for
+   !> hencky_logarithms' test whether the cell's stresses sigma^n + E ln(1 + d eps) have one sign. E_p the
+   !> material's or, given, the particle's (`modulus_of`).
+   subroutine stress_ranges(count, n, first, stress, modulus, ranges, modulus_of)
+      integer, intent(in) :: count, n
+      integer, intent(in) :: first(count)
+      real(dp), intent(in) :: stress(count), modulus
+      real(dp), intent(out) :: ranges(2, 0:n - 1)
+      real(dp), intent(in), optional :: modulus_of(count)
+      real(dp) :: ratio
+      integer :: p, i
+      ranges(1, :) = huge(1.0_dp)
+      ranges(2, :) = -huge(1.0_dp)
+      do p = 1, count
+         i = first(p)
+         if (present(modulus_of)) then
+            ratio = stress(p)/modulus_of(p)
+         else
+            ratio = stress(p)/modulus
+         end if
+         ! (comparisons: min and max once gave wrong values in a release build's loop)
+         if (ratio < ranges(1, i)) ranges(1, i) = ratio
+         if (ratio > ranges(2, i)) ranges(2, i) = ratio
+      end do
+   end subroutine stress_ranges
+
    !> The start of a step of the hat with FLIP: p2g_mass_momentum's sums with the force and, for the affine law,
-   !> affine_start's (start_pass_hat).
+   !> affine_start's, for hencky_cells their cell sums (start_pass_hat).
    subroutine start_hat(im, cache, particles, grid, material)
       type(implicit_t), intent(inout) :: im
       type(shape_cache_t), intent(in) :: cache
@@ -1024,15 +1104,20 @@ contains
       grid%mass = 0.0_dp
       grid%momentum = 0.0_dp
       grid%force = 0.0_dp
-      if (im%affine) then
-         if (allocated(im%cells)) then
-            if (size(im%cells, 2) /= n) deallocate (im%cells)
-         end if
-         if (.not. allocated(im%cells)) allocate (im%cells(3, 0:n - 1))
+      if (im%hencky_cells) then
+         call hencky_room(im, n, particles%count)
          call start_pass_hat(particles%count, size(cache%weight, 1), n, cache%first, cache%weight, cache%gradient, &
                              particles%mass_of, particles%v, particles%stress, particles%volume_ratio, &
                              particles%volume0_of, grid%mass, grid%momentum, grid%force, material%youngs_modulus, &
-                             im%cells, particles%youngs_modulus_of)
+                             im%ones, im%hencky, particles%youngs_modulus_of)
+         call stress_ranges(particles%count, n, cache%first, particles%stress, material%youngs_modulus, im%ranges, &
+                            particles%youngs_modulus_of)
+      else if (im%affine) then
+         call cell_room(im%cells, 3, n)
+         call start_pass_hat(particles%count, size(cache%weight, 1), n, cache%first, cache%weight, cache%gradient, &
+                             particles%mass_of, particles%v, particles%stress, particles%volume_ratio, &
+                             particles%volume0_of, grid%mass, grid%momentum, grid%force, material%youngs_modulus, &
+                             particles%volume_ratio, im%cells, particles%youngs_modulus_of)
       else
          call start_pass_hat(particles%count, size(cache%weight, 1), n, cache%first, cache%weight, cache%gradient, &
                              particles%mass_of, particles%v, particles%stress, particles%volume_ratio, &
@@ -1046,14 +1131,16 @@ contains
    !> sigma_p V_p formed as scatter forms its columns of them) and, given `cells`, affine_start_hat's sums
    !> (added per particle, as there; a cell's sums held in registers while its particles follow each other),
    !> in one pass over the particles: each value formed by the same operations in the same order (the same
-   !> bits).
+   !> bits). The stiffness k_p = E_p r_p (`ratio`, with `cells`): r = J^n for the linear law (its
+   !> d sigma/d eps = E J^n), r = 1 for hencky_cells' sums (hencky's is E/(1 + d eps)).
    subroutine start_pass_hat(count, rows, n, first, weight, gradient, mass_of, v, stress, volume_ratio, volume0, &
-                             mass, momentum, force, modulus, cells, modulus_of)
+                             mass, momentum, force, modulus, ratio, cells, modulus_of)
       integer, intent(in) :: count, rows, n
       integer, intent(in) :: first(count)
       real(dp), intent(in) :: weight(rows, 2), gradient(rows, 2), mass_of(count), v(count), stress(count), &
                               volume_ratio(count), volume0(count), modulus
       real(dp), intent(inout) :: mass(0:n), momentum(0:n), force(0:n)
+      real(dp), intent(in), optional :: ratio(count)
       real(dp), intent(out), optional :: cells(3, 0:n - 1)
       real(dp), intent(in), optional :: modulus_of(count)
       real(dp) :: mass1, mass2, momentum1, momentum2, force1, force2, q, stress_volume, share, stiffness, volume, &
@@ -1081,8 +1168,8 @@ contains
          force2 = force2 - gradient(p, 2)*stress_volume
          i = first(p)
          if (present(cells)) then
-            stiffness = modulus*volume_ratio(p)
-            if (present(modulus_of)) stiffness = modulus_of(p)*volume_ratio(p)
+            stiffness = modulus*ratio(p)
+            if (present(modulus_of)) stiffness = modulus_of(p)*ratio(p)
             volume = volume_ratio(p)*volume0(p)
             share = gradient(p, 1)*stress(p)*volume
             cell1 = cell1 + gradient(p, 1)*stiffness*volume*gradient(p, 1)
@@ -1188,9 +1275,10 @@ contains
    !> affine_forces for the hat from its cells' sums (affine_start_hat): cell i's share of node i is
    !> T_i = F_i - C_i (du_{i+1} - du_i) and of node i + 1 -T_i; its round-off scale C_i (|du_i| + |du_{i+1}|)
    !> (every particle's c >= 0, so the magnitudes' sum is C_i itself) and its force scale |F|_i go to both.
-   subroutine affine_forces_hat(n, cells, du, residual, forces, roundoff)
+   !> hencky_cells (`affine` 0): the same with the sums of its law at the last hencky_logarithms (cell_shares).
+   subroutine affine_forces_hat(n, affine, cells, du, residual, forces, roundoff)
       integer, intent(in) :: n
-      real(dp), intent(in) :: cells(3, 0:n - 1), du(0:n)
+      real(dp), intent(in) :: affine, cells(3, 0:n - 1), du(0:n)
       real(dp), intent(out) :: residual(0:n), forces(0:n), roundoff(0:n)
       real(dp) :: previous, spread_before, magnitude_before
       integer :: i
@@ -1198,29 +1286,86 @@ contains
       spread_before = 0.0_dp
       magnitude_before = 0.0_dp
       do i = 0, n - 1
-         call cell_shares(cells(1, i), cells(2, i), cells(3, i), du(i), du(i + 1), previous, spread_before, &
-                          magnitude_before, residual(i), roundoff(i), forces(i))
+         call cell_shares(affine, cells(:, i), du(i), du(i + 1), previous, spread_before, magnitude_before, &
+                          residual(i), roundoff(i), forces(i))
       end do
       call last_shares(previous, spread_before, magnitude_before, residual(n), roundoff(n), forces(n))
    end subroutine affine_forces_hat
 
-   !> affine_forces_hat's terms of node i from its cell i (C, F, |F| and the increments of its nodes) and from
-   !> cell i - 1 (its share, round-off scale and force scale; then cell i's, for node i + 1).
-   pure subroutine cell_shares(stiffness, force, magnitude, du_left, du_right, previous, spread_before, &
-                               magnitude_before, residual, roundoff, forces)
-      real(dp), intent(in) :: stiffness, force, magnitude, du_left, du_right
+   !> affine_forces_hat's terms of node i from its cell i (its sums and the increments of its nodes) and from
+   !> cell i - 1 (its share, round-off scale and force scale; then cell i's, for node i + 1): the share
+   !> F - a C (du_{i+1} - du_i), a = `affine`: 1 for the linear law (1 C is C: the same bits), 0 where F is
+   !> the share itself (hencky_logarithms); the round-off scale C (|du_i| + |du_{i+1}|); the force scale
+   !> cell(3) + a times the round-off scale (the linear law's bound of the stresses' change; hencky_cells'
+   !> cell(3) is the particles' sum itself, force_pass's, which has no round-off term).
+   pure subroutine cell_shares(affine, cell, du_left, du_right, previous, spread_before, magnitude_before, residual, &
+                               roundoff, forces)
+      real(dp), intent(in) :: affine, cell(3), du_left, du_right
       real(dp), intent(inout) :: previous, spread_before, magnitude_before
       real(dp), intent(out) :: residual, roundoff, forces
       real(dp) :: share, spread
-      share = force - stiffness*(du_right - du_left)
-      spread = stiffness*(abs(du_left) + abs(du_right))
+      share = cell(2) - (affine*cell(1))*(du_right - du_left)
+      spread = cell(1)*(abs(du_left) + abs(du_right))
       residual = share - previous
       roundoff = spread_before + spread
-      forces = (magnitude_before + magnitude) + roundoff
+      forces = (magnitude_before + cell(3)) + affine*roundoff
       previous = share
       spread_before = spread
-      magnitude_before = magnitude
+      magnitude_before = cell(3)
    end subroutine cell_shares
+
+   !> hencky_cells' law at the increments du = dt v_n + e, per cell i (nodes i, i + 1; the hat's gradients
+   !> -1/dx and 1/dx, as linear_shapes sets them): d eps formed as strain_pass_hat forms a particle's and
+   !> ln(1 + d eps) as law_stress_stiffness's hencky loop forms it (the same bits as each of the cell's
+   !> particles'), kept in `logarithms`, and from the start's sums (`hencky`: C = sum dN^2 E V, F, |F|) the
+   !> cell's sums for cell_shares: the share F + H ln(1 + d eps), H = sum dN E V = -C dx (the cell's
+   !> particles' dN = -1/dx: linear_shapes'), the particles' sum of dN (sigma^n + E ln(1 + d eps)) V; its
+   !> force scale, the particles' sum of |dN sigma V|: |share| where their stresses have one sign (the
+   !> cell's range of sigma^n/E, `ranges`, all on one side of -ln(1 + d eps)), else 0 and the cell counted
+   !> in `mixed_cells` and flagged in `mixed` (mixed_magnitudes adds the particles' terms); the tangent's
+   !> C/(1 + d eps) (its round-off scale times |du_i| + |du_{i+1}|: force_pass's sum of
+   !> |dN (d sigma/d eps) V| sum_J |dN_J du_J|). A cell without particles (C = 0) takes no logarithm (its
+   !> nodes may be empty and their increments anything). A loop of its own: the library's log clobbers
+   !> every floating-point register, so a call in residual_hat's loop would spill its sums around it.
+   pure subroutine hencky_logarithms(n, dt, inv_dx, velocity, e, hencky, ranges, logarithms, mixed, mixed_cells, cells)
+      integer, intent(in) :: n
+      real(dp), intent(in) :: dt, inv_dx, velocity(0:n), e(0:n), hencky(3, 0:n - 1), ranges(2, 0:n - 1)
+      real(dp), intent(out) :: logarithms(0:n - 1), cells(3, 0:n - 1)
+      logical, intent(out) :: mixed(0:n - 1)
+      integer, intent(out) :: mixed_cells
+      real(dp) :: left, right, total, dstrain, u, logarithm, stiffness, share, width
+      integer :: i
+      width = -1.0_dp/inv_dx
+      mixed_cells = 0
+      right = dt*velocity(0) + e(0)
+      do i = 0, n - 1
+         left = right
+         right = dt*velocity(i + 1) + e(i + 1)
+         ! (from 0 as strain_pass_hat: 0 + (-0) is +0)
+         total = 0.0_dp
+         total = total + (-inv_dx)*left
+         dstrain = total + inv_dx*right
+         u = 1.0_dp + dstrain
+         logarithm = 0.0_dp
+         stiffness = 0.0_dp
+         if (hencky(1, i) /= 0.0_dp) then
+            if (u == 1.0_dp) then
+               logarithm = dstrain
+            else
+               logarithm = log(u)*dstrain/(u - 1.0_dp)
+            end if
+            stiffness = hencky(1, i)/u
+         end if
+         share = hencky(2, i) + (hencky(1, i)*width)*logarithm
+         logarithms(i) = logarithm
+         cells(1, i) = stiffness
+         cells(2, i) = share
+         ! the force scale: |share| where the stresses have one sign; else from the particles (mixed_magnitudes)
+         mixed(i) = ranges(1, i) + logarithm < 0.0_dp .and. ranges(2, i) + logarithm > 0.0_dp
+         cells(3, i) = merge(0.0_dp, abs(share), mixed(i))
+         if (mixed(i)) mixed_cells = mixed_cells + 1
+      end do
+   end subroutine hencky_logarithms
 
    !> affine_forces_hat's terms of the last node, from its one cell's.
    pure subroutine last_shares(previous, spread_before, magnitude_before, residual, roundoff, forces)
@@ -1237,10 +1382,10 @@ contains
    !> (sums_of_squares; in `squares`): each value formed by the same operations in the same order (the same
    !> bits). Without mirror ghosts the fold onto the unknowns moves nothing, and without ghost knots the
    !> penalty adds nothing.
-   pure subroutine residual_hat(n, dt, velocity, e, cells, mass, acceleration, external, unknown, prescribed, &
+   pure subroutine residual_hat(n, dt, velocity, e, affine, cells, mass, acceleration, external, unknown, prescribed, &
                                 constrained, multiplier, weight, inertia_factor, du, residual, forces, roundoff, squares)
       integer, intent(in) :: n
-      real(dp), intent(in) :: dt, velocity(0:n), e(0:n), cells(3, 0:n - 1), mass(0:n), acceleration(0:n), &
+      real(dp), intent(in) :: dt, velocity(0:n), e(0:n), affine, cells(3, 0:n - 1), mass(0:n), acceleration(0:n), &
                               external(0:n), multiplier, weight(0:n), inertia_factor
       logical, intent(in) :: unknown(0:n), prescribed(0:n), constrained
       real(dp), intent(out) :: du(0:n), residual(0:n), forces(0:n), roundoff(0:n), squares(3)
@@ -1256,8 +1401,8 @@ contains
       do i = 0, n
          if (i < n) then
             du(i + 1) = dt*velocity(i + 1) + e(i + 1)
-            call cell_shares(cells(1, i), cells(2, i), cells(3, i), du(i), du(i + 1), previous, spread_before, &
-                             magnitude_before, residual(i), roundoff(i), forces(i))
+            call cell_shares(affine, cells(:, i), du(i), du(i + 1), previous, spread_before, magnitude_before, &
+                             residual(i), roundoff(i), forces(i))
          else
             call last_shares(previous, spread_before, magnitude_before, residual(n), roundoff(n), forces(n))
          end if
@@ -1663,7 +1808,7 @@ contains
          end if
          if (hat_flip) then
             call update_hat_flip(particles%count, size(cache%weight, 1), grid%elements, cache%first, cache%weight, &
-                                 cache%gradient, im%affine, im%dstrain, &
+                                 cache%gradient, im%affine .or. im%hencky_cells, im%dstrain, &
                                  grid%acceleration, im%du, im%dt, particles%x0, particles%mass_of, &
                                  grid%origin, grid%origin + grid%length, grid%inv_dx, particles%x, particles%v, &
                                  totals%kinetic_energy, totals%displacement, totals%max_cell_move, totals%furthest, &
@@ -1687,9 +1832,69 @@ contains
       end if
       ! (the affine law's residual formed no strains: the converged ones here, or in update_hat_flip)
       if (im%affine .and. .not. hat_flip) call particle_strains(im, cache, particles%count, grid%elements)
-      call update_material_finite(material, im%dstrain, particles, totals%strain_energy, totals%min_volume_ratio, &
-                                  totals%plastic_work, im%stress)
+      if (im%hencky_cells) then
+         call hencky_update(particles%count, size(cache%gradient, 1), grid%elements, cache%first, cache%gradient, &
+                            im%dstrain, material%youngs_modulus, im%logarithms, particles%volume0_of, particles%stress, &
+                            particles%volume_ratio, totals%strain_energy, particles%youngs_modulus_of)
+         totals%min_volume_ratio = minval(particles%volume_ratio)
+         totals%plastic_work = 0.0_dp
+      else
+         call update_material_finite(material, im%dstrain, particles, totals%strain_energy, totals%min_volume_ratio, &
+                                     totals%plastic_work, im%stress)
+      end if
    end subroutine update_particles
+
+   !> hencky_cells' force scale of the cells whose particles' stresses have both signs (`mixed`): the sum of
+   !> their |dN sigma_p V_p|, sigma_p = sigma_p^n + E_p ln(1 + d eps) (as hencky_stresses forms it), V_p = J^n V_0
+   !> (force_pass's terms), added to cells(3, :) (0 there).
+   subroutine mixed_magnitudes(count, rows, n, first, gradient, stress_n, volume_ratio, volume0, modulus, logarithms, &
+                               mixed, cells, modulus_of)
+      integer, intent(in) :: count, rows, n
+      integer, intent(in) :: first(count)
+      real(dp), intent(in) :: gradient(rows, 2), stress_n(count), volume_ratio(count), volume0(count), modulus, &
+                              logarithms(0:n - 1)
+      logical, intent(in) :: mixed(0:n - 1)
+      real(dp), intent(inout) :: cells(3, 0:n - 1)
+      real(dp), intent(in), optional :: modulus_of(count)
+      real(dp) :: stiffness, logarithm
+      integer :: p, i
+      do p = 1, count
+         i = first(p)
+         if (.not. mixed(i)) cycle
+         stiffness = modulus
+         if (present(modulus_of)) stiffness = modulus_of(p)
+         logarithm = merge(logarithms(i), 0.0_dp, gradient(p, 1) /= 0.0_dp)
+         cells(3, i) = cells(3, i) + abs(gradient(p, 1)*(stress_n(p) + stiffness*logarithm)* &
+                                         (volume_ratio(p)*volume0(p)))
+      end do
+   end subroutine mixed_magnitudes
+
+   !> hencky_cells' law state at the converged increments, update_material_finite's for hencky in one pass:
+   !> sigma_p = sigma_p^n + E_p ln(1 + d eps) with the cell's logarithm of the last residual (law_stress_stiffness's
+   !> hencky values, the same bits; a particle outside the grid, zero gradients, keeps sigma^n, as its zero
+   !> strain increment gives), J_p <- J_p (1 + d eps_p), and the stored energy, stored_energy's sum of
+   !> sigma^2 J V_0/(2 E) in its order (the same bits). E_p the material's or, given, the particle's
+   !> (`modulus_of`).
+   subroutine hencky_update(count, rows, n, first, gradient, dstrain, modulus, logarithms, volume0, stress, &
+                            volume_ratio, energy, modulus_of)
+      integer, intent(in) :: count, rows, n
+      integer, intent(in) :: first(count)
+      real(dp), intent(in) :: gradient(rows, 2), dstrain(count), modulus, logarithms(0:n - 1), volume0(count)
+      real(dp), intent(inout) :: stress(count), volume_ratio(count)
+      real(dp), intent(out) :: energy
+      real(dp), intent(in), optional :: modulus_of(count)
+      real(dp) :: stiffness, logarithm
+      integer :: p
+      energy = 0.0_dp
+      do p = 1, count
+         stiffness = modulus
+         if (present(modulus_of)) stiffness = modulus_of(p)
+         logarithm = merge(logarithms(first(p)), 0.0_dp, gradient(p, 1) /= 0.0_dp)
+         stress(p) = stress(p) + stiffness*logarithm
+         volume_ratio(p) = volume_ratio(p)*(1.0_dp + dstrain(p))
+         energy = energy + 0.5_dp*stress(p)*stress(p)*(volume_ratio(p)*volume0(p))/stiffness
+      end do
+   end subroutine hencky_update
 
    !> The grid's v_{n+1} = v_n + 2 e/dt and a = 2 e/dt^2 (for G2P: (v_{n+1} - v_n)/dt) on the nodes 0..n.
    pure subroutine end_kinematics(n, dt, velocity, e, grid_velocity, grid_acceleration)

@@ -3,7 +3,8 @@
 !>   (moved particles, stressed and yielded, mirror ghosts, the ghost penalty, both mass matrices);
 !> - the linear law's residual formed on the nodes from the step's start (affine in the increment) against
 !>   the particles' residual at the same e, and whole runs of both forms, to round-off (every shape, both
-!>   masses, the ghost penalty, mirror ghosts, the drive's constraint, quasi-static);
+!>   masses, the ghost penalty, mirror ghosts, the drive's constraint, quasi-static); Hencky's residual on the
+!>   hat formed per cell (one logarithm a cell) against the particles' likewise (both masses, the drive);
 !> - Newton: a law linear in the increment converges in one linear solve at newton_tolerance 1e-12 even at
 !>   a strain of 1e-8 (the round-off floor of a stress formed from J - 1); the Hencky column converges
 !>   quadratically (each relative residual at most a modest constant times the square of the one before);
@@ -41,6 +42,7 @@ program test_implicit
    if (t%case('tangent_against_differences')) call tangent_against_differences()
    if (t%case('one_solve_for_a_linear_law')) call one_solve_for_a_linear_law()
    if (t%case('affine_residual')) call affine_residual()
+   if (t%case('hencky_cells_residual')) call hencky_cells_residual()
    if (t%case('quadratic_convergence')) call quadratic_convergence()
    if (t%case('temporal_order')) call temporal_order()
    if (t%case('beyond_the_explicit_limit')) call beyond_the_explicit_limit()
@@ -176,7 +178,7 @@ contains
    end subroutine check_tangent
 
    !> The linear law's residual as the nodes form it (f(sigma_n) + S du, mpm_implicit affine_start) against the
-   !> pass over the particles (im%affine_allowed = .false.), which forms sigma_p = sigma_n + E J_n d eps_p per
+   !> pass over the particles (im%node_forms = .false.), which forms sigma_p = sigma_n + E J_n d eps_p per
    !> particle: on the bar (hat, lumped; cpGIMP with the ghost penalty and the consistent mass), the driven
    !> composite bar and the quasi-static column (B-spline, mirror ghosts), after some steps of each form.
    subroutine affine_residual()
@@ -201,14 +203,40 @@ contains
       call compare_affine(config, 3, 'column, bspline2, quasi-static')
    end subroutine affine_residual
 
+   !> Hencky's residual on the hat with FLIP as its cells form it (mpm_implicit hencky_cells: the start's sums
+   !> per cell, one logarithm a cell) against the pass over the particles, which forms each particle's
+   !> sigma_n + E ln(1 + d eps): the bar at a strain amplitude where the logarithm is far from linear (lumped
+   !> and consistent mass) and the driven composite bar (particles' own moduli, the drive's constraint).
+   subroutine hencky_cells_residual()
+      type(config_t) :: config
+      config = new_config()
+      config%integrator = 'implicit'
+      config%law = 'hencky'
+      config%elements = 16
+      config%particles_per_element = 3
+      call set_values(config, ['scene.velocity_amplitude=60.0'])
+      config%dt_fraction = 2.0_dp
+      call compare_affine(config, 8, 'hencky bar, hat, lumped')
+      call compare_affine(config, 8, 'hencky bar, hat, lumped, cells of both signs', mixed=.true.)
+      config%mass = 'consistent'
+      call compare_affine(config, 8, 'hencky bar, hat, consistent')
+      config = driven_composite('1.0e10', 20)
+      config%integrator = 'implicit'
+      config%law = 'hencky'
+      config%dt_fraction = 5.0_dp
+      call compare_affine(config, 8, 'hencky composite bar, driven')
+   end subroutine hencky_cells_residual
+
    !> compare_affine's check: after `steps` steps of each form from the same start, the positions,
    !> velocities and stresses agree to round-off of their scales and the solves are the same; then at one
    !> e off the solution (a random 1 % of the increment) both forms' residuals on the unknowns agree to
    !> round-off of the force scale, and their tangents to round-off of the largest entry.
-   subroutine compare_affine(config, steps, label)
+   subroutine compare_affine(config, steps, label, mixed)
       type(config_t), intent(inout) :: config
       integer, intent(in) :: steps
       character(len=*), intent(in) :: label
+      !> hencky_cells: the check's e has cells whose particles' stresses have both signs
+      logical, intent(in), optional :: mixed
       class(scene_t), allocatable :: scene
       type(particles_t) :: pa, pp
       type(grid_t) :: grid
@@ -217,13 +245,16 @@ contains
       type(implicit_t) :: affine, particle
       type(pass_totals_t) :: totals
       real(dp), allocatable :: e(:), noise(:)
-      real(dp) :: position, velocity, stress, residual, tangent
+      real(dp) :: position, velocity, stress, residual, tangent, forces, roundoff
       integer :: n
+      logical :: want_mixed
+      want_mixed = .false.
+      if (present(mixed)) want_mixed = mixed
       call setup(config, scene, pa, grid, cache, material)
       pp = pa
       call implicit_init(affine, config)
       call implicit_init(particle, config)
-      particle%affine_allowed = .false.
+      particle%node_forms = .false.
       do n = 1, steps
          call implicit_advance(affine, scene, cache, pa, grid, config%dt, material, (n - 1)*config%dt, totals)
          call implicit_advance(particle, scene, cache, pp, grid, config%dt, material, (n - 1)*config%dt, totals)
@@ -236,13 +267,21 @@ contains
       stress = maxval(abs(pa%stress - pp%stress))/maxval(abs(pp%stress))
       call t%check(label//': the runs agree to round-off (displacement '//str(position)//', velocity '// &
                    str(velocity)//', stress '//str(stress)//')', max(position, velocity, stress) < 1.0e-11_dp)
-      ! one e, both forms, from the particles of the particle form's run
+      ! one e, both forms, from the particles of the particle form's run (want_mixed: their stresses made
+      ! to differ within a cell, as particles that crossed into it from others or of other moduli have)
+      if (want_mixed) then
+         allocate (noise(pp%count))
+         call random_number(noise)
+         pp%stress = pp%stress*(0.5_dp + noise)
+         deallocate (noise)
+      end if
       call prepare_step(affine, scene, cache, pp, grid, config%dt, material, steps*config%dt, totals)
       call prepare_step(particle, scene, cache, pp, grid, config%dt, material, steps*config%dt, totals)
       call newton_solve(particle, cache, pp, grid, material)
       allocate (noise(0:grid%elements))
       call random_number(noise)
       e = particle%e + 0.01_dp*(noise - 0.5_dp)*maxval(abs(particle%du))
+      if (want_mixed) e = straddling(particle, pp, cache, grid, config%dt, material%youngs_modulus)
       affine%e = merge(e, affine%e, affine%unknown)
       particle%e = merge(e, particle%e, particle%unknown)
       call assemble_system(affine, cache, pp, grid, material, with_tangent=.true.)
@@ -251,11 +290,47 @@ contains
                  maxval(particle%forces, mask=particle%unknown)
       tangent = maxval(abs(affine%tangent%ab - particle%tangent%ab))/maxval(abs(particle%tangent%ab))
       call t%check(label//': the residual on the nodes = the particles'' to round-off ('//str(residual)//')', &
-                   affine%affine .and. .not. particle%affine .and. residual < 1.0e-13_dp .and. &
+                   (affine%affine .or. affine%hencky_cells) .and. .not. (particle%affine .or. particle%hencky_cells) &
+                   .and. residual < 1.0e-13_dp .and. &
                    maxval(abs(particle%residual), mask=particle%unknown) > 1.0e-6_dp* &
                    maxval(particle%forces, mask=particle%unknown))
       call t%check(label//': the tangents agree to round-off ('//str(tangent)//')', tangent < 1.0e-13_dp)
+      if (affine%hencky_cells) then
+         ! (the force scale: the particles' sum of |dN sigma V|, here formed per cell, and the round-off scale)
+         forces = maxval(abs(affine%forces - particle%forces), mask=particle%unknown)/ &
+                  maxval(particle%forces, mask=particle%unknown)
+         roundoff = maxval(abs(affine%roundoff - particle%roundoff), mask=particle%unknown)/ &
+                    maxval(particle%roundoff, mask=particle%unknown)
+         call t%check(label//': the force and round-off scales agree to round-off ('//str(forces)//', '// &
+                      str(roundoff)//'; cells of both signs: '//str(count(affine%mixed))//')', &
+                      max(forces, roundoff) < 1.0e-13_dp .and. (count(affine%mixed) > 0 .or. .not. want_mixed))
+      end if
    end subroutine compare_affine
+
+   !> An e whose every cell's ln(1 + d eps) is minus the middle of its particles' sigma^n/E: their stresses
+   !> sigma^n + E ln(1 + d eps) then have both signs (cells without particles: no strain).
+   function straddling(im, pp, cache, grid, dt, modulus) result(e)
+      type(implicit_t), intent(in) :: im
+      type(particles_t), intent(in) :: pp
+      type(shape_cache_t), intent(in) :: cache
+      type(grid_t), intent(in) :: grid
+      real(dp), intent(in) :: dt, modulus
+      real(dp) :: e(0:grid%elements), lo(0:grid%elements - 1), hi(0:grid%elements - 1), du
+      integer :: p, i
+      lo = huge(1.0_dp)
+      hi = -huge(1.0_dp)
+      do p = 1, pp%count
+         i = cache%first(p)
+         lo(i) = min(lo(i), pp%stress(p)/modulus)
+         hi(i) = max(hi(i), pp%stress(p)/modulus)
+      end do
+      du = 0.0_dp
+      e(0) = im%e(0)
+      do i = 0, grid%elements - 1
+         if (hi(i) >= lo(i)) du = du + grid%dx*(exp(-0.5_dp*(lo(i) + hi(i))) - 1.0_dp)
+         e(i + 1) = du - dt*im%velocity(i + 1)
+      end do
+   end function straddling
 
    !> The linear law is linear in the increment (sigma = sigma_n + E J_n d eps): one solve per step, at a
    !> tolerance of 1e-12 and a strain amplitude of 1e-8, where the stress E (J - 1) formed from a J stored
