@@ -68,7 +68,8 @@ module mpm_implicit
    use mpm_state, only: state_t
    use mpm_pass_totals, only: pass_totals_t
    use mpm_operations, only: locate_particles, p2g_mass_momentum, nodal_velocities, mirror_fold, g2p
-   use mpm_material, only: material_t, law_stress_stiffness, update_material_finite, law_linear, law_hencky
+   use mpm_material, only: material_t, law_stress_stiffness, update_material_finite, law_linear, law_hencky, &
+                           log_one_plus, log_one_plus_series, series_limit
    use mpm_banded, only: banded_t, banded_init, banded_zero, banded_add, banded_factor, banded_solve, &
                          banded_rcond, banded_multiply, banded_pivot_ratio
    use mpm_ghost_penalty, only: ghost_knots_t, find_ghost_knots
@@ -1316,8 +1317,8 @@ contains
 
    !> hencky_cells' law at the increments du = dt v_n + e, per cell i (nodes i, i + 1; the hat's gradients
    !> -1/dx and 1/dx, as linear_shapes sets them): d eps formed as strain_pass_hat forms a particle's and
-   !> ln(1 + d eps) as law_stress_stiffness's hencky loop forms it (the same bits as each of the cell's
-   !> particles'), kept in `logarithms`, and from the start's sums (`hencky`: C = sum dN^2 E V, F, |F|) the
+   !> ln(1 + d eps) by its series where |d eps| <= 2^-7 (log_one_plus_series: within half an ulp, without a
+   !> call; law_stress_stiffness's form, log_one_plus, beyond), kept in `logarithms`, and from the start's sums (`hencky`: C = sum dN^2 E V, F, |F|) the
    !> cell's sums for cell_shares: the share F + H ln(1 + d eps), H = sum dN E V = -C dx (the cell's
    !> particles' dN = -1/dx: linear_shapes'), the particles' sum of dN (sigma^n + E ln(1 + d eps)) V; its
    !> force scale, the particles' sum of |dN sigma V|: |share| where their stresses have one sign (the
@@ -1349,10 +1350,10 @@ contains
          logarithm = 0.0_dp
          stiffness = 0.0_dp
          if (hencky(1, i) /= 0.0_dp) then
-            if (u == 1.0_dp) then
-               logarithm = dstrain
+            if (abs(dstrain) <= series_limit) then
+               logarithm = log_one_plus_series(dstrain)
             else
-               logarithm = log(u)*dstrain/(u - 1.0_dp)
+               logarithm = log_one_plus(dstrain)
             end if
             stiffness = hencky(1, i)/u
          end if
@@ -1870,9 +1871,8 @@ contains
    end subroutine mixed_magnitudes
 
    !> hencky_cells' law state at the converged increments, update_material_finite's for hencky in one pass:
-   !> sigma_p = sigma_p^n + E_p ln(1 + d eps) with the cell's logarithm of the last residual (law_stress_stiffness's
-   !> hencky values, the same bits; a particle outside the grid, zero gradients, keeps sigma^n, as its zero
-   !> strain increment gives), J_p <- J_p (1 + d eps_p), and the stored energy, stored_energy's sum of
+   !> sigma_p = sigma_p^n + E_p ln(1 + d eps) with the cell's logarithm of the last residual (a particle
+   !> outside the grid, zero gradients, keeps sigma^n, as its zero strain increment gives), J_p <- J_p (1 + d eps_p), and the stored energy, stored_energy's sum of
    !> sigma^2 J V_0/(2 E) in its order (the same bits). E_p the material's or, given, the particle's
    !> (`modulus_of`).
    subroutine hencky_update(count, rows, n, first, gradient, dstrain, modulus, logarithms, volume0, stress, &
