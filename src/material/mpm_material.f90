@@ -24,13 +24,10 @@ module mpm_material
    public :: material_t, law_hencky, law_linear, law_elastoplastic, known_laws, law_id, law_name
    public :: update_material, stored_energy, plastic_work, dissipated_energy, material_state, law_tangent
    public :: material_report
-   public :: law_stress, law_stiffness, law_stress_stiffness, update_material_finite, log_one_plus, &
-             log_one_plus_series, series_limit
+   public :: law_stress, law_stiffness, law_stress_stiffness, update_material_finite, log_one_plus
 
    !> Law ids.
    integer, parameter :: law_hencky = 1, law_linear = 2, law_elastoplastic = 3
-   !> The largest |x| log_one_plus_series takes (2^-7: a strain increment of 0.8 % in a step).
-   real(dp), parameter :: series_limit = 2.0_dp**(-7)
    !> The laws' names, as `&material law=` takes them.
    character(len=*), parameter :: known_laws = 'hencky, linear, elastoplastic'
 
@@ -327,20 +324,6 @@ contains
          y = log(u)*x/(u - 1.0_dp)
       end if
    end function log_one_plus
-
-   !> ln(1 + x) for |x| <= series_limit by its Taylor series x - x^2/2 + ... + x^9/9, written
-   !> x + x t: the remainder is below |x|^10/10, 2^-63/10 of the value at the limit, and x is exact, so
-   !> the one rounding that matters is the last sum's (the rest is t's few eps times |t| <= 2^-8): within
-   !> 0.51 ulp of the exact value (the library's log to within 1 ulp and the quotient of log_one_plus's form
-   !> 2 ulps), without a call or a division, in an expression a loop vectorises. Beyond the limit:
-   !> log_one_plus.
-   elemental real(dp) function log_one_plus_series(x) result(y)
-      real(dp), intent(in) :: x
-      real(dp) :: t
-      t = x*(-1.0_dp/2 + x*(1.0_dp/3 + x*(-1.0_dp/4 + x*(1.0_dp/5 + x*(-1.0_dp/6 + x*(1.0_dp/7 + &
-          x*(-1.0_dp/8 + x*(1.0_dp/9))))))))
-      y = x + x*t
-   end function log_one_plus_series
 
    !> What the law adds to a run's /summary (the elastoplastic law only): the plastic work, the energy
    !> dissipated and the energy stored in the hardening (J per unit area), the largest plastic strain

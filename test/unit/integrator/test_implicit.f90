@@ -5,6 +5,7 @@
 !>   the particles' residual at the same e, and whole runs of both forms, to round-off (every shape, both
 !>   masses, the ghost penalty, mirror ghosts, the drive's constraint, quasi-static); Hencky's residual on the
 !>   hat formed per cell (one logarithm a cell) against the particles' likewise (both masses, the drive);
+!>   that logarithm's series for small increments against the quadruple-precision logarithm;
 !> - Newton: a law linear in the increment converges in one linear solve at newton_tolerance 1e-12 even at
 !>   a strain of 1e-8 (the round-off floor of a stress formed from J - 1); the Hencky column converges
 !>   quadratically (each relative residual at most a modest constant times the square of the one before);
@@ -31,7 +32,9 @@ program test_implicit
    use mpm_particles, only: particles_t, per_particle_data
    use mpm_shape, only: shape_cache_t, shape_id, shape_extra_cells, transfer_id
    use mpm_material, only: material_t, material_state
-   use mpm_implicit, only: implicit_t, implicit_init, implicit_advance, prepare_step, assemble_system, newton_solve
+   use, intrinsic :: iso_fortran_env, only: real128
+   use mpm_implicit, only: implicit_t, implicit_init, implicit_advance, prepare_step, assemble_system, newton_solve, &
+                           series_logarithms, series_limit
    use mpm_testing, only: tester_t, tester
    use mpm_testing_runs, only: run_resolved, set_values, set_value
    implicit none
@@ -43,6 +46,7 @@ program test_implicit
    if (t%case('one_solve_for_a_linear_law')) call one_solve_for_a_linear_law()
    if (t%case('affine_residual')) call affine_residual()
    if (t%case('hencky_cells_residual')) call hencky_cells_residual()
+   if (t%case('logarithm_series')) call logarithm_series()
    if (t%case('quadratic_convergence')) call quadratic_convergence()
    if (t%case('temporal_order')) call temporal_order()
    if (t%case('beyond_the_explicit_limit')) call beyond_the_explicit_limit()
@@ -202,6 +206,49 @@ contains
       config = column_config('linear', 'bspline2', 12, 4)
       call compare_affine(config, 3, 'column, bspline2, quasi-static')
    end subroutine affine_residual
+
+   !> ln(1 + x) by its series (log_one_plus_series, through series_logarithms) against the quadruple-precision
+   !> logarithm over |x| <= series_limit (log-uniform magnitudes from 1e-30, both signs, and the limits
+   !> themselves): within 0.51 ulp of the exact value; below 2^-53 the value rounds to x itself (x^2/2 is under half its ulp),
+   !> and ln(1 + 0) = 0.
+   subroutine logarithm_series()
+      real(dp) :: x, y, ulps, worst
+      real(real128) :: exact
+      integer :: k, sign_k
+      worst = 0.0_dp
+      do k = 0, 20000
+         do sign_k = -1, 1, 2
+            if (k == 20000) then
+               x = sign_k*series_limit
+            else
+               x = sign_k*10.0_dp**(-30.0_dp + (30.0_dp + log10(series_limit))*k/20000.0_dp)
+            end if
+            y = sum(series_logarithms([x]))
+            exact = reference(real(x, real128))
+            ulps = real(abs(real(y, real128) - exact)/real(spacing(real(exact, dp)), real128), dp)
+            worst = max(worst, ulps)
+         end do
+      end do
+      call t%check('within 0.51 ulp of ln(1 + x) for |x| <= 2^-7 (worst '//str(worst)//' ulp)', worst <= 0.51_dp)
+      call t%check('ln(1 + x) = x for tiny |x|', all(series_logarithms([1.0e-300_dp, -1.0e-20_dp, 1.0e-17_dp]) == &
+                                                      [1.0e-300_dp, -1.0e-20_dp, 1.0e-17_dp]))
+      call t%check('ln(1 + 0) = 0', all(series_logarithms([0.0_dp]) == 0.0_dp))
+   end subroutine logarithm_series
+
+   !> ln(1 + x) in quadruple precision: its series below |x| = 1e-3 (terms to x^16: a remainder below
+   !> 1e-48 relative; 1 + x in quadruple precision would lose x's digits there), else the logarithm.
+   real(real128) function reference(x)
+      real(real128), intent(in) :: x
+      integer :: k
+      if (abs(x) >= 1.0e-3_real128) then
+         reference = log(1.0_real128 + x)
+         return
+      end if
+      reference = 0.0_real128
+      do k = 16, 1, -1
+         reference = x*((-1)**(k + 1)/real(k, real128) + reference)
+      end do
+   end function reference
 
    !> Hencky's residual on the hat with FLIP as its cells form it (mpm_implicit hencky_cells: the start's sums
    !> per cell, one logarithm a cell) against the pass over the particles, which forms each particle's

@@ -11,7 +11,6 @@
 !>   elastic; a strain cycle that ends unloaded encloses the area sigma_y alpha + H alpha^2/2 (the plastic
 !>   work); a law that never yields (sigma_y = 1e30) gives the hencky update bit for bit.
 !> - tangents: d sigma/d (d eps) of every law against central finite differences of its update.
-!> - ln(1 + x) by its series for small |x| against the quadruple-precision logarithm.
 program test_material_laws
    use, intrinsic :: iso_fortran_env, only: real128
    use mpm_kinds, only: dp
@@ -20,8 +19,7 @@ program test_material_laws
    use mpm_material_plastic, only: radial_return, plastic_update_all, plastic_work_density, dissipation_density, &
                                    hardening_tangent
    use mpm_strings, only: str
-   use mpm_material, only: law_hencky, law_linear, law_elastoplastic, law_tangent, law_id, law_name, known_laws, &
-                           log_one_plus_series, series_limit
+   use mpm_material, only: law_hencky, law_linear, law_elastoplastic, law_tangent, law_id, law_name, known_laws
    use mpm_testing, only: tester_t, tester, fixed_seed
    implicit none
    type(tester_t) :: t
@@ -38,53 +36,9 @@ program test_material_laws
    if (t%case('never_yielding_is_hencky')) call never_yielding_is_hencky()
    if (t%case('tangents')) call tangents()
    if (t%case('names')) call names()
-   if (t%case('logarithm_series')) call logarithm_series()
    call t%finish()
 
 contains
-
-   !> ln(1 + x) by its series (log_one_plus_series) against the quadruple-precision logarithm over
-   !> |x| <= series_limit (log-uniform magnitudes from 1e-30, both signs, and the limits themselves): within
-   !> 0.51 ulp of the exact value; below 2^-53 the value rounds to x itself (x^2/2 is under half its ulp),
-   !> and ln(1 + 0) = 0.
-   subroutine logarithm_series()
-      real(dp) :: x, y, ulps, worst
-      real(real128) :: exact
-      integer :: k, sign_k
-      worst = 0.0_dp
-      do k = 0, 20000
-         do sign_k = -1, 1, 2
-            if (k == 20000) then
-               x = sign_k*series_limit
-            else
-               x = sign_k*10.0_dp**(-30.0_dp + (30.0_dp + log10(series_limit))*k/20000.0_dp)
-            end if
-            y = log_one_plus_series(x)
-            exact = reference(real(x, real128))
-            ulps = real(abs(real(y, real128) - exact)/real(spacing(real(exact, dp)), real128), dp)
-            worst = max(worst, ulps)
-         end do
-      end do
-      call t%check('within 0.51 ulp of ln(1 + x) for |x| <= 2^-7 (worst '//str(worst)//' ulp)', worst <= 0.51_dp)
-      call t%check('ln(1 + x) = x for tiny |x|', all(log_one_plus_series([1.0e-300_dp, -1.0e-20_dp, 1.0e-17_dp]) == &
-                                                      [1.0e-300_dp, -1.0e-20_dp, 1.0e-17_dp]))
-      call t%check('ln(1 + 0) = 0', log_one_plus_series(0.0_dp) == 0.0_dp)
-   end subroutine logarithm_series
-
-   !> ln(1 + x) in quadruple precision: its series below |x| = 1e-3 (terms to x^16: a remainder below
-   !> 1e-48 relative; 1 + x in quadruple precision would lose x's digits there), else the logarithm.
-   real(real128) function reference(x)
-      real(real128), intent(in) :: x
-      integer :: k
-      if (abs(x) >= 1.0e-3_real128) then
-         reference = log(1.0_real128 + x)
-         return
-      end if
-      reference = 0.0_real128
-      do k = 16, 1, -1
-         reference = x*((-1)**(k + 1)/real(k, real128) + reference)
-      end do
-   end function reference
 
    subroutine hencky()
       real(dp) :: stress, jac, de, previous
