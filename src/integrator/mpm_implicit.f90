@@ -178,11 +178,10 @@ module mpm_implicit
       !> stiffness S_IJ = sum_p dN_Ip k_p V_p dN_Jp and the sums of its terms' magnitudes, by the offset
       !> d = J - I (band(d, I)); the force shares at sigma_n, sum_p dN_Ip sigma_p^n V_p, and their magnitudes
       real(dp), allocatable :: band(:, :), band_magnitude(:, :), start_force(:), start_magnitude(:)
-      !> the hat's: per cell i (nodes i, i + 1), the sums over its particles of dN^2 k_p V_p (the tangent's), of
-      !> dN sigma_p^n V_p (dN the left node's gradient), of its magnitude and of dN^2 k_p V_p again (the share's:
-      !> affine_start_hat); hencky_cells' at the last residual (hencky_logarithms): the tangent's
-      !> sum dN^2 E_p V_p/(1 + d eps), the share sum dN sigma_p V_p, its magnitude's bound, 0 (the share is
-      !> not affine). affine_forces_hat forms the residual from either.
+      !> the hat's: per cell i (nodes i, i + 1), the sums over its particles of dN^2 k_p V_p, of dN sigma_p^n V_p
+      !> (dN the left node's gradient) and of its magnitude (affine_start_hat); hencky_cells' at the last
+      !> residual (hencky_logarithms): the tangent's sum dN^2 E_p V_p/(1 + d eps), the share sum dN sigma_p V_p
+      !> and the sum of its terms' magnitudes. affine_forces_hat and residual_hat form the residual from either.
       real(dp), allocatable :: cells(:, :)
       !> hencky_cells' sums per cell at the step's start (start_pass_hat): sum dN^2 E_p V_p, sum dN sigma_p^n V_p
       !> and its magnitude; the smallest and largest sigma_p^n/E_p of its particles (stress_ranges); the cell's
@@ -1321,10 +1320,10 @@ contains
    !> ln(1 + x) for |x| <= series_limit by its Taylor series x - x^2/2 + ... + x^9/9, written
    !> x + x^2 t: the remainder is below |x|^10/10, 2^-63/10 of the value at the limit, and x is exact, so
    !> the one rounding that matters is the last sum's (the rest is a few eps of x^2 t, at most 2^-8 of the
-   !> value): within 0.51 ulp of the exact value (the library's log to within 1 ulp and the quotient of log_one_plus's form
-   !> 2 ulps), without a call or a division, in an expression a loop vectorises. Beyond the limit:
-   !> mpm_material's log_one_plus. Here, not in mpm_material: gfortran inlines a function of the same module
-   !> only, and a call per cell cost a tenth of a Hencky step.
+   !> value): within 0.51 ulp of the exact value (the library's log is within 1 ulp, log_one_plus's quotient
+   !> within 2), without a call or a division. Beyond the limit: mpm_material's log_one_plus. Here, private,
+   !> not in mpm_material: gfortran inlines a private function of the same module only, and a call per cell
+   !> cost a tenth of a Hencky step.
    elemental real(dp) function log_one_plus_series(x) result(y)
       real(dp), intent(in) :: x
       real(dp) :: t, x2, x4
@@ -1347,16 +1346,17 @@ contains
    !> hencky_cells' law at the increments du = dt v_n + e, per cell i (nodes i, i + 1; the hat's gradients
    !> -1/dx and 1/dx, as linear_shapes sets them): d eps formed as strain_pass_hat forms a particle's and
    !> ln(1 + d eps) by its series where |d eps| <= 2^-7 (log_one_plus_series: within half an ulp, without a
-   !> call; law_stress_stiffness's form, log_one_plus, beyond), kept in `logarithms`, and from the start's sums (`hencky`: C = sum dN^2 E V, F, |F|) the
-   !> cell's sums for cell_shares: the share F + H ln(1 + d eps), H = sum dN E V = -C dx (the cell's
-   !> particles' dN = -1/dx: linear_shapes'), the particles' sum of dN (sigma^n + E ln(1 + d eps)) V; its
+   !> call; law_stress_stiffness's form, log_one_plus, beyond), kept in `logarithms`, and from the start's
+   !> sums (`hencky`: C = sum dN^2 E V, F, |F|) the cell's sums for cell_shares: the share F + H ln(1 + d eps),
+   !> H = sum dN E V = -C dx (the cell's particles' dN = -1/dx: linear_shapes'), the particles' sum of
+   !> dN (sigma^n + E ln(1 + d eps)) V; its
    !> force scale, the particles' sum of |dN sigma V|: |share| where their stresses have one sign (the
    !> cell's range of sigma^n/E, `ranges`, all on one side of -ln(1 + d eps)), else 0 and the cell counted
    !> in `mixed_cells` and flagged in `mixed` (mixed_magnitudes adds the particles' terms); the tangent's
    !> C/(1 + d eps) (its round-off scale times |du_i| + |du_{i+1}|: force_pass's sum of
    !> |dN (d sigma/d eps) V| sum_J |dN_J du_J|). A cell without particles (C = 0) takes no logarithm (its
-   !> nodes may be empty and their increments anything). A loop of its own: the library's log clobbers
-   !> every floating-point register, so a call in residual_hat's loop would spill its sums around it.
+   !> nodes may be empty and their increments anything). A loop of its own: a call (log_one_plus, beyond the
+   !> series' limit) clobbers every floating-point register, and in residual_hat's loop would spill its sums.
    pure subroutine hencky_logarithms(n, dt, inv_dx, velocity, e, hencky, ranges, logarithms, mixed, mixed_cells, cells)
       integer, intent(in) :: n
       real(dp), intent(in) :: dt, inv_dx, velocity(0:n), e(0:n), hencky(3, 0:n - 1), ranges(2, 0:n - 1)
@@ -1863,9 +1863,9 @@ contains
       ! (the affine law's residual formed no strains: the converged ones here, or in update_hat_flip)
       if (im%affine .and. .not. hat_flip) call particle_strains(im, cache, particles%count, grid%elements)
       if (im%hencky_cells) then
-         call hencky_update(particles%count, size(cache%gradient, 1), grid%elements, cache%first, cache%gradient, &
-                            im%dstrain, material%youngs_modulus, im%logarithms, particles%volume0_of, particles%stress, &
-                            particles%volume_ratio, totals%strain_energy, particles%youngs_modulus_of)
+         call hencky_update(particles%count, grid%elements, cache%first, im%dstrain, material%youngs_modulus, &
+                            im%logarithms, particles%volume0_of, particles%stress, particles%volume_ratio, &
+                            totals%strain_energy, particles%youngs_modulus_of)
          totals%min_volume_ratio = minval(particles%volume_ratio)
          totals%plastic_work = 0.0_dp
       else
@@ -1875,8 +1875,9 @@ contains
    end subroutine update_particles
 
    !> hencky_cells' force scale of the cells whose particles' stresses have both signs (`mixed`): the sum of
-   !> their |dN sigma_p V_p|, sigma_p = sigma_p^n + E_p ln(1 + d eps) (as hencky_stresses forms it), V_p = J^n V_0
-   !> (force_pass's terms), added to cells(3, :) (0 there).
+   !> their |dN sigma_p V_p|, sigma_p = sigma_p^n + E_p ln(1 + d eps) (as hencky_update forms it), V_p = J^n V_0
+   !> (force_pass's terms), added to cells(3, :) (0 there). Every particle is inside the grid (a step with one
+   !> outside stops before Newton).
    subroutine mixed_magnitudes(count, rows, n, first, gradient, stress_n, volume_ratio, volume0, modulus, logarithms, &
                                mixed, cells, modulus_of)
       integer, intent(in) :: count, rows, n
@@ -1886,40 +1887,39 @@ contains
       logical, intent(in) :: mixed(0:n - 1)
       real(dp), intent(inout) :: cells(3, 0:n - 1)
       real(dp), intent(in), optional :: modulus_of(count)
-      real(dp) :: stiffness, logarithm
+      real(dp) :: stiffness
       integer :: p, i
       do p = 1, count
          i = first(p)
          if (.not. mixed(i)) cycle
          stiffness = modulus
          if (present(modulus_of)) stiffness = modulus_of(p)
-         logarithm = merge(logarithms(i), 0.0_dp, gradient(p, 1) /= 0.0_dp)
-         cells(3, i) = cells(3, i) + abs(gradient(p, 1)*(stress_n(p) + stiffness*logarithm)* &
+         cells(3, i) = cells(3, i) + abs(gradient(p, 1)*(stress_n(p) + stiffness*logarithms(i))* &
                                          (volume_ratio(p)*volume0(p)))
       end do
    end subroutine mixed_magnitudes
 
    !> hencky_cells' law state at the converged increments, update_material_finite's for hencky in one pass:
-   !> sigma_p = sigma_p^n + E_p ln(1 + d eps) with the cell's logarithm of the last residual (a particle
-   !> outside the grid, zero gradients, keeps sigma^n, as its zero strain increment gives), J_p <- J_p (1 + d eps_p), and the stored energy, stored_energy's sum of
-   !> sigma^2 J V_0/(2 E) in its order (the same bits). E_p the material's or, given, the particle's
-   !> (`modulus_of`).
-   subroutine hencky_update(count, rows, n, first, gradient, dstrain, modulus, logarithms, volume0, stress, &
-                            volume_ratio, energy, modulus_of)
-      integer, intent(in) :: count, rows, n
+   !> sigma_p = sigma_p^n + E_p ln(1 + d eps) with the cell's logarithm of the last residual,
+   !> J_p <- J_p (1 + d eps_p), and the stored energy, stored_energy's sum of sigma^2 J V_0/(2 E) in its
+   !> order (the same bits). E_p the material's or, given, the particle's (`modulus_of`). (Here rather than
+   !> in mpm_material: its logarithm is the cell's, and a call of the law per particle across modules is not
+   !> inlined.)
+   subroutine hencky_update(count, n, first, dstrain, modulus, logarithms, volume0, stress, volume_ratio, energy, &
+                            modulus_of)
+      integer, intent(in) :: count, n
       integer, intent(in) :: first(count)
-      real(dp), intent(in) :: gradient(rows, 2), dstrain(count), modulus, logarithms(0:n - 1), volume0(count)
+      real(dp), intent(in) :: dstrain(count), modulus, logarithms(0:n - 1), volume0(count)
       real(dp), intent(inout) :: stress(count), volume_ratio(count)
       real(dp), intent(out) :: energy
       real(dp), intent(in), optional :: modulus_of(count)
-      real(dp) :: stiffness, logarithm
+      real(dp) :: stiffness
       integer :: p
       energy = 0.0_dp
       do p = 1, count
          stiffness = modulus
          if (present(modulus_of)) stiffness = modulus_of(p)
-         logarithm = merge(logarithms(first(p)), 0.0_dp, gradient(p, 1) /= 0.0_dp)
-         stress(p) = stress(p) + stiffness*logarithm
+         stress(p) = stress(p) + stiffness*logarithms(first(p))
          volume_ratio(p) = volume_ratio(p)*(1.0_dp + dstrain(p))
          energy = energy + 0.5_dp*stress(p)*stress(p)*(volume_ratio(p)*volume0(p))/stiffness
       end do

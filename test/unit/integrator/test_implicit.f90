@@ -187,13 +187,7 @@ contains
    !> composite bar and the quasi-static column (B-spline, mirror ghosts), after some steps of each form.
    subroutine affine_residual()
       type(config_t) :: config
-      config = new_config()
-      config%integrator = 'implicit'
-      config%law = 'linear'
-      config%elements = 16
-      config%particles_per_element = 2
-      call set_values(config, ['scene.velocity_amplitude=60.0'])
-      config%dt_fraction = 2.0_dp
+      config = implicit_bar('linear', 2)
       call compare_affine(config, 8, 'bar, hat, lumped')
       config%shape = 'cpgimp'
       config%mass = 'consistent'
@@ -256,13 +250,7 @@ contains
    !> and consistent mass) and the driven composite bar (particles' own moduli, the drive's constraint).
    subroutine hencky_cells_residual()
       type(config_t) :: config
-      config = new_config()
-      config%integrator = 'implicit'
-      config%law = 'hencky'
-      config%elements = 16
-      config%particles_per_element = 3
-      call set_values(config, ['scene.velocity_amplitude=60.0'])
-      config%dt_fraction = 2.0_dp
+      config = implicit_bar('hencky', 3)
       call compare_affine(config, 8, 'hencky bar, hat, lumped')
       call compare_affine(config, 8, 'hencky bar, hat, lumped, cells of both signs', mixed=.true.)
       config%mass = 'consistent'
@@ -273,6 +261,21 @@ contains
       config%dt_fraction = 5.0_dp
       call compare_affine(config, 8, 'hencky composite bar, driven')
    end subroutine hencky_cells_residual
+
+   !> The bar of the node forms' comparisons: implicit, 16 elements of `ppe` particles, law `law`, at 60 m/s
+   !> (a strain of about 1 %) and dt = 2 dx/c.
+   function implicit_bar(law, ppe) result(config)
+      character(len=*), intent(in) :: law
+      integer, intent(in) :: ppe
+      type(config_t) :: config
+      config = new_config()
+      config%integrator = 'implicit'
+      config%law = law
+      config%elements = 16
+      config%particles_per_element = ppe
+      call set_values(config, ['scene.velocity_amplitude=60.0'])
+      config%dt_fraction = 2.0_dp
+   end function implicit_bar
 
    !> compare_affine's check: after `steps` steps of each form from the same start, the positions,
    !> velocities and stresses agree to round-off of their scales and the solves are the same; then at one
