@@ -175,6 +175,9 @@ def kills(exe, references, durations, count, rng):
                 # no journal: killed before it began, or after the finished sweep removed it (its file in
                 # place, the process not yet gone)
                 phase = 'after the end' if (folder / 'sw.h5').exists() else 'starting'
+            elif not records and not (folder / 'sw.h5').exists():
+                # killed while it wrote its journal's first record: nothing whole kept
+                phase = 'starting'
             elif timing and cases == 48:
                 phase = 'timing pass'
             else:
@@ -189,7 +192,7 @@ def kills(exe, references, durations, count, rng):
                       str(f['cases']['index'].shape))
             again = 0
         elif phase == 'starting':
-            # killed before its journal began: nothing kept, and --resume says so
+            # killed before its journal held a whole record: nothing kept, and --resume says so
             p = run(exe, ['sw.nml', '--resume'], folder)
             check(f'kill {k} (starting): nothing to resume', p.returncode == 2 and 'nothing to resume' in p.stderr,
                   p.stderr[:300])
