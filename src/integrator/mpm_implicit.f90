@@ -70,6 +70,7 @@ module mpm_implicit
    use mpm_operations, only: locate_particles, p2g_mass_momentum, nodal_velocities, mirror_fold, g2p
    use mpm_material, only: material_t, law_stress_stiffness, update_material_finite, law_linear, law_hencky, &
                            log_one_plus
+   use mpm_material_elastic, only: linear_update_on, linear_update_each_on
    use mpm_banded, only: banded_t, banded_init, banded_zero, banded_add, banded_factor, banded_solve, &
                          banded_rcond, banded_multiply, banded_pivot_ratio
    use mpm_ghost_penalty, only: ghost_knots_t, find_ghost_knots
@@ -79,7 +80,7 @@ module mpm_implicit
              known_integrators
    public :: implicit_init, implicit_advance, implicit_report, prepare_step, assemble_system, newton_solve
    public :: implicit_stepper_t
-   public :: series_logarithms, series_limit
+   public :: series_logarithms, series_limit, tangent_hat, tangent_factor_hat
 
    !> Integrator ids.
    integer, parameter :: integrator_explicit = 0, integrator_implicit = 1, integrator_quasi_static = 2
@@ -138,12 +139,14 @@ module mpm_implicit
       integer, allocatable :: master(:)  !< the node whose unknown a node takes (itself if free; -1 held)
       real(dp), allocatable :: sign(:)   !< +1, or -1 for a mirror ghost
       logical, allocatable :: prescribed(:)  !< held at a drive velocity (e fixed)
+      logical :: any_prescribed = .false.    !< some node is (else prescribed is all .false. already)
       logical, allocatable :: unknown(:)     !< master(i) == i: the node has an unknown of its own
       !> the nodes without an unknown of their own when the roles were made (node_roles: ghosts and held
       !> nodes; the drive's nodes, held later, keep their values in fill_slaves and are not among them)
       integer, allocatable :: dependent(:)
       real(dp), allocatable :: e(:), du(:), velocity(:), acceleration(:), external(:), residual(:), forces(:)
       real(dp), allocatable :: work(:), reaction(:)
+      logical :: external_zero = .false.  !< external is all zero already (a step without external forces)
       !> Newton's right-hand sides (the residual's, the constraint's; the consistent mass's two) and the line
       !> search's starting e
       real(dp), allocatable :: rhs(:, :), start(:)
@@ -295,8 +298,10 @@ contains
          call mirror_fold(grid, .false., .true.)
          im%external = grid%force
          if (.not. dynamic) im%external = (t + dt)*im%external
-      else
+         im%external_zero = .false.
+      else if (.not. im%external_zero) then ! (cleared once for the steps without external forces)
          im%external = 0.0_dp
+         im%external_zero = .true.
       end if
       if (scene%drives .and. dynamic) call drive_constraint(im, scene, cache, particles, grid)
       im%knots%count = 0
@@ -328,6 +333,9 @@ contains
                 im%strain_magnitude(count), &
                 im%modulus(count), im%yield(count), im%hardening_modulus(count), im%hardening(count))
       im%reaction = 0.0_dp
+      im%prescribed = .false.
+      im%any_prescribed = .false.
+      im%external_zero = .false.
    end subroutine workspace
 
    !> Which unknown each node takes: free nodes with mass their own, mirror ghosts their partner's with
@@ -337,21 +345,33 @@ contains
       type(grid_t), intent(inout) :: grid
       integer :: i, j, k, dependent
       real(dp) :: lightest
-      ! (and the lightest node with mass)
+      ! (and the lightest node with mass; the nodes with mass take their own unknown in the same pass, the
+      ! held nodes and the ghosts lose theirs after it)
       lightest = huge(1.0_dp)
+      dependent = 0
       do i = 0, grid%elements
-         im%master(i) = merge(i, -1, grid%mass(i) > grid%empty_mass)
+         im%sign(i) = 1.0_dp
+         im%unknown(i) = grid%mass(i) > grid%empty_mass
+         im%master(i) = merge(i, -1, im%unknown(i))
+         if (.not. im%unknown(i)) dependent = dependent + 1
          if (grid%mass(i) > 0.0_dp) lightest = min(lightest, grid%mass(i))
       end do
       grid%min_node_mass = lightest
-      im%sign = 1.0_dp
-      im%prescribed = .false.
+      if (im%any_prescribed) then ! (a clearing pass only after a step with a drive)
+         im%prescribed = .false.
+         im%any_prescribed = .false.
+      end if
       do k = 1, size(grid%fixed)
-         im%master(grid%fixed(k)) = -1
+         i = grid%fixed(k)
+         if (im%unknown(i)) dependent = dependent + 1
+         im%unknown(i) = .false.
+         im%master(i) = -1
       end do
       if (grid%mirror) then
          do j = 1, grid%ghost
             i = grid%ghost - j
+            if (im%unknown(i)) dependent = dependent + 1
+            im%unknown(i) = .false.
             im%master(i) = merge(grid%ghost + j, -1, im%master(grid%ghost + j) >= 0)
             im%sign(i) = -1.0_dp
          end do
@@ -359,15 +379,12 @@ contains
       if (grid%mirror_right >= 0) then
          do j = 1, grid%ghost
             i = grid%mirror_right + j
+            if (im%unknown(i)) dependent = dependent + 1
+            im%unknown(i) = .false.
             im%master(i) = merge(grid%mirror_right - j, -1, im%master(grid%mirror_right - j) >= 0)
             im%sign(i) = -1.0_dp
          end do
       end if
-      dependent = 0
-      do i = 0, grid%elements
-         im%unknown(i) = im%master(i) == i
-         if (.not. im%unknown(i)) dependent = dependent + 1
-      end do
       if (allocated(im%dependent)) then
          if (size(im%dependent) /= dependent) deallocate (im%dependent)
       end if
@@ -572,6 +589,7 @@ contains
          im%master(i) = -1
          im%unknown(i) = .false.
          im%prescribed(i) = .true.
+         im%any_prescribed = .true.
          ! the drive's velocity holds over the whole step (du = V dt: the driven end moves as V t exactly,
          ! where the trapezoidal average of a jump from v_n to V would leave it V dt/2 behind for good)
          im%e(i) = im%dt*(driven%velocity - im%velocity(i))
@@ -606,7 +624,10 @@ contains
       type(material_t), intent(in) :: material
       real(dp) :: relative, roundoff, norm, gap, correction, pivots, before, step, merit, stiffness, multiplier
       integer :: iteration, info, halving
-      logical :: floor, assembled, tangent_ready
+      logical :: floor, assembled, tangent_ready, fused_factor
+      ! the plain hat's tangent formed where it is factored (tangent_factor_hat; the drive's constraint reads
+      ! the unfactored diagonal)
+      fused_factor = im%plain_hat .and. .not. im%constrained
       im%failed = .false.
       im%singular_node = -1
       im%residuals = 0.0_dp
@@ -616,7 +637,7 @@ contains
          tangent_ready = .not. assembled
          ! (the line search's last residual comes with its measures)
          if (.not. assembled) then
-            call assemble_residual(im, cache, particles, grid, material, with_tangent=.true.)
+            call assemble_residual(im, cache, particles, grid, material, with_tangent=.not. fused_factor)
             call relative_measures(im, relative, roundoff, norm)
          end if
          assembled = .false.
@@ -640,12 +661,16 @@ contains
             return
          end if
          if (iteration == im%max_iterations) exit
-         if (.not. tangent_ready) call assemble_tangent(im, cache, particles, grid)
-         ! the constraint's gap in force units, for the line search's merit: the tangent's diagonal at the
-         ! constraint's nodes, weighted
          stiffness = 0.0_dp
-         if (im%constrained) stiffness = sum(abs(im%weight)*im%tangent%ab(2*im%tangent%bandwidth + 1, :))
-         call banded_factor(im%tangent, info)
+         if (fused_factor) then
+            call tangent_factor_hat(grid%elements, im%cells, im%unknown, 4.0_dp/im%dt**2, grid%mass, im%tangent, info)
+         else
+            if (.not. tangent_ready) call assemble_tangent(im, cache, particles, grid)
+            ! the constraint's gap in force units, for the line search's merit: the tangent's diagonal at the
+            ! constraint's nodes, weighted
+            if (im%constrained) stiffness = sum(abs(im%weight)*im%tangent%ab(2*im%tangent%bandwidth + 1, :))
+            call banded_factor(im%tangent, info)
+         end if
          if (info > 0) then
             im%singular_node = info - 1
             exit
@@ -1104,12 +1129,9 @@ contains
       type(material_t), intent(in) :: material
       integer :: n
       n = grid%elements
-      grid%mass = 0.0_dp
-      grid%momentum = 0.0_dp
-      grid%force = 0.0_dp
       if (im%hencky_cells) then
          call hencky_room(im, n, particles%count)
-         call start_pass_hat(particles%count, size(cache%weight, 1), n, cache%first, cache%weight, cache%gradient, &
+         call start_pass_hat(particles%count, n, cache%first, cache%weight(:, 2), grid%inv_dx, &
                              particles%mass_of, particles%v, particles%stress, particles%volume_ratio, &
                              particles%volume0_of, grid%mass, grid%momentum, grid%force, material%youngs_modulus, &
                              im%ones, im%hencky, particles%youngs_modulus_of)
@@ -1117,12 +1139,12 @@ contains
                             particles%youngs_modulus_of)
       else if (im%affine) then
          call cell_room(im%cells, 3, n)
-         call start_pass_hat(particles%count, size(cache%weight, 1), n, cache%first, cache%weight, cache%gradient, &
+         call start_pass_hat(particles%count, n, cache%first, cache%weight(:, 2), grid%inv_dx, &
                              particles%mass_of, particles%v, particles%stress, particles%volume_ratio, &
                              particles%volume0_of, grid%mass, grid%momentum, grid%force, material%youngs_modulus, &
                              particles%volume_ratio, im%cells, particles%youngs_modulus_of)
       else
-         call start_pass_hat(particles%count, size(cache%weight, 1), n, cache%first, cache%weight, cache%gradient, &
+         call start_pass_hat(particles%count, n, cache%first, cache%weight(:, 2), grid%inv_dx, &
                              particles%mass_of, particles%v, particles%stress, particles%volume_ratio, &
                              particles%volume0_of, grid%mass, grid%momentum, grid%force, material%youngs_modulus)
       end if
@@ -1135,22 +1157,30 @@ contains
    !> (added per particle, as there; a cell's sums held in registers while its particles follow each other),
    !> in one pass over the particles: each value formed by the same operations in the same order (the same
    !> bits). The stiffness k_p = E_p r_p (`ratio`, with `cells`): r = J^n for the linear law (its
-   !> d sigma/d eps = E J^n), r = 1 for hencky_cells' sums (hencky's is E/(1 + d eps)).
-   subroutine start_pass_hat(count, rows, n, first, weight, gradient, mass_of, v, stress, volume_ratio, volume0, &
+   !> d sigma/d eps = E J^n), r = 1 for hencky_cells' sums (hencky's is E/(1 + d eps)). Nothing is
+   !> cleared before the pass (a sweep of its own over these arrays): a node or cell beyond the furthest
+   !> that a run has reached, in any order of the particles, takes its run's sums (0 + s is s: a run's sums
+   !> start from +0 and are never -0), those skipped on the way and those no run reaches are cleared.
+   subroutine start_pass_hat(count, n, first, right, inv_dx, mass_of, v, stress, volume_ratio, volume0, &
                              mass, momentum, force, modulus, ratio, cells, modulus_of)
-      integer, intent(in) :: count, rows, n
+      integer, intent(in) :: count, n
       integer, intent(in) :: first(count)
-      real(dp), intent(in) :: weight(rows, 2), gradient(rows, 2), mass_of(count), v(count), stress(count), &
-                              volume_ratio(count), volume0(count), modulus
-      real(dp), intent(inout) :: mass(0:n), momentum(0:n), force(0:n)
+      !> the shape function of each particle's right node (its left node's is 1 - right, its gradients
+      !> -1/dx and 1/dx: linear_shapes' for a particle inside the grid, as every one is here)
+      real(dp), intent(in) :: right(count), inv_dx
+      real(dp), intent(in) :: mass_of(count), v(count), stress(count), volume_ratio(count), volume0(count), modulus
+      real(dp), intent(out) :: mass(0:n), momentum(0:n), force(0:n)
       real(dp), intent(in), optional :: ratio(count)
       real(dp), intent(out), optional :: cells(3, 0:n - 1)
       real(dp), intent(in), optional :: modulus_of(count)
       real(dp) :: mass1, mass2, momentum1, momentum2, force1, force2, q, stress_volume, share, stiffness, volume, &
-                  cell1, cell2, cell3
-      integer :: p, i
+                  cell1, cell2, cell3, weight1, weight2, gradient1, gradient2
+      integer :: p, i, cells_cleared, nodes_cleared
       logical :: run_ends
-      if (present(cells)) cells = 0.0_dp
+      gradient1 = -inv_dx
+      gradient2 = inv_dx
+      cells_cleared = -1 ! the cells 0..cells_cleared and nodes 0..nodes_cleared hold sums (or 0)
+      nodes_cleared = -1
       run_ends = .true.
       do p = 1, count
          if (run_ends) then ! a run starts
@@ -1158,24 +1188,33 @@ contains
             momentum1 = 0.0_dp; momentum2 = 0.0_dp
             force1 = 0.0_dp; force2 = 0.0_dp
             if (present(cells)) then
-               cell1 = cells(1, first(p)); cell2 = cells(2, first(p)); cell3 = cells(3, first(p))
+               i = first(p)
+               if (i > cells_cleared) then ! (a cell no run has reached: its sums from 0)
+                  if (i > cells_cleared + 1) cells(:, cells_cleared + 1:i - 1) = 0.0_dp
+                  cells_cleared = i
+                  cell1 = 0.0_dp; cell2 = 0.0_dp; cell3 = 0.0_dp
+               else
+                  cell1 = cells(1, i); cell2 = cells(2, i); cell3 = cells(3, i)
+               end if
             end if
          end if
+         weight2 = right(p)
+         weight1 = 1.0_dp - weight2
          q = mass_of(p)*v(p)
-         mass1 = mass1 + weight(p, 1)*mass_of(p)
-         mass2 = mass2 + weight(p, 2)*mass_of(p)
-         momentum1 = momentum1 + weight(p, 1)*q
-         momentum2 = momentum2 + weight(p, 2)*q
+         mass1 = mass1 + weight1*mass_of(p)
+         mass2 = mass2 + weight2*mass_of(p)
+         momentum1 = momentum1 + weight1*q
+         momentum2 = momentum2 + weight2*q
          stress_volume = stress(p)*volume_ratio(p)*volume0(p)
-         force1 = force1 - gradient(p, 1)*stress_volume
-         force2 = force2 - gradient(p, 2)*stress_volume
+         force1 = force1 - gradient1*stress_volume
+         force2 = force2 - gradient2*stress_volume
          i = first(p)
          if (present(cells)) then
             stiffness = modulus*ratio(p)
             if (present(modulus_of)) stiffness = modulus_of(p)*ratio(p)
             volume = volume_ratio(p)*volume0(p)
-            share = gradient(p, 1)*stress(p)*volume
-            cell1 = cell1 + gradient(p, 1)*stiffness*volume*gradient(p, 1)
+            share = gradient1*stress(p)*volume
+            cell1 = cell1 + gradient1*stiffness*volume*gradient1
             cell2 = cell2 + share
             cell3 = cell3 + abs(share)
          end if
@@ -1185,14 +1224,37 @@ contains
             if (present(cells)) then
                cells(1, i) = cell1; cells(2, i) = cell2; cells(3, i) = cell3
             end if
-            mass(i) = mass(i) + mass1
-            mass(i + 1) = mass(i + 1) + mass2
-            momentum(i) = momentum(i) + momentum1
-            momentum(i + 1) = momentum(i + 1) + momentum2
-            force(i) = force(i) + force1
-            force(i + 1) = force(i + 1) + force2
+            ! (a node no run has reached takes the run's sum: 0 + s is s, a run's sum is never -0)
+            if (i > nodes_cleared) then
+               if (i > nodes_cleared + 1) then
+                  mass(nodes_cleared + 1:i - 1) = 0.0_dp
+                  momentum(nodes_cleared + 1:i - 1) = 0.0_dp
+                  force(nodes_cleared + 1:i - 1) = 0.0_dp
+               end if
+               mass(i) = mass1
+               momentum(i) = momentum1
+               force(i) = force1
+            else
+               mass(i) = mass(i) + mass1
+               momentum(i) = momentum(i) + momentum1
+               force(i) = force(i) + force1
+            end if
+            if (i + 1 > nodes_cleared) then
+               mass(i + 1) = mass2
+               momentum(i + 1) = momentum2
+               force(i + 1) = force2
+               nodes_cleared = i + 1
+            else
+               mass(i + 1) = mass(i + 1) + mass2
+               momentum(i + 1) = momentum(i + 1) + momentum2
+               force(i + 1) = force(i + 1) + force2
+            end if
          end if
       end do
+      if (present(cells)) cells(:, cells_cleared + 1:n - 1) = 0.0_dp
+      mass(nodes_cleared + 1:n) = 0.0_dp
+      momentum(nodes_cleared + 1:n) = 0.0_dp
+      force(nodes_cleared + 1:n) = 0.0_dp
    end subroutine start_pass_hat
 
    !> affine_start's sums for any support (`b` = support - 1).
@@ -1490,6 +1552,105 @@ contains
          if (.not. unknown(i)) ab(3, i + 1) = ab(3, i + 1) + largest
       end do
    end subroutine tangent_hat
+
+   !> The tangent where im%plain_hat holds and its LU factors in one pass over the nodes: tangent_hat's
+   !> entries, each factored as it is formed by banded_factor's operations in its order (the same bits: the
+   !> factors, the pivots, the 1-norm and the smallest and largest pivot). A held row's diagonal, the
+   !> largest of the unknowns' diagonals, is known only at the end; the factorisation needs none of it
+   !> before then (its row and column are zero off the diagonal, so its multiplier is 0 and the next
+   !> pivot is that row's own diagonal), and it is written with the pivots' extremes after the pass.
+   !> Where a column would need a row interchange or has a zero or non-finite pivot, the two steps
+   !> instead (tangent_hat, banded_factor).
+   subroutine tangent_factor_hat(n, cells, unknown, inertia_factor, mass, a, info)
+      integer, intent(in) :: n
+      real(dp), intent(in) :: cells(3, 0:n - 1), inertia_factor, mass(0:n)
+      logical, intent(in) :: unknown(0:n)
+      type(banded_t), intent(inout) :: a
+      integer, intent(out) :: info
+      real(dp) :: norm1, smallest, largest, held_diagonal
+      logical :: fused, held
+      info = 0
+      call factor_rows_hat(n, cells, unknown, inertia_factor, mass, a%ab, a%pivots, norm1, smallest, largest, &
+                           held_diagonal, held, fused)
+      if (.not. fused) then
+         call tangent_hat(n, cells, unknown, inertia_factor, mass, a%ab)
+         call banded_factor(a, info)
+         return
+      end if
+      if (held) then
+         norm1 = max(norm1, held_diagonal)
+         if (held_diagonal < smallest) smallest = held_diagonal
+         if (held_diagonal > largest) largest = held_diagonal
+      end if
+      a%norm1 = norm1
+      a%interchanged = .false.
+      a%smallest_pivot = smallest
+      a%largest_pivot = largest
+      a%factored = .true.
+   end subroutine tangent_factor_hat
+
+   !> tangent_factor_hat's pass on the band as an explicit-shape array (as mpm_banded's factor_rows).
+   !> `fused` false: a column needs what the general factorisation does (the band is then to be formed
+   !> again).
+   pure subroutine factor_rows_hat(n, cells, unknown, inertia_factor, mass, ab, pivots, norm1, smallest, largest, &
+                                   held_diagonal, held, fused)
+      integer, intent(in) :: n
+      real(dp), intent(in) :: cells(3, 0:n - 1), inertia_factor, mass(0:n)
+      logical, intent(in) :: unknown(0:n)
+      real(dp), intent(out) :: ab(4, n + 1), norm1, smallest, largest, held_diagonal
+      integer, intent(out) :: pivots(n + 1)
+      logical, intent(out) :: held, fused
+      real(dp) :: diagonal, upper, lower, pivot, l
+      integer :: i
+      norm1 = 0.0_dp
+      smallest = huge(1.0_dp)
+      largest = 0.0_dp
+      held_diagonal = 0.0_dp ! (the largest |diagonal| of the unknowns: tangent_hat's `largest`)
+      held = .false.
+      fused = .false.
+      upper = 0.0_dp ! A(i - 1, i)
+      l = 0.0_dp     ! the multiplier of the column before
+      do i = 0, n
+         lower = 0.0_dp ! A(i + 1, i)
+         if (i < n) then
+            if (unknown(i) .and. unknown(i + 1)) lower = 0.0_dp - cells(1, i)
+         end if
+         ab(1, i + 1) = 0.0_dp
+         ab(2, i + 1) = upper
+         pivots(i + 1) = i + 1
+         if (unknown(i)) then
+            diagonal = 0.0_dp
+            if (i > 0) diagonal = diagonal + cells(1, i - 1)
+            if (i < n) diagonal = diagonal + cells(1, i)
+            diagonal = diagonal + inertia_factor*mass(i)
+            held_diagonal = max(held_diagonal, abs(diagonal))
+            norm1 = max(norm1, abs(upper) + abs(diagonal) + abs(lower))
+            pivot = diagonal
+            if (upper /= 0.0_dp) pivot = pivot - l*upper
+            if (.not. abs(pivot) <= huge(1.0_dp) .or. pivot == 0.0_dp) return
+            if (i < n) then
+               if (.not. abs(lower) <= abs(pivot)) return
+            end if
+            if (abs(pivot) < smallest) smallest = abs(pivot)
+            if (abs(pivot) > largest) largest = abs(pivot)
+            ab(3, i + 1) = pivot
+            l = 0.0_dp
+            if (i < n) l = lower/pivot
+            ab(4, i + 1) = l
+         else ! (its diagonal after the pass; its multiplier 0/diagonal)
+            held = .true.
+            l = 0.0_dp
+            ab(4, i + 1) = 0.0_dp
+         end if
+         upper = lower
+      end do
+      if (held_diagonal == 0.0_dp) held_diagonal = 1.0_dp
+      if (.not. held_diagonal <= huge(1.0_dp)) return
+      do i = 0, n
+         if (.not. unknown(i)) ab(3, i + 1) = 0.0_dp + held_diagonal
+      end do
+      fused = .true.
+   end subroutine factor_rows_hat
 
    !> The affine law's stiffness S folded onto the unknowns of the tangent (a ghost's row and column its
    !> partner's, with its sign; held nodes none): fold_cells_hat, fold_band.
@@ -1824,10 +1985,11 @@ contains
       type(material_t), intent(in) :: material
       type(pass_totals_t), intent(inout) :: totals
       integer :: outside
-      logical :: hat_flip
+      logical :: hat_flip, linear
       outside = totals%outside
-      ! the hat with FLIP: G2P and the move in one pass (update_hat_flip)
+      ! the hat with FLIP: G2P and the move in one pass (update_hat_flip), with the linear law's update
       hat_flip = hat_flip_update(im, cache)
+      linear = hat_flip .and. im%affine .and. im%kind == integrator_implicit
       if (im%kind == integrator_implicit) then
          call end_kinematics(grid%elements, im%dt, im%velocity, im%e, grid%velocity, grid%acceleration)
          if (im%driven) then
@@ -1837,12 +1999,14 @@ contains
             end where
          end if
          if (hat_flip) then
-            call update_hat_flip(particles%count, size(cache%weight, 1), grid%elements, cache%first, cache%weight, &
-                                 cache%gradient, im%affine .or. im%hencky_cells, im%dstrain, &
+            call update_hat_flip(particles%count, grid%elements, cache%first, cache%weight(:, 2), &
+                                 im%affine .or. im%hencky_cells, im%dstrain, &
                                  grid%acceleration, im%du, im%dt, particles%x0, particles%mass_of, &
                                  grid%origin, grid%origin + grid%length, grid%inv_dx, particles%x, particles%v, &
                                  totals%kinetic_energy, totals%displacement, totals%max_cell_move, totals%furthest, &
-                                 outside)
+                                 outside, linear, material%youngs_modulus, particles%volume0_of, particles%stress, &
+                                 particles%volume_ratio, totals%strain_energy, totals%min_volume_ratio, &
+                                 particles%youngs_modulus_of)
             totals%outside = outside
          else
             call g2p(cache, particles, grid, im%dt, totals)
@@ -1862,7 +2026,9 @@ contains
       end if
       ! (the affine law's residual formed no strains: the converged ones here, or in update_hat_flip)
       if (im%affine .and. .not. hat_flip) call particle_strains(im, cache, particles%count, grid%elements)
-      if (im%hencky_cells) then
+      if (linear) then ! (update_hat_flip's)
+         totals%plastic_work = 0.0_dp
+      else if (im%hencky_cells) then
          call hencky_update(particles%count, grid%elements, cache%first, im%dstrain, material%youngs_modulus, &
                             im%logarithms, particles%volume0_of, particles%stress, particles%volume_ratio, &
                             totals%strain_energy, particles%youngs_modulus_of)
@@ -1943,13 +2109,15 @@ contains
    !> order as there (the same bits). The products N_Ip du_I of the move are formed in a loop of their own
    !> and summed in another, as move_particles' array expression: a build with fused multiply-add does not
    !> contract the sum (another rounding).
-   subroutine update_hat_flip(count, rows, n, first, weight, gradient, strains, dstrain, acceleration, du, dt, &
+   subroutine update_hat_flip(count, n, first, right, strains, dstrain, acceleration, du, dt, &
                               x0, mass, lo, hi, inv_dx, x, v, kinetic_energy, displacement, max_cell_move, &
-                              furthest, outside)
-      integer, intent(in) :: count, rows, n
+                              furthest, outside, linear, modulus, volume0, stress, volume_ratio, energy, smallest, &
+                              modulus_of)
+      integer, intent(in) :: count, n
       integer, intent(in) :: first(count)
-      real(dp), intent(in) :: weight(rows, 2), gradient(rows, 2), acceleration(0:n), du(0:n), dt, &
-                              x0(count), mass(count), lo, hi, inv_dx
+      !> the shape function of each particle's right node (as start_pass_hat)
+      real(dp), intent(in) :: right(count)
+      real(dp), intent(in) :: acceleration(0:n), du(0:n), dt, x0(count), mass(count), lo, hi, inv_dx
       !> `strains`: the strain increments d eps_p too (as strain_pass_hat forms them)
       logical, intent(in) :: strains
       real(dp), intent(inout) :: dstrain(count)
@@ -1957,8 +2125,21 @@ contains
       real(dp), intent(out) :: kinetic_energy, displacement, max_cell_move
       integer, intent(out) :: furthest
       integer, intent(inout) :: outside
-      real(dp) :: kinetic(lanes), kinetic_block(block_size), products(block_size, 2), na, move, total
-      integer :: b0, m, i, p, node
+      !> `linear` (with `strains`): the linear law's update of each block's particles by their d eps_p
+      !> (linear_update_on, linear_update_each_on given `modulus_of`), whose stored energy and smallest J are
+      !> update_material_finite's (the same sums in the same order)
+      logical, intent(in) :: linear
+      real(dp), intent(in) :: modulus, volume0(count)
+      real(dp), intent(inout) :: stress(count), volume_ratio(count)
+      real(dp), intent(out) :: energy, smallest
+      real(dp), intent(in), optional :: modulus_of(count)
+      real(dp) :: kinetic(lanes), kinetic_block(block_size), products(block_size, 2), na, move, total, weight1, &
+                  weight2, gradient1, gradient2
+      integer :: b0, b1, m, i, p, node
+      gradient1 = -inv_dx
+      gradient2 = inv_dx
+      energy = 0.0_dp
+      smallest = huge(1.0_dp)
       kinetic = 0.0_dp
       displacement = 0.0_dp
       max_cell_move = 0.0_dp
@@ -1968,12 +2149,14 @@ contains
          do i = 1, m
             p = b0 + i - 1
             node = first(p)
-            na = weight(p, 1)*acceleration(node)
-            na = na + weight(p, 2)*acceleration(node + 1)
+            weight2 = right(p)
+            weight1 = 1.0_dp - weight2
+            na = weight1*acceleration(node)
+            na = na + weight2*acceleration(node + 1)
             v(p) = v(p) + dt*na
             kinetic_block(i) = 0.5_dp*mass(p)*v(p)*v(p)
-            products(i, 1) = weight(p, 1)*du(node)
-            products(i, 2) = weight(p, 2)*du(node + 1)
+            products(i, 1) = weight1*du(node)
+            products(i, 2) = weight2*du(node + 1)
          end do
          if (strains) then
             do i = 1, m
@@ -1981,9 +2164,19 @@ contains
                node = first(p)
                ! (from 0 as strain_pass_hat: 0 + (-0) is +0)
                total = 0.0_dp
-               total = total + gradient(p, 1)*du(node)
-               dstrain(p) = total + gradient(p, 2)*du(node + 1)
+               total = total + gradient1*du(node)
+               dstrain(p) = total + gradient2*du(node + 1)
             end do
+            b1 = b0 + m - 1
+            if (linear) then
+               if (present(modulus_of)) then
+                  call linear_update_each_on(modulus_of(b0:b1), dstrain(b0:b1), volume0(b0:b1), stress(b0:b1), &
+                                             volume_ratio(b0:b1), energy, smallest)
+               else
+                  call linear_update_on(modulus, dstrain(b0:b1), volume0(b0:b1), stress(b0:b1), volume_ratio(b0:b1), &
+                                        energy, smallest)
+               end if
+            end if
          end if
          call add_lanes(m, kinetic_block, kinetic)
          ! (move_particles' per-particle lines, written out again: as one procedure that both loops call,

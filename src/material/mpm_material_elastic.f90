@@ -21,7 +21,8 @@ module mpm_material_elastic
    implicit none
    private
    public :: elastic_update, strain_energy_density, elastic_update_all, elastic_update_each
-   public :: linear_update, linear_energy_density, linear_update_all, linear_update_each
+   public :: linear_update, linear_energy_density, linear_update_all, linear_update_each, &
+             linear_update_on, linear_update_each_on
 
 contains
 
@@ -97,32 +98,60 @@ contains
       real(dp), intent(in), contiguous :: dstrain(:), volume0(:)
       real(dp), intent(inout), contiguous :: stress(:), volume_ratio(:)
       real(dp), intent(out) :: energy, smallest
-      integer :: p
-      real(dp) :: half_compliance
-      half_compliance = 0.5_dp/youngs_modulus
       energy = 0.0_dp
       smallest = huge(1.0_dp)
+      call linear_update_on(youngs_modulus, dstrain, volume0, stress, volume_ratio, energy, smallest)
+   end subroutine linear_update_all
+
+   !> linear_update_all on a run of particles whose sums go on: their energies added to `energy` in their
+   !> order, `smallest` lowered to their smallest J (a pass that updates its particles block by block
+   !> forms the same sums as linear_update_all over all of them).
+   subroutine linear_update_on(youngs_modulus, dstrain, volume0, stress, volume_ratio, energy, smallest)
+      real(dp), intent(in) :: youngs_modulus
+      real(dp), intent(in), contiguous :: dstrain(:), volume0(:)
+      real(dp), intent(inout), contiguous :: stress(:), volume_ratio(:)
+      real(dp), intent(inout) :: energy, smallest
+      integer :: p
+      real(dp) :: half_compliance, total, least
+      half_compliance = 0.5_dp/youngs_modulus
+      total = energy
+      least = smallest
       do p = 1, size(dstrain)
          volume_ratio(p) = volume_ratio(p)*(1.0_dp + dstrain(p))
          stress(p) = stress(p) + (youngs_modulus + stress(p))*dstrain(p)
-         energy = energy + stress(p)*stress(p)*volume0(p)*half_compliance
-         smallest = min(smallest, volume_ratio(p))
+         total = total + stress(p)*stress(p)*volume0(p)*half_compliance
+         least = min(least, volume_ratio(p))
       end do
-   end subroutine linear_update_all
+      energy = total
+      smallest = least
+   end subroutine linear_update_on
 
    !> linear_update_all with a Young's modulus per particle.
    subroutine linear_update_each(youngs_modulus, dstrain, volume0, stress, volume_ratio, energy, smallest)
       real(dp), intent(in), contiguous :: youngs_modulus(:), dstrain(:), volume0(:)
       real(dp), intent(inout), contiguous :: stress(:), volume_ratio(:)
       real(dp), intent(out) :: energy, smallest
-      integer :: p
       energy = 0.0_dp
       smallest = huge(1.0_dp)
+      call linear_update_each_on(youngs_modulus, dstrain, volume0, stress, volume_ratio, energy, smallest)
+   end subroutine linear_update_each
+
+   !> linear_update_each on a run of particles whose sums go on (as linear_update_on).
+   subroutine linear_update_each_on(youngs_modulus, dstrain, volume0, stress, volume_ratio, energy, smallest)
+      real(dp), intent(in), contiguous :: youngs_modulus(:), dstrain(:), volume0(:)
+      real(dp), intent(inout), contiguous :: stress(:), volume_ratio(:)
+      real(dp), intent(inout) :: energy, smallest
+      integer :: p
+      real(dp) :: total, least
+      total = energy
+      least = smallest
       do p = 1, size(dstrain)
          volume_ratio(p) = volume_ratio(p)*(1.0_dp + dstrain(p))
          stress(p) = stress(p) + (youngs_modulus(p) + stress(p))*dstrain(p)
-         energy = energy + 0.5_dp*stress(p)*stress(p)*volume0(p)/youngs_modulus(p)
-         smallest = min(smallest, volume_ratio(p))
+         total = total + 0.5_dp*stress(p)*stress(p)*volume0(p)/youngs_modulus(p)
+         least = min(least, volume_ratio(p))
       end do
-   end subroutine linear_update_each
+      energy = total
+      smallest = least
+   end subroutine linear_update_each_on
 end module mpm_material_elastic

@@ -34,7 +34,8 @@ program test_implicit
    use mpm_material, only: material_t, material_state
    use, intrinsic :: iso_fortran_env, only: real128
    use mpm_implicit, only: implicit_t, implicit_init, implicit_advance, prepare_step, assemble_system, newton_solve, &
-                           series_logarithms, series_limit
+                           series_logarithms, series_limit, tangent_hat, tangent_factor_hat
+   use mpm_banded, only: banded_t, banded_init, banded_factor
    use mpm_testing, only: tester_t, tester
    use mpm_testing_runs, only: run_resolved, set_values, set_value
    implicit none
@@ -47,6 +48,7 @@ program test_implicit
    if (t%case('affine_residual')) call affine_residual()
    if (t%case('hencky_cells_residual')) call hencky_cells_residual()
    if (t%case('logarithm_series')) call logarithm_series()
+   if (t%case('fused_tangent_factor')) call fused_tangent_factor()
    if (t%case('quadratic_convergence')) call quadratic_convergence()
    if (t%case('temporal_order')) call temporal_order()
    if (t%case('beyond_the_explicit_limit')) call beyond_the_explicit_limit()
@@ -228,6 +230,67 @@ contains
                                                       [1.0e-300_dp, -1.0e-20_dp, 1.0e-17_dp]))
       call t%check('ln(1 + 0) = 0', all(series_logarithms([0.0_dp]) == 0.0_dp))
    end subroutine logarithm_series
+
+   !> The hat's tangent formed and factored in one pass (tangent_factor_hat) against the tangent formed
+   !> (tangent_hat) and then factored (banded_factor): the same factors, pivots, 1-norm, pivot extremes and
+   !> info, bit for bit, with held rows at the ends and inside the grid, with none, with every row held,
+   !> and where a column needs a row interchange or a pivot is zero (the two steps taken instead).
+   subroutine fused_tangent_factor()
+      integer, parameter :: n = 40
+      real(dp) :: cells(3, 0:n - 1), mass(0:n)
+      logical :: unknown(0:n)
+      integer :: k
+      do k = 0, n - 1
+         cells(:, k) = [1.0e3_dp*(1.5_dp + sin(0.7_dp*k)), 0.0_dp, 0.0_dp]
+      end do
+      do k = 0, n
+         mass(k) = 2.0e-3_dp*(1.2_dp + cos(1.3_dp*k))
+      end do
+      unknown = .true.
+      call compare_factors(n, cells, unknown, mass, 'every row unknown', .true.)
+      unknown([0, 17, 18, 25, n]) = .false.
+      call compare_factors(n, cells, unknown, mass, 'held rows at the ends and inside', .true.)
+      unknown = .false.
+      call compare_factors(n, cells, unknown, mass, 'every row held', .true.)
+      unknown = .true.
+      unknown(0) = .false.
+      cells(1, 9) = -4.0e3_dp ! |A(10, 9)| > A(9, 9): a row interchange
+      call compare_factors(n, cells, unknown, mass, 'a column that needs an interchange', .false.)
+      cells(1, 9) = 1.0e3_dp
+      mass = 0.0_dp
+      cells(1, :) = 0.0_dp ! a zero pivot (singular)
+      call compare_factors(n, cells, unknown, mass, 'a zero pivot', .false.)
+   end subroutine fused_tangent_factor
+
+   !> fused_tangent_factor's comparison of the two ways for one tangent.
+   subroutine compare_factors(n, cells, unknown, mass, label, fast)
+      integer, intent(in) :: n
+      real(dp), intent(in) :: cells(3, 0:n - 1), mass(0:n)
+      logical, intent(in) :: unknown(0:n)
+      character(len=*), intent(in) :: label
+      logical, intent(in) :: fast !< whether the pivots can all be formed in the fused pass
+      type(banded_t) :: fused, apart
+      integer :: info_fused, info_apart
+      real(dp), parameter :: inertia = 4.0_dp/0.3_dp**2
+      call banded_init(fused, n + 1, 1, cleared=.false.)
+      call banded_init(apart, n + 1, 1, cleared=.false.)
+      fused%ab = -7.0_dp ! (whatever the last step left)
+      call tangent_factor_hat(n, cells, unknown, inertia, mass, fused, info_fused)
+      call tangent_hat(n, cells, unknown, inertia, mass, apart%ab)
+      call banded_factor(apart, info_apart)
+      call t%check(label//': the same factors bit for bit', all(fused%ab == apart%ab) .and. &
+                   all(fused%pivots == apart%pivots), 'largest difference '// &
+                   str(maxval(abs(fused%ab - apart%ab))))
+      call t%check(label//': the same 1-norm, pivot extremes and info', fused%norm1 == apart%norm1 .and. &
+                   fused%smallest_pivot == apart%smallest_pivot .and. fused%largest_pivot == apart%largest_pivot &
+                   .and. info_fused == info_apart .and. (fused%factored .eqv. apart%factored) .and. &
+                   (fused%interchanged .eqv. apart%interchanged), 'norm '//str(fused%norm1)//' '//str(apart%norm1)// &
+                   ', pivots '//str(fused%smallest_pivot)//' '//str(apart%smallest_pivot)//' '// &
+                   str(fused%largest_pivot)//' '//str(apart%largest_pivot)//', info '//str(info_fused)//' '// &
+                   str(info_apart))
+      call t%check(label//': '//trim(merge('factored without an interchange', 'an interchange or a zero pivot ', fast)), &
+                   (apart%factored .and. .not. apart%interchanged) .eqv. fast)
+   end subroutine compare_factors
 
    !> ln(1 + x) in quadruple precision: its series below |x| = 1e-3 (terms to x^16: a remainder below
    !> 1e-48 relative; 1 + x in quadruple precision would lose x's digits there), else the logarithm.
