@@ -16,7 +16,7 @@ module mpm_banded
    implicit none
    private
    public :: banded_t, banded_init, banded_zero, banded_add, banded_multiply, banded_factor, banded_solve, &
-             banded_rcond, banded_row, banded_pivot_ratio
+             banded_rcond, banded_row, banded_pivot_ratio, banded_solve_negated
 
    !> The matrix and, after banded_factor, its LU factors and pivots.
    type :: banded_t
@@ -274,6 +274,44 @@ contains
          call solve_one(a, b(:, k), .false.)
       end do
    end subroutine banded_solve
+
+   !> x := A^-1 b with b = -r on the rows where `mask` holds and 0 on the others (Newton's step from a
+   !> residual), from the factors: banded_solve's operations; with bandwidth 1 and no interchange, b is formed
+   !> in the first sweep (solve_rows'), not in a pass of its own.
+   pure subroutine banded_solve_negated(a, r, mask, x)
+      type(banded_t), intent(in) :: a
+      real(dp), intent(in) :: r(:)
+      logical, intent(in) :: mask(:)
+      real(dp), intent(out) :: x(:)
+      if (a%bandwidth == 1 .and. .not. a%interchanged .and. a%n >= 1) then
+         call solve_rows_negated(a%n, a%ab, r, mask, x)
+      else
+         x = merge(-r, 0.0_dp, mask)
+         call solve_one(a, x, .false.)
+      end if
+   end subroutine banded_solve_negated
+
+   !> solve_rows without an interchange for b = merge(-r, 0, mask) (banded_solve_negated).
+   pure subroutine solve_rows_negated(n, ab, r, mask, x)
+      integer, intent(in) :: n
+      real(dp), intent(in) :: ab(4, n), r(n)
+      logical, intent(in) :: mask(n)
+      real(dp), intent(out) :: x(n)
+      real(dp) :: y
+      integer :: j
+      y = merge(-r(1), 0.0_dp, mask(1))
+      x(1) = y
+      do j = 1, n - 1
+         y = merge(-r(j + 1), 0.0_dp, mask(j + 1)) - ab(4, j)*y
+         x(j + 1) = y
+      end do
+      y = x(n)/ab(3, n)
+      x(n) = y
+      do j = n - 1, 1, -1
+         y = (x(j) - ab(2, j + 1)*y)/ab(3, j)
+         x(j) = y
+      end do
+   end subroutine solve_rows_negated
 
    !> x := A^-1 x, or (transposed) A^-T x, from the factors P A = L U.
    pure subroutine solve_one(a, x, transposed)

@@ -72,7 +72,7 @@ module mpm_implicit
                            log_one_plus
    use mpm_material_elastic, only: linear_update_on, linear_update_each_on
    use mpm_banded, only: banded_t, banded_init, banded_zero, banded_add, banded_factor, banded_solve, &
-                         banded_rcond, banded_multiply, banded_pivot_ratio
+                         banded_solve_negated, banded_rcond, banded_multiply, banded_pivot_ratio
    use mpm_ghost_penalty, only: ghost_knots_t, find_ghost_knots
    implicit none
    private
@@ -281,7 +281,8 @@ contains
       call node_roles(im, grid)
       call particle_data(im, cache, particles, material)
       if (im%affine .and. .not. fused) call affine_start(im, cache, particles, material, grid%elements)
-      im%e = 0.0_dp
+      ! (e = 0 in lumped_kinematics' pass where it runs)
+      if (.not. (dynamic .and. im%mass == mass_lumped)) im%e = 0.0_dp
       im%multiplier = 0.0_dp
       im%constrained = .false.
       im%driven = scene%drives .and. dynamic
@@ -447,7 +448,7 @@ contains
       call nodal_velocities(grid)
       if (im%mass == mass_lumped) then
          call lumped_kinematics(grid%elements, im%unknown, grid%velocity, grid%force, grid%mass, im%velocity, &
-                                im%acceleration)
+                                im%acceleration, im%e)
       else
          call consistent_mass(im, cache, particles, grid)
          if (im%failed) then
@@ -466,13 +467,14 @@ contains
    end subroutine start_kinematics
 
    !> The lumped mass's v_n = p/m and a_n = f/m on the unknowns, zero on the other nodes (fill_slaves sets the
-   !> ghosts').
-   pure subroutine lumped_kinematics(n, unknown, grid_velocity, force, mass, velocity, acceleration)
+   !> ghosts'), and Newton's first e = 0.
+   pure subroutine lumped_kinematics(n, unknown, grid_velocity, force, mass, velocity, acceleration, e)
       integer, intent(in) :: n
       logical, intent(in) :: unknown(0:n)
       real(dp), intent(in) :: grid_velocity(0:n), force(0:n), mass(0:n)
-      real(dp), intent(out) :: velocity(0:n), acceleration(0:n)
+      real(dp), intent(out) :: velocity(0:n), acceleration(0:n), e(0:n)
       integer :: i
+      e = 0.0_dp
       do i = 0, n
          velocity(i) = 0.0_dp
          acceleration(i) = 0.0_dp
@@ -735,9 +737,14 @@ contains
       real(dp), intent(out) :: correction
       integer :: columns
       columns = merge(2, 1, im%constrained)
-      im%rhs(:, 1) = merge(-im%residual, 0.0_dp, im%unknown)
-      if (im%constrained) im%rhs(:, 2) = im%weight
-      call banded_solve(im%tangent, im%rhs(:, 1:columns), info)
+      info = 0
+      if (im%constrained) then
+         im%rhs(:, 1) = merge(-im%residual, 0.0_dp, im%unknown)
+         im%rhs(:, 2) = im%weight
+         call banded_solve(im%tangent, im%rhs(:, 1:columns), info)
+      else
+         call banded_solve_negated(im%tangent, im%residual, im%unknown, im%rhs(:, 1))
+      end if
       correction = 0.0_dp
       if (im%constrained) then
          correction = (gap - sum(im%weight*im%rhs(:, 1)))/sum(im%weight*im%rhs(:, 2))
