@@ -25,10 +25,10 @@ check "the program counts only the named case's checks" "grep -q \"^test_banded:
 run "$banded" singular laplacian
 check "two named cases run, in the program's order" "[ $(rc) = 0 ] && [ \"\$(grep -o '^  [a-z_]*:' out.txt | tr -d ' :' | tr '\n' ' ')\" = 'laplacian singular ' ]"
 run "$banded" --list
-check "--list lists the cases and runs none" "[ $(rc) = 0 ] && [ \"\$(tr '\n' ' ' < out.txt)\" = 'laplacian random_matrices singular ' ]"
+check "--list lists the cases and runs none" "[ $(rc) = 0 ] && [ \"\$(tr '\n' ' ' < out.txt)\" = 'laplacian random_matrices singular negated_solve ' ]"
 run "$banded" laplasian
 check "an unknown case: exit 2" "[ $(rc) = 2 ]"
-check "an unknown case: named, with the list" "grep -qF \"test_banded: no case is named 'laplasian'; its cases: laplacian, random_matrices, singular\" err.txt"
+check "an unknown case: named, with the list" "grep -qF \"test_banded: no case is named 'laplasian'; its cases: laplacian, random_matrices, singular, negated_solve\" err.txt"
 check "an unknown case: nothing runs" "! grep -q 'passed' out.txt"
 run "$banded" --frob
 check "an unknown option: exit 2, named" "[ $(rc) = 2 ] && grep -qF \"unknown option '--frob'\" err.txt"

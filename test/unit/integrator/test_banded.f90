@@ -7,12 +7,14 @@
 !>   here, and the residual |A x - r| at round-off; the condition estimate against the exact reciprocal
 !>   condition number from the dense inverse: never below it, and within a factor 10 of it; the
 !>   product A x against the dense one;
-!> - a matrix with an exactly zero column gives info = that column and rcond 0.
+!> - a matrix with an exactly zero column gives info = that column and rcond 0;
+!> - Newton's step from a residual, banded_solve_negated, against banded_solve of -r on the masked rows
+!>   (0 on the others): bit for bit, with and without row interchanges, bandwidths 1 and 2.
 program test_banded
    use mpm_kinds, only: dp
    use mpm_strings, only: str
    use mpm_banded, only: banded_t, banded_init, banded_add, banded_factor, banded_solve, banded_rcond, &
-                         banded_multiply, banded_pivot_ratio
+                         banded_multiply, banded_pivot_ratio, banded_solve_negated
    use mpm_testing, only: tester_t, tester
    implicit none
    type(tester_t) :: t
@@ -25,6 +27,7 @@ program test_banded
    end if
    if (t%case('random_matrices')) call random_matrices()
    if (t%case('singular')) call singular()
+   if (t%case('negated_solve')) call negated_solve()
    call t%finish()
 
 contains
@@ -127,6 +130,38 @@ contains
       call t%check('random: rcond estimate in [exact, 10 exact]', lowest >= 1.0_dp - 1.0e-10_dp .and. highest <= 10.0_dp, &
                    'estimate/exact in ['//str(lowest)//', '//str(highest)//'], last extreme case '//str(worst_case))
    end subroutine random_matrices
+
+   subroutine negated_solve()
+      integer, parameter :: n = 23
+      integer :: b, k, i, j, info
+      type(banded_t) :: a
+      real(dp) :: r(n), x(n), rhs(n, 1), diagonal
+      logical :: mask(n)
+      do k = 1, 3
+         b = merge(2, 1, k == 3)
+         diagonal = merge(1.0e-6_dp, 10.0_dp, k == 2) ! (k = 2: small diagonals, rows interchanged)
+         call banded_init(a, n, b)
+         do j = 1, n
+            do i = max(1, j - b), min(n, j + b)
+               call banded_add(a, i, j, merge(diagonal*(1.5_dp + uniform()), uniform(), i == j))
+            end do
+            r(j) = uniform()
+            mask(j) = uniform() > -0.6_dp
+         end do
+         call banded_factor(a, info)
+         ! (bandwidth 1: the interchanges the solve must follow where the diagonals are small, none where
+         ! they dominate; wider bands are always solved the general way)
+         if (b == 1) call t%check('b=1: rows interchanged '//merge('where the diagonals are small', &
+                                                                   'nowhere else                 ', k == 2), &
+                                  a%interchanged .eqv. (k == 2))
+         rhs(:, 1) = merge(-r, 0.0_dp, mask)
+         call banded_solve(a, rhs, info)
+         call banded_solve_negated(a, r, mask, x)
+         call t%check('b='//str(b)//merge(' with interchanges   ', ' without interchanges', a%interchanged)// &
+                      ': the same step bit for bit', all(x == rhs(:, 1)), 'largest difference '// &
+                      str(maxval(abs(x - rhs(:, 1)))))
+      end do
+   end subroutine negated_solve
 
    !> Dense Gaussian elimination with partial pivoting (row interchanges), a copy of the matrix.
    function dense_solve(matrix, r) result(x)
