@@ -948,8 +948,14 @@ contains
       if (end_time < dt) call append_error(error, run_too_short(config, end_time_given, end_time, dt, given))
       if (end_time/dt > real(huge(1) - 1, dp)) call append_error(error, too_many_steps(config, end_time_given, &
                                                                                          end_time, dt, given))
-      call config%scene%check_run(config, end_time, dx, run_length(config, end_time_given, end_time, given), error, &
-                                  given)
+      ! the scene's check with the run's length in words (formatting numbers: most of a valid case's checks)
+      ! only where it finds a problem
+      block
+         type(error_t), allocatable :: found
+         call config%scene%check_run(config, end_time, dx, '', found, given)
+         if (allocated(found)) call config%scene%check_run(config, end_time, dx, &
+                                                           run_length(config, end_time_given, end_time, given), error, given)
+      end block
       call check_snapshots(config, end_time, error, given)
       if (end_time >= dt .and. end_time/dt <= real(huge(1) - 1, dp)) &
          call check_snapshot_every(config, step_count(end_time, dt), error, given)

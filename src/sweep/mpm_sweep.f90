@@ -252,12 +252,16 @@ contains
             study%settings%lists(j)%name = base(k)%sweep_list  ! the list's name, whichever name was given
             cycle
          end if
-         if (len(other_kind_list(study%base, items(i)%name)) > 0) then ! (a list of another kind's variable)
-            if (known_kind(study%base%scene_kind)) call append_error(error, where//"sweep: list '"// &
-               items(i)%name//"' varies "//other_kind_list(study%base, items(i)%name))
-            cycle
-         end if
          k = find_parameter(settings, 'sweep', items(i)%name)
+         ! (a list of another kind's variable; asked only of a name that is no setting of the sweep: the
+         ! question builds every kind's catalog)
+         if (k == 0) then
+            if (len(other_kind_list(study%base, items(i)%name)) > 0) then
+               if (known_kind(study%base%scene_kind)) call append_error(error, where//"sweep: list '"// &
+                  items(i)%name//"' varies "//other_kind_list(study%base, items(i)%name))
+               cycle
+            end if
+         end if
          if (k == 0) then
             call append_error(error, where//"group &sweep: unknown variable '"//items(i)%name//"'"// &
                               sweep_name_hint(items(i)%name, list_names()//", "//entry_names(settings, 'sweep'), base))

@@ -137,6 +137,9 @@ contains
       message = problems("&scene kind='column', gravity=3.0, gap=0.5 /")
       call refused('a known kind still refuses another kind''s variable', message, &
                    "'gap' is not used by kind = 'column'")
+      message = sweep_problems("&sweep gaps=0.1, 0.2, min_time=0 /")
+      call refused('a list of another kind''s variable, beside the sweep''s settings', message, "in.nml:1: sweep: "// &
+                   "list 'gaps' varies scene: 'gap' is not used by kind = 'vibrating_bar'; it belongs to kind impact")
       message = sweep_problems("&sweep length=1.0, 2.0 /")
       call refused('a variable no sweep list varies', message, "unknown variable 'length'; 'length' of &scene is not "// &
                    "swept")
