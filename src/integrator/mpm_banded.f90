@@ -305,13 +305,24 @@ contains
          y = merge(-r(j + 1), 0.0_dp, mask(j + 1)) - ab(4, j)*y
          x(j + 1) = y
       end do
+      call back_substitute(n, ab, x)
+   end subroutine solve_rows_negated
+
+   !> U x = y of a bandwidth-1 factorisation without an interchange (no fill-in), y in x: the last value
+   !> carried in a register along the chain of divisions (solve_rows, solve_rows_negated).
+   pure subroutine back_substitute(n, ab, x)
+      integer, intent(in) :: n
+      real(dp), intent(in) :: ab(4, n)
+      real(dp), intent(inout) :: x(n)
+      real(dp) :: y
+      integer :: j
       y = x(n)/ab(3, n)
       x(n) = y
       do j = n - 1, 1, -1
          y = (x(j) - ab(2, j + 1)*y)/ab(3, j)
          x(j) = y
       end do
-   end subroutine solve_rows_negated
+   end subroutine back_substitute
 
    !> x := A^-1 x, or (transposed) A^-T x, from the factors P A = L U.
    pure subroutine solve_one(a, x, transposed)
@@ -364,12 +375,7 @@ contains
             y = x(j + 1) - ab(4, j)*y
             x(j + 1) = y
          end do
-         y = x(n)/ab(3, n)
-         x(n) = y
-         do j = n - 1, 1, -1
-            y = (x(j) - ab(2, j + 1)*y)/ab(3, j)
-            x(j) = y
-         end do
+         call back_substitute(n, ab, x)
          return
       end if
       do j = 1, n - 1

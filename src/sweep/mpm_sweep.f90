@@ -253,18 +253,17 @@ contains
             cycle
          end if
          k = find_parameter(settings, 'sweep', items(i)%name)
-         ! (a list of another kind's variable; asked only of a name that is no setting of the sweep: the
-         ! question builds every kind's catalog)
          if (k == 0) then
+            ! a list of another kind's variable (asked only of a name that is no setting of the sweep: the
+            ! question builds every kind's catalog), else unknown
             if (len(other_kind_list(study%base, items(i)%name)) > 0) then
                if (known_kind(study%base%scene_kind)) call append_error(error, where//"sweep: list '"// &
                   items(i)%name//"' varies "//other_kind_list(study%base, items(i)%name))
-               cycle
+            else
+               call append_error(error, where//"group &sweep: unknown variable '"//items(i)%name//"'"// &
+                                 sweep_name_hint(items(i)%name, list_names()//", "//entry_names(settings, 'sweep'), &
+                                                 base))
             end if
-         end if
-         if (k == 0) then
-            call append_error(error, where//"group &sweep: unknown variable '"//items(i)%name//"'"// &
-                              sweep_name_hint(items(i)%name, list_names()//", "//entry_names(settings, 'sweep'), base))
          else if (settings(k)%line > 0) then
             call append_error(error, where//"sweep: '"//items(i)%name//"' is given twice (also line "// &
                               str(settings(k)%line)//")")
