@@ -12,7 +12,7 @@
 !> write its output). Every file this module opens it also closes, so the clean-up had nothing to do.
 !> Not thread-safe (neither is the HDF5 library): call only outside parallel regions.
 module mpm_hdf5
-   use, intrinsic :: iso_c_binding, only: c_ptr, c_char, c_null_char, c_loc, c_f_pointer, c_associated, c_int
+   use, intrinsic :: iso_c_binding, only: c_ptr, c_char, c_null_char, c_null_ptr, c_loc, c_f_pointer, c_associated, c_int
    use hdf5
    use mpm_kinds, only: dp
    use mpm_errors, only: error_t, set_error
@@ -205,14 +205,20 @@ contains
       character(len=*), intent(in) :: values(:)
       integer(hid_t) :: dset, space, string_type, transfer
       integer(hsize_t) :: dims(1)
-      character(len=len(values) + 1, kind=c_char), allocatable, target :: texts(:)
+      character(len=:, kind=c_char), allocatable, target :: texts(:)
       type(c_ptr), allocatable, target :: pointers(:)
-      integer :: hdferr, i
+      integer :: hdferr, i, longest
+      integer, allocatable :: lengths(:)
       if (.not. self%ok()) return
       call string_type_of(self, string_type)
-      allocate (texts(max(size(values), 1)), pointers(max(size(values), 1)))
+      ! (the C strings as long as the longest value, not as the values' declared length)
+      lengths = len_trim(values)
+      longest = 0
+      if (size(values) > 0) longest = maxval(lengths)
+      allocate (character(len=longest + 1, kind=c_char) :: texts(max(size(values), 1)))
+      allocate (pointers(max(size(values), 1)))
       do i = 1, size(values)
-         texts(i) = trim(values(i))//c_null_char
+         texts(i) = values(i)(1:lengths(i))//c_null_char
          pointers(i) = c_loc(texts(i))
       end do
       dims = size(values, kind=hsize_t)
@@ -682,7 +688,9 @@ contains
       if (variable) then
          call h5tcopy_f(H5T_C_S1, string_type, hdferr)
          call h5tset_size_f(string_type, variable_length, hdferr)
+         ! (null first: a dataset of no strings reads none, and its one blank value stays blank)
          allocate (pointers(size(values)))
+         pointers = c_null_ptr
          buffer = c_loc(pointers)
          call h5dread_f(dset, string_type, buffer, hdferr)
          if (hdferr >= 0) then

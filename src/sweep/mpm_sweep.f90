@@ -46,7 +46,7 @@ module mpm_sweep
 
    !> Most threads a sweep asks for (OpenMP runtimes fail far below 10^5 threads; no node has more cores).
    integer, parameter :: max_threads = 4096
-   public :: sweep_parameters, case_column, case_weights
+   public :: sweep_parameters, case_columns, case_weights
 
    !> The &sweep group: lists to combine and how to run them.
    type :: sweep_config_t
@@ -373,20 +373,33 @@ contains
       integer, intent(in) :: j
       type(sweep_case_t), intent(in) :: cases(:)
       type(value_list_t) :: column
-      integer, allocatable :: at(:)
-      integer :: i, positions(size(sweep%settings%lists))
-      associate (list => sweep%settings%lists(j))
-         allocate (at(size(cases)))
-         do i = 1, size(cases)
-            positions = list_positions(sweep%settings%lists, cases(i)%index)
-            at(i) = positions(j)
-         end do
-         column = list
-         column%reals = list%reals(at)
-         column%ints = list%ints(at)
-         column%texts = list%texts(at)
-      end associate
+      type(value_list_t), allocatable :: columns(:)
+      columns = case_columns(sweep, [j], cases)
+      column = columns(1)
    end function case_column
+
+   !> The values of lists `which` over `cases` (/cases columns), each case's positions in the lists
+   !> found once for all of them.
+   function case_columns(sweep, which, cases) result(columns)
+      type(sweep_t), intent(in) :: sweep
+      integer, intent(in) :: which(:)
+      type(sweep_case_t), intent(in) :: cases(:)
+      type(value_list_t), allocatable :: columns(:)
+      integer, allocatable :: at(:, :)
+      integer :: i, m
+      allocate (at(size(sweep%settings%lists), size(cases)), columns(size(which)))
+      do i = 1, size(cases)
+         at(:, i) = list_positions(sweep%settings%lists, cases(i)%index)
+      end do
+      do m = 1, size(which)
+         associate (list => sweep%settings%lists(which(m)), column => columns(m))
+            column = list
+            column%reals = list%reals(at(which(m), :))
+            column%ints = list%ints(at(which(m), :))
+            column%texts = list%texts(at(which(m), :))
+         end associate
+      end do
+   end function case_columns
 
    !> Build this shard's cases (every combination; the last list varies fastest) and validate
    !> each one as a single run would be validated.

@@ -13,7 +13,7 @@ module mpm_sweep_output
    use mpm_output, only: write_config_attributes
    use mpm_version, only: code_version
    use mpm_diagnostics, only: history_t, status_name, status_ok, status_not_run
-   use mpm_sweep, only: sweep_t, sweep_case_t, case_column, apply_record, record_sweep, record_case
+   use mpm_sweep, only: sweep_t, sweep_case_t, case_columns, apply_record, record_sweep, record_case
    use mpm_journal, only: journal_record_t, journal_name, journal_read, journal_open, journal_append, journal_close
    use mpm_config, only: config_t, config_parameters, catalog_parameters, config_namelist, used_with, new_config
    use mpm_scenes, only: scene_slot_t
@@ -90,6 +90,7 @@ contains
       type(config_t), target :: local
       type(parameter_t), allocatable :: table(:)
       character(len=64), allocatable :: laws(:), integrators(:)
+      logical, allocatable :: used(:)
       integer :: j, a, b
       local = sweep%base
       call config_parameters(local, table)
@@ -101,15 +102,15 @@ contains
             if (table(list%entry)%name == 'integrator') integrators = [integrators, list%texts]
          end associate
       end do
-      allocate (columns(0))
+      allocate (used(size(sweep%settings%lists)))
       do j = 1, size(sweep%settings%lists)
          associate (p => table(sweep%settings%lists(j)%entry))
-            if (.not. used_by(p, trim(sweep%base%scene_kind))) cycle
-            if (.not. any([((used_with(p, trim(laws(a)), trim(integrators(b))), a=1, size(laws)), &
-                            b=1, size(integrators))])) cycle
+            used(j) = used_by(p, trim(sweep%base%scene_kind)) .and. &
+                      any([((used_with(p, trim(laws(a)), trim(integrators(b))), a=1, size(laws)), &
+                            b=1, size(integrators))])
          end associate
-         columns = [columns, case_column(sweep, j, sweep%cases)]
       end do
+      columns = case_columns(sweep, pack([(j, j=1, size(used))], used), sweep%cases)
    end function scene_columns
 
    !> The history of case `index` as /histories/<index> (nothing when it recorded none).
@@ -169,9 +170,9 @@ contains
       type(sweep_info_t), intent(in) :: info
       type(sweep_case_t), intent(in) :: cases(:)
       type(value_list_t), intent(in) :: columns(:)
-      character(len=message_length), allocatable :: messages(:)
+      character(len=:), allocatable :: messages(:)
       character(len=32), allocatable :: names(:)
-      integer :: i
+      integer :: i, longest
       call h5%group('/sweep')
       call h5%attribute_string('/sweep', 'namelist', info%namelist_text)
       call h5%attribute_int('/sweep', 'cases', info%total_cases)
@@ -201,14 +202,17 @@ contains
       call h5%write_real('/cases/run_time_spread', cases%run_time_spread)
       call h5%write_int('/cases/timing_rounds', cases%timing_rounds)
       call h5%write_int('/cases/status', cases%status)
-      allocate (names(size(cases)), messages(size(cases)))
+      ! (the messages as long as the longest, at most message_length: a sweep of short messages does not
+      ! fill and write message_length characters per case)
+      longest = 1
+      do i = 1, size(cases)
+         longest = max(longest, min(len(case_message(cases(i))), message_length))
+      end do
+      allocate (names(size(cases)))
+      allocate (character(len=longest) :: messages(size(cases)))
       do i = 1, size(cases)
          names(i) = status_name(cases(i)%status)
-         messages(i) = ''
-         if (allocated(cases(i)%message)) messages(i) = cases(i)%message
-         if (cases(i)%status == status_ok) messages(i) = 'completed' ! as a single run's /summary/message
-         if (cases(i)%status == status_not_run) messages(i) = 'not run: the sweep was interrupted before this '// &
-            'case finished; no result (mpm1d SWEEP.nml --resume runs it)'
+         messages(i) = case_message(cases(i))
       end do
       call h5%write_strings('/cases/status_name', names)
       call h5%write_strings('/cases/message', messages)
@@ -221,6 +225,17 @@ contains
       call h5%write_real('/cases/max_cell_move', cases%max_cell_move)
       call h5%write_real('/cases/min_node_mass_ratio', cases%min_node_mass_ratio)
    contains
+      !> The case's /cases/message: as a single run's /summary/message when it completed, what stopped
+      !> it otherwise.
+      function case_message(c) result(text)
+         type(sweep_case_t), intent(in) :: c
+         character(len=:), allocatable :: text
+         text = ''
+         if (allocated(c%message)) text = c%message
+         if (c%status == status_ok) text = 'completed'
+         if (c%status == status_not_run) text = 'not run: the sweep was interrupted before this '// &
+                                                'case finished; no result (mpm1d SWEEP.nml --resume runs it)'
+      end function case_message
       subroutine write_column(column)
          type(value_list_t), intent(in) :: column
          character(len=:), allocatable :: texts(:)

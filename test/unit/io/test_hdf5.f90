@@ -7,7 +7,7 @@ program test_hdf5
    use mpm_simulation, only: run_result_t, run_simulation
    use mpm_output, only: write_run_file
    use mpm_hdf5, only: h5_read_real, h5_read_int, h5_read_attribute_real, h5_read_attribute_string, h5_read_string, &
-                       h5_read_attribute_int
+                       h5_read_attribute_int, h5_writer_t
    use mpm_files, only: file_exists
    use mpm_version, only: code_version
    use mpm_testing, only: tester_t, tester, scratch_dir
@@ -79,9 +79,41 @@ program test_hdf5
       call t%check('unwritable path reported', allocated(error))
       if (allocated(error)) call t%check('message names the file', index(error%message, 'run.h5') > 0, error%message)
    end if
+   if (t%case('string_columns')) call string_columns()
    call t%finish()
 
 contains
+
+   !> String datasets read back as written, trimmed: values of several lengths (an empty one, one
+   !> filling its declared length, one with inner blanks), and an empty column.
+   subroutine string_columns()
+      character(len=12), parameter :: written(*) = [character(len=12) :: 'ok', '', 'twelve chars', 'a b  c', 'x']
+      character(len=12) :: none(0)
+      character(len=40), allocatable :: back(:)
+      type(h5_writer_t) :: h5
+      character(len=:), allocatable :: file
+      integer :: i
+      file = dir//'/strings.h5'
+      call h5%create(file)
+      call h5%write_strings('/texts', written)
+      call h5%write_strings('/none', none)
+      call h5%finish(error)
+      call t%check('string file written', .not. allocated(error))
+      if (allocated(error)) return
+      call h5_read_string(file, '/texts', 40, back, error)
+      call t%check('strings read back', .not. allocated(error))
+      if (allocated(error)) return
+      call t%check('one string per value', size(back) == size(written), str(size(back))//' strings')
+      if (size(back) /= size(written)) return
+      do i = 1, size(written)
+         call t%check('string '//str(i)//" '"//trim(written(i))//"' read back", back(i) == written(i), &
+                      "read '"//trim(back(i))//"'")
+      end do
+      call h5_read_string(file, '/none', 40, back, error)
+      call t%check('an empty string column reads back empty', .not. allocated(error))
+      if (.not. allocated(error)) call t%check('... with no string', size(back) == 0 .or. &
+                                              (size(back) == 1 .and. len_trim(back(1)) == 0), str(size(back)))
+   end subroutine string_columns
 
    !> snapshot_every = N: a snapshot at steps 0, N, 2N, ... besides those of snapshot_times, one per step
    !> where both fall on it; each with the scene's exact fields (the bar's velocity by hand).
