@@ -60,6 +60,17 @@ module mpm_config
       class(scene_input_t), allocatable :: scene
    end type config_t
 
+   !> A scene or material variable of some kind and the kinds that have it (name_kinds).
+   type :: kinds_of_t
+      character(len=16) :: group = ''
+      character(len=32) :: name = ''
+      character(len=96) :: kinds = ''
+   end type kinds_of_t
+   !> Every kind's scene and material variables with the kinds that have each, made by the first
+   !> name_kinds (the kinds' entries are fixed): a sweep builds a table per case and per message, and
+   !> asking every kind for its entries each time cost more than the rest of the table.
+   type(kinds_of_t), allocatable, save :: kinds_catalog(:)
+
 contains
 
    !> A configuration of scene kind `kind` (default: the default scene), every value at its default,
@@ -243,22 +254,56 @@ contains
    !> given for another kind is refused naming them).
    subroutine name_kinds(table)
       type(parameter_t), intent(inout) :: table(:)
+      integer :: i, j
+      !$omp critical (mpm_kinds_catalog)
+      if (.not. allocated(kinds_catalog)) call make_kinds_catalog()
+      !$omp end critical (mpm_kinds_catalog)
+      do i = 1, size(table)
+         table(i)%kinds = ''
+         do j = 1, size(kinds_catalog)
+            if (kinds_catalog(j)%group == table(i)%group .and. kinds_catalog(j)%name == lower(trim(table(i)%name))) then
+               table(i)%kinds = kinds_catalog(j)%kinds
+               exit
+            end if
+         end do
+      end do
+   end subroutine name_kinds
+
+   !> kinds_catalog: each variable of a kind's entries and material entries once, its kinds named in
+   !> the catalog's order, comma separated.
+   subroutine make_kinds_catalog()
       type(scene_slot_t), allocatable, target :: slots(:)
       type(parameter_t), allocatable :: own(:), material(:)
-      integer :: i, k
+      type(kinds_of_t), allocatable :: catalog(:)
+      integer :: i, j, k
       call scene_catalog(slots)
-      table%kinds = ''
+      allocate (catalog(0))
       do k = 1, size(slots)
          call slots(k)%input%entries(own)
          call slots(k)%input%material_entries(material)
          own = [own, material]
-         do i = 1, size(table)
-            if (find_parameter(own, trim(table(i)%group), trim(table(i)%name)) == 0) cycle
-            if (len_trim(table(i)%kinds) > 0) table(i)%kinds = trim(table(i)%kinds)//', '
-            table(i)%kinds = trim(table(i)%kinds)//trim(slots(k)%input%describe_name())
+         do i = 1, size(own)
+            ! (a kind names a variable once, however often its entries list it)
+            if (find_parameter(own(1:i - 1), trim(own(i)%group), trim(own(i)%name)) > 0) cycle
+            j = catalog_place(own(i)%group, own(i)%name)
+            if (j == 0) then
+               catalog = [catalog, kinds_of_t(group=own(i)%group, name=own(i)%name)]
+               j = size(catalog)
+            end if
+            if (len_trim(catalog(j)%kinds) > 0) catalog(j)%kinds = trim(catalog(j)%kinds)//', '
+            catalog(j)%kinds = trim(catalog(j)%kinds)//trim(slots(k)%input%describe_name())
          end do
       end do
-   end subroutine name_kinds
+      call move_alloc(catalog, kinds_catalog)
+   contains
+      integer function catalog_place(group, name)
+         character(len=*), intent(in) :: group, name
+         do catalog_place = 1, size(catalog)
+            if (catalog(catalog_place)%group == group .and. catalog(catalog_place)%name == name) return
+         end do
+         catalog_place = 0
+      end function catalog_place
+   end subroutine make_kinds_catalog
 
    !> The registry of every kind (--help, --list-parameters, the namelist reference, hints for a name in
    !> the wrong group): the entries of `config`'s settings and, in each group, every kind's entries of it

@@ -614,7 +614,7 @@ contains
       type(error_t), allocatable :: error
       real(dp) :: start
       start = clock(1)
-      call run_simulation(config, result, error, record_history=.false.)
+      call run_simulation(config, result, error, record_history=.false., processor_time=.true.)
       seconds = clock(1) - start
       if (allocated(error)) error stop 'run failed'
       if (result%status /= 0) error stop 'benchmark run stopped by a guard'
