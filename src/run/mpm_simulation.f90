@@ -219,6 +219,7 @@ contains
          box = fused_choose(kind, transfer, config%flip_fraction, scene%fused_applies(), scene%body_fields, scene, &
                            particles, run%material, formulation_id(config%formulation) == formulation_total, &
                            scheme_id(config%scheme))
+         box%move_guard = config%max_cell_move ! (check_guards names the particle only beyond it)
          run%fused = trim(config%kernels) == 'auto' .and. box%variant >= 0 .and. integrator == integrator_explicit
          result%fused = run%fused
          if (.not. run%fused) call per_particle_data(particles, error)

@@ -5,7 +5,7 @@ program test_bar_exact
    use mpm_errors, only: error_t
    use mpm_config, only: config_t, resolve_config
    use mpm_simulation, only: run_result_t, run_simulation
-   use mpm_diagnostics, only: status_ok, status_left_grid, status_energy_growth, status_name
+   use mpm_diagnostics, only: status_ok, status_left_grid, status_energy_growth, status_cell_crossing, status_name
    use mpm_testing, only: tester_t, tester
    use mpm_testing_runs, only: set_value
    use mpm_scene_bar, only: bar_t, bar_init, bar_input_t
@@ -16,8 +16,9 @@ program test_bar_exact
    type(tester_t) :: t
    type(run_result_t) :: r
    real(dp) :: errors(3), order, ratio_first, ratio_last
-   integer :: i
+   integer :: i, k
    character(len=4), parameter :: schemes(2) = ['usf ', 'usl '], schemes3(3) = ['usf ', 'usl ', 'musl']
+   character(len=7), parameter :: kernel_paths(2) = ['auto   ', 'generic']
 
    t = tester('test_bar_exact')
 
@@ -86,6 +87,25 @@ program test_bar_exact
       end do
    end if
 
+   ! The cell-crossing guard names the particle that moved furthest: at v0 = 2000 m/s (0.4 c) the first
+   ! step moves the bar's free end (the last particle, x nearest L in the first mode) 0.2 cells at half
+   ! of dx/c, beyond a limit of 0.1; the fused kernels name it as the generic path does.
+   if (t%case('cell_crossing_particle')) then
+      do i = 1, 2
+         do k = 1, 2
+            r = run(trim(schemes(i)), 10, 2, 0.5_dp, 2.0_dp, .false., v0=2000.0_dp, max_move=0.1_dp, &
+                    kernels=trim(kernel_paths(k)))
+            call t%check(trim(schemes(i))//', '//trim(kernel_paths(k))//': cell_crossing at step 1', &
+                         r%status == status_cell_crossing .and. r%trip%step == 1, 'status '//status_name(r%status)// &
+                         ' at step '//str(r%trip%step))
+            call t%check(trim(schemes(i))//', '//trim(kernel_paths(k))//': names the last particle', &
+                         r%trip%particle == 20, 'particle '//str(r%trip%particle))
+            call t%check(trim(schemes(i))//', '//trim(kernel_paths(k))//': on the path asked', &
+                         r%fused .eqv. (trim(kernel_paths(k)) == 'auto'))
+         end do
+      end do
+   end if
+
    ! The initial velocity of a particle does not depend on how many particles there are or where
    ! its array lies in memory: each equals v0 sin(beta x) of that particle evaluated alone (the
    ! vectorised sin of glibc differs from the scalar one in the last bit for some arguments, and a
@@ -126,13 +146,14 @@ contains
                    differ == 0 .and. total == 7*17*18/2, str(differ)//' of '//str(total)//' differ')
    end subroutine check_initial_velocities
 
-   function run(scheme, elements, ppc, fraction, periods, history, v0, margin) result(res)
+   function run(scheme, elements, ppc, fraction, periods, history, v0, margin, max_move, kernels) result(res)
       character(len=*), intent(in) :: scheme
       integer, intent(in) :: elements, ppc
       real(dp), intent(in) :: fraction, periods
       logical, intent(in) :: history
-      real(dp), intent(in), optional :: v0
+      real(dp), intent(in), optional :: v0, max_move
       integer, intent(in), optional :: margin
+      character(len=*), intent(in), optional :: kernels
       type(run_result_t) :: res
       type(config_t) :: config
       type(error_t), allocatable :: error
@@ -143,6 +164,8 @@ contains
       config%periods = periods
       if (present(v0)) call set_value(config, 'scene.velocity_amplitude='//str(v0))
       if (present(margin)) config%margin_cells = margin
+      if (present(max_move)) config%max_cell_move = max_move
+      if (present(kernels)) config%kernels = kernels
       call resolve_config(config)
       call run_simulation(config, res, error, record_history=history)
       if (allocated(error)) error stop 'run failed to start'

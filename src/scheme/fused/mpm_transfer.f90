@@ -129,6 +129,9 @@ module mpm_transfer
       real(dp) :: yield_stress = huge(1.0_dp), hardening_modulus = 0.0_dp
       !> ASFLIP's alpha (mpm_asflip)
       real(dp) :: asflip_alpha = 0.0_dp
+      !> The kernels name the particle of a segment's largest move (its tally's `furthest`) only where
+      !> that move is beyond this many cells (fused_box_t's move_guard)
+      real(dp) :: move_guard = -1.0_dp
    end type pass_constants_t
 
    !> The particles' shape on the fused path: the hat (default) or a particle in two parts (`parts`,
@@ -173,6 +176,11 @@ module mpm_transfer
       logical :: fmpm = .false.
       integer :: series_order = 1
       real(dp), allocatable :: series_term(:), series_projected(:)
+      !> The cell-crossing guard's limit (the run's max_cell_move): the pass totals name the particle of
+      !> the largest move (`furthest`) only where that move is beyond it, which is the only use the name
+      !> has; a step whose largest move is within it is spared the search for it (0 there). Below 0
+      !> (default): always named.
+      real(dp) :: move_guard = -1.0_dp
    end type fused_box_t
 
    interface
@@ -465,6 +473,7 @@ contains
                                    particles%volume0, 0.5_dp*particles%volume0, box%stretch, box%flip_fraction, grid%dx, 0, &
                                    box%linear, box%plastic, box%yield_stress, box%hardening_modulus)
       constants%asflip_alpha = box%asflip_alpha
+      constants%move_guard = box%move_guard
       ! the number of the kernel of the particles' shape and the pass; segment calls it directly (a call
       ! through a procedure pointer passed every array's descriptor, and the kernels could not be
       ! specialised to their callers: a tenth of a small run's step)
@@ -1978,10 +1987,11 @@ contains
       integer, intent(out) :: c0, c1
       c0 = lo
       c1 = hi
-      if (seg%clear_written) then
-         c0 = max(lo, seg%written(1, kind, k))
-         c1 = min(hi, seg%written(2, kind, k))
-      end if
+      if (.not. seg%clear_written) return
+      ! (each bound in its own test: as max and min of the pair, gfortran kept lo in a vector register,
+      ! spilt it as 4 bytes and read it back as 16, a stalled load at every pass of a small run)
+      if (seg%written(1, kind, k) > c0) c0 = seg%written(1, kind, k)
+      if (seg%written(2, kind, k) < c1) c1 = seg%written(2, kind, k)
    end subroutine to_clear
 
    !> Segment k's passes of the kinds of share in `shares` wrote elements e0..e1 (or, e0 > e1, none).
@@ -2741,8 +2751,8 @@ contains
       end do
       call close_segment(k, shares, m, run, [lane_total(displacement), lane_total(kinetic), lane_total(strain), &
                          0.0_dp], &
-                         minval(min_j), largest%value, furthest_particle(largest, mb), outside, mass_left, mass_right, &
-                         momentum_left, momentum_right, stress_volume, seg)
+                         minval(min_j), largest%value, furthest_beyond(largest, mb, constants%move_guard), outside, &
+                         mass_left, mass_right, momentum_left, momentum_right, stress_volume, seg)
    end subroutine usf_move_segment
 
    !> USF, first half: stress update, then stress*volume of the unmoved particles (the hat)
@@ -2964,8 +2974,8 @@ contains
       end do
       call close_segment(k, shares, m, run, [lane_total(displacement), lane_total(kinetic), lane_total(strain), &
                          lane_total(work)], &
-                         minval(min_j), largest%value, furthest_particle(largest, mb), outside, mass_left, mass_right, &
-                         momentum_left, momentum_right, stress_volume, seg)
+                         minval(min_j), largest%value, furthest_beyond(largest, mb, constants%move_guard), outside, &
+                         mass_left, mass_right, momentum_left, momentum_right, stress_volume, seg)
    end subroutine usf_stress_segment
 
    !> USL: G2P, stress update from the updated nodal velocities, P2G at the new position (the hat)
@@ -3187,8 +3197,8 @@ contains
       end do
       call close_segment(k, shares, m, run, [lane_total(displacement), lane_total(kinetic), lane_total(strain), &
                          lane_total(work)], &
-                         minval(min_j), largest%value, furthest_particle(largest, mb), outside, mass_left, mass_right, &
-                         momentum_left, momentum_right, stress_volume, seg)
+                         minval(min_j), largest%value, furthest_beyond(largest, mb, constants%move_guard), outside, &
+                         mass_left, mass_right, momentum_left, momentum_right, stress_volume, seg)
    end subroutine usl_segment
 
    !> MUSL, first pass: G2P, and the new momentum back to the start-of-step nodes (the hat)
@@ -3340,8 +3350,8 @@ contains
       end do
       call close_segment(k, shares, m, run, [lane_total(displacement), lane_total(kinetic), lane_total(strain), &
                          0.0_dp], &
-                         minval(min_j), largest%value, furthest_particle(largest, mb), outside, mass_left, mass_right, &
-                         momentum_left, momentum_right, stress_volume, seg)
+                         minval(min_j), largest%value, furthest_beyond(largest, mb, constants%move_guard), outside, &
+                         mass_left, mass_right, momentum_left, momentum_right, stress_volume, seg)
    end subroutine musl_remap_segment
 
    !> MUSL, second pass: stress update from the remapped velocities, P2G at the new position (the hat)
@@ -3563,8 +3573,8 @@ contains
       end do
       call close_segment(k, shares, m, run, [lane_total(displacement), lane_total(kinetic), lane_total(strain), &
                          lane_total(work)], &
-                         minval(min_j), largest%value, furthest_particle(largest, mb), outside, mass_left, mass_right, &
-                         momentum_left, momentum_right, stress_volume, seg)
+                         minval(min_j), largest%value, furthest_beyond(largest, mb, constants%move_guard), outside, &
+                         mass_left, mass_right, momentum_left, momentum_right, stress_volume, seg)
    end subroutine musl_stress_segment
 
    !> USF, second half: G2P, then mass and momentum at the new position (uGIMP)
@@ -3757,8 +3767,8 @@ contains
                                           seg)
       call close_segment(k, shares, m, run, [lane_total(displacement), lane_total(kinetic), lane_total(strain), &
                          0.0_dp], &
-                         minval(min_j), largest%value, furthest_particle(largest, mb), outside, mass_left, mass_right, &
-                         momentum_left, momentum_right, stress_volume, seg)
+                         minval(min_j), largest%value, furthest_beyond(largest, mb, constants%move_guard), outside, &
+                         mass_left, mass_right, momentum_left, momentum_right, stress_volume, seg)
    end subroutine ugimp_usf_move_segment
 
    !> USF, first half: stress update, then stress*volume of the unmoved particles (uGIMP)
@@ -4085,8 +4095,8 @@ contains
                                           seg)
       call close_segment(k, shares, m, run, [lane_total(displacement), lane_total(kinetic), lane_total(strain), &
                          lane_total(work)], &
-                         minval(min_j), largest%value, furthest_particle(largest, mb), outside, mass_left, mass_right, &
-                         momentum_left, momentum_right, stress_volume, seg)
+                         minval(min_j), largest%value, furthest_beyond(largest, mb, constants%move_guard), outside, &
+                         mass_left, mass_right, momentum_left, momentum_right, stress_volume, seg)
    end subroutine ugimp_usf_stress_segment
 
    !> USL: G2P, stress update from the updated nodal velocities, P2G at the new position (uGIMP)
@@ -4413,8 +4423,8 @@ contains
                                           seg)
       call close_segment(k, shares, m, run, [lane_total(displacement), lane_total(kinetic), lane_total(strain), &
                          lane_total(work)], &
-                         minval(min_j), largest%value, furthest_particle(largest, mb), outside, mass_left, mass_right, &
-                         momentum_left, momentum_right, stress_volume, seg)
+                         minval(min_j), largest%value, furthest_beyond(largest, mb, constants%move_guard), outside, &
+                         mass_left, mass_right, momentum_left, momentum_right, stress_volume, seg)
    end subroutine ugimp_usl_segment
 
    !> MUSL, first pass: G2P, and the new momentum back to the start-of-step nodes (uGIMP)
@@ -4607,8 +4617,8 @@ contains
                                           seg)
       call close_segment(k, shares, m, run, [lane_total(displacement), lane_total(kinetic), lane_total(strain), &
                          0.0_dp], &
-                         minval(min_j), largest%value, furthest_particle(largest, mb), outside, mass_left, mass_right, &
-                         momentum_left, momentum_right, stress_volume, seg)
+                         minval(min_j), largest%value, furthest_beyond(largest, mb, constants%move_guard), outside, &
+                         mass_left, mass_right, momentum_left, momentum_right, stress_volume, seg)
    end subroutine ugimp_musl_remap_segment
 
    !> MUSL, second pass: stress update from the remapped velocities, P2G at the new position (uGIMP)
@@ -4935,8 +4945,8 @@ contains
                                           seg)
       call close_segment(k, shares, m, run, [lane_total(displacement), lane_total(kinetic), lane_total(strain), &
                          lane_total(work)], &
-                         minval(min_j), largest%value, furthest_particle(largest, mb), outside, mass_left, mass_right, &
-                         momentum_left, momentum_right, stress_volume, seg)
+                         minval(min_j), largest%value, furthest_beyond(largest, mb, constants%move_guard), outside, &
+                         mass_left, mass_right, momentum_left, momentum_right, stress_volume, seg)
    end subroutine ugimp_musl_stress_segment
 
    !> USF, second half: G2P, then mass and momentum at the new position (cpGIMP)
@@ -5135,8 +5145,8 @@ contains
                                           seg)
       call close_segment(k, shares, m, run, [lane_total(displacement), lane_total(kinetic), lane_total(strain), &
                          0.0_dp], &
-                         minval(min_j), largest%value, furthest_particle(largest, mb), outside, mass_left, mass_right, &
-                         momentum_left, momentum_right, stress_volume, seg)
+                         minval(min_j), largest%value, furthest_beyond(largest, mb, constants%move_guard), outside, &
+                         mass_left, mass_right, momentum_left, momentum_right, stress_volume, seg)
    end subroutine cpgimp_usf_move_segment
 
    !> USF, first half: stress update, then stress*volume of the unmoved particles (cpGIMP)
@@ -5481,8 +5491,8 @@ contains
                                           seg)
       call close_segment(k, shares, m, run, [lane_total(displacement), lane_total(kinetic), lane_total(strain), &
                          lane_total(work)], &
-                         minval(min_j), largest%value, furthest_particle(largest, mb), outside, mass_left, mass_right, &
-                         momentum_left, momentum_right, stress_volume, seg)
+                         minval(min_j), largest%value, furthest_beyond(largest, mb, constants%move_guard), outside, &
+                         mass_left, mass_right, momentum_left, momentum_right, stress_volume, seg)
    end subroutine cpgimp_usf_stress_segment
 
    !> USL: G2P, stress update from the updated nodal velocities, P2G at the new position (cpGIMP)
@@ -5827,8 +5837,8 @@ contains
                                           seg)
       call close_segment(k, shares, m, run, [lane_total(displacement), lane_total(kinetic), lane_total(strain), &
                          lane_total(work)], &
-                         minval(min_j), largest%value, furthest_particle(largest, mb), outside, mass_left, mass_right, &
-                         momentum_left, momentum_right, stress_volume, seg)
+                         minval(min_j), largest%value, furthest_beyond(largest, mb, constants%move_guard), outside, &
+                         mass_left, mass_right, momentum_left, momentum_right, stress_volume, seg)
    end subroutine cpgimp_usl_segment
 
    !> MUSL, first pass: G2P, and the new momentum back to the start-of-step nodes (cpGIMP)
@@ -6027,8 +6037,8 @@ contains
                                           seg)
       call close_segment(k, shares, m, run, [lane_total(displacement), lane_total(kinetic), lane_total(strain), &
                          0.0_dp], &
-                         minval(min_j), largest%value, furthest_particle(largest, mb), outside, mass_left, mass_right, &
-                         momentum_left, momentum_right, stress_volume, seg)
+                         minval(min_j), largest%value, furthest_beyond(largest, mb, constants%move_guard), outside, &
+                         mass_left, mass_right, momentum_left, momentum_right, stress_volume, seg)
    end subroutine cpgimp_musl_remap_segment
 
    !> MUSL, second pass: stress update from the remapped velocities, P2G at the new position (cpGIMP)
@@ -6373,8 +6383,8 @@ contains
                                           seg)
       call close_segment(k, shares, m, run, [lane_total(displacement), lane_total(kinetic), lane_total(strain), &
                          lane_total(work)], &
-                         minval(min_j), largest%value, furthest_particle(largest, mb), outside, mass_left, mass_right, &
-                         momentum_left, momentum_right, stress_volume, seg)
+                         minval(min_j), largest%value, furthest_beyond(largest, mb, constants%move_guard), outside, &
+                         mass_left, mass_right, momentum_left, momentum_right, stress_volume, seg)
    end subroutine cpgimp_musl_stress_segment
 
    !> USF, second half: G2P, then mass and momentum at the new position (quadratic B-splines)
@@ -6562,8 +6572,8 @@ contains
                                           seg)
       call close_segment(k, shares, m, run, [lane_total(displacement), lane_total(kinetic), lane_total(strain), &
                          0.0_dp], &
-                         minval(min_j), largest%value, furthest_particle(largest, mb), outside, mass_left, mass_right, &
-                         momentum_left, momentum_right, stress_volume, seg)
+                         minval(min_j), largest%value, furthest_beyond(largest, mb, constants%move_guard), outside, &
+                         mass_left, mass_right, momentum_left, momentum_right, stress_volume, seg)
    end subroutine bspline2_usf_move_segment
 
    !> USF, first half: stress update, then stress*volume of the unmoved particles (quadratic B-splines)
@@ -6881,8 +6891,8 @@ contains
                                           seg)
       call close_segment(k, shares, m, run, [lane_total(displacement), lane_total(kinetic), lane_total(strain), &
                          lane_total(work)], &
-                         minval(min_j), largest%value, furthest_particle(largest, mb), outside, mass_left, mass_right, &
-                         momentum_left, momentum_right, stress_volume, seg)
+                         minval(min_j), largest%value, furthest_beyond(largest, mb, constants%move_guard), outside, &
+                         mass_left, mass_right, momentum_left, momentum_right, stress_volume, seg)
    end subroutine bspline2_usf_stress_segment
 
    !> USL: G2P, stress update from the updated nodal velocities, P2G at the new position (quadratic B-splines)
@@ -7200,8 +7210,8 @@ contains
                                           seg)
       call close_segment(k, shares, m, run, [lane_total(displacement), lane_total(kinetic), lane_total(strain), &
                          lane_total(work)], &
-                         minval(min_j), largest%value, furthest_particle(largest, mb), outside, mass_left, mass_right, &
-                         momentum_left, momentum_right, stress_volume, seg)
+                         minval(min_j), largest%value, furthest_beyond(largest, mb, constants%move_guard), outside, &
+                         mass_left, mass_right, momentum_left, momentum_right, stress_volume, seg)
    end subroutine bspline2_usl_segment
 
    !> MUSL, first pass: G2P, and the new momentum back to the start-of-step nodes (quadratic B-splines)
@@ -7389,8 +7399,8 @@ contains
                                           seg)
       call close_segment(k, shares, m, run, [lane_total(displacement), lane_total(kinetic), lane_total(strain), &
                          0.0_dp], &
-                         minval(min_j), largest%value, furthest_particle(largest, mb), outside, mass_left, mass_right, &
-                         momentum_left, momentum_right, stress_volume, seg)
+                         minval(min_j), largest%value, furthest_beyond(largest, mb, constants%move_guard), outside, &
+                         mass_left, mass_right, momentum_left, momentum_right, stress_volume, seg)
    end subroutine bspline2_musl_remap_segment
 
    !> MUSL, second pass: stress update from the remapped velocities, P2G at the new position (quadratic B-splines)
@@ -7708,8 +7718,8 @@ contains
                                           seg)
       call close_segment(k, shares, m, run, [lane_total(displacement), lane_total(kinetic), lane_total(strain), &
                          lane_total(work)], &
-                         minval(min_j), largest%value, furthest_particle(largest, mb), outside, mass_left, mass_right, &
-                         momentum_left, momentum_right, stress_volume, seg)
+                         minval(min_j), largest%value, furthest_beyond(largest, mb, constants%move_guard), outside, &
+                         mass_left, mass_right, momentum_left, momentum_right, stress_volume, seg)
    end subroutine bspline2_musl_stress_segment
 
    !> USF, second half: G2P, then mass and momentum at the new position (cubic B-splines)
@@ -7905,8 +7915,8 @@ contains
                                           seg)
       call close_segment(k, shares, m, run, [lane_total(displacement), lane_total(kinetic), lane_total(strain), &
                          0.0_dp], &
-                         minval(min_j), largest%value, furthest_particle(largest, mb), outside, mass_left, mass_right, &
-                         momentum_left, momentum_right, stress_volume, seg)
+                         minval(min_j), largest%value, furthest_beyond(largest, mb, constants%move_guard), outside, &
+                         mass_left, mass_right, momentum_left, momentum_right, stress_volume, seg)
    end subroutine bspline3_usf_move_segment
 
    !> USF, first half: stress update, then stress*volume of the unmoved particles (cubic B-splines)
@@ -8242,8 +8252,8 @@ contains
                                           seg)
       call close_segment(k, shares, m, run, [lane_total(displacement), lane_total(kinetic), lane_total(strain), &
                          lane_total(work)], &
-                         minval(min_j), largest%value, furthest_particle(largest, mb), outside, mass_left, mass_right, &
-                         momentum_left, momentum_right, stress_volume, seg)
+                         minval(min_j), largest%value, furthest_beyond(largest, mb, constants%move_guard), outside, &
+                         mass_left, mass_right, momentum_left, momentum_right, stress_volume, seg)
    end subroutine bspline3_usf_stress_segment
 
    !> USL: G2P, stress update from the updated nodal velocities, P2G at the new position (cubic B-splines)
@@ -8579,8 +8589,8 @@ contains
                                           seg)
       call close_segment(k, shares, m, run, [lane_total(displacement), lane_total(kinetic), lane_total(strain), &
                          lane_total(work)], &
-                         minval(min_j), largest%value, furthest_particle(largest, mb), outside, mass_left, mass_right, &
-                         momentum_left, momentum_right, stress_volume, seg)
+                         minval(min_j), largest%value, furthest_beyond(largest, mb, constants%move_guard), outside, &
+                         mass_left, mass_right, momentum_left, momentum_right, stress_volume, seg)
    end subroutine bspline3_usl_segment
 
    !> MUSL, first pass: G2P, and the new momentum back to the start-of-step nodes (cubic B-splines)
@@ -8776,8 +8786,8 @@ contains
                                           seg)
       call close_segment(k, shares, m, run, [lane_total(displacement), lane_total(kinetic), lane_total(strain), &
                          0.0_dp], &
-                         minval(min_j), largest%value, furthest_particle(largest, mb), outside, mass_left, mass_right, &
-                         momentum_left, momentum_right, stress_volume, seg)
+                         minval(min_j), largest%value, furthest_beyond(largest, mb, constants%move_guard), outside, &
+                         mass_left, mass_right, momentum_left, momentum_right, stress_volume, seg)
    end subroutine bspline3_musl_remap_segment
 
    !> MUSL, second pass: stress update from the remapped velocities, P2G at the new position (cubic B-splines)
@@ -9113,8 +9123,8 @@ contains
                                           seg)
       call close_segment(k, shares, m, run, [lane_total(displacement), lane_total(kinetic), lane_total(strain), &
                          lane_total(work)], &
-                         minval(min_j), largest%value, furthest_particle(largest, mb), outside, mass_left, mass_right, &
-                         momentum_left, momentum_right, stress_volume, seg)
+                         minval(min_j), largest%value, furthest_beyond(largest, mb, constants%move_guard), outside, &
+                         mass_left, mass_right, momentum_left, momentum_right, stress_volume, seg)
    end subroutine bspline3_musl_stress_segment
 
    !> USF, second half: G2P, then mass and momentum at the new position (the hat, PIC)
@@ -9281,8 +9291,8 @@ contains
       end do
       call close_segment(k, shares, m, run, [lane_total(displacement), lane_total(kinetic), lane_total(strain), &
                          0.0_dp], &
-                         minval(min_j), largest%value, furthest_particle(largest, mb), outside, mass_left, mass_right, &
-                         momentum_left, momentum_right, stress_volume, seg)
+                         minval(min_j), largest%value, furthest_beyond(largest, mb, constants%move_guard), outside, &
+                         mass_left, mass_right, momentum_left, momentum_right, stress_volume, seg)
    end subroutine pic_usf_move_segment
 
    !> USF, first half: stress update, then stress*volume of the unmoved particles (the hat, PIC)
@@ -9543,8 +9553,8 @@ contains
       end do
       call close_segment(k, shares, m, run, [lane_total(displacement), lane_total(kinetic), lane_total(strain), &
                          lane_total(work)], &
-                         minval(min_j), largest%value, furthest_particle(largest, mb), outside, mass_left, mass_right, &
-                         momentum_left, momentum_right, stress_volume, seg)
+                         minval(min_j), largest%value, furthest_beyond(largest, mb, constants%move_guard), outside, &
+                         mass_left, mass_right, momentum_left, momentum_right, stress_volume, seg)
    end subroutine pic_usf_stress_segment
 
    !> USL: G2P, stress update from the updated nodal velocities, P2G at the new position (the hat, PIC)
@@ -9805,8 +9815,8 @@ contains
       end do
       call close_segment(k, shares, m, run, [lane_total(displacement), lane_total(kinetic), lane_total(strain), &
                          lane_total(work)], &
-                         minval(min_j), largest%value, furthest_particle(largest, mb), outside, mass_left, mass_right, &
-                         momentum_left, momentum_right, stress_volume, seg)
+                         minval(min_j), largest%value, furthest_beyond(largest, mb, constants%move_guard), outside, &
+                         mass_left, mass_right, momentum_left, momentum_right, stress_volume, seg)
    end subroutine pic_usl_segment
 
    !> MUSL, first pass: G2P, and the new momentum back to the start-of-step nodes (the hat, PIC)
@@ -9973,8 +9983,8 @@ contains
       end do
       call close_segment(k, shares, m, run, [lane_total(displacement), lane_total(kinetic), lane_total(strain), &
                          0.0_dp], &
-                         minval(min_j), largest%value, furthest_particle(largest, mb), outside, mass_left, mass_right, &
-                         momentum_left, momentum_right, stress_volume, seg)
+                         minval(min_j), largest%value, furthest_beyond(largest, mb, constants%move_guard), outside, &
+                         mass_left, mass_right, momentum_left, momentum_right, stress_volume, seg)
    end subroutine pic_musl_remap_segment
 
    !> MUSL, second pass: stress update from the remapped velocities, P2G at the new position (the hat, PIC)
@@ -10235,8 +10245,8 @@ contains
       end do
       call close_segment(k, shares, m, run, [lane_total(displacement), lane_total(kinetic), lane_total(strain), &
                          lane_total(work)], &
-                         minval(min_j), largest%value, furthest_particle(largest, mb), outside, mass_left, mass_right, &
-                         momentum_left, momentum_right, stress_volume, seg)
+                         minval(min_j), largest%value, furthest_beyond(largest, mb, constants%move_guard), outside, &
+                         mass_left, mass_right, momentum_left, momentum_right, stress_volume, seg)
    end subroutine pic_musl_stress_segment
 
    !> initial mapping: mass and momentum (the hat, PIC)
@@ -10403,8 +10413,8 @@ contains
       end do
       call close_segment(k, shares, m, run, [lane_total(displacement), lane_total(kinetic), lane_total(strain), &
                          0.0_dp], &
-                         minval(min_j), largest%value, furthest_particle(largest, mb), outside, mass_left, mass_right, &
-                         momentum_left, momentum_right, stress_volume, seg)
+                         minval(min_j), largest%value, furthest_beyond(largest, mb, constants%move_guard), outside, &
+                         mass_left, mass_right, momentum_left, momentum_right, stress_volume, seg)
    end subroutine pic_map_segment
 
    !> initial mapping: mass, momentum and stress*volume (and forces) (the hat, PIC)
@@ -10571,8 +10581,8 @@ contains
       end do
       call close_segment(k, shares, m, run, [lane_total(displacement), lane_total(kinetic), lane_total(strain), &
                          0.0_dp], &
-                         minval(min_j), largest%value, furthest_particle(largest, mb), outside, mass_left, mass_right, &
-                         momentum_left, momentum_right, stress_volume, seg)
+                         minval(min_j), largest%value, furthest_beyond(largest, mb, constants%move_guard), outside, &
+                         mass_left, mass_right, momentum_left, momentum_right, stress_volume, seg)
    end subroutine pic_map_stress_segment
 
    !> USF, second half: G2P, then mass and momentum at the new position (the hat, the PIC/FLIP blend)
@@ -10742,8 +10752,8 @@ contains
       end do
       call close_segment(k, shares, m, run, [lane_total(displacement), lane_total(kinetic), lane_total(strain), &
                          0.0_dp], &
-                         minval(min_j), largest%value, furthest_particle(largest, mb), outside, mass_left, mass_right, &
-                         momentum_left, momentum_right, stress_volume, seg)
+                         minval(min_j), largest%value, furthest_beyond(largest, mb, constants%move_guard), outside, &
+                         mass_left, mass_right, momentum_left, momentum_right, stress_volume, seg)
    end subroutine blend_usf_move_segment
 
    !> USF, first half: stress update, then stress*volume of the unmoved particles (the hat, the PIC/FLIP blend)
@@ -11009,8 +11019,8 @@ contains
       end do
       call close_segment(k, shares, m, run, [lane_total(displacement), lane_total(kinetic), lane_total(strain), &
                          lane_total(work)], &
-                         minval(min_j), largest%value, furthest_particle(largest, mb), outside, mass_left, mass_right, &
-                         momentum_left, momentum_right, stress_volume, seg)
+                         minval(min_j), largest%value, furthest_beyond(largest, mb, constants%move_guard), outside, &
+                         mass_left, mass_right, momentum_left, momentum_right, stress_volume, seg)
    end subroutine blend_usf_stress_segment
 
    !> USL: G2P, stress update from the updated nodal velocities, P2G at the new position (the hat, the PIC/FLIP blend)
@@ -11276,8 +11286,8 @@ contains
       end do
       call close_segment(k, shares, m, run, [lane_total(displacement), lane_total(kinetic), lane_total(strain), &
                          lane_total(work)], &
-                         minval(min_j), largest%value, furthest_particle(largest, mb), outside, mass_left, mass_right, &
-                         momentum_left, momentum_right, stress_volume, seg)
+                         minval(min_j), largest%value, furthest_beyond(largest, mb, constants%move_guard), outside, &
+                         mass_left, mass_right, momentum_left, momentum_right, stress_volume, seg)
    end subroutine blend_usl_segment
 
    !> MUSL, first pass: G2P, and the new momentum back to the start-of-step nodes (the hat, the PIC/FLIP blend)
@@ -11447,8 +11457,8 @@ contains
       end do
       call close_segment(k, shares, m, run, [lane_total(displacement), lane_total(kinetic), lane_total(strain), &
                          0.0_dp], &
-                         minval(min_j), largest%value, furthest_particle(largest, mb), outside, mass_left, mass_right, &
-                         momentum_left, momentum_right, stress_volume, seg)
+                         minval(min_j), largest%value, furthest_beyond(largest, mb, constants%move_guard), outside, &
+                         mass_left, mass_right, momentum_left, momentum_right, stress_volume, seg)
    end subroutine blend_musl_remap_segment
 
    !> MUSL, second pass: stress update from the remapped velocities, P2G at the new position (the hat, the PIC/FLIP blend)
@@ -11714,8 +11724,8 @@ contains
       end do
       call close_segment(k, shares, m, run, [lane_total(displacement), lane_total(kinetic), lane_total(strain), &
                          lane_total(work)], &
-                         minval(min_j), largest%value, furthest_particle(largest, mb), outside, mass_left, mass_right, &
-                         momentum_left, momentum_right, stress_volume, seg)
+                         minval(min_j), largest%value, furthest_beyond(largest, mb, constants%move_guard), outside, &
+                         mass_left, mass_right, momentum_left, momentum_right, stress_volume, seg)
    end subroutine blend_musl_stress_segment
 
    !> initial mapping: mass and momentum (the hat, the PIC/FLIP blend)
@@ -11885,8 +11895,8 @@ contains
       end do
       call close_segment(k, shares, m, run, [lane_total(displacement), lane_total(kinetic), lane_total(strain), &
                          0.0_dp], &
-                         minval(min_j), largest%value, furthest_particle(largest, mb), outside, mass_left, mass_right, &
-                         momentum_left, momentum_right, stress_volume, seg)
+                         minval(min_j), largest%value, furthest_beyond(largest, mb, constants%move_guard), outside, &
+                         mass_left, mass_right, momentum_left, momentum_right, stress_volume, seg)
    end subroutine blend_map_segment
 
    !> initial mapping: mass, momentum and stress*volume (and forces) (the hat, the PIC/FLIP blend)
@@ -12056,8 +12066,8 @@ contains
       end do
       call close_segment(k, shares, m, run, [lane_total(displacement), lane_total(kinetic), lane_total(strain), &
                          0.0_dp], &
-                         minval(min_j), largest%value, furthest_particle(largest, mb), outside, mass_left, mass_right, &
-                         momentum_left, momentum_right, stress_volume, seg)
+                         minval(min_j), largest%value, furthest_beyond(largest, mb, constants%move_guard), outside, &
+                         mass_left, mass_right, momentum_left, momentum_right, stress_volume, seg)
    end subroutine blend_map_stress_segment
 
    !> USF, second half: G2P, then mass and momentum at the new position (the hat, APIC)
@@ -12240,8 +12250,8 @@ contains
       end do
       call close_segment(k, shares, m, run, [lane_total(displacement), lane_total(kinetic), lane_total(strain), &
                          0.0_dp], &
-                         minval(min_j), largest%value, furthest_particle(largest, mb), outside, mass_left, mass_right, &
-                         momentum_left, momentum_right, stress_volume, seg)
+                         minval(min_j), largest%value, furthest_beyond(largest, mb, constants%move_guard), outside, &
+                         mass_left, mass_right, momentum_left, momentum_right, stress_volume, seg)
    end subroutine apic_usf_move_segment
 
    !> USF, first half: stress update, then stress*volume of the unmoved particles (the hat, APIC)
@@ -12546,8 +12556,8 @@ contains
       end do
       call close_segment(k, shares, m, run, [lane_total(displacement), lane_total(kinetic), lane_total(strain), &
                          lane_total(work)], &
-                         minval(min_j), largest%value, furthest_particle(largest, mb), outside, mass_left, mass_right, &
-                         momentum_left, momentum_right, stress_volume, seg)
+                         minval(min_j), largest%value, furthest_beyond(largest, mb, constants%move_guard), outside, &
+                         mass_left, mass_right, momentum_left, momentum_right, stress_volume, seg)
    end subroutine apic_usf_stress_segment
 
    !> USL: G2P, stress update from the updated nodal velocities, P2G at the new position (the hat, APIC)
@@ -12852,8 +12862,8 @@ contains
       end do
       call close_segment(k, shares, m, run, [lane_total(displacement), lane_total(kinetic), lane_total(strain), &
                          lane_total(work)], &
-                         minval(min_j), largest%value, furthest_particle(largest, mb), outside, mass_left, mass_right, &
-                         momentum_left, momentum_right, stress_volume, seg)
+                         minval(min_j), largest%value, furthest_beyond(largest, mb, constants%move_guard), outside, &
+                         mass_left, mass_right, momentum_left, momentum_right, stress_volume, seg)
    end subroutine apic_usl_segment
 
    !> MUSL, first pass: G2P, and the new momentum back to the start-of-step nodes (the hat, APIC)
@@ -13036,8 +13046,8 @@ contains
       end do
       call close_segment(k, shares, m, run, [lane_total(displacement), lane_total(kinetic), lane_total(strain), &
                          0.0_dp], &
-                         minval(min_j), largest%value, furthest_particle(largest, mb), outside, mass_left, mass_right, &
-                         momentum_left, momentum_right, stress_volume, seg)
+                         minval(min_j), largest%value, furthest_beyond(largest, mb, constants%move_guard), outside, &
+                         mass_left, mass_right, momentum_left, momentum_right, stress_volume, seg)
    end subroutine apic_musl_remap_segment
 
    !> MUSL, second pass: stress update from the remapped velocities, P2G at the new position (the hat, APIC)
@@ -13342,8 +13352,8 @@ contains
       end do
       call close_segment(k, shares, m, run, [lane_total(displacement), lane_total(kinetic), lane_total(strain), &
                          lane_total(work)], &
-                         minval(min_j), largest%value, furthest_particle(largest, mb), outside, mass_left, mass_right, &
-                         momentum_left, momentum_right, stress_volume, seg)
+                         minval(min_j), largest%value, furthest_beyond(largest, mb, constants%move_guard), outside, &
+                         mass_left, mass_right, momentum_left, momentum_right, stress_volume, seg)
    end subroutine apic_musl_stress_segment
 
    !> initial mapping: mass and momentum (the hat, APIC)
@@ -13526,8 +13536,8 @@ contains
       end do
       call close_segment(k, shares, m, run, [lane_total(displacement), lane_total(kinetic), lane_total(strain), &
                          0.0_dp], &
-                         minval(min_j), largest%value, furthest_particle(largest, mb), outside, mass_left, mass_right, &
-                         momentum_left, momentum_right, stress_volume, seg)
+                         minval(min_j), largest%value, furthest_beyond(largest, mb, constants%move_guard), outside, &
+                         mass_left, mass_right, momentum_left, momentum_right, stress_volume, seg)
    end subroutine apic_map_segment
 
    !> initial mapping: mass, momentum and stress*volume (and forces) (the hat, APIC)
@@ -13710,8 +13720,8 @@ contains
       end do
       call close_segment(k, shares, m, run, [lane_total(displacement), lane_total(kinetic), lane_total(strain), &
                          0.0_dp], &
-                         minval(min_j), largest%value, furthest_particle(largest, mb), outside, mass_left, mass_right, &
-                         momentum_left, momentum_right, stress_volume, seg)
+                         minval(min_j), largest%value, furthest_beyond(largest, mb, constants%move_guard), outside, &
+                         mass_left, mass_right, momentum_left, momentum_right, stress_volume, seg)
    end subroutine apic_map_stress_segment
 
    !> USF, second half: G2P, then mass and momentum at the new position (the hat, per-particle masses and moduli)
@@ -13894,8 +13904,8 @@ contains
       run%a = 0.0_dp  ! (close_segment flushes the bar's sums: none here)
       call close_segment(k, shares, m, run, [lane_total(displacement), lane_total(kinetic), lane_total(strain), &
                          0.0_dp], &
-                         minval(min_j), largest%value, furthest_particle(largest, mb), outside, mass_left, mass_right, &
-                         momentum_left, momentum_right, stress_volume, seg)
+                         minval(min_j), largest%value, furthest_beyond(largest, mb, constants%move_guard), outside, &
+                         mass_left, mass_right, momentum_left, momentum_right, stress_volume, seg)
    end subroutine material_usf_move_segment
 
    !> USF, first half: stress update, then stress*volume of the unmoved particles (the hat, per-particle masses and moduli)
@@ -14194,8 +14204,8 @@ contains
       run%a = 0.0_dp  ! (close_segment flushes the bar's sums: none here)
       call close_segment(k, shares, m, run, [lane_total(displacement), lane_total(kinetic), lane_total(strain), &
                          lane_total(work)], &
-                         minval(min_j), largest%value, furthest_particle(largest, mb), outside, mass_left, mass_right, &
-                         momentum_left, momentum_right, stress_volume, seg)
+                         minval(min_j), largest%value, furthest_beyond(largest, mb, constants%move_guard), outside, &
+                         mass_left, mass_right, momentum_left, momentum_right, stress_volume, seg)
    end subroutine material_usf_stress_segment
 
    !> USL: G2P, stress update from the updated nodal velocities, P2G at the new position (the hat, per-particle masses and moduli)
@@ -14494,8 +14504,8 @@ contains
       run%a = 0.0_dp  ! (close_segment flushes the bar's sums: none here)
       call close_segment(k, shares, m, run, [lane_total(displacement), lane_total(kinetic), lane_total(strain), &
                          lane_total(work)], &
-                         minval(min_j), largest%value, furthest_particle(largest, mb), outside, mass_left, mass_right, &
-                         momentum_left, momentum_right, stress_volume, seg)
+                         minval(min_j), largest%value, furthest_beyond(largest, mb, constants%move_guard), outside, &
+                         mass_left, mass_right, momentum_left, momentum_right, stress_volume, seg)
    end subroutine material_usl_segment
 
    !> MUSL, first pass: G2P, and the new momentum back to the start-of-step nodes (the hat, per-particle masses and moduli)
@@ -14678,8 +14688,8 @@ contains
       run%a = 0.0_dp  ! (close_segment flushes the bar's sums: none here)
       call close_segment(k, shares, m, run, [lane_total(displacement), lane_total(kinetic), lane_total(strain), &
                          0.0_dp], &
-                         minval(min_j), largest%value, furthest_particle(largest, mb), outside, mass_left, mass_right, &
-                         momentum_left, momentum_right, stress_volume, seg)
+                         minval(min_j), largest%value, furthest_beyond(largest, mb, constants%move_guard), outside, &
+                         mass_left, mass_right, momentum_left, momentum_right, stress_volume, seg)
    end subroutine material_musl_remap_segment
 
    !> MUSL, second pass: stress update from the remapped velocities, P2G at the new position (the hat, per-particle masses and moduli)
@@ -14978,8 +14988,8 @@ contains
       run%a = 0.0_dp  ! (close_segment flushes the bar's sums: none here)
       call close_segment(k, shares, m, run, [lane_total(displacement), lane_total(kinetic), lane_total(strain), &
                          lane_total(work)], &
-                         minval(min_j), largest%value, furthest_particle(largest, mb), outside, mass_left, mass_right, &
-                         momentum_left, momentum_right, stress_volume, seg)
+                         minval(min_j), largest%value, furthest_beyond(largest, mb, constants%move_guard), outside, &
+                         mass_left, mass_right, momentum_left, momentum_right, stress_volume, seg)
    end subroutine material_musl_stress_segment
 
    !> initial mapping: mass and momentum (the hat, per-particle masses and moduli)
@@ -15162,8 +15172,8 @@ contains
       run%a = 0.0_dp  ! (close_segment flushes the bar's sums: none here)
       call close_segment(k, shares, m, run, [lane_total(displacement), lane_total(kinetic), lane_total(strain), &
                          0.0_dp], &
-                         minval(min_j), largest%value, furthest_particle(largest, mb), outside, mass_left, mass_right, &
-                         momentum_left, momentum_right, stress_volume, seg)
+                         minval(min_j), largest%value, furthest_beyond(largest, mb, constants%move_guard), outside, &
+                         mass_left, mass_right, momentum_left, momentum_right, stress_volume, seg)
    end subroutine material_map_segment
 
    !> initial mapping: mass, momentum and stress*volume (and forces) (the hat, per-particle masses and moduli)
@@ -15346,8 +15356,8 @@ contains
       run%a = 0.0_dp  ! (close_segment flushes the bar's sums: none here)
       call close_segment(k, shares, m, run, [lane_total(displacement), lane_total(kinetic), lane_total(strain), &
                          0.0_dp], &
-                         minval(min_j), largest%value, furthest_particle(largest, mb), outside, mass_left, mass_right, &
-                         momentum_left, momentum_right, stress_volume, seg)
+                         minval(min_j), largest%value, furthest_beyond(largest, mb, constants%move_guard), outside, &
+                         mass_left, mass_right, momentum_left, momentum_right, stress_volume, seg)
    end subroutine material_map_stress_segment
 
    !> USF, second half: G2P, then mass and momentum at the new position (the hat, per-particle forces)
@@ -15535,8 +15545,8 @@ contains
       run%a = 0.0_dp  ! (close_segment flushes the bar's sums: none here)
       call close_segment(k, shares, m, run, [lane_total(displacement), lane_total(kinetic), lane_total(strain), &
                          0.0_dp], &
-                         minval(min_j), largest%value, furthest_particle(largest, mb), outside, mass_left, mass_right, &
-                         momentum_left, momentum_right, stress_volume, seg)
+                         minval(min_j), largest%value, furthest_beyond(largest, mb, constants%move_guard), outside, &
+                         mass_left, mass_right, momentum_left, momentum_right, stress_volume, seg)
    end subroutine forced_usf_move_segment
 
    !> USF, first half: stress update, then stress*volume of the unmoved particles (the hat, per-particle forces)
@@ -15850,8 +15860,8 @@ contains
       run%a = 0.0_dp  ! (close_segment flushes the bar's sums: none here)
       call close_segment(k, shares, m, run, [lane_total(displacement), lane_total(kinetic), lane_total(strain), &
                          lane_total(work)], &
-                         minval(min_j), largest%value, furthest_particle(largest, mb), outside, mass_left, mass_right, &
-                         momentum_left, momentum_right, stress_volume, seg)
+                         minval(min_j), largest%value, furthest_beyond(largest, mb, constants%move_guard), outside, &
+                         mass_left, mass_right, momentum_left, momentum_right, stress_volume, seg)
    end subroutine forced_usf_stress_segment
 
    !> USL: G2P, stress update from the updated nodal velocities, P2G at the new position (the hat, per-particle forces)
@@ -16165,8 +16175,8 @@ contains
       run%a = 0.0_dp  ! (close_segment flushes the bar's sums: none here)
       call close_segment(k, shares, m, run, [lane_total(displacement), lane_total(kinetic), lane_total(strain), &
                          lane_total(work)], &
-                         minval(min_j), largest%value, furthest_particle(largest, mb), outside, mass_left, mass_right, &
-                         momentum_left, momentum_right, stress_volume, seg)
+                         minval(min_j), largest%value, furthest_beyond(largest, mb, constants%move_guard), outside, &
+                         mass_left, mass_right, momentum_left, momentum_right, stress_volume, seg)
    end subroutine forced_usl_segment
 
    !> MUSL, first pass: G2P, and the new momentum back to the start-of-step nodes (the hat, per-particle forces)
@@ -16354,8 +16364,8 @@ contains
       run%a = 0.0_dp  ! (close_segment flushes the bar's sums: none here)
       call close_segment(k, shares, m, run, [lane_total(displacement), lane_total(kinetic), lane_total(strain), &
                          0.0_dp], &
-                         minval(min_j), largest%value, furthest_particle(largest, mb), outside, mass_left, mass_right, &
-                         momentum_left, momentum_right, stress_volume, seg)
+                         minval(min_j), largest%value, furthest_beyond(largest, mb, constants%move_guard), outside, &
+                         mass_left, mass_right, momentum_left, momentum_right, stress_volume, seg)
    end subroutine forced_musl_remap_segment
 
    !> MUSL, second pass: stress update from the remapped velocities, P2G at the new position (the hat, per-particle forces)
@@ -16669,8 +16679,8 @@ contains
       run%a = 0.0_dp  ! (close_segment flushes the bar's sums: none here)
       call close_segment(k, shares, m, run, [lane_total(displacement), lane_total(kinetic), lane_total(strain), &
                          lane_total(work)], &
-                         minval(min_j), largest%value, furthest_particle(largest, mb), outside, mass_left, mass_right, &
-                         momentum_left, momentum_right, stress_volume, seg)
+                         minval(min_j), largest%value, furthest_beyond(largest, mb, constants%move_guard), outside, &
+                         mass_left, mass_right, momentum_left, momentum_right, stress_volume, seg)
    end subroutine forced_musl_stress_segment
 
    !> initial mapping: mass and momentum (the hat, per-particle forces)
@@ -16858,8 +16868,8 @@ contains
       run%a = 0.0_dp  ! (close_segment flushes the bar's sums: none here)
       call close_segment(k, shares, m, run, [lane_total(displacement), lane_total(kinetic), lane_total(strain), &
                          0.0_dp], &
-                         minval(min_j), largest%value, furthest_particle(largest, mb), outside, mass_left, mass_right, &
-                         momentum_left, momentum_right, stress_volume, seg)
+                         minval(min_j), largest%value, furthest_beyond(largest, mb, constants%move_guard), outside, &
+                         mass_left, mass_right, momentum_left, momentum_right, stress_volume, seg)
    end subroutine forced_map_segment
 
    !> initial mapping: mass, momentum and stress*volume (and forces) (the hat, per-particle forces)
@@ -17047,8 +17057,8 @@ contains
       run%a = 0.0_dp  ! (close_segment flushes the bar's sums: none here)
       call close_segment(k, shares, m, run, [lane_total(displacement), lane_total(kinetic), lane_total(strain), &
                          0.0_dp], &
-                         minval(min_j), largest%value, furthest_particle(largest, mb), outside, mass_left, mass_right, &
-                         momentum_left, momentum_right, stress_volume, seg)
+                         minval(min_j), largest%value, furthest_beyond(largest, mb, constants%move_guard), outside, &
+                         mass_left, mass_right, momentum_left, momentum_right, stress_volume, seg)
    end subroutine forced_map_stress_segment
 
    !> USF, second half: G2P, then mass and momentum at the new position (the hat, bodies on stacked fields)
@@ -17239,8 +17249,8 @@ contains
       ! (the body's mass times its sum of x - X: the bodies' masses differ)
       call close_segment(k, shares, m, run, [m*lane_total(displacement), lane_total(kinetic), lane_total(strain), &
                          0.0_dp], &
-                         minval(min_j), largest%value, furthest_particle(largest, mb), outside, mass_left, mass_right, &
-                         momentum_left, momentum_right, stress_volume, seg)
+                         minval(min_j), largest%value, furthest_beyond(largest, mb, constants%move_guard), outside, &
+                         mass_left, mass_right, momentum_left, momentum_right, stress_volume, seg)
       seg%tally(k)%body_momentum = m*lane_total(momentum)
       seg%tally(k)%min_stress = minval(least_stress)
    end subroutine bodies_usf_move_segment
@@ -17531,8 +17541,8 @@ contains
       ! (the body's mass times its sum of x - X: the bodies' masses differ)
       call close_segment(k, shares, m, run, [m*lane_total(displacement), lane_total(kinetic), lane_total(strain), &
                          lane_total(work)], &
-                         minval(min_j), largest%value, furthest_particle(largest, mb), outside, mass_left, mass_right, &
-                         momentum_left, momentum_right, stress_volume, seg)
+                         minval(min_j), largest%value, furthest_beyond(largest, mb, constants%move_guard), outside, &
+                         mass_left, mass_right, momentum_left, momentum_right, stress_volume, seg)
       seg%tally(k)%body_momentum = m*lane_total(momentum)
       seg%tally(k)%min_stress = minval(least_stress)
    end subroutine bodies_usf_stress_segment
@@ -17823,8 +17833,8 @@ contains
       ! (the body's mass times its sum of x - X: the bodies' masses differ)
       call close_segment(k, shares, m, run, [m*lane_total(displacement), lane_total(kinetic), lane_total(strain), &
                          lane_total(work)], &
-                         minval(min_j), largest%value, furthest_particle(largest, mb), outside, mass_left, mass_right, &
-                         momentum_left, momentum_right, stress_volume, seg)
+                         minval(min_j), largest%value, furthest_beyond(largest, mb, constants%move_guard), outside, &
+                         mass_left, mass_right, momentum_left, momentum_right, stress_volume, seg)
       seg%tally(k)%body_momentum = m*lane_total(momentum)
       seg%tally(k)%min_stress = minval(least_stress)
    end subroutine bodies_usl_segment
@@ -18017,8 +18027,8 @@ contains
       ! (the body's mass times its sum of x - X: the bodies' masses differ)
       call close_segment(k, shares, m, run, [m*lane_total(displacement), lane_total(kinetic), lane_total(strain), &
                          0.0_dp], &
-                         minval(min_j), largest%value, furthest_particle(largest, mb), outside, mass_left, mass_right, &
-                         momentum_left, momentum_right, stress_volume, seg)
+                         minval(min_j), largest%value, furthest_beyond(largest, mb, constants%move_guard), outside, &
+                         mass_left, mass_right, momentum_left, momentum_right, stress_volume, seg)
       seg%tally(k)%body_momentum = m*lane_total(momentum)
       seg%tally(k)%min_stress = minval(least_stress)
    end subroutine bodies_musl_remap_segment
@@ -18309,8 +18319,8 @@ contains
       ! (the body's mass times its sum of x - X: the bodies' masses differ)
       call close_segment(k, shares, m, run, [m*lane_total(displacement), lane_total(kinetic), lane_total(strain), &
                          lane_total(work)], &
-                         minval(min_j), largest%value, furthest_particle(largest, mb), outside, mass_left, mass_right, &
-                         momentum_left, momentum_right, stress_volume, seg)
+                         minval(min_j), largest%value, furthest_beyond(largest, mb, constants%move_guard), outside, &
+                         mass_left, mass_right, momentum_left, momentum_right, stress_volume, seg)
       seg%tally(k)%body_momentum = m*lane_total(momentum)
       seg%tally(k)%min_stress = minval(least_stress)
    end subroutine bodies_musl_stress_segment
@@ -18503,8 +18513,8 @@ contains
       ! (the body's mass times its sum of x - X: the bodies' masses differ)
       call close_segment(k, shares, m, run, [m*lane_total(displacement), lane_total(kinetic), lane_total(strain), &
                          0.0_dp], &
-                         minval(min_j), largest%value, furthest_particle(largest, mb), outside, mass_left, mass_right, &
-                         momentum_left, momentum_right, stress_volume, seg)
+                         minval(min_j), largest%value, furthest_beyond(largest, mb, constants%move_guard), outside, &
+                         mass_left, mass_right, momentum_left, momentum_right, stress_volume, seg)
       seg%tally(k)%body_momentum = m*lane_total(momentum)
       seg%tally(k)%min_stress = minval(least_stress)
    end subroutine bodies_map_segment
@@ -18697,8 +18707,8 @@ contains
       ! (the body's mass times its sum of x - X: the bodies' masses differ)
       call close_segment(k, shares, m, run, [m*lane_total(displacement), lane_total(kinetic), lane_total(strain), &
                          0.0_dp], &
-                         minval(min_j), largest%value, furthest_particle(largest, mb), outside, mass_left, mass_right, &
-                         momentum_left, momentum_right, stress_volume, seg)
+                         minval(min_j), largest%value, furthest_beyond(largest, mb, constants%move_guard), outside, &
+                         mass_left, mass_right, momentum_left, momentum_right, stress_volume, seg)
       seg%tally(k)%body_momentum = m*lane_total(momentum)
       seg%tally(k)%min_stress = minval(least_stress)
    end subroutine bodies_map_stress_segment
@@ -18884,8 +18894,8 @@ contains
       end do
       call close_segment(k, shares, m, run, [lane_total(displacement), lane_total(kinetic), lane_total(strain), &
                          0.0_dp], &
-                         minval(min_j), largest%value, furthest_particle(largest, mb), outside, mass_left, mass_right, &
-                         momentum_left, momentum_right, stress_volume, seg)
+                         minval(min_j), largest%value, furthest_beyond(largest, mb, constants%move_guard), outside, &
+                         mass_left, mass_right, momentum_left, momentum_right, stress_volume, seg)
    end subroutine asflip_usf_move_segment
 
    !> USF, first half: stress update, then stress*volume of the unmoved particles (the hat, ASFLIP)
@@ -19191,8 +19201,8 @@ contains
       end do
       call close_segment(k, shares, m, run, [lane_total(displacement), lane_total(kinetic), lane_total(strain), &
                          lane_total(work)], &
-                         minval(min_j), largest%value, furthest_particle(largest, mb), outside, mass_left, mass_right, &
-                         momentum_left, momentum_right, stress_volume, seg)
+                         minval(min_j), largest%value, furthest_beyond(largest, mb, constants%move_guard), outside, &
+                         mass_left, mass_right, momentum_left, momentum_right, stress_volume, seg)
    end subroutine asflip_usf_stress_segment
 
    !> USL: G2P, stress update from the updated nodal velocities, P2G at the new position (the hat, ASFLIP)
@@ -19498,8 +19508,8 @@ contains
       end do
       call close_segment(k, shares, m, run, [lane_total(displacement), lane_total(kinetic), lane_total(strain), &
                          lane_total(work)], &
-                         minval(min_j), largest%value, furthest_particle(largest, mb), outside, mass_left, mass_right, &
-                         momentum_left, momentum_right, stress_volume, seg)
+                         minval(min_j), largest%value, furthest_beyond(largest, mb, constants%move_guard), outside, &
+                         mass_left, mass_right, momentum_left, momentum_right, stress_volume, seg)
    end subroutine asflip_usl_segment
 
    !> MUSL, first pass: G2P, and the new momentum back to the start-of-step nodes (the hat, ASFLIP)
@@ -19683,8 +19693,8 @@ contains
       end do
       call close_segment(k, shares, m, run, [lane_total(displacement), lane_total(kinetic), lane_total(strain), &
                          0.0_dp], &
-                         minval(min_j), largest%value, furthest_particle(largest, mb), outside, mass_left, mass_right, &
-                         momentum_left, momentum_right, stress_volume, seg)
+                         minval(min_j), largest%value, furthest_beyond(largest, mb, constants%move_guard), outside, &
+                         mass_left, mass_right, momentum_left, momentum_right, stress_volume, seg)
    end subroutine asflip_musl_remap_segment
 
    !> MUSL, second pass: stress update from the remapped velocities, P2G at the new position (the hat, ASFLIP)
@@ -19990,8 +20000,8 @@ contains
       end do
       call close_segment(k, shares, m, run, [lane_total(displacement), lane_total(kinetic), lane_total(strain), &
                          lane_total(work)], &
-                         minval(min_j), largest%value, furthest_particle(largest, mb), outside, mass_left, mass_right, &
-                         momentum_left, momentum_right, stress_volume, seg)
+                         minval(min_j), largest%value, furthest_beyond(largest, mb, constants%move_guard), outside, &
+                         mass_left, mass_right, momentum_left, momentum_right, stress_volume, seg)
    end subroutine asflip_musl_stress_segment
 
    !> initial mapping: mass and momentum (the hat, ASFLIP)
@@ -20175,8 +20185,8 @@ contains
       end do
       call close_segment(k, shares, m, run, [lane_total(displacement), lane_total(kinetic), lane_total(strain), &
                          0.0_dp], &
-                         minval(min_j), largest%value, furthest_particle(largest, mb), outside, mass_left, mass_right, &
-                         momentum_left, momentum_right, stress_volume, seg)
+                         minval(min_j), largest%value, furthest_beyond(largest, mb, constants%move_guard), outside, &
+                         mass_left, mass_right, momentum_left, momentum_right, stress_volume, seg)
    end subroutine asflip_map_segment
 
    !> initial mapping: mass, momentum and stress*volume (and forces) (the hat, ASFLIP)
@@ -20360,8 +20370,8 @@ contains
       end do
       call close_segment(k, shares, m, run, [lane_total(displacement), lane_total(kinetic), lane_total(strain), &
                          0.0_dp], &
-                         minval(min_j), largest%value, furthest_particle(largest, mb), outside, mass_left, mass_right, &
-                         momentum_left, momentum_right, stress_volume, seg)
+                         minval(min_j), largest%value, furthest_beyond(largest, mb, constants%move_guard), outside, &
+                         mass_left, mass_right, momentum_left, momentum_right, stress_volume, seg)
    end subroutine asflip_map_stress_segment
 
    !> USF, second half: G2P, then mass and momentum at the new position (the hat, the total-Lagrangian formulation)
@@ -20535,8 +20545,8 @@ contains
       end do
       call close_segment(k, shares, m, run, [lane_total(displacement), lane_total(kinetic), lane_total(strain), &
                          0.0_dp], &
-                         minval(min_j), largest%value, furthest_particle(largest, mb), outside, mass_left, mass_right, &
-                         momentum_left, momentum_right, stress_volume, seg)
+                         minval(min_j), largest%value, furthest_beyond(largest, mb, constants%move_guard), outside, &
+                         mass_left, mass_right, momentum_left, momentum_right, stress_volume, seg)
    end subroutine total_usf_move_segment
 
    !> USF, first half: stress update, then stress*volume of the unmoved particles (the hat, the total-Lagrangian formulation)
@@ -20818,8 +20828,8 @@ contains
       end do
       call close_segment(k, shares, m, run, [lane_total(displacement), lane_total(kinetic), lane_total(strain), &
                          lane_total(work)], &
-                         minval(min_j), largest%value, furthest_particle(largest, mb), outside, mass_left, mass_right, &
-                         momentum_left, momentum_right, stress_volume, seg)
+                         minval(min_j), largest%value, furthest_beyond(largest, mb, constants%move_guard), outside, &
+                         mass_left, mass_right, momentum_left, momentum_right, stress_volume, seg)
    end subroutine total_usf_stress_segment
 
    !> USL: G2P, stress update from the updated nodal velocities, P2G at the new position (the hat, the total-Lagrangian formulation)
@@ -21101,8 +21111,8 @@ contains
       end do
       call close_segment(k, shares, m, run, [lane_total(displacement), lane_total(kinetic), lane_total(strain), &
                          lane_total(work)], &
-                         minval(min_j), largest%value, furthest_particle(largest, mb), outside, mass_left, mass_right, &
-                         momentum_left, momentum_right, stress_volume, seg)
+                         minval(min_j), largest%value, furthest_beyond(largest, mb, constants%move_guard), outside, &
+                         mass_left, mass_right, momentum_left, momentum_right, stress_volume, seg)
    end subroutine total_usl_segment
 
    !> MUSL, first pass: G2P, and the new momentum back to the start-of-step nodes (the hat, the total-Lagrangian formulation)
@@ -21276,8 +21286,8 @@ contains
       end do
       call close_segment(k, shares, m, run, [lane_total(displacement), lane_total(kinetic), lane_total(strain), &
                          0.0_dp], &
-                         minval(min_j), largest%value, furthest_particle(largest, mb), outside, mass_left, mass_right, &
-                         momentum_left, momentum_right, stress_volume, seg)
+                         minval(min_j), largest%value, furthest_beyond(largest, mb, constants%move_guard), outside, &
+                         mass_left, mass_right, momentum_left, momentum_right, stress_volume, seg)
    end subroutine total_musl_remap_segment
 
    !> MUSL, second pass: stress update from the remapped velocities, P2G at the new position (the hat, the total-Lagrangian formulation)
@@ -21559,8 +21569,8 @@ contains
       end do
       call close_segment(k, shares, m, run, [lane_total(displacement), lane_total(kinetic), lane_total(strain), &
                          lane_total(work)], &
-                         minval(min_j), largest%value, furthest_particle(largest, mb), outside, mass_left, mass_right, &
-                         momentum_left, momentum_right, stress_volume, seg)
+                         minval(min_j), largest%value, furthest_beyond(largest, mb, constants%move_guard), outside, &
+                         mass_left, mass_right, momentum_left, momentum_right, stress_volume, seg)
    end subroutine total_musl_stress_segment
 
    !> initial mapping: mass and momentum (the hat, the total-Lagrangian formulation)
@@ -21734,8 +21744,8 @@ contains
       end do
       call close_segment(k, shares, m, run, [lane_total(displacement), lane_total(kinetic), lane_total(strain), &
                          0.0_dp], &
-                         minval(min_j), largest%value, furthest_particle(largest, mb), outside, mass_left, mass_right, &
-                         momentum_left, momentum_right, stress_volume, seg)
+                         minval(min_j), largest%value, furthest_beyond(largest, mb, constants%move_guard), outside, &
+                         mass_left, mass_right, momentum_left, momentum_right, stress_volume, seg)
    end subroutine total_map_segment
 
    !> initial mapping: mass, momentum and stress*volume (and forces) (the hat, the total-Lagrangian formulation)
@@ -21909,8 +21919,8 @@ contains
       end do
       call close_segment(k, shares, m, run, [lane_total(displacement), lane_total(kinetic), lane_total(strain), &
                          0.0_dp], &
-                         minval(min_j), largest%value, furthest_particle(largest, mb), outside, mass_left, mass_right, &
-                         momentum_left, momentum_right, stress_volume, seg)
+                         minval(min_j), largest%value, furthest_beyond(largest, mb, constants%move_guard), outside, &
+                         mass_left, mass_right, momentum_left, momentum_right, stress_volume, seg)
    end subroutine total_map_stress_segment
 
    !> USF, second half: G2P, then mass and momentum at the new position (the hat, XPIC)
@@ -22078,8 +22088,8 @@ contains
       end do
       call close_segment(k, shares, m, run, [lane_total(displacement), lane_total(kinetic), lane_total(strain), &
                          0.0_dp], &
-                         minval(min_j), largest%value, furthest_particle(largest, mb), outside, mass_left, mass_right, &
-                         momentum_left, momentum_right, stress_volume, seg)
+                         minval(min_j), largest%value, furthest_beyond(largest, mb, constants%move_guard), outside, &
+                         mass_left, mass_right, momentum_left, momentum_right, stress_volume, seg)
    end subroutine xpic_usf_move_segment
 
    !> USF, first half: stress update, then stress*volume of the unmoved particles (the hat, XPIC)
@@ -22343,8 +22353,8 @@ contains
       end do
       call close_segment(k, shares, m, run, [lane_total(displacement), lane_total(kinetic), lane_total(strain), &
                          lane_total(work)], &
-                         minval(min_j), largest%value, furthest_particle(largest, mb), outside, mass_left, mass_right, &
-                         momentum_left, momentum_right, stress_volume, seg)
+                         minval(min_j), largest%value, furthest_beyond(largest, mb, constants%move_guard), outside, &
+                         mass_left, mass_right, momentum_left, momentum_right, stress_volume, seg)
    end subroutine xpic_usf_stress_segment
 
    !> USL: G2P, stress update from the updated nodal velocities, P2G at the new position (the hat, XPIC)
@@ -22608,8 +22618,8 @@ contains
       end do
       call close_segment(k, shares, m, run, [lane_total(displacement), lane_total(kinetic), lane_total(strain), &
                          lane_total(work)], &
-                         minval(min_j), largest%value, furthest_particle(largest, mb), outside, mass_left, mass_right, &
-                         momentum_left, momentum_right, stress_volume, seg)
+                         minval(min_j), largest%value, furthest_beyond(largest, mb, constants%move_guard), outside, &
+                         mass_left, mass_right, momentum_left, momentum_right, stress_volume, seg)
    end subroutine xpic_usl_segment
 
    !> MUSL, first pass: G2P, and the new momentum back to the start-of-step nodes (the hat, XPIC)
@@ -22777,8 +22787,8 @@ contains
       end do
       call close_segment(k, shares, m, run, [lane_total(displacement), lane_total(kinetic), lane_total(strain), &
                          0.0_dp], &
-                         minval(min_j), largest%value, furthest_particle(largest, mb), outside, mass_left, mass_right, &
-                         momentum_left, momentum_right, stress_volume, seg)
+                         minval(min_j), largest%value, furthest_beyond(largest, mb, constants%move_guard), outside, &
+                         mass_left, mass_right, momentum_left, momentum_right, stress_volume, seg)
    end subroutine xpic_musl_remap_segment
 
    !> MUSL, second pass: stress update from the remapped velocities, P2G at the new position (the hat, XPIC)
@@ -23042,8 +23052,8 @@ contains
       end do
       call close_segment(k, shares, m, run, [lane_total(displacement), lane_total(kinetic), lane_total(strain), &
                          lane_total(work)], &
-                         minval(min_j), largest%value, furthest_particle(largest, mb), outside, mass_left, mass_right, &
-                         momentum_left, momentum_right, stress_volume, seg)
+                         minval(min_j), largest%value, furthest_beyond(largest, mb, constants%move_guard), outside, &
+                         mass_left, mass_right, momentum_left, momentum_right, stress_volume, seg)
    end subroutine xpic_musl_stress_segment
 
    !> initial mapping: mass and momentum (the hat, XPIC)
@@ -23211,8 +23221,8 @@ contains
       end do
       call close_segment(k, shares, m, run, [lane_total(displacement), lane_total(kinetic), lane_total(strain), &
                          0.0_dp], &
-                         minval(min_j), largest%value, furthest_particle(largest, mb), outside, mass_left, mass_right, &
-                         momentum_left, momentum_right, stress_volume, seg)
+                         minval(min_j), largest%value, furthest_beyond(largest, mb, constants%move_guard), outside, &
+                         mass_left, mass_right, momentum_left, momentum_right, stress_volume, seg)
    end subroutine xpic_map_segment
 
    !> initial mapping: mass, momentum and stress*volume (and forces) (the hat, XPIC)
@@ -23380,8 +23390,8 @@ contains
       end do
       call close_segment(k, shares, m, run, [lane_total(displacement), lane_total(kinetic), lane_total(strain), &
                          0.0_dp], &
-                         minval(min_j), largest%value, furthest_particle(largest, mb), outside, mass_left, mass_right, &
-                         momentum_left, momentum_right, stress_volume, seg)
+                         minval(min_j), largest%value, furthest_beyond(largest, mb, constants%move_guard), outside, &
+                         mass_left, mass_right, momentum_left, momentum_right, stress_volume, seg)
    end subroutine xpic_map_stress_segment
 
    ! The GIMP box and the B-splines' knot spans: src/shape/mpm_gimp_box.fypi and mpm_bspline_span.fypi,
@@ -23478,4 +23488,14 @@ contains
       end do
       p = largest%first - 1 + i
    end function furthest_particle
+
+   !> furthest_particle where the largest move is beyond `guard` cells (the cell-crossing guard's limit,
+   !> past which the run stops naming that particle), else 0.
+   pure integer function furthest_beyond(largest, moves, guard) result(p)
+      type(largest_move_t), intent(in) :: largest
+      real(dp), intent(in) :: moves(:, :)
+      real(dp), intent(in) :: guard
+      p = 0
+      if (largest%value > guard) p = furthest_particle(largest, moves)
+   end function furthest_beyond
 end module mpm_transfer

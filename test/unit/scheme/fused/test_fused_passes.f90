@@ -16,7 +16,7 @@ program test_fused_passes
    use mpm_particles, only: particles_t, particles_init
    use mpm_segments, only: segments_t
    use mpm_transfer, only: pass_totals_t, p2g, fused_pass, pass_usl, pass_usf_move, pass_usf_stress, pass_musl_remap, &
-                           pass_musl_stress
+                           pass_musl_stress, fused_box_t
    use mpm_testing, only: tester_t, tester
    use mpm_lanes, only: smallest_value
    use, intrinsic :: ieee_arithmetic, only: ieee_value, ieee_quiet_nan, ieee_is_nan
@@ -39,6 +39,7 @@ program test_fused_passes
       call check_musl(20000, 10)
    end if
    if (t%case('moving_ranges')) call check_moving_ranges()
+   if (t%case('move_guard')) call check_move_guard()
    if (t%case('smallest_value')) call check_smallest_value()
    call t%finish()
 
@@ -311,6 +312,56 @@ contains
       call t%check('moving ranges: particles crossed segment borders (after the three moves right, a particle '// &
                    'is in another segment than it started in)', crossed)
    end subroutine check_moving_ranges
+
+   !> The cell-crossing guard's limit on the kernels (fused_box_t's move_guard): a pass names the particle
+   !> of the largest move (the one a plain loop finds, maxloc of the moves) where that move is beyond the
+   !> limit, and none (0) where it is not; the rest of the pass is the same either way.
+   subroutine check_move_guard()
+      integer, parameter :: elements = 13, per_element = 11
+      type(particles_t) :: particles, start
+      type(grid_t) :: grid
+      type(pass_totals_t) :: named, unnamed
+      type(segments_t) :: seg, start_seg
+      type(fused_box_t) :: box
+      type(error_t), allocatable :: error
+      real(dp), allocatable :: r(:), move(:), x_named(:)
+      real(dp) :: xi, largest
+      integer :: p, e
+      call particles_init(particles, elements, per_element, length/elements, density, error)
+      call grid_init(grid, elements, length, particles%mass, error)
+      allocate (r(particles%count), move(particles%count))
+      call random_number(r)
+      particles%x = particles%x + (r - 0.5_dp)*0.9_dp*grid%dx/per_element
+      call p2g(particles, grid, seg, .true., named)
+      call random_number(grid%velocity)
+      grid%velocity = (grid%velocity - 0.5_dp)*0.8_dp*grid%dx/dt
+      grid%velocity(elements/2) = 0.9_dp*grid%dx/dt
+      grid%acceleration = 0
+      do p = 1, particles%count
+         e = particles%cell(p)
+         xi = particles%x(p)*grid%inv_dx - (e - 1)
+         move(p) = abs(dt*((1 - xi)*grid%velocity(e - 1) + xi*grid%velocity(e)))*grid%inv_dx
+      end do
+      largest = maxval(move)
+      start = particles
+      start_seg = seg
+      allocate (box%carry(0))
+      box%move_guard = largest*(1 - 1.0e-9_dp)
+      call fused_pass(pass_usl, particles, grid, seg, dt, youngs_modulus, named, box)
+      x_named = particles%x
+      particles = start
+      seg = start_seg
+      box%move_guard = largest*(1 + 1.0e-9_dp)
+      call fused_pass(pass_usl, particles, grid, seg, dt, youngs_modulus, unnamed, box)
+      call t%check('move guard: the largest move is not the first particle''s', maxloc(move, 1) > 1)
+      call t%check('move guard below the largest move: that particle named', named%furthest == maxloc(move, 1), &
+                   'got '//str(named%furthest)//', expected '//str(maxloc(move, 1)))
+      call t%check('move guard above the largest move: none named', unnamed%furthest == 0, &
+                   'got '//str(unnamed%furthest))
+      call t%check_close('move guard: largest move, named', named%max_cell_move, largest, rtol=1.0e-13_dp)
+      call t%check('move guard: the same largest move either way', unnamed%max_cell_move == named%max_cell_move)
+      call t%check('move guard: the same positions either way', all(particles%x == x_named))
+   end subroutine check_move_guard
 
    !> The segment of `seg` holding each cell.
    function segment_of(seg, cells) result(segments)
