@@ -20,7 +20,7 @@ QUOTED = [
     ("discretisation: 'scheme' is not used by integrator = 'implicit'; it belongs to integrator explicit",
      "&discretisation integrator='implicit', scheme='usf' /", []),
     ("scene: mode = 1073741823 with periods = 2 gives an end time 1.839e-11 s, shorter than one time step "
-     "dt = 2.469e-05 s; allowed: mode <= 800 (or run: periods >= 2.684e+06)",
+     "dt = 2.469e-05 s; allowed: mode <= 800 (or run: periods >= 2.685e+06)",
      "&scene mode=1073741823 /", []),
     ("snapshot_times(2) = 0.5 s is after the end of the run at 4.937e-03 s",
      "&run periods=0.25 /\n&output snapshot_times=0.0, 0.5 /", []),

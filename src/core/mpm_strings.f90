@@ -4,7 +4,7 @@ module mpm_strings
    use mpm_kinds, only: dp, i8
    implicit none
    private
-   public :: str, lower, num, plural, readable_numbers
+   public :: str, lower, num, num_at_least, num_at_most, plural, readable_numbers
 
    !> `str(x)`: the shortest usual text of an integer or real (g0 format).
    interface str
@@ -91,6 +91,45 @@ contains
          short = short(1:last)
       end function strip_zeros
    end function num
+
+   !> num(x, digits) rounded up: a text of that many significant digits whose value is at least x (an
+   !> allowed lower bound said in a message is one the input may take: x = 0.12500000001 reads 0.1251,
+   !> not 0.125, which would be refused).
+   function num_at_least(x, digits) result(text)
+      real(dp), intent(in) :: x
+      integer, intent(in), optional :: digits
+      character(len=:), allocatable :: text
+      text = bound_text(x, 1.0_dp, digits)
+   end function num_at_least
+
+   !> num(x, digits) rounded down: a text whose value is at most x (an allowed upper bound).
+   function num_at_most(x, digits) result(text)
+      real(dp), intent(in) :: x
+      integer, intent(in), optional :: digits
+      character(len=:), allocatable :: text
+      text = bound_text(x, -1.0_dp, digits)
+   end function num_at_most
+
+   !> num(x, digits) moved by half a unit of its last digit at a time in direction `towards` (+1 up,
+   !> -1 down) until its value is x or past it.
+   function bound_text(x, towards, digits) result(text)
+      real(dp), intent(in) :: x, towards
+      integer, intent(in), optional :: digits
+      character(len=:), allocatable :: text
+      real(dp) :: shown, half_unit
+      integer :: d, k, stat
+      d = 4
+      if (present(digits)) d = max(1, min(digits, 17))
+      text = num(x, d)
+      if (.not. (abs(x) <= huge(x)) .or. x == 0) return
+      half_unit = 0.5_dp*10.0_dp**(floor(log10(abs(x))) + 1 - d)
+      do k = 1, 4
+         read (text, *, iostat=stat) shown
+         if (stat /= 0) return
+         if (towards*(shown - x) >= 0) return
+         text = num(x + towards*k*half_unit, d)
+      end do
+   end function bound_text
 
    !> "1 case", "2 cases": `n` and `word` in the singular or with an s.
    function plural(n, word) result(text)

@@ -8,7 +8,7 @@ module mpm_config
    use, intrinsic :: ieee_arithmetic, only: ieee_is_finite, ieee_is_normal, ieee_is_nan
    use mpm_kinds, only: dp, i8, pi
    use mpm_errors, only: error_t, set_error, append_error
-   use mpm_strings, only: str, lower, num, plural
+   use mpm_strings, only: str, lower, num, num_at_least, plural
    use mpm_files, only: available_memory, path_kind, path_folder, path_other, absolute_path
    use mpm_particles, only: bytes_per_particle
    use mpm_settings, only: settings_t, max_snapshots, max_segments
@@ -1067,7 +1067,8 @@ contains
       real(dp) :: period
       if (end_time_given) then
          text = place(given, 'run', 'end_time')//"run: end_time = "//short_number(config%end_time)//" s: the end "// &
-                "time is shorter than one time step dt = "//num(dt, 4)//" s; allowed: end_time >= "//num(dt, 4)//" s"
+                "time is shorter than one time step dt = "//num(dt, 4)//" s; allowed: end_time >= "//num_at_least(dt, 4)// &
+                " s"
          return
       end if
       period = end_time/config%periods
@@ -1075,7 +1076,7 @@ contains
       if (len(text) == 0) then
          text = place(given, 'run', 'periods')//"run: periods = "//short_number(config%periods)//" gives an end "// &
                 "time "//num(end_time, 4)//" s, shorter than one time step dt = "//num(dt, 4)//" s; allowed: "// &
-                "periods >= "//num(dt/period, 4)
+                "periods >= "//num_at_least(dt/period, 4)
       end if
    end function run_too_short
 

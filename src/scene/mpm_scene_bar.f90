@@ -8,7 +8,7 @@ module mpm_scene_bar
    use, intrinsic :: ieee_arithmetic, only: ieee_is_normal, ieee_is_finite
    use mpm_kinds, only: dp, pi, i8
    use mpm_errors, only: error_t, append_error
-   use mpm_strings, only: str, num, plural
+   use mpm_strings, only: str, num, num_at_least, plural
    use mpm_settings, only: settings_t
    use mpm_registry, only: parameter_t, real_entry, int_entry, short_number, place
    use mpm_particles, only: particles_t, particles_init
@@ -161,7 +161,7 @@ contains
       text = place(given, 'scene', 'mode')//"scene: mode = "//str(self%mode)//" with periods = "// &
              short_number(settings%periods)//" gives an end time "//num(end_time, 4)//" s, shorter than one "// &
              "time step dt = "//num(dt, 4)//" s; allowed: mode <= "//str(largest_mode)//" (or run: periods >= "// &
-             num(dt/(end_time/settings%periods), 4)//")"
+             num_at_least(dt/(end_time/settings%periods), 4)//")"
    end function bar_short_run
 
    !> A mesh with fewer than min_elements_per_wavelength elements per wavelength 4 L/(2 mode - 1).

@@ -32,7 +32,7 @@ module mpm_scene_column
    use, intrinsic :: ieee_arithmetic, only: ieee_value, ieee_quiet_nan
    use mpm_kinds, only: dp, pi
    use mpm_errors, only: error_t, append_error
-   use mpm_strings, only: str, num
+   use mpm_strings, only: str, num, num_at_least
    use mpm_settings, only: settings_t
    use mpm_registry, only: parameter_t, real_entry, short_number
    use mpm_grid, only: grid_t, grid_loads_t
@@ -121,7 +121,7 @@ contains
          call append_error(error, "material: hardening_modulus = 0 (perfectly plastic) with yield_stress = "// &
                            short_number(self%yield_stress)//" Pa, below the column's weight at its fixed end "// &
                            "rho g L = "//num(weight, 4)//" Pa: the column yields and has no equilibrium; allowed: "// &
-                           "yield_stress >= "//num(weight, 4)//" Pa, or hardening_modulus > 0")
+                           "yield_stress >= "//num_at_least(weight, 4)//" Pa, or hardening_modulus > 0")
    end subroutine column_check
 
    !> Its weight is a static load with an exact static solution (integrator 'quasi_static').

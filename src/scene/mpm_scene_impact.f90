@@ -21,7 +21,7 @@
 module mpm_scene_impact
    use mpm_kinds, only: dp
    use mpm_errors, only: error_t, set_error, append_error
-   use mpm_strings, only: str, num
+   use mpm_strings, only: str, num, num_at_most
    use mpm_settings, only: settings_t
    use mpm_registry, only: parameter_t, real_entry, real_list_entry, text_entry, short_number, place, in_list
    use mpm_particles, only: particles_t, particles_init
@@ -152,9 +152,10 @@ contains
                               short_number(self%lengths(2))//" m on elements = "//str(settings%elements)//" gives "// &
                               "cells of dx = (lengths(1) + gap + lengths(2))/elements = "//num(dx, 4)//" m, more "// &
                               "than twice bar "//str(b)//"'s length: the grid cannot resolve it; allowed: dx <= 2 "// &
-                              "lengths("//str(b)//"), that is gap <= "//num(max(0.0_dp, 2*shortest*settings%elements - &
-                              sum(self%lengths(1:2))), 4)//" m at elements = "//str(settings%elements)// &
-                              " (or elements >= "//num(self%body_length()/(2*shortest), 4)//")")
+                              "lengths("//str(b)//"), that is gap <= "//num_at_most(max(0.0_dp, 2*shortest* &
+                              settings%elements - sum(self%lengths(1:2))), 4)//" m at elements = "// &
+                              str(settings%elements)//" (or elements >= "// &
+                              str(ceiling(min(self%body_length()/(2*shortest), real(huge(1), dp))))//")")
          end if
       end if
       call self%check_bodies_material(settings, error)

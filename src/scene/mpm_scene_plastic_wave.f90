@@ -27,7 +27,7 @@ module mpm_scene_plastic_wave
    use, intrinsic :: ieee_arithmetic, only: ieee_value, ieee_quiet_nan
    use mpm_kinds, only: dp
    use mpm_errors, only: error_t, append_error
-   use mpm_strings, only: num, str
+   use mpm_strings, only: num, num_at_most, str
    use mpm_settings, only: settings_t
    use mpm_registry, only: parameter_t, short_number
    use mpm_grid, only: grid_t
@@ -110,7 +110,7 @@ contains
          call append_error(error, length_text//" ends after the elastic precursor reaches the free end at L/c = "// &
                            num(transit, 4)// &
                            " s, where the plastic wave's exact solution stops holding; allowed: periods <= 1 "// &
-                           "(end_time <= "//num(transit, 4)//" s)")
+                           "(end_time <= "//num_at_most(transit, 4)//" s)")
    end subroutine plastic_wave_check_run
 
    !> The elastic precursor's transit time L/c.

@@ -9,7 +9,7 @@ program test_messages
    use, intrinsic :: ieee_arithmetic, only: ieee_value, ieee_quiet_nan
    use mpm_kinds, only: dp
    use mpm_errors, only: error_t
-   use mpm_strings, only: str
+   use mpm_strings, only: str, num_at_least, num_at_most
    use mpm_suggest, only: edit_distance, nearest_words, did_you_mean, printable
    use mpm_config, only: config_t, read_config_text, known_scenes, scene_kinds, scene_kind_t, config_warnings, &
                          config_parameters
@@ -30,6 +30,7 @@ program test_messages
    if (t%case('flip_fraction_only_with_blend')) call flip_fraction_only_with_blend()
    if (t%case('sweep_values_of_another_integrator')) call sweep_values_of_another_integrator()
    if (t%case('impact_run_length')) call impact_run_length()
+   if (t%case('bounds_the_input_may_take')) call bounds_the_input_may_take()
    if (t%case('margins_cannot_overflow')) call margins_cannot_overflow()
    if (t%case('help_made_from_the_registry')) call help_made_from_the_registry()
    if (t%case('command_line')) call command_line()
@@ -306,6 +307,47 @@ contains
       character(len=:), allocatable :: text
       text = config_namelist(config)
    end function echo_of
+
+   !> A lower bound a message says is one the input may take. The bar on one element at half of dx/c: dt
+   !> = 0.5 L/c against the period 4 L/c, so periods >= 0.125 (0.12500000000000003 in floating point):
+   !> said as 0.125 it was itself refused; said rounded up, 0.1251, it is accepted. The same for the
+   !> run's end_time (>= dt) and for num_at_least and num_at_most by hand.
+   subroutine bounds_the_input_may_take()
+      character(len=*), parameter :: one_element = "&discretisation elements=1, particles_per_element=1, "// &
+                                                   "dt_fraction=0.5 / "
+      character(len=:), allocatable :: message, bound
+      real(dp) :: value
+      integer :: at, stat
+      message = problems(one_element//"&run periods=0.125 /")
+      call refused('periods = 0.125 on one element at 0.5 dx/c', message, 'allowed: periods >= 0.1251')
+      message = problems(one_element//"&run periods=0.1251 /")
+      call t%check('... the bound said, periods = 0.1251, is accepted', len(message) == 0, message)
+      ! end_time: dt = 0.5*25/sqrt(200e9/7800) = 2.468727e-3 s (four digits: 2.469e-3, up from 2.4687...)
+      message = problems(one_element//"&run end_time=1e-3 /")
+      at = index(message, 'allowed: end_time >= ')
+      call t%check('end_time = 1e-3 refused with its bound', at > 0, message)
+      if (at > 0) then
+         bound = message(at + len('allowed: end_time >= '):)
+         bound = bound(1:index(bound, ' ') - 1)
+         read (bound, *, iostat=stat) value
+         call t%check('... the bound said ('//bound//') is at least dt', stat == 0 .and. value >= &
+                      0.5_dp*25.0_dp/sqrt(200.0e9_dp/7800.0_dp), bound)
+         message = problems(one_element//"&run end_time="//bound//" /")
+         call t%check('... and end_time = '//bound//' is accepted', len(message) == 0, message)
+      end if
+      call t%check('num_at_least(0.12500000000000003, 4) = 0.1251', num_at_least(0.125_dp + 3.0e-17_dp, 4) == &
+                   '0.1251', num_at_least(0.125_dp + 3.0e-17_dp, 4))
+      call t%check('num_at_least(0.125, 4) = 0.125 (exact: kept)', num_at_least(0.125_dp, 4) == '0.125')
+      call t%check('num_at_least(2.46871e-3, 4) = 2.469e-03', num_at_least(2.46871e-3_dp, 4) == '2.469e-03', &
+                   num_at_least(2.46871e-3_dp, 4))
+      call t%check('num_at_most(2.46879e-3, 4) = 2.468e-03', num_at_most(2.46879e-3_dp, 4) == '2.468e-03', &
+                   num_at_most(2.46879e-3_dp, 4))
+      call t%check('num_at_most(38, 4) = 38 (exact: kept)', num_at_most(38.0_dp, 4) == '38')
+      call t%check('num_at_least(-1.00001, 4) = -1', num_at_least(-1.00001_dp, 4) == '-1', &
+                   num_at_least(-1.00001_dp, 4))
+      call t%check('num_at_least(1.5e-300, 2) >= 1.5e-300', num_at_least(1.5e-300_dp, 2) == '1.5e-300', &
+                   num_at_least(1.5e-300_dp, 2))
+   end subroutine bounds_the_input_may_take
 
    !> The impact's periods count from the first contact; a run whose bars do not meet is warned.
    subroutine impact_run_length()
