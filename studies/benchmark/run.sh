@@ -244,23 +244,41 @@ exe_of() { # build binary
   esac
 }
 build_name() { if [ "$1" = flags ] && [ -n "$FLAGS" ]; then echo "$FLAGS"; else echo portable; fi; }
+# One-thread pairs run at once, one on each of two cores, which swap every round: both builds then see
+# the same neighbours on this shared machine, minute by minute (alternate runs a few seconds apart saw
+# load that came and went between them: rounds spread 0.6-1.5 in one run). Without two cores or
+# taskset, and for two threads, the builds run alternately.
+cores=$(nproc 2>/dev/null || echo 1)
+concurrent=0; [ "$cores" -ge 2 ] && command -v taskset >/dev/null 2>&1 && [ "$binaries" = "new old" ] && concurrent=1
+timed() { # label exe namelist [core]: one line of table2.csv
+  local start end
+  start=$EPOCHREALTIME
+  if [ -n "${4:-}" ]; then taskset -c "$4" "$2" "$3" >/dev/null 2>&1; else "$2" "$3" >/dev/null 2>&1; fi
+  end=$EPOCHREALTIME
+  echo "$1,$(awk -v a="$start" -v b="$end" 'BEGIN { printf "%.4f", b - a }')"
+}
 for r in $(seq $((REPEATS + 2))); do
   for build in $builds; do
     for scheme in usf usl; do
       for threads in 1 2; do
-        for b in $binaries; do  # alternately, so that both see the same load of this shared machine
-          exe="$(exe_of $build $b)"
-          t2 $scheme $threads "$out/t2_$b.h5" > "$out/t2_$b.nml"
-          start=$EPOCHREALTIME
-          "$exe" "$out/t2_$b.nml" >/dev/null 2>&1
-          end=$EPOCHREALTIME
-          echo "$(build_name $build),$b,$scheme,$threads,$r,$(awk -v a="$start" -v b="$end" 'BEGIN { printf "%.4f", b - a }')" \
-            >> "$out/table2.csv"
-        done
+        for b in $binaries; do t2 $scheme $threads "$out/t2_$b.h5" > "$out/t2_$b.nml"; done
+        if [ "$threads" = 1 ] && [ "$concurrent" = 1 ]; then
+          timed "$(build_name $build),new,$scheme,1,$r" "$(exe_of $build new)" "$out/t2_new.nml" $((r % 2)) \
+            > "$out/t2_new.time" &
+          timed "$(build_name $build),old,$scheme,1,$r" "$(exe_of $build old)" "$out/t2_old.nml" $(((r + 1) % 2)) \
+            > "$out/t2_old.time" &
+          wait
+          cat "$out/t2_new.time" "$out/t2_old.time" >> "$out/table2.csv"
+        else
+          for b in $binaries; do
+            timed "$(build_name $build),$b,$scheme,$threads,$r" "$(exe_of $build $b)" "$out/t2_$b.nml" >> "$out/table2.csv"
+          done
+        fi
       done
     done
   done
 done
+rm -f "$out/t2_new.time" "$out/t2_old.time"
 if [ "${CALLGRIND:-0}" = 1 ] && command -v valgrind >/dev/null 2>&1; then
   # with the simulated caches: the level-1 instruction and data caches' misses (a step whose code or data do not
   # fit in them costs time that the instruction count does not show)

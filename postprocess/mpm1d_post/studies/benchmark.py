@@ -255,9 +255,10 @@ def table2_table(rows, counts, lines, targets):
     if rows:
         lines += ['## Table-2 error pass against an older build\n',
                   'USF and USL sweeps of the founding paper (600 cases each, 2 periods, no timing pass), this build '
-                  'and OLD_MPM1D (OLD_PORTABLE_MPM1D for the portable build) alternately; whole process wall time on '
-                  'a shared machine (a second view: the instruction counts below are the repeatable one). Speed '
-                  'ratio: median over rounds of old time / new time (min-max).\n']
+                  'and OLD_MPM1D (OLD_PORTABLE_MPM1D for the portable build): on one thread both at once, one on '
+                  'each of two cores, swapping cores every round; on two threads alternately. Whole process wall '
+                  'time on a shared machine (a second view: the instruction counts below are the repeatable one). '
+                  'Speed ratio: median over rounds of old time / new time (min-max).\n']
         table = []
         for build in sorted({r.get('build', '') for r in rows}):
             for scheme in ('usf', 'usl'):
