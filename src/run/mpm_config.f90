@@ -269,7 +269,7 @@ contains
       end do
    end subroutine name_kinds
 
-   !> kinds_catalog: each variable of a kind's entries and material entries once, its kinds named in
+   !> Make kinds_catalog: each variable of a kind's entries and material entries once, its kinds named in
    !> the catalog's order, comma separated.
    subroutine make_kinds_catalog()
       type(scene_slot_t), allocatable, target :: slots(:)
