@@ -255,13 +255,15 @@ contains
    subroutine name_kinds(table)
       type(parameter_t), intent(inout) :: table(:)
       integer :: i, j
+      character(len=len(table%name)) :: name
       !$omp critical (mpm_kinds_catalog)
       if (.not. allocated(kinds_catalog)) call make_kinds_catalog()
       !$omp end critical (mpm_kinds_catalog)
       do i = 1, size(table)
          table(i)%kinds = ''
+         name = lower(trim(table(i)%name))
          do j = 1, size(kinds_catalog)
-            if (kinds_catalog(j)%group == table(i)%group .and. kinds_catalog(j)%name == lower(trim(table(i)%name))) then
+            if (kinds_catalog(j)%group == table(i)%group .and. kinds_catalog(j)%name == name) then
                table(i)%kinds = kinds_catalog(j)%kinds
                exit
             end if

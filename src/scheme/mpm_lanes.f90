@@ -123,14 +123,4 @@ contains
       end do
       p = largest%first - 1 + i
    end function furthest_particle
-
-   !> furthest_particle where the largest move is beyond `guard` cells (the cell-crossing guard's limit,
-   !> past which the run stops naming that particle), else 0.
-   pure integer function furthest_beyond(largest, moves, guard) result(p)
-      type(largest_move_t), intent(in) :: largest
-      real(dp), intent(in) :: moves(:, :)
-      real(dp), intent(in) :: guard
-      p = 0
-      if (largest%value > guard) p = furthest_particle(largest, moves)
-   end function furthest_beyond
 end module mpm_lanes
