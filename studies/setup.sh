@@ -112,8 +112,34 @@ hash -r
 # Table 2: 1-50 elements) too large for the level-1 instruction cache (USF sweep: 19.5e6 misses
 # against 9.4e6 without unrolling); large runs gain nothing from it (docs/performance.md, "The Table-2
 # error pass on the native build").
+# On the Intel CPUs that Gather Data Sampling affects (Skylake to Ice Lake, Tiger Lake and Rocket Lake),
+# the native build also asks for no gather instructions (vgatherdpd: a vector load from a vector of
+# indices, which the kernels' loops use for the grid values at each particle's cell): Intel's microcode
+# against it (2023) made them several times slower there, and later GCC releases no longer emit them when
+# tuning for these CPUs; Debian 12's gfortran 12.2 still does. The option is -mno-gather where gfortran
+# takes it, else gfortran 12's tuning switches. On an Ice Lake server, with gathers, the paper's Table-2
+# USF sweep took 2.1x as long, and one-thread steps 2.2-2.5x as long at 1e3-1e5 particles and 1.45x at
+# 1e6; the results are bit for bit the same (docs/performance.md, "Gather instructions"). Other CPUs keep
+# them; FLAGS=-march=native keeps them everywhere.
+mpm1d_no_gather_flag() {
+  local dir option arch
+  arch="$(gfortran -march=native -Q --help=target 2>/dev/null | awk '$1 == "-march=" {print $2; exit}')"
+  case "$arch" in
+    skylake|skylake-avx512|cascadelake|cooperlake|cannonlake|icelake-client|icelake-server|tigerlake|rocketlake) ;;
+    *) return 0 ;;
+  esac
+  dir="$(mktemp -d)" || return 0
+  printf 'end\n' > "$dir/probe.f90"
+  for option in -mno-gather "-mtune-ctrl=^use_gather_2parts,^use_gather_4parts,^use_gather"; do
+    if gfortran -march=native "$option" -c "$dir/probe.f90" -o "$dir/probe.o" >/dev/null 2>&1; then
+      echo "$option"
+      break
+    fi
+  done
+  rm -rf "$dir"
+}
 if [ -z "${FLAGS+x}" ]; then
-  if [ "${PORTABLE:-0}" = 1 ]; then FLAGS=""; else FLAGS="-march=native"; fi
+  if [ "${PORTABLE:-0}" = 1 ]; then FLAGS=""; else FLAGS="$(echo "-march=native $(mpm1d_no_gather_flag)")"; fi
 fi
 MPM1D_RELEASE_FLAGS="-O3 -Wimplicit-interface -fPIC -fmax-errors=1 -fcoarray=single"
 # the fpm options of the build that FLAGS selects (in the array mpm1d_fpm_options)
