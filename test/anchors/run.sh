@@ -5,15 +5,17 @@
 #   bash test/anchors/run.sh OLD_MPM1D out/anchors_old
 #   bash test/anchors/run.sh NEW_MPM1D out/anchors_new
 #   .venv/bin/python test/anchors/compare.py out/anchors_old out/anchors_new
-# Sets (ANCHORS="paper generic fused large" by default, any subset):
+# Sets (ANCHORS="paper generic fused plastic large" by default, any subset):
 #   paper    the founding paper's Table-2 sweeps (USF, USL, MUSL; 6 x 10 x 10 cases each, histories)
 #   generic  every scene x scheme x shape x transfer on the generic path (kernels='generic')
 #   fused    the bar, every scheme x shape with FLIP on the fused kernels, two amplitudes
+#   plastic  the elastoplastic law, yielding, on the fused kernels: the bar (every scheme x shape x
+#            transfer), the column, the composite bar and the frictionless impact (every scheme x shape)
 #   large    3e5-particle bar runs cut into segments (linear, each scheme; wide shapes with USL at
 #            1.2e5), on 1 and 2 threads, with a snapshot of every particle at the end
 set -euo pipefail
 bin="$(cd "$(dirname "$1")" && pwd)/$(basename "$1")"; out="$2"
-sets="${ANCHORS:-paper generic fused large}"
+sets="${ANCHORS:-paper generic fused plastic large}"
 mkdir -p "$out"; cd "$out"
 run() { # name, namelist text, [threads], [more &output variables]
   printf '%s\n&output file=%s %s /\n' "$2" "'$1.h5'" "${4:+, $4}" > "$1.nml"
@@ -59,6 +61,30 @@ fused)
 &run periods=1.0 /
 &sweep schemes='usf','usl','musl', shapes='linear','ugimp','cpgimp','bspline2','bspline3', $sw /"
   done ;;
+plastic)
+  law="law='elastoplastic', yield_stress=2.0e8, hardening_modulus=1.0e10"
+  run plastic_bar "&scene kind='vibrating_bar', velocity_amplitude=50.0 /
+&material $law /
+&discretisation elements=20, particles_per_element=2, dt_fraction=0.2 /
+&run periods=1.0 /
+&sweep schemes='usf','usl','musl', shapes='linear','ugimp','cpgimp','bspline2','bspline3',
+ transfers='flip','pic','blend','apic','asflip', $sw /"
+  run plastic_column "&scene kind='column' /
+&material law='elastoplastic', yield_stress=1.0e3, hardening_modulus=1.0e4 /
+&discretisation elements=20, particles_per_element=2, dt_fraction=0.2 /
+&run periods=1.0 /
+&sweep schemes='usf','usl','musl', shapes='linear','ugimp','cpgimp','bspline2','bspline3', $sw /"
+  run plastic_composite "&scene kind='composite_bar', lengths=1.0, 1.0, youngs_moduli=16.0e6, 1.0e6, densities=1000.0, 1000.0, drive_velocity=0.5 /
+&material law='elastoplastic', yield_stresses=2.0e5, 1.0e5, hardening_moduli=1.0e6, 1.0e5 /
+&discretisation elements=40, particles_per_element=2, dt_fraction=0.2 /
+&run periods=0.5 /
+&sweep schemes='usf','usl','musl', shapes='linear','ugimp','cpgimp','bspline2','bspline3', $sw /"
+  run plastic_impact "&scene kind='impact', lengths=1.0, 1.0, youngs_moduli=200.0e9, 200.0e9, densities=7800.0, 7800.0, velocities=10.0, -10.0, gap=0.0, contact='frictionless' /
+&material law='elastoplastic', yield_stresses=2.0e8, 1.0e8, hardening_moduli=1.0e10, 1.0e9 /
+&discretisation elements=40, particles_per_element=2, dt_fraction=0.2 /
+&run periods=1.0 /
+&sweep schemes='usf','usl','musl', shapes='linear','ugimp','cpgimp','bspline2','bspline3', $sw /"
+  ;;
 large)
   for t in 1 2; do
     for sch in usf usl musl; do

@@ -2791,6 +2791,9 @@ contains
       logical :: linear, plastic
       ! the elastoplastic law's constants and the block's plastic work, summed in lanes
       real(dp) :: yield_stress, hardening_modulus, increment, wb(block_size), work(lanes)
+      ! the block's plastic strains and hardening variables, which the elastoplastic loop of the wide shapes
+      ! and of ASFLIP updates in place of the particles' (optional) arrays: see the loops
+      real(dp) :: gb(block_size), hb(block_size)
       type(largest_move_t) :: largest
       real(dp) :: displacement(lanes), kinetic(lanes), strain(lanes), min_j(lanes)
       ! the block's buffers (its particles' J and, with the bar's hat, their x - X, cells and velocities are
@@ -3014,6 +3017,9 @@ contains
       logical :: linear, plastic
       ! the elastoplastic law's constants and the block's plastic work, summed in lanes
       real(dp) :: yield_stress, hardening_modulus, increment, wb(block_size), work(lanes)
+      ! the block's plastic strains and hardening variables, which the elastoplastic loop of the wide shapes
+      ! and of ASFLIP updates in place of the particles' (optional) arrays: see the loops
+      real(dp) :: gb(block_size), hb(block_size)
       type(largest_move_t) :: largest
       real(dp) :: displacement(lanes), kinetic(lanes), strain(lanes), min_j(lanes)
       ! the block's buffers (its particles' J and, with the bar's hat, their x - X, cells and velocities are
@@ -3390,6 +3396,9 @@ contains
       logical :: linear, plastic
       ! the elastoplastic law's constants and the block's plastic work, summed in lanes
       real(dp) :: yield_stress, hardening_modulus, increment, wb(block_size), work(lanes)
+      ! the block's plastic strains and hardening variables, which the elastoplastic loop of the wide shapes
+      ! and of ASFLIP updates in place of the particles' (optional) arrays: see the loops
+      real(dp) :: gb(block_size), hb(block_size)
       type(largest_move_t) :: largest
       real(dp) :: displacement(lanes), kinetic(lanes), strain(lanes), min_j(lanes)
       ! the block's buffers (its particles' J and, with the bar's hat, their x - X, cells and velocities are
@@ -3807,6 +3816,9 @@ contains
       logical :: linear, plastic
       ! the elastoplastic law's constants and the block's plastic work, summed in lanes
       real(dp) :: yield_stress, hardening_modulus, increment, wb(block_size), work(lanes)
+      ! the block's plastic strains and hardening variables, which the elastoplastic loop of the wide shapes
+      ! and of ASFLIP updates in place of the particles' (optional) arrays: see the loops
+      real(dp) :: gb(block_size), hb(block_size)
       type(largest_move_t) :: largest
       real(dp) :: displacement(lanes), kinetic(lanes), strain(lanes), min_j(lanes)
       ! the block's buffers (its particles' J and, with the bar's hat, their x - X, cells and velocities are
@@ -3918,6 +3930,8 @@ contains
             end if
          end do
          else if (plastic) then
+         gb(1:n) = plastic_strain(b0:b0 + n - 1)
+         hb(1:n) = hardening(b0:b0 + n - 1)
          do i = 1, n
             p = b0 + i - 1
             e = cell(p)
@@ -3946,15 +3960,15 @@ contains
                stress(p) = stress(p) + youngs_modulus*dstrain
                ! d gamma, zero in an elastic step: written without a branch, so that a loop over particles
                ! vectorises; an elastic step then subtracts and adds zeros, which leaves the hencky bits
-               increment = max(abs(stress(p)) - (yield_stress + hardening_modulus*hardening(p)), 0.0_dp)/ &
+               increment = max(abs(stress(p)) - (yield_stress + hardening_modulus*hb(i)), 0.0_dp)/ &
                            (youngs_modulus + hardening_modulus)
                stress(p) = stress(p) - sign(youngs_modulus*increment, stress(p))
-               plastic_strain(p) = plastic_strain(p) + sign(increment, stress(p))
-               hardening(p) = hardening(p) + increment
+               gb(i) = gb(i) + sign(increment, stress(p))
+               hb(i) = hb(i) + increment
                volume_ratio(p) = volume_ratio(p)*(1.0_dp + dstrain)
                sb(i) = stress(p)*stress(p)*volume_ratio(p)*strain_factor
                svb(i) = stress(p)*volume_ratio(p)*volume0
-               wb(i) = (yield_stress + 0.5_dp*hardening_modulus*hardening(p))*hardening(p)*volume0
+               wb(i) = (yield_stress + 0.5_dp*hardening_modulus*hb(i))*hb(i)*volume0
             end if
             if (relocates) then ! the parts at the new position
                l = fixed_l
@@ -3982,6 +3996,8 @@ contains
                right(i, 5) = r2*svb(i)
             end if
          end do
+         plastic_strain(b0:b0 + n - 1) = gb(1:n)
+         hardening(b0:b0 + n - 1) = hb(1:n)
          else
          do i = 1, n
             p = b0 + i - 1
@@ -4135,6 +4151,9 @@ contains
       logical :: linear, plastic
       ! the elastoplastic law's constants and the block's plastic work, summed in lanes
       real(dp) :: yield_stress, hardening_modulus, increment, wb(block_size), work(lanes)
+      ! the block's plastic strains and hardening variables, which the elastoplastic loop of the wide shapes
+      ! and of ASFLIP updates in place of the particles' (optional) arrays: see the loops
+      real(dp) :: gb(block_size), hb(block_size)
       type(largest_move_t) :: largest
       real(dp) :: displacement(lanes), kinetic(lanes), strain(lanes), min_j(lanes)
       ! the block's buffers (its particles' J and, with the bar's hat, their x - X, cells and velocities are
@@ -4246,6 +4265,8 @@ contains
             end if
          end do
          else if (plastic) then
+         gb(1:n) = plastic_strain(b0:b0 + n - 1)
+         hb(1:n) = hardening(b0:b0 + n - 1)
          do i = 1, n
             p = b0 + i - 1
             e = cell(p)
@@ -4274,15 +4295,15 @@ contains
                stress(p) = stress(p) + youngs_modulus*dstrain
                ! d gamma, zero in an elastic step: written without a branch, so that a loop over particles
                ! vectorises; an elastic step then subtracts and adds zeros, which leaves the hencky bits
-               increment = max(abs(stress(p)) - (yield_stress + hardening_modulus*hardening(p)), 0.0_dp)/ &
+               increment = max(abs(stress(p)) - (yield_stress + hardening_modulus*hb(i)), 0.0_dp)/ &
                            (youngs_modulus + hardening_modulus)
                stress(p) = stress(p) - sign(youngs_modulus*increment, stress(p))
-               plastic_strain(p) = plastic_strain(p) + sign(increment, stress(p))
-               hardening(p) = hardening(p) + increment
+               gb(i) = gb(i) + sign(increment, stress(p))
+               hb(i) = hb(i) + increment
                volume_ratio(p) = volume_ratio(p)*(1.0_dp + dstrain)
                sb(i) = stress(p)*stress(p)*volume_ratio(p)*strain_factor
                svb(i) = stress(p)*volume_ratio(p)*volume0
-               wb(i) = (yield_stress + 0.5_dp*hardening_modulus*hardening(p))*hardening(p)*volume0
+               wb(i) = (yield_stress + 0.5_dp*hardening_modulus*hb(i))*hb(i)*volume0
             end if
             if (relocates) then ! the parts at the new position
                l = fixed_l
@@ -4310,6 +4331,8 @@ contains
                right(i, 5) = r2*svb(i)
             end if
          end do
+         plastic_strain(b0:b0 + n - 1) = gb(1:n)
+         hardening(b0:b0 + n - 1) = hb(1:n)
          else
          do i = 1, n
             p = b0 + i - 1
@@ -4657,6 +4680,9 @@ contains
       logical :: linear, plastic
       ! the elastoplastic law's constants and the block's plastic work, summed in lanes
       real(dp) :: yield_stress, hardening_modulus, increment, wb(block_size), work(lanes)
+      ! the block's plastic strains and hardening variables, which the elastoplastic loop of the wide shapes
+      ! and of ASFLIP updates in place of the particles' (optional) arrays: see the loops
+      real(dp) :: gb(block_size), hb(block_size)
       type(largest_move_t) :: largest
       real(dp) :: displacement(lanes), kinetic(lanes), strain(lanes), min_j(lanes)
       ! the block's buffers (its particles' J and, with the bar's hat, their x - X, cells and velocities are
@@ -4768,6 +4794,8 @@ contains
             end if
          end do
          else if (plastic) then
+         gb(1:n) = plastic_strain(b0:b0 + n - 1)
+         hb(1:n) = hardening(b0:b0 + n - 1)
          do i = 1, n
             p = b0 + i - 1
             e = cell(p)
@@ -4796,15 +4824,15 @@ contains
                stress(p) = stress(p) + youngs_modulus*dstrain
                ! d gamma, zero in an elastic step: written without a branch, so that a loop over particles
                ! vectorises; an elastic step then subtracts and adds zeros, which leaves the hencky bits
-               increment = max(abs(stress(p)) - (yield_stress + hardening_modulus*hardening(p)), 0.0_dp)/ &
+               increment = max(abs(stress(p)) - (yield_stress + hardening_modulus*hb(i)), 0.0_dp)/ &
                            (youngs_modulus + hardening_modulus)
                stress(p) = stress(p) - sign(youngs_modulus*increment, stress(p))
-               plastic_strain(p) = plastic_strain(p) + sign(increment, stress(p))
-               hardening(p) = hardening(p) + increment
+               gb(i) = gb(i) + sign(increment, stress(p))
+               hb(i) = hb(i) + increment
                volume_ratio(p) = volume_ratio(p)*(1.0_dp + dstrain)
                sb(i) = stress(p)*stress(p)*volume_ratio(p)*strain_factor
                svb(i) = stress(p)*volume_ratio(p)*volume0
-               wb(i) = (yield_stress + 0.5_dp*hardening_modulus*hardening(p))*hardening(p)*volume0
+               wb(i) = (yield_stress + 0.5_dp*hardening_modulus*hb(i))*hb(i)*volume0
             end if
             if (relocates) then ! the parts at the new position
                l = fixed_l
@@ -4832,6 +4860,8 @@ contains
                right(i, 5) = r2*svb(i)
             end if
          end do
+         plastic_strain(b0:b0 + n - 1) = gb(1:n)
+         hardening(b0:b0 + n - 1) = hb(1:n)
          else
          do i = 1, n
             p = b0 + i - 1
@@ -5185,6 +5215,9 @@ contains
       logical :: linear, plastic
       ! the elastoplastic law's constants and the block's plastic work, summed in lanes
       real(dp) :: yield_stress, hardening_modulus, increment, wb(block_size), work(lanes)
+      ! the block's plastic strains and hardening variables, which the elastoplastic loop of the wide shapes
+      ! and of ASFLIP updates in place of the particles' (optional) arrays: see the loops
+      real(dp) :: gb(block_size), hb(block_size)
       type(largest_move_t) :: largest
       real(dp) :: displacement(lanes), kinetic(lanes), strain(lanes), min_j(lanes)
       ! the block's buffers (its particles' J and, with the bar's hat, their x - X, cells and velocities are
@@ -5302,6 +5335,8 @@ contains
             end if
          end do
          else if (plastic) then
+         gb(1:n) = plastic_strain(b0:b0 + n - 1)
+         hb(1:n) = hardening(b0:b0 + n - 1)
          do i = 1, n
             p = b0 + i - 1
             e = cell(p)
@@ -5336,15 +5371,15 @@ contains
                stress(p) = stress(p) + youngs_modulus*dstrain
                ! d gamma, zero in an elastic step: written without a branch, so that a loop over particles
                ! vectorises; an elastic step then subtracts and adds zeros, which leaves the hencky bits
-               increment = max(abs(stress(p)) - (yield_stress + hardening_modulus*hardening(p)), 0.0_dp)/ &
+               increment = max(abs(stress(p)) - (yield_stress + hardening_modulus*hb(i)), 0.0_dp)/ &
                            (youngs_modulus + hardening_modulus)
                stress(p) = stress(p) - sign(youngs_modulus*increment, stress(p))
-               plastic_strain(p) = plastic_strain(p) + sign(increment, stress(p))
-               hardening(p) = hardening(p) + increment
+               gb(i) = gb(i) + sign(increment, stress(p))
+               hb(i) = hb(i) + increment
                volume_ratio(p) = volume_ratio(p)*(1.0_dp + dstrain)
                sb(i) = stress(p)*stress(p)*volume_ratio(p)*strain_factor
                svb(i) = stress(p)*volume_ratio(p)*volume0
-               wb(i) = (yield_stress + 0.5_dp*hardening_modulus*hardening(p))*hardening(p)*volume0
+               wb(i) = (yield_stress + 0.5_dp*hardening_modulus*hb(i))*hb(i)*volume0
             end if
             if (relocates) then ! the parts at the new position (with the new J)
                l = box_half_length(half_length0, volume_ratio(p), 1.0_dp, inv_dx)
@@ -5372,6 +5407,8 @@ contains
                right(i, 5) = r2*svb(i)
             end if
          end do
+         plastic_strain(b0:b0 + n - 1) = gb(1:n)
+         hardening(b0:b0 + n - 1) = hb(1:n)
          else
          do i = 1, n
             p = b0 + i - 1
@@ -5531,6 +5568,9 @@ contains
       logical :: linear, plastic
       ! the elastoplastic law's constants and the block's plastic work, summed in lanes
       real(dp) :: yield_stress, hardening_modulus, increment, wb(block_size), work(lanes)
+      ! the block's plastic strains and hardening variables, which the elastoplastic loop of the wide shapes
+      ! and of ASFLIP updates in place of the particles' (optional) arrays: see the loops
+      real(dp) :: gb(block_size), hb(block_size)
       type(largest_move_t) :: largest
       real(dp) :: displacement(lanes), kinetic(lanes), strain(lanes), min_j(lanes)
       ! the block's buffers (its particles' J and, with the bar's hat, their x - X, cells and velocities are
@@ -5648,6 +5688,8 @@ contains
             end if
          end do
          else if (plastic) then
+         gb(1:n) = plastic_strain(b0:b0 + n - 1)
+         hb(1:n) = hardening(b0:b0 + n - 1)
          do i = 1, n
             p = b0 + i - 1
             e = cell(p)
@@ -5682,15 +5724,15 @@ contains
                stress(p) = stress(p) + youngs_modulus*dstrain
                ! d gamma, zero in an elastic step: written without a branch, so that a loop over particles
                ! vectorises; an elastic step then subtracts and adds zeros, which leaves the hencky bits
-               increment = max(abs(stress(p)) - (yield_stress + hardening_modulus*hardening(p)), 0.0_dp)/ &
+               increment = max(abs(stress(p)) - (yield_stress + hardening_modulus*hb(i)), 0.0_dp)/ &
                            (youngs_modulus + hardening_modulus)
                stress(p) = stress(p) - sign(youngs_modulus*increment, stress(p))
-               plastic_strain(p) = plastic_strain(p) + sign(increment, stress(p))
-               hardening(p) = hardening(p) + increment
+               gb(i) = gb(i) + sign(increment, stress(p))
+               hb(i) = hb(i) + increment
                volume_ratio(p) = volume_ratio(p)*(1.0_dp + dstrain)
                sb(i) = stress(p)*stress(p)*volume_ratio(p)*strain_factor
                svb(i) = stress(p)*volume_ratio(p)*volume0
-               wb(i) = (yield_stress + 0.5_dp*hardening_modulus*hardening(p))*hardening(p)*volume0
+               wb(i) = (yield_stress + 0.5_dp*hardening_modulus*hb(i))*hb(i)*volume0
             end if
             if (relocates) then ! the parts at the new position (with the new J)
                l = box_half_length(half_length0, volume_ratio(p), 1.0_dp, inv_dx)
@@ -5718,6 +5760,8 @@ contains
                right(i, 5) = r2*svb(i)
             end if
          end do
+         plastic_strain(b0:b0 + n - 1) = gb(1:n)
+         hardening(b0:b0 + n - 1) = hb(1:n)
          else
          do i = 1, n
             p = b0 + i - 1
@@ -6077,6 +6121,9 @@ contains
       logical :: linear, plastic
       ! the elastoplastic law's constants and the block's plastic work, summed in lanes
       real(dp) :: yield_stress, hardening_modulus, increment, wb(block_size), work(lanes)
+      ! the block's plastic strains and hardening variables, which the elastoplastic loop of the wide shapes
+      ! and of ASFLIP updates in place of the particles' (optional) arrays: see the loops
+      real(dp) :: gb(block_size), hb(block_size)
       type(largest_move_t) :: largest
       real(dp) :: displacement(lanes), kinetic(lanes), strain(lanes), min_j(lanes)
       ! the block's buffers (its particles' J and, with the bar's hat, their x - X, cells and velocities are
@@ -6194,6 +6241,8 @@ contains
             end if
          end do
          else if (plastic) then
+         gb(1:n) = plastic_strain(b0:b0 + n - 1)
+         hb(1:n) = hardening(b0:b0 + n - 1)
          do i = 1, n
             p = b0 + i - 1
             e = cell(p)
@@ -6228,15 +6277,15 @@ contains
                stress(p) = stress(p) + youngs_modulus*dstrain
                ! d gamma, zero in an elastic step: written without a branch, so that a loop over particles
                ! vectorises; an elastic step then subtracts and adds zeros, which leaves the hencky bits
-               increment = max(abs(stress(p)) - (yield_stress + hardening_modulus*hardening(p)), 0.0_dp)/ &
+               increment = max(abs(stress(p)) - (yield_stress + hardening_modulus*hb(i)), 0.0_dp)/ &
                            (youngs_modulus + hardening_modulus)
                stress(p) = stress(p) - sign(youngs_modulus*increment, stress(p))
-               plastic_strain(p) = plastic_strain(p) + sign(increment, stress(p))
-               hardening(p) = hardening(p) + increment
+               gb(i) = gb(i) + sign(increment, stress(p))
+               hb(i) = hb(i) + increment
                volume_ratio(p) = volume_ratio(p)*(1.0_dp + dstrain)
                sb(i) = stress(p)*stress(p)*volume_ratio(p)*strain_factor
                svb(i) = stress(p)*volume_ratio(p)*volume0
-               wb(i) = (yield_stress + 0.5_dp*hardening_modulus*hardening(p))*hardening(p)*volume0
+               wb(i) = (yield_stress + 0.5_dp*hardening_modulus*hb(i))*hb(i)*volume0
             end if
             if (relocates) then ! the parts at the new position (with the new J)
                l = box_half_length(half_length0, volume_ratio(p), 1.0_dp, inv_dx)
@@ -6264,6 +6313,8 @@ contains
                right(i, 5) = r2*svb(i)
             end if
          end do
+         plastic_strain(b0:b0 + n - 1) = gb(1:n)
+         hardening(b0:b0 + n - 1) = hb(1:n)
          else
          do i = 1, n
             p = b0 + i - 1
@@ -6612,6 +6663,9 @@ contains
       logical :: linear, plastic
       ! the elastoplastic law's constants and the block's plastic work, summed in lanes
       real(dp) :: yield_stress, hardening_modulus, increment, wb(block_size), work(lanes)
+      ! the block's plastic strains and hardening variables, which the elastoplastic loop of the wide shapes
+      ! and of ASFLIP updates in place of the particles' (optional) arrays: see the loops
+      real(dp) :: gb(block_size), hb(block_size)
       type(largest_move_t) :: largest
       real(dp) :: displacement(lanes), kinetic(lanes), strain(lanes), min_j(lanes)
       ! the block's buffers (its particles' J and, with the bar's hat, their x - X, cells and velocities are
@@ -6718,6 +6772,8 @@ contains
             end if
          end do
          else if (plastic) then
+         gb(1:n) = plastic_strain(b0:b0 + n - 1)
+         hb(1:n) = hardening(b0:b0 + n - 1)
          do i = 1, n
             p = b0 + i - 1
             e = cell(p)
@@ -6745,15 +6801,15 @@ contains
                stress(p) = stress(p) + youngs_modulus*dstrain
                ! d gamma, zero in an elastic step: written without a branch, so that a loop over particles
                ! vectorises; an elastic step then subtracts and adds zeros, which leaves the hencky bits
-               increment = max(abs(stress(p)) - (yield_stress + hardening_modulus*hardening(p)), 0.0_dp)/ &
+               increment = max(abs(stress(p)) - (yield_stress + hardening_modulus*hb(i)), 0.0_dp)/ &
                            (youngs_modulus + hardening_modulus)
                stress(p) = stress(p) - sign(youngs_modulus*increment, stress(p))
-               plastic_strain(p) = plastic_strain(p) + sign(increment, stress(p))
-               hardening(p) = hardening(p) + increment
+               gb(i) = gb(i) + sign(increment, stress(p))
+               hb(i) = hb(i) + increment
                volume_ratio(p) = volume_ratio(p)*(1.0_dp + dstrain)
                sb(i) = stress(p)*stress(p)*volume_ratio(p)*strain_factor
                svb(i) = stress(p)*volume_ratio(p)*volume0
-               wb(i) = (yield_stress + 0.5_dp*hardening_modulus*hardening(p))*hardening(p)*volume0
+               wb(i) = (yield_stress + 0.5_dp*hardening_modulus*hb(i))*hb(i)*volume0
             end if
             if (relocates) then ! the parts at the new position
                call spline_parts((x(p) - origin)*inv_dx, elements, node, r1, r2, t1, t2, flag)
@@ -6780,6 +6836,8 @@ contains
                right(i, 5) = r2*svb(i)
             end if
          end do
+         plastic_strain(b0:b0 + n - 1) = gb(1:n)
+         hardening(b0:b0 + n - 1) = hb(1:n)
          else
          do i = 1, n
             p = b0 + i - 1
@@ -6931,6 +6989,9 @@ contains
       logical :: linear, plastic
       ! the elastoplastic law's constants and the block's plastic work, summed in lanes
       real(dp) :: yield_stress, hardening_modulus, increment, wb(block_size), work(lanes)
+      ! the block's plastic strains and hardening variables, which the elastoplastic loop of the wide shapes
+      ! and of ASFLIP updates in place of the particles' (optional) arrays: see the loops
+      real(dp) :: gb(block_size), hb(block_size)
       type(largest_move_t) :: largest
       real(dp) :: displacement(lanes), kinetic(lanes), strain(lanes), min_j(lanes)
       ! the block's buffers (its particles' J and, with the bar's hat, their x - X, cells and velocities are
@@ -7037,6 +7098,8 @@ contains
             end if
          end do
          else if (plastic) then
+         gb(1:n) = plastic_strain(b0:b0 + n - 1)
+         hb(1:n) = hardening(b0:b0 + n - 1)
          do i = 1, n
             p = b0 + i - 1
             e = cell(p)
@@ -7064,15 +7127,15 @@ contains
                stress(p) = stress(p) + youngs_modulus*dstrain
                ! d gamma, zero in an elastic step: written without a branch, so that a loop over particles
                ! vectorises; an elastic step then subtracts and adds zeros, which leaves the hencky bits
-               increment = max(abs(stress(p)) - (yield_stress + hardening_modulus*hardening(p)), 0.0_dp)/ &
+               increment = max(abs(stress(p)) - (yield_stress + hardening_modulus*hb(i)), 0.0_dp)/ &
                            (youngs_modulus + hardening_modulus)
                stress(p) = stress(p) - sign(youngs_modulus*increment, stress(p))
-               plastic_strain(p) = plastic_strain(p) + sign(increment, stress(p))
-               hardening(p) = hardening(p) + increment
+               gb(i) = gb(i) + sign(increment, stress(p))
+               hb(i) = hb(i) + increment
                volume_ratio(p) = volume_ratio(p)*(1.0_dp + dstrain)
                sb(i) = stress(p)*stress(p)*volume_ratio(p)*strain_factor
                svb(i) = stress(p)*volume_ratio(p)*volume0
-               wb(i) = (yield_stress + 0.5_dp*hardening_modulus*hardening(p))*hardening(p)*volume0
+               wb(i) = (yield_stress + 0.5_dp*hardening_modulus*hb(i))*hb(i)*volume0
             end if
             if (relocates) then ! the parts at the new position
                call spline_parts((x(p) - origin)*inv_dx, elements, node, r1, r2, t1, t2, flag)
@@ -7099,6 +7162,8 @@ contains
                right(i, 5) = r2*svb(i)
             end if
          end do
+         plastic_strain(b0:b0 + n - 1) = gb(1:n)
+         hardening(b0:b0 + n - 1) = hb(1:n)
          else
          do i = 1, n
             p = b0 + i - 1
@@ -7439,6 +7504,9 @@ contains
       logical :: linear, plastic
       ! the elastoplastic law's constants and the block's plastic work, summed in lanes
       real(dp) :: yield_stress, hardening_modulus, increment, wb(block_size), work(lanes)
+      ! the block's plastic strains and hardening variables, which the elastoplastic loop of the wide shapes
+      ! and of ASFLIP updates in place of the particles' (optional) arrays: see the loops
+      real(dp) :: gb(block_size), hb(block_size)
       type(largest_move_t) :: largest
       real(dp) :: displacement(lanes), kinetic(lanes), strain(lanes), min_j(lanes)
       ! the block's buffers (its particles' J and, with the bar's hat, their x - X, cells and velocities are
@@ -7545,6 +7613,8 @@ contains
             end if
          end do
          else if (plastic) then
+         gb(1:n) = plastic_strain(b0:b0 + n - 1)
+         hb(1:n) = hardening(b0:b0 + n - 1)
          do i = 1, n
             p = b0 + i - 1
             e = cell(p)
@@ -7572,15 +7642,15 @@ contains
                stress(p) = stress(p) + youngs_modulus*dstrain
                ! d gamma, zero in an elastic step: written without a branch, so that a loop over particles
                ! vectorises; an elastic step then subtracts and adds zeros, which leaves the hencky bits
-               increment = max(abs(stress(p)) - (yield_stress + hardening_modulus*hardening(p)), 0.0_dp)/ &
+               increment = max(abs(stress(p)) - (yield_stress + hardening_modulus*hb(i)), 0.0_dp)/ &
                            (youngs_modulus + hardening_modulus)
                stress(p) = stress(p) - sign(youngs_modulus*increment, stress(p))
-               plastic_strain(p) = plastic_strain(p) + sign(increment, stress(p))
-               hardening(p) = hardening(p) + increment
+               gb(i) = gb(i) + sign(increment, stress(p))
+               hb(i) = hb(i) + increment
                volume_ratio(p) = volume_ratio(p)*(1.0_dp + dstrain)
                sb(i) = stress(p)*stress(p)*volume_ratio(p)*strain_factor
                svb(i) = stress(p)*volume_ratio(p)*volume0
-               wb(i) = (yield_stress + 0.5_dp*hardening_modulus*hardening(p))*hardening(p)*volume0
+               wb(i) = (yield_stress + 0.5_dp*hardening_modulus*hb(i))*hb(i)*volume0
             end if
             if (relocates) then ! the parts at the new position
                call spline_parts((x(p) - origin)*inv_dx, elements, node, r1, r2, t1, t2, flag)
@@ -7607,6 +7677,8 @@ contains
                right(i, 5) = r2*svb(i)
             end if
          end do
+         plastic_strain(b0:b0 + n - 1) = gb(1:n)
+         hardening(b0:b0 + n - 1) = hb(1:n)
          else
          do i = 1, n
             p = b0 + i - 1
@@ -7955,6 +8027,9 @@ contains
       logical :: linear, plastic
       ! the elastoplastic law's constants and the block's plastic work, summed in lanes
       real(dp) :: yield_stress, hardening_modulus, increment, wb(block_size), work(lanes)
+      ! the block's plastic strains and hardening variables, which the elastoplastic loop of the wide shapes
+      ! and of ASFLIP updates in place of the particles' (optional) arrays: see the loops
+      real(dp) :: gb(block_size), hb(block_size)
       type(largest_move_t) :: largest
       real(dp) :: displacement(lanes), kinetic(lanes), strain(lanes), min_j(lanes)
       ! the block's buffers (its particles' J and, with the bar's hat, their x - X, cells and velocities are
@@ -8066,6 +8141,8 @@ contains
             end if
          end do
          else if (plastic) then
+         gb(1:n) = plastic_strain(b0:b0 + n - 1)
+         hb(1:n) = hardening(b0:b0 + n - 1)
          do i = 1, n
             p = b0 + i - 1
             e = cell(p)
@@ -8094,15 +8171,15 @@ contains
                stress(p) = stress(p) + youngs_modulus*dstrain
                ! d gamma, zero in an elastic step: written without a branch, so that a loop over particles
                ! vectorises; an elastic step then subtracts and adds zeros, which leaves the hencky bits
-               increment = max(abs(stress(p)) - (yield_stress + hardening_modulus*hardening(p)), 0.0_dp)/ &
+               increment = max(abs(stress(p)) - (yield_stress + hardening_modulus*hb(i)), 0.0_dp)/ &
                            (youngs_modulus + hardening_modulus)
                stress(p) = stress(p) - sign(youngs_modulus*increment, stress(p))
-               plastic_strain(p) = plastic_strain(p) + sign(increment, stress(p))
-               hardening(p) = hardening(p) + increment
+               gb(i) = gb(i) + sign(increment, stress(p))
+               hb(i) = hb(i) + increment
                volume_ratio(p) = volume_ratio(p)*(1.0_dp + dstrain)
                sb(i) = stress(p)*stress(p)*volume_ratio(p)*strain_factor
                svb(i) = stress(p)*volume_ratio(p)*volume0
-               wb(i) = (yield_stress + 0.5_dp*hardening_modulus*hardening(p))*hardening(p)*volume0
+               wb(i) = (yield_stress + 0.5_dp*hardening_modulus*hb(i))*hb(i)*volume0
             end if
             if (relocates) then ! the spline at the new position
                call bspline3_locate(x(p), origin, inv_dx, elements, node, tq, flag)
@@ -8133,6 +8210,8 @@ contains
                right(i, 5) = r3*svb(i)
             end if
          end do
+         plastic_strain(b0:b0 + n - 1) = gb(1:n)
+         hardening(b0:b0 + n - 1) = hb(1:n)
          else
          do i = 1, n
             p = b0 + i - 1
@@ -8292,6 +8371,9 @@ contains
       logical :: linear, plastic
       ! the elastoplastic law's constants and the block's plastic work, summed in lanes
       real(dp) :: yield_stress, hardening_modulus, increment, wb(block_size), work(lanes)
+      ! the block's plastic strains and hardening variables, which the elastoplastic loop of the wide shapes
+      ! and of ASFLIP updates in place of the particles' (optional) arrays: see the loops
+      real(dp) :: gb(block_size), hb(block_size)
       type(largest_move_t) :: largest
       real(dp) :: displacement(lanes), kinetic(lanes), strain(lanes), min_j(lanes)
       ! the block's buffers (its particles' J and, with the bar's hat, their x - X, cells and velocities are
@@ -8403,6 +8485,8 @@ contains
             end if
          end do
          else if (plastic) then
+         gb(1:n) = plastic_strain(b0:b0 + n - 1)
+         hb(1:n) = hardening(b0:b0 + n - 1)
          do i = 1, n
             p = b0 + i - 1
             e = cell(p)
@@ -8431,15 +8515,15 @@ contains
                stress(p) = stress(p) + youngs_modulus*dstrain
                ! d gamma, zero in an elastic step: written without a branch, so that a loop over particles
                ! vectorises; an elastic step then subtracts and adds zeros, which leaves the hencky bits
-               increment = max(abs(stress(p)) - (yield_stress + hardening_modulus*hardening(p)), 0.0_dp)/ &
+               increment = max(abs(stress(p)) - (yield_stress + hardening_modulus*hb(i)), 0.0_dp)/ &
                            (youngs_modulus + hardening_modulus)
                stress(p) = stress(p) - sign(youngs_modulus*increment, stress(p))
-               plastic_strain(p) = plastic_strain(p) + sign(increment, stress(p))
-               hardening(p) = hardening(p) + increment
+               gb(i) = gb(i) + sign(increment, stress(p))
+               hb(i) = hb(i) + increment
                volume_ratio(p) = volume_ratio(p)*(1.0_dp + dstrain)
                sb(i) = stress(p)*stress(p)*volume_ratio(p)*strain_factor
                svb(i) = stress(p)*volume_ratio(p)*volume0
-               wb(i) = (yield_stress + 0.5_dp*hardening_modulus*hardening(p))*hardening(p)*volume0
+               wb(i) = (yield_stress + 0.5_dp*hardening_modulus*hb(i))*hb(i)*volume0
             end if
             if (relocates) then ! the spline at the new position
                call bspline3_locate(x(p), origin, inv_dx, elements, node, tq, flag)
@@ -8470,6 +8554,8 @@ contains
                right(i, 5) = r3*svb(i)
             end if
          end do
+         plastic_strain(b0:b0 + n - 1) = gb(1:n)
+         hardening(b0:b0 + n - 1) = hb(1:n)
          else
          do i = 1, n
             p = b0 + i - 1
@@ -8826,6 +8912,9 @@ contains
       logical :: linear, plastic
       ! the elastoplastic law's constants and the block's plastic work, summed in lanes
       real(dp) :: yield_stress, hardening_modulus, increment, wb(block_size), work(lanes)
+      ! the block's plastic strains and hardening variables, which the elastoplastic loop of the wide shapes
+      ! and of ASFLIP updates in place of the particles' (optional) arrays: see the loops
+      real(dp) :: gb(block_size), hb(block_size)
       type(largest_move_t) :: largest
       real(dp) :: displacement(lanes), kinetic(lanes), strain(lanes), min_j(lanes)
       ! the block's buffers (its particles' J and, with the bar's hat, their x - X, cells and velocities are
@@ -8937,6 +9026,8 @@ contains
             end if
          end do
          else if (plastic) then
+         gb(1:n) = plastic_strain(b0:b0 + n - 1)
+         hb(1:n) = hardening(b0:b0 + n - 1)
          do i = 1, n
             p = b0 + i - 1
             e = cell(p)
@@ -8965,15 +9056,15 @@ contains
                stress(p) = stress(p) + youngs_modulus*dstrain
                ! d gamma, zero in an elastic step: written without a branch, so that a loop over particles
                ! vectorises; an elastic step then subtracts and adds zeros, which leaves the hencky bits
-               increment = max(abs(stress(p)) - (yield_stress + hardening_modulus*hardening(p)), 0.0_dp)/ &
+               increment = max(abs(stress(p)) - (yield_stress + hardening_modulus*hb(i)), 0.0_dp)/ &
                            (youngs_modulus + hardening_modulus)
                stress(p) = stress(p) - sign(youngs_modulus*increment, stress(p))
-               plastic_strain(p) = plastic_strain(p) + sign(increment, stress(p))
-               hardening(p) = hardening(p) + increment
+               gb(i) = gb(i) + sign(increment, stress(p))
+               hb(i) = hb(i) + increment
                volume_ratio(p) = volume_ratio(p)*(1.0_dp + dstrain)
                sb(i) = stress(p)*stress(p)*volume_ratio(p)*strain_factor
                svb(i) = stress(p)*volume_ratio(p)*volume0
-               wb(i) = (yield_stress + 0.5_dp*hardening_modulus*hardening(p))*hardening(p)*volume0
+               wb(i) = (yield_stress + 0.5_dp*hardening_modulus*hb(i))*hb(i)*volume0
             end if
             if (relocates) then ! the spline at the new position
                call bspline3_locate(x(p), origin, inv_dx, elements, node, tq, flag)
@@ -9004,6 +9095,8 @@ contains
                right(i, 5) = r3*svb(i)
             end if
          end do
+         plastic_strain(b0:b0 + n - 1) = gb(1:n)
+         hardening(b0:b0 + n - 1) = hb(1:n)
          else
          do i = 1, n
             p = b0 + i - 1
@@ -9331,6 +9424,9 @@ contains
       logical :: linear, plastic
       ! the elastoplastic law's constants and the block's plastic work, summed in lanes
       real(dp) :: yield_stress, hardening_modulus, increment, wb(block_size), work(lanes)
+      ! the block's plastic strains and hardening variables, which the elastoplastic loop of the wide shapes
+      ! and of ASFLIP updates in place of the particles' (optional) arrays: see the loops
+      real(dp) :: gb(block_size), hb(block_size)
       type(largest_move_t) :: largest
       real(dp) :: displacement(lanes), kinetic(lanes), strain(lanes), min_j(lanes)
       ! the block's buffers (its particles' J and, with the bar's hat, their x - X, cells and velocities are
@@ -9593,6 +9689,9 @@ contains
       logical :: linear, plastic
       ! the elastoplastic law's constants and the block's plastic work, summed in lanes
       real(dp) :: yield_stress, hardening_modulus, increment, wb(block_size), work(lanes)
+      ! the block's plastic strains and hardening variables, which the elastoplastic loop of the wide shapes
+      ! and of ASFLIP updates in place of the particles' (optional) arrays: see the loops
+      real(dp) :: gb(block_size), hb(block_size)
       type(largest_move_t) :: largest
       real(dp) :: displacement(lanes), kinetic(lanes), strain(lanes), min_j(lanes)
       ! the block's buffers (its particles' J and, with the bar's hat, their x - X, cells and velocities are
@@ -10023,6 +10122,9 @@ contains
       logical :: linear, plastic
       ! the elastoplastic law's constants and the block's plastic work, summed in lanes
       real(dp) :: yield_stress, hardening_modulus, increment, wb(block_size), work(lanes)
+      ! the block's plastic strains and hardening variables, which the elastoplastic loop of the wide shapes
+      ! and of ASFLIP updates in place of the particles' (optional) arrays: see the loops
+      real(dp) :: gb(block_size), hb(block_size)
       type(largest_move_t) :: largest
       real(dp) :: displacement(lanes), kinetic(lanes), strain(lanes), min_j(lanes)
       ! the block's buffers (its particles' J and, with the bar's hat, their x - X, cells and velocities are
@@ -10792,6 +10894,9 @@ contains
       logical :: linear, plastic
       ! the elastoplastic law's constants and the block's plastic work, summed in lanes
       real(dp) :: yield_stress, hardening_modulus, increment, wb(block_size), work(lanes)
+      ! the block's plastic strains and hardening variables, which the elastoplastic loop of the wide shapes
+      ! and of ASFLIP updates in place of the particles' (optional) arrays: see the loops
+      real(dp) :: gb(block_size), hb(block_size)
       type(largest_move_t) :: largest
       real(dp) :: displacement(lanes), kinetic(lanes), strain(lanes), min_j(lanes)
       ! the block's buffers (its particles' J and, with the bar's hat, their x - X, cells and velocities are
@@ -11059,6 +11164,9 @@ contains
       logical :: linear, plastic
       ! the elastoplastic law's constants and the block's plastic work, summed in lanes
       real(dp) :: yield_stress, hardening_modulus, increment, wb(block_size), work(lanes)
+      ! the block's plastic strains and hardening variables, which the elastoplastic loop of the wide shapes
+      ! and of ASFLIP updates in place of the particles' (optional) arrays: see the loops
+      real(dp) :: gb(block_size), hb(block_size)
       type(largest_move_t) :: largest
       real(dp) :: displacement(lanes), kinetic(lanes), strain(lanes), min_j(lanes)
       ! the block's buffers (its particles' J and, with the bar's hat, their x - X, cells and velocities are
@@ -11497,6 +11605,9 @@ contains
       logical :: linear, plastic
       ! the elastoplastic law's constants and the block's plastic work, summed in lanes
       real(dp) :: yield_stress, hardening_modulus, increment, wb(block_size), work(lanes)
+      ! the block's plastic strains and hardening variables, which the elastoplastic loop of the wide shapes
+      ! and of ASFLIP updates in place of the particles' (optional) arrays: see the loops
+      real(dp) :: gb(block_size), hb(block_size)
       type(largest_move_t) :: largest
       real(dp) :: displacement(lanes), kinetic(lanes), strain(lanes), min_j(lanes)
       ! the block's buffers (its particles' J and, with the bar's hat, their x - X, cells and velocities are
@@ -12290,6 +12401,9 @@ contains
       logical :: linear, plastic
       ! the elastoplastic law's constants and the block's plastic work, summed in lanes
       real(dp) :: yield_stress, hardening_modulus, increment, wb(block_size), work(lanes)
+      ! the block's plastic strains and hardening variables, which the elastoplastic loop of the wide shapes
+      ! and of ASFLIP updates in place of the particles' (optional) arrays: see the loops
+      real(dp) :: gb(block_size), hb(block_size)
       type(largest_move_t) :: largest
       real(dp) :: displacement(lanes), kinetic(lanes), strain(lanes), min_j(lanes)
       ! the block's buffers (its particles' J and, with the bar's hat, their x - X, cells and velocities are
@@ -12596,6 +12710,9 @@ contains
       logical :: linear, plastic
       ! the elastoplastic law's constants and the block's plastic work, summed in lanes
       real(dp) :: yield_stress, hardening_modulus, increment, wb(block_size), work(lanes)
+      ! the block's plastic strains and hardening variables, which the elastoplastic loop of the wide shapes
+      ! and of ASFLIP updates in place of the particles' (optional) arrays: see the loops
+      real(dp) :: gb(block_size), hb(block_size)
       type(largest_move_t) :: largest
       real(dp) :: displacement(lanes), kinetic(lanes), strain(lanes), min_j(lanes)
       ! the block's buffers (its particles' J and, with the bar's hat, their x - X, cells and velocities are
@@ -13086,6 +13203,9 @@ contains
       logical :: linear, plastic
       ! the elastoplastic law's constants and the block's plastic work, summed in lanes
       real(dp) :: yield_stress, hardening_modulus, increment, wb(block_size), work(lanes)
+      ! the block's plastic strains and hardening variables, which the elastoplastic loop of the wide shapes
+      ! and of ASFLIP updates in place of the particles' (optional) arrays: see the loops
+      real(dp) :: gb(block_size), hb(block_size)
       type(largest_move_t) :: largest
       real(dp) :: displacement(lanes), kinetic(lanes), strain(lanes), min_j(lanes)
       ! the block's buffers (its particles' J and, with the bar's hat, their x - X, cells and velocities are
@@ -13944,6 +14064,9 @@ contains
       logical :: linear, plastic
       ! the elastoplastic law's constants and the block's plastic work, summed in lanes
       real(dp) :: yield_stress, hardening_modulus, increment, wb(block_size), work(lanes)
+      ! the block's plastic strains and hardening variables, which the elastoplastic loop of the wide shapes
+      ! and of ASFLIP updates in place of the particles' (optional) arrays: see the loops
+      real(dp) :: gb(block_size), hb(block_size)
       type(largest_move_t) :: largest
       real(dp) :: displacement(lanes), kinetic(lanes), strain(lanes), min_j(lanes)
       ! the block's buffers (its particles' J and, with the bar's hat, their x - X, cells and velocities are
@@ -14244,6 +14367,9 @@ contains
       logical :: linear, plastic
       ! the elastoplastic law's constants and the block's plastic work, summed in lanes
       real(dp) :: yield_stress, hardening_modulus, increment, wb(block_size), work(lanes)
+      ! the block's plastic strains and hardening variables, which the elastoplastic loop of the wide shapes
+      ! and of ASFLIP updates in place of the particles' (optional) arrays: see the loops
+      real(dp) :: gb(block_size), hb(block_size)
       type(largest_move_t) :: largest
       real(dp) :: displacement(lanes), kinetic(lanes), strain(lanes), min_j(lanes)
       ! the block's buffers (its particles' J and, with the bar's hat, their x - X, cells and velocities are
@@ -14728,6 +14854,9 @@ contains
       logical :: linear, plastic
       ! the elastoplastic law's constants and the block's plastic work, summed in lanes
       real(dp) :: yield_stress, hardening_modulus, increment, wb(block_size), work(lanes)
+      ! the block's plastic strains and hardening variables, which the elastoplastic loop of the wide shapes
+      ! and of ASFLIP updates in place of the particles' (optional) arrays: see the loops
+      real(dp) :: gb(block_size), hb(block_size)
       type(largest_move_t) :: largest
       real(dp) :: displacement(lanes), kinetic(lanes), strain(lanes), min_j(lanes)
       ! the block's buffers (its particles' J and, with the bar's hat, their x - X, cells and velocities are
@@ -15585,6 +15714,9 @@ contains
       logical :: linear, plastic
       ! the elastoplastic law's constants and the block's plastic work, summed in lanes
       real(dp) :: yield_stress, hardening_modulus, increment, wb(block_size), work(lanes)
+      ! the block's plastic strains and hardening variables, which the elastoplastic loop of the wide shapes
+      ! and of ASFLIP updates in place of the particles' (optional) arrays: see the loops
+      real(dp) :: gb(block_size), hb(block_size)
       type(largest_move_t) :: largest
       real(dp) :: displacement(lanes), kinetic(lanes), strain(lanes), min_j(lanes)
       ! the block's buffers (its particles' J and, with the bar's hat, their x - X, cells and velocities are
@@ -15900,6 +16032,9 @@ contains
       logical :: linear, plastic
       ! the elastoplastic law's constants and the block's plastic work, summed in lanes
       real(dp) :: yield_stress, hardening_modulus, increment, wb(block_size), work(lanes)
+      ! the block's plastic strains and hardening variables, which the elastoplastic loop of the wide shapes
+      ! and of ASFLIP updates in place of the particles' (optional) arrays: see the loops
+      real(dp) :: gb(block_size), hb(block_size)
       type(largest_move_t) :: largest
       real(dp) :: displacement(lanes), kinetic(lanes), strain(lanes), min_j(lanes)
       ! the block's buffers (its particles' J and, with the bar's hat, their x - X, cells and velocities are
@@ -16404,6 +16539,9 @@ contains
       logical :: linear, plastic
       ! the elastoplastic law's constants and the block's plastic work, summed in lanes
       real(dp) :: yield_stress, hardening_modulus, increment, wb(block_size), work(lanes)
+      ! the block's plastic strains and hardening variables, which the elastoplastic loop of the wide shapes
+      ! and of ASFLIP updates in place of the particles' (optional) arrays: see the loops
+      real(dp) :: gb(block_size), hb(block_size)
       type(largest_move_t) :: largest
       real(dp) :: displacement(lanes), kinetic(lanes), strain(lanes), min_j(lanes)
       ! the block's buffers (its particles' J and, with the bar's hat, their x - X, cells and velocities are
@@ -17291,6 +17429,9 @@ contains
       logical :: linear, plastic
       ! the elastoplastic law's constants and the block's plastic work, summed in lanes
       real(dp) :: yield_stress, hardening_modulus, increment, wb(block_size), work(lanes)
+      ! the block's plastic strains and hardening variables, which the elastoplastic loop of the wide shapes
+      ! and of ASFLIP updates in place of the particles' (optional) arrays: see the loops
+      real(dp) :: gb(block_size), hb(block_size)
       type(largest_move_t) :: largest
       real(dp) :: displacement(lanes), kinetic(lanes), strain(lanes), min_j(lanes)
       ! the block's buffers (its particles' J and, with the bar's hat, their x - X, cells and velocities are
@@ -17583,6 +17724,9 @@ contains
       logical :: linear, plastic
       ! the elastoplastic law's constants and the block's plastic work, summed in lanes
       real(dp) :: yield_stress, hardening_modulus, increment, wb(block_size), work(lanes)
+      ! the block's plastic strains and hardening variables, which the elastoplastic loop of the wide shapes
+      ! and of ASFLIP updates in place of the particles' (optional) arrays: see the loops
+      real(dp) :: gb(block_size), hb(block_size)
       type(largest_move_t) :: largest
       real(dp) :: displacement(lanes), kinetic(lanes), strain(lanes), min_j(lanes)
       ! the block's buffers (its particles' J and, with the bar's hat, their x - X, cells and velocities are
@@ -18069,6 +18213,9 @@ contains
       logical :: linear, plastic
       ! the elastoplastic law's constants and the block's plastic work, summed in lanes
       real(dp) :: yield_stress, hardening_modulus, increment, wb(block_size), work(lanes)
+      ! the block's plastic strains and hardening variables, which the elastoplastic loop of the wide shapes
+      ! and of ASFLIP updates in place of the particles' (optional) arrays: see the loops
+      real(dp) :: gb(block_size), hb(block_size)
       type(largest_move_t) :: largest
       real(dp) :: displacement(lanes), kinetic(lanes), strain(lanes), min_j(lanes)
       ! the block's buffers (its particles' J and, with the bar's hat, their x - X, cells and velocities are
@@ -18934,6 +19081,9 @@ contains
       logical :: linear, plastic
       ! the elastoplastic law's constants and the block's plastic work, summed in lanes
       real(dp) :: yield_stress, hardening_modulus, increment, wb(block_size), work(lanes)
+      ! the block's plastic strains and hardening variables, which the elastoplastic loop of the wide shapes
+      ! and of ASFLIP updates in place of the particles' (optional) arrays: see the loops
+      real(dp) :: gb(block_size), hb(block_size)
       type(largest_move_t) :: largest
       real(dp) :: displacement(lanes), kinetic(lanes), strain(lanes), min_j(lanes)
       ! the block's buffers (its particles' J and, with the bar's hat, their x - X, cells and velocities are
@@ -19040,6 +19190,8 @@ contains
             if (moves .or. relocates) vpb(i) = v(p)
          end do
          else if (plastic) then
+         gb(1:n) = plastic_strain(b0:b0 + n - 1)
+         hb(1:n) = hardening(b0:b0 + n - 1)
          do i = 1, n
             p = b0 + i - 1
             e = cell(p)
@@ -19077,15 +19229,15 @@ contains
                stress(p) = stress(p) + youngs_modulus*dstrain
                ! d gamma, zero in an elastic step: written without a branch, so that a loop over particles
                ! vectorises; an elastic step then subtracts and adds zeros, which leaves the hencky bits
-               increment = max(abs(stress(p)) - (yield_stress + hardening_modulus*hardening(p)), 0.0_dp)/ &
+               increment = max(abs(stress(p)) - (yield_stress + hardening_modulus*hb(i)), 0.0_dp)/ &
                            (youngs_modulus + hardening_modulus)
                stress(p) = stress(p) - sign(youngs_modulus*increment, stress(p))
-               plastic_strain(p) = plastic_strain(p) + sign(increment, stress(p))
-               hardening(p) = hardening(p) + increment
+               gb(i) = gb(i) + sign(increment, stress(p))
+               hb(i) = hb(i) + increment
                volume_ratio(p) = volume_ratio(p)*(1.0_dp + dstrain)
                sb(i) = stress(p)*stress(p)*volume_ratio(p)*strain_factor
                svb(i) = stress(p)*volume_ratio(p)*volume0
-               wb(i) = (yield_stress + 0.5_dp*hardening_modulus*hardening(p))*hardening(p)*volume0
+               wb(i) = (yield_stress + 0.5_dp*hardening_modulus*hb(i))*hb(i)*volume0
             else if (iand(shares, share_stress) /= 0) then ! (an initial mapping: the stress as it is)
                svb(i) = stress(p)*volume_ratio(p)*volume0
             end if
@@ -19098,6 +19250,8 @@ contains
             end if
             if (moves .or. relocates) vpb(i) = v(p)
          end do
+         plastic_strain(b0:b0 + n - 1) = gb(1:n)
+         hardening(b0:b0 + n - 1) = hb(1:n)
          else
          do i = 1, n
             p = b0 + i - 1
@@ -19241,6 +19395,9 @@ contains
       logical :: linear, plastic
       ! the elastoplastic law's constants and the block's plastic work, summed in lanes
       real(dp) :: yield_stress, hardening_modulus, increment, wb(block_size), work(lanes)
+      ! the block's plastic strains and hardening variables, which the elastoplastic loop of the wide shapes
+      ! and of ASFLIP updates in place of the particles' (optional) arrays: see the loops
+      real(dp) :: gb(block_size), hb(block_size)
       type(largest_move_t) :: largest
       real(dp) :: displacement(lanes), kinetic(lanes), strain(lanes), min_j(lanes)
       ! the block's buffers (its particles' J and, with the bar's hat, their x - X, cells and velocities are
@@ -19347,6 +19504,8 @@ contains
             if (moves .or. relocates) vpb(i) = v(p)
          end do
          else if (plastic) then
+         gb(1:n) = plastic_strain(b0:b0 + n - 1)
+         hb(1:n) = hardening(b0:b0 + n - 1)
          do i = 1, n
             p = b0 + i - 1
             e = cell(p)
@@ -19384,15 +19543,15 @@ contains
                stress(p) = stress(p) + youngs_modulus*dstrain
                ! d gamma, zero in an elastic step: written without a branch, so that a loop over particles
                ! vectorises; an elastic step then subtracts and adds zeros, which leaves the hencky bits
-               increment = max(abs(stress(p)) - (yield_stress + hardening_modulus*hardening(p)), 0.0_dp)/ &
+               increment = max(abs(stress(p)) - (yield_stress + hardening_modulus*hb(i)), 0.0_dp)/ &
                            (youngs_modulus + hardening_modulus)
                stress(p) = stress(p) - sign(youngs_modulus*increment, stress(p))
-               plastic_strain(p) = plastic_strain(p) + sign(increment, stress(p))
-               hardening(p) = hardening(p) + increment
+               gb(i) = gb(i) + sign(increment, stress(p))
+               hb(i) = hb(i) + increment
                volume_ratio(p) = volume_ratio(p)*(1.0_dp + dstrain)
                sb(i) = stress(p)*stress(p)*volume_ratio(p)*strain_factor
                svb(i) = stress(p)*volume_ratio(p)*volume0
-               wb(i) = (yield_stress + 0.5_dp*hardening_modulus*hardening(p))*hardening(p)*volume0
+               wb(i) = (yield_stress + 0.5_dp*hardening_modulus*hb(i))*hb(i)*volume0
             else if (iand(shares, share_stress) /= 0) then ! (an initial mapping: the stress as it is)
                svb(i) = stress(p)*volume_ratio(p)*volume0
             end if
@@ -19405,6 +19564,8 @@ contains
             end if
             if (moves .or. relocates) vpb(i) = v(p)
          end do
+         plastic_strain(b0:b0 + n - 1) = gb(1:n)
+         hardening(b0:b0 + n - 1) = hb(1:n)
          else
          do i = 1, n
             p = b0 + i - 1
@@ -19733,6 +19894,9 @@ contains
       logical :: linear, plastic
       ! the elastoplastic law's constants and the block's plastic work, summed in lanes
       real(dp) :: yield_stress, hardening_modulus, increment, wb(block_size), work(lanes)
+      ! the block's plastic strains and hardening variables, which the elastoplastic loop of the wide shapes
+      ! and of ASFLIP updates in place of the particles' (optional) arrays: see the loops
+      real(dp) :: gb(block_size), hb(block_size)
       type(largest_move_t) :: largest
       real(dp) :: displacement(lanes), kinetic(lanes), strain(lanes), min_j(lanes)
       ! the block's buffers (its particles' J and, with the bar's hat, their x - X, cells and velocities are
@@ -19839,6 +20003,8 @@ contains
             if (moves .or. relocates) vpb(i) = v(p)
          end do
          else if (plastic) then
+         gb(1:n) = plastic_strain(b0:b0 + n - 1)
+         hb(1:n) = hardening(b0:b0 + n - 1)
          do i = 1, n
             p = b0 + i - 1
             e = cell(p)
@@ -19876,15 +20042,15 @@ contains
                stress(p) = stress(p) + youngs_modulus*dstrain
                ! d gamma, zero in an elastic step: written without a branch, so that a loop over particles
                ! vectorises; an elastic step then subtracts and adds zeros, which leaves the hencky bits
-               increment = max(abs(stress(p)) - (yield_stress + hardening_modulus*hardening(p)), 0.0_dp)/ &
+               increment = max(abs(stress(p)) - (yield_stress + hardening_modulus*hb(i)), 0.0_dp)/ &
                            (youngs_modulus + hardening_modulus)
                stress(p) = stress(p) - sign(youngs_modulus*increment, stress(p))
-               plastic_strain(p) = plastic_strain(p) + sign(increment, stress(p))
-               hardening(p) = hardening(p) + increment
+               gb(i) = gb(i) + sign(increment, stress(p))
+               hb(i) = hb(i) + increment
                volume_ratio(p) = volume_ratio(p)*(1.0_dp + dstrain)
                sb(i) = stress(p)*stress(p)*volume_ratio(p)*strain_factor
                svb(i) = stress(p)*volume_ratio(p)*volume0
-               wb(i) = (yield_stress + 0.5_dp*hardening_modulus*hardening(p))*hardening(p)*volume0
+               wb(i) = (yield_stress + 0.5_dp*hardening_modulus*hb(i))*hb(i)*volume0
             else if (iand(shares, share_stress) /= 0) then ! (an initial mapping: the stress as it is)
                svb(i) = stress(p)*volume_ratio(p)*volume0
             end if
@@ -19897,6 +20063,8 @@ contains
             end if
             if (moves .or. relocates) vpb(i) = v(p)
          end do
+         plastic_strain(b0:b0 + n - 1) = gb(1:n)
+         hardening(b0:b0 + n - 1) = hb(1:n)
          else
          do i = 1, n
             p = b0 + i - 1
@@ -20585,6 +20753,9 @@ contains
       logical :: linear, plastic
       ! the elastoplastic law's constants and the block's plastic work, summed in lanes
       real(dp) :: yield_stress, hardening_modulus, increment, wb(block_size), work(lanes)
+      ! the block's plastic strains and hardening variables, which the elastoplastic loop of the wide shapes
+      ! and of ASFLIP updates in place of the particles' (optional) arrays: see the loops
+      real(dp) :: gb(block_size), hb(block_size)
       type(largest_move_t) :: largest
       real(dp) :: displacement(lanes), kinetic(lanes), strain(lanes), min_j(lanes)
       ! the block's buffers (its particles' J and, with the bar's hat, their x - X, cells and velocities are
@@ -20868,6 +21039,9 @@ contains
       logical :: linear, plastic
       ! the elastoplastic law's constants and the block's plastic work, summed in lanes
       real(dp) :: yield_stress, hardening_modulus, increment, wb(block_size), work(lanes)
+      ! the block's plastic strains and hardening variables, which the elastoplastic loop of the wide shapes
+      ! and of ASFLIP updates in place of the particles' (optional) arrays: see the loops
+      real(dp) :: gb(block_size), hb(block_size)
       type(largest_move_t) :: largest
       real(dp) :: displacement(lanes), kinetic(lanes), strain(lanes), min_j(lanes)
       ! the block's buffers (its particles' J and, with the bar's hat, their x - X, cells and velocities are
@@ -21326,6 +21500,9 @@ contains
       logical :: linear, plastic
       ! the elastoplastic law's constants and the block's plastic work, summed in lanes
       real(dp) :: yield_stress, hardening_modulus, increment, wb(block_size), work(lanes)
+      ! the block's plastic strains and hardening variables, which the elastoplastic loop of the wide shapes
+      ! and of ASFLIP updates in place of the particles' (optional) arrays: see the loops
+      real(dp) :: gb(block_size), hb(block_size)
       type(largest_move_t) :: largest
       real(dp) :: displacement(lanes), kinetic(lanes), strain(lanes), min_j(lanes)
       ! the block's buffers (its particles' J and, with the bar's hat, their x - X, cells and velocities are
@@ -22128,6 +22305,9 @@ contains
       logical :: linear, plastic
       ! the elastoplastic law's constants and the block's plastic work, summed in lanes
       real(dp) :: yield_stress, hardening_modulus, increment, wb(block_size), work(lanes)
+      ! the block's plastic strains and hardening variables, which the elastoplastic loop of the wide shapes
+      ! and of ASFLIP updates in place of the particles' (optional) arrays: see the loops
+      real(dp) :: gb(block_size), hb(block_size)
       type(largest_move_t) :: largest
       real(dp) :: displacement(lanes), kinetic(lanes), strain(lanes), min_j(lanes)
       ! the block's buffers (its particles' J and, with the bar's hat, their x - X, cells and velocities are
@@ -22393,6 +22573,9 @@ contains
       logical :: linear, plastic
       ! the elastoplastic law's constants and the block's plastic work, summed in lanes
       real(dp) :: yield_stress, hardening_modulus, increment, wb(block_size), work(lanes)
+      ! the block's plastic strains and hardening variables, which the elastoplastic loop of the wide shapes
+      ! and of ASFLIP updates in place of the particles' (optional) arrays: see the loops
+      real(dp) :: gb(block_size), hb(block_size)
       type(largest_move_t) :: largest
       real(dp) :: displacement(lanes), kinetic(lanes), strain(lanes), min_j(lanes)
       ! the block's buffers (its particles' J and, with the bar's hat, their x - X, cells and velocities are
@@ -22827,6 +23010,9 @@ contains
       logical :: linear, plastic
       ! the elastoplastic law's constants and the block's plastic work, summed in lanes
       real(dp) :: yield_stress, hardening_modulus, increment, wb(block_size), work(lanes)
+      ! the block's plastic strains and hardening variables, which the elastoplastic loop of the wide shapes
+      ! and of ASFLIP updates in place of the particles' (optional) arrays: see the loops
+      real(dp) :: gb(block_size), hb(block_size)
       type(largest_move_t) :: largest
       real(dp) :: displacement(lanes), kinetic(lanes), strain(lanes), min_j(lanes)
       ! the block's buffers (its particles' J and, with the bar's hat, their x - X, cells and velocities are
