@@ -5,17 +5,19 @@
 #   bash test/anchors/run.sh OLD_MPM1D out/anchors_old
 #   bash test/anchors/run.sh NEW_MPM1D out/anchors_new
 #   .venv/bin/python test/anchors/compare.py out/anchors_old out/anchors_new
-# Sets (ANCHORS="paper generic fused plastic large" by default, any subset):
+# Sets (ANCHORS="paper generic fused plastic implicit large" by default, any subset):
 #   paper    the founding paper's Table-2 sweeps (USF, USL, MUSL; 6 x 10 x 10 cases each, histories)
 #   generic  every scene x scheme x shape x transfer on the generic path (kernels='generic')
 #   fused    the bar, every scheme x shape with FLIP on the fused kernels, two amplitudes
 #   plastic  the elastoplastic law, yielding, on the fused kernels: the bar (every scheme x shape x
 #            transfer), the column, the composite bar and the frictionless impact (every scheme x shape)
+#   implicit the implicit integrator: the bar (laws linear and hencky, lumped and consistent mass, time
+#            steps of 0.5-4 dx/c) and the stiff composite bar
 #   large    3e5-particle bar runs cut into segments (linear, each scheme; wide shapes with USL at
 #            1.2e5), on 1 and 2 threads, with a snapshot of every particle at the end
 set -euo pipefail
 bin="$(cd "$(dirname "$1")" && pwd)/$(basename "$1")"; out="$2"
-sets="${ANCHORS:-paper generic fused plastic large}"
+sets="${ANCHORS:-paper generic fused plastic implicit large}"
 mkdir -p "$out"; cd "$out"
 run() { # name, namelist text, [threads], [more &output variables]
   printf '%s\n&output file=%s %s /\n' "$2" "'$1.h5'" "${4:+, $4}" > "$1.nml"
@@ -84,6 +86,21 @@ plastic)
 &discretisation elements=40, particles_per_element=2, dt_fraction=0.2 /
 &run periods=1.0 /
 &sweep schemes='usf','usl','musl', shapes='linear','ugimp','cpgimp','bspline2','bspline3', $sw /"
+  ;;
+implicit)
+  for law in linear hencky; do
+    for mass in lumped consistent; do
+      run "implicit_bar_${law}_$mass" "&scene kind='vibrating_bar', velocity_amplitude=50.0 /
+&material law='$law' /
+&discretisation integrator='implicit', mass='$mass', particles_per_element=2 /
+&run periods=1.0 /
+&sweep elements=20, 200, dt_fractions=0.5, 1.0, 4.0, $sw /"
+    done
+  done
+  run implicit_composite "&scene kind='composite_bar', lengths=1.0, 1.0, youngs_moduli=1.0e9, 1.0e6, densities=1000.0, 1000.0, drive_velocity=0.01 /
+&discretisation integrator='implicit', elements=40, particles_per_element=2, dt_fraction=2.0 /
+&run periods=0.5 /
+&sweep shapes='linear','ugimp','bspline2', $sw /"
   ;;
 large)
   for t in 1 2; do
