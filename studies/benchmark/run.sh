@@ -243,7 +243,8 @@ exe_of() { # build binary
     portable,new) echo "$portable_mpm1d" ;; portable,old) echo "$OLD_PORTABLE_MPM1D" ;;
   esac
 }
-build_name() { if [ "$1" = flags ] && [ -n "$FLAGS" ]; then echo "$FLAGS"; else echo portable; fi; }
+# (a CSV field, quoted: the study build's flags may hold commas, as -mtune-ctrl's list does)
+build_name() { if [ "$1" = flags ] && [ -n "$FLAGS" ]; then echo "\"$FLAGS\""; else echo portable; fi; }
 # One-thread pairs run at once, one on each of two cores, which swap every round: both builds then see
 # the same neighbours on this shared machine, minute by minute (alternate runs a few seconds apart saw
 # load that came and went between them: rounds spread 0.6-1.5 in one run). Without two cores or
