@@ -118,7 +118,7 @@ hash -r
 # against it (2023) made them several times slower there, and later GCC releases no longer emit them when
 # tuning for these CPUs; Debian 12's gfortran 12.2 still does. The option is -mno-gather where gfortran
 # takes it, else gfortran 12's tuning switches. On an Ice Lake server, with gathers, the paper's Table-2
-# USF sweep took 2.1x as long, and one-thread steps 2.2-2.5x as long at 1e3-1e5 particles and 1.45x at
+# sweeps took 1.8x as long, and one-thread steps 2.2-2.5x as long at 1e3-1e5 particles and 1.45x at
 # 1e6; the results are bit for bit the same (docs/performance.md, "Gather instructions"). Other CPUs keep
 # them; FLAGS=-march=native keeps them everywhere.
 mpm1d_no_gather_flag() {
@@ -139,7 +139,11 @@ mpm1d_no_gather_flag() {
   rm -rf "$dir"
 }
 if [ -z "${FLAGS+x}" ]; then
-  if [ "${PORTABLE:-0}" = 1 ]; then FLAGS=""; else FLAGS="$(echo "-march=native $(mpm1d_no_gather_flag)")"; fi
+  if [ "${PORTABLE:-0}" = 1 ]; then FLAGS=""; else
+    FLAGS="-march=native"
+    _mpm1d_gather="$(mpm1d_no_gather_flag)"
+    [ -n "$_mpm1d_gather" ] && FLAGS="$FLAGS $_mpm1d_gather"
+  fi
 fi
 MPM1D_RELEASE_FLAGS="-O3 -Wimplicit-interface -fPIC -fmax-errors=1 -fcoarray=single"
 # the fpm options of the build that FLAGS selects (in the array mpm1d_fpm_options)

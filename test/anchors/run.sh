@@ -64,9 +64,8 @@ fused)
 &sweep schemes='usf','usl','musl', shapes='linear','ugimp','cpgimp','bspline2','bspline3', $sw /"
   done ;;
 plastic)
-  law="law='elastoplastic', yield_stress=2.0e8, hardening_modulus=1.0e10"
   run plastic_bar "&scene kind='vibrating_bar', velocity_amplitude=50.0 /
-&material $law /
+&material law='elastoplastic', yield_stress=2.0e8, hardening_modulus=1.0e10 /
 &discretisation elements=20, particles_per_element=2, dt_fraction=0.2 /
 &run periods=1.0 /
 &sweep schemes='usf','usl','musl', shapes='linear','ugimp','cpgimp','bspline2','bspline3',

@@ -2791,9 +2791,6 @@ contains
       logical :: linear, plastic
       ! the elastoplastic law's constants and the block's plastic work, summed in lanes
       real(dp) :: yield_stress, hardening_modulus, increment, wb(block_size), work(lanes)
-      ! the block's plastic strains and hardening variables, which the elastoplastic loop of the wide shapes
-      ! and of ASFLIP updates in place of the particles' (optional) arrays: see the loops
-      real(dp) :: gb(block_size), hb(block_size)
       type(largest_move_t) :: largest
       real(dp) :: displacement(lanes), kinetic(lanes), strain(lanes), min_j(lanes)
       ! the block's buffers (its particles' J and, with the bar's hat, their x - X, cells and velocities are
@@ -3017,9 +3014,6 @@ contains
       logical :: linear, plastic
       ! the elastoplastic law's constants and the block's plastic work, summed in lanes
       real(dp) :: yield_stress, hardening_modulus, increment, wb(block_size), work(lanes)
-      ! the block's plastic strains and hardening variables, which the elastoplastic loop of the wide shapes
-      ! and of ASFLIP updates in place of the particles' (optional) arrays: see the loops
-      real(dp) :: gb(block_size), hb(block_size)
       type(largest_move_t) :: largest
       real(dp) :: displacement(lanes), kinetic(lanes), strain(lanes), min_j(lanes)
       ! the block's buffers (its particles' J and, with the bar's hat, their x - X, cells and velocities are
@@ -3396,9 +3390,6 @@ contains
       logical :: linear, plastic
       ! the elastoplastic law's constants and the block's plastic work, summed in lanes
       real(dp) :: yield_stress, hardening_modulus, increment, wb(block_size), work(lanes)
-      ! the block's plastic strains and hardening variables, which the elastoplastic loop of the wide shapes
-      ! and of ASFLIP updates in place of the particles' (optional) arrays: see the loops
-      real(dp) :: gb(block_size), hb(block_size)
       type(largest_move_t) :: largest
       real(dp) :: displacement(lanes), kinetic(lanes), strain(lanes), min_j(lanes)
       ! the block's buffers (its particles' J and, with the bar's hat, their x - X, cells and velocities are
@@ -3816,8 +3807,8 @@ contains
       logical :: linear, plastic
       ! the elastoplastic law's constants and the block's plastic work, summed in lanes
       real(dp) :: yield_stress, hardening_modulus, increment, wb(block_size), work(lanes)
-      ! the block's plastic strains and hardening variables, which the elastoplastic loop of the wide shapes
-      ! and of ASFLIP updates in place of the particles' (optional) arrays: see the loops
+      ! the block's plastic strains and hardening variables, which the elastoplastic loop updates in place of
+      ! the particles' (optional) arrays
       real(dp) :: gb(block_size), hb(block_size)
       type(largest_move_t) :: largest
       real(dp) :: displacement(lanes), kinetic(lanes), strain(lanes), min_j(lanes)
@@ -4151,8 +4142,8 @@ contains
       logical :: linear, plastic
       ! the elastoplastic law's constants and the block's plastic work, summed in lanes
       real(dp) :: yield_stress, hardening_modulus, increment, wb(block_size), work(lanes)
-      ! the block's plastic strains and hardening variables, which the elastoplastic loop of the wide shapes
-      ! and of ASFLIP updates in place of the particles' (optional) arrays: see the loops
+      ! the block's plastic strains and hardening variables, which the elastoplastic loop updates in place of
+      ! the particles' (optional) arrays
       real(dp) :: gb(block_size), hb(block_size)
       type(largest_move_t) :: largest
       real(dp) :: displacement(lanes), kinetic(lanes), strain(lanes), min_j(lanes)
@@ -4680,8 +4671,8 @@ contains
       logical :: linear, plastic
       ! the elastoplastic law's constants and the block's plastic work, summed in lanes
       real(dp) :: yield_stress, hardening_modulus, increment, wb(block_size), work(lanes)
-      ! the block's plastic strains and hardening variables, which the elastoplastic loop of the wide shapes
-      ! and of ASFLIP updates in place of the particles' (optional) arrays: see the loops
+      ! the block's plastic strains and hardening variables, which the elastoplastic loop updates in place of
+      ! the particles' (optional) arrays
       real(dp) :: gb(block_size), hb(block_size)
       type(largest_move_t) :: largest
       real(dp) :: displacement(lanes), kinetic(lanes), strain(lanes), min_j(lanes)
@@ -5215,8 +5206,8 @@ contains
       logical :: linear, plastic
       ! the elastoplastic law's constants and the block's plastic work, summed in lanes
       real(dp) :: yield_stress, hardening_modulus, increment, wb(block_size), work(lanes)
-      ! the block's plastic strains and hardening variables, which the elastoplastic loop of the wide shapes
-      ! and of ASFLIP updates in place of the particles' (optional) arrays: see the loops
+      ! the block's plastic strains and hardening variables, which the elastoplastic loop updates in place of
+      ! the particles' (optional) arrays
       real(dp) :: gb(block_size), hb(block_size)
       type(largest_move_t) :: largest
       real(dp) :: displacement(lanes), kinetic(lanes), strain(lanes), min_j(lanes)
@@ -5568,8 +5559,8 @@ contains
       logical :: linear, plastic
       ! the elastoplastic law's constants and the block's plastic work, summed in lanes
       real(dp) :: yield_stress, hardening_modulus, increment, wb(block_size), work(lanes)
-      ! the block's plastic strains and hardening variables, which the elastoplastic loop of the wide shapes
-      ! and of ASFLIP updates in place of the particles' (optional) arrays: see the loops
+      ! the block's plastic strains and hardening variables, which the elastoplastic loop updates in place of
+      ! the particles' (optional) arrays
       real(dp) :: gb(block_size), hb(block_size)
       type(largest_move_t) :: largest
       real(dp) :: displacement(lanes), kinetic(lanes), strain(lanes), min_j(lanes)
@@ -6121,8 +6112,8 @@ contains
       logical :: linear, plastic
       ! the elastoplastic law's constants and the block's plastic work, summed in lanes
       real(dp) :: yield_stress, hardening_modulus, increment, wb(block_size), work(lanes)
-      ! the block's plastic strains and hardening variables, which the elastoplastic loop of the wide shapes
-      ! and of ASFLIP updates in place of the particles' (optional) arrays: see the loops
+      ! the block's plastic strains and hardening variables, which the elastoplastic loop updates in place of
+      ! the particles' (optional) arrays
       real(dp) :: gb(block_size), hb(block_size)
       type(largest_move_t) :: largest
       real(dp) :: displacement(lanes), kinetic(lanes), strain(lanes), min_j(lanes)
@@ -6663,8 +6654,8 @@ contains
       logical :: linear, plastic
       ! the elastoplastic law's constants and the block's plastic work, summed in lanes
       real(dp) :: yield_stress, hardening_modulus, increment, wb(block_size), work(lanes)
-      ! the block's plastic strains and hardening variables, which the elastoplastic loop of the wide shapes
-      ! and of ASFLIP updates in place of the particles' (optional) arrays: see the loops
+      ! the block's plastic strains and hardening variables, which the elastoplastic loop updates in place of
+      ! the particles' (optional) arrays
       real(dp) :: gb(block_size), hb(block_size)
       type(largest_move_t) :: largest
       real(dp) :: displacement(lanes), kinetic(lanes), strain(lanes), min_j(lanes)
@@ -6989,8 +6980,8 @@ contains
       logical :: linear, plastic
       ! the elastoplastic law's constants and the block's plastic work, summed in lanes
       real(dp) :: yield_stress, hardening_modulus, increment, wb(block_size), work(lanes)
-      ! the block's plastic strains and hardening variables, which the elastoplastic loop of the wide shapes
-      ! and of ASFLIP updates in place of the particles' (optional) arrays: see the loops
+      ! the block's plastic strains and hardening variables, which the elastoplastic loop updates in place of
+      ! the particles' (optional) arrays
       real(dp) :: gb(block_size), hb(block_size)
       type(largest_move_t) :: largest
       real(dp) :: displacement(lanes), kinetic(lanes), strain(lanes), min_j(lanes)
@@ -7504,8 +7495,8 @@ contains
       logical :: linear, plastic
       ! the elastoplastic law's constants and the block's plastic work, summed in lanes
       real(dp) :: yield_stress, hardening_modulus, increment, wb(block_size), work(lanes)
-      ! the block's plastic strains and hardening variables, which the elastoplastic loop of the wide shapes
-      ! and of ASFLIP updates in place of the particles' (optional) arrays: see the loops
+      ! the block's plastic strains and hardening variables, which the elastoplastic loop updates in place of
+      ! the particles' (optional) arrays
       real(dp) :: gb(block_size), hb(block_size)
       type(largest_move_t) :: largest
       real(dp) :: displacement(lanes), kinetic(lanes), strain(lanes), min_j(lanes)
@@ -8027,8 +8018,8 @@ contains
       logical :: linear, plastic
       ! the elastoplastic law's constants and the block's plastic work, summed in lanes
       real(dp) :: yield_stress, hardening_modulus, increment, wb(block_size), work(lanes)
-      ! the block's plastic strains and hardening variables, which the elastoplastic loop of the wide shapes
-      ! and of ASFLIP updates in place of the particles' (optional) arrays: see the loops
+      ! the block's plastic strains and hardening variables, which the elastoplastic loop updates in place of
+      ! the particles' (optional) arrays
       real(dp) :: gb(block_size), hb(block_size)
       type(largest_move_t) :: largest
       real(dp) :: displacement(lanes), kinetic(lanes), strain(lanes), min_j(lanes)
@@ -8371,8 +8362,8 @@ contains
       logical :: linear, plastic
       ! the elastoplastic law's constants and the block's plastic work, summed in lanes
       real(dp) :: yield_stress, hardening_modulus, increment, wb(block_size), work(lanes)
-      ! the block's plastic strains and hardening variables, which the elastoplastic loop of the wide shapes
-      ! and of ASFLIP updates in place of the particles' (optional) arrays: see the loops
+      ! the block's plastic strains and hardening variables, which the elastoplastic loop updates in place of
+      ! the particles' (optional) arrays
       real(dp) :: gb(block_size), hb(block_size)
       type(largest_move_t) :: largest
       real(dp) :: displacement(lanes), kinetic(lanes), strain(lanes), min_j(lanes)
@@ -8912,8 +8903,8 @@ contains
       logical :: linear, plastic
       ! the elastoplastic law's constants and the block's plastic work, summed in lanes
       real(dp) :: yield_stress, hardening_modulus, increment, wb(block_size), work(lanes)
-      ! the block's plastic strains and hardening variables, which the elastoplastic loop of the wide shapes
-      ! and of ASFLIP updates in place of the particles' (optional) arrays: see the loops
+      ! the block's plastic strains and hardening variables, which the elastoplastic loop updates in place of
+      ! the particles' (optional) arrays
       real(dp) :: gb(block_size), hb(block_size)
       type(largest_move_t) :: largest
       real(dp) :: displacement(lanes), kinetic(lanes), strain(lanes), min_j(lanes)
@@ -9424,9 +9415,6 @@ contains
       logical :: linear, plastic
       ! the elastoplastic law's constants and the block's plastic work, summed in lanes
       real(dp) :: yield_stress, hardening_modulus, increment, wb(block_size), work(lanes)
-      ! the block's plastic strains and hardening variables, which the elastoplastic loop of the wide shapes
-      ! and of ASFLIP updates in place of the particles' (optional) arrays: see the loops
-      real(dp) :: gb(block_size), hb(block_size)
       type(largest_move_t) :: largest
       real(dp) :: displacement(lanes), kinetic(lanes), strain(lanes), min_j(lanes)
       ! the block's buffers (its particles' J and, with the bar's hat, their x - X, cells and velocities are
@@ -9689,9 +9677,6 @@ contains
       logical :: linear, plastic
       ! the elastoplastic law's constants and the block's plastic work, summed in lanes
       real(dp) :: yield_stress, hardening_modulus, increment, wb(block_size), work(lanes)
-      ! the block's plastic strains and hardening variables, which the elastoplastic loop of the wide shapes
-      ! and of ASFLIP updates in place of the particles' (optional) arrays: see the loops
-      real(dp) :: gb(block_size), hb(block_size)
       type(largest_move_t) :: largest
       real(dp) :: displacement(lanes), kinetic(lanes), strain(lanes), min_j(lanes)
       ! the block's buffers (its particles' J and, with the bar's hat, their x - X, cells and velocities are
@@ -10122,9 +10107,6 @@ contains
       logical :: linear, plastic
       ! the elastoplastic law's constants and the block's plastic work, summed in lanes
       real(dp) :: yield_stress, hardening_modulus, increment, wb(block_size), work(lanes)
-      ! the block's plastic strains and hardening variables, which the elastoplastic loop of the wide shapes
-      ! and of ASFLIP updates in place of the particles' (optional) arrays: see the loops
-      real(dp) :: gb(block_size), hb(block_size)
       type(largest_move_t) :: largest
       real(dp) :: displacement(lanes), kinetic(lanes), strain(lanes), min_j(lanes)
       ! the block's buffers (its particles' J and, with the bar's hat, their x - X, cells and velocities are
@@ -10894,9 +10876,6 @@ contains
       logical :: linear, plastic
       ! the elastoplastic law's constants and the block's plastic work, summed in lanes
       real(dp) :: yield_stress, hardening_modulus, increment, wb(block_size), work(lanes)
-      ! the block's plastic strains and hardening variables, which the elastoplastic loop of the wide shapes
-      ! and of ASFLIP updates in place of the particles' (optional) arrays: see the loops
-      real(dp) :: gb(block_size), hb(block_size)
       type(largest_move_t) :: largest
       real(dp) :: displacement(lanes), kinetic(lanes), strain(lanes), min_j(lanes)
       ! the block's buffers (its particles' J and, with the bar's hat, their x - X, cells and velocities are
@@ -11164,9 +11143,6 @@ contains
       logical :: linear, plastic
       ! the elastoplastic law's constants and the block's plastic work, summed in lanes
       real(dp) :: yield_stress, hardening_modulus, increment, wb(block_size), work(lanes)
-      ! the block's plastic strains and hardening variables, which the elastoplastic loop of the wide shapes
-      ! and of ASFLIP updates in place of the particles' (optional) arrays: see the loops
-      real(dp) :: gb(block_size), hb(block_size)
       type(largest_move_t) :: largest
       real(dp) :: displacement(lanes), kinetic(lanes), strain(lanes), min_j(lanes)
       ! the block's buffers (its particles' J and, with the bar's hat, their x - X, cells and velocities are
@@ -11605,9 +11581,6 @@ contains
       logical :: linear, plastic
       ! the elastoplastic law's constants and the block's plastic work, summed in lanes
       real(dp) :: yield_stress, hardening_modulus, increment, wb(block_size), work(lanes)
-      ! the block's plastic strains and hardening variables, which the elastoplastic loop of the wide shapes
-      ! and of ASFLIP updates in place of the particles' (optional) arrays: see the loops
-      real(dp) :: gb(block_size), hb(block_size)
       type(largest_move_t) :: largest
       real(dp) :: displacement(lanes), kinetic(lanes), strain(lanes), min_j(lanes)
       ! the block's buffers (its particles' J and, with the bar's hat, their x - X, cells and velocities are
@@ -12401,9 +12374,6 @@ contains
       logical :: linear, plastic
       ! the elastoplastic law's constants and the block's plastic work, summed in lanes
       real(dp) :: yield_stress, hardening_modulus, increment, wb(block_size), work(lanes)
-      ! the block's plastic strains and hardening variables, which the elastoplastic loop of the wide shapes
-      ! and of ASFLIP updates in place of the particles' (optional) arrays: see the loops
-      real(dp) :: gb(block_size), hb(block_size)
       type(largest_move_t) :: largest
       real(dp) :: displacement(lanes), kinetic(lanes), strain(lanes), min_j(lanes)
       ! the block's buffers (its particles' J and, with the bar's hat, their x - X, cells and velocities are
@@ -12710,9 +12680,6 @@ contains
       logical :: linear, plastic
       ! the elastoplastic law's constants and the block's plastic work, summed in lanes
       real(dp) :: yield_stress, hardening_modulus, increment, wb(block_size), work(lanes)
-      ! the block's plastic strains and hardening variables, which the elastoplastic loop of the wide shapes
-      ! and of ASFLIP updates in place of the particles' (optional) arrays: see the loops
-      real(dp) :: gb(block_size), hb(block_size)
       type(largest_move_t) :: largest
       real(dp) :: displacement(lanes), kinetic(lanes), strain(lanes), min_j(lanes)
       ! the block's buffers (its particles' J and, with the bar's hat, their x - X, cells and velocities are
@@ -13203,9 +13170,6 @@ contains
       logical :: linear, plastic
       ! the elastoplastic law's constants and the block's plastic work, summed in lanes
       real(dp) :: yield_stress, hardening_modulus, increment, wb(block_size), work(lanes)
-      ! the block's plastic strains and hardening variables, which the elastoplastic loop of the wide shapes
-      ! and of ASFLIP updates in place of the particles' (optional) arrays: see the loops
-      real(dp) :: gb(block_size), hb(block_size)
       type(largest_move_t) :: largest
       real(dp) :: displacement(lanes), kinetic(lanes), strain(lanes), min_j(lanes)
       ! the block's buffers (its particles' J and, with the bar's hat, their x - X, cells and velocities are
@@ -14064,9 +14028,6 @@ contains
       logical :: linear, plastic
       ! the elastoplastic law's constants and the block's plastic work, summed in lanes
       real(dp) :: yield_stress, hardening_modulus, increment, wb(block_size), work(lanes)
-      ! the block's plastic strains and hardening variables, which the elastoplastic loop of the wide shapes
-      ! and of ASFLIP updates in place of the particles' (optional) arrays: see the loops
-      real(dp) :: gb(block_size), hb(block_size)
       type(largest_move_t) :: largest
       real(dp) :: displacement(lanes), kinetic(lanes), strain(lanes), min_j(lanes)
       ! the block's buffers (its particles' J and, with the bar's hat, their x - X, cells and velocities are
@@ -14367,9 +14328,6 @@ contains
       logical :: linear, plastic
       ! the elastoplastic law's constants and the block's plastic work, summed in lanes
       real(dp) :: yield_stress, hardening_modulus, increment, wb(block_size), work(lanes)
-      ! the block's plastic strains and hardening variables, which the elastoplastic loop of the wide shapes
-      ! and of ASFLIP updates in place of the particles' (optional) arrays: see the loops
-      real(dp) :: gb(block_size), hb(block_size)
       type(largest_move_t) :: largest
       real(dp) :: displacement(lanes), kinetic(lanes), strain(lanes), min_j(lanes)
       ! the block's buffers (its particles' J and, with the bar's hat, their x - X, cells and velocities are
@@ -14854,9 +14812,6 @@ contains
       logical :: linear, plastic
       ! the elastoplastic law's constants and the block's plastic work, summed in lanes
       real(dp) :: yield_stress, hardening_modulus, increment, wb(block_size), work(lanes)
-      ! the block's plastic strains and hardening variables, which the elastoplastic loop of the wide shapes
-      ! and of ASFLIP updates in place of the particles' (optional) arrays: see the loops
-      real(dp) :: gb(block_size), hb(block_size)
       type(largest_move_t) :: largest
       real(dp) :: displacement(lanes), kinetic(lanes), strain(lanes), min_j(lanes)
       ! the block's buffers (its particles' J and, with the bar's hat, their x - X, cells and velocities are
@@ -15714,9 +15669,6 @@ contains
       logical :: linear, plastic
       ! the elastoplastic law's constants and the block's plastic work, summed in lanes
       real(dp) :: yield_stress, hardening_modulus, increment, wb(block_size), work(lanes)
-      ! the block's plastic strains and hardening variables, which the elastoplastic loop of the wide shapes
-      ! and of ASFLIP updates in place of the particles' (optional) arrays: see the loops
-      real(dp) :: gb(block_size), hb(block_size)
       type(largest_move_t) :: largest
       real(dp) :: displacement(lanes), kinetic(lanes), strain(lanes), min_j(lanes)
       ! the block's buffers (its particles' J and, with the bar's hat, their x - X, cells and velocities are
@@ -16032,9 +15984,6 @@ contains
       logical :: linear, plastic
       ! the elastoplastic law's constants and the block's plastic work, summed in lanes
       real(dp) :: yield_stress, hardening_modulus, increment, wb(block_size), work(lanes)
-      ! the block's plastic strains and hardening variables, which the elastoplastic loop of the wide shapes
-      ! and of ASFLIP updates in place of the particles' (optional) arrays: see the loops
-      real(dp) :: gb(block_size), hb(block_size)
       type(largest_move_t) :: largest
       real(dp) :: displacement(lanes), kinetic(lanes), strain(lanes), min_j(lanes)
       ! the block's buffers (its particles' J and, with the bar's hat, their x - X, cells and velocities are
@@ -16539,9 +16488,6 @@ contains
       logical :: linear, plastic
       ! the elastoplastic law's constants and the block's plastic work, summed in lanes
       real(dp) :: yield_stress, hardening_modulus, increment, wb(block_size), work(lanes)
-      ! the block's plastic strains and hardening variables, which the elastoplastic loop of the wide shapes
-      ! and of ASFLIP updates in place of the particles' (optional) arrays: see the loops
-      real(dp) :: gb(block_size), hb(block_size)
       type(largest_move_t) :: largest
       real(dp) :: displacement(lanes), kinetic(lanes), strain(lanes), min_j(lanes)
       ! the block's buffers (its particles' J and, with the bar's hat, their x - X, cells and velocities are
@@ -17429,9 +17375,6 @@ contains
       logical :: linear, plastic
       ! the elastoplastic law's constants and the block's plastic work, summed in lanes
       real(dp) :: yield_stress, hardening_modulus, increment, wb(block_size), work(lanes)
-      ! the block's plastic strains and hardening variables, which the elastoplastic loop of the wide shapes
-      ! and of ASFLIP updates in place of the particles' (optional) arrays: see the loops
-      real(dp) :: gb(block_size), hb(block_size)
       type(largest_move_t) :: largest
       real(dp) :: displacement(lanes), kinetic(lanes), strain(lanes), min_j(lanes)
       ! the block's buffers (its particles' J and, with the bar's hat, their x - X, cells and velocities are
@@ -17724,9 +17667,6 @@ contains
       logical :: linear, plastic
       ! the elastoplastic law's constants and the block's plastic work, summed in lanes
       real(dp) :: yield_stress, hardening_modulus, increment, wb(block_size), work(lanes)
-      ! the block's plastic strains and hardening variables, which the elastoplastic loop of the wide shapes
-      ! and of ASFLIP updates in place of the particles' (optional) arrays: see the loops
-      real(dp) :: gb(block_size), hb(block_size)
       type(largest_move_t) :: largest
       real(dp) :: displacement(lanes), kinetic(lanes), strain(lanes), min_j(lanes)
       ! the block's buffers (its particles' J and, with the bar's hat, their x - X, cells and velocities are
@@ -18213,9 +18153,6 @@ contains
       logical :: linear, plastic
       ! the elastoplastic law's constants and the block's plastic work, summed in lanes
       real(dp) :: yield_stress, hardening_modulus, increment, wb(block_size), work(lanes)
-      ! the block's plastic strains and hardening variables, which the elastoplastic loop of the wide shapes
-      ! and of ASFLIP updates in place of the particles' (optional) arrays: see the loops
-      real(dp) :: gb(block_size), hb(block_size)
       type(largest_move_t) :: largest
       real(dp) :: displacement(lanes), kinetic(lanes), strain(lanes), min_j(lanes)
       ! the block's buffers (its particles' J and, with the bar's hat, their x - X, cells and velocities are
@@ -19081,8 +19018,8 @@ contains
       logical :: linear, plastic
       ! the elastoplastic law's constants and the block's plastic work, summed in lanes
       real(dp) :: yield_stress, hardening_modulus, increment, wb(block_size), work(lanes)
-      ! the block's plastic strains and hardening variables, which the elastoplastic loop of the wide shapes
-      ! and of ASFLIP updates in place of the particles' (optional) arrays: see the loops
+      ! the block's plastic strains and hardening variables, which the elastoplastic loop updates in place of
+      ! the particles' (optional) arrays
       real(dp) :: gb(block_size), hb(block_size)
       type(largest_move_t) :: largest
       real(dp) :: displacement(lanes), kinetic(lanes), strain(lanes), min_j(lanes)
@@ -19395,8 +19332,8 @@ contains
       logical :: linear, plastic
       ! the elastoplastic law's constants and the block's plastic work, summed in lanes
       real(dp) :: yield_stress, hardening_modulus, increment, wb(block_size), work(lanes)
-      ! the block's plastic strains and hardening variables, which the elastoplastic loop of the wide shapes
-      ! and of ASFLIP updates in place of the particles' (optional) arrays: see the loops
+      ! the block's plastic strains and hardening variables, which the elastoplastic loop updates in place of
+      ! the particles' (optional) arrays
       real(dp) :: gb(block_size), hb(block_size)
       type(largest_move_t) :: largest
       real(dp) :: displacement(lanes), kinetic(lanes), strain(lanes), min_j(lanes)
@@ -19894,8 +19831,8 @@ contains
       logical :: linear, plastic
       ! the elastoplastic law's constants and the block's plastic work, summed in lanes
       real(dp) :: yield_stress, hardening_modulus, increment, wb(block_size), work(lanes)
-      ! the block's plastic strains and hardening variables, which the elastoplastic loop of the wide shapes
-      ! and of ASFLIP updates in place of the particles' (optional) arrays: see the loops
+      ! the block's plastic strains and hardening variables, which the elastoplastic loop updates in place of
+      ! the particles' (optional) arrays
       real(dp) :: gb(block_size), hb(block_size)
       type(largest_move_t) :: largest
       real(dp) :: displacement(lanes), kinetic(lanes), strain(lanes), min_j(lanes)
@@ -20753,9 +20690,6 @@ contains
       logical :: linear, plastic
       ! the elastoplastic law's constants and the block's plastic work, summed in lanes
       real(dp) :: yield_stress, hardening_modulus, increment, wb(block_size), work(lanes)
-      ! the block's plastic strains and hardening variables, which the elastoplastic loop of the wide shapes
-      ! and of ASFLIP updates in place of the particles' (optional) arrays: see the loops
-      real(dp) :: gb(block_size), hb(block_size)
       type(largest_move_t) :: largest
       real(dp) :: displacement(lanes), kinetic(lanes), strain(lanes), min_j(lanes)
       ! the block's buffers (its particles' J and, with the bar's hat, their x - X, cells and velocities are
@@ -21039,9 +20973,6 @@ contains
       logical :: linear, plastic
       ! the elastoplastic law's constants and the block's plastic work, summed in lanes
       real(dp) :: yield_stress, hardening_modulus, increment, wb(block_size), work(lanes)
-      ! the block's plastic strains and hardening variables, which the elastoplastic loop of the wide shapes
-      ! and of ASFLIP updates in place of the particles' (optional) arrays: see the loops
-      real(dp) :: gb(block_size), hb(block_size)
       type(largest_move_t) :: largest
       real(dp) :: displacement(lanes), kinetic(lanes), strain(lanes), min_j(lanes)
       ! the block's buffers (its particles' J and, with the bar's hat, their x - X, cells and velocities are
@@ -21500,9 +21431,6 @@ contains
       logical :: linear, plastic
       ! the elastoplastic law's constants and the block's plastic work, summed in lanes
       real(dp) :: yield_stress, hardening_modulus, increment, wb(block_size), work(lanes)
-      ! the block's plastic strains and hardening variables, which the elastoplastic loop of the wide shapes
-      ! and of ASFLIP updates in place of the particles' (optional) arrays: see the loops
-      real(dp) :: gb(block_size), hb(block_size)
       type(largest_move_t) :: largest
       real(dp) :: displacement(lanes), kinetic(lanes), strain(lanes), min_j(lanes)
       ! the block's buffers (its particles' J and, with the bar's hat, their x - X, cells and velocities are
@@ -22305,9 +22233,6 @@ contains
       logical :: linear, plastic
       ! the elastoplastic law's constants and the block's plastic work, summed in lanes
       real(dp) :: yield_stress, hardening_modulus, increment, wb(block_size), work(lanes)
-      ! the block's plastic strains and hardening variables, which the elastoplastic loop of the wide shapes
-      ! and of ASFLIP updates in place of the particles' (optional) arrays: see the loops
-      real(dp) :: gb(block_size), hb(block_size)
       type(largest_move_t) :: largest
       real(dp) :: displacement(lanes), kinetic(lanes), strain(lanes), min_j(lanes)
       ! the block's buffers (its particles' J and, with the bar's hat, their x - X, cells and velocities are
@@ -22573,9 +22498,6 @@ contains
       logical :: linear, plastic
       ! the elastoplastic law's constants and the block's plastic work, summed in lanes
       real(dp) :: yield_stress, hardening_modulus, increment, wb(block_size), work(lanes)
-      ! the block's plastic strains and hardening variables, which the elastoplastic loop of the wide shapes
-      ! and of ASFLIP updates in place of the particles' (optional) arrays: see the loops
-      real(dp) :: gb(block_size), hb(block_size)
       type(largest_move_t) :: largest
       real(dp) :: displacement(lanes), kinetic(lanes), strain(lanes), min_j(lanes)
       ! the block's buffers (its particles' J and, with the bar's hat, their x - X, cells and velocities are
@@ -23010,9 +22932,6 @@ contains
       logical :: linear, plastic
       ! the elastoplastic law's constants and the block's plastic work, summed in lanes
       real(dp) :: yield_stress, hardening_modulus, increment, wb(block_size), work(lanes)
-      ! the block's plastic strains and hardening variables, which the elastoplastic loop of the wide shapes
-      ! and of ASFLIP updates in place of the particles' (optional) arrays: see the loops
-      real(dp) :: gb(block_size), hb(block_size)
       type(largest_move_t) :: largest
       real(dp) :: displacement(lanes), kinetic(lanes), strain(lanes), min_j(lanes)
       ! the block's buffers (its particles' J and, with the bar's hat, their x - X, cells and velocities are
