@@ -201,6 +201,7 @@ module mpm_implicit
    type, extends(generic_stepper_t) :: implicit_stepper_t
       type(implicit_t) :: im
    contains
+      procedure :: start => implicit_stepper_start
       procedure :: step => implicit_stepper_step
       procedure :: stop_reason => implicit_stop_reason
       procedure :: report => implicit_stepper_report
@@ -267,9 +268,7 @@ contains
       im%dt = dt
       call locate_particles(cache, grid, particles, totals)
       if (totals%outside /= 0) return
-      im%affine = im%node_forms .and. material%law == law_linear
-      im%hencky_cells = im%node_forms .and. material%law == law_hencky .and. hat_flip_update(im, cache) .and. &
-                        .not. im%ghost_penalty > 0.0_dp
+      call choose_forms(im, cache, material)
       ! m, p and (dynamic) f_int(sigma_n); the hat with FLIP with the affine law's cell sums in the same pass
       fused = hat_flip_update(im, cache)
       if (fused) then
@@ -314,6 +313,17 @@ contains
       call banded_init(im%tangent, grid%elements + 1, cache%support - 1 + merge(1, 0, im%ghost_penalty > 0.0_dp), &
                        cleared=.false.)
    end subroutine prepare_step
+
+   !> The residual's form, the same for every step of a run: the affine law's from the nodes, hencky_cells'
+   !> from the cells, or else from the particles.
+   pure subroutine choose_forms(im, cache, material)
+      type(implicit_t), intent(inout) :: im
+      type(shape_cache_t), intent(in) :: cache
+      type(material_t), intent(in) :: material
+      im%affine = im%node_forms .and. material%law == law_linear
+      im%hencky_cells = im%node_forms .and. material%law == law_hencky .and. hat_flip_update(im, cache) .and. &
+                        .not. im%ghost_penalty > 0.0_dp
+   end subroutine choose_forms
 
    !> The step's arrays, allocated on the first step (or when the grid or particle count changes).
    subroutine workspace(im, n, count)
@@ -2253,6 +2263,42 @@ contains
                 merge(im%min_pivot_ratio, 1.0_dp, im%min_pivot_ratio < huge(1.0_dp)), real(im%floor_steps, dp), &
                 im%floor_residual, real(im%halvings, dp)]
    end subroutine implicit_report
+
+   !> The generic start (the particles' energies at t = 0) and, in the run's set-up rather than in its first
+   !> step, the arrays the steps write before they read: the shape cache (at the particles' positions), the
+   !> step's workspace, the hat's cell sums and the tangent's band, each allocated and written once here
+   !> (their pages' first touch, as much as two steps' time at 1e5 particles, is set-up as the explicit
+   !> path's is). The particle arrays of the residual's other forms are left to the steps that use them.
+   subroutine implicit_stepper_start(self, loads, particles, grid, totals)
+      class(implicit_stepper_t), intent(inout) :: self
+      class(loads_t), intent(in) :: loads
+      type(particles_t), intent(inout) :: particles
+      type(grid_t), intent(inout) :: grid
+      type(pass_totals_t), intent(out) :: totals
+      type(pass_totals_t) :: located
+      integer :: n
+      call self%generic_stepper_t%start(loads, particles, grid, totals)
+      n = grid%elements
+      associate (im => self%im, cache => self%cache)
+         call locate_particles(cache, grid, particles, located)
+         call choose_forms(im, cache, self%material)
+         call workspace(im, n, particles%count)
+         im%e = 0.0_dp; im%du = 0.0_dp; im%velocity = 0.0_dp; im%acceleration = 0.0_dp; im%external = 0.0_dp
+         im%residual = 0.0_dp; im%forces = 0.0_dp; im%work = 0.0_dp; im%weight = 0.0_dp; im%roundoff = 0.0_dp
+         im%rhs = 0.0_dp; im%start = 0.0_dp; im%sign = 1.0_dp; im%master = -1; im%unknown = .false.
+         im%dstrain = 0.0_dp
+         if (.not. hat_flip_update(im, cache)) im%x_start = 0.0_dp
+         if (im%hencky_cells) then
+            call hencky_room(im, n, particles%count)
+            im%hencky = 0.0_dp; im%ranges = 0.0_dp; im%logarithms = 0.0_dp; im%mixed = .false.
+            im%cells = 0.0_dp
+         else if (im%affine .and. hat_flip_update(im, cache)) then
+            call cell_room(im%cells, 3, n)
+            im%cells = 0.0_dp
+         end if
+         call banded_init(im%tangent, n + 1, cache%support - 1 + merge(1, 0, im%ghost_penalty > 0.0_dp))
+      end associate
+   end subroutine implicit_stepper_start
 
    subroutine implicit_stepper_step(self, loads, particles, grid, dt, t, totals)
       class(implicit_stepper_t), intent(inout) :: self
