@@ -2135,7 +2135,8 @@ contains
       !> the shape function of each particle's right node (as start_pass_hat)
       real(dp), intent(in) :: right(count)
       real(dp), intent(in) :: acceleration(0:n), du(0:n), dt, x0(count), mass(count), lo, hi, inv_dx
-      !> `strains`: the strain increments d eps_p too (as strain_pass_hat forms them)
+      !> `strains`: the strain increments d eps_p too (as strain_pass_hat forms them; in `dstrain` unless
+      !> `linear` uses them, block by block)
       logical, intent(in) :: strains
       real(dp), intent(inout) :: dstrain(count)
       real(dp), intent(inout) :: x(count), v(count)
@@ -2150,8 +2151,8 @@ contains
       real(dp), intent(inout) :: stress(count), volume_ratio(count)
       real(dp), intent(out) :: energy, smallest
       real(dp), intent(in), optional :: modulus_of(count)
-      real(dp) :: kinetic(lanes), kinetic_block(block_size), products(block_size, 2), na, move, total, weight1, &
-                  weight2, gradient1, gradient2
+      real(dp) :: kinetic(lanes), kinetic_block(block_size), products(block_size, 2), strain_block(block_size), na, &
+                  move, total, weight1, weight2, gradient1, gradient2
       integer :: b0, b1, m, i, p, node
       gradient1 = -inv_dx
       gradient2 = inv_dx
@@ -2182,17 +2183,19 @@ contains
                ! (from 0 as strain_pass_hat: 0 + (-0) is +0)
                total = 0.0_dp
                total = total + gradient1*du(node)
-               dstrain(p) = total + gradient2*du(node + 1)
+               strain_block(i) = total + gradient2*du(node + 1)
             end do
             b1 = b0 + m - 1
             if (linear) then
                if (present(modulus_of)) then
-                  call linear_update_each_on(modulus_of(b0:b1), dstrain(b0:b1), volume0(b0:b1), stress(b0:b1), &
+                  call linear_update_each_on(modulus_of(b0:b1), strain_block(1:m), volume0(b0:b1), stress(b0:b1), &
                                              volume_ratio(b0:b1), energy, smallest)
                else
-                  call linear_update_on(modulus, dstrain(b0:b1), volume0(b0:b1), stress(b0:b1), volume_ratio(b0:b1), &
-                                        energy, smallest)
+                  call linear_update_on(modulus, strain_block(1:m), volume0(b0:b1), stress(b0:b1), &
+                                        volume_ratio(b0:b1), energy, smallest)
                end if
+            else
+               dstrain(b0:b1) = strain_block(1:m)
             end if
          end if
          call add_lanes(m, kinetic_block, kinetic)
@@ -2286,7 +2289,7 @@ contains
          im%e = 0.0_dp; im%du = 0.0_dp; im%velocity = 0.0_dp; im%acceleration = 0.0_dp; im%external = 0.0_dp
          im%residual = 0.0_dp; im%forces = 0.0_dp; im%work = 0.0_dp; im%weight = 0.0_dp; im%roundoff = 0.0_dp
          im%rhs = 0.0_dp; im%start = 0.0_dp; im%sign = 1.0_dp; im%master = -1; im%unknown = .false.
-         im%dstrain = 0.0_dp
+         if (.not. (im%affine .and. hat_flip_update(im, cache))) im%dstrain = 0.0_dp
          if (.not. hat_flip_update(im, cache)) im%x_start = 0.0_dp
          if (im%hencky_cells) then
             call hencky_room(im, n, particles%count)
@@ -2297,6 +2300,11 @@ contains
             im%cells = 0.0_dp
          end if
          call banded_init(im%tangent, n + 1, cache%support - 1 + merge(1, 0, im%ghost_penalty > 0.0_dp))
+         if (im%mass == mass_consistent .and. im%kind == integrator_implicit) then ! (as consistent_mass makes them)
+            call banded_init(im%mass_matrix, n + 1, cache%support - 1)
+            im%mass_factors = im%mass_matrix
+            im%mass_magnitude = im%mass_matrix
+         end if
       end associate
    end subroutine implicit_stepper_start
 
