@@ -325,7 +325,8 @@ contains
                         .not. im%ghost_penalty > 0.0_dp
    end subroutine choose_forms
 
-   !> The step's arrays, allocated on the first step (or when the grid or particle count changes).
+   !> The step's arrays, allocated in the run's start (implicit_stepper_start) and again when the grid or
+   !> particle count changes.
    subroutine workspace(im, n, count)
       type(implicit_t), intent(inout) :: im
       integer, intent(in) :: n, count
