@@ -64,12 +64,14 @@ contains
       if (len(config_warnings(config)) > 0) write (error_unit, '(a)') 'mpm1d: warning: '//config_warnings(config)
    end subroutine warn_run
 
-   !> The configuration a single run uses, as a namelist, and its one-line summary.
+   !> The configuration a single run uses, as a namelist, and its one-line summary (flushed: a redirected
+   !> log of a long run shows it from the start, and keeps it if the run is killed).
    subroutine report_config(config)
       type(config_t), intent(in) :: config
       write (output_unit, '(a)') '# configuration used:'
       call write_config_namelist(output_unit, config)
       write (output_unit, '(a)') '# '//config_summary(config)
+      flush (output_unit)
    end subroutine report_config
 
    !> What a single run reports on standard output. A run a guard stopped has no result: the error
@@ -213,8 +215,12 @@ contains
       end if
       done = cases_done(sweep%cases)
       stopped = count(sweep%cases%status /= status_ok .and. sweep%cases%status /= status_not_run)
-      write (output_unit, '(a)') plural(done - stopped, 'case')//' completed, '//str(stopped)// &
-         ' stopped by a guard (recorded in /cases/status; no max_error: see error_before_stop)'
+      if (stopped > 0) then
+         write (output_unit, '(a)') plural(done - stopped, 'case')//' completed, '//str(stopped)// &
+            ' stopped by a guard (recorded in /cases/status; no max_error: see error_before_stop)'
+      else
+         write (output_unit, '(a)') plural(done, 'case')//' completed, none stopped by a guard'
+      end if
       if (done < size(sweep%cases)) write (output_unit, '(a)') str(size(sweep%cases) - done)//' not run '// &
          '(status not_run, no values)'
       write (output_unit, '(a)') 'wrote '//absolute_path(output)

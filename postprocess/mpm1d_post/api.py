@@ -281,6 +281,7 @@ def sweep(config: Config, workdir: 'str | os.PathLike | None' = None, threads: O
     with warnings.catch_warnings(record=True) as caught:  # said at the caller's line, not here
         warnings.simplefilter('always')
         loaded = load_sweep(path, cases=cases)
-    for warning in caught:
-        warnings.warn(warning.message, warning.category, stacklevel=2)
+    for warning in caught:  # (the way to every case here is this call's `cases`, not load_sweep's)
+        message = str(warning.message).replace("load_sweep(path, cases='all')", "sweep(..., cases='all')")
+        warnings.warn(message, warning.category, stacklevel=2)
     return loaded

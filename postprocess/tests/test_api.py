@@ -122,7 +122,8 @@ def test_sweep_table_equals_the_file_with_statuses_and_nan(exe, tmp_path):
               'sweep': {'scheme': ['usf', 'usl'], 'elements': [10, 20], 'dt_fraction': [0.2, 0.8], 'min_time': 0}}
     with pytest.warns(Warning) as said:
         completed = mpm1d_post.sweep(config, workdir=tmp_path / 'completed', threads=1)
-    assert any(w.category is mpm1d_post.LeftOutCases and 'left out 2 of 8 cases' in str(w.message) for w in said)
+    assert any(w.category is mpm1d_post.LeftOutCases and 'left out 2 of 8 cases' in str(w.message) and
+               "sweep(..., cases='all') returns every case" in str(w.message) for w in said)
     assert any(w.category is mpm1d_post.Mpm1dWarning and 'above their scheme' in str(w.message) for w in said)
     assert len(completed.to_dataframe()) == 6
     with pytest.warns(mpm1d_post.Mpm1dWarning, match='2 cases ask for a time step above'):

@@ -12,6 +12,7 @@ module mpm_namelist
    use mpm_strings, only: str, lower
    use mpm_kinds, only: dp
    use mpm_suggest, only: did_you_mean, printable
+   use mpm_files, only: absolute_path
    implicit none
    private
    public :: nml_value_t, nml_item_t
@@ -549,7 +550,7 @@ contains
       character(len=*), intent(in) :: path
       character(len=:), allocatable, intent(out) :: text
       type(error_t), allocatable, intent(out) :: error
-      integer :: n, unit, stat
+      integer :: n, unit, stat, reason
       logical :: is_folder, stream
       character(len=512) :: msg
 
@@ -571,8 +572,14 @@ contains
          open (newunit=unit, file=path, status='old', action='read', access='stream', form='unformatted', &
                iostat=stat, iomsg=msg)
       end if
-      if (stat /= 0) then
-         call set_error(error, "cannot open input file '"//trim(path)//"': "//trim(msg))
+      if (stat /= 0) then ! (the compiler's message repeats the name: its reason alone, after the last "': ")
+         reason = index(msg, "': ", back=.true.)
+         if (path(1:1) == '/') then
+            call set_error(error, "cannot open input file '"//trim(path)//"': "//trim(msg(merge(reason + 3, 1, reason > 0):)))
+         else ! (where a relative path led)
+            call set_error(error, "cannot open input file '"//trim(path)//"' (looked for "//absolute_path(path)// &
+                           ", relative to the folder mpm1d runs in): "//trim(msg(merge(reason + 3, 1, reason > 0):)))
+         end if
          return
       end if
       if (stream) then

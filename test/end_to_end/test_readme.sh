@@ -78,6 +78,8 @@ check "the 'By hand' block exits 0 as written" "[ $status = 0 ]"
 check "it installed mpm1d into \$HOME/.local/bin" "[ -x \"$home/.local/bin/mpm1d\" ]"
 check "it wrote bar.h5 (the built-in case) in its own folder" "[ -s \"$first/bar.h5\" ]"
 check "it wrote sweep.h5 and sweep_b2.h5 there" "[ -s \"$first/sweep.h5\" ] && [ -s \"$first/sweep_b2.h5\" ]"
+check "it wrote run.h5 with snapshots, its figures and the animation" \
+  "h5ls \"$first/run.h5/snapshots\" > /dev/null 2>&1 && [ -s \"$first/figures/snapshots.png\" ] && [ -s \"$first/wave.gif\" ]"
 check "no ERROR STOP trace (fpm ran mpm1d alone)" "! grep -q 'ERROR STOP\|<ERROR>' \"$log\""
 check "--help printed the usage" "grep -q 'usage' \"$log\""
 [ "$failed" = 0 ] || { tail -n 40 "$log"; cat "$log.python" "$log.api" 2>/dev/null; }
