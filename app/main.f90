@@ -4,8 +4,8 @@
 !> Parses arguments, calls the library, prints messages and sets the exit code:
 !> 0 success, 1 a guard stopped the run (its history is still written), 2 bad input or usage,
 !> 3 output could not be written; a sweep interrupted by SIGINT, SIGTERM or SIGHUP (what it finished is
-!> written), or a single run that keeps checkpoints (its state kept in the checkpoint), 130, 143, 129
-!> (128 + the signal's number).
+!> written), or a single run (after the step it is in: its state kept in the checkpoint where it keeps
+!> them, else nothing written), 130, 143, 129 (128 + the signal's number).
 program mpm1d_main
    use, intrinsic :: iso_fortran_env, only: output_unit
    use mpm_kinds, only: dp
@@ -21,7 +21,8 @@ program mpm1d_main
    use mpm_cli_help, only: print_help, print_parameters
    use mpm_sweep, only: sweep_t, read_sweep_text, run_sweep, has_sweep_text, sweep_output_file, cases_done, &
                         cases_to_time
-   use mpm_files, only: same_file, absolute_path, catch_interrupts, file_size_errors, interrupt_signal, remove_file
+   use mpm_files, only: same_file, absolute_path, catch_interrupts, file_size_errors, interrupt_signal, remove_file, &
+                        release_interrupts
    use mpm_registry, only: read_input_text
    use mpm_command_line, only: command_line_t, command_arguments, parse_command_line, check_environment, &
                                check_has_groups
@@ -94,7 +95,7 @@ contains
       call refuse_input_as_output(trim(config%file))
       if (cl%dry_run) then
          write (output_unit, '(a)') 'mpm1d: dry run (nothing runs): a single run', 'cases: 1', &
-            'output: '//absolute_path(trim(config%file))
+            'output: '//absolute_path(trim(config%file)), 'steps: '//str(config%steps)
          call finish()
       end if
       if (.not. cl%has_input .and. .not. cl%quiet) then
@@ -106,6 +107,9 @@ contains
                'with the overrides given'
          end if
       end if
+      ! a signal stops the run after the step it is in (the run says so; one that keeps checkpoints keeps
+      ! one there), caught before the header that tells a watcher the run has begun
+      call catch_interrupts()
       call warn_run(config)
       if (.not. cl%quiet) call report_config(config)
       checkpoints = checkpoint_for(config)
@@ -115,8 +119,6 @@ contains
          if (.not. cl%quiet) write (output_unit, '(a)') 'mpm1d: restarted from step '//str(step)//' of '// &
             str(config%steps)//" (the checkpoint '"//checkpoints%path//"')"
       end if
-      ! a signal stops a run that keeps checkpoints after its step, which the checkpoint then keeps
-      if (config%checkpoint_steps > 0) call catch_interrupts()
       if (cl%restart) then
          call run_simulation(config, result, error, record_history=config%history, checkpoints=checkpoints, &
                              restart=state)
@@ -128,7 +130,10 @@ contains
          if (allocated(error)) call fail(error%message, 3)
       end if
       if (allocated(checkpoints%failure)) call warn(checkpoints%failure//' (the run went on without it)')
-      if (result%status == status_not_run) call stopped_run(checkpoints, result%steps_done, config%steps)
+      if (result%status == status_not_run) call stopped_run(checkpoints, result%steps_done, config%steps, &
+                                                            config%checkpoint_steps > 0)
+      ! (from here a signal ends the process at once, removing the file being written: the checkpoint stays)
+      call release_interrupts()
       call write_run_file(config, result, error)
       if (allocated(error)) call fail(error%message, 3)
       ! the run's file is complete: its checkpoint (this run's, or an earlier run's into this file) is done
@@ -138,14 +143,19 @@ contains
       call stop_for_guard(config, result)
    end subroutine single_run
 
-   !> A run that keeps checkpoints, stopped by a signal after step `step` of `steps`: where its state is
-   !> and how to go on; the exit code 128 + the signal's number.
-   subroutine stopped_run(checkpoints, step, steps)
+   !> A run stopped by a signal after step `step` of `steps`: where its state is (`keeping`: the run keeps
+   !> checkpoints) and how to go on; the exit code 128 + the signal's number.
+   subroutine stopped_run(checkpoints, step, steps, keeping)
       type(checkpoint_file_t), intent(in) :: checkpoints
       integer, intent(in) :: step, steps
+      logical, intent(in) :: keeping
       integer :: signal
       signal = interrupt_signal()
-      if (checkpoints%step == step) then
+      if (.not. keeping) then
+         call fail(signal_name(signal)//' stopped the run after step '//str(step)//' of '//str(steps)// &
+                   '; nothing was written (&output checkpoint_steps = N keeps a long run''s state every N '// &
+                   'steps, and --restart continues it from there)', 128 + signal)
+      else if (checkpoints%step == step) then
          call fail(signal_name(signal)//' stopped the run after step '//str(step)//' of '//str(steps)// &
                    "; the checkpoint '"//checkpoints%path//"' keeps it: "//restart_command()// &
                    ' continues from there', 128 + signal)

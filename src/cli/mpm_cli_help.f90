@@ -63,7 +63,8 @@ contains
          '  the uninterrupted run writes', &
          '', &
          'exit codes: 0 done; 1 a guard stopped the run (history so far written); 2 bad input; 3 output failed;', &
-         '  a sweep interrupted by SIGINT, SIGTERM, SIGHUP (what it finished written): 130, 143, 129.', &
+         '  a sweep or run interrupted by SIGINT, SIGTERM, SIGHUP (a sweep writes what it finished, a run', &
+         '  without checkpoints nothing): 130, 143, 129.', &
          'Every problem in the input is reported with the variable and its allowed range; nothing is written then.'
    end subroutine print_help
 

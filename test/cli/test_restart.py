@@ -9,7 +9,8 @@ run time; no checkpoint left after it.
 Then, on one case: SIGTERM stops a run with checkpoints, which writes its checkpoint at the step it
 reached and says how to go on, and --restart completes it alike; --restart without a checkpoint, with
 another input (a changed variable, named), and with a damaged checkpoint (torn, a byte changed) is
-refused with exit 2 and the checkpoint left as it was.
+refused with exit 2 and the checkpoint left as it was. And SIGTERM stops a long run without checkpoints
+after the step it is in, naming it, with exit 143 and no file.
 
 Usage: $PYTHON test/cli/test_restart.py [--exe PATH] [--only REGEX]
 """
@@ -203,6 +204,31 @@ def refusals(exe):
           "there is no checkpoint 'run.h5.checkpoint'" in q.stderr, q.stderr[-300:])
 
 
+def stopped_without_checkpoints(exe):
+    """SIGTERM stops a long run that keeps no checkpoints after the step it is in: exit 143, that step and
+    the run's steps named, the way to keep a run's state said, no file written."""
+    folder = SCRATCH / 'sigterm_plain'
+    shutil.rmtree(folder, ignore_errors=True)
+    folder.mkdir(parents=True)
+    (folder / 'run.nml').write_text("&discretisation elements=2000 /\n&run periods=20 /\n&output file='run.h5' /\n")
+    p = subprocess.Popen([str(exe), 'run.nml'], cwd=folder, stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True)
+    began = False
+    for line in p.stdout:  # the header, flushed before the time loop: the run has begun
+        if line.startswith('# usl,'):
+            began = True
+            break
+    p.send_signal(signal.SIGTERM)
+    _, err = p.communicate()
+    check('SIGTERM without checkpoints: the run began', began)
+    stopped = re.search(r'SIGTERM stopped the run after step (\d+) of (\d+); nothing was written '
+                        r'\(&output checkpoint_steps = N', err)
+    check('SIGTERM without checkpoints: exit 143, the step it reached named, checkpoint_steps said',
+          p.returncode == 143 and stopped is not None and int(stopped.group(1)) < int(stopped.group(2)),
+          f'exit {p.returncode}: {err[-400:]}')
+    check('SIGTERM without checkpoints: no file written', sorted(q.name for q in folder.iterdir()) == ['run.nml'],
+          sorted(q.name for q in folder.iterdir()))
+
+
 def main():
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     parser.add_argument('--exe')
@@ -214,6 +240,7 @@ def main():
     restart_cases(exe, args.only)
     if not args.only:
         refusals(exe)
+        stopped_without_checkpoints(exe)
     print(f'test_restart: {TALLY.passed} passed, {TALLY.failed} failed')
     sys.exit(1 if TALLY.failed else 0)
 

@@ -797,7 +797,7 @@ add('i24_dry_run_shards', C24, 0, r"cases: 12\nshards: 5\noutput: /\S+/o\.h5\nsh
     args=['in.nml', '--dry-run', '--shard', '2/5'], absent=['o*.h5'])
 add('i24_dry_run_quoted_name_with_space', C24, 0, r"output: /\S+/x y\.h5", input=nml(output='file="x y.h5"') + SW,
     args=['in.nml', '--dry-run'], absent=['x y.h5'])
-add('i24_dry_run_single', C24, 0, r"cases: 1\noutput: /\S+/o\.h5", input=nml(), args=['in.nml', '--dry-run'],
+add('i24_dry_run_single', C24, 0, r"cases: 1\noutput: /\S+/o\.h5\nsteps: [1-9][0-9]*\n", input=nml(), args=['in.nml', '--dry-run'],
     absent=['o.h5'])
 refused('i24_dry_run_more_shards_than_cases', C24, SWEEP12, r"shards = 13 is more than the sweep's 12 cases",
         args=['in.nml', '--dry-run', '--shard=1/13'])
