@@ -130,8 +130,7 @@ contains
          if (allocated(error)) call fail(error%message, 3)
       end if
       if (allocated(checkpoints%failure)) call warn(checkpoints%failure//' (the run went on without it)')
-      if (result%status == status_not_run) call stopped_run(checkpoints, result%steps_done, config%steps, &
-                                                            config%checkpoint_steps > 0)
+      if (result%status == status_not_run) call stopped_run(checkpoints, result%steps_done, config%steps)
       ! (from here a signal ends the process at once, removing the file being written: the checkpoint stays)
       call release_interrupts()
       call write_run_file(config, result, error)
@@ -143,15 +142,14 @@ contains
       call stop_for_guard(config, result)
    end subroutine single_run
 
-   !> A run stopped by a signal after step `step` of `steps`: where its state is (`keeping`: the run keeps
-   !> checkpoints) and how to go on; the exit code 128 + the signal's number.
-   subroutine stopped_run(checkpoints, step, steps, keeping)
+   !> A run stopped by a signal after step `step` of `steps`: where its state is (in its checkpoint where
+   !> it keeps them) and how to go on; the exit code 128 + the signal's number.
+   subroutine stopped_run(checkpoints, step, steps)
       type(checkpoint_file_t), intent(in) :: checkpoints
       integer, intent(in) :: step, steps
-      logical, intent(in) :: keeping
       integer :: signal
       signal = interrupt_signal()
-      if (.not. keeping) then
+      if (checkpoints%every <= 0) then
          call fail(signal_name(signal)//' stopped the run after step '//str(step)//' of '//str(steps)// &
                    '; nothing was written (&output checkpoint_steps = N keeps a long run''s state every N '// &
                    'steps, and --restart continues it from there)', 128 + signal)

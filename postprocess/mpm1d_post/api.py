@@ -40,7 +40,7 @@ import numpy as np
 import pandas as pd
 
 from . import frames
-from .loader import Mpm1dFileError, Run, Sweep, load_run, load_sweep
+from .loader import Mpm1dFileError, Run, Sweep, _chosen_cases, load_run, load_sweep
 from .namelist_doc import find_mpm1d
 
 __all__ = ['run', 'sweep', 'RunResult', 'Mpm1dError', 'Mpm1dWarning', 'find_executable', 'namelist_text']
@@ -276,12 +276,9 @@ def sweep(config: Config, workdir: 'str | os.PathLike | None' = None, threads: O
     counting the others) or 'all'. Cases a guard stopped are data, not an error: their status says
     why. Raises `Mpm1dError` when mpm1d refuses the input, or when a signal interrupts the sweep
     (``error.result``: every case of the file it wrote, those not run with status 'not_run')."""
+    if cases not in ('completed', 'all'):
+        raise ValueError(f"sweep: cases={cases!r}; allowed: 'completed' or 'all'")
     done, command, folder, path = _execute(config, 'sweep', workdir, threads, exe)
     _check(done, command, folder, path, lambda: load_sweep(path, cases='all'))
-    with warnings.catch_warnings(record=True) as caught:  # said at the caller's line, not here
-        warnings.simplefilter('always')
-        loaded = load_sweep(path, cases=cases)
-    for warning in caught:  # (the way to every case here is this call's `cases`, not load_sweep's)
-        message = str(warning.message).replace("load_sweep(path, cases='all')", "sweep(..., cases='all')")
-        warnings.warn(message, warning.category, stacklevel=2)
-    return loaded
+    # (said at the caller's line, naming this call's way to every case)
+    return _chosen_cases(load_sweep(path, cases='all'), cases, "sweep(..., cases='all')", stacklevel=3)

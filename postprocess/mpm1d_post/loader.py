@@ -493,15 +493,20 @@ def load_sweep(path: 'str | os.PathLike', cases: str = 'completed') -> Sweep:
     ``max_error``; draw them apart, never as data points of a fit)."""
     if cases not in ('completed', 'all'):
         raise ValueError(f"load_sweep: cases={cases!r}; allowed: 'completed' or 'all'")
-    every = _load_sweep_file(path)
+    return _chosen_cases(_load_sweep_file(path), cases, "load_sweep(path, cases='all')", stacklevel=3)
+
+
+def _chosen_cases(every: Sweep, cases: str, every_call: str, stacklevel: int) -> Sweep:
+    """`every` ('all') or its completed cases, a `LeftOutCases` warning counting the others and naming
+    `every_call`, the call that returns them all, said at the caller's line `stacklevel`."""
     if cases == 'all':
         return every
     kept = every.completed()
     if kept.left_out:
         counts = ', '.join(f'{name} {n}' for name, n in sorted(kept.left_out.items()))
         warnings.warn(f"{every.path}: left out {sum(kept.left_out.values())} of {len(every)} cases that did not "
-                      f"complete ({counts}): analyses use completed cases; load_sweep(path, cases='all') "
-                      "returns every case", LeftOutCases, stacklevel=2)
+                      f"complete ({counts}): analyses use completed cases; {every_call} returns every case",
+                      LeftOutCases, stacklevel=stacklevel)
     return kept
 
 

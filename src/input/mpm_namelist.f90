@@ -552,6 +552,7 @@ contains
       type(error_t), allocatable, intent(out) :: error
       integer :: n, unit, stat, reason
       logical :: is_folder, stream
+      character(len=:), allocatable :: looked
       character(len=512) :: msg
 
       text = ''
@@ -574,12 +575,10 @@ contains
       end if
       if (stat /= 0) then ! (the compiler's message repeats the name: its reason alone, after the last "': ")
          reason = index(msg, "': ", back=.true.)
-         if (path(1:1) == '/') then
-            call set_error(error, "cannot open input file '"//trim(path)//"': "//trim(msg(merge(reason + 3, 1, reason > 0):)))
-         else ! (where a relative path led)
-            call set_error(error, "cannot open input file '"//trim(path)//"' (looked for "//absolute_path(path)// &
-                           ", relative to the folder mpm1d runs in): "//trim(msg(merge(reason + 3, 1, reason > 0):)))
-         end if
+         looked = ''
+         if (path(1:1) /= '/') looked = ' (looked for '//absolute_path(path)//', relative to the folder mpm1d runs in)'
+         call set_error(error, "cannot open input file '"//trim(path)//"'"//looked//': '// &
+                        trim(msg(merge(reason + 3, 1, reason > 0):)))
          return
       end if
       if (stream) then

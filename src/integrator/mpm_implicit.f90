@@ -341,6 +341,10 @@ contains
       allocate (im%master(0:n), im%sign(0:n), im%prescribed(0:n), im%unknown(0:n), im%e(0:n), im%du(0:n), &
                 im%velocity(0:n), im%acceleration(0:n), im%external(0:n), im%residual(0:n), im%forces(0:n), &
                 im%work(0:n), im%reaction(0:n), im%weight(0:n), im%roundoff(0:n), im%rhs(0:n, 2), im%start(0:n))
+      ! (every node array written once here, where it is made: its pages' first touch is not a step's)
+      im%e = 0.0_dp; im%du = 0.0_dp; im%velocity = 0.0_dp; im%acceleration = 0.0_dp; im%external = 0.0_dp
+      im%residual = 0.0_dp; im%forces = 0.0_dp; im%work = 0.0_dp; im%weight = 0.0_dp; im%roundoff = 0.0_dp
+      im%rhs = 0.0_dp; im%start = 0.0_dp; im%sign = 1.0_dp; im%master = -1; im%unknown = .false.
       allocate (im%x_start(count), im%dstrain(count), im%stress(count), im%stiffness(count), im%volume(count), &
                 im%strain_magnitude(count), &
                 im%modulus(count), im%yield(count), im%hardening_modulus(count), im%hardening(count))
@@ -1088,7 +1092,7 @@ contains
       if (allocated(cells)) then
          if (size(cells, 2) /= n) deallocate (cells)
       end if
-      if (.not. allocated(cells)) allocate (cells(rows, 0:n - 1))
+      if (.not. allocated(cells)) allocate (cells(rows, 0:n - 1), source=0.0_dp)
    end subroutine cell_room
 
    !> hencky_cells' arrays for the cells 0..n - 1 and `count` particles (allocated when their sizes change).
@@ -1101,7 +1105,8 @@ contains
       if (allocated(im%logarithms)) then
          if (size(im%logarithms) /= n) deallocate (im%logarithms, im%mixed)
       end if
-      if (.not. allocated(im%logarithms)) allocate (im%logarithms(0:n - 1), im%mixed(0:n - 1))
+      if (.not. allocated(im%logarithms)) allocate (im%logarithms(0:n - 1), source=0.0_dp)
+      if (.not. allocated(im%mixed)) allocate (im%mixed(0:n - 1), source=.false.)
       if (allocated(im%ones)) then
          if (size(im%ones) /= count) deallocate (im%ones)
       end if
@@ -2287,18 +2292,12 @@ contains
          call locate_particles(cache, grid, particles, located)
          call choose_forms(im, cache, self%material)
          call workspace(im, n, particles%count)
-         im%e = 0.0_dp; im%du = 0.0_dp; im%velocity = 0.0_dp; im%acceleration = 0.0_dp; im%external = 0.0_dp
-         im%residual = 0.0_dp; im%forces = 0.0_dp; im%work = 0.0_dp; im%weight = 0.0_dp; im%roundoff = 0.0_dp
-         im%rhs = 0.0_dp; im%start = 0.0_dp; im%sign = 1.0_dp; im%master = -1; im%unknown = .false.
          if (.not. (im%affine .and. hat_flip_update(im, cache))) im%dstrain = 0.0_dp
          if (.not. hat_flip_update(im, cache)) im%x_start = 0.0_dp
          if (im%hencky_cells) then
             call hencky_room(im, n, particles%count)
-            im%hencky = 0.0_dp; im%ranges = 0.0_dp; im%logarithms = 0.0_dp; im%mixed = .false.
-            im%cells = 0.0_dp
          else if (im%affine .and. hat_flip_update(im, cache)) then
             call cell_room(im%cells, 3, n)
-            im%cells = 0.0_dp
          end if
          call banded_init(im%tangent, n + 1, cache%support - 1 + merge(1, 0, im%ghost_penalty > 0.0_dp))
          if (im%mass == mass_consistent .and. im%kind == integrator_implicit) then ! (as consistent_mass makes them)
@@ -2353,7 +2352,7 @@ contains
          call state%sync('implicit.floor_steps', im%floor_steps)
          call state%sync('implicit.halvings', im%halvings)
          call state%sync('implicit.floor_residual', im%floor_residual)
-         if (.not. allocated(im%reaction) .and. state%saving) return ! (no step made yet)
+         if (.not. allocated(im%reaction) .and. state%saving) return ! (not started: no workspace yet)
          if (.not. state%saving .and. .not. state%has('implicit.reaction')) return
          count = 0
          if (state%saving) count = size(im%x_start)
@@ -2361,7 +2360,7 @@ contains
          if (state%saving) reaction = im%reaction
          call state%sync('implicit.reaction', reaction)
          if (state%saving .or. .not. allocated(reaction) .or. count <= 0) return
-         call workspace(im, ubound(reaction, 1), count) ! (the step's arrays, as its first step made them)
+         call workspace(im, ubound(reaction, 1), count) ! (the step's arrays, as the start made them)
          im%reaction = reaction
       end associate
    end subroutine implicit_sync_state
